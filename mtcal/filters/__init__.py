@@ -1,0 +1,1 @@
+"""Attitude filters (QNCF, RAMS EKF, baselines)."""
