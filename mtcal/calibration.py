@@ -55,7 +55,10 @@ def least_squares_error_matrix(q_sensor, q_body) -> np.ndarray:
     Parameters
     ----------
     q_sensor : array_like, shape (K, 4)
-        Mean sensor attitude quaternion at each of K ≥ 3 positions (scalar-first).
+        Mean sensor attitude quaternion at each of K ≥ 4 positions (scalar-first).
+        The paper (§3.1) says 3 positions suffice because of the norm
+        constraint, but Eq 13 is linear and unconstrained: ``A_q^s (A_q^s)ᵀ``
+        has rank ≤ K, so K ≥ 4 linearly independent quaternions are needed.
     q_body : array_like, shape (K, 4)
         Reference (true) body attitude quaternion at the same positions.
 
@@ -67,14 +70,16 @@ def least_squares_error_matrix(q_sensor, q_body) -> np.ndarray:
     Raises
     ------
     ValueError
-        If fewer than 3 positions are given or ``A_q^s (A_q^s)ᵀ`` is
+        If fewer than 4 positions are given or ``A_q^s (A_q^s)ᵀ`` is
         rank-deficient (condition number reported), e.g. all positions about
         one axis.
     """
     q_s, q_b = align_pairs(q_sensor, q_body)
     k = q_s.shape[0]
-    if k < 3:
-        raise ValueError(f"q_sensor must hold at least 3 positions (Eq 13 needs 12 equations), got {k}")
+    if k < 4:
+        raise ValueError(f"q_sensor must hold at least 4 positions, got {k}: A_q^s (A_q^s)^T is 4x4 "
+                         f"with rank <= {k}, so Eq 13 has no unique solution (the paper's '3 positions' "
+                         f"relies on the unit-norm constraint, which the linear LS does not use)")
     a_s, a_b = q_s.T, q_b.T  # Eq 14 layout: 4 × K
     gram = a_s @ a_s.T
     cond = np.linalg.cond(gram)

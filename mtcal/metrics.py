@@ -115,12 +115,14 @@ def allan_deviation(rate, fs_hz: float, taus_s=None) -> tuple[np.ndarray, np.nda
     return m / fs, np.sqrt(avar)
 
 
-def fit_allan_noise(taus_s, adev) -> dict[str, float]:
-    """Fit ``σ²(τ) = N²/τ + B_f² + K² τ/3`` to an Allan curve (weighted LS).
+def fit_allan_noise(taus_s, adev, *, flat_term: bool = True) -> dict[str, float]:
+    """Fit ``σ²(τ) = N²/τ + B_f² + K² τ/3`` to an Allan curve (LS on relative residuals).
 
     Returns the white-noise density ``N`` (unit·s^½ = unit/√Hz, read at
     τ = 1 s), the rate random walk ``K`` (unit/√s, read at τ = 3 s) and the
-    flat term ``B_f`` (≈ 0.664 × bias instability), each ≥ 0.
+    flat term ``B_f`` (≈ 0.664 × bias instability), each ≥ 0. With
+    ``flat_term=False`` the flat term is fixed to 0 (a sensor model without
+    bias instability), which makes N and K better determined.
     """
     tau = as_float_array(taus_s, "taus_s", ndim=1)
     sig = as_float_array(adev, "adev", ndim=1)
@@ -130,7 +132,7 @@ def fit_allan_noise(taus_s, adev) -> dict[str, float]:
         raise ValueError("taus_s must have at least 3 points to fit 3 noise terms")
     from scipy.optimize import nnls
 
-    a = np.stack([1.0 / tau, np.ones_like(tau), tau / 3.0], axis=1) / sig[:, None] ** 2
+    a = np.stack([1.0 / tau, np.ones_like(tau) * float(flat_term), tau / 3.0], axis=1) / sig[:, None] ** 2
     coef, _ = nnls(a, np.ones_like(tau))  # relative residuals: (model − σ²)/σ²
     n2, b2, k2 = coef
     return {"N": float(np.sqrt(n2)), "B_flat": float(np.sqrt(b2)), "K": float(np.sqrt(k2))}

@@ -1,0 +1,50 @@
+import numpy as np
+import pytest
+
+from mtcal import paper
+
+
+def test_every_table_loads():
+    names = paper.available()
+    assert "seed000_table01_positions" in names and len(names) >= 20
+    for name in names:
+        assert len(paper.load(name)) > 0
+
+
+def test_numeric_parsing_keeps_printed_text_available():
+    df = paper.load("seed000_table01_positions")
+    assert df["pitch_reference_deg"].dtype.kind == "f" or df["pitch_reference_deg"].dtype.kind == "i"
+    text = paper.load("seed000_table01_positions", as_text=True)
+    assert text.loc[1, "pitch_after_deg"] == "-0.013"
+
+
+def test_value_selects_one_cell():
+    v = paper.value("seed004_table05_rmse", "rmse_static_deg", rotation_axis="Bv1", system="RAMS")
+    assert v == pytest.approx(0.0145)
+    with pytest.raises(ValueError, match="exactly one row"):
+        paper.value("seed004_table05_rmse", "rmse_static_deg", system="RAMS")
+
+
+def test_comparison_table_formats_and_counts():
+    rows = [paper.comparison_row("T000-6", "roll RMSE after (deg)", 0.009, 0.0071234, "<= 0.01", True),
+            paper.comparison_row("T000-6", "yaw RMSE after (deg)", 0.009, 0.012, "<= 0.01", False),
+            paper.comparison_row("T000-6", "note", "-", "-", "", None)]
+    table = paper.comparison_table(rows)
+    assert list(table.columns) == paper.COMPARISON_COLUMNS
+    assert table.loc[0, "mtcal"] == "0.0071"
+    assert paper.claims_summary(table) == "1 of 2 claims hold"
+
+
+def test_bad_names_raise():
+    with pytest.raises(ValueError, match="must be one of the paper tables"):
+        paper.load("no_such_table")
+    with pytest.raises(TypeError, match="name must be a str"):
+        paper.load(3)
+    with pytest.raises(TypeError, match="holds must be bool"):
+        paper.comparison_row("a", "b", 1, 2, "c", "yes")
+
+
+def test_printed_matrices_are_4x4():
+    for name in ("seed000_matrix_qbs_turntable", "seed000_matrix_qbs_windtunnel"):
+        m = paper.load(name).select_dtypes("number").to_numpy()
+        assert m.shape[1] >= 4 and np.all(np.isfinite(m))
