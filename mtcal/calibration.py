@@ -2,7 +2,7 @@
 
 Model (Eq 10): the true body attitude quaternion is a linear map of the
 sensor attitude quaternion, ``A_q^b = Q_s^b A_q^s``, with a general 4×4
-matrix ``Q_s^b``. Stacking K ≥ 3 calibration positions as columns of
+matrix ``Q_s^b``. Stacking K ≥ 4 calibration positions as columns of
 ``A_q^s`` and ``A_q^b`` (Eq 14, 4×K), the least-squares solution (Eq 11–13) is
 
     Q̂_s^b = A_q^b (A_q^s)ᵀ (A_q^s (A_q^s)ᵀ)⁻¹
