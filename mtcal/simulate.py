@@ -37,9 +37,11 @@ Sensor error model (per axis, per sensor; units of the sensor)
 * vibration: sinusoid ``amplitude · sin(2π f t + φ)``, φ uniform per trial
   and axis.
 
-Each error source draws from its own child generator (``rng.spawn``), so
-switching one source on or off leaves the others' draws unchanged (common
-random numbers for error-budget tables).
+Each error source draws from its own generators (keyed by sensor, source
+and a fixed block of samples, derived from ``rng``), so switching one source
+on or off leaves the others' draws unchanged (common random numbers for
+error-budget tables), and :class:`ImuStream` delivers the same numbers in
+chunks of any size (bounded-memory Monte Carlo).
 """
 
 from __future__ import annotations
@@ -53,7 +55,7 @@ from mtcal import rotations
 from mtcal._validate import (STANDARD_GRAVITY_M_S2, as_float_array, positive_int,
                              positive_scalar, time_vector, unit_quaternion)
 
-__all__ = ["Trajectory", "SensorErrors", "ImuErrorModel", "ImuRecord", "body_rates",
+__all__ = ["Trajectory", "SensorErrors", "ImuErrorModel", "ImuRecord", "ImuStream", "body_rates",
            "specific_force", "simulate_imu", "integrate_gyro", "GRAVITY_W_M_S2"]
 
 #: Default world gravity vector, z-up frame (m/s²).
@@ -240,44 +242,6 @@ class SensorErrors:
         np.fill_diagonal(mis, 0.0)
         return np.eye(3) + np.diag(_vec3(self.scale_factor, "scale_factor")) + mis
 
-    def apply(self, truth: np.ndarray, time_s: np.ndarray, dt_s: float, trials: int,
-              rngs: dict, time_since_power_on_s: float) -> np.ndarray:
-        """Corrupt a truth signal (N, 3) into ``trials`` measurements (T, N, 3)."""
-        n = truth.shape[0]
-        out = np.empty((trials, n, 3))
-        out[:] = truth @ self.matrix().T
-        out += _vec3(self.bias, "bias")
-        warm = _vec3(self.warmup_bias, "warmup_bias")
-        if np.any(warm):
-            out += np.exp(-(time_s + time_since_power_on_s) / self.warmup_tau_s)[:, None] * warm
-        if self.bias_sigma:
-            out += self.bias_sigma * rngs["turn_on"].standard_normal((trials, 1, 3))
-        if self.noise_density:
-            out += (self.noise_density / np.sqrt(dt_s)) * rngs["white"].standard_normal((trials, n, 3))
-        if self.bias_random_walk:
-            steps = rngs["random_walk"].standard_normal((trials, n, 3))
-            steps *= self.bias_random_walk * np.sqrt(dt_s)
-            out += np.cumsum(steps, axis=1)
-        if self.bias_instability:
-            out += self._gauss_markov(rngs["instability"], trials, n, dt_s)
-        vib = _vec3(self.vibration_amplitude, "vibration_amplitude")
-        if np.any(vib) and self.vibration_freq_hz:
-            phase = rngs["vibration"].uniform(0.0, 2 * np.pi, (trials, 1, 3))
-            out += vib * np.sin(2 * np.pi * self.vibration_freq_hz * time_s[None, :, None] + phase)
-        if self.quantization:
-            np.round(out / self.quantization, out=out)
-            out *= self.quantization
-        return out
-
-    def _gauss_markov(self, rng: np.random.Generator, trials: int, n: int, dt_s: float) -> np.ndarray:
-        """First-order Gauss–Markov process, stationary from the first sample."""
-        a = np.exp(-dt_s / self.bias_instability_tau_s)
-        sigma = self.bias_instability
-        w = rng.standard_normal((trials, n, 3))
-        w[:, 0, :] *= sigma / np.sqrt(1.0 - a * a)  # stationary start: b_0 ~ N(0, σ²)
-        w[:, 1:, :] *= sigma
-        return lfilter([np.sqrt(1.0 - a * a)], [1.0, -a], w, axis=1)
-
 
 @dataclass(frozen=True)
 class ImuErrorModel:
@@ -343,6 +307,152 @@ class ImuRecord:
     accel_true_m_s2: np.ndarray
 
 
+class _SensorStream:
+    """Applies one triad's :class:`SensorErrors` chunk by chunk.
+
+    Random numbers come in fixed blocks of ``block_samples`` samples, each
+    block from its own generator keyed by (sensor, source, block index), so
+    the output does not depend on how the record is cut into chunks.
+    Random-walk and Gauss–Markov states carry over between chunks.
+    """
+
+    def __init__(self, errors: SensorErrors, seed_seq: np.random.SeedSequence | None, sensor_index: int,
+                 trials: int, dt_s: float, time_since_power_on_s: float, block_samples: int):
+        self.e, self.seed_seq, self.sensor_index = errors, seed_seq, sensor_index
+        self.trials, self.dt, self.t_on, self.block = trials, dt_s, time_since_power_on_s, block_samples
+        self.matrix_t = errors.matrix().T
+        self.bias = _vec3(errors.bias, "bias")
+        self.warm = _vec3(errors.warmup_bias, "warmup_bias")
+        self.vib = _vec3(errors.vibration_amplitude, "vibration_amplitude")
+        self.rw_state = np.zeros((trials, 1, 3))
+        self.gm_a = np.exp(-dt_s / errors.bias_instability_tau_s)
+        self.gm_state = None
+        self._cache: dict[str, tuple[int, np.ndarray]] = {}
+        self.turn_on = (errors.bias_sigma * self._generator("turn_on", 0).standard_normal((trials, 1, 3))
+                        if errors.bias_sigma else None)
+        self.phase = (self._generator("vibration", 0).uniform(0.0, 2 * np.pi, (trials, 1, 3))
+                      if np.any(self.vib) and errors.vibration_freq_hz else None)
+
+    def _generator(self, source: str, block: int) -> np.random.Generator:
+        key = self.seed_seq.spawn_key + (self.sensor_index, _SOURCES.index(source), block)
+        return np.random.Generator(np.random.PCG64(np.random.SeedSequence(self.seed_seq.entropy, spawn_key=key)))
+
+    def _normal(self, source: str, start: int, stop: int) -> np.ndarray:
+        """Standard normal draws (T, stop − start, 3) for global samples [start, stop)."""
+        b0, b1 = start // self.block, (stop - 1) // self.block
+        parts = []
+        for b in range(b0, b1 + 1):
+            cached = self._cache.get(source)
+            if cached is None or cached[0] != b:
+                cached = (b, self._generator(source, b).standard_normal((self.trials, self.block, 3)))
+                self._cache[source] = cached
+            parts.append(cached[1])
+        blocks = parts[0] if len(parts) == 1 else np.concatenate(parts, axis=1)
+        return blocks[:, start - b0 * self.block: stop - b0 * self.block]
+
+    def process(self, truth: np.ndarray, time_s: np.ndarray, start: int) -> np.ndarray:
+        """Measurements (T, n, 3) for truth samples (n, 3) at global index ``start``."""
+        e, n, stop = self.e, truth.shape[0], start + truth.shape[0]
+        out = np.empty((self.trials, n, 3))
+        out[:] = truth @ self.matrix_t
+        out += self.bias
+        if np.any(self.warm):
+            out += np.exp(-(time_s + self.t_on) / e.warmup_tau_s)[:, None] * self.warm
+        if self.turn_on is not None:
+            out += self.turn_on
+        if e.noise_density:
+            out += (e.noise_density / np.sqrt(self.dt)) * self._normal("white", start, stop)
+        if e.bias_random_walk:
+            steps = self._normal("random_walk", start, stop) * (e.bias_random_walk * np.sqrt(self.dt))
+            steps[:, :1, :] += self.rw_state  # carry the walk: same summation order as one long cumsum
+            walk = np.cumsum(steps, axis=1)
+            self.rw_state = walk[:, -1:, :].copy()
+            out += walk
+        if e.bias_instability:
+            out += self._gauss_markov(start, stop)
+        if self.phase is not None:
+            out += self.vib * np.sin(2 * np.pi * e.vibration_freq_hz * time_s[None, :, None] + self.phase)
+        if e.quantization:
+            np.round(out / e.quantization, out=out)
+            out *= e.quantization
+        return out
+
+    def _gauss_markov(self, start: int, stop: int) -> np.ndarray:
+        """First-order Gauss–Markov bias ``b_k = a b_{k−1} + √(1−a²) σ w_k``, stationary from k = 0."""
+        a, sigma = self.gm_a, self.e.bias_instability
+        w = self._normal("instability", start, stop) * sigma
+        c = np.sqrt(1.0 - a * a)
+        if start == 0:
+            w = w.copy()
+            w[:, 0, :] /= c  # b_0 = σ w_0 ~ N(0, σ²)
+        zi = np.zeros((self.trials, 1, 3)) if self.gm_state is None else a * self.gm_state
+        b, _ = lfilter([c], [1.0, -a], w, axis=1, zi=zi)
+        self.gm_state = b[:, -1:, :].copy()
+        return b
+
+
+class ImuStream:
+    """Simulated IMU output delivered in time chunks, in bounded memory.
+
+    ``ImuStream(...).chunks(n)`` yields :class:`ImuRecord` pieces of ``n``
+    samples (the last may be shorter). The random draws do not depend on the
+    chunk size: concatenating the chunks gives exactly :func:`simulate_imu`'s
+    output for the same generator state, whatever ``n`` is. Use it for Monte
+    Carlo runs where only metrics are kept (never all trials × all samples).
+
+    Parameters
+    ----------
+    trajectory, model, rng, trials, gravity_w_m_s2
+        As for :func:`simulate_imu`.
+    block_samples : int
+        Size of the fixed random-number blocks (memory per block:
+        ``trials × block_samples × 3 × 8`` bytes per error source).
+    """
+
+    def __init__(self, trajectory: Trajectory, model: ImuErrorModel | None = None,
+                 rng: np.random.Generator | None = None, trials: int | None = None,
+                 gravity_w_m_s2=GRAVITY_W_M_S2, block_samples: int = 256):
+        if not isinstance(trajectory, Trajectory):
+            raise TypeError(f"trajectory must be a Trajectory, got {type(trajectory).__name__}")
+        model = ImuErrorModel() if model is None else model
+        if not isinstance(model, ImuErrorModel):
+            raise TypeError(f"model must be an ImuErrorModel, got {type(model).__name__}")
+        if rng is not None and not isinstance(rng, np.random.Generator):
+            raise TypeError(f"rng must be a numpy.random.Generator, got {type(rng).__name__}")
+        if rng is None and _has_random_errors(model):
+            raise ValueError("rng must be a numpy.random.Generator when the error model has random errors")
+        self.trajectory, self.model, self.single = trajectory, model, trials is None
+        self.trials = 1 if trials is None else positive_int(trials, "trials")
+        block = positive_int(block_samples, "block_samples")
+        q_bs = np.asarray(model.q_mount, dtype=float)
+        self.q_ws = rotations.quat_multiply(trajectory.q_wb, q_bs)
+        c_sb = rotations.quat_to_matrix(q_bs).T
+        self.gyro_true = body_rates(trajectory) @ c_sb.T
+        self.accel_true = specific_force(trajectory, gravity_w_m_s2) @ c_sb.T
+        seed_seq = rng.spawn(1)[0].bit_generator.seed_seq if rng is not None else None
+        dt, t_on = trajectory.dt_s, model.time_since_power_on_s
+        self._gyro = _SensorStream(model.gyro, seed_seq, 0, self.trials, dt, t_on, block)
+        self._accel = _SensorStream(model.accel, seed_seq, 1, self.trials, dt, t_on, block)
+        self._next = 0
+
+    def chunks(self, chunk_samples: int):
+        """Yield consecutive :class:`ImuRecord` chunks of ``chunk_samples`` samples."""
+        size = positive_int(chunk_samples, "chunk_samples")
+        if self._next != 0:
+            raise ValueError("chunks() can be iterated once per ImuStream (the noise states advance)")
+        n = len(self.trajectory)
+        for start in range(0, n, size):
+            stop = min(start + size, n)
+            self._next = stop
+            t = self.trajectory.time_s[start:stop]
+            gyro = self._gyro.process(self.gyro_true[start:stop], t, start)
+            accel = self._accel.process(self.accel_true[start:stop], t, start)
+            if self.single:
+                gyro, accel = gyro[0], accel[0]
+            yield ImuRecord(t, gyro, accel, self.q_ws[start:stop], self.gyro_true[start:stop],
+                            self.accel_true[start:stop])
+
+
 def simulate_imu(trajectory: Trajectory, model: ImuErrorModel | None = None,
                  rng: np.random.Generator | None = None, trials: int | None = None,
                  gravity_w_m_s2=GRAVITY_W_M_S2) -> ImuRecord:
@@ -366,6 +476,10 @@ def simulate_imu(trajectory: Trajectory, model: ImuErrorModel | None = None,
     -------
     ImuRecord
 
+    See Also
+    --------
+    ImuStream : the same output in time chunks (bounded memory).
+
     Examples
     --------
     >>> import numpy as np
@@ -375,36 +489,8 @@ def simulate_imu(trajectory: Trajectory, model: ImuErrorModel | None = None,
     >>> rec.accel_m_s2[0].round(5)
     array([0.     , 0.     , 9.80665])
     """
-    if not isinstance(trajectory, Trajectory):
-        raise TypeError(f"trajectory must be a Trajectory, got {type(trajectory).__name__}")
-    model = ImuErrorModel() if model is None else model
-    if not isinstance(model, ImuErrorModel):
-        raise TypeError(f"model must be an ImuErrorModel, got {type(model).__name__}")
-    if rng is not None and not isinstance(rng, np.random.Generator):
-        raise TypeError(f"rng must be a numpy.random.Generator, got {type(rng).__name__}")
-    n_trials = 1 if trials is None else positive_int(trials, "trials")
-
-    q_bs = np.asarray(model.q_mount, dtype=float)
-    q_ws = rotations.quat_multiply(trajectory.q_wb, q_bs)
-    c_sb = rotations.quat_to_matrix(q_bs).T
-    gyro_true = body_rates(trajectory) @ c_sb.T
-    accel_true = specific_force(trajectory, gravity_w_m_s2) @ c_sb.T
-
-    rngs = {}
-    if rng is not None:
-        children = rng.spawn(2 * len(_SOURCES))
-        rngs = {"gyro": dict(zip(_SOURCES, children[:len(_SOURCES)])),
-                "accel": dict(zip(_SOURCES, children[len(_SOURCES):]))}
-    elif _has_random_errors(model):
-        raise ValueError("rng must be a numpy.random.Generator when the error model has random errors")
-    dt = trajectory.dt_s
-    gyro = model.gyro.apply(gyro_true, trajectory.time_s, dt, n_trials, rngs.get("gyro", {}),
-                            model.time_since_power_on_s)
-    accel = model.accel.apply(accel_true, trajectory.time_s, dt, n_trials, rngs.get("accel", {}),
-                              model.time_since_power_on_s)
-    if trials is None:
-        gyro, accel = gyro[0], accel[0]
-    return ImuRecord(trajectory.time_s, gyro, accel, q_ws, gyro_true, accel_true)
+    stream = ImuStream(trajectory, model, rng, trials, gravity_w_m_s2)
+    return next(stream.chunks(len(trajectory)))
 
 
 def _has_random_errors(model: ImuErrorModel) -> bool:

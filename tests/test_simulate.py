@@ -161,3 +161,29 @@ def test_bad_models_raise():
         simulate.simulate_imu(traj, rng=42)
     with pytest.raises(ValueError, match="trials must be >= 1"):
         simulate.simulate_imu(traj, rng=np.random.default_rng(0), trials=0)
+
+
+@pytest.mark.parametrize("chunk", [1, 97, 256, 1000, 5000])
+def test_stream_is_chunk_size_independent(chunk):
+    """Same seed ⇒ same numbers whatever the chunk size (issue #7)."""
+    wp = np.radians([[0, 0, 0], [8, 0, 0], [0, -12, 30]])
+    traj = profiles.trajectory_from_euler_zxy(profiles.step_schedule(wp, np.radians(20), 0.5, 1000))
+    model = ImuErrorModel(gyro=SensorErrors(noise_density=1e-4, bias_sigma=1e-4, bias_random_walk=1e-5,
+                                            bias_instability=1e-5, bias_instability_tau_s=2.0),
+                          accel=SensorErrors(noise_density=1e-3, vibration_amplitude=0.1, vibration_freq_hz=30.0,
+                                             quantization=1e-4))
+    whole = simulate.simulate_imu(traj, model, np.random.default_rng(3), trials=3)
+    parts = list(simulate.ImuStream(traj, model, np.random.default_rng(3), trials=3).chunks(chunk))
+    np.testing.assert_array_equal(np.concatenate([p.gyro_rad_s for p in parts], axis=1), whole.gyro_rad_s)
+    np.testing.assert_array_equal(np.concatenate([p.accel_m_s2 for p in parts], axis=1), whole.accel_m_s2)
+    np.testing.assert_array_equal(np.concatenate([p.time_s for p in parts]), whole.time_s)
+
+
+def test_stream_single_pass_and_bad_chunk():
+    traj = Trajectory(np.arange(10) / 10.0, np.tile([1.0, 0, 0, 0], (10, 1)))
+    stream = simulate.ImuStream(traj)
+    assert sum(len(c.time_s) for c in stream.chunks(3)) == 10
+    with pytest.raises(ValueError, match="iterated once"):
+        next(stream.chunks(3))
+    with pytest.raises(ValueError, match="chunk_samples must be >= 1"):
+        next(simulate.ImuStream(traj).chunks(0))
