@@ -7,6 +7,7 @@ NOTEBOOK_SRC := $(sort $(wildcard notebooks/[0-9][0-9]_*.py))
 NOTEBOOKS := $(NOTEBOOK_SRC:.py=.ipynb)
 export MPLBACKEND := Agg
 export PYTHONHASHSEED := 0
+export MTCAL_PROGRESS := 0
 
 .PHONY: venv reproduce test bench clean
 
