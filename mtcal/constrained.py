@@ -594,7 +594,7 @@ def _euler_quat(angles: np.ndarray) -> np.ndarray:
 
 
 def simulate_calibration_errors(layout_rad, scenario: CalibrationScenario, n_trials: int,
-                                rng: np.random.Generator) -> dict[str, np.ndarray]:
+                                rng: np.random.Generator, *, return_matrices: bool = False):
     """Calibrated-attitude RMSE of Eq 13, SO(4) and mounting-only fits over Monte Carlo trials.
 
     Per trial (all vectorised over the leading trial axis): draw a mounting
@@ -614,12 +614,17 @@ def simulate_calibration_errors(layout_rad, scenario: CalibrationScenario, n_tri
         Number of Monte Carlo seeds.
     rng : numpy.random.Generator
 
+    return_matrices : bool
+        Also return the fitted matrices.
+
     Returns
     -------
     dict
         ``{"eq13", "so4", "mounting"}`` → attitude RMSE per trial (rad),
         shape (n_trials,); NaN where the layout is degenerate (or has too few
         positions, see :data:`MIN_POSITIONS`) for that estimator.
+    dict, optional
+        With ``return_matrices``: the same keys → fitted matrices (n_trials, 4, 4).
     """
     if not isinstance(scenario, CalibrationScenario):
         raise TypeError(f"scenario must be a CalibrationScenario, got {type(scenario).__name__}")
@@ -662,7 +667,7 @@ def simulate_calibration_errors(layout_rad, scenario: CalibrationScenario, n_tri
     for name, m in mats.items():
         err = _angle(apply_error_matrices(m, qs_test), qb_test)
         out[name] = np.sqrt(np.mean(err**2, axis=-1))
-    return out
+    return (out, mats) if return_matrices else out
 
 
 # --------------------------------------------------------------------------

@@ -316,3 +316,12 @@ def test_monte_carlo_input_errors():
         constrained.CalibrationScenario(noise_sigma_rad=-1.0)
     with pytest.raises(ValueError, match="envelope_deg"):
         constrained.CalibrationScenario(envelope_deg=((1, 0), (0, 1), (0, 1)))
+
+
+def test_monte_carlo_returns_matrices_eq13_not_orthogonal_with_noise():
+    sc = constrained.CalibrationScenario(n_test=10)
+    out, mats = constrained.simulate_calibration_errors(constrained.paper_six_positions_rad(), sc, 50,
+                                                        np.random.default_rng(2), return_matrices=True)
+    assert mats["eq13"].shape == (50, 4, 4) and out["eq13"].shape == (50,)
+    assert np.all(constrained.distance_to_orthogonal(mats["eq13"]) > 1e-6)
+    assert np.all(constrained.distance_to_orthogonal(mats["so4"]) < 1e-12)
