@@ -64,7 +64,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from mtcal import rotations
-from mtcal._validate import as_float_array, positive_int, positive_scalar
+from mtcal._validate import as_float_array, positive_int, positive_scalar, unit_quaternion
 from mtcal.calibration import MAX_CONDITION, align_pairs
 
 __all__ = [
@@ -115,8 +115,8 @@ def so4_from_quaternions(p, r) -> np.ndarray:
     ndarray, shape (..., 4, 4)
         Orthogonal matrix with determinant +1.
     """
-    p = _unit(p, "p")
-    r = _unit(r, "r")
+    p = unit_quaternion(p, "p")
+    r = unit_quaternion(r, "r")
     return rotations.left_matrix(p) @ rotations.right_matrix(r)
 
 
@@ -309,6 +309,17 @@ def least_squares_error_matrix_batch(q_sensor, q_body, *, on_degenerate: str = "
     Returns
     -------
     ndarray, shape (..., 4, 4)
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from mtcal import rotations
+    >>> rng = np.random.default_rng(0)
+    >>> q_b = rotations.quat_normalize(rng.normal(size=(3, 6, 4)))     # 3 seeds × 6 positions
+    >>> c = rotations.quat_from_rotvec([0.003, -0.002, 0.001])
+    >>> q_mat = least_squares_error_matrix_batch(rotations.quat_multiply(q_b, c), q_b)
+    >>> q_mat.shape, bool(np.allclose(q_mat, rotations.right_matrix(rotations.quat_conjugate(c))))
+    ((3, 4, 4), True)
     """
     q_s, q_b = _pairs(q_sensor, q_body, MIN_POSITIONS["eq13"], "Eq 13 (16 unknowns, rank A_s = 4)")
     a_s, a_b = np.swapaxes(q_s, -1, -2), np.swapaxes(q_b, -1, -2)
@@ -489,7 +500,7 @@ def apply_error_matrices(q_matrix, q_sensor) -> np.ndarray:
     m = np.array(q_matrix, dtype=float)
     if m.ndim < 2 or m.shape[-2:] != (4, 4) or np.any(np.isinf(m)):
         raise ValueError(f"q_matrix must be a (..., 4, 4) array without inf, got shape {m.shape}")
-    q_s = rotations.align_signs(_unit(q_sensor, "q_sensor"))
+    q_s = rotations.align_signs(unit_quaternion(q_sensor, "q_sensor"))
     if q_s.ndim < 2:
         raise ValueError(f"q_sensor must have shape (..., N, 4), got {q_s.shape}")
     q_b = q_s @ np.swapaxes(m, -1, -2)
@@ -673,15 +684,6 @@ def simulate_calibration_errors(layout_rad, scenario: CalibrationScenario, n_tri
 # --------------------------------------------------------------------------
 # small validators
 # --------------------------------------------------------------------------
-def _unit(q, name: str) -> np.ndarray:
-    q = as_float_array(q, name, last_dim=4)
-    norm = np.linalg.norm(q, axis=-1)
-    if np.any(np.abs(norm - 1.0) > 1e-6):
-        raise ValueError(f"{name} must hold unit quaternions (|q| = 1 within 1e-06); "
-                         f"got |q| in [{norm.min():.6g}, {norm.max():.6g}]")
-    return q
-
-
 def _matrix(matrix, name: str) -> np.ndarray:
     m = as_float_array(matrix, name)
     if m.ndim < 2 or m.shape[-2:] != (4, 4):
