@@ -117,8 +117,9 @@ class QncfResult:
     Attributes
     ----------
     q_ws : ndarray (..., N, 4)
-        Sensor attitude after each sample's update (scalar-first, q0 sign
-        continuous in time).
+        Sensor attitude at each sample time t_k, i.e. before sample k's
+        increment is applied (scalar-first; continuous in sign by
+        construction, the update never flips it).
     euler_rad : ndarray (..., N, 3)
         Eq 8 yaw ψ, pitch θ, roll γ of ``q_ws`` (rad).
     amd_pct : ndarray (..., N)
@@ -312,7 +313,7 @@ class QncfFilter:
         np.divide(qn, s, out=q)
 
     def _prepare(self, x, name: str, ndim_single: int) -> np.ndarray:
-        arr = as_float_array(x, name, last_dim=3)
+        arr = _as_input(x, name)
         if self._single and arr.ndim == ndim_single:
             arr = arr[None]
         if arr.ndim != ndim_single + 1 or arr.shape[0] != self.trials:
@@ -323,37 +324,66 @@ class QncfFilter:
     def update(self, gyro_rad_s, accel_m_s2) -> np.ndarray:
         """Process one sample: gyro (rad/s) and accel (m/s²), shape (T, 3) or (3,).
 
-        Returns the updated attitude, shape (T, 4) or (4,).
+        The accel sample is taken at ``t_k`` (it corrects the current state),
+        the gyro sample is the mean rate over ``[t_k, t_{k+1}]``. Returns the
+        attitude at ``t_{k+1}``, shape (T, 4) or (4,).
         """
         w = self._prepare(gyro_rad_s, "gyro_rad_s", 1)
         a = self._prepare(accel_m_s2, "accel_m_s2", 1)
         self._step(np.ascontiguousarray(w.T), np.ascontiguousarray(a.T))
         return self.q_ws
 
-    def run(self, gyro_rad_s, accel_m_s2, *, return_euler: bool = True) -> QncfResult:
-        """Process a chunk (T, M, 3) (or (M, 3) for a single-trial filter), continuing the state."""
+    def run(self, gyro_rad_s, accel_m_s2, *, return_euler: bool = True,
+            chunk: int = 2048) -> QncfResult:
+        """Process a record (T, M, 3) (or (M, 3) for a single-trial filter), continuing the state.
+
+        Inputs are read in time chunks of ``chunk`` samples (transposed to a
+        component-major scratch copy), so the working set stays small; the
+        caller's arrays are never modified. ``q_ws[k]`` is the attitude at
+        ``t_k`` (before sample k's increment).
+        """
         w = self._prepare(gyro_rad_s, "gyro_rad_s", 2)
         a = self._prepare(accel_m_s2, "accel_m_s2", 2)
         if w.shape != a.shape:
             raise ValueError(f"gyro_rad_s and accel_m_s2 must have the same shape, got {w.shape} and {a.shape}")
-        m = w.shape[1]
-        wt = np.ascontiguousarray(np.moveaxis(w, 0, -1).transpose(0, 1, 2))  # (M, 3, T)
-        at = np.ascontiguousarray(np.moveaxis(a, 0, -1))
-        q_out = np.empty((m, 4, self.trials))
-        amd_out = np.empty((m, self.trials))
-        gate_out = np.empty((m, self.trials), dtype=bool)
-        for k in range(m):  # recursive filter: loop over time only
-            self._step(wt[k], at[k])
-            q_out[k] = self._q
-            amd_out[k] = self._amd
-            gate_out[k] = self._gate
-        q = np.ascontiguousarray(q_out.transpose(2, 0, 1))
-        q = rotations.make_continuous(q, axis=1)
-        euler = rotations.euler_zxy_from_quat(q) if return_euler else np.empty(q.shape[:-1] + (0,))
-        amd, gate = amd_out.T.copy(), gate_out.T.copy()
+        m, n = w.shape[1], self.trials
+        q_out = np.empty((n, m, 4))
+        amd_out = np.empty((n, m))
+        gate_out = np.empty((n, m), dtype=bool)
+        size = max(1, min(int(chunk), m))
+        q_buf = np.empty((size, 4, n))
+        amd_buf = np.empty((size, n))
+        gate_buf = np.empty((size, n), dtype=bool)
+        for c0 in range(0, m, size):
+            c1 = min(c0 + size, m)
+            wt = np.ascontiguousarray(w[:, c0:c1].transpose(1, 2, 0))  # (chunk, 3, T)
+            at = np.ascontiguousarray(a[:, c0:c1].transpose(1, 2, 0))
+            for k in range(c1 - c0):  # recursive filter: loop over time only
+                q_buf[k] = self._q             # attitude at t_k (before sample k's increment)
+                self._step(wt[k], at[k])
+                amd_buf[k] = self._amd
+                gate_buf[k] = self._gate
+            q_out[:, c0:c1] = q_buf[:c1 - c0].transpose(2, 0, 1)
+            amd_out[:, c0:c1] = amd_buf[:c1 - c0].T
+            gate_out[:, c0:c1] = gate_buf[:c1 - c0].T
+        euler = rotations.euler_zxy_from_quat(q_out) if return_euler else np.empty((n, m, 0))
         if self._single:
-            q, euler, amd, gate = q[0], euler[0], amd[0], gate[0]
-        return QncfResult(q, euler, amd, gate)
+            return QncfResult(q_out[0], euler[0], amd_out[0], gate_out[0])
+        return QncfResult(q_out, euler, amd_out, gate_out)
+
+
+def _as_input(x, name: str) -> np.ndarray:
+    """Float64 view (no copy when already float64) checked for shape (..., 3) and finiteness."""
+    if isinstance(x, (str, bytes)) or x is None:
+        raise TypeError(f"{name} must be a numeric array, got {type(x).__name__}")
+    arr = np.asarray(x, dtype=np.float64)
+    if arr.ndim not in (1, 2, 3) or arr.shape[-1] != 3:
+        raise ValueError(f"{name} must have shape (3,), (N, 3) or (T, N, 3), got {arr.shape}")
+    if arr.size == 0:
+        raise ValueError(f"{name} must not be empty")
+    if not np.isfinite(arr).all():
+        raise ValueError(f"{name} must be finite (no NaN or inf)")
+    return arr
 
 
 def qncf(gyro_rad_s, accel_m_s2, dt_s: float, params: QncfParams = QncfParams(), *,
@@ -392,8 +422,10 @@ def qncf(gyro_rad_s, accel_m_s2, dt_s: float, params: QncfParams = QncfParams(),
     >>> res.q_ws[-1].round(12).tolist()
     [1.0, 0.0, 0.0, 0.0]
     """
-    w = as_float_array(gyro_rad_s, "gyro_rad_s", ndim=(2, 3), last_dim=3)
-    a = as_float_array(accel_m_s2, "accel_m_s2", ndim=(2, 3), last_dim=3)
+    w = _as_input(gyro_rad_s, "gyro_rad_s")
+    a = _as_input(accel_m_s2, "accel_m_s2")
+    if w.ndim == 1:
+        raise ValueError(f"gyro_rad_s must have shape (N, 3) or (T, N, 3), got {w.shape}")
     if w.shape != a.shape:
         raise ValueError(f"gyro_rad_s and accel_m_s2 must have the same shape, got {w.shape} and {a.shape}")
     single = w.ndim == 2
