@@ -47,6 +47,12 @@ class ZvdParams:
     min_window_samples : int
         Lower bound on the window length in samples (a variance over fewer
         than 2 samples is 0); mtcal's choice, not the paper's.
+    gyro_max_rad_s : float or None
+        Optional angular-rate condition ``‖ω‖ < gyro_max`` (rad/s), the
+        "angular velocity condition" Sec. 3.1 cites from [20] but does not use;
+        None (paper) disables it. ‖a‖ is blind to a pure rotation about an
+        axis through the sensor, so without it the ZVD sees rotation only
+        through lever-arm acceleration.
     """
 
     accel_min_m_s2: float = 9.76
@@ -55,6 +61,7 @@ class ZvdParams:
     window_s: float = 0.01
     min_duration_s: float = 0.01
     min_window_samples: int = 3
+    gyro_max_rad_s: float | None = None
 
     def __post_init__(self) -> None:
         for name in ("accel_min_m_s2", "accel_max_m_s2", "var_threshold_m2_s4", "window_s",
@@ -65,6 +72,8 @@ class ZvdParams:
                              f"({self.accel_max_m_s2})")
         if self.accel_max_m_s2 > 100:
             raise ValueError("accel_max_m_s2 must be in m/s² (got > 100; mg passed?)")
+        if self.gyro_max_rad_s is not None:
+            positive_scalar(self.gyro_max_rad_s, "gyro_max_rad_s")
         if int(self.min_window_samples) < 2:
             raise ValueError(f"min_window_samples must be >= 2, got {self.min_window_samples}")
 
@@ -118,7 +127,8 @@ def moving_variance(x, window: int) -> np.ndarray:
     return np.maximum(s2 / count - mean * mean, 0.0)
 
 
-def detect_static(accel_m_s2, fs_hz: float, params: ZvdParams | None = None) -> np.ndarray:
+def detect_static(accel_m_s2, fs_hz: float, params: ZvdParams | None = None,
+                  gyro_rad_s=None) -> np.ndarray:
     """Seed 004 ZVD (Sec. 3.1, Eq 21–22, Table 1): static flag per sample.
 
     Parameters
@@ -129,6 +139,8 @@ def detect_static(accel_m_s2, fs_hz: float, params: ZvdParams | None = None) -> 
         Sample rate (Hz).
     params : ZvdParams, optional
         Thresholds; Table 1 by default.
+    gyro_rad_s : array_like, shape (..., N, 3), optional
+        Gyro record (rad/s); required when ``params.gyro_max_rad_s`` is set.
 
     Returns
     -------
@@ -146,6 +158,13 @@ def detect_static(accel_m_s2, fs_hz: float, params: ZvdParams | None = None) -> 
     band = (mag > p.accel_min_m_s2) & (mag < p.accel_max_m_s2)
     var = moving_variance(mag - STANDARD_GRAVITY_M_S2, p.window_samples(fs_hz))
     cond = band & (var < p.var_threshold_m2_s4)
+    if p.gyro_max_rad_s is not None:
+        if gyro_rad_s is None:
+            raise ValueError("gyro_rad_s is required when params.gyro_max_rad_s is set")
+        w = as_float_array(gyro_rad_s, "gyro_rad_s", last_dim=3)
+        if w.shape != a.shape:
+            raise ValueError(f"gyro_rad_s must have the shape of accel_m_s2 {a.shape}, got {w.shape}")
+        cond &= np.linalg.norm(w, axis=-1) < p.gyro_max_rad_s
     return _min_run(cond, p.duration_samples(fs_hz))
 
 
