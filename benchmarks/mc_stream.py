@@ -1,0 +1,239 @@
+"""Streaming Monte Carlo benchmark: 1000 trials × 60 s @ 1 kHz of QNCF in bounded memory.
+
+simulate (:class:`mtcal.simulate.ImuStream`) → QNCF (:class:`mtcal.filters.qncf.QncfFilter`,
+state carried chunk to chunk) → metrics (:class:`mtcal.montecarlo.ErrorAccumulator`),
+driven by :func:`mtcal.montecarlo.run_streaming`. Nothing of size
+trials × samples is ever held: memory is O(trials × chunk_samples). Because the
+stream's random draws and the filter step do not depend on the chunk size, the
+per-sample errors are bit-identical for any chunk size; only the running sums
+of the accumulator are added in a different order (rounding, ~1e-16 relative).
+
+Scenario (also used by ``benchmarks/run.py`` so that every method sees the same
+data): a 1-channel pitch step schedule about the body x axis (seed 000 Eq 8/9
+pitch; RAMS EKF axis v = x), waypoints 0 → 30 → −20 → 45 → 10 → 0 deg, 70 % of
+the record in holds, 30 % in minimum-jerk moves (so the schedule scales with the
+record length), no lever arm; the tactical MEMS IMU of seed 000
+(:class:`mtcal.scenarios000.ImuSpec000`, every error source on, 5 min after
+power-on); QNCF with its default gains, started at the true initial attitude.
+
+Run alone::
+
+    .venv/bin/python benchmarks/mc_stream.py --trials 1000 --duration 60 --json
+
+prints the wall time of the whole run (scenario + simulation + filter +
+metrics) and the process's peak RSS (``resource.getrusage(RUSAGE_SELF)``,
+which includes the interpreter and the imported libraries).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import resource
+import sys
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from mtcal import profiles, rotations
+from mtcal.filters.qncf import QncfFilter, QncfParams
+from mtcal.metrics import angle_difference, percentile_band
+from mtcal.montecarlo import ErrorAccumulator, run_streaming
+from mtcal.scenarios000 import ImuSpec000
+from mtcal.simulate import ImuErrorModel, ImuRecord, ImuStream, Trajectory
+
+__all__ = ["PITCH_WAYPOINTS_DEG", "BenchData", "bench_scenario", "error_model", "PrefetchStream",
+           "euler_zxy_fast", "QncfErrorConsumer",
+           "run_mc", "peak_rss_mb"]
+
+#: Pitch waypoints of the benchmark schedule (deg).
+PITCH_WAYPOINTS_DEG = (0.0, 30.0, -20.0, 45.0, 10.0, 0.0)
+#: Rotation axis of the schedule in the body frame (pitch axis of seed 000 Eq 9, ZXY).
+AXIS_B = (1.0, 0.0, 0.0)
+_HOLD_FRACTION = 0.7
+
+
+@dataclass(frozen=True)
+class BenchData:
+    """Truth of the benchmark scenario.
+
+    Attributes
+    ----------
+    trajectory : Trajectory
+    is_static : ndarray (N,) of bool
+        True inside holds (ZVD flags for the RAMS EKF).
+    axis_b : ndarray (3,)
+        Rotation axis (body = sensor frame, identity mounting).
+    """
+
+    trajectory: Trajectory
+    is_static: np.ndarray
+    axis_b: np.ndarray
+
+
+def bench_scenario(duration_s: float = 60.0, fs_hz: float = 1000.0) -> BenchData:
+    """Pitch step schedule of ``duration_s`` seconds at ``fs_hz`` (see module docstring)."""
+    if duration_s * fs_hz < 50:
+        raise ValueError(f"duration_s * fs_hz must be at least 50 samples, got {duration_s * fs_hz:g}")
+    wp = np.radians(PITCH_WAYPOINTS_DEG)
+    travel = float(np.abs(np.diff(wp)).sum())
+    rate = travel / ((1.0 - _HOLD_FRACTION) * duration_s)
+    hold = _HOLD_FRACTION * duration_s / wp.size
+    prof = profiles.step_schedule(wp, rate, hold, fs_hz)
+    traj = profiles.fixed_axis_trajectory(prof, AXIS_B)
+    return BenchData(traj, prof.is_static.copy(), np.array(AXIS_B))
+
+
+def error_model() -> ImuErrorModel:
+    """Seed 000 tactical MEMS IMU, every error source on, identity mounting."""
+    return ImuSpec000().error_model((1.0, 0.0, 0.0, 0.0))
+
+
+class PrefetchStream(ImuStream):
+    """:class:`ImuStream` that simulates the next chunk in a background thread.
+
+    The chunks are the same objects in the same order as ``ImuStream.chunks``
+    (same draws); only the simulation of chunk k+1 overlaps the filtering of
+    chunk k. numpy releases the GIL inside the large random-number fills and
+    array operations of the simulator, so on 2 cores the two stages run side by
+    side. At most three chunks are alive (being filtered, queued, being made).
+    """
+
+    def chunks(self, chunk_samples: int):
+        import queue
+        import threading
+
+        done = object()
+        box: queue.Queue = queue.Queue(maxsize=1)
+        stop = threading.Event()
+        source = super().chunks(chunk_samples)
+
+        def produce() -> None:
+            try:
+                for item in source:
+                    while not stop.is_set():
+                        try:
+                            box.put(item, timeout=0.1)
+                            break
+                        except queue.Full:
+                            continue
+                    if stop.is_set():
+                        return
+                box.put(done)
+            except BaseException as exc:  # hand errors to the consumer thread
+                box.put(exc)
+
+        worker = threading.Thread(target=produce, name="imu-prefetch", daemon=True)
+        worker.start()
+        try:
+            while True:
+                item = box.get()
+                if item is done:
+                    break
+                if isinstance(item, BaseException):
+                    raise item
+                yield item
+        finally:
+            stop.set()
+            worker.join()
+
+
+def euler_zxy_fast(q: np.ndarray) -> np.ndarray:
+    """Seed 000 Eq 8 (same formulas as :func:`mtcal.rotations.euler_zxy_from_quat`) without
+    input validation, for filter outputs that are unit quaternions by construction."""
+    q0, q1, q2, q3 = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
+    out = np.empty(q.shape[:-1] + (3,))
+    s00, s11, s22, s33 = q0 * q0, q1 * q1, q2 * q2, q3 * q3
+    np.arctan2(-2.0 * (q1 * q2 - q0 * q3), s00 - s11 + s22 - s33, out=out[..., 0])
+    np.arcsin(np.clip(2.0 * (q2 * q3 + q0 * q1), -1.0, 1.0), out=out[..., 1])
+    np.arctan2(-2.0 * (q1 * q3 - q0 * q2), s00 - s11 - s22 + s33, out=out[..., 2])
+    return out
+
+
+class QncfErrorConsumer:
+    """Chunk consumer: advances a :class:`QncfFilter` and folds Eq 8 angle errors in.
+
+    Parameters
+    ----------
+    q0 : array_like (4,)
+        Initial attitude for every trial.
+    dt_s : float
+        Sample interval (s).
+    trials : int
+        Number of trials.
+    params : QncfParams
+        Filter tuning.
+    """
+
+    def __init__(self, q0, dt_s: float, trials: int, params: QncfParams = QncfParams()):
+        self.filter = QncfFilter(q0, dt_s, params, trials=trials)
+        self.errors = ErrorAccumulator((trials, 3))
+
+    def update(self, chunk: ImuRecord) -> None:
+        res = self.filter.run(chunk.gyro_rad_s, chunk.accel_m_s2, return_euler=False)
+        truth = rotations.euler_zxy_from_quat(chunk.q_ws_true)
+        self.errors.add(angle_difference(euler_zxy_fast(res.q_ws), truth))
+
+
+def run_mc(trials: int, duration_s: float = 60.0, *, chunk_samples: int = 1000, seed: int = 2023,
+           fs_hz: float = 1000.0, prefetch: bool = True, progress: bool | None = None) -> dict[str, np.ndarray]:
+    """Streaming QNCF Monte Carlo; returns per-trial ``rmse``, ``max_abs``, ``mean`` (T, 3) in rad.
+
+    Columns are Eq 8 yaw, pitch, roll errors (estimate − truth, wrapped).
+    ``prefetch`` simulates the next chunk in a background thread
+    (:class:`PrefetchStream`); the numbers are the same either way.
+    """
+    data = bench_scenario(duration_s, fs_hz)
+    cls = PrefetchStream if prefetch else ImuStream
+    stream = cls(data.trajectory, error_model(), np.random.default_rng(seed), trials=trials)
+    consumer = QncfErrorConsumer(stream.q_ws[0], data.trajectory.dt_s, trials)
+    run_streaming(stream, [consumer], chunk_samples, progress=progress)
+    acc = consumer.errors
+    return {"rmse": acc.rmse(), "max_abs": acc.max_abs(), "mean": acc.mean()}
+
+
+def peak_rss_mb() -> float:
+    """Peak resident set size of this process so far (MB; Linux reports ru_maxrss in KiB)."""
+    kib = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    return kib / 1024.0 if sys.platform != "darwin" else kib / 2**20
+
+
+def main(argv: list[str] | None = None) -> dict:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--trials", type=int, default=1000)
+    ap.add_argument("--duration", type=float, default=60.0, help="record length (s)")
+    ap.add_argument("--chunk", type=int, default=1000, help="samples per chunk")
+    ap.add_argument("--seed", type=int, default=2023)
+    ap.add_argument("--no-prefetch", action="store_true", help="simulate and filter in one thread")
+    ap.add_argument("--json", action="store_true", help="print one JSON line (for benchmarks/run.py)")
+    args = ap.parse_args(argv)
+    rss0 = peak_rss_mb()
+    t0 = time.perf_counter()
+    out = run_mc(args.trials, args.duration, chunk_samples=args.chunk, seed=args.seed,
+                 prefetch=not args.no_prefetch)
+    wall = time.perf_counter() - t0
+    band = percentile_band(np.degrees(out["rmse"]), axis=0)
+    summary = {
+        "trials": args.trials, "duration_s": args.duration, "chunk_samples": args.chunk,
+        "prefetch": not args.no_prefetch,
+        "trial_samples": int(args.trials * round(args.duration * 1000.0)),
+        "wall_s": wall, "peak_rss_mb": peak_rss_mb(), "rss_after_imports_mb": rss0,
+        "rmse_deg_median": band["median"].tolist(), "rmse_deg_low": band["low"].tolist(),
+        "rmse_deg_high": band["high"].tolist(),
+    }
+    if args.json:
+        print(json.dumps(summary))
+    else:
+        print(f"streaming Monte Carlo: {args.trials} trials x {args.duration:g} s @ 1 kHz, "
+              f"chunk {args.chunk} samples, prefetch {'off' if args.no_prefetch else 'on'}")
+        print(f"  wall time {wall:.1f} s, peak RSS {summary['peak_rss_mb']:.0f} MB "
+              f"(after imports {rss0:.0f} MB)")
+        for i, name in enumerate(("yaw", "pitch", "roll")):
+            print(f"  {name:5s} RMSE median {band['median'][i]:.4f} deg, "
+                  f"95 % band [{band['low'][i]:.4f}, {band['high'][i]:.4f}] deg")
+    return summary
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,223 @@
+"""Smoke tests of the benchmark harness (benchmarks/): tiny sizes, no timing assertions.
+
+The anchors need the ``bench`` extra (ahrs, imufusion); those tests are skipped
+when it is not installed (``make test`` installs only ``dev``).
+"""
+
+import json
+import sys
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+
+import anchors  # noqa: E402
+import mc_stream  # noqa: E402
+import run  # noqa: E402
+from mtcal import metrics, rotations  # noqa: E402
+from mtcal.filters.qncf import QncfFilter  # noqa: E402
+from mtcal.simulate import simulate_imu  # noqa: E402
+
+TINY = replace(run.QUICK, record_s=0.3, batch_trials=4, batch_record_s=0.1, loop_record_s=0.1,
+               profile_s=0.05, mc_trials=3, mc_duration_s=0.2, repeats=1)
+
+
+@pytest.fixture(scope="module")
+def tiny_inputs() -> run.BenchInputs:
+    return run.make_inputs(TINY, seed=7)
+
+
+@pytest.fixture(scope="module")
+def short_record():
+    data = mc_stream.bench_scenario(2.0)
+    rec = simulate_imu(data.trajectory, mc_stream.error_model(), np.random.default_rng(3), trials=2)
+    return data, rec
+
+
+# ----------------------------------------------------------------------------- scenario and inputs
+def test_bench_scenario_has_the_requested_length_and_holds():
+    data = mc_stream.bench_scenario(3.0, 1000.0)
+    assert len(data.trajectory) == 3000
+    assert data.is_static.shape == (3000,)
+    assert 0.6 < data.is_static.mean() < 0.8  # 70 % of the record in holds
+    with pytest.raises(ValueError, match="duration_s"):
+        mc_stream.bench_scenario(0.01, 1000.0)
+
+
+def test_inputs_share_trial_zero_between_batched_and_single_records(tiny_inputs):
+    inp = tiny_inputs
+    m = inp.gyro_t.shape[1]
+    assert inp.gyro_1.shape == (300, 3) and inp.gyro_t.shape == (4, 100, 3)
+    np.testing.assert_array_equal(inp.gyro_t[0], inp.gyro_1[:m])
+    np.testing.assert_array_equal(inp.accel_t[0], inp.accel_1[:m])
+    np.testing.assert_allclose(np.linalg.norm(inp.accel0_t, axis=1), 9.80665, rtol=1e-3)
+
+
+# ----------------------------------------------------------------------------- anchors
+def test_numpy_mahony_matches_ahrs_updateimu_and_batch(short_record):
+    pytest.importorskip("ahrs")
+    _, rec = short_record
+    q0 = rec.q_ws_true[0]
+    g, a = rec.gyro_rad_s, rec.accel_m_s2
+    loop = anchors.ahrs_mahony_loop(g[0], a[0], 1e-3, q0=q0)
+    np.testing.assert_allclose(anchors.ahrs_mahony_batch(g[0], a[0], 1e-3, q0=q0), loop, atol=1e-12)
+    batched = anchors.numpy_mahony_batched(g, a, 1e-3, q0=q0)
+    np.testing.assert_allclose(batched[0], loop, atol=1e-12)
+    np.testing.assert_allclose(batched[1], anchors.ahrs_mahony_loop(g[1], a[1], 1e-3, q0=q0), atol=1e-12)
+
+
+def test_attitude_anchors_track_the_truth(short_record):
+    pytest.importorskip("ahrs")
+    pytest.importorskip("imufusion")
+    _, rec = short_record
+    truth = rotations.euler_zxy_from_quat(rec.q_ws_true)
+    for fn in (anchors.ahrs_mahony_loop, anchors.imufusion_loop):
+        q = fn(rec.gyro_rad_s[0], rec.accel_m_s2[0], 1e-3, q0=rec.q_ws_true[0])
+        err = metrics.angle_difference(rotations.euler_zxy_from_quat(q), truth)
+        assert np.degrees(np.abs(err)).max() < 2.0, fn.__name__  # 1 sample of lag at ≤ 300 °/s
+
+
+def test_ekf_anchors_agree_with_each_other_and_with_mtcal(short_record):
+    data, rec = short_record
+    g, a = rec.gyro_rad_s[0], rec.accel_m_s2[0]
+    a0 = a[:100].mean(axis=0)
+    th_fp, b_fp = anchors.filterpy_ekf_loop(g, a, data.is_static, data.axis_b, a0, 1e-3)
+    th_np, b_np = anchors.numpy_ekf_loop(g, a, data.is_static, data.axis_b, a0, 1e-3)
+    np.testing.assert_allclose(th_np, th_fp, atol=1e-12)
+    np.testing.assert_allclose(b_np, b_fp, atol=1e-12)
+    truth = rotations.rotvec_from_quat(rec.q_ws_true)[:, 0]  # rotation about x
+    assert np.degrees(np.abs(th_fp - truth)).max() < 1.0
+    if run.run_rams_ekf is not None:
+        res = run.run_rams_ekf(g, a, data.is_static, data.axis_b, a0, 1e-3, run.RamsEkfParams())
+        np.testing.assert_allclose(res.theta_rad[0], th_fp, atol=1e-9)
+        np.testing.assert_allclose(res.bias_rad_s[0], b_fp, atol=1e-9)
+
+
+def test_ekf_noise_defaults_match_rams_params():
+    if run.RamsEkfParams is None:
+        pytest.skip("mtcal.filters.rams_ekf not available")
+    p, n = run.RamsEkfParams(), anchors.EkfNoise()
+    for name in ("sigma_theta_rad_s", "sigma_b_rad_s2", "sigma_a_static_m_s2", "sigma_a_moving_m_s2",
+                 "p0_theta_rad2", "p0_bias_rad2_s2"):
+        assert getattr(p, name) == getattr(n, name), name
+    np.testing.assert_allclose(n.matrices([1.0, 0, 0], 1e-3)[2], p.process_noise([1.0, 0, 0], 1e-3),
+                               atol=1e-20)
+
+
+# ----------------------------------------------------------------------------- harness
+def test_measure_reports_time_and_traced_peak():
+    row = run.measure("alloc", "numpy", lambda: np.ones(2_000_000), trials=2, samples=5, repeats=2)
+    assert row.seconds > 0 and row.trial_samples == 10
+    assert row.throughput == pytest.approx(10 / row.seconds)
+    assert 15.0 <= row.peak_mb < 40.0  # 16 MB array (15.3 MiB)
+
+
+def test_benchmark_methods_return_sane_rows(tiny_inputs):
+    pytest.importorskip("ahrs")
+    pytest.importorskip("imufusion")
+    rows = run.benchmark_methods(tiny_inputs, TINY, log=lambda *_: None)
+    df = run.results_table(rows)
+    expected = {"mtcal QNCF batched", "ahrs Mahony batch API", *run.ANCHORS.values(), "numpy EKF loop",
+                "numpy Mahony batched"}
+    assert expected <= set(df["method"])
+    assert np.all(np.isfinite(df["seconds"])) and np.all(df["seconds"] > 0)
+    assert np.all(df["throughput_trial_samples_per_s"] > 0)
+    for key, name in run.ANCHORS.items():
+        assert df.loc[df["method"] == name, f"x_{key}"].iloc[0] == pytest.approx(1.0)
+    q = df[df["method"] == "mtcal QNCF batched"]
+    assert sorted(q["trials"]) == [1, 4] and sorted(q["samples"]) == [100, 300]
+    text = run.format_table(df)
+    assert "mtcal QNCF batched" in text and "x filterpy" in text
+
+
+def _fake_rows(qncf_thr: float, ekf_thr: float) -> list:
+    def row(method, trials, thr):
+        return run.Measurement(method, "x", trials, 1000, trials * 1000 / thr, 1.0)
+    return [row("mtcal QNCF batched", 1000, qncf_thr), row("mtcal RAMS EKF batched", 1000, ekf_thr),
+            row(run.ANCHORS["ahrs_mahony"], 1, 1e4), row(run.ANCHORS["imufusion"], 1, 1e6),
+            row(run.ANCHORS["filterpy_ekf"], 1, 2e4)]
+
+
+def test_targets_are_evaluated_from_the_ratios():
+    mc = {"trials": 1000, "duration_s": 60.0, "wall_s": 31.0, "peak_rss_mb": 500.0}
+    got = run.evaluate_targets(run.results_table(_fake_rows(8e6, 5e6)), 1000, mc)
+    verdicts = [met for _, _, met in got]
+    # 800x ahrs (met), 8x imufusion (missed), 8 M/s (met), 250x filterpy (missed), 31 s (missed), 500 MB (met)
+    assert verdicts == [True, False, True, False, False, True]
+    small = dict(mc, trials=10)
+    assert [met for _, _, met in run.evaluate_targets(run.results_table(_fake_rows(8e6, 5e6)), 1000,
+                                                      small)][-2:] == [None, None]
+
+
+def test_profile_summary_names_the_filter_functions(tiny_inputs):
+    text = run.profile_batched(tiny_inputs, TINY)
+    assert "_step" in text and "per-time-step cost" in text and "line times" in text
+    if run.run_rams_ekf is not None:
+        assert "run_rams_ekf" in text
+
+
+def test_line_times_attributes_time_to_lines():
+    def work():
+        a = np.ones(10)
+        b = a * 2
+        return b.sum()
+    acc = run.line_times(work, work)
+    first = work.__code__.co_firstlineno
+    assert set(acc) <= set(range(first + 1, first + 4)) and len(acc) >= 2
+
+
+# ----------------------------------------------------------------------------- streaming Monte Carlo
+def test_euler_fast_equals_library_eq8(rng):
+    q = rotations.quat_normalize(rng.standard_normal((5, 7, 4)))
+    np.testing.assert_allclose(mc_stream.euler_zxy_fast(q), rotations.euler_zxy_from_quat(q), atol=1e-15)
+
+
+def test_streaming_mc_is_chunk_size_independent():
+    kw = dict(trials=3, duration_s=0.8, seed=11)
+    a = mc_stream.run_mc(chunk_samples=250, **kw)
+    b = mc_stream.run_mc(chunk_samples=333, **kw)
+    np.testing.assert_array_equal(a["max_abs"], b["max_abs"])  # same per-sample errors, exactly
+    # running sums are added in another order: equal up to rounding
+    np.testing.assert_allclose(a["rmse"], b["rmse"], rtol=1e-12, atol=0)
+    np.testing.assert_allclose(a["mean"], b["mean"], rtol=1e-9, atol=1e-18)
+    assert np.all(a["rmse"] > 0)
+
+
+def test_prefetch_gives_the_same_numbers_as_single_thread():
+    kw = dict(trials=2, duration_s=0.5, chunk_samples=120, seed=5)
+    a = mc_stream.run_mc(prefetch=True, **kw)
+    b = mc_stream.run_mc(prefetch=False, **kw)
+    for key in ("rmse", "max_abs", "mean"):
+        np.testing.assert_array_equal(a[key], b[key])
+
+
+def test_streaming_mc_matches_whole_record_metrics():
+    trials, duration = 3, 0.6
+    got = mc_stream.run_mc(trials, duration, chunk_samples=200, seed=4, prefetch=False)
+    data = mc_stream.bench_scenario(duration)
+    stream = mc_stream.ImuStream(data.trajectory, mc_stream.error_model(), np.random.default_rng(4),
+                                 trials=trials)
+    rec = next(stream.chunks(len(data.trajectory)))
+    res = QncfFilter(stream.q_ws[0], data.trajectory.dt_s, trials=trials).run(rec.gyro_rad_s, rec.accel_m_s2)
+    err = metrics.angle_difference(res.euler_rad, rotations.euler_zxy_from_quat(rec.q_ws_true))
+    np.testing.assert_allclose(got["rmse"], metrics.rmse(err, axis=1), rtol=1e-12)
+    np.testing.assert_allclose(got["max_abs"], metrics.max_abs_error(err, axis=1), rtol=1e-14)
+
+
+def test_prefetch_stream_propagates_errors():
+    data = mc_stream.bench_scenario(0.2)
+    stream = mc_stream.PrefetchStream(data.trajectory, mc_stream.error_model(), np.random.default_rng(1),
+                                      trials=2)
+    with pytest.raises(ValueError, match="chunk_samples"):
+        list(stream.chunks(0))
+
+
+def test_mc_main_reports_wall_time_and_rss(capsys):
+    out = mc_stream.main(["--trials", "2", "--duration", "0.2", "--chunk", "64", "--json"])
+    printed = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
+    assert printed["trial_samples"] == 400 and printed["wall_s"] > 0
+    assert printed["peak_rss_mb"] >= printed["rss_after_imports_mb"] > 10
+    assert len(out["rmse_deg_median"]) == 3
