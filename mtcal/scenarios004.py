@@ -25,7 +25,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from mtcal import rotations
+from mtcal import rotations, simulate
 from mtcal._validate import STANDARD_GRAVITY_M_S2, as_float_array, positive_scalar
 from mtcal.filters.rams_ekf import RamsEkfParams
 from mtcal.simulate import ImuErrorModel, SensorErrors
@@ -253,35 +253,6 @@ class RotationRecord:
     accel_true_m_s2: np.ndarray
 
 
-def _apply_errors(errors: SensorErrors, truth: np.ndarray, dt_s: float,
-                  rng: np.random.Generator) -> np.ndarray:
-    """Corrupt per-trial truth (T, N, 3) with the Table 3 error terms of ``errors``.
-
-    ``y = (I + S + M) x + bias + b_turn-on + b_RW(t) + white``; the simulator's
-    other terms (instability, warm-up, vibration, quantisation) are not used
-    by seed 004 and are rejected rather than silently ignored.
-    """
-    unused = {"bias_instability": errors.bias_instability, "quantization": errors.quantization,
-              "warmup_bias": np.any(errors.warmup_bias),
-              "vibration_amplitude": np.any(errors.vibration_amplitude)}
-    bad = [k for k, val in unused.items() if val]
-    if bad:
-        raise ValueError(f"simulate_rotation does not model {bad}; set them to 0")
-    r_on, r_white, r_rw = rng.spawn(3)
-    t_n, n, _ = truth.shape
-    out = truth @ errors.matrix().T
-    out += np.asarray(errors.bias, float)
-    if errors.bias_sigma:
-        out += errors.bias_sigma * r_on.standard_normal((t_n, 1, 3))
-    if errors.noise_density:
-        out += (errors.noise_density / np.sqrt(dt_s)) * r_white.standard_normal((t_n, n, 3))
-    if errors.bias_random_walk:
-        steps = r_rw.standard_normal((t_n, n, 3))
-        steps *= errors.bias_random_walk * np.sqrt(dt_s)
-        out += np.cumsum(steps, axis=1)
-    return out
-
-
 def simulate_rotation(theta_rad, rate_rad_s, accel_rad_s2, is_static, setup: RotationSetup,
                       model: ImuErrorModel, fs_hz: float, rng: np.random.Generator) -> RotationRecord:
     """Simulate T trials of rotation about ``setup.axis``, each with its own angle history.
@@ -327,8 +298,10 @@ def simulate_rotation(theta_rad, rate_rad_s, accel_rad_s2, is_static, setup: Rot
     vxr = np.cross(v, r)
     f_true += acc[..., None] * vxr + (rate**2)[..., None] * np.cross(v, vxr)
     r_gyro, r_accel = rng.spawn(2)
-    gyro = _apply_errors(model.gyro, w_true, dt, r_gyro)
-    accel = _apply_errors(model.accel, f_true, dt, r_accel)
+    gyro = simulate.apply_sensor_errors(model.gyro, w_true, time, r_gyro,
+                                        time_since_power_on_s=model.time_since_power_on_s)
+    accel = simulate.apply_sensor_errors(model.accel, f_true, time, r_accel,
+                                         time_since_power_on_s=model.time_since_power_on_s)
     return RotationRecord(time, th, gyro, accel, np.asarray(is_static, bool), f_true)
 
 

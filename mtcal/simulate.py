@@ -56,7 +56,7 @@ from mtcal._validate import (STANDARD_GRAVITY_M_S2, as_float_array, positive_int
                              positive_scalar, time_vector, unit_quaternion)
 
 __all__ = ["Trajectory", "SensorErrors", "ImuErrorModel", "ImuRecord", "ImuStream", "body_rates",
-           "specific_force", "simulate_imu", "integrate_gyro", "GRAVITY_W_M_S2"]
+           "specific_force", "simulate_imu", "apply_sensor_errors", "integrate_gyro", "GRAVITY_W_M_S2"]
 
 #: Default world gravity vector, z-up frame (m/s²).
 GRAVITY_W_M_S2 = (0.0, 0.0, -STANDARD_GRAVITY_M_S2)
@@ -352,7 +352,8 @@ class _SensorStream:
 
     def process(self, truth: np.ndarray, time_s: np.ndarray, start: int) -> np.ndarray:
         """Measurements (T, n, 3) for truth samples (n, 3) at global index ``start``."""
-        e, n, stop = self.e, truth.shape[0], start + truth.shape[0]
+        e, n = self.e, truth.shape[-2]  # truth: (n, 3) shared or (T, n, 3) per trial
+        stop = start + n
         out = np.empty((self.trials, n, 3))
         out[:] = truth @ self.matrix_t
         out += self.bias
@@ -453,6 +454,49 @@ class ImuStream:
                             self.accel_true[start:stop])
 
 
+def apply_sensor_errors(errors: SensorErrors, truth, time_s, rng: np.random.Generator | None = None, *,
+                        time_since_power_on_s: float = 0.0) -> np.ndarray:
+    """Corrupt an error-free triad signal with one sensor's :class:`SensorErrors`.
+
+    For batches where every trial has its own truth (e.g. seed 004's per-trial
+    angle histories); :func:`simulate_imu` is the usual entry point.
+
+    Parameters
+    ----------
+    errors : SensorErrors
+        Error model (units of the signal: rad/s or m/s²).
+    truth : array_like, shape (N, 3) or (T, N, 3)
+        Error-free signal; a leading axis gives per-trial truth.
+    time_s : array_like, shape (N,)
+        Uniformly sampled, strictly increasing time (s).
+    rng : numpy.random.Generator
+        Required when ``errors`` has random terms.
+    time_since_power_on_s : float
+        Time already powered at ``time_s[0]`` (s), for the warm-up bias.
+
+    Returns
+    -------
+    ndarray, same shape as ``truth``
+    """
+    if not isinstance(errors, SensorErrors):
+        raise TypeError(f"errors must be a SensorErrors, got {type(errors).__name__}")
+    x = as_float_array(truth, "truth", ndim=(2, 3), last_dim=3)
+    t = time_vector(time_s)
+    if x.shape[-2] != t.size:
+        raise ValueError(f"truth must have {t.size} samples on axis -2 to match time_s, got {x.shape}")
+    if rng is not None and not isinstance(rng, np.random.Generator):
+        raise TypeError(f"rng must be a numpy.random.Generator, got {type(rng).__name__}")
+    if rng is None and _is_random(errors):
+        raise ValueError("rng must be a numpy.random.Generator when errors has random terms")
+    trials = 1 if x.ndim == 2 else x.shape[0]
+    seed_seq = rng.spawn(1)[0].bit_generator.seed_seq if rng is not None else None
+    stream = _SensorStream(errors, seed_seq, 0, trials, uniform_dt(t),
+                           positive_scalar(time_since_power_on_s, "time_since_power_on_s", allow_zero=True),
+                           block_samples=256)
+    out = stream.process(x, t, 0)
+    return out[0] if x.ndim == 2 else out
+
+
 def simulate_imu(trajectory: Trajectory, model: ImuErrorModel | None = None,
                  rng: np.random.Generator | None = None, trials: int | None = None,
                  gravity_w_m_s2=GRAVITY_W_M_S2) -> ImuRecord:
@@ -494,9 +538,11 @@ def simulate_imu(trajectory: Trajectory, model: ImuErrorModel | None = None,
 
 
 def _has_random_errors(model: ImuErrorModel) -> bool:
-    for s in (model.gyro, model.accel):
-        if s.bias_sigma or s.noise_density or s.bias_random_walk or s.bias_instability:
-            return True
-        if np.any(_vec3(s.vibration_amplitude, "vibration_amplitude")) and s.vibration_freq_hz:
-            return True
-    return False
+    return _is_random(model.gyro) or _is_random(model.accel)
+
+
+def _is_random(s: SensorErrors) -> bool:
+    """Whether a triad's error model draws random numbers."""
+    if s.bias_sigma or s.noise_density or s.bias_random_walk or s.bias_instability:
+        return True
+    return bool(np.any(_vec3(s.vibration_amplitude, "vibration_amplitude")) and s.vibration_freq_hz)

@@ -95,16 +95,20 @@ fp_paper = float(np.mean(st_paper & ~prof.is_static) / np.mean(~prof.is_static))
 fp_gyro = float(np.mean(st_gyro & ~prof.is_static) / np.mean(~prof.is_static))
 miss = float(np.mean(~st_paper & prof.is_static) / np.mean(prof.is_static))
 print(f"moving samples flagged static: Table 1 ZVD {fp_paper:.1%}, with gyro condition {fp_gyro:.1%}")
-print(f"rest samples missed by Table 1 ZVD: {miss:.1%}; rests found: {len(rest_intervals(st_paper))}")
-rows.append(paper.comparison_row("F004-6", "ZVD finds every rest (count)", "6 (figure)",
-                                 f"{len(rest_intervals(st_gyro))}", "every rest detected",
-                                 len(rest_intervals(st_gyro)) == 6))
+holds = prof.hold_slices()
+rests_found = sum(bool(np.mean(st_gyro[sl]) > 0.5) for sl in holds)  # true rests mostly flagged static
+print(f"rest samples missed by Table 1 ZVD: {miss:.1%}; static intervals found: Table 1 "
+      f"{len(rest_intervals(st_paper))}, with gyro {len(rest_intervals(st_gyro))} (true rests: {len(holds)})")
+print(f"true rests more than half flagged static (ZVD + gyro): {rests_found} of {len(holds)}")
+rows.append(paper.comparison_row("F004-6", "true rests detected (ZVD + gyro)", "6 (figure)",
+                                 f"{rests_found} of {len(holds)}", "every rest detected",
+                                 rests_found == len(holds)))
 rows.append(paper.comparison_row("F004-6", "moving samples flagged static, Table 1 / +gyro", "n/a",
                                  f"{fp_paper:.3f} / {fp_gyro:.3f}", "(mtcal finding) gyro condition reduces misses",
                                  fp_gyro < fp_paper))
 
 # %%
-assert len(rest_intervals(st_gyro)) == 6
+assert rests_found == len(holds) == 6
 assert fp_gyro < fp_paper and miss < 0.05
 
 # %% [markdown]

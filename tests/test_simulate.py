@@ -187,3 +187,21 @@ def test_stream_single_pass_and_bad_chunk():
         next(stream.chunks(3))
     with pytest.raises(ValueError, match="chunk_samples must be >= 1"):
         next(simulate.ImuStream(traj).chunks(0))
+
+
+def test_apply_sensor_errors_matches_simulator_and_takes_per_trial_truth():
+    wp = np.radians([[0, 0, 0], [8, 0, 0]])
+    traj = profiles.trajectory_from_euler_zxy(profiles.step_schedule(wp, np.radians(20), 0.3, 200))
+    errs = SensorErrors(noise_density=1e-3, bias_sigma=1e-3, bias_random_walk=1e-4)
+    rec = simulate.simulate_imu(traj, ImuErrorModel(gyro=errs), np.random.default_rng(5), trials=2)
+    truth = np.stack([rec.gyro_true_rad_s, 2 * rec.gyro_true_rad_s])
+    out = simulate.apply_sensor_errors(errs, truth, traj.time_s, np.random.default_rng(5))
+    assert out.shape == truth.shape
+    noise = out - truth
+    assert np.std(noise[:, :, 0]) > 0
+    single = simulate.apply_sensor_errors(SensorErrors(bias=0.5), rec.accel_true_m_s2, traj.time_s)
+    np.testing.assert_allclose(single, rec.accel_true_m_s2 + 0.5)
+    with pytest.raises(ValueError, match="rng must be"):
+        simulate.apply_sensor_errors(errs, truth, traj.time_s)
+    with pytest.raises(ValueError, match="samples on axis -2"):
+        simulate.apply_sensor_errors(errs, truth[:, :-1], traj.time_s, np.random.default_rng(0))
