@@ -45,7 +45,7 @@ from mtcal.simulate import ImuErrorModel, ImuRecord, ImuStream, Trajectory
 
 __all__ = ["PITCH_WAYPOINTS_DEG", "BenchData", "bench_scenario", "error_model", "PrefetchStream",
            "euler_zxy_fast", "QncfErrorConsumer",
-           "run_mc", "peak_rss_mb"]
+           "run_mc", "peak_rss_mb", "vm_hwm_mb"]
 
 #: Pitch waypoints of the benchmark schedule (deg).
 PITCH_WAYPOINTS_DEG = (0.0, 30.0, -20.0, 45.0, 10.0, 0.0)
@@ -194,9 +194,27 @@ def run_mc(trials: int, duration_s: float = 60.0, *, chunk_samples: int = 1000, 
 
 
 def peak_rss_mb() -> float:
-    """Peak resident set size of this process so far (MB; Linux reports ru_maxrss in KiB)."""
+    """Peak resident set size of this process so far (MB; Linux reports ru_maxrss in KiB).
+
+    Caveat (Linux): ``ru_maxrss`` survives ``execve``, so a child started by a
+    large parent reports at least the parent's RSS at fork time; start the
+    child while the parent is small (``benchmarks/run.py`` runs it first) and
+    compare with :func:`vm_hwm_mb`.
+    """
     kib = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
     return kib / 1024.0 if sys.platform != "darwin" else kib / 2**20
+
+
+def vm_hwm_mb() -> float | None:
+    """Peak RSS of the current address space (``VmHWM`` of /proc/self/status, MB); None if unavailable."""
+    try:
+        with open("/proc/self/status") as fh:
+            for line in fh:
+                if line.startswith("VmHWM:"):
+                    return int(line.split()[1]) / 1024.0
+    except OSError:
+        pass
+    return None
 
 
 def main(argv: list[str] | None = None) -> dict:
@@ -218,7 +236,7 @@ def main(argv: list[str] | None = None) -> dict:
         "trials": args.trials, "duration_s": args.duration, "chunk_samples": args.chunk,
         "prefetch": not args.no_prefetch,
         "trial_samples": int(args.trials * round(args.duration * 1000.0)),
-        "wall_s": wall, "peak_rss_mb": peak_rss_mb(), "rss_after_imports_mb": rss0,
+        "wall_s": wall, "peak_rss_mb": peak_rss_mb(), "vm_hwm_mb": vm_hwm_mb(), "rss_after_imports_mb": rss0,
         "rmse_deg_median": band["median"].tolist(), "rmse_deg_low": band["low"].tolist(),
         "rmse_deg_high": band["high"].tolist(),
     }
@@ -227,8 +245,9 @@ def main(argv: list[str] | None = None) -> dict:
     else:
         print(f"streaming Monte Carlo: {args.trials} trials x {args.duration:g} s @ 1 kHz, "
               f"chunk {args.chunk} samples, prefetch {'off' if args.no_prefetch else 'on'}")
-        print(f"  wall time {wall:.1f} s, peak RSS {summary['peak_rss_mb']:.0f} MB "
-              f"(after imports {rss0:.0f} MB)")
+        hwm = summary["vm_hwm_mb"]
+        print(f"  wall time {wall:.1f} s, peak RSS {summary['peak_rss_mb']:.0f} MB (getrusage; "
+              f"VmHWM {'n/a' if hwm is None else f'{hwm:.0f} MB'}; after imports {rss0:.0f} MB)")
         for i, name in enumerate(("yaw", "pitch", "roll")):
             print(f"  {name:5s} RMSE median {band['median'][i]:.4f} deg, "
                   f"95 % band [{band['low'][i]:.4f}, {band['high'][i]:.4f}] deg")

@@ -5,9 +5,11 @@ pitch step schedule, seed 000 tactical MEMS IMU, simulated with
 :class:`mtcal.simulate.ImuStream` from a seeded generator), every method side by
 side on the same numbers:
 
-* the 1000-trial record is the first ``batch_record_s`` seconds of all trials;
-* the single-trial record is trial 0 over the whole 60 s (its first
-  ``batch_record_s`` seconds are trial 0 of the 1000-trial record);
+* the 1000-trial record is the first ``batch_record_s`` seconds of all trials
+  (one :class:`~mtcal.simulate.ImuStream` chunk; 1000 × 60 s would need
+  1.4 GB per array — the full length is the streaming Monte Carlo's job);
+* the single-trial record is one 60 s realisation (``simulate_imu``, same
+  scenario, error model and seed);
 * slow per-sample Python loops (ahrs, filterpy, numpy EKF) run on the first
   ``loop_record_s`` seconds only (their cost per sample is constant, so the
   throughput is the same; stated in the table).
@@ -57,7 +59,7 @@ if str(HERE) not in sys.path:
 import anchors  # noqa: E402
 import mc_stream  # noqa: E402
 from mtcal.filters.qncf import QncfFilter, QncfParams  # noqa: E402
-from mtcal.simulate import ImuStream  # noqa: E402
+from mtcal.simulate import ImuStream, simulate_imu  # noqa: E402
 
 try:  # the RAMS EKF may be absent in an older checkout
     from mtcal.filters.rams_ekf import RamsEkfParams, run_rams_ekf
@@ -102,35 +104,30 @@ QUICK = Sizes(record_s=4.0, batch_trials=1000, batch_record_s=0.5, loop_record_s
 class BenchInputs:
     """Simulated IMU data shared by every method (see module docstring)."""
 
-    gyro_1: np.ndarray          # (N, 3) trial 0, whole record
+    gyro_1: np.ndarray          # (N, 3) single trial, whole record
     accel_1: np.ndarray         # (N, 3)
-    gyro_t: np.ndarray          # (T, M, 3) all trials, first M samples
+    gyro_t: np.ndarray          # (T, M, 3) batched trials, first M samples
     accel_t: np.ndarray         # (T, M, 3)
     is_static: np.ndarray       # (N,)
     q0: np.ndarray              # (4,) true initial attitude
     axis: np.ndarray            # (3,) rotation axis
-    accel0_1: np.ndarray        # (3,) ā0 of trial 0 (mean of ≤ 100 samples of the first hold)
+    accel0_1: np.ndarray        # (3,) ā0 of the single trial (mean of ≤ 100 samples of the first hold)
     accel0_t: np.ndarray        # (T, 3)
 
 
 def make_inputs(sizes: Sizes, seed: int = SEED) -> BenchInputs:
-    """Stream the scenario once, keeping all trials' first chunk and trial 0 throughout."""
+    """Simulate the single-trial record and the first chunk of the batched stream."""
     data = mc_stream.bench_scenario(sizes.record_s, FS_HZ)
-    stream = ImuStream(data.trajectory, mc_stream.error_model(), np.random.default_rng(seed),
-                       trials=sizes.batch_trials)
+    model = mc_stream.error_model()
+    one = simulate_imu(data.trajectory, model, np.random.default_rng(seed))
+    stream = ImuStream(data.trajectory, model, np.random.default_rng(seed + 1), trials=sizes.batch_trials)
     m = int(round(sizes.batch_record_s * FS_HZ))
-    gyro_1, accel_1 = [], []
-    gyro_t = accel_t = None
-    for chunk in stream.chunks(m):
-        if gyro_t is None:
-            gyro_t, accel_t = chunk.gyro_rad_s, chunk.accel_m_s2
-        gyro_1.append(chunk.gyro_rad_s[0].copy())
-        accel_1.append(chunk.accel_m_s2[0].copy())
+    batch = next(stream.chunks(m))
     first_move = int(np.argmin(data.is_static)) if not data.is_static.all() else data.is_static.size
     n0 = max(1, min(100, m, first_move))  # ā0 from the first hold (static), at most 100 samples
-    return BenchInputs(np.concatenate(gyro_1), np.concatenate(accel_1), gyro_t, accel_t, data.is_static,
-                       stream.q_ws[0].copy(), data.axis_b, np.concatenate(accel_1)[:n0].mean(axis=0),
-                       accel_t[:, :n0].mean(axis=1))
+    return BenchInputs(one.gyro_rad_s, one.accel_m_s2, batch.gyro_rad_s, batch.accel_m_s2, data.is_static,
+                       stream.q_ws[0].copy(), data.axis_b, one.accel_m_s2[:n0].mean(axis=0),
+                       batch.accel_m_s2[:, :n0].mean(axis=1))
 
 
 # --------------------------------------------------------------------------- measuring
@@ -159,14 +156,15 @@ class Measurement:
 
 def measure(method: str, library: str, fn: Callable[[], object], trials: int, samples: int,
             repeats: int = 3, note: str = "") -> Measurement:
-    """Best wall time over up to ``repeats`` calls (repeats only while a call takes < 1 s),
+    """Best wall time over up to ``repeats`` calls (no new call once 4 s have been spent),
     then one untimed call under tracemalloc for the peak allocation (MB)."""
-    best = np.inf
-    for i in range(max(1, repeats)):
+    best, spent = np.inf, 0.0
+    for _ in range(max(1, repeats)):
         t0 = time.perf_counter()
         fn()
-        best = min(best, time.perf_counter() - t0)
-        if best >= 1.0:
+        dt = time.perf_counter() - t0
+        best, spent = min(best, dt), spent + dt
+        if spent >= 4.0:
             break
     tracemalloc.start()
     tracemalloc.reset_peak()
@@ -244,9 +242,12 @@ def run_mc_subprocess(sizes: Sizes) -> tuple[Measurement, dict]:
     env = dict(os.environ, MTCAL_PROGRESS="0")
     out = subprocess.run(cmd, cwd=ROOT, env=env, capture_output=True, text=True, check=True)
     res = json.loads(out.stdout.strip().splitlines()[-1])
+    hwm = res.get("vm_hwm_mb")
     row = Measurement("streaming Monte Carlo (QNCF)", "mtcal", res["trials"],
                       int(round(res["duration_s"] * FS_HZ)), res["wall_s"], res["peak_rss_mb"], memory="peak RSS",
-                      note=f"simulate+QNCF+metrics, chunk {res['chunk_samples']}, own process")
+                      note=f"simulate+QNCF+metrics, chunk {res['chunk_samples']}, prefetch "
+                           f"{'on' if res.get('prefetch') else 'off'}, own process; getrusage peak RSS "
+                           f"{res['peak_rss_mb']:.0f} MB, VmHWM {'n/a' if hwm is None else f'{hwm:.0f} MB'}")
     return row, res
 
 
@@ -481,6 +482,18 @@ def _scaling_section(inp: BenchInputs, steps: int) -> str:
         pts = ", ".join(f"T={T}: {c:.1f}" for T, c in zip(trial_counts, cost))
         lines.append(f"{name:9s} {pts}  -> overhead {icpt:.1f} us/step + {slope * 1e3:.1f} ns/trial/step; "
                      f"at T=1000 overhead is {100 * icpt / (icpt + 1000 * slope):.0f} % of the step")
+    long_steps = min(inp.gyro_t.shape[1], 10 * steps)
+    if long_steps > steps:
+        lines.append(f"record-length effect at T=1000 (same per-step work; a longer record means a larger "
+                     f"stride between trials when the filter reads x[:, k] from (T, N, 3) arrays):")
+        for name, make in makers.items():
+            short = _step_cost_us(make, 1000, steps)
+            call = make(1000, long_steps)
+            t0 = time.perf_counter()
+            call()
+            long = (time.perf_counter() - t0) / long_steps * 1e6
+            lines.append(f"{name:9s} N={steps}: {short:.1f} us/step, N={long_steps}: {long:.1f} us/step "
+                         f"(x{long / short:.2f})")
     return "\n".join(lines)
 
 
@@ -510,13 +523,19 @@ def main(argv: list[str] | None = None) -> pd.DataFrame:
     print(f"data: {sizes.record_s:g} s @ {FS_HZ:g} Hz pitch schedule, seed 000 tactical MEMS IMU, seed {SEED}; "
           f"{sizes.batch_trials} trials x first {sizes.batch_record_s:g} s for batched runs; "
           f"per-sample Python loops on the first {sizes.loop_record_s:g} s")
-    inp = make_inputs(sizes)
-    print(f"simulated in {time.perf_counter() - t_start:.1f} s; timing (best of up to {sizes.repeats}):")
-    rows = benchmark_methods(inp, sizes)
-    mc = None
-    if not args.no_mc:
-        print(f"  streaming Monte Carlo {sizes.mc_trials} x {sizes.mc_duration_s:g} s in a subprocess ...")
+    print("load average before the run (1/5/15 min): "
+          + ", ".join(f"{x:.2f}" for x in os.getloadavg()) + f" on {os.cpu_count()} CPUs "
+          "(other processes on the machine slow every row alike)")
+    mc = mc_row = None
+    if not args.no_mc:  # first, while this process is small (ru_maxrss is inherited through fork/exec)
+        print(f"streaming Monte Carlo {sizes.mc_trials} x {sizes.mc_duration_s:g} s in a subprocess ...")
         mc_row, mc = run_mc_subprocess(sizes)
+        print(f"  {mc['wall_s']:.1f} s, peak RSS {mc['peak_rss_mb']:.0f} MB")
+    t_sim = time.perf_counter()
+    inp = make_inputs(sizes)
+    print(f"simulated in {time.perf_counter() - t_sim:.1f} s; timing (best of up to {sizes.repeats}):")
+    rows = benchmark_methods(inp, sizes)
+    if mc_row is not None:
         rows.append(mc_row)
     df = results_table(rows)
     print()
@@ -525,7 +544,7 @@ def main(argv: list[str] | None = None) -> pd.DataFrame:
     print("x ahrs / x imufus / x filterpy: throughput (trial-samples/s) relative to "
           + ", ".join(ANCHORS.values()) + ".")
     for _, r in df.iterrows():
-        if r["note"].startswith("first"):
+        if r["note"].startswith("first") or r["memory"] != "tracemalloc":
             print(f"note: {r['method']}: {r['note']}")
     print()
     print("targets (issue #7):")
@@ -543,6 +562,7 @@ def main(argv: list[str] | None = None) -> pd.DataFrame:
         print()
         print(summary.split("\n\n")[-1].strip())
         print(f"cProfile tables written to {args.profile_out.relative_to(ROOT) if args.profile_out.is_relative_to(ROOT) else args.profile_out}")
+    print("load average after the run: " + ", ".join(f"{x:.2f}" for x in os.getloadavg()))
     args.csv.parent.mkdir(parents=True, exist_ok=True)
     df.to_csv(args.csv, index=False, float_format="%.6g")
     print(f"results written to {args.csv.relative_to(ROOT) if args.csv.is_relative_to(ROOT) else args.csv}; "

@@ -47,13 +47,17 @@ def test_bench_scenario_has_the_requested_length_and_holds():
         mc_stream.bench_scenario(0.01, 1000.0)
 
 
-def test_inputs_share_trial_zero_between_batched_and_single_records(tiny_inputs):
+def test_inputs_are_seeded_and_shaped(tiny_inputs):
     inp = tiny_inputs
-    m = inp.gyro_t.shape[1]
     assert inp.gyro_1.shape == (300, 3) and inp.gyro_t.shape == (4, 100, 3)
-    np.testing.assert_array_equal(inp.gyro_t[0], inp.gyro_1[:m])
-    np.testing.assert_array_equal(inp.accel_t[0], inp.accel_1[:m])
+    assert inp.accel_t.shape == (4, 100, 3) and inp.is_static.shape == (300,)
+    again = run.make_inputs(TINY, seed=7)
+    np.testing.assert_array_equal(again.gyro_t, inp.gyro_t)
+    np.testing.assert_array_equal(again.accel_1, inp.accel_1)
+    assert not np.array_equal(run.make_inputs(TINY, seed=8).gyro_1, inp.gyro_1)
+    # ā0 from the first hold only: a static reading of gravity
     np.testing.assert_allclose(np.linalg.norm(inp.accel0_t, axis=1), 9.80665, rtol=1e-3)
+    np.testing.assert_allclose(np.linalg.norm(inp.accel0_1), 9.80665, rtol=1e-3)
 
 
 # ----------------------------------------------------------------------------- anchors
@@ -220,4 +224,6 @@ def test_mc_main_reports_wall_time_and_rss(capsys):
     printed = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
     assert printed["trial_samples"] == 400 and printed["wall_s"] > 0
     assert printed["peak_rss_mb"] >= printed["rss_after_imports_mb"] > 10
+    if printed["vm_hwm_mb"] is not None:
+        assert printed["vm_hwm_mb"] > 10
     assert len(out["rmse_deg_median"]) == 3
