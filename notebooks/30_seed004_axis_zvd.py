@@ -17,7 +17,7 @@ import os
 
 SEED = 4004
 SIZE = os.environ.get("MTCAL_SIZE", "full")  # "ci" under `make test`
-N_TRIALS = 1000 if SIZE == "full" else 100  # Monte Carlo trials for axis estimates
+N_TRIALS = 1000 if SIZE == "full" else 300  # Monte Carlo trials for axis estimates
 
 # %%
 import dataclasses
@@ -230,29 +230,47 @@ assert all(r["err_median_deg"] < 0.0057 for r in t4_rows)
 
 # %%
 rest_s = np.array([0.25, 0.5, 1.0, 2.0, 4.0])
-med_r, lo_r, hi_r = [], [], []
+med_r, lo_r, hi_r, med_oracle = [], [], [], []
+imu_white = dataclasses.replace(imu, random_walk_interpretation="none")  # white noise only
 v11 = np.array(PAPER_AXIS_FIG11) / np.linalg.norm(PAPER_AXIS_FIG11)
 for rs in rest_s:
     v_est, _ = run_axis_mc(RotationSetup(axis=tuple(v11)), imu, N_TRIALS, rng, rest_s=float(rs))
     b = metrics.percentile_band(angle_deg(v_est, v11))
     med_r.append(b["median"]); lo_r.append(b["low"]); hi_r.append(b["high"])
+    v_oracle, _ = run_axis_mc(RotationSetup(axis=tuple(v11)), imu_white, N_TRIALS, rng, rest_s=float(rs),
+                              use_zvd=False)
+    med_oracle.append(metrics.percentile_band(angle_deg(v_oracle, v11))["median"])
 pred_r = np.degrees(axis.axis_error_std(imu.accel_noise_per_sample_m_s2 / np.sqrt(fs),
                                         np.arcsin(v11[2]), np.radians([0, 90, 180]))) / np.sqrt(rest_s)
 fig, ax = plt.subplots()
-ax.fill_between(rest_s, lo_r, hi_r, alpha=0.3, label="MC 95 % band")
-ax.loglog(rest_s, med_r, "o-", label="MC median")
+ax.fill_between(rest_s, lo_r, hi_r, alpha=0.3, label="MC 95 % band (ZVD rests)")
+ax.loglog(rest_s, med_r, "o-", label="MC median (ZVD rests)")
+ax.loglog(rest_s, med_oracle, "s-", label="MC median (true rests, no random walk)")
 ax.loglog(rest_s, pred_r * np.sqrt(np.log(2)), "k--", label="formula (median)")
 ax.set_xlabel("rest duration per position (s)")
 ax.set_ylabel("axis error (deg)")
 ax.legend()
 display(report.save_figure(fig, "B004-1"))
-slope = float(np.polyfit(np.log(rest_s), np.log(med_r), 1)[0])
-print(f"log-log slope of the median axis error vs rest time: {slope:.2f} (theory -0.50)")
-rows.append(paper.comparison_row("B004-1", "axis error slope vs rest time", "n/a", slope,
-                                 "(mtcal) error falls as 1/sqrt(t)", abs(slope + 0.5) < 0.1))
+slope = float(np.polyfit(np.log(rest_s), np.log(med_oracle), 1)[0])
+slope_zvd = float(np.polyfit(np.log(rest_s), np.log(med_r), 1)[0])
+print(f"log-log slope of the median axis error vs rest time: white noise only {slope:.2f}, "
+      f"Table 3 IMU with ZVD rests {slope_zvd:.2f} (theory for white noise -0.50)")
+rows.append(paper.comparison_row("B004-1", "axis error slope vs rest time (white noise, true rests)", "n/a",
+                                 slope, "(mtcal) error falls as 1/sqrt(t)", abs(slope + 0.5) < 0.1))
+rows.append(paper.comparison_row("B004-1", "axis error slope vs rest time (Table 3 IMU, ZVD)", "n/a",
+                                 slope_zvd, "(mtcal finding) shallower: bias random walk", None))
+
+# %% [markdown]
+# With white noise only, the error follows 1/√t (slope −0.5). With Table 3's
+# accelerometer random walk (read as µg·√Hz) the slope is shallower (about
+# −0.42): the bias wanders between the three rests and does not cancel in
+# Eq 23's differences, and longer rests also mean a longer schedule, so
+# lengthening the rests buys less than √t. (The ZVD adds little: checked
+# separately, true rests with the random walk on give about −0.43.)
 
 # %%
 assert abs(slope + 0.5) < 0.1
+assert slope_zvd > slope
 
 # %% [markdown]
 # ## Paper vs mtcal
