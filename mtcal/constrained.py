@@ -65,12 +65,12 @@ import numpy as np
 
 from mtcal import rotations
 from mtcal._validate import as_float_array, positive_int, positive_scalar, unit_quaternion
-from mtcal.calibration import MAX_CONDITION, align_pairs
+from mtcal.calibration import MAX_CONDITION, align_pairs, apply_error_matrix, least_squares_error_matrix
 
 __all__ = [
     "MIN_POSITIONS", "so4_from_quaternions", "associate_matrix", "factor_so4", "project_to_so4",
-    "distance_to_orthogonal", "least_squares_error_matrix_batch", "so4_error_matrix", "fit_so4",
-    "mounting_error_matrix", "fit_mounting", "apply_error_matrices", "So4Fit", "MountingFit",
+    "distance_to_orthogonal", "so4_error_matrix", "fit_so4",
+    "mounting_error_matrix", "fit_mounting", "So4Fit", "MountingFit",
     "So4Projection", "CalibrationScenario", "PAPER_SIX_POSITIONS_DEG", "paper_six_positions_rad",
     "symmetric_layout_rad", "random_layout_rad", "simulate_calibration_errors", "METHODS",
 ]
@@ -274,8 +274,7 @@ def _pairs(q_sensor, q_body, minimum: int, method: str) -> tuple[np.ndarray, np.
     k = q_s.shape[-2]
     if k < minimum:
         raise ValueError(f"q_sensor must hold at least {minimum} positions for {method}, got {k}")
-    q_s2, q_b2 = align_pairs(q_s.reshape(-1, 4), q_b.reshape(-1, 4))  # elementwise per pair
-    return q_s2.reshape(q_s.shape), q_b2.reshape(q_b.shape)
+    return align_pairs(q_s, q_b)
 
 
 def _degenerate(bad: np.ndarray, out: np.ndarray, on_degenerate: str, message: str) -> np.ndarray:
@@ -286,53 +285,6 @@ def _degenerate(bad: np.ndarray, out: np.ndarray, on_degenerate: str, message: s
             raise ValueError(message)
         out = np.where(bad[..., None, None], np.nan, out)
     return out
-
-
-def least_squares_error_matrix_batch(q_sensor, q_body, *, on_degenerate: str = "raise") -> np.ndarray:
-    """Seed 000 Eq 13 over a leading batch axis: ``Q̂ = A_b A_sᵀ (A_s A_sᵀ)⁻¹``.
-
-    Same model, sign rule and rank test (condition number of ``A_s A_sᵀ`` >
-    ``calibration.MAX_CONDITION`` = degenerate) as
-    :func:`mtcal.calibration.least_squares_error_matrix`, vectorised for Monte
-    Carlo.
-
-    Parameters
-    ----------
-    q_sensor, q_body : array_like, shape (..., K, 4)
-        Sensor and reference body quaternions (scalar-first, unit). K ≥ 4:
-        ``A_s A_sᵀ`` (4×4) has rank ≤ K, so fewer than 4 positions never
-        determine the 16 entries (the paper's "three positions" is a miscount).
-    on_degenerate : {"raise", "nan"}
-        Raise ``ValueError`` for rank-deficient positions, or return NaN
-        matrices for those batch members.
-
-    Returns
-    -------
-    ndarray, shape (..., 4, 4)
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> from mtcal import rotations
-    >>> rng = np.random.default_rng(0)
-    >>> q_b = rotations.quat_normalize(rng.normal(size=(3, 6, 4)))     # 3 seeds × 6 positions
-    >>> c = rotations.quat_from_rotvec([0.003, -0.002, 0.001])
-    >>> q_mat = least_squares_error_matrix_batch(rotations.quat_multiply(q_b, c), q_b)
-    >>> q_mat.shape, bool(np.allclose(q_mat, rotations.right_matrix(rotations.quat_conjugate(c))))
-    ((3, 4, 4), True)
-    """
-    q_s, q_b = _pairs(q_sensor, q_body, MIN_POSITIONS["eq13"], "Eq 13 (16 unknowns, rank A_s = 4)")
-    a_s, a_b = np.swapaxes(q_s, -1, -2), np.swapaxes(q_b, -1, -2)
-    gram = a_s @ q_s
-    sv = np.linalg.svd(gram, compute_uv=False)
-    bad = sv[..., 3] * MAX_CONDITION < sv[..., 0]      # condition number > MAX_CONDITION
-    safe = np.where(bad[..., None, None], np.eye(4), gram)
-    out = np.swapaxes(np.linalg.solve(safe, a_s @ q_b), -1, -2)
-    return _degenerate(bad, out, on_degenerate,
-                       f"q_sensor positions are degenerate for Eq 13: A_s A_s^T is rank-deficient "
-                       f"(smallest/largest singular value {np.min(sv[..., 3] / sv[..., 0]):.3g} < "
-                       f"1/{MAX_CONDITION:.0e}); use at least 4 positions whose quaternions are "
-                       f"linearly independent")
 
 
 @dataclass(frozen=True)
@@ -490,27 +442,8 @@ def mounting_error_matrix(q_sensor, q_body) -> np.ndarray:
     return fit_mounting(q_sensor, q_body).matrix
 
 
-def apply_error_matrices(q_matrix, q_sensor) -> np.ndarray:
-    """Eq 10 over a batch: unit ``Q̂ q_s`` for matrices (..., 4, 4) and streams (..., N, 4).
-
-    As :func:`mtcal.calibration.apply_error_matrix` (sign rule ``q_s0 ≥ 0``,
-    result normalised), broadcasting a leading batch axis. NaN matrices
-    (degenerate fits returned with ``on_degenerate="nan"``) give NaN output.
-    """
-    m = np.array(q_matrix, dtype=float)
-    if m.ndim < 2 or m.shape[-2:] != (4, 4) or np.any(np.isinf(m)):
-        raise ValueError(f"q_matrix must be a (..., 4, 4) array without inf, got shape {m.shape}")
-    q_s = rotations.align_signs(unit_quaternion(q_sensor, "q_sensor"))
-    if q_s.ndim < 2:
-        raise ValueError(f"q_sensor must have shape (..., N, 4), got {q_s.shape}")
-    q_b = q_s @ np.swapaxes(m, -1, -2)
-    norm = np.linalg.norm(q_b, axis=-1, keepdims=True)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        return q_b / norm
-
-
 def _residual(m: np.ndarray, q_s: np.ndarray, q_b: np.ndarray) -> np.ndarray:
-    return _angle(apply_error_matrices(m, q_s), q_b)
+    return _angle(apply_error_matrix(m, q_s), q_b)
 
 
 def _angle(q1: np.ndarray, q2: np.ndarray) -> np.ndarray:
@@ -669,14 +602,14 @@ def simulate_calibration_errors(layout_rad, scenario: CalibrationScenario, n_tri
 
     nan = np.full((n_trials, 4, 4), np.nan)
     mats = {
-        "eq13": least_squares_error_matrix_batch(q_s, q_b, on_degenerate="nan")
+        "eq13": least_squares_error_matrix(q_s, q_b, on_degenerate="nan")
         if k >= MIN_POSITIONS["eq13"] else nan,
         "so4": fit_so4(q_s, q_b, on_degenerate="nan").matrix if k >= MIN_POSITIONS["so4"] else nan,
         "mounting": fit_mounting(q_s, q_b, on_degenerate="nan").matrix,
     }
     out = {}
     for name, m in mats.items():
-        err = _angle(apply_error_matrices(m, qs_test), qb_test)
+        err = _angle(apply_error_matrix(m, qs_test), qb_test)
         out[name] = np.sqrt(np.mean(err**2, axis=-1))
     return (out, mats) if return_matrices else out
 

@@ -45,7 +45,7 @@ import numpy as np
 import pandas as pd
 from scipy.optimize import least_squares
 
-from mtcal import metrics, paper, rotations, sixpos
+from mtcal import calibration, metrics, paper, rotations, sixpos
 from mtcal.filters.qncf import QncfParams, qncf
 from mtcal.profiles import AngleProfile, step_schedule, trajectory_from_euler_zxy
 from mtcal.simulate import ImuErrorModel, ImuRecord, SensorErrors, Trajectory, simulate_imu
@@ -409,8 +409,8 @@ def run_turntable(sc: TurntableScenario, test: str, rng: np.random.Generator, tr
     ref_err = _reference_draws(rng_ref, trials, 6, sc.reference_angle_sigma_rad, "reference_angle" in set(sources))
     ref_used = pos + ref_err
     q_ref = rotations.quat_from_euler_zxy(ref_used[..., 0], ref_used[..., 1], ref_used[..., 2])
-    q_mat = sixpos.least_squares_error_matrix_batch(cal.q_sensor, q_ref)
-    after = sixpos.apply_error_matrix_batch(q_mat, cal.q_sensor)
+    q_mat = calibration.least_squares_error_matrix(cal.q_sensor, q_ref)
+    after = calibration.apply_error_matrix(q_mat, cal.q_sensor)
     out = TurntableRun(q_mat, rotations.euler_zxy_from_quat(cal.q_sensor),
                        rotations.euler_zxy_from_quat(after), pos)
     if with_sweeps:
@@ -444,7 +444,7 @@ def _evaluate_sweeps(sc, prof, spans, q_s, q_mat, frac, keep_trace):
     for name, chan_mean, chans_err in (("aoa", 1, (2, 0)), ("roll", 2, (1, 0))):
         span = spans[name]
         before = rotations.euler_zxy_from_quat(q_s[:, span])
-        after = rotations.euler_zxy_from_quat(sixpos.apply_error_matrix_batch(q_mat, q_s[:, span]))
+        after = rotations.euler_zxy_from_quat(calibration.apply_error_matrix(q_mat, q_s[:, span]))
         ref = truth[span]
         holds = [slice(h.start - span.start, h.stop - span.start) for h in _holds(prof, span, frac)][1:-1]
         sweeps[name] = {
@@ -539,12 +539,12 @@ def run_windtunnel(sc: WindTunnelScenario, rng: np.random.Generator, trials: int
                            gyro_rad_s=rec.gyro_rad_s[:, spans["calibration"]], fraction=frac)
     ref_err = _reference_draws(rng_ref, trials, 6, sc.repeatability_rad, "reference_angle" in on)
     ref_used = pos + ref_err
-    q_mat = sixpos.least_squares_error_matrix_batch(
+    q_mat = calibration.least_squares_error_matrix(
         cal.q_sensor, rotations.quat_from_euler_zxy(ref_used[..., 0], ref_used[..., 1], ref_used[..., 2]))
-    after_cal = sixpos.apply_error_matrix_batch(q_mat, cal.q_sensor)
+    after_cal = calibration.apply_error_matrix(q_mat, cal.q_sensor)
     span = spans["aoa"]
     before = rotations.euler_zxy_from_quat(q_s[:, span])
-    after = rotations.euler_zxy_from_quat(sixpos.apply_error_matrix_batch(q_mat, q_s[:, span]))
+    after = rotations.euler_zxy_from_quat(calibration.apply_error_matrix(q_mat, q_s[:, span]))
     cmd = prof.angle_rad[span]
     holds = [slice(h.start - span.start, h.stop - span.start) for h in _holds(prof, span, frac)][1:-1]
     nowind = {"reference": np.array([cmd[h, 1].mean() for h in holds]),
@@ -610,14 +610,14 @@ def _wind_on_groups(sc, model, q_mat, rng, trials, trace):
         holds = _holds(prof, span, 0.5)[1:-1]
         q_g = q_s[sl]
         for j, h in enumerate(holds):
-            after = rotations.euler_zxy_from_quat(sixpos.apply_error_matrix_batch(q_rep[sl], q_g[:, h]))
+            after = rotations.euler_zxy_from_quat(calibration.apply_error_matrix(q_rep[sl], q_g[:, h]))
             means[g, :, j] = after[..., 1].mean(axis=1)
         if g == 0:
             trace["amd_pct"] = res.amd_pct[0, :prof.time_s.size]
             trace["gate"] = res.gate[0, :prof.time_s.size]
         trace[f"wind_time_s_{g}"] = prof.time_s
         trace[f"wind_pitch_{g}"] = rotations.euler_zxy_from_quat(
-            sixpos.apply_error_matrix_batch(q_rep[sl][:1], q_g[:1, :prof.time_s.size]))[0, :, 1]
+            calibration.apply_error_matrix(q_rep[sl][:1], q_g[:1, :prof.time_s.size]))[0, :, 1]
     ref = np.radians(np.asarray(sc.wind_on_sweep_deg, float))
     return {"reference": ref, "group_means": means,
             "elastic_corrected": ref + elastic_deflection_rad(sc.elastic_model_deg, ref),

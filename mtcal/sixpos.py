@@ -16,8 +16,7 @@ Workflow (paper §3.2, steps 1–7, with Eq 13–15):
 5. rests are matched to the reference positions (``A_e^b`` of Eq 15,
    converted with Eq 9) by nearest attitude (:func:`match_rests`);
 6. Eq 13 is solved with :func:`mtcal.calibration.least_squares_error_matrix`
-   (single record) or its trial-vectorised twin
-   :func:`least_squares_error_matrix_batch` (Monte Carlo).
+   (vectorised over a leading trial axis for Monte Carlo).
 
 Shapes: a record is (N, …) or (T, N, …) with a leading Monte Carlo trial
 axis. All trials of one simulation share the mechanism schedule, so a sample
@@ -37,8 +36,7 @@ from mtcal.profiles import AngleProfile, step_schedule
 
 __all__ = ["six_positions_rad", "schedule_profile", "stillness_from_gyro",
            "stillness_from_quaternions", "find_rests", "middle_slices", "mean_quaternion",
-           "rest_means", "match_rests", "least_squares_error_matrix_batch",
-           "apply_error_matrix_batch", "SixPositionResult", "calibrate"]
+           "rest_means", "match_rests", "SixPositionResult", "calibrate"]
 
 #: Paper §3.2: rest at each position (s).
 REST_S = 3.0
@@ -239,43 +237,6 @@ def match_rests(q_rest, q_ref, *, max_angle_rad: float = np.radians(5.0)) -> np.
     return out
 
 
-def least_squares_error_matrix_batch(q_sensor, q_body) -> np.ndarray:
-    """Eq 13 for every trial at once: (T, K, 4), (K, 4) or (T, K, 4) → (T, 4, 4).
-
-    Same sign rule and rank check as
-    :func:`mtcal.calibration.least_squares_error_matrix` (which it equals
-    trial by trial), vectorised over the leading trial axis.
-    """
-    qs = rotations.align_signs(unit_quaternion(q_sensor, "q_sensor"))
-    qb = unit_quaternion(q_body, "q_body")
-    if qs.ndim != 3:
-        raise ValueError(f"q_sensor must have shape (T, K, 4), got {qs.shape}")
-    qb = np.broadcast_to(qb, qs.shape)
-    qb = rotations.align_signs(qb, qs)
-    if qs.shape[1] < 3:
-        raise ValueError(f"q_sensor must hold at least 3 positions (Eq 13 needs 12 equations), got {qs.shape[1]}")
-    gram = np.einsum("tki,tkj->tij", qs, qs)
-    cond = np.linalg.cond(gram)
-    if not np.all(np.isfinite(cond)) or np.max(cond) > calibration.MAX_CONDITION:
-        raise ValueError(f"q_sensor positions are degenerate: A_q^s (A_q^s)^T is rank-deficient "
-                         f"(condition number {np.max(cond):.3g} > {calibration.MAX_CONDITION:.0e})")
-    rhs = np.einsum("tki,tkj->tij", qs, qb)
-    return np.swapaxes(np.linalg.solve(gram, rhs), -1, -2)
-
-
-def apply_error_matrix_batch(q_matrix, q_sensor) -> np.ndarray:
-    """Eq 10 per trial: ``Q_t q_s`` normalised; Q (T, 4, 4), q (T, ..., 4) → (T, ..., 4)."""
-    qm = as_float_array(q_matrix, "q_matrix", ndim=3)
-    if qm.shape[1:] != (4, 4):
-        raise ValueError(f"q_matrix must have shape (T, 4, 4), got {qm.shape}")
-    qs = rotations.align_signs(unit_quaternion(q_sensor, "q_sensor"))
-    if qs.shape[0] != qm.shape[0]:
-        raise ValueError(f"q_sensor must have {qm.shape[0]} trials, got shape {qs.shape}")
-    flat = qs.reshape(qs.shape[0], -1, 4)
-    out = np.einsum("tij,tnj->tni", qm, flat).reshape(qs.shape)
-    return out / np.linalg.norm(out, axis=-1, keepdims=True)
-
-
 @dataclass(frozen=True)
 class SixPositionResult:
     """Outcome of :func:`calibrate` (trial axis T present iff the input had one).
@@ -357,12 +318,8 @@ def calibrate(q_ws, reference_euler_rad, fs_hz: float, *, gyro_rad_s=None, fract
     means = rest_means(qq, rests, fraction)
     matched = match_rests(means, q_ref, max_angle_rad=max_match_rad)
     q_s = means[..., matched, :]
-    if q_s.ndim == 2:
-        q_mat = calibration.least_squares_error_matrix(q_s, q_ref)
-        after = calibration.apply_error_matrix(q_mat, q_s)
-    else:
-        q_mat = least_squares_error_matrix_batch(q_s, q_ref)
-        after = apply_error_matrix_batch(q_mat, q_s)
+    q_mat = calibration.least_squares_error_matrix(q_s, q_ref)  # (4, 4) or (T, 4, 4)
+    after = calibration.apply_error_matrix(q_mat, q_s)
     residual = rotations.quat_angle_between(after, q_ref)
     return SixPositionResult(q_mat, rests, matched, q_s, q_ref, rotations.euler_zxy_from_quat(q_s),
                              rotations.euler_zxy_from_quat(after), residual)

@@ -104,14 +104,14 @@ def test_noise_free_recovery_all_methods_paper_six(truth):
     # shared reference frame: all three recover R(c*)
     q_s = _sensor(q_b, np.array([1.0, 0, 0, 0]), c)
     target = rotations.right_matrix(rotations.quat_conjugate(c))
-    np.testing.assert_allclose(constrained.least_squares_error_matrix_batch(q_s, q_b), target, atol=1e-9)
+    np.testing.assert_allclose(calibration.least_squares_error_matrix(q_s, q_b), target, atol=1e-9)
     np.testing.assert_allclose(constrained.so4_error_matrix(q_s, q_b), target, atol=1e-9)
     np.testing.assert_allclose(constrained.mounting_error_matrix(q_s, q_b), target, atol=1e-9)
     np.testing.assert_allclose(constrained.fit_mounting(q_s, q_b).c, c, atol=1e-9)
     # with a reference offset: Eq 13 and SO(4) recover L(w*) R(c*); SO(4) factors give w*, c*
     q_s = _sensor(q_b, w, c)
     target = constrained.so4_from_quaternions(rotations.quat_conjugate(w), rotations.quat_conjugate(c))
-    np.testing.assert_allclose(constrained.least_squares_error_matrix_batch(q_s, q_b), target, atol=1e-9)
+    np.testing.assert_allclose(calibration.least_squares_error_matrix(q_s, q_b), target, atol=1e-9)
     fit = constrained.fit_so4(q_s, q_b)
     np.testing.assert_allclose(fit.matrix, target, atol=1e-9)
     np.testing.assert_allclose(fit.p, rotations.quat_conjugate(w), atol=1e-9)
@@ -119,15 +119,17 @@ def test_noise_free_recovery_all_methods_paper_six(truth):
     assert np.max(fit.residual_rad) < 1e-9
 
 
-def test_batch_eq13_matches_calibration_module_on_noisy_data(rng, truth):
+def test_batched_eq13_matches_member_by_member_on_noisy_data(rng, truth):
     c, _ = truth
     q_b = _positions(PAPER6)
     q_s = rotations.quat_multiply(_sensor(q_b, np.array([1.0, 0, 0, 0]), c),
                                   _small_rotation(rng, np.radians(0.05), 6))
-    np.testing.assert_allclose(constrained.least_squares_error_matrix_batch(q_s, q_b),
-                               calibration.least_squares_error_matrix(q_s, q_b), atol=1e-12)
-    stacked = constrained.least_squares_error_matrix_batch(np.stack([q_s, q_s]), np.stack([q_b, q_b]))
+    q_s2 = rotations.quat_multiply(q_s, _small_rotation(rng, np.radians(0.05), 6))
+    stacked = calibration.least_squares_error_matrix(np.stack([q_s, q_s2]), q_b)  # shared q_body
     assert stacked.shape == (2, 4, 4)
+    np.testing.assert_allclose(stacked[0], calibration.least_squares_error_matrix(q_s, q_b), atol=1e-12)
+    np.testing.assert_allclose(stacked[1], calibration.least_squares_error_matrix(q_s2, q_b), atol=1e-12)
+    assert not np.allclose(stacked[0], stacked[1], atol=1e-6)
 
 
 # --------------------------------------------------------------------------
@@ -139,21 +141,19 @@ def test_eq13_needs_four_positions_not_three(rng):
     q_s = rotations.quat_multiply(q_b, _small_rotation(rng, 0.01))
     with pytest.raises(ValueError, match="at least 4 positions"):
         calibration.least_squares_error_matrix(q_s, q_b)
-    with pytest.raises(ValueError, match="at least 4 positions"):
-        constrained.least_squares_error_matrix_batch(q_s, q_b)
     # four random positions suffice
     q_b4 = _random_unit(rng, 4)
     c = _small_rotation(rng, 0.01)
     q_s4 = rotations.quat_multiply(q_b4, c)
-    np.testing.assert_allclose(constrained.least_squares_error_matrix_batch(q_s4, q_b4),
+    np.testing.assert_allclose(calibration.least_squares_error_matrix(q_s4, q_b4),
                                rotations.right_matrix(rotations.quat_conjugate(c)), atol=1e-9)
 
 
 def test_eq13_four_positions_spanning_three_directions_is_degenerate():
     q_b = _positions([[8, 0, 0], [-8, 0, 0], [0, -12, 0], [0, 23, 0]])  # span {e0, e1, e3}
     with pytest.raises(ValueError, match="degenerate"):
-        constrained.least_squares_error_matrix_batch(q_b, q_b)
-    out = constrained.least_squares_error_matrix_batch(q_b, q_b, on_degenerate="nan")
+        calibration.least_squares_error_matrix(q_b, q_b)
+    out = calibration.least_squares_error_matrix(q_b, q_b, on_degenerate="nan")
     assert np.all(np.isnan(out))
     # the SO(4) fit only needs rank 3: the same four positions recover the truth
     c = rotations.quat_from_rotvec([0.01, -0.02, 0.005])
@@ -224,21 +224,23 @@ def test_sign_flipped_inputs_give_same_result(rng, truth):
     q_s = rotations.quat_multiply(_sensor(q_b, w, c), _small_rotation(rng, np.radians(0.05), 6))
     flip_s = np.array([[-1.0], [1.0], [-1.0], [1.0], [1.0], [-1.0]])
     flip_b = np.array([[1.0], [-1.0], [-1.0], [1.0], [-1.0], [1.0]])
-    for fn in (constrained.least_squares_error_matrix_batch, constrained.so4_error_matrix,
+    for fn in (calibration.least_squares_error_matrix, constrained.so4_error_matrix,
                constrained.mounting_error_matrix):
         np.testing.assert_allclose(fn(flip_s * q_s, flip_b * q_b), fn(q_s, q_b), atol=1e-12)
 
 
-def test_apply_error_matrices_matches_calibration(rng):
+def test_apply_error_matrix_batched_matches_single(rng):
     m = constrained.so4_from_quaternions(_small_rotation(rng, 0.01), _small_rotation(rng, 0.01))
-    q = _random_unit(rng, 7)
-    np.testing.assert_allclose(constrained.apply_error_matrices(m, q), calibration.apply_error_matrix(m, q),
-                               atol=1e-14)
-    out = constrained.apply_error_matrices(np.stack([m, np.full((4, 4), np.nan)]), np.stack([q, q]))
+    m2 = constrained.so4_from_quaternions(_small_rotation(rng, 0.01), _small_rotation(rng, 0.01))
+    q, q2 = _random_unit(rng, 7), _random_unit(rng, 7)
+    both = calibration.apply_error_matrix(np.stack([m, m2]), np.stack([q, q2]))
+    np.testing.assert_allclose(both[0], calibration.apply_error_matrix(m, q), atol=1e-14)
+    np.testing.assert_allclose(both[1], calibration.apply_error_matrix(m2, q2), atol=1e-14)
+    out = calibration.apply_error_matrix(np.stack([m, np.full((4, 4), np.nan)]), np.stack([q, q]))
     assert out.shape == (2, 7, 4) and np.all(np.isnan(out[1])) and np.all(np.isfinite(out[0]))
 
 
-@pytest.mark.parametrize("fn", [constrained.least_squares_error_matrix_batch, constrained.fit_so4,
+@pytest.mark.parametrize("fn", [calibration.least_squares_error_matrix, constrained.fit_so4,
                                 constrained.fit_mounting])
 def test_input_errors(fn):
     q = _positions(PAPER6)

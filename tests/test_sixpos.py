@@ -54,7 +54,7 @@ def test_sign_flipped_inputs_same_matrix(noise_free, rng):
     q_ref = rotations.quat_from_euler_zxy(*pos.T)
     q2 = calibration.least_squares_error_matrix(res.q_sensor * flip, q_ref * flip[::-1])
     assert np.allclose(q2, res.q_matrix, atol=1e-12)
-    batch = sixpos.least_squares_error_matrix_batch((res.q_sensor * flip)[None], q_ref)
+    batch = calibration.least_squares_error_matrix((res.q_sensor * flip)[None], q_ref)
     assert np.allclose(batch[0], res.q_matrix, atol=1e-12)
 
 
@@ -62,7 +62,7 @@ def test_rank_deficient_positions_raise():
     ang = np.radians([[5, 0, 0], [-5, 0, 0], [10, 0, 0], [-10, 0, 0]])
     q = rotations.quat_from_euler_zxy(*ang.T)
     with pytest.raises(ValueError, match="condition number"):
-        sixpos.least_squares_error_matrix_batch(q[None], q)
+        calibration.least_squares_error_matrix(q[None], q)
 
 
 def test_too_few_rests(noise_free):
