@@ -482,18 +482,6 @@ def _scaling_section(inp: BenchInputs, steps: int) -> str:
         pts = ", ".join(f"T={T}: {c:.1f}" for T, c in zip(trial_counts, cost))
         lines.append(f"{name:9s} {pts}  -> overhead {icpt:.1f} us/step + {slope * 1e3:.1f} ns/trial/step; "
                      f"at T=1000 overhead is {100 * icpt / (icpt + 1000 * slope):.0f} % of the step")
-    long_steps = min(inp.gyro_t.shape[1], 10 * steps)
-    if long_steps > steps:
-        lines.append(f"record-length effect at T=1000 (same per-step work; a longer record means a larger "
-                     f"stride between trials when the filter reads x[:, k] from (T, N, 3) arrays):")
-        for name, make in makers.items():
-            short = _step_cost_us(make, 1000, steps)
-            call = make(1000, long_steps)
-            t0 = time.perf_counter()
-            call()
-            long = (time.perf_counter() - t0) / long_steps * 1e6
-            lines.append(f"{name:9s} N={steps}: {short:.1f} us/step, N={long_steps}: {long:.1f} us/step "
-                         f"(x{long / short:.2f})")
     return "\n".join(lines)
 
 
