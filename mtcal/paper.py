@@ -3,7 +3,9 @@
 Values are kept as the strings the papers print (``load(..., as_text=True)``)
 or parsed to numbers where a column is numeric. Every notebook reports its
 results through :func:`comparison_table`, with the columns
-``artifact | quantity | paper | mtcal | claim | holds``.
+``artifact | quantity | paper | mtcal | mc_band | paper_in_band | claim | holds``
+(the band columns are filled where the mtcal number comes from a Monte
+Carlo: median in ``mtcal``, 95 % interval in ``mc_band``).
 """
 
 from __future__ import annotations
@@ -15,9 +17,9 @@ import numpy as np
 import pandas as pd
 
 __all__ = ["paper_dir", "available", "load", "value", "comparison_row", "comparison_table",
-           "claims_summary", "COMPARISON_COLUMNS"]
+           "claims_summary", "band_summary", "COMPARISON_COLUMNS"]
 
-COMPARISON_COLUMNS = ["artifact", "quantity", "paper", "mtcal", "claim", "holds"]
+COMPARISON_COLUMNS = ["artifact", "quantity", "paper", "mtcal", "mc_band", "paper_in_band", "claim", "holds"]
 
 
 def paper_dir() -> Path:
@@ -77,17 +79,47 @@ def value(name: str, column: str, **where) -> float:
     return float(df.loc[mask, column].iloc[0])
 
 
-def comparison_row(artifact: str, quantity: str, paper, mtcal, claim: str, holds: bool | None) -> dict:
-    """One row of the paper-vs-mtcal table (``holds=None`` when no claim is tested)."""
+def comparison_row(artifact: str, quantity: str, paper, mtcal, claim: str, holds: bool | None,
+                   *, band=None) -> dict:
+    """One row of the paper-vs-mtcal table.
+
+    Parameters
+    ----------
+    artifact, quantity : str
+        Artifact ID (``"T000-6"``) and what is compared, with its unit.
+    paper, mtcal : float or str
+        The paper's printed value and ours (for a Monte Carlo: our median).
+    claim : str
+        The paper's statement made testable.
+    holds : bool or None
+        Whether the claim holds in simulation (``None``: nothing tested).
+    band : dict or (low, high), optional
+        Monte Carlo 95 % band of the mtcal number (``metrics.percentile_band``
+        output or a pair). The row then records the band as
+        ``"[low, high]"`` and whether a numeric paper value lies inside it.
+    """
     if holds is not None and not isinstance(holds, (bool, np.bool_)):
         raise TypeError(f"holds must be bool or None, got {type(holds).__name__}")
+    band_text, inside = "", None
+    if band is not None:
+        low, high = (band["low"], band["high"]) if isinstance(band, dict) else band
+        low, high = float(low), float(high)
+        if not (np.isfinite(low) and np.isfinite(high)) or low > high:
+            raise ValueError(f"band must be a finite (low, high) with low <= high, got ({low}, {high})")
+        band_text = f"[{low:.4g}, {high:.4g}]"
+        try:
+            inside = bool(low <= float(paper) <= high)
+        except (TypeError, ValueError):
+            inside = None  # the paper gives no number to place in the band
     return {"artifact": artifact, "quantity": quantity, "paper": paper, "mtcal": mtcal,
-            "claim": claim, "holds": None if holds is None else bool(holds)}
+            "mc_band": band_text, "paper_in_band": inside, "claim": claim,
+            "holds": None if holds is None else bool(holds)}
 
 
 def comparison_table(rows: list[dict], digits: int = 4) -> pd.DataFrame:
     """Build the comparison table; float cells are rounded to ``digits`` for stable output."""
     df = pd.DataFrame(rows, columns=COMPARISON_COLUMNS)
+    df["mc_band"] = df["mc_band"].fillna("")
 
     def fmt(x):
         if isinstance(x, (float, np.floating)):
@@ -96,6 +128,12 @@ def comparison_table(rows: list[dict], digits: int = 4) -> pd.DataFrame:
     for col in ("paper", "mtcal"):
         df[col] = df[col].map(fmt)
     return df
+
+
+def band_summary(table: pd.DataFrame) -> str:
+    """``"paper inside our 95 % band: k of n"`` over rows with a band and a numeric paper value."""
+    placed = table["paper_in_band"].dropna()
+    return f"paper value inside the mtcal 95 % Monte Carlo band: {int(placed.sum())} of {len(placed)}"
 
 
 def claims_summary(table: pd.DataFrame) -> str:

@@ -48,3 +48,17 @@ def test_printed_matrices_are_4x4():
     for name in ("seed000_matrix_qbs_turntable", "seed000_matrix_qbs_windtunnel"):
         m = paper.load(name).select_dtypes("number").to_numpy()
         assert m.shape[1] >= 4 and np.all(np.isfinite(m))
+
+
+def test_band_columns_and_summary():
+    rows = [paper.comparison_row("T", "a", 0.009, 0.011, "<= 0.01", False, band={"low": 0.003, "high": 0.03}),
+            paper.comparison_row("T", "b", 0.05, 0.011, "<= 0.01", True, band=(0.003, 0.03)),
+            paper.comparison_row("T", "c", "n/a", 0.011, "", None, band=(0.003, 0.03)),
+            paper.comparison_row("T", "d", 0.05, 0.011, "", None)]
+    table = paper.comparison_table(rows)
+    assert table.loc[0, "mc_band"] == "[0.003, 0.03]"
+    assert table["paper_in_band"].tolist()[:3] == [True, False, None]
+    assert table.loc[3, "mc_band"] == ""
+    assert paper.band_summary(table) == "paper value inside the mtcal 95 % Monte Carlo band: 1 of 2"
+    with pytest.raises(ValueError, match="band must be"):
+        paper.comparison_row("T", "a", 1.0, 1.0, "", None, band=(2.0, 1.0))
