@@ -96,7 +96,7 @@ class Sizes:
 
 FULL = Sizes()
 QUICK = Sizes(record_s=4.0, batch_trials=1000, batch_record_s=0.5, loop_record_s=1.0, profile_s=0.2,
-              mc_trials=1000, mc_duration_s=2.0, repeats=1)
+              mc_trials=1000, mc_duration_s=2.0, repeats=3)
 
 
 # --------------------------------------------------------------------------- data
