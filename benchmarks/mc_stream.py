@@ -44,7 +44,7 @@ from mtcal.scenarios000 import ImuSpec000
 from mtcal.simulate import ImuErrorModel, ImuRecord, ImuStream, Trajectory
 
 __all__ = ["PITCH_WAYPOINTS_DEG", "BenchData", "bench_scenario", "error_model", "PrefetchStream",
-           "euler_zxy_fast", "QncfErrorConsumer",
+           "QncfErrorConsumer",
            "run_mc", "peak_rss_mb", "vm_hwm_mb"]
 
 #: Pitch waypoints of the benchmark schedule (deg).
@@ -139,18 +139,6 @@ class PrefetchStream(ImuStream):
             worker.join()
 
 
-def euler_zxy_fast(q: np.ndarray) -> np.ndarray:
-    """Seed 000 Eq 8 (same formulas as :func:`mtcal.rotations.euler_zxy_from_quat`) without
-    input validation, for filter outputs that are unit quaternions by construction."""
-    q0, q1, q2, q3 = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
-    out = np.empty(q.shape[:-1] + (3,))
-    s00, s11, s22, s33 = q0 * q0, q1 * q1, q2 * q2, q3 * q3
-    np.arctan2(-2.0 * (q1 * q2 - q0 * q3), s00 - s11 + s22 - s33, out=out[..., 0])
-    np.arcsin(np.clip(2.0 * (q2 * q3 + q0 * q1), -1.0, 1.0), out=out[..., 1])
-    np.arctan2(-2.0 * (q1 * q3 - q0 * q2), s00 - s11 - s22 + s33, out=out[..., 2])
-    return out
-
-
 class QncfErrorConsumer:
     """Chunk consumer: advances a :class:`QncfFilter` and folds Eq 8 angle errors in.
 
@@ -173,7 +161,7 @@ class QncfErrorConsumer:
     def update(self, chunk: ImuRecord) -> None:
         res = self.filter.run(chunk.gyro_rad_s, chunk.accel_m_s2, return_euler=False)
         truth = rotations.euler_zxy_from_quat(chunk.q_ws_true)
-        self.errors.add(angle_difference(euler_zxy_fast(res.q_ws), truth))
+        self.errors.add(angle_difference(rotations.euler_zxy_unchecked(res.q_ws), truth))
 
 
 def run_mc(trials: int, duration_s: float = 60.0, *, chunk_samples: int = 1000, seed: int = 2023,

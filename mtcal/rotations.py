@@ -47,7 +47,7 @@ from mtcal._validate import angle_rad, as_float_array, unit_quaternion
 __all__ = [
     "hamilton", "quat_multiply", "quat_conjugate", "quat_normalize", "left_matrix", "right_matrix",
     "align_signs", "make_continuous", "quat_from_rotvec", "rotvec_from_quat",
-    "quat_from_euler_zxy", "euler_zxy_from_quat", "quat_to_matrix", "quat_from_matrix",
+    "quat_from_euler_zxy", "euler_zxy_from_quat", "euler_zxy_unchecked", "quat_to_matrix", "quat_from_matrix",
     "installation_matrix", "installation_matrix_small_angle", "coupling_error_eq4",
     "dcm_zyx", "specific_force_zyx", "pitch_roll_from_specific_force",
     "axis_angle_matrix", "wrap_angle", "quat_angle_between",
@@ -271,12 +271,22 @@ def euler_zxy_from_quat(q) -> np.ndarray:
     ndarray, shape (..., 3)
         ``[ψ, θ, γ]`` along the last axis.
     """
-    q = unit_quaternion(q, "q")
-    q0, q1, q2, q3 = np.moveaxis(q, -1, 0)
-    yaw = np.arctan2(-2.0 * (q1 * q2 - q0 * q3), q0**2 - q1**2 + q2**2 - q3**2)
-    pitch = np.arcsin(np.clip(2.0 * (q2 * q3 + q0 * q1), -1.0, 1.0))
-    roll = np.arctan2(-2.0 * (q1 * q3 - q0 * q2), q0**2 - q1**2 - q2**2 + q3**2)
-    return np.stack([yaw, pitch, roll], axis=-1)
+    return euler_zxy_unchecked(unit_quaternion(q, "q"))
+
+
+def euler_zxy_unchecked(q: np.ndarray) -> np.ndarray:
+    """Eq 8 without input validation, for filter outputs that are unit by construction.
+
+    Same formulas as :func:`euler_zxy_from_quat` (which calls it after
+    checking ``q``); ``q`` must be a float array (..., 4) of unit quaternions.
+    """
+    q0, q1, q2, q3 = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
+    out = np.empty(q.shape[:-1] + (3,))
+    s00, s11, s22, s33 = q0 * q0, q1 * q1, q2 * q2, q3 * q3
+    np.arctan2(-2.0 * (q1 * q2 - q0 * q3), s00 - s11 + s22 - s33, out=out[..., 0])
+    np.arcsin(np.clip(2.0 * (q2 * q3 + q0 * q1), -1.0, 1.0), out=out[..., 1])
+    np.arctan2(-2.0 * (q1 * q3 - q0 * q2), s00 - s11 - s22 + s33, out=out[..., 2])
+    return out
 
 
 def installation_matrix(alpha1, alpha2, alpha3) -> np.ndarray:

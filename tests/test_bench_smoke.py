@@ -174,11 +174,6 @@ def test_line_times_attributes_time_to_lines():
 
 
 # ----------------------------------------------------------------------------- streaming Monte Carlo
-def test_euler_fast_equals_library_eq8(rng):
-    q = rotations.quat_normalize(rng.standard_normal((5, 7, 4)))
-    np.testing.assert_allclose(mc_stream.euler_zxy_fast(q), rotations.euler_zxy_from_quat(q), atol=1e-15)
-
-
 def test_streaming_mc_is_chunk_size_independent():
     kw = dict(trials=3, duration_s=0.8, seed=11)
     a = mc_stream.run_mc(chunk_samples=250, **kw)
