@@ -348,20 +348,27 @@ def projection_roll_error_exact(roll, pitch_rate, gyro_error_y, gyro_error_z) ->
     return (err + 0.5 * np.pi) % np.pi - 0.5 * np.pi
 
 
-def loglog_slope(x, y) -> float:
+def loglog_slope(x, y) -> float | np.ndarray:
     """Least-squares slope of ``log|y|`` against ``log x`` (power-law exponent).
 
     Parameters
     ----------
     x : array_like (K,)
         Positive abscissae (e.g. pitch rates).
-    y : array_like (K,)
-        Non-zero ordinates (e.g. roll errors).
+    y : array_like (K,) or (T, K)
+        Non-zero ordinates (e.g. roll errors); a 2-D array fits one slope per
+        row (e.g. per Monte Carlo trial).
+
+    Returns
+    -------
+    float, or ndarray (T,) for 2-D ``y``
     """
     xx = as_float_array(x, "x", ndim=1)
-    yy = as_float_array(y, "y", ndim=1)
-    if xx.shape != yy.shape or xx.size < 2:
-        raise ValueError(f"x and y must be 1-D of equal length >= 2, got {xx.shape} and {yy.shape}")
+    yy = as_float_array(y, "y", ndim=(1, 2))
+    if xx.size < 2 or yy.shape[-1] != xx.size:
+        raise ValueError(f"x must be 1-D of length >= 2 and y's last axis must match it, got {xx.shape} and "
+                         f"{yy.shape}")
     if np.any(xx <= 0) or np.any(yy == 0):
         raise ValueError("x must be positive and y non-zero for a log-log fit")
-    return float(np.polyfit(np.log(xx), np.log(np.abs(yy)), 1)[0])
+    slope = np.polyfit(np.log(xx), np.log(np.abs(yy)).T, 1)[0]
+    return float(slope) if yy.ndim == 1 else slope

@@ -185,6 +185,16 @@ def test_bad_input_raises():
         gr.body_rates_two_dof(1.0, 30.0)
     with pytest.raises(ValueError, match="x must be positive"):
         gr.loglog_slope([0.0, 1.0], [1.0, 2.0])
+    with pytest.raises(ValueError, match="last axis must match"):
+        gr.loglog_slope([1.0, 2.0, 3.0], np.ones((4, 2)))
+
+
+def test_loglog_slope_per_row_matches_1d():
+    x = np.array([1.0, 2.0, 5.0, 10.0])
+    y = np.stack([3.0 * x**-1.0, -0.5 * x**-0.5, 2.0 * x**2])
+    np.testing.assert_allclose(gr.loglog_slope(x, y), [-1.0, -0.5, 2.0], atol=1e-12)
+    assert isinstance(gr.loglog_slope(x, y[0]), float)
+    assert gr.loglog_slope(x, y[1]) == pytest.approx(-0.5, abs=1e-12)
 
 
 def test_scenario_defaults_and_validation():
