@@ -53,7 +53,9 @@ from mtcal.simulate import ImuErrorModel, ImuRecord, SensorErrors, Trajectory, s
 __all__ = ["PAPER_SIGN", "TABLES_1_TO_4", "mount_quaternion", "true_error_matrix",
            "predicted_before", "fit_installation_angles", "ImuSpec000", "SOURCES",
            "TurntableScenario", "WindTunnelScenario", "describe", "run_turntable",
-           "run_windtunnel", "relative_to_initial"]
+           "TurntableJob", "run_turntable_jobs", "run_turntable_mc", "run_windtunnel",
+           "relative_to_initial", "band_record", "band_row", "band_text", "position_errors_deg",
+           "sweep_mean_table", "sweep_mean_max_error_deg", "error_metric_table", "plot_before_after"]
 
 #: Paper angle = PAPER_SIGN · Eq 8 angle (roll sign flipped; see module docstring).
 PAPER_SIGN = np.array([1.0, 1.0, -1.0])
@@ -290,13 +292,6 @@ def relative_to_initial(q_est: np.ndarray, n0: int = 1) -> np.ndarray:
     return rotations.hamilton(rotations.quat_conjugate(q0)[:, None, :], q_est)
 
 
-def _simulate_stack(traj: Trajectory, models: list, rngs: list, trials: list[int]) -> tuple:
-    recs = [simulate_imu(traj, m, rng=r, trials=t) for m, r, t in zip(models, rngs, trials)]
-    gyro = np.concatenate([r.gyro_rad_s for r in recs], axis=0)
-    accel = np.concatenate([r.accel_m_s2 for r in recs], axis=0)
-    return gyro, accel, recs[0]
-
-
 def _concat_profiles(parts: list[AngleProfile]) -> tuple[AngleProfile, list[slice]]:
     """Join profiles end to end (each starts where the previous ended); return spans."""
     dt = 1.0 / parts[0].fs_hz
@@ -368,6 +363,84 @@ class TurntableRun:
     trace: dict | None = None     # trial-0 time series for figures
 
 
+@dataclass(frozen=True)
+class TurntableJob:
+    """One Monte Carlo set for :func:`run_turntable_jobs`.
+
+    Attributes
+    ----------
+    test : {"T1", "T2", "T3", "T4"}
+        Installation angles (fitted to Tables 1–4).
+    rng : numpy.random.Generator
+        The set's own generator (split into blocks of ``block`` trials).
+    trials : int
+        Monte Carlo trials.
+    sources : tuple of str
+        Error sources switched on (names from :data:`SOURCES`).
+    fraction : float, optional
+        Averaging fraction of each rest (default ``sc.averaging_fraction``).
+    """
+
+    test: str
+    rng: np.random.Generator
+    trials: int
+    sources: tuple = SOURCES
+    fraction: float | None = None
+
+
+def _check_sources(sources) -> tuple:
+    src = tuple(sources)
+    unknown = set(src) - set(SOURCES)
+    if unknown:
+        raise ValueError(f"sources must be names from {SOURCES}, got {sorted(unknown)}")
+    return src
+
+
+def _run_pieces(sc: TurntableScenario, prof: AngleProfile, spans: dict, pieces: list, with_sweeps: bool,
+                keep_trace: bool) -> list[TurntableRun]:
+    """Simulate every piece ``(test, sources, rng, trials, fraction)``, run ONE stacked QNCF, finish each.
+
+    The QNCF cost is dominated by its loop over time, so stacking the pieces
+    along the trial axis costs about one run, whatever their number. Each
+    piece keeps its own generator, so its numbers do not depend on the stacking.
+    """
+    traj = trajectory_from_euler_zxy(prof)
+    gyro, accel, rng_refs = [], [], []
+    for test, sources, rng, trials, _ in pieces:
+        rng_imu, rng_ref = rng.spawn(2)
+        model = sc.imu.error_model(mount_quaternion(sc.alpha_rad(test)), sources)
+        rec = simulate_imu(traj, model, rng=rng_imu, trials=trials)
+        gyro.append(rec.gyro_rad_s)
+        accel.append(rec.accel_m_s2)
+        rng_refs.append(rng_ref)
+    del rec
+    gyro = np.concatenate(gyro, axis=0)
+    res = qncf(gyro, np.concatenate(accel, axis=0), 1.0 / sc.fs_hz, sc.qncf, return_euler=False)
+    del accel
+    q_s = relative_to_initial(res.q_ws)
+    del res
+    pos = six_position_reference(sc)
+    cal_span = spans["calibration"]
+    out, start = [], 0
+    for i, ((_, sources, _, trials, fraction), rng_ref) in enumerate(zip(pieces, rng_refs)):
+        sl = slice(start, start + trials)
+        start += trials
+        frac = sc.averaging_fraction if fraction is None else fraction
+        cal = sixpos.calibrate(q_s[sl, cal_span], pos, sc.fs_hz, gyro_rad_s=gyro[sl, cal_span], fraction=frac)
+        # reference-angle (turntable positioning) errors: the reference the LS is fed differs from truth
+        ref_err = _reference_draws(rng_ref, trials, 6, sc.reference_angle_sigma_rad, "reference_angle" in sources)
+        ref_used = pos + ref_err
+        q_ref = rotations.quat_from_euler_zxy(ref_used[..., 0], ref_used[..., 1], ref_used[..., 2])
+        q_mat = calibration.least_squares_error_matrix(cal.q_sensor, q_ref)
+        after = calibration.apply_error_matrix(q_mat, cal.q_sensor)
+        run = TurntableRun(q_mat, rotations.euler_zxy_from_quat(cal.q_sensor),
+                           rotations.euler_zxy_from_quat(after), pos)
+        if with_sweeps:
+            run.sweeps, run.trace = _evaluate_sweeps(sc, prof, spans, q_s[sl], q_mat, frac, keep_trace and i == 0)
+        out.append(run)
+    return out
+
+
 def run_turntable(sc: TurntableScenario, test: str, rng: np.random.Generator, trials: int,
                   sources=SOURCES, *, with_sweeps: bool = False, fraction: float | None = None,
                   keep_trace: bool = False) -> TurntableRun:
@@ -392,30 +465,9 @@ def run_turntable(sc: TurntableScenario, test: str, rng: np.random.Generator, tr
     keep_trace : bool
         Keep trial-0 error time series of the sweeps (figures).
     """
-    frac = sc.averaging_fraction if fraction is None else fraction
-    rng_imu, rng_ref = rng.spawn(2)
     prof, spans = turntable_profile(sc, with_sweeps)
-    traj = trajectory_from_euler_zxy(prof)
-    model = sc.imu.error_model(mount_quaternion(sc.alpha_rad(test)), sources)
-    rec = simulate_imu(traj, model, rng=rng_imu, trials=trials)
-    res = qncf(rec.gyro_rad_s, rec.accel_m_s2, 1.0 / sc.fs_hz, sc.qncf, return_euler=False)
-    q_s = relative_to_initial(res.q_ws)
-    del res
-    pos = six_position_reference(sc)
-    cal_span = spans["calibration"]
-    cal = sixpos.calibrate(q_s[:, cal_span], pos, sc.fs_hz, gyro_rad_s=rec.gyro_rad_s[:, cal_span],
-                           fraction=frac)
-    # reference-angle (turntable positioning) errors: the reference the LS is fed differs from truth
-    ref_err = _reference_draws(rng_ref, trials, 6, sc.reference_angle_sigma_rad, "reference_angle" in set(sources))
-    ref_used = pos + ref_err
-    q_ref = rotations.quat_from_euler_zxy(ref_used[..., 0], ref_used[..., 1], ref_used[..., 2])
-    q_mat = calibration.least_squares_error_matrix(cal.q_sensor, q_ref)
-    after = calibration.apply_error_matrix(q_mat, cal.q_sensor)
-    out = TurntableRun(q_mat, rotations.euler_zxy_from_quat(cal.q_sensor),
-                       rotations.euler_zxy_from_quat(after), pos)
-    if with_sweeps:
-        out.sweeps, out.trace = _evaluate_sweeps(sc, prof, spans, q_s, q_mat, frac, keep_trace)
-    return out
+    piece = (test, _check_sources(sources), rng, int(trials), fraction)
+    return _run_pieces(sc, prof, spans, [piece], with_sweeps, keep_trace)[0]
 
 
 def _concat_runs(runs: list) -> "TurntableRun":
@@ -428,14 +480,74 @@ def _concat_runs(runs: list) -> "TurntableRun":
     return out
 
 
+def run_turntable_jobs(sc: TurntableScenario, jobs: list[TurntableJob], *, with_sweeps: bool = False,
+                       keep_trace: bool = False, block: int = 50,
+                       max_trial_samples: int = 9_000_000) -> list[TurntableRun]:
+    """Several Monte Carlo sets (tests, error budgets, averaging fractions) sharing QNCF runs.
+
+    Each job is split into blocks of ``block`` trials, block ``i`` drawing
+    from ``job.rng.spawn(n_blocks)[i]`` (the same streams as
+    :func:`run_turntable_mc`). Consecutive blocks are stacked into one QNCF
+    run as long as trials × samples stays below ``max_trial_samples`` (memory
+    bound, ≈ 1.5 GB peak at the default).
+
+    Parameters
+    ----------
+    sc : TurntableScenario
+    jobs : list of TurntableJob
+    with_sweeps : bool
+        Append the AoA and roll sweeps (Tables 5–8) to every job.
+    keep_trace : bool
+        Keep trial-0 sweep time series of the first job (figures).
+    block : int
+        Trials per generator block.
+    max_trial_samples : int
+        Largest trials × samples of one stacked QNCF run.
+
+    Returns
+    -------
+    list of TurntableRun
+        One per job, trials in job order.
+    """
+    if not jobs:
+        raise ValueError("jobs must hold at least one TurntableJob")
+    for job in jobs:
+        if not isinstance(job, TurntableJob):
+            raise TypeError(f"jobs must hold TurntableJob items, got {type(job).__name__}")
+        if int(job.trials) < 1:
+            raise ValueError(f"job trials must be >= 1, got {job.trials}")
+        if job.test not in sc.alpha_deg:
+            raise ValueError(f"job test must be one of {sorted(sc.alpha_deg)}, got {job.test!r}")
+    if int(block) < 1:
+        raise ValueError(f"block must be >= 1, got {block}")
+    prof, spans = turntable_profile(sc, with_sweeps)
+    per_call = max(int(block), int(max_trial_samples) // prof.time_s.size)
+    pieces = []                                  # (job index, piece)
+    for i, job in enumerate(jobs):
+        src = _check_sources(job.sources)
+        sizes = [min(block, job.trials - k) for k in range(0, job.trials, block)]
+        pieces += [(i, (job.test, src, r, n, job.fraction)) for r, n in zip(job.rng.spawn(len(sizes)), sizes)]
+    calls, count = [[]], 0
+    for item in pieces:
+        if calls[-1] and count + item[1][3] > per_call:
+            calls.append([])
+            count = 0
+        calls[-1].append(item)
+        count += item[1][3]
+    per_job = [[] for _ in jobs]
+    for c, call in enumerate(calls):
+        runs = _run_pieces(sc, prof, spans, [p for _, p in call], with_sweeps, keep_trace and c == 0)
+        for (i, _), run in zip(call, runs):
+            per_job[i].append(run)
+    return [_concat_runs(r) for r in per_job]
+
+
 def run_turntable_mc(sc: TurntableScenario, test: str, rng: np.random.Generator, trials: int,
-                     sources=SOURCES, *, batch: int = 50, **kwargs) -> "TurntableRun":
-    """:func:`run_turntable` over many trials in memory-bounded batches (independent child rngs)."""
-    sizes = [min(batch, trials - i) for i in range(0, trials, batch)]
-    rngs = rng.spawn(len(sizes))
-    runs = [run_turntable(sc, test, r, n, sources, keep_trace=(i == 0) and kwargs.pop("keep_trace", False),
-                          **kwargs) for i, (r, n) in enumerate(zip(rngs, sizes))]
-    return _concat_runs(runs)
+                     sources=SOURCES, *, batch: int = 50, with_sweeps: bool = False,
+                     fraction: float | None = None, keep_trace: bool = False) -> "TurntableRun":
+    """:func:`run_turntable` over many trials in memory-bounded blocks (independent child rngs)."""
+    job = TurntableJob(test, rng, int(trials), tuple(sources), fraction)
+    return run_turntable_jobs(sc, [job], with_sweeps=with_sweeps, keep_trace=keep_trace, block=batch)[0]
 
 
 def _evaluate_sweeps(sc, prof, spans, q_s, q_mat, frac, keep_trace):
@@ -621,4 +733,101 @@ def _wind_on_groups(sc, model, q_mat, rng, trials, trace):
     ref = np.radians(np.asarray(sc.wind_on_sweep_deg, float))
     return {"reference": ref, "group_means": means,
             "elastic_corrected": ref + elastic_deflection_rad(sc.elastic_model_deg, ref),
-            "gate_fraction_on": float(res.gate[:, int(lead_s * sc.fs_hz):].mean())}
+            "gate_fraction_on": float(res.gate[:, int(lead_s * sc.fs_hz):].mean()),
+            "gate_fraction_on_trials": res.gate[:, int(lead_s * sc.fs_hz):].reshape(5, trials, -1).mean(axis=(0, 2))}
+
+
+# --------------------------------------------------------------------------
+# notebook helpers: Monte Carlo bands, paper tables, figures (display only)
+# --------------------------------------------------------------------------
+def band_record(artifact: str, quantity: str, paper_value: float, samples) -> dict:
+    """Median and 95 % band of Monte Carlo ``samples`` (1-D, display unit) next to the paper's value.
+
+    Returns a dict with ``artifact, quantity, paper, median, low, high,
+    paper_in_band`` (floats and a bool); it is also a valid ``band=`` for
+    :func:`mtcal.paper.comparison_row` (see :func:`band_row`).
+    """
+    x = np.asarray(samples, dtype=float)
+    if x.ndim != 1 or x.size < 1:
+        raise ValueError(f"samples must be a non-empty 1-D array (one value per trial), got shape {x.shape}")
+    b = metrics.percentile_band(x)
+    med, low, high, pv = float(b["median"]), float(b["low"]), float(b["high"]), float(paper_value)
+    return {"artifact": artifact, "quantity": quantity, "paper": pv, "median": med, "low": low, "high": high,
+            "paper_in_band": bool(low <= pv <= high)}
+
+
+def band_row(record: dict, claim: str, holds: bool | None) -> dict:
+    """Comparison row from a :func:`band_record`: MC median as the mtcal value, its 95 % band."""
+    return paper.comparison_row(record["artifact"], record["quantity"], record["paper"], record["median"],
+                                claim, holds, band=record)
+
+
+def band_text(record: dict, digits: int = 4) -> str:
+    """``"<quantity>: MC median m [low, high] (paper p)"`` with fixed precision."""
+    d = digits
+    return (f"{record['quantity']}: MC median {record['median']:.{d}f} [{record['low']:.{d}f}, "
+            f"{record['high']:.{d}f}] (paper {record['paper']:.{d}f})")
+
+
+def position_errors_deg(run: TurntableRun, state: str) -> np.ndarray:
+    """Per-trial errors (T, 6, 3) in deg of the six calibration positions, ``state`` "before"/"after"."""
+    est = {"before": run.cal_before, "after": run.cal_after}.get(state)
+    if est is None:
+        raise ValueError(f"state must be 'before' or 'after', got {state!r}")
+    return np.degrees(metrics.angle_difference(est, run.reference))
+
+
+def sweep_mean_table(table: str, angle: str, sweep: dict, sign: float = 1.0, trial: int = 0) -> pd.DataFrame:
+    """Paper vs mtcal hold means of a sweep (Tables 5, 7, 9), deg, paper sign; one trial shown.
+
+    ``table`` is a paper file stem with columns ``{reference,before,after}_mean_<angle>_deg``;
+    ``sweep`` holds ``before_mean``/``after_mean`` (T, K) in rad (Eq 8 frame, multiplied by ``sign``).
+    """
+    p = paper.load(table)
+    col = lambda kind: p[f"{kind}_mean_{angle}_deg"].to_numpy(float)  # noqa: E731
+    return pd.DataFrame({"reference": col("reference"),
+                         "paper_before": col("before"), "mtcal_before": sign * np.degrees(sweep["before_mean"][trial]),
+                         "paper_after": col("after"), "mtcal_after": sign * np.degrees(sweep["after_mean"][trial])})
+
+
+def sweep_mean_max_error_deg(sweep: dict, state: str) -> np.ndarray:
+    """Per-trial max |hold mean − reference| (deg) of a sweep, ``state`` "before"/"after", shape (T,)."""
+    if state not in ("before", "after"):
+        raise ValueError(f"state must be 'before' or 'after', got {state!r}")
+    return np.degrees(np.abs(sweep[f"{state}_mean"] - sweep["reference"])).max(axis=1)
+
+
+def error_metric_table(table: str, sweep: dict, channels, trial: int = 0) -> pd.DataFrame:
+    """MaxAE / RMSE table (Tables 6, 11): paper, one trial, MC median and 95 % band per row (deg).
+
+    ``channels`` are ``(index, name)`` pairs, e.g. ``((2, "roll"), (0, "yaw"))``; ``sweep`` holds
+    ``<state>_<maxae|rmse>_<index>`` arrays (T,) in rad.
+    """
+    p = paper.load(table)
+    rows = []
+    for metric, key in (("MaxAE", "maxae"), ("RMSE", "rmse")):
+        for state in ("before", "after"):
+            for j, ang in channels:
+                pv = float(p.loc[(p.metric == metric) & (p.calibration_state == state), f"{ang}_deg"].iloc[0])
+                x = np.degrees(sweep[f"{state}_{key}_{j}"])
+                rec = band_record("", "", pv, x)
+                rows.append({"metric": metric, "state": state, "angle": ang, "paper": pv, "mtcal": float(x[trial]),
+                             "mc_median": rec["median"], "mc_low": rec["low"], "mc_high": rec["high"],
+                             "paper_in_band": rec["paper_in_band"]})
+    return pd.DataFrame(rows)
+
+
+def plot_before_after(time_s, before_err_rad, after_err_rad, channels, *, xlabel: str, title: str):
+    """Stacked panels of before/after errors (deg) for ``channels`` ``(index, name)``; returns the Figure."""
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(len(channels), 1, sharex=True, figsize=(7, 5), squeeze=False)
+    axes = axes[:, 0]
+    for ax, (j, name) in zip(axes, channels):
+        ax.plot(time_s, np.degrees(before_err_rad[:, j]), label="before", lw=0.8)
+        ax.plot(time_s, np.degrees(after_err_rad[:, j]), label="after", lw=0.8)
+        ax.set_ylabel(f"{name} error (deg)")
+    axes[0].legend()
+    axes[-1].set_xlabel(xlabel)
+    fig.suptitle(title)
+    return fig

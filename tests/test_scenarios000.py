@@ -69,3 +69,85 @@ def test_mechanism_backlash_depends_on_direction():
     down = act[prof.segment == 4, 1].mean()
     assert up < 0 < down
     assert np.isclose(down - up, sc.transmission_gap_rad + 2 * sc.servo_lag_s * np.radians(2))
+
+
+# ---- stacked Monte Carlo jobs and notebook helpers ----
+def test_jobs_stacking_does_not_change_numbers():
+    from dataclasses import replace
+    sc = replace(s.TurntableScenario(), turntable_rate_rad_s=np.radians(60.0))   # shorter record
+    jobs = [s.TurntableJob("T2", np.random.default_rng(1), 3),
+            s.TurntableJob("T3", np.random.default_rng(2), 1, ("gyro_white",), fraction=0.3)]
+    stacked = s.run_turntable_jobs(sc, jobs, block=2)            # 3 pieces, one QNCF run
+    alone = [s.run_turntable_mc(sc, "T2", np.random.default_rng(1), 3, batch=2),
+             s.run_turntable_mc(sc, "T3", np.random.default_rng(2), 1, ("gyro_white",), fraction=0.3)]
+    for a, b in zip(stacked, alone):
+        assert a.cal_after.shape == b.cal_after.shape
+        assert np.allclose(a.cal_after, b.cal_after, atol=1e-12, rtol=0)
+        assert np.allclose(a.q_matrix, b.q_matrix, atol=1e-12, rtol=0)
+    assert not np.allclose(stacked[0].cal_after[0], stacked[0].cal_after[1])   # blocks draw independently
+
+
+def test_jobs_validation():
+    sc = s.TurntableScenario()
+    rng = np.random.default_rng(0)
+    with pytest.raises(ValueError, match="jobs"):
+        s.run_turntable_jobs(sc, [])
+    with pytest.raises(TypeError, match="jobs"):
+        s.run_turntable_jobs(sc, [("T1", rng, 1)])
+    with pytest.raises(ValueError, match="test"):
+        s.run_turntable_jobs(sc, [s.TurntableJob("T9", rng, 1)])
+    with pytest.raises(ValueError, match="trials"):
+        s.run_turntable_jobs(sc, [s.TurntableJob("T1", rng, 0)])
+    with pytest.raises(ValueError, match="sources"):
+        s.run_turntable_jobs(sc, [s.TurntableJob("T1", rng, 1, ("bogus",))])
+    with pytest.raises(ValueError, match="block"):
+        s.run_turntable_jobs(sc, [s.TurntableJob("T1", rng, 1)], block=0)
+
+
+def test_band_record_and_row():
+    rec = s.band_record("T000-5", "x (deg)", 50.5, np.arange(101.0))
+    assert np.allclose([rec["median"], rec["low"], rec["high"]], [50.0, 2.5, 97.5]) and rec["paper_in_band"]
+    assert not s.band_record("a", "q", 99.0, np.arange(101.0))["paper_in_band"]
+    row = s.band_row(rec, "claim", True)
+    assert row["mtcal"] == 50.0 and row["mc_band"] == "[2.5, 97.5]" and row["paper_in_band"] is True
+    assert s.band_text(rec, digits=1) == "x (deg): MC median 50.0 [2.5, 97.5] (paper 50.5)"
+    with pytest.raises(ValueError, match="samples"):
+        s.band_record("a", "q", 1.0, np.zeros((2, 2)))
+
+
+def _fake_sweep():
+    ref = np.radians([1.0, 2.0])
+    sweep = {"reference": ref, "before_mean": ref + np.radians([[0.1, -0.3], [0.0, 0.2]]),
+             "after_mean": ref + np.radians([[0.01, 0.0], [-0.02, 0.0]])}
+    for state, k in (("before", 2.0), ("after", 1.0)):
+        for key in ("maxae", "rmse"):
+            for j in (2, 0):
+                sweep[f"{state}_{key}_{j}"] = np.radians(k * np.array([0.01, 0.03]))
+    return sweep
+
+
+def test_sweep_helpers():
+    sw = _fake_sweep()
+    assert np.allclose(s.sweep_mean_max_error_deg(sw, "before"), [0.3, 0.2])
+    assert np.allclose(s.sweep_mean_max_error_deg(sw, "after"), [0.01, 0.02])
+    with pytest.raises(ValueError, match="state"):
+        s.sweep_mean_max_error_deg(sw, "during")
+    t = s.error_metric_table("seed000_table11_windtunnel_nowind_roll_yaw_errors", sw, ((2, "roll"), (0, "yaw")))
+    assert len(t) == 8 and set(t.metric) == {"MaxAE", "RMSE"}
+    row = t[(t.metric == "RMSE") & (t.state == "before") & (t.angle == "yaw")].iloc[0]
+    assert np.isclose(row.mtcal, 0.02) and np.isclose(row.mc_median, 0.04) and row.paper == 0.012
+
+
+def test_position_errors_and_plot():
+    run = s.TurntableRun(np.zeros((1, 4, 4)), np.zeros((1, 6, 3)) + np.radians(0.5), np.zeros((1, 6, 3)),
+                         np.zeros((6, 3)))
+    assert np.allclose(s.position_errors_deg(run, "before"), 0.5)
+    with pytest.raises(ValueError, match="state"):
+        s.position_errors_deg(run, "x")
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    t = np.linspace(0, 1, 5)
+    fig = s.plot_before_after(t, np.zeros((5, 3)), np.ones((5, 3)), ((2, "roll"), (0, "yaw")), xlabel="t", title="x")
+    assert len(fig.axes) == 2 and fig.axes[0].get_ylabel() == "roll error (deg)"
+    plt.close(fig)
