@@ -95,3 +95,77 @@ def test_bad_params():
         QncfParams(amd_threshold_pct=0.0)
     with pytest.raises(ValueError, match="dt_s"):
         QncfFilter([1.0, 0, 0, 0], -1.0)
+
+
+# --------------------------------------------------------------------------- regression of the fast step
+def _regression_input():
+    """Deterministic 3-trial record: smooth rates + noise, trial 1 vibrates after 0.3 s (gate closes)."""
+    rng = np.random.default_rng(2024)
+    n, dt = 600, 1e-3
+    t = np.arange(n) * dt
+    rate = np.stack([0.8 * np.sin(2 * np.pi * 1.5 * t), 0.5 * np.cos(2 * np.pi * 0.7 * t), 0.3 * np.ones(n)], -1)
+    gyro = rate[None] * np.array([1.0, -0.5, 2.0])[:, None, None] + 1e-3 * rng.standard_normal((3, n, 3))
+    accel = np.array([0.3, -0.2, 9.78]) + 2e-2 * rng.standard_normal((3, n, 3))
+    accel[1] += (t > 0.3)[:, None] * 2.0 * np.sin(2 * np.pi * 40 * t)[:, None]
+    q0 = rotations.quat_from_euler_zxy(np.array([0.1, -0.2, 0.0]), np.array([0.02, 0.0, -0.03]),
+                                       np.array([0.0, 0.01, 0.02]))
+    return gyro, accel, q0, dt
+
+
+def _readable_qncf(gyro, accel, q0, dt, p: QncfParams):
+    """Straightforward QNCF (module docstring items 1–4), one formula per line, trig increment."""
+    trials, n, _ = gyro.shape
+    q, integral = q0.copy(), np.zeros((trials, 3))
+    amd = None
+    alpha = min(dt / p.amd_tau_s, 1.0)
+    q_out, amd_out, gate_out = np.empty((trials, n, 4)), np.empty((trials, n)), np.empty((trials, n), bool)
+    for k in range(n):
+        q_out[:, k] = q
+        a = accel[:, k]
+        norm = np.linalg.norm(a, axis=-1)
+        d = 100.0 * np.abs(norm / p.gravity_m_s2 - 1.0)
+        amd = d.copy() if amd is None else amd
+        amd = amd + alpha * (d - amd)
+        gate = amd < p.amd_threshold_pct
+        q0_, q1, q2, q3 = q.T
+        v = np.stack([2 * (q1 * q3 - q0_ * q2), 2 * (q2 * q3 + q0_ * q1), q0_**2 - q1**2 - q2**2 + q3**2], -1)
+        e = np.cross(a / np.maximum(norm, 1e-12)[:, None], v) * gate[:, None]
+        integral = integral + p.ki_rad_s2 * e * dt
+        dtheta = (gyro[:, k] + p.kp_rad_s * e + integral) * dt
+        ang = np.linalg.norm(dtheta, axis=-1)
+        scale = np.where(ang > 0, np.sin(ang / 2) / np.where(ang > 0, ang, 1.0), 0.5)
+        qh = np.concatenate([np.cos(ang / 2)[:, None], dtheta * scale[:, None]], axis=-1)
+        q = rotations.quat_multiply(q, qh)
+        q = q / np.linalg.norm(q, axis=-1, keepdims=True)
+        amd_out[:, k], gate_out[:, k] = amd, gate
+    return q_out, amd_out, gate_out
+
+
+@pytest.mark.parametrize("rate_scale", [1.0, 80.0])   # 80: |Δθ| up to 0.16 rad per sample (trig fallback)
+def test_fast_step_equals_readable_implementation(rate_scale):
+    gyro, accel, q0, dt = _regression_input()
+    gyro = gyro * rate_scale
+    p = QncfParams(ki_rad_s2=0.5)
+    q_ref, amd_ref, gate_ref = _readable_qncf(gyro, accel, q0, dt, p)
+    res = QncfFilter(q0, dt, p).run(gyro, accel, return_euler=False, chunk=256)
+    assert gate_ref.any() and not gate_ref.all()
+    assert np.array_equal(res.gate, gate_ref)
+    np.testing.assert_allclose(res.amd_pct, amd_ref, rtol=1e-13, atol=0)
+    np.testing.assert_allclose(res.q_ws, q_ref, rtol=0, atol=2e-14)
+
+
+def test_fast_step_regression_literals():
+    """Values computed with the pre-optimisation step (commit 1bea4b9, trig increment)."""
+    gyro, accel, q0, dt = _regression_input()
+    res = QncfFilter(q0, dt, QncfParams(ki_rad_s2=0.5)).run(gyro, accel, return_euler=False)
+    q_end = [[0.9900473619551211, -0.01206758949115207, -0.0082558346916493, 0.1399729815468782],
+             [0.9894951035263192, -0.00149679664970309, -0.01182071922778717, -0.14407453034511736],
+             [0.9838753609384874, -0.02808212896250793, -0.01063298365773614, 0.17631678260911177]]
+    q_mid = [[0.9917447440791285, 0.07436975821285578, 0.04552251360566446, 0.09401703255159359],
+             [0.991462050498936, -0.04093926154413429, -0.01950321293723718, -0.12225630441736382],
+             [0.9830614547045957, 0.13164067380391953, 0.09809440364557412, 0.08147636005586792]]
+    np.testing.assert_allclose(res.q_ws[:, -1], q_end, rtol=0, atol=1e-14)
+    np.testing.assert_allclose(res.q_ws[:, 299], q_mid, rtol=0, atol=1e-14)
+    assert res.gate.sum(axis=1).tolist() == [600, 301, 556]
+    np.testing.assert_allclose(res.amd_pct[:, -1], [0.2314957353794017, 12.568706166958945,
+                                                    0.21977667923042524], rtol=1e-14, atol=0)

@@ -178,6 +178,16 @@ def initial_attitude_from_accel(accel_m_s2, yaw_rad: float = 0.0) -> np.ndarray:
     return rotations.quat_from_euler_zxy(np.full_like(pitch, yaw_rad), pitch, roll)
 
 
+#: Largest increment angle |Δθ| (rad per sample) for which the increment quaternion uses the
+#: truncated Taylor series (see :meth:`QncfFilter._step`); above it, the cos/sin path is used.
+TAYLOR_MAX_INCREMENT_RAD = 0.04
+# cos(x/2) and sin(x/2)/x as polynomials in u = x² (terms up to x⁶)
+_COS_HALF = (1.0, -1.0 / 8.0, 1.0 / 384.0, -1.0 / 46080.0)
+_SINC_HALF = (0.5, -1.0 / 48.0, 1.0 / 3840.0, -1.0 / 645120.0)
+#: Trial-samples per internal time block: keeps the block buffers (a few MB) cache-resident.
+_CACHE_BLOCK = 65536
+
+
 class QncfFilter:
     """Stateful QNCF, vectorised over trials; ``update`` = one sample, ``run`` = a chunk.
 
@@ -194,8 +204,15 @@ class QncfFilter:
 
     Notes
     -----
-    State is stored component-major (4, T) / (3, T) so that every operation in
-    the step acts on contiguous rows; the step allocates nothing.
+    State is stored component-major ((6, T) quaternion rows ``q0 q1 q2 q3 q1 q2``
+    — the last two repeat the vector part so that a cross product is two
+    contiguous row-block products — and (3, T) integral) so that every
+    operation in the step acts on contiguous rows; the step allocates nothing.
+
+    What depends on the accelerometer only (its norm, the AMD statistic, the
+    gate and the gated unit vector ``gate · a/‖a‖``) is computed for a whole
+    time chunk at once before the step loop; the AMD recursion itself stays
+    sample by sample (same formula, same rounding as the per-step form).
     """
 
     def __init__(self, q0, dt_s: float, params: QncfParams = QncfParams(), trials: int | None = None):
@@ -211,18 +228,30 @@ class QncfFilter:
         self.params = params
         self.dt_s = positive_scalar(dt_s, "dt_s")
         self.trials = n
-        self._q = np.ascontiguousarray(np.broadcast_to(q, (n, 4)).T).copy()
+        self._qx = np.empty((6, n))                       # q0 q1 q2 q3 q1 q2
+        self._qx[:4] = np.broadcast_to(q, (n, 4)).T
+        self._qx[4:] = self._qx[1:3]
+        self._q = self._qx[:4]
         self._integral = np.zeros((3, n))
         self._amd = np.full(n, np.nan)
+        self._gate = np.ones(n, dtype=bool)
         self._alpha = min(self.dt_s / params.amd_tau_s, 1.0)
-        # scratch buffers (reused every step)
-        self._v = np.empty((3, n))
+        # scratch buffers (reused every step) and their row views, bound once
+        self._v = np.empty((5, n))                        # v̂0 v̂1 v̂2 v̂0 v̂1
+        self._pair = np.empty((2, n))
+        self._sq = np.empty((4, n))
         self._e = np.empty((3, n))
+        self._x = np.empty((3, n))
         self._w = np.empty((3, n))
-        self._tmp = np.empty((6, n))
-        self._h = np.empty((4, n))
+        self._hv = np.empty((5, n))                       # sin(|Δθ|/2) Δθ/|Δθ|, extended like q
         self._qn = np.empty((4, n))
-        self._gate = np.empty(n, dtype=bool)
+        self._r = np.empty((4, n))                        # scalar rows: |Δθ|², cos(|Δθ|/2), sin(|Δθ|/2)/|Δθ|, |q|
+        qx, v, pr, sq, e, x, w, hv, qn, r = (self._qx, self._v, self._pair, self._sq, self._e, self._x,
+                                             self._w, self._hv, self._qn, self._r)
+        self._views = (qx[0], qx[:4], qx[1:4], qx[2:0:-1], qx[1:3], qx[2:5], qx[3:6], qx[4:6], qx[3],
+                       v, v[0:2], v[3:5], v[1:4], v[2:5], v[2], pr, pr[0], sq, sq[0], sq[1], sq[2], sq[3],
+                       e, e[0], e[1], e[2], x, w, hv, hv[0:3], hv[3:5], hv[0:2], hv[1:4], hv[2:5],
+                       qn, qn[0], qn[1:4], r[0], r[1], r[2], r[3], self._integral)
 
     # ------------------------------------------------------------------ state
     @property
@@ -238,79 +267,139 @@ class QncfFilter:
         return out[0] if self._single else out
 
     # ------------------------------------------------------------------ core
-    def _step(self, w_in: np.ndarray, a_in: np.ndarray) -> None:
-        """One sample; ``w_in``, ``a_in`` are (3, T) float arrays (not modified)."""
+    def _step(self, w_in: np.ndarray, a_in: np.ndarray, taylor: bool) -> None:
+        """One sample: gyro ``w_in`` (3, T) rad/s and gated unit accel ``a_in`` (5, T), not modified.
+
+        ``a_in`` holds ``gate · a/‖a‖`` extended like the state (rows x y z x y),
+        see :meth:`_accel_chunk`. With ``taylor`` the increment quaternion uses
+        the series in u = |Δθ|² (caller guarantees |Δθ| ≤ TAYLOR_MAX_INCREMENT_RAD):
+
+            cos(|Δθ|/2)       = 1 − u/8 + u²/384 − u³/46080 + R,        |R|  ≤ (|Δθ|/2)⁸/8! ≤ 6.4e-19
+            sin(|Δθ|/2)/|Δθ|  = 1/2 − u/48 + u²/3840 − u³/645120 + R′,  |R′| ≤ (|Δθ|/2)⁸/(2·9!) ≤ 3.6e-20
+
+        i.e. exact to double precision (half an ulp of 1 is 1.1e-16); only the
+        rounding of the polynomial evaluation differs from cos/sin (≤ a few
+        1e-17 per step in q).
+        """
         p = self.params
-        q, v, e, w, t, h, qn = self._q, self._v, self._e, self._w, self._tmp, self._h, self._qn
-        q0, q1, q2, q3 = q
-        # AMD statistic and gate
-        norm = t[0]
-        np.multiply(a_in, a_in, out=e)
-        np.sum(e, axis=0, out=norm)
+        mul, add, sub = np.multiply, np.add, np.subtract
+        (q0, q4, qv, q21, q12, q234, q345, qext, q3, v, v01, vext, v123, v234, v2, pr, pr0, sq, s0, s1, s2,
+         s3, e, e0, e1, e2, x, w, hv, hv3, hvext, hv01, hv123, hv234, qn, qn0, qnv, u, c, s, nrm,
+         integral) = self._views
+        # predicted up direction v̂ = C(q)ᵀ e_z = [2(q1q3 − q0q2), 2(q2q3 + q0q1), q0² − q1² − q2² + q3²]
+        mul(q12, q3, v01)                  # q1q3, q2q3
+        mul(q21, q0, pr)                   # q0q2, q0q1
+        np.negative(pr0, pr0)
+        add(v01, pr, v01)
+        mul(v01, 2.0, v01)
+        mul(q4, q4, sq)
+        add(s0, s3, v2)
+        sub(v2, s1, v2)
+        sub(v2, s2, v2)
+        v[3:5] = v01
+        # error e = (gate a/|a|) × v̂ (rows i+1, i+2 of the extended arrays)
+        mul(a_in[1:4], v234, e)
+        mul(a_in[2:5], v123, x)
+        sub(e, x, e)
+        # PI: I += Ki e dt ; ω̃ = ω + Kp e + I ; Δθ = ω̃ dt
+        if p.ki_rad_s2:
+            mul(e, p.ki_rad_s2 * self.dt_s, w)
+            add(integral, w, integral)
+        mul(e, p.kp_rad_s, w)
+        add(w, w_in, w)
+        add(w, integral, w)
+        mul(w, self.dt_s, w)
+        # Eq 7: q(h) = [cos(|Δθ|/2), Δθ sin(|Δθ|/2)/|Δθ|]
+        mul(w, w, e)
+        add(e0, e1, u)
+        add(u, e2, u)
+        if taylor:
+            c0, c1, c2, c3 = _COS_HALF
+            mul(u, c3, c); add(c, c2, c); mul(c, u, c); add(c, c1, c); mul(c, u, c); add(c, c0, c)
+            c0, c1, c2, c3 = _SINC_HALF
+            mul(u, c3, s); add(s, c2, s); mul(s, u, s); add(s, c1, s); mul(s, u, s); add(s, c0, s)
+        else:
+            self._trig_increment(u, c, s)
+        mul(w, s, hv3)
+        hvext[...] = hv01
+        # Eq 6: q ← q ⊗ q(h) = [q0 c − qv·hv, q0 hv + c qv + qv × hv], renormalised
+        mul(qv, hv3, e)
+        add(e0, e1, qn0)
+        add(qn0, e2, qn0)
+        mul(q0, c, nrm)
+        sub(nrm, qn0, qn0)
+        mul(hv3, q0, qnv)
+        mul(qv, c, e)
+        add(qnv, e, qnv)
+        mul(q234, hv234, e)
+        mul(q345, hv123, x)
+        sub(e, x, e)
+        add(qnv, e, qnv)
+        mul(qn, qn, sq)
+        add(s0, s1, nrm)
+        add(nrm, s2, nrm)
+        add(nrm, s3, nrm)
+        np.sqrt(nrm, nrm)
+        np.divide(qn, nrm, q4)
+        qext[...] = q12
+
+    @staticmethod
+    def _trig_increment(u: np.ndarray, c: np.ndarray, s: np.ndarray) -> None:
+        """cos(|Δθ|/2) into ``c`` and sin(|Δθ|/2)/|Δθ| into ``s`` from u = |Δθ|² (any angle)."""
+        ang = np.sqrt(u)
+        half = 0.5 * ang
+        np.cos(half, out=c)
+        small = ang < 1e-8
+        np.divide(np.sin(half), np.where(small, 1.0, ang), out=s)
+        if small.any():
+            s[small] = 0.5 - ang[small] ** 2 / 48.0
+
+    def _accel_chunk(self, at: np.ndarray, amd_out: np.ndarray, gate_out: np.ndarray,
+                     a_out: np.ndarray) -> None:
+        """AMD statistic, gate and gated unit accel for a chunk of accel samples ``at`` (C, 3, T).
+
+        Fills ``amd_out`` (C, T), ``gate_out`` (C, T) and ``a_out`` (C, 5, T) =
+        ``gate · a/max(‖a‖, 1e-12)`` with rows x y z x y; carries the AMD state.
+        """
+        p = self.params
+        sq = at * at
+        norm = np.add(sq[:, 0], sq[:, 1])
+        norm += sq[:, 2]
         np.sqrt(norm, out=norm)
-        d = t[1]
-        np.divide(norm, p.gravity_m_s2, out=d)
+        d = norm / p.gravity_m_s2
         d -= 1.0
         np.abs(d, out=d)
         d *= 100.0
         amd = self._amd
         first = np.isnan(amd)
         if first.any():
-            amd[first] = d[first]
-        d -= amd
-        d *= self._alpha
-        amd += d
-        np.less(amd, p.amd_threshold_pct, out=self._gate)
-        # predicted up direction v̂ = C(q)ᵀ e_z
-        np.multiply(q1, q3, out=v[0]); np.multiply(q0, q2, out=t[2]); v[0] -= t[2]; v[0] *= 2.0
-        np.multiply(q2, q3, out=v[1]); np.multiply(q0, q1, out=t[2]); v[1] += t[2]; v[1] *= 2.0
-        np.multiply(q0, q0, out=v[2]); np.multiply(q3, q3, out=t[2]); v[2] += t[2]
-        np.multiply(q1, q1, out=t[2]); v[2] -= t[2]; np.multiply(q2, q2, out=t[2]); v[2] -= t[2]
-        # error e = (a/|a|) × v̂, zero where gated off
+            amd[first] = d[0, first]
+        alpha, sub, mul, add = self._alpha, np.subtract, np.multiply, np.add
+        prev = amd
+        for dk, out in zip(d, amd_out):   # AMD_k = AMD_{k−1} + α (d_k − AMD_{k−1})
+            sub(dk, prev, dk)
+            mul(dk, alpha, dk)
+            add(prev, dk, out)
+            prev = out
+        amd[:] = prev
+        np.less(amd_out, p.amd_threshold_pct, out=gate_out)
+        self._gate[:] = gate_out[-1]
         np.maximum(norm, 1e-12, out=norm)
-        np.divide(self._gate, norm, out=t[3])          # gate/|a|
-        ax, ay, az = a_in
-        np.multiply(ay, v[2], out=e[0]); np.multiply(az, v[1], out=t[2]); e[0] -= t[2]
-        np.multiply(az, v[0], out=e[1]); np.multiply(ax, v[2], out=t[2]); e[1] -= t[2]
-        np.multiply(ax, v[1], out=e[2]); np.multiply(ay, v[0], out=t[2]); e[2] -= t[2]
-        e *= t[3]
-        # PI: I += Ki e dt ; ω̃ = ω + Kp e + I ; Δθ = ω̃ dt
-        if p.ki_rad_s2:
-            np.multiply(e, p.ki_rad_s2 * self.dt_s, out=w)
-            self._integral += w
-        np.multiply(e, p.kp_rad_s, out=w)
-        w += w_in
-        w += self._integral
-        w *= self.dt_s
-        # Eq 7: q(h) from the increment
-        ang = t[4]
-        np.multiply(w, w, out=e)
-        np.sum(e, axis=0, out=ang)
-        np.sqrt(ang, out=ang)
-        half = t[5]
-        np.multiply(ang, 0.5, out=half)
-        np.cos(half, out=h[0])
-        np.sin(half, out=t[2])
-        small = ang < 1e-8
-        np.divide(t[2], np.where(small, 1.0, ang), out=t[2])
-        if small.any():
-            t[2][small] = 0.5 - ang[small] ** 2 / 48.0
-        np.multiply(w, t[2], out=h[1:])
-        # Eq 6: q ← q ⊗ q(h), renormalised
-        h0, h1, h2, h3 = h
-        s = t[2]
-        np.multiply(q0, h0, out=qn[0]); np.multiply(q1, h1, out=s); qn[0] -= s
-        np.multiply(q2, h2, out=s); qn[0] -= s; np.multiply(q3, h3, out=s); qn[0] -= s
-        np.multiply(q0, h1, out=qn[1]); np.multiply(q1, h0, out=s); qn[1] += s
-        np.multiply(q2, h3, out=s); qn[1] += s; np.multiply(q3, h2, out=s); qn[1] -= s
-        np.multiply(q0, h2, out=qn[2]); np.multiply(q1, h3, out=s); qn[2] -= s
-        np.multiply(q2, h0, out=s); qn[2] += s; np.multiply(q3, h1, out=s); qn[2] += s
-        np.multiply(q0, h3, out=qn[3]); np.multiply(q1, h2, out=s); qn[3] += s
-        np.multiply(q2, h1, out=s); qn[3] -= s; np.multiply(q3, h0, out=s); qn[3] += s
-        np.multiply(qn, qn, out=h)
-        np.sum(h, axis=0, out=s)
-        np.sqrt(s, out=s)
-        np.divide(qn, s, out=q)
+        np.divide(gate_out, norm, out=norm)
+        np.multiply(at, norm[:, None], out=a_out[:, :3])
+        a_out[:, 3:] = a_out[:, :2]
+
+    def _taylor_ok(self, wt: np.ndarray) -> bool:
+        """True if |Δθ| ≤ TAYLOR_MAX_INCREMENT_RAD for every sample of the chunk ``wt`` (C, 3, T).
+
+        Bound: |Δθ| ≤ Δt (|ω| + K_p|e| + |I_0| + K_i Δt C |e|) with |e| ≤ 1
+        (cross product of the gated unit accel and the unit v̂) and |ω| ≤ √3 max|ω_i|.
+        """
+        p, dt = self.params, self.dt_s
+        w_max = max(float(wt.max()), -float(wt.min())) * np.sqrt(3.0)
+        i_max = float(np.sqrt(np.max(np.einsum("it,it->t", self._integral, self._integral))))
+        bound = dt * (w_max + (p.kp_rad_s + p.ki_rad_s2 * dt * wt.shape[0]) * (1.0 + 1e-9) + i_max)
+        return bound <= TAYLOR_MAX_INCREMENT_RAD
 
     def _prepare(self, x, name: str, ndim_single: int) -> np.ndarray:
         arr = _as_input(x, name)
@@ -330,16 +419,19 @@ class QncfFilter:
         """
         w = self._prepare(gyro_rad_s, "gyro_rad_s", 1)
         a = self._prepare(accel_m_s2, "accel_m_s2", 1)
-        self._step(np.ascontiguousarray(w.T), np.ascontiguousarray(a.T))
+        if self._single:
+            w, a = w[0], a[0]
+        self.run(w[..., None, :], a[..., None, :], return_euler=False)
         return self.q_ws
 
     def run(self, gyro_rad_s, accel_m_s2, *, return_euler: bool = True,
             chunk: int = 2048) -> QncfResult:
         """Process a record (T, M, 3) (or (M, 3) for a single-trial filter), continuing the state.
 
-        Inputs are read in time chunks of ``chunk`` samples (transposed to a
-        component-major scratch copy), so the working set stays small; the
-        caller's arrays are never modified. ``q_ws[k]`` is the attitude at
+        Inputs are read in time chunks of at most ``chunk`` samples (transposed
+        to a component-major scratch copy; with many trials the chunk is
+        shortened to ~65 000 trial-samples so that it stays in cache), so the
+        working set stays small; the caller's arrays are never modified. ``q_ws[k]`` is the attitude at
         ``t_k`` (before sample k's increment).
         """
         w = self._prepare(gyro_rad_s, "gyro_rad_s", 2)
@@ -350,26 +442,40 @@ class QncfFilter:
         q_out = np.empty((n, m, 4))
         amd_out = np.empty((n, m))
         gate_out = np.empty((n, m), dtype=bool)
-        size = max(1, min(int(chunk), m))
+        size = max(1, min(int(chunk), m, max(_CACHE_BLOCK // n, 16)))
         q_buf = np.empty((size, 4, n))
         amd_buf = np.empty((size, n))
         gate_buf = np.empty((size, n), dtype=bool)
+        a_buf = np.empty((size, 5, n))
+        w_buf, w_buf2 = np.empty((size, 3, n)), np.empty((size, 3, n))
+        q, step = self._q, self._step
         for c0 in range(0, m, size):
             c1 = min(c0 + size, m)
-            wt = np.ascontiguousarray(w[:, c0:c1].transpose(1, 2, 0))  # (chunk, 3, T)
-            at = np.ascontiguousarray(a[:, c0:c1].transpose(1, 2, 0))
-            for k in range(c1 - c0):  # recursive filter: loop over time only
-                q_buf[k] = self._q             # attitude at t_k (before sample k's increment)
-                self._step(wt[k], at[k])
-                amd_buf[k] = self._amd
-                gate_buf[k] = self._gate
-            q_out[:, c0:c1] = q_buf[:c1 - c0].transpose(2, 0, 1)
-            amd_out[:, c0:c1] = amd_buf[:c1 - c0].T
-            gate_out[:, c0:c1] = gate_buf[:c1 - c0].T
+            nk = c1 - c0
+            wt = _component_major(w[:, c0:c1], w_buf[:nk])        # (chunk, 3, T)
+            at = a_buf[:nk]
+            self._accel_chunk(_component_major(a[:, c0:c1], w_buf2[:nk]), amd_buf[:nk], gate_buf[:nk], at)
+            taylor = self._taylor_ok(wt)
+            for k in range(nk):  # recursive filter: loop over time only
+                q_buf[k] = q             # attitude at t_k (before sample k's increment)
+                step(wt[k], at[k], taylor)
+            q_out[:, c0:c1] = q_buf[:nk].transpose(2, 0, 1)
+            amd_out[:, c0:c1] = amd_buf[:nk].T
+            gate_out[:, c0:c1] = gate_buf[:nk].T
         euler = rotations.euler_zxy_from_quat(q_out) if return_euler else np.empty((n, m, 0))
         if self._single:
             return QncfResult(q_out[0], euler[0], amd_out[0], gate_out[0])
         return QncfResult(q_out, euler, amd_out, gate_out)
+
+
+def _component_major(x: np.ndarray, out: np.ndarray, block: int = 64) -> np.ndarray:
+    """Copy ``x`` (T, C, 3) into ``out`` (C, 3, T), in blocks of trials (cache-friendly transpose)."""
+    trials, c = x.shape[0], x.shape[1] * x.shape[2]
+    src = x.reshape(trials, c)                      # a view when x is a time slice of a C-contiguous record
+    dst = out.reshape(c, trials)
+    for b in range(0, trials, block):
+        dst[:, b:b + block] = src[b:b + block].T
+    return out
 
 
 def _as_input(x, name: str) -> np.ndarray:
