@@ -55,7 +55,8 @@ __all__ = ["PAPER_SIGN", "TABLES_1_TO_4", "mount_quaternion", "true_error_matrix
            "TurntableScenario", "WindTunnelScenario", "describe", "run_turntable",
            "TurntableJob", "run_turntable_jobs", "run_turntable_mc", "run_windtunnel",
            "relative_to_initial", "band_record", "band_row", "band_text", "position_errors_deg",
-           "sweep_mean_table", "sweep_mean_max_error_deg", "error_metric_table", "plot_before_after"]
+           "sweep_mean_table", "sweep_mean_max_error_deg", "sweep_mean_records", "error_metric_table", "show_error_metric_table",
+           "plot_before_after"]
 
 #: Paper angle = PAPER_SIGN · Eq 8 angle (roll sign flipped; see module docstring).
 PAPER_SIGN = np.array([1.0, 1.0, -1.0])
@@ -797,6 +798,15 @@ def sweep_mean_max_error_deg(sweep: dict, state: str) -> np.ndarray:
     return np.degrees(np.abs(sweep[f"{state}_mean"] - sweep["reference"])).max(axis=1)
 
 
+def sweep_mean_records(artifact: str, angle: str, paper_max_deg: dict, sweep: dict) -> dict:
+    """Band records of the per-trial max |hold mean − reference| before and after calibration (deg).
+
+    ``paper_max_deg`` maps ``"before"``/``"after"`` to the paper's largest deviation in the table.
+    """
+    return {state: band_record(artifact, f"max |{state}-ref| mean {angle} (deg)", paper_max_deg[state],
+                               sweep_mean_max_error_deg(sweep, state)) for state in ("before", "after")}
+
+
 def error_metric_table(table: str, sweep: dict, channels, trial: int = 0) -> pd.DataFrame:
     """MaxAE / RMSE table (Tables 6, 11): paper, one trial, MC median and 95 % band per row (deg).
 
@@ -817,16 +827,31 @@ def error_metric_table(table: str, sweep: dict, channels, trial: int = 0) -> pd.
     return pd.DataFrame(rows)
 
 
-def plot_before_after(time_s, before_err_rad, after_err_rad, channels, *, xlabel: str, title: str):
-    """Stacked panels of before/after errors (deg) for ``channels`` ``(index, name)``; returns the Figure."""
+def show_error_metric_table(artifact: str, table: str, sweep: dict, channels) -> pd.DataFrame:
+    """:func:`error_metric_table`, saved as ``artifact`` and shown, with the count of paper values in band."""
+    from mtcal import report
+
+    t = error_metric_table(table, sweep, channels)
+    report.save_table(t, artifact)
+    report.show_table(t)
+    print(f"{int(t.paper_in_band.sum())} of {len(t)} paper numbers of {artifact} inside the 95 % band")
+    return t
+
+
+def plot_before_after(trace: dict, name: str, channels, *, xlabel: str, title: str):
+    """Stacked before/after error panels (deg) of trace ``name`` for ``channels`` ``(index, name)``.
+
+    ``trace`` holds ``<name>_time_s`` (s) and ``<name>_before_err`` / ``<name>_after_err`` (N, 3) in
+    rad (the ``trace`` of a turntable or wind-tunnel run). Returns the Figure.
+    """
     import matplotlib.pyplot as plt
 
     fig, axes = plt.subplots(len(channels), 1, sharex=True, figsize=(7, 5), squeeze=False)
     axes = axes[:, 0]
-    for ax, (j, name) in zip(axes, channels):
-        ax.plot(time_s, np.degrees(before_err_rad[:, j]), label="before", lw=0.8)
-        ax.plot(time_s, np.degrees(after_err_rad[:, j]), label="after", lw=0.8)
-        ax.set_ylabel(f"{name} error (deg)")
+    for ax, (j, label) in zip(axes, channels):
+        for state in ("before", "after"):
+            ax.plot(trace[f"{name}_time_s"], np.degrees(trace[f"{name}_{state}_err"][:, j]), label=state, lw=0.8)
+        ax.set_ylabel(f"{label} error (deg)")
     axes[0].legend()
     axes[-1].set_xlabel(xlabel)
     fig.suptitle(title)

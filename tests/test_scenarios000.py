@@ -132,6 +132,9 @@ def test_sweep_helpers():
     assert np.allclose(s.sweep_mean_max_error_deg(sw, "after"), [0.01, 0.02])
     with pytest.raises(ValueError, match="state"):
         s.sweep_mean_max_error_deg(sw, "during")
+    recs = s.sweep_mean_records("T000-9", "pitch", {"before": 0.25, "after": 0.05}, sw)
+    assert np.isclose(recs["before"]["median"], 0.25) and recs["before"]["paper_in_band"]
+    assert recs["after"]["quantity"] == "max |after-ref| mean pitch (deg)" and not recs["after"]["paper_in_band"]
     t = s.error_metric_table("seed000_table11_windtunnel_nowind_roll_yaw_errors", sw, ((2, "roll"), (0, "yaw")))
     assert len(t) == 8 and set(t.metric) == {"MaxAE", "RMSE"}
     row = t[(t.metric == "RMSE") & (t.state == "before") & (t.angle == "yaw")].iloc[0]
@@ -148,6 +151,7 @@ def test_position_errors_and_plot():
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     t = np.linspace(0, 1, 5)
-    fig = s.plot_before_after(t, np.zeros((5, 3)), np.ones((5, 3)), ((2, "roll"), (0, "yaw")), xlabel="t", title="x")
+    trace = {"x_time_s": t, "x_before_err": np.zeros((5, 3)), "x_after_err": np.ones((5, 3))}
+    fig = s.plot_before_after(trace, "x", ((2, "roll"), (0, "yaw")), xlabel="t", title="x")
     assert len(fig.axes) == 2 and fig.axes[0].get_ylabel() == "roll error (deg)"
     plt.close(fig)
