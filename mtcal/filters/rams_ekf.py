@@ -50,7 +50,7 @@ import numpy as np
 
 from mtcal._validate import as_float_array, positive_scalar
 
-__all__ = ["RamsEkfParams", "RamsEkfReference", "RamsEkfResult", "run_rams_ekf",
+__all__ = ["RamsEkfParams", "RamsEkfReference", "RamsEkfResult", "RamsEkfFilter", "run_rams_ekf",
            "measurement_model", "initial_state"]
 
 
@@ -268,10 +268,294 @@ def _static_flags(is_static, shape) -> np.ndarray:
         raise ValueError(f"is_static of shape {st.shape} must broadcast to {shape}") from None
 
 
+def _float_view(value, name: str) -> np.ndarray:
+    """``value`` as float64 (T, N, 3) or (N, 3) without copying float64 input; checks like ``as_float_array``."""
+    if isinstance(value, (str, bytes)) or value is None:
+        raise TypeError(f"{name} must be a numeric array, got {type(value).__name__}")
+    try:
+        arr = np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise TypeError(f"{name} must be a numeric array: {exc}") from None
+    if arr.ndim not in (2, 3):
+        raise ValueError(f"{name} must have ndim in (2, 3), got shape {arr.shape}")
+    if arr.shape[-1] != 3:
+        raise ValueError(f"{name} must have last dimension 3, got shape {arr.shape}")
+    if arr.size == 0:
+        raise ValueError(f"{name} must not be empty, got shape {arr.shape}")
+    if not np.isfinite(arr).all():
+        raise ValueError(f"{name} must be finite (no NaN or inf)")
+    return arr
+
+
+#: Packed storage of the symmetric 4×4 covariance: row r of the (10, T) array holds P[i, j].
+PACKED_INDEX = ((0, 0), (0, 1), (0, 2), (0, 3), (1, 1), (2, 2), (3, 3), (1, 2), (1, 3), (2, 3))
+#: Trial-samples per internal time block (keeps the block buffers cache-resident).
+_CACHE_BLOCK = 65536
+
+
+class RamsEkfFilter:
+    """Stateful fast RAMS EKF vectorised over trials; :meth:`run` processes a time chunk and continues.
+
+    Same model and algebra as :func:`run_rams_ekf` (which is this class run once
+    over a whole record); a long record can be filtered chunk by chunk in
+    bounded memory, with results identical to one call on the whole record.
+
+    Parameters
+    ----------
+    axis : array_like, shape (3,) or (T, 3)
+        Unit rotation axis v per trial.
+    accel0_m_s2 : array_like, shape (3,) or (T, 3)
+        ā0 per trial (m/s²).
+    dt_s : float
+        Sample interval (s).
+    params : RamsEkfParams
+    trials : int
+        Number of trials T.
+    theta0_rad : float or (T,)
+        Initial angle (rad).
+    bias0_rad_s : float, (3,) or (T, 3)
+        Initial bias estimate (rad/s).
+    use_zvd : bool
+        Switch V_z/V by the ZVD flag (Sec. 3.3.3); False = always V_z.
+
+    Notes
+    -----
+    Storage is component-major, like :class:`mtcal.filters.qncf.QncfFilter`:
+    the state is θ (T,) and b (3, T), the symmetric covariance its 10 unique
+    entries as (10, T) rows (order :data:`PACKED_INDEX`), so every operation of
+    the step is a contiguous row (block) operation on preallocated buffers.
+    The first sample of the first :meth:`run` is corrected without prediction;
+    every later sample is predicted with the previous gyro sample (carried over
+    chunk boundaries). Sums of three or four products are formed in the same
+    order as the ``einsum`` calls of the earlier (T, 4, 4) implementation, so
+    the outputs are bit-identical to it on x86-64.
+    """
+
+    def __init__(self, axis, accel0_m_s2, dt_s: float, params: "RamsEkfParams", *, trials: int,
+                 theta0_rad=0.0, bias0_rad_s=0.0, use_zvd: bool = True) -> None:
+        n = int(trials)
+        if n < 1:
+            raise ValueError(f"trials must be >= 1, got {trials}")
+        v = np.broadcast_to(_check_axis(axis), (n, 3))
+        a0 = np.broadcast_to(as_float_array(accel0_m_s2, "accel0_m_s2", last_dim=3), (n, 3))
+        self.dt_s = dt = positive_scalar(dt_s, "dt_s")
+        if not isinstance(params, RamsEkfParams):
+            raise TypeError(f"params must be a RamsEkfParams, got {type(params).__name__}")
+        self.params, self.trials, self.use_zvd = params, n, bool(use_zvd)
+        par = v * np.sum(v * a0, axis=1, keepdims=True)     # constant per trial, as in Eq 28
+        self._par = np.array(par.T, order="C")
+        self._perp = np.array((a0 - par).T, order="C")
+        self._w = np.array(np.cross(v, a0).T, order="C")
+        self._v = np.array(v.T, order="C")
+        f = np.array((-v * dt).T, order="C")       # f = ∂θ⁻/∂b, rows f1 f2 f3
+        self._f = f
+        self._fa = np.array(f[[0, 0, 1]])         # f1 f1 f2 (pairs with p12 p13 p23)
+        self._fb = np.array(f[[1, 2, 2]])         # f2 f3 f3
+        self._q_theta = params.sigma_theta_rad_s**2 * dt * dt
+        self._q_b = params.sigma_b_rad_s2**2 * dt * dt
+        self._var = (params.sigma_a_static_m_s2**2, params.sigma_a_moving_m_s2**2)
+        self._theta = np.broadcast_to(as_float_array(theta0_rad, "theta0_rad"), (n,)).copy()
+        self._bias = np.array(
+            np.broadcast_to(as_float_array(bias0_rad_s, "bias0_rad_s"), (n, 3)).T, order="C")
+        p0 = params.initial_covariance()
+        self._p = np.empty((10, n))
+        for r, (i, j) in enumerate(PACKED_INDEX):
+            self._p[r] = p0[i, j]
+        self._omega_prev = None                                # vᵀω Δt of the last gyro sample seen
+        # scratch rows
+        self._c = np.empty((4, n))
+        self._hp = np.empty((3, n))
+        self._y = np.empty((3, n))
+        self._s = np.empty(n)
+        r = self._r = np.empty((5, n))
+        cc = self._cc = np.empty((10, n))
+        t = self._t = np.empty((3, n))
+        x = self._x = np.empty((3, n))
+        o1, o2 = self._o1, self._o2 = np.empty((3, n)), np.empty((3, n))
+        self._u = np.empty((4, n))
+        P, u, c, y, hp = self._p, self._u, self._c, self._y, self._hp
+        self._views = (self._theta, self._bias, P, P[0], P[1:4], P[4:7], P[7:10], u, u[0], u[1], u[2], u[3],
+                       u[1:4], c, c[0], c[1], c[2], c[3], c[0:4], c[1:4], c[2:4], y, hp, self._s,
+                       t, t[0], t[1], t[2], x, o1, o2, r[0], r[1], r[2], r[3], r[4], cc, cc[0:4], cc[4:7],
+                       cc[7:9], cc[9])
+
+    # ------------------------------------------------------------------ state
+    @property
+    def theta_rad(self) -> np.ndarray:
+        """Current angle estimate (T,) (rad)."""
+        return self._theta.copy()
+
+    @property
+    def bias_rad_s(self) -> np.ndarray:
+        """Current bias estimate (T, 3) (rad/s)."""
+        return self._bias.T.copy()
+
+    @property
+    def P(self) -> np.ndarray:
+        """Current covariance (T, 4, 4)."""
+        return _unpack(self._p)
+
+    # ------------------------------------------------------------------ core
+    def _step(self, omega: np.ndarray | None, a_k: np.ndarray, var: np.ndarray) -> None:
+        """Predict with ``omega`` = vᵀω Δt of the previous gyro sample (T,) unless None, then
+        correct with accel ``a_k`` (3, T) and measurement variance ``var`` (T,)."""
+        mul, add, sub = np.multiply, np.add, np.subtract
+        (theta, bias, P, p00, p0b, pdiag, poff, u, u0, u1, u2, u3, ub, c, c0, c1, c2, c3, c03, c13, c23,
+         y, hp, s, t, t0, t1, t2, x, o1, o2, r0, r1, r2, r3, r4, cc, cc0, cc1, cc2, cc3) = self._views
+        if omega is not None:  # --- prediction with the previous gyro sample (Eq 24–27)
+            f = self._f
+            mul(self._v, bias, t)                      # θ += vᵀω Δt − Δt vᵀb
+            add(t0, t2, r0)
+            add(r0, t1, r0)
+            mul(r0, self.dt_s, r0)
+            sub(omega, r0, r0)
+            add(theta, r0, theta)
+            mul(p0b, f, t)                             # u = P f (f = [0, −vΔt])
+            add(t0, t2, u0)
+            add(u0, t1, u0)
+            mul(pdiag, f, t)                           # p11 f1, p22 f2, p33 f3
+            mul(poff, self._fa, o1)                    # p12 f1, p13 f1, p23 f2
+            mul(poff, self._fb, o2)                    # p12 f2, p13 f3, p23 f3
+            add(t0, o2[1], u1); add(u1, o2[0], u1)     # u1 = p12 f2 + (p11 f1 + p13 f3)
+            add(o1[0], o2[2], u2); add(u2, t1, u2)     # u2 = p22 f2 + (p12 f1 + p23 f3)
+            add(o1[1], t2, u3); add(u3, o1[2], u3)     # u3 = p23 f2 + (p13 f1 + p33 f3)
+            mul(f, ub, t)                              # fᵀu
+            add(t0, t2, r1)
+            add(r1, t1, r1)
+            # F P Fᵀ + Q = P + e0uᵀ + ue0ᵀ + (fᵀu + qθ) e0e0ᵀ + q_b diag(0, 1, 1, 1)
+            add(p00, u0, p00)
+            add(p00, u0, p00)
+            add(r1, self._q_theta, r1)
+            add(p00, r1, p00)
+            add(p0b, ub, p0b)
+            add(pdiag, self._q_b, pdiag)
+        # --- correction (Eq 28–32), scalar-information form
+        np.cos(theta, out=r2)
+        np.sin(theta, out=r3)
+        mul(self._perp, r2, t)                         # y = a − h(θ), h = par + cosθ perp − sinθ w
+        add(self._par, t, t)
+        mul(self._w, r3, x)
+        sub(t, x, t)
+        sub(a_k, t, y)
+        np.negative(r3, r3)                            # h′ = −sinθ perp − cosθ w
+        mul(self._perp, r3, hp)
+        mul(self._w, r2, x)
+        sub(hp, x, hp)
+        mul(hp, hp, t)                                 # ‖h′‖²
+        add(t0, t2, r4)
+        add(r4, t1, r4)
+        c[...] = P[0:4]                                # c = P e0
+        mul(c0, r4, s)                                 # s = V + p00 ‖h′‖²
+        add(var, s, s)
+        mul(hp, y, t)                                  # gain = h′ᵀy / s
+        add(t0, t2, r0)
+        add(r0, t1, r0)
+        np.divide(r0, s, r0)
+        mul(c0, r0, r1)                                # x += c gain
+        add(theta, r1, theta)
+        mul(c13, r0, t)
+        add(bias, t, bias)
+        np.divide(r4, s, r4)                           # Joseph form = P − (‖h′‖²/s) c cᵀ
+        mul(c03, c0, cc0)
+        mul(c13, c13, cc1)
+        mul(c23, c1, cc2)
+        mul(c3, c2, cc3)
+        mul(cc, r4, cc)
+        sub(P, cc, P)
+
+    def run(self, gyro_rad_s, accel_m_s2, is_static, *, keep_innovation: bool = True,
+            chunk: int = 2048) -> RamsEkfResult:
+        """Filter the next samples of every trial, continuing the state.
+
+        Parameters
+        ----------
+        gyro_rad_s, accel_m_s2 : array_like, shape (T, M, 3) (or (M, 3) when T = 1)
+            Gyro (rad/s; sample k acts over [t_k, t_{k+1}]) and accelerometer (m/s²).
+        is_static : array_like of bool, shape (T, M) or (M,)
+            ZVD flags (ignored when ``use_zvd`` is False).
+        keep_innovation : bool
+            Store the innovation history (T, M, 3).
+        chunk : int
+            Upper bound of the internal time block (samples); with many trials
+            the block is shortened to ~65 000 trial-samples to stay in cache.
+
+        Returns
+        -------
+        RamsEkfResult
+            Histories of this call (leading trial axis) and P, S, K after its last sample.
+        """
+        from mtcal.filters.qncf import _component_major
+
+        g = _float_view(gyro_rad_s, "gyro_rad_s")
+        a = _float_view(accel_m_s2, "accel_m_s2")
+        if g.ndim == 2:
+            g = g[None]
+        if a.ndim == 2:
+            a = a[None]
+        if g.shape != a.shape:
+            raise ValueError(f"gyro_rad_s and accel_m_s2 must have the same shape, got {g.shape} and {a.shape}")
+        n, m = self.trials, a.shape[1]
+        if a.shape[0] != n:
+            raise ValueError(f"gyro_rad_s and accel_m_s2 must have {n} trials, got shape {a.shape}")
+        st = _static_flags(is_static, (n, m)) if self.use_zvd else np.ones((1, m), bool)
+        out_theta, out_bias, out_p = np.empty((n, m)), np.empty((n, m, 3)), np.empty((n, m))
+        out_y = np.empty((n, m, 3)) if keep_innovation else None
+        size = max(1, min(int(chunk), m, max(_CACHE_BLOCK // n, 16)))
+        g_buf, a_buf = np.empty((size, 3, n)), np.empty((size, 3, n))
+        om_buf = np.empty((size + 1, n))
+        var_buf = np.empty((size, n))
+        th_buf, b_buf, p_buf = np.empty((size, n)), np.empty((size, 3, n)), np.empty((size, n))
+        y_buf = np.empty((size, 3, n)) if keep_innovation else None
+        theta, bias, p00, y = self._theta, self._bias, self._p[0], self._y
+        var_z, var_m = self._var
+        step = self._step
+        for c0 in range(0, m, size):
+            c1 = min(c0 + size, m)
+            nk = c1 - c0
+            gt = _component_major(g[:, c0:c1], g_buf[:nk])
+            at = _component_major(a[:, c0:c1], a_buf[:nk])
+            np.multiply(gt, self._v, out=gt)            # vᵀω Δt, summed like einsum("tnj,tj->tn")
+            om = om_buf[:nk + 1]
+            if self._omega_prev is not None:
+                om[0] = self._omega_prev
+            np.add(gt[:, 0], gt[:, 2], out=om[1:])
+            om[1:] += gt[:, 1]
+            om[1:] *= self.dt_s
+            var = var_buf[:nk]
+            np.copyto(var, np.where(st[:, c0:c1].T, var_z, var_m))
+            for k in range(nk):  # recursive filter: loop over time only
+                step(om[k] if (k or self._omega_prev is not None) else None, at[k], var[k])
+                th_buf[k] = theta
+                b_buf[k] = bias
+                p_buf[k] = p00
+                if keep_innovation:
+                    y_buf[k] = y
+            self._omega_prev = om[nk].copy()
+            out_theta[:, c0:c1] = th_buf[:nk].T
+            out_bias[:, c0:c1] = b_buf[:nk].transpose(2, 0, 1)
+            out_p[:, c0:c1] = p_buf[:nk].T
+            if keep_innovation:
+                out_y[:, c0:c1] = y_buf[:nk].transpose(2, 0, 1)
+        c, hp, s = self._c.T, self._hp.T, self._s
+        S = c[:, 0, None, None] * (hp[:, :, None] * hp[:, None, :]) + var[-1][:, None, None] * np.eye(3)
+        K = c[:, :, None] * hp[:, None, :] / s[:, None, None]
+        return RamsEkfResult(out_theta, out_bias, out_p, out_y, self.P, S, K)
+
+
+def _unpack(p: np.ndarray) -> np.ndarray:
+    """(10, T) packed rows → (T, 4, 4) symmetric matrices."""
+    out = np.empty((p.shape[1], 4, 4))
+    for r, (i, j) in enumerate(PACKED_INDEX):
+        out[:, i, j] = out[:, j, i] = p[r]
+    return out
+
+
 def run_rams_ekf(gyro_rad_s, accel_m_s2, is_static, axis, accel0_m_s2, dt_s: float,
                  params: RamsEkfParams, *, theta0_rad=0.0, bias0_rad_s=0.0,
                  use_zvd: bool = True, keep_innovation: bool = True) -> RamsEkfResult:
     """Fast RAMS EKF vectorised over trials (closed-form 4-state algebra, in place).
+
+    Runs :class:`RamsEkfFilter` once over the whole record.
 
     Parameters
     ----------
@@ -298,73 +582,14 @@ def run_rams_ekf(gyro_rad_s, accel_m_s2, is_static, axis, accel0_m_s2, dt_s: flo
     RamsEkfResult
         With a leading trial axis (T = 1 for 2-D input).
     """
-    g = as_float_array(gyro_rad_s, "gyro_rad_s", ndim=(2, 3), last_dim=3)
-    a = as_float_array(accel_m_s2, "accel_m_s2", ndim=(2, 3), last_dim=3)
+    g = _float_view(gyro_rad_s, "gyro_rad_s")
+    a = _float_view(accel_m_s2, "accel_m_s2")
     if g.ndim == 2:
         g = g[None]
     if a.ndim == 2:
         a = a[None]
     if g.shape != a.shape:
         raise ValueError(f"gyro_rad_s and accel_m_s2 must have the same shape, got {g.shape} and {a.shape}")
-    t_n, n = a.shape[0], a.shape[1]
-    st = _static_flags(is_static, (t_n, n)) if use_zvd else np.ones((t_n, n), bool)
-    v = np.broadcast_to(_check_axis(axis), (t_n, 3))
-    a0 = np.broadcast_to(as_float_array(accel0_m_s2, "accel0_m_s2", last_dim=3), (t_n, 3))
-    dt = positive_scalar(dt_s, "dt_s")
-    if not isinstance(params, RamsEkfParams):
-        raise TypeError(f"params must be a RamsEkfParams, got {type(params).__name__}")
-
-    # constant per trial: pieces of h(θ) and the prediction row f = ∂θ⁻/∂x
-    par = v * np.sum(v * a0, axis=1, keepdims=True)
-    perp = a0 - par
-    w = np.cross(v, a0)
-    f = np.zeros((t_n, 4))
-    f[:, 1:] = -v * dt
-    q_theta = params.sigma_theta_rad_s**2 * dt * dt
-    q_b = params.sigma_b_rad_s2**2 * dt * dt
-    var_z = params.sigma_a_static_m_s2**2
-    var_m = params.sigma_a_moving_m_s2**2
-    var_k = np.where(st, var_z, var_m)                 # (T, N)
-    omega_v = np.einsum("tnj,tj->tn", g, v) * dt       # vᵀω Δt, (T, N)
-
-    theta = np.broadcast_to(as_float_array(theta0_rad, "theta0_rad"), (t_n,)).copy()
-    bias = np.broadcast_to(as_float_array(bias0_rad_s, "bias0_rad_s"), (t_n, 3)).copy()
-    P = np.broadcast_to(params.initial_covariance(), (t_n, 4, 4)).copy()
-    out_theta = np.empty((t_n, n))
-    out_bias = np.empty((t_n, n, 3))
-    out_p = np.empty((t_n, n))
-    out_y = np.empty((t_n, n, 3)) if keep_innovation else None
-    u = np.empty((t_n, 4))
-    c = np.empty((t_n, 4))
-    hp = np.empty((t_n, 3))
-    y = np.empty((t_n, 3))
-    diag_b = (slice(None), [1, 2, 3], [1, 2, 3])
-    for k in range(n):
-        if k:  # --- prediction with gyro sample k−1 (Eq 24–25)
-            theta += omega_v[:, k - 1] - dt * np.einsum("tj,tj->t", v, bias)
-            np.einsum("tij,tj->ti", P, f, out=u)       # u = P f
-            fu = np.einsum("ti,ti->t", f, u)
-            P[:, 0, :] += u                             # F P Fᵀ = P + e0uᵀ + ue0ᵀ + (fᵀPf) e0e0ᵀ
-            P[:, :, 0] += u
-            P[:, 0, 0] += fu + q_theta
-            P[diag_b] += q_b
-        # --- correction (Eq 28–32), scalar-information form
-        cs, sn = np.cos(theta)[:, None], np.sin(theta)[:, None]
-        np.subtract(a[:, k], par + cs * perp - sn * w, out=y)
-        np.multiply(-sn, perp, out=hp)
-        hp -= cs * w
-        hh = np.einsum("ti,ti->t", hp, hp)
-        c[:] = P[:, :, 0]
-        s = var_k[:, k] + c[:, 0] * hh
-        gain = np.einsum("ti,ti->t", hp, y) / s
-        theta += c[:, 0] * gain
-        bias += c[:, 1:] * gain[:, None]
-        P -= (hh / s)[:, None, None] * (c[:, :, None] * c[:, None, :])
-        out_theta[:, k] = theta
-        out_bias[:, k] = bias
-        out_p[:, k] = P[:, 0, 0]
-        if keep_innovation:
-            out_y[:, k] = y
-    S = c[:, 0, None, None] * (hp[:, :, None] * hp[:, None, :]) + var_k[:, -1, None, None] * np.eye(3)
-    K = c[:, :, None] * hp[:, None, :] / s[:, None, None]
-    return RamsEkfResult(out_theta, out_bias, out_p, out_y, P, S, K)
+    filt = RamsEkfFilter(axis, accel0_m_s2, dt_s, params, trials=a.shape[0], theta0_rad=theta0_rad,
+                         bias0_rad_s=bias0_rad_s, use_zvd=use_zvd)
+    return filt.run(g, a, is_static, keep_innovation=keep_innovation)
