@@ -8,10 +8,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from mtcal._validate import as_float_array, positive_scalar
+from mtcal._validate import as_float_array, positive_int, positive_scalar
 
 __all__ = ["angle_difference", "rmse", "max_abs_error", "split_static_moving",
-           "allan_deviation", "fit_allan_noise", "percentile_band"]
+           "allan_deviation", "fit_allan_noise", "percentile_band", "bootstrap_medians"]
 
 
 def angle_difference(estimate_rad, truth_rad) -> np.ndarray:
@@ -145,3 +145,29 @@ def percentile_band(samples, axis: int = 0, level: float = 0.95) -> dict[str, np
         raise ValueError(f"level must be in (0, 1), got {level}")
     lo, med, hi = np.percentile(x, [50 * (1 - level), 50, 50 * (1 + level)], axis=axis)
     return {"median": med, "low": lo, "high": hi}
+
+
+def bootstrap_medians(samples, rng: np.random.Generator, n_boot: int = 1000) -> np.ndarray:
+    """Medians of bootstrap resamples of K Monte Carlo sample sets, shape (n_boot, K).
+
+    For a statistic built from several Monte Carlo medians (a ratio of two
+    medians, a log-log slope through K medians) the spread of the statistic
+    over the resamples gives its 95 % interval
+    (``percentile_band(stat(bootstrap_medians(...)))``).
+
+    Parameters
+    ----------
+    samples : sequence of array_like (n_k,)
+        K one-dimensional sample sets (e.g. axis errors per set-up, one value per trial).
+    rng : numpy.random.Generator
+        Source of the resampling indices.
+    n_boot : int
+        Number of bootstrap resamples.
+    """
+    if not isinstance(rng, np.random.Generator):
+        raise TypeError(f"rng must be a numpy.random.Generator, got {type(rng).__name__}")
+    n = positive_int(n_boot, "n_boot")
+    sets = [as_float_array(x, f"samples[{k}]", ndim=1) for k, x in enumerate(samples)]
+    if not sets or any(x.size < 2 for x in sets):
+        raise ValueError("samples must hold at least one set of >= 2 values")
+    return np.stack([np.median(x[rng.integers(0, x.size, (n, x.size))], axis=1) for x in sets], axis=1)

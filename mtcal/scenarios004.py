@@ -33,7 +33,6 @@ from mtcal.zvd import ZvdParams
 
 __all__ = ["Imu004", "AhrsImu", "RotationSetup", "RotationRecord", "simulate_rotation", "SweepResult",
            "sweep_profile", "run_sweep", "Fig11Result", "run_fig11", "DriftResult", "run_drift", "run_axis_mc",
-           "bootstrap_medians",
            "PAPER_AXIS_FIG11", "table4_axes", "MG", "UG"]
 
 MG = 1e-3 * STANDARD_GRAVITY_M_S2   #: 1 mg in m/s²
@@ -544,29 +543,3 @@ def run_axis_mc(setup: RotationSetup, imu: Imu004, trials: int, rng: np.random.G
     return v_est, rec
 
 
-def bootstrap_medians(samples, rng: np.random.Generator, n_boot: int = 1000) -> np.ndarray:
-    """Medians of bootstrap resamples of K Monte Carlo sample sets, shape (n_boot, K).
-
-    For a statistic built from several Monte Carlo medians (a ratio of two
-    medians, a log-log slope through K medians) the spread of the statistic
-    over the resamples gives its 95 % interval
-    (``metrics.percentile_band(stat(bootstrap_medians(...)))``).
-
-    Parameters
-    ----------
-    samples : sequence of array_like (n_k,)
-        K one-dimensional sample sets (e.g. axis errors per set-up, one value per trial).
-    rng : numpy.random.Generator
-        Source of the resampling indices.
-    n_boot : int
-        Number of bootstrap resamples.
-    """
-    from mtcal._validate import positive_int
-
-    if not isinstance(rng, np.random.Generator):
-        raise TypeError(f"rng must be a numpy.random.Generator, got {type(rng).__name__}")
-    n = positive_int(n_boot, "n_boot")
-    sets = [as_float_array(x, f"samples[{k}]", ndim=1) for k, x in enumerate(samples)]
-    if not sets or any(x.size < 2 for x in sets):
-        raise ValueError("samples must hold at least one set of >= 2 values")
-    return np.stack([np.median(x[rng.integers(0, x.size, (n, x.size))], axis=1) for x in sets], axis=1)

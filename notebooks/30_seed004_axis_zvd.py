@@ -30,7 +30,7 @@ import pandas as pd
 from IPython.display import display
 
 from mtcal import axis, metrics, paper, profiles, report
-from mtcal.scenarios004 import (PAPER_AXIS_FIG11, UG, Imu004, RotationSetup, bootstrap_medians, run_axis_mc,
+from mtcal.scenarios004 import (PAPER_AXIS_FIG11, UG, Imu004, RotationSetup, run_axis_mc,
                                 simulate_rotation, table4_axes)
 from mtcal.zvd import ZvdParams, detect_static, rest_intervals
 
@@ -154,7 +154,7 @@ rows.append(paper.comparison_row("T004-2", "ADXL355+BMI088 cost (USD)", "< 100",
 # that does to the axis estimate (Monte Carlo of Eq 23 vs the first-order
 # formula `axis.axis_error_std`, ∝ 1/cos γ), rests at 0/90/180°, 1 s each.
 # The band of a ratio (or slope) of Monte Carlo medians is its bootstrap 95 %
-# interval (`scenarios004.bootstrap_medians`).
+# interval (`metrics.bootstrap_medians`).
 
 # %%
 gam_deg = np.arange(0, 86, 5.0)
@@ -192,7 +192,7 @@ axs[1].set_yscale("log")
 axs[1].legend(fontsize=8)
 display(report.save_figure(fig, "F004-12"))
 print(f"||g1-g0||(60 deg) / ||g1-g0||(0 deg) = {ratio:.4f}")
-boot = bootstrap_medians([mc_err[0], mc_err[3]], rng_boot, N_BOOT)
+boot = metrics.bootstrap_medians([mc_err[0], mc_err[3]], rng_boot, N_BOOT)
 ratio_axis = metrics.percentile_band(boot[:, 1] / boot[:, 0])  # bootstrap 95 % interval of the ratio of medians
 ratio_med = float(mc_med[3] / mc_med[0])
 print(f"axis-error median 60/0 deg: MC {ratio_med:.2f} [{ratio_axis['low']:.2f}, {ratio_axis['high']:.2f}], "
@@ -277,7 +277,7 @@ ax.legend()
 display(report.save_figure(fig, "B004-1"))
 slope = float(np.polyfit(np.log(rest_s), np.log(med_oracle), 1)[0])
 slope_zvd = float(np.polyfit(np.log(rest_s), np.log(med_r), 1)[0])
-boot_slopes = {k: np.polyfit(np.log(rest_s), np.log(bootstrap_medians(e, rng_boot, N_BOOT).T), 1)[0]
+boot_slopes = {k: np.polyfit(np.log(rest_s), np.log(metrics.bootstrap_medians(e, rng_boot, N_BOOT).T), 1)[0]
                for k, e in (("white", err_oracle), ("zvd", err_r))}
 b_slope, b_slope_zvd = (metrics.percentile_band(boot_slopes[k]) for k in ("white", "zvd"))
 b_diff = metrics.percentile_band(boot_slopes["zvd"] - boot_slopes["white"])
