@@ -141,13 +141,16 @@ def _readable_qncf(gyro, accel, q0, dt, p: QncfParams):
     return q_out, amd_out, gate_out
 
 
-@pytest.mark.parametrize("rate_scale", [1.0, 80.0])   # 80: |Δθ| up to 0.16 rad per sample (trig fallback)
-def test_fast_step_equals_readable_implementation(rate_scale):
+# increment series of order 2 (|Δθ| ≤ 0.004 rad), order 3 (≤ 0.04 rad) and cos/sin (|Δθ| up to 0.16 rad)
+@pytest.mark.parametrize("rate_scale, order", [(1.0, 2), (5.0, 3), (80.0, 0)])
+def test_fast_step_equals_readable_implementation(rate_scale, order):
     gyro, accel, q0, dt = _regression_input()
     gyro = gyro * rate_scale
     p = QncfParams(ki_rad_s2=0.5)
     q_ref, amd_ref, gate_ref = _readable_qncf(gyro, accel, q0, dt, p)
-    res = QncfFilter(q0, dt, p).run(gyro, accel, return_euler=False, chunk=256)
+    filt = QncfFilter(q0, dt, p)
+    assert filt._increment_order(np.ascontiguousarray(gyro[:, :256].transpose(1, 2, 0))) == order
+    res = filt.run(gyro, accel, return_euler=False, chunk=256)
     assert gate_ref.any() and not gate_ref.all()
     assert np.array_equal(res.gate, gate_ref)
     np.testing.assert_allclose(res.amd_pct, amd_ref, rtol=1e-13, atol=0)

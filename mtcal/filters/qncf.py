@@ -179,9 +179,11 @@ def initial_attitude_from_accel(accel_m_s2, yaw_rad: float = 0.0) -> np.ndarray:
 
 
 #: Largest increment angle |Δθ| (rad per sample) for which the increment quaternion uses the
-#: truncated Taylor series (see :meth:`QncfFilter._step`); above it, the cos/sin path is used.
+#: truncated Taylor series of degree 3 / degree 2 in |Δθ|² (see :meth:`QncfFilter._step`);
+#: above the first, the cos/sin path is used.
 TAYLOR_MAX_INCREMENT_RAD = 0.04
-# cos(x/2) and sin(x/2)/x as polynomials in u = x² (terms up to x⁶)
+TAYLOR2_MAX_INCREMENT_RAD = 0.004
+# cos(x/2) and sin(x/2)/x as polynomials in u = x²: coefficients of u⁰ … u³
 _COS_HALF = (1.0, -1.0 / 8.0, 1.0 / 384.0, -1.0 / 46080.0)
 _SINC_HALF = (0.5, -1.0 / 48.0, 1.0 / 3840.0, -1.0 / 645120.0)
 #: Trial-samples per internal time block: keeps the block buffers (a few MB) cache-resident.
@@ -245,13 +247,16 @@ class QncfFilter:
         self._w = np.empty((3, n))
         self._hv = np.empty((5, n))                       # sin(|Δθ|/2) Δθ/|Δθ|, extended like q
         self._qn = np.empty((4, n))
-        self._r = np.empty((4, n))                        # scalar rows: |Δθ|², cos(|Δθ|/2), sin(|Δθ|/2)/|Δθ|, |q|
-        qx, v, pr, sq, e, x, w, hv, qn, r = (self._qx, self._v, self._pair, self._sq, self._e, self._x,
-                                             self._w, self._hv, self._qn, self._r)
+        self._r = np.empty((2, n))                        # |Δθ|² twice (rows for the series)
+        self._cs = np.empty((2, n))                       # cos(|Δθ|/2), sin(|Δθ|/2)/|Δθ|
+        self._nrm = np.empty(n)
+        self._coef = tuple(np.array([[a] * n, [b] * n]) for a, b in zip(_COS_HALF, _SINC_HALF))
+        qx, v, pr, sq, e, x, w, hv, qn, r, cs = (self._qx, self._v, self._pair, self._sq, self._e, self._x,
+                                                 self._w, self._hv, self._qn, self._r, self._cs)
         self._views = (qx[0], qx[:4], qx[1:4], qx[2:0:-1], qx[1:3], qx[2:5], qx[3:6], qx[4:6], qx[3],
                        v, v[0:2], v[3:5], v[1:4], v[2:5], v[2], pr, pr[0], sq, sq[0], sq[1], sq[2], sq[3],
                        e, e[0], e[1], e[2], x, w, hv, hv[0:3], hv[3:5], hv[0:2], hv[1:4], hv[2:5],
-                       qn, qn[0], qn[1:4], r[0], r[1], r[2], r[3], self._integral)
+                       qn, qn[0], qn[1:4], r, r[0], cs, cs[0], cs[1], self._nrm, self._integral)
 
     # ------------------------------------------------------------------ state
     @property
@@ -267,24 +272,27 @@ class QncfFilter:
         return out[0] if self._single else out
 
     # ------------------------------------------------------------------ core
-    def _step(self, w_in: np.ndarray, a_in: np.ndarray, taylor: bool) -> None:
+    def _step(self, w_in: np.ndarray, a_in: np.ndarray, order: int) -> None:
         """One sample: gyro ``w_in`` (3, T) rad/s and gated unit accel ``a_in`` (5, T), not modified.
 
         ``a_in`` holds ``gate · a/‖a‖`` extended like the state (rows x y z x y),
-        see :meth:`_accel_chunk`. With ``taylor`` the increment quaternion uses
-        the series in u = |Δθ|² (caller guarantees |Δθ| ≤ TAYLOR_MAX_INCREMENT_RAD):
+        see :meth:`_accel_chunk`. With ``order`` 3 or 2 the increment quaternion
+        uses the alternating series in u = |Δθ|² up to u³ / u² (the caller,
+        :meth:`_increment_order`, guarantees |Δθ| ≤ 0.04 / 0.004 rad)::
 
-            cos(|Δθ|/2)       = 1 − u/8 + u²/384 − u³/46080 + R,        |R|  ≤ (|Δθ|/2)⁸/8! ≤ 6.4e-19
-            sin(|Δθ|/2)/|Δθ|  = 1/2 − u/48 + u²/3840 − u³/645120 + R′,  |R′| ≤ (|Δθ|/2)⁸/(2·9!) ≤ 3.6e-20
+            cos(|Δθ|/2)      = 1 − u/8 + u²/384 − u³/46080 + R
+            sin(|Δθ|/2)/|Δθ| = 1/2 − u/48 + u²/3840 − u³/645120 + R′
 
-        i.e. exact to double precision (half an ulp of 1 is 1.1e-16); only the
-        rounding of the polynomial evaluation differs from cos/sin (≤ a few
-        1e-17 per step in q).
+        with |R| ≤ (|Δθ|/2)⁸/8! ≤ 6.4e-19 and |R′| ≤ (|Δθ|/2)⁸/(2·9!) ≤ 3.6e-20
+        for order 3, |R| ≤ (|Δθ|/2)⁶/6! ≤ 8.9e-20 and |R′| ≤ (|Δθ|/2)⁶/(2·7!)
+        ≤ 6.4e-21 for order 2: exact to double precision (half an ulp of 1 is
+        1.1e-16); only the rounding of the polynomial evaluation differs from
+        cos/sin. ``order`` 0 uses cos/sin.
         """
         p = self.params
         mul, add, sub = np.multiply, np.add, np.subtract
         (q0, q4, qv, q21, q12, q234, q345, qext, q3, v, v01, vext, v123, v234, v2, pr, pr0, sq, s0, s1, s2,
-         s3, e, e0, e1, e2, x, w, hv, hv3, hvext, hv01, hv123, hv234, qn, qn0, qnv, u, c, s, nrm,
+         s3, e, e0, e1, e2, x, w, hv, hv3, hvext, hv01, hv123, hv234, qn, qn0, qnv, u2, u, cs, c, s, nrm,
          integral) = self._views
         # predicted up direction v̂ = C(q)ᵀ e_z = [2(q1q3 − q0q2), 2(q2q3 + q0q1), q0² − q1² − q2² + q3²]
         mul(q12, q3, v01)                  # q1q3, q2q3
@@ -311,13 +319,19 @@ class QncfFilter:
         mul(w, self.dt_s, w)
         # Eq 7: q(h) = [cos(|Δθ|/2), Δθ sin(|Δθ|/2)/|Δθ|]
         mul(w, w, e)
-        add(e0, e1, u)
-        add(u, e2, u)
-        if taylor:
-            c0, c1, c2, c3 = _COS_HALF
-            mul(u, c3, c); add(c, c2, c); mul(c, u, c); add(c, c1, c); mul(c, u, c); add(c, c0, c)
-            c0, c1, c2, c3 = _SINC_HALF
-            mul(u, c3, s); add(s, c2, s); mul(s, u, s); add(s, c1, s); mul(s, u, s); add(s, c0, s)
+        add(e0, e1, u2)                    # u = |Δθ|² in both rows of u2
+        add(u2, e2, u2)
+        if order:                          # Horner on both series at once: rows cos, sinc
+            k0, k1, k2, k3 = self._coef
+            if order == 3:
+                mul(u2, k3, cs)
+                add(cs, k2, cs)
+                mul(cs, u2, cs)
+            else:
+                mul(u2, k2, cs)
+            add(cs, k1, cs)
+            mul(cs, u2, cs)
+            add(cs, k0, cs)
         else:
             self._trig_increment(u, c, s)
         mul(w, s, hv3)
@@ -389,17 +403,19 @@ class QncfFilter:
         np.multiply(at, norm[:, None], out=a_out[:, :3])
         a_out[:, 3:] = a_out[:, :2]
 
-    def _taylor_ok(self, wt: np.ndarray) -> bool:
-        """True if |Δθ| ≤ TAYLOR_MAX_INCREMENT_RAD for every sample of the chunk ``wt`` (C, 3, T).
+    def _increment_order(self, wt: np.ndarray) -> int:
+        """Series order usable for every sample of the chunk ``wt`` (C, 3, T): 3, 2 or 0 (cos/sin).
 
-        Bound: |Δθ| ≤ Δt (|ω| + K_p|e| + |I_0| + K_i Δt C |e|) with |e| ≤ 1
-        (cross product of the gated unit accel and the unit v̂) and |ω| ≤ √3 max|ω_i|.
+        From a bound on the increment: |Δθ| ≤ Δt (|ω| + K_p|e| + |I_0| + K_i Δt C |e|)
+        with |e| ≤ 1 (cross product of the gated unit accel and the unit v̂) and
+        |ω| ≤ √3 max|ω_i|; order 2 if the bound is ≤ TAYLOR2_MAX_INCREMENT_RAD,
+        3 if ≤ TAYLOR_MAX_INCREMENT_RAD.
         """
         p, dt = self.params, self.dt_s
         w_max = max(float(wt.max()), -float(wt.min())) * np.sqrt(3.0)
         i_max = float(np.sqrt(np.max(np.einsum("it,it->t", self._integral, self._integral))))
         bound = dt * (w_max + (p.kp_rad_s + p.ki_rad_s2 * dt * wt.shape[0]) * (1.0 + 1e-9) + i_max)
-        return bound <= TAYLOR_MAX_INCREMENT_RAD
+        return 2 if bound <= TAYLOR2_MAX_INCREMENT_RAD else (3 if bound <= TAYLOR_MAX_INCREMENT_RAD else 0)
 
     def _prepare(self, x, name: str, ndim_single: int) -> np.ndarray:
         arr = _as_input(x, name)
@@ -455,10 +471,10 @@ class QncfFilter:
             wt = _component_major(w[:, c0:c1], w_buf[:nk])        # (chunk, 3, T)
             at = a_buf[:nk]
             self._accel_chunk(_component_major(a[:, c0:c1], w_buf2[:nk]), amd_buf[:nk], gate_buf[:nk], at)
-            taylor = self._taylor_ok(wt)
+            order = self._increment_order(wt)
             for k in range(nk):  # recursive filter: loop over time only
                 q_buf[k] = q             # attitude at t_k (before sample k's increment)
-                step(wt[k], at[k], taylor)
+                step(wt[k], at[k], order)
             q_out[:, c0:c1] = q_buf[:nk].transpose(2, 0, 1)
             amd_out[:, c0:c1] = amd_buf[:nk].T
             gate_out[:, c0:c1] = gate_buf[:nk].T
