@@ -369,18 +369,19 @@ class QncfFilter:
             s[small] = 0.5 - ang[small] ** 2 / 48.0
 
     def _accel_chunk(self, at: np.ndarray, amd_out: np.ndarray, gate_out: np.ndarray,
-                     a_out: np.ndarray) -> None:
+                     a_out: np.ndarray, sq: np.ndarray, norm: np.ndarray, d: np.ndarray) -> None:
         """AMD statistic, gate and gated unit accel for a chunk of accel samples ``at`` (C, 3, T).
 
         Fills ``amd_out`` (C, T), ``gate_out`` (C, T) and ``a_out`` (C, 5, T) =
         ``gate · a/max(‖a‖, 1e-12)`` with rows x y z x y; carries the AMD state.
+        ``sq`` (C, 3, T), ``norm`` and ``d`` (C, T) are scratch.
         """
         p = self.params
-        sq = at * at
-        norm = np.add(sq[:, 0], sq[:, 1])
+        np.multiply(at, at, out=sq)
+        np.add(sq[:, 0], sq[:, 1], out=norm)
         norm += sq[:, 2]
         np.sqrt(norm, out=norm)
-        d = norm / p.gravity_m_s2
+        np.divide(norm, p.gravity_m_s2, out=d)
         d -= 1.0
         np.abs(d, out=d)
         d *= 100.0
@@ -400,8 +401,9 @@ class QncfFilter:
         self._gate[:] = gate_out[-1]
         np.maximum(norm, 1e-12, out=norm)
         np.divide(gate_out, norm, out=norm)
-        np.multiply(at, norm[:, None], out=a_out[:, :3])
-        a_out[:, 3:] = a_out[:, :2]
+        fac = norm[:, None]
+        np.multiply(at, fac, out=a_out[:, :3])
+        np.multiply(at[:, :2], fac, out=a_out[:, 3:])   # not a copy within a_out: numpy would buffer it
 
     def _increment_order(self, wt: np.ndarray) -> int:
         """Series order usable for every sample of the chunk ``wt`` (C, 3, T): 3, 2 or 0 (cos/sin).
@@ -463,14 +465,16 @@ class QncfFilter:
         amd_buf = np.empty((size, n))
         gate_buf = np.empty((size, n), dtype=bool)
         a_buf = np.empty((size, 5, n))
-        w_buf, w_buf2 = np.empty((size, 3, n)), np.empty((size, 3, n))
+        w_buf, w_buf2, sq_buf = np.empty((size, 3, n)), np.empty((size, 3, n)), np.empty((size, 3, n))
+        norm_buf, d_buf = np.empty((size, n)), np.empty((size, n))
         q, step = self._q, self._step
         for c0 in range(0, m, size):
             c1 = min(c0 + size, m)
             nk = c1 - c0
             wt = _component_major(w[:, c0:c1], w_buf[:nk])        # (chunk, 3, T)
             at = a_buf[:nk]
-            self._accel_chunk(_component_major(a[:, c0:c1], w_buf2[:nk]), amd_buf[:nk], gate_buf[:nk], at)
+            self._accel_chunk(_component_major(a[:, c0:c1], w_buf2[:nk]), amd_buf[:nk], gate_buf[:nk], at,
+                              sq_buf[:nk], norm_buf[:nk], d_buf[:nk])
             order = self._increment_order(wt)
             for k in range(nk):  # recursive filter: loop over time only
                 q_buf[k] = q             # attitude at t_k (before sample k's increment)

@@ -287,6 +287,19 @@ def _float_view(value, name: str) -> np.ndarray:
     return arr
 
 
+def _record(gyro_rad_s, accel_m_s2) -> tuple[np.ndarray, np.ndarray]:
+    """Validated gyro and accel records as (T, N, 3) float64 arrays (views of float64 input)."""
+    g = _float_view(gyro_rad_s, "gyro_rad_s")
+    a = _float_view(accel_m_s2, "accel_m_s2")
+    if g.ndim == 2:
+        g = g[None]
+    if a.ndim == 2:
+        a = a[None]
+    if g.shape != a.shape:
+        raise ValueError(f"gyro_rad_s and accel_m_s2 must have the same shape, got {g.shape} and {a.shape}")
+    return g, a
+
+
 #: Packed storage of the symmetric 4×4 covariance: row r of the (10, T) array holds P[i, j].
 PACKED_INDEX = ((0, 0), (0, 1), (0, 2), (0, 3), (1, 1), (2, 2), (3, 3), (1, 2), (1, 3), (2, 3))
 #: Trial-samples per internal time block (keeps the block buffers cache-resident).
@@ -345,6 +358,7 @@ class RamsEkfFilter:
         par = v * np.sum(v * a0, axis=1, keepdims=True)     # constant per trial, as in Eq 28
         self._par = np.array(par.T, order="C")
         self._perp = np.array((a0 - par).T, order="C")
+        self._nperp = -self._perp                               # (−sinθ) perp = sinθ (−perp), exactly
         self._w = np.array(np.cross(v, a0).T, order="C")
         self._v = np.array(v.T, order="C")
         f = np.array((-v * dt).T, order="C")       # f = ∂θ⁻/∂b, rows f1 f2 f3
@@ -437,8 +451,7 @@ class RamsEkfFilter:
         mul(self._w, r3, x)
         sub(t, x, t)
         sub(a_k, t, y)
-        np.negative(r3, r3)                            # h′ = −sinθ perp − cosθ w
-        mul(self._perp, r3, hp)
+        mul(self._nperp, r3, hp)                       # h′ = −sinθ perp − cosθ w
         mul(self._w, r2, x)
         sub(hp, x, hp)
         mul(hp, hp, t)                                 # ‖h′‖²
@@ -484,19 +497,16 @@ class RamsEkfFilter:
         RamsEkfResult
             Histories of this call (leading trial axis) and P, S, K after its last sample.
         """
+        g, a = _record(gyro_rad_s, accel_m_s2)
+        if a.shape[0] != self.trials:
+            raise ValueError(f"gyro_rad_s and accel_m_s2 must have {self.trials} trials, got shape {a.shape}")
+        return self._run(g, a, is_static, keep_innovation, chunk)
+
+    def _run(self, g: np.ndarray, a: np.ndarray, is_static, keep_innovation: bool, chunk: int) -> RamsEkfResult:
+        """:meth:`run` on validated (T, M, 3) float64 arrays."""
         from mtcal.filters.qncf import _component_major
 
-        g = _float_view(gyro_rad_s, "gyro_rad_s")
-        a = _float_view(accel_m_s2, "accel_m_s2")
-        if g.ndim == 2:
-            g = g[None]
-        if a.ndim == 2:
-            a = a[None]
-        if g.shape != a.shape:
-            raise ValueError(f"gyro_rad_s and accel_m_s2 must have the same shape, got {g.shape} and {a.shape}")
         n, m = self.trials, a.shape[1]
-        if a.shape[0] != n:
-            raise ValueError(f"gyro_rad_s and accel_m_s2 must have {n} trials, got shape {a.shape}")
         st = _static_flags(is_static, (n, m)) if self.use_zvd else np.ones((1, m), bool)
         out_theta, out_bias, out_p = np.empty((n, m)), np.empty((n, m, 3)), np.empty((n, m))
         out_y = np.empty((n, m, 3)) if keep_innovation else None
@@ -522,7 +532,8 @@ class RamsEkfFilter:
             om[1:] += gt[:, 1]
             om[1:] *= self.dt_s
             var = var_buf[:nk]
-            np.copyto(var, np.where(st[:, c0:c1].T, var_z, var_m))
+            var[...] = var_m
+            np.copyto(var, var_z, where=st[:, c0:c1].T)
             for k in range(nk):  # recursive filter: loop over time only
                 step(om[k] if (k or self._omega_prev is not None) else None, at[k], var[k])
                 th_buf[k] = theta
@@ -582,14 +593,7 @@ def run_rams_ekf(gyro_rad_s, accel_m_s2, is_static, axis, accel0_m_s2, dt_s: flo
     RamsEkfResult
         With a leading trial axis (T = 1 for 2-D input).
     """
-    g = _float_view(gyro_rad_s, "gyro_rad_s")
-    a = _float_view(accel_m_s2, "accel_m_s2")
-    if g.ndim == 2:
-        g = g[None]
-    if a.ndim == 2:
-        a = a[None]
-    if g.shape != a.shape:
-        raise ValueError(f"gyro_rad_s and accel_m_s2 must have the same shape, got {g.shape} and {a.shape}")
+    g, a = _record(gyro_rad_s, accel_m_s2)
     filt = RamsEkfFilter(axis, accel0_m_s2, dt_s, params, trials=a.shape[0], theta0_rad=theta0_rad,
                          bias0_rad_s=bias0_rad_s, use_zvd=use_zvd)
-    return filt.run(g, a, is_static, keep_innovation=keep_innovation)
+    return filt._run(g, a, is_static, keep_innovation, 2048)
