@@ -345,7 +345,6 @@ def profile_batched(inp: BenchInputs, sizes: Sizes) -> str:
                      f"(sorted by own time; numpy ufunc calls are not profiled separately and count "
                      f"in the caller's tottime) ===\n" + buf.getvalue().strip())
     parts.append(_line_profile_section(g, a, inp, min(m, 300)))
-    parts.append(_call_count_section())
     parts.append(_scaling_section(inp, min(m, 500)))
     return "\n\n".join(parts) + "\n"
 
@@ -387,8 +386,10 @@ def _line_profile_section(g, a, inp: BenchInputs, steps: int) -> str:
     g, a = g[:, :steps], a[:, :steps]
     targets = [("QNCF", QncfFilter._step, _qncf_call(g, a, inp.q0))]
     if run_rams_ekf is not None:
-        targets.append(("RAMS EKF", run_rams_ekf, _ekf_call(g, a, inp.is_static[:steps], inp.axis,
-                                                             inp.accel0_t)))
+        from mtcal.filters.rams_ekf import RamsEkfFilter
+
+        targets.append(("RAMS EKF", RamsEkfFilter._step, _ekf_call(g, a, inp.is_static[:steps], inp.axis,
+                                                                   inp.accel0_t)))
     out = []
     for name, func, call in targets:
         acc = line_times(func, call)
@@ -402,62 +403,6 @@ def _line_profile_section(g, a, inp: BenchInputs, steps: int) -> str:
                          f"{Path(fname).name}:{ln}  {src[:90]}")
         out.append("\n".join(lines))
     return "\n\n".join(out)
-
-
-def _count_numpy_calls(func, loop_only: bool) -> int:
-    """Static count of numpy operations per time step in ``func``'s source.
-
-    Counts ``np.*(...)`` calls, array method calls (``.any()``, ``.copy()``…),
-    augmented assignments (one in-place ufunc each), binary/unary arithmetic
-    and subscript assignments (one copy each). With ``loop_only`` only the body
-    of the outermost ``for`` loop (the time loop) is counted. An estimate: it
-    cannot tell array from scalar arithmetic.
-    """
-    import ast
-    import inspect
-    import textwrap
-
-    tree = ast.parse(textwrap.dedent(inspect.getsource(func)))
-    root = tree
-    if loop_only:
-        loops = [n for n in ast.walk(tree) if isinstance(n, ast.For)]
-        if loops:
-            root = loops[-1] if func.__name__ == "run" else loops[0]
-    count = 0
-    for node in ast.walk(root):
-        if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute):
-            count += 1
-        elif isinstance(node, (ast.AugAssign, ast.BinOp)):
-            count += 1
-        elif isinstance(node, ast.Assign) and any(isinstance(t, ast.Subscript) for t in node.targets):
-            count += 1
-    return count
-
-
-def _ufunc_call_cost_us(size: int) -> float:
-    x, y, z = np.ones(size), np.ones(size), np.empty(size)
-    best = np.inf
-    for _ in range(5):
-        t0 = time.perf_counter()
-        for _ in range(2000):
-            np.multiply(x, y, out=z)
-        best = min(best, time.perf_counter() - t0)
-    return best / 2000 * 1e6
-
-
-def _call_count_section() -> str:
-    """How many numpy calls each batched step issues, and what one call costs here."""
-    c1, c1000 = _ufunc_call_cost_us(1), _ufunc_call_cost_us(1000)
-    lines = ["=== numpy operations per time step (static count of the source; estimate) ===",
-             f"one np.multiply(x, y, out=z) call: {c1:.2f} us at 1 element, {c1000:.2f} us at 1000 elements"]
-    n_q = _count_numpy_calls(QncfFilter._step, False) + _count_numpy_calls(QncfFilter.run, True)
-    lines.append(f"QNCF      QncfFilter._step + run() loop body: ~{n_q} numpy operations/step "
-                 f"-> dispatch floor ~{n_q * c1:.0f} us/step, ~{n_q * c1000:.0f} us/step at 1000 trials")
-    if run_rams_ekf is not None:
-        n_e = _count_numpy_calls(run_rams_ekf, True)
-        lines.append(f"RAMS EKF  run_rams_ekf time-loop body: ~{n_e} numpy operations/step "
-                     f"-> dispatch floor ~{n_e * c1:.0f} us/step, ~{n_e * c1000:.0f} us/step at 1000 trials")
-    return "\n".join(lines)
 
 
 def _scaling_section(inp: BenchInputs, steps: int) -> str:
