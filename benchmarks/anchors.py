@@ -27,11 +27,11 @@ and mutual agreement in ``tests/test_bench_smoke.py``.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 
-__all__ = ["EkfNoise", "ekf_measurement", "ahrs_mahony_batch", "ahrs_mahony_loop", "imufusion_loop",
+from mtcal.filters.rams_ekf import RamsEkfParams
+
+__all__ = ["ekf_matrices", "ekf_measurement", "ahrs_mahony_batch", "ahrs_mahony_loop", "imufusion_loop",
            "filterpy_ekf_loop", "numpy_ekf_loop", "numpy_mahony_batched"]
 
 _G = 9.80665
@@ -131,27 +131,14 @@ def imufusion_loop(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: float, 
 
 
 # --------------------------------------------------------------------------- 4-state EKF
-@dataclass(frozen=True)
-class EkfNoise:
-    """Noise settings of the 4-state RAMS EKF; defaults equal ``RamsEkfParams``'s (SI units)."""
-
-    sigma_theta_rad_s: float = 1e-2
-    sigma_b_rad_s2: float = 1e-4
-    sigma_a_static_m_s2: float = 0.02
-    sigma_a_moving_m_s2: float = 2.0
-    p0_theta_rad2: float = 1e-6
-    p0_bias_rad2_s2: float = 1e-6
-
-    def matrices(self, axis, dt_s: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-        """F, B (control ω), Q (Eq 24–27) and P0, for unit axis v."""
-        v = np.asarray(axis, float)
-        f = np.eye(4)
-        f[0, 1:] = -v * dt_s
-        b = np.zeros((4, 3))
-        b[0] = v * dt_s
-        q = np.diag([self.sigma_theta_rad_s**2 * dt_s**2] + [self.sigma_b_rad_s2**2 * dt_s**2] * 3)
-        p0 = np.diag([self.p0_theta_rad2] + [self.p0_bias_rad2_s2] * 3)
-        return f, b, q, p0
+def ekf_matrices(params: RamsEkfParams, axis, dt_s: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """F, B (control ω), Q (``params.process_noise``, Eq 24–27) and P0 of the 4-state RAMS EKF."""
+    v = np.asarray(axis, float)
+    f = np.eye(4)
+    f[0, 1:] = -v * dt_s
+    b = np.zeros((4, 3))
+    b[0] = v * dt_s
+    return f, b, params.process_noise(v, dt_s), params.initial_covariance()
 
 
 def ekf_measurement(theta_rad: float, axis, accel0_m_s2) -> tuple[np.ndarray, np.ndarray]:
@@ -166,12 +153,12 @@ def ekf_measurement(theta_rad: float, axis, accel0_m_s2) -> tuple[np.ndarray, np
 
 
 def filterpy_ekf_loop(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, is_static: np.ndarray, axis,
-                      accel0_m_s2, dt_s: float, noise: EkfNoise = EkfNoise(), theta0_rad: float = 0.0,
+                      accel0_m_s2, dt_s: float, noise: RamsEkfParams = RamsEkfParams(), theta0_rad: float = 0.0,
                       bias0_rad_s=(0.0, 0.0, 0.0)) -> tuple[np.ndarray, np.ndarray]:
     """filterpy ``ExtendedKalmanFilter`` RAMS loop (N, 3) → θ (N,), bias (N, 3)."""
     from filterpy.kalman import ExtendedKalmanFilter
 
-    f, b, q, p0 = noise.matrices(axis, dt_s)
+    f, b, q, p0 = ekf_matrices(noise, axis, dt_s)
     ekf = ExtendedKalmanFilter(dim_x=4, dim_z=3)
     ekf.x = np.array([theta0_rad, *bias0_rad_s], float).reshape(4, 1)
     ekf.F, ekf.B, ekf.Q, ekf.P = f, b, q, p0.copy()
@@ -198,10 +185,10 @@ def filterpy_ekf_loop(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, is_static:
 
 
 def numpy_ekf_loop(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, is_static: np.ndarray, axis,
-                   accel0_m_s2, dt_s: float, noise: EkfNoise = EkfNoise(), theta0_rad: float = 0.0,
+                   accel0_m_s2, dt_s: float, noise: RamsEkfParams = RamsEkfParams(), theta0_rad: float = 0.0,
                    bias0_rad_s=(0.0, 0.0, 0.0)) -> tuple[np.ndarray, np.ndarray]:
     """Textbook numpy EKF (4×4 matrices, ``inv(S)``, Joseph form) per sample → θ (N,), bias (N, 3)."""
-    f, b, q, p = noise.matrices(axis, dt_s)
+    f, b, q, p = ekf_matrices(noise, axis, dt_s)
     x = np.array([theta0_rad, *bias0_rad_s], float)
     r_static = noise.sigma_a_static_m_s2**2 * np.eye(3)
     r_moving = noise.sigma_a_moving_m_s2**2 * np.eye(3)

@@ -100,17 +100,6 @@ def test_ekf_anchors_agree_with_each_other_and_with_mtcal(short_record):
         np.testing.assert_allclose(res.bias_rad_s[0], b_fp, atol=1e-9)
 
 
-def test_ekf_noise_defaults_match_rams_params():
-    if run.RamsEkfParams is None:
-        pytest.skip("mtcal.filters.rams_ekf not available")
-    p, n = run.RamsEkfParams(), anchors.EkfNoise()
-    for name in ("sigma_theta_rad_s", "sigma_b_rad_s2", "sigma_a_static_m_s2", "sigma_a_moving_m_s2",
-                 "p0_theta_rad2", "p0_bias_rad2_s2"):
-        assert getattr(p, name) == getattr(n, name), name
-    np.testing.assert_allclose(n.matrices([1.0, 0, 0], 1e-3)[2], p.process_noise([1.0, 0, 0], 1e-3),
-                               atol=1e-20)
-
-
 # ----------------------------------------------------------------------------- harness
 def test_measure_reports_time_and_traced_peak():
     row = run.measure("alloc", "numpy", lambda: np.ones(2_000_000), trials=2, samples=5, repeats=2)
