@@ -114,3 +114,33 @@ def same_leading_shape(a: np.ndarray, b: np.ndarray, name_a: str, name_b: str) -
     if a.shape[:-1] != b.shape[:-1]:
         raise ValueError(f"{name_a} and {name_b} must have matching leading shapes, "
                          f"got {a.shape} and {b.shape}")
+
+
+#: Largest plausible angular rate (rad/s): beyond any MEMS gyro's full scale (2000 °/s ≈ 35 rad/s).
+MAX_GYRO_RAD_S = 40.0
+#: A specific-force record whose median magnitude is below this (m/s²) is taken to be in g.
+MIN_MEDIAN_ACCEL_M_S2 = 2.0
+
+
+def check_gyro_units(gyro_rad_s: np.ndarray, name: str = "gyro_rad_s") -> None:
+    """Raise if a gyro record (…, 3) cannot be in rad/s (degrees per second passed as rad/s)."""
+    if gyro_rad_s.size and np.max(np.abs(gyro_rad_s)) > MAX_GYRO_RAD_S:
+        raise ValueError(f"{name} must be in rad/s; max |{name}| = {np.max(np.abs(gyro_rad_s)):.4g} "
+                         f"exceeds {MAX_GYRO_RAD_S:g} rad/s (degrees per second passed as rad/s?)")
+
+
+def check_accel_units(accel_m_s2: np.ndarray, name: str = "accel_m_s2") -> None:
+    """Raise if an accelerometer record (…, 3) looks like it is in g rather than m/s².
+
+    Decided on the median magnitude so that a few free-fall or vibration
+    samples do not trigger it; a zero record (e.g. a specific-force-free
+    simulation) is not flagged.
+    """
+    if not accel_m_s2.size:
+        return
+    flat = accel_m_s2.reshape(-1, accel_m_s2.shape[-1])
+    flat = flat[::max(1, flat.shape[0] // 20_000)]  # a strided subset decides it: cheap on 1e7-sample records
+    med = float(np.median(np.linalg.norm(flat, axis=-1)))
+    if 0.0 < med < MIN_MEDIAN_ACCEL_M_S2:
+        raise ValueError(f"{name} looks like it is in g, not m/s² (median |a| = {med:.4g} < "
+                         f"{MIN_MEDIAN_ACCEL_M_S2:g} m/s²); multiply by 9.80665")

@@ -25,7 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mtcal._validate import STANDARD_GRAVITY_M_S2, as_float_array, positive_scalar
+from mtcal._validate import STANDARD_GRAVITY_M_S2, as_float_array, check_accel_units, positive_scalar
 
 __all__ = ["ZvdParams", "moving_variance", "detect_static", "rest_intervals"]
 
@@ -152,8 +152,7 @@ def detect_static(accel_m_s2, fs_hz: float, params: ZvdParams | None = None,
     a = as_float_array(accel_m_s2, "accel_m_s2", last_dim=3)
     if a.ndim < 2:
         raise ValueError(f"accel_m_s2 must have shape (..., N, 3), got {a.shape}")
-    if np.median(np.linalg.norm(a, axis=-1)) < 0.2 * STANDARD_GRAVITY_M_S2:
-        raise ValueError("accel_m_s2 looks like it is in g, not m/s² (median |a| < 2 m/s²)")
+    check_accel_units(a)
     mag = np.linalg.norm(a, axis=-1)
     band = (mag > p.accel_min_m_s2) & (mag < p.accel_max_m_s2)
     var = moving_variance(mag - STANDARD_GRAVITY_M_S2, p.window_samples(fs_hz))

@@ -21,8 +21,9 @@ from mtcal import metrics, rotations  # noqa: E402
 from mtcal.filters.qncf import QncfFilter  # noqa: E402
 from mtcal.simulate import simulate_imu  # noqa: E402
 
-TINY = replace(run.QUICK, record_s=0.3, batch_trials=4, batch_record_s=0.1, loop_record_s=0.1,
-               profile_s=0.05, mc_trials=3, mc_duration_s=0.2, repeats=1)
+TINY = replace(run.QUICK, record_s=2.0,  # shorter records would need rates beyond any gyro range
+               batch_trials=4, batch_record_s=0.1, loop_record_s=0.1,
+               profile_s=0.05, mc_trials=3, mc_duration_s=2.0, repeats=1)
 
 
 @pytest.fixture(scope="module")
@@ -49,8 +50,8 @@ def test_bench_scenario_has_the_requested_length_and_holds():
 
 def test_inputs_are_seeded_and_shaped(tiny_inputs):
     inp = tiny_inputs
-    assert inp.gyro_1.shape == (300, 3) and inp.gyro_t.shape == (4, 100, 3)
-    assert inp.accel_t.shape == (4, 100, 3) and inp.is_static.shape == (300,)
+    assert inp.gyro_1.shape == (2000, 3) and inp.gyro_t.shape == (4, 100, 3)
+    assert inp.accel_t.shape == (4, 100, 3) and inp.is_static.shape == (2000,)
     again = run.make_inputs(TINY, seed=7)
     np.testing.assert_array_equal(again.gyro_t, inp.gyro_t)
     np.testing.assert_array_equal(again.accel_1, inp.accel_1)
@@ -121,7 +122,7 @@ def test_benchmark_methods_return_sane_rows(tiny_inputs):
     for key, name in run.ANCHORS.items():
         assert df.loc[df["method"] == name, f"x_{key}"].iloc[0] == pytest.approx(1.0)
     q = df[df["method"] == "mtcal QNCF batched"]
-    assert sorted(q["trials"]) == [1, 4] and sorted(q["samples"]) == [100, 300]
+    assert sorted(q["trials"]) == [1, 4] and sorted(q["samples"]) == [100, 2000]
     text = run.format_table(df)
     assert "mtcal QNCF batched" in text and "x filterpy" in text
 
@@ -175,7 +176,7 @@ def test_streaming_mc_is_chunk_size_independent():
 
 
 def test_prefetch_gives_the_same_numbers_as_single_thread():
-    kw = dict(trials=2, duration_s=0.5, chunk_samples=120, seed=5)
+    kw = dict(trials=2, duration_s=2.0, chunk_samples=120, seed=5)
     a = mc_stream.run_mc(prefetch=True, **kw)
     b = mc_stream.run_mc(prefetch=False, **kw)
     for key in ("rmse", "max_abs", "mean"):
@@ -204,9 +205,9 @@ def test_prefetch_stream_propagates_errors():
 
 
 def test_mc_main_reports_wall_time_and_rss(capsys):
-    out = mc_stream.main(["--trials", "2", "--duration", "0.2", "--chunk", "64", "--json"])
+    out = mc_stream.main(["--trials", "2", "--duration", "2", "--chunk", "640", "--json"])
     printed = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
-    assert printed["trial_samples"] == 400 and printed["wall_s"] > 0
+    assert printed["trial_samples"] == 4000 and printed["wall_s"] > 0
     assert printed["peak_rss_mb"] >= printed["rss_after_imports_mb"] > 10
     if printed["vm_hwm_mb"] is not None:
         assert printed["vm_hwm_mb"] > 10

@@ -46,3 +46,26 @@ def test_time_vector_and_angles():
         v.angle_rad([0.1, 90.0], "pitch")
     with pytest.raises(ValueError, match="unit quaternions"):
         v.unit_quaternion([0.5, 0.5, 0.5, 0.4], "q")
+
+
+def test_unit_plausibility_checks():
+    v.check_gyro_units(np.full((10, 3), 30.0))  # 30 rad/s is a possible rate
+    with pytest.raises(ValueError, match="degrees per second passed as rad/s"):
+        v.check_gyro_units(np.full((10, 3), 90.0))
+    v.check_accel_units(np.tile([0.0, 0.0, 9.8], (10, 1)))
+    v.check_accel_units(np.zeros((10, 3)))  # an all-zero record is not flagged
+    with pytest.raises(ValueError, match="looks like it is in g"):
+        v.check_accel_units(np.tile([0.0, 0.0, 1.0], (100_000, 1)))
+
+
+def test_filters_reject_wrong_units():
+    from mtcal.filters.qncf import qncf
+    from mtcal.filters.rams_ekf import RamsEkfParams, run_rams_ekf
+
+    gyro, acc_g = np.zeros((200, 3)), np.tile([0.0, 0.0, 1.0], (200, 1))
+    with pytest.raises(ValueError, match="looks like it is in g"):
+        qncf(gyro, acc_g, 1e-3)
+    with pytest.raises(ValueError, match="degrees per second"):
+        qncf(np.full((200, 3), 100.0), 9.80665 * acc_g, 1e-3)
+    with pytest.raises(ValueError, match="looks like it is in g"):
+        run_rams_ekf(gyro, acc_g, np.ones(200, bool), [0.0, 1.0, 0.0], [0.0, 0.0, 1.0], 1e-3, RamsEkfParams())

@@ -68,7 +68,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from mtcal import rotations
-from mtcal._validate import STANDARD_GRAVITY_M_S2, as_float_array, positive_scalar, unit_quaternion
+from mtcal._validate import (STANDARD_GRAVITY_M_S2, as_float_array, check_accel_units, check_gyro_units,
+                             positive_scalar, unit_quaternion)
 
 __all__ = ["QncfParams", "QncfResult", "QncfFilter", "qncf", "amd_statistic",
            "initial_attitude_from_accel"]
@@ -456,6 +457,9 @@ class QncfFilter:
         a = self._prepare(accel_m_s2, "accel_m_s2", 2)
         if w.shape != a.shape:
             raise ValueError(f"gyro_rad_s and accel_m_s2 must have the same shape, got {w.shape} and {a.shape}")
+        check_gyro_units(w)
+        if w.shape[1] > 1:  # one sample may legitimately be small (free fall, vibration): judge records only
+            check_accel_units(a)
         m, n = w.shape[1], self.trials
         q_out = np.empty((n, m, 4))
         amd_out = np.empty((n, m))
@@ -554,6 +558,8 @@ def qncf(gyro_rad_s, accel_m_s2, dt_s: float, params: QncfParams = QncfParams(),
         raise ValueError(f"gyro_rad_s must have shape (N, 3) or (T, N, 3), got {w.shape}")
     if w.shape != a.shape:
         raise ValueError(f"gyro_rad_s and accel_m_s2 must have the same shape, got {w.shape} and {a.shape}")
+    check_gyro_units(w)
+    check_accel_units(a)
     single = w.ndim == 2
     if q0 is None:
         n0 = max(1, min(int(init_samples), w.shape[-2]))

@@ -48,7 +48,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mtcal._validate import as_float_array, positive_scalar
+from mtcal._validate import as_float_array, check_accel_units, check_gyro_units, positive_scalar
 
 __all__ = ["RamsEkfParams", "RamsEkfReference", "RamsEkfResult", "RamsEkfFilter", "run_rams_ekf",
            "measurement_model", "initial_state"]
@@ -297,6 +297,9 @@ def _record(gyro_rad_s, accel_m_s2) -> tuple[np.ndarray, np.ndarray]:
         a = a[None]
     if g.shape != a.shape:
         raise ValueError(f"gyro_rad_s and accel_m_s2 must have the same shape, got {g.shape} and {a.shape}")
+    check_gyro_units(g)
+    if g.shape[1] > 1:  # a single sample may legitimately be small: judge records only
+        check_accel_units(a)
     return g, a
 
 
