@@ -17,8 +17,8 @@ STANDARD_GRAVITY_M_S2 = 9.80665
 
 
 def as_float_array(value, name: str, *, ndim: int | tuple[int, ...] | None = None,
-                   last_dim: int | None = None, allow_empty: bool = False) -> np.ndarray:
-    """Return ``value`` as a finite float64 array (a copy never aliases the caller's).
+                   last_dim: int | None = None, allow_empty: bool = False, copy: bool = True) -> np.ndarray:
+    """Return ``value`` as a finite float64 array (by default a copy that never aliases the caller's).
 
     Parameters
     ----------
@@ -32,11 +32,14 @@ def as_float_array(value, name: str, *, ndim: int | tuple[int, ...] | None = Non
         Required length of the last axis (e.g. 3 for vectors, 4 for quaternions).
     allow_empty : bool
         Whether a zero-size array is accepted.
+    copy : bool
+        ``False`` returns float64 input as a read-only-by-convention view
+        (no copy of large filter records); the caller must not modify it.
     """
     if isinstance(value, (str, bytes)) or value is None:
         raise TypeError(f"{name} must be a numeric array, got {type(value).__name__}")
     try:
-        arr = np.array(value, dtype=np.float64, copy=True)
+        arr = np.array(value, dtype=np.float64, copy=True) if copy else np.asarray(value, dtype=np.float64)
     except (TypeError, ValueError) as exc:
         raise TypeError(f"{name} must be a numeric array: {exc}") from None
     if ndim is not None:

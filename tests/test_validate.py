@@ -69,3 +69,11 @@ def test_filters_reject_wrong_units():
         qncf(np.full((200, 3), 100.0), 9.80665 * acc_g, 1e-3)
     with pytest.raises(ValueError, match="looks like it is in g"):
         run_rams_ekf(gyro, acc_g, np.ones(200, bool), [0.0, 1.0, 0.0], [0.0, 0.0, 1.0], 1e-3, RamsEkfParams())
+
+
+def test_as_float_array_without_copy_is_a_view_of_float64_input():
+    src = np.ones((4, 3))
+    assert np.shares_memory(v.as_float_array(src, "x", copy=False), src)
+    assert not np.shares_memory(v.as_float_array(src, "x"), src)
+    with pytest.raises(ValueError, match="x must be finite"):
+        v.as_float_array([np.nan, 1.0, 2.0], "x", copy=False)

@@ -503,17 +503,8 @@ def _component_major(x: np.ndarray, out: np.ndarray, block: int = 64) -> np.ndar
 
 
 def _as_input(x, name: str) -> np.ndarray:
-    """Float64 view (no copy when already float64) checked for shape (..., 3) and finiteness."""
-    if isinstance(x, (str, bytes)) or x is None:
-        raise TypeError(f"{name} must be a numeric array, got {type(x).__name__}")
-    arr = np.asarray(x, dtype=np.float64)
-    if arr.ndim not in (1, 2, 3) or arr.shape[-1] != 3:
-        raise ValueError(f"{name} must have shape (3,), (N, 3) or (T, N, 3), got {arr.shape}")
-    if arr.size == 0:
-        raise ValueError(f"{name} must not be empty")
-    if not np.isfinite(arr).all():
-        raise ValueError(f"{name} must be finite (no NaN or inf)")
-    return arr
+    """Float64 view (no copy when already float64) checked for shape (3,), (N, 3) or (T, N, 3)."""
+    return as_float_array(x, name, ndim=(1, 2, 3), last_dim=3, copy=False)
 
 
 def qncf(gyro_rad_s, accel_m_s2, dt_s: float, params: QncfParams = QncfParams(), *,
@@ -558,9 +549,7 @@ def qncf(gyro_rad_s, accel_m_s2, dt_s: float, params: QncfParams = QncfParams(),
         raise ValueError(f"gyro_rad_s must have shape (N, 3) or (T, N, 3), got {w.shape}")
     if w.shape != a.shape:
         raise ValueError(f"gyro_rad_s and accel_m_s2 must have the same shape, got {w.shape} and {a.shape}")
-    check_gyro_units(w)
-    check_accel_units(a)
-    single = w.ndim == 2
+    single = w.ndim == 2  # unit plausibility is checked once, in QncfFilter.run
     if q0 is None:
         n0 = max(1, min(int(init_samples), w.shape[-2]))
         q0 = initial_attitude_from_accel(np.mean(a[..., :n0, :], axis=-2))

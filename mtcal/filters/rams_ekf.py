@@ -269,22 +269,8 @@ def _static_flags(is_static, shape) -> np.ndarray:
 
 
 def _float_view(value, name: str) -> np.ndarray:
-    """``value`` as float64 (T, N, 3) or (N, 3) without copying float64 input; checks like ``as_float_array``."""
-    if isinstance(value, (str, bytes)) or value is None:
-        raise TypeError(f"{name} must be a numeric array, got {type(value).__name__}")
-    try:
-        arr = np.asarray(value, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
-        raise TypeError(f"{name} must be a numeric array: {exc}") from None
-    if arr.ndim not in (2, 3):
-        raise ValueError(f"{name} must have ndim in (2, 3), got shape {arr.shape}")
-    if arr.shape[-1] != 3:
-        raise ValueError(f"{name} must have last dimension 3, got shape {arr.shape}")
-    if arr.size == 0:
-        raise ValueError(f"{name} must not be empty, got shape {arr.shape}")
-    if not np.isfinite(arr).all():
-        raise ValueError(f"{name} must be finite (no NaN or inf)")
-    return arr
+    """``value`` as float64 (T, N, 3) or (N, 3) without copying float64 input."""
+    return as_float_array(value, name, ndim=(2, 3), last_dim=3, copy=False)
 
 
 def _record(gyro_rad_s, accel_m_s2) -> tuple[np.ndarray, np.ndarray]:
