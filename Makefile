@@ -26,7 +26,7 @@ reproduce: $(STAMP)
 ## Unit tests plus nbval over every notebook at CI size (outputs go to build/ci/).
 test: $(STAMP)
 	MTCAL_SIZE=ci MTCAL_OUTPUT_DIR=$(CURDIR)/build/ci $(BIN)/python -m pytest -q -p no:cacheprovider \
-		tests $(NOTEBOOKS) --nbval-lax --nbval-current-env
+		--doctest-modules mtcal tests $(NOTEBOOKS) --nbval-lax --nbval-current-env
 
 bench: $(STAMP)
 	$(BIN)/python -m pip install --quiet --disable-pip-version-check -c constraints.txt -e '.[dev,bench]'

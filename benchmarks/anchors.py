@@ -10,7 +10,7 @@ a user would write) so that throughputs compare like with like:
 * :func:`imufusion_loop` — ``imufusion.Ahrs.update_no_magnetometer`` per sample
   (C library; gyro in °/s, accelerometer in g, as the library expects).
 * :func:`filterpy_ekf_loop` — ``filterpy.kalman.ExtendedKalmanFilter`` with the
-  4-state RAMS model ``x = [θ, b_x, b_y, b_z]`` (seed 004 Eq 24–33): predict with
+  4-state RAMS model ``x = [θ, b_x, b_y, b_z]`` (wang2022sensors Eq 24–33): predict with
   ``u = ω``, update with ``h(θ) = R(θ, v)ᵀ ā0`` (Joseph form inside filterpy).
 * :func:`numpy_ekf_loop` — the same EKF written as textbook 4×4/3×3 numpy matrix
   algebra per sample (``inv(S)``, Joseph form).
@@ -142,7 +142,7 @@ def ekf_matrices(params: RamsEkfParams, axis, dt_s: float) -> tuple[np.ndarray, 
 
 
 def ekf_measurement(theta_rad: float, axis, accel0_m_s2) -> tuple[np.ndarray, np.ndarray]:
-    """``h(θ) = R(θ, v)ᵀ ā0`` (seed 004 Eq 28) and ``dh/dθ`` for one θ, shapes (3,) and (3,)."""
+    """``h(θ) = R(θ, v)ᵀ ā0`` (wang2022sensors Eq 28) and ``dh/dθ`` for one θ, shapes (3,) and (3,)."""
     v = np.asarray(axis, float)
     a0 = np.asarray(accel0_m_s2, float)
     par = v * (v @ a0)

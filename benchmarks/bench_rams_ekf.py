@@ -13,13 +13,13 @@ import time
 
 import numpy as np
 
-from mtcal import profiles
+from mtcal.core import profiles
 from mtcal.filters.rams_ekf import RamsEkfReference, initial_state, run_rams_ekf
-from mtcal.scenarios004 import Imu004, RotationSetup, simulate_rotation
+from mtcal.studies.wang2022sensors.runs import ImuSpec, RotationSetup, simulate_rotation
 
 
 def main(trials: int = 1000) -> int:
-    imu = Imu004()
+    imu = ImuSpec()
     prof = profiles.step_schedule(np.radians([0.0, 40.0, -20.0]), np.radians(40.0), 1.0, imu.fs_hz)
     th = np.broadcast_to(prof.angle_rad[:, 0], (trials, prof.time_s.size))
     rec = simulate_rotation(th, np.broadcast_to(prof.rate_rad_s[:, 0], th.shape),

@@ -1,19 +1,19 @@
 """Streaming Monte Carlo benchmark: 1000 trials × 60 s @ 1 kHz of QNCF in bounded memory.
 
-simulate (:class:`mtcal.simulate.ImuStream`) → QNCF (:class:`mtcal.filters.qncf.QncfFilter`,
-state carried chunk to chunk) → metrics (:class:`mtcal.montecarlo.ErrorAccumulator`),
-driven by :func:`mtcal.montecarlo.run_streaming`. Nothing of size
+simulate (:class:`mtcal.core.simulate.ImuStream`) → QNCF (:class:`mtcal.filters.qncf.QncfFilter`,
+state carried chunk to chunk) → metrics (:class:`mtcal.core.montecarlo.ErrorAccumulator`),
+driven by :func:`mtcal.core.montecarlo.run_streaming`. Nothing of size
 trials × samples is ever held: memory is O(trials × chunk_samples). Because the
 stream's random draws and the filter step do not depend on the chunk size, the
 per-sample errors are bit-identical for any chunk size; only the running sums
 of the accumulator are added in a different order (rounding, ~1e-16 relative).
 
 Scenario (also used by ``benchmarks/run.py`` so that every method sees the same
-data): a 1-channel pitch step schedule about the body x axis (seed 000 Eq 8/9
+data): a 1-channel pitch step schedule about the body x axis (wang2023cja Eq 8/9
 pitch; RAMS EKF axis v = x), waypoints 0 → 30 → −20 → 45 → 10 → 0 deg, 70 % of
 the record in holds, 30 % in minimum-jerk moves (so the schedule scales with the
-record length), no lever arm; the tactical MEMS IMU of seed 000
-(:class:`mtcal.scenarios000.ImuSpec000`, every error source on, 5 min after
+record length), no lever arm; the tactical MEMS IMU of wang2023cja
+(:class:`mtcal.studies.wang2023cja.runs.ImuSpec`, every error source on, 5 min after
 power-on); QNCF with its default gains, started at the true initial attitude.
 
 Run alone::
@@ -36,12 +36,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mtcal import profiles, rotations
+from mtcal.core import profiles, rotations
 from mtcal.filters.qncf import QncfFilter, QncfParams
-from mtcal.metrics import angle_difference, percentile_band
-from mtcal.montecarlo import ErrorAccumulator, run_streaming
-from mtcal.scenarios000 import ImuSpec000
-from mtcal.simulate import ImuErrorModel, ImuRecord, ImuStream, Trajectory
+from mtcal.core.metrics import angle_difference, percentile_band
+from mtcal.core.montecarlo import ErrorAccumulator, run_streaming
+from mtcal.studies.wang2023cja.runs import ImuSpec
+from mtcal.core.simulate import ImuErrorModel, ImuRecord, ImuStream, Trajectory
 
 __all__ = ["PITCH_WAYPOINTS_DEG", "BenchData", "bench_scenario", "error_model", "PrefetchStream",
            "QncfErrorConsumer",
@@ -49,7 +49,7 @@ __all__ = ["PITCH_WAYPOINTS_DEG", "BenchData", "bench_scenario", "error_model", 
 
 #: Pitch waypoints of the benchmark schedule (deg).
 PITCH_WAYPOINTS_DEG = (0.0, 30.0, -20.0, 45.0, 10.0, 0.0)
-#: Rotation axis of the schedule in the body frame (pitch axis of seed 000 Eq 9, ZXY).
+#: Rotation axis of the schedule in the body frame (pitch axis of wang2023cja Eq 9, ZXY).
 AXIS_B = (1.0, 0.0, 0.0)
 _HOLD_FRACTION = 0.7
 
@@ -86,8 +86,8 @@ def bench_scenario(duration_s: float = 60.0, fs_hz: float = 1000.0) -> BenchData
 
 
 def error_model() -> ImuErrorModel:
-    """Seed 000 tactical MEMS IMU, every error source on, identity mounting."""
-    return ImuSpec000().error_model((1.0, 0.0, 0.0, 0.0))
+    """wang2023cja tactical MEMS IMU, every error source on, identity mounting."""
+    return ImuSpec().error_model((1.0, 0.0, 0.0, 0.0))
 
 
 class PrefetchStream(ImuStream):

@@ -1,12 +1,12 @@
 """``make bench``: mtcal's batched filters against the libraries users would pick instead.
 
 One process, one synthetic scenario (``benchmarks/mc_stream.py``: 60 s @ 1 kHz
-pitch step schedule, seed 000 tactical MEMS IMU, simulated with
-:class:`mtcal.simulate.ImuStream` from a seeded generator), every method side by
+pitch step schedule, wang2023cja tactical MEMS IMU, simulated with
+:class:`mtcal.core.simulate.ImuStream` from a seeded generator), every method side by
 side on the same numbers:
 
 * the 1000-trial record is the first ``batch_record_s`` seconds of all trials
-  (one :class:`~mtcal.simulate.ImuStream` chunk; 1000 × 60 s would need
+  (one :class:`~mtcal.core.simulate.ImuStream` chunk; 1000 × 60 s would need
   1.4 GB per array — the full length is the streaming Monte Carlo's job);
 * the single-trial record is one 60 s realisation (``simulate_imu``, same
   scenario, error model and seed);
@@ -59,7 +59,7 @@ if str(HERE) not in sys.path:
 import anchors  # noqa: E402
 import mc_stream  # noqa: E402
 from mtcal.filters.qncf import QncfFilter, QncfParams  # noqa: E402
-from mtcal.simulate import ImuStream, simulate_imu  # noqa: E402
+from mtcal.core.simulate import ImuStream, simulate_imu  # noqa: E402
 
 try:  # the RAMS EKF may be absent in an older checkout
     from mtcal.filters.rams_ekf import RamsEkfParams, run_rams_ekf
@@ -453,7 +453,7 @@ def main(argv: list[str] | None = None) -> pd.DataFrame:
     sizes = QUICK if args.quick else FULL
     t_start = time.perf_counter()
     print(f"mtcal benchmarks ({'quick' if args.quick else 'full'} sizes) - {_versions()}")
-    print(f"data: {sizes.record_s:g} s @ {FS_HZ:g} Hz pitch schedule, seed 000 tactical MEMS IMU, seed {SEED}; "
+    print(f"data: {sizes.record_s:g} s @ {FS_HZ:g} Hz pitch schedule, wang2023cja tactical MEMS IMU, seed {SEED}; "
           f"{sizes.batch_trials} trials x first {sizes.batch_record_s:g} s for batched runs; "
           f"per-sample Python loops on the first {sizes.loop_record_s:g} s")
     print("load average before the run (1/5/15 min): "

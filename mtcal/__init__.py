@@ -1,9 +1,54 @@
 """mtcal — attitude estimation and IMU calibration, reproduced from three papers.
 
-Modules (one concept each): :mod:`mtcal.rotations` (conventions),
-:mod:`mtcal.simulate` (IMU error model), :mod:`mtcal.profiles` (motion
-profiles), :mod:`mtcal.metrics` (RMSE, MaxAE, Allan deviation),
-:mod:`mtcal.paper` (the papers' numbers), :mod:`mtcal.report` (notebook output).
+Layers (each a subpackage, imports only point downwards):
+
+* :mod:`mtcal.core` — paper-independent: rotations and conventions, IMU simulation,
+  motion profiles, metrics, streaming Monte Carlo, input validation
+* :mod:`mtcal.methods` — methods named by what they compute (least-squares error
+  quaternion, constrained fits, six-position procedure, large-angle accelerometer
+  attitude, gyro roll, rotation axis, zero-velocity detection)
+* :mod:`mtcal.filters` — QNCF, RAMS EKF, baselines
+* :mod:`mtcal.studies` — one package per paper: ``wang2023cja``, ``tan2022``,
+  ``wang2022sensors``
+* :mod:`mtcal.reporting` — the papers' numbers, comparison with bands, output files
+* :mod:`mtcal.cli` — the ``mtcal`` command
+
+The most used names are re-exported here:
+
+>>> import numpy as np, mtcal
+>>> q = mtcal.quat_from_euler_zxy(0.1, 0.2, 0.3)
+>>> np.round(mtcal.euler_zxy_from_quat(q), 12).tolist()
+[0.1, 0.2, 0.3]
 """
 
-__version__ = "0.1.0"
+from mtcal import core, filters, methods, reporting
+from mtcal.core.metrics import angle_difference, max_abs_error, percentile_band, rmse
+from mtcal.core.rotations import (euler_zxy_from_quat, quat_conjugate, quat_from_euler_zxy, quat_multiply,
+                                  quat_to_matrix)
+from mtcal.core.simulate import ImuErrorModel, ImuRecord, ImuStream, SensorErrors, Trajectory, simulate_imu
+from mtcal.filters.qncf import QncfFilter, QncfParams, qncf
+from mtcal.filters.rams_ekf import RamsEkfFilter, RamsEkfParams, run_rams_ekf
+from mtcal.methods.quaternion_lsq import apply_error_matrix, least_squares_error_matrix
+from mtcal.methods.rotation_axis import estimate_axis
+from mtcal.methods.zero_velocity import ZvdParams, detect_static
+from mtcal.reporting.paper_numbers import load as load_paper_table
+
+__version__ = "0.2.0"
+
+__all__ = [
+    "core", "methods", "filters", "reporting", "studies", "cli",
+    "quat_from_euler_zxy", "euler_zxy_from_quat", "quat_multiply", "quat_conjugate", "quat_to_matrix",
+    "Trajectory", "SensorErrors", "ImuErrorModel", "ImuRecord", "ImuStream", "simulate_imu",
+    "angle_difference", "rmse", "max_abs_error", "percentile_band",
+    "QncfParams", "QncfFilter", "qncf", "RamsEkfParams", "RamsEkfFilter", "run_rams_ekf",
+    "least_squares_error_matrix", "apply_error_matrix", "estimate_axis", "ZvdParams", "detect_static",
+    "load_paper_table", "__version__",
+]
+
+
+def __getattr__(name):  # lazy: studies and cli pull in pandas/matplotlib/argparse only when asked
+    if name in ("studies", "cli"):
+        import importlib
+
+        return importlib.import_module(f"mtcal.{name}")
+    raise AttributeError(f"module 'mtcal' has no attribute {name!r}")

@@ -2,7 +2,7 @@
 # # 00 — Conventions and errata
 #
 # This notebook pins down the rotation conventions of the three seed papers as
-# implemented in `mtcal.rotations`, shows by computation the errata listed in
+# implemented in `mtcal.core.rotations`, shows by computation the errata listed in
 # `REPRODUCTION.md` §3 (and `data/paper/README.md`), and checks the IMU
 # simulator's noise model against its configured parameters with an Allan
 # deviation plot.
@@ -25,17 +25,20 @@ import pandas as pd
 from IPython.display import display
 from scipy.spatial.transform import Rotation
 
-from mtcal import calibration, largeangle, metrics, paper, report, rotations, simulate
-from mtcal.simulate import ImuErrorModel, SensorErrors, Trajectory
+from mtcal.methods import quaternion_lsq as calibration, large_angle as largeangle
+from mtcal.reporting import compare
+from mtcal.core import metrics, rotations, simulate
+from mtcal.reporting import paper_numbers as paper, output as report
+from mtcal.core.simulate import ImuErrorModel, SensorErrors, Trajectory
 
 report.setup_matplotlib()
 rows = []  # paper-vs-mtcal comparison rows
 
 # %% [markdown]
-# ## Seed 000 Eq 8/9 — Euler angles ↔ scalar-first quaternion
+# ## wang2023cja Eq 8/9 — Euler angles ↔ scalar-first quaternion
 #
 # Eq 9 is `q = qz(ψ) ⊗ qx(θ) ⊗ qy(γ)`: yaw ψ about z, pitch θ about x, roll γ
-# about y, which is scipy's intrinsic `'ZXY'`. `mtcal.rotations` implements
+# about y, which is scipy's intrinsic `'ZXY'`. `mtcal.core.rotations` implements
 # the printed component formulas; we compare them with scipy and check that
 # Eq 8 inverts Eq 9 over random attitudes.
 
@@ -51,13 +54,13 @@ eq9_vs_scipy = np.max(np.abs(rotations.align_signs(q_eq9) - rotations.align_sign
 eq8_round_trip = np.max(np.abs(rotations.euler_zxy_from_quat(q_eq9) - angles))
 print(f"max |Eq 9 − scipy 'ZXY'| over {n} attitudes : {eq9_vs_scipy:.1e}")
 print(f"max |Eq 8(Eq 9(angles)) − angles| (rad)      : {eq8_round_trip:.1e}")
-rows.append(paper.comparison_row("conv-000", "Eq 9 == scipy 'ZXY' (max abs diff)", "-", f"{eq9_vs_scipy:.1e}",
+rows.append(compare.comparison_row("conv-000", "Eq 9 == scipy 'ZXY' (max abs diff)", "-", f"{eq9_vs_scipy:.1e}",
                                  "< 1e-12", bool(eq9_vs_scipy < 1e-12)))
-rows.append(paper.comparison_row("conv-000", "Eq 8 inverts Eq 9 (max rad)", "-", f"{eq8_round_trip:.1e}",
+rows.append(compare.comparison_row("conv-000", "Eq 8 inverts Eq 9 (max rad)", "-", f"{eq8_round_trip:.1e}",
                                  "< 1e-10", bool(eq8_round_trip < 1e-10)))
 
 # %% [markdown]
-# ### The axis-assignment conflict in seed 000
+# ### The axis-assignment conflict in wang2023cja
 #
 # §3.2 says *"the x-axis is the yaw axis, y-axis is the pitch axis and z-axis
 # is the roll axis"*, and Eq 3 integrates `W_x → ψ`, `W_y → θ`, `W_z → γ`.
@@ -77,7 +80,7 @@ conflict = pd.DataFrame(conflict)
 report.show_table(conflict, "{:.3f}")
 eq8_axes_ok = (np.isclose(conflict.loc[0, "Eq 8 pitch (deg)"], 10) and
                np.isclose(conflict.loc[1, "Eq 8 roll (deg)"], 10) and np.isclose(conflict.loc[2, "Eq 8 yaw (deg)"], 10))
-rows.append(paper.comparison_row("erratum-000-6", "Eq 8: x→pitch, y→roll, z→yaw (text: x yaw, y pitch, z roll)",
+rows.append(compare.comparison_row("wang2023cja erratum 6", "Eq 8: x→pitch, y→roll, z→yaw (text: x yaw, y pitch, z roll)",
                                  "conflict", "conflict confirmed" if eq8_axes_ok else "no conflict",
                                  "Eq 8/9 implemented as printed", bool(eq8_axes_ok)))
 
@@ -86,7 +89,7 @@ rows.append(paper.comparison_row("erratum-000-6", "Eq 8: x→pitch, y→roll, z�
 # it is the only self-consistent reading, since Eq 8 and Eq 9 round-trip
 # exactly. The text of §3.2 is treated as an erratum.
 #
-# ## Seed 000 Eq 1 and Eq 4 — installation error and its small-angle coupling
+# ## wang2023cja Eq 1 and Eq 4 — installation error and its small-angle coupling
 #
 # From Eq 1 and Eq 3, the attitude error is `Δ = s − C_s^b s`. Expanding
 # `C_s^b = (C_b^s)ᵀ` to first order gives `Δψ = −α1θs + α2γs`,
@@ -112,12 +115,12 @@ eq4_err_corrected = np.max(np.abs(exact - corrected))
 eq4_err_printed = np.max(np.abs(exact - printed))
 print(f"max |exact − corrected| = {np.degrees(eq4_err_corrected):.2e} deg (second order)")
 print(f"max |exact − printed|   = {np.degrees(eq4_err_printed):.2e} deg (sign error)")
-rows.append(paper.comparison_row("erratum-000-7", "Eq 4 sign: max |exact − printed| (deg)", "-",
+rows.append(compare.comparison_row("wang2023cja erratum 7", "Eq 4 sign: max |exact − printed| (deg)", "-",
                                  float(np.degrees(eq4_err_printed)), "printed ≈ −exact",
                                  bool(eq4_err_printed > 50 * eq4_err_corrected)))
 
 # %% [markdown]
-# ## Seed 000 Eq 13 — how many positions?
+# ## wang2023cja Eq 13 — how many positions?
 #
 # §3.1 argues that 12 equations (3 positions) suffice because of the
 # quaternion norm constraint. But Eq 13 is the *unconstrained* linear LS:
@@ -138,11 +141,11 @@ try:
 except ValueError as exc:
     three_ok = False
     print("least_squares_error_matrix with 3 positions:", str(exc)[:90], "…")
-rows.append(paper.comparison_row("erratum-000-Eq13", "minimum positions for Eq 13", 3, 4,
+rows.append(compare.comparison_row("wang2023cja erratum Eq 13", "minimum positions for Eq 13", 3, 4,
                                  "paper says 3 suffice", bool(three_ok)))
 
 # %% [markdown]
-# ## Seed 000 printed calibration matrices
+# ## wang2023cja printed calibration matrices
 #
 # The turntable matrix has `Q(3,3) = −1.000355` although the text says the
 # diagonal is close to 1; the wind-tunnel matrix has `Q(2,2) = 1.004462`. A
@@ -153,21 +156,21 @@ rows.append(paper.comparison_row("erratum-000-Eq13", "minimum positions for Eq 1
 # NBVAL_CHECK_OUTPUT
 matrices = {}
 for name in ("turntable", "windtunnel"):
-    df = paper.load(f"seed000_matrix_qbs_{name}")
+    df = paper.load(f"wang2023cja_matrix_qbs_{name}")
     m = df.select_dtypes("number").to_numpy()[:, -4:]
     matrices[name] = m
     ortho = np.linalg.norm(m @ m.T - np.eye(4))
     print(f"{name:10s}: det = {np.linalg.det(m):+.6f}, ‖Q Qᵀ − I‖_F = {ortho:.5f}, diag = "
           + ", ".join(f"{d:+.6f}" for d in np.diag(m)))
 det_turntable = np.linalg.det(matrices["turntable"])
-rows.append(paper.comparison_row("erratum-000-1", "det of printed turntable matrix", "≈ +1 (text)",
+rows.append(compare.comparison_row("wang2023cja erratum 1", "det of printed turntable matrix", "≈ +1 (text)",
                                  float(det_turntable), "proper rotation needs det > 0", bool(det_turntable > 0)))
 det_wind = np.linalg.det(matrices["windtunnel"])
-rows.append(paper.comparison_row("erratum-000-11", "det of printed wind-tunnel matrix", "≈ +1",
+rows.append(compare.comparison_row("wang2023cja erratum 11", "det of printed wind-tunnel matrix", "≈ +1",
                                  float(det_wind), "|det − 1| < 1e-3 for a rotation", bool(abs(det_wind - 1) < 1e-3)))
 
 # %% [markdown]
-# ## Seed 001 Eq 3 — the missing `sinθ`
+# ## tan2022 Eq 3 — the missing `sinθ`
 #
 # From Eq 2, `θ = atan(−f_x / √(f_y² + f_z²))` with
 # `f = g[−sinθ, cosθ sinφ, cosθ cosφ]`, equal errors ΔA on the three axes
@@ -194,9 +197,9 @@ err_printed = np.max(np.abs(numeric - printed_eq3)) / scale
 print(f"max |Δθ| from perturbation         : {np.degrees(scale):.5f} deg")
 print(f"max |perturbation − corrected| / max: {err_corrected:.1e}   (second order: ~ (ΔA/g)·tanθ, largest at |θ| = 89°)")
 print(f"max |perturbation − printed|   / max: {err_printed:.3f}")
-rows.append(paper.comparison_row("erratum-001-3", "Eq 3 printed vs perturbation (rel. max diff)", "-",
+rows.append(compare.comparison_row("tan2022 erratum 3", "Eq 3 printed vs perturbation (rel. max diff)", "-",
                                  float(err_printed), "printed Eq 3 is first-order exact", bool(err_printed < 1e-2)))
-rows.append(paper.comparison_row("erratum-001-3", "Eq 3 corrected vs perturbation (rel. max diff)", "-",
+rows.append(compare.comparison_row("tan2022 erratum 3", "Eq 3 corrected vs perturbation (rel. max diff)", "-",
                                  f"{err_corrected:.1e}", "< 1e-2 (second order)", bool(err_corrected < 1e-2)))
 
 # %%
@@ -209,14 +212,14 @@ for ax, data, title in zip(axes, (numeric, corrected_eq3, printed_eq3),
     ax.set_xlabel("roll φ (deg)")
     fig.colorbar(cs, ax=ax)
 axes[0].set_ylabel("pitch θ (deg)")
-report.save_figure(fig, "F00-1")
+report.save_figure(fig, "conventions_eq3_erratum")
 
 # %% [markdown]
 # The printed Eq 3 gets the large-pitch region wrong (it predicts the roll
 # term at θ = 0, where it actually vanishes); the corrected form agrees with
 # the perturbation to second order. Notebook 20 uses the corrected form.
 #
-# ## Seed 001 Eq 1 — printed DCM is not orthogonal
+# ## tan2022 Eq 1 — printed DCM is not orthogonal
 #
 # `data/paper/README.md` notes that four entries of the printed Eq 1 use θ
 # where φ belongs. Building the printed matrix at (ψ, θ, φ) = (30°, 40°, 50°):
@@ -240,7 +243,7 @@ print("diag(C Cᵀ), mtcal dcm_zyx:", np.array2string(np.diag(rotations.dcm_zyx(
 # simulator's `noise_density` and `bias_random_walk`) has
 # `σ_A(τ)² = N²/τ + K²τ/3`. We simulate several static records, compute the
 # overlapping Allan deviation, fit N and K back, and compare with the
-# configured values (tactical-grade MEMS values, as used for seed 000).
+# configured values (tactical-grade MEMS values, as used for wang2023cja).
 
 # %%
 n_density = np.radians(0.15) / 60.0  # 0.15 °/√h angle random walk → rad/s/√Hz
@@ -255,9 +258,9 @@ fit = metrics.fit_allan_noise(taus, adev, flat_term=False)
 n_ratio, k_ratio = fit["N"] / n_density, fit["K"] / k_rrw
 print(f"N: configured {n_density:.3e}, recovered {fit['N']:.3e} rad/s/√Hz  (ratio {n_ratio:.3f})")
 print(f"K: configured {k_rrw:.3e}, recovered {fit['K']:.3e} rad/s/√s   (ratio {k_ratio:.3f})")
-rows.append(paper.comparison_row("sim", "Allan N recovered / configured", 1.0, float(n_ratio),
+rows.append(compare.comparison_row("sim", "Allan N recovered / configured", 1.0, float(n_ratio),
                                  "within 10 %", bool(abs(n_ratio - 1) < 0.1)))
-rows.append(paper.comparison_row("sim", "Allan K recovered / configured", 1.0, float(k_ratio),
+rows.append(compare.comparison_row("sim", "Allan K recovered / configured", 1.0, float(k_ratio),
                                  "within 10 %", bool(abs(k_ratio - 1) < 0.1)))
 
 # %%
@@ -270,16 +273,16 @@ ax.loglog(taus, np.degrees(np.sqrt(fit["N"] ** 2 / taus + fit["K"] ** 2 * taus /
 ax.set_xlabel("τ (s)")
 ax.set_ylabel("Allan deviation (°/h)")
 ax.legend()
-report.save_figure(fig, "F00-2")
+report.save_figure(fig, "conventions_allan")
 
 # %% [markdown]
 # ## Summary: paper vs mtcal
 
 # %%
-table = paper.comparison_table(rows)
+table = compare.comparison_table(rows)
 report.show_table(table)
-report.save_table(table, "00_conventions_and_errata_comparison")
-print(paper.claims_summary(table))
+report.save_table(table, "conventions_comparison")
+print(compare.claims_summary(table))
 
 # %% [markdown]
 # "holds = False" rows are the papers' errata confirmed by computation

@@ -17,9 +17,9 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
 import anchors  # noqa: E402
 import mc_stream  # noqa: E402
 import run  # noqa: E402
-from mtcal import metrics, rotations  # noqa: E402
+from mtcal.core import metrics, rotations  # noqa: E402
 from mtcal.filters.qncf import QncfFilter  # noqa: E402
-from mtcal.simulate import simulate_imu  # noqa: E402
+from mtcal.core.simulate import simulate_imu  # noqa: E402
 
 TINY = replace(run.QUICK, record_s=2.0,  # shorter records would need rates beyond any gyro range
                batch_trials=4, batch_record_s=0.1, loop_record_s=0.1,

@@ -1,6 +1,6 @@
 """Quaternion Nonlinear Complementary Filter (QNCF) with an Acceleration Magnitude Detector.
 
-Seed 000 (Wang et al., CJA 2023) §3 solves the attitude of the IMU (s-frame)
+wang2023cja (Wang et al., CJA 2023) §3 solves the attitude of the IMU (s-frame)
 with the QNCF of its ref. 18. The paper gives the gyro update (Eq 5–7), the
 Euler extraction (Eq 8) and the gating rule "the PI controller works when
 Thr < 0.3", but neither the PI law nor the AMD statistic. Both are defined
@@ -18,7 +18,7 @@ respect to the world frame (s → w, z up), ``v_w = C(q) v_s``.
        q_{k+1} = q_k ⊗ q(h),   q(h) = [cos(|Δθ|/2), Δθ/|Δθ| · sin(|Δθ|/2)]
 
    which is exact when ω̃_k is the mean rate over the interval (what an
-   integrating gyro reports, see :mod:`mtcal.simulate`).
+   integrating gyro reports, see :mod:`mtcal.core.simulate`).
 3. Accelerometer correction (Mahony-type PI on the gravity direction): the
    predicted "up" direction in the s-frame is the third row of ``C(q)``::
 
@@ -52,7 +52,7 @@ respect to the world frame (s → w, z up), ``v_w = C(q) v_s``.
    moves (centripetal ≲ 0.01 %) stay below, and model vibration in a running
    hypersonic tunnel (≳ 0.5 m/s² at tens of Hz: AMD ≳ 3 %) trips it.
 5. Euler angles are extracted with Eq 8
-   (:func:`mtcal.rotations.euler_zxy_from_quat`).
+   (:func:`mtcal.core.rotations.euler_zxy_from_quat`).
 
 Implementation: the time loop is the only Python loop; every step is
 vectorised over Monte Carlo trials (leading axis), works in place on
@@ -67,8 +67,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mtcal import rotations
-from mtcal._validate import (STANDARD_GRAVITY_M_S2, as_float_array, check_accel_units, check_gyro_units,
+from mtcal.core import rotations
+from mtcal.core.validate import (STANDARD_GRAVITY_M_S2, as_float_array, check_accel_units, check_gyro_units,
                              positive_scalar, unit_quaternion)
 
 __all__ = ["QncfParams", "QncfResult", "QncfFilter", "qncf", "amd_statistic",
@@ -84,7 +84,7 @@ class QncfParams:
     kp_rad_s : float
         Proportional gain K_p (1/s; rad/s of correction per rad of tilt error).
         Default 1.0 /s: tilt time constant 1 s, settled within a 3 s rest
-        (seed 000 §3.2) — chosen here, the paper gives no gains.
+        (wang2023cja §3.2) — chosen here, the paper gives no gains.
     ki_rad_s2 : float
         Integral gain K_i (1/s²). Default 0.02 /s² (bias-estimate time
         constant K_p/K_i = 50 s) — chosen here.
@@ -509,7 +509,7 @@ def _as_input(x, name: str) -> np.ndarray:
 
 def qncf(gyro_rad_s, accel_m_s2, dt_s: float, params: QncfParams = QncfParams(), *,
          q0=None, init_samples: int = 100, return_euler: bool = True) -> QncfResult:
-    """Run the QNCF over a whole record (seed 000 Eq 5–8 + PI/AMD), vectorised over trials.
+    """Run the QNCF over a whole record (wang2023cja Eq 5–8 + PI/AMD), vectorised over trials.
 
     Parameters
     ----------

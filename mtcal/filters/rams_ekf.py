@@ -1,4 +1,4 @@
-"""RAMS rotation-angle EKF of seed 004 (Sec. 3.3, Eq 24–33), reference and fast versions.
+"""RAMS rotation-angle EKF of wang2022sensors (Sec. 3.3, Eq 24–33), reference and fast versions.
 
 State ``x = [θ, b_x, b_y, b_z]`` (rotation angle about the known axis v in rad,
 gyro bias in rad/s).
@@ -48,7 +48,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mtcal._validate import as_float_array, check_accel_units, check_gyro_units, positive_scalar
+from mtcal.core.validate import as_float_array, check_accel_units, check_gyro_units, positive_scalar
 
 __all__ = ["RamsEkfParams", "RamsEkfReference", "RamsEkfResult", "RamsEkfFilter", "run_rams_ekf",
            "measurement_model", "initial_state"]

@@ -1,0 +1,173 @@
+"""Error metrics: RMSE, MaxAE, wrapped angle differences, static/moving split, Allan deviation.
+
+All reductions act over the sample axis (``axis=-1`` by default for 1-D
+series; pass ``axis`` for other layouts) and are vectorised over trials.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from mtcal.core.validate import as_float_array, positive_int, positive_scalar
+
+__all__ = ["angle_difference", "rmse", "max_abs_error", "split_static_moving",
+           "allan_deviation", "fit_allan_noise", "percentile_band", "bootstrap_medians"]
+
+
+def angle_difference(estimate_rad, truth_rad) -> np.ndarray:
+    """Wrapped difference ``estimate − truth`` in ``[−π, π)`` (rad)."""
+    e = as_float_array(estimate_rad, "estimate_rad", allow_empty=True)
+    t = as_float_array(truth_rad, "truth_rad", allow_empty=True)
+    try:
+        d = e - t
+    except ValueError:
+        raise ValueError(f"estimate_rad and truth_rad must broadcast, got {e.shape} and {t.shape}") from None
+    return (d + np.pi) % (2 * np.pi) - np.pi
+
+
+def _errors(error, mask) -> np.ndarray:
+    err = as_float_array(error, "error")
+    if mask is None:
+        return err
+    m = np.asarray(mask)
+    if m.dtype != bool:
+        raise TypeError(f"mask must be boolean, got dtype {m.dtype}")
+    try:
+        m = np.broadcast_to(m, err.shape)
+    except ValueError:
+        raise ValueError(f"mask of shape {m.shape} must broadcast to error of shape {err.shape}") from None
+    if not np.any(m):
+        raise ValueError("mask must select at least one sample")
+    return np.where(m, err, np.nan)
+
+
+def rmse(error, axis: int = -1, mask=None) -> np.ndarray:
+    """Root-mean-square of ``error`` along ``axis``, optionally over ``mask`` only."""
+    err = _errors(error, mask)
+    return np.sqrt(np.nanmean(err**2, axis=axis))
+
+
+def max_abs_error(error, axis: int = -1, mask=None) -> np.ndarray:
+    """Maximum absolute error (MaxAE) along ``axis``, optionally over ``mask`` only."""
+    err = _errors(error, mask)
+    return np.nanmax(np.abs(err), axis=axis)
+
+
+def split_static_moving(error, is_static, axis: int = -1) -> dict[str, np.ndarray]:
+    """RMSE and MaxAE separately over static and moving samples.
+
+    Returns a dict with keys ``static_rmse``, ``static_max``, ``moving_rmse``,
+    ``moving_max`` (NaN where a class has no samples).
+    """
+    s = np.asarray(is_static)
+    if s.dtype != bool:
+        raise TypeError(f"is_static must be boolean, got dtype {s.dtype}")
+    out = {}
+    for name, m in (("static", s), ("moving", ~s)):
+        if np.any(m):
+            out[f"{name}_rmse"] = rmse(error, axis, m)
+            out[f"{name}_max"] = max_abs_error(error, axis, m)
+        else:
+            out[f"{name}_rmse"] = out[f"{name}_max"] = np.nan
+    return out
+
+
+def allan_deviation(rate, fs_hz: float, taus_s=None) -> tuple[np.ndarray, np.ndarray]:
+    """Overlapping Allan deviation of a rate signal.
+
+    ``σ²(τ) = 1 / (2 τ² (M − 2m)) Σ_k (Θ_{k+2m} − 2 Θ_{k+m} + Θ_k)²`` with
+    ``Θ`` the integrated signal, ``m = τ fs`` and M samples (IEEE Std 952).
+
+    Parameters
+    ----------
+    rate : array_like, shape (N,) or (..., N)
+        Rate samples (e.g. rad/s); the last axis is time. Leading axes are
+        independent records, averaged in the Allan variance.
+    fs_hz : float
+        Sample rate (Hz).
+    taus_s : array_like, optional
+        Cluster times (s); default ~10 per decade from 1/fs to N/(3 fs).
+
+    Returns
+    -------
+    taus_s : ndarray
+        Cluster times actually used (rounded to whole samples).
+    adev : ndarray
+        Allan deviation at each τ (unit of ``rate``).
+    """
+    x = as_float_array(rate, "rate")
+    fs = positive_scalar(fs_hz, "fs_hz")
+    n = x.shape[-1]
+    if n < 9:
+        raise ValueError(f"rate must have at least 9 samples along its last axis, got {n}")
+    if taus_s is None:
+        m = np.unique(np.round(np.logspace(0, np.log10(n / 3), 60)).astype(int))
+    else:
+        tau = as_float_array(taus_s, "taus_s", ndim=1)
+        m = np.unique(np.round(tau * fs).astype(int))
+        if np.any(m < 1) or np.any(2 * m >= n):
+            raise ValueError(f"taus_s must lie in [1/fs, N/(2 fs)) = [{1 / fs:g}, {n / (2 * fs):g}) s")
+    theta = np.concatenate([np.zeros(x.shape[:-1] + (1,)), np.cumsum(x, axis=-1)], axis=-1) / fs
+    avar = np.empty(m.size)
+    for i, mi in enumerate(m):
+        d = theta[..., 2 * mi:] - 2 * theta[..., mi:-mi] + theta[..., :-2 * mi]
+        avar[i] = np.mean(d**2) / (2.0 * (mi / fs) ** 2)
+    return m / fs, np.sqrt(avar)
+
+
+def fit_allan_noise(taus_s, adev, *, flat_term: bool = True) -> dict[str, float]:
+    """Fit ``σ²(τ) = N²/τ + B_f² + K² τ/3`` to an Allan curve (LS on relative residuals).
+
+    Returns the white-noise density ``N`` (unit·s^½ = unit/√Hz, read at
+    τ = 1 s), the rate random walk ``K`` (unit/√s, read at τ = 3 s) and the
+    flat term ``B_f`` (≈ 0.664 × bias instability), each ≥ 0. With
+    ``flat_term=False`` the flat term is fixed to 0 (a sensor model without
+    bias instability), which makes N and K better determined.
+    """
+    tau = as_float_array(taus_s, "taus_s", ndim=1)
+    sig = as_float_array(adev, "adev", ndim=1)
+    if tau.shape != sig.shape:
+        raise ValueError(f"taus_s and adev must have the same shape, got {tau.shape} and {sig.shape}")
+    if tau.size < 3:
+        raise ValueError("taus_s must have at least 3 points to fit 3 noise terms")
+    from scipy.optimize import nnls
+
+    a = np.stack([1.0 / tau, np.ones_like(tau) * float(flat_term), tau / 3.0], axis=1) / sig[:, None] ** 2
+    coef, _ = nnls(a, np.ones_like(tau))  # relative residuals: (model − σ²)/σ²
+    n2, b2, k2 = coef
+    return {"N": float(np.sqrt(n2)), "B_flat": float(np.sqrt(b2)), "K": float(np.sqrt(k2))}
+
+
+def percentile_band(samples, axis: int = 0, level: float = 0.95) -> dict[str, np.ndarray]:
+    """Median and central ``level`` interval of Monte Carlo samples along ``axis``."""
+    x = as_float_array(samples, "samples")
+    if not 0 < level < 1:
+        raise ValueError(f"level must be in (0, 1), got {level}")
+    lo, med, hi = np.percentile(x, [50 * (1 - level), 50, 50 * (1 + level)], axis=axis)
+    return {"median": med, "low": lo, "high": hi}
+
+
+def bootstrap_medians(samples, rng: np.random.Generator, n_boot: int = 1000) -> np.ndarray:
+    """Medians of bootstrap resamples of K Monte Carlo sample sets, shape (n_boot, K).
+
+    For a statistic built from several Monte Carlo medians (a ratio of two
+    medians, a log-log slope through K medians) the spread of the statistic
+    over the resamples gives its 95 % interval
+    (``percentile_band(stat(bootstrap_medians(...)))``).
+
+    Parameters
+    ----------
+    samples : sequence of array_like (n_k,)
+        K one-dimensional sample sets (e.g. axis errors per set-up, one value per trial).
+    rng : numpy.random.Generator
+        Source of the resampling indices.
+    n_boot : int
+        Number of bootstrap resamples.
+    """
+    if not isinstance(rng, np.random.Generator):
+        raise TypeError(f"rng must be a numpy.random.Generator, got {type(rng).__name__}")
+    n = positive_int(n_boot, "n_boot")
+    sets = [as_float_array(x, f"samples[{k}]", ndim=1) for k, x in enumerate(samples)]
+    if not sets or any(x.size < 2 for x in sets):
+        raise ValueError("samples must hold at least one set of >= 2 values")
+    return np.stack([np.median(x[rng.integers(0, x.size, (n, x.size))], axis=1) for x in sets], axis=1)

@@ -1,0 +1,207 @@
+"""Motion profiles: turntable/mechanism schedules, sweeps, oscillations, fixed-axis rotation.
+
+An :class:`AngleProfile` holds angles (rad) with their exact first and second
+time derivatives, so that truth rates and lever-arm accelerations are
+analytic. Moves between waypoints follow the quintic minimum-jerk blend
+``s(τ) = 10τ³ − 15τ⁴ + 6τ⁵`` (zero rate and acceleration at both ends), a
+good model of a servo turntable or a wind-tunnel support mechanism.
+
+Builders:
+
+* :func:`step_schedule` — hold, move, hold … through a list of waypoints
+  (turntable positions, AoA sweeps, the six-position procedure);
+* :func:`sinusoid` — ``θ(t) = offset + A sin(2π f t + φ)``;
+* :func:`constant_rate` — uniform rotation between two angles;
+* :func:`trajectory_from_euler_zxy` — wang2023cja Euler angles (Eq 9) → :class:`~mtcal.core.simulate.Trajectory`;
+* :func:`fixed_axis_trajectory` — rotation about a fixed axis with a lever arm
+  (tangential + centripetal acceleration), wang2022sensors.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from mtcal.core import rotations
+from mtcal.core.validate import as_float_array, positive_scalar, unit_quaternion
+from mtcal.core.simulate import Trajectory
+
+__all__ = ["AngleProfile", "step_schedule", "sinusoid", "constant_rate",
+           "trajectory_from_euler_zxy", "fixed_axis_trajectory"]
+
+
+@dataclass(frozen=True)
+class AngleProfile:
+    """Angles with analytic derivatives on a uniform time grid.
+
+    Attributes
+    ----------
+    time_s : ndarray (N,)
+    angle_rad, rate_rad_s, accel_rad_s2 : ndarray (N, D)
+        Angle, rate and angular acceleration for D channels.
+    is_static : ndarray (N,) of bool
+        True where every channel is at rest (inside a hold).
+    segment : ndarray (N,) of int
+        Index of the hold (even numbers 0, 2, …) or move (odd) each sample is in;
+        hold ``k`` (waypoint ``k``) has segment ``2k``.
+    """
+
+    time_s: np.ndarray
+    angle_rad: np.ndarray
+    rate_rad_s: np.ndarray
+    accel_rad_s2: np.ndarray
+    is_static: np.ndarray
+    segment: np.ndarray
+
+    @property
+    def fs_hz(self) -> float:
+        """Sample rate (Hz)."""
+        return 1.0 / float(self.time_s[1] - self.time_s[0])
+
+    def hold_slices(self) -> list[slice]:
+        """Sample slices of each hold, in waypoint order."""
+        out = []
+        for seg in np.unique(self.segment[self.segment % 2 == 0]):
+            idx = np.flatnonzero(self.segment == seg)
+            out.append(slice(int(idx[0]), int(idx[-1]) + 1))
+        return out
+
+
+def _quintic(tau: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Minimum-jerk blend s(τ), s'(τ), s''(τ) for τ ∈ [0, 1]."""
+    s = tau**3 * (10 - 15 * tau + 6 * tau**2)
+    ds = 30 * tau**2 * (1 - tau) ** 2
+    dds = 60 * tau * (1 - tau) * (1 - 2 * tau)
+    return s, ds, dds
+
+
+def step_schedule(waypoints_rad, rate_rad_s: float, hold_s, fs_hz: float,
+                  *, min_move_s: float = 0.0) -> AngleProfile:
+    """Hold at each waypoint, moving between them with a minimum-jerk blend.
+
+    Parameters
+    ----------
+    waypoints_rad : array_like, shape (K,) or (K, D)
+        Angle vectors (rad) to visit in order; the profile starts in a hold
+        at ``waypoints[0]``.
+    rate_rad_s : float
+        Mean rate of each move (rad/s) on the channel moving the most; the
+        peak rate of the quintic blend is 1.875× this.
+    hold_s : float or array_like, shape (K,)
+        Hold duration at each waypoint (s).
+    fs_hz : float
+        Sample rate (Hz).
+    min_move_s : float
+        Lower bound on a move's duration (s), e.g. for zero-length moves.
+
+    Returns
+    -------
+    AngleProfile
+    """
+    wp = as_float_array(waypoints_rad, "waypoints_rad", ndim=(1, 2))
+    wp = wp[:, None] if wp.ndim == 1 else wp
+    rate = positive_scalar(rate_rad_s, "rate_rad_s")
+    fs = positive_scalar(fs_hz, "fs_hz")
+    positive_scalar(min_move_s, "min_move_s", allow_zero=True)
+    holds = np.broadcast_to(as_float_array(hold_s, "hold_s"), (wp.shape[0],)).astype(float)
+    if np.any(holds <= 0):
+        raise ValueError("hold_s must be > 0 at every waypoint")
+    moves = np.maximum(np.max(np.abs(np.diff(wp, axis=0)), axis=1) / rate, min_move_s)
+    moves = np.maximum(moves, 1.0 / fs)
+    durations = np.empty(2 * wp.shape[0] - 1)
+    durations[0::2] = holds
+    durations[1::2] = moves
+    edges = np.concatenate([[0.0], np.cumsum(durations)])
+    n = int(np.floor(edges[-1] * fs + 1e-9))
+    t = np.arange(n) / fs
+    seg = np.clip(np.searchsorted(edges, t, side="right") - 1, 0, durations.size - 1)
+    k = seg // 2
+    start = wp[k]
+    is_move = seg % 2 == 1
+    delta = np.where(is_move[:, None], wp[np.minimum(k + 1, wp.shape[0] - 1)] - start, 0.0)
+    dur = durations[seg]
+    tau = np.clip((t - edges[seg]) / dur, 0.0, 1.0)
+    s, ds, dds = _quintic(tau)
+    angle = start + delta * np.where(is_move, s, 0.0)[:, None]
+    rate_out = delta * np.where(is_move, ds / dur, 0.0)[:, None]
+    accel = delta * np.where(is_move, dds / dur**2, 0.0)[:, None]
+    return AngleProfile(t, angle, rate_out, accel, ~is_move, seg)
+
+
+def sinusoid(amplitude_rad: float, freq_hz: float, duration_s: float, fs_hz: float,
+             *, phase_rad: float = 0.0, offset_rad: float = 0.0) -> AngleProfile:
+    """Single-channel oscillation ``θ(t) = offset + A sin(2π f t + φ)``."""
+    amp = positive_scalar(amplitude_rad, "amplitude_rad", allow_zero=True)
+    f = positive_scalar(freq_hz, "freq_hz")
+    fs = positive_scalar(fs_hz, "fs_hz")
+    n = int(np.floor(positive_scalar(duration_s, "duration_s") * fs + 1e-9))
+    t = np.arange(n) / fs
+    w = 2 * np.pi * f
+    arg = w * t + float(phase_rad)
+    angle = offset_rad + amp * np.sin(arg)
+    return AngleProfile(t, angle[:, None], (amp * w * np.cos(arg))[:, None],
+                        (-amp * w * w * np.sin(arg))[:, None], np.zeros(n, bool), np.ones(n, int))
+
+
+def constant_rate(start_rad: float, stop_rad: float, rate_rad_s: float, fs_hz: float) -> AngleProfile:
+    """Single-channel uniform rotation from ``start`` to ``stop`` (inclusive)."""
+    rate = positive_scalar(rate_rad_s, "rate_rad_s")
+    fs = positive_scalar(fs_hz, "fs_hz")
+    span = float(stop_rad) - float(start_rad)
+    if span == 0:
+        raise ValueError("stop_rad must differ from start_rad")
+    n = int(np.floor(abs(span) / rate * fs + 1e-9)) + 1
+    t = np.arange(n) / fs
+    signed = np.sign(span) * rate
+    angle = start_rad + signed * t
+    return AngleProfile(t, angle[:, None], np.full((n, 1), signed), np.zeros((n, 1)),
+                        np.zeros(n, bool), np.ones(n, int))
+
+
+def trajectory_from_euler_zxy(profile: AngleProfile) -> Trajectory:
+    """Body trajectory from a 3-channel profile of wang2023cja angles [ψ, θ, γ] (Eq 9)."""
+    if profile.angle_rad.shape[1] != 3:
+        raise ValueError(f"profile must have 3 channels [yaw, pitch, roll], "
+                         f"got {profile.angle_rad.shape[1]}")
+    a = profile.angle_rad
+    return Trajectory(profile.time_s, rotations.quat_from_euler_zxy(a[:, 0], a[:, 1], a[:, 2]))
+
+
+def fixed_axis_trajectory(profile: AngleProfile, axis_b, *, lever_arm_b_m=(0.0, 0.0, 0.0),
+                          q_wb0=(1.0, 0.0, 0.0, 0.0)) -> Trajectory:
+    """Rotation by θ(t) about a body-fixed axis through a fixed point (wang2022sensors).
+
+    The attitude is ``C_wb(t) = C_wb0 R(θ(t), v)`` so the static specific force is
+    ``f_b = R(θ, v)ᵀ ā0`` with ``ā0 = C_wb0ᵀ (−g_w)`` (Eq 15 measurement model).
+    The sensor sits at ``r`` (body frame, m) from a point on the axis; its
+    acceleration is ``C_wb0 R [θ̈ (v × r) + θ̇² v × (v × r)]`` (tangential +
+    centripetal).
+
+    Parameters
+    ----------
+    profile : AngleProfile
+        Single-channel rotation angle (rad) with derivatives.
+    axis_b : 3-vector
+        Unit rotation axis v in the body frame.
+    lever_arm_b_m : 3-vector
+        Sensor position from the axis (m).
+    q_wb0 : 4-vector
+        Body attitude at θ = 0 (scalar-first).
+    """
+    if profile.angle_rad.shape[1] != 1:
+        raise ValueError(f"profile must have 1 channel, got {profile.angle_rad.shape[1]}")
+    v = as_float_array(axis_b, "axis_b", ndim=1, last_dim=3)
+    if abs(np.linalg.norm(v) - 1.0) > 1e-6:
+        raise ValueError(f"axis_b must be a unit vector, got |axis_b| = {np.linalg.norm(v):.6g}")
+    r = as_float_array(lever_arm_b_m, "lever_arm_b_m", ndim=1, last_dim=3)
+    q0 = unit_quaternion(q_wb0, "q_wb0")
+    theta = profile.angle_rad[:, 0]
+    q_rel = rotations.quat_from_rotvec(theta[:, None] * v)
+    q_wb = rotations.quat_multiply(q0, q_rel)
+    vxr = np.cross(v, r)
+    vxvxr = np.cross(v, vxr)
+    acc_b0 = profile.accel_rad_s2[:, 0:1] * vxr + profile.rate_rad_s[:, 0:1] ** 2 * vxvxr
+    c_wb = rotations.quat_to_matrix(q_wb)
+    acc_w = np.einsum("nij,nj->ni", c_wb, acc_b0)
+    return Trajectory(profile.time_s, q_wb, acc_w)

@@ -1,0 +1,451 @@
+"""Rotation conventions of the three seed papers, in one tested place.
+
+All angles are in radians and all quaternions are **scalar-first**
+``[q0, q1, q2, q3]`` (the papers' order). scipy's ``Rotation`` is
+scalar-last by default; conversion happens only here, with
+``scalar_first=True``.
+
+Conventions (REPRODUCTION.md §2)
+--------------------------------
+wang2023cja (Wang et al., CJA 2023)
+    Eq 9 builds ``q = qz(ψ) ⊗ qx(θ) ⊗ qy(γ)``: yaw ψ about z, pitch θ about
+    x, roll γ about y. It equals ``Rotation.from_euler('ZXY', [ψ, θ, γ])``.
+    Eq 8 is its inverse. The frame is z-up, y forward (nose), x to the right.
+    (§3.2 of the paper says "x yaw, y pitch, z roll"; Eq 8/9 are implemented
+    as printed, see notebook 00.)
+    Eq 1: installation matrix ``C_b^s = Rz(α1) Ry(α2) Rx(α3)``.
+    Eq 4: small-angle coupling of installation errors into the attitude.
+tan2022 (Tan et al., 2022)
+    Aerospace Z-Y-X Euler angles (ψ, θ, φ); static specific force
+    ``f = g [−sinθ, cosθ sinφ, cosθ cosφ]`` (Eq 2).
+wang2022sensors (Wang et al., Sensors 2022)
+    Rotation about unit axis v by θ: ``R(θ, v)`` (Rodrigues), measurement
+    ``a = R(θ, v)ᵀ ā0``.
+
+Quaternion sign rule
+--------------------
+q and −q are the same rotation. Before any least squares over quaternion
+components, :func:`align_signs` flips each quaternion so that its dot product
+with a reference quaternion is non-negative (default reference: identity for
+:func:`align_signs`, the previous sample for :func:`make_continuous`).
+
+Examples
+--------
+>>> import numpy as np
+>>> q = quat_from_euler_zxy(np.radians(10.0), np.radians(20.0), np.radians(30.0))
+>>> np.degrees(euler_zxy_from_quat(q)).round(6)
+array([10., 20., 30.])
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.spatial.transform import Rotation
+
+from mtcal.core.validate import angle_rad, as_float_array, unit_quaternion
+
+__all__ = ["mount_quaternion", "relative_to_initial", 
+    "hamilton", "quat_multiply", "quat_conjugate", "quat_normalize", "left_matrix", "right_matrix",
+    "align_signs", "make_continuous", "quat_from_rotvec", "rotvec_from_quat",
+    "quat_from_euler_zxy", "euler_zxy_from_quat", "euler_zxy_unchecked", "quat_to_matrix", "quat_from_matrix",
+    "installation_matrix", "installation_matrix_small_angle", "coupling_error_eq4",
+    "dcm_zyx", "specific_force_zyx", "pitch_roll_from_specific_force",
+    "axis_angle_matrix", "wrap_angle", "quat_angle_between",
+]
+
+
+# --------------------------------------------------------------------------
+# quaternion algebra (scalar-first, broadcasting over leading axes)
+# --------------------------------------------------------------------------
+def hamilton(p: np.ndarray, q: np.ndarray) -> np.ndarray:
+    """Unchecked Hamilton product ``p ⊗ q`` for hot loops (float arrays (..., 4)).
+
+    Filters call this inside their time loop; public callers should use
+    :func:`quat_multiply`, which validates its inputs first.
+    """
+    p0, p1, p2, p3 = p[..., 0], p[..., 1], p[..., 2], p[..., 3]
+    q0, q1, q2, q3 = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
+    return np.stack([
+        p0 * q0 - p1 * q1 - p2 * q2 - p3 * q3,
+        p0 * q1 + p1 * q0 + p2 * q3 - p3 * q2,
+        p0 * q2 - p1 * q3 + p2 * q0 + p3 * q1,
+        p0 * q3 + p1 * q2 - p2 * q1 + p3 * q0,
+    ], axis=-1)
+
+
+def quat_multiply(p, q) -> np.ndarray:
+    """Hamilton product ``p ⊗ q`` of scalar-first quaternions, shape (..., 4).
+
+    Broadcasts over leading axes. Neither input needs to be unit norm.
+    """
+    return hamilton(as_float_array(p, "p", last_dim=4), as_float_array(q, "q", last_dim=4))
+
+
+def quat_conjugate(q) -> np.ndarray:
+    """Conjugate ``[q0, −q1, −q2, −q3]`` (the inverse of a unit quaternion)."""
+    q = as_float_array(q, "q", last_dim=4)
+    q[..., 1:] *= -1.0
+    return q
+
+
+def quat_normalize(q) -> np.ndarray:
+    """Return ``q / |q|``; raises if any quaternion has (near) zero norm."""
+    q = as_float_array(q, "q", last_dim=4)
+    norm = np.linalg.norm(q, axis=-1, keepdims=True)
+    if np.any(norm < 1e-12):
+        raise ValueError("q must not contain zero-norm quaternions")
+    return q / norm
+
+
+def left_matrix(q) -> np.ndarray:
+    """Left product matrix ``L(q)`` with ``q ⊗ p = L(q) p``; shape (..., 4, 4)."""
+    q = as_float_array(q, "q", last_dim=4)
+    q0, q1, q2, q3 = np.moveaxis(q, -1, 0)
+    rows = [[q0, -q1, -q2, -q3],
+            [q1, q0, -q3, q2],
+            [q2, q3, q0, -q1],
+            [q3, -q2, q1, q0]]
+    return np.stack([np.stack(r, axis=-1) for r in rows], axis=-2)
+
+
+def right_matrix(q) -> np.ndarray:
+    """Right product matrix ``R(q)`` with ``p ⊗ q = R(q) p``; shape (..., 4, 4)."""
+    q = as_float_array(q, "q", last_dim=4)
+    q0, q1, q2, q3 = np.moveaxis(q, -1, 0)
+    rows = [[q0, -q1, -q2, -q3],
+            [q1, q0, q3, -q2],
+            [q2, -q3, q0, q1],
+            [q3, q2, -q1, q0]]
+    return np.stack([np.stack(r, axis=-1) for r in rows], axis=-2)
+
+
+def align_signs(q, reference=None) -> np.ndarray:
+    """Flip quaternions so that ``dot(q, reference) >= 0``.
+
+    Parameters
+    ----------
+    q : array_like, shape (..., 4)
+        Scalar-first quaternions.
+    reference : array_like, shape (4,) or broadcastable to q, optional
+        Reference quaternion(s); default identity ``[1, 0, 0, 0]`` (i.e. make
+        ``q0 >= 0``).
+
+    Returns
+    -------
+    ndarray, shape (..., 4)
+        Same rotations, consistent signs (a new array).
+    """
+    q = as_float_array(q, "q", last_dim=4)
+    ref = np.array([1.0, 0.0, 0.0, 0.0]) if reference is None else \
+        as_float_array(reference, "reference", last_dim=4)
+    dot = np.sum(q * ref, axis=-1, keepdims=True)
+    return np.where(dot < 0.0, -q, q)
+
+
+def make_continuous(q, axis: int = -2) -> np.ndarray:
+    """Flip signs along a time axis so consecutive quaternions have ``dot >= 0``.
+
+    Parameters
+    ----------
+    q : array_like, shape (..., N, ..., 4)
+        Quaternion time series; ``axis`` indexes time (default: the axis just
+        before the component axis).
+    """
+    q = as_float_array(q, "q", last_dim=4)
+    ax = axis % q.ndim
+    if ax == q.ndim - 1:
+        raise ValueError("axis must index time, not the quaternion component axis")
+    qt = np.moveaxis(q, ax, 0)
+    dots = np.sum(qt[1:] * qt[:-1], axis=-1)
+    flips = np.concatenate([np.zeros((1,) + dots.shape[1:], dtype=bool), dots < 0], axis=0)
+    parity = np.cumsum(flips, axis=0) % 2 == 1
+    qt = np.where(parity[..., None], -qt, qt)
+    return np.moveaxis(qt, 0, ax)
+
+
+def quat_from_rotvec(rotvec) -> np.ndarray:
+    """Quaternion of a rotation vector (Eq 7 of wang2023cja with Δθ = rotvec).
+
+    ``q = [cos(|Δθ|/2), Δθ/|Δθ| sin(|Δθ|/2)]``, with the limit ``[1, Δθ/2]``
+    handled without division by zero; shape (..., 3) → (..., 4).
+    """
+    v = as_float_array(rotvec, "rotvec", last_dim=3)
+    angle = np.linalg.norm(v, axis=-1, keepdims=True)
+    half = 0.5 * angle
+    # sin(x/2)/x, series for small x avoids 0/0
+    small = angle < 1e-8
+    safe = np.where(small, 1.0, angle)
+    k = np.where(small, 0.5 - angle**2 / 48.0, np.sin(half) / safe)
+    return np.concatenate([np.cos(half), k * v], axis=-1)
+
+
+def rotvec_from_quat(q) -> np.ndarray:
+    """Rotation vector (axis × angle, angle in [0, π]) of unit quaternions."""
+    q = align_signs(unit_quaternion(q, "q"))
+    vnorm = np.linalg.norm(q[..., 1:], axis=-1, keepdims=True)
+    angle = 2.0 * np.arctan2(vnorm, q[..., :1])
+    small = vnorm < 1e-12
+    k = np.where(small, 2.0, angle / np.where(small, 1.0, vnorm))
+    return k * q[..., 1:]
+
+
+def quat_angle_between(p, q) -> np.ndarray:
+    """Rotation angle (rad, in [0, π]) of ``p⁻¹ ⊗ q`` — the attitude difference."""
+    p = unit_quaternion(p, "p")
+    q = unit_quaternion(q, "q")
+    d = hamilton(quat_conjugate(p), q)  # atan2 keeps full precision near zero (arccos does not)
+    return 2.0 * np.arctan2(np.linalg.norm(d[..., 1:], axis=-1), np.abs(d[..., 0]))
+
+
+def quat_to_matrix(q) -> np.ndarray:
+    """Direction-cosine matrix of scalar-first unit quaternions, (..., 4) → (..., 3, 3).
+
+    The matrix maps vectors from the rotated frame to the reference frame
+    (``v_ref = C v_body``), as scipy's ``Rotation.as_matrix``.
+    """
+    q = unit_quaternion(q, "q")
+    shape = q.shape[:-1]
+    mat = Rotation.from_quat(q.reshape(-1, 4), scalar_first=True).as_matrix()
+    return mat.reshape(shape + (3, 3))
+
+
+def quat_from_matrix(matrix) -> np.ndarray:
+    """Scalar-first unit quaternion (q0 >= 0) of rotation matrices (..., 3, 3)."""
+    m = as_float_array(matrix, "matrix")
+    if m.ndim < 2 or m.shape[-2:] != (3, 3):
+        raise ValueError(f"matrix must have shape (..., 3, 3), got {m.shape}")
+    shape = m.shape[:-2]
+    q = Rotation.from_matrix(m.reshape(-1, 3, 3)).as_quat(scalar_first=True)
+    return align_signs(q.reshape(shape + (4,)))
+
+
+# --------------------------------------------------------------------------
+# wang2023cja: Eq 8 / Eq 9 (ZXY), Eq 1, Eq 4
+# --------------------------------------------------------------------------
+def quat_from_euler_zxy(yaw, pitch, roll) -> np.ndarray:
+    """wang2023cja Eq 9: scalar-first quaternion from yaw ψ, pitch θ, roll γ (rad).
+
+    ``q = qz(ψ) ⊗ qx(θ) ⊗ qy(γ)``, i.e. ``Rotation.from_euler('ZXY',
+    [ψ, θ, γ])``::
+
+        q0 = cθ/2 cψ/2 cγ/2 − sθ/2 sψ/2 sγ/2
+        q1 = sθ/2 cψ/2 cγ/2 − cθ/2 sψ/2 sγ/2
+        q2 = sθ/2 sψ/2 cγ/2 + cθ/2 cψ/2 sγ/2
+        q3 = cθ/2 sψ/2 cγ/2 + sθ/2 cψ/2 sγ/2
+
+    Parameters
+    ----------
+    yaw, pitch, roll : array_like
+        Angles in radians, broadcast against each other.
+
+    Returns
+    -------
+    ndarray, shape (..., 4)
+    """
+    psi = angle_rad(yaw, "yaw", allow_empty=True)
+    theta = angle_rad(pitch, "pitch", allow_empty=True)
+    gamma = angle_rad(roll, "roll", allow_empty=True)
+    psi, theta, gamma = np.broadcast_arrays(psi, theta, gamma)
+    cp, sp = np.cos(psi / 2), np.sin(psi / 2)
+    ct, st = np.cos(theta / 2), np.sin(theta / 2)
+    cg, sg = np.cos(gamma / 2), np.sin(gamma / 2)
+    return np.stack([
+        ct * cp * cg - st * sp * sg,
+        st * cp * cg - ct * sp * sg,
+        st * sp * cg + ct * cp * sg,
+        ct * sp * cg + st * cp * sg,
+    ], axis=-1)
+
+
+def euler_zxy_from_quat(q) -> np.ndarray:
+    """wang2023cja Eq 8: yaw ψ, pitch θ, roll γ (rad) from scalar-first unit quaternions.
+
+    ::
+
+        ψ = atan2(−2(q1q2 − q0q3), q0² − q1² + q2² − q3²)   ∈ [−π, π]
+        θ = asin(2(q2q3 + q0q1))                            ∈ [−π/2, π/2]
+        γ = atan2(−2(q1q3 − q0q2), q0² − q1² − q2² + q3²)   ∈ [−π, π]
+
+    Returns
+    -------
+    ndarray, shape (..., 3)
+        ``[ψ, θ, γ]`` along the last axis.
+    """
+    return euler_zxy_unchecked(unit_quaternion(q, "q"))
+
+
+def euler_zxy_unchecked(q: np.ndarray) -> np.ndarray:
+    """Eq 8 without input validation, for filter outputs that are unit by construction.
+
+    Same formulas as :func:`euler_zxy_from_quat` (which calls it after
+    checking ``q``); ``q`` must be a float array (..., 4) of unit quaternions.
+    """
+    q0, q1, q2, q3 = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
+    out = np.empty(q.shape[:-1] + (3,))
+    s00, s11, s22, s33 = q0 * q0, q1 * q1, q2 * q2, q3 * q3
+    np.arctan2(-2.0 * (q1 * q2 - q0 * q3), s00 - s11 + s22 - s33, out=out[..., 0])
+    np.arcsin(np.clip(2.0 * (q2 * q3 + q0 * q1), -1.0, 1.0), out=out[..., 1])
+    np.arctan2(-2.0 * (q1 * q3 - q0 * q2), s00 - s11 - s22 + s33, out=out[..., 2])
+    return out
+
+
+def installation_matrix(alpha1, alpha2, alpha3) -> np.ndarray:
+    """wang2023cja Eq 1: installation-error matrix ``C_b^s = Rz(α1) Ry(α2) Rx(α3)``.
+
+    Parameters
+    ----------
+    alpha1, alpha2, alpha3 : array_like
+        Installation angles (rad) about z, y and x.
+
+    Returns
+    -------
+    ndarray, shape (..., 3, 3)
+    """
+    a1 = angle_rad(alpha1, "alpha1")
+    a2 = angle_rad(alpha2, "alpha2")
+    a3 = angle_rad(alpha3, "alpha3")
+    a1, a2, a3 = np.broadcast_arrays(a1, a2, a3)
+    c1, s1, c2, s2, c3, s3 = np.cos(a1), np.sin(a1), np.cos(a2), np.sin(a2), np.cos(a3), np.sin(a3)
+    rows = [[c1 * c2, -c3 * s1 + s3 * c1 * s2, s3 * s1 + c3 * c1 * s2],
+            [s1 * c2, c3 * c1 + s3 * s1 * s2, -s3 * c1 + c3 * s1 * s2],
+            [-s2, s3 * c2, c3 * c2]]
+    return np.stack([np.stack(r, axis=-1) for r in rows], axis=-2)
+
+
+def installation_matrix_small_angle(alpha1, alpha2, alpha3) -> np.ndarray:
+    """wang2023cja Eq 1, small-angle form ``[[1, −α1, α2], [α1, 1, −α3], [−α2, α3, 1]]``."""
+    a1 = angle_rad(alpha1, "alpha1")
+    a2 = angle_rad(alpha2, "alpha2")
+    a3 = angle_rad(alpha3, "alpha3")
+    a1, a2, a3 = np.broadcast_arrays(a1, a2, a3)
+    one = np.ones_like(a1)
+    rows = [[one, -a1, a2], [a1, one, -a3], [-a2, a3, one]]
+    return np.stack([np.stack(r, axis=-1) for r in rows], axis=-2)
+
+
+def coupling_error_eq4(alphas, angles_s, *, printed: bool = False) -> np.ndarray:
+    """wang2023cja Eq 4: attitude error caused by small installation errors.
+
+    Δ = ``[ψs, θs, γs] − [ψ, θ, γ]`` with ``[ψ, θ, γ] = C_s^b [ψs, θs, γs]``
+    (Eq 3). From Eq 1, ``I − C_s^b ≈ [[0, −α1, α2], [α1, 0, −α3], [−α2, α3, 0]]``::
+
+        Δψ = −α1 θs + α2 γs
+        Δθ =  α1 ψs − α3 γs
+        Δγ = −α2 ψs + α3 θs
+
+    The paper prints the negative of each term (``printed=True``), which is
+    *true − measured* (erratum 7 in ``data/paper/README.md``).
+
+    Parameters
+    ----------
+    alphas : array_like, shape (..., 3)
+        Installation angles ``[α1, α2, α3]`` in rad.
+    angles_s : array_like, shape (..., 3)
+        Angles solved in the sensor frame ``[ψs, θs, γs]`` in rad.
+    printed : bool
+        Return the formula as printed in the paper instead of the corrected one.
+    """
+    a = angle_rad(alphas, "alphas", last_dim=3)
+    s = angle_rad(angles_s, "angles_s", last_dim=3)
+    a1, a2, a3 = np.moveaxis(a, -1, 0)
+    ps, ts, gs = np.moveaxis(s, -1, 0)
+    delta = np.stack([-a1 * ts + a2 * gs, a1 * ps - a3 * gs, -a2 * ps + a3 * ts], axis=-1)
+    return -delta if printed else delta
+
+
+# --------------------------------------------------------------------------
+# tan2022: aerospace Z-Y-X
+# --------------------------------------------------------------------------
+def dcm_zyx(yaw, pitch, roll) -> np.ndarray:
+    """Aerospace Z-Y-X direction-cosine matrix ``C_n^b`` (navigation → body).
+
+    ``C_n^b = Rx(φ)ᵀ Ry(θ)ᵀ Rz(ψ)ᵀ``, the transpose of
+    ``Rotation.from_euler('ZYX', [ψ, θ, φ]).as_matrix()``. This is the
+    corrected form of tan2022 Eq 1 (the printed one has θ where φ belongs).
+    """
+    psi = angle_rad(yaw, "yaw")
+    theta = angle_rad(pitch, "pitch")
+    phi = angle_rad(roll, "roll")
+    psi, theta, phi = np.broadcast_arrays(psi, theta, phi)
+    angles = np.stack([psi, theta, phi], axis=-1)
+    shape = angles.shape[:-1]
+    mat = Rotation.from_euler("ZYX", angles.reshape(-1, 3)).as_matrix()
+    return np.swapaxes(mat, -1, -2).reshape(shape + (3, 3))
+
+
+def specific_force_zyx(pitch, roll, g: float = 1.0) -> np.ndarray:
+    """tan2022 Eq 2: static accelerometer triad ``g [−sinθ, cosθ sinφ, cosθ cosφ]``.
+
+    Parameters
+    ----------
+    pitch, roll : array_like
+        θ and φ in rad (broadcast).
+    g : float
+        Gravity magnitude in the output unit (1.0 → output in g).
+    """
+    theta = angle_rad(pitch, "pitch")
+    phi = angle_rad(roll, "roll")
+    theta, phi = np.broadcast_arrays(theta, phi)
+    return g * np.stack([-np.sin(theta), np.cos(theta) * np.sin(phi),
+                         np.cos(theta) * np.cos(phi)], axis=-1)
+
+
+def pitch_roll_from_specific_force(f) -> np.ndarray:
+    """tan2022 Eq 2 inverted: ``θ = atan2(−fx, √(fy² + fz²))``, ``φ = atan2(fy, fz)``.
+
+    Returns ``[θ, φ]`` in rad along the last axis; ``f`` in any unit, shape (..., 3).
+    """
+    f = as_float_array(f, "f", last_dim=3)
+    theta = np.arctan2(-f[..., 0], np.hypot(f[..., 1], f[..., 2]))
+    phi = np.arctan2(f[..., 1], f[..., 2])
+    return np.stack([theta, phi], axis=-1)
+
+
+# --------------------------------------------------------------------------
+# wang2022sensors: rotation about a unit axis
+# --------------------------------------------------------------------------
+def axis_angle_matrix(angle, axis) -> np.ndarray:
+    """Rodrigues rotation ``R(θ, v) = I + sinθ [v]× + (1 − cosθ) [v]×²``.
+
+    Parameters
+    ----------
+    angle : array_like, shape (...)
+        θ in rad.
+    axis : array_like, shape (3,) or (..., 3)
+        Unit rotation axis v (|v| = 1 within 1e-6).
+
+    Returns
+    -------
+    ndarray, shape (..., 3, 3)
+    """
+    theta = as_float_array(angle, "angle")
+    v = as_float_array(axis, "axis", last_dim=3)
+    norm = np.linalg.norm(v, axis=-1)
+    if np.any(np.abs(norm - 1.0) > 1e-6):
+        raise ValueError(f"axis must be a unit vector, got |axis| = {np.atleast_1d(norm)[0]:.6g}")
+    vx, vy, vz = np.moveaxis(v, -1, 0)
+    zero = np.zeros_like(vx)
+    k = np.stack([np.stack([zero, -vz, vy], -1), np.stack([vz, zero, -vx], -1),
+                  np.stack([-vy, vx, zero], -1)], axis=-2)
+    s = np.sin(theta)[..., None, None]
+    c = np.cos(theta)[..., None, None]
+    return np.eye(3) + s * k + (1.0 - c) * (k @ k)
+
+
+def wrap_angle(angle) -> np.ndarray:
+    """Wrap angles (rad) to ``[−π, π)``."""
+    a = as_float_array(angle, "angle", allow_empty=True)
+    return (a + np.pi) % (2.0 * np.pi) - np.pi
+
+
+def mount_quaternion(alpha_rad) -> np.ndarray:
+    """``q_bs`` (simulator ``q_mount``) of Eq 1 angles ``[α1, α2, α3]`` (rad): C(q_bs) = (C_b^s)ᵀ."""
+    a = np.asarray(alpha_rad, dtype=float)
+    return quat_from_matrix(np.swapaxes(installation_matrix(a[0], a[1], a[2]), -1, -2))
+
+
+def relative_to_initial(q_est: np.ndarray, n0: int = 1) -> np.ndarray:
+    """Zero the attitude at the start: ``q_est(0)⁻¹ ⊗ q_est(t)`` (§4.1 initial angles 0°), (T, N, 4)."""
+    q0 = q_est[:, :n0].mean(axis=1)
+    q0 /= np.linalg.norm(q0, axis=-1, keepdims=True)
+    return hamilton(quat_conjugate(q0)[:, None, :], q_est)

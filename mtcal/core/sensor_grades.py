@@ -1,0 +1,209 @@
+"""Sensor-grade catalogue: named MEMS IMU error models with datasheet-style values.
+
+Each :class:`SensorGrade` holds the numbers an engineer reads off a datasheet, in
+the datasheet's units (°/√h, °/h, µg/√Hz, mg, ppm), and converts them once to an
+SI :class:`~mtcal.core.simulate.ImuErrorModel` with :meth:`SensorGrade.error_model`.
+Use a grade by name in a notebook's parameters cell (``gyro_grade="industrial"``)
+or from the library (:func:`sensor_grade`).
+
+The values are typical of a class, not of one part; the ``source`` of each grade
+names the parts it was read from. The papers' own sensors are included:
+``wang2023cja`` (the tactical MEMS assumed for Wang 2023, which prints no sensor
+numbers), ``wang2022sensors`` (Table 3 of Wang 2022) and ``tan2022`` (the 0.2 °/s
+gyro error and 1e-4 g accelerometer error of Tan 2022's analysis).
+
+Conversions (white noise and instability):
+
+* angle random walk ARW [°/√h] → gyro noise density [rad/s/√Hz] = ARW · (π/180) / 60
+* accelerometer noise density [µg/√Hz] → [m/s²/√Hz] = value · 9.80665e-6
+* bias instability [°/h] → [rad/s] = value · (π/180) / 3600 (1σ of a Gauss–Markov
+  bias with correlation time ``bias_instability_tau_s``)
+* turn-on bias repeatability [°/h] or [mg] → 1σ of a bias drawn once per trial
+
+References
+----------
+.. [1] IEEE Std 952-1997, *IEEE Standard Specification Format Guide and Test Procedure
+   for Single-Axis Interferometric Fiber Optic Gyros* (ARW and bias-instability
+   definitions used by MEMS datasheets).
+.. [2] Analog Devices ADIS16470, ADIS16495, ADXL355 data sheets; Bosch BMI088 data
+   sheet; TDK InvenSense ICM-20948 data sheet; Safran STIM300 data sheet;
+   Honeywell HG4930 data sheet (values rounded to the class).
+
+Examples
+--------
+>>> from mtcal.core.sensor_grades import sensor_grade, GRADES
+>>> g = sensor_grade("industrial")
+>>> round(g.gyro_arw_deg_rt_h, 2), round(g.gyro_bias_instability_deg_h, 1)
+(0.3, 5.0)
+>>> model = g.error_model()
+>>> f"{model.gyro.noise_density:.3e}"  # rad/s/√Hz
+'8.727e-05'
+>>> sorted(GRADES)[:3]
+['consumer', 'industrial', 'navigation']
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass, replace
+
+import numpy as np
+
+from mtcal.core.simulate import ImuErrorModel, SensorErrors
+from mtcal.core.units import DEG, DEG_H, MG, UG
+from mtcal.core.validate import positive_scalar
+
+__all__ = ["SensorGrade", "GRADES", "sensor_grade", "grade_names"]
+
+
+@dataclass(frozen=True)
+class SensorGrade:
+    """Datasheet-style error model of one IMU class (datasheet units; see module doc).
+
+    Parameters
+    ----------
+    name : str
+        Catalogue key.
+    gyro_arw_deg_rt_h : float
+        Gyro angle random walk (°/√h).
+    gyro_bias_instability_deg_h : float
+        Gyro in-run bias instability (°/h, 1σ Gauss–Markov).
+    gyro_bias_repeatability_deg_h : float
+        Gyro turn-on bias left after compensation (°/h, 1σ per trial).
+    gyro_scale_factor_ppm : float
+        Gyro residual scale-factor error (ppm, 1σ per axis per trial is *not* drawn:
+        applied as a fixed +, −, + pattern so runs are comparable).
+    accel_noise_ug_rt_hz : float
+        Accelerometer noise density (µg/√Hz).
+    accel_bias_instability_ug : float
+        Accelerometer in-run bias instability (µg, 1σ Gauss–Markov).
+    accel_bias_repeatability_mg : float
+        Accelerometer turn-on bias left after compensation (mg, 1σ per trial).
+    bias_instability_tau_s : float
+        Correlation time of both Gauss–Markov biases (s).
+    source : str
+        Where the values come from.
+    """
+
+    name: str
+    gyro_arw_deg_rt_h: float
+    gyro_bias_instability_deg_h: float
+    gyro_bias_repeatability_deg_h: float
+    gyro_scale_factor_ppm: float
+    accel_noise_ug_rt_hz: float
+    accel_bias_instability_ug: float
+    accel_bias_repeatability_mg: float
+    bias_instability_tau_s: float = 100.0
+    source: str = ""
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.name, str) or not self.name:
+            raise ValueError(f"name must be a non-empty str, got {self.name!r}")
+        for f in ("gyro_arw_deg_rt_h", "gyro_bias_instability_deg_h", "gyro_bias_repeatability_deg_h",
+                  "gyro_scale_factor_ppm", "accel_noise_ug_rt_hz", "accel_bias_instability_ug",
+                  "accel_bias_repeatability_mg"):
+            positive_scalar(getattr(self, f), f, allow_zero=True)
+        positive_scalar(self.bias_instability_tau_s, "bias_instability_tau_s")
+
+    # SI views -------------------------------------------------------------
+    @property
+    def gyro_noise_density_rad_s_rt_hz(self) -> float:
+        """Gyro white-noise density (rad/s/√Hz) = ARW · (π/180) / 60."""
+        return self.gyro_arw_deg_rt_h * DEG / 60.0
+
+    @property
+    def accel_noise_density_m_s2_rt_hz(self) -> float:
+        """Accelerometer white-noise density (m/s²/√Hz)."""
+        return self.accel_noise_ug_rt_hz * UG
+
+    def with_overrides(self, **values) -> "SensorGrade":
+        """A copy with some datasheet values changed (e.g. ``gyro_arw_deg_rt_h=0.5``).
+
+        Raises ``ValueError`` naming the valid fields for an unknown name.
+        """
+        valid = set(asdict(self)) - {"name"}
+        unknown = sorted(set(values) - valid)
+        if unknown:
+            raise ValueError(f"unknown sensor field(s) {unknown}; valid: {sorted(valid)}")
+        return replace(self, name=f"{self.name}*" if values else self.name, **values)
+
+    def error_model(self, q_mount=(1.0, 0.0, 0.0, 0.0), time_since_power_on_s: float = 300.0) -> ImuErrorModel:
+        """The SI :class:`~mtcal.core.simulate.ImuErrorModel` of this grade.
+
+        Parameters
+        ----------
+        q_mount : 4-tuple
+            Scalar-first mounting quaternion ``q_bs``.
+        time_since_power_on_s : float
+            Seconds since power-on (no warm-up transient is modelled by a grade).
+        """
+        sf = self.gyro_scale_factor_ppm * 1e-6 * np.array([1.0, -1.0, 1.0])
+        gyro = SensorErrors(noise_density=self.gyro_noise_density_rad_s_rt_hz,
+                            bias_instability=self.gyro_bias_instability_deg_h * DEG_H,
+                            bias_instability_tau_s=self.bias_instability_tau_s,
+                            bias_sigma=self.gyro_bias_repeatability_deg_h * DEG_H,
+                            scale_factor=tuple(sf))
+        accel = SensorErrors(noise_density=self.accel_noise_density_m_s2_rt_hz,
+                             bias_instability=self.accel_bias_instability_ug * UG,
+                             bias_instability_tau_s=self.bias_instability_tau_s,
+                             bias_sigma=self.accel_bias_repeatability_mg * MG)
+        return ImuErrorModel(gyro=gyro, accel=accel, q_mount=tuple(float(x) for x in q_mount),
+                             time_since_power_on_s=time_since_power_on_s)
+
+
+GRADES: dict[str, SensorGrade] = {g.name: g for g in (
+    SensorGrade("consumer", gyro_arw_deg_rt_h=0.6, gyro_bias_instability_deg_h=20.0,
+                gyro_bias_repeatability_deg_h=360.0, gyro_scale_factor_ppm=3000.0,
+                accel_noise_ug_rt_hz=150.0, accel_bias_instability_ug=100.0, accel_bias_repeatability_mg=20.0,
+                source="consumer MEMS (ICM-20948 / BMI088 class: 0.015 °/s/√Hz ≈ 0.6–0.9 °/√h, 150–230 µg/√Hz; "
+                       "turn-on bias after a user calibration ~0.1 °/s, ~20 mg)"),
+    SensorGrade("industrial", gyro_arw_deg_rt_h=0.3, gyro_bias_instability_deg_h=5.0,
+                gyro_bias_repeatability_deg_h=30.0, gyro_scale_factor_ppm=1000.0,
+                accel_noise_ug_rt_hz=60.0, accel_bias_instability_ug=15.0, accel_bias_repeatability_mg=2.0,
+                source="industrial MEMS (ADIS16470 class: ARW 0.34 °/√h, in-run 8 °/h, accel 13 µg in-run)"),
+    SensorGrade("tactical", gyro_arw_deg_rt_h=0.1, gyro_bias_instability_deg_h=0.8,
+                gyro_bias_repeatability_deg_h=3.0, gyro_scale_factor_ppm=300.0,
+                accel_noise_ug_rt_hz=25.0, accel_bias_instability_ug=5.0, accel_bias_repeatability_mg=0.1,
+                source="tactical MEMS (ADIS16495 / STIM300 class: ARW 0.12–0.15 °/√h, 0.5–0.8 °/h; "
+                       "ADXL355 25 µg/√Hz)"),
+    SensorGrade("navigation", gyro_arw_deg_rt_h=0.04, gyro_bias_instability_deg_h=0.25,
+                gyro_bias_repeatability_deg_h=1.0, gyro_scale_factor_ppm=100.0,
+                accel_noise_ug_rt_hz=15.0, accel_bias_instability_ug=3.0, accel_bias_repeatability_mg=0.05,
+                source="navigation-grade MEMS (HG4930 class: ARW 0.04 °/√h, 0.25 °/h, accel 25 µg in-run)"),
+    SensorGrade("wang2023cja", gyro_arw_deg_rt_h=0.1, gyro_bias_instability_deg_h=0.8,
+                gyro_bias_repeatability_deg_h=0.3, gyro_scale_factor_ppm=100.0,
+                accel_noise_ug_rt_hz=25.0, accel_bias_instability_ug=0.0, accel_bias_repeatability_mg=0.05,
+                source="Wang 2023 (Chin. J. Aeronaut.) prints no sensor numbers: the tactical MEMS assumed "
+                       "by mtcal.studies.wang2023cja.ImuSpec (factory-compensated, after warm-up)"),
+    SensorGrade("wang2022sensors", gyro_arw_deg_rt_h=0.02 * 60.0, gyro_bias_instability_deg_h=0.0,
+                gyro_bias_repeatability_deg_h=0.7 * 3600.0, gyro_scale_factor_ppm=0.0,
+                accel_noise_ug_rt_hz=50.0, accel_bias_instability_ug=0.0, accel_bias_repeatability_mg=0.1,
+                source="Wang 2022 (Sensors) Table 3: gyro 0.02 °/s/√Hz (= 1.2 °/√h), bias 0.7 °/s; "
+                       "accel 50 µg/√Hz; accel bias after the paper's calibration 0.1 mg (mtcal)"),
+    SensorGrade("tan2022", gyro_arw_deg_rt_h=0.0, gyro_bias_instability_deg_h=0.0,
+                gyro_bias_repeatability_deg_h=0.2 * 3600.0, gyro_scale_factor_ppm=0.0,
+                accel_noise_ug_rt_hz=0.0, accel_bias_instability_ug=0.0, accel_bias_repeatability_mg=0.1,
+                source="Tan 2022 error analysis: gyro error 0.2 °/s, accelerometer error ΔA = 1e-4 g"),
+)}
+
+
+def grade_names() -> list[str]:
+    """Names of the catalogue's grades, sorted."""
+    return sorted(GRADES)
+
+
+def sensor_grade(name: str, **overrides) -> SensorGrade:
+    """Look up a grade by name, optionally overriding datasheet values.
+
+    Raises
+    ------
+    ValueError
+        For an unknown name (the message lists the valid ones) or an unknown field.
+
+    Examples
+    --------
+    >>> sensor_grade("tactical", gyro_arw_deg_rt_h=0.2).gyro_arw_deg_rt_h
+    0.2
+    """
+    if name not in GRADES:
+        raise ValueError(f"grade must be one of {grade_names()}, got {name!r}")
+    return GRADES[name].with_overrides(**overrides) if overrides else GRADES[name]

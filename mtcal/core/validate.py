@@ -1,0 +1,152 @@
+"""Input validation shared by every public function of mtcal.
+
+Each helper raises ``TypeError`` for a value of the wrong kind and
+``ValueError`` for a value of the right kind but wrong content, and always
+names the argument and what was expected, so that bad input never turns into a
+silent wrong answer.
+"""
+
+from __future__ import annotations
+
+from numbers import Real
+
+import numpy as np
+
+__all__ = ["STANDARD_GRAVITY_M_S2", "as_float_array", "positive_scalar", "positive_int", "time_vector", "angle_rad",
+           "unit_quaternion", "same_leading_shape", "MAX_GYRO_RAD_S", "check_gyro_units", "check_accel_units"]
+
+#: Standard gravity in m/s² (used to detect g passed where m/s² is expected).
+STANDARD_GRAVITY_M_S2 = 9.80665
+
+
+def as_float_array(value, name: str, *, ndim: int | tuple[int, ...] | None = None,
+                   last_dim: int | None = None, allow_empty: bool = False, copy: bool = True) -> np.ndarray:
+    """Return ``value`` as a finite float64 array (by default a copy that never aliases the caller's).
+
+    Parameters
+    ----------
+    value : array_like
+        Input to check.
+    name : str
+        Argument name used in error messages.
+    ndim : int or tuple of int, optional
+        Allowed numbers of dimensions.
+    last_dim : int, optional
+        Required length of the last axis (e.g. 3 for vectors, 4 for quaternions).
+    allow_empty : bool
+        Whether a zero-size array is accepted.
+    copy : bool
+        ``False`` returns float64 input as a read-only-by-convention view
+        (no copy of large filter records); the caller must not modify it.
+    """
+    if isinstance(value, (str, bytes)) or value is None:
+        raise TypeError(f"{name} must be a numeric array, got {type(value).__name__}")
+    try:
+        arr = np.array(value, dtype=np.float64, copy=True) if copy else np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise TypeError(f"{name} must be a numeric array: {exc}") from None
+    if ndim is not None:
+        allowed = (ndim,) if isinstance(ndim, int) else tuple(ndim)
+        if arr.ndim not in allowed:
+            raise ValueError(f"{name} must have ndim in {allowed}, got shape {arr.shape}")
+    if last_dim is not None and (arr.ndim == 0 or arr.shape[-1] != last_dim):
+        raise ValueError(f"{name} must have last dimension {last_dim}, got shape {arr.shape}")
+    if arr.size == 0 and not allow_empty:
+        raise ValueError(f"{name} must not be empty, got shape {arr.shape}")
+    if not np.all(np.isfinite(arr)):
+        raise ValueError(f"{name} must be finite (no NaN or inf)")
+    return arr
+
+
+def positive_scalar(value, name: str, *, allow_zero: bool = False) -> float:
+    """Return ``value`` as a float, checking it is a finite positive number."""
+    if isinstance(value, bool) or not isinstance(value, (Real, np.floating, np.integer)):
+        raise TypeError(f"{name} must be a real number, got {type(value).__name__}")
+    out = float(value)
+    if not np.isfinite(out):
+        raise ValueError(f"{name} must be finite, got {out}")
+    if out < 0 or (out == 0 and not allow_zero):
+        bound = ">= 0" if allow_zero else "> 0"
+        raise ValueError(f"{name} must be {bound}, got {out}")
+    return out
+
+
+def positive_int(value, name: str, *, minimum: int = 1) -> int:
+    """Return ``value`` as an int, checking ``value >= minimum``."""
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+        raise TypeError(f"{name} must be an integer, got {type(value).__name__}")
+    if value < minimum:
+        raise ValueError(f"{name} must be >= {minimum}, got {value}")
+    return int(value)
+
+
+def time_vector(time_s, name: str = "time_s", *, min_samples: int = 2) -> np.ndarray:
+    """Check a 1-D, finite, strictly increasing time vector in seconds."""
+    t = as_float_array(time_s, name, ndim=1)
+    if t.size < min_samples:
+        raise ValueError(f"{name} must have at least {min_samples} samples, got {t.size}")
+    if np.any(np.diff(t) <= 0):
+        k = int(np.argmax(np.diff(t) <= 0))
+        raise ValueError(f"{name} must be strictly increasing; sample {k + 1} "
+                         f"({t[k + 1]!r}) does not exceed sample {k} ({t[k]!r})")
+    return t
+
+
+def angle_rad(value, name: str, *, limit_rad: float = 2 * np.pi, **kwargs) -> np.ndarray:
+    """Check an angle array in radians; reject magnitudes that look like degrees.
+
+    An angle whose magnitude exceeds ``limit_rad`` (default 2π) is almost
+    certainly in degrees: the error says so.
+    """
+    arr = as_float_array(value, name, **kwargs)
+    if arr.size and np.max(np.abs(arr)) > limit_rad + 1e-12:
+        raise ValueError(f"{name} must be in radians with |{name}| <= {limit_rad:.6g}; "
+                         f"got max |{name}| = {np.max(np.abs(arr)):.6g} (degrees passed as radians?)")
+    return arr
+
+
+def unit_quaternion(value, name: str, *, atol: float = 1e-6) -> np.ndarray:
+    """Check an array of scalar-first unit quaternions of shape (..., 4)."""
+    q = as_float_array(value, name, last_dim=4)
+    norm = np.linalg.norm(q, axis=-1)
+    if np.any(np.abs(norm - 1.0) > atol):
+        raise ValueError(f"{name} must hold unit quaternions (|q| = 1 within {atol:g}); "
+                         f"got |q| in [{norm.min():.6g}, {norm.max():.6g}]")
+    return q
+
+
+def same_leading_shape(a: np.ndarray, b: np.ndarray, name_a: str, name_b: str) -> None:
+    """Raise if two arrays differ in all but their last axis."""
+    if a.shape[:-1] != b.shape[:-1]:
+        raise ValueError(f"{name_a} and {name_b} must have matching leading shapes, "
+                         f"got {a.shape} and {b.shape}")
+
+
+#: Largest plausible angular rate (rad/s): beyond any MEMS gyro's full scale (2000 °/s ≈ 35 rad/s).
+MAX_GYRO_RAD_S = 40.0
+#: A specific-force record whose median magnitude is below this (m/s²) is taken to be in g.
+MIN_MEDIAN_ACCEL_M_S2 = 2.0
+
+
+def check_gyro_units(gyro_rad_s: np.ndarray, name: str = "gyro_rad_s") -> None:
+    """Raise if a gyro record (…, 3) cannot be in rad/s (degrees per second passed as rad/s)."""
+    if gyro_rad_s.size and np.max(np.abs(gyro_rad_s)) > MAX_GYRO_RAD_S:
+        raise ValueError(f"{name} must be in rad/s; max |{name}| = {np.max(np.abs(gyro_rad_s)):.4g} "
+                         f"exceeds {MAX_GYRO_RAD_S:g} rad/s (degrees per second passed as rad/s?)")
+
+
+def check_accel_units(accel_m_s2: np.ndarray, name: str = "accel_m_s2") -> None:
+    """Raise if an accelerometer record (…, 3) looks like it is in g rather than m/s².
+
+    Decided on the median magnitude so that a few free-fall or vibration
+    samples do not trigger it; a zero record (e.g. a specific-force-free
+    simulation) is not flagged.
+    """
+    if not accel_m_s2.size:
+        return
+    flat = accel_m_s2.reshape(-1, accel_m_s2.shape[-1])
+    flat = flat[::max(1, flat.shape[0] // 20_000)]  # a strided subset decides it: cheap on 1e7-sample records
+    med = float(np.median(np.linalg.norm(flat, axis=-1)))
+    if 0.0 < med < MIN_MEDIAN_ACCEL_M_S2:
+        raise ValueError(f"{name} looks like it is in g, not m/s² (median |a| = {med:.4g} < "
+                         f"{MIN_MEDIAN_ACCEL_M_S2:g} m/s²); multiply by 9.80665")

@@ -1,0 +1,374 @@
+"""tan2022 (Tan et al., 2022) — roll from gyros during pitch/roll 2-DOF motion.
+
+Four estimators of the roll angle φ from body rates ``ω = [ω_x, ω_y, ω_z]``:
+
+* :func:`euler_differential` — integrate the Euler-angle rates of Eq 5
+  (tracks ψ too); singular at θ = ±90°: ``ψ̇ = (ω_y sinφ + ω_z cosφ)/cosθ``.
+  It never raises on the singularity: it returns the spike (or NaN after an
+  exact zero of cosθ) the paper shows in Fig 9.
+* :func:`roll_decoupled_integration` — Eq 12, ``φ = φ0 + ∫ω_x dt`` (Eq 11
+  with ψ̇ = 0): no singularity, drifts with the x-gyro error.
+* :func:`roll_projection` — Eq 13, ``φ = arctan(−ω_z / ω_y)``: no memory, error
+  Eq 14 ``Δφ = −(Δω_z cosφ + Δω_y sinφ)/θ̇`` — large when θ̇ → 0.
+* :func:`roll_hybrid` — Fig 7: projection where the pitch rate exceeds a
+  threshold θ̇_t, otherwise integration (Eq 12) from the last roll value.
+
+Motion model and simulator mapping
+----------------------------------
+The 2-DOF mechanism pitches about body y and rolls about body x with ψ ≡ 0,
+so the body attitude is ``C_wb = Ry(θ) Rx(φ)`` = aerospace Z-Y-X with ψ = 0,
+and the exact body rates are Eq 11 (plus ``ω_x = φ̇``):
+``ω = [φ̇, θ̇ cosφ, −θ̇ sinφ]`` (:func:`body_rates_two_dof`). Mechanism angles may
+pass ±90° (uniform rotation); they are not Euler angles then.
+
+For :mod:`mtcal.core.simulate` (world z-up, gravity −z) the body quaternion is
+``q_wb = from_euler('ZYX', [ψ, θ, φ])`` (:func:`two_dof_trajectory`). Its static
+accelerometer output is then ``C_wbᵀ [0, 0, g] = g [−sinθ, cosθ sinφ, cosθ cosφ]``,
+exactly tan2022 Eq 2, and its gyro output is Eq 11. The price of the
+mapping: in the simulator's z-up world a positive θ turns the nose *down*
+(the paper's navigation frame is effectively z-down with the sign of f
+flipped, which is what Eq 2 encodes); nothing in tan2022 depends on it.
+
+Units: rad and rad/s inside; degrees only in notebooks.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.spatial.transform import Rotation
+
+from mtcal.core import simulate
+from mtcal.core.validate import angle_rad, as_float_array, positive_scalar, time_vector
+
+__all__ = ["MAX_RATE_RAD_S", "body_rates_two_dof", "two_dof_trajectory", "simulate_two_dof_imu",
+           "euler_differential", "roll_decoupled_integration", "roll_projection",
+           "pitch_rate_magnitude", "roll_hybrid", "projection_roll_error_eq14",
+           "projection_roll_error_exact", "loglog_slope"]
+
+#: Largest accepted body rate (rad/s) = ±2000 °/s, the full scale of common MEMS gyros;
+#: larger values are taken as degrees passed as radians.
+MAX_RATE_RAD_S = float(np.radians(2000.0))
+_MECH_LIMIT_RAD = 4 * np.pi
+
+
+# --------------------------------------------------------------------------
+# validation
+# --------------------------------------------------------------------------
+def _gyro(value, name: str = "gyro_rad_s") -> np.ndarray:
+    """Gyro samples (..., N, 3) in rad/s, N ≥ 1, |ω| ≤ 2000 °/s."""
+    w = as_float_array(value, name, last_dim=3)
+    if w.ndim < 2:
+        raise ValueError(f"{name} must have shape (N, 3) or (T, N, 3), got {w.shape}")
+    if w.shape[-2] == 0:
+        raise ValueError(f"{name} must not be empty (zero samples), got shape {w.shape}")
+    if np.max(np.abs(w)) > MAX_RATE_RAD_S:
+        raise ValueError(f"{name} must be in rad/s with |{name}| <= {MAX_RATE_RAD_S:.4g} (2000 deg/s); "
+                         f"got {np.max(np.abs(w)):.6g} (degrees passed as radians?)")
+    return w
+
+
+def _rate(value, name: str) -> np.ndarray:
+    r = as_float_array(value, name)
+    if np.any(np.abs(r) > MAX_RATE_RAD_S):
+        raise ValueError(f"{name} must be in rad/s with |{name}| <= {MAX_RATE_RAD_S:.4g} (2000 deg/s); "
+                         f"got {np.max(np.abs(r)):.6g} (degrees passed as radians?)")
+    return r
+
+
+def _mech_angle(value, name: str) -> np.ndarray:
+    return angle_rad(value, name, limit_rad=_MECH_LIMIT_RAD)
+
+
+def _euler_pitch(value, name: str = "pitch0") -> np.ndarray:
+    theta = angle_rad(value, name)
+    if np.any(np.abs(theta) > 0.5 * np.pi + 1e-12):
+        raise ValueError(f"{name} must be within [-pi/2, pi/2] rad (an Euler pitch); got "
+                         f"{np.max(np.abs(theta)):.6g}")
+    return theta
+
+
+# --------------------------------------------------------------------------
+# truth kinematics and simulated data
+# --------------------------------------------------------------------------
+def body_rates_two_dof(pitch_rate, roll, roll_rate=0.0) -> np.ndarray:
+    """Exact body rates of the 2-DOF pitch/roll motion (ψ̇ = 0), Eq 11 (rad/s).
+
+    Parameters
+    ----------
+    pitch_rate : array_like
+        θ̇ in rad/s.
+    roll : array_like
+        φ in rad.
+    roll_rate : array_like
+        φ̇ in rad/s.
+
+    Returns
+    -------
+    ndarray, shape (..., 3)
+        ``[φ̇, θ̇ cosφ, −θ̇ sinφ]``.
+    """
+    dth = _rate(pitch_rate, "pitch_rate")
+    phi = _mech_angle(roll, "roll")
+    dphi = _rate(roll_rate, "roll_rate")
+    dth, phi, dphi = np.broadcast_arrays(dth, phi, dphi)
+    return np.stack([dphi, dth * np.cos(phi), -dth * np.sin(phi)], axis=-1)
+
+
+def two_dof_trajectory(time_s, pitch_rad, roll_rad) -> simulate.Trajectory:
+    """:class:`mtcal.core.simulate.Trajectory` of the mechanism (ψ = 0), tan2022 mapping.
+
+    ``q_wb = from_euler('ZYX', [0, θ, φ])`` (scalar-first); see the module
+    docstring for why this reproduces Eq 2 and Eq 11 in the z-up simulator.
+
+    Parameters
+    ----------
+    time_s : array_like (N,)
+        Uniform time grid (s).
+    pitch_rad, roll_rad : array_like (N,)
+        Mechanism pitch and roll (rad; may pass ±90°).
+    """
+    t = time_vector(time_s)
+    theta = np.broadcast_to(_mech_angle(pitch_rad, "pitch_rad"), t.shape)
+    phi = np.broadcast_to(_mech_angle(roll_rad, "roll_rad"), t.shape)
+    euler = np.stack([np.zeros_like(t), theta, phi], axis=-1)
+    q = Rotation.from_euler("ZYX", euler).as_quat(scalar_first=True)
+    return simulate.Trajectory(t, q)
+
+
+def simulate_two_dof_imu(time_s, pitch_rad, roll_rad, *, gyro_bias_rad_s=0.0,
+                         gyro_noise_density=0.0, rng: np.random.Generator | None = None,
+                         trials: int | None = None) -> simulate.ImuRecord:
+    """Simulated IMU on the 2-DOF mechanism via :func:`mtcal.core.simulate.simulate_imu`.
+
+    Parameters
+    ----------
+    time_s, pitch_rad, roll_rad : array_like (N,)
+        As in :func:`two_dof_trajectory`.
+    gyro_bias_rad_s : float or 3-tuple
+        Constant gyro error per axis (rad/s) — the paper's "gyro output error".
+    gyro_noise_density : float
+        Gyro white noise (rad/s/√Hz).
+    rng : numpy.random.Generator, optional
+        Required when ``gyro_noise_density > 0``.
+    trials : int, optional
+        Monte Carlo trials (leading axis of the outputs).
+
+    Returns
+    -------
+    mtcal.core.simulate.ImuRecord
+        Gyro sample k is the mean rate over ``[t_k, t_{k+1}]``.
+    """
+    traj = two_dof_trajectory(time_s, pitch_rad, roll_rad)
+    bias = as_float_array(gyro_bias_rad_s, "gyro_bias_rad_s")
+    gyro = simulate.SensorErrors(bias=tuple(np.broadcast_to(bias, (3,))),
+                                 noise_density=positive_scalar(gyro_noise_density, "gyro_noise_density",
+                                                               allow_zero=True))
+    model = simulate.ImuErrorModel(gyro=gyro)
+    return simulate.simulate_imu(traj, model, rng, trials)
+
+
+# --------------------------------------------------------------------------
+# roll estimators
+# --------------------------------------------------------------------------
+def euler_differential(gyro_rad_s, dt_s: float, *, pitch0=0.0, roll0=0.0, yaw0=0.0) -> np.ndarray:
+    """tan2022 Eq 5: integrate the Z-Y-X Euler-angle rates (forward Euler).
+
+    ``ψ̇ = (ω_y sinφ + ω_z cosφ)/cosθ``, ``θ̇ = ω_y cosφ − ω_z sinφ``,
+    ``φ̇ = ω_x + ψ̇ sinθ``. Near θ = ±90° the 1/cosθ term makes ψ and φ jump
+    (the algorithmic singularity of Fig 9). The function does not raise
+    there: ψ and φ are wrapped to [−π, π) after each step (θ is left
+    continuous), and samples after an exact cosθ = 0 are NaN.
+
+    Parameters
+    ----------
+    gyro_rad_s : array_like, shape (N, 3) or (T, N, 3)
+        Body rates (rad/s); sample k acts over ``[t_k, t_{k+1}]``.
+    dt_s : float
+        Sample interval (s).
+    pitch0, roll0, yaw0 : float or array_like (T,)
+        Initial Euler angles (rad; |pitch0| ≤ π/2).
+
+    Returns
+    -------
+    ndarray, shape (..., N, 3)
+        ``[ψ, θ, φ]`` at every sample (rad).
+    """
+    w = _gyro(gyro_rad_s)
+    dt = positive_scalar(dt_s, "dt_s")
+    lead = w.shape[:-2]
+    state = np.empty(lead + (3,))
+    state[..., 0] = angle_rad(yaw0, "yaw0")
+    state[..., 1] = _euler_pitch(pitch0)
+    state[..., 2] = angle_rad(roll0, "roll0")
+    out = np.empty(w.shape)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        for k in range(w.shape[-2]):  # recursive: loop over time, vectorised over trials
+            out[..., k, :] = state
+            wx, wy, wz = w[..., k, 0], w[..., k, 1], w[..., k, 2]
+            psi, theta, phi = state[..., 0], state[..., 1], state[..., 2]
+            sphi, cphi = np.sin(phi), np.cos(phi)
+            dpsi = (wy * sphi + wz * cphi) / np.cos(theta)
+            dtheta = wy * cphi - wz * sphi
+            dphi = wx + dpsi * np.sin(theta)
+            state = np.stack([_wrap(psi + dpsi * dt), theta + dtheta * dt, _wrap(phi + dphi * dt)],
+                             axis=-1)
+    return out
+
+
+def _wrap(a: np.ndarray) -> np.ndarray:
+    """Wrap to [−π, π) without validation (NaN/inf propagate as NaN)."""
+    with np.errstate(invalid="ignore"):
+        return (a + np.pi) % (2.0 * np.pi) - np.pi
+
+
+def roll_decoupled_integration(gyro_rad_s, dt_s: float, *, roll0=0.0) -> np.ndarray:
+    """tan2022 Eq 12: ``φ_k = φ0 + Σ_{j<k} ω_x,j Δt`` (rad), shape (..., N).
+
+    Parameters
+    ----------
+    gyro_rad_s : array_like, shape (N, 3) or (T, N, 3)
+        Body rates (rad/s).
+    dt_s : float
+        Sample interval (s).
+    roll0 : float or array_like (T,)
+        Initial roll φ0 (rad), e.g. from initial alignment.
+    """
+    w = _gyro(gyro_rad_s)
+    dt = positive_scalar(dt_s, "dt_s")
+    phi0 = np.asarray(angle_rad(roll0, "roll0"))[..., None]
+    return phi0 + _cumulative_angle(w[..., 0], dt)
+
+
+def _cumulative_angle(rate: np.ndarray, dt: float) -> np.ndarray:
+    """``Φ_k = Σ_{j<k} rate_j dt`` along the last axis (Φ_0 = 0)."""
+    cum = np.cumsum(rate * dt, axis=-1)
+    return np.concatenate([np.zeros(cum.shape[:-1] + (1,)), cum[..., :-1]], axis=-1)
+
+
+def roll_projection(gyro_rad_s) -> np.ndarray:
+    """tan2022 Eq 13: ``φ = arctan(−ω_z / ω_y)`` (rad, in [−π/2, π/2]), shape (..., N).
+
+    Evaluated as ``atan2(−ω_z sgn ω_y, |ω_y|)``, identical to the arctan of the
+    ratio for either sign of θ̇ and defined at ω_y = 0. Meaningless when
+    θ̇ → 0 (Eq 15): then it returns the angle of the gyro errors.
+    """
+    w = _gyro(gyro_rad_s)
+    wy, wz = w[..., 1], w[..., 2]
+    sign = np.where(wy < 0.0, -1.0, 1.0)
+    return np.arctan2(-wz * sign, np.abs(wy))
+
+
+def pitch_rate_magnitude(gyro_rad_s) -> np.ndarray:
+    """``|θ̇| = √(ω_y² + ω_z²)`` (rad/s), exact for ψ̇ = 0 by Eq 11 and independent of φ."""
+    w = _gyro(gyro_rad_s)
+    return np.hypot(w[..., 1], w[..., 2])
+
+
+def roll_hybrid(gyro_rad_s, dt_s: float, threshold_rad_s: float, *,
+                roll0=0.0) -> tuple[np.ndarray, np.ndarray]:
+    """tan2022 Fig 7: projection (Eq 13) if |θ̇| > θ̇_t, else integration (Eq 12).
+
+    The pitch rate is taken from the gyros, ``|θ̇| = √(ω_y² + ω_z²)``. During an
+    integration stretch, roll starts from the last projection value (or φ0
+    before the first one) and adds ``∫ω_x dt``. Vectorised (no time loop):
+    ``φ_k = φ_P(j) + Φ_k − Φ_j`` with j the last projection sample ≤ k.
+
+    Parameters
+    ----------
+    gyro_rad_s : array_like, shape (N, 3) or (T, N, 3)
+        Body rates (rad/s).
+    dt_s : float
+        Sample interval (s).
+    threshold_rad_s : float
+        θ̇_t (rad/s, ≥ 0); the paper uses 0.5 °/s.
+    roll0 : float or array_like (T,)
+        Initial roll (rad).
+
+    Returns
+    -------
+    roll_rad : ndarray, shape (..., N)
+    uses_projection : ndarray of bool, shape (..., N)
+    """
+    w = _gyro(gyro_rad_s)
+    dt = positive_scalar(dt_s, "dt_s")
+    thr = positive_scalar(threshold_rad_s, "threshold_rad_s", allow_zero=True)
+    if thr > MAX_RATE_RAD_S:
+        raise ValueError(f"threshold_rad_s must be in rad/s (<= {MAX_RATE_RAD_S:.4g}); got {thr:.6g} "
+                         "(degrees passed as radians?)")
+    phi0 = np.asarray(angle_rad(roll0, "roll0"))[..., None]
+    proj = roll_projection(w)
+    use = pitch_rate_magnitude(w) > thr
+    cum = _cumulative_angle(w[..., 0], dt)
+    idx = np.arange(w.shape[-2])
+    last = np.maximum.accumulate(np.where(use, idx, -1), axis=-1)
+    has = last >= 0
+    safe = np.where(has, last, 0)
+    base = np.where(has, np.take_along_axis(proj, safe, axis=-1) - np.take_along_axis(cum, safe, axis=-1),
+                    phi0)
+    return np.where(use, proj, base + cum), use
+
+
+# --------------------------------------------------------------------------
+# error models
+# --------------------------------------------------------------------------
+def projection_roll_error_eq14(roll, pitch_rate, gyro_error_y, gyro_error_z) -> np.ndarray:
+    """tan2022 Eq 14: first-order projection error ``−(Δω_z cosφ + Δω_y sinφ)/θ̇`` (rad).
+
+    Parameters
+    ----------
+    roll : array_like
+        True φ (rad).
+    pitch_rate : array_like
+        θ̇ (rad/s, non-zero).
+    gyro_error_y, gyro_error_z : array_like
+        Errors of the y and z gyros (rad/s).
+    """
+    phi = _mech_angle(roll, "roll")
+    dth = _rate(pitch_rate, "pitch_rate")
+    if np.any(dth == 0.0):
+        raise ValueError("pitch_rate must be non-zero (Eq 14 diverges at 0; see Eq 15)")
+    dy = _rate(gyro_error_y, "gyro_error_y")
+    dz = _rate(gyro_error_z, "gyro_error_z")
+    return -(dz * np.cos(phi) + dy * np.sin(phi)) / dth
+
+
+def projection_roll_error_exact(roll, pitch_rate, gyro_error_y, gyro_error_z) -> np.ndarray:
+    """Exact Eq 13 error with constant gyro errors: ``arctan(−(ω_z+Δω_z)/(ω_y+Δω_y)) − φ`` (rad).
+
+    Uses the true rates of Eq 11; wrapped to [−π/2, π/2) (Eq 13 is defined mod π).
+    """
+    phi = _mech_angle(roll, "roll")
+    dth = _rate(pitch_rate, "pitch_rate")
+    dy = _rate(gyro_error_y, "gyro_error_y")
+    dz = _rate(gyro_error_z, "gyro_error_z")
+    wy = dth * np.cos(phi) + dy
+    wz = -dth * np.sin(phi) + dz
+    sign = np.where(wy < 0.0, -1.0, 1.0)
+    err = np.arctan2(-wz * sign, np.abs(wy)) - phi
+    return (err + 0.5 * np.pi) % np.pi - 0.5 * np.pi
+
+
+def loglog_slope(x, y) -> float | np.ndarray:
+    """Least-squares slope of ``log|y|`` against ``log x`` (power-law exponent).
+
+    Parameters
+    ----------
+    x : array_like (K,)
+        Positive abscissae (e.g. pitch rates).
+    y : array_like (K,) or (T, K)
+        Non-zero ordinates (e.g. roll errors); a 2-D array fits one slope per
+        row (e.g. per Monte Carlo trial).
+
+    Returns
+    -------
+    float, or ndarray (T,) for 2-D ``y``
+    """
+    xx = as_float_array(x, "x", ndim=1)
+    yy = as_float_array(y, "y", ndim=(1, 2))
+    if xx.size < 2 or yy.shape[-1] != xx.size:
+        raise ValueError(f"x must be 1-D of length >= 2 and y's last axis must match it, got {xx.shape} and "
+                         f"{yy.shape}")
+    if np.any(xx <= 0) or np.any(yy == 0):
+        raise ValueError("x must be positive and y non-zero for a log-log fit")
+    slope = np.polyfit(np.log(xx), np.log(np.abs(yy)).T, 1)[0]
+    return float(slope) if yy.ndim == 1 else slope

@@ -1,0 +1,143 @@
+"""Installation-error calibration by least squares over quaternions (wang2023cja §3.1).
+
+Model (Eq 10): the true body attitude quaternion is a linear map of the
+sensor attitude quaternion, ``A_q^b = Q_s^b A_q^s``, with a general 4×4
+matrix ``Q_s^b``. Stacking K ≥ 4 calibration positions as columns of
+``A_q^s`` and ``A_q^b`` (Eq 14, 4×K), the least-squares solution (Eq 11–13) is
+
+    Q̂_s^b = A_q^b (A_q^s)ᵀ (A_q^s (A_q^s)ᵀ)⁻¹
+
+which exists only if ``A_q^s`` has full row rank 4.
+
+Sign rule: q and −q are the same attitude, so before solving every sensor
+quaternion is flipped to ``q0 ≥ 0`` and every body quaternion is flipped so
+that it agrees in sign with its sensor partner (``dot(q_b, q_s) ≥ 0``). This
+makes the equations consistent for installation errors below 90°.
+
+Examples
+--------
+>>> import numpy as np
+>>> from mtcal.core import rotations
+>>> q_bs = rotations.quat_from_euler_zxy(0.01, -0.02, 0.005)
+>>> ang = np.radians([[8, 0, 0], [-8, 0, 0], [0, -12, 0], [0, 23, 0], [0, 0, 90], [0, 0, -90]])
+>>> q_b = rotations.quat_from_euler_zxy(ang[:, 0], ang[:, 1], ang[:, 2])
+>>> q_s = rotations.quat_multiply(q_b, q_bs)          # sensor = body ⊗ mounting
+>>> Q = least_squares_error_matrix(q_s, q_b)
+>>> bool(np.allclose(apply_error_matrix(Q, q_s), q_b))
+True
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from mtcal.core import rotations
+from mtcal.core.validate import unit_quaternion
+
+__all__ = ["least_squares_error_matrix", "apply_error_matrix", "align_pairs"]
+
+#: Condition number of ``A_q^s (A_q^s)ᵀ`` above which positions are called degenerate.
+MAX_CONDITION = 1e10
+
+
+def align_pairs(q_sensor, q_body) -> tuple[np.ndarray, np.ndarray]:
+    """Apply the sign rule to pairs (..., K, 4): ``q_s0 ≥ 0`` and ``dot(q_b, q_s) ≥ 0``.
+
+    ``q_body`` may be (K, 4) and is then shared by every batch member.
+    """
+    q_s = rotations.align_signs(unit_quaternion(q_sensor, "q_sensor"))
+    q_b = unit_quaternion(q_body, "q_body")
+    if q_s.ndim < 2 or q_b.ndim < 2 or q_b.shape[-2:] != q_s.shape[-2:]:
+        raise ValueError(f"q_sensor and q_body must both have shape (K, 4) or (..., K, 4), "
+                         f"got {q_s.shape} and {q_b.shape}")
+    try:
+        q_b = np.broadcast_to(q_b, q_s.shape)
+    except ValueError:
+        raise ValueError(f"q_body of shape {q_b.shape} must broadcast to q_sensor {q_s.shape}") from None
+    return q_s, rotations.align_signs(q_b, q_s)
+
+
+def least_squares_error_matrix(q_sensor, q_body, *, on_degenerate: str = "raise") -> np.ndarray:
+    """wang2023cja Eq 13: least-squares installation-error matrix ``Q̂_s^b`` (4×4).
+
+    Vectorised over any leading batch axes (Monte Carlo trials).
+
+    Parameters
+    ----------
+    q_sensor : array_like, shape (K, 4) or (..., K, 4)
+        Mean sensor attitude quaternion at each of K ≥ 4 positions (scalar-first).
+        The paper (§3.1) says 3 positions suffice because of the norm
+        constraint, but Eq 13 is linear and unconstrained: ``A_q^s (A_q^s)ᵀ``
+        has rank ≤ K, so K ≥ 4 linearly independent quaternions are needed.
+    q_body : array_like, shape (K, 4) or (..., K, 4)
+        Reference (true) body attitude quaternion at the same positions.
+    on_degenerate : {"raise", "nan"}
+        Raise for rank-deficient positions, or return NaN matrices for those
+        batch members (for Monte Carlo studies over random layouts).
+
+    Returns
+    -------
+    ndarray, shape (..., 4, 4)
+        ``Q̂`` such that ``q_body ≈ Q̂ q_sensor`` (column vectors).
+
+    Raises
+    ------
+    ValueError
+        If fewer than 4 positions are given or ``A_q^s (A_q^s)ᵀ`` is
+        rank-deficient (condition number reported), e.g. all positions about
+        one axis.
+    """
+    if on_degenerate not in ("raise", "nan"):
+        raise ValueError(f"on_degenerate must be 'raise' or 'nan', got {on_degenerate!r}")
+    q_s, q_b = align_pairs(q_sensor, q_body)
+    k = q_s.shape[-2]
+    if k < 4:
+        raise ValueError(f"q_sensor must hold at least 4 positions, got {k}: A_q^s (A_q^s)^T is 4x4 "
+                         f"with rank <= {k}, so Eq 13 has no unique solution (the paper's '3 positions' "
+                         f"relies on the unit-norm constraint, which the linear LS does not use)")
+    a_s = np.swapaxes(q_s, -1, -2)  # Eq 14 layout: 4 × K
+    gram = a_s @ q_s
+    sv = np.linalg.svd(gram, compute_uv=False)
+    cond = sv[..., 0] / np.maximum(sv[..., 3], np.finfo(float).tiny)
+    bad = cond > MAX_CONDITION
+    if np.any(bad) and on_degenerate == "raise":
+        raise ValueError(f"q_sensor positions are degenerate: A_q^s (A_q^s)^T is rank-deficient "
+                         f"(condition number {np.max(cond):.3g} > {MAX_CONDITION:.0e}); use at least 4 "
+                         f"positions whose quaternions are linearly independent (more than one axis)")
+    safe = np.where(bad[..., None, None], np.eye(4), gram)
+    # Q̂ᵀ = (A_s A_sᵀ)⁻¹ A_s A_bᵀ  (the Gram matrix is symmetric)
+    q_mat = np.swapaxes(np.linalg.solve(safe, a_s @ q_b), -1, -2)
+    return np.where(bad[..., None, None], np.nan, q_mat)
+
+
+def apply_error_matrix(q_matrix, q_sensor, *, normalize: bool = True) -> np.ndarray:
+    """wang2023cja Eq 10: calibrated body quaternions ``Q̂ q_s`` for a stream.
+
+    Parameters
+    ----------
+    q_matrix : array_like, shape (4, 4) or (..., 4, 4)
+        Calibration matrix/matrices; NaN matrices (degenerate fits returned with
+        ``on_degenerate="nan"``) give NaN output.
+    q_sensor : array_like, shape (4,), (N, 4) or (..., N, 4)
+        Sensor quaternions; batch axes must match those of ``q_matrix``.
+    normalize : bool
+        Rescale to unit norm (the 16-parameter LS map does not preserve the
+        norm exactly).
+
+    The sign of ``q_s`` does not matter (``Q̂`` is linear: ``Q̂(−q) = −Q̂ q``);
+    streams are aligned to ``q0 ≥ 0`` for readability.
+    """
+    q_mat = np.array(q_matrix, dtype=float)
+    if q_mat.ndim < 2 or q_mat.shape[-2:] != (4, 4) or np.any(np.isinf(q_mat)):
+        raise ValueError(f"q_matrix must be a finite 4x4 array or a stack (..., 4, 4), got shape {q_mat.shape}")
+    q_s = rotations.align_signs(unit_quaternion(q_sensor, "q_sensor"))
+    if q_mat.ndim > 2 and q_s.ndim < 2:
+        raise ValueError(f"q_sensor must have shape (..., N, 4) for a stack of matrices, got {q_s.shape}")
+    try:
+        q_b = q_s @ np.swapaxes(q_mat, -1, -2)
+    except ValueError:
+        raise ValueError(f"q_matrix {q_mat.shape} and q_sensor {q_s.shape} batch axes do not match") from None
+    if not normalize:
+        return q_b
+    with np.errstate(invalid="ignore"):
+        return q_b / np.linalg.norm(q_b, axis=-1, keepdims=True)

@@ -1,0 +1,328 @@
+"""Rotation-axis estimation from three static accelerometer means (wang2022sensors Eq 15/23, Algorithm A1).
+
+While the surface rests, the accelerometer reads gravity ``R(θ, v)ᵀ ā0``: as θ
+changes, the reading moves on a circle perpendicular to the axis v (Sec. 2.2,
+Fig. 4). Three rest means ā0, ā1, ā2 on that circle give (Eq 23)
+
+    v = ± (ā1 − ā0) × (ā2 − ā1) / ‖(ā1 − ā0) × (ā2 − ā1)‖.
+
+Sign convention (Sec. 2.1): ``v_x ≥ 0``, and if ``v_x = 0`` then ``v_y > 0``
+(and, mtcal's completion, if both are 0 then ``v_z > 0``). A constant
+accelerometer bias cancels in the differences; white noise does not (see
+:func:`axis_error_std`).
+
+Degenerate geometry raises ``ValueError``: fewer than three rests, means that
+are (nearly) identical or collinear, or an axis too close to vertical (the
+rotation then barely changes the measured gravity).
+
+Two front ends: :class:`AxisEstimator` is Algorithm A1 as a streaming state
+machine fed one sample (acceleration + ZVD flag) at a time; :func:`estimate_axis`
+runs the same logic over a whole record and returns identical results.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from mtcal.core.validate import as_float_array, positive_scalar
+from mtcal.methods.zero_velocity import ZvdParams, detect_static, rest_intervals
+
+__all__ = ["axis_from_means", "apply_sign_convention", "axis_elevation", "angle_between",
+           "AxisEstimator", "AxisResult", "estimate_axis", "axis_error_std",
+           "gravity_change_norm"]
+
+DEFAULT_MIN_SEPARATION_DEG = 0.5
+DEFAULT_MAX_ELEVATION_DEG = 85.0
+
+
+def angle_between(a, b) -> np.ndarray:
+    """Angle (rad) between vectors a and b (..., 3), robust near 0 (atan2 form)."""
+    a = as_float_array(a, "a", last_dim=3)
+    b = as_float_array(b, "b", last_dim=3)
+    return np.arctan2(np.linalg.norm(np.cross(a, b), axis=-1), np.sum(a * b, axis=-1))
+
+
+def apply_sign_convention(v) -> np.ndarray:
+    """Flip v (..., 3) so that ``v_x ≥ 0`` (``v_y > 0`` if ``v_x = 0``, then ``v_z > 0``)."""
+    v = as_float_array(v, "v", last_dim=3)
+    key = np.where(v[..., 0] != 0, v[..., 0], np.where(v[..., 1] != 0, v[..., 1], v[..., 2]))
+    return np.where((key < 0)[..., None], -v, v)
+
+
+def axis_elevation(v, gravity_s) -> np.ndarray:
+    """Angle γ (rad) between the axis v and the horizontal plane, ``asin(|v·ĝ|)``.
+
+    ``gravity_s`` is any static accelerometer reading (sensor frame, m/s²): it
+    points along the vertical.
+    """
+    v = as_float_array(v, "v", last_dim=3)
+    g = as_float_array(gravity_s, "gravity_s", last_dim=3)
+    gn = g / np.linalg.norm(g, axis=-1, keepdims=True)
+    vn = v / np.linalg.norm(v, axis=-1, keepdims=True)
+    return np.arcsin(np.clip(np.abs(np.sum(vn * gn, axis=-1)), 0.0, 1.0))
+
+
+def axis_from_means(a0, a1, a2, *, min_separation_deg: float = DEFAULT_MIN_SEPARATION_DEG,
+                    max_elevation_deg: float = DEFAULT_MAX_ELEVATION_DEG) -> np.ndarray:
+    """Rotation axis from three static means, wang2022sensors Eq 23 (Eq 15 with averages).
+
+    Parameters
+    ----------
+    a0, a1, a2 : array_like, shape (..., 3)
+        Mean accelerometer readings (m/s²) at three rest positions; leading
+        axes are trials (vectorised).
+    min_separation_deg : float
+        Smallest allowed angle (deg) between any two means, and between the
+        chords ``ā1 − ā0`` and ``ā2 − ā1`` (collinearity).
+    max_elevation_deg : float
+        Largest allowed axis elevation γ above the horizontal (deg).
+
+    Returns
+    -------
+    ndarray, shape (..., 3)
+        Unit axis v with ``v_x ≥ 0``.
+
+    Raises
+    ------
+    ValueError
+        Identical/collinear means or a nearly vertical axis (message gives the angle).
+    """
+    means = [as_float_array(a, n, last_dim=3) for a, n in ((a0, "a0"), (a1, "a1"), (a2, "a2"))]
+    try:
+        m0, m1, m2 = np.broadcast_arrays(*means)
+    except ValueError:
+        raise ValueError(f"a0, a1, a2 must broadcast, got {[m.shape for m in means]}") from None
+    min_sep = np.radians(positive_scalar(min_separation_deg, "min_separation_deg"))
+    max_el = np.radians(positive_scalar(max_elevation_deg, "max_elevation_deg"))
+    seps = np.stack([angle_between(m0, m1), angle_between(m1, m2), angle_between(m0, m2)])
+    smallest = float(np.min(seps))
+    if smallest < min_sep:
+        raise ValueError(f"axis estimation needs three distinct rest positions: two static means "
+                         f"are only {np.degrees(smallest):.4f} deg apart (minimum "
+                         f"{min_separation_deg:g} deg); rotate further between rests")
+    d1 = m1 - m0
+    d2 = m2 - m1
+    n = np.cross(d1, d2)
+    chord_angle = np.arctan2(np.linalg.norm(n, axis=-1), np.abs(np.sum(d1 * d2, axis=-1)))
+    if float(np.min(chord_angle)) < min_sep:
+        raise ValueError(f"static means are nearly collinear: angle between a1-a0 and a2-a1 is "
+                         f"{np.degrees(float(np.min(chord_angle))):.4f} deg (minimum "
+                         f"{min_separation_deg:g} deg)")
+    v = apply_sign_convention(n / np.linalg.norm(n, axis=-1, keepdims=True))
+    elev = axis_elevation(v, m0)
+    if float(np.max(elev)) > max_el:
+        raise ValueError(f"rotation axis is nearly vertical: elevation "
+                         f"{np.degrees(float(np.max(elev))):.2f} deg above the horizontal "
+                         f"(maximum {max_elevation_deg:g} deg); rotation barely changes gravity")
+    return v
+
+
+def gravity_change_norm(elevation_rad, angle_rad: float, g_m_s2: float = 9.8) -> np.ndarray:
+    """‖g1 − g0‖ for ``g1 = R(θ, v)ᵀ g0`` and an axis at elevation γ (Fig. 12, Sec. 6).
+
+    Only the component of gravity perpendicular to v rotates, so
+    ``‖g1 − g0‖ = 2 g cos γ sin(θ/2)``: γ = 60° halves it (cos 60° = ½).
+    """
+    gam = as_float_array(elevation_rad, "elevation_rad")
+    return 2.0 * g_m_s2 * np.cos(gam) * np.abs(np.sin(0.5 * float(angle_rad)))
+
+
+def axis_error_std(sigma_mean_m_s2: float, elevation_rad, rest_angles_rad,
+                   g_m_s2: float = 9.80665) -> np.ndarray:
+    """First-order std (rad) of the Eq 23 axis direction (total over both tilt axes).
+
+    The three means lie on a circle of radius ``r = g cos γ`` (γ = axis
+    elevation) at rotation angles φ_i. Noise along the axis (out of the circle's
+    plane), σ per mean, tilts the plane through the three points; in-plane noise
+    does not tilt it to first order. Writing the out-of-plane offsets as
+    ``z_i = c + δᵀ p_i`` with ``p_i = r [cos φ_i, sin φ_i]`` gives
+    ``cov(δ) = σ² [(AᵀA)⁻¹]_tilt`` with rows ``A_i = [1, p_iᵀ]``, so
+
+        σ_v = σ √(tr[(AᵀA)⁻¹]_tilt) ∝ σ / (g cos γ):
+
+    halving ‖g1 − g0‖ (γ = 60°) doubles the axis error.
+
+    Parameters
+    ----------
+    sigma_mean_m_s2 : float
+        Std of each component of each rest mean (m/s²), e.g. ``N √(fs) / √n``.
+    elevation_rad : array_like
+        Axis elevation γ (rad), any shape.
+    rest_angles_rad : array_like, shape (3,)
+        Rotation angles of the three rests (rad).
+    g_m_s2 : float
+        Gravity (m/s²).
+    """
+    sig = positive_scalar(sigma_mean_m_s2, "sigma_mean_m_s2")
+    gam = as_float_array(elevation_rad, "elevation_rad")
+    phi = as_float_array(rest_angles_rad, "rest_angles_rad", ndim=1, last_dim=3)
+    a = np.stack([np.ones(3), np.cos(phi), np.sin(phi)], axis=1)
+    cov = np.linalg.inv(a.T @ a)
+    unit = np.sqrt(cov[1, 1] + cov[2, 2])  # tilt std for r = 1 and σ = 1
+    return sig * unit / (positive_scalar(g_m_s2, "g_m_s2") * np.cos(gam))
+
+
+@dataclass
+class AxisEstimator:
+    """Algorithm A1 (Appendix A) as a streaming state machine.
+
+    Feed samples with :meth:`push`; a rest is buffered while the ZVD says
+    static and closed (averaged) at the first moving sample after it, as in
+    A1 lines 5–13. mtcal additions, both off by default-compatible values:
+    rests shorter than ``min_rest_samples`` are discarded (Sec. 3.2 asks for
+    ≥ 1 s, so a ZVD flicker during motion is not a "rest"), and a rest whose
+    mean is within ``min_separation_deg`` of an earlier rest is merged into
+    it (same position seen twice, e.g. a ZVD dropout splitting one rest);
+    ``min_rest_samples`` applies to the merged total.
+    Running sums replace A1's sample buffer (same mean, O(1) memory).
+
+    Attributes
+    ----------
+    means : list of ndarray (3,)
+        Accepted rest means ā0, ā1, ā2 (m/s²).
+    rests : list of [start, stop)
+        Sample index ranges ``[first start, stop at acceptance)`` of the accepted rests.
+    v : ndarray (3,) or None
+        Axis once three rests are accepted.
+    """
+
+    min_rest_samples: int = 1
+    min_separation_deg: float = DEFAULT_MIN_SEPARATION_DEG
+    max_elevation_deg: float = DEFAULT_MAX_ELEVATION_DEG
+    means: list = field(default_factory=list)
+    rests: list = field(default_factory=list)
+    v: np.ndarray | None = None
+    _groups: list = field(default_factory=list)
+    _accepted: list = field(default_factory=list)
+    _buf_sum: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    _buf_n: int = 0
+    _buf_start: int = 0
+    _k: int = 0
+
+    @property
+    def count(self) -> int:
+        """Number of accepted rests (A1's ``count``)."""
+        return len(self.means)
+
+    def push(self, accel_m_s2, is_static: bool) -> bool:
+        """Feed one sample; return True once the axis is available (A1 lines 4–22)."""
+        if self.v is None:
+            if bool(is_static):
+                if self._buf_n == 0:
+                    self._buf_start = self._k
+                self._buf_sum += accel_m_s2
+                self._buf_n += 1
+            elif self._buf_n:
+                self._close_rest()
+            if len(self.means) == 3:
+                self.v = axis_from_means(*self.means, min_separation_deg=self.min_separation_deg,
+                                         max_elevation_deg=self.max_elevation_deg)
+        self._k += 1
+        return self.v is not None
+
+    def _close_rest(self) -> None:
+        n, total, start = self._buf_n, self._buf_sum, self._buf_start
+        self._buf_sum = np.zeros(3)
+        self._buf_n = 0
+        mean = total / n
+        for grp in self._groups:  # same position seen again (e.g. ZVD dropout): merge
+            if angle_between(grp[0] / grp[1], mean) < np.radians(self.min_separation_deg):
+                grp[0] = grp[0] + total
+                grp[1] += n
+                break
+        else:
+            grp = [total.copy(), n, start, self._k, False]
+            self._groups.append(grp)
+        if not grp[4] and grp[1] >= self.min_rest_samples and len(self.means) < 3:
+            grp[4] = True
+            self._accepted.append(grp)
+            self.rests.append((grp[2], self._k))
+        self.means = [g[0] / g[1] for g in self._accepted]
+
+
+@dataclass(frozen=True)
+class AxisResult:
+    """Result of :func:`estimate_axis`.
+
+    Attributes
+    ----------
+    v : ndarray (3,)
+        Unit axis (``v_x ≥ 0``).
+    means : ndarray (3, 3)
+        Rest means ā0, ā1, ā2 (m/s²), rows.
+    rests : list of slice
+        Sample ranges of the three accepted rests.
+    is_static : ndarray (N,) of bool
+        ZVD flags used.
+    n_rests_found : int
+        Distinct rests found in the whole record (≥ 3).
+    """
+
+    v: np.ndarray
+    means: np.ndarray
+    rests: list
+    is_static: np.ndarray
+    n_rests_found: int
+
+
+def estimate_axis(accel_m_s2, fs_hz: float, *, zvd: ZvdParams | None = None, is_static=None,
+                  min_rest_s: float = 0.5, min_separation_deg: float = DEFAULT_MIN_SEPARATION_DEG,
+                  max_elevation_deg: float = DEFAULT_MAX_ELEVATION_DEG) -> AxisResult:
+    """Algorithm A1 over a whole record: ZVD, rest means, Eq 23 from the first three rests.
+
+    Parameters
+    ----------
+    accel_m_s2 : array_like, shape (N, 3)
+        Accelerometer record (m/s²).
+    fs_hz : float
+        Sample rate (Hz).
+    zvd : ZvdParams, optional
+        ZVD thresholds (Table 1 by default).
+    is_static : array_like of bool (N,), optional
+        Precomputed ZVD flags (otherwise computed with ``zvd``).
+    min_rest_s : float
+        Shortest rest (s) counted; Sec. 3.2 asks for ≥ 1 s of rest.
+    min_separation_deg, max_elevation_deg : float
+        Degeneracy limits, see :func:`axis_from_means`.
+
+    Returns
+    -------
+    AxisResult
+
+    Raises
+    ------
+    ValueError
+        Fewer than three distinct rests, or degenerate geometry.
+    """
+    a = as_float_array(accel_m_s2, "accel_m_s2", ndim=2, last_dim=3)
+    fs = positive_scalar(fs_hz, "fs_hz")
+    if is_static is None:
+        static = detect_static(a, fs, zvd)
+    else:
+        static = np.asarray(is_static)
+        if static.dtype != bool or static.shape != a.shape[:1]:
+            raise ValueError(f"is_static must be boolean with shape {a.shape[:1]}, "
+                             f"got {static.dtype} {static.shape}")
+    est = AxisEstimator(min_rest_samples=max(int(round(positive_scalar(min_rest_s, "min_rest_s",
+                                                                       allow_zero=True) * fs)), 1),
+                        min_separation_deg=min_separation_deg, max_elevation_deg=max_elevation_deg)
+    # A rest only counts once motion follows it (A1): drop a rest running to the end.
+    for sl in rest_intervals(static):
+        if sl.stop >= a.shape[0]:
+            break
+        est._buf_start, est._k = sl.start, sl.stop
+        est._buf_sum = a[sl].sum(axis=0)
+        est._buf_n = sl.stop - sl.start
+        est._close_rest()
+        if len(est.means) == 3:
+            break
+    n_found = len(est.means)
+    if n_found < 3:
+        raise ValueError(f"found only {n_found} distinct rest(s) of >= {min_rest_s:g} s in the record; "
+                         f"axis estimation needs three (hold still >= 1 s at three positions)")
+    v = axis_from_means(*est.means, min_separation_deg=min_separation_deg,
+                        max_elevation_deg=max_elevation_deg)
+    rests = [slice(s, e) for s, e in est.rests]
+    return AxisResult(v, np.array(est.means), rests, static, n_found)

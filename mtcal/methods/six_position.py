@@ -1,0 +1,326 @@
+"""Six-position installation-error calibration procedure (wang2023cja §3.2).
+
+Workflow (paper §3.2, steps 1–7, with Eq 13–15):
+
+1. the IMU has been powered for 5 min (warm-up, modelled through
+   ``ImuErrorModel.time_since_power_on_s`` and ``SensorErrors.warmup_bias``);
+2. the mechanism visits yaw ±, pitch ±, roll ± (others zero) and rests 3 s at
+   each position, sampled at 1 kHz, the whole run within 1 min
+   (:func:`six_positions_rad`, :func:`schedule_profile`);
+3. the rests are found **from the data** — a stillness detector on the gyro
+   norm (:func:`stillness_from_gyro`) or on the quaternion rate
+   (:func:`stillness_from_quaternions`), then :func:`find_rests`; the known
+   schedule is never used;
+4. the middle section of each rest is averaged (:func:`mean_quaternion`, a
+   sign-aligned chordal mean) → the columns of ``A_q^s`` (Eq 14);
+5. rests are matched to the reference positions (``A_e^b`` of Eq 15,
+   converted with Eq 9) by nearest attitude (:func:`match_rests`);
+6. Eq 13 is solved with :func:`mtcal.methods.quaternion_lsq.least_squares_error_matrix`
+   (vectorised over a leading trial axis for Monte Carlo).
+
+Shapes: a record is (N, …) or (T, N, …) with a leading Monte Carlo trial
+axis. All trials of one simulation share the mechanism schedule, so a sample
+counts as "still" only if it is still in every trial (one set of rests).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import linear_sum_assignment
+
+from mtcal.methods import quaternion_lsq as calibration
+from mtcal.core import rotations
+from mtcal.core.validate import as_float_array, positive_scalar, unit_quaternion
+from mtcal.core.profiles import AngleProfile, step_schedule
+
+__all__ = ["six_positions_rad", "schedule_profile", "stillness_from_gyro",
+           "stillness_from_quaternions", "find_rests", "middle_slices", "mean_quaternion",
+           "rest_means", "match_rests", "SixPositionResult", "calibrate"]
+
+#: Paper §3.2: rest at each position (s).
+REST_S = 3.0
+#: Paper §3.2: the whole calibration completes within 1 min.
+MAX_RUN_S = 60.0
+
+
+def six_positions_rad(yaw_rad=(np.radians(8.0), np.radians(-8.0)),
+                      pitch_rad=(np.radians(-12.0), np.radians(23.0)),
+                      roll_rad=(np.radians(90.0), np.radians(-90.0))) -> np.ndarray:
+    """Reference positions of Eq 15: rows ``[ψ, θ, γ]`` (rad), shape (6, 3).
+
+    Defaults are the turntable ranges of §4.1 (yaw ±8°, pitch −12°/+23°,
+    roll ±90°). Order: yaw α1, α1′, pitch, pitch′, roll, roll′.
+    """
+    out = np.zeros((6, 3))
+    for i, pair in enumerate((yaw_rad, pitch_rad, roll_rad)):
+        vals = as_float_array(pair, ("yaw_rad", "pitch_rad", "roll_rad")[i], ndim=1)
+        if vals.shape != (2,):
+            raise ValueError(f"each range must hold 2 angles, got {vals.shape}")
+        out[2 * i:2 * i + 2, i] = vals
+    return out
+
+
+def schedule_profile(positions_rad, *, rate_rad_s: float = np.radians(20.0), rest_s: float = REST_S,
+                     initial_rest_s: float = 5.0, final_rest_s: float = 3.0,
+                     fs_hz: float = 1000.0) -> AngleProfile:
+    """Mechanism schedule: zero → each position (rest) → zero, minimum-jerk moves.
+
+    Parameters
+    ----------
+    positions_rad : array_like, shape (K, 3)
+        ``[ψ, θ, γ]`` per position (rad).
+    rate_rad_s : float
+        Mean move rate of the mechanism (rad/s); default 20 °/s (assumed).
+    rest_s : float
+        Rest at each position (s); paper 3 s.
+    initial_rest_s, final_rest_s : float
+        Rests at zero before and after (s); the initial one lets the QNCF level.
+    fs_hz : float
+        Sample rate (Hz); paper 1000 Hz.
+    """
+    pos = as_float_array(positions_rad, "positions_rad", ndim=2, last_dim=3)
+    wp = np.vstack([np.zeros(3), pos, np.zeros(3)])
+    holds = np.r_[initial_rest_s, np.full(pos.shape[0], rest_s), final_rest_s]
+    return step_schedule(wp, rate_rad_s, holds, fs_hz, min_move_s=0.5)
+
+
+def _moving_mean(x: np.ndarray, win: int, axis: int = -1) -> np.ndarray:
+    """Centred moving mean along ``axis`` (edges use the available samples)."""
+    x = np.moveaxis(x, axis, -1)
+    c = np.cumsum(np.concatenate([np.zeros(x.shape[:-1] + (1,)), x], axis=-1), axis=-1)
+    n = x.shape[-1]
+    idx = np.arange(n)
+    lo = np.clip(idx - win // 2, 0, n)
+    hi = np.clip(idx - win // 2 + win, 0, n)
+    out = (c[..., hi] - c[..., lo]) / (hi - lo)
+    return np.moveaxis(out, -1, axis)
+
+
+def stillness_from_gyro(gyro_rad_s, fs_hz: float, *, window_s: float = 0.1,
+                        threshold_rad_s: float = np.radians(0.2)) -> np.ndarray:
+    """Still where the moving-mean gyro norm is below a threshold.
+
+    Parameters
+    ----------
+    gyro_rad_s : array_like, shape (N, 3) or (T, N, 3)
+        Angular rate (rad/s).
+    fs_hz : float
+        Sample rate (Hz).
+    window_s : float
+        Moving-mean window (s); averages white noise down.
+    threshold_rad_s : float
+        Threshold on ‖ω‖ (rad/s); default 0.2 °/s (far above a tactical
+        gyro's 0.1 s-averaged noise ≈ 0.003 °/s, far below a move).
+
+    Returns
+    -------
+    ndarray of bool, shape (N,) — still in every trial.
+    """
+    w = as_float_array(gyro_rad_s, "gyro_rad_s", ndim=(2, 3), last_dim=3)
+    fs = positive_scalar(fs_hz, "fs_hz")
+    win = max(1, int(round(positive_scalar(window_s, "window_s") * fs)))
+    norm = np.linalg.norm(_moving_mean(w, win, axis=-2), axis=-1)
+    still = norm < positive_scalar(threshold_rad_s, "threshold_rad_s")
+    return still if still.ndim == 1 else np.all(still, axis=0)
+
+
+def stillness_from_quaternions(q, fs_hz: float, *, window_s: float = 0.1,
+                               threshold_rad_s: float = np.radians(0.2)) -> np.ndarray:
+    """Still where the mean rotation rate over a window (from the quaternions) is small.
+
+    Rate ≈ angle(q[k − w/2], q[k + w/2]) / (w / fs). Shapes (N, 4) or (T, N, 4)
+    → (N,) bool (still in every trial).
+    """
+    qq = unit_quaternion(q, "q")
+    if qq.ndim not in (2, 3):
+        raise ValueError(f"q must have shape (N, 4) or (T, N, 4), got {qq.shape}")
+    fs = positive_scalar(fs_hz, "fs_hz")
+    half = max(1, int(round(positive_scalar(window_s, "window_s") * fs / 2)))
+    n = qq.shape[-2]
+    idx = np.arange(n)
+    lo, hi = np.clip(idx - half, 0, n - 1), np.clip(idx + half, 0, n - 1)
+    ang = rotations.quat_angle_between(qq[..., lo, :], qq[..., hi, :])
+    rate = ang / np.maximum(hi - lo, 1) * fs
+    still = rate < positive_scalar(threshold_rad_s, "threshold_rad_s")
+    return still if still.ndim == 1 else np.all(still, axis=0)
+
+
+def find_rests(still, fs_hz: float, *, min_rest_s: float = 2.0) -> list[slice]:
+    """Contiguous still runs lasting at least ``min_rest_s``, as sample slices in time order."""
+    s = np.asarray(still)
+    if s.dtype != bool or s.ndim != 1:
+        raise TypeError(f"still must be a 1-D boolean array, got dtype {s.dtype} shape {s.shape}")
+    fs = positive_scalar(fs_hz, "fs_hz")
+    edges = np.diff(np.concatenate([[0], s.astype(np.int8), [0]]))
+    starts, stops = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)
+    keep = (stops - starts) >= positive_scalar(min_rest_s, "min_rest_s") * fs
+    return [slice(int(a), int(b)) for a, b in zip(starts[keep], stops[keep])]
+
+
+def middle_slices(rests: list[slice], fraction: float = 0.5) -> list[slice]:
+    """The central ``fraction`` of each rest ("middle section", §3.2)."""
+    f = positive_scalar(fraction, "fraction")
+    if f > 1:
+        raise ValueError(f"fraction must be in (0, 1], got {f}")
+    out = []
+    for r in rests:
+        n = r.stop - r.start
+        m = max(1, int(round(n * f)))
+        a = r.start + (n - m) // 2
+        out.append(slice(a, a + m))
+    return out
+
+
+def mean_quaternion(q, axis: int = -2) -> np.ndarray:
+    """Sign-aligned chordal mean of unit quaternions along ``axis`` (normalised).
+
+    Each quaternion is flipped to agree in sign with the first one along
+    ``axis`` (q and −q are the same attitude), averaged, and renormalised.
+    Exact for identical inputs; for a spread of a few 0.01° it equals the
+    rotation-averaging mean to second order.
+    """
+    qq = unit_quaternion(q, "q")
+    ax = axis % qq.ndim
+    ref = np.take(qq, [0], axis=ax)
+    dot = np.sum(qq * ref, axis=-1, keepdims=True)
+    m = np.mean(np.where(dot < 0, -qq, qq), axis=ax)
+    return m / np.linalg.norm(m, axis=-1, keepdims=True)
+
+
+def rest_means(q_ws, rests: list[slice], fraction: float = 0.5) -> np.ndarray:
+    """Mean attitude over the middle of each rest: (N, 4) → (K, 4), (T, N, 4) → (T, K, 4)."""
+    qq = unit_quaternion(q_ws, "q_ws")
+    if qq.ndim not in (2, 3):
+        raise ValueError(f"q_ws must have shape (N, 4) or (T, N, 4), got {qq.shape}")
+    mids = middle_slices(rests, fraction)
+    return np.stack([mean_quaternion(qq[..., s, :], axis=-2) for s in mids], axis=-2)
+
+
+def match_rests(q_rest, q_ref, *, max_angle_rad: float = np.radians(5.0)) -> np.ndarray:
+    """Assign one detected rest to each reference position (nearest attitude, Hungarian).
+
+    Parameters
+    ----------
+    q_rest : array_like, shape (R, 4) or (T, R, 4)
+        Mean sensor attitude of each detected rest (trials: distances averaged).
+    q_ref : array_like, shape (K, 4)
+        Reference attitudes (Eq 9 of Eq 15's angles).
+    max_angle_rad : float
+        Largest accepted distance (rad) between a rest and its position; must
+        exceed installation error + yaw offset, and stay below half the
+        spacing of the positions.
+
+    Returns
+    -------
+    ndarray of int, shape (K,)
+        Index of the rest used for each reference position.
+    """
+    qr = unit_quaternion(q_rest, "q_rest")
+    qb = unit_quaternion(q_ref, "q_ref")
+    k, r = qb.shape[0], qr.shape[-2]
+    if r < k:
+        raise ValueError(f"found {r} rests in the record but {k} reference positions were given; "
+                         f"each position needs a rest of at least min_rest_s")
+    dist = rotations.quat_angle_between(qr[..., :, None, :], qb[None, :, :] if qr.ndim == 2 else qb)
+    if dist.ndim == 3:
+        dist = dist.mean(axis=0)
+    rows, cols = linear_sum_assignment(dist.T)  # rows: reference, cols: rest
+    worst = dist[cols, rows].max()
+    if worst > max_angle_rad:
+        bad = int(rows[np.argmax(dist[cols, rows])])
+        raise ValueError(f"reference position {bad + 1} has no rest within "
+                         f"{np.degrees(max_angle_rad):.1f} deg (nearest {np.degrees(worst):.2f} deg); "
+                         f"check the positions file or the installation error")
+    out = np.empty(k, dtype=int)
+    out[rows] = cols
+    return out
+
+
+@dataclass(frozen=True)
+class SixPositionResult:
+    """Outcome of :func:`calibrate` (trial axis T present iff the input had one).
+
+    Attributes
+    ----------
+    q_matrix : ndarray (4, 4) or (T, 4, 4)
+        Q̂_s^b (Eq 13).
+    rests : list of slice
+        All detected rests (time order).
+    matched : ndarray (K,) of int
+        Rest index used for each reference position.
+    q_sensor : ndarray (K, 4) or (T, K, 4)
+        Middle-section mean sensor quaternions (Eq 14 columns).
+    q_reference : ndarray (K, 4)
+        Reference quaternions (Eq 9 of the reference angles).
+    euler_before_rad, euler_after_rad : ndarray (K, 3) or (T, K, 3)
+        Eq 8 angles of the sensor means and of ``Q̂ q_s`` (rad).
+    residual_rad : ndarray (K,) or (T, K)
+        Angle between ``Q̂ q_s`` and the reference (rad).
+    """
+
+    q_matrix: np.ndarray
+    rests: list
+    matched: np.ndarray
+    q_sensor: np.ndarray
+    q_reference: np.ndarray
+    euler_before_rad: np.ndarray
+    euler_after_rad: np.ndarray
+    residual_rad: np.ndarray
+
+
+def calibrate(q_ws, reference_euler_rad, fs_hz: float, *, gyro_rad_s=None, fraction: float = 0.5,
+              min_rest_s: float = 2.0, threshold_rad_s: float = np.radians(0.2),
+              window_s: float = 0.1, max_match_rad: float = np.radians(5.0)) -> SixPositionResult:
+    """Six-position calibration from a recorded sensor-attitude stream (§3.2, Eq 13–15).
+
+    Parameters
+    ----------
+    q_ws : array_like, shape (N, 4) or (T, N, 4)
+        Sensor attitude stream (QNCF output), scalar-first.
+    reference_euler_rad : array_like, shape (K, 3)
+        Reference ``[ψ, θ, γ]`` of each position (rad), K ≥ 3.
+    fs_hz : float
+        Sample rate (Hz).
+    gyro_rad_s : array_like, shape like q_ws[..., :3], optional
+        If given, rests are detected on the gyro norm, else on the quaternions.
+    fraction : float
+        Middle fraction of each rest that is averaged (0.5 → the central 1.5 s
+        of a 3 s rest).
+    min_rest_s : float
+        Shortest still run accepted as a rest (s).
+    threshold_rad_s, window_s : float
+        Stillness detector threshold (rad/s) and window (s).
+    max_match_rad : float
+        Matching tolerance (rad), see :func:`match_rests`.
+
+    Raises
+    ------
+    ValueError
+        Too few rests, a position without a matching rest, or degenerate
+        positions (condition number in the message).
+    """
+    qq = unit_quaternion(q_ws, "q_ws")
+    ref = as_float_array(reference_euler_rad, "reference_euler_rad", ndim=2, last_dim=3)
+    if ref.shape[0] < 3:
+        raise ValueError(f"reference_euler_rad must hold at least 3 positions, got {ref.shape[0]}")
+    q_ref = rotations.quat_from_euler_zxy(ref[:, 0], ref[:, 1], ref[:, 2])
+    if gyro_rad_s is not None:
+        still = stillness_from_gyro(gyro_rad_s, fs_hz, window_s=window_s, threshold_rad_s=threshold_rad_s)
+    else:
+        still = stillness_from_quaternions(qq, fs_hz, window_s=window_s, threshold_rad_s=threshold_rad_s)
+    if still.shape[0] != qq.shape[-2]:
+        raise ValueError(f"gyro_rad_s has {still.shape[0]} samples but q_ws has {qq.shape[-2]}")
+    rests = find_rests(still, fs_hz, min_rest_s=min_rest_s)
+    if len(rests) < ref.shape[0]:
+        raise ValueError(f"too few rests: found {len(rests)} still periods of >= {min_rest_s:g} s, "
+                         f"need one for each of the {ref.shape[0]} reference positions")
+    means = rest_means(qq, rests, fraction)
+    matched = match_rests(means, q_ref, max_angle_rad=max_match_rad)
+    q_s = means[..., matched, :]
+    q_mat = calibration.least_squares_error_matrix(q_s, q_ref)  # (4, 4) or (T, 4, 4)
+    after = calibration.apply_error_matrix(q_mat, q_s)
+    residual = rotations.quat_angle_between(after, q_ref)
+    return SixPositionResult(q_mat, rests, matched, q_s, q_ref, rotations.euler_zxy_from_quat(q_s),
+                             rotations.euler_zxy_from_quat(after), residual)

@@ -1,0 +1,185 @@
+"""Zero-velocity detection (ZVD) of wang2022sensors (Wang et al., Sensors 2022, Sec. 3.1, Table 1).
+
+A sample is *static* when, for at least ``th_t`` seconds,
+
+1. the acceleration magnitude lies in a band ``th_a_min < ‖a‖ < th_a_max`` (Eq 21), and
+2. the local variance of ‖a‖ over a window of ``t_w`` seconds is below
+   ``th_ζa`` (Eq 22).
+
+Everything is **causal** (trailing windows), so the batch function
+:func:`detect_static` gives, sample for sample, what a streaming detector fed
+one sample at a time would give: the window at sample k covers samples
+``k − n_w + 1 … k`` (fewer at the start of a record), and a sample is flagged
+once both conditions have held for ``n_h`` consecutive samples. The moving
+variance uses cumulative sums of ``‖a‖ − g`` (centred first so the cumsum does
+not lose precision), vectorised over samples and any leading trial axes.
+
+Edge behaviour (what the tests allow): the first ``max(n_w, n_h) − 1``
+samples of a rest are not yet flagged, and the last samples of a move, where a
+minimum-jerk blend has almost no rate or acceleration, may already be flagged.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from mtcal.core.validate import STANDARD_GRAVITY_M_S2, as_float_array, check_accel_units, positive_scalar
+
+__all__ = ["ZvdParams", "moving_variance", "detect_static", "rest_intervals"]
+
+
+@dataclass(frozen=True)
+class ZvdParams:
+    """ZVD thresholds; defaults are wang2022sensors Table 1 (``wang2022sensors_table01_zvd_params.csv``).
+
+    Parameters
+    ----------
+    accel_min_m_s2, accel_max_m_s2 : float
+        Acceleration-magnitude band ``th_a_min``, ``th_a_max`` (m/s²): 9.76, 9.84.
+    var_threshold_m2_s4 : float
+        Local-variance threshold ``th_ζa`` (m²/s⁴): 0.001.
+    window_s : float
+        Variance window ``t_w`` (s): 0.01.
+    min_duration_s : float
+        Minimum duration ``th_t`` (s): 0.01.
+    min_window_samples : int
+        Lower bound on the window length in samples (a variance over fewer
+        than 2 samples is 0); mtcal's choice, not the paper's.
+    gyro_max_rad_s : float or None
+        Optional angular-rate condition ``‖ω‖ < gyro_max`` (rad/s), the
+        "angular velocity condition" Sec. 3.1 cites from [20] but does not use;
+        None (paper) disables it. ‖a‖ is blind to a pure rotation about an
+        axis through the sensor, so without it the ZVD sees rotation only
+        through lever-arm acceleration.
+    """
+
+    accel_min_m_s2: float = 9.76
+    accel_max_m_s2: float = 9.84
+    var_threshold_m2_s4: float = 0.001
+    window_s: float = 0.01
+    min_duration_s: float = 0.01
+    min_window_samples: int = 3
+    gyro_max_rad_s: float | None = None
+
+    def __post_init__(self) -> None:
+        for name in ("accel_min_m_s2", "accel_max_m_s2", "var_threshold_m2_s4", "window_s",
+                     "min_duration_s"):
+            positive_scalar(getattr(self, name), name)
+        if self.accel_min_m_s2 >= self.accel_max_m_s2:
+            raise ValueError(f"accel_min_m_s2 ({self.accel_min_m_s2}) must be < accel_max_m_s2 "
+                             f"({self.accel_max_m_s2})")
+        if self.accel_max_m_s2 > 100:
+            raise ValueError("accel_max_m_s2 must be in m/s² (got > 100; mg passed?)")
+        if self.gyro_max_rad_s is not None:
+            positive_scalar(self.gyro_max_rad_s, "gyro_max_rad_s")
+        if int(self.min_window_samples) < 2:
+            raise ValueError(f"min_window_samples must be >= 2, got {self.min_window_samples}")
+
+    @classmethod
+    def from_paper(cls) -> "ZvdParams":
+        """Table 1 as transcribed in ``data/paper/wang2022sensors_table01_zvd_params.csv``."""
+        from mtcal.reporting import paper_numbers as paper
+
+        name = "wang2022sensors_table01_zvd_params"
+        return cls(accel_min_m_s2=paper.value(name, "value", symbol="th_a_min"),
+                   accel_max_m_s2=paper.value(name, "value", symbol="th_a_max"),
+                   var_threshold_m2_s4=paper.value(name, "value", symbol="th_zeta_a"),
+                   window_s=paper.value(name, "value", symbol="t_w"),
+                   min_duration_s=paper.value(name, "value", symbol="th_t"))
+
+    def window_samples(self, fs_hz: float) -> int:
+        """Variance window ``n_w = max(round(t_w fs), min_window_samples)``."""
+        return max(int(round(self.window_s * positive_scalar(fs_hz, "fs_hz"))),
+                   int(self.min_window_samples))
+
+    def duration_samples(self, fs_hz: float) -> int:
+        """Minimum run ``n_h = max(ceil(th_t fs − 1e-9), 1)`` samples."""
+        return max(int(np.ceil(self.min_duration_s * positive_scalar(fs_hz, "fs_hz") - 1e-9)), 1)
+
+
+def moving_variance(x, window: int) -> np.ndarray:
+    """Trailing moving (population) variance along the last axis, via cumulative sums.
+
+    Sample k uses ``x[k − window + 1 … k]`` (fewer samples for k < window − 1).
+
+    Parameters
+    ----------
+    x : array_like, shape (..., N)
+    window : int
+        Window length in samples (≥ 1).
+    """
+    arr = as_float_array(x, "x")
+    if isinstance(window, bool) or not isinstance(window, (int, np.integer)) or window < 1:
+        raise ValueError(f"window must be an integer >= 1, got {window!r}")
+    arr = arr - arr[..., :1]  # centre on the first sample: cumsum keeps precision
+    zeros = np.zeros(arr.shape[:-1] + (1,))
+    c1 = np.concatenate([zeros, np.cumsum(arr, axis=-1)], axis=-1)
+    c2 = np.concatenate([zeros, np.cumsum(arr * arr, axis=-1)], axis=-1)
+    n = arr.shape[-1]
+    stop = np.arange(1, n + 1)
+    start = np.maximum(stop - window, 0)
+    count = (stop - start).astype(float)
+    s1 = c1[..., stop] - c1[..., start]
+    s2 = c2[..., stop] - c2[..., start]
+    mean = s1 / count
+    return np.maximum(s2 / count - mean * mean, 0.0)
+
+
+def detect_static(accel_m_s2, fs_hz: float, params: ZvdParams | None = None,
+                  gyro_rad_s=None) -> np.ndarray:
+    """wang2022sensors ZVD (Sec. 3.1, Eq 21–22, Table 1): static flag per sample.
+
+    Parameters
+    ----------
+    accel_m_s2 : array_like, shape (..., N, 3)
+        Accelerometer specific force (m/s²); leading axes are trials.
+    fs_hz : float
+        Sample rate (Hz).
+    params : ZvdParams, optional
+        Thresholds; Table 1 by default.
+    gyro_rad_s : array_like, shape (..., N, 3), optional
+        Gyro record (rad/s); required when ``params.gyro_max_rad_s`` is set.
+
+    Returns
+    -------
+    ndarray of bool, shape (..., N)
+    """
+    p = ZvdParams() if params is None else params
+    if not isinstance(p, ZvdParams):
+        raise TypeError(f"params must be a ZvdParams, got {type(p).__name__}")
+    a = as_float_array(accel_m_s2, "accel_m_s2", last_dim=3)
+    if a.ndim < 2:
+        raise ValueError(f"accel_m_s2 must have shape (..., N, 3), got {a.shape}")
+    check_accel_units(a)
+    mag = np.linalg.norm(a, axis=-1)
+    band = (mag > p.accel_min_m_s2) & (mag < p.accel_max_m_s2)
+    var = moving_variance(mag - STANDARD_GRAVITY_M_S2, p.window_samples(fs_hz))
+    cond = band & (var < p.var_threshold_m2_s4)
+    if p.gyro_max_rad_s is not None:
+        if gyro_rad_s is None:
+            raise ValueError("gyro_rad_s is required when params.gyro_max_rad_s is set")
+        w = as_float_array(gyro_rad_s, "gyro_rad_s", last_dim=3)
+        if w.shape != a.shape:
+            raise ValueError(f"gyro_rad_s must have the shape of accel_m_s2 {a.shape}, got {w.shape}")
+        cond &= np.linalg.norm(w, axis=-1) < p.gyro_max_rad_s
+    return _min_run(cond, p.duration_samples(fs_hz))
+
+
+def _min_run(cond: np.ndarray, n_h: int) -> np.ndarray:
+    """True where ``cond`` has held for the last ``n_h`` samples (causal run length)."""
+    idx = np.arange(cond.shape[-1])
+    last_false = np.maximum.accumulate(np.where(cond, -1, idx), axis=-1)
+    return (idx - last_false) >= n_h
+
+
+def rest_intervals(is_static) -> list[slice]:
+    """Slices of the runs of True in a 1-D static flag, in order."""
+    s = np.asarray(is_static)
+    if s.dtype != bool or s.ndim != 1:
+        raise ValueError(f"is_static must be a 1-D boolean array, got dtype {s.dtype}, shape {s.shape}")
+    d = np.diff(np.concatenate([[0], s.astype(np.int8), [0]]))
+    starts = np.flatnonzero(d == 1)
+    stops = np.flatnonzero(d == -1)
+    return [slice(int(a), int(b)) for a, b in zip(starts, stops)]

@@ -1,0 +1,90 @@
+import numpy as np
+import pytest
+
+from mtcal.core import metrics
+from mtcal.core.metrics import bootstrap_medians
+
+
+def test_angle_difference_wraps():
+    d = metrics.angle_difference(np.radians([179.0, -179.0]), np.radians([-179.0, 179.0]))
+    np.testing.assert_allclose(np.degrees(d), [-2.0, 2.0], atol=1e-12)
+
+
+def test_rmse_and_maxae_with_mask():
+    err = np.array([[1.0, -1.0, 3.0, 0.0], [2.0, 2.0, 2.0, 2.0]])
+    np.testing.assert_allclose(metrics.rmse(err), [np.sqrt(11 / 4), 2.0])
+    np.testing.assert_allclose(metrics.max_abs_error(err), [3.0, 2.0])
+    mask = np.array([True, True, False, False])
+    np.testing.assert_allclose(metrics.rmse(err, mask=mask), [1.0, 2.0])
+    np.testing.assert_allclose(metrics.max_abs_error(err, mask=mask), [1.0, 2.0])
+
+
+def test_split_static_moving():
+    err = np.array([0.1, -0.1, 5.0, -5.0])
+    out = metrics.split_static_moving(err, np.array([True, True, False, False]))
+    assert out["static_rmse"] == pytest.approx(0.1)
+    assert out["moving_max"] == pytest.approx(5.0)
+
+
+def test_allan_of_white_noise_is_n_over_sqrt_tau(rng):
+    fs, n = 100.0, 0.01
+    x = n * np.sqrt(fs) * rng.standard_normal((4, 200_000))
+    taus, adev = metrics.allan_deviation(x, fs, taus_s=[0.1, 1.0, 10.0])
+    np.testing.assert_allclose(adev, n / np.sqrt(taus), rtol=0.05)
+
+
+def test_percentile_band(rng):
+    band = metrics.percentile_band(rng.standard_normal(100_000))
+    assert band["median"] == pytest.approx(0.0, abs=0.02)
+    assert band["high"] == pytest.approx(1.96, abs=0.05)
+
+
+def test_bad_input():
+    with pytest.raises(TypeError, match="mask must be boolean"):
+        metrics.rmse([1.0, 2.0], mask=[1, 0])
+    with pytest.raises(ValueError, match="at least one sample"):
+        metrics.rmse([1.0, 2.0], mask=np.array([False, False]))
+    with pytest.raises(ValueError, match="must broadcast"):
+        metrics.rmse([1.0, 2.0], mask=np.array([True, False, True]))
+    with pytest.raises(ValueError, match="finite"):
+        metrics.rmse([1.0, np.nan])
+    with pytest.raises(ValueError, match="at least 9 samples"):
+        metrics.allan_deviation(np.ones(5), 10.0)
+    with pytest.raises(ValueError, match="fs_hz must be > 0"):
+        metrics.allan_deviation(np.ones(100), 0.0)
+    with pytest.raises(ValueError, match="level must be"):
+        metrics.percentile_band([1.0, 2.0], level=95)
+
+
+# --- bootstrap_medians (bands of statistics built from Monte Carlo medians)
+
+def test_shape_and_constant_samples():
+    rng = np.random.default_rng(0)
+    boot = bootstrap_medians([np.full(5, 2.0), np.full(7, 3.0)], rng, n_boot=50)
+    assert boot.shape == (50, 2)
+    np.testing.assert_array_equal(boot[:, 0], 2.0)
+    np.testing.assert_array_equal(boot[:, 1], 3.0)
+
+
+def test_medians_are_resampled_values_and_spread_shrinks_with_n():
+    rng = np.random.default_rng(1)
+    small, large = rng.standard_normal(51), rng.standard_normal(2001)
+    boot = bootstrap_medians([small, large], rng, n_boot=400)
+    assert np.all(np.isin(boot[:, 0], small))  # odd n: the median is one of the samples
+    # standard error of the median ≈ 1.2533 / sqrt(n) for a unit normal
+    assert np.std(boot[:, 0]) == pytest.approx(1.2533 / np.sqrt(51), rel=0.35)
+    assert np.std(boot[:, 1]) < 0.3 * np.std(boot[:, 0])
+
+
+def test_bad_input_raises():
+    rng = np.random.default_rng(2)
+    with pytest.raises(TypeError, match="rng"):
+        bootstrap_medians([np.ones(3)], 1, n_boot=10)
+    with pytest.raises(ValueError, match="samples"):
+        bootstrap_medians([np.ones(1)], rng, n_boot=10)
+    with pytest.raises(ValueError, match="samples"):
+        bootstrap_medians([], rng, n_boot=10)
+    with pytest.raises(ValueError, match=r"samples\[0\]"):
+        bootstrap_medians([np.array([1.0, np.nan])], rng, n_boot=10)
+    with pytest.raises(ValueError, match="n_boot"):
+        bootstrap_medians([np.ones(3)], rng, n_boot=0)

@@ -1,0 +1,60 @@
+import numpy as np
+import pytest
+
+from mtcal.core import profiles
+
+
+def test_step_schedule_visits_waypoints_and_holds():
+    wp = np.radians([[0.0, 0.0], [10.0, -5.0], [10.0, 20.0]])
+    prof = profiles.step_schedule(wp, np.radians(5.0), hold_s=[1.0, 2.0, 1.5], fs_hz=100.0)
+    holds = prof.hold_slices()
+    assert len(holds) == 3
+    for sl, target, dur in zip(holds, wp, [1.0, 2.0, 1.5]):
+        np.testing.assert_allclose(prof.angle_rad[sl], np.broadcast_to(target, prof.angle_rad[sl].shape))
+        assert (sl.stop - sl.start) / 100.0 == pytest.approx(dur, abs=0.011)
+        assert np.all(prof.rate_rad_s[sl] == 0) and np.all(prof.is_static[sl])
+    # move 1 lasts max|Δ| / rate = 10° / 5°/s = 2 s
+    assert np.sum(prof.segment == 1) / 100.0 == pytest.approx(2.0, abs=0.011)
+
+
+def test_step_schedule_derivatives_are_consistent():
+    wp = np.radians([0.0, 30.0, -20.0])
+    prof = profiles.step_schedule(wp, np.radians(20.0), 0.5, 1000.0)
+    dt = 1e-3
+    num_rate = np.gradient(prof.angle_rad[:, 0], dt)
+    np.testing.assert_allclose(num_rate, prof.rate_rad_s[:, 0], atol=2e-4)
+    num_acc = np.gradient(prof.rate_rad_s[:, 0], dt)
+    np.testing.assert_allclose(num_acc[2:-2], prof.accel_rad_s2[2:-2, 0], atol=0.02)
+    assert np.max(np.abs(prof.rate_rad_s)) == pytest.approx(1.875 * np.radians(20.0), rel=1e-3)
+
+
+def test_sinusoid_and_constant_rate():
+    prof = profiles.sinusoid(np.radians(40), 0.5, 4.0, 100.0)
+    assert prof.angle_rad.shape == (400, 1)
+    np.testing.assert_allclose(prof.rate_rad_s[0, 0], np.radians(40) * np.pi)
+    cr = profiles.constant_rate(np.radians(-90), np.radians(90), np.radians(10), 100.0)
+    assert cr.angle_rad[-1, 0] == pytest.approx(np.radians(90))
+    assert np.all(cr.rate_rad_s == np.radians(10))
+
+
+def test_trajectory_from_euler_requires_three_channels():
+    prof = profiles.sinusoid(0.1, 1.0, 1.0, 100.0)
+    with pytest.raises(ValueError, match="3 channels"):
+        profiles.trajectory_from_euler_zxy(prof)
+
+
+@pytest.mark.parametrize("kwargs,match", [
+    (dict(waypoints_rad=[0.0, 1.0], rate_rad_s=0.0, hold_s=1.0, fs_hz=100.0), "rate_rad_s must be > 0"),
+    (dict(waypoints_rad=[0.0, np.nan], rate_rad_s=1.0, hold_s=1.0, fs_hz=100.0), "finite"),
+    (dict(waypoints_rad=[0.0, 1.0], rate_rad_s=1.0, hold_s=-1.0, fs_hz=100.0), "hold_s must be > 0"),
+    (dict(waypoints_rad=[0.0, 1.0], rate_rad_s=1.0, hold_s=1.0, fs_hz=-5.0), "fs_hz must be > 0"),
+])
+def test_step_schedule_bad_input(kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        profiles.step_schedule(**kwargs)
+
+
+def test_fixed_axis_bad_axis():
+    prof = profiles.sinusoid(0.1, 1.0, 1.0, 100.0)
+    with pytest.raises(ValueError, match="unit vector"):
+        profiles.fixed_axis_trajectory(prof, [1.0, 1.0, 0.0])

@@ -1,0 +1,207 @@
+import numpy as np
+import pytest
+
+from mtcal.core import metrics, profiles, rotations, simulate
+from mtcal.core.simulate import ImuErrorModel, SensorErrors, Trajectory
+
+G = 9.80665
+
+
+@pytest.fixture
+def turntable():
+    wp = np.radians([[0, 0, 0], [8, 0, 0], [0, -12, 0], [0, 23, 30], [0, 0, -90]])
+    return profiles.trajectory_from_euler_zxy(profiles.step_schedule(wp, np.radians(10), 1.0, 500))
+
+
+def test_noise_free_gyro_integrates_to_truth(turntable):
+    rec = simulate.simulate_imu(turntable)
+    q = simulate.integrate_gyro(turntable.q_wb[0], rec.gyro_rad_s, turntable.dt_s)
+    assert np.max(rotations.quat_angle_between(q, turntable.q_wb)) < 1e-9
+
+
+def test_static_accel_is_rotated_gravity(turntable):
+    rec = simulate.simulate_imu(turntable)
+    c_wb = rotations.quat_to_matrix(turntable.q_wb)
+    expected = np.einsum("nji,j->ni", c_wb, [0.0, 0.0, G])
+    np.testing.assert_allclose(rec.accel_m_s2, expected, atol=1e-12)
+    np.testing.assert_allclose(np.linalg.norm(rec.accel_m_s2, axis=1), G, atol=1e-12)
+
+
+def test_mounting_rotates_sensor_outputs(turntable):
+    q_bs = rotations.quat_from_euler_zxy(0.02, -0.01, 0.03)
+    rec = simulate.simulate_imu(turntable, ImuErrorModel(q_mount=tuple(q_bs)))
+    q = simulate.integrate_gyro(rec.q_ws_true[0], rec.gyro_rad_s, turntable.dt_s)
+    assert np.max(rotations.quat_angle_between(q, rec.q_ws_true)) < 1e-9
+    c_ws = rotations.quat_to_matrix(rec.q_ws_true)
+    np.testing.assert_allclose(rec.accel_m_s2, np.einsum("nji,j->ni", c_ws, [0, 0, G]), atol=1e-12)
+
+
+def test_lever_arm_gives_centripetal_and_tangential():
+    prof = profiles.constant_rate(0.0, 2.0, 2.0, 1000.0)
+    traj = profiles.fixed_axis_trajectory(prof, [0.0, 0.0, 1.0], lever_arm_b_m=[0.5, 0.0, 0.0])
+    rec = simulate.simulate_imu(traj)
+    # rotating about z at 2 rad/s: centripetal ω²r = 2 m/s² toward the axis (−x body), gravity on z
+    np.testing.assert_allclose(rec.accel_m_s2[10], [-2.0, 0.0, G], atol=1e-9)
+    np.testing.assert_allclose(rec.gyro_rad_s[10], [0, 0, 2.0], atol=1e-9)
+
+
+def test_fixed_axis_static_measurement_model():
+    """wang2022sensors: a = R(θ, v)ᵀ ā0 for the static part."""
+    v = np.array([0.1734, 0.9835, 0.0523])
+    v /= np.linalg.norm(v)
+    prof = profiles.step_schedule(np.radians([0.0, 40.0, -100.0]), np.radians(30), 1.0, 200)
+    traj = profiles.fixed_axis_trajectory(prof, v, lever_arm_b_m=[0.1, 0.2, 0.0])
+    rec = simulate.simulate_imu(traj)
+    a0 = np.array([0.0, 0.0, G])
+    for sl in prof.hold_slices():
+        k = sl.start + 5
+        expected = rotations.axis_angle_matrix(prof.angle_rad[k, 0], v).T @ a0
+        np.testing.assert_allclose(rec.accel_m_s2[k], expected, atol=1e-9)
+
+
+def test_white_noise_std_scales_with_sample_rate(rng):
+    t = np.arange(20000) / 1000.0
+    traj = Trajectory(t, np.tile([1.0, 0, 0, 0], (t.size, 1)))
+    model = ImuErrorModel(gyro=SensorErrors(noise_density=1e-3))
+    rec = simulate.simulate_imu(traj, model, rng, trials=4)
+    assert rec.gyro_rad_s.shape == (4, t.size, 3)
+    std = np.std(rec.gyro_rad_s)
+    assert std == pytest.approx(1e-3 * np.sqrt(1000.0), rel=0.02)
+
+
+def test_turn_on_bias_scale_and_warmup(rng):
+    t = np.arange(2000) / 100.0
+    traj = Trajectory(t, np.tile([1.0, 0, 0, 0], (t.size, 1)))
+    model = ImuErrorModel(gyro=SensorErrors(bias=(1e-3, 0, 0), bias_sigma=1e-4, warmup_bias=2e-3,
+                                            warmup_tau_s=5.0),
+                          accel=SensorErrors(scale_factor=(0, 0, 1e-3)))
+    rec = simulate.simulate_imu(traj, model, rng, trials=500)
+    turn_on = rec.gyro_rad_s[:, -1, :] - np.array([1e-3, 0, 0]) - 2e-3 * np.exp(-t[-1] / 5.0)
+    assert np.std(turn_on) == pytest.approx(1e-4, rel=0.1)
+    np.testing.assert_allclose(rec.accel_m_s2[0, 0], [0, 0, G * 1.001])
+    drop = rec.gyro_rad_s[:, 0, 1] - rec.gyro_rad_s[:, -1, 1]
+    np.testing.assert_allclose(drop, 2e-3 * (1 - np.exp(-t[-1] / 5.0)), atol=1e-12)
+
+
+def test_same_seed_same_output_and_sources_independent():
+    t = np.arange(1000) / 100.0
+    traj = Trajectory(t, np.tile([1.0, 0, 0, 0], (t.size, 1)))
+    a = ImuErrorModel(gyro=SensorErrors(noise_density=1e-3))
+    b = ImuErrorModel(gyro=SensorErrors(noise_density=1e-3, bias_random_walk=1e-4))
+    ra = simulate.simulate_imu(traj, a, np.random.default_rng(7), trials=2)
+    ra2 = simulate.simulate_imu(traj, a, np.random.default_rng(7), trials=2)
+    rb = simulate.simulate_imu(traj, b, np.random.default_rng(7), trials=2)
+    np.testing.assert_array_equal(ra.gyro_rad_s, ra2.gyro_rad_s)
+    # adding a random walk leaves the white-noise draws unchanged (common random numbers)
+    diff = rb.gyro_rad_s - ra.gyro_rad_s
+    assert np.all(np.abs(np.diff(diff, axis=1)) < 1e-4 * np.sqrt(0.01) * 6)
+
+
+def test_quantization_and_vibration(rng):
+    t = np.arange(1000) / 1000.0
+    traj = Trajectory(t, np.tile([1.0, 0, 0, 0], (t.size, 1)))
+    model = ImuErrorModel(accel=SensorErrors(quantization=0.01, vibration_amplitude=(0, 0, 2.0),
+                                             vibration_freq_hz=50.0))
+    rec = simulate.simulate_imu(traj, model, rng)
+    np.testing.assert_allclose(rec.accel_m_s2 / 0.01, np.round(rec.accel_m_s2 / 0.01), atol=1e-9)
+    assert np.ptp(rec.accel_m_s2[:, 2]) == pytest.approx(4.0, abs=0.05)
+
+
+def test_allan_recovers_configured_noise(rng):
+    """White noise density at τ = 1 s and rate random walk within 10 % (issue #3, item 6)."""
+    fs = 10.0  # 8 h records: long enough for the τ > 100 s random-walk branch
+    t = np.arange(int(8 * 3600 * fs)) / fs
+    traj = Trajectory(t, np.tile([1.0, 0, 0, 0], (t.size, 1)))
+    n_density, k_rrw = 2e-4, 2e-5  # σ_A curves cross at τ = √3 N/K ≈ 17 s
+    model = ImuErrorModel(gyro=SensorErrors(noise_density=n_density, bias_random_walk=k_rrw))
+    rec = simulate.simulate_imu(traj, model, rng, trials=8)
+    records = np.moveaxis(rec.gyro_rad_s, -1, 1)  # 8 trials × 3 axes = 24 independent records
+    taus, adev = metrics.allan_deviation(records, fs)
+    fit = metrics.fit_allan_noise(taus, adev, flat_term=False)
+    assert fit["N"] == pytest.approx(n_density, rel=0.10)
+    assert fit["K"] == pytest.approx(k_rrw, rel=0.10)
+
+
+def test_gauss_markov_bias_instability_is_stationary(rng):
+    t = np.arange(5000) / 10.0
+    traj = Trajectory(t, np.tile([1.0, 0, 0, 0], (t.size, 1)))
+    model = ImuErrorModel(gyro=SensorErrors(bias_instability=1e-4, bias_instability_tau_s=20.0))
+    rec = simulate.simulate_imu(traj, model, rng, trials=400)
+    std_start = np.std(rec.gyro_rad_s[:, 0, :])
+    std_end = np.std(rec.gyro_rad_s[:, -1, :])
+    assert std_start == pytest.approx(1e-4, rel=0.1)
+    assert std_end == pytest.approx(1e-4, rel=0.1)
+
+
+@pytest.mark.parametrize("kwargs,match", [
+    (dict(time_s=[0.0, 0.1, 0.1], q_wb=np.tile([1.0, 0, 0, 0], (3, 1))), "strictly increasing"),
+    (dict(time_s=[0.0, 0.1, 0.2], q_wb=np.tile([1.0, 0, 0, 0], (2, 1))), "must have shape"),
+    (dict(time_s=[0.0, 0.1, np.nan], q_wb=np.tile([1.0, 0, 0, 0], (3, 1))), "finite"),
+    (dict(time_s=[0.0, 0.1, 0.25], q_wb=np.tile([1.0, 0, 0, 0], (3, 1))), "uniformly sampled"),
+    (dict(time_s=[0.0, 0.1, 0.2], q_wb=np.tile([2.0, 0, 0, 0], (3, 1))), "unit quaternions"),
+])
+def test_trajectory_bad_input(kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        Trajectory(**kwargs)
+
+
+def test_bad_models_raise():
+    with pytest.raises(ValueError, match="noise_density must be >= 0"):
+        SensorErrors(noise_density=-1.0)
+    with pytest.raises(ValueError, match="wrong unit"):
+        ImuErrorModel(accel=SensorErrors(bias=9.81))
+    with pytest.raises(ValueError, match="degrees passed as radians"):
+        ImuErrorModel(gyro=SensorErrors(bias=(5.0, 0, 0)))
+    with pytest.raises(ValueError, match="misalignment must be 3x3"):
+        SensorErrors(misalignment=((0.0, 0.0), (0.0, 0.0)))
+    traj = Trajectory([0.0, 0.1, 0.2], np.tile([1.0, 0, 0, 0], (3, 1)))
+    with pytest.raises(ValueError, match="rng must be"):
+        simulate.simulate_imu(traj, ImuErrorModel(gyro=SensorErrors(noise_density=1e-3)))
+    with pytest.raises(TypeError, match="rng must be a numpy.random.Generator"):
+        simulate.simulate_imu(traj, rng=42)
+    with pytest.raises(ValueError, match="trials must be >= 1"):
+        simulate.simulate_imu(traj, rng=np.random.default_rng(0), trials=0)
+
+
+@pytest.mark.parametrize("chunk", [1, 97, 256, 1000, 5000])
+def test_stream_is_chunk_size_independent(chunk):
+    """Same seed ⇒ same numbers whatever the chunk size (issue #7)."""
+    wp = np.radians([[0, 0, 0], [8, 0, 0], [0, -12, 30]])
+    traj = profiles.trajectory_from_euler_zxy(profiles.step_schedule(wp, np.radians(20), 0.5, 1000))
+    model = ImuErrorModel(gyro=SensorErrors(noise_density=1e-4, bias_sigma=1e-4, bias_random_walk=1e-5,
+                                            bias_instability=1e-5, bias_instability_tau_s=2.0),
+                          accel=SensorErrors(noise_density=1e-3, vibration_amplitude=0.1, vibration_freq_hz=30.0,
+                                             quantization=1e-4))
+    whole = simulate.simulate_imu(traj, model, np.random.default_rng(3), trials=3)
+    parts = list(simulate.ImuStream(traj, model, np.random.default_rng(3), trials=3).chunks(chunk))
+    np.testing.assert_array_equal(np.concatenate([p.gyro_rad_s for p in parts], axis=1), whole.gyro_rad_s)
+    np.testing.assert_array_equal(np.concatenate([p.accel_m_s2 for p in parts], axis=1), whole.accel_m_s2)
+    np.testing.assert_array_equal(np.concatenate([p.time_s for p in parts]), whole.time_s)
+
+
+def test_stream_single_pass_and_bad_chunk():
+    traj = Trajectory(np.arange(10) / 10.0, np.tile([1.0, 0, 0, 0], (10, 1)))
+    stream = simulate.ImuStream(traj)
+    assert sum(len(c.time_s) for c in stream.chunks(3)) == 10
+    with pytest.raises(ValueError, match="iterated once"):
+        next(stream.chunks(3))
+    with pytest.raises(ValueError, match="chunk_samples must be >= 1"):
+        next(simulate.ImuStream(traj).chunks(0))
+
+
+def test_apply_sensor_errors_matches_simulator_and_takes_per_trial_truth():
+    wp = np.radians([[0, 0, 0], [8, 0, 0]])
+    traj = profiles.trajectory_from_euler_zxy(profiles.step_schedule(wp, np.radians(20), 0.3, 200))
+    errs = SensorErrors(noise_density=1e-3, bias_sigma=1e-3, bias_random_walk=1e-4)
+    rec = simulate.simulate_imu(traj, ImuErrorModel(gyro=errs), np.random.default_rng(5), trials=2)
+    truth = np.stack([rec.gyro_true_rad_s, 2 * rec.gyro_true_rad_s])
+    out = simulate.apply_sensor_errors(errs, truth, traj.time_s, np.random.default_rng(5))
+    assert out.shape == truth.shape
+    noise = out - truth
+    assert np.std(noise[:, :, 0]) > 0
+    single = simulate.apply_sensor_errors(SensorErrors(bias=0.5), rec.accel_true_m_s2, traj.time_s)
+    np.testing.assert_allclose(single, rec.accel_true_m_s2 + 0.5)
+    with pytest.raises(ValueError, match="rng must be"):
+        simulate.apply_sensor_errors(errs, truth, traj.time_s)
+    with pytest.raises(ValueError, match="samples on axis -2"):
+        simulate.apply_sensor_errors(errs, truth[:, :-1], traj.time_s, np.random.default_rng(0))

@@ -1,0 +1,79 @@
+import numpy as np
+import pytest
+
+from mtcal.core import validate as v
+
+
+def test_as_float_array_copies_and_checks():
+    src = np.array([1.0, 2.0])
+    out = v.as_float_array(src, "x")
+    out[0] = 5.0
+    assert src[0] == 1.0  # never aliases the caller's array
+    with pytest.raises(ValueError, match="x must have ndim in"):
+        v.as_float_array([[1.0]], "x", ndim=1)
+    with pytest.raises(ValueError, match="x must have last dimension 3"):
+        v.as_float_array([1.0, 2.0], "x", last_dim=3)
+    with pytest.raises(ValueError, match="x must not be empty"):
+        v.as_float_array([], "x")
+    with pytest.raises(ValueError, match="x must be finite"):
+        v.as_float_array([np.inf], "x")
+    with pytest.raises(TypeError, match="x must be a numeric array"):
+        v.as_float_array(None, "x")
+
+
+def test_scalars():
+    assert v.positive_scalar(2, "fs_hz") == 2.0
+    with pytest.raises(ValueError, match="fs_hz must be > 0"):
+        v.positive_scalar(0.0, "fs_hz")
+    with pytest.raises(TypeError, match="fs_hz must be a real number"):
+        v.positive_scalar("100", "fs_hz")
+    with pytest.raises(TypeError, match="fs_hz must be a real number"):
+        v.positive_scalar(True, "fs_hz")
+    with pytest.raises(ValueError, match="fs_hz must be finite"):
+        v.positive_scalar(np.nan, "fs_hz")
+    with pytest.raises(ValueError, match="trials must be >= 1"):
+        v.positive_int(0, "trials")
+    with pytest.raises(TypeError, match="trials must be an integer"):
+        v.positive_int(2.0, "trials")
+
+
+def test_time_vector_and_angles():
+    with pytest.raises(ValueError, match="strictly increasing; sample 2"):
+        v.time_vector([0.0, 1.0, 0.5])
+    with pytest.raises(ValueError, match="at least 2 samples"):
+        v.time_vector([0.0])
+    with pytest.raises(ValueError, match="degrees passed as radians"):
+        v.angle_rad([0.1, 90.0], "pitch")
+    with pytest.raises(ValueError, match="unit quaternions"):
+        v.unit_quaternion([0.5, 0.5, 0.5, 0.4], "q")
+
+
+def test_unit_plausibility_checks():
+    v.check_gyro_units(np.full((10, 3), 30.0))  # 30 rad/s is a possible rate
+    with pytest.raises(ValueError, match="degrees per second passed as rad/s"):
+        v.check_gyro_units(np.full((10, 3), 90.0))
+    v.check_accel_units(np.tile([0.0, 0.0, 9.8], (10, 1)))
+    v.check_accel_units(np.zeros((10, 3)))  # an all-zero record is not flagged
+    with pytest.raises(ValueError, match="looks like it is in g"):
+        v.check_accel_units(np.tile([0.0, 0.0, 1.0], (100_000, 1)))
+
+
+def test_filters_reject_wrong_units():
+    from mtcal.filters.qncf import qncf
+    from mtcal.filters.rams_ekf import RamsEkfParams, run_rams_ekf
+
+    gyro, acc_g = np.zeros((200, 3)), np.tile([0.0, 0.0, 1.0], (200, 1))
+    with pytest.raises(ValueError, match="looks like it is in g"):
+        qncf(gyro, acc_g, 1e-3)
+    with pytest.raises(ValueError, match="degrees per second"):
+        qncf(np.full((200, 3), 100.0), 9.80665 * acc_g, 1e-3)
+    with pytest.raises(ValueError, match="looks like it is in g"):
+        run_rams_ekf(gyro, acc_g, np.ones(200, bool), [0.0, 1.0, 0.0], [0.0, 0.0, 1.0], 1e-3, RamsEkfParams())
+
+
+def test_as_float_array_without_copy_is_a_view_of_float64_input():
+    src = np.ones((4, 3))
+    assert np.shares_memory(v.as_float_array(src, "x", copy=False), src)
+    assert not np.shares_memory(v.as_float_array(src, "x"), src)
+    with pytest.raises(ValueError, match="x must be finite"):
+        v.as_float_array([np.nan, 1.0, 2.0], "x", copy=False)

@@ -1,0 +1,178 @@
+"""Tests of the RAMS EKF (wang2022sensors Sec. 3.3): reference vs fast, tracking, Fig. 9 effect."""
+
+import numpy as np
+import pytest
+
+from mtcal.core import metrics, profiles
+from mtcal.filters.rams_ekf import (RamsEkfFilter, RamsEkfParams, RamsEkfReference, initial_state,
+                                    measurement_model, run_rams_ekf)
+from mtcal.studies.wang2022sensors.runs import ImuSpec, RotationSetup, simulate_rotation
+
+IMU = ImuSpec()
+
+
+def _fig9_record(rng, trials=2):
+    prof = profiles.step_schedule(np.radians([0.0, 40.0]), np.radians(40.0), 1.0, IMU.fs_hz)
+    th = np.broadcast_to(prof.angle_rad[:, 0], (trials, prof.time_s.size))
+    rec = simulate_rotation(th, np.broadcast_to(prof.rate_rad_s[:, 0], th.shape),
+                            np.broadcast_to(prof.accel_rad_s2[:, 0], th.shape), prof.is_static,
+                            RotationSetup(), IMU.error_model(), IMU.fs_hz, rng)
+    return prof, rec
+
+
+def test_measurement_jacobian_matches_finite_difference():
+    v = np.array([0.1734, 0.9835, 0.0523]) / np.linalg.norm([0.1734, 0.9835, 0.0523])
+    a0 = np.array([0.1, 0.2, 9.8])
+    h, hp = measurement_model(0.7, v, a0)
+    from mtcal.core.rotations import axis_angle_matrix
+    np.testing.assert_allclose(h, axis_angle_matrix(0.7, v).T @ a0, atol=1e-12)
+    eps = 1e-6
+    fd = (measurement_model(0.7 + eps, v, a0)[0] - measurement_model(0.7 - eps, v, a0)[0]) / (2 * eps)
+    np.testing.assert_allclose(hp, fd, atol=1e-8)
+
+
+def test_process_noise_is_eq26():
+    p = RamsEkfParams(sigma_theta_rad_s=0.01, sigma_b_rad_s2=0.001)
+    q = p.process_noise([0.6, 0.8, 0.0], 0.01)
+    np.testing.assert_allclose(q, np.diag([1e-8, 1e-10, 1e-10, 1e-10]), atol=1e-20)
+
+
+def test_reference_and_fast_agree(rng):
+    prof, rec = _fig9_record(rng, trials=2)
+    v = RotationSetup().unit_axis()
+    a0, b0 = initial_state(rec.gyro_rad_s, rec.accel_m_s2, 150)
+    p = IMU.ekf_params()
+    fast = run_rams_ekf(rec.gyro_rad_s, rec.accel_m_s2, prof.is_static, v, a0, IMU.dt_s, p, bias0_rad_s=b0)
+    for t in range(2):
+        ref = RamsEkfReference(v, a0[t], IMU.dt_s, p, bias0_rad_s=b0[t]).run(
+            rec.gyro_rad_s[t], rec.accel_m_s2[t], prof.is_static)
+        np.testing.assert_allclose(fast.theta_rad[t], ref.theta_rad, atol=1e-9, rtol=0)
+        np.testing.assert_allclose(fast.bias_rad_s[t], ref.bias_rad_s, atol=1e-9, rtol=0)
+        np.testing.assert_allclose(fast.innovation_m_s2[t], ref.innovation_m_s2, atol=1e-9, rtol=0)
+        np.testing.assert_allclose(fast.P[t], ref.P, atol=1e-12, rtol=1e-9)
+        np.testing.assert_allclose(fast.S[t], ref.S, atol=1e-12, rtol=1e-9)
+        np.testing.assert_allclose(fast.K[t], ref.K, atol=1e-12, rtol=1e-9)
+
+
+def test_tracks_truth_with_zvd_and_degrades_without(rng):
+    """Fig. 9: with the covariance switched by rest/motion the error stays small
+    during motion; the always-static EKF reads the lever-arm acceleration as angle."""
+    prof, rec = _fig9_record(rng, trials=3)
+    v = RotationSetup().unit_axis()
+    a0, b0 = initial_state(rec.gyro_rad_s, rec.accel_m_s2, 150)
+    kw = dict(bias0_rad_s=b0, keep_innovation=False)
+    with_zvd = run_rams_ekf(rec.gyro_rad_s, rec.accel_m_s2, prof.is_static, v, a0, IMU.dt_s,
+                            IMU.ekf_params(), **kw)
+    without = run_rams_ekf(rec.gyro_rad_s, rec.accel_m_s2, prof.is_static, v, a0, IMU.dt_s,
+                           IMU.ekf_params(), use_zvd=False, **kw)
+    moving = ~prof.is_static
+    e1 = np.degrees(metrics.rmse(with_zvd.theta_rad - rec.theta_rad, mask=moving))
+    e2 = np.degrees(metrics.rmse(without.theta_rad - rec.theta_rad, mask=moving))
+    assert np.all(e1 < 0.05)
+    assert np.all(e2 > 5 * e1)
+    end = slice(-50, None)
+    assert np.all(np.degrees(np.abs(with_zvd.theta_rad[:, end] - rec.theta_rad[:, end])) < 0.05)
+
+
+def test_bad_inputs_raise():
+    p = RamsEkfParams()
+    g = np.zeros((10, 3))
+    a = np.tile([0, 0, 9.8], (10, 1))
+    with pytest.raises(ValueError, match="unit vector"):
+        run_rams_ekf(g, a, np.ones(10, bool), [1.0, 1.0, 0.0], a[0], 0.01, p)
+    with pytest.raises(ValueError, match="same shape"):
+        run_rams_ekf(g[:5], a, np.ones(10, bool), [1.0, 0.0, 0.0], a[0], 0.01, p)
+    with pytest.raises(TypeError, match="boolean"):
+        run_rams_ekf(g, a, np.ones(10), [1.0, 0.0, 0.0], a[0], 0.01, p)
+    with pytest.raises(ValueError, match="sigma_a_static"):
+        RamsEkfParams(sigma_a_static_m_s2=-1.0)
+
+
+# --------------------------------------------------------------------------- fast filter regression
+_P_SYN = RamsEkfParams(sigma_theta_rad_s=2e-3, sigma_b_rad_s2=1e-4, sigma_a_static_m_s2=0.02,
+                       sigma_a_moving_m_s2=1.0, p0_theta_rad2=1e-4, p0_bias_rad2_s2=1e-6)
+
+
+def _synthetic_record():
+    """3 trials with different axes and ā0: rest, 1 s sinusoidal move (lever-arm-like accel noise), rest."""
+    rng = np.random.default_rng(404)
+    n, dt = 400, 0.005
+    t = np.arange(n) * dt
+    axes = np.array([[0.0, 1.0, 0.0], [0.6, 0.8, 0.0], [0.1734, 0.9835, 0.0523]])
+    axes /= np.linalg.norm(axes, axis=1, keepdims=True)
+    a0 = np.array([[0.05, -0.1, 9.80], [0.2, 0.1, 9.79], [-0.1, 0.3, 9.80]])
+    moving = (t > 0.5) & (t < 1.5)
+    rate = np.where(moving, 0.7 * np.sin(np.pi * (t - 0.5)), 0.0)
+    theta = np.concatenate([[0.0], np.cumsum(rate[:-1]) * dt])
+    gyro = rate[None, :, None] * axes[:, None, :] + np.array([1e-3, -2e-3, 5e-4]) \
+        + 2e-3 * rng.standard_normal((3, n, 3))
+    h, _ = measurement_model(theta[None, :], axes[:, None, :], a0[:, None, :])
+    accel = h + 0.02 * rng.standard_normal((3, n, 3)) + moving[None, :, None] * 0.5 * rng.standard_normal((3, n, 3))
+    return gyro, accel, ~moving, axes, a0, dt
+
+
+def _run_synthetic(**kw):
+    g, a, st, v, a0, dt = _synthetic_record()
+    return run_rams_ekf(g, a, st, v, a0, dt, _P_SYN, theta0_rad=np.array([0.0, 0.01, -0.01]),
+                        bias0_rad_s=np.zeros(3), **kw)
+
+
+def test_fast_regression_literals():
+    """Values computed with the earlier (T, 4, 4) implementation (commit 1bea4b9); the packed
+    component-major version forms every sum in the same order, so they agree to the last bit."""
+    r = _run_synthetic()
+    np.testing.assert_allclose(r.theta_rad[:, -1], [0.4455126934232382, 0.4455690157124846, 0.44567271178411805],
+                               rtol=0, atol=1e-15)
+    np.testing.assert_allclose(r.theta_rad[:, 250], [0.3772517833014278, 0.3784884359774213, 0.37703462574026214],
+                               rtol=0, atol=1e-15)
+    np.testing.assert_allclose(r.bias_rad_s[:, -1], [[0.0, -1.8478818492063641e-03, 0.0],
+                                                     [-4.8854105998174082e-04, -6.5138807997565384e-04, 0.0],
+                                                     [-2.9722439928766322e-04, -1.6858142831569173e-03,
+                                                      -8.9647266913176569e-05]], rtol=0, atol=1e-17)
+    np.testing.assert_allclose(r.p_theta_rad2[:, -1], [5.8092515447965805e-08, 5.8198441398686551e-08,
+                                                       5.8389813736043545e-08], rtol=1e-14, atol=0)
+    np.testing.assert_allclose(r.P[0], [[5.8092515447965805e-08, 0.0, -3.5414504925713372e-08, 0.0],
+                                        [0.0, 1.0000997500000238e-06, 0.0, 0.0],
+                                        [-3.5414504925713372e-08, 0.0, 4.5021723550493633e-08, 0.0],
+                                        [0.0, 0.0, 0.0, 1.0000997500000238e-06]], rtol=1e-14, atol=1e-22)
+    np.testing.assert_allclose(r.innovation_m_s2[:, 100],
+                               [[-0.00967361759569355, -0.01599977428968982, 0.03166989871600201],
+                                [-0.00613141506874179, 0.01635001042559268, 0.03451477182742124],
+                                [-0.01222098245019734, -0.01344423676414092, -0.00318077390053162]],
+                               rtol=0, atol=1e-15)
+
+
+def test_fast_agrees_with_reference_per_trial_axes():
+    g, a, st, v, a0, dt = _synthetic_record()
+    fast = _run_synthetic()
+    for t in range(3):
+        ref = RamsEkfReference(v[t], a0[t], dt, _P_SYN, theta0_rad=[0.0, 0.01, -0.01][t]).run(g[t], a[t], st)
+        np.testing.assert_allclose(fast.theta_rad[t], ref.theta_rad, atol=1e-9, rtol=0)
+        np.testing.assert_allclose(fast.bias_rad_s[t], ref.bias_rad_s, atol=1e-9, rtol=0)
+        np.testing.assert_allclose(fast.P[t], ref.P, atol=1e-12, rtol=1e-9)
+        np.testing.assert_allclose(fast.K[t], ref.K, atol=1e-12, rtol=1e-9)
+
+
+@pytest.mark.parametrize("use_zvd", [True, False])
+def test_filter_in_chunks_equals_whole_record(use_zvd):
+    g, a, st, v, a0, dt = _synthetic_record()
+    whole = _run_synthetic(use_zvd=use_zvd)
+    filt = RamsEkfFilter(v, a0, dt, _P_SYN, trials=3, theta0_rad=np.array([0.0, 0.01, -0.01]),
+                         bias0_rad_s=np.zeros(3), use_zvd=use_zvd)
+    parts = [filt.run(g[:, i:j], a[:, i:j], st[i:j], chunk=ch)
+             for i, j, ch in [(0, 1, 8), (1, 150, 64), (150, 400, 37)]]
+    for name in ("theta_rad", "bias_rad_s", "p_theta_rad2", "innovation_m_s2"):
+        assert np.array_equal(np.concatenate([getattr(r, name) for r in parts], axis=1), getattr(whole, name))
+    for name in ("P", "S", "K"):
+        assert np.array_equal(getattr(parts[-1], name), getattr(whole, name))
+    assert np.array_equal(filt.P, whole.P) and np.array_equal(filt.theta_rad, whole.theta_rad[:, -1])
+    assert np.array_equal(filt.bias_rad_s, whole.bias_rad_s[:, -1])
+    with pytest.raises(ValueError, match="3 trials"):
+        filt.run(g[:2, :5], a[:2, :5], st[:5])
+
+
+def test_fast_does_not_mutate_inputs():
+    g, a, st, v, a0, dt = _synthetic_record()
+    g0, a0_copy = g.copy(), a.copy()
+    run_rams_ekf(g, a, st, v, a0, dt, _P_SYN)
+    assert np.array_equal(g, g0) and np.array_equal(a, a0_copy)

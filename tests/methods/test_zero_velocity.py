@@ -1,0 +1,62 @@
+"""Tests of mtcal.methods.zero_velocity (wang2022sensors ZVD, Table 1)."""
+
+import numpy as np
+import pytest
+
+from mtcal.core import profiles
+from mtcal.studies.wang2022sensors.runs import ImuSpec, RotationSetup, simulate_rotation
+from mtcal.methods.zero_velocity import ZvdParams, detect_static, moving_variance, rest_intervals
+
+
+def test_table1_defaults_match_paper_csv():
+    assert ZvdParams.from_paper() == ZvdParams()
+
+
+def test_moving_variance_matches_loop(rng):
+    x = rng.normal(size=(2, 50)) + 9.8
+    mv = moving_variance(x, 5)
+    for k in (0, 3, 4, 30, 49):
+        np.testing.assert_allclose(mv[:, k], np.var(x[:, max(0, k - 4):k + 1], axis=1), atol=1e-12)
+
+
+def test_flags_exactly_the_rests_of_a_schedule(rng):
+    """Rotation seen through a lever arm: flags equal the schedule except near transitions.
+
+    Tolerance: within 0.15 s of a rest boundary (ZVD windows plus the quintic
+    move's near-zero-acceleration ends, which ‖a‖ cannot tell from rest), and
+    with the gyro condition on."""
+    imu = ImuSpec()
+    prof = profiles.step_schedule(np.radians([0, 40, -30, 20]), np.radians(40), 1.0, imu.fs_hz)
+    rec = simulate_rotation(prof.angle_rad[:, 0], prof.rate_rad_s[:, 0], prof.accel_rad_s2[:, 0],
+                            prof.is_static, RotationSetup(), imu.error_model(), imu.fs_hz, rng)
+    b0 = rec.gyro_rad_s[0, :150].mean(axis=0)
+    st = detect_static(rec.accel_m_s2[0], imu.fs_hz, ZvdParams(gyro_max_rad_s=np.radians(2.0)),
+                       rec.gyro_rad_s[0] - b0)
+    edges = np.flatnonzero(np.diff(prof.is_static.astype(int)))
+    near = np.zeros_like(st)
+    near[:5] = True  # causal windows: the first samples of a record are not yet flagged
+    for e in edges:
+        near[max(e - 30, 0):e + 30] = True
+    assert np.array_equal(st[~near], prof.is_static[~near])
+    assert len(rest_intervals(st)) == 4
+
+
+def test_rejects_bad_input():
+    with pytest.raises(ValueError, match="accel_m_s2"):
+        detect_static(np.ones((10, 2)), 100.0)
+    with pytest.raises(ValueError, match="finite"):
+        detect_static(np.full((10, 3), np.nan), 100.0)
+    with pytest.raises(ValueError, match="in g"):
+        detect_static(np.tile([0, 0, 1.0], (10, 1)), 100.0)
+    with pytest.raises(ValueError, match="accel_min_m_s2"):
+        ZvdParams(accel_min_m_s2=9.9)
+    with pytest.raises(ValueError, match="gyro_rad_s is required"):
+        detect_static(np.tile([0, 0, 9.8], (10, 1)), 100.0, ZvdParams(gyro_max_rad_s=0.1))
+
+
+def test_vectorised_over_trials_equals_single(rng):
+    a = np.array([0, 0, 9.80665]) + 0.01 * rng.normal(size=(3, 200, 3))
+    a[:, 80:120] += 0.5
+    both = detect_static(a, 200.0)
+    for t in range(3):
+        assert np.array_equal(both[t], detect_static(a[t], 200.0))

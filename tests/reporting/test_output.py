@@ -1,0 +1,38 @@
+import numpy as np
+import pandas as pd
+import pytest
+
+from mtcal.reporting import output as report
+
+
+def test_figures_and_tables_are_byte_stable(tmp_path, monkeypatch):
+    monkeypatch.setenv("MTCAL_OUTPUT_DIR", str(tmp_path))
+    report.setup_matplotlib()
+    import matplotlib.pyplot as plt
+
+    blobs = []
+    for _ in range(2):
+        fig, ax = plt.subplots()
+        ax.plot(np.arange(5), np.arange(5) ** 2)
+        report.save_figure(fig, "F-test")
+        blobs.append((tmp_path / "figures" / "F-test.png").read_bytes())
+    assert blobs[0] == blobs[1]
+    df = pd.DataFrame({"a": [1.0 / 3.0], "b": ["x"]})
+    path = report.save_table(df, "T-test")
+    assert path.read_text() == "a,b\n0.333333,x\n"
+
+
+def test_run_size(monkeypatch):
+    monkeypatch.setenv("MTCAL_SIZE", "ci")
+    assert report.run_size() == "ci"
+    monkeypatch.setenv("MTCAL_SIZE", "huge")
+    with pytest.raises(ValueError, match="MTCAL_SIZE must be one of"):
+        report.run_size()
+
+
+def test_bad_artifact_id(tmp_path, monkeypatch):
+    monkeypatch.setenv("MTCAL_OUTPUT_DIR", str(tmp_path))
+    with pytest.raises(ValueError, match="artifact_id must be"):
+        report.save_table(pd.DataFrame({"a": [1]}), "../x")
+    with pytest.raises(TypeError, match="df must be a pandas DataFrame"):
+        report.save_table([1, 2], "T")

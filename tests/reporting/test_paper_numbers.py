@@ -1,0 +1,65 @@
+import numpy as np
+import pytest
+
+from mtcal.reporting import paper_numbers as paper
+from mtcal.reporting import compare
+
+
+def test_every_table_loads():
+    names = paper.available()
+    assert "wang2023cja_table01_positions" in names and len(names) >= 20
+    for name in names:
+        assert len(paper.load(name)) > 0
+
+
+def test_numeric_parsing_keeps_printed_text_available():
+    df = paper.load("wang2023cja_table01_positions")
+    assert df["pitch_reference_deg"].dtype.kind == "f" or df["pitch_reference_deg"].dtype.kind == "i"
+    text = paper.load("wang2023cja_table01_positions", as_text=True)
+    assert text.loc[1, "pitch_after_deg"] == "-0.013"
+
+
+def test_value_selects_one_cell():
+    v = paper.value("wang2022sensors_table05_rmse", "rmse_static_deg", rotation_axis="Bv1", system="RAMS")
+    assert v == pytest.approx(0.0145)
+    with pytest.raises(ValueError, match="exactly one row"):
+        paper.value("wang2022sensors_table05_rmse", "rmse_static_deg", system="RAMS")
+
+
+def test_comparison_table_formats_and_counts():
+    rows = [compare.comparison_row("wang2023cja_table06", "roll RMSE after (deg)", 0.009, 0.0071234, "<= 0.01", True),
+            compare.comparison_row("wang2023cja_table06", "yaw RMSE after (deg)", 0.009, 0.012, "<= 0.01", False),
+            compare.comparison_row("wang2023cja_table06", "note", "-", "-", "", None)]
+    table = compare.comparison_table(rows)
+    assert list(table.columns) == compare.COMPARISON_COLUMNS
+    assert table.loc[0, "mtcal"] == "0.0071"
+    assert compare.claims_summary(table) == "1 of 2 claims hold"
+
+
+def test_bad_names_raise():
+    with pytest.raises(ValueError, match="must be one of the paper tables"):
+        paper.load("no_such_table")
+    with pytest.raises(TypeError, match="name must be a str"):
+        paper.load(3)
+    with pytest.raises(TypeError, match="holds must be bool"):
+        compare.comparison_row("a", "b", 1, 2, "c", "yes")
+
+
+def test_printed_matrices_are_4x4():
+    for name in ("wang2023cja_matrix_qbs_turntable", "wang2023cja_matrix_qbs_windtunnel"):
+        m = paper.load(name).select_dtypes("number").to_numpy()
+        assert m.shape[1] >= 4 and np.all(np.isfinite(m))
+
+
+def test_band_columns_and_summary():
+    rows = [compare.comparison_row("T", "a", 0.009, 0.011, "<= 0.01", False, band={"low": 0.003, "high": 0.03}),
+            compare.comparison_row("T", "b", 0.05, 0.011, "<= 0.01", True, band=(0.003, 0.03)),
+            compare.comparison_row("T", "c", "n/a", 0.011, "", None, band=(0.003, 0.03)),
+            compare.comparison_row("T", "d", 0.05, 0.011, "", None)]
+    table = compare.comparison_table(rows)
+    assert table.loc[0, "mc_band"] == "[0.003, 0.03]"
+    assert table["paper_in_band"].tolist()[:3] == [True, False, None]
+    assert table.loc[3, "mc_band"] == ""
+    assert compare.band_summary(table) == "paper value inside the mtcal 95 % Monte Carlo band: 1 of 2"
+    with pytest.raises(ValueError, match="band must be"):
+        compare.comparison_row("T", "a", 1.0, 1.0, "", None, band=(2.0, 1.0))
