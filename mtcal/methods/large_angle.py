@@ -36,7 +36,8 @@ __all__ = ["LAMBDA1_RAD", "LAMBDA2_RAD", "pitch_roll_eq2", "pitch_error_first_or
            "pitch_error_eq3_printed", "pitch_error_eq8", "roll_error_eq4", "preset_lambda",
            "pitch_error_eq10", "preset_matrix", "preset_specific_force",
            "pitch_roll_from_preset_triad", "select_preset_pitch", "perturbed_errors",
-           "perturbed_preset_pitch_error", "monte_carlo_pitch_errors"]
+           "perturbed_preset_pitch_error", "monte_carlo_pitch_errors", "bias_moment_matrix",
+           "rms_pitch_error_from_moments"]
 
 #: Preset angle for −90° ≤ θ ≤ 0° (Eq 9, triad A1–A3).
 LAMBDA1_RAD = float(np.radians(45.0))
@@ -177,22 +178,43 @@ def roll_error_eq4(pitch, roll, delta_accel_m_s2, *, g: float = STANDARD_GRAVITY
 # --------------------------------------------------------------------------
 # preset Euler rotation (Eq 6-10)
 # --------------------------------------------------------------------------
-def preset_lambda(pitch) -> np.ndarray:
+def preset_lambda(pitch, *, lambda1_rad: float = LAMBDA1_RAD, lambda2_rad: float = LAMBDA2_RAD) -> np.ndarray:
     """tan2022 Eq 9: λ1 = 45° for θ ≤ 0, λ2 = −135° for θ > 0 (rad).
 
     At θ = 0 both ranges of Eq 9 apply; λ1 is used. The choice is immaterial
     there: the λ-dependent term of Eq 8 carries ``sinθ = 0``.
+
+    Parameters
+    ----------
+    pitch : array_like
+        θ in rad (|θ| ≤ π/2).
+    lambda1_rad, lambda2_rad : float
+        Preset angles for θ ≤ 0 and θ > 0 (rad); defaults are Eq 9's.
+
+    Examples
+    --------
+    >>> np.degrees(preset_lambda(np.radians([-30.0, 30.0])))
+    array([  45., -135.])
     """
     theta = _pitch(pitch)
-    return np.where(theta <= 0.0, LAMBDA1_RAD, LAMBDA2_RAD)
+    l1, l2 = angle_rad(lambda1_rad, "lambda1_rad"), angle_rad(lambda2_rad, "lambda2_rad")
+    return np.where(theta <= 0.0, l1, l2)
 
 
-def pitch_error_eq10(pitch, roll, delta_accel_m_s2, *, g: float = STANDARD_GRAVITY_M_S2) -> np.ndarray:
+def pitch_error_eq10(pitch, roll, delta_accel_m_s2, *, g: float = STANDARD_GRAVITY_M_S2,
+                     lambda1_rad: float = LAMBDA1_RAD, lambda2_rad: float = LAMBDA2_RAD) -> np.ndarray:
     """tan2022 Eq 10: pitch error with the preset triad chosen by Eq 9 (rad).
 
-    ``Δθ = −ΔA (cosθ + √2 sinθ sin(φ ∓ 90°)) / g`` (−90° for θ ≥ 0).
+    ``Δθ = −ΔA (cosθ + √2 sinθ sin(φ ∓ 90°)) / g`` (−90° for θ ≥ 0) for the
+    default preset angles.
+
+    Examples
+    --------
+    >>> round(float(pitch_error_eq10(np.pi / 2, 0.0, 1.0, g=1.0)), 6)   # √2 ΔA/g at the pole
+    1.414214
     """
-    return pitch_error_eq8(pitch, roll, delta_accel_m_s2, preset_rad=preset_lambda(pitch), g=g)
+    lam = preset_lambda(pitch, lambda1_rad=lambda1_rad, lambda2_rad=lambda2_rad)
+    return pitch_error_eq8(pitch, roll, delta_accel_m_s2, preset_rad=lam, g=g)
 
 
 def preset_matrix(preset_rad, *, printed: bool = False) -> np.ndarray:
@@ -302,7 +324,8 @@ def perturbed_errors(pitch, roll, delta_accel_m_s2, *, preset_rad=0.0,
 
 
 def perturbed_preset_pitch_error(pitch, roll, delta_lambda1_m_s2, delta_lambda2_m_s2, *,
-                                 g: float = STANDARD_GRAVITY_M_S2) -> np.ndarray:
+                                 g: float = STANDARD_GRAVITY_M_S2, lambda1_rad: float = LAMBDA1_RAD,
+                                 lambda2_rad: float = LAMBDA2_RAD) -> np.ndarray:
     """Exact pitch error of the two-triad preset method (Eq 9 selection by measured sign).
 
     Parameters
@@ -313,17 +336,25 @@ def perturbed_preset_pitch_error(pitch, roll, delta_lambda1_m_s2, delta_lambda2_
         Errors of triad λ1 and triad λ2 (common-mode scalar or (..., 3)), m/s².
     g : float
         Gravity (m/s²).
+    lambda1_rad, lambda2_rad : float
+        Preset angles of the two triads (rad); defaults are Eq 9's.
 
     Returns
     -------
     ndarray
         Δθ (rad) of the selected triad.
+
+    Examples
+    --------
+    >>> err = perturbed_preset_pitch_error(np.radians(60.0), 0.0, 1e-4, 1e-4, g=1.0)
+    >>> bool(abs(err - pitch_error_eq10(np.radians(60.0), 0.0, 1e-4, g=1.0)) < 1e-7)
+    True
     """
     theta, phi = _pitch(pitch), _roll(roll)
     d1 = np.stack(np.broadcast_arrays(*_common_or_vector(_delta(delta_lambda1_m_s2, "delta_lambda1_m_s2"))), -1)
     d2 = np.stack(np.broadcast_arrays(*_common_or_vector(_delta(delta_lambda2_m_s2, "delta_lambda2_m_s2"))), -1)
-    f1 = preset_specific_force(theta, phi, LAMBDA1_RAD, g=g) + d1
-    f2 = preset_specific_force(theta, phi, LAMBDA2_RAD, g=g) + d2
+    f1 = preset_specific_force(theta, phi, lambda1_rad, g=g) + d1
+    f2 = preset_specific_force(theta, phi, lambda2_rad, g=g) + d2
     est, _ = select_preset_pitch(f1, f2)
     return est - theta
 
@@ -370,3 +401,75 @@ def monte_carlo_pitch_errors(pitch, roll, sigma_m_s2: float, rng: np.random.Gene
     preset, _ = select_preset_pitch(f1, f2)
     mean2 = 0.5 * (pitch_roll_eq2(f1)[..., 0] + pitch_roll_eq2(f2)[..., 0])
     return {"single": single, "preset": preset - theta, "mean_of_two": mean2 - theta}
+
+
+# --------------------------------------------------------------------------
+# grid RMS of the first-order pitch error for static per-axis biases
+# --------------------------------------------------------------------------
+def bias_moment_matrix(pitch, roll) -> np.ndarray:
+    """Second moments over a grid of the features of the first-order pitch error, shape (3, 3).
+
+    With static per-axis biases ``d = [d_x, d_y, d_z]`` of a triad preset by λ,
+    the first-order error is ``g Δθ = −(cosθ d_x + sinθ sinφ u + sinθ cosφ v)``
+    with ``u = cosλ d_y − sinλ d_z`` and ``v = sinλ d_y + cosλ d_z`` (the
+    derivative of Eq 2 applied to Eq 7). Its mean square over the grid is
+    ``wᵀ M w`` with ``w = [d_x, u, v]`` and ``M`` the mean of the outer products
+    of ``[cosθ, sinθ sinφ, sinθ cosφ]`` returned here.
+
+    Parameters
+    ----------
+    pitch, roll : array_like
+        Grid of θ (|θ| ≤ π/2) and φ (rad), broadcast together.
+
+    Examples
+    --------
+    >>> th, ph = np.meshgrid(np.radians([-60.0, 0.0, 60.0]), np.radians([-90.0, 0.0, 90.0]), indexing="ij")
+    >>> bias_moment_matrix(th, ph).shape
+    (3, 3)
+    """
+    theta, phi = np.broadcast_arrays(_pitch(pitch), _roll(roll))
+    feats = np.stack([np.cos(theta), np.sin(theta) * np.sin(phi), np.sin(theta) * np.cos(phi)], -1).reshape(-1, 3)
+    return feats.T @ feats / feats.shape[0]
+
+
+def rms_pitch_error_from_moments(moments, bias_m_s2, preset_rad, *, g: float = STANDARD_GRAVITY_M_S2) -> np.ndarray:
+    """Grid-RMS first-order pitch error (rad) of triads with static biases, from :func:`bias_moment_matrix`.
+
+    Parameters
+    ----------
+    moments : array_like, shape (3, 3)
+        Output of :func:`bias_moment_matrix` for the grid of interest.
+    bias_m_s2 : array_like, shape (..., 3)
+        Static per-axis bias of each triad (m/s², in the triad's own frame).
+    preset_rad : array_like
+        Preset angle λ (rad), broadcast against the leading shape of ``bias_m_s2``.
+    g : float
+        Gravity (m/s²).
+
+    Returns
+    -------
+    ndarray
+        RMS of Δθ over the grid (rad), the broadcast leading shape.
+
+    Examples
+    --------
+    A common-mode bias ΔA over the θ ≤ 0 half of the grid is smallest at the Eq 9 angle λ1 = 45°:
+
+    >>> th, ph = np.meshgrid(np.radians(np.arange(-90.0, 0.1, 5.0)), np.radians(np.arange(-90.0, 90.1, 5.0)),
+    ...                      indexing="ij")
+    >>> lam = np.radians(np.arange(-180.0, 180.0, 1.0))
+    >>> rms = rms_pitch_error_from_moments(bias_moment_matrix(th, ph), np.ones(3), lam, g=1.0)
+    >>> float(np.degrees(lam[np.argmin(rms)]))
+    45.0
+    """
+    m = as_float_array(moments, "moments")
+    if m.shape != (3, 3):
+        raise ValueError(f"moments must have shape (3, 3), got {m.shape}")
+    d = as_float_array(bias_m_s2, "bias_m_s2", last_dim=3)
+    lam = angle_rad(preset_rad, "preset_rad")
+    c, s = np.cos(lam), np.sin(lam)
+    u = c * d[..., 1] - s * d[..., 2]
+    v = s * d[..., 1] + c * d[..., 2]
+    w = np.stack(np.broadcast_arrays(d[..., 0] + 0 * c, u, v), axis=-1)
+    ms = np.einsum("...i,ij,...j->...", w, m, w)
+    return np.sqrt(np.maximum(ms, 0.0)) / _gravity(g)

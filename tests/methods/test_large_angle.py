@@ -199,3 +199,43 @@ def test_accel_scenario_defaults_and_validation():
         AccelScenario(delta_accel_g=9.8e-4 * 1000)
     with pytest.raises(ValueError, match="grid_step_deg"):
         AccelScenario(grid_step_deg=0.0)
+
+
+# ---------------------------------------------------------------- static-bias grid RMS from moments
+def test_rms_from_moments_matches_direct_grid():
+    th, ph = interior_grid(10.0)
+    rng = np.random.default_rng(3)
+    bias = DA * (1 + rng.standard_normal((4, 3)))
+    lam = np.radians(30.0)
+    direct = np.sqrt(np.mean(la.pitch_error_first_order(th[None], ph[None], bias[:, None, None, :],
+                                                        preset_rad=lam) ** 2, axis=(1, 2)))
+    from_m = la.rms_pitch_error_from_moments(la.bias_moment_matrix(th, ph), bias, lam)
+    np.testing.assert_allclose(from_m, direct, rtol=1e-12)
+
+
+def test_rms_optimal_preset_angles_are_eq9_for_common_mode():
+    th, ph = np.meshgrid(np.radians(np.arange(-90.0, 90.1, 5.0)), np.radians(np.arange(-90.0, 90.1, 5.0)),
+                         indexing="ij")
+    lam = np.radians(np.arange(-180.0, 180.0, 1.0))
+    for half, expect in ((th <= 0, 45.0), (th > 0, -135.0)):
+        m = la.bias_moment_matrix(th[half], ph[half])
+        rms = la.rms_pitch_error_from_moments(m, np.full(3, DA), lam)
+        assert np.degrees(lam[np.argmin(rms)]) == pytest.approx(expect)
+
+
+def test_custom_preset_angles_propagate():
+    th, ph = np.radians(60.0), np.radians(10.0)
+    default = la.pitch_error_eq10(th, ph, DA)
+    other = la.pitch_error_eq10(th, ph, DA, lambda2_rad=np.radians(-90.0))
+    assert other != pytest.approx(default)
+    np.testing.assert_allclose(la.perturbed_preset_pitch_error(th, ph, DA, DA, lambda2_rad=np.radians(-90.0)),
+                               other, atol=1e-7)
+
+
+def test_moment_errors():
+    with pytest.raises(ValueError, match="moments must have shape"):
+        la.rms_pitch_error_from_moments(np.eye(2), np.ones(3), 0.0)
+    with pytest.raises(ValueError, match="bias_m_s2"):
+        la.rms_pitch_error_from_moments(np.eye(3), np.ones(2), 0.0)
+    with pytest.raises(ValueError, match="pitch"):
+        la.bias_moment_matrix(np.radians(100.0), 0.0)

@@ -2,16 +2,27 @@
 
 Tan Q., Cheng Y., Tang B., Liu X., Zhou H., Li Y., "Large-angle attitude measurement
 algorithm with pitch/roll coupling" (in Chinese), J. Terahertz Sci. Electron. Inf.
-Technol. 2022, 20(9):946–952. Accelerometer error contours (Fig 2, 5, 8), preset Euler
-rotation, gyro roll decoupling (Fig 6, 9–12).
+Technol. 2022, 20(9):946–952, doi:10.11805/TKYDA2020404. Accelerometer error
+contours (Fig 2, 5, 8), preset Euler rotation, gyro roll decoupling (Fig 6, 9–12).
+
+Modules: :mod:`.scenario` (frozen dataclasses, parameter defaults, builders),
+:mod:`.artifacts` (one producer per figure/table, returning its data and
+comparison rows), :mod:`.error_model` (the identified error models and their
+fits), :mod:`.plots` (figures; the only module importing matplotlib).
 """
 
-from . import scenario
+from . import artifacts, error_model, scenario
+from .artifacts import *  # noqa: F401,F403
+from .error_model import *  # noqa: F401,F403
 from .scenario import *  # noqa: F401,F403
-import sys as _sys  # noqa: E402
 
-# the submodules, not same-named functions (e.g. filters.qncf the module, filters.qncf.qncf the function)
-scenario = (_sys.modules[f"{__name__}.{_n}"] for _n in ('scenario',))
+__all__ = ["scenario", "artifacts", "error_model", "plots"]
+__all__ += [n for m in (scenario, artifacts, error_model) for n in m.__all__ if n not in __all__]
 
-__all__ = ["scenario"]
-__all__ += [n for m in (scenario) for n in m.__all__ if n not in __all__]
+
+def __getattr__(name):
+    if name == "plots":  # matplotlib only on demand
+        import importlib
+
+        return importlib.import_module(f"{__name__}.plots")
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -14,7 +14,9 @@ import numpy as np
 
 from mtcal.core.validate import STANDARD_GRAVITY_M_S2, as_float_array, positive_scalar
 
-__all__ = ["AccelScenario", "GyroErrors", "ProjectionSweep", "UniformRotation", "Oscillation"]
+__all__ = ["AccelScenario", "GyroErrors", "ProjectionSweep", "UniformRotation", "Oscillation", "GyroStudy",
+           "AccelErrorPrior", "GyroErrorPrior", "ACCEL_PARAMETER_DEFAULTS", "GYRO_PARAMETER_DEFAULTS",
+           "PARAMETER_DEFAULTS", "accel_scenario", "gyro_study"]
 
 
 def _positive_tuple(values, name: str) -> tuple:
@@ -266,3 +268,200 @@ class Oscillation:
         """Eq 17: θ̇(t) in rad/s."""
         t = as_float_array(time_s, "time_s")
         return 2 * np.pi * self.freq_hz * np.radians(self.amplitude_deg) * np.cos(2 * np.pi * self.freq_hz * t)
+
+
+@dataclass(frozen=True)
+class GyroStudy:
+    """Everything notebook 21 runs, resolved once from the parameters cell.
+
+    Attributes
+    ----------
+    gyro : GyroErrors
+    sweep : ProjectionSweep
+        Fig 6.
+    uniform : UniformRotation
+        Fig 9.
+    oscillation : Oscillation
+        Figs 10–12.
+    """
+
+    gyro: GyroErrors = field(default_factory=GyroErrors)
+    sweep: ProjectionSweep = field(default_factory=ProjectionSweep)
+    uniform: UniformRotation = field(default_factory=UniformRotation)
+    oscillation: Oscillation = field(default_factory=Oscillation)
+
+
+@dataclass(frozen=True)
+class AccelErrorPrior:
+    """Physical accelerometer error model beyond the paper's common-mode ΔA (one parameter).
+
+    Each axis of each triad carries ``ΔA + r ΔA ε`` with ``ε ~ N(0, 1)`` a static
+    per-axis bias drawn once per trial (one sensor set), so ``r`` is the ratio of
+    the independent (per-axis) part of the bias to the common part.
+
+    Attributes
+    ----------
+    ratio_max : float
+        Upper end of the uniform prior of ``r``, 2 (dimensionless). Source: MEMS
+        accelerometer datasheets specify the zero-g offset *per axis* with no
+        common-mode part (e.g. ADXL355 ±25 mg per axis), so ``r`` may well exceed
+        1; the paper assumes ``r = 0`` ("各个轴加速度计的输出误差相当").
+    n_grid : int
+        Points of the prior grid over ``[0, ratio_max]`` (choice).
+    asymmetry_max : float
+        The paper's Fig 2 statement "|Δθ| small for θ ≤ 0, large for θ, φ ≥ 0"
+        made testable: mean |Δθ| over (θ ≤ 0, φ ≥ 0) below this fraction of the mean
+        over (θ ≥ 0, φ ≥ 0); 0.7 (choice; common mode gives 0.43).
+    large_pitch_max : float
+        The paper's Fig 5 statement "the preset rotation suppresses the error
+        surge at large pitch" made testable: max |Δθ| over |θ| ≥ 45° with the
+        preset triads below this fraction of the plain triad's; 0.9 (choice;
+        common mode gives 0.82).
+    gain_min : float
+        The paper's Fig 8 "clear improvement" made testable: grid-RMS gain > 1.3 (choice).
+    """
+
+    ratio_max: float = 2.0
+    n_grid: int = 41
+    asymmetry_max: float = 0.7
+    large_pitch_max: float = 0.9
+    gain_min: float = 1.3
+
+    def __post_init__(self) -> None:
+        positive_scalar(self.ratio_max, "ratio_max")
+        if self.n_grid < 3:
+            raise ValueError(f"n_grid must be >= 3, got {self.n_grid}")
+
+    @property
+    def ratio_grid(self) -> np.ndarray:
+        """Prior grid of ``r`` (dimensionless)."""
+        return np.linspace(0.0, self.ratio_max, self.n_grid)
+
+
+@dataclass(frozen=True)
+class GyroErrorPrior:
+    """Physical gyro error model for the roll simulations: two fitted parameters ``b`` and ``N``.
+
+    Attributes
+    ----------
+    bias_z_max_deg_s : float
+        Upper end of the uniform prior of the constant gyro error ``b`` on every
+        axis (at φ = 0 the projection method sees the z part, Eq 14), 0.5 °/s. Source: MEMS gyro
+        bias-stability class of the paper's "MEMS 陀螺仪" (0.2 °/s stated; ≤ 0.5 °/s
+        covers consumer to industrial units, e.g. BMI088 ±1 °/s offset uncalibrated,
+        ADIS16465 0.1 °/s).
+    noise_max_deg_s_rthz : float
+        Upper end of the prior of the white-noise density, 0.01 °/s/√Hz (BMI088
+        0.014 °/s/√Hz; ADIS16465 0.0025 °/s/√Hz); 0 is the paper's noise-free simulation.
+    n_bias, n_noise : int
+        Prior grid sizes (uniform in ``b``, step 0.005 °/s; noise uniform on ``[0, max]``).
+    accurate_deg : float
+        The paper's Fig 12 statement "accurate for a long time" made testable:
+        hybrid max |roll error| below 1° over the record (choice).
+    """
+
+    bias_z_max_deg_s: float = 0.5
+    noise_max_deg_s_rthz: float = 0.01
+    n_bias: int = 101
+    n_noise: int = 6
+    accurate_deg: float = 1.0
+
+    def __post_init__(self) -> None:
+        positive_scalar(self.bias_z_max_deg_s, "bias_z_max_deg_s")
+        positive_scalar(self.noise_max_deg_s_rthz, "noise_max_deg_s_rthz")
+        positive_scalar(self.accurate_deg, "accurate_deg")
+        if self.n_bias < 3 or self.n_noise < 2:
+            raise ValueError(f"n_bias must be >= 3 and n_noise >= 2, got {self.n_bias}, {self.n_noise}")
+
+    @property
+    def bias_grid_deg_s(self) -> np.ndarray:
+        """Prior grid of ``b`` (°/s), uniform on ``[0, bias_z_max_deg_s]``."""
+        return np.linspace(0.0, self.bias_z_max_deg_s, self.n_bias)
+
+    @property
+    def noise_grid_deg_s_rthz(self) -> np.ndarray:
+        """Prior grid of the noise density (°/s/√Hz)."""
+        return np.linspace(0.0, self.noise_max_deg_s_rthz, self.n_noise)
+
+
+#: Parameters-cell defaults of notebook 20 (the paper's values; units in the names).
+ACCEL_PARAMETER_DEFAULTS: dict = {"accel_error_g": 1e-4, "lambda1_deg": 45.0, "lambda2_deg": -135.0}
+
+#: Parameters-cell defaults of notebook 21 (the paper's values, noise density our choice).
+GYRO_PARAMETER_DEFAULTS: dict = {"gyro_error_x_deg_s": 0.2, "gyro_error_y_deg_s": 0.2, "gyro_error_z_deg_s": 0.2,
+                                 "gyro_noise_density_deg_s_rthz": 0.0025, "fs_hz": 1000.0,
+                                 "pitch_rates_deg_s": (10.0, 20.0, 60.0), "oscillation_amplitude_deg": 40.0,
+                                 "oscillation_freq_hz": 0.5, "threshold_deg_s": 0.5, "roll0_deg": 0.0}
+
+#: All tan2022 parameters (both notebooks).
+PARAMETER_DEFAULTS: dict = {**ACCEL_PARAMETER_DEFAULTS, **GYRO_PARAMETER_DEFAULTS}
+
+
+def _check_names(params: dict, defaults: dict) -> dict:
+    unknown = sorted(set(params) - set(defaults))
+    if unknown:
+        raise ValueError(f"unknown tan2022 parameter(s) {unknown}; valid: {sorted(defaults)}")
+    return {**defaults, **params}
+
+
+def accel_scenario(**params) -> AccelScenario:
+    """Build the notebook-20 scenario from parameters-cell values (validated).
+
+    Parameters
+    ----------
+    **params
+        Any of :data:`ACCEL_PARAMETER_DEFAULTS`: ``accel_error_g`` (ΔA, g, in
+        (0, 0.1]), ``lambda1_deg``, ``lambda2_deg`` (preset angles, deg).
+
+    Examples
+    --------
+    >>> accel_scenario(accel_error_g=1e-3).delta_accel_g
+    0.001
+    >>> accel_scenario(accel_error=1e-3)
+    Traceback (most recent call last):
+    ...
+    ValueError: unknown tan2022 parameter(s) ['accel_error']; valid: ['accel_error_g', 'lambda1_deg', 'lambda2_deg']
+    """
+    p = _check_names(params, ACCEL_PARAMETER_DEFAULTS)
+    for name in ("lambda1_deg", "lambda2_deg"):
+        v = p[name]
+        if isinstance(v, bool) or not isinstance(v, (int, float, np.floating)) or not -180 <= v <= 180:
+            raise ValueError(f"{name} must be a number of degrees within [-180, 180], got {v!r}")
+    return AccelScenario(delta_accel_g=float(p["accel_error_g"]), lambda1_deg=float(p["lambda1_deg"]),
+                         lambda2_deg=float(p["lambda2_deg"]))
+
+
+def gyro_study(*, oscillation_duration_s: float = 20.0, **params) -> GyroStudy:
+    """Build the notebook-21 scenarios from parameters-cell values (validated).
+
+    Parameters
+    ----------
+    oscillation_duration_s : float
+        Record length of the oscillation runs (s); a run-size choice, not a
+        scenario parameter.
+    **params
+        Any of :data:`GYRO_PARAMETER_DEFAULTS` (units in the names).
+
+    Examples
+    --------
+    >>> gyro_study(gyro_error_z_deg_s=0.05).gyro.error_deg_s
+    (0.2, 0.2, 0.05)
+    >>> gyro_study(fs_hz=-1.0)
+    Traceback (most recent call last):
+    ...
+    ValueError: fs_hz must be > 0, got -1.0
+    """
+    p = _check_names(params, GYRO_PARAMETER_DEFAULTS)
+    err = tuple(float(p[f"gyro_error_{a}_deg_s"]) for a in "xyz")
+    for a, v in zip("xyz", err):
+        if not np.isfinite(v) or abs(v) > 100:
+            raise ValueError(f"gyro_error_{a}_deg_s must be a finite error in deg/s with |value| <= 100, got {v}")
+    gyro = GyroErrors(error_deg_s=err, noise_density_deg_s_rthz=float(p["gyro_noise_density_deg_s_rthz"]),
+                      fs_hz=float(p["fs_hz"]), roll0_deg=float(p["roll0_deg"]))
+    return GyroStudy(gyro=gyro, sweep=ProjectionSweep(gyro=gyro),
+                     uniform=UniformRotation(pitch_rates_deg_s=p["pitch_rates_deg_s"], gyro=gyro),
+                     oscillation=Oscillation(amplitude_deg=float(p["oscillation_amplitude_deg"]),
+                                             freq_hz=float(p["oscillation_freq_hz"]),
+                                             duration_s=positive_scalar(oscillation_duration_s,
+                                                                        "oscillation_duration_s"),
+                                             threshold_deg_s=float(p["threshold_deg_s"]), gyro=gyro))

@@ -1,0 +1,125 @@
+"""Tests for mtcal.studies.tan2022: parameters → scenarios, artifact producers, error-model fits."""
+
+import numpy as np
+import pytest
+
+from mtcal.reporting import compare
+from mtcal.studies import tan2022 as t
+
+
+# ---------------------------------------------------------------- parameters and validation
+def test_defaults_are_the_papers():
+    sc = t.accel_scenario()
+    assert (sc.delta_accel_g, sc.lambda1_deg, sc.lambda2_deg) == (1e-4, 45.0, -135.0)
+    st = t.gyro_study()
+    assert st.gyro.error_deg_s == (0.2, 0.2, 0.2)
+    assert st.uniform.pitch_rates_deg_s == (10.0, 20.0, 60.0)
+    assert (st.oscillation.amplitude_deg, st.oscillation.freq_hz, st.oscillation.threshold_deg_s) == (40.0, 0.5, 0.5)
+    assert compare.at_paper_settings(dict(t.ACCEL_PARAMETER_DEFAULTS), t.PARAMETER_DEFAULTS)
+
+
+@pytest.mark.parametrize("builder, kwargs, match", [
+    (t.accel_scenario, {"accel_error": 1e-3}, r"unknown tan2022 parameter\(s\) \['accel_error'\]; valid"),
+    (t.accel_scenario, {"accel_error_g": 0.5}, "must be <= 0.1"),
+    (t.accel_scenario, {"accel_error_g": -1e-4}, "delta_accel_g must be > 0"),
+    (t.accel_scenario, {"lambda1_deg": 400.0}, r"lambda1_deg must be a number of degrees within \[-180, 180\]"),
+    (t.gyro_study, {"fs_hz": 0.0}, "fs_hz must be > 0"),
+    (t.gyro_study, {"gyro_error_z_deg_s": float("nan")}, "gyro_error_z_deg_s must be a finite error"),
+    (t.gyro_study, {"oscillation_amplitude_deg": 95.0}, "amplitude_deg must be < 90"),
+    (t.gyro_study, {"pitch_rates_deg_s": (10.0, -5.0)}, "pitch_rates_deg_s must be positive"),
+    (t.gyro_study, {"threshold": 0.5}, r"unknown tan2022 parameter\(s\) \['threshold'\]"),
+])
+def test_invalid_parameter_is_rejected_with_one_line(builder, kwargs, match):
+    with pytest.raises(ValueError, match=match) as info:
+        builder(**kwargs)
+    assert "\n" not in str(info.value)
+
+
+# ---------------------------------------------------------------- propagation into labels and tables
+def test_accel_error_propagates_into_labels_and_tables():
+    a1 = t.fig02(t.AccelScenario(delta_accel_g=1e-4, grid_step_deg=10.0))
+    a3 = t.fig02(t.AccelScenario(delta_accel_g=1e-3, grid_step_deg=10.0))
+    assert a1.data["label"] == "ΔA = 1e-04 g" and a3.data["label"] == "ΔA = 1e-03 g"
+    ratio = a3.table["dtheta_simulated_deg"].abs().max() / a1.table["dtheta_simulated_deg"].abs().max()
+    assert ratio == pytest.approx(10.0, rel=2e-3)  # linear in ΔA to first order
+    assert "1e-03 g" in a3.lines[0]
+    # the claim text derives its expected value from ΔA
+    assert f"{np.degrees(np.sqrt(3) * 1e-3):.3g}°" in a3.rows[1]["claim"]
+
+
+def test_figure_labels_follow_the_parameters():
+    pytest.importorskip("matplotlib")
+    from mtcal.studies.tan2022 import plots
+
+    fig = plots.fig02(t.fig02(t.AccelScenario(delta_accel_g=1e-3, grid_step_deg=10.0)))
+    texts = [fig.axes[0].get_title(), fig.axes[1].get_ylabel()]
+    assert all("ΔA = 1e-03 g" in s for s in texts) and "Fig 2" in texts[0] and "tan2022_fig02" in texts[0]
+    assert fig.axes[0].get_xlabel() == "roll φ (deg)" and fig.axes[0].get_ylabel() == "pitch θ (deg)"
+
+
+def test_gyro_parameters_propagate_into_labels_and_rows():
+    st = t.gyro_study(gyro_error_z_deg_s=0.001, gyro_noise_density_deg_s_rthz=0.0, threshold_deg_s=2.0,
+                      oscillation_duration_s=4.0)
+    assert "[0.2, 0.2, 0.001]" in t.gyro_label(st) and "noise 0 " in t.gyro_label(st)
+    art = t.fig12(st, seed=1, trials=2)
+    assert "θ̇_t = 2 °/s" in art.rows[0]["quantity"]
+    # with a negligible z error (and φ0 = 0) the projection is nearly exact: the hybrid is accurate
+    assert art.rows[0]["holds"] is True
+    assert t.fig12(t.gyro_study(oscillation_duration_s=4.0), seed=1, trials=2).rows[0]["holds"] is False
+
+
+# ---------------------------------------------------------------- producers at the paper's settings
+def test_accel_producers_claims_hold_at_paper_settings():
+    sc = t.AccelScenario(grid_step_deg=5.0)
+    rows = []
+    for producer in (t.eq3_erratum, t.fig02, t.extra_roll_error, t.fig05, t.fig08):
+        art = producer(sc)
+        assert not art.table.empty
+        rows += art.rows
+    table = compare.comparison_table(rows)
+    assert set(table["role"]) <= set(compare.ROLES)
+    compare.check_claims(table, enforce=True)
+
+
+def test_roles_and_sources_are_honest():
+    """Our own findings are never counted as the paper's claims."""
+    sc = t.AccelScenario(grid_step_deg=10.0)
+    for row in t.fig08(sc).rows[1:]:
+        assert (row["role"], row["source"]) == ("finding", "mtcal finding")
+    for row in t.eq3_erratum(sc).rows:
+        assert row["role"] == "erratum"
+
+
+def test_threshold_check_reports_the_paper_threshold_problem():
+    art = t.threshold_check(t.gyro_study())
+    worst = art.table.set_index("quantity").loc["exact arctan worst over φ", "roll_error_deg"]
+    assert worst == pytest.approx(34.45, abs=0.05)
+    assert art.rows[0]["holds"] is False
+
+
+def test_grid_posterior():
+    r = t.grid_posterior([1.0, 3.0, 0.0], [0.0, 1.0, 2.0])
+    assert r["ml"] == 1.0 and r["median"] == 1.0 and r["low"] == 0.0
+    with pytest.raises(ValueError, match="not all zero"):
+        t.grid_posterior([0.0, 0.0], [0.0, 1.0])
+
+
+def test_accel_fit_prefers_common_mode_and_predicts_eq9_angles():
+    fit = t.fit_accel_error_model(t.AccelScenario(), t.AccelErrorPrior(n_grid=9), seed=3, trials=100, step_deg=10.0)
+    like = fit.posterior["likelihood"]
+    assert like[0] == pytest.approx(1.0) and like[-1] < 0.5  # the paper's statements favour r → 0
+    p = fit.parameters.iloc[0]
+    assert 0.0 <= p["low_2.5"] <= p["median"] <= p["high_97.5"] <= 2.0
+    lam = {r["quantity"].split(" (")[0]: r for r in fit.rows if "preset angle" in r["quantity"]}
+    assert all(r["paper_in_band"] for r in lam.values())
+
+
+def test_gyro_fit_recovers_the_stated_error_and_flags_fig12():
+    st = t.gyro_study(oscillation_duration_s=4.0)
+    fit = t.fit_gyro_error_model(st, t.GyroErrorPrior(n_bias=51, n_noise=3), seed=3, trials=6, fit_trials=3)
+    b = fit.parameters.iloc[0]
+    assert b["low_2.5"] <= 0.2 + 1e-9 and b["high_97.5"] >= 0.2 - 1e-9
+    hybrid = [r for r in fit.rows if r["artifact"] == "tan2022_fig12" and r["role"] == "predicted"][0]
+    assert hybrid["holds"] is False  # Fig 12's claim fails under the model fitted to Fig 6
+    need = [r for r in fit.rows if r["role"] == "finding"][0]
+    assert need["mtcal"] == pytest.approx(0.5 * np.tan(np.radians(1.0)))
