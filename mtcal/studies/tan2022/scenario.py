@@ -404,11 +404,13 @@ def _check_names(params: dict, defaults: dict) -> dict:
     return {**defaults, **params}
 
 
-def accel_scenario(**params) -> AccelScenario:
+def accel_scenario(*, grid_step_deg: float = 1.0, **params) -> AccelScenario:
     """Build the notebook-20 scenario from parameters-cell values (validated).
 
     Parameters
     ----------
+    grid_step_deg : float
+        θ, φ grid step of the error maps (deg); a run-size choice, not a scenario parameter.
     **params
         Any of :data:`ACCEL_PARAMETER_DEFAULTS`: ``accel_error_g`` (ΔA, g, in
         (0, 0.1]), ``lambda1_deg``, ``lambda2_deg`` (preset angles, deg).
@@ -428,7 +430,7 @@ def accel_scenario(**params) -> AccelScenario:
         if isinstance(v, bool) or not isinstance(v, (int, float, np.floating)) or not -180 <= v <= 180:
             raise ValueError(f"{name} must be a number of degrees within [-180, 180], got {v!r}")
     return AccelScenario(delta_accel_g=float(p["accel_error_g"]), lambda1_deg=float(p["lambda1_deg"]),
-                         lambda2_deg=float(p["lambda2_deg"]))
+                         lambda2_deg=float(p["lambda2_deg"]), grid_step_deg=grid_step_deg)
 
 
 def gyro_study(*, oscillation_duration_s: float = 20.0, **params) -> GyroStudy:
