@@ -42,7 +42,7 @@ from mtcal.core.validate import angle_rad, as_float_array, positive_scalar, time
 
 __all__ = ["MAX_RATE_RAD_S", "body_rates_two_dof", "two_dof_trajectory", "simulate_two_dof_imu",
            "euler_differential", "roll_decoupled_integration", "roll_projection",
-           "pitch_rate_magnitude", "roll_hybrid", "projection_roll_error_eq14",
+           "pitch_rate_magnitude", "roll_hybrid", "roll_hybrid_rmse_sweep", "projection_roll_error_eq14",
            "projection_roll_error_exact", "loglog_slope"]
 
 #: Largest accepted body rate (rad/s) = ±2000 °/s, the full scale of common MEMS gyros;
@@ -299,13 +299,61 @@ def roll_hybrid(gyro_rad_s, dt_s: float, threshold_rad_s: float, *,
     proj = roll_projection(w)
     use = pitch_rate_magnitude(w) > thr
     cum = _cumulative_angle(w[..., 0], dt)
-    idx = np.arange(w.shape[-2])
+    return _hybrid_from_parts(proj, cum, use, phi0), use
+
+
+def _hybrid_from_parts(proj: np.ndarray, cum: np.ndarray, use: np.ndarray, phi0: np.ndarray) -> np.ndarray:
+    """Fig 7 combination: projection where ``use``, else last projection value + integrated x rate."""
+    idx = np.arange(proj.shape[-1])
     last = np.maximum.accumulate(np.where(use, idx, -1), axis=-1)
     has = last >= 0
     safe = np.where(has, last, 0)
-    base = np.where(has, np.take_along_axis(proj, safe, axis=-1) - np.take_along_axis(cum, safe, axis=-1),
-                    phi0)
-    return np.where(use, proj, base + cum), use
+    base = np.where(has, np.take_along_axis(proj - cum, safe, axis=-1), phi0)
+    return np.where(use, proj, base + cum)
+
+
+def roll_hybrid_rmse_sweep(gyro_rad_s, dt_s: float, thresholds_rad_s, *, roll_true=0.0, roll0=0.0) -> np.ndarray:
+    """Roll RMSE of :func:`roll_hybrid` for many thresholds θ̇_t, sharing the per-sample work (rad).
+
+    Parameters
+    ----------
+    gyro_rad_s : array_like, shape (N, 3) or (T, N, 3)
+        Body rates (rad/s).
+    dt_s : float
+        Sample interval (s).
+    thresholds_rad_s : array_like (K,)
+        Thresholds θ̇_t (rad/s, ≥ 0).
+    roll_true : float or array_like (N,)
+        True roll (rad) the errors are taken against.
+    roll0 : float or array_like (T,)
+        Initial roll (rad).
+
+    Returns
+    -------
+    ndarray, shape (..., K)
+        RMSE over the samples for each threshold.
+
+    Examples
+    --------
+    >>> t = np.arange(0.0, 2.0, 0.01)
+    >>> w = np.stack([np.zeros_like(t), np.cos(np.pi * t), np.zeros_like(t)], -1)
+    >>> rmse = roll_hybrid_rmse_sweep(w, 0.01, [0.1, 1.0])
+    >>> bool(np.allclose(rmse, 0.0))
+    True
+    """
+    w = _gyro(gyro_rad_s)
+    dt = positive_scalar(dt_s, "dt_s")
+    thr = as_float_array(thresholds_rad_s, "thresholds_rad_s", ndim=1)
+    if np.any(thr < 0) or np.any(thr > MAX_RATE_RAD_S):
+        raise ValueError(f"thresholds_rad_s must be in rad/s within [0, {MAX_RATE_RAD_S:.4g}]")
+    phi0 = np.asarray(angle_rad(roll0, "roll0"))[..., None]
+    truth = np.asarray(angle_rad(roll_true, "roll_true"))
+    proj, rate, cum = roll_projection(w), pitch_rate_magnitude(w), _cumulative_angle(w[..., 0], dt)
+    out = np.empty(w.shape[:-2] + (thr.size,))
+    for k, th in enumerate(thr):  # loop over thresholds; samples and trials vectorised
+        err = _hybrid_from_parts(proj, cum, rate > th, phi0) - truth
+        out[..., k] = np.sqrt(np.mean(err**2, axis=-1))
+    return out
 
 
 # --------------------------------------------------------------------------

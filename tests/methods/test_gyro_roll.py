@@ -214,3 +214,16 @@ def test_scenario_defaults_and_validation():
         Oscillation(amplitude_deg=95.0)
     with pytest.raises(ValueError, match="fs_hz"):
         GyroErrors(fs_hz=0.0)
+
+
+def test_hybrid_rmse_sweep_matches_roll_hybrid():
+    rng = np.random.default_rng(5)
+    t = np.arange(0.0, 4.0, 1e-3)
+    rate = np.radians(40.0) * np.pi * np.cos(np.pi * t)
+    w = np.stack([np.zeros_like(t), rate, np.zeros_like(t)], -1) + np.radians(0.2) + 1e-3 * rng.standard_normal((3, t.size, 3))
+    thr = np.radians([0.5, 5.0, 200.0])
+    sweep = gr.roll_hybrid_rmse_sweep(w, 1e-3, thr, roll_true=0.0)
+    direct = np.stack([np.sqrt(np.mean(gr.roll_hybrid(w, 1e-3, th)[0] ** 2, axis=-1)) for th in thr], -1)
+    np.testing.assert_allclose(sweep, direct, rtol=1e-12)
+    with pytest.raises(ValueError, match="thresholds_rad_s must be in rad/s"):
+        gr.roll_hybrid_rmse_sweep(w, 1e-3, [-1.0])

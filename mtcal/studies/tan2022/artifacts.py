@@ -558,11 +558,9 @@ def extra_threshold_sweep(study: GyroStudy, seed: int, trials: int, n_thresholds
     thresholds = np.unique(np.concatenate([np.geomspace(0.1, 2 * osc.peak_rate_deg_s,
                                                         positive_int(n_thresholds, "n_thresholds", minimum=3)),
                                            [osc.threshold_deg_s]]))
-    rmse = np.empty((n, thresholds.size))
-    rmse_det = np.empty(thresholds.size)
-    for j, thr in enumerate(thresholds):  # loop over the swept parameter; trials vectorised
-        rmse[:, j] = _DEG(metrics.rmse(gr.roll_hybrid(w, g.dt_s, _RAD(thr), roll0=g.roll0_rad)[0] - g.roll0_rad))
-        rmse_det[j] = _DEG(metrics.rmse(gr.roll_hybrid(w_det, g.dt_s, _RAD(thr), roll0=g.roll0_rad)[0] - g.roll0_rad))
+    kw = {"roll_true": g.roll0_rad, "roll0": g.roll0_rad}
+    rmse = _DEG(gr.roll_hybrid_rmse_sweep(w, g.dt_s, _RAD(thresholds), **kw))
+    rmse_det = _DEG(gr.roll_hybrid_rmse_sweep(w_det, g.dt_s, _RAD(thresholds), **kw))
     bt = metrics.percentile_band(rmse)
     k_paper = int(np.flatnonzero(thresholds == osc.threshold_deg_s)[0])
     opt = metrics.percentile_band(thresholds[np.argmin(rmse, axis=1)])

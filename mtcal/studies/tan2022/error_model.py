@@ -356,7 +356,7 @@ def fit_gyro_error_model(study: GyroStudy, prior: GyroErrorPrior, seed: int, tri
     for r in study.uniform.pitch_rates_deg_s:
         t_end = study.uniform.sweep_deg / r
         specs.append((f"drift_{r:g}", "tan2022_fig09",
-                      f"Eq 12 |Δφ_I| after one revolution at {r:g} °/s (deg)", e_x * t_end,
+                      f"Eq 12 |Δφ_I| after one revolution at {r:g} °/s (deg)", round(e_x * t_end, 9),
                       "paper value (Δω × T) inside the band", None))
     specs += [("spike", "tan2022_fig11", "max|Δφ_P| where |θ̇| < 5 °/s / elsewhere", "error jumps as θ̇ → 0", "> 5",
                lambda b: b["median"] > 5),
