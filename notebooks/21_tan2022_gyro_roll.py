@@ -85,6 +85,7 @@ display(report.save_figure(plots.fig06(art), "tan2022_fig06"))
 # Just above the threshold the projection method is used; its error there:
 
 # %%
+# NBVAL_CHECK_OUTPUT
 art = tan2022.threshold_check(study)
 print(*art.lines, sep="\n")
 rows += art.rows

@@ -128,6 +128,12 @@ def _asymmetry(bias, th, ph, g):
     return err[:, neg].mean(axis=1) / err[:, pos].mean(axis=1)
 
 
+def _axis_spread(bias):
+    """Per-trial max |bias| / min |bias| over the three axes of a triad (the paper: "comparable")."""
+    a = np.abs(bias)
+    return a.max(axis=-1) / np.maximum(a.min(axis=-1), 1e-300)
+
+
 def _large_pitch_ratio(d0, d1, d2, th, ph, sc: AccelScenario):
     """Per-trial max |Δθ| over |θ| ≥ 45°: two preset triads (Eq 9 selection) / plain triad (first order)."""
     g = sc.gravity_m_s2
@@ -157,18 +163,20 @@ def _accel_predict(sc: AccelScenario, prior: AccelErrorPrior, ratios, rng, step_
     for key, m, d, paper in (("lambda1", m_neg, d1, sc.lambda1_deg), ("lambda2", m_pos, d2, sc.lambda2_deg)):
         best = _DEG(lam[np.argmin(la.rms_pitch_error_from_moments(m, d[:, None, :], lam[None, :], g=g), axis=1)])
         opt[key] = (best - paper + 180.0) % 360.0 - 180.0 + paper  # window centred on the paper's angle
-    return {"asymmetry": _asymmetry(d0, th, ph, g), "large_pitch": _large_pitch_ratio(d0, d1, d2, th, ph, sc),
+    return {"spread": np.max([_axis_spread(d) for d in (d0, d1, d2)], axis=0),
+            "asymmetry": _asymmetry(d0, th, ph, g), "large_pitch": _large_pitch_ratio(d0, d1, d2, th, ph, sc),
             "gain": rms_T / np.sqrt(ms_p), **opt}
 
 
 def fit_accel_error_model(sc: AccelScenario, prior: AccelErrorPrior, seed: int, trials: int,
                           step_deg: float = 5.0) -> ErrorModelFit:
-    """Fit the independent/common bias ratio ``r`` to the Fig 2 and Fig 5 statements; predict Fig 8 and λ1, λ2.
+    """Fit the independent/common bias ratio ``r`` to the paper's statements; predict Fig 8 and λ1, λ2.
 
     Likelihood of ``r``: the Monte Carlo probability (``trials`` bias draws, the
     same draws for every ``r``) that the plain triad's Fig 2 asymmetry ratio
-    is below ``prior.asymmetry_max`` and the Fig 5 large-pitch ratio below
-    ``prior.large_pitch_max``. Predictions: ``trials`` draws of ``r`` from
+    is below ``prior.asymmetry_max``, the Fig 5 large-pitch ratio below
+    ``prior.large_pitch_max`` and every triad's axis errors within a factor
+    ``prior.comparable_max`` of each other. Predictions: ``trials`` draws of ``r`` from
     the posterior (fitted) or the prior (prior-only), each with its own biases.
 
     Parameters
@@ -200,7 +208,8 @@ def fit_accel_error_model(sc: AccelScenario, prior: AccelErrorPrior, seed: int, 
         d0, d1, d2 = da * (1 + r * eps)
         fig2 = _asymmetry(d0, th, ph, sc.gravity_m_s2) < prior.asymmetry_max
         fig5 = _large_pitch_ratio(d0, d1, d2, th, ph, sc) < prior.large_pitch_max
-        lik[i] = np.mean(fig2 & fig5)
+        equal = np.all([_axis_spread(d) < prior.comparable_max for d in (d0, d1, d2)], axis=0)
+        lik[i] = np.mean(fig2 & fig5 & equal)
     post = grid_posterior(lik, grid)
     draws = {"fitted": rng.choice(grid, size=n, p=post["posterior"]),
              "prior-only": rng.choice(grid, size=n)}
@@ -209,7 +218,10 @@ def fit_accel_error_model(sc: AccelScenario, prior: AccelErrorPrior, seed: int, 
                             "prior": f"U[0, {prior.ratio_max:g}]", "ml": post["ml"], "median": post["median"],
                             "low_2.5": post["low"], "high_97.5": post["high"],
                             "source": "datasheets give per-axis offsets; paper assumes r = 0"}])
-    specs = [("asymmetry", "tan2022_fig02", "Fig 2 asymmetry mean|Δθ| (θ≤0) / (θ≥0), φ ≥ 0 [training]",
+    specs = [("spread", "tan2022_fig02", "largest max/min |axis error| of the three triads [training]",
+              "errors comparable on every axis", f"< {prior.comparable_max:g}",
+              lambda b: b["median"] < prior.comparable_max, "fitted"),
+             ("asymmetry", "tan2022_fig02", "Fig 2 asymmetry mean|Δθ| (θ≤0) / (θ≥0), φ ≥ 0 [training]",
               "small vs large", f"< {prior.asymmetry_max:g}", lambda b: b["median"] < prior.asymmetry_max, "fitted"),
              ("large_pitch", "tan2022_fig05", "Fig 5 max|Δθ| for |θ| ≥ 45°, preset / plain [training]",
               "error surge suppressed", f"< {prior.large_pitch_max:g}",

@@ -131,18 +131,18 @@ def accel_error_model(fit):
     """tan2022_extra_error_model_accel: likelihood and posterior of r."""
     p = fit.posterior
     fig, ax = plt.subplots(figsize=(7.0, 4.0), constrained_layout=True)
-    ax.plot(p["grid"], p["likelihood"], "C0-o", ms=3, label="likelihood P(Fig 2 and Fig 5 statements | r)")
+    ax.plot(p["grid"], p["likelihood"], "C0-o", ms=3, label="likelihood P(equal-error assumption, Fig 2, Fig 5 statements | r)")
     ax2 = ax.twinx()
     ax2.bar(p["grid"], p["posterior"], width=0.8 * (p["grid"][1] - p["grid"][0]), color="C1", alpha=0.4,
             label="posterior (uniform prior)")
     ax2.grid(False)
     ax.set(xlabel=p["xlabel"], ylabel="likelihood", ylim=(0, 1.05),
-           title="tan2022_extra_error_model_accel: accelerometer bias model fitted to Figs 2 and 5")
+           title="tan2022_extra_error_model_accel: accelerometer bias model fitted to the paper's statements")
     ax2.set_ylabel("posterior probability")
     ax.title.set_fontsize(10)
     h1, l1 = ax.get_legend_handles_labels()
     h2, l2 = ax2.get_legend_handles_labels()
-    ax.legend(h1 + h2, l1 + l2, fontsize=8, loc="lower left")
+    ax.legend(h1 + h2, l1 + l2, fontsize=8, loc="upper right")
     return fig
 
 

@@ -319,6 +319,10 @@ class AccelErrorPrior:
         common mode gives 0.82).
     gain_min : float
         The paper's Fig 8 "clear improvement" made testable: grid-RMS gain > 1.3 (choice).
+    comparable_max : float
+        The paper's assumption "the output errors of the axes are comparable"
+        (Sec 1.1, 2.1, "输出误差相当") made testable: max/min |axis error| of each
+        triad below 2 (choice: within a factor of two).
     """
 
     ratio_max: float = 2.0
@@ -326,6 +330,7 @@ class AccelErrorPrior:
     asymmetry_max: float = 0.7
     large_pitch_max: float = 0.9
     gain_min: float = 1.3
+    comparable_max: float = 2.0
 
     def __post_init__(self) -> None:
         positive_scalar(self.ratio_max, "ratio_max")
