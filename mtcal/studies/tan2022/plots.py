@@ -215,7 +215,7 @@ def fig10(art):
     ax.set(xlabel="time (s)", ylabel="pitch rate (deg/s)", xlim=(0, min(4.0 / d["freq"] / 2, d["time_s"][-1])),
            title=f"tan2022 Fig 10 (tan2022_fig10): pitch rate, θ = {d['amplitude']:g}° sin(2π·{d['freq']:g} t)")
     ax.title.set_fontsize(10)
-    ax.legend(fontsize=8, loc="lower left")
+    ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=3)  # off the data
     return fig
 
 
