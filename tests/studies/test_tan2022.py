@@ -124,3 +124,27 @@ def test_gyro_fit_recovers_the_stated_error_and_flags_fig12():
     assert hybrid["holds"] is True and hybrid["mtcal"] > 5  # Fig 12's claim fails under the model fitted to Fig 6
     need = [r for r in fit.rows if "largest constant" in r["quantity"]][0]
     assert need["mtcal"] == pytest.approx(0.5 * np.tan(np.radians(1.0)))
+
+
+def test_gyro_what_if_without_projection_errors_completes():
+    """x/y errors only, no noise: the projection is exact at φ0 = 0; every producer still reports."""
+    st = t.gyro_study(gyro_error_z_deg_s=0.0, gyro_noise_density_deg_s_rthz=0.0, oscillation_duration_s=2.0)
+    rows = []
+    for producer, args in ((t.fig06, (1, 2)), (t.fig11, (1, 2)), (t.fig12, (1, 2)), (t.extra_threshold_sweep, (1, 2, 5))):
+        rows += producer(st, *args).rows
+    table = compare.comparison_table(rows)
+    slope = table[table["quantity"].str.startswith("log-log slope")].iloc[0]
+    assert slope["mtcal"] == "undefined (zero error)" and not slope["holds"]
+    report = compare.check_claims(table, enforce=False)
+    assert "claims hold" in report
+
+
+def test_gyro_pattern_fit_excludes_the_printed_z_error():
+    st = t.gyro_study(oscillation_duration_s=4.0)
+    fit = t.fit_gyro_error_pattern(st, t.GyroErrorPrior(), seed=2, trials=3)
+    bz = fit.parameters.iloc[0]
+    assert 0.0 <= bz["low_2.5"] <= bz["high_97.5"] <= 0.02  # far below the paper's 0.2 °/s on z
+    like = fit.posterior["likelihood"]
+    assert like[list(t.PATTERN_BIAS_GRID_DEG_S).index(0.2)].max() == 0.0
+    finding = [r for r in fit.rows if r["role"] == "finding"][0]
+    assert finding["holds"] and finding["paper_in_band"] is False

@@ -64,6 +64,27 @@ class Artifact:
     lines: list = field(default_factory=list)
 
 
+def _ratio(num, den):
+    """``num / den`` with a zero denominator mapped to a tiny one (a what-if run may remove an error entirely)."""
+    return np.asarray(num, dtype=float) / np.maximum(np.asarray(den, dtype=float), 1e-12)
+
+
+def _slope_band(x, y):
+    """Per-trial log-log slopes (rows of ``y``) and their band; ``None`` when an error is exactly zero."""
+    y = np.abs(np.asarray(y, dtype=float))
+    ok = np.all(y > 0, axis=-1)
+    if not np.any(ok):
+        return None
+    return metrics.percentile_band(gr.loglog_slope(x, y[ok]))
+
+
+def _slope_row(artifact, quantity, paper, band):
+    if band is None:
+        return _ROW(artifact, quantity, paper, "undefined (zero error)", "≈ −1 (−1.1…−0.9)", False)
+    return _ROW(artifact, quantity, paper, float(band["median"]), "≈ −1 (−1.1…−0.9)",
+                bool(-1.1 < band["median"] < -0.9), band=band)
+
+
 def artifact_rng(seed: int, key: int) -> np.random.Generator:
     """Independent stream per artifact: ``default_rng(SeedSequence([seed, key]))``.
 
@@ -364,18 +385,18 @@ def fig06(study: GyroStudy, seed: int, trials: int) -> Artifact:
     eq14 = _DEG(np.abs(gr.projection_roll_error_eq14(g.roll0_rad, rates, ey, ez)))
     exact = _DEG(np.abs(gr.projection_roll_error_exact(g.roll0_rad, rates, ey, ez)))
     fit = rates >= _RAD(sweep.fit_min_deg_s)
-    slope = metrics.percentile_band(gr.loglog_slope(rates[fit], sim[:, fit]))
-    rows = [_ROW("tan2022_fig06", f"log-log slope of projection error vs θ̇ (θ̇ ≥ {sweep.fit_min_deg_s:g} °/s)",
-                 "error falls as θ̇ rises", float(slope["median"]), "≈ −1 (−1.1…−0.9)",
-                 bool(-1.1 < slope["median"] < -0.9), band=slope)]
+    slope = _slope_band(rates[fit], sim[:, fit])
+    rows = [_slope_row("tan2022_fig06", f"log-log slope of projection error vs θ̇ (θ̇ ≥ {sweep.fit_min_deg_s:g} °/s)",
+                       "error falls as θ̇ rises", slope)]
     table = pd.DataFrame({"pitch_rate_deg_s": _DEG(rates), "eq14_deg": eq14, "exact_deg": exact,
                           "sim_median_abs_deg": band["median"], "sim_low_deg": band["low"],
                           "sim_high_deg": band["high"]})
+    slope_med = float("nan") if slope is None else float(slope["median"])
     return Artifact(table, rows, {"rate_deg_s": _DEG(rates), "eq14": eq14, "exact": exact, "band": band,
-                                  "slope": float(slope["median"]), "threshold_deg_s": study.oscillation.threshold_deg_s,
+                                  "slope": slope_med, "threshold_deg_s": study.oscillation.threshold_deg_s,
                                   "label": gyro_label(study), "trials": n},
-                    [f"log-log slope (simulation, {n} trials): {slope['median']:.3f} "
-                     f"[{slope['low']:.3f}, {slope['high']:.3f}]"])
+                    [f"log-log slope (simulation, {n} trials): " + ("undefined (zero error)" if slope is None else
+                     f"{slope['median']:.3f} [{slope['low']:.3f}, {slope['high']:.3f}]")])
 
 
 def threshold_check(study: GyroStudy) -> Artifact:
@@ -430,23 +451,22 @@ def fig09(study: GyroStudy, seed: int, trials: int) -> Artifact:
                        "integration": _DEG(e_I[0]), "projection": _DEG(e_P[0])})
         recs.append({"pitch_rate_deg_s": rate, "duration_s": float(t[-1] + g.dt_s),
                      **{f"{k}_median_deg": float(np.median(v)) for k, v in trial.items()}})
-    blow = metrics.percentile_band(np.min([p["euler_near90"] / p["euler_lt60"] for p in per_rate], axis=0))
+    blow = metrics.percentile_band(np.min([_ratio(p["euler_near90"], p["euler_lt60"]) for p in per_rate], axis=0))
     drift = metrics.percentile_band(np.min([np.abs(p["integration_final"]) for p in per_rate], axis=0))
-    slope = metrics.percentile_band(gr.loglog_slope(np.array(uni.pitch_rates_deg_s),
-                                                    np.stack([p["projection_mean"] for p in per_rate], axis=1)))
+    slope = _slope_band(np.array(uni.pitch_rates_deg_s), np.stack([p["projection_mean"] for p in per_rate], axis=1))
     rows = [
         _ROW("tan2022_fig09", "Eq 5: max|Δφ_E| within 2° of ±90° / max for θ < 60° (min over rates)",
              "roll jumps at θ = ±90°", float(blow["median"]), "> 10", bool(blow["median"] > 10), band=blow),
         _ROW("tan2022_fig09", "Eq 12: |Δφ_I| at the end of the revolution, smallest over rates (deg)",
              "error accumulates", float(drift["median"]), "> 1° (drift visible)", bool(drift["median"] > 1.0),
              band=drift),
-        _ROW("tan2022_fig09", "Eq 13: log-log slope of mean |Δφ_P| over the rates", "larger θ̇ → smaller error",
-             float(slope["median"]), "≈ −1 (−1.1…−0.9)", bool(-1.1 < slope["median"] < -0.9), band=slope),
+        _slope_row("tan2022_fig09", "Eq 13: log-log slope of mean |Δφ_P| over the rates", "larger θ̇ → smaller error",
+                   slope),
     ]
     return Artifact(pd.DataFrame(recs), rows, {"curves": curves, "label": gyro_label(study)},
                     [f"Eq 5 blow-up {blow['median']:.1f} [{blow['low']:.1f}, {blow['high']:.1f}]; Eq 12 final "
-                     f"drift ≥ {drift['median']:.3f}°; Eq 13 slope {slope['median']:.3f} "
-                     f"[{slope['low']:.3f}, {slope['high']:.3f}] ({n} trials)"])
+                     f"drift ≥ {drift['median']:.3f}°; Eq 13 slope " + ("undefined (zero error)" if slope is None else
+                     f"{slope['median']:.3f} [{slope['low']:.3f}, {slope['high']:.3f}]") + f" ({n} trials)"])
 
 
 def _oscillation_gyro(study: GyroStudy, seed: int, trials: int):
@@ -483,7 +503,7 @@ def fig11(study: GyroStudy, seed: int, trials: int) -> Artifact:
     e_P = gr.roll_projection(w) - g.roll0_rad
     e_I = gr.roll_decoupled_integration(w, g.dt_s, roll0=g.roll0_rad) - g.roll0_rad
     slow = np.broadcast_to(np.abs(osc.pitch_rate_rad_s(t)) < _RAD(5.0), e_P.shape)
-    spike = metrics.percentile_band(metrics.max_abs_error(e_P, mask=slow) / metrics.max_abs_error(e_P, mask=~slow))
+    spike = metrics.percentile_band(_ratio(metrics.max_abs_error(e_P, mask=slow), metrics.max_abs_error(e_P, mask=~slow)))
     rows = [_ROW("tan2022_fig11", "max|Δφ_P| where |θ̇| < 5 °/s / elsewhere", "error jumps as θ̇ → 0",
                  float(spike["median"]), "> 5", bool(spike["median"] > 5), band=spike)]
     table = pd.DataFrame({"time_s": t[::10], "projection_err_deg": _DEG(e_P[0, ::10]),
@@ -531,9 +551,9 @@ def fig12(study: GyroStudy, seed: int, trials: int) -> Artifact:
              float(band_h["median"]), "paper claim (< 1°) fails: max > 5°", bool(band_h["median"] > 5.0),
              band=band_h, role="finding", source="mtcal finding"),
         _ROW("tan2022_fig12", f"hybrid ({lab}) max |Δφ| / projection max |Δφ|", "hybrid avoids the spikes",
-             float(np.median(np.max(np.abs(e_H), axis=-1) / np.max(np.abs(e_P), axis=-1))),
+             float(np.median(_ratio(np.max(np.abs(e_H), axis=-1), np.max(np.abs(e_P), axis=-1)))),
              "lower than projection (< 1)",
-             bool(np.median(np.max(np.abs(e_H), axis=-1) / np.max(np.abs(e_P), axis=-1)) < 1.0)),
+             bool(np.median(_ratio(np.max(np.abs(e_H), axis=-1), np.max(np.abs(e_P), axis=-1))) < 1.0)),
         _ROW("tan2022_fig12", f"share of samples integrated by the hybrid ({lab})", "-", float(switched["median"]),
              "the switch fires in every trial", bool(switched["low"] > 0), band=switched, role="finding",
              source="mtcal finding"),
@@ -564,7 +584,7 @@ def extra_threshold_sweep(study: GyroStudy, seed: int, trials: int, n_thresholds
     bt = metrics.percentile_band(rmse)
     k_paper = int(np.flatnonzero(thresholds == osc.threshold_deg_s)[0])
     opt = metrics.percentile_band(thresholds[np.argmin(rmse, axis=1)])
-    gain = metrics.percentile_band(np.min(rmse, axis=1) / rmse[:, k_paper])
+    gain = metrics.percentile_band(_ratio(np.min(rmse, axis=1), rmse[:, k_paper]))
     rows = [
         _ROW("tan2022_extra_threshold_sweep", "optimal θ̇_t (deg/s), per trial", osc.threshold_deg_s,
              float(opt["median"]), f"optimum far above {osc.threshold_deg_s:g} °/s (band low > 10×)",

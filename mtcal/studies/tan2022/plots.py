@@ -20,7 +20,7 @@ from matplotlib.colors import LogNorm
 
 __all__ = ["error_map", "eq3_erratum", "fig02", "extra_roll_error", "fig05", "fig08", "extra_independent_errors",
            "accel_error_model", "fig06", "fig09", "fig10", "fig11", "fig12", "extra_threshold_sweep",
-           "gyro_error_model"]
+           "gyro_error_model", "gyro_error_pattern"]
 
 
 def error_map(ax, theta_deg, phi_deg, field_deg, levels, *, log=False, cmap="viridis"):
@@ -261,4 +261,24 @@ def extra_threshold_sweep(art):
            title=f"tan2022_extra_threshold_sweep: hybrid roll RMSE vs threshold\n{d['label']}")
     ax.title.set_fontsize(10)
     ax.legend(fontsize=8, loc="upper center")
+    return fig
+
+
+def gyro_error_pattern(fit):
+    """tan2022_extra_error_pattern_gyro: likelihood of (b_z, N) given the Fig 11 and Fig 12 statements."""
+    p = fit.posterior
+    fig, ax = plt.subplots(figsize=(8.0, 5.0), constrained_layout=True)
+    mesh = ax.pcolormesh(np.arange(p["noise_grid"].size + 1), np.arange(p["bias_grid"].size + 1), p["likelihood"],
+                         cmap="Greys", vmin=0, vmax=1, edgecolors="0.8", linewidth=0.3)
+    ax.set_xticks(np.arange(p["noise_grid"].size) + 0.5, [f"{v:g}" for v in p["noise_grid"]], rotation=45)
+    ax.set_yticks(np.arange(p["bias_grid"].size) + 0.5, [f"{v:g}" for v in p["bias_grid"]])
+    paper = int(np.argmin(np.abs(p["bias_grid"] - 0.2)))
+    ax.axhline(paper + 0.5, color="C3", lw=1.2, label="the paper's z error 0.2 °/s")
+    ax.grid(False)
+    ax.set(xlabel="noise density N (deg/s/√Hz)", ylabel="constant z-gyro error b_z (deg/s)",
+           title="tan2022_extra_error_pattern_gyro: P(Fig 11 spikes and Fig 12 accurate | b_z, N)\n"
+                 "x and y gyros keep 0.2 °/s; grid cells not to scale")
+    ax.title.set_fontsize(10)
+    ax.legend(fontsize=8, loc="upper right")
+    fig.colorbar(mesh, ax=ax, label="likelihood")
     return fig
