@@ -1,9 +1,18 @@
 """tan2022 (Tan et al., 2022) scenarios: the paper's parameters plus stated choices.
 
-Every field carries the paper's value where one exists (``data/paper/tan2022_params.csv``)
-and otherwise a choice with its source. Fields are in the paper's display
-units (named ``_deg``, ``_g``, ``_deg_s``); properties give the library units
-(rad, rad/s, m/s²). Use :func:`dataclasses.replace` for variants (e.g. CI size).
+Every field carries the paper's value where one exists (the shipped table
+``mtcal/reporting/paper_data/tan2022_params.csv``) and otherwise a choice with
+its source. Fields are in the paper's display units (named ``_deg``, ``_g``,
+``_deg_s``); properties give the library units (rad, rad/s, m/s²).
+:data:`PARAMETER_DEFAULTS` holds the notebooks' parameters-cell defaults once;
+:func:`accel_scenario` and :func:`gyro_study` build validated scenarios from
+parameters-cell values (one-line ``ValueError`` naming the parameter).
+
+References
+----------
+Tan Q., Cheng Y., Tang B., Liu X., Zhou H., Li Y., "Large-angle attitude measurement
+algorithm with pitch/roll coupling" (in Chinese), J. Terahertz Sci. Electron. Inf.
+Technol. 2022, 20(9):946–952, doi:10.11805/TKYDA2020404.
 """
 
 from __future__ import annotations
