@@ -182,10 +182,10 @@ display(report.save_figure(plots.accel_error_model(fit), "tan2022_extra_error_mo
 
 # %% [markdown]
 # The statements favour a mostly common-mode error: `r` ≈ 0.1, 95 % interval
-# about [0, 0.6], inside the prior. With that model the optimal preset angles
+# about [0, 0.5], inside the prior. With that model the optimal preset angles
 # scatter by about ±15° around the paper's λ1 = 45° and λ2 = −135° — both
 # inside the bands — and the Fig 8 gain stays ≈ 1.5 (its band reaches down to
-# ≈ 0.9: for some sensor sets the preset rotation does not help). Without the
+# ≈ 1: for some sensor sets the preset rotation barely helps). Without the
 # training data (prior-only) the bands for λ span most of the circle and the
 # median gain is ≈ 1.2: the paper's statements carry real information, and
 # its angles are only optimal because it assumes common-mode errors.
@@ -211,4 +211,4 @@ print(compare.check_claims(table, enforce=AT_PAPER))
 # θ = ±90°. With independent axis errors the gain vanishes. The paper's only
 # result numbers, λ1 and λ2, are predicted inside the bands of the model
 # fitted to its error assumption and Fig 2/Fig 5 statements (independent
-# share of the bias r ≈ 0.1, at most ≈ 0.6).
+# share of the bias r ≈ 0.1, at most ≈ 0.5).
