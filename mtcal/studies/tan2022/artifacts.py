@@ -339,7 +339,7 @@ def extra_independent_errors(sc: AccelScenario, seed: int, trials: int, step_deg
     table = pd.DataFrame({"theta_deg": _DEG(th_mc[:, 0]), "rms_plain_deg": rms_row["single"],
                           "rms_preset_deg": rms_row["preset"], "rms_mean_of_two_deg": rms_row["mean_of_two"]})
     return Artifact(table, rows, {"theta_deg": _DEG(th_mc[:, 0]), "rms": rms_row, "label": accel_label(sc),
-                                  "trials": n},
+                                  "sigma_g": sc.delta_accel_g, "trials": n},
                     [f"independent errors ({n} trials): preset gain {gain_p['median']:.3f} "
                      f"[{gain_p['low']:.3f}, {gain_p['high']:.3f}], averaging gain {gain_m['median']:.3f} "
                      f"[{gain_m['low']:.3f}, {gain_m['high']:.3f}]"])

@@ -118,7 +118,7 @@ def extra_independent_errors(art):
                         ("mean_of_two", "mean of the two preset triads", "C2")):
         ax.plot(d["theta_deg"], d["rms"][key], c + "-o", ms=3, label=lab)
     ax.set(xlabel="pitch θ (deg)", ylabel="RMS |Δθ| over φ (deg)", xlim=(-90, 90), xticks=np.arange(-90, 91, 30),
-           title=f"tan2022_extra_independent_errors: independent axis errors σ = {d['label'][5:]}, "
+           title=f"tan2022_extra_independent_errors: independent axis errors σ = {d['sigma_g']:.0e} g, "
                  f"{d['trials']} trials")
     ax.title.set_fontsize(10)
     ax.yaxis.set_major_formatter("{x:.4f}")
