@@ -121,6 +121,9 @@ class ImuSpec:
         mtcal: 1000 ppm residual after calibration (BMI088 sensitivity tolerance ±1 %
         before); applied to all three axes.
     random_walk_interpretation : {"sqrt_hz", "per_sample", "none"}
+    accel_bias_compensated : bool
+        mtcal: True (Sec. 4 calibrates with ref. [30]); False applies Table 3's 50 mg
+        literally as [+, −, +]/√3 (Eq 28 assumes no bias: shown as a sensitivity).
     fs_hz : float
         mtcal: 200 Hz (not stated; a BMI088 gyro output rate).
     """
@@ -133,15 +136,21 @@ class ImuSpec:
     gyro_random_walk: float = 0.014
     gyro_scale_factor_ppm: float = 1000.0
     random_walk_interpretation: str = "sqrt_hz"
+    accel_bias_compensated: bool = True
+    accel_bias_mg: float = 50.0
     fs_hz: float = 200.0
 
     def __post_init__(self) -> None:
         if self.random_walk_interpretation not in ("sqrt_hz", "per_sample", "none"):
             raise ValueError("random_walk_interpretation must be 'sqrt_hz', 'per_sample' or 'none', "
                              f"got {self.random_walk_interpretation!r}")
+        if not isinstance(self.accel_bias_compensated, bool):
+            raise TypeError(f"accel_bias_compensated must be a bool, got {self.accel_bias_compensated!r}")
         for f in fields(self):
             v = getattr(self, f.name)
-            if f.name != "random_walk_interpretation" and (not np.isfinite(v) or v < 0):
+            if f.name in ("random_walk_interpretation", "accel_bias_compensated"):
+                continue
+            if not np.isfinite(v) or v < 0:
                 raise ValueError(f"{f.name} must be a finite value >= 0, got {v!r}")
         if self.fs_hz <= 0:
             raise ValueError(f"fs_hz must be > 0 (Hz), got {self.fs_hz!r}")
@@ -188,8 +197,9 @@ class ImuSpec:
                          gyro_rw_rad_s_rt_s=self.gyro_random_walk * DEG * rw,
                          gyro_scale_factor=self.gyro_scale_factor_ppm * 1e-6,
                          accel_noise_m_s2_rt_hz=self.accel_noise_ug_rt_hz * UG,
-                         accel_bias_m_s2=(0.0, 0.0, 0.0),
-                         accel_bias_sigma_m_s2=self.accel_bias_residual_mg * MG,
+                         accel_bias_m_s2=(0.0, 0.0, 0.0) if self.accel_bias_compensated else
+                         tuple(self.accel_bias_mg * MG * np.array([1.0, -1.0, 1.0]) / np.sqrt(3.0)),
+                         accel_bias_sigma_m_s2=self.accel_bias_residual_mg * MG if self.accel_bias_compensated else 0.0,
                          accel_rw_m_s2_rt_s=self.accel_random_walk * UG * rw)
 
 
