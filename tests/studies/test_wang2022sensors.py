@@ -140,3 +140,48 @@ def test_training_and_held_out_are_disjoint_and_cover_table5():
             assert spec["low"] <= min(grid) and max(grid) <= spec["high"], name
     assert w.ERROR_PRIORS["latency_s"]["low"] <= em.LATENCY_GRID_S.min()
     assert em.LATENCY_GRID_S.max() <= w.ERROR_PRIORS["latency_s"]["high"]
+
+
+def _fake_fit(shift_key=None):
+    pv = em.paper_table5()
+    names = ("lever_arm_m", "move_accel_deg_s2", "accel_noise_ug_rt_hz")
+    axes = ("Bv1", "Bv2", "Bv3")
+    log = {}
+    for system in ("RAMS", "ref. [16]", "AHRS stand-in"):
+        for kind in ("static", "dynamic"):
+            shape = (2, 1, 3, 3, 2) if system == "AHRS stand-in" else (2, 4, 1, 3, 2)
+            arr = np.zeros(shape)
+            for ia, a in enumerate(axes):
+                arr[:, :, :, ia] = np.log(pv[(a, system, kind)])
+            arr[..., 1] += 0.02
+            arr[1] += 1.0  # cell 1 is far from every paper number
+            log[(system, kind)] = arr
+    if shift_key is not None:  # one held-out number the model cannot reach
+        log[shift_key[1:]][:, :, :, axes.index(shift_key[0])] += 3.0
+    g = em.GridRun(names, np.array([[0.2, 1000.0, 70.0], [0.4, 300.0, 35.0]]), np.array([0.0, 0.01, 0.02, 0.03]),
+                   np.array([1.0, 2.0, 5.0]), axes, log, np.full((2, 3, 2, 5), 0.03), np.arange(5.0))
+    post = em.posterior_weights(g)
+    return w.ErrorModelFit(g, post, em.prior_weights(g), em.parameter_summary(g, post))
+
+
+def test_table05_roles_and_fitted_rows_are_not_tests():
+    fit = _fake_fit()
+    assert fit.posterior.sum(axis=(1, 2))[0] > 0.99  # the likelihood picks the matching cell
+    a = w.table05_rmse(fit, 1, n_draws=500)
+    t = a.table
+    assert set(t[t.role == "fitted"].apply(lambda r: (r.axis, r.system, r.kind), axis=1)) == set(em.TRAINING)
+    assert t.paper_in_fitted.all() and a.data["summary"] == {"fitted_inside": 9, "prior_inside": 9, "n_predicted": 9}
+    for row in a.rows:
+        if row["role"] == "fitted":
+            assert row["holds"] is None and "not a test" in row["claim"]
+    erratum = [r for r in a.rows if r["role"] == "erratum"]
+    assert len(erratum) == 1 and erratum[0]["mtcal"] == pytest.approx(0.0827) and erratum[0]["holds"]
+    assert "every held-out" in w.outside_reasons(w.scenario_from_parameters(), fit, 1, n_draws=500)
+
+
+def test_outside_reasons_names_the_number_and_what_it_needs():
+    fit = _fake_fit(shift_key=("Bv2", "ref. [16]", "dynamic"))
+    text = w.outside_reasons(w.scenario_from_parameters(), fit, 1, n_draws=500)
+    assert text.startswith("Bv2 ref. [16] dynamic: paper 2.7650 below") and "lever_arm_m" in text
+    f14 = w.fig14_max_error_per_angle(fit, 1, n_draws=200)
+    assert f14.data["median"] == pytest.approx(np.full(5, 0.03)) and f14.rows[0]["holds"]
