@@ -154,7 +154,8 @@ report.show_table(a.table)
 rows += a.rows
 s5 = a.data["summary"]
 print(f"held-out Table 5 numbers inside the 95 % band: fitted model {s5['fitted_inside']} of {s5['n_predicted']}, "
-      f"prior-only model {s5['prior_inside']} of {s5['n_predicted']}")
+      f"prior-only model {s5['prior_inside']} of {s5['n_predicted']}; fitted bands are "
+      f"{s5['band_width_ratio']:.0%} as wide as the prior-only ones (median, log scale)")
 display(report.save_figure(plots.plot_error_model(a.table), "wang2022sensors_extra_error_model"))
 
 # %% [markdown]

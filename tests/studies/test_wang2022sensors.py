@@ -170,7 +170,9 @@ def test_table05_roles_and_fitted_rows_are_not_tests():
     a = w.table05_rmse(fit, 1, n_draws=500)
     t = a.table
     assert set(t[t.role == "fitted"].apply(lambda r: (r.axis, r.system, r.kind), axis=1)) == set(em.TRAINING)
-    assert t.paper_in_fitted.all() and a.data["summary"] == {"fitted_inside": 9, "prior_inside": 9, "n_predicted": 9}
+    summ = a.data["summary"]
+    assert t.paper_in_fitted.all() and (summ["fitted_inside"], summ["prior_inside"], summ["n_predicted"]) == (9, 9, 9)
+    assert summ["band_width_ratio"] < 1.0  # the fit narrows the predictive bands
     for row in a.rows:
         if row["role"] == "fitted":
             assert row["holds"] is None and "not a test" in row["claim"]

@@ -426,8 +426,9 @@ def table05_rmse(fit: ErrorModelFit, seed: int, n_draws: int = 4000) -> Artifact
     rows.append(_row("wang2022sensors_table05", "smallest Ellipse2-N RMSE in Table 5 (deg)", "> 0.1 (text)", low,
                      "Table 5 contradicts the text (Bv3 static 0.0827 < 0.1)", bool(low < 0.1), role="erratum"))
     pred = t5[t5.role == "predicted"]
+    width = np.log(pred.fitted_high / pred.fitted_low) / np.log(pred.prior_high / pred.prior_low)
     summary = {"fitted_inside": int(pred.paper_in_fitted.sum()), "prior_inside": int(pred.paper_in_prior.sum()),
-               "n_predicted": len(pred)}
+               "n_predicted": len(pred), "band_width_ratio": float(np.median(width))}
     return Artifact(t5, {"summary": summary}, rows)
 
 
