@@ -136,6 +136,8 @@ report.show_table(a.table.drop(columns="source"), "{:.4g}")
 rows += a.rows
 print(f"RAMS dynamic RMSE at the MAP rig: {a.data['dynamic_without_latency_deg']:.3f} deg without latency, "
       f"{a.data['dynamic_with_latency_deg']:.3f} deg with it (Table 5: 0.41-0.46 deg)")
+print("RAMS static RMSE at the MAP lever arm by move acceleration: " + ", ".join(
+    f"{k:g} deg/s^2: {v:.4f} deg" for k, v in a.data["static_by_accel_deg"].items()))
 
 # %% [markdown]
 # ## wang2022sensors_table05 — static and dynamic RMSE: RAMS vs ref. [16] vs AHRS stand-in
