@@ -1,0 +1,189 @@
+"""wang2022sensors study: scenario validation, parameter propagation, runs, error model."""
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from mtcal.core.units import DEG
+from mtcal.reporting import compare
+from mtcal.studies import wang2022sensors as w
+from mtcal.studies.wang2022sensors import error_model as em
+
+
+# ----------------------------------------------------------------------------- scenario
+def test_defaults_are_the_paper_setting():
+    sc = w.scenario_from_parameters()
+    assert compare.at_paper_settings(dict(w.PARAMETER_DEFAULTS), w.PARAMETER_DEFAULTS)
+    assert sc.imu.accel_noise_ug_rt_hz == 50.0 and sc.imu.gyro_noise_deg_s_rt_hz == pytest.approx(0.02)
+    assert sc.imu.gyro_bias_deg_s == pytest.approx(0.7)          # Table 3
+    assert sc.rig.zvd.accel_min_m_s2 == 9.76 and sc.rig.zvd.accel_max_m_s2 == 9.84  # Table 1
+    assert sc.rig.step_deg == 10.0 and sc.rig.hold_s == 1.0       # Sec. 7
+
+
+@pytest.mark.parametrize("name, value, match", [
+    ("fs_hz", -1.0, "fs_hz must be > 0"),
+    ("lever_arm_m", 20.0, "lever_arm_m must be in metres"),
+    ("latency_s", 5.0, "latency_s must be in seconds"),
+    ("sensor_grade", "nope", "sensor_grade must be one of"),
+    ("fig11_axis", (0.0, 0.0, 1.0), "fig11_axis must be at least 5° off vertical"),
+    ("fig11_axis", (1.0, 0.0), "fig11_axis must be a non-zero 3-vector"),
+    ("move_accel_deg_s2", 0.0, "move_accel_deg_s2 must be > 0"),
+    ("zvd_accel_min_m_s2", 9.9, "accel_min_m_s2 .* must be < accel_max_m_s2"),
+    ("not_a_parameter", 1.0, r"unknown parameter\(s\) \['not_a_parameter'\]; valid:"),
+])
+def test_invalid_parameter_rejected_with_one_line_error(name, value, match):
+    with pytest.raises(ValueError, match=match) as info:
+        w.scenario_from_parameters(**{name: value})
+    assert "\n" not in str(info.value)
+
+
+def test_parameter_change_propagates_into_labels_and_tables():
+    base = w.scenario_from_parameters()
+    sc = w.scenario_from_parameters(lever_arm_m=0.35, fs_hz=400.0, sensor_grade="industrial",
+                                    move_accel_deg_s2=500.0, zvd_gyro_max_deg_s=None)
+    lab, lab0 = w.labels(sc), w.labels(base)
+    assert "0.35 m" in lab["rig"] and "500°/s²" in lab["rig"] and "0.2 m" in lab0["rig"]
+    assert "400 Hz" in lab["imu"] and "industrial" in lab["imu"]
+    assert lab["zvd"] == "Table 1 ZVD" and "2°/s" in lab0["zvd"]
+    t1 = w.table01_zvd(sc).table
+    assert "n_w at 400 Hz" in set(t1.parameter) and np.isnan(t1.value.iloc[-1])
+    t2 = w.table02_sensors(sc).table
+    assert "sigma_theta_per_sample_400hz_deg" in t2.columns
+    assert t2.ic.iloc[-1] == "simulated (industrial)"
+    assert not compare.at_paper_settings({"lever_arm_m": 0.35}, w.PARAMETER_DEFAULTS)
+
+
+def test_resolve_gives_plain_si_values():
+    v = w.ImuSpec().resolve()
+    assert v.dt_s == pytest.approx(1 / 200.0) and v.fs_hz == 200.0
+    assert v.gyro_noise_rad_s_rt_hz == pytest.approx(0.02 * DEG)
+    assert v.gyro_bias_rad_s == pytest.approx((0.7 * DEG, -0.7 * DEG, 0.7 * DEG))
+    assert w.ImuSpec(random_walk_interpretation="none").resolve().gyro_rw_rad_s_rt_s == 0.0
+    with pytest.raises(ValueError, match="random_walk_interpretation must be"):
+        w.ImuSpec(random_walk_interpretation="x")
+    with pytest.raises(ValueError, match="accel_noise_ug_rt_hz must be a finite value >= 0"):
+        w.ImuSpec(accel_noise_ug_rt_hz=-1.0)
+
+
+# ----------------------------------------------------------------------------- runs
+def test_trapezoid_profile_is_exact():
+    prof = w.trapezoid_profile(np.radians([0.0, 10.0, 4.0]), np.radians(20.0), np.radians(100.0), 1.0, 1000.0)
+    th, rate = prof.angle_rad[:, 0], prof.rate_rad_s[:, 0]
+    assert np.degrees(rate).max() == pytest.approx(20.0) and np.degrees(rate).min() < -10.0
+    # rate is the derivative of the angle, acceleration bounded by the limit
+    np.testing.assert_allclose(np.gradient(th, prof.time_s)[5:-5], rate[5:-5], atol=np.radians(0.2))
+    assert np.max(np.abs(prof.accel_rad_s2)) == pytest.approx(np.radians(100.0))
+    slices = prof.hold_slices()
+    assert [round(float(np.degrees(th[s]).mean()), 9) for s in slices] == [0.0, 10.0, 4.0]
+    with pytest.raises(ValueError, match="hold_s must be > 0"):
+        w.trapezoid_profile([0.0, 1.0], 1.0, 1.0, [1.0, 0.0], 100.0)
+
+
+def test_simulate_batch_is_chunk_independent_and_noise_free_truth():
+    imu = dataclasses.replace(w.ImuSpec().resolve(), accel_noise_m_s2_rt_hz=0.0, gyro_noise_rad_s_rt_hz=0.0,
+                              accel_bias_sigma_m_s2=0.0, accel_rw_m_s2_rt_s=0.0, gyro_rw_rad_s_rt_s=0.0,
+                              gyro_bias_rad_s=(0.0, 0.0, 0.0), gyro_scale_factor=0.0)
+    th = np.linspace(0.0, 1.0, 50)
+    v = np.tile([0.0, 1.0, 0.0], (2, 1))
+    sim = w.simulate_batch(th, np.gradient(th, 0.005), np.zeros(50), v, np.zeros((2, 3)), imu, 1, 0, [0, 1])
+    # no lever arm, no errors: ‖a‖ = g and the gyro integrates to the angle
+    np.testing.assert_allclose(np.linalg.norm(sim.accel_m_s2, axis=-1), 9.80665, atol=1e-12)
+    np.testing.assert_allclose(np.cumsum(sim.gyro_rad_s[0, :-1, 1]) * 0.005, th[1:], atol=1e-12)
+    full = w.ImuSpec().resolve()
+    a = w.simulate_batch(th, 0 * th, 0 * th, np.tile([0.0, 1.0, 0.0], (3, 1)), np.zeros((3, 3)), full, 5, 0, [0, 1, 2])
+    b = w.simulate_batch(th, 0 * th, 0 * th, np.tile([0.0, 1.0, 0.0], (1, 1)), np.zeros((1, 3)), full, 5, 0, [2])
+    np.testing.assert_array_equal(a.accel_m_s2[2], b.accel_m_s2[0])
+
+
+def test_latency_enters_dynamic_rmse_as_rate_times_delay():
+    sc = w.scenario_from_parameters()
+    imu, rig = sc.imu.resolve(), sc.rig.resolve()
+    v = w.table4_axes()["Bv1"][None]
+    lever = w.lever_arm_vector(v[0], 0.2, 0.02)[None]
+    m = w.sweep_metrics(rig, imu, v, lever, 3, [0], latencies_s=[0.0, 0.02])
+    # 20 ms at 20 deg/s cruise = 0.4 deg; the filter's own dynamic error is far smaller
+    assert m.rams_dynamic[0, 0] < 0.1 and 0.3 < m.rams_dynamic[0, 1] < 0.45
+    assert m.rams_static[0, 0] < 0.03 and m.ref16_dynamic[0, 0] > 1.0
+    with pytest.raises(ValueError, match="latencies_s must lie in"):
+        w.sweep_metrics(rig, imu, v, lever, 3, [0], latencies_s=[2.0])
+    with pytest.raises(ValueError, match="ekf_switch must be"):
+        w.sweep_metrics(rig, imu, v, lever, 3, [0], ekf_switch="x")
+
+
+# ----------------------------------------------------------------------------- error model
+def test_weighted_quantile_and_likelihood_peak():
+    x = np.array([1.0, 2.0, 3.0, 4.0])
+    assert em.weighted_quantile(x, np.array([1.0, 0.0, 0.0, 1.0]), [0.25, 0.75]).tolist() == [1.0, 4.0]
+    # a synthetic grid: the likelihood peaks at the cell whose mean equals the data
+    names = ("lever_arm_m", "move_accel_deg_s2", "accel_noise_ug_rt_hz")
+    log = {k: np.log(np.array([1.0, 2.0, 4.0]))[:, None, None, None, None] * np.ones((3, 1, 1, 3, 2))
+           for k in [("RAMS", "static")]}
+    log[("RAMS", "static")][..., 1] += 0.01
+    g = em.GridRun(names, np.ones((3, 3)), np.zeros(1), np.ones(1), ("Bv1", "Bv2", "Bv3"), log,
+                   np.zeros((3, 3, 2, 1)), np.zeros(1))
+    ll = em.log_likelihood(g, keys=(("Bv1", "RAMS", "static"),), values={("Bv1", "RAMS", "static"): 2.0})
+    assert np.argmax(ll[:, 0, 0]) == 1
+    post = em.posterior_weights(g, keys=(("Bv1", "RAMS", "static"),), values={("Bv1", "RAMS", "static"): 2.0})
+    assert post.sum() == pytest.approx(1.0) and post[1, 0, 0] > 0.5
+    with pytest.raises(ValueError, match="reps and ahrs_reps must be >= 2"):
+        em.run_grid(w.scenario_from_parameters(), 1, 0)
+
+
+def test_training_and_held_out_are_disjoint_and_cover_table5():
+    assert not set(em.TRAINING) & set(em.HELD_OUT)
+    assert set(em.TRAINING) | set(em.HELD_OUT) == set(em.paper_table5())
+    for name, spec in w.ERROR_PRIORS.items():
+        assert spec["low"] < spec["high"], name
+        grid = em.FIT_GRID.get(name)
+        if grid is not None:
+            assert spec["low"] <= min(grid) and max(grid) <= spec["high"], name
+    assert w.ERROR_PRIORS["latency_s"]["low"] <= em.LATENCY_GRID_S.min()
+    assert em.LATENCY_GRID_S.max() <= w.ERROR_PRIORS["latency_s"]["high"]
+
+
+def _fake_fit(shift_key=None):
+    pv = em.paper_table5()
+    names = ("lever_arm_m", "move_accel_deg_s2", "accel_noise_ug_rt_hz")
+    axes = ("Bv1", "Bv2", "Bv3")
+    log = {}
+    for system in ("RAMS", "ref. [16]", "AHRS stand-in"):
+        for kind in ("static", "dynamic"):
+            shape = (2, 1, 3, 3, 2) if system == "AHRS stand-in" else (2, 4, 1, 3, 2)
+            arr = np.zeros(shape)
+            for ia, a in enumerate(axes):
+                arr[:, :, :, ia] = np.log(pv[(a, system, kind)])
+            arr[..., 1] += 0.02
+            arr[1] += 1.0  # cell 1 is far from every paper number
+            log[(system, kind)] = arr
+    if shift_key is not None:  # one held-out number the model cannot reach
+        log[shift_key[1:]][:, :, :, axes.index(shift_key[0])] += 3.0
+    g = em.GridRun(names, np.array([[0.2, 1000.0, 70.0], [0.4, 300.0, 35.0]]), np.array([0.0, 0.01, 0.02, 0.03]),
+                   np.array([1.0, 2.0, 5.0]), axes, log, np.full((2, 3, 2, 5), 0.03), np.arange(5.0))
+    post = em.posterior_weights(g)
+    return w.ErrorModelFit(g, post, em.prior_weights(g), em.parameter_summary(g, post))
+
+
+def test_table05_roles_and_fitted_rows_are_not_tests():
+    fit = _fake_fit()
+    assert fit.posterior.sum(axis=(1, 2))[0] > 0.99  # the likelihood picks the matching cell
+    a = w.table05_rmse(fit, 1, n_draws=500)
+    t = a.table
+    assert set(t[t.role == "fitted"].apply(lambda r: (r.axis, r.system, r.kind), axis=1)) == set(em.TRAINING)
+    summ = a.data["summary"]
+    assert t.paper_in_fitted.all() and (summ["fitted_inside"], summ["prior_inside"], summ["n_predicted"]) == (9, 9, 9)
+    assert summ["band_width_ratio"] < 1.0  # the fit narrows the predictive bands
+    for row in a.rows:
+        if row["role"] == "fitted":
+            assert row["holds"] is None and "not a test" in row["claim"]
+    erratum = [r for r in a.rows if r["role"] == "erratum"]
+    assert len(erratum) == 1 and erratum[0]["mtcal"] == pytest.approx(0.0827) and erratum[0]["holds"]
+    assert "every held-out" in w.outside_reasons(w.scenario_from_parameters(), fit, 1, n_draws=500)
+
+
+def test_outside_reasons_names_the_number_and_what_it_needs():
+    fit = _fake_fit(shift_key=("Bv2", "ref. [16]", "dynamic"))
+    text = w.outside_reasons(w.scenario_from_parameters(), fit, 1, n_draws=500)
+    assert text.startswith("Bv2 ref. [16] dynamic: paper 2.7650 below") and "lever_arm_m" in text
+    f14 = w.fig14_max_error_per_angle(fit, 1, n_draws=200)
+    assert f14.data["median"] == pytest.approx(np.full(5, 0.03)) and f14.rows[0]["holds"]
