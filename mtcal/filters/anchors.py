@@ -123,7 +123,8 @@ def _level_q0(accel: np.ndarray, init_samples: int) -> np.ndarray:
     from mtcal.filters.qncf import initial_attitude_from_accel
 
     n0 = max(1, min(int(init_samples), accel.shape[1]))
-    return initial_attitude_from_accel(np.mean(accel[:, :n0], axis=1))
+    # per-trial means: a trial's levelling must not depend on its batch-mates (summation order)
+    return initial_attitude_from_accel(np.stack([np.mean(row[:n0], axis=0) for row in accel]))
 
 
 def run_attitude_filter(name: str, gyro_rad_s, accel_m_s2, dt_s: float, gain: float | None = None, *,

@@ -177,7 +177,7 @@ def mahony_imu(gyro_rad_s, accel_m_s2, dt_s: float, params: MahonyParams = Mahon
     trials = w3.shape[0]
     if q0 is None:
         n0 = max(1, min(int(init_samples), w3.shape[1]))
-        q0 = initial_attitude_from_accel(np.mean(a3[:, :n0], axis=1))
+        q0 = initial_attitude_from_accel(np.stack([np.mean(row[:n0], axis=0) for row in a3]))
     q = unit_quaternion(q0, "q0")
     if q.shape not in ((4,), (trials, 4)):
         raise ValueError(f"q0 must have shape (4,) or ({trials}, 4), got {q.shape}")
