@@ -7,11 +7,12 @@ cell computes), :mod:`mtcal.sweep.engine` (determinism, run folder) and
 :mod:`mtcal.sweep.executors` (local processes, Dask).
 """
 
-from . import engine, evaluators, executors, spec
+from . import bakeoff, engine, evaluators, executors, spec
+from .bakeoff import *  # noqa: F401,F403
 from .engine import *  # noqa: F401,F403
 from .evaluators import *  # noqa: F401,F403
 from .executors import *  # noqa: F401,F403
 from .spec import *  # noqa: F401,F403
 
-__all__ = ["engine", "evaluators", "executors", "spec"]
-__all__ += [n for m in (engine, evaluators, executors, spec) for n in m.__all__ if n not in __all__]
+__all__ = ["bakeoff", "engine", "evaluators", "executors", "spec"]
+__all__ += [n for m in (bakeoff, engine, evaluators, executors, spec) for n in m.__all__ if n not in __all__]

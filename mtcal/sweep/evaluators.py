@@ -50,7 +50,8 @@ from mtcal.core.sensor_grades import grade_names, sensor_grade
 from mtcal.core.simulate import ImuErrorModel, Trajectory, apply_sensor_errors, simulate_imu
 from mtcal.core.units import DEG
 
-__all__ = ["Evaluator", "register_evaluator", "get_evaluator", "evaluator_names", "MOTIONS",
+__all__ = ["Evaluator", "register_evaluator", "get_evaluator", "evaluator_names", "MOTIONS", "filter_gain",
+           "RAMS_EKF_DEFAULT_GAIN", "SURFACE_AXIS",
            "attitude_profile", "surface_profile", "validation_positions_rad"]
 
 _REGISTRY: dict[str, "Evaluator"] = {}
@@ -168,10 +169,29 @@ def _filters(params: dict, key: str, choices) -> list[str]:
 
 
 def _gains_check(params: dict, names) -> None:
+    _number(params, "gain_scale", 0.0, 1e6, lo_open=True)
     for f in names:
         key = f"gain_{f}"
         if key in params and params[key] is not None:
             _number(params, key, 0.0, 1e6, lo_open=True)
+
+
+#: Default of the RAMS EKF's tuned value, σa,moving (m/s²) (mtcal.filters.rams_ekf.RamsEkfParams default).
+RAMS_EKF_DEFAULT_GAIN = 2.0
+
+
+def filter_gain(params: dict, name: str) -> float:
+    """Gain used for filter ``name``: ``gain_<name>`` (or its default) × ``gain_scale``.
+
+    Defaults: :data:`mtcal.filters.anchors.DEFAULT_GAINS`; the RAMS EKF's is
+    σa,moving = :data:`RAMS_EKF_DEFAULT_GAIN`.
+    """
+    from mtcal.filters.anchors import DEFAULT_GAINS
+
+    base = params.get(f"gain_{name}")
+    if base is None:
+        base = RAMS_EKF_DEFAULT_GAIN if name == "rams_ekf" else DEFAULT_GAINS[name]
+    return float(base) * float(params.get("gain_scale", 1.0))
 
 
 def _grade_model(params: dict) -> ImuErrorModel:
@@ -273,7 +293,7 @@ def _attitude_metrics(p: dict) -> list[str]:
 @register_evaluator(
     "attitude",
     defaults=dict(motion="aoa", filters=["qncf"], grade="wang2023cja", fs_hz=1000.0, vibration_m_s2=0.0,
-                  vibration_hz=45.0, hold_s=None, speed=1.0,
+                  vibration_hz=45.0, hold_s=None, speed=1.0, gain_scale=1.0,
                   **{f"gain_{f}": None for f in _ATT_FILTERS}),
     metrics=_attitude_metrics, check=_check_attitude,
     description="tilt error of attitude filters on wang2023cja turntable / wind-tunnel sweeps")
@@ -289,7 +309,7 @@ def _attitude(p: dict, rngs: list) -> dict[str, np.ndarray]:
     init = max(1, int(round(0.5 * p["fs_hz"])))   # level from the first 0.5 s of the settling rest
     out = {}
     for name in _filter_list(p):
-        q = run_attitude_filter(name, gyro, accel, traj.dt_s, p.get(f"gain_{name}"), init_samples=init)
+        q = run_attitude_filter(name, gyro, accel, traj.dt_s, filter_gain(p, name), init_samples=init)
         err = np.degrees(tilt_error_rad(q, traj.q_wb))          # (T, N)
         out[f"{name}.tilt_rmse_deg"] = _rms_rows(err, after)
         out[f"{name}.hold_tilt_rmse_deg"] = _rms_rows(err, holds)
@@ -339,7 +359,7 @@ def _surface_metrics(p: dict) -> list[str]:
     "surface",
     defaults=dict(filters=["rams_ekf", "qncf"], grade="wang2022sensors", fs_hz=200.0, step_deg=30.0,
                   span_deg=60.0, rate_deg_s=20.0, hold_s=1.0, lever_arm_m=0.2, vibration_m_s2=0.0,
-                  vibration_hz=45.0, **{f"gain_{f}": None for f in _SURF_FILTERS}),
+                  vibration_hz=45.0, gain_scale=1.0, **{f"gain_{f}": None for f in _SURF_FILTERS}),
     metrics=_surface_metrics, check=_check_surface,
     description="angle about the hinge axis of a movable surface (wang2022sensors), filters vs RAMS EKF")
 def _surface(p: dict, rngs: list) -> dict[str, np.ndarray]:
@@ -369,13 +389,13 @@ def _surface(p: dict, rngs: list) -> dict[str, np.ndarray]:
     holds = _hold_mask(prof)
     out = {}
     for name in _filter_list(p):
-        gain = p.get(f"gain_{name}")
+        gain = filter_gain(p, name)
         if name == "rams_ekf":
             dt = traj.dt_s
             params = RamsEkfParams(
                 sigma_theta_rad_s=max(grade.gyro_noise_density_rad_s_rt_hz / math.sqrt(dt), 1e-5),
                 sigma_a_static_m_s2=max(grade.accel_noise_density_m_s2_rt_hz / math.sqrt(dt), 1e-2),
-                sigma_a_moving_m_s2=2.0 if gain is None else float(gain))
+                sigma_a_moving_m_s2=gain)
             a0 = np.stack([np.mean(row[settle], axis=0) for row in accel])
             static = np.broadcast_to(prof.is_static, accel.shape[:2])
             res = run_rams_ekf(gyro, accel, static, axis, a0, dt, params, keep_innovation=False)
