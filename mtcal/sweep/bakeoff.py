@@ -102,6 +102,8 @@ def _filters_for(params: dict, family: str) -> list[str]:
 def family_specs(params: dict, family: str, *, seed: int, trials: int, block_trials: int = 4,
                  hold_s: float | None = None, tuning: bool = False, gains: dict | None = None) -> SweepSpec:
     """The sweep of one family: evaluation grid, or (``tuning=True``) the gain-scale grid at reference conditions."""
+    if family not in FAMILIES:
+        raise ValueError(f"family must be one of {list(FAMILIES)}, got {family!r}")
     p = bakeoff_params(**params)
     evaluator = FAMILIES[family][0]
     filters = _filters_for(p, family)
