@@ -33,6 +33,7 @@ Examples
 
 from __future__ import annotations
 
+from contextlib import contextmanager
 from dataclasses import dataclass
 
 import numpy as np
@@ -140,6 +141,18 @@ def family_specs(params: dict, family: str, *, seed: int, trials: int, block_tri
                      block_trials=int(block_trials), fixed=fixed, grid=grid)
 
 
+@contextmanager
+def _executor(workers, scheduler):
+    """One executor (process pool / Dask client) shared by all sweeps of a call, closed at the end."""
+    from mtcal.sweep.executors import make_executor
+
+    ex = make_executor(workers, scheduler)
+    try:
+        yield ex
+    finally:
+        ex.close()
+
+
 def tune_gains(params: dict, *, seed: int, trials: int, hold_s: float | None = None, workers: int | None = 1,
                scheduler=None, families=tuple(FAMILIES)) -> tuple[dict, pd.DataFrame]:
     """Tuning sweeps → chosen gain per family and filter, and the tuning table.
@@ -157,9 +170,11 @@ def tune_gains(params: dict, *, seed: int, trials: int, hold_s: float | None = N
 
     p = bakeoff_params(**params)
     gains, rows = {}, []
+    with _executor(workers, scheduler) as ex:
+        tables = {family: run_sweep(family_specs(p, family, seed=seed, trials=trials, hold_s=hold_s, tuning=True),
+                                    executor=ex, progress=False).table for family in families}
     for family in families:
-        spec = family_specs(p, family, seed=seed, trials=trials, hold_s=hold_s, tuning=True)
-        t = run_sweep(spec, workers=workers, scheduler=scheduler, progress=False).table
+        t = tables[family]
         metric = FAMILIES[family][1]
         gains[family] = {}
         for f in _filters_for(p, family):
@@ -199,9 +214,12 @@ def run_bakeoff(params: dict, gains: dict, *, seed: int, trials: int, hold_s: fl
     """Evaluation sweeps of every family with the tuned gains (seed different from the tuning one)."""
     p = bakeoff_params(**params)
     tables, per_trial = {}, {}
+    with _executor(workers, scheduler) as ex:
+        results = {family: run_sweep(family_specs(p, family, seed=seed, trials=trials, hold_s=hold_s,
+                                                  gains=gains[family]), executor=ex, progress=False)
+                   for family in families}
     for family in families:
-        spec = family_specs(p, family, seed=seed, trials=trials, hold_s=hold_s, gains=gains[family])
-        res = run_sweep(spec, workers=workers, scheduler=scheduler, progress=False)
+        spec, res = results[family].spec, results[family]
         t = res.table.copy()
         t[["filter", "quantity"]] = t["metric"].str.split(".", n=1, expand=True)
         cols = [c for c in spec.grid] + ["filter", "quantity", "median", "low", "high", "trials"]
