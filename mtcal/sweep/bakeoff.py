@@ -162,8 +162,10 @@ def tune_gains(params: dict, *, seed: int, trials: int, hold_s: float | None = N
     gains : dict
         ``{family: {filter: gain}}`` (the filter's own unit, see ``gain_unit``).
     table : DataFrame
-        ``family, filter, gain_unit, gain_scale, gain, tuning_error_deg, chosen`` —
-        ``tuning_error_deg`` = sum over the tuning cells of the median ranking metric.
+        ``family, filter, gain_unit, gain_scale, gain, tuning_error_deg, chosen, at_grid_edge`` —
+        ``tuning_error_deg`` = sum over the tuning cells of the median ranking metric;
+        ``at_grid_edge`` marks a chosen scale at either end of ``gain_scales`` (the
+        optimum may lie beyond it).
     """
     from mtcal.filters.anchors import GAIN_UNITS
     from mtcal.sweep.evaluators import filter_gain
@@ -184,7 +186,8 @@ def tune_gains(params: dict, *, seed: int, trials: int, hold_s: float | None = N
                 g = filter_gain({"gain_scale": scale}, f)
                 rows.append({"family": family, "filter": f,
                              "gain_unit": GAIN_UNITS.get(f, "sigma_a_moving (m/s²)"), "gain_scale": float(scale),
-                             "gain": g, "tuning_error_deg": float(err), "chosen": bool(scale == best)})
+                             "gain": g, "tuning_error_deg": float(err), "chosen": bool(scale == best),
+                             "at_grid_edge": bool(scale == best and best in (min(sub.index), max(sub.index)))})
             gains[family][f] = filter_gain({"gain_scale": best}, f)
     return gains, pd.DataFrame(rows)
 
