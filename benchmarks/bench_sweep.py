@@ -8,11 +8,13 @@ Measured:
 
 * per-task compute cost ``t_task`` (``run_block`` called in this process, median of
   a few calls) and peak memory of one task (``tracemalloc``);
-* wall time of the whole sweep with ``workers=1`` (in-process), ``workers=2``
-  (``ProcessPoolExecutor``, pool start-up included) and on a 2-worker
-  ``dask.distributed.LocalCluster`` (processes, 1 thread each; cluster start-up
-  timed separately);
-* the per-task overhead of each executor, ``o = (W · wall − n_tasks · t_task) / n_tasks``;
+* wall time of the whole sweep in-process, on 2 local processes
+  (``ProcessPoolExecutor``) and on a 2-worker ``dask.distributed.LocalCluster``
+  (processes, 1 thread each) — pools warmed up first (start-up timed separately);
+* the workers' CPU time (``/proc`` for the pool, ``getrusage`` on the Dask workers),
+  hence the per-task overhead in CPU, ``(CPU − n_tasks · t_task) / n_tasks``, which
+  does not depend on how busy the machine is, and in wall time,
+  ``(W · wall − n_tasks · t_task) / n_tasks``;
 * the Dask scheduler's per-task cost ``o_sched`` from 2000 no-op tasks.
 
 Projection of a 10⁶-trial grid (same evaluator, same block size) on W workers::
@@ -37,6 +39,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import resource
 import statistics
 import sys
 import time
@@ -86,48 +89,87 @@ def timed(fn) -> float:
     return time.perf_counter() - t0
 
 
+def _warm(evaluator: str, params: dict) -> int:
+    """Worker warm-up: imports and the numba cache of the filters (run once per worker)."""
+    run_block(evaluator, params, 0, 0, 0, 1)
+    return os.getpid()
+
+
+def _cpu_s() -> float:
+    r = resource.getrusage(resource.RUSAGE_SELF)
+    return r.ru_utime + r.ru_stime
+
+
 def main(argv=None) -> int:
+    from mtcal.sweep.evaluators import get_evaluator
+    from mtcal.sweep.executors import DaskExecutor, LocalExecutor, SerialExecutor
+
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="small sizes (≈ 15 s)")
-    ap.add_argument("--trials", type=int, default=None, help="trials per cell (default 64, quick 16)")
+    ap.add_argument("--trials", type=int, default=None, help="trials per cell (default 128, quick 16)")
     ap.add_argument("--block", type=int, default=8, help="trials per task")
     ap.add_argument("--csv", default=None, help="write the measurements here (CSV)")
     args = ap.parse_args(argv)
-    trials = args.trials or (16 if args.quick else 64)
+    trials = args.trials or (16 if args.quick else 128)
     spec = workload(trials, args.block)
     n_tasks = spec.n_cells * -(-trials // args.block)
+    n_trials = spec.n_cells * trials
+    params = get_evaluator(spec.evaluator).resolve(spec.cells()[0])
     print(f"load average before: {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores")
     print(f"workload: attitude evaluator, {spec.n_cells} cells x {trials} trials, {args.block} trials/task "
           f"-> {n_tasks} tasks")
     t_task, peak = task_cost(spec, 2 if args.quick else 4)
-    rows = [{"quantity": "task compute cost (s/task)", "value": t_task},
-            {"quantity": "trial compute cost (s/trial)", "value": t_task / args.block},
+    c0 = _cpu_s()
+    run_block(spec.evaluator, params, spec.seed, 0, 0, spec.block_trials)
+    cpu_task = _cpu_s() - c0
+    rows = [{"quantity": "task compute cost, wall (s/task)", "value": t_task},
+            {"quantity": "task compute cost, CPU (s/task)", "value": cpu_task},
+            {"quantity": "trial compute cost, wall (s/trial)", "value": t_task / args.block},
             {"quantity": "task peak memory (MB, tracemalloc)", "value": peak / 1e6}]
-    compute = n_tasks * t_task
-    results = {}
-    walls = {"1 worker (in-process)": (1, lambda: run_sweep(spec, workers=1, progress=False)),
-             "2 local processes": (2, lambda: run_sweep(spec, workers=2, progress=False))}
-    tables = {}
-    for label, (w, fn) in walls.items():
-        wall = timed(lambda: tables.setdefault(label, fn().table))
-        results[label] = (w, wall)
-    dask_ok = True
+    results, tables = {}, {}
+
+    def run_on(label, ex, workers, cpu_fn=None):
+        before = cpu_fn() if cpu_fn else None
+        wall = timed(lambda: tables.setdefault(label, run_sweep(spec, executor=ex, progress=False).table))
+        cpu = (cpu_fn() - before) if cpu_fn else float("nan")
+        results[label] = (workers, wall, cpu)
+
+    run_on("1 worker (in-process)", SerialExecutor(), 1, _cpu_s)
+    t0 = time.perf_counter()
+    local = LocalExecutor(2)
+    list(local.run([(k, _warm, (spec.evaluator, params)) for k in range(4)]))
+    rows.append({"quantity": "local pool start-up + warm-up (s)", "value": time.perf_counter() - t0})
+
+    def local_cpu():
+        pids = list(local._pool._processes)
+        total = 0.0
+        for pid in pids:
+            try:
+                with open(f"/proc/{pid}/stat") as fh:
+                    f = fh.read().rsplit(")", 1)[1].split()
+                total += (int(f[11]) + int(f[12])) / os.sysconf("SC_CLK_TCK")
+            except OSError:
+                pass
+        return total
+
+    run_on("2 local processes", local, 2, local_cpu)
+    local.close()
+    o_sched = float("nan")
     try:
         from distributed import Client, LocalCluster
     except ImportError:
-        dask_ok = False
         print("dask.distributed not installed: Dask rows skipped")
-    o_sched = float("nan")
-    if dask_ok:
+    else:
         t0 = time.perf_counter()
         cluster = LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None)
         client = Client(cluster)
-        startup = time.perf_counter() - t0
-        rows.append({"quantity": "dask LocalCluster start-up (s)", "value": startup})
-        client.run(lambda: __import__("mtcal.sweep.evaluators"))
-        label = "2-worker dask LocalCluster"
-        wall = timed(lambda: tables.setdefault(label, run_sweep(spec, scheduler=client, progress=False).table))
-        results[label] = (2, wall)
+        client.run(_warm, spec.evaluator, params)
+        rows.append({"quantity": "dask LocalCluster start-up + warm-up (s)", "value": time.perf_counter() - t0})
+
+        def dask_cpu():
+            return sum(client.run(_cpu_s).values())
+
+        run_on("2-worker dask LocalCluster", DaskExecutor(client), 2, dask_cpu)
         n_noop = 2000
         t0 = time.perf_counter()
         futs = client.map(_noop, range(n_noop), pure=False)
@@ -136,26 +178,35 @@ def main(argv=None) -> int:
         del futs
         client.close()
         cluster.close()
-        rows.append({"quantity": "dask per-task scheduling cost, no-op tasks (s/task)", "value": o_sched})
+        rows.append({"quantity": "dask scheduling cost, 2000 no-op tasks (s/task)", "value": o_sched})
     same = len({t.to_csv(index=False) for t in tables.values()}) == 1
-    for label, (w, wall) in results.items():
-        overhead = (w * wall - compute) / n_tasks
+    serial_wall = results["1 worker (in-process)"][1]
+    for label, (w, wall, cpu) in results.items():
         rows += [{"quantity": f"{label}: wall (s)", "value": wall},
-                 {"quantity": f"{label}: throughput (trials/s)", "value": spec.n_cells * trials / wall},
+                 {"quantity": f"{label}: throughput (trials/s)", "value": n_trials / wall},
+                 {"quantity": f"{label}: speed-up vs 1 worker", "value": serial_wall / wall},
                  {"quantity": f"{label}: per-cell wall (s/cell)", "value": wall / spec.n_cells},
-                 {"quantity": f"{label}: per-task overhead (s/task)", "value": overhead}]
-    # projection of a 10^6-trial grid
+                 {"quantity": f"{label}: worker CPU (s)", "value": cpu},
+                 {"quantity": f"{label}: CPU overhead per task (s/task)", "value": (cpu - n_tasks * cpu_task) / n_tasks},
+                 {"quantity": f"{label}: wall overhead per task (s/task)",
+                  "value": (w * wall - n_tasks * t_task) / n_tasks}]
+    # projection of a 10^6-trial grid: compute + measured Dask per-task CPU overhead, spread over W workers,
+    # plus the scheduler's serial per-task cost
     n_big = 1_000_000 // args.block
     dask_label = "2-worker dask LocalCluster"
-    o_worker = max((2 * results[dask_label][1] - compute) / n_tasks, 0.0) if dask_label in results else \
-        max((2 * results["2 local processes"][1] - compute) / n_tasks, 0.0)
+    o_worker = 0.0
+    if dask_label in results:
+        w, wall, cpu = results[dask_label]
+        o_worker = max((cpu - n_tasks * cpu_task) / n_tasks, 0.0)
     o_s = 0.0 if o_sched != o_sched else o_sched
+    rows.append({"quantity": "projection inputs: compute (s/task), worker overhead (s/task), scheduler (s/task)",
+                 "value": float("nan")})
+    print(f"projection inputs: t_task = {cpu_task:.4f} s, o_worker = {o_worker:.4f} s, o_sched = {o_s:.5f} s, "
+          f"{n_big} tasks of {args.block} trials")
     for w in (1, 100):
-        if w == 1:
-            wall_big = n_big * t_task
-        else:
-            wall_big = n_big * (t_task + o_worker) / w + n_big * o_s
+        wall_big = n_big * cpu_task if w == 1 else n_big * (cpu_task + o_worker) / w + n_big * o_s
         rows.append({"quantity": f"projected 10^6-trial grid on {w} worker(s) (h)", "value": wall_big / 3600})
+    rows = [r for r in rows if r["value"] == r["value"]]
     print()
     width = max(len(r["quantity"]) for r in rows)
     for r in rows:
