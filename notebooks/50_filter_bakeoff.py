@@ -191,7 +191,10 @@ for _, r in headline.iterrows():
 #   removes most of it (gyro-only during the run), and VQF — which low-pass filters the
 #   acceleration before taking its direction — removes it while keeping the
 #   correction: VQF is the best wind-on filter, by about an order of magnitude with the
-#   paper's sensor.
+#   paper's sensor. **Wind off**, VQF is 3–4× worse than QNCF: its rest detector
+#   (default 2 °/s) flags about 30 % of the 2 °/s mechanism moves as rest and learns
+#   their rate as gyro bias (with VQF's rest bias estimation off its wind-off error
+#   drops from 0.020° to 0.0035°; checked outside this notebook on 4 trials).
 # * **Movable surface**: with the paper's sensor the 1-DOF RAMS EKF (which knows the
 #   hinge axis) beats every attitude filter; under vibration QNCF's gate shuts and the
 #   0.7 °/s gyro bias of the wang2022sensors sensor makes it the worst, whereas with the
