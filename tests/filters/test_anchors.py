@@ -1,0 +1,113 @@
+"""Bake-off adapters: each library's units, quaternion order, frame and timing give mtcal's attitude."""
+
+import importlib.util
+
+import numpy as np
+import pytest
+
+from mtcal.core import rotations
+from mtcal.core.simulate import Trajectory, simulate_imu
+from mtcal.filters import anchors
+from mtcal.filters.anchors import (DEFAULT_GAINS, FILTER_NAMES, available_filters, require_filter,
+                                   run_attitude_filter, tilt_error_rad, twist_angle_rad)
+
+G = 9.80665
+_LIBS = {"madgwick": "ahrs", "vqf": "vqf", "fusion": "imufusion"}
+
+
+def _installed(name):
+    lib = _LIBS.get(name)
+    return lib is None or importlib.util.find_spec(lib) is not None
+
+
+FILTERS = [pytest.param(n, marks=pytest.mark.skipif(not _installed(n), reason=f"optional {_LIBS.get(n)} missing"))
+           for n in FILTER_NAMES]
+
+
+def _up(q):
+    q0, q1, q2, q3 = q
+    return np.array([2 * (q1 * q3 - q0 * q2), 2 * (q2 * q3 + q0 * q1), q0**2 - q1**2 - q2**2 + q3**2])
+
+
+@pytest.mark.parametrize("name", FILTERS)
+def test_static_tilted_record_gives_the_right_tilt(name):
+    # 30 s at rest, pitch 10°, roll −30° (wang2023cja Eq 9 angles), small noise
+    rng = np.random.default_rng(0)
+    q_true = rotations.quat_from_euler_zxy(np.radians(20.0), np.radians(10.0), np.radians(-30.0))
+    n, dt = 3000, 0.01
+    acc = np.tile(G * _up(q_true), (2, n, 1)) + rng.normal(0, 2e-3, (2, n, 3))
+    gyr = rng.normal(0, 1e-4, (2, n, 3))
+    q = run_attitude_filter(name, gyr, acc, dt)
+    assert q.shape == (2, n, 4)
+    np.testing.assert_allclose(np.linalg.norm(q, axis=-1), 1.0, atol=1e-6)
+    assert np.degrees(tilt_error_rad(q[:, -1], q_true)).max() < 0.05
+    pitch_roll = np.degrees(rotations.euler_zxy_from_quat(q[:, -1])[:, 1:])
+    np.testing.assert_allclose(pitch_roll, [[10.0, -30.0]] * 2, atol=0.05)
+
+
+@pytest.mark.parametrize("name", FILTERS)
+def test_known_rotation_gives_the_right_quaternion(name):
+    # 30 s at 30 °/s about a tilted axis: full attitude (incl. yaw) from q0 = truth at t0.
+    # A wrong unit (°/s vs rad/s), quaternion order, frame or a one-sample timing shift
+    # each gives errors of ≥ 0.3° here.
+    fs, n = 100.0, 3000
+    t = np.arange(n) / fs
+    axis = np.array([0.6, 0.0, 0.8])
+    q_true = rotations.quat_from_rotvec((np.radians(30.0) * t)[:, None] * axis)
+    rec = simulate_imu(Trajectory(t, q_true))
+    gyr = rec.gyro_rad_s[None] + 1e-9   # ahrs skips an update when the gyro is exactly zero
+    q = run_attitude_filter(name, gyr, rec.accel_m_s2[None], 1 / fs, q0=q_true[0])
+    err = np.degrees(rotations.quat_angle_between(q[0], q_true))
+    assert err.max() < 0.1, f"{name}: max attitude error {err.max():.3f}°"
+
+
+@pytest.mark.parametrize("name", FILTERS)
+def test_gain_changes_the_answer_and_defaults_apply(name):
+    rng = np.random.default_rng(2)
+    q_true = rotations.quat_from_euler_zxy(0.0, np.radians(5.0), 0.0)
+    acc = np.tile(G * _up(q_true), (1, 400, 1)) + rng.normal(0, 0.05, (1, 400, 3))
+    gyr = rng.normal(0, 1e-3, (1, 400, 3))
+    q_def = run_attitude_filter(name, gyr, acc, 0.01, q0=[1.0, 0, 0, 0])
+    q_same = run_attitude_filter(name, gyr, acc, 0.01, DEFAULT_GAINS[name], q0=[1.0, 0, 0, 0])
+    q_other = run_attitude_filter(name, gyr, acc, 0.01, 4 * DEFAULT_GAINS[name], q0=[1.0, 0, 0, 0])
+    assert np.array_equal(q_def, q_same)
+    assert not np.allclose(q_def, q_other)
+
+
+def test_tilt_error_ignores_yaw_and_twist_angle_recovers_rotation():
+    q = rotations.quat_from_euler_zxy(np.radians([0.0, 70.0]), np.radians([3.0, 3.0]), 0.0)
+    assert np.degrees(tilt_error_rad(q[0], q[1])) < 1e-12
+    assert abs(np.degrees(tilt_error_rad(q[0], rotations.quat_from_euler_zxy(0.0, np.radians(5.0), 0.0))) - 2) < 1e-9
+    axis = np.array([0.1734, 0.9835, 0.0523])
+    axis /= np.linalg.norm(axis)
+    theta = np.radians(np.linspace(-170, 170, 35))
+    q0 = rotations.quat_from_euler_zxy(0.2, 0.1, -0.3)
+    qs = rotations.quat_multiply(q0, rotations.quat_from_rotvec(theta[:, None] * axis))
+    np.testing.assert_allclose(twist_angle_rad(qs, axis, ref_index=17), theta - theta[17], atol=1e-12)
+
+
+def test_available_and_errors(monkeypatch):
+    assert {"qncf", "mahony"} <= set(available_filters())
+    with pytest.raises(ValueError, match="filter must be one of"):
+        run_attitude_filter("kalman", np.zeros((1, 5, 3)), np.ones((1, 5, 3)), 0.01)
+    with pytest.raises(ValueError, match="same shape"):
+        run_attitude_filter("mahony", np.zeros((1, 5, 3)), np.ones((1, 4, 3)), 0.01)
+    with pytest.raises(ValueError, match="gain"):
+        run_attitude_filter("mahony", np.zeros((1, 5, 3)), np.ones((1, 5, 3)) * G, 0.01, gain=-1.0)
+    with pytest.raises(ValueError, match="q0"):
+        run_attitude_filter("mahony", np.zeros((2, 5, 3)), np.ones((2, 5, 3)) * G, 0.01,
+                            q0=np.tile([1.0, 0, 0, 0], (3, 1)))
+    with pytest.raises(ValueError, match="gyro_rad_s"):
+        run_attitude_filter("qncf", np.zeros((5, 3)), np.ones((5, 3)), 0.01)
+    # a missing optional library gives a clear ImportError and drops out of available_filters
+    real = anchors.importlib.import_module
+
+    def fake(name, *a, **k):
+        if name == "vqf":
+            raise ImportError("No module named 'vqf'")
+        return real(name, *a, **k)
+
+    monkeypatch.setattr(anchors.importlib, "import_module", fake)
+    with pytest.raises(ImportError, match="optional package 'vqf'"):
+        require_filter("vqf")
+    assert "vqf" not in available_filters()

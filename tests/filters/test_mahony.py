@@ -1,0 +1,85 @@
+"""IMU-only Mahony filter: closed-form cases, equivalence to QNCF without the gate, batching, errors."""
+
+import numpy as np
+import pytest
+
+from mtcal.core import rotations
+from mtcal.core.simulate import Trajectory, simulate_imu
+from mtcal.filters.mahony import MahonyParams, mahony_imu
+from mtcal.filters.qncf import QncfParams, qncf
+
+G = 9.80665
+
+
+def _up(q):
+    q0, q1, q2, q3 = q
+    return np.array([2 * (q1 * q3 - q0 * q2), 2 * (q2 * q3 + q0 * q1), q0**2 - q1**2 - q2**2 + q3**2])
+
+
+def test_pure_integration_reproduces_truth_exactly():
+    # K_p = K_i = 0: exact increments reproduce a known rotation (gyro = interval-mean rate)
+    fs, n = 200.0, 600
+    t = np.arange(n) / fs
+    ang = np.radians(40.0) * t**2
+    q_true = rotations.quat_from_rotvec(ang[:, None] * np.array([0.0, 0.6, 0.8]))
+    rec = simulate_imu(Trajectory(t, q_true))
+    res = mahony_imu(rec.gyro_rad_s, rec.accel_m_s2, 1 / fs, MahonyParams(0.0, 0.0), q0=q_true[0])
+    assert np.max(rotations.quat_angle_between(res.q_ws, q_true)) < 1e-9
+
+
+def test_converges_to_tilt_and_estimates_gyro_bias():
+    q_true = rotations.quat_from_euler_zxy(0.3, np.radians(12.0), np.radians(-25.0))
+    n, dt = 20000, 0.01
+    acc = np.tile(G * _up(q_true), (n, 1))
+    bias = np.array([0.01, -0.02, 0.005])
+    gyr = np.tile(bias, (n, 1))
+    res = mahony_imu(gyr, acc, dt, MahonyParams(1.0, 0.05), q0=[1.0, 0, 0, 0])
+    up_est = _up(res.q_ws[-1])
+    assert np.degrees(np.arccos(np.clip(up_est @ _up(q_true), -1, 1))) < 0.01
+    # horizontal (tilt-observable) bias components are estimated, the vertical one is not
+    v = _up(q_true)
+    horiz = lambda b: b - (b @ v) * v  # noqa: E731
+    np.testing.assert_allclose(horiz(res.bias_rad_s), horiz(bias), atol=2e-4)
+
+
+def test_equals_qncf_when_the_amd_gate_never_closes():
+    rng = np.random.default_rng(3)
+    n, dt = 400, 1e-3
+    acc = np.tile([0.5, -0.3, G], (2, n, 1)) + rng.normal(0, 1e-3, (2, n, 3))
+    gyr = rng.normal(0, 1e-3, (2, n, 3))
+    q0 = rotations.quat_from_euler_zxy(0.0, 0.01, -0.02)
+    a = mahony_imu(gyr, acc, dt, MahonyParams(2.0, 0.1), q0=q0).q_ws
+    b = qncf(gyr, acc, dt, QncfParams(kp_rad_s=2.0, ki_rad_s2=0.1, amd_threshold_pct=1e6), q0=q0,
+             return_euler=False).q_ws
+    assert np.max(rotations.quat_angle_between(a, b)) < 1e-9
+
+
+def test_batch_rows_do_not_depend_on_the_batch():
+    rng = np.random.default_rng(1)
+    gyr = rng.normal(0, 0.01, (5, 300, 3))
+    acc = rng.normal(0, 0.05, (5, 300, 3)) + [0, 0, G]
+    whole = mahony_imu(gyr, acc, 0.01).q_ws
+    part = mahony_imu(gyr[3:5], acc[3:5], 0.01).q_ws
+    single = mahony_imu(gyr[4], acc[4], 0.01).q_ws
+    assert whole[3:5].tobytes() == part.tobytes()
+    assert whole[4].tobytes() == single.tobytes()
+    assert single.shape == (300, 4)
+
+
+def test_errors():
+    g = np.zeros((10, 3))
+    a = np.tile([0, 0, G], (10, 1))
+    with pytest.raises(ValueError, match="same shape"):
+        mahony_imu(g, a[:5], 0.01)
+    with pytest.raises(ValueError, match="dt_s"):
+        mahony_imu(g, a, 0.0)
+    with pytest.raises(ValueError, match="kp_rad_s"):
+        MahonyParams(kp_rad_s=-1.0)
+    with pytest.raises(TypeError, match="params must be a MahonyParams"):
+        mahony_imu(g, a, 0.01, params={"kp_rad_s": 1.0})
+    with pytest.raises(ValueError, match="rad/s"):
+        mahony_imu(g + 100.0, a, 0.01)
+    with pytest.raises(ValueError, match="q0"):
+        mahony_imu(g, a, 0.01, q0=[1.0, 0, 0])
+    with pytest.raises(ValueError, match="gyro_rad_s"):
+        mahony_imu(np.full((10, 3), np.nan), a, 0.01)

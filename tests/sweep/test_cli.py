@@ -1,0 +1,80 @@
+"""``mtcal sweep``: runs a spec into a run folder, resumes, and reports bad input as one line (exit 2)."""
+
+import pytest
+
+from mtcal import cli
+
+SPEC = """
+[sweep]
+name = "cli"
+evaluator = "gaussian_check"
+seed = 1
+trials = 8
+block_trials = 4
+[grid]
+sigma = [1.0, 2.0]
+"""
+
+
+def test_sweep_runs_and_resumes(tmp_path, capsys):
+    spec = tmp_path / "s.toml"
+    spec.write_text(SPEC)
+    out = tmp_path / "run"
+    assert cli.main(["sweep", str(spec), "--workers", "1", "--out", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert "2 cells x 8 trials" in text and "2 cells computed, 0 already stored" in text
+    assert (out / "table.csv").read_text().startswith("cell,sigma,metric,median,low,high,trials\n")
+    assert cli.main(["sweep", str(spec), "--workers", "1", "--out", str(out)]) == 0
+    assert "0 cells computed, 2 already stored" in capsys.readouterr().out
+
+
+def test_default_out_folder(tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "s.toml").write_text(SPEC)
+    assert cli.main(["sweep", "s.toml", "--workers", "1"]) == 0
+    assert (tmp_path / "runs" / "sweeps" / "cli" / "table.csv").is_file()
+
+
+def test_list_evaluators(capsys):
+    assert cli.main(["sweep", "--list"]) == 0
+    text = capsys.readouterr().out
+    assert "attitude:" in text and "six_position:" in text and '    grade = "wang2023cja"' in text
+
+
+@pytest.mark.parametrize("args,content,match", [
+    (["--workers", "1"], SPEC.replace("trials = 8", "trials = 0"), "sweep.trials must be a positive integer"),
+    (["--workers", "1"], SPEC.replace("sigma = [1.0, 2.0]", "sigma = [1.0, -2.0]"), "grid.sigma must be"),
+    (["--workers", "1"], "[sweep\n", "is not valid TOML"),
+    (["--workers", "2", "--scheduler", "tcp://127.0.0.1:1"], SPEC, "either --workers"),
+    (["--scheduler", "127.0.0.1:1"], SPEC, "scheduler must be an address"),
+])
+def test_errors_are_one_line_exit_2(tmp_path, capsys, args, content, match):
+    spec = tmp_path / "s.toml"
+    spec.write_text(content)
+    assert cli.main(["sweep", str(spec), "--out", str(tmp_path / "o"), *args]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("mtcal: error: ") and match in err and err.count("\n") == 1
+
+
+def test_missing_spec_and_bad_workers(tmp_path, capsys):
+    assert cli.main(["sweep", str(tmp_path / "nope.toml")]) == 2
+    assert "spec file not found" in capsys.readouterr().err
+    assert cli.main(["sweep"]) == 2
+    assert "a spec file is required" in capsys.readouterr().err
+    with pytest.raises(SystemExit) as exc:
+        cli.main(["sweep", "x.toml", "--workers", "0"])
+    assert exc.value.code == 2
+    assert "must be a positive integer" in capsys.readouterr().err
+
+
+def test_other_sweep_in_folder(tmp_path, capsys):
+    spec = tmp_path / "s.toml"
+    spec.write_text(SPEC)
+    out = tmp_path / "o"
+    assert cli.main(["sweep", str(spec), "--workers", "1", "--out", str(out)]) == 0
+    spec.write_text(SPEC.replace("seed = 1", "seed = 2"))
+    assert cli.main(["sweep", str(spec), "--workers", "1", "--out", str(out)]) == 2
+    assert "holds a different sweep" in capsys.readouterr().err
+    (tmp_path / "file").write_text("x")
+    assert cli.main(["sweep", str(spec), "--workers", "1", "--out", str(tmp_path / "file")]) == 2
+    assert "is not a folder" in capsys.readouterr().err

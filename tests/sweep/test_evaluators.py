@@ -1,0 +1,89 @@
+"""Scenario evaluators: registry, parameter checks, output checks, and the physics they must show."""
+
+import numpy as np
+import pytest
+
+from mtcal.sweep import evaluators as ev_mod
+from mtcal.sweep.engine import trial_rngs
+from mtcal.sweep.evaluators import (evaluator_names, filter_gain, get_evaluator, register_evaluator,
+                                    validation_positions_rad)
+
+
+def test_registry_and_resolve():
+    assert {"attitude", "surface", "six_position", "gaussian_check"} <= set(evaluator_names())
+    ev = get_evaluator("attitude")
+    p = ev.resolve({"grade": "tactical"})
+    assert p["motion"] == "aoa" and p["grade"] == "tactical" and p["gain_scale"] == 1.0
+    assert ev.metrics(p) == ["qncf.tilt_rmse_deg", "qncf.hold_tilt_rmse_deg", "qncf.tilt_max_deg"]
+    with pytest.raises(ValueError, match=r"colour is not a parameter of evaluator 'attitude'"):
+        ev.resolve({"colour": 1})
+    with pytest.raises(TypeError, match="params must be a dict"):
+        ev.resolve([("grade", "tactical")])
+    with pytest.raises(ValueError, match=r"sweep\.evaluator must be one of"):
+        get_evaluator("kalman")
+    with pytest.raises(ValueError, match=r"fs_hz must be a number in \[20, 4000\]"):
+        ev.resolve({"fs_hz": True})
+    with pytest.raises(ValueError, match=r"hold_s must be a number"):
+        ev.resolve({"hold_s": 0.1})
+    with pytest.raises(ValueError, match=r"alpha_deg must be 3 installation angles"):
+        get_evaluator("six_position").resolve({"alpha_deg": [1.0, 2.0]})
+
+
+def test_filter_gain_defaults_and_scale():
+    assert filter_gain({}, "vqf") == 3.0
+    assert filter_gain({"gain_scale": 2.0}, "madgwick") == pytest.approx(0.066)
+    assert filter_gain({"gain_rams_ekf": 4.0, "gain_scale": 0.5}, "rams_ekf") == 2.0
+    assert filter_gain({}, "rams_ekf") == ev_mod.RAMS_EKF_DEFAULT_GAIN
+
+
+def test_output_is_checked(monkeypatch):
+    monkeypatch.setattr(ev_mod, "_REGISTRY", dict(ev_mod._REGISTRY))
+
+    @register_evaluator("bad_shape", defaults={}, metrics=lambda p: ["x"])
+    def _bad(p, rngs):
+        return {"x": np.zeros(len(rngs) + 1)}
+
+    @register_evaluator("bad_names", defaults={}, metrics=lambda p: ["x"])
+    def _bad2(p, rngs):
+        return {"y": np.zeros(len(rngs))}
+
+    with pytest.raises(RuntimeError, match=r"metric 'x' has shape \(3,\), expected \(2,\)"):
+        get_evaluator("bad_shape")({}, trial_rngs(0, 0, 0, 2))
+    with pytest.raises(RuntimeError, match=r"returned metrics \['y'\], expected \['x'\]"):
+        get_evaluator("bad_names")({}, trial_rngs(0, 0, 0, 2))
+    with pytest.raises(TypeError, match="rngs must be a non-empty list"):
+        get_evaluator("bad_names")({}, [])
+
+
+def test_validation_positions_any_k_from_4_has_rank_4():
+    from mtcal.core import rotations
+
+    pos = validation_positions_rad()
+    q = rotations.quat_from_euler_zxy(pos[:, 0], pos[:, 1], pos[:, 2])
+    for k in range(4, 13):
+        assert np.linalg.matrix_rank(q[:k]) == 4
+    np.testing.assert_allclose(np.degrees(pos[:6]).round(6),
+                               [[8, 0, 0], [0, -12, 0], [0, 0, 90], [-8, 0, 0], [0, 23, 0], [0, 0, -90]])
+
+
+def test_six_position_calibration_removes_the_installation_error():
+    ev = get_evaluator("six_position")
+    out = ev(ev.resolve({"fs_hz": 100.0}), trial_rngs(3, 0, 0, 3))
+    # before: the 0.24° installation error plus the filter's start offset; after: ~0.01°
+    assert np.all(out["before_max_deg"] > 0.2)
+    assert np.all(out["residual_max_deg"] < 0.05)
+    assert np.all(out["residual_rms_deg"] <= out["residual_max_deg"])
+
+
+def test_attitude_and_surface_physics():
+    ev = get_evaluator("attitude")
+    base = {"motion": "aoa", "filters": ["mahony", "qncf"], "fs_hz": 100.0, "hold_s": 0.5}
+    good = ev(ev.resolve({**base, "grade": "navigation"}), trial_rngs(1, 0, 0, 2))
+    bad = ev(ev.resolve({**base, "grade": "consumer"}), trial_rngs(1, 0, 0, 2))
+    assert np.all(good["mahony.tilt_rmse_deg"] < 0.05)
+    assert np.all(bad["mahony.tilt_rmse_deg"] > 5 * good["mahony.tilt_rmse_deg"])
+    assert np.all(good["mahony.tilt_max_deg"] >= good["mahony.tilt_rmse_deg"])
+    sv = get_evaluator("surface")
+    out = sv(sv.resolve({"filters": ["rams_ekf", "vqf"], "fs_hz": 100.0}), trial_rngs(1, 0, 0, 2))
+    assert np.all(out["rams_ekf.hold_angle_rmse_deg"] < 0.2)
+    assert np.all(out["vqf.angle_rmse_deg"] < 1.0)
