@@ -11,6 +11,7 @@ Layers (each a subpackage, imports only point downwards):
 * :mod:`mtcal.studies` — one package per paper: ``wang2023cja``, ``tan2022``,
   ``wang2022sensors``
 * :mod:`mtcal.reporting` — the papers' numbers, comparison with bands, output files
+* :mod:`mtcal.sweep` — parameter sweeps (trade studies) on local cores or a Dask cluster
 * :mod:`mtcal.cli` — the ``mtcal`` command
 
 The most used names are re-exported here:
@@ -36,7 +37,7 @@ from mtcal.reporting.paper_numbers import load as load_paper_table
 __version__ = "0.2.0"
 
 __all__ = [
-    "core", "methods", "filters", "reporting", "studies", "cli",
+    "core", "methods", "filters", "reporting", "studies", "cli", "sweep",
     "quat_from_euler_zxy", "euler_zxy_from_quat", "quat_multiply", "quat_conjugate", "quat_to_matrix",
     "Trajectory", "SensorErrors", "ImuErrorModel", "ImuRecord", "ImuStream", "simulate_imu",
     "angle_difference", "rmse", "max_abs_error", "percentile_band",
@@ -47,7 +48,7 @@ __all__ = [
 
 
 def __getattr__(name):  # lazy: studies and cli pull in pandas/matplotlib/argparse only when asked
-    if name in ("studies", "cli"):
+    if name in ("studies", "cli", "sweep"):
         import importlib
 
         return importlib.import_module(f"mtcal.{name}")

@@ -209,7 +209,7 @@ for _, r in headline.iterrows():
 # %%
 rows = bakeoff.findings(result, headline)
 table = compare.comparison_table(rows)
-report.save_table(table, "50_filter_bakeoff_comparison")
+report.save_table(table, "wang2023cja_extra_bakeoff_comparison")
 report.show_table(table[["artifact", "quantity", "mtcal", "claim", "holds"]])
 print(compare.claims_summary(table))
 
