@@ -96,4 +96,4 @@ def test_positions_too_few(files, tmp_path, capsys):
     p = tmp_path / "pos2.csv"
     pd.DataFrame({"yaw_deg": [8, -8], "pitch_deg": [0, 0], "roll_deg": [0, 0]}).to_csv(p, index=False)
     code = cli.main(["calibrate", str(paths["quat"]), "--positions", str(p)])
-    assert code == 2 and "at least 3 positions" in capsys.readouterr().err
+    assert code == 2 and "at least 4 positions" in capsys.readouterr().err
