@@ -4,7 +4,7 @@ The filter runs at the mean sample rate with per-sample-dt weighted gyro; its
 AMD gate uses the **measured** |a| at rest (not 9.80665) and a threshold no
 tighter than the rest band, so a sensor reading 1–3 % off g still gets its
 accelerometer corrections. The start attitude is levelled from the first rest
-(yaw 0). Output columns: ``time_s, q0, q1, q2, q3`` (scalar-first, sensor →
+(yaw 0) and that rest's mean gyro is removed as the initial bias. Output columns: ``time_s, q0, q1, q2, q3`` (scalar-first, sensor →
 world), ``yaw_deg, pitch_deg, roll_deg`` (Eq 8: yaw about z, pitch about x,
 roll about y; exact at pitch ±90° with roll 0 there), ``is_static``.
 """
@@ -40,16 +40,20 @@ def sensor_attitude(log: logio.ImuLog, rep) -> tuple[np.ndarray, dict]:
 
     params = qncf_params(rep)
     first = rep.rests[0] if rep.rests else None
+    gyro = log.gyro_for_filter()
     if first is not None and first.start <= max(int(0.25 * log.fs_hz), 1):
         q0 = initial_attitude_from_accel(log.accel_m_s2[first].mean(axis=0))
-        init = "first rest"
+        bias = log.gyro_rad_s[first].mean(axis=0)
+        gyro = gyro - bias  # the QNCF's integral term cannot see a bias about the vertical
+        init = "first rest (gyro bias of that rest removed)"
     else:
-        q0 = None
+        q0, bias = None, np.zeros(3)
         init = "first 100 samples (log does not start at rest)"
-    res = qncf(log.gyro_for_filter(), log.accel_m_s2, log.dt_mean_s, params, q0=q0, return_euler=False)
+    res = qncf(gyro, log.accel_m_s2, log.dt_mean_s, params, q0=q0, return_euler=False)
     info = {"filter": "qncf", "gravity_m_s2": params.gravity_m_s2,
             "amd_threshold_pct": params.amd_threshold_pct, "kp_rad_s": params.kp_rad_s,
-            "ki_rad_s2": params.ki_rad_s2, "levelled_from": init}
+            "ki_rad_s2": params.ki_rad_s2, "levelled_from": init,
+            "initial_gyro_bias_rad_s": bias.tolist()}
     return res.q_ws, info
 
 

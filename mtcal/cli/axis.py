@@ -88,20 +88,13 @@ def cmd_axis(args: argparse.Namespace) -> int:
                              f"(largest tilt difference {spread:.2f} deg, positions must be >= {sep:g} deg "
                              f"apart); the axis needs rests at three distinct tilts{why}")
         fig.used = [rep.rests[m[0]] for m in members]
-        sig = max(rep.accel_noise_m_s2 / np.sqrt(float(w.min()) / max(1.0, rep.window_s * log.fs_hz)),
-                  SIGMA_MEAN_FLOOR_M_S2)
-        fit = ra.fit_axis_plane(pos, sig)
         max_el = common.finite_float(args.max_elevation_deg, "--max-elevation-deg")
+        fit = _check_uncertainty(args, pos, rep, w, log.fs_hz)
         if np.degrees(fit.elevation_rad) > max_el:
             raise ValueError(f"rotation axis is nearly vertical: elevation {np.degrees(fit.elevation_rad):.2f} "
                              f"deg above the horizontal (maximum {max_el:g} deg); rotation about it barely "
                              f"changes gravity")
-        max_err = common.finite_float(args.max_axis_error_deg, "--max-axis-error-deg")
         err = np.degrees(fit.sigma_rad)
-        if not err <= max_err:
-            raise ValueError(f"axis too uncertain: +-{err:.2f} deg (1 sigma) > {max_err:g} deg from "
-                             f"{pos.shape[0]} positions (rest-mean noise {sig:.4f} m/s^2, out-of-plane rms "
-                             f"{fit.rms_out_of_plane_m_s2:.4f} m/s^2); rotate further between rests")
         v = fit.v
         print(f"axis v = {v[0]:.6f},{v[1]:.6f},{v[2]:.6f}")
         print(f"axis uncertainty +-{err:.3f} deg (1 sigma), elevation {np.degrees(fit.elevation_rad):.2f} deg, "
@@ -115,6 +108,25 @@ def cmd_axis(args: argparse.Namespace) -> int:
     return common.run_with_figure(fig, body)
 
 
+def _check_uncertainty(args, positions, rep, counts, fs_hz):
+    """Plane fit of the positions; refuse when the axis is less certain than --max-axis-error-deg."""
+    from mtcal.methods import rotation_axis as ra
+
+    n_eff = float(np.min(counts)) / max(1.0, rep.window_s * fs_hz)  # ~independent windows per rest
+    sig = max(rep.accel_noise_m_s2 / np.sqrt(max(n_eff, 1.0)), SIGMA_MEAN_FLOOR_M_S2)
+    fit = ra.fit_axis_plane(positions, sig)
+    max_err = common.finite_float(args.max_axis_error_deg, "--max-axis-error-deg")
+    err = np.degrees(fit.sigma_rad)
+    if not err <= max_err:
+        spread = max(np.degrees(ra.angle_between(positions[i], positions[j]))
+                     for i in range(len(positions)) for j in range(i))
+        raise ValueError(f"axis too uncertain: +-{err:.2f} deg (1 sigma) > {max_err:g} deg from "
+                         f"{len(positions)} positions at most {spread:.2f} deg apart in tilt (rest-mean noise "
+                         f"{sig:.4f} m/s^2, out-of-plane rms {fit.rms_out_of_plane_m_s2:.4f} m/s^2); "
+                         f"rotate further between rests")
+    return fit
+
+
 def _axis_paper(args, log, fig) -> int:
     """The paper's path: Table 1 ZVD + Algorithm A1 (first three distinct rests)."""
     from mtcal.methods.rest_detection import paper_rest_report
@@ -124,8 +136,17 @@ def _axis_paper(args, log, fig) -> int:
     rep = paper_rest_report(log.accel_m_s2, log.fs_hz, min_rest_s=min_rest)
     fig.report = rep
     print(rep.levels_text() + f" (measured |a| at rest {rep.extra['measured_gravity_m_s2']:.4f} m/s^2)")
-    res = estimate_axis(log.accel_m_s2, log.fs_hz, min_rest_s=min_rest, is_static=rep.is_static)
+    sep = common.finite_float(args.min_separation_deg, "--min-separation-deg")
+    try:
+        res = estimate_axis(log.accel_m_s2, log.fs_hz, min_rest_s=min_rest, is_static=rep.is_static,
+                            min_separation_deg=sep,
+                            max_elevation_deg=common.finite_float(args.max_elevation_deg, "--max-elevation-deg"))
+    except ValueError as exc:
+        raise ValueError(f"{exc} [paper ZVD band {rep.band_m_s2[0]:g}-{rep.band_m_s2[1]:g} m/s^2, measured |a| "
+                         f"at rest {rep.extra['measured_gravity_m_s2']:.4f} m/s^2; --rest-detector adaptive "
+                         f"measures the band from the data]") from None
     fig.used = list(res.rests)
+    _check_uncertainty(args, res.means, rep, np.array([r.stop - r.start for r in res.rests], float), log.fs_hz)
     print(f"axis v = {res.v[0]:.6f},{res.v[1]:.6f},{res.v[2]:.6f}")
     t = log.time_s
     for i, sl in enumerate(res.rests):
@@ -139,7 +160,7 @@ def cmd_angle(args: argparse.Namespace) -> int:
     out = logio.check_output_path(args.out, [args.log])
 
     def body() -> int:
-        from mtcal.filters.rams_ekf import RamsEkfParams, run_rams_ekf
+        from mtcal.filters.rams_ekf import RamsEkfParams
         from mtcal.methods.rotation_axis import axis_elevation
 
         v = _parse_axis(args.axis)
@@ -190,9 +211,7 @@ def cmd_angle(args: argparse.Namespace) -> int:
         sig_w = max(float(np.std(log.gyro_rad_s[init], axis=0).mean()), 1e-5)
         params = RamsEkfParams(sigma_theta_rad_s=sig_w, sigma_b_rad_s2=1e-4, sigma_a_static_m_s2=sig_a,
                                sigma_a_moving_m_s2=5.0, p0_theta_rad2=1e-8, p0_bias_rad2_s2=1e-8)
-        res = run_rams_ekf(gyro_f, log.accel_m_s2, rep.is_static, v, a0, log.dt_mean_s, params,
-                           bias0_rad_s=b0, keep_innovation=False)
-        angle = np.degrees(res.theta_rad[0])
+        angle = np.degrees(_ekf_pieces(gyro_f, log.accel_m_s2, rep, v, a0, b0, log.dt_mean_s, params, clipped))
         fig.series = {"angle (deg)": angle}
         logio.write_table(out, {"time_s": t, "angle_deg": angle, "is_static": rep.is_static.astype(np.int8)})
         common.print_report(log, rep, angle_deg=angle)
@@ -205,6 +224,41 @@ def cmd_angle(args: argparse.Namespace) -> int:
         return 0
 
     return common.run_with_figure(fig, body)
+
+
+#: Prior angle std (rad) at the first rest after clipped gyro samples: the rest's accelerometer decides.
+CLIPPED_P0_THETA_RAD = np.radians(30.0)
+
+
+def _ekf_pieces(gyro, accel, rep, v, a0, b0, dt_s, params, clipped) -> np.ndarray:
+    """RAMS EKF over the record; restarted with a wide angle prior at each rest that follows clipping.
+
+    A clipped gyro under-reports the move, and the EKF's process noise (gyro white
+    noise) would keep the wrong angle; restarting at the next rest with
+    ``p0_θ = (30°)²`` (angle and bias carried over) lets the rest's
+    accelerometer reading set the angle again. Without clipping this is one run.
+    """
+    from dataclasses import replace
+
+    from mtcal.filters.rams_ekf import run_rams_ekf
+
+    cuts = [0]
+    if clipped.any():
+        last = 0
+        for r in rep.rests[1:]:
+            if clipped[last:r.start].any():
+                cuts.append(r.start)
+            last = r.start
+    cuts.append(accel.shape[0])
+    theta = np.empty(accel.shape[0])
+    th0, bias0, p = 0.0, b0, params
+    for lo, hi in zip(cuts[:-1], cuts[1:]):
+        res = run_rams_ekf(gyro[lo:hi], accel[lo:hi], rep.is_static[lo:hi], v, a0, dt_s, p,
+                           theta0_rad=th0, bias0_rad_s=bias0, keep_innovation=False)
+        theta[lo:hi] = res.theta_rad[0]
+        th0, bias0 = float(res.theta_rad[0, -1]), res.bias_rad_s[0, -1]
+        p = replace(params, p0_theta_rad2=CLIPPED_P0_THETA_RAD**2)
+    return theta
 
 
 __all__ = ["register", "cmd_axis", "cmd_angle"]

@@ -124,13 +124,11 @@ def print_report(log: logio.ImuLog, report: rd.RestReport, angle_deg=None, angle
 
 
 def _envelope(t: np.ndarray, y: np.ndarray, buckets: int = 3000):
-    """Min/max envelope for plotting long records fast."""
+    """Min/max envelope (every sample inside one of ~``buckets`` buckets) for plotting long records fast."""
     if t.size <= 2 * buckets:
         return t, y, y
-    n = (t.size // buckets) * buckets
-    tt = t[:n].reshape(buckets, -1)[:, 0]
-    yy = y[:n].reshape(buckets, -1)
-    return tt, yy.min(axis=1), yy.max(axis=1)
+    idx = np.arange(0, t.size, -(-t.size // buckets))
+    return t[idx], np.minimum.reduceat(y, idx), np.maximum.reduceat(y, idx)
 
 
 class DiagnosticsFigure:
@@ -197,6 +195,7 @@ class DiagnosticsFigure:
                                     color="tab:green", lw=0.6, label="rest threshold (bias + level)")
                     axes[k].legend(loc="upper right", fontsize=7)
                 axes[k].set_yscale("symlog", linthresh=1.0)
+                axes[k].set_ylim(bottom=0)
                 axes[k].set_ylabel("|ω| (°/s)")
                 k += 1
             for name, y in self.series.items():

@@ -339,7 +339,7 @@ def _classify(static, quiet, in_band, still, norm_mean, level, band, g_lvl_max, 
         rs = np.array([r.start for r in rests])
         pos = np.searchsorted(qs, rs, side="right") - 1
         has_rest[pos[pos >= 0]] = True
-    long_enough = (qe - qs) >= max(n_min, w)
+    long_enough = (qe - qs) >= w
     for s, e in zip(qs[long_enough & ~has_rest], qe[long_enough & ~has_rest]):
         sl = slice(int(s), int(e))
         dur = (e - s) / fs
