@@ -129,7 +129,14 @@ def run(args: argparse.Namespace) -> int:
         if rep is not None:
             print(rep.levels_text())
         if len(rests) < pos.shape[0]:
-            lv = rep.levels_text() if rep is not None else "quaternion-rate threshold --still-deg-s"
+            if rep is None:
+                lv = "quaternion-rate threshold --still-deg-s"
+            elif args.rest_detector == "paper":
+                lv = (f"paper stillness threshold |w| < 0.2 deg/s; measured gyro bias "
+                      f"{np.degrees(np.linalg.norm(rep.gyro_bias_rad_s)):.2f} deg/s, noise "
+                      f"{np.degrees(rep.gyro_noise_rad_s):.3f} deg/s")
+            else:
+                lv = rep.levels_text()
             raise ValueError(f"too few rests: found {len(rests)} rests of >= {min_rest:g} s for "
                              f"{pos.shape[0]} positions ({lv}); see --figure for the rejected stretches")
         res = sixpos.calibrate(q, pos, log.fs_hz, fraction=fraction, rests=rests)

@@ -151,3 +151,23 @@ def stance_log(n_steps=10, **kw) -> Log:
                 g_error=0.027, gyro_bias_deg_s=(2.5, -3.0, 0.8), lever_arm_m=(0.0, 0.0, 0.4))
     base.update(kw)
     return hinge_log(**base)
+
+
+def six_position_log(alpha_deg=(0.5, -0.3, 0.4), *, fs_hz=200.0, g_error=0.011, gyro_bias_deg_s=(0.8, -1.1, 1.6),
+                     gyro_noise=2e-4, accel_noise=1.5e-3, positions_deg=None, seed=11):
+    """wang2023cja §3.2 six-position schedule with a mounting error and MEMS quirks.
+
+    Returns (DataFrame of the log, DataFrame of the positions, mounting angles in deg).
+    """
+    from mtcal.methods import six_position as sixpos
+
+    rng = np.random.default_rng(seed)
+    pos = sixpos.six_positions_rad() if positions_deg is None else np.radians(np.asarray(positions_deg, float))
+    prof = sixpos.schedule_profile(pos, fs_hz=fs_hz)
+    model = ImuErrorModel(gyro=SensorErrors(bias=tuple(np.radians(gyro_bias_deg_s)), noise_density=gyro_noise),
+                          accel=SensorErrors(noise_density=accel_noise, scale_factor=g_error),
+                          q_mount=tuple(rotations.mount_quaternion(np.radians(alpha_deg))))
+    rec = simulate_imu(profiles.trajectory_from_euler_zxy(prof), model, rng)
+    df = _frame(rec.time_s, rec.gyro_rad_s, rec.accel_m_s2)
+    positions = pd.DataFrame(np.degrees(pos), columns=["yaw_deg", "pitch_deg", "roll_deg"])
+    return df, positions, np.asarray(alpha_deg, float)
