@@ -422,7 +422,7 @@ def write_table(path, columns: dict, *, decimals: dict | None = None) -> None:
     else:
         import pyarrow.csv as pcsv
 
-        opts = pcsv.WriteOptions(quoting_style="none")
+        opts = pcsv.WriteOptions(quoting_style="none", quoting_header="none")
         _atomic(p, lambda tmp: pcsv.write_csv(table, tmp, write_options=opts))
 
 
