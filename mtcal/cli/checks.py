@@ -112,7 +112,12 @@ def gyro_tilt_consistency(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: 
             q = cumulative_rotation(w * s, dt_s)[-1]
             pred = rotations.quat_to_matrix(q / np.linalg.norm(q)).T @ a0
             misfits[s].append(float(np.degrees(_angle(pred, a1))))
-        q1 = cumulative_rotation(w, dt_s)[-1]
+            if s == 1.0:
+                q1 = q
+                if misfits[1.0][-1] <= max(3.0, 0.25 * tilt):  # units fine: skip the alternatives
+                    for other in _CANDIDATES:
+                        misfits[other].append(np.inf)
+                    break
         ratios.append(float(np.degrees(2 * np.arctan2(np.linalg.norm(q1[1:]), abs(q1[0])))) / tilt)
     tol = [max(3.0, 0.25 * c[0]) for c in cand]
     bad = [m > tl for m, tl in zip(misfits[1.0], tol)]

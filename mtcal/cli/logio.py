@@ -290,24 +290,27 @@ def read_log(path, opts: InputOptions | None = None, *, need: str = "raw", min_s
         raise ValueError(f"{path}: mean sample rate {fs:.4g} Hz from {found['time_s']} (time unit "
                          f"{time_unit}) is implausible for an IMU ({MIN_FS_HZ:g}-{MAX_FS_HZ:g} Hz); {hint}")
     dt_mean = 1.0 / fs
-    jitter = float(np.max(np.abs(dt - dt_mean)) / dt_mean)
+    jitter = float(max(dt_mean - dt.min(), dt.max() - dt_mean) / dt_mean)
     dt_full = np.append(dt, dt_mean)
     if jitter > 1e-3:
         notes.append(f"jittered timestamps (dt {dt.min() * 1e3:.3g}-{dt.max() * 1e3:.3g} ms, mean "
                      f"{dt_mean * 1e3:.4g} ms): per-sample dt used")
-    gaps = dt > 5.0 * np.median(dt)
-    if gaps.any():
+    if dt.max() > 5.0 * dt_mean:
+        gaps = dt > 5.0 * np.median(dt)
         notes.append(f"{int(gaps.sum())} gap(s) > 5x the median dt (largest {dt.max():.3g} s)")
 
     def vec(names, unit_name, unit_opt, table, scale, scale_name):
         unit = unit_opt or implied.get(names[0], next(iter(table)))
-        arr = np.column_stack([_numeric(cols[found[c]], found[c], p) for c in names])
+        arr = np.empty((t.size, 3))
+        for i, c in enumerate(names):
+            arr[:, i] = _numeric(cols.pop(found[c]), found[c], p)  # pop: free the Arrow column early
         if scale is not None:
             arr *= scale
             notes.append(f"{scale_name} {','.join(f'{s:g}' for s in scale)}")
         if unit != next(iter(table)):
             notes.append(f"{unit_name} in {unit}")
-        return arr * table[unit]
+            arr *= table[unit]
+        return arr
 
     gyro = accel = q = None
     if has_raw or (need == "accel" and has_acc):

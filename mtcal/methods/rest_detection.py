@@ -195,24 +195,70 @@ class RestReport:
 
 
 def centred_moving_mean(x: np.ndarray, window: int) -> np.ndarray:
-    """Centred moving mean along axis 0 (edges: the available samples), via cumulative sums."""
+    """Centred moving mean along axis 0 (edges: the available samples), via cumulative sums.
+
+    Sample i averages ``x[i − window//2 : i − window//2 + window]`` clipped to the record.
+    """
     n = x.shape[0]
-    c = np.zeros((n + 1,) + x.shape[1:])
+    c = np.empty((n + 1,) + x.shape[1:])
+    c[0] = 0.0
     np.cumsum(x, axis=0, out=c[1:])
-    idx = np.arange(n)
-    lo = np.clip(idx - window // 2, 0, n)
-    hi = np.clip(idx - window // 2 + window, 0, n)
+    lo_off, hi_off = window // 2, window - window // 2
+    out = np.empty(c.shape[:1] + x.shape[1:])[:n]
+    i0, i1 = lo_off, n - hi_off + 1
+    if i1 > i0:  # interior: full windows, plain slices (no gather)
+        np.subtract(c[i0 + hi_off:i1 + hi_off], c[i0 - lo_off:i1 - lo_off], out=out[i0:i1])
+        out[i0:i1] /= window
+        edges = np.r_[0:i0, i1:n]
+    else:
+        edges = np.arange(n)
+    lo = np.clip(edges - lo_off, 0, n)
+    hi = np.clip(edges + hi_off, 0, n)
     cnt = (hi - lo).reshape((-1,) + (1,) * (x.ndim - 1)).astype(float)
-    return (c[hi] - c[lo]) / cnt
+    out[edges] = (c[hi] - c[lo]) / cnt
+    return out
 
 
-def _moving_std(x: np.ndarray, window: int) -> np.ndarray:
-    """Centred moving std per column of (N, d), rms over columns → (N,)."""
-    xc = x - x[: min(len(x), 1000)].mean(axis=0)  # centre: cumsums keep precision
-    m1 = centred_moving_mean(xc, window)
-    m2 = centred_moving_mean(xc * xc, window)
-    var = np.maximum(m2 - m1 * m1, 0.0)
-    return np.sqrt(var.mean(axis=1))
+class _Blocks:
+    """Sums over sub-blocks of ``sub`` samples: every statistic then costs one pass over the record.
+
+    Windows are whole numbers of sub-blocks (``k`` ≈ window / sub), centred on each
+    sub-block; flags are decided per sub-block (``sub`` ≈ window / 4, e.g. 25 ms at
+    1 kHz) and expanded to samples.
+    """
+
+    def __init__(self, n: int, w: int):
+        self.n = n
+        self.sub = max(1, w // 4)
+        self.k = max(1, int(round(w / self.sub)))
+        self.idx = np.arange(0, n, self.sub)
+        self.count = np.diff(np.r_[self.idx, n]).astype(float)
+        self.win_count = self.window(self.count)
+
+    def window(self, s: np.ndarray) -> np.ndarray:
+        """Centred moving sum over k sub-blocks (clipped at the ends)."""
+        nb = s.shape[0]
+        c = np.zeros((nb + 1,) + s.shape[1:])
+        np.cumsum(s, axis=0, out=c[1:])
+        i = np.arange(nb)
+        lo = np.clip(i - self.k // 2, 0, nb)
+        hi = np.clip(i - self.k // 2 + self.k, 0, nb)
+        return c[hi] - c[lo]
+
+    def stats(self, x: np.ndarray):
+        """Centred-window mean (nb, d) and rms-over-axes std (nb,) of x (N, d)."""
+        off = x[: min(self.n, 1000)].mean(axis=0)
+        xc = x - off  # centred: the sums keep their precision
+        s1 = np.add.reduceat(xc, self.idx, axis=0)
+        xc *= xc
+        s2 = np.add.reduceat(xc, self.idx, axis=0)
+        c = self.win_count[:, None]
+        m1 = self.window(s1) / c
+        var = np.maximum(self.window(s2) / c - m1 * m1, 0.0)
+        return m1 + off, np.sqrt(var.mean(axis=1))
+
+    def to_samples(self, b: int) -> int:
+        return int(self.idx[b]) if b < self.idx.size else self.n
 
 
 def runs(flag: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -221,26 +267,35 @@ def runs(flag: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return np.flatnonzero(d == 1), np.flatnonzero(d == -1)
 
 
-def _block_levels(accel: np.ndarray, gyro: np.ndarray | None, w: int, quiet_fraction: float):
-    """Rest levels from the quietest non-overlapping windows (medians)."""
+def _block_levels(accel: np.ndarray, norm: np.ndarray, gyro: np.ndarray | None, w: int,
+                  quiet_fraction: float):
+    """Rest levels from the quietest non-overlapping windows (medians); sums, not per-block calls."""
     nb = accel.shape[0] // w
     if nb < 3:
         raise ValueError(f"record too short for rest detection: {accel.shape[0]} samples, need at least "
                          f"3 windows of {w} samples")
-    a = accel[: nb * w].reshape(nb, w, 3)
-    a_std = np.sqrt(a.var(axis=1).mean(axis=1))
-    a_norm = np.linalg.norm(a, axis=2).mean(axis=1)
+
+    def block_stats(x):
+        b = x[: nb * w].reshape(nb, w, -1)
+        first = b[:, :1].copy()
+        b = b - first  # per-block offset keeps the sums precise
+        m1 = b.sum(axis=1) / w
+        b *= b
+        var = np.maximum(b.sum(axis=1) / w - m1 * m1, 0.0)
+        return np.sqrt(var.mean(axis=1)), m1 + first[:, 0]
+
+    a_std, _ = block_stats(accel)
+    a_norm = norm[: nb * w].reshape(nb, w).mean(axis=1)
     score = np.argsort(np.argsort(a_std)).astype(float)
     if gyro is not None:
-        g = gyro[: nb * w].reshape(nb, w, 3)
-        g_std = np.sqrt(g.var(axis=1).mean(axis=1))
+        g_std, g_mean = block_stats(gyro)
         score += np.argsort(np.argsort(g_std))
     m = max(3, int(np.ceil(quiet_fraction * nb)))
     quiet = np.argpartition(score, m - 1)[:m]
     out = {"gravity": float(np.median(a_norm[quiet])), "accel_noise": float(np.median(a_std[quiet]))}
     if gyro is not None:
         out["gyro_noise"] = float(np.median(g_std[quiet]))
-        out["gyro_bias"] = np.median(g[quiet].mean(axis=1), axis=0)
+        out["gyro_bias"] = np.median(g_mean[quiet], axis=0)
     return out
 
 
@@ -284,7 +339,8 @@ def detect_rests(accel_m_s2, fs_hz: float, *, gyro_rad_s=None,
         if g.shape != a.shape:
             raise ValueError(f"gyro_rad_s must have the shape of accel_m_s2 {a.shape}, got {g.shape}")
     w = max(3, int(round(p.window_s * fs)))
-    lv = _block_levels(a, g, w, p.quiet_fraction)
+    norm = np.sqrt(np.einsum("ij,ij->i", a, a))
+    lv = _block_levels(a, norm, g, w, p.quiet_fraction)
     k = p.noise_factor
     grav = p.gravity_m_s2 if p.gravity_m_s2 is not None else lv["gravity"]
     sig_a = max(lv["accel_noise"], ACCEL_NOISE_FLOOR_M_S2)
@@ -292,9 +348,9 @@ def detect_rests(accel_m_s2, fs_hz: float, *, gyro_rad_s=None,
     half = p.accel_band_m_s2 if p.accel_band_m_s2 is not None else max(k * sig_a, p.band_fraction * grav)
     band = (grav - half, grav + half)
 
-    norm = np.sqrt(np.einsum("ij,ij->i", a, a))
-    norm_mean = centred_moving_mean(norm, w)
-    a_std = _moving_std(a, w)
+    blk = _Blocks(a.shape[0], w)
+    norm_mean = blk.stats(norm[:, None])[0][:, 0]
+    _, a_std = blk.stats(a)
     quiet = a_std < a_std_max
     in_band = (norm_mean > band[0]) & (norm_mean < band[1])
     sig_w = bias = np.nan
@@ -306,13 +362,14 @@ def detect_rests(accel_m_s2, fs_hz: float, *, gyro_rad_s=None,
         g_std_max = p.gyro_std_max_rad_s if p.gyro_std_max_rad_s is not None else k * sig_w
         g_lvl_max = (p.gyro_level_max_rad_s if p.gyro_level_max_rad_s is not None
                      else max(k * sig_w, p.min_gyro_level_rad_s))
-        quiet &= _moving_std(g, w) < g_std_max
-        level = np.linalg.norm(centred_moving_mean(g, w) - bias, axis=1)
+        g_mean, g_std = blk.stats(g)
+        quiet &= g_std < g_std_max
+        level = np.linalg.norm(g_mean - bias, axis=1)
         still = level < g_lvl_max
     else:
         still = np.ones_like(quiet)
     static = quiet & in_band & still
-    rests, rejected, n_short, static = _classify(static, quiet, in_band, still, norm_mean, level, band,
+    rests, rejected, n_short, static = _classify(blk, static, quiet, in_band, still, norm_mean, level, band,
                                                  g_lvl_max, int(round(p.min_rest_s * fs)), w, fs)
     return RestReport(is_static=static, rests=rests, rejected=rejected, method="adaptive",
                       gravity_m_s2=float(grav), accel_noise_m_s2=float(sig_a),
@@ -323,36 +380,42 @@ def detect_rests(accel_m_s2, fs_hz: float, *, gyro_rad_s=None,
                       min_rest_s=float(p.min_rest_s), window_s=float(w / fs), n_short=n_short)
 
 
-def _classify(static, quiet, in_band, still, norm_mean, level, band, g_lvl_max, n_min, w, fs):
-    """Accept static runs ≥ n_min; explain every quiet stretch that holds no accepted rest."""
-    starts, stops = runs(static)
-    keep = (stops - starts) >= max(n_min, 1)
-    rests = [slice(int(s), int(e)) for s, e in zip(starts[keep], stops[keep])]
-    flags = np.zeros_like(static)
+def _classify(blk, static, quiet, in_band, still, norm_mean, level, band, g_lvl_max, n_min, w, fs):
+    """Accept static runs ≥ n_min samples; explain every quiet stretch that holds no accepted rest.
+
+    Inputs are per sub-block; rests are returned as sample slices and per-sample flags.
+    """
+    bs, be = runs(static)
+    s0 = np.array([blk.to_samples(b) for b in bs], dtype=int)
+    s1 = np.array([blk.to_samples(b) for b in be], dtype=int)
+    keep = (s1 - s0) >= max(n_min, 1)
+    rests = [slice(int(a), int(b)) for a, b in zip(s0[keep], s1[keep])]
+    flags = np.zeros(blk.n, bool)
     for r in rests:
         flags[r] = True
     rejected = []
     n_short = int(np.count_nonzero(~keep))
     qs, qe = runs(quiet)
     has_rest = np.zeros(qs.size, bool)
-    if rests:
-        rs = np.array([r.start for r in rests])
-        pos = np.searchsorted(qs, rs, side="right") - 1
+    if np.any(keep):
+        pos = np.searchsorted(qs, bs[keep], side="right") - 1
         has_rest[pos[pos >= 0]] = True
-    long_enough = (qe - qs) >= w
-    for s, e in zip(qs[long_enough & ~has_rest], qe[long_enough & ~has_rest]):
-        sl = slice(int(s), int(e))
-        dur = (e - s) / fs
-        out_band = 1.0 - in_band[sl].mean()
-        turning = 0.0 if level is None else 1.0 - still[sl].mean()
+    q0 = np.array([blk.to_samples(b) for b in qs], dtype=int)
+    q1 = np.array([blk.to_samples(b) for b in qe], dtype=int)
+    long_enough = (q1 - q0) >= w
+    for i in np.flatnonzero(long_enough & ~has_rest):
+        sl = slice(int(q0[i]), int(q1[i]))
+        bsl = slice(int(qs[i]), int(qe[i]))
+        out_band = 1.0 - in_band[bsl].mean()
+        turning = 0.0 if level is None else 1.0 - still[bsl].mean()
         if out_band >= turning and out_band > 0:
-            m = float(np.median(norm_mean[sl]))
+            m = float(np.median(norm_mean[bsl]))
             reason = f"|a| {m:.3f} m/s^2 outside band {band[0]:.3f}-{band[1]:.3f}"
         elif turning > 0:
-            reason = (f"turning: |w - bias| {np.degrees(np.median(level[sl])):.2f} deg/s > "
+            reason = (f"turning: |w - bias| {np.degrees(np.median(level[bsl])):.2f} deg/s > "
                       f"{np.degrees(g_lvl_max):.2f} deg/s")
         else:
-            reason = f"too short ({dur:.2f} s)"
+            reason = f"too short ({(sl.stop - sl.start) / fs:.2f} s)"
         rejected.append(RejectedRest(sl, reason))
     return rests, rejected, n_short, flags
 
@@ -373,7 +436,7 @@ def paper_rest_report(accel_m_s2, fs_hz: float, *, gyro_rad_s=None, min_rest_s: 
     flags = detect_static(a, fs, zp)
     g = None if gyro_rad_s is None else as_float_array(gyro_rad_s, "gyro_rad_s", ndim=2, last_dim=3, copy=False)
     w = max(3, int(round(0.1 * fs)))
-    lv = _block_levels(a, g, w, 0.1)
+    lv = _block_levels(a, np.linalg.norm(a, axis=1), g, w, 0.1)
     starts, stops = runs(flags)
     keep = (stops - starts) >= max(int(round(min_rest_s * fs)), 1)
     rests = [slice(int(s), int(e)) for s, e in zip(starts[keep], stops[keep])]
