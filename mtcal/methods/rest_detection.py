@@ -69,8 +69,7 @@ import numpy as np
 
 from mtcal.core.validate import as_float_array, check_accel_units, positive_scalar
 
-__all__ = ["RestDetectorParams", "RestReport", "RejectedRest", "detect_rests", "centred_moving_mean",
-           "paper_rest_report", "runs"]
+__all__ = ["RestDetectorParams", "RestReport", "RejectedRest", "detect_rests", "paper_rest_report"]
 
 DEG = np.pi / 180.0
 
