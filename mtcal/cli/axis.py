@@ -219,7 +219,7 @@ def cmd_angle(args: argparse.Namespace) -> int:
             print(f"gyro/accelerometer check: {check['pairs']} rest pair(s), rotation/tilt ratio "
                   f"{check['ratio']:.3f}, worst misfit {check['worst_deg']:.2f} deg")
         else:
-            print("gyro/accelerometer check: no pair of rests with a tilt change >= 10 deg (units not checked)")
+            print("gyro/accelerometer check: no pair of rests with a tilt change >= 5 deg (units not checked)")
         print(f"angle: {t.size} samples written to {out}; final angle {angle[-1]:.3f} deg")
         return 0
 

@@ -62,7 +62,7 @@ def clipped_samples(gyro_rad_s: np.ndarray, *, min_run: int = 3) -> tuple[np.nda
 
 
 def gyro_tilt_consistency(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: float, rests: list,
-                          *, time_s=None, skip=None, min_tilt_deg: float = 10.0,
+                          *, time_s=None, skip=None, min_tilt_deg: float = 5.0,
                           max_pairs: int = 8, max_gap_s: float = 120.0) -> dict:
     """Check the gyro's units/time base against the accelerometer's tilt change between rests.
 

@@ -329,7 +329,17 @@ def read_log(path, opts: InputOptions | None = None, *, need: str = "raw", min_s
     return ImuLog(str(path), t, gyro, accel, q, float(fs), dt_full, jitter, notes)
 
 
+#: Largest plausible specific force (m/s²): beyond any accelerometer's full scale (~200 g).
+MAX_ACCEL_M_S2 = 2000.0
+
+
 def _check_accel(accel: np.ndarray, path: Path) -> None:
+    big = np.abs(accel) > MAX_ACCEL_M_S2
+    if big.any():
+        row, col = np.argwhere(big)[0]
+        raise ValueError(f"{path}: accel_{'xyz'[col]} = {accel[row, col]:.4g} m/s^2 at data row {row + 1} is beyond "
+                         f"any accelerometer's range ({MAX_ACCEL_M_S2:g} m/s^2): corrupt row or wrong "
+                         f"--accel-scale/--accel-unit")
     sub = accel[:: max(1, accel.shape[0] // 20000)]
     med = float(np.median(np.linalg.norm(sub, axis=1)))
     if med < 2.0:

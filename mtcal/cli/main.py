@@ -61,8 +61,9 @@ def _join_negative_vectors(argv: list[str]) -> list[str]:
 
 
 def _one_line(exc: BaseException) -> str:
+    """The message on one line, non-printable characters (e.g. from a binary file) replaced by '?'."""
     text = " ".join(str(exc).split()) or type(exc).__name__
-    return text
+    return "".join(c if c.isprintable() else "?" for c in text)[:500]
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -100,6 +100,8 @@ def test_jitter_per_sample_dt(tmp_path):
     (lambda d: d.assign(accel_x_m_s2=d.accel_x_m_s2 / 9.80665, accel_y_m_s2=d.accel_y_m_s2 / 9.80665,
                         accel_z_m_s2=d.accel_z_m_s2 / 9.80665), "--accel-unit g"),
     (lambda d: d.assign(gyro_x_rad_s=d.gyro_x_rad_s * 57.3 * 16.4), "--gyro-unit deg/s"),
+    (lambda d: d.assign(accel_z_m_s2=d.accel_z_m_s2.where(d.index != 3, 1e308)),
+     "accel_z = 1e\\+308 m/s\\^2 at data row 4 is beyond"),
 ])
 def test_bad_logs(base, tmp_path, mutate, match):
     with pytest.raises(ValueError, match=match):
