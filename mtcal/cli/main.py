@@ -80,6 +80,9 @@ def main(argv: list[str] | None = None) -> int:
 
             with np.errstate(all="ignore" if not debug else "warn"):
                 return int(args.func(args) or 0)
+    except BrokenPipeError:  # e.g. `mtcal rests LOG | head`: stop quietly (Python docs' recipe)
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 1
     except (ValueError, TypeError, OSError) as exc:
         print(f"mtcal: error: {_one_line(exc)}", file=sys.stderr)
         return 2

@@ -362,14 +362,17 @@ def detect_rests(accel_m_s2, fs_hz: float, *, gyro_rad_s=None,
         g_lvl_max = (p.gyro_level_max_rad_s if p.gyro_level_max_rad_s is not None
                      else max(k * sig_w, p.min_gyro_level_rad_s))
         g_mean, g_std = blk.stats(g)
+        quiet_a = quiet.copy()
         quiet &= g_std < g_std_max
         level = np.linalg.norm(g_mean - bias, axis=1)
         still = level < g_lvl_max
     else:
         still = np.ones_like(quiet)
+        quiet_a, g_std = quiet, None
     static = quiet & in_band & still
+    noise = {"accel": (a_std, a_std_max, quiet_a), "gyro": (g_std, g_std_max)}
     rests, rejected, n_short, static = _classify(blk, static, quiet, in_band, still, norm_mean, level, band,
-                                                 g_lvl_max, int(round(p.min_rest_s * fs)), w, fs)
+                                                 g_lvl_max, int(round(p.min_rest_s * fs)), w, fs, noise)
     return RestReport(is_static=static, rests=rests, rejected=rejected, method="adaptive",
                       gravity_m_s2=float(grav), accel_noise_m_s2=float(sig_a),
                       gyro_noise_rad_s=float(sig_w),
@@ -379,7 +382,7 @@ def detect_rests(accel_m_s2, fs_hz: float, *, gyro_rad_s=None,
                       min_rest_s=float(p.min_rest_s), window_s=float(w / fs), n_short=n_short)
 
 
-def _classify(blk, static, quiet, in_band, still, norm_mean, level, band, g_lvl_max, n_min, w, fs):
+def _classify(blk, static, quiet, in_band, still, norm_mean, level, band, g_lvl_max, n_min, w, fs, noise):
     """Accept static runs ≥ n_min samples; explain every quiet stretch that holds no accepted rest.
 
     Inputs are per sub-block; rests are returned as sample slices and per-sample flags.
@@ -394,7 +397,7 @@ def _classify(blk, static, quiet, in_band, still, norm_mean, level, band, g_lvl_
         flags[r] = True
     rejected = []
     n_short = int(np.count_nonzero(~keep))
-    qs, qe = runs(quiet)
+    qs, qe = runs(quiet | (in_band & still))  # candidates: quiet, or at the rest level
     has_rest = np.zeros(qs.size, bool)
     if np.any(keep):
         pos = np.searchsorted(qs, bs[keep], side="right") - 1
@@ -407,7 +410,20 @@ def _classify(blk, static, quiet, in_band, still, norm_mean, level, band, g_lvl_
         bsl = slice(int(qs[i]), int(qe[i]))
         out_band = 1.0 - in_band[bsl].mean()
         turning = 0.0 if level is None else 1.0 - still[bsl].mean()
-        if out_band >= turning and out_band > 0:
+        noisy = 1.0 - quiet[bsl].mean()
+        static_s = float(blk.count[bsl][static[bsl]].sum()) / fs
+        if static[bsl].mean() >= 0.5:
+            reason = f"too short ({static_s:.2f} s at rest)"
+        elif noisy > max(out_band, turning):
+            a_std, a_max, quiet_a = noise["accel"]
+            if (1.0 - quiet_a[bsl].mean()) >= 0.5 * noisy:
+                reason = (f"not still: accel std {np.median(a_std[bsl]):.4f} > {a_max:.4f} m/s^2 "
+                          f"(--noise-factor raises it)")
+            else:
+                g_std, g_max = noise["gyro"]
+                reason = (f"not still: gyro std {np.degrees(np.median(g_std[bsl])):.3f} > "
+                          f"{np.degrees(g_max):.3f} deg/s (--noise-factor raises it)")
+        elif out_band >= turning and out_band > 0:
             m = float(np.median(norm_mean[bsl]))
             reason = f"|a| {m:.3f} m/s^2 outside band {band[0]:.3f}-{band[1]:.3f}"
         elif turning > 0:
