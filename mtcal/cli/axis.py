@@ -264,11 +264,15 @@ def _ekf_pieces(gyro, accel, rep, v, a0, b0, dt_s, params, clipped) -> np.ndarra
 __all__ = ["register", "cmd_axis", "cmd_angle"]
 
 
+def _bullet(i: int) -> str:
+    return __doc__.split("\n\n")[1].split("\n* ")[i].lstrip("* ")
+
+
 def register(subparsers) -> None:
     """Add the ``axis`` and ``angle`` subcommands to the ``mtcal`` dispatcher."""
     fmt = argparse.RawDescriptionHelpFormatter
     p = subparsers.add_parser("axis", help="rotation axis from rests at three tilts (wang2022sensors Eq 23)",
-                              description=__doc__.split("\n\n")[1] + "\n\n" + common.SCHEMA_HELP
+                              description=_bullet(0) + "\n\n" + common.SCHEMA_HELP
                               + "\n(axis needs only the accelerometer columns)",
                               epilog=AXIS_EXAMPLE, formatter_class=fmt)
     p.add_argument("log", help="IMU log (CSV or Parquet)")
@@ -279,7 +283,7 @@ def register(subparsers) -> None:
     common.add_rest_options(p, min_rest_s=0.5)
     p.set_defaults(func=cmd_axis)
     q = subparsers.add_parser("angle", help="EKF rotation angle about a known axis (wang2022sensors)",
-                              description=__doc__.split("\n\n")[1] + "\n\n" + common.SCHEMA_HELP,
+                              description=_bullet(1) + "\n\n" + common.SCHEMA_HELP,
                               epilog=ANGLE_EXAMPLE, formatter_class=fmt)
     q.add_argument("log", help="IMU log (CSV or Parquet)")
     q.add_argument("--axis", required=True, help="axis vx,vy,vz in the sensor frame (from `mtcal axis`)")
