@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from mtcal.cli import common, logio
+from mtcal.cli import checks, common, logio
 
 EXAMPLE = """\
 output columns: time_s, q0..q3 (calibrated body attitude), yaw_deg, pitch_deg, roll_deg,
@@ -61,6 +61,8 @@ def run(args: argparse.Namespace) -> int:
         if log.gyro_rad_s is not None:
             rep = common.detect(args, log)
             fig.report = rep
+            checks.gyro_tilt_consistency(log.gyro_for_filter(), log.accel_m_s2, log.dt_mean_s, rep.rests,
+                                         time_s=log.time_s, skip=checks.clipped_samples(log.gyro_rad_s)[0])
             q, _ = sensor_attitude(log, rep)
             static = rep.is_static
         else:

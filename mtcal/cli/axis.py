@@ -9,9 +9,9 @@
   ``--max-axis-error-deg``. Prints ``axis v = x,y,z``, the uncertainty and a
   per-rest summary (time span, |a|, tilt, angle about v).
 * ``mtcal angle LOG --axis vx,vy,vz`` — RAMS EKF angle per sample to
-  ``--out`` (``time_s,angle_deg,is_static``, CSV or Parquet); the log must
-  start at rest (``--init-s`` seconds, or the first rest if shorter) for ā0 and
-  the gyro bias. Refused when the axis is nearly parallel to gravity, when the
+  ``--out`` (``time_s,angle_deg,is_static``, CSV or Parquet), 0 at the first
+  rest, which gives ā0 and the gyro bias (its first ``--init-s`` seconds);
+  a log that starts moving gets empty angles before that rest. Refused when the axis is nearly parallel to gravity, when the
   gyro turns about another axis than ``--axis``, or when the gyro's units or
   time base disagree with the accelerometer's tilt change between rests.
 """
@@ -32,7 +32,7 @@ example:
 
 ANGLE_EXAMPLE = """\
 output columns (--out, CSV or Parquet): time_s (s), angle_deg (deg, about --axis, 0 at the
-  initial rest), is_static (0/1, rest flag used by the EKF)
+  first rest; empty before it if the log starts moving), is_static (0/1, rest flag used by the EKF)
 example:
   mtcal angle hinge.csv --axis 0.6,0,0.8 --out angle.csv --figure angle.png
   mtcal angle hinge.csv --axis -0.3,0.1,0.95 --time-unit ms --gyro-unit deg/s --out angle.parquet"""
@@ -170,11 +170,11 @@ def cmd_angle(args: argparse.Namespace) -> int:
         rep = common.detect(args, log)
         fig.report = rep
         fs, t = log.fs_hz, log.time_s
-        if not rep.rests or rep.rests[0].start > max(0.25 * fs, rep.window_s * fs):
-            first = f"first rest at {t[rep.rests[0].start] - t[0]:.2f} s" if rep.rests else "no rest found"
+        if not rep.rests:
             common.print_report(log, rep)
-            raise ValueError(f"the log must start at rest (initial rest gives the reference and the gyro "
-                             f"bias): {first}; {rep.levels_text()}")
+            raise ValueError(f"no rest found: the angle is measured from a rest (reference and gyro bias); "
+                             f"{rep.levels_text()}")
+        late = rep.rests[0].start > max(0.25 * fs, rep.window_s * fs)
         first = rep.rests[0]
         n0 = min(int(round(init_s * fs)), first.stop - first.start)
         if n0 < max(3, int(0.1 * fs)):
@@ -211,7 +211,14 @@ def cmd_angle(args: argparse.Namespace) -> int:
         sig_w = max(float(np.std(log.gyro_rad_s[init], axis=0).mean()), 1e-5)
         params = RamsEkfParams(sigma_theta_rad_s=sig_w, sigma_b_rad_s2=1e-4, sigma_a_static_m_s2=sig_a,
                                sigma_a_moving_m_s2=5.0, p0_theta_rad2=1e-8, p0_bias_rad2_s2=1e-8)
-        angle = np.degrees(_ekf_pieces(gyro_f, log.accel_m_s2, rep, v, a0, b0, log.dt_mean_s, params, clipped))
+        k0 = first.start
+        angle = np.full(t.size, np.nan)
+        angle[k0:] = np.degrees(_ekf_pieces(gyro_f[k0:], log.accel_m_s2[k0:], rep.is_static[k0:],
+                                            [slice(r.start - k0, r.stop - k0) for r in rep.rests], v, a0, b0,
+                                            log.dt_mean_s, params, clipped[k0:]))
+        if late:
+            print(f"note: the log starts moving; angles are measured from the first rest at "
+                  f"{t[k0] - t[0]:.2f} s (angle 0 there, empty before)")
         fig.series = {"angle (deg)": angle}
         logio.write_table(out, {"time_s": t, "angle_deg": angle, "is_static": rep.is_static.astype(np.int8)})
         common.print_report(log, rep, angle_deg=angle)
@@ -230,7 +237,7 @@ def cmd_angle(args: argparse.Namespace) -> int:
 CLIPPED_P0_THETA_RAD = np.radians(30.0)
 
 
-def _ekf_pieces(gyro, accel, rep, v, a0, b0, dt_s, params, clipped) -> np.ndarray:
+def _ekf_pieces(gyro, accel, static, rests, v, a0, b0, dt_s, params, clipped) -> np.ndarray:
     """RAMS EKF over the record; restarted with a wide angle prior at each rest that follows clipping.
 
     A clipped gyro under-reports the move, and the EKF's process noise (gyro white
@@ -245,7 +252,7 @@ def _ekf_pieces(gyro, accel, rep, v, a0, b0, dt_s, params, clipped) -> np.ndarra
     cuts = [0]
     if clipped.any():
         last = 0
-        for r in rep.rests[1:]:
+        for r in rests[1:]:
             if clipped[last:r.start].any():
                 cuts.append(r.start)
             last = r.start
@@ -253,7 +260,7 @@ def _ekf_pieces(gyro, accel, rep, v, a0, b0, dt_s, params, clipped) -> np.ndarra
     theta = np.empty(accel.shape[0])
     th0, bias0, p = 0.0, b0, params
     for lo, hi in zip(cuts[:-1], cuts[1:]):
-        res = run_rams_ekf(gyro[lo:hi], accel[lo:hi], rep.is_static[lo:hi], v, a0, dt_s, p,
+        res = run_rams_ekf(gyro[lo:hi], accel[lo:hi], static[lo:hi], v, a0, dt_s, p,
                            theta0_rad=th0, bias0_rad_s=bias0, keep_innovation=False)
         theta[lo:hi] = res.theta_rad[0]
         th0, bias0 = float(res.theta_rad[0, -1]), res.bias_rad_s[0, -1]

@@ -34,7 +34,7 @@ from pathlib import Path
 
 import numpy as np
 
-from mtcal.cli import common, logio
+from mtcal.cli import checks, common, logio
 from mtcal.methods import six_position as sixpos
 
 POS_COLS = ["yaw_deg", "pitch_deg", "roll_deg"]
@@ -116,6 +116,8 @@ def run(args: argparse.Namespace) -> int:
                 rests = sixpos.find_rests(still, log.fs_hz, min_rest_s=min_rest)
             else:
                 rests = rep.rests
+            checks.gyro_tilt_consistency(log.gyro_for_filter(), log.accel_m_s2, log.dt_mean_s, rep.rests,
+                                         time_s=log.time_s, skip=checks.clipped_samples(log.gyro_rad_s)[0])
             q, info = sensor_attitude(log, rep)
         else:
             still = sixpos.stillness_from_quaternions(

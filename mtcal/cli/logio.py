@@ -414,7 +414,8 @@ def write_table(path, columns: dict, *, decimals: dict | None = None) -> None:
     """Write named 1-D arrays as CSV or Parquet (by suffix), atomically.
 
     Floats are rounded to ``decimals[name]`` (default 6) in CSV, which the
-    pyarrow writer then prints in shortest form; Parquet keeps float64.
+    pyarrow writer then prints in shortest form; Parquet keeps float64. NaN
+    is written as an empty field (CSV) or null (Parquet).
     """
     import pyarrow as pa
 
@@ -426,7 +427,7 @@ def write_table(path, columns: dict, *, decimals: dict | None = None) -> None:
         a = np.asarray(arr)
         if a.dtype.kind == "f" and not parquet:
             a = np.round(a, dec.get(name, 6))
-        arrays[name] = a
+        arrays[name] = pa.array(a, from_pandas=True) if a.dtype.kind == "f" else a  # NaN → empty/null
     table = pa.table(arrays)
     if parquet:
         import pyarrow.parquet as pq

@@ -228,3 +228,28 @@ def test_calibrate_degenerate_positions_refused(tmp_path, capsys):
     pos.to_csv(tmp_path / "pos.csv", index=False)
     code, out, err = _run(["calibrate", tmp_path / "six.csv", "--positions", tmp_path / "pos.csv"], capsys)
     _refused(code, err, "positions")
+
+
+def test_log_starting_in_motion_measured_from_first_rest(tmp_path, capsys):
+    log = logs.hinge_log(angles_deg=(-20, 0, 60, 120, 30), hold_s=[0.05, 1.5, 1.5, 1.5, 1.5])
+    path = log.write(tmp_path / "late.csv")
+    code, out, err = _run(["angle", path, "--axis", "0.6,0,0.8", "--out", tmp_path / "a.csv"], capsys)
+    assert code == 0, err
+    assert "angles are measured from the first rest" in out
+    res = pd.read_csv(tmp_path / "a.csv")
+    t_first = log.rest_spans_s[1][0]
+    assert res.angle_deg[res.time_s < t_first - 0.05].isna().all()
+    assert abs(res.angle_deg.iloc[-1] - 30.0) < TOL_DEG
+
+
+def test_calibrate_refuses_deg_s_gyro(tmp_path, capsys):
+    df, pos, _ = logs.six_position_log()
+    gy = [c for c in df if c.startswith("gyro")]
+    df[gy] = np.degrees(df[gy])
+    df.to_csv(tmp_path / "six.csv", index=False)
+    pos.to_csv(tmp_path / "pos.csv", index=False)
+    code, out, err = _run(["calibrate", tmp_path / "six.csv", "--positions", tmp_path / "pos.csv"], capsys)
+    _refused(code, err, "--gyro-unit deg/s")
+    code, out, err = _run(["calibrate", tmp_path / "six.csv", "--positions", tmp_path / "pos.csv",
+                           "--gyro-unit", "deg/s"], capsys)
+    assert code == 0, err
