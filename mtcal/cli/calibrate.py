@@ -100,7 +100,7 @@ def run(args: argparse.Namespace) -> int:
     def body() -> int:
         from mtcal.cli.attitude import sensor_attitude
         from mtcal.core import rotations
-        from mtcal.methods import constrained_fit, quaternion_lsq
+        from mtcal.methods import constrained_fit
 
         log = logio.read_log(args.log, common.input_options(args), need="raw_or_quat")
         fig.log = log if log.accel_m_s2 is not None else None

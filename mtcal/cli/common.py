@@ -4,15 +4,14 @@ from __future__ import annotations
 
 import argparse
 import math
-from pathlib import Path
 
 import numpy as np
 
 from mtcal.cli import logio
 from mtcal.methods import rest_detection as rd
 
-__all__ = ["add_input_options", "add_rest_options", "input_options", "detect", "rest_table",
-           "finite_float", "DiagnosticsFigure", "SCHEMA_HELP"]
+__all__ = ["add_input_options", "add_rest_options", "input_options", "detect", "rest_table", "print_report",
+           "finite_float", "DiagnosticsFigure", "run_with_figure", "SCHEMA_HELP"]
 
 SCHEMA_HELP = """\
 log schema (CSV or Parquet, header row, one row per sample; extra columns ignored):
@@ -226,12 +225,6 @@ def run_with_figure(fig: DiagnosticsFigure, body) -> int:
         except Exception:  # noqa: BLE001 - the command's own error is the one to report
             pass
         raise
-    else:
-        pass
     finally:
         if fig.error is None:
             fig.write()
-
-
-def used_path(p) -> str | None:
-    return None if p is None else str(Path(p))

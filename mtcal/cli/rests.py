@@ -28,7 +28,8 @@ def register(subparsers) -> None:
                               epilog=EXAMPLE, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("log", help="IMU log (CSV or Parquet)")
     p.add_argument("--out", help="write the rests table here (.csv or .parquet)")
-    p.add_argument("--accel-only", action="store_true", help="ignore the gyro (accelerometer-only detection)")
+    p.add_argument("--accel-only", action="store_true",
+                   help="ignore the gyro columns (a log without them is accelerometer-only anyway)")
     common.add_input_options(p)
     common.add_rest_options(p, min_rest_s=0.2)
     p.set_defaults(func=run)
@@ -39,9 +40,10 @@ def run(args: argparse.Namespace) -> int:
     out = None if args.out is None else logio.check_output_path(args.out, [args.log])
 
     def body() -> int:
-        log = logio.read_log(args.log, common.input_options(args), need="accel" if args.accel_only else "raw")
+        log = logio.read_log(args.log, common.input_options(args), need="accel")  # gyro used when present
+        use_gyro = log.gyro_rad_s is not None and not args.accel_only
         fig.log = log
-        rep = common.detect(args, log, use_gyro=not args.accel_only)
+        rep = common.detect(args, log, use_gyro=use_gyro)
         fig.report = rep
         common.print_report(log, rep)
         if out is not None:
@@ -55,7 +57,7 @@ def run(args: argparse.Namespace) -> int:
             cols["tilt_deg"] = np.degrees(np.arctan2(np.hypot(means[:, 0], means[:, 1]), means[:, 2]))
             for i, ax in enumerate("xyz"):
                 cols[f"accel_{ax}_m_s2"] = means[:, i]
-            if log.gyro_rad_s is not None and not args.accel_only:
+            if use_gyro:
                 gm = np.degrees(np.array([log.gyro_rad_s[r].mean(axis=0) for r in rep.rests]).reshape(-1, 3))
                 for i, ax in enumerate("xyz"):
                     cols[f"gyro_{ax}_deg_s"] = gm[:, i]

@@ -173,3 +173,12 @@ def test_apply_bad_calibration_file(hinge, tmp_path, capsys, content, match):
     (tmp_path / "Q.json").write_text(content)
     assert cli.main(["apply", str(tmp_path / "Q.json"), path, "--out", str(tmp_path / "b.csv")]) == 2
     assert match in capsys.readouterr().err
+
+
+def test_rests_on_accelerometer_only_log(hinge, tmp_path, capsys):
+    log, _ = hinge
+    df = log.df[[c for c in log.df if not c.startswith("gyro")]]
+    df.to_csv(tmp_path / "acc.csv", index=False)
+    assert cli.main(["rests", str(tmp_path / "acc.csv")]) == 0
+    out = capsys.readouterr().out
+    assert "rests: 4 of" in out and "gyro bias" not in out
