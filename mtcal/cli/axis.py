@@ -170,16 +170,26 @@ def cmd_angle(args: argparse.Namespace) -> int:
         rep = common.detect(args, log)
         fig.report = rep
         fs, t = log.fs_hz, log.time_s
-        if not rep.rests:
-            common.print_report(log, rep)
-            raise ValueError(f"no rest found: the angle is measured from a rest (reference and gyro bias); "
-                             f"{rep.levels_text()}")
-        late = rep.rests[0].start > max(0.25 * fs, rep.window_s * fs)
-        first = rep.rests[0]
-        n0 = min(int(round(init_s * fs)), first.stop - first.start)
-        if n0 < max(3, int(0.1 * fs)):
-            raise ValueError(f"initial rest too short: {n0} samples ({n0 / fs:.2f} s), need >= 0.1 s")
-        init = slice(first.start, first.start + n0)
+        if args.rest_detector == "paper":  # the paper's set-up: the first --init-s seconds are the rest
+            n0 = int(round(init_s * fs))
+            if n0 < 1 or n0 >= t.size:
+                raise ValueError(f"--init-s {init_s:g} s must cover at least one sample and leave data")
+            if not rep.is_static[min(n0, t.size - 1) // 2:n0].any():
+                raise ValueError(f"the first {init_s:g} s are not at rest by the paper ZVD ({rep.levels_text()}; "
+                                 f"measured |a| at rest {rep.extra['measured_gravity_m_s2']:.4f} m/s^2); "
+                                 f"--rest-detector adaptive measures the band from the data")
+            first, late, init = slice(0, n0), False, slice(0, n0)
+        else:
+            if not rep.rests:
+                common.print_report(log, rep)
+                raise ValueError(f"no rest found: the angle is measured from a rest (reference and gyro bias); "
+                                 f"{rep.levels_text()}")
+            late = rep.rests[0].start > max(0.25 * fs, rep.window_s * fs)
+            first = rep.rests[0]
+            n0 = min(int(round(init_s * fs)), first.stop - first.start)
+            if n0 < max(3, int(0.1 * fs)):
+                raise ValueError(f"initial rest too short: {n0} samples ({n0 / fs:.2f} s), need >= 0.1 s")
+            init = slice(first.start, first.start + n0)
         a0 = log.accel_m_s2[init].mean(axis=0)
         b0 = log.gyro_rad_s[init].mean(axis=0)
         elev = float(np.degrees(axis_elevation(v, a0)))

@@ -67,7 +67,7 @@ def register(subparsers) -> None:
                    help="refuse a Q_hat farther than this from a rotation of quaternion space")
     p.add_argument("--still-deg-s", default="0.2", help="quaternion-rate rest threshold for q0..q3 logs (deg/s)")
     common.add_input_options(p)
-    common.add_rest_options(p, min_rest_s=1.0)
+    common.add_rest_options(p, min_rest_s=None)
     p.add_argument("--min-rest", dest="min_rest_s", help=argparse.SUPPRESS)  # old spelling
     p.set_defaults(func=run)
 
@@ -106,6 +106,8 @@ def run(args: argparse.Namespace) -> int:
         fig.log = log if log.accel_m_s2 is not None else None
         pos = _read_positions(args.positions)
         fraction = common.finite_float(args.fraction, "--fraction")
+        if args.min_rest_s is None:  # defaults: 1 s (adaptive), 2 s (paper's stillness detector, as before)
+            args.min_rest_s = "2.0" if args.rest_detector == "paper" or log.gyro_rad_s is None else "1.0"
         min_rest = common.finite_float(args.min_rest_s, "--min-rest-s")
         rep = None
         if log.gyro_rad_s is not None:

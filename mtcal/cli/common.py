@@ -45,7 +45,7 @@ def add_input_options(p: argparse.ArgumentParser) -> None:
     g.add_argument("--columns", metavar="NAME=HEADER,...", help="map schema names to your headers")
 
 
-def add_rest_options(p: argparse.ArgumentParser, *, min_rest_s: float, figure: bool = True) -> None:
+def add_rest_options(p: argparse.ArgumentParser, *, min_rest_s: float | None, figure: bool = True) -> None:
     g = p.add_argument_group("rest detection")
     g.add_argument("--rest-detector", choices=["adaptive", "paper"], default="adaptive",
                    help="adaptive (levels measured from the data; default) or paper "
@@ -56,8 +56,9 @@ def add_rest_options(p: argparse.ArgumentParser, *, min_rest_s: float, figure: b
     g.add_argument("--gyro-threshold-deg-s", metavar="DEG_S", help="max |w - bias| at rest (deg/s); "
                    "default max(5 x gyro noise, 1.5)")
     g.add_argument("--noise-factor", metavar="K", default="5", help="thresholds = K x measured noise (default 5)")
-    g.add_argument("--min-rest-s", metavar="S", default=str(min_rest_s),
-                   help=f"shortest rest (s), default {min_rest_s:g}")
+    g.add_argument("--min-rest-s", metavar="S", default=None if min_rest_s is None else str(min_rest_s),
+                   help="shortest rest (s), default " + ("1 (adaptive) or 2 (paper / q0..q3 logs)"
+                                                          if min_rest_s is None else f"{min_rest_s:g}"))
     if figure:
         p.add_argument("--figure", metavar="PNG", help="diagnostics figure (written also when the command fails)")
 

@@ -45,6 +45,22 @@ def test_angle_happy_path(log, tmp_path):
     res = pd.read_csv(out)
     assert list(res.columns) == ["time_s", "angle_deg", "is_static"]
     assert abs(res.angle_deg.iloc[-1] - np.degrees(theta[-1])) < 0.1
+    # whole record, moves included: the adaptive rests never flag a moving sample as static
+    assert np.sqrt(np.mean((res.angle_deg - np.degrees(theta)) ** 2)) < 0.1
+
+
+def test_angle_paper_detector_keeps_the_old_path(log, tmp_path):
+    """--rest-detector paper: Table 1 ZVD flags and the first --init-s seconds, as the CLI always did."""
+    from mtcal.methods.zero_velocity import detect_static
+
+    path, df, v, theta = log
+    out = tmp_path / "angle.csv"
+    assert cli.main(["angle", str(path), "--axis", ",".join(f"{x:.8f}" for x in v), "--out", str(out),
+                     "--rest-detector", "paper"]) == 0
+    res = pd.read_csv(out)
+    acc = df[["accel_x_m_s2", "accel_y_m_s2", "accel_z_m_s2"]].to_numpy()
+    assert np.array_equal(res.is_static.to_numpy(bool), detect_static(acc, 1 / np.diff(df.time_s).mean()))
+    assert abs(res.angle_deg.iloc[-1] - np.degrees(theta[-1])) < 0.1
 
 
 @pytest.mark.parametrize("mutate,msg", [
