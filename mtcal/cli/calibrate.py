@@ -118,7 +118,7 @@ def run(args: argparse.Namespace) -> int:
                 rests = sixpos.find_rests(still, log.fs_hz, min_rest_s=min_rest)
             else:
                 rests = rep.rests
-            checks.gyro_tilt_consistency(log.gyro_for_filter(), log.accel_m_s2, log.dt_mean_s, rep.rests,
+            checks.gyro_tilt_consistency(log.gyro_for_filter(), log.accel_m_s2, log.dt_mean_s, rests,
                                          time_s=log.time_s, skip=checks.clipped_samples(log.gyro_rad_s)[0])
             q, info = sensor_attitude(log, rep)
         else:

@@ -29,6 +29,10 @@ _CANDIDATES = {np.pi / 180: "gyro looks like deg/s read as rad/s: use --gyro-uni
                0.001: "integrated gyro is 1000x too large: time in ms read as s? use --time-unit ms"}
 
 
+#: Largest mean rate (rad/s, about the median rest's) of a rest used by :func:`gyro_tilt_consistency`.
+MAX_REST_RATE_RAD_S = np.radians(2.0)
+
+
 def cumulative_rotation(gyro_rad_s: np.ndarray, dt_s: float) -> np.ndarray:
     """``q_k = Δq_0 ⊗ … ⊗ Δq_k`` with ``Δq = exp(ω dt / 2)`` by a parallel prefix scan, (M, 4)."""
     q = rotations.quat_from_rotvec(gyro_rad_s * dt_s)
@@ -87,6 +91,10 @@ def gyro_tilt_consistency(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: 
         majority of the checked pairs; the message names the scale that fits.
     """
     t = np.arange(accel_m_s2.shape[0]) * dt_s if time_s is None else time_s
+    if len(rests) >= 2:  # a "rest" that turns (e.g. an accelerometer-only ZVD during a pure rotation) is no rest
+        means = np.array([gyro_rad_s[r].mean(axis=0) for r in rests])
+        ref = np.median(means, axis=0)
+        rests = [r for r, m in zip(rests, means) if np.linalg.norm(m - ref) < MAX_REST_RATE_RAD_S]
     cand = []
     for r0, r1 in zip(rests[:-1], rests[1:]):
         if (r1.start - r0.stop) * dt_s > max_gap_s:
