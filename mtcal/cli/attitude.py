@@ -35,11 +35,17 @@ def qncf_params(rep):
 
 
 def sensor_attitude(log: logio.ImuLog, rep) -> tuple[np.ndarray, dict]:
-    """QNCF sensor attitude (N, 4) of a raw log and a description of how it was made."""
-    from mtcal.filters.qncf import initial_attitude_from_accel, qncf
+    """QNCF sensor attitude (N, 4) of a raw log and a description of how it was made.
 
-    params = qncf_params(rep)
-    first = rep.rests[0] if rep.rests else None
+    With the paper's rest detector (``rep.method == "paper"``) the QNCF runs exactly
+    as before the adaptive detector existed: default :class:`QncfParams`, levelled
+    from the first 100 samples, no initial bias removed.
+    """
+    from mtcal.filters.qncf import QncfParams, initial_attitude_from_accel, qncf
+
+    paper = rep.method == "paper"
+    params = QncfParams() if paper else qncf_params(rep)
+    first = rep.rests[0] if rep.rests and not paper else None
     gyro = log.gyro_for_filter()
     if first is not None and first.start <= max(int(0.25 * log.fs_hz), 1):
         q0 = initial_attitude_from_accel(log.accel_m_s2[first].mean(axis=0))
