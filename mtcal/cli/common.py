@@ -20,7 +20,7 @@ log schema (CSV or Parquet, header row, one row per sample; extra columns ignore
   accel_x_m_s2, accel_y_m_s2, accel_z_m_s2  specific force (m/s^2); level at rest ~ +g on z
 other units: --time-unit ms|us, --gyro-unit deg/s, --accel-unit g, --gyro-scale/--accel-scale
 (counts -> unit, 1 or 3 factors), --columns time_s=Time,gyro_x=GyrX,... (or headers time_ms,
-gyro_x_deg_s, accel_x_g). Jittered timestamps: per-sample dt. Rests: measured from the data
+gyro_x_deg_s, accel_x_g); no time column: --fs-hz. Jittered timestamps: per-sample dt. Rests: measured from the data
 (--rest-detector adaptive, default) or the paper's fixed ZVD band (--rest-detector paper)."""
 
 
@@ -43,6 +43,7 @@ def add_input_options(p: argparse.ArgumentParser) -> None:
     g.add_argument("--gyro-scale", metavar="S|SX,SY,SZ", help="multiply gyro columns first (counts -> unit)")
     g.add_argument("--accel-scale", metavar="S|SX,SY,SZ", help="multiply accel columns first (counts -> unit)")
     g.add_argument("--columns", metavar="NAME=HEADER,...", help="map schema names to your headers")
+    g.add_argument("--fs-hz", metavar="HZ", help="uniform sample rate for a log without a time column (Hz)")
 
 
 def add_rest_options(p: argparse.ArgumentParser, *, min_rest_s: float | None, figure: bool = True) -> None:
@@ -67,7 +68,8 @@ def input_options(args) -> logio.InputOptions:
     return logio.InputOptions(time_unit=args.time_unit, gyro_unit=args.gyro_unit, accel_unit=args.accel_unit,
                               gyro_scale=logio.parse_scale(args.gyro_scale, "--gyro-scale"),
                               accel_scale=logio.parse_scale(args.accel_scale, "--accel-scale"),
-                              columns=logio.parse_columns(args.columns))
+                              columns=logio.parse_columns(args.columns),
+                              fs_hz=None if args.fs_hz is None else finite_float(args.fs_hz, "--fs-hz"))
 
 
 def detect(args, log: logio.ImuLog, *, use_gyro: bool = True) -> rd.RestReport:

@@ -106,8 +106,11 @@ class InputOptions:
     gyro_scale: np.ndarray | None = None
     accel_scale: np.ndarray | None = None
     columns: dict = field(default_factory=dict)
+    fs_hz: float | None = None
 
     def __post_init__(self) -> None:
+        if self.fs_hz is not None and not (np.isfinite(self.fs_hz) and MIN_FS_HZ <= self.fs_hz <= MAX_FS_HZ):
+            raise ValueError(f"--fs-hz must be a sample rate in {MIN_FS_HZ:g}-{MAX_FS_HZ:g} Hz, got {self.fs_hz}")
         for name, table in (("time_unit", TIME_UNITS), ("gyro_unit", GYRO_UNITS), ("accel_unit", ACCEL_UNITS)):
             val = getattr(self, name)
             if val is not None and val not in table:
@@ -261,9 +264,9 @@ def read_log(path, opts: InputOptions | None = None, *, need: str = "raw", min_s
     has_raw = all(c in found for c in GYRO_COLS + ACCEL_COLS)
     has_acc = all(c in found for c in ACCEL_COLS)
     has_q = all(c in found for c in QUAT_COLS)
-    if "time_s" not in found:
+    if "time_s" not in found and opts.fs_hz is None:
         raise ValueError(f"{path}: missing column time_s (columns: {', '.join(list(cols)[:20])}); "
-                         f"map yours with --columns time_s=NAME")
+                         f"map yours with --columns time_s=NAME, or give --fs-hz for a uniformly sampled log")
     required = {"raw": GYRO_COLS + ACCEL_COLS, "accel": ACCEL_COLS, "raw_or_quat": QUAT_COLS}[need]
     ok = {"raw": has_raw, "accel": has_acc, "raw_or_quat": has_raw or has_q}[need]
     if not ok:
@@ -273,7 +276,12 @@ def read_log(path, opts: InputOptions | None = None, *, need: str = "raw", min_s
                          f"{', '.join(list(cols)[:20])}; map yours with --columns NAME=HEADER")
     notes = []
     time_unit = opts.time_unit or implied.get("time_s", "s")
-    t = _numeric(cols[found["time_s"]], found["time_s"], p) * TIME_UNITS[time_unit]
+    if opts.fs_hz is not None:  # --fs-hz: uniform time, any time column ignored
+        t = np.arange(len(next(iter(cols.values())))) / opts.fs_hz
+        found["time_s"] = "--fs-hz"
+        notes.append(f"time from --fs-hz {opts.fs_hz:g}")
+    else:
+        t = _numeric(cols[found["time_s"]], found["time_s"], p) * TIME_UNITS[time_unit]
     if time_unit != "s":
         notes.append(f"time in {time_unit}")
     if t.size < min_samples:

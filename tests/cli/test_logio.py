@@ -192,3 +192,14 @@ def test_failed_write_keeps_existing_output(base, tmp_path):
     assert "Traceback" not in proc.stderr
     assert out.read_text() == "old result\n"
     assert sorted(os.listdir(tmp_path)) == ["angle.csv", "log.csv"]
+
+
+def test_fs_hz_for_a_log_without_time(base, tmp_path):
+    ref = _read(tmp_path, base.df)
+    got = _read(tmp_path, base.df.drop(columns=["time_s"]), fs_hz=200.0)
+    np.testing.assert_allclose(got.time_s, ref.time_s - ref.time_s[0], atol=1e-9)
+    assert got.fs_hz == pytest.approx(200.0) and "time from --fs-hz 200" in got.notes
+    with pytest.raises(ValueError, match="or give --fs-hz"):
+        _read(tmp_path, base.df.drop(columns=["time_s"]))
+    with pytest.raises(ValueError, match="--fs-hz must be a sample rate"):
+        logio.InputOptions(fs_hz=1e6)
