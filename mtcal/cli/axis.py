@@ -294,7 +294,7 @@ def register(subparsers) -> None:
                               epilog=AXIS_EXAMPLE, formatter_class=fmt)
     p.add_argument("log", help="IMU log (CSV or Parquet)")
     p.add_argument("--min-separation-deg", default="3", help="rests closer in tilt are one position (deg)")
-    p.add_argument("--max-axis-error-deg", default="1", help="refuse an axis less certain than this (deg, 1 sigma)")
+    p.add_argument("--max-axis-error-deg", default="2", help="refuse an axis less certain than this (deg, 1 sigma)")
     p.add_argument("--max-elevation-deg", default="85", help="refuse an axis steeper than this (deg)")
     common.add_input_options(p)
     common.add_rest_options(p, min_rest_s=0.5)
