@@ -17,8 +17,12 @@ sensor reads when it is still and sets every threshold from that:
    median of their mean rates.
 3. A sample is static when, over a centred window of ``window_s``,
 
-   * the accelerometer standard deviation (rms over axes) is below ``k σ_a``,
-   * the gyro standard deviation is below ``k σ_ω``,
+   * the accelerometer standard deviation (rms over axes) is below
+     ``max(k σ_a, √(σ_a m_a))``, with ``m_a`` the 90th percentile of the window
+     standard deviations (the motion level): rests that are noisier than the
+     quietest ones (a foot's stance after a still stand) stay rests as long as
+     they are far quieter than the motion (geometric middle of the two levels),
+   * the gyro standard deviation is below ``max(k σ_ω, √(σ_ω m_ω))`` likewise,
    * the mean ``‖a‖`` is within ``g ± max(k σ_a, band_fraction g)`` (the band
      allows the few-tenths-of-a-percent change of ``‖a‖`` with orientation
      that accelerometer scale errors cause),
@@ -291,10 +295,12 @@ def _block_levels(accel: np.ndarray, norm: np.ndarray, gyro: np.ndarray | None, 
         score += np.argsort(np.argsort(g_std))
     m = max(3, int(np.ceil(quiet_fraction * nb)))
     quiet = np.argpartition(score, m - 1)[:m]
-    out = {"gravity": float(np.median(a_norm[quiet])), "accel_noise": float(np.median(a_std[quiet]))}
+    out = {"gravity": float(np.median(a_norm[quiet])), "accel_noise": float(np.median(a_std[quiet])),
+           "accel_motion": float(np.percentile(a_std, 90))}
     if gyro is not None:
         out["gyro_noise"] = float(np.median(g_std[quiet]))
         out["gyro_bias"] = np.median(g_mean[quiet], axis=0)
+        out["gyro_motion"] = float(np.percentile(g_std, 90))
     return out
 
 
@@ -343,7 +349,8 @@ def detect_rests(accel_m_s2, fs_hz: float, *, gyro_rad_s=None,
     k = p.noise_factor
     grav = p.gravity_m_s2 if p.gravity_m_s2 is not None else lv["gravity"]
     sig_a = max(lv["accel_noise"], ACCEL_NOISE_FLOOR_M_S2)
-    a_std_max = p.accel_std_max_m_s2 if p.accel_std_max_m_s2 is not None else k * sig_a
+    a_std_max = (p.accel_std_max_m_s2 if p.accel_std_max_m_s2 is not None
+                 else max(k * sig_a, np.sqrt(sig_a * lv["accel_motion"])))
     half = p.accel_band_m_s2 if p.accel_band_m_s2 is not None else max(k * sig_a, p.band_fraction * grav)
     band = (grav - half, grav + half)
 
@@ -358,7 +365,8 @@ def detect_rests(accel_m_s2, fs_hz: float, *, gyro_rad_s=None,
     if g is not None:
         sig_w = max(lv["gyro_noise"], GYRO_NOISE_FLOOR_RAD_S)
         bias = lv["gyro_bias"]
-        g_std_max = p.gyro_std_max_rad_s if p.gyro_std_max_rad_s is not None else k * sig_w
+        g_std_max = (p.gyro_std_max_rad_s if p.gyro_std_max_rad_s is not None
+                     else max(k * sig_w, np.sqrt(sig_w * lv["gyro_motion"])))
         g_lvl_max = (p.gyro_level_max_rad_s if p.gyro_level_max_rad_s is not None
                      else max(k * sig_w, p.min_gyro_level_rad_s))
         g_mean, g_std = blk.stats(g)

@@ -115,3 +115,25 @@ def test_bad_params_and_short_records():
         rd.detect_rests(np.tile([0, 0, 9.8], (30, 1)), FS)
     with pytest.raises(ValueError, match="looks like it is in g"):
         rd.detect_rests(np.tile([0, 0, 1.0], (300, 1)), FS)
+
+
+def test_noisier_rests_after_a_still_stand_are_rests(rng):
+    """Stances 10x noisier than a long still stand: far quieter than the swings, so still rests."""
+    fs = 400.0
+    seg = [("stand", 8.0)] + [("swing", 0.5), ("stance", 0.5)] * 8
+    acc, gyr, truth = [], [], []
+    for kind, dur in seg:
+        n = int(dur * fs)
+        tt = np.arange(n) / fs
+        a = np.tile([0.0, 0.0, 10.07], (n, 1))
+        g = np.tile(np.radians([2.5, -3.0, 0.8]), (n, 1))
+        if kind == "swing":
+            a[:, 0] += 15 * np.sin(2 * np.pi * tt / dur)
+            g[:, 1] += np.radians(300) * np.sin(np.pi * tt / dur)
+        sa, sg = (0.01, np.radians(0.1)) if kind == "stand" else (0.1, np.radians(1.0))
+        acc.append(a + rng.normal(0, sa, (n, 3)))
+        gyr.append(g + rng.normal(0, sg, (n, 3)))
+        truth.append(kind != "swing")
+    rep = rd.detect_rests(np.vstack(acc), fs, gyro_rad_s=np.vstack(gyr))
+    assert len(rep.rests) == 1 + 8
+    assert rep.accel_std_max_m_s2 > 0.15 > 5 * rep.accel_noise_m_s2  # relaxed towards the motion level
