@@ -164,8 +164,13 @@ class ImuLog:
         return self.gyro_rad_s * (self.dt_s * self.fs_hz)[:, None]
 
 
-def _read_table(path: Path):
-    """Column name → 1-D array (numeric or object) from CSV or Parquet."""
+def _read_table(path: Path, select=None):
+    """Column name (stripped) → Arrow column, from CSV or Parquet.
+
+    ``select(names) -> names`` picks the columns a CSV read parses, as float64
+    (no type inference, no unused columns); a value that is not a number makes
+    the read fall back to inferring every column so the error can name its row.
+    """
     import pyarrow as pa
 
     if path.suffix.lower() in (".parquet", ".pq"):
@@ -183,12 +188,31 @@ def _read_table(path: Path):
         if not head.strip():
             raise ValueError(f"{path}: empty file (a header row is required)")
         delim = "," if "," in head else ";" if ";" in head else "\t" if "\t" in head else ","
-        try:
-            table = pcsv.read_csv(path, parse_options=pcsv.ParseOptions(delimiter=delim),
-                                  convert_options=pcsv.ConvertOptions(strings_can_be_null=True))
-        except (pa.ArrowException, UnicodeDecodeError) as exc:
-            raise ValueError(f"{path}: not a readable CSV ({str(exc).splitlines()[0][:200]})") from None
-    return {str(name).strip(): col for name, col in zip(table.column_names, table.columns)}
+        parse = pcsv.ParseOptions(delimiter=delim)
+        table, raw = None, []
+        if select is not None:
+            raw = [h.strip().strip('"').strip() for h in head.rstrip("\r\n").split(delim)]
+            raw_names = [h.rstrip("\r\n").split(delim) for h in [head]][0]
+            by_name = {r: n.strip().strip('"') for r, n in zip(raw, raw_names)}
+            want = [by_name[n] for n in select(raw) if n in by_name]
+            if want and len(set(raw)) == len(raw):
+                try:
+                    table = pcsv.read_csv(path, parse_options=parse, convert_options=pcsv.ConvertOptions(
+                        include_columns=want, column_types={w: pa.float64() for w in want}))
+                except (pa.ArrowException, UnicodeDecodeError):
+                    table = None  # e.g. a non-numeric value: the full read below names its row
+        if table is None:
+            try:
+                table = pcsv.read_csv(path, parse_options=parse,
+                                      convert_options=pcsv.ConvertOptions(strings_can_be_null=True))
+            except (pa.ArrowException, UnicodeDecodeError) as exc:
+                raise ValueError(f"{path}: not a readable CSV ({str(exc).splitlines()[0][:200]})") from None
+    out = {str(name).strip(): col for name, col in zip(table.column_names, table.columns)}
+    if path.suffix.lower() not in (".parquet", ".pq") and select is not None and len(out) < len(raw):
+        out_names = raw  # every header of the file, for messages
+    else:
+        out_names = list(out)
+    return out, out_names
 
 
 def _numeric(col, header: str, path: Path) -> np.ndarray:
@@ -255,17 +279,17 @@ def read_log(path, opts: InputOptions | None = None, *, need: str = "raw", min_s
         raise ValueError(f"log file not found: {path}")
     if not p.is_file():
         raise ValueError(f"log {path} is not a regular file")
-    cols = _read_table(p)
+    cols, all_names = _read_table(p, select=lambda names: list(_resolve(set(names), CANONICAL, opts)[0].values()))
     for c, header in opts.columns.items():
         if header not in cols:
             raise ValueError(f"{path}: --columns maps {c} to {header!r}, which is not a column "
-                             f"(columns: {', '.join(list(cols)[:20])})")
+                             f"(columns: {', '.join(all_names[:20])})")
     found, implied = _resolve(cols, CANONICAL, opts)
     has_raw = all(c in found for c in GYRO_COLS + ACCEL_COLS)
     has_acc = all(c in found for c in ACCEL_COLS)
     has_q = all(c in found for c in QUAT_COLS)
     if "time_s" not in found and opts.fs_hz is None:
-        raise ValueError(f"{path}: missing column time_s (columns: {', '.join(list(cols)[:20])}); "
+        raise ValueError(f"{path}: missing column time_s (columns: {', '.join(all_names[:20])}); "
                          f"map yours with --columns time_s=NAME, or give --fs-hz for a uniformly sampled log")
     required = {"raw": GYRO_COLS + ACCEL_COLS, "accel": ACCEL_COLS, "raw_or_quat": QUAT_COLS}[need]
     ok = {"raw": has_raw, "accel": has_acc, "raw_or_quat": has_raw or has_q}[need]
@@ -273,7 +297,7 @@ def read_log(path, opts: InputOptions | None = None, *, need: str = "raw", min_s
         missing = [c for c in required if c not in found]
         extra = f" (or the raw set {', '.join(GYRO_COLS + ACCEL_COLS)})" if need == "raw_or_quat" else ""
         raise ValueError(f"{path}: missing columns {', '.join(missing)}{extra}; columns present: "
-                         f"{', '.join(list(cols)[:20])}; map yours with --columns NAME=HEADER")
+                         f"{', '.join(all_names[:20])}; map yours with --columns NAME=HEADER")
     notes = []
     time_unit = opts.time_unit or implied.get("time_s", "s")
     if opts.fs_hz is not None:  # --fs-hz: uniform time, any time column ignored

@@ -203,3 +203,13 @@ def test_fs_hz_for_a_log_without_time(base, tmp_path):
         _read(tmp_path, base.df.drop(columns=["time_s"]))
     with pytest.raises(ValueError, match="--fs-hz must be a sample rate"):
         logio.InputOptions(fs_hz=1e6)
+
+
+def test_only_needed_columns_parsed_and_all_listed_in_errors(base, tmp_path):
+    df = base.df.rename(columns={"time_s": "T"}).assign(mag_x=1.0, note="text")
+    p = tmp_path / "extra.csv"
+    df.to_csv(p, index=False)
+    with pytest.raises(ValueError, match="missing column time_s \\(columns: T, gyro_x_rad_s.*mag_x, note\\)"):
+        logio.read_log(p)
+    got = logio.read_log(p, logio.InputOptions(columns={"time_s": "T"}))
+    np.testing.assert_array_equal(got.accel_m_s2, _read(tmp_path, base.df).accel_m_s2)
