@@ -133,6 +133,15 @@ def _envelope(t: np.ndarray, y: np.ndarray, buckets: int = 3000):
     return t[idx], np.minimum.reduceat(y, idx), np.maximum.reduceat(y, idx)
 
 
+def _trace(ax, t: np.ndarray, y: np.ndarray, **kw) -> None:
+    """A long record as its min/max envelope, a short one as a line."""
+    tt, lo, hi = _envelope(t, y)
+    if lo is hi:
+        ax.plot(tt, y, lw=0.7, **kw)
+    else:
+        ax.fill_between(tt, lo, hi, lw=0.5, **kw)
+
+
 class DiagnosticsFigure:
     """Collects what a command learned and writes the figure in ``finally`` (also on failure)."""
 
@@ -164,9 +173,10 @@ class DiagnosticsFigure:
                          wrap=True, fontsize=8, transform=axes[0].transAxes)
         else:
             t = self.log.time_s
-            tt, lo, hi = _envelope(t, np.linalg.norm(self.log.accel_m_s2, axis=1))
+            norm = np.linalg.norm(self.log.accel_m_s2, axis=1)
+            _, lo, hi = _envelope(t, norm)
             ax = axes[0]
-            ax.fill_between(tt, lo, hi, color="tab:blue", lw=0.5, label="|a|")
+            _trace(ax, t, norm, color="tab:blue", label="|a|")
             rep = self.report
             if rep is not None:
                 ax.axhspan(rep.band_m_s2[0], rep.band_m_s2[1], color="tab:green", alpha=0.15,
@@ -190,8 +200,7 @@ class DiagnosticsFigure:
             ax.set_title("green: rests, red: rejected quiet stretches, orange: rests used", fontsize=8)
             k = 1
             if has_gyro:
-                tt, lo, hi = _envelope(t, np.degrees(np.linalg.norm(self.log.gyro_rad_s, axis=1)))
-                axes[k].fill_between(tt, lo, hi, color="tab:purple", lw=0.5)
+                _trace(axes[k], t, np.degrees(np.linalg.norm(self.log.gyro_rad_s, axis=1)), color="tab:purple")
                 if rep is not None and np.isfinite(rep.gyro_level_max_rad_s):
                     axes[k].axhline(np.degrees(rep.gyro_level_max_rad_s + np.linalg.norm(rep.gyro_bias_rad_s)),
                                     color="tab:green", lw=0.6, label="rest threshold (bias + level)")
@@ -201,8 +210,7 @@ class DiagnosticsFigure:
                 axes[k].set_ylabel("|ω| (°/s)")
                 k += 1
             for name, y in self.series.items():
-                tt, lo, hi = _envelope(t, np.asarray(y, float))
-                axes[k].fill_between(tt, lo, hi, lw=0.8, label=name)
+                _trace(axes[k], t, np.asarray(y, float), color="tab:red", label=name)
                 axes[k].set_ylabel(name)
             axes[-1].set_xlabel("time (s)")
         out = self.path
