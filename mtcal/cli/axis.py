@@ -231,7 +231,16 @@ def cmd_angle(args: argparse.Namespace) -> int:
                   f"{t[k0] - t[0]:.2f} s (angle 0 there, empty before)")
         fig.series = {"angle (deg)": angle}
         logio.write_table(out, {"time_s": t, "angle_deg": angle, "is_static": rep.is_static.astype(np.int8)})
-        common.print_report(log, rep, angle_deg=angle)
+        means = np.array([log.accel_m_s2[r].mean(axis=0) for r in rep.rests]).reshape(-1, 3)
+        acc_ang = _angles_about(v, a0, means)
+        ekf_ang = np.array([np.nanmedian(angle[r]) if np.isfinite(angle[r]).any() else np.nan for r in rep.rests])
+        acc_ang = acc_ang + 360.0 * np.round((ekf_ang - acc_ang) / 360.0)  # same turn as the EKF
+        common.print_report(log, rep, angle_deg=angle, extra={"accel_angle_deg": acc_ang})
+        off = np.abs(ekf_ang - acc_ang)
+        if np.nanmax(off, initial=0.0) > 2.0 and np.cos(np.radians(elev)) > 0.2:
+            i = int(np.nanargmax(off))
+            print(f"warning: at rest {i} the EKF angle differs from the accelerometer's by {off[i]:.2f} deg "
+                  f"(axis or accelerometer errors; check --axis)")
         if check["pairs"]:
             print(f"gyro/accelerometer check: {check['pairs']} rest pair(s), rotation/tilt ratio "
                   f"{check['ratio']:.3f}, worst misfit {check['worst_deg']:.2f} deg")

@@ -89,14 +89,19 @@ def detect(args, log: logio.ImuLog, *, use_gyro: bool = True) -> rd.RestReport:
 
 
 def rest_table(log: logio.ImuLog, report: rd.RestReport, angle_deg: np.ndarray | None = None,
-               angle_name: str = "angle_deg") -> list[str]:
-    """Per-rest summary lines: time span, duration, |a|, tilt from sensor z, mean gyro, angle."""
+               angle_name: str = "angle_deg", extra: dict | None = None) -> list[str]:
+    """Per-rest summary lines: time span, duration, |a|, tilt from sensor z, mean gyro, angle, extras.
+
+    ``extra`` maps a column name to one value per rest.
+    """
     t, a = log.time_s, log.accel_m_s2
     head = f"{'rest':>4} {'start_s':>10} {'stop_s':>10} {'dur_s':>7} {'|a|_m_s2':>9} {'tilt_deg':>9}"
     if log.gyro_rad_s is not None:
         head += f" {'|w|_deg_s':>9}"
     if angle_deg is not None:
         head += f" {angle_name:>10}"
+    for name in extra or {}:
+        head += f" {name:>{max(10, len(name))}}"
     lines = [head]
     for i, r in enumerate(report.rests):
         m = a[r].mean(axis=0)
@@ -107,17 +112,20 @@ def rest_table(log: logio.ImuLog, report: rd.RestReport, angle_deg: np.ndarray |
             line += f" {np.degrees(np.linalg.norm(log.gyro_rad_s[r].mean(axis=0))):>9.3f}"
         if angle_deg is not None:
             line += f" {float(np.median(angle_deg[r])):>10.3f}"
+        for name, vals in (extra or {}).items():
+            line += f" {float(vals[i]):>{max(10, len(name))}.3f}"
         lines.append(line)
     return lines
 
 
-def print_report(log: logio.ImuLog, report: rd.RestReport, angle_deg=None, angle_name="angle_deg") -> None:
+def print_report(log: logio.ImuLog, report: rd.RestReport, angle_deg=None, angle_name="angle_deg",
+                 extra: dict | None = None) -> None:
     print(f"log: {log.path} ({log.n} samples at {log.fs_hz:.2f} Hz, {log.time_s[-1] - log.time_s[0]:.2f} s)"
           + (f"; {'; '.join(log.notes)}" if log.notes else ""))
     print(report.levels_text())
-    extra = f", {len(report.rejected)} quiet stretches rejected" if report.rejected else ""
-    print(f"rests: {len(report.rests)} of >= {report.min_rest_s:g} s{extra}")
-    for line in rest_table(log, report, angle_deg, angle_name):
+    rejected = f", {len(report.rejected)} quiet stretches rejected" if report.rejected else ""
+    print(f"rests: {len(report.rests)} of >= {report.min_rest_s:g} s{rejected}")
+    for line in rest_table(log, report, angle_deg, angle_name, extra):
         print("  " + line)
     for rej in report.rejected[:10]:
         print(f"  rejected {log.time_s[rej.span.start]:.3f}-{log.time_s[rej.span.stop - 1]:.3f} s: {rej.reason}")
