@@ -82,7 +82,7 @@ def test_axis_and_angle_right_on_quirky_logs(case, hinge_logs, tmp_path, capsys)
     for t0, t1 in holds:
         inside = res[(res.time_s > t0 + 0.3 * (t1 - t0)) & (res.time_s < t1 - 0.3 * (t1 - t0))]
         assert inside.is_static.mean() > 0.9
-    assert "final angle" in out and re.search(r"^\s+rest\s+start_s", out, re.M)
+    assert "final angle" in out and re.search(r"^\s+rest\s+start_s.*angle_deg accel_angle_deg$", out, re.M)
 
 
 def test_short_stances_at_1200hz_all_found(tmp_path, capsys):
