@@ -468,7 +468,10 @@ def write_table(path, columns: dict, *, decimals: dict | None = None) -> None:
     else:
         import pyarrow.csv as pcsv
 
-        opts = pcsv.WriteOptions(quoting_style="none", quoting_header="none")
+        try:
+            opts = pcsv.WriteOptions(quoting_style="none", quoting_header="none")
+        except TypeError:  # pyarrow < 19 has no quoting_header (the header is then quoted; readers accept it)
+            opts = pcsv.WriteOptions(quoting_style="none")
         _atomic(p, lambda tmp: pcsv.write_csv(table, tmp, write_options=opts))
 
 
