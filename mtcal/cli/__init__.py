@@ -1,7 +1,10 @@
 """The ``mtcal`` command line: the papers' methods on a user's own log.
 
-Subcommands: ``calibrate`` (six-position installation-error calibration), ``axis``
-(rotation axis from three rests), ``angle`` (EKF rotation angle about an axis).
+Subcommands: ``rests`` (static intervals and measured levels), ``calibrate``
+(six-position installation-error calibration, ``--out Q.json``), ``apply``
+(calibrated attitude from ``Q.json``), ``attitude`` (QNCF attitude), ``axis``
+(rotation axis from rests at three tilts), ``angle`` (EKF rotation angle about
+an axis). One log reader (:mod:`mtcal.cli.logio`) serves every command.
 """
 
 from .main import UserInputError, build_parser, main

@@ -1,160 +1,212 @@
-"""``mtcal calibrate LOG.csv --positions POS.csv`` — wang2023cja six-position calibration of a real log.
+"""``mtcal calibrate LOG --positions POS.csv`` — wang2023cja six-position installation-error calibration.
 
-LOG.csv (comma-separated, header row, one row per sample, uniformly sampled)
------------------------------------------------------------------------------
-* ``time_s`` — sample time in s, strictly increasing (required);
-* either the sensor attitude quaternion ``q0, q1, q2, q3`` (scalar-first,
-  s-frame → world, e.g. the QNCF output of the logger),
-* or raw inertial data ``gyro_x_rad_s, gyro_y_rad_s, gyro_z_rad_s`` (rad/s,
-  mean rate over each sample interval) and ``accel_x_m_s2, accel_y_m_s2,
-  accel_z_m_s2`` (m/s²), which are run through the QNCF first
-  (:func:`mtcal.filters.qncf.qncf`, default gains, AMD Thr 0.3).
-If both are present the quaternions are used. The attitude is zeroed at the
-first sample ("initial attitude angles 0°", wang2023cja §4.1).
-
-POS.csv (one row per calibration rest, in any order)
+LOG (CSV or Parquet, header row, one row per sample)
 ----------------------------------------------------
-``yaw_deg, pitch_deg, roll_deg`` — the mechanism's reference angles (Eq 15;
-wang2023cja Eq 8/9 convention: yaw about z, pitch about x, roll about y), at
-least 3 rows (Eq 13), typically the six of §3.2.
+* ``time_s`` — sample time (s), strictly increasing (jitter allowed: per-sample dt);
+* either raw inertial data ``gyro_x_rad_s, gyro_y_rad_s, gyro_z_rad_s`` (rad/s)
+  and ``accel_x_m_s2, accel_y_m_s2, accel_z_m_s2`` (m/s²), run through the QNCF
+  (``mtcal attitude``), or the sensor attitude ``q0, q1, q2, q3`` (scalar-first,
+  sensor → world) of the logger; raw data wins when both are present.
+The attitude is zeroed at the first sample ("initial attitude angles 0°", §4.1).
 
-Rests are detected from the data (gyro norm, or quaternion rate when only
-quaternions are given), their middle halves averaged, matched to the
-positions by nearest attitude, and Eq 13 is solved. Prints Q̂, the residual
-per position and the before/after errors. Bad files (missing columns, NaN,
-unsorted time, too few rests) raise ``ValueError`` with a one-line message;
-the dispatcher prints ``mtcal: error: …`` and exits with status 2.
+POS.csv (one row per calibration position, any order, at least 4)
+-----------------------------------------------------------------
+``yaw_deg, pitch_deg, roll_deg`` — the mechanism's reference angles (Eq 15; Eq 8/9
+convention: yaw about z, pitch about x, roll about y). Eq 13 fits 16 numbers, so it
+needs ≥ 4 positions with linearly independent quaternions (the paper's "3" relies
+on a norm constraint the linear fit does not use); 6 (§3.2) leave residuals to check.
+
+Rests are found by the adaptive detector (raw logs) or from the quaternion rate
+(attitude logs), their middle halves averaged, matched to the positions by
+nearest attitude, and Eq 13 is solved. The fit is refused when Q̂ is far from a
+rotation of quaternion space (an all-zero row, entries like 10), when the
+positions are ill-conditioned, or when a residual exceeds ``--max-residual-deg``.
+Prints Q̂, the installation angles (inverse of Eq 1 of the mounting part of Q̂),
+the residual per position and the before/after errors; ``--out Q.json`` saves it
+for ``mtcal apply``.
 """
 
 from __future__ import annotations
 
 import argparse
+import json
 from pathlib import Path
 
 import numpy as np
-import pandas as pd
 
+from mtcal.cli import checks, common, logio
 from mtcal.methods import six_position as sixpos
-from mtcal.filters.qncf import qncf
 
-QUAT_COLS = ["q0", "q1", "q2", "q3"]
-GYRO_COLS = ["gyro_x_rad_s", "gyro_y_rad_s", "gyro_z_rad_s"]
-ACCEL_COLS = ["accel_x_m_s2", "accel_y_m_s2", "accel_z_m_s2"]
 POS_COLS = ["yaw_deg", "pitch_deg", "roll_deg"]
+FORMAT = "mtcal-calibration/1"
+
+EXAMPLE = """\
+Q.json (--out): q_hat (4x4, q_body = Q_hat q_sensor), installation_angles_deg
+  (alpha1 about z, alpha2 about y, alpha3 about x; Eq 1), mounting_quaternion_q_bs,
+  reference_offset_quaternion, positions_deg, residual_deg, attitude settings
+example:
+  mtcal calibrate turntable.csv --positions pos.csv --out Q.json --figure cal.png
+  mtcal apply Q.json flight.csv --out body_attitude.csv"""
+
+#: Gates (defaults; options override): distance of Q̂ from SO(4) (Frobenius) and Eq 13 conditioning.
+MAX_SO4_DISTANCE = 0.05
+MAX_CONDITION = 1e4
 
 
 def register(subparsers) -> None:
     """Add the ``calibrate`` subcommand to the ``mtcal`` dispatcher."""
     p = subparsers.add_parser("calibrate", help="six-position installation-error calibration (wang2023cja)",
-                              description=__doc__.splitlines()[0])
-    p.add_argument("log", type=Path, help="IMU log CSV (time_s + q0..q3 or gyro/accel columns)")
-    p.add_argument("--positions", type=Path, required=True, help="reference positions CSV (yaw/pitch/roll deg)")
-    p.add_argument("--fraction", type=float, default=0.5, help="middle fraction of each rest averaged")
-    p.add_argument("--min-rest", type=float, default=2.0, help="shortest rest in s (default 2)")
+                              description=__doc__.split("\n\n")[0] + "\n\n" + "\n\n".join(__doc__.split("\n\n")[1:4]),
+                              epilog=EXAMPLE, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("log", type=Path, help="IMU log (time_s + gyro/accel columns or q0..q3)")
+    p.add_argument("--positions", type=Path, required=True, help="reference positions CSV (yaw/pitch/roll deg, >= 4)")
+    p.add_argument("--out", help="write the calibration (JSON) here, for `mtcal apply`")
+    p.add_argument("--fraction", default="0.5", help="middle fraction of each rest averaged")
+    p.add_argument("--max-residual-deg", default="1.0", help="refuse a fit with a larger residual (deg)")
+    p.add_argument("--max-so4-distance", default=str(MAX_SO4_DISTANCE),
+                   help="refuse a Q_hat farther than this from a rotation of quaternion space")
+    p.add_argument("--still-deg-s", default="0.2", help="quaternion-rate rest threshold for q0..q3 logs (deg/s)")
+    common.add_input_options(p)
+    common.add_rest_options(p, min_rest_s=None)
+    p.add_argument("--min-rest", dest="min_rest_s", help=argparse.SUPPRESS)  # old spelling
     p.set_defaults(func=run)
 
 
-def _read_csv(path: Path, what: str) -> pd.DataFrame:
+def _read_positions(path: Path) -> np.ndarray:
+    """Reference positions (K, 3) in rad from a CSV with yaw_deg, pitch_deg, roll_deg (K ≥ 4)."""
     if not Path(path).is_file():
-        raise FileNotFoundError(f"{what} file not found: {path}")
-    try:
-        df = pd.read_csv(path)
-    except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:
-        raise ValueError(f"{what} {path}: not a readable CSV ({str(exc).splitlines()[0]})") from None
-    df.columns = [str(c).strip() for c in df.columns]
-    return df
-
-
-def _numeric(df: pd.DataFrame, cols: list[str], path: Path) -> np.ndarray:
-    arr = df[cols].apply(pd.to_numeric, errors="coerce").to_numpy(float)
-    bad = ~np.isfinite(arr)
-    if bad.any():
-        row = int(np.argmax(bad.any(axis=1)))
-        col = cols[int(np.argmax(bad[row]))]
-        raise ValueError(f"{path}: non-numeric or NaN value in column {col!r} at data row {row + 1}")
-    return arr
-
-
-def load_log(path: Path) -> dict:
-    """Read and check a log; returns time_s, fs_hz and q_ws or gyro/accel arrays."""
-    df = _read_csv(path, "log")
-    if "time_s" not in df.columns:
-        raise ValueError(f"{path}: missing column 'time_s' (columns: {', '.join(df.columns)})")
-    has_q = all(c in df.columns for c in QUAT_COLS)
-    has_raw = all(c in df.columns for c in GYRO_COLS + ACCEL_COLS)
-    if not (has_q or has_raw):
-        missing = [c for c in QUAT_COLS if c not in df.columns]
-        raise ValueError(f"{path}: missing columns {missing} (or the raw set {GYRO_COLS + ACCEL_COLS})")
-    t = _numeric(df, ["time_s"], path)[:, 0]
-    if t.size < 10:
-        raise ValueError(f"{path}: only {t.size} samples")
-    dt = np.diff(t)
-    if np.any(dt <= 0):
-        k = int(np.argmax(dt <= 0))
-        raise ValueError(f"{path}: time_s is not strictly increasing at data row {k + 2} "
-                         f"({t[k + 1]!r} after {t[k]!r}); sort the log by time")
-    if np.max(np.abs(dt - dt.mean())) > 0.01 * dt.mean():
-        raise ValueError(f"{path}: time_s is not uniformly sampled (dt between {dt.min():.6g} and {dt.max():.6g} s)")
-    out = {"time_s": t, "fs_hz": 1.0 / float(dt.mean())}
-    if has_q:
-        q = _numeric(df, QUAT_COLS, path)
-        norm = np.linalg.norm(q, axis=1)
-        if np.any(np.abs(norm - 1.0) > 1e-3):
-            raise ValueError(f"{path}: q0..q3 are not unit quaternions (|q| in [{norm.min():.4g}, {norm.max():.4g}])")
-        out["q_ws"] = q / norm[:, None]
-    if has_raw:
-        out["gyro_rad_s"] = _numeric(df, GYRO_COLS, path)
-        out["accel_m_s2"] = _numeric(df, ACCEL_COLS, path)
-    return out
-
-
-def load_positions(path: Path) -> np.ndarray:
-    """Reference positions (K, 3) in rad from a CSV with yaw_deg, pitch_deg, roll_deg."""
-    df = _read_csv(path, "positions")
-    missing = [c for c in POS_COLS if c not in df.columns]
+        raise ValueError(f"positions file not found: {path}")
+    cols, _ = logio._read_table(Path(path))
+    missing = [c for c in POS_COLS if c not in cols]
     if missing:
-        raise ValueError(f"{path}: missing columns {missing}")
-    ang = _numeric(df, POS_COLS, path)
-    if ang.shape[0] < 3:
-        raise ValueError(f"{path}: need at least 3 positions (Eq 13), got {ang.shape[0]}")
+        raise ValueError(f"{path}: missing columns {missing} (need {', '.join(POS_COLS)})")
+    ang = np.column_stack([logio._numeric(cols[c], c, Path(path)) for c in POS_COLS])
+    if ang.shape[0] < 4:
+        raise ValueError(f"{path}: need at least 4 positions for Eq 13 (16 unknowns), got {ang.shape[0]}; "
+                         f"the six positions of wang2023cja §3.2 are recommended")
+    if np.max(np.abs(ang)) > 360:
+        raise ValueError(f"{path}: angles must be in degrees within +-360, got {np.max(np.abs(ang)):.4g}")
     return np.radians(ang)
 
 
-def calibrate_log(log: dict, positions_rad: np.ndarray, *, fraction: float = 0.5,
-                  min_rest_s: float = 2.0) -> sixpos.SixPositionResult:
-    """Run the §3.2 procedure on a loaded log (QNCF first when only raw data is given)."""
-    fs = log["fs_hz"]
-    gyro = log.get("gyro_rad_s")
-    if "q_ws" in log:
-        q = log["q_ws"]
-    else:
-        q = qncf(gyro, log["accel_m_s2"], 1.0 / fs, return_euler=False).q_ws
-    from mtcal.core.rotations import hamilton, quat_conjugate
-    q = hamilton(quat_conjugate(q[0])[None, :], q)  # zero the start (§4.1)
-    q /= np.linalg.norm(q, axis=1, keepdims=True)
-    return sixpos.calibrate(q, positions_rad, fs, gyro_rad_s=gyro, fraction=fraction, min_rest_s=min_rest_s)
+load_positions = _read_positions
 
 
 def run(args: argparse.Namespace) -> int:
     """Entry point of ``mtcal calibrate``."""
-    log = load_log(args.log)
-    pos = load_positions(args.positions)
-    res = calibrate_log(log, pos, fraction=args.fraction, min_rest_s=args.min_rest)
-    print(f"log: {args.log} ({log['time_s'].size} samples at {log['fs_hz']:.1f} Hz); "
-          f"{len(res.rests)} rests found, {pos.shape[0]} positions")
-    print("Q_hat (Eq 13, q_body = Q_hat q_sensor):")
-    for row in res.q_matrix:
-        print("  " + "  ".join(f"{v:+.6f}" for v in row))
-    print(f"{'pos':>3} {'ref yaw/pitch/roll (deg)':>27} {'before error (deg)':>27} "
-          f"{'after error (deg)':>27} {'residual':>9}")
-    ref_deg = np.degrees(pos)
-    for k in range(pos.shape[0]):
-        b = np.degrees(res.euler_before_rad[k]) - ref_deg[k]
-        a = np.degrees(res.euler_after_rad[k]) - ref_deg[k]
-        b, a = (b + 180) % 360 - 180, (a + 180) % 360 - 180
+    fig = common.DiagnosticsFigure(args.figure, f"mtcal calibrate {args.log}", inputs=[args.log, args.positions])
+    out = None if args.out is None else logio.check_output_path(args.out, [args.log, args.positions])
+
+    def body() -> int:
+        from mtcal.cli.attitude import sensor_attitude
+        from mtcal.core import rotations
+        from mtcal.methods import constrained_fit
+
+        log = logio.read_log(args.log, common.input_options(args), need="raw_or_quat")
+        fig.log = log if log.accel_m_s2 is not None else None
+        pos = _read_positions(args.positions)
+        fraction = common.finite_float(args.fraction, "--fraction")
+        if args.min_rest_s is None:  # defaults: 1 s (adaptive), 2 s (paper's stillness detector, as before)
+            args.min_rest_s = "2.0" if args.rest_detector == "paper" or log.gyro_rad_s is None else "1.0"
+        min_rest = common.finite_float(args.min_rest_s, "--min-rest-s")
+        rep = None
+        if log.gyro_rad_s is not None:
+            rep = common.detect(args, log)
+            fig.report = rep
+            if args.rest_detector == "paper":
+                still = sixpos.stillness_from_gyro(log.gyro_rad_s, log.fs_hz)
+                rests = sixpos.find_rests(still, log.fs_hz, min_rest_s=min_rest)
+            else:
+                rests = rep.rests
+            checks.gyro_tilt_consistency(log.gyro_for_filter(), log.accel_m_s2, log.dt_mean_s, rests,
+                                         time_s=log.time_s, skip=checks.clipped_samples(log.gyro_rad_s)[0])
+            q, info = sensor_attitude(log, rep)
+        else:
+            still = sixpos.stillness_from_quaternions(
+                log.q_ws, log.fs_hz, threshold_rad_s=np.radians(common.finite_float(args.still_deg_s, "--still-deg-s")))
+            rests = sixpos.find_rests(still, log.fs_hz, min_rest_s=min_rest)
+            q, info = log.q_ws, {"filter": "none (q0..q3 from the log)"}
+        q = rotations.hamilton(rotations.quat_conjugate(q[0])[None, :], q)  # zero the start (§4.1)
+        q /= np.linalg.norm(q, axis=1, keepdims=True)
+        print(f"log: {args.log} ({log.n} samples at {log.fs_hz:.1f} Hz); "
+              f"{len(rests)} rests found, {pos.shape[0]} positions")
+        if rep is not None:
+            print(rep.levels_text())
+        if len(rests) < pos.shape[0]:
+            if rep is None:
+                lv = "quaternion-rate threshold --still-deg-s"
+            elif args.rest_detector == "paper":
+                lv = (f"paper stillness threshold |w| < 0.2 deg/s; measured gyro bias "
+                      f"{np.degrees(np.linalg.norm(rep.gyro_bias_rad_s)):.2f} deg/s, noise "
+                      f"{np.degrees(rep.gyro_noise_rad_s):.3f} deg/s")
+            else:
+                lv = rep.levels_text()
+            raise ValueError(f"too few rests: found {len(rests)} rests of >= {min_rest:g} s for "
+                             f"{pos.shape[0]} positions ({lv}); see --figure for the rejected stretches")
+        res = sixpos.calibrate(q, pos, log.fs_hz, fraction=fraction, rests=rests)
+        fig.used = [rests[i] for i in res.matched]
+        _gates(args, res, pos)
+        proj = constrained_fit.project_to_so4(res.q_matrix)
+        q_bs = rotations.quat_conjugate(proj.r)
+        alpha = np.degrees(rotations.installation_angles_from_mount(q_bs))
+        print("Q_hat (Eq 13, q_body = Q_hat q_sensor):")
+        for row in res.q_matrix:
+            print("  " + "  ".join(f"{v:+.6f}" for v in row))
+        print(f"{'pos':>3} {'ref yaw/pitch/roll (deg)':>27} {'before error (deg)':>27} "
+              f"{'after error (deg)':>27} {'residual':>9}")
+        ref_deg = np.degrees(pos)
+        wrap = lambda d: (d + 180) % 360 - 180  # noqa: E731
         fmt = lambda v: " ".join(f"{x:+8.4f}" for x in v)  # noqa: E731
-        print(f"{k + 1:>3} {fmt(ref_deg[k]):>27} {fmt(b):>27} {fmt(a):>27} "
-              f"{np.degrees(res.residual_rad[k]):9.5f}")
-    print(f"max |error| before {np.max(np.abs(((np.degrees(res.euler_before_rad) - ref_deg) + 180) % 360 - 180)):.4f} deg, "
-          f"after {np.max(np.abs(((np.degrees(res.euler_after_rad) - ref_deg) + 180) % 360 - 180)):.4f} deg")
-    return 0
+        before = wrap(np.degrees(res.euler_before_rad) - ref_deg)
+        after = wrap(np.degrees(res.euler_after_rad) - ref_deg)
+        for k in range(pos.shape[0]):
+            print(f"{k + 1:>3} {fmt(ref_deg[k]):>27} {fmt(before[k]):>27} {fmt(after[k]):>27} "
+                  f"{np.degrees(res.residual_rad[k]):9.5f}")
+        print(f"installation angles (Eq 1, alpha1 about z, alpha2 about y, alpha3 about x): "
+              f"{alpha[0]:+.4f} {alpha[1]:+.4f} {alpha[2]:+.4f} deg; |Q_hat - SO(4)| {float(proj.distance):.2e}")
+        if pos.shape[0] == 4:
+            print("note: 4 positions determine Eq 13 exactly — residuals are 0 by construction and check "
+                  "nothing; record 6 positions")
+        if out is not None:
+            t = log.time_s
+            doc = {"format": FORMAT, "log": str(args.log), "positions_file": str(args.positions),
+                   "q_hat": res.q_matrix.tolist(), "so4_distance": float(proj.distance),
+                   "installation_angles_deg": {"alpha1_z": alpha[0], "alpha2_y": alpha[1], "alpha3_x": alpha[2]},
+                   "mounting_quaternion_q_bs": q_bs.tolist(),
+                   "reference_offset_quaternion": proj.p.tolist(),
+                   "positions_deg": ref_deg.tolist(), "residual_deg": np.degrees(res.residual_rad).tolist(),
+                   "rests_s": [[float(t[rests[i].start]), float(t[rests[i].stop - 1])] for i in res.matched],
+                   "attitude": {**info, "zeroed_at_first_sample": True},
+                   "convention": "q_body = normalize(Q_hat q_sensor), q scalar-first; sensor attitude zeroed "
+                                 "at the first sample; Euler wang2023cja Eq 8 (yaw z, pitch x, roll y)"}
+            logio.write_text(out, json.dumps(doc, indent=2, default=float) + "\n")
+            print(f"calibration written to {out}")
+        print(f"max |error| before {np.max(np.abs(before)):.4f} deg, after {np.max(np.abs(after)):.4f} deg")
+        return 0
+
+    return common.run_with_figure(fig, body)
+
+
+def _gates(args, res, pos) -> None:
+    """Refuse a Q̂ that is not a plausible calibration (conditioning, SO(4) distance, residuals)."""
+    from mtcal.methods import constrained_fit, quaternion_lsq
+
+    q_s, _ = quaternion_lsq.align_pairs(res.q_sensor, res.q_reference)
+    sv = np.linalg.svd(q_s.T @ q_s, compute_uv=False)
+    cond = float(sv[0] / max(sv[3], 1e-300))
+    if cond > MAX_CONDITION:
+        raise ValueError(f"calibration positions are ill-conditioned for Eq 13 (condition number {cond:.3g} "
+                         f"> {MAX_CONDITION:.0e}); use positions about more than one axis (the six of §3.2)")
+    dist = float(constrained_fit.project_to_so4(res.q_matrix).distance)
+    max_dist = common.finite_float(args.max_so4_distance, "--max-so4-distance")
+    if not dist <= max_dist:
+        worst = np.abs(res.q_matrix).max()
+        raise ValueError(f"Q_hat is not a calibration: distance {dist:.3g} from a rotation of quaternion "
+                         f"space (> {max_dist:g}; max |entry| {worst:.3g}, min row norm "
+                         f"{np.linalg.norm(res.q_matrix, axis=1).min():.3g}); rests do not match the positions")
+    worst = float(np.degrees(np.max(res.residual_rad)))
+    max_res = common.finite_float(args.max_residual_deg, "--max-residual-deg")
+    if not worst <= max_res:
+        k = int(np.argmax(res.residual_rad))
+        raise ValueError(f"calibration residual {worst:.3f} deg at position {k + 1} exceeds "
+                         f"--max-residual-deg {max_res:g}; a rest does not match its reference position")

@@ -1,40 +1,99 @@
 """Command-line entry point ``mtcal`` (subcommands run the methods on a user's log).
 
 Each subcommand lives in its own module exposing ``register(subparsers)``,
-which adds an ``argparse`` parser whose ``func(args) -> int`` runs it.
-Errors in user files are reported as one line ``mtcal: error: …`` on stderr
-with exit status 2.
+which adds an ``argparse`` parser whose ``func(args) -> int`` runs it; the
+modules are listed once, as a tuple in :func:`build_parser`. Every problem with the
+user's files, arguments or output paths is reported as one line
+``mtcal: error: …`` on stderr with exit status 2 — never a traceback.
+Set ``MTCAL_DEBUG=1`` to let unexpected exceptions propagate (tests do).
 """
 
 from __future__ import annotations
 
 import argparse
+import os
+import re
 import sys
+import warnings
 
 __all__ = ["UserInputError", "build_parser", "main"]
+
+#: Options whose value may start with a minus sign (vectors): ``--axis -0.3,0,0.95`` works.
+VECTOR_OPTIONS = ("--axis", "--gyro-scale", "--accel-scale")
+_NUMBER = re.compile(r"^-(\d|\.\d)")
 
 
 class UserInputError(ValueError):
     """A problem with the user's files or arguments (reported without a traceback)."""
 
 
-def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="mtcal", description=__doc__.splitlines()[0])
-    sub = parser.add_subparsers(dest="command", required=True)
-    from mtcal.cli import axis, calibrate, sweep  # subcommand modules import UserInputError from here
+class _Parser(argparse.ArgumentParser):
+    """argparse with one-line errors: ``mtcal: error: …`` and exit status 2."""
 
-    for module in (calibrate, axis, sweep):
+    def error(self, message: str):  # noqa: D401 - argparse API
+        self.exit(2, f"mtcal: error: {message} (see '{self.prog} --help')\n")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = _Parser(prog="mtcal", description=__doc__.splitlines()[0],
+                     formatter_class=argparse.RawDescriptionHelpFormatter,
+                     epilog="run 'mtcal COMMAND --help' for the log schema, units and an example")
+    sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
+    from mtcal.cli import apply, attitude, axis, calibrate, rests, sweep  # one import + one tuple entry per command
+
+    for module in (rests, calibrate, axis, attitude, apply, sweep):
         module.register(sub)
     return parser
 
 
+def _join_negative_vectors(argv: list[str]) -> list[str]:
+    """``--axis -0.3,0,1`` → ``--axis=-0.3,0,1`` (argparse would read the value as an option)."""
+    out, i = [], 0
+    while i < len(argv):
+        tok = argv[i]
+        if tok in VECTOR_OPTIONS and i + 1 < len(argv) and _NUMBER.match(argv[i + 1]):
+            out.append(f"{tok}={argv[i + 1]}")
+            i += 2
+            continue
+        out.append(tok)
+        i += 1
+    return out
+
+
+def _one_line(exc: BaseException) -> str:
+    """The message on one line, non-printable characters (e.g. from a binary file) replaced by '?'."""
+    text = " ".join(str(exc).split()) or type(exc).__name__
+    return "".join(c if c.isprintable() else "?" for c in text)[:500]
+
+
 def main(argv: list[str] | None = None) -> int:
+    """Run ``mtcal`` with ``argv`` (default ``sys.argv[1:]``); returns the exit status."""
+    argv = list(sys.argv[1:] if argv is None else argv)
     parser = build_parser()
-    args = parser.parse_args(argv)
+    args = parser.parse_args(_join_negative_vectors(argv))
+    debug = os.environ.get("MTCAL_DEBUG", "") not in ("", "0")
     try:
-        return int(args.func(args) or 0)
-    except (UserInputError, ValueError, TypeError, FileNotFoundError) as exc:
-        print(f"mtcal: error: {exc}", file=sys.stderr)
+        with warnings.catch_warnings():
+            if not debug:
+                warnings.simplefilter("ignore")
+            import numpy as np
+
+            with np.errstate(all="ignore" if not debug else "warn"):
+                return int(args.func(args) or 0)
+    except BrokenPipeError:  # e.g. `mtcal rests LOG | head`: stop quietly (Python docs' recipe)
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 1
+    except (ValueError, TypeError, OSError) as exc:
+        print(f"mtcal: error: {_one_line(exc)}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("mtcal: error: interrupted", file=sys.stderr)
+        return 130
+    except Exception as exc:  # noqa: BLE001 - never a traceback for a user's input
+        if debug:
+            raise
+        print(f"mtcal: error: cannot process this input ({type(exc).__name__}: {_one_line(exc)}); "
+              f"set MTCAL_DEBUG=1 for a traceback", file=sys.stderr)
         return 2
 
 

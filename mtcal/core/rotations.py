@@ -44,7 +44,8 @@ from scipy.spatial.transform import Rotation
 
 from mtcal.core.validate import angle_rad, as_float_array, unit_quaternion
 
-__all__ = ["mount_quaternion", "relative_to_initial", 
+__all__ = ["mount_quaternion", "relative_to_initial", "installation_angles", "installation_angles_from_mount",
+    "GIMBAL_LOCK_COS",
     "hamilton", "quat_multiply", "quat_conjugate", "quat_normalize", "left_matrix", "right_matrix",
     "align_signs", "make_continuous", "quat_from_rotvec", "rotvec_from_quat",
     "quat_from_euler_zxy", "euler_zxy_from_quat", "euler_zxy_unchecked", "quat_to_matrix", "quat_from_matrix",
@@ -266,10 +267,23 @@ def euler_zxy_from_quat(q) -> np.ndarray:
         θ = asin(2(q2q3 + q0q1))                            ∈ [−π/2, π/2]
         γ = atan2(−2(q1q3 − q0q2), q0² − q1² − q2² + q3²)   ∈ [−π, π]
 
+    Gimbal lock (θ = ±90°): Eq 8's atan2 arguments vanish there and lose
+    accuracy as ~1e-16/cos θ near it, so where cos θ < :data:`GIMBAL_LOCK_COS`
+    the half-angle form (ψ ± γ from ``q0 ± q1``, ``q3 ± q2``) is used; at
+    exact lock roll is 0 and all rotation about the vertical is yaw. The
+    result always reconstructs ``q`` through Eq 9 (to ~1e-15); elsewhere it
+    is the printed Eq 8, bit for bit.
+
     Returns
     -------
     ndarray, shape (..., 3)
         ``[ψ, θ, γ]`` along the last axis.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> np.degrees(euler_zxy_from_quat([0.5, 0.5, 0.5, 0.5])).round(9).tolist()  # exact lock
+    [90.0, 90.0, 0.0]
     """
     return euler_zxy_unchecked(unit_quaternion(q, "q"))
 
@@ -279,13 +293,53 @@ def euler_zxy_unchecked(q: np.ndarray) -> np.ndarray:
 
     Same formulas as :func:`euler_zxy_from_quat` (which calls it after
     checking ``q``); ``q`` must be a float array (..., 4) of unit quaternions.
+    Within :data:`GIMBAL_LOCK_COS` of pitch ±90° the half-angle form is used
+    (see :func:`euler_zxy_from_quat`), elsewhere the printed Eq 8.
     """
     q0, q1, q2, q3 = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
     out = np.empty(q.shape[:-1] + (3,))
     s00, s11, s22, s33 = q0 * q0, q1 * q1, q2 * q2, q3 * q3
+    sin_pitch = np.clip(2.0 * (q2 * q3 + q0 * q1), -1.0, 1.0)
     np.arctan2(-2.0 * (q1 * q2 - q0 * q3), s00 - s11 + s22 - s33, out=out[..., 0])
-    np.arcsin(np.clip(2.0 * (q2 * q3 + q0 * q1), -1.0, 1.0), out=out[..., 1])
+    np.arcsin(sin_pitch, out=out[..., 1])
     np.arctan2(-2.0 * (q1 * q3 - q0 * q2), s00 - s11 - s22 + s33, out=out[..., 2])
+    near = np.abs(sin_pitch) > _LOCK_SIN
+    if np.any(near):
+        out[near] = _euler_zxy_near_lock(q[near])
+    return out
+
+
+#: cos(pitch) below which Eq 8's yaw/roll atan2 pair is replaced by the half-angle form
+#: (there Eq 8 loses ~1e-16/cos θ rad; 1e-3 keeps every result above it bit-identical).
+GIMBAL_LOCK_COS = 1e-3
+_LOCK_SIN = float(np.sqrt(1.0 - GIMBAL_LOCK_COS**2))
+
+
+def _euler_zxy_near_lock(q: np.ndarray) -> np.ndarray:
+    """Half-angle ZXY extraction, exact at and near pitch ±90° (q: (M, 4) unit).
+
+    With half angles a = ψ/2, b = γ/2, t = θ/2, Eq 9 gives
+    ``q0 ± q1 = (cos t ± sin t) cos(a ± b)`` and ``q3 ± q2 = (cos t ± sin t) sin(a ± b)``,
+    so ψ + γ and ψ − γ come from two well-conditioned atan2 and
+    ``θ = π/2 − 2 atan2(‖(q0 − q1, q3 − q2)‖, ‖(q0 + q1, q3 + q2)‖)``.
+    At exact lock one of the two pairs is (0, 0): roll is set to 0 and the whole
+    rotation about the vertical goes to yaw (θ = +90°: ψ = ψ+γ; θ = −90°: ψ = ψ−γ).
+    """
+    q0, q1, q2, q3 = q[:, 0], q[:, 1], q[:, 2], q[:, 3]
+    sp, cp = q0 + q1, q3 + q2      # (cos t + sin t) · (cos, sin)(a + b)
+    sm, cm = q0 - q1, q3 - q2      # (cos t − sin t) · (cos, sin)(a − b)
+    plus = np.hypot(sp, cp)
+    minus = np.hypot(sm, cm)
+    theta = 0.5 * np.pi - 2.0 * np.arctan2(minus, plus)
+    half_sum = np.arctan2(cp, sp)   # a + b
+    half_diff = np.arctan2(cm, sm)  # a − b
+    tiny = 1e-15
+    half_diff = np.where(minus <= tiny, half_sum, half_diff)   # θ = +90°: roll 0
+    half_sum = np.where(plus <= tiny, half_diff, half_sum)     # θ = −90°: roll 0
+    psi = half_sum + half_diff
+    gamma = half_sum - half_diff
+    out = np.stack([psi, theta, gamma], axis=-1)
+    out[:, [0, 2]] = (out[:, [0, 2]] + np.pi) % (2.0 * np.pi) - np.pi
     return out
 
 
@@ -442,6 +496,59 @@ def mount_quaternion(alpha_rad) -> np.ndarray:
     """``q_bs`` (simulator ``q_mount``) of Eq 1 angles ``[α1, α2, α3]`` (rad): C(q_bs) = (C_b^s)ᵀ."""
     a = np.asarray(alpha_rad, dtype=float)
     return quat_from_matrix(np.swapaxes(installation_matrix(a[0], a[1], a[2]), -1, -2))
+
+
+def installation_angles(matrix) -> np.ndarray:
+    """Inverse of wang2023cja Eq 1: ``[α1, α2, α3]`` (rad) from ``C_b^s = Rz(α1) Ry(α2) Rx(α3)``.
+
+    ``α2 = −asin(C[2,0])`` (via atan2 of the column norms, accurate near ±90°),
+    ``α1 = atan2(C[1,0], C[0,0])``, ``α3 = atan2(C[2,1], C[2,2])``; at
+    α2 = ±90° (not an installation error) α3 is set to 0.
+
+    Parameters
+    ----------
+    matrix : array_like, shape (..., 3, 3)
+        Rotation matrix (orthonormal to ~1e-6).
+
+    Returns
+    -------
+    ndarray, shape (..., 3)
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> a = np.radians([0.5, -0.3, 0.4])
+    >>> bool(np.allclose(installation_angles(installation_matrix(*a)), a, atol=1e-15))
+    True
+    """
+    m = as_float_array(matrix, "matrix")
+    if m.ndim < 2 or m.shape[-2:] != (3, 3):
+        raise ValueError(f"matrix must have shape (..., 3, 3), got {m.shape}")
+    ortho = np.abs(np.swapaxes(m, -1, -2) @ m - np.eye(3)).max() if m.size else 0.0
+    if ortho > 1e-6 or np.any(np.linalg.det(m) <= 0):
+        raise ValueError(f"matrix must be a rotation matrix (|M^T M - I| = {ortho:.3g}, det > 0)")
+    a2 = np.arctan2(-m[..., 2, 0], np.hypot(m[..., 2, 1], m[..., 2, 2]))
+    lock = np.hypot(m[..., 0, 0], m[..., 1, 0]) < 1e-12
+    a1 = np.where(lock, np.arctan2(-m[..., 0, 1], m[..., 1, 1]), np.arctan2(m[..., 1, 0], m[..., 0, 0]))
+    a3 = np.where(lock, 0.0, np.arctan2(m[..., 2, 1], m[..., 2, 2]))
+    return np.stack([a1, a2, a3], axis=-1)
+
+
+def installation_angles_from_mount(q_bs) -> np.ndarray:
+    """Inverse of :func:`mount_quaternion`: Eq 1 angles ``[α1, α2, α3]`` (rad) of a mounting ``q_bs``.
+
+    ``C(q_bs) = (C_b^s)ᵀ``, so ``α = installation_angles(C(q_bs)ᵀ)``; q and −q give
+    the same angles.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> a = np.radians([1.0, -2.0, 0.5])
+    >>> bool(np.allclose(installation_angles_from_mount(mount_quaternion(a)), a, atol=1e-14))
+    True
+    """
+    q = unit_quaternion(q_bs, "q_bs")
+    return installation_angles(np.swapaxes(quat_to_matrix(q), -1, -2))
 
 
 def relative_to_initial(q_est: np.ndarray, n0: int = 1) -> np.ndarray:

@@ -31,7 +31,7 @@ from mtcal.methods.zero_velocity import ZvdParams, detect_static, rest_intervals
 
 __all__ = ["axis_from_means", "apply_sign_convention", "axis_elevation", "angle_between",
            "AxisEstimator", "AxisResult", "estimate_axis", "axis_error_std",
-           "gravity_change_norm"]
+           "gravity_change_norm", "distinct_positions", "AxisPlaneFit", "fit_axis_plane"]
 
 DEFAULT_MIN_SEPARATION_DEG = 0.5
 DEFAULT_MAX_ELEVATION_DEG = 85.0
@@ -326,3 +326,113 @@ def estimate_axis(accel_m_s2, fs_hz: float, *, zvd: ZvdParams | None = None, is_
                         max_elevation_deg=max_elevation_deg)
     rests = [slice(s, e) for s, e in est.rests]
     return AxisResult(v, np.array(est.means), rests, static, n_found)
+
+
+def distinct_positions(means, counts, *, min_separation_deg: float) -> tuple[np.ndarray, np.ndarray, list]:
+    """Merge rest means whose directions are within ``min_separation_deg`` (same position seen again).
+
+    Parameters
+    ----------
+    means : array_like, shape (R, 3)
+        Rest mean accelerations (m/s²), time order.
+    counts : array_like, shape (R,)
+        Samples per rest (weights of the merged mean).
+    min_separation_deg : float
+        Rests closer than this (deg) are one position.
+
+    Returns
+    -------
+    positions : ndarray (P, 3)
+        Sample-weighted mean of each position (m/s²), in order of first visit.
+    weights : ndarray (P,)
+        Samples per position.
+    members : list of list of int
+        Rest indices merged into each position.
+    """
+    m = as_float_array(means, "means", ndim=2, last_dim=3)
+    n = as_float_array(counts, "counts", ndim=1)
+    tol = np.radians(positive_scalar(min_separation_deg, "min_separation_deg"))
+    sums, weights, members = [], [], []
+    for i, (mi, ni) in enumerate(zip(m, n)):
+        for k in range(len(sums)):
+            if angle_between(sums[k] / weights[k], mi) < tol:
+                sums[k] = sums[k] + mi * ni
+                weights[k] += ni
+                members[k].append(i)
+                break
+        else:
+            sums.append(mi * ni)
+            weights.append(float(ni))
+            members.append([i])
+    w = np.array(weights)
+    return np.array(sums).reshape(-1, 3) / w[:, None], w, members
+
+
+@dataclass(frozen=True)
+class AxisPlaneFit:
+    """Result of :func:`fit_axis_plane`.
+
+    Attributes
+    ----------
+    v : ndarray (3,)
+        Unit axis, sign convention ``v_x ≥ 0``.
+    sigma_rad : float
+        First-order 1σ direction uncertainty (rad), total over both tilt axes.
+    rms_out_of_plane_m_s2 : float
+        RMS distance of the positions from the fitted plane (0 for three).
+    elevation_rad : float
+        Axis elevation above the horizontal (rad).
+    """
+
+    v: np.ndarray
+    sigma_rad: float
+    rms_out_of_plane_m_s2: float
+    elevation_rad: float
+
+
+def fit_axis_plane(positions_m_s2, sigma_mean_m_s2: float) -> AxisPlaneFit:
+    """Rotation axis as the normal of the plane through ≥ 3 rest means (Eq 23 generalised).
+
+    The static readings ``R(θ, v)ᵀ ā0`` lie on a circle in a plane
+    perpendicular to v (wang2022sensors Sec. 2.2); the normal of the
+    least-squares plane through the positions (smallest right-singular vector
+    of the centred means) is v. For exactly three positions it equals Eq 23,
+    ``(ā1 − ā0) × (ā2 − ā1)``, up to sign. The uncertainty is that of the plane
+    tilt for out-of-plane noise σ per position (see :func:`axis_error_std`):
+    ``σ_v = σ √tr[(AᵀA)⁻¹]_tilt`` with rows ``A_i = [1, p_i]`` of in-plane
+    coordinates; σ is the larger of ``sigma_mean_m_s2`` and the fit's own
+    out-of-plane RMS (for ≥ 4 positions).
+
+    Parameters
+    ----------
+    positions_m_s2 : array_like, shape (P, 3), P ≥ 3
+    sigma_mean_m_s2 : float
+        Std of each position's mean (m/s²).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from mtcal.core.rotations import axis_angle_matrix
+    >>> v = np.array([0.6, 0.0, 0.8]); a0 = np.array([0.0, 0.0, 9.81])
+    >>> pts = [axis_angle_matrix(np.radians(d), v).T @ a0 for d in (0, 90, 180)]
+    >>> fit = fit_axis_plane(pts, 0.001)
+    >>> bool(np.allclose(fit.v, v)) and fit.sigma_rad < 1e-3
+    True
+    """
+    p = as_float_array(positions_m_s2, "positions_m_s2", ndim=2, last_dim=3)
+    if p.shape[0] < 3:
+        raise ValueError(f"positions_m_s2 must hold at least 3 positions, got {p.shape[0]}")
+    sig = positive_scalar(sigma_mean_m_s2, "sigma_mean_m_s2")
+    c = p - p.mean(axis=0)
+    _, sv, vt = np.linalg.svd(c)
+    v = apply_sign_convention(vt[2])
+    rms = float(sv[2] / np.sqrt(p.shape[0])) if p.shape[0] > 3 else 0.0
+    plane = c @ vt[:2].T
+    a = np.column_stack([np.ones(p.shape[0]), plane])
+    gram = a.T @ a
+    if np.linalg.cond(gram) > 1e12:
+        sigma = np.inf
+    else:
+        cov = np.linalg.inv(gram)
+        sigma = float(max(sig, rms) * np.sqrt(cov[1, 1] + cov[2, 2]))
+    return AxisPlaneFit(v, sigma, rms, float(axis_elevation(v, p.mean(axis=0))))

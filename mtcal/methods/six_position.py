@@ -272,7 +272,8 @@ class SixPositionResult:
 
 def calibrate(q_ws, reference_euler_rad, fs_hz: float, *, gyro_rad_s=None, fraction: float = 0.5,
               min_rest_s: float = 2.0, threshold_rad_s: float = np.radians(0.2),
-              window_s: float = 0.1, max_match_rad: float = np.radians(5.0)) -> SixPositionResult:
+              window_s: float = 0.1, max_match_rad: float = np.radians(5.0),
+              rests: list | None = None) -> SixPositionResult:
     """Six-position calibration from a recorded sensor-attitude stream (§3.2, Eq 13–15).
 
     Parameters
@@ -294,6 +295,10 @@ def calibrate(q_ws, reference_euler_rad, fs_hz: float, *, gyro_rad_s=None, fract
         Stillness detector threshold (rad/s) and window (s).
     max_match_rad : float
         Matching tolerance (rad), see :func:`match_rests`.
+    rests : list of slice, optional
+        Rests found by another detector (e.g.
+        :func:`mtcal.methods.rest_detection.detect_rests`); when given, the
+        stillness detector above is not run and ``min_rest_s`` is not applied.
 
     Raises
     ------
@@ -306,13 +311,18 @@ def calibrate(q_ws, reference_euler_rad, fs_hz: float, *, gyro_rad_s=None, fract
     if ref.shape[0] < 3:
         raise ValueError(f"reference_euler_rad must hold at least 3 positions, got {ref.shape[0]}")
     q_ref = rotations.quat_from_euler_zxy(ref[:, 0], ref[:, 1], ref[:, 2])
-    if gyro_rad_s is not None:
+    if rests is not None:
+        rests = list(rests)
+        if any(not isinstance(r, slice) or r.stop > qq.shape[-2] for r in rests):
+            raise ValueError(f"rests must be slices within the {qq.shape[-2]} samples of q_ws")
+    elif gyro_rad_s is not None:
         still = stillness_from_gyro(gyro_rad_s, fs_hz, window_s=window_s, threshold_rad_s=threshold_rad_s)
+        if still.shape[0] != qq.shape[-2]:
+            raise ValueError(f"gyro_rad_s has {still.shape[0]} samples but q_ws has {qq.shape[-2]}")
+        rests = find_rests(still, fs_hz, min_rest_s=min_rest_s)
     else:
         still = stillness_from_quaternions(qq, fs_hz, window_s=window_s, threshold_rad_s=threshold_rad_s)
-    if still.shape[0] != qq.shape[-2]:
-        raise ValueError(f"gyro_rad_s has {still.shape[0]} samples but q_ws has {qq.shape[-2]}")
-    rests = find_rests(still, fs_hz, min_rest_s=min_rest_s)
+        rests = find_rests(still, fs_hz, min_rest_s=min_rest_s)
     if len(rests) < ref.shape[0]:
         raise ValueError(f"too few rests: found {len(rests)} still periods of >= {min_rest_s:g} s, "
                          f"need one for each of the {ref.shape[0]} reference positions")

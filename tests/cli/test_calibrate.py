@@ -96,4 +96,21 @@ def test_positions_too_few(files, tmp_path, capsys):
     p = tmp_path / "pos2.csv"
     pd.DataFrame({"yaw_deg": [8, -8], "pitch_deg": [0, 0], "roll_deg": [0, 0]}).to_csv(p, index=False)
     code = cli.main(["calibrate", str(paths["quat"]), "--positions", str(p)])
-    assert code == 2 and "at least 3 positions" in capsys.readouterr().err
+    assert code == 2 and "at least 4 positions" in capsys.readouterr().err
+
+
+def test_paper_detector_reproduces_the_library_procedure(files, capsys):
+    """--rest-detector paper: §3.2 stillness detector (0.2 deg/s, 2 s), default QNCF — the library's numbers."""
+    from mtcal.filters.qncf import qncf
+
+    paths, _, raw = files
+    assert cli.main(["calibrate", str(paths["raw"]), "--positions", str(paths["pos"]), "--rest-detector", "paper"]) == 0
+    out = capsys.readouterr().out
+    gyro = raw[["gyro_x_rad_s", "gyro_y_rad_s", "gyro_z_rad_s"]].to_numpy()
+    acc = raw[["accel_x_m_s2", "accel_y_m_s2", "accel_z_m_s2"]].to_numpy()
+    q = qncf(gyro, acc, 1 / FS, return_euler=False).q_ws
+    q = rotations.hamilton(rotations.quat_conjugate(q[0])[None, :], q)
+    q /= np.linalg.norm(q, axis=1, keepdims=True)
+    ref = sixpos.calibrate(q, sixpos.six_positions_rad(), FS, gyro_rad_s=gyro)
+    block = out.split("q_sensor):\n")[1].splitlines()[:4]
+    assert block == ["  " + "  ".join(f"{v:+.6f}" for v in row) for row in ref.q_matrix]

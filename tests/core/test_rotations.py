@@ -153,3 +153,84 @@ def test_wrap_angle():
 def test_bad_input_raises(func, args, match):
     with pytest.raises((ValueError, TypeError), match=match):
         func(*args)
+
+
+# ---------------------------------------------------------------- gimbal lock (Eq 8 at pitch ±90°)
+from hypothesis import given, settings, strategies as st  # noqa: E402
+
+
+def _round_trip_error(q):
+    e = r.euler_zxy_from_quat(q)
+    back = r.quat_from_euler_zxy(e[..., 0], e[..., 1], e[..., 2])
+    return r.quat_angle_between(back, q)
+
+
+def test_euler_exact_at_lock_example():
+    e = r.euler_zxy_from_quat([0.5, 0.5, 0.5, 0.5])
+    np.testing.assert_allclose(np.degrees(e), [90.0, 90.0, 0.0], atol=1e-12)
+    assert _round_trip_error(np.array([0.5, 0.5, 0.5, 0.5])) < 1e-14
+
+
+@pytest.mark.parametrize("pitch_deg", [90.0, -90.0])
+def test_euler_lock_convention_roll_zero(pitch_deg):
+    yaw, roll = np.radians(30.0), np.radians(-50.0)
+    q = r.quat_from_euler_zxy(yaw, np.radians(pitch_deg), roll)
+    e = r.euler_zxy_from_quat(q)
+    assert abs(e[2]) < 1e-12  # roll 0, rotation about the vertical goes to yaw
+    expected_yaw = yaw + roll if pitch_deg > 0 else yaw - roll
+    assert abs(r.wrap_angle(e[0] - expected_yaw)) < 1e-12
+    assert _round_trip_error(q) < 1e-12
+
+
+_angle = st.floats(-np.pi, np.pi, allow_nan=False)
+_offset = st.sampled_from([0.0, 1e-14, -1e-14, 1e-10, 1e-7, 1e-5, 1e-3, 0.01, 0.3, 1.0, 1.5])
+
+
+@settings(max_examples=400, deadline=None)
+@given(yaw=_angle, roll=_angle, offset=_offset, sign=st.sampled_from([1.0, -1.0]), flip=st.booleans())
+def test_euler_round_trip_whole_sphere_including_lock(yaw, roll, offset, sign, flip):
+    pitch = sign * (np.pi / 2 - abs(offset))
+    q = r.quat_from_euler_zxy(yaw, pitch, roll)
+    q = q / np.linalg.norm(q)
+    if flip:
+        q = -q
+    assert _round_trip_error(q) < 1e-12
+    np.testing.assert_allclose(r.euler_zxy_unchecked(q[None])[0], r.euler_zxy_from_quat(q), rtol=0, atol=0)
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.lists(st.floats(-1, 1, allow_nan=False), min_size=4, max_size=4).filter(
+    lambda v: np.linalg.norm(v) > 1e-3))
+def test_euler_round_trip_random_quaternions(v):
+    q = np.asarray(v) / np.linalg.norm(v)
+    assert _round_trip_error(q) < 1e-12
+
+
+def test_euler_bit_identical_away_from_lock(rng):
+    """Away from lock the result is the printed Eq 8 formula, bit for bit."""
+    q = rng.normal(size=(5000, 4))
+    q /= np.linalg.norm(q, axis=1, keepdims=True)
+    q0, q1, q2, q3 = q.T
+    sp = np.clip(2 * (q2 * q3 + q0 * q1), -1, 1)
+    keep = np.sqrt(1 - sp**2) >= r.GIMBAL_LOCK_COS
+    printed = np.stack([np.arctan2(-2 * (q1 * q2 - q0 * q3), q0**2 - q1**2 + q2**2 - q3**2),
+                        np.arcsin(sp),
+                        np.arctan2(-2 * (q1 * q3 - q0 * q2), q0**2 - q1**2 - q2**2 + q3**2)], axis=-1)
+    assert np.array_equal(r.euler_zxy_from_quat(q)[keep], printed[keep])
+
+
+# ---------------------------------------------------------------- inverse of Eq 1
+@settings(max_examples=100, deadline=None)
+@given(st.lists(st.floats(-1.5, 1.5, allow_nan=False), min_size=3, max_size=3))
+def test_installation_angles_invert_eq1(a):
+    a = np.asarray(a)
+    np.testing.assert_allclose(r.installation_angles(r.installation_matrix(*a)), a, atol=1e-12)
+    np.testing.assert_allclose(r.installation_angles_from_mount(r.mount_quaternion(a)), a, atol=1e-12)
+    np.testing.assert_allclose(r.installation_angles_from_mount(-r.mount_quaternion(a)), a, atol=1e-12)
+
+
+def test_installation_angles_rejects_non_rotation():
+    with pytest.raises(ValueError, match="rotation matrix"):
+        r.installation_angles(np.diag([1.0, 1.0, -1.0]))
+    with pytest.raises(ValueError, match=r"shape \(\.\.\., 3, 3\)"):
+        r.installation_angles(np.eye(4))

@@ -87,3 +87,39 @@ def test_axis_error_std_matches_monte_carlo(rng):
     err = np.arccos(np.clip(est @ v, -1, 1))
     pred = axis_error_std(sig, gam, np.radians([0, 90, 180]))
     assert np.sqrt(np.mean(err**2)) == pytest.approx(float(pred), rel=0.08)
+
+
+# ---------------------------------------------------------------- plane fit over all distinct rests
+from mtcal.methods.rotation_axis import distinct_positions, fit_axis_plane  # noqa: E402
+
+
+@pytest.mark.parametrize("v", [[0.1734, 0.9835, 0.0523], [0.8070, 0.5864, -0.0698]])
+def test_plane_fit_equals_eq23_for_three_and_uses_more(v, rng):
+    v = np.array(v) / np.linalg.norm(v)
+    m = _means(v, [0, 50, 130])
+    np.testing.assert_allclose(fit_axis_plane(m, 0.01).v, axis_from_means(*m), atol=1e-12)
+    noisy = np.array(_means(v, [0, 30, 60, 90, 120, 150])) + rng.normal(0, 0.01, (6, 3))
+    fit = fit_axis_plane(noisy, 0.01)
+    err = np.degrees(np.arccos(min(1.0, abs(fit.v @ v))))
+    assert err < 4 * np.degrees(fit.sigma_rad) and fit.rms_out_of_plane_m_s2 > 0
+
+
+def test_plane_fit_uncertainty_grows_as_rests_approach():
+    v = np.array([1.0, 0.0, 0.0])
+    wide = fit_axis_plane(_means(v, [0, 60, 120]), 0.017).sigma_rad
+    close = fit_axis_plane(_means(v, [0, 1.7, 3.4]), 0.017).sigma_rad
+    assert close > 30 * wide and np.degrees(close) > 1.0
+    # first-order formula of axis_error_std for the same geometry
+    ref = axis_error_std(0.017, 0.0, np.radians([0, 60, 120]))
+    assert wide == pytest.approx(float(ref), rel=1e-6)
+
+
+def test_distinct_positions_merges_same_tilt():
+    v = np.array([1.0, 0.0, 0.0])
+    m = np.array(_means(v, [0, 1.0, 90, 0.5, 180]))
+    pos, w, members = distinct_positions(m, [100, 50, 100, 50, 100], min_separation_deg=3.0)
+    assert members == [[0, 1, 3], [2], [4]] and w.tolist() == [200, 100, 100]
+    with pytest.raises(ValueError, match="at least 3 positions"):
+        fit_axis_plane(pos[:2], 0.01)
+    with pytest.raises(ValueError, match="min_separation_deg must be > 0"):
+        distinct_positions(m, [1] * 5, min_separation_deg=0.0)

@@ -97,3 +97,15 @@ def test_find_rests_and_middle():
     assert sixpos.middle_slices(rests, 0.5) == [slice(1750, 3250)]
     with pytest.raises(TypeError, match="boolean"):
         sixpos.find_rests(still.astype(int), 1000.0)
+
+
+def test_rests_from_another_detector(noise_free):
+    """``rests=`` skips the stillness detector; the same rests give the same matrix bit for bit."""
+    pos, _, rec, q_s = noise_free
+    ref = sixpos.calibrate(q_s, pos, FS, gyro_rad_s=rec.gyro_rad_s)
+    got = sixpos.calibrate(q_s, pos, FS, rests=ref.rests)
+    assert np.array_equal(got.q_matrix, ref.q_matrix) and got.rests == ref.rests
+    with pytest.raises(ValueError, match="rests must be slices within"):
+        sixpos.calibrate(q_s, pos, FS, rests=[slice(0, q_s.shape[0] + 5)])
+    with pytest.raises(ValueError, match="too few rests"):
+        sixpos.calibrate(q_s, pos, FS, rests=ref.rests[:3])

@@ -1,0 +1,249 @@
+"""Shared pieces of the ``mtcal`` subcommands: input/rest options, summaries, the diagnostics figure."""
+
+from __future__ import annotations
+
+import argparse
+import math
+
+import numpy as np
+
+from mtcal.cli import logio
+from mtcal.methods import rest_detection as rd
+
+__all__ = ["add_input_options", "add_rest_options", "input_options", "detect", "rest_table", "print_report",
+           "finite_float", "DiagnosticsFigure", "run_with_figure", "SCHEMA_HELP"]
+
+SCHEMA_HELP = """\
+log schema (CSV or Parquet, header row, one row per sample; extra columns ignored):
+  time_s                                    time (s), strictly increasing (jitter allowed)
+  gyro_x_rad_s, gyro_y_rad_s, gyro_z_rad_s  angular rate (rad/s), sensor frame
+  accel_x_m_s2, accel_y_m_s2, accel_z_m_s2  specific force (m/s^2); level at rest ~ +g on z
+other units: --time-unit ms|us, --gyro-unit deg/s, --accel-unit g, --gyro-scale/--accel-scale
+(counts -> unit, 1 or 3 factors), --columns time_s=Time,gyro_x=GyrX,... (or headers time_ms,
+gyro_x_deg_s, accel_x_g); no time column: --fs-hz. Jittered timestamps: per-sample dt. Rests: measured from the data
+(--rest-detector adaptive, default) or the paper's fixed ZVD band (--rest-detector paper)."""
+
+
+def finite_float(text: str, name: str, *, positive: bool = True) -> float:
+    """Parse a finite (positive) number for option ``name`` (one-line ValueError otherwise)."""
+    try:
+        val = float(text)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a number, got {text!r}") from None
+    if not math.isfinite(val) or (positive and val <= 0):
+        raise ValueError(f"{name} must be a finite number{' > 0' if positive else ''}, got {text!r}")
+    return val
+
+
+def add_input_options(p: argparse.ArgumentParser) -> None:
+    g = p.add_argument_group("input units and columns")
+    g.add_argument("--time-unit", choices=sorted(logio.TIME_UNITS), help="unit of the time column (default s)")
+    g.add_argument("--gyro-unit", choices=list(logio.GYRO_UNITS), help="gyro unit (default rad/s)")
+    g.add_argument("--accel-unit", choices=list(logio.ACCEL_UNITS), help="accelerometer unit (default m/s2)")
+    g.add_argument("--gyro-scale", metavar="S|SX,SY,SZ", help="multiply gyro columns first (counts -> unit)")
+    g.add_argument("--accel-scale", metavar="S|SX,SY,SZ", help="multiply accel columns first (counts -> unit)")
+    g.add_argument("--columns", metavar="NAME=HEADER,...", help="map schema names to your headers")
+    g.add_argument("--fs-hz", metavar="HZ", help="uniform sample rate for a log without a time column (Hz)")
+
+
+def add_rest_options(p: argparse.ArgumentParser, *, min_rest_s: float | None, figure: bool = True) -> None:
+    g = p.add_argument_group("rest detection")
+    g.add_argument("--rest-detector", choices=["adaptive", "paper"], default="adaptive",
+                   help="adaptive (levels measured from the data; default) or paper "
+                        "(wang2022sensors Table 1 band 9.76-9.84 m/s^2)")
+    g.add_argument("--gravity", metavar="M_S2", help="|a| at rest (m/s^2); default measured")
+    g.add_argument("--accel-band", metavar="M_S2", help="half-width of the |a| band (m/s^2); default "
+                   "max(5 x accel noise, 1.5 %% of g)")
+    g.add_argument("--gyro-threshold-deg-s", metavar="DEG_S", help="max |w - bias| at rest (deg/s); "
+                   "default max(5 x gyro noise, 1.5)")
+    g.add_argument("--noise-factor", metavar="K", default="5", help="thresholds = K x measured noise (default 5)")
+    g.add_argument("--min-rest-s", metavar="S", default=None if min_rest_s is None else str(min_rest_s),
+                   help="shortest rest (s), default " + ("1 (adaptive) or 2 (paper / q0..q3 logs)"
+                                                          if min_rest_s is None else f"{min_rest_s:g}"))
+    if figure:
+        p.add_argument("--figure", metavar="PNG", help="diagnostics figure (written also when the command fails)")
+
+
+def input_options(args) -> logio.InputOptions:
+    return logio.InputOptions(time_unit=args.time_unit, gyro_unit=args.gyro_unit, accel_unit=args.accel_unit,
+                              gyro_scale=logio.parse_scale(args.gyro_scale, "--gyro-scale"),
+                              accel_scale=logio.parse_scale(args.accel_scale, "--accel-scale"),
+                              columns=logio.parse_columns(args.columns),
+                              fs_hz=None if args.fs_hz is None else finite_float(args.fs_hz, "--fs-hz"))
+
+
+def detect(args, log: logio.ImuLog, *, use_gyro: bool = True) -> rd.RestReport:
+    """Run the chosen rest detector on a log with the command-line overrides."""
+    min_rest = finite_float(args.min_rest_s, "--min-rest-s")
+    gyro = log.gyro_rad_s if use_gyro else None
+    if args.rest_detector == "paper":
+        return rd.paper_rest_report(log.accel_m_s2, log.fs_hz, gyro_rad_s=gyro, min_rest_s=min_rest)
+    opt = lambda v, n: None if v is None else finite_float(v, n)  # noqa: E731
+    thr = opt(args.gyro_threshold_deg_s, "--gyro-threshold-deg-s")
+    params = rd.RestDetectorParams(min_rest_s=min_rest,
+                                   noise_factor=finite_float(args.noise_factor, "--noise-factor"),
+                                   gravity_m_s2=opt(args.gravity, "--gravity"),
+                                   accel_band_m_s2=opt(args.accel_band, "--accel-band"),
+                                   gyro_level_max_rad_s=None if thr is None else np.radians(thr))
+    return rd.detect_rests(log.accel_m_s2, log.fs_hz, gyro_rad_s=gyro, params=params)
+
+
+def rest_table(log: logio.ImuLog, report: rd.RestReport, angle_deg: np.ndarray | None = None,
+               angle_name: str = "angle_deg", extra: dict | None = None) -> list[str]:
+    """Per-rest summary lines: time span, duration, |a|, tilt from sensor z, mean gyro, angle, extras.
+
+    ``extra`` maps a column name to one value per rest.
+    """
+    t, a = log.time_s, log.accel_m_s2
+    head = f"{'rest':>4} {'start_s':>10} {'stop_s':>10} {'dur_s':>7} {'|a|_m_s2':>9} {'tilt_deg':>9}"
+    if log.gyro_rad_s is not None:
+        head += f" {'|w|_deg_s':>9}"
+    if angle_deg is not None:
+        head += f" {angle_name:>10}"
+    for name in extra or {}:
+        head += f" {name:>{max(10, len(name))}}"
+    lines = [head]
+    for i, r in enumerate(report.rests):
+        m = a[r].mean(axis=0)
+        tilt = np.degrees(np.arctan2(np.hypot(m[0], m[1]), m[2]))
+        line = (f"{i:>4} {t[r.start]:>10.3f} {t[r.stop - 1]:>10.3f} {t[r.stop - 1] - t[r.start]:>7.2f} "
+                f"{np.linalg.norm(m):>9.4f} {tilt:>9.2f}")
+        if log.gyro_rad_s is not None:
+            line += f" {np.degrees(np.linalg.norm(log.gyro_rad_s[r].mean(axis=0))):>9.3f}"
+        if angle_deg is not None:
+            line += f" {float(np.median(angle_deg[r])):>10.3f}"
+        for name, vals in (extra or {}).items():
+            line += f" {float(vals[i]):>{max(10, len(name))}.3f}"
+        lines.append(line)
+    return lines
+
+
+def print_report(log: logio.ImuLog, report: rd.RestReport, angle_deg=None, angle_name="angle_deg",
+                 extra: dict | None = None) -> None:
+    print(f"log: {log.path} ({log.n} samples at {log.fs_hz:.2f} Hz, {log.time_s[-1] - log.time_s[0]:.2f} s)"
+          + (f"; {'; '.join(log.notes)}" if log.notes else ""))
+    print(report.levels_text())
+    rejected = f", {len(report.rejected)} quiet stretches rejected" if report.rejected else ""
+    print(f"rests: {len(report.rests)} of >= {report.min_rest_s:g} s{rejected}")
+    for line in rest_table(log, report, angle_deg, angle_name, extra):
+        print("  " + line)
+    for rej in report.rejected[:10]:
+        print(f"  rejected {log.time_s[rej.span.start]:.3f}-{log.time_s[rej.span.stop - 1]:.3f} s: {rej.reason}")
+    if len(report.rejected) > 10:
+        print(f"  ... {len(report.rejected) - 10} more rejected stretches")
+
+
+def _envelope(t: np.ndarray, y: np.ndarray, buckets: int = 3000):
+    """Min/max envelope (every sample inside one of ~``buckets`` buckets) for plotting long records fast."""
+    if t.size <= 2 * buckets:
+        return t, y, y
+    idx = np.arange(0, t.size, -(-t.size // buckets))
+    return t[idx], np.minimum.reduceat(y, idx), np.maximum.reduceat(y, idx)
+
+
+def _trace(ax, t: np.ndarray, y: np.ndarray, **kw) -> None:
+    """A long record as its min/max envelope, a short one as a line."""
+    tt, lo, hi = _envelope(t, y)
+    if lo is hi:
+        ax.plot(tt, y, lw=0.7, **kw)
+    else:
+        ax.fill_between(tt, lo, hi, lw=0.5, **kw)
+
+
+class DiagnosticsFigure:
+    """Collects what a command learned and writes the figure in ``finally`` (also on failure)."""
+
+    def __init__(self, path, title: str, inputs=()):
+        self.path = None if path is None else logio.check_output_path(path, inputs)
+        self.title = title
+        self.log: logio.ImuLog | None = None
+        self.report: rd.RestReport | None = None
+        self.used: list = []          # rests used by the method (slices)
+        self.series: dict = {}        # extra panel: name -> (N,) array
+        self.error: str | None = None
+
+    def write(self) -> None:
+        if self.path is None:
+            return
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+
+        has_gyro = self.log is not None and self.log.gyro_rad_s is not None
+        n_panels = 1 + has_gyro + bool(self.series)
+        fig, axes = plt.subplots(n_panels, 1, figsize=(9, 2.4 * n_panels + 0.6), sharex=True, squeeze=False)
+        axes = axes[:, 0]
+        status = "FAILED: " + self.error if self.error else "ok"
+        fig.suptitle(f"{self.title} — {status}"[:160], fontsize=9)
+        if self.log is None or self.log.accel_m_s2 is None:
+            axes[0].text(0.5, 0.5, "log not loaded\n" + (self.error or ""), ha="center", va="center",
+                         wrap=True, fontsize=8, transform=axes[0].transAxes)
+        else:
+            t = self.log.time_s
+            norm = np.linalg.norm(self.log.accel_m_s2, axis=1)
+            _, lo, hi = _envelope(t, norm)
+            ax = axes[0]
+            _trace(ax, t, norm, color="tab:blue", label="|a|")
+            rep = self.report
+            if rep is not None:
+                ax.axhspan(rep.band_m_s2[0], rep.band_m_s2[1], color="tab:green", alpha=0.15,
+                           label=f"rest band ({rep.method})")
+                ax.axhline(rep.gravity_m_s2, color="tab:green", lw=0.6)
+                for r in rep.rests:
+                    ax.axvspan(t[r.start], t[r.stop - 1], color="tab:green", alpha=0.25, lw=0)
+                for rej in rep.rejected:
+                    ax.axvspan(t[rej.span.start], t[rej.span.stop - 1], color="tab:red", alpha=0.2, lw=0)
+                    ax.text(t[rej.span.start], rep.band_m_s2[1], rej.reason[:40], fontsize=5, rotation=90,
+                            va="bottom", color="tab:red")
+            for r in self.used:
+                ax.axvspan(t[r.start], t[r.stop - 1], color="tab:orange", alpha=0.35, lw=0)
+            lo_all, hi_all = float(np.percentile(lo, 1)), float(np.percentile(hi, 99))
+            if rep is not None:
+                lo_all, hi_all = min(lo_all, rep.band_m_s2[0]), max(hi_all, rep.band_m_s2[1])
+            pad = 0.2 * (hi_all - lo_all) + 0.05
+            ax.set_ylim(lo_all - pad, hi_all + pad)
+            ax.set_ylabel("|a| (m/s²)")
+            ax.legend(loc="upper right", fontsize=7)
+            ax.set_title("green: rests, red: rejected quiet stretches, orange: rests used", fontsize=8)
+            k = 1
+            if has_gyro:
+                _trace(axes[k], t, np.degrees(np.linalg.norm(self.log.gyro_rad_s, axis=1)), color="tab:purple")
+                if rep is not None and np.isfinite(rep.gyro_level_max_rad_s):
+                    axes[k].axhline(np.degrees(rep.gyro_level_max_rad_s + np.linalg.norm(rep.gyro_bias_rad_s)),
+                                    color="tab:green", lw=0.6, label="rest threshold (bias + level)")
+                    axes[k].legend(loc="upper right", fontsize=7)
+                axes[k].set_yscale("symlog", linthresh=1.0)
+                axes[k].set_ylim(bottom=0)
+                axes[k].set_ylabel("|ω| (°/s)")
+                k += 1
+            for name, y in self.series.items():
+                _trace(axes[k], t, np.asarray(y, float), color="tab:red", label=name)
+                axes[k].set_ylabel(name)
+            axes[-1].set_xlabel("time (s)")
+        out = self.path
+
+        def save(tmp):
+            fig.savefig(tmp, format="png", dpi=110, metadata={"Software": None})
+
+        try:
+            logio._atomic(out, save)
+        finally:
+            plt.close(fig)
+        print(f"figure: {out}")
+
+
+def run_with_figure(fig: DiagnosticsFigure, body) -> int:
+    """Run ``body()``; write the figure whatever happens (the command's error wins)."""
+    try:
+        return body()
+    except Exception as exc:
+        fig.error = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+        try:
+            fig.write()
+        except Exception:  # noqa: BLE001 - the command's own error is the one to report
+            pass
+        raise
+    finally:
+        if fig.error is None:
+            fig.write()

@@ -1,0 +1,488 @@
+"""The one log reader and writer of the ``mtcal`` command line (CSV and Parquet).
+
+Input schema (header row, one row per sample; extra columns are ignored)::
+
+    time_s                                   sample time (s), strictly increasing
+    gyro_x_rad_s, gyro_y_rad_s, gyro_z_rad_s angular rate (rad/s), sensor frame,
+                                             mean rate over [t_k, t_(k+1)]
+    accel_x_m_s2, accel_y_m_s2, accel_z_m_s2 specific force (m/s²), sensor frame;
+                                             a level sensor at rest reads ≈ +g on z
+    q0, q1, q2, q3                           (optional) attitude quaternion, scalar-first,
+                                             sensor → world (``calibrate``/``apply``)
+
+Adapters (all commands): ``--time-unit {s,ms,us}``, ``--gyro-unit {rad/s,deg/s}``,
+``--accel-unit {m/s2,g}``, ``--gyro-scale``/``--accel-scale`` (one factor or three
+per-axis factors, applied first: raw counts → the unit), and
+``--columns time_s=Time,gyro_x_rad_s=GyrX,…`` to map other header names
+(header whitespace is stripped; short keys ``time, gyro_x, accel_x`` also work).
+Headers that carry their unit are recognised without options: ``time_ms``,
+``time_us``, ``gyro_x_deg_s``, ``accel_x_g``.
+
+Jittered timestamps (e.g. whole milliseconds, 3–7 ms steps) are handled by
+**per-sample dt**: the filters run at the mean rate, and gyro sample k is
+weighted by its own interval, ``ω_k (t_(k+1) − t_k) / dt_mean``, so every
+integrated angle uses the recorded time; no resampling, no interpolation of
+the accelerometer.
+
+Files ending in ``.parquet``/``.pq`` are Parquet, anything else CSV (comma,
+semicolon or tab, sniffed from the header). Outputs are written to a
+temporary file in the target directory and renamed over the target
+(``os.replace``), so a failed write never leaves a truncated file and never
+touches an existing one.
+"""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["InputOptions", "ImuLog", "read_log", "write_table", "check_output_path",
+           "CANONICAL", "MIN_FS_HZ", "MAX_FS_HZ", "parse_scale", "parse_columns"]
+
+GYRO_COLS = ("gyro_x_rad_s", "gyro_y_rad_s", "gyro_z_rad_s")
+ACCEL_COLS = ("accel_x_m_s2", "accel_y_m_s2", "accel_z_m_s2")
+QUAT_COLS = ("q0", "q1", "q2", "q3")
+CANONICAL = ("time_s",) + GYRO_COLS + ACCEL_COLS + QUAT_COLS
+#: header spellings that carry a unit: canonical name → [(alias, unit)]
+_UNIT_ALIASES = {
+    "time_s": [("time_ms", "ms"), ("time_us", "us")],
+    **{c: [(c.replace("_rad_s", "_deg_s"), "deg/s")] for c in GYRO_COLS},
+    **{c: [(c.replace("_m_s2", "_g"), "g")] for c in ACCEL_COLS},
+}
+TIME_UNITS = {"s": 1.0, "ms": 1e-3, "us": 1e-6}
+GYRO_UNITS = {"rad/s": 1.0, "deg/s": np.pi / 180.0}
+ACCEL_UNITS = {"m/s2": 1.0, "g": 9.80665}
+#: plausible IMU sample rates (Hz): outside, the time column is in another unit or mislabelled
+MIN_FS_HZ = 5.0
+MAX_FS_HZ = 20000.0
+
+
+def parse_scale(text: str | None, name: str) -> np.ndarray | None:
+    """``"0.001"`` or ``"a,b,c"`` → per-axis factors (3,), finite and non-zero."""
+    if text is None:
+        return None
+    try:
+        vals = np.array([float(x) for x in str(text).split(",")])
+    except ValueError:
+        raise ValueError(f"{name} must be one number or three comma-separated numbers, got {text!r}") from None
+    if vals.size == 1:
+        vals = np.repeat(vals, 3)
+    if vals.size != 3 or not np.all(np.isfinite(vals)) or np.any(vals == 0):
+        raise ValueError(f"{name} must be one or three finite non-zero numbers, got {text!r}")
+    return vals
+
+
+def parse_columns(text: str | None) -> dict:
+    """``"time_s=Time, gyro_x=GyrX"`` → {canonical: header}; short keys accepted."""
+    if not text:
+        return {}
+    out = {}
+    short = {c.split("_rad_s")[0].split("_m_s2")[0]: c for c in CANONICAL}
+    short["time"] = "time_s"
+    for item in str(text).split(","):
+        if not item.strip():
+            continue
+        if "=" not in item:
+            raise ValueError(f"--columns entries must look like name=header, got {item.strip()!r}")
+        key, val = (s.strip() for s in item.split("=", 1))
+        key = short.get(key, key)
+        if key not in CANONICAL:
+            raise ValueError(f"--columns: unknown name {key!r}; known: {', '.join(CANONICAL)}")
+        out[key] = val
+    return out
+
+
+@dataclass(frozen=True)
+class InputOptions:
+    """How to interpret a log's columns (see the module docstring)."""
+
+    time_unit: str | None = None
+    gyro_unit: str | None = None
+    accel_unit: str | None = None
+    gyro_scale: np.ndarray | None = None
+    accel_scale: np.ndarray | None = None
+    columns: dict = field(default_factory=dict)
+    fs_hz: float | None = None
+
+    def __post_init__(self) -> None:
+        if self.fs_hz is not None and not (np.isfinite(self.fs_hz) and MIN_FS_HZ <= self.fs_hz <= MAX_FS_HZ):
+            raise ValueError(f"--fs-hz must be a sample rate in {MIN_FS_HZ:g}-{MAX_FS_HZ:g} Hz, got {self.fs_hz}")
+        for name, table in (("time_unit", TIME_UNITS), ("gyro_unit", GYRO_UNITS), ("accel_unit", ACCEL_UNITS)):
+            val = getattr(self, name)
+            if val is not None and val not in table:
+                raise ValueError(f"--{name.replace('_', '-')} must be one of {', '.join(table)}, got {val!r}")
+
+
+@dataclass
+class ImuLog:
+    """A loaded log in SI units.
+
+    Attributes
+    ----------
+    path : str
+    time_s : ndarray (N,)
+    gyro_rad_s, accel_m_s2 : ndarray (N, 3) or None
+    q_ws : ndarray (N, 4) or None
+    fs_hz : float
+        Mean sample rate ``(N − 1) / (t_last − t_first)``.
+    dt_s : ndarray (N,)
+        Per-sample interval ``t_(k+1) − t_k`` (last: the mean).
+    jitter : float
+        ``max |dt − dt_mean| / dt_mean``.
+    notes : list of str
+        What was adapted (units, per-sample dt, gaps).
+    """
+
+    path: str
+    time_s: np.ndarray
+    gyro_rad_s: np.ndarray | None
+    accel_m_s2: np.ndarray | None
+    q_ws: np.ndarray | None
+    fs_hz: float
+    dt_s: np.ndarray
+    jitter: float
+    notes: list
+
+    @property
+    def n(self) -> int:
+        return int(self.time_s.size)
+
+    @property
+    def dt_mean_s(self) -> float:
+        return 1.0 / self.fs_hz
+
+    def gyro_for_filter(self) -> np.ndarray:
+        """Gyro weighted by per-sample dt for a fixed-step filter at ``dt_mean_s`` (rad/s)."""
+        if self.gyro_rad_s is None:
+            raise ValueError(f"{self.path}: no gyro columns")
+        if self.jitter < 1e-6:
+            return self.gyro_rad_s
+        return self.gyro_rad_s * (self.dt_s * self.fs_hz)[:, None]
+
+
+def _read_table(path: Path, select=None):
+    """Column name (stripped) → Arrow column, from CSV or Parquet.
+
+    ``select(names) -> names`` picks the columns a CSV read parses, as float64
+    (no type inference, no unused columns); a value that is not a number makes
+    the read fall back to inferring every column so the error can name its row.
+    """
+    import pyarrow as pa
+
+    if path.suffix.lower() in (".parquet", ".pq"):
+        import pyarrow.parquet as pq
+
+        try:
+            table = pq.read_table(path)
+        except (pa.ArrowException, OSError) as exc:
+            raise ValueError(f"{path}: not a readable Parquet file ({str(exc).splitlines()[0]})") from None
+    else:
+        import pyarrow.csv as pcsv
+
+        with open(path, "rb") as fh:
+            head = fh.readline(65536).decode("utf-8", "replace")
+        if not head.strip():
+            raise ValueError(f"{path}: empty file (a header row is required)")
+        delim = "," if "," in head else ";" if ";" in head else "\t" if "\t" in head else ","
+        parse = pcsv.ParseOptions(delimiter=delim)
+        table, raw = None, []
+        if select is not None:
+            raw = [h.strip().strip('"').strip() for h in head.rstrip("\r\n").split(delim)]
+            raw_names = [h.rstrip("\r\n").split(delim) for h in [head]][0]
+            by_name = {r: n.strip().strip('"') for r, n in zip(raw, raw_names)}
+            want = [by_name[n] for n in select(raw) if n in by_name]
+            if want and len(set(raw)) == len(raw):
+                try:
+                    table = pcsv.read_csv(path, parse_options=parse, convert_options=pcsv.ConvertOptions(
+                        include_columns=want, column_types={w: pa.float64() for w in want}))
+                except (pa.ArrowException, UnicodeDecodeError):
+                    table = None  # e.g. a non-numeric value: the full read below names its row
+        if table is None:
+            try:
+                table = pcsv.read_csv(path, parse_options=parse,
+                                      convert_options=pcsv.ConvertOptions(strings_can_be_null=True))
+            except (pa.ArrowException, UnicodeDecodeError) as exc:
+                raise ValueError(f"{path}: not a readable CSV ({str(exc).splitlines()[0][:200]})") from None
+    out = {str(name).strip(): col for name, col in zip(table.column_names, table.columns)}
+    if path.suffix.lower() not in (".parquet", ".pq") and select is not None and len(out) < len(raw):
+        out_names = raw  # every header of the file, for messages
+    else:
+        out_names = list(out)
+    return out, out_names
+
+
+def _numeric(col, header: str, path: Path) -> np.ndarray:
+    """A column as float64; the first non-numeric/NaN row is named in the error."""
+    import pyarrow as pa
+    import pyarrow.compute as pc
+
+    if pa.types.is_integer(col.type) or pa.types.is_floating(col.type) or pa.types.is_boolean(col.type):
+        arr = col.to_numpy(zero_copy_only=False).astype(np.float64, copy=False)
+    else:
+        try:
+            arr = pc.cast(pc.utf8_trim_whitespace(col.cast(pa.string())), pa.float64()).to_numpy(
+                zero_copy_only=False)
+        except (pa.ArrowException, TypeError):
+            import pandas as pd
+
+            arr = pd.to_numeric(pd.Series(col.to_pylist(), dtype=object).astype(str).str.strip(),
+                                errors="coerce").to_numpy(float)
+    bad = ~np.isfinite(arr)
+    if bad.any():
+        row = int(np.argmax(bad))
+        raise ValueError(f"{path}: non-numeric or NaN value in column {header!r} at data row {row + 1}")
+    return arr
+
+
+def _resolve(names: dict, want: tuple, opts: InputOptions) -> tuple[dict, dict]:
+    """Canonical name → header in the file, and units implied by unit-carrying headers."""
+    found, units = {}, {}
+    for c in want:
+        if c in opts.columns:
+            found[c] = opts.columns[c]
+        elif c in names:
+            found[c] = c
+        else:
+            for alias, unit in _UNIT_ALIASES.get(c, []):
+                if alias in names:
+                    found[c], units[c] = alias, unit
+    return found, units
+
+
+def read_log(path, opts: InputOptions | None = None, *, need: str = "raw", min_samples: int = 10) -> ImuLog:
+    """Read, convert to SI and check a log (the only log reader of the CLI).
+
+    Parameters
+    ----------
+    path : str or Path
+        CSV or Parquet file.
+    opts : InputOptions
+        Units, scales and column mapping.
+    need : {"raw", "accel", "raw_or_quat"}
+        Columns required: gyro + accel, accel (gyro read too when present),
+        or gyro + accel or q0..q3.
+    min_samples : int
+
+    Raises
+    ------
+    ValueError
+        Missing file/columns, non-numeric values, unsorted time, an implausible
+        sample rate (time unit) — always one line naming the file and the fix.
+    """
+    opts = InputOptions() if opts is None else opts
+    p = Path(path)
+    if not p.exists():
+        raise ValueError(f"log file not found: {path}")
+    if not p.is_file():
+        raise ValueError(f"log {path} is not a regular file")
+    cols, all_names = _read_table(p, select=lambda names: list(_resolve(set(names), CANONICAL, opts)[0].values()))
+    for c, header in opts.columns.items():
+        if header not in cols:
+            raise ValueError(f"{path}: --columns maps {c} to {header!r}, which is not a column "
+                             f"(columns: {', '.join(all_names[:20])})")
+    found, implied = _resolve(cols, CANONICAL, opts)
+    has_raw = all(c in found for c in GYRO_COLS + ACCEL_COLS)
+    has_acc = all(c in found for c in ACCEL_COLS)
+    has_q = all(c in found for c in QUAT_COLS)
+    if "time_s" not in found and opts.fs_hz is None:
+        raise ValueError(f"{path}: missing column time_s (columns: {', '.join(all_names[:20])}); "
+                         f"map yours with --columns time_s=NAME, or give --fs-hz for a uniformly sampled log")
+    required = {"raw": GYRO_COLS + ACCEL_COLS, "accel": ACCEL_COLS, "raw_or_quat": QUAT_COLS}[need]
+    ok = {"raw": has_raw, "accel": has_acc, "raw_or_quat": has_raw or has_q}[need]
+    if not ok:
+        missing = [c for c in required if c not in found]
+        extra = f" (or the raw set {', '.join(GYRO_COLS + ACCEL_COLS)})" if need == "raw_or_quat" else ""
+        raise ValueError(f"{path}: missing columns {', '.join(missing)}{extra}; columns present: "
+                         f"{', '.join(all_names[:20])}; map yours with --columns NAME=HEADER")
+    notes = []
+    time_unit = opts.time_unit or implied.get("time_s", "s")
+    if opts.fs_hz is not None:  # --fs-hz: uniform time, any time column ignored
+        t = np.arange(len(next(iter(cols.values())))) / opts.fs_hz
+        found["time_s"] = "--fs-hz"
+        notes.append(f"time from --fs-hz {opts.fs_hz:g}")
+    else:
+        t = _numeric(cols[found["time_s"]], found["time_s"], p) * TIME_UNITS[time_unit]
+    if time_unit != "s":
+        notes.append(f"time in {time_unit}")
+    if t.size < min_samples:
+        raise ValueError(f"{path}: needs at least {min_samples} samples, got {t.size}")
+    dt = np.diff(t)
+    if np.any(dt <= 0):
+        k = int(np.argmax(dt <= 0))
+        raise ValueError(f"{path}: {found['time_s']} is not strictly increasing at data row {k + 2} "
+                         f"({t[k + 1]!r} after {t[k]!r}); sort the log by time and drop duplicates")
+    fs = (t.size - 1) / (t[-1] - t[0])
+    if not MIN_FS_HZ <= fs <= MAX_FS_HZ:
+        hint = ("is time in ms or us? use --time-unit ms or --time-unit us" if fs < MIN_FS_HZ
+                else "is time in s labelled as ms? check --time-unit")
+        raise ValueError(f"{path}: mean sample rate {fs:.4g} Hz from {found['time_s']} (time unit "
+                         f"{time_unit}) is implausible for an IMU ({MIN_FS_HZ:g}-{MAX_FS_HZ:g} Hz); {hint}")
+    dt_mean = 1.0 / fs
+    jitter = float(max(dt_mean - dt.min(), dt.max() - dt_mean) / dt_mean)
+    dt_full = np.append(dt, dt_mean)
+    if jitter > 1e-3:
+        notes.append(f"jittered timestamps (dt {dt.min() * 1e3:.3g}-{dt.max() * 1e3:.3g} ms, mean "
+                     f"{dt_mean * 1e3:.4g} ms): per-sample dt used")
+    if dt.max() > 5.0 * dt_mean:
+        gaps = dt > 5.0 * np.median(dt)
+        notes.append(f"{int(gaps.sum())} gap(s) > 5x the median dt (largest {dt.max():.3g} s)")
+
+    def vec(names, unit_name, unit_opt, table, scale, scale_name):
+        unit = unit_opt or implied.get(names[0], next(iter(table)))
+        arr = np.empty((t.size, 3))
+        for i, c in enumerate(names):
+            arr[:, i] = _numeric(cols.pop(found[c]), found[c], p)  # pop: free the Arrow column early
+        if scale is not None:
+            arr *= scale
+            notes.append(f"{scale_name} {','.join(f'{s:g}' for s in scale)}")
+        if unit != next(iter(table)):
+            notes.append(f"{unit_name} in {unit}")
+            arr *= table[unit]
+        return arr
+
+    gyro = accel = q = None
+    if has_raw or (need == "accel" and has_acc):
+        accel = vec(ACCEL_COLS, "accel", opts.accel_unit, ACCEL_UNITS, opts.accel_scale, "accel scale")
+        _check_accel(accel, p)
+    if has_raw:
+        gyro = vec(GYRO_COLS, "gyro", opts.gyro_unit, GYRO_UNITS, opts.gyro_scale, "gyro scale")
+        _check_gyro(gyro, p)
+    if has_q and need == "raw_or_quat":
+        q = np.column_stack([_numeric(cols[found[c]], found[c], p) for c in QUAT_COLS])
+        norm = np.linalg.norm(q, axis=1)
+        if np.any(np.abs(norm - 1.0) > 1e-3):
+            raise ValueError(f"{path}: q0..q3 are not unit quaternions (|q| in [{norm.min():.4g}, "
+                             f"{norm.max():.4g}])")
+        q = q / norm[:, None]
+    return ImuLog(str(path), t, gyro, accel, q, float(fs), dt_full, jitter, notes)
+
+
+#: Largest plausible specific force (m/s²): beyond any accelerometer's full scale (~200 g).
+MAX_ACCEL_M_S2 = 2000.0
+
+
+def _check_accel(accel: np.ndarray, path: Path) -> None:
+    big = np.abs(accel) > MAX_ACCEL_M_S2
+    if big.any():
+        row, col = np.argwhere(big)[0]
+        raise ValueError(f"{path}: accel_{'xyz'[col]} = {accel[row, col]:.4g} m/s^2 at data row {row + 1} is beyond "
+                         f"any accelerometer's range ({MAX_ACCEL_M_S2:g} m/s^2): corrupt row or wrong "
+                         f"--accel-scale/--accel-unit")
+    sub = accel[:: max(1, accel.shape[0] // 20000)]
+    med = float(np.median(np.linalg.norm(sub, axis=1)))
+    if med < 2.0:
+        raise ValueError(f"{path}: median |accel| is {med:.4g} after conversion, not ~9.8 m/s^2: "
+                         f"accelerometer in g? use --accel-unit g (or --accel-scale for counts)")
+    if med > 50.0:
+        raise ValueError(f"{path}: median |accel| is {med:.4g} after conversion, not ~9.8 m/s^2: "
+                         f"raw counts or mg? use --accel-scale (e.g. 1/LSB per g with --accel-unit g)")
+
+
+def _check_gyro(gyro: np.ndarray, path: Path) -> None:
+    peak = float(np.max(np.abs(gyro))) if gyro.size else 0.0
+    if peak > 40.0:
+        raise ValueError(f"{path}: peak |gyro| {peak:.4g} rad/s exceeds any MEMS full scale (~35 rad/s): "
+                         f"gyro in deg/s or counts? use --gyro-unit deg/s or --gyro-scale")
+
+
+def check_output_path(out, inputs=()) -> Path:
+    """Refuse an output that would destroy an input or cannot be a regular file; return it as a Path."""
+    o = Path(out)
+    for i in inputs:
+        if i is None:
+            continue
+        try:
+            same = o.exists() and Path(i).exists() and os.path.samefile(o, i)
+        except OSError:
+            same = False
+        if same or os.path.realpath(o) == os.path.realpath(i):
+            raise ValueError(f"--out {out} is an input file ({i}); choose another output path")
+    if o.exists() and o.is_dir():
+        raise ValueError(f"cannot write {out}: it is a directory")
+    if o.exists() and not o.is_file():
+        raise ValueError(f"cannot write {out}: not a regular file")
+    parent = o.parent if str(o.parent) else Path(".")
+    if not parent.exists():
+        raise ValueError(f"cannot write {out}: directory {parent} does not exist")
+    if not parent.is_dir():
+        raise ValueError(f"cannot write {out}: {parent} is not a directory")
+    return o
+
+
+def _atomic(path: Path, write) -> None:
+    """Run ``write(tmp_path)`` then rename over ``path``; remove the temp file on any failure."""
+    parent = path.parent if str(path.parent) else Path(".")
+    try:
+        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=parent)
+    except OSError as exc:
+        raise OSError(f"cannot write {path}: {exc.strerror or exc}") from None
+    os.close(fd)
+    try:
+        write(tmp)
+        mode = 0o666 & ~_umask()
+        os.chmod(tmp, mode)
+        os.replace(tmp, path)
+    except BaseException as exc:
+        try:
+            os.unlink(tmp)
+        except OSError:
+            pass
+        if isinstance(exc, OSError):
+            raise OSError(f"cannot write {path}: {exc.strerror or exc}") from None
+        raise
+
+
+def _umask() -> int:
+    m = os.umask(0)
+    os.umask(m)
+    return m
+
+
+def write_table(path, columns: dict, *, decimals: dict | None = None) -> None:
+    """Write named 1-D arrays as CSV or Parquet (by suffix), atomically.
+
+    Floats are rounded to ``decimals[name]`` (default 6) in CSV, which the
+    pyarrow writer then prints in shortest form; Parquet keeps float64. NaN
+    is written as an empty field (CSV) or null (Parquet).
+    """
+    import pyarrow as pa
+
+    p = check_output_path(path)
+    dec = decimals or {}
+    parquet = p.suffix.lower() in (".parquet", ".pq")
+    arrays = {}
+    for name, arr in columns.items():
+        a = np.asarray(arr)
+        if a.dtype.kind == "f" and not parquet:
+            a = np.round(a, dec.get(name, 6))
+        arrays[name] = pa.array(a, from_pandas=True) if a.dtype.kind == "f" else a  # NaN → empty/null
+    table = pa.table(arrays)
+    if parquet:
+        import pyarrow.parquet as pq
+
+        _atomic(p, lambda tmp: pq.write_table(table, tmp))
+    else:
+        import pyarrow.csv as pcsv
+
+        try:
+            opts = pcsv.WriteOptions(quoting_style="none", quoting_header="none")
+        except TypeError:  # pyarrow < 19 has no quoting_header (the header is then quoted; readers accept it)
+            opts = pcsv.WriteOptions(quoting_style="none")
+        _atomic(p, lambda tmp: pcsv.write_csv(table, tmp, write_options=opts))
+
+
+def write_text(path, text: str) -> None:
+    """Write a text file atomically (JSON outputs)."""
+    p = check_output_path(path)
+
+    def w(tmp):
+        with open(tmp, "w", encoding="utf-8") as fh:
+            fh.write(text)
+            fh.flush()
+            os.fsync(fh.fileno())
+
+    _atomic(p, w)

@@ -1,0 +1,475 @@
+"""Rest (zero-velocity) detection that adapts to the sensor: levels measured from the data.
+
+A fixed acceleration band such as wang2022sensors Table 1 (9.76–9.84 m/s²,
+:mod:`mtcal.methods.zero_velocity`) fits a simulator whose accelerometer reads
+exactly 9.80665 m/s² at rest. Real sensors read 0.5–3 % off (scale factor and
+bias errors, local gravity), and their gyros carry biases of 0.5–3 °/s, far
+above a fixed stillness threshold of 0.2 °/s. This detector measures what the
+sensor reads when it is still and sets every threshold from that:
+
+1. The record is cut into non-overlapping windows of ``window_s``. For each
+   window the per-axis standard deviations of the accelerometer and of the gyro
+   are computed (a standard deviation is blind to a constant gyro bias).
+2. The quietest ``quiet_fraction`` of the windows (ranked on accelerometer and
+   gyro together) define the rest levels: the local gravity magnitude
+   ``g`` is the median of their mean ``‖a‖``, the noise levels ``σ_a``, ``σ_ω``
+   the medians of their standard deviations, and the gyro bias ``b`` the
+   median of their mean rates.
+3. A sample is static when, over a centred window of ``window_s``,
+
+   * the accelerometer standard deviation (rms over axes) is below
+     ``max(k σ_a, √(σ_a m_a))``, with ``m_a`` the 90th percentile of the window
+     standard deviations (the motion level): rests that are noisier than the
+     quietest ones (a foot's stance after a still stand) stay rests as long as
+     they are far quieter than the motion (geometric middle of the two levels),
+   * the gyro standard deviation is below ``max(k σ_ω, √(σ_ω m_ω))`` likewise,
+   * the mean ``‖a‖`` is within ``g ± max(k σ_a, band_fraction g)`` (the band
+     allows the few-tenths-of-a-percent change of ``‖a‖`` with orientation
+     that accelerometer scale errors cause),
+   * the mean rate differs from the bias by less than
+     ``max(k σ_ω, min_gyro_level_rad_s)`` (a slow turn about the vertical is
+     invisible to the accelerometer; only this condition sees it),
+
+   and runs of static samples shorter than ``min_rest_s`` are dropped.
+
+Every threshold can be overridden. The returned :class:`RestReport` carries the
+measured levels, the thresholds used, the rests found and, for each quiet
+stretch that was *not* accepted, the reason (outside the band, turning, too
+short), so a user sees why a rest was or was not found.
+
+The statistics use centred windows (the detector is for recorded logs, not
+causal); cumulative sums make it O(N) and vectorised over samples.
+
+References
+----------
+Wang C., Chen Z., Liu Z., Zhou X., Li X., "Movable surface rotation angle
+measurement using inertial sensors", Sensors 22 (2022) 8996,
+doi:10.3390/s22228996 (fixed-band ZVD this detector generalises).
+Skog I., Händel P., Nilsson J.-O., Rantakokko J., "Zero-velocity detection — an
+algorithm evaluation", IEEE Trans. Biomed. Eng. 57 (2010) 2657–2666,
+doi:10.1109/TBME.2010.2060723 (accelerometer + gyro rest statistics).
+
+Examples
+--------
+>>> import numpy as np
+>>> rng = np.random.default_rng(0)
+>>> fs = 200.0
+>>> t = np.arange(int(6 * fs)) / fs
+>>> gyro = rng.normal(0, 0.002, (t.size, 3)) + np.radians([1.5, -0.8, 2.0])   # MEMS bias
+>>> accel = rng.normal(0, 0.01, (t.size, 3)) + [0.0, 0.0, 9.93]                # |g| 1.3 % high
+>>> moving = (t > 2) & (t < 3.5)
+>>> gyro[moving, 0] += 1.0
+>>> accel[moving, 1] += 2.0 * np.sin(2 * np.pi * t[moving])
+>>> rep = detect_rests(accel, fs, gyro_rad_s=gyro)
+>>> len(rep.rests), round(rep.gravity_m_s2, 2)
+(2, 9.93)
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from mtcal.core.validate import as_float_array, check_accel_units, positive_scalar
+
+__all__ = ["RestDetectorParams", "RestReport", "RejectedRest", "detect_rests", "paper_rest_report"]
+
+DEG = np.pi / 180.0
+
+
+@dataclass(frozen=True)
+class RestDetectorParams:
+    """Settings of :func:`detect_rests` (every level is measured unless overridden).
+
+    Parameters
+    ----------
+    window_s : float
+        Analysis window (s); default 0.1 s (long enough to average noise, short
+        enough for 0.3 s foot stances).
+    quiet_fraction : float
+        Fraction of windows taken as the quietest (rest reference), (0, 0.5].
+    noise_factor : float
+        k: a statistic must stay below k × its rest level.
+    min_rest_s : float
+        Shortest accepted rest (s).
+    band_fraction : float
+        Smallest half-width of the ``‖a‖`` band as a fraction of g (0.015 = 1.5 %).
+    min_gyro_level_rad_s : float
+        Smallest allowed ``|ω̄ − b|`` threshold (rad/s); default 1.5 °/s.
+    gravity_m_s2 : float or None
+        Override of the measured ``‖a‖`` at rest (m/s²).
+    accel_band_m_s2 : float or None
+        Override of the band half-width (m/s²).
+    accel_std_max_m_s2, gyro_std_max_rad_s, gyro_level_max_rad_s : float or None
+        Overrides of the three other thresholds.
+    """
+
+    window_s: float = 0.1
+    quiet_fraction: float = 0.1
+    noise_factor: float = 5.0
+    min_rest_s: float = 0.2
+    band_fraction: float = 0.015
+    min_gyro_level_rad_s: float = 1.5 * DEG
+    gravity_m_s2: float | None = None
+    accel_band_m_s2: float | None = None
+    accel_std_max_m_s2: float | None = None
+    gyro_std_max_rad_s: float | None = None
+    gyro_level_max_rad_s: float | None = None
+
+    def __post_init__(self) -> None:
+        for name in ("window_s", "quiet_fraction", "noise_factor", "band_fraction", "min_gyro_level_rad_s"):
+            positive_scalar(getattr(self, name), name)
+        positive_scalar(self.min_rest_s, "min_rest_s", allow_zero=True)
+        if self.quiet_fraction > 0.5:
+            raise ValueError(f"quiet_fraction must be in (0, 0.5], got {self.quiet_fraction}")
+        for name in ("gravity_m_s2", "accel_band_m_s2", "accel_std_max_m_s2", "gyro_std_max_rad_s",
+                     "gyro_level_max_rad_s"):
+            if getattr(self, name) is not None:
+                positive_scalar(getattr(self, name), name)
+        if self.gravity_m_s2 is not None and not 2.0 < self.gravity_m_s2 < 50.0:
+            raise ValueError(f"gravity_m_s2 must be in m/s² (2 … 50), got {self.gravity_m_s2}")
+
+
+@dataclass(frozen=True)
+class RejectedRest:
+    """A quiet stretch that was not accepted as a rest: sample range and reason."""
+
+    span: slice
+    reason: str
+
+
+@dataclass(frozen=True)
+class RestReport:
+    """Outcome of a rest detector: flags, rests, measured levels and thresholds.
+
+    Attributes
+    ----------
+    is_static : ndarray (N,) of bool
+        Static flag per sample (only samples inside accepted rests).
+    rests : list of slice
+        Accepted rests, in time order.
+    rejected : list of RejectedRest
+        Quiet stretches not accepted, with the reason.
+    method : str
+        ``"adaptive"`` or ``"paper"`` (wang2022sensors Table 1 ZVD).
+    gravity_m_s2 : float
+        ``‖a‖`` at rest used as the band centre (measured or overridden).
+    accel_noise_m_s2, gyro_noise_rad_s : float
+        Measured per-sample noise std at rest (gyro NaN without gyro).
+    gyro_bias_rad_s : ndarray (3,)
+        Measured mean rate at rest (NaN without gyro).
+    band_m_s2 : tuple of float
+        ``(low, high)`` band of ``‖a‖``.
+    accel_std_max_m_s2, gyro_std_max_rad_s, gyro_level_max_rad_s : float
+        Thresholds used (NaN when not applicable).
+    min_rest_s, window_s : float
+    n_short : int
+        Number of static fragments shorter than ``min_rest_s``.
+    """
+
+    is_static: np.ndarray
+    rests: list
+    rejected: list
+    method: str
+    gravity_m_s2: float
+    accel_noise_m_s2: float
+    gyro_noise_rad_s: float
+    gyro_bias_rad_s: np.ndarray
+    band_m_s2: tuple
+    accel_std_max_m_s2: float
+    gyro_std_max_rad_s: float
+    gyro_level_max_rad_s: float
+    min_rest_s: float
+    window_s: float
+    n_short: int = 0
+    extra: dict = field(default_factory=dict)
+
+    def levels_text(self) -> str:
+        """One line with the measured levels and the thresholds (display units)."""
+        txt = (f"rest detector {self.method}: |a| at rest {self.gravity_m_s2:.4f} m/s^2, "
+               f"band {self.band_m_s2[0]:.3f}-{self.band_m_s2[1]:.3f} m/s^2, "
+               f"accel noise {self.accel_noise_m_s2:.4f} m/s^2")
+        if np.isfinite(self.gyro_noise_rad_s):
+            b = np.degrees(self.gyro_bias_rad_s)
+            txt += (f", gyro noise {np.degrees(self.gyro_noise_rad_s):.3f} deg/s, "
+                    f"gyro bias [{b[0]:+.2f}, {b[1]:+.2f}, {b[2]:+.2f}] deg/s")
+        return txt
+
+
+def centred_moving_mean(x: np.ndarray, window: int) -> np.ndarray:
+    """Centred moving mean along axis 0 (edges: the available samples), via cumulative sums.
+
+    Sample i averages ``x[i − window//2 : i − window//2 + window]`` clipped to the record.
+    """
+    n = x.shape[0]
+    c = np.empty((n + 1,) + x.shape[1:])
+    c[0] = 0.0
+    np.cumsum(x, axis=0, out=c[1:])
+    lo_off, hi_off = window // 2, window - window // 2
+    out = np.empty(c.shape[:1] + x.shape[1:])[:n]
+    i0, i1 = lo_off, n - hi_off + 1
+    if i1 > i0:  # interior: full windows, plain slices (no gather)
+        np.subtract(c[i0 + hi_off:i1 + hi_off], c[i0 - lo_off:i1 - lo_off], out=out[i0:i1])
+        out[i0:i1] /= window
+        edges = np.r_[0:i0, i1:n]
+    else:
+        edges = np.arange(n)
+    lo = np.clip(edges - lo_off, 0, n)
+    hi = np.clip(edges + hi_off, 0, n)
+    cnt = (hi - lo).reshape((-1,) + (1,) * (x.ndim - 1)).astype(float)
+    out[edges] = (c[hi] - c[lo]) / cnt
+    return out
+
+
+class _Blocks:
+    """Sums over sub-blocks of ``sub`` samples: every statistic then costs one pass over the record.
+
+    Windows are whole numbers of sub-blocks (``k`` ≈ window / sub), centred on each
+    sub-block; flags are decided per sub-block (``sub`` ≈ window / 4, e.g. 25 ms at
+    1 kHz) and expanded to samples.
+    """
+
+    def __init__(self, n: int, w: int):
+        self.n = n
+        self.sub = max(1, w // 4)
+        self.k = max(1, int(round(w / self.sub)))
+        self.idx = np.arange(0, n, self.sub)
+        self.count = np.diff(np.r_[self.idx, n]).astype(float)
+        self.win_count = self.window(self.count)
+
+    def window(self, s: np.ndarray) -> np.ndarray:
+        """Centred moving sum over k sub-blocks (clipped at the ends)."""
+        nb = s.shape[0]
+        c = np.zeros((nb + 1,) + s.shape[1:])
+        np.cumsum(s, axis=0, out=c[1:])
+        i = np.arange(nb)
+        lo = np.clip(i - self.k // 2, 0, nb)
+        hi = np.clip(i - self.k // 2 + self.k, 0, nb)
+        return c[hi] - c[lo]
+
+    def stats(self, x: np.ndarray):
+        """Centred-window mean (nb, d) and rms-over-axes std (nb,) of x (N, d)."""
+        off = x[: min(self.n, 1000)].mean(axis=0)
+        xc = x - off  # centred: the sums keep their precision
+        s1 = np.add.reduceat(xc, self.idx, axis=0)
+        xc *= xc
+        s2 = np.add.reduceat(xc, self.idx, axis=0)
+        c = self.win_count[:, None]
+        m1 = self.window(s1) / c
+        var = np.maximum(self.window(s2) / c - m1 * m1, 0.0)
+        return m1 + off, np.sqrt(var.mean(axis=1))
+
+    def to_samples(self, b: int) -> int:
+        return int(self.idx[b]) if b < self.idx.size else self.n
+
+
+def runs(flag: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Start and stop indices of the runs of True in a 1-D boolean array."""
+    d = np.diff(np.concatenate([[0], flag.astype(np.int8), [0]]))
+    return np.flatnonzero(d == 1), np.flatnonzero(d == -1)
+
+
+def _block_levels(accel: np.ndarray, norm: np.ndarray, gyro: np.ndarray | None, w: int,
+                  quiet_fraction: float):
+    """Rest levels from the quietest non-overlapping windows (medians); sums, not per-block calls."""
+    nb = accel.shape[0] // w
+    if nb < 3:
+        raise ValueError(f"record too short for rest detection: {accel.shape[0]} samples, need at least "
+                         f"3 windows of {w} samples")
+
+    def block_stats(x):
+        b = x[: nb * w].reshape(nb, w, -1)
+        first = b[:, :1].copy()
+        b = b - first  # per-block offset keeps the sums precise
+        m1 = b.sum(axis=1) / w
+        b *= b
+        var = np.maximum(b.sum(axis=1) / w - m1 * m1, 0.0)
+        return np.sqrt(var.mean(axis=1)), m1 + first[:, 0]
+
+    a_std, _ = block_stats(accel)
+    a_norm = norm[: nb * w].reshape(nb, w).mean(axis=1)
+    score = np.argsort(np.argsort(a_std)).astype(float)
+    if gyro is not None:
+        g_std, g_mean = block_stats(gyro)
+        score += np.argsort(np.argsort(g_std))
+    m = max(3, int(np.ceil(quiet_fraction * nb)))
+    quiet = np.argpartition(score, m - 1)[:m]
+    out = {"gravity": float(np.median(a_norm[quiet])), "accel_noise": float(np.median(a_std[quiet])),
+           "accel_motion": float(np.percentile(a_std, 90))}
+    if gyro is not None:
+        out["gyro_noise"] = float(np.median(g_std[quiet]))
+        out["gyro_bias"] = np.median(g_mean[quiet], axis=0)
+        out["gyro_motion"] = float(np.percentile(g_std, 90))
+    return out
+
+
+#: Floors of the measured noise (quantised sensors can read a constant at rest).
+ACCEL_NOISE_FLOOR_M_S2 = 2e-3
+GYRO_NOISE_FLOOR_RAD_S = 2e-4
+
+
+def detect_rests(accel_m_s2, fs_hz: float, *, gyro_rad_s=None,
+                 params: RestDetectorParams | None = None) -> RestReport:
+    """Adaptive rest detection (see the module docstring for the statistics).
+
+    Parameters
+    ----------
+    accel_m_s2 : array_like, shape (N, 3)
+        Specific force (m/s²).
+    fs_hz : float
+        Sample rate (Hz).
+    gyro_rad_s : array_like, shape (N, 3), optional
+        Angular rate (rad/s); without it only the accelerometer decides.
+    params : RestDetectorParams, optional
+
+    Returns
+    -------
+    RestReport
+
+    Raises
+    ------
+    ValueError
+        Bad shapes, non-finite data, a record shorter than three windows.
+    """
+    p = RestDetectorParams() if params is None else params
+    if not isinstance(p, RestDetectorParams):
+        raise TypeError(f"params must be a RestDetectorParams, got {type(p).__name__}")
+    a = as_float_array(accel_m_s2, "accel_m_s2", ndim=2, last_dim=3, copy=False)
+    check_accel_units(a)
+    fs = positive_scalar(fs_hz, "fs_hz")
+    g = None
+    if gyro_rad_s is not None:
+        g = as_float_array(gyro_rad_s, "gyro_rad_s", ndim=2, last_dim=3, copy=False)
+        if g.shape != a.shape:
+            raise ValueError(f"gyro_rad_s must have the shape of accel_m_s2 {a.shape}, got {g.shape}")
+    w = max(3, int(round(p.window_s * fs)))
+    norm = np.sqrt(np.einsum("ij,ij->i", a, a))
+    lv = _block_levels(a, norm, g, w, p.quiet_fraction)
+    k = p.noise_factor
+    grav = p.gravity_m_s2 if p.gravity_m_s2 is not None else lv["gravity"]
+    sig_a = max(lv["accel_noise"], ACCEL_NOISE_FLOOR_M_S2)
+    a_std_max = (p.accel_std_max_m_s2 if p.accel_std_max_m_s2 is not None
+                 else max(k * sig_a, np.sqrt(sig_a * lv["accel_motion"])))
+    half = p.accel_band_m_s2 if p.accel_band_m_s2 is not None else max(k * sig_a, p.band_fraction * grav)
+    band = (grav - half, grav + half)
+
+    blk = _Blocks(a.shape[0], w)
+    norm_mean = blk.stats(norm[:, None])[0][:, 0]
+    _, a_std = blk.stats(a)
+    quiet = a_std < a_std_max
+    in_band = (norm_mean > band[0]) & (norm_mean < band[1])
+    sig_w = bias = np.nan
+    g_std_max = g_lvl_max = np.nan
+    level = None
+    if g is not None:
+        sig_w = max(lv["gyro_noise"], GYRO_NOISE_FLOOR_RAD_S)
+        bias = lv["gyro_bias"]
+        g_std_max = (p.gyro_std_max_rad_s if p.gyro_std_max_rad_s is not None
+                     else max(k * sig_w, np.sqrt(sig_w * lv["gyro_motion"])))
+        g_lvl_max = (p.gyro_level_max_rad_s if p.gyro_level_max_rad_s is not None
+                     else max(k * sig_w, p.min_gyro_level_rad_s))
+        g_mean, g_std = blk.stats(g)
+        quiet_a = quiet.copy()
+        quiet &= g_std < g_std_max
+        level = np.linalg.norm(g_mean - bias, axis=1)
+        still = level < g_lvl_max
+    else:
+        still = np.ones_like(quiet)
+        quiet_a, g_std = quiet, None
+    static = quiet & in_band & still
+    noise = {"accel": (a_std, a_std_max, quiet_a), "gyro": (g_std, g_std_max)}
+    rests, rejected, n_short, static = _classify(blk, static, quiet, in_band, still, norm_mean, level, band,
+                                                 g_lvl_max, int(round(p.min_rest_s * fs)), w, fs, noise)
+    return RestReport(is_static=static, rests=rests, rejected=rejected, method="adaptive",
+                      gravity_m_s2=float(grav), accel_noise_m_s2=float(sig_a),
+                      gyro_noise_rad_s=float(sig_w),
+                      gyro_bias_rad_s=np.full(3, np.nan) if g is None else np.asarray(bias, float),
+                      band_m_s2=(float(band[0]), float(band[1])), accel_std_max_m_s2=float(a_std_max),
+                      gyro_std_max_rad_s=float(g_std_max), gyro_level_max_rad_s=float(g_lvl_max),
+                      min_rest_s=float(p.min_rest_s), window_s=float(w / fs), n_short=n_short)
+
+
+def _classify(blk, static, quiet, in_band, still, norm_mean, level, band, g_lvl_max, n_min, w, fs, noise):
+    """Accept static runs ≥ n_min samples; explain every quiet stretch that holds no accepted rest.
+
+    Inputs are per sub-block; rests are returned as sample slices and per-sample flags.
+    """
+    bs, be = runs(static)
+    s0 = np.array([blk.to_samples(b) for b in bs], dtype=int)
+    s1 = np.array([blk.to_samples(b) for b in be], dtype=int)
+    keep = (s1 - s0) >= max(n_min, 1)
+    rests = [slice(int(a), int(b)) for a, b in zip(s0[keep], s1[keep])]
+    flags = np.zeros(blk.n, bool)
+    for r in rests:
+        flags[r] = True
+    rejected = []
+    n_short = int(np.count_nonzero(~keep))
+    qs, qe = runs(quiet | (in_band & still))  # candidates: quiet, or at the rest level
+    has_rest = np.zeros(qs.size, bool)
+    if np.any(keep):
+        pos = np.searchsorted(qs, bs[keep], side="right") - 1
+        has_rest[pos[pos >= 0]] = True
+    q0 = np.array([blk.to_samples(b) for b in qs], dtype=int)
+    q1 = np.array([blk.to_samples(b) for b in qe], dtype=int)
+    long_enough = (q1 - q0) >= w
+    for i in np.flatnonzero(long_enough & ~has_rest):
+        sl = slice(int(q0[i]), int(q1[i]))
+        bsl = slice(int(qs[i]), int(qe[i]))
+        out_band = 1.0 - in_band[bsl].mean()
+        turning = 0.0 if level is None else 1.0 - still[bsl].mean()
+        noisy = 1.0 - quiet[bsl].mean()
+        static_s = float(blk.count[bsl][static[bsl]].sum()) / fs
+        if static[bsl].mean() >= 0.5:
+            reason = f"too short ({static_s:.2f} s at rest)"
+        elif noisy > max(out_band, turning):
+            a_std, a_max, quiet_a = noise["accel"]
+            if (1.0 - quiet_a[bsl].mean()) >= 0.5 * noisy:
+                reason = (f"not still: accel std {np.median(a_std[bsl]):.4f} > {a_max:.4f} m/s^2 "
+                          f"(--noise-factor raises it)")
+            else:
+                g_std, g_max = noise["gyro"]
+                reason = (f"not still: gyro std {np.degrees(np.median(g_std[bsl])):.3f} > "
+                          f"{np.degrees(g_max):.3f} deg/s (--noise-factor raises it)")
+        elif out_band >= turning and out_band > 0:
+            m = float(np.median(norm_mean[bsl]))
+            reason = f"|a| {m:.3f} m/s^2 outside band {band[0]:.3f}-{band[1]:.3f}"
+        elif turning > 0:
+            reason = (f"turning: |w - bias| {np.degrees(np.median(level[bsl])):.2f} deg/s > "
+                      f"{np.degrees(g_lvl_max):.2f} deg/s")
+        else:
+            reason = f"too short ({(sl.stop - sl.start) / fs:.2f} s)"
+        rejected.append(RejectedRest(sl, reason))
+    return rests, rejected, n_short, flags
+
+
+def paper_rest_report(accel_m_s2, fs_hz: float, *, gyro_rad_s=None, min_rest_s: float = 0.5,
+                      zvd=None) -> RestReport:
+    """wang2022sensors Table 1 ZVD (:func:`mtcal.methods.zero_velocity.detect_static`) as a :class:`RestReport`.
+
+    The flags are the paper's, unchanged (``is_static``); ``rests`` are its
+    runs of at least ``min_rest_s``. The measured levels are reported beside
+    the fixed band so a user sees when the band misses the sensor.
+    """
+    from mtcal.methods.zero_velocity import ZvdParams, detect_static
+
+    zp = ZvdParams() if zvd is None else zvd
+    a = as_float_array(accel_m_s2, "accel_m_s2", ndim=2, last_dim=3, copy=False)
+    fs = positive_scalar(fs_hz, "fs_hz")
+    flags = detect_static(a, fs, zp)
+    g = None if gyro_rad_s is None else as_float_array(gyro_rad_s, "gyro_rad_s", ndim=2, last_dim=3, copy=False)
+    w = max(3, int(round(0.1 * fs)))
+    lv = _block_levels(a, np.linalg.norm(a, axis=1), g, w, 0.1)
+    starts, stops = runs(flags)
+    keep = (stops - starts) >= max(int(round(min_rest_s * fs)), 1)
+    rests = [slice(int(s), int(e)) for s, e in zip(starts[keep], stops[keep])]
+    return RestReport(is_static=flags, rests=rests, rejected=[], method="paper",
+                      gravity_m_s2=0.5 * (zp.accel_min_m_s2 + zp.accel_max_m_s2),
+                      accel_noise_m_s2=lv["accel_noise"],
+                      gyro_noise_rad_s=lv.get("gyro_noise", np.nan),
+                      gyro_bias_rad_s=np.asarray(lv.get("gyro_bias", np.full(3, np.nan)), float),
+                      band_m_s2=(zp.accel_min_m_s2, zp.accel_max_m_s2),
+                      accel_std_max_m_s2=float(np.sqrt(zp.var_threshold_m2_s4)), gyro_std_max_rad_s=np.nan,
+                      gyro_level_max_rad_s=np.nan, min_rest_s=float(min_rest_s), window_s=zp.window_s,
+                      n_short=int(np.count_nonzero(~keep)),
+                      extra={"measured_gravity_m_s2": lv["gravity"]})

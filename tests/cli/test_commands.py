@@ -1,0 +1,184 @@
+"""Every command: help shows schema/units/example, one-line errors, figure always written, gates."""
+
+import importlib
+import json
+from types import SimpleNamespace
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from mtcal import cli
+from mtcal.cli import calibrate as cal_cmd
+
+from . import logs
+
+main_mod = importlib.import_module("mtcal.cli.main")
+
+COMMANDS = ["rests", "calibrate", "axis", "angle", "attitude", "apply"]
+
+
+@pytest.fixture(scope="module")
+def hinge(tmp_path_factory):
+    d = tmp_path_factory.mktemp("cmd")
+    log = logs.hinge_log(hold_s=1.2)
+    return log, log.write(d / "hinge.csv")
+
+
+@pytest.mark.parametrize("command", COMMANDS)
+def test_help_shows_schema_units_example(command, capsys):
+    with pytest.raises(SystemExit) as exc:
+        cli.main([command, "--help"])
+    assert exc.value.code == 0
+    out = capsys.readouterr().out
+    assert "example:" in out and "mtcal " + command in out
+    assert "time_s" in out and ("rad/s" in out or "rad_s" in out) and ("m/s" in out or "m_s2" in out)
+    assert "--rest-detector" in out and "--time-unit" in out
+
+
+def test_argparse_errors_are_one_line(capsys):
+    with pytest.raises(SystemExit) as exc:
+        cli.main(["angle", "log.csv"])
+    assert exc.value.code == 2
+    err = capsys.readouterr().err
+    assert err.startswith("mtcal: error: ") and err.count("\n") == 1 and "--axis" in err
+
+
+@pytest.mark.parametrize("argv,match", [
+    (["--init-s", "inf"], "--init-s must be a finite number"),
+    (["--init-s", "nan"], "--init-s must be a finite number"),
+    (["--init-s", "-1"], "--init-s must be a finite number > 0"),
+    (["--axis", "1,2"], "--axis must be three"),
+    (["--axis", "0,0,0"], "not all zero"),
+    (["--axis", "a,b,c"], "--axis must be three numbers"),
+    (["--noise-factor", "inf"], "--noise-factor must be a finite"),
+    (["--gravity", "0.98"], "gravity_m_s2 must be in m/s"),
+    (["--columns", "foo=bar"], "unknown name 'foo'"),
+])
+def test_bad_arguments_one_line(hinge, tmp_path, capsys, argv, match):
+    _, path = hinge
+    args = ["angle", path, "--out", str(tmp_path / "a.csv")]
+    if "--axis" not in argv:
+        args += ["--axis", "0.6,0,0.8"]
+    assert cli.main(args + argv) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("mtcal: error: ") and err.count("\n") == 1
+    assert pytest.importorskip("re").search(match, err), err
+
+
+def test_rests_command_table_and_levels(hinge, tmp_path, capsys):
+    log, path = hinge
+    assert cli.main(["rests", path, "--out", str(tmp_path / "r.parquet")]) == 0
+    out = capsys.readouterr().out
+    assert "|a| at rest" in out and "gyro bias" in out and "rests: 4 of" in out
+    tab = pd.read_parquet(tmp_path / "r.parquet")
+    assert len(tab) == 4 and {"start_s", "stop_s", "accel_norm_m_s2", "tilt_deg", "gyro_x_deg_s"} <= set(tab.columns)
+    np.testing.assert_allclose(tab.gyro_x_deg_s, 1.2, atol=0.1)  # the bias is measured, not a threshold problem
+
+
+def test_rests_overrides_change_the_band(hinge, capsys):
+    _, path = hinge
+    assert cli.main(["rests", path, "--gravity", "9.81", "--accel-band", "0.04"]) == 0
+    out = capsys.readouterr().out
+    assert "band 9.770-9.850" in out and "rests: 0 of" in out and "outside band" in out
+
+
+def test_figure_written_on_failure(tmp_path, capsys):
+    log = logs.turn_about_vertical_log()
+    path = log.write(tmp_path / "turn.csv")
+    fig = tmp_path / "fig.png"
+    assert cli.main(["axis", path, "--figure", str(fig), *log.options]) == 2
+    assert fig.stat().st_size > 10_000
+    assert "figure:" in capsys.readouterr().out
+    fig2 = tmp_path / "fig2.png"
+    assert cli.main(["angle", str(tmp_path / "missing.csv"), "--axis", "1,0,0", "--figure", str(fig2)]) == 2
+    assert fig2.stat().st_size > 5_000
+
+
+def test_attitude_columns(hinge, tmp_path, capsys):
+    _, path = hinge
+    assert cli.main(["attitude", path, "--out", str(tmp_path / "att.csv")]) == 0
+    att = pd.read_csv(tmp_path / "att.csv")
+    assert list(att.columns) == ["time_s", "q0", "q1", "q2", "q3", "yaw_deg", "pitch_deg", "roll_deg", "is_static"]
+    np.testing.assert_allclose(np.linalg.norm(att[["q0", "q1", "q2", "q3"]], axis=1), 1.0, atol=1e-8)
+
+
+def test_unexpected_exception_is_one_line_without_debug(hinge, monkeypatch, capsys):
+    _, path = hinge
+    monkeypatch.delenv("MTCAL_DEBUG")
+
+    def boom(*a, **k):
+        raise RuntimeError("kaboom\nsecond line")
+
+    monkeypatch.setattr("mtcal.cli.logio.read_log", boom)
+    assert cli.main(["rests", path]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("mtcal: error: cannot process this input (RuntimeError: kaboom second line)")
+    assert err.count("\n") == 1
+    monkeypatch.setenv("MTCAL_DEBUG", "1")
+    with pytest.raises(RuntimeError):  # real bugs stay visible in tests
+        cli.main(["rests", path])
+
+
+def test_negative_vector_options_are_joined():
+    assert main_mod._join_negative_vectors(["angle", "x", "--axis", "-0.3,0,1", "--gyro-scale", "-1"]) == [
+        "angle", "x", "--axis=-0.3,0,1", "--gyro-scale=-1"]
+    assert main_mod._join_negative_vectors(["--axis", "--out"]) == ["--axis", "--out"]
+
+
+def _fake_result(q_matrix, residual_deg=0.01):
+    from mtcal.core import rotations
+
+    ang = np.radians([[8, 0, 0], [-8, 0, 0], [0, -12, 0], [0, 23, 0], [0, 0, 90], [0, 0, -90]])
+    q = rotations.quat_from_euler_zxy(ang[:, 0], ang[:, 1], ang[:, 2])
+    return SimpleNamespace(q_matrix=np.asarray(q_matrix, float), q_sensor=q, q_reference=q,
+                           residual_rad=np.full(6, np.radians(residual_deg)))
+
+
+GATE_ARGS = SimpleNamespace(max_so4_distance="0.05", max_residual_deg="1.0")
+
+
+def test_gate_refuses_zero_row_matrix():
+    bad = np.eye(4)
+    bad[2] = 0.0
+    bad[0, 1] = 10.0
+    with pytest.raises(ValueError, match="Q_hat is not a calibration: distance"):
+        cal_cmd._gates(GATE_ARGS, _fake_result(bad), None)
+    cal_cmd._gates(GATE_ARGS, _fake_result(np.eye(4)), None)  # a rotation passes
+
+
+def test_gate_refuses_large_residual():
+    with pytest.raises(ValueError, match="residual 2.000 deg at position 1"):
+        cal_cmd._gates(GATE_ARGS, _fake_result(np.eye(4), residual_deg=2.0), None)
+
+
+def test_calibrate_four_positions_note_and_three_refused(tmp_path, capsys):
+    df, pos, _ = logs.six_position_log(positions_deg=[[8, 0, 0], [0, -12, 0], [0, 0, 90], [0, 23, 0]])
+    df.to_csv(tmp_path / "log.csv", index=False)
+    pos.to_csv(tmp_path / "pos.csv", index=False)
+    assert cli.main(["calibrate", str(tmp_path / "log.csv"), "--positions", str(tmp_path / "pos.csv")]) == 0
+    assert "residuals are 0 by construction" in capsys.readouterr().out
+    pos.iloc[:3].to_csv(tmp_path / "pos3.csv", index=False)
+    assert cli.main(["calibrate", str(tmp_path / "log.csv"), "--positions", str(tmp_path / "pos3.csv")]) == 2
+    assert "at least 4 positions" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("content,match", [
+    ("not json", "not a JSON calibration"),
+    (json.dumps({"format": "other"}), "not an mtcal calibration"),
+    (json.dumps({"format": "mtcal-calibration/1", "q_hat": [[1, 0], [0, 1]]}), "finite 4x4"),
+])
+def test_apply_bad_calibration_file(hinge, tmp_path, capsys, content, match):
+    _, path = hinge
+    (tmp_path / "Q.json").write_text(content)
+    assert cli.main(["apply", str(tmp_path / "Q.json"), path, "--out", str(tmp_path / "b.csv")]) == 2
+    assert match in capsys.readouterr().err
+
+
+def test_rests_on_accelerometer_only_log(hinge, tmp_path, capsys):
+    log, _ = hinge
+    df = log.df[[c for c in log.df if not c.startswith("gyro")]]
+    df.to_csv(tmp_path / "acc.csv", index=False)
+    assert cli.main(["rests", str(tmp_path / "acc.csv")]) == 0
+    out = capsys.readouterr().out
+    assert "rests: 4 of" in out and "gyro bias" not in out

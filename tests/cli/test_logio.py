@@ -1,0 +1,215 @@
+"""The one log reader/writer of the CLI: adapters, checks, atomic outputs, one-line errors."""
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from mtcal import cli
+from mtcal.cli import logio
+
+from . import logs
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+@pytest.fixture(scope="module")
+def base():
+    return logs.hinge_log(angles_deg=(0, 40, 80, 20), hold_s=1.0)
+
+
+def _read(tmp_path, df, name="x.csv", **kw):
+    p = tmp_path / name
+    if name.endswith(".parquet"):
+        df.to_parquet(p, index=False)
+    else:
+        df.to_csv(p, index=False)
+    return logio.read_log(p, logio.InputOptions(**kw))
+
+
+def test_units_scales_and_headers_agree(base, tmp_path):
+    ref = _read(tmp_path, base.df)
+    df = base.df.copy()
+    df[[c for c in df if c.startswith("gyro")]] = np.degrees(df[[c for c in df if c.startswith("gyro")]])
+    df[[c for c in df if c.startswith("accel")]] /= 9.80665
+    df["time_s"] *= 1000.0
+    got = _read(tmp_path, df, time_unit="ms", gyro_unit="deg/s", accel_unit="g")
+    np.testing.assert_allclose(got.gyro_rad_s, ref.gyro_rad_s, rtol=1e-12)
+    np.testing.assert_allclose(got.accel_m_s2, ref.accel_m_s2, rtol=1e-12)
+    np.testing.assert_allclose(got.time_s, ref.time_s, rtol=1e-12)
+    # unit-carrying headers, whitespace, and a column map with short keys
+    renamed = df.rename(columns=lambda c: " " + c.replace("_rad_s", "_deg_s").replace("_m_s2", "_g")
+                        .replace("time_s", "time_ms") + " ")
+    got = _read(tmp_path, renamed)
+    np.testing.assert_allclose(got.gyro_rad_s, ref.gyro_rad_s, rtol=1e-12)
+    assert any("deg/s" in n for n in got.notes) and any("ms" in n for n in got.notes)
+    custom = base.df.rename(columns={"time_s": "T", "gyro_x_rad_s": "GyrX", "accel_z_m_s2": "AccZ"})
+    got = _read(tmp_path, custom, columns=logio.parse_columns("time=T, gyro_x = GyrX,accel_z_m_s2=AccZ"))
+    np.testing.assert_array_equal(got.accel_m_s2, ref.accel_m_s2)
+
+
+def test_per_axis_counts_scale(base, tmp_path):
+    ref = _read(tmp_path, base.df)
+    df = base.df.copy()
+    lsb = np.array([0.001, 0.002, 0.004])
+    for i, ax in enumerate("xyz"):
+        df[f"accel_{ax}_m_s2"] = df[f"accel_{ax}_m_s2"] / lsb[i]
+    got = _read(tmp_path, df, accel_scale=logio.parse_scale("0.001,0.002,0.004", "--accel-scale"))
+    np.testing.assert_allclose(got.accel_m_s2, ref.accel_m_s2, rtol=1e-12)
+
+
+def test_parquet_in_equals_csv_in(base, tmp_path):
+    a = _read(tmp_path, base.df, "x.csv")
+    b = _read(tmp_path, base.df, "x.parquet")
+    np.testing.assert_allclose(a.gyro_rad_s, b.gyro_rad_s, rtol=1e-15)
+
+
+def test_semicolon_and_string_columns(base, tmp_path):
+    p = tmp_path / "semi.csv"
+    df = base.df.copy()
+    df.to_csv(p, index=False, sep=";")
+    got = logio.read_log(p)
+    assert got.n == len(df)
+    df2 = df.astype({"accel_x_m_s2": str})
+    df2.loc[7, "accel_x_m_s2"] = "n/a"
+    df2.to_csv(p, index=False)
+    with pytest.raises(ValueError, match=r"non-numeric or NaN value in column 'accel_x_m_s2' at data row 8"):
+        logio.read_log(p)
+
+
+def test_jitter_per_sample_dt(tmp_path):
+    log = logs.hinge_log(jitter_ms=(3, 7))
+    got = _read(tmp_path, log.df)
+    assert got.jitter > 0.3 and any("per-sample dt" in n for n in got.notes)
+    w = got.gyro_for_filter()
+    # integrated angle uses the recorded intervals: sum(w_eff * dt_mean) == sum(w * dt_k)
+    np.testing.assert_allclose(w.sum(axis=0) * got.dt_mean_s, (got.gyro_rad_s * got.dt_s[:, None]).sum(axis=0),
+                               rtol=1e-12)
+
+
+@pytest.mark.parametrize("mutate,match", [
+    (lambda d: d.assign(time_s=d.time_s * 1000), "implausible.*--time-unit ms"),
+    (lambda d: d.assign(time_s=d.time_s / 1000), "implausible"),
+    (lambda d: d.drop(columns=["gyro_y_rad_s"]), "missing columns gyro_y_rad_s"),
+    (lambda d: d.iloc[:5], "at least 10 samples"),
+    (lambda d: d.assign(time_s=d.time_s.where(d.index != 20, 0.0)), "not strictly increasing at data row 21"),
+    (lambda d: d.assign(accel_x_m_s2=d.accel_x_m_s2 / 9.80665, accel_y_m_s2=d.accel_y_m_s2 / 9.80665,
+                        accel_z_m_s2=d.accel_z_m_s2 / 9.80665), "--accel-unit g"),
+    (lambda d: d.assign(gyro_x_rad_s=d.gyro_x_rad_s * 57.3 * 16.4), "--gyro-unit deg/s"),
+    (lambda d: d.assign(accel_z_m_s2=d.accel_z_m_s2.where(d.index != 3, 1e308)),
+     "accel_z = 1e\\+308 m/s\\^2 at data row 4 is beyond"),
+])
+def test_bad_logs(base, tmp_path, mutate, match):
+    with pytest.raises(ValueError, match=match):
+        _read(tmp_path, mutate(base.df))
+
+
+def test_bad_options():
+    with pytest.raises(ValueError, match="--gyro-scale must be one or three"):
+        logio.parse_scale("1,2", "--gyro-scale")
+    with pytest.raises(ValueError, match="one or three finite non-zero"):
+        logio.parse_scale("0", "--gyro-scale")
+    with pytest.raises(ValueError, match="unknown name 'gyro_w'"):
+        logio.parse_columns("gyro_w=A")
+    with pytest.raises(ValueError, match="name=header"):
+        logio.parse_columns("gyro_x")
+    with pytest.raises(ValueError, match="--time-unit must be one of"):
+        logio.InputOptions(time_unit="min")
+
+
+def test_columns_map_to_missing_header(base, tmp_path):
+    with pytest.raises(ValueError, match="--columns maps time_s to 'Zeit'"):
+        _read(tmp_path, base.df, columns={"time_s": "Zeit"})
+
+
+def test_empty_and_garbage_files(tmp_path):
+    (tmp_path / "empty.csv").write_text("")
+    with pytest.raises(ValueError, match="empty file"):
+        logio.read_log(tmp_path / "empty.csv")
+    (tmp_path / "bad.parquet").write_bytes(b"not parquet at all")
+    with pytest.raises(ValueError, match="not a readable Parquet"):
+        logio.read_log(tmp_path / "bad.parquet")
+    (tmp_path / "bin.csv").write_bytes(bytes(range(256)) * 10)
+    with pytest.raises(ValueError):
+        logio.read_log(tmp_path / "bin.csv")
+    with pytest.raises(ValueError, match="not a regular file"):
+        logio.read_log(tmp_path)
+
+
+# ------------------------------------------------------------------ outputs
+def test_write_csv_and_parquet_round_trip(tmp_path):
+    t = np.arange(5) / 100.0
+    cols = {"time_s": t, "angle_deg": np.array([0.1234567891, 1, 2, 3, 4.0]), "is_static": np.int8([1, 0, 0, 1, 1])}
+    logio.write_table(tmp_path / "a.csv", cols)
+    text = (tmp_path / "a.csv").read_text()
+    assert text.splitlines()[0] == "time_s,angle_deg,is_static" and "0.123457" in text
+    logio.write_table(tmp_path / "a.parquet", cols)
+    back = pd.read_parquet(tmp_path / "a.parquet")
+    assert back.angle_deg.iloc[0] == 0.1234567891
+    assert sorted(os.listdir(tmp_path)) == ["a.csv", "a.parquet"]  # no temp files left
+
+
+@pytest.mark.parametrize("target,match", [
+    ("{d}", "is a directory"),
+    ("{d}/nodir/x.csv", "does not exist"),
+    ("{d}/file.txt/x.csv", "is not a directory"),
+    ("/dev/full", "not a regular file"),
+])
+def test_bad_output_paths(tmp_path, target, match):
+    (tmp_path / "file.txt").write_text("keep")
+    with pytest.raises(ValueError, match=match):
+        logio.write_table(target.format(d=tmp_path), {"a": np.zeros(3)})
+
+
+def test_out_equal_to_input_refused(base, tmp_path, capsys):
+    p = tmp_path / "log.csv"
+    base.df.to_csv(p, index=False)
+    before = p.read_bytes()
+    for out in (p, tmp_path / "." / "log.csv"):
+        assert cli.main(["angle", str(p), "--axis", "0.6,0,0.8", "--out", str(out)]) == 2
+        assert "is an input file" in capsys.readouterr().err
+    assert p.read_bytes() == before
+
+
+def test_failed_write_keeps_existing_output(base, tmp_path):
+    """A write that hits the file-size limit leaves the old output intact and no temp file (subprocess)."""
+    p = tmp_path / "log.csv"
+    base.df.to_csv(p, index=False)
+    out = tmp_path / "angle.csv"
+    out.write_text("old result\n")
+    code = ("import resource, sys; resource.setrlimit(resource.RLIMIT_FSIZE, (4000, 4000)); "
+            "from mtcal.cli import main; sys.exit(main(sys.argv[1:]))")
+    env = {**os.environ, "PYTHONPATH": str(ROOT)}
+    env.pop("MTCAL_DEBUG", None)
+    proc = subprocess.run([sys.executable, "-c", code, "angle", str(p), "--axis", "0.6,0,0.8", "--out", str(out)],
+                          capture_output=True, text=True, env=env, timeout=120)
+    assert proc.returncode == 2, proc.stderr
+    assert proc.stderr.startswith("mtcal: error: cannot write") and proc.stderr.count("\n") == 1
+    assert "Traceback" not in proc.stderr
+    assert out.read_text() == "old result\n"
+    assert sorted(os.listdir(tmp_path)) == ["angle.csv", "log.csv"]
+
+
+def test_fs_hz_for_a_log_without_time(base, tmp_path):
+    ref = _read(tmp_path, base.df)
+    got = _read(tmp_path, base.df.drop(columns=["time_s"]), fs_hz=200.0)
+    np.testing.assert_allclose(got.time_s, ref.time_s - ref.time_s[0], atol=1e-9)
+    assert got.fs_hz == pytest.approx(200.0) and "time from --fs-hz 200" in got.notes
+    with pytest.raises(ValueError, match="or give --fs-hz"):
+        _read(tmp_path, base.df.drop(columns=["time_s"]))
+    with pytest.raises(ValueError, match="--fs-hz must be a sample rate"):
+        logio.InputOptions(fs_hz=1e6)
+
+
+def test_only_needed_columns_parsed_and_all_listed_in_errors(base, tmp_path):
+    df = base.df.rename(columns={"time_s": "T"}).assign(mag_x=1.0, note="text")
+    p = tmp_path / "extra.csv"
+    df.to_csv(p, index=False)
+    with pytest.raises(ValueError, match="missing column time_s \\(columns: T, gyro_x_rad_s.*mag_x, note\\)"):
+        logio.read_log(p)
+    got = logio.read_log(p, logio.InputOptions(columns={"time_s": "T"}))
+    np.testing.assert_array_equal(got.accel_m_s2, _read(tmp_path, base.df).accel_m_s2)
