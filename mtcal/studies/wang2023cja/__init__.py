@@ -11,13 +11,13 @@ defaults, builders), :mod:`.runs` (simulation runs), :mod:`.artifacts` (one prod
 table/figure, plus comparison rows), :mod:`.plots` (figures; imports matplotlib on call).
 """
 
-from . import artifacts, error_model, runs, scenario
+from . import artifacts, constrained, error_model, runs, scenario
 from .artifacts import *  # noqa: F401,F403
 from .error_model import *  # noqa: F401,F403
 from .runs import *  # noqa: F401,F403
 from .scenario import *  # noqa: F401,F403
 
-__all__ = ["artifacts", "error_model", "runs", "scenario", "plots"]
+__all__ = ["artifacts", "constrained", "error_model", "runs", "scenario", "plots"]
 __all__ += [n for m in (error_model, scenario, runs, artifacts) for n in m.__all__ if n not in __all__]
 
 

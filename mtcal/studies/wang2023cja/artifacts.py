@@ -31,7 +31,7 @@ from .runs import position_errors_deg
 
 __all__ = ["TRAINING", "HELD_OUT", "installation_fit_table", "error_model_table", "printed_matrix_check",
            "positions_table", "sweep_mean_table", "error_metric_table", "table08_reductions",
-           "windtunnel_matrix_table", "table10", "turntable_rows", "windtunnel_rows", "banded", "outside_rows", "asserted"]
+           "windtunnel_matrix_table", "table10", "turntable_rows", "windtunnel_rows", "banded", "outside_rows", "asserted", "q22_noise_band"]
 
 TRAINING = ("wang2023cja_table01", "wang2023cja_table02", "wang2023cja_table03", "wang2023cja_table04",
             "wang2023cja_matrix_qbs_turntable", "wang2023cja_matrix_qbs_windtunnel")
@@ -299,3 +299,18 @@ def outside_rows(table: pd.DataFrame) -> pd.DataFrame:
     """Rows of a comparison table whose paper number lies outside our 95 % band (any role)."""
     placed = table[table["paper_in_band"].notna()]
     return placed[~placed["paper_in_band"].astype(bool)][["artifact", "quantity", "paper", "mtcal", "mc_band", "role"]]
+
+
+def q22_noise_band(model: ErrorModel, positions_rad, *, n_mc: int = 4000, seed: int = 2023) -> dict:
+    """Q(2,2) of Eq 13 from rest errors alone (no mechanism ratio error): median and 95 % band.
+
+    Rest-level model (:func:`.error_model.rest_residuals`, screwed mount, no installation
+    error) at the wind-tunnel positions; the answer to "can noise make Q(2,2) = 1.0045?".
+    """
+    from .error_model import N_NORMALS, rest_residuals
+
+    rng = np.random.default_rng(np.random.SeedSequence([seed, 22]))
+    res = rest_residuals(np.zeros(3), model, "screw", rng.standard_normal((n_mc, N_NORMALS)),
+                         positions_rad=positions_rad)
+    b = metrics.percentile_band(res["q_matrix"][:, 1, 1])
+    return {"median": float(b["median"]), "low": float(b["low"]), "high": float(b["high"])}

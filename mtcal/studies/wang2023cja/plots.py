@@ -12,7 +12,8 @@ from __future__ import annotations
 import matplotlib.pyplot as plt
 import numpy as np
 
-__all__ = ["before_after_figure", "wind_on_figure", "amd_figure"]
+__all__ = ["before_after_figure", "wind_on_figure", "amd_figure", "error_vs_positions_figure", "error_vs_noise_figure",
+           "noise_distance_figure"]
 
 
 def before_after_figure(trace: dict, name: str, channels, *, title: str, xlabel: str = "time (s)"):
@@ -63,6 +64,81 @@ def amd_figure(trace: dict, threshold_pct: float, *, title: str):
     ax.set_yscale("log")
     ax.set_xlabel("time (s), Group 1")
     ax.set_ylabel("AMD (% of g)")
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8)
+    ax.set_title(title, fontsize=10)
+    return fig
+
+
+_COLOR = {"eq13": "tab:red", "so4": "tab:blue", "mounting": "tab:green"}
+_LABEL = {"eq13": "Eq 13 (16 par.)", "so4": "SO(4) (6 par.)", "mounting": "mounting (3 par.)"}
+
+
+def error_vs_positions_figure(table, *, title: str, paper_k: int = 6):
+    """Beyond the paper: attitude RMSE after calibration (deg) vs number of positions, 2×2 panels."""
+    truths, layouts = list(dict.fromkeys(table.truth)), ("symmetric", "random")
+    fig, axes = plt.subplots(2, 2, figsize=(10, 7), sharex=True, sharey=True, constrained_layout=True)
+    for i, truth in enumerate(truths):
+        for j, layout in enumerate(layouts):
+            ax = axes[i, j]
+            for m in _COLOR:
+                d = table[(table.truth == truth) & (table.layout == layout) & (table.method == m)]
+                ax.plot(d.K, d.median_deg, "o-", color=_COLOR[m], label=_LABEL[m], ms=4)
+                ax.fill_between(d.K, d.low_deg, d.high_deg, color=_COLOR[m], alpha=0.15)
+            ax.axvline(paper_k, color="0.5", ls=":", lw=1)
+            ax.set_yscale("log")
+            ax.set_title(f"{truth}, {layout} layout", fontsize=10)
+            if j == 0:
+                ax.set_ylabel("attitude RMSE after calibration (°)")
+            if i == 1:
+                ax.set_xlabel("number of calibration positions K")
+    handles, labels = axes[0, 0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="outside lower center", ncol=3, fontsize=8)
+    fig.suptitle(title, fontsize=10)
+    return fig
+
+
+def error_vs_noise_figure(table, *, sigma_deg: float, title: str):
+    """Beyond the paper: attitude RMSE after calibration (deg) vs sensor-quaternion noise σ (deg)."""
+    from matplotlib.ticker import NullFormatter
+
+    truths = list(dict.fromkeys(table.truth))
+    levels = sorted(set(table.sigma_deg))
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4.4), sharey=True, constrained_layout=True)
+    for ax, truth in zip(axes, truths):
+        for m in _COLOR:
+            d = table[(table.truth == truth) & (table.method == m)]
+            ax.plot(d.sigma_deg, d.median_deg, "o-", color=_COLOR[m], label=_LABEL[m], ms=4)
+            ax.fill_between(d.sigma_deg, d.low_deg, d.high_deg, color=_COLOR[m], alpha=0.15)
+        ax.axvline(sigma_deg, color="0.5", ls=":", lw=1)
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xticks(levels, [f"{s:g}" for s in levels])
+        ax.xaxis.set_minor_formatter(NullFormatter())
+        ax.set_xlabel("per-position error σ per axis (°)")
+        ax.set_title(f"{truth}, paper's six positions", fontsize=10)
+    axes[0].set_ylabel("attitude RMSE after calibration (°)")
+    handles, labels = axes[0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="outside lower center", ncol=3, fontsize=8)
+    fig.suptitle(title, fontsize=10)
+    return fig
+
+
+def noise_distance_figure(table, lines: dict, *, sigma_deg: float, title: str):
+    """Beyond the paper: distance of the Eq 13 estimate to O(4) vs σ, with the printed matrices' distances."""
+    from matplotlib.ticker import NullFormatter
+
+    fig, ax = plt.subplots(figsize=(7.5, 4.4), constrained_layout=True)
+    ax.plot(table.sigma_deg, table["median"], "o-", color=_COLOR["eq13"], label="Eq 13 estimate (median, 95 % band)")
+    ax.fill_between(table.sigma_deg, table.low, table.high, color=_COLOR["eq13"], alpha=0.15)
+    for (name, value), style in zip(lines.items(), ("--", ":")):
+        ax.axhline(value, color="k", ls=style, lw=1, label=name)
+    ax.axvline(sigma_deg, color="0.5", ls="-", lw=0.5)
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xticks(list(table.sigma_deg), [f"{s:g}" for s in table.sigma_deg])
+    ax.xaxis.set_minor_formatter(NullFormatter())
+    ax.set_xlabel("per-position error σ per axis (°)")
+    ax.set_ylabel("distance of Eq 13 matrix to O(4)")
     ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8)
     ax.set_title(title, fontsize=10)
     return fig

@@ -37,8 +37,8 @@ from mtcal.methods import quaternion_lsq as calibration, six_position as sixpos
 from .error_model import MOUNT_TYPE, PAPER_SIGN
 from .scenario import SOURCES, TurntableScenario, WindTunnelScenario
 
-__all__ = ["turntable_runs", "turntable_profile", "six_position_reference", "TurntableRun", "TurntableJob", "run_turntable",
-           "run_turntable_jobs", "position_errors_deg", "compliance_trajectory", "mechanism_actual",
+__all__ = ["turntable_runs", "windtunnel_positions", "identify_pitch_ratio", "turntable_profile", "six_position_reference", "TurntableRun", "TurntableJob", "run_turntable",
+           "run_turntable_jobs", "position_errors_deg", "compliance_trajectory", "load_tilt_outputs", "mechanism_actual",
            "WindTunnelRun", "run_windtunnel", "elastic_deflection_rad"]
 
 
@@ -110,6 +110,35 @@ def compliance_trajectory(time_s, angle_rad, compliance_rad_per_g: float) -> Tra
         rho = compliance_rad_per_g * np.stack([-g_b[:, 1], g_b[:, 0], np.zeros(len(g_b))], axis=-1)
         q_wb = rotations.hamilton(q_wb, rotations.quat_from_rotvec(rho))
     return Trajectory(time_s, q_wb)
+
+
+def load_tilt_outputs(gyro_rad_s, accel_m_s2, q_wb, fs_hz: float, q_mount, tilt_rad) -> None:
+    """Add, in place, a per-trial mount tilt proportional to the load normal to the mount plate.
+
+    The installation tilts by ``δ(t) = tilt · s(t)`` (body axes, rad) with ``s = −ĝ_z`` the
+    normal load in g (1 when level, 0 at roll ±90°). To first order in δ the sensor then reads
+    ``f' = f − δ_s × f`` and ``ω' = ω − δ_s × ω + δ̇_s`` (``δ_s`` in sensor axes).
+
+    Parameters
+    ----------
+    gyro_rad_s, accel_m_s2 : ndarray (T, N, 3)
+        Sensor outputs, modified in place.
+    q_wb : ndarray (N, 4)
+        Truth body attitude.
+    fs_hz : float
+        Sample rate (Hz).
+    q_mount : 4-sequence
+        ``q_bs``.
+    tilt_rad : ndarray (T, 3)
+        Tilt per g of normal load (rad), per trial.
+    """
+    s = rotations.quat_to_matrix(q_wb)[:, 2, 2]          # −ĝ_z: 1 when level
+    s_dot = np.gradient(s) * fs_hz
+    tilt_s = np.asarray(tilt_rad, float) @ rotations.quat_to_matrix(np.asarray(q_mount, float))  # C(q_bs)ᵀ δ
+    for k in range(gyro_rad_s.shape[0]):
+        d = s[:, None] * tilt_s[k]
+        accel_m_s2[k] -= np.cross(d, accel_m_s2[k])
+        gyro_rad_s[k] += s_dot[:, None] * tilt_s[k] - np.cross(d, gyro_rad_s[k])
 
 
 @dataclass
@@ -188,6 +217,9 @@ def _run_pieces(sc: TurntableScenario, prof: AngleProfile, spans: dict, pieces: 
         acc = rec.accel_m_s2
         if "accel_run_change" in sources:       # warm-up/temperature bias change between the runs
             acc[:, ver0:] += sc.errors.accel_run_bias_mg * MG * rng_change.standard_normal((trials, 1, 3))
+        if "mount_compliance" in sources and MOUNT_TYPE[test] == "gasket":
+            tilt = sc.errors.gasket_load_tilt_deg_g * DEG * rng_change.standard_normal((trials, 3)) * [1.0, 1.0, 0.0]
+            load_tilt_outputs(rec.gyro_rad_s, acc, traj.q_wb, sc.fs_hz, model.q_mount, tilt)
         gyro.append(rec.gyro_rad_s)
         accel.append(acc)
         rngs.append(rng_ref)
@@ -562,3 +594,34 @@ def turntable_runs(sc: TurntableScenario, trials: int, seed: int) -> dict:
     rest = run_turntable_jobs(sc, [TurntableJob(t, gens[t], int(trials)) for t in ("T2", "T3", "T4")])
     out.update(zip(("T2", "T3", "T4"), rest))
     return out
+
+
+def windtunnel_positions(sc: WindTunnelScenario) -> np.ndarray:
+    """The wind-tunnel six calibration positions (Eq 8 frame), (6, 3) rad."""
+    return sixpos.six_positions_rad(np.radians(sc.cal_yaw_deg), np.radians(sc.cal_pitch_deg),
+                                    np.radians(sc.cal_roll_deg))
+
+
+def identify_pitch_ratio(sc: WindTunnelScenario, q22: float) -> float:
+    """Mechanism pitch-ratio error ε for which noise-free Eq 13 returns ``q22`` as Q(2,2).
+
+    Noise-free: the QNCF at a rest returns the actual attitude, so the rest means are the
+    mechanism's actual angles (:func:`mechanism_actual`, which also applies backlash, servo stop
+    error and non-orthogonality) seen through the mounting. Q(2,2) is affine in ε to first
+    order, so two evaluations fix it.
+    """
+    pos = windtunnel_positions(sc)
+    prof = sixpos.schedule_profile(pos, rate_rad_s=5 * DEG, rest_s=sc.rest_s, fs_hz=sc.fs_hz)
+    holds = sixpos.middle_slices(prof.hold_slices()[1:-1], 0.5)
+    q_bs = mount_quaternion(np.radians(sc.alpha_deg))
+    q_ref = rotations.quat_from_euler_zxy(pos[:, 0], pos[:, 1], pos[:, 2])
+
+    def q22_at(eps):
+        act = mechanism_actual(replace(sc, pitch_ratio_error=float(eps)), prof, sc.mechanism_rate_rad_s)
+        mean = np.array([act[h].mean(axis=0) for h in holds])
+        q_wb = rotations.quat_from_euler_zxy(mean[:, 0], mean[:, 1], mean[:, 2])
+        q_s = rotations.quat_multiply(rotations.quat_conjugate(q_bs), rotations.quat_multiply(q_wb, q_bs))
+        return float(calibration.least_squares_error_matrix(q_s, q_ref)[1, 1])
+    e0, e1 = 0.0, -0.004
+    f0, f1 = q22_at(e0), q22_at(e1)
+    return round(float(e0 + (q22 - f0) * (e1 - e0) / (f1 - f0)), 6)

@@ -36,7 +36,8 @@ from mtcal.filters.qncf import QncfParams
 from .error_model import ErrorModel, PAPER_SIGN, fit_installation_angles, TABLES_1_TO_4
 
 __all__ = ["SOURCES", "ImuSpec", "TurntableScenario", "WindTunnelScenario", "TURNTABLE_DEFAULTS",
-           "WINDTUNNEL_DEFAULTS", "turntable_scenario", "windtunnel_scenario", "windtunnel_geometry"]
+           "WINDTUNNEL_DEFAULTS", "turntable_scenario", "windtunnel_scenario", "windtunnel_geometry",
+           "PRINTED_WINDTUNNEL_Q22"]
 
 
 def _f(value, unit: str, source: str):
@@ -176,8 +177,9 @@ class WindTunnelScenario:
     cal_roll_deg: tuple = _f((30.0, -30.0), "deg", "assumed mechanism roll range")
     mechanism_rate_rad_s: float = _f(2 * DEG, "rad/s", "assumed mechanism rate (groups 1–4)")
     group5_rate_rad_s: float = _f(1 * DEG, "rad/s", "Group 5: different rate (§4.2, value not given)")
-    pitch_ratio_error: float = _f(None, "1", "mechanism pitch transmission-ratio error = 1/Q(2,2) − 1 of the "
-                                  "printed wind-tunnel matrix (training data; windtunnel_geometry)")
+    pitch_ratio_error: float = _f(None, "1", "mechanism pitch transmission-ratio error: noise-free Eq 13 "
+                                  "reproduces the printed Q(2,2) = 1.004462 (training; identify_pitch_ratio); "
+                                  "first guess 1/Q(2,2) − 1")
     transmission_gap_rad: float = _f(0.02 * DEG, "rad", "backlash: actual lags command by ±gap/2 "
                                      "depending on approach direction (§4.2 'transmission gap')")
     servo_lag_s: float = _f(0.002, "s", "servo following error: stops short by lag × mean move rate")
@@ -292,15 +294,29 @@ def turntable_scenario(errors: ErrorModel | None = None, **params) -> TurntableS
         turntable_rate_rad_s=_number("turntable_rate_deg_s", p["turntable_rate_deg_s"], 1.0, 100.0, "deg/s") * DEG)
 
 
+#: The printed wind-tunnel matrix's Q(2,2) (training data).
+PRINTED_WINDTUNNEL_Q22 = 1.004462
+
+
 def windtunnel_scenario(errors: ErrorModel | None = None, **params) -> WindTunnelScenario:
-    """:class:`WindTunnelScenario` from parameters-cell values (names of :data:`WINDTUNNEL_DEFAULTS`)."""
+    """:class:`WindTunnelScenario` from parameters-cell values (names of :data:`WINDTUNNEL_DEFAULTS`).
+
+    The installation angles come from the printed wind-tunnel matrix (:func:`windtunnel_geometry`);
+    the pitch-ratio error is the one for which the noise-free simulated calibration reproduces its
+    Q(2,2) (:func:`.runs.identify_pitch_ratio`), the mechanism's other stated errors included.
+    """
     p = _check_names(params, WINDTUNNEL_DEFAULTS)
-    return WindTunnelScenario(
+    from .runs import identify_pitch_ratio   # runs imports this module
+
+    alpha_deg, _ = windtunnel_geometry()
+    sc = WindTunnelScenario(
         imu=ImuSpec.from_grades(p["gyro_grade"], p["accel_grade"]), errors=ErrorModel() if errors is None else errors,
+        alpha_deg=alpha_deg, pitch_ratio_error=0.0,
         fs_hz=_number("fs_hz", p["fs_hz"], 100.0, 10000.0, "Hz"),
         rest_s=_number("rest_s", p["rest_s"], 2.5, 30.0, "s"),
         mechanism_rate_rad_s=_number("mechanism_rate_deg_s", p["mechanism_rate_deg_s"], 0.2, 20.0, "deg/s") * DEG,
         group5_rate_rad_s=_number("group5_rate_deg_s", p["group5_rate_deg_s"], 0.2, 20.0, "deg/s") * DEG,
         vibration_accel_m_s2=_number("vibration_accel_m_s2", p["vibration_accel_m_s2"], 0.0, 50.0, "m/s²"))
+    return replace(sc, pitch_ratio_error=identify_pitch_ratio(sc, PRINTED_WINDTUNNEL_Q22))
 
 
