@@ -390,18 +390,28 @@ def position_errors_deg(run: TurntableRun, state: str) -> np.ndarray:
 # wind tunnel
 # --------------------------------------------------------------------------
 def mechanism_actual(sc: WindTunnelScenario, prof: AngleProfile, rate_rad_s: float) -> np.ndarray:
-    """Actual mechanism angles (N, 3) from commanded ones: ratio error, backlash + servo lag, non-orthogonality."""
+    """Actual mechanism angles (N, 3) from the commanded ones (rad).
+
+    * pitch transmission-ratio error: actual pitch = (1 + ε) · commanded;
+    * every axis: transmission gap and servo stop error — at a hold the axis stops short of the
+      command by ``gap/2 + servo_lag · rate`` in the direction of its last move. The mechanism is
+      zeroed where it stands at the start (no offset before an axis first moves), so an axis that
+      moved during the calibration comes back to zero with that offset;
+    * non-orthogonality: yaw and roll pick up ``non_orthogonality_rad`` per rad of pitch.
+    """
     cmd = prof.angle_rad
     act = cmd.copy()
     act[:, 1] *= 1.0 + sc.pitch_ratio_error
-    rate = prof.rate_rad_s[:, 1]
-    moving = np.abs(rate) > 1e-9
-    direction = np.where(moving, np.sign(rate), 0.0)
-    idx = np.where(moving, np.arange(rate.size), 0)
-    np.maximum.accumulate(idx, out=idx)
-    last = direction[idx]
-    last[~moving & (idx == 0)] = 1.0
-    act[:, 1] -= last * (0.5 * sc.transmission_gap_rad + sc.servo_lag_s * rate_rad_s) * ~moving
+    stop = 0.5 * sc.transmission_gap_rad + sc.servo_lag_s * rate_rad_s
+    for axis in range(3):
+        rate = prof.rate_rad_s[:, axis]
+        moving = np.abs(rate) > 1e-9
+        direction = np.where(moving, np.sign(rate), 0.0)
+        idx = np.where(moving, np.arange(rate.size), 0)
+        np.maximum.accumulate(idx, out=idx)
+        last = direction[idx]
+        last[~moving & (idx == 0) & ~moving[0]] = 0.0
+        act[:, axis] -= last * stop * ~moving
     act[:, 0] += sc.non_orthogonality_rad[0] * cmd[:, 1]
     act[:, 2] += sc.non_orthogonality_rad[1] * cmd[:, 1]
     return act
@@ -607,7 +617,8 @@ def identify_pitch_ratio(sc: WindTunnelScenario, q22: float) -> float:
 
     Noise-free: the QNCF at a rest returns the actual attitude, so the rest means are the
     mechanism's actual angles (:func:`mechanism_actual`, which also applies backlash, servo stop
-    error and non-orthogonality) seen through the mounting. Q(2,2) is affine in ε to first
+    error and non-orthogonality), tilted by the mount compliance of ``sc.errors`` and seen
+    through the mounting. Q(2,2) is affine in ε to first
     order, so two evaluations fix it.
     """
     pos = windtunnel_positions(sc)
@@ -615,11 +626,12 @@ def identify_pitch_ratio(sc: WindTunnelScenario, q22: float) -> float:
     holds = sixpos.middle_slices(prof.hold_slices()[1:-1], 0.5)
     q_bs = mount_quaternion(np.radians(sc.alpha_deg))
     q_ref = rotations.quat_from_euler_zxy(pos[:, 0], pos[:, 1], pos[:, 2])
+    k_mount = sc.errors.compliance_deg_g(MOUNT_TYPE["windtunnel"]) * DEG
 
     def q22_at(eps):
         act = mechanism_actual(replace(sc, pitch_ratio_error=float(eps)), prof, sc.mechanism_rate_rad_s)
         mean = np.array([act[h].mean(axis=0) for h in holds])
-        q_wb = rotations.quat_from_euler_zxy(mean[:, 0], mean[:, 1], mean[:, 2])
+        q_wb = compliance_trajectory(np.arange(len(mean), dtype=float), mean, k_mount).q_wb
         q_s = rotations.quat_multiply(rotations.quat_conjugate(q_bs), rotations.quat_multiply(q_wb, q_bs))
         return float(calibration.least_squares_error_matrix(q_s, q_ref)[1, 1])
     e0, e1 = 0.0, -0.004
