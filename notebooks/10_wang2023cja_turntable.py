@@ -115,104 +115,121 @@ assert not fit.at_bound["compliance_gasket_deg_g"] and not fit.at_bound["gasket_
 #
 # One session per trial: calibration six positions, then verification six positions (Tables 1–4
 # "after") and, for T1, the AoA sweep and the roll sweep (Tables 5–8). The same trials are run with
-# the fitted model and with the prior-nominal model.
+# the fitted model and with the prior-nominal model, and both comparison tables are built here; each
+# section below shows its artifact and evaluates its rows. Rows from Tables 1–4 are `fitted` (the
+# model was identified on them), rows from Tables 5–8 are `predicted`.
 
 # %%
-models = {"fitted": fit.model, "prior": w.ErrorModel()}
-runs = {name: w.turntable_runs(w.turntable_scenario(errors=m, **params), N_TRIALS, SEED) for name, m in models.items()}
+sc = w.turntable_scenario(errors=fit.model, **params)
+runs = {"fitted": w.turntable_runs(sc, N_TRIALS, SEED),
+        "prior": w.turntable_runs(w.turntable_scenario(errors=w.ErrorModel(), **params), N_TRIALS, SEED)}
+tables = {name: compare.comparison_table(w.turntable_rows(r)) for name, r in runs.items()}
+run = runs["fitted"]
 
 # %% [markdown]
 # ## wang2023cja_table01 — six positions, normal (screwed) installation (Table 1)
 # Trial 0 of the verification run beside the paper, plus the Monte Carlo median of "after". The
-# comparison rows use the RMS over the 18 cells; these tables are training data (role `fitted`).
+# comparison rows use the RMS over the 18 cells, and show the in-sample residual (the calibration
+# run's own rests) separately: it is what the old notebook reported as "after", 5–10× below the paper.
 
 # %%
 for i, test in enumerate(("T1", "T2", "T3", "T4")):
-    t = w.positions_table(test, runs["fitted"][test])
-    report.save_table(t, f"wang2023cja_table{i + 1:02d}")
-report.show_table(w.positions_table("T1", runs["fitted"]["T1"]), "{:.3f}")
+    report.save_table(w.positions_table(test, run[test]), f"wang2023cja_table{i + 1:02d}")
+report.show_table(w.positions_table("T1", run["T1"]), "{:.3f}")
+print(w.section_claims(tables["fitted"], "wang2023cja_table01", enforce=AT_PAPER))
 
 # %% [markdown]
 # ## wang2023cja_table02 — large pitch installation error, gasket mount (Table 2)
 # The roll rows at ±90° carry the mount compliance: the paper's +0.139/−0.136 overshoot.
 
 # %%
-report.show_table(w.positions_table("T2", runs["fitted"]["T2"]), "{:.3f}")
+report.show_table(w.positions_table("T2", run["T2"]), "{:.3f}")
+print(w.section_claims(tables["fitted"], "wang2023cja_table02", enforce=AT_PAPER))
 
 # %% [markdown]
 # ## wang2023cja_table03 — large pitch and roll installation errors (Table 3)
 
 # %%
-report.show_table(w.positions_table("T3", runs["fitted"]["T3"]), "{:.3f}")
+report.show_table(w.positions_table("T3", run["T3"]), "{:.3f}")
+print(w.section_claims(tables["fitted"], "wang2023cja_table03", enforce=AT_PAPER))
 
 # %% [markdown]
 # ## wang2023cja_table04 — all three installation errors large (Table 4)
 
 # %%
-report.show_table(w.positions_table("T4", runs["fitted"]["T4"]), "{:.3f}")
+report.show_table(w.positions_table("T4", run["T4"]), "{:.3f}")
+print(w.section_claims(tables["fitted"], "wang2023cja_table04", enforce=AT_PAPER))
 
 # %% [markdown]
 # ## wang2023cja_table05 — AoA sweep, mean pitch (Table 5, predicted)
-# The sweep follows the verification run in the same session; a turntable angle error per hold is
-# included. "Before up to 0.04°" could not fail when "before" was 8× smaller than the paper's; it is
-# now tested as "the paper's 0.040 lies inside our band".
+# The sweep follows the verification run in the same session, with a turntable angle error per
+# hold. "Before up to 0.04°" could not fail when our "before" was 8× smaller than the paper's; it is
+# now tested as "the paper's 0.040 lies inside our band", and "after within 0.03°" on our median.
+# Both are `reported:` claims: whether they hold depends on the identified error level (the per-hold
+# error and the run-to-run offsets), not on the calibration method, so they are not asserted.
 
 # %%
-t5 = w.sweep_mean_table("wang2023cja_table05", runs["fitted"]["T1"].sweeps["aoa"], "pitch")
+t5 = w.sweep_mean_table("wang2023cja_table05", run["T1"].sweeps["aoa"], "pitch")
 report.save_table(t5, "wang2023cja_table05")
 report.show_table(t5, "{:.3f}")
+print(w.section_claims(tables["fitted"], "wang2023cja_table05", enforce=AT_PAPER))
 
 # %% [markdown]
 # ## wang2023cja_fig07 — roll and yaw errors in the AoA sweep, before vs after (paper Fig 7)
+# Asserted: the pitch steps couple into roll as stepwise errors (correlation with sin pitch).
 
 # %%
 from mtcal.studies.wang2023cja import plots
-tr = runs["fitted"]["T1"].trace
-report.save_figure(plots.before_after_figure(tr, "aoa", ((2, "roll"), (0, "yaw")),
-                   title=f"Fig. 7 (wang2023cja_fig07): roll/yaw errors, AoA sweep — {w.turntable_scenario(**params).imu.grade_label}"),
-                   "wang2023cja_fig07")
+report.save_figure(plots.fig07(run["T1"], sc.imu.grade_label), "wang2023cja_fig07")
+print(w.section_claims(tables["fitted"], "wang2023cja_fig07", enforce=AT_PAPER))
 
 # %% [markdown]
 # ## wang2023cja_table06 — MaxAE / RMSE of roll and yaw in the AoA sweep (Table 6, predicted)
+# Asserted: calibration reduces the roll error. Reported: "RMSE within 0.01°" for roll and yaw —
+# yaw is gyro-only and drifts between the calibration and the sweep, so after calibration it is
+# no better than before in our runs.
 
 # %%
-t6 = w.error_metric_table("wang2023cja_table06", runs["fitted"]["T1"].sweeps["aoa"], ((2, "roll"), (0, "yaw")))
+t6 = w.error_metric_table("wang2023cja_table06", run["T1"].sweeps["aoa"], ((2, "roll"), (0, "yaw")))
 report.save_table(t6, "wang2023cja_table06")
 report.show_table(t6)
+print(w.section_claims(tables["fitted"], "wang2023cja_table06", enforce=AT_PAPER))
 
 # %% [markdown]
 # ## wang2023cja_table07 — roll sweep, mean roll (Table 7, predicted)
+# Asserted: after calibration the mean roll is closer to the reference than before (MC medians).
 
 # %%
-t7 = w.sweep_mean_table("wang2023cja_table07", runs["fitted"]["T1"].sweeps["roll"], "roll", sign=w.PAPER_SIGN[2])
+t7 = w.sweep_mean_table("wang2023cja_table07", run["T1"].sweeps["roll"], "roll", sign=w.PAPER_SIGN[2])
 report.save_table(t7, "wang2023cja_table07")
 report.show_table(t7, "{:.3f}")
+print(w.section_claims(tables["fitted"], "wang2023cja_table07", enforce=AT_PAPER))
 
 # %% [markdown]
 # ## wang2023cja_fig08 — pitch and yaw errors in the roll sweep, before vs after (paper Fig 8)
 
 # %%
-report.save_figure(plots.before_after_figure(tr, "roll", ((1, "pitch"), (0, "yaw")),
-                   title=f"Fig. 8 (wang2023cja_fig08): pitch/yaw errors, roll sweep — {w.turntable_scenario(**params).imu.grade_label}"),
-                   "wang2023cja_fig08")
+report.save_figure(plots.fig08(run["T1"], sc.imu.grade_label), "wang2023cja_fig08")
+print(w.section_claims(tables["fitted"], "wang2023cja_fig08", enforce=AT_PAPER))
 
 # %% [markdown]
 # ## wang2023cja_table08 — MaxAE / RMSE of pitch and yaw in the roll sweep (Table 8, predicted)
-# The paper's claim is a ≥ 30 % reduction of all four numbers; it is tested on the median run's
+# The paper's claim — a ≥ 30 % reduction of all four numbers — is asserted on the median run's
 # smallest reduction.
 
 # %%
-t8 = w.error_metric_table("wang2023cja_table08", runs["fitted"]["T1"].sweeps["roll"], ((1, "pitch"), (0, "yaw")))
+t8 = w.error_metric_table("wang2023cja_table08", run["T1"].sweeps["roll"], ((1, "pitch"), (0, "yaw")))
 report.save_table(t8, "wang2023cja_table08")
 report.show_table(t8)
+print(w.section_claims(tables["fitted"], "wang2023cja_table08", enforce=AT_PAPER))
 
 # %% [markdown]
 # ## Paper vs mtcal — fitted model, and the prior-only model beside it
 # `mtcal` is the Monte Carlo median, `mc_band` its 95 % interval. The prediction summary counts the
-# held-out (`predicted`) rows whose paper number lies inside our band.
+# held-out (`predicted`) rows whose paper number lies inside our band; the prior-only model (the
+# datasheet nominal values, no mount compliance) is the same simulation before seeing Tables 1–4.
 
 # %%
-tables = {name: compare.comparison_table(w.turntable_rows(r)) for name, r in runs.items()}
 report.save_table(tables["fitted"], "wang2023cja_turntable_comparison")
 report.save_table(tables["prior"], "wang2023cja_extra_turntable_comparison_prior_only")
 report.show_table(tables["fitted"])
@@ -220,10 +237,22 @@ for name, table in tables.items():
     print(f"{name:7s} model: {compare.prediction_summary(table)}")
 
 # %% [markdown]
-# ## Paper numbers outside our band, and the claims
-# Every claim is evaluated; claims marked `reported:` are thresholds on predicted numbers (they
-# hold or fail with the identified error level) and are reported, the others — the paper's
-# qualitative statements — are asserted at the paper's settings.
+# ## Paper numbers outside our band, and why
+#
+# The table lists them. The computed reasons (see the error-model section and the tables above):
+#
+# * **Tables 6 and 8, "before" roll/pitch** — deterministic: the installation angles fitted to
+#   Table 1 (α1 ≈ −0.24° about yaw) fix the coupling (≈ α1 · sin θ), so the band is narrow and
+#   sits 10–20 % off the paper's number: the sweep was not run with exactly Table 1's mounting.
+# * **Table 8, "after" pitch/yaw** — the paper keeps 35–45 % of the coupling after calibration
+#   (MaxAE 0.127°/0.140°), ours removes 80–95 %: no identified source leaves that much coupling
+#   behind in a roll sweep; the paper's roll sweep was likely not run with the matrix of its
+#   Table 1 calibration.
+# * **Tables 5 and 7, hold means** — the per-rest angle error identified on Tables 1–4 (its 60″
+#   bound) is applied per hold; the paper's sweep means are smooth (Table 7's before follows
+#   −0.05° · sin γ within 0.005°), so that scatter is specific to the six-position tables.
+# * **Tables 1–4 (fitted rows)** — the in-sample rows are outside by design: in-sample residuals
+#   are 5–10× smaller than the paper's verified "after".
 
 # %%
 report.show_table(w.outside_rows(tables["fitted"]))

@@ -34,10 +34,8 @@ from mtcal.studies.wang2023cja import constrained as cs
 SIZE = SIZE or os.environ.get("MTCAL_SIZE", "full")
 N_TRIALS = N_TRIALS or {"ci": 200, "full": 2000}[SIZE]
 N_TEST = N_TEST or {"ci": 40, "full": 100}[SIZE]
-if not (isinstance(k_max, int) and 6 <= k_max <= 12):
-    raise ValueError(f"k_max must be an int in [6, 12], got {k_max!r}")
-params = dict(k_max=k_max, noise_levels_deg=tuple(noise_levels_deg))
-AT_PAPER = compare.at_paper_settings(params, {"k_max": 12, "noise_levels_deg": (0.005, 0.01, 0.02, 0.05)})
+params = cs.check_parameters(k_max, noise_levels_deg)
+AT_PAPER = compare.at_paper_settings(params, cs.PARAMETER_DEFAULTS)
 report.setup_matplotlib()
 
 # %% [markdown]
@@ -56,6 +54,11 @@ SIGMA_DEG = round(w.position_noise_deg(fit.model, seed=SEED), 3)
 print(f"identified per-position error sigma = {SIGMA_DEG:.3f} deg per axis")
 assert 0.005 < SIGMA_DEG < 0.05
 levels = tuple(sorted(set(noise_levels_deg) | {SIGMA_DEG}))
+
+# %% [markdown]
+# The identified σ is dominated by the per-rest angle error, which sits on its 60″ prior bound
+# (notebook 10: the paper's six-position residuals scatter more than a ±5″ turntable explains). The
+# gasket terms do not enter: the constrained study assumes a rigid mount, as Eq 13 does.
 
 # %% [markdown]
 # ## wang2023cja_extra_min_positions — minimum number of positions per method
@@ -110,11 +113,7 @@ report.save_figure(plots.error_vs_noise_figure(b3, sigma_deg=SIGMA_DEG, title=(
 head, info = cs.headline(b3, b2, SIGMA_DEG)
 report.save_table(head, "wang2023cja_extra_constrained_headline")
 report.show_table(head)
-print(", ".join(f"{t}: SO(4) {g:.0f} % below Eq 13" for t, g in info["gain_so4_pct"].items()))
-print(f"shared frame: mounting-only {info['gain_mount_pct']:.0f} % below SO(4); heading offset: mounting-only "
-      f"{info['ratio_mount_biased']:.1f} x worse than SO(4)")
-print(f"SO(4) reaches Eq 13's 6-position median ({info['eq13_at6_deg']:.4f} deg) with K = {info['so4_k']}; "
-      f"mounting-only with K = {info['mount_k']}")
+print(cs.headline_text(info))
 assert all(g > 20.0 for g in info["gain_so4_pct"].values()) and info["gain_mount_pct"] > 0
 assert info["ratio_mount_biased"] > 3.0 and info["so4_k"] <= 5
 
@@ -203,6 +202,10 @@ assert (b7[b7.sigma_deg <= 0.05].q22_minus_1_high < 0.0045).all()   # noise does
 
 # %% [markdown]
 # ## Paper vs mtcal
+# Roles: the paper's "three positions suffice" is an `erratum` (computed: four are needed for Eq 13);
+# the SO(4)/mounting results are our `finding`s (the paper states nothing about them); no row here is
+# a prediction of a paper number, so the prediction summary has no banded paper rows. At the study's
+# default settings every tested claim is asserted; with other `k_max`/noise levels they are reported.
 
 # %%
 table = compare.comparison_table(cs.constrained_rows(b1, head, info, b5, b6, b7, SIGMA_DEG))

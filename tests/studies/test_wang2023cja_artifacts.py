@@ -73,3 +73,32 @@ def test_figures_take_labels_from_values():
     assert len(fig.axes) == 2 and fig.axes[0].get_ylabel() == "roll error (°)"
     assert "industrial" in fig._suptitle.get_text()
     plt.close(fig)
+
+
+def test_section_claims_enforces_only_asserted_rows():
+    rows = [w.banded("a", "x", 1.0, np.linspace(0.5, 1.5, 41), claim="reported: x < 0.5", holds=False),
+            w.banded("a", "y", 1.0, np.linspace(0.5, 1.5, 41), claim="after < before", holds=True),
+            w.banded("b", "z", 1.0, np.linspace(0.5, 1.5, 41), claim="z holds", holds=False)]
+    t = compare.comparison_table(rows)
+    assert w.section_claims(t, "a", enforce=True).startswith("a: 1 of 2 claims hold")
+    with pytest.raises(AssertionError, match="z holds"):
+        w.section_claims(t, "b", enforce=True)
+    assert "not holding" in w.section_claims(t, "b", enforce=False)
+    with pytest.raises(ValueError, match="artifact 'c' has no rows"):
+        w.section_claims(t, "c", enforce=False)
+
+
+def test_stepwise_coupling_detects_sine_coupling():
+    ref = np.zeros((100, 3))
+    ref[:, 1] = np.radians(np.repeat([0.0, 4.0, 8.0, 12.0], 25))
+    trace = {"aoa_before_err": np.zeros((100, 3)), "aoa_reference": ref}
+    trace["aoa_before_err"][:, 2] = -0.004 * np.sin(ref[:, 1]) + 1e-6 * np.cos(np.arange(100))
+    assert w.stepwise_coupling(trace, "aoa", 2, 1) < -0.99
+
+
+def test_constrained_parameters_are_validated():
+    assert cs.check_parameters(12, (0.01, 0.02)) == {"k_max": 12, "noise_levels_deg": (0.01, 0.02)}
+    with pytest.raises(ValueError, match=r"k_max must be an int in \[6, 12\]"):
+        cs.check_parameters(13, (0.01,))
+    with pytest.raises(ValueError, match="noise_levels_deg must be angles"):
+        cs.check_parameters(12, (-0.01,))

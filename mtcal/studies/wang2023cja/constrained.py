@@ -30,7 +30,7 @@ from mtcal.reporting import paper_numbers as paper
 __all__ = ["ENVELOPE_DEG", "METHOD_LABEL", "paper_six_positions_deg", "symmetric_layout_rad", "min_positions_table",
            "error_vs_positions_table", "error_vs_noise_table", "headline", "printed_matrices_so4_table",
            "q33_variants_table", "noise_vs_so4_distance_table", "printed_matrices", "constrained_rows",
-           "sigma_matching_distance"]
+           "sigma_matching_distance", "PARAMETER_DEFAULTS", "check_parameters", "headline_text"]
 
 #: The paper's calibration envelope (§4.1): yaw ±8°, pitch −12…23°, roll ±90°.
 ENVELOPE_DEG = ((-8.0, 8.0), (-12.0, 23.0), (-90.0, 90.0))
@@ -260,3 +260,29 @@ def constrained_rows(min_table, head_table, info, so4_table, q33_table, distance
                     f"noise at the identified {sigma_deg:.3f} deg does not make the wind-tunnel matrix's distance",
                     bool(need_wind > 1.5 * sigma_deg), role="finding", source="mtcal finding"))
     return rows
+
+
+#: Notebook 40 parameters (the study's default setting).
+PARAMETER_DEFAULTS = {"k_max": 12, "noise_levels_deg": (0.005, 0.01, 0.02, 0.05)}
+
+
+def check_parameters(k_max, noise_levels_deg) -> dict:
+    """Validate notebook 40's parameters; return them as a dict (one-line ValueError otherwise)."""
+    if isinstance(k_max, bool) or not isinstance(k_max, (int, np.integer)) or not 6 <= int(k_max) <= 12:
+        raise ValueError(f"k_max must be an int in [6, 12], got {k_max!r}")
+    try:
+        levels = tuple(float(x) for x in noise_levels_deg)
+    except (TypeError, ValueError):
+        levels = ()
+    if not levels or not all(0.0 < x <= 1.0 for x in levels):
+        raise ValueError(f"noise_levels_deg must be angles in (0, 1] deg, got {noise_levels_deg!r}")
+    return {"k_max": int(k_max), "noise_levels_deg": levels}
+
+
+def headline_text(info: dict) -> str:
+    """The headline numbers of :func:`headline` as three lines of text."""
+    gains = ", ".join(f"{t}: SO(4) {g:.0f} % below Eq 13" for t, g in info["gain_so4_pct"].items())
+    return (f"{gains}\nshared frame: mounting-only {info['gain_mount_pct']:.0f} % below SO(4); heading offset: "
+            f"mounting-only {info['ratio_mount_biased']:.1f} x worse than SO(4)\n"
+            f"SO(4) reaches Eq 13's 6-position median ({info['eq13_at6_deg']:.4f} deg) with K = {info['so4_k']}; "
+            f"mounting-only with K = {info['mount_k']}")

@@ -13,7 +13,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 __all__ = ["before_after_figure", "wind_on_figure", "amd_figure", "error_vs_positions_figure", "error_vs_noise_figure",
-           "noise_distance_figure"]
+           "noise_distance_figure", "fig07", "fig08", "fig10", "fig11", "extra_amd"]
 
 
 def before_after_figure(trace: dict, name: str, channels, *, title: str, xlabel: str = "time (s)"):
@@ -145,3 +145,33 @@ def noise_distance_figure(table, lines: dict, *, sigma_deg: float, title: str):
     ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8)
     ax.set_title(title, fontsize=10)
     return fig
+
+
+def fig07(run, grade_label: str):
+    """wang2023cja_fig07 (paper Fig 7): roll and yaw errors in the AoA sweep, trial 0."""
+    return before_after_figure(run.trace, "aoa", ((2, "roll"), (0, "yaw")),
+                               title=f"Fig. 7 (wang2023cja_fig07): roll/yaw errors, AoA sweep — {grade_label}")
+
+
+def fig08(run, grade_label: str):
+    """wang2023cja_fig08 (paper Fig 8): pitch and yaw errors in the roll sweep, trial 0."""
+    return before_after_figure(run.trace, "roll", ((1, "pitch"), (0, "yaw")),
+                               title=f"Fig. 8 (wang2023cja_fig08): pitch/yaw errors, roll sweep — {grade_label}")
+
+
+def fig10(run, grade_label: str, rates_deg_s: tuple):
+    """wang2023cja_fig10 (paper Fig 10): pitch − reference in the five wind-on sweeps, trial 0."""
+    return wind_on_figure(run.trace, title=(f"Fig. 10 (wang2023cja_fig10): pitch − reference, wind-on groups — "
+                                            f"{grade_label}, {rates_deg_s[0]:g}/{rates_deg_s[1]:g} °/s"))
+
+
+def fig11(run, grade_label: str):
+    """wang2023cja_fig11 (paper Fig 11): roll and yaw errors in the wind-off AoA sweep, trial 0."""
+    return before_after_figure(run.trace, "nowind", ((2, "roll"), (0, "yaw")),
+                               title=f"Fig. 11 (wang2023cja_fig11): roll/yaw errors, wind-off sweep — {grade_label}")
+
+
+def extra_amd(run, threshold_pct: float, vibration_accel_m_s2: float):
+    """wang2023cja_extra_amd (beyond the paper): the AMD statistic in wind-on Group 1, trial 0."""
+    return amd_figure(run.trace, threshold_pct,
+                      title=f"wang2023cja_extra_amd: AMD, wind-on Group 1 — vibration {vibration_accel_m_s2:g} m/s²")
