@@ -6,7 +6,7 @@ residuals. This module names those sources (:class:`ErrorModel`: every field
 with unit, datasheet-style prior range and source), simulates their effect on
 the six rest means of a calibration run and of a *separate* verification run
 (:func:`rest_residuals`, the static equilibrium of the QNCF: tilt from the
-accelerometer, yaw from the integrated gyro), and fits five of them by maximum
+accelerometer, yaw from the integrated gyro), and fits all six by maximum
 likelihood to the declared training subset — the "after − reference" columns
 of Tables 1–4 (72 numbers) — in :func:`fit_error_model` (all six fields). Tables 5–11 are held
 out: the notebooks predict them with the full QNCF simulation.

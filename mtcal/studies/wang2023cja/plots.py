@@ -72,6 +72,15 @@ def amd_figure(trace: dict, threshold_pct: float, *, title: str):
     return fig
 
 
+def _spaced_ticks(values, min_ratio: float = 1.4) -> list:
+    """Values kept as log-axis ticks so that neighbours differ by at least ``min_ratio`` (no overprint)."""
+    out = []
+    for v in sorted(values):
+        if not out or v / out[-1] >= min_ratio:
+            out.append(v)
+    return out
+
+
 _COLOR = {"eq13": "tab:red", "so4": "tab:blue", "mounting": "tab:green"}
 _LABEL = {"eq13": "Eq 13 (16 par.)", "so4": "SO(4) (6 par.)", "mounting": "mounting (3 par.)"}
 
@@ -115,7 +124,8 @@ def error_vs_noise_figure(table, *, sigma_deg: float, title: str):
         ax.axvline(sigma_deg, color="0.5", ls=":", lw=1)
         ax.set_xscale("log")
         ax.set_yscale("log")
-        ax.set_xticks(levels, [f"{s:g}" for s in levels])
+        ticks = _spaced_ticks(levels)
+        ax.set_xticks(ticks, [f"{s:g}" for s in ticks])
         ax.xaxis.set_minor_formatter(NullFormatter())
         ax.set_xlabel("per-position error σ per axis (°)")
         ax.set_title(f"{truth}, paper's six positions", fontsize=10)
@@ -138,7 +148,8 @@ def noise_distance_figure(table, lines: dict, *, sigma_deg: float, title: str):
     ax.axvline(sigma_deg, color="0.5", ls="-", lw=0.5)
     ax.set_xscale("log")
     ax.set_yscale("log")
-    ax.set_xticks(list(table.sigma_deg), [f"{s:g}" for s in table.sigma_deg])
+    ticks = _spaced_ticks(list(table.sigma_deg))
+    ax.set_xticks(ticks, [f"{s:g}" for s in ticks])
     ax.xaxis.set_minor_formatter(NullFormatter())
     ax.set_xlabel("per-position error σ per axis (°)")
     ax.set_ylabel("distance of Eq 13 matrix to O(4)")
