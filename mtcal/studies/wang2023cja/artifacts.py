@@ -76,14 +76,15 @@ def installation_fit_table() -> pd.DataFrame:
 
 
 def error_model_table(fit: ErrorModelFit, prior: ErrorModel | None = None) -> pd.DataFrame:
-    """wang2023cja_extra_error_model: prior nominal, ML value ± 1σ, prior range, bound flag, source."""
+    """wang2023cja_extra_error_model: prior nominal, ML value ± 1σ (or, on a bound, the 95 % limit), prior range."""
     prior = ErrorModel() if prior is None else prior
     rows = []
     for f in fields(ErrorModel):
         lo, hi = PRIOR_RANGES[f.name]
         rows.append({"parameter": f.name, "unit": f.metadata["unit"], "prior_nominal": getattr(prior, f.name),
-                     "fitted": getattr(fit.model, f.name), "fitted_std": fit.std[f.name], "prior_low": lo,
-                     "prior_high": hi, "at_prior_bound": fit.at_bound[f.name], "source": f.metadata["source"]})
+                     "fitted": getattr(fit.model, f.name), "fitted_std": fit.std[f.name],
+                     "limit95_from_bound": fit.limit95[f.name], "prior_low": lo, "prior_high": hi,
+                     "at_prior_bound": fit.at_bound[f.name], "source": f.metadata["source"]})
     return pd.DataFrame(rows)
 
 

@@ -313,6 +313,10 @@ class ErrorModelFit:
         Installation angles per test (fitted to the "before" columns, geometry).
     n_train : int
         Number of training numbers.
+    limit95 : dict
+        For a value on its bound: the one-sided 95 % profile-likelihood limit inward from the
+        bound (−log L rises by 1.92, the other values held), NaN otherwise or if the whole range
+        is within it.
     """
 
     model: ErrorModel
@@ -322,6 +326,7 @@ class ErrorModelFit:
     loglik_prior: float
     alpha_rad: dict
     n_train: int
+    limit95: dict
 
 
 def _training_residuals() -> dict:
@@ -450,8 +455,20 @@ def fit_error_model(*, n_mc: int = 4000, seed: int = 2023, prior: ErrorModel | N
         cov = np.linalg.pinv(hess)
         for a, i in enumerate(free):
             std[names[i]] = float(np.sqrt(cov[a, a])) if cov[a, a] > 0 else float("nan")
+    limit = {n: float("nan") for n in names}
+    f_ml = nll_x(x)
+    for i, n in enumerate(names):                # one-sided 95 % profile limit inward from a bound
+        if not at_bound[n]:
+            continue
+        inward = np.linspace(x[i], lo[i] if x[i] - lo[i] > hi[i] - x[i] else hi[i], 401)[1:]
+        for v in inward:
+            xv = x.copy()
+            xv[i] = v
+            if nll_x(xv) - f_ml > 1.92:
+                limit[n] = float(v)
+                break
     return ErrorModelFit(model, std, at_bound, -float(best.fun), _loglik(prior, tests), alphas,
-                         sum(lt.data.size for lt in tests.values()))
+                         sum(lt.data.size for lt in tests.values()), limit)
 
 
 def position_noise_deg(model: ErrorModel, *, n_mc: int = 2000, seed: int = 2023, mount: str = "screw",
