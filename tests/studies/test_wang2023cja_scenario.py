@@ -41,3 +41,11 @@ def test_windtunnel_geometry_from_printed_matrix():
     assert eps == pytest.approx(1 / 1.004462 - 1, abs=1e-6)
     with pytest.raises(ValueError, match="vibration_accel_m_s2"):
         w.windtunnel_scenario(vibration_accel_m_s2=-1.0)
+
+
+def test_default_imu_is_the_papers_grade():
+    from dataclasses import fields
+    a, b = w.ImuSpec(), w.ImuSpec.from_grades("wang2023cja", "wang2023cja")
+    for f in fields(w.ImuSpec):
+        va, vb = getattr(a, f.name), getattr(b, f.name)
+        assert va == vb if isinstance(va, str) else np.allclose(va, vb, rtol=1e-12, atol=0), f.name

@@ -28,7 +28,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from mtcal.core import metrics, rotations
-from mtcal.core.profiles import AngleProfile, step_schedule, trajectory_from_euler_zxy
+from mtcal.core.profiles import AngleProfile, step_schedule
 from mtcal.core.rotations import mount_quaternion, relative_to_initial
 from mtcal.core.simulate import Trajectory, simulate_imu
 from mtcal.core.units import DEG, MG

@@ -33,7 +33,7 @@ from mtcal.core.simulate import ImuErrorModel, SensorErrors
 from mtcal.core.sensor_grades import GRADES, sensor_grade
 from mtcal.core.units import ARCSEC, DEG, DEG_H, MG, UG
 from mtcal.filters.qncf import QncfParams
-from .error_model import ErrorModel, PAPER_SIGN, fit_installation_angles, TABLES_1_TO_4
+from .error_model import ErrorModel
 
 __all__ = ["SOURCES", "ImuSpec", "TurntableScenario", "WindTunnelScenario", "TURNTABLE_DEFAULTS",
            "WINDTUNNEL_DEFAULTS", "turntable_scenario", "windtunnel_scenario", "windtunnel_geometry",
