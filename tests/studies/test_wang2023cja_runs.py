@@ -96,3 +96,11 @@ def test_identified_ratio_reproduces_printed_q22():
     assert two.q_matrix.shape == (3, 4, 4) and two.nowind["before_mean"].shape[0] == 3
     with pytest.raises(ValueError, match="block"):
         w.run_windtunnel(sc, np.random.default_rng(0), 1, block=0)
+
+
+def test_error_budget_rows(fast_sc):
+    b = w.error_budget_table(fast_sc, "T2", 1, 7).set_index("source")
+    assert list(b.index[[0, -1]]) == ["none", "all"] and len(b) == len(w.SOURCES) + 2
+    assert b.loc["none", "after_max_deg"] < 1e-6
+    assert b.loc["mount_compliance", "after_rms_deg"] > 10 * b.loc["gyro_white", "after_rms_deg"]
+    assert b.loc["accel_run_change", "in_sample_rms_deg"] < 1e-6 < b.loc["accel_run_change", "after_rms_deg"]
