@@ -1,4 +1,4 @@
-"""Constrained installation-error calibration beside wang2023cja Eq 13 (REPRODUCTION.md §5).
+"""Constrained installation-error calibration: SO(4) and mounting-only fits beside the 16-parameter LS.
 
 wang2023cja fits the map ``A_q^b = Q_s^b A_q^s`` (Eq 10) with a general 4×4
 matrix: 16 free numbers (Eq 11–13). The physical relation is narrower. If the
@@ -42,6 +42,16 @@ consistent when the error map is within 180° in total, ``θ_p + θ_r < 180°``
 (the symmetric part of ``L(p) R(r)`` is then positive definite, so
 ``q_sᵀ M q_s > 0``). The mounting fit is sign-invariant by construction.
 
+References
+----------
+.. [1] Wang X., Zhao X., Zhou B., Wei Q., Zhang R., "Installation error calibration for MEMS
+   angular measurement system in hypersonic wind tunnel", Chin. J. Aeronaut. 2023,
+   doi:10.1016/j.cja.2022.12.006 (Eq 10–13, the 16-parameter LS).
+.. [2] van Elfrinkhof L., "Eene eigenschap van de orthogonale substitutie van de vierde orde",
+   Handelingen van het 6e Nederlandsch Natuurkundig en Geneeskundig Congres, Delft, 1897.
+.. [3] Horn B. K. P., "Closed-form solution of absolute orientation using unit quaternions",
+   J. Opt. Soc. Am. A 4(4), 629–642, 1987, doi:10.1364/JOSAA.4.000629 (q-method).
+
 Examples
 --------
 >>> import numpy as np
@@ -71,7 +81,7 @@ __all__ = [
     "MIN_POSITIONS", "so4_from_quaternions", "associate_matrix", "factor_so4", "project_to_so4",
     "distance_to_orthogonal", "so4_error_matrix", "fit_so4",
     "mounting_error_matrix", "fit_mounting", "So4Fit", "MountingFit",
-    "So4Projection", "CalibrationScenario", "PAPER_SIX_POSITIONS_DEG", "paper_six_positions_rad",
+    "So4Projection", "CalibrationScenario",
     "symmetric_layout_rad", "random_layout_rad", "simulate_calibration_errors", "METHODS",
 ]
 
@@ -456,30 +466,27 @@ def _angle(q1: np.ndarray, q2: np.ndarray) -> np.ndarray:
 # --------------------------------------------------------------------------
 # Monte Carlo study
 # --------------------------------------------------------------------------
-#: wang2023cja six-position layout [yaw, pitch, roll] in degrees (Table 1 reference columns, §3.2).
-PAPER_SIX_POSITIONS_DEG = np.array([[8.0, 0.0, 0.0], [-8.0, 0.0, 0.0], [0.0, -12.0, 0.0],
-                                    [0.0, 23.0, 0.0], [0.0, 0.0, 90.0], [0.0, 0.0, -90.0]])
+def symmetric_layout_rad(k: int, base_rad) -> np.ndarray:
+    """First ``k`` (1…12) positions of a symmetric six-position layout, extended; (k, 3) rad.
 
+    ``base_rad`` holds six positions in the six-position order (yaw +, yaw −, pitch +, pitch −,
+    roll +, roll −; rows ``[ψ, θ, γ]``, rad). Order of the result: yaw +, pitch +, roll +,
+    yaw −, pitch −, roll − (so k = 6 is the base set), then the same six at half amplitude.
+    Interleaving the axes keeps every prefix as well spread as possible (k = 3 already spans
+    three independent quaternion directions, k = 4 all four).
 
-def paper_six_positions_rad() -> np.ndarray:
-    """wang2023cja six positions as [yaw ψ, pitch θ, roll γ] in rad, shape (6, 3)."""
-    return np.radians(PAPER_SIX_POSITIONS_DEG)
-
-
-def symmetric_layout_rad(k: int) -> np.ndarray:
-    """First ``k`` (1…12) positions of the paper's symmetric layout, extended; (k, 3) rad.
-
-    Order: yaw +8°, pitch −12°, roll +90°, yaw −8°, pitch +23°, roll −90° (so
-    k = 6 is exactly the paper's set), then the same six at half amplitude
-    (yaw ±4°, pitch −6°/+11.5°, roll ±45°). Interleaving the axes keeps every
-    prefix as well spread as possible (k = 3 already spans three independent
-    quaternion directions, k = 4 all four).
+    >>> base = np.radians([[8, 0, 0], [-8, 0, 0], [0, -12, 0], [0, 23, 0], [0, 0, 90], [0, 0, -90]])
+    >>> symmetric_layout_rad(7, base).shape
+    (7, 3)
     """
     k = positive_int(k, "k")
     if k > 12:
         raise ValueError(f"k must be <= 12, got {k}")
-    ring = PAPER_SIX_POSITIONS_DEG[[0, 2, 4, 1, 3, 5]]
-    return np.radians(np.concatenate([ring, ring / 2.0]))[:k]
+    base = as_float_array(base_rad, "base_rad", ndim=2, last_dim=3)
+    if base.shape != (6, 3):
+        raise ValueError(f"base_rad must have shape (6, 3), got {base.shape}")
+    ring = base[[0, 2, 4, 1, 3, 5]]
+    return np.concatenate([ring, ring / 2.0])[:k]
 
 
 @dataclass(frozen=True)
@@ -491,11 +498,11 @@ class CalibrationScenario:
     noise_sigma_rad : float
         σ (rad, per axis) of the random rotation perturbing each mean sensor
         quaternion: ``q_s ← q_s ⊗ exp(n/2)``, ``n ~ N(0, σ² I₃)``. Default
-        0.02°: the RMS of wang2023cja Table 1 after-minus-reference residuals
-        (18 cells, 0.019°), i.e. the accuracy the paper reaches per position.
+        0.02° (a per-position error of a tactical MEMS calibration; studies pass
+        their identified value).
     mount_sigma_rad : float
         σ (rad, per axis) of the true mounting rotation vector. Default 0.3°:
-        Table 1 before-calibration coupling errors reach 0.12–0.33°.
+        a careful screwed installation.
     reference_offset : bool
         False: sensor and body share the reference frame (3-DOF truth,
         ``q_s = q_b ⊗ c``). True: the sensor's attitude solution also carries
@@ -504,7 +511,7 @@ class CalibrationScenario:
         tilt levelled by gravity) — the mounting-only fit is then biased.
     envelope_deg : tuple
         (min, max) of yaw, pitch, roll (degrees) for unseen test attitudes and
-        random layouts: the paper's calibration ranges (±8°, −12…23°, ±90°).
+        random layouts (default: a wind-tunnel model envelope ±8°, −12…23°, ±90°).
     n_test : int
         Test attitudes per trial (uniform in the envelope, noise-free).
     """

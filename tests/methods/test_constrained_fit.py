@@ -21,7 +21,8 @@ def _positions(angles_deg):
     return rotations.quat_from_euler_zxy(a[:, 0], a[:, 1], a[:, 2])
 
 
-PAPER6 = constrained.PAPER_SIX_POSITIONS_DEG
+PAPER6 = np.array([[8.0, 0.0, 0.0], [-8.0, 0.0, 0.0], [0.0, -12.0, 0.0],
+                   [0.0, 23.0, 0.0], [0.0, 0.0, 90.0], [0.0, 0.0, -90.0]])   # a six-position layout
 
 
 def _sensor(q_b, w, c):
@@ -272,31 +273,31 @@ def test_matrix_input_errors():
 # Monte Carlo helpers
 # --------------------------------------------------------------------------
 def test_symmetric_layout_contains_paper_six():
-    six = np.degrees(constrained.symmetric_layout_rad(6))
+    six = np.degrees(constrained.symmetric_layout_rad(6, np.radians(PAPER6)))
     assert sorted(map(tuple, six.round(9))) == sorted(map(tuple, PAPER6))
-    assert constrained.symmetric_layout_rad(12).shape == (12, 3)
+    assert constrained.symmetric_layout_rad(12, np.radians(PAPER6)).shape == (12, 3)
     with pytest.raises(ValueError, match="k must be <= 12"):
-        constrained.symmetric_layout_rad(13)
+        constrained.symmetric_layout_rad(13, np.radians(PAPER6))
 
 
 def test_monte_carlo_noise_free_and_minimum_positions():
     sc0 = constrained.CalibrationScenario(noise_sigma_rad=0.0, reference_offset=True, n_test=20)
-    out = constrained.simulate_calibration_errors(constrained.paper_six_positions_rad(), sc0, 30,
+    out = constrained.simulate_calibration_errors(np.radians(PAPER6), sc0, 30,
                                                   np.random.default_rng(1))
     assert np.max(out["eq13"]) < 1e-9 and np.max(out["so4"]) < 1e-9
     assert np.min(out["mounting"]) > 1e-6  # heading offset biases the 3-DOF model
-    out3 = constrained.simulate_calibration_errors(constrained.symmetric_layout_rad(3), sc0, 30,
+    out3 = constrained.simulate_calibration_errors(constrained.symmetric_layout_rad(3, np.radians(PAPER6)), sc0, 30,
                                                    np.random.default_rng(1))
     assert np.all(np.isnan(out3["eq13"])) and np.max(out3["so4"]) < 1e-9
     sc_shared = constrained.CalibrationScenario(noise_sigma_rad=0.0, n_test=20)
-    out1 = constrained.simulate_calibration_errors(constrained.symmetric_layout_rad(1), sc_shared, 30,
+    out1 = constrained.simulate_calibration_errors(constrained.symmetric_layout_rad(1, np.radians(PAPER6)), sc_shared, 30,
                                                    np.random.default_rng(1))
     assert np.all(np.isnan(out1["so4"])) and np.max(out1["mounting"]) < 1e-9
 
 
 def test_monte_carlo_constrained_fits_beat_eq13_with_noise():
     sc = constrained.CalibrationScenario(n_test=30)
-    out = constrained.simulate_calibration_errors(constrained.paper_six_positions_rad(), sc, 400,
+    out = constrained.simulate_calibration_errors(np.radians(PAPER6), sc, 400,
                                                   np.random.default_rng(7))
     med = {k: np.median(v) for k, v in out.items()}
     assert med["mounting"] < med["so4"] < med["eq13"]
@@ -309,7 +310,7 @@ def test_monte_carlo_constrained_fits_beat_eq13_with_noise():
 def test_monte_carlo_input_errors():
     sc = constrained.CalibrationScenario()
     with pytest.raises(ValueError, match="radians"):
-        constrained.simulate_calibration_errors(constrained.PAPER_SIX_POSITIONS_DEG, sc, 5,
+        constrained.simulate_calibration_errors(PAPER6, sc, 5,
                                                 np.random.default_rng(0))
     with pytest.raises(ValueError, match="layout_rad must have shape"):
         constrained.simulate_calibration_errors(np.zeros((4, 6, 3)), sc, 5, np.random.default_rng(0))
@@ -323,7 +324,7 @@ def test_monte_carlo_input_errors():
 
 def test_monte_carlo_returns_matrices_eq13_not_orthogonal_with_noise():
     sc = constrained.CalibrationScenario(n_test=10)
-    out, mats = constrained.simulate_calibration_errors(constrained.paper_six_positions_rad(), sc, 50,
+    out, mats = constrained.simulate_calibration_errors(np.radians(PAPER6), sc, 50,
                                                         np.random.default_rng(2), return_matrices=True)
     assert mats["eq13"].shape == (50, 4, 4) and out["eq13"].shape == (50,)
     assert np.all(constrained.distance_to_orthogonal(mats["eq13"]) > 1e-6)

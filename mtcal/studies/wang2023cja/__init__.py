@@ -4,14 +4,25 @@ Wang X., Zhao X., Zhou B., Wei Q., Zhang R., "Installation error calibration for
 angular measurement system in hypersonic wind tunnel", Chin. J. Aeronaut. 2023,
 doi:10.1016/j.cja.2022.12.006. QNCF filter, least-squares error quaternion (Eq 10–14),
 six-position procedure, turntable Tables 1–8, wind tunnel Tables 9–11.
+
+Modules by role: :mod:`.error_model` (the hardware error model identified from Tables 1–4
+and the printed matrices), :mod:`.scenario` (frozen scenario dataclasses, parameter
+defaults, builders), :mod:`.runs` (simulation runs), :mod:`.artifacts` (one producer per
+table/figure, plus comparison rows), :mod:`.plots` (figures; imports matplotlib on call).
 """
 
-from . import runs
+from . import artifacts, constrained, error_model, runs, scenario
+from .artifacts import *  # noqa: F401,F403
+from .error_model import *  # noqa: F401,F403
 from .runs import *  # noqa: F401,F403
-import sys as _sys  # noqa: E402
+from .scenario import *  # noqa: F401,F403
 
-# the submodules, not same-named functions (e.g. filters.qncf the module, filters.qncf.qncf the function)
-runs = (_sys.modules[f"{__name__}.{_n}"] for _n in ('runs',))
+__all__ = ["artifacts", "constrained", "error_model", "runs", "scenario", "plots"]
+__all__ += [n for m in (error_model, scenario, runs, artifacts) for n in m.__all__ if n not in __all__]
 
-__all__ = ["runs"]
-__all__ += [n for m in (runs) for n in m.__all__ if n not in __all__]
+
+def __getattr__(name):
+    if name == "plots":            # matplotlib only when a figure is asked for
+        import importlib
+        return importlib.import_module(f"{__name__}.plots")
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

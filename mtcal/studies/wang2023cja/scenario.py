@@ -1,0 +1,322 @@
+"""wang2023cja scenarios: frozen dataclasses with the paper's defaults, and builders from parameters.
+
+Every value carries a unit and a source (field ``metadata``). Notebooks put the values an
+engineer would change in their parameters cell (:data:`TURNTABLE_DEFAULTS`,
+:data:`WINDTUNNEL_DEFAULTS`, defaults = the paper's setting) and build the scenario once with
+:func:`turntable_scenario` / :func:`windtunnel_scenario`, which validate every value (one-line
+``ValueError`` naming the parameter and the valid range or choices).
+
+References
+----------
+Wang X., Zhao X., Zhou B., Wei Q., Zhang R., "Installation error calibration for MEMS
+angular measurement system in hypersonic wind tunnel", Chin. J. Aeronaut. 2023,
+doi:10.1016/j.cja.2022.12.006.
+
+Examples
+--------
+>>> sc = turntable_scenario(gyro_grade="industrial")
+>>> sc.imu.grade_label
+'gyro industrial, accel wang2023cja'
+>>> turntable_scenario(fs_hz=-1.0)
+Traceback (most recent call last):
+...
+ValueError: fs_hz must be a number in [100.0, 10000.0] Hz, got -1.0
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from mtcal.core.simulate import ImuErrorModel, SensorErrors
+from mtcal.core.sensor_grades import GRADES, sensor_grade
+from mtcal.core.units import ARCSEC, DEG, DEG_H, MG, UG
+from mtcal.filters.qncf import QncfParams
+from .error_model import ErrorModel
+
+__all__ = ["SOURCES", "ImuSpec", "TurntableScenario", "WindTunnelScenario", "TURNTABLE_DEFAULTS",
+           "WINDTUNNEL_DEFAULTS", "turntable_scenario", "windtunnel_scenario", "windtunnel_geometry",
+           "PRINTED_WINDTUNNEL_Q22"]
+
+
+def _f(value, unit: str, source: str):
+    """Dataclass field with unit and source metadata."""
+    return field(default=value, metadata={"unit": unit, "source": source})
+
+
+#: Error sources that can be switched individually (error-budget table).
+SOURCES = ("gyro_white", "gyro_bias_instability", "gyro_residual_bias", "gyro_warmup",
+           "gyro_scale_factor", "accel_white", "accel_bias", "quantisation", "reference_angle",
+           "accel_run_change", "mount_compliance")
+
+
+@dataclass(frozen=True)
+class ImuSpec:
+    """The IMU of a wang2023cja run, resolved once from sensor grades (SI values).
+
+    The paper prints no sensor numbers; its grade in :mod:`mtcal.core.sensor_grades` is
+    ``"wang2023cja"`` (tactical MEMS after factory compensation). Every field: value, unit and
+    source in ``metadata``.
+    """
+
+    grade_label: str = _f("gyro wang2023cja, accel wang2023cja", "-", "sensor grades used")
+    gyro_arw_rad_s_rthz: float = _f(0.1 / 60 * DEG, "rad/s/√Hz", "grade: ARW 0.1 °/√h (ADIS16495 class)")
+    gyro_bias_instability_rad_s: float = _f(0.8 * DEG_H, "rad/s", "grade: 0.8 °/h, τ = 100 s")
+    gyro_residual_bias_rad_s: float = _f(0.3 * DEG_H, "rad/s", "grade: turn-on bias after compensation (1σ)")
+    gyro_warmup_bias_rad_s: tuple = _f((18 * DEG_H, -12 * DEG_H, 15 * DEG_H), "rad/s",
+                                       "bias at power-on, decaying with τ = 90 s; after the 5-min warm-up "
+                                       "(§3.2 step 1) ≈ 0.6 °/h remains")
+    gyro_warmup_tau_s: float = _f(90.0, "s", "assumed thermal settling time constant")
+    gyro_scale_factor: tuple = _f((1e-4, -1e-4, 1e-4), "1", "grade: residual scale factor (ppm, +−+ pattern)")
+    gyro_lsb_rad_s: float = _f(0.00625 * DEG, "rad/s", "16-bit output LSB 0.00625 °/s (ADIS1649x)")
+    accel_vrw_m_s2_rthz: float = _f(25 * UG, "m/s²/√Hz", "grade: 25 µg/√Hz (ADXL355 class)")
+    accel_residual_bias_m_s2: float = _f(0.05 * MG, "m/s²", "grade: turn-on bias after compensation (1σ)")
+    accel_lsb_m_s2: float = _f(3.9 * UG, "m/s²", "20-bit LSB at ±2 g (ADXL355: 3.9 µg)")
+    time_since_power_on_s: float = _f(300.0, "s", "§3.2 step (1): 5 min warm-up")
+
+    @classmethod
+    def from_grades(cls, gyro_grade: str = "wang2023cja", accel_grade: str = "wang2023cja") -> "ImuSpec":
+        """Resolve the gyro and accelerometer values from two :mod:`~mtcal.core.sensor_grades` names."""
+        for name, value in (("gyro_grade", gyro_grade), ("accel_grade", accel_grade)):
+            if value not in GRADES:
+                raise ValueError(f"{name} must be one of {sorted(GRADES)}, got {value!r}")
+        g, a = sensor_grade(gyro_grade), sensor_grade(accel_grade)
+        sf = g.gyro_scale_factor_ppm * 1e-6
+        return cls(grade_label=f"gyro {gyro_grade}, accel {accel_grade}",
+                   gyro_arw_rad_s_rthz=g.gyro_noise_density_rad_s_rt_hz,
+                   gyro_bias_instability_rad_s=g.gyro_bias_instability_deg_h * DEG_H,
+                   gyro_residual_bias_rad_s=g.gyro_bias_repeatability_deg_h * DEG_H,
+                   gyro_scale_factor=(sf, -sf, sf),
+                   accel_vrw_m_s2_rthz=a.accel_noise_density_m_s2_rt_hz,
+                   accel_residual_bias_m_s2=a.accel_bias_repeatability_mg * MG)
+
+    def error_model(self, q_mount, sources=SOURCES, errors: ErrorModel | None = None) -> ImuErrorModel:
+        """``ImuErrorModel`` with only ``sources`` switched on (names from :data:`SOURCES`).
+
+        ``errors`` (an identified :class:`ErrorModel`) adds its gyro bias left after warm-up in
+        quadrature to the grade's turn-on bias; its accelerometer bias *change* between runs is
+        applied by the runners (it is not a property of one run).
+        """
+        on = set(sources)
+        unknown = on - set(SOURCES)
+        if unknown:
+            raise ValueError(f"sources must be names from {SOURCES}, got {sorted(unknown)}")
+        extra = 0.0 if errors is None else errors.gyro_run_bias_deg_h * DEG_H
+        q = "quantisation" in on
+        gyro = SensorErrors(
+            noise_density=self.gyro_arw_rad_s_rthz if "gyro_white" in on else 0.0,
+            bias_instability=self.gyro_bias_instability_rad_s if "gyro_bias_instability" in on else 0.0,
+            bias_instability_tau_s=100.0,
+            bias_sigma=float(np.hypot(self.gyro_residual_bias_rad_s, extra)) if "gyro_residual_bias" in on else 0.0,
+            warmup_bias=self.gyro_warmup_bias_rad_s if "gyro_warmup" in on else 0.0,
+            warmup_tau_s=self.gyro_warmup_tau_s,
+            scale_factor=self.gyro_scale_factor if "gyro_scale_factor" in on else 0.0,
+            quantization=self.gyro_lsb_rad_s if q else 0.0)
+        accel = SensorErrors(
+            noise_density=self.accel_vrw_m_s2_rthz if "accel_white" in on else 0.0,
+            bias_sigma=self.accel_residual_bias_m_s2 if "accel_bias" in on else 0.0,
+            quantization=self.accel_lsb_m_s2 if q else 0.0)
+        return ImuErrorModel(gyro=gyro, accel=accel, q_mount=tuple(np.asarray(q_mount, float)),
+                             time_since_power_on_s=self.time_since_power_on_s)
+
+
+# --------------------------------------------------------------------------
+# scenarios
+# --------------------------------------------------------------------------
+@dataclass(frozen=True)
+class TurntableScenario:
+    """High-precision three-axis turntable (§4.1): tests T1–T4, AoA sweep, roll sweep."""
+
+    imu: ImuSpec = field(default_factory=ImuSpec)
+    qncf: QncfParams = field(default_factory=QncfParams)
+    errors: ErrorModel = field(default_factory=ErrorModel)
+    alpha_deg: dict = _f(None, "deg", "fit_installation_angles(Tables 1–4, PAPER_SIGN), rounded to 1e-4°")
+    yaw_positions_deg: tuple = _f((8.0, -8.0), "deg", "§4.1 yaw range ±8°, Table 1")
+    pitch_positions_deg: tuple = _f((-12.0, 23.0), "deg", "§4.1 pitch range −12…23°, Table 1")
+    roll_positions_deg: tuple = _f((90.0, -90.0), "deg", "§4.1 roll range ±90°, Table 1")
+    fs_hz: float = _f(1000.0, "Hz", "§4.1 data sampling frequency")
+    rest_s: float = _f(3.0, "s", "§3.2 rest per position")
+    turntable_rate_rad_s: float = _f(20 * DEG, "rad/s", "assumed mean move rate of the turntable")
+    averaging_fraction: float = _f(0.5, "1", "middle half of each rest is averaged (§3.2 'middle section')")
+    aoa_sweep_deg: tuple = _f((-4, 0, 4, 8, 12, 13, -5, 13), "deg", "Table 5 reference order")
+    aoa_rate_rad_s: float = _f(4 * DEG, "rad/s", "assumed AoA sweep rate")
+    sweep_hold_s: float = _f(5.0, "s", "assumed hold per sweep position")
+    roll_sweep_deg: tuple = _f((90, 60, 30, 0, -30, -60, -90, 90), "deg", "Table 7 reference order")
+    roll_rate_rad_s: float = _f(20 * DEG, "rad/s", "assumed roll sweep rate")
+
+    def __post_init__(self) -> None:
+        if self.alpha_deg is None:
+            object.__setattr__(self, "alpha_deg", {
+                "T1": (-0.2434, -0.0359, 0.0521), "T2": (-0.0130, 0.0184, -1.1484),
+                "T3": (-0.2833, 0.2903, -0.8426), "T4": (-2.4856, -0.3096, -0.2227)})
+
+    def alpha_rad(self, test: str) -> np.ndarray:
+        """Installation angles α1..α3 of ``test`` (rad)."""
+        return np.radians(self.alpha_deg[test])
+
+    @property
+    def reference_angle_sigma_rad(self) -> float:
+        """Turntable angle error at a rest, 1σ per axis (rad), from the error model."""
+        return self.errors.position_error_arcsec * ARCSEC
+
+
+@dataclass(frozen=True)
+class WindTunnelScenario:
+    """Hypersonic wind tunnel (§4.2): support mechanism, wind-off sweep, five wind-on groups."""
+
+    imu: ImuSpec = field(default_factory=ImuSpec)
+    qncf: QncfParams = field(default_factory=QncfParams)
+    errors: ErrorModel = field(default_factory=ErrorModel)
+    alpha_deg: tuple = _f(None, "deg", "mounting of the SO(4) projection of the printed wind-tunnel matrix "
+                          "(training data; windtunnel_geometry)")
+    fs_hz: float = _f(1000.0, "Hz", "§4.1/§3.2 1 kHz")
+    rest_s: float = _f(3.0, "s", "§3.2")
+    cal_yaw_deg: tuple = _f((4.0, -4.0), "deg", "assumed mechanism yaw range")
+    cal_pitch_deg: tuple = _f((-5.0, 13.0), "deg", "AoA range of Tables 9/10")
+    cal_roll_deg: tuple = _f((30.0, -30.0), "deg", "assumed mechanism roll range")
+    mechanism_rate_rad_s: float = _f(2 * DEG, "rad/s", "assumed mechanism rate (groups 1–4)")
+    group5_rate_rad_s: float = _f(1 * DEG, "rad/s", "Group 5: different rate (§4.2, value not given)")
+    pitch_ratio_error: float = _f(None, "1", "mechanism pitch transmission-ratio error: noise-free Eq 13 "
+                                  "reproduces the printed Q(2,2) = 1.004462 (training; identify_pitch_ratio); "
+                                  "first guess 1/Q(2,2) − 1")
+    transmission_gap_rad: float = _f(0.02 * DEG, "rad", "backlash: actual lags command by ±gap/2 "
+                                     "depending on approach direction (§4.2 'transmission gap')")
+    servo_lag_s: float = _f(0.002, "s", "servo following error: stops short by lag × mean move rate")
+    non_orthogonality_rad: tuple = _f((0.0008, -0.0005), "rad/rad", "yaw and roll picked up per rad of "
+                                      "pitch (mechanism non-orthogonality, §4.2)")
+    repeatability_rad: float = _f(0.004 * DEG, "rad", "1σ mechanism repeatability per hold")
+    aoa_sweep_deg: tuple = _f((-4, 0, 4, 8, 12, 13, -5, 13), "deg", "Table 9 reference order")
+    wind_on_sweep_deg: tuple = _f((-4, 0, 4, 8, 12), "deg", "Table 10 reference angles")
+    hold_s: float = _f(5.0, "s", "assumed hold per AoA position")
+    elastic_true_deg: tuple = _f((0.0151, 0.01478), "deg, deg/deg", "true deflection c0 + c1·α, fitted to "
+                                 "Table 10 Mean row (measured ≈ true after calibration)")
+    elastic_model_deg: tuple = _f((-0.0050, 0.01413), "deg, deg/deg", "tunnel's elastic-correction model, "
+                                  "fitted to Table 10 'After elastic angle correction' row")
+    dynamic_pressure_sigma: float = _f(0.02, "1", "run-to-run dynamic-pressure scatter (assumed 2 %)")
+    vibration_accel_m_s2: float = _f(3.0, "m/s²", "model vibration with wind on (assumed; trips the AMD)")
+    vibration_freq_hz: float = _f(45.0, "Hz", "assumed first bending mode of model + sting")
+    vibration_angle_rad: float = _f(0.01 * DEG, "rad", "angular pitch vibration amplitude (assumed)")
+    wind_on_hold_s: float = _f(3.0, "s", "assumed hold per AoA with wind (short hypersonic run)")
+    group_interval_s: float = _f(600.0, "s", "assumed time between wind-on runs (IMU stays powered)")
+
+    def __post_init__(self) -> None:
+        if self.alpha_deg is None or self.pitch_ratio_error is None:
+            alpha_deg, ratio = windtunnel_geometry()
+            if self.alpha_deg is None:
+                object.__setattr__(self, "alpha_deg", alpha_deg)
+            if self.pitch_ratio_error is None:
+                object.__setattr__(self, "pitch_ratio_error", ratio)
+
+
+def windtunnel_geometry() -> tuple[tuple, float]:
+    """Installation angles (deg) and mechanism pitch-ratio error identified from the printed wind-tunnel matrix.
+
+    The printed matrix is training data. Its SO(4) projection ``L(p) R(r)`` gives the
+    mounting ``c = r*`` (Eq 1 angles by a least-squares match of ``mount_quaternion``); its
+    pitch-axis diagonal Q(2,2) = 1.004462 is what Eq 13 does when the mechanism's actual pitch
+    is ``(1 + ε)`` times the commanded one: Q(2,2) ≈ 1/(1 + ε), so ε = 1/Q(2,2) − 1.
+
+    >>> alpha, eps = windtunnel_geometry()
+    >>> round(eps, 5)
+    -0.00444
+    """
+    from scipy.optimize import least_squares
+
+    from mtcal.core import rotations
+    from mtcal.methods import constrained_fit
+    from mtcal.reporting import paper_numbers as paper
+
+    q = paper.load("wang2023cja_matrix_qbs_windtunnel")[["col_1", "col_2", "col_3", "col_4"]].to_numpy(float)
+    c = rotations.quat_conjugate(constrained_fit.project_to_so4(q).r)
+    c = c * np.sign(c[0])
+
+    def resid(a):
+        return rotations.mount_quaternion(a) - c
+    alpha = least_squares(resid, np.zeros(3), xtol=1e-14, ftol=1e-14).x
+    return tuple(round(float(x), 4) for x in np.degrees(alpha)), round(float(1.0 / q[1, 1] - 1.0), 6)
+
+
+# --------------------------------------------------------------------------
+# parameters-cell values → scenario
+# --------------------------------------------------------------------------
+#: Turntable notebook parameters (the paper's setting; units in the names).
+TURNTABLE_DEFAULTS = {
+    "gyro_grade": "wang2023cja", "accel_grade": "wang2023cja", "fs_hz": 1000.0, "rest_s": 3.0,
+    "yaw_positions_deg": (8.0, -8.0), "pitch_positions_deg": (-12.0, 23.0), "roll_positions_deg": (90.0, -90.0),
+    "turntable_rate_deg_s": 20.0,
+}
+#: Wind-tunnel notebook parameters (the paper's setting; units in the names).
+WINDTUNNEL_DEFAULTS = {
+    "gyro_grade": "wang2023cja", "accel_grade": "wang2023cja", "fs_hz": 1000.0, "rest_s": 3.0,
+    "mechanism_rate_deg_s": 2.0, "group5_rate_deg_s": 1.0, "vibration_accel_m_s2": 3.0,
+}
+
+
+def _number(name, value, lo, hi, unit):
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)) \
+            or not np.isfinite(value) or not lo <= float(value) <= hi:
+        raise ValueError(f"{name} must be a number in [{lo}, {hi}] {unit}, got {value!r}")
+    return float(value)
+
+
+def _pair(name, value, lo, hi):
+    try:
+        v = tuple(float(x) for x in value)
+    except (TypeError, ValueError):
+        v = ()
+    if len(v) != 2 or not all(np.isfinite(v)) or not all(lo <= x <= hi for x in v) or v[0] == v[1]:
+        raise ValueError(f"{name} must be two different angles in [{lo}, {hi}] deg, got {value!r}")
+    return v
+
+
+def _check_names(params: dict, defaults: dict) -> dict:
+    unknown = sorted(set(params) - set(defaults))
+    if unknown:
+        raise ValueError(f"unknown parameter(s) {unknown}; valid: {sorted(defaults)}")
+    return {**defaults, **params}
+
+
+def turntable_scenario(errors: ErrorModel | None = None, **params) -> TurntableScenario:
+    """:class:`TurntableScenario` from parameters-cell values (names of :data:`TURNTABLE_DEFAULTS`).
+
+    ``errors`` is the identified (or prior-nominal) :class:`ErrorModel`.
+    """
+    p = _check_names(params, TURNTABLE_DEFAULTS)
+    imu = ImuSpec.from_grades(p["gyro_grade"], p["accel_grade"])
+    return TurntableScenario(
+        imu=imu, errors=ErrorModel() if errors is None else errors,
+        fs_hz=_number("fs_hz", p["fs_hz"], 100.0, 10000.0, "Hz"),
+        rest_s=_number("rest_s", p["rest_s"], 2.5, 30.0, "s"),
+        yaw_positions_deg=_pair("yaw_positions_deg", p["yaw_positions_deg"], -30.0, 30.0),
+        pitch_positions_deg=_pair("pitch_positions_deg", p["pitch_positions_deg"], -60.0, 60.0),
+        roll_positions_deg=_pair("roll_positions_deg", p["roll_positions_deg"], -90.0, 90.0),
+        turntable_rate_rad_s=_number("turntable_rate_deg_s", p["turntable_rate_deg_s"], 1.0, 100.0, "deg/s") * DEG)
+
+
+#: The printed wind-tunnel matrix's Q(2,2) (training data).
+PRINTED_WINDTUNNEL_Q22 = 1.004462
+
+
+def windtunnel_scenario(errors: ErrorModel | None = None, **params) -> WindTunnelScenario:
+    """:class:`WindTunnelScenario` from parameters-cell values (names of :data:`WINDTUNNEL_DEFAULTS`).
+
+    The installation angles come from the printed wind-tunnel matrix (:func:`windtunnel_geometry`);
+    the pitch-ratio error is the one for which the noise-free simulated calibration reproduces its
+    Q(2,2) (:func:`.runs.identify_pitch_ratio`), the mechanism's other stated errors included.
+    """
+    p = _check_names(params, WINDTUNNEL_DEFAULTS)
+    from .runs import identify_pitch_ratio   # runs imports this module
+
+    alpha_deg, _ = windtunnel_geometry()
+    sc = WindTunnelScenario(
+        imu=ImuSpec.from_grades(p["gyro_grade"], p["accel_grade"]), errors=ErrorModel() if errors is None else errors,
+        alpha_deg=alpha_deg, pitch_ratio_error=0.0,
+        fs_hz=_number("fs_hz", p["fs_hz"], 100.0, 10000.0, "Hz"),
+        rest_s=_number("rest_s", p["rest_s"], 2.5, 30.0, "s"),
+        mechanism_rate_rad_s=_number("mechanism_rate_deg_s", p["mechanism_rate_deg_s"], 0.2, 20.0, "deg/s") * DEG,
+        group5_rate_rad_s=_number("group5_rate_deg_s", p["group5_rate_deg_s"], 0.2, 20.0, "deg/s") * DEG,
+        vibration_accel_m_s2=_number("vibration_accel_m_s2", p["vibration_accel_m_s2"], 0.0, 50.0, "m/s²"))
+    return replace(sc, pitch_ratio_error=identify_pitch_ratio(sc, PRINTED_WINDTUNNEL_Q22))
+
+

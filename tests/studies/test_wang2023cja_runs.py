@@ -1,0 +1,106 @@
+"""Tests for mtcal.studies.wang2023cja.runs: sessions with verification runs, mechanism, wind tunnel."""
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from mtcal.core import rotations
+from mtcal.studies import wang2023cja as w
+
+
+@pytest.fixture(scope="module")
+def fast_sc():
+    sc = w.turntable_scenario(turntable_rate_deg_s=60.0, fs_hz=200.0)
+    return replace(sc, errors=w.ErrorModel(compliance_gasket_deg_g=0.3, gasket_load_tilt_deg_g=0.2))
+
+
+def test_turntable_noise_free_is_exact(fast_sc):
+    run = w.run_turntable(fast_sc, "T2", np.random.default_rng(0), 1, sources=())
+    assert np.abs(w.position_errors_deg(run, "after")).max() < 1e-6
+    assert np.abs(run.q_matrix[0] - w.true_error_matrix(fast_sc.alpha_rad("T2"))).max() < 1e-8
+
+
+def test_compliance_alone_matches_rest_model(fast_sc):
+    sc = replace(fast_sc, errors=replace(fast_sc.errors, gasket_load_tilt_deg_g=0.0))
+    run = w.run_turntable(sc, "T2", np.random.default_rng(0), 1, sources=("mount_compliance",))
+    sim = w.position_errors_deg(run, "after")[0]
+    res = w.rest_residuals(sc.alpha_rad("T2"), sc.errors, "gasket", np.zeros((1, w.N_NORMALS)))
+    expected = np.degrees(res["after"][0] - w.paper_positions())
+    assert abs(expected[4, 2]) > 0.1 and np.allclose(sim, expected, atol=2e-3)
+
+
+def test_verification_run_differs_from_in_sample(fast_sc):
+    run = w.run_turntable(fast_sc, "T1", np.random.default_rng(3), 2)
+    ins = np.sqrt(np.mean(w.position_errors_deg(run, "after_in_sample") ** 2))
+    ver = np.sqrt(np.mean(w.position_errors_deg(run, "after") ** 2))
+    before = np.sqrt(np.mean(w.position_errors_deg(run, "before") ** 2))
+    assert ins < ver < before
+    with pytest.raises(ValueError, match="state"):
+        w.position_errors_deg(run, "during")
+
+
+def test_jobs_stacking_does_not_change_numbers(fast_sc):
+    jobs = [w.TurntableJob("T2", np.random.default_rng(1), 3),
+            w.TurntableJob("T3", np.random.default_rng(2), 1, ("gyro_white",), fraction=0.3)]
+    stacked = w.run_turntable_jobs(fast_sc, jobs, block=2)
+    alone = [w.run_turntable_jobs(fast_sc, [j], block=2)[0]
+             for j in (w.TurntableJob("T2", np.random.default_rng(1), 3),
+                       w.TurntableJob("T3", np.random.default_rng(2), 1, ("gyro_white",), fraction=0.3))]
+    for a, b in zip(stacked, alone):
+        assert np.allclose(a.ver_after, b.ver_after, atol=1e-12, rtol=0)
+        assert np.allclose(a.q_matrix, b.q_matrix, atol=1e-12, rtol=0)
+    assert not np.allclose(stacked[0].ver_after[0], stacked[0].ver_after[1])
+
+
+def test_jobs_validation(fast_sc):
+    rng = np.random.default_rng(0)
+    with pytest.raises(ValueError, match="jobs"):
+        w.run_turntable_jobs(fast_sc, [])
+    with pytest.raises(TypeError, match="jobs"):
+        w.run_turntable_jobs(fast_sc, [("T1", rng, 1)])
+    with pytest.raises(ValueError, match="test"):
+        w.run_turntable_jobs(fast_sc, [w.TurntableJob("T9", rng, 1)])
+    with pytest.raises(ValueError, match="trials"):
+        w.run_turntable_jobs(fast_sc, [w.TurntableJob("T1", rng, 0)])
+    with pytest.raises(ValueError, match="sources"):
+        w.run_turntable_jobs(fast_sc, [w.TurntableJob("T1", rng, 1, ("bogus",))])
+    with pytest.raises(ValueError, match="block"):
+        w.run_turntable_jobs(fast_sc, [w.TurntableJob("T1", rng, 1)], block=0)
+
+
+def test_load_tilt_outputs_rotate_gravity():
+    q_wb = np.tile([1.0, 0, 0, 0], (5, 1))
+    acc = np.tile([0.0, 0.0, 9.8], (1, 5, 1))
+    gyro = np.zeros((1, 5, 3))
+    w.load_tilt_outputs(gyro, acc, q_wb, 100.0, (1.0, 0, 0, 0), np.array([[0.01, 0.0, 0.0]]))
+    assert np.allclose(acc[0, :, 1], 0.098) and np.allclose(gyro, 0.0)   # level: constant tilt, no rate
+
+
+def test_mechanism_backlash_depends_on_direction():
+    sc = w.WindTunnelScenario(pitch_ratio_error=-0.003, alpha_deg=(0.0, 0.0, 0.0))
+    from mtcal.core.profiles import step_schedule
+    prof = step_schedule(np.radians([[0, 0, 0], [0, 4, 0], [0, 0, 0]]), np.radians(2), 2.0, 100.0)
+    act = w.mechanism_actual(sc, prof, np.radians(2))
+    up = act[prof.segment == 2, 1].mean() - np.radians(4) * (1 + sc.pitch_ratio_error)
+    down = act[prof.segment == 4, 1].mean()
+    assert up < 0 < down
+    assert np.isclose(down - up, sc.transmission_gap_rad + 2 * sc.servo_lag_s * np.radians(2))
+
+
+def test_identified_ratio_reproduces_printed_q22():
+    sc = w.windtunnel_scenario(fs_hz=200.0)
+    run = w.run_windtunnel(sc, np.random.default_rng(0), 1, sources=(), wind_on=False)
+    assert run.q_matrix[0, 1, 1] == pytest.approx(w.PRINTED_WINDTUNNEL_Q22, abs=2e-5)
+    two = w.run_windtunnel(sc, np.random.default_rng(0), 3, sources=("gyro_white",), wind_on=False, block=2)
+    assert two.q_matrix.shape == (3, 4, 4) and two.nowind["before_mean"].shape[0] == 3
+    with pytest.raises(ValueError, match="block"):
+        w.run_windtunnel(sc, np.random.default_rng(0), 1, block=0)
+
+
+def test_error_budget_rows(fast_sc):
+    b = w.error_budget_table(fast_sc, "T2", 1, 7).set_index("source")
+    assert list(b.index[[0, -1]]) == ["none", "all"] and len(b) == len(w.SOURCES) + 2
+    assert b.loc["none", "after_max_deg"] < 1e-6
+    assert b.loc["mount_compliance", "after_rms_deg"] > 10 * b.loc["gyro_white", "after_rms_deg"]
+    assert b.loc["accel_run_change", "in_sample_rms_deg"] < 1e-6 < b.loc["accel_run_change", "after_rms_deg"]
