@@ -13,7 +13,7 @@ data): a 1-channel pitch step schedule about the body x axis (wang2023cja Eq 8/9
 pitch; RAMS EKF axis v = x), waypoints 0 → 30 → −20 → 45 → 10 → 0 deg, 70 % of
 the record in holds, 30 % in minimum-jerk moves (so the schedule scales with the
 record length), no lever arm; the tactical MEMS IMU of wang2023cja
-(:class:`mtcal.studies.wang2023cja.runs.ImuSpec`, every error source on, 5 min after
+(:class:`mtcal.studies.wang2023cja.ImuSpec`, every error source on, 5 min after
 power-on); QNCF with its default gains, started at the true initial attitude.
 
 Run alone::
@@ -40,7 +40,7 @@ from mtcal.core import profiles, rotations
 from mtcal.filters.qncf import QncfFilter, QncfParams
 from mtcal.core.metrics import angle_difference, percentile_band
 from mtcal.core.montecarlo import ErrorAccumulator, run_streaming
-from mtcal.studies.wang2023cja.runs import ImuSpec
+from mtcal.studies.wang2023cja import ImuSpec
 from mtcal.core.simulate import ImuErrorModel, ImuRecord, ImuStream, Trajectory
 
 __all__ = ["PITCH_WAYPOINTS_DEG", "BenchData", "bench_scenario", "error_model", "PrefetchStream",
