@@ -79,21 +79,24 @@ def cmd_measure(args) -> int:
         start = time.perf_counter()
         child = subprocess.Popen(cmd, env=env)
         proc = psutil.Process(child.pid)
-        peak_tree = 0
-        while child.poll() is None:
+        peak_tree, status, usage = 0, None, None
+        while status is None:
+            pid, wait_status, rusage = os.wait4(child.pid, os.WNOHANG)
+            if pid:
+                status, usage = os.waitstatus_to_exitcode(wait_status), rusage
+                break
             try:
                 peak_tree = max(peak_tree, _tree_rss(proc))
             except psutil.Error:
                 pass
             time.sleep(0.1)
+        child.returncode = status
         wall = time.perf_counter() - start
-        # ru_maxrss of waited-for descendants: the exact peak of the largest process (the kernel)
-        import resource
-
-        max_single_kib = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
-        rows.append({"notebook": src.stem, "size": env["MTCAL_SIZE"], "status": "ok" if child.returncode == 0
-                     else "failed", "wall_s": f"{wall:.0f}", "peak_rss_tree_mb": f"{peak_tree / 2**20:.0f}",
-                     "max_rss_any_process_so_far_mb": f"{max_single_kib / 1024:.0f}"})
+        # wait4's ru_maxrss covers the child and its reaped descendants: the exact peak of the
+        # largest single process of this notebook's tree (the kernel)
+        rows.append({"notebook": src.stem, "size": env["MTCAL_SIZE"], "status": "ok" if status == 0 else "failed",
+                     "wall_s": f"{wall:.0f}", "peak_rss_kernel_mb": f"{usage.ru_maxrss / 1024:.0f}",
+                     "peak_rss_tree_mb": f"{peak_tree / 2**20:.0f}"})
         print(rows[-1], flush=True)
     with open(out_dir / "resources.csv", "w", newline="") as fh:
         writer = csv.DictWriter(fh, fieldnames=list(rows[0]), lineterminator="\n")
