@@ -21,9 +21,9 @@ class UserInputError(ValueError):
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="mtcal", description=__doc__.splitlines()[0])
     sub = parser.add_subparsers(dest="command", required=True)
-    from mtcal.cli import axis, calibrate  # subcommand modules import UserInputError from here
+    from mtcal.cli import axis, calibrate, compare, run  # subcommand modules import UserInputError from here
 
-    for module in (calibrate, axis):
+    for module in (calibrate, axis, run, compare):
         module.register(sub)
     return parser
 

@@ -526,7 +526,6 @@ def compare_runs(runs: list[str | Path], *, names: list[str] | None = None, out_
             merged = merged.merge(part, on=_KEY, how="outer", suffixes=("", "_new"))
             for col in ("paper", "claim", "role"):
                 merged[col] = merged[col].where(merged[col].notna(), merged.pop(f"{col}_new"))
-                merged.pop(f"{col}_new", None)
     merged = merged.fillna("")
     holds_cols = [f"holds [{n}]" for n in names]
     merged["flips"] = [flip_text([str(r[c]) for c in holds_cols], names) for _, r in merged.iterrows()]
