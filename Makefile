@@ -45,6 +45,7 @@ sync: $(STAMP)
 reproduce: $(STAMP)
 	$(BIN)/python tools/notebooks.py sync $(NOTEBOOK_SRC)
 	MTCAL_SIZE=full MTCAL_OUTPUT_DIR=$(CURDIR) $(BIN)/python tools/notebooks.py execute $(NOTEBOOK_SRC)
+	$(BIN)/python tools/artifact_catalogue.py
 
 ## Unit tests + doctests + nbval over every notebook at CI size (outputs go to build/ci/), then the
 ## output-checked notebooks again with the CPU's native BLAS kernel and SIMD/FMA code paths.
