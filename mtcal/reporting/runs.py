@@ -502,7 +502,8 @@ def compare_runs(runs: list[str | Path], *, names: list[str] | None = None, out_
     -------
     table : DataFrame
         ``table, artifact, quantity, paper, claim, role`` then ``mtcal``, ``band`` and
-        ``holds`` per run (``<column> [<name>]``) and ``flips`` (e.g. ``True→False (B)``).
+        ``holds`` per run (``<column> [<name>]``) and ``flips`` (e.g. ``True→False (B)``); only
+        the comparison tables (notebooks) present in every run.
     csv_path, png_path : Path
         Saved table and figure (figure: every numeric quantity relative to the first run,
         flipped claims marked; ``None`` when ``figure=False`` or nothing is numeric).
@@ -513,9 +514,15 @@ def compare_runs(runs: list[str | Path], *, names: list[str] | None = None, out_
                                        for r in runs]
     if len(names) != len(runs) or len(set(names)) != len(names):
         raise ValueError(f"names must be {len(runs)} distinct labels, got {names}")
+    tables = [load_comparisons(run) for run in runs]
+    # compare only the notebooks every run executed (a what-if run usually runs one notebook)
+    common = set.intersection(*(set(df["table"]) for df in tables))
+    if not common:
+        raise ValueError(f"runs {names} have no comparison table in common "
+                         f"({'; '.join(f'{n}: {sorted(set(df.table))}' for n, df in zip(names, tables))})")
     merged = None
-    for run, name in zip(runs, names):
-        df = load_comparisons(run)
+    for df, name in zip(tables, names):
+        df = df[df["table"].isin(common)]
         part = df[_KEY + ["paper", "claim", "role"]].copy()
         part[f"mtcal [{name}]"] = df["mtcal"]
         part[f"band [{name}]"] = df["mc_band"]
@@ -571,7 +578,12 @@ def _compare_figure(table: pd.DataFrame, names: list[str], path: Path, max_rows:
         if flips[idx]:
             ax.annotate("claim flips", (1.0, k), xytext=(4, -3), textcoords="offset points", fontsize=7, color="C3")
     ax.set_yticks(y, labels[keep], fontsize=7)
-    ax.set_xscale("symlog", linthresh=1e-2)
+    shown = ratio[keep]
+    if np.all(shown > 0):
+        ax.set_xscale("log")
+        ax.set_xlim(shown.min() / 1.6, shown.max() * 1.6)
+    else:
+        ax.set_xscale("symlog", linthresh=1e-2)
     ax.axvline(1.0, color="k", lw=0.6)
     ax.set_xlabel(f"mtcal value / value in run '{names[0]}'")
     ax.set_title(f"comparison-table quantities: {' vs '.join(names)}")

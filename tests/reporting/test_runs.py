@@ -112,3 +112,15 @@ def test_compare_runs_table_flips_and_files(tmp_path):
         runs.compare_runs([tmp_path / "runs" / "paper", tmp_path / "nowhere"])
     with pytest.raises(ValueError, match="distinct labels"):
         runs.compare_runs([tmp_path / "runs" / "paper", tmp_path / "runs" / "industrial"], names=["a", "a"])
+
+
+def test_compare_runs_keeps_tables_common_to_all_runs(tmp_path):
+    _fake_run(tmp_path / "a", [("t06", "roll", 1, 1.0, "", "c", True)])
+    _fake_run(tmp_path / "b", [("t06", "roll", 1, 2.0, "", "c", False)])
+    pd.DataFrame({"artifact": ["x"], "quantity": ["q"], "mtcal": [1], "holds": [True]}).to_csv(
+        tmp_path / "a" / "data" / "20_y_comparison.csv", index=False)
+    table, _, _ = runs.compare_runs([tmp_path / "a", tmp_path / "b"], out_dir=tmp_path, figure=False)
+    assert set(table["table"]) == {"10_x_comparison"}
+    (tmp_path / "b" / "data" / "10_x_comparison.csv").rename(tmp_path / "b" / "data" / "30_z_comparison.csv")
+    with pytest.raises(ValueError, match="no comparison table in common"):
+        runs.compare_runs([tmp_path / "a", tmp_path / "b"], out_dir=tmp_path)
