@@ -1,6 +1,6 @@
 """tan2022 (Tan et al., 2022) scenarios: the paper's parameters plus stated choices.
 
-Every field carries the paper's value where one exists (``paper_data/tan2022_params.csv``)
+Every field carries the paper's value where one exists (``data/paper/tan2022_params.csv``)
 and otherwise a choice with its source. Fields are in the paper's display
 units (named ``_deg``, ``_g``, ``_deg_s``); properties give the library units
 (rad, rad/s, m/s²). Use :func:`dataclasses.replace` for variants (e.g. CI size).
