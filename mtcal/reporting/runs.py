@@ -170,20 +170,37 @@ def build_notebook(source: str | Path):
 
 
 def notebook_parameters(source: str | Path) -> dict[str, dict]:
-    """Parameters of a notebook's ``parameters`` cell (papermill's ``inspect_notebook``).
+    """Parameters of a notebook's ``parameters`` cell: every top-level assignment, in cell order.
 
-    Returns ``{name: {"name", "inferred_type_name", "default", "help"}}`` in cell order.
+    Returns ``{name: {"name", "inferred_type_name", "default", "help"}}`` like papermill's
+    ``inspect_notebook`` (``default`` is the source text of the value, ``help`` the trailing
+    comment), read with :mod:`ast`, so a comment containing ``=`` or ``;`` or a
+    conditional default is handled (papermill's line parser skips such lines).
     """
-    import nbformat
-    import papermill
-
     nb = build_notebook(source)
-    if not any("parameters" in c.metadata.get("tags", []) for c in nb.cells):
+    cells = [c for c in nb.cells if c.cell_type == "code" and "parameters" in c.metadata.get("tags", [])]
+    if not cells:
         raise ValueError(f"notebook {Path(source).name} has no cell tagged 'parameters'")
-    with tempfile.TemporaryDirectory() as tmp:
-        path = Path(tmp) / "inspect.ipynb"
-        nbformat.write(nb, path)
-        return papermill.inspect_notebook(str(path))
+    text = cells[0].source
+    try:
+        tree = ast.parse(text)
+    except SyntaxError as exc:
+        raise ValueError(f"parameters cell of {Path(source).name} is not valid Python: {exc}") from None
+    lines = text.splitlines()
+    out: dict[str, dict] = {}
+    for node in tree.body:
+        targets = node.targets if isinstance(node, ast.Assign) else (
+            [node.target] if isinstance(node, ast.AnnAssign) and node.value is not None else [])
+        for target in targets:
+            if not isinstance(target, ast.Name):
+                continue
+            default = ast.get_source_segment(text, node.value) or ""
+            line = lines[node.end_lineno - 1]
+            comment = line[node.value.end_col_offset:].partition("#")[2].strip() if "#" in line else ""
+            value = _literal_default(default)
+            kind = "None" if value is None else type(value).__name__
+            out[target.id] = {"name": target.id, "inferred_type_name": kind, "default": default, "help": comment}
+    return out
 
 
 def _literal_default(text: str):
