@@ -448,7 +448,8 @@ def _claims_report(folder: Path) -> str:
 
 
 # --------------------------------------------------------------------------------------- compare
-_KEY = ["table", "artifact", "quantity"]
+_KEY = ["table", "artifact", "key"]
+_NUMBER_RE = re.compile(r"[-+−]?\d+(?:\.\d+)?(?:[eE][-+]?\d+)?")
 
 
 def load_comparisons(run: str | Path) -> pd.DataFrame:
@@ -475,8 +476,10 @@ def load_comparisons(run: str | Path) -> pd.DataFrame:
     for col in ("paper", "mc_band", "claim", "role", "source"):
         if col not in out:
             out[col] = ""
-    # a quantity may repeat within one artifact: number the repeats so the join is one-to-one
-    out["quantity"] = out["quantity"] + out.groupby(_KEY).cumcount().map(lambda n: f" #{n + 1}" if n else "")
+    # join key: the quantity with its numbers blanked (labels carry parameter values, e.g.
+    # "hybrid (θ̇_t = 0.5 °/s)" vs "(θ̇_t = 10 °/s)"), repeats numbered in order
+    out["key"] = out["quantity"].map(lambda q: _NUMBER_RE.sub("#", q))
+    out["key"] = out["key"] + out.groupby(["table", "artifact", "key"]).cumcount().map(lambda n: f" [{n + 1}]")
     return out
 
 
@@ -540,7 +543,7 @@ def compare_runs(runs: list[str | Path], *, names: list[str] | None = None, out_
     merged = None
     for df, name in zip(tables, names):
         df = df[df["table"].isin(common)]
-        part = df[_KEY + ["paper", "claim", "role"]].copy()
+        part = df[_KEY + ["quantity", "paper", "claim", "role"]].copy()
         part[f"mtcal [{name}]"] = df["mtcal"]
         part[f"band [{name}]"] = df["mc_band"]
         part[f"holds [{name}]"] = df["holds"]
@@ -553,8 +556,10 @@ def compare_runs(runs: list[str | Path], *, names: list[str] | None = None, out_
     merged = merged.fillna("")
     holds_cols = [f"holds [{n}]" for n in names]
     merged["flips"] = [flip_text([str(r[c]) for c in holds_cols], names) for _, r in merged.iterrows()]
-    order = _KEY + ["paper", "claim", "role"] + [f"{c} [{n}]" for n in names for c in ("mtcal", "band", "holds")]
-    merged = merged[order + ["flips"]].sort_values(_KEY, kind="stable").reset_index(drop=True)
+    merged = merged.sort_values(_KEY, kind="stable").reset_index(drop=True)
+    order = ["table", "artifact", "quantity", "paper", "claim", "role"] + [
+        f"{c} [{n}]" for n in names for c in ("mtcal", "band", "holds")]
+    merged = merged[order + ["flips"]]
 
     if out_dir is None:
         first = runs[0] if str(runs[0]) != "committed" else (runs[1] if len(runs) > 1 else "runs/x")

@@ -124,3 +124,18 @@ def test_compare_runs_keeps_tables_common_to_all_runs(tmp_path):
     (tmp_path / "b" / "data" / "10_x_comparison.csv").rename(tmp_path / "b" / "data" / "30_z_comparison.csv")
     with pytest.raises(ValueError, match="no comparison table in common"):
         runs.compare_runs([tmp_path / "a", tmp_path / "b"], out_dir=tmp_path)
+
+
+def test_compare_runs_matches_quantities_labelled_with_parameter_values(tmp_path):
+    _fake_run(tmp_path / "a", [("f12", "hybrid (θ̇_t = 0.5 °/s) max error (deg)", 1, 0.4, "", "< 1", True),
+                               ("f12", "error at gamma = 0 deg", "-", 1.0, "", "-", True),
+                               ("f12", "error at gamma = 60 deg", "-", 2.0, "", "-", True)])
+    _fake_run(tmp_path / "b", [("f12", "hybrid (θ̇_t = 10 °/s) max error (deg)", 1, 2.1, "", "< 1", False),
+                               ("f12", "error at gamma = 0 deg", "-", 1.5, "", "-", True),
+                               ("f12", "error at gamma = 60 deg", "-", 2.5, "", "-", True)])
+    table, _, _ = runs.compare_runs([tmp_path / "a", tmp_path / "b"], out_dir=tmp_path, figure=False)
+    assert len(table) == 3
+    hybrid = table.iloc[[i for i, q in enumerate(table["quantity"]) if q.startswith("hybrid")][0]]
+    assert hybrid["quantity"] == "hybrid (θ̇_t = 0.5 °/s) max error (deg)"
+    assert (hybrid["mtcal [a]"], hybrid["mtcal [b]"], hybrid["flips"]) == ("0.4", "2.1", "True→False (b)")
+    assert table.set_index("quantity").loc["error at gamma = 60 deg", "mtcal [b]"] == "2.5"
