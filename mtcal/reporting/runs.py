@@ -330,18 +330,26 @@ def execute_notebook(source: str | Path, output: str | Path, *, parameters: dict
     kernel_env = {**numerics_env(), "MTCAL_PROGRESS": "0", "PYDEVD_DISABLE_FILE_VALIDATION": "1", **(env or {})}
     failure = None
     with _environment(kernel_env):
-        try:
+        try:  # saved after every cell, so a timeout, dead kernel or Ctrl-C also leaves the partial notebook
             papermill.execute_notebook(nb, str(output), parameters=parameters or None, kernel_name="python3",
-                                       progress_bar=progress_bar, request_save_on_cell_execute=False,
+                                       progress_bar=progress_bar, request_save_on_cell_execute=True,
                                        cwd=str(cwd or source.parent), execution_timeout=timeout_s)
         except PapermillExecutionError as exc:
-            failure = exc
+            failure = (f"failed in cell {exc.exec_count}: {exc.ename}: "
+                       f"{str(exc.evalue).splitlines()[0] if exc.evalue else ''}")
+        except BaseException as exc:  # noqa: BLE001 - normalise what was saved, then re-raise
+            if output.is_file():
+                partial = normalise_notebook(nbformat.read(output, as_version=4))
+                output.write_text(nbformat.writes(partial) + "\n", encoding="utf-8")
+            if not isinstance(exc, Exception):
+                raise
+            failure = f"stopped: {type(exc).__name__}: {str(exc).splitlines()[0] if str(exc) else ''}"
+            if not output.is_file():
+                raise NotebookRunError(f"{source.stem} {failure} (no notebook written)", output) from exc
     executed = normalise_notebook(nbformat.read(output, as_version=4))
     output.write_text(nbformat.writes(executed) + "\n", encoding="utf-8")
     if failure is not None:
-        raise NotebookRunError(f"{source.stem} failed in cell {failure.exec_count}: {failure.ename}: "
-                               f"{str(failure.evalue).splitlines()[0] if failure.evalue else ''}; the partially "
-                               f"executed notebook is {output}", output)
+        raise NotebookRunError(f"{source.stem} {failure}; the partially executed notebook is {output}", output)
     return executed
 
 

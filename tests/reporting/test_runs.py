@@ -139,3 +139,12 @@ def test_compare_runs_matches_quantities_labelled_with_parameter_values(tmp_path
     assert hybrid["quantity"] == "hybrid (θ̇_t = 0.5 °/s) max error (deg)"
     assert (hybrid["mtcal [a]"], hybrid["mtcal [b]"], hybrid["flips"]) == ("0.4", "2.1", "True→False (b)")
     assert table.set_index("quantity").loc["error at gamma = 60 deg", "mtcal [b]"] == "2.5"
+
+
+def test_timeout_keeps_the_partial_notebook(tmp_path):
+    src = tmp_path / "98_slow.py"
+    src.write_text('# %% tags=["parameters"]\nA = 1\n\n# %%\nprint("before", A)\n\n# %%\nimport time\ntime.sleep(60)\n')
+    with pytest.raises(runs.NotebookRunError, match="98_slow .*partially executed notebook") as info:
+        runs.execute_notebook(src, tmp_path / "out.ipynb", timeout_s=3)
+    text = info.value.notebook.read_text()
+    assert "before 1" in text and '"papermill"' not in text
