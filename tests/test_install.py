@@ -100,7 +100,8 @@ def _tracked_text_files():
 
 #: files whose reference is removed on another branch (merge-time bookkeeping): each entry must still
 #: offend here, so the allowance disappears as soon as the fixed file is merged
-PENDING = {"mtcal/studies/wang2023cja/runs.py": "docstring rewritten on branch w23"}
+PENDING = {"mtcal/studies/wang2023cja/runs.py": "docstring rewritten on branch w23",
+           "mtcal/methods/constrained_fit.py": "first line rewritten on branch w23"}
 
 
 def test_repository_refers_to_nothing_outside_it():

@@ -1,4 +1,4 @@
-"""Constrained installation-error calibration beside wang2023cja Eq 13 (beyond the papers).
+"""Constrained installation-error calibration beside wang2023cja Eq 13 (REPRODUCTION.md §5).
 
 wang2023cja fits the map ``A_q^b = Q_s^b A_q^s`` (Eq 10) with a general 4×4
 matrix: 16 free numbers (Eq 11–13). The physical relation is narrower. If the
