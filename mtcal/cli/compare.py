@@ -28,13 +28,20 @@ def cmd_compare(args) -> int:
     values = table[[f"mtcal [{n}]" for n in labels]]
     holds = table[[f"holds [{n}]" for n in labels]]
     differs = (values.nunique(axis=1) > 1) | (holds.nunique(axis=1) > 1)
-    shown = table if args.all else table[differs]
-    cols = ["table", "artifact", "quantity", "paper"] + [f"{c} [{n}]" for n in labels for c in ("mtcal", "band", "holds")]
+    shown = (table if args.all else table[differs]).copy()
+    view = pd.DataFrame({"notebook": shown["table"].str.replace("_comparison", "", regex=False),
+                         "artifact": shown["artifact"], "quantity": shown["quantity"].str.slice(0, 60),
+                         "paper": shown["paper"]})
+    mark = {"True": " ✓", "False": " ✗"}
+    for n in labels:  # one column per run: value [95 % band] and whether the claim holds
+        view[n] = [f"{v}{' ' + b if b else ''}{mark.get(h, '')}" for v, b, h in
+                   zip(shown[f"mtcal [{n}]"], shown[f"band [{n}]"], shown[f"holds [{n}]"])]
     with pd.option_context("display.width", 250, "display.max_columns", 50, "display.max_rows", 1000,
-                           "display.max_colwidth", 48):
-        print(f"{int(differs.sum())} of {len(table)} quantities differ between {', '.join(labels)}")
-        if len(shown):
-            print(shown[cols].to_string(index=False))
+                           "display.max_colwidth", 60):
+        print(f"{int(differs.sum())} of {len(table)} quantities differ between {', '.join(labels)}"
+              f" (value [95 % band], ✓/✗ claim holds/fails)")
+        if len(view):
+            print(view.to_string(index=False))
     flips = table[table["flips"] != ""]
     print(f"claims that flip ({len(flips)}):" if len(flips) else "no claim flips")
     for r in flips.itertuples():
