@@ -39,9 +39,9 @@ def build_parser() -> argparse.ArgumentParser:
                      formatter_class=argparse.RawDescriptionHelpFormatter,
                      epilog="run 'mtcal COMMAND --help' for the log schema, units and an example")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
-    from mtcal.cli import apply, attitude, axis, calibrate, rests, sweep  # one import + one tuple entry per command
+    from mtcal.cli import apply, attitude, axis, calibrate, compare, rests, run, sweep  # one import + one tuple entry per command
 
-    for module in (rests, calibrate, axis, attitude, apply, sweep):
+    for module in (rests, calibrate, axis, attitude, apply, sweep, run, compare):
         module.register(sub)
     return parser
 

@@ -5,7 +5,7 @@ All angles are in radians and all quaternions are **scalar-first**
 scalar-last by default; conversion happens only here, with
 ``scalar_first=True``.
 
-Conventions (REPRODUCTION.md §2)
+Conventions, docs/conventions.md
 --------------------------------
 wang2023cja (Wang et al., CJA 2023)
     Eq 9 builds ``q = qz(ψ) ⊗ qx(θ) ⊗ qy(γ)``: yaw ψ about z, pitch θ about
@@ -388,7 +388,7 @@ def coupling_error_eq4(alphas, angles_s, *, printed: bool = False) -> np.ndarray
         Δγ = −α2 ψs + α3 θs
 
     The paper prints the negative of each term (``printed=True``), which is
-    *true − measured* (erratum 7 in ``data/paper/README.md``).
+    *true − measured* (erratum 7 in ``docs/errata.md``).
 
     Parameters
     ----------

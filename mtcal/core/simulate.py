@@ -1,6 +1,6 @@
 """IMU simulator: exact truth kinematics plus a MEMS sensor error model.
 
-Hardware is replaced by simulation with known truth (REPRODUCTION.md §1). A
+Hardware is replaced by simulation with known truth (docs/conventions.md). A
 :class:`Trajectory` holds the body attitude history ``q_wb`` (scalar-first,
 body → world) and the linear acceleration of the sensor point; a
 :class:`ImuErrorModel` holds the sensor errors; :func:`simulate_imu` draws one

@@ -14,8 +14,8 @@ A triad preset by λ about x reads ``f^{b1} = g [−sinθ, cosθ sin(φ+λ), cos
 the *transpose* of Eq 6 as printed (which would give φ−λ; paper README tan2022 item 3).
 We follow Eq 7–10, which agree with each other.
 
-Errata (REPRODUCTION.md §3)
----------------------------
+Errata, docs/errata.md
+----------------------
 Eq 3 as printed, ``Δθ = −(ΔA/g)cosθ − (ΔA/g)√2 sin(φ+45°)``, drops a ``sinθ``;
 differentiating Eq 2 gives ``Δθ = −(ΔA/g)[cosθ + √2 sinθ sin(φ+45°)]``, which
 is Eq 8 with λ = 0 and the ``Δθ_T`` of Sec. 3.1. :func:`pitch_error_eq3_printed`

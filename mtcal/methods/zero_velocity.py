@@ -79,7 +79,7 @@ class ZvdParams:
 
     @classmethod
     def from_paper(cls) -> "ZvdParams":
-        """Table 1 as transcribed in ``data/paper/wang2022sensors_table01_zvd_params.csv``."""
+        """Table 1 as transcribed in ``paper_data/wang2022sensors_table01_zvd_params.csv``."""
         from mtcal.reporting import paper_numbers as paper
 
         name = "wang2022sensors_table01_zvd_params"

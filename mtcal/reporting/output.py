@@ -1,9 +1,11 @@
 """Notebook plumbing: run size, output folders, byte-stable figures and tables.
 
 Notebooks write figures to ``figures/<ID>.png`` and tables to
-``data/<ID>.csv`` under :func:`output_dir` (the repository, or
-``$MTCAL_OUTPUT_DIR`` — ``make test`` points it to ``build/ci`` so that CI-size
-runs never overwrite the full-size artifacts).
+``data/<ID>.csv`` under :func:`output_dir`: ``$MTCAL_OUTPUT_DIR`` when set
+(``make test`` points it to ``build/ci``, a what-if run ``mtcal run`` to
+``runs/<name>``), else the repository root when mtcal runs from its source
+checkout (``make reproduce`` rewrites the committed artifacts), else the
+current directory — never the install location.
 """
 
 from __future__ import annotations
@@ -18,11 +20,22 @@ __all__ = ["run_size", "output_dir", "setup_matplotlib", "save_figure", "save_ta
 _SIZES = ("ci", "full")
 
 
-def run_size(default: str = "full") -> str:
-    """``$MTCAL_SIZE`` (``"ci"`` or ``"full"``), else ``default``."""
-    size = os.environ.get("MTCAL_SIZE", default)
-    if size not in _SIZES:
-        raise ValueError(f"MTCAL_SIZE must be one of {_SIZES}, got {size!r}")
+def run_size(size: str | None = None) -> str:
+    """Resolve a notebook's ``SIZE`` parameter: ``size`` if given, else ``$MTCAL_SIZE``, else ``"full"``.
+
+    A notebook's parameters cell holds ``SIZE = None`` and the next cell calls
+    ``SIZE = report.run_size(SIZE)``, so ``make test`` (``MTCAL_SIZE=ci``) and a
+    papermill/``mtcal run`` parameter (``-p SIZE=ci``) both work.
+
+    >>> run_size("ci")
+    'ci'
+    """
+    if size is None:
+        size = os.environ.get("MTCAL_SIZE") or "full"
+        if size not in _SIZES:
+            raise ValueError(f"MTCAL_SIZE must be one of {_SIZES}, got {size!r}")
+    elif size not in _SIZES:
+        raise ValueError(f"SIZE must be one of {_SIZES} or None, got {size!r}")
     return size
 
 
@@ -38,8 +51,8 @@ def output_dir() -> Path:
         return Path(env)
     root = Path(__file__).resolve().parents[2]
     if (root / "pyproject.toml").is_file() and (root / "notebooks").is_dir():
-        return root
-    return Path.cwd()
+        return root  # source checkout (editable install or PYTHONPATH)
+    return Path.cwd()  # installed package: never site-packages
 
 
 def _target(kind: str, artifact_id: str, suffix: str) -> Path:

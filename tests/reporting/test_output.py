@@ -36,3 +36,20 @@ def test_bad_artifact_id(tmp_path, monkeypatch):
         report.save_table(pd.DataFrame({"a": [1]}), "../x")
     with pytest.raises(TypeError, match="df must be a pandas DataFrame"):
         report.save_table([1, 2], "T")
+
+
+def test_run_size_parameter_wins_over_environment(monkeypatch):
+    monkeypatch.setenv("MTCAL_SIZE", "ci")
+    assert report.run_size("full") == "full" and report.run_size(None) == "ci"
+    monkeypatch.delenv("MTCAL_SIZE")
+    assert report.run_size() == "full"
+    with pytest.raises(ValueError, match=r"SIZE must be one of \('ci', 'full'\) or None, got 'big'"):
+        report.run_size("big")
+
+
+def test_output_dir_env_then_checkout(tmp_path, monkeypatch):
+    monkeypatch.setenv("MTCAL_OUTPUT_DIR", str(tmp_path))
+    assert report.output_dir() == tmp_path
+    monkeypatch.delenv("MTCAL_OUTPUT_DIR")
+    root = report.output_dir()
+    assert (root / "pyproject.toml").is_file() and (root / "notebooks").is_dir()  # running from the checkout

@@ -1,0 +1,623 @@
+"""Notebook runs: build from py:percent (jupytext), execute with parameters (papermill), compare runs.
+
+The notebooks' sources are ``notebooks/NN_<key>_<topic>.py`` (py:percent);
+the executed ``.ipynb`` beside each is derived from it. Three kinds of run:
+
+* ``make reproduce`` (:func:`execute_notebook` in place, via ``tools/notebooks.py``)
+  rewrites the committed notebooks, ``data/`` and ``figures/`` at full size;
+* ``make test`` runs the committed ``.ipynb`` with nbval at CI size into ``build/ci``;
+* a *what-if* run (:func:`run_notebook`, ``mtcal run``) executes one notebook with
+  changed parameters into ``runs/<name>/`` (the executed notebook, its ``data/``
+  and ``figures/`` via ``$MTCAL_OUTPUT_DIR``, and ``params.json``) and never touches
+  the committed files. :func:`compare_runs` (``mtcal compare``) puts the
+  comparison tables (``data/*_comparison.csv``) of several runs side by side.
+
+Every executed notebook is normalised (:func:`normalise_notebook`): papermill's
+timing metadata and nbclient's execution timestamps are removed and cell ids
+are numbered, so a re-run with the same numbers gives identical bytes. A
+failed run still writes the partially executed notebook (papermill marks the
+failing cell), for inspection.
+
+Numerics are pinned for every run (:func:`numerics_env`): one BLAS thread,
+OpenBLAS's ``Nehalem`` kernels, numpy's baseline (non-dispatched) SIMD loops and
+glibc's SSE2 libm variants, so the last bits of a result do not depend on which
+x86-64 CPU runs it (AVX-512 SVML loops in numpy and FMA variants of ``exp``/``sin``
+in glibc change the last bit; the OpenBLAS kernel type changes ``svd``).
+"""
+
+from __future__ import annotations
+
+import ast
+import contextlib
+import hashlib
+import json
+import os
+import re
+import shutil
+import tempfile
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+__all__ = ["NotebookRunError", "numerics_env", "repo_root", "notebook_sources", "resolve_notebook",
+           "parse_parameter", "notebook_parameters", "check_parameters", "build_notebook",
+           "normalise_notebook", "sync_notebook", "execute_notebook", "run_notebook", "RunResult",
+           "load_comparisons", "compare_runs", "flip_text"]
+
+_NOTEBOOK_RE = re.compile(r"^(\d\d)_[A-Za-z0-9_]+$")
+_NAME_RE = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.=+,-]*$")
+#: environment variables that would make a kernel write elsewhere or print progress bars
+_RUN_ENV = ("MTCAL_SIZE", "MTCAL_OUTPUT_DIR", "MTCAL_PROGRESS")
+
+
+class NotebookRunError(RuntimeError):
+    """A notebook cell raised; ``notebook`` is the partially executed notebook kept for inspection."""
+
+    def __init__(self, message: str, notebook: Path):
+        super().__init__(message)
+        self.notebook = Path(notebook)
+
+
+def numerics_env() -> dict[str, str]:
+    """Environment that makes floating-point results independent of the x86-64 CPU.
+
+    * ``OPENBLAS_NUM_THREADS=1`` (and OMP/MKL): no thread-count-dependent blocking;
+    * ``OPENBLAS_CORETYPE=Nehalem``: one BLAS/LAPACK kernel set on every CPU that
+      numpy's x86-64-v2 baseline runs on (``svd`` differs between SkylakeX and Haswell);
+    * ``NPY_DISABLE_CPU_FEATURES``: numpy's dispatched SIMD targets off (on AVX-512
+      CPUs numpy uses SVML for ``exp``, ``log``, ``tan``, ``arctan``, ``power``…,
+      whose last bits differ from the scalar loops);
+    * ``GLIBC_TUNABLES=glibc.cpu.hwcaps=-AVX,-AVX2,-FMA,-FMA4``: glibc's SSE2 libm
+      variants (the FMA variants of ``sin``/``cos``/``exp``/``atan2`` round differently).
+
+    The ``Makefile`` exports the same values (tested).
+
+    >>> env = numerics_env()
+    >>> env["OPENBLAS_NUM_THREADS"], env["OPENBLAS_CORETYPE"]
+    ('1', 'Nehalem')
+    """
+    from numpy._core import _multiarray_umath as umath
+
+    return {"OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1",
+            "OPENBLAS_CORETYPE": "Nehalem",
+            "NPY_DISABLE_CPU_FEATURES": " ".join(umath.__cpu_dispatch__),
+            "GLIBC_TUNABLES": "glibc.cpu.hwcaps=-AVX,-AVX2,-FMA,-FMA4"}
+
+
+def repo_root() -> Path | None:
+    """The source checkout mtcal runs from (has ``pyproject.toml`` and ``notebooks/``), else None."""
+    root = Path(__file__).resolve().parents[2]
+    if (root / "pyproject.toml").is_file() and (root / "notebooks").is_dir():
+        return root
+    return None
+
+
+def _notebooks_dir(notebooks_dir: str | Path | None) -> Path:
+    if notebooks_dir is not None:
+        path = Path(notebooks_dir)
+    elif repo_root() is not None:
+        path = repo_root() / "notebooks"
+    else:
+        path = Path.cwd() / "notebooks"
+    if not path.is_dir():
+        raise FileNotFoundError(f"notebooks_dir {str(path)!r} does not exist (the notebook sources are in "
+                                f"the mtcal repository's notebooks/ folder; pass its path)")
+    return path
+
+
+def notebook_sources(notebooks_dir: str | Path | None = None) -> list[Path]:
+    """The ``NN_*.py`` notebook sources, in order."""
+    folder = _notebooks_dir(notebooks_dir)
+    return sorted(p for p in folder.glob("[0-9][0-9]_*.py") if _NOTEBOOK_RE.match(p.stem))
+
+
+def resolve_notebook(notebook: str | int | Path, notebooks_dir: str | Path | None = None) -> Path:
+    """The source ``.py`` of a notebook given by number (``10``, ``"00"``), stem or path.
+
+    Raises ValueError listing the available notebooks when nothing matches.
+    """
+    if isinstance(notebook, Path) or (isinstance(notebook, str) and notebook.endswith((".py", ".ipynb"))):
+        path = Path(notebook).with_suffix(".py")
+        if not path.is_file():
+            raise FileNotFoundError(f"notebook source {str(path)!r} not found")
+        return path
+    sources = notebook_sources(notebooks_dir)
+    if isinstance(notebook, (int, np.integer)) and not isinstance(notebook, bool):
+        key = f"{int(notebook):02d}"
+    elif isinstance(notebook, str) and notebook.strip():
+        key = notebook.strip()
+        if key.isdigit():
+            key = f"{int(key):02d}"
+    else:
+        raise TypeError(f"notebook must be a number, a stem or a path, got {notebook!r}")
+    matches = [p for p in sources if p.stem == key or p.stem[:2] == key]
+    if len(matches) != 1:
+        raise ValueError(f"notebook must be one of {[p.stem for p in sources]} (or its number), got {notebook!r}")
+    return matches[0]
+
+
+def parse_parameter(text: str) -> tuple[str, object]:
+    """``"key=value"`` → ``(key, value)``, the value typed as a Python literal, else kept as a string.
+
+    >>> parse_parameter("N_TRIALS=200"), parse_parameter("fs_hz=1e3"), parse_parameter("gyro_grade=industrial")
+    (('N_TRIALS', 200), ('fs_hz', 1000.0), ('gyro_grade', 'industrial'))
+    >>> parse_parameter("positions_deg=(8, -8)"), parse_parameter("N_TRIALS=None"), parse_parameter("flag=True")
+    (('positions_deg', (8, -8)), ('N_TRIALS', None), ('flag', True))
+    """
+    if not isinstance(text, str) or "=" not in text:
+        raise ValueError(f"parameter must be written key=value, got {text!r}")
+    key, raw = (s.strip() for s in text.split("=", 1))
+    if not key.isidentifier():
+        raise ValueError(f"parameter name must be a Python identifier, got {key!r}")
+    try:
+        value = ast.literal_eval(raw)
+    except (ValueError, SyntaxError, TypeError, MemoryError, RecursionError):
+        value = raw
+    if isinstance(value, (set, frozenset, bytes, complex)):
+        raise ValueError(f"parameter {key} must be a number, bool, None, str, tuple or list, got {raw!r}")
+    return key, value
+
+
+def build_notebook(source: str | Path):
+    """Read a py:percent source with jupytext into a notebook with numbered cell ids (no outputs)."""
+    import jupytext
+
+    nb = jupytext.read(Path(source), fmt="py:percent")
+    nb.metadata["kernelspec"] = {"display_name": "Python 3", "language": "python", "name": "python3"}
+    return normalise_notebook(nb)
+
+
+def notebook_parameters(source: str | Path) -> dict[str, dict]:
+    """Parameters of a notebook's ``parameters`` cell: every top-level assignment, in cell order.
+
+    Returns ``{name: {"name", "inferred_type_name", "default", "help"}}`` like papermill's
+    ``inspect_notebook`` (``default`` is the source text of the value, ``help`` the trailing
+    comment), read with :mod:`ast`, so a comment containing ``=`` or ``;`` or a
+    conditional default is handled (papermill's line parser skips such lines).
+    """
+    nb = build_notebook(source)
+    cells = [c for c in nb.cells if c.cell_type == "code" and "parameters" in c.metadata.get("tags", [])]
+    if not cells:
+        raise ValueError(f"notebook {Path(source).name} has no cell tagged 'parameters'")
+    text = cells[0].source
+    try:
+        tree = ast.parse(text)
+    except SyntaxError as exc:
+        raise ValueError(f"parameters cell of {Path(source).name} is not valid Python: {exc}") from None
+    lines = text.splitlines()
+    out: dict[str, dict] = {}
+    for node in tree.body:
+        targets = node.targets if isinstance(node, ast.Assign) else (
+            [node.target] if isinstance(node, ast.AnnAssign) and node.value is not None else [])
+        for target in targets:
+            if not isinstance(target, ast.Name):
+                continue
+            default = ast.get_source_segment(text, node.value) or ""
+            line = lines[node.end_lineno - 1]
+            comment = line[node.value.end_col_offset:].partition("#")[2].strip() if "#" in line else ""
+            value = _literal_default(default)
+            kind = "None" if value is None else type(value).__name__
+            out[target.id] = {"name": target.id, "inferred_type_name": kind, "default": default, "help": comment}
+    return out
+
+
+def _literal_default(text: str):
+    try:
+        return ast.literal_eval(text)
+    except (ValueError, SyntaxError, TypeError):
+        return None  # an expression (allowed before the convention applies): accept any type
+
+
+def check_parameters(parameters: dict, valid: dict[str, dict], notebook: str = "notebook") -> dict:
+    """Check names (and the type where the default is a literal) against a notebook's parameters.
+
+    Numbers may replace numbers (int ↔ float), lists/tuples each other; a default of
+    ``None`` accepts anything. Returns the parameters ready for papermill (tuples as lists).
+
+    >>> valid = {"SEED": {"default": "2023"}, "fs_hz": {"default": "1000.0"}, "grade": {"default": "'x'"}}
+    >>> check_parameters({"fs_hz": 500, "grade": "industrial"}, valid)
+    {'fs_hz': 500, 'grade': 'industrial'}
+    >>> check_parameters({"fs": 500}, valid)
+    Traceback (most recent call last):
+    ...
+    ValueError: unknown parameter 'fs' for notebook; valid: SEED, fs_hz, grade
+    """
+    out = {}
+    for name, value in parameters.items():
+        if name not in valid:
+            raise ValueError(f"unknown parameter {name!r} for {notebook}; valid: {', '.join(valid)}")
+        default = _literal_default(valid[name].get("default", "None"))
+        number = (int, float, np.integer, np.floating)
+        if default is not None and value is not None:
+            if isinstance(default, bool) or isinstance(value, bool):
+                ok = isinstance(default, bool) == isinstance(value, bool)
+            elif isinstance(default, number):
+                ok = isinstance(value, number)
+            elif isinstance(default, (list, tuple)):
+                ok = isinstance(value, (list, tuple))
+            else:
+                ok = isinstance(value, type(default))
+            if not ok:
+                raise ValueError(f"parameter {name} of {notebook} must be like its default "
+                                 f"{valid[name].get('default')} ({type(default).__name__}), got {value!r}")
+        out[name] = list(value) if isinstance(value, tuple) else value
+    return out
+
+
+def normalise_notebook(nb):
+    """Drop run-dependent metadata (papermill durations/paths, nbclient timestamps, widgets) and number
+    the cell ids, so that re-running a deterministic notebook gives identical bytes. Returns ``nb``."""
+    nb.metadata.pop("papermill", None)
+    nb.metadata.pop("widgets", None)
+    for i, cell in enumerate(nb.cells):
+        cell["id"] = f"cell-{i:03d}"
+        cell.metadata.pop("papermill", None)
+        cell.metadata.pop("execution", None)
+        cell.metadata.pop("ExecuteTime", None)
+    return nb
+
+
+def sync_notebook(source: str | Path) -> bool:
+    """Update ``NN_x.ipynb``'s inputs from its ``NN_x.py`` (jupytext), keeping outputs of unchanged
+    cells. Returns True when the ``.ipynb`` was (re)written."""
+    import nbformat
+    from jupytext.combine import combine_inputs_with_outputs
+
+    source = Path(source)
+    target = source.with_suffix(".ipynb")
+    nb = build_notebook(source)
+    if target.is_file():
+        old = nbformat.read(target, as_version=4)
+        nb = combine_inputs_with_outputs(nb, old, fmt="py:percent")
+        nb.metadata["kernelspec"] = old.metadata.get("kernelspec", nb.metadata["kernelspec"])
+        normalise_notebook(nb)
+    text = nbformat.writes(nb) + "\n"
+    if target.is_file() and target.read_text(encoding="utf-8") == text:
+        return False
+    target.write_text(text, encoding="utf-8")
+    return True
+
+
+@contextlib.contextmanager
+def _environment(values: dict[str, str | None]):
+    saved = {k: os.environ.get(k) for k in values}
+    try:
+        for k, v in values.items():
+            if v is None:
+                os.environ.pop(k, None)
+            else:
+                os.environ[k] = v
+        yield
+    finally:
+        for k, v in saved.items():
+            if v is None:
+                os.environ.pop(k, None)
+            else:
+                os.environ[k] = v
+
+
+def execute_notebook(source: str | Path, output: str | Path, *, parameters: dict | None = None,
+                     env: dict[str, str | None] | None = None, cwd: str | Path | None = None,
+                     progress_bar: bool = False, timeout_s: float = 3600.0):
+    """Execute a py:percent notebook with papermill into ``output`` (normalised ``.ipynb``).
+
+    Parameters
+    ----------
+    source : path
+        ``NN_x.py`` source (read with jupytext) or an ``.ipynb`` (its inputs are rebuilt
+        from the ``.py`` beside it).
+    output : path
+        Executed notebook to write. Written also when a cell fails (then
+        :class:`NotebookRunError` is raised after writing).
+    parameters : dict, optional
+        Papermill parameters (injected after the ``parameters`` cell).
+    env : dict, optional
+        Extra environment for the kernel (``None`` values unset a variable); the
+        :func:`numerics_env` pins and ``MTCAL_PROGRESS=0`` are always applied.
+    cwd : path, optional
+        Kernel working directory (default: the source's folder).
+    """
+    import nbformat
+    import papermill
+    from papermill.exceptions import PapermillExecutionError
+
+    source = Path(source).with_suffix(".py")
+    output = Path(output)
+    output.parent.mkdir(parents=True, exist_ok=True)
+    nb = build_notebook(source)
+    kernel_env = {**numerics_env(), "MTCAL_PROGRESS": "0", "PYDEVD_DISABLE_FILE_VALIDATION": "1", **(env or {})}
+    failure = None
+    with _environment(kernel_env):
+        try:  # saved after every cell, so a timeout, dead kernel or Ctrl-C also leaves the partial notebook
+            papermill.execute_notebook(nb, str(output), parameters=parameters or None, kernel_name="python3",
+                                       progress_bar=progress_bar, request_save_on_cell_execute=True,
+                                       cwd=str(cwd or source.parent), execution_timeout=timeout_s)
+        except PapermillExecutionError as exc:
+            failure = (f"failed in cell {exc.exec_count}: {exc.ename}: "
+                       f"{str(exc.evalue).splitlines()[0] if exc.evalue else ''}")
+        except BaseException as exc:  # noqa: BLE001 - normalise what was saved, then re-raise
+            if output.is_file():
+                partial = normalise_notebook(nbformat.read(output, as_version=4))
+                output.write_text(nbformat.writes(partial) + "\n", encoding="utf-8")
+            if not isinstance(exc, Exception):
+                raise
+            failure = f"stopped: {type(exc).__name__}: {str(exc).splitlines()[0] if str(exc) else ''}"
+            if not output.is_file():
+                raise NotebookRunError(f"{source.stem} {failure} (no notebook written)", output) from exc
+    executed = normalise_notebook(nbformat.read(output, as_version=4))
+    output.write_text(nbformat.writes(executed) + "\n", encoding="utf-8")
+    if failure is not None:
+        raise NotebookRunError(f"{source.stem} {failure}; the partially executed notebook is {output}", output)
+    return executed
+
+
+@dataclass(frozen=True)
+class RunResult:
+    """A finished what-if run: its folder, executed notebook, parameters and claims report."""
+
+    folder: Path
+    notebook: Path
+    parameters: dict
+    size: str
+    claims: str
+
+
+def _run_name(stem: str, parameters: dict, size: str) -> str:
+    if not parameters:
+        return f"{stem[:2]}_{size}"
+    text = "_".join(f"{k}={v}" for k, v in parameters.items())
+    text = re.sub(r"[^A-Za-z0-9_.=+,-]+", "", text)[:60]
+    return f"{stem[:2]}_{text}" if text else f"{stem[:2]}_{hashlib.sha1(repr(parameters).encode()).hexdigest()[:8]}"
+
+
+def run_notebook(notebook: str | int | Path, *, name: str | None = None, parameters: dict | None = None,
+                 size: str = "full", runs_dir: str | Path = "runs", notebooks_dir: str | Path | None = None,
+                 overwrite: bool = False, progress_bar: bool = False) -> RunResult:
+    """Run one notebook with changed parameters into ``runs_dir/name/`` (a what-if run).
+
+    The folder receives the executed notebook, ``data/`` and ``figures/`` (through
+    ``$MTCAL_OUTPUT_DIR``) and ``params.json``; the committed notebooks, ``data/`` and
+    ``figures/`` are never written. Parameter names are checked against the
+    notebook's ``parameters`` cell before anything runs.
+
+    Parameters
+    ----------
+    notebook : int, str or path
+        Number (``10``), stem (``"10_wang2023cja_turntable"``) or source path.
+    name : str, optional
+        Run folder name (default: ``NN_<parameters>``).
+    parameters : dict, optional
+        Values for the parameters cell, e.g. ``{"gyro_grade": "industrial"}``.
+    size : {"ci", "full"}
+        Run size (``$MTCAL_SIZE`` for the kernel; a ``SIZE`` parameter wins).
+    runs_dir : path
+        Parent folder of the runs (default ``runs`` under the current directory).
+    overwrite : bool
+        Replace an existing run folder of the same name (else ValueError).
+
+    Raises
+    ------
+    ValueError
+        Unknown parameter name, value of the wrong type, bad size or name, existing run folder.
+    NotebookRunError
+        A cell failed; the partial notebook is in the run folder and ``params.json`` says ``failed``.
+    """
+    if size not in ("ci", "full"):
+        raise ValueError(f"size must be 'ci' or 'full', got {size!r}")
+    source = resolve_notebook(notebook, notebooks_dir)
+    valid = notebook_parameters(source)
+    params = check_parameters(dict(parameters or {}), valid, notebook=source.stem)
+    name = name or _run_name(source.stem, params, size)
+    if not isinstance(name, str) or not _NAME_RE.match(name) or name in (".", ".."):
+        raise ValueError(f"name must be a plain folder name (letters, digits, _ . = + , -), got {name!r}")
+    folder = Path(runs_dir) / name
+    root = repo_root()
+    if root is not None:
+        committed = [root / "data", root / "figures", root / "notebooks"]
+        if any(folder.resolve() == c or c in folder.resolve().parents for c in committed):
+            raise ValueError(f"runs_dir must not be inside the committed data/, figures/ or notebooks/, got {runs_dir}")
+    if folder.exists():
+        if not overwrite:
+            raise ValueError(f"run folder {folder} exists; choose another name or overwrite it (--force)")
+        shutil.rmtree(folder)
+    folder.mkdir(parents=True)
+    record = {"notebook": source.stem, "size": size, "parameters": params,
+              "defaults": {k: v["default"] for k, v in valid.items()}, "numerics_env": numerics_env(),
+              "status": "running"}
+    params_path = folder / "params.json"
+    params_path.write_text(json.dumps(record, indent=1, sort_keys=True) + "\n", encoding="utf-8")
+    output = folder / f"{source.stem}.ipynb"
+    env = {"MTCAL_SIZE": size, "MTCAL_OUTPUT_DIR": str(folder.resolve())}
+    try:
+        execute_notebook(source, output, parameters=params, env=env, progress_bar=progress_bar)
+    except NotebookRunError:
+        record["status"] = "failed"
+        params_path.write_text(json.dumps(record, indent=1, sort_keys=True) + "\n", encoding="utf-8")
+        raise
+    record["status"] = "completed"
+    params_path.write_text(json.dumps(record, indent=1, sort_keys=True) + "\n", encoding="utf-8")
+    return RunResult(folder, output, params, size, _claims_report(folder))
+
+
+def _claims_report(folder: Path) -> str:
+    from mtcal.reporting.compare import check_claims
+
+    lines = []
+    for path in sorted((Path(folder) / "data").glob("*_comparison.csv")):
+        table = pd.read_csv(path, dtype=str, keep_default_na=False)
+        if "holds" not in table:
+            continue
+        table["holds"] = table["holds"].map({"True": True, "False": False}).astype(object)
+        table.loc[table["holds"].isna(), "holds"] = None
+        lines.append(f"{path.stem}: {check_claims(table, enforce=False)}")
+    return "\n".join(lines) if lines else "no comparison table written"
+
+
+# --------------------------------------------------------------------------------------- compare
+_KEY = ["table", "artifact", "key"]
+_NUMBER_RE = re.compile(r"[-+−]?\d+(?:\.\d+)?(?:[eE][-+]?\d+)?")
+
+
+def load_comparisons(run: str | Path) -> pd.DataFrame:
+    """Every ``data/*_comparison.csv`` of a run folder (or ``"committed"``: the repository's ``data/``),
+    stacked with a ``table`` column (the file stem)."""
+    if str(run) == "committed":
+        root = repo_root() or Path.cwd()
+        folder = root / "data"
+    else:
+        folder = Path(run) / "data"
+    if not folder.is_dir():
+        raise FileNotFoundError(f"run {str(run)!r} has no data/ folder ({folder})")
+    frames = []
+    for path in sorted(folder.glob("*_comparison.csv")):
+        df = pd.read_csv(path, dtype=str, keep_default_na=False)
+        missing = {"artifact", "quantity", "mtcal", "holds"} - set(df.columns)
+        if missing:
+            raise ValueError(f"{path} is not a comparison table (missing columns {sorted(missing)})")
+        df.insert(0, "table", path.stem)
+        frames.append(df)
+    if not frames:
+        raise FileNotFoundError(f"run {str(run)!r} has no data/*_comparison.csv")
+    out = pd.concat(frames, ignore_index=True)
+    for col in ("paper", "mc_band", "claim", "role", "source"):
+        if col not in out:
+            out[col] = ""
+    # join key: the quantity with its numbers blanked (labels carry parameter values, e.g.
+    # "hybrid (θ̇_t = 0.5 °/s)" vs "(θ̇_t = 10 °/s)"), repeats numbered in order
+    out["key"] = out["quantity"].map(lambda q: _NUMBER_RE.sub("#", q))
+    out["key"] = out["key"] + out.groupby(["table", "artifact", "key"]).cumcount().map(lambda n: f" [{n + 1}]")
+    return out
+
+
+def flip_text(states: list[str], names: list[str]) -> str:
+    """How a claim's ``holds`` changes across runs, e.g. ``"holds True→False (B)"``; "" when unchanged.
+
+    >>> flip_text(["True", "False", "True"], ["paper", "industrial", "noisy"])
+    'True→False (industrial)'
+    >>> flip_text(["True", "True"], ["a", "b"])
+    ''
+    """
+    base = states[0]
+    changed = [f"{base or '-'}→{s or '-'} ({n})" for s, n in zip(states[1:], names[1:]) if s != base]
+    return "; ".join(changed)
+
+
+def _as_float(text) -> float:
+    try:
+        return float(text)
+    except (TypeError, ValueError):
+        return float("nan")
+
+
+def compare_runs(runs: list[str | Path], *, names: list[str] | None = None, out_dir: str | Path | None = None,
+                 figure: bool = True) -> tuple[pd.DataFrame, Path, Path | None]:
+    """Side-by-side table of every comparison-table quantity of several runs, with bands and claim flips.
+
+    Parameters
+    ----------
+    runs : list of paths or "committed"
+        Run folders (each with ``data/*_comparison.csv``); ``"committed"`` is the
+        repository's committed results. The first run is the reference for flips.
+    names : list of str, optional
+        Column labels (default: the folder names).
+    out_dir : path, optional
+        Where ``compare_<names>.csv`` and ``.png`` go (default: the first run folder's parent,
+        or ``runs/`` for ``committed``).
+
+    Returns
+    -------
+    table : DataFrame
+        ``table, artifact, quantity, paper, claim, role`` then ``mtcal``, ``band`` and
+        ``holds`` per run (``<column> [<name>]``) and ``flips`` (e.g. ``True→False (B)``); only
+        the comparison tables (notebooks) present in every run.
+    csv_path, png_path : Path
+        Saved table and figure (figure: every numeric quantity relative to the first run,
+        flipped claims marked; ``None`` when ``figure=False`` or nothing is numeric).
+    """
+    if not isinstance(runs, (list, tuple)) or len(runs) < 2:
+        raise ValueError(f"runs must list at least two run folders (or 'committed'), got {runs!r}")
+    names = list(names) if names else [("committed" if str(r) == "committed" else Path(r).resolve().name)
+                                       for r in runs]
+    if len(names) != len(runs) or len(set(names)) != len(names):
+        raise ValueError(f"names must be {len(runs)} distinct labels, got {names}")
+    tables = [load_comparisons(run) for run in runs]
+    # compare only the notebooks every run executed (a what-if run usually runs one notebook)
+    common = set.intersection(*(set(df["table"]) for df in tables))
+    if not common:
+        raise ValueError(f"runs {names} have no comparison table in common "
+                         f"({'; '.join(f'{n}: {sorted(set(df.table))}' for n, df in zip(names, tables))})")
+    merged = None
+    for df, name in zip(tables, names):
+        df = df[df["table"].isin(common)]
+        part = df[_KEY + ["quantity", "paper", "claim", "role"]].copy()
+        part[f"mtcal [{name}]"] = df["mtcal"]
+        part[f"band [{name}]"] = df["mc_band"]
+        part[f"holds [{name}]"] = df["holds"]
+        if merged is None:
+            merged = part
+        else:
+            merged = merged.merge(part, on=_KEY, how="outer", suffixes=("", "_new"))
+            for col in ("paper", "claim", "role"):
+                merged[col] = merged[col].where(merged[col].notna(), merged.pop(f"{col}_new"))
+    merged = merged.fillna("")
+    holds_cols = [f"holds [{n}]" for n in names]
+    merged["flips"] = [flip_text([str(r[c]) for c in holds_cols], names) for _, r in merged.iterrows()]
+    merged = merged.sort_values(_KEY, kind="stable").reset_index(drop=True)
+    order = ["table", "artifact", "quantity", "paper", "claim", "role"] + [
+        f"{c} [{n}]" for n in names for c in ("mtcal", "band", "holds")]
+    merged = merged[order + ["flips"]]
+
+    if out_dir is None:
+        first = runs[0] if str(runs[0]) != "committed" else (runs[1] if len(runs) > 1 else "runs/x")
+        out_dir = Path(first).parent if str(first) != "committed" else Path("runs")
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    slug = re.sub(r"[^A-Za-z0-9_.=+,-]+", "", "_vs_".join(names))[:120]
+    csv_path = out_dir / f"compare_{slug}.csv"
+    merged.to_csv(csv_path, index=False, lineterminator="\n")
+    png_path = _compare_figure(merged, names, out_dir / f"compare_{slug}.png") if figure else None
+    return merged, csv_path, png_path
+
+
+def _compare_figure(table: pd.DataFrame, names: list[str], path: Path, max_rows: int = 30) -> Path | None:
+    """Dot plot: each numeric quantity of every run divided by the first run's value."""
+    ref = table[f"mtcal [{names[0]}]"].map(_as_float).to_numpy()
+    values = np.column_stack([table[f"mtcal [{n}]"].map(_as_float).to_numpy() for n in names])
+    usable = np.isfinite(ref) & (ref != 0) & np.isfinite(values).all(axis=1)
+    if not usable.any():
+        return None
+    ratio = values[usable] / ref[usable, None]
+    labels = (table.loc[usable, "table"].str.replace("_comparison", "") + ": "
+              + table.loc[usable, "quantity"]).str.slice(0, 70).to_numpy()
+    flips = table.loc[usable, "flips"].to_numpy() != ""
+    # the quantities that moved most (and every flipped claim) first
+    spread = np.nanmax(np.abs(np.log10(np.abs(ratio) + 1e-300)), axis=1) + 10.0 * flips
+    keep = np.argsort(-spread, kind="stable")[:max_rows][::-1]
+    from mtcal.reporting.output import setup_matplotlib
+
+    setup_matplotlib()
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(9.0, 0.28 * len(keep) + 1.6))
+    y = np.arange(len(keep))
+    for j, name in enumerate(names):
+        ax.plot(ratio[keep, j], y, "o" if j else "|", ms=6 if j else 12, label=name)
+    for k, idx in enumerate(keep):
+        if flips[idx]:
+            ax.annotate("claim flips", (1.0, k), xytext=(4, -3), textcoords="offset points", fontsize=7, color="C3")
+    ax.set_yticks(y, labels[keep], fontsize=7)
+    shown = ratio[keep]
+    if np.all(shown > 0):
+        ax.set_xscale("log")
+        ax.set_xlim(shown.min() / 1.6, shown.max() * 1.6)
+    else:
+        ax.set_xscale("symlog", linthresh=1e-2)
+    ax.axvline(1.0, color="k", lw=0.6)
+    ax.set_xlabel(f"mtcal value / value in run '{names[0]}'")
+    ax.set_title(f"comparison-table quantities: {' vs '.join(names)}")
+    ax.legend(fontsize=8, loc="lower right")
+    fig.savefig(path, metadata={"Software": None}, bbox_inches="tight")
+    plt.close(fig)
+    return path

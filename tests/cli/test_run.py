@@ -1,0 +1,53 @@
+import json
+import shutil
+from pathlib import Path
+
+import pytest
+
+from mtcal import cli
+
+TINY = Path(__file__).resolve().parents[1] / "reporting" / "conftest.py"
+
+
+@pytest.fixture
+def tiny_notebooks(tmp_path):
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("tiny_conftest", TINY)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    folder = tmp_path / "notebooks"
+    folder.mkdir()
+    (folder / "99_tiny.py").write_text(mod.TINY, encoding="utf-8")
+    return folder
+
+
+def test_run_invalid_parameter_is_one_line_error(tiny_notebooks, tmp_path, capsys):
+    code = cli.main(["run", "99", "--notebooks-dir", str(tiny_notebooks), "--runs-dir", str(tmp_path / "runs"),
+                     "-p", "gian=3"])
+    err = capsys.readouterr().err
+    assert code == 2 and err.count("\n") == 1
+    assert err.startswith("mtcal: error: unknown parameter 'gian' for 99_tiny; valid: SIZE, SEED, gain, label, FAIL")
+    assert cli.main(["run", "7", "--notebooks-dir", str(tiny_notebooks)]) == 2
+    assert "notebook must be one of ['99_tiny']" in capsys.readouterr().err
+    assert cli.main(["run", "99", "--notebooks-dir", str(tiny_notebooks), "-p", "SEED 7"]) == 2
+    assert "parameter must be written key=value" in capsys.readouterr().err
+
+
+def test_run_list_parameters(tiny_notebooks, capsys):
+    assert cli.main(["run", "99", "--notebooks-dir", str(tiny_notebooks), "--list"]) == 0
+    out = capsys.readouterr().out
+    assert "gain = 2.0" in out and 'label = "base"' in out
+
+
+def test_failed_run_keeps_partial_notebook(tiny_notebooks, tmp_path, capsys):
+    code = cli.main(["run", "99_tiny", "--name", "broken", "-p", "FAIL=True", "--size", "ci",
+                     "--notebooks-dir", str(tiny_notebooks), "--runs-dir", str(tmp_path / "runs")])
+    err = capsys.readouterr().err
+    assert code == 1 and "mtcal: error: 99_tiny failed in cell" in err and "AssertionError: asked to fail" in err
+    folder = tmp_path / "runs" / "broken"
+    nb = json.loads((folder / "99_tiny.ipynb").read_text())
+    outputs = "".join("".join(o.get("text", "")) for c in nb["cells"] if c["cell_type"] == "code" for o in c["outputs"])
+    assert "size=ci gain=2.0 label=base" in outputs  # cells before the failure were executed and kept
+    assert json.loads((folder / "params.json").read_text())["status"] == "failed"
+    assert (folder / "data" / "tiny_table.csv").is_file() and not (folder / "data" / "tiny_comparison.csv").exists()

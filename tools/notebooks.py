@@ -1,0 +1,129 @@
+"""Notebook tooling for the Makefile: jupytext sync, papermill execution, peak-memory measurement.
+
+Usage (from the repository root)::
+
+    python tools/notebooks.py sync    [notebooks/NN_x.py ...]   # .ipynb inputs from the .py (jupytext)
+    python tools/notebooks.py execute [notebooks/NN_x.py ...]   # papermill, in place, in order (make reproduce)
+    python tools/notebooks.py measure [--out build/measure] [notebooks/NN_x.py ...]
+        # each notebook in its own process tree; wall time and peak RSS → <out>/resources.csv
+
+All notebooks (``notebooks/NN_*.py``) when none are given. ``execute`` writes each
+notebook beside its source, figures/data under ``$MTCAL_OUTPUT_DIR`` (the
+repository root for ``make reproduce``) and stops at the first failing notebook,
+whose partially executed ``.ipynb`` is kept. ``measure`` never touches the
+committed files (notebooks, data and figures go under ``--out``).
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import os
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+
+from mtcal.reporting import runs  # noqa: E402
+
+
+def _sources(paths: list[str]) -> list[Path]:
+    return [Path(p) for p in paths] if paths else runs.notebook_sources(ROOT / "notebooks")
+
+
+def cmd_sync(args) -> int:
+    for src in _sources(args.notebooks):
+        changed = runs.sync_notebook(src)
+        print(f"{src.with_suffix('.ipynb')}: {'updated' if changed else 'in sync'}")
+    return 0
+
+
+def cmd_execute(args) -> int:
+    for src in _sources(args.notebooks):
+        out = Path(args.output) if args.output else src.with_suffix(".ipynb")
+        start = time.perf_counter()
+        try:
+            runs.execute_notebook(src, out)
+        except runs.NotebookRunError as exc:
+            print(f"notebooks: {exc}", file=sys.stderr)
+            return 1
+        print(f"{out}: executed in {time.perf_counter() - start:.0f} s", flush=True)
+    return 0
+
+
+def _tree_rss(proc) -> int:
+    import psutil
+
+    total = 0
+    for p in [proc] + proc.children(recursive=True):
+        try:
+            total += p.memory_info().rss
+        except psutil.Error:
+            pass
+    return total
+
+
+def cmd_measure(args) -> int:
+    import psutil
+
+    out_dir = Path(args.out)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    rows = []
+    env = dict(os.environ, MTCAL_OUTPUT_DIR=str(out_dir.resolve()), **runs.numerics_env())
+    env.setdefault("MTCAL_SIZE", "full")
+    for src in _sources(args.notebooks):
+        cmd = [sys.executable, __file__, "execute", str(src), "--output", str(out_dir / f"{src.stem}.ipynb")]
+        start = time.perf_counter()
+        child = subprocess.Popen(cmd, env=env)
+        proc = psutil.Process(child.pid)
+        peak_tree, status, usage = 0, None, None
+        while status is None:
+            pid, wait_status, rusage = os.wait4(child.pid, os.WNOHANG)
+            if pid:
+                status, usage = os.waitstatus_to_exitcode(wait_status), rusage
+                break
+            try:
+                peak_tree = max(peak_tree, _tree_rss(proc))
+            except psutil.Error:
+                pass
+            time.sleep(0.1)
+        child.returncode = status
+        wall = time.perf_counter() - start
+        # wait4's ru_maxrss covers the child and its reaped descendants: the exact peak of the
+        # largest single process of this notebook's tree (the kernel)
+        rows.append({"notebook": src.stem, "size": env["MTCAL_SIZE"], "status": "ok" if status == 0 else "failed",
+                     "wall_s": f"{wall:.0f}", "peak_rss_kernel_mb": f"{usage.ru_maxrss / 1024:.0f}",
+                     "peak_rss_tree_mb": f"{peak_tree / 2**20:.0f}"})
+        print(rows[-1], flush=True)
+    with open(out_dir / "resources.csv", "w", newline="") as fh:
+        writer = csv.DictWriter(fh, fieldnames=list(rows[0]), lineterminator="\n")
+        writer.writeheader()
+        writer.writerows(rows)
+    return 0 if all(r["status"] == "ok" for r in rows) else 1
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    sub = parser.add_subparsers(dest="command", required=True)
+    p = sub.add_parser("sync")
+    p.add_argument("notebooks", nargs="*")
+    p.set_defaults(func=cmd_sync)
+    p = sub.add_parser("execute")
+    p.add_argument("notebooks", nargs="*")
+    p.add_argument("--output", help="executed notebook path (one notebook only; default: in place)")
+    p.set_defaults(func=cmd_execute)
+    p = sub.add_parser("measure")
+    p.add_argument("notebooks", nargs="*")
+    p.add_argument("--out", default="build/measure")
+    p.set_defaults(func=cmd_measure)
+    args = parser.parse_args(argv)
+    if getattr(args, "output", None) and len(args.notebooks) != 1:
+        parser.error("--output needs exactly one notebook")
+    return args.func(args)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
