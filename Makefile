@@ -68,6 +68,7 @@ measure: $(STAMP)
 bench: $(STAMP)
 	$(BIN)/python -m pip install --quiet --disable-pip-version-check -c constraints.txt -e '.[dev,bench]'
 	$(BIN)/python benchmarks/run.py $(BENCH_ARGS)
+	$(BIN)/python benchmarks/bench_sweep.py --csv data/bench_sweep.csv $(BENCH_SWEEP_ARGS)
 
 clean:
 	rm -rf build $(VENV)
