@@ -1,0 +1,156 @@
+"""Shared numba plumbing of the compiled filter kernels (private).
+
+``jit(...)`` is ``numba.njit(cache=True, ...)`` that degrades gracefully: when
+no cache locator can write (read-only install and no writable user cache
+directory), numba raises at decoration time; the function is then compiled
+without caching instead of failing the import. Kernels are float64, never
+``fastmath`` (no reassociation, no FMA contraction), so their arithmetic is the
+numpy reference's operation by operation.
+
+The engine used by the public filters is chosen by ``engine=`` arguments:
+``"numba"`` (default) or ``"numpy"`` (the readable reference implementations).
+"""
+
+from __future__ import annotations
+
+import os
+import tempfile
+import warnings
+
+__all__ = ["jit", "ENGINES", "check_engine", "use_parallel", "record"]
+
+ENGINES = ("numba", "numpy")
+
+if not os.environ.get("NUMBA_CACHE_DIR"):
+    # numba falls back from the package's __pycache__ to a user-wide cache dir on its own; if even the
+    # user's home is not writable, point it at a temporary directory before numba reads its config
+    _home_cache = os.path.join(os.path.expanduser("~"), ".cache")
+    if not os.access(_home_cache if os.path.isdir(_home_cache) else os.path.expanduser("~"), os.W_OK):
+        os.environ["NUMBA_CACHE_DIR"] = os.path.join(tempfile.gettempdir(), "mtcal-numba-cache")
+
+# numba's OpenMP threading layer spins its workers after every parallel region (GNU OpenMP's active
+# wait policy); on a loaded machine a spinning worker steals the core the next region or the serial
+# code needs (measured: a 0.2 ms parallel pass took 17 ms with one busy core). Passive waiting,
+# unless the user chose otherwise; it must be set before the OpenMP runtime starts.
+os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
+
+import numba  # noqa: E402
+
+
+def jit(parallel: bool = False):
+    """Decorator: ``numba.njit(cache=True, parallel=parallel)``, or uncached if caching is impossible."""
+    def deco(fn):
+        try:
+            return numba.njit(cache=True, parallel=parallel, nogil=True)(fn)
+        except RuntimeError as exc:  # "cannot cache function ...: no locator available"
+            warnings.warn(f"numba cannot cache {fn.__name__} ({exc}); compiling without a cache",
+                          RuntimeWarning, stacklevel=2)
+            return numba.njit(cache=False, parallel=parallel, nogil=True)(fn)
+    return deco
+
+
+def check_engine(engine: str) -> str:
+    """Validate an ``engine=`` argument ("numba" or "numpy")."""
+    if engine not in ENGINES:
+        raise ValueError(f"engine must be one of {ENGINES}, got {engine!r}")
+    return engine
+
+
+#: Work (trial-samples) from which the trial-parallel (prange) kernels are used: below it a
+#: parallel region costs more than it saves.
+PARALLEL_MIN_WORK = 200_000
+
+
+def use_parallel(trials: int, samples: int) -> bool:
+    """Whether to run the trial-parallel kernel (≥ 2 trials, enough work, > 1 numba thread)."""
+    return trials >= 2 and trials * samples >= PARALLEL_MIN_WORK and numba.get_num_threads() > 1
+
+
+# ----------------------------------------------------------------------------- fast input checks
+import numpy as np  # noqa: E402
+from numba import prange  # noqa: E402
+
+from mtcal.core.validate import MAX_GYRO_RAD_S, MIN_MEDIAN_ACCEL_M_S2  # noqa: E402
+
+_BLOCKS = 16
+
+
+@jit(parallel=True)
+def _finite_max_abs(flat):
+    """(all finite, max |x|) of a 1-D array in one pass, blocks spread over threads."""
+    n = flat.size
+    size = (n + _BLOCKS - 1) // _BLOCKS
+    oks = np.ones(_BLOCKS, np.bool_)
+    mxs = np.zeros(_BLOCKS)
+    for b in prange(_BLOCKS):
+        ok = True
+        mx = 0.0
+        for i in range(b * size, min((b + 1) * size, n)):
+            v = flat[i]
+            if not np.isfinite(v):
+                ok = False
+            av = abs(v)
+            if av > mx:
+                mx = av
+        oks[b] = ok
+        mxs[b] = mx
+    return oks.all(), mxs.max()
+
+
+@jit()
+def _finite_max_abs_serial(flat):
+    """Serial :func:`_finite_max_abs` (small arrays: no thread start-up)."""
+    ok = True
+    mx = 0.0
+    for i in range(flat.size):
+        v = flat[i]
+        if not np.isfinite(v):
+            ok = False
+        av = abs(v)
+        if av > mx:
+            mx = av
+    return ok, mx
+
+
+@jit()
+def _row_norms(x2, step):
+    """‖x2[i]‖ for every ``step``-th row of an (R, 3) array."""
+    n = (x2.shape[0] + step - 1) // step
+    out = np.empty(n)
+    for i in range(n):
+        r = i * step
+        out[i] = np.sqrt((x2[r, 0] * x2[r, 0] + x2[r, 1] * x2[r, 1]) + x2[r, 2] * x2[r, 2])
+    return out
+
+
+def record(value, name: str, ndim: tuple, kind: str | None = None) -> np.ndarray:
+    """Float64 C-contiguous view/copy of a (…, 3) record, checked like ``validate.as_float_array``
+    (same messages) plus the gyro (``kind="gyro"``) or accelerometer (``kind="accel"``) unit
+    checks of :mod:`mtcal.core.validate`, in one compiled pass instead of several numpy passes.
+    """
+    if isinstance(value, (str, bytes)) or value is None:
+        raise TypeError(f"{name} must be a numeric array, got {type(value).__name__}")
+    try:
+        arr = np.ascontiguousarray(value, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise TypeError(f"{name} must be a numeric array: {exc}") from None
+    if arr.ndim not in ndim:
+        raise ValueError(f"{name} must have ndim in {tuple(ndim)}, got shape {arr.shape}")
+    if arr.ndim == 0 or arr.shape[-1] != 3:
+        raise ValueError(f"{name} must have last dimension 3, got shape {arr.shape}")
+    if arr.size == 0:
+        raise ValueError(f"{name} must not be empty, got shape {arr.shape}")
+    flat1 = arr.reshape(-1)
+    ok, max_abs = (_finite_max_abs if flat1.size >= 4_000_000 else _finite_max_abs_serial)(flat1)
+    if not ok:
+        raise ValueError(f"{name} must be finite (no NaN or inf)")
+    if kind == "gyro" and max_abs > MAX_GYRO_RAD_S:
+        raise ValueError(f"{name} must be in rad/s; max |{name}| = {max_abs:.4g} "
+                         f"exceeds {MAX_GYRO_RAD_S:g} rad/s (degrees per second passed as rad/s?)")
+    if kind == "accel" and arr.ndim >= 2 and arr.shape[-2] > 1:  # one sample may be small: judge records only
+        flat = arr.reshape(-1, 3)
+        med = float(np.median(_row_norms(flat, max(1, flat.shape[0] // 20_000))))
+        if 0.0 < med < MIN_MEDIAN_ACCEL_M_S2:
+            raise ValueError(f"{name} looks like it is in g, not m/s² (median |a| = {med:.4g} < "
+                             f"{MIN_MEDIAN_ACCEL_M_S2:g} m/s²); multiply by 9.80665")
+    return arr
