@@ -30,8 +30,22 @@ _S0, _S1, _S2, _S3 = 0.5, -1.0 / 48.0, 1.0 / 3840.0, -1.0 / 645120.0
 
 
 @jit()
-def _trial(w, a, t, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, dt, alpha, gravity, thr):
-    """Run trial ``t`` over all samples of the chunk; state ``q[t]``, ``integ[t]``, ``amd[t]`` updated."""
+def _trial(w, a, t, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, dt, alpha, gravity, thr,
+           keep, truth, stats, with_stats):
+    """Run trial ``t`` over all samples of the chunk; state ``q[t]``, ``integ[t]``, ``amd[t]`` updated.
+
+    ``keep``: write ``q_out``/``amd_out``/``gate_out``. ``with_stats``: fold the wrapped Eq 8
+    errors of the attitude at t_k against ``truth`` ((1 or T), M, 3: yaw, pitch, roll in rad) into
+    ``stats[t]`` = (sum ×3, sum of squares ×3, max |·| ×3) — what
+    :meth:`mtcal.core.montecarlo.ErrorAccumulator.add_euler_zxy_errors` computes from ``q_out``.
+    """
+    tr = truth[t] if truth.shape[0] > 1 else truth[0]
+    s0, s1, s2 = 0.0, 0.0, 0.0
+    ss0, ss1, ss2 = 0.0, 0.0, 0.0
+    m0, m1, m2 = 0.0, 0.0, 0.0
+    if with_stats:
+        m0, m1, m2 = stats[t, 6], stats[t, 7], stats[t, 8]
+    two_pi = 2 * np.pi
     q0 = q[t, 0]
     q1 = q[t, 1]
     q2 = q[t, 2]
@@ -46,18 +60,37 @@ def _trial(w, a, t, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, d
         nrm = math.sqrt((ax * ax + ay * ay) + az * az)
         prev = abs(nrm / gravity - 1.0) * 100.0
     for k in range(m):
-        q_out[t, k, 0] = q0
-        q_out[t, k, 1] = q1
-        q_out[t, k, 2] = q2
-        q_out[t, k, 3] = q3
+        if keep:
+            q_out[t, k, 0] = q0
+            q_out[t, k, 1] = q1
+            q_out[t, k, 2] = q2
+            q_out[t, k, 3] = q3
+        if with_stats:  # Eq 8 of q_k and its wrapped error (rotations.euler_zxy_unchecked, angle_difference)
+            s00, s11, s22, s33 = q0 * q0, q1 * q1, q2 * q2, q3 * q3
+            yaw = math.atan2(-2.0 * (q1 * q2 - q0 * q3), ((s00 - s11) + s22) - s33)
+            pitch = math.asin(min(max(2.0 * (q2 * q3 + q0 * q1), -1.0), 1.0))
+            roll = math.atan2(-2.0 * (q1 * q3 - q0 * q2), ((s00 - s11) - s22) + s33)
+            e0 = ((yaw - tr[k, 0]) + np.pi) % two_pi - np.pi
+            e1 = ((pitch - tr[k, 1]) + np.pi) % two_pi - np.pi
+            e2 = ((roll - tr[k, 2]) + np.pi) % two_pi - np.pi
+            s0 += e0
+            s1 += e1
+            s2 += e2
+            ss0 += e0 * e0
+            ss1 += e1 * e1
+            ss2 += e2 * e2
+            m0 = max(m0, abs(e0))
+            m1 = max(m1, abs(e1))
+            m2 = max(m2, abs(e2))
         # AMD statistic and gate (QncfFilter._accel_chunk)
         ax, ay, az = a[t, k, 0], a[t, k, 1], a[t, k, 2]
         nrm = math.sqrt((ax * ax + ay * ay) + az * az)
         d = abs(nrm / gravity - 1.0) * 100.0
         prev = prev + (d - prev) * alpha
-        amd_out[t, k] = prev
         gate = prev < thr
-        gate_out[t, k] = gate
+        if keep:
+            amd_out[t, k] = prev
+            gate_out[t, k] = gate
         fac = (1.0 if gate else 0.0) / max(nrm, 1e-12)
         ux, uy, uz = ax * fac, ay * fac, az * fac
         # predicted up direction v̂ = C(q)ᵀ e_z
@@ -111,20 +144,32 @@ def _trial(w, a, t, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, d
     integ[t, 1] = i1
     integ[t, 2] = i2
     amd[t] = prev
+    if with_stats:
+        stats[t, 0] += s0
+        stats[t, 1] += s1
+        stats[t, 2] += s2
+        stats[t, 3] += ss0
+        stats[t, 4] += ss1
+        stats[t, 5] += ss2
+        stats[t, 6], stats[t, 7], stats[t, 8] = m0, m1, m2
 
 
 @jit()
-def qncf_serial(w, a, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, dt, alpha, gravity, thr):
+def qncf_serial(w, a, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, dt, alpha, gravity, thr,
+                keep, truth, stats, with_stats):
     """Trials one after the other (single-trial records, small batches)."""
     for t in range(w.shape[0]):
-        _trial(w, a, t, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, dt, alpha, gravity, thr)
+        _trial(w, a, t, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, dt, alpha, gravity, thr,
+               keep, truth, stats, with_stats)
 
 
 @jit(parallel=True)
-def qncf_parallel(w, a, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, dt, alpha, gravity, thr):
+def qncf_parallel(w, a, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, dt, alpha, gravity, thr,
+                  keep, truth, stats, with_stats):
     """Trials spread over numba's threads (``prange``); each trial is computed exactly as serially."""
     for t in prange(w.shape[0]):
-        _trial(w, a, t, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, dt, alpha, gravity, thr)
+        _trial(w, a, t, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, dt, alpha, gravity, thr,
+               keep, truth, stats, with_stats)
 
 
 def warm_up() -> None:
@@ -134,4 +179,5 @@ def warm_up() -> None:
     a[..., 2] = 9.80665
     for fn in (qncf_serial, qncf_parallel):
         fn(w, a, np.tile([1.0, 0, 0, 0], (2, 1)), np.zeros((2, 3)), np.full(2, np.nan), np.empty((2, 2, 4)),
-           np.empty((2, 2)), np.empty((2, 2), np.bool_), 1.0, 2e-5, True, 1e-3, 0.02, 9.80665, 0.3)
+           np.empty((2, 2)), np.empty((2, 2), np.bool_), 1.0, 2e-5, True, 1e-3, 0.02, 9.80665, 0.3, True,
+           np.zeros((1, 2, 3)), np.zeros((2, 9)), True)

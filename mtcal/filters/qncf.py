@@ -515,27 +515,74 @@ class QncfFilter:
         return QncfResult(q_out, euler, amd_out, gate_out)
 
 
-    def _run_numba(self, w: np.ndarray, a: np.ndarray, return_euler: bool) -> QncfResult:
-        """:meth:`run` with the compiled kernels on validated (T, M, 3) float64 arrays."""
+    def run_error_stats(self, gyro_rad_s, accel_m_s2, truth_euler_rad, errors) -> None:
+        """Advance the filter over a chunk and fold its Eq 8 errors into ``errors``, keeping no history.
+
+        For streaming Monte Carlo runs that only need metrics: equivalent to
+        ``errors.add_euler_zxy_errors(self.run(gyro, accel, return_euler=False).q_ws, truth_euler_rad)``
+        (the wrapped yaw/pitch/roll errors of the attitude at each t_k), computed
+        inside the compiled kernel without materialising the (T, M, 4)
+        quaternions (numba engine only).
+
+        Parameters
+        ----------
+        gyro_rad_s, accel_m_s2 : array_like, shape (T, M, 3)
+            As for :meth:`run`.
+        truth_euler_rad : array_like, shape (M, 3) or (T, M, 3)
+            True Eq 8 yaw ψ, pitch θ, roll γ at t_k (rad).
+        errors : mtcal.core.montecarlo.ErrorAccumulator
+            Accumulator of shape (T, 3).
+        """
+        from mtcal.core.montecarlo import ErrorAccumulator
+
+        if self.engine != "numba":
+            raise ValueError("run_error_stats needs engine='numba' (use run() with the numpy engine)")
+        if not isinstance(errors, ErrorAccumulator) or errors.shape != (self.trials, 3):
+            raise TypeError(f"errors must be an ErrorAccumulator of shape ({self.trials}, 3)")
+        w = self._prepare(gyro_rad_s, "gyro_rad_s", 2, "gyro")
+        a = self._prepare(accel_m_s2, "accel_m_s2", 2, "accel")
+        if w.shape != a.shape:
+            raise ValueError(f"gyro_rad_s and accel_m_s2 must have the same shape, got {w.shape} and {a.shape}")
+        tr = as_float_array(truth_euler_rad, "truth_euler_rad", ndim=(2, 3), last_dim=3, copy=False)
+        tr = np.ascontiguousarray(tr if tr.ndim == 3 else tr[None])
+        if tr.shape[1] != w.shape[1] or tr.shape[0] not in (1, self.trials):
+            raise ValueError(f"truth_euler_rad of shape {tr.shape} does not match the records {w.shape}")
+        stats = errors._stats_block()
+        self._launch(w, a, None, tr, stats)
+        errors._stats_block_done(stats, w.shape[1])
+
+    def _launch(self, w, a, outputs, truth, stats) -> None:
+        """Run the kernel over validated (T, M, 3) records and write the state back."""
         from mtcal.filters import _kernels_qncf as kern
 
         p, n, m = self.params, self.trials, w.shape[1]
-        w = np.ascontiguousarray(w)
-        a = np.ascontiguousarray(a)
         q = np.ascontiguousarray(self._q.T)
         integ = np.ascontiguousarray(self._integral.T)
-        q_out = np.empty((n, m, 4))
-        amd_out = np.empty((n, m))
-        gate_out = np.empty((n, m), dtype=bool)
+        if outputs is None:
+            q_out, amd_out, gate_out = np.empty((1, 1, 4)), np.empty((1, 1)), np.empty((1, 1), dtype=bool)
+        else:
+            q_out, amd_out, gate_out = outputs
+        with_stats = stats is not None
+        if not with_stats:
+            truth, stats = np.empty((1, 1, 3)), np.empty((1, 9))
         fn = kern.qncf_parallel if use_parallel(n, m) else kern.qncf_serial
-        fn(w, a, q, integ, self._amd, q_out, amd_out, gate_out, float(p.kp_rad_s),
-           float(p.ki_rad_s2 * self.dt_s), bool(p.ki_rad_s2), float(self.dt_s), float(self._alpha),
-           float(p.gravity_m_s2), float(p.amd_threshold_pct))
+        fn(np.ascontiguousarray(w), np.ascontiguousarray(a), q, integ, self._amd, q_out, amd_out, gate_out,
+           float(p.kp_rad_s), float(p.ki_rad_s2 * self.dt_s), bool(p.ki_rad_s2), float(self.dt_s),
+           float(self._alpha), float(p.gravity_m_s2), float(p.amd_threshold_pct), outputs is not None, truth,
+           stats, with_stats)
         self._qx[:4] = q.T
         self._qx[4:] = self._qx[1:3]
         self._integral[:] = integ.T
         if m:
-            self._gate[:] = gate_out[:, -1]
+            self._gate[:] = self._amd < p.amd_threshold_pct   # = gate of the last sample
+
+    def _run_numba(self, w: np.ndarray, a: np.ndarray, return_euler: bool) -> QncfResult:
+        """:meth:`run` with the compiled kernels on validated (T, M, 3) float64 arrays."""
+        n, m = self.trials, w.shape[1]
+        q_out = np.empty((n, m, 4))
+        amd_out = np.empty((n, m))
+        gate_out = np.empty((n, m), dtype=bool)
+        self._launch(w, a, (q_out, amd_out, gate_out), None, None)
         euler = rotations.euler_zxy_from_quat(q_out) if return_euler else np.empty((n, m, 0))
         if self._single:
             return QncfResult(q_out[0], euler[0], amd_out[0], gate_out[0])
