@@ -59,7 +59,6 @@ import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.signal import lfilter
 
 os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")  # see mtcal.filters._kernels_common
 import numba  # noqa: E402
@@ -524,7 +523,7 @@ class _SensorStream:
             w = w.copy()
             w[:, 0, :] /= c  # b_0 = σ w_0 ~ N(0, σ²)
         zi = np.zeros((self.trials, 1, 3)) if self.gm_state is None else a * self.gm_state
-        b, _ = lfilter([c], [1.0, -a], w, axis=1, zi=zi)
+        b, _ = _lfilter([c], [1.0, -a], w, axis=1, zi=zi)
         self.gm_state = b[:, -1:, :].copy()
         return b
 
@@ -696,3 +695,10 @@ def _is_random(s: SensorErrors) -> bool:
     if s.bias_sigma or s.noise_density or s.bias_random_walk or s.bias_instability:
         return True
     return bool(np.any(_vec3(s.vibration_amplitude, "vibration_amplitude")) and s.vibration_freq_hz)
+
+
+def _lfilter(*args, **kwargs):
+    """``scipy.signal.lfilter``, imported on first use (scipy.signal costs ~0.5-1 s of import time)."""
+    from scipy.signal import lfilter
+
+    return lfilter(*args, **kwargs)

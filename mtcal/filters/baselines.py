@@ -22,7 +22,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.signal import lfilter
 
 from mtcal.core import rotations
 from mtcal.core.validate import as_float_array, positive_scalar
@@ -93,7 +92,7 @@ class MagneticDisturbance:
         a = np.exp(-dt_s / self.heading_tau_s)
         w = rng.standard_normal((trials, n))
         w[:, 0] /= np.sqrt(1.0 - a * a)
-        return lfilter([np.sqrt(1.0 - a * a) * self.heading_sigma_deg * DEG], [1.0, -a], w, axis=1)
+        return _lfilter([np.sqrt(1.0 - a * a) * self.heading_sigma_deg * DEG], [1.0, -a], w, axis=1)
 
     def field_world(self, heading_rad) -> np.ndarray:
         """World field (…, 3) in µT for a heading ψ (z-up world, north = +x at ψ = 0)."""
@@ -231,3 +230,10 @@ def angle_from_orientation(q_be, axis, ref_index: int) -> np.ndarray:
     rel = rotations.hamilton(np.broadcast_to(ref, q.shape), q)
     v = v[:, None, :] if v.ndim == 2 else v
     return rotations.wrap_angle(2.0 * np.arctan2(np.sum(rel[..., 1:] * v, axis=-1), rel[..., 0]))
+
+
+def _lfilter(*args, **kwargs):
+    """``scipy.signal.lfilter``, imported on first use (scipy.signal costs ~0.5-1 s of import time)."""
+    from scipy.signal import lfilter
+
+    return lfilter(*args, **kwargs)
