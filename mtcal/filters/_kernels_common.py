@@ -17,7 +17,7 @@ import os
 import tempfile
 import warnings
 
-__all__ = ["jit", "ENGINES", "check_engine", "use_parallel", "record"]
+__all__ = ["jit", "ENGINES", "check_engine", "use_parallel", "record", "check_scanned", "check_kernel_scan"]
 
 ENGINES = ("numba", "numpy")
 
@@ -123,10 +123,13 @@ def _row_norms(x2, step):
     return out
 
 
-def record(value, name: str, ndim: tuple, kind: str | None = None) -> np.ndarray:
+def record(value, name: str, ndim: tuple, kind: str | None = None, scan: bool = True) -> np.ndarray:
     """Float64 C-contiguous view/copy of a (…, 3) record, checked like ``validate.as_float_array``
     (same messages) plus the gyro (``kind="gyro"``) or accelerometer (``kind="accel"``) unit
     checks of :mod:`mtcal.core.validate`, in one compiled pass instead of several numpy passes.
+
+    ``scan=False`` checks type and shape only: the caller's kernel scans the values while it
+    filters and calls :func:`check_scanned` before it keeps any result.
     """
     if isinstance(value, (str, bytes)) or value is None:
         raise TypeError(f"{name} must be a numeric array, got {type(value).__name__}")
@@ -140,9 +143,16 @@ def record(value, name: str, ndim: tuple, kind: str | None = None) -> np.ndarray
         raise ValueError(f"{name} must have last dimension 3, got shape {arr.shape}")
     if arr.size == 0:
         raise ValueError(f"{name} must not be empty, got shape {arr.shape}")
-    flat1 = arr.reshape(-1)
-    ok, max_abs = (_finite_max_abs if flat1.size >= 4_000_000 else _finite_max_abs_serial)(flat1)
-    if not ok:
+    if scan:
+        flat1 = arr.reshape(-1)
+        ok, max_abs = (_finite_max_abs if flat1.size >= 4_000_000 else _finite_max_abs_serial)(flat1)
+        check_scanned(arr, name, kind, ok, max_abs)
+    return arr
+
+
+def check_scanned(arr: np.ndarray, name: str, kind: str | None, finite: bool, max_abs: float) -> None:
+    """The value checks of :func:`record` from a finished scan (all finite, max |x|) of ``arr``."""
+    if not finite:
         raise ValueError(f"{name} must be finite (no NaN or inf)")
     if kind == "gyro" and max_abs > MAX_GYRO_RAD_S:
         raise ValueError(f"{name} must be in rad/s; max |{name}| = {max_abs:.4g} "
@@ -153,4 +163,10 @@ def record(value, name: str, ndim: tuple, kind: str | None = None) -> np.ndarray
         if 0.0 < med < MIN_MEDIAN_ACCEL_M_S2:
             raise ValueError(f"{name} looks like it is in g, not m/s² (median |a| = {med:.4g} < "
                              f"{MIN_MEDIAN_ACCEL_M_S2:g} m/s²); multiply by 9.80665")
-    return arr
+
+
+def check_kernel_scan(chk: np.ndarray, gyro: np.ndarray, accel: np.ndarray, accel_units: bool) -> None:
+    """Raise like :func:`record` from a kernel's per-trial scan ``chk`` (T, 3) = (Σ 0·gyro, max |gyro|,
+    Σ 0·accel): a sum is 0 exactly when every value was finite (inf·0 and NaN·0 are NaN)."""
+    check_scanned(gyro, "gyro_rad_s", "gyro", bool(np.all(chk[:, 0] == 0.0)), float(chk[:, 1].max()))
+    check_scanned(accel, "accel_m_s2", "accel" if accel_units else None, bool(np.all(chk[:, 2] == 0.0)), 0.0)

@@ -27,7 +27,10 @@ __all__ = ["ekf_serial", "ekf_parallel"]
 
 @jit()
 def _trial(g, a, st, t, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, om_s, has_prev, use_zvd,
-           var_z, var_m, dt, q_theta, q_b, out_theta, out_bias, out_p, out_y, keep_y, last_c, last_hp, last_s):
+           var_z, var_m, dt, q_theta, q_b, out_theta, out_bias, out_p, out_y, keep_y, last_c, last_hp, last_s, chk):
+    fw = 0.0
+    fa = 0.0
+    wm = 0.0
     v0, v1, v2 = v[t, 0], v[t, 1], v[t, 2]
     f1, f2, f3 = f[t, 0], f[t, 1], f[t, 2]
     theta = theta_s[t]
@@ -62,13 +65,18 @@ def _trial(g, a, st, t, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, om_s, 
             p22 = p22 + q_b
             p33 = p33 + q_b
         # vᵀω Δt of this sample, for the next prediction
-        omega = ((g[t, k, 0] * v0 + g[t, k, 2] * v2) + g[t, k, 1] * v1) * dt
+        gx, gy, gz = g[t, k, 0], g[t, k, 1], g[t, k, 2]
+        ax, ay, az = a[t, k, 0], a[t, k, 1], a[t, k, 2]
+        fw = fw + ((gx * 0.0 + gy * 0.0) + gz * 0.0)     # input scan (see _kernels_qncf._trial)
+        fa = fa + ((ax * 0.0 + ay * 0.0) + az * 0.0)
+        wm = max(wm, max(abs(gx), max(abs(gy), abs(gz))))
+        omega = ((gx * v0 + gz * v2) + gy * v1) * dt
         # correction (Eq 28–32), scalar-information form
         cs = math.cos(theta)
         sn = math.sin(theta)
-        y0 = a[t, k, 0] - ((pa0 + pe0 * cs) - w0 * sn)
-        y1 = a[t, k, 1] - ((pa1 + pe1 * cs) - w1 * sn)
-        y2 = a[t, k, 2] - ((pa2 + pe2 * cs) - w2 * sn)
+        y0 = ax - ((pa0 + pe0 * cs) - w0 * sn)
+        y1 = ay - ((pa1 + pe1 * cs) - w1 * sn)
+        y2 = az - ((pa2 + pe2 * cs) - w2 * sn)
         h0 = ne0 * sn - w0 * cs
         h1 = ne1 * sn - w1 * cs
         h2 = ne2 * sn - w2 * cs
@@ -112,6 +120,9 @@ def _trial(g, a, st, t, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, om_s, 
     p_s[t, 4], p_s[t, 5], p_s[t, 6] = p11, p22, p33
     p_s[t, 7], p_s[t, 8], p_s[t, 9] = p12, p13, p23
     om_s[t] = omega
+    chk[t, 0] = fw
+    chk[t, 1] = wm
+    chk[t, 2] = fa
     if g.shape[1] > 0:
         last_c[t, 0], last_c[t, 1], last_c[t, 2], last_c[t, 3] = c0, c1, c2, c3
         last_hp[t, 0], last_hp[t, 1], last_hp[t, 2] = h0, h1, h2
@@ -120,20 +131,20 @@ def _trial(g, a, st, t, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, om_s, 
 
 @jit()
 def ekf_serial(g, a, st, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, om_s, has_prev, use_zvd, var_z,
-               var_m, dt, q_theta, q_b, out_theta, out_bias, out_p, out_y, keep_y, last_c, last_hp, last_s):
+               var_m, dt, q_theta, q_b, out_theta, out_bias, out_p, out_y, keep_y, last_c, last_hp, last_s, chk):
     """Trials one after the other."""
     for t in range(g.shape[0]):
         _trial(g, a, st, t, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, om_s, has_prev, use_zvd, var_z,
-               var_m, dt, q_theta, q_b, out_theta, out_bias, out_p, out_y, keep_y, last_c, last_hp, last_s)
+               var_m, dt, q_theta, q_b, out_theta, out_bias, out_p, out_y, keep_y, last_c, last_hp, last_s, chk)
 
 
 @jit(parallel=True)
 def ekf_parallel(g, a, st, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, om_s, has_prev, use_zvd, var_z,
-                 var_m, dt, q_theta, q_b, out_theta, out_bias, out_p, out_y, keep_y, last_c, last_hp, last_s):
+                 var_m, dt, q_theta, q_b, out_theta, out_bias, out_p, out_y, keep_y, last_c, last_hp, last_s, chk):
     """Trials spread over numba's threads (``prange``); each trial computed exactly as serially."""
     for t in prange(g.shape[0]):
         _trial(g, a, st, t, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, om_s, has_prev, use_zvd, var_z,
-               var_m, dt, q_theta, q_b, out_theta, out_bias, out_p, out_y, keep_y, last_c, last_hp, last_s)
+               var_m, dt, q_theta, q_b, out_theta, out_bias, out_p, out_y, keep_y, last_c, last_hp, last_s, chk)
 
 
 def warm_up() -> None:
@@ -147,4 +158,4 @@ def warm_up() -> None:
         fn(g, a, np.ones((1, m), np.bool_), vec, vec, vec, vec, vec, vec, np.zeros(n), np.zeros((n, 3)),
            np.ones((n, 10)), np.zeros(n), False, True, 1e-4, 4.0, 1e-3, 1e-10, 1e-14, np.empty((n, m)),
            np.empty((n, m, 3)), np.empty((n, m)), np.empty((n, m, 3)), True, np.empty((n, 4)), np.empty((n, 3)),
-           np.empty(n))
+           np.empty(n), np.empty((n, 3)))

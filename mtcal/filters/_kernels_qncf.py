@@ -31,14 +31,19 @@ _S0, _S1, _S2, _S3 = 0.5, -1.0 / 48.0, 1.0 / 3840.0, -1.0 / 645120.0
 
 @jit()
 def _trial(w, a, t, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, dt, alpha, gravity, thr,
-           keep, truth, stats, with_stats):
+           keep, truth, stats, with_stats, chk):
     """Run trial ``t`` over all samples of the chunk; state ``q[t]``, ``integ[t]``, ``amd[t]`` updated.
 
     ``keep``: write ``q_out``/``amd_out``/``gate_out``. ``with_stats``: fold the wrapped Eq 8
     errors of the attitude at t_k against ``truth`` ((1 or T), M, 3: yaw, pitch, roll in rad) into
     ``stats[t]`` = (sum ×3, sum of squares ×3, max |·| ×3) — what
     :meth:`mtcal.core.montecarlo.ErrorAccumulator.add_euler_zxy_errors` computes from ``q_out``.
+    ``chk[t]`` = (Σ 0·gyro, max |gyro|, Σ 0·accel): the input scan (0 sums = all finite), done
+    here off the recursion's critical path instead of in separate passes.
     """
+    fw = 0.0
+    fa = 0.0
+    wm = 0.0
     tr = truth[t] if truth.shape[0] > 1 else truth[0]
     s0, s1, s2 = 0.0, 0.0, 0.0
     ss0, ss1, ss2 = 0.0, 0.0, 0.0
@@ -84,6 +89,10 @@ def _trial(w, a, t, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, d
             m2 = max(m2, abs(e2))
         # AMD statistic and gate (QncfFilter._accel_chunk)
         ax, ay, az = a[t, k, 0], a[t, k, 1], a[t, k, 2]
+        wx, wy, wz = w[t, k, 0], w[t, k, 1], w[t, k, 2]
+        fw = fw + ((wx * 0.0 + wy * 0.0) + wz * 0.0)
+        fa = fa + ((ax * 0.0 + ay * 0.0) + az * 0.0)
+        wm = max(wm, max(abs(wx), max(abs(wy), abs(wz))))
         nrm = math.sqrt((ax * ax + ay * ay) + az * az)
         d = abs(nrm / gravity - 1.0) * 100.0
         prev = prev + (d - prev) * alpha
@@ -105,9 +114,9 @@ def _trial(w, a, t, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, d
             i0 = i0 + e0 * kidt
             i1 = i1 + e1 * kidt
             i2 = i2 + e2 * kidt
-        x0 = ((e0 * kp + w[t, k, 0]) + i0) * dt
-        x1 = ((e1 * kp + w[t, k, 1]) + i1) * dt
-        x2 = ((e2 * kp + w[t, k, 2]) + i2) * dt
+        x0 = ((e0 * kp + wx) + i0) * dt
+        x1 = ((e1 * kp + wy) + i1) * dt
+        x2 = ((e2 * kp + wz) + i2) * dt
         u = (x0 * x0 + x1 * x1) + x2 * x2
         if u <= _T2:
             c = (u * _C2 + _C1) * u + 1.0
@@ -144,6 +153,9 @@ def _trial(w, a, t, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, d
     integ[t, 1] = i1
     integ[t, 2] = i2
     amd[t] = prev
+    chk[t, 0] = fw
+    chk[t, 1] = wm
+    chk[t, 2] = fa
     if with_stats:
         stats[t, 0] += s0
         stats[t, 1] += s1
@@ -156,20 +168,20 @@ def _trial(w, a, t, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, d
 
 @jit()
 def qncf_serial(w, a, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, dt, alpha, gravity, thr,
-                keep, truth, stats, with_stats):
+                keep, truth, stats, with_stats, chk):
     """Trials one after the other (single-trial records, small batches)."""
     for t in range(w.shape[0]):
         _trial(w, a, t, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, dt, alpha, gravity, thr,
-               keep, truth, stats, with_stats)
+               keep, truth, stats, with_stats, chk)
 
 
 @jit(parallel=True)
 def qncf_parallel(w, a, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, dt, alpha, gravity, thr,
-                  keep, truth, stats, with_stats):
+                  keep, truth, stats, with_stats, chk):
     """Trials spread over numba's threads (``prange``); each trial is computed exactly as serially."""
     for t in prange(w.shape[0]):
         _trial(w, a, t, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, dt, alpha, gravity, thr,
-               keep, truth, stats, with_stats)
+               keep, truth, stats, with_stats, chk)
 
 
 def warm_up() -> None:
@@ -180,4 +192,4 @@ def warm_up() -> None:
     for fn in (qncf_serial, qncf_parallel):
         fn(w, a, np.tile([1.0, 0, 0, 0], (2, 1)), np.zeros((2, 3)), np.full(2, np.nan), np.empty((2, 2, 4)),
            np.empty((2, 2)), np.empty((2, 2), np.bool_), 1.0, 2e-5, True, 1e-3, 0.02, 9.80665, 0.3, True,
-           np.zeros((1, 2, 3)), np.zeros((2, 9)), True)
+           np.zeros((1, 2, 3)), np.zeros((2, 9)), True, np.empty((2, 3)))

@@ -80,7 +80,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from mtcal.core import rotations
-from mtcal.filters._kernels_common import check_engine, record, use_parallel
+from mtcal.filters._kernels_common import check_engine, check_kernel_scan, record, use_parallel
 from mtcal.core.validate import (STANDARD_GRAVITY_M_S2, as_float_array, check_accel_units, check_gyro_units,
                              positive_scalar, unit_quaternion)
 
@@ -439,7 +439,8 @@ class QncfFilter:
 
     def _prepare(self, x, name: str, ndim_single: int, kind: str | None = None) -> np.ndarray:
         # numba engine: one compiled pass checks finiteness and units (same messages as the numpy path)
-        arr = record(x, name, (1, 2, 3), kind) if self.engine == "numba" else _as_input(x, name)
+        # (the numba kernel scans the values itself: record() checks type and shape only)
+        arr = record(x, name, (1, 2, 3), kind, scan=False) if self.engine == "numba" else _as_input(x, name)
         if self._single and arr.ndim == ndim_single:
             arr = arr[None]
         if arr.ndim != ndim_single + 1 or arr.shape[0] != self.trials:
@@ -556,8 +557,10 @@ class QncfFilter:
         from mtcal.filters import _kernels_qncf as kern
 
         p, n, m = self.params, self.trials, w.shape[1]
-        q = np.ascontiguousarray(self._q.T)
-        integ = np.ascontiguousarray(self._integral.T)
+        q = np.ascontiguousarray(self._q.T)              # copies: the state is written back only
+        integ = np.ascontiguousarray(self._integral.T)   # once the input scan has passed
+        amd = self._amd.copy()
+        chk = np.empty((n, 3))
         if outputs is None:
             q_out, amd_out, gate_out = np.empty((1, 1, 4)), np.empty((1, 1)), np.empty((1, 1), dtype=bool)
         else:
@@ -566,10 +569,13 @@ class QncfFilter:
         if not with_stats:
             truth, stats = np.empty((1, 1, 3)), np.empty((1, 9))
         fn = kern.qncf_parallel if use_parallel(n, m) else kern.qncf_serial
-        fn(np.ascontiguousarray(w), np.ascontiguousarray(a), q, integ, self._amd, q_out, amd_out, gate_out,
+        fn(np.ascontiguousarray(w), np.ascontiguousarray(a), q, integ, amd, q_out, amd_out, gate_out,
            float(p.kp_rad_s), float(p.ki_rad_s2 * self.dt_s), bool(p.ki_rad_s2), float(self.dt_s),
            float(self._alpha), float(p.gravity_m_s2), float(p.amd_threshold_pct), outputs is not None, truth,
-           stats, with_stats)
+           stats, with_stats, chk)
+        if m:  # raise (state untouched) if the inputs were not finite or not in rad/s and m/s²
+            check_kernel_scan(chk, w, a, accel_units=m > 1)
+        self._amd[:] = amd
         self._qx[:4] = q.T
         self._qx[4:] = self._qx[1:3]
         self._integral[:] = integ.T
@@ -645,9 +651,9 @@ def qncf(gyro_rad_s, accel_m_s2, dt_s: float, params: QncfParams = QncfParams(),
     """
     check_engine(engine)
     fast = engine == "numba"
-    w = record(gyro_rad_s, "gyro_rad_s", (1, 2, 3), "gyro") if fast else _as_input(gyro_rad_s, "gyro_rad_s")
-    a = _as_input(accel_m_s2, "accel_m_s2") if not fast else \
-        record(accel_m_s2, "accel_m_s2", (1, 2, 3), "accel" if w.ndim > 1 and w.shape[-2] > 1 else None)
+    # numba engine: type and shape here, values scanned by the kernel (same messages)
+    w = record(gyro_rad_s, "gyro_rad_s", (1, 2, 3), scan=False) if fast else _as_input(gyro_rad_s, "gyro_rad_s")
+    a = record(accel_m_s2, "accel_m_s2", (1, 2, 3), scan=False) if fast else _as_input(accel_m_s2, "accel_m_s2")
     if w.ndim == 1:
         raise ValueError(f"gyro_rad_s must have shape (N, 3) or (T, N, 3), got {w.shape}")
     if w.shape != a.shape:
@@ -663,6 +669,6 @@ def qncf(gyro_rad_s, accel_m_s2, dt_s: float, params: QncfParams = QncfParams(),
         filt = QncfFilter(q0, dt_s, params, engine=engine)
     else:
         filt = QncfFilter(np.broadcast_to(q0, (w.shape[0], 4)), dt_s, params, engine=engine)
-    if fast:  # inputs already checked (finite, units) by record()
+    if fast:  # the kernel checks finiteness and units before the results are kept
         return filt._run_numba(w[None] if single else w, a[None] if single else a, return_euler)
     return filt.run(w, a, return_euler=return_euler)

@@ -54,7 +54,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from mtcal.core.validate import as_float_array, check_accel_units, check_gyro_units, positive_scalar
-from mtcal.filters._kernels_common import check_engine, record, use_parallel
+from mtcal.filters._kernels_common import check_engine, check_kernel_scan, record, use_parallel
 
 __all__ = ["RamsEkfParams", "RamsEkfReference", "RamsEkfResult", "RamsEkfFilter", "run_rams_ekf",
            "measurement_model", "initial_state"]
@@ -282,11 +282,12 @@ def _float_view(value, name: str) -> np.ndarray:
 def _record(gyro_rad_s, accel_m_s2, fast: bool = False) -> tuple[np.ndarray, np.ndarray]:
     """Validated gyro and accel records as (T, N, 3) float64 arrays (views of float64 input).
 
-    ``fast``: one compiled pass per array checks finiteness and units (same messages).
+    ``fast``: type and shape only; the numba kernel scans the values (finite, units) while it
+    filters and the results are kept only if the scan passes (same messages).
     """
     if fast:
-        g = record(gyro_rad_s, "gyro_rad_s", (2, 3), "gyro")
-        a = record(accel_m_s2, "accel_m_s2", (2, 3), "accel")
+        g = record(gyro_rad_s, "gyro_rad_s", (2, 3), scan=False)
+        a = record(accel_m_s2, "accel_m_s2", (2, 3), scan=False)
         g, a = (g[None] if g.ndim == 2 else g), (a[None] if a.ndim == 2 else a)
         if g.shape != a.shape:
             raise ValueError(f"gyro_rad_s and accel_m_s2 must have the same shape, got {g.shape} and {a.shape}")
@@ -579,8 +580,10 @@ class RamsEkfFilter:
             self._kern = tuple(np.ascontiguousarray(x.T) for x in (self._v, self._par, self._perp, self._nperp,
                                                                   self._w, self._f))
         v, par, perp, nperp, wv, f = self._kern
-        bias = np.ascontiguousarray(self._bias.T)
+        theta = self._theta.copy()                        # copies: the state is written back only
+        bias = np.ascontiguousarray(self._bias.T)          # once the kernel's input scan has passed
         p = np.ascontiguousarray(self._p.T)
+        chk = np.empty((n, 3))
         has_prev = self._omega_prev is not None
         om = np.array(self._omega_prev) if has_prev else np.zeros(n)
         out_theta, out_bias, out_p = np.empty((n, m)), np.empty((n, m, 3)), np.empty((n, m))
@@ -588,9 +591,12 @@ class RamsEkfFilter:
         last_c, last_hp, last_s = self._c.T.copy(), self._hp.T.copy(), self._s.copy()
         var_z, var_m = self._var
         fn = kern.ekf_parallel if use_parallel(n, m) else kern.ekf_serial
-        fn(g, a, st, v, par, perp, nperp, wv, f, self._theta, bias, p, om, has_prev, self.use_zvd,
+        fn(g, a, st, v, par, perp, nperp, wv, f, theta, bias, p, om, has_prev, self.use_zvd,
            float(var_z), float(var_m), float(self.dt_s), float(self._q_theta), float(self._q_b), out_theta,
-           out_bias, out_p, out_y, bool(keep_innovation), last_c, last_hp, last_s)
+           out_bias, out_p, out_y, bool(keep_innovation), last_c, last_hp, last_s, chk)
+        if m:
+            check_kernel_scan(chk, g, a, accel_units=m > 1)
+        self._theta[:] = theta
         self._bias[:] = bias.T
         self._p[:] = p.T
         self._omega_prev = om
