@@ -166,7 +166,10 @@ def check_scanned(arr: np.ndarray, name: str, kind: str | None, finite: bool, ma
 
 
 def check_kernel_scan(chk: np.ndarray, gyro: np.ndarray, accel: np.ndarray, accel_units: bool) -> None:
-    """Raise like :func:`record` from a kernel's per-trial scan ``chk`` (T, 3) = (Σ 0·gyro, max |gyro|,
-    Σ 0·accel): a sum is 0 exactly when every value was finite (inf·0 and NaN·0 are NaN)."""
+    """Raise like :func:`record` from a kernel's per-trial scan ``chk`` (T, 4) = (Σ 0·gyro, max |gyro|,
+    Σ 0·accel, number of samples with |a| < MIN_MEDIAN_ACCEL_M_S2): a sum is 0 exactly when every
+    value was finite (inf·0 and NaN·0 are NaN); with no low sample the median |a| cannot be low, so
+    the (exact, strided-subset) median check of ``validate.check_accel_units`` runs only otherwise."""
     check_scanned(gyro, "gyro_rad_s", "gyro", bool(np.all(chk[:, 0] == 0.0)), float(chk[:, 1].max()))
-    check_scanned(accel, "accel_m_s2", "accel" if accel_units else None, bool(np.all(chk[:, 2] == 0.0)), 0.0)
+    units = accel_units and bool(np.any(chk[:, 3] > 0.0))
+    check_scanned(accel, "accel_m_s2", "accel" if units else None, bool(np.all(chk[:, 2] == 0.0)), 0.0)

@@ -24,6 +24,8 @@ from mtcal.filters._kernels_common import jit
 
 __all__ = ["ekf_serial", "ekf_parallel"]
 
+_LOW2 = 2.0 * 2.0 * (1.0 + 1e-9)   # see _kernels_qncf._LOW2
+
 
 @jit()
 def _trial(g, a, st, t, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, om_s, has_prev, use_zvd,
@@ -31,6 +33,7 @@ def _trial(g, a, st, t, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, om_s, 
     fw = 0.0
     fa = 0.0
     wm = 0.0
+    low = 0.0
     v0, v1, v2 = v[t, 0], v[t, 1], v[t, 2]
     f1, f2, f3 = f[t, 0], f[t, 1], f[t, 2]
     theta = theta_s[t]
@@ -70,6 +73,8 @@ def _trial(g, a, st, t, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, om_s, 
         fw = fw + ((gx * 0.0 + gy * 0.0) + gz * 0.0)     # input scan (see _kernels_qncf._trial)
         fa = fa + ((ax * 0.0 + ay * 0.0) + az * 0.0)
         wm = max(wm, max(abs(gx), max(abs(gy), abs(gz))))
+        if (ax * ax + ay * ay) + az * az < _LOW2:
+            low += 1.0
         omega = ((gx * v0 + gz * v2) + gy * v1) * dt
         # correction (Eq 28–32), scalar-information form
         cs = math.cos(theta)
@@ -123,6 +128,7 @@ def _trial(g, a, st, t, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, om_s, 
     chk[t, 0] = fw
     chk[t, 1] = wm
     chk[t, 2] = fa
+    chk[t, 3] = low
     if g.shape[1] > 0:
         last_c[t, 0], last_c[t, 1], last_c[t, 2], last_c[t, 3] = c0, c1, c2, c3
         last_hp[t, 0], last_hp[t, 1], last_hp[t, 2] = h0, h1, h2
@@ -158,4 +164,4 @@ def warm_up() -> None:
         fn(g, a, np.ones((1, m), np.bool_), vec, vec, vec, vec, vec, vec, np.zeros(n), np.zeros((n, 3)),
            np.ones((n, 10)), np.zeros(n), False, True, 1e-4, 4.0, 1e-3, 1e-10, 1e-14, np.empty((n, m)),
            np.empty((n, m, 3)), np.empty((n, m)), np.empty((n, m, 3)), True, np.empty((n, 4)), np.empty((n, 3)),
-           np.empty(n), np.empty((n, 3)))
+           np.empty(n), np.empty((n, 4)))

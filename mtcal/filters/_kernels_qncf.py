@@ -25,6 +25,8 @@ __all__ = ["qncf_serial", "qncf_parallel"]
 
 _T2 = 0.004 * 0.004   # |Δθ|² bound of the degree-2 series (TAYLOR2_MAX_INCREMENT_RAD²)
 _T3 = 0.04 * 0.04     # |Δθ|² bound of the degree-3 series (TAYLOR_MAX_INCREMENT_RAD²)
+#: |a|² below which a sample counts as "low" for the g-instead-of-m/s² check (MIN_MEDIAN_ACCEL_M_S2², with margin)
+_LOW2 = 2.0 * 2.0 * (1.0 + 1e-9)
 _C1, _C2, _C3 = -1.0 / 8.0, 1.0 / 384.0, -1.0 / 46080.0
 _S0, _S1, _S2, _S3 = 0.5, -1.0 / 48.0, 1.0 / 3840.0, -1.0 / 645120.0
 
@@ -38,12 +40,13 @@ def _trial(w, a, t, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, d
     errors of the attitude at t_k against ``truth`` ((1 or T), M, 3: yaw, pitch, roll in rad) into
     ``stats[t]`` = (sum ×3, sum of squares ×3, max |·| ×3) — what
     :meth:`mtcal.core.montecarlo.ErrorAccumulator.add_euler_zxy_errors` computes from ``q_out``.
-    ``chk[t]`` = (Σ 0·gyro, max |gyro|, Σ 0·accel): the input scan (0 sums = all finite), done
+    ``chk[t]`` = (Σ 0·gyro, max |gyro|, Σ 0·accel, count of |a| < 2 m/s²): the input scan (0 sums = all finite), done
     here off the recursion's critical path instead of in separate passes.
     """
     fw = 0.0
     fa = 0.0
     wm = 0.0
+    low = 0.0
     tr = truth[t] if truth.shape[0] > 1 else truth[0]
     s0, s1, s2 = 0.0, 0.0, 0.0
     ss0, ss1, ss2 = 0.0, 0.0, 0.0
@@ -93,7 +96,10 @@ def _trial(w, a, t, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, d
         fw = fw + ((wx * 0.0 + wy * 0.0) + wz * 0.0)
         fa = fa + ((ax * 0.0 + ay * 0.0) + az * 0.0)
         wm = max(wm, max(abs(wx), max(abs(wy), abs(wz))))
-        nrm = math.sqrt((ax * ax + ay * ay) + az * az)
+        n2 = (ax * ax + ay * ay) + az * az
+        nrm = math.sqrt(n2)
+        if n2 < _LOW2:
+            low += 1.0
         d = abs(nrm / gravity - 1.0) * 100.0
         prev = prev + (d - prev) * alpha
         gate = prev < thr
@@ -156,6 +162,7 @@ def _trial(w, a, t, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, d
     chk[t, 0] = fw
     chk[t, 1] = wm
     chk[t, 2] = fa
+    chk[t, 3] = low
     if with_stats:
         stats[t, 0] += s0
         stats[t, 1] += s1
@@ -192,4 +199,4 @@ def warm_up() -> None:
     for fn in (qncf_serial, qncf_parallel):
         fn(w, a, np.tile([1.0, 0, 0, 0], (2, 1)), np.zeros((2, 3)), np.full(2, np.nan), np.empty((2, 2, 4)),
            np.empty((2, 2)), np.empty((2, 2), np.bool_), 1.0, 2e-5, True, 1e-3, 0.02, 9.80665, 0.3, True,
-           np.zeros((1, 2, 3)), np.zeros((2, 9)), True, np.empty((2, 3)))
+           np.zeros((1, 2, 3)), np.zeros((2, 9)), True, np.empty((2, 4)))

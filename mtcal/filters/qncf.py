@@ -256,7 +256,11 @@ class QncfFilter:
         self._amd = np.full(n, np.nan)
         self._gate = np.ones(n, dtype=bool)
         self._alpha = min(self.dt_s / params.amd_tau_s, 1.0)
-        # scratch buffers (reused every step) and their row views, bound once
+        if self.engine == "numpy":
+            self._numpy_scratch(n)
+
+    def _numpy_scratch(self, n: int) -> None:
+        """Scratch buffers of the numpy engine (reused every step) and their row views, bound once."""
         self._v = np.empty((5, n))                        # v̂0 v̂1 v̂2 v̂0 v̂1
         self._pair = np.empty((2, n))
         self._sq = np.empty((4, n))
@@ -560,7 +564,7 @@ class QncfFilter:
         q = np.ascontiguousarray(self._q.T)              # copies: the state is written back only
         integ = np.ascontiguousarray(self._integral.T)   # once the input scan has passed
         amd = self._amd.copy()
-        chk = np.empty((n, 3))
+        chk = np.empty((n, 4))
         if outputs is None:
             q_out, amd_out, gate_out = np.empty((1, 1, 4)), np.empty((1, 1)), np.empty((1, 1), dtype=bool)
         else:

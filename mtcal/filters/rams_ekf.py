@@ -583,7 +583,7 @@ class RamsEkfFilter:
         theta = self._theta.copy()                        # copies: the state is written back only
         bias = np.ascontiguousarray(self._bias.T)          # once the kernel's input scan has passed
         p = np.ascontiguousarray(self._p.T)
-        chk = np.empty((n, 3))
+        chk = np.empty((n, 4))
         has_prev = self._omega_prev is not None
         om = np.array(self._omega_prev) if has_prev else np.zeros(n)
         out_theta, out_bias, out_p = np.empty((n, m)), np.empty((n, m, 3)), np.empty((n, m))
