@@ -338,7 +338,8 @@ g = np.random.default_rng(0)
 simulate._fill_standard_normal(g, np.empty((1, 4, 3)))
 simulate._apply_errors(np.empty((1, 2, 3)), 0, 2, np.zeros((1, 2, 3)), False, np.zeros(3), np.zeros((1, 3)),
                        np.zeros((1, 3)), np.zeros((1, 1, 3)), 0.0, np.zeros((1, 1, 3)), 0.0, np.zeros((1, 3)),
-                       np.zeros((1, 1, 3)), 0.0, 1.0, 0.5, np.zeros((1, 3)), True, np.zeros((1, 1, 3)), 0.0, 0, 0)
+                       np.zeros((1, 1, 3)), 0.0, 1.0, 0.5, np.zeros((1, 3)), True, np.zeros((1, 1, 3)), 0.0, 0, 0,
+                       simulate._DUMMY_GENERATOR, simulate._DUMMY_GENERATOR, simulate._DUMMY_GENERATOR, False)
 out["simulate"] = time.perf_counter() - t0
 t0 = time.perf_counter()
 montecarlo._euler_error_stats(np.tile([1.0, 0, 0, 0], (2, 2, 1)), np.zeros((1, 2, 3)), np.zeros((2, 3)),

@@ -132,21 +132,30 @@ class ErrorAccumulator:
 
 
 @_jit
+def _wrap(d):
+    """``(d + π) % 2π − π`` of :func:`mtcal.core.metrics.angle_difference`, bit for bit: the remainder
+    (Python/numpy semantics) is skipped when ``d + π`` already lies in [0, 2π), where it is the identity."""
+    x = d + np.pi
+    if 0.0 <= x < 2 * np.pi:
+        return x - np.pi
+    return x % (2 * np.pi) - np.pi
+
+
+@_jit
 def _euler_error_stats_serial(q, truth, t, out_sum, out_sumsq, out_max):
     tr = truth[t] if truth.shape[0] > 1 else truth[0]
     s0 = s1 = s2 = 0.0
     ss0 = ss1 = ss2 = 0.0
     m0, m1, m2 = out_max[t, 0], out_max[t, 1], out_max[t, 2]
-    two_pi = 2 * np.pi
     for i in range(q.shape[1]):
         q0, q1, q2, q3 = q[t, i, 0], q[t, i, 1], q[t, i, 2], q[t, i, 3]
         s00, s11, s22, s33 = q0 * q0, q1 * q1, q2 * q2, q3 * q3
         yaw = math.atan2(-2.0 * (q1 * q2 - q0 * q3), ((s00 - s11) + s22) - s33)
         pitch = math.asin(min(max(2.0 * (q2 * q3 + q0 * q1), -1.0), 1.0))
         roll = math.atan2(-2.0 * (q1 * q3 - q0 * q2), ((s00 - s11) - s22) + s33)
-        e0 = ((yaw - tr[i, 0]) + np.pi) % two_pi - np.pi
-        e1 = ((pitch - tr[i, 1]) + np.pi) % two_pi - np.pi
-        e2 = ((roll - tr[i, 2]) + np.pi) % two_pi - np.pi
+        e0 = _wrap(yaw - tr[i, 0])
+        e1 = _wrap(pitch - tr[i, 1])
+        e2 = _wrap(roll - tr[i, 2])
         s0 += e0
         s1 += e1
         s2 += e2

@@ -345,11 +345,15 @@ def _fill_standard_normal(gen, out):
 
 @_jit
 def _apply_errors(out, off, n, base, per_trial_base, bias, warm, turn_on, white, white_scale, rw, rw_scale,
-                  rw_state, gm, gm_sigma, gm_c, gm_a, gm_state, gm_first, vib, quant, roff, flags):
+                  rw_state, gm, gm_sigma, gm_c, gm_a, gm_state, gm_first, vib, quant, roff, flags,
+                  gen_white, gen_rw, gen_gm, fused):
     """Samples ``off … off+n`` of a chunk of :meth:`_SensorStream.process`, in the reference's order.
 
     ``out``, ``base`` ((1 or T), C, 3), ``warm`` (C, 3) and ``vib`` are chunk-aligned; the random
-    blocks ``white``, ``rw``, ``gm`` (T, B, 3) are read from ``roff``. ``flags`` bits: 1 warm-up,
+    blocks ``white``, ``rw``, ``gm`` (T, B, 3) are read from ``roff``, or, with ``fused`` (a whole
+    block inside the chunk: ``n`` = B), drawn here from the blocks' generators ``gen_*`` in the
+    block's C order (trial, sample, axis) — the same numbers, without the block buffers' memory
+    traffic. ``flags`` bits: 1 warm-up,
     2 turn-on, 4 white, 8 random walk, 16 Gauss–Markov, 32 vibration, 64 quantisation.
     ``rw_state`` / ``gm_state`` (T, 3) carry the walk and the last Gauss–Markov output;
     ``gm_first``: sample ``off`` is global sample 0 (stationary start ``w_0 / c``).
@@ -371,12 +375,15 @@ def _apply_errors(out, off, n, base, per_trial_base, bias, warm, turn_on, white,
                 if flags & 2:
                     x = x + turn_on[t, j]
                 if flags & 4:
-                    x = x + white_scale * white[t, roff + i, j]
+                    nw = gen_white.standard_normal() if fused else white[t, roff + i, j]
+                    x = x + white_scale * nw
                 if flags & 8:
-                    walk[j] = walk[j] + rw[t, roff + i, j] * rw_scale   # np.cumsum, continued
+                    nr = gen_rw.standard_normal() if fused else rw[t, roff + i, j]
+                    walk[j] = walk[j] + nr * rw_scale   # np.cumsum, continued
                     x = x + walk[j]
                 if flags & 16:                 # scipy lfilter([c], [1, -a]) (direct form II transposed)
-                    w = gm[t, roff + i, j] * gm_sigma
+                    ng = gen_gm.standard_normal() if fused else gm[t, roff + i, j]
+                    w = ng * gm_sigma
                     if gm_first and i == 0:
                         w = w / gm_c
                     yj = z[j] + gm_c * w
@@ -391,6 +398,10 @@ def _apply_errors(out, off, n, base, per_trial_base, bias, warm, turn_on, white,
         for j in range(3):
             rw_state[t, j] = walk[j]
             gm_state[t, j] = y[j]
+
+
+#: Stand-in for the generator arguments of :func:`_apply_errors` that a call does not draw from.
+_DUMMY_GENERATOR = np.random.Generator(np.random.PCG64(0))
 
 
 class _SensorStream:
@@ -432,8 +443,8 @@ class _SensorStream:
         cached = self._cache.get(source)
         if cached is None or cached[0] != b:
             gen = self._generator(source, b)
-            if self.engine == "numba":
-                arr = np.empty((self.trials, self.block, 3))
+            if self.engine == "numba":  # blocks are consumed one at a time: refill one buffer per source
+                arr = cached[1] if cached is not None else np.empty((self.trials, self.block, 3))
                 _fill_standard_normal(gen, arr)
             else:
                 arr = gen.standard_normal((self.trials, self.block, 3))
@@ -504,14 +515,19 @@ class _SensorStream:
         rw_scale = e.bias_random_walk * np.sqrt(self.dt)
         gm_a = float(self.gm_a)
         gm_c = float(np.sqrt(1.0 - gm_a * gm_a))
+        sources = [(4, "white"), (8, "random_walk"), (16, "instability")]
         for b in range(start // self.block, (stop - 1) // self.block + 1):
             lo, hi = max(start, b * self.block), min(stop, (b + 1) * self.block)
-            white = self._block("white", b) if flags & 4 else none3
-            rw = self._block("random_walk", b) if flags & 8 else none3
-            gm = self._block("instability", b) if flags & 16 else none3
-            _apply_errors(out, lo - start, hi - lo, base, base.shape[0] > 1, self.bias, warm, turn_on, white,
-                          float(white_scale), rw, float(rw_scale), self._rw, gm, float(e.bias_instability), gm_c,
-                          gm_a, self._gm, lo == 0, vib, float(e.quantization), lo - b * self.block, flags)
+            fused = hi - lo == self.block     # a whole block inside this chunk: draw while applying
+            arrays, gens = [], []
+            for bit, source in sources:
+                on = bool(flags & bit)
+                arrays.append(self._block(source, b) if on and not fused else none3)
+                gens.append(self._generator(source, b) if on and fused else _DUMMY_GENERATOR)
+            _apply_errors(out, lo - start, hi - lo, base, base.shape[0] > 1, self.bias, warm, turn_on, arrays[0],
+                          float(white_scale), arrays[1], float(rw_scale), self._rw, arrays[2],
+                          float(e.bias_instability), gm_c, gm_a, self._gm, lo == 0, vib, float(e.quantization),
+                          lo - b * self.block, flags, gens[0], gens[1], gens[2], fused)
         return out
 
     def _gauss_markov(self, start: int, stop: int) -> np.ndarray:

@@ -19,6 +19,7 @@ import math
 import numpy as np
 from numba import prange
 
+from mtcal.core.montecarlo import _wrap
 from mtcal.filters._kernels_common import jit
 
 __all__ = ["qncf_serial", "qncf_parallel"]
@@ -53,7 +54,6 @@ def _trial(w, a, t, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, d
     m0, m1, m2 = 0.0, 0.0, 0.0
     if with_stats:
         m0, m1, m2 = stats[t, 6], stats[t, 7], stats[t, 8]
-    two_pi = 2 * np.pi
     q0 = q[t, 0]
     q1 = q[t, 1]
     q2 = q[t, 2]
@@ -78,9 +78,9 @@ def _trial(w, a, t, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, d
             yaw = math.atan2(-2.0 * (q1 * q2 - q0 * q3), ((s00 - s11) + s22) - s33)
             pitch = math.asin(min(max(2.0 * (q2 * q3 + q0 * q1), -1.0), 1.0))
             roll = math.atan2(-2.0 * (q1 * q3 - q0 * q2), ((s00 - s11) - s22) + s33)
-            e0 = ((yaw - tr[k, 0]) + np.pi) % two_pi - np.pi
-            e1 = ((pitch - tr[k, 1]) + np.pi) % two_pi - np.pi
-            e2 = ((roll - tr[k, 2]) + np.pi) % two_pi - np.pi
+            e0 = _wrap(yaw - tr[k, 0])
+            e1 = _wrap(pitch - tr[k, 1])
+            e2 = _wrap(roll - tr[k, 2])
             s0 += e0
             s1 += e1
             s2 += e2

@@ -120,3 +120,10 @@ def test_qncf_run_error_stats_equals_run_then_accumulate():
     with pytest.raises(ValueError, match="engine='numba'"):
         QncfFilter(rec.q_ws_true[0], traj.dt_s, trials=4, engine="numpy").run_error_stats(
             rec.gyro_rad_s, rec.accel_m_s2, truth, a1)
+
+
+def test_compiled_wrap_equals_angle_difference_bit_for_bit():
+    d = np.concatenate([np.linspace(-20.0, 20.0, 20001), [np.pi, -np.pi, 0.0, -0.0, 2 * np.pi, -2 * np.pi,
+                                                          np.nextafter(np.pi, 0), np.nextafter(-np.pi, 0)]])
+    got = np.array([montecarlo._wrap(x) for x in d])
+    np.testing.assert_array_equal(got, metrics.angle_difference(d, 0.0))
