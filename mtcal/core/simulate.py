@@ -60,7 +60,17 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")  # see mtcal.filters._kernels_common
+# numba settings read when numba is first imported (mtcal.core.simulate is mtcal's first numba importer;
+# mtcal.filters._kernels_common explains both): passive OpenMP waiting, and a writable cache directory
+# when neither the package's __pycache__ nor ~/.cache can take numba's cache (read-only installs).
+os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
+if not os.environ.get("NUMBA_CACHE_DIR"):
+    _here, _home = os.path.dirname(os.path.abspath(__file__)), os.path.expanduser("~")
+    if not os.access(_here, os.W_OK) and not os.access(os.path.join(_home, ".cache") if os.path.isdir(
+            os.path.join(_home, ".cache")) else _home, os.W_OK):
+        import tempfile
+
+        os.environ["NUMBA_CACHE_DIR"] = os.path.join(tempfile.gettempdir(), "mtcal-numba-cache")
 import numba  # noqa: E402
 
 from mtcal.core import rotations

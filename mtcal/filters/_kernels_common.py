@@ -22,10 +22,14 @@ __all__ = ["jit", "ENGINES", "check_engine", "use_parallel", "record", "check_sc
 ENGINES = ("numba", "numpy")
 
 if not os.environ.get("NUMBA_CACHE_DIR"):
-    # numba falls back from the package's __pycache__ to a user-wide cache dir on its own; if even the
-    # user's home is not writable, point it at a temporary directory before numba reads its config
-    _home_cache = os.path.join(os.path.expanduser("~"), ".cache")
-    if not os.access(_home_cache if os.path.isdir(_home_cache) else os.path.expanduser("~"), os.W_OK):
+    # numba falls back from the package's __pycache__ to a user-wide cache dir on its own; if neither is
+    # writable, point it at a temporary directory before numba reads its config (mtcal.core.simulate,
+    # usually imported first, does the same); if numba was configured already, jit() still falls back
+    # to compiling without a cache
+    _here, _home = os.path.dirname(os.path.abspath(__file__)), os.path.expanduser("~")
+    _home_cache = os.path.join(_home, ".cache")
+    if not os.access(_here, os.W_OK) and not os.access(_home_cache if os.path.isdir(_home_cache) else _home,
+                                                       os.W_OK):
         os.environ["NUMBA_CACHE_DIR"] = os.path.join(tempfile.gettempdir(), "mtcal-numba-cache")
 
 # numba's OpenMP threading layer spins its workers after every parallel region (GNU OpenMP's active

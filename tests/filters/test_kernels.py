@@ -242,3 +242,22 @@ def test_jit_falls_back_to_no_cache_when_caching_is_impossible():
 
 def _double(x):
     return 2.0 * x
+
+
+def test_kernels_work_when_no_cache_directory_is_writable(tmp_path):
+    """A read-only install with an unwritable home: the import picks a temporary cache dir and runs."""
+    import os
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[2]
+    env = dict(os.environ, HOME=str(tmp_path / "no-home"), PYTHONPATH=str(root))
+    env.pop("NUMBA_CACHE_DIR", None)
+    code = ("import os, numpy as np; from mtcal.filters.qncf import qncf; "
+            "r = qncf(np.zeros((50, 3)), np.tile([0, 0, 9.80665], (50, 1)), 1e-3); "
+            "print(r.q_ws.shape, os.environ.get('NUMBA_CACHE_DIR') is not None or os.access(os.path.dirname("
+            "__import__('mtcal').__file__), os.W_OK))")
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=300)
+    assert out.returncode == 0, out.stderr[-2000:]
+    assert out.stdout.strip() == "(50, 4) True"
