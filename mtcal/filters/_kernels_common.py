@@ -177,3 +177,36 @@ def check_kernel_scan(chk: np.ndarray, gyro: np.ndarray, accel: np.ndarray, acce
     check_scanned(gyro, "gyro_rad_s", "gyro", bool(np.all(chk[:, 0] == 0.0)), float(chk[:, 1].max()))
     units = accel_units and bool(np.any(chk[:, 3] > 0.0))
     check_scanned(accel, "accel_m_s2", "accel" if units else None, bool(np.all(chk[:, 2] == 0.0)), 0.0)
+
+
+def warm_up_all() -> dict[str, float]:
+    """Compile (or load from numba's cache) every compiled kernel of mtcal; seconds per group.
+
+    E.g. once after installing (``python -c "from mtcal.filters._kernels_common import
+    warm_up_all; print(warm_up_all())"``), so that the first notebook or CLI call does not pay
+    the compile time (~10-20 s cold on 2 cores).
+    """
+    import time
+
+    from mtcal.core import montecarlo, simulate
+    from mtcal.filters import _kernels_ekf, _kernels_marg, _kernels_qncf
+
+    out = {}
+    for name, fn in (("qncf", _kernels_qncf.warm_up), ("rams_ekf", _kernels_ekf.warm_up),
+                     ("marg", _kernels_marg.warm_up)):
+        t0 = time.perf_counter()
+        fn()
+        out[name] = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    every = simulate.SensorErrors(bias_sigma=1e-4, noise_density=1e-4, bias_random_walk=1e-5, bias_instability=1e-5,
+                                  warmup_bias=1e-4, quantization=1e-6, vibration_amplitude=1e-4,
+                                  vibration_freq_hz=10.0)
+    t = np.arange(300) * 1e-3
+    simulate.simulate_imu(simulate.Trajectory(t, np.tile([1.0, 0.0, 0.0, 0.0], (t.size, 1))),
+                          simulate.ImuErrorModel(gyro=every), np.random.default_rng(0), trials=2)
+    out["simulate"] = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    montecarlo._euler_error_stats(np.tile([1.0, 0.0, 0.0, 0.0], (2, 2, 1)), np.zeros((1, 2, 3)), np.zeros((2, 3)),
+                                  np.zeros((2, 3)), np.zeros((2, 3)))
+    out["metrics"] = time.perf_counter() - t0
+    return out

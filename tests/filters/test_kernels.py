@@ -261,3 +261,9 @@ def test_kernels_work_when_no_cache_directory_is_writable(tmp_path):
     out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=300)
     assert out.returncode == 0, out.stderr[-2000:]
     assert out.stdout.strip() == "(50, 4) True"
+
+
+def test_warm_up_all_compiles_every_kernel_group():
+    times = _kernels_common.warm_up_all()
+    assert set(times) == {"qncf", "rams_ekf", "marg", "simulate", "metrics"}
+    assert all(v >= 0.0 for v in times.values())
