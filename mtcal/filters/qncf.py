@@ -442,8 +442,8 @@ class QncfFilter:
         return 2 if bound <= TAYLOR2_MAX_INCREMENT_RAD else (3 if bound <= TAYLOR_MAX_INCREMENT_RAD else 0)
 
     def _prepare(self, x, name: str, ndim_single: int, kind: str | None = None) -> np.ndarray:
-        # numba engine: one compiled pass checks finiteness and units (same messages as the numpy path)
-        # (the numba kernel scans the values itself: record() checks type and shape only)
+        # numba engine: record() checks type and shape only; the kernel scans the values (finite,
+        # units) while it filters and raises with the numpy path's messages before keeping anything
         arr = record(x, name, (1, 2, 3), kind, scan=False) if self.engine == "numba" else _as_input(x, name)
         if self._single and arr.ndim == ndim_single:
             arr = arr[None]
@@ -483,7 +483,7 @@ class QncfFilter:
         a = self._prepare(accel_m_s2, "accel_m_s2", 2, "accel")
         if w.shape != a.shape:
             raise ValueError(f"gyro_rad_s and accel_m_s2 must have the same shape, got {w.shape} and {a.shape}")
-        if fast:  # units already checked by _prepare
+        if fast:  # values (finite, units) are checked by the kernel's scan
             return self._run_numba(w, a, return_euler)
         check_gyro_units(w)
         if w.shape[1] > 1:  # one sample may legitimately be small (free fall, vibration): judge records only
@@ -518,7 +518,6 @@ class QncfFilter:
         if self._single:
             return QncfResult(q_out[0], euler[0], amd_out[0], gate_out[0])
         return QncfResult(q_out, euler, amd_out, gate_out)
-
 
     def run_error_stats(self, gyro_rad_s, accel_m_s2, truth_euler_rad, errors) -> None:
         """Advance the filter over a chunk and fold its Eq 8 errors into ``errors``, keeping no history.
