@@ -264,3 +264,8 @@ def test_mc_main_reports_wall_time_and_rss(capsys):
     if printed["vm_hwm_mb"] is not None:
         assert printed["vm_hwm_mb"] > 10
     assert len(out["rmse_deg_median"]) == 3
+
+
+def test_parallel_capacity_is_a_speedup_ratio():
+    cap = run.parallel_capacity(repeats=1)
+    assert 0.05 < cap < 4.0  # 1 thread time / 2 threads time of the same work
