@@ -9,6 +9,13 @@ a user would write) so that throughputs compare like with like:
   ``Q[t] = Mahony().updateIMU(Q[t-1], gyr[t], acc[t])``.
 * :func:`imufusion_loop` — ``imufusion.Ahrs.update_no_magnetometer`` per sample
   (C library; gyro in °/s, accelerometer in g, as the library expects).
+* :func:`vqf_batch` — ``vqf.VQF(Ts).updateBatch(gyr, acc)`` and
+  ``vqf.BasicVQF(Ts).updateBatch(gyr, acc)`` (vqf 2.1, C++ loop over the
+  record; gyro in rad/s, accelerometer in m/s² — mtcal's units, no conversion;
+  ``quat6D`` is sensor → earth, z up, scalar first, like mtcal's ``q_ws``).
+* :func:`memory_floor` — not a filter: a compiled trial-parallel pass that
+  reads gyro + accel and writes a quaternion-sized output, i.e. the least
+  memory traffic any filter of these records must do.
 * :func:`filterpy_ekf_loop` — ``filterpy.kalman.ExtendedKalmanFilter`` with the
   4-state RAMS model ``x = [θ, b_x, b_y, b_z]`` (wang2022sensors Eq 24–33): predict with
   ``u = ω``, update with ``h(θ) = R(θ, v)ᵀ ā0`` (Joseph form inside filterpy).
@@ -32,7 +39,8 @@ import numpy as np
 from mtcal.filters.rams_ekf import RamsEkfParams
 
 __all__ = ["ekf_matrices", "ekf_measurement", "ahrs_mahony_batch", "ahrs_mahony_loop", "imufusion_loop",
-           "filterpy_ekf_loop", "numpy_ekf_loop", "numpy_mahony_batched"]
+           "vqf_batch", "memory_floor", "numpy_copy_floor", "filterpy_ekf_loop", "numpy_ekf_loop",
+           "numpy_mahony_batched"]
 
 _G = 9.80665
 
@@ -128,6 +136,60 @@ def imufusion_loop(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: float, 
         q[k] = ahrs.get_quaternion()  # attitude at t_k, before sample k
         ahrs.update_no_magnetometer(gyro_deg[k], accel_g[k])
     return q
+
+
+# --------------------------------------------------------------------------- vqf
+def vqf_batch(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: float, basic: bool = False) -> np.ndarray:
+    """vqf 2.1 ``VQF`` (or ``BasicVQF``) ``updateBatch`` over a record (N, 3) → ``quat6D`` (N, 4).
+
+    Units: vqf takes rad/s and m/s² (mtcal's), so the arrays are passed as they are
+    (contiguous float64 copies only if needed — vqf requires them).
+    """
+    import vqf
+
+    cls = vqf.BasicVQF if basic else vqf.VQF
+    filt = cls(dt_s)
+    out = filt.updateBatch(np.ascontiguousarray(gyro_rad_s, dtype=float), np.ascontiguousarray(accel_m_s2, dtype=float))
+    return out["quat6D"]
+
+
+# --------------------------------------------------------------------------- memory floor
+_FLOOR_KERNEL = None
+
+
+def memory_floor(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray) -> np.ndarray:
+    """Read gyro + accel (T, N, 3), write a (T, N, 4) output: the memory traffic floor of a filter.
+
+    A numba ``prange`` kernel over trials (numba's threads, like mtcal's kernels);
+    the output is a trivial function of the inputs so that nothing is optimised away.
+    """
+    global _FLOOR_KERNEL
+    if _FLOOR_KERNEL is None:
+        import numba
+
+        @numba.njit(parallel=True, cache=True)
+        def floor(g, a, out):
+            for t in numba.prange(g.shape[0]):
+                for k in range(g.shape[1]):
+                    out[t, k, 0] = g[t, k, 0] + a[t, k, 0]
+                    out[t, k, 1] = g[t, k, 1] + a[t, k, 1]
+                    out[t, k, 2] = g[t, k, 2] + a[t, k, 2]
+                    out[t, k, 3] = a[t, k, 2]
+        _FLOOR_KERNEL = floor
+    out = np.empty(gyro_rad_s.shape[:-1] + (4,))
+    g3 = gyro_rad_s if gyro_rad_s.ndim == 3 else gyro_rad_s[None]
+    a3 = accel_m_s2 if accel_m_s2.ndim == 3 else accel_m_s2[None]
+    _FLOOR_KERNEL(g3, a3, out if out.ndim == 3 else out[None])
+    return out
+
+
+def numpy_copy_floor(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray) -> np.ndarray:
+    """The same traffic with numpy copies (one thread): gyro and accel into a (T, N, 4) output."""
+    out = np.empty(gyro_rad_s.shape[:-1] + (4,))
+    out[..., :3] = gyro_rad_s
+    out[..., 3] = accel_m_s2[..., 2]
+    np.add(out[..., :3], accel_m_s2, out=out[..., :3])
+    return out
 
 
 # --------------------------------------------------------------------------- 4-state EKF

@@ -1,34 +1,41 @@
-"""``make bench``: mtcal's batched filters against the libraries users would pick instead.
+"""``make bench``: mtcal's filters against the libraries users would pick instead, and the issue #17 targets.
 
 One process, one synthetic scenario (``benchmarks/mc_stream.py``: 60 s @ 1 kHz
 pitch step schedule, wang2023cja tactical MEMS IMU, simulated with
 :class:`mtcal.core.simulate.ImuStream` from a seeded generator), every method side by
 side on the same numbers:
 
-* the 1000-trial record is the first ``batch_record_s`` seconds of all trials
-  (one :class:`~mtcal.core.simulate.ImuStream` chunk; 1000 × 60 s would need
-  1.4 GB per array — the full length is the streaming Monte Carlo's job);
-* the single-trial record is one 60 s realisation (``simulate_imu``, same
-  scenario, error model and seed);
+* single trial: one 60 s realisation — mtcal QNCF and RAMS EKF (compiled
+  kernels, and the numpy reference engine for the before/after), ``vqf``
+  ``VQF`` and ``BasicVQF`` (``updateBatch``), ``imufusion``, ``ahrs``, ``filterpy``;
+* batched: the first ``batch_record_s`` seconds of 1000 trials (one
+  :class:`~mtcal.core.simulate.ImuStream` chunk) — mtcal on 2 threads and on 1
+  thread (scaling), the memory-traffic floor (read gyro + accel, write q:
+  compiled 2 threads, and numpy copies);
 * slow per-sample Python loops (ahrs, filterpy, numpy EKF) run on the first
-  ``loop_record_s`` seconds only (their cost per sample is constant, so the
-  throughput is the same; stated in the table).
+  ``loop_record_s`` seconds only (constant cost per sample; stated in the table);
+* in subprocesses (own wall time and peak RSS): the streaming 1000 × 60 s
+  Monte Carlo (``mc_stream.py``), numba compile time with a cold and a warm
+  cache, and the CLI end to end on a generated 1-hour 1 kHz log, CSV and Parquet
+  (``mtcal angle`` and, if this checkout has it, ``mtcal attitude``;
+  ``cli_case.py``).
 
-Timing: ``time.perf_counter`` around the call, inputs already in memory; calls
-shorter than 1 s are repeated (``--repeats``) and the fastest is kept (the
-machine is shared). Memory: a second, untimed call under ``tracemalloc`` gives
-the peak of Python + numpy allocations during the call (inputs excluded, outputs
-included). The streaming Monte Carlo runs in a subprocess so that its peak RSS
-(``getrusage``) is its own.
+Timing: ``time.perf_counter`` around the call, inputs already in memory,
+kernels compiled beforehand (compile time is its own row); calls shorter than
+1 s are repeated (``--repeats``) and the fastest is kept (the machine is
+shared: the load average is printed before and after). Memory: a second,
+untimed call under ``tracemalloc`` gives the peak of Python + numpy
+allocations during the call (inputs excluded, outputs included).
 
-Writes ``data/benchmarks.csv`` and ``benchmarks/profile_summary.txt`` (cProfile
-of the batched filters at 1000 trials + per-step cost versus trial count).
-Numbers depend on the machine and its load; they are not checked by CI.
+Writes ``data/benchmarks.csv`` and ``benchmarks/profile_summary.txt``
+(cProfile of the batched filters and of the streaming Monte Carlo, per-step
+cost versus trial count). Numbers depend on the machine and its load; they are
+not checked by CI.
 
 Usage::
 
-    .venv/bin/python benchmarks/run.py            # full sizes (≈ 2–3 min on 2 cores)
-    .venv/bin/python benchmarks/run.py --quick    # small sizes, a few seconds
+    .venv/bin/python benchmarks/run.py            # full sizes (a few minutes on 2 cores)
+    .venv/bin/python benchmarks/run.py --quick    # small sizes
 """
 
 from __future__ import annotations
@@ -42,6 +49,7 @@ import platform
 import pstats
 import subprocess
 import sys
+import tempfile
 import time
 import tracemalloc
 from dataclasses import dataclass
@@ -58,6 +66,7 @@ if str(HERE) not in sys.path:
 
 import anchors  # noqa: E402
 import mc_stream  # noqa: E402
+import numba  # noqa: E402
 from mtcal.filters.qncf import QncfFilter, QncfParams  # noqa: E402
 from mtcal.core.simulate import ImuStream, simulate_imu  # noqa: E402
 
@@ -67,36 +76,40 @@ except ImportError:  # pragma: no cover - depends on the checkout
     RamsEkfParams = run_rams_ekf = None
 
 __all__ = ["Sizes", "FULL", "QUICK", "BenchInputs", "make_inputs", "Measurement", "measure",
-           "benchmark_methods", "results_table", "evaluate_targets", "main"]
+           "benchmark_methods", "results_table", "evaluate_targets", "main", "TARGETS", "ANCHORS"]
 
 FS_HZ = 1000.0
 DT_S = 1.0 / FS_HZ
 SEED = 2023
 #: Anchors the ratio columns refer to (method names in the table).
-ANCHORS = {"ahrs_mahony": "ahrs Mahony updateIMU loop", "imufusion": "imufusion Ahrs loop",
-           "filterpy_ekf": "filterpy EKF loop"}
-#: Targets of issue #7.
-TARGETS = {"qncf_vs_ahrs": 700.0, "qncf_vs_imufusion": 10.0, "qncf_throughput": 7e6,
-           "ekf_vs_filterpy": 300.0, "mc_wall_s": 30.0, "mc_rss_mb": 1024.0}
+ANCHORS = {"basicvqf": "vqf BasicVQF updateBatch", "vqf": "vqf VQF updateBatch", "imufusion": "imufusion Ahrs loop",
+           "ahrs_mahony": "ahrs Mahony updateIMU loop", "filterpy_ekf": "filterpy EKF loop"}
+#: Targets of issue #17 (single-trial ratios, batched throughput, thread scaling, Monte Carlo, CLI).
+TARGETS = {"x_basicvqf": 2.0, "x_vqf": 5.0, "x_imufusion": 20.0, "batched_throughput": 45e6,
+           "thread_scaling": 1.6, "mc_wall_s": 5.0, "mc_rss_mb": 1024.0, "cli_wall_s": 5.0, "cli_rss_mb": 1536.0}
+QNCF = "mtcal QNCF"
+EKF = "mtcal RAMS EKF"
 
 
 @dataclass(frozen=True)
 class Sizes:
     """Problem sizes (s of data at 1 kHz, trial counts)."""
 
-    record_s: float = 60.0         # single-trial record (mtcal, imufusion)
+    record_s: float = 60.0         # single-trial record
     batch_trials: int = 1000       # trials of the batched runs
     batch_record_s: float = 10.0   # record length of the batched runs (1000 × 60 s would be 1.4 GB per array)
     loop_record_s: float = 20.0    # record length of slow per-sample Python loops
+    numpy_batch_record_s: float = 2.0  # numpy reference engine, batched (before/after row)
     profile_s: float = 2.0         # record length of the cProfile runs (1000 trials)
     mc_trials: int = 1000
     mc_duration_s: float = 60.0
+    cli_hours: float = 1.0         # CLI log length (h at 1 kHz); 0 skips the CLI cases
     repeats: int = 3
 
 
 FULL = Sizes()
-QUICK = Sizes(record_s=4.0, batch_trials=1000, batch_record_s=0.5, loop_record_s=1.0, profile_s=0.2,
-              mc_trials=1000, mc_duration_s=2.0, repeats=3)
+QUICK = Sizes(record_s=4.0, batch_trials=1000, batch_record_s=0.5, loop_record_s=1.0, numpy_batch_record_s=0.2,
+              profile_s=0.2, mc_trials=1000, mc_duration_s=2.0, cli_hours=0.01, repeats=3)
 
 
 # --------------------------------------------------------------------------- data
@@ -143,6 +156,7 @@ class Measurement:
     peak_mb: float
     memory: str = "tracemalloc"
     note: str = ""
+    threads: int = 1
 
     @property
     def trial_samples(self) -> int:
@@ -155,7 +169,7 @@ class Measurement:
 
 
 def measure(method: str, library: str, fn: Callable[[], object], trials: int, samples: int,
-            repeats: int = 3, note: str = "") -> Measurement:
+            repeats: int = 3, note: str = "", threads: int = 1, trace_memory: bool = True) -> Measurement:
     """Best wall time over up to ``repeats`` calls (no new call once 4 s have been spent),
     then one untimed call under tracemalloc for the peak allocation (MB)."""
     best, spent = np.inf, 0.0
@@ -166,149 +180,329 @@ def measure(method: str, library: str, fn: Callable[[], object], trials: int, sa
         best, spent = min(best, dt), spent + dt
         if spent >= 4.0:
             break
-    tracemalloc.start()
-    tracemalloc.reset_peak()
-    base = tracemalloc.get_traced_memory()[0]
-    fn()
-    peak = tracemalloc.get_traced_memory()[1] - base
-    tracemalloc.stop()
-    return Measurement(method, library, trials, samples, best, peak / 2**20, note=note)
+    peak = np.nan
+    if trace_memory:
+        tracemalloc.start()
+        tracemalloc.reset_peak()
+        base = tracemalloc.get_traced_memory()[0]
+        fn()
+        peak = (tracemalloc.get_traced_memory()[1] - base) / 2**20
+        tracemalloc.stop()
+    return Measurement(method, library, trials, samples, best, peak, note=note, threads=threads)
 
 
-def _qncf_call(gyro, accel, q0) -> Callable[[], object]:
+def _qncf_call(gyro, accel, q0, engine: str = "numba") -> Callable[[], object]:
     trials = gyro.shape[0]
 
     def call():
-        return QncfFilter(q0, DT_S, QncfParams(), trials=trials).run(gyro, accel, return_euler=False)
+        return QncfFilter(q0, DT_S, QncfParams(), trials=trials, engine=engine).run(gyro, accel, return_euler=False)
     return call
 
 
-def _ekf_call(gyro, accel, is_static, axis, accel0) -> Callable[[], object]:
+def _ekf_call(gyro, accel, is_static, axis, accel0, engine: str = "numba") -> Callable[[], object]:
     def call():
         return run_rams_ekf(gyro, accel, is_static, axis, accel0, DT_S, RamsEkfParams(),
-                            keep_innovation=False)
+                            keep_innovation=False, engine=engine)
     return call
+
+
+class _Threads:
+    """Context manager: run with ``n`` numba threads (restored afterwards)."""
+
+    def __init__(self, n: int):
+        self.n = max(1, min(int(n), numba.config.NUMBA_NUM_THREADS))
+
+    def __enter__(self):
+        self.before = numba.get_num_threads()
+        numba.set_num_threads(self.n)
+        return self.n
+
+    def __exit__(self, *exc):
+        numba.set_num_threads(self.before)
+
+
+def warm_kernels(inp: BenchInputs) -> None:
+    """Compile (or load from cache) every kernel the timed calls use, outside the timings."""
+    from mtcal.filters import _kernels_ekf, _kernels_qncf
+
+    _kernels_qncf.warm_up()
+    _kernels_ekf.warm_up()
+    _qncf_call(inp.gyro_t[:2, :200], inp.accel_t[:2, :200], inp.q0)()
+    _qncf_call(inp.gyro_1[None, :200], inp.accel_1[None, :200], inp.q0)()
+    anchors.memory_floor(inp.gyro_t[:2, :10], inp.accel_t[:2, :10])
+    if run_rams_ekf is not None:
+        m = min(200, inp.gyro_t.shape[1])
+        _ekf_call(inp.gyro_t[:2, :m], inp.accel_t[:2, :m], inp.is_static[:m], inp.axis, inp.accel0_t[:2])()
 
 
 def benchmark_methods(inp: BenchInputs, sizes: Sizes, log=print) -> list[Measurement]:
-    """Time every method on ``inp``; returns the table rows (MC excluded)."""
+    """Time every in-process method on ``inp``; returns the table rows (subprocess cases excluded)."""
     n = inp.gyro_1.shape[0]
     t, m = inp.gyro_t.shape[:2]
     nl = min(n, int(round(sizes.loop_record_s * FS_HZ)))
+    mn = min(m, int(round(sizes.numpy_batch_record_s * FS_HZ)))
     loop_note = f"first {nl / FS_HZ:g} s of the {n / FS_HZ:g} s record (per-sample loop)"
     g1, a1, gl, al, st = inp.gyro_1, inp.accel_1, inp.gyro_1[:nl], inp.accel_1[:nl], inp.is_static
     r = sizes.repeats
     rows = []
+    warm_kernels(inp)
+    two = min(2, numba.config.NUMBA_NUM_THREADS)
 
     def add(*args, **kw):
         row = measure(*args, repeats=r, **kw)
-        log(f"  {row.method:34s} {row.trials:5d} x {row.samples:6d}  {row.seconds:8.3f} s")
+        log(f"  {row.method:38s} {row.trials:5d} x {row.samples:6d} {row.threads}t {row.seconds:8.3f} s")
         rows.append(row)
 
-    add("mtcal QNCF batched", "mtcal", _qncf_call(g1[None], a1[None], inp.q0), 1, n,
-        note="QncfFilter.run, quaternions only")
-    add("mtcal QNCF batched", "mtcal", _qncf_call(inp.gyro_t, inp.accel_t, inp.q0), t, m,
-        note="QncfFilter.run, quaternions only")
+    # single trial, 60 s
+    add(QNCF, "mtcal", _qncf_call(g1[None], a1[None], inp.q0), 1, n, note="QncfFilter.run, numba kernel")
     if run_rams_ekf is not None:
-        add("mtcal RAMS EKF batched", "mtcal", _ekf_call(g1[None], a1[None], st, inp.axis, inp.accel0_1),
-            1, n, note="run_rams_ekf, keep_innovation=False")
-        add("mtcal RAMS EKF batched", "mtcal",
-            _ekf_call(inp.gyro_t, inp.accel_t, st[:m], inp.axis, inp.accel0_t), t, m,
-            note="run_rams_ekf, keep_innovation=False")
-    else:
-        log("  mtcal RAMS EKF batched: not available (mtcal.filters.rams_ekf not importable)")
+        add(EKF, "mtcal", _ekf_call(g1, a1, st, inp.axis, inp.accel0_1), 1, n,
+            note="run_rams_ekf, numba kernel, keep_innovation=False")
+    add(ANCHORS["basicvqf"], "vqf", lambda: anchors.vqf_batch(g1, a1, DT_S, basic=True), 1, n,
+        note="C++ updateBatch (rad/s, m/s2)")
+    add(ANCHORS["vqf"], "vqf", lambda: anchors.vqf_batch(g1, a1, DT_S), 1, n, note="C++ updateBatch (rad/s, m/s2)")
+    add(ANCHORS["imufusion"], "imufusion", lambda: anchors.imufusion_loop(g1, a1, DT_S, q0=inp.q0), 1, n,
+        note="C library, Python loop over samples (deg/s, g)")
+    add(QNCF + " numpy engine", "mtcal", _qncf_call(gl[None], al[None], inp.q0, "numpy"), 1, nl,
+        note="reference engine (before); " + loop_note)
+    if run_rams_ekf is not None:
+        add(EKF + " numpy engine", "mtcal", _ekf_call(gl, al, st[:nl], inp.axis, inp.accel0_1, "numpy"), 1, nl,
+            note="reference engine (before); " + loop_note)
     add("ahrs Mahony batch API", "ahrs", lambda: anchors.ahrs_mahony_batch(gl, al, DT_S, q0=inp.q0), 1, nl,
         note=loop_note)
     add(ANCHORS["ahrs_mahony"], "ahrs", lambda: anchors.ahrs_mahony_loop(gl, al, DT_S, q0=inp.q0), 1, nl,
         note=loop_note)
-    add(ANCHORS["imufusion"], "imufusion", lambda: anchors.imufusion_loop(g1, a1, DT_S, q0=inp.q0), 1, n,
-        note="C library, Python loop over samples")
     add(ANCHORS["filterpy_ekf"], "filterpy",
-        lambda: anchors.filterpy_ekf_loop(gl, al, st[:nl], inp.axis, inp.accel0_1, DT_S), 1, nl,
-        note=loop_note)
+        lambda: anchors.filterpy_ekf_loop(gl, al, st[:nl], inp.axis, inp.accel0_1, DT_S), 1, nl, note=loop_note)
     add("numpy EKF loop", "numpy",
-        lambda: anchors.numpy_ekf_loop(gl, al, st[:nl], inp.axis, inp.accel0_1, DT_S), 1, nl,
-        note=loop_note)
+        lambda: anchors.numpy_ekf_loop(gl, al, st[:nl], inp.axis, inp.accel0_1, DT_S), 1, nl, note=loop_note)
+    # batched: 1000 trials, 2 threads and 1 thread
+    CAPACITY["before"] = parallel_capacity()
+    log(f"  parallel capacity (2-thread speed-up of a compute-only toy kernel): {CAPACITY['before']:.2f}x")
+    for threads in sorted({two, 1}, reverse=True):
+        with _Threads(threads):
+            add(QNCF, "mtcal", _qncf_call(inp.gyro_t, inp.accel_t, inp.q0), t, m, threads=threads,
+                note="QncfFilter.run, numba trial-parallel kernel")
+            if run_rams_ekf is not None:
+                add(EKF, "mtcal", _ekf_call(inp.gyro_t, inp.accel_t, st[:m], inp.axis, inp.accel0_t), t, m,
+                    threads=threads, note="run_rams_ekf, numba trial-parallel kernel")
+            add("memory floor (compiled)", "numba", lambda: anchors.memory_floor(inp.gyro_t, inp.accel_t), t, m,
+                threads=threads, note="read gyro+accel, write (T, M, 4); prange over trials")
+    CAPACITY["after"] = parallel_capacity()
+    log(f"  parallel capacity after the batched rows: {CAPACITY['after']:.2f}x")
+    add("memory floor (numpy copies)", "numpy", lambda: anchors.numpy_copy_floor(inp.gyro_t, inp.accel_t), t, m,
+        note="read gyro+accel, write (T, M, 4) with numpy slice copies")
+    add(QNCF + " numpy engine", "mtcal", _qncf_call(inp.gyro_t[:, :mn], inp.accel_t[:, :mn], inp.q0, "numpy"),
+        t, mn, note="reference engine (before)")
+    if run_rams_ekf is not None:
+        add(EKF + " numpy engine", "mtcal",
+            _ekf_call(inp.gyro_t[:, :mn], inp.accel_t[:, :mn], st[:mn], inp.axis, inp.accel0_t, "numpy"), t, mn,
+            note="reference engine (before)")
     add("numpy Mahony batched", "numpy",
-        lambda: anchors.numpy_mahony_batched(inp.gyro_t, inp.accel_t, DT_S, q0=inp.q0), t, m,
+        lambda: anchors.numpy_mahony_batched(inp.gyro_t[:, :mn], inp.accel_t[:, :mn], DT_S, q0=inp.q0), t, mn,
         note="plain numpy over trials")
     return rows
+
+
+_PROBE = None
+#: 2-thread speed-up of the toy kernel measured just before and after the batched rows.
+CAPACITY: dict[str, float] = {"before": float("nan"), "after": float("nan")}
+
+
+def parallel_capacity(repeats: int = 3) -> float:
+    """Speed-up from 1 to 2 numba threads of a pure-compute toy kernel (no memory traffic), best of
+    ``repeats``: how much of a second core this shared machine gives right now (2.0 = all of it)."""
+    global _PROBE
+    if _PROBE is None:
+        @numba.njit(parallel=True)
+        def probe(n, out):
+            for t in numba.prange(out.size):
+                x = 1.0 + t
+                for _ in range(n):
+                    x = x * 1.0000001 + 1e-9
+                out[t] = x
+        _PROBE = probe
+    out = np.empty(64)
+    _PROBE(10, out)
+    best = {}
+    for _ in range(repeats):
+        for threads in (1, 2):
+            with _Threads(threads):
+                t0 = time.perf_counter()
+                _PROBE(400_000, out)
+                best[threads] = min(best.get(threads, np.inf), time.perf_counter() - t0)
+    return best[1] / best[2]
+
+
+def _child_env() -> dict:
+    env = dict(os.environ, MTCAL_PROGRESS="0")
+    env["PYTHONPATH"] = os.pathsep.join([str(ROOT)] + [p for p in env.get("PYTHONPATH", "").split(os.pathsep) if p])
+    return env
 
 
 def run_mc_subprocess(sizes: Sizes) -> tuple[Measurement, dict]:
     """Streaming Monte Carlo in its own process (peak RSS measured alone)."""
     cmd = [sys.executable, str(HERE / "mc_stream.py"), "--trials", str(sizes.mc_trials),
            "--duration", str(sizes.mc_duration_s), "--seed", str(SEED), "--json"]
-    env = dict(os.environ, MTCAL_PROGRESS="0")
-    out = subprocess.run(cmd, cwd=ROOT, env=env, capture_output=True, text=True, check=True)
+    out = subprocess.run(cmd, cwd=ROOT, env=_child_env(), capture_output=True, text=True, check=True)
     res = json.loads(out.stdout.strip().splitlines()[-1])
     hwm = res.get("vm_hwm_mb")
     row = Measurement("streaming Monte Carlo (QNCF)", "mtcal", res["trials"],
                       int(round(res["duration_s"] * FS_HZ)), res["wall_s"], res["peak_rss_mb"], memory="peak RSS",
                       note=f"simulate+QNCF+metrics, chunk {res['chunk_samples']}, prefetch "
                            f"{'on' if res.get('prefetch') else 'off'}, own process; getrusage peak RSS "
-                           f"{res['peak_rss_mb']:.0f} MB, VmHWM {'n/a' if hwm is None else f'{hwm:.0f} MB'}")
+                           f"{res['peak_rss_mb']:.0f} MB, VmHWM {'n/a' if hwm is None else f'{hwm:.0f} MB'}",
+                      threads=min(2, numba.config.NUMBA_NUM_THREADS))
     return row, res
+
+
+_COMPILE_SCRIPT = r"""
+import json, time
+t0 = time.perf_counter()
+import mtcal.filters, mtcal.core.montecarlo
+t_import = time.perf_counter() - t0
+from mtcal.filters import _kernels_qncf, _kernels_ekf, _kernels_marg
+from mtcal.core import simulate, montecarlo
+import numpy as np
+out = {"import_s": t_import}
+for name, fn in (("qncf", _kernels_qncf.warm_up), ("rams_ekf", _kernels_ekf.warm_up), ("marg", _kernels_marg.warm_up)):
+    t0 = time.perf_counter(); fn(); out[name] = time.perf_counter() - t0
+t0 = time.perf_counter()
+g = np.random.default_rng(0)
+simulate._fill_standard_normal(g, np.empty((1, 4, 3)))
+simulate._apply_errors(np.empty((1, 2, 3)), 0, 2, np.zeros((1, 2, 3)), False, np.zeros(3), np.zeros((1, 3)),
+                       np.zeros((1, 3)), np.zeros((1, 1, 3)), 0.0, np.zeros((1, 1, 3)), 0.0, np.zeros((1, 3)),
+                       np.zeros((1, 1, 3)), 0.0, 1.0, 0.5, np.zeros((1, 3)), True, np.zeros((1, 1, 3)), 0.0, 0, 0,
+                       simulate._DUMMY_GENERATOR, simulate._DUMMY_GENERATOR, simulate._DUMMY_GENERATOR, False)
+out["simulate"] = time.perf_counter() - t0
+t0 = time.perf_counter()
+montecarlo._euler_error_stats(np.tile([1.0, 0, 0, 0], (2, 2, 1)), np.zeros((1, 2, 3)), np.zeros((2, 3)),
+                              np.zeros((2, 3)), np.zeros((2, 3)))
+out["metrics"] = time.perf_counter() - t0
+print(json.dumps(out))
+"""
+
+
+def measure_compile_times() -> dict[str, dict[str, float]]:
+    """numba compile (cold cache: an empty NUMBA_CACHE_DIR) and load (warm: the same dir again) per kernel
+    group, each in a fresh process."""
+    out = {}
+    with tempfile.TemporaryDirectory(prefix="mtcal-numba-") as cache:
+        env = dict(_child_env(), NUMBA_CACHE_DIR=cache)
+        for label in ("cold", "warm"):
+            res = subprocess.run([sys.executable, "-c", _COMPILE_SCRIPT], cwd=ROOT, env=env, capture_output=True,
+                                 text=True, check=True)
+            out[label] = json.loads(res.stdout.strip().splitlines()[-1])
+    return out
+
+
+def run_cli_cases(sizes: Sizes, workdir: Path, log=print) -> list[dict]:
+    """The CLI end to end on a generated log (CSV and Parquet), each command in its own process."""
+    import cli_case
+
+    logs = cli_case.make_logs(sizes.cli_hours, workdir, seed=SEED, log=log)
+    return [cli_case.run_case(case, logs, workdir) for case in cli_case.cases(logs)]
 
 
 # --------------------------------------------------------------------------- reporting
 def results_table(rows: list[Measurement]) -> pd.DataFrame:
     """Rows as a DataFrame with throughput and ratio-to-anchor columns."""
-    thr = {r.method: r.throughput for r in rows}
+    thr = {r.method: r.throughput for r in rows if r.trials == 1}
     df = pd.DataFrame([{"method": r.method, "library": r.library, "trials": r.trials, "samples": r.samples,
-                        "seconds": r.seconds, "throughput_trial_samples_per_s": r.throughput,
+                        "threads": r.threads, "seconds": r.seconds, "throughput_trial_samples_per_s": r.throughput,
                         "peak_mb": r.peak_mb, "memory": r.memory, "note": r.note} for r in rows])
     for key, name in ANCHORS.items():
         df[f"x_{key}"] = df["throughput_trial_samples_per_s"] / thr[name] if name in thr else np.nan
     return df
 
 
-def _row(df: pd.DataFrame, method: str, trials: int):
+def _row(df: pd.DataFrame, method: str, trials: int, threads: int | None = None):
     sel = df[(df["method"] == method) & (df["trials"] == trials)]
+    if threads is not None:
+        sel = sel[sel["threads"] == threads]
     return None if sel.empty else sel.iloc[0]
 
 
-def evaluate_targets(df: pd.DataFrame, batch_trials: int, mc: dict | None) -> list[tuple[str, str, bool | None]]:
-    """(target, measured, met) for the issue #7 targets; met is None when not measurable."""
+def evaluate_targets(df: pd.DataFrame, batch_trials: int, mc: dict | None, cli: list[dict] | None = None,
+                     full_size: bool = True) -> list[tuple[str, str, str, bool | None]]:
+    """(target, measured, ratio to target, met) for every issue #17 target; met is None when not measured."""
     out = []
-    q = _row(df, "mtcal QNCF batched", batch_trials)
-    e = _row(df, "mtcal RAMS EKF batched", batch_trials)
-    if q is not None:
-        out.append((f"QNCF {batch_trials} trials >= {TARGETS['qncf_vs_ahrs']:.0f}x ahrs Mahony per-sample",
-                    f"{q['x_ahrs_mahony']:.0f}x", bool(q["x_ahrs_mahony"] >= TARGETS["qncf_vs_ahrs"])))
-        out.append((f"QNCF {batch_trials} trials >= {TARGETS['qncf_vs_imufusion']:.0f}x imufusion",
-                    f"{q['x_imufusion']:.1f}x", bool(q["x_imufusion"] >= TARGETS["qncf_vs_imufusion"])))
-        thr = q["throughput_trial_samples_per_s"]
-        out.append((f"QNCF {batch_trials} trials >= {TARGETS['qncf_throughput'] / 1e6:.0f} M trial-samples/s",
-                    f"{thr / 1e6:.2f} M/s", bool(thr >= TARGETS["qncf_throughput"])))
-    if e is not None:
-        out.append((f"RAMS EKF {batch_trials} trials >= {TARGETS['ekf_vs_filterpy']:.0f}x filterpy loop",
-                    f"{e['x_filterpy_ekf']:.0f}x", bool(e["x_filterpy_ekf"] >= TARGETS["ekf_vs_filterpy"])))
-    else:
-        out.append(("RAMS EKF >= 300x filterpy loop", "not available", None))
+    size_tag = "" if full_size else " (quick sizes: not the target size)"
+
+    def verdict(ok):
+        return bool(ok) if full_size else None
+    for name in (QNCF, EKF):
+        one = _row(df, name, 1)
+        for key, label in (("basicvqf", "BasicVQF"), ("vqf", "VQF"), ("imufusion", "imufusion")):
+            goal = TARGETS[f"x_{key}"]
+            title = f"{name} single trial 60 s @ 1 kHz >= {goal:g}x {label}"
+            if one is None or not np.isfinite(one[f"x_{key}"]):
+                out.append((title, "not measured", "-", None))
+                continue
+            x = one[f"x_{key}"]
+            out.append((title + size_tag, f"{x:.2f}x ({one['throughput_trial_samples_per_s'] / 1e6:.1f} M samples/s)",
+                        f"{x / goal:.2f}", verdict(x >= goal)))
+    two = min(2, numba.config.NUMBA_NUM_THREADS)
+    for name in (QNCF, EKF):
+        b2, b1 = _row(df, name, batch_trials, two), _row(df, name, batch_trials, 1)
+        goal = TARGETS["batched_throughput"]
+        title = f"{name} {batch_trials} trials x 10 s >= {goal / 1e6:.0f} M trial-samples/s on {two} threads"
+        if b2 is None:
+            out.append((title, "not measured", "-", None))
+            continue
+        thr = b2["throughput_trial_samples_per_s"]
+        floor = _row(df, "memory floor (compiled)", batch_trials, two)
+        extra = "" if floor is None else f", {thr / floor['throughput_trial_samples_per_s']:.2f} of the memory floor"
+        out.append((title + size_tag, f"{thr / 1e6:.1f} M/s{extra}", f"{thr / goal:.2f}", verdict(thr >= goal)))
+        if b1 is not None and two > 1:
+            sc = thr / b1["throughput_trial_samples_per_s"]
+            goal_s = TARGETS["thread_scaling"]
+            out.append((f"{name} {batch_trials} trials scales with threads: {two} vs 1 thread >= {goal_s:g}x"
+                        + size_tag, f"{sc:.2f}x", f"{sc / goal_s:.2f}", verdict(sc >= goal_s)))
     if mc is not None:
         full = mc["trials"] >= 1000 and mc["duration_s"] >= 60.0
         tag = "" if full else f" (measured at {mc['trials']} x {mc['duration_s']:g} s, not the target size)"
-        out.append((f"Monte Carlo 1000 x 60 s wall <= {TARGETS['mc_wall_s']:.0f} s",
-                    f"{mc['wall_s']:.1f} s{tag}", bool(mc["wall_s"] <= TARGETS["mc_wall_s"]) if full else None))
-        out.append((f"Monte Carlo 1000 x 60 s peak RSS <= {TARGETS['mc_rss_mb'] / 1024:.0f} GB",
-                    f"{mc['peak_rss_mb']:.0f} MB{tag}",
+        out.append((f"streaming Monte Carlo 1000 x 60 s wall <= {TARGETS['mc_wall_s']:g} s" + tag,
+                    f"{mc['wall_s']:.2f} s", f"{mc['wall_s'] / TARGETS['mc_wall_s']:.2f}",
+                    bool(mc["wall_s"] <= TARGETS["mc_wall_s"]) if full else None))
+        out.append((f"streaming Monte Carlo 1000 x 60 s peak RSS <= {TARGETS['mc_rss_mb'] / 1024:g} GB" + tag,
+                    f"{mc['peak_rss_mb']:.0f} MB", f"{mc['peak_rss_mb'] / TARGETS['mc_rss_mb']:.2f}",
                     bool(mc["peak_rss_mb"] <= TARGETS["mc_rss_mb"]) if full else None))
+    else:
+        out.append(("streaming Monte Carlo 1000 x 60 s <= 5 s, <= 1 GB", "not measured (--no-mc)", "-", None))
+    for case in cli or []:
+        full = case["hours"] >= 1.0
+        tag = "" if full else f" (measured on a {case['hours'] * 60:g} min log, not the target size)"
+        title = f"CLI {case['name']} 1-hour 1 kHz log end to end"
+        if not case["ok"]:
+            out.append((title + tag, f"failed: {case['error']}", "-", None))
+            continue
+        out.append((f"{title} wall <= {TARGETS['cli_wall_s']:g} s" + tag, f"{case['wall_s']:.2f} s",
+                    f"{case['wall_s'] / TARGETS['cli_wall_s']:.2f}",
+                    bool(case["wall_s"] <= TARGETS["cli_wall_s"]) if full else None))
+        out.append((f"{title} peak RSS <= {TARGETS['cli_rss_mb'] / 1024:g} GB" + tag, f"{case['rss_mb']:.0f} MB",
+                    f"{case['rss_mb'] / TARGETS['cli_rss_mb']:.2f}",
+                    bool(case["rss_mb"] <= TARGETS["cli_rss_mb"]) if full else None))
+    if cli is None:
+        out.append(("CLI 1-hour log end to end <= 5 s, <= 1.5 GB", "not measured (--no-cli)", "-", None))
+    out.append(("make reproduce <= 2 min and <= 2 GB per notebook; make test <= 3 min",
+                "not measured by make bench (notebook timings: the notebook tooling)", "-", None))
     return out
 
 
 def format_table(df: pd.DataFrame) -> str:
-    head = (f"{'method':34s} {'trials':>6s} {'samples':>7s} {'seconds':>8s} {'trial-samples/s':>15s} "
-            f"{'x ahrs':>8s} {'x imufus':>8s} {'x filterpy':>10s} {'peak MB':>8s}")
+    head = (f"{'method':38s} {'trials':>6s} {'samples':>7s} {'thr':>3s} {'seconds':>8s} {'trial-samples/s':>15s} "
+            f"{'x BasicVQF':>10s} {'x VQF':>7s} {'x imufus':>8s} {'x ahrs':>7s} {'x filterpy':>10s} {'peak MB':>8s}")
     lines = [head, "-" * len(head)]
 
     def ratio(x):
         return f"{x:.3g}" if np.isfinite(x) else "-"
     for _, r in df.iterrows():
-        mem = f"{r['peak_mb']:.1f}" + ("*" if r["memory"] != "tracemalloc" else "")
-        lines.append(f"{r['method']:34s} {r['trials']:6d} {r['samples']:7d} {r['seconds']:8.3f} "
-                     f"{r['throughput_trial_samples_per_s']:15.4g} {ratio(r['x_ahrs_mahony']):>8s} "
-                     f"{ratio(r['x_imufusion']):>8s} {ratio(r['x_filterpy_ekf']):>10s} {mem:>8s}")
+        mem = "-" if not np.isfinite(r["peak_mb"]) else f"{r['peak_mb']:.1f}" + ("*" if r["memory"] != "tracemalloc" else "")
+        lines.append(f"{r['method']:38s} {r['trials']:6d} {r['samples']:7d} {r['threads']:3d} {r['seconds']:8.3f} "
+                     f"{r['throughput_trial_samples_per_s']:15.4g} {ratio(r['x_basicvqf']):>10s} "
+                     f"{ratio(r['x_vqf']):>7s} {ratio(r['x_imufusion']):>8s} {ratio(r['x_ahrs_mahony']):>7s} "
+                     f"{ratio(r['x_filterpy_ekf']):>10s} {mem:>8s}")
     return "\n".join(lines)
 
 
@@ -344,9 +538,27 @@ def profile_batched(inp: BenchInputs, sizes: Sizes) -> str:
         parts.append(f"=== cProfile: mtcal {name} batched, {t} trials x {m} samples "
                      f"(sorted by own time; numpy ufunc calls are not profiled separately and count "
                      f"in the caller's tottime) ===\n" + buf.getvalue().strip())
-    parts.append(_line_profile_section(g, a, inp, min(m, 300)))
+    parts.append(_mc_profile_section(sizes))
+    parts.append(_line_profile_section(g[:, :300], a[:, :300], inp, min(m, 300)))
     parts.append(_scaling_section(inp, min(m, 500)))
     return "\n\n".join(parts) + "\n"
+
+
+def _mc_profile_section(sizes: Sizes) -> str:
+    """cProfile of a short streaming Monte Carlo (no prefetch thread): what bounds it."""
+    trials, dur = sizes.mc_trials, max(2.0, min(3.0, sizes.mc_duration_s))
+    mc_stream.run_mc(min(trials, 8), 2.0, prefetch=False, progress=False)  # compile outside the profile
+    prof = cProfile.Profile()
+    t0 = time.perf_counter()
+    prof.enable()
+    mc_stream.run_mc(trials, dur, prefetch=False, progress=False)
+    prof.disable()
+    wall = time.perf_counter() - t0
+    buf = io.StringIO()
+    pstats.Stats(prof, stream=buf).strip_dirs().sort_stats("tottime").print_stats(12)
+    return (f"=== cProfile: streaming Monte Carlo {trials} x {dur:g} s, one thread for the stream (no prefetch), "
+            f"{wall:.2f} s wall; _fill_standard_normal = noise draws, _apply_errors = error model, "
+            f"qncf_parallel = filter + Eq 8 error statistics ===\n" + buf.getvalue().strip())
 
 
 def line_times(func, call: Callable[[], object]) -> dict[int, float]:
@@ -384,18 +596,18 @@ def _line_profile_section(g, a, inp: BenchInputs, steps: int) -> str:
 
     t = g.shape[0]
     g, a = g[:, :steps], a[:, :steps]
-    targets = [("QNCF", QncfFilter._step, _qncf_call(g, a, inp.q0))]
+    targets = [("QNCF", QncfFilter._step, _qncf_call(g, a, inp.q0, "numpy"))]
     if run_rams_ekf is not None:
         from mtcal.filters.rams_ekf import RamsEkfFilter
 
         targets.append(("RAMS EKF", RamsEkfFilter._step, _ekf_call(g, a, inp.is_static[:steps], inp.axis,
-                                                                   inp.accel0_t)))
+                                                                   inp.accel0_t, "numpy")))
     out = []
     for name, func, call in targets:
         acc = line_times(func, call)
         total = sum(acc.values())
         fname = inspect.getsourcefile(func)
-        lines = [f"=== line times: mtcal {name} ({func.__qualname__}), {t} trials x {steps} steps, "
+        lines = [f"=== line times: mtcal {name} numpy reference engine ({func.__qualname__}), {t} trials x {steps} steps, "
                  f"sys.settrace; top 12 lines, % of the function's traced time ==="]
         for ln, sec in sorted(acc.items(), key=lambda kv: -kv[1])[:12]:
             src = linecache.getline(fname, ln).strip()
@@ -408,8 +620,8 @@ def _line_profile_section(g, a, inp: BenchInputs, steps: int) -> str:
 def _scaling_section(inp: BenchInputs, steps: int) -> str:
     """Per-time-step cost versus trial count: fixed per-step overhead + per-trial cost."""
     rng = np.random.default_rng(0)
-    lines = [f"=== per-time-step cost (us) vs trials ({steps} steps, best of 3); "
-             f"fit cost = overhead + per_trial * T ==="]
+    lines = [f"=== numba engine: per-time-step cost (us) vs trials ({steps} steps, best of 3, "
+             f"{numba.get_num_threads()} threads); fit cost = overhead + per_trial * T ==="]
 
     def data(trials, steps_):
         g = inp.gyro_t[:1, :steps_] + 1e-4 * rng.standard_normal((trials, steps_, 3))
@@ -424,9 +636,9 @@ def _scaling_section(inp: BenchInputs, steps: int) -> str:
     for name, make in makers.items():
         cost = np.array([_step_cost_us(make, T, steps) for T in trial_counts])
         slope, icpt = np.polyfit(trial_counts, cost, 1)
-        pts = ", ".join(f"T={T}: {c:.1f}" for T, c in zip(trial_counts, cost))
-        lines.append(f"{name:9s} {pts}  -> overhead {icpt:.1f} us/step + {slope * 1e3:.1f} ns/trial/step; "
-                     f"at T=1000 overhead is {100 * icpt / (icpt + 1000 * slope):.0f} % of the step")
+        pts = ", ".join(f"T={T}: {c:.2f}" for T, c in zip(trial_counts, cost))
+        lines.append(f"{name:9s} {pts}  -> overhead {icpt:.2f} us/step + {slope * 1e3:.1f} ns/trial/step "
+                     f"(slope: {1 / slope:.1f} M trial-samples/s)")
     return "\n".join(lines)
 
 
@@ -437,15 +649,27 @@ def _versions() -> str:
     import imufusion  # noqa: F401
     from importlib.metadata import version
 
-    return (f"python {platform.python_version()}, numpy {np.__version__}, ahrs {ahrs.__version__}, "
+    return (f"python {platform.python_version()}, numpy {np.__version__}, numba {numba.__version__} "
+            f"({numba.config.NUMBA_NUM_THREADS} threads), vqf {version('vqf')}, ahrs {ahrs.__version__}, "
             f"imufusion {version('imufusion')}, filterpy {filterpy.__version__}, "
             f"{os.cpu_count()} CPUs, {platform.machine()}")
 
 
+def _print_compile_times(ct: dict) -> None:
+    groups = [k for k in ct["cold"] if k != "import_s"]
+    print("numba compile time (fresh process per line; cold = empty cache dir, warm = loaded from the cache):")
+    for label in ("cold", "warm"):
+        parts = ", ".join(f"{k} {ct[label][k]:.2f} s" for k in groups)
+        print(f"  {label}: {parts}; total {sum(ct[label][k] for k in groups):.2f} s "
+              f"(import of mtcal.filters: {ct[label]['import_s']:.2f} s)")
+
+
 def main(argv: list[str] | None = None) -> pd.DataFrame:
-    ap = argparse.ArgumentParser(description="mtcal benchmarks against ahrs, imufusion and filterpy")
+    ap = argparse.ArgumentParser(description="mtcal benchmarks against vqf, imufusion, ahrs and filterpy")
     ap.add_argument("--quick", action="store_true", help="small sizes for a fast check")
     ap.add_argument("--no-mc", action="store_true", help="skip the streaming Monte Carlo subprocess")
+    ap.add_argument("--no-cli", action="store_true", help="skip the CLI end-to-end cases")
+    ap.add_argument("--no-compile", action="store_true", help="skip the compile-time subprocesses")
     ap.add_argument("--no-profile", action="store_true", help="skip cProfile")
     ap.add_argument("--csv", type=Path, default=ROOT / "data" / "benchmarks.csv")
     ap.add_argument("--profile-out", type=Path, default=HERE / "profile_summary.txt")
@@ -459,11 +683,23 @@ def main(argv: list[str] | None = None) -> pd.DataFrame:
     print("load average before the run (1/5/15 min): "
           + ", ".join(f"{x:.2f}" for x in os.getloadavg()) + f" on {os.cpu_count()} CPUs "
           "(other processes on the machine slow every row alike)")
+    ct = None
+    if not args.no_compile:
+        ct = measure_compile_times()
+        _print_compile_times(ct)
     mc = mc_row = None
-    if not args.no_mc:  # first, while this process is small (ru_maxrss is inherited through fork/exec)
+    if not args.no_mc:  # early, while this process is small (ru_maxrss is inherited through fork/exec)
         print(f"streaming Monte Carlo {sizes.mc_trials} x {sizes.mc_duration_s:g} s in a subprocess ...")
         mc_row, mc = run_mc_subprocess(sizes)
-        print(f"  {mc['wall_s']:.1f} s, peak RSS {mc['peak_rss_mb']:.0f} MB")
+        print(f"  {mc['wall_s']:.2f} s, peak RSS {mc['peak_rss_mb']:.0f} MB")
+    cli = None
+    if not args.no_cli and sizes.cli_hours > 0:
+        print(f"CLI end to end on a generated {sizes.cli_hours:g} h @ 1 kHz log (CSV and Parquet), own processes ...")
+        with tempfile.TemporaryDirectory(prefix="mtcal-bench-cli-") as work:
+            cli = run_cli_cases(sizes, Path(work))
+        for case in cli:
+            print(f"  {case['name']}: " + (f"{case['wall_s']:.2f} s, peak RSS {case['rss_mb']:.0f} MB"
+                                           if case["ok"] else f"failed: {case['error']}"))
     t_sim = time.perf_counter()
     inp = make_inputs(sizes)
     print(f"simulated in {time.perf_counter() - t_sim:.1f} s; timing (best of up to {sizes.repeats}):")
@@ -473,20 +709,29 @@ def main(argv: list[str] | None = None) -> pd.DataFrame:
     df = results_table(rows)
     print()
     print(format_table(df))
-    print("peak MB: tracemalloc peak during the call (inputs excluded); * = peak RSS of the whole process.")
-    print("x ahrs / x imufus / x filterpy: throughput (trial-samples/s) relative to "
-          + ", ".join(ANCHORS.values()) + ".")
+    print("thr: numba threads. peak MB: tracemalloc peak during the call (inputs excluded); * = peak RSS of the "
+          "whole process.")
+    print("x BasicVQF / x VQF / x imufus / x ahrs / x filterpy: throughput (trial-samples/s) relative to the "
+          "single-trial anchors " + ", ".join(ANCHORS.values()) + ".")
     for _, r in df.iterrows():
-        if r["note"].startswith("first") or r["memory"] != "tracemalloc":
-            print(f"note: {r['method']}: {r['note']}")
+        if r["note"].startswith("first") or "first" in r["note"] or r["memory"] != "tracemalloc":
+            print(f"note: {r['method']} ({r['trials']} trials): {r['note']}")
     print()
-    print("targets (issue #7):")
-    for name, measured, met in evaluate_targets(df, sizes.batch_trials, mc):
+    print(f"parallel capacity around the batched rows: a pure-compute toy kernel ran {CAPACITY['before']:.2f}x "
+          f"(before) and {CAPACITY['after']:.2f}x (after) faster on 2 numba threads than on 1 (2.0 = a whole free "
+          "second core, which the 2-thread and scaling targets assume)")
+    print("targets (issue #17):  [verdict] target: measured (ratio measured/target; for time and memory "
+          "targets <= 1 is met)")
+    for name, measured, ratio, met in evaluate_targets(df, sizes.batch_trials, mc, cli, full_size=not args.quick):
         verdict = "n/a" if met is None else ("MET" if met else "MISSED")
-        print(f"  [{verdict:6s}] {name}: {measured}")
+        print(f"  [{verdict:6s}] {name}: {measured} (ratio {ratio})")
     if mc is not None:
         med = ", ".join(f"{k} {v:.4f}" for k, v in zip(("yaw", "pitch", "roll"), mc["rmse_deg_median"]))
         print(f"  Monte Carlo RMSE medians (deg): {med}")
+    if ct is not None:
+        cold = sum(v for k, v in ct["cold"].items() if k != "import_s")
+        warm = sum(v for k, v in ct["warm"].items() if k != "import_s")
+        print(f"  compile time (reported, no target): {cold:.1f} s cold, {warm:.2f} s warm cache")
     if not args.no_profile:
         summary = profile_batched(inp, sizes)
         args.profile_out.parent.mkdir(parents=True, exist_ok=True)

@@ -77,12 +77,47 @@ def test_numpy_mahony_matches_ahrs_updateimu_and_batch(short_record):
 def test_attitude_anchors_track_the_truth(short_record):
     pytest.importorskip("ahrs")
     pytest.importorskip("imufusion")
+    pytest.importorskip("vqf")
     _, rec = short_record
     truth = rotations.euler_zxy_from_quat(rec.q_ws_true)
     for fn in (anchors.ahrs_mahony_loop, anchors.imufusion_loop):
         q = fn(rec.gyro_rad_s[0], rec.accel_m_s2[0], 1e-3, q0=rec.q_ws_true[0])
         err = metrics.angle_difference(rotations.euler_zxy_from_quat(q), truth)
         assert np.degrees(np.abs(err)).max() < 2.0, fn.__name__  # 1 sample of lag at ≤ 300 °/s
+    # vqf starts at identity = the true (level, yaw 0) start; inputs in rad/s and m/s² as they are
+    for basic in (False, True):
+        q = anchors.vqf_batch(rec.gyro_rad_s[0], rec.accel_m_s2[0], 1e-3, basic=basic)
+        err = metrics.angle_difference(rotations.euler_zxy_from_quat(q), truth)
+        assert np.degrees(np.abs(err)).max() < 2.0, f"vqf basic={basic}"
+
+
+def test_memory_floor_kernels_read_and_write_everything(tiny_inputs):
+    g, a = tiny_inputs.gyro_t, tiny_inputs.accel_t
+    out = anchors.memory_floor(g, a)
+    np.testing.assert_array_equal(out[..., :3], g + a)
+    np.testing.assert_array_equal(out[..., 3], a[..., 2])
+    np.testing.assert_array_equal(anchors.numpy_copy_floor(g, a), out)
+
+
+def test_cli_case_runs_the_cli_on_generated_logs(tmp_path):
+    pytest.importorskip("pyarrow")
+    import cli_case
+
+    logs = cli_case.make_logs(0.001, tmp_path, log=lambda *_: None)  # 3.6 s at 1 kHz
+    import pandas as pd
+
+    df = pd.read_csv(logs["csv"])
+    assert list(df.columns) == cli_case.COLUMNS and len(df) == logs["samples"] == 3600
+    np.testing.assert_allclose(pd.read_parquet(logs["parquet"]).to_numpy(), df.to_numpy(), rtol=1e-15)
+    todo = cli_case.cases(logs)
+    assert [c["fmt"] for c in todo][:1] == ["csv"] and todo[0]["argv"][0] == "angle"
+    res = cli_case.run_case(todo[0], logs, tmp_path)
+    assert res["ok"], res["error"]
+    assert res["wall_s"] > 0 and res["rss_mb"] > 10
+    out = pd.read_csv(tmp_path / "angle_out.csv")
+    assert len(out) == 3600  # one output row per input sample (the columns are the CLI's business)
+    bad = cli_case.run_case({"name": "bad", "argv": ["angle", "missing.csv", "--axis", "1,0,0"]}, logs, tmp_path)
+    assert not bad["ok"] and "mtcal: error" in bad["error"]
 
 
 def test_ekf_anchors_agree_with_each_other_and_with_mtcal(short_record):
@@ -112,43 +147,60 @@ def test_measure_reports_time_and_traced_peak():
 def test_benchmark_methods_return_sane_rows(tiny_inputs):
     pytest.importorskip("ahrs")
     pytest.importorskip("imufusion")
+    pytest.importorskip("vqf")
     rows = run.benchmark_methods(tiny_inputs, TINY, log=lambda *_: None)
     df = run.results_table(rows)
-    expected = {"mtcal QNCF batched", "ahrs Mahony batch API", *run.ANCHORS.values(), "numpy EKF loop",
-                "numpy Mahony batched"}
+    expected = {run.QNCF, run.EKF, run.QNCF + " numpy engine", "ahrs Mahony batch API", *run.ANCHORS.values(),
+                "numpy EKF loop", "numpy Mahony batched", "memory floor (compiled)", "memory floor (numpy copies)"}
     assert expected <= set(df["method"])
     assert np.all(np.isfinite(df["seconds"])) and np.all(df["seconds"] > 0)
     assert np.all(df["throughput_trial_samples_per_s"] > 0)
     for key, name in run.ANCHORS.items():
         assert df.loc[df["method"] == name, f"x_{key}"].iloc[0] == pytest.approx(1.0)
-    q = df[df["method"] == "mtcal QNCF batched"]
-    assert sorted(q["trials"]) == [1, 4] and sorted(q["samples"]) == [100, 2000]
+    q = df[df["method"] == run.QNCF]
+    two = min(2, run.numba.config.NUMBA_NUM_THREADS)
+    assert sorted(zip(q["trials"], q["threads"])) == sorted({(1, 1), (4, 1), (4, two)})
+    assert sorted(q["samples"])[-1] == 2000
     text = run.format_table(df)
-    assert "mtcal QNCF batched" in text and "x filterpy" in text
+    assert run.QNCF in text and "x BasicVQF" in text and "x filterpy" in text
 
 
-def _fake_rows(qncf_thr: float, ekf_thr: float) -> list:
-    def row(method, trials, thr):
-        return run.Measurement(method, "x", trials, 1000, trials * 1000 / thr, 1.0)
-    return [row("mtcal QNCF batched", 1000, qncf_thr), row("mtcal RAMS EKF batched", 1000, ekf_thr),
-            row(run.ANCHORS["ahrs_mahony"], 1, 1e4), row(run.ANCHORS["imufusion"], 1, 1e6),
-            row(run.ANCHORS["filterpy_ekf"], 1, 2e4)]
+def _fake_df(single_thr: float, batched_thr: float, one_thread_thr: float):
+    def row(method, trials, thr, threads=1):
+        return run.Measurement(method, "x", trials, 1000, trials * 1000 / thr, 1.0, threads=threads)
+    rows = [row(run.ANCHORS["basicvqf"], 1, 1e7), row(run.ANCHORS["vqf"], 1, 4e6),
+            row(run.ANCHORS["imufusion"], 1, 1e6), row(run.ANCHORS["ahrs_mahony"], 1, 1e4),
+            row(run.ANCHORS["filterpy_ekf"], 1, 2e4), row("memory floor (compiled)", 1000, 1e8, 2)]
+    for name in (run.QNCF, run.EKF):
+        rows += [row(name, 1, single_thr), row(name, 1000, batched_thr, 2), row(name, 1000, one_thread_thr, 1)]
+    return run.results_table(rows)
 
 
-def test_targets_are_evaluated_from_the_ratios():
-    mc = {"trials": 1000, "duration_s": 60.0, "wall_s": 31.0, "peak_rss_mb": 500.0}
-    got = run.evaluate_targets(run.results_table(_fake_rows(8e6, 5e6)), 1000, mc)
-    verdicts = [met for _, _, met in got]
-    # 800x ahrs (met), 8x imufusion (missed), 8 M/s (met), 250x filterpy (missed), 31 s (missed), 500 MB (met)
-    assert verdicts == [True, False, True, False, False, True]
-    small = dict(mc, trials=10)
-    assert [met for _, _, met in run.evaluate_targets(run.results_table(_fake_rows(8e6, 5e6)), 1000,
-                                                      small)][-2:] == [None, None]
+def test_targets_are_evaluated_from_the_ratios(monkeypatch):
+    monkeypatch.setattr(run.numba.config, "NUMBA_NUM_THREADS", 2)
+    mc = {"trials": 1000, "duration_s": 60.0, "wall_s": 4.0, "peak_rss_mb": 1500.0}
+    cli = [{"name": "mtcal angle (csv in, csv out)", "ok": True, "wall_s": 6.0, "rss_mb": 900.0, "hours": 1.0},
+           {"name": "mtcal angle (parquet in, parquet out)", "ok": False, "error": "boom", "hours": 1.0}]
+    got = run.evaluate_targets(_fake_df(3e7, 5e7, 2e7), 1000, mc, cli)
+    verdicts = {name: met for name, _, _, met in got}
+    # 30 M/s single trial: 3x BasicVQF (met), 7.5x VQF (met), 30x imufusion (met)
+    assert [met for name, met in verdicts.items() if "single trial" in name] == [True] * 6
+    # 50 M/s batched (met), 2.5x thread scaling (met)
+    assert [met for name, met in verdicts.items() if "1000 trials" in name] == [True] * 4
+    assert [met for name, met in verdicts.items() if "Monte Carlo" in name] == [True, False]  # 4 s, 1.5 GB
+    assert [met for name, met in verdicts.items() if name.startswith("CLI")] == [False, True, None]
+    assert any("boom" in measured for _, measured, _, _ in got)
+    slow = run.evaluate_targets(_fake_df(1.5e7, 4e7, 3e7), 1000, None, None)
+    assert [met for name, _, _, met in slow if "single trial" in name] == [False, False, False] * 2
+    assert [met for name, _, _, met in slow if "1000 trials" in name] == [False, False] * 2
+    quick = run.evaluate_targets(_fake_df(3e7, 5e7, 2e7), 1000, dict(mc, trials=10), None, full_size=False)
+    assert all(met is None for _, _, _, met in quick)
 
 
 def test_profile_summary_names_the_filter_functions(tiny_inputs):
     text = run.profile_batched(tiny_inputs, TINY)
     assert "_step" in text and "per-time-step cost" in text and "line times" in text
+    assert "streaming Monte Carlo" in text and "_fill_standard_normal" in text
     if run.run_rams_ekf is not None:
         assert "run_rams_ekf" in text
 
@@ -212,3 +264,8 @@ def test_mc_main_reports_wall_time_and_rss(capsys):
     if printed["vm_hwm_mb"] is not None:
         assert printed["vm_hwm_mb"] > 10
     assert len(out["rmse_deg_median"]) == 3
+
+
+def test_parallel_capacity_is_a_speedup_ratio():
+    cap = run.parallel_capacity(repeats=1)
+    assert 0.05 < cap < 4.0  # 1 thread time / 2 threads time of the same work

@@ -19,10 +19,13 @@ import os
 import sys
 from typing import Iterable, Protocol
 
+import math
+
 import numpy as np
+from numba import prange
 
 from mtcal.core.validate import as_float_array, positive_int
-from mtcal.core.simulate import ImuRecord, ImuStream
+from mtcal.core.simulate import ImuRecord, ImuStream, _jit
 
 __all__ = ["ChunkConsumer", "ErrorAccumulator", "run_streaming", "progress_enabled"]
 
@@ -69,6 +72,46 @@ class ErrorAccumulator:
             np.maximum(self._max, np.abs(err).max(axis=axis), out=self._max)
         self._count += err.shape[axis]
 
+    def add_euler_zxy_errors(self, q_ws, truth_euler_rad) -> None:
+        """Fold in the wrapped Eq 8 (wang2023cja) yaw/pitch/roll errors of attitude estimates.
+
+        Same numbers as ``add(metrics.angle_difference(rotations.euler_zxy_from_quat(q_ws),
+        truth_euler_rad))`` (to the last ulp of libm's atan2/asin), in one compiled pass over
+        the trials in parallel, without the (T, n, 3) temporaries. Needs ``shape == (T, 3)``.
+
+        Parameters
+        ----------
+        q_ws : array_like, shape (T, n, 4)
+            Unit quaternions (scalar-first), e.g. a filter's output for one chunk.
+        truth_euler_rad : array_like, shape (n, 3) or (T, n, 3)
+            True yaw ψ, pitch θ, roll γ (rad).
+        """
+        q = np.ascontiguousarray(as_float_array(q_ws, "q_ws", ndim=3, last_dim=4, copy=False))
+        tr = as_float_array(truth_euler_rad, "truth_euler_rad", ndim=(2, 3), last_dim=3, copy=False)
+        if len(self.shape) != 2 or self.shape[1] != 3 or q.shape[0] != self.shape[0]:
+            raise ValueError(f"q_ws must have shape ({self.shape[0]}, n, 4) for an accumulator of shape "
+                             f"(trials, 3), got q_ws {q.shape} and accumulator {self.shape}")
+        tr3 = np.ascontiguousarray(tr if tr.ndim == 3 else tr[None])
+        if tr3.shape[1] != q.shape[1] or tr3.shape[0] not in (1, q.shape[0]):
+            raise ValueError(f"truth_euler_rad of shape {tr.shape} does not match q_ws {q.shape}")
+        _euler_error_stats(q, tr3, self._sum, self._sumsq, self._max)
+        self._count += q.shape[1]
+
+    def _stats_block(self) -> np.ndarray:
+        """(T, 9) block [sum ×3, sum of squares ×3, max ×3] for compiled kernels to add into."""
+        if len(self.shape) != 2 or self.shape[1] != 3:
+            raise ValueError(f"compiled error statistics need an accumulator of shape (trials, 3), got {self.shape}")
+        block = np.zeros((self.shape[0], 9))
+        block[:, 6:] = self._max
+        return block
+
+    def _stats_block_done(self, block: np.ndarray, samples: int) -> None:
+        """Fold a block filled by a compiled kernel over ``samples`` samples in."""
+        self._sum += block[:, 0:3]
+        self._sumsq += block[:, 3:6]
+        self._max[:] = block[:, 6:]
+        self._count += samples
+
     def _checked_count(self) -> np.ndarray:
         if np.any(self._count == 0):
             raise ValueError("no samples were accumulated")
@@ -86,6 +129,60 @@ class ErrorAccumulator:
         """Maximum absolute error per trial/channel."""
         self._checked_count()
         return self._max.copy()
+
+
+@_jit
+def _wrap(d):
+    """``(d + π) % 2π − π`` of :func:`mtcal.core.metrics.angle_difference`, bit for bit: the remainder
+    (Python/numpy semantics) is skipped when ``d + π`` already lies in [0, 2π), where it is the identity."""
+    x = d + np.pi
+    if 0.0 <= x < 2 * np.pi:
+        return x - np.pi
+    return x % (2 * np.pi) - np.pi
+
+
+@_jit
+def _euler_error_stats_serial(q, truth, t, out_sum, out_sumsq, out_max):
+    tr = truth[t] if truth.shape[0] > 1 else truth[0]
+    s0 = s1 = s2 = 0.0
+    ss0 = ss1 = ss2 = 0.0
+    m0, m1, m2 = out_max[t, 0], out_max[t, 1], out_max[t, 2]
+    for i in range(q.shape[1]):
+        q0, q1, q2, q3 = q[t, i, 0], q[t, i, 1], q[t, i, 2], q[t, i, 3]
+        s00, s11, s22, s33 = q0 * q0, q1 * q1, q2 * q2, q3 * q3
+        yaw = math.atan2(-2.0 * (q1 * q2 - q0 * q3), ((s00 - s11) + s22) - s33)
+        pitch = math.asin(min(max(2.0 * (q2 * q3 + q0 * q1), -1.0), 1.0))
+        roll = math.atan2(-2.0 * (q1 * q3 - q0 * q2), ((s00 - s11) - s22) + s33)
+        e0 = _wrap(yaw - tr[i, 0])
+        e1 = _wrap(pitch - tr[i, 1])
+        e2 = _wrap(roll - tr[i, 2])
+        s0 += e0
+        s1 += e1
+        s2 += e2
+        ss0 += e0 * e0
+        ss1 += e1 * e1
+        ss2 += e2 * e2
+        m0 = max(m0, abs(e0))
+        m1 = max(m1, abs(e1))
+        m2 = max(m2, abs(e2))
+    out_sum[t, 0] += s0
+    out_sum[t, 1] += s1
+    out_sum[t, 2] += s2
+    out_sumsq[t, 0] += ss0
+    out_sumsq[t, 1] += ss1
+    out_sumsq[t, 2] += ss2
+    out_max[t, 0], out_max[t, 1], out_max[t, 2] = m0, m1, m2
+
+
+@_jit(parallel=True)
+def _euler_error_stats_parallel(q, truth, out_sum, out_sumsq, out_max):
+    for t in prange(q.shape[0]):
+        _euler_error_stats_serial(q, truth, t, out_sum, out_sumsq, out_max)
+
+
+def _euler_error_stats(q, truth, out_sum, out_sumsq, out_max) -> None:
+    """Per-trial sums, sums of squares and maxima of wrapped Eq 8 errors (trials in parallel)."""
+    _euler_error_stats_parallel(q, truth, out_sum, out_sumsq, out_max)
 
 
 def progress_enabled() -> bool:

@@ -42,14 +42,36 @@ and a fixed block of samples, derived from ``rng``), so switching one source
 on or off leaves the others' draws unchanged (common random numbers for
 error-budget tables), and :class:`ImuStream` delivers the same numbers in
 chunks of any size (bounded-memory Monte Carlo).
+
+Two engines produce bit-identical output (tested): ``"numba"`` (default) draws
+each block's normals with numba's port of numpy's PCG64 + ziggurat sampler
+(same stream, ~3× faster than ``Generator.standard_normal``) and applies every
+error term, the bias random walk and the Gauss–Markov recursion in one
+compiled pass per block segment, in the reference's operation order;
+``"numpy"`` is the readable reference (array operations, ``np.cumsum``,
+``scipy.signal.lfilter``).
 """
 
 from __future__ import annotations
 
+import os
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.signal import lfilter
+
+# numba settings read when numba is first imported (mtcal.core.simulate is mtcal's first numba importer;
+# mtcal.filters._kernels_common explains both): passive OpenMP waiting, and a writable cache directory
+# when neither the package's __pycache__ nor ~/.cache can take numba's cache (read-only installs).
+os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
+if not os.environ.get("NUMBA_CACHE_DIR"):
+    _here, _home = os.path.dirname(os.path.abspath(__file__)), os.path.expanduser("~")
+    if not os.access(_here, os.W_OK) and not os.access(os.path.join(_home, ".cache") if os.path.isdir(
+            os.path.join(_home, ".cache")) else _home, os.W_OK):
+        import tempfile
+
+        os.environ["NUMBA_CACHE_DIR"] = os.path.join(tempfile.gettempdir(), "mtcal-numba-cache")
+import numba  # noqa: E402
 
 from mtcal.core import rotations
 from mtcal.core.validate import (STANDARD_GRAVITY_M_S2, as_float_array, positive_int,
@@ -307,6 +329,91 @@ class ImuRecord:
     accel_true_m_s2: np.ndarray
 
 
+# ----------------------------------------------------------------------------- compiled engine
+def _jit(fn=None, *, parallel: bool = False):
+    """``numba.njit(cache=True, nogil=True)``; uncached when no cache directory is writable.
+
+    Use as ``@_jit`` or ``@_jit(parallel=True)`` (private to :mod:`mtcal.core`).
+    """
+    def deco(f):
+        try:
+            return numba.njit(cache=True, nogil=True, parallel=parallel)(f)
+        except RuntimeError as exc:  # no cache locator
+            warnings.warn(f"numba cannot cache {f.__name__} ({exc}); compiling without a cache", RuntimeWarning,
+                          stacklevel=3)
+            return numba.njit(cache=False, nogil=True, parallel=parallel)(f)
+    return deco if fn is None else deco(fn)
+
+
+@_jit
+def _fill_standard_normal(gen, out):
+    """``out[...] = gen.standard_normal(out.shape)`` (same draws, C order; numba's port of numpy's ziggurat)."""
+    flat = out.reshape(-1)
+    for i in range(flat.size):
+        flat[i] = gen.standard_normal()
+
+
+@_jit
+def _apply_errors(out, off, n, base, per_trial_base, bias, warm, turn_on, white, white_scale, rw, rw_scale,
+                  rw_state, gm, gm_sigma, gm_c, gm_a, gm_state, gm_first, vib, quant, roff, flags,
+                  gen_white, gen_rw, gen_gm, fused):
+    """Samples ``off … off+n`` of a chunk of :meth:`_SensorStream.process`, in the reference's order.
+
+    ``out``, ``base`` ((1 or T), C, 3), ``warm`` (C, 3) and ``vib`` are chunk-aligned; the random
+    blocks ``white``, ``rw``, ``gm`` (T, B, 3) are read from ``roff``, or, with ``fused`` (a whole
+    block inside the chunk: ``n`` = B), drawn here from the blocks' generators ``gen_*`` in the
+    block's C order (trial, sample, axis) — the same numbers, without the block buffers' memory
+    traffic. ``flags`` bits: 1 warm-up,
+    2 turn-on, 4 white, 8 random walk, 16 Gauss–Markov, 32 vibration, 64 quantisation.
+    ``rw_state`` / ``gm_state`` (T, 3) carry the walk and the last Gauss–Markov output;
+    ``gm_first``: sample ``off`` is global sample 0 (stationary start ``w_0 / c``).
+    """
+    walk = np.empty(3)
+    y = np.empty(3)
+    z = np.empty(3)
+    for t in range(out.shape[0]):
+        tb = t if per_trial_base else 0
+        for j in range(3):
+            walk[j] = rw_state[t, j]
+            y[j] = gm_state[t, j]
+            z[j] = gm_a * y[j]                 # lfilter's delay state zi = a · b_{k-1}
+        for i in range(n):
+            for j in range(3):                 # three independent recursions side by side
+                x = base[tb, off + i, j] + bias[j]
+                if flags & 1:
+                    x = x + warm[off + i, j]
+                if flags & 2:
+                    x = x + turn_on[t, j]
+                if flags & 4:
+                    nw = gen_white.standard_normal() if fused else white[t, roff + i, j]
+                    x = x + white_scale * nw
+                if flags & 8:
+                    nr = gen_rw.standard_normal() if fused else rw[t, roff + i, j]
+                    walk[j] = walk[j] + nr * rw_scale   # np.cumsum, continued
+                    x = x + walk[j]
+                if flags & 16:                 # scipy lfilter([c], [1, -a]) (direct form II transposed)
+                    ng = gen_gm.standard_normal() if fused else gm[t, roff + i, j]
+                    w = ng * gm_sigma
+                    if gm_first and i == 0:
+                        w = w / gm_c
+                    yj = z[j] + gm_c * w
+                    z[j] = w * 0.0 - yj * (-gm_a)
+                    y[j] = yj
+                    x = x + yj
+                if flags & 32:
+                    x = x + vib[t, off + i, j]
+                if flags & 64:
+                    x = np.rint(x / quant) * quant
+                out[t, off + i, j] = x
+        for j in range(3):
+            rw_state[t, j] = walk[j]
+            gm_state[t, j] = y[j]
+
+
+#: Stand-in for the generator arguments of :func:`_apply_errors` that a call does not draw from.
+_DUMMY_GENERATOR = np.random.Generator(np.random.PCG64(0))
+
+
 class _SensorStream:
     """Applies one triad's :class:`SensorErrors` chunk by chunk.
 
@@ -317,7 +424,9 @@ class _SensorStream:
     """
 
     def __init__(self, errors: SensorErrors, seed_seq: np.random.SeedSequence | None, sensor_index: int,
-                 trials: int, dt_s: float, time_since_power_on_s: float, block_samples: int):
+                 trials: int, dt_s: float, time_since_power_on_s: float, block_samples: int,
+                 engine: str = "numba"):
+        self.engine = engine
         self.e, self.seed_seq, self.sensor_index = errors, seed_seq, sensor_index
         self.trials, self.dt, self.t_on, self.block = trials, dt_s, time_since_power_on_s, block_samples
         self.matrix_t = errors.matrix().T
@@ -332,26 +441,38 @@ class _SensorStream:
                         if errors.bias_sigma else None)
         self.phase = (self._generator("vibration", 0).uniform(0.0, 2 * np.pi, (trials, 1, 3))
                       if np.any(self.vib) and errors.vibration_freq_hz else None)
+        self._rw = np.zeros((trials, 3))       # numba engine: walk and Gauss–Markov output carried over
+        self._gm = np.zeros((trials, 3))
 
     def _generator(self, source: str, block: int) -> np.random.Generator:
         key = self.seed_seq.spawn_key + (self.sensor_index, _SOURCES.index(source), block)
         return np.random.Generator(np.random.PCG64(np.random.SeedSequence(self.seed_seq.entropy, spawn_key=key)))
 
+    def _block(self, source: str, b: int) -> np.ndarray:
+        """Standard normal draws (T, block, 3) of block ``b`` of ``source`` (the last block is cached)."""
+        cached = self._cache.get(source)
+        if cached is None or cached[0] != b:
+            gen = self._generator(source, b)
+            if self.engine == "numba":  # blocks are consumed one at a time: refill one buffer per source
+                arr = cached[1] if cached is not None else np.empty((self.trials, self.block, 3))
+                _fill_standard_normal(gen, arr)
+            else:
+                arr = gen.standard_normal((self.trials, self.block, 3))
+            cached = (b, arr)
+            self._cache[source] = cached
+        return cached[1]
+
     def _normal(self, source: str, start: int, stop: int) -> np.ndarray:
         """Standard normal draws (T, stop − start, 3) for global samples [start, stop)."""
         b0, b1 = start // self.block, (stop - 1) // self.block
-        parts = []
-        for b in range(b0, b1 + 1):
-            cached = self._cache.get(source)
-            if cached is None or cached[0] != b:
-                cached = (b, self._generator(source, b).standard_normal((self.trials, self.block, 3)))
-                self._cache[source] = cached
-            parts.append(cached[1])
+        parts = [self._block(source, b) for b in range(b0, b1 + 1)]
         blocks = parts[0] if len(parts) == 1 else np.concatenate(parts, axis=1)
         return blocks[:, start - b0 * self.block: stop - b0 * self.block]
 
     def process(self, truth: np.ndarray, time_s: np.ndarray, start: int) -> np.ndarray:
         """Measurements (T, n, 3) for truth samples (n, 3) at global index ``start``."""
+        if self.engine == "numba":
+            return self._process_numba(truth, time_s, start)
         e, n = self.e, truth.shape[-2]  # truth: (n, 3) shared or (T, n, 3) per trial
         stop = start + n
         out = np.empty((self.trials, n, 3))
@@ -378,6 +499,47 @@ class _SensorStream:
             out *= e.quantization
         return out
 
+    def _process_numba(self, truth: np.ndarray, time_s: np.ndarray, start: int) -> np.ndarray:
+        """:meth:`process` with the compiled engine: one :func:`_apply_errors` pass per random block
+        overlapping the chunk, reading the blocks in place (no concatenation)."""
+        e, n = self.e, truth.shape[-2]
+        stop = start + n
+        out = np.empty((self.trials, n, 3))
+        base = truth @ self.matrix_t          # same product as the reference
+        base = np.ascontiguousarray(base if base.ndim == 3 else base[None])
+        none2, none3 = np.zeros((1, 3)), np.zeros((1, 1, 3))
+        flags = 0
+        warm = none2
+        if np.any(self.warm):
+            warm, flags = np.ascontiguousarray(np.exp(-(time_s + self.t_on) / e.warmup_tau_s)[:, None] * self.warm), 1
+        turn_on = none2 if self.turn_on is None else np.ascontiguousarray(self.turn_on[:, 0, :])
+        flags |= 0 if self.turn_on is None else 2
+        flags |= (4 if e.noise_density else 0) | (8 if e.bias_random_walk else 0) | (16 if e.bias_instability else 0)
+        vib = none3
+        if self.phase is not None:
+            vib = np.ascontiguousarray(self.vib * np.sin(2 * np.pi * e.vibration_freq_hz * time_s[None, :, None]
+                                                         + self.phase))
+            flags |= 32
+        flags |= 64 if e.quantization else 0
+        white_scale = e.noise_density / np.sqrt(self.dt)
+        rw_scale = e.bias_random_walk * np.sqrt(self.dt)
+        gm_a = float(self.gm_a)
+        gm_c = float(np.sqrt(1.0 - gm_a * gm_a))
+        sources = [(4, "white"), (8, "random_walk"), (16, "instability")]
+        for b in range(start // self.block, (stop - 1) // self.block + 1):
+            lo, hi = max(start, b * self.block), min(stop, (b + 1) * self.block)
+            fused = hi - lo == self.block     # a whole block inside this chunk: draw while applying
+            arrays, gens = [], []
+            for bit, source in sources:
+                on = bool(flags & bit)
+                arrays.append(self._block(source, b) if on and not fused else none3)
+                gens.append(self._generator(source, b) if on and fused else _DUMMY_GENERATOR)
+            _apply_errors(out, lo - start, hi - lo, base, base.shape[0] > 1, self.bias, warm, turn_on, arrays[0],
+                          float(white_scale), arrays[1], float(rw_scale), self._rw, arrays[2],
+                          float(e.bias_instability), gm_c, gm_a, self._gm, lo == 0, vib, float(e.quantization),
+                          lo - b * self.block, flags, gens[0], gens[1], gens[2], fused)
+        return out
+
     def _gauss_markov(self, start: int, stop: int) -> np.ndarray:
         """First-order Gauss–Markov bias ``b_k = a b_{k−1} + √(1−a²) σ w_k``, stationary from k = 0."""
         a, sigma = self.gm_a, self.e.bias_instability
@@ -387,7 +549,7 @@ class _SensorStream:
             w = w.copy()
             w[:, 0, :] /= c  # b_0 = σ w_0 ~ N(0, σ²)
         zi = np.zeros((self.trials, 1, 3)) if self.gm_state is None else a * self.gm_state
-        b, _ = lfilter([c], [1.0, -a], w, axis=1, zi=zi)
+        b, _ = _lfilter([c], [1.0, -a], w, axis=1, zi=zi)
         self.gm_state = b[:, -1:, :].copy()
         return b
 
@@ -408,11 +570,13 @@ class ImuStream:
     block_samples : int
         Size of the fixed random-number blocks (memory per block:
         ``trials × block_samples × 3 × 8`` bytes per error source).
+    engine : {"numba", "numpy"}
+        Compiled error model (default) or the numpy reference; bit-identical output.
     """
 
     def __init__(self, trajectory: Trajectory, model: ImuErrorModel | None = None,
                  rng: np.random.Generator | None = None, trials: int | None = None,
-                 gravity_w_m_s2=GRAVITY_W_M_S2, block_samples: int = 256):
+                 gravity_w_m_s2=GRAVITY_W_M_S2, block_samples: int = 256, *, engine: str = "numba"):
         if not isinstance(trajectory, Trajectory):
             raise TypeError(f"trajectory must be a Trajectory, got {type(trajectory).__name__}")
         model = ImuErrorModel() if model is None else model
@@ -425,6 +589,7 @@ class ImuStream:
         self.trajectory, self.model, self.single = trajectory, model, trials is None
         self.trials = 1 if trials is None else positive_int(trials, "trials")
         block = positive_int(block_samples, "block_samples")
+        engine = _check_engine(engine)
         q_bs = np.asarray(model.q_mount, dtype=float)
         self.q_ws = rotations.quat_multiply(trajectory.q_wb, q_bs)
         c_sb = rotations.quat_to_matrix(q_bs).T
@@ -432,8 +597,8 @@ class ImuStream:
         self.accel_true = specific_force(trajectory, gravity_w_m_s2) @ c_sb.T
         seed_seq = rng.spawn(1)[0].bit_generator.seed_seq if rng is not None else None
         dt, t_on = trajectory.dt_s, model.time_since_power_on_s
-        self._gyro = _SensorStream(model.gyro, seed_seq, 0, self.trials, dt, t_on, block)
-        self._accel = _SensorStream(model.accel, seed_seq, 1, self.trials, dt, t_on, block)
+        self._gyro = _SensorStream(model.gyro, seed_seq, 0, self.trials, dt, t_on, block, engine)
+        self._accel = _SensorStream(model.accel, seed_seq, 1, self.trials, dt, t_on, block, engine)
         self._next = 0
 
     def chunks(self, chunk_samples: int):
@@ -455,7 +620,7 @@ class ImuStream:
 
 
 def apply_sensor_errors(errors: SensorErrors, truth, time_s, rng: np.random.Generator | None = None, *,
-                        time_since_power_on_s: float = 0.0) -> np.ndarray:
+                        time_since_power_on_s: float = 0.0, engine: str = "numba") -> np.ndarray:
     """Corrupt an error-free triad signal with one sensor's :class:`SensorErrors`.
 
     For batches where every trial has its own truth (e.g. wang2022sensors's per-trial
@@ -473,6 +638,8 @@ def apply_sensor_errors(errors: SensorErrors, truth, time_s, rng: np.random.Gene
         Required when ``errors`` has random terms.
     time_since_power_on_s : float
         Time already powered at ``time_s[0]`` (s), for the warm-up bias.
+    engine : {"numba", "numpy"}
+        Compiled error model (default) or the numpy reference; bit-identical output.
 
     Returns
     -------
@@ -492,14 +659,14 @@ def apply_sensor_errors(errors: SensorErrors, truth, time_s, rng: np.random.Gene
     seed_seq = rng.spawn(1)[0].bit_generator.seed_seq if rng is not None else None
     stream = _SensorStream(errors, seed_seq, 0, trials, uniform_dt(t),
                            positive_scalar(time_since_power_on_s, "time_since_power_on_s", allow_zero=True),
-                           block_samples=256)
+                           block_samples=256, engine=_check_engine(engine))
     out = stream.process(x, t, 0)
     return out[0] if x.ndim == 2 else out
 
 
 def simulate_imu(trajectory: Trajectory, model: ImuErrorModel | None = None,
                  rng: np.random.Generator | None = None, trials: int | None = None,
-                 gravity_w_m_s2=GRAVITY_W_M_S2) -> ImuRecord:
+                 gravity_w_m_s2=GRAVITY_W_M_S2, *, engine: str = "numba") -> ImuRecord:
     """Simulate gyro and accelerometer outputs along a trajectory.
 
     Parameters
@@ -515,6 +682,8 @@ def simulate_imu(trajectory: Trajectory, model: ImuErrorModel | None = None,
         ``None`` gives a single trial without the leading axis.
     gravity_w_m_s2 : 3-vector
         World gravity (m/s²), default z-up ``[0, 0, −9.80665]``.
+    engine : {"numba", "numpy"}
+        Compiled error model (default) or the numpy reference; bit-identical output.
 
     Returns
     -------
@@ -533,8 +702,14 @@ def simulate_imu(trajectory: Trajectory, model: ImuErrorModel | None = None,
     >>> rec.accel_m_s2[0].round(5)
     array([0.     , 0.     , 9.80665])
     """
-    stream = ImuStream(trajectory, model, rng, trials, gravity_w_m_s2)
+    stream = ImuStream(trajectory, model, rng, trials, gravity_w_m_s2, engine=engine)
     return next(stream.chunks(len(trajectory)))
+
+
+def _check_engine(engine: str) -> str:
+    if engine not in ("numba", "numpy"):
+        raise ValueError(f"engine must be one of ('numba', 'numpy'), got {engine!r}")
+    return engine
 
 
 def _has_random_errors(model: ImuErrorModel) -> bool:
@@ -546,3 +721,10 @@ def _is_random(s: SensorErrors) -> bool:
     if s.bias_sigma or s.noise_density or s.bias_random_walk or s.bias_instability:
         return True
     return bool(np.any(_vec3(s.vibration_amplitude, "vibration_amplitude")) and s.vibration_freq_hz)
+
+
+def _lfilter(*args, **kwargs):
+    """``scipy.signal.lfilter``, imported on first use (scipy.signal costs ~0.5-1 s of import time)."""
+    from scipy.signal import lfilter
+
+    return lfilter(*args, **kwargs)

@@ -54,11 +54,23 @@ respect to the world frame (s → w, z up), ``v_w = C(q) v_s``.
 5. Euler angles are extracted with Eq 8
    (:func:`mtcal.core.rotations.euler_zxy_from_quat`).
 
-Implementation: the time loop is the only Python loop; every step is
-vectorised over Monte Carlo trials (leading axis), works in place on
-preallocated component-major buffers and never mutates the caller's arrays.
-:class:`QncfFilter` keeps the state so a long record can be processed in
-chunks (bounded memory); :func:`qncf` runs a whole record in one call.
+Implementation: two engines behind the same API (``engine=``).
+
+* ``"numba"`` (default): compiled float64 kernels
+  (:mod:`mtcal.filters._kernels_qncf`), a single-trial kernel and a
+  trial-parallel one (``prange`` over trials); each trial is computed
+  independently, so results are bit-identical for any numba thread count and
+  any chunking of the record.
+* ``"numpy"``: the readable reference — the time loop is the only Python
+  loop; every step is vectorised over Monte Carlo trials (leading axis), works
+  in place on preallocated component-major buffers.
+
+Both compute the same operations in the same order; they agree to a few
+1e-16 rad per sample (the reference picks the increment series order per time
+block from a bound, the kernel per sample; both series are exact to double
+precision). Neither mutates the caller's arrays. :class:`QncfFilter` keeps the
+state so a long record can be processed in chunks (bounded memory);
+:func:`qncf` runs a whole record in one call.
 """
 
 from __future__ import annotations
@@ -68,6 +80,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from mtcal.core import rotations
+from mtcal.filters._kernels_common import check_engine, check_kernel_scan, record, use_parallel
 from mtcal.core.validate import (STANDARD_GRAVITY_M_S2, as_float_array, check_accel_units, check_gyro_units,
                              positive_scalar, unit_quaternion)
 
@@ -204,6 +217,8 @@ class QncfFilter:
         Gains and AMD settings.
     trials : int, optional
         Number of trials T (default: from ``q0``, 1 when ``q0`` is (4,)).
+    engine : {"numba", "numpy"}
+        Compiled kernels (default) or the numpy reference implementation.
 
     Notes
     -----
@@ -218,7 +233,9 @@ class QncfFilter:
     sample by sample (same formula, same rounding as the per-step form).
     """
 
-    def __init__(self, q0, dt_s: float, params: QncfParams = QncfParams(), trials: int | None = None):
+    def __init__(self, q0, dt_s: float, params: QncfParams = QncfParams(), trials: int | None = None,
+                 *, engine: str = "numba"):
+        self.engine = check_engine(engine)
         q = unit_quaternion(q0, "q0")
         if q.ndim not in (1, 2):
             raise ValueError(f"q0 must have shape (4,) or (T, 4), got {q.shape}")
@@ -239,7 +256,11 @@ class QncfFilter:
         self._amd = np.full(n, np.nan)
         self._gate = np.ones(n, dtype=bool)
         self._alpha = min(self.dt_s / params.amd_tau_s, 1.0)
-        # scratch buffers (reused every step) and their row views, bound once
+        if self.engine == "numpy":
+            self._numpy_scratch(n)
+
+    def _numpy_scratch(self, n: int) -> None:
+        """Scratch buffers of the numpy engine (reused every step) and their row views, bound once."""
         self._v = np.empty((5, n))                        # v̂0 v̂1 v̂2 v̂0 v̂1
         self._pair = np.empty((2, n))
         self._sq = np.empty((4, n))
@@ -420,8 +441,10 @@ class QncfFilter:
         bound = dt * (w_max + (p.kp_rad_s + p.ki_rad_s2 * dt * wt.shape[0]) * (1.0 + 1e-9) + i_max)
         return 2 if bound <= TAYLOR2_MAX_INCREMENT_RAD else (3 if bound <= TAYLOR_MAX_INCREMENT_RAD else 0)
 
-    def _prepare(self, x, name: str, ndim_single: int) -> np.ndarray:
-        arr = _as_input(x, name)
+    def _prepare(self, x, name: str, ndim_single: int, kind: str | None = None) -> np.ndarray:
+        # numba engine: record() checks type and shape only; the kernel scans the values (finite,
+        # units) while it filters and raises with the numpy path's messages before keeping anything
+        arr = record(x, name, (1, 2, 3), kind, scan=False) if self.engine == "numba" else _as_input(x, name)
         if self._single and arr.ndim == ndim_single:
             arr = arr[None]
         if arr.ndim != ndim_single + 1 or arr.shape[0] != self.trials:
@@ -436,7 +459,7 @@ class QncfFilter:
         the gyro sample is the mean rate over ``[t_k, t_{k+1}]``. Returns the
         attitude at ``t_{k+1}``, shape (T, 4) or (4,).
         """
-        w = self._prepare(gyro_rad_s, "gyro_rad_s", 1)
+        w = self._prepare(gyro_rad_s, "gyro_rad_s", 1, "gyro")
         a = self._prepare(accel_m_s2, "accel_m_s2", 1)
         if self._single:
             w, a = w[0], a[0]
@@ -447,16 +470,21 @@ class QncfFilter:
             chunk: int = 2048) -> QncfResult:
         """Process a record (T, M, 3) (or (M, 3) for a single-trial filter), continuing the state.
 
-        Inputs are read in time chunks of at most ``chunk`` samples (transposed
-        to a component-major scratch copy; with many trials the chunk is
-        shortened to ~65 000 trial-samples so that it stays in cache), so the
-        working set stays small; the caller's arrays are never modified. ``q_ws[k]`` is the attitude at
-        ``t_k`` (before sample k's increment).
+        numpy engine: inputs are read in time chunks of at most ``chunk``
+        samples (transposed to a component-major scratch copy; with many
+        trials the chunk is shortened to ~65 000 trial-samples so that it
+        stays in cache), so the working set stays small. numba engine: one
+        kernel call over the whole call's samples (``chunk`` is ignored; the
+        result does not depend on it). The caller's arrays are never modified.
+        ``q_ws[k]`` is the attitude at ``t_k`` (before sample k's increment).
         """
-        w = self._prepare(gyro_rad_s, "gyro_rad_s", 2)
-        a = self._prepare(accel_m_s2, "accel_m_s2", 2)
+        fast = self.engine == "numba"
+        w = self._prepare(gyro_rad_s, "gyro_rad_s", 2, "gyro")
+        a = self._prepare(accel_m_s2, "accel_m_s2", 2, "accel")
         if w.shape != a.shape:
             raise ValueError(f"gyro_rad_s and accel_m_s2 must have the same shape, got {w.shape} and {a.shape}")
+        if fast:  # values (finite, units) are checked by the kernel's scan
+            return self._run_numba(w, a, return_euler)
         check_gyro_units(w)
         if w.shape[1] > 1:  # one sample may legitimately be small (free fall, vibration): judge records only
             check_accel_units(a)
@@ -491,6 +519,84 @@ class QncfFilter:
             return QncfResult(q_out[0], euler[0], amd_out[0], gate_out[0])
         return QncfResult(q_out, euler, amd_out, gate_out)
 
+    def run_error_stats(self, gyro_rad_s, accel_m_s2, truth_euler_rad, errors) -> None:
+        """Advance the filter over a chunk and fold its Eq 8 errors into ``errors``, keeping no history.
+
+        For streaming Monte Carlo runs that only need metrics: equivalent to
+        ``errors.add_euler_zxy_errors(self.run(gyro, accel, return_euler=False).q_ws, truth_euler_rad)``
+        (the wrapped yaw/pitch/roll errors of the attitude at each t_k), computed
+        inside the compiled kernel without materialising the (T, M, 4)
+        quaternions (numba engine only).
+
+        Parameters
+        ----------
+        gyro_rad_s, accel_m_s2 : array_like, shape (T, M, 3)
+            As for :meth:`run`.
+        truth_euler_rad : array_like, shape (M, 3) or (T, M, 3)
+            True Eq 8 yaw ψ, pitch θ, roll γ at t_k (rad).
+        errors : mtcal.core.montecarlo.ErrorAccumulator
+            Accumulator of shape (T, 3).
+        """
+        from mtcal.core.montecarlo import ErrorAccumulator
+
+        if self.engine != "numba":
+            raise ValueError("run_error_stats needs engine='numba' (use run() with the numpy engine)")
+        if not isinstance(errors, ErrorAccumulator) or errors.shape != (self.trials, 3):
+            raise TypeError(f"errors must be an ErrorAccumulator of shape ({self.trials}, 3)")
+        w = self._prepare(gyro_rad_s, "gyro_rad_s", 2, "gyro")
+        a = self._prepare(accel_m_s2, "accel_m_s2", 2, "accel")
+        if w.shape != a.shape:
+            raise ValueError(f"gyro_rad_s and accel_m_s2 must have the same shape, got {w.shape} and {a.shape}")
+        tr = as_float_array(truth_euler_rad, "truth_euler_rad", ndim=(2, 3), last_dim=3, copy=False)
+        tr = np.ascontiguousarray(tr if tr.ndim == 3 else tr[None])
+        if tr.shape[1] != w.shape[1] or tr.shape[0] not in (1, self.trials):
+            raise ValueError(f"truth_euler_rad of shape {tr.shape} does not match the records {w.shape}")
+        stats = errors._stats_block()
+        self._launch(w, a, None, tr, stats)
+        errors._stats_block_done(stats, w.shape[1])
+
+    def _launch(self, w, a, outputs, truth, stats) -> None:
+        """Run the kernel over validated (T, M, 3) records and write the state back."""
+        from mtcal.filters import _kernels_qncf as kern
+
+        p, n, m = self.params, self.trials, w.shape[1]
+        q = np.ascontiguousarray(self._q.T)              # copies: the state is written back only
+        integ = np.ascontiguousarray(self._integral.T)   # once the input scan has passed
+        amd = self._amd.copy()
+        chk = np.empty((n, 4))
+        if outputs is None:
+            q_out, amd_out, gate_out = np.empty((1, 1, 4)), np.empty((1, 1)), np.empty((1, 1), dtype=bool)
+        else:
+            q_out, amd_out, gate_out = outputs
+        with_stats = stats is not None
+        if not with_stats:
+            truth, stats = np.empty((1, 1, 3)), np.empty((1, 9))
+        fn = kern.qncf_parallel if use_parallel(n, m) else kern.qncf_serial
+        fn(np.ascontiguousarray(w), np.ascontiguousarray(a), q, integ, amd, q_out, amd_out, gate_out,
+           float(p.kp_rad_s), float(p.ki_rad_s2 * self.dt_s), bool(p.ki_rad_s2), float(self.dt_s),
+           float(self._alpha), float(p.gravity_m_s2), float(p.amd_threshold_pct), outputs is not None, truth,
+           stats, with_stats, chk)
+        if m:  # raise (state untouched) if the inputs were not finite or not in rad/s and m/s²
+            check_kernel_scan(chk, w, a, accel_units=m > 1)
+        self._amd[:] = amd
+        self._qx[:4] = q.T
+        self._qx[4:] = self._qx[1:3]
+        self._integral[:] = integ.T
+        if m:
+            self._gate[:] = self._amd < p.amd_threshold_pct   # = gate of the last sample
+
+    def _run_numba(self, w: np.ndarray, a: np.ndarray, return_euler: bool) -> QncfResult:
+        """:meth:`run` with the compiled kernels on validated (T, M, 3) float64 arrays."""
+        n, m = self.trials, w.shape[1]
+        q_out = np.empty((n, m, 4))
+        amd_out = np.empty((n, m))
+        gate_out = np.empty((n, m), dtype=bool)
+        self._launch(w, a, (q_out, amd_out, gate_out), None, None)
+        euler = rotations.euler_zxy_from_quat(q_out) if return_euler else np.empty((n, m, 0))
+        if self._single:
+            return QncfResult(q_out[0], euler[0], amd_out[0], gate_out[0])
+        return QncfResult(q_out, euler, amd_out, gate_out)
+
 
 def _component_major(x: np.ndarray, out: np.ndarray, block: int = 64) -> np.ndarray:
     """Copy ``x`` (T, C, 3) into ``out`` (C, 3, T), in blocks of trials (cache-friendly transpose)."""
@@ -508,7 +614,7 @@ def _as_input(x, name: str) -> np.ndarray:
 
 
 def qncf(gyro_rad_s, accel_m_s2, dt_s: float, params: QncfParams = QncfParams(), *,
-         q0=None, init_samples: int = 100, return_euler: bool = True) -> QncfResult:
+         q0=None, init_samples: int = 100, return_euler: bool = True, engine: str = "numba") -> QncfResult:
     """Run the QNCF over a whole record (wang2023cja Eq 5–8 + PI/AMD), vectorised over trials.
 
     Parameters
@@ -530,6 +636,9 @@ def qncf(gyro_rad_s, accel_m_s2, dt_s: float, params: QncfParams = QncfParams(),
         Samples averaged for the default levelling.
     return_euler : bool
         Also compute Eq 8 Euler angles.
+    engine : {"numba", "numpy"}
+        Compiled kernels (default; trials in parallel over numba's threads) or
+        the numpy reference implementation (agree to ~1e-15 rad).
 
     Returns
     -------
@@ -543,8 +652,11 @@ def qncf(gyro_rad_s, accel_m_s2, dt_s: float, params: QncfParams = QncfParams(),
     >>> res.q_ws[-1].round(12).tolist()
     [1.0, 0.0, 0.0, 0.0]
     """
-    w = _as_input(gyro_rad_s, "gyro_rad_s")
-    a = _as_input(accel_m_s2, "accel_m_s2")
+    check_engine(engine)
+    fast = engine == "numba"
+    # numba engine: type and shape here, values scanned by the kernel (same messages)
+    w = record(gyro_rad_s, "gyro_rad_s", (1, 2, 3), scan=False) if fast else _as_input(gyro_rad_s, "gyro_rad_s")
+    a = record(accel_m_s2, "accel_m_s2", (1, 2, 3), scan=False) if fast else _as_input(accel_m_s2, "accel_m_s2")
     if w.ndim == 1:
         raise ValueError(f"gyro_rad_s must have shape (N, 3) or (T, N, 3), got {w.shape}")
     if w.shape != a.shape:
@@ -557,7 +669,9 @@ def qncf(gyro_rad_s, accel_m_s2, dt_s: float, params: QncfParams = QncfParams(),
     if single:
         if q0.shape != (4,):
             raise ValueError(f"q0 must have shape (4,) for a single-trial record, got {q0.shape}")
-        filt = QncfFilter(q0, dt_s, params)
+        filt = QncfFilter(q0, dt_s, params, engine=engine)
     else:
-        filt = QncfFilter(np.broadcast_to(q0, (w.shape[0], 4)), dt_s, params)
+        filt = QncfFilter(np.broadcast_to(q0, (w.shape[0], 4)), dt_s, params, engine=engine)
+    if fast:  # the kernel checks finiteness and units before the results are kept
+        return filt._run_numba(w[None] if single else w, a[None] if single else a, return_euler)
     return filt.run(w, a, return_euler=return_euler)

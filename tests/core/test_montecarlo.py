@@ -77,3 +77,53 @@ def test_progress_switch(monkeypatch):
     assert not montecarlo.progress_enabled()
     monkeypatch.setenv("MTCAL_PROGRESS", "1")
     assert montecarlo.progress_enabled()
+
+
+def test_compiled_euler_error_statistics_match_numpy():
+    rng = np.random.default_rng(4)
+    q = rotations.quat_normalize(np.array([1.0, 0.0, 0.0, 0.0]) + 0.4 * rng.standard_normal((3, 50, 4)))
+    truth = rotations.euler_zxy_from_quat(q[0]) + 0.01 * rng.standard_normal((50, 3))
+    truth[::7, 0] += 2 * np.pi - 0.005  # wrapping
+    ref = montecarlo.ErrorAccumulator((3, 3))
+    fast = montecarlo.ErrorAccumulator((3, 3))
+    for sl in (slice(0, 20), slice(20, 50)):
+        ref.add(metrics.angle_difference(rotations.euler_zxy_from_quat(q[:, sl]), truth[sl]))
+        fast.add_euler_zxy_errors(q[:, sl], truth[sl])
+    np.testing.assert_allclose(fast.rmse(), ref.rmse(), rtol=1e-13, atol=0)
+    np.testing.assert_allclose(fast.mean(), ref.mean(), rtol=0, atol=1e-15)
+    np.testing.assert_allclose(fast.max_abs(), ref.max_abs(), rtol=0, atol=1e-15)
+    with pytest.raises(ValueError, match="accumulator of shape"):
+        montecarlo.ErrorAccumulator((3,)).add_euler_zxy_errors(q, truth)
+    with pytest.raises(ValueError, match="does not match"):
+        fast.add_euler_zxy_errors(q, truth[:10])
+
+
+def test_qncf_run_error_stats_equals_run_then_accumulate():
+    from mtcal.filters.qncf import QncfFilter
+
+    wp = np.radians([[0, 0, 0], [8, 0, 0], [0, 20, -30]])
+    traj = profiles.trajectory_from_euler_zxy(profiles.step_schedule(wp, np.radians(20), 0.3, 1000))
+    model = ImuErrorModel(gyro=SensorErrors(noise_density=1e-4), accel=SensorErrors(noise_density=1e-3))
+    rec = simulate.simulate_imu(traj, model, np.random.default_rng(1), trials=4)
+    truth = rotations.euler_zxy_from_quat(rec.q_ws_true)
+    f1, f2 = (QncfFilter(rec.q_ws_true[0], traj.dt_s, trials=4) for _ in range(2))
+    a1, a2 = montecarlo.ErrorAccumulator((4, 3)), montecarlo.ErrorAccumulator((4, 3))
+    for sl in (slice(0, 333), slice(333, None)):
+        f1.run_error_stats(rec.gyro_rad_s[:, sl], rec.accel_m_s2[:, sl], truth[sl], a1)
+        a2.add_euler_zxy_errors(f2.run(rec.gyro_rad_s[:, sl], rec.accel_m_s2[:, sl], return_euler=False).q_ws,
+                                truth[sl])
+    for name in ("rmse", "mean", "max_abs"):
+        np.testing.assert_array_equal(getattr(a1, name)(), getattr(a2, name)())
+    np.testing.assert_array_equal(f1.q_ws, f2.q_ws)
+    with pytest.raises(TypeError, match="ErrorAccumulator"):
+        f1.run_error_stats(rec.gyro_rad_s, rec.accel_m_s2, truth, montecarlo.ErrorAccumulator((4,)))
+    with pytest.raises(ValueError, match="engine='numba'"):
+        QncfFilter(rec.q_ws_true[0], traj.dt_s, trials=4, engine="numpy").run_error_stats(
+            rec.gyro_rad_s, rec.accel_m_s2, truth, a1)
+
+
+def test_compiled_wrap_equals_angle_difference_bit_for_bit():
+    d = np.concatenate([np.linspace(-20.0, 20.0, 20001), [np.pi, -np.pi, 0.0, -0.0, 2 * np.pi, -2 * np.pi,
+                                                          np.nextafter(np.pi, 0), np.nextafter(-np.pi, 0)]])
+    got = np.array([montecarlo._wrap(x) for x in d])
+    np.testing.assert_array_equal(got, metrics.angle_difference(d, 0.0))
