@@ -19,7 +19,7 @@ from mtcal.filters.qncf import QncfFilter, QncfParams, qncf
 from mtcal.filters.rams_ekf import RamsEkfFilter, initial_state, run_rams_ekf
 from mtcal.studies.wang2022sensors.runs import ImuSpec as SensorsImu
 from mtcal.studies.wang2022sensors.runs import RotationSetup, simulate_rotation
-from mtcal.studies.wang2023cja.runs import ImuSpec as CjaImu
+from mtcal.studies.wang2023cja import ImuSpec as CjaImu
 
 FS = 1000.0
 TOL_RAD = 1e-12
