@@ -29,12 +29,11 @@ roll_positions_deg = (90.0, -90.0)
 turntable_rate_deg_s = 20.0           # assumed mean move rate
 
 # %%
-import os
 import numpy as np
 from mtcal.reporting import compare, output as report
 from mtcal.studies import wang2023cja as w
 
-SIZE = SIZE or os.environ.get("MTCAL_SIZE", "full")
+SIZE = report.run_size(SIZE)
 N_TRIALS = N_TRIALS or {"ci": 4, "full": 40}[SIZE]
 N_BUDGET = {"ci": 1, "full": 4}[SIZE]
 params = dict(gyro_grade=gyro_grade, accel_grade=accel_grade, fs_hz=fs_hz, rest_s=rest_s,

@@ -39,12 +39,11 @@ vibration_accel_m_s2 = 3.0       # model vibration with wind on (assumed; trips 
 # `gyro_grade = "industrial"`) re-resolves all of this; titles and labels follow the values.
 
 # %%
-import os
 import numpy as np
 from mtcal.reporting import compare, output as report
 from mtcal.studies import wang2023cja as w
 
-SIZE = SIZE or os.environ.get("MTCAL_SIZE", "full")
+SIZE = report.run_size(SIZE)
 N_TRIALS = N_TRIALS or {"ci": 4, "full": 40}[SIZE]
 params = dict(gyro_grade=gyro_grade, accel_grade=accel_grade, fs_hz=fs_hz, rest_s=rest_s,
               mechanism_rate_deg_s=mechanism_rate_deg_s, group5_rate_deg_s=group5_rate_deg_s,

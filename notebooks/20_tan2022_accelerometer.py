@@ -49,7 +49,7 @@ from mtcal.studies import tan2022
 from mtcal.studies.tan2022 import plots
 
 report.setup_matplotlib()
-SIZE = SIZE or report.run_size()
+SIZE = report.run_size(SIZE)
 N_TRIALS = N_TRIALS or {"ci": 100, "full": 1000}[SIZE]
 params = {"accel_error_g": accel_error_g, "lambda1_deg": lambda1_deg, "lambda2_deg": lambda2_deg}
 sc = tan2022.accel_scenario(grid_step_deg={"ci": 3.0, "full": 1.0}[SIZE], **params)

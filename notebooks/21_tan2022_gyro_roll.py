@@ -51,7 +51,7 @@ from mtcal.studies import tan2022
 from mtcal.studies.tan2022 import plots
 
 report.setup_matplotlib()
-SIZE = SIZE or report.run_size()
+SIZE = report.run_size(SIZE)
 N_TRIALS = N_TRIALS or {"ci": 20, "full": 100}[SIZE]
 N_UNIFORM = {"ci": 5, "full": 20}[SIZE]  # trials of the long uniform rotations
 N_THRESHOLDS = {"ci": 25, "full": 60}[SIZE]

@@ -37,13 +37,12 @@ zvd_gyro_max_deg_s = 2.0           # optional gyro condition (mtcal; None = Tabl
 # then the claims are asserted, otherwise only reported.
 
 # %%
-import os
 
 from mtcal.reporting import compare, output as report
 from mtcal.studies import wang2022sensors as w
 from mtcal.studies.wang2022sensors import plots
 
-SIZE = SIZE or os.environ.get("MTCAL_SIZE", "full")
+SIZE = report.run_size(SIZE)
 N_TRIALS = N_TRIALS or {"full": 500, "ci": 100}[SIZE]
 ZVD_TRIALS = {"full": 50, "ci": 20}[SIZE]
 N_BOOT = {"full": 1000, "ci": 200}[SIZE]

@@ -38,13 +38,12 @@ zvd_gyro_max_deg_s = 2.0           # optional gyro condition (mtcal; None = Tabl
 # accelerometer noise and latency override the values above for Table 5 and Fig. 14.
 
 # %%
-import os
 
 from mtcal.reporting import compare, output as report
 from mtcal.studies import wang2022sensors as w
 from mtcal.studies.wang2022sensors import error_model as em, plots
 
-SIZE = SIZE or os.environ.get("MTCAL_SIZE", "full")
+SIZE = report.run_size(SIZE)
 GRID_REPS = GRID_REPS or {"full": 2, "ci": 2}[SIZE]
 GRID = {"full": em.FIT_GRID, "ci": em.FIT_GRID_CI}[SIZE]
 F9_TRIALS = {"full": 50, "ci": 20}[SIZE]

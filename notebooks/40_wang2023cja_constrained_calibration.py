@@ -25,13 +25,12 @@ k_max = 12                                   # largest number of calibration pos
 noise_levels_deg = (0.005, 0.01, 0.02, 0.05)  # per-position error σ per axis (deg)
 
 # %%
-import os
 import numpy as np
 from mtcal.reporting import compare, output as report
 from mtcal.studies import wang2023cja as w
 from mtcal.studies.wang2023cja import constrained as cs
 
-SIZE = SIZE or os.environ.get("MTCAL_SIZE", "full")
+SIZE = report.run_size(SIZE)
 N_TRIALS = N_TRIALS or {"ci": 200, "full": 2000}[SIZE]
 N_TEST = N_TEST or {"ci": 40, "full": 100}[SIZE]
 params = cs.check_parameters(k_max, noise_levels_deg)

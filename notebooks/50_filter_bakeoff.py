@@ -56,7 +56,7 @@ from mtcal.reporting import output as report
 from mtcal.sweep import bakeoff
 
 report.setup_matplotlib()
-SIZE = SIZE or os.environ.get("MTCAL_SIZE", "full")
+SIZE = report.run_size(SIZE)
 N_TRIALS = N_TRIALS or {"ci": 2, "full": 12}[SIZE]
 N_TUNING_TRIALS = N_TUNING_TRIALS or {"ci": 1, "full": 4}[SIZE]
 HOLD_S = {"ci": 0.5, "full": None}[SIZE]          # CI: 0.5 s holds (None → each motion's own holds)

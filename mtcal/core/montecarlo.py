@@ -27,7 +27,7 @@ from numba import prange
 from mtcal.core.validate import as_float_array, positive_int
 from mtcal.core.simulate import ImuRecord, ImuStream, _jit
 
-__all__ = ["ChunkConsumer", "ErrorAccumulator", "run_streaming", "progress_enabled"]
+__all__ = ["progress", "ChunkConsumer", "ErrorAccumulator", "run_streaming", "progress_enabled"]
 
 
 class ChunkConsumer(Protocol):
@@ -193,6 +193,22 @@ def progress_enabled() -> bool:
     if os.environ.get("CI"):
         return False
     return bool(getattr(sys.stderr, "isatty", lambda: False)()) or "ipykernel" in sys.modules
+
+
+def progress(iterable, total: int | None = None, desc: str = "Monte Carlo"):
+    """Wrap ``iterable`` in a tqdm progress bar when :func:`progress_enabled`, else return it.
+
+    Used by every Monte Carlo loop that can run longer than a few seconds; silent in
+    CI, under nbval and in ``make reproduce`` (``MTCAL_PROGRESS=0``).
+
+    >>> list(progress(range(3), desc="trials"))  # doctest: +SKIP
+    [0, 1, 2]
+    """
+    if not progress_enabled():
+        return iterable
+    from tqdm.auto import tqdm
+
+    return tqdm(iterable, total=total, desc=desc, leave=False)
 
 
 def run_streaming(stream: ImuStream, consumers: Iterable[ChunkConsumer], chunk_samples: int = 1000,

@@ -70,7 +70,8 @@ def numerics_env() -> dict[str, str]:
       CPUs numpy uses SVML for ``exp``, ``log``, ``tan``, ``arctan``, ``power``…,
       whose last bits differ from the scalar loops);
     * ``GLIBC_TUNABLES=glibc.cpu.hwcaps=-AVX,-AVX2,-FMA,-FMA4``: glibc's SSE2 libm
-      variants (the FMA variants of ``sin``/``cos``/``exp``/``atan2`` round differently).
+      variants (the FMA variants of ``sin``/``cos``/``exp``/``atan2`` round differently);
+    * ``NUMBA_CPU_NAME=generic``: the compiled filter kernels target generic x86-64.
 
     The ``Makefile`` exports the same values (tested).
 
@@ -83,7 +84,8 @@ def numerics_env() -> dict[str, str]:
     return {"OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1",
             "OPENBLAS_CORETYPE": "Nehalem",
             "NPY_DISABLE_CPU_FEATURES": " ".join(umath.__cpu_dispatch__),
-            "GLIBC_TUNABLES": "glibc.cpu.hwcaps=-AVX,-AVX2,-FMA,-FMA4"}
+            "GLIBC_TUNABLES": "glibc.cpu.hwcaps=-AVX,-AVX2,-FMA,-FMA4",
+            "NUMBA_CPU_NAME": "generic"}
 
 
 def repo_root() -> Path | None:

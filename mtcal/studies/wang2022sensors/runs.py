@@ -29,6 +29,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from mtcal.core.montecarlo import progress
 from mtcal.core import profiles, rotations, simulate
 from mtcal.core.simulate import ImuErrorModel
 from mtcal.core.validate import STANDARD_GRAVITY_M_S2, as_float_array, positive_scalar
@@ -376,7 +377,7 @@ def run_fig11(axis, imu: ImuValues, zvd: ZvdParams, reps: int, seed: int, *, ste
     angles = np.radians(np.arange(-180.0, 180.0 + 1e-9, step_deg))
     targets = np.tile(angles, reps)
     out = {k: [] for k in ("mr", "m16", "rr", "r16")}
-    for c0 in range(0, targets.size, chunk_trials):
+    for c0 in progress(range(0, targets.size, chunk_trials), desc="Fig 11 Monte Carlo"):
         tg = targets[c0:c0 + chunk_trials]
         wp = np.empty((4, tg.size))
         wp[:3] = np.radians([0.0, 90.0, 180.0])[:, None]
@@ -461,7 +462,7 @@ def axis_errors(axis, imu: ImuValues, rig: RigValues, trials: int, seed: int, st
     lever = lever_arm_vector(v, rig.lever_arm_m, rig.lever_arm_up_m)
     slices = prof.hold_slices()[:3]
     est = []
-    for c0 in range(0, trials, chunk_trials):
+    for c0 in progress(range(0, trials, chunk_trials), desc="Monte Carlo"):
         ids = np.arange(c0, min(c0 + chunk_trials, trials))
         sim = simulate_batch(prof.angle_rad[:, 0], prof.rate_rad_s[:, 0], prof.accel_rad_s2[:, 0],
                              np.tile(v, (ids.size, 1)), np.tile(lever, (ids.size, 1)), imu, seed, stream, ids)

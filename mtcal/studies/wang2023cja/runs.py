@@ -27,6 +27,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from mtcal.core.montecarlo import progress
 from mtcal.core import metrics, rotations
 from mtcal.core.profiles import AngleProfile, step_schedule
 from mtcal.core.rotations import mount_quaternion, relative_to_initial
@@ -335,7 +336,7 @@ def run_turntable_jobs(sc: TurntableScenario, jobs: list[TurntableJob], *, with_
         calls[-1].append(item)
         count += item[1][3]
     per_job = [[] for _ in jobs]
-    for c, call in enumerate(calls):
+    for c, call in enumerate(progress(calls, desc="turntable Monte Carlo")):
         runs = _run_pieces(sc, prof, spans, [p for _, p in call], with_sweeps, keep_trace and c == 0)
         for (i, _), run in zip(call, runs):
             per_job[i].append(run)
@@ -451,7 +452,8 @@ def run_windtunnel(sc: WindTunnelScenario, rng: np.random.Generator, trials: int
         raise ValueError(f"block must be >= 1, got {block}")
     sizes = [min(int(block), trials - k) for k in range(0, trials, int(block))]
     runs = [_run_windtunnel_block(sc, r, n, _check_sources(sources), wind_on=wind_on, keep_trace=(i == 0))
-            for i, (r, n) in enumerate(zip(rng.spawn(len(sizes)), sizes))]
+            for i, (r, n) in enumerate(progress(list(zip(rng.spawn(len(sizes)), sizes)),
+                                                desc="wind-tunnel Monte Carlo"))]
     cat = lambda xs: np.concatenate(xs, axis=0)  # noqa: E731
     first = runs[0]
     nowind = {k: (v if k == "reference" else cat([r.nowind[k] for r in runs])) for k, v in first.nowind.items()}
