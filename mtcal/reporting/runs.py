@@ -561,7 +561,7 @@ def compare_runs(runs: list[str | Path], *, names: list[str] | None = None, out_
             merged = part
         else:
             merged = merged.merge(part, on=_KEY, how="outer", suffixes=("", "_new"))
-            for col in ("paper", "claim", "role"):
+            for col in ("quantity", "paper", "claim", "role"):
                 merged[col] = merged[col].where(merged[col].notna(), merged.pop(f"{col}_new"))
     merged = merged.fillna("")
     holds_cols = [f"holds [{n}]" for n in names]

@@ -148,3 +148,12 @@ def test_timeout_keeps_the_partial_notebook(tmp_path):
         runs.execute_notebook(src, tmp_path / "out.ipynb", timeout_s=3)
     text = info.value.notebook.read_text()
     assert "before 1" in text and '"papermill"' not in text
+
+
+def test_compare_runs_three_runs(tmp_path):
+    # regression: a third run used to collide on the merged 'quantity' column
+    for name, value, holds in (("a", 1.0, True), ("b", 2.0, False), ("c", 3.0, True)):
+        _fake_run(tmp_path / name, [("t06", "roll (deg)", 1, value, "", "c", holds)])
+    table, _, _ = runs.compare_runs([tmp_path / n for n in "abc"], out_dir=tmp_path, figure=False)
+    assert len(table) == 1 and list(table.filter(like="mtcal [").iloc[0]) == ["1.0", "2.0", "3.0"]
+    assert table["flips"].iloc[0] != ""
