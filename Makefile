@@ -38,6 +38,8 @@ BENCH_ENV = env -u NPY_DISABLE_CPU_FEATURES -u GLIBC_TUNABLES -u NUMBA_CPU_NAME 
 	-u OPENBLAS_NUM_THREADS -u OMP_NUM_THREADS -u MKL_NUM_THREADS
 
 PYTEST := $(BIN)/python -m pytest -q -p no:cacheprovider
+# notebooks executed at the same time by `make reproduce` (outputs do not depend on it)
+JOBS ?= 2
 
 .PHONY: venv reproduce sync test measure bench clean
 
@@ -56,7 +58,7 @@ sync: $(STAMP)
 ## Every notebook in order at full paper size (papermill): rewrites notebooks/*.ipynb, figures/, data/.
 reproduce: $(STAMP)
 	$(BIN)/python tools/notebooks.py sync $(NOTEBOOK_SRC)
-	MTCAL_SIZE=full MTCAL_OUTPUT_DIR=$(CURDIR) $(BIN)/python tools/notebooks.py execute $(NOTEBOOK_SRC)
+	MTCAL_SIZE=full MTCAL_OUTPUT_DIR=$(CURDIR) $(BIN)/python tools/notebooks.py execute --jobs $(JOBS) $(NOTEBOOK_SRC)
 	$(BIN)/python tools/artifact_catalogue.py
 
 ## Unit tests + doctests + nbval over every notebook at CI size (outputs go to build/ci/), then the

@@ -248,9 +248,26 @@ def check_parameters(parameters: dict, valid: dict[str, dict], notebook: str = "
     return out
 
 
+def _coalesce_streams(outputs: list) -> list:
+    """Merge consecutive stream outputs of the same stream: how the kernel splits printed text
+    into messages depends on timing (machine load), the text itself does not."""
+    merged = []
+    for out in outputs:
+        if (merged and out.get("output_type") == "stream" and merged[-1].get("output_type") == "stream"
+                and merged[-1].get("name") == out.get("name")):
+            text = out.get("text", "")
+            merged[-1]["text"] = merged[-1].get("text", "") + ("".join(text) if isinstance(text, list) else text)
+        else:
+            if out.get("output_type") == "stream" and isinstance(out.get("text"), list):
+                out["text"] = "".join(out["text"])
+            merged.append(out)
+    return merged
+
+
 def normalise_notebook(nb):
-    """Drop run-dependent metadata (papermill durations/paths, nbclient timestamps, widgets) and number
-    the cell ids, so that re-running a deterministic notebook gives identical bytes. Returns ``nb``."""
+    """Drop run-dependent metadata (papermill durations/paths, nbclient timestamps, widgets), merge
+    stream outputs split by timing, and number the cell ids, so that re-running a deterministic
+    notebook gives identical bytes. Returns ``nb``."""
     nb.metadata.pop("papermill", None)
     nb.metadata.pop("widgets", None)
     for i, cell in enumerate(nb.cells):
@@ -258,6 +275,8 @@ def normalise_notebook(nb):
         cell.metadata.pop("papermill", None)
         cell.metadata.pop("execution", None)
         cell.metadata.pop("ExecuteTime", None)
+        if cell.get("cell_type") == "code":
+            cell["outputs"] = _coalesce_streams(cell.get("outputs", []))
     return nb
 
 

@@ -157,3 +157,21 @@ def test_compare_runs_three_runs(tmp_path):
     table, _, _ = runs.compare_runs([tmp_path / n for n in "abc"], out_dir=tmp_path, figure=False)
     assert len(table) == 1 and list(table.filter(like="mtcal [").iloc[0]) == ["1.0", "2.0", "3.0"]
     assert table["flips"].iloc[0] != ""
+
+
+def test_normalise_notebook_merges_stream_outputs_split_by_timing():
+    import nbformat
+
+    def nb_with(outputs):
+        nb = nbformat.v4.new_notebook()
+        nb.cells.append(nbformat.v4.new_code_cell("print('a'); print('b')", outputs=outputs))
+        return runs.normalise_notebook(nb)
+
+    split = nb_with([nbformat.v4.new_output("stream", name="stdout", text="a\n"),
+                     nbformat.v4.new_output("stream", name="stdout", text="b\n")])
+    whole = nb_with([nbformat.v4.new_output("stream", name="stdout", text="a\nb\n")])
+    assert nbformat.writes(split) == nbformat.writes(whole)
+    mixed = nb_with([nbformat.v4.new_output("stream", name="stdout", text="a\n"),
+                     nbformat.v4.new_output("stream", name="stderr", text="w\n"),
+                     nbformat.v4.new_output("stream", name="stdout", text="b\n")])
+    assert [o["name"] for o in mixed.cells[0].outputs] == ["stdout", "stderr", "stdout"]
