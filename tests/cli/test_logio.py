@@ -213,3 +213,19 @@ def test_only_needed_columns_parsed_and_all_listed_in_errors(base, tmp_path):
         logio.read_log(p)
     got = logio.read_log(p, logio.InputOptions(columns={"time_s": "T"}))
     np.testing.assert_array_equal(got.accel_m_s2, _read(tmp_path, base.df).accel_m_s2)
+
+
+def test_parallel_csv_writer_gives_the_bytes_of_one_pyarrow_write(tmp_path):
+    import pyarrow as pa
+    import pyarrow.csv as pcsv
+
+    from mtcal.cli import logio
+
+    n = 10_007
+    table = pa.table({"time_s": np.round(np.arange(n) / 1000.0, 6),
+                      "x": pa.array(np.where(np.arange(n) % 97 == 0, np.nan, np.sin(np.arange(n))), from_pandas=True),
+                      "is_static": np.arange(n) % 3 == 0})
+    logio._write_csv_parallel(table, tmp_path / "blocks.csv", block_rows=1000)
+    pcsv.write_csv(table, tmp_path / "one.csv",
+                   write_options=pcsv.WriteOptions(quoting_style="none", quoting_header="none"))
+    assert (tmp_path / "blocks.csv").read_bytes() == (tmp_path / "one.csv").read_bytes()
