@@ -28,7 +28,8 @@ HEADING_RE = re.compile(r"^#{2,3}\s+`?([A-Za-z0-9_]*)`?(.*)$")
 #: helpers that show or save a result rather than produce it
 NOT_PRODUCERS = re.compile(r"^mtcal\.reporting\.(output|compare|paper_numbers)\.|^mtcal\.reporting\.[a-z_]+$")
 #: artifacts made outside the notebooks
-EXTERNAL = {"data/benchmarks.csv": ("—", "`make bench`", "`benchmarks/run.py`")}
+EXTERNAL = {"data/benchmarks.csv": ("—", "`make bench`", "`benchmarks/run.py`"),
+            "data/bench_sweep.csv": ("—", "`make bench`", "`benchmarks/bench_sweep.py`")}
 
 
 @dataclass
