@@ -72,13 +72,11 @@ def run(args: argparse.Namespace) -> int:
         qb = rotations.make_continuous(apply_error_matrix(q_hat, q), axis=0)
         eb = np.degrees(rotations.euler_zxy_unchecked(qb))
         es = np.degrees(rotations.euler_zxy_unchecked(q))
-        cols = {"time_s": log.time_s, "q0": qb[:, 0], "q1": qb[:, 1], "q2": qb[:, 2], "q3": qb[:, 3],
-                "yaw_deg": eb[:, 0], "pitch_deg": eb[:, 1], "roll_deg": eb[:, 2],
-                "sensor_yaw_deg": es[:, 0], "sensor_pitch_deg": es[:, 1], "sensor_roll_deg": es[:, 2]}
+        extra = {"sensor_yaw_deg": es[:, 0], "sensor_pitch_deg": es[:, 1], "sensor_roll_deg": es[:, 2]}
         if static is not None:
-            cols["is_static"] = static.astype(np.int8)
+            extra["is_static"] = static.astype(np.int8)
             common.print_report(log, rep, angle_deg=eb[:, 1], angle_name="pitch_deg")
-        logio.write_table(out, cols, decimals={"q0": 9, "q1": 9, "q2": 9, "q3": 9})
+        common.write_attitude(out, log.time_s, qb, eb, **extra)
         print(f"apply: {log.n} samples written to {out}; final body yaw/pitch/roll "
               f"{eb[-1, 0]:.3f}/{eb[-1, 1]:.3f}/{eb[-1, 2]:.3f} deg")
         return 0
@@ -92,8 +90,7 @@ __all__ = ["register", "run", "load_calibration"]
 def register(subparsers) -> None:
     """Add the ``apply`` subcommand."""
     p = subparsers.add_parser("apply", help="apply a calibration (Q.json) to a log: calibrated attitude",
-                              description=__doc__.split("\n\n")[0] + "\n\n" + __doc__.split("\n\n")[1]
-                              + "\n\n" + common.SCHEMA_HELP, epilog=EXAMPLE,
+                              description=common.description_with_schema(__doc__, 2), epilog=EXAMPLE,
                               formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("calibration", help="JSON written by `mtcal calibrate --out`")
     p.add_argument("log", help="IMU log (CSV or Parquet): raw gyro/accel or q0..q3")

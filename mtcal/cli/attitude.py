@@ -82,10 +82,7 @@ def run(args: argparse.Namespace) -> int:
         q, info = sensor_attitude(log, rep)
         e = np.degrees(euler_zxy_unchecked(q))
         fig.series = {"pitch/roll (deg)": np.maximum(np.abs(e[:, 1]), np.abs(e[:, 2]))}
-        cols = {"time_s": log.time_s, "q0": q[:, 0], "q1": q[:, 1], "q2": q[:, 2], "q3": q[:, 3],
-                "yaw_deg": e[:, 0], "pitch_deg": e[:, 1], "roll_deg": e[:, 2],
-                "is_static": rep.is_static.astype(np.int8)}
-        logio.write_table(out, cols, decimals={"q0": 9, "q1": 9, "q2": 9, "q3": 9})
+        common.write_attitude(out, log.time_s, q, e, is_static=rep.is_static.astype(np.int8))
         ang = np.column_stack([e[:, 1], e[:, 2]])
         common.print_report(log, rep, angle_deg=ang[:, 0], angle_name="pitch_deg")
         print(f"qncf: g {info['gravity_m_s2']:.4f} m/s^2, AMD threshold {info['amd_threshold_pct']:.2f} %, "
@@ -103,8 +100,7 @@ __all__ = ["register", "run", "sensor_attitude", "qncf_params"]
 def register(subparsers) -> None:
     """Add the ``attitude`` subcommand."""
     p = subparsers.add_parser("attitude", help="QNCF attitude of a log (wang2023cja) to CSV/Parquet",
-                              description=__doc__.split("\n\n")[0] + "\n\n" + __doc__.split("\n\n")[1]
-                              + "\n\n" + common.SCHEMA_HELP, epilog=EXAMPLE,
+                              description=common.description_with_schema(__doc__, 2), epilog=EXAMPLE,
                               formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("log", help="IMU log (CSV or Parquet)")
     p.add_argument("--out", default="attitude.csv", help="output table (.csv or .parquet)")

@@ -11,7 +11,8 @@ from mtcal.cli import logio
 from mtcal.methods import rest_detection as rd
 
 __all__ = ["add_input_options", "add_rest_options", "input_options", "detect", "rest_table", "print_report",
-           "finite_float", "DiagnosticsFigure", "run_with_figure", "SCHEMA_HELP"]
+           "finite_float", "DiagnosticsFigure", "run_with_figure", "SCHEMA_HELP", "description_with_schema",
+           "QUATERNION_DECIMALS", "write_attitude"]
 
 SCHEMA_HELP = """\
 log schema (CSV or Parquet, header row, one row per sample; extra columns ignored):
@@ -22,6 +23,25 @@ other units: --time-unit ms|us, --gyro-unit deg/s, --accel-unit g, --gyro-scale/
 (counts -> unit, 1 or 3 factors), --columns time_s=Time,gyro_x=GyrX,... (or headers time_ms,
 gyro_x_deg_s, accel_x_g); no time column: --fs-hz. Jittered timestamps: per-sample dt. Rests: measured from the data
 (--rest-detector adaptive, default) or the paper's fixed ZVD band (--rest-detector paper)."""
+
+
+def description_with_schema(doc: str, paragraphs: int) -> str:
+    """A subcommand's ``--help`` description: the first ``paragraphs`` paragraphs of ``doc``, then :data:`SCHEMA_HELP`."""
+    return "\n\n".join(doc.split("\n\n")[:paragraphs] + [SCHEMA_HELP])
+
+
+#: Decimals of the quaternion columns in an attitude table (``logio.write_table``).
+QUATERNION_DECIMALS = {"q0": 9, "q1": 9, "q2": 9, "q3": 9}
+
+
+def write_attitude(path, time_s: np.ndarray, q: np.ndarray, euler_deg: np.ndarray, **extra) -> None:
+    """Write an attitude table: ``time_s, q0..q3, yaw_deg, pitch_deg, roll_deg``, then ``extra`` columns in order.
+
+    ``q`` (N, 4) scalar-first, ``euler_deg`` (N, 3) yaw/pitch/roll (deg, wang2023cja Eq 8).
+    """
+    cols = {"time_s": time_s, "q0": q[:, 0], "q1": q[:, 1], "q2": q[:, 2], "q3": q[:, 3],
+            "yaw_deg": euler_deg[:, 0], "pitch_deg": euler_deg[:, 1], "roll_deg": euler_deg[:, 2], **extra}
+    logio.write_table(path, cols, decimals=QUATERNION_DECIMALS)
 
 
 def finite_float(text: str, name: str, *, positive: bool = True) -> float:

@@ -24,7 +24,7 @@ example:
 def register(subparsers) -> None:
     """Add the ``rests`` subcommand."""
     p = subparsers.add_parser("rests", help="static intervals and the measured rest levels",
-                              description=__doc__.split("\n\n")[0] + "\n\n" + common.SCHEMA_HELP,
+                              description=common.description_with_schema(__doc__, 1),
                               epilog=EXAMPLE, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("log", help="IMU log (CSV or Parquet)")
     p.add_argument("--out", help="write the rests table here (.csv or .parquet)")

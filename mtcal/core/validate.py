@@ -13,7 +13,8 @@ from numbers import Real
 import numpy as np
 
 __all__ = ["STANDARD_GRAVITY_M_S2", "as_float_array", "positive_scalar", "positive_int", "time_vector", "angle_rad",
-           "unit_quaternion", "same_leading_shape", "MAX_GYRO_RAD_S", "check_gyro_units", "check_accel_units"]
+           "unit_quaternion", "same_leading_shape", "MAX_GYRO_RAD_S", "check_gyro_units", "check_accel_units",
+           "number_in_range", "angle_pair_deg", "choice", "merge_parameters"]
 
 #: Standard gravity in m/s² (used to detect g passed where m/s² is expected).
 STANDARD_GRAVITY_M_S2 = 9.80665
@@ -150,3 +151,159 @@ def check_accel_units(accel_m_s2: np.ndarray, name: str = "accel_m_s2") -> None:
     if 0.0 < med < MIN_MEDIAN_ACCEL_M_S2:
         raise ValueError(f"{name} looks like it is in g, not m/s² (median |a| = {med:.4g} < "
                          f"{MIN_MEDIAN_ACCEL_M_S2:g} m/s²); multiply by 9.80665")
+
+
+# --------------------------------------------------------------------------
+# parameters-cell values (the studies' scenario builders)
+# --------------------------------------------------------------------------
+def number_in_range(name: str, value, lo: float, hi: float, unit: str) -> float:
+    """Return ``value`` as a float, checking it is a finite real number in ``[lo, hi]``.
+
+    Parameters
+    ----------
+    name : str
+        Parameter name used in the error message.
+    value : int or float
+        Value to check (``bool`` is rejected; numpy scalars are accepted).
+    lo, hi : float
+        Inclusive bounds, in ``unit``.
+    unit : str
+        Unit shown in the error message (e.g. ``"Hz"``, ``"deg/s"``).
+
+    Returns
+    -------
+    float
+        ``float(value)``.
+
+    Raises
+    ------
+    ValueError
+        Naming the parameter, the range with its unit and the bad value.
+
+    Examples
+    --------
+    >>> number_in_range("fs_hz", 1000, 100.0, 10000.0, "Hz")
+    1000.0
+    >>> number_in_range("fs_hz", -1.0, 100.0, 10000.0, "Hz")
+    Traceback (most recent call last):
+    ...
+    ValueError: fs_hz must be a number in [100.0, 10000.0] Hz, got -1.0
+    """
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)) \
+            or not np.isfinite(value) or not lo <= float(value) <= hi:
+        raise ValueError(f"{name} must be a number in [{lo}, {hi}] {unit}, got {value!r}")
+    return float(value)
+
+
+def angle_pair_deg(name: str, value, lo: float, hi: float) -> tuple[float, float]:
+    """Return ``value`` as two different finite angles (deg), each in ``[lo, hi]``.
+
+    Parameters
+    ----------
+    name : str
+        Parameter name used in the error message.
+    value : iterable of two numbers
+        The two angles (deg).
+    lo, hi : float
+        Inclusive bounds (deg).
+
+    Returns
+    -------
+    tuple of float
+        ``(a, b)`` in degrees.
+
+    Raises
+    ------
+    ValueError
+        Naming the parameter, the range and the bad value (not two numbers, out of
+        range, non-finite or equal).
+
+    Examples
+    --------
+    >>> angle_pair_deg("yaw_positions_deg", (8, -8), -30.0, 30.0)
+    (8.0, -8.0)
+    >>> angle_pair_deg("yaw_positions_deg", (8.0, 8.0), -30.0, 30.0)
+    Traceback (most recent call last):
+    ...
+    ValueError: yaw_positions_deg must be two different angles in [-30.0, 30.0] deg, got (8.0, 8.0)
+    """
+    try:
+        v = tuple(float(x) for x in value)
+    except (TypeError, ValueError):
+        v = ()
+    if len(v) != 2 or not all(np.isfinite(v)) or not all(lo <= x <= hi for x in v) or v[0] == v[1]:
+        raise ValueError(f"{name} must be two different angles in [{lo}, {hi}] deg, got {value!r}")
+    return v
+
+
+def choice(name: str, value, choices):
+    """Return ``value``, checking it is one of ``choices``.
+
+    Parameters
+    ----------
+    name : str
+        Parameter name used in the error message.
+    value : object
+        Value to check.
+    choices : sequence
+        The valid values, shown (as a list, in the order given) in the error message.
+
+    Returns
+    -------
+    object
+        ``value`` unchanged.
+
+    Raises
+    ------
+    ValueError
+        Naming the parameter, the valid choices and the bad value.
+
+    Examples
+    --------
+    >>> choice("grade", "tactical", ["consumer", "tactical"])
+    'tactical'
+    >>> choice("grade", "bogus", ["consumer", "tactical"])
+    Traceback (most recent call last):
+    ...
+    ValueError: grade must be one of ['consumer', 'tactical'], got 'bogus'
+    """
+    if value not in choices:
+        raise ValueError(f"{name} must be one of {list(choices)}, got {value!r}")
+    return value
+
+
+def merge_parameters(params: dict, defaults: dict, *, what: str = "parameter") -> dict:
+    """Return ``defaults`` updated with ``params``, rejecting names not in ``defaults``.
+
+    Parameters
+    ----------
+    params : dict
+        Parameters-cell values (a subset of the names of ``defaults``).
+    defaults : dict
+        Every valid name with its default value.
+    what : str
+        What the names are, for the error message (e.g. ``"tan2022 parameter"``).
+
+    Returns
+    -------
+    dict
+        ``{**defaults, **params}`` (a new dict; neither input is modified).
+
+    Raises
+    ------
+    ValueError
+        ``unknown parameter(s) [...]; valid: [...]`` (both lists sorted).
+
+    Examples
+    --------
+    >>> merge_parameters({"fs_hz": 200.0}, {"fs_hz": 100.0, "rest_s": 3.0})
+    {'fs_hz': 200.0, 'rest_s': 3.0}
+    >>> merge_parameters({"fs": 200.0}, {"fs_hz": 100.0, "rest_s": 3.0})
+    Traceback (most recent call last):
+    ...
+    ValueError: unknown parameter(s) ['fs']; valid: ['fs_hz', 'rest_s']
+    """
+    unknown = sorted(set(params) - set(defaults))
+    if unknown:
+        raise ValueError(f"unknown {what}(s) {unknown}; valid: {sorted(defaults)}")
+    return {**defaults, **params}

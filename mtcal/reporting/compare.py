@@ -19,6 +19,7 @@ import numpy as np
 import pandas as pd
 
 from mtcal.core import metrics
+from mtcal.core.validate import merge_parameters
 
 __all__ = ["COMPARISON_COLUMNS", "comparison_row", "comparison_table", "band_summary", "claims_summary",
            "band_record", "band_row", "band_text", "describe",
@@ -162,9 +163,8 @@ def at_paper_settings(values: dict, defaults: dict) -> bool:
     >>> at_paper_settings({"gyro_grade": "industrial"}, {"gyro_grade": "wang2023cja"})
     False
     """
-    unknown = sorted(set(values) - set(defaults))
-    if unknown:
-        raise ValueError(f"unknown parameter(s) {unknown}; valid: {sorted(defaults)}")
+    merge_parameters(values, defaults)  # rejects names not in defaults
+
     def same(a, b):
         try:
             return bool(np.all(np.asarray(a) == np.asarray(b))) and np.shape(a) == np.shape(b)

@@ -25,7 +25,7 @@ import pandas as pd
 
 from mtcal.core import metrics, rotations, simulate
 from mtcal.core.units import DEG, DEG_H, DEG_RT_H
-from mtcal.core.validate import STANDARD_GRAVITY_M_S2, positive_int, positive_scalar
+from mtcal.core.validate import STANDARD_GRAVITY_M_S2, merge_parameters, positive_int, positive_scalar
 from mtcal.methods import large_angle, quaternion_lsq
 from mtcal.reporting import compare
 from mtcal.reporting import paper_numbers as paper
@@ -91,10 +91,7 @@ def resolve_parameters(size: str, n_trials: int | None = None, allan_hours: floa
     """
     if size not in SIZE_DEFAULTS:
         raise ValueError(f"SIZE must be one of {tuple(SIZE_DEFAULTS)}, got {size!r}")
-    unknown = sorted(set(scenario) - set(PARAMETER_DEFAULTS))
-    if unknown:
-        raise ValueError(f"unknown parameter(s) {unknown}; valid: {sorted(PARAMETER_DEFAULTS)}")
-    values = {**PARAMETER_DEFAULTS, **scenario}
+    values = merge_parameters(scenario, PARAMETER_DEFAULTS)
     alphas = np.asarray(values["installation_error_deg"], dtype=float)
     if alphas.shape != (3,) or not np.all(np.isfinite(alphas)) or np.any(np.abs(alphas) > 5.0):
         raise ValueError(f"installation_error_deg must be three finite angles within ±5 deg (small-angle "

@@ -40,6 +40,7 @@ import numpy as np
 import pandas as pd
 
 from mtcal.core.sensor_grades import grade_names
+from mtcal.core.validate import merge_parameters
 from mtcal.sweep.engine import run_sweep
 from mtcal.sweep.spec import SweepSpec
 
@@ -68,10 +69,8 @@ _REFERENCE_GRADE = {"turntable": "wang2023cja", "windtunnel": "wang2023cja", "su
 
 def bakeoff_params(**values) -> dict:
     """Defaults overridden by ``values``, validated (ValueError naming the parameter)."""
-    unknown = sorted(set(values) - set(BAKEOFF_DEFAULTS))
-    if unknown:
-        raise ValueError(f"unknown bake-off parameter(s) {unknown}; valid: {sorted(BAKEOFF_DEFAULTS)}")
-    p = {k: (list(v) if isinstance(v, (list, tuple)) else v) for k, v in {**BAKEOFF_DEFAULTS, **values}.items()}
+    merged = merge_parameters(values, BAKEOFF_DEFAULTS, what="bake-off parameter")
+    p = {k: (list(v) if isinstance(v, (list, tuple)) else v) for k, v in merged.items()}
     from mtcal.filters.anchors import FILTER_NAMES
 
     for key, choices in (("filters", FILTER_NAMES), ("turntable_motions", ("aoa", "roll")),

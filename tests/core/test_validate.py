@@ -77,3 +77,40 @@ def test_as_float_array_without_copy_is_a_view_of_float64_input():
     assert not np.shares_memory(v.as_float_array(src, "x"), src)
     with pytest.raises(ValueError, match="x must be finite"):
         v.as_float_array([np.nan, 1.0, 2.0], "x", copy=False)
+
+
+def test_number_in_range_names_parameter_range_unit_and_value():
+    assert v.number_in_range("fs_hz", np.int64(200), 100.0, 10000.0, "Hz") == 200.0
+    assert v.number_in_range("rest_s", 2.5, 2.5, 30.0, "s") == 2.5  # bounds are inclusive
+    with pytest.raises(ValueError, match=r"^fs_hz must be a number in \[100.0, 10000.0\] Hz, got 99.0$"):
+        v.number_in_range("fs_hz", 99.0, 100.0, 10000.0, "Hz")
+    with pytest.raises(ValueError, match=r"rate must be a number in \[1.0, 100.0\] deg/s, got nan"):
+        v.number_in_range("rate", float("nan"), 1.0, 100.0, "deg/s")
+    with pytest.raises(ValueError, match=r"got True"):
+        v.number_in_range("rate", True, 0.0, 100.0, "deg/s")
+    with pytest.raises(ValueError, match=r"got '200'"):
+        v.number_in_range("fs_hz", "200", 100.0, 10000.0, "Hz")
+
+
+def test_angle_pair_deg_checks_two_different_angles_in_range():
+    assert v.angle_pair_deg("pitch", [-12, 23.0], -60.0, 60.0) == (-12.0, 23.0)
+    for bad in [(8.0, 8.0), (8.0,), (8.0, 70.0), (np.inf, 1.0), "ab", 5.0]:
+        with pytest.raises(ValueError, match=r"^pitch must be two different angles in \[-60.0, 60.0\] deg, got "):
+            v.angle_pair_deg("pitch", bad, -60.0, 60.0)
+
+
+def test_choice_names_parameter_choices_and_value():
+    assert v.choice("grade", "tactical", ["consumer", "tactical"]) == "tactical"
+    with pytest.raises(ValueError, match=r"^grade must be one of \['consumer', 'tactical'\], got 'navy'$"):
+        v.choice("grade", "navy", ("consumer", "tactical"))
+
+
+def test_merge_parameters_fills_defaults_and_rejects_unknown_names():
+    defaults = {"b": 2, "a": 1}
+    params = {"a": 5}
+    assert v.merge_parameters(params, defaults) == {"b": 2, "a": 5}
+    assert defaults == {"b": 2, "a": 1} and params == {"a": 5}  # inputs untouched
+    with pytest.raises(ValueError, match=r"^unknown parameter\(s\) \['x', 'y'\]; valid: \['a', 'b'\]$"):
+        v.merge_parameters({"y": 0, "x": 0, "a": 0}, defaults)
+    with pytest.raises(ValueError, match=r"^unknown tan2022 parameter\(s\) \['x'\]; valid: \['a', 'b'\]$"):
+        v.merge_parameters({"x": 0}, defaults, what="tan2022 parameter")

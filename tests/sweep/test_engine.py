@@ -11,28 +11,15 @@ from mtcal.sweep.engine import run_block, run_sweep, summarize, trial_rngs
 from mtcal.sweep.executors import SerialExecutor
 from mtcal.sweep.spec import parse_spec
 
-SMALL = """
-[sweep]
-name = "small"
-evaluator = "attitude"
-seed = 11
-trials = 5
-block_trials = {block}
-[fixed]
-motion = "windtunnel"
-filters = {filters}
-fs_hz = 100.0
-hold_s = 0.5
-speed = 5.0
-vibration_hz = 20.0
-[grid]
-grade = ["industrial", "consumer"]
-vibration_m_s2 = [0.0, 2.0]
-"""
+from .conftest import windtunnel_spec_text
+
+
+def small_text(block=2, filters='["mahony", "vqf"]'):
+    return windtunnel_spec_text(name="small", seed=11, trials=5, block=block, filters=filters, vibration="[0.0, 2.0]")
 
 
 def small(block=2, filters='["mahony", "vqf"]'):
-    return parse_spec(SMALL.format(block=block, filters=filters))
+    return parse_spec(small_text(block, filters))
 
 
 def test_trial_streams_are_keyed_by_cell_and_trial_index():
@@ -163,7 +150,7 @@ def test_atomic_write_leaves_no_partial_file(tmp_path, monkeypatch):
 
 def test_spec_path_and_errors(tmp_path):
     p = tmp_path / "s.toml"
-    p.write_text(SMALL.format(block=5, filters='["vqf"]'))
+    p.write_text(small_text(block=5, filters='["vqf"]'))
     res = run_sweep(p, workers=1, progress=False)
     assert res.spec.name == "small" and res.executor.startswith("serial")
     with pytest.raises(ValueError, match="workers must be a positive integer"):

@@ -8,24 +8,10 @@ from mtcal.sweep.engine import run_sweep
 from mtcal.sweep.executors import DaskExecutor, LocalExecutor, SerialExecutor, make_executor
 from mtcal.sweep.spec import parse_spec
 
-SPEC = """
-[sweep]
-name = "identical"
-evaluator = "attitude"
-seed = 5
-trials = 6
-block_trials = 2
-[fixed]
-motion = "windtunnel"
-filters = ["qncf", "mahony", "vqf"]
-fs_hz = 100.0
-hold_s = 0.5
-speed = 5.0
-vibration_hz = 20.0
-[grid]
-grade = ["industrial", "consumer"]
-vibration_m_s2 = [0.0, 3.0]
-"""
+from .conftest import windtunnel_spec_text
+
+SPEC = windtunnel_spec_text(name="identical", seed=5, trials=6, block=2, filters='["qncf", "mahony", "vqf"]',
+                            vibration="[0.0, 3.0]")
 
 HAS_DASK = importlib.util.find_spec("distributed") is not None
 

@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from mtcal.core.validate import STANDARD_GRAVITY_M_S2, as_float_array, positive_scalar
+from mtcal.core.validate import STANDARD_GRAVITY_M_S2, as_float_array, merge_parameters, positive_scalar
 
 __all__ = ["AccelScenario", "GyroErrors", "ProjectionSweep", "UniformRotation", "Oscillation", "GyroStudy",
            "AccelErrorPrior", "GyroErrorPrior", "ACCEL_PARAMETER_DEFAULTS", "GYRO_PARAMETER_DEFAULTS",
@@ -411,13 +411,6 @@ GYRO_PARAMETER_DEFAULTS: dict = {"gyro_error_x_deg_s": 0.2, "gyro_error_y_deg_s"
 PARAMETER_DEFAULTS: dict = {**ACCEL_PARAMETER_DEFAULTS, **GYRO_PARAMETER_DEFAULTS}
 
 
-def _check_names(params: dict, defaults: dict) -> dict:
-    unknown = sorted(set(params) - set(defaults))
-    if unknown:
-        raise ValueError(f"unknown tan2022 parameter(s) {unknown}; valid: {sorted(defaults)}")
-    return {**defaults, **params}
-
-
 def accel_scenario(*, grid_step_deg: float = 1.0, **params) -> AccelScenario:
     """Build the notebook-20 scenario from parameters-cell values (validated).
 
@@ -438,7 +431,7 @@ def accel_scenario(*, grid_step_deg: float = 1.0, **params) -> AccelScenario:
     ...
     ValueError: unknown tan2022 parameter(s) ['accel_error']; valid: ['accel_error_g', 'lambda1_deg', 'lambda2_deg']
     """
-    p = _check_names(params, ACCEL_PARAMETER_DEFAULTS)
+    p = merge_parameters(params, ACCEL_PARAMETER_DEFAULTS, what="tan2022 parameter")
     for name in ("lambda1_deg", "lambda2_deg"):
         v = p[name]
         if isinstance(v, bool) or not isinstance(v, (int, float, np.floating)) or not -180 <= v <= 180:
@@ -467,7 +460,7 @@ def gyro_study(*, oscillation_duration_s: float = 20.0, **params) -> GyroStudy:
     ...
     ValueError: fs_hz must be > 0, got -1.0
     """
-    p = _check_names(params, GYRO_PARAMETER_DEFAULTS)
+    p = merge_parameters(params, GYRO_PARAMETER_DEFAULTS, what="tan2022 parameter")
     err = tuple(float(p[f"gyro_error_{a}_deg_s"]) for a in "xyz")
     for a, v in zip("xyz", err):
         if not np.isfinite(v) or abs(v) > 100:

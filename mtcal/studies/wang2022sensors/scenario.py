@@ -44,7 +44,7 @@ from mtcal.core import rotations
 from mtcal.core.sensor_grades import grade_names, sensor_grade
 from mtcal.core.simulate import ImuErrorModel, SensorErrors
 from mtcal.core.units import DEG, MG, UG
-from mtcal.core.validate import STANDARD_GRAVITY_M_S2
+from mtcal.core.validate import STANDARD_GRAVITY_M_S2, choice, merge_parameters
 from mtcal.filters.rams_ekf import RamsEkfParams
 from mtcal.methods.zero_velocity import ZvdParams
 from mtcal.reporting import paper_numbers as paper
@@ -159,8 +159,7 @@ class ImuSpec:
     def from_grade(cls, name: str, fs_hz: float = 200.0) -> "ImuSpec":
         """An IMU from :mod:`mtcal.core.sensor_grades` (white noise and turn-on biases; the
         Table 3 random-walk rows only for the ``"wang2022sensors"`` grade)."""
-        if name not in grade_names():
-            raise ValueError(f"sensor_grade must be one of {grade_names()}, got {name!r}")
+        choice("sensor_grade", name, grade_names())
         g = sensor_grade(name)
         rw = name == "wang2022sensors"
         return cls(accel_noise_ug_rt_hz=g.accel_noise_ug_rt_hz, accel_random_walk=10.0 if rw else 0.0,
@@ -382,10 +381,7 @@ def scenario_from_parameters(**params) -> Scenario:
 
     Raises ``ValueError`` naming the parameter and the valid names/range.
     """
-    unknown = sorted(set(params) - set(PARAMETER_DEFAULTS))
-    if unknown:
-        raise ValueError(f"unknown parameter(s) {unknown}; valid: {sorted(PARAMETER_DEFAULTS)}")
-    p = {**PARAMETER_DEFAULTS, **params}
+    p = merge_parameters(params, PARAMETER_DEFAULTS)
     if not isinstance(p["fs_hz"], (int, float)) or not np.isfinite(p["fs_hz"]) or p["fs_hz"] <= 0:
         raise ValueError(f"fs_hz must be > 0 (Hz), got {p['fs_hz']!r}")
     axis = np.asarray(p["fig11_axis"], float)

@@ -32,6 +32,7 @@ import numpy as np
 from mtcal.core.simulate import ImuErrorModel, SensorErrors
 from mtcal.core.sensor_grades import GRADES, sensor_grade
 from mtcal.core.units import ARCSEC, DEG, DEG_H, MG, UG
+from mtcal.core.validate import angle_pair_deg, choice, merge_parameters, number_in_range
 from mtcal.filters.qncf import QncfParams
 from .error_model import ErrorModel
 
@@ -79,8 +80,7 @@ class ImuSpec:
     def from_grades(cls, gyro_grade: str = "wang2023cja", accel_grade: str = "wang2023cja") -> "ImuSpec":
         """Resolve the gyro and accelerometer values from two :mod:`~mtcal.core.sensor_grades` names."""
         for name, value in (("gyro_grade", gyro_grade), ("accel_grade", accel_grade)):
-            if value not in GRADES:
-                raise ValueError(f"{name} must be one of {sorted(GRADES)}, got {value!r}")
+            choice(name, value, sorted(GRADES))
         g, a = sensor_grade(gyro_grade), sensor_grade(accel_grade)
         sf = g.gyro_scale_factor_ppm * 1e-6
         return cls(grade_label=f"gyro {gyro_grade}, accel {accel_grade}",
@@ -253,45 +253,21 @@ WINDTUNNEL_DEFAULTS = {
 }
 
 
-def _number(name, value, lo, hi, unit):
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)) \
-            or not np.isfinite(value) or not lo <= float(value) <= hi:
-        raise ValueError(f"{name} must be a number in [{lo}, {hi}] {unit}, got {value!r}")
-    return float(value)
-
-
-def _pair(name, value, lo, hi):
-    try:
-        v = tuple(float(x) for x in value)
-    except (TypeError, ValueError):
-        v = ()
-    if len(v) != 2 or not all(np.isfinite(v)) or not all(lo <= x <= hi for x in v) or v[0] == v[1]:
-        raise ValueError(f"{name} must be two different angles in [{lo}, {hi}] deg, got {value!r}")
-    return v
-
-
-def _check_names(params: dict, defaults: dict) -> dict:
-    unknown = sorted(set(params) - set(defaults))
-    if unknown:
-        raise ValueError(f"unknown parameter(s) {unknown}; valid: {sorted(defaults)}")
-    return {**defaults, **params}
-
-
 def turntable_scenario(errors: ErrorModel | None = None, **params) -> TurntableScenario:
     """:class:`TurntableScenario` from parameters-cell values (names of :data:`TURNTABLE_DEFAULTS`).
 
     ``errors`` is the identified (or prior-nominal) :class:`ErrorModel`.
     """
-    p = _check_names(params, TURNTABLE_DEFAULTS)
+    p = merge_parameters(params, TURNTABLE_DEFAULTS)
     imu = ImuSpec.from_grades(p["gyro_grade"], p["accel_grade"])
     return TurntableScenario(
         imu=imu, errors=ErrorModel() if errors is None else errors,
-        fs_hz=_number("fs_hz", p["fs_hz"], 100.0, 10000.0, "Hz"),
-        rest_s=_number("rest_s", p["rest_s"], 2.5, 30.0, "s"),
-        yaw_positions_deg=_pair("yaw_positions_deg", p["yaw_positions_deg"], -30.0, 30.0),
-        pitch_positions_deg=_pair("pitch_positions_deg", p["pitch_positions_deg"], -60.0, 60.0),
-        roll_positions_deg=_pair("roll_positions_deg", p["roll_positions_deg"], -90.0, 90.0),
-        turntable_rate_rad_s=_number("turntable_rate_deg_s", p["turntable_rate_deg_s"], 1.0, 100.0, "deg/s") * DEG)
+        fs_hz=number_in_range("fs_hz", p["fs_hz"], 100.0, 10000.0, "Hz"),
+        rest_s=number_in_range("rest_s", p["rest_s"], 2.5, 30.0, "s"),
+        yaw_positions_deg=angle_pair_deg("yaw_positions_deg", p["yaw_positions_deg"], -30.0, 30.0),
+        pitch_positions_deg=angle_pair_deg("pitch_positions_deg", p["pitch_positions_deg"], -60.0, 60.0),
+        roll_positions_deg=angle_pair_deg("roll_positions_deg", p["roll_positions_deg"], -90.0, 90.0),
+        turntable_rate_rad_s=number_in_range("turntable_rate_deg_s", p["turntable_rate_deg_s"], 1.0, 100.0, "deg/s") * DEG)
 
 
 #: The printed wind-tunnel matrix's Q(2,2) (training data).
@@ -305,18 +281,18 @@ def windtunnel_scenario(errors: ErrorModel | None = None, **params) -> WindTunne
     the pitch-ratio error is the one for which the noise-free simulated calibration reproduces its
     Q(2,2) (:func:`.runs.identify_pitch_ratio`), the mechanism's other stated errors included.
     """
-    p = _check_names(params, WINDTUNNEL_DEFAULTS)
+    p = merge_parameters(params, WINDTUNNEL_DEFAULTS)
     from .runs import identify_pitch_ratio   # runs imports this module
 
     alpha_deg, _ = windtunnel_geometry()
     sc = WindTunnelScenario(
         imu=ImuSpec.from_grades(p["gyro_grade"], p["accel_grade"]), errors=ErrorModel() if errors is None else errors,
         alpha_deg=alpha_deg, pitch_ratio_error=0.0,
-        fs_hz=_number("fs_hz", p["fs_hz"], 100.0, 10000.0, "Hz"),
-        rest_s=_number("rest_s", p["rest_s"], 2.5, 30.0, "s"),
-        mechanism_rate_rad_s=_number("mechanism_rate_deg_s", p["mechanism_rate_deg_s"], 0.2, 20.0, "deg/s") * DEG,
-        group5_rate_rad_s=_number("group5_rate_deg_s", p["group5_rate_deg_s"], 0.2, 20.0, "deg/s") * DEG,
-        vibration_accel_m_s2=_number("vibration_accel_m_s2", p["vibration_accel_m_s2"], 0.0, 50.0, "m/s²"))
+        fs_hz=number_in_range("fs_hz", p["fs_hz"], 100.0, 10000.0, "Hz"),
+        rest_s=number_in_range("rest_s", p["rest_s"], 2.5, 30.0, "s"),
+        mechanism_rate_rad_s=number_in_range("mechanism_rate_deg_s", p["mechanism_rate_deg_s"], 0.2, 20.0, "deg/s") * DEG,
+        group5_rate_rad_s=number_in_range("group5_rate_deg_s", p["group5_rate_deg_s"], 0.2, 20.0, "deg/s") * DEG,
+        vibration_accel_m_s2=number_in_range("vibration_accel_m_s2", p["vibration_accel_m_s2"], 0.0, 50.0, "m/s²"))
     return replace(sc, pitch_ratio_error=identify_pitch_ratio(sc, PRINTED_WINDTUNNEL_Q22))
 
 
