@@ -21,6 +21,7 @@ from typing import Iterable, Protocol
 
 import math
 
+import numba
 import numpy as np
 from numba import prange
 
@@ -141,6 +142,18 @@ def _wrap(d):
     return x % (2 * np.pi) - np.pi
 
 
+@numba.njit(inline="always")
+def euler_errors(q0, q1, q2, q3, t0, t1, t2):
+    """Wrapped Eq 8 errors of one quaternion against truth (ψ, θ, γ): the arithmetic of
+    ``rotations.euler_zxy_unchecked`` and ``metrics.angle_difference``, compiled (also used
+    inside the QNCF kernel, which fuses these metrics into the filter loop)."""
+    s00, s11, s22, s33 = q0 * q0, q1 * q1, q2 * q2, q3 * q3
+    yaw = math.atan2(-2.0 * (q1 * q2 - q0 * q3), ((s00 - s11) + s22) - s33)
+    pitch = math.asin(min(max(2.0 * (q2 * q3 + q0 * q1), -1.0), 1.0))
+    roll = math.atan2(-2.0 * (q1 * q3 - q0 * q2), ((s00 - s11) - s22) + s33)
+    return _wrap(yaw - t0), _wrap(pitch - t1), _wrap(roll - t2)
+
+
 @_jit
 def _euler_error_stats_serial(q, truth, t, out_sum, out_sumsq, out_max):
     tr = truth[t] if truth.shape[0] > 1 else truth[0]
@@ -148,14 +161,7 @@ def _euler_error_stats_serial(q, truth, t, out_sum, out_sumsq, out_max):
     ss0 = ss1 = ss2 = 0.0
     m0, m1, m2 = out_max[t, 0], out_max[t, 1], out_max[t, 2]
     for i in range(q.shape[1]):
-        q0, q1, q2, q3 = q[t, i, 0], q[t, i, 1], q[t, i, 2], q[t, i, 3]
-        s00, s11, s22, s33 = q0 * q0, q1 * q1, q2 * q2, q3 * q3
-        yaw = math.atan2(-2.0 * (q1 * q2 - q0 * q3), ((s00 - s11) + s22) - s33)
-        pitch = math.asin(min(max(2.0 * (q2 * q3 + q0 * q1), -1.0), 1.0))
-        roll = math.atan2(-2.0 * (q1 * q3 - q0 * q2), ((s00 - s11) - s22) + s33)
-        e0 = _wrap(yaw - tr[i, 0])
-        e1 = _wrap(pitch - tr[i, 1])
-        e2 = _wrap(roll - tr[i, 2])
+        e0, e1, e2 = euler_errors(q[t, i, 0], q[t, i, 1], q[t, i, 2], q[t, i, 3], tr[i, 0], tr[i, 1], tr[i, 2])
         s0 += e0
         s1 += e1
         s2 += e2

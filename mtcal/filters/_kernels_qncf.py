@@ -20,7 +20,7 @@ import numba
 import numpy as np
 from numba import prange
 
-from mtcal.core.montecarlo import _wrap
+from mtcal.core.montecarlo import euler_errors as _euler_errors
 from mtcal.filters._kernels_common import jit
 
 __all__ = ["qncf_serial", "qncf_parallel"]
@@ -84,16 +84,6 @@ def _step(q0, q1, q2, q3, i0, i1, i2, prev, ax, ay, az, wx, wy, wz, kp, kidt, us
     nn3 = (h3 * q0 + q3 * c) + (q1 * h2 - q2 * h1)
     nq = math.sqrt(((n0 * n0 + nn1 * nn1) + nn2 * nn2) + nn3 * nn3)
     return n0 / nq, nn1 / nq, nn2 / nq, nn3 / nq, i0, i1, i2, prev, gate, n2
-
-
-@numba.njit(inline="always")
-def _euler_errors(q0, q1, q2, q3, t0, t1, t2):
-    """Wrapped Eq 8 errors of q against truth (ψ, θ, γ) (rotations.euler_zxy_unchecked, angle_difference)."""
-    s00, s11, s22, s33 = q0 * q0, q1 * q1, q2 * q2, q3 * q3
-    yaw = math.atan2(-2.0 * (q1 * q2 - q0 * q3), ((s00 - s11) + s22) - s33)
-    pitch = math.asin(min(max(2.0 * (q2 * q3 + q0 * q1), -1.0), 1.0))
-    roll = math.atan2(-2.0 * (q1 * q3 - q0 * q2), ((s00 - s11) - s22) + s33)
-    return _wrap(yaw - t0), _wrap(pitch - t1), _wrap(roll - t2)
 
 
 @jit()
