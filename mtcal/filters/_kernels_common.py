@@ -87,26 +87,22 @@ def _finite_max_abs(flat):
     oks = np.ones(_BLOCKS, np.bool_)
     mxs = np.zeros(_BLOCKS)
     for b in prange(_BLOCKS):
-        ok = True
-        mx = 0.0
-        for i in range(b * size, min((b + 1) * size, n)):
-            v = flat[i]
-            if not np.isfinite(v):
-                ok = False
-            av = abs(v)
-            if av > mx:
-                mx = av
-        oks[b] = ok
-        mxs[b] = mx
+        oks[b], mxs[b] = _scan(flat, b * size, min((b + 1) * size, n))
     return oks.all(), mxs.max()
 
 
 @jit()
 def _finite_max_abs_serial(flat):
     """Serial :func:`_finite_max_abs` (small arrays: no thread start-up)."""
+    return _scan(flat, 0, flat.size)
+
+
+@numba.njit(inline="always")
+def _scan(flat, lo, hi):
+    """(all finite, max |v|) over ``flat[lo:hi]``, one pass."""
     ok = True
     mx = 0.0
-    for i in range(flat.size):
+    for i in range(lo, hi):
         v = flat[i]
         if not np.isfinite(v):
             ok = False
