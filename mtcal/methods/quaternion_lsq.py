@@ -31,7 +31,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from mtcal.core import rotations
 from mtcal.core.validate import unit_quaternion
 
 __all__ = ["least_squares_error_matrix", "apply_error_matrix", "align_pairs"]
@@ -45,16 +44,33 @@ def align_pairs(q_sensor, q_body) -> tuple[np.ndarray, np.ndarray]:
 
     ``q_body`` may be (K, 4) and is then shared by every batch member.
     """
-    q_s = rotations.align_signs(unit_quaternion(q_sensor, "q_sensor"))
+    q_s = unit_quaternion(q_sensor, "q_sensor")
     q_b = unit_quaternion(q_body, "q_body")
     if q_s.ndim < 2 or q_b.ndim < 2 or q_b.shape[-2:] != q_s.shape[-2:]:
         raise ValueError(f"q_sensor and q_body must both have shape (K, 4) or (..., K, 4), "
                          f"got {q_s.shape} and {q_b.shape}")
     try:
-        q_b = np.broadcast_to(q_b, q_s.shape)
+        np.broadcast_shapes(q_b.shape, q_s.shape)
     except ValueError:
         raise ValueError(f"q_body of shape {q_b.shape} must broadcast to q_sensor {q_s.shape}") from None
-    return q_s, rotations.align_signs(q_b, q_s)
+    if np.broadcast_shapes(q_b.shape, q_s.shape) != q_s.shape:
+        raise ValueError(f"q_body of shape {q_b.shape} must broadcast to q_sensor {q_s.shape}")
+    return _align_pairs(q_s, q_b)
+
+
+def _flip(q: np.ndarray, ref: np.ndarray) -> np.ndarray:
+    """Sign rule ``dot(q, ref) >= 0`` on float arrays (same arithmetic as ``rotations.align_signs``)."""
+    dot = np.sum(q * ref, axis=-1, keepdims=True)
+    return np.where(dot < 0.0, -q, q)
+
+
+_IDENTITY = np.array([1.0, 0.0, 0.0, 0.0])
+
+
+def _align_pairs(q_s: np.ndarray, q_b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`align_pairs` on checked unit quaternions, ``q_b`` broadcastable to ``q_s`` (trusted)."""
+    q_s = _flip(q_s, _IDENTITY)
+    return q_s, _flip(np.broadcast_to(q_b, q_s.shape), q_s)
 
 
 def least_squares_error_matrix(q_sensor, q_body, *, on_degenerate: str = "raise") -> np.ndarray:
@@ -89,7 +105,11 @@ def least_squares_error_matrix(q_sensor, q_body, *, on_degenerate: str = "raise"
     """
     if on_degenerate not in ("raise", "nan"):
         raise ValueError(f"on_degenerate must be 'raise' or 'nan', got {on_degenerate!r}")
-    q_s, q_b = align_pairs(q_sensor, q_body)
+    return _least_squares(*align_pairs(q_sensor, q_body), on_degenerate)
+
+
+def _least_squares(q_s: np.ndarray, q_b: np.ndarray, on_degenerate: str = "raise") -> np.ndarray:
+    """Eq 13 on sign-aligned pairs from :func:`_align_pairs` (trusted)."""
     k = q_s.shape[-2]
     if k < 4:
         raise ValueError(f"q_sensor must hold at least 4 positions, got {k}: A_q^s (A_q^s)^T is 4x4 "
@@ -130,13 +150,20 @@ def apply_error_matrix(q_matrix, q_sensor, *, normalize: bool = True) -> np.ndar
     q_mat = np.array(q_matrix, dtype=float)
     if q_mat.ndim < 2 or q_mat.shape[-2:] != (4, 4) or np.any(np.isinf(q_mat)):
         raise ValueError(f"q_matrix must be a finite 4x4 array or a stack (..., 4, 4), got shape {q_mat.shape}")
-    q_s = rotations.align_signs(unit_quaternion(q_sensor, "q_sensor"))
+    q_s = unit_quaternion(q_sensor, "q_sensor")
     if q_mat.ndim > 2 and q_s.ndim < 2:
         raise ValueError(f"q_sensor must have shape (..., N, 4) for a stack of matrices, got {q_s.shape}")
     try:
-        q_b = q_s @ np.swapaxes(q_mat, -1, -2)
+        np.broadcast_shapes(q_s.shape[:-2], q_mat.shape[:-2])
     except ValueError:
         raise ValueError(f"q_matrix {q_mat.shape} and q_sensor {q_s.shape} batch axes do not match") from None
+    return _apply(q_mat, q_s, normalize)
+
+
+def _apply(q_mat: np.ndarray, q_s: np.ndarray, normalize: bool = True) -> np.ndarray:
+    """Eq 10 on a checked matrix (stack) and checked unit quaternions (trusted)."""
+    q_s = _flip(q_s, _IDENTITY)
+    q_b = q_s @ np.swapaxes(q_mat, -1, -2)
     if not normalize:
         return q_b
     with np.errstate(invalid="ignore"):

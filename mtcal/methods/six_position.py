@@ -21,6 +21,10 @@ Workflow (paper §3.2, steps 1–7, with Eq 13–15):
 Shapes: a record is (N, …) or (T, N, …) with a leading Monte Carlo trial
 axis. All trials of one simulation share the mechanism schedule, so a sample
 counts as "still" only if it is still in every trial (one set of rests).
+
+Every public function validates its inputs; the private ``_…`` twins take
+already-checked arrays and are what :mod:`mtcal.systems.installation` (and
+:func:`calibrate`) call after validating once at their own edge.
 """
 
 from __future__ import annotations
@@ -30,8 +34,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import linear_sum_assignment
 
-from mtcal.methods import quaternion_lsq as calibration
 from mtcal.core import rotations
+from mtcal.methods import quaternion_lsq
 from mtcal.core.validate import as_float_array, positive_scalar, unit_quaternion
 from mtcal.core.profiles import AngleProfile, step_schedule
 
@@ -119,10 +123,15 @@ def stillness_from_gyro(gyro_rad_s, fs_hz: float, *, window_s: float = 0.1,
     ndarray of bool, shape (N,) — still in every trial.
     """
     w = as_float_array(gyro_rad_s, "gyro_rad_s", ndim=(2, 3), last_dim=3)
-    fs = positive_scalar(fs_hz, "fs_hz")
-    win = max(1, int(round(positive_scalar(window_s, "window_s") * fs)))
+    return _stillness_from_gyro(w, positive_scalar(fs_hz, "fs_hz"), positive_scalar(window_s, "window_s"),
+                                positive_scalar(threshold_rad_s, "threshold_rad_s"))
+
+
+def _stillness_from_gyro(w: np.ndarray, fs: float, window_s: float, threshold_rad_s: float) -> np.ndarray:
+    """:func:`stillness_from_gyro` on checked arrays (trusted)."""
+    win = max(1, int(round(window_s * fs)))
     norm = np.linalg.norm(_moving_mean(w, win, axis=-2), axis=-1)
-    still = norm < positive_scalar(threshold_rad_s, "threshold_rad_s")
+    still = norm < threshold_rad_s
     return still if still.ndim == 1 else np.all(still, axis=0)
 
 
@@ -136,14 +145,19 @@ def stillness_from_quaternions(q, fs_hz: float, *, window_s: float = 0.1,
     qq = unit_quaternion(q, "q")
     if qq.ndim not in (2, 3):
         raise ValueError(f"q must have shape (N, 4) or (T, N, 4), got {qq.shape}")
-    fs = positive_scalar(fs_hz, "fs_hz")
-    half = max(1, int(round(positive_scalar(window_s, "window_s") * fs / 2)))
+    return _stillness_from_quaternions(qq, positive_scalar(fs_hz, "fs_hz"), positive_scalar(window_s, "window_s"),
+                                       positive_scalar(threshold_rad_s, "threshold_rad_s"))
+
+
+def _stillness_from_quaternions(qq: np.ndarray, fs: float, window_s: float, threshold_rad_s: float) -> np.ndarray:
+    """:func:`stillness_from_quaternions` on checked unit quaternions (trusted)."""
+    half = max(1, int(round(window_s * fs / 2)))
     n = qq.shape[-2]
     idx = np.arange(n)
     lo, hi = np.clip(idx - half, 0, n - 1), np.clip(idx + half, 0, n - 1)
     ang = rotations.quat_angle_between(qq[..., lo, :], qq[..., hi, :])
     rate = ang / np.maximum(hi - lo, 1) * fs
-    still = rate < positive_scalar(threshold_rad_s, "threshold_rad_s")
+    still = rate < threshold_rad_s
     return still if still.ndim == 1 else np.all(still, axis=0)
 
 
@@ -152,10 +166,14 @@ def find_rests(still, fs_hz: float, *, min_rest_s: float = 2.0) -> list[slice]:
     s = np.asarray(still)
     if s.dtype != bool or s.ndim != 1:
         raise TypeError(f"still must be a 1-D boolean array, got dtype {s.dtype} shape {s.shape}")
-    fs = positive_scalar(fs_hz, "fs_hz")
+    return _find_rests(s, positive_scalar(fs_hz, "fs_hz"), positive_scalar(min_rest_s, "min_rest_s"))
+
+
+def _find_rests(s: np.ndarray, fs: float, min_rest_s: float) -> list[slice]:
+    """:func:`find_rests` on a checked 1-D boolean array (trusted)."""
     edges = np.diff(np.concatenate([[0], s.astype(np.int8), [0]]))
     starts, stops = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)
-    keep = (stops - starts) >= positive_scalar(min_rest_s, "min_rest_s") * fs
+    keep = (stops - starts) >= min_rest_s * fs
     return [slice(int(a), int(b)) for a, b in zip(starts[keep], stops[keep])]
 
 
@@ -164,6 +182,11 @@ def middle_slices(rests: list[slice], fraction: float = 0.5) -> list[slice]:
     f = positive_scalar(fraction, "fraction")
     if f > 1:
         raise ValueError(f"fraction must be in (0, 1], got {f}")
+    return _middle_slices(rests, f)
+
+
+def _middle_slices(rests: list[slice], f: float) -> list[slice]:
+    """:func:`middle_slices` with a checked fraction (trusted)."""
     out = []
     for r in rests:
         n = r.stop - r.start
@@ -181,7 +204,11 @@ def mean_quaternion(q, axis: int = -2) -> np.ndarray:
     Exact for identical inputs; for a spread of a few 0.01° it equals the
     rotation-averaging mean to second order.
     """
-    qq = unit_quaternion(q, "q")
+    return _mean_quaternion(unit_quaternion(q, "q"), axis)
+
+
+def _mean_quaternion(qq: np.ndarray, axis: int = -2) -> np.ndarray:
+    """:func:`mean_quaternion` of checked unit quaternions (trusted)."""
     ax = axis % qq.ndim
     ref = np.take(qq, [0], axis=ax)
     dot = np.sum(qq * ref, axis=-1, keepdims=True)
@@ -195,7 +222,12 @@ def rest_means(q_ws, rests: list[slice], fraction: float = 0.5) -> np.ndarray:
     if qq.ndim not in (2, 3):
         raise ValueError(f"q_ws must have shape (N, 4) or (T, N, 4), got {qq.shape}")
     mids = middle_slices(rests, fraction)
-    return np.stack([mean_quaternion(qq[..., s, :], axis=-2) for s in mids], axis=-2)
+    return _rest_means(qq, mids)
+
+
+def _rest_means(qq: np.ndarray, mids: list[slice]) -> np.ndarray:
+    """Mean attitude over each (already trimmed) slice of checked quaternions (trusted)."""
+    return np.stack([_mean_quaternion(qq[..., s, :], axis=-2) for s in mids], axis=-2)
 
 
 def match_rests(q_rest, q_ref, *, max_angle_rad: float = np.radians(5.0)) -> np.ndarray:
@@ -219,11 +251,18 @@ def match_rests(q_rest, q_ref, *, max_angle_rad: float = np.radians(5.0)) -> np.
     """
     qr = unit_quaternion(q_rest, "q_rest")
     qb = unit_quaternion(q_ref, "q_ref")
-    k, r = qb.shape[0], qr.shape[-2]
+    if qb.ndim != 2:
+        raise ValueError(f"q_ref must have shape (K, 4), got {qb.shape}")
+    return _match_rests(qr, qb, float(max_angle_rad))
+
+
+def _match_rests(qr: np.ndarray, qb: np.ndarray, max_angle_rad: float) -> np.ndarray:
+    """:func:`match_rests` on checked quaternions (trusted); ``qb`` may also be (T, K, 4) per trial."""
+    k, r = qb.shape[-2], qr.shape[-2]
     if r < k:
         raise ValueError(f"found {r} rests in the record but {k} reference positions were given; "
                          f"each position needs a rest of at least min_rest_s")
-    dist = rotations.quat_angle_between(qr[..., :, None, :], qb[None, :, :] if qr.ndim == 2 else qb)
+    dist = _angle_between(qr[..., :, None, :], qb[..., None, :, :])
     if dist.ndim == 3:
         dist = dist.mean(axis=0)
     rows, cols = linear_sum_assignment(dist.T)  # rows: reference, cols: rest
@@ -307,30 +346,63 @@ def calibrate(q_ws, reference_euler_rad, fs_hz: float, *, gyro_rad_s=None, fract
         positions (condition number in the message).
     """
     qq = unit_quaternion(q_ws, "q_ws")
+    if qq.ndim not in (2, 3):
+        raise ValueError(f"q_ws must have shape (N, 4) or (T, N, 4), got {qq.shape}")
     ref = as_float_array(reference_euler_rad, "reference_euler_rad", ndim=2, last_dim=3)
     if ref.shape[0] < 3:
         raise ValueError(f"reference_euler_rad must hold at least 3 positions, got {ref.shape[0]}")
-    q_ref = rotations.quat_from_euler_zxy(ref[:, 0], ref[:, 1], ref[:, 2])
+    fs = positive_scalar(fs_hz, "fs_hz")
+    frac = positive_scalar(fraction, "fraction")
+    if frac > 1:
+        raise ValueError(f"fraction must be in (0, 1], got {frac}")
+    gyro = None
     if rests is not None:
         rests = list(rests)
         if any(not isinstance(r, slice) or r.stop > qq.shape[-2] for r in rests):
             raise ValueError(f"rests must be slices within the {qq.shape[-2]} samples of q_ws")
     elif gyro_rad_s is not None:
-        still = stillness_from_gyro(gyro_rad_s, fs_hz, window_s=window_s, threshold_rad_s=threshold_rad_s)
-        if still.shape[0] != qq.shape[-2]:
-            raise ValueError(f"gyro_rad_s has {still.shape[0]} samples but q_ws has {qq.shape[-2]}")
-        rests = find_rests(still, fs_hz, min_rest_s=min_rest_s)
-    else:
-        still = stillness_from_quaternions(qq, fs_hz, window_s=window_s, threshold_rad_s=threshold_rad_s)
-        rests = find_rests(still, fs_hz, min_rest_s=min_rest_s)
-    if len(rests) < ref.shape[0]:
+        gyro = as_float_array(gyro_rad_s, "gyro_rad_s", ndim=(2, 3), last_dim=3)
+        if gyro.shape[-2] != qq.shape[-2]:
+            raise ValueError(f"gyro_rad_s has {gyro.shape[-2]} samples but q_ws has {qq.shape[-2]}")
+    q_ref = rotations.quat_from_euler_zxy(ref[:, 0], ref[:, 1], ref[:, 2])
+    rests, matched, q_s = _rest_attitudes(
+        qq, q_ref, fs, gyro=gyro, rests=rests, fraction=frac, min_rest_s=positive_scalar(min_rest_s, "min_rest_s"),
+        threshold_rad_s=positive_scalar(threshold_rad_s, "threshold_rad_s"),
+        window_s=positive_scalar(window_s, "window_s"), max_match_rad=float(max_match_rad))
+    q_mat = quaternion_lsq._least_squares(*quaternion_lsq._align_pairs(q_s, q_ref))  # (4, 4) or (T, 4, 4)
+    after = quaternion_lsq._apply(q_mat, q_s)
+    residual = _angle_between(after, q_ref)
+    return SixPositionResult(q_mat, rests, matched, q_s, q_ref, rotations.euler_zxy_unchecked(q_s),
+                             rotations.euler_zxy_unchecked(after), residual)
+
+
+def _angle_between(p: np.ndarray, q: np.ndarray) -> np.ndarray:
+    """Attitude difference (rad) of checked unit quaternions (same arithmetic as ``rotations.quat_angle_between``)."""
+    d = rotations.hamilton(p * _CONJ, q)
+    return 2.0 * np.arctan2(np.linalg.norm(d[..., 1:], axis=-1), np.abs(d[..., 0]))
+
+
+_CONJ = np.array([1.0, -1.0, -1.0, -1.0])
+
+
+def _rest_attitudes(qq: np.ndarray, q_ref: np.ndarray, fs: float, *, gyro: np.ndarray | None,
+                    rests: list | None, fraction: float, min_rest_s: float, threshold_rad_s: float,
+                    window_s: float, max_match_rad: float, q_detect: np.ndarray | None = None):
+    """Rests → middle-section means → matched to the references (steps 3–5 of §3.2; trusted).
+
+    ``qq`` (N, 4) or (T, N, 4) checked unit quaternions; ``q_ref`` (K, 4) or (T, K, 4);
+    rests are ``rests`` if given, else detected on ``gyro`` if given, else on the
+    quaternion rate of ``q_detect`` (default ``qq``). Returns ``(rests, matched, q_s)``.
+    """
+    if rests is None:
+        if gyro is not None:
+            still = _stillness_from_gyro(gyro, fs, window_s, threshold_rad_s)
+        else:
+            still = _stillness_from_quaternions(qq if q_detect is None else q_detect, fs, window_s, threshold_rad_s)
+        rests = _find_rests(still, fs, min_rest_s)
+    if len(rests) < q_ref.shape[-2]:
         raise ValueError(f"too few rests: found {len(rests)} still periods of >= {min_rest_s:g} s, "
-                         f"need one for each of the {ref.shape[0]} reference positions")
-    means = rest_means(qq, rests, fraction)
-    matched = match_rests(means, q_ref, max_angle_rad=max_match_rad)
-    q_s = means[..., matched, :]
-    q_mat = calibration.least_squares_error_matrix(q_s, q_ref)  # (4, 4) or (T, 4, 4)
-    after = calibration.apply_error_matrix(q_mat, q_s)
-    residual = rotations.quat_angle_between(after, q_ref)
-    return SixPositionResult(q_mat, rests, matched, q_s, q_ref, rotations.euler_zxy_from_quat(q_s),
-                             rotations.euler_zxy_from_quat(after), residual)
+                         f"need one for each of the {q_ref.shape[-2]} reference positions")
+    means = _rest_means(qq, _middle_slices(rests, fraction))
+    matched = _match_rests(means, q_ref, max_match_rad)
+    return rests, matched, means[..., matched, :]

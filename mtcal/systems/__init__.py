@@ -1,0 +1,20 @@
+"""Systems: the papers' measurement procedures over plain arrays.
+
+A procedure here strings the methods and filters together the way a paper's
+measurement does (attitude → rests → fit → plausibility gates → result), and is
+called identically by the studies, the sweeps and the CLI, so the notebooks
+validate the very code path the ``mtcal`` command ships. A procedure validates
+its inputs once at its public edge and passes trusted arrays to the methods'
+private internals. It imports from ``core``, ``methods`` and ``filters`` only;
+``studies``, ``sweep`` and ``cli`` import it.
+
+* :mod:`~mtcal.systems.installation` — six-position installation-error
+  calibration (wang2023cja §3.2, Eq 1, 10, 13–15) and its application (Eq 10)
+"""
+
+from . import installation
+from .installation import (InstallationCalibration, CalibratedAttitude, calibrate_installation,
+                           apply_installation, detect_rests)
+
+__all__ = ["installation", "InstallationCalibration", "CalibratedAttitude", "calibrate_installation",
+           "apply_installation", "detect_rests"]

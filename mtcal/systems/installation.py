@@ -1,0 +1,439 @@
+"""Six-position installation-error calibration as one procedure (wang2023cja §3.2, §4.1).
+
+:func:`calibrate_installation` is the whole measurement over plain arrays —
+
+1. sensor attitude: the QNCF (Eq 5–8) of raw gyro/accel, or the quaternions given;
+2. zeroed at the first sample ("initial attitude angles 0°", §4.1;
+   :func:`mtcal.core.rotations.relative_to_initial`);
+3. rests found from the data (gyro norm or quaternion rate, :func:`detect_rests`)
+   or given, the middle section of each averaged (Eq 14 columns);
+4. rests matched to the reference positions (Eq 15 angles through Eq 9) and
+   Eq 13 solved by least squares;
+5. gates: conditioning of the positions, distance of Q̂ from SO(4), residuals;
+6. installation angles (inverse of Eq 1) of the mounting part of Q̂'s SO(4)
+   projection ``L(p) R(r)``, mounting quaternion ``q_bs = r*``.
+
+:func:`apply_installation` is Eq 10 on a stream (``q_body = normalize(Q̂ q_sensor)``).
+The CLI (``mtcal calibrate`` / ``mtcal apply``), the wang2023cja turntable study and
+the ``six_position`` sweep evaluator all call these functions; inputs are checked
+here once and the methods' trusted internals do the arithmetic.
+
+References
+----------
+wang2023cja — Wang X. et al., Chin. J. Aeronaut. 2023, doi:10.1016/j.cja.2022.12.006:
+Eq 1 (installation angles), Eq 9 (ZXY quaternion), Eq 10 (calibrated attitude),
+Eq 13–15 (least squares, positions), §3.2 (procedure), §4.1 (zeroing).
+
+Examples
+--------
+>>> import numpy as np
+>>> from mtcal.core import rotations
+>>> from mtcal.core.profiles import trajectory_from_euler_zxy
+>>> from mtcal.methods.six_position import schedule_profile, six_positions_rad
+>>> pos = six_positions_rad()
+>>> traj = trajectory_from_euler_zxy(schedule_profile(pos, fs_hz=100.0))
+>>> alpha = np.radians([0.5, -0.3, 0.4])
+>>> q_ws = rotations.quat_multiply(traj.q_wb, rotations.mount_quaternion(alpha))
+>>> cal = calibrate_installation(pos, 100.0, q_ws=q_ws)
+>>> bool(np.allclose(cal.installation_angles_rad, alpha, atol=1e-9))
+True
+>>> body = apply_installation(cal.q_hat, q_ws=q_ws)
+>>> bool(rotations.quat_angle_between(body.q_body, traj.q_wb).max() < 1e-9)
+True
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from numbers import Real
+
+import numpy as np
+
+from mtcal.core import metrics, rotations
+from mtcal.core.validate import as_float_array, positive_scalar, unit_quaternion
+from mtcal.filters.qncf import QncfParams, qncf
+from mtcal.methods import constrained_fit, quaternion_lsq, six_position
+from mtcal.methods.constrained_fit import So4Projection
+
+__all__ = ["MAX_CONDITION", "MAX_SO4_DISTANCE", "MAX_RESIDUAL_RAD", "InstallationCalibration",
+           "CalibratedAttitude", "detect_rests", "calibrate_installation", "apply_installation"]
+
+#: Gate: condition number of ``A_q^s (A_q^s)ᵀ`` (Eq 13) above which the positions are refused.
+MAX_CONDITION = 1e4
+#: Gate: Frobenius distance of Q̂ from SO(4) above which Q̂ is not a calibration.
+MAX_SO4_DISTANCE = 0.05
+#: Gate: largest accepted residual at a position (rad), 1°.
+MAX_RESIDUAL_RAD = float(np.radians(1.0))
+
+
+@dataclass(frozen=True)
+class InstallationCalibration:
+    """Outcome of :func:`calibrate_installation` (leading trial axis T iff the input had one).
+
+    Attributes
+    ----------
+    q_hat : ndarray (4, 4) or (T, 4, 4)
+        Q̂_s^b of Eq 13: ``q_body ≈ normalize(Q̂ q_sensor)`` (sensor attitude zeroed at its first sample).
+    projection : So4Projection
+        Nearest SO(4) matrix ``L(p) R(r)`` of Q̂ and its distance (dimensionless).
+    mounting_quaternion_q_bs : ndarray (4,) or (T, 4)
+        ``q_bs = r*`` (sensor = body ⊗ q_bs), scalar-first.
+    installation_angles_rad : ndarray (3,) or (T, 3)
+        ``[α1 about z, α2 about y, α3 about x]`` (rad), inverse of Eq 1 of ``q_bs``.
+    condition : float or ndarray (T,)
+        Condition number of the aligned ``A_q^s (A_q^s)ᵀ`` (dimensionless).
+    positions_rad : ndarray (K, 3) or (T, K, 3)
+        Reference ``[ψ, θ, γ]`` (rad, Eq 8 frame) fed to Eq 13.
+    q_reference : ndarray (K, 4) or (T, K, 4)
+        Eq 9 quaternions of ``positions_rad``.
+    rests : list of slice
+        Every rest used for matching (time order, sample indices).
+    matched : ndarray (K,) of int
+        Index into ``rests`` of the rest used for each position.
+    q_sensor : ndarray (K, 4) or (T, K, 4)
+        Middle-section mean of the zeroed sensor attitude at each matched rest (Eq 14 columns).
+    euler_before_rad, euler_after_rad : ndarray (K, 3) or (T, K, 3)
+        Eq 8 angles of ``q_sensor`` and of ``Q̂ q_sensor`` (rad).
+    error_before_rad, error_after_rad : ndarray (K, 3) or (T, K, 3)
+        Those angles minus ``positions_rad``, wrapped to [−π, π) (rad).
+    residual_rad : ndarray (K,) or (T, K)
+        Rotation angle between ``Q̂ q_sensor`` and the reference (rad).
+    """
+
+    q_hat: np.ndarray
+    projection: So4Projection
+    mounting_quaternion_q_bs: np.ndarray
+    installation_angles_rad: np.ndarray
+    condition: np.ndarray
+    positions_rad: np.ndarray
+    q_reference: np.ndarray
+    rests: list
+    matched: np.ndarray
+    q_sensor: np.ndarray
+    euler_before_rad: np.ndarray
+    euler_after_rad: np.ndarray
+    error_before_rad: np.ndarray
+    error_after_rad: np.ndarray
+    residual_rad: np.ndarray
+
+    @property
+    def so4_distance(self) -> np.ndarray:
+        """``‖Q̂ − L(p) R(r)‖_F`` (dimensionless)."""
+        return self.projection.distance
+
+    @property
+    def matched_rests(self) -> list[slice]:
+        """The rest (sample slice) used for each position, in position order."""
+        return [self.rests[i] for i in self.matched]
+
+
+@dataclass(frozen=True)
+class CalibratedAttitude:
+    """Outcome of :func:`apply_installation`.
+
+    Attributes
+    ----------
+    q_body : ndarray (N, 4) or (T, N, 4)
+        Calibrated body attitude ``normalize(Q̂ q_sensor)`` (Eq 10), body → world, sign-continuous.
+    q_sensor : ndarray (N, 4) or (T, N, 4)
+        The sensor attitude it was computed from, zeroed at the first sample.
+    """
+
+    q_body: np.ndarray
+    q_sensor: np.ndarray
+
+
+# --------------------------------------------------------------------------- edge checks
+def _limit(value, name: str) -> float:
+    """A gate threshold: a positive number; ``inf`` switches the gate off."""
+    if isinstance(value, bool) or not isinstance(value, (Real, np.floating, np.integer)) or not float(value) > 0:
+        raise ValueError(f"{name} must be a positive number (inf switches the gate off), got {value!r}")
+    return float(value)
+
+
+def _fraction(value) -> float:
+    f = positive_scalar(value, "fraction")
+    if f > 1:
+        raise ValueError(f"fraction must be in (0, 1], got {f}")
+    return f
+
+
+def _stream(name: str, value, ndim=(2, 3), last_dim: int = 3) -> np.ndarray:
+    return as_float_array(value, name, ndim=ndim, last_dim=last_dim)
+
+
+def _attitude_inputs(q_ws, gyro_rad_s, accel_m_s2, qncf_params, q0, fs_hz, *, need_fs: bool):
+    """Check the attitude source once: ``q_ws`` or raw ``gyro_rad_s`` + ``accel_m_s2``."""
+    if q_ws is not None:
+        if accel_m_s2 is not None or qncf_params is not None or q0 is not None:
+            raise ValueError("give either q_ws (sensor attitude) or gyro_rad_s and accel_m_s2 (raw data for "
+                             "the QNCF), not both; accel_m_s2, qncf_params and q0 belong to the raw data")
+        q = unit_quaternion(q_ws, "q_ws")
+        if q.ndim not in (2, 3):
+            raise ValueError(f"q_ws must have shape (N, 4) or (T, N, 4), got {q.shape}")
+        gyro = None if gyro_rad_s is None else _stream("gyro_rad_s", gyro_rad_s)
+        if gyro is not None and gyro.shape[-2] != q.shape[-2]:
+            raise ValueError(f"gyro_rad_s has {gyro.shape[-2]} samples but q_ws has {q.shape[-2]}")
+        return q, gyro, None, None, None
+    if gyro_rad_s is None or accel_m_s2 is None:
+        raise ValueError("a sensor attitude is needed: give q_ws, or gyro_rad_s and accel_m_s2 for the QNCF")
+    gyro = _stream("gyro_rad_s", gyro_rad_s)
+    accel = _stream("accel_m_s2", accel_m_s2)
+    if gyro.shape != accel.shape:
+        raise ValueError(f"gyro_rad_s and accel_m_s2 must have the same shape, got {gyro.shape} and {accel.shape}")
+    if qncf_params is not None and not isinstance(qncf_params, QncfParams):
+        raise TypeError(f"qncf_params must be a QncfParams, got {type(qncf_params).__name__}")
+    if need_fs and fs_hz is None:
+        raise ValueError("fs_hz is needed to run the QNCF on raw data")
+    return None, gyro, accel, QncfParams() if qncf_params is None else qncf_params, q0
+
+
+def _zeroed_attitude(q, gyro, accel, params, q0, fs: float | None) -> np.ndarray:
+    """Steps 1–2 on checked inputs: QNCF (if raw) and zeroing at the first sample (§4.1)."""
+    if q is None:
+        q = qncf(gyro, accel, 1.0 / fs, params, q0=q0, return_euler=False).q_ws
+    return rotations.relative_to_initial(q[None])[0] if q.ndim == 2 else rotations.relative_to_initial(q)
+
+
+# --------------------------------------------------------------------------- public procedure
+def detect_rests(fs_hz: float, *, gyro_rad_s=None, q_ws=None, min_rest_s: float = 2.0,
+                 threshold_rad_s: float = np.radians(0.2), window_s: float = 0.1) -> list[slice]:
+    """Rests of a calibration record, as :func:`calibrate_installation` finds them (§3.2 step 3).
+
+    Parameters
+    ----------
+    fs_hz : float
+        Sample rate (Hz).
+    gyro_rad_s : array_like, shape (N, 3) or (T, N, 3), optional
+        Angular rate (rad/s): still where the ``window_s`` moving mean of ‖ω‖ is below
+        ``threshold_rad_s``. Used when given.
+    q_ws : array_like, shape (N, 4) or (T, N, 4), optional
+        Sensor attitude: still where its rotation rate over ``window_s`` is below ``threshold_rad_s``.
+    min_rest_s : float
+        Shortest still run accepted (s).
+    threshold_rad_s, window_s : float
+        Stillness threshold (rad/s; default 0.2 °/s) and window (s).
+
+    Returns
+    -------
+    list of slice
+        Still runs (sample slices, time order); with a trial axis a sample is still only
+        if it is still in every trial.
+
+    References
+    ----------
+    wang2023cja §3.2 (3 s rests, middle section averaged).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> gyro = np.zeros((1000, 3)); gyro[300:500, 2] = 0.5
+    >>> detect_rests(100.0, gyro_rad_s=gyro)
+    [slice(0, 296, None), slice(505, 1000, None)]
+    """
+    fs = positive_scalar(fs_hz, "fs_hz")
+    args = (positive_scalar(window_s, "window_s"), positive_scalar(threshold_rad_s, "threshold_rad_s"))
+    if gyro_rad_s is not None:
+        still = six_position._stillness_from_gyro(_stream("gyro_rad_s", gyro_rad_s), fs, *args)
+    elif q_ws is not None:
+        q = unit_quaternion(q_ws, "q_ws")
+        if q.ndim not in (2, 3):
+            raise ValueError(f"q_ws must have shape (N, 4) or (T, N, 4), got {q.shape}")
+        still = six_position._stillness_from_quaternions(q, fs, *args)
+    else:
+        raise ValueError("give gyro_rad_s or q_ws to detect rests from")
+    return six_position._find_rests(still, fs, positive_scalar(min_rest_s, "min_rest_s"))
+
+
+def calibrate_installation(positions_rad, fs_hz: float, *, q_ws=None, gyro_rad_s=None, accel_m_s2=None,
+                           qncf_params: QncfParams | None = None, q0=None, rests=None, fraction: float = 0.5,
+                           min_rest_s: float = 2.0, still_threshold_rad_s: float = np.radians(0.2),
+                           still_window_s: float = 0.1, max_match_rad: float = np.radians(5.0),
+                           max_condition: float = MAX_CONDITION, max_so4_distance: float = MAX_SO4_DISTANCE,
+                           max_residual_rad: float = MAX_RESIDUAL_RAD) -> InstallationCalibration:
+    """Six-position installation-error calibration of a record (wang2023cja §3.2, Eq 1, 9, 13–15).
+
+    Parameters
+    ----------
+    positions_rad : array_like, shape (K, 3) or (T, K, 3)
+        Reference ``[ψ, θ, γ]`` of each position (rad; Eq 8/9 frame: yaw about z, pitch
+        about x, roll about y), K ≥ 4; per trial (T, K, 3) for a Monte Carlo whose
+        reference angles carry their own errors.
+    fs_hz : float
+        Sample rate (Hz).
+    q_ws : array_like, shape (N, 4) or (T, N, 4), optional
+        Sensor attitude (sensor → world, scalar-first), e.g. a logger's or a session QNCF's;
+        zeroed here at its first sample.
+    gyro_rad_s, accel_m_s2 : array_like, shape (N, 3) or (T, N, 3), optional
+        Raw data (rad/s, m/s²). Without ``q_ws`` both are needed and the QNCF gives the
+        attitude; with ``q_ws`` the gyro only serves rest detection.
+    qncf_params : QncfParams, optional
+        QNCF parameters (default the paper's); ``q0`` its start attitude (default: levelled
+        from the first 100 samples).
+    rests : list of slice, optional
+        Rests found elsewhere (e.g. :func:`mtcal.methods.rest_detection.detect_rests`); by
+        default :func:`detect_rests` on the gyro if given, else on ``q_ws``.
+    fraction : float
+        Middle fraction of each rest averaged, (0, 1].
+    min_rest_s, still_threshold_rad_s, still_window_s : float
+        Rest detector settings (s, rad/s, s), see :func:`detect_rests`.
+    max_match_rad : float
+        Largest distance between a rest and its position (rad).
+    max_condition, max_so4_distance, max_residual_rad : float
+        Gates (dimensionless, dimensionless, rad); ``inf`` switches one off. With a trial
+        axis the worst trial is gated.
+
+    Returns
+    -------
+    InstallationCalibration
+
+    Raises
+    ------
+    ValueError
+        Bad inputs; too few rests; a position without a rest; degenerate positions; a gate
+        refusing Q̂ (message names the measured value and the limit).
+
+    References
+    ----------
+    wang2023cja Eq 13 (``Q̂ = A_q^b A_q^sᵀ (A_q^s A_q^sᵀ)⁻¹``), Eq 14–15 (positions as
+    columns), Eq 9 (reference quaternions), Eq 1 (installation angles), §3.2 steps 1–7,
+    §4.1 (zeroed start).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from mtcal.core import rotations
+    >>> from mtcal.core.profiles import trajectory_from_euler_zxy
+    >>> from mtcal.methods.six_position import schedule_profile, six_positions_rad
+    >>> pos = six_positions_rad()
+    >>> q_wb = trajectory_from_euler_zxy(schedule_profile(pos, fs_hz=100.0)).q_wb
+    >>> q_ws = rotations.quat_multiply(q_wb, rotations.mount_quaternion(np.radians([1.0, 0.0, 0.0])))
+    >>> cal = calibrate_installation(pos, 100.0, q_ws=q_ws)
+    >>> (np.degrees(cal.installation_angles_rad).round(9) + 0.0).tolist(), float(cal.residual_rad.max()) < 1e-12
+    ([1.0, 0.0, 0.0], True)
+    """
+    # ---- the public edge: every input checked once
+    pos = as_float_array(positions_rad, "positions_rad", ndim=(2, 3), last_dim=3)
+    k = pos.shape[-2]
+    if k < 4:
+        raise ValueError(f"positions_rad must hold at least 4 positions for Eq 13 (16 unknowns), got {k}")
+    fs = positive_scalar(fs_hz, "fs_hz")
+    q, gyro, accel, params, q0 = _attitude_inputs(q_ws, gyro_rad_s, accel_m_s2, qncf_params, q0, fs, need_fs=True)
+    stream = q if q is not None else gyro
+    n = stream.shape[-2]
+    if pos.ndim == 3 and (stream.ndim != 3 or stream.shape[0] != pos.shape[0]):
+        raise ValueError(f"positions_rad of shape {pos.shape} needs a record with {pos.shape[0]} trials, "
+                         f"got shape {stream.shape}")
+    frac = _fraction(fraction)
+    if rests is not None:
+        rests = list(rests)
+        if any(not isinstance(r, slice) or r.start is None or r.stop is None or not 0 <= r.start < r.stop <= n
+               for r in rests):
+            raise ValueError(f"rests must be slices (start < stop) within the {n} samples of the record")
+    detector = dict(min_rest_s=positive_scalar(min_rest_s, "min_rest_s"),
+                    threshold_rad_s=positive_scalar(still_threshold_rad_s, "still_threshold_rad_s"),
+                    window_s=positive_scalar(still_window_s, "still_window_s"))
+    match = positive_scalar(max_match_rad, "max_match_rad")
+    gates = (_limit(max_condition, "max_condition"), _limit(max_so4_distance, "max_so4_distance"),
+             _limit(max_residual_rad, "max_residual_rad"))
+    # ---- trusted inside
+    return _calibrate(pos, fs, q, gyro, accel, params, q0, rests, frac, detector, match, gates)
+
+
+def _calibrate(pos, fs, q, gyro, accel, params, q0, rests, frac, detector, match, gates) -> InstallationCalibration:
+    """Steps 1–6 on checked inputs (see :func:`calibrate_installation`)."""
+    q_detect = q                                   # the quaternion-rate detector sees the attitude as given
+    q_s_stream = _zeroed_attitude(q, gyro, accel, params, q0, fs)
+    q_ref = rotations.quat_from_euler_zxy(pos[..., 0], pos[..., 1], pos[..., 2])
+    rests, matched, q_s = six_position._rest_attitudes(
+        q_s_stream, q_ref, fs, gyro=gyro, rests=rests, fraction=frac, max_match_rad=match,
+        q_detect=q_detect, **detector)
+    del q_s_stream
+    q_s_al, q_b_al = quaternion_lsq._align_pairs(q_s, q_ref)
+    q_hat = quaternion_lsq._least_squares(q_s_al, q_b_al)                       # Eq 13
+    after = quaternion_lsq._apply(q_hat, q_s)                                   # Eq 10 at the rests
+    residual = six_position._angle_between(after, q_ref)
+    sv = np.linalg.svd(np.swapaxes(q_s_al, -1, -2) @ q_s_al, compute_uv=False)
+    cond = sv[..., 0] / np.maximum(sv[..., 3], 1e-300)
+    proj = constrained_fit.project_to_so4(q_hat)
+    _gate(q_hat, cond, proj.distance, residual, *gates)
+    q_bs = rotations.quat_conjugate(proj.r)
+    before_e = rotations.euler_zxy_unchecked(q_s)
+    after_e = rotations.euler_zxy_unchecked(after)
+    return InstallationCalibration(
+        q_hat=q_hat, projection=proj, mounting_quaternion_q_bs=q_bs,
+        installation_angles_rad=rotations.installation_angles_from_mount(q_bs), condition=cond,
+        positions_rad=pos, q_reference=q_ref, rests=rests, matched=matched, q_sensor=q_s,
+        euler_before_rad=before_e, euler_after_rad=after_e,
+        error_before_rad=metrics.angle_difference(before_e, pos),
+        error_after_rad=metrics.angle_difference(after_e, pos), residual_rad=residual)
+
+
+def _gate(q_hat, cond, dist, residual, max_condition: float, max_dist: float, max_res: float) -> None:
+    """Refuse a Q̂ that is not a plausible calibration (conditioning, SO(4) distance, residuals)."""
+    worst_cond = float(np.max(cond))
+    if worst_cond > max_condition:
+        raise ValueError(f"calibration positions are ill-conditioned for Eq 13 (condition number {worst_cond:.3g} "
+                         f"> {max_condition:.0e}); use positions about more than one axis (the six of §3.2)")
+    worst_dist = float(np.max(dist))
+    if not worst_dist <= max_dist:
+        t = int(np.argmax(dist)) if np.ndim(dist) else None
+        q = q_hat if t is None else q_hat[t]
+        raise ValueError(f"Q_hat is not a calibration: distance {worst_dist:.3g} from a rotation of quaternion "
+                         f"space (> {max_dist:g}; max |entry| {np.abs(q).max():.3g}, min row norm "
+                         f"{np.linalg.norm(q, axis=1).min():.3g}); rests do not match the positions")
+    worst = float(np.max(residual))
+    if not worst <= max_res:
+        kk = int(np.unravel_index(np.argmax(residual), residual.shape)[-1])
+        raise ValueError(f"calibration residual {np.degrees(worst):.3f} deg at position {kk + 1} exceeds "
+                         f"--max-residual-deg {np.degrees(max_res):g}; a rest does not match its reference position")
+
+
+def apply_installation(q_hat, *, q_ws=None, gyro_rad_s=None, accel_m_s2=None, fs_hz: float | None = None,
+                       qncf_params: QncfParams | None = None, q0=None) -> CalibratedAttitude:
+    """Calibrated body attitude of a record, wang2023cja Eq 10: ``q_body = normalize(Q̂ q_sensor)``.
+
+    The sensor attitude is made exactly as in :func:`calibrate_installation` (QNCF of the raw
+    data, or ``q_ws`` as given) and zeroed at the first sample, then mapped by Q̂.
+
+    Parameters
+    ----------
+    q_hat : array_like, shape (4, 4) or (T, 4, 4)
+        Q̂ from :func:`calibrate_installation` (dimensionless); finite.
+    q_ws : array_like, shape (N, 4) or (T, N, 4), optional
+        Sensor attitude (sensor → world, scalar-first).
+    gyro_rad_s, accel_m_s2 : array_like, shape (N, 3) or (T, N, 3), optional
+        Raw data (rad/s, m/s²) for the QNCF when ``q_ws`` is not given.
+    fs_hz : float, optional
+        Sample rate (Hz), needed with raw data.
+    qncf_params, q0 :
+        QNCF parameters and start attitude, as in :func:`calibrate_installation`.
+
+    Returns
+    -------
+    CalibratedAttitude
+
+    References
+    ----------
+    wang2023cja Eq 10; §4.1 (zeroed start).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> q = np.tile([1.0, 0.0, 0.0, 0.0], (3, 1))
+    >>> apply_installation(np.eye(4), q_ws=q).q_body.tolist()[0]
+    [1.0, 0.0, 0.0, 0.0]
+    """
+    mat = as_float_array(q_hat, "q_hat")
+    if mat.ndim not in (2, 3) or mat.shape[-2:] != (4, 4):
+        raise ValueError(f"q_hat must be a finite 4x4 array or a stack (T, 4, 4), got shape {mat.shape}")
+    fs = None if fs_hz is None else positive_scalar(fs_hz, "fs_hz")
+    q, gyro, accel, params, q0 = _attitude_inputs(q_ws, gyro_rad_s, accel_m_s2, qncf_params, q0, fs,
+                                                  need_fs=q_ws is None)
+    stream = q if q is not None else gyro
+    if mat.ndim == 3 and (stream.ndim != 3 or stream.shape[0] != mat.shape[0]):
+        raise ValueError(f"a stack of {mat.shape[0]} matrices needs a record with as many trials, "
+                         f"got shape {stream.shape}")
+    q_s = _zeroed_attitude(q, gyro, accel, params, q0, fs)
+    q_b = rotations.make_continuous(quaternion_lsq._apply(mat, q_s), axis=-2)
+    return CalibratedAttitude(q_body=q_b, q_sensor=q_s)
