@@ -31,16 +31,23 @@ from mtcal.core.montecarlo import progress
 from mtcal.core import metrics, rotations
 from mtcal.core.profiles import AngleProfile, step_schedule
 from mtcal.core.rotations import mount_quaternion, relative_to_initial
-from mtcal.core.simulate import Trajectory, simulate_imu
+from mtcal.core.simulate import simulate_imu
 from mtcal.core.units import DEG, MG
 from mtcal.filters.qncf import qncf
-from mtcal.methods import quaternion_lsq as calibration, six_position as sixpos
+from mtcal.methods import quaternion_lsq, six_position
+from mtcal.systems import installation
 from .error_model import MOUNT_TYPE, PAPER_SIGN
-from .scenario import SOURCES, TurntableScenario, WindTunnelScenario
+from .scenario import (SOURCES, TurntableScenario, WindTunnelScenario, compliance_trajectory, mechanism_actual,
+                       windtunnel_positions)
 
-__all__ = ["turntable_runs", "windtunnel_positions", "identify_pitch_ratio", "turntable_profile", "six_position_reference", "TurntableRun", "TurntableJob", "run_turntable",
-           "run_turntable_jobs", "position_errors_deg", "compliance_trajectory", "load_tilt_outputs", "mechanism_actual",
-           "WindTunnelRun", "run_windtunnel", "elastic_deflection_rad"]
+#: Gates of :func:`mtcal.systems.installation.calibrate_installation` in the Monte Carlo runs: all off
+#: (``inf``). The procedure and its numbers are the CLI's; a Monte Carlo reports the spread of every
+#: trial instead of refusing the set because one trial would be refused at the bench.
+MONTE_CARLO_GATES = {"max_condition": np.inf, "max_so4_distance": np.inf, "max_residual_rad": np.inf}
+
+__all__ = ["turntable_runs", "turntable_profile", "six_position_reference", "TurntableRun", "TurntableJob",
+           "calibration_step", "run_turntable", "run_turntable_jobs", "position_errors_deg", "load_tilt_outputs", "WindTunnelRun",
+           "run_windtunnel", "elastic_deflection_rad", "MONTE_CARLO_GATES"]
 
 
 def _concat_profiles(parts: list[AngleProfile]) -> tuple[AngleProfile, list[slice]]:
@@ -67,7 +74,7 @@ def _holds(prof: AngleProfile, span: slice, fraction: float) -> list[slice]:
     for s in np.unique(seg[seg % 2 == 0]):
         idx = np.flatnonzero(seg == s) + span.start
         out.append(slice(int(idx[0]), int(idx[-1]) + 1))
-    return sixpos.middle_slices(out, fraction)
+    return six_position.middle_slices(out, fraction)
 
 
 
@@ -77,7 +84,7 @@ def _holds(prof: AngleProfile, span: slice, fraction: float) -> list[slice]:
 def turntable_profile(sc: TurntableScenario, with_sweeps: bool) -> tuple[AngleProfile, dict]:
     """Session schedule: calibration run, verification run (+ AoA sweep + roll sweep), Eq 8 frame."""
     pos = six_position_reference(sc)
-    cal = sixpos.schedule_profile(pos, rate_rad_s=sc.turntable_rate_rad_s, rest_s=sc.rest_s, fs_hz=sc.fs_hz)
+    cal = six_position.schedule_profile(pos, rate_rad_s=sc.turntable_rate_rad_s, rest_s=sc.rest_s, fs_hz=sc.fs_hz)
     parts, names = [cal, cal], ["calibration", "verification"]
     if with_sweeps:
         aoa = np.zeros((len(sc.aoa_sweep_deg) + 2, 3))
@@ -95,22 +102,8 @@ def turntable_profile(sc: TurntableScenario, with_sweeps: bool) -> tuple[AnglePr
 
 def six_position_reference(sc: TurntableScenario) -> np.ndarray:
     """Six reference positions in the Eq 8 frame (paper order, roll sign per PAPER_SIGN), (6, 3) rad."""
-    return sixpos.six_positions_rad(np.radians(sc.yaw_positions_deg), np.radians(sc.pitch_positions_deg),
+    return six_position.six_positions_rad(np.radians(sc.yaw_positions_deg), np.radians(sc.pitch_positions_deg),
                                     np.radians(sc.roll_positions_deg)) * PAPER_SIGN
-
-
-def compliance_trajectory(time_s, angle_rad, compliance_rad_per_g: float) -> Trajectory:
-    """Truth trajectory of the IMU base: body attitude (Eq 9 of ``angle_rad``) tilted by the mount compliance.
-
-    The mount rotates by ``k · (ẑ_b × ĝ_b)`` (rad, ĝ_b unit gravity in body axes): zero when
-    level, ``k`` about the lateral axis at 90° of roll or pitch (wang2023cja §4.1 gasket mounts).
-    """
-    q_wb = rotations.quat_from_euler_zxy(angle_rad[:, 0], angle_rad[:, 1], angle_rad[:, 2])
-    if compliance_rad_per_g != 0.0:
-        g_b = -rotations.quat_to_matrix(q_wb)[:, 2, :]
-        rho = compliance_rad_per_g * np.stack([-g_b[:, 1], g_b[:, 0], np.zeros(len(g_b))], axis=-1)
-        q_wb = rotations.hamilton(q_wb, rotations.quat_from_rotvec(rho))
-    return Trajectory(time_s, q_wb)
 
 
 def load_tilt_outputs(gyro_rad_s, accel_m_s2, q_wb, fs_hz: float, q_mount, tilt_rad) -> None:
@@ -229,7 +222,8 @@ def _run_pieces(sc: TurntableScenario, prof: AngleProfile, spans: dict, pieces: 
     accel = np.concatenate(accel, axis=0)
     res = qncf(gyro, accel, 1.0 / sc.fs_hz, sc.qncf, return_euler=False)
     del accel
-    q_s = relative_to_initial(res.q_ws)
+    q_cal = res.q_ws[:, spans["calibration"]].copy()   # the calibration run as logged (zeroed by the procedure)
+    q_s = relative_to_initial(res.q_ws)                 # the session, zeroed once at its start (§4.1)
     del res
     pos = six_position_reference(sc)
     out, start = [], 0
@@ -240,23 +234,45 @@ def _run_pieces(sc: TurntableScenario, prof: AngleProfile, spans: dict, pieces: 
         on = "reference_angle" in sources
         e_cal = _draws(rng_ref, trials, 6, sc.reference_angle_sigma_rad, on)
         e_ver = _draws(rng_ref, trials, 6, sc.reference_angle_sigma_rad, on)
-        cal = sixpos.calibrate(q_s[sl, spans["calibration"]], pos, sc.fs_hz,
-                               gyro_rad_s=gyro[sl, spans["calibration"]], fraction=frac)
-        ver = sixpos.calibrate(q_s[sl, spans["verification"]], pos, sc.fs_hz,
-                               gyro_rad_s=gyro[sl, spans["verification"]], fraction=frac)
-        # the LS is fed the commanded reference; the turntable stood at command + e_cal
-        ref_used = pos - e_cal
-        q_ref = rotations.quat_from_euler_zxy(ref_used[..., 0], ref_used[..., 1], ref_used[..., 2])
-        q_mat = calibration.least_squares_error_matrix(cal.q_sensor, q_ref)
-        euler = lambda q: rotations.euler_zxy_from_quat(q)  # noqa: E731
-        run = TurntableRun(q_mat, euler(cal.q_sensor), euler(calibration.apply_error_matrix(q_mat, cal.q_sensor)),
-                           euler(ver.q_sensor), euler(calibration.apply_error_matrix(q_mat, ver.q_sensor)),
+        # the procedure is fed the commanded reference; the turntable stood at command + e_cal
+        cal = calibration_step(sc, q_cal[sl], gyro[sl, spans["calibration"]], pos - e_cal, frac)
+        ver = six_position.calibrate(q_s[sl, spans["verification"]], pos, sc.fs_hz,
+                                     gyro_rad_s=gyro[sl, spans["verification"]], fraction=frac)
+        q_mat = cal.q_hat
+        euler = rotations.euler_zxy_from_quat
+        run = TurntableRun(q_mat, cal.euler_before_rad, cal.euler_after_rad,
+                           euler(ver.q_sensor), euler(quaternion_lsq.apply_error_matrix(q_mat, ver.q_sensor)),
                            pos, -e_cal, -e_ver)
         if with_sweeps:
             run.sweeps, run.trace = _evaluate_sweeps(sc, prof, spans, q_s[sl], q_mat, frac, rng_ref,
                                                      keep_trace and i == 0, on)
         out.append(run)
     return out
+
+
+def calibration_step(sc: TurntableScenario | WindTunnelScenario, q_ws, gyro_rad_s, reference_rad,
+                     fraction: float) -> installation.InstallationCalibration:
+    """The studies' six-position calibration: :func:`mtcal.systems.installation.calibrate_installation`.
+
+    Exactly the procedure ``mtcal calibrate --rest-detector paper`` runs on a log (the §3.2
+    stillness detector on ``gyro_rad_s``, zeroing at the first sample, Eq 13), with the
+    gates off (:data:`MONTE_CARLO_GATES`).
+
+    Parameters
+    ----------
+    sc : TurntableScenario or WindTunnelScenario
+        Gives the sample rate ``sc.fs_hz`` (Hz).
+    q_ws : ndarray (T, N, 4)
+        QNCF sensor attitude of the calibration run, as logged (not zeroed).
+    gyro_rad_s : ndarray (T, N, 3)
+        Gyro of the same samples (rad/s), for rest detection.
+    reference_rad : ndarray (6, 3) or (T, 6, 3)
+        Reference angles fed to Eq 13 (rad, Eq 8 frame).
+    fraction : float
+        Averaged middle fraction of each rest.
+    """
+    return installation.calibrate_installation(reference_rad, sc.fs_hz, q_ws=q_ws, gyro_rad_s=gyro_rad_s,
+                                               fraction=fraction, **MONTE_CARLO_GATES)
 
 
 def run_turntable(sc: TurntableScenario, test: str, rng: np.random.Generator, trials: int,
@@ -350,7 +366,7 @@ def _evaluate_sweeps(sc, prof, spans, q_s, q_mat, frac, rng, keep_trace, ref_err
     for name, chan_mean, chans_err in (("aoa", 1, (2, 0)), ("roll", 2, (1, 0))):
         span = spans[name]
         before = rotations.euler_zxy_from_quat(q_s[:, span])
-        after = rotations.euler_zxy_from_quat(calibration.apply_error_matrix(q_mat, q_s[:, span]))
+        after = rotations.euler_zxy_from_quat(quaternion_lsq.apply_error_matrix(q_mat, q_s[:, span]))
         ref = truth[span]
         holds = [slice(h.start - span.start, h.stop - span.start) for h in _holds(prof, span, frac)][1:-1]
         e = _draws(rng, q_s.shape[0], len(holds), sc.reference_angle_sigma_rad, ref_errors_on)[..., chan_mean]
@@ -390,34 +406,6 @@ def position_errors_deg(run: TurntableRun, state: str) -> np.ndarray:
 # --------------------------------------------------------------------------
 # wind tunnel
 # --------------------------------------------------------------------------
-def mechanism_actual(sc: WindTunnelScenario, prof: AngleProfile, rate_rad_s: float) -> np.ndarray:
-    """Actual mechanism angles (N, 3) from the commanded ones (rad).
-
-    * pitch transmission-ratio error: actual pitch = (1 + ε) · commanded;
-    * every axis: transmission gap and servo stop error — at a hold the axis stops short of the
-      command by ``gap/2 + servo_lag · rate`` in the direction of its last move. The mechanism is
-      zeroed where it stands at the start (no offset before an axis first moves), so an axis that
-      moved during the calibration comes back to zero with that offset;
-    * non-orthogonality: yaw and roll pick up ``non_orthogonality_rad`` per rad of pitch.
-    """
-    cmd = prof.angle_rad
-    act = cmd.copy()
-    act[:, 1] *= 1.0 + sc.pitch_ratio_error
-    stop = 0.5 * sc.transmission_gap_rad + sc.servo_lag_s * rate_rad_s
-    for axis in range(3):
-        rate = prof.rate_rad_s[:, axis]
-        moving = np.abs(rate) > 1e-9
-        direction = np.where(moving, np.sign(rate), 0.0)
-        idx = np.where(moving, np.arange(rate.size), 0)
-        np.maximum.accumulate(idx, out=idx)
-        last = direction[idx]
-        last[~moving & (idx == 0) & ~moving[0]] = 0.0
-        act[:, axis] -= last * stop * ~moving
-    act[:, 0] += sc.non_orthogonality_rad[0] * cmd[:, 1]
-    act[:, 2] += sc.non_orthogonality_rad[1] * cmd[:, 1]
-    return act
-
-
 def _wt_schedule(sc, waypoints_deg, rate, lead_s=8.0, hold_s=None):
     wp = np.zeros((len(waypoints_deg) + 2, 3))
     wp[1:-1, 1] = np.radians(waypoints_deg)
@@ -483,9 +471,8 @@ def _run_windtunnel_block(sc: WindTunnelScenario, rng: np.random.Generator, tria
     model = sc.imu.error_model(mount_quaternion(np.radians(sc.alpha_deg)), sources, sc.errors)
     k_mount = sc.errors.compliance_deg_g(MOUNT_TYPE["windtunnel"]) * DEG if "mount_compliance" in on else 0.0
     # --- wind-off session: calibration then AoA sweep
-    pos = sixpos.six_positions_rad(np.radians(sc.cal_yaw_deg), np.radians(sc.cal_pitch_deg),
-                                   np.radians(sc.cal_roll_deg))
-    cal_prof = sixpos.schedule_profile(pos, rate_rad_s=5 * DEG, rest_s=sc.rest_s, fs_hz=sc.fs_hz)
+    pos = windtunnel_positions(sc)
+    cal_prof = six_position.schedule_profile(pos, rate_rad_s=5 * DEG, rest_s=sc.rest_s, fs_hz=sc.fs_hz)
     aoa_prof = _wt_schedule(sc, sc.aoa_sweep_deg, sc.mechanism_rate_rad_s, lead_s=1.0)
     prof, spans = _concat_profiles([cal_prof, aoa_prof])
     spans = dict(zip(("calibration", "aoa"), spans))
@@ -496,16 +483,13 @@ def _run_windtunnel_block(sc: WindTunnelScenario, rng: np.random.Generator, tria
                                                     * rng_change.standard_normal((trials, 1, 3)))
     res = qncf(rec.gyro_rad_s, rec.accel_m_s2, 1.0 / sc.fs_hz, sc.qncf, return_euler=False)
     q_s = relative_to_initial(res.q_ws)
-    cal = sixpos.calibrate(q_s[:, spans["calibration"]], pos, sc.fs_hz,
-                           gyro_rad_s=rec.gyro_rad_s[:, spans["calibration"]], fraction=frac)
     ref_err = _draws(rng_ref, trials, 6, sc.repeatability_rad, "reference_angle" in on)
-    ref_used = pos + ref_err
-    q_mat = calibration.least_squares_error_matrix(
-        cal.q_sensor, rotations.quat_from_euler_zxy(ref_used[..., 0], ref_used[..., 1], ref_used[..., 2]))
-    after_cal = calibration.apply_error_matrix(q_mat, cal.q_sensor)
+    cal = calibration_step(sc, res.q_ws[:, spans["calibration"]], rec.gyro_rad_s[:, spans["calibration"]],
+                           pos + ref_err, frac)
+    q_mat = cal.q_hat
     span = spans["aoa"]
     before = rotations.euler_zxy_from_quat(q_s[:, span])
-    after = rotations.euler_zxy_from_quat(calibration.apply_error_matrix(q_mat, q_s[:, span]))
+    after = rotations.euler_zxy_from_quat(quaternion_lsq.apply_error_matrix(q_mat, q_s[:, span]))
     cmd = prof.angle_rad[span]
     holds = [slice(h.start - span.start, h.stop - span.start) for h in _holds(prof, span, frac)][1:-1]
     nowind = {"reference": np.array([cmd[h, 1].mean() for h in holds]),
@@ -522,8 +506,7 @@ def _run_windtunnel_block(sc: WindTunnelScenario, rng: np.random.Generator, tria
                  "nowind_before_err": metrics.angle_difference(before[0], cmd),
                  "nowind_after_err": metrics.angle_difference(after[0], cmd)}
     del before, after, res, q_s
-    out = WindTunnelRun(q_mat, rotations.euler_zxy_from_quat(cal.q_sensor),
-                        rotations.euler_zxy_from_quat(after_cal), nowind, None, trace)
+    out = WindTunnelRun(q_mat, cal.euler_before_rad, cal.euler_after_rad, nowind, None, trace)
     if wind_on:
         out.wind_on = _wind_on_groups(sc, model, q_mat, rng_wind, trials, out.trace, k_mount, keep_trace)
     return out
@@ -574,7 +557,7 @@ def _wind_on_groups(sc, model, q_mat, rng, trials, trace, k_mount, keep_trace):
         holds = _holds(prof, span, 0.5)[1:-1]
         q_g = q_s[sl]
         for j, h in enumerate(holds):
-            after = rotations.euler_zxy_from_quat(calibration.apply_error_matrix(q_rep[sl], q_g[:, h]))
+            after = rotations.euler_zxy_from_quat(quaternion_lsq.apply_error_matrix(q_rep[sl], q_g[:, h]))
             means[g, :, j] = after[..., 1].mean(axis=1)
         if not keep_trace:
             continue
@@ -584,7 +567,7 @@ def _wind_on_groups(sc, model, q_mat, rng, trials, trace, k_mount, keep_trace):
         trace[f"wind_time_s_{g}"] = prof.time_s
         trace[f"wind_reference_{g}"] = prof.angle_rad[:, 1]
         trace[f"wind_pitch_{g}"] = rotations.euler_zxy_from_quat(
-            calibration.apply_error_matrix(q_rep[sl][:1], q_g[:1, :prof.time_s.size]))[0, :, 1]
+            quaternion_lsq.apply_error_matrix(q_rep[sl][:1], q_g[:1, :prof.time_s.size]))[0, :, 1]
     ref = np.radians(np.asarray(sc.wind_on_sweep_deg, float))
     return {"reference": ref, "group_means": means,
             "elastic_corrected": ref + elastic_deflection_rad(sc.elastic_model_deg, ref),
@@ -606,36 +589,3 @@ def turntable_runs(sc: TurntableScenario, trials: int, seed: int) -> dict:
     rest = run_turntable_jobs(sc, [TurntableJob(t, gens[t], int(trials)) for t in ("T2", "T3", "T4")])
     out.update(zip(("T2", "T3", "T4"), rest))
     return out
-
-
-def windtunnel_positions(sc: WindTunnelScenario) -> np.ndarray:
-    """The wind-tunnel six calibration positions (Eq 8 frame), (6, 3) rad."""
-    return sixpos.six_positions_rad(np.radians(sc.cal_yaw_deg), np.radians(sc.cal_pitch_deg),
-                                    np.radians(sc.cal_roll_deg))
-
-
-def identify_pitch_ratio(sc: WindTunnelScenario, q22: float) -> float:
-    """Mechanism pitch-ratio error ε for which noise-free Eq 13 returns ``q22`` as Q(2,2).
-
-    Noise-free: the QNCF at a rest returns the actual attitude, so the rest means are the
-    mechanism's actual angles (:func:`mechanism_actual`, which also applies backlash, servo stop
-    error and non-orthogonality), tilted by the mount compliance of ``sc.errors`` and seen
-    through the mounting. Q(2,2) is affine in ε to first
-    order, so two evaluations fix it.
-    """
-    pos = windtunnel_positions(sc)
-    prof = sixpos.schedule_profile(pos, rate_rad_s=5 * DEG, rest_s=sc.rest_s, fs_hz=sc.fs_hz)
-    holds = sixpos.middle_slices(prof.hold_slices()[1:-1], 0.5)
-    q_bs = mount_quaternion(np.radians(sc.alpha_deg))
-    q_ref = rotations.quat_from_euler_zxy(pos[:, 0], pos[:, 1], pos[:, 2])
-    k_mount = sc.errors.compliance_deg_g(MOUNT_TYPE["windtunnel"]) * DEG
-
-    def q22_at(eps):
-        act = mechanism_actual(replace(sc, pitch_ratio_error=float(eps)), prof, sc.mechanism_rate_rad_s)
-        mean = np.array([act[h].mean(axis=0) for h in holds])
-        q_wb = compliance_trajectory(np.arange(len(mean), dtype=float), mean, k_mount).q_wb
-        q_s = rotations.quat_multiply(rotations.quat_conjugate(q_bs), rotations.quat_multiply(q_wb, q_bs))
-        return float(calibration.least_squares_error_matrix(q_s, q_ref)[1, 1])
-    e0, e1 = 0.0, -0.004
-    f0, f1 = q22_at(e0), q22_at(e1)
-    return round(float(e0 + (q22 - f0) * (e1 - e0) / (f1 - f0)), 6)

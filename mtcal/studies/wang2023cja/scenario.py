@@ -29,16 +29,21 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from mtcal.core.simulate import ImuErrorModel, SensorErrors
+from mtcal.core import rotations
+from mtcal.core.profiles import AngleProfile
+from mtcal.core.rotations import mount_quaternion
+from mtcal.core.simulate import ImuErrorModel, SensorErrors, Trajectory
 from mtcal.core.sensor_grades import GRADES, sensor_grade
 from mtcal.core.units import ARCSEC, DEG, DEG_H, MG, UG
 from mtcal.core.validate import angle_pair_deg, choice, merge_parameters, number_in_range
 from mtcal.filters.qncf import QncfParams
-from .error_model import ErrorModel
+from mtcal.methods import quaternion_lsq, six_position
+from .error_model import MOUNT_TYPE, ErrorModel
 
 __all__ = ["SOURCES", "ImuSpec", "TurntableScenario", "WindTunnelScenario", "TURNTABLE_DEFAULTS",
            "WINDTUNNEL_DEFAULTS", "turntable_scenario", "windtunnel_scenario", "windtunnel_geometry",
-           "PRINTED_WINDTUNNEL_Q22"]
+           "PRINTED_WINDTUNNEL_Q22", "compliance_trajectory", "mechanism_actual", "windtunnel_positions",
+           "identify_pitch_ratio"]
 
 
 def _f(value, unit: str, source: str):
@@ -279,11 +284,9 @@ def windtunnel_scenario(errors: ErrorModel | None = None, **params) -> WindTunne
 
     The installation angles come from the printed wind-tunnel matrix (:func:`windtunnel_geometry`);
     the pitch-ratio error is the one for which the noise-free simulated calibration reproduces its
-    Q(2,2) (:func:`.runs.identify_pitch_ratio`), the mechanism's other stated errors included.
+    Q(2,2) (:func:`identify_pitch_ratio`), the mechanism's other stated errors included.
     """
     p = merge_parameters(params, WINDTUNNEL_DEFAULTS)
-    from .runs import identify_pitch_ratio   # runs imports this module
-
     alpha_deg, _ = windtunnel_geometry()
     sc = WindTunnelScenario(
         imu=ImuSpec.from_grades(p["gyro_grade"], p["accel_grade"]), errors=ErrorModel() if errors is None else errors,
@@ -296,3 +299,80 @@ def windtunnel_scenario(errors: ErrorModel | None = None, **params) -> WindTunne
     return replace(sc, pitch_ratio_error=identify_pitch_ratio(sc, PRINTED_WINDTUNNEL_Q22))
 
 
+# --------------------------------------------------------------------------
+# the scenario's mechanism and mount (used by .runs and by identify_pitch_ratio)
+# --------------------------------------------------------------------------
+def compliance_trajectory(time_s, angle_rad, compliance_rad_per_g: float) -> Trajectory:
+    """Truth trajectory of the IMU base: body attitude (Eq 9 of ``angle_rad``) tilted by the mount compliance.
+
+    The mount rotates by ``k · (ẑ_b × ĝ_b)`` (rad, ĝ_b unit gravity in body axes): zero when
+    level, ``k`` about the lateral axis at 90° of roll or pitch (wang2023cja §4.1 gasket mounts).
+    """
+    q_wb = rotations.quat_from_euler_zxy(angle_rad[:, 0], angle_rad[:, 1], angle_rad[:, 2])
+    if compliance_rad_per_g != 0.0:
+        g_b = -rotations.quat_to_matrix(q_wb)[:, 2, :]
+        rho = compliance_rad_per_g * np.stack([-g_b[:, 1], g_b[:, 0], np.zeros(len(g_b))], axis=-1)
+        q_wb = rotations.hamilton(q_wb, rotations.quat_from_rotvec(rho))
+    return Trajectory(time_s, q_wb)
+
+
+def mechanism_actual(sc: WindTunnelScenario, prof: AngleProfile, rate_rad_s: float) -> np.ndarray:
+    """Actual mechanism angles (N, 3) from the commanded ones (rad).
+
+    * pitch transmission-ratio error: actual pitch = (1 + ε) · commanded;
+    * every axis: transmission gap and servo stop error — at a hold the axis stops short of the
+      command by ``gap/2 + servo_lag · rate`` in the direction of its last move. The mechanism is
+      zeroed where it stands at the start (no offset before an axis first moves), so an axis that
+      moved during the calibration comes back to zero with that offset;
+    * non-orthogonality: yaw and roll pick up ``non_orthogonality_rad`` per rad of pitch.
+    """
+    cmd = prof.angle_rad
+    act = cmd.copy()
+    act[:, 1] *= 1.0 + sc.pitch_ratio_error
+    stop = 0.5 * sc.transmission_gap_rad + sc.servo_lag_s * rate_rad_s
+    for axis in range(3):
+        rate = prof.rate_rad_s[:, axis]
+        moving = np.abs(rate) > 1e-9
+        direction = np.where(moving, np.sign(rate), 0.0)
+        idx = np.where(moving, np.arange(rate.size), 0)
+        np.maximum.accumulate(idx, out=idx)
+        last = direction[idx]
+        last[~moving & (idx == 0) & ~moving[0]] = 0.0
+        act[:, axis] -= last * stop * ~moving
+    act[:, 0] += sc.non_orthogonality_rad[0] * cmd[:, 1]
+    act[:, 2] += sc.non_orthogonality_rad[1] * cmd[:, 1]
+    return act
+
+
+
+def windtunnel_positions(sc: WindTunnelScenario) -> np.ndarray:
+    """The wind-tunnel six calibration positions (Eq 8 frame), (6, 3) rad."""
+    return six_position.six_positions_rad(np.radians(sc.cal_yaw_deg), np.radians(sc.cal_pitch_deg),
+                                    np.radians(sc.cal_roll_deg))
+
+
+def identify_pitch_ratio(sc: WindTunnelScenario, q22: float) -> float:
+    """Mechanism pitch-ratio error ε for which noise-free Eq 13 returns ``q22`` as Q(2,2).
+
+    Noise-free: the QNCF at a rest returns the actual attitude, so the rest means are the
+    mechanism's actual angles (:func:`mechanism_actual`, which also applies backlash, servo stop
+    error and non-orthogonality), tilted by the mount compliance of ``sc.errors`` and seen
+    through the mounting. Q(2,2) is affine in ε to first
+    order, so two evaluations fix it.
+    """
+    pos = windtunnel_positions(sc)
+    prof = six_position.schedule_profile(pos, rate_rad_s=5 * DEG, rest_s=sc.rest_s, fs_hz=sc.fs_hz)
+    holds = six_position.middle_slices(prof.hold_slices()[1:-1], 0.5)
+    q_bs = mount_quaternion(np.radians(sc.alpha_deg))
+    q_ref = rotations.quat_from_euler_zxy(pos[:, 0], pos[:, 1], pos[:, 2])
+    k_mount = sc.errors.compliance_deg_g(MOUNT_TYPE["windtunnel"]) * DEG
+
+    def q22_at(eps):
+        act = mechanism_actual(replace(sc, pitch_ratio_error=float(eps)), prof, sc.mechanism_rate_rad_s)
+        mean = np.array([act[h].mean(axis=0) for h in holds])
+        q_wb = compliance_trajectory(np.arange(len(mean), dtype=float), mean, k_mount).q_wb
+        q_s = rotations.quat_multiply(rotations.quat_conjugate(q_bs), rotations.quat_multiply(q_wb, q_bs))
+        return float(quaternion_lsq.least_squares_error_matrix(q_s, q_ref)[1, 1])
+    e0, e1 = 0.0, -0.004
+    f0, f1 = q22_at(e0), q22_at(e1)
+    return round(float(e0 + (q22 - f0) * (e1 - e0) / (f1 - f0)), 6)
