@@ -17,6 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from mtcal.cli import checks, common, logio
+from mtcal.systems import installation
 
 EXAMPLE = """\
 output columns: time_s, q0..q3 (calibrated body attitude), yaw_deg, pitch_deg, roll_deg,
@@ -51,9 +52,8 @@ def run(args: argparse.Namespace) -> int:
     out = logio.check_output_path(args.out, [args.log, args.calibration])
 
     def body() -> int:
-        from mtcal.cli.attitude import sensor_attitude
+        from mtcal.cli.attitude import qncf_settings
         from mtcal.core import rotations
-        from mtcal.methods.quaternion_lsq import apply_error_matrix
 
         q_hat = load_calibration(args.calibration)
         log = logio.read_log(args.log, common.input_options(args), need="raw_or_quat")
@@ -63,15 +63,15 @@ def run(args: argparse.Namespace) -> int:
             fig.report = rep
             checks.gyro_tilt_consistency(log.gyro_for_filter(), log.accel_m_s2, log.dt_mean_s, rep.rests,
                                          time_s=log.time_s, skip=checks.clipped_samples(log.gyro_rad_s)[0])
-            q, _ = sensor_attitude(log, rep)
+            gyro, params, q0, _ = qncf_settings(log, rep)
+            att = installation.apply_installation(q_hat, gyro_rad_s=gyro, accel_m_s2=log.accel_m_s2,
+                                                  fs_hz=log.fs_hz, qncf_params=params, q0=q0)
             static = rep.is_static
         else:
-            q, static = log.q_ws, None
-        q = rotations.hamilton(rotations.quat_conjugate(q[0])[None, :], q)
-        q /= np.linalg.norm(q, axis=1, keepdims=True)
-        qb = rotations.make_continuous(apply_error_matrix(q_hat, q), axis=0)
+            att, static = installation.apply_installation(q_hat, q_ws=log.q_ws), None
+        qb = att.q_body
         eb = np.degrees(rotations.euler_zxy_unchecked(qb))
-        es = np.degrees(rotations.euler_zxy_unchecked(q))
+        es = np.degrees(rotations.euler_zxy_unchecked(att.q_sensor))
         extra = {"sensor_yaw_deg": es[:, 0], "sensor_pitch_deg": es[:, 1], "sensor_roll_deg": es[:, 2]}
         if static is not None:
             extra["is_static"] = static.astype(np.int8)

@@ -34,14 +34,16 @@ def qncf_params(rep):
                       amd_threshold_pct=max(0.3, 100.0 * half / rep.gravity_m_s2))
 
 
-def sensor_attitude(log: logio.ImuLog, rep) -> tuple[np.ndarray, dict]:
-    """QNCF sensor attitude (N, 4) of a raw log and a description of how it was made.
+def qncf_settings(log: logio.ImuLog, rep) -> tuple[np.ndarray, object, np.ndarray | None, dict]:
+    """How ``mtcal`` runs the QNCF on a raw log: filter gyro (rad/s), parameters, start attitude, description.
 
     With the paper's rest detector (``rep.method == "paper"``) the QNCF runs exactly
     as before the adaptive detector existed: default :class:`QncfParams`, levelled
-    from the first 100 samples, no initial bias removed.
+    from the first 100 samples, no initial bias removed. Otherwise the parameters
+    follow the measured rest level, the start is levelled from the first rest and
+    that rest's mean gyro is removed.
     """
-    from mtcal.filters.qncf import QncfParams, initial_attitude_from_accel, qncf
+    from mtcal.filters.qncf import QncfParams, initial_attitude_from_accel
 
     paper = rep.method == "paper"
     params = QncfParams() if paper else qncf_params(rep)
@@ -55,11 +57,19 @@ def sensor_attitude(log: logio.ImuLog, rep) -> tuple[np.ndarray, dict]:
     else:
         q0, bias = None, np.zeros(3)
         init = "first 100 samples (log does not start at rest)"
-    res = qncf(gyro, log.accel_m_s2, log.dt_mean_s, params, q0=q0, return_euler=False)
     info = {"filter": "qncf", "gravity_m_s2": params.gravity_m_s2,
             "amd_threshold_pct": params.amd_threshold_pct, "kp_rad_s": params.kp_rad_s,
             "ki_rad_s2": params.ki_rad_s2, "levelled_from": init,
             "initial_gyro_bias_rad_s": bias.tolist()}
+    return gyro, params, q0, info
+
+
+def sensor_attitude(log: logio.ImuLog, rep) -> tuple[np.ndarray, dict]:
+    """QNCF sensor attitude (N, 4) of a raw log and a description of how it was made (:func:`qncf_settings`)."""
+    from mtcal.filters.qncf import qncf
+
+    gyro, params, q0, info = qncf_settings(log, rep)
+    res = qncf(gyro, log.accel_m_s2, log.dt_mean_s, params, q0=q0, return_euler=False)
     return res.q_ws, info
 
 
@@ -94,7 +104,7 @@ def run(args: argparse.Namespace) -> int:
     return common.run_with_figure(fig, body)
 
 
-__all__ = ["register", "run", "sensor_attitude", "qncf_params"]
+__all__ = ["register", "run", "sensor_attitude", "qncf_settings", "qncf_params"]
 
 
 def register(subparsers) -> None:

@@ -35,7 +35,7 @@ from pathlib import Path
 import numpy as np
 
 from mtcal.cli import checks, common, logio
-from mtcal.methods import six_position as sixpos
+from mtcal.systems import installation
 
 POS_COLS = ["yaw_deg", "pitch_deg", "roll_deg"]
 FORMAT = "mtcal-calibration/1"
@@ -49,8 +49,8 @@ example:
   mtcal apply Q.json flight.csv --out body_attitude.csv"""
 
 #: Gates (defaults; options override): distance of Q̂ from SO(4) (Frobenius) and Eq 13 conditioning.
-MAX_SO4_DISTANCE = 0.05
-MAX_CONDITION = 1e4
+MAX_SO4_DISTANCE = installation.MAX_SO4_DISTANCE
+MAX_CONDITION = installation.MAX_CONDITION
 
 
 def register(subparsers) -> None:
@@ -89,18 +89,13 @@ def _read_positions(path: Path) -> np.ndarray:
     return np.radians(ang)
 
 
-load_positions = _read_positions
-
-
 def run(args: argparse.Namespace) -> int:
-    """Entry point of ``mtcal calibrate``."""
+    """Entry point of ``mtcal calibrate``: read the log, run the procedure, print and write."""
     fig = common.DiagnosticsFigure(args.figure, f"mtcal calibrate {args.log}", inputs=[args.log, args.positions])
     out = None if args.out is None else logio.check_output_path(args.out, [args.log, args.positions])
 
     def body() -> int:
-        from mtcal.cli.attitude import sensor_attitude
-        from mtcal.core import rotations
-        from mtcal.methods import constrained_fit
+        from mtcal.cli.attitude import qncf_settings
 
         log = logio.read_log(args.log, common.input_options(args), need="raw_or_quat")
         fig.log = log if log.accel_m_s2 is not None else None
@@ -109,25 +104,25 @@ def run(args: argparse.Namespace) -> int:
         if args.min_rest_s is None:  # defaults: 1 s (adaptive), 2 s (paper's stillness detector, as before)
             args.min_rest_s = "2.0" if args.rest_detector == "paper" or log.gyro_rad_s is None else "1.0"
         min_rest = common.finite_float(args.min_rest_s, "--min-rest-s")
+        gates = {"max_so4_distance": common.finite_float(args.max_so4_distance, "--max-so4-distance"),
+                 "max_residual_rad": np.radians(common.finite_float(args.max_residual_deg, "--max-residual-deg"))}
         rep = None
         if log.gyro_rad_s is not None:
             rep = common.detect(args, log)
             fig.report = rep
             if args.rest_detector == "paper":
-                still = sixpos.stillness_from_gyro(log.gyro_rad_s, log.fs_hz)
-                rests = sixpos.find_rests(still, log.fs_hz, min_rest_s=min_rest)
+                rests = installation.detect_rests(log.fs_hz, gyro_rad_s=log.gyro_rad_s, min_rest_s=min_rest)
             else:
                 rests = rep.rests
             checks.gyro_tilt_consistency(log.gyro_for_filter(), log.accel_m_s2, log.dt_mean_s, rests,
                                          time_s=log.time_s, skip=checks.clipped_samples(log.gyro_rad_s)[0])
-            q, info = sensor_attitude(log, rep)
+            gyro, params, q0, info = qncf_settings(log, rep)
+            source = {"gyro_rad_s": gyro, "accel_m_s2": log.accel_m_s2, "qncf_params": params, "q0": q0}
         else:
-            still = sixpos.stillness_from_quaternions(
-                log.q_ws, log.fs_hz, threshold_rad_s=np.radians(common.finite_float(args.still_deg_s, "--still-deg-s")))
-            rests = sixpos.find_rests(still, log.fs_hz, min_rest_s=min_rest)
-            q, info = log.q_ws, {"filter": "none (q0..q3 from the log)"}
-        q = rotations.hamilton(rotations.quat_conjugate(q[0])[None, :], q)  # zero the start (§4.1)
-        q /= np.linalg.norm(q, axis=1, keepdims=True)
+            still_rad_s = np.radians(common.finite_float(args.still_deg_s, "--still-deg-s"))
+            rests = installation.detect_rests(log.fs_hz, q_ws=log.q_ws, min_rest_s=min_rest,
+                                              threshold_rad_s=still_rad_s)
+            source, info = {"q_ws": log.q_ws}, {"filter": "none (q0..q3 from the log)"}
         print(f"log: {args.log} ({log.n} samples at {log.fs_hz:.1f} Hz); "
               f"{len(rests)} rests found, {pos.shape[0]} positions")
         if rep is not None:
@@ -143,70 +138,45 @@ def run(args: argparse.Namespace) -> int:
                 lv = rep.levels_text()
             raise ValueError(f"too few rests: found {len(rests)} rests of >= {min_rest:g} s for "
                              f"{pos.shape[0]} positions ({lv}); see --figure for the rejected stretches")
-        res = sixpos.calibrate(q, pos, log.fs_hz, fraction=fraction, rests=rests)
-        fig.used = [rests[i] for i in res.matched]
-        _gates(args, res, pos)
-        proj = constrained_fit.project_to_so4(res.q_matrix)
-        q_bs = rotations.quat_conjugate(proj.r)
-        alpha = np.degrees(rotations.installation_angles_from_mount(q_bs))
-        print("Q_hat (Eq 13, q_body = Q_hat q_sensor):")
-        for row in res.q_matrix:
-            print("  " + "  ".join(f"{v:+.6f}" for v in row))
-        print(f"{'pos':>3} {'ref yaw/pitch/roll (deg)':>27} {'before error (deg)':>27} "
-              f"{'after error (deg)':>27} {'residual':>9}")
-        ref_deg = np.degrees(pos)
-        wrap = lambda d: (d + 180) % 360 - 180  # noqa: E731
-        fmt = lambda v: " ".join(f"{x:+8.4f}" for x in v)  # noqa: E731
-        before = wrap(np.degrees(res.euler_before_rad) - ref_deg)
-        after = wrap(np.degrees(res.euler_after_rad) - ref_deg)
-        for k in range(pos.shape[0]):
-            print(f"{k + 1:>3} {fmt(ref_deg[k]):>27} {fmt(before[k]):>27} {fmt(after[k]):>27} "
-                  f"{np.degrees(res.residual_rad[k]):9.5f}")
-        print(f"installation angles (Eq 1, alpha1 about z, alpha2 about y, alpha3 about x): "
-              f"{alpha[0]:+.4f} {alpha[1]:+.4f} {alpha[2]:+.4f} deg; |Q_hat - SO(4)| {float(proj.distance):.2e}")
-        if pos.shape[0] == 4:
-            print("note: 4 positions determine Eq 13 exactly — residuals are 0 by construction and check "
-                  "nothing; record 6 positions")
-        if out is not None:
-            t = log.time_s
-            doc = {"format": FORMAT, "log": str(args.log), "positions_file": str(args.positions),
-                   "q_hat": res.q_matrix.tolist(), "so4_distance": float(proj.distance),
-                   "installation_angles_deg": {"alpha1_z": alpha[0], "alpha2_y": alpha[1], "alpha3_x": alpha[2]},
-                   "mounting_quaternion_q_bs": q_bs.tolist(),
-                   "reference_offset_quaternion": proj.p.tolist(),
-                   "positions_deg": ref_deg.tolist(), "residual_deg": np.degrees(res.residual_rad).tolist(),
-                   "rests_s": [[float(t[rests[i].start]), float(t[rests[i].stop - 1])] for i in res.matched],
-                   "attitude": {**info, "zeroed_at_first_sample": True},
-                   "convention": "q_body = normalize(Q_hat q_sensor), q scalar-first; sensor attitude zeroed "
-                                 "at the first sample; Euler wang2023cja Eq 8 (yaw z, pitch x, roll y)"}
-            logio.write_text(out, json.dumps(doc, indent=2, default=float) + "\n")
-            print(f"calibration written to {out}")
-        print(f"max |error| before {np.max(np.abs(before)):.4f} deg, after {np.max(np.abs(after)):.4f} deg")
+        cal = installation.calibrate_installation(pos, log.fs_hz, rests=rests, fraction=fraction, **source, **gates)
+        fig.used = cal.matched_rests
+        _print_and_write(args, out, log, rests, cal, info)
         return 0
 
     return common.run_with_figure(fig, body)
 
 
-def _gates(args, res, pos) -> None:
-    """Refuse a Q̂ that is not a plausible calibration (conditioning, SO(4) distance, residuals)."""
-    from mtcal.methods import constrained_fit, quaternion_lsq
-
-    q_s, _ = quaternion_lsq.align_pairs(res.q_sensor, res.q_reference)
-    sv = np.linalg.svd(q_s.T @ q_s, compute_uv=False)
-    cond = float(sv[0] / max(sv[3], 1e-300))
-    if cond > MAX_CONDITION:
-        raise ValueError(f"calibration positions are ill-conditioned for Eq 13 (condition number {cond:.3g} "
-                         f"> {MAX_CONDITION:.0e}); use positions about more than one axis (the six of §3.2)")
-    dist = float(constrained_fit.project_to_so4(res.q_matrix).distance)
-    max_dist = common.finite_float(args.max_so4_distance, "--max-so4-distance")
-    if not dist <= max_dist:
-        worst = np.abs(res.q_matrix).max()
-        raise ValueError(f"Q_hat is not a calibration: distance {dist:.3g} from a rotation of quaternion "
-                         f"space (> {max_dist:g}; max |entry| {worst:.3g}, min row norm "
-                         f"{np.linalg.norm(res.q_matrix, axis=1).min():.3g}); rests do not match the positions")
-    worst = float(np.degrees(np.max(res.residual_rad)))
-    max_res = common.finite_float(args.max_residual_deg, "--max-residual-deg")
-    if not worst <= max_res:
-        k = int(np.argmax(res.residual_rad))
-        raise ValueError(f"calibration residual {worst:.3f} deg at position {k + 1} exceeds "
-                         f"--max-residual-deg {max_res:g}; a rest does not match its reference position")
+def _print_and_write(args, out, log, rests, cal: installation.InstallationCalibration, info: dict) -> None:
+    """The ``Q_hat`` block, the per-position table, the installation angles and the JSON (``--out``)."""
+    alpha = np.degrees(cal.installation_angles_rad)
+    print("Q_hat (Eq 13, q_body = Q_hat q_sensor):")
+    for row in cal.q_hat:
+        print("  " + "  ".join(f"{v:+.6f}" for v in row))
+    print(f"{'pos':>3} {'ref yaw/pitch/roll (deg)':>27} {'before error (deg)':>27} "
+          f"{'after error (deg)':>27} {'residual':>9}")
+    ref_deg = np.degrees(cal.positions_rad)
+    before, after = np.degrees(cal.error_before_rad), np.degrees(cal.error_after_rad)
+    fmt = lambda v: " ".join(f"{x:+8.4f}" for x in v)  # noqa: E731
+    for k in range(ref_deg.shape[0]):
+        print(f"{k + 1:>3} {fmt(ref_deg[k]):>27} {fmt(before[k]):>27} {fmt(after[k]):>27} "
+              f"{np.degrees(cal.residual_rad[k]):9.5f}")
+    print(f"installation angles (Eq 1, alpha1 about z, alpha2 about y, alpha3 about x): "
+          f"{alpha[0]:+.4f} {alpha[1]:+.4f} {alpha[2]:+.4f} deg; |Q_hat - SO(4)| {float(cal.so4_distance):.2e}")
+    if ref_deg.shape[0] == 4:
+        print("note: 4 positions determine Eq 13 exactly — residuals are 0 by construction and check "
+              "nothing; record 6 positions")
+    if out is not None:
+        t = log.time_s
+        doc = {"format": FORMAT, "log": str(args.log), "positions_file": str(args.positions),
+               "q_hat": cal.q_hat.tolist(), "so4_distance": float(cal.so4_distance),
+               "installation_angles_deg": {"alpha1_z": alpha[0], "alpha2_y": alpha[1], "alpha3_x": alpha[2]},
+               "mounting_quaternion_q_bs": cal.mounting_quaternion_q_bs.tolist(),
+               "reference_offset_quaternion": cal.projection.p.tolist(),
+               "positions_deg": ref_deg.tolist(), "residual_deg": np.degrees(cal.residual_rad).tolist(),
+               "rests_s": [[float(t[r.start]), float(t[r.stop - 1])] for r in cal.matched_rests],
+               "attitude": {**info, "zeroed_at_first_sample": True},
+               "convention": "q_body = normalize(Q_hat q_sensor), q scalar-first; sensor attitude zeroed "
+                             "at the first sample; Euler wang2023cja Eq 8 (yaw z, pitch x, roll y)"}
+        logio.write_text(out, json.dumps(doc, indent=2, default=float) + "\n")
+        print(f"calibration written to {out}")
+    print(f"max |error| before {np.max(np.abs(before)):.4f} deg, after {np.max(np.abs(after)):.4f} deg")
