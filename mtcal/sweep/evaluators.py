@@ -17,7 +17,8 @@ Registered evaluators (:func:`evaluator_names`):
   the bake-off filters' angle about the axis (swing–twist) beside the RAMS EKF
   (:func:`mtcal.filters.rams_ekf.run_rams_ekf`).
 * ``six_position`` — wang2023cja §3.2 installation-error calibration with K = 4…12
-  turntable positions: QNCF attitudes, Eq 13 least squares, error left at 12
+  turntable positions: QNCF attitudes, the calibration procedure of
+  :mod:`mtcal.systems.installation` (as ``mtcal calibrate``), error left at 12
   validation attitudes.
 * ``gaussian_check`` — the engine's self-check (RMS of white noise: median known
   in closed form).
@@ -448,14 +449,17 @@ def _six_position(p: dict, rngs: list) -> dict[str, np.ndarray]:
     20 °/s moves: wang2023cja §3.2 / mtcal scenario); the sensor is mounted with the
     installation angles ``alpha_deg`` (ZXY Euler angles of ``q_bs``, default: the
     T1 fit of mtcal's turntable study); QNCF (paper gains) gives the sensor attitude;
-    the middle half of each rest is averaged; Eq 13 gives Q̂. Validation: the
-    sensor attitude the filter would report at each of the 12 attitudes (true
-    attitude, with the filter's initial yaw/level offset) is mapped by Q̂ and compared
-    with the true body attitude. ``before`` is the same error without calibration.
+    the calibration is :func:`mtcal.systems.installation.calibrate_installation` — the
+    procedure ``mtcal calibrate`` runs — per trial, on the scheduled holds (middle half
+    averaged), gates off. Validation: the zeroed sensor attitude at each of the 12
+    attitudes (``q_true(0)⁻¹ ⊗ q_b ⊗ q_bs``: the filter's start offset cancels in the
+    zeroing) is mapped by Q̂ and compared with the true body attitude. ``before`` is the
+    same error without calibration.
     """
     from mtcal.filters.anchors import run_attitude_filter
     from mtcal.methods import quaternion_lsq
-    from mtcal.methods.six_position import mean_quaternion, schedule_profile
+    from mtcal.methods.six_position import schedule_profile
+    from mtcal.systems import installation
 
     val = validation_positions_rad()
     pos = val[:p["n_positions"]]
@@ -468,22 +472,15 @@ def _six_position(p: dict, rngs: list) -> dict[str, np.ndarray]:
     init = max(1, int(round(0.5 * p["fs_hz"])))
     q_ws = run_attitude_filter("qncf", gyro, accel, traj.dt_s, init_samples=init)
     rests = prof.hold_slices()[1:-1]
-    mids = []
-    for s in rests:
-        n = s.stop - s.start
-        m = max(1, n // 2)
-        mids.append(slice(s.start + (n - m) // 2, s.start + (n - m) // 2 + m))
-    q_s = np.stack([[mean_quaternion(row[s], axis=-2) for s in mids] for row in q_ws])  # (T, K, 4), per trial
-    q_ref = rotations.quat_from_euler_zxy(pos[:, 0], pos[:, 1], pos[:, 2])
-    q_mat = quaternion_lsq.least_squares_error_matrix(q_s, q_ref)                    # (T, 4, 4)
-    # what the filter reports at the validation attitudes: its start offset ⊗ q_b ⊗ q_bs
+    off = {"max_condition": np.inf, "max_so4_distance": np.inf, "max_residual_rad": np.inf}
+    q_mat = np.stack([installation.calibrate_installation(pos, p["fs_hz"], q_ws=row, rests=rests, **off).q_hat
+                      for row in q_ws])                                          # (T, 4, 4), per trial
+    q_b_val = rotations.quat_from_euler_zxy(val[:, 0], val[:, 1], val[:, 2])      # (12, 4)
     q_true0 = rotations.quat_multiply(traj.q_wb[0], q_bs)
-    offset = rotations.quat_multiply(q_ws[:, 0], rotations.quat_conjugate(q_true0))  # (T, 4)
-    q_b_val = rotations.quat_from_euler_zxy(val[:, 0], val[:, 1], val[:, 2])          # (12, 4)
-    q_s_val = rotations.quat_multiply(offset[:, None], rotations.quat_multiply(q_b_val, q_bs)[None])
-    after = quaternion_lsq.apply_error_matrix(q_mat, q_s_val)
+    q_s_val = rotations.quat_multiply(rotations.quat_conjugate(q_true0), rotations.quat_multiply(q_b_val, q_bs))
+    after = quaternion_lsq.apply_error_matrix(q_mat, np.broadcast_to(q_s_val, (len(rngs),) + q_s_val.shape))
     res = np.degrees(rotations.quat_angle_between(after, q_b_val[None]))
-    before = np.degrees(rotations.quat_angle_between(q_s_val, q_b_val[None]))
+    before = np.broadcast_to(np.degrees(rotations.quat_angle_between(q_s_val, q_b_val)), res.shape)
     return {"residual_max_deg": res.max(axis=1), "residual_rms_deg": _rms_rows(res, np.ones(res.shape[1], bool)),
             "before_max_deg": before.max(axis=1)}
 
