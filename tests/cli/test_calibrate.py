@@ -6,10 +6,10 @@ import pytest
 
 from mtcal import cli
 from mtcal.core import rotations
-from mtcal.studies import wang2023cja as wang2023cja
-from mtcal.methods import six_position as sixpos
+from mtcal.methods import six_position
 from mtcal.core.profiles import trajectory_from_euler_zxy
 from mtcal.core.simulate import ImuErrorModel, simulate_imu
+from mtcal.systems import installation
 
 FS = 200.0
 ALPHA = np.radians([0.5, -0.3, 0.4])
@@ -18,8 +18,8 @@ ALPHA = np.radians([0.5, -0.3, 0.4])
 @pytest.fixture(scope="module")
 def files(tmp_path_factory):
     d = tmp_path_factory.mktemp("cal")
-    pos = sixpos.six_positions_rad()
-    prof = sixpos.schedule_profile(pos, fs_hz=FS)
+    pos = six_position.six_positions_rad()
+    prof = six_position.schedule_profile(pos, fs_hz=FS)
     rec = simulate_imu(trajectory_from_euler_zxy(prof),
                        ImuErrorModel(q_mount=tuple(rotations.mount_quaternion(ALPHA))))
     quat = pd.DataFrame(rec.q_ws_true, columns=["q0", "q1", "q2", "q3"])
@@ -109,8 +109,6 @@ def test_paper_detector_reproduces_the_library_procedure(files, capsys):
     gyro = raw[["gyro_x_rad_s", "gyro_y_rad_s", "gyro_z_rad_s"]].to_numpy()
     acc = raw[["accel_x_m_s2", "accel_y_m_s2", "accel_z_m_s2"]].to_numpy()
     q = qncf(gyro, acc, 1 / FS, return_euler=False).q_ws
-    q = rotations.hamilton(rotations.quat_conjugate(q[0])[None, :], q)
-    q /= np.linalg.norm(q, axis=1, keepdims=True)
-    ref = sixpos.calibrate(q, sixpos.six_positions_rad(), FS, gyro_rad_s=gyro)
+    ref = installation.calibrate_installation(six_position.six_positions_rad(), FS, q_ws=q, gyro_rad_s=gyro)
     block = out.split("q_sensor):\n")[1].splitlines()[:4]
-    assert block == ["  " + "  ".join(f"{v:+.6f}" for v in row) for row in ref.q_matrix]
+    assert block == ["  " + "  ".join(f"{v:+.6f}" for v in row) for row in ref.q_hat]

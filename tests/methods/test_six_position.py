@@ -3,9 +3,9 @@
 import numpy as np
 import pytest
 
-from mtcal.methods import quaternion_lsq as calibration, six_position as sixpos
+from mtcal.methods import quaternion_lsq, six_position
 from mtcal.core import rotations
-from mtcal.studies import wang2023cja as wang2023cja
+from mtcal.studies import wang2023cja
 from mtcal.filters.qncf import qncf
 from mtcal.core.profiles import trajectory_from_euler_zxy
 from mtcal.core.simulate import ImuErrorModel, simulate_imu
@@ -16,8 +16,8 @@ ALPHA = np.radians([0.4, -0.3, 0.6])
 
 @pytest.fixture(scope="module")
 def noise_free():
-    pos = sixpos.six_positions_rad()
-    prof = sixpos.schedule_profile(pos, fs_hz=FS)
+    pos = six_position.six_positions_rad()
+    prof = six_position.schedule_profile(pos, fs_hz=FS)
     rec = simulate_imu(trajectory_from_euler_zxy(prof),
                        ImuErrorModel(q_mount=tuple(rotations.mount_quaternion(ALPHA))))
     res = qncf(rec.gyro_rad_s, rec.accel_m_s2, 1 / FS, return_euler=False)
@@ -27,21 +27,21 @@ def noise_free():
 
 def test_schedule_within_one_minute(noise_free):
     _, prof, _, _ = noise_free
-    assert prof.time_s[-1] < sixpos.MAX_RUN_S
+    assert prof.time_s[-1] < six_position.MAX_RUN_S
 
 
 def test_noise_free_recovers_true_map(noise_free):
     pos, prof, rec, q_s = noise_free
-    res = sixpos.calibrate(q_s, pos, FS, gyro_rad_s=rec.gyro_rad_s)
+    res = six_position.calibrate(q_s, pos, FS, gyro_rad_s=rec.gyro_rad_s)
     assert len(res.rests) == 8 and list(res.matched) == [1, 2, 3, 4, 5, 6]
     assert np.abs(res.q_matrix - wang2023cja.true_error_matrix(ALPHA)).max() < 1e-9
     assert np.abs(res.euler_after_rad - pos).max() < 1e-9
     # calibrated Euler angles equal truth along the whole record
-    after = calibration.apply_error_matrix(res.q_matrix, q_s)
+    after = quaternion_lsq.apply_error_matrix(res.q_matrix, q_s)
     truth = rotations.euler_zxy_from_quat(rotations.quat_from_euler_zxy(*prof.angle_rad.T))
     assert np.abs(metrics_diff(rotations.euler_zxy_from_quat(after), truth)).max() < 1e-9
     # quaternion-only stillness detection finds the same rests
-    res_q = sixpos.calibrate(q_s, pos, FS)
+    res_q = six_position.calibrate(q_s, pos, FS)
     assert np.abs(res_q.q_matrix - res.q_matrix).max() < 1e-9
 
 
@@ -51,12 +51,12 @@ def metrics_diff(a, b):
 
 def test_sign_flipped_inputs_same_matrix(noise_free, rng):
     pos, _, rec, q_s = noise_free
-    res = sixpos.calibrate(q_s, pos, FS, gyro_rad_s=rec.gyro_rad_s)
+    res = six_position.calibrate(q_s, pos, FS, gyro_rad_s=rec.gyro_rad_s)
     flip = np.where(rng.random(6) < 0.5, -1.0, 1.0)[:, None]
     q_ref = rotations.quat_from_euler_zxy(*pos.T)
-    q2 = calibration.least_squares_error_matrix(res.q_sensor * flip, q_ref * flip[::-1])
+    q2 = quaternion_lsq.least_squares_error_matrix(res.q_sensor * flip, q_ref * flip[::-1])
     assert np.allclose(q2, res.q_matrix, atol=1e-12)
-    batch = calibration.least_squares_error_matrix((res.q_sensor * flip)[None], q_ref)
+    batch = quaternion_lsq.least_squares_error_matrix((res.q_sensor * flip)[None], q_ref)
     assert np.allclose(batch[0], res.q_matrix, atol=1e-12)
 
 
@@ -64,13 +64,13 @@ def test_rank_deficient_positions_raise():
     ang = np.radians([[5, 0, 0], [-5, 0, 0], [10, 0, 0], [-10, 0, 0]])
     q = rotations.quat_from_euler_zxy(*ang.T)
     with pytest.raises(ValueError, match="condition number"):
-        calibration.least_squares_error_matrix(q[None], q)
+        quaternion_lsq.least_squares_error_matrix(q[None], q)
 
 
 def test_too_few_rests(noise_free):
     pos, _, rec, q_s = noise_free
     with pytest.raises(ValueError, match="too few rests"):
-        sixpos.calibrate(q_s[:20000], pos, FS, gyro_rad_s=rec.gyro_rad_s[:20000])
+        six_position.calibrate(q_s[:20000], pos, FS, gyro_rad_s=rec.gyro_rad_s[:20000])
 
 
 def test_unmatched_position(noise_free):
@@ -78,13 +78,13 @@ def test_unmatched_position(noise_free):
     wrong = pos.copy()
     wrong[0, 0] = np.radians(40.0)
     with pytest.raises(ValueError, match="no rest within"):
-        sixpos.calibrate(q_s, wrong, FS, gyro_rad_s=rec.gyro_rad_s)
+        six_position.calibrate(q_s, wrong, FS, gyro_rad_s=rec.gyro_rad_s)
 
 
 def test_mean_quaternion_sign_alignment(rng):
     q = rotations.quat_from_euler_zxy(0.1, 0.2, 0.3)
     stack = np.tile(q, (10, 1)) * np.where(rng.random(10) < 0.5, -1, 1)[:, None]
-    m = sixpos.mean_quaternion(stack, axis=0)
+    m = six_position.mean_quaternion(stack, axis=0)
     assert np.allclose(np.abs(m @ q), 1.0, atol=1e-12)
 
 
@@ -92,20 +92,20 @@ def test_find_rests_and_middle():
     still = np.zeros(10000, bool)
     still[1000:4000] = True
     still[5000:5500] = True
-    rests = sixpos.find_rests(still, 1000.0, min_rest_s=2.0)
+    rests = six_position.find_rests(still, 1000.0, min_rest_s=2.0)
     assert rests == [slice(1000, 4000)]
-    assert sixpos.middle_slices(rests, 0.5) == [slice(1750, 3250)]
+    assert six_position.middle_slices(rests, 0.5) == [slice(1750, 3250)]
     with pytest.raises(TypeError, match="boolean"):
-        sixpos.find_rests(still.astype(int), 1000.0)
+        six_position.find_rests(still.astype(int), 1000.0)
 
 
 def test_rests_from_another_detector(noise_free):
     """``rests=`` skips the stillness detector; the same rests give the same matrix bit for bit."""
     pos, _, rec, q_s = noise_free
-    ref = sixpos.calibrate(q_s, pos, FS, gyro_rad_s=rec.gyro_rad_s)
-    got = sixpos.calibrate(q_s, pos, FS, rests=ref.rests)
+    ref = six_position.calibrate(q_s, pos, FS, gyro_rad_s=rec.gyro_rad_s)
+    got = six_position.calibrate(q_s, pos, FS, rests=ref.rests)
     assert np.array_equal(got.q_matrix, ref.q_matrix) and got.rests == ref.rests
     with pytest.raises(ValueError, match="rests must be slices within"):
-        sixpos.calibrate(q_s, pos, FS, rests=[slice(0, q_s.shape[0] + 5)])
+        six_position.calibrate(q_s, pos, FS, rests=[slice(0, q_s.shape[0] + 5)])
     with pytest.raises(ValueError, match="too few rests"):
-        sixpos.calibrate(q_s, pos, FS, rests=ref.rests[:3])
+        six_position.calibrate(q_s, pos, FS, rests=ref.rests[:3])

@@ -1,0 +1,211 @@
+"""Tests for mtcal.systems.installation: the six-position calibration procedure shared by CLI, study and sweep."""
+
+import json
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from mtcal import cli
+from mtcal.core import rotations
+from mtcal.core.profiles import trajectory_from_euler_zxy
+from mtcal.core.simulate import ImuErrorModel, simulate_imu
+from mtcal.filters.qncf import QncfParams, qncf
+from mtcal.methods.six_position import schedule_profile, six_positions_rad
+from mtcal.systems import installation
+
+FS = 100.0
+ALPHA = np.radians([0.5, -0.3, 0.4])
+
+
+@pytest.fixture(scope="module")
+def stream():
+    """Noise-free six-position record: positions (6, 3), truth q_wb (N, 4), sensor q_ws (N, 4), q_bs."""
+    pos = six_positions_rad()
+    q_wb = trajectory_from_euler_zxy(schedule_profile(pos, fs_hz=FS)).q_wb
+    q_bs = rotations.mount_quaternion(ALPHA)
+    return pos, q_wb, rotations.quat_multiply(q_wb, q_bs), q_bs
+
+
+def test_closed_form_mounting_is_recovered(stream):
+    pos, _, q_ws, q_bs = stream
+    cal = installation.calibrate_installation(pos, FS, q_ws=q_ws)
+    # zeroed sensor = q_bs* ⊗ q_b ⊗ q_bs (the body starts level), so Q = L(q_bs) R(q_bs*)
+    expected = rotations.left_matrix(q_bs) @ rotations.right_matrix(rotations.quat_conjugate(q_bs))
+    assert np.allclose(cal.q_hat, expected, atol=1e-12)
+    assert np.allclose(cal.installation_angles_rad, ALPHA, atol=1e-12)
+    assert np.allclose(np.abs(cal.mounting_quaternion_q_bs @ q_bs), 1.0, atol=1e-12)
+    assert cal.residual_rad.max() < 1e-12 and float(cal.so4_distance) < 1e-12
+    assert np.abs(cal.error_after_rad).max() < 1e-12 and np.abs(cal.error_before_rad).max() > np.radians(0.3)
+    assert [cal.rests[i] for i in cal.matched] == cal.matched_rests and len(cal.matched_rests) == 6
+    assert np.allclose(cal.positions_rad, pos) and cal.condition < installation.MAX_CONDITION
+
+
+def test_apply_round_trip_gives_the_body_attitude(stream):
+    pos, q_wb, q_ws, _ = stream
+    cal = installation.calibrate_installation(pos, FS, q_ws=q_ws)
+    att = installation.apply_installation(cal.q_hat, q_ws=q_ws)
+    assert rotations.quat_angle_between(att.q_body, q_wb).max() < 1e-10
+    assert np.allclose(att.q_sensor[0], [1, 0, 0, 0], atol=1e-15)          # zeroed at the first sample
+    assert np.all(np.sum(att.q_body[1:] * att.q_body[:-1], axis=-1) >= 0)  # sign-continuous
+
+
+def test_raw_data_runs_the_qncf_and_equals_given_attitude(stream):
+    pos, q_wb, _, q_bs = stream
+    from mtcal.core.simulate import Trajectory
+
+    rec = simulate_imu(Trajectory(np.arange(len(q_wb)) / FS, q_wb), ImuErrorModel(q_mount=tuple(q_bs)))
+    raw = installation.calibrate_installation(pos, FS, gyro_rad_s=rec.gyro_rad_s, accel_m_s2=rec.accel_m_s2)
+    q = qncf(rec.gyro_rad_s, rec.accel_m_s2, 1 / FS, QncfParams(), return_euler=False).q_ws
+    given = installation.calibrate_installation(pos, FS, q_ws=q, gyro_rad_s=rec.gyro_rad_s)
+    assert np.array_equal(raw.q_hat, given.q_hat)
+    assert np.degrees(np.abs(raw.installation_angles_rad - ALPHA)).max() < 0.01
+    body = installation.apply_installation(raw.q_hat, gyro_rad_s=rec.gyro_rad_s, accel_m_s2=rec.accel_m_s2, fs_hz=FS)
+    assert np.array_equal(body.q_body, installation.apply_installation(raw.q_hat, q_ws=q).q_body)
+
+
+def test_trial_axis_and_per_trial_positions_match_single_runs(stream):
+    pos, _, q_ws, _ = stream
+    shift = np.zeros((2, 6, 3))
+    shift[1, 2, 1] = np.radians(0.01)
+    stack = installation.calibrate_installation(pos + shift, FS, q_ws=np.stack([q_ws, q_ws]))
+    for t in range(2):
+        one = installation.calibrate_installation(pos + shift[t], FS, q_ws=q_ws)
+        assert np.allclose(stack.q_hat[t], one.q_hat, atol=1e-14, rtol=0)
+        assert np.allclose(stack.residual_rad[t], one.residual_rad, atol=1e-14)
+    assert stack.q_hat.shape == (2, 4, 4) and stack.installation_angles_rad.shape == (2, 3)
+
+
+def test_detect_rests_gyro_and_quaternions(stream):
+    pos, _, q_ws, _ = stream
+    from_q = installation.detect_rests(FS, q_ws=q_ws)
+    assert len(from_q) == 8                                # start, six positions, end
+    gyro = np.zeros((1000, 3))
+    gyro[300:500, 2] = 0.5
+    assert installation.detect_rests(100.0, gyro_rad_s=gyro) == [slice(0, 296), slice(505, 1000)]
+    assert installation.detect_rests(100.0, gyro_rad_s=gyro, min_rest_s=4.0) == [slice(505, 1000)]
+
+
+def test_given_rests_are_used(stream):
+    pos, _, q_ws, _ = stream
+    rests = installation.detect_rests(FS, q_ws=q_ws)
+    a = installation.calibrate_installation(pos, FS, q_ws=q_ws, rests=rests)
+    b = installation.calibrate_installation(pos, FS, q_ws=q_ws)
+    assert np.array_equal(a.q_hat, b.q_hat)
+
+
+@pytest.mark.parametrize("kwargs, exc, match", [
+    (dict(positions_rad=six_positions_rad()[:3]), ValueError, "at least 4 positions"),
+    (dict(fs_hz=-1.0), ValueError, "fs_hz"),
+    (dict(q_ws=None), ValueError, "a sensor attitude is needed"),
+    (dict(accel_m_s2=np.zeros((10, 3))), ValueError, "either q_ws"),
+    (dict(q_ws=np.ones((10, 4))), ValueError, "unit quaternions"),
+    (dict(q_ws=np.tile([1.0, 0, 0, 0], (2, 2, 3, 1))), ValueError, r"\(N, 4\) or \(T, N, 4\)"),
+    (dict(gyro_rad_s=np.zeros((7, 3))), ValueError, "gyro_rad_s has 7 samples"),
+    (dict(rests=[slice(0, 10**7)]), ValueError, "rests must be slices"),
+    (dict(fraction=1.5), ValueError, r"fraction must be in \(0, 1\]"),
+    (dict(max_condition=0.0), ValueError, "max_condition must be a positive number"),
+    (dict(max_so4_distance="big"), ValueError, "max_so4_distance must be a positive number"),
+    (dict(max_residual_rad=-1.0), ValueError, "max_residual_rad must be a positive number"),
+    (dict(positions_rad=np.zeros((2, 6, 3))), ValueError, "needs a record with 2 trials"),
+    (dict(min_rest_s=100.0), ValueError, "too few rests"),
+    (dict(max_match_rad=np.radians(1e-6), positions_rad=six_positions_rad() + 0.001), ValueError,
+     "has no rest within"),
+])
+def test_calibrate_errors(stream, kwargs, exc, match):
+    pos, _, q_ws, _ = stream
+    args = dict(positions_rad=pos, fs_hz=FS, q_ws=q_ws)
+    args.update(kwargs)
+    with pytest.raises(exc, match=match):
+        installation.calibrate_installation(args.pop("positions_rad"), args.pop("fs_hz"), **args)
+
+
+def test_raw_data_errors(stream):
+    pos = stream[0]
+    g = np.zeros((50, 3))
+    with pytest.raises(ValueError, match="same shape"):
+        installation.calibrate_installation(pos, FS, gyro_rad_s=g, accel_m_s2=np.zeros((49, 3)))
+    with pytest.raises(TypeError, match="qncf_params must be a QncfParams"):
+        installation.calibrate_installation(pos, FS, gyro_rad_s=g, accel_m_s2=g, qncf_params={"kp": 1})
+    with pytest.raises(ValueError, match="a sensor attitude is needed"):
+        installation.calibrate_installation(pos, FS, gyro_rad_s=g)
+
+
+def test_gates_refuse_with_their_messages(stream):
+    pos, _, q_ws, _ = stream
+    with pytest.raises(ValueError, match="ill-conditioned for Eq 13"):
+        installation.calibrate_installation(pos, FS, q_ws=q_ws, max_condition=1.0)
+    with pytest.raises(ValueError, match="Q_hat is not a calibration: distance"):
+        installation.calibrate_installation(pos, FS, q_ws=q_ws, max_so4_distance=1e-300)
+    bent = pos.copy()
+    bent[2, 1] += np.radians(0.5)                            # the reference of position 3 is off by 0.5 deg
+    with pytest.raises(ValueError, match=r"residual 0\.\d+ deg at position \d exceeds --max-residual-deg 0\.01"):
+        installation.calibrate_installation(bent, FS, q_ws=q_ws, max_residual_rad=np.radians(0.01))
+    ok = installation.calibrate_installation(bent, FS, q_ws=q_ws, max_residual_rad=np.inf)
+    assert np.degrees(ok.residual_rad.max()) > 0.01
+
+
+def test_gate_refuses_zero_row_matrix_and_large_residual():
+    bad = np.eye(4)
+    bad[2] = 0.0
+    bad[0, 1] = 10.0
+    from mtcal.methods.constrained_fit import project_to_so4
+
+    lim = (installation.MAX_CONDITION, installation.MAX_SO4_DISTANCE, installation.MAX_RESIDUAL_RAD)
+    with pytest.raises(ValueError, match="Q_hat is not a calibration: distance .* min row norm 0"):
+        installation._gate(bad, 1.0, project_to_so4(bad).distance, np.zeros(6), *lim)
+    installation._gate(np.eye(4), 1.0, project_to_so4(np.eye(4)).distance, np.zeros(6), *lim)  # a rotation passes
+    with pytest.raises(ValueError, match="residual 2.000 deg at position 1"):
+        installation._gate(np.eye(4), 1.0, 0.0, np.full(6, np.radians(2.0)), *lim)
+
+
+def test_apply_errors(stream):
+    q_ws = stream[2]
+    with pytest.raises(ValueError, match="4x4"):
+        installation.apply_installation(np.eye(3), q_ws=q_ws)
+    with pytest.raises(ValueError, match="finite"):
+        installation.apply_installation(np.full((4, 4), np.nan), q_ws=q_ws)
+    with pytest.raises(ValueError, match="needs a record with as many trials"):
+        installation.apply_installation(np.stack([np.eye(4)] * 2), q_ws=q_ws)
+    with pytest.raises(ValueError, match="fs_hz is needed"):
+        installation.apply_installation(np.eye(4), gyro_rad_s=np.zeros((9, 3)), accel_m_s2=np.zeros((9, 3)))
+    with pytest.raises(ValueError, match="give gyro_rad_s or q_ws"):
+        installation.detect_rests(FS)
+    with pytest.raises(ValueError, match=r"\(N, 4\) or \(T, N, 4\)"):
+        installation.detect_rests(FS, q_ws=[1.0, 0.0, 0.0, 0.0])
+
+
+def test_cli_calibrate_is_bit_identical_to_the_study_path(tmp_path, monkeypatch):
+    """A six-position turntable log simulated by the study's scenario code, written losslessly (Parquet):
+    ``mtcal calibrate --rest-detector paper`` returns the study's Q_hat bit for bit."""
+    from mtcal.core.rotations import mount_quaternion
+    from mtcal.studies import wang2023cja as w
+
+    monkeypatch.setenv("MTCAL_DEBUG", "1")
+    sc = w.turntable_scenario(fs_hz=200.0, turntable_rate_deg_s=40.0)
+    prof, spans = w.turntable_profile(sc, with_sweeps=False)
+    cal_span = spans["calibration"]
+    traj = w.compliance_trajectory(prof.time_s, prof.angle_rad, 0.0)
+    model = sc.imu.error_model(mount_quaternion(sc.alpha_rad("T1")), w.SOURCES, sc.errors)
+    rec = simulate_imu(traj, model, rng=np.random.default_rng(7), trials=1)
+    n = 1 + int(sc.fs_hz) * ((cal_span.stop - 1) // int(sc.fs_hz))   # whole seconds: the log's mean rate is exact
+    gyro, accel = rec.gyro_rad_s[:, :n], rec.accel_m_s2[:, :n]
+    pos = w.six_position_reference(sc)
+    # the study path: session QNCF as in runs._run_pieces, then its calibration step
+    q_ws = qncf(gyro, accel, 1.0 / sc.fs_hz, sc.qncf, return_euler=False).q_ws
+    study = w.calibration_step(sc, q_ws, gyro, pos, sc.averaging_fraction)
+    # the CLI path
+    cols = ["gyro_x_rad_s", "gyro_y_rad_s", "gyro_z_rad_s", "accel_x_m_s2", "accel_y_m_s2", "accel_z_m_s2"]
+    log = pd.DataFrame(np.hstack([gyro[0], accel[0]]), columns=cols)
+    log.insert(0, "time_s", np.arange(n) / sc.fs_hz)
+    log.to_parquet(tmp_path / "turntable.parquet")
+    pd.DataFrame(np.degrees(pos).round(12), columns=["yaw_deg", "pitch_deg", "roll_deg"]).to_csv(
+        tmp_path / "pos.csv", index=False)
+    assert np.array_equal(np.radians(pd.read_csv(tmp_path / "pos.csv").to_numpy()), pos)
+    code = cli.main(["calibrate", str(tmp_path / "turntable.parquet"), "--positions", str(tmp_path / "pos.csv"),
+                     "--rest-detector", "paper", "--fraction", repr(sc.averaging_fraction),
+                     "--out", str(tmp_path / "q.json")])
+    assert code == 0
+    q_cli = np.array(json.loads((tmp_path / "q.json").read_text())["q_hat"])
+    assert np.array_equal(q_cli, study.q_hat[0])
+    assert not np.array_equal(study.q_hat[0], np.eye(4))
