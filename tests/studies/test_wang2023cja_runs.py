@@ -104,3 +104,38 @@ def test_error_budget_rows(fast_sc):
     assert b.loc["none", "after_max_deg"] < 1e-6
     assert b.loc["mount_compliance", "after_rms_deg"] > 10 * b.loc["gyro_white", "after_rms_deg"]
     assert b.loc["accel_run_change", "in_sample_rms_deg"] < 1e-6 < b.loc["accel_run_change", "after_rms_deg"]
+
+
+def test_calibration_step_is_the_systems_procedure(fast_sc):
+    """The study's calibration step is systems.installation.calibrate_installation with the gates off."""
+    from mtcal.core.rotations import mount_quaternion
+    from mtcal.core.simulate import simulate_imu
+    from mtcal.filters.qncf import qncf
+    from mtcal.systems import installation
+
+    prof, spans = w.turntable_profile(fast_sc, with_sweeps=False)
+    traj = w.compliance_trajectory(prof.time_s, prof.angle_rad, 0.0)
+    model = fast_sc.imu.error_model(mount_quaternion(fast_sc.alpha_rad("T1")), ("gyro_white",), fast_sc.errors)
+    rec = simulate_imu(traj, model, rng=np.random.default_rng(2), trials=2)
+    cal = spans["calibration"]
+    q_ws = qncf(rec.gyro_rad_s, rec.accel_m_s2, 1 / fast_sc.fs_hz, fast_sc.qncf, return_euler=False).q_ws[:, cal]
+    pos = w.six_position_reference(fast_sc)
+    got = w.calibration_step(fast_sc, q_ws, rec.gyro_rad_s[:, cal], pos, 0.5)
+    ref = installation.calibrate_installation(pos, fast_sc.fs_hz, q_ws=q_ws, gyro_rad_s=rec.gyro_rad_s[:, cal],
+                                              **w.MONTE_CARLO_GATES)
+    assert np.array_equal(got.q_hat, ref.q_hat) and got.q_hat.shape == (2, 4, 4)
+    assert all(np.isinf(v) for v in w.MONTE_CARLO_GATES.values())
+
+
+def test_scenario_does_not_import_runs():
+    """identify_pitch_ratio lives with the mechanism model in scenario: imports go runs -> scenario only."""
+    import ast
+    import inspect
+
+    from mtcal.studies.wang2023cja import runs, scenario
+
+    def imported(mod):
+        return {n.module for n in ast.walk(ast.parse(inspect.getsource(mod))) if isinstance(n, ast.ImportFrom)}
+
+    assert "runs" not in imported(scenario) and "scenario" in imported(runs)
+    assert w.identify_pitch_ratio is scenario.identify_pitch_ratio
