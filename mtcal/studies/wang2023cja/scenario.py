@@ -6,6 +6,11 @@ engineer would change in their parameters cell (:data:`TURNTABLE_DEFAULTS`,
 :func:`turntable_scenario` / :func:`windtunnel_scenario`, which validate every value (one-line
 ``ValueError`` naming the parameter and the valid range or choices).
 
+The scenario's physical models live here too — the mount compliance
+(:func:`compliance_trajectory`), the wind-tunnel mechanism (:func:`mechanism_actual`)
+and the pitch-ratio identification from the printed Q(2,2) (:func:`identify_pitch_ratio`)
+— so :mod:`.runs` imports this module and never the other way round.
+
 References
 ----------
 Wang X., Zhao X., Zhou B., Wei Q., Zhang R., "Installation error calibration for MEMS
