@@ -46,8 +46,8 @@ from .scenario import (SOURCES, TurntableScenario, WindTunnelScenario, complianc
 MONTE_CARLO_GATES = {"max_condition": np.inf, "max_so4_distance": np.inf, "max_residual_rad": np.inf}
 
 __all__ = ["turntable_runs", "turntable_profile", "six_position_reference", "TurntableRun", "TurntableJob",
-           "calibration_step", "run_turntable", "run_turntable_jobs", "position_errors_deg", "load_tilt_outputs", "WindTunnelRun",
-           "run_windtunnel", "elastic_deflection_rad", "MONTE_CARLO_GATES"]
+           "calibration_step", "run_turntable", "run_turntable_jobs", "position_errors_deg", "load_tilt_outputs",
+           "WindTunnelRun", "run_windtunnel", "elastic_deflection_rad", "MONTE_CARLO_GATES"]
 
 
 def _concat_profiles(parts: list[AngleProfile]) -> tuple[AngleProfile, list[slice]]:
@@ -103,7 +103,7 @@ def turntable_profile(sc: TurntableScenario, with_sweeps: bool) -> tuple[AnglePr
 def six_position_reference(sc: TurntableScenario) -> np.ndarray:
     """Six reference positions in the Eq 8 frame (paper order, roll sign per PAPER_SIGN), (6, 3) rad."""
     return six_position.six_positions_rad(np.radians(sc.yaw_positions_deg), np.radians(sc.pitch_positions_deg),
-                                    np.radians(sc.roll_positions_deg)) * PAPER_SIGN
+                                          np.radians(sc.roll_positions_deg)) * PAPER_SIGN
 
 
 def load_tilt_outputs(gyro_rad_s, accel_m_s2, q_wb, fs_hz: float, q_mount, tilt_rad) -> None:
@@ -270,6 +270,27 @@ def calibration_step(sc: TurntableScenario | WindTunnelScenario, q_ws, gyro_rad_
         Reference angles fed to Eq 13 (rad, Eq 8 frame).
     fraction : float
         Averaged middle fraction of each rest.
+
+    Returns
+    -------
+    InstallationCalibration
+        Trial axis T throughout (``q_hat`` (T, 4, 4), ``euler_before_rad`` (T, 6, 3), …).
+
+    References
+    ----------
+    wang2023cja §3.2, Eq 13–15; §4.1 (zeroed start).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from mtcal.core.profiles import trajectory_from_euler_zxy
+    >>> from mtcal.core.simulate import ImuErrorModel, simulate_imu
+    >>> from mtcal.studies.wang2023cja import turntable_scenario
+    >>> sc = turntable_scenario(fs_hz=100.0, turntable_rate_deg_s=60.0)
+    >>> rec = simulate_imu(trajectory_from_euler_zxy(turntable_profile(sc, False)[0]), ImuErrorModel())
+    >>> cal = calibration_step(sc, rec.q_ws_true[None], rec.gyro_rad_s[None], six_position_reference(sc), 0.5)
+    >>> cal.q_hat.shape, bool(np.abs(cal.q_hat[0] - np.eye(4)).max() < 1e-9)
+    ((1, 4, 4), True)
     """
     return installation.calibrate_installation(reference_rad, sc.fs_hz, q_ws=q_ws, gyro_rad_s=gyro_rad_s,
                                                fraction=fraction, **MONTE_CARLO_GATES)
