@@ -16,7 +16,8 @@ from pathlib import Path
 
 import numpy as np
 
-from mtcal.cli import checks, common, logio
+from mtcal.cli import common, logio
+from mtcal.systems import plausibility as checks
 
 EXAMPLE = """\
 output columns: time_s, q0..q3 (calibrated body attitude), yaw_deg, pitch_deg, roll_deg,

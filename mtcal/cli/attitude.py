@@ -15,7 +15,8 @@ import argparse
 
 import numpy as np
 
-from mtcal.cli import checks, common, logio
+from mtcal.cli import common, logio
+from mtcal.systems import plausibility as checks
 
 EXAMPLE = """\
 output columns: time_s (s), q0, q1, q2, q3 (sensor -> world, scalar-first),

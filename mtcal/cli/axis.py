@@ -22,7 +22,8 @@ import argparse
 
 import numpy as np
 
-from mtcal.cli import checks, common, logio
+from mtcal.cli import common, logio
+from mtcal.systems import plausibility as checks
 
 AXIS_EXAMPLE = """\
 prints: 'axis v = x,y,z' (unit, v_x >= 0), its 1-sigma uncertainty, one line per rest

@@ -34,7 +34,8 @@ from pathlib import Path
 
 import numpy as np
 
-from mtcal.cli import checks, common, logio
+from mtcal.cli import common, logio
+from mtcal.systems import plausibility as checks
 from mtcal.methods import six_position as sixpos
 
 POS_COLS = ["yaw_deg", "pitch_deg", "roll_deg"]

@@ -7,9 +7,13 @@ One time base: the sample rate ``fs_hz`` of the resolved IMU; ``dt_s = 1/fs_hz``
 comes from the same object. Random draws come from per-trial generators
 ``default_rng([seed, stream, trial])``, so results do not depend on chunking.
 
-Truth for a fixed axis v through the hinge, lever arm r, angle θ(t) (IMU frame)::
+Truth for a fixed axis v through the hinge, lever arm r, angle θ(t) (IMU frame) is
+:func:`mtcal.core.profiles.fixed_axis_imu_truth`::
 
     ω = θ̇ v  (interval mean: Δθ/Δt),   f = R(θ, v)ᵀ ā0 + θ̈ (v × r) + θ̇² v × (v × r).
+
+The measurement pipeline (ZVD → Eq 23 axis → ZVD-switched RAMS EKF) is the one the
+``mtcal axis`` / ``mtcal angle`` commands run: :mod:`mtcal.systems.surface_angle`.
 
 References
 ----------
@@ -167,16 +171,7 @@ def simulate_batch(theta_rad, rate_rad_s, accel_rad_s2, axes, lever_arms_m, imu:
         raise ValueError(f"axes, lever_arms_m and trial_ids must have T = {t_n} rows")
     n = th.shape[1]
     dt = imu.dt_s
-    a0 = gravity0()
-    # truth
-    dth = np.diff(th, axis=1) / dt
-    w_rate = np.concatenate([dth, dth[:, -1:]], axis=1)
-    par = v * (v @ a0)[:, None]
-    perp = a0 - par
-    w0 = np.cross(v, a0)
-    vxr = np.cross(v, r)
-    f = (par[:, None] + np.cos(th)[..., None] * perp[:, None] - np.sin(th)[..., None] * w0[:, None]
-         + acc[..., None] * vxr[:, None] + (rate**2)[..., None] * np.cross(v, vxr)[:, None])
+    w_true, f = profiles.fixed_axis_imu_truth(th, rate, acc, v, r, gravity0(), dt)
     # sensor errors: white noise, turn-on bias, bias random walk, gyro scale factor
     noise = np.full(t_n, imu.accel_noise_m_s2_rt_hz) if accel_noise_m_s2_rt_hz is None else \
         np.broadcast_to(as_float_array(accel_noise_m_s2_rt_hz, "accel_noise_m_s2_rt_hz"), (t_n,))
@@ -184,7 +179,7 @@ def simulate_batch(theta_rad, rate_rad_s, accel_rad_s2, axes, lever_arms_m, imu:
     sq = np.sqrt(imu.fs_hz)
     accel = f + (noise * sq)[:, None, None] * z[:, :n] + imu.accel_bias_sigma_m_s2 * z[:, 2 * n:2 * n + 1] \
         + np.asarray(imu.accel_bias_m_s2)
-    gyro = w_rate[..., None] * v[:, None] * (1.0 + imu.gyro_scale_factor) \
+    gyro = w_true * (1.0 + imu.gyro_scale_factor) \
         + imu.gyro_noise_rad_s_rt_hz * sq * z[:, n:2 * n] + np.asarray(imu.gyro_bias_rad_s) \
         + gyro_bias_sigma_rad_s * z[:, 2 * n + 1:2 * n + 2]
     del z
@@ -658,18 +653,8 @@ def simulate_rotation(theta_rad, rate_rad_s, accel_rad_s2, is_static, setup: Rot
     t_n, n = th.shape
     dt = 1.0 / fs
     time = np.arange(n) * dt
-    v = setup.unit_axis()
-    r = setup.lever_arm()
-    a0 = setup.gravity0()
-    # truth: interval-mean rate (exact for a fixed axis) and specific force
-    dth = np.diff(th, axis=1) / dt
-    w_true = np.concatenate([dth, dth[:, -1:]], axis=1)[..., None] * v
-    par = v * (v @ a0)
-    perp = a0 - par
-    w = np.cross(v, a0)
-    f_true = par + np.cos(th)[..., None] * perp - np.sin(th)[..., None] * w
-    vxr = np.cross(v, r)
-    f_true += acc[..., None] * vxr + (rate**2)[..., None] * np.cross(v, vxr)
+    w_true, f_true = profiles.fixed_axis_imu_truth(th, rate, acc, np.tile(setup.unit_axis(), (t_n, 1)),
+                                                   np.tile(setup.lever_arm(), (t_n, 1)), setup.gravity0(), dt)
     r_gyro, r_accel = rng.spawn(2)
     gyro = simulate.apply_sensor_errors(model.gyro, w_true, time, r_gyro,
                                         time_since_power_on_s=model.time_since_power_on_s)
