@@ -201,7 +201,7 @@ class AxisEstimate:
 
 
 def estimate_surface_axis(accel_m_s2, rests, *, accel_noise_m_s2: float, window_samples: float = 1.0,
-                          fit: str = "plane", min_separation_deg: float = 3.0, max_axis_error_deg: float = 2.0,
+                          fit: str = "plane", min_separation_deg: float = 3.0, max_axis_error_deg: float | None = 2.0,
                           max_elevation_deg: float = 85.0) -> AxisEstimate:
     """Hinge axis from the accelerometer means of ≥ 3 rests (wang2022sensors Eq 23, Sec. 2.2).
 
@@ -224,8 +224,8 @@ def estimate_surface_axis(accel_m_s2, rests, *, accel_noise_m_s2: float, window_
     fit : {"plane", "eq23"}
     min_separation_deg : float
         Rests closer in tilt are one position (deg).
-    max_axis_error_deg : float
-        Refuse an axis less certain than this (deg, 1σ); ``inf`` for no gate.
+    max_axis_error_deg : float or None
+        Refuse an axis less certain than this (deg, 1σ); None: no gate (Monte Carlo).
     max_elevation_deg : float
         Refuse an axis steeper than this above the horizontal (deg).
 
@@ -257,7 +257,7 @@ def estimate_surface_axis(accel_m_s2, rests, *, accel_noise_m_s2: float, window_
     a = as_float_array(accel_m_s2, "accel_m_s2", ndim=2, last_dim=3)
     sep = positive_scalar(min_separation_deg, "min_separation_deg")
     max_el = positive_scalar(max_elevation_deg, "max_elevation_deg")
-    max_err = positive_scalar(max_axis_error_deg, "max_axis_error_deg")
+    max_err = np.inf if max_axis_error_deg is None else positive_scalar(max_axis_error_deg, "max_axis_error_deg")
     rests = list(rests)
     if not rests:
         raise ValueError("found no rest; the axis needs rests at three distinct tilts")
@@ -453,7 +453,7 @@ def surface_angle(gyro_rad_s, accel_m_s2, axis, *, is_static, init: slice, dt_s=
     gyro_rad_s, accel_m_s2 : array_like (N, 3) or (T, N, 3)
         Gyro (rad/s) and accelerometer (m/s²).
     axis : array_like (3,) or (T, 3)
-        Axis v (normalised here).
+        Unit axis v (sensor frame).
     is_static : array_like of bool (N,) or (T, N)
         ZVD flags.
     init : slice
@@ -512,7 +512,8 @@ def surface_angle(gyro_rad_s, accel_m_s2, axis, *, is_static, init: slice, dt_s=
     dt, weights = time_base(n, dt_s=dt_s, time_s=time_s)
     gyro_f = g if weights is None else g * weights[:, None]
     v = as_float_array(axis, "axis", ndim=(1, 2), last_dim=3)
-    v = v / np.linalg.norm(v, axis=-1, keepdims=True)
+    if np.any(np.abs(np.linalg.norm(v, axis=-1) - 1.0) > 1e-6):
+        raise ValueError(f"axis must be a unit vector, got |axis| = {np.linalg.norm(v, axis=-1).max():.6g}")
     static = np.asarray(is_static)
     if static.dtype != bool or static.shape[-1] != n:
         raise ValueError(f"is_static must be boolean with {n} samples, got {static.dtype} {static.shape}")

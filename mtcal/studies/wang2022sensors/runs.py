@@ -38,9 +38,10 @@ from mtcal.core import profiles, rotations, simulate
 from mtcal.core.simulate import ImuErrorModel
 from mtcal.core.validate import STANDARD_GRAVITY_M_S2, as_float_array, positive_scalar
 from mtcal.filters import baselines
-from mtcal.filters.rams_ekf import initial_state, run_rams_ekf
-from mtcal.methods.rotation_axis import axis_from_means
+from mtcal.filters.rams_ekf import initial_state
+from mtcal.methods.rotation_axis import DEFAULT_MAX_ELEVATION_DEG, DEFAULT_MIN_SEPARATION_DEG
 from mtcal.methods.zero_velocity import ZvdParams, detect_static
+from mtcal.systems.surface_angle import estimate_surface_axis, surface_angle
 
 from .scenario import PAPER_AXIS_FIG11, AhrsImu, ImuSpec, ImuValues, RigValues, gravity0, lever_arm_vector
 
@@ -203,10 +204,22 @@ def _rest_masks(flags: np.ndarray, slices) -> list[np.ndarray]:
     return out
 
 
-def axis_estimate(accel_m_s2: np.ndarray, masks: list[np.ndarray]) -> np.ndarray:
-    """Eq 23 on masked rest means, vectorised over trials: (T, 3)."""
-    means = [np.einsum("tn,tni->ti", m, accel_m_s2) / m.sum(axis=1, keepdims=True) for m in masks]
-    return axis_from_means(*means)
+def axis_estimate(accel_m_s2: np.ndarray, masks: list[np.ndarray], imu: ImuValues) -> np.ndarray:
+    """Per trial, :func:`mtcal.systems.surface_angle.estimate_surface_axis` (Eq 23 on the three masked rests,
+    Algorithm A1's defaults, no uncertainty gate): (T, 3)."""
+    noise = imu.accel_noise_m_s2_rt_hz * np.sqrt(imu.fs_hz)
+    return np.stack([estimate_surface_axis(accel_m_s2[t], [m[t].astype(bool) for m in masks], accel_noise_m_s2=noise,
+                                           fit="eq23", min_separation_deg=DEFAULT_MIN_SEPARATION_DEG,
+                                           max_axis_error_deg=None, max_elevation_deg=DEFAULT_MAX_ELEVATION_DEG).axis
+                     for t in range(accel_m_s2.shape[0])])
+
+
+def _rams_angle(sim: SimBatch, is_static: np.ndarray, axes: np.ndarray, n_init: int, imu: ImuValues,
+                rests) -> np.ndarray:
+    """:func:`mtcal.systems.surface_angle.surface_angle` on a batch: ā0 and bias from the first ``n_init``
+    samples, the study IMU's EKF noise; (T, N) angle (rad)."""
+    return surface_angle(sim.gyro_rad_s, sim.accel_m_s2, axes, is_static=is_static, init=slice(0, n_init),
+                         dt_s=imu.dt_s, rests=rests, params=imu.ekf_params()).angle_rad
 
 
 def _zvd_flags(sim: SimBatch, zvd: ZvdParams, fs_hz: float, bias0_rad_s: np.ndarray) -> np.ndarray:
@@ -278,16 +291,15 @@ def sweep_metrics(rig: RigValues, imu: ImuValues, axes, lever_arms_m, seed: int,
     n0 = slices[0].stop - 1
     a0, b0 = initial_state(sim.gyro_rad_s, sim.accel_m_s2, n0)
     flags = _zvd_flags(sim, rig.zvd, imu.fs_hz, b0)
-    v_est = axis_estimate(sim.accel_m_s2, _rest_masks(flags, slices[:3]))
+    v_est = axis_estimate(sim.accel_m_s2, _rest_masks(flags, slices[:3]), imu)
     switch = flags if ekf_switch == "zvd" else np.broadcast_to(prof.is_static, flags.shape)
-    ekf = run_rams_ekf(sim.gyro_rad_s, sim.accel_m_s2, switch, v_est, a0, imu.dt_s, imu.ekf_params(),
-                       bias0_rad_s=b0, keep_innovation=False)
+    theta = _rams_angle(sim, switch, v_est, n0, imu, slices)
     ref_err = np.stack([np.random.default_rng([seed, 12, int(t)]).uniform(-1, 1, prof.segment.max() + 1)
                         for t in ids]) * rig.reference_error_rad
     ref_err = ref_err[:, prof.segment]
-    err_rams = _WRAP(ekf.theta_rad - th) - ref_err
+    err_rams = _WRAP(theta - th) - ref_err
     err_16 = _WRAP(baselines.accel_only_angle(sim.accel_m_s2, v_est, a0) - th) - ref_err
-    del ekf
+    del theta
     # latency: reference at t + τ (shared truth), Δ_l(t) = θ(t) − θ(t + τ)
     t_s = prof.time_s
     delta = np.stack([th - np.interp(t_s + tau, t_s, th) for tau in lat])
@@ -385,12 +397,11 @@ def run_fig11(axis, imu: ImuValues, zvd: ZvdParams, reps: int, seed: int, *, ste
         slices = prof.hold_slices()
         a0, b0 = initial_state(sim.gyro_rad_s, sim.accel_m_s2, slices[0].stop)
         flags = _zvd_flags(sim, zvd, imu.fs_hz, b0)
-        v_est = axis_estimate(sim.accel_m_s2, _rest_masks(flags, slices[:3]))
-        ekf = run_rams_ekf(sim.gyro_rad_s, sim.accel_m_s2, flags, v_est, a0, imu.dt_s, imu.ekf_params(),
-                           bias0_rad_s=b0, keep_innovation=False)
+        v_est = axis_estimate(sim.accel_m_s2, _rest_masks(flags, slices[:3]), imu)
+        theta = _rams_angle(sim, flags, v_est, slices[0].stop, imu, slices)
         last = slices[-1]
         truth = sim.theta_rad[:, last]
-        e_r = _WRAP(ekf.theta_rad[:, last] - truth)
+        e_r = _WRAP(theta[:, last] - truth)
         e_16 = _WRAP(baselines.accel_only_angle(sim.accel_m_s2[:, last], v_est, a0) - truth)
         out["mr"].append(np.max(np.abs(e_r), axis=1))
         out["m16"].append(np.max(np.abs(e_16), axis=1))
@@ -431,13 +442,12 @@ def run_drift(rig: RigValues, imu: ImuValues, axis, ahrs: AhrsImu, trials: int, 
     axes = np.tile(v, (trials, 1))
     sim = simulate_batch(th, prof.rate_rad_s[:, 0], prof.accel_rad_s2[:, 0], axes, lever, imu, seed, 41, ids)
     n0 = prof.hold_slices()[0].stop - 1
-    a0, b0 = initial_state(sim.gyro_rad_s, sim.accel_m_s2, n0)
+    _, b0 = initial_state(sim.gyro_rad_s, sim.accel_m_s2, n0)
     flags = _zvd_flags(sim, rig.zvd, imu.fs_hz, b0)
-    ekf = run_rams_ekf(sim.gyro_rad_s, sim.accel_m_s2, flags, axes, a0, imu.dt_s, imu.ekf_params(),
-                       bias0_rad_s=b0, keep_innovation=False)
+    theta = _rams_angle(sim, flags, axes, n0, imu, prof.hold_slices())
     stand = prof.hold_slices()[-1]
-    err_r = np.degrees(_WRAP(ekf.theta_rad[:, stand] - th[stand]))
-    del sim, ekf
+    err_r = np.degrees(_WRAP(theta[:, stand] - th[stand]))
+    del sim, theta
     err_a = np.degrees(_ahrs_errors(th, prof, axes, lever, ahrs, imu.fs_hz, seed, ids, n0)[:, stand])
     return DriftResult(prof.time_s[stand] - prof.time_s[stand.start], err_r, err_a)
 
@@ -466,7 +476,7 @@ def axis_errors(axis, imu: ImuValues, rig: RigValues, trials: int, seed: int, st
             flags = _zvd_flags(sim, rig.zvd, imu.fs_hz, b0) & prof.is_static
         else:
             flags = np.broadcast_to(prof.is_static, (ids.size, prof.time_s.size))
-        est.append(axis_estimate(sim.accel_m_s2, _rest_masks(flags, slices)))
+        est.append(axis_estimate(sim.accel_m_s2, _rest_masks(flags, slices), imu))
     v_est = np.concatenate(est)
     cosang = np.clip(np.abs(v_est @ v), -1.0, 1.0)
     return np.degrees(np.arccos(cosang)), v_est
@@ -496,11 +506,11 @@ def run_fig9(axis, imu: ImuValues, rig: RigValues, trials: int, seed: int) -> Fi
     sim = simulate_batch(prof.angle_rad[:, 0], prof.rate_rad_s[:, 0], prof.accel_rad_s2[:, 0],
                          np.tile(v, (trials, 1)), lever, imu, seed, 50, ids)
     n0 = int(0.9 * imu.fs_hz)
-    a0, b0 = initial_state(sim.gyro_rad_s, sim.accel_m_s2, n0)
+    _, b0 = initial_state(sim.gyro_rad_s, sim.accel_m_s2, n0)
     flags = _zvd_flags(sim, rig.zvd, imu.fs_hz, b0)
-    res = [run_rams_ekf(sim.gyro_rad_s, sim.accel_m_s2, flags, v, a0, imu.dt_s, imu.ekf_params(), bias0_rad_s=b0,
-                        use_zvd=u, keep_innovation=False) for u in (True, False)]
-    e_z, e_n = (np.degrees(_WRAP(r.theta_rad - sim.theta_rad)) for r in res)
+    always = np.ones_like(flags)  # the "standard EKF": V_z throughout
+    res = [_rams_angle(sim, f, v, n0, imu, prof.hold_slices()) for f in (flags, always)]
+    e_z, e_n = (np.degrees(_WRAP(r - sim.theta_rad)) for r in res)
     t = prof.time_s
     moving = ~prof.is_static
     ratio = np.sqrt(np.mean(e_z[:, moving] ** 2, axis=1) / np.mean(e_n[:, moving] ** 2, axis=1))
