@@ -174,7 +174,7 @@ class AxisEstimate:
     sigma_rad : float
         First-order 1σ direction uncertainty (rad).
     elevation_rad : float
-        Axis elevation above the horizontal (rad).
+        Axis elevation above the horizontal (rad), ``asin |v·â|`` averaged over the rest means.
     positions_m_s2 : ndarray (P, 3)
         Distinct rest positions used (m/s²).
     members : tuple of tuple of int
@@ -278,13 +278,16 @@ def estimate_surface_axis(accel_m_s2, rests, *, accel_noise_m_s2: float, window_
                              max_axis_error_deg=max_err)
     if fit == "plane":
         v = plane.v
-        if np.degrees(plane.elevation_rad) > max_el:
-            raise ValueError(f"rotation axis is nearly vertical: elevation {np.degrees(plane.elevation_rad):.2f} "
+        # v·a is the same at every rest (rotation about v keeps it), so each rest mean gives the elevation;
+        # the centroid of the positions is shorter than g and would overstate it.
+        elev = float(np.degrees(np.mean(ra.axis_elevation(v, means))))
+        if elev > max_el:
+            raise ValueError(f"rotation axis is nearly vertical: elevation {elev:.2f} "
                              f"deg above the horizontal (maximum {max_el:g} deg); rotation about it barely "
                              f"changes gravity")
     n_eff = float(np.min(w)) / max(1.0, float(window_samples))
     sig = max(accel_noise_m_s2 / np.sqrt(max(n_eff, 1.0)), SIGMA_MEAN_FLOOR_M_S2)
-    return AxisEstimate(v, float(plane.sigma_rad), float(ra.axis_elevation(v, pos.mean(axis=0))), pos,
+    return AxisEstimate(v, float(plane.sigma_rad), float(np.mean(ra.axis_elevation(v, means))), pos,
                         tuple(tuple(m) for m in members), means, angles_about_axis(v, means[0], means), float(sig),
                         fit)
 
