@@ -14,6 +14,8 @@ The messages name the ``mtcal`` options that fix a log (``--gyro-unit``,
 * :func:`rotation_axis_from_gyro` — principal rotation axis of the moving
   samples, compared with a user's ``--axis``.
 * :func:`cumulative_rotation` — integrated attitude change of a gyro record.
+* :func:`time_base` — the fixed filter step of a time column and the gyro weights
+  that keep a jittered record's integral right.
 
 References
 ----------
@@ -37,8 +39,10 @@ from __future__ import annotations
 import numpy as np
 
 from mtcal.core import rotations
+from mtcal.core.validate import as_float_array, positive_scalar
 
-__all__ = ["gyro_tilt_consistency", "clipped_samples", "rotation_axis_from_gyro", "cumulative_rotation"]
+__all__ = ["gyro_tilt_consistency", "clipped_samples", "rotation_axis_from_gyro", "cumulative_rotation",
+           "time_base"]
 
 _CANDIDATES = {np.pi / 180: "gyro looks like deg/s read as rad/s: use --gyro-unit deg/s",
                180 / np.pi: "gyro looks like rad/s read as deg/s: drop --gyro-unit deg/s",
@@ -217,3 +221,50 @@ def rotation_axis_from_gyro(gyro_rad_s: np.ndarray, bias_rad_s: np.ndarray, movi
 
 def _angle(a, b) -> float:
     return float(np.arctan2(np.linalg.norm(np.cross(a, b)), np.dot(a, b)))
+
+
+def time_base(n: int, *, dt_s=None, time_s=None) -> tuple[float, np.ndarray | None]:
+    """Fixed filter step and per-sample weights from ``dt_s`` or a time column.
+
+    A time column gives the mean step ``1 / fs`` with ``fs = (N − 1)/(t_N−1 − t_0)``;
+    when its jitter ``max |Δt − Δt̄| / Δt̄`` reaches 1e-6 the
+    gyro is weighted by ``Δt_k / Δt̄`` so a fixed-step filter integrates each
+    sample over its own interval (the last sample takes the mean).
+
+    Parameters
+    ----------
+    n : int
+        Samples.
+    dt_s : float, optional
+        Uniform step (s).
+    time_s : array_like (n,), optional
+        Strictly increasing sample times (s).
+
+    Returns
+    -------
+    dt_s : float
+    weights : ndarray (n,) or None
+        None when the time base is uniform.
+
+    Raises
+    ------
+    ValueError
+        Neither or both given, or a time column of the wrong length / not increasing.
+
+    Examples
+    --------
+    >>> dt, w = time_base(3, time_s=[0.0, 0.5, 1.0]); float(dt), w
+    (0.5, None)
+    """
+    if (dt_s is None) == (time_s is None):
+        raise ValueError("give exactly one of dt_s and time_s")
+    if dt_s is not None:
+        return positive_scalar(dt_s, "dt_s"), None
+    t = as_float_array(time_s, "time_s", ndim=1)
+    if t.size != n or n < 2 or not np.all(np.diff(t) > 0):
+        raise ValueError(f"time_s must be {n} strictly increasing times, got {t.size} samples")
+    fs = (n - 1) / (t[-1] - t[0])
+    dt_mean = 1.0 / fs
+    dt = np.diff(t)
+    jitter = float(max(dt_mean - dt.min(), dt.max() - dt_mean) / dt_mean)
+    return dt_mean, (None if jitter < 1e-6 else np.append(dt, dt_mean) * fs)

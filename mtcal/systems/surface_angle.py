@@ -48,8 +48,8 @@ from mtcal.filters.rams_ekf import RamsEkfParams, run_rams_ekf
 from mtcal.methods import rotation_axis as ra
 from mtcal.systems import plausibility
 
-__all__ = ["AxisEstimate", "estimate_surface_axis", "axis_uncertainty", "angles_about_axis", "time_base",
-           "rest_ekf_params", "SurfaceAngle", "surface_angle", "SIGMA_MEAN_FLOOR_M_S2", "CLIPPED_P0_THETA_RAD",
+__all__ = ["AxisEstimate", "estimate_surface_axis", "axis_uncertainty", "angles_about_axis", "rest_ekf_params",
+           "SurfaceAngle", "surface_angle", "SIGMA_MEAN_FLOOR_M_S2", "CLIPPED_P0_THETA_RAD",
            "MIN_TURN_FOR_AXIS_CHECK_DEG"]
 
 #: Floor on the std of a rest mean (m/s²): ~0.1° of tilt (accelerometer cross-axis/nonlinearity, play).
@@ -292,53 +292,6 @@ def estimate_surface_axis(accel_m_s2, rests, *, accel_noise_m_s2: float, window_
                         fit)
 
 
-def time_base(n: int, *, dt_s=None, time_s=None) -> tuple[float, np.ndarray | None]:
-    """Fixed filter step and per-sample weights from ``dt_s`` or a time column.
-
-    A time column gives the mean step ``1 / fs`` with ``fs = (N − 1)/(t_N−1 − t_0)``;
-    when its jitter ``max |Δt − Δt̄| / Δt̄`` reaches 1e-6 the
-    gyro is weighted by ``Δt_k / Δt̄`` so a fixed-step filter integrates each
-    sample over its own interval (the last sample takes the mean).
-
-    Parameters
-    ----------
-    n : int
-        Samples.
-    dt_s : float, optional
-        Uniform step (s).
-    time_s : array_like (n,), optional
-        Strictly increasing sample times (s).
-
-    Returns
-    -------
-    dt_s : float
-    weights : ndarray (n,) or None
-        None when the time base is uniform.
-
-    Raises
-    ------
-    ValueError
-        Neither or both given, or a time column of the wrong length / not increasing.
-
-    Examples
-    --------
-    >>> dt, w = time_base(3, time_s=[0.0, 0.5, 1.0]); float(dt), w
-    (0.5, None)
-    """
-    if (dt_s is None) == (time_s is None):
-        raise ValueError("give exactly one of dt_s and time_s")
-    if dt_s is not None:
-        return positive_scalar(dt_s, "dt_s"), None
-    t = as_float_array(time_s, "time_s", ndim=1)
-    if t.size != n or n < 2 or not np.all(np.diff(t) > 0):
-        raise ValueError(f"time_s must be {n} strictly increasing times, got {t.size} samples")
-    fs = (n - 1) / (t[-1] - t[0])
-    dt_mean = 1.0 / fs
-    dt = np.diff(t)
-    jitter = float(max(dt_mean - dt.min(), dt.max() - dt_mean) / dt_mean)
-    return dt_mean, (None if jitter < 1e-6 else np.append(dt, dt_mean) * fs)
-
-
 def rest_ekf_params(gyro_rad_s, accel_m_s2, init: slice) -> RamsEkfParams:
     """RAMS EKF noise measured on a rest: σθ, σa,static = mean per-axis std there (floors 1e-5, 1e-4).
 
@@ -462,7 +415,8 @@ def surface_angle(gyro_rad_s, accel_m_s2, axis, *, is_static, init: slice, dt_s=
     init : slice
         The initial rest (ā0, bias, and angle 0 at its start).
     dt_s : float, optional
-        Uniform step (s); or ``time_s`` (N,): see :func:`time_base` (jittered times weight the gyro).
+        Uniform step (s); or ``time_s`` (N,), see :func:`~mtcal.systems.plausibility.time_base`
+        (a jittered time column weights the gyro by each sample's interval).
     rests : sequence of slice
         Rests (time order) where the EKF may restart after clipping.
     params : RamsEkfParams, optional
@@ -512,7 +466,7 @@ def surface_angle(gyro_rad_s, accel_m_s2, axis, *, is_static, init: slice, dt_s=
         raise ValueError(f"gyro_rad_s and accel_m_s2 must have the same shape, got {g.shape} and {a.shape}")
     batch = a.ndim == 3
     n = a.shape[-2]
-    dt, weights = time_base(n, dt_s=dt_s, time_s=time_s)
+    dt, weights = plausibility.time_base(n, dt_s=dt_s, time_s=time_s)
     gyro_f = g if weights is None else g * weights[:, None]
     v = as_float_array(axis, "axis", ndim=(1, 2), last_dim=3)
     if np.any(np.abs(np.linalg.norm(v, axis=-1) - 1.0) > 1e-6):

@@ -12,6 +12,7 @@ from mtcal.core import profiles
 from mtcal.core.rotations import axis_angle_matrix
 from mtcal.filters.rams_ekf import RamsEkfParams, run_rams_ekf
 from mtcal.methods import rest_detection as rd
+from mtcal.systems import plausibility as pl
 from mtcal.systems import surface_angle as sa
 
 FS_HZ = 100.0
@@ -167,9 +168,9 @@ def test_clipped_gyro_restarts_the_ekf_at_the_next_rest():
 def test_jittered_time_base_weights_the_gyro():
     t = np.cumsum(np.r_[0.0, np.full(99, DT_S)])
     t[50:] += 0.3 * DT_S                                                      # one long interval
-    dt, weights = sa.time_base(100, time_s=t)
+    dt, weights = pl.time_base(100, time_s=t)
     assert dt == pytest.approx((t[-1] - t[0]) / 99, rel=1e-15) and weights[49] == pytest.approx(1.3 * DT_S / dt)
-    assert sa.time_base(100, dt_s=DT_S) == (DT_S, None)
+    assert pl.time_base(100, dt_s=DT_S) == (DT_S, None)
 
 
 @pytest.mark.parametrize("kwargs,match", [
@@ -181,7 +182,7 @@ def test_jittered_time_base_weights_the_gyro():
 ])
 def test_time_base_refusals(kwargs, match):
     with pytest.raises(ValueError, match=match):
-        sa.time_base(5, **kwargs)
+        pl.time_base(5, **kwargs)
 
 
 def _angle_kwargs(prof):
@@ -242,7 +243,7 @@ def test_cli_axis_and_angle_are_bit_identical_to_the_procedures(tmp_path, capsys
     log = tmp_path / "hinge.parquet"
     pd.DataFrame(cols).to_parquet(log)
 
-    dt, _ = sa.time_base(t.size, time_s=t)
+    dt, _ = pl.time_base(t.size, time_s=t)
     fs = 1.0 / dt
     # mtcal axis (adaptive rests, accelerometer + gyro, min rest 0.5 s)
     rep = rd.detect_rests(accel, (t.size - 1) / (t[-1] - t[0]), gyro_rad_s=gyro,
