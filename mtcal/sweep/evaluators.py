@@ -14,8 +14,8 @@ Registered evaluators (:func:`evaluator_names`):
   (:mod:`mtcal.core.sensor_grades`); metrics: tilt error over the record and over
   the holds (the static angles the paper's tables report), maximum tilt error.
 * ``surface`` — movable-surface rotations about a fixed hinge axis (wang2022sensors):
-  the bake-off filters' angle about the axis (swing–twist) beside the RAMS EKF
-  (:func:`mtcal.filters.rams_ekf.run_rams_ekf`).
+  the bake-off filters' angle about the axis (swing–twist) beside the RAMS EKF as
+  ``mtcal angle`` runs it (:func:`mtcal.systems.surface_angle.surface_angle`).
 * ``six_position`` — wang2023cja §3.2 installation-error calibration with K = 4…12
   turntable positions: QNCF attitudes, Eq 13 least squares, error left at 12
   validation attitudes.
