@@ -210,7 +210,7 @@ def fixed_axis_trajectory(profile: AngleProfile, axis_b, *, lever_arm_b_m=(0.0, 
 
 
 def lever_arm_accel_b(rate_rad_s, accel_rad_s2, axis_b, lever_arm_b_m) -> np.ndarray:
-    """Acceleration of a point at ``r`` from a fixed axis v in the rotating frame, ``θ̈ (v × r) + θ̇² v × (v × r)``.
+    """Acceleration ``θ̈ (v × r) + θ̇² v × (v × r)`` of a point at ``r`` from a fixed axis v (rotating frame).
 
     Tangential plus centripetal term (wang2022sensors Sec. 3.3.3: the lever-arm
     accelerations that violate the gravity-only measurement model while moving).
@@ -292,6 +292,7 @@ def fixed_axis_imu_truth(theta_rad, rate_rad_s, accel_rad_s2, axes_b, lever_arms
     perp = a0 - par
     w0 = np.cross(v, a0)
     vxr = np.cross(v, r)
+    # the lever-arm terms of lever_arm_accel_b, summed in one expression (keeps the study's outputs bit-identical)
     f = (par[:, None] + np.cos(th)[..., None] * perp[:, None] - np.sin(th)[..., None] * w0[:, None]
          + acc[..., None] * vxr[:, None] + (rate**2)[..., None] * np.cross(v, vxr)[:, None])
     return w_rate[..., None] * v[:, None], f
