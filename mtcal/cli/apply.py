@@ -16,8 +16,8 @@ from pathlib import Path
 
 import numpy as np
 
-from mtcal.cli import checks, common, logio
-from mtcal.systems import installation
+from mtcal.cli import common, logio
+from mtcal.systems import installation, plausibility
 
 EXAMPLE = """\
 output columns: time_s, q0..q3 (calibrated body attitude), yaw_deg, pitch_deg, roll_deg,
@@ -61,8 +61,8 @@ def run(args: argparse.Namespace) -> int:
         if log.gyro_rad_s is not None:
             rep = common.detect(args, log)
             fig.report = rep
-            checks.gyro_tilt_consistency(log.gyro_for_filter(), log.accel_m_s2, log.dt_mean_s, rep.rests,
-                                         time_s=log.time_s, skip=checks.clipped_samples(log.gyro_rad_s)[0])
+            plausibility.gyro_tilt_consistency(log.gyro_for_filter(), log.accel_m_s2, log.dt_mean_s, rep.rests,
+                                         time_s=log.time_s, skip=plausibility.clipped_samples(log.gyro_rad_s)[0])
             gyro, params, q0, _ = qncf_settings(log, rep)
             att = installation.apply_installation(q_hat, gyro_rad_s=gyro, accel_m_s2=log.accel_m_s2,
                                                   fs_hz=log.fs_hz, qncf_params=params, q0=q0)

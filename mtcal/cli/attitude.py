@@ -15,7 +15,8 @@ import argparse
 
 import numpy as np
 
-from mtcal.cli import checks, common, logio
+from mtcal.cli import common, logio
+from mtcal.systems import plausibility
 
 EXAMPLE = """\
 output columns: time_s (s), q0, q1, q2, q3 (sensor -> world, scalar-first),
@@ -84,10 +85,10 @@ def run(args: argparse.Namespace) -> int:
         fig.log = log
         rep = common.detect(args, log)
         fig.report = rep
-        clipped, level = checks.clipped_samples(log.gyro_rad_s)
+        clipped, level = plausibility.clipped_samples(log.gyro_rad_s)
         if clipped.any():
             print(f"warning: gyro clipped at {np.degrees(level):.1f} deg/s in {int(clipped.sum())} samples")
-        checks.gyro_tilt_consistency(log.gyro_for_filter(), log.accel_m_s2, log.dt_mean_s, rep.rests,
+        plausibility.gyro_tilt_consistency(log.gyro_for_filter(), log.accel_m_s2, log.dt_mean_s, rep.rests,
                                      time_s=log.time_s, skip=clipped)
         q, info = sensor_attitude(log, rep)
         e = np.degrees(euler_zxy_unchecked(q))

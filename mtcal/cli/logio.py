@@ -157,11 +157,12 @@ class ImuLog:
 
     def gyro_for_filter(self) -> np.ndarray:
         """Gyro weighted by per-sample dt for a fixed-step filter at ``dt_mean_s`` (rad/s)."""
+        from mtcal.systems.plausibility import time_base
+
         if self.gyro_rad_s is None:
             raise ValueError(f"{self.path}: no gyro columns")
-        if self.jitter < 1e-6:
-            return self.gyro_rad_s
-        return self.gyro_rad_s * (self.dt_s * self.fs_hz)[:, None]
+        _, weights = time_base(self.n, time_s=self.time_s)
+        return self.gyro_rad_s if weights is None else self.gyro_rad_s * weights[:, None]
 
 
 def _read_table(path: Path, select=None):

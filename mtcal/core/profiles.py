@@ -14,7 +14,11 @@ Builders:
 * :func:`constant_rate` — uniform rotation between two angles;
 * :func:`trajectory_from_euler_zxy` — wang2023cja Euler angles (Eq 9) → :class:`~mtcal.core.simulate.Trajectory`;
 * :func:`fixed_axis_trajectory` — rotation about a fixed axis with a lever arm
-  (tangential + centripetal acceleration), wang2022sensors.
+  (tangential + centripetal acceleration), wang2022sensors, as an attitude trajectory;
+* :func:`fixed_axis_imu_truth` — the same rotation as the ideal gyro and accelerometer
+  readings, batched over trials (each with its own angle history, axis and lever arm).
+
+Both fixed-axis forms share :func:`lever_arm_accel_b` (the one lever-arm model).
 """
 
 from __future__ import annotations
@@ -28,7 +32,7 @@ from mtcal.core.validate import as_float_array, positive_scalar, unit_quaternion
 from mtcal.core.simulate import Trajectory
 
 __all__ = ["AngleProfile", "step_schedule", "sinusoid", "constant_rate",
-           "trajectory_from_euler_zxy", "fixed_axis_trajectory"]
+           "trajectory_from_euler_zxy", "fixed_axis_trajectory", "fixed_axis_imu_truth", "lever_arm_accel_b"]
 
 
 @dataclass(frozen=True)
@@ -199,9 +203,96 @@ def fixed_axis_trajectory(profile: AngleProfile, axis_b, *, lever_arm_b_m=(0.0, 
     theta = profile.angle_rad[:, 0]
     q_rel = rotations.quat_from_rotvec(theta[:, None] * v)
     q_wb = rotations.quat_multiply(q0, q_rel)
-    vxr = np.cross(v, r)
-    vxvxr = np.cross(v, vxr)
-    acc_b0 = profile.accel_rad_s2[:, 0:1] * vxr + profile.rate_rad_s[:, 0:1] ** 2 * vxvxr
+    acc_b0 = lever_arm_accel_b(profile.rate_rad_s[:, 0], profile.accel_rad_s2[:, 0], v, r)
     c_wb = rotations.quat_to_matrix(q_wb)
     acc_w = np.einsum("nij,nj->ni", c_wb, acc_b0)
     return Trajectory(profile.time_s, q_wb, acc_w)
+
+
+def lever_arm_accel_b(rate_rad_s, accel_rad_s2, axis_b, lever_arm_b_m) -> np.ndarray:
+    """Acceleration ``θ̈ (v × r) + θ̇² v × (v × r)`` of a point at ``r`` from a fixed axis v (rotating frame).
+
+    Tangential plus centripetal term (wang2022sensors Sec. 3.3.3: the lever-arm
+    accelerations that violate the gravity-only measurement model while moving).
+
+    Parameters
+    ----------
+    rate_rad_s, accel_rad_s2 : array_like (..., N)
+        θ̇ (rad/s) and θ̈ (rad/s²).
+    axis_b, lever_arm_b_m : array_like (3,) or (..., 3)
+        Unit axis v and lever arm r (m), broadcast against the leading axes.
+
+    Returns
+    -------
+    ndarray (..., N, 3)
+        Acceleration (m/s²) in the rotating (body) frame.
+
+    Examples
+    --------
+    >>> lever_arm_accel_b([2.0], [0.0], [0.0, 0.0, 1.0], [0.5, 0.0, 0.0]).tolist()   # ω² r inward
+    [[-2.0, 0.0, 0.0]]
+    """
+    rate = np.asarray(rate_rad_s, float)
+    acc = np.asarray(accel_rad_s2, float)
+    v = np.asarray(axis_b, float)
+    vxr = np.cross(v, np.asarray(lever_arm_b_m, float))
+    vxvxr = np.cross(v, vxr)
+    if v.ndim > 1:
+        vxr, vxvxr = vxr[..., None, :], vxvxr[..., None, :]
+    return acc[..., None] * vxr + (rate**2)[..., None] * vxvxr
+
+
+def fixed_axis_imu_truth(theta_rad, rate_rad_s, accel_rad_s2, axes_b, lever_arms_b_m, accel0_m_s2,
+                         dt_s: float) -> tuple[np.ndarray, np.ndarray]:
+    """Ideal gyro and accelerometer for T rotations θ(t) about fixed axes (wang2022sensors truth).
+
+    Angular rate ``ω = θ̇ v`` taken as the interval mean ``Δθ/Δt`` (exact for a
+    gyro sample acting over ``[t_k, t_k+1]``; the last sample repeats), and
+    specific force ``f = R(θ, v)ᵀ ā0 + θ̈ (v × r) + θ̇² v × (v × r)`` with
+    ``R(θ, v)ᵀ ā0 = (v vᵀ) ā0 + cos θ ā0⊥ − sin θ (v × ā0)`` (Eq 15/16 measurement
+    model plus :func:`lever_arm_accel_b`).
+
+    Parameters
+    ----------
+    theta_rad, rate_rad_s, accel_rad_s2 : array_like (T, N)
+        Angle (rad) and its exact derivatives per trial.
+    axes_b, lever_arms_b_m : array_like (T, 3)
+        Unit axis v and lever arm r (body frame, m) per trial.
+    accel0_m_s2 : array_like (3,)
+        ā0, the static specific force at θ = 0 (m/s²).
+    dt_s : float
+        Sample interval (s).
+
+    Returns
+    -------
+    gyro_rad_s, accel_m_s2 : ndarray (T, N, 3)
+
+    Examples
+    --------
+    >>> th = np.radians([[0.0, 90.0, 180.0]])
+    >>> w, f = fixed_axis_imu_truth(th, 0 * th, 0 * th, [[1.0, 0.0, 0.0]], [[0.0, 0.0, 0.0]], [0.0, 0.0, 9.8], 1.0)
+    >>> np.round(f[0], 9).tolist(), round(float(w[0, 0, 0]), 6)
+    ([[0.0, 0.0, 9.8], [0.0, 9.8, 0.0], [0.0, 0.0, -9.8]], 1.570796)
+    """
+    th = as_float_array(theta_rad, "theta_rad", ndim=2)
+    rate = as_float_array(rate_rad_s, "rate_rad_s", ndim=2)
+    acc = as_float_array(accel_rad_s2, "accel_rad_s2", ndim=2)
+    v = as_float_array(axes_b, "axes_b", ndim=2, last_dim=3)
+    r = as_float_array(lever_arms_b_m, "lever_arms_b_m", ndim=2, last_dim=3)
+    a0 = as_float_array(accel0_m_s2, "accel0_m_s2", ndim=1, last_dim=3)
+    dt = positive_scalar(dt_s, "dt_s")
+    if not th.shape == rate.shape == acc.shape or v.shape != (th.shape[0], 3) or r.shape != v.shape:
+        raise ValueError(f"theta_rad, rate_rad_s, accel_rad_s2 must be (T, N) and axes_b, lever_arms_b_m (T, 3), "
+                         f"got {th.shape}, {rate.shape}, {acc.shape}, {v.shape}, {r.shape}")
+    if np.any(np.abs(np.linalg.norm(v, axis=1) - 1.0) > 1e-6):
+        raise ValueError("axes_b must be unit vectors")
+    dth = np.diff(th, axis=1) / dt
+    w_rate = np.concatenate([dth, dth[:, -1:]], axis=1)
+    par = v * (v @ a0)[:, None]
+    perp = a0 - par
+    w0 = np.cross(v, a0)
+    vxr = np.cross(v, r)
+    # the lever-arm terms of lever_arm_accel_b, summed in one expression (keeps the study's outputs bit-identical)
+    f = (par[:, None] + np.cos(th)[..., None] * perp[:, None] - np.sin(th)[..., None] * w0[:, None]
+         + acc[..., None] * vxr[:, None] + (rate**2)[..., None] * np.cross(v, vxr)[:, None])
+    return w_rate[..., None] * v[:, None], f

@@ -14,8 +14,8 @@ Registered evaluators (:func:`evaluator_names`):
   (:mod:`mtcal.core.sensor_grades`); metrics: tilt error over the record and over
   the holds (the static angles the paper's tables report), maximum tilt error.
 * ``surface`` — movable-surface rotations about a fixed hinge axis (wang2022sensors):
-  the bake-off filters' angle about the axis (swing–twist) beside the RAMS EKF
-  (:func:`mtcal.filters.rams_ekf.run_rams_ekf`).
+  the bake-off filters' angle about the axis (swing–twist) beside the RAMS EKF as
+  ``mtcal angle`` runs it (:func:`mtcal.systems.surface_angle.surface_angle`).
 * ``six_position`` — wang2023cja §3.2 installation-error calibration with K = 4…12
   turntable positions: QNCF attitudes, the calibration procedure of
   :mod:`mtcal.systems.installation` (as ``mtcal calibrate``), error left at 12
@@ -366,14 +366,18 @@ def _surface_metrics(p: dict) -> list[str]:
 def _surface(p: dict, rngs: list) -> dict[str, np.ndarray]:
     """Angle-about-axis errors (deg): RMS after the settling rest, RMS over holds, max.
 
-    The RAMS EKF gets the true axis, ā0 = mean specific force of the settling rest,
-    the schedule's rest flags as its ZVD input, and noise from the grade
-    (σθ = gyro noise per sample, σa,static = accelerometer noise per sample, floor
-    1 mg); its tuned gain is σa,moving (m/s², default 2). The attitude filters'
-    angle is the twist of their attitude about the same axis since the settling rest.
+    The RAMS EKF runs as the ``mtcal angle`` system does
+    (:func:`mtcal.systems.surface_angle.surface_angle`): the true axis, ā0 and the
+    initial gyro bias = means of the settling rest, the schedule's rest flags as its
+    ZVD input (and its holds as the restart points after gyro clipping), and noise
+    from the grade (σθ = gyro noise per sample, σa,static = accelerometer noise per
+    sample, floor 1 mg); its tuned gain is σa,moving (m/s², default 2). The attitude
+    filters' angle is the twist of their attitude about the same axis since the
+    settling rest.
     """
     from mtcal.filters.anchors import run_attitude_filter, twist_angle_rad
-    from mtcal.filters.rams_ekf import RamsEkfParams, run_rams_ekf
+    from mtcal.filters.rams_ekf import RamsEkfParams
+    from mtcal.systems.surface_angle import surface_angle
 
     prof = surface_profile(p["fs_hz"], step_deg=p["step_deg"], span_deg=p["span_deg"],
                            rate_deg_s=p["rate_deg_s"], hold_s=p["hold_s"])
@@ -397,10 +401,10 @@ def _surface(p: dict, rngs: list) -> dict[str, np.ndarray]:
                 sigma_theta_rad_s=max(grade.gyro_noise_density_rad_s_rt_hz / math.sqrt(dt), 1e-5),
                 sigma_a_static_m_s2=max(grade.accel_noise_density_m_s2_rt_hz / math.sqrt(dt), 1e-2),
                 sigma_a_moving_m_s2=gain)
-            a0 = np.stack([np.mean(row[settle], axis=0) for row in accel])
             static = np.broadcast_to(prof.is_static, accel.shape[:2])
-            res = run_rams_ekf(gyro, accel, static, axis, a0, dt, params, keep_innovation=False)
-            theta = res.theta_rad - res.theta_rad[:, ref:ref + 1]
+            res = surface_angle(gyro, accel, axis, is_static=static, init=settle, dt_s=dt,
+                                rests=prof.hold_slices(), params=params)
+            theta = res.angle_rad - res.angle_rad[:, ref:ref + 1]
         else:
             init = max(1, int(round(0.5 * p["fs_hz"])))
             q = run_attitude_filter(name, gyro, accel, traj.dt_s, gain, init_samples=init)

@@ -10,11 +10,15 @@ private internals. It imports from ``core``, ``methods`` and ``filters`` only;
 
 * :mod:`~mtcal.systems.installation` — six-position installation-error
   calibration (wang2023cja §3.2, Eq 1, 10, 13–15) and its application (Eq 10)
+* :mod:`~mtcal.systems.surface_angle` — wang2022sensors movable-surface angle:
+  rotation axis from rests (Eq 23), ZVD-switched RAMS EKF with restart after clipping
+* :mod:`~mtcal.systems.plausibility` — checks of a record before a procedure trusts
+  it (units, time base, clipping, gyro axis)
 """
 
-from . import installation
-from .installation import (InstallationCalibration, CalibratedAttitude, calibrate_installation,
-                           apply_installation, detect_rests)
+from mtcal.systems import installation, plausibility, surface_angle
+from mtcal.systems.installation import (CalibratedAttitude, InstallationCalibration, apply_installation,
+                                        calibrate_installation, detect_rests)
 
-__all__ = ["installation", "InstallationCalibration", "CalibratedAttitude", "calibrate_installation",
-           "apply_installation", "detect_rests"]
+__all__ = ["installation", "plausibility", "surface_angle", "InstallationCalibration", "CalibratedAttitude",
+           "calibrate_installation", "apply_installation", "detect_rests"]

@@ -58,3 +58,41 @@ def test_fixed_axis_bad_axis():
     prof = profiles.sinusoid(0.1, 1.0, 1.0, 100.0)
     with pytest.raises(ValueError, match="unit vector"):
         profiles.fixed_axis_trajectory(prof, [1.0, 1.0, 0.0])
+
+
+def test_fixed_axis_imu_truth_matches_the_trajectory_form():
+    """The batched truth (ω = Δθ/Δt v, f = R(θ, v)ᵀ ā0 + lever-arm terms) and the attitude-trajectory form
+    (simulate_imu differentiates the attitude) describe the same rotation."""
+    from mtcal.core.simulate import simulate_imu
+
+    prof = profiles.step_schedule(np.radians([0.0, 50.0, -20.0]), np.radians(40.0), 0.5, 400.0)
+    v = np.array([0.48, 0.6, 0.64])
+    r = np.array([0.2, -0.1, 0.05])
+    ideal = simulate_imu(profiles.fixed_axis_trajectory(prof, v, lever_arm_b_m=r))
+    w, f = profiles.fixed_axis_imu_truth(prof.angle_rad.T, prof.rate_rad_s.T, prof.accel_rad_s2.T, [v], [r],
+                                         ideal.accel_true_m_s2[0], 1 / 400.0)
+    np.testing.assert_allclose(f[0], ideal.accel_true_m_s2, atol=1e-9)
+    np.testing.assert_allclose(w[0, :-1], ideal.gyro_true_rad_s[:-1], atol=1e-9)
+
+
+def test_fixed_axis_imu_truth_closed_form_lever_arm():
+    th = np.array([[0.0, 0.0, 0.0]])
+    w, f = profiles.fixed_axis_imu_truth(th, [[2.0, 2.0, 2.0]], [[3.0, 3.0, 3.0]], [[0.0, 0.0, 1.0]],
+                                         [[0.5, 0.0, 0.0]], [0.0, 0.0, 9.8], 0.01)
+    # centripetal −ω² r = −2 m/s² along x, tangential θ̈ (v × r) = 1.5 m/s² along y, gravity on z
+    np.testing.assert_allclose(f[0], np.tile([-2.0, 1.5, 9.8], (3, 1)), atol=1e-12)
+    np.testing.assert_allclose(profiles.lever_arm_accel_b([2.0], [3.0], [0, 0, 1.0], [0.5, 0, 0]), [[-2.0, 1.5, 0.0]])
+    assert np.all(w == 0)
+
+
+@pytest.mark.parametrize("kwargs,match", [
+    (dict(axes_b=[[1.0, 1.0, 0.0]]), "axes_b must be unit vectors"),
+    (dict(axes_b=[[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]), "must be \\(T, N\\)"),
+    (dict(dt_s=0.0), "dt_s must be > 0"),
+    (dict(theta_rad=[0.0, 1.0]), "theta_rad"),
+])
+def test_fixed_axis_imu_truth_bad_input(kwargs, match):
+    args = dict(theta_rad=[[0.0, 1.0]], rate_rad_s=[[0.0, 0.0]], accel_rad_s2=[[0.0, 0.0]], axes_b=[[1.0, 0.0, 0.0]],
+                lever_arms_b_m=[[0.0, 0.0, 0.0]], accel0_m_s2=[0.0, 0.0, 9.8], dt_s=0.01)
+    with pytest.raises(ValueError, match=match):
+        profiles.fixed_axis_imu_truth(**{**args, **kwargs})

@@ -3,21 +3,44 @@
 import numpy as np
 import pytest
 
-from mtcal.core import metrics, profiles
+from mtcal.core import metrics, profiles, simulate
+from mtcal.core.sensor_grades import sensor_grade
 from mtcal.filters.rams_ekf import (RamsEkfFilter, RamsEkfParams, RamsEkfReference, initial_state,
                                     measurement_model, run_rams_ekf)
-from mtcal.studies.wang2022sensors.runs import ImuSpec, RotationSetup, simulate_rotation
 
-IMU = ImuSpec()
+#: wang2022sensors Table 3 IMU at 200 Hz (core sensor grade), the Fig. 11 axis, a flap-like lever arm.
+FS_HZ = 200.0
+DT_S = 1.0 / FS_HZ
+GRADE = sensor_grade("wang2022sensors")
+AXIS = np.array([0.1734, 0.9835, 0.0523]) / np.linalg.norm([0.1734, 0.9835, 0.0523])
+_CHORD = np.cross(AXIS, [0.0, 0.0, 1.0]) / np.linalg.norm(np.cross(AXIS, [0.0, 0.0, 1.0]))
+LEVER_M = 0.2 * _CHORD + np.array([0.0, 0.0, 0.02])
+PARAMS = RamsEkfParams(sigma_theta_rad_s=GRADE.gyro_noise_density_rad_s_rt_hz * np.sqrt(FS_HZ),
+                       sigma_b_rad_s2=1e-7 / np.sqrt(DT_S),
+                       sigma_a_static_m_s2=GRADE.accel_noise_density_m_s2_rt_hz * np.sqrt(FS_HZ),
+                       sigma_a_moving_m_s2=5.0, p0_theta_rad2=1e-8, p0_bias_rad2_s2=np.radians(0.01) ** 2)
+
+
+class _Record:
+    def __init__(self, theta_rad, gyro_rad_s, accel_m_s2):
+        self.theta_rad, self.gyro_rad_s, self.accel_m_s2 = theta_rad, gyro_rad_s, accel_m_s2
 
 
 def _fig9_record(rng, trials=2):
-    prof = profiles.step_schedule(np.radians([0.0, 40.0]), np.radians(40.0), 1.0, IMU.fs_hz)
+    """Fig. 9-like record (rest, 40° move, rest) from the core truth and sensor models, (T, N, 3)."""
+    prof = profiles.step_schedule(np.radians([0.0, 40.0]), np.radians(40.0), 1.0, FS_HZ)
     th = np.broadcast_to(prof.angle_rad[:, 0], (trials, prof.time_s.size))
-    rec = simulate_rotation(th, np.broadcast_to(prof.rate_rad_s[:, 0], th.shape),
-                            np.broadcast_to(prof.accel_rad_s2[:, 0], th.shape), prof.is_static,
-                            RotationSetup(), IMU.error_model(), IMU.fs_hz, rng)
-    return prof, rec
+    w_true, f_true = profiles.fixed_axis_imu_truth(th, np.broadcast_to(prof.rate_rad_s[:, 0], th.shape),
+                                                   np.broadcast_to(prof.accel_rad_s2[:, 0], th.shape),
+                                                   np.tile(AXIS, (trials, 1)), np.tile(LEVER_M, (trials, 1)),
+                                                   [0.0, 0.0, 9.80665], DT_S)
+    model = GRADE.error_model()
+    r_gyro, r_accel = rng.spawn(2)
+    gyro = simulate.apply_sensor_errors(model.gyro, w_true, prof.time_s, r_gyro,
+                                        time_since_power_on_s=model.time_since_power_on_s)
+    accel = simulate.apply_sensor_errors(model.accel, f_true, prof.time_s, r_accel,
+                                         time_since_power_on_s=model.time_since_power_on_s)
+    return prof, _Record(np.ascontiguousarray(th), gyro, accel)
 
 
 def test_measurement_jacobian_matches_finite_difference():
@@ -39,12 +62,12 @@ def test_process_noise_is_eq26():
 
 def test_reference_and_fast_agree(rng):
     prof, rec = _fig9_record(rng, trials=2)
-    v = RotationSetup().unit_axis()
+    v = AXIS
     a0, b0 = initial_state(rec.gyro_rad_s, rec.accel_m_s2, 150)
-    p = IMU.ekf_params()
-    fast = run_rams_ekf(rec.gyro_rad_s, rec.accel_m_s2, prof.is_static, v, a0, IMU.dt_s, p, bias0_rad_s=b0)
+    p = PARAMS
+    fast = run_rams_ekf(rec.gyro_rad_s, rec.accel_m_s2, prof.is_static, v, a0, DT_S, p, bias0_rad_s=b0)
     for t in range(2):
-        ref = RamsEkfReference(v, a0[t], IMU.dt_s, p, bias0_rad_s=b0[t]).run(
+        ref = RamsEkfReference(v, a0[t], DT_S, p, bias0_rad_s=b0[t]).run(
             rec.gyro_rad_s[t], rec.accel_m_s2[t], prof.is_static)
         np.testing.assert_allclose(fast.theta_rad[t], ref.theta_rad, atol=1e-9, rtol=0)
         np.testing.assert_allclose(fast.bias_rad_s[t], ref.bias_rad_s, atol=1e-9, rtol=0)
@@ -58,13 +81,13 @@ def test_tracks_truth_with_zvd_and_degrades_without(rng):
     """Fig. 9: with the covariance switched by rest/motion the error stays small
     during motion; the always-static EKF reads the lever-arm acceleration as angle."""
     prof, rec = _fig9_record(rng, trials=3)
-    v = RotationSetup().unit_axis()
+    v = AXIS
     a0, b0 = initial_state(rec.gyro_rad_s, rec.accel_m_s2, 150)
     kw = dict(bias0_rad_s=b0, keep_innovation=False)
-    with_zvd = run_rams_ekf(rec.gyro_rad_s, rec.accel_m_s2, prof.is_static, v, a0, IMU.dt_s,
-                            IMU.ekf_params(), **kw)
-    without = run_rams_ekf(rec.gyro_rad_s, rec.accel_m_s2, prof.is_static, v, a0, IMU.dt_s,
-                           IMU.ekf_params(), use_zvd=False, **kw)
+    with_zvd = run_rams_ekf(rec.gyro_rad_s, rec.accel_m_s2, prof.is_static, v, a0, DT_S,
+                            PARAMS, **kw)
+    without = run_rams_ekf(rec.gyro_rad_s, rec.accel_m_s2, prof.is_static, v, a0, DT_S,
+                           PARAMS, use_zvd=False, **kw)
     moving = ~prof.is_static
     e1 = np.degrees(metrics.rmse(with_zvd.theta_rad - rec.theta_rad, mask=moving))
     e2 = np.degrees(metrics.rmse(without.theta_rad - rec.theta_rad, mask=moving))

@@ -187,3 +187,24 @@ def test_outside_reasons_names_the_number_and_what_it_needs():
     assert text.startswith("Bv2 ref. [16] dynamic: paper 2.7650 below") and "lever_arm_m" in text
     f14 = w.fig14_max_error_per_angle(fit, 1, n_draws=200)
     assert f14.data["median"] == pytest.approx(np.full(5, 0.03)) and f14.rows[0]["holds"]
+
+
+def test_study_runs_the_surface_angle_system():
+    """The study's axis is the system's Eq 23 procedure, trial by trial, on the ZVD-masked rests."""
+    from mtcal.systems.surface_angle import estimate_surface_axis
+
+    sc = w.scenario_from_parameters()
+    imu = sc.imu.resolve()
+    prof = w.trapezoid_profile(np.radians([0.0, 90.0, 180.0, 0.0]), np.radians(60.0), np.radians(100.0),
+                               [1.0, 1.0, 1.0, 0.5], imu.fs_hz)
+    v = np.asarray(sc.fig11_axis) / np.linalg.norm(sc.fig11_axis)
+    sim = w.simulate_batch(prof.angle_rad[:, 0], prof.rate_rad_s[:, 0], prof.accel_rad_s2[:, 0], np.tile(v, (2, 1)),
+                           np.zeros((2, 3)), imu, 4, 0, [0, 1])
+    masks = [np.broadcast_to(np.isin(np.arange(prof.time_s.size), np.arange(s.start, s.stop)), (2, prof.time_s.size))
+             .astype(float) for s in prof.hold_slices()[:3]]
+    got = w.runs.axis_estimate(sim.accel_m_s2, masks, imu)
+    for t in range(2):
+        one = estimate_surface_axis(sim.accel_m_s2[t], prof.hold_slices()[:3], accel_noise_m_s2=0.01, fit="eq23",
+                                    min_separation_deg=0.5, max_axis_error_deg=None)
+        assert np.array_equal(got[t], one.axis)
+    assert np.degrees(np.arccos(np.min(got @ v))) < 0.5

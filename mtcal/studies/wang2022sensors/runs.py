@@ -7,9 +7,13 @@ One time base: the sample rate ``fs_hz`` of the resolved IMU; ``dt_s = 1/fs_hz``
 comes from the same object. Random draws come from per-trial generators
 ``default_rng([seed, stream, trial])``, so results do not depend on chunking.
 
-Truth for a fixed axis v through the hinge, lever arm r, angle θ(t) (IMU frame)::
+Truth for a fixed axis v through the hinge, lever arm r, angle θ(t) (IMU frame) is
+:func:`mtcal.core.profiles.fixed_axis_imu_truth`::
 
     ω = θ̇ v  (interval mean: Δθ/Δt),   f = R(θ, v)ᵀ ā0 + θ̈ (v × r) + θ̇² v × (v × r).
+
+The measurement pipeline (ZVD → Eq 23 axis → ZVD-switched RAMS EKF) is the one the
+``mtcal axis`` / ``mtcal angle`` commands run: :mod:`mtcal.systems.surface_angle`.
 
 References
 ----------
@@ -34,9 +38,10 @@ from mtcal.core import profiles, rotations, simulate
 from mtcal.core.simulate import ImuErrorModel
 from mtcal.core.validate import STANDARD_GRAVITY_M_S2, as_float_array, positive_scalar
 from mtcal.filters import baselines
-from mtcal.filters.rams_ekf import initial_state, run_rams_ekf
-from mtcal.methods.rotation_axis import axis_from_means
+from mtcal.filters.rams_ekf import initial_state
+from mtcal.methods.rotation_axis import DEFAULT_MAX_ELEVATION_DEG, DEFAULT_MIN_SEPARATION_DEG
 from mtcal.methods.zero_velocity import ZvdParams, detect_static
+from mtcal.systems.surface_angle import estimate_surface_axis, surface_angle
 
 from .scenario import PAPER_AXIS_FIG11, AhrsImu, ImuSpec, ImuValues, RigValues, gravity0, lever_arm_vector
 
@@ -167,16 +172,7 @@ def simulate_batch(theta_rad, rate_rad_s, accel_rad_s2, axes, lever_arms_m, imu:
         raise ValueError(f"axes, lever_arms_m and trial_ids must have T = {t_n} rows")
     n = th.shape[1]
     dt = imu.dt_s
-    a0 = gravity0()
-    # truth
-    dth = np.diff(th, axis=1) / dt
-    w_rate = np.concatenate([dth, dth[:, -1:]], axis=1)
-    par = v * (v @ a0)[:, None]
-    perp = a0 - par
-    w0 = np.cross(v, a0)
-    vxr = np.cross(v, r)
-    f = (par[:, None] + np.cos(th)[..., None] * perp[:, None] - np.sin(th)[..., None] * w0[:, None]
-         + acc[..., None] * vxr[:, None] + (rate**2)[..., None] * np.cross(v, vxr)[:, None])
+    w_true, f = profiles.fixed_axis_imu_truth(th, rate, acc, v, r, gravity0(), dt)
     # sensor errors: white noise, turn-on bias, bias random walk, gyro scale factor
     noise = np.full(t_n, imu.accel_noise_m_s2_rt_hz) if accel_noise_m_s2_rt_hz is None else \
         np.broadcast_to(as_float_array(accel_noise_m_s2_rt_hz, "accel_noise_m_s2_rt_hz"), (t_n,))
@@ -184,7 +180,7 @@ def simulate_batch(theta_rad, rate_rad_s, accel_rad_s2, axes, lever_arms_m, imu:
     sq = np.sqrt(imu.fs_hz)
     accel = f + (noise * sq)[:, None, None] * z[:, :n] + imu.accel_bias_sigma_m_s2 * z[:, 2 * n:2 * n + 1] \
         + np.asarray(imu.accel_bias_m_s2)
-    gyro = w_rate[..., None] * v[:, None] * (1.0 + imu.gyro_scale_factor) \
+    gyro = w_true * (1.0 + imu.gyro_scale_factor) \
         + imu.gyro_noise_rad_s_rt_hz * sq * z[:, n:2 * n] + np.asarray(imu.gyro_bias_rad_s) \
         + gyro_bias_sigma_rad_s * z[:, 2 * n + 1:2 * n + 2]
     del z
@@ -208,10 +204,22 @@ def _rest_masks(flags: np.ndarray, slices) -> list[np.ndarray]:
     return out
 
 
-def axis_estimate(accel_m_s2: np.ndarray, masks: list[np.ndarray]) -> np.ndarray:
-    """Eq 23 on masked rest means, vectorised over trials: (T, 3)."""
-    means = [np.einsum("tn,tni->ti", m, accel_m_s2) / m.sum(axis=1, keepdims=True) for m in masks]
-    return axis_from_means(*means)
+def axis_estimate(accel_m_s2: np.ndarray, masks: list[np.ndarray], imu: ImuValues) -> np.ndarray:
+    """Per trial, :func:`mtcal.systems.surface_angle.estimate_surface_axis` (Eq 23 on the three masked rests,
+    Algorithm A1's defaults, no uncertainty gate): (T, 3)."""
+    noise = imu.accel_noise_m_s2_rt_hz * np.sqrt(imu.fs_hz)
+    return np.stack([estimate_surface_axis(accel_m_s2[t], [m[t].astype(bool) for m in masks], accel_noise_m_s2=noise,
+                                           fit="eq23", min_separation_deg=DEFAULT_MIN_SEPARATION_DEG,
+                                           max_axis_error_deg=None, max_elevation_deg=DEFAULT_MAX_ELEVATION_DEG).axis
+                     for t in range(accel_m_s2.shape[0])])
+
+
+def _rams_angle(sim: SimBatch, is_static: np.ndarray, axes: np.ndarray, n_init: int, imu: ImuValues,
+                rests) -> np.ndarray:
+    """:func:`mtcal.systems.surface_angle.surface_angle` on a batch: ā0 and bias from the first ``n_init``
+    samples, the study IMU's EKF noise; (T, N) angle (rad)."""
+    return surface_angle(sim.gyro_rad_s, sim.accel_m_s2, axes, is_static=is_static, init=slice(0, n_init),
+                         dt_s=imu.dt_s, rests=rests, params=imu.ekf_params()).angle_rad
 
 
 def _zvd_flags(sim: SimBatch, zvd: ZvdParams, fs_hz: float, bias0_rad_s: np.ndarray) -> np.ndarray:
@@ -283,16 +291,15 @@ def sweep_metrics(rig: RigValues, imu: ImuValues, axes, lever_arms_m, seed: int,
     n0 = slices[0].stop - 1
     a0, b0 = initial_state(sim.gyro_rad_s, sim.accel_m_s2, n0)
     flags = _zvd_flags(sim, rig.zvd, imu.fs_hz, b0)
-    v_est = axis_estimate(sim.accel_m_s2, _rest_masks(flags, slices[:3]))
+    v_est = axis_estimate(sim.accel_m_s2, _rest_masks(flags, slices[:3]), imu)
     switch = flags if ekf_switch == "zvd" else np.broadcast_to(prof.is_static, flags.shape)
-    ekf = run_rams_ekf(sim.gyro_rad_s, sim.accel_m_s2, switch, v_est, a0, imu.dt_s, imu.ekf_params(),
-                       bias0_rad_s=b0, keep_innovation=False)
+    theta = _rams_angle(sim, switch, v_est, n0, imu, slices)
     ref_err = np.stack([np.random.default_rng([seed, 12, int(t)]).uniform(-1, 1, prof.segment.max() + 1)
                         for t in ids]) * rig.reference_error_rad
     ref_err = ref_err[:, prof.segment]
-    err_rams = _WRAP(ekf.theta_rad - th) - ref_err
+    err_rams = _WRAP(theta - th) - ref_err
     err_16 = _WRAP(baselines.accel_only_angle(sim.accel_m_s2, v_est, a0) - th) - ref_err
-    del ekf
+    del theta
     # latency: reference at t + τ (shared truth), Δ_l(t) = θ(t) − θ(t + τ)
     t_s = prof.time_s
     delta = np.stack([th - np.interp(t_s + tau, t_s, th) for tau in lat])
@@ -390,12 +397,11 @@ def run_fig11(axis, imu: ImuValues, zvd: ZvdParams, reps: int, seed: int, *, ste
         slices = prof.hold_slices()
         a0, b0 = initial_state(sim.gyro_rad_s, sim.accel_m_s2, slices[0].stop)
         flags = _zvd_flags(sim, zvd, imu.fs_hz, b0)
-        v_est = axis_estimate(sim.accel_m_s2, _rest_masks(flags, slices[:3]))
-        ekf = run_rams_ekf(sim.gyro_rad_s, sim.accel_m_s2, flags, v_est, a0, imu.dt_s, imu.ekf_params(),
-                           bias0_rad_s=b0, keep_innovation=False)
+        v_est = axis_estimate(sim.accel_m_s2, _rest_masks(flags, slices[:3]), imu)
+        theta = _rams_angle(sim, flags, v_est, slices[0].stop, imu, slices)
         last = slices[-1]
         truth = sim.theta_rad[:, last]
-        e_r = _WRAP(ekf.theta_rad[:, last] - truth)
+        e_r = _WRAP(theta[:, last] - truth)
         e_16 = _WRAP(baselines.accel_only_angle(sim.accel_m_s2[:, last], v_est, a0) - truth)
         out["mr"].append(np.max(np.abs(e_r), axis=1))
         out["m16"].append(np.max(np.abs(e_16), axis=1))
@@ -436,13 +442,12 @@ def run_drift(rig: RigValues, imu: ImuValues, axis, ahrs: AhrsImu, trials: int, 
     axes = np.tile(v, (trials, 1))
     sim = simulate_batch(th, prof.rate_rad_s[:, 0], prof.accel_rad_s2[:, 0], axes, lever, imu, seed, 41, ids)
     n0 = prof.hold_slices()[0].stop - 1
-    a0, b0 = initial_state(sim.gyro_rad_s, sim.accel_m_s2, n0)
+    _, b0 = initial_state(sim.gyro_rad_s, sim.accel_m_s2, n0)
     flags = _zvd_flags(sim, rig.zvd, imu.fs_hz, b0)
-    ekf = run_rams_ekf(sim.gyro_rad_s, sim.accel_m_s2, flags, axes, a0, imu.dt_s, imu.ekf_params(),
-                       bias0_rad_s=b0, keep_innovation=False)
+    theta = _rams_angle(sim, flags, axes, n0, imu, prof.hold_slices())
     stand = prof.hold_slices()[-1]
-    err_r = np.degrees(_WRAP(ekf.theta_rad[:, stand] - th[stand]))
-    del sim, ekf
+    err_r = np.degrees(_WRAP(theta[:, stand] - th[stand]))
+    del sim, theta
     err_a = np.degrees(_ahrs_errors(th, prof, axes, lever, ahrs, imu.fs_hz, seed, ids, n0)[:, stand])
     return DriftResult(prof.time_s[stand] - prof.time_s[stand.start], err_r, err_a)
 
@@ -471,7 +476,7 @@ def axis_errors(axis, imu: ImuValues, rig: RigValues, trials: int, seed: int, st
             flags = _zvd_flags(sim, rig.zvd, imu.fs_hz, b0) & prof.is_static
         else:
             flags = np.broadcast_to(prof.is_static, (ids.size, prof.time_s.size))
-        est.append(axis_estimate(sim.accel_m_s2, _rest_masks(flags, slices)))
+        est.append(axis_estimate(sim.accel_m_s2, _rest_masks(flags, slices), imu))
     v_est = np.concatenate(est)
     cosang = np.clip(np.abs(v_est @ v), -1.0, 1.0)
     return np.degrees(np.arccos(cosang)), v_est
@@ -501,11 +506,11 @@ def run_fig9(axis, imu: ImuValues, rig: RigValues, trials: int, seed: int) -> Fi
     sim = simulate_batch(prof.angle_rad[:, 0], prof.rate_rad_s[:, 0], prof.accel_rad_s2[:, 0],
                          np.tile(v, (trials, 1)), lever, imu, seed, 50, ids)
     n0 = int(0.9 * imu.fs_hz)
-    a0, b0 = initial_state(sim.gyro_rad_s, sim.accel_m_s2, n0)
+    _, b0 = initial_state(sim.gyro_rad_s, sim.accel_m_s2, n0)
     flags = _zvd_flags(sim, rig.zvd, imu.fs_hz, b0)
-    res = [run_rams_ekf(sim.gyro_rad_s, sim.accel_m_s2, flags, v, a0, imu.dt_s, imu.ekf_params(), bias0_rad_s=b0,
-                        use_zvd=u, keep_innovation=False) for u in (True, False)]
-    e_z, e_n = (np.degrees(_WRAP(r.theta_rad - sim.theta_rad)) for r in res)
+    always = np.ones_like(flags)  # the "standard EKF": V_z throughout
+    res = [_rams_angle(sim, f, v, n0, imu, prof.hold_slices()) for f in (flags, always)]
+    e_z, e_n = (np.degrees(_WRAP(r - sim.theta_rad)) for r in res)
     t = prof.time_s
     moving = ~prof.is_static
     ratio = np.sqrt(np.mean(e_z[:, moving] ** 2, axis=1) / np.mean(e_n[:, moving] ** 2, axis=1))
@@ -658,18 +663,8 @@ def simulate_rotation(theta_rad, rate_rad_s, accel_rad_s2, is_static, setup: Rot
     t_n, n = th.shape
     dt = 1.0 / fs
     time = np.arange(n) * dt
-    v = setup.unit_axis()
-    r = setup.lever_arm()
-    a0 = setup.gravity0()
-    # truth: interval-mean rate (exact for a fixed axis) and specific force
-    dth = np.diff(th, axis=1) / dt
-    w_true = np.concatenate([dth, dth[:, -1:]], axis=1)[..., None] * v
-    par = v * (v @ a0)
-    perp = a0 - par
-    w = np.cross(v, a0)
-    f_true = par + np.cos(th)[..., None] * perp - np.sin(th)[..., None] * w
-    vxr = np.cross(v, r)
-    f_true += acc[..., None] * vxr + (rate**2)[..., None] * np.cross(v, vxr)
+    w_true, f_true = profiles.fixed_axis_imu_truth(th, rate, acc, np.tile(setup.unit_axis(), (t_n, 1)),
+                                                   np.tile(setup.lever_arm(), (t_n, 1)), setup.gravity0(), dt)
     r_gyro, r_accel = rng.spawn(2)
     gyro = simulate.apply_sensor_errors(model.gyro, w_true, time, r_gyro,
                                         time_since_power_on_s=model.time_since_power_on_s)

@@ -1,7 +1,9 @@
-"""Plausibility checks of a log before a command trusts it (units, time base, clipping, axis).
+"""Plausibility checks of an IMU record before a procedure trusts it (units, time base, clipping, axis).
 
 Each check turns a case that would silently give a wrong number into a
 one-line ``ValueError`` that names what was measured and the likely fix.
+The messages name the ``mtcal`` options that fix a log (``--gyro-unit``,
+``--time-unit``), since a log read by the CLI is where these cases arise.
 
 * :func:`gyro_tilt_consistency` — between two rests the gyro, integrated
   (bias from the first rest removed), must rotate the first rest's gravity
@@ -11,6 +13,25 @@ one-line ``ValueError`` that names what was measured and the likely fix.
 * :func:`clipped_samples` — samples at the gyro's full-scale plateau.
 * :func:`rotation_axis_from_gyro` — principal rotation axis of the moving
   samples, compared with a user's ``--axis``.
+* :func:`cumulative_rotation` — integrated attitude change of a gyro record.
+* :func:`time_base` — the fixed filter step of a time column and the gyro weights
+  that keep a jittered record's integral right.
+
+References
+----------
+wang2022sensors Sec. 2.2 (static gravity reading ``R(θ, v)ᵀ ā0``: a rotation
+between two rests shows as the angle between their accelerometer means).
+
+Examples
+--------
+>>> import numpy as np
+>>> gyro = np.zeros((100, 3)); gyro[40:60, 0] = np.radians(90.0)   # 20 samples at 90 deg/s
+>>> q = cumulative_rotation(gyro, 0.05)[-1]                          # 20 x 0.05 s x 90 deg/s = 90 deg
+>>> round(float(np.degrees(2 * np.arccos(q[0]))), 6)
+90.0
+>>> mask, level = clipped_samples(gyro)
+>>> int(mask.sum()), round(float(np.degrees(level)), 1)
+(20, 90.0)
 """
 
 from __future__ import annotations
@@ -18,8 +39,10 @@ from __future__ import annotations
 import numpy as np
 
 from mtcal.core import rotations
+from mtcal.core.validate import as_float_array, positive_scalar
 
-__all__ = ["gyro_tilt_consistency", "clipped_samples", "rotation_axis_from_gyro", "cumulative_rotation"]
+__all__ = ["gyro_tilt_consistency", "clipped_samples", "rotation_axis_from_gyro", "cumulative_rotation",
+           "time_base"]
 
 _CANDIDATES = {np.pi / 180: "gyro looks like deg/s read as rad/s: use --gyro-unit deg/s",
                180 / np.pi: "gyro looks like rad/s read as deg/s: drop --gyro-unit deg/s",
@@ -34,7 +57,20 @@ MAX_REST_RATE_RAD_S = np.radians(2.0)
 
 
 def cumulative_rotation(gyro_rad_s: np.ndarray, dt_s: float) -> np.ndarray:
-    """``q_k = Δq_0 ⊗ … ⊗ Δq_k`` with ``Δq = exp(ω dt / 2)`` by a parallel prefix scan, (M, 4)."""
+    """``q_k = Δq_0 ⊗ … ⊗ Δq_k`` with ``Δq = exp(ω dt / 2)`` by a parallel prefix scan.
+
+    Parameters
+    ----------
+    gyro_rad_s : ndarray (M, 3)
+        Angular rate (rad/s), constant over each step.
+    dt_s : float
+        Step (s).
+
+    Returns
+    -------
+    ndarray (M, 4)
+        Scalar-first attitude change after each sample.
+    """
     q = rotations.quat_from_rotvec(gyro_rad_s * dt_s)
     d = 1
     while d < q.shape[0]:
@@ -46,7 +82,19 @@ def cumulative_rotation(gyro_rad_s: np.ndarray, dt_s: float) -> np.ndarray:
 def clipped_samples(gyro_rad_s: np.ndarray, *, min_run: int = 3) -> tuple[np.ndarray, float]:
     """Samples on a full-scale plateau (≥ ``min_run`` equal samples at the axis' max |value|).
 
-    Returns the boolean mask (N,) and the clipping level (rad/s, 0 if none).
+    Parameters
+    ----------
+    gyro_rad_s : ndarray (N, 3)
+        Angular rate (rad/s).
+    min_run : int
+        Shortest plateau (samples).
+
+    Returns
+    -------
+    mask : ndarray (N,) of bool
+        Samples on a plateau of any axis.
+    level : float
+        Clipping level (rad/s), 0 if none.
     """
     mask = np.zeros(gyro_rad_s.shape[0], bool)
     level = 0.0
@@ -144,7 +192,24 @@ def gyro_tilt_consistency(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: 
 
 
 def rotation_axis_from_gyro(gyro_rad_s: np.ndarray, bias_rad_s: np.ndarray, moving: np.ndarray):
-    """Principal rotation axis of the bias-corrected gyro over ``moving`` samples; (axis, energy share)."""
+    """Principal rotation axis of the bias-corrected gyro over ``moving`` samples.
+
+    Parameters
+    ----------
+    gyro_rad_s : ndarray (N, 3)
+        Angular rate (rad/s).
+    bias_rad_s : ndarray (3,)
+        Gyro bias (rad/s), e.g. a rest's mean.
+    moving : ndarray (N,) of bool
+        Samples to use.
+
+    Returns
+    -------
+    axis : ndarray (3,) or None
+        Unit eigenvector of ``Σ ω ωᵀ`` with the largest eigenvalue (None for < 3 samples).
+    share : float
+        That eigenvalue's share of the total (1 for a rotation about one axis).
+    """
     w = gyro_rad_s[moving] - bias_rad_s
     if w.shape[0] < 3:
         return None, np.nan
@@ -156,3 +221,50 @@ def rotation_axis_from_gyro(gyro_rad_s: np.ndarray, bias_rad_s: np.ndarray, movi
 
 def _angle(a, b) -> float:
     return float(np.arctan2(np.linalg.norm(np.cross(a, b)), np.dot(a, b)))
+
+
+def time_base(n: int, *, dt_s=None, time_s=None) -> tuple[float, np.ndarray | None]:
+    """Fixed filter step and per-sample weights from ``dt_s`` or a time column.
+
+    A time column gives the mean step ``1 / fs`` with ``fs = (N − 1)/(t_N−1 − t_0)``;
+    when its jitter ``max |Δt − Δt̄| / Δt̄`` reaches 1e-6 the
+    gyro is weighted by ``Δt_k / Δt̄`` so a fixed-step filter integrates each
+    sample over its own interval (the last sample takes the mean).
+
+    Parameters
+    ----------
+    n : int
+        Samples.
+    dt_s : float, optional
+        Uniform step (s).
+    time_s : array_like (n,), optional
+        Strictly increasing sample times (s).
+
+    Returns
+    -------
+    dt_s : float
+    weights : ndarray (n,) or None
+        None when the time base is uniform.
+
+    Raises
+    ------
+    ValueError
+        Neither or both given, or a time column of the wrong length / not increasing.
+
+    Examples
+    --------
+    >>> dt, w = time_base(3, time_s=[0.0, 0.5, 1.0]); float(dt), w
+    (0.5, None)
+    """
+    if (dt_s is None) == (time_s is None):
+        raise ValueError("give exactly one of dt_s and time_s")
+    if dt_s is not None:
+        return positive_scalar(dt_s, "dt_s"), None
+    t = as_float_array(time_s, "time_s", ndim=1)
+    if t.size != n or n < 2 or not np.all(np.diff(t) > 0):
+        raise ValueError(f"time_s must be {n} strictly increasing times, got {t.size} samples")
+    fs = (n - 1) / (t[-1] - t[0])
+    dt_mean = 1.0 / fs
+    dt = np.diff(t)
+    jitter = float(max(dt_mean - dt.min(), dt.max() - dt_mean) / dt_mean)
+    return dt_mean, (None if jitter < 1e-6 else np.append(dt, dt_mean) * fs)

@@ -1,0 +1,535 @@
+"""wang2022sensors movable-surface angle system: rotation axis from rests, then the ZVD-switched RAMS EKF.
+
+The measurement procedure of the paper (Sec. 2–3, Algorithm A1) as two steps
+over plain arrays, the same code for the ``mtcal axis`` / ``mtcal angle``
+commands, the study's Monte Carlo runs and the sweep evaluator:
+
+1. :func:`estimate_surface_axis` — the accelerometer means of ≥ 3 rests lie on a
+   circle perpendicular to the hinge axis v (Sec. 2.2), so v is the normal of
+   their plane (Eq 23 for exactly three means, ``fit="eq23"``; the least-squares
+   plane through all distinct positions, ``fit="plane"``), with its first-order
+   1σ uncertainty and the gates a user needs: fewer than three distinct tilts,
+   an axis too uncertain, an axis nearly vertical (rotation barely changes
+   gravity).
+2. :func:`surface_angle` — the RAMS EKF (Eq 24–33) about a known axis, ā0 and
+   the initial gyro bias from a rest (Sec. 2.2), V switched by the ZVD flags
+   (Sec. 3.3.3), refused for an axis nearly along gravity; restarted with a wide
+   angle prior at each rest that follows clipped gyro samples (mtcal addition:
+   a clipped gyro under-reports the move, and the rest's accelerometer must set
+   the angle again). Optional plausibility gates (gyro units/time base against
+   the accelerometer's tilt change, gyro turning about another axis) come from
+   :mod:`mtcal.systems.plausibility`.
+
+References
+----------
+wang2022sensors: Wang C., Tu X., Chen Q., Yang Q., Fang T., Sensors 2022, 22, 8996
+(Sec. 2.2 Eq 15/16 static model, Eq 23 axis, Algorithm A1, Sec. 3.3 Eq 24–33 EKF,
+Table 1 ZVD).
+
+Examples
+--------
+>>> import numpy as np
+>>> from mtcal.core.rotations import axis_angle_matrix
+>>> v = np.array([0.6, 0.0, 0.8]); a0 = np.array([0.0, 0.0, 9.81])
+>>> accel = np.concatenate([np.tile(axis_angle_matrix(np.radians(d), v).T @ a0, (50, 1)) for d in (0, 90, 135)])
+>>> est = estimate_surface_axis(accel, [slice(0, 50), slice(50, 100), slice(100, 150)], accel_noise_m_s2=0.01)
+>>> (np.round(est.axis, 9) + 0.0).tolist(), (np.round(np.degrees(est.rest_angles_rad), 6) + 0.0).tolist()
+([0.6, 0.0, 0.8], [0.0, 90.0, 135.0])
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from mtcal.core.validate import as_float_array, positive_scalar
+from mtcal.filters.rams_ekf import RamsEkfParams, run_rams_ekf
+from mtcal.methods import rotation_axis as ra
+from mtcal.systems import plausibility
+
+__all__ = ["AxisEstimate", "estimate_surface_axis", "axis_uncertainty", "angles_about_axis", "rest_ekf_params",
+           "SurfaceAngle", "surface_angle", "SIGMA_MEAN_FLOOR_M_S2", "CLIPPED_P0_THETA_RAD",
+           "MIN_TURN_FOR_AXIS_CHECK_DEG"]
+
+#: Floor on the std of a rest mean (m/s²): ~0.1° of tilt (accelerometer cross-axis/nonlinearity, play).
+SIGMA_MEAN_FLOOR_M_S2 = 0.017
+#: Prior angle std (rad) at the first rest after clipped gyro samples: the rest's accelerometer decides.
+CLIPPED_P0_THETA_RAD = np.radians(30.0)
+#: The gyro's rotation axis is compared with the given axis once the moves add up to this (deg).
+MIN_TURN_FOR_AXIS_CHECK_DEG = 20.0
+
+
+def _rest_means(accel: np.ndarray, rests) -> tuple[np.ndarray, np.ndarray]:
+    """Means (R, 3) and sample counts (R,) of rests given as slices or boolean masks (N,)."""
+    means, counts = [], []
+    for r in rests:
+        if isinstance(r, slice):
+            means.append(accel[r].mean(axis=0))
+            counts.append(float(len(range(*r.indices(accel.shape[0])))))
+        else:
+            m = np.asarray(r)
+            if m.dtype != bool or m.shape != accel.shape[:1]:
+                raise ValueError(f"each rest must be a slice or a boolean mask of shape {accel.shape[:1]}, "
+                                 f"got {m.dtype} {m.shape}")
+            means.append(accel[m].mean(axis=0))
+            counts.append(float(np.count_nonzero(m)))
+    return np.array(means).reshape(-1, 3), np.array(counts)
+
+
+def angles_about_axis(axis, accel0_m_s2, means_m_s2) -> np.ndarray:
+    """Rotation angle (rad) of each static mean about v relative to ā0, with ``a = R(θ, v)ᵀ ā0`` (Eq 16).
+
+    Parameters
+    ----------
+    axis : array_like (3,)
+        Unit axis v.
+    accel0_m_s2 : array_like (3,)
+        Reference rest mean ā0 (m/s²).
+    means_m_s2 : array_like (R, 3)
+        Rest means (m/s²).
+
+    Returns
+    -------
+    ndarray (R,)
+        Angles (rad) in (−π, π].
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> round(float(np.degrees(angles_about_axis([1.0, 0, 0], [0, 0, 9.8], [[0, 9.8, 0]])[0])), 6)
+    90.0
+    """
+    v = np.asarray(axis, float)
+    a0 = np.asarray(accel0_m_s2, float)
+    means = np.asarray(means_m_s2, float).reshape(-1, 3)
+    p0 = a0 - v * (v @ a0)
+    p = means - np.outer(means @ v, v)
+    return -np.arctan2(np.cross(p0, p) @ v, p @ p0)
+
+
+def axis_uncertainty(positions_m_s2, counts, *, accel_noise_m_s2: float, window_samples: float = 1.0,
+                     max_axis_error_deg: float = np.inf) -> ra.AxisPlaneFit:
+    """Plane fit of rest positions with its 1σ uncertainty; refused above ``max_axis_error_deg``.
+
+    The std of a rest mean is the accelerometer noise over ``√n_eff`` with
+    ``n_eff = min(counts) / max(1, window_samples)`` ~independent windows per rest
+    (floor :data:`SIGMA_MEAN_FLOOR_M_S2`); the axis error follows from the plane
+    tilt (:func:`mtcal.methods.rotation_axis.fit_axis_plane`, Eq 23 generalised).
+
+    Parameters
+    ----------
+    positions_m_s2 : array_like (P, 3), P ≥ 3
+        Distinct rest positions (m/s²).
+    counts : array_like (P,)
+        Samples per position.
+    accel_noise_m_s2 : float
+        Accelerometer noise per sample (m/s²).
+    window_samples : float
+        Correlation length of the noise estimate (samples), e.g. the rest detector's window.
+    max_axis_error_deg : float
+        Largest accepted 1σ axis error (deg).
+
+    Returns
+    -------
+    mtcal.methods.rotation_axis.AxisPlaneFit
+
+    Raises
+    ------
+    ValueError
+        ``axis too uncertain: …`` with the spread of the positions and the noise.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> fit = axis_uncertainty([[0, 0, 9.8], [0, -9.8, 0], [0, 0, -9.8]], [100, 100, 100], accel_noise_m_s2=0.01)
+    >>> fit.v.tolist(), bool(fit.sigma_rad < 0.01)
+    ([1.0, 0.0, 0.0], True)
+    """
+    positions = as_float_array(positions_m_s2, "positions_m_s2", ndim=2, last_dim=3)
+    n = as_float_array(counts, "counts", ndim=1)
+    noise = positive_scalar(accel_noise_m_s2, "accel_noise_m_s2", allow_zero=True)
+    n_eff = float(np.min(n)) / max(1.0, float(window_samples))  # ~independent windows per rest
+    sig = max(noise / np.sqrt(max(n_eff, 1.0)), SIGMA_MEAN_FLOOR_M_S2)
+    fit = ra.fit_axis_plane(positions, sig)
+    err = np.degrees(fit.sigma_rad)
+    if not err <= max_axis_error_deg:
+        spread = max(np.degrees(ra.angle_between(positions[i], positions[j]))
+                     for i in range(len(positions)) for j in range(i))
+        raise ValueError(f"axis too uncertain: +-{err:.2f} deg (1 sigma) > {max_axis_error_deg:g} deg from "
+                         f"{len(positions)} positions at most {spread:.2f} deg apart in tilt (rest-mean noise "
+                         f"{sig:.4f} m/s^2, out-of-plane rms {fit.rms_out_of_plane_m_s2:.4f} m/s^2); "
+                         f"rotate further between rests")
+    return fit
+
+
+@dataclass(frozen=True)
+class AxisEstimate:
+    """Result of :func:`estimate_surface_axis`.
+
+    Attributes
+    ----------
+    axis : ndarray (3,)
+        Unit hinge axis v in the sensor frame (``v_x ≥ 0``).
+    sigma_rad : float
+        First-order 1σ direction uncertainty (rad).
+    elevation_rad : float
+        Axis elevation above the horizontal (rad), ``asin |v·â|`` averaged over the rest means.
+    positions_m_s2 : ndarray (P, 3)
+        Distinct rest positions used (m/s²).
+    members : tuple of tuple of int
+        Rest indices merged into each position.
+    rest_means_m_s2 : ndarray (R, 3)
+        Mean of every rest (m/s²).
+    rest_angles_rad : ndarray (R,)
+        Angle of each rest about v from the first rest (rad, Eq 16).
+    sigma_mean_m_s2 : float
+        Std of one position mean used for the uncertainty (m/s²).
+    fit : str
+        ``"plane"`` or ``"eq23"``.
+    """
+
+    axis: np.ndarray
+    sigma_rad: float
+    elevation_rad: float
+    positions_m_s2: np.ndarray
+    members: tuple
+    rest_means_m_s2: np.ndarray
+    rest_angles_rad: np.ndarray
+    sigma_mean_m_s2: float
+    fit: str
+
+
+def estimate_surface_axis(accel_m_s2, rests, *, accel_noise_m_s2: float, window_samples: float = 1.0,
+                          fit: str = "plane", min_separation_deg: float = 3.0, max_axis_error_deg: float | None = 2.0,
+                          max_elevation_deg: float = 85.0) -> AxisEstimate:
+    """Hinge axis from the accelerometer means of ≥ 3 rests (wang2022sensors Eq 23, Sec. 2.2).
+
+    Rests closer in tilt than ``min_separation_deg`` are one position (sample-weighted
+    mean). ``fit="plane"``: v is the normal of the least-squares plane through all
+    positions (equal to Eq 23 for three). ``fit="eq23"``: Eq 23,
+    ``v = (ā1 − ā0) × (ā2 − ā1)``, on the first three positions (Algorithm A1). Both
+    report the plane-tilt 1σ uncertainty (:func:`axis_uncertainty`).
+
+    Parameters
+    ----------
+    accel_m_s2 : array_like (N, 3)
+        Accelerometer record (m/s²).
+    rests : sequence of slice or boolean mask (N,)
+        Rest samples, in time order.
+    accel_noise_m_s2 : float
+        Accelerometer noise per sample (m/s²).
+    window_samples : float
+        Correlation length of the noise estimate (samples).
+    fit : {"plane", "eq23"}
+    min_separation_deg : float
+        Rests closer in tilt are one position (deg).
+    max_axis_error_deg : float or None
+        Refuse an axis less certain than this (deg, 1σ); None: no gate (Monte Carlo).
+    max_elevation_deg : float
+        Refuse an axis steeper than this above the horizontal (deg).
+
+    Returns
+    -------
+    AxisEstimate
+
+    Raises
+    ------
+    ValueError
+        ``fit`` unknown; fewer than three distinct tilts (a rotation about the
+        vertical is named); axis too uncertain; axis nearly vertical.
+
+    References
+    ----------
+    wang2022sensors Eq 15/16 (static model), Eq 23 (axis), Algorithm A1.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> acc = np.repeat([[0, 0, 9.8], [0, -9.8, 0], [0, 0, -9.8]], 40, axis=0).astype(float)
+    >>> est = estimate_surface_axis(acc, [slice(0, 40), slice(40, 80), slice(80, 120)], accel_noise_m_s2=0.01,
+    ...                             fit="eq23")
+    >>> est.axis.tolist(), round(float(np.degrees(est.elevation_rad)), 6)
+    ([1.0, 0.0, 0.0], 0.0)
+    """
+    if fit not in ("plane", "eq23"):
+        raise ValueError(f"fit must be 'plane' or 'eq23', got {fit!r}")
+    a = as_float_array(accel_m_s2, "accel_m_s2", ndim=2, last_dim=3)
+    sep = positive_scalar(min_separation_deg, "min_separation_deg")
+    max_el = positive_scalar(max_elevation_deg, "max_elevation_deg")
+    max_err = np.inf if max_axis_error_deg is None else positive_scalar(max_axis_error_deg, "max_axis_error_deg")
+    rests = list(rests)
+    if not rests:
+        raise ValueError("found no rest; the axis needs rests at three distinct tilts")
+    means, counts = _rest_means(a, rests)
+    pos, w, members = ra.distinct_positions(means, counts, min_separation_deg=sep)
+    if pos.shape[0] < 3:
+        spread = max((np.degrees(ra.angle_between(means[i], means[j]))
+                      for i in range(len(means)) for j in range(i)), default=0.0)
+        why = (" — a rotation about the vertical does not change the tilt, so the accelerometer "
+               "cannot see its axis" if len(rests) >= 2 and spread < sep else "")
+        raise ValueError(f"found only {pos.shape[0]} distinct tilt(s) among {len(rests)} rest(s) "
+                         f"(largest tilt difference {spread:.2f} deg, positions must be >= {sep:g} deg "
+                         f"apart); the axis needs rests at three distinct tilts{why}")
+    if fit == "eq23":
+        pos, w, members = pos[:3], w[:3], members[:3]
+        v = ra.axis_from_means(*pos, min_separation_deg=sep, max_elevation_deg=max_el)
+    plane = axis_uncertainty(pos, w, accel_noise_m_s2=accel_noise_m_s2, window_samples=window_samples,
+                             max_axis_error_deg=max_err)
+    if fit == "plane":
+        v = plane.v
+        # v·a is the same at every rest (rotation about v keeps it), so each rest mean gives the elevation;
+        # the centroid of the positions is shorter than g and would overstate it.
+        elev = float(np.degrees(np.mean(ra.axis_elevation(v, means))))
+        if elev > max_el:
+            raise ValueError(f"rotation axis is nearly vertical: elevation {elev:.2f} "
+                             f"deg above the horizontal (maximum {max_el:g} deg); rotation about it barely "
+                             f"changes gravity")
+    n_eff = float(np.min(w)) / max(1.0, float(window_samples))
+    sig = max(accel_noise_m_s2 / np.sqrt(max(n_eff, 1.0)), SIGMA_MEAN_FLOOR_M_S2)
+    return AxisEstimate(v, float(plane.sigma_rad), float(np.mean(ra.axis_elevation(v, means))), pos,
+                        tuple(tuple(m) for m in members), means, angles_about_axis(v, means[0], means), float(sig),
+                        fit)
+
+
+def rest_ekf_params(gyro_rad_s, accel_m_s2, init: slice) -> RamsEkfParams:
+    """RAMS EKF noise measured on a rest: σθ, σa,static = mean per-axis std there (floors 1e-5, 1e-4).
+
+    σb = 1e-4 rad/s², σa,moving = 5 m/s² (lever arm and hand-held moves), P0 = 1e-8
+    for angle and bias (the rest fixes both). mtcal choices (the paper gives no values).
+
+    Parameters
+    ----------
+    gyro_rad_s, accel_m_s2 : array_like (N, 3)
+    init : slice
+        The rest.
+
+    Returns
+    -------
+    RamsEkfParams
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> p = rest_ekf_params(np.zeros((10, 3)), np.tile([0, 0, 9.8], (10, 1)), slice(0, 10))
+    >>> p.sigma_theta_rad_s, p.sigma_a_static_m_s2
+    (1e-05, 0.0001)
+    """
+    sig_a = max(float(np.std(np.asarray(accel_m_s2)[init], axis=0).mean()), 1e-4)
+    sig_w = max(float(np.std(np.asarray(gyro_rad_s)[init], axis=0).mean()), 1e-5)
+    return RamsEkfParams(sigma_theta_rad_s=sig_w, sigma_b_rad_s2=1e-4, sigma_a_static_m_s2=sig_a,
+                         sigma_a_moving_m_s2=5.0, p0_theta_rad2=1e-8, p0_bias_rad2_s2=1e-8)
+
+
+@dataclass(frozen=True)
+class SurfaceAngle:
+    """Result of :func:`surface_angle`; arrays have a leading trial axis T only for batched input.
+
+    Attributes
+    ----------
+    angle_rad : ndarray (N,) or (T, N)
+        Angle about v (rad, continuous), 0 at ``init.start``; NaN before it.
+    start : int
+        First filtered sample (``init.start``).
+    accel0_m_s2, bias0_rad_s : ndarray (3,) or (T, 3)
+        ā0 and the initial gyro bias (means over ``init``).
+    elevation_rad : float or ndarray (T,)
+        Axis elevation above the horizontal at ā0 (rad).
+    params : RamsEkfParams
+    dt_s : float
+        Filter step (s).
+    clipped : ndarray (N,) or (T, N) of bool
+        Gyro samples on a full-scale plateau.
+    clip_level_rad_s : float or ndarray (T,)
+        Clipping level (rad/s, 0 if none).
+    restarts : tuple
+        Sample indices where the EKF restarted (per trial for batched input).
+    unit_check : dict or None
+        :func:`mtcal.systems.plausibility.gyro_tilt_consistency` result (``check_units``).
+    gyro_axis : ndarray (3,) or None
+        The gyro's principal rotation axis when it was checked against ``axis``.
+    """
+
+    angle_rad: np.ndarray
+    start: int
+    accel0_m_s2: np.ndarray
+    bias0_rad_s: np.ndarray
+    elevation_rad: float | np.ndarray
+    params: RamsEkfParams
+    dt_s: float
+    clipped: np.ndarray
+    clip_level_rad_s: float | np.ndarray
+    restarts: tuple
+    unit_check: dict | None
+    gyro_axis: np.ndarray | None
+
+
+def _restart_cuts(clipped: np.ndarray, rests, n: int) -> list[int]:
+    """Segment bounds: 0, each rest start (after the first) preceded by clipping since the last, n."""
+    cuts = [0]
+    if clipped.any():
+        last = 0
+        for r in rests[1:]:
+            if clipped[last:r.start].any():
+                cuts.append(r.start)
+            last = r.start
+    cuts.append(n)
+    return cuts
+
+
+def _ekf_pieces(gyro, accel, static, cuts, v, a0, b0, dt_s, params) -> np.ndarray:
+    """One trial's EKF over ``cuts`` segments, angle and bias carried over, wide angle prior after a cut."""
+    theta = np.empty(accel.shape[0])
+    th0, bias0, p = 0.0, b0, params
+    for lo, hi in zip(cuts[:-1], cuts[1:]):
+        res = run_rams_ekf(gyro[lo:hi], accel[lo:hi], static[lo:hi], v, a0, dt_s, p,
+                           theta0_rad=th0, bias0_rad_s=bias0, keep_innovation=False)
+        theta[lo:hi] = res.theta_rad[0]
+        th0, bias0 = float(res.theta_rad[0, -1]), res.bias_rad_s[0, -1]
+        p = replace(params, p0_theta_rad2=CLIPPED_P0_THETA_RAD**2)
+    return theta
+
+
+def surface_angle(gyro_rad_s, accel_m_s2, axis, *, is_static, init: slice, dt_s=None, time_s=None,
+                  rests=(), params: RamsEkfParams | None = None, max_elevation_deg: float = 85.0,
+                  check_units: bool = False, max_axis_mismatch_deg: float | None = None,
+                  gyro_noise_rad_s: float = 0.0) -> SurfaceAngle:
+    """Angle about a known hinge axis: ZVD-switched RAMS EKF from a rest (wang2022sensors Sec. 2.2–3.3).
+
+    ā0 and the initial bias are the means over ``init`` (Sec. 2.2); the EKF
+    (Eq 24–33) runs from ``init.start`` with θ = 0 there, V switched by
+    ``is_static`` (Sec. 3.3.3). Gyro samples on a full-scale plateau
+    (:func:`~mtcal.systems.plausibility.clipped_samples`) restart the EKF at the
+    next rest in ``rests`` with ``p0_θ = (30°)²`` (angle and bias carried over),
+    so that rest's accelerometer reading sets the angle again. Without clipping
+    this is one EKF run; a batch (T, N, 3) runs all trials in one call.
+
+    Parameters
+    ----------
+    gyro_rad_s, accel_m_s2 : array_like (N, 3) or (T, N, 3)
+        Gyro (rad/s) and accelerometer (m/s²).
+    axis : array_like (3,) or (T, 3)
+        Unit axis v (sensor frame).
+    is_static : array_like of bool (N,) or (T, N)
+        ZVD flags.
+    init : slice
+        The initial rest (ā0, bias, and angle 0 at its start).
+    dt_s : float, optional
+        Uniform step (s); or ``time_s`` (N,), see :func:`~mtcal.systems.plausibility.time_base`
+        (a jittered time column weights the gyro by each sample's interval).
+    rests : sequence of slice
+        Rests (time order) where the EKF may restart after clipping.
+    params : RamsEkfParams, optional
+        Default: measured on ``init`` (:func:`rest_ekf_params`, one record only).
+    max_elevation_deg : float
+        Refuse an axis steeper than this (deg): a rotation about the vertical does
+        not change the accelerometer reading.
+    check_units : bool
+        One record: check the gyro's units/time base against the accelerometer's tilt
+        change between ``rests`` (:func:`~mtcal.systems.plausibility.gyro_tilt_consistency`).
+    max_axis_mismatch_deg : float, optional
+        One record: once moves add up to 20°, refuse when the gyro turns about an axis
+        further than this from ``axis`` (deg).
+    gyro_noise_rad_s : float
+        Gyro noise per sample (rad/s) for the moving-sample threshold of that check.
+
+    Returns
+    -------
+    SurfaceAngle
+
+    Raises
+    ------
+    ValueError
+        Axis nearly along gravity; empty ``init``; checks failing (messages name
+        the measured numbers and the likely fix).
+
+    References
+    ----------
+    wang2022sensors Sec. 2.2 (ā0), Eq 24–33 (EKF), Sec. 3.3.3 (covariance switching).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from mtcal.core.profiles import fixed_axis_imu_truth, step_schedule
+    >>> prof = step_schedule(np.radians([0.0, 40.0]), np.radians(40.0), 1.0, 100.0)
+    >>> v = np.array([0.6, 0.0, 0.8]); n = prof.time_s.size
+    >>> w, f = fixed_axis_imu_truth(prof.angle_rad.T, prof.rate_rad_s.T, prof.accel_rad_s2.T, [v], [[0.0, 0, 0]],
+    ...                             [0.0, 0.0, 9.81], 0.01)
+    >>> res = surface_angle(w[0], f[0], v, is_static=prof.is_static, init=slice(0, 90), dt_s=0.01,
+    ...                     params=RamsEkfParams())
+    >>> round(float(np.degrees(res.angle_rad[-1])), 3)
+    40.0
+    """
+    g = as_float_array(gyro_rad_s, "gyro_rad_s", ndim=(2, 3), last_dim=3, copy=False)
+    a = as_float_array(accel_m_s2, "accel_m_s2", ndim=(2, 3), last_dim=3, copy=False)
+    if g.shape != a.shape:
+        raise ValueError(f"gyro_rad_s and accel_m_s2 must have the same shape, got {g.shape} and {a.shape}")
+    batch = a.ndim == 3
+    n = a.shape[-2]
+    dt, weights = plausibility.time_base(n, dt_s=dt_s, time_s=time_s)
+    gyro_f = g if weights is None else g * weights[:, None]
+    v = as_float_array(axis, "axis", ndim=(1, 2), last_dim=3)
+    if np.any(np.abs(np.linalg.norm(v, axis=-1) - 1.0) > 1e-6):
+        raise ValueError(f"axis must be a unit vector, got |axis| = {np.linalg.norm(v, axis=-1).max():.6g}")
+    static = np.asarray(is_static)
+    if static.dtype != bool or static.shape[-1] != n:
+        raise ValueError(f"is_static must be boolean with {n} samples, got {static.dtype} {static.shape}")
+    if not isinstance(init, slice) or not 0 <= (init.start or 0) < (init.stop or 0) <= n:
+        raise ValueError(f"init must be a non-empty slice of the {n} samples, got {init!r}")
+    k0 = init.start or 0
+    a0 = a[..., init, :].mean(axis=-2)
+    b0 = g[..., init, :].mean(axis=-2)
+    elev = ra.axis_elevation(v, a0)
+    max_el = positive_scalar(max_elevation_deg, "max_elevation_deg")
+    worst = float(np.degrees(np.max(elev)))
+    if worst > max_el:
+        raise ValueError(f"--axis is {90 - worst:.2f} deg from gravity (elevation {worst:.2f} deg > {max_el:g}): "
+                         f"a rotation about the vertical does not change the accelerometer reading, so the "
+                         f"EKF cannot correct the gyro; measure the angle with a non-vertical axis")
+    rests = list(rests)
+    if batch:
+        clip = [plausibility.clipped_samples(row) for row in g]
+        clipped = np.stack([c[0] for c in clip])
+        level = np.array([c[1] for c in clip])
+    else:
+        clipped, level = plausibility.clipped_samples(g)
+    check, u = None, None
+    if (check_units or max_axis_mismatch_deg is not None) and batch:
+        raise ValueError("check_units and max_axis_mismatch_deg check one record, not a batch")
+    if check_units:
+        check = plausibility.gyro_tilt_consistency(gyro_f, a, dt, rests, time_s=time_s, skip=clipped)
+    if max_axis_mismatch_deg is not None:
+        moving = ~static & (np.linalg.norm(g - b0, axis=1) > max(5 * gyro_noise_rad_s, np.radians(2.0)))
+        turned = float(np.degrees(np.sum(np.linalg.norm(g[moving] - b0, axis=1)) * dt))
+        if turned > MIN_TURN_FOR_AXIS_CHECK_DEG:
+            u, share = plausibility.rotation_axis_from_gyro(g, b0, moving)
+            mis = float(np.degrees(np.arccos(min(1.0, abs(float(u @ v))))))
+            if mis > max_axis_mismatch_deg:
+                u = u if u[0] >= 0 else -u
+                raise ValueError(f"the gyro turns about [{u[0]:.3f}, {u[1]:.3f}, {u[2]:.3f}] "
+                                 f"({share * 100:.0f} % of the rotation), {mis:.1f} deg from --axis "
+                                 f"(max {max_axis_mismatch_deg:g}); pass the right axis (mtcal axis LOG) or "
+                                 f"check the axes")
+    if params is None:
+        if batch:
+            raise ValueError("params must be given for a batch")
+        params = rest_ekf_params(g, a, init)
+    local = [slice(r.start - k0, r.stop - k0) for r in rests]
+    angle = np.full(a.shape[:-1], np.nan)
+    if not batch:
+        cuts = _restart_cuts(clipped[k0:], local, n - k0)
+        angle[k0:] = _ekf_pieces(gyro_f[k0:], a[k0:], static[k0:], cuts, v, a0, b0, dt, params)
+        restarts = tuple(c + k0 for c in cuts[1:-1])
+    else:
+        st = np.broadcast_to(static, a.shape[:-1])
+        cuts = [_restart_cuts(c[k0:], local, n - k0) for c in clipped]
+        ekf = run_rams_ekf(gyro_f[:, k0:], a[:, k0:], st[:, k0:], v, a0, dt, params, bias0_rad_s=b0,
+                           keep_innovation=False)
+        angle[:, k0:] = ekf.theta_rad
+        for t, c in enumerate(cuts):
+            if len(c) > 2:
+                vt = v if v.ndim == 1 else v[t]
+                angle[t, k0:] = _ekf_pieces(gyro_f[t, k0:], a[t, k0:], st[t, k0:], c, vt, a0[t], b0[t], dt, params)
+        restarts = tuple(tuple(x + k0 for x in c[1:-1]) for c in cuts)
+    return SurfaceAngle(angle, k0, a0, b0, elev if batch else float(elev), params, dt, clipped,
+                        level if batch else float(level), restarts, check, u)
