@@ -5,6 +5,7 @@ Nothing here names a paper. Radians and SI units throughout.
 The public names of every submodule are re-exported here (see ``__all__``).
 """
 
+from . import compiled  # first: numba's settings are made there before numba loads
 from . import metrics, montecarlo, profiles, rng, rotations, sensor_grades, simulate, units, validate
 from .rotations import (align_signs, axis_angle_matrix, coupling_error_eq4, dcm_zyx, euler_zxy_from_quat,
                         euler_zxy_unchecked, GIMBAL_LOCK_COS, hamilton, installation_angles,
@@ -26,14 +27,15 @@ from .validate import (angle_pair_deg, angle_rad, as_float_array, check_accel_un
 from .units import ARCSEC, DEG, DEG_H, DEG_RT_H, DEG_S, G, MG, STANDARD_GRAVITY_M_S2, UG
 from .sensor_grades import grade_names, GRADES, sensor_grade, SensorGrade
 from .rng import stream_key, stream_rng, trial_rng
+from .compiled import component_major, jit
 
 __all__ = ["rotations", "simulate", "profiles", "metrics", "montecarlo", "validate", "units", "sensor_grades", "rng",
-           "mount_quaternion", "relative_to_initial", "installation_angles", "installation_angles_from_mount",
-           "GIMBAL_LOCK_COS", "hamilton", "quat_multiply", "quat_conjugate", "quat_normalize", "left_matrix",
-           "right_matrix", "align_signs", "make_continuous", "quat_from_rotvec", "rotvec_from_quat",
-           "quat_from_euler_zxy", "euler_zxy_from_quat", "euler_zxy_unchecked", "quat_to_matrix", "quat_from_matrix",
-           "installation_matrix", "installation_matrix_small_angle", "coupling_error_eq4", "dcm_zyx",
-           "specific_force_zyx", "pitch_roll_from_specific_force", "axis_angle_matrix", "wrap_angle",
+           "compiled", "mount_quaternion", "relative_to_initial", "installation_angles",
+           "installation_angles_from_mount", "GIMBAL_LOCK_COS", "hamilton", "quat_multiply", "quat_conjugate",
+           "quat_normalize", "left_matrix", "right_matrix", "align_signs", "make_continuous", "quat_from_rotvec",
+           "rotvec_from_quat", "quat_from_euler_zxy", "euler_zxy_from_quat", "euler_zxy_unchecked", "quat_to_matrix",
+           "quat_from_matrix", "installation_matrix", "installation_matrix_small_angle", "coupling_error_eq4",
+           "dcm_zyx", "specific_force_zyx", "pitch_roll_from_specific_force", "axis_angle_matrix", "wrap_angle",
            "quat_angle_between", "Trajectory", "SensorErrors", "ImuErrorModel", "ImuRecord", "ImuStream",
            "body_rates", "specific_force", "simulate_imu", "apply_sensor_errors", "integrate_gyro", "GRAVITY_W_M_S2",
            "AngleProfile", "step_schedule", "sinusoid", "constant_rate", "trajectory_from_euler_zxy",
@@ -43,4 +45,4 @@ __all__ = ["rotations", "simulate", "profiles", "metrics", "montecarlo", "valida
            "positive_scalar", "positive_int", "time_vector", "angle_rad", "unit_quaternion", "same_leading_shape",
            "MAX_GYRO_RAD_S", "check_gyro_units", "check_accel_units", "number_in_range", "angle_pair_deg", "choice",
            "merge_parameters", "DEG", "DEG_S", "DEG_H", "DEG_RT_H", "ARCSEC", "G", "MG", "UG", "SensorGrade",
-           "GRADES", "sensor_grade", "grade_names", "stream_key", "trial_rng", "stream_rng"]
+           "GRADES", "sensor_grade", "grade_names", "stream_key", "trial_rng", "stream_rng", "jit", "component_major"]
