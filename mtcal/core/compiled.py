@@ -55,9 +55,10 @@ def jit(fn=None, *, parallel: bool = False):
 
     Examples
     --------
-    >>> @jit
-    ... def twice(x):
-    ...     return 2.0 * x
+    >>> import warnings
+    >>> with warnings.catch_warnings():
+    ...     warnings.simplefilter("ignore")  # a function typed at a prompt has no file to cache against
+    ...     twice = jit(lambda x: 2.0 * x)
     >>> twice(1.5)
     3.0
     """
