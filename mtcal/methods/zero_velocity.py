@@ -32,7 +32,8 @@ __all__ = ["ZvdParams", "moving_variance", "detect_static", "rest_intervals"]
 
 @dataclass(frozen=True)
 class ZvdParams:
-    """ZVD thresholds; defaults are wang2022sensors Table 1 (``wang2022sensors_table01_zvd_params.csv``).
+    """ZVD thresholds; defaults are wang2022sensors Table 1 (checked against the transcribed table by
+    :func:`mtcal.studies.wang2022sensors.scenario.table1_zvd_params`).
 
     Parameters
     ----------
@@ -76,18 +77,6 @@ class ZvdParams:
             positive_scalar(self.gyro_max_rad_s, "gyro_max_rad_s")
         if int(self.min_window_samples) < 2:
             raise ValueError(f"min_window_samples must be >= 2, got {self.min_window_samples}")
-
-    @classmethod
-    def from_paper(cls) -> "ZvdParams":
-        """Table 1 as transcribed in ``paper_data/wang2022sensors_table01_zvd_params.csv``."""
-        from mtcal.reporting import paper_numbers as paper
-
-        name = "wang2022sensors_table01_zvd_params"
-        return cls(accel_min_m_s2=paper.value(name, "value", symbol="th_a_min"),
-                   accel_max_m_s2=paper.value(name, "value", symbol="th_a_max"),
-                   var_threshold_m2_s4=paper.value(name, "value", symbol="th_zeta_a"),
-                   window_s=paper.value(name, "value", symbol="t_w"),
-                   min_duration_s=paper.value(name, "value", symbol="th_t"))
 
     def window_samples(self, fs_hz: float) -> int:
         """Variance window ``n_w = max(round(t_w fs), min_window_samples)``."""

@@ -28,7 +28,7 @@ from mtcal.core.units import DEG, DEG_H, DEG_RT_H
 from mtcal.core.validate import STANDARD_GRAVITY_M_S2, merge_parameters, positive_int, positive_scalar
 from mtcal.methods import large_angle, quaternion_lsq
 from mtcal.reporting import compare
-from mtcal.reporting import paper_numbers as paper
+from mtcal.reporting import paper_numbers
 
 __all__ = ["PARAMETER_DEFAULTS", "SIZE_DEFAULTS", "PAPER_SIX_POSITIONS_DEG", "below", "display_round",
            "resolve_parameters", "euler_convention_check", "axis_assignment_table", "eq4_coupling_table",
@@ -227,7 +227,7 @@ def printed_matrices_table() -> dict:
     """wang2023cja errata 1 and 11: determinant, orthogonality and diagonal of the printed matrices."""
     recs, mats = [], {}
     for name in ("turntable", "windtunnel"):
-        df = paper.load(f"wang2023cja_matrix_qbs_{name}")
+        df = paper_numbers.load(f"wang2023cja_matrix_qbs_{name}")
         m = df.select_dtypes("number").to_numpy()[:, -4:]
         mats[name] = m
         recs.append({"matrix": name, "det": float(np.linalg.det(m)),

@@ -9,7 +9,9 @@ from mtcal.methods.zero_velocity import ZvdParams, detect_static, moving_varianc
 
 
 def test_table1_defaults_match_paper_csv():
-    assert ZvdParams.from_paper() == ZvdParams()
+    from mtcal.studies.wang2022sensors.scenario import table1_zvd_params
+
+    assert table1_zvd_params() == ZvdParams()
 
 
 def test_moving_variance_matches_loop(rng):

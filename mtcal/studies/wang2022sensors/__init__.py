@@ -12,7 +12,8 @@ defaults), :mod:`.runs` (simulation and Monte Carlo pipelines on resolved values
 
 from . import artifacts, error_model, plots, runs, scenario
 from .scenario import (AhrsImu, ERROR_PRIORS, gravity0, ImuValues, labels, lever_arm_vector, PAPER_AXIS_FIG11,
-                       PARAMETER_DEFAULTS, RigSetup, RigValues, Scenario, scenario_from_parameters, table4_axes)
+                       PARAMETER_DEFAULTS, RigSetup, RigValues, Scenario, scenario_from_parameters, table1_zvd_params,
+                       table4_axes)
 from .runs import (ahrs_sweep_metrics, axis_errors, DriftResult, Fig11Result, Fig9Result, ImuSpec, RotationRecord,
                    RotationSetup, run_drift, run_fig11, run_fig9, run_zvd_demo, SimBatch, simulate_batch,
                    simulate_rotation, sweep_metrics, sweep_profile, SweepMetrics, trapezoid_profile, ZvdDemo)
@@ -30,4 +31,4 @@ __all__ = ["scenario", "runs", "error_model", "artifacts", "plots", "PAPER_AXIS_
            "fig06_zvd", "table02_sensors", "fig12_gravity_change", "table04_axes", "extra_axis_error_vs_rest",
            "fig09_ekf_switching", "fig11_max_error", "ErrorModelFit", "extra_table3_sensitivity", "fit_error_model",
            "error_model_priors_table", "extra_error_model", "outside_reasons", "table05_rmse", "fig13_drift",
-           "fig14_max_error_per_angle"]
+           "fig14_max_error_per_angle", "table1_zvd_params"]

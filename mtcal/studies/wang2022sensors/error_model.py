@@ -37,7 +37,7 @@ import numpy as np
 import pandas as pd
 
 from mtcal.core.units import DEG, UG
-from mtcal.reporting import paper_numbers as paper
+from mtcal.reporting import paper_numbers
 
 from .runs import ahrs_sweep_metrics, sweep_metrics
 from .scenario import ERROR_PRIORS, AhrsImu, Scenario, lever_arm_vector, table4_axes
@@ -75,7 +75,7 @@ DISCREPANCY_LOG_SD = 0.15
 
 def paper_table5() -> dict[tuple[str, str, str], float]:
     """Table 5 as {(axis, our system name, "static"/"dynamic"): RMSE in deg}."""
-    df = paper.load("wang2022sensors_table05_rmse")
+    df = paper_numbers.load("wang2022sensors_table05_rmse")
     out = {}
     for r in df.itertuples():
         out[(r.rotation_axis, SYSTEMS[r.system], "static")] = float(r.rmse_static_deg)
