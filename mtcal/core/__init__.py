@@ -22,8 +22,8 @@ from .metrics import (allan_deviation, angle_difference, bootstrap_medians, fit_
                       percentile_band, rmse, split_static_moving)
 from .montecarlo import ChunkConsumer, ErrorAccumulator, progress, progress_enabled, run_streaming
 from .validate import (angle_pair_deg, angle_rad, as_float_array, check_accel_units, check_gyro_units, choice,
-                       MAX_GYRO_RAD_S, merge_parameters, number_in_range, positive_int, positive_scalar,
-                       same_leading_shape, time_vector, unit_quaternion)
+                       MAX_GYRO_RAD_S, MAX_SAMPLE_INTERVAL_S, merge_parameters, number_in_range, positive_int,
+                       positive_scalar, same_leading_shape, sample_interval, time_vector, unit_quaternion)
 from .units import ARCSEC, DEG, DEG_H, DEG_RT_H, DEG_S, G, MG, STANDARD_GRAVITY_M_S2, UG
 from .sensor_grades import grade_names, GRADES, sensor_grade, SensorGrade
 from .rng import stream_key, stream_rng, trial_rng
@@ -44,5 +44,6 @@ __all__ = ["rotations", "simulate", "profiles", "metrics", "montecarlo", "valida
            "ErrorAccumulator", "run_streaming", "progress_enabled", "STANDARD_GRAVITY_M_S2", "as_float_array",
            "positive_scalar", "positive_int", "time_vector", "angle_rad", "unit_quaternion", "same_leading_shape",
            "MAX_GYRO_RAD_S", "check_gyro_units", "check_accel_units", "number_in_range", "angle_pair_deg", "choice",
-           "merge_parameters", "DEG", "DEG_S", "DEG_H", "DEG_RT_H", "ARCSEC", "G", "MG", "UG", "SensorGrade",
-           "GRADES", "sensor_grade", "grade_names", "stream_key", "trial_rng", "stream_rng", "jit", "component_major"]
+           "merge_parameters", "sample_interval", "MAX_SAMPLE_INTERVAL_S", "DEG", "DEG_S", "DEG_H", "DEG_RT_H",
+           "ARCSEC", "G", "MG", "UG", "SensorGrade", "GRADES", "sensor_grade", "grade_names", "stream_key",
+           "trial_rng", "stream_rng", "jit", "component_major"]

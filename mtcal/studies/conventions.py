@@ -330,7 +330,7 @@ def allan_check(arw_rad_s_rt_hz: float, rrw_rad_s_rt_s: float, fs_hz: float, hou
     static = simulate.Trajectory(t, np.tile([1.0, 0.0, 0.0, 0.0], (t.size, 1)))
     model = simulate.ImuErrorModel(gyro=simulate.SensorErrors(noise_density=n_density, bias_random_walk=k_rrw))
     rec = simulate.simulate_imu(static, model, np.random.default_rng(seed), trials=positive_int(trials, "trials"))
-    taus, adev = metrics.allan_deviation(np.moveaxis(rec.gyro_rad_s, -1, 1), fs)
+    taus, adev = metrics.allan_deviation(np.moveaxis(rec.gyro_rad_s, -1, 1), 1.0 / fs)
     fit = metrics.fit_allan_noise(taus, adev, flat_term=False)
     n_ratio, k_ratio = fit["N"] / n_density, fit["K"] / k_rrw
     rows = [compare.comparison_row("conventions_allan", "Allan N recovered / configured", 1.0, float(n_ratio),
