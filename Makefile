@@ -22,7 +22,7 @@ export PYTHONHASHSEED := 0
 export MTCAL_PROGRESS := 0
 export PYDEVD_DISABLE_FILE_VALIDATION := 1
 # CPU-independent floating point, the same on every x86-64 CPU (docs: ENVIRONMENT.md;
-# equal to mtcal.reporting.runs.numerics_env(), tested): one BLAS thread, one OpenBLAS
+# equal to mtcal.runs.environment.numerics_env(), tested): one BLAS thread, one OpenBLAS
 # kernel set, numpy's baseline loops (no AVX-512 SVML), glibc's SSE2 libm (no FMA variants).
 export OPENBLAS_NUM_THREADS := 1
 export OMP_NUM_THREADS := 1

@@ -112,8 +112,8 @@ class Trajectory:
         q = unit_quaternion(self.q_wb, "q_wb")
         if q.ndim != 2 or q.shape[0] != t.size:
             raise ValueError(f"q_wb must have shape ({t.size}, 4) to match time_s, got {q.shape}")
-        acc = np.zeros((t.size, 3)) if self.accel_w_m_s2 is None else \
-            as_float_array(self.accel_w_m_s2, "accel_w_m_s2", ndim=2, last_dim=3)
+        acc = (np.zeros((t.size, 3)) if self.accel_w_m_s2 is None
+               else as_float_array(self.accel_w_m_s2, "accel_w_m_s2", ndim=2, last_dim=3))
         if acc.shape[0] != t.size:
             raise ValueError(f"accel_w_m_s2 must have shape ({t.size}, 3), got {acc.shape}")
         uniform_dt(t)

@@ -214,8 +214,8 @@ def number_in_range(name: str, value, lo: float, hi: float, unit: str) -> float:
     ...
     ValueError: fs_hz must be a number in [100.0, 10000.0] Hz, got -1.0
     """
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)) \
-            or not np.isfinite(value) or not lo <= float(value) <= hi:
+    if (isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating))
+            or not np.isfinite(value) or not lo <= float(value) <= hi):
         raise ValueError(f"{name} must be a number in [{lo}, {hi}] {unit}, got {value!r}")
     return float(value)
 
