@@ -120,6 +120,32 @@ def test_mtcal_imports_only_point_down_the_layers():
     assert not violations, "imports pointing up a layer:\n" + "\n".join(violations)
 
 
+def test_package_inits_import_names_explicitly():
+    """No ``from .x import *`` and no ``sys.modules`` rebinding: every re-exported name is listed."""
+    for path in sorted((ROOT / "mtcal").rglob("__init__.py")):
+        tree = ast.parse(path.read_text(encoding="utf-8"))
+        stars = [n.lineno for n in ast.walk(tree)
+                 if isinstance(n, ast.ImportFrom) and any(a.name == "*" for a in n.names)]
+        assert not stars, f"{path.relative_to(ROOT)}: star import at lines {stars}"
+        assert "sys.modules" not in path.read_text(encoding="utf-8"), f"{path.relative_to(ROOT)} rebinds sys.modules"
+
+
+def test_no_private_name_is_imported_from_another_module():
+    """``from mtcal.a import _b`` only for a private *module* of the importer's own package."""
+    graph_files = {module_name(p, ROOT / "mtcal"): p for p in (ROOT / "mtcal").rglob("*.py")}
+    bad = []
+    for mod, path in sorted(graph_files.items()):
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if not isinstance(node, ast.ImportFrom) or node.level or not (node.module or "").startswith("mtcal"):
+                continue
+            for alias in node.names:
+                target = f"{node.module}.{alias.name}"
+                own_private_module = target in graph_files and node.module == mod.rpartition(".")[0]
+                if alias.name.startswith("_") and not own_private_module:
+                    bad.append(f"{mod}:{node.lineno} imports {target}")
+    assert not bad, "private names imported across modules:\n" + "\n".join(bad)
+
+
 # ------------------------------------------------------------------ the checker on a tiny fake package
 def _package(tmp_path: Path, files: dict[str, str]) -> Path:
     root = tmp_path / "mtcal"
