@@ -22,7 +22,7 @@ export PYTHONHASHSEED := 0
 export MTCAL_PROGRESS := 0
 export PYDEVD_DISABLE_FILE_VALIDATION := 1
 # CPU-independent floating point, the same on every x86-64 CPU (docs: ENVIRONMENT.md;
-# equal to mtcal.reporting.runs.numerics_env(), tested): one BLAS thread, one OpenBLAS
+# equal to mtcal.runs.environment.numerics_env(), tested): one BLAS thread, one OpenBLAS
 # kernel set, numpy's baseline loops (no AVX-512 SVML), glibc's SSE2 libm (no FMA variants).
 export OPENBLAS_NUM_THREADS := 1
 export OMP_NUM_THREADS := 1
@@ -46,7 +46,7 @@ JOBS ?= 2
 $(STAMP): pyproject.toml constraints.txt
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --disable-pip-version-check -c constraints.txt -e '.[dev]'
-	$(BIN)/python -c "from mtcal.filters._kernels_common import warm_up_all; warm_up_all()"
+	$(BIN)/python -c "from mtcal.filters.kernels import warm_up_all; warm_up_all()"
 	touch $(STAMP)
 
 venv: $(STAMP)

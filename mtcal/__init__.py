@@ -8,11 +8,18 @@ Layers (each a subpackage, imports only point downwards):
   quaternion, constrained fits, six-position procedure, large-angle accelerometer
   attitude, gyro roll, rotation axis, zero-velocity detection)
 * :mod:`mtcal.filters` — QNCF, RAMS EKF, baselines
+* :mod:`mtcal.systems` — the papers' measurement procedures
+* :mod:`mtcal.reporting` — the papers' numbers, comparison with bands, output files
+  (imports only ``core``; the studies build their comparison rows with it)
 * :mod:`mtcal.studies` — one package per paper: ``wang2023cja``, ``tan2022``,
   ``wang2022sensors``
-* :mod:`mtcal.reporting` — the papers' numbers, comparison with bands, output files
 * :mod:`mtcal.sweep` — parameter sweeps (trade studies) on local cores or a Dask cluster
+* :mod:`mtcal.runs` — notebook execution, what-if runs and their comparison
 * :mod:`mtcal.cli` — the ``mtcal`` command
+
+Order, lowest first: core < methods < filters < systems < reporting < studies < sweep <
+runs < cli (``tests/test_import_graph.py`` checks it and that no import cycle exists).
+``studies``, ``sweep``, ``runs`` and ``cli`` are loaded on first use, not by ``import mtcal``.
 
 The most used names are re-exported here:
 
@@ -37,7 +44,7 @@ from mtcal.reporting.paper_numbers import load as load_paper_table
 __version__ = "0.2.0"
 
 __all__ = [
-    "core", "methods", "filters", "reporting", "studies", "cli", "sweep",
+    "core", "methods", "filters", "reporting", "studies", "sweep", "runs", "cli",
     "quat_from_euler_zxy", "euler_zxy_from_quat", "quat_multiply", "quat_conjugate", "quat_to_matrix",
     "Trajectory", "SensorErrors", "ImuErrorModel", "ImuRecord", "ImuStream", "simulate_imu",
     "angle_difference", "rmse", "max_abs_error", "percentile_band",
@@ -47,8 +54,8 @@ __all__ = [
 ]
 
 
-def __getattr__(name):  # lazy: studies and cli pull in pandas/matplotlib/argparse only when asked
-    if name in ("studies", "cli", "sweep"):
+def __getattr__(name):  # lazy: studies, sweep, runs and cli pull in pandas/matplotlib/argparse only when asked
+    if name in ("studies", "sweep", "runs", "cli"):
         import importlib
 
         return importlib.import_module(f"mtcal.{name}")

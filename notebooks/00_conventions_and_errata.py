@@ -36,11 +36,11 @@ allan_fs_hz = 10.0  # sample rate of the static Allan records (Hz)
 from IPython.display import display
 
 from mtcal.core.units import DEG
-from mtcal.reporting import compare, output as report
+from mtcal.reporting import compare, output
 from mtcal.studies import conventions
 
-SIZE = report.run_size(SIZE)
-report.setup_matplotlib()
+SIZE = output.run_size(SIZE)
+output.setup_matplotlib()
 params = {"installation_error_deg": installation_error_deg, "delta_accel_g": delta_accel_g,
           "gyro_arw_deg_rt_h": gyro_arw_deg_rt_h, "gyro_rrw_deg_h_rt_h": gyro_rrw_deg_h_rt_h,
           "allan_fs_hz": allan_fs_hz}
@@ -74,7 +74,7 @@ rows += euler["rows"]
 # %%
 # NBVAL_CHECK_OUTPUT
 axes = conventions.axis_assignment_table(10.0)
-report.show_table(axes["table"], "{:.3f}")
+output.show_table(axes["table"], "{:.3f}")
 rows += axes["rows"]
 
 # %% [markdown]
@@ -93,7 +93,7 @@ rows += axes["rows"]
 # %%
 # NBVAL_CHECK_OUTPUT
 eq4 = conventions.eq4_coupling_table(run["installation_error_rad"])
-report.show_table(eq4["table"], "{:.5f}")
+output.show_table(eq4["table"], "{:.5f}")
 print(f"α = {', '.join(f'{a:g}' for a in installation_error_deg)} deg: "
       f"max |exact − corrected| = {eq4['max_err_corrected_rad'] / DEG:.2e} deg (second order), "
       f"max |exact − printed| = {eq4['max_err_printed_rad'] / DEG:.2e} deg (sign error)")
@@ -114,7 +114,7 @@ rows += eq4["rows"]
 # %%
 # NBVAL_CHECK_OUTPUT
 eq13 = conventions.eq13_position_count()
-report.show_table(eq13["table"])
+output.show_table(eq13["table"])
 print("least_squares_error_matrix with 3 positions:",
       "accepted" if eq13["three_accepted"] else f"ValueError ({eq13['message']})")
 rows += eq13["rows"]
@@ -130,7 +130,7 @@ rows += eq13["rows"]
 # %%
 # NBVAL_CHECK_OUTPUT
 matrices = conventions.printed_matrices_table()
-report.show_table(matrices["table"], "{:+.6f}")
+output.show_table(matrices["table"], "{:+.6f}")
 rows += matrices["rows"]
 
 # %% [markdown]
@@ -154,7 +154,7 @@ print(f"ΔA = {delta_accel_g:.1e} g: max |Δθ| from perturbation {eq3['max_abs_
 print(f"max |perturbation − corrected| / max: {eq3['rel_err_corrected']:.1e}")
 print(f"max |perturbation − printed|   / max: {eq3['rel_err_printed']:.3f}")
 rows += eq3["rows"]
-display(report.save_figure(conventions.eq3_erratum_figure(eq3), "conventions_eq3_erratum"))
+display(output.save_figure(conventions.eq3_erratum_figure(eq3), "conventions_eq3_erratum"))
 
 # %% [markdown]
 # The printed Eq 3 gets the large-pitch region wrong (it predicts the roll
@@ -170,7 +170,7 @@ display(report.save_figure(conventions.eq3_erratum_figure(eq3), "conventions_eq3
 # %%
 # NBVAL_CHECK_OUTPUT
 eq1 = conventions.eq1_orthogonality_table((30.0, 40.0, 50.0))
-report.show_table(eq1["table"], "{:.3f}")
+output.show_table(eq1["table"], "{:.3f}")
 rows += eq1["rows"]
 
 # %% [markdown]
@@ -190,7 +190,7 @@ allan = conventions.allan_check(run["gyro_arw_rad_s_rt_hz"], run["gyro_rrw_rad_s
 print(f"N: recovered / configured = {allan['n_ratio']:.3f}")
 print(f"K: recovered / configured = {allan['k_ratio']:.3f}")
 rows += allan["rows"]
-display(report.save_figure(conventions.allan_figure(allan), "conventions_allan"))
+display(output.save_figure(conventions.allan_figure(allan), "conventions_allan"))
 
 # %% [markdown]
 # ## conventions_comparison — Summary: paper vs mtcal
@@ -203,6 +203,6 @@ display(report.save_figure(conventions.allan_figure(allan), "conventions_allan")
 
 # %%
 table = compare.comparison_table(rows)
-report.show_table(table)
-report.save_table(table, "conventions_comparison")
+output.show_table(table)
+output.save_table(table, "conventions_comparison")
 print(compare.check_claims(table, enforce=compare.at_paper_settings(params, conventions.PARAMETER_DEFAULTS)))

@@ -30,17 +30,17 @@ turntable_rate_deg_s = 20.0           # assumed mean move rate
 
 # %%
 import numpy as np
-from mtcal.reporting import compare, output as report
+from mtcal.reporting import compare, output
 from mtcal.studies import wang2023cja as w
 
-SIZE = report.run_size(SIZE)
+SIZE = output.run_size(SIZE)
 N_TRIALS = N_TRIALS or {"ci": 4, "full": 40}[SIZE]
 N_BUDGET = {"ci": 1, "full": 4}[SIZE]
 params = dict(gyro_grade=gyro_grade, accel_grade=accel_grade, fs_hz=fs_hz, rest_s=rest_s,
               yaw_positions_deg=yaw_positions_deg, pitch_positions_deg=pitch_positions_deg,
               roll_positions_deg=roll_positions_deg, turntable_rate_deg_s=turntable_rate_deg_s)
 AT_PAPER = compare.at_paper_settings(params, w.TURNTABLE_DEFAULTS)
-report.setup_matplotlib()
+output.setup_matplotlib()
 
 # %% [markdown]
 # ## wang2023cja_extra_installation_fit — installation angles from the "before" columns of Tables 1–4
@@ -54,8 +54,8 @@ report.setup_matplotlib()
 # %%
 # NBVAL_CHECK_OUTPUT
 fit_table = w.installation_fit_table()
-report.save_table(fit_table, "wang2023cja_extra_installation_fit")
-report.show_table(fit_table)
+output.save_table(fit_table, "wang2023cja_extra_installation_fit")
+output.show_table(fit_table)
 assert (fit_table.fit_rms_roll_flipped_deg < 0.4 * fit_table.fit_rms_eq8_as_printed_deg).all()
 
 # %% [markdown]
@@ -66,8 +66,8 @@ assert (fit_table.fit_rms_roll_flipped_deg < 0.4 * fit_table.fit_rms_eq8_as_prin
 # %%
 # NBVAL_CHECK_OUTPUT
 q33 = w.printed_matrix_check()
-report.save_table(q33, "wang2023cja_extra_q33_roll")
-report.show_table(q33, "{:+.3f}")
+output.save_table(q33, "wang2023cja_extra_q33_roll")
+output.show_table(q33, "{:+.3f}")
 flipped = q33[q33.matrix == "printed"]
 assert (flipped.det < 0).all() and (np.abs(np.abs(flipped.roll_deg) - 90) < 0.1).all()
 assert (np.sign(flipped.roll_deg) != np.sign(flipped.roll_in_deg)).all()
@@ -86,8 +86,8 @@ assert (np.sign(flipped.roll_deg) != np.sign(flipped.roll_in_deg)).all()
 # %%
 fit = w.fit_error_model(seed=SEED)
 em_table = w.error_model_table(fit)
-report.save_table(em_table, "wang2023cja_extra_error_model")
-report.show_table(em_table.drop(columns="source"), "{:.4g}")
+output.save_table(em_table, "wang2023cja_extra_error_model")
+output.show_table(em_table.drop(columns="source"), "{:.4g}")
 print(f"log-likelihood of the {fit.n_train} training numbers: fitted {fit.loglik:.1f}, prior nominal {fit.loglik_prior:.1f}")
 assert fit.loglik > fit.loglik_prior
 assert ((em_table.fitted >= em_table.prior_low) & (em_table.fitted <= em_table.prior_high)).all()
@@ -137,8 +137,8 @@ run = runs["fitted"]
 
 # %%
 for i, test in enumerate(("T1", "T2", "T3", "T4")):
-    report.save_table(w.positions_table(test, run[test]), f"wang2023cja_table{i + 1:02d}")
-report.show_table(w.positions_table("T1", run["T1"]), "{:.3f}")
+    output.save_table(w.positions_table(test, run[test]), f"wang2023cja_table{i + 1:02d}")
+output.show_table(w.positions_table("T1", run["T1"]), "{:.3f}")
 print(w.section_claims(tables["fitted"], "wang2023cja_table01", enforce=AT_PAPER))
 
 # %% [markdown]
@@ -146,21 +146,21 @@ print(w.section_claims(tables["fitted"], "wang2023cja_table01", enforce=AT_PAPER
 # The roll rows at ±90° carry the mount compliance: the paper's +0.139/−0.136 overshoot.
 
 # %%
-report.show_table(w.positions_table("T2", run["T2"]), "{:.3f}")
+output.show_table(w.positions_table("T2", run["T2"]), "{:.3f}")
 print(w.section_claims(tables["fitted"], "wang2023cja_table02", enforce=AT_PAPER))
 
 # %% [markdown]
 # ## wang2023cja_table03 — large pitch and roll installation errors (Table 3)
 
 # %%
-report.show_table(w.positions_table("T3", run["T3"]), "{:.3f}")
+output.show_table(w.positions_table("T3", run["T3"]), "{:.3f}")
 print(w.section_claims(tables["fitted"], "wang2023cja_table03", enforce=AT_PAPER))
 
 # %% [markdown]
 # ## wang2023cja_table04 — all three installation errors large (Table 4)
 
 # %%
-report.show_table(w.positions_table("T4", run["T4"]), "{:.3f}")
+output.show_table(w.positions_table("T4", run["T4"]), "{:.3f}")
 print(w.section_claims(tables["fitted"], "wang2023cja_table04", enforce=AT_PAPER))
 
 # %% [markdown]
@@ -173,8 +173,8 @@ print(w.section_claims(tables["fitted"], "wang2023cja_table04", enforce=AT_PAPER
 
 # %%
 t5 = w.sweep_mean_table("wang2023cja_table05", run["T1"].sweeps["aoa"], "pitch")
-report.save_table(t5, "wang2023cja_table05")
-report.show_table(t5, "{:.3f}")
+output.save_table(t5, "wang2023cja_table05")
+output.show_table(t5, "{:.3f}")
 print(w.section_claims(tables["fitted"], "wang2023cja_table05", enforce=AT_PAPER))
 
 # %% [markdown]
@@ -183,7 +183,7 @@ print(w.section_claims(tables["fitted"], "wang2023cja_table05", enforce=AT_PAPER
 
 # %%
 from mtcal.studies.wang2023cja import plots
-report.save_figure(plots.fig07(run["T1"], sc.imu.grade_label), "wang2023cja_fig07")
+output.save_figure(plots.fig07(run["T1"], sc.imu.grade_label), "wang2023cja_fig07")
 print(w.section_claims(tables["fitted"], "wang2023cja_fig07", enforce=AT_PAPER))
 
 # %% [markdown]
@@ -194,8 +194,8 @@ print(w.section_claims(tables["fitted"], "wang2023cja_fig07", enforce=AT_PAPER))
 
 # %%
 t6 = w.error_metric_table("wang2023cja_table06", run["T1"].sweeps["aoa"], ((2, "roll"), (0, "yaw")))
-report.save_table(t6, "wang2023cja_table06")
-report.show_table(t6)
+output.save_table(t6, "wang2023cja_table06")
+output.show_table(t6)
 print(w.section_claims(tables["fitted"], "wang2023cja_table06", enforce=AT_PAPER))
 
 # %% [markdown]
@@ -204,15 +204,15 @@ print(w.section_claims(tables["fitted"], "wang2023cja_table06", enforce=AT_PAPER
 
 # %%
 t7 = w.sweep_mean_table("wang2023cja_table07", run["T1"].sweeps["roll"], "roll", sign=w.PAPER_SIGN[2])
-report.save_table(t7, "wang2023cja_table07")
-report.show_table(t7, "{:.3f}")
+output.save_table(t7, "wang2023cja_table07")
+output.show_table(t7, "{:.3f}")
 print(w.section_claims(tables["fitted"], "wang2023cja_table07", enforce=AT_PAPER))
 
 # %% [markdown]
 # ## wang2023cja_fig08 — pitch and yaw errors in the roll sweep, before vs after (paper Fig 8)
 
 # %%
-report.save_figure(plots.fig08(run["T1"], sc.imu.grade_label), "wang2023cja_fig08")
+output.save_figure(plots.fig08(run["T1"], sc.imu.grade_label), "wang2023cja_fig08")
 print(w.section_claims(tables["fitted"], "wang2023cja_fig08", enforce=AT_PAPER))
 
 # %% [markdown]
@@ -222,8 +222,8 @@ print(w.section_claims(tables["fitted"], "wang2023cja_fig08", enforce=AT_PAPER))
 
 # %%
 t8 = w.error_metric_table("wang2023cja_table08", run["T1"].sweeps["roll"], ((1, "pitch"), (0, "yaw")))
-report.save_table(t8, "wang2023cja_table08")
-report.show_table(t8)
+output.save_table(t8, "wang2023cja_table08")
+output.show_table(t8)
 print(w.section_claims(tables["fitted"], "wang2023cja_table08", enforce=AT_PAPER))
 
 # %% [markdown]
@@ -235,8 +235,8 @@ print(w.section_claims(tables["fitted"], "wang2023cja_table08", enforce=AT_PAPER
 
 # %%
 budget = w.error_budget_table(sc, "T2", N_BUDGET, SEED)
-report.save_table(budget, "wang2023cja_extra_error_budget")
-report.show_table(budget, "{:.5f}")
+output.save_table(budget, "wang2023cja_extra_error_budget")
+output.show_table(budget, "{:.5f}")
 assert budget.set_index("source").loc["none", "after_max_deg"] < 1e-6
 
 # %% [markdown]
@@ -246,9 +246,9 @@ assert budget.set_index("source").loc["none", "after_max_deg"] < 1e-6
 # datasheet nominal values, no mount compliance) is the same simulation before seeing Tables 1–4.
 
 # %%
-report.save_table(tables["fitted"], "wang2023cja_turntable_comparison")
-report.save_table(tables["prior"], "wang2023cja_extra_turntable_comparison_prior_only")
-report.show_table(tables["fitted"])
+output.save_table(tables["fitted"], "wang2023cja_turntable_comparison")
+output.save_table(tables["prior"], "wang2023cja_extra_turntable_comparison_prior_only")
+output.show_table(tables["fitted"])
 for name, table in tables.items():
     print(f"{name:7s} model: {compare.prediction_summary(table)}")
 
@@ -269,6 +269,6 @@ for name, table in tables.items():
 #   outside; the counts quoted in the closing note are those of the full run.
 
 # %%
-report.show_table(w.outside_rows(tables["fitted"]))
+output.show_table(w.outside_rows(tables["fitted"]))
 print(compare.check_claims(tables["fitted"], enforce=False))
 print(compare.check_claims(w.asserted(tables["fitted"]), enforce=AT_PAPER))

@@ -40,21 +40,21 @@ vibration_accel_m_s2 = 3.0       # model vibration with wind on (assumed; trips 
 
 # %%
 import numpy as np
-from mtcal.reporting import compare, output as report
+from mtcal.reporting import compare, output
 from mtcal.studies import wang2023cja as w
 
-SIZE = report.run_size(SIZE)
+SIZE = output.run_size(SIZE)
 N_TRIALS = N_TRIALS or {"ci": 4, "full": 40}[SIZE]
 params = dict(gyro_grade=gyro_grade, accel_grade=accel_grade, fs_hz=fs_hz, rest_s=rest_s,
               mechanism_rate_deg_s=mechanism_rate_deg_s, group5_rate_deg_s=group5_rate_deg_s,
               vibration_accel_m_s2=vibration_accel_m_s2)
 AT_PAPER = compare.at_paper_settings(params, w.WINDTUNNEL_DEFAULTS)
-report.setup_matplotlib()
+output.setup_matplotlib()
 fit = w.fit_error_model(seed=SEED)
 scenarios = {"fitted": w.windtunnel_scenario(errors=fit.model, **params),
              "prior": w.windtunnel_scenario(errors=w.ErrorModel(), **params)}
 sc = scenarios["fitted"]
-report.show_table(compare.describe(sc))
+output.show_table(compare.describe(sc))
 
 # %% [markdown]
 # ## Runs (fitted model and prior-only model; trials in blocks of 10 to bound memory)
@@ -92,8 +92,8 @@ noise_only = w.q22_noise_band(fit.model, w.windtunnel_positions(sc), seed=SEED)
 print(f"pitch-ratio error fitted to the printed Q(2,2): {sc.pitch_ratio_error:+.6f}")
 print(f"Q(2,2) from rest errors alone: median {noise_only['median']:.5f} [{noise_only['low']:.5f}, {noise_only['high']:.5f}]")
 assert not noise_only["low"] <= 1.004462 <= noise_only["high"]
-report.save_table(w.windtunnel_matrix_table(run), "wang2023cja_extra_windtunnel_matrix")
-report.show_table(w.windtunnel_matrix_table(run), "{:+.6f}")
+output.save_table(w.windtunnel_matrix_table(run), "wang2023cja_extra_windtunnel_matrix")
+output.show_table(w.windtunnel_matrix_table(run), "{:+.6f}")
 print(w.section_claims(tables["fitted"], "wang2023cja_matrix_qbs_windtunnel", enforce=AT_PAPER))
 
 # %% [markdown]
@@ -103,8 +103,8 @@ print(w.section_claims(tables["fitted"], "wang2023cja_matrix_qbs_windtunnel", en
 
 # %%
 t9 = w.sweep_mean_table("wang2023cja_table09", run.nowind, "pitch")
-report.save_table(t9, "wang2023cja_table09")
-report.show_table(t9, "{:.3f}")
+output.save_table(t9, "wang2023cja_table09")
+output.show_table(t9, "{:.3f}")
 print(w.section_claims(tables["fitted"], "wang2023cja_table09", enforce=AT_PAPER))
 
 # %% [markdown]
@@ -117,7 +117,7 @@ print(w.section_claims(tables["fitted"], "wang2023cja_table09", enforce=AT_PAPER
 
 # %%
 from mtcal.studies.wang2023cja import plots
-report.save_figure(plots.fig10(run, sc.imu.grade_label, (mechanism_rate_deg_s, group5_rate_deg_s)), "wang2023cja_fig10")
+output.save_figure(plots.fig10(run, sc.imu.grade_label, (mechanism_rate_deg_s, group5_rate_deg_s)), "wang2023cja_fig10")
 print(w.section_claims(tables["fitted"], "wang2023cja_fig10", enforce=AT_PAPER))
 
 # %% [markdown]
@@ -126,7 +126,7 @@ print(w.section_claims(tables["fitted"], "wang2023cja_fig10", enforce=AT_PAPER))
 # so the QNCF runs gyro-only during the wind-on sweeps (the `AMD gate` row of Table 10).
 
 # %%
-report.save_figure(plots.extra_amd(run, sc.qncf.amd_threshold_pct, vibration_accel_m_s2), "wang2023cja_extra_amd")
+output.save_figure(plots.extra_amd(run, sc.qncf.amd_threshold_pct, vibration_accel_m_s2), "wang2023cja_extra_amd")
 
 # %% [markdown]
 # ## wang2023cja_table10 — five wind-on groups: Mean, elastic-corrected, Std (Table 10)
@@ -135,15 +135,15 @@ report.save_figure(plots.extra_amd(run, sc.qncf.amd_threshold_pct, vibration_acc
 
 # %%
 t10 = w.table10(run, sc.wind_on_sweep_deg)
-report.save_table(t10, "wang2023cja_table10")
-report.show_table(t10.pivot(index="row", columns="reference", values="mtcal").reset_index(), "{:.3f}")
+output.save_table(t10, "wang2023cja_table10")
+output.show_table(t10.pivot(index="row", columns="reference", values="mtcal").reset_index(), "{:.3f}")
 print(w.section_claims(tables["fitted"], "wang2023cja_table10", enforce=AT_PAPER))
 
 # %% [markdown]
 # ## wang2023cja_fig11 — roll and yaw errors in the wind-off sweep, before vs after (paper Fig 11)
 
 # %%
-report.save_figure(plots.fig11(run, sc.imu.grade_label), "wang2023cja_fig11")
+output.save_figure(plots.fig11(run, sc.imu.grade_label), "wang2023cja_fig11")
 
 # %% [markdown]
 # ## wang2023cja_table11 — MaxAE / RMSE of roll and yaw, wind off (Table 11, predicted)
@@ -154,8 +154,8 @@ report.save_figure(plots.fig11(run, sc.imu.grade_label), "wang2023cja_fig11")
 
 # %%
 t11 = w.error_metric_table("wang2023cja_table11", run.nowind, ((2, "roll"), (0, "yaw")))
-report.save_table(t11, "wang2023cja_table11")
-report.show_table(t11)
+output.save_table(t11, "wang2023cja_table11")
+output.show_table(t11)
 print(w.section_claims(tables["fitted"], "wang2023cja_table11", enforce=AT_PAPER))
 
 # %% [markdown]
@@ -165,9 +165,9 @@ print(w.section_claims(tables["fitted"], "wang2023cja_table11", enforce=AT_PAPER
 # mechanism (prior values, not fitted): the identified IMU error model changes little here.
 
 # %%
-report.save_table(tables["fitted"], "wang2023cja_windtunnel_comparison")
-report.save_table(tables["prior"], "wang2023cja_extra_windtunnel_comparison_prior_only")
-report.show_table(tables["fitted"])
+output.save_table(tables["fitted"], "wang2023cja_windtunnel_comparison")
+output.save_table(tables["prior"], "wang2023cja_extra_windtunnel_comparison_prior_only")
+output.show_table(tables["fitted"])
 for name, table in tables.items():
     print(f"{name:7s} model: {compare.prediction_summary(table)}")
 
@@ -182,6 +182,6 @@ for name, table in tables.items():
 # that size.
 
 # %%
-report.show_table(w.outside_rows(tables["fitted"]))
+output.show_table(w.outside_rows(tables["fitted"]))
 print(compare.check_claims(tables["fitted"], enforce=False))
 print(compare.check_claims(w.asserted(tables["fitted"]), enforce=AT_PAPER))

@@ -44,12 +44,12 @@ lambda2_deg = -135.0  # preset angle for θ > 0 (deg), Eq 9
 from IPython.display import display
 
 from mtcal.reporting import compare
-from mtcal.reporting import output as report
+from mtcal.reporting import output
 from mtcal.studies import tan2022
 from mtcal.studies.tan2022 import plots
 
-report.setup_matplotlib()
-SIZE = report.run_size(SIZE)
+output.setup_matplotlib()
+SIZE = output.run_size(SIZE)
 N_TRIALS = N_TRIALS or {"ci": 100, "full": 1000}[SIZE]
 params = {"accel_error_g": accel_error_g, "lambda1_deg": lambda1_deg, "lambda2_deg": lambda2_deg}
 sc = tan2022.accel_scenario(grid_step_deg={"ci": 3.0, "full": 1.0}[SIZE], **params)
@@ -73,8 +73,8 @@ print(f"{tan2022.accel_label(sc)} = {sc.delta_accel_m_s2:.4e} m/s²; λ1 = {sc.l
 art = tan2022.eq3_erratum(sc)
 print(*art.lines, sep="\n")
 rows += art.rows
-report.save_table(art.table, "tan2022_extra_eq3_erratum", float_format="%.8f")
-display(report.save_figure(plots.eq3_erratum(art), "tan2022_extra_eq3_erratum"))
+output.save_table(art.table, "tan2022_extra_eq3_erratum", float_format="%.8f")
+display(output.save_figure(plots.eq3_erratum(art), "tan2022_extra_eq3_erratum"))
 
 # %% [markdown]
 # ## tan2022_fig02 — pitch error |Δθ| of a three-axis accelerometer
@@ -87,8 +87,8 @@ display(report.save_figure(plots.eq3_erratum(art), "tan2022_extra_eq3_erratum"))
 art = tan2022.fig02(sc)
 print(*art.lines, sep="\n")
 rows += art.rows
-report.save_table(art.table, "tan2022_fig02", float_format="%.8f")
-display(report.save_figure(plots.fig02(art), "tan2022_fig02"))
+output.save_table(art.table, "tan2022_fig02", float_format="%.8f")
+display(output.save_figure(plots.fig02(art), "tan2022_fig02"))
 
 # %% [markdown]
 # ## tan2022_extra_roll_error — roll error of the same triad (Eq 4)
@@ -100,8 +100,8 @@ display(report.save_figure(plots.fig02(art), "tan2022_fig02"))
 art = tan2022.extra_roll_error(sc)
 print(*art.lines, sep="\n")
 rows += art.rows
-report.save_table(art.table, "tan2022_extra_roll_error", float_format="%.8f")
-display(report.save_figure(plots.extra_roll_error(art), "tan2022_extra_roll_error"))
+output.save_table(art.table, "tan2022_extra_roll_error", float_format="%.8f")
+display(output.save_figure(plots.extra_roll_error(art), "tan2022_extra_roll_error"))
 
 # %% [markdown]
 # ## tan2022_fig05 — pitch error with the preset Euler rotation (Eq 9–10)
@@ -116,8 +116,8 @@ display(report.save_figure(plots.extra_roll_error(art), "tan2022_extra_roll_erro
 art = tan2022.fig05(sc)
 print(*art.lines, sep="\n")
 rows += art.rows
-report.save_table(art.table, "tan2022_fig05", float_format="%.8f")
-display(report.save_figure(plots.fig05(art), "tan2022_fig05"))
+output.save_table(art.table, "tan2022_fig05", float_format="%.8f")
+display(output.save_figure(plots.fig05(art), "tan2022_fig05"))
 
 # %% [markdown]
 # ## tan2022_fig08 — Δθ_T (plain triad) vs Δθ_p (preset rotation)
@@ -132,8 +132,8 @@ display(report.save_figure(plots.fig05(art), "tan2022_fig05"))
 art = tan2022.fig08(sc)
 print(*art.lines, sep="\n")
 rows += art.rows
-report.save_table(art.table, "tan2022_fig08", float_format="%.8f")
-display(report.save_figure(plots.fig08(art), "tan2022_fig08"))
+output.save_table(art.table, "tan2022_fig08", float_format="%.8f")
+display(output.save_figure(plots.fig08(art), "tan2022_fig08"))
 
 # %% [markdown]
 # ## tan2022_extra_independent_errors (beyond the paper) — independent axis errors
@@ -148,8 +148,8 @@ display(report.save_figure(plots.fig08(art), "tan2022_fig08"))
 art = tan2022.extra_independent_errors(sc, SEED, N_TRIALS)
 print(*art.lines, sep="\n")
 rows += art.rows
-report.save_table(art.table, "tan2022_extra_independent_errors", float_format="%.8f")
-display(report.save_figure(plots.extra_independent_errors(art), "tan2022_extra_independent_errors"))
+output.save_table(art.table, "tan2022_extra_independent_errors", float_format="%.8f")
+display(output.save_figure(plots.extra_independent_errors(art), "tan2022_extra_independent_errors"))
 
 # %% [markdown]
 # ## tan2022_extra_error_model_accel — an error model identified from the paper's statements
@@ -173,12 +173,12 @@ display(report.save_figure(plots.extra_independent_errors(art), "tan2022_extra_i
 # %%
 fit = tan2022.fit_accel_error_model(sc, tan2022.AccelErrorPrior(), SEED, 2 * N_TRIALS)
 print(*fit.lines, sep="\n")
-report.show_table(fit.parameters, "{:.3f}")
-report.show_table(fit.predictions, "{:.3f}")
+output.show_table(fit.parameters, "{:.3f}")
+output.show_table(fit.predictions, "{:.3f}")
 rows += fit.rows
-report.save_table(fit.parameters, "tan2022_extra_error_model_accel_parameters")
-report.save_table(fit.predictions, "tan2022_extra_error_model_accel")
-display(report.save_figure(plots.accel_error_model(fit), "tan2022_extra_error_model_accel"))
+output.save_table(fit.parameters, "tan2022_extra_error_model_accel_parameters")
+output.save_table(fit.predictions, "tan2022_extra_error_model_accel")
+display(output.save_figure(plots.accel_error_model(fit), "tan2022_extra_error_model_accel"))
 
 # %% [markdown]
 # The statements favour a mostly common-mode error: `r` ≈ 0.1, 95 % interval
@@ -194,10 +194,10 @@ display(report.save_figure(plots.accel_error_model(fit), "tan2022_extra_error_mo
 
 # %%
 table = compare.comparison_table(rows)
-report.show_table(table)
-report.save_table(table, "tan2022_accelerometer_comparison")
+output.show_table(table)
+output.save_table(table, "tan2022_accelerometer_comparison")
 prior_table = compare.comparison_table(fit.rows_prior)
-report.save_table(prior_table, "tan2022_extra_error_model_accel_prior_only")
+output.save_table(prior_table, "tan2022_extra_error_model_accel_prior_only")
 print("fitted model:", compare.prediction_summary(table))
 print("prior-only model:", compare.prediction_summary(prior_table))
 print(compare.check_claims(table, enforce=AT_PAPER))

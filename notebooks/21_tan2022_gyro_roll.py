@@ -46,12 +46,12 @@ roll0_deg = 0.0  # initial (and true) roll φ0 (deg), Sec. 3.2
 from IPython.display import display
 
 from mtcal.reporting import compare
-from mtcal.reporting import output as report
+from mtcal.reporting import output
 from mtcal.studies import tan2022
 from mtcal.studies.tan2022 import plots
 
-report.setup_matplotlib()
-SIZE = report.run_size(SIZE)
+output.setup_matplotlib()
+SIZE = output.run_size(SIZE)
 N_TRIALS = N_TRIALS or {"ci": 20, "full": 100}[SIZE]
 N_UNIFORM = {"ci": 5, "full": 20}[SIZE]  # trials of the long uniform rotations
 N_THRESHOLDS = {"ci": 25, "full": 60}[SIZE]
@@ -77,8 +77,8 @@ print(f"{tan2022.gyro_label(study)}; paper settings: {AT_PAPER}")
 art = tan2022.fig06(study, SEED, N_TRIALS)
 print(*art.lines, sep="\n")
 rows += art.rows
-report.save_table(art.table, "tan2022_fig06")
-display(report.save_figure(plots.fig06(art), "tan2022_fig06"))
+output.save_table(art.table, "tan2022_fig06")
+display(output.save_figure(plots.fig06(art), "tan2022_fig06"))
 
 # %% [markdown]
 # ### Is θ̇_t = 0.5 °/s plausible?
@@ -107,8 +107,8 @@ rows += art.rows
 art = tan2022.fig09(study, SEED, N_UNIFORM)
 print(*art.lines, sep="\n")
 rows += art.rows
-report.save_table(art.table, "tan2022_fig09")
-display(report.save_figure(plots.fig09(art), "tan2022_fig09"))
+output.save_table(art.table, "tan2022_fig09")
+display(output.save_figure(plots.fig09(art), "tan2022_fig09"))
 
 # %% [markdown]
 # ## tan2022_fig10 — pitch rate under oscillation θ = θm sin(2πft)
@@ -120,8 +120,8 @@ display(report.save_figure(plots.fig09(art), "tan2022_fig09"))
 # %%
 art = tan2022.fig10(study, SEED)
 print(*art.lines, sep="\n")
-report.save_table(art.table, "tan2022_fig10")
-display(report.save_figure(plots.fig10(art), "tan2022_fig10"))
+output.save_table(art.table, "tan2022_fig10")
+display(output.save_figure(plots.fig10(art), "tan2022_fig10"))
 
 # %% [markdown]
 # ## tan2022_fig11 — projection roll error under oscillation
@@ -132,8 +132,8 @@ display(report.save_figure(plots.fig10(art), "tan2022_fig10"))
 art = tan2022.fig11(study, SEED, N_TRIALS)
 print(*art.lines, sep="\n")
 rows += art.rows
-report.save_table(art.table, "tan2022_fig11")
-display(report.save_figure(plots.fig11(art), "tan2022_fig11"))
+output.save_table(art.table, "tan2022_fig11")
+display(output.save_figure(plots.fig11(art), "tan2022_fig11"))
 
 # %% [markdown]
 # ## tan2022_fig12 — hybrid (θ̇_t) under oscillation
@@ -148,10 +148,10 @@ display(report.save_figure(plots.fig11(art), "tan2022_fig11"))
 # %%
 art = tan2022.fig12(study, SEED, N_TRIALS)
 print(*art.lines, sep="\n")
-report.show_table(art.table, "{:.3f}")
+output.show_table(art.table, "{:.3f}")
 rows += art.rows
-report.save_table(art.table, "tan2022_fig12")
-display(report.save_figure(plots.fig12(art), "tan2022_fig12"))
+output.save_table(art.table, "tan2022_fig12")
+display(output.save_figure(plots.fig12(art), "tan2022_fig12"))
 
 # %% [markdown]
 # ## tan2022_extra_threshold_sweep (beyond the paper) — where the threshold should be
@@ -163,8 +163,8 @@ display(report.save_figure(plots.fig12(art), "tan2022_fig12"))
 art = tan2022.extra_threshold_sweep(study, SEED, N_TRIALS, N_THRESHOLDS)
 print(*art.lines, sep="\n")
 rows += art.rows
-report.save_table(art.table, "tan2022_extra_threshold_sweep")
-display(report.save_figure(plots.extra_threshold_sweep(art), "tan2022_extra_threshold_sweep"))
+output.save_table(art.table, "tan2022_extra_threshold_sweep")
+display(output.save_figure(plots.extra_threshold_sweep(art), "tan2022_extra_threshold_sweep"))
 
 # %% [markdown]
 # ## tan2022_extra_error_model_gyro — an error model identified from Fig 6, tested on Figs 9, 11, 12
@@ -185,12 +185,12 @@ display(report.save_figure(plots.extra_threshold_sweep(art), "tan2022_extra_thre
 # %%
 fit = tan2022.fit_gyro_error_model(study, tan2022.GyroErrorPrior(), SEED, N_TRIALS)
 print(*fit.lines, sep="\n")
-report.show_table(fit.parameters, "{:.4f}")
-report.show_table(fit.predictions, "{:.3f}")
+output.show_table(fit.parameters, "{:.4f}")
+output.show_table(fit.predictions, "{:.3f}")
 rows += fit.rows
-report.save_table(fit.parameters, "tan2022_extra_error_model_gyro_parameters")
-report.save_table(fit.predictions, "tan2022_extra_error_model_gyro")
-display(report.save_figure(plots.gyro_error_model(fit), "tan2022_extra_error_model_gyro"))
+output.save_table(fit.parameters, "tan2022_extra_error_model_gyro_parameters")
+output.save_table(fit.predictions, "tan2022_extra_error_model_gyro")
+display(output.save_figure(plots.gyro_error_model(fit), "tan2022_extra_error_model_gyro"))
 
 # %% [markdown]
 # Fig 6 pins `b` at the paper's 0.2 °/s and bounds the noise; with that model
@@ -212,11 +212,11 @@ display(report.save_figure(plots.gyro_error_model(fit), "tan2022_extra_error_mod
 # %%
 pattern = tan2022.fit_gyro_error_pattern(study, tan2022.GyroErrorPrior(), SEED, N_PATTERN)
 print(*pattern.lines, sep="\n")
-report.show_table(pattern.parameters, "{:.5f}")
+output.show_table(pattern.parameters, "{:.5f}")
 rows += pattern.rows
-report.save_table(pattern.parameters, "tan2022_extra_error_pattern_gyro_parameters")
-report.save_table(pattern.predictions, "tan2022_extra_error_pattern_gyro")
-display(report.save_figure(plots.gyro_error_pattern(pattern), "tan2022_extra_error_pattern_gyro"))
+output.save_table(pattern.parameters, "tan2022_extra_error_pattern_gyro_parameters")
+output.save_table(pattern.predictions, "tan2022_extra_error_pattern_gyro")
+display(output.save_figure(plots.gyro_error_pattern(pattern), "tan2022_extra_error_pattern_gyro"))
 
 # %% [markdown]
 # Figs 11 and 12 together need a z-gyro error of at most ≈ 0.01 °/s — the
@@ -233,10 +233,10 @@ display(report.save_figure(plots.gyro_error_pattern(pattern), "tan2022_extra_err
 
 # %%
 table = compare.comparison_table(rows)
-report.show_table(table)
-report.save_table(table, "tan2022_gyro_roll_comparison")
+output.show_table(table)
+output.save_table(table, "tan2022_gyro_roll_comparison")
 prior_table = compare.comparison_table(fit.rows_prior)
-report.save_table(prior_table, "tan2022_extra_error_model_gyro_prior_only")
+output.save_table(prior_table, "tan2022_extra_error_model_gyro_prior_only")
 print("fitted model:", compare.prediction_summary(table))
 print("prior-only model:", compare.prediction_summary(prior_table))
 print(compare.check_claims(table, enforce=AT_PAPER))

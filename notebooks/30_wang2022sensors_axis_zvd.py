@@ -38,11 +38,11 @@ zvd_gyro_max_deg_s = 2.0           # optional gyro condition (mtcal; None = Tabl
 
 # %%
 
-from mtcal.reporting import compare, output as report
+from mtcal.reporting import compare, output
 from mtcal.studies import wang2022sensors as w
 from mtcal.studies.wang2022sensors import plots
 
-SIZE = report.run_size(SIZE)
+SIZE = output.run_size(SIZE)
 N_TRIALS = N_TRIALS or {"full": 500, "ci": 100}[SIZE]
 ZVD_TRIALS = {"full": 50, "ci": 20}[SIZE]
 N_BOOT = {"full": 1000, "ci": 200}[SIZE]
@@ -53,7 +53,7 @@ params = dict(sensor_grade=sensor_grade, fs_hz=fs_hz, fig11_axis=fig11_axis, lev
               zvd_gyro_max_deg_s=zvd_gyro_max_deg_s)
 sc = w.scenario_from_parameters(**params)
 AT_PAPER = compare.at_paper_settings(params, w.PARAMETER_DEFAULTS)
-report.setup_matplotlib()
+output.setup_matplotlib()
 rows = []
 print(w.labels(sc))
 
@@ -67,8 +67,8 @@ print(w.labels(sc))
 
 # %%
 a = w.table01_zvd(sc)
-report.save_table(a.table, "wang2022sensors_table01")
-report.show_table(a.table)
+output.save_table(a.table, "wang2022sensors_table01")
+output.show_table(a.table)
 rows += a.rows
 
 # %% [markdown]
@@ -90,7 +90,7 @@ rows += a.rows
 
 # %%
 a = w.fig06_zvd(sc, ZVD_TRIALS, SEED)
-display(report.save_figure(plots.plot_fig06(a.data), "wang2022sensors_fig06"))
+display(output.save_figure(plots.plot_fig06(a.data), "wang2022sensors_fig06"))
 rows += a.rows
 print(compare.check_claims(compare.comparison_table(a.rows), enforce=AT_PAPER))
 
@@ -103,8 +103,8 @@ print(compare.check_claims(compare.comparison_table(a.rows), enforce=AT_PAPER))
 
 # %%
 a = w.table02_sensors(sc)
-report.save_table(a.table, "wang2022sensors_table02")
-report.show_table(a.table)
+output.save_table(a.table, "wang2022sensors_table02")
+output.show_table(a.table)
 rows += a.rows
 
 # %% [markdown]
@@ -123,7 +123,7 @@ a = w.fig12_gravity_change(sc, N_TRIALS, SEED, N_BOOT)
 print(f"||g1-g0||(60 deg) / ||g1-g0||(0 deg) = {a.data['ratio']:.4f}")
 
 # %%
-display(report.save_figure(plots.plot_fig12(a.data), "wang2022sensors_fig12"))
+display(output.save_figure(plots.plot_fig12(a.data), "wang2022sensors_fig12"))
 rows += a.rows
 print(compare.check_claims(compare.comparison_table(a.rows), enforce=AT_PAPER))
 
@@ -146,8 +146,8 @@ print(compare.check_claims(compare.comparison_table(a.rows), enforce=AT_PAPER))
 
 # %%
 a = w.table04_axes(sc, N_TRIALS, SEED)
-report.save_table(a.table, "wang2022sensors_table04")
-report.show_table(a.table, "{:.5f}")
+output.save_table(a.table, "wang2022sensors_table04")
+output.show_table(a.table, "{:.5f}")
 rows += a.rows
 print(f"chance that all three printed estimates equal the whole-degree vectors: {a.data['p_all_exact']:.2g}")
 print(compare.check_claims(compare.comparison_table(a.rows), enforce=AT_PAPER))
@@ -166,7 +166,7 @@ print(compare.check_claims(compare.comparison_table(a.rows), enforce=AT_PAPER))
 
 # %%
 a = w.extra_axis_error_vs_rest(sc, N_TRIALS, SEED, N_BOOT)
-display(report.save_figure(plots.plot_axis_error_vs_rest(a.data), "wang2022sensors_extra_axis_error_vs_rest"))
+display(output.save_figure(plots.plot_axis_error_vs_rest(a.data), "wang2022sensors_extra_axis_error_vs_rest"))
 rows += a.rows
 print(compare.check_claims(compare.comparison_table(a.rows), enforce=AT_PAPER))
 
@@ -179,8 +179,8 @@ print(compare.check_claims(compare.comparison_table(a.rows), enforce=AT_PAPER))
 
 # %%
 table = compare.comparison_table(rows)
-table.to_csv(report.output_dir() / "data" / "wang2022sensors_axis_zvd_comparison.csv", index=False)
-report.show_table(table)
+table.to_csv(output.output_dir() / "data" / "wang2022sensors_axis_zvd_comparison.csv", index=False)
+output.show_table(table)
 print(compare.prediction_summary(table))
 
 # %% [markdown]

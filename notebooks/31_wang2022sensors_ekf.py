@@ -39,13 +39,13 @@ zvd_gyro_max_deg_s = 2.0           # optional gyro condition (mtcal; None = Tabl
 
 # %%
 
-from mtcal.reporting import compare, output as report
+from mtcal.reporting import compare, output
 from mtcal.studies import wang2022sensors as w
-from mtcal.studies.wang2022sensors import error_model as em, plots
+from mtcal.studies.wang2022sensors import error_model, plots
 
-SIZE = report.run_size(SIZE)
+SIZE = output.run_size(SIZE)
 GRID_REPS = GRID_REPS or {"full": 2, "ci": 2}[SIZE]
-GRID = {"full": em.FIT_GRID, "ci": em.FIT_GRID_CI}[SIZE]
+GRID = {"full": error_model.FIT_GRID, "ci": error_model.FIT_GRID_CI}[SIZE]
 F9_TRIALS = {"full": 50, "ci": 20}[SIZE]
 FIG11_REPS = {"full": 8, "ci": 2}[SIZE]
 SENS_REPS = {"full": 3, "ci": 1}[SIZE]            # repetitions per Table 3 reading
@@ -59,7 +59,7 @@ params = dict(sensor_grade=sensor_grade, fs_hz=fs_hz, fig11_axis=fig11_axis, lev
               zvd_gyro_max_deg_s=zvd_gyro_max_deg_s)
 sc = w.scenario_from_parameters(**params)
 AT_PAPER = compare.at_paper_settings(params, w.PARAMETER_DEFAULTS)
-report.setup_matplotlib()
+output.setup_matplotlib()
 rows = []
 print(w.labels(sc))
 
@@ -74,7 +74,7 @@ print(w.labels(sc))
 
 # %%
 a = w.fig09_ekf_switching(sc, F9_TRIALS, SEED)
-display(report.save_figure(plots.plot_fig09(a.data), "wang2022sensors_fig09"))
+display(output.save_figure(plots.plot_fig09(a.data), "wang2022sensors_fig09"))
 rows += a.rows
 print(compare.check_claims(compare.comparison_table(a.rows), enforce=AT_PAPER))
 
@@ -89,7 +89,7 @@ print(compare.check_claims(compare.comparison_table(a.rows), enforce=AT_PAPER))
 
 # %%
 a = w.fig11_max_error(sc, FIG11_REPS, SEED)
-display(report.save_figure(plots.plot_fig11(a.data), "wang2022sensors_fig11"))
+display(output.save_figure(plots.plot_fig11(a.data), "wang2022sensors_fig11"))
 rows += a.rows
 print(compare.check_claims(compare.comparison_table(a.rows), enforce=AT_PAPER))
 
@@ -103,8 +103,8 @@ print(compare.check_claims(compare.comparison_table(a.rows), enforce=AT_PAPER))
 
 # %%
 a = w.extra_table3_sensitivity(sc, SENS_REPS, SEED)
-report.save_table(a.table, "wang2022sensors_extra_table3_sensitivity")
-report.show_table(a.table)
+output.save_table(a.table, "wang2022sensors_extra_table3_sensitivity")
+output.show_table(a.table)
 rows += a.rows
 
 # %% [markdown]
@@ -127,11 +127,11 @@ rows += a.rows
 # MAP beside its prior range.
 
 # %%
-report.show_table(w.error_model_priors_table())
+output.show_table(w.error_model_priors_table())
 fit = w.fit_error_model(sc, GRID_REPS, SEED, grid=GRID)
 a = w.extra_error_model(fit)
-report.save_table(a.table, "wang2022sensors_extra_error_model")
-report.show_table(a.table.drop(columns="source"), "{:.4g}")
+output.save_table(a.table, "wang2022sensors_extra_error_model")
+output.show_table(a.table.drop(columns="source"), "{:.4g}")
 rows += a.rows
 print(f"RAMS dynamic RMSE at the MAP rig: {a.data['dynamic_without_latency_deg']:.3f} deg without latency, "
       f"{a.data['dynamic_with_latency_deg']:.3f} deg with it (Table 5: 0.41-0.46 deg)")
@@ -150,14 +150,14 @@ print("RAMS static RMSE at the MAP lever arm by move acceleration: " + ", ".join
 
 # %%
 a = w.table05_rmse(fit, SEED)
-report.save_table(a.table, "wang2022sensors_table05")
-report.show_table(a.table)
+output.save_table(a.table, "wang2022sensors_table05")
+output.show_table(a.table)
 rows += a.rows
 s5 = a.data["summary"]
 print(f"held-out Table 5 numbers inside the 95 % band: fitted model {s5['fitted_inside']} of {s5['n_predicted']}, "
       f"prior-only model {s5['prior_inside']} of {s5['n_predicted']}; fitted bands are "
       f"{s5['band_width_ratio']:.0%} as wide as the prior-only ones (median, log scale)")
-display(report.save_figure(plots.plot_error_model(a.table), "wang2022sensors_extra_error_model"))
+display(output.save_figure(plots.plot_error_model(a.table), "wang2022sensors_extra_error_model"))
 
 # %% [markdown]
 # **Reading Table 5.** With the identified rig the paper's RAMS static RMSE
@@ -192,7 +192,7 @@ print(compare.check_claims(compare.comparison_table(a.rows), enforce=AT_PAPER))
 
 # %%
 a = w.fig13_drift(sc, fit, DRIFT_TRIALS, SEED, DRIFT_RUN_S, STAND_S)
-display(report.save_figure(plots.plot_fig13(a.data), "wang2022sensors_fig13"))
+display(output.save_figure(plots.plot_fig13(a.data), "wang2022sensors_fig13"))
 rows += a.rows
 print(compare.check_claims(compare.comparison_table(a.rows), enforce=AT_PAPER))
 
@@ -207,7 +207,7 @@ print(compare.check_claims(compare.comparison_table(a.rows), enforce=AT_PAPER))
 
 # %%
 a = w.fig14_max_error_per_angle(fit, SEED)
-display(report.save_figure(plots.plot_fig14(a.data), "wang2022sensors_fig14"))
+display(output.save_figure(plots.plot_fig14(a.data), "wang2022sensors_fig14"))
 rows += a.rows
 print(compare.check_claims(compare.comparison_table(a.rows), enforce=AT_PAPER))
 
@@ -220,8 +220,8 @@ print(compare.check_claims(compare.comparison_table(a.rows), enforce=AT_PAPER))
 
 # %%
 table = compare.comparison_table(rows)
-table.to_csv(report.output_dir() / "data" / "wang2022sensors_ekf_comparison.csv", index=False)
-report.show_table(table)
+table.to_csv(output.output_dir() / "data" / "wang2022sensors_ekf_comparison.csv", index=False)
+output.show_table(table)
 print(compare.prediction_summary(table))
 print(w.outside_reasons(sc, fit, SEED))
 

@@ -26,16 +26,16 @@ noise_levels_deg = (0.005, 0.01, 0.02, 0.05)  # per-position error σ per axis (
 
 # %%
 import numpy as np
-from mtcal.reporting import compare, output as report
+from mtcal.reporting import compare, output
 from mtcal.studies import wang2023cja as w
-from mtcal.studies.wang2023cja import constrained as cs
+from mtcal.studies.wang2023cja import constrained
 
-SIZE = report.run_size(SIZE)
+SIZE = output.run_size(SIZE)
 N_TRIALS = N_TRIALS or {"ci": 200, "full": 2000}[SIZE]
 N_TEST = N_TEST or {"ci": 40, "full": 100}[SIZE]
-params = cs.check_parameters(k_max, noise_levels_deg)
-AT_PAPER = compare.at_paper_settings(params, cs.PARAMETER_DEFAULTS)
-report.setup_matplotlib()
+params = constrained.check_parameters(k_max, noise_levels_deg)
+AT_PAPER = compare.at_paper_settings(params, constrained.PARAMETER_DEFAULTS)
+output.setup_matplotlib()
 
 # %% [markdown]
 # ## Noise level: the per-position error of the identified error model
@@ -72,9 +72,9 @@ levels = tuple(sorted(set(noise_levels_deg) | {SIGMA_DEG}))
 
 # %%
 # NBVAL_CHECK_OUTPUT
-b1 = cs.min_positions_table(SEED)
-report.save_table(b1, "wang2023cja_extra_min_positions")
-report.show_table(b1)
+b1 = constrained.min_positions_table(SEED)
+output.save_table(b1, "wang2023cja_extra_min_positions")
+output.show_table(b1)
 assert dict(zip(("eq13", "so4", "mounting"), b1["min_K_generic"])) == {"eq13": 4, "so4": 3, "mounting": 1}
 assert b1.loc[0, "min_K_paper_order"] == 5  # paper's order: first 4 rows span only 3 quaternion directions
 
@@ -88,10 +88,10 @@ assert b1.loc[0, "min_K_paper_order"] == 5  # paper's order: first 4 rows span o
 # the mounting-only model). Lines: median; bands: 95 %.
 
 # %%
-b2 = cs.error_vs_positions_table(SIGMA_DEG, N_TRIALS, N_TEST, SEED, range(2, k_max + 1))
-report.save_table(b2, "wang2023cja_extra_error_vs_positions")
+b2 = constrained.error_vs_positions_table(SIGMA_DEG, N_TRIALS, N_TEST, SEED, range(2, k_max + 1))
+output.save_table(b2, "wang2023cja_extra_error_vs_positions")
 from mtcal.studies.wang2023cja import plots
-report.save_figure(plots.error_vs_positions_figure(b2, title=(
+output.save_figure(plots.error_vs_positions_figure(b2, title=(
     f"wang2023cja_extra_error_vs_positions: σ = {SIGMA_DEG:.3f}° per axis, {N_TRIALS} trials; dotted: paper's K = 6")),
     "wang2023cja_extra_error_vs_positions")
 
@@ -99,9 +99,9 @@ report.save_figure(plots.error_vs_positions_figure(b2, title=(
 # ## wang2023cja_extra_error_vs_noise — attitude error after calibration vs σ (paper's six positions)
 
 # %%
-b3 = cs.error_vs_noise_table(levels, N_TRIALS, N_TEST, SEED)
-report.save_table(b3, "wang2023cja_extra_error_vs_noise")
-report.save_figure(plots.error_vs_noise_figure(b3, sigma_deg=SIGMA_DEG, title=(
+b3 = constrained.error_vs_noise_table(levels, N_TRIALS, N_TEST, SEED)
+output.save_table(b3, "wang2023cja_extra_error_vs_noise")
+output.save_figure(plots.error_vs_noise_figure(b3, sigma_deg=SIGMA_DEG, title=(
     f"wang2023cja_extra_error_vs_noise: paper's six positions, {N_TRIALS} trials; dotted: identified σ")),
     "wang2023cja_extra_error_vs_noise")
 
@@ -109,10 +109,10 @@ report.save_figure(plots.error_vs_noise_figure(b3, sigma_deg=SIGMA_DEG, title=(
 # ## wang2023cja_extra_constrained_headline — six paper positions at the identified noise level
 
 # %%
-head, info = cs.headline(b3, b2, SIGMA_DEG)
-report.save_table(head, "wang2023cja_extra_constrained_headline")
-report.show_table(head)
-print(cs.headline_text(info))
+head, info = constrained.headline(b3, b2, SIGMA_DEG)
+output.save_table(head, "wang2023cja_extra_constrained_headline")
+output.show_table(head)
+print(constrained.headline_text(info))
 assert all(g > 20.0 for g in info["gain_so4_pct"].values()) and info["gain_mount_pct"] > 0
 assert info["ratio_mount_biased"] > 3.0 and info["so4_k"] <= 5
 
@@ -134,11 +134,11 @@ assert info["ratio_mount_biased"] > 3.0 and info["so4_k"] <= 5
 
 # %%
 # NBVAL_CHECK_OUTPUT
-b5 = cs.printed_matrices_so4_table()
-report.save_table(b5, "wang2023cja_extra_printed_matrices_so4")
-report.show_table(b5.iloc[:, :5])
-report.show_table(b5[["matrix"] + [c for c in b5.columns if c.startswith(("c_", "w_", "angle"))]])
-bt, bf, bw = (b5.set_index("matrix").loc[k] for k in cs.printed_matrices())
+b5 = constrained.printed_matrices_so4_table()
+output.save_table(b5, "wang2023cja_extra_printed_matrices_so4")
+output.show_table(b5.iloc[:, :5])
+output.show_table(b5[["matrix"] + [c for c in b5.columns if c.startswith(("c_", "w_", "angle"))]])
+bt, bf, bw = (b5.set_index("matrix").loc[k] for k in constrained.printed_matrices())
 assert bt.det < 0 and abs(bt.det + 1.0) < 1e-3 and bt.dist_O4 < 0.002 and bt.dist_SO4 > 1.99
 assert 0 < bf.det and bf.dist_SO4 < 0.01 and bf.c_angle_deg < 0.1
 assert bw.det > 1.005 and 0.005 < bw.dist_SO4 < 0.006
@@ -156,9 +156,9 @@ assert bw.det > 1.005 and 0.005 < bw.dist_SO4 < 0.006
 
 # %%
 # NBVAL_CHECK_OUTPUT
-b6, q33 = cs.q33_variants_table()
-report.save_table(b6, "wang2023cja_extra_q33_sign")
-report.show_table(b6, float_format="{:.3f}")
+b6, q33 = constrained.q33_variants_table()
+output.save_table(b6, "wang2023cja_extra_q33_sign")
+output.show_table(b6, float_format="{:.3f}")
 print(f"Table 1 after: roll {q33['after_roll_deg'][0]:.3f} / {q33['after_roll_deg'][1]:.3f}; SO(4) projection vs fixed: "
       f"max change rows 1-4 {q33['proj_change_rows1_4_deg']:.3f} deg, rows 5-6 {q33['proj_change_rows5_6_deg']:.3f} deg")
 v = b6.set_index("variant")
@@ -178,14 +178,15 @@ assert v.loc["Q33 sign fixed", "max_abs_diff_rows1_4_deg"] < 0.06 and v["max_abs
 # the printed wind-tunnel matrix and the sign-fixed turntable matrix as horizontal lines.
 
 # %%
-b7 = cs.noise_vs_so4_distance_table(levels + (0.1, 0.2, 0.5), N_TRIALS, SEED)
-report.save_table(b7, "wang2023cja_extra_noise_vs_so4_distance")
-report.save_figure(plots.noise_distance_figure(
+b7 = constrained.noise_vs_so4_distance_table(levels + (0.1, 0.2, 0.5), N_TRIALS, SEED)
+output.save_table(b7, "wang2023cja_extra_noise_vs_so4_distance")
+output.save_figure(plots.noise_distance_figure(
     b7, {"printed wind-tunnel matrix": bw.dist_O4, "turntable matrix, Q33 fixed": bf.dist_O4}, sigma_deg=SIGMA_DEG,
     title=f"wang2023cja_extra_noise_vs_so4_distance: {N_TRIALS} trials; vertical line: identified σ"),
     "wang2023cja_extra_noise_vs_so4_distance")
-report.show_table(b7, float_format="{:.5f}")
-need = {name: cs.sigma_matching_distance(b7, d) for name, d in (("wind tunnel", bw.dist_O4), ("turntable", bf.dist_O4))}
+output.show_table(b7, float_format="{:.5f}")
+need = {name: constrained.sigma_matching_distance(b7, d)
+        for name, d in (("wind tunnel", bw.dist_O4), ("turntable", bf.dist_O4))}
 print(", ".join(f"{name}: median Eq 13 distance equals the printed one at sigma = {s:.3f} deg" for name, s in need.items()))
 assert (b7[b7.sigma_deg <= 0.05].q22_minus_1_high < 0.0045).all()   # noise does not make Q(2,2) = 1.0045
 
@@ -207,8 +208,8 @@ assert (b7[b7.sigma_deg <= 0.05].q22_minus_1_high < 0.0045).all()   # noise does
 # default settings every tested claim is asserted; with other `k_max`/noise levels they are reported.
 
 # %%
-table = compare.comparison_table(cs.constrained_rows(b1, head, info, b5, b6, b7, SIGMA_DEG))
-report.save_table(table, "wang2023cja_constrained_calibration_comparison")
-report.show_table(table)
+table = compare.comparison_table(constrained.constrained_rows(b1, head, info, b5, b6, b7, SIGMA_DEG))
+output.save_table(table, "wang2023cja_constrained_calibration_comparison")
+output.show_table(table)
 print(compare.prediction_summary(table))
 print(compare.check_claims(table, enforce=AT_PAPER))

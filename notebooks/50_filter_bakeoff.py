@@ -52,11 +52,11 @@ from IPython.display import display
 
 from mtcal.filters.anchors import available_filters
 from mtcal.reporting import compare
-from mtcal.reporting import output as report
+from mtcal.reporting import output
 from mtcal.sweep import bakeoff
 
-report.setup_matplotlib()
-SIZE = report.run_size(SIZE)
+output.setup_matplotlib()
+SIZE = output.run_size(SIZE)
 N_TRIALS = N_TRIALS or {"ci": 2, "full": 12}[SIZE]
 N_TUNING_TRIALS = N_TUNING_TRIALS or {"ci": 1, "full": 4}[SIZE]
 HOLD_S = {"ci": 0.5, "full": None}[SIZE]          # CI: 0.5 s holds (None → each motion's own holds)
@@ -90,10 +90,10 @@ tuning_params = {**params, "gain_scales": scales}
 # %%
 gains, tuning = bakeoff.tune_gains(tuning_params, seed=SEED + 1, trials=N_TUNING_TRIALS, hold_s=HOLD_S,
                                    workers=WORKERS)
-report.save_table(tuning, "wang2023cja_extra_bakeoff_tuning")
+output.save_table(tuning, "wang2023cja_extra_bakeoff_tuning")
 chosen = tuning[tuning.chosen][["family", "filter", "gain_unit", "gain_scale", "gain", "tuning_error_deg",
                                 "at_grid_edge"]]
-report.show_table(chosen)
+output.show_table(chosen)
 print(f"{int(chosen.at_grid_edge.sum())} of {len(chosen)} chosen gains sit at an end of the scale grid "
       f"{scales} (the optimum may lie beyond it)")
 
@@ -121,8 +121,8 @@ print(f"{N_TRIALS} trials per scenario; filters: {', '.join(params['filters'])} 
 # the gyro.
 
 # %%
-report.save_table(result.tables["turntable"], "wang2023cja_extra_bakeoff_turntable")
-display(report.save_figure(bakeoff.bakeoff_figure(result, "turntable"), "wang2023cja_extra_bakeoff_turntable"))
+output.save_table(result.tables["turntable"], "wang2023cja_extra_bakeoff_turntable")
+display(output.save_figure(bakeoff.bakeoff_figure(result, "turntable"), "wang2023cja_extra_bakeoff_turntable"))
 
 # %% [markdown]
 # ## wang2023cja_extra_bakeoff_windtunnel — with and without the running-tunnel vibration
@@ -136,8 +136,8 @@ display(report.save_figure(bakeoff.bakeoff_figure(result, "turntable"), "wang202
 # *before* using its direction.
 
 # %%
-report.save_table(result.tables["windtunnel"], "wang2023cja_extra_bakeoff_windtunnel")
-display(report.save_figure(bakeoff.bakeoff_figure(result, "windtunnel"), "wang2023cja_extra_bakeoff_windtunnel"))
+output.save_table(result.tables["windtunnel"], "wang2023cja_extra_bakeoff_windtunnel")
+display(output.save_figure(bakeoff.bakeoff_figure(result, "windtunnel"), "wang2023cja_extra_bakeoff_windtunnel"))
 
 # %% [markdown]
 # ## wang2022sensors_extra_bakeoff_surface — angle about a hinge axis
@@ -150,8 +150,8 @@ display(report.save_figure(bakeoff.bakeoff_figure(result, "windtunnel"), "wang20
 # attitude about the same axis.
 
 # %%
-report.save_table(result.tables["surface"], "wang2022sensors_extra_bakeoff_surface")
-display(report.save_figure(bakeoff.bakeoff_figure(result, "surface"), "wang2022sensors_extra_bakeoff_surface"))
+output.save_table(result.tables["surface"], "wang2022sensors_extra_bakeoff_surface")
+display(output.save_figure(bakeoff.bakeoff_figure(result, "surface"), "wang2022sensors_extra_bakeoff_surface"))
 
 # %% [markdown]
 # ## wang2023cja_extra_bakeoff_headline — who wins where, and by how much
@@ -162,8 +162,8 @@ display(report.save_figure(bakeoff.bakeoff_figure(result, "surface"), "wang2022s
 
 # %%
 headline = bakeoff.headline_table(result)
-report.save_table(headline, "wang2023cja_extra_bakeoff_headline")
-report.show_table(headline)
+output.save_table(headline, "wang2023cja_extra_bakeoff_headline")
+output.show_table(headline)
 
 # %%
 for _, r in headline.iterrows():
@@ -209,8 +209,8 @@ for _, r in headline.iterrows():
 # %%
 rows = bakeoff.findings(result, headline)
 table = compare.comparison_table(rows)
-report.save_table(table, "wang2023cja_extra_bakeoff_comparison")
-report.show_table(table[["artifact", "quantity", "mtcal", "claim", "holds"]])
+output.save_table(table, "wang2023cja_extra_bakeoff_comparison")
+output.show_table(table[["artifact", "quantity", "mtcal", "claim", "holds"]])
 print(compare.claims_summary(table))
 
 # %%

@@ -9,7 +9,7 @@ from pathlib import Path
 import jupytext
 import pytest
 
-from mtcal.reporting import runs
+from mtcal import runs
 
 ROOT = Path(__file__).resolve().parent.parent
 SOURCES = runs.notebook_sources(ROOT / "notebooks")

@@ -28,7 +28,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from mtcal.reporting import runs  # noqa: E402
+from mtcal import runs  # noqa: E402
 
 
 def _sources(paths: list[str]) -> list[Path]:

@@ -90,12 +90,12 @@ def _axis_paper(args, log, fig) -> int:
     from mtcal.methods.rotation_axis import estimate_axis
 
     min_rest = common.finite_float(args.min_rest_s, "--min-rest-s")
-    rep = paper_rest_report(log.accel_m_s2, log.fs_hz, min_rest_s=min_rest)
+    rep = paper_rest_report(log.accel_m_s2, 1.0 / log.fs_hz, min_rest_s=min_rest)
     fig.report = rep
     print(rep.levels_text() + f" (measured |a| at rest {rep.extra['measured_gravity_m_s2']:.4f} m/s^2)")
     sep = common.finite_float(args.min_separation_deg, "--min-separation-deg")
     try:
-        res = estimate_axis(log.accel_m_s2, log.fs_hz, min_rest_s=min_rest, is_static=rep.is_static,
+        res = estimate_axis(log.accel_m_s2, 1.0 / log.fs_hz, min_rest_s=min_rest, is_static=rep.is_static,
                             min_separation_deg=sep,
                             max_elevation_deg=common.finite_float(args.max_elevation_deg, "--max-elevation-deg"))
     except ValueError as exc:

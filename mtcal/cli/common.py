@@ -97,7 +97,7 @@ def detect(args, log: logio.ImuLog, *, use_gyro: bool = True) -> rd.RestReport:
     min_rest = finite_float(args.min_rest_s, "--min-rest-s")
     gyro = log.gyro_rad_s if use_gyro else None
     if args.rest_detector == "paper":
-        return rd.paper_rest_report(log.accel_m_s2, log.fs_hz, gyro_rad_s=gyro, min_rest_s=min_rest)
+        return rd.paper_rest_report(log.accel_m_s2, 1.0 / log.fs_hz, gyro_rad_s=gyro, min_rest_s=min_rest)
     opt = lambda v, n: None if v is None else finite_float(v, n)  # noqa: E731
     thr = opt(args.gyro_threshold_deg_s, "--gyro-threshold-deg-s")
     params = rd.RestDetectorParams(min_rest_s=min_rest,
@@ -105,7 +105,7 @@ def detect(args, log: logio.ImuLog, *, use_gyro: bool = True) -> rd.RestReport:
                                    gravity_m_s2=opt(args.gravity, "--gravity"),
                                    accel_band_m_s2=opt(args.accel_band, "--accel-band"),
                                    gyro_level_max_rad_s=None if thr is None else np.radians(thr))
-    return rd.detect_rests(log.accel_m_s2, log.fs_hz, gyro_rad_s=gyro, params=params)
+    return rd.detect_rests(log.accel_m_s2, 1.0 / log.fs_hz, gyro_rad_s=gyro, params=params)
 
 
 def rest_table(log: logio.ImuLog, report: rd.RestReport, angle_deg: np.ndarray | None = None,

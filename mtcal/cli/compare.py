@@ -12,18 +12,16 @@ parent folder).
 
 from __future__ import annotations
 
-from mtcal.cli.main import UserInputError
-
 
 def cmd_compare(args) -> int:
     import pandas as pd
 
-    from mtcal.reporting import runs
+    from mtcal.runs.compare import compare_runs
 
     names = args.names.split(",") if args.names else None
     if len(args.runs) < 2:
-        raise UserInputError(f"runs must list at least two run folders (or 'committed'), got {args.runs}")
-    table, csv_path, png_path = runs.compare_runs(args.runs, names=names, out_dir=args.out)
+        raise ValueError(f"runs must list at least two run folders (or 'committed'), got {args.runs}")
+    table, csv_path, png_path = compare_runs(args.runs, names=names, out_dir=args.out)
     labels = [c.split("[", 1)[1][:-1] for c in table.columns if c.startswith("mtcal [")]
     values = table[[f"mtcal [{n}]" for n in labels]]
     holds = table[[f"holds [{n}]" for n in labels]]

@@ -16,15 +16,11 @@ import re
 import sys
 import warnings
 
-__all__ = ["UserInputError", "build_parser", "main"]
+__all__ = ["build_parser", "main"]
 
 #: Options whose value may start with a minus sign (vectors): ``--axis -0.3,0,0.95`` works.
 VECTOR_OPTIONS = ("--axis", "--gyro-scale", "--accel-scale")
 _NUMBER = re.compile(r"^-(\d|\.\d)")
-
-
-class UserInputError(ValueError):
-    """A problem with the user's files or arguments (reported without a traceback)."""
 
 
 class _Parser(argparse.ArgumentParser):

@@ -17,27 +17,25 @@ from __future__ import annotations
 
 import sys
 
-from mtcal.cli.main import UserInputError
-
 
 def cmd_run(args) -> int:
     try:
-        from mtcal.reporting import runs
+        from mtcal.runs import notebooks
         import papermill  # noqa: F401
         import jupytext  # noqa: F401
     except ImportError as exc:
-        raise UserInputError(f"mtcal run needs papermill and jupytext (pip install 'mtcal[notebooks]'): {exc}")
-    params = dict(runs.parse_parameter(p) for p in args.parameter)
+        raise ValueError(f"mtcal run needs papermill and jupytext (pip install 'mtcal[notebooks]'): {exc}")
+    params = dict(notebooks.parse_parameter(p) for p in args.parameter)
     if args.list:
-        source = runs.resolve_notebook(args.notebook, args.notebooks_dir)
-        for name, p in runs.notebook_parameters(source).items():
+        source = notebooks.resolve_notebook(args.notebook, args.notebooks_dir)
+        for name, p in notebooks.notebook_parameters(source).items():
             print(f"{name} = {p['default']}" + (f"  # {p['help']}" if p.get("help") else ""))
         return 0
     try:
-        result = runs.run_notebook(args.notebook, name=args.name, parameters=params, size=args.size,
-                                   runs_dir=args.runs_dir, notebooks_dir=args.notebooks_dir, overwrite=args.force,
-                                   progress_bar=sys.stderr.isatty())
-    except runs.NotebookRunError as exc:
+        result = notebooks.run_notebook(args.notebook, name=args.name, parameters=params, size=args.size,
+                                        runs_dir=args.runs_dir, notebooks_dir=args.notebooks_dir,
+                                        overwrite=args.force, progress_bar=sys.stderr.isatty())
+    except notebooks.NotebookRunError as exc:
         print(f"mtcal: error: {exc}", file=sys.stderr)
         return 1
     print(f"run folder: {result.folder}")

@@ -48,20 +48,19 @@ def _list_evaluators() -> int:
 
 def cmd_sweep(args: argparse.Namespace) -> int:
     """Run the sweep and print where the table went plus a short summary."""
-    from mtcal.cli.main import UserInputError
     from mtcal.sweep.engine import run_sweep
     from mtcal.sweep.spec import load_spec
 
     if args.list:
         return _list_evaluators()
     if args.spec is None:
-        raise UserInputError("a spec file is required (or --list)")
+        raise ValueError("a spec file is required (or --list)")
     if args.scheduler is not None and args.workers is not None:
-        raise UserInputError("give either --workers (local processes) or --scheduler (Dask cluster), not both")
+        raise ValueError("give either --workers (local processes) or --scheduler (Dask cluster), not both")
     spec = load_spec(args.spec)
     out = Path(args.out) if args.out else Path("runs") / "sweeps" / spec.name
     if out.exists() and not out.is_dir():
-        raise UserInputError(f"--out {out} exists and is not a folder")
+        raise ValueError(f"--out {out} exists and is not a folder")
     res = run_sweep(spec, out, workers=args.workers, scheduler=args.scheduler)
     print(f"sweep {spec.name}: {spec.n_cells} cells x {spec.trials} trials, evaluator {spec.evaluator}, "
           f"seed {spec.seed}")

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from mtcal.core.validate import as_float_array, positive_int, positive_scalar
+from mtcal.core.validate import as_float_array, positive_int, positive_scalar, sample_interval
 
 __all__ = ["angle_difference", "rmse", "max_abs_error", "split_static_moving",
            "allan_deviation", "fit_allan_noise", "percentile_band", "bootstrap_medians"]
@@ -72,21 +72,21 @@ def split_static_moving(error, is_static, axis: int = -1) -> dict[str, np.ndarra
     return out
 
 
-def allan_deviation(rate, fs_hz: float, taus_s=None) -> tuple[np.ndarray, np.ndarray]:
+def allan_deviation(rate, dt_s: float, taus_s=None) -> tuple[np.ndarray, np.ndarray]:
     """Overlapping Allan deviation of a rate signal.
 
     ``σ²(τ) = 1 / (2 τ² (M − 2m)) Σ_k (Θ_{k+2m} − 2 Θ_{k+m} + Θ_k)²`` with
-    ``Θ`` the integrated signal, ``m = τ fs`` and M samples (IEEE Std 952).
+    ``Θ`` the integrated signal, ``m = τ / Δt`` and M samples (IEEE Std 952).
 
     Parameters
     ----------
     rate : array_like, shape (N,) or (..., N)
         Rate samples (e.g. rad/s); the last axis is time. Leading axes are
         independent records, averaged in the Allan variance.
-    fs_hz : float
-        Sample rate (Hz).
+    dt_s : float
+        Sample interval (s), ≤ 1 s.
     taus_s : array_like, optional
-        Cluster times (s); default ~10 per decade from 1/fs to N/(3 fs).
+        Cluster times (s); default ~10 per decade from Δt to N Δt / 3.
 
     Returns
     -------
@@ -96,7 +96,7 @@ def allan_deviation(rate, fs_hz: float, taus_s=None) -> tuple[np.ndarray, np.nda
         Allan deviation at each τ (unit of ``rate``).
     """
     x = as_float_array(rate, "rate")
-    fs = positive_scalar(fs_hz, "fs_hz")
+    fs = 1.0 / sample_interval(dt_s)  # the rate: exact for the rates mtcal uses (1 / (1 / fs) == fs)
     n = x.shape[-1]
     if n < 9:
         raise ValueError(f"rate must have at least 9 samples along its last axis, got {n}")

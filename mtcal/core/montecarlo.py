@@ -26,7 +26,8 @@ import numpy as np
 from numba import prange
 
 from mtcal.core.validate import as_float_array, positive_int
-from mtcal.core.simulate import ImuRecord, ImuStream, _jit
+from mtcal.core.compiled import jit
+from mtcal.core.simulate import ImuRecord, ImuStream
 
 __all__ = ["progress", "ChunkConsumer", "ErrorAccumulator", "run_streaming", "progress_enabled"]
 
@@ -132,7 +133,7 @@ class ErrorAccumulator:
         return self._max.copy()
 
 
-@_jit
+@jit
 def _wrap(d):
     """``(d + π) % 2π − π`` of :func:`mtcal.core.metrics.angle_difference`, bit for bit: the remainder
     (Python/numpy semantics) is skipped when ``d + π`` already lies in [0, 2π), where it is the identity."""
@@ -154,7 +155,7 @@ def euler_errors(q0, q1, q2, q3, t0, t1, t2):
     return _wrap(yaw - t0), _wrap(pitch - t1), _wrap(roll - t2)
 
 
-@_jit
+@jit
 def _euler_error_stats_serial(q, truth, t, out_sum, out_sumsq, out_max):
     tr = truth[t] if truth.shape[0] > 1 else truth[0]
     s0 = s1 = s2 = 0.0
@@ -180,7 +181,7 @@ def _euler_error_stats_serial(q, truth, t, out_sum, out_sumsq, out_max):
     out_max[t, 0], out_max[t, 1], out_max[t, 2] = m0, m1, m2
 
 
-@_jit(parallel=True)
+@jit(parallel=True)
 def _euler_error_stats_parallel(q, truth, out_sum, out_sumsq, out_max):
     for t in prange(q.shape[0]):
         _euler_error_stats_serial(q, truth, t, out_sum, out_sumsq, out_max)

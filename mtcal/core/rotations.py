@@ -137,8 +137,8 @@ def align_signs(q, reference=None) -> np.ndarray:
         Same rotations, consistent signs (a new array).
     """
     q = as_float_array(q, "q", last_dim=4)
-    ref = np.array([1.0, 0.0, 0.0, 0.0]) if reference is None else \
-        as_float_array(reference, "reference", last_dim=4)
+    ref = (np.array([1.0, 0.0, 0.0, 0.0]) if reference is None
+           else as_float_array(reference, "reference", last_dim=4))
     dot = np.sum(q * ref, axis=-1, keepdims=True)
     return np.where(dot < 0.0, -q, q)
 

@@ -54,26 +54,13 @@ compiled pass per block segment, in the reference's operation order;
 
 from __future__ import annotations
 
-import os
-import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
 
-# numba settings read when numba is first imported (mtcal.core.simulate is mtcal's first numba importer;
-# mtcal.filters._kernels_common explains both): passive OpenMP waiting, and a writable cache directory
-# when neither the package's __pycache__ nor ~/.cache can take numba's cache (read-only installs).
-os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
-if not os.environ.get("NUMBA_CACHE_DIR"):
-    _here, _home = os.path.dirname(os.path.abspath(__file__)), os.path.expanduser("~")
-    if not os.access(_here, os.W_OK) and not os.access(os.path.join(_home, ".cache") if os.path.isdir(
-            os.path.join(_home, ".cache")) else _home, os.W_OK):
-        import tempfile
-
-        os.environ["NUMBA_CACHE_DIR"] = os.path.join(tempfile.gettempdir(), "mtcal-numba-cache")
-import numba  # noqa: E402
 
 from mtcal.core import rotations
+from mtcal.core.compiled import jit
 from mtcal.core.validate import (STANDARD_GRAVITY_M_S2, as_float_array, positive_int,
                              positive_scalar, time_vector, unit_quaternion)
 
@@ -125,8 +112,8 @@ class Trajectory:
         q = unit_quaternion(self.q_wb, "q_wb")
         if q.ndim != 2 or q.shape[0] != t.size:
             raise ValueError(f"q_wb must have shape ({t.size}, 4) to match time_s, got {q.shape}")
-        acc = np.zeros((t.size, 3)) if self.accel_w_m_s2 is None else \
-            as_float_array(self.accel_w_m_s2, "accel_w_m_s2", ndim=2, last_dim=3)
+        acc = (np.zeros((t.size, 3)) if self.accel_w_m_s2 is None
+               else as_float_array(self.accel_w_m_s2, "accel_w_m_s2", ndim=2, last_dim=3))
         if acc.shape[0] != t.size:
             raise ValueError(f"accel_w_m_s2 must have shape ({t.size}, 3), got {acc.shape}")
         uniform_dt(t)
@@ -330,22 +317,7 @@ class ImuRecord:
 
 
 # ----------------------------------------------------------------------------- compiled engine
-def _jit(fn=None, *, parallel: bool = False):
-    """``numba.njit(cache=True, nogil=True)``; uncached when no cache directory is writable.
-
-    Use as ``@_jit`` or ``@_jit(parallel=True)`` (private to :mod:`mtcal.core`).
-    """
-    def deco(f):
-        try:
-            return numba.njit(cache=True, nogil=True, parallel=parallel)(f)
-        except RuntimeError as exc:  # no cache locator
-            warnings.warn(f"numba cannot cache {f.__name__} ({exc}); compiling without a cache", RuntimeWarning,
-                          stacklevel=3)
-            return numba.njit(cache=False, nogil=True, parallel=parallel)(f)
-    return deco if fn is None else deco(fn)
-
-
-@_jit
+@jit
 def _fill_standard_normal(gen, out):
     """``out[...] = gen.standard_normal(out.shape)`` (same draws, C order; numba's port of numpy's ziggurat)."""
     flat = out.reshape(-1)
@@ -353,7 +325,7 @@ def _fill_standard_normal(gen, out):
         flat[i] = gen.standard_normal()
 
 
-@_jit
+@jit
 def _apply_errors(out, off, n, base, per_trial_base, bias, warm, turn_on, white, white_scale, rw, rw_scale,
                   rw_state, gm, gm_sigma, gm_c, gm_a, gm_state, gm_first, vib, quant, roff, flags,
                   gen_white, gen_rw, gen_gm, fused):

@@ -12,7 +12,7 @@ from numbers import Real
 
 import numpy as np
 
-__all__ = ["STANDARD_GRAVITY_M_S2", "as_float_array", "positive_scalar", "positive_int", "time_vector", "angle_rad",
+__all__ = ["STANDARD_GRAVITY_M_S2", "as_float_array", "positive_scalar", "sample_interval", "MAX_SAMPLE_INTERVAL_S", "positive_int", "time_vector", "angle_rad",
            "unit_quaternion", "same_leading_shape", "MAX_GYRO_RAD_S", "check_gyro_units", "check_accel_units",
            "number_in_range", "angle_pair_deg", "choice", "merge_parameters"]
 
@@ -70,6 +70,31 @@ def positive_scalar(value, name: str, *, allow_zero: bool = False) -> float:
         bound = ">= 0" if allow_zero else "> 0"
         raise ValueError(f"{name} must be {bound}, got {out}")
     return out
+
+
+#: Largest sample interval accepted (s): a larger ``dt_s`` is a sample *rate* in Hz passed by mistake.
+MAX_SAMPLE_INTERVAL_S = 1.0
+
+
+def sample_interval(dt_s, name: str = "dt_s") -> float:
+    """Return the sample interval ``dt_s`` (s) as a float: finite, > 0 and ≤ 1 s.
+
+    The time-base rule of mtcal (``docs/conventions.md``): functions take the sample
+    interval, never a rate; a value above :data:`MAX_SAMPLE_INTERVAL_S` is refused as a
+    rate in Hz passed where an interval belongs.
+
+    >>> sample_interval(1.0 / 200.0)
+    0.005
+    >>> sample_interval(200.0)
+    Traceback (most recent call last):
+    ...
+    ValueError: dt_s must be the sample interval in s (<= 1 s), got 200 (a sample rate in Hz? pass 1 / fs_hz)
+    """
+    dt = positive_scalar(dt_s, name)
+    if dt > MAX_SAMPLE_INTERVAL_S:
+        raise ValueError(f"{name} must be the sample interval in s (<= {MAX_SAMPLE_INTERVAL_S:g} s), got {dt:g} "
+                         f"(a sample rate in Hz? pass 1 / fs_hz)")
+    return dt
 
 
 def positive_int(value, name: str, *, minimum: int = 1) -> int:
@@ -189,8 +214,8 @@ def number_in_range(name: str, value, lo: float, hi: float, unit: str) -> float:
     ...
     ValueError: fs_hz must be a number in [100.0, 10000.0] Hz, got -1.0
     """
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)) \
-            or not np.isfinite(value) or not lo <= float(value) <= hi:
+    if (isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating))
+            or not np.isfinite(value) or not lo <= float(value) <= hi):
         raise ValueError(f"{name} must be a number in [{lo}, {hi}] {unit}, got {value!r}")
     return float(value)
 

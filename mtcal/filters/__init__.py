@@ -4,17 +4,20 @@ and adapters to the anchor libraries (vqf, imufusion, ahrs) for the bake-off.
 The public names of every submodule are re-exported here (see ``__all__``).
 """
 
-from . import qncf, rams_ekf, baselines, mahony, anchors
-from .qncf import *  # noqa: F401,F403
-from .rams_ekf import *  # noqa: F401,F403
-from .baselines import *  # noqa: F401,F403
-from .mahony import *  # noqa: F401,F403
-from .anchors import *  # noqa: F401,F403
-import sys as _sys  # noqa: E402
+from . import anchors, baselines, mahony, qncf, rams_ekf
+from .qncf import amd_statistic, initial_attitude_from_accel, QncfFilter, QncfParams, QncfResult
+from .rams_ekf import (initial_state, measurement_model, RamsEkfFilter, RamsEkfParams, RamsEkfReference,
+                       RamsEkfResult, run_rams_ekf)
+from .baselines import (accel_only_angle, angle_from_orientation, MagneticDisturbance, mahony_marg, MargGains,
+                        simulate_magnetometer, triad_quaternion)
+from .mahony import mahony_imu, MahonyParams, MahonyResult
+from .anchors import (available_filters, DEFAULT_GAINS, FILTER_NAMES, GAIN_UNITS, require_filter, run_attitude_filter,
+                      tilt_error_rad, twist_angle_rad)
 
-# the submodules, not same-named functions (e.g. filters.qncf the module, filters.qncf.qncf the function)
-qncf, rams_ekf, baselines, mahony, anchors = (_sys.modules[f"{__name__}.{_n}"] for _n in
-                                             ('qncf', 'rams_ekf', 'baselines', 'mahony', 'anchors'))
-
-__all__ = ["qncf", "rams_ekf", "baselines", "mahony", "anchors"]
-__all__ += [n for m in (qncf, rams_ekf, baselines, mahony, anchors) for n in m.__all__ if n not in __all__]
+__all__ = ["qncf", "rams_ekf", "baselines", "mahony", "anchors", "QncfParams", "QncfResult", "QncfFilter",
+           "amd_statistic", "initial_attitude_from_accel", "RamsEkfParams", "RamsEkfReference", "RamsEkfResult",
+           "RamsEkfFilter", "run_rams_ekf", "measurement_model", "initial_state", "accel_only_angle",
+           "MagneticDisturbance", "simulate_magnetometer", "mahony_marg", "MargGains", "angle_from_orientation",
+           "triad_quaternion", "MahonyParams", "MahonyResult", "mahony_imu", "FILTER_NAMES", "DEFAULT_GAINS",
+           "GAIN_UNITS", "available_filters", "require_filter", "run_attitude_filter", "tilt_error_rad",
+           "twist_angle_rad"]

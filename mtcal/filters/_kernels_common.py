@@ -1,11 +1,10 @@
 """Shared numba plumbing of the compiled filter kernels (private).
 
-``jit(...)`` is ``numba.njit(cache=True, ...)`` that degrades gracefully: when
-no cache locator can write (read-only install and no writable user cache
-directory), numba raises at decoration time; the function is then compiled
-without caching instead of failing the import. Kernels are float64, never
-``fastmath`` (no reassociation, no FMA contraction), so their arithmetic is the
-numpy reference's operation by operation.
+``jit`` is :func:`mtcal.core.compiled.jit` (``numba.njit(cache=True)`` that compiles
+uncached when no cache directory is writable; numba's settings are made there, before
+numba loads). Kernels are float64, never ``fastmath``, so their arithmetic is the numpy
+reference's operation by operation. Here: the ``engine=`` check, the parallel-kernel
+switch and the fast input checks of the records the kernels read.
 
 The engine used by the public filters is chosen by ``engine=`` arguments:
 ``"numba"`` (default) or ``"numpy"`` (the readable reference implementations).
@@ -13,44 +12,16 @@ The engine used by the public filters is chosen by ``engine=`` arguments:
 
 from __future__ import annotations
 
-import os
-import tempfile
-import warnings
+import numba
+import numpy as np
+from numba import prange
+
+from mtcal.core.compiled import jit
+from mtcal.core.validate import MAX_GYRO_RAD_S, MIN_MEDIAN_ACCEL_M_S2
 
 __all__ = ["jit", "ENGINES", "check_engine", "use_parallel", "record", "check_scanned", "check_kernel_scan"]
 
 ENGINES = ("numba", "numpy")
-
-if not os.environ.get("NUMBA_CACHE_DIR"):
-    # numba falls back from the package's __pycache__ to a user-wide cache dir on its own; if neither is
-    # writable, point it at a temporary directory before numba reads its config (mtcal.core.simulate,
-    # usually imported first, does the same); if numba was configured already, jit() still falls back
-    # to compiling without a cache
-    _here, _home = os.path.dirname(os.path.abspath(__file__)), os.path.expanduser("~")
-    _home_cache = os.path.join(_home, ".cache")
-    if not os.access(_here, os.W_OK) and not os.access(_home_cache if os.path.isdir(_home_cache) else _home,
-                                                       os.W_OK):
-        os.environ["NUMBA_CACHE_DIR"] = os.path.join(tempfile.gettempdir(), "mtcal-numba-cache")
-
-# numba's OpenMP threading layer spins its workers after every parallel region (GNU OpenMP's active
-# wait policy); on a loaded machine a spinning worker steals the core the next region or the serial
-# code needs (measured: a 0.2 ms parallel pass took 17 ms with one busy core). Passive waiting,
-# unless the user chose otherwise; it must be set before the OpenMP runtime starts.
-os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
-
-import numba  # noqa: E402
-
-
-def jit(parallel: bool = False):
-    """Decorator: ``numba.njit(cache=True, parallel=parallel)``, or uncached if caching is impossible."""
-    def deco(fn):
-        try:
-            return numba.njit(cache=True, parallel=parallel, nogil=True)(fn)
-        except RuntimeError as exc:  # "cannot cache function ...: no locator available"
-            warnings.warn(f"numba cannot cache {fn.__name__} ({exc}); compiling without a cache",
-                          RuntimeWarning, stacklevel=2)
-            return numba.njit(cache=False, parallel=parallel, nogil=True)(fn)
-    return deco
 
 
 def check_engine(engine: str) -> str:
@@ -71,10 +42,6 @@ def use_parallel(trials: int, samples: int) -> bool:
 
 
 # ----------------------------------------------------------------------------- fast input checks
-import numpy as np  # noqa: E402
-from numba import prange  # noqa: E402
-
-from mtcal.core.validate import MAX_GYRO_RAD_S, MIN_MEDIAN_ACCEL_M_S2  # noqa: E402
 
 _BLOCKS = 16
 
@@ -174,35 +141,3 @@ def check_kernel_scan(chk: np.ndarray, gyro: np.ndarray, accel: np.ndarray, acce
     units = accel_units and bool(np.any(chk[:, 3] > 0.0))
     check_scanned(accel, "accel_m_s2", "accel" if units else None, bool(np.all(chk[:, 2] == 0.0)), 0.0)
 
-
-def warm_up_all() -> dict[str, float]:
-    """Compile (or load from numba's cache) every compiled kernel of mtcal; seconds per group.
-
-    E.g. once after installing (``python -c "from mtcal.filters._kernels_common import
-    warm_up_all; print(warm_up_all())"``), so that the first notebook or CLI call does not pay
-    the compile time (~10-20 s cold on 2 cores).
-    """
-    import time
-
-    from mtcal.core import montecarlo, simulate
-    from mtcal.filters import _kernels_ekf, _kernels_marg, _kernels_qncf
-
-    out = {}
-    for name, fn in (("qncf", _kernels_qncf.warm_up), ("rams_ekf", _kernels_ekf.warm_up),
-                     ("marg", _kernels_marg.warm_up)):
-        t0 = time.perf_counter()
-        fn()
-        out[name] = time.perf_counter() - t0
-    t0 = time.perf_counter()
-    every = simulate.SensorErrors(bias_sigma=1e-4, noise_density=1e-4, bias_random_walk=1e-5, bias_instability=1e-5,
-                                  warmup_bias=1e-4, quantization=1e-6, vibration_amplitude=1e-4,
-                                  vibration_freq_hz=10.0)
-    t = np.arange(300) * 1e-3
-    simulate.simulate_imu(simulate.Trajectory(t, np.tile([1.0, 0.0, 0.0, 0.0], (t.size, 1))),
-                          simulate.ImuErrorModel(gyro=every), np.random.default_rng(0), trials=2)
-    out["simulate"] = time.perf_counter() - t0
-    t0 = time.perf_counter()
-    montecarlo._euler_error_stats(np.tile([1.0, 0.0, 0.0, 0.0], (2, 2, 1)), np.zeros((1, 2, 3)), np.zeros((2, 3)),
-                                  np.zeros((2, 3)), np.zeros((2, 3)))
-    out["metrics"] = time.perf_counter() - t0
-    return out

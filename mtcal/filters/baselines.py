@@ -187,8 +187,10 @@ def mahony_marg(gyro_rad_s, accel_m_s2, mag, dt_s: float, gains: MargGains | Non
     dt = positive_scalar(dt_s, "dt_s")
     k = MargGains() if gains is None else gains
     t_n, n = g.shape[:2]
-    q = triad_quaternion(a[:, :20].mean(axis=1), m[:, :20].mean(axis=1)) if q0 is None else \
-        np.broadcast_to(rotations.quat_normalize(as_float_array(q0, "q0", last_dim=4)), (t_n, 4)).copy()
+    if q0 is None:
+        q = triad_quaternion(a[:, :20].mean(axis=1), m[:, :20].mean(axis=1))
+    else:
+        q = np.broadcast_to(rotations.quat_normalize(as_float_array(q0, "q0", last_dim=4)), (t_n, 4)).copy()
     an = a / np.linalg.norm(a, axis=-1, keepdims=True)
     mn = m / np.linalg.norm(m, axis=-1, keepdims=True)
     if check_engine(engine) == "numba":

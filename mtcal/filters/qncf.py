@@ -80,6 +80,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from mtcal.core import rotations
+from mtcal.core.compiled import component_major
 from mtcal.filters._kernels_common import check_engine, check_kernel_scan, record, use_parallel
 from mtcal.core.validate import (STANDARD_GRAVITY_M_S2, as_float_array, check_accel_units, check_gyro_units,
                              positive_scalar, unit_quaternion)
@@ -503,9 +504,9 @@ class QncfFilter:
         for c0 in range(0, m, size):
             c1 = min(c0 + size, m)
             nk = c1 - c0
-            wt = _component_major(w[:, c0:c1], w_buf[:nk])        # (chunk, 3, T)
+            wt = component_major(w[:, c0:c1], w_buf[:nk])        # (chunk, 3, T)
             at = a_buf[:nk]
-            self._accel_chunk(_component_major(a[:, c0:c1], w_buf2[:nk]), amd_buf[:nk], gate_buf[:nk], at,
+            self._accel_chunk(component_major(a[:, c0:c1], w_buf2[:nk]), amd_buf[:nk], gate_buf[:nk], at,
                               sq_buf[:nk], norm_buf[:nk], d_buf[:nk])
             order = self._increment_order(wt)
             for k in range(nk):  # recursive filter: loop over time only
@@ -596,16 +597,6 @@ class QncfFilter:
         if self._single:
             return QncfResult(q_out[0], euler[0], amd_out[0], gate_out[0])
         return QncfResult(q_out, euler, amd_out, gate_out)
-
-
-def _component_major(x: np.ndarray, out: np.ndarray, block: int = 64) -> np.ndarray:
-    """Copy ``x`` (T, C, 3) into ``out`` (C, 3, T), in blocks of trials (cache-friendly transpose)."""
-    trials, c = x.shape[0], x.shape[1] * x.shape[2]
-    src = x.reshape(trials, c)                      # a view when x is a time slice of a C-contiguous record
-    dst = out.reshape(c, trials)
-    for b in range(0, trials, block):
-        dst[:, b:b + block] = src[b:b + block].T
-    return out
 
 
 def _as_input(x, name: str) -> np.ndarray:

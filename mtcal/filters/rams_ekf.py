@@ -53,6 +53,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from mtcal.core.compiled import component_major
 from mtcal.core.validate import as_float_array, check_accel_units, check_gyro_units, positive_scalar
 from mtcal.filters._kernels_common import check_engine, check_kernel_scan, record, use_parallel
 
@@ -516,7 +517,6 @@ class RamsEkfFilter:
         """:meth:`run` on validated (T, M, 3) float64 arrays."""
         if self.engine == "numba":
             return self._run_numba(g, a, is_static, keep_innovation)
-        from mtcal.filters.qncf import _component_major
 
         n, m = self.trials, a.shape[1]
         st = _static_flags(is_static, (n, m)) if self.use_zvd else np.ones((1, m), bool)
@@ -534,8 +534,8 @@ class RamsEkfFilter:
         for c0 in range(0, m, size):
             c1 = min(c0 + size, m)
             nk = c1 - c0
-            gt = _component_major(g[:, c0:c1], g_buf[:nk])
-            at = _component_major(a[:, c0:c1], a_buf[:nk])
+            gt = component_major(g[:, c0:c1], g_buf[:nk])
+            at = component_major(a[:, c0:c1], a_buf[:nk])
             np.multiply(gt, self._v, out=gt)            # vᵀω Δt, summed like einsum("tnj,tj->tn")
             om = om_buf[:nk + 1]
             if self._omega_prev is not None:

@@ -12,19 +12,46 @@
 The public names of every submodule are re-exported here (see ``__all__``).
 """
 
-from . import quaternion_lsq, constrained_fit, six_position, large_angle, gyro_roll, rotation_axis, zero_velocity, rest_detection
-from .quaternion_lsq import *  # noqa: F401,F403
-from .constrained_fit import *  # noqa: F401,F403
-from .six_position import *  # noqa: F401,F403
-from .large_angle import *  # noqa: F401,F403
-from .gyro_roll import *  # noqa: F401,F403
-from .rotation_axis import *  # noqa: F401,F403
-from .zero_velocity import *  # noqa: F401,F403
-from .rest_detection import *  # noqa: F401,F403
-import sys as _sys  # noqa: E402
+from . import (constrained_fit, gyro_roll, large_angle, quaternion_lsq, rest_detection, rotation_axis, six_position,
+               zero_velocity)
+from .quaternion_lsq import align_pairs, apply_error_matrix, least_squares_error_matrix
+from .constrained_fit import (associate_matrix, CalibrationScenario, distance_to_orthogonal, factor_so4, fit_mounting,
+                              fit_so4, METHODS, MIN_POSITIONS, mounting_error_matrix, MountingFit, project_to_so4,
+                              random_layout_rad, simulate_calibration_errors, so4_error_matrix, so4_from_quaternions,
+                              So4Fit, So4Projection, symmetric_layout_rad)
+from .six_position import (calibrate, find_rests, match_rests, mean_quaternion, middle_slices, rest_means,
+                           schedule_profile, six_positions_rad, SixPositionResult, stillness_from_gyro,
+                           stillness_from_quaternions)
+from .large_angle import (bias_moment_matrix, LAMBDA1_RAD, LAMBDA2_RAD, monte_carlo_pitch_errors, perturbed_errors,
+                          perturbed_preset_pitch_error, pitch_error_eq10, pitch_error_eq3_printed, pitch_error_eq8,
+                          pitch_error_first_order, pitch_roll_eq2, pitch_roll_from_preset_triad, preset_lambda,
+                          preset_matrix, preset_specific_force, rms_pitch_error_from_moments, roll_error_eq4,
+                          select_preset_pitch)
+from .gyro_roll import (body_rates_two_dof, euler_differential, loglog_slope, MAX_RATE_RAD_S, pitch_rate_magnitude,
+                        projection_roll_error_eq14, projection_roll_error_exact, roll_decoupled_integration,
+                        roll_hybrid, roll_hybrid_rmse_sweep, roll_projection, simulate_two_dof_imu, two_dof_trajectory)
+from .rotation_axis import (angle_between, apply_sign_convention, axis_elevation, axis_error_std, axis_from_means,
+                            AxisEstimator, AxisPlaneFit, AxisResult, distinct_positions, estimate_axis,
+                            fit_axis_plane, gravity_change_norm)
+from .zero_velocity import detect_static, moving_variance, rest_intervals, ZvdParams
+from .rest_detection import detect_rests, paper_rest_report, RejectedRest, RestDetectorParams, RestReport
 
-# the submodules, not same-named functions (e.g. filters.qncf the module, filters.qncf.qncf the function)
-quaternion_lsq, constrained_fit, six_position, large_angle, gyro_roll, rotation_axis, zero_velocity, rest_detection = (_sys.modules[f"{__name__}.{_n}"] for _n in ('quaternion_lsq', 'constrained_fit', 'six_position', 'large_angle', 'gyro_roll', 'rotation_axis', 'zero_velocity', 'rest_detection'))
-
-__all__ = ["quaternion_lsq", "constrained_fit", "six_position", "large_angle", "gyro_roll", "rotation_axis", "zero_velocity", "rest_detection"]
-__all__ += [n for m in (quaternion_lsq, constrained_fit, six_position, large_angle, gyro_roll, rotation_axis, zero_velocity, rest_detection) for n in m.__all__ if n not in __all__]
+__all__ = ["quaternion_lsq", "constrained_fit", "six_position", "large_angle", "gyro_roll", "rotation_axis",
+           "zero_velocity", "rest_detection", "least_squares_error_matrix", "apply_error_matrix", "align_pairs",
+           "MIN_POSITIONS", "so4_from_quaternions", "associate_matrix", "factor_so4", "project_to_so4",
+           "distance_to_orthogonal", "so4_error_matrix", "fit_so4", "mounting_error_matrix", "fit_mounting", "So4Fit",
+           "MountingFit", "So4Projection", "CalibrationScenario", "symmetric_layout_rad", "random_layout_rad",
+           "simulate_calibration_errors", "METHODS", "six_positions_rad", "schedule_profile", "stillness_from_gyro",
+           "stillness_from_quaternions", "find_rests", "middle_slices", "mean_quaternion", "rest_means",
+           "match_rests", "SixPositionResult", "calibrate", "LAMBDA1_RAD", "LAMBDA2_RAD", "pitch_roll_eq2",
+           "pitch_error_first_order", "pitch_error_eq3_printed", "pitch_error_eq8", "roll_error_eq4", "preset_lambda",
+           "pitch_error_eq10", "preset_matrix", "preset_specific_force", "pitch_roll_from_preset_triad",
+           "select_preset_pitch", "perturbed_errors", "perturbed_preset_pitch_error", "monte_carlo_pitch_errors",
+           "bias_moment_matrix", "rms_pitch_error_from_moments", "MAX_RATE_RAD_S", "body_rates_two_dof",
+           "two_dof_trajectory", "simulate_two_dof_imu", "euler_differential", "roll_decoupled_integration",
+           "roll_projection", "pitch_rate_magnitude", "roll_hybrid", "roll_hybrid_rmse_sweep",
+           "projection_roll_error_eq14", "projection_roll_error_exact", "loglog_slope", "axis_from_means",
+           "apply_sign_convention", "axis_elevation", "angle_between", "AxisEstimator", "AxisResult", "estimate_axis",
+           "axis_error_std", "gravity_change_norm", "distinct_positions", "AxisPlaneFit", "fit_axis_plane",
+           "ZvdParams", "moving_variance", "detect_static", "rest_intervals", "RestDetectorParams", "RestReport",
+           "RejectedRest", "detect_rests", "paper_rest_report"]

@@ -60,7 +60,7 @@ Examples
 >>> moving = (t > 2) & (t < 3.5)
 >>> gyro[moving, 0] += 1.0
 >>> accel[moving, 1] += 2.0 * np.sin(2 * np.pi * t[moving])
->>> rep = detect_rests(accel, fs, gyro_rad_s=gyro)
+>>> rep = detect_rests(accel, 1.0 / fs, gyro_rad_s=gyro)
 >>> len(rep.rests), round(rep.gravity_m_s2, 2)
 (2, 9.93)
 """
@@ -71,7 +71,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from mtcal.core.validate import as_float_array, check_accel_units, positive_scalar
+from mtcal.core.validate import as_float_array, check_accel_units, positive_scalar, sample_interval
 
 __all__ = ["RestDetectorParams", "RestReport", "RejectedRest", "detect_rests", "paper_rest_report"]
 
@@ -309,7 +309,7 @@ ACCEL_NOISE_FLOOR_M_S2 = 2e-3
 GYRO_NOISE_FLOOR_RAD_S = 2e-4
 
 
-def detect_rests(accel_m_s2, fs_hz: float, *, gyro_rad_s=None,
+def detect_rests(accel_m_s2, dt_s: float, *, gyro_rad_s=None,
                  params: RestDetectorParams | None = None) -> RestReport:
     """Adaptive rest detection (see the module docstring for the statistics).
 
@@ -317,8 +317,8 @@ def detect_rests(accel_m_s2, fs_hz: float, *, gyro_rad_s=None,
     ----------
     accel_m_s2 : array_like, shape (N, 3)
         Specific force (m/s²).
-    fs_hz : float
-        Sample rate (Hz).
+    dt_s : float
+        Sample interval (s), ≤ 1 s.
     gyro_rad_s : array_like, shape (N, 3), optional
         Angular rate (rad/s); without it only the accelerometer decides.
     params : RestDetectorParams, optional
@@ -337,7 +337,7 @@ def detect_rests(accel_m_s2, fs_hz: float, *, gyro_rad_s=None,
         raise TypeError(f"params must be a RestDetectorParams, got {type(p).__name__}")
     a = as_float_array(accel_m_s2, "accel_m_s2", ndim=2, last_dim=3, copy=False)
     check_accel_units(a)
-    fs = positive_scalar(fs_hz, "fs_hz")
+    fs = 1.0 / sample_interval(dt_s)  # the rate: exact for the rates mtcal uses (1 / (1 / fs) == fs)
     g = None
     if gyro_rad_s is not None:
         g = as_float_array(gyro_rad_s, "gyro_rad_s", ndim=2, last_dim=3, copy=False)
@@ -443,20 +443,22 @@ def _classify(blk, static, quiet, in_band, still, norm_mean, level, band, g_lvl_
     return rests, rejected, n_short, flags
 
 
-def paper_rest_report(accel_m_s2, fs_hz: float, *, gyro_rad_s=None, min_rest_s: float = 0.5,
+def paper_rest_report(accel_m_s2, dt_s: float, *, gyro_rad_s=None, min_rest_s: float = 0.5,
                       zvd=None) -> RestReport:
     """wang2022sensors Table 1 ZVD (:func:`mtcal.methods.zero_velocity.detect_static`) as a :class:`RestReport`.
 
     The flags are the paper's, unchanged (``is_static``); ``rests`` are its
     runs of at least ``min_rest_s``. The measured levels are reported beside
-    the fixed band so a user sees when the band misses the sensor.
+    the fixed band so a user sees when the band misses the sensor. ``dt_s`` is the sample
+    interval (s), ≤ 1 s.
     """
     from mtcal.methods.zero_velocity import ZvdParams, detect_static
 
     zp = ZvdParams() if zvd is None else zvd
     a = as_float_array(accel_m_s2, "accel_m_s2", ndim=2, last_dim=3, copy=False)
-    fs = positive_scalar(fs_hz, "fs_hz")
-    flags = detect_static(a, fs, zp)
+    dt = sample_interval(dt_s)
+    fs = 1.0 / dt
+    flags = detect_static(a, dt, zp)
     g = None if gyro_rad_s is None else as_float_array(gyro_rad_s, "gyro_rad_s", ndim=2, last_dim=3, copy=False)
     w = max(3, int(round(0.1 * fs)))
     lv = _block_levels(a, np.linalg.norm(a, axis=1), g, w, 0.1)

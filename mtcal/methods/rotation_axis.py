@@ -26,7 +26,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from mtcal.core.validate import as_float_array, positive_scalar
+from mtcal.core.validate import as_float_array, positive_scalar, sample_interval
 from mtcal.methods.zero_velocity import ZvdParams, detect_static, rest_intervals
 
 __all__ = ["axis_from_means", "apply_sign_convention", "axis_elevation", "angle_between",
@@ -267,7 +267,7 @@ class AxisResult:
     n_rests_found: int
 
 
-def estimate_axis(accel_m_s2, fs_hz: float, *, zvd: ZvdParams | None = None, is_static=None,
+def estimate_axis(accel_m_s2, dt_s: float, *, zvd: ZvdParams | None = None, is_static=None,
                   min_rest_s: float = 0.5, min_separation_deg: float = DEFAULT_MIN_SEPARATION_DEG,
                   max_elevation_deg: float = DEFAULT_MAX_ELEVATION_DEG) -> AxisResult:
     """Algorithm A1 over a whole record: ZVD, rest means, Eq 23 from the first three rests.
@@ -276,8 +276,8 @@ def estimate_axis(accel_m_s2, fs_hz: float, *, zvd: ZvdParams | None = None, is_
     ----------
     accel_m_s2 : array_like, shape (N, 3)
         Accelerometer record (m/s²).
-    fs_hz : float
-        Sample rate (Hz).
+    dt_s : float
+        Sample interval (s), ≤ 1 s.
     zvd : ZvdParams, optional
         ZVD thresholds (Table 1 by default).
     is_static : array_like of bool (N,), optional
@@ -297,9 +297,10 @@ def estimate_axis(accel_m_s2, fs_hz: float, *, zvd: ZvdParams | None = None, is_
         Fewer than three distinct rests, or degenerate geometry.
     """
     a = as_float_array(accel_m_s2, "accel_m_s2", ndim=2, last_dim=3)
-    fs = positive_scalar(fs_hz, "fs_hz")
+    dt = sample_interval(dt_s)
+    fs = 1.0 / dt  # the rate: exact for the rates mtcal uses (1 / (1 / fs) == fs)
     if is_static is None:
-        static = detect_static(a, fs, zvd)
+        static = detect_static(a, dt, zvd)
     else:
         static = np.asarray(is_static)
         if static.dtype != bool or static.shape != a.shape[:1]:

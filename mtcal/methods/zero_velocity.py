@@ -25,14 +25,16 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mtcal.core.validate import STANDARD_GRAVITY_M_S2, as_float_array, check_accel_units, positive_scalar
+from mtcal.core.validate import (STANDARD_GRAVITY_M_S2, as_float_array, check_accel_units, positive_scalar,
+                                 sample_interval)
 
 __all__ = ["ZvdParams", "moving_variance", "detect_static", "rest_intervals"]
 
 
 @dataclass(frozen=True)
 class ZvdParams:
-    """ZVD thresholds; defaults are wang2022sensors Table 1 (``wang2022sensors_table01_zvd_params.csv``).
+    """ZVD thresholds; defaults are wang2022sensors Table 1 (checked against the transcribed table by
+    :func:`mtcal.studies.wang2022sensors.scenario.table1_zvd_params`).
 
     Parameters
     ----------
@@ -77,26 +79,14 @@ class ZvdParams:
         if int(self.min_window_samples) < 2:
             raise ValueError(f"min_window_samples must be >= 2, got {self.min_window_samples}")
 
-    @classmethod
-    def from_paper(cls) -> "ZvdParams":
-        """Table 1 as transcribed in ``paper_data/wang2022sensors_table01_zvd_params.csv``."""
-        from mtcal.reporting import paper_numbers as paper
-
-        name = "wang2022sensors_table01_zvd_params"
-        return cls(accel_min_m_s2=paper.value(name, "value", symbol="th_a_min"),
-                   accel_max_m_s2=paper.value(name, "value", symbol="th_a_max"),
-                   var_threshold_m2_s4=paper.value(name, "value", symbol="th_zeta_a"),
-                   window_s=paper.value(name, "value", symbol="t_w"),
-                   min_duration_s=paper.value(name, "value", symbol="th_t"))
-
-    def window_samples(self, fs_hz: float) -> int:
-        """Variance window ``n_w = max(round(t_w fs), min_window_samples)``."""
-        return max(int(round(self.window_s * positive_scalar(fs_hz, "fs_hz"))),
+    def window_samples(self, dt_s: float) -> int:
+        """Variance window ``n_w = max(round(t_w / Δt), min_window_samples)`` for sample interval ``dt_s`` (s)."""
+        return max(int(round(self.window_s * (1.0 / sample_interval(dt_s)))),
                    int(self.min_window_samples))
 
-    def duration_samples(self, fs_hz: float) -> int:
-        """Minimum run ``n_h = max(ceil(th_t fs − 1e-9), 1)`` samples."""
-        return max(int(np.ceil(self.min_duration_s * positive_scalar(fs_hz, "fs_hz") - 1e-9)), 1)
+    def duration_samples(self, dt_s: float) -> int:
+        """Minimum run ``n_h = max(ceil(th_t / Δt − 1e-9), 1)`` samples for sample interval ``dt_s`` (s)."""
+        return max(int(np.ceil(self.min_duration_s * (1.0 / sample_interval(dt_s)) - 1e-9)), 1)
 
 
 def moving_variance(x, window: int) -> np.ndarray:
@@ -127,7 +117,7 @@ def moving_variance(x, window: int) -> np.ndarray:
     return np.maximum(s2 / count - mean * mean, 0.0)
 
 
-def detect_static(accel_m_s2, fs_hz: float, params: ZvdParams | None = None,
+def detect_static(accel_m_s2, dt_s: float, params: ZvdParams | None = None,
                   gyro_rad_s=None) -> np.ndarray:
     """wang2022sensors ZVD (Sec. 3.1, Eq 21–22, Table 1): static flag per sample.
 
@@ -135,8 +125,8 @@ def detect_static(accel_m_s2, fs_hz: float, params: ZvdParams | None = None,
     ----------
     accel_m_s2 : array_like, shape (..., N, 3)
         Accelerometer specific force (m/s²); leading axes are trials.
-    fs_hz : float
-        Sample rate (Hz).
+    dt_s : float
+        Sample interval (s), ≤ 1 s.
     params : ZvdParams, optional
         Thresholds; Table 1 by default.
     gyro_rad_s : array_like, shape (..., N, 3), optional
@@ -155,7 +145,7 @@ def detect_static(accel_m_s2, fs_hz: float, params: ZvdParams | None = None,
     check_accel_units(a)
     mag = np.linalg.norm(a, axis=-1)
     band = (mag > p.accel_min_m_s2) & (mag < p.accel_max_m_s2)
-    var = moving_variance(mag - STANDARD_GRAVITY_M_S2, p.window_samples(fs_hz))
+    var = moving_variance(mag - STANDARD_GRAVITY_M_S2, p.window_samples(dt_s))
     cond = band & (var < p.var_threshold_m2_s4)
     if p.gyro_max_rad_s is not None:
         if gyro_rad_s is None:
@@ -164,7 +154,7 @@ def detect_static(accel_m_s2, fs_hz: float, params: ZvdParams | None = None,
         if w.shape != a.shape:
             raise ValueError(f"gyro_rad_s must have the shape of accel_m_s2 {a.shape}, got {w.shape}")
         cond &= np.linalg.norm(w, axis=-1) < p.gyro_max_rad_s
-    return _min_run(cond, p.duration_samples(fs_hz))
+    return _min_run(cond, p.duration_samples(dt_s))
 
 
 def _min_run(cond: np.ndarray, n_h: int) -> np.ndarray:

@@ -1,19 +1,19 @@
-"""Reporting: the papers' numbers, paper-vs-mtcal comparison with Monte Carlo bands, output files,
-notebook runs (what-if runs and their comparison).
+"""Reporting: the papers' numbers, paper-vs-mtcal comparison with Monte Carlo bands, output files.
+
+Reporting imports only :mod:`mtcal.core`; the studies build their comparison rows with it.
+Notebook execution and what-if runs are :mod:`mtcal.runs` (above every layer they run).
 
 The public names of every submodule are re-exported here (see ``__all__``).
 """
 
-from . import paper_numbers, compare, output, runs
-from .paper_numbers import *  # noqa: F401,F403
-from .compare import *  # noqa: F401,F403
-from .output import *  # noqa: F401,F403
-from .runs import *  # noqa: F401,F403
-import sys as _sys  # noqa: E402
+from . import compare, output, paper_numbers
+from .paper_numbers import available, load, paper_dir, value
+from .compare import (at_paper_settings, band_record, band_row, band_summary, band_text, check_claims, claims_summary,
+                      comparison_row, comparison_table, COMPARISON_COLUMNS, describe, prediction_summary, ROLES,
+                      SOURCES)
+from .output import output_dir, run_size, save_figure, save_table, setup_matplotlib, show_table
 
-# the submodules, not same-named functions (e.g. filters.qncf the module, filters.qncf.qncf the function)
-paper_numbers, compare, output, runs = (_sys.modules[f"{__name__}.{_n}"]
-                                        for _n in ('paper_numbers', 'compare', 'output', 'runs'))
-
-__all__ = ["paper_numbers", "compare", "output", "runs"]
-__all__ += [n for m in (paper_numbers, compare, output, runs) for n in m.__all__ if n not in __all__]
+__all__ = ["paper_numbers", "compare", "output", "paper_dir", "available", "load", "value", "COMPARISON_COLUMNS",
+           "comparison_row", "comparison_table", "band_summary", "claims_summary", "band_record", "band_row",
+           "band_text", "describe", "ROLES", "SOURCES", "at_paper_settings", "check_claims", "prediction_summary",
+           "run_size", "output_dir", "setup_matplotlib", "save_figure", "save_table", "show_table"]

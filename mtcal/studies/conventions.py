@@ -28,7 +28,7 @@ from mtcal.core.units import DEG, DEG_H, DEG_RT_H
 from mtcal.core.validate import STANDARD_GRAVITY_M_S2, merge_parameters, positive_int, positive_scalar
 from mtcal.methods import large_angle, quaternion_lsq
 from mtcal.reporting import compare
-from mtcal.reporting import paper_numbers as paper
+from mtcal.reporting import paper_numbers
 
 __all__ = ["PARAMETER_DEFAULTS", "SIZE_DEFAULTS", "PAPER_SIX_POSITIONS_DEG", "below", "display_round",
            "resolve_parameters", "euler_convention_check", "axis_assignment_table", "eq4_coupling_table",
@@ -227,7 +227,7 @@ def printed_matrices_table() -> dict:
     """wang2023cja errata 1 and 11: determinant, orthogonality and diagonal of the printed matrices."""
     recs, mats = [], {}
     for name in ("turntable", "windtunnel"):
-        df = paper.load(f"wang2023cja_matrix_qbs_{name}")
+        df = paper_numbers.load(f"wang2023cja_matrix_qbs_{name}")
         m = df.select_dtypes("number").to_numpy()[:, -4:]
         mats[name] = m
         recs.append({"matrix": name, "det": float(np.linalg.det(m)),
@@ -330,7 +330,7 @@ def allan_check(arw_rad_s_rt_hz: float, rrw_rad_s_rt_s: float, fs_hz: float, hou
     static = simulate.Trajectory(t, np.tile([1.0, 0.0, 0.0, 0.0], (t.size, 1)))
     model = simulate.ImuErrorModel(gyro=simulate.SensorErrors(noise_density=n_density, bias_random_walk=k_rrw))
     rec = simulate.simulate_imu(static, model, np.random.default_rng(seed), trials=positive_int(trials, "trials"))
-    taus, adev = metrics.allan_deviation(np.moveaxis(rec.gyro_rad_s, -1, 1), fs)
+    taus, adev = metrics.allan_deviation(np.moveaxis(rec.gyro_rad_s, -1, 1), 1.0 / fs)
     fit = metrics.fit_allan_noise(taus, adev, flat_term=False)
     n_ratio, k_ratio = fit["N"] / n_density, fit["K"] / k_rrw
     rows = [compare.comparison_row("conventions_allan", "Allan N recovered / configured", 1.0, float(n_ratio),

@@ -8,11 +8,18 @@ cell computes), :mod:`mtcal.sweep.engine` (determinism, run folder) and
 """
 
 from . import bakeoff, engine, evaluators, executors, spec
-from .bakeoff import *  # noqa: F401,F403
-from .engine import *  # noqa: F401,F403
-from .evaluators import *  # noqa: F401,F403
-from .executors import *  # noqa: F401,F403
-from .spec import *  # noqa: F401,F403
+from .bakeoff import (BAKEOFF_DEFAULTS, bakeoff_figure, bakeoff_params, BakeoffResult, FAMILIES, family_specs,
+                      findings, headline_table, run_bakeoff, tune_gains)
+from .engine import run_block, run_sweep, summarize, SweepResult, TABLE_COLUMNS, trial_rngs
+from .evaluators import (attitude_profile, Evaluator, evaluator_names, filter_gain, get_evaluator, MOTIONS,
+                         RAMS_EKF_DEFAULT_GAIN, register_evaluator, SURFACE_AXIS, surface_profile,
+                         validation_positions_rad)
+from .executors import DaskExecutor, LocalExecutor, make_executor, SerialExecutor
+from .spec import load_spec, parse_spec, SweepSpec
 
-__all__ = ["bakeoff", "engine", "evaluators", "executors", "spec"]
-__all__ += [n for m in (bakeoff, engine, evaluators, executors, spec) for n in m.__all__ if n not in __all__]
+__all__ = ["bakeoff", "engine", "evaluators", "executors", "spec", "BAKEOFF_DEFAULTS", "FAMILIES", "bakeoff_params",
+           "family_specs", "tune_gains", "BakeoffResult", "run_bakeoff", "headline_table", "bakeoff_figure",
+           "findings", "SweepResult", "run_sweep", "run_block", "trial_rngs", "summarize", "TABLE_COLUMNS",
+           "Evaluator", "register_evaluator", "get_evaluator", "evaluator_names", "MOTIONS", "filter_gain",
+           "RAMS_EKF_DEFAULT_GAIN", "SURFACE_AXIS", "attitude_profile", "surface_profile", "validation_positions_rad",
+           "SerialExecutor", "LocalExecutor", "DaskExecutor", "make_executor", "SweepSpec", "parse_spec", "load_spec"]

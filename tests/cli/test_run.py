@@ -6,7 +6,7 @@ import pytest
 
 from mtcal import cli
 
-TINY = Path(__file__).resolve().parents[1] / "reporting" / "conftest.py"
+TINY = Path(__file__).resolve().parents[1] / "runs" / "conftest.py"
 
 
 @pytest.fixture

@@ -29,7 +29,7 @@ def test_split_static_moving():
 def test_allan_of_white_noise_is_n_over_sqrt_tau(rng):
     fs, n = 100.0, 0.01
     x = n * np.sqrt(fs) * rng.standard_normal((4, 200_000))
-    taus, adev = metrics.allan_deviation(x, fs, taus_s=[0.1, 1.0, 10.0])
+    taus, adev = metrics.allan_deviation(x, 1.0 / fs, taus_s=[0.1, 1.0, 10.0])
     np.testing.assert_allclose(adev, n / np.sqrt(taus), rtol=0.05)
 
 
@@ -49,9 +49,11 @@ def test_bad_input():
     with pytest.raises(ValueError, match="finite"):
         metrics.rmse([1.0, np.nan])
     with pytest.raises(ValueError, match="at least 9 samples"):
-        metrics.allan_deviation(np.ones(5), 10.0)
-    with pytest.raises(ValueError, match="fs_hz must be > 0"):
+        metrics.allan_deviation(np.ones(5), 0.1)
+    with pytest.raises(ValueError, match="dt_s must be > 0"):
         metrics.allan_deviation(np.ones(100), 0.0)
+    with pytest.raises(ValueError, match=r"dt_s must be the sample interval in s .*a sample rate in Hz"):
+        metrics.allan_deviation(np.ones(100), 10.0)
     with pytest.raises(ValueError, match="level must be"):
         metrics.percentile_band([1.0, 2.0], level=95)
 

@@ -116,7 +116,7 @@ def test_allan_recovers_configured_noise(rng):
     model = ImuErrorModel(gyro=SensorErrors(noise_density=n_density, bias_random_walk=k_rrw))
     rec = simulate.simulate_imu(traj, model, rng, trials=8)
     records = np.moveaxis(rec.gyro_rad_s, -1, 1)  # 8 trials × 3 axes = 24 independent records
-    taus, adev = metrics.allan_deviation(records, fs)
+    taus, adev = metrics.allan_deviation(records, 1.0 / fs)
     fit = metrics.fit_allan_noise(taus, adev, flat_term=False)
     assert fit["N"] == pytest.approx(n_density, rel=0.10)
     assert fit["K"] == pytest.approx(k_rrw, rel=0.10)

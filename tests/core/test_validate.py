@@ -37,6 +37,16 @@ def test_scalars():
         v.positive_int(2.0, "trials")
 
 
+def test_sample_interval_refuses_a_rate():
+    assert v.sample_interval(0.005) == 0.005 and v.sample_interval(1) == 1.0
+    with pytest.raises(ValueError, match=r"dt_s must be the sample interval in s \(<= 1 s\), got 1000 \(a sample rate"):
+        v.sample_interval(1000.0)
+    with pytest.raises(ValueError, match="dt_s must be > 0"):
+        v.sample_interval(0.0)
+    with pytest.raises(TypeError, match="gap must be a real number"):
+        v.sample_interval("0.01", "gap")
+
+
 def test_time_vector_and_angles():
     with pytest.raises(ValueError, match="strictly increasing; sample 2"):
         v.time_vector([0.0, 1.0, 0.5])

@@ -1,29 +1,29 @@
 import numpy as np
 import pytest
 
-from mtcal.reporting import paper_numbers as paper
+from mtcal.reporting import paper_numbers
 from mtcal.reporting import compare
 
 
 def test_every_table_loads():
-    names = paper.available()
+    names = paper_numbers.available()
     assert "wang2023cja_table01_positions" in names and len(names) >= 20
     for name in names:
-        assert len(paper.load(name)) > 0
+        assert len(paper_numbers.load(name)) > 0
 
 
 def test_numeric_parsing_keeps_printed_text_available():
-    df = paper.load("wang2023cja_table01_positions")
+    df = paper_numbers.load("wang2023cja_table01_positions")
     assert df["pitch_reference_deg"].dtype.kind == "f" or df["pitch_reference_deg"].dtype.kind == "i"
-    text = paper.load("wang2023cja_table01_positions", as_text=True)
+    text = paper_numbers.load("wang2023cja_table01_positions", as_text=True)
     assert text.loc[1, "pitch_after_deg"] == "-0.013"
 
 
 def test_value_selects_one_cell():
-    v = paper.value("wang2022sensors_table05_rmse", "rmse_static_deg", rotation_axis="Bv1", system="RAMS")
+    v = paper_numbers.value("wang2022sensors_table05_rmse", "rmse_static_deg", rotation_axis="Bv1", system="RAMS")
     assert v == pytest.approx(0.0145)
     with pytest.raises(ValueError, match="exactly one row"):
-        paper.value("wang2022sensors_table05_rmse", "rmse_static_deg", system="RAMS")
+        paper_numbers.value("wang2022sensors_table05_rmse", "rmse_static_deg", system="RAMS")
 
 
 def test_comparison_table_formats_and_counts():
@@ -38,16 +38,16 @@ def test_comparison_table_formats_and_counts():
 
 def test_bad_names_raise():
     with pytest.raises(ValueError, match="must be one of the paper tables"):
-        paper.load("no_such_table")
+        paper_numbers.load("no_such_table")
     with pytest.raises(TypeError, match="name must be a str"):
-        paper.load(3)
+        paper_numbers.load(3)
     with pytest.raises(TypeError, match="holds must be bool"):
         compare.comparison_row("a", "b", 1, 2, "c", "yes")
 
 
 def test_printed_matrices_are_4x4():
     for name in ("wang2023cja_matrix_qbs_turntable", "wang2023cja_matrix_qbs_windtunnel"):
-        m = paper.load(name).select_dtypes("number").to_numpy()
+        m = paper_numbers.load(name).select_dtypes("number").to_numpy()
         assert m.shape[1] >= 4 and np.all(np.isfinite(m))
 
 

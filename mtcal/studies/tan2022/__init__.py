@@ -12,16 +12,28 @@ fits), :mod:`.plots` (figures; the only module importing matplotlib).
 """
 
 from . import artifacts, error_model, scenario
-from .artifacts import *  # noqa: F401,F403
-from .error_model import *  # noqa: F401,F403
-from .scenario import *  # noqa: F401,F403
+from .artifacts import (accel_label, Artifact, artifact_rng, eq3_erratum, extra_independent_errors, extra_roll_error,
+                        extra_threshold_sweep, fig02, fig05, fig06, fig08, fig09, fig10, fig11, fig12, gyro_label,
+                        threshold_check)
+from .error_model import (ErrorModelFit, fit_accel_error_model, fit_gyro_error_model, fit_gyro_error_pattern,
+                          grid_posterior, paper_gyro_error_deg_s, PATTERN_BIAS_GRID_DEG_S,
+                          PATTERN_NOISE_GRID_DEG_S_RTHZ)
+from .scenario import (ACCEL_PARAMETER_DEFAULTS, accel_scenario, AccelErrorPrior, AccelScenario,
+                       GYRO_PARAMETER_DEFAULTS, gyro_study, GyroErrorPrior, GyroErrors, GyroStudy, Oscillation,
+                       PARAMETER_DEFAULTS, ProjectionSweep, UniformRotation)
 
-__all__ = ["scenario", "artifacts", "error_model", "plots"]
-__all__ += [n for m in (scenario, artifacts, error_model) for n in m.__all__ if n not in __all__]
+__all__ = ["scenario", "artifacts", "error_model", "plots", "AccelScenario", "GyroErrors", "ProjectionSweep",
+           "UniformRotation", "Oscillation", "GyroStudy", "AccelErrorPrior", "GyroErrorPrior",
+           "ACCEL_PARAMETER_DEFAULTS", "GYRO_PARAMETER_DEFAULTS", "PARAMETER_DEFAULTS", "accel_scenario",
+           "gyro_study", "Artifact", "accel_label", "eq3_erratum", "fig02", "extra_roll_error", "fig05", "fig08",
+           "extra_independent_errors", "gyro_label", "fig06", "threshold_check", "fig09", "fig10", "fig11", "fig12",
+           "extra_threshold_sweep", "artifact_rng", "ErrorModelFit", "grid_posterior", "fit_accel_error_model",
+           "fit_gyro_error_model", "fit_gyro_error_pattern", "paper_gyro_error_deg_s", "PATTERN_BIAS_GRID_DEG_S",
+           "PATTERN_NOISE_GRID_DEG_S_RTHZ"]
 
 
 def __getattr__(name):
-    if name == "plots":  # matplotlib only on demand
+    if name == "plots":  # matplotlib only when a figure is asked for
         import importlib
 
         return importlib.import_module(f"{__name__}.plots")

@@ -27,8 +27,8 @@ import pandas as pd
 
 from mtcal.core import metrics
 from mtcal.core.validate import positive_int
-from mtcal.methods import gyro_roll as gr
-from mtcal.methods import large_angle as la
+from mtcal.methods import gyro_roll
+from mtcal.methods import large_angle
 from mtcal.reporting import compare
 
 from .scenario import AccelScenario, GyroStudy
@@ -75,7 +75,7 @@ def _slope_band(x, y):
     ok = np.all(y > 0, axis=-1)
     if not np.any(ok):
         return None
-    return metrics.percentile_band(gr.loglog_slope(x, y[ok]))
+    return metrics.percentile_band(gyro_roll.loglog_slope(x, y[ok]))
 
 
 def _slope_row(artifact, quantity, paper, band):
@@ -138,9 +138,9 @@ def eq3_erratum(sc: AccelScenario) -> Artifact:
     keep = np.abs(th_axis) <= 89.0
     th, ph = theta[keep], phi[keep]
     da = sc.delta_accel_m_s2
-    exact = _DEG(la.perturbed_errors(th, ph, da, g=sc.gravity_m_s2)[0])
-    printed = _DEG(la.pitch_error_eq3_printed(th, ph, da, g=sc.gravity_m_s2))
-    corrected = _DEG(la.pitch_error_eq8(th, ph, da, g=sc.gravity_m_s2))
+    exact = _DEG(large_angle.perturbed_errors(th, ph, da, g=sc.gravity_m_s2)[0])
+    printed = _DEG(large_angle.pitch_error_eq3_printed(th, ph, da, g=sc.gravity_m_s2))
+    corrected = _DEG(large_angle.pitch_error_eq8(th, ph, da, g=sc.gravity_m_s2))
     scale = float(np.max(np.abs(exact)))
     gap_printed = float(np.max(np.abs(printed - exact))) / scale
     gap_corrected = float(np.max(np.abs(corrected - exact))) / scale
@@ -183,8 +183,8 @@ def fig02(sc: AccelScenario) -> Artifact:
     """
     theta, phi, th_axis = _axes_deg(sc)
     da = sc.delta_accel_m_s2
-    sim = _DEG(la.perturbed_errors(theta, phi, da, g=sc.gravity_m_s2)[0])
-    formula = _DEG(la.pitch_error_eq8(theta, phi, da, g=sc.gravity_m_s2))
+    sim = _DEG(large_angle.perturbed_errors(theta, phi, da, g=sc.gravity_m_s2)[0])
+    formula = _DEG(large_angle.pitch_error_eq8(theta, phi, da, g=sc.gravity_m_s2))
     neg, pos = _half_means(sim, theta, phi)
     k = np.unravel_index(np.argmax(np.abs(sim)), sim.shape)
     max_deg = float(np.abs(sim[k]))
@@ -215,10 +215,10 @@ def extra_roll_error(sc: AccelScenario) -> Artifact:
     theta, phi, th_axis = _axes_deg(sc)
     keep = np.abs(th_axis) <= 89.0
     th, ph = theta[keep], phi[keep]
-    sim = np.abs(_DEG(la.perturbed_errors(th, ph, sc.delta_accel_m_s2, g=sc.gravity_m_s2)[1]))
+    sim = np.abs(_DEG(large_angle.perturbed_errors(th, ph, sc.delta_accel_m_s2, g=sc.gravity_m_s2)[1]))
     worst = np.max(sim, axis=1)
-    edge = la.perturbed_errors(_RAD(89.0), phi[0], sc.delta_accel_m_s2, g=sc.gravity_m_s2)[1]
-    level = la.perturbed_errors(0.0, phi[0], sc.delta_accel_m_s2, g=sc.gravity_m_s2)[1]
+    edge = large_angle.perturbed_errors(_RAD(89.0), phi[0], sc.delta_accel_m_s2, g=sc.gravity_m_s2)[1]
+    level = large_angle.perturbed_errors(0.0, phi[0], sc.delta_accel_m_s2, g=sc.gravity_m_s2)[1]
     ratio = float(np.max(np.abs(edge)) / np.max(np.abs(level)))
     rows = [_ROW("tan2022_extra_roll_error", "worst |Δφ| at θ = 89° / at θ = 0", "roll lost as θ → ±90°", ratio,
                  "> 30", bool(ratio > 30))]
@@ -231,7 +231,7 @@ def extra_roll_error(sc: AccelScenario) -> Artifact:
 
 def _preset_field(sc: AccelScenario, theta, phi) -> np.ndarray:
     da = sc.delta_accel_m_s2
-    return _DEG(la.perturbed_preset_pitch_error(theta, phi, da, da, g=sc.gravity_m_s2, **_lambdas(sc)))
+    return _DEG(large_angle.perturbed_preset_pitch_error(theta, phi, da, da, g=sc.gravity_m_s2, **_lambdas(sc)))
 
 
 def fig05(sc: AccelScenario) -> Artifact:
@@ -244,7 +244,7 @@ def fig05(sc: AccelScenario) -> Artifact:
     """
     theta, phi, th_axis = _axes_deg(sc)
     preset = _preset_field(sc, theta, phi)
-    plain = _DEG(la.perturbed_errors(theta, phi, sc.delta_accel_m_s2, g=sc.gravity_m_s2)[0])
+    plain = _DEG(large_angle.perturbed_errors(theta, phi, sc.delta_accel_m_s2, g=sc.gravity_m_s2)[0])
     large = np.abs(theta) >= _RAD(45.0)
     ratio = float(np.max(np.abs(preset[large])) / np.max(np.abs(plain[large])))
     k = np.unravel_index(np.argmax(np.abs(preset)), preset.shape)
@@ -259,7 +259,7 @@ def fig05(sc: AccelScenario) -> Artifact:
     ]
     step = max(1, int(round(5.0 / sc.grid_step_deg)))
     sl = (slice(None, None, step), slice(None, None, step))
-    formula = _DEG(la.pitch_error_eq10(theta, phi, sc.delta_accel_m_s2, g=sc.gravity_m_s2, **_lambdas(sc)))
+    formula = _DEG(large_angle.pitch_error_eq10(theta, phi, sc.delta_accel_m_s2, g=sc.gravity_m_s2, **_lambdas(sc)))
     table = pd.DataFrame({"theta_deg": _DEG(theta[sl]).ravel(), "phi_deg": _DEG(phi[sl]).ravel(),
                           "dtheta_two_triad_simulated_deg": preset[sl].ravel(),
                           "dtheta_eq10_deg": formula[sl].ravel()})
@@ -278,7 +278,7 @@ def fig08(sc: AccelScenario) -> Artifact:
     180° roll range).
     """
     theta, phi, th_axis = _axes_deg(sc)
-    plain = _DEG(la.perturbed_errors(theta, phi, sc.delta_accel_m_s2, g=sc.gravity_m_s2)[0])
+    plain = _DEG(large_angle.perturbed_errors(theta, phi, sc.delta_accel_m_s2, g=sc.gravity_m_s2)[0])
     preset = _preset_field(sc, theta, phi)
     worst_T, worst_p = np.max(np.abs(plain), axis=1), np.max(np.abs(preset), axis=1)
     rms_T, rms_p = np.sqrt(np.mean(plain**2, axis=1)), np.sqrt(np.mean(preset**2, axis=1))
@@ -317,8 +317,8 @@ def extra_independent_errors(sc: AccelScenario, seed: int, trials: int, step_deg
     th_mc, ph_mc = sc.grid_rad(step_deg)
     keep = np.abs(th_mc[:, 0]) <= _RAD(85.0)
     th_mc, ph_mc = th_mc[keep], ph_mc[keep]
-    mc = la.monte_carlo_pitch_errors(th_mc, ph_mc, sc.delta_accel_m_s2, artifact_rng(seed, 20), n,
-                                     g=sc.gravity_m_s2)
+    mc = large_angle.monte_carlo_pitch_errors(th_mc, ph_mc, sc.delta_accel_m_s2, artifact_rng(seed, 20), n,
+                                              g=sc.gravity_m_s2)
     unit = _DEG(sc.delta_accel_g)  # ΔA/g in degrees
     rms_trial = {k: np.sqrt(np.mean(v.reshape(n, -1) ** 2, axis=1)) for k, v in mc.items()}
     gain_p = metrics.percentile_band(rms_trial["single"] / rms_trial["preset"])
@@ -358,9 +358,9 @@ def gyro_label(study: GyroStudy) -> str:
 def _simulate(study: GyroStudy, t, pitch, rng, trials, *, noise: bool = True):
     g = study.gyro
     roll = np.full_like(t, g.roll0_rad)
-    return gr.simulate_two_dof_imu(t, pitch, roll, gyro_bias_rad_s=g.error_rad_s,
-                                   gyro_noise_density=g.noise_density_rad_s_rthz if noise else 0.0,
-                                   rng=rng if noise else None, trials=trials if noise else None).gyro_rad_s
+    return gyro_roll.simulate_two_dof_imu(t, pitch, roll, gyro_bias_rad_s=g.error_rad_s,
+                                          gyro_noise_density=g.noise_density_rad_s_rthz if noise else 0.0,
+                                          rng=rng if noise else None, trials=trials if noise else None).gyro_rad_s
 
 
 def fig06(study: GyroStudy, seed: int, trials: int) -> Artifact:
@@ -379,11 +379,11 @@ def fig06(study: GyroStudy, seed: int, trials: int) -> Artifact:
     sim = np.empty((n, rates.size))
     for j, r in enumerate(rates):  # loop over rates; trials vectorised
         w = _simulate(study, t, r * t, rng, n)
-        sim[:, j] = np.mean(gr.roll_projection(w) - g.roll0_rad, axis=-1)
+        sim[:, j] = np.mean(gyro_roll.roll_projection(w) - g.roll0_rad, axis=-1)
     band = metrics.percentile_band(_DEG(np.abs(sim)))
     ey, ez = g.error_rad_s[1], g.error_rad_s[2]
-    eq14 = _DEG(np.abs(gr.projection_roll_error_eq14(g.roll0_rad, rates, ey, ez)))
-    exact = _DEG(np.abs(gr.projection_roll_error_exact(g.roll0_rad, rates, ey, ez)))
+    eq14 = _DEG(np.abs(gyro_roll.projection_roll_error_eq14(g.roll0_rad, rates, ey, ez)))
+    exact = _DEG(np.abs(gyro_roll.projection_roll_error_exact(g.roll0_rad, rates, ey, ez)))
     fit = rates >= _RAD(sweep.fit_min_deg_s)
     slope = _slope_band(rates[fit], sim[:, fit])
     rows = [_slope_row("tan2022_fig06", f"log-log slope of projection error vs θ̇ (θ̇ ≥ {sweep.fit_min_deg_s:g} °/s)",
@@ -408,10 +408,10 @@ def threshold_check(study: GyroStudy) -> Artifact:
     g, thr = study.gyro, study.oscillation.threshold_rad_s
     ey, ez = g.error_rad_s[1], g.error_rad_s[2]
     phi = _RAD(np.linspace(-90, 90, 3601))
-    vals = {"Eq 14 at φ0": abs(gr.projection_roll_error_eq14(g.roll0_rad, thr, ey, ez)),
-            "Eq 14 worst over φ": np.max(np.abs(gr.projection_roll_error_eq14(phi, thr, ey, ez))),
-            "exact arctan at φ0": abs(gr.projection_roll_error_exact(g.roll0_rad, thr, ey, ez)),
-            "exact arctan worst over φ": np.max(np.abs(gr.projection_roll_error_exact(phi, thr, ey, ez)))}
+    vals = {"Eq 14 at φ0": abs(gyro_roll.projection_roll_error_eq14(g.roll0_rad, thr, ey, ez)),
+            "Eq 14 worst over φ": np.max(np.abs(gyro_roll.projection_roll_error_eq14(phi, thr, ey, ez))),
+            "exact arctan at φ0": abs(gyro_roll.projection_roll_error_exact(g.roll0_rad, thr, ey, ez)),
+            "exact arctan worst over φ": np.max(np.abs(gyro_roll.projection_roll_error_exact(phi, thr, ey, ez)))}
     table = pd.DataFrame({"quantity": list(vals), "roll_error_deg": [float(_DEG(v)) for v in vals.values()]})
     worst = float(_DEG(vals["exact arctan worst over φ"]))
     rows = [_ROW("tan2022_fig12", f"projection error just above θ̇_t = {study.oscillation.threshold_deg_s:g} °/s, "
@@ -437,10 +437,10 @@ def fig09(study: GyroStudy, seed: int, trials: int) -> Artifact:
     for rate in uni.pitch_rates_deg_s:
         t, theta = uni.profile(rate)
         w = _simulate(study, t, theta, rng, n)
-        e_E = metrics.angle_difference(gr.euler_differential(w, g.dt_s, pitch0=theta[0], roll0=g.roll0_rad)[..., 2],
-                                       g.roll0_rad)
-        e_I = gr.roll_decoupled_integration(w, g.dt_s, roll0=g.roll0_rad) - g.roll0_rad
-        e_P = gr.roll_projection(w) - g.roll0_rad
+        roll_e = gyro_roll.euler_differential(w, g.dt_s, pitch0=theta[0], roll0=g.roll0_rad)[..., 2]
+        e_E = metrics.angle_difference(roll_e, g.roll0_rad)
+        e_I = gyro_roll.roll_decoupled_integration(w, g.dt_s, roll0=g.roll0_rad) - g.roll0_rad
+        e_P = gyro_roll.roll_projection(w) - g.roll0_rad
         th_deg = _DEG(theta)
         near = np.minimum(np.abs(th_deg - 90), np.abs(th_deg - 270)) < 2
         trial = {"euler_lt60": _DEG(np.max(np.abs(e_E[:, th_deg < 60]), axis=1)),
@@ -482,7 +482,7 @@ def fig10(study: GyroStudy, seed: int) -> Artifact:
     osc = study.oscillation
     t, w, _ = _oscillation_gyro(study, seed, 1)
     true_rate = _DEG(osc.pitch_rate_rad_s(t))
-    meas = _DEG(gr.pitch_rate_magnitude(w[0]))
+    meas = _DEG(gyro_roll.pitch_rate_magnitude(w[0]))
     frac = float(np.mean(np.abs(true_rate) <= osc.threshold_deg_s))
     table = pd.DataFrame({"time_s": t[::10], "pitch_rate_deg_s": true_rate[::10], "gyro_rate_magnitude_deg_s": meas[::10]})
     return Artifact(table, [], {"time_s": t, "true": true_rate, "measured": meas, "threshold": osc.threshold_deg_s,
@@ -500,8 +500,8 @@ def fig11(study: GyroStudy, seed: int, trials: int) -> Artifact:
     n = positive_int(trials, "trials")
     osc, g = study.oscillation, study.gyro
     t, w, _ = _oscillation_gyro(study, seed, n)
-    e_P = gr.roll_projection(w) - g.roll0_rad
-    e_I = gr.roll_decoupled_integration(w, g.dt_s, roll0=g.roll0_rad) - g.roll0_rad
+    e_P = gyro_roll.roll_projection(w) - g.roll0_rad
+    e_I = gyro_roll.roll_decoupled_integration(w, g.dt_s, roll0=g.roll0_rad) - g.roll0_rad
     slow = np.broadcast_to(np.abs(osc.pitch_rate_rad_s(t)) < _RAD(5.0), e_P.shape)
     spike = metrics.percentile_band(_ratio(metrics.max_abs_error(e_P, mask=slow), metrics.max_abs_error(e_P, mask=~slow)))
     rows = [_ROW("tan2022_fig11", "max|Δφ_P| where |θ̇| < 5 °/s / elsewhere", "error jumps as θ̇ → 0",
@@ -526,10 +526,10 @@ def fig12(study: GyroStudy, seed: int, trials: int) -> Artifact:
     osc, g = study.oscillation, study.gyro
     t, w, w_det = _oscillation_gyro(study, seed, n)
     thr = osc.threshold_rad_s
-    hyb, use = gr.roll_hybrid(w, g.dt_s, thr, roll0=g.roll0_rad)
-    hyb_det, _ = gr.roll_hybrid(w_det, g.dt_s, thr, roll0=g.roll0_rad)
-    e_P = gr.roll_projection(w) - g.roll0_rad
-    e_I = gr.roll_decoupled_integration(w, g.dt_s, roll0=g.roll0_rad) - g.roll0_rad
+    hyb, use = gyro_roll.roll_hybrid(w, g.dt_s, thr, roll0=g.roll0_rad)
+    hyb_det, _ = gyro_roll.roll_hybrid(w_det, g.dt_s, thr, roll0=g.roll0_rad)
+    e_P = gyro_roll.roll_projection(w) - g.roll0_rad
+    e_I = gyro_roll.roll_decoupled_integration(w, g.dt_s, roll0=g.roll0_rad) - g.roll0_rad
     e_H, e_Hd = hyb - g.roll0_rad, hyb_det - g.roll0_rad
     recs = []
     for name, err in (("projection Eq 13", e_P), ("integration Eq 12", e_I), (f"hybrid θ̇_t = {osc.threshold_deg_s:g} °/s", e_H)):
@@ -579,8 +579,8 @@ def extra_threshold_sweep(study: GyroStudy, seed: int, trials: int, n_thresholds
                                                         positive_int(n_thresholds, "n_thresholds", minimum=3)),
                                            [osc.threshold_deg_s]]))
     kw = {"roll_true": g.roll0_rad, "roll0": g.roll0_rad}
-    rmse = _DEG(gr.roll_hybrid_rmse_sweep(w, g.dt_s, _RAD(thresholds), **kw))
-    rmse_det = _DEG(gr.roll_hybrid_rmse_sweep(w_det, g.dt_s, _RAD(thresholds), **kw))
+    rmse = _DEG(gyro_roll.roll_hybrid_rmse_sweep(w, g.dt_s, _RAD(thresholds), **kw))
+    rmse_det = _DEG(gyro_roll.roll_hybrid_rmse_sweep(w_det, g.dt_s, _RAD(thresholds), **kw))
     bt = metrics.percentile_band(rmse)
     k_paper = int(np.flatnonzero(thresholds == osc.threshold_deg_s)[0])
     opt = metrics.percentile_band(thresholds[np.argmin(rmse, axis=1)])

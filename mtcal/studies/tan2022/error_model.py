@@ -37,8 +37,8 @@ import pandas as pd
 
 from mtcal.core import metrics
 from mtcal.core.validate import positive_int
-from mtcal.methods import gyro_roll as gr
-from mtcal.methods import large_angle as la
+from mtcal.methods import gyro_roll
+from mtcal.methods import large_angle
 from mtcal.reporting import compare, paper_numbers
 
 from .artifacts import artifact_rng
@@ -141,9 +141,9 @@ def _large_pitch_ratio(d0, d1, d2, th, ph, sc: AccelScenario):
     lam = np.where(th <= 0, _RAD(sc.lambda1_deg), _RAD(sc.lambda2_deg))
     large = np.abs(th) >= _RAD(45.0)
     th, ph, lam = th[large], ph[large], lam[large]
-    plain = np.abs(la.pitch_error_first_order(th, ph, d0[:, None, :], g=g))
+    plain = np.abs(large_angle.pitch_error_first_order(th, ph, d0[:, None, :], g=g))
     dsel = np.where((th <= 0)[None, :, None], d1[:, None, :], d2[:, None, :])
-    preset = np.abs(la.pitch_error_first_order(th, ph, dsel, preset_rad=lam, g=g))
+    preset = np.abs(large_angle.pitch_error_first_order(th, ph, dsel, preset_rad=lam, g=g))
     return preset.max(axis=1) / plain.max(axis=1)
 
 
@@ -154,15 +154,16 @@ def _accel_predict(sc: AccelScenario, prior: AccelErrorPrior, ratios, rng, step_
     n = ratios.size
     d0, d1, d2 = (da * (1.0 + ratios[:, None] * rng.standard_normal((n, 3))) for _ in range(3))
     neg, pos = th <= 0, th > 0
-    m_all, m_neg, m_pos = (la.bias_moment_matrix(th[k], ph[k]) for k in (slice(None), neg, pos))
+    m_all, m_neg, m_pos = (large_angle.bias_moment_matrix(th[k], ph[k]) for k in (slice(None), neg, pos))
     l1, l2 = _RAD(sc.lambda1_deg), _RAD(sc.lambda2_deg)
-    rms_T = la.rms_pitch_error_from_moments(m_all, d0, 0.0, g=g)
-    ms_p = (neg.sum() * la.rms_pitch_error_from_moments(m_neg, d1, l1, g=g) ** 2
-            + pos.sum() * la.rms_pitch_error_from_moments(m_pos, d2, l2, g=g) ** 2) / th.size
+    rms_T = large_angle.rms_pitch_error_from_moments(m_all, d0, 0.0, g=g)
+    ms_p = (neg.sum() * large_angle.rms_pitch_error_from_moments(m_neg, d1, l1, g=g) ** 2
+            + pos.sum() * large_angle.rms_pitch_error_from_moments(m_pos, d2, l2, g=g) ** 2) / th.size
     lam = _RAD(np.arange(-180.0, 180.0, 1.0))
     opt = {}
     for key, m, d, paper in (("lambda1", m_neg, d1, sc.lambda1_deg), ("lambda2", m_pos, d2, sc.lambda2_deg)):
-        best = _DEG(lam[np.argmin(la.rms_pitch_error_from_moments(m, d[:, None, :], lam[None, :], g=g), axis=1)])
+        rms = large_angle.rms_pitch_error_from_moments(m, d[:, None, :], lam[None, :], g=g)
+        best = _DEG(lam[np.argmin(rms, axis=1)])
         opt[key] = (best - paper + 180.0) % 360.0 - 180.0 + paper  # window centred on the paper's angle
     return {"spread": np.max([_axis_spread(d) for d in (d0, d1, d2)], axis=0),
             "asymmetry": _asymmetry(d0, th, ph, g), "large_pitch": _large_pitch_ratio(d0, d1, d2, th, ph, sc),
@@ -294,9 +295,9 @@ def _gyro_predict(study: GyroStudy, prior: GyroErrorPrior, b_deg, n_deg, rng):
             w = _gyro_samples(_RAD(r), g.roll0_rad, b, nd, g.fs_hz, rng, (b.size, n_samp))
             out[f"drift_{r:g}"][sl] = _DEG(np.abs(np.sum(w[..., 0], axis=-1) * g.dt_s))
         w = _gyro_samples(rate_osc, g.roll0_rad, b, nd, g.fs_hz, rng, (b.size, t.size))
-        h, _ = gr.roll_hybrid(w, g.dt_s, osc.threshold_rad_s, roll0=g.roll0_rad)
+        h, _ = gyro_roll.roll_hybrid(w, g.dt_s, osc.threshold_rad_s, roll0=g.roll0_rad)
         out["hybrid_max"][sl] = _DEG(np.max(np.abs(h - g.roll0_rad), axis=-1))
-        e_p = np.abs(gr.roll_projection(w) - g.roll0_rad)
+        e_p = np.abs(gyro_roll.roll_projection(w) - g.roll0_rad)
         out["spike"][sl] = (np.max(np.where(slow, e_p, 0), axis=-1)
                             / np.maximum(np.max(np.where(slow, 0, e_p), axis=-1), 1e-12))
     return out
@@ -332,7 +333,7 @@ def fit_gyro_error_model(study: GyroStudy, prior: GyroErrorPrior, seed: int, tri
     g, sweep = study.gyro, study.sweep
     rates = sweep.rates_rad_s[sweep.rates_rad_s >= _RAD(sweep.fit_min_deg_s)]
     e_paper = _RAD(paper_gyro_error_deg_s())
-    y = _DEG(np.abs(gr.projection_roll_error_eq14(g.roll0_rad, rates, e_paper, e_paper)))
+    y = _DEG(np.abs(gyro_roll.projection_roll_error_eq14(g.roll0_rad, rates, e_paper, e_paper)))
     n_win = max(2, int(round(window_s * g.fs_hz)))
     bgrid, ngrid = prior.bias_grid_deg_s, prior.noise_grid_deg_s_rthz
     loglik = np.empty((bgrid.size, ngrid.size))
@@ -344,7 +345,7 @@ def fit_gyro_error_model(study: GyroStudy, prior: GyroErrorPrior, seed: int, tri
             w[..., 1] = rates[None, :, None] * np.cos(g.roll0_rad)
             w[..., 2] = -rates[None, :, None] * np.sin(g.roll0_rad)
             w += _RAD(b) + _RAD(nd) * np.sqrt(g.fs_hz) * z
-            m = np.abs(np.mean(gr.roll_projection(w.reshape(-1, n_win, 3)).reshape(n_fit, rates.size, n_win)
+            m = np.abs(np.mean(gyro_roll.roll_projection(w.reshape(-1, n_win, 3)).reshape(n_fit, rates.size, n_win)
                                - g.roll0_rad, axis=-1))
             logm = np.log(np.maximum(_DEG(m), 1e-12))
             sd = np.sqrt(reading_rel**2 + np.var(logm, axis=0))
@@ -439,9 +440,9 @@ def _oscillation_claims(study: GyroStudy, prior: GyroErrorPrior, b_z_deg, n_deg,
     w[..., 2] = -rate * np.sin(g.roll0_rad)
     w += np.array([g.error_rad_s[0], g.error_rad_s[1], _RAD(b_z_deg)])
     w += _RAD(n_deg) * np.sqrt(g.fs_hz) * rng.standard_normal(w.shape)
-    e_p = np.abs(gr.roll_projection(w) - g.roll0_rad)
+    e_p = np.abs(gyro_roll.roll_projection(w) - g.roll0_rad)
     spike = np.max(np.where(slow, e_p, 0), axis=-1) / np.maximum(np.max(np.where(slow, 0, e_p), axis=-1), 1e-12)
-    hyb = _DEG(np.max(np.abs(gr.roll_hybrid(w, g.dt_s, osc.threshold_rad_s, roll0=g.roll0_rad)[0] - g.roll0_rad),
+    hyb = _DEG(np.max(np.abs(gyro_roll.roll_hybrid(w, g.dt_s, osc.threshold_rad_s, roll0=g.roll0_rad)[0] - g.roll0_rad),
                       axis=-1))
     return spike, hyb
 
@@ -502,9 +503,9 @@ def fit_gyro_error_pattern(study: GyroStudy, prior: GyroErrorPrior, seed: int, t
         w = _gyro_samples(_RAD(r), g.roll0_rad, np.zeros(n), _RAD(n_d), g.fs_hz, rng, (n, n_win))
         w += np.array([g.error_rad_s[0], g.error_rad_s[1], 0.0])
         w[..., 2] += _RAD(b_d)[:, None]
-        means[:, k] = np.mean(np.abs(gr.roll_projection(w) - g.roll0_rad), axis=-1)
+        means[:, k] = np.mean(np.abs(gyro_roll.roll_projection(w) - g.roll0_rad), axis=-1)
     ok = np.all(means > 0, axis=1)
-    slope = metrics.percentile_band(gr.loglog_slope(rates, means[ok])) if np.any(ok) else None
+    slope = metrics.percentile_band(gyro_roll.loglog_slope(rates, means[ok])) if np.any(ok) else None
     lab = f"θ̇_t = {study.oscillation.threshold_deg_s:g} °/s"
     rows = [
         _ROW("tan2022_fig11", "P(Fig 11 spikes and Fig 12 accurate) at the ML (b_z, N) [training]",

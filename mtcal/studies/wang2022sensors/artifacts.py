@@ -80,7 +80,7 @@ def table01_zvd(sc: Scenario) -> Artifact:
                                     "th_t (s)", f"n_w at {fs:.0f} Hz", f"n_h at {fs:.0f} Hz",
                                     "gyro condition (deg/s, mtcal)"],
                       "value": [z.accel_min_m_s2, z.accel_max_m_s2, z.var_threshold_m2_s4, z.window_s,
-                                z.min_duration_s, z.window_samples(fs), z.duration_samples(fs),
+                                z.min_duration_s, z.window_samples(1.0 / fs), z.duration_samples(1.0 / fs),
                                 np.nan if z.gyro_max_rad_s is None else z.gyro_max_rad_s / DEG]})
     paper_t1 = paper.load("wang2022sensors_table01_zvd_params").set_index("symbol")["value"].astype(float)
     same = bool(np.isclose(paper_t1["th_a_min"], z.accel_min_m_s2) and np.isclose(paper_t1["th_a_max"], z.accel_max_m_s2)

@@ -224,7 +224,7 @@ def _rams_angle(sim: SimBatch, is_static: np.ndarray, axes: np.ndarray, n_init: 
 
 def _zvd_flags(sim: SimBatch, zvd: ZvdParams, fs_hz: float, bias0_rad_s: np.ndarray) -> np.ndarray:
     gyro = sim.gyro_rad_s - bias0_rad_s[:, None, :] if zvd.gyro_max_rad_s is not None else None
-    return detect_static(sim.accel_m_s2, fs_hz, zvd, gyro)
+    return detect_static(sim.accel_m_s2, 1.0 / fs_hz, zvd, gyro)
 
 
 def _latency_sse(err: np.ndarray, mask: np.ndarray, delta: np.ndarray) -> np.ndarray:

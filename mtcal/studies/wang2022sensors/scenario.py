@@ -47,19 +47,45 @@ from mtcal.core.units import DEG, MG, UG
 from mtcal.core.validate import STANDARD_GRAVITY_M_S2, choice, merge_parameters
 from mtcal.filters.rams_ekf import RamsEkfParams
 from mtcal.methods.zero_velocity import ZvdParams
-from mtcal.reporting import paper_numbers as paper
+from mtcal.reporting import paper_numbers
 
 __all__ = ["PAPER_AXIS_FIG11", "table4_axes", "ImuSpec", "ImuValues", "AhrsImu", "RigSetup", "RigValues",
            "ERROR_PRIORS", "Scenario", "PARAMETER_DEFAULTS", "scenario_from_parameters", "labels",
-           "lever_arm_vector", "gravity0"]
+           "lever_arm_vector", "gravity0", "table1_zvd_params"]
 
 #: Fig. 11 simulation axis (Sec. 5), signs as extracted (v_x ≥ 0 by convention).
 PAPER_AXIS_FIG11 = (0.1734, 0.9835, 0.0523)
 
 
+def table1_zvd_params() -> ZvdParams:
+    """The ZVD thresholds of Table 1 as transcribed (``paper_data/wang2022sensors_table01_zvd_params.csv``).
+
+    Returns
+    -------
+    ZvdParams
+        ``th_a_min``, ``th_a_max`` (m/s²), ``th_ζa`` (m²/s⁴), ``t_w`` and ``th_t`` (s) from the table; the
+        rest at :class:`~mtcal.methods.zero_velocity.ZvdParams`' defaults.
+
+    References
+    ----------
+    wang2022sensors Table 1, Eq 21–22.
+
+    Examples
+    --------
+    >>> table1_zvd_params() == ZvdParams()  # the method's defaults are Table 1
+    True
+    """
+    name = "wang2022sensors_table01_zvd_params"
+    return ZvdParams(accel_min_m_s2=paper_numbers.value(name, "value", symbol="th_a_min"),
+                     accel_max_m_s2=paper_numbers.value(name, "value", symbol="th_a_max"),
+                     var_threshold_m2_s4=paper_numbers.value(name, "value", symbol="th_zeta_a"),
+                     window_s=paper_numbers.value(name, "value", symbol="t_w"),
+                     min_duration_s=paper_numbers.value(name, "value", symbol="th_t"))
+
+
 def table4_axes() -> dict[str, np.ndarray]:
     """Table 4 axes Bv1–Bv3, normalised (used as the *true* axes in simulation)."""
-    df = paper.load("wang2022sensors_table04_rotation_axes")
+    df = paper_numbers.load("wang2022sensors_table04_rotation_axes")
     out = {}
     for row in df.itertuples():
         v = np.array([row.bv_x, row.bv_y, row.bv_z], float)

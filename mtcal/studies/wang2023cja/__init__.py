@@ -12,17 +12,40 @@ table/figure, plus comparison rows), :mod:`.plots` (figures; imports matplotlib 
 """
 
 from . import artifacts, constrained, error_model, runs, scenario
-from .artifacts import *  # noqa: F401,F403
-from .error_model import *  # noqa: F401,F403
-from .runs import *  # noqa: F401,F403
-from .scenario import *  # noqa: F401,F403
+from .artifacts import (asserted, banded, error_budget_table, error_metric_table, error_model_table, HELD_OUT,
+                        installation_fit_table, outside_rows, positions_table, printed_matrix_check, q22_noise_band,
+                        section_claims, stepwise_coupling, sweep_mean_table, table08_reductions, table10, TRAINING,
+                        turntable_rows, windtunnel_matrix_table, windtunnel_rows)
+from .error_model import (ErrorModel, ErrorModelFit, fit_error_model, fit_installation_angles, FITTED_PARAMETERS,
+                          InstallationFit, MOUNT_TYPE, N_NORMALS, paper_positions, PAPER_SIGN, position_noise_deg,
+                          predicted_before, PRIOR_RANGES, rest_residuals, rest_times_s, TABLES_1_TO_4,
+                          true_error_matrix)
+from .runs import (compliance_trajectory, elastic_deflection_rad, identify_pitch_ratio, load_tilt_outputs,
+                   mechanism_actual, position_errors_deg, run_turntable, run_turntable_jobs, run_windtunnel,
+                   six_position_reference, turntable_profile, turntable_runs, TurntableJob, TurntableRun,
+                   windtunnel_positions, WindTunnelRun)
+from .scenario import (ImuSpec, PRINTED_WINDTUNNEL_Q22, SOURCES, TURNTABLE_DEFAULTS, turntable_scenario,
+                       TurntableScenario, WINDTUNNEL_DEFAULTS, windtunnel_geometry, windtunnel_scenario,
+                       WindTunnelScenario)
 
-__all__ = ["artifacts", "constrained", "error_model", "runs", "scenario", "plots"]
-__all__ += [n for m in (error_model, scenario, runs, artifacts) for n in m.__all__ if n not in __all__]
+__all__ = ["artifacts", "constrained", "error_model", "runs", "scenario", "plots", "PAPER_SIGN", "TABLES_1_TO_4",
+           "MOUNT_TYPE", "PRIOR_RANGES", "FITTED_PARAMETERS", "ErrorModel", "InstallationFit",
+           "fit_installation_angles", "true_error_matrix", "predicted_before", "paper_positions", "rest_times_s",
+           "rest_residuals", "N_NORMALS", "ErrorModelFit", "fit_error_model", "position_noise_deg", "SOURCES",
+           "ImuSpec", "TurntableScenario", "WindTunnelScenario", "TURNTABLE_DEFAULTS", "WINDTUNNEL_DEFAULTS",
+           "turntable_scenario", "windtunnel_scenario", "windtunnel_geometry", "PRINTED_WINDTUNNEL_Q22",
+           "turntable_runs", "windtunnel_positions", "identify_pitch_ratio", "turntable_profile",
+           "six_position_reference", "TurntableRun", "TurntableJob", "run_turntable", "run_turntable_jobs",
+           "position_errors_deg", "compliance_trajectory", "load_tilt_outputs", "mechanism_actual", "WindTunnelRun",
+           "run_windtunnel", "elastic_deflection_rad", "TRAINING", "HELD_OUT", "installation_fit_table",
+           "error_model_table", "printed_matrix_check", "positions_table", "sweep_mean_table", "error_metric_table",
+           "table08_reductions", "windtunnel_matrix_table", "table10", "turntable_rows", "windtunnel_rows", "banded",
+           "outside_rows", "asserted", "q22_noise_band", "stepwise_coupling", "section_claims", "error_budget_table"]
 
 
 def __getattr__(name):
-    if name == "plots":            # matplotlib only when a figure is asked for
+    if name == "plots":  # matplotlib only when a figure is asked for
         import importlib
+
         return importlib.import_module(f"{__name__}.plots")
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

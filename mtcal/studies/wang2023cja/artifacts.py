@@ -24,7 +24,7 @@ import numpy as np
 import pandas as pd
 
 from mtcal.core import metrics, rotations
-from mtcal.reporting import compare, paper_numbers as paper
+from mtcal.reporting import compare, paper_numbers
 from .error_model import (PAPER_SIGN, PRIOR_RANGES, TABLES_1_TO_4, ErrorModel, ErrorModelFit,
                           fit_installation_angles)
 from .runs import position_errors_deg
@@ -90,7 +90,7 @@ def error_model_table(fit: ErrorModelFit, prior: ErrorModel | None = None) -> pd
 
 def printed_matrix_check() -> pd.DataFrame:
     """wang2023cja_extra_q33_roll: printed turntable matrix vs Q(3,3) sign fixed on pure roll ±90°."""
-    q_p = paper.load("wang2023cja_matrix_qbs_turntable")[["col_1", "col_2", "col_3", "col_4"]].to_numpy(float)
+    q_p = paper_numbers.load("wang2023cja_matrix_qbs_turntable")[["col_1", "col_2", "col_3", "col_4"]].to_numpy(float)
     q_f = q_p.copy()
     q_f[2, 2] = -q_f[2, 2]
     rows = []
@@ -109,7 +109,7 @@ def printed_matrix_check() -> pd.DataFrame:
 # --------------------------------------------------------------------------
 def positions_table(test: str, run) -> pd.DataFrame:
     """Tables 1–4: reference, paper before/after, ours (trial 0 of the verification run), MC median (deg)."""
-    df = paper.load(TABLES_1_TO_4[test])
+    df = paper_numbers.load(TABLES_1_TO_4[test])
     before = PAPER_SIGN * position_errors_deg(run, "before")
     after = PAPER_SIGN * position_errors_deg(run, "after")
     rows = []
@@ -125,7 +125,7 @@ def positions_table(test: str, run) -> pd.DataFrame:
 
 def sweep_mean_table(artifact: str, sweep: dict, angle: str, sign: float = 1.0) -> pd.DataFrame:
     """Tables 5, 7, 9: hold means (deg, paper sign): paper, trial 0, MC median and band of after."""
-    p = paper.load(_TABLE_FILES[artifact])
+    p = paper_numbers.load(_TABLE_FILES[artifact])
     col = lambda kind: p[f"{kind}_mean_{angle}_deg"].to_numpy(float)  # noqa: E731
     after = sign * np.degrees(sweep["after_mean"])
     band = metrics.percentile_band(after, axis=0)
@@ -137,7 +137,7 @@ def sweep_mean_table(artifact: str, sweep: dict, angle: str, sign: float = 1.0) 
 
 def error_metric_table(artifact: str, sweep: dict, channels) -> pd.DataFrame:
     """Tables 6, 8, 11: MaxAE / RMSE per state and channel: paper, trial 0, MC median and 95 % band (deg)."""
-    p = paper.load(_TABLE_FILES[artifact])
+    p = paper_numbers.load(_TABLE_FILES[artifact])
     rows = []
     for metric, key in (("MaxAE", "maxae"), ("RMSE", "rmse")):
         for state in ("before", "after"):
@@ -187,7 +187,7 @@ def turntable_rows(runs: dict) -> list[dict]:
     rows = []
     for i, test in enumerate(("T1", "T2", "T3", "T4")):
         art = f"wang2023cja_table{i + 1:02d}"
-        df = paper.load(TABLES_1_TO_4[test])
+        df = paper_numbers.load(TABLES_1_TO_4[test])
         ref = df[[f"{a}_reference_deg" for a in _ANGLES]].to_numpy(float)
         p_b = np.sqrt(np.mean((df[[f"{a}_before_deg" for a in _ANGLES]].to_numpy(float) - ref) ** 2))
         p_a = np.sqrt(np.mean((df[[f"{a}_after_deg" for a in _ANGLES]].to_numpy(float) - ref) ** 2))
@@ -247,7 +247,7 @@ def turntable_rows(runs: dict) -> list[dict]:
 # --------------------------------------------------------------------------
 def windtunnel_matrix_table(run) -> pd.DataFrame:
     """wang2023cja_extra_windtunnel_matrix: printed matrix beside our trial-0 and MC-median Eq 13 matrix."""
-    q_p = paper.load("wang2023cja_matrix_qbs_windtunnel")[["col_1", "col_2", "col_3", "col_4"]].to_numpy(float)
+    q_p = paper_numbers.load("wang2023cja_matrix_qbs_windtunnel")[["col_1", "col_2", "col_3", "col_4"]].to_numpy(float)
     med = np.median(run.q_matrix, axis=0)
     rows = [{"row": i + 1, **{f"printed_{j + 1}": q_p[i, j] for j in range(4)},
              **{f"mtcal_median_{j + 1}": med[i, j] for j in range(4)}} for i in range(4)]
@@ -257,7 +257,7 @@ def windtunnel_matrix_table(run) -> pd.DataFrame:
 def table10(run, wind_on_sweep_deg) -> pd.DataFrame:
     """Table 10: five groups (trial 0), Mean, elastic-corrected, Std: paper and ours (deg)."""
     w = run.wind_on
-    p10 = paper.load(_TABLE_FILES["wang2023cja_table10"])
+    p10 = paper_numbers.load(_TABLE_FILES["wang2023cja_table10"])
     gm = np.degrees(w["group_means"][:, 0])
     labels = [f"group_{g + 1}" for g in range(5)] + ["mean", "after_elastic_angle_correction", "std"]
     vals = list(gm) + [gm.mean(axis=0), np.degrees(w["elastic_corrected"]), gm.std(axis=0, ddof=1)]
@@ -270,13 +270,13 @@ def table10(run, wind_on_sweep_deg) -> pd.DataFrame:
 
 def windtunnel_rows(run, pitch_ratio_error: float) -> list[dict]:
     """Comparison rows of the wind-tunnel notebook (Q(2,2) fitted; Tables 9, 10 Std, 11 predicted)."""
-    q_p = paper.load("wang2023cja_matrix_qbs_windtunnel")[["col_1", "col_2", "col_3", "col_4"]].to_numpy(float)
+    q_p = paper_numbers.load("wang2023cja_matrix_qbs_windtunnel")[["col_1", "col_2", "col_3", "col_4"]].to_numpy(float)
     rows = [banded("wang2023cja_matrix_qbs_windtunnel", "Q(2,2)", q_p[1, 1], run.q_matrix[:, 1, 1],
                    claim=f"reported: pitch-ratio error {pitch_ratio_error:+.5f} (from Q(2,2)) reproduces Q(2,2)",
                    holds=None, role="fitted")]
     rows[-1]["holds"] = rows[-1]["paper_in_band"]
     nw = run.nowind
-    p9 = paper.load(_TABLE_FILES["wang2023cja_table09"])
+    p9 = paper_numbers.load(_TABLE_FILES["wang2023cja_table09"])
     ref9, bef9 = p9["reference_mean_pitch_deg"].to_numpy(float), p9["before_mean_pitch_deg"].to_numpy(float)
     slope_paper = float(np.polyfit(ref9, bef9 - ref9, 1)[0])
     ref = np.degrees(nw["reference"])
@@ -292,7 +292,7 @@ def windtunnel_rows(run, pitch_ratio_error: float) -> list[dict]:
     w = run.wind_on
     if w is not None:
         err12 = np.degrees(w["group_means"][:, :, -1].mean(axis=0) - w["reference"][-1])
-        p10 = paper.load(_TABLE_FILES["wang2023cja_table10"])
+        p10 = paper_numbers.load(_TABLE_FILES["wang2023cja_table10"])
         paper12 = float(p10[p10.row_key == "mean"].value_deg.to_numpy(float)[-1]) - np.degrees(w["reference"][-1])
         rows.append(banded("wang2023cja_fig10", "mean pitch - reference at the largest AoA, wind on (deg)", paper12, err12,
                            claim="elastic deformation: pitch error with wind exceeds 0.1 deg (MC median)",

@@ -23,9 +23,9 @@ import numpy as np
 import pandas as pd
 
 from mtcal.core import metrics, rotations
-from mtcal.methods import constrained_fit as cf
+from mtcal.methods import constrained_fit
 from mtcal.methods.quaternion_lsq import apply_error_matrix
-from mtcal.reporting import paper_numbers as paper
+from mtcal.reporting import paper_numbers
 
 __all__ = ["ENVELOPE_DEG", "METHOD_LABEL", "paper_six_positions_deg", "symmetric_layout_rad", "min_positions_table",
            "error_vs_positions_table", "error_vs_noise_table", "headline", "printed_matrices_so4_table",
@@ -39,18 +39,18 @@ METHOD_LABEL = {"eq13": "Eq 13 (16 par.)", "so4": "SO(4) (6 par.)", "mounting": 
 
 def paper_six_positions_deg() -> np.ndarray:
     """The six positions of Table 1 as ``[yaw, pitch, roll]`` (deg, paper order), (6, 3)."""
-    t1 = paper.load("wang2023cja_table01_positions")
+    t1 = paper_numbers.load("wang2023cja_table01_positions")
     return t1[["yaw_reference_deg", "pitch_reference_deg", "roll_reference_deg"]].to_numpy(float)
 
 
 def symmetric_layout_rad(k: int) -> np.ndarray:
     """First ``k`` positions of the paper's six, interleaved and extended at half amplitude (rad)."""
-    return cf.symmetric_layout_rad(k, np.radians(paper_six_positions_deg()))
+    return constrained_fit.symmetric_layout_rad(k, np.radians(paper_six_positions_deg()))
 
 
-def _scenario(sigma_deg: float, offset: bool, n_test: int) -> cf.CalibrationScenario:
-    return cf.CalibrationScenario(noise_sigma_rad=float(np.radians(sigma_deg)), reference_offset=offset,
-                                  n_test=n_test, envelope_deg=ENVELOPE_DEG)
+def _scenario(sigma_deg: float, offset: bool, n_test: int) -> constrained_fit.CalibrationScenario:
+    return constrained_fit.CalibrationScenario(noise_sigma_rad=float(np.radians(sigma_deg)), reference_offset=offset,
+                                               n_test=n_test, envelope_deg=ENVELOPE_DEG)
 
 
 def _band(err_rad, **keys) -> dict:
@@ -65,23 +65,23 @@ def _band(err_rad, **keys) -> dict:
 def min_positions_table(seed: int) -> pd.DataFrame:
     """wang2023cja_extra_min_positions: fewest positions for noise-free recovery, per method and layout."""
     def recovered(layout_rad, method):
-        sc = cf.CalibrationScenario(noise_sigma_rad=0.0, reference_offset=(method != "mounting"), n_test=20,
-                                    envelope_deg=ENVELOPE_DEG)
+        sc = constrained_fit.CalibrationScenario(noise_sigma_rad=0.0, reference_offset=(method != "mounting"),
+                                                 n_test=20, envelope_deg=ENVELOPE_DEG)
         n = layout_rad.shape[0] if layout_rad.ndim == 3 else 20
-        err = cf.simulate_calibration_errors(layout_rad, sc, n, np.random.default_rng(seed))[method]
+        err = constrained_fit.simulate_calibration_errors(layout_rad, sc, n, np.random.default_rng(seed))[method]
         return bool(np.all(np.isfinite(err)) and np.max(err) < 1e-9)
 
     paper_order = np.radians(paper_six_positions_deg())
     rows = []
     for method, dof in (("eq13", 16), ("so4", 6), ("mounting", 3)):
         ks = range(1, 7)
-        generic = [k for k in ks if recovered(cf.random_layout_rad(np.random.default_rng(k), 50, k, ENVELOPE_DEG),
-                                              method)]
+        generic = [k for k in ks
+                   if recovered(constrained_fit.random_layout_rad(np.random.default_rng(k), 50, k, ENVELOPE_DEG), method)]
         symmetric = [k for k in ks if recovered(symmetric_layout_rad(k), method)]
         in_order = [k for k in ks if recovered(paper_order[:k], method)]
         rows.append({"method": METHOD_LABEL[method], "parameters": dof, "min_K_generic": min(generic),
                      "min_K_symmetric_interleaved": min(symmetric), "min_K_paper_order": min(in_order),
-                     "library_MIN_POSITIONS": cf.MIN_POSITIONS[method]})
+                     "library_MIN_POSITIONS": constrained_fit.MIN_POSITIONS[method]})
     return pd.DataFrame(rows)
 
 
@@ -96,9 +96,10 @@ def error_vs_positions_table(sigma_deg: float, n_trials: int, n_test: int, seed:
         for layout in ("symmetric", "random"):
             for k in k_range:
                 lay = (symmetric_layout_rad(k) if layout == "symmetric"
-                       else cf.random_layout_rad(np.random.default_rng(seed + 100 + k), n_trials, k, ENVELOPE_DEG))
-                err = cf.simulate_calibration_errors(lay, sc, n_trials, np.random.default_rng(seed + k))
-                rows += [_band(err[m], truth=truth, layout=layout, K=k, method=m) for m in cf.METHODS]
+                       else constrained_fit.random_layout_rad(np.random.default_rng(seed + 100 + k), n_trials, k,
+                                                              ENVELOPE_DEG))
+                err = constrained_fit.simulate_calibration_errors(lay, sc, n_trials, np.random.default_rng(seed + k))
+                rows += [_band(err[m], truth=truth, layout=layout, K=k, method=m) for m in constrained_fit.METHODS]
     return pd.DataFrame(rows)
 
 
@@ -108,9 +109,9 @@ def error_vs_noise_table(levels_deg, n_trials: int, n_test: int, seed: int) -> p
     rows = []
     for truth, offset in TRUTHS.items():
         for sigma in levels_deg:
-            err = cf.simulate_calibration_errors(six, _scenario(sigma, offset, n_test), n_trials,
-                                                 np.random.default_rng(seed))
-            rows += [_band(err[m], truth=truth, sigma_deg=sigma, method=m) for m in cf.METHODS]
+            err = constrained_fit.simulate_calibration_errors(six, _scenario(sigma, offset, n_test), n_trials,
+                                                              np.random.default_rng(seed))
+            rows += [_band(err[m], truth=truth, sigma_deg=sigma, method=m) for m in constrained_fit.METHODS]
     return pd.DataFrame(rows)
 
 
@@ -132,8 +133,8 @@ def headline(noise_table: pd.DataFrame, positions_table: pd.DataFrame, sigma_deg
 
 def printed_matrices() -> dict:
     """The printed matrices (read as Eq 10 maps) and the turntable one with Q(3,3) sign fixed."""
-    q_turn = paper.load("wang2023cja_matrix_qbs_turntable").iloc[:, 1:].to_numpy(float)
-    q_wind = paper.load("wang2023cja_matrix_qbs_windtunnel").iloc[:, 1:].to_numpy(float)
+    q_turn = paper_numbers.load("wang2023cja_matrix_qbs_turntable").iloc[:, 1:].to_numpy(float)
+    q_wind = paper_numbers.load("wang2023cja_matrix_qbs_windtunnel").iloc[:, 1:].to_numpy(float)
     q_fix = q_turn.copy()
     q_fix[2, 2] = -q_fix[2, 2]
     return {"turntable (printed)": q_turn, "turntable (Q33 sign fixed)": q_fix, "wind tunnel (printed)": q_wind}
@@ -143,12 +144,12 @@ def printed_matrices_so4_table() -> pd.DataFrame:
     """wang2023cja_extra_printed_matrices_so4: det, distances, implied mounting c and offset w (deg)."""
     rows = []
     for name, mat in printed_matrices().items():
-        proj = cf.project_to_so4(mat)
+        proj = constrained_fit.project_to_so4(mat)
         c, w = rotations.quat_conjugate(proj.r), rotations.quat_conjugate(proj.p)
         ec, ew = np.degrees(rotations.euler_zxy_from_quat(c)), np.degrees(rotations.euler_zxy_from_quat(w))
         rows.append({
             "matrix": name, "det": float(proj.determinant), "dist_SO4": float(proj.distance),
-            "dist_O4": float(cf.distance_to_orthogonal(mat)),
+            "dist_O4": float(constrained_fit.distance_to_orthogonal(mat)),
             "max_abs_diag_minus_1": float(np.max(np.abs(np.abs(np.diag(mat)) - 1.0))),
             "c_yaw_deg": ec[0], "c_pitch_deg": ec[1], "c_roll_deg": ec[2],
             "c_angle_deg": float(np.degrees(rotations.quat_angle_between(c, [1.0, 0, 0, 0]))),
@@ -160,7 +161,7 @@ def printed_matrices_so4_table() -> pd.DataFrame:
 
 def q33_variants_table() -> tuple[pd.DataFrame, dict]:
     """wang2023cja_extra_q33_sign: Table 1 "before" through variants of the printed matrix vs Table 1 "after"."""
-    t1 = paper.load("wang2023cja_table01_positions")
+    t1 = paper_numbers.load("wang2023cja_table01_positions")
     before = np.radians(t1[["yaw_before_deg", "pitch_before_deg", "roll_before_deg"]].to_numpy(float))
     after = t1[["yaw_after_deg", "pitch_after_deg", "roll_after_deg"]].to_numpy(float)
     q_before = rotations.quat_from_euler_zxy(before[:, 0], before[:, 1], before[:, 2])
@@ -169,7 +170,8 @@ def q33_variants_table() -> tuple[pd.DataFrame, dict]:
     d3 = np.diag([1.0, 1.0, -1.0, 1.0])
     variants = {"printed Q": q_turn, "Q33 sign fixed": q_fix, "row 3 negated": d3 @ q_turn,
                 "column 3 negated": q_turn @ d3, "printed Q^T": q_turn.T, "fixed Q^T": q_fix.T,
-                "fixed Q^-1": np.linalg.inv(q_fix), "SO(4) projection of fixed": cf.project_to_so4(q_fix).matrix}
+                "fixed Q^-1": np.linalg.inv(q_fix),
+                "SO(4) projection of fixed": constrained_fit.project_to_so4(q_fix).matrix}
     rows = []
     for name, mat in variants.items():
         ang = np.degrees(rotations.euler_zxy_from_quat(apply_error_matrix(mat, q_before)))
@@ -192,9 +194,9 @@ def noise_vs_so4_distance_table(levels_deg, n_trials: int, seed: int) -> pd.Data
     six = np.radians(paper_six_positions_deg())
     rows = []
     for sigma in levels_deg:
-        _, mats = cf.simulate_calibration_errors(six, _scenario(sigma, False, 5), n_trials,
-                                                 np.random.default_rng(seed), return_matrices=True)
-        b = metrics.percentile_band(cf.distance_to_orthogonal(mats["eq13"]))
+        _, mats = constrained_fit.simulate_calibration_errors(six, _scenario(sigma, False, 5), n_trials,
+                                                              np.random.default_rng(seed), return_matrices=True)
+        b = metrics.percentile_band(constrained_fit.distance_to_orthogonal(mats["eq13"]))
         q22 = metrics.percentile_band(np.abs(mats["eq13"][:, 1, 1]) - 1.0)
         rows.append({"sigma_deg": sigma, "median": float(b["median"]), "low": float(b["low"]), "high": float(b["high"]),
                      "q22_minus_1_median": float(q22["median"]), "q22_minus_1_high": float(q22["high"])})

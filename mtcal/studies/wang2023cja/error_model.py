@@ -59,7 +59,7 @@ from mtcal.core import metrics, rotations
 from mtcal.core.rotations import mount_quaternion
 from mtcal.core.units import ARCSEC, DEG, DEG_H, MG
 from mtcal.methods import quaternion_lsq, six_position
-from mtcal.reporting import paper_numbers as paper
+from mtcal.reporting import paper_numbers
 
 __all__ = ["PAPER_SIGN", "TABLES_1_TO_4", "MOUNT_TYPE", "PRIOR_RANGES", "FITTED_PARAMETERS", "ErrorModel",
            "InstallationFit", "fit_installation_angles", "true_error_matrix", "predicted_before",
@@ -155,7 +155,7 @@ def predicted_before(alpha_rad, reference_rad) -> np.ndarray:
 
 
 def _table_angles(table: str):
-    df = paper.load(table)
+    df = paper_numbers.load(table)
     cols = lambda kind: [f"{a}_{kind}_deg" for a in ("yaw", "pitch", "roll")]  # noqa: E731
     return tuple(np.radians(df[cols(k)].to_numpy(float)) for k in ("reference", "before", "after"))
 

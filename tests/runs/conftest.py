@@ -14,23 +14,23 @@ FAIL = False
 
 # %%
 import pandas as pd
-from mtcal.reporting import compare, output as report
+from mtcal.reporting import compare, output
 
-SIZE = report.run_size(SIZE)
+SIZE = output.run_size(SIZE)
 
 # %% [markdown]
 # ## tiny_table — y = gain · x
 
 # %%
 df = pd.DataFrame({"x": [1.0, 2.0], "y": [gain * 1.0, gain * 2.0], "label": [label, label]})
-report.save_table(df, "tiny_table")
+output.save_table(df, "tiny_table")
 print(f"size={SIZE} gain={gain} label={label}")
 
 # %%
 assert not FAIL, "asked to fail"
 rows = [compare.comparison_row("tiny_table", "y at x=2", 4.0, gain * 2.0, "y(2) = 4", gain * 2.0 == 4.0),
         compare.comparison_row("tiny_table", "x count", 2, 2, "two points", True)]
-report.save_table(compare.comparison_table(rows), "tiny_comparison")
+output.save_table(compare.comparison_table(rows), "tiny_comparison")
 '''
 
 

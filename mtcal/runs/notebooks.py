@@ -1,4 +1,4 @@
-"""Notebook runs: build from py:percent (jupytext), execute with parameters (papermill), compare runs.
+"""Notebook runs: build from py:percent (jupytext), execute with parameters (papermill).
 
 The notebooks' sources are ``notebooks/NN_<key>_<topic>.py`` (py:percent);
 the executed ``.ipynb`` beside each is derived from it. Three kinds of run:
@@ -9,47 +9,39 @@ the executed ``.ipynb`` beside each is derived from it. Three kinds of run:
 * a *what-if* run (:func:`run_notebook`, ``mtcal run``) executes one notebook with
   changed parameters into ``runs/<name>/`` (the executed notebook, its ``data/``
   and ``figures/`` via ``$MTCAL_OUTPUT_DIR``, and ``params.json``) and never touches
-  the committed files. :func:`compare_runs` (``mtcal compare``) puts the
-  comparison tables (``data/*_comparison.csv``) of several runs side by side.
+  the committed files. :func:`mtcal.runs.compare.compare_runs` (``mtcal compare``)
+  puts the comparison tables (``data/*_comparison.csv``) of several runs side by side.
 
 Every executed notebook is normalised (:func:`normalise_notebook`): papermill's
 timing metadata and nbclient's execution timestamps are removed and cell ids
 are numbered, so a re-run with the same numbers gives identical bytes. A
 failed run still writes the partially executed notebook (papermill marks the
-failing cell), for inspection.
-
-Numerics are pinned for every run (:func:`numerics_env`): one BLAS thread,
-OpenBLAS's ``Nehalem`` kernels, numpy's baseline (non-dispatched) SIMD loops and
-glibc's SSE2 libm variants, so the last bits of a result do not depend on which
-x86-64 CPU runs it (AVX-512 SVML loops in numpy and FMA variants of ``exp``/``sin``
-in glibc change the last bit; the OpenBLAS kernel type changes ``svd``).
+failing cell), for inspection. Every kernel runs under
+:func:`mtcal.runs.environment.numerics_env`.
 """
 
 from __future__ import annotations
 
 import ast
-import contextlib
 import hashlib
 import json
-import os
 import re
 import shutil
-import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
-__all__ = ["NotebookRunError", "numerics_env", "repo_root", "notebook_sources", "resolve_notebook",
-           "parse_parameter", "notebook_parameters", "check_parameters", "build_notebook",
-           "normalise_notebook", "sync_notebook", "execute_notebook", "run_notebook", "RunResult",
-           "load_comparisons", "compare_runs", "flip_text"]
+from mtcal.reporting.compare import check_claims
+from mtcal.runs.environment import environment, numerics_env, repo_root
+
+__all__ = ["NotebookRunError", "notebook_sources", "resolve_notebook", "parse_parameter", "notebook_parameters",
+           "check_parameters", "build_notebook", "normalise_notebook", "sync_notebook", "execute_notebook",
+           "run_notebook", "RunResult"]
 
 _NOTEBOOK_RE = re.compile(r"^(\d\d)_[A-Za-z0-9_]+$")
 _NAME_RE = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.=+,-]*$")
-#: environment variables that would make a kernel write elsewhere or print progress bars
-_RUN_ENV = ("MTCAL_SIZE", "MTCAL_OUTPUT_DIR", "MTCAL_PROGRESS")
 
 
 class NotebookRunError(RuntimeError):
@@ -58,42 +50,6 @@ class NotebookRunError(RuntimeError):
     def __init__(self, message: str, notebook: Path):
         super().__init__(message)
         self.notebook = Path(notebook)
-
-
-def numerics_env() -> dict[str, str]:
-    """Environment that makes floating-point results independent of the x86-64 CPU.
-
-    * ``OPENBLAS_NUM_THREADS=1`` (and OMP/MKL): no thread-count-dependent blocking;
-    * ``OPENBLAS_CORETYPE=Nehalem``: one BLAS/LAPACK kernel set on every CPU that
-      numpy's x86-64-v2 baseline runs on (``svd`` differs between SkylakeX and Haswell);
-    * ``NPY_DISABLE_CPU_FEATURES``: numpy's dispatched SIMD targets off (on AVX-512
-      CPUs numpy uses SVML for ``exp``, ``log``, ``tan``, ``arctan``, ``power``…,
-      whose last bits differ from the scalar loops);
-    * ``GLIBC_TUNABLES=glibc.cpu.hwcaps=-AVX,-AVX2,-FMA,-FMA4``: glibc's SSE2 libm
-      variants (the FMA variants of ``sin``/``cos``/``exp``/``atan2`` round differently);
-    * ``NUMBA_CPU_NAME=generic``: the compiled filter kernels target generic x86-64.
-
-    The ``Makefile`` exports the same values (tested).
-
-    >>> env = numerics_env()
-    >>> env["OPENBLAS_NUM_THREADS"], env["OPENBLAS_CORETYPE"]
-    ('1', 'Nehalem')
-    """
-    from numpy._core import _multiarray_umath as umath
-
-    return {"OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1",
-            "OPENBLAS_CORETYPE": "Nehalem",
-            "NPY_DISABLE_CPU_FEATURES": " ".join(umath.__cpu_dispatch__),
-            "GLIBC_TUNABLES": "glibc.cpu.hwcaps=-AVX,-AVX2,-FMA,-FMA4",
-            "NUMBA_CPU_NAME": "generic"}
-
-
-def repo_root() -> Path | None:
-    """The source checkout mtcal runs from (has ``pyproject.toml`` and ``notebooks/``), else None."""
-    root = Path(__file__).resolve().parents[2]
-    if (root / "pyproject.toml").is_file() and (root / "notebooks").is_dir():
-        return root
-    return None
 
 
 def _notebooks_dir(notebooks_dir: str | Path | None) -> Path:
@@ -301,25 +257,6 @@ def sync_notebook(source: str | Path) -> bool:
     return True
 
 
-@contextlib.contextmanager
-def _environment(values: dict[str, str | None]):
-    saved = {k: os.environ.get(k) for k in values}
-    try:
-        _set_environment(values)
-        yield
-    finally:
-        _set_environment(saved)
-
-
-def _set_environment(values: dict[str, str | None]) -> None:
-    """Set each variable to its value; a ``None`` value unsets it."""
-    for k, v in values.items():
-        if v is None:
-            os.environ.pop(k, None)
-        else:
-            os.environ[k] = v
-
-
 def execute_notebook(source: str | Path, output: str | Path, *, parameters: dict | None = None,
                      env: dict[str, str | None] | None = None, cwd: str | Path | None = None,
                      progress_bar: bool = False, timeout_s: float = 3600.0):
@@ -351,7 +288,7 @@ def execute_notebook(source: str | Path, output: str | Path, *, parameters: dict
     nb = build_notebook(source)
     kernel_env = {**numerics_env(), "MTCAL_PROGRESS": "0", "PYDEVD_DISABLE_FILE_VALIDATION": "1", **(env or {})}
     failure = None
-    with _environment(kernel_env):
+    with environment(kernel_env):
         try:  # saved after every cell, so a timeout, dead kernel or Ctrl-C also leaves the partial notebook
             papermill.execute_notebook(nb, str(output), parameters=parameters or None, kernel_name="python3",
                                        progress_bar=progress_bar, request_save_on_cell_execute=True,
@@ -464,8 +401,6 @@ def run_notebook(notebook: str | int | Path, *, name: str | None = None, paramet
 
 
 def _claims_report(folder: Path) -> str:
-    from mtcal.reporting.compare import check_claims
-
     lines = []
     for path in sorted((Path(folder) / "data").glob("*_comparison.csv")):
         table = pd.read_csv(path, dtype=str, keep_default_na=False)
@@ -475,171 +410,3 @@ def _claims_report(folder: Path) -> str:
         table.loc[table["holds"].isna(), "holds"] = None
         lines.append(f"{path.stem}: {check_claims(table, enforce=False)}")
     return "\n".join(lines) if lines else "no comparison table written"
-
-
-# --------------------------------------------------------------------------------------- compare
-_KEY = ["table", "artifact", "key"]
-_NUMBER_RE = re.compile(r"[-+−]?\d+(?:\.\d+)?(?:[eE][-+]?\d+)?")
-
-
-def load_comparisons(run: str | Path) -> pd.DataFrame:
-    """Every ``data/*_comparison.csv`` of a run folder (or ``"committed"``: the repository's ``data/``),
-    stacked with a ``table`` column (the file stem)."""
-    if str(run) == "committed":
-        root = repo_root() or Path.cwd()
-        folder = root / "data"
-    else:
-        folder = Path(run) / "data"
-    if not folder.is_dir():
-        raise FileNotFoundError(f"run {str(run)!r} has no data/ folder ({folder})")
-    frames = []
-    for path in sorted(folder.glob("*_comparison.csv")):
-        df = pd.read_csv(path, dtype=str, keep_default_na=False)
-        missing = {"artifact", "quantity", "mtcal", "holds"} - set(df.columns)
-        if missing:
-            raise ValueError(f"{path} is not a comparison table (missing columns {sorted(missing)})")
-        df.insert(0, "table", path.stem)
-        frames.append(df)
-    if not frames:
-        raise FileNotFoundError(f"run {str(run)!r} has no data/*_comparison.csv")
-    out = pd.concat(frames, ignore_index=True)
-    for col in ("paper", "mc_band", "claim", "role", "source"):
-        if col not in out:
-            out[col] = ""
-    # join key: the quantity with its numbers blanked (labels carry parameter values, e.g.
-    # "hybrid (θ̇_t = 0.5 °/s)" vs "(θ̇_t = 10 °/s)"), repeats numbered in order
-    out["key"] = out["quantity"].map(lambda q: _NUMBER_RE.sub("#", q))
-    out["key"] = out["key"] + out.groupby(["table", "artifact", "key"]).cumcount().map(lambda n: f" [{n + 1}]")
-    return out
-
-
-def flip_text(states: list[str], names: list[str]) -> str:
-    """How a claim's ``holds`` changes across runs, e.g. ``"holds True→False (B)"``; "" when unchanged.
-
-    >>> flip_text(["True", "False", "True"], ["paper", "industrial", "noisy"])
-    'True→False (industrial)'
-    >>> flip_text(["True", "True"], ["a", "b"])
-    ''
-    """
-    base = states[0]
-    changed = [f"{base or '-'}→{s or '-'} ({n})" for s, n in zip(states[1:], names[1:]) if s != base]
-    return "; ".join(changed)
-
-
-def _as_float(text) -> float:
-    try:
-        return float(text)
-    except (TypeError, ValueError):
-        return float("nan")
-
-
-def compare_runs(runs: list[str | Path], *, names: list[str] | None = None, out_dir: str | Path | None = None,
-                 figure: bool = True) -> tuple[pd.DataFrame, Path, Path | None]:
-    """Side-by-side table of every comparison-table quantity of several runs, with bands and claim flips.
-
-    Parameters
-    ----------
-    runs : list of paths or "committed"
-        Run folders (each with ``data/*_comparison.csv``); ``"committed"`` is the
-        repository's committed results. The first run is the reference for flips.
-    names : list of str, optional
-        Column labels (default: the folder names).
-    out_dir : path, optional
-        Where ``compare_<names>.csv`` and ``.png`` go (default: the first run folder's parent,
-        or ``runs/`` for ``committed``).
-
-    Returns
-    -------
-    table : DataFrame
-        ``table, artifact, quantity, paper, claim, role`` then ``mtcal``, ``band`` and
-        ``holds`` per run (``<column> [<name>]``) and ``flips`` (e.g. ``True→False (B)``); only
-        the comparison tables (notebooks) present in every run.
-    csv_path, png_path : Path
-        Saved table and figure (figure: every numeric quantity relative to the first run,
-        flipped claims marked; ``None`` when ``figure=False`` or nothing is numeric).
-    """
-    if not isinstance(runs, (list, tuple)) or len(runs) < 2:
-        raise ValueError(f"runs must list at least two run folders (or 'committed'), got {runs!r}")
-    names = list(names) if names else [("committed" if str(r) == "committed" else Path(r).resolve().name)
-                                       for r in runs]
-    if len(names) != len(runs) or len(set(names)) != len(names):
-        raise ValueError(f"names must be {len(runs)} distinct labels, got {names}")
-    tables = [load_comparisons(run) for run in runs]
-    # compare only the notebooks every run executed (a what-if run usually runs one notebook)
-    common = set.intersection(*(set(df["table"]) for df in tables))
-    if not common:
-        raise ValueError(f"runs {names} have no comparison table in common "
-                         f"({'; '.join(f'{n}: {sorted(set(df.table))}' for n, df in zip(names, tables))})")
-    merged = None
-    for df, name in zip(tables, names):
-        df = df[df["table"].isin(common)]
-        part = df[_KEY + ["quantity", "paper", "claim", "role"]].copy()
-        part[f"mtcal [{name}]"] = df["mtcal"]
-        part[f"band [{name}]"] = df["mc_band"]
-        part[f"holds [{name}]"] = df["holds"]
-        if merged is None:
-            merged = part
-        else:
-            merged = merged.merge(part, on=_KEY, how="outer", suffixes=("", "_new"))
-            for col in ("quantity", "paper", "claim", "role"):
-                merged[col] = merged[col].where(merged[col].notna(), merged.pop(f"{col}_new"))
-    merged = merged.fillna("")
-    holds_cols = [f"holds [{n}]" for n in names]
-    merged["flips"] = [flip_text([str(r[c]) for c in holds_cols], names) for _, r in merged.iterrows()]
-    merged = merged.sort_values(_KEY, kind="stable").reset_index(drop=True)
-    order = ["table", "artifact", "quantity", "paper", "claim", "role"] + [
-        f"{c} [{n}]" for n in names for c in ("mtcal", "band", "holds")]
-    merged = merged[order + ["flips"]]
-
-    if out_dir is None:
-        first = runs[0] if str(runs[0]) != "committed" else (runs[1] if len(runs) > 1 else "runs/x")
-        out_dir = Path(first).parent if str(first) != "committed" else Path("runs")
-    out_dir = Path(out_dir)
-    out_dir.mkdir(parents=True, exist_ok=True)
-    slug = re.sub(r"[^A-Za-z0-9_.=+,-]+", "", "_vs_".join(names))[:120]
-    csv_path = out_dir / f"compare_{slug}.csv"
-    merged.to_csv(csv_path, index=False, lineterminator="\n")
-    png_path = _compare_figure(merged, names, out_dir / f"compare_{slug}.png") if figure else None
-    return merged, csv_path, png_path
-
-
-def _compare_figure(table: pd.DataFrame, names: list[str], path: Path, max_rows: int = 30) -> Path | None:
-    """Dot plot: each numeric quantity of every run divided by the first run's value."""
-    ref = table[f"mtcal [{names[0]}]"].map(_as_float).to_numpy()
-    values = np.column_stack([table[f"mtcal [{n}]"].map(_as_float).to_numpy() for n in names])
-    usable = np.isfinite(ref) & (ref != 0) & np.isfinite(values).all(axis=1)
-    if not usable.any():
-        return None
-    ratio = values[usable] / ref[usable, None]
-    labels = (table.loc[usable, "table"].str.replace("_comparison", "") + ": "
-              + table.loc[usable, "quantity"]).str.slice(0, 70).to_numpy()
-    flips = table.loc[usable, "flips"].to_numpy() != ""
-    # the quantities that moved most (and every flipped claim) first
-    spread = np.nanmax(np.abs(np.log10(np.abs(ratio) + 1e-300)), axis=1) + 10.0 * flips
-    keep = np.argsort(-spread, kind="stable")[:max_rows][::-1]
-    from mtcal.reporting.output import setup_matplotlib
-
-    setup_matplotlib()
-    import matplotlib.pyplot as plt
-
-    fig, ax = plt.subplots(figsize=(9.0, 0.28 * len(keep) + 1.6))
-    y = np.arange(len(keep))
-    for j, name in enumerate(names):
-        ax.plot(ratio[keep, j], y, "o" if j else "|", ms=6 if j else 12, label=name)
-    for k, idx in enumerate(keep):
-        if flips[idx]:
-            ax.annotate("claim flips", (1.0, k), xytext=(4, -3), textcoords="offset points", fontsize=7, color="C3")
-    ax.set_yticks(y, labels[keep], fontsize=7)
-    shown = ratio[keep]
-    if np.all(shown > 0):
-        ax.set_xscale("log")
-        ax.set_xlim(shown.min() / 1.6, shown.max() * 1.6)
-    else:
-        ax.set_xscale("symlog", linthresh=1e-2)
-    ax.axvline(1.0, color="k", lw=0.6)
-    ax.set_xlabel(f"mtcal value / value in run '{names[0]}'")
-    ax.set_title(f"comparison-table quantities: {' vs '.join(names)}")
-    ax.legend(fontsize=8, loc="lower right")
-    fig.savefig(path, metadata={"Software": None}, bbox_inches="tight")
-    plt.close(fig)
-    return path

@@ -1,0 +1,75 @@
+"""mtcal.runs.compare: comparison tables of several runs side by side."""
+
+from pathlib import Path
+
+import pandas as pd
+import pytest
+
+from mtcal.runs.compare import compare_runs
+
+
+def _fake_run(folder: Path, rows: list[tuple]):
+    (folder / "data").mkdir(parents=True)
+    df = pd.DataFrame(rows, columns=["artifact", "quantity", "paper", "mtcal", "mc_band", "claim", "holds"])
+    df["role"], df["source"], df["paper_in_band"] = "predicted", "paper claim", ""
+    df.to_csv(folder / "data" / "10_x_comparison.csv", index=False)
+
+
+def test_compare_runs_table_flips_and_files(tmp_path):
+    _fake_run(tmp_path / "runs" / "paper", [("t06", "roll RMSE (deg)", 0.009, 0.0071, "[0.005, 0.01]", "<= 0.01", True),
+                                            ("t06", "yaw RMSE (deg)", 0.02, 0.015, "", "<= 0.03", True),
+                                            ("t06", "yaw RMSE (deg)", 0.02, 0.016, "", "<= 0.03", True)])
+    _fake_run(tmp_path / "runs" / "industrial", [("t06", "roll RMSE (deg)", 0.009, 0.031, "[0.02, 0.05]", "<= 0.01",
+                                                  False),
+                                                 ("t06", "yaw RMSE (deg)", 0.02, 0.015, "", "<= 0.03", True),
+                                                 ("t06", "yaw RMSE (deg)", 0.02, 0.016, "", "<= 0.03", True)])
+    table, csv_path, png_path = compare_runs([tmp_path / "runs" / "paper", tmp_path / "runs" / "industrial"])
+    assert csv_path == tmp_path / "runs" / "compare_paper_vs_industrial.csv" and csv_path.is_file()
+    assert png_path is not None and png_path.read_bytes()[:4] == b"\x89PNG"
+    assert len(table) == 3  # repeated quantity kept apart
+    roll = table[table["quantity"] == "roll RMSE (deg)"].iloc[0]
+    assert roll["mtcal [paper]"] == "0.0071" and roll["mtcal [industrial]"] == "0.031"
+    assert roll["band [industrial]"] == "[0.02, 0.05]" and roll["flips"] == "True→False (industrial)"
+    assert (table["flips"] != "").sum() == 1
+    with pytest.raises(ValueError, match="at least two run folders"):
+        compare_runs([tmp_path / "runs" / "paper"])
+    with pytest.raises(FileNotFoundError, match="has no data/ folder"):
+        compare_runs([tmp_path / "runs" / "paper", tmp_path / "nowhere"])
+    with pytest.raises(ValueError, match="distinct labels"):
+        compare_runs([tmp_path / "runs" / "paper", tmp_path / "runs" / "industrial"], names=["a", "a"])
+
+
+def test_compare_runs_keeps_tables_common_to_all_runs(tmp_path):
+    _fake_run(tmp_path / "a", [("t06", "roll", 1, 1.0, "", "c", True)])
+    _fake_run(tmp_path / "b", [("t06", "roll", 1, 2.0, "", "c", False)])
+    pd.DataFrame({"artifact": ["x"], "quantity": ["q"], "mtcal": [1], "holds": [True]}).to_csv(
+        tmp_path / "a" / "data" / "20_y_comparison.csv", index=False)
+    table, _, _ = compare_runs([tmp_path / "a", tmp_path / "b"], out_dir=tmp_path, figure=False)
+    assert set(table["table"]) == {"10_x_comparison"}
+    (tmp_path / "b" / "data" / "10_x_comparison.csv").rename(tmp_path / "b" / "data" / "30_z_comparison.csv")
+    with pytest.raises(ValueError, match="no comparison table in common"):
+        compare_runs([tmp_path / "a", tmp_path / "b"], out_dir=tmp_path)
+
+
+def test_compare_runs_matches_quantities_labelled_with_parameter_values(tmp_path):
+    _fake_run(tmp_path / "a", [("f12", "hybrid (θ̇_t = 0.5 °/s) max error (deg)", 1, 0.4, "", "< 1", True),
+                               ("f12", "error at gamma = 0 deg", "-", 1.0, "", "-", True),
+                               ("f12", "error at gamma = 60 deg", "-", 2.0, "", "-", True)])
+    _fake_run(tmp_path / "b", [("f12", "hybrid (θ̇_t = 10 °/s) max error (deg)", 1, 2.1, "", "< 1", False),
+                               ("f12", "error at gamma = 0 deg", "-", 1.5, "", "-", True),
+                               ("f12", "error at gamma = 60 deg", "-", 2.5, "", "-", True)])
+    table, _, _ = compare_runs([tmp_path / "a", tmp_path / "b"], out_dir=tmp_path, figure=False)
+    assert len(table) == 3
+    hybrid = table.iloc[[i for i, q in enumerate(table["quantity"]) if q.startswith("hybrid")][0]]
+    assert hybrid["quantity"] == "hybrid (θ̇_t = 0.5 °/s) max error (deg)"
+    assert (hybrid["mtcal [a]"], hybrid["mtcal [b]"], hybrid["flips"]) == ("0.4", "2.1", "True→False (b)")
+    assert table.set_index("quantity").loc["error at gamma = 60 deg", "mtcal [b]"] == "2.5"
+
+
+def test_compare_runs_three_runs(tmp_path):
+    # regression: a third run used to collide on the merged 'quantity' column
+    for name, value, holds in (("a", 1.0, True), ("b", 2.0, False), ("c", 3.0, True)):
+        _fake_run(tmp_path / name, [("t06", "roll (deg)", 1, value, "", "c", holds)])
+    table, _, _ = compare_runs([tmp_path / n for n in "abc"], out_dir=tmp_path, figure=False)
+    assert len(table) == 1 and list(table.filter(like="mtcal [").iloc[0]) == ["1.0", "2.0", "3.0"]
+    assert table["flips"].iloc[0] != ""
