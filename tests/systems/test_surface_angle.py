@@ -246,7 +246,7 @@ def test_cli_axis_and_angle_are_bit_identical_to_the_procedures(tmp_path, capsys
     dt, _ = pl.time_base(t.size, time_s=t)
     fs = 1.0 / dt
     # mtcal axis (adaptive rests, accelerometer + gyro, min rest 0.5 s)
-    rep = rd.detect_rests(accel, (t.size - 1) / (t[-1] - t[0]), gyro_rad_s=gyro,
+    rep = rd.detect_rests(accel, 1.0 / ((t.size - 1) / (t[-1] - t[0])), gyro_rad_s=gyro,
                           params=rd.RestDetectorParams(min_rest_s=0.5, noise_factor=5.0))
     est = sa.estimate_surface_axis(accel, rep.rests, accel_noise_m_s2=rep.accel_noise_m_s2,
                                    window_samples=rep.window_s * (t.size - 1) / (t[-1] - t[0]))
@@ -258,7 +258,7 @@ def test_cli_axis_and_angle_are_bit_identical_to_the_procedures(tmp_path, capsys
     axis_text = ",".join(repr(float(x)) for x in est.axis)
     angle_out = tmp_path / "angle.parquet"
     assert main(["angle", str(log), "--axis", axis_text, "--out", str(angle_out)]) == 0
-    rep = rd.detect_rests(accel, (t.size - 1) / (t[-1] - t[0]), gyro_rad_s=gyro,
+    rep = rd.detect_rests(accel, 1.0 / ((t.size - 1) / (t[-1] - t[0])), gyro_rad_s=gyro,
                           params=rd.RestDetectorParams(min_rest_s=0.2, noise_factor=5.0))
     first = rep.rests[0]
     n0 = min(int(round(1.0 * fs)), first.stop - first.start)

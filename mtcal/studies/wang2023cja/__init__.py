@@ -20,11 +20,11 @@ from .error_model import (ErrorModel, ErrorModelFit, fit_error_model, fit_instal
                           InstallationFit, MOUNT_TYPE, N_NORMALS, paper_positions, PAPER_SIGN, position_noise_deg,
                           predicted_before, PRIOR_RANGES, rest_residuals, rest_times_s, TABLES_1_TO_4,
                           true_error_matrix)
-from .runs import (compliance_trajectory, elastic_deflection_rad, identify_pitch_ratio, load_tilt_outputs,
-                   mechanism_actual, position_errors_deg, run_turntable, run_turntable_jobs, run_windtunnel,
-                   six_position_reference, turntable_profile, turntable_runs, TurntableJob, TurntableRun,
-                   windtunnel_positions, WindTunnelRun)
-from .scenario import (ImuSpec, PRINTED_WINDTUNNEL_Q22, SOURCES, TURNTABLE_DEFAULTS, turntable_scenario,
+from .runs import (calibration_step, MONTE_CARLO_GATES, elastic_deflection_rad, load_tilt_outputs, position_errors_deg,
+                   run_turntable, run_turntable_jobs, run_windtunnel, six_position_reference, turntable_profile,
+                   turntable_runs, TurntableJob, TurntableRun, WindTunnelRun)
+from .scenario import (compliance_trajectory, identify_pitch_ratio, ImuSpec, mechanism_actual,
+                       windtunnel_positions, PRINTED_WINDTUNNEL_Q22, SOURCES, TURNTABLE_DEFAULTS, turntable_scenario,
                        TurntableScenario, WINDTUNNEL_DEFAULTS, windtunnel_geometry, windtunnel_scenario,
                        WindTunnelScenario)
 
@@ -37,7 +37,7 @@ __all__ = ["artifacts", "constrained", "error_model", "runs", "scenario", "plots
            "turntable_runs", "windtunnel_positions", "identify_pitch_ratio", "turntable_profile",
            "six_position_reference", "TurntableRun", "TurntableJob", "run_turntable", "run_turntable_jobs",
            "position_errors_deg", "compliance_trajectory", "load_tilt_outputs", "mechanism_actual", "WindTunnelRun",
-           "run_windtunnel", "elastic_deflection_rad", "TRAINING", "HELD_OUT", "installation_fit_table",
+           "run_windtunnel", "elastic_deflection_rad", "calibration_step", "MONTE_CARLO_GATES", "TRAINING", "HELD_OUT", "installation_fit_table",
            "error_model_table", "printed_matrix_check", "positions_table", "sweep_mean_table", "error_metric_table",
            "table08_reductions", "windtunnel_matrix_table", "table10", "turntable_rows", "windtunnel_rows", "banded",
            "outside_rows", "asserted", "q22_noise_band", "stepwise_coupling", "section_claims", "error_budget_table"]
