@@ -39,12 +39,14 @@ Examples
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, replace
+from dataclasses import replace
 
 import numpy as np
 import pandas as pd
 
 from mtcal.core import metrics
+from mtcal.core.artifacts import Artifact
+from mtcal.core.rng import stream_rng
 from mtcal.core.rotations import axis_angle_matrix
 from mtcal.core.units import DEG, UG
 from mtcal.core.validate import STANDARD_GRAVITY_M_S2
@@ -53,6 +55,7 @@ from mtcal.reporting import compare
 from mtcal.reporting import paper_numbers as paper
 
 from . import error_model as em
+from .error_model import ErrorModelFit, error_model_priors_table, fit_error_model
 from .runs import axis_errors, run_drift, run_fig9, run_fig11, run_zvd_demo
 from .scenario import ERROR_PRIORS, AhrsImu, ImuSpec, Scenario, labels, scenario_from_parameters, table4_axes  # noqa: F401
 
@@ -62,14 +65,12 @@ __all__ = ["Artifact", "table01_zvd", "fig06_zvd", "table02_sensors", "fig12_gra
 
 _row = compare.comparison_row
 
-
-@dataclass(frozen=True)
-class Artifact:
-    """A table (DataFrame) and/or figure data, and the comparison rows of one artifact."""
-
-    table: pd.DataFrame | None = None
-    data: dict = field(default_factory=dict)
-    rows: list = field(default_factory=list)
+# random streams of this module (mtcal.core.rng rule: key (seed, stream))
+STREAM_FIG12_BOOTSTRAP = 199
+STREAM_REST_BOOTSTRAP = 399
+STREAM_TABLE05_DRAWS = 500
+STREAM_FIG14_FITTED = 600
+STREAM_FIG14_PRIOR = 601
 
 
 # --------------------------------------------------------------------------- notebook 30
@@ -90,7 +91,7 @@ def table01_zvd(sc: Scenario) -> Artifact:
                  "a variance over t_w needs >= 2 samples", bool(n_raw >= 2), role="erratum", source="mtcal finding"),
             _row("wang2022sensors_table01", "thresholds used = Table 1", "Table 1", str(same),
                  "", None, role="finding", source="mtcal finding")]
-    return Artifact(t, {}, rows)
+    return Artifact(t, rows, {})
 
 
 def fig06_zvd(sc: Scenario, trials: int, seed: int) -> Artifact:
@@ -111,7 +112,7 @@ def fig06_zvd(sc: Scenario, trials: int, seed: int) -> Artifact:
             _row("wang2022sensors_fig06", "rest samples missed, Table 1 ZVD", "n/a", float(miss["median"]),
                  "fewer than 5 % of rest samples missed", bool(miss["high"] < 0.05), band=miss, role="finding",
                  source="mtcal finding")]
-    return Artifact(None, {"demo": d, "fp_table1": fp1, "fp_gyro": fpg, "missed": miss, "labels": labels(sc)}, rows)
+    return Artifact(None, rows, {"demo": d, "fp_table1": fp1, "fp_gyro": fpg, "missed": miss, "labels": labels(sc)})
 
 
 def table02_sensors(sc: Scenario) -> Artifact:
@@ -129,7 +130,7 @@ def table02_sensors(sc: Scenario) -> Artifact:
     cost = float(price["ADXL355"] + price["BMI088"])
     rows = [_row("wang2022sensors_table02", "ADXL355 + BMI088 cost (USD)", "< 100", cost,
                  "sensor cost under USD 100", cost < 100, role="erratum")]
-    return Artifact(t2, {}, rows)
+    return Artifact(t2, rows, {})
 
 
 def fig12_gravity_change(sc: Scenario, trials: int, seed: int, n_boot: int) -> Artifact:
@@ -152,7 +153,7 @@ def fig12_gravity_change(sc: Scenario, trials: int, seed: int, n_boot: int) -> A
     bands = [metrics.percentile_band(e) for e in errs]
     sig_mean = imu.accel_noise_per_sample_m_s2 / np.sqrt(imu.fs_hz)
     pred = np.degrees(axis_mod.axis_error_std(sig_mean, np.radians(gam_mc), np.radians([0.0, 90.0, 180.0])))
-    boot = metrics.bootstrap_medians([errs[0], errs[3]], np.random.default_rng([seed, 199]), n_boot)
+    boot = metrics.bootstrap_medians([errs[0], errs[3]], stream_rng(seed, STREAM_FIG12_BOOTSTRAP), n_boot)
     r_band = metrics.percentile_band(boot[:, 1] / boot[:, 0])
     r_med = float(bands[3]["median"] / bands[0]["median"])
     rows = [_row("wang2022sensors_fig12", "||g1-g0|| ratio gamma = 60/0 deg", 0.5, ratio,
@@ -167,7 +168,7 @@ def fig12_gravity_change(sc: Scenario, trials: int, seed: int, n_boot: int) -> A
             "mc_median": np.array([b["median"] for b in bands]), "mc_low": np.array([b["low"] for b in bands]),
             "mc_high": np.array([b["high"] for b in bands]), "formula_median": pred * np.sqrt(np.log(2.0)),
             "ratio": ratio, "labels": labels(sc)}
-    return Artifact(None, data, rows)
+    return Artifact(None, rows, data)
 
 
 def table04_axes(sc: Scenario, trials: int, seed: int) -> Artifact:
@@ -197,7 +198,7 @@ def table04_axes(sc: Scenario, trials: int, seed: int) -> Artifact:
     rows.append(_row("wang2022sensors_table04", "chance that all three printed estimates equal whole-degree vectors",
                      "all three do", p_all, "exact whole-degree prints are no evidence of nominal values (p > 0.05)",
                      p_all > 0.05, role="finding", source="mtcal finding"))
-    return Artifact(t4, {"p_all_exact": p_all}, rows)
+    return Artifact(t4, rows, {"p_all_exact": p_all})
 
 
 def extra_axis_error_vs_rest(sc: Scenario, trials: int, seed: int, n_boot: int,
@@ -214,7 +215,7 @@ def extra_axis_error_vs_rest(sc: Scenario, trials: int, seed: int, n_boot: int,
     v = np.asarray(sc.fig11_axis) / np.linalg.norm(sc.fig11_axis)
     pred = np.degrees(axis_mod.axis_error_std(imu.accel_noise_per_sample_m_s2 / np.sqrt(imu.fs_hz),
                                               np.arcsin(v[2]), np.radians([0.0, 90.0, 180.0]))) / np.sqrt(rest)
-    rng = np.random.default_rng([seed, 399])
+    rng = stream_rng(seed, STREAM_REST_BOOTSTRAP)
     slopes = {k: np.polyfit(np.log(rest), np.log(metrics.bootstrap_medians(e, rng, n_boot).T), 1)[0]
               for k, e in (("white", e_wh), ("zvd", e_zvd))}
     med_w = np.array([np.median(e) for e in e_wh])
@@ -236,7 +237,7 @@ def extra_axis_error_vs_rest(sc: Scenario, trials: int, seed: int, n_boot: int,
             "zvd_high": np.array([b["high"] for b in bands]), "white_median": med_w,
             "formula_median": pred * np.sqrt(np.log(2.0)), "slope_white": s_w, "slope_zvd": s_z,
             "labels": labels(sc)}
-    return Artifact(None, data, rows)
+    return Artifact(None, rows, data)
 
 
 # --------------------------------------------------------------------------- notebook 31
@@ -252,7 +253,7 @@ def fig09_ekf_switching(sc: Scenario, trials: int, seed: int) -> Artifact:
             _row("wang2022sensors_fig09", "last 0.5 s still: max |error| with ZVD (deg)", "figure",
                  float(end["median"]), "back at rest (97.5 % < 0.05)", bool(end["high"] < 0.05), band=end,
                  role="finding", source="mtcal finding")]
-    return Artifact(None, {"run": r, "labels": labels(sc)}, rows)
+    return Artifact(None, rows, {"run": r, "labels": labels(sc)})
 
 
 def fig11_max_error(sc: Scenario, reps: int, seed: int, *, imu: ImuSpec | None = None) -> Artifact:
@@ -274,8 +275,8 @@ def fig11_max_error(sc: Scenario, reps: int, seed: int, *, imu: ImuSpec | None =
                  float(med_16["median"]), "", None, band=med_16, role="finding", source="mtcal finding"),
             _row("wang2022sensors_fig11", "proposed: worst per-angle max error (deg)", "figure",
                  float(worst["median"]), "", None, band=worst, role="finding", source="mtcal finding")]
-    return Artifact(None, {"result": f, "rams": metrics.percentile_band(f.max_err_rams, axis=0),
-                           "ref16": metrics.percentile_band(f.max_err_ref16, axis=0), "labels": labels(sc)}, rows)
+    return Artifact(None, rows, {"result": f, "rams": metrics.percentile_band(f.max_err_rams, axis=0),
+                                 "ref16": metrics.percentile_band(f.max_err_ref16, axis=0), "labels": labels(sc)})
 
 
 def extra_table3_sensitivity(sc: Scenario, reps: int, seed: int) -> Artifact:
@@ -297,36 +298,7 @@ def extra_table3_sensitivity(sc: Scenario, reps: int, seed: int) -> Artifact:
     rows = [_row("wang2022sensors_extra_table3_sensitivity", "50 mg uncompensated / calibrated: median max error",
                  "n/a", ratio, "Eq 28 needs the ref. [30] calibration (ratio > 10)", ratio > 10, role="finding",
                  source="mtcal finding")]
-    return Artifact(t, {"ratio": ratio}, rows)
-
-
-@dataclass(frozen=True)
-class ErrorModelFit:
-    """The grid Monte Carlo, posterior and prior weights, and the fitted parameter table."""
-
-    grid: em.GridRun
-    posterior: np.ndarray
-    prior: np.ndarray
-    parameters: pd.DataFrame
-
-    def map_parameters(self) -> dict:
-        """MAP values in parameters-cell names (lever arm, move acceleration, latency)."""
-        p = self.parameters.set_index("parameter")["map"]
-        return {"lever_arm_m": float(p["lever_arm_m"]), "move_accel_deg_s2": float(p["move_accel_deg_s2"]),
-                "latency_s": float(p["latency_s"]) / 1e3}
-
-
-def fit_error_model(sc: Scenario, reps: int, seed: int, grid: dict | None = None) -> ErrorModelFit:
-    """Run the grid Monte Carlo and fit the error model to :data:`~.error_model.TRAINING` (see there)."""
-    g = em.run_grid(sc, reps, seed, grid=grid)
-    post = em.posterior_weights(g)
-    return ErrorModelFit(g, post, em.prior_weights(g), em.parameter_summary(g, post))
-
-
-def error_model_priors_table() -> pd.DataFrame:
-    """The hardware error sources: prior range, unit, fitted or held, and the source of the range."""
-    return pd.DataFrame([{"parameter": k, "low": v["low"], "high": v["high"], "unit": v["unit"],
-                          "fitted": v["fitted"], "source": v["source"]} for k, v in ERROR_PRIORS.items()])
+    return Artifact(t, rows, {"ratio": ratio})
 
 
 def outside_reasons(sc: Scenario, fit: ErrorModelFit, seed: int, n_draws: int = 4000) -> str:
@@ -391,8 +363,8 @@ def extra_error_model(fit: ErrorModelFit) -> Artifact:
                          f"RAMS static RMSE at the MAP lever arm with {slow:g} deg/s^2 moves (deg)", "0.0118-0.0182",
                          by_acc[slow], f"gentler stops let the ZVD flag move ends: above the {acc:g} deg/s^2 value",
                          bool(by_acc[slow] > by_acc[float(acc)]), role="finding", source="mtcal finding"))
-    return Artifact(t, {"dynamic_without_latency_deg": no_lat, "dynamic_with_latency_deg": with_lat,
-                        "static_by_accel_deg": by_acc}, rows)
+    return Artifact(t, rows, {"dynamic_without_latency_deg": no_lat, "dynamic_with_latency_deg": with_lat,
+                              "static_by_accel_deg": by_acc})
 
 
 _T5_CLAIMS = {("RAMS", "static"): ("RAMS static RMSE < 0.02 deg", lambda x: x < 0.02),
@@ -407,7 +379,7 @@ def table05_rmse(fit: ErrorModelFit, seed: int, n_draws: int = 4000) -> Artifact
     """Table 5: every printed RMSE beside the fitted model's and the prior-only model's predictive
     median and 95 % band; ``role`` fitted (training subset) or predicted (held out)."""
     pv = em.paper_table5()
-    rng = np.random.default_rng([seed, 500])
+    rng = stream_rng(seed, STREAM_TABLE05_DRAWS)
     recs, rows = [], []
     draws = {}
     for key in em.TRAINING + em.HELD_OUT:
@@ -441,7 +413,7 @@ def table05_rmse(fit: ErrorModelFit, seed: int, n_draws: int = 4000) -> Artifact
     width = np.log(pred.fitted_high / pred.fitted_low) / np.log(pred.prior_high / pred.prior_low)
     summary = {"fitted_inside": int(pred.paper_in_fitted.sum()), "prior_inside": int(pred.paper_in_prior.sum()),
                "n_predicted": len(pred), "band_width_ratio": float(np.median(width))}
-    return Artifact(t5, {"summary": summary}, rows)
+    return Artifact(t5, rows, {"summary": summary})
 
 
 def fig13_drift(sc: Scenario, fit: ErrorModelFit | None, trials: int, seed: int, run_s: float,
@@ -465,7 +437,7 @@ def fig13_drift(sc: Scenario, fit: ErrorModelFit | None, trials: int, seed: int,
             _row("wang2022sensors_fig13", "1-min drift AHRS stand-in (deg)", "shifts", float(b_a["median"]),
                  "AHRS drifts more than RAMS (median > 3 x RAMS max)", bool(b_a["median"] > 3 * d_r.max()),
                  band=b_a)]
-    return Artifact(None, {"run": d, "labels": labels(sc2)}, rows)
+    return Artifact(None, rows, {"run": d, "labels": labels(sc2)})
 
 
 def fig14_max_error_per_angle(fit: ErrorModelFit, seed: int, n_draws: int = 4000) -> Artifact:
@@ -477,13 +449,13 @@ def fig14_max_error_per_angle(fit: ErrorModelFit, seed: int, n_draws: int = 4000
     w = np.repeat(wc[:, None, None], per.shape[1] * per.shape[2], axis=1).reshape(-1) / (per.shape[1] * per.shape[2])
     flat = per.reshape(-1, per.shape[-1])
     q = np.array([em.weighted_quantile(flat[:, h], w, [0.025, 0.5, 0.975]) for h in range(flat.shape[1])])
-    exp = em.fig14_samples(g, fit.posterior, np.random.default_rng([seed, 600]), n_draws)
-    exp_prior = em.fig14_samples(g, fit.prior, np.random.default_rng([seed, 601]), n_draws)
+    exp = em.fig14_samples(g, fit.posterior, stream_rng(seed, STREAM_FIG14_FITTED), n_draws)
+    exp_prior = em.fig14_samples(g, fit.prior, stream_rng(seed, STREAM_FIG14_PRIOR), n_draws)
     b, bp = metrics.percentile_band(exp), metrics.percentile_band(exp_prior)
     rows = [_row("wang2022sensors_fig14", "one experiment's largest per-angle max error (deg), fitted model",
                  "< 0.05", float(b["median"]), "max error per angle < 0.05 deg (median experiment)",
                  bool(b["median"] < 0.05), band=b),
             _row("wang2022sensors_fig14", "same, prior-only model (deg)", "< 0.05", float(bp["median"]),
                  "", None, band=bp, role="finding", source="mtcal finding")]
-    return Artifact(None, {"angle_deg": g.hold_angle_deg, "low": q[:, 0], "median": q[:, 1], "high": q[:, 2],
-                           "experiment": b}, rows)
+    return Artifact(None, rows, {"angle_deg": g.hold_angle_deg, "low": q[:, 0], "median": q[:, 1],
+                                 "high": q[:, 2], "experiment": b})

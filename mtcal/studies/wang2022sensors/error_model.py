@@ -247,4 +247,33 @@ def fig14_samples(grid: GridRun, weights: np.ndarray, rng: np.random.Generator, 
     return worst[c, a, r]
 
 
-__all__ += ["fig14_samples"]
+__all__ += ["fig14_samples", "ErrorModelFit", "fit_error_model", "error_model_priors_table"]
+
+
+@dataclass(frozen=True)
+class ErrorModelFit:
+    """The grid Monte Carlo, posterior and prior weights, and the fitted parameter table."""
+
+    grid: GridRun
+    posterior: np.ndarray
+    prior: np.ndarray
+    parameters: pd.DataFrame
+
+    def map_parameters(self) -> dict:
+        """MAP values in parameters-cell names (lever arm, move acceleration, latency)."""
+        p = self.parameters.set_index("parameter")["map"]
+        return {"lever_arm_m": float(p["lever_arm_m"]), "move_accel_deg_s2": float(p["move_accel_deg_s2"]),
+                "latency_s": float(p["latency_s"]) / 1e3}
+
+
+def fit_error_model(sc: Scenario, reps: int, seed: int, grid: dict | None = None) -> ErrorModelFit:
+    """Run the grid Monte Carlo and fit the error model to :data:`TRAINING` (see there)."""
+    g = run_grid(sc, reps, seed, grid=grid)
+    post = posterior_weights(g)
+    return ErrorModelFit(g, post, prior_weights(g), parameter_summary(g, post))
+
+
+def error_model_priors_table() -> pd.DataFrame:
+    """The hardware error sources: prior range, unit, fitted or held, and the source of the range."""
+    return pd.DataFrame([{"parameter": k, "low": v["low"], "high": v["high"], "unit": v["unit"],
+                          "fitted": v["fitted"], "source": v["source"]} for k, v in ERROR_PRIORS.items()])
