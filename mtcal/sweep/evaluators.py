@@ -67,8 +67,9 @@ class Evaluator:
         Registry key (the spec's ``sweep.evaluator``).
     func : callable
         ``func(params, rngs) -> {metric: ndarray (len(rngs),)}``.
-    defaults : dict
-        Every parameter with its default; a spec may set only these.
+    base_defaults : dict
+        Every parameter with its default; a spec may set only these (and, for an evaluator
+        with ``gain_scale``, ``gain_<filter>`` of any registered filter: :attr:`defaults`).
     metrics : callable
         ``metrics(params) -> list[str]``: the metric names for resolved params.
     check : callable
@@ -79,20 +80,31 @@ class Evaluator:
 
     name: str
     func: Callable
-    defaults: dict
+    base_defaults: dict
     metrics: Callable
     check: Callable = field(default=lambda params: None)
     description: str = ""
+
+    @property
+    def defaults(self) -> dict:
+        """``base_defaults`` plus ``gain_<name>: None`` for every registered filter when the evaluator
+        takes filter gains (``gain_scale`` in its defaults): a filter registered later is accepted."""
+        if "gain_scale" not in self.base_defaults:
+            return dict(self.base_defaults)
+        from mtcal.filters.registry import filter_names
+
+        return {**{f"gain_{f}": None for f in filter_names()}, **self.base_defaults}
 
     def resolve(self, params: dict) -> dict:
         """Defaults overridden by ``params``, validated (ValueError naming the key)."""
         if not isinstance(params, dict):
             raise TypeError(f"params must be a dict, got {type(params).__name__}")
-        unknown = sorted(set(params) - set(self.defaults))
+        defaults = self.defaults
+        unknown = sorted(set(params) - set(defaults))
         if unknown:
             raise ValueError(f"{unknown[0]} is not a parameter of evaluator {self.name!r}; "
-                             f"valid: {sorted(self.defaults)}")
-        out = dict(self.defaults)
+                             f"valid: {sorted(defaults)}")
+        out = dict(defaults)
         out.update(params)
         self.check(out)
         return out
@@ -176,21 +188,20 @@ def _gains_check(params: dict, names) -> None:
             _number(params, key, 0.0, 1e6, lo_open=True)
 
 
-#: Default of the RAMS EKF's tuned value, σa,moving (m/s²) (mtcal.filters.rams_ekf.RamsEkfParams default).
+#: Default of the RAMS EKF's tuned value, σa,moving (m/s²) (its registry entry's default gain).
 RAMS_EKF_DEFAULT_GAIN = 2.0
 
 
 def filter_gain(params: dict, name: str) -> float:
     """Gain used for filter ``name``: ``gain_<name>`` (or its default) × ``gain_scale``.
 
-    Defaults: :data:`mtcal.filters.anchors.DEFAULT_GAINS`; the RAMS EKF's is
-    σa,moving = :data:`RAMS_EKF_DEFAULT_GAIN`.
+    Default: the filter's registry entry (:func:`mtcal.filters.registry.get_filter`).
     """
-    from mtcal.filters.anchors import DEFAULT_GAINS
+    from mtcal.filters.registry import get_filter
 
     base = params.get(f"gain_{name}")
     if base is None:
-        base = RAMS_EKF_DEFAULT_GAIN if name == "rams_ekf" else DEFAULT_GAINS[name]
+        base = get_filter(name).default_gain
     return float(base) * float(params.get("gain_scale", 1.0))
 
 
@@ -251,7 +262,20 @@ MOTIONS = {
                        source="wang2023cja wind-tunnel AoA sweep, Table 10 angles; mechanism 2 °/s, 3 s holds "
                               "with wind (mtcal scenario)"),
 }
-_ATT_FILTERS = ("qncf", "mahony", "madgwick", "vqf", "fusion")
+def _attitude_filters() -> list[str]:
+    """Filters the attitude evaluator takes: every registered attitude filter."""
+    from mtcal.filters.registry import filter_names
+
+    return filter_names(output="attitude")
+
+
+def _all_filters() -> list[str]:
+    """Filters the surface evaluator takes: every registered filter (attitude ones via their twist)."""
+    from mtcal.filters.registry import filter_names
+
+    return filter_names()
+
+
 _ATT_METRICS = ("tilt_rmse_deg", "hold_tilt_rmse_deg", "tilt_max_deg")
 
 
@@ -271,7 +295,7 @@ def attitude_profile(motion: str, fs_hz: float, *, hold_s: float | None = None, 
 
 def _check_attitude(p: dict) -> None:
     _choice(p, "motion", tuple(MOTIONS))
-    names = _filters(p, "filters", _ATT_FILTERS)
+    names = _filters(p, "filters", _attitude_filters())
     _choice(p, "grade", grade_names())
     _number(p, "fs_hz", 20.0, 4000.0)
     _number(p, "vibration_m_s2", 0.0, 50.0)
@@ -293,8 +317,7 @@ def _attitude_metrics(p: dict) -> list[str]:
 @register_evaluator(
     "attitude",
     defaults=dict(motion="aoa", filters=["qncf"], grade="wang2023cja", fs_hz=1000.0, vibration_m_s2=0.0,
-                  vibration_hz=45.0, hold_s=None, speed=1.0, gain_scale=1.0,
-                  **{f"gain_{f}": None for f in _ATT_FILTERS}),
+                  vibration_hz=45.0, hold_s=None, speed=1.0, gain_scale=1.0),
     metrics=_attitude_metrics, check=_check_attitude,
     description="tilt error of attitude filters on wang2023cja turntable / wind-tunnel sweeps")
 def _attitude(p: dict, rngs: list) -> dict[str, np.ndarray]:
@@ -320,7 +343,6 @@ def _attitude(p: dict, rngs: list) -> dict[str, np.ndarray]:
 # --------------------------------------------------------------------------- surface
 #: wang2022sensors Fig. 11 simulation axis (Sec. 5) in the IMU frame.
 SURFACE_AXIS = (0.1734, 0.9835, 0.0523)
-_SURF_FILTERS = _ATT_FILTERS + ("rams_ekf",)
 _SURF_METRICS = ("angle_rmse_deg", "hold_angle_rmse_deg", "angle_max_deg")
 
 
@@ -338,7 +360,7 @@ def surface_profile(fs_hz: float, *, step_deg: float = 30.0, span_deg: float = 6
 
 
 def _check_surface(p: dict) -> None:
-    names = _filters(p, "filters", _SURF_FILTERS)
+    names = _filters(p, "filters", _all_filters())
     _choice(p, "grade", grade_names())
     _number(p, "fs_hz", 20.0, 4000.0)
     _number(p, "step_deg", 1.0, 180.0)
@@ -359,7 +381,7 @@ def _surface_metrics(p: dict) -> list[str]:
     "surface",
     defaults=dict(filters=["rams_ekf", "qncf"], grade="wang2022sensors", fs_hz=200.0, step_deg=30.0,
                   span_deg=60.0, rate_deg_s=20.0, hold_s=1.0, lever_arm_m=0.2, vibration_m_s2=0.0,
-                  vibration_hz=45.0, gain_scale=1.0, **{f"gain_{f}": None for f in _SURF_FILTERS}),
+                  vibration_hz=45.0, gain_scale=1.0),
     metrics=_surface_metrics, check=_check_surface,
     description="angle about the hinge axis of a movable surface (wang2022sensors), filters vs RAMS EKF")
 def _surface(p: dict, rngs: list) -> dict[str, np.ndarray]:
@@ -371,8 +393,8 @@ def _surface(p: dict, rngs: list) -> dict[str, np.ndarray]:
     1 mg); its tuned gain is σa,moving (m/s², default 2). The attitude filters'
     angle is the twist of their attitude about the same axis since the settling rest.
     """
-    from mtcal.filters.anchors import run_attitude_filter, twist_angle_rad
-    from mtcal.filters.rams_ekf import RamsEkfParams, run_rams_ekf
+    from mtcal.filters.anchors import run_axis_angle_filter
+    from mtcal.filters.registry import AxisContext
 
     prof = surface_profile(p["fs_hz"], step_deg=p["step_deg"], span_deg=p["span_deg"],
                            rate_deg_s=p["rate_deg_s"], hold_s=p["hold_s"])
@@ -387,23 +409,14 @@ def _surface(p: dict, rngs: list) -> dict[str, np.ndarray]:
     theta_true = prof.angle_rad[:, 0] - prof.angle_rad[ref, 0]
     after = np.arange(prof.time_s.size) >= ref
     holds = _hold_mask(prof)
+    ctx = AxisContext(axis, np.broadcast_to(prof.is_static, accel.shape[:2]),
+                      np.stack([np.mean(row[settle], axis=0) for row in accel]),
+                      grade.gyro_noise_density_rad_s_rt_hz, grade.accel_noise_density_m_s2_rt_hz)
+    init = max(1, int(round(0.5 * p["fs_hz"])))
     out = {}
     for name in _filter_list(p):
-        gain = filter_gain(p, name)
-        if name == "rams_ekf":
-            dt = traj.dt_s
-            params = RamsEkfParams(
-                sigma_theta_rad_s=max(grade.gyro_noise_density_rad_s_rt_hz / math.sqrt(dt), 1e-5),
-                sigma_a_static_m_s2=max(grade.accel_noise_density_m_s2_rt_hz / math.sqrt(dt), 1e-2),
-                sigma_a_moving_m_s2=gain)
-            a0 = np.stack([np.mean(row[settle], axis=0) for row in accel])
-            static = np.broadcast_to(prof.is_static, accel.shape[:2])
-            res = run_rams_ekf(gyro, accel, static, axis, a0, dt, params, keep_innovation=False)
-            theta = res.theta_rad - res.theta_rad[:, ref:ref + 1]
-        else:
-            init = max(1, int(round(0.5 * p["fs_hz"])))
-            q = run_attitude_filter(name, gyro, accel, traj.dt_s, gain, init_samples=init)
-            theta = twist_angle_rad(q, axis, ref_index=ref)
+        theta = run_axis_angle_filter(name, gyro, accel, traj.dt_s, filter_gain(p, name), ctx, ref_index=ref,
+                                      init_samples=init)
         err = np.degrees(rotations.wrap_angle(theta - theta_true))
         out[f"{name}.angle_rmse_deg"] = _rms_rows(err, after)
         out[f"{name}.hold_angle_rmse_deg"] = _rms_rows(err, holds)
