@@ -5,19 +5,21 @@ algorithm with pitch/roll coupling" (in Chinese), J. Terahertz Sci. Electron. In
 Technol. 2022, 20(9):946–952, doi:10.11805/TKYDA2020404. Accelerometer error
 contours (Fig 2, 5, 8), preset Euler rotation, gyro roll decoupling (Fig 6, 9–12).
 
-Modules: :mod:`.scenario` (frozen dataclasses, parameter defaults, builders),
-:mod:`.artifacts` (one producer per figure/table, returning its data and
-comparison rows), :mod:`.error_model` (the identified error models and their
-fits), :mod:`.plots` (figures; the only module importing matplotlib).
+Modules by role (``docs/study_template.md``): :mod:`.scenario` (frozen dataclasses,
+parameter defaults, builders), :mod:`.error_model` (the priors and the fits),
+:mod:`.runs` (Monte Carlo over the procedures), :mod:`.artifacts` (one producer per
+figure/table, returning a :class:`mtcal.core.artifacts.Artifact`), :mod:`.plots`
+(figures; the only module importing matplotlib).
 """
 
-from . import artifacts, error_model, scenario
+from . import artifacts, error_model, runs, scenario
 from .artifacts import *  # noqa: F401,F403
 from .error_model import *  # noqa: F401,F403
+from .runs import *  # noqa: F401,F403
 from .scenario import *  # noqa: F401,F403
 
-__all__ = ["scenario", "artifacts", "error_model", "plots"]
-__all__ += [n for m in (scenario, artifacts, error_model) for n in m.__all__ if n not in __all__]
+__all__ = ["scenario", "error_model", "runs", "artifacts", "plots"]
+__all__ += [n for m in (scenario, error_model, runs, artifacts) for n in m.__all__ if n not in __all__]
 
 
 def __getattr__(name):
