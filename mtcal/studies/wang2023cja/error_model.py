@@ -134,6 +134,11 @@ class ErrorModel:
             raise ValueError(f"mount must be 'screw' or 'gasket', got {mount!r}")
         return self.compliance_screw_deg_g if mount == "screw" else self.compliance_gasket_deg_g
 
+    @property
+    def gyro_run_bias_rad_s(self) -> float:
+        """``gyro_run_bias_deg_h`` in rad/s (what :meth:`mtcal.core.sensors.SensorSpec.error_model` adds)."""
+        return self.gyro_run_bias_deg_h * DEG_H
+
 
 #: Prior range of every :class:`ErrorModel` field (unit as in the field).
 PRIOR_RANGES = {f.name: f.metadata["prior"] for f in fields(ErrorModel)}
