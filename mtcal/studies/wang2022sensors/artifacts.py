@@ -57,7 +57,8 @@ from mtcal.reporting import paper_numbers as paper
 from . import error_model as em
 from .error_model import ErrorModelFit, error_model_priors_table, fit_error_model
 from .runs import axis_errors, run_drift, run_fig9, run_fig11, run_zvd_demo
-from .scenario import ERROR_PRIORS, AhrsImu, ImuSpec, Scenario, labels, scenario_from_parameters, table4_axes  # noqa: F401
+from .scenario import (ERROR_PRIORS, AhrsImu, ImuValues, Scenario, labels, scenario_from_parameters,  # noqa: F401
+                       table3_reading, table4_axes)
 
 __all__ = ["Artifact", "table01_zvd", "fig06_zvd", "table02_sensors", "fig12_gravity_change", "table04_axes",
            "extra_axis_error_vs_rest", "fig09_ekf_switching", "fig11_max_error", "ErrorModelFit",
@@ -121,7 +122,7 @@ def table02_sensors(sc: Scenario) -> Artifact:
     fs = sc.imu.fs_hz
     t2 = paper.load("wang2022sensors_table02_accel_noise_prices").drop(columns="extracted_cell_text")
     t2 = pd.concat([t2, pd.DataFrame({"ic": [f"simulated ({sc.sensor_grade})"],
-                                      "accel_noise_density_ug_per_sqrt_hz": [sc.imu.accel_noise_ug_rt_hz],
+                                      "accel_noise_density_ug_per_sqrt_hz": [sc.imu.accel_noise_m_s2_rt_hz / UG],
                                       "unit_price_usd": [np.nan]})], ignore_index=True)
     n = t2.accel_noise_density_ug_per_sqrt_hz.astype(float) * UG
     t2[f"sigma_theta_per_sample_{fs:.0f}hz_deg"] = np.degrees(n * np.sqrt(fs) / STANDARD_GRAVITY_M_S2)
@@ -206,7 +207,7 @@ def extra_axis_error_vs_rest(sc: Scenario, trials: int, seed: int, n_boot: int,
     """Beyond the paper: axis error vs rest duration (Fig. 11 axis), ZVD rests with the Table 3 walks vs
     true rests with white noise only, and the 1/√t formula; log-log slopes with bootstrap bands."""
     imu, rig = sc.imu.resolve(), sc.rig.resolve()
-    white = replace(sc.imu, random_walk_interpretation="none").resolve()
+    white = table3_reading(sc.imu, "none").resolve()
     rest = np.asarray(rest_s, float)
     e_zvd = [axis_errors(sc.fig11_axis, imu, rig, trials, seed, 300 + k, rest_s=float(r))[0]
              for k, r in enumerate(rest)]
@@ -256,7 +257,7 @@ def fig09_ekf_switching(sc: Scenario, trials: int, seed: int) -> Artifact:
     return Artifact(None, rows, {"run": r, "labels": labels(sc)})
 
 
-def fig11_max_error(sc: Scenario, reps: int, seed: int, *, imu: ImuSpec | None = None) -> Artifact:
+def fig11_max_error(sc: Scenario, reps: int, seed: int, *, imu: ImuValues | None = None) -> Artifact:
     """Fig. 11 (Sec. 5 simulation, Table 3 IMU, no lever arm): per-angle max error over 1000 samples,
     proposed vs ref. [16]; median and 95 % band over repetitions."""
     im = (sc.imu if imu is None else imu).resolve()
@@ -284,9 +285,9 @@ def extra_table3_sensitivity(sc: Scenario, reps: int, seed: int) -> Artifact:
     random walks as u·√Hz (default), as a per-sample step (× √fs), off; and Table 3's 50 mg
     accelerometer bias applied literally (no ref. [30] calibration; Eq 28 is then off by (I − Rᵀ) b)."""
     variants = {"RW as u*sqrt(Hz) (default)": sc.imu,
-                "RW as per-sample step": replace(sc.imu, random_walk_interpretation="per_sample"),
-                "RW off": replace(sc.imu, random_walk_interpretation="none"),
-                "50 mg bias uncompensated": replace(sc.imu, accel_bias_compensated=False)}
+                "RW as per-sample step": table3_reading(sc.imu, "per_sample"),
+                "RW off": table3_reading(sc.imu, "none"),
+                "50 mg bias uncompensated": table3_reading(sc.imu, accel_bias_compensated=False)}
     recs = []
     for k, (lab, im) in enumerate(variants.items()):
         f = run_fig11(sc.fig11_axis, im.resolve(), sc.rig.zvd, reps, seed + 1000 * k, step_deg=15.0)
