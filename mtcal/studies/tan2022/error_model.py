@@ -36,7 +36,7 @@ import numpy as np
 import pandas as pd
 
 from mtcal.core import metrics
-from mtcal.core.validate import positive_int
+from mtcal.core.validate import positive_int, positive_scalar
 from mtcal.methods import gyro_roll as gr
 from mtcal.methods import large_angle as la
 from mtcal.reporting import compare, paper_numbers
@@ -45,14 +45,115 @@ from mtcal.core.rng import stream_rng
 
 from .runs import (STREAM_ACCEL_FIT, STREAM_GYRO_FIT, STREAM_GYRO_PATTERN, accel_grid, accel_predictions, axis_spread,
                    fig02_asymmetry, gyro_predictions, gyro_samples, large_pitch_ratio, oscillation_claims)
-from .scenario import AccelErrorPrior, AccelScenario, GyroErrorPrior, GyroStudy
+from .scenario import AccelScenario, GyroStudy
 
-__all__ = ["ErrorModelFit", "grid_posterior", "fit_accel_error_model", "fit_gyro_error_model",
+__all__ = ["AccelErrorPrior", "GyroErrorPrior", "ErrorModelFit", "grid_posterior", "fit_accel_error_model", "fit_gyro_error_model",
            "fit_gyro_error_pattern", "paper_gyro_error_deg_s", "PATTERN_BIAS_GRID_DEG_S",
            "PATTERN_NOISE_GRID_DEG_S_RTHZ"]
 
 _DEG, _RAD = np.degrees, np.radians
 _ROW = compare.comparison_row
+
+
+# --------------------------------------------------------------------------
+# priors
+# --------------------------------------------------------------------------
+@dataclass(frozen=True)
+class AccelErrorPrior:
+    """Physical accelerometer error model beyond the paper's common-mode ΔA (one parameter).
+
+    Each axis of each triad carries ``ΔA + r ΔA ε`` with ``ε ~ N(0, 1)`` a static
+    per-axis bias drawn once per trial (one sensor set), so ``r`` is the ratio of
+    the independent (per-axis) part of the bias to the common part.
+
+    Attributes
+    ----------
+    ratio_max : float
+        Upper end of the uniform prior of ``r``, 2 (dimensionless). Source: MEMS
+        accelerometer datasheets specify the zero-g offset *per axis* with no
+        common-mode part (e.g. ADXL355 ±25 mg per axis), so ``r`` may well exceed
+        1; the paper assumes ``r = 0`` ("各个轴加速度计的输出误差相当").
+    n_grid : int
+        Points of the prior grid over ``[0, ratio_max]`` (choice).
+    asymmetry_max : float
+        The paper's Fig 2 statement "|Δθ| small for θ ≤ 0, large for θ, φ ≥ 0"
+        made testable: mean |Δθ| over (θ ≤ 0, φ ≥ 0) below this fraction of the mean
+        over (θ ≥ 0, φ ≥ 0); 0.7 (choice; common mode gives 0.43).
+    large_pitch_max : float
+        The paper's Fig 5 statement "the preset rotation suppresses the error
+        surge at large pitch" made testable: max |Δθ| over |θ| ≥ 45° with the
+        preset triads below this fraction of the plain triad's; 0.9 (choice;
+        common mode gives 0.82).
+    gain_min : float
+        The paper's Fig 8 "clear improvement" made testable: grid-RMS gain > 1.3 (choice).
+    comparable_max : float
+        The paper's assumption "the output errors of the axes are comparable"
+        (Sec 1.1, 2.1, "输出误差相当") made testable: max/min |axis error| of each
+        triad below 2 (choice: within a factor of two).
+    """
+
+    ratio_max: float = 2.0
+    n_grid: int = 41
+    asymmetry_max: float = 0.7
+    large_pitch_max: float = 0.9
+    gain_min: float = 1.3
+    comparable_max: float = 2.0
+
+    def __post_init__(self) -> None:
+        positive_scalar(self.ratio_max, "ratio_max")
+        if self.n_grid < 3:
+            raise ValueError(f"n_grid must be >= 3, got {self.n_grid}")
+
+    @property
+    def ratio_grid(self) -> np.ndarray:
+        """Prior grid of ``r`` (dimensionless)."""
+        return np.linspace(0.0, self.ratio_max, self.n_grid)
+
+
+@dataclass(frozen=True)
+class GyroErrorPrior:
+    """Physical gyro error model for the roll simulations: two fitted parameters ``b`` and ``N``.
+
+    Attributes
+    ----------
+    bias_z_max_deg_s : float
+        Upper end of the uniform prior of the constant gyro error ``b`` on every
+        axis (at φ = 0 the projection method sees the z part, Eq 14), 0.5 °/s. Source: MEMS gyro
+        bias-stability class of the paper's "MEMS 陀螺仪" (0.2 °/s stated; ≤ 0.5 °/s
+        covers consumer to industrial units, e.g. BMI088 ±1 °/s offset uncalibrated,
+        ADIS16465 0.1 °/s).
+    noise_max_deg_s_rthz : float
+        Upper end of the prior of the white-noise density, 0.01 °/s/√Hz (BMI088
+        0.014 °/s/√Hz; ADIS16465 0.0025 °/s/√Hz); 0 is the paper's noise-free simulation.
+    n_bias, n_noise : int
+        Prior grid sizes (uniform in ``b``, step 0.005 °/s; noise uniform on ``[0, max]``).
+    accurate_deg : float
+        The paper's Fig 12 statement "accurate for a long time" made testable:
+        hybrid max |roll error| below 1° over the record (choice).
+    """
+
+    bias_z_max_deg_s: float = 0.5
+    noise_max_deg_s_rthz: float = 0.01
+    n_bias: int = 101
+    n_noise: int = 6
+    accurate_deg: float = 1.0
+
+    def __post_init__(self) -> None:
+        positive_scalar(self.bias_z_max_deg_s, "bias_z_max_deg_s")
+        positive_scalar(self.noise_max_deg_s_rthz, "noise_max_deg_s_rthz")
+        positive_scalar(self.accurate_deg, "accurate_deg")
+        if self.n_bias < 3 or self.n_noise < 2:
+            raise ValueError(f"n_bias must be >= 3 and n_noise >= 2, got {self.n_bias}, {self.n_noise}")
+
+    @property
+    def bias_grid_deg_s(self) -> np.ndarray:
+        """Prior grid of ``b`` (°/s), uniform on ``[0, bias_z_max_deg_s]``."""
+        return np.linspace(0.0, self.bias_z_max_deg_s, self.n_bias)
+
+    @property
+    def noise_grid_deg_s_rthz(self) -> np.ndarray:
+        """Prior grid of the noise density (°/s/√Hz)."""
+        return np.linspace(0.0, self.noise_max_deg_s_rthz, self.n_noise)
 
 
 @dataclass
@@ -141,7 +242,7 @@ def fit_accel_error_model(sc: AccelScenario, prior: AccelErrorPrior, seed: int, 
 
     Examples
     --------
-    >>> from mtcal.studies.tan2022.scenario import AccelErrorPrior, AccelScenario
+    >>> from mtcal.studies.tan2022.scenario import AccelScenario
     >>> fit = fit_accel_error_model(AccelScenario(), AccelErrorPrior(n_grid=5), seed=1, trials=40, step_deg=15.0)
     >>> list(fit.parameters["parameter"])
     ['r (independent / common bias)']

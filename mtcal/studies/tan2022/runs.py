@@ -54,10 +54,10 @@ def simulate_gyro(study: GyroStudy, t, pitch, rng, trials, *, noise: bool = True
 
     ``noise=False`` gives the single deterministic record (constant errors only, shape (T, 3)).
     """
-    g = study.gyro
+    g, spec = study.gyro, study.gyro.sensor_spec()
     roll = np.full_like(t, g.roll0_rad)
-    return gr.simulate_two_dof_imu(t, pitch, roll, gyro_bias_rad_s=g.error_rad_s,
-                                   gyro_noise_density=g.noise_density_rad_s_rthz if noise else 0.0,
+    return gr.simulate_two_dof_imu(t, pitch, roll, gyro_bias_rad_s=np.asarray(spec.gyro_bias_rad_s),
+                                   gyro_noise_density=spec.gyro_noise_rad_s_rt_hz if noise else 0.0,
                                    rng=rng if noise else None, trials=trials if noise else None).gyro_rad_s
 
 def oscillation_gyro(study: GyroStudy, seed: int, trials: int):

@@ -57,7 +57,7 @@ from mtcal.reporting import paper_numbers as paper
 from . import error_model as em
 from .error_model import ErrorModelFit, error_model_priors_table, fit_error_model
 from .runs import axis_errors, run_drift, run_fig9, run_fig11, run_zvd_demo
-from .scenario import (ERROR_PRIORS, AhrsImu, ImuValues, Scenario, labels, scenario_from_parameters,  # noqa: F401
+from .scenario import (AhrsImu, ImuValues, Scenario, labels, scenario_from_parameters,  # noqa: F401
                        table3_reading, table4_axes)
 
 __all__ = ["Artifact", "table01_zvd", "fig06_zvd", "table02_sensors", "fig12_gravity_change", "table04_axes",

@@ -6,8 +6,8 @@ choice, with the reason). The paper does not state the sample rate, the lever
 arm, the turntable rates/accelerations, the sensor-to-reference latency or the
 accelerometer bias left after the ref. [30] calibration; those are mtcal
 choices — the ones the paper's Table 5 constrains are *identified* in
-:mod:`mtcal.studies.wang2022sensors.error_model` (their prior ranges are in
-:data:`ERROR_PRIORS`).
+:mod:`mtcal.studies.wang2022sensors.error_model` (their prior ranges are its
+:data:`~.error_model.ERROR_PRIORS`).
 
 The IMU is the one sensor-spec type (:class:`mtcal.core.sensors.SensorSpec`, SI values, owns
 the sample rate), built from Table 3 by :func:`table3_imu` (or from a sensor grade by
@@ -52,7 +52,7 @@ from mtcal.methods.zero_velocity import ZvdParams
 from mtcal.reporting import paper_numbers as paper
 
 __all__ = ["PAPER_AXIS_FIG11", "table4_axes", "ImuSpec", "ImuValues", "table3_imu", "table3_reading", "imu_from_grade", "rams_ekf_params", "AhrsImu", "RigSetup", "RigValues",
-           "ERROR_PRIORS", "Scenario", "PARAMETER_DEFAULTS", "scenario_from_parameters", "labels",
+           "Scenario", "PARAMETER_DEFAULTS", "scenario_from_parameters", "labels",
            "lever_arm_vector", "gravity0"]
 
 #: Fig. 11 simulation axis (Sec. 5), signs as extracted (v_x ≥ 0 by convention).
@@ -257,7 +257,7 @@ class RigSetup:
     lever_arm_m : float
         Distance of the IMU from the rotation axis along the surface chord (m);
         plus ``lever_arm_up_m`` normal to it. mtcal default 0.2 m (a sensor on a
-        flap); identified from Table 5 (prior in :data:`ERROR_PRIORS`).
+        flap); identified from Table 5 (prior in :data:`.error_model.ERROR_PRIORS`).
     lever_arm_up_m : float
         mtcal: 0.02 m.
     move_rate_deg_s : float
@@ -325,31 +325,6 @@ def gravity0(q_wb0=(1.0, 0.0, 0.0, 0.0)) -> np.ndarray:
     """ā0: specific force at rest at θ = 0 in the IMU frame (m/s²); identity = IMU level."""
     c = rotations.quat_to_matrix(np.asarray(q_wb0, float))
     return c.T @ np.array([0.0, 0.0, STANDARD_GRAVITY_M_S2])
-
-
-#: The hardware error sources the paper's Table 5 points to: (low, high) prior range, unit,
-#: whether it is identified (fitted) or held at its stated value, and the source of the range.
-ERROR_PRIORS = {
-    "latency_s": dict(low=0.0, high=0.050, unit="s", fitted=True,
-                      source="STM32F411 SPI read + EKF + USB/PC logging vs the turntable's position log: "
-                             "0–50 ms (a 200 Hz sample is 5 ms; unsynchronised PC clocks add tens of ms)"),
-    "accel_noise_ug_rt_hz": dict(low=22.5, high=175.0, unit="µg/√Hz", fitted=True,
-                                 source="Table 2: ADXL355 22.5 (datasheet) … BMI088 175; Table 3 says 50"),
-    "lever_arm_m": dict(low=0.05, high=0.5, unit="m", fitted=True,
-                        source="RAMS on a turntable fixture / a flap: 5–50 cm from the axis"),
-    "move_accel_deg_s2": dict(low=100.0, high=3000.0, unit="°/s²", fitted=True,
-                              source="three-axis test tables (SGT320E class): max angular acceleration "
-                                     "10²–10³ °/s² on the inner axis"),
-    "magnetic_heading_sigma_deg": dict(low=0.2, high=10.0, unit="°", fitted=True,
-                                       source="AHRS stand-in: heading disturbance of the test-hall field "
-                                              "(steel, equipment), tenths to several degrees (Sec. 7 names it)"),
-    "move_rate_deg_s": dict(low=10.0, high=60.0, unit="°/s", fitted=False,
-                            source="held at 20 °/s: Table 5 constrains only latency × rate"),
-    "reference_error_arcsec": dict(low=0.0, high=5.0, unit="″", fitted=False,
-                                   source="SGT320E ±5″ (Sec. 7): 0.0014°, negligible"),
-    "gyro_scale_factor_ppm": dict(low=0.0, high=3000.0, unit="ppm", fitted=False,
-                                  source="held at 1000 ppm (residual after ref. [30]); < 0.01° per 10° step"),
-}
 
 
 @dataclass(frozen=True)

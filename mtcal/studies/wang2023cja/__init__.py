@@ -5,10 +5,12 @@ angular measurement system in hypersonic wind tunnel", Chin. J. Aeronaut. 2023,
 doi:10.1016/j.cja.2022.12.006. QNCF filter, least-squares error quaternion (Eq 10–14),
 six-position procedure, turntable Tables 1–8, wind tunnel Tables 9–11.
 
-Modules by role: :mod:`.error_model` (the hardware error model identified from Tables 1–4
-and the printed matrices), :mod:`.scenario` (frozen scenario dataclasses, parameter
-defaults, builders), :mod:`.runs` (simulation runs), :mod:`.artifacts` (one producer per
-table/figure, plus comparison rows), :mod:`.plots` (figures; imports matplotlib on call).
+Modules by role (``docs/study_template.md``): :mod:`.scenario` (frozen scenario dataclasses,
+the IMU as a :class:`mtcal.core.sensors.SensorSpec`, parameter defaults, builders),
+:mod:`.error_model` (the hardware error model's priors, identified from Tables 1–4 and the
+printed matrices), :mod:`.runs` (simulation runs), :mod:`.artifacts` (one producer per
+table/figure, plus comparison rows), :mod:`.plots` (figures; imports matplotlib on call);
+:mod:`.constrained` (the constrained-calibration question of notebook 40).
 """
 
 from . import artifacts, constrained, error_model, runs, scenario
