@@ -42,6 +42,11 @@ Adapters:
 * The QNCF and Mahony integral gains follow K_p: ``K_i = K_p / 50 s`` (QNCF's
   default ratio).
 
+Each filter is one :func:`mtcal.filters.registry.register_filter` call at the end of this
+module (name, runner, output, default gain and its unit, ours/anchor, optional package); the
+RAMS EKF is registered here too, as an ``output="angle"`` filter (angle about a known axis),
+run through :func:`run_axis_angle_filter`. Everything else looks filters up in the registry.
+
 Every filter starts from the same ``q0``: levelled from the mean of the first
 ``init_samples`` accelerometer samples, yaw 0. The three external libraries
 are an optional extra (``pip install 'mtcal[dev]'``); they are imported on first

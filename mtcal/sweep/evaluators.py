@@ -9,13 +9,14 @@ on which other trials share the call (the engine keys ``rngs[j]`` by
 Registered evaluators (:func:`evaluator_names`):
 
 * ``attitude`` — turntable AoA / roll sweeps and wind-tunnel AoA sweeps (with the
-  running-tunnel vibration as parameters) of wang2023cja, any set of bake-off
-  filters (:mod:`mtcal.filters.anchors`), any sensor grade
+  running-tunnel vibration as parameters) of wang2023cja, any set of registered
+  attitude filters (:mod:`mtcal.filters.registry`), any sensor grade
   (:mod:`mtcal.core.sensor_grades`); metrics: tilt error over the record and over
   the holds (the static angles the paper's tables report), maximum tilt error.
 * ``surface`` — movable-surface rotations about a fixed hinge axis (wang2022sensors):
-  the bake-off filters' angle about the axis (swing–twist) beside the RAMS EKF
-  (:func:`mtcal.filters.rams_ekf.run_rams_ekf`).
+  any registered filter's angle about the axis (attitude filters: swing–twist;
+  angle filters such as the RAMS EKF: their own output), via
+  :func:`mtcal.filters.anchors.run_axis_angle_filter`.
 * ``six_position`` — wang2023cja §3.2 installation-error calibration with K = 4…12
   turntable positions: QNCF attitudes, Eq 13 least squares, error left at 12
   validation attitudes.
