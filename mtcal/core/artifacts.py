@@ -19,6 +19,12 @@ Examples
 ...              artifact_id="demo_table01", kind="table", paper_item="Table 1")
 >>> a.kind, len(a.rows), a.lines[0]
 ('table', 1, 'x = 1')
+>>> @produces("demo_fig01", "figure", "Fig. 1")
+... def fig01():
+...     return Artifact(lines=["ok"])
+>>> a = fig01()
+>>> a.artifact_id, a.kind, a.paper_item, a.producer.endswith("fig01")
+('demo_fig01', 'figure', 'Fig. 1', True)
 >>> Artifact(kind="chart")
 Traceback (most recent call last):
 ...
@@ -27,9 +33,10 @@ ValueError: kind must be one of ['', 'figure', 'table'], got 'chart'
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass, field
 
-__all__ = ["Artifact", "ARTIFACT_KINDS"]
+__all__ = ["Artifact", "ARTIFACT_KINDS", "produces"]
 
 #: Allowed values of :attr:`Artifact.kind` (``""`` = not stated by the producer).
 ARTIFACT_KINDS = ("", "figure", "table")
@@ -76,3 +83,36 @@ class Artifact:
     def __post_init__(self) -> None:
         if self.kind not in ARTIFACT_KINDS:
             raise ValueError(f"kind must be one of {list(ARTIFACT_KINDS)}, got {self.kind!r}")
+
+
+def produces(artifact_id: str, kind: str, paper_item: str = ""):
+    """Decorator of an artifact producer: stamps the returned :class:`Artifact` with its ID, kind,
+    paper item and the producer's dotted name (values the producer left empty).
+
+    Parameters
+    ----------
+    artifact_id : str
+        ``<paper key>_figNN`` / ``_tableNN`` / ``_extra_<slug>``.
+    kind : {"figure", "table"}
+        The artifact's main output.
+    paper_item : str
+        ``"Fig. 6"``, ``"Table 5"``; ``""`` for an mtcal extra.
+    """
+    if kind not in ARTIFACT_KINDS[1:]:
+        raise ValueError(f"kind must be one of {list(ARTIFACT_KINDS[1:])}, got {kind!r}")
+
+    def wrap(fn):
+        name = f"{fn.__module__}.{fn.__qualname__}"
+
+        @functools.wraps(fn)
+        def producer(*args, **kwargs):
+            art = fn(*args, **kwargs)
+            art.artifact_id = art.artifact_id or artifact_id
+            art.kind = art.kind or kind
+            art.paper_item = art.paper_item or paper_item
+            art.producer = art.producer or name
+            return art
+
+        producer.artifact_id = artifact_id
+        return producer
+    return wrap

@@ -208,3 +208,11 @@ def test_outside_reasons_names_the_number_and_what_it_needs():
     assert text.startswith("Bv2 ref. [16] dynamic: paper 2.7650 below") and "lever_arm_m" in text
     f14 = w.fig14_max_error_per_angle(fit, 1, n_draws=200)
     assert f14.data["median"] == pytest.approx(np.full(5, 0.03)) and f14.rows[0]["holds"]
+
+
+def test_producers_return_the_core_artifact_and_the_fit_lives_in_error_model():
+    from mtcal.core.artifacts import Artifact
+    a = w.table01_zvd(w.scenario_from_parameters())
+    assert isinstance(a, Artifact) and (a.artifact_id, a.kind) == ("wang2022sensors_table01", "table")
+    assert w.fit_error_model is em.fit_error_model and w.ErrorModelFit is em.ErrorModelFit
+    assert w.ERROR_PRIORS is em.ERROR_PRIORS

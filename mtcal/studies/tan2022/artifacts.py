@@ -24,7 +24,7 @@ import numpy as np
 import pandas as pd
 
 from mtcal.core import metrics
-from mtcal.core.artifacts import Artifact
+from mtcal.core.artifacts import Artifact, produces
 from mtcal.core.rng import stream_rng
 from mtcal.core.validate import positive_int
 from mtcal.methods import gyro_roll as gr
@@ -89,6 +89,7 @@ def _half_means(field_deg: np.ndarray, theta: np.ndarray, phi: np.ndarray) -> tu
     return float(np.mean(a[neg])), float(np.mean(a[pos]))
 
 
+@produces("tan2022_extra_eq3_erratum", "figure")
 def eq3_erratum(sc: AccelScenario) -> Artifact:
     """tan2022_extra_eq3_erratum: printed Eq 3 (missing ``sinθ``) against the simulated triad.
 
@@ -136,6 +137,7 @@ def eq3_erratum(sc: AccelScenario) -> Artifact:
                      f"corrected by {gap_corrected:.2e} of it"])
 
 
+@produces("tan2022_fig02", "figure", "Fig. 2")
 def fig02(sc: AccelScenario) -> Artifact:
     """tan2022_fig02: |Δθ| (deg) of a plain three-axis accelerometer with ΔA on every axis.
 
@@ -176,6 +178,7 @@ def fig02(sc: AccelScenario) -> Artifact:
                      f"({accel_label(sc)}); mean |Δθ| θ ≤ 0 vs θ ≥ 0 (φ ≥ 0): {neg:.6f}° vs {pos:.6f}°"])
 
 
+@produces("tan2022_extra_roll_error", "figure")
 def extra_roll_error(sc: AccelScenario) -> Artifact:
     """tan2022_extra_roll_error: |Δφ| (deg) of the plain triad (Eq 4, simulated), |θ| ≤ 89°.
 
@@ -204,6 +207,7 @@ def _preset_field(sc: AccelScenario, theta, phi) -> np.ndarray:
     return _DEG(la.perturbed_preset_pitch_error(theta, phi, da, da, g=sc.gravity_m_s2, **_lambdas(sc)))
 
 
+@produces("tan2022_fig05", "figure", "Fig. 5")
 def fig05(sc: AccelScenario) -> Artifact:
     """tan2022_fig05: |Δθ| (deg) of the two preset triads (λ1 for θ ≤ 0, λ2 for θ > 0), simulated.
 
@@ -239,6 +243,7 @@ def fig05(sc: AccelScenario) -> Artifact:
                      f"over |θ| ≥ 45°: preset/plain = {ratio:.3f}"])
 
 
+@produces("tan2022_fig08", "figure", "Fig. 8")
 def fig08(sc: AccelScenario) -> Artifact:
     """tan2022_fig08: Δθ_T (plain) vs Δθ_p (preset) per pitch: worst and RMS over roll (deg), simulated.
 
@@ -275,6 +280,7 @@ def fig08(sc: AccelScenario) -> Artifact:
                      f"preset worse on {worse:.3f} of the grid"])
 
 
+@produces("tan2022_extra_independent_errors", "figure")
 def extra_independent_errors(sc: AccelScenario, seed: int, trials: int, step_deg: float = 5.0) -> Artifact:
     """tan2022_extra_independent_errors: preset rotation under *independent* per-axis errors (Monte Carlo).
 
@@ -325,6 +331,7 @@ def gyro_label(study: GyroStudy) -> str:
     return f"gyro error [{err}] °/s + noise {g.noise_density_deg_s_rthz:g} °/s/√Hz, {g.fs_hz:.0f} Hz"
 
 
+@produces("tan2022_fig06", "figure", "Fig. 6")
 def fig06(study: GyroStudy, seed: int, trials: int) -> Artifact:
     """tan2022_fig06: projection (Eq 13) roll error vs pitch rate; Eq 14, exact arctan and simulation (deg).
 
@@ -383,6 +390,7 @@ def threshold_check(study: GyroStudy) -> Artifact:
     return Artifact(table, rows, {}, [f"{k:28s}: {float(_DEG(v)):7.3f}°" for k, v in vals.items()])
 
 
+@produces("tan2022_fig09", "figure", "Fig. 9")
 def fig09(study: GyroStudy, seed: int, trials: int) -> Artifact:
     """tan2022_fig09: uniform pitch rotation through ±90° at each rate: roll errors vs TIME (deg).
 
@@ -431,6 +439,7 @@ def fig09(study: GyroStudy, seed: int, trials: int) -> Artifact:
                      f"{slope['median']:.3f} [{slope['low']:.3f}, {slope['high']:.3f}]") + f" ({n} trials)"])
 
 
+@produces("tan2022_fig10", "figure", "Fig. 10")
 def fig10(study: GyroStudy, seed: int) -> Artifact:
     """tan2022_fig10: pitch rate under oscillation θ = θm sin(2πft) (Eq 16–17), true and gyro-derived (deg/s)."""
     osc = study.oscillation
@@ -445,6 +454,7 @@ def fig10(study: GyroStudy, seed: int) -> Artifact:
                      f"{osc.threshold_deg_s:g} °/s: {frac:.4f}"])
 
 
+@produces("tan2022_fig11", "figure", "Fig. 11")
 def fig11(study: GyroStudy, seed: int, trials: int) -> Artifact:
     """tan2022_fig11: projection roll error under oscillation vs time (deg); spikes where θ̇ → 0.
 
@@ -467,6 +477,7 @@ def fig11(study: GyroStudy, seed: int, trials: int) -> Artifact:
                     [f"spike ratio {spike['median']:.1f} [{spike['low']:.1f}, {spike['high']:.1f}] ({n} trials)"])
 
 
+@produces("tan2022_fig12", "figure", "Fig. 12")
 def fig12(study: GyroStudy, seed: int, trials: int) -> Artifact:
     """tan2022_fig12: hybrid (projection if |θ̇| > θ̇_t, else integration) under oscillation (deg).
 
@@ -520,6 +531,7 @@ def fig12(study: GyroStudy, seed: int, trials: int) -> Artifact:
                      f"{switched['median']:.4f}"])
 
 
+@produces("tan2022_extra_threshold_sweep", "figure")
 def extra_threshold_sweep(study: GyroStudy, seed: int, trials: int, n_thresholds: int) -> Artifact:
     """tan2022_extra_threshold_sweep: hybrid roll RMSE vs threshold θ̇_t (deg), Monte Carlo.
 

@@ -45,7 +45,7 @@ import numpy as np
 import pandas as pd
 
 from mtcal.core import metrics
-from mtcal.core.artifacts import Artifact
+from mtcal.core.artifacts import Artifact, produces
 from mtcal.core.rng import stream_rng
 from mtcal.core.rotations import axis_angle_matrix
 from mtcal.core.units import DEG, UG
@@ -75,6 +75,7 @@ STREAM_FIG14_PRIOR = 601
 
 
 # --------------------------------------------------------------------------- notebook 30
+@produces("wang2022sensors_table01", "table", "Table 1")
 def table01_zvd(sc: Scenario) -> Artifact:
     """Table 1 (ZVD thresholds) as used, with the window and duration in samples at ``fs_hz``."""
     z, fs = sc.rig.zvd, sc.imu.fs_hz
@@ -95,6 +96,7 @@ def table01_zvd(sc: Scenario) -> Artifact:
     return Artifact(t, rows, {})
 
 
+@produces("wang2022sensors_fig06", "figure", "Fig. 6")
 def fig06_zvd(sc: Scenario, trials: int, seed: int) -> Artifact:
     """Fig. 6: ZVD on a rotate/hold record with the rig's moves and lever arm, with / without the gyro
     condition; per-trial false-static and missed-rest shares."""
@@ -116,6 +118,7 @@ def fig06_zvd(sc: Scenario, trials: int, seed: int) -> Artifact:
     return Artifact(None, rows, {"demo": d, "fp_table1": fp1, "fp_gyro": fpg, "missed": miss, "labels": labels(sc)})
 
 
+@produces("wang2022sensors_table02", "table", "Tables 2, 3")
 def table02_sensors(sc: Scenario) -> Artifact:
     """Table 2 + the simulated IMU, with the derived static angle noise of an accelerometer-only
     reading, σθ = N √fs / g per sample and N / g for a 1 s mean (deg)."""
@@ -134,6 +137,7 @@ def table02_sensors(sc: Scenario) -> Artifact:
     return Artifact(t2, rows, {})
 
 
+@produces("wang2022sensors_fig12", "figure", "Fig. 12")
 def fig12_gravity_change(sc: Scenario, trials: int, seed: int, n_boot: int) -> Artifact:
     """Fig. 12: ‖g1 − g0‖ vs axis elevation γ (g1 = R(30°, v)ᵀ g0; exact and by rotation matrices), and
     the Monte Carlo axis-estimate error vs γ beside the first-order formula (1 s rests)."""
@@ -172,6 +176,7 @@ def fig12_gravity_change(sc: Scenario, trials: int, seed: int, n_boot: int) -> A
     return Artifact(None, rows, data)
 
 
+@produces("wang2022sensors_table04", "table", "Table 4")
 def table04_axes(sc: Scenario, trials: int, seed: int) -> Artifact:
     """Table 4: Eq 23 axis estimates (three 2 s rests) for the Table 4 axes used as true axes, and how
     often an estimate printed to 4 decimals equals the true (whole-degree) vector exactly (all three
@@ -202,6 +207,7 @@ def table04_axes(sc: Scenario, trials: int, seed: int) -> Artifact:
     return Artifact(t4, rows, {"p_all_exact": p_all})
 
 
+@produces("wang2022sensors_extra_axis_error_vs_rest", "figure")
 def extra_axis_error_vs_rest(sc: Scenario, trials: int, seed: int, n_boot: int,
                              rest_s=(0.25, 0.5, 1.0, 2.0, 4.0)) -> Artifact:
     """Beyond the paper: axis error vs rest duration (Fig. 11 axis), ZVD rests with the Table 3 walks vs
@@ -242,6 +248,7 @@ def extra_axis_error_vs_rest(sc: Scenario, trials: int, seed: int, n_boot: int,
 
 
 # --------------------------------------------------------------------------- notebook 31
+@produces("wang2022sensors_fig09", "figure", "Fig. 9")
 def fig09_ekf_switching(sc: Scenario, trials: int, seed: int) -> Artifact:
     """Fig. 9: EKF with vs without ZVD covariance switching (0–1 s still, 1–2 s 60° move, 2–3 s still)."""
     r = run_fig9(sc.fig11_axis, sc.imu.resolve(), sc.rig.resolve(), trials, seed)
@@ -257,6 +264,7 @@ def fig09_ekf_switching(sc: Scenario, trials: int, seed: int) -> Artifact:
     return Artifact(None, rows, {"run": r, "labels": labels(sc)})
 
 
+@produces("wang2022sensors_fig11", "figure", "Fig. 11")
 def fig11_max_error(sc: Scenario, reps: int, seed: int, *, imu: ImuValues | None = None) -> Artifact:
     """Fig. 11 (Sec. 5 simulation, Table 3 IMU, no lever arm): per-angle max error over 1000 samples,
     proposed vs ref. [16]; median and 95 % band over repetitions."""
@@ -280,6 +288,7 @@ def fig11_max_error(sc: Scenario, reps: int, seed: int, *, imu: ImuValues | None
                                  "ref16": metrics.percentile_band(f.max_err_ref16, axis=0), "labels": labels(sc)})
 
 
+@produces("wang2022sensors_extra_table3_sensitivity", "table")
 def extra_table3_sensitivity(sc: Scenario, reps: int, seed: int) -> Artifact:
     """Fig. 11 set-up (15° steps), proposed method, under the readings of Table 3's ambiguous rows:
     random walks as u·√Hz (default), as a per-sample step (× √fs), off; and Table 3's 50 mg
@@ -336,6 +345,7 @@ def outside_reasons(sc: Scenario, fit: ErrorModelFit, seed: int, n_draws: int = 
     return "\n".join(lines)
 
 
+@produces("wang2022sensors_extra_error_model", "table")
 def extra_error_model(fit: ErrorModelFit) -> Artifact:
     """The identified error model: fitted parameters (posterior mean ± sd, 95 %, MAP) beside the priors,
     and how much of the RAMS dynamic RMSE is latency (the MAP rig with and without it)."""
@@ -376,6 +386,7 @@ _T5_CLAIMS = {("RAMS", "static"): ("RAMS static RMSE < 0.02 deg", lambda x: x < 
               ("AHRS stand-in", "dynamic"): ("", None)}
 
 
+@produces("wang2022sensors_table05", "table", "Table 5")
 def table05_rmse(fit: ErrorModelFit, seed: int, n_draws: int = 4000) -> Artifact:
     """Table 5: every printed RMSE beside the fitted model's and the prior-only model's predictive
     median and 95 % band; ``role`` fitted (training subset) or predicted (held out)."""
@@ -417,6 +428,7 @@ def table05_rmse(fit: ErrorModelFit, seed: int, n_draws: int = 4000) -> Artifact
     return Artifact(t5, rows, {"summary": summary})
 
 
+@produces("wang2022sensors_fig13", "figure", "Fig. 13")
 def fig13_drift(sc: Scenario, fit: ErrorModelFit | None, trials: int, seed: int, run_s: float,
                 stand_s: float = 60.0) -> Artifact:
     """Fig. 13: 1 min standing still after ``run_s`` of moves, RAMS vs the AHRS stand-in, at the fitted
@@ -441,6 +453,7 @@ def fig13_drift(sc: Scenario, fit: ErrorModelFit | None, trials: int, seed: int,
     return Artifact(None, rows, {"run": d, "labels": labels(sc2)})
 
 
+@produces("wang2022sensors_fig14", "figure", "Fig. 14")
 def fig14_max_error_per_angle(fit: ErrorModelFit, seed: int, n_draws: int = 4000) -> Artifact:
     """Fig. 14: RAMS max |error| per sweep angle (settled half of each 1 s hold), posterior-predictive
     median and 95 % band per angle, and one experiment's worst angle (predicted vs the paper's 0.05°)."""
