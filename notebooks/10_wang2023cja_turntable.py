@@ -183,7 +183,7 @@ print(w.section_claims(tables["fitted"], "wang2023cja_table05", enforce=AT_PAPER
 
 # %%
 from mtcal.studies.wang2023cja import plots
-output.save_figure(plots.fig07(run["T1"], sc.imu.grade_label), "wang2023cja_fig07")
+output.save_figure(plots.fig07(run["T1"], sc.imu.label), "wang2023cja_fig07")
 print(w.section_claims(tables["fitted"], "wang2023cja_fig07", enforce=AT_PAPER))
 
 # %% [markdown]
@@ -212,7 +212,7 @@ print(w.section_claims(tables["fitted"], "wang2023cja_table07", enforce=AT_PAPER
 # ## wang2023cja_fig08 — pitch and yaw errors in the roll sweep, before vs after (paper Fig 8)
 
 # %%
-output.save_figure(plots.fig08(run["T1"], sc.imu.grade_label), "wang2023cja_fig08")
+output.save_figure(plots.fig08(run["T1"], sc.imu.label), "wang2023cja_fig08")
 print(w.section_claims(tables["fitted"], "wang2023cja_fig08", enforce=AT_PAPER))
 
 # %% [markdown]

@@ -117,7 +117,7 @@ print(w.section_claims(tables["fitted"], "wang2023cja_table09", enforce=AT_PAPER
 
 # %%
 from mtcal.studies.wang2023cja import plots
-output.save_figure(plots.fig10(run, sc.imu.grade_label, (mechanism_rate_deg_s, group5_rate_deg_s)), "wang2023cja_fig10")
+output.save_figure(plots.fig10(run, sc.imu.label, (mechanism_rate_deg_s, group5_rate_deg_s)), "wang2023cja_fig10")
 print(w.section_claims(tables["fitted"], "wang2023cja_fig10", enforce=AT_PAPER))
 
 # %% [markdown]
@@ -143,7 +143,7 @@ print(w.section_claims(tables["fitted"], "wang2023cja_table10", enforce=AT_PAPER
 # ## wang2023cja_fig11 — roll and yaw errors in the wind-off sweep, before vs after (paper Fig 11)
 
 # %%
-output.save_figure(plots.fig11(run, sc.imu.grade_label), "wang2023cja_fig11")
+output.save_figure(plots.fig11(run, sc.imu.label), "wang2023cja_fig11")
 
 # %% [markdown]
 # ## wang2023cja_table11 — MaxAE / RMSE of roll and yaw, wind off (Table 11, predicted)

@@ -2,7 +2,10 @@
 
 Each :class:`SensorGrade` holds the numbers an engineer reads off a datasheet, in
 the datasheet's units (°/√h, °/h, µg/√Hz, mg, ppm), and converts them once to an
-SI :class:`~mtcal.core.simulate.ImuErrorModel` with :meth:`SensorGrade.error_model`.
+SI :class:`~mtcal.core.sensors.SensorSpec` (the one sensor-spec type; it owns the
+sample rate) with :meth:`SensorGrade.sensor_spec` / :func:`sensor_spec`, whose
+:meth:`~mtcal.core.sensors.SensorSpec.error_model` is the one conversion to the
+simulator's :class:`~mtcal.core.simulate.ImuErrorModel`.
 Use a grade by name in a notebook's parameters cell (``gyro_grade="industrial"``)
 or from the library (:func:`sensor_grade`).
 
@@ -46,13 +49,12 @@ from __future__ import annotations
 
 from dataclasses import asdict, dataclass, replace
 
-import numpy as np
-
-from mtcal.core.simulate import ImuErrorModel, SensorErrors
+from mtcal.core.sensors import SensorSpec
+from mtcal.core.simulate import ImuErrorModel
 from mtcal.core.units import DEG, DEG_H, MG, UG
 from mtcal.core.validate import positive_scalar
 
-__all__ = ["SensorGrade", "GRADES", "sensor_grade", "grade_names"]
+__all__ = ["SensorGrade", "GRADES", "sensor_grade", "grade_names", "sensor_spec"]
 
 
 @dataclass(frozen=True)
@@ -126,8 +128,32 @@ class SensorGrade:
             raise ValueError(f"unknown sensor field(s) {unknown}; valid: {sorted(valid)}")
         return replace(self, name=f"{self.name}*" if values else self.name, **values)
 
+    def sensor_spec(self, fs_hz: float = 1000.0, *, time_since_power_on_s: float = 300.0,
+                    label: str | None = None) -> SensorSpec:
+        """The SI :class:`~mtcal.core.sensors.SensorSpec` of this grade at output rate ``fs_hz``.
+
+        Gyro scale factor applied as a fixed +, −, + pattern; turn-on biases as per-trial 1σ.
+
+        Examples
+        --------
+        >>> s = sensor_grade("tactical").sensor_spec(200.0)
+        >>> s.fs_hz, s.gyro_scale_factor
+        (200.0, (0.0003, -0.0003, 0.0003))
+        """
+        sf = self.gyro_scale_factor_ppm * 1e-6
+        return SensorSpec(fs_hz=fs_hz, label=self.name if label is None else label,
+                          gyro_noise_rad_s_rt_hz=self.gyro_noise_density_rad_s_rt_hz,
+                          gyro_bias_instability_rad_s=self.gyro_bias_instability_deg_h * DEG_H,
+                          gyro_bias_sigma_rad_s=self.gyro_bias_repeatability_deg_h * DEG_H,
+                          gyro_scale_factor=(sf, -sf, sf),
+                          accel_noise_m_s2_rt_hz=self.accel_noise_density_m_s2_rt_hz,
+                          accel_bias_instability_m_s2=self.accel_bias_instability_ug * UG,
+                          accel_bias_sigma_m_s2=self.accel_bias_repeatability_mg * MG,
+                          bias_instability_tau_s=self.bias_instability_tau_s,
+                          time_since_power_on_s=time_since_power_on_s)
+
     def error_model(self, q_mount=(1.0, 0.0, 0.0, 0.0), time_since_power_on_s: float = 300.0) -> ImuErrorModel:
-        """The SI :class:`~mtcal.core.simulate.ImuErrorModel` of this grade.
+        """The SI :class:`~mtcal.core.simulate.ImuErrorModel` of this grade (via :meth:`sensor_spec`).
 
         Parameters
         ----------
@@ -136,18 +162,7 @@ class SensorGrade:
         time_since_power_on_s : float
             Seconds since power-on (no warm-up transient is modelled by a grade).
         """
-        sf = self.gyro_scale_factor_ppm * 1e-6 * np.array([1.0, -1.0, 1.0])
-        gyro = SensorErrors(noise_density=self.gyro_noise_density_rad_s_rt_hz,
-                            bias_instability=self.gyro_bias_instability_deg_h * DEG_H,
-                            bias_instability_tau_s=self.bias_instability_tau_s,
-                            bias_sigma=self.gyro_bias_repeatability_deg_h * DEG_H,
-                            scale_factor=tuple(sf))
-        accel = SensorErrors(noise_density=self.accel_noise_density_m_s2_rt_hz,
-                             bias_instability=self.accel_bias_instability_ug * UG,
-                             bias_instability_tau_s=self.bias_instability_tau_s,
-                             bias_sigma=self.accel_bias_repeatability_mg * MG)
-        return ImuErrorModel(gyro=gyro, accel=accel, q_mount=tuple(float(x) for x in q_mount),
-                             time_since_power_on_s=time_since_power_on_s)
+        return self.sensor_spec(time_since_power_on_s=time_since_power_on_s).error_model(q_mount)
 
 
 GRADES: dict[str, SensorGrade] = {g.name: g for g in (
@@ -207,3 +222,26 @@ def sensor_grade(name: str, **overrides) -> SensorGrade:
     if name not in GRADES:
         raise ValueError(f"grade must be one of {grade_names()}, got {name!r}")
     return GRADES[name].with_overrides(**overrides) if overrides else GRADES[name]
+
+
+def sensor_spec(gyro_grade: str, accel_grade: str | None = None, *, fs_hz: float = 1000.0,
+                time_since_power_on_s: float = 300.0) -> SensorSpec:
+    """SI :class:`~mtcal.core.sensors.SensorSpec` from a gyro grade and an accelerometer grade (default: the same).
+
+    Raises
+    ------
+    ValueError
+        For an unknown grade name (the message lists the valid ones) or a bad ``fs_hz``.
+
+    Examples
+    --------
+    >>> s = sensor_spec("industrial", "tactical", fs_hz=200.0)
+    >>> s.label, round(s.accel_noise_m_s2_rt_hz / 9.80665e-6, 6)
+    ('gyro industrial, accel tactical', 25.0)
+    """
+    accel_grade = gyro_grade if accel_grade is None else accel_grade
+    g = sensor_grade(gyro_grade).sensor_spec(fs_hz, time_since_power_on_s=time_since_power_on_s)
+    a = sensor_grade(accel_grade)
+    return replace(g, label=f"gyro {gyro_grade}, accel {accel_grade}", accel_noise_m_s2_rt_hz=a.accel_noise_density_m_s2_rt_hz,
+                   accel_bias_instability_m_s2=a.accel_bias_instability_ug * UG,
+                   accel_bias_sigma_m_s2=a.accel_bias_repeatability_mg * MG)

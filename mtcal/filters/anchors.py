@@ -42,6 +42,11 @@ Adapters:
 * The QNCF and Mahony integral gains follow K_p: ``K_i = K_p / 50 s`` (QNCF's
   default ratio).
 
+Each filter is one :func:`mtcal.filters.registry.register_filter` call at the end of this
+module (name, runner, output, default gain and its unit, ours/anchor, optional package); the
+RAMS EKF is registered here too, as an ``output="angle"`` filter (angle about a known axis),
+run through :func:`run_axis_angle_filter`. Everything else looks filters up in the registry.
+
 Every filter starts from the same ``q0``: levelled from the mean of the first
 ``init_samples`` accelerometer samples, yaw 0. The three external libraries
 are an optional extra (``pip install 'mtcal[dev]'``); they are imported on first
@@ -73,50 +78,19 @@ True
 
 from __future__ import annotations
 
-import importlib
 
 import numpy as np
 
 from mtcal.core.validate import STANDARD_GRAVITY_M_S2, as_float_array, positive_scalar, unit_quaternion
 
-__all__ = ["FILTER_NAMES", "DEFAULT_GAINS", "GAIN_UNITS", "available_filters", "require_filter",
-           "run_attitude_filter", "tilt_error_rad", "twist_angle_rad"]
+from mtcal.filters.registry import AxisContext, available_filters, get_filter, register_filter, require_filter
 
-#: Filters of the bake-off, in display order.
-FILTER_NAMES = ("qncf", "mahony", "madgwick", "vqf", "fusion")
-#: Each filter's default (library default, or mtcal's for QNCF/Mahony) of its one tuned gain.
-DEFAULT_GAINS = {"qncf": 1.0, "mahony": 1.0, "madgwick": 0.033, "vqf": 3.0, "fusion": 0.5}
-#: What the gain is, with its unit.
-GAIN_UNITS = {"qncf": "K_p (1/s)", "mahony": "K_p (1/s)", "madgwick": "beta (rad/s)",
-              "vqf": "tau_acc (s)", "fusion": "gain (1)"}
-_MODULES = {"madgwick": "ahrs", "vqf": "vqf", "fusion": "imufusion"}
+__all__ = ["available_filters", "require_filter", "run_attitude_filter", "run_axis_angle_filter",
+           "tilt_error_rad", "twist_angle_rad", "RAMS_EKF_DEFAULT_GAIN"]
+
 _KI_RATIO_S = 50.0
-
-
-def available_filters() -> list[str]:
-    """Names of the filters whose library imports (QNCF and Mahony always)."""
-    out = []
-    for name in FILTER_NAMES:
-        try:
-            require_filter(name)
-        except ImportError:
-            continue
-        out.append(name)
-    return out
-
-
-def require_filter(name: str):
-    """Import the library behind ``name`` (None for mtcal's own); ImportError with a clear message."""
-    if name not in FILTER_NAMES:
-        raise ValueError(f"filter must be one of {list(FILTER_NAMES)}, got {name!r}")
-    module = _MODULES.get(name)
-    if module is None:
-        return None
-    try:
-        return importlib.import_module(module)
-    except ImportError as exc:
-        raise ImportError(f"filter {name!r} needs the optional package {module!r} "
-                          f"(pip install 'mtcal[dev]'): {exc}") from None
+#: Default of the RAMS EKF's tuned value, σa,moving (m/s²).
+RAMS_EKF_DEFAULT_GAIN = 2.0
 
 
 def _level_q0(accel: np.ndarray, init_samples: int) -> np.ndarray:
@@ -133,8 +107,8 @@ def run_attitude_filter(name: str, gyro_rad_s, accel_m_s2, dt_s: float, gain: fl
 
     Parameters
     ----------
-    name : {"qncf", "mahony", "madgwick", "vqf", "fusion"}
-        Filter (see module table).
+    name : str
+        A registered attitude filter (:func:`mtcal.filters.registry.filter_names`, see module table).
     gyro_rad_s : array_like, shape (T, N, 3)
         Sensor-frame rate (rad/s); sample k is the mean over ``[t_k, t_{k+1}]``.
     accel_m_s2 : array_like, shape (T, N, 3)
@@ -142,7 +116,7 @@ def run_attitude_filter(name: str, gyro_rad_s, accel_m_s2, dt_s: float, gain: fl
     dt_s : float
         Sample interval (s).
     gain : float, optional
-        The filter's tuned gain (:data:`GAIN_UNITS`); default :data:`DEFAULT_GAINS`.
+        The filter's tuned gain (its registry ``gain_unit``); default its ``default_gain``.
     q0 : array_like, shape (4,) or (T, 4), optional
         Initial attitude; default levelled from the first ``init_samples`` samples.
     init_samples : int
@@ -160,32 +134,92 @@ def run_attitude_filter(name: str, gyro_rad_s, accel_m_s2, dt_s: float, gain: fl
     ImportError
         The filter's optional library is not installed.
     """
+    entry = get_filter(name)
+    if entry.output != "attitude":
+        raise ValueError(f"filter {name!r} returns an {entry.output}, not an attitude")
     require_filter(name)
     w = as_float_array(gyro_rad_s, "gyro_rad_s", ndim=3, last_dim=3, copy=False)
     a = as_float_array(accel_m_s2, "accel_m_s2", ndim=3, last_dim=3, copy=False)
     if w.shape != a.shape:
         raise ValueError(f"gyro_rad_s and accel_m_s2 must have the same shape, got {w.shape} and {a.shape}")
     dt = positive_scalar(dt_s, "dt_s")
-    g = positive_scalar(DEFAULT_GAINS[name] if gain is None else gain, "gain")
+    g = positive_scalar(entry.default_gain if gain is None else gain, "gain")
     trials = w.shape[0]
     q_init = _level_q0(a, init_samples) if q0 is None else unit_quaternion(q0, "q0")
     if q_init.shape not in ((4,), (trials, 4)):
         raise ValueError(f"q0 must have shape (4,) or ({trials}, 4), got {q_init.shape}")
     q_init = np.broadcast_to(q_init, (trials, 4))
-    if name == "qncf":
-        from mtcal.filters.qncf import QncfParams, qncf
+    return entry.run(w, a, dt, g, q_init)
 
-        return qncf(w, a, dt, QncfParams(kp_rad_s=g, ki_rad_s2=g / _KI_RATIO_S), q0=q_init,
-                    return_euler=False).q_ws
-    if name == "mahony":
-        from mtcal.filters.mahony import MahonyParams, mahony_imu
 
-        return mahony_imu(w, a, dt, MahonyParams(kp_rad_s=g, ki_rad_s2=g / _KI_RATIO_S), q0=q_init).q_ws
-    out = np.empty(w.shape[:2] + (4,))
-    runner = {"madgwick": _madgwick, "vqf": _vqf, "fusion": _fusion}[name]
-    for t in range(trials):  # external libraries take one record at a time
-        out[t] = runner(w[t], a[t], dt, g, q_init[t])
-    return out
+def run_axis_angle_filter(name: str, gyro_rad_s, accel_m_s2, dt_s: float, gain: float | None,
+                          context: AxisContext, *, ref_index: int = 0, init_samples: int = 100) -> np.ndarray:
+    """Angle (rad) about ``context.axis_s`` since sample ``ref_index``, for any registered filter, shape (T, N).
+
+    An angle filter (``output="angle"``, e.g. the RAMS EKF) runs on the records and
+    ``context``; an attitude filter's angle is the twist of its attitude about the
+    axis (:func:`twist_angle_rad`). Both are referred to sample ``ref_index``.
+
+    Parameters
+    ----------
+    name : str
+        Any registered filter.
+    gyro_rad_s, accel_m_s2 : array_like, shape (T, N, 3)
+        Records (rad/s, m/s²).
+    dt_s : float
+        Sample interval (s).
+    gain : float or None
+        Tuned gain (None: the registry default).
+    context : AxisContext
+    ref_index : int
+        Reference sample (angle 0).
+    init_samples : int
+        Levelling samples of an attitude filter.
+
+    Returns
+    -------
+    ndarray, shape (T, N)
+
+    Examples
+    --------
+    >>> acc = np.tile([0.0, 0.0, 9.80665], (1, 50, 1))
+    >>> ctx = AxisContext(np.array([0.0, 1.0, 0.0]), np.ones((1, 50), bool), acc[:, 0], 1e-4, 1e-3)
+    >>> th = run_axis_angle_filter("rams_ekf", np.zeros((1, 50, 3)), acc, 0.01, None, ctx)
+    >>> th.shape, float(np.abs(th).max()) < 1e-6
+    ((1, 50), True)
+    """
+    entry = get_filter(name)
+    if entry.output == "attitude":
+        q = run_attitude_filter(name, gyro_rad_s, accel_m_s2, dt_s, gain, init_samples=init_samples)
+        return twist_angle_rad(q, context.axis_s, ref_index=ref_index)
+    require_filter(name)
+    w = as_float_array(gyro_rad_s, "gyro_rad_s", ndim=3, last_dim=3, copy=False)
+    a = as_float_array(accel_m_s2, "accel_m_s2", ndim=3, last_dim=3, copy=False)
+    g = positive_scalar(entry.default_gain if gain is None else gain, "gain")
+    theta = entry.run(w, a, positive_scalar(dt_s, "dt_s"), g, context)
+    return theta - theta[:, ref_index:ref_index + 1]
+
+
+def _qncf(w, a, dt, gain, q0):
+    from mtcal.filters.qncf import QncfParams, qncf
+
+    return qncf(w, a, dt, QncfParams(kp_rad_s=gain, ki_rad_s2=gain / _KI_RATIO_S), q0=q0, return_euler=False).q_ws
+
+
+def _mahony(w, a, dt, gain, q0):
+    from mtcal.filters.mahony import MahonyParams, mahony_imu
+
+    return mahony_imu(w, a, dt, MahonyParams(kp_rad_s=gain, ki_rad_s2=gain / _KI_RATIO_S), q0=q0).q_ws
+
+
+def _per_record(runner):
+    """Batch runner of a library that takes one record at a time."""
+    def run(w, a, dt, gain, q0):
+        out = np.empty(w.shape[:2] + (4,))
+        for t in range(w.shape[0]):
+            out[t] = runner(w[t], a[t], dt, gain, q0[t])
+        return out
+    return run
 
 
 def _delayed(x: np.ndarray) -> np.ndarray:
@@ -264,3 +298,19 @@ def twist_angle_rad(q_ws, axis_s, ref_index: int = 0) -> np.ndarray:
     ref = q[..., ref_index:ref_index + 1, :]
     rel = rotations.hamilton(rotations.quat_conjugate(np.broadcast_to(ref, q.shape)), q)
     return rotations.wrap_angle(2.0 * np.arctan2(rel[..., 1:] @ v, rel[..., 0]))
+
+
+# --------------------------------------------------------------------------- registrations
+register_filter("qncf", _qncf, output="attitude", default_gain=1.0, gain_unit="K_p (1/s)", origin="ours",
+                description="quaternion nonlinear complementary filter (wang2023cja Eq 5-9), K_i = K_p / 50 s")
+register_filter("mahony", _mahony, output="attitude", default_gain=1.0, gain_unit="K_p (1/s)", origin="ours",
+                description="IMU-only Mahony explicit complementary filter, K_i = K_p / 50 s")
+register_filter("madgwick", _per_record(_madgwick), output="attitude", default_gain=0.033,
+                gain_unit="beta (rad/s)", origin="anchor", requires="ahrs",
+                description="ahrs.filters.Madgwick (gradient descent), inputs delayed one sample")
+register_filter("vqf", _per_record(_vqf), output="attitude", default_gain=3.0, gain_unit="tau_acc (s)",
+                origin="anchor", requires="vqf", description="vqf.VQF 6D (Laidig & Seel 2023), gyro delayed one sample")
+register_filter("fusion", _per_record(_fusion), output="attitude", default_gain=0.5, gain_unit="gain (1)",
+                origin="anchor", requires="imufusion", description="imufusion.Ahrs (x-io Fusion), NWU, °/s and g")
+# the RAMS EKF entry ("rams_ekf", angle output) is registered by mtcal.systems.surface_angle: it runs the
+# mtcal angle procedure (ZVD-switched EKF from the reference rest, restart after clipping)

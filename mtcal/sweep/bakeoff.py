@@ -10,7 +10,7 @@ Three families of scenarios (:mod:`mtcal.sweep.evaluators`):
   (metric: RMS error of the angle about the axis, deg), the RAMS EKF beside the
   attitude filters.
 
-Fair tuning: each filter has one gain (:data:`mtcal.filters.anchors.GAIN_UNITS`;
+Fair tuning: each filter has one gain (:func:`mtcal.filters.registry.get_filter` ``.gain_unit``;
 RAMS EKF: σa,moving). A *tuning* sweep on a separate seed multiplies every
 filter's default gain by each of ``gain_scales`` at the family's reference
 conditions (the paper's sensor; wind off and on for the tunnel); for every
@@ -71,9 +71,9 @@ def bakeoff_params(**values) -> dict:
     """Defaults overridden by ``values``, validated (ValueError naming the parameter)."""
     merged = merge_parameters(values, BAKEOFF_DEFAULTS, what="bake-off parameter")
     p = {k: (list(v) if isinstance(v, (list, tuple)) else v) for k, v in merged.items()}
-    from mtcal.filters.anchors import FILTER_NAMES
+    from mtcal.filters.registry import filter_names
 
-    for key, choices in (("filters", FILTER_NAMES), ("turntable_motions", ("aoa", "roll")),
+    for key, choices in (("filters", filter_names(output="attitude")), ("turntable_motions", ("aoa", "roll")),
                          ("turntable_grades", grade_names()), ("windtunnel_grades", grade_names()),
                          ("surface_grades", grade_names())):
         v = p[key]
@@ -96,7 +96,10 @@ def bakeoff_params(**values) -> dict:
 
 
 def _filters_for(params: dict, family: str) -> list[str]:
-    return list(params["filters"]) + (["rams_ekf"] if family == "surface" else [])
+    """The chosen attitude filters; the surface family adds every registered angle filter (e.g. the RAMS EKF)."""
+    from mtcal.filters.registry import filter_names
+
+    return list(params["filters"]) + (filter_names(output="angle") if FAMILIES[family][0] == "surface" else [])
 
 
 def family_specs(params: dict, family: str, *, seed: int, trials: int, block_trials: int = 4,
@@ -166,7 +169,7 @@ def tune_gains(params: dict, *, seed: int, trials: int, hold_s: float | None = N
         ``at_grid_edge`` marks a chosen scale at either end of ``gain_scales`` (the
         optimum may lie beyond it).
     """
-    from mtcal.filters.anchors import GAIN_UNITS
+    from mtcal.filters.registry import get_filter
     from mtcal.sweep.evaluators import filter_gain
 
     p = bakeoff_params(**params)
@@ -184,7 +187,7 @@ def tune_gains(params: dict, *, seed: int, trials: int, hold_s: float | None = N
             for scale, err in sub.items():
                 g = filter_gain({"gain_scale": scale}, f)
                 rows.append({"family": family, "filter": f,
-                             "gain_unit": GAIN_UNITS.get(f, "sigma_a_moving (m/s²)"), "gain_scale": float(scale),
+                             "gain_unit": get_filter(f).gain_unit, "gain_scale": float(scale),
                              "gain": g, "tuning_error_deg": float(err), "chosen": bool(scale == best),
                              "at_grid_edge": bool(scale == best and best in (min(sub.index), max(sub.index)))})
             gains[family][f] = filter_gain({"gain_scale": best}, f)

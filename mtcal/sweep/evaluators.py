@@ -9,13 +9,15 @@ on which other trials share the call (the engine keys ``rngs[j]`` by
 Registered evaluators (:func:`evaluator_names`):
 
 * ``attitude`` — turntable AoA / roll sweeps and wind-tunnel AoA sweeps (with the
-  running-tunnel vibration as parameters) of wang2023cja, any set of bake-off
-  filters (:mod:`mtcal.filters.anchors`), any sensor grade
+  running-tunnel vibration as parameters) of wang2023cja, any set of registered
+  attitude filters (:mod:`mtcal.filters.registry`), any sensor grade
   (:mod:`mtcal.core.sensor_grades`); metrics: tilt error over the record and over
   the holds (the static angles the paper's tables report), maximum tilt error.
 * ``surface`` — movable-surface rotations about a fixed hinge axis (wang2022sensors):
-  the bake-off filters' angle about the axis (swing–twist) beside the RAMS EKF as
-  ``mtcal angle`` runs it (:func:`mtcal.systems.surface_angle.surface_angle`).
+  any registered filter's angle about the axis (attitude filters: swing–twist;
+  angle filters: their own output), via :func:`mtcal.filters.anchors.run_axis_angle_filter`;
+  the RAMS EKF entry is the ``mtcal angle`` procedure
+  (:func:`mtcal.systems.surface_angle.surface_angle`, registered by that module).
 * ``six_position`` — wang2023cja §3.2 installation-error calibration with K = 4…12
   turntable positions: QNCF attitudes, the calibration procedure of
   :mod:`mtcal.systems.installation` (as ``mtcal calibrate``), error left at 12
@@ -50,6 +52,7 @@ from mtcal.core.profiles import AngleProfile, fixed_axis_trajectory, step_schedu
 from mtcal.core.sensor_grades import grade_names, sensor_grade
 from mtcal.core.simulate import ImuErrorModel, Trajectory, apply_sensor_errors, simulate_imu
 from mtcal.core.units import DEG
+import mtcal.systems.surface_angle  # noqa: F401,E402  (registers the RAMS EKF entry: the mtcal angle system)
 
 __all__ = ["Evaluator", "register_evaluator", "get_evaluator", "evaluator_names", "MOTIONS", "filter_gain",
            "RAMS_EKF_DEFAULT_GAIN", "SURFACE_AXIS",
@@ -68,8 +71,9 @@ class Evaluator:
         Registry key (the spec's ``sweep.evaluator``).
     func : callable
         ``func(params, rngs) -> {metric: ndarray (len(rngs),)}``.
-    defaults : dict
-        Every parameter with its default; a spec may set only these.
+    base_defaults : dict
+        Every parameter with its default; a spec may set only these (and, for an evaluator
+        with ``gain_scale``, ``gain_<filter>`` of any registered filter: :attr:`defaults`).
     metrics : callable
         ``metrics(params) -> list[str]``: the metric names for resolved params.
     check : callable
@@ -80,20 +84,31 @@ class Evaluator:
 
     name: str
     func: Callable
-    defaults: dict
+    base_defaults: dict
     metrics: Callable
     check: Callable = field(default=lambda params: None)
     description: str = ""
+
+    @property
+    def defaults(self) -> dict:
+        """``base_defaults`` plus ``gain_<name>: None`` for every registered filter when the evaluator
+        takes filter gains (``gain_scale`` in its defaults): a filter registered later is accepted."""
+        if "gain_scale" not in self.base_defaults:
+            return dict(self.base_defaults)
+        from mtcal.filters.registry import filter_names
+
+        return {**{f"gain_{f}": None for f in filter_names()}, **self.base_defaults}
 
     def resolve(self, params: dict) -> dict:
         """Defaults overridden by ``params``, validated (ValueError naming the key)."""
         if not isinstance(params, dict):
             raise TypeError(f"params must be a dict, got {type(params).__name__}")
-        unknown = sorted(set(params) - set(self.defaults))
+        defaults = self.defaults
+        unknown = sorted(set(params) - set(defaults))
         if unknown:
             raise ValueError(f"{unknown[0]} is not a parameter of evaluator {self.name!r}; "
-                             f"valid: {sorted(self.defaults)}")
-        out = dict(self.defaults)
+                             f"valid: {sorted(defaults)}")
+        out = dict(defaults)
         out.update(params)
         self.check(out)
         return out
@@ -177,21 +192,20 @@ def _gains_check(params: dict, names) -> None:
             _number(params, key, 0.0, 1e6, lo_open=True)
 
 
-#: Default of the RAMS EKF's tuned value, σa,moving (m/s²) (mtcal.filters.rams_ekf.RamsEkfParams default).
+#: Default of the RAMS EKF's tuned value, σa,moving (m/s²) (its registry entry's default gain).
 RAMS_EKF_DEFAULT_GAIN = 2.0
 
 
 def filter_gain(params: dict, name: str) -> float:
     """Gain used for filter ``name``: ``gain_<name>`` (or its default) × ``gain_scale``.
 
-    Defaults: :data:`mtcal.filters.anchors.DEFAULT_GAINS`; the RAMS EKF's is
-    σa,moving = :data:`RAMS_EKF_DEFAULT_GAIN`.
+    Default: the filter's registry entry (:func:`mtcal.filters.registry.get_filter`).
     """
-    from mtcal.filters.anchors import DEFAULT_GAINS
+    from mtcal.filters.registry import get_filter
 
     base = params.get(f"gain_{name}")
     if base is None:
-        base = RAMS_EKF_DEFAULT_GAIN if name == "rams_ekf" else DEFAULT_GAINS[name]
+        base = get_filter(name).default_gain
     return float(base) * float(params.get("gain_scale", 1.0))
 
 
@@ -252,7 +266,20 @@ MOTIONS = {
                        source="wang2023cja wind-tunnel AoA sweep, Table 10 angles; mechanism 2 °/s, 3 s holds "
                               "with wind (mtcal scenario)"),
 }
-_ATT_FILTERS = ("qncf", "mahony", "madgwick", "vqf", "fusion")
+def _attitude_filters() -> list[str]:
+    """Filters the attitude evaluator takes: every registered attitude filter."""
+    from mtcal.filters.registry import filter_names
+
+    return filter_names(output="attitude")
+
+
+def _all_filters() -> list[str]:
+    """Filters the surface evaluator takes: every registered filter (attitude ones via their twist)."""
+    from mtcal.filters.registry import filter_names
+
+    return filter_names()
+
+
 _ATT_METRICS = ("tilt_rmse_deg", "hold_tilt_rmse_deg", "tilt_max_deg")
 
 
@@ -272,7 +299,7 @@ def attitude_profile(motion: str, fs_hz: float, *, hold_s: float | None = None, 
 
 def _check_attitude(p: dict) -> None:
     _choice(p, "motion", tuple(MOTIONS))
-    names = _filters(p, "filters", _ATT_FILTERS)
+    names = _filters(p, "filters", _attitude_filters())
     _choice(p, "grade", grade_names())
     _number(p, "fs_hz", 20.0, 4000.0)
     _number(p, "vibration_m_s2", 0.0, 50.0)
@@ -294,8 +321,7 @@ def _attitude_metrics(p: dict) -> list[str]:
 @register_evaluator(
     "attitude",
     defaults=dict(motion="aoa", filters=["qncf"], grade="wang2023cja", fs_hz=1000.0, vibration_m_s2=0.0,
-                  vibration_hz=45.0, hold_s=None, speed=1.0, gain_scale=1.0,
-                  **{f"gain_{f}": None for f in _ATT_FILTERS}),
+                  vibration_hz=45.0, hold_s=None, speed=1.0, gain_scale=1.0),
     metrics=_attitude_metrics, check=_check_attitude,
     description="tilt error of attitude filters on wang2023cja turntable / wind-tunnel sweeps")
 def _attitude(p: dict, rngs: list) -> dict[str, np.ndarray]:
@@ -321,7 +347,6 @@ def _attitude(p: dict, rngs: list) -> dict[str, np.ndarray]:
 # --------------------------------------------------------------------------- surface
 #: wang2022sensors Fig. 11 simulation axis (Sec. 5) in the IMU frame.
 SURFACE_AXIS = (0.1734, 0.9835, 0.0523)
-_SURF_FILTERS = _ATT_FILTERS + ("rams_ekf",)
 _SURF_METRICS = ("angle_rmse_deg", "hold_angle_rmse_deg", "angle_max_deg")
 
 
@@ -339,7 +364,7 @@ def surface_profile(fs_hz: float, *, step_deg: float = 30.0, span_deg: float = 6
 
 
 def _check_surface(p: dict) -> None:
-    names = _filters(p, "filters", _SURF_FILTERS)
+    names = _filters(p, "filters", _all_filters())
     _choice(p, "grade", grade_names())
     _number(p, "fs_hz", 20.0, 4000.0)
     _number(p, "step_deg", 1.0, 180.0)
@@ -360,7 +385,7 @@ def _surface_metrics(p: dict) -> list[str]:
     "surface",
     defaults=dict(filters=["rams_ekf", "qncf"], grade="wang2022sensors", fs_hz=200.0, step_deg=30.0,
                   span_deg=60.0, rate_deg_s=20.0, hold_s=1.0, lever_arm_m=0.2, vibration_m_s2=0.0,
-                  vibration_hz=45.0, gain_scale=1.0, **{f"gain_{f}": None for f in _SURF_FILTERS}),
+                  vibration_hz=45.0, gain_scale=1.0),
     metrics=_surface_metrics, check=_check_surface,
     description="angle about the hinge axis of a movable surface (wang2022sensors), filters vs RAMS EKF")
 def _surface(p: dict, rngs: list) -> dict[str, np.ndarray]:
@@ -375,9 +400,8 @@ def _surface(p: dict, rngs: list) -> dict[str, np.ndarray]:
     filters' angle is the twist of their attitude about the same axis since the
     settling rest.
     """
-    from mtcal.filters.anchors import run_attitude_filter, twist_angle_rad
-    from mtcal.filters.rams_ekf import RamsEkfParams
-    from mtcal.systems.surface_angle import surface_angle
+    from mtcal.filters.anchors import run_axis_angle_filter
+    from mtcal.filters.registry import AxisContext
 
     prof = surface_profile(p["fs_hz"], step_deg=p["step_deg"], span_deg=p["span_deg"],
                            rate_deg_s=p["rate_deg_s"], hold_s=p["hold_s"])
@@ -392,23 +416,15 @@ def _surface(p: dict, rngs: list) -> dict[str, np.ndarray]:
     theta_true = prof.angle_rad[:, 0] - prof.angle_rad[ref, 0]
     after = np.arange(prof.time_s.size) >= ref
     holds = _hold_mask(prof)
+    ctx = AxisContext(axis, np.broadcast_to(prof.is_static, accel.shape[:2]),
+                      np.stack([np.mean(row[settle], axis=0) for row in accel]),
+                      grade.gyro_noise_density_rad_s_rt_hz, grade.accel_noise_density_m_s2_rt_hz,
+                      init=settle, rests=tuple(prof.hold_slices()))
+    init = max(1, int(round(0.5 * p["fs_hz"])))
     out = {}
     for name in _filter_list(p):
-        gain = filter_gain(p, name)
-        if name == "rams_ekf":
-            dt = traj.dt_s
-            params = RamsEkfParams(
-                sigma_theta_rad_s=max(grade.gyro_noise_density_rad_s_rt_hz / math.sqrt(dt), 1e-5),
-                sigma_a_static_m_s2=max(grade.accel_noise_density_m_s2_rt_hz / math.sqrt(dt), 1e-2),
-                sigma_a_moving_m_s2=gain)
-            static = np.broadcast_to(prof.is_static, accel.shape[:2])
-            res = surface_angle(gyro, accel, axis, is_static=static, init=settle, dt_s=dt,
-                                rests=prof.hold_slices(), params=params)
-            theta = res.angle_rad - res.angle_rad[:, ref:ref + 1]
-        else:
-            init = max(1, int(round(0.5 * p["fs_hz"])))
-            q = run_attitude_filter(name, gyro, accel, traj.dt_s, gain, init_samples=init)
-            theta = twist_angle_rad(q, axis, ref_index=ref)
+        theta = run_axis_angle_filter(name, gyro, accel, traj.dt_s, filter_gain(p, name), ctx, ref_index=ref,
+                                      init_samples=init)
         err = np.degrees(rotations.wrap_angle(theta - theta_true))
         out[f"{name}.angle_rmse_deg"] = _rms_rows(err, after)
         out[f"{name}.hold_angle_rmse_deg"] = _rms_rows(err, holds)

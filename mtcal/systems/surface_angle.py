@@ -44,7 +44,9 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from mtcal.core.validate import as_float_array, positive_scalar
+from mtcal.filters.anchors import RAMS_EKF_DEFAULT_GAIN
 from mtcal.filters.rams_ekf import RamsEkfParams, run_rams_ekf
+from mtcal.filters.registry import AxisContext, register_filter
 from mtcal.methods import rotation_axis as ra
 from mtcal.systems import plausibility
 
@@ -533,3 +535,22 @@ def surface_angle(gyro_rad_s, accel_m_s2, axis, *, is_static, init: slice, dt_s=
         restarts = tuple(tuple(x + k0 for x in c[1:-1]) for c in cuts)
     return SurfaceAngle(angle, k0, a0, b0, elev if batch else float(elev), params, dt, clipped,
                         level if batch else float(level), restarts, check, u)
+
+
+def _registered_rams_ekf(w, a, dt, gain, ctx: AxisContext):
+    """The filter registry's ``rams_ekf`` entry: :func:`surface_angle` (the ``mtcal angle`` system) with noise from
+    the sensors: σθ = gyro noise per sample, σa,static = accelerometer noise per sample (floors 1e-5 rad/s and
+    1e-2 m/s²), σa,moving = ``gain`` (m/s²); initialised on ``ctx.init`` (default: the first 0.5 s)."""
+    params = RamsEkfParams(sigma_theta_rad_s=max(ctx.gyro_noise_rad_s_rt_hz / np.sqrt(dt), 1e-5),
+                           sigma_a_static_m_s2=max(ctx.accel_noise_m_s2_rt_hz / np.sqrt(dt), 1e-2),
+                           sigma_a_moving_m_s2=gain)
+    static = np.broadcast_to(ctx.is_static, a.shape[:2])
+    init = ctx.init if ctx.init is not None else slice(0, max(1, int(round(0.5 / dt))))
+    return surface_angle(w, a, ctx.axis_s, is_static=static, init=init, dt_s=dt, rests=ctx.rests,
+                         params=params).angle_rad
+
+
+register_filter("rams_ekf", _registered_rams_ekf, output="angle", default_gain=RAMS_EKF_DEFAULT_GAIN,
+                gain_unit="sigma_a_moving (m/s²)", origin="ours",
+                description="RAMS EKF as mtcal angle runs it: angle about a known axis, ZVD switching, restart "
+                            "after clipping (wang2022sensors Sec. 4)")

@@ -7,9 +7,10 @@ import pytest
 
 from mtcal.core import rotations
 from mtcal.core.simulate import Trajectory, simulate_imu
-from mtcal.filters import anchors
-from mtcal.filters.anchors import (DEFAULT_GAINS, FILTER_NAMES, available_filters, require_filter,
-                                   run_attitude_filter, tilt_error_rad, twist_angle_rad)
+from mtcal.filters import registry
+from mtcal.filters.anchors import (available_filters, require_filter, run_attitude_filter, tilt_error_rad,
+                                   twist_angle_rad)
+from mtcal.filters.registry import filter_names, get_filter
 
 G = 9.80665
 _LIBS = {"madgwick": "ahrs", "vqf": "vqf", "fusion": "imufusion"}
@@ -21,7 +22,7 @@ def _installed(name):
 
 
 FILTERS = [pytest.param(n, marks=pytest.mark.skipif(not _installed(n), reason=f"optional {_LIBS.get(n)} missing"))
-           for n in FILTER_NAMES]
+           for n in filter_names(output="attitude")]
 
 
 def _up(q):
@@ -68,8 +69,8 @@ def test_gain_changes_the_answer_and_defaults_apply(name):
     acc = np.tile(G * _up(q_true), (1, 400, 1)) + rng.normal(0, 0.05, (1, 400, 3))
     gyr = rng.normal(0, 1e-3, (1, 400, 3))
     q_def = run_attitude_filter(name, gyr, acc, 0.01, q0=[1.0, 0, 0, 0])
-    q_same = run_attitude_filter(name, gyr, acc, 0.01, DEFAULT_GAINS[name], q0=[1.0, 0, 0, 0])
-    q_other = run_attitude_filter(name, gyr, acc, 0.01, 4 * DEFAULT_GAINS[name], q0=[1.0, 0, 0, 0])
+    q_same = run_attitude_filter(name, gyr, acc, 0.01, get_filter(name).default_gain, q0=[1.0, 0, 0, 0])
+    q_other = run_attitude_filter(name, gyr, acc, 0.01, 4 * get_filter(name).default_gain, q0=[1.0, 0, 0, 0])
     assert np.array_equal(q_def, q_same)
     assert not np.allclose(q_def, q_other)
 
@@ -100,14 +101,14 @@ def test_available_and_errors(monkeypatch):
     with pytest.raises(ValueError, match="gyro_rad_s"):
         run_attitude_filter("qncf", np.zeros((5, 3)), np.ones((5, 3)), 0.01)
     # a missing optional library gives a clear ImportError and drops out of available_filters
-    real = anchors.importlib.import_module
+    real = registry.importlib.import_module
 
     def fake(name, *a, **k):
         if name == "vqf":
             raise ImportError("No module named 'vqf'")
         return real(name, *a, **k)
 
-    monkeypatch.setattr(anchors.importlib, "import_module", fake)
+    monkeypatch.setattr(registry.importlib, "import_module", fake)
     with pytest.raises(ImportError, match="optional package 'vqf'"):
         require_filter("vqf")
     assert "vqf" not in available_filters()

@@ -148,3 +148,21 @@ def test_gyro_pattern_fit_excludes_the_printed_z_error():
     assert like[list(t.PATTERN_BIAS_GRID_DEG_S).index(0.2)].max() == 0.0
     finding = [r for r in fit.rows if r["role"] == "finding"][0]
     assert finding["holds"] and finding["paper_in_band"] is False
+
+
+def test_producers_return_the_core_artifact_with_its_id():
+    from mtcal.core.artifacts import Artifact
+    a = t.fig02(t.AccelScenario(grid_step_deg=15.0))
+    assert isinstance(a, Artifact)
+    assert (a.artifact_id, a.kind, a.paper_item) == ("tan2022_fig02", "figure", "Fig. 2")
+    assert a.producer == "mtcal.studies.tan2022.artifacts.fig02"
+
+
+def test_error_model_does_not_import_artifacts():
+    import ast
+    import inspect
+
+    from mtcal.studies.tan2022 import error_model
+    tree = ast.parse(inspect.getsource(error_model))
+    imported = {n.module for n in ast.walk(tree) if isinstance(n, ast.ImportFrom)}
+    assert "artifacts" not in imported and "runs" in imported

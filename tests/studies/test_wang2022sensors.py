@@ -5,7 +5,8 @@ import dataclasses
 import numpy as np
 import pytest
 
-from mtcal.core.units import DEG
+from mtcal.core.sensors import SensorSpec
+from mtcal.core.units import DEG, MG, UG
 from mtcal.reporting import compare
 from mtcal.studies import wang2022sensors as w
 from mtcal.studies.wang2022sensors import error_model as em
@@ -15,8 +16,10 @@ from mtcal.studies.wang2022sensors import error_model as em
 def test_defaults_are_the_paper_setting():
     sc = w.scenario_from_parameters()
     assert compare.at_paper_settings(dict(w.PARAMETER_DEFAULTS), w.PARAMETER_DEFAULTS)
-    assert sc.imu.accel_noise_ug_rt_hz == 50.0 and sc.imu.gyro_noise_deg_s_rt_hz == pytest.approx(0.02)
-    assert sc.imu.gyro_bias_deg_s == pytest.approx(0.7)          # Table 3
+    assert sc.imu.accel_noise_m_s2_rt_hz == pytest.approx(50.0 * UG)
+    assert sc.imu.gyro_noise_rad_s_rt_hz == pytest.approx(0.02 * DEG)
+    assert sc.imu.gyro_bias_rad_s[0] == pytest.approx(0.7 * DEG)          # Table 3
+    assert isinstance(sc.imu, SensorSpec) and sc.imu.fs_hz == 200.0     # the spec owns the sample rate
     assert sc.rig.zvd.accel_min_m_s2 == 9.76 and sc.rig.zvd.accel_max_m_s2 == 9.84  # Table 1
     assert sc.rig.step_deg == 10.0 and sc.rig.hold_s == 1.0       # Sec. 7
 
@@ -55,15 +58,33 @@ def test_parameter_change_propagates_into_labels_and_tables():
 
 
 def test_resolve_gives_plain_si_values():
-    v = w.ImuSpec().resolve()
+    v = w.table3_imu().resolve()
+    assert v is w.table3_imu().resolve() or v == w.table3_imu()
     assert v.dt_s == pytest.approx(1 / 200.0) and v.fs_hz == 200.0
     assert v.gyro_noise_rad_s_rt_hz == pytest.approx(0.02 * DEG)
     assert v.gyro_bias_rad_s == pytest.approx((0.7 * DEG, -0.7 * DEG, 0.7 * DEG))
-    assert w.ImuSpec(random_walk_interpretation="none").resolve().gyro_rw_rad_s_rt_s == 0.0
+    assert w.table3_imu(random_walk_interpretation="none").gyro_rw_rad_s_rt_s == 0.0
+    assert w.ImuSpec() == w.table3_imu()                      # historical name of the builder
+    assert v.ekf_params().sigma_theta_rad_s == pytest.approx(0.02 * DEG * np.sqrt(200.0))
     with pytest.raises(ValueError, match="random_walk_interpretation must be"):
-        w.ImuSpec(random_walk_interpretation="x")
+        w.table3_imu(random_walk_interpretation="x")
     with pytest.raises(ValueError, match="accel_noise_ug_rt_hz must be a finite value >= 0"):
-        w.ImuSpec(accel_noise_ug_rt_hz=-1.0)
+        w.table3_imu(accel_noise_ug_rt_hz=-1.0)
+    with pytest.raises(ValueError, match="fs_hz must be > 0"):
+        w.table3_imu(fs_hz=0.0)
+    with pytest.raises(TypeError, match="accel_bias_compensated must be a bool"):
+        w.table3_imu(accel_bias_compensated=1)
+
+
+def test_table3_readings_match_building_with_the_reading():
+    base = w.table3_imu()
+    for rw in ("sqrt_hz", "per_sample", "none"):
+        assert w.table3_reading(base, rw) == w.table3_imu(random_walk_interpretation=rw)
+    raw = w.table3_reading(base, accel_bias_compensated=False)
+    assert raw == w.table3_imu(accel_bias_compensated=False)
+    assert np.linalg.norm(raw.accel_bias_m_s2) == pytest.approx(50.0 * MG)
+    with pytest.raises(ValueError, match="random_walk_interpretation must be"):
+        w.table3_reading(base, "x")
 
 
 # ----------------------------------------------------------------------------- runs
@@ -208,3 +229,11 @@ def test_study_runs_the_surface_angle_system():
                                     min_separation_deg=0.5, max_axis_error_deg=None)
         assert np.array_equal(got[t], one.axis)
     assert np.degrees(np.arccos(np.min(got @ v))) < 0.5
+
+
+def test_producers_return_the_core_artifact_and_the_fit_lives_in_error_model():
+    from mtcal.core.artifacts import Artifact
+    a = w.table01_zvd(w.scenario_from_parameters())
+    assert isinstance(a, Artifact) and (a.artifact_id, a.kind) == ("wang2022sensors_table01", "table")
+    assert w.fit_error_model is w.error_model.fit_error_model and w.ErrorModelFit is w.error_model.ErrorModelFit
+    assert w.ERROR_PRIORS is w.error_model.ERROR_PRIORS

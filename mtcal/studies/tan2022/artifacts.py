@@ -20,48 +20,28 @@ Technol. 2022, 20(9):946–952, doi:10.11805/TKYDA2020404.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-
 import numpy as np
 import pandas as pd
 
 from mtcal.core import metrics
+from mtcal.core.artifacts import Artifact, produces
+from mtcal.core.rng import stream_rng
 from mtcal.core.validate import positive_int
 from mtcal.methods import gyro_roll
 from mtcal.methods import large_angle
 from mtcal.reporting import compare
 
+from .runs import (STREAM_FIG06, STREAM_FIG09, STREAM_INDEPENDENT_ERRORS, oscillation_gyro,
+                   simulate_gyro)
 from .scenario import AccelScenario, GyroStudy
 
 __all__ = ["Artifact", "accel_label", "eq3_erratum", "fig02", "extra_roll_error", "fig05", "fig08",
            "extra_independent_errors", "gyro_label", "fig06", "threshold_check", "fig09", "fig10", "fig11",
-           "fig12", "extra_threshold_sweep", "artifact_rng"]
+           "fig12", "extra_threshold_sweep"]
 
 _DEG = np.degrees
 _RAD = np.radians
 _ROW = compare.comparison_row
-
-
-@dataclass
-class Artifact:
-    """What a producer returns.
-
-    Attributes
-    ----------
-    table : pandas.DataFrame
-        The artifact's table (saved as ``data/<id>.csv``), angles in degrees.
-    rows : list of dict
-        Comparison rows (:func:`mtcal.reporting.compare.comparison_row`).
-    data : dict
-        Arrays and labels for :mod:`.plots` (degrees).
-    lines : list of str
-        Summary lines for the notebook to print (fixed precision).
-    """
-
-    table: pd.DataFrame
-    rows: list = field(default_factory=list)
-    data: dict = field(default_factory=dict)
-    lines: list = field(default_factory=list)
 
 
 def _ratio(num, den):
@@ -83,16 +63,6 @@ def _slope_row(artifact, quantity, paper, band):
         return _ROW(artifact, quantity, paper, "undefined (zero error)", "≈ −1 (−1.1…−0.9)", False)
     return _ROW(artifact, quantity, paper, float(band["median"]), "≈ −1 (−1.1…−0.9)",
                 bool(-1.1 < band["median"] < -0.9), band=band)
-
-
-def artifact_rng(seed: int, key: int) -> np.random.Generator:
-    """Independent stream per artifact: ``default_rng(SeedSequence([seed, key]))``.
-
-    >>> float(artifact_rng(1, 2).random()) == float(artifact_rng(1, 2).random())
-    True
-    """
-    return np.random.default_rng(np.random.SeedSequence([positive_int(seed, "seed", minimum=0),
-                                                         positive_int(key, "key", minimum=0)]))
 
 
 # ==========================================================================
@@ -119,6 +89,7 @@ def _half_means(field_deg: np.ndarray, theta: np.ndarray, phi: np.ndarray) -> tu
     return float(np.mean(a[neg])), float(np.mean(a[pos]))
 
 
+@produces("tan2022_extra_eq3_erratum", "figure")
 def eq3_erratum(sc: AccelScenario) -> Artifact:
     """tan2022_extra_eq3_erratum: printed Eq 3 (missing ``sinθ``) against the simulated triad.
 
@@ -166,6 +137,7 @@ def eq3_erratum(sc: AccelScenario) -> Artifact:
                      f"corrected by {gap_corrected:.2e} of it"])
 
 
+@produces("tan2022_fig02", "figure", "Fig. 2")
 def fig02(sc: AccelScenario) -> Artifact:
     """tan2022_fig02: |Δθ| (deg) of a plain three-axis accelerometer with ΔA on every axis.
 
@@ -206,6 +178,7 @@ def fig02(sc: AccelScenario) -> Artifact:
                      f"({accel_label(sc)}); mean |Δθ| θ ≤ 0 vs θ ≥ 0 (φ ≥ 0): {neg:.6f}° vs {pos:.6f}°"])
 
 
+@produces("tan2022_extra_roll_error", "figure")
 def extra_roll_error(sc: AccelScenario) -> Artifact:
     """tan2022_extra_roll_error: |Δφ| (deg) of the plain triad (Eq 4, simulated), |θ| ≤ 89°.
 
@@ -234,6 +207,7 @@ def _preset_field(sc: AccelScenario, theta, phi) -> np.ndarray:
     return _DEG(large_angle.perturbed_preset_pitch_error(theta, phi, da, da, g=sc.gravity_m_s2, **_lambdas(sc)))
 
 
+@produces("tan2022_fig05", "figure", "Fig. 5")
 def fig05(sc: AccelScenario) -> Artifact:
     """tan2022_fig05: |Δθ| (deg) of the two preset triads (λ1 for θ ≤ 0, λ2 for θ > 0), simulated.
 
@@ -269,6 +243,7 @@ def fig05(sc: AccelScenario) -> Artifact:
                      f"over |θ| ≥ 45°: preset/plain = {ratio:.3f}"])
 
 
+@produces("tan2022_fig08", "figure", "Fig. 8")
 def fig08(sc: AccelScenario) -> Artifact:
     """tan2022_fig08: Δθ_T (plain) vs Δθ_p (preset) per pitch: worst and RMS over roll (deg), simulated.
 
@@ -305,6 +280,7 @@ def fig08(sc: AccelScenario) -> Artifact:
                      f"preset worse on {worse:.3f} of the grid"])
 
 
+@produces("tan2022_extra_independent_errors", "figure")
 def extra_independent_errors(sc: AccelScenario, seed: int, trials: int, step_deg: float = 5.0) -> Artifact:
     """tan2022_extra_independent_errors: preset rotation under *independent* per-axis errors (Monte Carlo).
 
@@ -317,8 +293,8 @@ def extra_independent_errors(sc: AccelScenario, seed: int, trials: int, step_deg
     th_mc, ph_mc = sc.grid_rad(step_deg)
     keep = np.abs(th_mc[:, 0]) <= _RAD(85.0)
     th_mc, ph_mc = th_mc[keep], ph_mc[keep]
-    mc = large_angle.monte_carlo_pitch_errors(th_mc, ph_mc, sc.delta_accel_m_s2, artifact_rng(seed, 20), n,
-                                              g=sc.gravity_m_s2)
+    mc = large_angle.monte_carlo_pitch_errors(th_mc, ph_mc, sc.delta_accel_m_s2, stream_rng(seed, STREAM_INDEPENDENT_ERRORS), n,
+                                     g=sc.gravity_m_s2)
     unit = _DEG(sc.delta_accel_g)  # ΔA/g in degrees
     rms_trial = {k: np.sqrt(np.mean(v.reshape(n, -1) ** 2, axis=1)) for k, v in mc.items()}
     gain_p = metrics.percentile_band(rms_trial["single"] / rms_trial["preset"])
@@ -355,14 +331,7 @@ def gyro_label(study: GyroStudy) -> str:
     return f"gyro error [{err}] °/s + noise {g.noise_density_deg_s_rthz:g} °/s/√Hz, {g.fs_hz:.0f} Hz"
 
 
-def _simulate(study: GyroStudy, t, pitch, rng, trials, *, noise: bool = True):
-    g = study.gyro
-    roll = np.full_like(t, g.roll0_rad)
-    return gyro_roll.simulate_two_dof_imu(t, pitch, roll, gyro_bias_rad_s=g.error_rad_s,
-                                          gyro_noise_density=g.noise_density_rad_s_rthz if noise else 0.0,
-                                          rng=rng if noise else None, trials=trials if noise else None).gyro_rad_s
-
-
+@produces("tan2022_fig06", "figure", "Fig. 6")
 def fig06(study: GyroStudy, seed: int, trials: int) -> Artifact:
     """tan2022_fig06: projection (Eq 13) roll error vs pitch rate; Eq 14, exact arctan and simulation (deg).
 
@@ -373,12 +342,12 @@ def fig06(study: GyroStudy, seed: int, trials: int) -> Artifact:
     """
     n = positive_int(trials, "trials")
     sweep, g = study.sweep, study.gyro
-    rng = artifact_rng(seed, 6)
+    rng = stream_rng(seed, STREAM_FIG06)
     rates = sweep.rates_rad_s
     t = np.arange(0.0, sweep.window_s, g.dt_s)
     sim = np.empty((n, rates.size))
     for j, r in enumerate(rates):  # loop over rates; trials vectorised
-        w = _simulate(study, t, r * t, rng, n)
+        w = simulate_gyro(study, t, r * t, rng, n)
         sim[:, j] = np.mean(gyro_roll.roll_projection(w) - g.roll0_rad, axis=-1)
     band = metrics.percentile_band(_DEG(np.abs(sim)))
     ey, ez = g.error_rad_s[1], g.error_rad_s[2]
@@ -421,6 +390,7 @@ def threshold_check(study: GyroStudy) -> Artifact:
     return Artifact(table, rows, {}, [f"{k:28s}: {float(_DEG(v)):7.3f}°" for k, v in vals.items()])
 
 
+@produces("tan2022_fig09", "figure", "Fig. 9")
 def fig09(study: GyroStudy, seed: int, trials: int) -> Artifact:
     """tan2022_fig09: uniform pitch rotation through ±90° at each rate: roll errors vs TIME (deg).
 
@@ -432,13 +402,13 @@ def fig09(study: GyroStudy, seed: int, trials: int) -> Artifact:
     """
     n = positive_int(trials, "trials")
     uni, g = study.uniform, study.gyro
-    rng = artifact_rng(seed, 9)
+    rng = stream_rng(seed, STREAM_FIG09)
     curves, per_rate, recs = [], [], []
     for rate in uni.pitch_rates_deg_s:
         t, theta = uni.profile(rate)
-        w = _simulate(study, t, theta, rng, n)
-        roll_e = gyro_roll.euler_differential(w, g.dt_s, pitch0=theta[0], roll0=g.roll0_rad)[..., 2]
-        e_E = metrics.angle_difference(roll_e, g.roll0_rad)
+        w = simulate_gyro(study, t, theta, rng, n)
+        e_E = metrics.angle_difference(gyro_roll.euler_differential(w, g.dt_s, pitch0=theta[0], roll0=g.roll0_rad)[..., 2],
+                                       g.roll0_rad)
         e_I = gyro_roll.roll_decoupled_integration(w, g.dt_s, roll0=g.roll0_rad) - g.roll0_rad
         e_P = gyro_roll.roll_projection(w) - g.roll0_rad
         th_deg = _DEG(theta)
@@ -469,18 +439,11 @@ def fig09(study: GyroStudy, seed: int, trials: int) -> Artifact:
                      f"{slope['median']:.3f} [{slope['low']:.3f}, {slope['high']:.3f}]") + f" ({n} trials)"])
 
 
-def _oscillation_gyro(study: GyroStudy, seed: int, trials: int):
-    osc = study.oscillation
-    t = osc.time_s()
-    w = _simulate(study, t, osc.pitch_rad(t), artifact_rng(seed, 10), trials)
-    w_det = _simulate(study, t, osc.pitch_rad(t), None, None, noise=False)
-    return t, w, w_det
-
-
+@produces("tan2022_fig10", "figure", "Fig. 10")
 def fig10(study: GyroStudy, seed: int) -> Artifact:
     """tan2022_fig10: pitch rate under oscillation θ = θm sin(2πft) (Eq 16–17), true and gyro-derived (deg/s)."""
     osc = study.oscillation
-    t, w, _ = _oscillation_gyro(study, seed, 1)
+    t, w, _ = oscillation_gyro(study, seed, 1)
     true_rate = _DEG(osc.pitch_rate_rad_s(t))
     meas = _DEG(gyro_roll.pitch_rate_magnitude(w[0]))
     frac = float(np.mean(np.abs(true_rate) <= osc.threshold_deg_s))
@@ -491,6 +454,7 @@ def fig10(study: GyroStudy, seed: int) -> Artifact:
                      f"{osc.threshold_deg_s:g} °/s: {frac:.4f}"])
 
 
+@produces("tan2022_fig11", "figure", "Fig. 11")
 def fig11(study: GyroStudy, seed: int, trials: int) -> Artifact:
     """tan2022_fig11: projection roll error under oscillation vs time (deg); spikes where θ̇ → 0.
 
@@ -499,7 +463,7 @@ def fig11(study: GyroStudy, seed: int, trials: int) -> Artifact:
     """
     n = positive_int(trials, "trials")
     osc, g = study.oscillation, study.gyro
-    t, w, _ = _oscillation_gyro(study, seed, n)
+    t, w, _ = oscillation_gyro(study, seed, n)
     e_P = gyro_roll.roll_projection(w) - g.roll0_rad
     e_I = gyro_roll.roll_decoupled_integration(w, g.dt_s, roll0=g.roll0_rad) - g.roll0_rad
     slow = np.broadcast_to(np.abs(osc.pitch_rate_rad_s(t)) < _RAD(5.0), e_P.shape)
@@ -513,6 +477,7 @@ def fig11(study: GyroStudy, seed: int, trials: int) -> Artifact:
                     [f"spike ratio {spike['median']:.1f} [{spike['low']:.1f}, {spike['high']:.1f}] ({n} trials)"])
 
 
+@produces("tan2022_fig12", "figure", "Fig. 12")
 def fig12(study: GyroStudy, seed: int, trials: int) -> Artifact:
     """tan2022_fig12: hybrid (projection if |θ̇| > θ̇_t, else integration) under oscillation (deg).
 
@@ -524,7 +489,7 @@ def fig12(study: GyroStudy, seed: int, trials: int) -> Artifact:
     """
     n = positive_int(trials, "trials")
     osc, g = study.oscillation, study.gyro
-    t, w, w_det = _oscillation_gyro(study, seed, n)
+    t, w, w_det = oscillation_gyro(study, seed, n)
     thr = osc.threshold_rad_s
     hyb, use = gyro_roll.roll_hybrid(w, g.dt_s, thr, roll0=g.roll0_rad)
     hyb_det, _ = gyro_roll.roll_hybrid(w_det, g.dt_s, thr, roll0=g.roll0_rad)
@@ -566,6 +531,7 @@ def fig12(study: GyroStudy, seed: int, trials: int) -> Artifact:
                      f"{switched['median']:.4f}"])
 
 
+@produces("tan2022_extra_threshold_sweep", "figure")
 def extra_threshold_sweep(study: GyroStudy, seed: int, trials: int, n_thresholds: int) -> Artifact:
     """tan2022_extra_threshold_sweep: hybrid roll RMSE vs threshold θ̇_t (deg), Monte Carlo.
 
@@ -574,7 +540,7 @@ def extra_threshold_sweep(study: GyroStudy, seed: int, trials: int, n_thresholds
     """
     n = positive_int(trials, "trials")
     osc, g = study.oscillation, study.gyro
-    _, w, w_det = _oscillation_gyro(study, seed, n)
+    _, w, w_det = oscillation_gyro(study, seed, n)
     thresholds = np.unique(np.concatenate([np.geomspace(0.1, 2 * osc.peak_rate_deg_s,
                                                         positive_int(n_thresholds, "n_thresholds", minimum=3)),
                                            [osc.threshold_deg_s]]))

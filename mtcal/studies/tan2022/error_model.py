@@ -36,21 +36,124 @@ import numpy as np
 import pandas as pd
 
 from mtcal.core import metrics
-from mtcal.core.validate import positive_int
+from mtcal.core.validate import positive_int, positive_scalar
 from mtcal.methods import gyro_roll
 from mtcal.methods import large_angle
 from mtcal.reporting import compare, paper_numbers
 
-from .artifacts import artifact_rng
-from .scenario import AccelErrorPrior, AccelScenario, GyroErrorPrior, GyroStudy
+from mtcal.core.rng import stream_rng
 
-__all__ = ["ErrorModelFit", "grid_posterior", "fit_accel_error_model", "fit_gyro_error_model",
+from .runs import (STREAM_ACCEL_FIT, STREAM_GYRO_FIT, STREAM_GYRO_PATTERN, accel_grid, accel_predictions, axis_spread,
+                   fig02_asymmetry, gyro_predictions, gyro_samples, large_pitch_ratio, oscillation_claims)
+from .scenario import AccelScenario, GyroStudy
+
+__all__ = ["AccelErrorPrior", "GyroErrorPrior", "ErrorModelFit", "grid_posterior", "fit_accel_error_model", "fit_gyro_error_model",
            "fit_gyro_error_pattern", "paper_gyro_error_deg_s", "PATTERN_BIAS_GRID_DEG_S",
            "PATTERN_NOISE_GRID_DEG_S_RTHZ"]
 
 _DEG, _RAD = np.degrees, np.radians
 _ROW = compare.comparison_row
-_CHUNK = 50  # trials per chunk (fixed: results do not depend on the trial count's factorisation)
+
+
+# --------------------------------------------------------------------------
+# priors
+# --------------------------------------------------------------------------
+@dataclass(frozen=True)
+class AccelErrorPrior:
+    """Physical accelerometer error model beyond the paper's common-mode ΔA (one parameter).
+
+    Each axis of each triad carries ``ΔA + r ΔA ε`` with ``ε ~ N(0, 1)`` a static
+    per-axis bias drawn once per trial (one sensor set), so ``r`` is the ratio of
+    the independent (per-axis) part of the bias to the common part.
+
+    Attributes
+    ----------
+    ratio_max : float
+        Upper end of the uniform prior of ``r``, 2 (dimensionless). Source: MEMS
+        accelerometer datasheets specify the zero-g offset *per axis* with no
+        common-mode part (e.g. ADXL355 ±25 mg per axis), so ``r`` may well exceed
+        1; the paper assumes ``r = 0`` ("各个轴加速度计的输出误差相当").
+    n_grid : int
+        Points of the prior grid over ``[0, ratio_max]`` (choice).
+    asymmetry_max : float
+        The paper's Fig 2 statement "|Δθ| small for θ ≤ 0, large for θ, φ ≥ 0"
+        made testable: mean |Δθ| over (θ ≤ 0, φ ≥ 0) below this fraction of the mean
+        over (θ ≥ 0, φ ≥ 0); 0.7 (choice; common mode gives 0.43).
+    large_pitch_max : float
+        The paper's Fig 5 statement "the preset rotation suppresses the error
+        surge at large pitch" made testable: max |Δθ| over |θ| ≥ 45° with the
+        preset triads below this fraction of the plain triad's; 0.9 (choice;
+        common mode gives 0.82).
+    gain_min : float
+        The paper's Fig 8 "clear improvement" made testable: grid-RMS gain > 1.3 (choice).
+    comparable_max : float
+        The paper's assumption "the output errors of the axes are comparable"
+        (Sec 1.1, 2.1, "输出误差相当") made testable: max/min |axis error| of each
+        triad below 2 (choice: within a factor of two).
+    """
+
+    ratio_max: float = 2.0
+    n_grid: int = 41
+    asymmetry_max: float = 0.7
+    large_pitch_max: float = 0.9
+    gain_min: float = 1.3
+    comparable_max: float = 2.0
+
+    def __post_init__(self) -> None:
+        positive_scalar(self.ratio_max, "ratio_max")
+        if self.n_grid < 3:
+            raise ValueError(f"n_grid must be >= 3, got {self.n_grid}")
+
+    @property
+    def ratio_grid(self) -> np.ndarray:
+        """Prior grid of ``r`` (dimensionless)."""
+        return np.linspace(0.0, self.ratio_max, self.n_grid)
+
+
+@dataclass(frozen=True)
+class GyroErrorPrior:
+    """Physical gyro error model for the roll simulations: two fitted parameters ``b`` and ``N``.
+
+    Attributes
+    ----------
+    bias_z_max_deg_s : float
+        Upper end of the uniform prior of the constant gyro error ``b`` on every
+        axis (at φ = 0 the projection method sees the z part, Eq 14), 0.5 °/s. Source: MEMS gyro
+        bias-stability class of the paper's "MEMS 陀螺仪" (0.2 °/s stated; ≤ 0.5 °/s
+        covers consumer to industrial units, e.g. BMI088 ±1 °/s offset uncalibrated,
+        ADIS16465 0.1 °/s).
+    noise_max_deg_s_rthz : float
+        Upper end of the prior of the white-noise density, 0.01 °/s/√Hz (BMI088
+        0.014 °/s/√Hz; ADIS16465 0.0025 °/s/√Hz); 0 is the paper's noise-free simulation.
+    n_bias, n_noise : int
+        Prior grid sizes (uniform in ``b``, step 0.005 °/s; noise uniform on ``[0, max]``).
+    accurate_deg : float
+        The paper's Fig 12 statement "accurate for a long time" made testable:
+        hybrid max |roll error| below 1° over the record (choice).
+    """
+
+    bias_z_max_deg_s: float = 0.5
+    noise_max_deg_s_rthz: float = 0.01
+    n_bias: int = 101
+    n_noise: int = 6
+    accurate_deg: float = 1.0
+
+    def __post_init__(self) -> None:
+        positive_scalar(self.bias_z_max_deg_s, "bias_z_max_deg_s")
+        positive_scalar(self.noise_max_deg_s_rthz, "noise_max_deg_s_rthz")
+        positive_scalar(self.accurate_deg, "accurate_deg")
+        if self.n_bias < 3 or self.n_noise < 2:
+            raise ValueError(f"n_bias must be >= 3 and n_noise >= 2, got {self.n_bias}, {self.n_noise}")
+
+    @property
+    def bias_grid_deg_s(self) -> np.ndarray:
+        """Prior grid of ``b`` (°/s), uniform on ``[0, bias_z_max_deg_s]``."""
+        return np.linspace(0.0, self.bias_z_max_deg_s, self.n_bias)
+
+    @property
+    def noise_grid_deg_s_rthz(self) -> np.ndarray:
+        """Prior grid of the noise density (°/s/√Hz)."""
+        return np.linspace(0.0, self.noise_max_deg_s_rthz, self.n_noise)
 
 
 @dataclass
@@ -115,61 +218,6 @@ def grid_posterior(likelihood, axis_values) -> dict:
 # --------------------------------------------------------------------------
 # accelerometer
 # --------------------------------------------------------------------------
-def _accel_features(step_deg: float):
-    ax = _RAD(np.arange(-90.0, 90.0 + 1e-9, step_deg))
-    th, ph = np.meshgrid(ax, ax, indexing="ij")
-    return th.ravel(), ph.ravel()
-
-
-def _asymmetry(bias, th, ph, g):
-    """Per-trial mean |Δθ| over (θ ≤ 0, φ ≥ 0) / over (θ ≥ 0, φ ≥ 0) of a plain triad with static biases."""
-    feats = np.stack([np.cos(th), np.sin(th) * np.sin(ph), np.sin(th) * np.cos(ph)], -1)
-    err = np.abs(bias @ feats.T) / g
-    neg, pos = (th <= 0) & (ph >= 0), (th >= 0) & (ph >= 0)
-    return err[:, neg].mean(axis=1) / err[:, pos].mean(axis=1)
-
-
-def _axis_spread(bias):
-    """Per-trial max |bias| / min |bias| over the three axes of a triad (the paper: "comparable")."""
-    a = np.abs(bias)
-    return a.max(axis=-1) / np.maximum(a.min(axis=-1), 1e-300)
-
-
-def _large_pitch_ratio(d0, d1, d2, th, ph, sc: AccelScenario):
-    """Per-trial max |Δθ| over |θ| ≥ 45°: two preset triads (Eq 9 selection) / plain triad (first order)."""
-    g = sc.gravity_m_s2
-    lam = np.where(th <= 0, _RAD(sc.lambda1_deg), _RAD(sc.lambda2_deg))
-    large = np.abs(th) >= _RAD(45.0)
-    th, ph, lam = th[large], ph[large], lam[large]
-    plain = np.abs(large_angle.pitch_error_first_order(th, ph, d0[:, None, :], g=g))
-    dsel = np.where((th <= 0)[None, :, None], d1[:, None, :], d2[:, None, :])
-    preset = np.abs(large_angle.pitch_error_first_order(th, ph, dsel, preset_rad=lam, g=g))
-    return preset.max(axis=1) / plain.max(axis=1)
-
-
-def _accel_predict(sc: AccelScenario, prior: AccelErrorPrior, ratios, rng, step_deg):
-    """Held-out quantities per trial for the given per-trial ratios ``r``."""
-    th, ph = _accel_features(step_deg)
-    g, da = sc.gravity_m_s2, sc.delta_accel_m_s2
-    n = ratios.size
-    d0, d1, d2 = (da * (1.0 + ratios[:, None] * rng.standard_normal((n, 3))) for _ in range(3))
-    neg, pos = th <= 0, th > 0
-    m_all, m_neg, m_pos = (large_angle.bias_moment_matrix(th[k], ph[k]) for k in (slice(None), neg, pos))
-    l1, l2 = _RAD(sc.lambda1_deg), _RAD(sc.lambda2_deg)
-    rms_T = large_angle.rms_pitch_error_from_moments(m_all, d0, 0.0, g=g)
-    ms_p = (neg.sum() * large_angle.rms_pitch_error_from_moments(m_neg, d1, l1, g=g) ** 2
-            + pos.sum() * large_angle.rms_pitch_error_from_moments(m_pos, d2, l2, g=g) ** 2) / th.size
-    lam = _RAD(np.arange(-180.0, 180.0, 1.0))
-    opt = {}
-    for key, m, d, paper in (("lambda1", m_neg, d1, sc.lambda1_deg), ("lambda2", m_pos, d2, sc.lambda2_deg)):
-        rms = large_angle.rms_pitch_error_from_moments(m, d[:, None, :], lam[None, :], g=g)
-        best = _DEG(lam[np.argmin(rms, axis=1)])
-        opt[key] = (best - paper + 180.0) % 360.0 - 180.0 + paper  # window centred on the paper's angle
-    return {"spread": np.max([_axis_spread(d) for d in (d0, d1, d2)], axis=0),
-            "asymmetry": _asymmetry(d0, th, ph, g), "large_pitch": _large_pitch_ratio(d0, d1, d2, th, ph, sc),
-            "gain": rms_T / np.sqrt(ms_p), **opt}
-
-
 def fit_accel_error_model(sc: AccelScenario, prior: AccelErrorPrior, seed: int, trials: int,
                           step_deg: float = 5.0) -> ErrorModelFit:
     """Fit the independent/common bias ratio ``r`` to the paper's statements; predict Fig 8 and λ1, λ2.
@@ -186,7 +234,7 @@ def fit_accel_error_model(sc: AccelScenario, prior: AccelErrorPrior, seed: int, 
     sc : AccelScenario
     prior : AccelErrorPrior
     seed : int
-        RNG seed (stream key 200).
+        RNG seed (stream ``STREAM_ACCEL_FIT``).
     trials : int
         Monte Carlo trials for the likelihood and for each prediction.
     step_deg : float
@@ -194,28 +242,28 @@ def fit_accel_error_model(sc: AccelScenario, prior: AccelErrorPrior, seed: int, 
 
     Examples
     --------
-    >>> from mtcal.studies.tan2022.scenario import AccelErrorPrior, AccelScenario
+    >>> from mtcal.studies.tan2022.scenario import AccelScenario
     >>> fit = fit_accel_error_model(AccelScenario(), AccelErrorPrior(n_grid=5), seed=1, trials=40, step_deg=15.0)
     >>> list(fit.parameters["parameter"])
     ['r (independent / common bias)']
     """
     n = positive_int(trials, "trials")
-    rng = artifact_rng(seed, 200)
-    th, ph = _accel_features(step_deg)
+    rng = stream_rng(seed, STREAM_ACCEL_FIT)
+    th, ph = accel_grid(step_deg)
     eps = rng.standard_normal((3, n, 3))
     grid = prior.ratio_grid
     da = sc.delta_accel_m_s2
     lik = np.empty(grid.size)
     for i, r in enumerate(grid):  # the same draws for every r (common random numbers)
         d0, d1, d2 = da * (1 + r * eps)
-        fig2 = _asymmetry(d0, th, ph, sc.gravity_m_s2) < prior.asymmetry_max
-        fig5 = _large_pitch_ratio(d0, d1, d2, th, ph, sc) < prior.large_pitch_max
-        equal = np.all([_axis_spread(d) < prior.comparable_max for d in (d0, d1, d2)], axis=0)
+        fig2 = fig02_asymmetry(d0, th, ph, sc.gravity_m_s2) < prior.asymmetry_max
+        fig5 = large_pitch_ratio(d0, d1, d2, th, ph, sc) < prior.large_pitch_max
+        equal = np.all([axis_spread(d) < prior.comparable_max for d in (d0, d1, d2)], axis=0)
         lik[i] = np.mean(fig2 & fig5 & equal)
     post = grid_posterior(lik, grid)
     draws = {"fitted": rng.choice(grid, size=n, p=post["posterior"]),
              "prior-only": rng.choice(grid, size=n)}
-    pred = {k: _accel_predict(sc, prior, v, rng, step_deg) for k, v in draws.items()}
+    pred = {k: accel_predictions(sc, v, rng, step_deg) for k, v in draws.items()}
     params = pd.DataFrame([{"parameter": "r (independent / common bias)", "unit": "1",
                             "prior": f"U[0, {prior.ratio_max:g}]", "ml": post["ml"], "median": post["median"],
                             "low_2.5": post["low"], "high_97.5": post["high"],
@@ -261,48 +309,6 @@ def paper_gyro_error_deg_s() -> float:
     return float(df.loc[df["parameter"] == "mems_gyro_measurement_error", "value"].iloc[0])
 
 
-def _gyro_samples(rate_rad_s, roll_rad, bias_rad_s, noise_rad_s_rthz, fs_hz, rng, shape):
-    """Gyro output of the 2-DOF mechanism (ψ̇ = 0, φ̇ = 0): Eq 11 rates + constant error + white noise.
-
-    ``rate_rad_s`` is the interval-mean pitch rate of each sample (the simulator's
-    convention), ``bias_rad_s``/``noise_rad_s_rthz`` per trial (leading axis).
-    """
-    w = np.zeros(shape + (3,))
-    w[..., 1] = rate_rad_s * np.cos(roll_rad)
-    w[..., 2] = -rate_rad_s * np.sin(roll_rad)
-    w += bias_rad_s.reshape((-1,) + (1,) * (len(shape) - 1) + (1,))
-    sigma = (noise_rad_s_rthz * np.sqrt(fs_hz)).reshape((-1,) + (1,) * len(shape))
-    return w + sigma * rng.standard_normal(w.shape)
-
-
-def _chunks(n):
-    return [slice(i, min(i + _CHUNK, n)) for i in range(0, n, _CHUNK)]
-
-
-def _gyro_predict(study: GyroStudy, prior: GyroErrorPrior, b_deg, n_deg, rng):
-    """Held-out quantities per trial for per-trial (b, N)."""
-    g, osc = study.gyro, study.oscillation
-    out = {f"drift_{r:g}": np.empty(b_deg.size) for r in study.uniform.pitch_rates_deg_s}
-    out.update(hybrid_max=np.empty(b_deg.size), spike=np.empty(b_deg.size))
-    t = osc.time_s()
-    th = osc.pitch_rad(np.append(t, t[-1] + g.dt_s))
-    rate_osc = np.diff(th) / g.dt_s  # interval means (the simulator's convention)
-    slow = np.abs(osc.pitch_rate_rad_s(t)) < _RAD(5.0)
-    for sl in _chunks(b_deg.size):
-        b, nd = _RAD(b_deg[sl]), _RAD(n_deg[sl])
-        for r in study.uniform.pitch_rates_deg_s:
-            n_samp = int(round(study.uniform.sweep_deg / r * g.fs_hz))
-            w = _gyro_samples(_RAD(r), g.roll0_rad, b, nd, g.fs_hz, rng, (b.size, n_samp))
-            out[f"drift_{r:g}"][sl] = _DEG(np.abs(np.sum(w[..., 0], axis=-1) * g.dt_s))
-        w = _gyro_samples(rate_osc, g.roll0_rad, b, nd, g.fs_hz, rng, (b.size, t.size))
-        h, _ = gyro_roll.roll_hybrid(w, g.dt_s, osc.threshold_rad_s, roll0=g.roll0_rad)
-        out["hybrid_max"][sl] = _DEG(np.max(np.abs(h - g.roll0_rad), axis=-1))
-        e_p = np.abs(gyro_roll.roll_projection(w) - g.roll0_rad)
-        out["spike"][sl] = (np.max(np.where(slow, e_p, 0), axis=-1)
-                            / np.maximum(np.max(np.where(slow, 0, e_p), axis=-1), 1e-12))
-    return out
-
-
 def fit_gyro_error_model(study: GyroStudy, prior: GyroErrorPrior, seed: int, trials: int,
                          window_s: float = 0.2, reading_rel: float = 0.05, fit_trials: int = 10) -> ErrorModelFit:
     """Fit the common gyro error ``b`` and noise density ``N`` to the Fig 6 curve; predict Fig 9/11/12.
@@ -318,7 +324,7 @@ def fit_gyro_error_model(study: GyroStudy, prior: GyroErrorPrior, seed: int, tri
     study : GyroStudy
     prior : GyroErrorPrior
     seed : int
-        RNG seed (stream key 210).
+        RNG seed (stream ``STREAM_GYRO_FIT``).
     trials : int
         Trials per prediction (posterior and prior draws).
     window_s : float
@@ -329,7 +335,7 @@ def fit_gyro_error_model(study: GyroStudy, prior: GyroErrorPrior, seed: int, tri
         Noise trials per grid point of the likelihood.
     """
     n = positive_int(trials, "trials")
-    rng = artifact_rng(seed, 210)
+    rng = stream_rng(seed, STREAM_GYRO_FIT)
     g, sweep = study.gyro, study.sweep
     rates = sweep.rates_rad_s[sweep.rates_rad_s >= _RAD(sweep.fit_min_deg_s)]
     e_paper = _RAD(paper_gyro_error_deg_s())
@@ -363,7 +369,7 @@ def fit_gyro_error_model(study: GyroStudy, prior: GyroErrorPrior, seed: int, tri
     joint = (lik / lik.sum()).ravel()
     idx = {"fitted": rng.choice(joint.size, size=n, p=joint),
            "prior-only": rng.choice(joint.size, size=n)}
-    pred = {k: _gyro_predict(study, prior, bgrid[v // ngrid.size], ngrid[v % ngrid.size], rng)
+    pred = {k: gyro_predictions(study, bgrid[v // ngrid.size], ngrid[v % ngrid.size], rng)
             for k, v in idx.items()}
     e_x = paper_gyro_error_deg_s()
     specs = []
@@ -425,28 +431,6 @@ def _trapezoid_weights(x):
     return w / w.sum()
 
 
-def _oscillation_claims(study: GyroStudy, prior: GyroErrorPrior, b_z_deg, n_deg, rng, trials):
-    """Per-trial Fig 11 spike ratio and Fig 12 hybrid max error for a z error ``b_z`` and noise ``N``.
-
-    x and y gyros keep the study's constant errors.
-    """
-    g, osc = study.gyro, study.oscillation
-    t = osc.time_s()
-    th = osc.pitch_rad(np.append(t, t[-1] + g.dt_s))
-    rate = np.diff(th) / g.dt_s
-    slow = np.abs(osc.pitch_rate_rad_s(t)) < _RAD(5.0)
-    w = np.zeros((trials, t.size, 3))
-    w[..., 1] = rate * np.cos(g.roll0_rad)
-    w[..., 2] = -rate * np.sin(g.roll0_rad)
-    w += np.array([g.error_rad_s[0], g.error_rad_s[1], _RAD(b_z_deg)])
-    w += _RAD(n_deg) * np.sqrt(g.fs_hz) * rng.standard_normal(w.shape)
-    e_p = np.abs(gyro_roll.roll_projection(w) - g.roll0_rad)
-    spike = np.max(np.where(slow, e_p, 0), axis=-1) / np.maximum(np.max(np.where(slow, 0, e_p), axis=-1), 1e-12)
-    hyb = _DEG(np.max(np.abs(gyro_roll.roll_hybrid(w, g.dt_s, osc.threshold_rad_s, roll0=g.roll0_rad)[0] - g.roll0_rad),
-                      axis=-1))
-    return spike, hyb
-
-
 def fit_gyro_error_pattern(study: GyroStudy, prior: GyroErrorPrior, seed: int, trials: int) -> ErrorModelFit:
     """Fit the z-gyro error and the noise density to the oscillation statements (Figs 11, 12); predict Fig 9.
 
@@ -465,17 +449,17 @@ def fit_gyro_error_pattern(study: GyroStudy, prior: GyroErrorPrior, seed: int, t
     prior : GyroErrorPrior
         ``accurate_deg`` (Fig 12 criterion).
     seed : int
-        RNG seed (stream key 220).
+        RNG seed (stream ``STREAM_GYRO_PATTERN``).
     trials : int
         Noise trials per grid point and per prediction.
     """
     n = positive_int(trials, "trials")
-    rng = artifact_rng(seed, 220)
+    rng = stream_rng(seed, STREAM_GYRO_PATTERN)
     bgrid, ngrid = PATTERN_BIAS_GRID_DEG_S, PATTERN_NOISE_GRID_DEG_S_RTHZ
     lik = np.empty((bgrid.size, ngrid.size))
     for i, b in enumerate(bgrid):
         for j, nd in enumerate(ngrid):
-            spike, hyb = _oscillation_claims(study, prior, b, nd, rng, n if nd > 0 else 1)
+            spike, hyb = oscillation_claims(study, b, nd, rng, n if nd > 0 else 1)
             lik[i, j] = np.mean((spike > 5.0) & (hyb < prior.accurate_deg))
     wb, wn = _trapezoid_weights(bgrid), _trapezoid_weights(ngrid)
     post = lik * wb[:, None] * wn[None, :]
@@ -500,7 +484,7 @@ def fit_gyro_error_pattern(study: GyroStudy, prior: GyroErrorPrior, seed: int, t
     n_win = int(round(g.fs_hz))  # 1 s of each rotation (the error is stationary at constant rate)
     means = np.empty((n, rates.size))
     for k, r in enumerate(rates):
-        w = _gyro_samples(_RAD(r), g.roll0_rad, np.zeros(n), _RAD(n_d), g.fs_hz, rng, (n, n_win))
+        w = gyro_samples(_RAD(r), g.roll0_rad, np.zeros(n), _RAD(n_d), g.fs_hz, rng, (n, n_win))
         w += np.array([g.error_rad_s[0], g.error_rad_s[1], 0.0])
         w[..., 2] += _RAD(b_d)[:, None]
         means[:, k] = np.mean(np.abs(gyro_roll.roll_projection(w) - g.roll0_rad), axis=-1)

@@ -21,10 +21,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from mtcal.core.sensors import SensorSpec
 from mtcal.core.validate import STANDARD_GRAVITY_M_S2, as_float_array, merge_parameters, positive_scalar
 
 __all__ = ["AccelScenario", "GyroErrors", "ProjectionSweep", "UniformRotation", "Oscillation", "GyroStudy",
-           "AccelErrorPrior", "GyroErrorPrior", "ACCEL_PARAMETER_DEFAULTS", "GYRO_PARAMETER_DEFAULTS",
+           "ACCEL_PARAMETER_DEFAULTS", "GYRO_PARAMETER_DEFAULTS",
            "PARAMETER_DEFAULTS", "accel_scenario", "gyro_study"]
 
 
@@ -141,6 +142,13 @@ class GyroErrors:
     def roll0_rad(self) -> float:
         """Initial roll (rad)."""
         return float(np.radians(self.roll0_deg))
+
+    def sensor_spec(self) -> SensorSpec:
+        """The gyro as the one SI sensor-spec type (:class:`mtcal.core.sensors.SensorSpec`, owns ``fs_hz``):
+        constant error = fixed bias, white noise; the accelerometer is not simulated in the roll runs."""
+        return SensorSpec(fs_hz=float(self.fs_hz), label="tan2022 gyro",
+                          gyro_bias_rad_s=tuple(float(v) for v in self.error_rad_s),
+                          gyro_noise_rad_s_rt_hz=self.noise_density_rad_s_rthz)
 
 
 @dataclass(frozen=True)
@@ -298,104 +306,6 @@ class GyroStudy:
     sweep: ProjectionSweep = field(default_factory=ProjectionSweep)
     uniform: UniformRotation = field(default_factory=UniformRotation)
     oscillation: Oscillation = field(default_factory=Oscillation)
-
-
-@dataclass(frozen=True)
-class AccelErrorPrior:
-    """Physical accelerometer error model beyond the paper's common-mode ΔA (one parameter).
-
-    Each axis of each triad carries ``ΔA + r ΔA ε`` with ``ε ~ N(0, 1)`` a static
-    per-axis bias drawn once per trial (one sensor set), so ``r`` is the ratio of
-    the independent (per-axis) part of the bias to the common part.
-
-    Attributes
-    ----------
-    ratio_max : float
-        Upper end of the uniform prior of ``r``, 2 (dimensionless). Source: MEMS
-        accelerometer datasheets specify the zero-g offset *per axis* with no
-        common-mode part (e.g. ADXL355 ±25 mg per axis), so ``r`` may well exceed
-        1; the paper assumes ``r = 0`` ("各个轴加速度计的输出误差相当").
-    n_grid : int
-        Points of the prior grid over ``[0, ratio_max]`` (choice).
-    asymmetry_max : float
-        The paper's Fig 2 statement "|Δθ| small for θ ≤ 0, large for θ, φ ≥ 0"
-        made testable: mean |Δθ| over (θ ≤ 0, φ ≥ 0) below this fraction of the mean
-        over (θ ≥ 0, φ ≥ 0); 0.7 (choice; common mode gives 0.43).
-    large_pitch_max : float
-        The paper's Fig 5 statement "the preset rotation suppresses the error
-        surge at large pitch" made testable: max |Δθ| over |θ| ≥ 45° with the
-        preset triads below this fraction of the plain triad's; 0.9 (choice;
-        common mode gives 0.82).
-    gain_min : float
-        The paper's Fig 8 "clear improvement" made testable: grid-RMS gain > 1.3 (choice).
-    comparable_max : float
-        The paper's assumption "the output errors of the axes are comparable"
-        (Sec 1.1, 2.1, "输出误差相当") made testable: max/min |axis error| of each
-        triad below 2 (choice: within a factor of two).
-    """
-
-    ratio_max: float = 2.0
-    n_grid: int = 41
-    asymmetry_max: float = 0.7
-    large_pitch_max: float = 0.9
-    gain_min: float = 1.3
-    comparable_max: float = 2.0
-
-    def __post_init__(self) -> None:
-        positive_scalar(self.ratio_max, "ratio_max")
-        if self.n_grid < 3:
-            raise ValueError(f"n_grid must be >= 3, got {self.n_grid}")
-
-    @property
-    def ratio_grid(self) -> np.ndarray:
-        """Prior grid of ``r`` (dimensionless)."""
-        return np.linspace(0.0, self.ratio_max, self.n_grid)
-
-
-@dataclass(frozen=True)
-class GyroErrorPrior:
-    """Physical gyro error model for the roll simulations: two fitted parameters ``b`` and ``N``.
-
-    Attributes
-    ----------
-    bias_z_max_deg_s : float
-        Upper end of the uniform prior of the constant gyro error ``b`` on every
-        axis (at φ = 0 the projection method sees the z part, Eq 14), 0.5 °/s. Source: MEMS gyro
-        bias-stability class of the paper's "MEMS 陀螺仪" (0.2 °/s stated; ≤ 0.5 °/s
-        covers consumer to industrial units, e.g. BMI088 ±1 °/s offset uncalibrated,
-        ADIS16465 0.1 °/s).
-    noise_max_deg_s_rthz : float
-        Upper end of the prior of the white-noise density, 0.01 °/s/√Hz (BMI088
-        0.014 °/s/√Hz; ADIS16465 0.0025 °/s/√Hz); 0 is the paper's noise-free simulation.
-    n_bias, n_noise : int
-        Prior grid sizes (uniform in ``b``, step 0.005 °/s; noise uniform on ``[0, max]``).
-    accurate_deg : float
-        The paper's Fig 12 statement "accurate for a long time" made testable:
-        hybrid max |roll error| below 1° over the record (choice).
-    """
-
-    bias_z_max_deg_s: float = 0.5
-    noise_max_deg_s_rthz: float = 0.01
-    n_bias: int = 101
-    n_noise: int = 6
-    accurate_deg: float = 1.0
-
-    def __post_init__(self) -> None:
-        positive_scalar(self.bias_z_max_deg_s, "bias_z_max_deg_s")
-        positive_scalar(self.noise_max_deg_s_rthz, "noise_max_deg_s_rthz")
-        positive_scalar(self.accurate_deg, "accurate_deg")
-        if self.n_bias < 3 or self.n_noise < 2:
-            raise ValueError(f"n_bias must be >= 3 and n_noise >= 2, got {self.n_bias}, {self.n_noise}")
-
-    @property
-    def bias_grid_deg_s(self) -> np.ndarray:
-        """Prior grid of ``b`` (°/s), uniform on ``[0, bias_z_max_deg_s]``."""
-        return np.linspace(0.0, self.bias_z_max_deg_s, self.n_bias)
-
-    @property
-    def noise_grid_deg_s_rthz(self) -> np.ndarray:
-        """Prior grid of the noise density (°/s/√Hz)."""
-        return np.linspace(0.0, self.noise_max_deg_s_rthz, self.n_noise)
 
 
 #: Parameters-cell defaults of notebook 20 (the paper's values; units in the names).

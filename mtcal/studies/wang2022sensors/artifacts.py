@@ -39,12 +39,14 @@ Examples
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, replace
+from dataclasses import replace
 
 import numpy as np
 import pandas as pd
 
 from mtcal.core import metrics
+from mtcal.core.artifacts import Artifact, produces
+from mtcal.core.rng import stream_rng
 from mtcal.core.rotations import axis_angle_matrix
 from mtcal.core.units import DEG, UG
 from mtcal.core.validate import STANDARD_GRAVITY_M_S2
@@ -53,8 +55,10 @@ from mtcal.reporting import compare
 from mtcal.reporting import paper_numbers as paper
 
 from . import error_model as em
+from .error_model import ErrorModelFit, error_model_priors_table, fit_error_model
 from .runs import axis_errors, run_drift, run_fig9, run_fig11, run_zvd_demo
-from .scenario import ERROR_PRIORS, AhrsImu, ImuSpec, Scenario, labels, scenario_from_parameters, table4_axes  # noqa: F401
+from .scenario import (AhrsImu, ImuValues, Scenario, labels, scenario_from_parameters,  # noqa: F401
+                       table3_reading, table4_axes)
 
 __all__ = ["Artifact", "table01_zvd", "fig06_zvd", "table02_sensors", "fig12_gravity_change", "table04_axes",
            "extra_axis_error_vs_rest", "fig09_ekf_switching", "fig11_max_error", "ErrorModelFit",
@@ -62,17 +66,16 @@ __all__ = ["Artifact", "table01_zvd", "fig06_zvd", "table02_sensors", "fig12_gra
 
 _row = compare.comparison_row
 
-
-@dataclass(frozen=True)
-class Artifact:
-    """A table (DataFrame) and/or figure data, and the comparison rows of one artifact."""
-
-    table: pd.DataFrame | None = None
-    data: dict = field(default_factory=dict)
-    rows: list = field(default_factory=list)
+# random streams of this module (mtcal.core.rng rule: key (seed, stream))
+STREAM_FIG12_BOOTSTRAP = 199
+STREAM_REST_BOOTSTRAP = 399
+STREAM_TABLE05_DRAWS = 500
+STREAM_FIG14_FITTED = 600
+STREAM_FIG14_PRIOR = 601
 
 
 # --------------------------------------------------------------------------- notebook 30
+@produces("wang2022sensors_table01", "table", "Table 1")
 def table01_zvd(sc: Scenario) -> Artifact:
     """Table 1 (ZVD thresholds) as used, with the window and duration in samples at ``fs_hz``."""
     z, fs = sc.rig.zvd, sc.imu.fs_hz
@@ -90,9 +93,10 @@ def table01_zvd(sc: Scenario) -> Artifact:
                  "a variance over t_w needs >= 2 samples", bool(n_raw >= 2), role="erratum", source="mtcal finding"),
             _row("wang2022sensors_table01", "thresholds used = Table 1", "Table 1", str(same),
                  "", None, role="finding", source="mtcal finding")]
-    return Artifact(t, {}, rows)
+    return Artifact(t, rows, {})
 
 
+@produces("wang2022sensors_fig06", "figure", "Fig. 6")
 def fig06_zvd(sc: Scenario, trials: int, seed: int) -> Artifact:
     """Fig. 6: ZVD on a rotate/hold record with the rig's moves and lever arm, with / without the gyro
     condition; per-trial false-static and missed-rest shares."""
@@ -111,16 +115,17 @@ def fig06_zvd(sc: Scenario, trials: int, seed: int) -> Artifact:
             _row("wang2022sensors_fig06", "rest samples missed, Table 1 ZVD", "n/a", float(miss["median"]),
                  "fewer than 5 % of rest samples missed", bool(miss["high"] < 0.05), band=miss, role="finding",
                  source="mtcal finding")]
-    return Artifact(None, {"demo": d, "fp_table1": fp1, "fp_gyro": fpg, "missed": miss, "labels": labels(sc)}, rows)
+    return Artifact(None, rows, {"demo": d, "fp_table1": fp1, "fp_gyro": fpg, "missed": miss, "labels": labels(sc)})
 
 
+@produces("wang2022sensors_table02", "table", "Tables 2, 3")
 def table02_sensors(sc: Scenario) -> Artifact:
     """Table 2 + the simulated IMU, with the derived static angle noise of an accelerometer-only
     reading, σθ = N √fs / g per sample and N / g for a 1 s mean (deg)."""
     fs = sc.imu.fs_hz
     t2 = paper.load("wang2022sensors_table02_accel_noise_prices").drop(columns="extracted_cell_text")
     t2 = pd.concat([t2, pd.DataFrame({"ic": [f"simulated ({sc.sensor_grade})"],
-                                      "accel_noise_density_ug_per_sqrt_hz": [sc.imu.accel_noise_ug_rt_hz],
+                                      "accel_noise_density_ug_per_sqrt_hz": [sc.imu.accel_noise_m_s2_rt_hz / UG],
                                       "unit_price_usd": [np.nan]})], ignore_index=True)
     n = t2.accel_noise_density_ug_per_sqrt_hz.astype(float) * UG
     t2[f"sigma_theta_per_sample_{fs:.0f}hz_deg"] = np.degrees(n * np.sqrt(fs) / STANDARD_GRAVITY_M_S2)
@@ -129,9 +134,10 @@ def table02_sensors(sc: Scenario) -> Artifact:
     cost = float(price["ADXL355"] + price["BMI088"])
     rows = [_row("wang2022sensors_table02", "ADXL355 + BMI088 cost (USD)", "< 100", cost,
                  "sensor cost under USD 100", cost < 100, role="erratum")]
-    return Artifact(t2, {}, rows)
+    return Artifact(t2, rows, {})
 
 
+@produces("wang2022sensors_fig12", "figure", "Fig. 12")
 def fig12_gravity_change(sc: Scenario, trials: int, seed: int, n_boot: int) -> Artifact:
     """Fig. 12: ‖g1 − g0‖ vs axis elevation γ (g1 = R(30°, v)ᵀ g0; exact and by rotation matrices), and
     the Monte Carlo axis-estimate error vs γ beside the first-order formula (1 s rests)."""
@@ -152,7 +158,7 @@ def fig12_gravity_change(sc: Scenario, trials: int, seed: int, n_boot: int) -> A
     bands = [metrics.percentile_band(e) for e in errs]
     sig_mean = imu.accel_noise_per_sample_m_s2 / np.sqrt(imu.fs_hz)
     pred = np.degrees(axis_mod.axis_error_std(sig_mean, np.radians(gam_mc), np.radians([0.0, 90.0, 180.0])))
-    boot = metrics.bootstrap_medians([errs[0], errs[3]], np.random.default_rng([seed, 199]), n_boot)
+    boot = metrics.bootstrap_medians([errs[0], errs[3]], stream_rng(seed, STREAM_FIG12_BOOTSTRAP), n_boot)
     r_band = metrics.percentile_band(boot[:, 1] / boot[:, 0])
     r_med = float(bands[3]["median"] / bands[0]["median"])
     rows = [_row("wang2022sensors_fig12", "||g1-g0|| ratio gamma = 60/0 deg", 0.5, ratio,
@@ -167,9 +173,10 @@ def fig12_gravity_change(sc: Scenario, trials: int, seed: int, n_boot: int) -> A
             "mc_median": np.array([b["median"] for b in bands]), "mc_low": np.array([b["low"] for b in bands]),
             "mc_high": np.array([b["high"] for b in bands]), "formula_median": pred * np.sqrt(np.log(2.0)),
             "ratio": ratio, "labels": labels(sc)}
-    return Artifact(None, data, rows)
+    return Artifact(None, rows, data)
 
 
+@produces("wang2022sensors_table04", "table", "Table 4")
 def table04_axes(sc: Scenario, trials: int, seed: int) -> Artifact:
     """Table 4: Eq 23 axis estimates (three 2 s rests) for the Table 4 axes used as true axes, and how
     often an estimate printed to 4 decimals equals the true (whole-degree) vector exactly (all three
@@ -197,15 +204,16 @@ def table04_axes(sc: Scenario, trials: int, seed: int) -> Artifact:
     rows.append(_row("wang2022sensors_table04", "chance that all three printed estimates equal whole-degree vectors",
                      "all three do", p_all, "exact whole-degree prints are no evidence of nominal values (p > 0.05)",
                      p_all > 0.05, role="finding", source="mtcal finding"))
-    return Artifact(t4, {"p_all_exact": p_all}, rows)
+    return Artifact(t4, rows, {"p_all_exact": p_all})
 
 
+@produces("wang2022sensors_extra_axis_error_vs_rest", "figure")
 def extra_axis_error_vs_rest(sc: Scenario, trials: int, seed: int, n_boot: int,
                              rest_s=(0.25, 0.5, 1.0, 2.0, 4.0)) -> Artifact:
     """Beyond the paper: axis error vs rest duration (Fig. 11 axis), ZVD rests with the Table 3 walks vs
     true rests with white noise only, and the 1/√t formula; log-log slopes with bootstrap bands."""
     imu, rig = sc.imu.resolve(), sc.rig.resolve()
-    white = replace(sc.imu, random_walk_interpretation="none").resolve()
+    white = table3_reading(sc.imu, "none").resolve()
     rest = np.asarray(rest_s, float)
     e_zvd = [axis_errors(sc.fig11_axis, imu, rig, trials, seed, 300 + k, rest_s=float(r))[0]
              for k, r in enumerate(rest)]
@@ -214,7 +222,7 @@ def extra_axis_error_vs_rest(sc: Scenario, trials: int, seed: int, n_boot: int,
     v = np.asarray(sc.fig11_axis) / np.linalg.norm(sc.fig11_axis)
     pred = np.degrees(axis_mod.axis_error_std(imu.accel_noise_per_sample_m_s2 / np.sqrt(imu.fs_hz),
                                               np.arcsin(v[2]), np.radians([0.0, 90.0, 180.0]))) / np.sqrt(rest)
-    rng = np.random.default_rng([seed, 399])
+    rng = stream_rng(seed, STREAM_REST_BOOTSTRAP)
     slopes = {k: np.polyfit(np.log(rest), np.log(metrics.bootstrap_medians(e, rng, n_boot).T), 1)[0]
               for k, e in (("white", e_wh), ("zvd", e_zvd))}
     med_w = np.array([np.median(e) for e in e_wh])
@@ -236,10 +244,11 @@ def extra_axis_error_vs_rest(sc: Scenario, trials: int, seed: int, n_boot: int,
             "zvd_high": np.array([b["high"] for b in bands]), "white_median": med_w,
             "formula_median": pred * np.sqrt(np.log(2.0)), "slope_white": s_w, "slope_zvd": s_z,
             "labels": labels(sc)}
-    return Artifact(None, data, rows)
+    return Artifact(None, rows, data)
 
 
 # --------------------------------------------------------------------------- notebook 31
+@produces("wang2022sensors_fig09", "figure", "Fig. 9")
 def fig09_ekf_switching(sc: Scenario, trials: int, seed: int) -> Artifact:
     """Fig. 9: EKF with vs without ZVD covariance switching (0–1 s still, 1–2 s 60° move, 2–3 s still)."""
     r = run_fig9(sc.fig11_axis, sc.imu.resolve(), sc.rig.resolve(), trials, seed)
@@ -252,10 +261,11 @@ def fig09_ekf_switching(sc: Scenario, trials: int, seed: int) -> Artifact:
             _row("wang2022sensors_fig09", "last 0.5 s still: max |error| with ZVD (deg)", "figure",
                  float(end["median"]), "back at rest (97.5 % < 0.05)", bool(end["high"] < 0.05), band=end,
                  role="finding", source="mtcal finding")]
-    return Artifact(None, {"run": r, "labels": labels(sc)}, rows)
+    return Artifact(None, rows, {"run": r, "labels": labels(sc)})
 
 
-def fig11_max_error(sc: Scenario, reps: int, seed: int, *, imu: ImuSpec | None = None) -> Artifact:
+@produces("wang2022sensors_fig11", "figure", "Fig. 11")
+def fig11_max_error(sc: Scenario, reps: int, seed: int, *, imu: ImuValues | None = None) -> Artifact:
     """Fig. 11 (Sec. 5 simulation, Table 3 IMU, no lever arm): per-angle max error over 1000 samples,
     proposed vs ref. [16]; median and 95 % band over repetitions."""
     im = (sc.imu if imu is None else imu).resolve()
@@ -274,18 +284,19 @@ def fig11_max_error(sc: Scenario, reps: int, seed: int, *, imu: ImuSpec | None =
                  float(med_16["median"]), "", None, band=med_16, role="finding", source="mtcal finding"),
             _row("wang2022sensors_fig11", "proposed: worst per-angle max error (deg)", "figure",
                  float(worst["median"]), "", None, band=worst, role="finding", source="mtcal finding")]
-    return Artifact(None, {"result": f, "rams": metrics.percentile_band(f.max_err_rams, axis=0),
-                           "ref16": metrics.percentile_band(f.max_err_ref16, axis=0), "labels": labels(sc)}, rows)
+    return Artifact(None, rows, {"result": f, "rams": metrics.percentile_band(f.max_err_rams, axis=0),
+                                 "ref16": metrics.percentile_band(f.max_err_ref16, axis=0), "labels": labels(sc)})
 
 
+@produces("wang2022sensors_extra_table3_sensitivity", "table")
 def extra_table3_sensitivity(sc: Scenario, reps: int, seed: int) -> Artifact:
     """Fig. 11 set-up (15° steps), proposed method, under the readings of Table 3's ambiguous rows:
     random walks as u·√Hz (default), as a per-sample step (× √fs), off; and Table 3's 50 mg
     accelerometer bias applied literally (no ref. [30] calibration; Eq 28 is then off by (I − Rᵀ) b)."""
     variants = {"RW as u*sqrt(Hz) (default)": sc.imu,
-                "RW as per-sample step": replace(sc.imu, random_walk_interpretation="per_sample"),
-                "RW off": replace(sc.imu, random_walk_interpretation="none"),
-                "50 mg bias uncompensated": replace(sc.imu, accel_bias_compensated=False)}
+                "RW as per-sample step": table3_reading(sc.imu, "per_sample"),
+                "RW off": table3_reading(sc.imu, "none"),
+                "50 mg bias uncompensated": table3_reading(sc.imu, accel_bias_compensated=False)}
     recs = []
     for k, (lab, im) in enumerate(variants.items()):
         f = run_fig11(sc.fig11_axis, im.resolve(), sc.rig.zvd, reps, seed + 1000 * k, step_deg=15.0)
@@ -297,36 +308,7 @@ def extra_table3_sensitivity(sc: Scenario, reps: int, seed: int) -> Artifact:
     rows = [_row("wang2022sensors_extra_table3_sensitivity", "50 mg uncompensated / calibrated: median max error",
                  "n/a", ratio, "Eq 28 needs the ref. [30] calibration (ratio > 10)", ratio > 10, role="finding",
                  source="mtcal finding")]
-    return Artifact(t, {"ratio": ratio}, rows)
-
-
-@dataclass(frozen=True)
-class ErrorModelFit:
-    """The grid Monte Carlo, posterior and prior weights, and the fitted parameter table."""
-
-    grid: em.GridRun
-    posterior: np.ndarray
-    prior: np.ndarray
-    parameters: pd.DataFrame
-
-    def map_parameters(self) -> dict:
-        """MAP values in parameters-cell names (lever arm, move acceleration, latency)."""
-        p = self.parameters.set_index("parameter")["map"]
-        return {"lever_arm_m": float(p["lever_arm_m"]), "move_accel_deg_s2": float(p["move_accel_deg_s2"]),
-                "latency_s": float(p["latency_s"]) / 1e3}
-
-
-def fit_error_model(sc: Scenario, reps: int, seed: int, grid: dict | None = None) -> ErrorModelFit:
-    """Run the grid Monte Carlo and fit the error model to :data:`~.error_model.TRAINING` (see there)."""
-    g = em.run_grid(sc, reps, seed, grid=grid)
-    post = em.posterior_weights(g)
-    return ErrorModelFit(g, post, em.prior_weights(g), em.parameter_summary(g, post))
-
-
-def error_model_priors_table() -> pd.DataFrame:
-    """The hardware error sources: prior range, unit, fitted or held, and the source of the range."""
-    return pd.DataFrame([{"parameter": k, "low": v["low"], "high": v["high"], "unit": v["unit"],
-                          "fitted": v["fitted"], "source": v["source"]} for k, v in ERROR_PRIORS.items()])
+    return Artifact(t, rows, {"ratio": ratio})
 
 
 def outside_reasons(sc: Scenario, fit: ErrorModelFit, seed: int, n_draws: int = 4000) -> str:
@@ -363,6 +345,7 @@ def outside_reasons(sc: Scenario, fit: ErrorModelFit, seed: int, n_draws: int = 
     return "\n".join(lines)
 
 
+@produces("wang2022sensors_extra_error_model", "table")
 def extra_error_model(fit: ErrorModelFit) -> Artifact:
     """The identified error model: fitted parameters (posterior mean ± sd, 95 %, MAP) beside the priors,
     and how much of the RAMS dynamic RMSE is latency (the MAP rig with and without it)."""
@@ -391,8 +374,8 @@ def extra_error_model(fit: ErrorModelFit) -> Artifact:
                          f"RAMS static RMSE at the MAP lever arm with {slow:g} deg/s^2 moves (deg)", "0.0118-0.0182",
                          by_acc[slow], f"gentler stops let the ZVD flag move ends: above the {acc:g} deg/s^2 value",
                          bool(by_acc[slow] > by_acc[float(acc)]), role="finding", source="mtcal finding"))
-    return Artifact(t, {"dynamic_without_latency_deg": no_lat, "dynamic_with_latency_deg": with_lat,
-                        "static_by_accel_deg": by_acc}, rows)
+    return Artifact(t, rows, {"dynamic_without_latency_deg": no_lat, "dynamic_with_latency_deg": with_lat,
+                              "static_by_accel_deg": by_acc})
 
 
 _T5_CLAIMS = {("RAMS", "static"): ("RAMS static RMSE < 0.02 deg", lambda x: x < 0.02),
@@ -403,11 +386,12 @@ _T5_CLAIMS = {("RAMS", "static"): ("RAMS static RMSE < 0.02 deg", lambda x: x < 
               ("AHRS stand-in", "dynamic"): ("", None)}
 
 
+@produces("wang2022sensors_table05", "table", "Table 5")
 def table05_rmse(fit: ErrorModelFit, seed: int, n_draws: int = 4000) -> Artifact:
     """Table 5: every printed RMSE beside the fitted model's and the prior-only model's predictive
     median and 95 % band; ``role`` fitted (training subset) or predicted (held out)."""
     pv = em.paper_table5()
-    rng = np.random.default_rng([seed, 500])
+    rng = stream_rng(seed, STREAM_TABLE05_DRAWS)
     recs, rows = [], []
     draws = {}
     for key in em.TRAINING + em.HELD_OUT:
@@ -441,9 +425,10 @@ def table05_rmse(fit: ErrorModelFit, seed: int, n_draws: int = 4000) -> Artifact
     width = np.log(pred.fitted_high / pred.fitted_low) / np.log(pred.prior_high / pred.prior_low)
     summary = {"fitted_inside": int(pred.paper_in_fitted.sum()), "prior_inside": int(pred.paper_in_prior.sum()),
                "n_predicted": len(pred), "band_width_ratio": float(np.median(width))}
-    return Artifact(t5, {"summary": summary}, rows)
+    return Artifact(t5, rows, {"summary": summary})
 
 
+@produces("wang2022sensors_fig13", "figure", "Fig. 13")
 def fig13_drift(sc: Scenario, fit: ErrorModelFit | None, trials: int, seed: int, run_s: float,
                 stand_s: float = 60.0) -> Artifact:
     """Fig. 13: 1 min standing still after ``run_s`` of moves, RAMS vs the AHRS stand-in, at the fitted
@@ -465,9 +450,10 @@ def fig13_drift(sc: Scenario, fit: ErrorModelFit | None, trials: int, seed: int,
             _row("wang2022sensors_fig13", "1-min drift AHRS stand-in (deg)", "shifts", float(b_a["median"]),
                  "AHRS drifts more than RAMS (median > 3 x RAMS max)", bool(b_a["median"] > 3 * d_r.max()),
                  band=b_a)]
-    return Artifact(None, {"run": d, "labels": labels(sc2)}, rows)
+    return Artifact(None, rows, {"run": d, "labels": labels(sc2)})
 
 
+@produces("wang2022sensors_fig14", "figure", "Fig. 14")
 def fig14_max_error_per_angle(fit: ErrorModelFit, seed: int, n_draws: int = 4000) -> Artifact:
     """Fig. 14: RAMS max |error| per sweep angle (settled half of each 1 s hold), posterior-predictive
     median and 95 % band per angle, and one experiment's worst angle (predicted vs the paper's 0.05°)."""
@@ -477,13 +463,13 @@ def fig14_max_error_per_angle(fit: ErrorModelFit, seed: int, n_draws: int = 4000
     w = np.repeat(wc[:, None, None], per.shape[1] * per.shape[2], axis=1).reshape(-1) / (per.shape[1] * per.shape[2])
     flat = per.reshape(-1, per.shape[-1])
     q = np.array([em.weighted_quantile(flat[:, h], w, [0.025, 0.5, 0.975]) for h in range(flat.shape[1])])
-    exp = em.fig14_samples(g, fit.posterior, np.random.default_rng([seed, 600]), n_draws)
-    exp_prior = em.fig14_samples(g, fit.prior, np.random.default_rng([seed, 601]), n_draws)
+    exp = em.fig14_samples(g, fit.posterior, stream_rng(seed, STREAM_FIG14_FITTED), n_draws)
+    exp_prior = em.fig14_samples(g, fit.prior, stream_rng(seed, STREAM_FIG14_PRIOR), n_draws)
     b, bp = metrics.percentile_band(exp), metrics.percentile_band(exp_prior)
     rows = [_row("wang2022sensors_fig14", "one experiment's largest per-angle max error (deg), fitted model",
                  "< 0.05", float(b["median"]), "max error per angle < 0.05 deg (median experiment)",
                  bool(b["median"] < 0.05), band=b),
             _row("wang2022sensors_fig14", "same, prior-only model (deg)", "< 0.05", float(bp["median"]),
                  "", None, band=bp, role="finding", source="mtcal finding")]
-    return Artifact(None, {"angle_deg": g.hold_angle_deg, "low": q[:, 0], "median": q[:, 1], "high": q[:, 2],
-                           "experiment": b}, rows)
+    return Artifact(None, rows, {"angle_deg": g.hold_angle_deg, "low": q[:, 0], "median": q[:, 1],
+                                 "high": q[:, 2], "experiment": b})

@@ -6,11 +6,13 @@ choice, with the reason). The paper does not state the sample rate, the lever
 arm, the turntable rates/accelerations, the sensor-to-reference latency or the
 accelerometer bias left after the ref. [30] calibration; those are mtcal
 choices — the ones the paper's Table 5 constrains are *identified* in
-:mod:`mtcal.studies.wang2022sensors.error_model` (their prior ranges are in
-:data:`ERROR_PRIORS`).
+:mod:`mtcal.studies.wang2022sensors.error_model` (their prior ranges are its
+:data:`~.error_model.ERROR_PRIORS`).
 
-A scenario is resolved once, at the top of a run, into plain SI values
-(:class:`ImuValues`, :class:`RigValues`); the runs never re-open the dataclasses.
+The IMU is the one sensor-spec type (:class:`mtcal.core.sensors.SensorSpec`, SI values, owns
+the sample rate), built from Table 3 by :func:`table3_imu` (or from a sensor grade by
+:func:`imu_from_grade`). A scenario is resolved once, at the top of a run, into plain SI values
+(the spec itself, :class:`RigValues`); the runs never re-open the dataclasses.
 
 Table 3 random-walk rows: the extracted units are ambiguous (paper-data README
 item 4). mtcal's default reads them like MATLAB ``imuSensor``'s ``RandomWalk``
@@ -36,22 +38,22 @@ ValueError: fs_hz must be > 0 (Hz), got -1.0
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
 from mtcal.core import rotations
 from mtcal.core.sensor_grades import grade_names, sensor_grade
-from mtcal.core.simulate import ImuErrorModel, SensorErrors
+from mtcal.core.sensors import SensorSpec
 from mtcal.core.units import DEG, MG, UG
 from mtcal.core.validate import STANDARD_GRAVITY_M_S2, choice, merge_parameters
 from mtcal.filters.rams_ekf import RamsEkfParams
 from mtcal.methods.zero_velocity import ZvdParams
 from mtcal.reporting import paper_numbers
 
-__all__ = ["PAPER_AXIS_FIG11", "table4_axes", "ImuSpec", "ImuValues", "AhrsImu", "RigSetup", "RigValues",
-           "ERROR_PRIORS", "Scenario", "PARAMETER_DEFAULTS", "scenario_from_parameters", "labels",
-           "lever_arm_vector", "gravity0", "table1_zvd_params"]
+__all__ = ["PAPER_AXIS_FIG11", "table4_axes", "ImuSpec", "ImuValues", "table3_imu", "table3_reading", "imu_from_grade",
+           "rams_ekf_params", "AhrsImu", "RigSetup", "RigValues", "Scenario", "PARAMETER_DEFAULTS",
+           "scenario_from_parameters", "labels", "lever_arm_vector", "gravity0", "table1_zvd_params"]
 
 #: Fig. 11 simulation axis (Sec. 5), signs as extracted (v_x ≥ 0 by convention).
 PAPER_AXIS_FIG11 = (0.1734, 0.9835, 0.0523)
@@ -93,40 +95,38 @@ def table4_axes() -> dict[str, np.ndarray]:
     return out
 
 
+def rams_ekf_params(imu: SensorSpec, sigma_a_moving_m_s2: float = 5.0) -> RamsEkfParams:
+    """EKF noise matched to an IMU spec: σθ = gyro noise per sample, σb = K/√Δt (K = gyro bias random
+    walk, floor 1e-7), V_z = accel noise per sample, V (moving) = 5 m/s² (mtcal: several times the
+    lever-arm accelerations)."""
+    k = max(imu.gyro_rw_rad_s_rt_s, 1e-7)
+    return RamsEkfParams(sigma_theta_rad_s=imu.gyro_noise_per_sample_rad_s,
+                         sigma_b_rad_s2=k / np.sqrt(imu.dt_s),
+                         sigma_a_static_m_s2=imu.accel_noise_per_sample_m_s2,
+                         sigma_a_moving_m_s2=sigma_a_moving_m_s2,
+                         p0_theta_rad2=1e-8, p0_bias_rad2_s2=(0.01 * DEG) ** 2)
+
+
 @dataclass(frozen=True)
-class ImuValues:
-    """A resolved IMU in plain SI values (what the runs use; no further look-ups)."""
-
-    fs_hz: float
-    dt_s: float
-    gyro_noise_rad_s_rt_hz: float
-    gyro_bias_rad_s: tuple
-    gyro_rw_rad_s_rt_s: float
-    gyro_scale_factor: float
-    accel_noise_m_s2_rt_hz: float
-    accel_bias_m_s2: tuple
-    accel_bias_sigma_m_s2: float
-    accel_rw_m_s2_rt_s: float
-
-    @property
-    def accel_noise_per_sample_m_s2(self) -> float:
-        """Accelerometer white-noise std per sample (m/s²) = N √fs."""
-        return self.accel_noise_m_s2_rt_hz * np.sqrt(self.fs_hz)
+class ImuValues(SensorSpec):
+    """A wang2022sensors IMU: the one sensor-spec type (:class:`mtcal.core.sensors.SensorSpec`, SI
+    values, owns the sample rate) plus the RAMS EKF tuning the runs derive from it."""
 
     def ekf_params(self, sigma_a_moving_m_s2: float = 5.0) -> RamsEkfParams:
-        """EKF noise matched to this IMU: σθ = gyro noise per sample, σb = K/√Δt, V_z = accel
-        noise per sample, V (moving) = 5 m/s² (mtcal: several times the lever-arm accelerations)."""
-        k = max(self.gyro_rw_rad_s_rt_s, 1e-7)
-        return RamsEkfParams(sigma_theta_rad_s=self.gyro_noise_rad_s_rt_hz * np.sqrt(self.fs_hz),
-                             sigma_b_rad_s2=k / np.sqrt(self.dt_s),
-                             sigma_a_static_m_s2=self.accel_noise_per_sample_m_s2,
-                             sigma_a_moving_m_s2=sigma_a_moving_m_s2,
-                             p0_theta_rad2=1e-8, p0_bias_rad2_s2=(0.01 * DEG) ** 2)
+        """:func:`rams_ekf_params` of this spec."""
+        return rams_ekf_params(self, sigma_a_moving_m_s2)
 
 
-@dataclass(frozen=True)
-class ImuSpec:
-    """The wang2022sensors IMU (Table 3) in datasheet units, plus the choices needed to run it.
+_RW_SCALE = {"sqrt_hz": lambda fs: 1.0, "per_sample": np.sqrt, "none": lambda fs: 0.0}
+
+
+def table3_imu(*, accel_noise_ug_rt_hz: float = 50.0, accel_random_walk: float = 10.0,
+               accel_bias_residual_mg: float = 0.1, gyro_bias_deg_s: float = 0.7,
+               gyro_noise_deg_s_rt_hz: float = 0.02, gyro_random_walk: float = 0.014,
+               gyro_scale_factor_ppm: float = 1000.0, random_walk_interpretation: str = "sqrt_hz",
+               accel_bias_compensated: bool = True, accel_bias_mg: float = 50.0, fs_hz: float = 200.0,
+               label: str = "wang2022sensors Table 3") -> ImuValues:
+    """The wang2022sensors IMU (Table 3), read from its datasheet units into the SI spec.
 
     Parameters
     ----------
@@ -150,82 +150,87 @@ class ImuSpec:
     accel_bias_compensated : bool
         mtcal: True (Sec. 4 calibrates with ref. [30]); False applies Table 3's 50 mg
         literally as [+, −, +]/√3 (Eq 28 assumes no bias: shown as a sensitivity).
+    accel_bias_mg : float
+        Table 3: 50 mg uncalibrated bias.
     fs_hz : float
         mtcal: 200 Hz (not stated; a BMI088 gyro output rate).
+
+    Returns
+    -------
+    ImuValues
+        SI spec (rad/s, m/s², Hz).
+
+    Examples
+    --------
+    >>> v = table3_imu()
+    >>> v.fs_hz, round(v.gyro_bias_rad_s[1], 6)
+    (200.0, -0.012217)
+    >>> table3_imu(random_walk_interpretation="x")
+    Traceback (most recent call last):
+    ...
+    ValueError: random_walk_interpretation must be 'sqrt_hz', 'per_sample' or 'none', got 'x'
     """
+    if random_walk_interpretation not in _RW_SCALE:
+        raise ValueError("random_walk_interpretation must be 'sqrt_hz', 'per_sample' or 'none', "
+                         f"got {random_walk_interpretation!r}")
+    if not isinstance(accel_bias_compensated, bool):
+        raise TypeError(f"accel_bias_compensated must be a bool, got {accel_bias_compensated!r}")
+    values = dict(accel_noise_ug_rt_hz=accel_noise_ug_rt_hz, accel_random_walk=accel_random_walk,
+                  accel_bias_residual_mg=accel_bias_residual_mg, gyro_bias_deg_s=gyro_bias_deg_s,
+                  gyro_noise_deg_s_rt_hz=gyro_noise_deg_s_rt_hz, gyro_random_walk=gyro_random_walk,
+                  gyro_scale_factor_ppm=gyro_scale_factor_ppm, accel_bias_mg=accel_bias_mg, fs_hz=fs_hz)
+    for name, v in values.items():
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not np.isfinite(v) or v < 0:
+            raise ValueError(f"{name} must be a finite value >= 0, got {v!r}")
+    if fs_hz <= 0:
+        raise ValueError(f"fs_hz must be > 0 (Hz), got {fs_hz!r}")
+    rw = _RW_SCALE[random_walk_interpretation](fs_hz)
+    pattern = np.array([1.0, -1.0, 1.0])
+    return ImuValues(fs_hz=float(fs_hz), label=label,
+                     gyro_noise_rad_s_rt_hz=gyro_noise_deg_s_rt_hz * DEG,
+                     gyro_bias_rad_s=tuple(gyro_bias_deg_s * DEG * pattern),
+                     gyro_rw_rad_s_rt_s=gyro_random_walk * DEG * rw,
+                     gyro_scale_factor=gyro_scale_factor_ppm * 1e-6,
+                     accel_noise_m_s2_rt_hz=accel_noise_ug_rt_hz * UG,
+                     accel_bias_m_s2=(0.0, 0.0, 0.0) if accel_bias_compensated else
+                     tuple(accel_bias_mg * MG * pattern / np.sqrt(3.0)),
+                     accel_bias_sigma_m_s2=accel_bias_residual_mg * MG if accel_bias_compensated else 0.0,
+                     accel_rw_m_s2_rt_s=accel_random_walk * UG * rw, time_since_power_on_s=0.0)
 
-    accel_noise_ug_rt_hz: float = 50.0
-    accel_random_walk: float = 10.0
-    accel_bias_residual_mg: float = 0.1
-    gyro_bias_deg_s: float = 0.7
-    gyro_noise_deg_s_rt_hz: float = 0.02
-    gyro_random_walk: float = 0.014
-    gyro_scale_factor_ppm: float = 1000.0
-    random_walk_interpretation: str = "sqrt_hz"
-    accel_bias_compensated: bool = True
-    accel_bias_mg: float = 50.0
-    fs_hz: float = 200.0
 
-    def __post_init__(self) -> None:
-        if self.random_walk_interpretation not in ("sqrt_hz", "per_sample", "none"):
-            raise ValueError("random_walk_interpretation must be 'sqrt_hz', 'per_sample' or 'none', "
-                             f"got {self.random_walk_interpretation!r}")
-        if not isinstance(self.accel_bias_compensated, bool):
-            raise TypeError(f"accel_bias_compensated must be a bool, got {self.accel_bias_compensated!r}")
-        for f in fields(self):
-            v = getattr(self, f.name)
-            if f.name in ("random_walk_interpretation", "accel_bias_compensated"):
-                continue
-            if not np.isfinite(v) or v < 0:
-                raise ValueError(f"{f.name} must be a finite value >= 0, got {v!r}")
-        if self.fs_hz <= 0:
-            raise ValueError(f"fs_hz must be > 0 (Hz), got {self.fs_hz!r}")
+def table3_reading(imu: ImuValues, random_walk_interpretation: str = "sqrt_hz",
+                   accel_bias_compensated: bool = True, accel_bias_mg: float = 50.0) -> ImuValues:
+    """``imu`` (built with the default ``"sqrt_hz"`` reading) under another reading of Table 3's
+    ambiguous rows: random walks × √fs (``"per_sample"``) or off (``"none"``); the 50 mg
+    accelerometer bias applied literally as [+, −, +]/√3 when not compensated."""
+    if random_walk_interpretation not in _RW_SCALE:
+        raise ValueError("random_walk_interpretation must be 'sqrt_hz', 'per_sample' or 'none', "
+                         f"got {random_walk_interpretation!r}")
+    k = _RW_SCALE[random_walk_interpretation](imu.fs_hz)
+    out = replace(imu, gyro_rw_rad_s_rt_s=imu.gyro_rw_rad_s_rt_s * k, accel_rw_m_s2_rt_s=imu.accel_rw_m_s2_rt_s * k)
+    if not accel_bias_compensated:
+        out = replace(out, accel_bias_m_s2=tuple(accel_bias_mg * MG * np.array([1.0, -1.0, 1.0]) / np.sqrt(3.0)),
+                      accel_bias_sigma_m_s2=0.0)
+    return out
 
-    @classmethod
-    def from_grade(cls, name: str, fs_hz: float = 200.0) -> "ImuSpec":
-        """An IMU from :mod:`mtcal.core.sensor_grades` (white noise and turn-on biases; the
-        Table 3 random-walk rows only for the ``"wang2022sensors"`` grade)."""
-        choice("sensor_grade", name, grade_names())
-        g = sensor_grade(name)
-        rw = name == "wang2022sensors"
-        return cls(accel_noise_ug_rt_hz=g.accel_noise_ug_rt_hz, accel_random_walk=10.0 if rw else 0.0,
-                   accel_bias_residual_mg=g.accel_bias_repeatability_mg,
-                   gyro_bias_deg_s=g.gyro_bias_repeatability_deg_h / 3600.0,
-                   gyro_noise_deg_s_rt_hz=g.gyro_arw_deg_rt_h / 60.0, gyro_random_walk=0.014 if rw else 0.0,
-                   gyro_scale_factor_ppm=1000.0 if rw else g.gyro_scale_factor_ppm, fs_hz=fs_hz)
 
-    @property
-    def dt_s(self) -> float:
-        """Sample interval (s) = 1 / fs_hz."""
-        return 1.0 / self.fs_hz
+def imu_from_grade(name: str, fs_hz: float = 200.0) -> ImuValues:
+    """An IMU from :mod:`mtcal.core.sensor_grades` (white noise and turn-on biases, applied as the
+    fixed [+, −, +] gyro bias of Table 3; the Table 3 random-walk rows only for the
+    ``"wang2022sensors"`` grade)."""
+    choice("sensor_grade", name, grade_names())
+    g = sensor_grade(name)
+    rw = name == "wang2022sensors"
+    return table3_imu(accel_noise_ug_rt_hz=g.accel_noise_ug_rt_hz, accel_random_walk=10.0 if rw else 0.0,
+                      accel_bias_residual_mg=g.accel_bias_repeatability_mg,
+                      gyro_bias_deg_s=g.gyro_bias_repeatability_deg_h / 3600.0,
+                      gyro_noise_deg_s_rt_hz=g.gyro_arw_deg_rt_h / 60.0, gyro_random_walk=0.014 if rw else 0.0,
+                      gyro_scale_factor_ppm=1000.0 if rw else g.gyro_scale_factor_ppm, fs_hz=fs_hz, label=name)
 
-    def error_model(self) -> ImuErrorModel:
-        """The :class:`~mtcal.core.simulate.ImuErrorModel` (SI) for the single-record API
-        (:func:`~.runs.simulate_rotation`); the study's runs use :meth:`resolve`."""
-        v = self.resolve()
-        accel = SensorErrors(bias_sigma=v.accel_bias_sigma_m_s2, noise_density=v.accel_noise_m_s2_rt_hz,
-                             bias_random_walk=v.accel_rw_m_s2_rt_s)
-        gyro = SensorErrors(bias=v.gyro_bias_rad_s, noise_density=v.gyro_noise_rad_s_rt_hz,
-                            bias_random_walk=v.gyro_rw_rad_s_rt_s)
-        return ImuErrorModel(gyro=gyro, accel=accel)
 
-    def ekf_params(self) -> RamsEkfParams:
-        """EKF noise matched to this IMU (:meth:`ImuValues.ekf_params`)."""
-        return self.resolve().ekf_params()
-
-    def resolve(self) -> ImuValues:
-        """Plain SI values (resolve once, at the top of a run)."""
-        rw = {"sqrt_hz": 1.0, "per_sample": np.sqrt(self.fs_hz), "none": 0.0}[self.random_walk_interpretation]
-        return ImuValues(fs_hz=float(self.fs_hz), dt_s=1.0 / self.fs_hz,
-                         gyro_noise_rad_s_rt_hz=self.gyro_noise_deg_s_rt_hz * DEG,
-                         gyro_bias_rad_s=tuple(self.gyro_bias_deg_s * DEG * np.array([1.0, -1.0, 1.0])),
-                         gyro_rw_rad_s_rt_s=self.gyro_random_walk * DEG * rw,
-                         gyro_scale_factor=self.gyro_scale_factor_ppm * 1e-6,
-                         accel_noise_m_s2_rt_hz=self.accel_noise_ug_rt_hz * UG,
-                         accel_bias_m_s2=(0.0, 0.0, 0.0) if self.accel_bias_compensated else
-                         tuple(self.accel_bias_mg * MG * np.array([1.0, -1.0, 1.0]) / np.sqrt(3.0)),
-                         accel_bias_sigma_m_s2=self.accel_bias_residual_mg * MG if self.accel_bias_compensated else 0.0,
-                         accel_rw_m_s2_rt_s=self.accel_random_walk * UG * rw)
+#: Historical name of the Table 3 IMU builder (``ImuSpec()`` = Table 3 at 200 Hz, an SI
+#: :class:`mtcal.core.sensors.SensorSpec`); new code calls :func:`table3_imu`.
+ImuSpec = table3_imu
 
 
 @dataclass(frozen=True)
@@ -246,12 +251,11 @@ class AhrsImu:
     magnetic_heading_tau_s: float = 20.0
 
     def resolve(self, fs_hz: float) -> ImuValues:
-        """Plain SI values; the residual gyro bias is drawn per trial (σ = ``gyro_bias_deg_s``)."""
-        return ImuValues(fs_hz=float(fs_hz), dt_s=1.0 / fs_hz,
+        """The IMU part as the SI sensor spec; the residual gyro bias is drawn per trial by the runs
+        (σ = ``gyro_bias_deg_s``), so the spec carries none."""
+        return ImuValues(fs_hz=float(fs_hz), label="AHRS stand-in",
                          gyro_noise_rad_s_rt_hz=self.gyro_noise_deg_s_rt_hz * DEG,
-                         gyro_bias_rad_s=(0.0, 0.0, 0.0), gyro_rw_rad_s_rt_s=0.0, gyro_scale_factor=0.0,
-                         accel_noise_m_s2_rt_hz=self.accel_noise_ug_rt_hz * UG, accel_bias_m_s2=(0.0, 0.0, 0.0),
-                         accel_bias_sigma_m_s2=0.0, accel_rw_m_s2_rt_s=0.0)
+                         accel_noise_m_s2_rt_hz=self.accel_noise_ug_rt_hz * UG, time_since_power_on_s=0.0)
 
 
 @dataclass(frozen=True)
@@ -279,7 +283,7 @@ class RigSetup:
     lever_arm_m : float
         Distance of the IMU from the rotation axis along the surface chord (m);
         plus ``lever_arm_up_m`` normal to it. mtcal default 0.2 m (a sensor on a
-        flap); identified from Table 5 (prior in :data:`ERROR_PRIORS`).
+        flap); identified from Table 5 (prior in :data:`.error_model.ERROR_PRIORS`).
     lever_arm_up_m : float
         mtcal: 0.02 m.
     move_rate_deg_s : float
@@ -349,36 +353,11 @@ def gravity0(q_wb0=(1.0, 0.0, 0.0, 0.0)) -> np.ndarray:
     return c.T @ np.array([0.0, 0.0, STANDARD_GRAVITY_M_S2])
 
 
-#: The hardware error sources the paper's Table 5 points to: (low, high) prior range, unit,
-#: whether it is identified (fitted) or held at its stated value, and the source of the range.
-ERROR_PRIORS = {
-    "latency_s": dict(low=0.0, high=0.050, unit="s", fitted=True,
-                      source="STM32F411 SPI read + EKF + USB/PC logging vs the turntable's position log: "
-                             "0–50 ms (a 200 Hz sample is 5 ms; unsynchronised PC clocks add tens of ms)"),
-    "accel_noise_ug_rt_hz": dict(low=22.5, high=175.0, unit="µg/√Hz", fitted=True,
-                                 source="Table 2: ADXL355 22.5 (datasheet) … BMI088 175; Table 3 says 50"),
-    "lever_arm_m": dict(low=0.05, high=0.5, unit="m", fitted=True,
-                        source="RAMS on a turntable fixture / a flap: 5–50 cm from the axis"),
-    "move_accel_deg_s2": dict(low=100.0, high=3000.0, unit="°/s²", fitted=True,
-                              source="three-axis test tables (SGT320E class): max angular acceleration "
-                                     "10²–10³ °/s² on the inner axis"),
-    "magnetic_heading_sigma_deg": dict(low=0.2, high=10.0, unit="°", fitted=True,
-                                       source="AHRS stand-in: heading disturbance of the test-hall field "
-                                              "(steel, equipment), tenths to several degrees (Sec. 7 names it)"),
-    "move_rate_deg_s": dict(low=10.0, high=60.0, unit="°/s", fitted=False,
-                            source="held at 20 °/s: Table 5 constrains only latency × rate"),
-    "reference_error_arcsec": dict(low=0.0, high=5.0, unit="″", fitted=False,
-                                   source="SGT320E ±5″ (Sec. 7): 0.0014°, negligible"),
-    "gyro_scale_factor_ppm": dict(low=0.0, high=3000.0, unit="ppm", fitted=False,
-                                  source="held at 1000 ppm (residual after ref. [30]); < 0.01° per 10° step"),
-}
-
-
 @dataclass(frozen=True)
 class Scenario:
     """A full wang2022sensors scenario: IMU, rig, Fig. 11 axis, EKF switching."""
 
-    imu: ImuSpec
+    imu: ImuValues
     rig: RigSetup
     fig11_axis: tuple = PAPER_AXIS_FIG11
     sensor_grade: str = "wang2022sensors"
@@ -419,7 +398,7 @@ def scenario_from_parameters(**params) -> Scenario:
     zvd = ZvdParams(accel_min_m_s2=p["zvd_accel_min_m_s2"], accel_max_m_s2=p["zvd_accel_max_m_s2"],
                     var_threshold_m2_s4=p["zvd_var_threshold_m2_s4"],
                     gyro_max_rad_s=None if gmax is None else float(gmax) * DEG)
-    imu = ImuSpec.from_grade(p["sensor_grade"], fs_hz=float(p["fs_hz"]))
+    imu = imu_from_grade(p["sensor_grade"], fs_hz=float(p["fs_hz"]))
     rig = RigSetup(lever_arm_m=p["lever_arm_m"], move_rate_deg_s=p["move_rate_deg_s"],
                    move_accel_deg_s2=p["move_accel_deg_s2"], hold_s=p["hold_s"], step_deg=p["step_deg"],
                    latency_s=p["latency_s"], zvd=zvd)
@@ -431,7 +410,7 @@ def labels(sc: Scenario) -> dict[str, str]:
     r = sc.rig
     z = r.zvd
     zvd = "Table 1 ZVD" + ("" if z.gyro_max_rad_s is None else f" + ‖ω‖ < {z.gyro_max_rad_s / DEG:.3g}°/s")
-    return {"imu": f"{sc.sensor_grade} IMU, {sc.imu.accel_noise_ug_rt_hz:.3g} µg/√Hz, {sc.imu.fs_hz:.0f} Hz",
+    return {"imu": f"{sc.sensor_grade} IMU, {sc.imu.accel_noise_m_s2_rt_hz / UG:.3g} µg/√Hz, {sc.imu.fs_hz:.0f} Hz",
             "rig": (f"lever arm {r.lever_arm_m:g} m, turntable {r.move_rate_deg_s:g}°/s and "
                     f"{r.move_accel_deg_s2:g}°/s², latency {r.latency_s * 1e3:g} ms"),
             "sweep": f"{r.step_deg:g}° steps with {r.hold_s:g} s holds",

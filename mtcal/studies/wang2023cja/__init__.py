@@ -5,10 +5,12 @@ angular measurement system in hypersonic wind tunnel", Chin. J. Aeronaut. 2023,
 doi:10.1016/j.cja.2022.12.006. QNCF filter, least-squares error quaternion (Eq 10–14),
 six-position procedure, turntable Tables 1–8, wind tunnel Tables 9–11.
 
-Modules by role: :mod:`.error_model` (the hardware error model identified from Tables 1–4
-and the printed matrices), :mod:`.scenario` (frozen scenario dataclasses, parameter
-defaults, builders), :mod:`.runs` (simulation runs), :mod:`.artifacts` (one producer per
-table/figure, plus comparison rows), :mod:`.plots` (figures; imports matplotlib on call).
+Modules by role (``docs/study_template.md``): :mod:`.scenario` (frozen scenario dataclasses,
+the IMU as a :class:`mtcal.core.sensors.SensorSpec`, parameter defaults, builders),
+:mod:`.error_model` (the hardware error model's priors, identified from Tables 1–4 and the
+printed matrices), :mod:`.runs` (simulation runs), :mod:`.artifacts` (one producer per
+table/figure, plus comparison rows), :mod:`.plots` (figures; imports matplotlib on call);
+:mod:`.constrained` (the constrained-calibration question of notebook 40).
 """
 
 from . import artifacts, constrained, error_model, runs, scenario
@@ -23,7 +25,7 @@ from .error_model import (ErrorModel, ErrorModelFit, fit_error_model, fit_instal
 from .runs import (calibration_step, MONTE_CARLO_GATES, elastic_deflection_rad, load_tilt_outputs, position_errors_deg,
                    run_turntable, run_turntable_jobs, run_windtunnel, six_position_reference, turntable_profile,
                    turntable_runs, TurntableJob, TurntableRun, WindTunnelRun)
-from .scenario import (compliance_trajectory, identify_pitch_ratio, ImuSpec, mechanism_actual,
+from .scenario import (compliance_trajectory, identify_pitch_ratio, IMU_ASSUMPTIONS, ImuSpec, mechanism_actual, paper_imu,
                        windtunnel_positions, PRINTED_WINDTUNNEL_Q22, SOURCES, TURNTABLE_DEFAULTS, turntable_scenario,
                        TurntableScenario, WINDTUNNEL_DEFAULTS, windtunnel_geometry, windtunnel_scenario,
                        WindTunnelScenario)
@@ -32,7 +34,7 @@ __all__ = ["artifacts", "constrained", "error_model", "runs", "scenario", "plots
            "MOUNT_TYPE", "PRIOR_RANGES", "FITTED_PARAMETERS", "ErrorModel", "InstallationFit",
            "fit_installation_angles", "true_error_matrix", "predicted_before", "paper_positions", "rest_times_s",
            "rest_residuals", "N_NORMALS", "ErrorModelFit", "fit_error_model", "position_noise_deg", "SOURCES",
-           "ImuSpec", "TurntableScenario", "WindTunnelScenario", "TURNTABLE_DEFAULTS", "WINDTUNNEL_DEFAULTS",
+           "ImuSpec", "IMU_ASSUMPTIONS", "paper_imu", "TurntableScenario", "WindTunnelScenario", "TURNTABLE_DEFAULTS", "WINDTUNNEL_DEFAULTS",
            "turntable_scenario", "windtunnel_scenario", "windtunnel_geometry", "PRINTED_WINDTUNNEL_Q22",
            "turntable_runs", "windtunnel_positions", "identify_pitch_ratio", "turntable_profile",
            "six_position_reference", "TurntableRun", "TurntableJob", "run_turntable", "run_turntable_jobs",

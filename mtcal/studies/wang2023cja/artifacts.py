@@ -24,6 +24,7 @@ import numpy as np
 import pandas as pd
 
 from mtcal.core import metrics, rotations
+from mtcal.core.rng import stream_rng, trial_rng
 from mtcal.reporting import compare, paper_numbers
 from .error_model import (PAPER_SIGN, PRIOR_RANGES, TABLES_1_TO_4, ErrorModel, ErrorModelFit,
                           fit_installation_angles)
@@ -49,6 +50,10 @@ _TABLE_FILES = {
     "wang2023cja_table11": "wang2023cja_table11_windtunnel_nowind_roll_yaw_errors",
 }
 _ANGLES = ("yaw", "pitch", "roll")
+
+# random streams of this module (mtcal.core.rng rule)
+STREAM_Q22_NOISE = 22         # key (seed, 22): Q(2,2) noise band
+STREAM_ERROR_BUDGET = 100     # key (seed, 100, row): one error-budget row
 
 
 def banded(artifact: str, quantity: str, paper_value, samples, *, claim: str = "", holds=None,
@@ -339,7 +344,7 @@ def q22_noise_band(model: ErrorModel, positions_rad, *, n_mc: int = 4000, seed: 
     """
     from .error_model import N_NORMALS, rest_residuals
 
-    rng = np.random.default_rng(np.random.SeedSequence([seed, 22]))
+    rng = stream_rng(seed, STREAM_Q22_NOISE)
     res = rest_residuals(np.zeros(3), model, "screw", rng.standard_normal((n_mc, N_NORMALS)),
                          positions_rad=positions_rad)
     b = metrics.percentile_band(res["q_matrix"][:, 1, 1])
@@ -364,13 +369,13 @@ def error_budget_table(sc, test: str, trials: int, seed: int) -> pd.DataFrame:
 
     Rows: ``none`` (noise-free: exact), one per name of :data:`.scenario.SOURCES`, ``all``.
     Columns: RMS and max of the verification "after − reference" over the 18 cells (deg, MC over
-    ``trials``), and the in-sample RMS. Each row draws from its own ``SeedSequence([seed, row])``.
+    ``trials``), and the in-sample RMS. Row ``i`` draws from ``trial_rng(seed, STREAM_ERROR_BUDGET, i)``.
     """
     from .runs import TurntableJob, run_turntable_jobs
     from .scenario import SOURCES
 
     configs = [("none", ())] + [(s, (s,)) for s in SOURCES] + [("all", SOURCES)]
-    jobs = [TurntableJob(test, np.random.default_rng(np.random.SeedSequence([int(seed), 100 + i])), int(trials), src)
+    jobs = [TurntableJob(test, trial_rng(int(seed), STREAM_ERROR_BUDGET, i), int(trials), src)
             for i, (_, src) in enumerate(configs)]
     rows = []
     for (name, _), run in zip(configs, run_turntable_jobs(sc, jobs)):

@@ -57,6 +57,7 @@ from scipy.optimize import least_squares, minimize
 
 from mtcal.core import metrics, rotations
 from mtcal.core.rotations import mount_quaternion
+from mtcal.core.rng import stream_rng
 from mtcal.core.units import ARCSEC, DEG, DEG_H, MG
 from mtcal.methods import quaternion_lsq, six_position
 from mtcal.reporting import paper_numbers
@@ -65,6 +66,10 @@ __all__ = ["PAPER_SIGN", "TABLES_1_TO_4", "MOUNT_TYPE", "PRIOR_RANGES", "FITTED_
            "InstallationFit", "fit_installation_angles", "true_error_matrix", "predicted_before",
            "paper_positions", "rest_times_s", "rest_residuals", "N_NORMALS", "ErrorModelFit", "fit_error_model",
            "position_noise_deg"]
+
+# random streams of this module (mtcal.core.rng rule: key (seed, stream))
+STREAM_LINEAR_TESTS = 13      # rest-noise normals of the likelihood's linear tests
+STREAM_POSITION_NOISE = 40    # rest-noise normals of position_noise_deg
 
 #: Paper angle = PAPER_SIGN · Eq 8 angle (roll sign flipped; see :func:`fit_installation_angles`).
 PAPER_SIGN = np.array([1.0, 1.0, -1.0])
@@ -128,6 +133,11 @@ class ErrorModel:
         if mount not in ("screw", "gasket"):
             raise ValueError(f"mount must be 'screw' or 'gasket', got {mount!r}")
         return self.compliance_screw_deg_g if mount == "screw" else self.compliance_gasket_deg_g
+
+    @property
+    def gyro_run_bias_rad_s(self) -> float:
+        """``gyro_run_bias_deg_h`` in rad/s (what :meth:`mtcal.core.sensors.SensorSpec.error_model` adds)."""
+        return self.gyro_run_bias_deg_h * DEG_H
 
 
 #: Prior range of every :class:`ErrorModel` field (unit as in the field).
@@ -358,7 +368,7 @@ def _residual_matrix(alpha, model, mount, z, times_s):
 
 def _linear_tests(alphas: dict, n_mc: int, seed: int, times_s) -> dict:
     data = _training_residuals()
-    rng = np.random.default_rng(np.random.SeedSequence([seed, 13]))
+    rng = stream_rng(seed, STREAM_LINEAR_TESTS)
     out = {}
     for test, r in data.items():
         mount = MOUNT_TYPE[test]
@@ -477,7 +487,7 @@ def position_noise_deg(model: ErrorModel, *, n_mc: int = 2000, seed: int = 2023,
 
     The single noise level the constrained-calibration study (notebook 40) uses.
     """
-    rng = np.random.default_rng(np.random.SeedSequence([seed, 40]))
+    rng = stream_rng(seed, STREAM_POSITION_NOISE)
     res = rest_residuals(np.asarray(alpha_rad, float), model, mount, rng.standard_normal((n_mc, N_NORMALS)))
     d = metrics.angle_difference(res["after"], paper_positions()[None])
     return float(np.degrees(np.sqrt(np.mean(d**2))))

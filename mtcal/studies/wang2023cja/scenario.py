@@ -20,8 +20,8 @@ doi:10.1016/j.cja.2022.12.006.
 Examples
 --------
 >>> sc = turntable_scenario(gyro_grade="industrial")
->>> sc.imu.grade_label
-'gyro industrial, accel wang2023cja'
+>>> sc.imu.label, sc.fs_hz
+('gyro industrial, accel wang2023cja', 1000.0)
 >>> turntable_scenario(fs_hz=-1.0)
 Traceback (most recent call last):
 ...
@@ -37,15 +37,16 @@ import numpy as np
 from mtcal.core import rotations
 from mtcal.core.profiles import AngleProfile
 from mtcal.core.rotations import mount_quaternion
-from mtcal.core.simulate import ImuErrorModel, SensorErrors, Trajectory
-from mtcal.core.sensor_grades import GRADES, sensor_grade
-from mtcal.core.units import ARCSEC, DEG, DEG_H, MG, UG
+from mtcal.core.simulate import Trajectory
+from mtcal.core.sensor_grades import GRADES, sensor_spec
+from mtcal.core.sensors import SensorSpec
+from mtcal.core.units import ARCSEC, DEG, DEG_H, UG
 from mtcal.core.validate import angle_pair_deg, choice, merge_parameters, number_in_range
 from mtcal.filters.qncf import QncfParams
 from mtcal.methods import quaternion_lsq, six_position
 from .error_model import MOUNT_TYPE, ErrorModel
 
-__all__ = ["SOURCES", "ImuSpec", "TurntableScenario", "WindTunnelScenario", "TURNTABLE_DEFAULTS",
+__all__ = ["SOURCES", "ImuSpec", "IMU_ASSUMPTIONS", "paper_imu", "TurntableScenario", "WindTunnelScenario", "TURNTABLE_DEFAULTS",
            "WINDTUNNEL_DEFAULTS", "turntable_scenario", "windtunnel_scenario", "windtunnel_geometry",
            "PRINTED_WINDTUNNEL_Q22", "compliance_trajectory", "mechanism_actual", "windtunnel_positions",
            "identify_pitch_ratio"]
@@ -62,73 +63,40 @@ SOURCES = ("gyro_white", "gyro_bias_instability", "gyro_residual_bias", "gyro_wa
            "accel_run_change", "mount_compliance")
 
 
-@dataclass(frozen=True)
-class ImuSpec:
-    """The IMU of a wang2023cja run, resolved once from sensor grades (SI values).
+#: The wang2023cja IMU's assumptions beyond its sensor grade (the paper prints no sensor numbers):
+#: value (SI), unit and source of each.
+IMU_ASSUMPTIONS = {
+    "gyro_warmup_bias_rad_s": ((18 * DEG_H, -12 * DEG_H, 15 * DEG_H), "rad/s",
+                               "bias at power-on, decaying with τ = 90 s; after the 5-min warm-up (§3.2 step 1) "
+                               "≈ 0.6 °/h remains"),
+    "gyro_warmup_tau_s": (90.0, "s", "assumed thermal settling time constant"),
+    "gyro_lsb_rad_s": (0.00625 * DEG, "rad/s", "16-bit output LSB 0.00625 °/s (ADIS1649x)"),
+    "accel_lsb_m_s2": (3.9 * UG, "m/s²", "20-bit LSB at ±2 g (ADXL355: 3.9 µg)"),
+    "time_since_power_on_s": (300.0, "s", "§3.2 step (1): 5 min warm-up"),
+}
+
+
+def paper_imu(gyro_grade: str = "wang2023cja", accel_grade: str = "wang2023cja", fs_hz: float = 1000.0) -> SensorSpec:
+    """The IMU of a wang2023cja run: :func:`~mtcal.core.sensor_grades.sensor_spec` of the two grades plus
+    :data:`IMU_ASSUMPTIONS` (warm-up transient, quantisation); ``fs_hz`` §4.1 1 kHz.
 
     The paper prints no sensor numbers; its grade in :mod:`mtcal.core.sensor_grades` is
-    ``"wang2023cja"`` (tactical MEMS after factory compensation). Every field: value, unit and
-    source in ``metadata``.
+    ``"wang2023cja"`` (tactical MEMS after factory compensation). Raises ``ValueError`` naming
+    the parameter for an unknown grade.
+
+    >>> paper_imu().label, paper_imu().fs_hz
+    ('gyro wang2023cja, accel wang2023cja', 1000.0)
     """
+    for name, value in (("gyro_grade", gyro_grade), ("accel_grade", accel_grade)):
+        choice(name, value, sorted(GRADES))
+    spec = sensor_spec(gyro_grade, accel_grade, fs_hz=fs_hz)
+    # the wang2023cja run applies no accelerometer bias instability (not in SOURCES)
+    return replace(spec, **{k: v[0] for k, v in IMU_ASSUMPTIONS.items()})
 
-    grade_label: str = _f("gyro wang2023cja, accel wang2023cja", "-", "sensor grades used")
-    gyro_arw_rad_s_rthz: float = _f(0.1 / 60 * DEG, "rad/s/√Hz", "grade: ARW 0.1 °/√h (ADIS16495 class)")
-    gyro_bias_instability_rad_s: float = _f(0.8 * DEG_H, "rad/s", "grade: 0.8 °/h, τ = 100 s")
-    gyro_residual_bias_rad_s: float = _f(0.3 * DEG_H, "rad/s", "grade: turn-on bias after compensation (1σ)")
-    gyro_warmup_bias_rad_s: tuple = _f((18 * DEG_H, -12 * DEG_H, 15 * DEG_H), "rad/s",
-                                       "bias at power-on, decaying with τ = 90 s; after the 5-min warm-up "
-                                       "(§3.2 step 1) ≈ 0.6 °/h remains")
-    gyro_warmup_tau_s: float = _f(90.0, "s", "assumed thermal settling time constant")
-    gyro_scale_factor: tuple = _f((1e-4, -1e-4, 1e-4), "1", "grade: residual scale factor (ppm, +−+ pattern)")
-    gyro_lsb_rad_s: float = _f(0.00625 * DEG, "rad/s", "16-bit output LSB 0.00625 °/s (ADIS1649x)")
-    accel_vrw_m_s2_rthz: float = _f(25 * UG, "m/s²/√Hz", "grade: 25 µg/√Hz (ADXL355 class)")
-    accel_residual_bias_m_s2: float = _f(0.05 * MG, "m/s²", "grade: turn-on bias after compensation (1σ)")
-    accel_lsb_m_s2: float = _f(3.9 * UG, "m/s²", "20-bit LSB at ±2 g (ADXL355: 3.9 µg)")
-    time_since_power_on_s: float = _f(300.0, "s", "§3.2 step (1): 5 min warm-up")
 
-    @classmethod
-    def from_grades(cls, gyro_grade: str = "wang2023cja", accel_grade: str = "wang2023cja") -> "ImuSpec":
-        """Resolve the gyro and accelerometer values from two :mod:`~mtcal.core.sensor_grades` names."""
-        for name, value in (("gyro_grade", gyro_grade), ("accel_grade", accel_grade)):
-            choice(name, value, sorted(GRADES))
-        g, a = sensor_grade(gyro_grade), sensor_grade(accel_grade)
-        sf = g.gyro_scale_factor_ppm * 1e-6
-        return cls(grade_label=f"gyro {gyro_grade}, accel {accel_grade}",
-                   gyro_arw_rad_s_rthz=g.gyro_noise_density_rad_s_rt_hz,
-                   gyro_bias_instability_rad_s=g.gyro_bias_instability_deg_h * DEG_H,
-                   gyro_residual_bias_rad_s=g.gyro_bias_repeatability_deg_h * DEG_H,
-                   gyro_scale_factor=(sf, -sf, sf),
-                   accel_vrw_m_s2_rthz=a.accel_noise_density_m_s2_rt_hz,
-                   accel_residual_bias_m_s2=a.accel_bias_repeatability_mg * MG)
-
-    def error_model(self, q_mount, sources=SOURCES, errors: ErrorModel | None = None) -> ImuErrorModel:
-        """``ImuErrorModel`` with only ``sources`` switched on (names from :data:`SOURCES`).
-
-        ``errors`` (an identified :class:`ErrorModel`) adds its gyro bias left after warm-up in
-        quadrature to the grade's turn-on bias; its accelerometer bias *change* between runs is
-        applied by the runners (it is not a property of one run).
-        """
-        on = set(sources)
-        unknown = on - set(SOURCES)
-        if unknown:
-            raise ValueError(f"sources must be names from {SOURCES}, got {sorted(unknown)}")
-        extra = 0.0 if errors is None else errors.gyro_run_bias_deg_h * DEG_H
-        q = "quantisation" in on
-        gyro = SensorErrors(
-            noise_density=self.gyro_arw_rad_s_rthz if "gyro_white" in on else 0.0,
-            bias_instability=self.gyro_bias_instability_rad_s if "gyro_bias_instability" in on else 0.0,
-            bias_instability_tau_s=100.0,
-            bias_sigma=float(np.hypot(self.gyro_residual_bias_rad_s, extra)) if "gyro_residual_bias" in on else 0.0,
-            warmup_bias=self.gyro_warmup_bias_rad_s if "gyro_warmup" in on else 0.0,
-            warmup_tau_s=self.gyro_warmup_tau_s,
-            scale_factor=self.gyro_scale_factor if "gyro_scale_factor" in on else 0.0,
-            quantization=self.gyro_lsb_rad_s if q else 0.0)
-        accel = SensorErrors(
-            noise_density=self.accel_vrw_m_s2_rthz if "accel_white" in on else 0.0,
-            bias_sigma=self.accel_residual_bias_m_s2 if "accel_bias" in on else 0.0,
-            quantization=self.accel_lsb_m_s2 if q else 0.0)
-        return ImuErrorModel(gyro=gyro, accel=accel, q_mount=tuple(np.asarray(q_mount, float)),
-                             time_since_power_on_s=self.time_since_power_on_s)
+#: Historical name of the paper's IMU builder (``ImuSpec()`` = the paper's IMU, a
+#: :class:`mtcal.core.sensors.SensorSpec`); new code calls :func:`paper_imu`.
+ImuSpec = paper_imu
 
 
 # --------------------------------------------------------------------------
@@ -138,14 +106,13 @@ class ImuSpec:
 class TurntableScenario:
     """High-precision three-axis turntable (§4.1): tests T1–T4, AoA sweep, roll sweep."""
 
-    imu: ImuSpec = field(default_factory=ImuSpec)
+    imu: SensorSpec = field(default_factory=paper_imu)
     qncf: QncfParams = field(default_factory=QncfParams)
     errors: ErrorModel = field(default_factory=ErrorModel)
     alpha_deg: dict = _f(None, "deg", "fit_installation_angles(Tables 1–4, PAPER_SIGN), rounded to 1e-4°")
     yaw_positions_deg: tuple = _f((8.0, -8.0), "deg", "§4.1 yaw range ±8°, Table 1")
     pitch_positions_deg: tuple = _f((-12.0, 23.0), "deg", "§4.1 pitch range −12…23°, Table 1")
     roll_positions_deg: tuple = _f((90.0, -90.0), "deg", "§4.1 roll range ±90°, Table 1")
-    fs_hz: float = _f(1000.0, "Hz", "§4.1 data sampling frequency")
     rest_s: float = _f(3.0, "s", "§3.2 rest per position")
     turntable_rate_rad_s: float = _f(20 * DEG, "rad/s", "assumed mean move rate of the turntable")
     averaging_fraction: float = _f(0.5, "1", "middle half of each rest is averaged (§3.2 'middle section')")
@@ -161,6 +128,11 @@ class TurntableScenario:
                 "T1": (-0.2434, -0.0359, 0.0521), "T2": (-0.0130, 0.0184, -1.1484),
                 "T3": (-0.2833, 0.2903, -0.8426), "T4": (-2.4856, -0.3096, -0.2227)})
 
+    @property
+    def fs_hz(self) -> float:
+        """Sample rate (Hz): owned by the IMU spec (§4.1 1 kHz)."""
+        return self.imu.fs_hz
+
     def alpha_rad(self, test: str) -> np.ndarray:
         """Installation angles α1..α3 of ``test`` (rad)."""
         return np.radians(self.alpha_deg[test])
@@ -175,12 +147,11 @@ class TurntableScenario:
 class WindTunnelScenario:
     """Hypersonic wind tunnel (§4.2): support mechanism, wind-off sweep, five wind-on groups."""
 
-    imu: ImuSpec = field(default_factory=ImuSpec)
+    imu: SensorSpec = field(default_factory=paper_imu)
     qncf: QncfParams = field(default_factory=QncfParams)
     errors: ErrorModel = field(default_factory=ErrorModel)
     alpha_deg: tuple = _f(None, "deg", "mounting of the SO(4) projection of the printed wind-tunnel matrix "
                           "(training data; windtunnel_geometry)")
-    fs_hz: float = _f(1000.0, "Hz", "§4.1/§3.2 1 kHz")
     rest_s: float = _f(3.0, "s", "§3.2")
     cal_yaw_deg: tuple = _f((4.0, -4.0), "deg", "assumed mechanism yaw range")
     cal_pitch_deg: tuple = _f((-5.0, 13.0), "deg", "AoA range of Tables 9/10")
@@ -209,6 +180,11 @@ class WindTunnelScenario:
     vibration_angle_rad: float = _f(0.01 * DEG, "rad", "angular pitch vibration amplitude (assumed)")
     wind_on_hold_s: float = _f(3.0, "s", "assumed hold per AoA with wind (short hypersonic run)")
     group_interval_s: float = _f(600.0, "s", "assumed time between wind-on runs (IMU stays powered)")
+
+    @property
+    def fs_hz(self) -> float:
+        """Sample rate (Hz): owned by the IMU spec (§3.2 1 kHz)."""
+        return self.imu.fs_hz
 
     def __post_init__(self) -> None:
         if self.alpha_deg is None or self.pitch_ratio_error is None:
@@ -269,10 +245,9 @@ def turntable_scenario(errors: ErrorModel | None = None, **params) -> TurntableS
     ``errors`` is the identified (or prior-nominal) :class:`ErrorModel`.
     """
     p = merge_parameters(params, TURNTABLE_DEFAULTS)
-    imu = ImuSpec.from_grades(p["gyro_grade"], p["accel_grade"])
+    imu = paper_imu(p["gyro_grade"], p["accel_grade"], number_in_range("fs_hz", p["fs_hz"], 100.0, 10000.0, "Hz"))
     return TurntableScenario(
         imu=imu, errors=ErrorModel() if errors is None else errors,
-        fs_hz=number_in_range("fs_hz", p["fs_hz"], 100.0, 10000.0, "Hz"),
         rest_s=number_in_range("rest_s", p["rest_s"], 2.5, 30.0, "s"),
         yaw_positions_deg=angle_pair_deg("yaw_positions_deg", p["yaw_positions_deg"], -30.0, 30.0),
         pitch_positions_deg=angle_pair_deg("pitch_positions_deg", p["pitch_positions_deg"], -60.0, 60.0),
@@ -294,9 +269,8 @@ def windtunnel_scenario(errors: ErrorModel | None = None, **params) -> WindTunne
     p = merge_parameters(params, WINDTUNNEL_DEFAULTS)
     alpha_deg, _ = windtunnel_geometry()
     sc = WindTunnelScenario(
-        imu=ImuSpec.from_grades(p["gyro_grade"], p["accel_grade"]), errors=ErrorModel() if errors is None else errors,
-        alpha_deg=alpha_deg, pitch_ratio_error=0.0,
-        fs_hz=number_in_range("fs_hz", p["fs_hz"], 100.0, 10000.0, "Hz"),
+        imu=paper_imu(p["gyro_grade"], p["accel_grade"], number_in_range("fs_hz", p["fs_hz"], 100.0, 10000.0, "Hz")),
+        errors=ErrorModel() if errors is None else errors, alpha_deg=alpha_deg, pitch_ratio_error=0.0,
         rest_s=number_in_range("rest_s", p["rest_s"], 2.5, 30.0, "s"),
         mechanism_rate_rad_s=number_in_range("mechanism_rate_deg_s", p["mechanism_rate_deg_s"], 0.2, 20.0, "deg/s") * DEG,
         group5_rate_rad_s=number_in_range("group5_rate_deg_s", p["group5_rate_deg_s"], 0.2, 20.0, "deg/s") * DEG,

@@ -1,0 +1,208 @@
+"""Filter registry: one registration per filter makes it available to the bake-off, the sweep and the anchors.
+
+Each entry (:class:`FilterEntry`) says what the filter is, whether it is one of
+mtcal's own filters (``"ours"``) or an open-source anchor (``"anchor"``: vqf,
+imufusion, ahrs), its one tuned gain (default and unit), and how to run it on a
+batch of records:
+
+* ``output="attitude"`` — ``run(gyro_rad_s, accel_m_s2, dt_s, gain, q0) -> q_ws``
+  with ``gyro_rad_s``, ``accel_m_s2`` of shape (T, N, 3) (T trials of N samples; rad/s,
+  m/s², gyro sample k over ``[t_k, t_{k+1}]``), ``dt_s`` (s), ``gain`` (> 0) and ``q0``
+  (T, 4); returns the scalar-first sensor → world (z up) attitude at each ``t_k``, (T, N, 4).
+* ``output="angle"`` — ``run(gyro_rad_s, accel_m_s2, dt_s, gain, context) -> theta_rad``
+  (T, N): the angle about a known axis (a movable surface), where ``context`` is an
+  :class:`AxisContext` (axis, rest flags, initial specific force, sensor noise).
+
+Consumers look filters up here and never by name: :func:`mtcal.filters.anchors.run_attitude_filter`,
+the sweep evaluators (``attitude`` takes every attitude filter, ``surface`` every
+filter) and :mod:`mtcal.sweep.bakeoff` (angle filters join the surface family).
+mtcal's built-in filters are registered by :mod:`mtcal.filters.anchors` (loaded on
+the first look-up). Adding a filter is one :func:`register_filter` call.
+
+References
+----------
+wang2023cja (QNCF, Eq 5–9); wang2022sensors (RAMS EKF, Sec. 4); ``docs/study_template.md``
+(what a new filter touches).
+
+Examples
+--------
+>>> import numpy as np
+>>> def still(gyro_rad_s, accel_m_s2, dt_s, gain, q0):
+...     return np.broadcast_to(q0[:, None, :], gyro_rad_s.shape[:2] + (4,)).copy()
+>>> _ = register_filter("still", still, output="attitude", default_gain=1.0, gain_unit="none (1)",
+...                     origin="ours", description="holds its initial attitude")
+>>> "still" in filter_names(output="attitude"), get_filter("still").default_gain
+(True, 1.0)
+>>> unregister_filter("still")
+>>> "still" in filter_names()
+False
+"""
+
+from __future__ import annotations
+
+import importlib
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+
+__all__ = ["FilterEntry", "AxisContext", "register_filter", "unregister_filter", "get_filter", "filter_names",
+           "available_filters", "require_filter", "OUTPUTS", "ORIGINS"]
+
+#: What a filter returns: an attitude quaternion, or an angle about a known axis.
+OUTPUTS = ("attitude", "angle")
+#: ``"ours"`` = implemented in mtcal; ``"anchor"`` = an open-source library adapted for comparison.
+ORIGINS = ("ours", "anchor")
+
+_REGISTRY: dict[str, "FilterEntry"] = {}
+_BUILTINS = ("mtcal.filters.anchors",)   # modules whose import registers mtcal's filters
+_loaded = False
+
+
+@dataclass(frozen=True)
+class AxisContext:
+    """What an angle-about-axis filter may use besides the records (batch of T trials of N samples).
+
+    Parameters
+    ----------
+    axis_s : ndarray, shape (3,)
+        Unit rotation axis in the sensor frame.
+    is_static : ndarray of bool, shape (T, N)
+        Rest flags (zero-velocity input).
+    a0_m_s2 : ndarray, shape (T, 3)
+        Specific force at the reference rest (m/s²).
+    gyro_noise_rad_s_rt_hz, accel_noise_m_s2_rt_hz : float
+        White-noise densities of the sensors (rad/s/√Hz, m/s²/√Hz).
+    init : slice or None
+        The reference rest (samples) an angle filter may initialise from (``None``:
+        the first ``init_samples`` samples).
+    rests : tuple of slice
+        Later rests (e.g. restart points after gyro clipping).
+    """
+
+    axis_s: np.ndarray
+    is_static: np.ndarray
+    a0_m_s2: np.ndarray
+    gyro_noise_rad_s_rt_hz: float
+    accel_noise_m_s2_rt_hz: float
+    init: slice | None = None
+    rests: tuple = ()
+
+
+@dataclass(frozen=True)
+class FilterEntry:
+    """One registered filter (see the module doc for ``run``'s signature per ``output``).
+
+    Parameters
+    ----------
+    name : str
+        Registry key (also the metric prefix in sweeps, ``<name>.<metric>``).
+    run : callable
+        The runner.
+    output : {"attitude", "angle"}
+    default_gain : float
+        Default of the one tuned gain (> 0).
+    gain_unit : str
+        What the gain is, with its unit (``"K_p (1/s)"``).
+    origin : {"ours", "anchor"}
+    description : str
+        One line for listings.
+    requires : str or None
+        Optional Python package the runner imports (``None`` = always available).
+    """
+
+    name: str
+    run: Callable
+    output: str
+    default_gain: float
+    gain_unit: str
+    origin: str
+    description: str = ""
+    requires: str | None = None
+
+
+def register_filter(name: str, run: Callable, *, output: str, default_gain: float, gain_unit: str, origin: str,
+                    description: str = "", requires: str | None = None, replace: bool = False) -> FilterEntry:
+    """Register a filter; returns its :class:`FilterEntry`.
+
+    Raises
+    ------
+    ValueError
+        Empty/duplicate name (unless ``replace``), unknown ``output``/``origin``, gain ≤ 0.
+    TypeError
+        ``run`` not callable.
+    """
+    if not isinstance(name, str) or not name or "." in name:
+        raise ValueError(f"filter name must be a non-empty str without '.', got {name!r}")
+    if name in _REGISTRY and not replace:
+        raise ValueError(f"filter {name!r} is already registered (pass replace=True)")
+    if not callable(run):
+        raise TypeError(f"run must be callable, got {type(run).__name__}")
+    if output not in OUTPUTS:
+        raise ValueError(f"output must be one of {list(OUTPUTS)}, got {output!r}")
+    if origin not in ORIGINS:
+        raise ValueError(f"origin must be one of {list(ORIGINS)}, got {origin!r}")
+    if isinstance(default_gain, bool) or not isinstance(default_gain, (int, float)) or not default_gain > 0:
+        raise ValueError(f"default_gain must be a number > 0, got {default_gain!r}")
+    entry = FilterEntry(name, run, output, float(default_gain), str(gain_unit), origin, description, requires)
+    _REGISTRY[name] = entry
+    return entry
+
+
+def unregister_filter(name: str) -> None:
+    """Remove a registered filter (tests, notebooks trying a variant); ValueError if unknown."""
+    _load_builtins()
+    if name not in _REGISTRY:
+        raise ValueError(f"filter must be one of {sorted(_REGISTRY)}, got {name!r}")
+    del _REGISTRY[name]
+
+
+def _load_builtins() -> None:
+    global _loaded
+    if not _loaded:
+        _loaded = True
+        for module in _BUILTINS:
+            importlib.import_module(module)
+
+
+def filter_names(*, output: str | None = None, origin: str | None = None) -> list[str]:
+    """Registered names in registration order, optionally only one ``output`` / ``origin``."""
+    _load_builtins()
+    if output is not None and output not in OUTPUTS:
+        raise ValueError(f"output must be one of {list(OUTPUTS)}, got {output!r}")
+    if origin is not None and origin not in ORIGINS:
+        raise ValueError(f"origin must be one of {list(ORIGINS)}, got {origin!r}")
+    return [n for n, e in _REGISTRY.items() if (output is None or e.output == output)
+            and (origin is None or e.origin == origin)]
+
+
+def get_filter(name: str) -> FilterEntry:
+    """The entry registered as ``name`` (ValueError listing the valid names)."""
+    _load_builtins()
+    if not isinstance(name, str) or name not in _REGISTRY:
+        raise ValueError(f"filter must be one of {list(_REGISTRY)}, got {name!r}")
+    return _REGISTRY[name]
+
+
+def require_filter(name: str):
+    """Import the optional package behind ``name`` (None when it needs none); ImportError with a clear message."""
+    entry = get_filter(name)
+    if entry.requires is None:
+        return None
+    try:
+        return importlib.import_module(entry.requires)
+    except ImportError as exc:
+        raise ImportError(f"filter {name!r} needs the optional package {entry.requires!r} "
+                          f"(pip install 'mtcal[dev]'): {exc}") from None
+
+
+def available_filters(*, output: str | None = None) -> list[str]:
+    """Registered filters whose optional package imports (mtcal's own always)."""
+    out = []
+    for name in filter_names(output=output):
+        try:
+            require_filter(name)
+        except ImportError:
+            continue
+        out.append(name)
+    return out

@@ -1,0 +1,187 @@
+"""tan2022 runs: the Monte Carlo over the paper's procedures (simulated sensors → the methods' outputs).
+
+Every function takes resolved scenario values (:mod:`.scenario`) and a
+generator or a seed; trials are vectorised along the leading axis. Random
+streams follow :mod:`mtcal.core.rng` (key ``(seed, stream)``) with the named
+stream constants below; :mod:`.artifacts` and :mod:`.error_model` call these
+runs and never draw sensor data themselves.
+
+References
+----------
+Tan Q., Cheng Y., Tang B., Liu X., Zhou H., Li Y., "Large-angle attitude measurement
+algorithm with pitch/roll coupling" (in Chinese), J. Terahertz Sci. Electron. Inf.
+Technol. 2022, 20(9):946–952, doi:10.11805/TKYDA2020404 (Eq 2, 8–14, 16–17).
+
+Examples
+--------
+>>> from mtcal.studies.tan2022.scenario import gyro_study
+>>> st = gyro_study(oscillation_duration_s=1.0)
+>>> t, w, w_det = oscillation_gyro(st, seed=1, trials=2)
+>>> w.shape[0], w.shape[-1], w_det.shape == t.shape + (3,)
+(2, 3, True)
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from mtcal.core.rng import stream_rng
+from mtcal.methods import gyro_roll as gr
+from mtcal.methods import large_angle as la
+
+from .scenario import AccelScenario, GyroStudy
+
+__all__ = ["STREAM_FIG06", "STREAM_FIG09", "STREAM_OSCILLATION", "STREAM_INDEPENDENT_ERRORS", "STREAM_ACCEL_FIT",
+           "STREAM_GYRO_FIT", "STREAM_GYRO_PATTERN", "simulate_gyro", "oscillation_gyro", "accel_grid",
+           "fig02_asymmetry", "axis_spread", "large_pitch_ratio", "accel_predictions", "gyro_samples",
+           "trial_chunks", "gyro_predictions", "oscillation_claims"]
+
+_DEG, _RAD = np.degrees, np.radians
+_CHUNK = 50  # trials per chunk (fixed: results do not depend on the trial count's factorisation)
+
+# random streams (mtcal.core.rng rule: key (seed, stream)); one per use
+STREAM_FIG06 = 6                # projection sweep (artifacts.fig06)
+STREAM_FIG09 = 9                # uniform rotations (artifacts.fig09)
+STREAM_OSCILLATION = 10         # oscillation record (figs 10–12, threshold sweep)
+STREAM_INDEPENDENT_ERRORS = 20  # independent per-axis accelerometer errors
+STREAM_ACCEL_FIT = 200          # accelerometer error-model fit
+STREAM_GYRO_FIT = 210           # gyro error-model fit (Fig 6)
+STREAM_GYRO_PATTERN = 220       # gyro error-pattern fit (Figs 11, 12)
+
+
+def simulate_gyro(study: GyroStudy, t, pitch, rng, trials, *, noise: bool = True):
+    """Gyro records (trials, T, 3) rad/s of the 2-DOF mechanism at the study's roll: pitch(t) + constant errors + noise.
+
+    ``noise=False`` gives the single deterministic record (constant errors only, shape (T, 3)).
+    """
+    g, spec = study.gyro, study.gyro.sensor_spec()
+    roll = np.full_like(t, g.roll0_rad)
+    return gr.simulate_two_dof_imu(t, pitch, roll, gyro_bias_rad_s=np.asarray(spec.gyro_bias_rad_s),
+                                   gyro_noise_density=spec.gyro_noise_rad_s_rt_hz if noise else 0.0,
+                                   rng=rng if noise else None, trials=trials if noise else None).gyro_rad_s
+
+def oscillation_gyro(study: GyroStudy, seed: int, trials: int):
+    """Oscillation record (Eq 16–17): time (s), noisy gyro (trials, T, 3) from stream ``STREAM_OSCILLATION``
+    and the constant-error-only gyro (T, 3), rad/s."""
+    osc = study.oscillation
+    t = osc.time_s()
+    w = simulate_gyro(study, t, osc.pitch_rad(t), stream_rng(seed, STREAM_OSCILLATION), trials)
+    w_det = simulate_gyro(study, t, osc.pitch_rad(t), None, None, noise=False)
+    return t, w, w_det
+
+def accel_grid(step_deg: float):
+    """Flattened θ, φ grid (rad) over [−90°, 90°]² with step ``step_deg``."""
+    ax = _RAD(np.arange(-90.0, 90.0 + 1e-9, step_deg))
+    th, ph = np.meshgrid(ax, ax, indexing="ij")
+    return th.ravel(), ph.ravel()
+
+
+def fig02_asymmetry(bias, th, ph, g):
+    """Per-trial mean |Δθ| over (θ ≤ 0, φ ≥ 0) / over (θ ≥ 0, φ ≥ 0) of a plain triad with static biases."""
+    feats = np.stack([np.cos(th), np.sin(th) * np.sin(ph), np.sin(th) * np.cos(ph)], -1)
+    err = np.abs(bias @ feats.T) / g
+    neg, pos = (th <= 0) & (ph >= 0), (th >= 0) & (ph >= 0)
+    return err[:, neg].mean(axis=1) / err[:, pos].mean(axis=1)
+
+
+def axis_spread(bias):
+    """Per-trial max |bias| / min |bias| over the three axes of a triad (the paper: "comparable")."""
+    a = np.abs(bias)
+    return a.max(axis=-1) / np.maximum(a.min(axis=-1), 1e-300)
+
+
+def large_pitch_ratio(d0, d1, d2, th, ph, sc: AccelScenario):
+    """Per-trial max |Δθ| over |θ| ≥ 45°: two preset triads (Eq 9 selection) / plain triad (first order)."""
+    g = sc.gravity_m_s2
+    lam = np.where(th <= 0, _RAD(sc.lambda1_deg), _RAD(sc.lambda2_deg))
+    large = np.abs(th) >= _RAD(45.0)
+    th, ph, lam = th[large], ph[large], lam[large]
+    plain = np.abs(la.pitch_error_first_order(th, ph, d0[:, None, :], g=g))
+    dsel = np.where((th <= 0)[None, :, None], d1[:, None, :], d2[:, None, :])
+    preset = np.abs(la.pitch_error_first_order(th, ph, dsel, preset_rad=lam, g=g))
+    return preset.max(axis=1) / plain.max(axis=1)
+
+
+def accel_predictions(sc: AccelScenario, ratios, rng, step_deg):
+    """Held-out quantities per trial for the given per-trial ratios ``r``."""
+    th, ph = accel_grid(step_deg)
+    g, da = sc.gravity_m_s2, sc.delta_accel_m_s2
+    n = ratios.size
+    d0, d1, d2 = (da * (1.0 + ratios[:, None] * rng.standard_normal((n, 3))) for _ in range(3))
+    neg, pos = th <= 0, th > 0
+    m_all, m_neg, m_pos = (la.bias_moment_matrix(th[k], ph[k]) for k in (slice(None), neg, pos))
+    l1, l2 = _RAD(sc.lambda1_deg), _RAD(sc.lambda2_deg)
+    rms_T = la.rms_pitch_error_from_moments(m_all, d0, 0.0, g=g)
+    ms_p = (neg.sum() * la.rms_pitch_error_from_moments(m_neg, d1, l1, g=g) ** 2
+            + pos.sum() * la.rms_pitch_error_from_moments(m_pos, d2, l2, g=g) ** 2) / th.size
+    lam = _RAD(np.arange(-180.0, 180.0, 1.0))
+    opt = {}
+    for key, m, d, paper in (("lambda1", m_neg, d1, sc.lambda1_deg), ("lambda2", m_pos, d2, sc.lambda2_deg)):
+        best = _DEG(lam[np.argmin(la.rms_pitch_error_from_moments(m, d[:, None, :], lam[None, :], g=g), axis=1)])
+        opt[key] = (best - paper + 180.0) % 360.0 - 180.0 + paper  # window centred on the paper's angle
+    return {"spread": np.max([axis_spread(d) for d in (d0, d1, d2)], axis=0),
+            "asymmetry": fig02_asymmetry(d0, th, ph, g), "large_pitch": large_pitch_ratio(d0, d1, d2, th, ph, sc),
+            "gain": rms_T / np.sqrt(ms_p), **opt}
+
+def gyro_samples(rate_rad_s, roll_rad, bias_rad_s, noise_rad_s_rthz, fs_hz, rng, shape):
+    """Gyro output of the 2-DOF mechanism (ψ̇ = 0, φ̇ = 0): Eq 11 rates + constant error + white noise.
+
+    ``rate_rad_s`` is the interval-mean pitch rate of each sample (the simulator's
+    convention), ``bias_rad_s``/``noise_rad_s_rthz`` per trial (leading axis).
+    """
+    w = np.zeros(shape + (3,))
+    w[..., 1] = rate_rad_s * np.cos(roll_rad)
+    w[..., 2] = -rate_rad_s * np.sin(roll_rad)
+    w += bias_rad_s.reshape((-1,) + (1,) * (len(shape) - 1) + (1,))
+    sigma = (noise_rad_s_rthz * np.sqrt(fs_hz)).reshape((-1,) + (1,) * len(shape))
+    return w + sigma * rng.standard_normal(w.shape)
+
+
+def trial_chunks(n):
+    """Slices of ``_CHUNK`` trials (results do not depend on how the trial count factorises)."""
+    return [slice(i, min(i + _CHUNK, n)) for i in range(0, n, _CHUNK)]
+
+
+def gyro_predictions(study: GyroStudy, b_deg, n_deg, rng):
+    """Held-out quantities per trial for per-trial (b, N)."""
+    g, osc = study.gyro, study.oscillation
+    out = {f"drift_{r:g}": np.empty(b_deg.size) for r in study.uniform.pitch_rates_deg_s}
+    out.update(hybrid_max=np.empty(b_deg.size), spike=np.empty(b_deg.size))
+    t = osc.time_s()
+    th = osc.pitch_rad(np.append(t, t[-1] + g.dt_s))
+    rate_osc = np.diff(th) / g.dt_s  # interval means (the simulator's convention)
+    slow = np.abs(osc.pitch_rate_rad_s(t)) < _RAD(5.0)
+    for sl in trial_chunks(b_deg.size):
+        b, nd = _RAD(b_deg[sl]), _RAD(n_deg[sl])
+        for r in study.uniform.pitch_rates_deg_s:
+            n_samp = int(round(study.uniform.sweep_deg / r * g.fs_hz))
+            w = gyro_samples(_RAD(r), g.roll0_rad, b, nd, g.fs_hz, rng, (b.size, n_samp))
+            out[f"drift_{r:g}"][sl] = _DEG(np.abs(np.sum(w[..., 0], axis=-1) * g.dt_s))
+        w = gyro_samples(rate_osc, g.roll0_rad, b, nd, g.fs_hz, rng, (b.size, t.size))
+        h, _ = gr.roll_hybrid(w, g.dt_s, osc.threshold_rad_s, roll0=g.roll0_rad)
+        out["hybrid_max"][sl] = _DEG(np.max(np.abs(h - g.roll0_rad), axis=-1))
+        e_p = np.abs(gr.roll_projection(w) - g.roll0_rad)
+        out["spike"][sl] = (np.max(np.where(slow, e_p, 0), axis=-1)
+                            / np.maximum(np.max(np.where(slow, 0, e_p), axis=-1), 1e-12))
+    return out
+
+def oscillation_claims(study: GyroStudy, b_z_deg, n_deg, rng, trials):
+    """Per-trial Fig 11 spike ratio and Fig 12 hybrid max error for a z error ``b_z`` and noise ``N``.
+
+    x and y gyros keep the study's constant errors.
+    """
+    g, osc = study.gyro, study.oscillation
+    t = osc.time_s()
+    th = osc.pitch_rad(np.append(t, t[-1] + g.dt_s))
+    rate = np.diff(th) / g.dt_s
+    slow = np.abs(osc.pitch_rate_rad_s(t)) < _RAD(5.0)
+    w = np.zeros((trials, t.size, 3))
+    w[..., 1] = rate * np.cos(g.roll0_rad)
+    w[..., 2] = -rate * np.sin(g.roll0_rad)
+    w += np.array([g.error_rad_s[0], g.error_rad_s[1], _RAD(b_z_deg)])
+    w += _RAD(n_deg) * np.sqrt(g.fs_hz) * rng.standard_normal(w.shape)
+    e_p = np.abs(gr.roll_projection(w) - g.roll0_rad)
+    spike = np.max(np.where(slow, e_p, 0), axis=-1) / np.maximum(np.max(np.where(slow, 0, e_p), axis=-1), 1e-12)
+    hyb = _DEG(np.max(np.abs(gr.roll_hybrid(w, g.dt_s, osc.threshold_rad_s, roll0=g.roll0_rad)[0] - g.roll0_rad),
+                      axis=-1))
+    return spike, hyb
