@@ -23,6 +23,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
+from mtcal.core.cache import cached
 from mtcal.core import metrics
 from mtcal.core.artifacts import Artifact, produces
 from mtcal.core.rng import stream_rng
@@ -280,6 +281,7 @@ def fig08(sc: AccelScenario) -> Artifact:
                      f"preset worse on {worse:.3f} of the grid"])
 
 
+@cached  # Monte Carlo result cached under $MTCAL_CACHE_DIR (make reproduce/artifact)
 @produces("tan2022_extra_independent_errors", "figure")
 def extra_independent_errors(sc: AccelScenario, seed: int, trials: int, step_deg: float = 5.0) -> Artifact:
     """tan2022_extra_independent_errors: preset rotation under *independent* per-axis errors (Monte Carlo).
@@ -331,6 +333,7 @@ def gyro_label(study: GyroStudy) -> str:
     return f"gyro error [{err}] °/s + noise {g.noise_density_deg_s_rthz:g} °/s/√Hz, {g.fs_hz:.0f} Hz"
 
 
+@cached  # Monte Carlo result cached under $MTCAL_CACHE_DIR (make reproduce/artifact)
 @produces("tan2022_fig06", "figure", "Fig. 6")
 def fig06(study: GyroStudy, seed: int, trials: int) -> Artifact:
     """tan2022_fig06: projection (Eq 13) roll error vs pitch rate; Eq 14, exact arctan and simulation (deg).
@@ -390,6 +393,7 @@ def threshold_check(study: GyroStudy) -> Artifact:
     return Artifact(table, rows, {}, [f"{k:28s}: {float(_DEG(v)):7.3f}°" for k, v in vals.items()])
 
 
+@cached  # Monte Carlo result cached under $MTCAL_CACHE_DIR (make reproduce/artifact)
 @produces("tan2022_fig09", "figure", "Fig. 9")
 def fig09(study: GyroStudy, seed: int, trials: int) -> Artifact:
     """tan2022_fig09: uniform pitch rotation through ±90° at each rate: roll errors vs TIME (deg).
@@ -454,6 +458,7 @@ def fig10(study: GyroStudy, seed: int) -> Artifact:
                      f"{osc.threshold_deg_s:g} °/s: {frac:.4f}"])
 
 
+@cached  # Monte Carlo result cached under $MTCAL_CACHE_DIR (make reproduce/artifact)
 @produces("tan2022_fig11", "figure", "Fig. 11")
 def fig11(study: GyroStudy, seed: int, trials: int) -> Artifact:
     """tan2022_fig11: projection roll error under oscillation vs time (deg); spikes where θ̇ → 0.
@@ -477,6 +482,7 @@ def fig11(study: GyroStudy, seed: int, trials: int) -> Artifact:
                     [f"spike ratio {spike['median']:.1f} [{spike['low']:.1f}, {spike['high']:.1f}] ({n} trials)"])
 
 
+@cached  # Monte Carlo result cached under $MTCAL_CACHE_DIR (make reproduce/artifact)
 @produces("tan2022_fig12", "figure", "Fig. 12")
 def fig12(study: GyroStudy, seed: int, trials: int) -> Artifact:
     """tan2022_fig12: hybrid (projection if |θ̇| > θ̇_t, else integration) under oscillation (deg).
@@ -531,6 +537,7 @@ def fig12(study: GyroStudy, seed: int, trials: int) -> Artifact:
                      f"{switched['median']:.4f}"])
 
 
+@cached  # Monte Carlo result cached under $MTCAL_CACHE_DIR (make reproduce/artifact)
 @produces("tan2022_extra_threshold_sweep", "figure")
 def extra_threshold_sweep(study: GyroStudy, seed: int, trials: int, n_thresholds: int) -> Artifact:
     """tan2022_extra_threshold_sweep: hybrid roll RMSE vs threshold θ̇_t (deg), Monte Carlo.

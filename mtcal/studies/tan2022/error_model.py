@@ -35,6 +35,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import pandas as pd
 
+from mtcal.core.cache import cached
 from mtcal.core import metrics
 from mtcal.core.validate import positive_int, positive_scalar
 from mtcal.methods import gyro_roll
@@ -218,6 +219,7 @@ def grid_posterior(likelihood, axis_values) -> dict:
 # --------------------------------------------------------------------------
 # accelerometer
 # --------------------------------------------------------------------------
+@cached  # Monte Carlo result cached under $MTCAL_CACHE_DIR (make reproduce/artifact)
 def fit_accel_error_model(sc: AccelScenario, prior: AccelErrorPrior, seed: int, trials: int,
                           step_deg: float = 5.0) -> ErrorModelFit:
     """Fit the independent/common bias ratio ``r`` to the paper's statements; predict Fig 8 and λ1, λ2.
@@ -309,6 +311,7 @@ def paper_gyro_error_deg_s() -> float:
     return float(df.loc[df["parameter"] == "mems_gyro_measurement_error", "value"].iloc[0])
 
 
+@cached  # Monte Carlo result cached under $MTCAL_CACHE_DIR (make reproduce/artifact)
 def fit_gyro_error_model(study: GyroStudy, prior: GyroErrorPrior, seed: int, trials: int,
                          window_s: float = 0.2, reading_rel: float = 0.05, fit_trials: int = 10) -> ErrorModelFit:
     """Fit the common gyro error ``b`` and noise density ``N`` to the Fig 6 curve; predict Fig 9/11/12.
@@ -431,6 +434,7 @@ def _trapezoid_weights(x):
     return w / w.sum()
 
 
+@cached  # Monte Carlo result cached under $MTCAL_CACHE_DIR (make reproduce/artifact)
 def fit_gyro_error_pattern(study: GyroStudy, prior: GyroErrorPrior, seed: int, trials: int) -> ErrorModelFit:
     """Fit the z-gyro error and the noise density to the oscillation statements (Figs 11, 12); predict Fig 9.
 

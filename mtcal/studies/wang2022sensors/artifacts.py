@@ -44,6 +44,7 @@ from dataclasses import replace
 import numpy as np
 import pandas as pd
 
+from mtcal.core.cache import cached
 from mtcal.core import metrics
 from mtcal.core.artifacts import Artifact, produces
 from mtcal.core.rng import stream_rng
@@ -96,6 +97,7 @@ def table01_zvd(sc: Scenario) -> Artifact:
     return Artifact(t, rows, {})
 
 
+@cached  # Monte Carlo result cached under $MTCAL_CACHE_DIR (make reproduce/artifact)
 @produces("wang2022sensors_fig06", "figure", "Fig. 6")
 def fig06_zvd(sc: Scenario, trials: int, seed: int) -> Artifact:
     """Fig. 6: ZVD on a rotate/hold record with the rig's moves and lever arm, with / without the gyro
@@ -137,6 +139,7 @@ def table02_sensors(sc: Scenario) -> Artifact:
     return Artifact(t2, rows, {})
 
 
+@cached  # Monte Carlo result cached under $MTCAL_CACHE_DIR (make reproduce/artifact)
 @produces("wang2022sensors_fig12", "figure", "Fig. 12")
 def fig12_gravity_change(sc: Scenario, trials: int, seed: int, n_boot: int) -> Artifact:
     """Fig. 12: ‖g1 − g0‖ vs axis elevation γ (g1 = R(30°, v)ᵀ g0; exact and by rotation matrices), and
@@ -176,6 +179,7 @@ def fig12_gravity_change(sc: Scenario, trials: int, seed: int, n_boot: int) -> A
     return Artifact(None, rows, data)
 
 
+@cached  # Monte Carlo result cached under $MTCAL_CACHE_DIR (make reproduce/artifact)
 @produces("wang2022sensors_table04", "table", "Table 4")
 def table04_axes(sc: Scenario, trials: int, seed: int) -> Artifact:
     """Table 4: Eq 23 axis estimates (three 2 s rests) for the Table 4 axes used as true axes, and how
@@ -207,6 +211,7 @@ def table04_axes(sc: Scenario, trials: int, seed: int) -> Artifact:
     return Artifact(t4, rows, {"p_all_exact": p_all})
 
 
+@cached  # Monte Carlo result cached under $MTCAL_CACHE_DIR (make reproduce/artifact)
 @produces("wang2022sensors_extra_axis_error_vs_rest", "figure")
 def extra_axis_error_vs_rest(sc: Scenario, trials: int, seed: int, n_boot: int,
                              rest_s=(0.25, 0.5, 1.0, 2.0, 4.0)) -> Artifact:
@@ -248,6 +253,7 @@ def extra_axis_error_vs_rest(sc: Scenario, trials: int, seed: int, n_boot: int,
 
 
 # --------------------------------------------------------------------------- notebook 31
+@cached  # Monte Carlo result cached under $MTCAL_CACHE_DIR (make reproduce/artifact)
 @produces("wang2022sensors_fig09", "figure", "Fig. 9")
 def fig09_ekf_switching(sc: Scenario, trials: int, seed: int) -> Artifact:
     """Fig. 9: EKF with vs without ZVD covariance switching (0–1 s still, 1–2 s 60° move, 2–3 s still)."""
@@ -264,6 +270,7 @@ def fig09_ekf_switching(sc: Scenario, trials: int, seed: int) -> Artifact:
     return Artifact(None, rows, {"run": r, "labels": labels(sc)})
 
 
+@cached  # Monte Carlo result cached under $MTCAL_CACHE_DIR (make reproduce/artifact)
 @produces("wang2022sensors_fig11", "figure", "Fig. 11")
 def fig11_max_error(sc: Scenario, reps: int, seed: int, *, imu: ImuValues | None = None) -> Artifact:
     """Fig. 11 (Sec. 5 simulation, Table 3 IMU, no lever arm): per-angle max error over 1000 samples,
@@ -288,6 +295,7 @@ def fig11_max_error(sc: Scenario, reps: int, seed: int, *, imu: ImuValues | None
                                  "ref16": metrics.percentile_band(f.max_err_ref16, axis=0), "labels": labels(sc)})
 
 
+@cached  # Monte Carlo result cached under $MTCAL_CACHE_DIR (make reproduce/artifact)
 @produces("wang2022sensors_extra_table3_sensitivity", "table")
 def extra_table3_sensitivity(sc: Scenario, reps: int, seed: int) -> Artifact:
     """Fig. 11 set-up (15° steps), proposed method, under the readings of Table 3's ambiguous rows:
@@ -386,6 +394,7 @@ _T5_CLAIMS = {("RAMS", "static"): ("RAMS static RMSE < 0.02 deg", lambda x: x < 
               ("AHRS stand-in", "dynamic"): ("", None)}
 
 
+@cached  # Monte Carlo result cached under $MTCAL_CACHE_DIR (make reproduce/artifact)
 @produces("wang2022sensors_table05", "table", "Table 5")
 def table05_rmse(fit: ErrorModelFit, seed: int, n_draws: int = 4000) -> Artifact:
     """Table 5: every printed RMSE beside the fitted model's and the prior-only model's predictive
@@ -428,6 +437,7 @@ def table05_rmse(fit: ErrorModelFit, seed: int, n_draws: int = 4000) -> Artifact
     return Artifact(t5, rows, {"summary": summary})
 
 
+@cached  # Monte Carlo result cached under $MTCAL_CACHE_DIR (make reproduce/artifact)
 @produces("wang2022sensors_fig13", "figure", "Fig. 13")
 def fig13_drift(sc: Scenario, fit: ErrorModelFit | None, trials: int, seed: int, run_s: float,
                 stand_s: float = 60.0) -> Artifact:
@@ -453,6 +463,7 @@ def fig13_drift(sc: Scenario, fit: ErrorModelFit | None, trials: int, seed: int,
     return Artifact(None, rows, {"run": d, "labels": labels(sc2)})
 
 
+@cached  # Monte Carlo result cached under $MTCAL_CACHE_DIR (make reproduce/artifact)
 @produces("wang2022sensors_fig14", "figure", "Fig. 14")
 def fig14_max_error_per_angle(fit: ErrorModelFit, seed: int, n_draws: int = 4000) -> Artifact:
     """Fig. 14: RAMS max |error| per sweep angle (settled half of each 1 s hold), posterior-predictive

@@ -36,6 +36,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 import pandas as pd
 
+from mtcal.core.cache import cached
 from mtcal.core.units import DEG, UG
 from mtcal.reporting import paper_numbers
 
@@ -291,6 +292,7 @@ class ErrorModelFit:
                 "latency_s": float(p["latency_s"]) / 1e3}
 
 
+@cached  # Monte Carlo result cached under $MTCAL_CACHE_DIR (make reproduce/artifact)
 def fit_error_model(sc: Scenario, reps: int, seed: int, grid: dict | None = None) -> ErrorModelFit:
     """Run the grid Monte Carlo and fit the error model to :data:`TRAINING` (see there)."""
     g = run_grid(sc, reps, seed, grid=grid)

@@ -23,6 +23,7 @@ from dataclasses import fields
 import numpy as np
 import pandas as pd
 
+from mtcal.core.cache import cached
 from mtcal.core import metrics, rotations
 from mtcal.core.rng import stream_rng, trial_rng
 from mtcal.reporting import compare, paper_numbers
@@ -364,6 +365,7 @@ def section_claims(table: pd.DataFrame, artifact: str, *, enforce: bool) -> str:
     return f"{artifact}: " + compare.check_claims(rows, enforce=False)
 
 
+@cached  # Monte Carlo result cached under $MTCAL_CACHE_DIR (make reproduce/artifact)
 def error_budget_table(sc, test: str, trials: int, seed: int) -> pd.DataFrame:
     """wang2023cja_extra_error_budget: each error source alone, then all (verification run of ``test``).
 

@@ -55,6 +55,7 @@ from dataclasses import dataclass, field, fields, replace
 import numpy as np
 from scipy.optimize import least_squares, minimize
 
+from mtcal.core.cache import cached
 from mtcal.core import metrics, rotations
 from mtcal.core.rotations import mount_quaternion
 from mtcal.core.rng import stream_rng
@@ -408,6 +409,7 @@ def _loglik(model: ErrorModel, tests: dict) -> float:
     return float(total)
 
 
+@cached  # Monte Carlo result cached under $MTCAL_CACHE_DIR (make reproduce/artifact)
 def fit_error_model(*, n_mc: int = 4000, seed: int = 2023, prior: ErrorModel | None = None) -> ErrorModelFit:
     """ML fit of the :class:`ErrorModel` fields to Tables 1–4 "after − reference" (72 numbers).
 

@@ -27,6 +27,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from mtcal.core.cache import cached
 from mtcal.core.montecarlo import progress
 from mtcal.core import metrics, rotations
 from mtcal.core.profiles import AngleProfile, step_schedule
@@ -598,6 +599,7 @@ def _wind_on_groups(sc, model, q_mat, rng, trials, trace, k_mount, keep_trace):
 
 
 
+@cached  # Monte Carlo result cached under $MTCAL_CACHE_DIR (make reproduce/artifact)
 def turntable_runs(sc: TurntableScenario, trials: int, seed: int) -> dict:
     """The notebook's Monte Carlo: T1 session with sweeps, T2–T4 sessions, ``trials`` each.
 
