@@ -23,8 +23,16 @@ from mtcal.runs.environment import repo_root
 
 __all__ = ["CatalogueEntry", "load_catalogue", "truncate_notebook", "rebuild_artifact", "RebuildResult"]
 
-_ROW_RE = re.compile(r"^\|\s*`(?P<file>(?:figures|data)/(?P<id>[A-Za-z0-9_]+)\.(?:png|csv))`\s*\|\s*(?P<paper>[^|]*)\|"
-                     r"\s*`(?P<notebook>\d\d_[A-Za-z0-9_]+)`\s*§\s*(?P<section>[^|]*?)\s*\|\s*(?P<producer>[^|]*?)\s*\|$")
+_FILE_RE = re.compile(r"^`(?P<file>(?:figures|data)/(?P<id>[A-Za-z0-9_]+)\.(?:png|csv))`$")
+_WHERE_RE = re.compile(r"^`(?P<notebook>\d\d_[A-Za-z0-9_]+)`\s*§\s*(?P<section>.*)$")
+
+
+def _cells(line: str) -> list[str]:
+    """The cells of a markdown table row (``\\|`` is a literal ``|``)."""
+    line = line.strip()
+    if not (line.startswith("|") and line.endswith("|")):
+        return []
+    return [c.strip().replace("\\|", "|") for c in re.split(r"(?<!\\)\|", line[1:-1])]
 
 
 @dataclass(frozen=True)
@@ -57,10 +65,13 @@ def load_catalogue(path: str | Path | None = None) -> list[CatalogueEntry]:
         raise FileNotFoundError(f"artifact catalogue {str(path)!r} not found (make it: python tools/artifact_catalogue.py)")
     rows = []
     for line in path.read_text(encoding="utf-8").splitlines():
-        m = _ROW_RE.match(line.strip())
-        if m:
-            rows.append(CatalogueEntry(m["id"], m["file"], m["paper"].strip(), m["notebook"], m["section"].strip(),
-                                       m["producer"].strip().strip("`")))
+        cells = _cells(line)
+        if len(cells) != 4:
+            continue
+        f, w = _FILE_RE.match(cells[0]), _WHERE_RE.match(cells[2])
+        if f and w:
+            rows.append(CatalogueEntry(f["id"], f["file"], cells[1], w["notebook"], w["section"].strip(),
+                                       cells[3].strip("`")))
     return rows
 
 
