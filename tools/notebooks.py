@@ -3,15 +3,17 @@
 Usage (from the repository root)::
 
     python tools/notebooks.py sync    [notebooks/NN_x.py ...]   # .ipynb inputs from the .py (jupytext)
-    python tools/notebooks.py execute [--jobs N] [notebooks/NN_x.py ...]   # papermill, in place (make reproduce: 2 jobs)
+    python tools/notebooks.py execute [--jobs N] [notebooks/NN_x.py ...]   # papermill, in place (default 2 jobs)
     python tools/notebooks.py measure [--out build/measure] [notebooks/NN_x.py ...]
         # each notebook in its own process tree; wall time and peak RSS → <out>/resources.csv
 
 All notebooks (``notebooks/NN_*.py``) when none are given. ``execute`` writes each
 notebook beside its source, figures/data under ``$MTCAL_OUTPUT_DIR`` (the
-repository root for ``make reproduce``), ``--jobs`` notebooks at a time, and stops starting new ones after the first failing notebook,
-whose partially executed ``.ipynb`` is kept. ``measure`` never touches the
-committed files (notebooks, data and figures go under ``--out``).
+repository root for ``make reproduce``), ``--jobs`` notebooks at a time (default 2),
+each in its own process with its own working directory and environment
+(:mod:`mtcal.runs.executor`), and starts no new one after the first failure; each
+failure is one line naming the partially executed ``.ipynb`` (kept). ``measure``
+never touches the committed files (notebooks, data and figures go under ``--out``).
 """
 
 from __future__ import annotations
