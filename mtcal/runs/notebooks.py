@@ -355,6 +355,9 @@ def run_notebook(notebook: str | int | Path, *, name: str | None = None, paramet
         Parent folder of the runs (default ``runs`` under the current directory).
     overwrite : bool
         Replace an existing run folder of the same name (else ValueError).
+    progress_bar : bool
+        Ignored (kept for compatibility): the notebook runs in its own process through
+        :func:`mtcal.runs.executor.execute_jobs`, the executor of ``make reproduce``.
 
     Raises
     ------
