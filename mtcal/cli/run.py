@@ -76,7 +76,7 @@ def cmd_reproduce(args) -> int:
         return 1
     for path, status in result.files.items():
         print(f"{path}: {status}" + (" (byte-identical to the file it replaces)" if status == "identical" else ""))
-    print(f"rebuilt {args.artifact} in {time.perf_counter() - start:.1f} s (notebook {result.notebook})")
+    print(f"rebuilt {args.artifact} in {time.perf_counter() - start:.1f} s (cells of {result.notebook})")
     if args.check and any(s != "identical" for s in result.files.values()):
         print(f"mtcal: error: {args.artifact} differs from the file it replaces", file=sys.stderr)
         return 1

@@ -8,12 +8,12 @@ Key of one call (sha-256):
 
 * **parameters** — every argument bound to the signature (defaults applied) and hashed by
   value: numbers, strings, arrays (dtype, shape, bytes), dataclasses (type and fields),
-  dicts, sequences, DataFrames; the seed is one of them;
-* **code** — the source of every mtcal module the function's module imports, directly or
-  through other mtcal modules (static import closure, function-level imports included), the
-  package's data files (the papers' printed numbers), plus
-  the Python/numpy/scipy/numba versions and the pinned numerics environment
-  (``mtcal.runs.environment.numerics_env``'s variables as set in this process).
+  dicts, sequences, DataFrames; the seed is one of them; plus the environment: the
+  Python/numpy/scipy/numba versions and the pinned numerics variables
+  (``mtcal.runs.environment.numerics_env``) as set in this process;
+* **code** — the source of the function and of every mtcal module its module imports,
+  directly or through other mtcal modules (static import closure, function-level imports
+  included), and the package's data files (the papers' printed numbers).
 
 Layout: ``<dir>/<function>/<parameters hash>/<code hash>.pkl``. A result stored for the same
 parameters under another code hash is **stale**: it is deleted and the result recomputed,
@@ -158,7 +158,22 @@ def parameters_hash(func, args: tuple, kwargs: dict) -> str:
     bound.apply_defaults()
     h = hashlib.sha256()
     _feed(h, dict(bound.arguments))
+    h.update(_environment_key().encode())
     return h.hexdigest()
+
+
+def _environment_key() -> str:
+    """Library versions and the pinned numerics environment: another environment is another entry
+    (kept beside this one), not a stale one."""
+    import scipy
+
+    try:
+        import numba
+        numba_version = numba.__version__
+    except ImportError:  # pragma: no cover - numba is a dependency
+        numba_version = "-"
+    return (f"{platform.python_version()} numpy {np.__version__} scipy {scipy.__version__} numba {numba_version} "
+            + repr([(k, os.environ.get(k)) for k in _NUMERICS_VARS]))
 
 
 def _module_file(name: str) -> Path | None:
@@ -230,25 +245,15 @@ def _closure_hash(module: str) -> str:
 
 def code_hash(func) -> str:
     """sha-256 of the code producing ``func``'s results: the function's source, the sources of the
-    mtcal modules its module imports (transitively), library versions and the numerics environment.
+    mtcal modules its module imports (transitively) and the package's data files.
     """
-    import scipy
-
-    try:
-        import numba
-        numba_version = numba.__version__
-    except ImportError:  # pragma: no cover - numba is a dependency
-        numba_version = "-"
     func = inspect.unwrap(func)
     h = hashlib.sha256()
     try:
         h.update(inspect.getsource(func).encode())
     except (OSError, TypeError):
         h.update(func.__qualname__.encode())
-    h.update(_closure_hash(func.__module__).encode() if func.__module__.startswith("mtcal") else b"")
-    h.update(f"{platform.python_version()} numpy {np.__version__} scipy {scipy.__version__} "
-             f"numba {numba_version}".encode())
-    h.update(repr([(k, os.environ.get(k)) for k in _NUMERICS_VARS]).encode())
+    h.update(_closure_hash(func.__module__).encode() if func.__module__.startswith("mtcal") else _data_hash().encode())
     return h.hexdigest()
 
 

@@ -13,14 +13,51 @@ import sys
 from pathlib import Path
 
 
+def _run_script(spec: dict) -> None:
+    """Execute the notebook's code cells in this process, in order (no kernel: ``mode="script"``).
+
+    Parameters are assigned after the ``parameters`` cell as papermill would inject them; the
+    cells run in one namespace with IPython's ``display``; the executed notebook is not written
+    (``output`` gets the cell sources only). A failing cell raises NotebookRunError with one line.
+    """
+    import os
+
+    import jupytext
+    from IPython.display import display
+
+    from mtcal.runs.notebooks import NotebookRunError
+
+    source = Path(spec["source"])
+    os.chdir(spec.get("cwd") or source.parent)  # this process runs this one notebook only
+    nb = jupytext.read(source, fmt="py:percent")
+    namespace = {"__name__": "__main__", "display": display}
+    parameters = spec.get("parameters") or {}
+    number = 0
+    for cell in nb.cells:
+        if cell.cell_type != "code":
+            continue
+        number += 1
+        try:
+            exec(compile(cell.source, f"{source.name}:cell{number}", "exec"), namespace)  # noqa: S102
+        except Exception as exc:  # noqa: BLE001 - one line, as execute_notebook reports it
+            first = str(exc).splitlines()[0] if str(exc) else ""
+            raise NotebookRunError(f"{source.stem} failed in cell {number}: {type(exc).__name__}: {first}; "
+                                   f"the cells ran as a script ({source})", source) from None
+        if "parameters" in cell.metadata.get("tags", []):
+            namespace.update(parameters)
+
+
 def main(argv: list[str]) -> int:
     spec = None
     try:
         spec = json.loads(argv[0])
         from mtcal.runs.notebooks import NotebookRunError, execute_notebook
 
-        execute_notebook(spec["source"], spec["output"], parameters=spec.get("parameters") or None,
-                         cwd=spec.get("cwd"), timeout_s=float(spec.get("timeout_s", 3600.0)))
+        if spec.get("mode", "kernel") == "script":
+            _run_script(spec)
+        else:
+            execute_notebook(spec["source"], spec["output"], parameters=spec.get("parameters") or None,
+                             cwd=spec.get("cwd"), timeout_s=float(spec.get("timeout_s", 3600.0)))
     except NotebookRunError as exc:
         print(f"mtcal-runner: {str(exc).splitlines()[0]}", file=sys.stderr)
         return 1

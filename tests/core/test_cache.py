@@ -127,3 +127,15 @@ def test_parameters_hash_binds_defaults_and_rejects_bad_calls():
     assert cache.parameters_hash(f, (1,), {}) == cache.parameters_hash(f, (), {"a": 1, "b": 2})
     with pytest.raises(TypeError, match="missing a required argument: 'a'"):
         cache.parameters_hash(f, (), {})
+
+
+def test_another_numerics_environment_is_another_entry_not_a_stale_one(store, monkeypatch):
+    s = Setup(1.0, np.zeros(3))
+    monkeypatch.setenv("OPENBLAS_CORETYPE", "Nehalem")
+    monte_carlo(s, 3, 1)
+    monkeypatch.setenv("OPENBLAS_CORETYPE", "Haswell")
+    monte_carlo(s, 3, 1)
+    assert len(CALLS) == 2 and cache.STATS["stale"] == 0 and len(list(store.rglob("*.pkl"))) == 2
+    monkeypatch.setenv("OPENBLAS_CORETYPE", "Nehalem")
+    monte_carlo(s, 3, 1)
+    assert len(CALLS) == 2 and cache.STATS["hit"] == 1

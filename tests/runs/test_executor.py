@@ -88,3 +88,18 @@ def test_failure_line_from_a_crash_without_runner_line():
     assert line == "10_x stopped: MemoryError; the partially executed notebook is nb/10_x.ipynb"
     assert "without a message" in failure_line("10_x", "o", "")
     assert JobResult(NotebookJob(Path("a.py"), Path("a.ipynb")), "ok").ok
+
+
+def test_script_mode_runs_the_cells_in_the_job_process(tmp_path):
+    src = tmp_path / "04_script.py"
+    src.write_text(WRITER, encoding="utf-8")
+    (tmp_path / "cwd").mkdir()
+    env = {"MTCAL_OUTPUT_DIR": str(tmp_path / "out"), "JOB_TAG": "s"}
+    ok, bad = execute_jobs([NotebookJob(src, src, {"NAME": "s"}, env=env, cwd=tmp_path / "cwd", mode="script"),
+                            NotebookJob(src, src, {"NAME": "t", "FAIL": True}, env=env, cwd=tmp_path / "cwd",
+                                        mode="script")], n_jobs=2, stop_on_failure=False)
+    assert ok.ok and json.loads((tmp_path / "out" / "s.json").read_text())["cwd"] == str(tmp_path / "cwd")
+    assert bad.error.startswith("04_script failed in cell 3: ValueError: asked to fail; the cells ran as a script")
+    assert src.read_text(encoding="utf-8") == WRITER  # the source is never written in script mode
+    with pytest.raises(ValueError, match="NotebookJob.mode must be 'kernel' or 'script', got 'thread'"):
+        execute_jobs([NotebookJob(src, src, mode="thread")])
