@@ -33,7 +33,7 @@ import pandas as pd
 from mtcal.core import metrics
 from mtcal.core.validate import merge_parameters
 
-__all__ = ["COMPARISON_COLUMNS", "comparison_row", "comparison_table", "band_summary", "claims_summary",
+__all__ = ["COMPARISON_COLUMNS", "DISPLAY_COLUMNS", "comparison_row", "comparison_table", "band_summary", "claims_summary",
            "band_record", "band_row", "band_text", "describe", "claim", "consistency",
            "ROLES", "KINDS", "SOURCES", "at_paper_settings", "check_claims", "role_summary", "prediction_summary"]
 
@@ -41,6 +41,9 @@ COMPARISON_COLUMNS = ["artifact", "quantity", "paper", "mtcal", "mc_band", "pape
                       "prior_in_band", "claim", "holds", "kind", "role", "source", "note", "enforced", "ref",
                       "mc_low", "mc_high", "prior_median", "prior_low", "prior_high"]
 
+#: The columns a notebook prints (the numeric band ends and bookkeeping stay in the saved CSV).
+DISPLAY_COLUMNS = ["artifact", "quantity", "paper", "mtcal", "mc_band", "prior_band", "claim", "holds", "kind",
+                   "role"]
 #: What the paper number of a row is: its split role (``paper_data/<key>_split.csv``) or ``finding``
 #: (a result of ours the paper does not state).
 ROLES = ("train", "heldout", "input", "erratum", "not-compared", "finding")
@@ -96,7 +99,8 @@ def comparison_row(artifact: str, quantity: str, paper, mtcal, claim: str, holds
     source : {"paper claim", "mtcal finding"}
         Whose claim the ``claim`` column states.
     kind : {"claim", "consistency"}, optional
-        Default ``"claim"`` when ``holds`` is given, else empty.
+        Default ``"claim"`` when ``holds`` is given and ``source`` is the paper,
+        else empty (our own findings are never the paper's claims).
     note : str
         Computed reason a claim fails, or what makes a consistency row true by construction.
     enforce : bool
@@ -112,7 +116,7 @@ def comparison_row(artifact: str, quantity: str, paper, mtcal, claim: str, holds
     if holds is not None and not isinstance(holds, (bool, np.bool_)):
         raise TypeError(f"holds must be bool or None, got {type(holds).__name__}")
     if kind is None:
-        kind = "claim" if holds is not None else ""
+        kind = "claim" if holds is not None and source == "paper claim" else ""
     elif kind not in KINDS:
         raise ValueError(f"kind must be one of {KINDS}, got {kind!r}")
     if kind and holds is None:
@@ -310,6 +314,10 @@ def check_claims(table: pd.DataFrame, *, enforce: bool) -> str:
     if len(cons):
         n_ok = int(cons["holds"].astype(bool).sum())
         text += f"\nconsistency checks (true by construction, not claims): {n_ok} of {len(cons)} hold"
+    own = table[table["holds"].notna() & (kind == "")]
+    if len(own):
+        n_ok = int(own["holds"].astype(bool).sum())
+        text += f"\nour own findings: {n_ok} of {len(own)} hold"
     checked = table[table["holds"].notna()]
     if "enforced" in checked:
         enforced = checked["enforced"].fillna(True).astype(bool)
