@@ -138,7 +138,7 @@ def comparison_row(artifact: str, quantity: str, paper, mtcal, claim: str, holds
 
 
 def claim(artifact: str, quantity: str, paper, mtcal, quote: str, check, *, band=None, prior_band=None,
-          role: str = "heldout", enforce: bool = True, note: str = "", ref: str = "") -> dict:
+          role: str = "heldout", enforce: bool = True, note: str = "", ref: str = "", value=None) -> dict:
     """A paper claim tested with its own threshold; the row carries ``check`` so a test can re-run it.
 
     Parameters
@@ -146,9 +146,13 @@ def claim(artifact: str, quantity: str, paper, mtcal, quote: str, check, *, band
     quote : str
         The paper's statement with its threshold, verbatim.
     check : callable
-        ``check(mtcal) -> bool``, the claim evaluated on our value; the row's
-        ``holds`` is ``check(mtcal)`` and ``row["check"]`` is ``check``
-        (tests perturb the value and see it return False).
+        ``check(value) -> bool``, the claim evaluated on our number; the row's
+        ``holds`` is ``check(value)``, ``row["check"]`` is ``check`` and
+        ``row["value"]`` the number it was evaluated on (tests perturb it and see
+        the check return False).
+    value : float, optional
+        The number the claim is evaluated on when it is not ``mtcal`` (e.g. a
+        97.5 % band end); default ``mtcal``.
     enforce : bool
         False for a claim our model fails (reported with ``note``, the computed reason).
 
@@ -158,15 +162,16 @@ def claim(artifact: str, quantity: str, paper, mtcal, quote: str, check, *, band
     """
     if not callable(check):
         raise TypeError(f"check must be callable, got {type(check).__name__}")
-    holds = bool(check(mtcal))
+    value = mtcal if value is None else value
+    holds = bool(check(value))
     row = comparison_row(artifact, quantity, paper, mtcal, quote, holds, band=band, prior_band=prior_band,
                          role=role, kind="claim", note=note, enforce=enforce, ref=ref)
-    row["check"] = check
+    row["check"], row["value"] = check, value
     return row
 
 
 def consistency(artifact: str, quantity: str, paper, mtcal, statement: str, holds: bool, *, by: str,
-                band=None, role: str = "train", ref: str = "") -> dict:
+                band=None, prior_band=None, role: str = "train", ref: str = "") -> dict:
     """A check that holds by construction (never counted as a claim); ``by`` says why it must hold.
 
     >>> r = consistency("t", "b inside prior", 0.2, 0.21, "inside the prior", True, by="the grid lies in the prior")
@@ -175,8 +180,8 @@ def consistency(artifact: str, quantity: str, paper, mtcal, statement: str, hold
     """
     if not by:
         raise ValueError("by must say why the check holds by construction")
-    return comparison_row(artifact, quantity, paper, mtcal, statement, holds, band=band, role=role,
-                          kind="consistency", note=by, ref=ref)
+    return comparison_row(artifact, quantity, paper, mtcal, statement, holds, band=band, prior_band=prior_band,
+                          role=role, kind="consistency", note=by, ref=ref)
 
 
 def comparison_table(rows: list[dict], digits: int = 4) -> pd.DataFrame:

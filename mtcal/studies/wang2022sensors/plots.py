@@ -161,13 +161,13 @@ def plot_fig14(data: dict):
 
 
 def plot_error_model(table):
-    """Table 5 numbers (paper) beside the fitted and prior-only 95 % predictive bands (log scale)."""
+    """Table 5 numbers (paper) beside the posterior- and prior-predictive 95 % bands (log scale)."""
     t = table.reset_index(drop=True)
     y = np.arange(len(t))[::-1]
     fig, ax = plt.subplots(figsize=(8, 0.32 * len(t) + 1.6))
-    ax.hlines(y + 0.15, t.prior_low, t.prior_high, color="0.6", lw=4, label="prior-only 95 % band")
+    ax.hlines(y + 0.15, t.prior_low, t.prior_high, color="0.6", lw=4, label="prior-predictive 95 % band")
     ax.hlines(y - 0.15, t.fitted_low, t.fitted_high, color="tab:blue", lw=4, label="fitted 95 % band")
-    fit = t.role == "fitted"
+    fit = t.role == "train"
     ax.plot(t.paper_deg[fit], y[fit], "kx", ms=7, label="paper (training)")
     ax.plot(t.paper_deg[~fit], y[~fit], "o", color="tab:red", ms=6, label="paper (held out)")
     ax.set_yticks(y)
