@@ -171,8 +171,11 @@ def claim(artifact: str, quantity: str, paper, mtcal, quote: str, check, *, band
 
 
 def consistency(artifact: str, quantity: str, paper, mtcal, statement: str, holds: bool, *, by: str,
-                band=None, prior_band=None, role: str = "train", ref: str = "") -> dict:
+                band=None, prior_band=None, role: str = "train", ref: str = "", enforce: bool = True) -> dict:
     """A check that holds by construction (never counted as a claim); ``by`` says why it must hold.
+
+    ``enforce=False`` for a fit diagnostic (a statement about a training number the
+    approximate fit need not reproduce exactly): reported, never raised.
 
     >>> r = consistency("t", "b inside prior", 0.2, 0.21, "inside the prior", True, by="the grid lies in the prior")
     >>> r["kind"], r["note"]
@@ -181,7 +184,7 @@ def consistency(artifact: str, quantity: str, paper, mtcal, statement: str, hold
     if not by:
         raise ValueError("by must say why the check holds by construction")
     return comparison_row(artifact, quantity, paper, mtcal, statement, holds, band=band, prior_band=prior_band,
-                          role=role, kind="consistency", note=by, ref=ref)
+                          role=role, kind="consistency", note=by, ref=ref, enforce=enforce)
 
 
 def comparison_table(rows: list[dict], digits: int = 4) -> pd.DataFrame:
@@ -319,6 +322,9 @@ def check_claims(table: pd.DataFrame, *, enforce: bool) -> str:
     if len(cons):
         n_ok = int(cons["holds"].astype(bool).sum())
         text += f"\nconsistency checks (true by construction, not claims): {n_ok} of {len(cons)} hold"
+        bad = cons[~cons["holds"].astype(bool)]
+        text += "".join(f"\n  not holding: {r.artifact} | {r.quantity} | {r.claim} | mtcal {r.mtcal} | {r.note}"
+                        for r in bad.itertuples())
     own = table[table["holds"].notna() & (kind == "")]
     if len(own):
         n_ok = int(own["holds"].astype(bool).sum())
