@@ -61,6 +61,7 @@ N_TRIALS = N_TRIALS or {"ci": 20, "full": 100}[SIZE]
 N_UNIFORM = {"ci": 5, "full": 20}[SIZE]  # trials of the long uniform rotations
 N_THRESHOLDS = {"ci": 25, "full": 60}[SIZE]
 N_PATTERN = {"ci": 5, "full": 10}[SIZE]  # noise trials per grid point of the error-pattern fit
+N_PREDICT = {"ci": 20, "full": 1000}[SIZE]  # posterior / prior predictive trials of the gyro error model
 params = {"gyro_error_x_deg_s": gyro_error_x_deg_s, "gyro_error_y_deg_s": gyro_error_y_deg_s,
           "gyro_error_z_deg_s": gyro_error_z_deg_s, "gyro_noise_density_deg_s_rthz": gyro_noise_density_deg_s_rthz,
           "fs_hz": fs_hz, "pitch_rates_deg_s": pitch_rates_deg_s, "oscillation_amplitude_deg": oscillation_amplitude_deg,
@@ -190,7 +191,7 @@ display(output.save_figure(plots.extra_threshold_sweep(art), "tan2022_extra_thre
 # from the priors).
 
 # %%
-fit = tan2022.fit_gyro_error_model(study, tan2022.GyroErrorPrior(), SEED, N_TRIALS)
+fit = tan2022.fit_gyro_error_model(study, tan2022.GyroErrorPrior(), SEED, N_PREDICT)
 print(*fit.lines, sep="\n")
 output.show_table(fit.parameters, "{:.4f}")
 output.show_table(fit.predictions, "{:.3f}")
