@@ -8,13 +8,16 @@ import pytest
 
 from mtcal.reporting import leak, paper_numbers
 
-#: Studies that register a fit_and_predict (wang2023cja's comes with branch fid-w23).
-STUDIES = ("tan2022", "wang2022sensors")
+#: Every paper's study registers a fit_and_predict; wang2023cja's comes with branch fid-w23 (issue #21
+#: part B): strict xfail until then, so the marker must go when it lands.
+STUDIES = [pytest.param("wang2023cja", marks=pytest.mark.xfail(
+    strict=True, reason="wang2023cja fit_and_predict is registered on branch fid-w23")), "tan2022", "wang2022sensors"]
 
 
 @pytest.mark.parametrize("key", STUDIES)
 def test_study_fit_does_not_leak(key):
     importlib.import_module(f"mtcal.studies.{key}")
+    assert key in leak.registered(), f"mtcal.studies.{key} registers no fit_and_predict"
     out = leak.check_no_leak(key, size="ci", seed=0)
     assert out and all(isinstance(v, np.ndarray) for v in out.values())
 
