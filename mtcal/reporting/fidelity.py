@@ -264,8 +264,9 @@ def write_scores(table: pd.DataFrame, key: str, notebook: str, folder: str | Pat
     """Merge one notebook's held-out records into ``data/fidelity_numbers.csv``; rewrite ``data/fidelity_scores.csv``.
 
     The records of ``notebook`` replace its previous ones; the scores file then has
-    one row per (paper, baseline) and per (overall, baseline), sorted, fixed float
-    format (byte-stable). Returns the scores path.
+    one row per (paper, baseline) for every paper key (``n = 0`` where nothing is
+    held out) and per (overall, baseline), sorted, fixed float format (byte-stable).
+    Returns the scores path.
 
     Parameters
     ----------
@@ -285,7 +286,8 @@ def write_scores(table: pd.DataFrame, key: str, notebook: str, folder: str | Pat
     recs = recs.sort_values(["paper_key", "notebook", "artifact", "quantity", "ref"], kind="stable")
     recs[RECORD_COLUMNS].to_csv(num_path, index=False, float_format="%.6g", lineterminator="\n")
     rows = []
-    scopes = [(k, recs[recs["paper_key"] == k]) for k in sorted(recs["paper_key"].unique())] + [("overall", recs)]
+    # every paper has its rows (n = 0 when it has no held-out number with a band, e.g. tan2022)
+    scopes = [(k, recs[recs["paper_key"] == k]) for k in sorted(paper_numbers.KEYS)] + [("overall", recs)]
     for scope, part in scopes:
         for b in BASELINES:
             rows.append({"scope": scope, "baseline": b, **aggregate(part, b)})

@@ -86,7 +86,9 @@ def test_write_scores_merges_and_is_byte_stable(tmp_path):
     assert list(df.columns) == fidelity.SCORE_COLUMNS
     assert list(zip(df.scope, df.baseline)) == [("tan2022", "fitted"), ("tan2022", "prior"),
                                                 ("wang2022sensors", "fitted"), ("wang2022sensors", "prior"),
+                                                ("wang2023cja", "fitted"), ("wang2023cja", "prior"),
                                                 ("overall", "fitted"), ("overall", "prior")]
+    assert df.loc[df.scope == "wang2023cja", "n"].tolist() == [0, 0]
     assert df.loc[df.scope == "overall", "n"].tolist() == [6, 4]
     with pytest.raises(ValueError, match="paper_key must be one of"):
         fidelity.write_scores(t, "x2020", "n", folder=tmp_path)
