@@ -390,7 +390,9 @@ _T5_CLAIMS = {("RAMS", "static"): ("RAMS static RMSE < 0.02 deg", lambda x: x < 
 def table05_rmse(fit: ErrorModelFit, seed: int, n_draws: int = 4000) -> Artifact:
     """Table 5: every printed RMSE beside the fitted model's and the prior-only model's predictive
     median and 95 % band; ``role`` fitted (training subset) or predicted (held out)."""
-    pv = em.paper_table5()
+    df5 = paper.load("wang2022sensors_table05_rmse")  # comparison layer: every printed number
+    pv = {(r.rotation_axis, em.SYSTEMS[r.system], k): float(getattr(r, f"rmse_{k}_deg"))
+          for r in df5.itertuples() for k in ("static", "dynamic")}
     rng = stream_rng(seed, STREAM_TABLE05_DRAWS)
     recs, rows = [], []
     draws = {}
