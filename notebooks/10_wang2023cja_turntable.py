@@ -39,7 +39,7 @@ import time
 import numpy as np
 import pandas as pd
 from IPython.display import display
-from mtcal.reporting import compare, output
+from mtcal.reporting import compare, fidelity, output
 from mtcal.studies import wang2023cja as w
 from mtcal.studies.wang2023cja import predictive, verdicts
 
@@ -284,17 +284,12 @@ assert budget.set_index("source").loc["none", "after_max_deg"] < 1e-6
 # (bootstrap over trials). Scores count held-out numbers only.
 
 # %%
-output.save_table(one["fitted"], "wang2023cja_turntable_comparison")
-output.save_table(one["prior"], "wang2023cja_extra_turntable_comparison_prior_predictive")
+output.save_table(one["fitted"], "wang2023cja_extra_turntable_one_to_one")
+output.save_table(one["prior"], "wang2023cja_extra_turntable_one_to_one_prior_predictive")
 held = one["fitted"][one["fitted"].role == "heldout"]
 output.show_table(held[["quantity", "paper", "median", "low", "high", "se_low", "se_high", "inside"]], "{:.4f}")
 print(f"median MC standard error of the band ends: low {held.se_low.median():.4f}°, high {held.se_high.median():.4f}° "
       f"(median band width {(held.high - held.low).median():.4f}°)")
-scores = {name: verdicts.scores(t) for name, t in one.items()}
-output.save_table(pd.DataFrame([{"paper": "wang2023cja", "notebook": "10", "model": k, **v}
-                                                  for k, v in scores.items()]), "wang2023cja_extra_turntable_scores")
-better = scores["fitted"]["median_interval_score_rel"] < scores["prior"]["median_interval_score_rel"]
-print("the fit " + ("beats" if better else "does NOT beat") + " the prior predictive on the median relative interval score")
 
 # %% [markdown]
 # ## The paper's claims, with its thresholds
@@ -316,7 +311,12 @@ if AT_PAPER and SIZE == "full":                 # 4 CI trials are too few for a 
 
 # %% [markdown]
 # ## Score block
+# The comparison table (every printed number with its posterior- and prior-predictive band, then
+# the claims) is scored by `mtcal.reporting.fidelity` and merged into `data/fidelity_scores.csv`.
 
 # %%
-print(verdicts.score_block(one, {"fitted": claims, "prior": claims_prior}))
+table = verdicts.comparison(one, claims)
+output.save_table(table, "wang2023cja_turntable_comparison")
+fidelity.write_scores(table, "wang2023cja", "10")
+print(fidelity.score_block(table, "wang2023cja"))
 print(f"notebook run time: {time.perf_counter() - T_START:.0f} s ({SIZE}, {N_TRIALS} trials per model)")

@@ -47,7 +47,7 @@ import time
 import numpy as np
 import pandas as pd
 from IPython.display import display
-from mtcal.reporting import compare, output
+from mtcal.reporting import compare, fidelity, output
 from mtcal.studies import wang2023cja as w
 from mtcal.studies.wang2023cja import predictive, verdicts
 
@@ -192,15 +192,10 @@ section("wang2023cja_table11")
 # `se_low`/`se_high` are the Monte Carlo standard errors of the band ends.
 
 # %%
-output.save_table(one["fitted"], "wang2023cja_windtunnel_comparison")
-output.save_table(one["prior"], "wang2023cja_extra_windtunnel_comparison_prior_predictive")
+output.save_table(one["fitted"], "wang2023cja_extra_windtunnel_one_to_one")
+output.save_table(one["prior"], "wang2023cja_extra_windtunnel_one_to_one_prior_predictive")
 output.show_table(one["fitted"][["quantity", "role", "paper", "median", "low", "high", "se_low", "se_high", "inside"]],
                   "{:.4f}")
-scores = {name: verdicts.scores(t) for name, t in one.items()}
-output.save_table(pd.DataFrame([{"paper": "wang2023cja", "notebook": "11", "model": k, **v} for k, v in scores.items()]),
-                  "wang2023cja_extra_windtunnel_scores")
-better = scores["fitted"]["median_interval_score_rel"] < scores["prior"]["median_interval_score_rel"]
-print("the fit " + ("beats" if better else "does NOT beat") + " the prior predictive on the median relative interval score")
 
 # %% [markdown]
 # ## The paper's claims, with its thresholds
@@ -214,7 +209,12 @@ print(verdicts.claim_block(claims))
 
 # %% [markdown]
 # ## Score block
+# The comparison table (every printed number with its posterior- and prior-predictive band, then
+# the claims) is scored by `mtcal.reporting.fidelity` and merged into `data/fidelity_scores.csv`.
 
 # %%
-print(verdicts.score_block(one, claims))
+table = verdicts.comparison(one, claims)
+output.save_table(table, "wang2023cja_windtunnel_comparison")
+fidelity.write_scores(table, "wang2023cja", "11")
+print(fidelity.score_block(table, "wang2023cja"))
 print(f"notebook run time: {time.perf_counter() - T_START:.0f} s ({SIZE}, {N_TRIALS} trials per model)")

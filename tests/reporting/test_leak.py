@@ -9,7 +9,7 @@ import pytest
 from mtcal.reporting import leak, paper_numbers
 
 #: Studies that register a fit_and_predict (wang2023cja's comes with branch fid-w23).
-STUDIES = ("tan2022", "wang2022sensors")
+STUDIES = ("tan2022", "wang2022sensors", "wang2023cja")
 
 
 @pytest.mark.parametrize("key", STUDIES)

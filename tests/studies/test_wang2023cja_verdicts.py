@@ -114,3 +114,18 @@ def test_claim_block_lists_failures_with_reason():
                                       "median {v:.1f}")], columns=verdicts.CLAIM_COLUMNS)
     text = verdicts.claim_block(t)
     assert "x FAILS" in text and "median 2.5" in text and "claim: 0 of 1 hold" in text
+
+
+def test_leak_registration_and_comparison_feed_the_scores():
+    from mtcal.reporting import fidelity, leak
+
+    assert leak.registered()["wang2023cja"] is predictive.fit_and_predict
+    with pytest.raises(ValueError, match="size must be one of"):
+        predictive.fit_and_predict("huge")
+    key = ("wang2023cja_table10_windtunnel_wind_pitch", 40, "value_deg")
+    one = {k: verdicts.one_to_one({key: (0.0, np.linspace(lo, hi, 40))}) for k, lo, hi in
+           (("fitted", 0.005, 0.02), ("prior", 0.0, 0.1))}
+    t = verdicts.comparison(one)
+    assert t.ref.iloc[0] == "wang2023cja_table10_windtunnel_wind_pitch:40:value_deg"
+    s = fidelity.score(t, "fitted")
+    assert (s["n"], s["inside"]) == (1, 1)

@@ -16,9 +16,9 @@ table/figure, plus comparison rows), :mod:`.plots` (figures; imports matplotlib 
 """
 
 from . import artifacts, constrained, error_model, predictive, runs, scenario, verdicts
-from .artifacts import (asserted, banded, error_budget_table, error_metric_table, error_model_table, HELD_OUT,
+from .artifacts import (banded, error_budget_table, error_metric_table, error_model_table, HELD_OUT,
                         installation_fit_table, outside_rows, positions_table, printed_matrix_check, q22_noise_band,
-                        section_claims, stepwise_coupling, sweep_mean_table, table08_reductions, table10, TRAINING,
+                        stepwise_coupling, sweep_mean_table, table08_reductions, table10, TRAINING,
                         windtunnel_matrix_table)
 from .error_model import (ErrorModel, ErrorModelFit, fit_error_model, fit_installation_angles, FITTED_PARAMETERS,
                           InstallationFit, MOUNT_TYPE, N_NORMALS, paper_positions, PAPER_SIGN, position_noise_deg,
@@ -44,7 +44,7 @@ __all__ = ["artifacts", "constrained", "error_model", "predictive", "runs", "sce
            "run_windtunnel", "elastic_deflection_rad", "calibration_step", "MONTE_CARLO_GATES", "TRAINING", "HELD_OUT", "installation_fit_table",
            "error_model_table", "printed_matrix_check", "positions_table", "sweep_mean_table", "error_metric_table",
            "table08_reductions", "windtunnel_matrix_table", "table10", "banded",
-           "outside_rows", "asserted", "q22_noise_band", "stepwise_coupling", "section_claims", "error_budget_table"]
+           "outside_rows", "q22_noise_band", "stepwise_coupling", "error_budget_table"]
 
 
 def __getattr__(name):

@@ -29,8 +29,8 @@ from .runs import position_errors_deg
 
 __all__ = ["TRAINING", "HELD_OUT", "installation_fit_table", "error_model_table", "printed_matrix_check",
            "positions_table", "sweep_mean_table", "error_metric_table", "table08_reductions",
-           "windtunnel_matrix_table", "table10", "banded", "outside_rows", "asserted", "q22_noise_band",
-           "stepwise_coupling", "section_claims", "error_budget_table"]
+           "windtunnel_matrix_table", "table10", "banded", "outside_rows", "q22_noise_band",
+           "stepwise_coupling", "error_budget_table"]
 
 #: Summary of the split (``paper_data/wang2023cja_split.csv`` is authoritative): artifacts with train numbers.
 TRAINING = ("wang2023cja_table01", "wang2023cja_table02", "wang2023cja_table03", "wang2023cja_table04",
@@ -57,7 +57,7 @@ STREAM_ERROR_BUDGET = 100     # key (seed, 100, row): one error-budget row
 
 
 def banded(artifact: str, quantity: str, paper_value, samples, *, claim: str = "", holds=None,
-           role: str = "predicted", source: str = "paper claim") -> dict:
+           role: str = "heldout", source: str = "paper claim") -> dict:
     """Comparison row with the Monte Carlo median and 95 % band of ``samples`` (1-D, display unit)."""
     rec = compare.band_record(artifact, quantity, paper_value, np.asarray(samples, float))
     return compare.comparison_row(artifact, quantity, paper_value, rec["median"], claim, holds, band=rec,
@@ -209,15 +209,6 @@ def table10(run, wind_on_sweep_deg) -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
-def asserted(table: pd.DataFrame) -> pd.DataFrame:
-    """The rows whose claim the notebook asserts at the paper's settings (claims not marked ``reported:``).
-
-    Threshold claims on predicted numbers (e.g. "after within 0.03°") depend on the identified
-    error level; they are evaluated and reported in every run, asserted nowhere.
-    """
-    return table[~table["claim"].astype(str).str.startswith("reported:")]
-
-
 def outside_rows(table: pd.DataFrame) -> pd.DataFrame:
     """Rows of a comparison table whose paper number lies outside our 95 % band (any role)."""
     placed = table[table["paper_in_band"].notna()]
@@ -237,19 +228,6 @@ def q22_noise_band(model: ErrorModel, positions_rad, *, n_mc: int = 4000, seed: 
                          positions_rad=positions_rad)
     b = metrics.percentile_band(res["q_matrix"][:, 1, 1])
     return {"median": float(b["median"]), "low": float(b["low"]), "high": float(b["high"])}
-
-
-def section_claims(table: pd.DataFrame, artifact: str, *, enforce: bool) -> str:
-    """Evaluate the claims of one artifact: every row reported, asserted rows enforced when ``enforce``.
-
-    Returns the report of :func:`mtcal.reporting.compare.check_claims` over all the artifact's rows
-    (asserted and ``reported:``), after raising if an asserted claim fails at the paper's settings.
-    """
-    rows = table[table["artifact"] == artifact]
-    if rows.empty:
-        raise ValueError(f"artifact {artifact!r} has no rows in the comparison table")
-    compare.check_claims(asserted(rows), enforce=enforce)
-    return f"{artifact}: " + compare.check_claims(rows, enforce=False)
 
 
 def error_budget_table(sc, test: str, trials: int, seed: int) -> pd.DataFrame:

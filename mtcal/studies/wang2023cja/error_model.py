@@ -168,7 +168,7 @@ def predicted_before(alpha_rad, reference_rad) -> np.ndarray:
 
 
 def _table_angles(table: str):
-    df = paper_numbers.load(table)
+    df = paper_numbers.training("wang2023cja")[table]       # train/input numbers only (the split)
     cols = lambda kind: [f"{a}_{kind}_deg" for a in ("yaw", "pitch", "roll")]  # noqa: E731
     return tuple(np.radians(df[cols(k)].to_numpy(float)) for k in ("reference", "before", "after"))
 

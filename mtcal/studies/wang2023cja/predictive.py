@@ -33,6 +33,7 @@ from dataclasses import replace
 import numpy as np
 
 from mtcal.core.rng import stream_rng
+from mtcal.reporting import leak
 from .error_model import FITTED_PARAMETERS, PRIOR_RANGES, TABLES_1_TO_4, ErrorModel, ErrorModelFit
 from .runs import TurntableJob, run_turntable_jobs, run_windtunnel
 
@@ -206,9 +207,10 @@ def quantile_se(samples, q: float, *, n_boot: int = 400, seed: int = 0) -> float
 
 
 #: Leak-test sizes: (fit Monte Carlo draws, turntable trials, wind-tunnel trials, sample rate Hz).
-LEAK_SIZES = {"ci": (1000, 2, 2, 200.0), "full": (4000, 10, 10, 1000.0)}
+LEAK_SIZES = {"ci": (4000, 2, 2, 200.0), "full": (4000, 10, 10, 1000.0)}
 
 
+@leak.register("wang2023cja")
 def fit_and_predict(size: str = "ci", seed: int = 0) -> dict:
     """The fit and the held-out predictions, for the leak test (:mod:`mtcal.reporting.leak`).
 

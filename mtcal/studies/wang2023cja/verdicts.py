@@ -36,13 +36,13 @@ import pandas as pd
 from scipy import stats
 
 from mtcal.core import metrics
-from mtcal.reporting import paper_numbers
+from mtcal.reporting import compare, paper_numbers
 from .error_model import PAPER_SIGN, TABLES_1_TO_4
 from .predictive import quantile_se
 from .runs import position_errors_deg
 
-__all__ = ["SPLIT_FILE", "split", "printed_samples", "one_to_one", "scores", "score_block", "claims",
-           "claim_block", "CLAIM_COLUMNS"]
+__all__ = ["SPLIT_FILE", "split", "printed_samples", "one_to_one", "scores", "claims",
+           "claim_block", "CLAIM_COLUMNS", "comparison"]
 
 SPLIT_FILE = "wang2023cja_split"
 _ANG = ("yaw", "pitch", "roll")
@@ -206,30 +206,6 @@ def scores(table: pd.DataFrame, role: str = "heldout") -> dict:
             "within25": int((np.abs(med - p) <= 0.25 * np.abs(p)).sum())}
 
 
-def score_block(tables: dict, claim_table=None, label: str = "") -> str:
-    """The closing score block: ``N printed numbers: K train, H held out, h inside; C claims: c hold``.
-
-    ``N``, ``K``, ``H`` count the split (every printed number of the paper); ``h`` the held-out
-    numbers inside our 95 % band among those compared in ``tables`` (model name → :func:`one_to_one`
-    table), one line per model; ``claim_table`` a :func:`claims` table or a dict model → table.
-    """
-    sp = split()
-    n, k, h_all = len(sp), int((sp.role == "train").sum()), int((sp.role == "heldout").sum())
-    lines = []
-    for name, t in tables.items():
-        s = scores(t)
-        line = (f"{label}{name}: {n} printed numbers: {k} train, {h_all} held out ({s['n_heldout']} compared here), "
-                f"{s['inside']} inside (coverage {s['coverage']:.0%} [{s['coverage_low']:.0%}, {s['coverage_high']:.0%}], "
-                f"median rel. width {s['median_rel_width']:.2f}, median rel. interval score "
-                f"{s['median_interval_score_rel']:.2f}, {s['within25']} within ±25 %)")
-        ct = claim_table.get(name) if isinstance(claim_table, dict) else claim_table
-        if ct is not None:
-            c = ct[ct.kind == "claim"]
-            line += f"; {len(c)} claims: {int(c.holds.sum())} hold"
-        lines.append(line)
-    return "\n".join(lines)
-
-
 CLAIM_COLUMNS = ["claim_id", "artifact", "quote", "threshold", "kind", "statistic", "value", "fraction_of_trials",
                  "holds", "reason"]
 
@@ -375,3 +351,32 @@ def claim_block(table: pd.DataFrame) -> str:
             lines.append(f"  {r.claim_id} {mark}: \"{r.quote}\" ({r.threshold}); {r.statistic} = {r.value:.4g}"
                          + (f" — {r.reason}" if r.reason else ""))
     return "\n".join(lines)
+
+
+def comparison(one: dict, claim_table: pd.DataFrame | None = None) -> pd.DataFrame:
+    """The notebook's comparison table (:func:`mtcal.reporting.compare.comparison_table`) for the scores.
+
+    One row per printed number of ``one["fitted"]`` (posterior-predictive band, the prior-predictive
+    band of ``one["prior"]`` beside it where that number was simulated; ``ref`` = the split cell),
+    then one row per claim (``kind`` claim/consistency, enforced only where it holds, the computed
+    reason in ``note``). Feed it to :func:`mtcal.reporting.fidelity.score_block` / ``write_scores``.
+    """
+    fitted = one["fitted"]
+    prior = one.get("prior")
+    pk = {} if prior is None else {(r.file, r.row, r.column): r for r in prior.itertuples(index=False)}
+    rows = []
+    for r in fitted.itertuples(index=False):
+        p = pk.get((r.file, r.row, r.column))
+        art = "wang2023cja_" + r.file.removeprefix("wang2023cja_").split("_")[0]
+        if "matrix" in r.file:
+            art = r.file
+        rows.append(compare.comparison_row(
+            art, r.quantity, r.paper, r.median, "", None, band=(r.low, r.high),
+            prior_band=None if p is None else {"median": p.median, "low": p.low, "high": p.high},
+            role=r.role, ref=f"{r.file}:{r.row}:{r.column}"))
+    if claim_table is not None:
+        for c in claim_table.itertuples(index=False):
+            rows.append(compare.comparison_row(
+                c.artifact, c.statistic, c.threshold, float(c.value), f"\"{c.quote}\" ({c.threshold})", bool(c.holds),
+                kind=c.kind, note=c.reason, enforce=bool(c.holds), role="heldout" if c.kind == "claim" else "train"))
+    return compare.comparison_table(rows)
