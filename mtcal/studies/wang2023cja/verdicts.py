@@ -37,8 +37,8 @@ from scipy import stats
 
 from mtcal.core import metrics
 from mtcal.reporting import compare, paper_numbers
+from mtcal.reporting.fidelity import quantile_mc_se
 from .error_model import PAPER_SIGN, TABLES_1_TO_4
-from .predictive import quantile_se
 from .runs import position_errors_deg
 
 __all__ = ["SPLIT_FILE", "split", "printed_samples", "one_to_one", "scores", "claims",
@@ -167,8 +167,8 @@ def one_to_one(samples: dict, *, seed: int = 0) -> pd.DataFrame:
         x = s - off
         b = metrics.percentile_band(x)
         lo, med, hi = float(b["low"]), float(b["median"]), float(b["high"])
-        se_lo = quantile_se(x, 0.025, seed=seed) if x.size > 1 else float("nan")
-        se_hi = quantile_se(x, 0.975, seed=seed) if x.size > 1 else float("nan")
+        se_lo = quantile_mc_se(x, 0.025, seed=seed) if x.size > 1 else float("nan")
+        se_hi = quantile_mc_se(x, 0.975, seed=seed) if x.size > 1 else float("nan")
         den = max(abs(paper), PRINT_RESOLUTION_DEG)
         rows.append({"file": r.file, "row": int(r.row), "column": r.column, "role": r.role,
                      "quantity": _label(r.file, r.row, r.column), "paper": paper, "median": med, "low": lo,
