@@ -33,7 +33,7 @@ import pandas as pd
 from mtcal.core import metrics
 from mtcal.core.validate import merge_parameters
 
-__all__ = ["COMPARISON_COLUMNS", "comparison_row", "comparison_table", "band_summary", "claims_summary",
+__all__ = ["COMPARISON_COLUMNS", "DISPLAY_COLUMNS", "comparison_row", "comparison_table", "band_summary", "claims_summary",
            "band_record", "band_row", "band_text", "describe", "claim", "consistency",
            "ROLES", "KINDS", "SOURCES", "at_paper_settings", "check_claims", "role_summary", "prediction_summary"]
 
@@ -41,6 +41,9 @@ COMPARISON_COLUMNS = ["artifact", "quantity", "paper", "mtcal", "mc_band", "pape
                       "prior_in_band", "claim", "holds", "kind", "role", "source", "note", "enforced", "ref",
                       "mc_low", "mc_high", "prior_median", "prior_low", "prior_high"]
 
+#: The columns a notebook prints (the numeric band ends and bookkeeping stay in the saved CSV).
+DISPLAY_COLUMNS = ["artifact", "quantity", "paper", "mtcal", "mc_band", "prior_band", "claim", "holds", "kind",
+                   "role"]
 #: What the paper number of a row is: its split role (``paper_data/<key>_split.csv``) or ``finding``
 #: (a result of ours the paper does not state).
 ROLES = ("train", "heldout", "input", "erratum", "not-compared", "finding")
@@ -96,7 +99,8 @@ def comparison_row(artifact: str, quantity: str, paper, mtcal, claim: str, holds
     source : {"paper claim", "mtcal finding"}
         Whose claim the ``claim`` column states.
     kind : {"claim", "consistency"}, optional
-        Default ``"claim"`` when ``holds`` is given, else empty.
+        Default ``"claim"`` when ``holds`` is given and ``source`` is the paper,
+        else empty (our own findings are never the paper's claims).
     note : str
         Computed reason a claim fails, or what makes a consistency row true by construction.
     enforce : bool
@@ -112,7 +116,7 @@ def comparison_row(artifact: str, quantity: str, paper, mtcal, claim: str, holds
     if holds is not None and not isinstance(holds, (bool, np.bool_)):
         raise TypeError(f"holds must be bool or None, got {type(holds).__name__}")
     if kind is None:
-        kind = "claim" if holds is not None else ""
+        kind = "claim" if holds is not None and source == "paper claim" else ""
     elif kind not in KINDS:
         raise ValueError(f"kind must be one of {KINDS}, got {kind!r}")
     if kind and holds is None:
@@ -134,7 +138,7 @@ def comparison_row(artifact: str, quantity: str, paper, mtcal, claim: str, holds
 
 
 def claim(artifact: str, quantity: str, paper, mtcal, quote: str, check, *, band=None, prior_band=None,
-          role: str = "heldout", enforce: bool = True, note: str = "", ref: str = "") -> dict:
+          role: str = "heldout", enforce: bool = True, note: str = "", ref: str = "", value=None) -> dict:
     """A paper claim tested with its own threshold; the row carries ``check`` so a test can re-run it.
 
     Parameters
@@ -142,9 +146,13 @@ def claim(artifact: str, quantity: str, paper, mtcal, quote: str, check, *, band
     quote : str
         The paper's statement with its threshold, verbatim.
     check : callable
-        ``check(mtcal) -> bool``, the claim evaluated on our value; the row's
-        ``holds`` is ``check(mtcal)`` and ``row["check"]`` is ``check``
-        (tests perturb the value and see it return False).
+        ``check(value) -> bool``, the claim evaluated on our number; the row's
+        ``holds`` is ``check(value)``, ``row["check"]`` is ``check`` and
+        ``row["value"]`` the number it was evaluated on (tests perturb it and see
+        the check return False).
+    value : float, optional
+        The number the claim is evaluated on when it is not ``mtcal`` (e.g. a
+        97.5 % band end); default ``mtcal``.
     enforce : bool
         False for a claim our model fails (reported with ``note``, the computed reason).
 
@@ -154,16 +162,20 @@ def claim(artifact: str, quantity: str, paper, mtcal, quote: str, check, *, band
     """
     if not callable(check):
         raise TypeError(f"check must be callable, got {type(check).__name__}")
-    holds = bool(check(mtcal))
+    value = mtcal if value is None else value
+    holds = bool(check(value))
     row = comparison_row(artifact, quantity, paper, mtcal, quote, holds, band=band, prior_band=prior_band,
                          role=role, kind="claim", note=note, enforce=enforce, ref=ref)
-    row["check"] = check
+    row["check"], row["value"] = check, value
     return row
 
 
 def consistency(artifact: str, quantity: str, paper, mtcal, statement: str, holds: bool, *, by: str,
-                band=None, role: str = "train", ref: str = "") -> dict:
+                band=None, prior_band=None, role: str = "train", ref: str = "", enforce: bool = True) -> dict:
     """A check that holds by construction (never counted as a claim); ``by`` says why it must hold.
+
+    ``enforce=False`` for a fit diagnostic (a statement about a training number the
+    approximate fit need not reproduce exactly): reported, never raised.
 
     >>> r = consistency("t", "b inside prior", 0.2, 0.21, "inside the prior", True, by="the grid lies in the prior")
     >>> r["kind"], r["note"]
@@ -171,8 +183,8 @@ def consistency(artifact: str, quantity: str, paper, mtcal, statement: str, hold
     """
     if not by:
         raise ValueError("by must say why the check holds by construction")
-    return comparison_row(artifact, quantity, paper, mtcal, statement, holds, band=band, role=role,
-                          kind="consistency", note=by, ref=ref)
+    return comparison_row(artifact, quantity, paper, mtcal, statement, holds, band=band, prior_band=prior_band,
+                          role=role, kind="consistency", note=by, ref=ref, enforce=enforce)
 
 
 def comparison_table(rows: list[dict], digits: int = 4) -> pd.DataFrame:
@@ -310,6 +322,13 @@ def check_claims(table: pd.DataFrame, *, enforce: bool) -> str:
     if len(cons):
         n_ok = int(cons["holds"].astype(bool).sum())
         text += f"\nconsistency checks (true by construction, not claims): {n_ok} of {len(cons)} hold"
+        bad = cons[~cons["holds"].astype(bool)]
+        text += "".join(f"\n  not holding: {r.artifact} | {r.quantity} | {r.claim} | mtcal {r.mtcal} | {r.note}"
+                        for r in bad.itertuples())
+    own = table[table["holds"].notna() & (kind == "")]
+    if len(own):
+        n_ok = int(own["holds"].astype(bool).sum())
+        text += f"\nour own findings: {n_ok} of {len(own)} hold"
     checked = table[table["holds"].notna()]
     if "enforced" in checked:
         enforced = checked["enforced"].fillna(True).astype(bool)

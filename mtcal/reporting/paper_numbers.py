@@ -176,7 +176,7 @@ def split(key: str) -> pd.DataFrame:
 
     >>> s = split("wang2022sensors")
     >>> int((s["role"] == "heldout").sum()), list(s.columns)
-    (10, ['file', 'row', 'column', 'role', 'reason', 'text'])
+    (8, ['file', 'row', 'column', 'role', 'reason', 'text'])
     """
     if key not in KEYS:
         raise ValueError(f"key must be one of {KEYS}, got {key!r}")

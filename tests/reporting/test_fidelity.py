@@ -70,7 +70,7 @@ def test_quantile_mc_se_errors():
 def test_score_block_text():
     text = fidelity.score_block(_table(), "wang2022sensors")
     first = text.splitlines()[0]
-    assert first == "wang2022sensors: 86 printed numbers: 13 train, 10 held out, 2 inside; 1 claims: 1 hold"
+    assert first == "wang2022sensors: 86 printed numbers: 13 train, 8 held out, 2 inside; 1 claims: 1 hold"
     assert "Wilson 95 %" in text and "prior predictive: 2 of 2 inside" in text
     assert "does NOT beat" in text or "beats" in text
 

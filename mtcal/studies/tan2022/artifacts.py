@@ -83,6 +83,19 @@ def _slope_band(x, y):
     return metrics.percentile_band(gyro_roll.loglog_slope(x, y[ok]))
 
 
+def median_trial(score) -> int:
+    """Index of the median-error trial: the trial whose ``score`` (one value per trial) is the lower median.
+
+    Time-series figures draw this trial (never trial 0) and say so in their title.
+
+    >>> median_trial([3.0, 1.0, 2.0, 5.0])
+    2
+    """
+    x = np.asarray(score, dtype=float)
+    order = np.argsort(x, kind="stable")
+    return int(order[(x.size - 1) // 2])
+
+
 def _slope_row(artifact, quantity, paper, band):
     if band is None:
         return _ROW(artifact, quantity, paper, "undefined (zero error)", "≈ −1 (−1.1…−0.9)", False)
@@ -442,8 +455,9 @@ def fig09(study: GyroStudy, seed: int, trials: int) -> Artifact:
                  "euler_near90": _DEG(np.max(np.abs(e_E[:, near]), axis=1)),
                  "integration_final": _DEG(e_I[:, -1]), "projection_mean": _DEG(np.mean(np.abs(e_P), axis=1))}
         per_rate.append(trial)
-        curves.append({"rate": rate, "time_s": t, "pitch_deg": th_deg, "euler": _DEG(e_E[0]),
-                       "integration": _DEG(e_I[0]), "projection": _DEG(e_P[0])})
+        k = median_trial(np.abs(e_I[:, -1]))  # the median-error trial by final integration error
+        curves.append({"rate": rate, "time_s": t, "pitch_deg": th_deg, "euler": _DEG(e_E[k]),
+                       "integration": _DEG(e_I[k]), "projection": _DEG(e_P[k]), "trial": k, "trials": e_I.shape[0]})
         recs.append({"pitch_rate_deg_s": rate, "duration_s": float(t[-1] + g.dt_s),
                      **{f"{k}_median_deg": float(np.median(v)) for k, v in trial.items()}})
     blow = metrics.percentile_band(np.min([_ratio(p["euler_near90"], p["euler_lt60"]) for p in per_rate], axis=0))
@@ -495,9 +509,11 @@ def fig11(study: GyroStudy, seed: int, trials: int) -> Artifact:
     spike = metrics.percentile_band(_ratio(metrics.max_abs_error(e_P, mask=slow), metrics.max_abs_error(e_P, mask=~slow)))
     rows = [_ROW("tan2022_fig11", "max|Δφ_P| where |θ̇| < 5 °/s / elsewhere", "error jumps as θ̇ → 0",
                  float(spike["median"]), "> 5", bool(spike["median"] > 5), band=spike)]
-    table = pd.DataFrame({"time_s": t[::10], "projection_err_deg": _DEG(e_P[0, ::10]),
-                          "integration_err_deg": _DEG(e_I[0, ::10])})
-    return Artifact(table, rows, {"time_s": t, "projection": _DEG(e_P[0]), "integration": _DEG(e_I[0]),
+    k = median_trial(np.max(np.abs(e_P), axis=-1))  # the median-error trial by max |Δφ_P|
+    table = pd.DataFrame({"time_s": t[::10], "projection_err_deg": _DEG(e_P[k, ::10]),
+                          "integration_err_deg": _DEG(e_I[k, ::10])})
+    return Artifact(table, rows, {"time_s": t, "projection": _DEG(e_P[k]), "integration": _DEG(e_I[k]),
+                                  "trial": k, "trials": e_P.shape[0],
                                   "label": gyro_label(study)},
                     [f"spike ratio {spike['median']:.1f} [{spike['low']:.1f}, {spike['high']:.1f}] ({n} trials)"])
 
@@ -550,8 +566,10 @@ def fig12(study: GyroStudy, seed: int, trials: int) -> Artifact:
              "the switch fires in every trial", bool(switched["low"] > 0), band=switched, role="finding",
              source="mtcal finding"),
     ]
-    return Artifact(pd.DataFrame(recs), rows, {"time_s": t, "hybrid": _DEG(e_H[0]), "hybrid_det": _DEG(e_Hd),
-                                                "projection": _DEG(e_P[0]), "threshold": osc.threshold_deg_s,
+    k = median_trial(np.max(np.abs(e_H), axis=-1))  # the median-error trial by max |Δφ_G|
+    return Artifact(pd.DataFrame(recs), rows, {"time_s": t, "hybrid": _DEG(e_H[k]), "hybrid_det": _DEG(e_Hd),
+                                                "projection": _DEG(e_P[k]), "threshold": osc.threshold_deg_s,
+                                                "trial": k, "trials": e_H.shape[0],
                                                 "label": gyro_label(study)},
                     [f"hybrid max |Δφ|: {max_det:.3f}° (constant errors), {band_h['median']:.3f}° "
                      f"[{band_h['low']:.3f}, {band_h['high']:.3f}] with noise; integrated share "

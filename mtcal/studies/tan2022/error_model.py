@@ -168,7 +168,8 @@ class ErrorModelFit:
         One row per fitted parameter: name, unit, prior range, ML value,
         posterior median and 95 % credible interval, source.
     posterior : dict
-        Grid axes, likelihood and posterior (for plots).
+        Grid axes, likelihood and posterior (for plots); ``predictive_bands`` (P, 2, 3): per prediction,
+        fitted / prior × 2.5 %, 50 %, 97.5 %.
     predictions : DataFrame
         Predicted quantities: paper value, fitted (posterior predictive) and prior
         (prior predictive) median and band.
@@ -186,6 +187,17 @@ class ErrorModelFit:
     rows: list = field(default_factory=list)
     rows_prior: list = field(default_factory=list)
     lines: list = field(default_factory=list)
+
+
+def _band_mc_se(samples, seed: int) -> dict:
+    """Monte Carlo standard error (bootstrap) of the 2.5 % and 97.5 % ends of a posterior-predictive band."""
+    from mtcal.reporting.fidelity import quantile_mc_se
+
+    x = np.asarray(samples, dtype=float)
+    if x.size < 2 or not np.all(np.isfinite(x)):
+        return {"fitted low MC SE": np.nan, "fitted high MC SE": np.nan}
+    return {"fitted low MC SE": quantile_mc_se(x, 0.025, seed=seed),
+            "fitted high MC SE": quantile_mc_se(x, 0.975, seed=seed)}
 
 
 def grid_posterior(likelihood, axis_values) -> dict:
@@ -294,7 +306,7 @@ def fit_accel_error_model(sc: AccelScenario, prior: AccelErrorPrior, seed: int, 
              ("lambda2", "tan2022_fig05", "RMS-optimal preset angle for θ > 0 (deg)", sc.lambda2_deg,
               "paper λ2 inside the band", None, "consistency",
               "input: the 360° search window is centred on the paper's λ2, so the band contains it by construction")]
-    table, rows = [], []
+    table, rows, numeric = [], [], []
     for key, art, qty, paper, claim, test, kind, note in specs:
         rec = {"quantity": qty, "paper": paper}
         b, bp = (metrics.percentile_band(pred[m][key]) for m in ("fitted", "prior"))
@@ -311,12 +323,15 @@ def fit_accel_error_model(sc: AccelScenario, prior: AccelErrorPrior, seed: int, 
         rows.append(row)
         for model, bb in (("fitted", b), ("prior", bp)):
             rec.update({f"{model} median": float(bb["median"]), f"{model} band": f"[{bb['low']:.3g}, {bb['high']:.3g}]"})
+        rec.update(_band_mc_se(pred["fitted"][key], seed))
         table.append(rec)
+        numeric.append([[float(bb[q]) for q in ("low", "median", "high")] for bb in (b, bp)])
     lines = [f"r: ML {post['ml']:.2f}, posterior median {post['median']:.2f}, 95 % [{post['low']:.2f}, "
              f"{post['high']:.2f}] (prior U[0, {prior.ratio_max:g}]); likelihood at r = 0: {lik[0]:.2f}, "
              f"at r = {grid[-1]:g}: {lik[-1]:.2f}"]
     return ErrorModelFit(params, {"grid": grid, "likelihood": lik, "posterior": post["posterior"],
-                                  "xlabel": "r = independent / common bias"},
+                                  "xlabel": "r = independent / common bias",
+                                  "predictive_bands": np.asarray(numeric)},
                          pd.DataFrame(table), rows, [], lines)
 
 
@@ -403,7 +418,7 @@ def fit_gyro_error_model(study: GyroStudy, prior: GyroErrorPrior, seed: int, tri
                "accurate for a long time (Sec. 3.2, Fig 12: '长时间保持准确')",
                f"'accurate for a long time' made testable: max |Δφ| < {prior.accurate_deg:g}° (mtcal threshold)",
                lambda v: v < prior.accurate_deg)]
-    table, rows = [], []
+    table, rows, numeric = [], [], []
     for key, art, qty, paper, claim, test in specs:
         rec = {"quantity": qty, "paper": paper}
         b, bp = (metrics.percentile_band(pred[m][key]) for m in ("fitted", "prior"))
@@ -418,7 +433,9 @@ def fit_gyro_error_model(study: GyroStudy, prior: GyroErrorPrior, seed: int, tri
                                       role="finding", enforce=holds, note=note))
         for model, bb in (("fitted", b), ("prior", bp)):
             rec.update({f"{model} median": float(bb["median"]), f"{model} band": f"[{bb['low']:.3g}, {bb['high']:.3g}]"})
+        rec.update(_band_mc_se(pred["fitted"][key], seed))
         table.append(rec)
+        numeric.append([[float(bb[q]) for q in ("low", "median", "high")] for bb in (b, bp)])
     fit_row = compare.consistency("tan2022_fig06", f"Fig 6 curve at {_DEG(rates[0]):.1f}–{_DEG(rates[-1]):.0f} °/s: "
                                   "b posterior median (deg/s) [training]", e_x, pb["median"],
                                   "paper Δω inside the credible interval", bool(pb["low"] <= e_x <= pb["high"]),
@@ -433,7 +450,8 @@ def fit_gyro_error_model(study: GyroStudy, prior: GyroErrorPrior, seed: int, tri
              f"Fig 12 'accurate' (max < {prior.accurate_deg:g}°) needs a y/z error ≤ {need:.4f} °/s at "
              f"θ̇_t = {study.oscillation.threshold_deg_s:g} °/s: {e_x / need:.0f}× below the paper's {e_x:g} °/s"]
     return ErrorModelFit(params, {"bias_grid": bgrid, "noise_grid": ngrid, "likelihood": lik,
-                                  "posterior_b": pb["posterior"], "posterior_n": pn["posterior"]},
+                                  "posterior_b": pb["posterior"], "posterior_n": pn["posterior"],
+                                  "predictive_bands": np.asarray(numeric)},
                          pd.DataFrame(table), [fit_row] + rows + [need_row], [], lines)
 
 
@@ -563,7 +581,8 @@ def fit_and_predict(size: str = "ci", seed: int = 0) -> dict[str, np.ndarray]:
     -------
     dict of str -> ndarray
         ``gyro_posterior_b`` (K,), ``gyro_posterior_n`` (M,), ``gyro_params`` (2, 4) (ML, median,
-        2.5 %, 97.5 %), ``gyro_bands`` (P, 3) and ``accel_posterior`` (R,), ``accel_bands`` (Q, 3).
+        2.5 %, 97.5 %), ``gyro_bands`` (P, 2, 3) and ``accel_posterior`` (R,), ``accel_bands`` (Q, 2, 3)
+        (per prediction: fitted / prior × 2.5 %, 50 %, 97.5 %).
 
     Examples
     --------
@@ -582,16 +601,8 @@ def fit_and_predict(size: str = "ci", seed: int = 0) -> dict[str, np.ndarray]:
     aprior = AccelErrorPrior(n_grid=5) if ci else AccelErrorPrior()
     afit = fit_accel_error_model(accel_scenario(), aprior, seed, 20 if ci else 200, step_deg=15.0 if ci else 5.0)
 
-    def bands(fit):
-        cols = [c for c in fit.predictions.columns if c.endswith(" band") or c.endswith(" median")]
-        vals = []
-        for c in cols:
-            for v in fit.predictions[c]:
-                vals.extend([float(x) for x in str(v).strip("[]").split(",")] if isinstance(v, str) else [float(v)])
-        return np.asarray(vals)
-
     gp = gfit.parameters[["ml", "median", "low_2.5", "high_97.5"]].to_numpy(float)
     return {"gyro_posterior_b": np.asarray(gfit.posterior["posterior_b"]),
             "gyro_posterior_n": np.asarray(gfit.posterior["posterior_n"]), "gyro_params": gp,
-            "gyro_bands": bands(gfit), "accel_posterior": np.asarray(afit.posterior["posterior"]),
-            "accel_bands": bands(afit)}
+            "gyro_bands": gfit.posterior["predictive_bands"], "accel_posterior": np.asarray(afit.posterior["posterior"]),
+            "accel_bands": afit.posterior["predictive_bands"]}

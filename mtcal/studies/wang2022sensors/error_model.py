@@ -3,10 +3,13 @@
 Fitted (uniform priors on a grid inside :data:`ERROR_PRIORS`): the
 sensor-to-reference latency, the accelerometer white noise, the lever arm, the
 turntable's move acceleration and the AHRS stand-in's magnetic heading
-disturbance (5 parameters). Training set (declared, :data:`TRAINING`): the six
-RAMS numbers of Table 5, ref. [16]'s Bv1 static and dynamic RMSE and the AHRS's
-Bv1 static RMSE. Held out (:data:`HELD_OUT`): ref. [16] Bv2/Bv3 and the other five
-AHRS (Ellipse2-N) numbers; Fig. 14's bound is predicted as well.
+disturbance (5 parameters). Training set (declared, :data:`TRAINING`, = the ``train``
+rows of ``paper_data/wang2022sensors_split.csv``, read with
+:func:`mtcal.reporting.paper_numbers.training`): the six RAMS numbers of Table 5, the
+six ref. [16] numbers (Bv2/Bv3 are near-copies of Bv1 in our axis-independent ref. [16]
+model, so they are training replicates, not a test) and the AHRS's Bv1 static RMSE.
+Held out (:data:`HELD_OUT`): the other five AHRS (Ellipse2-N) numbers; Fig. 14's
+bound (text claims c01, c08, c10) is held out as well.
 
 Likelihood: each training number y is one draw of our simulated quantity, log y ~
 N(μ_c,l, s²_MC + s²_d), μ the Monte Carlo mean of log RMSE at grid cell c and
@@ -14,7 +17,7 @@ latency l, s²_MC its pooled repetition variance and s_d = :data:`DISCREPANCY_LO
 a declared model-discrepancy term (our stand-in sensors and rig are not the
 paper's). The posterior on the grid is the normalised likelihood (uniform prior);
 the predictive distribution of a held-out number mixes the Monte Carlo samples of
-every cell with its posterior weight (prior-only: uniform weights), times the
+every cell with its posterior weight (prior predictive: uniform weights), times the
 discrepancy.
 
 References
@@ -228,7 +231,7 @@ def posterior_weights(grid: GridRun, keys=TRAINING, values: dict | None = None) 
 
 
 def prior_weights(grid: GridRun) -> np.ndarray:
-    """Uniform weights over (cell, latency, heading): the prior-only model."""
+    """Uniform weights over (cell, latency, heading): the prior (prior-predictive baseline)."""
     w = np.ones((grid.cells.shape[0], grid.latency_s.size, grid.heading_deg.size))
     return w / w.sum()
 
