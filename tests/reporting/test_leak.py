@@ -8,10 +8,8 @@ import pytest
 
 from mtcal.reporting import leak, paper_numbers
 
-#: Every paper's study registers a fit_and_predict; wang2023cja's comes with branch fid-w23 (issue #21
-#: part B): strict xfail until then, so the marker must go when it lands.
-STUDIES = [pytest.param("wang2023cja", marks=pytest.mark.xfail(
-    strict=True, reason="wang2023cja fit_and_predict is registered on branch fid-w23")), "tan2022", "wang2022sensors"]
+#: Every paper registers a fit_and_predict for the leak test.
+STUDIES = ("tan2022", "wang2022sensors", "wang2023cja")
 
 
 @pytest.mark.parametrize("key", STUDIES)

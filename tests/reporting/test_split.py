@@ -15,9 +15,8 @@ PKG = Path(mtcal.__file__).parent
 #: Fitting modules: they may use paper_numbers.training only.
 FITTING = sorted([*PKG.glob("studies/*/error_model.py"), *PKG.glob("studies/*/runs.py"),
                   *PKG.glob("methods/*.py"), *PKG.glob("systems/*.py")])
-#: wang2023cja fitting modules still on the old loader until branch fid-w23 (issue #21 part B) lands:
-#: strict xfail, so the marker must be removed when they are fixed.
-PENDING_FID_W23 = {"studies/wang2023cja/error_model.py"}
+#: Fitting modules still on the old loader (strict xfail: remove an entry when it is fixed).
+PENDING_FID_W23: set = set()
 FORBIDDEN = {"load", "value", "heldout", "split"}
 
 
