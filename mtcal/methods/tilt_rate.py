@@ -33,7 +33,7 @@ Examples
 >>> accel = 9.81 * np.column_stack([np.zeros_like(t), np.sin(angle), np.cos(angle)])
 >>> gyro = np.column_stack([rate, np.zeros_like(t), np.zeros_like(t)])
 >>> res = tilt_rate_scale(gyro, accel, dt)
->>> round(res["scale"], 2), res["correlation"] > 0.9
+>>> round(res["scale"], 2), bool(res["correlation"] > 0.9)
 (1.0, True)
 >>> round(tilt_rate_scale(np.degrees(gyro), accel, dt)["scale"] * 180 / np.pi, 2)  # deg/s read as rad/s
 1.0
@@ -138,7 +138,7 @@ def tilt_rate_scale(gyro_rad_s, accel_m_s2, dt_s: float, *, window_s: float = 0.
     u, p = u[use], p[use]
     up, pp, uu = float(np.sum(u * p)), float(np.sum(p * p)), float(np.sum(u * u))
     out = {"scale": up / pp if pp > 0 else float("nan"),
-           "correlation": up / np.sqrt(pp * uu) if pp > 0 and uu > 0 else float("nan"),
+           "correlation": float(up / np.sqrt(pp * uu)) if pp > 0 and uu > 0 else float("nan"),
            "accel_tilt_rad": float(np.linalg.norm(u, axis=1).sum()),
            "gyro_tilt_rad": float(np.linalg.norm(p, axis=1).sum()), "windows": int(u.shape[0]),
            "accel_spread_rad": spread}
