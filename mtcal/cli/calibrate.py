@@ -138,12 +138,41 @@ def run(args: argparse.Namespace) -> int:
                 lv = rep.levels_text()
             raise ValueError(f"too few rests: found {len(rests)} rests of >= {min_rest:g} s for "
                              f"{pos.shape[0]} positions ({lv}); see --figure for the rejected stretches")
-        cal = installation.calibrate_installation(pos, log.fs_hz, rests=rests, fraction=fraction, **source, **gates)
+        try:
+            cal = installation.calibrate_installation(pos, log.fs_hz, rests=rests, fraction=fraction, **source,
+                                                      **gates)
+        except ValueError as exc:
+            if "q_ws" not in source:
+                raise
+            raise ValueError(f"{exc}{_quaternion_hint(pos, log, rests, fraction, gates)}") from None
         fig.used = cal.matched_rests
         _print_and_write(args, out, log, rests, cal, info)
         return 0
 
     return common.run_with_figure(fig, body)
+
+
+#: Other quaternion conventions tried when a q0..q3 log matches no position: name → (transform, fix).
+QUATERNION_CONVENTIONS = {
+    "scalar-last (x, y, z, w)": (lambda q: q[:, [3, 0, 1, 2]],
+                                 "map the scalar column to q0 with --columns q0=W,q1=X,q2=Y,q3=Z"),
+    "conjugated (world -> sensor)": (lambda q: q * np.array([1.0, -1.0, -1.0, -1.0]),
+                                     "give the sensor -> world attitude (negate q1..q3)"),
+    "scalar-last and conjugated": (lambda q: q[:, [3, 0, 1, 2]] * np.array([1.0, -1.0, -1.0, -1.0]),
+                                   "map the scalar column to q0 with --columns and negate q1..q3"),
+}
+
+
+def _quaternion_hint(pos, log, rests, fraction, gates) -> str:
+    """A hint naming the quaternion convention under which the log would match the positions ('' if none)."""
+    for name, (fn, fix) in QUATERNION_CONVENTIONS.items():
+        q = fn(log.q_ws)
+        try:
+            installation.calibrate_installation(pos, log.fs_hz, q_ws=q, rests=rests, fraction=fraction, **gates)
+        except ValueError:
+            continue
+        return f"; the log's q0..q3 would match every position if they were {name}: {fix}"
+    return ""
 
 
 def _print_and_write(args, out, log, rests, cal: installation.InstallationCalibration, info: dict) -> None:

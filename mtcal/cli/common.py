@@ -213,7 +213,7 @@ class DiagnosticsFigure:
     """Collects what a command learned and writes the figure in ``finally`` (also on failure)."""
 
     def __init__(self, path, title: str, inputs=()):
-        self.path = None if path is None else logio.check_output_path(path, inputs)
+        self.path = None if path is None else logio.check_output_path(path, inputs, option="--figure")
         self.title = title
         self.log: logio.ImuLog | None = None
         self.report: rd.RestReport | None = None
@@ -298,6 +298,8 @@ class DiagnosticsFigure:
 
         try:
             logio._atomic(out, save)
+        except OSError as exc:
+            raise OSError(f"--figure: {exc}") from None
         finally:
             plt.close(fig)
         print(f"figure: {out}")

@@ -414,8 +414,11 @@ def _check_gyro(gyro: np.ndarray, path: Path) -> None:
                          f"gyro in deg/s or counts? use --gyro-unit deg/s or --gyro-scale")
 
 
-def check_output_path(out, inputs=()) -> Path:
-    """Refuse an output that would destroy an input or cannot be a regular file; return it as a Path."""
+def check_output_path(out, inputs=(), option: str = "--out") -> Path:
+    """Refuse an output that would destroy an input or cannot be a regular file; return it as a Path.
+
+    Messages name ``option`` (``--out``, ``--figure``), the command-line option that gave the path.
+    """
     o = Path(out)
     for i in inputs:
         if i is None:
@@ -425,16 +428,16 @@ def check_output_path(out, inputs=()) -> Path:
         except OSError:
             same = False
         if same or os.path.realpath(o) == os.path.realpath(i):
-            raise ValueError(f"--out {out} is an input file ({i}); choose another output path")
+            raise ValueError(f"{option} {out} is an input file ({i}); choose another output path")
     if o.exists() and o.is_dir():
-        raise ValueError(f"cannot write {out}: it is a directory")
+        raise ValueError(f"{option}: cannot write {out}: it is a directory")
     if o.exists() and not o.is_file():
-        raise ValueError(f"cannot write {out}: not a regular file")
+        raise ValueError(f"{option}: cannot write {out}: not a regular file")
     parent = o.parent if str(o.parent) else Path(".")
     if not parent.exists():
-        raise ValueError(f"cannot write {out}: directory {parent} does not exist")
+        raise ValueError(f"{option}: cannot write {out}: directory {parent} does not exist")
     if not parent.is_dir():
-        raise ValueError(f"cannot write {out}: {parent} is not a directory")
+        raise ValueError(f"{option}: cannot write {out}: {parent} is not a directory")
     return o
 
 

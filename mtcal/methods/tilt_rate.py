@@ -45,7 +45,7 @@ import warnings
 
 import numpy as np
 
-__all__ = ["tilt_rate_scale", "check_tilt_rate_scale", "scale_hint", "MIN_CORRELATION", "MIN_AGREEMENT_CORRELATION",
+__all__ = ["tilt_rate_scale", "check_tilt_rate_scale", "scale_hint", "tilt_seen", "MIN_CORRELATION", "MIN_AGREEMENT_CORRELATION",
            "MIN_TILT_RAD", "SCALE_HINTS"]
 
 #: Correlation above which the scale is trusted.
@@ -149,8 +149,7 @@ def check_tilt_rate_scale(gyro_rad_s, accel_m_s2, dt_s: float, *, max_ratio: flo
                           excess: str = "raise", skip=None) -> dict:
     """Raise when the accelerometer's tilt rate shows the gyro off by more than ``max_ratio``.
 
-    Decides only when the record tilts (``accel_spread_rad`` or ``gyro_tilt_rad``
-    ≥ :data:`MIN_TILT_RAD`): a correlation ≥ :data:`MIN_CORRELATION` with a
+    Decides only when the record tilts (:func:`tilt_seen` ≥ :data:`MIN_TILT_RAD`): a correlation ≥ :data:`MIN_CORRELATION` with a
     scale outside ``[1/max_ratio, max_ratio]``, or a gyro that predicts at
     least ``max_ratio`` times the tilt the accelerometer shows
     (``gyro_tilt_rad > max_ratio · accel_tilt_rad``), is refused; a
@@ -187,7 +186,7 @@ def check_tilt_rate_scale(gyro_rad_s, accel_m_s2, dt_s: float, *, max_ratio: flo
     """
     res = tilt_rate_scale(gyro_rad_s, accel_m_s2, dt_s, skip=skip)
     res["decided"] = False
-    if res["windows"] == 0 or max(res["accel_spread_rad"], res["gyro_tilt_rad"]) < MIN_TILT_RAD:
+    if res["windows"] == 0 or tilt_seen(res) < MIN_TILT_RAD:
         return res
     s, r = res["scale"], res["correlation"]
     over = res["gyro_tilt_rad"] > max_ratio * res["accel_tilt_rad"]
@@ -206,6 +205,15 @@ def check_tilt_rate_scale(gyro_rad_s, accel_m_s2, dt_s: float, *, max_ratio: flo
                          f"{np.degrees(res['gyro_tilt_rad']):.1f} deg (tilt-rate scale {s:.3g}, correlation "
                          f"{r:.2f}, limit {max_ratio:g}x); {hint}")
     return res
+
+
+def tilt_seen(res: dict) -> float:
+    """How much the record tilts (rad): the accelerometer's spread or the gyro's tilt, and the accelerometer's
+    summed tilt when it correlates with the gyro (≥ :data:`MIN_CORRELATION`, so it is motion, not noise)."""
+    seen = max(res["accel_spread_rad"], res["gyro_tilt_rad"])
+    if np.isfinite(res["correlation"]) and res["correlation"] >= MIN_CORRELATION:
+        seen = max(seen, res["accel_tilt_rad"])
+    return float(seen)
 
 
 def scale_hint(scale: float) -> str:

@@ -50,7 +50,7 @@ from mtcal.methods import tilt_rate
 
 __all__ = ["gyro_tilt_consistency", "clipped_samples", "rotation_axis_from_gyro", "cumulative_rotation",
            "time_base", "check_units", "MAX_REST_RATE_RAD_S", "MAX_UNCHECKED_ROTATION_DEG",
-           "MAX_GRAVITY_AXIS_RATE_RAD_S", "MIN_FULL_SCALE_RAD_S"]
+           "MAX_GRAVITY_AXIS_RATE_RAD_S", "MIN_FULL_SCALE_RAD_S", "MIN_GRAVITY_AXIS_SHARE"]
 
 _CANDIDATES = {np.pi / 180: "gyro looks like deg/s read as rad/s: use --gyro-unit deg/s",
                180 / np.pi: "gyro looks like rad/s read as deg/s: drop --gyro-unit deg/s",
@@ -205,6 +205,8 @@ def gyro_tilt_consistency(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: 
 MAX_UNCHECKED_ROTATION_DEG = 10.0
 #: Smallest gyro full scale (rad/s; 30 °/s): a clipping plateau between this and 40 rad/s is a rad/s full scale.
 MIN_FULL_SCALE_RAD_S = np.radians(30.0)
+#: Share of the gyro's rotation about gravity above which a rotation counts as "about gravity only".
+MIN_GRAVITY_AXIS_SHARE = 0.9
 #: Rotation about gravity faster than this (rad/s, one turn per second) with |a| at the rest level is refused.
 MAX_GRAVITY_AXIS_RATE_RAD_S = 2 * np.pi
 
@@ -222,7 +224,8 @@ def check_units(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: float, res
        (:func:`mtcal.methods.tilt_rate.check_tilt_rate_scale`, slow moves count);
     4. no tilt to compare: a gyro that turns less than
        :data:`MAX_UNCHECKED_ROTATION_DEG` in total needs no check; a rotation
-       only about gravity passes unless it is faster than
+       only about gravity (no tilt seen, ≥ :data:`MIN_GRAVITY_AXIS_SHARE` of the
+       integrated rate along the accelerometer's direction) passes unless it is faster than
        :data:`MAX_GRAVITY_AXIS_RATE_RAD_S` while ``‖a‖`` stays at the rest level
        (no centripetal acceleration: a deg/s rate read as rad/s); a gyro clipped
        (``skip``) at a plateau of :data:`MIN_FULL_SCALE_RAD_S` … 40 rad/s has a
@@ -298,9 +301,11 @@ def check_units(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: float, res
             return {**out, "method": "full-scale plateau",
                     "evidence": f"the moves clip at {np.degrees(level):.0f} deg/s, a gyro full scale in rad/s "
                                 f"({ev})"}
-    tilted = max(tr["accel_spread_rad"], tr["gyro_tilt_rad"])
-    if tilted < tilt_rate.MIN_TILT_RAD:
-        norm = np.linalg.norm(accel_m_s2, axis=1)
+    norm = np.linalg.norm(accel_m_s2, axis=1)
+    mv = rate > max(3.0 * float(np.median(rate)), np.radians(2.0))  # moving samples (rest noise has no axis)
+    along = float(np.abs(np.einsum("ij,ij->i", gyro_rad_s[mv] - bias, accel_m_s2[mv]) / np.maximum(norm[mv], 1e-12)).sum())
+    share = along / max(float(rate[mv].sum()), 1e-300)
+    if tilt_rate.tilt_seen(tr) < tilt_rate.MIN_TILT_RAD and share >= MIN_GRAVITY_AXIS_SHARE:
         g = float(np.median(norm))
         fast = rate > MAX_GRAVITY_AXIS_RATE_RAD_S
         if fast.any() and float(np.max(np.abs(norm[fast] - g))) < 0.05 * g:
@@ -312,8 +317,8 @@ def check_units(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: float, res
                 "evidence": f"gyro turns {turned:.1f} deg about gravity only (accelerometer cannot check the "
                             f"units; peak rate {rate.max():.3g} rad/s)"}
     raise ValueError(f"cannot check the gyro units: no pair of rests with a tilt change and the tilt rate is "
-                     f"inconclusive ({ev}; gyro turns {turned:.1f} deg in total); check --gyro-unit "
-                     f"(deg/s?) and --time-unit, or record rests at different tilts")
+                     f"inconclusive ({ev}; gyro turns {turned:.1f} deg in total, {100 * share:.0f} % of it about "
+                     f"gravity); check --gyro-unit (deg/s?) and --time-unit, or record rests at different tilts")
 
 
 def rotation_axis_from_gyro(gyro_rad_s: np.ndarray, bias_rad_s: np.ndarray, moving: np.ndarray):
