@@ -23,7 +23,9 @@ log schema (CSV or Parquet, header row, one row per sample; extra columns ignore
 other units: --time-unit ms|us, --gyro-unit deg/s, --accel-unit g, --gyro-scale/--accel-scale
 (counts -> unit, 1 or 3 factors), --columns time_s=Time,gyro_x=GyrX,... (or headers time_ms,
 gyro_x_deg_s, accel_x_g); no time column: --fs-hz. Jittered timestamps: per-sample dt. Rests: measured from the data
-(--rest-detector adaptive, default) or the paper's fixed ZVD band (--rest-detector paper)."""
+(--rest-detector adaptive, default), the paper's fixed ZVD band (--rest-detector paper) or quasi-static
+stance phases (--rest-detector shoe, Skog et al. 2010; level with --gyro-threshold-deg-s or --shoe-threshold).
+Gyro units and time base are always checked against the accelerometer (or the command refuses)."""
 
 
 def description_with_schema(doc: str, paragraphs: int) -> str:

@@ -622,7 +622,8 @@ def detect_rests_shoe(accel_m_s2, dt_s: float, *, gyro_rad_s, params: ShoeParams
     Returns
     -------
     RestReport
-        ``method == "shoe"``; ``extra`` holds ``statistic`` (``T`` per sample),
+        ``method == "shoe"``; ``band_m_s2`` is ``g ± max(k σa, 1.5 % g)`` for
+        consumers that gate on ``‖a‖`` (SHOE itself uses no band); ``extra`` holds ``statistic`` (``T`` per sample),
         ``threshold`` (``γ``), ``decision_statistic`` (``T/γ``, static below 1)
         and ``decision_label``.
 
@@ -693,9 +694,11 @@ def detect_rests_shoe(accel_m_s2, dt_s: float, *, gyro_rad_s, params: ShoeParams
                                          f"too short: T < {gamma:.4g} for {(y - x) / fs:.3f} s < {p.min_rest_s:g} s "
                                          f"(--min-rest-s); median T {float(np.median(seg)):.4g}"))
     rate_eq = float(np.degrees(sig_w * np.sqrt(max(gamma - 6.0, 0.0))))
+    half = max(p.noise_factor * sig_a, 0.015 * grav)  # |a| band for consumers (e.g. a QNCF gate); SHOE uses none
     return RestReport(is_static=flags, rests=rests, rejected=rejected, method="shoe", gravity_m_s2=float(grav),
                       accel_noise_m_s2=float(sig_a), gyro_noise_rad_s=float(sig_w),
-                      gyro_bias_rad_s=np.asarray(bias, float), band_m_s2=(float(grav), float(grav)),
+                      gyro_bias_rad_s=np.asarray(bias, float),
+                      band_m_s2=(float(grav - half), float(grav + half)),
                       accel_std_max_m_s2=np.nan, gyro_std_max_rad_s=np.nan, gyro_level_max_rad_s=np.nan,
                       min_rest_s=float(p.min_rest_s), window_s=float(w / fs), n_short=int(np.count_nonzero(~keep)),
                       extra={"statistic": stat, "threshold": float(gamma), "threshold_source": how,
