@@ -13,7 +13,8 @@ deg/s read as rad/s, 0.1 for a time column 10× too slow …)
 and the correlation ``r = Σ u·p / √(Σ u·u Σ p·p)`` says whether the record
 holds enough tilting motion to decide. Only consecutive windows whose mean
 ``‖ā‖`` lies within ``band_fraction`` of the median are used (linear
-acceleration tilts ``â`` without a rotation), and the gyro bias ``b`` is the
+acceleration tilts ``â`` without a rotation; windows whose accelerometer varies
+by more than that fraction are dropped too), and the gyro bias ``b`` is the
 median rate of the windows whose ``â`` does not move. Unlike a check between
 rests this needs no rest pair: slow moves and quasi-static stretches count.
 
@@ -46,12 +47,15 @@ import warnings
 import numpy as np
 
 __all__ = ["tilt_rate_scale", "check_tilt_rate_scale", "scale_hint", "tilt_seen", "MIN_CORRELATION", "MIN_AGREEMENT_CORRELATION",
-           "MIN_TILT_RAD", "SCALE_HINTS"]
+           "MIN_TILT_RAD", "MIN_WINDOWS", "MIN_STRONG_TILT_RAD", "SCALE_HINTS"]
 
 #: Correlation above which the scale is trusted.
 MIN_CORRELATION = 0.7
 #: Correlation above which a scale in [0.5, 2] counts as agreement.
 MIN_AGREEMENT_CORRELATION = 0.5
+#: Fewest window pairs, and least accelerometer tilt (rad), for a decision on a high correlation alone.
+MIN_WINDOWS = 5
+MIN_STRONG_TILT_RAD = np.radians(1.0)
 #: Least total accelerometer tilt (rad, summed over the windows used) for a decision.
 MIN_TILT_RAD = np.radians(10.0)
 #: Scale → what it means (the mtcal options that fix it).
@@ -78,7 +82,8 @@ def tilt_rate_scale(gyro_rad_s, accel_m_s2, dt_s: float, *, window_s: float = 0.
     window_s : float
         Window length ``T`` (s); at least 3 samples.
     band_fraction : float
-        Windows with ``|‖ā‖ − g| > band_fraction g`` are not used.
+        Windows with ``|‖ā‖ − g| > band_fraction g``, or an accelerometer standard deviation
+        (rms over axes) above ``band_fraction g``, are not used (linear acceleration).
     skip : array_like (N,) of bool, optional
         Samples not to trust (e.g. a clipped gyro); windows holding one are not used.
 
@@ -104,13 +109,15 @@ def tilt_rate_scale(gyro_rad_s, accel_m_s2, dt_s: float, *, window_s: float = 0.
            "windows": 0, "accel_spread_rad": 0.0}
     if nb < 3:
         return nan
-    am = a[: nb * m].reshape(nb, m, 3).mean(axis=1)
+    blocks = a[: nb * m].reshape(nb, m, 3)
+    am = blocks.mean(axis=1)
+    a_std = np.sqrt(((blocks - am[:, None, :]) ** 2).mean(axis=(1, 2)))
     wm = w[: nb * m].reshape(nb, m, 3).mean(axis=1)
     norm = np.linalg.norm(am, axis=1)
     g = float(np.median(norm))
     if not g > 0:
         return nan
-    ok = np.abs(norm - g) < band_fraction * g
+    ok = (np.abs(norm - g) < band_fraction * g) & (a_std < band_fraction * g)
     if skip is not None:
         ok &= ~np.asarray(skip, bool)[: nb * m].reshape(nb, m).any(axis=1)
     ah = am / np.maximum(norm, 1e-12)[:, None]
@@ -149,12 +156,14 @@ def check_tilt_rate_scale(gyro_rad_s, accel_m_s2, dt_s: float, *, max_ratio: flo
                           excess: str = "raise", skip=None) -> dict:
     """Raise when the accelerometer's tilt rate shows the gyro off by more than ``max_ratio``.
 
-    Decides only when the record tilts (:func:`tilt_seen` ≥ :data:`MIN_TILT_RAD`): a correlation ≥ :data:`MIN_CORRELATION` with a
-    scale outside ``[1/max_ratio, max_ratio]``, or a gyro that predicts at
-    least ``max_ratio`` times the tilt the accelerometer shows
-    (``gyro_tilt_rad > max_ratio · accel_tilt_rad``), is refused; a
-    correlation ≥ :data:`MIN_AGREEMENT_CORRELATION` with a scale in
-    ``[0.5, 2]`` decides that the units fit.
+    Decides when the record tilts (:func:`tilt_seen` ≥ :data:`MIN_TILT_RAD`) or
+    when the evidence is strong (correlation ≥ :data:`MIN_CORRELATION` over ≥
+    :data:`MIN_WINDOWS` windows and ≥ :data:`MIN_STRONG_TILT_RAD` of accelerometer
+    tilt): a correlation ≥ :data:`MIN_CORRELATION` with a scale outside
+    ``[1/max_ratio, max_ratio]``, or (tilting record) a gyro that predicts more
+    than ``max_ratio`` times the tilt the accelerometer shows, is refused; a scale
+    in ``[0.5, 2]`` with strong evidence, or with a correlation ≥
+    :data:`MIN_AGREEMENT_CORRELATION` on a tilting record, decides that the units fit.
 
     Parameters
     ----------
@@ -186,12 +195,16 @@ def check_tilt_rate_scale(gyro_rad_s, accel_m_s2, dt_s: float, *, max_ratio: flo
     """
     res = tilt_rate_scale(gyro_rad_s, accel_m_s2, dt_s, skip=skip)
     res["decided"] = False
-    if res["windows"] == 0 or tilt_seen(res) < MIN_TILT_RAD:
+    if res["windows"] == 0:
         return res
     s, r = res["scale"], res["correlation"]
-    over = res["gyro_tilt_rad"] > max_ratio * res["accel_tilt_rad"]
-    off = np.isfinite(s) and r >= MIN_CORRELATION and not (1.0 / max_ratio <= s <= max_ratio)
-    fits = np.isfinite(s) and r >= MIN_AGREEMENT_CORRELATION and 0.5 <= s <= 2.0
+    big = tilt_seen(res) >= MIN_TILT_RAD
+    strong = (np.isfinite(r) and r >= MIN_CORRELATION and res["windows"] >= MIN_WINDOWS
+              and res["accel_tilt_rad"] >= MIN_STRONG_TILT_RAD)
+    over = big and res["gyro_tilt_rad"] > max_ratio * res["accel_tilt_rad"]
+    off = bool(np.isfinite(s) and (big or strong) and r >= MIN_CORRELATION
+               and not (1.0 / max_ratio <= s <= max_ratio))
+    fits = bool(np.isfinite(s) and 0.5 <= s <= 2.0 and (strong or (big and r >= MIN_AGREEMENT_CORRELATION)))
     res["decided"] = bool(over or off or fits)
     if excess == "warn" and over and not off:
         warnings.warn(f"gyro implausible for rad/s at dt {dt_s:.4g} s: it predicts "

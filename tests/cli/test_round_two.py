@@ -316,3 +316,17 @@ def test_quaternion_convention_hint(convention, tmp_path, capsys):
     pd.DataFrame(np.degrees(pos), columns=["yaw_deg", "pitch_deg", "roll_deg"]).to_csv(ppos, index=False)
     code, out, err = _run(["calibrate", p, "--positions", ppos], capsys)
     _refused(code, err, convention)
+
+
+def test_walking_attitude_with_shoe_checked_by_tilt_rate(tmp_path, capsys):
+    df = logs.walking_log(n_steps=4)[0]
+    path = tmp_path / "walk.csv"
+    df.to_csv(path, index=False)
+    code, out, err = _run(["attitude", path, "--rest-detector", "shoe", "--out", tmp_path / "att.csv"], capsys)
+    assert code == 0, err
+    assert "gyro units check (tilt rate)" in out
+    slow = df.assign(time_s=df["time_s"] * 10.0)  # 120 Hz claimed for a 1200 Hz log
+    slow.to_csv(tmp_path / "slow.csv", index=False)
+    code, out, err = _run(["attitude", tmp_path / "slow.csv", "--rest-detector", "shoe", "--out",
+                           tmp_path / "att.csv"], capsys)
+    _refused(code, err)
