@@ -75,17 +75,17 @@ def register(subparsers) -> None:
 def _read_positions(path: Path) -> np.ndarray:
     """Reference positions (K, 3) in rad from a CSV with yaw_deg, pitch_deg, roll_deg (K ≥ 4)."""
     if not Path(path).is_file():
-        raise ValueError(f"positions file not found: {path}")
+        raise ValueError(f"--positions: file not found: {path}")
     cols, _ = logio._read_table(Path(path))
     missing = [c for c in POS_COLS if c not in cols]
     if missing:
-        raise ValueError(f"{path}: missing columns {missing} (need {', '.join(POS_COLS)})")
+        raise ValueError(f"--positions {path}: missing columns {missing} (need {', '.join(POS_COLS)})")
     ang = np.column_stack([logio._numeric(cols[c], c, Path(path)) for c in POS_COLS])
     if ang.shape[0] < 4:
-        raise ValueError(f"{path}: need at least 4 positions for Eq 13 (16 unknowns), got {ang.shape[0]}; "
+        raise ValueError(f"--positions {path}: need at least 4 positions for Eq 13 (16 unknowns), got {ang.shape[0]}; "
                          f"the six positions of wang2023cja §3.2 are recommended")
     if np.max(np.abs(ang)) > 360:
-        raise ValueError(f"{path}: angles must be in degrees within +-360, got {np.max(np.abs(ang)):.4g}")
+        raise ValueError(f"--positions {path}: angles must be in degrees within +-360, got {np.max(np.abs(ang)):.4g}")
     return np.radians(ang)
 
 

@@ -133,6 +133,7 @@ def test_property_calibrate_wrong_units_never_exit_0(tmp_path, capsys):
     assert code == 0, err
     for name, frame in {"deg_s": df.assign(**{c: np.degrees(df[c]) for c in df if c.startswith("gyro")}),
                         "time_x10": df.assign(time_s=df["time_s"] * 10.0),
+                        "time_div10": df.assign(time_s=df["time_s"] / 10.0),
                         "ms": df.assign(time_s=df["time_s"] * 1e3)}.items():
         p = tmp_path / f"{name}.csv"
         frame.to_csv(p, index=False)
@@ -283,6 +284,14 @@ def test_header_noise_tolerated(variant, tmp_path, capsys):
     code, out, err = _run(["rests", p], capsys)
     assert code == 0, err
     assert "rests: 4 of" in out
+
+
+def test_positions_errors_name_the_option(tmp_path, capsys):
+    path = logs.hinge_log().write(tmp_path / "log.csv")
+    _refused(*_run(["calibrate", path, "--positions", tmp_path / "none.csv"], capsys)[::2], "--positions")
+    (tmp_path / "pos.csv").write_text("yaw_deg,pitch_deg\n0,0\n")
+    _refused(*_run(["calibrate", path, "--positions", tmp_path / "pos.csv"], capsys)[::2], "--positions",
+             "roll_deg")
 
 
 def test_bad_figure_path_named_as_figure(tmp_path, capsys):
