@@ -142,8 +142,8 @@ def _drop_short(log: logio.ImuLog, rep: rd.RestReport) -> rd.RestReport:
     rejected = list(rep.rejected)
     for r in short:
         flags[r] = False
-        dur = t[r.stop - 1] - t[r.start]
-        rejected.append(rd.RejectedRest(r, f"too short: {dur:.3f} s < {rep.min_rest_s:g} s (--min-rest-s)"))
+        lo, hi = rd.format_ordered(t[r.stop - 1] - t[r.start], rep.min_rest_s, 3)
+        rejected.append(rd.RejectedRest(r, f"too short: {lo} s < {hi} s (--min-rest-s)"))
     rejected.sort(key=lambda x: x.span.start)
     return dataclasses.replace(rep, rests=[r for r in rep.rests if r not in short], rejected=rejected,
                                is_static=flags, n_short=rep.n_short + len(short))

@@ -74,7 +74,7 @@ import numpy as np
 from mtcal.core.validate import as_float_array, check_accel_units, positive_scalar, sample_interval
 
 __all__ = ["RestDetectorParams", "RestReport", "RejectedRest", "detect_rests", "paper_rest_report", "ShoeParams",
-           "shoe_statistic", "detect_rests_shoe"]
+           "shoe_statistic", "detect_rests_shoe", "format_ordered"]
 
 DEG = np.pi / 180.0
 
@@ -438,7 +438,7 @@ def _classify(blk, static, quiet, in_band, still, norm_mean, level, band, g_lvl_
         rs, re_ = runs(static[bsl])
         cnt = blk.count[bsl]
         longest = max((float(cnt[x:y].sum()) / fs for x, y in zip(rs, re_)), default=0.0)
-        lo, hi = _ordered(longest, min_s, 3)
+        lo, hi = format_ordered(longest, min_s, 3)
         tail = f"; longest static run {lo} s < {hi} s (--min-rest-s)"
         if static[bsl].mean() >= 0.5:
             reason = f"too short: longest static run {lo} s < {hi} s (--min-rest-s)"
@@ -446,29 +446,29 @@ def _classify(blk, static, quiet, in_band, still, norm_mean, level, band, g_lvl_
             a_std, a_max, quiet_a = noise["accel"]
             fail_a = ~quiet_a[bsl]
             if fail_a.mean() >= 0.5 * noisy:
-                v, m = _ordered(a_max, float(np.median(a_std[bsl][fail_a])), 4)
+                v, m = format_ordered(a_max, float(np.median(a_std[bsl][fail_a])), 4)
                 reason = (f"not still: accel std {m} > {v} m/s^2 (median of the {100 * fail_a.mean():.0f} % of "
                           f"the stretch above the limit; --noise-factor raises it){tail}")
             else:
                 g_std, g_max = noise["gyro"]
                 fail_g = ~(g_std[bsl] < g_max)
-                v, m = _ordered(np.degrees(g_max), float(np.degrees(np.median(g_std[bsl][fail_g]))), 3)
+                v, m = format_ordered(np.degrees(g_max), float(np.degrees(np.median(g_std[bsl][fail_g]))), 3)
                 reason = (f"not still: gyro std {m} > {v} deg/s (median of the {100 * fail_g.mean():.0f} % of "
                           f"the stretch above the limit; --noise-factor raises it){tail}")
         elif out_band >= turning and out_band > 0:
             vals = norm_mean[bsl][~in_band[bsl]]
             high = vals >= band[1]
             if high.mean() >= 0.5:
-                v, m = _ordered(band[1], float(np.median(vals[high])), 3)
+                v, m = format_ordered(band[1], float(np.median(vals[high])), 3)
                 cmp = f"|a| {m} > {v} m/s^2"
             else:
-                m, v = _ordered(float(np.median(vals[~high])), band[0], 3)
+                m, v = format_ordered(float(np.median(vals[~high])), band[0], 3)
                 cmp = f"|a| {m} < {v} m/s^2"
-            reason = (f"outside band: {cmp} (band {band[0]:.3f}-{band[1]:.3f}; median of the "
+            reason = (f"outside band: {cmp} (band {band[0]:.3f} to {band[1]:.3f}; median of the "
                       f"{100 * out_band:.0f} % of the stretch outside; --accel-band widens it){tail}")
         elif turning > 0:
             fail = ~still[bsl]
-            v, m = _ordered(np.degrees(g_lvl_max), float(np.degrees(np.median(level[bsl][fail]))), 2)
+            v, m = format_ordered(np.degrees(g_lvl_max), float(np.degrees(np.median(level[bsl][fail]))), 2)
             reason = (f"turning: |w - bias| {m} > {v} deg/s (median of the {100 * turning:.0f} % of the "
                       f"stretch above the limit; --gyro-threshold-deg-s raises it){tail}")
         else:
@@ -477,8 +477,14 @@ def _classify(blk, static, quiet, in_band, still, norm_mean, level, band, g_lvl_
     return rests, rejected, n_short, flags
 
 
-def _ordered(low: float, high: float, decimals: int) -> tuple[str, str]:
-    """``low < high`` formatted with enough decimals that the printed numbers keep the order."""
+def format_ordered(low: float, high: float, decimals: int) -> tuple[str, str]:
+    """``low < high`` formatted with at least ``decimals`` decimals, more when needed to keep the order.
+
+    Examples
+    --------
+    >>> format_ordered(0.1996, 0.2, 3)
+    ('0.1996', '0.2000')
+    """
     for d in range(decimals, 12):
         a, b = f"{low:.{d}f}", f"{high:.{d}f}"
         if float(a) < float(b):
@@ -690,9 +696,11 @@ def detect_rests_shoe(accel_m_s2, dt_s: float, *, gyro_rad_s, params: ShoeParams
     for x, y in zip(s0[~keep], s1[~keep]):
         if y - x >= w:
             seg = stat[x:y]
+            lo, hi = format_ordered((y - x) / fs, p.min_rest_s, 3)
+            t_med, t_max = format_ordered(float(np.median(seg)), gamma, 1)
             rejected.append(RejectedRest(slice(int(x), int(y)),
-                                         f"too short: T < {gamma:.4g} for {(y - x) / fs:.3f} s < {p.min_rest_s:g} s "
-                                         f"(--min-rest-s); median T {float(np.median(seg)):.4g}"))
+                                         f"too short: {lo} s < {hi} s (--min-rest-s) below the SHOE threshold "
+                                         f"(median T {t_med} < gamma {t_max})"))
     rate_eq = float(np.degrees(sig_w * np.sqrt(max(gamma - 6.0, 0.0))))
     half = max(p.noise_factor * sig_a, 0.015 * grav)  # |a| band for consumers (e.g. a QNCF gate); SHOE uses none
     return RestReport(is_static=flags, rests=rests, rejected=rejected, method="shoe", gravity_m_s2=float(grav),
