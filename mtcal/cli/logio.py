@@ -494,8 +494,6 @@ def write_table(path, columns: dict, *, decimals: dict | None = None) -> None:
 
         _atomic(p, lambda tmp: pq.write_table(table, tmp))
     else:
-        import pyarrow.csv as pcsv
-
         _atomic(p, lambda tmp: _write_csv_parallel(table, tmp))
 
 

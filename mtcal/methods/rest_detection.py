@@ -677,7 +677,8 @@ def detect_rests_shoe(accel_m_s2, dt_s: float, *, gyro_rad_s, params: ShoeParams
     if p.threshold is not None:
         gamma, how = float(p.threshold), "given"
     elif p.rate_level_rad_s is not None:
-        gamma, how = 6.0 + (p.rate_level_rad_s / sig_w) ** 2, f"quasi-static level {np.degrees(p.rate_level_rad_s):g} deg/s"
+        gamma = 6.0 + (p.rate_level_rad_s / sig_w) ** 2
+        how = f"quasi-static level {np.degrees(p.rate_level_rad_s):g} deg/s"
     else:
         nb = stat.size // w_lv
         tb = stat[: nb * w_lv].reshape(nb, w_lv).mean(axis=1)

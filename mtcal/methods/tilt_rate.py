@@ -46,7 +46,8 @@ import warnings
 
 import numpy as np
 
-__all__ = ["tilt_rate_scale", "check_tilt_rate_scale", "scale_hint", "tilt_seen", "MIN_CORRELATION", "MIN_AGREEMENT_CORRELATION",
+__all__ = ["tilt_rate_scale", "check_tilt_rate_scale", "scale_hint", "tilt_seen", "MIN_CORRELATION",
+           "MIN_AGREEMENT_CORRELATION",
            "MIN_TILT_RAD", "MIN_WINDOWS", "MIN_STRONG_TILT_RAD", "SCALE_HINTS"]
 
 #: Correlation above which the scale is trusted.

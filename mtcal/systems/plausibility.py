@@ -149,7 +149,7 @@ def gyro_tilt_consistency(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: 
         majority of the checked pairs; the message names the scale that fits.
     """
     t = np.arange(accel_m_s2.shape[0]) * dt_s if time_s is None else time_s
-    if len(rests) >= 2 and drop_turning:  # a "rest" that turns (e.g. an accelerometer-only ZVD during a pure rotation) is no rest
+    if len(rests) >= 2 and drop_turning:  # a "rest" that turns (accelerometer-only ZVD in a pure rotation) is no rest
         means = np.array([gyro_rad_s[r].mean(axis=0) for r in rests])
         ref = np.median(means, axis=0)
         rests = [r for r, m in zip(rests, means) if np.linalg.norm(m - ref) < MAX_REST_RATE_RAD_S]
@@ -303,7 +303,8 @@ def check_units(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: float, res
                                 f"({ev})"}
     norm = np.linalg.norm(accel_m_s2, axis=1)
     mv = rate > max(3.0 * float(np.median(rate)), np.radians(2.0))  # moving samples (rest noise has no axis)
-    along = float(np.abs(np.einsum("ij,ij->i", gyro_rad_s[mv] - bias, accel_m_s2[mv]) / np.maximum(norm[mv], 1e-12)).sum())
+    w_along = np.einsum("ij,ij->i", gyro_rad_s[mv] - bias, accel_m_s2[mv]) / np.maximum(norm[mv], 1e-12)
+    along = float(np.abs(w_along).sum())
     share = along / max(float(rate[mv].sum()), 1e-300)
     if tilt_rate.tilt_seen(tr) < tilt_rate.MIN_TILT_RAD and share >= MIN_GRAVITY_AXIS_SHARE:
         g = float(np.median(norm))
