@@ -206,7 +206,7 @@ MAX_UNCHECKED_ROTATION_DEG = 10.0
 #: Smallest gyro full scale (rad/s; 30 °/s): a clipping plateau between this and 40 rad/s is a rad/s full scale.
 MIN_FULL_SCALE_RAD_S = np.radians(30.0)
 #: Share of the gyro's rotation about gravity above which a rotation counts as "about gravity only".
-MIN_GRAVITY_AXIS_SHARE = 0.9
+MIN_GRAVITY_AXIS_SHARE = 0.7
 #: Rotation about gravity faster than this (rad/s, one turn per second) with |a| at the rest level is refused.
 MAX_GRAVITY_AXIS_RATE_RAD_S = 2 * np.pi
 
