@@ -7,13 +7,16 @@ The public names of every submodule are re-exported here (see ``__all__``).
 """
 
 from . import compare, output, paper_numbers
-from .paper_numbers import available, load, paper_dir, value
-from .compare import (at_paper_settings, band_record, band_row, band_summary, band_text, check_claims, claims_summary,
-                      comparison_row, comparison_table, COMPARISON_COLUMNS, describe, prediction_summary, ROLES,
-                      SOURCES)
+from . import fidelity, leak
+from .paper_numbers import available, heldout, load, paper_dir, split, training, value
+from .compare import (at_paper_settings, band_record, band_row, band_summary, band_text, check_claims, claim,
+                      claims_summary, comparison_row, comparison_table, COMPARISON_COLUMNS, consistency, describe,
+                      KINDS, prediction_summary, role_summary, ROLES, SOURCES)
 from .output import output_dir, run_size, save_figure, save_table, setup_matplotlib, show_table
 
-__all__ = ["paper_numbers", "compare", "output", "paper_dir", "available", "load", "value", "COMPARISON_COLUMNS",
+__all__ = ["paper_numbers", "compare", "output", "fidelity", "leak", "paper_dir", "available", "load", "value",
+           "split", "training", "heldout", "COMPARISON_COLUMNS",
            "comparison_row", "comparison_table", "band_summary", "claims_summary", "band_record", "band_row",
-           "band_text", "describe", "ROLES", "SOURCES", "at_paper_settings", "check_claims", "prediction_summary",
+           "band_text", "describe", "claim", "consistency", "ROLES", "KINDS", "SOURCES", "at_paper_settings",
+           "check_claims", "role_summary", "prediction_summary",
            "run_size", "output_dir", "setup_matplotlib", "save_figure", "save_table", "show_table"]
