@@ -9,8 +9,10 @@ Key of one call (sha-256):
 * **parameters** — every argument bound to the signature (defaults applied) and hashed by
   value: numbers, strings, arrays (dtype, shape, bytes), dataclasses (type and fields),
   dicts, sequences, DataFrames; the seed is one of them; plus the environment: the
-  Python/numpy/scipy/numba versions and the pinned numerics variables
-  (``mtcal.runs.environment.numerics_env``) as set in this process;
+  Python/numpy/scipy/numba versions, the pinned numerics variables
+  (``mtcal.runs.environment.numerics_env``) as set in this process and, when
+  ``$MTCAL_PAPER_DIR`` is set, the contents of that folder (the leak test's perturbed
+  papers' numbers are an input, hashed on every call);
 * **code** — the source of the function and of every mtcal module its module imports,
   directly or through other mtcal modules (static import closure, function-level imports
   included), and the package's data files (the papers' printed numbers).
@@ -172,8 +174,12 @@ def _environment_key() -> str:
         numba_version = numba.__version__
     except ImportError:  # pragma: no cover - numba is a dependency
         numba_version = "-"
+    # papers' numbers read from $MTCAL_PAPER_DIR (e.g. the leak test's perturbed copy) are an input:
+    # hashed on every call, so other contents are another entry
+    paper_dir = os.environ.get("MTCAL_PAPER_DIR")
+    paper = _folder_hash(Path(paper_dir)) if paper_dir and Path(paper_dir).is_dir() else "package"
     return (f"{platform.python_version()} numpy {np.__version__} scipy {scipy.__version__} numba {numba_version} "
-            + repr([(k, os.environ.get(k)) for k in _NUMERICS_VARS]))
+            + repr([(k, os.environ.get(k)) for k in _NUMERICS_VARS]) + f" papers {paper}")
 
 
 def _module_file(name: str) -> Path | None:
@@ -209,14 +215,16 @@ def _imported_modules(name: str, path: Path) -> set[str]:
 
 @functools.lru_cache(maxsize=None)
 def _data_hash() -> str:
-    """The package's data files (the papers' printed numbers, ``$MTCAL_PAPER_DIR`` when set)."""
+    """The package's data files (the papers' printed numbers shipped in ``paper_data/``)."""
+    return _folder_hash(_PACKAGE_ROOT)
+
+
+def _folder_hash(folder: Path) -> str:
     h = hashlib.sha256()
-    folders = [_PACKAGE_ROOT] + ([Path(os.environ["MTCAL_PAPER_DIR"])] if os.environ.get("MTCAL_PAPER_DIR") else [])
-    for folder in folders:
-        for path in sorted(p for p in folder.rglob("*") if p.is_file() and p.suffix not in (".py", ".pyc")
-                           and "__pycache__" not in p.parts):
-            h.update(f"{path.relative_to(folder)}\n".encode())
-            h.update(path.read_bytes())
+    for path in sorted(p for p in folder.rglob("*") if p.is_file() and p.suffix not in (".py", ".pyc")
+                       and "__pycache__" not in p.parts):
+        h.update(f"{path.relative_to(folder)}\n".encode())
+        h.update(path.read_bytes())
     return h.hexdigest()
 
 

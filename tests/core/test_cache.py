@@ -139,3 +139,16 @@ def test_another_numerics_environment_is_another_entry_not_a_stale_one(store, mo
     monkeypatch.setenv("OPENBLAS_CORETYPE", "Nehalem")
     monte_carlo(s, 3, 1)
     assert len(CALLS) == 2 and cache.STATS["hit"] == 1
+
+
+def test_papers_numbers_from_mtcal_paper_dir_are_an_input(store, monkeypatch, tmp_path):
+    """The leak test points MTCAL_PAPER_DIR at perturbed copies: never served a result of other numbers."""
+    papers = tmp_path / "papers"
+    papers.mkdir()
+    (papers / "x.csv").write_text("value\n1.0\n")
+    monkeypatch.setenv("MTCAL_PAPER_DIR", str(papers))
+    s = Setup(1.0, np.zeros(3))
+    monte_carlo(s, 3, 1)
+    (papers / "x.csv").write_text("value\n1000.0\n")  # perturbed held-out number, same folder
+    monte_carlo(s, 3, 1)
+    assert len(CALLS) == 2 and cache.STATS["hit"] == 0
