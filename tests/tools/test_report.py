@@ -108,6 +108,7 @@ def test_paper_of_and_verdicts():
 def test_report_in_headless_chromium(report):
     from selenium import webdriver
     from selenium.webdriver.chrome.service import Service
+    from selenium.webdriver.support.ui import WebDriverWait
 
     options = webdriver.ChromeOptions()
     options.binary_location = CHROMIUM
@@ -120,7 +121,8 @@ def test_report_in_headless_chromium(report):
         seen = set()
         for page in report["pages"]:
             driver.get((report["out"] / page).as_uri())
-            assert driver.execute_script("return document.readyState") == "complete", page
+            WebDriverWait(driver, 60).until(lambda d: d.execute_script("return document.readyState") == "complete",
+                                            message=f"{page} did not finish loading")
             assert "mtcal reproduction report" in driver.title, page
             broken = driver.execute_script(
                 "return Array.from(document.images).filter(i => !(i.complete && i.naturalWidth > 0))"
