@@ -444,14 +444,14 @@ def _trial_errors(out, t, tid, start, base, tb, bias, warm, turn_on, vib, key0, 
             if flags & (4 << s):
                 for j in range(3):
                     c2 = np.uint64(c2s[s, j])
-                    for p in range(npairs):
+                    for p in range(npairs):            # branch-free: vectorised across sample pairs
                         wa, wb = philox.philox_words(m0 + np.uint64(p), np.uint64(tid), c2, np.uint64(0),
                                                      np.uint64(key0), np.uint64(key1))
-                        words[2 * p] = wa
-                        words[2 * p + 1] = wb
+                        words[0, p] = wa
+                        words[1, p] = wb
                     for q in range(k - b0, hi - b0):
-                        normals[s, j, q] = philox._zig(words[q], m0 + np.uint64(q // 2), np.uint64(tid), c2,
-                                                       np.uint64(q & 1), np.uint64(key0), np.uint64(key1))
+                        normals[s, j, q] = philox._zig(words[q & 1, q // 2], m0 + np.uint64(q // 2), np.uint64(tid),
+                                                       c2, np.uint64(q & 1), np.uint64(key0), np.uint64(key1))
         for kk in range(k, hi):
             q = kk - b0
             i = kk - start
@@ -492,7 +492,7 @@ def _sensor_errors(out, start, base, bias, warm, turn_on, vib, trial_ids, key0, 
     trials = out.shape[0]
     per_trial_base = base.shape[0] > 1
     for g in prange((trials + group - 1) // group):
-        words = np.empty(block, np.uint64)
+        words = np.empty((2, block // 2), np.uint64)
         normals = np.empty((3, 3, block))
         for t in range(g * group, min((g + 1) * group, trials)):
             _trial_errors(out, t, trial_ids[t], start, base, t if per_trial_base else 0, bias, warm, turn_on, vib,
