@@ -4,7 +4,7 @@ Hardware is replaced by simulation with known truth (docs/conventions.md). A
 :class:`Trajectory` holds the body attitude history ``q_wb`` (scalar-first,
 body → world) and the linear acceleration of the sensor point; a
 :class:`ImuErrorModel` holds the sensor errors; :func:`simulate_imu` draws one
-or many Monte Carlo trials from a seeded ``numpy.random.Generator``.
+or many Monte Carlo trials keyed by a seeded ``numpy.random.Generator``.
 
 Truth kinematics
 ----------------
@@ -37,19 +37,31 @@ Sensor error model (per axis, per sensor; units of the sensor)
 * vibration: sinusoid ``amplitude · sin(2π f t + φ)``, φ uniform per trial
   and axis.
 
-Each error source draws from its own generators (keyed by sensor, source
-and a fixed block of samples, derived from ``rng``), so switching one source
-on or off leaves the others' draws unchanged (common random numbers for
-error-budget tables), and :class:`ImuStream` delivers the same numbers in
-chunks of any size (bounded-memory Monte Carlo).
+Random numbers (changed: numpy PCG64 streams → counter-based Philox4x32-10)
+---------------------------------------------------------------------------
+Every draw is a Philox4x32-10 number addressed by its coordinates
+(:mod:`mtcal.core.philox`, key rule in :mod:`mtcal.core.rng`): the key is hashed once
+from ``rng`` (:func:`mtcal.core.rng.spawn_philox_key`), the counter holds the sample pair
+``k // 2``, the trial id, the stream word (sensor, error source, axis) and the draw index.
+Normals are ziggurat normals, uniforms 53-bit. Hence
 
-Two engines produce bit-identical output (tested): ``"numba"`` (default) draws
-each block's normals with numba's port of numpy's PCG64 + ziggurat sampler
-(same stream, ~3× faster than ``Generator.standard_normal``) and applies every
-error term, the bias random walk and the Gauss–Markov recursion in one
-compiled pass per block segment, in the reference's operation order;
-``"numpy"`` is the readable reference (array operations, ``np.cumsum``,
-``scipy.signal.lfilter``).
+* switching one source on or off leaves the others' draws unchanged (common random
+  numbers for error-budget tables);
+* the output is the same for any chunk size (:class:`ImuStream`), kernel block size,
+  thread count or worker;
+* trial ``t``'s numbers do not depend on which other trials run: pass ``trial_ids`` to
+  simulate a subset (a worker's share) of a larger run.
+
+Until issue #24 the simulator drew from numpy ``Generator`` (PCG64) streams; every
+Monte Carlo number of the suite moved within its band when the streams changed.
+
+Two engines produce bit-identical output (tested): ``"numba"`` (default) draws the
+noise inside one compiled kernel, trials in parallel (``prange``), where it is
+consumed — per trial, a block of Philox words in a branch-free loop, the ziggurat, then
+every error term, the bias random walk and the Gauss–Markov recursion in the
+reference's operation order — never materialising per-sample noise arrays;
+``"numpy"`` is the readable reference (a numpy Philox and ziggurat, array operations,
+``np.cumsum``, ``scipy.signal.lfilter``).
 """
 
 from __future__ import annotations
