@@ -433,7 +433,7 @@ def _per_trial_draws(key0, key1, trial_ids, c2, uniform, out):
 # ----------------------------------------------------------------------------- compiled engine
 @jit
 def _trial_errors(out, t, tid, start, base, tb, bias, warm, turn_on, vib, key0, key1, c2s, flags, white_scale,
-                  rw_scale, gm_sigma, gm_c, gm_a, quant, rw_state, gm_state, words, normals):
+                  rw_scale, gm_sigma, gm_c, gm_a, quant, rw_state, gm_state, words, normals, rejected):
     """One trial of :func:`_sensor_errors`: the chunk in blocks of ``normals.shape[2]`` samples, each block's
     normals drawn first (Philox words of a block in one branch-free, vectorisable loop, then the ziggurat),
     then every error term applied in the reference's order."""
@@ -461,9 +461,22 @@ def _trial_errors(out, t, tid, start, base, tb, bias, warm, turn_on, vib, key0, 
                                                      np.uint64(key0), np.uint64(key1))
                         words[0, p] = wa
                         words[1, p] = wb
-                    for q in range(k - b0, hi - b0):
-                        normals[s, j, q] = philox._zig(words[q & 1, q // 2], m0 + np.uint64(q // 2), np.uint64(tid),
-                                                       c2, np.uint64(q & 1), np.uint64(key0), np.uint64(key1))
+                    nrej = 0
+                    for q in range(k - b0, hi - b0):   # ziggurat fast path, branch-free but for the rare rejection
+                        r = words[q & 1, q // 2]
+                        idx = r & _UFF
+                        r8 = r >> _U8
+                        rabs = (r8 >> _U1) & _MASK52
+                        sign = 1.0 - 2.0 * np.float64(np.int64(r8 & _U1))   # ±1: x · sign == ±x exactly,
+                        normals[s, j, q] = np.float64(np.int64(rabs)) * _WI[idx] * sign   # without a branch
+                        if rabs >= _KI[idx]:
+                            rejected[nrej] = q
+                            nrej += 1
+                    for i in range(nrej):              # ~1 %: continue on the word's rejection stream
+                        q = rejected[i]
+                        normals[s, j, q] = philox._zig_slow(words[q & 1, q // 2], m0 + np.uint64(q // 2),
+                                                            np.uint64(tid), c2, np.uint64(q & 1), np.uint64(key0),
+                                                            np.uint64(key1))
         for kk in range(k, hi):
             q = kk - b0
             i = kk - start
@@ -505,11 +518,12 @@ def _sensor_errors(out, start, base, bias, warm, turn_on, vib, trial_ids, key0, 
     per_trial_base = base.shape[0] > 1
     for g in prange((trials + group - 1) // group):
         words = np.empty((2, block // 2), np.uint64)
+        rejected = np.empty(block, np.int64)
         normals = np.empty((3, 3, block))
         for t in range(g * group, min((g + 1) * group, trials)):
             _trial_errors(out, t, trial_ids[t], start, base, t if per_trial_base else 0, bias, warm, turn_on, vib,
                           key0, key1, c2s, flags, white_scale, rw_scale, gm_sigma, gm_c, gm_a, quant, rw_state,
-                          gm_state, words, normals)
+                          gm_state, words, normals, rejected)
 
 
 class _SensorStream:
@@ -632,6 +646,9 @@ class _SensorStream:
         self.gm_state = b[:, -1:, :].copy()
         return b
 
+
+_UFF, _U8, _U1, _MASK52 = np.uint64(0xFF), np.uint64(8), np.uint64(1), np.uint64(0x000FFFFFFFFFFFFF)
+_KI, _WI = philox.KI, philox.WI
 
 #: Trials per scratch buffer of :func:`_sensor_errors` (a prange work item).
 _TRIAL_GROUP = 8
