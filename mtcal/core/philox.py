@@ -243,10 +243,9 @@ def uniform_pair(c0, c1, c2, k0, k1):
     return uniform_from_word(a), uniform_from_word(b)
 
 
-@jit(parallel=True)
-def _fill(out, kind, c0_start, c1, c2, k0, k1):
-    m = out.shape[0] // 2
-    for p in numba.prange(m):
+@jit
+def _fill_range(out, kind, c0_start, c1, c2, k0, k1, lo, hi):
+    for p in range(lo, hi):
         c0 = np.uint64(c0_start) + np.uint64(p)
         if kind == 0:
             z0, z1 = normal_pair(c0, np.uint64(c1), np.uint64(c2), np.uint64(k0), np.uint64(k1))
@@ -254,6 +253,22 @@ def _fill(out, kind, c0_start, c1, c2, k0, k1):
             z0, z1 = uniform_pair(c0, np.uint64(c1), np.uint64(c2), np.uint64(k0), np.uint64(k1))
         out[2 * p] = z0
         out[2 * p + 1] = z1
+
+
+@jit(parallel=True)
+def _fill_parallel(out, kind, c0_start, c1, c2, k0, k1):
+    m = out.shape[0] // 2
+    size = 4096
+    for b in numba.prange((m + size - 1) // size):
+        _fill_range(out, kind, c0_start, c1, c2, k0, k1, b * size, min((b + 1) * size, m))
+
+
+def _fill(out, kind, c0_start, c1, c2, k0, k1) -> None:
+    """Pairs of draws into ``out``; threads only for large fills (a small one never starts OpenMP)."""
+    if out.size >= 200_000 and numba.get_num_threads() > 1:
+        _fill_parallel(out, kind, c0_start, c1, c2, k0, k1)
+    else:
+        _fill_range(out, kind, c0_start, c1, c2, k0, k1, 0, out.shape[0] // 2)
 
 
 def _draws(kind: int, n: int, key, c1: int, c2: int, c0_start: int) -> np.ndarray:

@@ -69,6 +69,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
+import numba
 import numpy as np
 from numba import prange
 
@@ -416,10 +417,10 @@ def _np_normals(key, trial_ids, c2: int, start: int, stop: int) -> np.ndarray:
     return flat[:, lo:lo + stop - start]
 
 
-@jit(parallel=True)
+@jit
 def _per_trial_draws(key0, key1, trial_ids, c2, uniform, out):
     """``out[t, j]``: lane 0 of counter (0, trial_ids[t], c2[j], 0), a normal or (``uniform``) a uniform."""
-    for t in prange(trial_ids.shape[0]):
+    for t in range(trial_ids.shape[0]):
         for j in range(c2.shape[0]):
             a, b = philox.philox_words(np.uint64(0), np.uint64(trial_ids[t]), np.uint64(c2[j]), np.uint64(0),
                                        np.uint64(key0), np.uint64(key1))
@@ -434,7 +435,7 @@ def _per_trial_draws(key0, key1, trial_ids, c2, uniform, out):
 @jit
 def _trial_errors(out, t, tid, start, base, tb, bias, warm, turn_on, vib, key0, key1, c2s, flags, white_scale,
                   rw_scale, gm_sigma, gm_c, gm_a, quant, rw_state, gm_state, words, normals, rejected):
-    """One trial of :func:`_sensor_errors`: the chunk in blocks of ``normals.shape[2]`` samples, each block's
+    """One trial of :func:`_sensor_errors_parallel`: the chunk in blocks of ``normals.shape[2]`` samples, each block's
     normals drawn first (Philox words of a block in one branch-free, vectorisable loop, then the ziggurat),
     then every error term applied in the reference's order."""
     n = out.shape[1]
@@ -509,21 +510,48 @@ def _trial_errors(out, t, tid, start, base, tb, bias, warm, turn_on, vib, key0, 
         gm_state[t, j] = y[j]
 
 
-@jit(parallel=True)
-def _sensor_errors(out, start, base, bias, warm, turn_on, vib, trial_ids, key0, key1, c2s, flags, white_scale,
-                   rw_scale, gm_sigma, gm_c, gm_a, quant, rw_state, gm_state, block, group):
-    """Measurements ``out`` (T, n, 3) of global samples ``start … start+n``, trials in parallel (groups of
-    ``group`` trials share one scratch buffer). Each trial's numbers are a function of its id only."""
+@jit
+def _sensor_errors_group(g, out, start, base, bias, warm, turn_on, vib, trial_ids, key0, key1, c2s, flags,
+                         white_scale, rw_scale, gm_sigma, gm_c, gm_a, quant, rw_state, gm_state, block, group):
+    """Trials ``g·group … (g+1)·group`` of :func:`_sensor_errors_parallel`, sharing one scratch buffer."""
     trials = out.shape[0]
     per_trial_base = base.shape[0] > 1
-    for g in prange((trials + group - 1) // group):
-        words = np.empty((2, block // 2), np.uint64)
-        rejected = np.empty(block, np.int64)
-        normals = np.empty((3, 3, block))
-        for t in range(g * group, min((g + 1) * group, trials)):
-            _trial_errors(out, t, trial_ids[t], start, base, t if per_trial_base else 0, bias, warm, turn_on, vib,
-                          key0, key1, c2s, flags, white_scale, rw_scale, gm_sigma, gm_c, gm_a, quant, rw_state,
-                          gm_state, words, normals, rejected)
+    words = np.empty((2, block // 2), np.uint64)
+    rejected = np.empty(block, np.int64)
+    normals = np.empty((3, 3, block))
+    for t in range(g * group, min((g + 1) * group, trials)):
+        _trial_errors(out, t, trial_ids[t], start, base, t if per_trial_base else 0, bias, warm, turn_on, vib,
+                      key0, key1, c2s, flags, white_scale, rw_scale, gm_sigma, gm_c, gm_a, quant, rw_state,
+                      gm_state, words, normals, rejected)
+
+
+@jit(parallel=True)
+def _sensor_errors_parallel(out, start, base, bias, warm, turn_on, vib, trial_ids, key0, key1, c2s, flags,
+                            white_scale, rw_scale, gm_sigma, gm_c, gm_a, quant, rw_state, gm_state, block, group):
+    """Measurements ``out`` (T, n, 3) of global samples ``start … start+n``, groups of trials in parallel.
+    Each trial's numbers are a function of its id only, so the thread count does not change them."""
+    for g in prange((out.shape[0] + group - 1) // group):
+        _sensor_errors_group(g, out, start, base, bias, warm, turn_on, vib, trial_ids, key0, key1, c2s, flags,
+                             white_scale, rw_scale, gm_sigma, gm_c, gm_a, quant, rw_state, gm_state, block, group)
+
+
+@jit
+def _sensor_errors_serial(out, start, base, bias, warm, turn_on, vib, trial_ids, key0, key1, c2s, flags,
+                          white_scale, rw_scale, gm_sigma, gm_c, gm_a, quant, rw_state, gm_state, block, group):
+    """:func:`_sensor_errors_parallel` on the calling thread (small work: no OpenMP start-up)."""
+    for g in range((out.shape[0] + group - 1) // group):
+        _sensor_errors_group(g, out, start, base, bias, warm, turn_on, vib, trial_ids, key0, key1, c2s, flags,
+                             white_scale, rw_scale, gm_sigma, gm_c, gm_a, quant, rw_state, gm_state, block, group)
+
+
+#: Trial-samples of a chunk from which the trial-parallel kernel is used (as the filters'
+#: ``PARALLEL_MIN_WORK``): below it a parallel region costs more than it saves, and a process
+#: that never starts numba's OpenMP threads can still ``fork`` worker processes safely.
+PARALLEL_MIN_WORK = 200_000
+
+
+def _use_parallel(trials: int, samples: int) -> bool:
+    return trials >= 2 and trials * samples >= PARALLEL_MIN_WORK and numba.get_num_threads() > 1
 
 
 class _SensorStream:
@@ -627,7 +655,8 @@ class _SensorStream:
         flags |= 64 if e.quantization else 0
         key = self.key if self.key is not None else (0, 0)
         gm_a = float(self.gm_a)
-        _sensor_errors(out, start, base, self.bias, warm, turn_on, vib, self.trial_ids, key[0], key[1], self.c2s,
+        kernel = _sensor_errors_parallel if _use_parallel(self.trials, n) else _sensor_errors_serial
+        kernel(out, start, base, self.bias, warm, turn_on, vib, self.trial_ids, key[0], key[1], self.c2s,
                        flags, float(e.noise_density / np.sqrt(self.dt)), float(e.bias_random_walk * np.sqrt(self.dt)),
                        float(e.bias_instability), float(np.sqrt(1.0 - gm_a * gm_a)), gm_a, float(e.quantization),
                        self._rw, self._gm, self.block, _TRIAL_GROUP)
@@ -650,7 +679,7 @@ class _SensorStream:
 _UFF, _U8, _U1, _MASK52 = np.uint64(0xFF), np.uint64(8), np.uint64(1), np.uint64(0x000FFFFFFFFFFFFF)
 _KI, _WI = philox.KI, philox.WI
 
-#: Trials per scratch buffer of :func:`_sensor_errors` (a prange work item).
+#: Trials per scratch buffer of :func:`_sensor_errors_parallel` (a prange work item).
 _TRIAL_GROUP = 8
 
 

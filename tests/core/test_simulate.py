@@ -293,10 +293,10 @@ _THREAD_SCRIPT = """
 import hashlib, json, numpy as np, numba
 from mtcal.core import philox, simulate
 from tests.core.test_simulate import _EVERY_SOURCE, _static
-traj = _static(3000, 1000.0)
+traj = _static(6000, 1000.0)   # 37 trials x 6000 samples: the trial-parallel kernel (with 2 threads)
 model = simulate.ImuErrorModel(gyro=_EVERY_SOURCE, accel=simulate.SensorErrors(noise_density=1e-3, bias_sigma=1e-3))
 h = hashlib.sha256()
-for chunk in (3000, 251):
+for chunk in (6000, 251):
     for c in simulate.ImuStream(traj, model, np.random.default_rng(12), trials=37).chunks(chunk):
         h.update(c.gyro_rad_s.tobytes()); h.update(c.accel_m_s2.tobytes())
 h.update(philox.standard_normals(100001, key=(3, 4)).tobytes())
@@ -316,6 +316,18 @@ def test_bit_identical_for_one_and_two_threads():
         out.append(json.loads(res.stdout.strip().splitlines()[-1]))
     assert [o["threads"] for o in out] == [1, 2]
     assert out[0]["sha"] == out[1]["sha"]
+
+
+def test_parallel_and_serial_kernels_agree(monkeypatch):
+    traj = _static(2000, 1000.0)
+    model = ImuErrorModel(gyro=_EVERY_SOURCE, accel=SensorErrors(noise_density=1e-3, bias_instability=1e-4))
+    out = []
+    for min_work in (0, 10 ** 12):   # always / never the trial-parallel kernel
+        monkeypatch.setattr(simulate, "PARALLEL_MIN_WORK", min_work)
+        rec = simulate.simulate_imu(traj, model, np.random.default_rng(31), trials=19)
+        out.append((rec.gyro_rad_s, rec.accel_m_s2))
+    for a, b in zip(*out):
+        np.testing.assert_array_equal(a, b)
 
 
 def test_trial_ids_bad_input():
