@@ -138,3 +138,19 @@ def test_stream_word_and_bad_input():
     with pytest.raises(ValueError, match="must stay below 2"):
         philox.uniforms(10, c0_start=2 ** 32 - 2)
     assert philox.standard_normals(0).shape == (0,)
+
+
+def test_philox_keys_follow_the_rng_rule():
+    """mtcal.core.rng: keys hashed from (seed, stream, …) or from a caller's generator (its next spawn)."""
+    from mtcal.core import rng
+
+    k = rng.philox_key(7, 3)
+    assert k == rng.philox_key(7, 3) and k != rng.philox_key(7, 4) and k != rng.philox_key(8, 3)
+    assert all(0 <= w < 2 ** 32 for w in k)
+    g = np.random.default_rng(11)
+    first, second = rng.spawn_philox_key(g), rng.spawn_philox_key(g)
+    assert first != second and first == rng.spawn_philox_key(np.random.default_rng(11))
+    with pytest.raises(TypeError, match="rng must be a numpy.random.Generator"):
+        rng.spawn_philox_key(11)
+    with pytest.raises(ValueError, match="expected integers >= 0"):
+        rng.philox_key(-1, 0)
