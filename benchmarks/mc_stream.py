@@ -243,7 +243,8 @@ def main(argv: list[str] | None = None) -> dict:
         "trials": args.trials, "duration_s": args.duration, "chunk_samples": args.chunk,
         "prefetch": not args.no_prefetch,
         "trial_samples": int(args.trials * round(args.duration * 1000.0)),
-        "wall_s": wall, "cpu_s": cpu, "peak_rss_mb": peak_rss_mb(), "vm_hwm_mb": vm_hwm_mb(), "rss_after_imports_mb": rss0,
+        "wall_s": wall, "cpu_s": cpu, "peak_rss_mb": peak_rss_mb(), "vm_hwm_mb": vm_hwm_mb(),
+        "rss_after_imports_mb": rss0,
         "rmse_deg_median": band["median"].tolist(), "rmse_deg_low": band["low"].tolist(),
         "rmse_deg_high": band["high"].tolist(),
     }

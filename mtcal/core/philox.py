@@ -62,8 +62,9 @@ from numba.np.random._constants import ziggurat_nor_r as _ZIG_R
 
 from mtcal.core.compiled import jit
 
-__all__ = ["philox4x32_10", "philox_words", "uniform_from_word", "normal_pair", "uniform_pair", "stream_word",
-           "standard_normals", "uniforms", "SOURCE_IDS"]
+# Compiled building blocks for kernels (not in __all__, called from numba code only): philox_words,
+# uniform_from_word, normal_pair, uniform_pair (and the ziggurat's _zig/_zig_slow).
+__all__ = ["philox4x32_10", "stream_word", "standard_normals", "uniforms", "SOURCE_IDS", "KI", "WI", "FI"]
 
 _M0 = np.uint64(0xD2511F53)
 _M1 = np.uint64(0xCD9E8D57)
@@ -106,6 +107,10 @@ def stream_word(sensor: int, source: int, axis: int) -> int:
     Returns
     -------
     int
+
+    References
+    ----------
+    Salmon et al., SC'11 (a counter word per independent stream).
 
     Examples
     --------
@@ -303,7 +308,12 @@ def standard_normals(n: int, key=(0, 0), c1: int = 0, c2: int = 0, c0_start: int
     Returns
     -------
     ndarray, shape (n,)
-        Ziggurat normals (see the module's transforms), computed in parallel.
+        Ziggurat normals (see the module's transforms), computed in parallel for large ``n``.
+
+    References
+    ----------
+    Salmon et al., SC'11 (Philox4x32-10); Marsaglia & Tsang, J. Stat. Softw. 5(8), 2000
+    (ziggurat), in numpy's 256-layer form.
 
     Examples
     --------
@@ -325,6 +335,11 @@ def uniforms(n: int, key=(0, 0), c1: int = 0, c2: int = 0, c0_start: int = 0) ->
     Returns
     -------
     ndarray, shape (n,)
+        ``(w >> 11) · 2⁻⁵³`` of each 64-bit word ``w``.
+
+    References
+    ----------
+    Salmon et al., SC'11 (Philox4x32-10).
 
     Examples
     --------

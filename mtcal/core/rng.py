@@ -108,6 +108,10 @@ def philox_key(seed: int, stream: int, *more: int) -> tuple[int, int]:
     tuple of 2 int
         Key words, each in [0, 2³²).
 
+    References
+    ----------
+    Salmon et al., SC'11 (Philox keys); numpy NEP 19 (SeedSequence hashing).
+
     Examples
     --------
     >>> philox_key(1, 2) == philox_key(1, 2) != philox_key(1, 3)
@@ -131,6 +135,10 @@ def spawn_philox_key(rng: np.random.Generator) -> tuple[int, int]:
     Returns
     -------
     tuple of 2 int
+
+    References
+    ----------
+    numpy NEP 19 (``SeedSequence.spawn``); Salmon et al., SC'11.
 
     Examples
     --------

@@ -388,7 +388,8 @@ def _py_zig_slow(r: int, c0: int, c1: int, c2: int, lane: int, k0: int, k1: int)
                 if yy + yy > xx * xx:
                     return -(philox._R + xx) if (rabs >> 8) & 1 else philox._R + xx
         a, b = words()
-        if (float(philox.FI[idx - 1]) - float(philox.FI[idx])) * unif(a) + float(philox.FI[idx]) < math.exp(-0.5 * x * x):
+        f_lo, f_hi = float(philox.FI[idx]), float(philox.FI[idx - 1])
+        if (f_hi - f_lo) * unif(a) + f_lo < math.exp(-0.5 * x * x):
             return x
         r = b
 
