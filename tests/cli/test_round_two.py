@@ -46,8 +46,8 @@ def test_issue_case_deg_s_slow_moves_refused(tmp_path, capsys):
     rests = [slice(int(np.searchsorted(t, a + 0.15)), int(np.searchsorted(t, b - 0.15))) for a, b in log.rest_spans_s]
     means = np.array([gyro[r].mean(axis=0) for r in rests])
     off = np.linalg.norm(means - np.median(means, axis=0), axis=1)
-    # the issue: all 4 rests' mean gyro is 0.037-0.060 rad/s off the median, above the 0.035 limit, so no pair
-    assert len(rests) == 4 and np.all((off > plausibility.MAX_REST_RATE_RAD_S) & (off < 0.07)), off
+    # the issue: every rest's mean gyro is off the median by more than the 0.035 rad/s limit (0.037-0.060 there), so no pair
+    assert len(rests) == 4 and np.all(off > plausibility.MAX_REST_RATE_RAD_S), off
     assert plausibility.gyro_tilt_consistency(gyro, accel, t[1] - t[0], rests)["pairs"] == 0
     code, out, err = _run(["angle", path, "--axis", ISSUE_AXIS, "--out", tmp_path / "angle.csv"], capsys)
     _refused(code, err, "--gyro-unit deg/s")
