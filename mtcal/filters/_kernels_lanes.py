@@ -14,7 +14,7 @@ NaN operand; ``max(x, y)`` is ``y if y > x else x``).
 
 from __future__ import annotations
 
-import numba
+import numba  # after mtcal.core.compiled (imported with the package): numba settings first
 from llvmlite import ir
 from numba.core import cgutils, types
 from numba.extending import intrinsic
