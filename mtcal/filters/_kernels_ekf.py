@@ -29,7 +29,7 @@ from numba import prange
 from mtcal.filters import _kernels_lanes as L
 from mtcal.filters._kernels_common import jit
 
-__all__ = ["ekf_serial", "ekf_parallel"]
+__all__ = ["ekf_one", "ekf_serial", "ekf_parallel"]
 
 _LOW2 = 2.0 * 2.0 * (1.0 + 1e-9)   # see _kernels_qncf._LOW2
 
@@ -285,6 +285,16 @@ def ekf_serial(g, a, st, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, om_s,
                    var_m, dt, q_theta, q_b, out_theta, out_bias, out_p, out_y, keep_y, last_c, last_hp, last_s, chk)
 
 
+@jit()
+def ekf_one(g, a, st, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, om_s, has_prev, use_zvd, var_z,
+            var_m, dt, q_theta, q_b, out_theta, out_bias, out_p, out_y, keep_y, last_c, last_hp, last_s, chk):
+    """Trials one after the other with the scalar kernel only (single-trial records: the smallest code for
+    numba to load from its cache)."""
+    for t in range(g.shape[0]):
+        _trial(g, a, st, t, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, om_s, has_prev, use_zvd, var_z,
+               var_m, dt, q_theta, q_b, out_theta, out_bias, out_p, out_y, keep_y, last_c, last_hp, last_s, chk)
+
+
 @jit(parallel=True)
 def ekf_parallel(g, a, st, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, om_s, has_prev, use_zvd, var_z,
                  var_m, dt, q_theta, q_b, out_theta, out_bias, out_p, out_y, keep_y, last_c, last_hp, last_s, chk):
@@ -301,7 +311,7 @@ def warm_up() -> None:
     a = np.zeros((n, m, 3))
     a[..., 2] = 9.8
     vec = np.tile([1.0, 0.0, 0.0], (n, 1))
-    for fn in (ekf_serial, ekf_parallel):
+    for fn in (ekf_one, ekf_serial, ekf_parallel):
         fn(g, a, np.ones((1, m), np.bool_), vec, vec, vec, vec, vec, vec, np.zeros(n), np.zeros((n, 3)),
            np.ones((n, 10)), np.zeros(n), False, True, 1e-4, 4.0, 1e-3, 1e-10, 1e-14, np.empty((n, m)),
            np.empty((n, m, 3)), np.empty((n, m)), np.empty((n, m, 3)), True, np.empty((n, 4)), np.empty((n, 3)),
