@@ -159,6 +159,30 @@ def _at(x, ta, tb, tc, td, k, i):
     return (x[ta, k, i], x[tb, k, i], x[tc, k, i], x[td, k, i])
 
 
+@numba.njit(inline="always")
+def _put(out, t0, nl, k, X):
+    """out[t0 + j, k] = X[j] for the ``nl`` real lanes (constant lane indices: X stays in registers)."""
+    out[t0, k] = X[0]
+    if nl > 1:
+        out[t0 + 1, k] = X[1]
+    if nl > 2:
+        out[t0 + 2, k] = X[2]
+    if nl > 3:
+        out[t0 + 3, k] = X[3]
+
+
+@numba.njit(inline="always")
+def _put3(out, t0, nl, k, i, X):
+    """out[t0 + j, k, i] = X[j] for the ``nl`` real lanes."""
+    out[t0, k, i] = X[0]
+    if nl > 1:
+        out[t0 + 1, k, i] = X[1]
+    if nl > 2:
+        out[t0 + 2, k, i] = X[2]
+    if nl > 3:
+        out[t0 + 3, k, i] = X[3]
+
+
 @jit()
 def _block(g, a, st, t0, nl, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, om_s, has_prev, use_zvd,
            var_z, var_m, dt, q_theta, q_b, out_theta, out_bias, out_p, out_y, keep_y, last_c, last_hp, last_s, chk):
@@ -239,13 +263,15 @@ def _block(g, a, st, t0, nl, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, o
         P12 = L.sub(P12, L.mul(L.mul(C2, C1), R4))
         P13 = L.sub(P13, L.mul(L.mul(C3, C1), R4))
         P23 = L.sub(P23, L.mul(L.mul(C3, C2), R4))
-        for j in range(nl):
-            t = t0 + j
-            out_theta[t, k] = TH[j]
-            out_bias[t, k, 0], out_bias[t, k, 1], out_bias[t, k, 2] = B0[j], B1[j], B2[j]
-            out_p[t, k] = P00[j]
-            if keep_y:
-                out_y[t, k, 0], out_y[t, k, 1], out_y[t, k, 2] = Y0[j], Y1[j], Y2[j]
+        _put(out_theta, t0, nl, k, TH)
+        _put(out_p, t0, nl, k, P00)
+        _put3(out_bias, t0, nl, k, 0, B0)
+        _put3(out_bias, t0, nl, k, 1, B1)
+        _put3(out_bias, t0, nl, k, 2, B2)
+        if keep_y:
+            _put3(out_y, t0, nl, k, 0, Y0)
+            _put3(out_y, t0, nl, k, 1, Y1)
+            _put3(out_y, t0, nl, k, 2, Y2)
     for j in range(nl):
         t = t0 + j
         theta_s[t] = TH[j]

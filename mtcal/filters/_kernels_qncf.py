@@ -271,10 +271,14 @@ def _block(w, a, t0, nl, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_
         NQ = L.sqrt(L.add(L.add(L.add(L.mul(N0, N0), L.mul(NN1, NN1)), L.mul(NN2, NN2)), L.mul(NN3, NN3)))
         Q0, Q1, Q2, Q3 = L.div(N0, NQ), L.div(NN1, NQ), L.div(NN2, NQ), L.div(NN3, NQ)
         LOW = L.add(LOW, L.where_lt(N2, L.bc(_LOW2), L.bc(1.0), zero))
-        if keep:
-            for j in range(nl):
-                amd_out[t0 + j, k] = P[j]
-                gate_out[t0 + j, k] = P[j] < thr
+        if keep:  # constant lane indices: P stays in registers
+            amd_out[t0, k], gate_out[t0, k] = P[0], P[0] < thr
+            if nl > 1:
+                amd_out[t0 + 1, k], gate_out[t0 + 1, k] = P[1], P[1] < thr
+            if nl > 2:
+                amd_out[t0 + 2, k], gate_out[t0 + 2, k] = P[2], P[2] < thr
+            if nl > 3:
+                amd_out[t0 + 3, k], gate_out[t0 + 3, k] = P[3], P[3] < thr
     for j in range(nl):
         t = t0 + j
         q[t, 0], q[t, 1], q[t, 2], q[t, 3] = Q0[j], Q1[j], Q2[j], Q3[j]
