@@ -41,7 +41,7 @@ PYTEST := $(BIN)/python -m pytest -q -p no:cacheprovider
 # notebooks executed at the same time by `make reproduce` (outputs do not depend on it)
 JOBS ?= 2
 
-.PHONY: venv reproduce sync test measure bench clean
+.PHONY: venv reproduce report artifact sync test measure bench clean
 
 $(STAMP): pyproject.toml constraints.txt
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
@@ -55,11 +55,26 @@ venv: $(STAMP)
 sync: $(STAMP)
 	$(BIN)/python tools/notebooks.py sync $(NOTEBOOK_SRC)
 
-## Every notebook in order at full paper size (papermill): rewrites notebooks/*.ipynb, figures/, data/.
+# Monte Carlo results of the studies' expensive entry points (mtcal.core.cache), keyed by
+# parameters, seed and code hash; `make artifact` rebuilds one figure/table from it
+CACHE := $(CURDIR)/build/cache
+
+## Every notebook at full paper size (papermill), JOBS at a time, each in its own process:
+## rewrites notebooks/*.ipynb, figures/, data/ (byte-identical when nothing changed), then the report.
 reproduce: $(STAMP)
 	$(BIN)/python tools/notebooks.py sync $(NOTEBOOK_SRC)
-	MTCAL_SIZE=full MTCAL_OUTPUT_DIR=$(CURDIR) $(BIN)/python tools/notebooks.py execute --jobs $(JOBS) $(NOTEBOOK_SRC)
+	MTCAL_SIZE=full MTCAL_OUTPUT_DIR=$(CURDIR) MTCAL_CACHE_DIR=$(CACHE) $(BIN)/python tools/notebooks.py execute --jobs $(JOBS) $(NOTEBOOK_SRC)
 	$(BIN)/python tools/artifact_catalogue.py
+	$(BIN)/python tools/report/build.py --out build/report
+
+## The reproduction report (build/report/index.html) from the committed results.
+report: $(STAMP)
+	$(BIN)/python tools/report/build.py --out build/report
+
+## One figure or table from the Monte Carlo cache: make artifact ID=wang2023cja_fig07
+artifact: $(STAMP)
+	@test -n "$(ID)" || { echo "make artifact: set ID=<artifact id> (see docs/artifacts.md)" >&2; exit 2; }
+	MTCAL_CACHE_DIR=$(CACHE) $(BIN)/python -m mtcal reproduce $(ID) --cache $(CACHE)
 
 ## Unit tests + doctests + nbval over every notebook at CI size (outputs go to build/ci/), then the
 ## output-checked notebooks again with the CPU's native BLAS kernel and SIMD/FMA code paths.

@@ -23,8 +23,8 @@
 # %% tags=["parameters"]
 SIZE = None  # "ci" or "full"; None → $MTCAL_SIZE, else "full"
 SEED = 2023  # RNG seed
-N_TRIALS = None  # Allan records (3 axes each); None → the size's default (ci 4, full 8)
-allan_hours = None  # length of each Allan record (h); None → the size's default (ci 2, full 8)
+N_TRIALS = None  # Allan records (3 axes each); None → the size's default (ci 8, full 8)
+allan_hours = None  # length of each Allan record (h); None → the size's default (ci 8, full 8)
 # scenario (defaults = the values used to show each erratum; names carry units)
 installation_error_deg = (0.3, -0.2, 0.5)  # α1, α2, α3 for the wang2023cja Eq 4 check
 delta_accel_g = 1e-4  # tan2022: equal accelerometer error on every axis (g)

@@ -8,16 +8,22 @@
 # 1. **"After" is measured on a separate verification run**, as the paper did: the matrix is fitted
 #    on one six-position run and applied to a later run of the same power-on session (new rests,
 #    new noise, a changed accelerometer bias). In-sample residuals are shown, labelled as such.
-# 2. **The hardware error model is identified** from a declared training subset — Tables 1–4 and the
-#    printed matrices — and the held-out Tables 5–8 are **predicted** with 95 % Monte Carlo bands.
-#    The prior-only model (datasheet nominal values) is run beside the fitted one.
-# 3. **Every comparison row has a role** (`fitted`, `predicted`, `finding`, `erratum`) and a source
-#    (`paper claim`, `mtcal finding`); fitted rows are never counted as confirmations.
+# 2. **The hardware error model is identified** on a pre-registered training split
+#    (`mtcal/reporting/paper_data/wang2023cja_split.csv`: Tables 1–4 and the printed matrices are
+#    `train`) and the held-out Tables 5–8 are **predicted** with 95 % posterior-predictive bands:
+#    every Monte Carlo trial draws its own parameters from the fit's posterior. Beside it runs the
+#    **prior predictive**: every trial draws the error model from its prior ranges and the
+#    installation angles from their prior (`w.predictive.ALPHA_PRIOR_SIGMA_DEG`) — nothing fitted
+#    on Tables 1–4 is used.
+# 3. **Every printed number is compared one to one** with its split role; scores (coverage with its
+#    binomial interval, relative width, interval score, ±25 %) count held-out numbers only, and the
+#    paper's claims are tested with the paper's own thresholds — failing ones are listed with the
+#    computed reason; checks true by construction are labelled `consistency`.
 
 # %% tags=["parameters"]
 SIZE = None          # "ci" or "full"; None → $MTCAL_SIZE, else "full"
 SEED = 2023          # RNG seed
-N_TRIALS = None      # None → the size's default (Monte Carlo trials per test and model)
+N_TRIALS = None      # None → the size's default (trials = parameter draws of the T1 session, per model)
 # scenario (defaults = the paper's setting; names carry units)
 gyro_grade = "wang2023cja"            # a mtcal.core.sensor_grades name
 accel_grade = "wang2023cja"           # a mtcal.core.sensor_grades name
@@ -29,13 +35,19 @@ roll_positions_deg = (90.0, -90.0)
 turntable_rate_deg_s = 20.0           # assumed mean move rate
 
 # %%
+import time
 import numpy as np
-from mtcal.reporting import compare, output
+import pandas as pd
+from IPython.display import display
+from mtcal.reporting import compare, fidelity, output
 from mtcal.studies import wang2023cja as w
+from mtcal.studies.wang2023cja import predictive, verdicts
 
+T_START = time.perf_counter()
 SIZE = output.run_size(SIZE)
-N_TRIALS = N_TRIALS or {"ci": 4, "full": 40}[SIZE]
-N_BUDGET = {"ci": 1, "full": 4}[SIZE]
+N_TRIALS = N_TRIALS or {"ci": 4, "full": 20}[SIZE]   # full: ≈ 2.5 min on the shared 2-core machine
+N_TRAIN_TRIALS = max(2, N_TRIALS // 2)     # T2–T4 sessions (train tables only), fitted model
+N_BUDGET = {"ci": 1, "full": 2}[SIZE]
 params = dict(gyro_grade=gyro_grade, accel_grade=accel_grade, fs_hz=fs_hz, rest_s=rest_s,
               yaw_positions_deg=yaw_positions_deg, pitch_positions_deg=pitch_positions_deg,
               roll_positions_deg=roll_positions_deg, turntable_rate_deg_s=turntable_rate_deg_s)
@@ -89,57 +101,81 @@ em_table = w.error_model_table(fit)
 output.save_table(em_table, "wang2023cja_extra_error_model")
 output.show_table(em_table.drop(columns="source"), "{:.4g}")
 print(f"log-likelihood of the {fit.n_train} training numbers: fitted {fit.loglik:.1f}, prior nominal {fit.loglik_prior:.1f}")
-assert fit.loglik > fit.loglik_prior
-assert ((em_table.fitted >= em_table.prior_low) & (em_table.fitted <= em_table.prior_high)).all()
+# consistency (true by construction, not claims): the ML beats the nominal, and values lie in their
+# prior ranges because the optimiser works through a logistic transform of each range.
+print("fields on a prior bound:", [n for n, b in fit.at_bound.items() if b])
 assert not fit.at_bound["compliance_gasket_deg_g"] and not fit.at_bound["gasket_load_tilt_deg_g"]
+assert not fit.at_bound["position_error_arcsec"]
 
 # %% [markdown]
 # **Reading the fit** (numbers in the table above).
 #
-# * *Gasket compliance* (≈ 0.3°/g, identified to ±0.02°/g): Tables 2–4 were mounted on gaskets
-#   (Figs 4–6) and show a roll overshoot of 0.12–0.14° at roll ±90° that the screwed mount of
-#   Table 1 does not show — gravity pulling the IMU sideways on its soft mount.
-# * *Gasket load tilt* (≈ 0.2°/g per axis): a gasket-raised installation also sits differently under
-#   the 1 g normal load present when level and released at roll ±90°. Eq 13 spreads that
-#   position-dependent tilt over the six rests, leaving +1/3 of it at the four small-angle rests and
-#   −2/3 at ±90° — exactly the −2 : 1 ratio of the common roll offsets of Table 3 (−0.062°, +0.12°)
-#   and Table 4 (+0.077°, −0.15°). It is the same in the calibration and verification runs.
-# * *Sitting on a bound* — a finding about the paper, with the one-sided 95 % profile limit in the
-#   table: the per-rest angle error runs to its 60″ upper bound (≥ ≈ 40″): after the structure
-#   above, the paper's cells still scatter by ≈ 0.017° (T1 has, e.g., a common yaw offset of −0.016°
-#   and roll offset of +0.017° at all six rests), many times what a ±5″ turntable gives. The
-#   screwed-mount compliance runs to its −0.05°/g bound (T1's ±90° rows undershoot by ≈ 0.02°).
-#   The run-to-run accelerometer-bias change (≤ ≈ 0.15 mg) and the gyro bias (≤ ≈ 1 °/h) go to their
-#   lower bounds: the data do not need them — the common roll offsets of Tables 3–4 that first
-#   suggested a 0.35–1.3 mg bias change are explained by the gasket load tilt instead.
+# * *Gasket compliance* (≈ 0.34°/g, ±0.02°/g): Tables 2–4 were mounted on gaskets (Figs 4–6) and show
+#   a roll overshoot of 0.12–0.14° at roll ±90° that the screwed mount of Table 1 does not show.
+# * *Gasket load tilt* (≈ 0.2°/g per axis): the tilt under the 1 g normal load present when level and
+#   released at roll ±90°; Eq 13 leaves +1/3 of it at the small-angle rests and −2/3 at ±90° — the
+#   −2 : 1 ratio of the common roll offsets of Tables 3 and 4.
+# * *Per-rest angle error* (≈ 49″ ± 4″, 1σ per axis per rest). **The bound, and what changed.** Its
+#   prior used to end at 60″ and the fit reported it pinned there (≥ 38″ at 95 %), which made the
+#   Tables 5/7 bands ≈ 0.07° wide. Two things were tried. (a) *The model term it stands in for*: a
+#   common angle offset of the whole verification run (turntable re-homing, the QNCF state at the
+#   run's start — T1's after-columns share −0.016° yaw and +0.017° roll offsets) was added as a
+#   seventh source and fitted: its ML went to 0 (95 % limit ≈ 23″): the data do not want it, so it
+#   was removed again. (b) *Widening*: with the range opened to 5′ the ML is 49″ ± 4″ — **inside**
+#   the old cap, with a higher likelihood than the old "pinned" point: the cap was hit by the
+#   optimiser, not by the data. The value is ten times a ±5″ turntable; it stands for what the
+#   rest-level model does not resolve — the paper's own explanation (§4.1): "The random drift errors
+#   of the gyro increase with time, which makes the yaw angle errors increase and cannot be
+#   eliminated. Due to the installation errors, the yaw angle errors are also projected in the other
+#   two directions". The source string of the field quotes it.
+# * *Other bounds*: the screwed-mount compliance sits at −0.05°/g (T1's ±90° rows undershoot by
+#   ≈ 0.02°; rigid bracket class, left); the run-to-run accelerometer-bias change and the gyro bias
+#   sit on their *lower* bounds (the data do not need them; their 95 % limits in the table). The
+#   posterior predictive draws a value on a bound from a half-normal reaching its 95 % limit.
 
 # %% [markdown]
-# ## Runs: calibration run → separate verification run (+ AoA and roll sweeps for T1)
+# ## Runs: posterior predictive and prior predictive
 #
 # One session per trial: calibration six positions, then verification six positions (Tables 1–4
-# "after") and, for T1, the AoA sweep and the roll sweep (Tables 5–8). The same trials are run with
-# the fitted model and with the prior-nominal model, and both comparison tables are built here; each
-# section below shows its artifact and evaluates its rows. Rows from Tables 1–4 are `fitted` (the
-# model was identified on them), rows from Tables 5–8 are `predicted`.
+# "after") and, for T1, the AoA sweep and the roll sweep (Tables 5–8). **Each trial draws its own
+# parameters** (`w.predictive`): from the fit's posterior (fitted) or from the prior (prior
+# predictive: error model from its prior ranges, installation angles from their prior — not the
+# angles fitted on Tables 1–4). T2–T4 (training tables only) run with the fitted model.
 
 # %%
 sc = w.turntable_scenario(errors=fit.model, **params)
-runs = {"fitted": w.turntable_runs(sc, N_TRIALS, SEED),
-        "prior": w.turntable_runs(w.turntable_scenario(errors=w.ErrorModel(), **params), N_TRIALS, SEED)}
-tables = {name: compare.comparison_table(w.turntable_rows(r)) for name, r in runs.items()}
+t0 = time.perf_counter()
+runs = {"fitted": predictive.turntable_predictive(sc, fit, "fitted", N_TRIALS, SEED, tests=("T1",)),
+        "prior": predictive.turntable_predictive(sc, fit, "prior", N_TRIALS, SEED, tests=("T1",))}
+runs["fitted"].update(predictive.turntable_predictive(sc, fit, "fitted", N_TRAIN_TRIALS, SEED + 1,
+                                                      tests=("T2", "T3", "T4")))
+print(f"{N_TRIALS} T1 trials per model, {N_TRAIN_TRIALS} T2–T4 trials: {time.perf_counter() - t0:.0f} s")
+one = {name: verdicts.one_to_one(verdicts.printed_samples(r), seed=SEED) for name, r in runs.items()}
+claims = verdicts.claims(runs["fitted"])
+claims_prior = verdicts.claims(runs["prior"])
 run = runs["fitted"]
+
+
+def section(artifact_prefix, table=None):
+    """One-to-one rows and claims of one artifact (fitted model)."""
+    t = one["fitted"] if table is None else table
+    rows = t[t.file.str.startswith(artifact_prefix)]
+    if len(rows):
+        output.show_table(rows[["quantity", "role", "paper", "median", "low", "high", "inside"]], "{:.4f}")
+    c = claims[claims.artifact == artifact_prefix[:19]]
+    if len(c):
+        print(verdicts.claim_block(c))
 
 # %% [markdown]
 # ## wang2023cja_table01 — six positions, normal (screwed) installation (Table 1)
-# Trial 0 of the verification run beside the paper, plus the Monte Carlo median of "after". The
-# comparison rows use the RMS over the 18 cells, and show the in-sample residual (the calibration
-# run's own rests) separately: it is what the old notebook reported as "after", 5–10× below the paper.
+# Trial 0 of the verification run beside the paper, plus the Monte Carlo median of "after"; then
+# every printed number one to one (all `train`: the error model was fitted on them).
 
 # %%
 for i, test in enumerate(("T1", "T2", "T3", "T4")):
     output.save_table(w.positions_table(test, run[test]), f"wang2023cja_table{i + 1:02d}")
 output.show_table(w.positions_table("T1", run["T1"]), "{:.3f}")
-print(w.section_claims(tables["fitted"], "wang2023cja_table01", enforce=AT_PAPER))
+section("wang2023cja_table01")
 
 # %% [markdown]
 # ## wang2023cja_table02 — large pitch installation error, gasket mount (Table 2)
@@ -147,84 +183,85 @@ print(w.section_claims(tables["fitted"], "wang2023cja_table01", enforce=AT_PAPER
 
 # %%
 output.show_table(w.positions_table("T2", run["T2"]), "{:.3f}")
-print(w.section_claims(tables["fitted"], "wang2023cja_table02", enforce=AT_PAPER))
+section("wang2023cja_table02")
 
 # %% [markdown]
 # ## wang2023cja_table03 — large pitch and roll installation errors (Table 3)
 
 # %%
 output.show_table(w.positions_table("T3", run["T3"]), "{:.3f}")
-print(w.section_claims(tables["fitted"], "wang2023cja_table03", enforce=AT_PAPER))
+section("wang2023cja_table03")
 
 # %% [markdown]
 # ## wang2023cja_table04 — all three installation errors large (Table 4)
 
 # %%
 output.show_table(w.positions_table("T4", run["T4"]), "{:.3f}")
-print(w.section_claims(tables["fitted"], "wang2023cja_table04", enforce=AT_PAPER))
+section("wang2023cja_table04")
 
 # %% [markdown]
-# ## wang2023cja_table05 — AoA sweep, mean pitch (Table 5, predicted)
-# The sweep follows the verification run in the same session, with a turntable angle error per
-# hold. "Before up to 0.04°" could not fail when our "before" was 8× smaller than the paper's; it is
-# now tested as "the paper's 0.040 lies inside our band", and "after within 0.03°" on our median.
-# Both are `reported:` claims: whether they hold depends on the identified error level (the per-hold
-# error and the run-to-run offsets), not on the calibration method, so they are not asserted.
+# ## wang2023cja_table05 — AoA sweep, mean pitch (Table 5, held out)
+# The sweep follows the verification run in the same session, with an angle error per hold. The
+# compared number is printed − reference. Claims, with the paper's thresholds: "The maximum pitch
+# angle error before calibration is 0.04°", "The results after calibration are all within 0.03°"
+# and "there is a significant improvement in the pitch angle after calibration".
 
 # %%
 t5 = w.sweep_mean_table("wang2023cja_table05", run["T1"].sweeps["aoa"], "pitch")
 output.save_table(t5, "wang2023cja_table05")
 output.show_table(t5, "{:.3f}")
-print(w.section_claims(tables["fitted"], "wang2023cja_table05", enforce=AT_PAPER))
+section("wang2023cja_table05")
 
 # %% [markdown]
 # ## wang2023cja_fig07 — roll and yaw errors in the AoA sweep, before vs after (paper Fig 7)
-# Asserted: the pitch steps couple into roll as stepwise errors (correlation with sin pitch).
+# Median and 95 % band over all trials (posterior predictive), the paper's Table 6 MaxAE as dashed
+# ± lines. The stepwise roll error before calibration is the pitch motion coupled through the
+# installation angles (fitted to Table 1).
 
 # %%
 from mtcal.studies.wang2023cja import plots
-output.save_figure(plots.fig07(run["T1"], sc.imu.label), "wang2023cja_fig07")
-print(w.section_claims(tables["fitted"], "wang2023cja_fig07", enforce=AT_PAPER))
+display(output.save_figure(plots.fig07(run["T1"], sc.imu.label), "wang2023cja_fig07"))
 
 # %% [markdown]
-# ## wang2023cja_table06 — MaxAE / RMSE of roll and yaw in the AoA sweep (Table 6, predicted)
-# Asserted: calibration reduces the roll error. Reported: "RMSE within 0.01°" for roll and yaw —
-# yaw is gyro-only and drifts between the calibration and the sweep, so after calibration it is
-# no better than before in our runs.
+# ## wang2023cja_table06 — MaxAE / RMSE of roll and yaw in the AoA sweep (Table 6, held out)
+# Claims: "Roll and yaw errors are within 0.03°", "The RMSE of roll and yaw are within 0.01°" and
+# "the calibration method significantly reduces the roll and yaw errors".
 
 # %%
 t6 = w.error_metric_table("wang2023cja_table06", run["T1"].sweeps["aoa"], ((2, "roll"), (0, "yaw")))
 output.save_table(t6, "wang2023cja_table06")
 output.show_table(t6)
-print(w.section_claims(tables["fitted"], "wang2023cja_table06", enforce=AT_PAPER))
+section("wang2023cja_table06")
 
 # %% [markdown]
-# ## wang2023cja_table07 — roll sweep, mean roll (Table 7, predicted)
-# Asserted: after calibration the mean roll is closer to the reference than before (MC medians).
+# ## wang2023cja_table07 — roll sweep, mean roll (Table 7, held out)
+# Claims: "Except for 0°, the other angle errors are reduced by at least 17 %" (the paper's own
+# Table 7 gives 15.6 % at −90°: split role `erratum`), "over 80%" at 90°, and "within 0.06° before
+# calibration and 0.04° after" (the text says pitch; Table 7 is roll).
 
 # %%
 t7 = w.sweep_mean_table("wang2023cja_table07", run["T1"].sweeps["roll"], "roll", sign=w.PAPER_SIGN[2])
 output.save_table(t7, "wang2023cja_table07")
 output.show_table(t7, "{:.3f}")
-print(w.section_claims(tables["fitted"], "wang2023cja_table07", enforce=AT_PAPER))
+section("wang2023cja_table07")
 
 # %% [markdown]
 # ## wang2023cja_fig08 — pitch and yaw errors in the roll sweep, before vs after (paper Fig 8)
 
+# Median and 95 % band over all trials, the paper's Table 8 MaxAE as dashed ± lines.
+
 # %%
-output.save_figure(plots.fig08(run["T1"], sc.imu.label), "wang2023cja_fig08")
-print(w.section_claims(tables["fitted"], "wang2023cja_fig08", enforce=AT_PAPER))
+display(output.save_figure(plots.fig08(run["T1"], sc.imu.label), "wang2023cja_fig08"))
 
 # %% [markdown]
-# ## wang2023cja_table08 — MaxAE / RMSE of pitch and yaw in the roll sweep (Table 8, predicted)
-# The paper's claim — a ≥ 30 % reduction of all four numbers — is asserted on the median run's
-# smallest reduction.
+# ## wang2023cja_table08 — MaxAE / RMSE of pitch and yaw in the roll sweep (Table 8, held out)
+# Claim: "the pitch-yaw errors are reduced by at least 30 %" (smallest of the four reductions).
 
 # %%
 t8 = w.error_metric_table("wang2023cja_table08", run["T1"].sweeps["roll"], ((1, "pitch"), (0, "yaw")))
 output.save_table(t8, "wang2023cja_table08")
 output.show_table(t8)
-print(w.section_claims(tables["fitted"], "wang2023cja_table08", enforce=AT_PAPER))
+section("wang2023cja_table08")
 
 # %% [markdown]
 # ## wang2023cja_extra_error_budget — one source at a time (T2, gasket mount, fitted model)
@@ -240,35 +277,46 @@ output.show_table(budget, "{:.5f}")
 assert budget.set_index("source").loc["none", "after_max_deg"] < 1e-6
 
 # %% [markdown]
-# ## Paper vs mtcal — fitted model, and the prior-only model beside it
-# `mtcal` is the Monte Carlo median, `mc_band` its 95 % interval. The prediction summary counts the
-# held-out (`predicted`) rows whose paper number lies inside our band; the prior-only model (the
-# datasheet nominal values, no mount compliance) is the same simulation before seeing Tables 1–4.
+# ## Paper vs mtcal — every printed number, posterior predictive and prior predictive
+#
+# One row per printed number of Tables 1–8 and the turntable matrix (split role beside it; the
+# matrix's Q(3,3) is an `erratum`). `se_low`/`se_high`: Monte Carlo standard error of the band ends
+# (bootstrap over trials). Scores count held-out numbers only.
 
 # %%
-output.save_table(tables["fitted"], "wang2023cja_turntable_comparison")
-output.save_table(tables["prior"], "wang2023cja_extra_turntable_comparison_prior_only")
-output.show_table(tables["fitted"])
-for name, table in tables.items():
-    print(f"{name:7s} model: {compare.prediction_summary(table)}")
+output.save_table(one["fitted"], "wang2023cja_extra_turntable_one_to_one")
+output.save_table(one["prior"], "wang2023cja_extra_turntable_one_to_one_prior_predictive")
+held = one["fitted"][one["fitted"].role == "heldout"]
+output.show_table(held[["quantity", "paper", "median", "low", "high", "se_low", "se_high", "inside"]], "{:.4f}")
+print(f"median MC standard error of the band ends: low {held.se_low.median():.4f}°, high {held.se_high.median():.4f}° "
+      f"(median band width {(held.high - held.low).median():.4f}°)")
 
 # %% [markdown]
-# ## Paper numbers outside our band, and why
+# ## The paper's claims, with its thresholds
 #
-# The table lists them (at full size, 40 trials). The computed reasons:
-#
-# * **Tables 6 and 8, "before" rows** — deterministic: the installation angles fitted to Table 1
-#   (α1 ≈ −0.24° about yaw) fix the coupling (≈ α1 · sin of the moving angle), so the band is
-#   narrow; where it misses, it is 5–30 % off the paper's number — the sweeps were not run with
-#   exactly Table 1's mounting, or the coupling was partly compensated.
-# * **Table 8, "after" pitch/yaw** — the paper keeps 35–45 % of the roll-sweep coupling after
-#   calibration (MaxAE 0.127°/0.140°), ours removes 80–95 %: none of the six identified sources
-#   leaves that much coupling behind in a roll sweep. The paper's "≥ 30 %" reduction claim still
-#   holds in our runs (asserted), but its after-values are not predicted.
-# * With the CI size (4 trials) the bands are much narrower than at full size and more rows fall
-#   outside; the counts quoted in the closing note are those of the full run.
+# `claim` rows are tested against held-out numbers; the notebook enforces (at the paper's settings)
+# only the claims that hold, and lists every failing one with its computed reason. `consistency`
+# rows are true by construction or checked against numbers the model was fitted on; they are
+# reported, not counted.
 
 # %%
-output.show_table(w.outside_rows(tables["fitted"]))
-print(compare.check_claims(tables["fitted"], enforce=False))
-print(compare.check_claims(w.asserted(tables["fitted"]), enforce=AT_PAPER))
+output.save_table(claims, "wang2023cja_extra_turntable_claims")
+print(verdicts.claim_block(claims))
+print("prior predictive:")
+print(verdicts.claim_block(claims_prior[claims_prior.kind == "claim"]))
+ENFORCED = ("c14", "c15", "c16", "t6-reduce")   # hold in the full run; the others fail (listed above)
+if AT_PAPER and SIZE == "full":                 # 4 CI trials are too few for a verdict
+    held_claims = claims.set_index("claim_id").loc[list(ENFORCED)]
+    assert held_claims.holds.all(), held_claims[~held_claims.holds]
+
+# %% [markdown]
+# ## Score block
+# The comparison table (every printed number with its posterior- and prior-predictive band, then
+# the claims) is scored by `mtcal.reporting.fidelity` and merged into `data/fidelity_scores.csv`.
+
+# %%
+table = verdicts.comparison(one, claims)
+output.save_table(table, "wang2023cja_turntable_comparison")
+fidelity.write_scores(table, "wang2023cja", "10")
+print(fidelity.score_block(table, "wang2023cja"))
+print(f"notebook run time: {time.perf_counter() - T_START:.0f} s ({SIZE}, {N_TRIALS} trials per model)")

@@ -7,12 +7,16 @@
 # (Tables 9, 11); five wind-on sweeps (Table 10) add an elastic pitch deflection and model vibration
 # that trips the AMD (the QNCF then runs on the gyro alone). Group 5 uses a different mechanism rate.
 #
-# **What is identified from what.** The paper prints no wind-tunnel geometry. The installation
-# angles and the mechanism's pitch-ratio error are taken from the printed wind-tunnel matrix
-# (training data, `w.windtunnel_geometry`); the IMU error model is the one identified on the turntable
-# Tables 1–4 (notebook 10, `w.fit_error_model`); the tunnel's elastic model is taken from Table 10's
-# Mean and elastic-corrected rows (those rows are `fitted`). Everything else — Table 9, Table 10's
-# Std, Table 11 — is **predicted** and compared with 95 % Monte Carlo bands, beside the prior-only model.
+# **What is identified from what** (pre-registered in `paper_data/wang2023cja_split.csv`). The
+# installation angles and the mechanism's pitch-ratio error come from the printed wind-tunnel matrix
+# (`train`); the IMU error model is the one identified on Tables 1–4 (notebook 10); the elastic
+# models come from Table 10's Mean and elastic-corrected rows (`train`). The mechanism's gap, servo
+# stop error and non-orthogonality were chosen while comparing with Tables 9–11, so **Tables 9 and
+# 11 and Table 10's group values are `train`**, not out of sample (Table 9's before-slope is also
+# −(Q(2,2) − 1) of the training matrix). The only held-out wind-tunnel numbers are Table 10's five
+# Std values. Every printed number is still compared one to one. Bands: each trial block draws its
+# error model from the fit's posterior (fitted) or from the prior (prior predictive; the geometry
+# still comes from the printed wind-tunnel matrix, which is not from Tables 1–4).
 
 # %% tags=["parameters"]
 SIZE = None          # "ci" or "full"; None → $MTCAL_SIZE, else "full"
@@ -39,12 +43,18 @@ vibration_accel_m_s2 = 3.0       # model vibration with wind on (assumed; trips 
 # `gyro_grade = "industrial"`) re-resolves all of this; titles and labels follow the values.
 
 # %%
+import time
 import numpy as np
-from mtcal.reporting import compare, output
+import pandas as pd
+from IPython.display import display
+from mtcal.reporting import compare, fidelity, output
 from mtcal.studies import wang2023cja as w
+from mtcal.studies.wang2023cja import predictive, verdicts
 
+T_START = time.perf_counter()
 SIZE = output.run_size(SIZE)
-N_TRIALS = N_TRIALS or {"ci": 4, "full": 40}[SIZE]
+N_TRIALS = N_TRIALS or {"ci": 4, "full": 50}[SIZE]
+PER_DRAW = {"ci": 2, "full": 5}[SIZE]      # trials per parameter draw
 params = dict(gyro_grade=gyro_grade, accel_grade=accel_grade, fs_hz=fs_hz, rest_s=rest_s,
               mechanism_rate_deg_s=mechanism_rate_deg_s, group5_rate_deg_s=group5_rate_deg_s,
               vibration_accel_m_s2=vibration_accel_m_s2)
@@ -57,15 +67,29 @@ sc = scenarios["fitted"]
 output.show_table(compare.describe(sc))
 
 # %% [markdown]
-# ## Runs (fitted model and prior-only model; trials in blocks of 10 to bound memory)
-# Both comparison tables are built here; each section shows its artifact and evaluates its rows.
+# ## Runs: posterior predictive and prior predictive
+# Every block of `PER_DRAW` trials draws its own error model; the one-to-one tables and the claims
+# are built here, each section shows its rows.
 
 # %%
-runs = {name: w.run_windtunnel(s, np.random.default_rng(np.random.SeedSequence([SEED, 11])), N_TRIALS)
-        for name, s in scenarios.items()}
-tables = {name: compare.comparison_table(w.windtunnel_rows(r, scenarios[name].pitch_ratio_error))
-          for name, r in runs.items()}
+t0 = time.perf_counter()
+runs = {kind: predictive.windtunnel_predictive(lambda m: w.windtunnel_scenario(errors=m, **params), fit, kind,
+                                               N_TRIALS, SEED, per_draw=PER_DRAW) for kind in predictive.KINDS}
+print(f"{N_TRIALS} trials per model ({PER_DRAW} per draw): {time.perf_counter() - t0:.0f} s")
+one = {name: verdicts.one_to_one(verdicts.printed_samples(windtunnel=r), seed=SEED) for name, r in runs.items()}
+claims = verdicts.claims(windtunnel=runs["fitted"])
 run = runs["fitted"]
+
+
+def section(prefix):
+    """One-to-one rows and claims of one artifact (posterior predictive)."""
+    t = one["fitted"]
+    rows = t[t.file.str.startswith(prefix)]
+    if len(rows):
+        output.show_table(rows[["quantity", "role", "paper", "median", "low", "high", "inside"]], "{:.4f}")
+    c = claims[claims.artifact == prefix]
+    if len(c):
+        print(verdicts.claim_block(c))
 
 # %% [markdown]
 # ## wang2023cja_extra_windtunnel_matrix — Q(2,2) = 1.0045: one cause, computed
@@ -78,8 +102,8 @@ run = runs["fitted"]
 #   ratio error gives the Q(2,2) band printed below — far from 1.0045 (asserted);
 # * **ratio error**: if the mechanism's actual pitch is (1 + ε) × the commanded one, Eq 13 scales the
 #   pitch-axis component by ≈ 1/(1 + ε). ε is *fitted* so that the noise-free calibration returns
-#   the printed Q(2,2) (with the mechanism's backlash and the mount compliance included), and then
-#   *predicts* Table 9's before-slope (held out) — the `slope of before-ref` row below.
+#   the printed Q(2,2) (with the mechanism's backlash and the mount compliance included). Table 9's
+#   before-slope then follows arithmetically (≈ −(Q(2,2) − 1)): it is not a prediction.
 #
 # So Q(2,2) is a physical scale of the mechanism; what noise adds is the off-diagonal scatter.
 
@@ -94,59 +118,63 @@ print(f"Q(2,2) from rest errors alone: median {noise_only['median']:.5f} [{noise
 assert not noise_only["low"] <= 1.004462 <= noise_only["high"]
 output.save_table(w.windtunnel_matrix_table(run), "wang2023cja_extra_windtunnel_matrix")
 output.show_table(w.windtunnel_matrix_table(run), "{:+.6f}")
-print(w.section_claims(tables["fitted"], "wang2023cja_matrix_qbs_windtunnel", enforce=AT_PAPER))
+section("wang2023cja_matrix_qbs_windtunnel")
 
 # %% [markdown]
-# ## wang2023cja_table09 — wind-off AoA sweep, mean pitch (Table 9, predicted)
-# The before-slope is the ratio error's prediction; "after within 0.02° and below before" is a
-# threshold on a predicted number (`reported:`).
+# ## wang2023cja_table09 — wind-off AoA sweep, mean pitch (Table 9, train)
+# "the pitch errors before and after calibration are within 0.05° and 0.02°" is checked with those
+# thresholds, as `consistency`: the mechanism was tuned on this table.
 
 # %%
 t9 = w.sweep_mean_table("wang2023cja_table09", run.nowind, "pitch")
 output.save_table(t9, "wang2023cja_table09")
 output.show_table(t9, "{:.3f}")
-print(w.section_claims(tables["fitted"], "wang2023cja_table09", enforce=AT_PAPER))
+section("wang2023cja_table09")
 
 # %% [markdown]
 # ## wang2023cja_fig10 — pitch minus the commanded AoA in the five wind-on sweeps (paper Fig 10)
 # The paper plots pitch; the five curves then overlay at the scale of the 12° sweep. Pitch −
 # reference (0.2 s mean, removing the 45 Hz model vibration) shows what Table 10 is about: the
-# elastic offset growing with AoA, and the ≈ 0.01° group-to-group scatter. Asserted: the pitch error
-# with wind exceeds 0.1° at the largest AoA (the paper's "even more than 0.1°"; the elastic model is
-# taken from Table 10, so the row is `fitted`).
+# elastic offset growing with AoA, and the ≈ 0.01° group-to-group scatter. Trial 0 (one parameter
+# draw); the ensemble of every Table 10 number is in the table below.
 
 # %%
 from mtcal.studies.wang2023cja import plots
-output.save_figure(plots.fig10(run, sc.imu.label, (mechanism_rate_deg_s, group5_rate_deg_s)), "wang2023cja_fig10")
-print(w.section_claims(tables["fitted"], "wang2023cja_fig10", enforce=AT_PAPER))
+display(output.save_figure(plots.fig10(run, sc.imu.label, (mechanism_rate_deg_s, group5_rate_deg_s)),
+                           "wang2023cja_fig10"))
 
 # %% [markdown]
 # ## wang2023cja_extra_amd — the AMD statistic with wind on (beyond the paper)
 # Vibration of `vibration_accel_m_s2` keeps the acceleration-magnitude detector above its threshold,
-# so the QNCF runs gyro-only during the wind-on sweeps (the `AMD gate` row of Table 10).
+# so the QNCF runs gyro-only during the wind-on sweeps. The amplitude is an assumption chosen to trip
+# the gate, so the gate check is `consistency`, not a finding.
 
 # %%
-output.save_figure(plots.extra_amd(run, sc.qncf.amd_threshold_pct, vibration_accel_m_s2), "wang2023cja_extra_amd")
+display(output.save_figure(plots.extra_amd(run, sc.qncf.amd_threshold_pct, vibration_accel_m_s2),
+                           "wang2023cja_extra_amd"))
 
 # %% [markdown]
 # ## wang2023cja_table10 — five wind-on groups: Mean, elastic-corrected, Std (Table 10)
-# Mean vs elastic-corrected is `fitted` (both elastic models come from this table); the Std over
-# the five groups is predicted.
+# All 40 printed numbers one to one. Groups, Mean and elastic-corrected are `train` (both elastic
+# models come from this table); the five Std values are held out. Claims: "The standard deviation of
+# the five wind-on tests is [...] within 0.01°" (claim); "even more than 0.1°" and "within 0.03°"
+# (consistency: fitted to this table).
 
 # %%
 t10 = w.table10(run, sc.wind_on_sweep_deg)
 output.save_table(t10, "wang2023cja_table10")
 output.show_table(t10.pivot(index="row", columns="reference", values="mtcal").reset_index(), "{:.3f}")
-print(w.section_claims(tables["fitted"], "wang2023cja_table10", enforce=AT_PAPER))
+section("wang2023cja_table10")
 
 # %% [markdown]
 # ## wang2023cja_fig11 — roll and yaw errors in the wind-off sweep, before vs after (paper Fig 11)
+# Median and 95 % band over all trials, the paper's Table 11 MaxAE as dashed ± lines.
 
 # %%
-output.save_figure(plots.fig11(run, sc.imu.label), "wang2023cja_fig11")
+display(output.save_figure(plots.fig11(run, sc.imu.label), "wang2023cja_fig11"))
 
 # %% [markdown]
-# ## wang2023cja_table11 — MaxAE / RMSE of roll and yaw, wind off (Table 11, predicted)
+# ## wang2023cja_table11 — MaxAE / RMSE of roll and yaw, wind off (Table 11, train: tuned on)
 # The paper's roll got slightly *worse* after calibration (RMSE 0.007° → 0.010°). In our runs too:
 # every mechanism axis stops short by half its transmission gap plus the servo stop error, so the
 # roll positions of the calibration (±30°) feed Eq 13 a roll reference that is off by that amount,
@@ -156,32 +184,37 @@ output.save_figure(plots.fig11(run, sc.imu.label), "wang2023cja_fig11")
 t11 = w.error_metric_table("wang2023cja_table11", run.nowind, ((2, "roll"), (0, "yaw")))
 output.save_table(t11, "wang2023cja_table11")
 output.show_table(t11)
-print(w.section_claims(tables["fitted"], "wang2023cja_table11", enforce=AT_PAPER))
+section("wang2023cja_table11")
 
 # %% [markdown]
-# ## Paper vs mtcal — fitted model, and the prior-only model beside it
-# `mtcal` is the Monte Carlo median, `mc_band` its 95 % interval; the prediction summary counts the
-# held-out rows whose paper number lies inside our band. The wind tunnel is mostly set by the
-# mechanism (prior values, not fitted): the identified IMU error model changes little here.
+# ## Paper vs mtcal — every printed number, posterior predictive and prior predictive
+# One row per printed number of Tables 9–11 and the wind-tunnel matrix, with its split role;
+# `se_low`/`se_high` are the Monte Carlo standard errors of the band ends.
 
 # %%
-output.save_table(tables["fitted"], "wang2023cja_windtunnel_comparison")
-output.save_table(tables["prior"], "wang2023cja_extra_windtunnel_comparison_prior_only")
-output.show_table(tables["fitted"])
-for name, table in tables.items():
-    print(f"{name:7s} model: {compare.prediction_summary(table)}")
+output.save_table(one["fitted"], "wang2023cja_extra_windtunnel_one_to_one")
+output.save_table(one["prior"], "wang2023cja_extra_windtunnel_one_to_one_prior_predictive")
+output.show_table(one["fitted"][["quantity", "role", "paper", "median", "low", "high", "se_low", "se_high", "inside"]],
+                  "{:.4f}")
 
 # %% [markdown]
-# ## Paper numbers outside our band, and the claims
-# Threshold claims on predicted numbers (`reported:`) are evaluated and reported; the others are
-# asserted at the paper's settings. Reasons for the numbers outside (full size): the Table 9 slope
-# from the ratio error identified on Q(2,2) is ≈ 4 % shallower than the paper's, because the
-# sweep's backlash (approach directions differ from the calibration's) also tilts the slope; the
-# roll RMSE rows of Table 11 are set by the assumed transmission gap (0.02°) and servo stop error
-# on the roll axis (priors, not fitted): the paper's 0.007°/0.010° suggest a roll gap about half
-# that size.
+# ## The paper's claims, with its thresholds
+# Only Table 10's Std claim is a `claim` here (held out); the others are `consistency` checks against
+# a mechanism tuned on these tables. Failing ones are listed with the computed reason; nothing is
+# enforced that fails.
 
 # %%
-output.show_table(w.outside_rows(tables["fitted"]))
-print(compare.check_claims(tables["fitted"], enforce=False))
-print(compare.check_claims(w.asserted(tables["fitted"]), enforce=AT_PAPER))
+output.save_table(claims, "wang2023cja_extra_windtunnel_claims")
+print(verdicts.claim_block(claims))
+
+# %% [markdown]
+# ## Score block
+# The comparison table (every printed number with its posterior- and prior-predictive band, then
+# the claims) is scored by `mtcal.reporting.fidelity` and merged into `data/fidelity_scores.csv`.
+
+# %%
+table = verdicts.comparison(one, claims)
+output.save_table(table, "wang2023cja_windtunnel_comparison")
+fidelity.write_scores(table, "wang2023cja", "11")
+print(fidelity.score_block(table, "wang2023cja"))
+print(f"notebook run time: {time.perf_counter() - T_START:.0f} s ({SIZE}, {N_TRIALS} trials per model)")

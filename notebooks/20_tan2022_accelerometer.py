@@ -22,11 +22,14 @@
 # result numbers: its figures are contour plots and curves whose only numbers
 # are the settings (ΔA = 1e-4 g) and the derived preset angles λ1, λ2. The
 # old comparison rows had "small vs large" or "-" in the paper column, so no
-# band could contain them. Below, each row says whether it tests a paper
-# statement (`predicted`), was used to fit the error model (`fitted`), is our
-# own finding, or checks an erratum; the numbers the paper does give (λ1, λ2)
-# are predicted by an error model fitted to its error assumption and its Fig 2
-# and Fig 5 statements.
+# band could contain them. The pre-registered split
+# (`mtcal/reporting/paper_data/tan2022_split.csv`) therefore has no held-out
+# number: the presets λ1, λ2 are `input` (the paper derives them from its own
+# model, Eq 9, and our search window is centred on them). Each row below has a
+# `kind`: a paper statement checked at the paper's own settings follows from
+# its equations and is `consistency` (not counted as a claim); a `claim` is a
+# statement tested under our identified error model, with the threshold we
+# had to choose quoted (the paper prints none).
 #
 # Library: `mtcal.studies.tan2022` (scenario, one producer per artifact, error
 # model, plots), methods in `mtcal.methods.large_angle`.
@@ -43,7 +46,7 @@ lambda2_deg = -135.0  # preset angle for θ > 0 (deg), Eq 9
 # %%
 from IPython.display import display
 
-from mtcal.reporting import compare
+from mtcal.reporting import compare, fidelity
 from mtcal.reporting import output
 from mtcal.studies import tan2022
 from mtcal.studies.tan2022 import plots
@@ -159,16 +162,20 @@ display(output.save_figure(plots.extra_independent_errors(art), "tan2022_extra_i
 # parameter `r` = independent / common part (prior uniform on [0, 2]: MEMS
 # datasheets specify offsets per axis; the paper assumes r = 0).
 #
-# * **Training** (`fitted` rows): the paper's own error assumption (Sec. 1.1,
-#   2.1: the axes' output errors are "comparable", tested as max/min within
-#   a factor 2 on every triad), the Fig 2 statement (θ ≤ 0 small, θ, φ ≥ 0
-#   large) and the Fig 5 statement (large-pitch error suppressed); likelihood
-#   = Monte Carlo probability that all three hold at `r`.
-# * **Held out** (`predicted` rows): Fig 8's "clear improvement" and the two
-#   numbers the paper derives, λ1 = 45° and λ2 = −135° (Eq 9), predicted as
-#   the preset angle that minimises each trial's grid-RMS pitch error.
+# * **Training** (`consistency` rows: fitted to the same statements): the
+#   paper's own error assumption (Sec. 1.1, 2.1: the axes' output errors are
+#   "comparable", tested as max/min within a factor 2 on every triad), the
+#   Fig 2 statement (θ ≤ 0 small, θ, φ ≥ 0 large) and the Fig 5 statement
+#   (large-pitch error suppressed); likelihood = Monte Carlo probability that
+#   all three hold at `r`.
+# * **Tested** (`claim`): Fig 8's "clear improvement" (gain > 1.3, our threshold).
+# * **Inputs** (`consistency`): λ1 = 45° and λ2 = −135° (Eq 9). The RMS-optimal
+#   preset angle per trial is searched in a 360° window centred on the paper's
+#   value, so "λ inside the band" holds by construction and is not evidence.
 #
-# The prior-only model (r drawn from the prior) is shown beside the fitted one.
+# Every row carries the posterior-predictive band (`mc_band`: r drawn from the
+# posterior, one sensor set per trial) and the prior-predictive band
+# (`prior_band`: r drawn from the prior U[0, 2]).
 
 # %%
 fit = tan2022.fit_accel_error_model(sc, tan2022.AccelErrorPrior(), SEED, 2 * N_TRIALS)
@@ -183,23 +190,20 @@ display(output.save_figure(plots.accel_error_model(fit), "tan2022_extra_error_mo
 # %% [markdown]
 # The statements favour a mostly common-mode error: `r` ≈ 0.1, 95 % interval
 # about [0, 0.5], inside the prior. With that model the optimal preset angles
-# scatter by about ±15° around the paper's λ1 = 45° and λ2 = −135° — both
-# inside the bands — and the Fig 8 gain stays ≈ 1.5 (its band reaches down to
-# ≈ 1: for some sensor sets the preset rotation barely helps). Without the
-# training data (prior-only) the bands for λ span most of the circle and the
-# median gain is ≈ 1.2: the paper's statements carry real information, and
-# its angles are only optimal because it assumes common-mode errors.
+# scatter by about ±15° around the paper's λ1 = 45° and λ2 = −135° (inside
+# the bands by construction, see above) and the Fig 8 gain stays ≈ 1.5 (its
+# band reaches down to ≈ 1: for some sensor sets the preset rotation barely
+# helps). With r drawn from the prior the bands for λ span most of the circle
+# and the median gain is ≈ 1.2: the paper's statements carry real
+# information, and its angles are only optimal because it assumes
+# common-mode errors.
 #
 # ## Paper vs mtcal
 
 # %%
 table = compare.comparison_table(rows)
-output.show_table(table)
+output.show_table(table[compare.DISPLAY_COLUMNS])
 output.save_table(table, "tan2022_accelerometer_comparison")
-prior_table = compare.comparison_table(fit.rows_prior)
-output.save_table(prior_table, "tan2022_extra_error_model_accel_prior_only")
-print("fitted model:", compare.prediction_summary(table))
-print("prior-only model:", compare.prediction_summary(prior_table))
 print(compare.check_claims(table, enforce=AT_PAPER))
 
 # %% [markdown]
@@ -208,7 +212,16 @@ print(compare.check_claims(table, enforce=AT_PAPER))
 # describes for Fig 2. Under the paper's common-mode assumption the preset
 # rotation lowers the grid maximum from √3 to √2 ΔA/g, the grid RMS by ≈ 1.5×
 # and the worst case at θ = 60° by ≈ 2.4×, but not the worst case at
-# θ = ±90°. With independent axis errors the gain vanishes. The paper's only
-# result numbers, λ1 and λ2, are predicted inside the bands of the model
-# fitted to its error assumption and Fig 2/Fig 5 statements (independent
-# share of the bias r ≈ 0.1, at most ≈ 0.5).
+# θ = ±90°. With independent axis errors the gain vanishes. The paper's
+# presets λ1 and λ2 are inputs, not results: they are RMS-optimal only under
+# the common-mode error model fitted to its error assumption and Fig 2/Fig 5
+# statements (independent share of the bias r ≈ 0.1, at most ≈ 0.5).
+#
+# ## Fidelity score
+#
+# tan2022 prints no result number, so nothing is held out: the score block
+# counts its printed numbers by role and the claims tested here.
+
+# %%
+print(fidelity.score_block(table, "tan2022"))
+fidelity.write_scores(table, "tan2022", "20_tan2022_accelerometer")

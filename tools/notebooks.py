@@ -3,21 +3,22 @@
 Usage (from the repository root)::
 
     python tools/notebooks.py sync    [notebooks/NN_x.py ...]   # .ipynb inputs from the .py (jupytext)
-    python tools/notebooks.py execute [--jobs N] [notebooks/NN_x.py ...]   # papermill, in place (make reproduce: 2 jobs)
+    python tools/notebooks.py execute [--jobs N] [notebooks/NN_x.py ...]   # papermill, in place (default 2 jobs)
     python tools/notebooks.py measure [--out build/measure] [notebooks/NN_x.py ...]
         # each notebook in its own process tree; wall time and peak RSS → <out>/resources.csv
 
 All notebooks (``notebooks/NN_*.py``) when none are given. ``execute`` writes each
 notebook beside its source, figures/data under ``$MTCAL_OUTPUT_DIR`` (the
-repository root for ``make reproduce``), ``--jobs`` notebooks at a time, and stops starting new ones after the first failing notebook,
-whose partially executed ``.ipynb`` is kept. ``measure`` never touches the
-committed files (notebooks, data and figures go under ``--out``).
+repository root for ``make reproduce``), ``--jobs`` notebooks at a time (default 2),
+each in its own process with its own working directory and environment
+(:mod:`mtcal.runs.executor`), and starts no new one after the first failure; each
+failure is one line naming the partially executed ``.ipynb`` (kept). ``measure``
+never touches the committed files (notebooks, data and figures go under ``--out``).
 """
 
 from __future__ import annotations
 
 import argparse
-from concurrent.futures import ThreadPoolExecutor, as_completed
 import csv
 import os
 import subprocess
@@ -42,22 +43,13 @@ def cmd_sync(args) -> int:
     return 0
 
 
-def _execute_one(src: Path, output: str | None) -> str | None:
-    """Execute one notebook; return an error line or None."""
-    out = Path(output) if output else src.with_suffix(".ipynb")
-    start = time.perf_counter()
-    try:
-        runs.execute_notebook(src, out)
-    except runs.NotebookRunError as exc:
-        return f"notebooks: {exc}"
-    print(f"{out}: executed in {time.perf_counter() - start:.0f} s", flush=True)
-    return None
-
-
 def cmd_execute(args) -> int:
-    """Execute notebooks, ``--jobs`` at a time (each in its own kernel process; the notebooks
-    read nothing written by another, and every result is seeded, so the files do not depend
-    on the order or the number of jobs). Stops starting new ones after the first failure."""
+    """Execute notebooks, ``--jobs`` at a time, each in its own process (own cwd and environment:
+    :func:`mtcal.runs.executor.execute_jobs`). The notebooks read nothing written by another and
+    every result is seeded, so the files do not depend on the order or the number of jobs. No new
+    notebook starts after the first failure; each failure is one line naming the partial notebook."""
+    from mtcal.runs.executor import NotebookJob, execute_jobs
+
     sources = _sources(args.notebooks)
     if args.output and len(sources) != 1:
         print("notebooks: --output needs exactly one notebook", file=sys.stderr)
@@ -65,17 +57,19 @@ def cmd_execute(args) -> int:
     if args.jobs < 1:
         print(f"notebooks: --jobs must be >= 1, got {args.jobs}", file=sys.stderr)
         return 2
-    errors = []
-    with ThreadPoolExecutor(max_workers=args.jobs) as pool:
-        pending = {pool.submit(_execute_one, src, args.output) for src in sources}
-        for fut in as_completed(pending):
-            err = fut.result()
-            if err:
-                errors.append(err)
-                for other in pending:
-                    other.cancel()
+    jobs = [NotebookJob(src, Path(args.output) if args.output else src.with_suffix(".ipynb")) for src in sources]
+
+    def report(result):
+        if result.ok:
+            print(f"{result.job.output}: executed in {result.seconds:.0f} s", flush=True)
+
+    results = execute_jobs(jobs, n_jobs=args.jobs, on_result=report)
+    errors = [r.error for r in results if r.status == "failed"]
     for err in errors:
-        print(err, file=sys.stderr)
+        print(f"notebooks: {err}", file=sys.stderr)
+    skipped = [Path(r.job.source).stem for r in results if r.status == "skipped"]
+    if skipped:
+        print(f"notebooks: not started after the failure: {', '.join(skipped)}", file=sys.stderr)
     return 1 if errors else 0
 
 
@@ -139,7 +133,7 @@ def main(argv: list[str] | None = None) -> int:
     p = sub.add_parser("execute")
     p.add_argument("notebooks", nargs="*")
     p.add_argument("--output", help="executed notebook path (one notebook only; default: in place)")
-    p.add_argument("--jobs", type=int, default=1, help="notebooks executed at the same time (default 1)")
+    p.add_argument("--jobs", type=int, default=2, help="notebooks executed at the same time (default 2)")
     p.set_defaults(func=cmd_execute)
     p = sub.add_parser("measure")
     p.add_argument("notebooks", nargs="*")

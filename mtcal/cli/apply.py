@@ -61,8 +61,8 @@ def run(args: argparse.Namespace) -> int:
         if log.gyro_rad_s is not None:
             rep = common.detect(args, log)
             fig.report = rep
-            plausibility.gyro_tilt_consistency(log.gyro_for_filter(), log.accel_m_s2, log.dt_mean_s, rep.rests,
-                                         time_s=log.time_s, skip=plausibility.clipped_samples(log.gyro_rad_s)[0])
+            plausibility.check_units(log.gyro_for_filter(), log.accel_m_s2, log.dt_mean_s, rep.rests,
+                                     time_s=log.time_s, skip=plausibility.clipped_samples(log.gyro_rad_s)[0])
             gyro, params, q0, _ = qncf_settings(log, rep)
             att = installation.apply_installation(q_hat, gyro_rad_s=gyro, accel_m_s2=log.accel_m_s2,
                                                   fs_hz=log.fs_hz, qncf_params=params, q0=q0)

@@ -88,14 +88,15 @@ def run(args: argparse.Namespace) -> int:
         clipped, level = plausibility.clipped_samples(log.gyro_rad_s)
         if clipped.any():
             print(f"warning: gyro clipped at {np.degrees(level):.1f} deg/s in {int(clipped.sum())} samples")
-        plausibility.gyro_tilt_consistency(log.gyro_for_filter(), log.accel_m_s2, log.dt_mean_s, rep.rests,
-                                     time_s=log.time_s, skip=clipped)
+        chk = plausibility.check_units(log.gyro_for_filter(), log.accel_m_s2, log.dt_mean_s, rep.rests,
+                                       time_s=log.time_s, skip=clipped)
         q, info = sensor_attitude(log, rep)
         e = np.degrees(euler_zxy_unchecked(q))
         fig.series = {"pitch/roll (deg)": np.maximum(np.abs(e[:, 1]), np.abs(e[:, 2]))}
         common.write_attitude(out, log.time_s, q, e, is_static=rep.is_static.astype(np.int8))
         ang = np.column_stack([e[:, 1], e[:, 2]])
         common.print_report(log, rep, angle_deg=ang[:, 0], angle_name="pitch_deg")
+        print(f"gyro units check ({chk['method']}): {chk['evidence']}")
         print(f"qncf: g {info['gravity_m_s2']:.4f} m/s^2, AMD threshold {info['amd_threshold_pct']:.2f} %, "
               f"levelled from the {info['levelled_from']}")
         print(f"attitude: {log.n} samples written to {out}; final yaw/pitch/roll "

@@ -23,6 +23,7 @@ import argparse
 import numpy as np
 
 from mtcal.cli import common, logio
+from mtcal.systems import plausibility
 from mtcal.systems import surface_angle as sa
 
 AXIS_EXAMPLE = """\
@@ -62,6 +63,10 @@ def cmd_axis(args: argparse.Namespace) -> int:
         max_el = common.finite_float(args.max_elevation_deg, "--max-elevation-deg")
         max_err = common.finite_float(args.max_axis_error_deg, "--max-axis-error-deg")
         common.print_report(log, rep)
+        if log.gyro_rad_s is not None:  # the rests used gyro: its units and the time base must fit
+            chk = plausibility.check_units(log.gyro_for_filter(), log.accel_m_s2, log.dt_mean_s, rep.rests,
+                                           time_s=log.time_s, skip=plausibility.clipped_samples(log.gyro_rad_s)[0])
+            print(f"gyro units check ({chk['method']}): {chk['evidence']}")
         if len(rep.rests) == 0:
             raise ValueError(f"found only 0 rests of >= {rep.min_rest_s:g} s ({rep.levels_text()}); "
                              f"the axis needs rests at three distinct tilts")
@@ -173,11 +178,7 @@ def cmd_angle(args: argparse.Namespace) -> int:
             i = int(np.nanargmax(off))
             print(f"warning: at rest {i} the EKF angle differs from the accelerometer's by {off[i]:.2f} deg "
                   f"(axis or accelerometer errors; check --axis)")
-        if check["pairs"]:
-            print(f"gyro/accelerometer check: {check['pairs']} rest pair(s), rotation/tilt ratio "
-                  f"{check['ratio']:.3f}, worst misfit {check['worst_deg']:.2f} deg")
-        else:
-            print("gyro/accelerometer check: no pair of rests with a tilt change >= 5 deg (units not checked)")
+        print(f"gyro units check ({check['method']}): {check['evidence']}")
         print(f"angle: {t.size} samples written to {out}; final angle {angle[-1]:.3f} deg")
         return 0
 

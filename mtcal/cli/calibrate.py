@@ -75,17 +75,17 @@ def register(subparsers) -> None:
 def _read_positions(path: Path) -> np.ndarray:
     """Reference positions (K, 3) in rad from a CSV with yaw_deg, pitch_deg, roll_deg (K ≥ 4)."""
     if not Path(path).is_file():
-        raise ValueError(f"positions file not found: {path}")
+        raise ValueError(f"--positions: file not found: {path}")
     cols, _ = logio._read_table(Path(path))
     missing = [c for c in POS_COLS if c not in cols]
     if missing:
-        raise ValueError(f"{path}: missing columns {missing} (need {', '.join(POS_COLS)})")
+        raise ValueError(f"--positions {path}: missing columns {missing} (need {', '.join(POS_COLS)})")
     ang = np.column_stack([logio._numeric(cols[c], c, Path(path)) for c in POS_COLS])
     if ang.shape[0] < 4:
-        raise ValueError(f"{path}: need at least 4 positions for Eq 13 (16 unknowns), got {ang.shape[0]}; "
+        raise ValueError(f"--positions {path}: need at least 4 positions for Eq 13 (16 unknowns), got {ang.shape[0]}; "
                          f"the six positions of wang2023cja §3.2 are recommended")
     if np.max(np.abs(ang)) > 360:
-        raise ValueError(f"{path}: angles must be in degrees within +-360, got {np.max(np.abs(ang)):.4g}")
+        raise ValueError(f"--positions {path}: angles must be in degrees within +-360, got {np.max(np.abs(ang)):.4g}")
     return np.radians(ang)
 
 
@@ -114,8 +114,8 @@ def run(args: argparse.Namespace) -> int:
                 rests = installation.detect_rests(log.fs_hz, gyro_rad_s=log.gyro_rad_s, min_rest_s=min_rest)
             else:
                 rests = rep.rests
-            plausibility.gyro_tilt_consistency(log.gyro_for_filter(), log.accel_m_s2, log.dt_mean_s, rests,
-                                         time_s=log.time_s, skip=plausibility.clipped_samples(log.gyro_rad_s)[0])
+            plausibility.check_units(log.gyro_for_filter(), log.accel_m_s2, log.dt_mean_s, rests,
+                                     time_s=log.time_s, skip=plausibility.clipped_samples(log.gyro_rad_s)[0])
             gyro, params, q0, info = qncf_settings(log, rep)
             source = {"gyro_rad_s": gyro, "accel_m_s2": log.accel_m_s2, "qncf_params": params, "q0": q0}
         else:
@@ -138,12 +138,41 @@ def run(args: argparse.Namespace) -> int:
                 lv = rep.levels_text()
             raise ValueError(f"too few rests: found {len(rests)} rests of >= {min_rest:g} s for "
                              f"{pos.shape[0]} positions ({lv}); see --figure for the rejected stretches")
-        cal = installation.calibrate_installation(pos, log.fs_hz, rests=rests, fraction=fraction, **source, **gates)
+        try:
+            cal = installation.calibrate_installation(pos, log.fs_hz, rests=rests, fraction=fraction, **source,
+                                                      **gates)
+        except ValueError as exc:
+            if "q_ws" not in source:
+                raise
+            raise ValueError(f"{exc}{_quaternion_hint(pos, log, rests, fraction, gates)}") from None
         fig.used = cal.matched_rests
         _print_and_write(args, out, log, rests, cal, info)
         return 0
 
     return common.run_with_figure(fig, body)
+
+
+#: Other quaternion conventions tried when a q0..q3 log matches no position: name → (transform, fix).
+QUATERNION_CONVENTIONS = {
+    "scalar-last (x, y, z, w)": (lambda q: q[:, [3, 0, 1, 2]],
+                                 "map the scalar column to q0 with --columns q0=W,q1=X,q2=Y,q3=Z"),
+    "conjugated (world -> sensor)": (lambda q: q * np.array([1.0, -1.0, -1.0, -1.0]),
+                                     "give the sensor -> world attitude (negate q1..q3)"),
+    "scalar-last and conjugated": (lambda q: q[:, [3, 0, 1, 2]] * np.array([1.0, -1.0, -1.0, -1.0]),
+                                   "map the scalar column to q0 with --columns and negate q1..q3"),
+}
+
+
+def _quaternion_hint(pos, log, rests, fraction, gates) -> str:
+    """A hint naming the quaternion convention under which the log would match the positions ('' if none)."""
+    for name, (fn, fix) in QUATERNION_CONVENTIONS.items():
+        q = fn(log.q_ws)
+        try:
+            installation.calibrate_installation(pos, log.fs_hz, q_ws=q, rests=rests, fraction=fraction, **gates)
+        except ValueError:
+            continue
+        return f"; the log's q0..q3 would match every position if they were {name}: {fix}"
+    return ""
 
 
 def _print_and_write(args, out, log, rests, cal: installation.InstallationCalibration, info: dict) -> None:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import math
 
 import numpy as np
@@ -22,7 +23,9 @@ log schema (CSV or Parquet, header row, one row per sample; extra columns ignore
 other units: --time-unit ms|us, --gyro-unit deg/s, --accel-unit g, --gyro-scale/--accel-scale
 (counts -> unit, 1 or 3 factors), --columns time_s=Time,gyro_x=GyrX,... (or headers time_ms,
 gyro_x_deg_s, accel_x_g); no time column: --fs-hz. Jittered timestamps: per-sample dt. Rests: measured from the data
-(--rest-detector adaptive, default) or the paper's fixed ZVD band (--rest-detector paper)."""
+(--rest-detector adaptive, default), the paper's fixed ZVD band (--rest-detector paper) or quasi-static
+stance phases (--rest-detector shoe, Skog et al. 2010; level with --gyro-threshold-deg-s or --shoe-threshold).
+Gyro units and time base are always checked against the accelerometer (or the command refuses)."""
 
 
 def description_with_schema(doc: str, paragraphs: int) -> str:
@@ -68,14 +71,18 @@ def add_input_options(p: argparse.ArgumentParser) -> None:
 
 def add_rest_options(p: argparse.ArgumentParser, *, min_rest_s: float | None, figure: bool = True) -> None:
     g = p.add_argument_group("rest detection")
-    g.add_argument("--rest-detector", choices=["adaptive", "paper"], default="adaptive",
-                   help="adaptive (levels measured from the data; default) or paper "
-                        "(wang2022sensors Table 1 band 9.76-9.84 m/s^2)")
+    g.add_argument("--rest-detector", choices=["adaptive", "paper", "shoe"], default="adaptive",
+                   help="adaptive (levels measured from the data; default), paper "
+                        "(wang2022sensors Table 1 band 9.76-9.84 m/s^2) or shoe (SHOE/GLRT quasi-static "
+                        "detector, Skog et al. 2010: finds a foot's stance phases; needs the gyro)")
+    g.add_argument("--shoe-threshold", metavar="GAMMA", help="shoe: threshold gamma of the SHOE statistic T "
+                   "(dimensionless, ~6 when still); default measured, or from --gyro-threshold-deg-s")
     g.add_argument("--gravity", metavar="M_S2", help="|a| at rest (m/s^2); default measured")
     g.add_argument("--accel-band", metavar="M_S2", help="half-width of the |a| band (m/s^2); default "
                    "max(5 x accel noise, 1.5 %% of g)")
     g.add_argument("--gyro-threshold-deg-s", metavar="DEG_S", help="max |w - bias| at rest (deg/s); "
-                   "default max(5 x gyro noise, 1.5)")
+                   "default max(5 x gyro noise, 1.5); with --rest-detector shoe the quasi-static level "
+                   "(e.g. 30 for a foot's stance: gamma = 6 + (level / gyro noise)^2)")
     g.add_argument("--noise-factor", metavar="K", default="5", help="thresholds = K x measured noise (default 5)")
     g.add_argument("--min-rest-s", metavar="S", default=None if min_rest_s is None else str(min_rest_s),
                    help="shortest rest (s), default " + ("1 (adaptive) or 2 (paper / q0..q3 logs)"
@@ -93,19 +100,53 @@ def input_options(args) -> logio.InputOptions:
 
 
 def detect(args, log: logio.ImuLog, *, use_gyro: bool = True) -> rd.RestReport:
-    """Run the chosen rest detector on a log with the command-line overrides."""
+    """Run the chosen rest detector on a log with the command-line overrides.
+
+    Rests whose listed duration (``t[stop-1] − t[start]``) is below ``--min-rest-s``
+    are moved to the rejected list, so a listing never shows a rest shorter than the
+    stated minimum.
+    """
     min_rest = finite_float(args.min_rest_s, "--min-rest-s")
     gyro = log.gyro_rad_s if use_gyro else None
-    if args.rest_detector == "paper":
-        return rd.paper_rest_report(log.accel_m_s2, 1.0 / log.fs_hz, gyro_rad_s=gyro, min_rest_s=min_rest)
     opt = lambda v, n: None if v is None else finite_float(v, n)  # noqa: E731
     thr = opt(args.gyro_threshold_deg_s, "--gyro-threshold-deg-s")
-    params = rd.RestDetectorParams(min_rest_s=min_rest,
-                                   noise_factor=finite_float(args.noise_factor, "--noise-factor"),
-                                   gravity_m_s2=opt(args.gravity, "--gravity"),
-                                   accel_band_m_s2=opt(args.accel_band, "--accel-band"),
-                                   gyro_level_max_rad_s=None if thr is None else np.radians(thr))
-    return rd.detect_rests(log.accel_m_s2, 1.0 / log.fs_hz, gyro_rad_s=gyro, params=params)
+    shoe_thr = opt(getattr(args, "shoe_threshold", None), "--shoe-threshold")
+    if shoe_thr is not None and args.rest_detector != "shoe":
+        raise ValueError("--shoe-threshold needs --rest-detector shoe")
+    if args.rest_detector == "paper":
+        rep = rd.paper_rest_report(log.accel_m_s2, 1.0 / log.fs_hz, gyro_rad_s=gyro, min_rest_s=min_rest)
+    elif args.rest_detector == "shoe":
+        if gyro is None:
+            raise ValueError("--rest-detector shoe needs the gyro columns (and not --accel-only)")
+        params = rd.ShoeParams(min_rest_s=min_rest, noise_factor=finite_float(args.noise_factor, "--noise-factor"),
+                               threshold=shoe_thr, rate_level_rad_s=None if thr is None else np.radians(thr),
+                               gravity_m_s2=opt(args.gravity, "--gravity"))
+        rep = rd.detect_rests_shoe(log.accel_m_s2, 1.0 / log.fs_hz, gyro_rad_s=gyro, params=params)
+    else:
+        params = rd.RestDetectorParams(min_rest_s=min_rest,
+                                       noise_factor=finite_float(args.noise_factor, "--noise-factor"),
+                                       gravity_m_s2=opt(args.gravity, "--gravity"),
+                                       accel_band_m_s2=opt(args.accel_band, "--accel-band"),
+                                       gyro_level_max_rad_s=None if thr is None else np.radians(thr))
+        rep = rd.detect_rests(log.accel_m_s2, 1.0 / log.fs_hz, gyro_rad_s=gyro, params=params)
+    return _drop_short(log, rep)
+
+
+def _drop_short(log: logio.ImuLog, rep: rd.RestReport) -> rd.RestReport:
+    """Move rests listed shorter than ``min_rest_s`` (by their printed span) to ``rejected``."""
+    t = log.time_s
+    short = [r for r in rep.rests if t[r.stop - 1] - t[r.start] < rep.min_rest_s]
+    if not short:
+        return rep
+    flags = rep.is_static.copy()
+    rejected = list(rep.rejected)
+    for r in short:
+        flags[r] = False
+        lo, hi = rd.format_ordered(t[r.stop - 1] - t[r.start], rep.min_rest_s, 3)
+        rejected.append(rd.RejectedRest(r, f"too short: {lo} s < {hi} s (--min-rest-s)"))
+    rejected.sort(key=lambda x: x.span.start)
+    return dataclasses.replace(rep, rests=[r for r in rep.rests if r not in short], rejected=rejected,
+                               is_static=flags, n_short=rep.n_short + len(short))
 
 
 def rest_table(log: logio.ImuLog, report: rd.RestReport, angle_deg: np.ndarray | None = None,
@@ -126,7 +167,7 @@ def rest_table(log: logio.ImuLog, report: rd.RestReport, angle_deg: np.ndarray |
     for i, r in enumerate(report.rests):
         m = a[r].mean(axis=0)
         tilt = np.degrees(np.arctan2(np.hypot(m[0], m[1]), m[2]))
-        line = (f"{i:>4} {t[r.start]:>10.3f} {t[r.stop - 1]:>10.3f} {t[r.stop - 1] - t[r.start]:>7.2f} "
+        line = (f"{i:>4} {t[r.start]:>10.3f} {t[r.stop - 1]:>10.3f} {t[r.stop - 1] - t[r.start]:>7.3f} "
                 f"{np.linalg.norm(m):>9.4f} {tilt:>9.2f}")
         if log.gyro_rad_s is not None:
             line += f" {np.degrees(np.linalg.norm(log.gyro_rad_s[r].mean(axis=0))):>9.3f}"
@@ -144,7 +185,7 @@ def print_report(log: logio.ImuLog, report: rd.RestReport, angle_deg=None, angle
           + (f"; {'; '.join(log.notes)}" if log.notes else ""))
     print(report.levels_text())
     rejected = f", {len(report.rejected)} quiet stretches rejected" if report.rejected else ""
-    print(f"rests: {len(report.rests)} of >= {report.min_rest_s:g} s{rejected}")
+    print(f"rests: {len(report.rests)} of >= {report.min_rest_s:g} s (duration stop_s - start_s){rejected}")
     for line in rest_table(log, report, angle_deg, angle_name, extra):
         print("  " + line)
     for rej in report.rejected[:10]:
@@ -174,7 +215,7 @@ class DiagnosticsFigure:
     """Collects what a command learned and writes the figure in ``finally`` (also on failure)."""
 
     def __init__(self, path, title: str, inputs=()):
-        self.path = None if path is None else logio.check_output_path(path, inputs)
+        self.path = None if path is None else logio.check_output_path(path, inputs, option="--figure")
         self.title = title
         self.log: logio.ImuLog | None = None
         self.report: rd.RestReport | None = None
@@ -191,7 +232,8 @@ class DiagnosticsFigure:
         import matplotlib.pyplot as plt
 
         has_gyro = self.log is not None and self.log.gyro_rad_s is not None
-        n_panels = 1 + has_gyro + bool(self.series)
+        stat = None if self.report is None else self.report.extra.get("decision_statistic")
+        n_panels = 1 + has_gyro + bool(self.series) + (stat is not None and self.log is not None)
         fig, axes = plt.subplots(n_panels, 1, figsize=(9, 2.4 * n_panels + 0.6), sharex=True, squeeze=False)
         axes = axes[:, 0]
         status = "FAILED: " + self.error if self.error else "ok"
@@ -237,6 +279,16 @@ class DiagnosticsFigure:
                 axes[k].set_ylim(bottom=0)
                 axes[k].set_ylabel("|ω| (°/s)")
                 k += 1
+            if stat is not None:
+                ax = axes[k]
+                _trace(ax, t, np.maximum(np.asarray(stat, float), 1e-3), color="tab:gray")
+                ax.axhline(1.0, color="tab:red", lw=0.8, label="threshold" if rep.method != "shoe"
+                           else f"threshold gamma {rep.extra['threshold']:.4g}")
+                ax.set_yscale("log")
+                ax.set_ylabel(rep.extra.get("decision_label", "statistic / threshold"), fontsize=7)
+                ax.set_title(f"{rep.method} detector: statistic / threshold (static below 1)", fontsize=8)
+                ax.legend(loc="upper right", fontsize=6)
+                k += 1
             for name, y in self.series.items():
                 _trace(axes[k], t, np.asarray(y, float), color="tab:red", label=name)
                 axes[k].set_ylabel(name)
@@ -248,6 +300,8 @@ class DiagnosticsFigure:
 
         try:
             logio._atomic(out, save)
+        except OSError as exc:
+            raise OSError(f"--figure: {exc}") from None
         finally:
             plt.close(fig)
         print(f"figure: {out}")

@@ -7,10 +7,14 @@ quantities whose value or claim differs (``--all``: every quantity), lists the
 claims that flip (holds True→False …) and saves the full table to
 ``compare_<names>.csv`` and a figure of the numeric quantities relative to the
 first run to ``compare_<names>.png`` (in ``--out``, default: the first run's
-parent folder).
+parent folder). Runs that differ in size (``--size ci`` vs the full-size committed
+results) or seed (``params.json``) are refused unless ``--allow-mismatch``, which
+compares them with a warning.
 """
 
 from __future__ import annotations
+
+import sys
 
 
 def cmd_compare(args) -> int:
@@ -21,7 +25,10 @@ def cmd_compare(args) -> int:
     names = args.names.split(",") if args.names else None
     if len(args.runs) < 2:
         raise ValueError(f"runs must list at least two run folders (or 'committed'), got {args.runs}")
-    table, csv_path, png_path = compare_runs(args.runs, names=names, out_dir=args.out)
+    table, csv_path, png_path = compare_runs(args.runs, names=names, out_dir=args.out,
+                                             allow_mismatch=args.allow_mismatch)
+    for warning in table.attrs.get("warnings", []):  # loud: before and after the table
+        print(f"mtcal: WARNING: {warning}", file=sys.stderr)
     labels = [c.split("[", 1)[1][:-1] for c in table.columns if c.startswith("mtcal [")]
     values = table[[f"mtcal [{n}]" for n in labels]]
     holds = table[[f"holds [{n}]" for n in labels]]
@@ -45,6 +52,8 @@ def cmd_compare(args) -> int:
     for r in flips.itertuples():
         print(f"  {r.table} | {r.artifact} | {r.quantity} | {r.claim} | {r.flips}")
     print(f"saved: {csv_path}" + (f", {png_path}" if png_path else ""))
+    if table.attrs.get("warnings"):
+        print(f"WARNING: {len(table.attrs['warnings'])} comparability warning(s), see stderr")
     return 0
 
 
@@ -56,4 +65,6 @@ def register(subparsers) -> None:
     p.add_argument("--names", help="comma-separated labels for the runs (default: folder names)")
     p.add_argument("--out", help="folder for compare_<names>.csv/.png (default: the first run's parent)")
     p.add_argument("--all", action="store_true", help="print every quantity, not only those that differ")
+    p.add_argument("--allow-mismatch", action="store_true",
+                   help="compare runs that differ in size (ci/full) or seed, with a warning (default: refuse)")
     p.set_defaults(func=cmd_compare)

@@ -185,35 +185,59 @@ def _read_table(path: Path, select=None):
         import pyarrow.csv as pcsv
 
         with open(path, "rb") as fh:
-            head = fh.readline(65536).decode("utf-8", "replace")
+            head = fh.readline(65536).decode("utf-8", "replace").lstrip("\ufeff")  # a UTF-8 byte-order mark
+            second = fh.readline(65536).decode("utf-8", "replace")
         if not head.strip():
             raise ValueError(f"{path}: empty file (a header row is required)")
         delim = "," if "," in head else ";" if ";" in head else "\t" if "\t" in head else ","
+        raw = _header_names(head, second, delim)
         parse = pcsv.ParseOptions(delimiter=delim)
-        table, raw = None, []
+        read = pcsv.ReadOptions(column_names=raw, skip_rows=1)
+        table = None
         if select is not None:
-            raw = [h.strip().strip('"').strip() for h in head.rstrip("\r\n").split(delim)]
-            raw_names = [h.rstrip("\r\n").split(delim) for h in [head]][0]
-            by_name = {r: n.strip().strip('"') for r, n in zip(raw, raw_names)}
-            want = [by_name[n] for n in select(raw) if n in by_name]
+            want = [n for n in select(raw) if n in raw]
             if want and len(set(raw)) == len(raw):
                 try:
-                    table = pcsv.read_csv(path, parse_options=parse, convert_options=pcsv.ConvertOptions(
-                        include_columns=want, column_types={w: pa.float64() for w in want}))
+                    table = pcsv.read_csv(path, read_options=read, parse_options=parse,
+                                          convert_options=pcsv.ConvertOptions(
+                                              include_columns=want, column_types={w: pa.float64() for w in want}))
                 except (pa.ArrowException, UnicodeDecodeError):
                     table = None  # e.g. a non-numeric value: the full read below names its row
         if table is None:
             try:
-                table = pcsv.read_csv(path, parse_options=parse,
+                table = pcsv.read_csv(path, read_options=read, parse_options=parse,
                                       convert_options=pcsv.ConvertOptions(strings_can_be_null=True))
             except (pa.ArrowException, UnicodeDecodeError) as exc:
                 raise ValueError(f"{path}: not a readable CSV ({str(exc).splitlines()[0][:200]})") from None
-    out = {str(name).strip(): col for name, col in zip(table.column_names, table.columns)}
+        raw = [n for n in raw if not n.startswith(_UNNAMED)]
+    out = {str(name).strip(): col for name, col in zip(table.column_names, table.columns)
+           if not str(name).startswith(_UNNAMED)}
     if path.suffix.lower() not in (".parquet", ".pq") and select is not None and len(out) < len(raw):
         out_names = raw  # every header of the file, for messages
     else:
         out_names = list(out)
     return out, out_names
+
+
+_UNNAMED = "_unnamed_"
+
+
+def _header_names(head: str, second: str, delim: str) -> list[str]:
+    """Column names of a CSV header: quotes and surrounding blanks removed, empty names (trailing
+    separators) and data fields beyond the header named ``_unnamed_<i>`` so the rows still parse."""
+    import csv
+
+    def split(line: str) -> list[str]:
+        line = line.rstrip("\r\n")
+        try:
+            return next(csv.reader([line], delimiter=delim))
+        except (csv.Error, StopIteration):  # e.g. a binary file: the read below reports it
+            return line.split(delim)
+
+    names = [n.strip().strip('"').strip() for n in split(head)]
+    if second.strip():
+        names += [""] * max(0, len(split(second)) - len(names))
+    return [n if n else f"{_UNNAMED}{i}" for i, n in enumerate(names)]
 
 
 def _numeric(col, header: str, path: Path) -> np.ndarray:
@@ -389,8 +413,11 @@ def _check_gyro(gyro: np.ndarray, path: Path) -> None:
                          f"gyro in deg/s or counts? use --gyro-unit deg/s or --gyro-scale")
 
 
-def check_output_path(out, inputs=()) -> Path:
-    """Refuse an output that would destroy an input or cannot be a regular file; return it as a Path."""
+def check_output_path(out, inputs=(), option: str = "--out") -> Path:
+    """Refuse an output that would destroy an input or cannot be a regular file; return it as a Path.
+
+    Messages name ``option`` (``--out``, ``--figure``), the command-line option that gave the path.
+    """
     o = Path(out)
     for i in inputs:
         if i is None:
@@ -400,16 +427,16 @@ def check_output_path(out, inputs=()) -> Path:
         except OSError:
             same = False
         if same or os.path.realpath(o) == os.path.realpath(i):
-            raise ValueError(f"--out {out} is an input file ({i}); choose another output path")
+            raise ValueError(f"{option} {out} is an input file ({i}); choose another output path")
     if o.exists() and o.is_dir():
-        raise ValueError(f"cannot write {out}: it is a directory")
+        raise ValueError(f"{option}: cannot write {out}: it is a directory")
     if o.exists() and not o.is_file():
-        raise ValueError(f"cannot write {out}: not a regular file")
+        raise ValueError(f"{option}: cannot write {out}: not a regular file")
     parent = o.parent if str(o.parent) else Path(".")
     if not parent.exists():
-        raise ValueError(f"cannot write {out}: directory {parent} does not exist")
+        raise ValueError(f"{option}: cannot write {out}: directory {parent} does not exist")
     if not parent.is_dir():
-        raise ValueError(f"cannot write {out}: {parent} is not a directory")
+        raise ValueError(f"{option}: cannot write {out}: {parent} is not a directory")
     return o
 
 
@@ -467,8 +494,6 @@ def write_table(path, columns: dict, *, decimals: dict | None = None) -> None:
         # float columns do not repeat: dictionary encoding would be tried and dropped (half the write time)
         _atomic(p, lambda tmp: pq.write_table(table, tmp, use_dictionary=False))
     else:
-        import pyarrow.csv as pcsv
-
         _atomic(p, lambda tmp: _write_csv_parallel(table, tmp))
 
 

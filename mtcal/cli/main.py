@@ -39,6 +39,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     for module in (rests, calibrate, axis, attitude, apply, sweep, run, compare):
         module.register(sub)
+    run.register_reproduce(sub)  # `mtcal reproduce ID`: one artifact from the Monte Carlo cache
     return parser
 
 

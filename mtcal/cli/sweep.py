@@ -3,8 +3,10 @@
 * ``mtcal sweep SPEC.toml`` — every cell of the spec's grid × its trials on all
   local cores; the run folder (default ``runs/sweeps/<name>``) gets
   ``sweep.json``, one ``cells/cell_NNNNN.npz`` per finished cell and ``table.csv``
-  (one row per cell and metric: median, 95 % band, trials). Run the same command
-  again after an interruption: stored cells are skipped.
+  (one row per cell and metric: median, 95 % band, trials) and ``table.png`` (each
+  metric vs the grid, one panel per metric, with its band); a progress bar over cells
+  on a terminal (``--no-progress``). Run the same command again after an
+  interruption: stored cells are skipped.
 * ``--workers N`` — N local processes (1 = in this process).
 * ``--scheduler tcp://host:8786`` — run the tasks on a running Dask cluster
   instead; the numbers are identical.
@@ -61,11 +63,16 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     out = Path(args.out) if args.out else Path("runs") / "sweeps" / spec.name
     if out.exists() and not out.is_dir():
         raise ValueError(f"--out {out} exists and is not a folder")
-    res = run_sweep(spec, out, workers=args.workers, scheduler=args.scheduler)
+    progress = False if args.no_progress else None  # None: a bar over cells on a terminal unless MTCAL_PROGRESS=0
+    res = run_sweep(spec, out, workers=args.workers, scheduler=args.scheduler, progress=progress)
+    from mtcal.sweep.plots import sweep_figure
+
+    figure = sweep_figure(res.table, list(spec.grid), out / "table.png", title=spec.name)
     print(f"sweep {spec.name}: {spec.n_cells} cells x {spec.trials} trials, evaluator {spec.evaluator}, "
           f"seed {spec.seed}")
     print(f"ran on {res.executor}: {len(res.computed)} cells computed, {len(res.skipped)} already stored")
     print(f"table: {out / 'table.csv'} ({len(res.table)} rows)")
+    print(f"figure: {figure} (each metric vs {next(iter(spec.grid), 'cell')}, median and 95 % band)")
     return 0
 
 
@@ -78,4 +85,6 @@ def register(subparsers) -> None:
     p.add_argument("--scheduler", help="Dask scheduler address, e.g. tcp://host:8786")
     p.add_argument("--out", help="run folder (default runs/sweeps/<name>)")
     p.add_argument("--list", action="store_true", help="list the evaluators and their parameters")
+    p.add_argument("--no-progress", action="store_true",
+                   help="no progress bar (default: a bar over cells on a terminal, unless MTCAL_PROGRESS=0)")
     p.set_defaults(func=cmd_sweep)

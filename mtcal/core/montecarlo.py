@@ -4,9 +4,13 @@ A 1000-trial × 60 s × 1 kHz run holds 1.4 GB per (trials, samples, 3) array;
 when only metrics are needed, nothing of that size is ever materialised:
 :class:`~mtcal.core.simulate.ImuStream` produces chunks, each *consumer* updates
 its filter state and folds the chunk's errors into running per-trial
-statistics (:class:`ErrorAccumulator`), and the chunk is dropped. Because the
-stream's random draws do not depend on the chunk size, the numbers do not
-either (tested).
+statistics (:class:`ErrorAccumulator`), and the chunk is dropped. The
+simulator draws its noise inside its compiled kernel (counter-based Philox,
+:mod:`mtcal.core.philox`), so no noise array of size trials × samples exists
+either. Because the stream's random draws do not depend on the chunk size,
+the numbers do not either (tested); because they are addressed by trial id
+(``ImuStream(..., trial_ids=...)``), a run split across workers gives each
+trial the numbers of the whole run (tested).
 
 A progress bar (tqdm) is shown when run interactively (a terminal or a
 Jupyter kernel) and never when ``MTCAL_PROGRESS=0`` (set by the Makefile, so

@@ -17,6 +17,17 @@ The generator is ``numpy.random.Generator(PCG64(SeedSequence(key)))``: the
 SeedSequence hashes the whole key, so streams with different keys are
 statistically independent (O'Neill 2015; numpy NEP 19).
 
+Counter-based rule (compiled kernels)
+-------------------------------------
+Code that draws *inside* compiled kernels (the IMU simulator, :mod:`mtcal.core.simulate`)
+uses the same key, split in two: the part fixed for a run — ``(seed, stream, …)``, or a
+caller's ``numpy.random.Generator`` — is hashed once by SeedSequence into a 64-bit Philox
+key (:func:`philox_key`, :func:`spawn_philox_key`); the parts that vary inside a kernel —
+the trial index, a stream word, the sample block — are the Philox4x32-10 *counter*
+(:mod:`mtcal.core.philox` documents which 32-bit word holds what). Every number is then a
+pure function of its coordinates: the same for any chunking, thread count or worker, and
+trial ``t``'s numbers do not depend on which other trials run. (Salmon et al., SC'11.)
+
 >>> a = trial_rng(7, 3, 0).standard_normal(2)
 >>> b = trial_rng(7, 3, 0).standard_normal(2)
 >>> bool((a == b).all())
@@ -29,7 +40,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["stream_key", "trial_rng", "stream_rng"]
+__all__ = ["stream_key", "trial_rng", "stream_rng", "philox_key", "spawn_philox_key"]
 
 
 def stream_key(seed: int, stream: int, *more: int) -> tuple[int, ...]:
@@ -78,3 +89,67 @@ def trial_rng(seed: int, stream: int, trial: int, *more: int) -> np.random.Gener
     True
     """
     return stream_rng(seed, stream, trial, *more)
+
+
+def philox_key(seed: int, stream: int, *more: int) -> tuple[int, int]:
+    """The 64-bit Philox key ``(k0, k1)`` of the stream ``(seed, stream, *more)`` (see the counter-based rule).
+
+    The two 32-bit words of ``SeedSequence(stream_key(seed, stream, *more)).generate_state(2)``.
+
+    Parameters
+    ----------
+    seed, stream : int
+        Run seed and stream number, each ``>= 0``.
+    *more : int
+        Further fixed key parts (each ``>= 0``); the trial index belongs in the counter.
+
+    Returns
+    -------
+    tuple of 2 int
+        Key words, each in [0, 2³²).
+
+    References
+    ----------
+    Salmon et al., SC'11 (Philox keys); numpy NEP 19 (SeedSequence hashing).
+
+    Examples
+    --------
+    >>> philox_key(1, 2) == philox_key(1, 2) != philox_key(1, 3)
+    True
+    """
+    state = np.random.SeedSequence(stream_key(seed, stream, *more)).generate_state(2, dtype=np.uint32)
+    return int(state[0]), int(state[1])
+
+
+def spawn_philox_key(rng: np.random.Generator) -> tuple[int, int]:
+    """A Philox key ``(k0, k1)`` for a caller's generator: the hash of ``rng``'s next spawned SeedSequence.
+
+    Like ``rng.spawn(1)`` it advances ``rng``'s spawn counter (not its stream), so two calls with
+    one generator give two independent keys and equal-seeded generators give equal keys.
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+        A generator made from a SeedSequence (``np.random.default_rng(seed)``, :func:`stream_rng`).
+
+    Returns
+    -------
+    tuple of 2 int
+
+    References
+    ----------
+    numpy NEP 19 (``SeedSequence.spawn``); Salmon et al., SC'11.
+
+    Examples
+    --------
+    >>> spawn_philox_key(np.random.default_rng(5)) == spawn_philox_key(np.random.default_rng(5))
+    True
+    >>> g = np.random.default_rng(5)
+    >>> spawn_philox_key(g) != spawn_philox_key(g)
+    True
+    """
+    if not isinstance(rng, np.random.Generator):
+        raise TypeError(f"rng must be a numpy.random.Generator, got {type(rng).__name__}")
+    seq = rng.spawn(1)[0].bit_generator.seed_seq
+    state = seq.generate_state(2, dtype=np.uint32)
+    return int(state[0]), int(state[1])

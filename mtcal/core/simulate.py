@@ -4,7 +4,7 @@ Hardware is replaced by simulation with known truth (docs/conventions.md). A
 :class:`Trajectory` holds the body attitude history ``q_wb`` (scalar-first,
 body → world) and the linear acceleration of the sensor point; a
 :class:`ImuErrorModel` holds the sensor errors; :func:`simulate_imu` draws one
-or many Monte Carlo trials from a seeded ``numpy.random.Generator``.
+or many Monte Carlo trials keyed by a seeded ``numpy.random.Generator``.
 
 Truth kinematics
 ----------------
@@ -37,30 +37,45 @@ Sensor error model (per axis, per sensor; units of the sensor)
 * vibration: sinusoid ``amplitude · sin(2π f t + φ)``, φ uniform per trial
   and axis.
 
-Each error source draws from its own generators (keyed by sensor, source
-and a fixed block of samples, derived from ``rng``), so switching one source
-on or off leaves the others' draws unchanged (common random numbers for
-error-budget tables), and :class:`ImuStream` delivers the same numbers in
-chunks of any size (bounded-memory Monte Carlo).
+Random numbers (changed: numpy PCG64 streams → counter-based Philox4x32-10)
+---------------------------------------------------------------------------
+Every draw is a Philox4x32-10 number addressed by its coordinates
+(:mod:`mtcal.core.philox`, key rule in :mod:`mtcal.core.rng`): the key is hashed once
+from ``rng`` (:func:`mtcal.core.rng.spawn_philox_key`), the counter holds the sample pair
+``k // 2``, the trial id, the stream word (sensor, error source, axis) and the draw index.
+Normals are ziggurat normals, uniforms 53-bit. Hence
 
-Two engines produce bit-identical output (tested): ``"numba"`` (default) draws
-each block's normals with numba's port of numpy's PCG64 + ziggurat sampler
-(same stream, ~3× faster than ``Generator.standard_normal``) and applies every
-error term, the bias random walk and the Gauss–Markov recursion in one
-compiled pass per block segment, in the reference's operation order;
-``"numpy"`` is the readable reference (array operations, ``np.cumsum``,
-``scipy.signal.lfilter``).
+* switching one source on or off leaves the others' draws unchanged (common random
+  numbers for error-budget tables);
+* the output is the same for any chunk size (:class:`ImuStream`), kernel block size,
+  thread count or worker;
+* trial ``t``'s numbers do not depend on which other trials run: pass ``trial_ids`` to
+  simulate a subset (a worker's share) of a larger run.
+
+Until issue #24 the simulator drew from numpy ``Generator`` (PCG64) streams; every
+Monte Carlo number of the suite moved within its band when the streams changed.
+
+Two engines produce bit-identical output (tested): ``"numba"`` (default) draws the
+noise inside one compiled kernel, trials in parallel (``prange``), where it is
+consumed — per trial, a block of Philox words in a branch-free loop, the ziggurat, then
+every error term, the bias random walk and the Gauss–Markov recursion in the
+reference's operation order — never materialising per-sample noise arrays;
+``"numpy"`` is the readable reference (a numpy Philox and ziggurat, array operations,
+``np.cumsum``, ``scipy.signal.lfilter``).
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
+import numba
 import numpy as np
+from numba import prange
 
-
-from mtcal.core import rotations
+from mtcal.core import philox, rotations
 from mtcal.core.compiled import jit
+from mtcal.core.rng import spawn_philox_key
 from mtcal.core.validate import (STANDARD_GRAVITY_M_S2, as_float_array, positive_int,
                              positive_scalar, time_vector, unit_quaternion)
 
@@ -316,130 +331,278 @@ class ImuRecord:
     accel_true_m_s2: np.ndarray
 
 
+# ----------------------------------------------------------------------------- counter-based draws
+_SENSOR_SOURCES = ("white", "random_walk", "instability")  # per-sample normal streams, flags 4, 8, 16
+
+
+def _stream_words(sensor_index: int, source: str) -> tuple[int, int, int]:
+    """Counter word ``c2`` of each axis of one sensor's error source (:func:`mtcal.core.philox.stream_word`)."""
+    return tuple(philox.stream_word(sensor_index, philox.SOURCE_IDS[source], j) for j in range(3))
+
+
+# numpy reference of the draws: the same Philox words and ziggurat, array by array
+def _np_philox_words(c0, c1, c2, c3, k0: int, k1: int):
+    """Philox4x32-10 on broadcast uint64 arrays of 32-bit words → lane-0 and lane-1 64-bit words."""
+    m0, m1, mask, s32 = np.uint64(0xD2511F53), np.uint64(0xCD9E8D57), np.uint64(0xFFFFFFFF), np.uint64(32)
+    c0, c1, c2, c3 = np.broadcast_arrays(*(np.asarray(c, dtype=np.uint64) for c in (c0, c1, c2, c3)))
+    ka, kb = np.uint64(k0), np.uint64(k1)
+    for r in range(10):
+        if r:
+            ka = np.uint64((int(ka) + 0x9E3779B9) & 0xFFFFFFFF)
+            kb = np.uint64((int(kb) + 0xBB67AE85) & 0xFFFFFFFF)
+        p0, p1 = m0 * c0, m1 * c2
+        c0, c1, c2, c3 = (p1 >> s32) ^ c1 ^ ka, p1 & mask, (p0 >> s32) ^ c3 ^ kb, p0 & mask
+    return c0 | (c1 << s32), c2 | (c3 << s32)
+
+
+def _np_uniform(w):
+    return (w >> np.uint64(11)).astype(np.int64).astype(np.float64) * 2.0 ** -53
+
+
+def _py_zig_slow(r: int, c0: int, c1: int, c2: int, lane: int, k0: int, k1: int) -> float:
+    """Ziggurat after a rejected first word, on the rejection stream (plain Python ints, the reference)."""
+    j = 0
+
+    def words():
+        nonlocal j
+        a, b = _np_philox_words(c0, c1, c2, 1 + lane + 2 * j, k0, k1)
+        j += 1
+        return int(a), int(b)
+
+    def unif(w: int) -> float:
+        return float(w >> 11) * 2.0 ** -53
+
+    while True:
+        idx, r8 = r & 0xFF, r >> 8
+        rabs = (r8 >> 1) & 0x000FFFFFFFFFFFFF
+        x = float(rabs) * float(philox.WI[idx])
+        if r8 & 1:
+            x = -x
+        if rabs < int(philox.KI[idx]):
+            return x
+        if idx == 0:
+            while True:
+                a, b = words()
+                xx = -philox._INV_R * math.log1p(-unif(a))
+                yy = -math.log1p(-unif(b))
+                if yy + yy > xx * xx:
+                    return -(philox._R + xx) if (rabs >> 8) & 1 else philox._R + xx
+        a, b = words()
+        f_lo, f_hi = float(philox.FI[idx]), float(philox.FI[idx - 1])
+        if (f_hi - f_lo) * unif(a) + f_lo < math.exp(-0.5 * x * x):
+            return x
+        r = b
+
+
+def _np_ziggurat(words, c0, c1, c2: int, lane: int, k0: int, k1: int) -> np.ndarray:
+    """Standard normals of 64-bit ``words`` (any shape; ``c0``, ``c1`` broadcast to it)."""
+    idx = (words & np.uint64(0xFF)).astype(np.intp)
+    r8 = words >> np.uint64(8)
+    rabs = (r8 >> np.uint64(1)) & np.uint64(0x000FFFFFFFFFFFFF)
+    x = rabs.astype(np.int64).astype(np.float64) * philox.WI[idx]
+    x = np.where((r8 & np.uint64(1)).astype(bool), -x, x)
+    c0, c1 = np.broadcast_to(c0, words.shape), np.broadcast_to(c1, words.shape)
+    for pos in zip(*np.nonzero(rabs >= philox.KI[idx])):
+        x[pos] = _py_zig_slow(int(words[pos]), int(c0[pos]), int(c1[pos]), c2, lane, k0, k1)
+    return x
+
+
+def _np_normals(key, trial_ids, c2: int, start: int, stop: int) -> np.ndarray:
+    """Reference normals (T, stop − start) of samples [start, stop): pair ``k // 2``, lane ``k % 2``."""
+    m = np.arange(start // 2, (stop - 1) // 2 + 1, dtype=np.uint64)[None, :]
+    tid = np.asarray(trial_ids, dtype=np.uint64)[:, None]
+    a, b = _np_philox_words(m, tid, c2, 0, *key)
+    pairs = np.stack([_np_ziggurat(a, m, tid, c2, 0, *key), _np_ziggurat(b, m, tid, c2, 1, *key)], axis=-1)
+    flat = pairs.reshape(pairs.shape[0], -1)
+    lo = start - 2 * (start // 2)
+    return flat[:, lo:lo + stop - start]
+
+
+@jit
+def _per_trial_draws(key0, key1, trial_ids, c2, uniform, out):
+    """``out[t, j]``: lane 0 of counter (0, trial_ids[t], c2[j], 0), a normal or (``uniform``) a uniform."""
+    for t in range(trial_ids.shape[0]):
+        for j in range(c2.shape[0]):
+            a, b = philox.philox_words(np.uint64(0), np.uint64(trial_ids[t]), np.uint64(c2[j]), np.uint64(0),
+                                       np.uint64(key0), np.uint64(key1))
+            if uniform:
+                out[t, j] = philox.uniform_from_word(a)
+            else:
+                out[t, j] = philox._zig(a, np.uint64(0), np.uint64(trial_ids[t]), np.uint64(c2[j]), np.uint64(0),
+                                        np.uint64(key0), np.uint64(key1))
+
+
 # ----------------------------------------------------------------------------- compiled engine
 @jit
-def _fill_standard_normal(gen, out):
-    """``out[...] = gen.standard_normal(out.shape)`` (same draws, C order; numba's port of numpy's ziggurat)."""
-    flat = out.reshape(-1)
-    for i in range(flat.size):
-        flat[i] = gen.standard_normal()
-
-
-@jit
-def _apply_errors(out, off, n, base, per_trial_base, bias, warm, turn_on, white, white_scale, rw, rw_scale,
-                  rw_state, gm, gm_sigma, gm_c, gm_a, gm_state, gm_first, vib, quant, roff, flags,
-                  gen_white, gen_rw, gen_gm, fused):
-    """Samples ``off … off+n`` of a chunk of :meth:`_SensorStream.process`, in the reference's order.
-
-    ``out``, ``base`` ((1 or T), C, 3), ``warm`` (C, 3) and ``vib`` are chunk-aligned; the random
-    blocks ``white``, ``rw``, ``gm`` (T, B, 3) are read from ``roff``, or, with ``fused`` (a whole
-    block inside the chunk: ``n`` = B), drawn here from the blocks' generators ``gen_*`` in the
-    block's C order (trial, sample, axis) — the same numbers, without the block buffers' memory
-    traffic. ``flags`` bits: 1 warm-up,
-    2 turn-on, 4 white, 8 random walk, 16 Gauss–Markov, 32 vibration, 64 quantisation.
-    ``rw_state`` / ``gm_state`` (T, 3) carry the walk and the last Gauss–Markov output;
-    ``gm_first``: sample ``off`` is global sample 0 (stationary start ``w_0 / c``).
-    """
-    walk = np.empty(3)
+def _trial_errors(out, t, tid, start, base, tb, bias, warm, turn_on, vib, key0, key1, c2s, flags, white_scale,
+                  rw_scale, gm_sigma, gm_c, gm_a, quant, rw_state, gm_state, words, normals, rejected):
+    """One trial of :func:`_sensor_errors_parallel`: the chunk in blocks of ``normals.shape[2]`` samples, each block's
+    normals drawn first (Philox words of a block in one branch-free, vectorisable loop, then the ziggurat),
+    then every error term applied in the reference's order."""
+    n = out.shape[1]
+    stop = start + n
+    block = normals.shape[2]
     y = np.empty(3)
-    z = np.empty(3)
-    for t in range(out.shape[0]):
-        tb = t if per_trial_base else 0
-        for j in range(3):
-            walk[j] = rw_state[t, j]
-            y[j] = gm_state[t, j]
-            z[j] = gm_a * y[j]                 # lfilter's delay state zi = a · b_{k-1}
-        for i in range(n):
-            for j in range(3):                 # three independent recursions side by side
-                x = base[tb, off + i, j] + bias[j]
+    walk = np.empty(3)
+    for j in range(3):
+        walk[j] = rw_state[t, j]
+        y[j] = gm_state[t, j]
+    k = start
+    while k < stop:
+        b0 = k - (k & 1)                                  # blocks start on a sample pair
+        b1 = min(b0 + block, stop + (stop & 1))
+        m0 = np.uint64(b0 // 2)
+        npairs = (b1 - b0) // 2
+        hi = min(b1, stop)
+        for s in range(3):
+            if flags & (4 << s):
+                for j in range(3):
+                    c2 = np.uint64(c2s[s, j])
+                    for p in range(npairs):            # branch-free: vectorised across sample pairs
+                        wa, wb = philox.philox_words(m0 + np.uint64(p), np.uint64(tid), c2, np.uint64(0),
+                                                     np.uint64(key0), np.uint64(key1))
+                        words[0, p] = wa
+                        words[1, p] = wb
+                    nrej = 0
+                    for q in range(k - b0, hi - b0):   # ziggurat fast path, branch-free but for the rare rejection
+                        r = words[q & 1, q // 2]
+                        idx = r & _UFF
+                        r8 = r >> _U8
+                        rabs = (r8 >> _U1) & _MASK52
+                        sign = 1.0 - 2.0 * np.float64(np.int64(r8 & _U1))   # ±1: x · sign == ±x exactly,
+                        normals[s, j, q] = np.float64(np.int64(rabs)) * _WI[idx] * sign   # without a branch
+                        if rabs >= _KI[idx]:
+                            rejected[nrej] = q
+                            nrej += 1
+                    for i in range(nrej):              # ~1 %: continue on the word's rejection stream
+                        q = rejected[i]
+                        normals[s, j, q] = philox._zig_slow(words[q & 1, q // 2], m0 + np.uint64(q // 2),
+                                                            np.uint64(tid), c2, np.uint64(q & 1), np.uint64(key0),
+                                                            np.uint64(key1))
+        for kk in range(k, hi):
+            q = kk - b0
+            i = kk - start
+            for j in range(3):                             # three independent recursions side by side
+                x = base[tb, i, j] + bias[j]
                 if flags & 1:
-                    x = x + warm[off + i, j]
+                    x = x + warm[i, j]
                 if flags & 2:
                     x = x + turn_on[t, j]
                 if flags & 4:
-                    nw = gen_white.standard_normal() if fused else white[t, roff + i, j]
-                    x = x + white_scale * nw
+                    x = x + white_scale * normals[0, j, q]
                 if flags & 8:
-                    nr = gen_rw.standard_normal() if fused else rw[t, roff + i, j]
-                    walk[j] = walk[j] + nr * rw_scale   # np.cumsum, continued
+                    walk[j] = walk[j] + normals[1, j, q] * rw_scale   # np.cumsum, continued
                     x = x + walk[j]
-                if flags & 16:                 # scipy lfilter([c], [1, -a]) (direct form II transposed)
-                    ng = gen_gm.standard_normal() if fused else gm[t, roff + i, j]
-                    w = ng * gm_sigma
-                    if gm_first and i == 0:
-                        w = w / gm_c
-                    yj = z[j] + gm_c * w
-                    z[j] = w * 0.0 - yj * (-gm_a)
+                if flags & 16:                             # scipy lfilter([c], [1, -a]): y = c w + a y_prev
+                    w = normals[2, j, q] * gm_sigma
+                    if kk == 0:
+                        w = w / gm_c                       # stationary start: y_0 = σ n_0
+                    yj = gm_a * y[j] + gm_c * w
                     y[j] = yj
                     x = x + yj
                 if flags & 32:
-                    x = x + vib[t, off + i, j]
+                    x = x + vib[t, i, j]
                 if flags & 64:
                     x = np.rint(x / quant) * quant
-                out[t, off + i, j] = x
-        for j in range(3):
-            rw_state[t, j] = walk[j]
-            gm_state[t, j] = y[j]
+                out[t, i, j] = x
+        k = hi
+    for j in range(3):
+        rw_state[t, j] = walk[j]
+        gm_state[t, j] = y[j]
 
 
-#: Stand-in for the generator arguments of :func:`_apply_errors` that a call does not draw from.
-_DUMMY_GENERATOR = np.random.Generator(np.random.PCG64(0))
+@jit
+def _sensor_errors_group(g, out, start, base, bias, warm, turn_on, vib, trial_ids, key0, key1, c2s, flags,
+                         white_scale, rw_scale, gm_sigma, gm_c, gm_a, quant, rw_state, gm_state, block, group):
+    """Trials ``g·group … (g+1)·group`` of :func:`_sensor_errors_parallel`, sharing one scratch buffer."""
+    trials = out.shape[0]
+    per_trial_base = base.shape[0] > 1
+    words = np.empty((2, block // 2), np.uint64)
+    rejected = np.empty(block, np.int64)
+    normals = np.empty((3, 3, block))
+    for t in range(g * group, min((g + 1) * group, trials)):
+        _trial_errors(out, t, trial_ids[t], start, base, t if per_trial_base else 0, bias, warm, turn_on, vib,
+                      key0, key1, c2s, flags, white_scale, rw_scale, gm_sigma, gm_c, gm_a, quant, rw_state,
+                      gm_state, words, normals, rejected)
+
+
+@jit(parallel=True)
+def _sensor_errors_parallel(out, start, base, bias, warm, turn_on, vib, trial_ids, key0, key1, c2s, flags,
+                            white_scale, rw_scale, gm_sigma, gm_c, gm_a, quant, rw_state, gm_state, block, group):
+    """Measurements ``out`` (T, n, 3) of global samples ``start … start+n``, groups of trials in parallel.
+    Each trial's numbers are a function of its id only, so the thread count does not change them."""
+    for g in prange((out.shape[0] + group - 1) // group):
+        _sensor_errors_group(g, out, start, base, bias, warm, turn_on, vib, trial_ids, key0, key1, c2s, flags,
+                             white_scale, rw_scale, gm_sigma, gm_c, gm_a, quant, rw_state, gm_state, block, group)
+
+
+@jit
+def _sensor_errors_serial(out, start, base, bias, warm, turn_on, vib, trial_ids, key0, key1, c2s, flags,
+                          white_scale, rw_scale, gm_sigma, gm_c, gm_a, quant, rw_state, gm_state, block, group):
+    """:func:`_sensor_errors_parallel` on the calling thread (small work: no OpenMP start-up)."""
+    for g in range((out.shape[0] + group - 1) // group):
+        _sensor_errors_group(g, out, start, base, bias, warm, turn_on, vib, trial_ids, key0, key1, c2s, flags,
+                             white_scale, rw_scale, gm_sigma, gm_c, gm_a, quant, rw_state, gm_state, block, group)
+
+
+#: Trial-samples of a chunk from which the trial-parallel kernel is used (as the filters'
+#: ``PARALLEL_MIN_WORK``): below it a parallel region costs more than it saves, and a process
+#: that never starts numba's OpenMP threads can still ``fork`` worker processes safely.
+PARALLEL_MIN_WORK = 200_000
+
+
+def _use_parallel(trials: int, samples: int) -> bool:
+    return trials >= 2 and trials * samples >= PARALLEL_MIN_WORK and numba.get_num_threads() > 1
 
 
 class _SensorStream:
     """Applies one triad's :class:`SensorErrors` chunk by chunk.
 
-    Random numbers come in fixed blocks of ``block_samples`` samples, each
-    block from its own generator keyed by (sensor, source, block index), so
-    the output does not depend on how the record is cut into chunks.
-    Random-walk and Gauss–Markov states carry over between chunks.
+    Every random number is a Philox draw addressed by (key, sample pair, trial id, sensor/source/axis)
+    (:mod:`mtcal.core.philox`), so the output does not depend on how the record is cut into chunks,
+    on threads, or on which other trials run. Random-walk and Gauss–Markov states carry over between chunks.
     """
 
-    def __init__(self, errors: SensorErrors, seed_seq: np.random.SeedSequence | None, sensor_index: int,
-                 trials: int, dt_s: float, time_since_power_on_s: float, block_samples: int,
+    def __init__(self, errors: SensorErrors, key: tuple[int, int] | None, sensor_index: int,
+                 trial_ids: np.ndarray, dt_s: float, time_since_power_on_s: float, block_samples: int,
                  engine: str = "numba"):
         self.engine = engine
-        self.e, self.seed_seq, self.sensor_index = errors, seed_seq, sensor_index
-        self.trials, self.dt, self.t_on, self.block = trials, dt_s, time_since_power_on_s, block_samples
+        self.e, self.key, self.sensor_index = errors, key, sensor_index
+        self.trial_ids = trial_ids
+        self.trials, self.dt, self.t_on = trial_ids.size, dt_s, time_since_power_on_s
+        self.block = max(2, block_samples + (block_samples & 1))
         self.matrix_t = errors.matrix().T
         self.bias = _vec3(errors.bias, "bias")
         self.warm = _vec3(errors.warmup_bias, "warmup_bias")
         self.vib = _vec3(errors.vibration_amplitude, "vibration_amplitude")
-        self.rw_state = np.zeros((trials, 1, 3))
+        self.rw_state = np.zeros((self.trials, 1, 3))
         self.gm_a = np.exp(-dt_s / errors.bias_instability_tau_s)
         self.gm_state = None
-        self._cache: dict[str, tuple[int, np.ndarray]] = {}
-        self.turn_on = (errors.bias_sigma * self._generator("turn_on", 0).standard_normal((trials, 1, 3))
+        self.c2s = np.array([_stream_words(sensor_index, s) for s in _SENSOR_SOURCES], dtype=np.int64)
+        self.turn_on = (errors.bias_sigma * self._per_trial("turn_on", False)[:, None, :]
                         if errors.bias_sigma else None)
-        self.phase = (self._generator("vibration", 0).uniform(0.0, 2 * np.pi, (trials, 1, 3))
+        self.phase = (2 * np.pi * self._per_trial("vibration", True)[:, None, :]
                       if np.any(self.vib) and errors.vibration_freq_hz else None)
-        self._rw = np.zeros((trials, 3))       # numba engine: walk and Gauss–Markov output carried over
-        self._gm = np.zeros((trials, 3))
+        self._rw = np.zeros((self.trials, 3))   # numba engine: walk and Gauss–Markov output carried over
+        self._gm = np.zeros((self.trials, 3))
 
-    def _generator(self, source: str, block: int) -> np.random.Generator:
-        key = self.seed_seq.spawn_key + (self.sensor_index, _SOURCES.index(source), block)
-        return np.random.Generator(np.random.PCG64(np.random.SeedSequence(self.seed_seq.entropy, spawn_key=key)))
-
-    def _block(self, source: str, b: int) -> np.ndarray:
-        """Standard normal draws (T, block, 3) of block ``b`` of ``source`` (the last block is cached)."""
-        cached = self._cache.get(source)
-        if cached is None or cached[0] != b:
-            gen = self._generator(source, b)
-            if self.engine == "numba":  # blocks are consumed one at a time: refill one buffer per source
-                arr = cached[1] if cached is not None else np.empty((self.trials, self.block, 3))
-                _fill_standard_normal(gen, arr)
-            else:
-                arr = gen.standard_normal((self.trials, self.block, 3))
-            cached = (b, arr)
-            self._cache[source] = cached
-        return cached[1]
+    def _per_trial(self, source: str, uniform: bool) -> np.ndarray:
+        """(T, 3) once-per-trial draws: lane 0 of counter (0, trial id, stream word of each axis, 0)."""
+        c2 = np.array(_stream_words(self.sensor_index, source), dtype=np.int64)
+        if self.engine == "numpy":
+            tid = self.trial_ids.astype(np.uint64)[:, None]
+            a, _ = _np_philox_words(0, tid, c2[None, :].astype(np.uint64), 0, *self.key)
+            if uniform:
+                return _np_uniform(a)
+            return np.stack([_np_ziggurat(a[:, j], 0, tid[:, 0], int(c2[j]), 0, *self.key) for j in range(3)], -1)
+        out = np.empty((self.trials, 3))
+        _per_trial_draws(self.key[0], self.key[1], self.trial_ids, c2, uniform, out)
+        return out
 
     def _normal(self, source: str, start: int, stop: int) -> np.ndarray:
-        """Standard normal draws (T, stop − start, 3) for global samples [start, stop)."""
-        b0, b1 = start // self.block, (stop - 1) // self.block
-        parts = [self._block(source, b) for b in range(b0, b1 + 1)]
-        blocks = parts[0] if len(parts) == 1 else np.concatenate(parts, axis=1)
-        return blocks[:, start - b0 * self.block: stop - b0 * self.block]
+        """Reference standard normal draws (T, stop − start, 3) for global samples [start, stop)."""
+        words = _stream_words(self.sensor_index, source)
+        return np.stack([_np_normals(self.key, self.trial_ids, words[j], start, stop) for j in range(3)], axis=-1)
 
     def process(self, truth: np.ndarray, time_s: np.ndarray, start: int) -> np.ndarray:
         """Measurements (T, n, 3) for truth samples (n, 3) at global index ``start``."""
@@ -472,10 +635,8 @@ class _SensorStream:
         return out
 
     def _process_numba(self, truth: np.ndarray, time_s: np.ndarray, start: int) -> np.ndarray:
-        """:meth:`process` with the compiled engine: one :func:`_apply_errors` pass per random block
-        overlapping the chunk, reading the blocks in place (no concatenation)."""
+        """:meth:`process` with the compiled engine: one parallel pass, noise drawn where it is consumed."""
         e, n = self.e, truth.shape[-2]
-        stop = start + n
         out = np.empty((self.trials, n, 3))
         base = truth @ self.matrix_t          # same product as the reference
         base = np.ascontiguousarray(base if base.ndim == 3 else base[None])
@@ -493,23 +654,13 @@ class _SensorStream:
                                                          + self.phase))
             flags |= 32
         flags |= 64 if e.quantization else 0
-        white_scale = e.noise_density / np.sqrt(self.dt)
-        rw_scale = e.bias_random_walk * np.sqrt(self.dt)
+        key = self.key if self.key is not None else (0, 0)
         gm_a = float(self.gm_a)
-        gm_c = float(np.sqrt(1.0 - gm_a * gm_a))
-        sources = [(4, "white"), (8, "random_walk"), (16, "instability")]
-        for b in range(start // self.block, (stop - 1) // self.block + 1):
-            lo, hi = max(start, b * self.block), min(stop, (b + 1) * self.block)
-            fused = hi - lo == self.block     # a whole block inside this chunk: draw while applying
-            arrays, gens = [], []
-            for bit, source in sources:
-                on = bool(flags & bit)
-                arrays.append(self._block(source, b) if on and not fused else none3)
-                gens.append(self._generator(source, b) if on and fused else _DUMMY_GENERATOR)
-            _apply_errors(out, lo - start, hi - lo, base, base.shape[0] > 1, self.bias, warm, turn_on, arrays[0],
-                          float(white_scale), arrays[1], float(rw_scale), self._rw, arrays[2],
-                          float(e.bias_instability), gm_c, gm_a, self._gm, lo == 0, vib, float(e.quantization),
-                          lo - b * self.block, flags, gens[0], gens[1], gens[2], fused)
+        kernel = _sensor_errors_parallel if _use_parallel(self.trials, n) else _sensor_errors_serial
+        kernel(out, start, base, self.bias, warm, turn_on, vib, self.trial_ids, key[0], key[1], self.c2s,
+                       flags, float(e.noise_density / np.sqrt(self.dt)), float(e.bias_random_walk * np.sqrt(self.dt)),
+                       float(e.bias_instability), float(np.sqrt(1.0 - gm_a * gm_a)), gm_a, float(e.quantization),
+                       self._rw, self._gm, self.block, _TRIAL_GROUP)
         return out
 
     def _gauss_markov(self, start: int, stop: int) -> np.ndarray:
@@ -526,6 +677,28 @@ class _SensorStream:
         return b
 
 
+_UFF, _U8, _U1, _MASK52 = np.uint64(0xFF), np.uint64(8), np.uint64(1), np.uint64(0x000FFFFFFFFFFFFF)
+_KI, _WI = philox.KI, philox.WI
+
+#: Trials per scratch buffer of :func:`_sensor_errors_parallel` (a prange work item).
+_TRIAL_GROUP = 8
+
+
+def _trial_ids(trial_ids, trials: int | None) -> tuple[np.ndarray, bool]:
+    """Validated trial ids (int64 array in [0, 2³²)) and whether the output is a single trial."""
+    if trial_ids is None:
+        n = 1 if trials is None else positive_int(trials, "trials")
+        return np.arange(n, dtype=np.int64), trials is None
+    ids = np.asarray(trial_ids)
+    if ids.ndim != 1 or ids.size == 0 or ids.dtype.kind not in "iu":
+        raise ValueError(f"trial_ids must be a non-empty 1-D sequence of integers, got {trial_ids!r}")
+    if ids.min() < 0 or ids.max() > 0xFFFFFFFF or np.unique(ids).size != ids.size:
+        raise ValueError("trial_ids must be distinct integers in [0, 2**32)")
+    if trials is not None and positive_int(trials, "trials") != ids.size:
+        raise ValueError(f"trials ({trials}) must equal len(trial_ids) ({ids.size})")
+    return ids.astype(np.int64), False
+
+
 class ImuStream:
     """Simulated IMU output delivered in time chunks, in bounded memory.
 
@@ -540,15 +713,21 @@ class ImuStream:
     trajectory, model, rng, trials, gravity_w_m_s2
         As for :func:`simulate_imu`.
     block_samples : int
-        Size of the fixed random-number blocks (memory per block:
-        ``trials × block_samples × 3 × 8`` bytes per error source).
+        Samples whose normals the compiled kernel draws at a time per trial (scratch memory per
+        thread ``≈ 80 × block_samples`` bytes); the numbers do not depend on it.
     engine : {"numba", "numpy"}
         Compiled error model (default) or the numpy reference; bit-identical output.
+    trial_ids : sequence of int, optional
+        Names of the trials (distinct, in [0, 2³²)); trial ``i`` of the output draws the numbers of
+        trial ``trial_ids[i]``, whichever other trials run with it (a worker running trials
+        500…999 passes ``range(500, 1000)``). Default ``range(trials)``. With ``trials=None`` a
+        trial axis is added.
     """
 
     def __init__(self, trajectory: Trajectory, model: ImuErrorModel | None = None,
                  rng: np.random.Generator | None = None, trials: int | None = None,
-                 gravity_w_m_s2=GRAVITY_W_M_S2, block_samples: int = 256, *, engine: str = "numba"):
+                 gravity_w_m_s2=GRAVITY_W_M_S2, block_samples: int = 256, *, engine: str = "numba",
+                 trial_ids=None):
         if not isinstance(trajectory, Trajectory):
             raise TypeError(f"trajectory must be a Trajectory, got {type(trajectory).__name__}")
         model = ImuErrorModel() if model is None else model
@@ -558,19 +737,21 @@ class ImuStream:
             raise TypeError(f"rng must be a numpy.random.Generator, got {type(rng).__name__}")
         if rng is None and _has_random_errors(model):
             raise ValueError("rng must be a numpy.random.Generator when the error model has random errors")
-        self.trajectory, self.model, self.single = trajectory, model, trials is None
-        self.trials = 1 if trials is None else positive_int(trials, "trials")
+        ids, self.single = _trial_ids(trial_ids, trials)
+        self.trajectory, self.model, self.trials, self.trial_ids = trajectory, model, ids.size, ids
         block = positive_int(block_samples, "block_samples")
+        if len(trajectory) > 2 ** 33:
+            raise ValueError(f"trajectory has {len(trajectory)} samples; the counter allows at most 2**33")
         engine = _check_engine(engine)
         q_bs = np.asarray(model.q_mount, dtype=float)
         self.q_ws = rotations.quat_multiply(trajectory.q_wb, q_bs)
         c_sb = rotations.quat_to_matrix(q_bs).T
         self.gyro_true = body_rates(trajectory) @ c_sb.T
         self.accel_true = specific_force(trajectory, gravity_w_m_s2) @ c_sb.T
-        seed_seq = rng.spawn(1)[0].bit_generator.seed_seq if rng is not None else None
+        key = spawn_philox_key(rng) if rng is not None else (0, 0)
         dt, t_on = trajectory.dt_s, model.time_since_power_on_s
-        self._gyro = _SensorStream(model.gyro, seed_seq, 0, self.trials, dt, t_on, block, engine)
-        self._accel = _SensorStream(model.accel, seed_seq, 1, self.trials, dt, t_on, block, engine)
+        self._gyro = _SensorStream(model.gyro, key, 0, ids, dt, t_on, block, engine)
+        self._accel = _SensorStream(model.accel, key, 1, ids, dt, t_on, block, engine)
         self._next = 0
 
     def chunks(self, chunk_samples: int):
@@ -592,7 +773,7 @@ class ImuStream:
 
 
 def apply_sensor_errors(errors: SensorErrors, truth, time_s, rng: np.random.Generator | None = None, *,
-                        time_since_power_on_s: float = 0.0, engine: str = "numba") -> np.ndarray:
+                        time_since_power_on_s: float = 0.0, engine: str = "numba", trial_ids=None) -> np.ndarray:
     """Corrupt an error-free triad signal with one sensor's :class:`SensorErrors`.
 
     For batches where every trial has its own truth (e.g. wang2022sensors's per-trial
@@ -612,10 +793,18 @@ def apply_sensor_errors(errors: SensorErrors, truth, time_s, rng: np.random.Gene
         Time already powered at ``time_s[0]`` (s), for the warm-up bias.
     engine : {"numba", "numpy"}
         Compiled error model (default) or the numpy reference; bit-identical output.
+    trial_ids : sequence of int, optional
+        Trial names for a (T, N, 3) ``truth`` (default ``range(T)``), as for :class:`ImuStream`.
 
     Returns
     -------
     ndarray, same shape as ``truth``
+
+    Examples
+    --------
+    >>> t = np.arange(4) * 0.01
+    >>> apply_sensor_errors(SensorErrors(bias=0.5), np.zeros((4, 3)), t)[0].tolist()
+    [0.5, 0.5, 0.5]
     """
     if not isinstance(errors, SensorErrors):
         raise TypeError(f"errors must be a SensorErrors, got {type(errors).__name__}")
@@ -627,9 +816,11 @@ def apply_sensor_errors(errors: SensorErrors, truth, time_s, rng: np.random.Gene
         raise TypeError(f"rng must be a numpy.random.Generator, got {type(rng).__name__}")
     if rng is None and _is_random(errors):
         raise ValueError("rng must be a numpy.random.Generator when errors has random terms")
-    trials = 1 if x.ndim == 2 else x.shape[0]
-    seed_seq = rng.spawn(1)[0].bit_generator.seed_seq if rng is not None else None
-    stream = _SensorStream(errors, seed_seq, 0, trials, uniform_dt(t),
+    if x.ndim == 2 and trial_ids is not None:
+        raise ValueError("trial_ids needs a per-trial truth of shape (T, N, 3)")
+    ids, _ = _trial_ids(trial_ids, 1 if x.ndim == 2 else x.shape[0])
+    key = spawn_philox_key(rng) if rng is not None else (0, 0)
+    stream = _SensorStream(errors, key, 0, ids, uniform_dt(t),
                            positive_scalar(time_since_power_on_s, "time_since_power_on_s", allow_zero=True),
                            block_samples=256, engine=_check_engine(engine))
     out = stream.process(x, t, 0)
@@ -638,7 +829,7 @@ def apply_sensor_errors(errors: SensorErrors, truth, time_s, rng: np.random.Gene
 
 def simulate_imu(trajectory: Trajectory, model: ImuErrorModel | None = None,
                  rng: np.random.Generator | None = None, trials: int | None = None,
-                 gravity_w_m_s2=GRAVITY_W_M_S2, *, engine: str = "numba") -> ImuRecord:
+                 gravity_w_m_s2=GRAVITY_W_M_S2, *, engine: str = "numba", trial_ids=None) -> ImuRecord:
     """Simulate gyro and accelerometer outputs along a trajectory.
 
     Parameters
@@ -656,6 +847,9 @@ def simulate_imu(trajectory: Trajectory, model: ImuErrorModel | None = None,
         World gravity (m/s²), default z-up ``[0, 0, −9.80665]``.
     engine : {"numba", "numpy"}
         Compiled error model (default) or the numpy reference; bit-identical output.
+    trial_ids : sequence of int, optional
+        Names of the trials (default ``range(trials)``): trial ``trial_ids[i]`` gets the same
+        numbers whichever other trials are simulated with it (see :class:`ImuStream`).
 
     Returns
     -------
@@ -674,7 +868,7 @@ def simulate_imu(trajectory: Trajectory, model: ImuErrorModel | None = None,
     >>> rec.accel_m_s2[0].round(5)
     array([0.     , 0.     , 9.80665])
     """
-    stream = ImuStream(trajectory, model, rng, trials, gravity_w_m_s2, engine=engine)
+    stream = ImuStream(trajectory, model, rng, trials, gravity_w_m_s2, engine=engine, trial_ids=trial_ids)
     return next(stream.chunks(len(trajectory)))
 
 

@@ -84,6 +84,7 @@ from mtcal.core.compiled import component_major
 from mtcal.filters._kernels_common import check_engine, check_kernel_scan, record, use_parallel
 from mtcal.core.validate import (STANDARD_GRAVITY_M_S2, as_float_array, check_accel_units, check_gyro_units,
                              positive_scalar, unit_quaternion)
+from mtcal.methods.tilt_rate import check_tilt_rate_scale
 
 __all__ = ["QncfParams", "QncfResult", "QncfFilter", "qncf", "amd_statistic",
            "initial_attitude_from_accel"]
@@ -612,7 +613,11 @@ def qncf(gyro_rad_s, accel_m_s2, dt_s: float, params: QncfParams = QncfParams(),
     ----------
     gyro_rad_s : array_like, shape (N, 3) or (T, N, 3)
         Sensor-frame angular rate (rad/s); sample k is the mean over
-        ``[t_k, t_{k+1}]``, so ``Δθ_k = ω_k Δt`` (Eq 7).
+        ``[t_k, t_{k+1}]``, so ``Δθ_k = ω_k Δt`` (Eq 7). A single record is
+        checked against the accelerometer's tilt rate
+        (:func:`mtcal.methods.tilt_rate.check_tilt_rate_scale`): a scale off
+        by more than 5× (deg/s passed as rad/s, a wrong ``dt_s``) raises
+        ``ValueError``, a gyro tilt above 5× the accelerometer's warns.
     accel_m_s2 : array_like, same shape
         Sensor-frame specific force (m/s²).
     dt_s : float
@@ -653,6 +658,8 @@ def qncf(gyro_rad_s, accel_m_s2, dt_s: float, params: QncfParams = QncfParams(),
     if w.shape != a.shape:
         raise ValueError(f"gyro_rad_s and accel_m_s2 must have the same shape, got {w.shape} and {a.shape}")
     single = w.ndim == 2  # unit plausibility is checked once, in QncfFilter.run
+    if single:  # a gyro the accelerometer's tilt rate shows off by > 5x (deg/s, time base) is refused
+        check_tilt_rate_scale(w, a, dt_s, excess="warn")
     if q0 is None:
         n0 = max(1, min(int(init_samples), w.shape[-2]))
         q0 = initial_attitude_from_accel(np.mean(a[..., :n0, :], axis=-2))

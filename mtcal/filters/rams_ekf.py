@@ -55,6 +55,7 @@ import numpy as np
 
 from mtcal.core.compiled import component_major
 from mtcal.core.validate import as_float_array, check_accel_units, check_gyro_units, positive_scalar
+from mtcal.methods.tilt_rate import check_tilt_rate_scale
 from mtcal.filters._kernels_common import check_engine, check_kernel_scan, record, use_parallel
 
 __all__ = ["RamsEkfParams", "RamsEkfReference", "RamsEkfResult", "RamsEkfFilter", "run_rams_ekf",
@@ -628,6 +629,10 @@ def run_rams_ekf(gyro_rad_s, accel_m_s2, is_static, axis, accel0_m_s2, dt_s: flo
     ----------
     gyro_rad_s, accel_m_s2 : array_like, shape (T, N, 3) or (N, 3)
         Gyro (rad/s; sample k acts over [t_k, t_{k+1}]) and accelerometer (m/s²).
+        A single record is checked against the accelerometer's tilt rate
+        (:func:`mtcal.methods.tilt_rate.check_tilt_rate_scale`): a gyro scale off
+        by more than 5× (deg/s passed as rad/s, a wrong ``dt_s``) raises
+        ``ValueError``, a gyro tilt above 5× the accelerometer's warns.
     is_static : array_like of bool, shape (T, N) or (N,)
         ZVD flags (ignored when ``use_zvd`` is False).
     axis : array_like, shape (3,) or (T, 3)
@@ -654,6 +659,8 @@ def run_rams_ekf(gyro_rad_s, accel_m_s2, is_static, axis, accel0_m_s2, dt_s: flo
     """
     check_engine(engine)
     g, a = _record(gyro_rad_s, accel_m_s2, fast=engine == "numba")
+    if g.shape[0] == 1:  # a gyro the accelerometer's tilt rate shows off by > 5x (deg/s, time base) is refused
+        check_tilt_rate_scale(g[0], a[0], positive_scalar(dt_s, "dt_s"), excess="warn")
     filt = RamsEkfFilter(axis, accel0_m_s2, dt_s, params, trials=a.shape[0], theta0_rad=theta0_rad,
                          bias0_rad_s=bias0_rad_s, use_zvd=use_zvd, engine=engine)
     return filt._run(g, a, is_static, keep_innovation, 2048)

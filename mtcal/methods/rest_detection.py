@@ -73,7 +73,8 @@ import numpy as np
 
 from mtcal.core.validate import as_float_array, check_accel_units, positive_scalar, sample_interval
 
-__all__ = ["RestDetectorParams", "RestReport", "RejectedRest", "detect_rests", "paper_rest_report"]
+__all__ = ["RestDetectorParams", "RestReport", "RejectedRest", "detect_rests", "paper_rest_report", "ShoeParams",
+           "shoe_statistic", "detect_rests_shoe", "format_ordered"]
 
 DEG = np.pi / 180.0
 
@@ -166,6 +167,10 @@ class RestReport:
     min_rest_s, window_s : float
     n_short : int
         Number of static fragments shorter than ``min_rest_s``.
+    extra : dict
+        Detector specifics; ``decision_statistic`` (N,) is the statistic that decides
+        (static below 1: the largest statistic/threshold ratio, or SHOE ``T/γ``) and
+        ``decision_label`` names it.
     """
 
     is_static: np.ndarray
@@ -187,9 +192,14 @@ class RestReport:
 
     def levels_text(self) -> str:
         """One line with the measured levels and the thresholds (display units)."""
-        txt = (f"rest detector {self.method}: |a| at rest {self.gravity_m_s2:.4f} m/s^2, "
-               f"band {self.band_m_s2[0]:.3f}-{self.band_m_s2[1]:.3f} m/s^2, "
-               f"accel noise {self.accel_noise_m_s2:.4f} m/s^2")
+        txt = f"rest detector {self.method}: |a| at rest {self.gravity_m_s2:.4f} m/s^2, "
+        if self.method == "shoe":
+            txt += (f"SHOE threshold gamma {self.extra['threshold']:.4g} ({self.extra['threshold_source']}; "
+                    f"a still accelerometer with |w - bias| {self.extra['rate_equivalent_deg_s']:.2f} deg/s), "
+                    f"window {self.window_s:.3f} s, ")
+        else:
+            txt += f"band {self.band_m_s2[0]:.3f}-{self.band_m_s2[1]:.3f} m/s^2, "
+        txt += f"accel noise {self.accel_noise_m_s2:.4f} m/s^2"
         if np.isfinite(self.gyro_noise_rad_s):
             b = np.degrees(self.gyro_bias_rad_s)
             txt += (f", gyro noise {np.degrees(self.gyro_noise_rad_s):.3f} deg/s, "
@@ -378,6 +388,9 @@ def detect_rests(accel_m_s2, dt_s: float, *, gyro_rad_s=None,
         still = np.ones_like(quiet)
         quiet_a, g_std = quiet, None
     static = quiet & in_band & still
+    ratio = np.maximum(a_std / a_std_max, np.abs(norm_mean - 0.5 * (band[0] + band[1])) / (0.5 * (band[1] - band[0])))
+    if g is not None:
+        ratio = np.maximum(ratio, np.maximum(g_std / g_std_max, level / g_lvl_max))
     noise = {"accel": (a_std, a_std_max, quiet_a), "gyro": (g_std, g_std_max)}
     rests, rejected, n_short, static = _classify(blk, static, quiet, in_band, still, norm_mean, level, band,
                                                  g_lvl_max, int(round(p.min_rest_s * fs)), w, fs, noise)
@@ -387,7 +400,9 @@ def detect_rests(accel_m_s2, dt_s: float, *, gyro_rad_s=None,
                       gyro_bias_rad_s=np.full(3, np.nan) if g is None else np.asarray(bias, float),
                       band_m_s2=(float(band[0]), float(band[1])), accel_std_max_m_s2=float(a_std_max),
                       gyro_std_max_rad_s=float(g_std_max), gyro_level_max_rad_s=float(g_lvl_max),
-                      min_rest_s=float(p.min_rest_s), window_s=float(w / fs), n_short=n_short)
+                      min_rest_s=float(p.min_rest_s), window_s=float(w / fs), n_short=n_short,
+                      extra={"decision_statistic": np.repeat(ratio, blk.count.astype(int)),
+                             "decision_label": "max(statistic / threshold)"})
 
 
 def _classify(blk, static, quiet, in_band, still, norm_mean, level, band, g_lvl_max, n_min, w, fs, noise):
@@ -413,34 +428,68 @@ def _classify(blk, static, quiet, in_band, still, norm_mean, level, band, g_lvl_
     q0 = np.array([blk.to_samples(b) for b in qs], dtype=int)
     q1 = np.array([blk.to_samples(b) for b in qe], dtype=int)
     long_enough = (q1 - q0) >= w
+    min_s = n_min / fs
     for i in np.flatnonzero(long_enough & ~has_rest):
         sl = slice(int(q0[i]), int(q1[i]))
         bsl = slice(int(qs[i]), int(qe[i]))
         out_band = 1.0 - in_band[bsl].mean()
         turning = 0.0 if level is None else 1.0 - still[bsl].mean()
         noisy = 1.0 - quiet[bsl].mean()
-        static_s = float(blk.count[bsl][static[bsl]].sum()) / fs
+        rs, re_ = runs(static[bsl])
+        cnt = blk.count[bsl]
+        longest = max((float(cnt[x:y].sum()) / fs for x, y in zip(rs, re_)), default=0.0)
+        lo, hi = format_ordered(longest, min_s, 3)
+        tail = f"; longest static run {lo} s < {hi} s (--min-rest-s)"
         if static[bsl].mean() >= 0.5:
-            reason = f"too short ({static_s:.2f} s at rest)"
+            reason = f"too short: longest static run {lo} s < {hi} s (--min-rest-s)"
         elif noisy > max(out_band, turning):
             a_std, a_max, quiet_a = noise["accel"]
-            if (1.0 - quiet_a[bsl].mean()) >= 0.5 * noisy:
-                reason = (f"not still: accel std {np.median(a_std[bsl]):.4f} > {a_max:.4f} m/s^2 "
-                          f"(--noise-factor raises it)")
+            fail_a = ~quiet_a[bsl]
+            if fail_a.mean() >= 0.5 * noisy:
+                v, m = format_ordered(a_max, float(np.median(a_std[bsl][fail_a])), 4)
+                reason = (f"not still: accel std {m} > {v} m/s^2 (median of the {100 * fail_a.mean():.0f} % of "
+                          f"the stretch above the limit; --noise-factor raises it){tail}")
             else:
                 g_std, g_max = noise["gyro"]
-                reason = (f"not still: gyro std {np.degrees(np.median(g_std[bsl])):.3f} > "
-                          f"{np.degrees(g_max):.3f} deg/s (--noise-factor raises it)")
+                fail_g = ~(g_std[bsl] < g_max)
+                v, m = format_ordered(np.degrees(g_max), float(np.degrees(np.median(g_std[bsl][fail_g]))), 3)
+                reason = (f"not still: gyro std {m} > {v} deg/s (median of the {100 * fail_g.mean():.0f} % of "
+                          f"the stretch above the limit; --noise-factor raises it){tail}")
         elif out_band >= turning and out_band > 0:
-            m = float(np.median(norm_mean[bsl]))
-            reason = f"|a| {m:.3f} m/s^2 outside band {band[0]:.3f}-{band[1]:.3f}"
+            vals = norm_mean[bsl][~in_band[bsl]]
+            high = vals >= band[1]
+            if high.mean() >= 0.5:
+                v, m = format_ordered(band[1], float(np.median(vals[high])), 3)
+                cmp = f"|a| {m} > {v} m/s^2"
+            else:
+                m, v = format_ordered(float(np.median(vals[~high])), band[0], 3)
+                cmp = f"|a| {m} < {v} m/s^2"
+            reason = (f"outside band: {cmp} (band {band[0]:.3f} to {band[1]:.3f}; median of the "
+                      f"{100 * out_band:.0f} % of the stretch outside; --accel-band widens it){tail}")
         elif turning > 0:
-            reason = (f"turning: |w - bias| {np.degrees(np.median(level[bsl])):.2f} deg/s > "
-                      f"{np.degrees(g_lvl_max):.2f} deg/s")
+            fail = ~still[bsl]
+            v, m = format_ordered(np.degrees(g_lvl_max), float(np.degrees(np.median(level[bsl][fail]))), 2)
+            reason = (f"turning: |w - bias| {m} > {v} deg/s (median of the {100 * turning:.0f} % of the "
+                      f"stretch above the limit; --gyro-threshold-deg-s raises it){tail}")
         else:
-            reason = f"too short ({(sl.stop - sl.start) / fs:.2f} s)"
+            reason = f"too short: longest static run {lo} s < {hi} s (--min-rest-s)"
         rejected.append(RejectedRest(sl, reason))
     return rests, rejected, n_short, flags
+
+
+def format_ordered(low: float, high: float, decimals: int) -> tuple[str, str]:
+    """``low < high`` formatted with at least ``decimals`` decimals, more when needed to keep the order.
+
+    Examples
+    --------
+    >>> format_ordered(0.1996, 0.2, 3)
+    ('0.1996', '0.2000')
+    """
+    for d in range(decimals, 12):
+        a, b = f"{low:.{d}f}", f"{high:.{d}f}"
+        if float(a) < float(b):
+            return a, b
+    return repr(float(low)), repr(float(high))
 
 
 def paper_rest_report(accel_m_s2, dt_s: float, *, gyro_rad_s=None, min_rest_s: float = 0.5,
@@ -475,3 +524,192 @@ def paper_rest_report(accel_m_s2, dt_s: float, *, gyro_rad_s=None, min_rest_s: f
                       gyro_level_max_rad_s=np.nan, min_rest_s=float(min_rest_s), window_s=zp.window_s,
                       n_short=int(np.count_nonzero(~keep)),
                       extra={"measured_gravity_m_s2": lv["gravity"]})
+
+
+@dataclass(frozen=True)
+class ShoeParams:
+    """Settings of :func:`detect_rests_shoe` (SHOE / GLRT stance detector, Skog et al. 2010).
+
+    Parameters
+    ----------
+    window_s : float
+        Window ``W`` of the test statistic (s); default 0.05 s (60 samples at 1200 Hz).
+    min_rest_s : float
+        Shortest accepted rest (s).
+    quiet_fraction : float
+        Share of the quietest 0.1 s windows that measure σa, σω, g and the gyro bias.
+    noise_factor : float
+        ``k`` of the smallest adaptive threshold ``γ_min = 6 (1 + k/√W)`` (W in
+        samples): ``T`` of a still sensor averages 6 with a spread of about 6/√W.
+    threshold : float or None
+        ``γ`` itself (dimensionless); overrides everything below.
+    rate_level_rad_s : float or None
+        Quasi-static level: ``γ = 6 + (ω_qs / σω)²``, the statistic of a window turning
+        steadily at ``ω_qs`` with a still accelerometer (e.g. 30 °/s for a foot's stance).
+    gravity_m_s2 : float or None
+        Override of the measured ``‖a‖`` at rest.
+    """
+
+    window_s: float = 0.05
+    min_rest_s: float = 0.2
+    quiet_fraction: float = 0.1
+    noise_factor: float = 5.0
+    threshold: float | None = None
+    rate_level_rad_s: float | None = None
+    gravity_m_s2: float | None = None
+
+    def __post_init__(self) -> None:
+        for name in ("window_s", "quiet_fraction", "noise_factor"):
+            positive_scalar(getattr(self, name), name)
+        positive_scalar(self.min_rest_s, "min_rest_s", allow_zero=True)
+        for name in ("threshold", "rate_level_rad_s", "gravity_m_s2"):
+            if getattr(self, name) is not None:
+                positive_scalar(getattr(self, name), name)
+
+
+def shoe_statistic(accel_m_s2: np.ndarray, gyro_rad_s: np.ndarray, window: int, *, gravity_m_s2: float,
+                   accel_noise_m_s2: float, gyro_noise_rad_s: float, gyro_bias_rad_s=0.0) -> np.ndarray:
+    """SHOE test statistic per sample over a centred window (Skog et al. 2010, Eq 11).
+
+    ``T_k = (1/W) Σ_{j ∈ W_k} [ ‖y_a,j − g ȳ_a/‖ȳ_a‖‖² / σa² + ‖y_ω,j − b‖² / σω² ]``
+
+    with ``ȳ_a`` the window's mean specific force, ``g`` the gravity magnitude at
+    rest and ``b`` the gyro bias (Skog et al. use raw rates; a MEMS bias of a
+    few °/s would dominate ``T``, so the measured bias is removed). Using
+    ``Σ‖y − c‖² = Σ‖y − ȳ‖² + W‖ȳ − c‖²`` it costs a few moving sums.
+
+    Parameters
+    ----------
+    accel_m_s2, gyro_rad_s : ndarray (N, 3)
+    window : int
+        ``W`` (samples).
+    gravity_m_s2, accel_noise_m_s2, gyro_noise_rad_s : float
+        ``g``, ``σa`` (m/s²), ``σω`` (rad/s).
+    gyro_bias_rad_s : array_like (3,) or float
+
+    Returns
+    -------
+    ndarray (N,)
+        ``T`` (dimensionless; about 6 for a still sensor, the sum of two χ²₃ means).
+    """
+    a = accel_m_s2
+    w = gyro_rad_s - np.asarray(gyro_bias_rad_s, float)
+    ma = centred_moving_mean(a, window)
+    ma2 = centred_moving_mean(np.einsum("ij,ij->i", a, a)[:, None], window)[:, 0]
+    mw2 = centred_moving_mean(np.einsum("ij,ij->i", w, w)[:, None], window)[:, 0]
+    norm = np.sqrt(np.einsum("ij,ij->i", ma, ma))
+    # (1/W) Σ ‖y − c‖² with c = g ȳ/‖ȳ‖: mean square − 2 c·ȳ + ‖c‖² = ma2 − 2 g ‖ȳ‖ + g²
+    acc_term = np.maximum(ma2 - 2.0 * gravity_m_s2 * norm + gravity_m_s2 ** 2, 0.0)
+    return acc_term / accel_noise_m_s2 ** 2 + mw2 / gyro_noise_rad_s ** 2
+
+
+def detect_rests_shoe(accel_m_s2, dt_s: float, *, gyro_rad_s, params: ShoeParams | None = None) -> RestReport:
+    """Quasi-static rests (e.g. a foot's stance phases) by the SHOE detector of Skog et al. (2010).
+
+    The stance hypothesis test of Skog et al. (GLRT "SHOE", their Eq 11) flags a
+    sample static when :func:`shoe_statistic` ``T < γ``. Adapted to the sensor:
+
+    * ``σa``, ``σω``, ``g`` and the gyro bias are measured on the quietest
+      0.1 s windows (as :func:`detect_rests`), not taken from a data sheet;
+    * ``γ`` is, in order: ``params.threshold``; ``6 + (ω_qs/σω)²`` from the
+      quasi-static level ``params.rate_level_rad_s``; or the geometric mean of
+      the quiet level (median ``T`` of the quietest windows) and the motion level
+      (90th percentile of ``T``), never below ``6 (1 + k/√W)``;
+    * runs of ``T < γ`` shorter than ``min_rest_s`` are rejected ("too short").
+
+    Parameters
+    ----------
+    accel_m_s2, gyro_rad_s : array_like, shape (N, 3)
+        Specific force (m/s²) and angular rate (rad/s).
+    dt_s : float
+        Sample interval (s).
+    params : ShoeParams, optional
+
+    Returns
+    -------
+    RestReport
+        ``method == "shoe"``; ``band_m_s2`` is ``g ± max(k σa, 1.5 % g)`` for
+        consumers that gate on ``‖a‖`` (SHOE itself uses no band); ``extra`` holds ``statistic`` (``T`` per sample),
+        ``threshold`` (``γ``), ``decision_statistic`` (``T/γ``, static below 1)
+        and ``decision_label``.
+
+    References
+    ----------
+    Skog I., Händel P., Nilsson J.-O., Rantakokko J., "Zero-velocity detection —
+    an algorithm evaluation", IEEE Trans. Biomed. Eng. 57(11) (2010) 2657–2666,
+    Eq 11 (SHOE statistic), Sec. IV (window W, threshold γ).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> rng = np.random.default_rng(1)
+    >>> fs = 400.0
+    >>> t = np.arange(int(4 * fs)) / fs
+    >>> gyro = rng.normal(0, 0.003, (t.size, 3)) + np.radians([1.0, -2.0, 0.5])
+    >>> accel = rng.normal(0, 0.02, (t.size, 3)) + [0.0, 0.0, 9.9]
+    >>> swing = (t > 1.5) & (t < 2.0)
+    >>> gyro[swing, 1] += 6.0 * np.sin(np.pi * (t[swing] - 1.5) / 0.5)
+    >>> accel[swing, 0] += 15.0 * np.sin(2 * np.pi * (t[swing] - 1.5) / 0.5)
+    >>> rep = detect_rests_shoe(accel, 1 / fs, gyro_rad_s=gyro)
+    >>> len(rep.rests), rep.method
+    (2, 'shoe')
+    """
+    p = ShoeParams() if params is None else params
+    if not isinstance(p, ShoeParams):
+        raise TypeError(f"params must be a ShoeParams, got {type(p).__name__}")
+    a = as_float_array(accel_m_s2, "accel_m_s2", ndim=2, last_dim=3, copy=False)
+    check_accel_units(a)
+    g = as_float_array(gyro_rad_s, "gyro_rad_s", ndim=2, last_dim=3, copy=False)
+    if g.shape != a.shape:
+        raise ValueError(f"gyro_rad_s must have the shape of accel_m_s2 {a.shape}, got {g.shape}")
+    fs = 1.0 / sample_interval(dt_s)
+    w_lv = max(3, int(round(0.1 * fs)))
+    norm = np.sqrt(np.einsum("ij,ij->i", a, a))
+    lv = _block_levels(a, norm, g, w_lv, p.quiet_fraction)
+    grav = p.gravity_m_s2 if p.gravity_m_s2 is not None else lv["gravity"]
+    sig_a = max(lv["accel_noise"], ACCEL_NOISE_FLOOR_M_S2)
+    sig_w = max(lv["gyro_noise"], GYRO_NOISE_FLOOR_RAD_S)
+    bias = lv["gyro_bias"]
+    w = max(3, int(round(p.window_s * fs)))
+    stat = shoe_statistic(a, g, w, gravity_m_s2=grav, accel_noise_m_s2=sig_a, gyro_noise_rad_s=sig_w,
+                          gyro_bias_rad_s=bias)
+    floor = 6.0 * (1.0 + p.noise_factor / np.sqrt(w))
+    if p.threshold is not None:
+        gamma, how = float(p.threshold), "given"
+    elif p.rate_level_rad_s is not None:
+        gamma = 6.0 + (p.rate_level_rad_s / sig_w) ** 2
+        how = f"quasi-static level {np.degrees(p.rate_level_rad_s):g} deg/s"
+    else:
+        nb = stat.size // w_lv
+        tb = stat[: nb * w_lv].reshape(nb, w_lv).mean(axis=1)
+        quiet = float(np.median(np.sort(tb)[: max(3, int(np.ceil(p.quiet_fraction * nb)))]))
+        motion = float(np.percentile(tb, 90))
+        gamma, how = max(floor, float(np.sqrt(max(quiet, 1e-12) * motion))), "adaptive"
+    below = stat < gamma
+    n_min = max(int(round(p.min_rest_s * fs)), 1)
+    s0, s1 = runs(below)
+    keep = (s1 - s0) >= n_min
+    rests = [slice(int(x), int(y)) for x, y in zip(s0[keep], s1[keep])]
+    flags = np.zeros(a.shape[0], bool)
+    for r in rests:
+        flags[r] = True
+    rejected = []
+    for x, y in zip(s0[~keep], s1[~keep]):
+        if y - x >= w:
+            seg = stat[x:y]
+            lo, hi = format_ordered((y - x) / fs, p.min_rest_s, 3)
+            t_med, t_max = format_ordered(float(np.median(seg)), gamma, 1)
+            rejected.append(RejectedRest(slice(int(x), int(y)),
+                                         f"too short: {lo} s < {hi} s (--min-rest-s) below the SHOE threshold "
+                                         f"(median T {t_med} < gamma {t_max})"))
+    rate_eq = float(np.degrees(sig_w * np.sqrt(max(gamma - 6.0, 0.0))))
+    half = max(p.noise_factor * sig_a, 0.015 * grav)  # |a| band for consumers (e.g. a QNCF gate); SHOE uses none
+    return RestReport(is_static=flags, rests=rests, rejected=rejected, method="shoe", gravity_m_s2=float(grav),
+                      accel_noise_m_s2=float(sig_a), gyro_noise_rad_s=float(sig_w),
+                      gyro_bias_rad_s=np.asarray(bias, float),
+                      band_m_s2=(float(grav - half), float(grav + half)),
+                      accel_std_max_m_s2=np.nan, gyro_std_max_rad_s=np.nan, gyro_level_max_rad_s=np.nan,
+                      min_rest_s=float(p.min_rest_s), window_s=float(w / fs), n_short=int(np.count_nonzero(~keep)),
+                      extra={"statistic": stat, "threshold": float(gamma), "threshold_source": how,
+                             "rate_equivalent_deg_s": rate_eq, "decision_statistic": stat / gamma,
+                             "decision_label": "SHOE T / gamma"})

@@ -8,6 +8,8 @@ marks the claims that flip.
 
 from __future__ import annotations
 
+import ast
+import json
 import re
 from pathlib import Path
 
@@ -17,7 +19,7 @@ import pandas as pd
 from mtcal.reporting.output import setup_matplotlib
 from mtcal.runs.environment import repo_root
 
-__all__ = ["load_comparisons", "compare_runs", "flip_text"]
+__all__ = ["load_comparisons", "compare_runs", "flip_text", "run_metadata", "comparability_problems"]
 
 _KEY = ["table", "artifact", "key"]
 _NUMBER_RE = re.compile(r"[-+−]?\d+(?:\.\d+)?(?:[eE][-+]?\d+)?")
@@ -54,6 +56,71 @@ def load_comparisons(run: str | Path) -> pd.DataFrame:
     return out
 
 
+def _literal(text) -> str:
+    try:
+        return repr(ast.literal_eval(str(text)))
+    except (ValueError, SyntaxError, TypeError):
+        return str(text)
+
+
+def run_metadata(run: str | Path) -> dict:
+    """Size and seed of a run: ``{"size": "full"|"ci"|None, "seeds": {table: seed repr}, "known": bool}``.
+
+    A what-if run reads its ``params.json`` (size, the notebook's ``SEED`` override or default);
+    ``"committed"`` is ``make reproduce``'s full-size run at every notebook's default ``SEED``;
+    a folder without ``params.json`` is unknown (``known=False``).
+    """
+    if str(run) == "committed":
+        from mtcal.runs.notebooks import notebook_parameters, notebook_sources
+
+        seeds = {}
+        try:
+            sources = notebook_sources()
+        except FileNotFoundError:
+            sources = []
+        for source in sources:
+            seed = notebook_parameters(source).get("SEED", {}).get("default")
+            seeds[f"{source.stem[3:]}_comparison"] = _literal(seed) if seed is not None else None
+        return {"size": "full", "seeds": seeds, "known": True}
+    path = Path(run) / "params.json"
+    if not path.is_file():
+        return {"size": None, "seeds": {}, "known": False}
+    record = json.loads(path.read_text(encoding="utf-8"))
+    stem = str(record.get("notebook", ""))
+    seed = record.get("parameters", {}).get("SEED", record.get("defaults", {}).get("SEED"))
+    # a what-if run executes one notebook: its seed holds for every table of the run
+    return {"size": record.get("size"), "seeds": {"*": _literal(seed) if seed is not None else None},
+            "notebook": stem, "known": True}
+
+
+def comparability_problems(runs: list, names: list[str], tables=None) -> tuple[list[str], list[str]]:
+    """Differences in run size or seed between runs (``problems``) and runs whose metadata is unknown (``notes``).
+
+    >>> comparability_problems(["a", "b"], ["a", "b"])
+    ([], ['run a has no params.json: its size and seed are unknown', 'run b has no params.json: its size and seed are unknown'])
+    """
+    meta = [run_metadata(r) for r in runs]
+    problems, notes = [], []
+    for m, n in zip(meta, names):
+        if not m["known"]:
+            notes.append(f"run {n} has no params.json: its size and seed are unknown")
+    known = [(m, n) for m, n in zip(meta, names) if m["known"]]
+    sizes = {m["size"] for m, _ in known}
+    if len(sizes) > 1:
+        problems.append("runs differ in size (" + ", ".join(f"{n}: {m['size']}" for m, n in known) +
+                        "): Monte Carlo bands and values are not comparable")
+    if tables is None:
+        tables = sorted({t for m, _ in known for t in m["seeds"] if t != "*"}) or ["*"]
+    for table in sorted(tables):
+        seeds = [m["seeds"].get(table, m["seeds"].get("*")) for m, _ in known]
+        if len(set(seeds)) > 1:
+            label = table.removesuffix("_comparison") if table != "*" else "the runs"
+            problems.append(f"runs differ in seed policy for {label} (" +
+                            ", ".join(f"{n}: SEED={s}" for (m, n), s in zip(known, seeds)) +
+                            "): differences mix the change with Monte Carlo noise")
+    return problems, notes
+
+
 def flip_text(states: list[str], names: list[str]) -> str:
     """How a claim's ``holds`` changes across runs, e.g. ``"holds True→False (B)"``; "" when unchanged.
 
@@ -75,7 +142,7 @@ def _as_float(text) -> float:
 
 
 def compare_runs(runs: list[str | Path], *, names: list[str] | None = None, out_dir: str | Path | None = None,
-                 figure: bool = True) -> tuple[pd.DataFrame, Path, Path | None]:
+                 figure: bool = True, allow_mismatch: bool = False) -> tuple[pd.DataFrame, Path, Path | None]:
     """Side-by-side table of every comparison-table quantity of several runs, with bands and claim flips.
 
     Parameters
@@ -88,6 +155,9 @@ def compare_runs(runs: list[str | Path], *, names: list[str] | None = None, out_
     out_dir : path, optional
         Where ``compare_<names>.csv`` and ``.png`` go (default: the first run folder's parent,
         or ``runs/`` for ``committed``).
+    allow_mismatch : bool
+        Compare runs that differ in size (``ci`` vs ``full``) or seed (else ValueError); the
+        differences are listed in ``table.attrs["warnings"]`` either way.
 
     Returns
     -------
@@ -111,6 +181,10 @@ def compare_runs(runs: list[str | Path], *, names: list[str] | None = None, out_
     if not common:
         raise ValueError(f"runs {names} have no comparison table in common "
                          f"({'; '.join(f'{n}: {sorted(set(df.table))}' for n, df in zip(names, tables))})")
+    problems, notes = comparability_problems(runs, names, common)
+    if problems and not allow_mismatch:
+        raise ValueError("runs are not comparable: " + "; ".join(problems) +
+                         " (allow_mismatch=True / --allow-mismatch compares them anyway)")
     merged = None
     for df, name in zip(tables, names):
         df = df[df["table"].isin(common)]
@@ -131,6 +205,7 @@ def compare_runs(runs: list[str | Path], *, names: list[str] | None = None, out_
     order = ["table", "artifact", "quantity", "paper", "claim", "role"] + [
         f"{c} [{n}]" for n in names for c in ("mtcal", "band", "holds")]
     merged = merged[order + ["flips"]]
+    merged.attrs["warnings"] = problems + notes
 
     if out_dir is None:
         first = runs[0] if str(runs[0]) != "committed" else (runs[1] if len(runs) > 1 else "runs/x")

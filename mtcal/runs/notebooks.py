@@ -355,6 +355,9 @@ def run_notebook(notebook: str | int | Path, *, name: str | None = None, paramet
         Parent folder of the runs (default ``runs`` under the current directory).
     overwrite : bool
         Replace an existing run folder of the same name (else ValueError).
+    progress_bar : bool
+        Ignored (kept for compatibility): the notebook runs in its own process through
+        :func:`mtcal.runs.executor.execute_jobs`, the executor of ``make reproduce``.
 
     Raises
     ------
@@ -389,12 +392,14 @@ def run_notebook(notebook: str | int | Path, *, name: str | None = None, paramet
     params_path.write_text(json.dumps(record, indent=1, sort_keys=True) + "\n", encoding="utf-8")
     output = folder / f"{source.stem}.ipynb"
     env = {"MTCAL_SIZE": size, "MTCAL_OUTPUT_DIR": str(folder.resolve())}
-    try:
-        execute_notebook(source, output, parameters=params, env=env, progress_bar=progress_bar)
-    except NotebookRunError:
+    # the same executor as `make reproduce`: the notebook in its own process, cwd and environment
+    from mtcal.runs.executor import NotebookJob, execute_jobs
+
+    result = execute_jobs([NotebookJob(source, output, params, env)], n_jobs=1)[0]
+    if not result.ok:
         record["status"] = "failed"
         params_path.write_text(json.dumps(record, indent=1, sort_keys=True) + "\n", encoding="utf-8")
-        raise
+        raise NotebookRunError(result.error, output)
     record["status"] = "completed"
     params_path.write_text(json.dumps(record, indent=1, sort_keys=True) + "\n", encoding="utf-8")
     return RunResult(folder, output, params, size, _claims_report(folder))

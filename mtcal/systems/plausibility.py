@@ -16,6 +16,12 @@ The messages name the ``mtcal`` options that fix a log (``--gyro-unit``,
 * :func:`cumulative_rotation` — integrated attitude change of a gyro record.
 * :func:`time_base` — the fixed filter step of a time column and the gyro weights
   that keep a jittered record's integral right.
+* :func:`check_units` — the units check every procedure runs: the rest pairs
+  above, then (no pair) every rest without the turning-rest filter, then the
+  gravity-referenced tilt rate over quasi-static stretches
+  (:mod:`mtcal.methods.tilt_rate`), then a rate bound for rotations about
+  gravity; a record whose rotation none of them can check is refused with a
+  one-line error naming ``--gyro-unit`` and the evidence.
 
 References
 ----------
@@ -39,10 +45,12 @@ from __future__ import annotations
 import numpy as np
 
 from mtcal.core import rotations
-from mtcal.core.validate import as_float_array, positive_scalar
+from mtcal.core.validate import MAX_GYRO_RAD_S, as_float_array, positive_scalar
+from mtcal.methods import tilt_rate
 
 __all__ = ["gyro_tilt_consistency", "clipped_samples", "rotation_axis_from_gyro", "cumulative_rotation",
-           "time_base"]
+           "time_base", "check_units", "MAX_REST_RATE_RAD_S", "MAX_UNCHECKED_ROTATION_DEG",
+           "MAX_GRAVITY_AXIS_RATE_RAD_S", "MIN_FULL_SCALE_RAD_S", "MIN_GRAVITY_AXIS_SHARE"]
 
 _CANDIDATES = {np.pi / 180: "gyro looks like deg/s read as rad/s: use --gyro-unit deg/s",
                180 / np.pi: "gyro looks like rad/s read as deg/s: drop --gyro-unit deg/s",
@@ -115,7 +123,7 @@ def clipped_samples(gyro_rad_s: np.ndarray, *, min_run: int = 3) -> tuple[np.nda
 
 def gyro_tilt_consistency(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: float, rests: list,
                           *, time_s=None, skip=None, min_tilt_deg: float = 5.0,
-                          max_pairs: int = 8, max_gap_s: float = 120.0) -> dict:
+                          max_pairs: int = 8, max_gap_s: float = 120.0, drop_turning: bool = True) -> dict:
     """Check the gyro's units/time base against the accelerometer's tilt change between rests.
 
     Parameters
@@ -126,6 +134,8 @@ def gyro_tilt_consistency(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: 
     rests : list of slice
     time_s : (N,), optional — for messages.
     skip : (N,) bool, optional — e.g. clipped samples; pairs containing them are not used.
+    drop_turning : bool
+        Drop rests whose mean rate is more than :data:`MAX_REST_RATE_RAD_S` from the median rest's.
 
     Returns
     -------
@@ -139,7 +149,7 @@ def gyro_tilt_consistency(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: 
         majority of the checked pairs; the message names the scale that fits.
     """
     t = np.arange(accel_m_s2.shape[0]) * dt_s if time_s is None else time_s
-    if len(rests) >= 2:  # a "rest" that turns (e.g. an accelerometer-only ZVD during a pure rotation) is no rest
+    if len(rests) >= 2 and drop_turning:  # a "rest" that turns (accelerometer-only ZVD in a pure rotation) is no rest
         means = np.array([gyro_rad_s[r].mean(axis=0) for r in rests])
         ref = np.median(means, axis=0)
         rests = [r for r, m in zip(rests, means) if np.linalg.norm(m - ref) < MAX_REST_RATE_RAD_S]
@@ -189,6 +199,127 @@ def gyro_tilt_consistency(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: 
                          f"gyro misses it by {misfits[1.0][k]:.1f} deg (rotation/tilt ratio "
                          f"{out['ratio']:.3g}); {hint}")
     return out
+
+
+#: Largest gyro rotation (deg, bias removed, integrated |ω|) accepted without any units check.
+MAX_UNCHECKED_ROTATION_DEG = 10.0
+#: Smallest gyro full scale (rad/s; 30 °/s): a clipping plateau between this and 40 rad/s is a rad/s full scale.
+MIN_FULL_SCALE_RAD_S = np.radians(30.0)
+#: Share of the gyro's rotation about gravity above which a rotation counts as "about gravity only".
+MIN_GRAVITY_AXIS_SHARE = 0.7
+#: Rotation about gravity faster than this (rad/s, one turn per second) with |a| at the rest level is refused.
+MAX_GRAVITY_AXIS_RATE_RAD_S = 2 * np.pi
+
+
+def check_units(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: float, rests: list, *, time_s=None,
+                skip=None) -> dict:
+    """Check the gyro's units and time base, or refuse: no procedure answers without this.
+
+    In order, the first check that can decide does:
+
+    1. :func:`gyro_tilt_consistency` on the rest pairs (turning rests dropped);
+    2. the same on every rest (rests whose mean rate is off the median kept: a
+       deg/s log read as rad/s has rests 57× noisier than the filter expects);
+    3. the gravity-referenced tilt rate over all quasi-static stretches
+       (:func:`mtcal.methods.tilt_rate.check_tilt_rate_scale`, slow moves count);
+    4. no tilt to compare: a gyro that turns less than
+       :data:`MAX_UNCHECKED_ROTATION_DEG` in total needs no check; a rotation
+       only about gravity (no tilt seen, ≥ :data:`MIN_GRAVITY_AXIS_SHARE` of the
+       integrated rate along the accelerometer's direction) passes unless it is faster than
+       :data:`MAX_GRAVITY_AXIS_RATE_RAD_S` while ``‖a‖`` stays at the rest level
+       (no centripetal acceleration: a deg/s rate read as rad/s); a gyro clipped
+       (``skip``) at a plateau of :data:`MIN_FULL_SCALE_RAD_S` … 40 rad/s has a
+       full scale that only rad/s explains (read as deg/s it would be > 40
+       rad/s and refused on reading); anything else is refused.
+
+    Parameters
+    ----------
+    gyro_rad_s : ndarray (N, 3)
+        Rate (rad/s) for the fixed step ``dt_s`` (per-sample-dt weighted).
+    accel_m_s2 : ndarray (N, 3)
+        Specific force (m/s²).
+    dt_s : float
+        Step (s).
+    rests : list of slice
+        Rests found by the detector.
+    time_s : ndarray (N,), optional
+        For messages.
+    skip : ndarray (N,) of bool, optional
+        Samples not to use between rests (e.g. clipped).
+
+    Returns
+    -------
+    dict
+        ``method`` (which check decided), ``pairs``, ``worst_deg``, ``ratio``
+        (rest-pair checks; 0/NaN otherwise) and ``evidence`` (one line).
+
+    Raises
+    ------
+    ValueError
+        A check finds the gyro off (the message names the scale that fits and
+        ``--gyro-unit``/``--time-unit``), or nothing can check a rotating gyro.
+
+    References
+    ----------
+    wang2022sensors Sec. 2.2 (a rotation shows as a change of the accelerometer direction).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> acc = np.tile([0.0, 0.0, 9.81], (500, 1))
+    >>> check_units(np.zeros((500, 3)), acc, 0.01, [slice(0, 100), slice(400, 500)])["method"]
+    'no rotation'
+    """
+    res = gyro_tilt_consistency(gyro_rad_s, accel_m_s2, dt_s, rests, time_s=time_s, skip=skip)
+    if res["pairs"]:
+        return {**res, "method": "rest pairs",
+                "evidence": f"{res['pairs']} rest pair(s), rotation/tilt ratio {res['ratio']:.3f}"}
+    res = gyro_tilt_consistency(gyro_rad_s, accel_m_s2, dt_s, rests, time_s=time_s, skip=skip,
+                                drop_turning=False)
+    if res["pairs"]:
+        return {**res, "method": "rest pairs (all rests)",
+                "evidence": f"{res['pairs']} rest pair(s), rotation/tilt ratio {res['ratio']:.3f}"}
+    out = {"pairs": 0, "worst_deg": float("nan"), "ratio": float("nan")}
+    tr = tilt_rate.check_tilt_rate_scale(gyro_rad_s, accel_m_s2, dt_s, skip=skip)
+    ev = (f"accelerometer tilts {np.degrees(tr['accel_spread_rad']):.1f} deg from its mean direction and "
+          f"{np.degrees(tr['accel_tilt_rad']):.1f} deg in total, gyro tilt "
+          f"{np.degrees(tr['gyro_tilt_rad']):.1f} deg, tilt-rate scale {tr['scale']:.3g}, correlation "
+          f"{tr['correlation']:.2f}")
+    if tr["decided"]:
+        return {**out, "method": "tilt rate", "evidence": ev}
+    if rests:
+        bias = np.median(np.array([gyro_rad_s[r].mean(axis=0) for r in rests]), axis=0)
+    else:
+        bias = np.median(gyro_rad_s, axis=0)
+    rate = np.linalg.norm(gyro_rad_s - bias, axis=1)
+    turned = float(np.degrees(rate.sum() * dt_s))
+    if turned < MAX_UNCHECKED_ROTATION_DEG:
+        return {**out, "method": "no rotation", "evidence": f"gyro turns {turned:.1f} deg in total"}
+    if skip is not None and np.any(skip):  # a full-scale plateau is itself a units check (not of the time base)
+        level = float(np.max(np.abs(gyro_rad_s[np.asarray(skip, bool)])))
+        if MIN_FULL_SCALE_RAD_S <= level <= MAX_GYRO_RAD_S:
+            return {**out, "method": "full-scale plateau",
+                    "evidence": f"the moves clip at {np.degrees(level):.0f} deg/s, a gyro full scale in rad/s "
+                                f"({ev})"}
+    norm = np.linalg.norm(accel_m_s2, axis=1)
+    mv = rate > max(3.0 * float(np.median(rate)), np.radians(2.0))  # moving samples (rest noise has no axis)
+    w_along = np.einsum("ij,ij->i", gyro_rad_s[mv] - bias, accel_m_s2[mv]) / np.maximum(norm[mv], 1e-12)
+    along = float(np.abs(w_along).sum())
+    share = along / max(float(rate[mv].sum()), 1e-300)
+    if tilt_rate.tilt_seen(tr) < tilt_rate.MIN_TILT_RAD and share >= MIN_GRAVITY_AXIS_SHARE:
+        g = float(np.median(norm))
+        fast = rate > MAX_GRAVITY_AXIS_RATE_RAD_S
+        if fast.any() and float(np.max(np.abs(norm[fast] - g))) < 0.05 * g:
+            raise ValueError(f"gyro implausible for rad/s: it turns about gravity at up to {rate.max():.3g} rad/s "
+                             f"({int(fast.sum())} samples above {MAX_GRAVITY_AXIS_RATE_RAD_S:.3g} rad/s) while |a| "
+                             f"stays within 5 % of {g:.3f} m/s^2 (no centripetal acceleration); deg/s read as "
+                             f"rad/s? use --gyro-unit deg/s")
+        return {**out, "method": "rotation about gravity",
+                "evidence": f"gyro turns {turned:.1f} deg about gravity only (accelerometer cannot check the "
+                            f"units; peak rate {rate.max():.3g} rad/s)"}
+    raise ValueError(f"cannot check the gyro units: no pair of rests with a tilt change and the tilt rate is "
+                     f"inconclusive ({ev}; gyro turns {turned:.1f} deg in total, {100 * share:.0f} % of it about "
+                     f"gravity); check --gyro-unit (deg/s?) and --time-unit, or record rests at different tilts")
 
 
 def rotation_axis_from_gyro(gyro_rad_s: np.ndarray, bias_rad_s: np.ndarray, moving: np.ndarray):

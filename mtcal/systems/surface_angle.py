@@ -347,7 +347,7 @@ class SurfaceAngle:
     restarts : tuple
         Sample indices where the EKF restarted (per trial for batched input).
     unit_check : dict or None
-        :func:`mtcal.systems.plausibility.gyro_tilt_consistency` result (``check_units``).
+        :func:`mtcal.systems.plausibility.check_units` result (``check_units``).
     gyro_axis : ndarray (3,) or None
         The gyro's principal rotation axis when it was checked against ``axis``.
     """
@@ -428,7 +428,7 @@ def surface_angle(gyro_rad_s, accel_m_s2, axis, *, is_static, init: slice, dt_s=
         not change the accelerometer reading.
     check_units : bool
         One record: check the gyro's units/time base against the accelerometer's tilt
-        change between ``rests`` (:func:`~mtcal.systems.plausibility.gyro_tilt_consistency`).
+        change (:func:`~mtcal.systems.plausibility.check_units`: rest pairs, else the tilt rate).
     max_axis_mismatch_deg : float, optional
         One record: once moves add up to 20°, refuse when the gyro turns about an axis
         further than this from ``axis`` (deg).
@@ -499,7 +499,7 @@ def surface_angle(gyro_rad_s, accel_m_s2, axis, *, is_static, init: slice, dt_s=
     if (check_units or max_axis_mismatch_deg is not None) and batch:
         raise ValueError("check_units and max_axis_mismatch_deg check one record, not a batch")
     if check_units:
-        check = plausibility.gyro_tilt_consistency(gyro_f, a, dt, rests, time_s=time_s, skip=clipped)
+        check = plausibility.check_units(gyro_f, a, dt, rests, time_s=time_s, skip=clipped)
     if max_axis_mismatch_deg is not None:
         moving = ~static & (np.linalg.norm(g - b0, axis=1) > max(5 * gyro_noise_rad_s, np.radians(2.0)))
         turned = float(np.degrees(np.sum(np.linalg.norm(g[moving] - b0, axis=1)) * dt))

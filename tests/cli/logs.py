@@ -171,3 +171,60 @@ def six_position_log(alpha_deg=(0.5, -0.3, 0.4), *, fs_hz=200.0, g_error=0.011, 
     df = _frame(rec.time_s, rec.gyro_rad_s, rec.accel_m_s2)
     positions = pd.DataFrame(np.degrees(pos), columns=["yaw_deg", "pitch_deg", "roll_deg"])
     return df, positions, np.asarray(alpha_deg, float)
+
+
+def walking_log(n_steps=10, *, fs_hz=1200.0, stance_s=(0.2, 0.8), swing_s=0.4, heel_toe_deg_s=30.0,
+                swing_deg_s=400.0, stand_s=1.5, gyro_bias_deg_s=(1.5, -2.0, 0.7), g_error=0.02, seed=5):
+    """Foot-mounted IMU while walking: standing start and end, stance phases of ``stance_s`` s with a
+    heel roll and a toe roll of up to ``heel_toe_deg_s`` (first/last 0.06 s), heel-strike impacts,
+    swings turning up to ``swing_deg_s`` about the foot's y axis with large accelerations.
+
+    Returns (DataFrame, stance spans [(t0, t1)] including the standing start and end, swing spans).
+    """
+    rng = np.random.default_rng(seed)
+    segs = [("stand", stand_s)]
+    for _ in range(n_steps):
+        segs += [("swing", swing_s * rng.uniform(0.85, 1.15)), ("stance", rng.uniform(*stance_s))]
+    segs += [("swing", swing_s), ("stand", stand_s)]
+    rate = []
+    lin = []
+    kinds = []
+    for kind, dur in segs:
+        n = int(round(dur * fs_hz))
+        tt = np.arange(n) / fs_hz
+        r = np.zeros(n)
+        la = np.zeros((n, 3))
+        if kind == "swing":  # net zero rotation: the foot lands as flat as it left
+            r = np.radians(swing_deg_s) * np.sin(2 * np.pi * tt / dur)
+            la[:, 0] = 12.0 * np.sin(2 * np.pi * tt / dur + 0.3)
+            la[:, 2] = 6.0 * np.sin(4 * np.pi * tt / dur)
+        elif kind == "stance":
+            edge = min(0.06, dur / 4)
+            heel = tt < edge
+            toe = tt > dur - edge
+            r[heel] = -np.radians(heel_toe_deg_s) * np.sin(np.pi * tt[heel] / edge)
+            r[toe] = np.radians(heel_toe_deg_s) * np.sin(np.pi * (tt[toe] - (dur - edge)) / edge)
+            imp = tt < 0.03
+            la[imp, 2] = 25.0 * np.exp(-tt[imp] / 0.008) * np.cos(2 * np.pi * 60 * tt[imp])
+            la[imp, 0] = -10.0 * np.exp(-tt[imp] / 0.008)
+        rate.append(r)
+        lin.append(la)
+        kinds += [kind] * n
+    r = np.concatenate(rate)
+    la = np.concatenate(lin)
+    t = np.arange(r.size) / fs_hz
+    pitch = np.cumsum(r) / fs_hz
+    gmag = G * (1 + g_error)
+    accel = np.column_stack([-gmag * np.sin(pitch), np.zeros_like(pitch), gmag * np.cos(pitch)]) + la
+    gyro = np.column_stack([np.zeros_like(r), r, np.zeros_like(r)]) + np.radians(gyro_bias_deg_s)
+    gyro += rng.normal(0, 0.004, gyro.shape)
+    accel += rng.normal(0, 0.03, accel.shape)
+    df = _frame(t, gyro, accel)
+    kinds = np.array(kinds)
+    spans = {}
+    for k in ("stand", "stance", "swing"):
+        flag = kinds == k
+        d = np.diff(np.r_[0, flag.astype(int), 0])
+        spans[k] = [(float(t[s]), float(t[e - 1])) for s, e in zip(np.flatnonzero(d == 1), np.flatnonzero(d == -1))]
+    stances = sorted(spans["stand"] + spans["stance"])
+    return df, stances, spans["swing"]

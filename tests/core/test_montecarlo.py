@@ -127,3 +127,19 @@ def test_compiled_wrap_equals_angle_difference_bit_for_bit():
                                                           np.nextafter(np.pi, 0), np.nextafter(-np.pi, 0)]])
     got = np.array([montecarlo._wrap(x) for x in d])
     np.testing.assert_array_equal(got, metrics.angle_difference(d, 0.0))
+
+
+def test_streaming_trials_split_across_workers_give_the_same_metrics(stream_args):
+    """Trials named by id: a run split in two (e.g. two workers) gives each trial the metrics of the whole run."""
+    traj, model = stream_args
+    model = ImuErrorModel(gyro=SensorErrors(noise_density=1e-3, bias_sigma=1e-3, bias_instability=1e-4),
+                          accel=model.accel)
+    results = {}
+    for ids in ((0, 1, 2, 3, 4), (0, 1), (2, 3, 4)):
+        stream = simulate.ImuStream(traj, model, np.random.default_rng(13), trial_ids=ids)
+        consumer = GyroIntegrator(traj.q_wb[0], traj.dt_s, len(ids))
+        montecarlo.run_streaming(stream, [consumer], 64, progress=False)
+        results[ids] = (consumer.acc.rmse(), consumer.acc.max_abs())
+    for k in range(2):
+        np.testing.assert_array_equal(np.concatenate([results[(0, 1)][k], results[(2, 3, 4)][k]]),
+                                      results[(0, 1, 2, 3, 4)][k])

@@ -1,7 +1,13 @@
+import json
+import os
+import subprocess
+import sys
+
 import numpy as np
 import pytest
 
-from mtcal.core import metrics, profiles, rotations, simulate
+from mtcal.core import metrics, philox, profiles, rotations, simulate
+from mtcal.core.rng import spawn_philox_key
 from mtcal.core.simulate import ImuErrorModel, SensorErrors, Trajectory
 
 G = 9.80665
@@ -216,7 +222,8 @@ _EVERY_SOURCE = SensorErrors(bias=(1e-3, 0.0, 2e-3), bias_sigma=1e-4, noise_dens
 
 @pytest.mark.parametrize("chunk", [1, 97, 256, 1000])
 def test_compiled_engine_is_bit_identical_to_numpy_reference(chunk):
-    """The numba engine draws the same streams and adds the terms in the same order (every source on)."""
+    """The numba engine draws the same Philox streams and adds the terms in the same order (every source on);
+    the numpy reference is chunked like the kernel except for chunk 1 (there it runs the whole record: slow)."""
     wp = np.radians([[0, 0, 0], [8, 0, 0], [0, -12, 30]])
     traj = profiles.trajectory_from_euler_zxy(profiles.step_schedule(wp, np.radians(20), 0.4, 1000))
     model = ImuErrorModel(gyro=_EVERY_SOURCE, accel=SensorErrors(noise_density=1e-3, bias_random_walk=1e-4,
@@ -224,7 +231,8 @@ def test_compiled_engine_is_bit_identical_to_numpy_reference(chunk):
                           time_since_power_on_s=1.0)
     out = {}
     for engine in ("numba", "numpy"):
-        parts = list(simulate.ImuStream(traj, model, np.random.default_rng(9), trials=3, engine=engine).chunks(chunk))
+        size = chunk if engine == "numba" or chunk > 1 else len(traj)
+        parts = list(simulate.ImuStream(traj, model, np.random.default_rng(9), trials=3, engine=engine).chunks(size))
         out[engine] = [np.concatenate([getattr(p, k) for p in parts], axis=1) for k in ("gyro_rad_s", "accel_m_s2")]
     for fast, ref in zip(out["numba"], out["numpy"]):
         np.testing.assert_array_equal(fast, ref)
@@ -234,3 +242,105 @@ def test_compiled_engine_is_bit_identical_to_numpy_reference(chunk):
     np.testing.assert_array_equal(fast, ref)
     with pytest.raises(ValueError, match="engine must be one of"):
         simulate.simulate_imu(traj, engine="fortran")
+
+
+def _static(n, fs):
+    t = np.arange(n) / fs
+    return Trajectory(t, np.tile([1.0, 0, 0, 0], (t.size, 1)))
+
+
+def test_white_noise_is_the_documented_philox_stream():
+    """Key layout: sample k of trial t, axis j = lane k % 2 of counter (k // 2, t, stream word, 0)."""
+    fs = 100.0
+    traj = _static(301, fs)
+    model = ImuErrorModel(gyro=SensorErrors(noise_density=np.sqrt(1 / fs)))   # per-sample σ = 1
+    rec = simulate.simulate_imu(traj, model, np.random.default_rng(21), trials=2, trial_ids=[4, 9])
+    key = spawn_philox_key(np.random.default_rng(21))
+    for i, tid in enumerate((4, 9)):
+        for j in range(3):
+            z = philox.standard_normals(301, key=key, c1=tid, c2=philox.stream_word(0, philox.SOURCE_IDS["white"], j))
+            np.testing.assert_array_equal(rec.gyro_rad_s[i, :, j], z)
+
+
+def test_trial_subsets_get_the_same_numbers():
+    """Trial t's numbers do not depend on which other trials run (every source on)."""
+    traj = _static(700, 200.0)
+    model = ImuErrorModel(gyro=_EVERY_SOURCE, accel=SensorErrors(noise_density=1e-3, bias_sigma=1e-3))
+    full = simulate.simulate_imu(traj, model, np.random.default_rng(4), trials=6)
+    sub = simulate.simulate_imu(traj, model, np.random.default_rng(4), trials=2, trial_ids=[5, 2])
+    np.testing.assert_array_equal(sub.gyro_rad_s, full.gyro_rad_s[[5, 2]])
+    np.testing.assert_array_equal(sub.accel_m_s2, full.accel_m_s2[[5, 2]])
+    parts = list(simulate.ImuStream(traj, model, np.random.default_rng(4), trial_ids=range(3, 6)).chunks(333))
+    np.testing.assert_array_equal(np.concatenate([p.gyro_rad_s for p in parts], axis=1), full.gyro_rad_s[3:])
+    one = simulate.simulate_imu(traj, model, np.random.default_rng(4), trial_ids=[1])
+    np.testing.assert_array_equal(one.gyro_rad_s[0], full.gyro_rad_s[1])
+    truth = np.zeros((2, 700, 3))
+    a = simulate.apply_sensor_errors(_EVERY_SOURCE, truth, traj.time_s, np.random.default_rng(8))
+    b = simulate.apply_sensor_errors(_EVERY_SOURCE, truth[:1], traj.time_s, np.random.default_rng(8), trial_ids=[1])
+    np.testing.assert_array_equal(b[0], a[1])
+
+
+@pytest.mark.parametrize("block", [1, 2, 7, 4096])
+def test_kernel_block_size_does_not_change_numbers(block):
+    traj = _static(1001, 500.0)
+    model = ImuErrorModel(gyro=_EVERY_SOURCE)
+    ref = simulate.simulate_imu(traj, model, np.random.default_rng(6), trials=3)
+    parts = list(simulate.ImuStream(traj, model, np.random.default_rng(6), trials=3, block_samples=block).chunks(77))
+    np.testing.assert_array_equal(np.concatenate([p.gyro_rad_s for p in parts], axis=1), ref.gyro_rad_s)
+
+
+_THREAD_SCRIPT = """
+import hashlib, json, numpy as np, numba
+from mtcal.core import philox, simulate
+from tests.core.test_simulate import _EVERY_SOURCE, _static
+traj = _static(6000, 1000.0)   # 37 trials x 6000 samples: the trial-parallel kernel (with 2 threads)
+model = simulate.ImuErrorModel(gyro=_EVERY_SOURCE, accel=simulate.SensorErrors(noise_density=1e-3, bias_sigma=1e-3))
+h = hashlib.sha256()
+for chunk in (6000, 251):
+    for c in simulate.ImuStream(traj, model, np.random.default_rng(12), trials=37).chunks(chunk):
+        h.update(c.gyro_rad_s.tobytes()); h.update(c.accel_m_s2.tobytes())
+h.update(philox.standard_normals(100001, key=(3, 4)).tobytes())
+print(json.dumps({"threads": numba.get_num_threads(), "sha": h.hexdigest()}))
+"""
+
+
+def test_bit_identical_for_one_and_two_threads():
+    """The same numbers with NUMBA_NUM_THREADS=1 and 2 (subprocesses; chunkings inside)."""
+    root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+    out = []
+    for threads in ("1", "2"):
+        env = dict(os.environ, NUMBA_NUM_THREADS=threads, PYTHONPATH=os.pathsep.join(
+            [root] + [p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep) if p]))
+        res = subprocess.run([sys.executable, "-c", _THREAD_SCRIPT], cwd=root, env=env, capture_output=True,
+                             text=True, check=True)
+        out.append(json.loads(res.stdout.strip().splitlines()[-1]))
+    assert [o["threads"] for o in out] == [1, 2]
+    assert out[0]["sha"] == out[1]["sha"]
+
+
+def test_parallel_and_serial_kernels_agree(monkeypatch):
+    traj = _static(2000, 1000.0)
+    model = ImuErrorModel(gyro=_EVERY_SOURCE, accel=SensorErrors(noise_density=1e-3, bias_instability=1e-4))
+    out = []
+    for min_work in (0, 10 ** 12):   # always / never the trial-parallel kernel
+        monkeypatch.setattr(simulate, "PARALLEL_MIN_WORK", min_work)
+        rec = simulate.simulate_imu(traj, model, np.random.default_rng(31), trials=19)
+        out.append((rec.gyro_rad_s, rec.accel_m_s2))
+    for a, b in zip(*out):
+        np.testing.assert_array_equal(a, b)
+
+
+def test_trial_ids_bad_input():
+    traj = _static(10, 10.0)
+    model = ImuErrorModel(gyro=SensorErrors(noise_density=1e-3))
+    rng = np.random.default_rng(0)
+    with pytest.raises(ValueError, match="distinct integers"):
+        simulate.simulate_imu(traj, model, rng, trial_ids=[1, 1])
+    with pytest.raises(ValueError, match="distinct integers"):
+        simulate.simulate_imu(traj, model, rng, trial_ids=[-1])
+    with pytest.raises(ValueError, match="non-empty 1-D sequence of integers"):
+        simulate.simulate_imu(traj, model, rng, trial_ids=[0.5])
+    with pytest.raises(ValueError, match=r"trials \(3\) must equal len\(trial_ids\)"):
+        simulate.simulate_imu(traj, model, rng, trials=3, trial_ids=[0, 1])
+    with pytest.raises(ValueError, match="trial_ids needs a per-trial truth"):
+        simulate.apply_sensor_errors(model.gyro, np.zeros((10, 3)), traj.time_s, rng, trial_ids=[0])

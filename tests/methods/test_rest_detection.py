@@ -138,3 +138,96 @@ def test_noisier_rests_after_a_still_stand_are_rests(rng):
     rep = rd.detect_rests(np.vstack(acc), 1.0 / fs, gyro_rad_s=np.vstack(gyr))
     assert len(rep.rests) == 1 + 8
     assert rep.accel_std_max_m_s2 > 0.15 > 5 * rep.accel_noise_m_s2  # relaxed towards the motion level
+
+
+# -- SHOE / GLRT detector (Skog et al. 2010) -----------------------------------------------------------------
+
+def test_shoe_statistic_is_about_six_when_still(rng):
+    n = 20000
+    accel = rng.normal(0, 0.02, (n, 3)) + [0.0, 0.0, 9.9]
+    gyro = rng.normal(0, 0.004, (n, 3)) + 0.01
+    stat = rd.shoe_statistic(accel, gyro, 50, gravity_m_s2=9.9, accel_noise_m_s2=0.02, gyro_noise_rad_s=0.004,
+                             gyro_bias_rad_s=0.01)
+    assert 5.0 < float(np.median(stat[100:-100])) < 6.5
+    turning = gyro + [0.0, 0.1, 0.0]  # 0.1 rad/s = 25 sigma: T rises by (0.1 / 0.004)^2
+    stat2 = rd.shoe_statistic(accel, turning, 50, gravity_m_s2=9.9, accel_noise_m_s2=0.02,
+                              gyro_noise_rad_s=0.004, gyro_bias_rad_s=0.01)
+    assert abs(float(np.median(stat2[100:-100])) - float(np.median(stat[100:-100])) - 625.0) < 30.0
+
+
+def test_shoe_matches_the_direct_sum(rng):
+    accel = rng.normal(0, 0.5, (40, 3)) + [0.0, 0.0, 9.8]
+    gyro = rng.normal(0, 0.2, (40, 3))
+    stat = rd.shoe_statistic(accel, gyro, 5, gravity_m_s2=9.8, accel_noise_m_s2=0.3, gyro_noise_rad_s=0.1)
+    k = 20
+    ya, yw = accel[k - 2:k + 3], gyro[k - 2:k + 3]
+    m = ya.mean(axis=0)
+    direct = np.mean(np.sum((ya - 9.8 * m / np.linalg.norm(m)) ** 2, axis=1) / 0.3 ** 2
+                     + np.sum(yw ** 2, axis=1) / 0.1 ** 2)
+    assert stat[k] == pytest.approx(direct, rel=1e-9)
+
+
+def _walk():
+    from tests.cli import logs
+
+    df, stances, swings = logs.walking_log()
+    t = df["time_s"].to_numpy()
+    gyro = df[[f"gyro_{a}_rad_s" for a in "xyz"]].to_numpy()
+    accel = df[[f"accel_{a}_m_s2" for a in "xyz"]].to_numpy()
+    return t, gyro, accel, stances, swings
+
+
+def _hits(t, rests, spans, margin):
+    return [any(t[r.start] < b - margin and t[r.stop - 1] > a + margin for r in rests) for a, b in spans]
+
+
+def test_shoe_walking_stances_found_swings_not_flagged():
+    t, gyro, accel, stances, swings = _walk()
+    rep = rd.detect_rests_shoe(accel, 1 / 1200.0, gyro_rad_s=gyro,
+                               params=rd.ShoeParams(rate_level_rad_s=np.radians(30.0), min_rest_s=0.15))
+    assert all(_hits(t, rep.rests, stances, 0.05)), [(t[r.start], t[r.stop - 1]) for r in rep.rests]
+    assert not any(_hits(t, rep.rests, swings, 0.02))
+    assert rep.extra["threshold"] == pytest.approx(6.0 + (np.radians(30.0) / rep.gyro_noise_rad_s) ** 2)
+    default = rd.detect_rests_shoe(accel, 1 / 1200.0, gyro_rad_s=gyro)
+    adaptive = rd.detect_rests(accel, 1 / 1200.0, gyro_rad_s=gyro)
+    assert not any(_hits(t, default.rests, swings, 0.02))
+    assert sum(_hits(t, default.rests, stances, 0.05)) >= sum(_hits(t, adaptive.rests, stances, 0.05))
+
+
+def test_shoe_threshold_override_and_rejections():
+    t, gyro, accel, _, _ = _walk()
+    rep = rd.detect_rests_shoe(accel, 1 / 1200.0, gyro_rad_s=gyro, params=rd.ShoeParams(threshold=50.0))
+    assert rep.extra["threshold"] == 50.0 and rep.extra["threshold_source"] == "given"
+    assert np.all(rep.extra["statistic"][rep.is_static] < 50.0)
+    for rej in rep.rejected:
+        assert rej.reason.startswith("too short: ") and "< gamma 50.0" in rej.reason
+
+
+@pytest.mark.parametrize("kw, match", [(dict(window_s=0.0), "window_s"), (dict(threshold=-1.0), "threshold"),
+                                       (dict(rate_level_rad_s=0.0), "rate_level_rad_s"),
+                                       (dict(min_rest_s=-1.0), "min_rest_s")])
+def test_shoe_params_validated(kw, match):
+    with pytest.raises(ValueError, match=match):
+        rd.ShoeParams(**kw)
+
+
+def test_shoe_input_errors(rng):
+    accel = rng.normal(0, 0.01, (500, 3)) + [0, 0, 9.8]
+    with pytest.raises(ValueError, match="gyro_rad_s must have the shape"):
+        rd.detect_rests_shoe(accel, 0.01, gyro_rad_s=np.zeros((400, 3)))
+    with pytest.raises(TypeError, match="params must be a ShoeParams"):
+        rd.detect_rests_shoe(accel, 0.01, gyro_rad_s=np.zeros((500, 3)), params=rd.RestDetectorParams())
+
+
+def test_adaptive_rejection_reasons_hold_for_their_numbers(rng):
+    import re
+
+    t, gyro, accel = _record(rng, turn_z_deg_s=4.0)
+    rep = rd.detect_rests(accel, 1.0 / FS, gyro_rad_s=gyro, params=rd.RestDetectorParams(min_rest_s=1.5))
+    assert rep.rejected
+    for rej in rep.rejected:
+        pairs = re.findall(r"([-\d.]+) (?:s |m/s\^2 |deg/s )?([<>]) ([-\d.]+)", rej.reason)
+        assert pairs, rej.reason
+        for a, op, b in pairs:
+            assert (float(a) < float(b)) if op == "<" else (float(a) > float(b)), rej.reason
+    assert np.all(rep.extra["decision_statistic"][rep.is_static] < 1.0)

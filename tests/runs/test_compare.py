@@ -73,3 +73,25 @@ def test_compare_runs_three_runs(tmp_path):
     table, _, _ = compare_runs([tmp_path / n for n in "abc"], out_dir=tmp_path, figure=False)
     assert len(table) == 1 and list(table.filter(like="mtcal [").iloc[0]) == ["1.0", "2.0", "3.0"]
     assert table["flips"].iloc[0] != ""
+
+
+def test_committed_metadata_is_full_size_at_the_default_seeds():
+    from mtcal.runs.compare import run_metadata
+
+    meta = run_metadata("committed")
+    assert meta["size"] == "full" and meta["known"]
+    assert meta["seeds"]["wang2023cja_turntable_comparison"] == "2023"
+
+
+def test_compare_runs_refuses_size_mismatch(tmp_path):
+    import json
+
+    rows = [("t06", "roll RMSE (deg)", 0.009, 0.0071, "[0.005, 0.01]", "<= 0.01", True)]
+    for name, size in (("a", "full"), ("b", "ci")):
+        _fake_run(tmp_path / name, rows)
+        (tmp_path / name / "params.json").write_text(json.dumps({"notebook": "10_x", "size": size, "parameters": {},
+                                                                 "defaults": {"SEED": "1"}}))
+    with pytest.raises(ValueError, match=r"runs are not comparable: runs differ in size \(a: full, b: ci\)"):
+        compare_runs([tmp_path / "a", tmp_path / "b"], figure=False)
+    table, _, _ = compare_runs([tmp_path / "a", tmp_path / "b"], figure=False, allow_mismatch=True)
+    assert table.attrs["warnings"][0].startswith("runs differ in size")

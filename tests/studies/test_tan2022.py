@@ -64,9 +64,10 @@ def test_gyro_parameters_propagate_into_labels_and_rows():
     art = t.fig12(st, seed=1, trials=2)
     assert "θ̇_t = 2 °/s" in art.rows[0]["quantity"]
     # with a negligible z error (and φ0 = 0) the projection is nearly exact: the hybrid is accurate,
-    # so the finding "the paper's Fig 12 claim fails" flips
-    assert art.rows[0]["holds"] is False
-    assert t.fig12(t.gyro_study(oscillation_duration_s=4.0), seed=1, trials=2).rows[0]["holds"] is True
+    # so the paper's Fig 12 claim holds; at the paper's 0.2 °/s it fails (reported, not enforced)
+    assert art.rows[0]["holds"] is True and art.rows[0]["kind"] == "claim"
+    paper = t.fig12(t.gyro_study(oscillation_duration_s=4.0), seed=1, trials=2).rows[0]
+    assert paper["holds"] is False and paper["enforced"] is False and "0.2 °/s" in paper["note"]
 
 
 # ---------------------------------------------------------------- producers at the paper's settings
@@ -95,7 +96,9 @@ def test_threshold_check_reports_the_paper_threshold_problem():
     art = t.threshold_check(t.gyro_study())
     worst = art.table.set_index("quantity").loc["exact arctan worst over φ", "roll_error_deg"]
     assert worst == pytest.approx(34.45, abs=0.05)
-    assert art.rows[0]["holds"] is True and art.rows[0]["role"] == "finding"
+    row = art.rows[0]
+    assert row["holds"] is False and row["kind"] == "claim" and row["enforced"] is False
+    assert "too low" in row["note"] and row["check"](0.5) is True
 
 
 def test_grid_posterior():
@@ -111,8 +114,14 @@ def test_accel_fit_prefers_common_mode_and_predicts_eq9_angles():
     assert like[0] == pytest.approx(1.0) and like[-1] < 0.5  # the paper's statements favour r → 0
     p = fit.parameters.iloc[0]
     assert 0.0 <= p["low_2.5"] <= p["median"] <= p["high_97.5"] <= 2.0
-    lam = {r["quantity"].split(" (")[0]: r for r in fit.rows if "preset angle" in r["quantity"]}
-    assert all(r["paper_in_band"] for r in lam.values())
+    lam = [r for r in fit.rows if "preset angle" in r["quantity"]]
+    # λ1/λ2 are inputs: inside the band by construction (window centred on them), never a claim
+    assert len(lam) == 2 and all(r["paper_in_band"] and r["kind"] == "consistency" and r["role"] == "input"
+                                 for r in lam)
+    gain = [r for r in fit.rows if r["artifact"] == "tan2022_fig08"][0]
+    assert gain["kind"] == "claim" and gain["holds"] is True and gain["prior_band"]
+    # the claim can fail: no gain from the preset rotation (gain 1.0) violates "clear improvement"
+    assert gain["check"](1.0) is False
 
 
 def test_gyro_fit_recovers_the_stated_error_and_flags_fig12():
@@ -121,7 +130,13 @@ def test_gyro_fit_recovers_the_stated_error_and_flags_fig12():
     b = fit.parameters.iloc[0]
     assert b["low_2.5"] <= 0.2 + 1e-9 and b["high_97.5"] >= 0.2 - 1e-9
     hybrid = [r for r in fit.rows if r["artifact"] == "tan2022_fig12" and "hybrid" in r["quantity"]][0]
-    assert hybrid["holds"] is True and hybrid["mtcal"] > 5  # Fig 12's claim fails under the model fitted to Fig 6
+    # Fig 12's claim fails under the model fitted to Fig 6: reported failing with its reason, not enforced
+    assert hybrid["holds"] is False and hybrid["enforced"] is False and hybrid["mtcal"] > 5 and hybrid["note"]
+    assert not any(r["role"] == "heldout" for r in fit.rows)  # tan2022 prints no result number
+    drift = [r for r in fit.rows if r["artifact"] == "tan2022_fig09"]
+    assert drift and all(r["paper"] == "—" and r["holds"] is None for r in drift)  # no circular "prediction"
+    spike = [r for r in fit.rows if r["artifact"] == "tan2022_fig11"][0]
+    assert spike["holds"] is True and spike["check"](1.0) is False  # no jump (ratio 1) fails the claim
     need = [r for r in fit.rows if "largest constant" in r["quantity"]][0]
     assert need["mtcal"] == pytest.approx(0.5 * np.tan(np.radians(1.0)))
 
@@ -146,7 +161,7 @@ def test_gyro_pattern_fit_excludes_the_printed_z_error():
     assert 0.0 <= bz["low_2.5"] <= bz["high_97.5"] <= 0.02  # far below the paper's 0.2 °/s on z
     like = fit.posterior["likelihood"]
     assert like[list(t.PATTERN_BIAS_GRID_DEG_S).index(0.2)].max() == 0.0
-    finding = [r for r in fit.rows if r["role"] == "finding"][0]
+    finding = [r for r in fit.rows if r["source"] == "mtcal finding"][0]
     assert finding["holds"] and finding["paper_in_band"] is False
 
 
@@ -166,3 +181,22 @@ def test_error_model_does_not_import_artifacts():
     tree = ast.parse(inspect.getsource(error_model))
     imported = {n.module for n in ast.walk(tree) if isinstance(n, ast.ImportFrom)}
     assert "artifacts" not in imported and "runs" in imported
+
+
+def test_hybrid_avoids_spikes_claim_can_fail():
+    row = [r for r in t.fig12(t.gyro_study(oscillation_duration_s=4.0), seed=1, trials=2).rows
+           if "/ projection" in r["quantity"]][0]
+    assert row["kind"] == "claim" and row["holds"] is True
+    assert row["check"](1.5) is False  # a hybrid worse than the projection would contradict the claim
+
+
+def test_paper_statements_at_paper_settings_are_consistency():
+    rows = t.fig02(t.AccelScenario(grid_step_deg=15.0)).rows
+    assert rows[0]["kind"] == "consistency" and rows[0]["note"] == t.artifacts.ANALYTIC
+
+
+def test_fit_and_predict_is_deterministic_and_validated():
+    a, b = t.error_model.fit_and_predict("ci", seed=3), t.error_model.fit_and_predict("ci", seed=3)
+    assert all(np.array_equal(a[k], b[k]) for k in a)
+    with pytest.raises(ValueError, match="size must be 'ci' or 'full'"):
+        t.error_model.fit_and_predict("huge")

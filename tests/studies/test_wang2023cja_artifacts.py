@@ -36,15 +36,16 @@ def test_positions_table_uses_verification_run():
     assert np.allclose(yaw.mtcal_after - yaw.reference, 0.01) and np.allclose(yaw.mtcal_before - yaw.reference, 0.5)
 
 
-def test_roles_and_asserted_filter():
-    rows = [w.banded("a", "x", 1.0, np.linspace(0.5, 1.5, 41), role="fitted"),
-            w.banded("b", "y", 5.0, np.linspace(0.5, 1.5, 41), claim="reported: y within 2", holds=False),
-            w.banded("c", "z", 1.0, np.linspace(0.5, 1.5, 41), claim="after < before", holds=True)]
+def test_roles_and_outside_rows():
+    rows = [w.banded("a", "x", 1.0, np.linspace(0.5, 1.5, 41), role="train"),
+            w.banded("b", "y", 5.0, np.linspace(0.5, 1.5, 41)),
+            w.banded("c", "z", 1.0, np.linspace(0.5, 1.5, 41))]
     t = compare.comparison_table(rows)
-    assert list(w.asserted(t).artifact) == ["a", "c"]
+    assert list(t.role) == ["train", "heldout", "heldout"]
     assert list(w.outside_rows(t).artifact) == ["b"]
-    assert compare.prediction_summary(t) == "paper inside our 95 % band: predicted 1 of 2, fitted 1 of 1"
-    assert compare.check_claims(w.asserted(t), enforce=True).startswith("1 of 1")
+    assert compare.prediction_summary(t) == "paper inside our 95 % band: train 1 of 1, heldout 1 of 2"
+    with pytest.raises(ValueError, match="role must be one of"):
+        w.banded("a", "x", 1.0, np.ones(3), role="predicted")
 
 
 def test_installation_fit_table_and_q33_check():
@@ -73,19 +74,6 @@ def test_figures_take_labels_from_values():
     assert len(fig.axes) == 2 and fig.axes[0].get_ylabel() == "roll error (°)"
     assert "industrial" in fig._suptitle.get_text()
     plt.close(fig)
-
-
-def test_section_claims_enforces_only_asserted_rows():
-    rows = [w.banded("a", "x", 1.0, np.linspace(0.5, 1.5, 41), claim="reported: x < 0.5", holds=False),
-            w.banded("a", "y", 1.0, np.linspace(0.5, 1.5, 41), claim="after < before", holds=True),
-            w.banded("b", "z", 1.0, np.linspace(0.5, 1.5, 41), claim="z holds", holds=False)]
-    t = compare.comparison_table(rows)
-    assert w.section_claims(t, "a", enforce=True).startswith("a: 1 of 2 claims hold")
-    with pytest.raises(AssertionError, match="z holds"):
-        w.section_claims(t, "b", enforce=True)
-    assert "not holding" in w.section_claims(t, "b", enforce=False)
-    with pytest.raises(ValueError, match="artifact 'c' has no rows"):
-        w.section_claims(t, "c", enforce=False)
 
 
 def test_stepwise_coupling_detects_sine_coupling():

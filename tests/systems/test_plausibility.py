@@ -86,3 +86,55 @@ def test_rotation_axis_from_gyro_recovers_the_hinge():
     assert abs(u @ AXIS) == pytest.approx(1.0, abs=1e-12) and share == pytest.approx(1.0, abs=1e-12)
     u, share = pl.rotation_axis_from_gyro(gyro, np.zeros(3), np.zeros(gyro.shape[0], bool))
     assert u is None and np.isnan(share)
+
+
+# -- check_units: no answer without a units check -------------------------------------------------------------
+
+def test_check_units_rest_pairs_first():
+    w, f, rests, _ = _hinge()
+    res = pl.check_units(w, f, DT_S, rests)
+    assert res["method"] == "rest pairs" and res["pairs"] >= 1
+    with pytest.raises(ValueError, match="--gyro-unit deg/s"):
+        pl.check_units(np.degrees(w), f, DT_S, rests)
+
+
+def test_check_units_tilt_rate_without_rests():
+    w, f, _, _ = _hinge(angles_deg=(0.0, 30.0, 10.0, 40.0), rate_deg_s=20.0, hold_s=0.3)
+    res = pl.check_units(w, f, DT_S, [])
+    assert res["method"] == "tilt rate"
+    with pytest.raises(ValueError, match="--gyro-unit deg/s"):
+        pl.check_units(np.degrees(w), f, DT_S, [])
+    with pytest.raises(ValueError, match="10x too slow"):
+        pl.check_units(w, f, 10 * DT_S, [])
+
+
+def test_check_units_no_rotation_and_refusal():
+    f = np.tile([0.0, 0.0, 9.81], (1000, 1))
+    assert pl.check_units(np.zeros((1000, 3)), f, DT_S, [])["method"] == "no rotation"
+    rng = np.random.default_rng(3)
+    shaken = f + rng.normal(0, 4.0, f.shape)          # no gravity reading to compare with
+    w = np.zeros((1000, 3))
+    w[200:800, 0] = 0.4                                # a tilt the accelerometer cannot confirm
+    with pytest.raises(ValueError, match="(cannot check the gyro units|gyro implausible).*"):
+        pl.check_units(w, shaken, DT_S, [])
+
+
+def test_check_units_turn_about_gravity():
+    f = np.tile([0.0, 0.0, 9.81], (3000, 1))
+    w = np.zeros((3000, 3))
+    w[1000:1500, 2] = np.radians(40.0)
+    rests = [slice(0, 900), slice(1600, 3000)]
+    assert pl.check_units(w, f, DT_S, rests)["method"] == "rotation about gravity"
+    w[1000:1500, 2] = 40.0  # a 40 deg/s turn logged in deg/s
+    with pytest.raises(ValueError, match="no centripetal acceleration.*--gyro-unit deg/s"):
+        pl.check_units(w, f, DT_S, rests)
+
+
+def test_check_units_clipped_full_scale_accepted():
+    w, f, rests, _ = _hinge()
+    skip = np.zeros(len(w), bool)
+    skip[rests[0].stop:rests[1].start] = True          # every move clipped: no usable pair
+    skip[rests[1].stop:rests[2].start] = True
+    w = np.clip(w, -np.radians(50.0), np.radians(50.0))
+    res = pl.check_units(w, f, DT_S, rests, skip=skip)
+    assert res["method"] in ("full-scale plateau", "tilt rate")

@@ -1,4 +1,4 @@
-"""tan2022 identified error models: grid-posterior fits to a declared training subset, held-out predictions.
+"""tan2022 identified error models: grid-posterior fits to the one training number and the paper's statements.
 
 tan2022 prints no result numbers: its figures are plots whose only numbers are
 the stated simulation settings (ΔA = 1e-4 g, Δω = 0.2 °/s, 10/20/60 °/s,
@@ -11,15 +11,17 @@ with a uniform prior on a grid; the posterior is prior × likelihood on that gri
 
 Accelerometer (:func:`fit_accel_error_model`)
     Static per-axis bias ``ΔA (1 + r ε)``, ``ε ~ N(0, 1)`` per axis and triad:
-    ``r`` = independent/common ratio. Training: the Fig 2 statement (|Δθ| small
-    for θ ≤ 0, large for θ, φ ≥ 0), likelihood = P(statement holds | r). Held
-    out: Fig 5/8 "clear improvement" and the Eq 9 angles λ1, λ2 (numbers).
+    ``r`` = independent/common ratio. Training: the Fig 2/5 statements (|Δθ| small
+    for θ ≤ 0, large for θ, φ ≥ 0), likelihood = P(statements hold | r); their
+    checks are ``consistency``. Tested: Fig 8 "clear improvement" (claim). The
+    Eq 9 angles λ1, λ2 are ``input`` (the search window is centred on them).
 Gyro (:func:`fit_gyro_error_model`)
     Constant error ``b`` on every axis ("各轴", Sec 3.2) + white noise ``N``.
     Training: the Fig 6 curve (Eq 14 at the paper's 0.2 °/s, φ0 = 0, θ̇ ≥ 5 °/s)
-    with 5 % reading uncertainty. Held out: the Fig 9 integration drift at the
-    end of each revolution (0.2 °/s × T by the paper's settings, x gyro: not
-    in the training data), Fig 11 spikes, Fig 12 "accurate" claim.
+    with 5 % reading uncertainty (Δω is the split's only ``train`` number; the
+    paper has no ``heldout`` number). Predicted: the Fig 9 integration drift
+    (our finding: the paper prints none; Δω × T would be derived from the
+    training number), Fig 11 spikes and the Fig 12 "accurate" claim.
 
 References
 ----------
@@ -35,11 +37,12 @@ from dataclasses import dataclass, field
 import numpy as np
 import pandas as pd
 
+from mtcal.core.cache import cached
 from mtcal.core import metrics
 from mtcal.core.validate import positive_int, positive_scalar
 from mtcal.methods import gyro_roll
 from mtcal.methods import large_angle
-from mtcal.reporting import compare, paper_numbers
+from mtcal.reporting import compare, leak, paper_numbers
 
 from mtcal.core.rng import stream_rng
 
@@ -166,11 +169,15 @@ class ErrorModelFit:
         One row per fitted parameter: name, unit, prior range, ML value,
         posterior median and 95 % credible interval, source.
     posterior : dict
-        Grid axes, likelihood and posterior (for plots).
+        Grid axes, likelihood and posterior (for plots); ``predictive_bands`` (P, 2, 3): per prediction,
+        fitted / prior × 2.5 %, 50 %, 97.5 %.
     predictions : DataFrame
-        Held-out quantities: paper value, prior-only and fitted median and band.
-    rows, rows_prior : list of dict
-        Comparison rows of the fitted model and of the prior-only model.
+        Predicted quantities: paper value, fitted (posterior predictive) and prior
+        (prior predictive) median and band.
+    rows : list of dict
+        Comparison rows (posterior-predictive band in ``mc_band``, prior-predictive in ``prior_band``).
+    rows_prior : list of dict
+        Empty (kept for callers; the prior-predictive band is a column of ``rows``).
     lines : list of str
         Summary lines.
     """
@@ -181,6 +188,17 @@ class ErrorModelFit:
     rows: list = field(default_factory=list)
     rows_prior: list = field(default_factory=list)
     lines: list = field(default_factory=list)
+
+
+def _band_mc_se(samples, seed: int) -> dict:
+    """Monte Carlo standard error (bootstrap) of the 2.5 % and 97.5 % ends of a posterior-predictive band."""
+    from mtcal.reporting.fidelity import quantile_mc_se
+
+    x = np.asarray(samples, dtype=float)
+    if x.size < 2 or not np.all(np.isfinite(x)):
+        return {"fitted low MC SE": np.nan, "fitted high MC SE": np.nan}
+    return {"fitted low MC SE": quantile_mc_se(x, 0.025, seed=seed),
+            "fitted high MC SE": quantile_mc_se(x, 0.975, seed=seed)}
 
 
 def grid_posterior(likelihood, axis_values) -> dict:
@@ -218,6 +236,7 @@ def grid_posterior(likelihood, axis_values) -> dict:
 # --------------------------------------------------------------------------
 # accelerometer
 # --------------------------------------------------------------------------
+@cached  # Monte Carlo result cached under $MTCAL_CACHE_DIR (make reproduce/artifact)
 def fit_accel_error_model(sc: AccelScenario, prior: AccelErrorPrior, seed: int, trials: int,
                           step_deg: float = 5.0) -> ErrorModelFit:
     """Fit the independent/common bias ratio ``r`` to the paper's statements; predict Fig 8 and λ1, λ2.
@@ -227,7 +246,7 @@ def fit_accel_error_model(sc: AccelScenario, prior: AccelErrorPrior, seed: int, 
     is below ``prior.asymmetry_max``, the Fig 5 large-pitch ratio below
     ``prior.large_pitch_max`` and every triad's axis errors within a factor
     ``prior.comparable_max`` of each other. Predictions: ``trials`` draws of ``r`` from
-    the posterior (fitted) or the prior (prior-only), each with its own biases.
+    the posterior (fitted, posterior predictive) or the prior (prior predictive), each with its own biases.
 
     Parameters
     ----------
@@ -262,53 +281,72 @@ def fit_accel_error_model(sc: AccelScenario, prior: AccelErrorPrior, seed: int, 
         lik[i] = np.mean(fig2 & fig5 & equal)
     post = grid_posterior(lik, grid)
     draws = {"fitted": rng.choice(grid, size=n, p=post["posterior"]),
-             "prior-only": rng.choice(grid, size=n)}
+             "prior": rng.choice(grid, size=n)}
     pred = {k: accel_predictions(sc, v, rng, step_deg) for k, v in draws.items()}
     params = pd.DataFrame([{"parameter": "r (independent / common bias)", "unit": "1",
                             "prior": f"U[0, {prior.ratio_max:g}]", "ml": post["ml"], "median": post["median"],
                             "low_2.5": post["low"], "high_97.5": post["high"],
                             "source": "datasheets give per-axis offsets; paper assumes r = 0"}])
+    # (key, artifact, quantity, paper, statement, check, kind, note)
+    fitted_by = "the likelihood is P(this statement holds | r): fitted to the same statement"
     specs = [("spread", "tan2022_fig02", "largest max/min |axis error| of the three triads [training]",
               "errors comparable on every axis", f"< {prior.comparable_max:g}",
-              lambda b: b["median"] < prior.comparable_max, "fitted"),
+              lambda b: b["median"] < prior.comparable_max, "consistency", fitted_by),
              ("asymmetry", "tan2022_fig02", "Fig 2 asymmetry mean|Δθ| (θ≤0) / (θ≥0), φ ≥ 0 [training]",
-              "small vs large", f"< {prior.asymmetry_max:g}", lambda b: b["median"] < prior.asymmetry_max, "fitted"),
+              "small vs large", f"< {prior.asymmetry_max:g}", lambda b: b["median"] < prior.asymmetry_max,
+              "consistency", fitted_by),
              ("large_pitch", "tan2022_fig05", "Fig 5 max|Δθ| for |θ| ≥ 45°, preset / plain [training]",
               "error surge suppressed", f"< {prior.large_pitch_max:g}",
-              lambda b: b["median"] < prior.large_pitch_max, "fitted"),
-             ("gain", "tan2022_fig08", "grid-RMS gain of the preset rotation, identified biases", "clear improvement",
-              f"> {prior.gain_min:g}", lambda b: b["median"] > prior.gain_min, "predicted"),
+              lambda b: b["median"] < prior.large_pitch_max, "consistency", fitted_by),
+             ("gain", "tan2022_fig08", "grid-RMS gain of the preset rotation, identified biases",
+              "clear improvement (Sec. 3.1, Fig 8: '明显改善')",
+              f"'clear improvement' made testable: gain > {prior.gain_min:g} (mtcal threshold; the paper gives none)",
+              lambda b: b["median"] > prior.gain_min, "claim", ""),
              ("lambda1", "tan2022_fig05", "RMS-optimal preset angle for θ ≤ 0 (deg)", sc.lambda1_deg,
-              "paper λ1 inside the band", None, "predicted"),
+              "paper λ1 inside the band", None, "consistency",
+              "input: the 360° search window is centred on the paper's λ1, so the band contains it by construction"),
              ("lambda2", "tan2022_fig05", "RMS-optimal preset angle for θ > 0 (deg)", sc.lambda2_deg,
-              "paper λ2 inside the band", None, "predicted")]
-    table, rows = [], {"fitted": [], "prior-only": []}
-    for key, art, qty, paper, claim, test, role in specs:
+              "paper λ2 inside the band", None, "consistency",
+              "input: the 360° search window is centred on the paper's λ2, so the band contains it by construction")]
+    table, rows, numeric = [], [], []
+    for key, art, qty, paper, claim, test, kind, note in specs:
         rec = {"quantity": qty, "paper": paper}
-        for model, p in pred.items():
-            b = metrics.percentile_band(p[key])
-            holds = (b["low"] <= paper <= b["high"]) if test is None else test(b)
-            rows[model].append(_ROW(art, f"{qty} ({model} model)", paper, float(b["median"]), claim, bool(holds),
-                                    band=b, role=role))
-            rec.update({f"{model} median": float(b["median"]), f"{model} band": f"[{b['low']:.3g}, {b['high']:.3g}]"})
+        b, bp = (metrics.percentile_band(pred[m][key]) for m in ("fitted", "prior"))
+        holds = bool(b["low"] <= paper <= b["high"]) if test is None else bool(test(b))
+        role = "input" if key.startswith("lambda") else "finding"
+        if kind == "claim":
+            row = compare.claim(art, qty, paper, float(b["median"]), claim,
+                                lambda v, t=test: t({"median": v}),
+                                band=b, prior_band=bp, role=role)
+        else:
+            row = compare.consistency(art, qty, paper, float(b["median"]), claim, holds, by=note, band=b, role=role)
+            row.update(prior_band=f"[{bp['low']:.4g}, {bp['high']:.4g}]", prior_low=float(bp["low"]),
+                       prior_high=float(bp["high"]), prior_median=float(bp["median"]))
+        rows.append(row)
+        for model, bb in (("fitted", b), ("prior", bp)):
+            rec.update({f"{model} median": float(bb["median"]), f"{model} band": f"[{bb['low']:.3g}, {bb['high']:.3g}]"})
+        rec.update(_band_mc_se(pred["fitted"][key], seed))
         table.append(rec)
+        numeric.append([[float(bb[q]) for q in ("low", "median", "high")] for bb in (b, bp)])
     lines = [f"r: ML {post['ml']:.2f}, posterior median {post['median']:.2f}, 95 % [{post['low']:.2f}, "
              f"{post['high']:.2f}] (prior U[0, {prior.ratio_max:g}]); likelihood at r = 0: {lik[0]:.2f}, "
              f"at r = {grid[-1]:g}: {lik[-1]:.2f}"]
     return ErrorModelFit(params, {"grid": grid, "likelihood": lik, "posterior": post["posterior"],
-                                  "xlabel": "r = independent / common bias"},
-                         pd.DataFrame(table), rows["fitted"], rows["prior-only"], lines)
+                                  "xlabel": "r = independent / common bias",
+                                  "predictive_bands": np.asarray(numeric)},
+                         pd.DataFrame(table), rows, [], lines)
 
 
 # --------------------------------------------------------------------------
 # gyro
 # --------------------------------------------------------------------------
 def paper_gyro_error_deg_s() -> float:
-    """The paper's gyro error for Fig 6 (°/s), from the shipped parameter table."""
-    df = paper_numbers.load("tan2022_params")
+    """The paper's gyro error for Fig 6 (°/s): the one ``train`` number of the tan2022 split."""
+    df = paper_numbers.training("tan2022")["tan2022_params"]
     return float(df.loc[df["parameter"] == "mems_gyro_measurement_error", "value"].iloc[0])
 
 
+@cached  # Monte Carlo result cached under $MTCAL_CACHE_DIR (make reproduce/artifact)
 def fit_gyro_error_model(study: GyroStudy, prior: GyroErrorPrior, seed: int, trials: int,
                          window_s: float = 0.2, reading_rel: float = 0.05, fit_trials: int = 10) -> ErrorModelFit:
     """Fit the common gyro error ``b`` and noise density ``N`` to the Fig 6 curve; predict Fig 9/11/12.
@@ -368,36 +406,44 @@ def fit_gyro_error_model(study: GyroStudy, prior: GyroErrorPrior, seed: int, tri
          "low_2.5": pn["low"], "high_97.5": pn["high"], "source": "ADIS16465 0.0025, BMI088 0.014"}])
     joint = (lik / lik.sum()).ravel()
     idx = {"fitted": rng.choice(joint.size, size=n, p=joint),
-           "prior-only": rng.choice(joint.size, size=n)}
+           "prior": rng.choice(joint.size, size=n)}
     pred = {k: gyro_predictions(study, bgrid[v // ngrid.size], ngrid[v % ngrid.size], rng)
             for k, v in idx.items()}
     e_x = paper_gyro_error_deg_s()
-    specs = []
-    for r in study.uniform.pitch_rates_deg_s:
-        t_end = study.uniform.sweep_deg / r
-        specs.append((f"drift_{r:g}", "tan2022_fig09",
-                      f"Eq 12 |Δφ_I| after one revolution at {r:g} °/s (deg)", round(e_x * t_end, 9),
-                      "paper value (Δω × T) inside the band", None))
-    specs += [("spike", "tan2022_fig11", "max|Δφ_P| where |θ̇| < 5 °/s / elsewhere", "error jumps as θ̇ → 0", "> 5",
-               lambda b: b["median"] > 5),
+    # Fig 9: the paper prints no drift; Δω × T would be computed from the train number Δω (not a prediction)
+    specs = [(f"drift_{r:g}", "tan2022_fig09", f"Eq 12 |Δφ_I| after one revolution at {r:g} °/s (deg)", "—",
+              "", None) for r in study.uniform.pitch_rates_deg_s]
+    specs += [("spike", "tan2022_fig11", "max|Δφ_P| where |θ̇| < 5 °/s / elsewhere",
+               "error jumps as θ̇ → 0 (Sec. 3.2, Fig 11)",
+               "'the projection error jumps as θ̇ → 0' made testable: ratio > 5 (mtcal threshold; the paper gives "
+               "none)", lambda v: v > 5),
               ("hybrid_max", "tan2022_fig12", f"hybrid (θ̇_t = {study.oscillation.threshold_deg_s:g} °/s) max |Δφ| (deg)",
-               "accurate for a long time", f"model predicts the paper claim (< {prior.accurate_deg:g}°) fails: > 5°",
-               lambda b: b["median"] > 5.0)]
-    table, rows = [], {"fitted": [], "prior-only": []}
+               "accurate for a long time (Sec. 3.2, Fig 12: '长时间保持准确')",
+               f"'accurate for a long time' made testable: max |Δφ| < {prior.accurate_deg:g}° (mtcal threshold)",
+               lambda v: v < prior.accurate_deg)]
+    table, rows, numeric = [], [], []
     for key, art, qty, paper, claim, test in specs:
         rec = {"quantity": qty, "paper": paper}
-        for model, p in pred.items():
-            b = metrics.percentile_band(p[key])
-            holds = (b["low"] <= paper <= b["high"]) if test is None else test(b)
-            fails = key == "hybrid_max"  # a prediction that the paper's claim fails: our finding
-            rows[model].append(_ROW(art, f"{qty} ({model} model)", paper, float(b["median"]), claim, bool(holds),
-                                    band=b, role="finding" if fails else "predicted",
-                                    source="mtcal finding" if fails else "paper claim"))
-            rec.update({f"{model} median": float(b["median"]), f"{model} band": f"[{b['low']:.3g}, {b['high']:.3g}]"})
+        b, bp = (metrics.percentile_band(pred[m][key]) for m in ("fitted", "prior"))
+        if test is None:
+            rows.append(_ROW(art, qty, paper, float(b["median"]), "", None, band=b, prior_band=bp, role="finding",
+                             source="mtcal finding"))
+        else:
+            holds = bool(test(float(b["median"])))
+            note = "" if holds else (f"posterior-predictive median {float(b['median']):.3g} with the paper's own "
+                                     f"{e_x:g} °/s on y/z: the integration phase drifts")
+            rows.append(compare.claim(art, qty, paper, float(b["median"]), claim, test, band=b, prior_band=bp,
+                                      role="finding", enforce=holds, note=note))
+        for model, bb in (("fitted", b), ("prior", bp)):
+            rec.update({f"{model} median": float(bb["median"]), f"{model} band": f"[{bb['low']:.3g}, {bb['high']:.3g}]"})
+        rec.update(_band_mc_se(pred["fitted"][key], seed))
         table.append(rec)
-    fit_row = _ROW("tan2022_fig06", f"Fig 6 curve at {_DEG(rates[0]):.1f}–{_DEG(rates[-1]):.0f} °/s: "
-                   "b posterior median (deg/s) [training]", e_x, pb["median"], "paper Δω inside the credible interval",
-                   bool(pb["low"] <= e_x <= pb["high"]), band=(pb["low"], pb["high"]), role="fitted")
+        numeric.append([[float(bb[q]) for q in ("low", "median", "high")] for bb in (b, bp)])
+    fit_row = compare.consistency("tan2022_fig06", f"Fig 6 curve at {_DEG(rates[0]):.1f}–{_DEG(rates[-1]):.0f} °/s: "
+                                  "b posterior median (deg/s) [training]", e_x, pb["median"],
+                                  "paper Δω inside the credible interval", bool(pb["low"] <= e_x <= pb["high"]),
+                                  by="b is fitted to the Fig 6 curve computed from this Δω", band=(pb["low"], pb["high"]),
+                                  role="train", ref="tan2022_params:7:value")
     need = float(study.oscillation.threshold_deg_s * np.tan(_RAD(prior.accurate_deg)))
     need_row = _ROW("tan2022_fig12", "largest constant y/z error for which Fig 12's hybrid is accurate (deg/s)",
                     e_x, need, "paper's own Δω = 0.2 °/s exceeds it (Fig 12 inconsistent with Fig 6)",
@@ -407,9 +453,9 @@ def fit_gyro_error_model(study: GyroStudy, prior: GyroErrorPrior, seed: int, tri
              f"Fig 12 'accurate' (max < {prior.accurate_deg:g}°) needs a y/z error ≤ {need:.4f} °/s at "
              f"θ̇_t = {study.oscillation.threshold_deg_s:g} °/s: {e_x / need:.0f}× below the paper's {e_x:g} °/s"]
     return ErrorModelFit(params, {"bias_grid": bgrid, "noise_grid": ngrid, "likelihood": lik,
-                                  "posterior_b": pb["posterior"], "posterior_n": pn["posterior"]},
-                         pd.DataFrame(table), [fit_row] + rows["fitted"] + [need_row],
-                         rows["prior-only"], lines)
+                                  "posterior_b": pb["posterior"], "posterior_n": pn["posterior"],
+                                  "predictive_bands": np.asarray(numeric)},
+                         pd.DataFrame(table), [fit_row] + rows + [need_row], [], lines)
 
 
 # --------------------------------------------------------------------------
@@ -431,6 +477,7 @@ def _trapezoid_weights(x):
     return w / w.sum()
 
 
+@cached  # Monte Carlo result cached under $MTCAL_CACHE_DIR (make reproduce/artifact)
 def fit_gyro_error_pattern(study: GyroStudy, prior: GyroErrorPrior, seed: int, trials: int) -> ErrorModelFit:
     """Fit the z-gyro error and the noise density to the oscillation statements (Figs 11, 12); predict Fig 9.
 
@@ -439,7 +486,7 @@ def fit_gyro_error_pattern(study: GyroStudy, prior: GyroErrorPrior, seed: int, t
     draws that the Fig 11 statement (projection error jumps as θ̇ → 0: spike
     ratio > 5) and the Fig 12 statement (hybrid accurate: max error below
     ``prior.accurate_deg``) both hold. Uniform priors on [0, 0.5] °/s and
-    [0, 0.01] °/s/√Hz via quadrature weights on non-uniform grids. Held out:
+    [0, 0.01] °/s/√Hz via quadrature weights on non-uniform grids. Consistency:
     the Fig 9 statement that the projection error falls as θ̇ rises
     (log-log slope over the uniform-rotation rates).
 
@@ -492,11 +539,14 @@ def fit_gyro_error_pattern(study: GyroStudy, prior: GyroErrorPrior, seed: int, t
     slope = metrics.percentile_band(gyro_roll.loglog_slope(rates, means[ok])) if np.any(ok) else None
     lab = f"θ̇_t = {study.oscillation.threshold_deg_s:g} °/s"
     rows = [
-        _ROW("tan2022_fig11", "P(Fig 11 spikes and Fig 12 accurate) at the ML (b_z, N) [training]",
-             "both statements", float(lik[i_ml, j_ml]), "> 0.5", bool(lik[i_ml, j_ml] > 0.5), role="fitted"),
-        _ROW("tan2022_fig09", "Eq 13: log-log slope of mean |Δφ_P| over the rates (pattern model)",
-             "larger θ̇ → smaller error", "undefined" if slope is None else float(slope["median"]),
-             "≈ −1 (−1.1…−0.9)", slope is not None and bool(-1.1 < slope["median"] < -0.9), band=slope),
+        compare.consistency("tan2022_fig11", "P(Fig 11 spikes and Fig 12 accurate) at the ML (b_z, N) [training]",
+                            "both statements", float(lik[i_ml, j_ml]), "> 0.5", bool(lik[i_ml, j_ml] > 0.5),
+                            by="the likelihood is P(both statements hold): fitted to them", role="finding"),
+        compare.consistency("tan2022_fig09", "Eq 13: log-log slope of mean |Δφ_P| over the rates (pattern model)",
+                            "larger θ̇ → smaller error", "undefined" if slope is None else float(slope["median"]),
+                            "≈ −1 (−1.1…−0.9)", slope is not None and bool(-1.1 < slope["median"] < -0.9),
+                            by="Eq 14: Δφ ∝ 1/θ̇ for any constant error (the paper's analytic model)", band=slope,
+                            role="finding"),
         _ROW("tan2022_fig12", f"z-gyro error consistent with Figs 11 + 12 ({lab}), 97.5 % bound (deg/s)", e_paper,
              pb["high"], "the paper's 0.2 °/s on z is excluded: the error must sit on x/y",
              bool(pb["high"] < e_paper), band=(pb["low"], pb["high"]), role="finding", source="mtcal finding"),
@@ -510,3 +560,53 @@ def fit_gyro_error_pattern(study: GyroStudy, prior: GyroErrorPrior, seed: int, t
     return ErrorModelFit(params, {"bias_grid": bgrid, "noise_grid": ngrid, "likelihood": lik,
                                   "posterior_b": pb["posterior"], "posterior_n": pn["posterior"]},
                          table, rows, [], lines)
+
+
+# --------------------------------------------------------------------------
+# leak test entry point
+# --------------------------------------------------------------------------
+@leak.register("tan2022")
+def fit_and_predict(size: str = "ci", seed: int = 0) -> dict[str, np.ndarray]:
+    """Every fit of this module and its predictive draws, for the leak test (:mod:`mtcal.reporting.leak`).
+
+    Runs :func:`fit_gyro_error_model` (the one ``train`` number: Fig 6's Δω) and
+    :func:`fit_accel_error_model` from scratch on coarse grids and returns the
+    posteriors, ML values and the 2.5/50/97.5 % points of every prediction, for
+    the fitted (posterior predictive) and prior (prior predictive) models.
+
+    Parameters
+    ----------
+    size : {"ci", "full"}
+        ``"ci"``: coarse grids and few trials (seconds); ``"full"``: the notebook's grids.
+    seed : int
+        RNG seed.
+
+    Returns
+    -------
+    dict of str -> ndarray
+        ``gyro_posterior_b`` (K,), ``gyro_posterior_n`` (M,), ``gyro_params`` (2, 4) (ML, median,
+        2.5 %, 97.5 %), ``gyro_bands`` (P, 2, 3) and ``accel_posterior`` (R,), ``accel_bands`` (Q, 2, 3)
+        (per prediction: fitted / prior × 2.5 %, 50 %, 97.5 %).
+
+    Examples
+    --------
+    >>> out = fit_and_predict("ci", seed=1)
+    >>> sorted(out)[:2]
+    ['accel_bands', 'accel_posterior']
+    """
+    from .scenario import accel_scenario, gyro_study
+
+    if size not in ("ci", "full"):
+        raise ValueError(f"size must be 'ci' or 'full', got {size!r}")
+    ci = size == "ci"
+    study = gyro_study(oscillation_duration_s=2.0 if ci else 20.0)
+    gprior = GyroErrorPrior(n_bias=11, n_noise=3) if ci else GyroErrorPrior()
+    gfit = fit_gyro_error_model(study, gprior, seed, 8 if ci else 100, fit_trials=3 if ci else 10)
+    aprior = AccelErrorPrior(n_grid=5) if ci else AccelErrorPrior()
+    afit = fit_accel_error_model(accel_scenario(), aprior, seed, 20 if ci else 200, step_deg=15.0 if ci else 5.0)
+
+    gp = gfit.parameters[["ml", "median", "low_2.5", "high_97.5"]].to_numpy(float)
+    return {"gyro_posterior_b": np.asarray(gfit.posterior["posterior_b"]),
+            "gyro_posterior_n": np.asarray(gfit.posterior["posterior_n"]), "gyro_params": gp,
+            "gyro_bands": gfit.posterior["predictive_bands"], "accel_posterior": np.asarray(afit.posterior["posterior"]),
+            "accel_bands": afit.posterior["predictive_bands"]}

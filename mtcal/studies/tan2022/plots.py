@@ -193,7 +193,8 @@ def fig09(art):
         for ax in (top, bot):
             for crossing in (90.0, 270.0):
                 ax.axvline(crossing / c["rate"], color="k", lw=0.6, ls=":")
-        top.set_title(f"θ̇ = {c['rate']:g} °/s (dotted: θ = ±90°)", fontsize=10)
+        top.set_title(f"θ̇ = {c['rate']:g} °/s (dotted: θ = ±90°)\nmedian-error trial {c['trial']} of {c['trials']}",
+                      fontsize=10)
         bot.set_xlabel("time (s)")
         top.set_ylim(-200, 200)
     axes[0, 0].set_ylabel("roll error (deg)")
@@ -210,7 +211,7 @@ def fig10(art):
     d = art.data
     fig, ax = plt.subplots(figsize=(8.0, 3.8), constrained_layout=True)
     ax.plot(d["time_s"], d["true"], "k", label="θ̇ (Eq 17)")
-    ax.plot(d["time_s"], d["measured"], "C0", lw=0.6, label="|θ̇| from gyros √(ω_y² + ω_z²)")
+    ax.plot(d["time_s"], d["measured"], "C0", lw=0.6, label="|θ̇| from gyros √(ω_y² + ω_z²), one noise realisation")
     ax.axhline(d["threshold"], color="C3", lw=0.8, label=f"θ̇_t = {d['threshold']:g} °/s")
     ax.set(xlabel="time (s)", ylabel="pitch rate (deg/s)", xlim=(0, min(4.0 / d["freq"] / 2, d["time_s"][-1])),
            title=f"tan2022 Fig 10 (tan2022_fig10): pitch rate, θ = {d['amplitude']:g}° sin(2π·{d['freq']:g} t)")
@@ -226,7 +227,8 @@ def fig11(art):
     ax.plot(d["time_s"], d["projection"], "C2", lw=0.6, label="Δφ_P projection (Eq 13)")
     ax.plot(d["time_s"], d["integration"], "C0", label="Δφ_I integration (Eq 12)")
     ax.set(xlabel="time (s)", ylabel="roll error (deg)",
-           title=f"tan2022 Fig 11 (tan2022_fig11): projection roll error under oscillation\n{d['label']}")
+           title=f"tan2022 Fig 11 (tan2022_fig11): projection roll error under oscillation\n{d['label']}; "
+                 f"median-error trial {d['trial']} of {d['trials']} (by max |Δφ_P|)")
     ax.title.set_fontsize(10)
     ax.legend(fontsize=8, loc="lower left")
     return fig
@@ -240,7 +242,8 @@ def fig12(art):
     ax.plot(d["time_s"], d["hybrid"], "C1", lw=0.6, label=f"Δφ_G hybrid θ̇_t = {d['threshold']:g} °/s, with noise")
     ax.plot(d["time_s"], d["hybrid_det"], "k", lw=0.8, label="Δφ_G hybrid, constant errors only (paper)")
     ax.set(xlabel="time (s)", ylabel="roll error (deg)",
-           title=f"tan2022 Fig 12 (tan2022_fig12): hybrid roll error under oscillation\n{d['label']}")
+           title=f"tan2022 Fig 12 (tan2022_fig12): hybrid roll error under oscillation\n{d['label']}; "
+                 f"median-error trial {d['trial']} of {d['trials']} (by max |Δφ_G|)")
     ax.title.set_fontsize(10)
     ax.legend(fontsize=8, loc="lower left")
     return fig

@@ -29,7 +29,7 @@ def plot_fig06(data: dict):
     fig, axs = plt.subplots(3, 1, figsize=(8, 6.5), sharex=True)
     axs[0].plot(d.time_s, d.theta_deg)
     axs[0].set_ylabel("θ (deg)")
-    axs[1].plot(d.time_s, d.accel_norm_m_s2, lw=0.6, label="‖a‖, trial 0")
+    axs[1].plot(d.time_s, d.accel_norm_m_s2, lw=0.6, label=f"‖a‖, median trial {d.trial} of {d.trials}")
     axs[1].set_ylabel("‖a‖ (m/s²)")
     axs[2].step(d.time_s, d.true_static + 0.0, "k", lw=2, where="post", label="true rest")
     axs[2].step(d.time_s, d.flags_table1 * 0.9, where="post", label="Table 1 ZVD")
@@ -40,8 +40,8 @@ def plot_fig06(data: dict):
     axs[1].axhspan(9.76, 9.84, color="tab:green", alpha=0.15, label="Table 1 ‖a‖ band")
     axs[1].legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False, fontsize=9)
     axs[2].legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False, fontsize=9)
-    axs[0].set_title(f"Paper Fig. 6 (wang2022sensors_fig06): ZVD on a rotate/hold record\n{data['labels']['rig']}",
-                     fontsize=10)
+    axs[0].set_title(f"Paper Fig. 6 (wang2022sensors_fig06): ZVD on a rotate/hold record\n{data['labels']['rig']}; "
+                     f"median trial {d.trial} of {d.trials} (by Table 1 false-static share)", fontsize=10)
     fig.tight_layout()
     return fig
 
@@ -62,7 +62,8 @@ def plot_fig09(data: dict):
     axs[3].set_ylabel("(d) ‖ω‖ (°/s)")
     axs[3].set_xlabel("time (s)")
     axs[0].set_title(f"Paper Fig. 9 (wang2022sensors_fig09): EKF with / without ZVD switching\n"
-                     f"{data['labels']['zvd']}", fontsize=10)
+                     f"{data['labels']['zvd']}; median trial {r.trial} of {r.trials} (by moving RMSE ratio)",
+                     fontsize=10)
     fig.tight_layout()
     return fig
 
@@ -128,16 +129,18 @@ def plot_axis_error_vs_rest(data: dict):
 
 
 def plot_fig13(data: dict, n_show: int = 4):
-    """Fig. 13 — angle error while standing still for 1 min after running, RAMS vs AHRS stand-in (deg)."""
+    """Fig. 13 — angle error while standing still for 1 min after running, RAMS vs AHRS stand-in (deg):
+    median over trials and the 95 % band (``n_show`` is kept for callers and unused)."""
     d = data["run"]
-    n = min(n_show, d.err_rams.shape[0])
     fig, ax = plt.subplots(figsize=(8, 4.2))
-    for k in range(n):
-        ax.plot(d.time_s, d.err_ahrs[k], color="tab:red", lw=0.8, label="AHRS stand-in" if k == 0 else None)
-        ax.plot(d.time_s, d.err_rams[k], color="tab:blue", lw=0.8, label="RAMS" if k == 0 else None)
+    for err, color, lab in ((d.err_ahrs, "tab:red", "AHRS stand-in"), (d.err_rams, "tab:blue", "RAMS")):
+        lo, med, hi = np.percentile(err, [2.5, 50.0, 97.5], axis=0)
+        ax.fill_between(d.time_s, lo, hi, color=color, alpha=0.25, label=f"{lab}: 95 % band over trials")
+        ax.plot(d.time_s, med, color=color, lw=0.9, label=f"{lab}: median")
     ax.set_xlabel("time standing still (s)")
     ax.set_ylabel("angle error (deg)")
-    ax.set_title(f"Paper Fig. 13 (wang2022sensors_fig13): {n} trials\n{data['labels']['rig']}", fontsize=10)
+    ax.set_title(f"Paper Fig. 13 (wang2022sensors_fig13): median and 95 % band over {d.err_rams.shape[0]} trials\n"
+                 f"{data['labels']['rig']}", fontsize=10)
     _legend_below(ax)
     fig.tight_layout()
     return fig
@@ -161,13 +164,13 @@ def plot_fig14(data: dict):
 
 
 def plot_error_model(table):
-    """Table 5 numbers (paper) beside the fitted and prior-only 95 % predictive bands (log scale)."""
+    """Table 5 numbers (paper) beside the posterior- and prior-predictive 95 % bands (log scale)."""
     t = table.reset_index(drop=True)
     y = np.arange(len(t))[::-1]
     fig, ax = plt.subplots(figsize=(8, 0.32 * len(t) + 1.6))
-    ax.hlines(y + 0.15, t.prior_low, t.prior_high, color="0.6", lw=4, label="prior-only 95 % band")
+    ax.hlines(y + 0.15, t.prior_low, t.prior_high, color="0.6", lw=4, label="prior-predictive 95 % band")
     ax.hlines(y - 0.15, t.fitted_low, t.fitted_high, color="tab:blue", lw=4, label="fitted 95 % band")
-    fit = t.role == "fitted"
+    fit = t.role == "train"
     ax.plot(t.paper_deg[fit], y[fit], "kx", ms=7, label="paper (training)")
     ax.plot(t.paper_deg[~fit], y[~fit], "o", color="tab:red", ms=6, label="paper (held out)")
     ax.set_yticks(y)

@@ -495,6 +495,8 @@ class Fig9Result:
     moving_rmse_ratio: np.ndarray
     still1_max_diff_deg: np.ndarray
     end_max_err_deg: np.ndarray
+    trial: int = 0
+    trials: int = 1
 
 
 def run_fig9(axis, imu: ImuValues, rig: RigValues, trials: int, seed: int) -> Fig9Result:
@@ -514,9 +516,17 @@ def run_fig9(axis, imu: ImuValues, rig: RigValues, trials: int, seed: int) -> Fi
     t = prof.time_s
     moving = ~prof.is_static
     ratio = np.sqrt(np.mean(e_z[:, moving] ** 2, axis=1) / np.mean(e_n[:, moving] ** 2, axis=1))
-    return Fig9Result(t, np.degrees(sim.theta_rad[0]), np.linalg.norm(sim.accel_m_s2[0], axis=1),
-                      np.degrees(np.linalg.norm(sim.gyro_rad_s[0], axis=1)), e_z[0], e_n[0], ratio,
-                      np.max(np.abs(e_z - e_n)[:, t < 1.0], axis=1), np.max(np.abs(e_z[:, t > 2.5]), axis=1))
+    k = _median_trial(ratio)  # the record drawn: the median trial by moving RMSE ratio
+    return Fig9Result(t, np.degrees(sim.theta_rad[k]), np.linalg.norm(sim.accel_m_s2[k], axis=1),
+                      np.degrees(np.linalg.norm(sim.gyro_rad_s[k], axis=1)), e_z[k], e_n[k], ratio,
+                      np.max(np.abs(e_z - e_n)[:, t < 1.0], axis=1), np.max(np.abs(e_z[:, t > 2.5]), axis=1),
+                      k, trials)
+
+
+def _median_trial(score) -> int:
+    """Index of the trial whose ``score`` is the lower median (the record a figure draws, never trial 0)."""
+    x = np.asarray(score, dtype=float)
+    return int(np.argsort(x, kind="stable")[(x.size - 1) // 2])
 
 
 @dataclass(frozen=True)
@@ -534,6 +544,8 @@ class ZvdDemo:
     missed_table1: np.ndarray
     all_rests_found: np.ndarray
     n_rests: int
+    trial: int = 0
+    trials: int = 1
 
 
 def run_zvd_demo(axis, imu: ImuValues, rig: RigValues, trials: int, seed: int, *,
@@ -554,9 +566,11 @@ def run_zvd_demo(axis, imu: ImuValues, rig: RigValues, trials: int, seed: int, *
     st = prof.is_static
     holds = prof.hold_slices()
     found = np.all(np.stack([np.mean(fg[:, sl], axis=1) > 0.5 for sl in holds]), axis=0)
-    return ZvdDemo(prof.time_s, np.degrees(prof.angle_rad[:, 0]), np.linalg.norm(sim.accel_m_s2[0], axis=1), st,
-                   f1[0], fg[0], np.mean(f1 & ~st, axis=1) / np.mean(~st), np.mean(fg & ~st, axis=1) / np.mean(~st),
-                   np.mean(~f1 & st, axis=1) / np.mean(st), found, len(holds))
+    fp1 = np.mean(f1 & ~st, axis=1) / np.mean(~st)
+    k = _median_trial(fp1)  # the record drawn: the median trial by Table 1 false-static share
+    return ZvdDemo(prof.time_s, np.degrees(prof.angle_rad[:, 0]), np.linalg.norm(sim.accel_m_s2[k], axis=1), st,
+                   f1[k], fg[k], fp1, np.mean(fg & ~st, axis=1) / np.mean(~st),
+                   np.mean(~f1 & st, axis=1) / np.mean(st), found, len(holds), k, trials)
 
 
 # --------------------------------------------------------------------------

@@ -10,14 +10,16 @@ the IMU as a :class:`mtcal.core.sensors.SensorSpec`, parameter defaults, builder
 :mod:`.error_model` (the hardware error model's priors, identified from Tables 1–4 and the
 printed matrices), :mod:`.runs` (simulation runs), :mod:`.artifacts` (one producer per
 table/figure, plus comparison rows), :mod:`.plots` (figures; imports matplotlib on call);
-:mod:`.constrained` (the constrained-calibration question of notebook 40).
+:mod:`.constrained` (the constrained-calibration question of notebook 40); :mod:`.predictive`
+(predictive bands: one parameter draw per trial, fitted posterior or prior) and :mod:`.verdicts`
+(every printed number one to one, scores, the paper's claims with its thresholds).
 """
 
-from . import artifacts, constrained, error_model, runs, scenario
-from .artifacts import (asserted, banded, error_budget_table, error_metric_table, error_model_table, HELD_OUT,
+from . import artifacts, constrained, error_model, predictive, runs, scenario, verdicts
+from .artifacts import (banded, error_budget_table, error_metric_table, error_model_table, HELD_OUT,
                         installation_fit_table, outside_rows, positions_table, printed_matrix_check, q22_noise_band,
-                        section_claims, stepwise_coupling, sweep_mean_table, table08_reductions, table10, TRAINING,
-                        turntable_rows, windtunnel_matrix_table, windtunnel_rows)
+                        stepwise_coupling, sweep_mean_table, table08_reductions, table10, TRAINING,
+                        windtunnel_matrix_table)
 from .error_model import (ErrorModel, ErrorModelFit, fit_error_model, fit_installation_angles, FITTED_PARAMETERS,
                           InstallationFit, MOUNT_TYPE, N_NORMALS, paper_positions, PAPER_SIGN, position_noise_deg,
                           predicted_before, PRIOR_RANGES, rest_residuals, rest_times_s, TABLES_1_TO_4,
@@ -30,7 +32,7 @@ from .scenario import (compliance_trajectory, identify_pitch_ratio, IMU_ASSUMPTI
                        TurntableScenario, WINDTUNNEL_DEFAULTS, windtunnel_geometry, windtunnel_scenario,
                        WindTunnelScenario)
 
-__all__ = ["artifacts", "constrained", "error_model", "runs", "scenario", "plots", "PAPER_SIGN", "TABLES_1_TO_4",
+__all__ = ["artifacts", "constrained", "error_model", "predictive", "runs", "scenario", "verdicts", "plots", "PAPER_SIGN", "TABLES_1_TO_4",
            "MOUNT_TYPE", "PRIOR_RANGES", "FITTED_PARAMETERS", "ErrorModel", "InstallationFit",
            "fit_installation_angles", "true_error_matrix", "predicted_before", "paper_positions", "rest_times_s",
            "rest_residuals", "N_NORMALS", "ErrorModelFit", "fit_error_model", "position_noise_deg", "SOURCES",
@@ -41,8 +43,8 @@ __all__ = ["artifacts", "constrained", "error_model", "runs", "scenario", "plots
            "position_errors_deg", "compliance_trajectory", "load_tilt_outputs", "mechanism_actual", "WindTunnelRun",
            "run_windtunnel", "elastic_deflection_rad", "calibration_step", "MONTE_CARLO_GATES", "TRAINING", "HELD_OUT", "installation_fit_table",
            "error_model_table", "printed_matrix_check", "positions_table", "sweep_mean_table", "error_metric_table",
-           "table08_reductions", "windtunnel_matrix_table", "table10", "turntable_rows", "windtunnel_rows", "banded",
-           "outside_rows", "asserted", "q22_noise_band", "stepwise_coupling", "section_claims", "error_budget_table"]
+           "table08_reductions", "windtunnel_matrix_table", "table10", "banded",
+           "outside_rows", "q22_noise_band", "stepwise_coupling", "error_budget_table"]
 
 
 def __getattr__(name):

@@ -13,7 +13,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 __all__ = ["before_after_figure", "wind_on_figure", "amd_figure", "error_vs_positions_figure", "error_vs_noise_figure",
-           "noise_distance_figure", "fig07", "fig08", "fig10", "fig11", "extra_amd"]
+           "noise_distance_figure", "ensemble_figure", "fig07", "fig08", "fig10", "fig11", "extra_amd"]
 
 
 def before_after_figure(trace: dict, name: str, channels, *, title: str, xlabel: str = "time (s)"):
@@ -158,16 +158,79 @@ def noise_distance_figure(table, lines: dict, *, sigma_deg: float, title: str):
     return fig
 
 
+def ensemble_figure(time_s, err_before_rad, err_after_rad, channels, paper_maxae_deg: dict, *, title: str,
+                    xlabel: str = "time (s)"):
+    """Paper Figs 7, 8, 11 over the ensemble: median and 95 % band over trials of the error (deg) vs time.
+
+    Parameters
+    ----------
+    time_s : ndarray (N,)
+        Time (s) of the kept samples.
+    err_before_rad, err_after_rad : ndarray (T, N, 3)
+        Every trial's error series (rad, Eq 8 frame).
+    channels : sequence of (index, label)
+    paper_maxae_deg : dict label → (before, after)
+        The paper's printed MaxAE (deg), drawn as ± dashed lines.
+    """
+    fig, axes = plt.subplots(len(channels), 1, sharex=True, figsize=(7.5, 5.5), squeeze=False,
+                             constrained_layout=True)
+    axes = axes[:, 0]
+    n = min(len(time_s), err_before_rad.shape[1])
+    t = np.asarray(time_s)[:n]
+    for ax, (j, label) in zip(axes, channels):
+        for k, (state, err, color) in enumerate((("before", err_before_rad, "tab:red"),
+                                                 ("after", err_after_rad, "tab:blue"))):
+            e = np.degrees(np.asarray(err, float)[:, :n, j])
+            lo, med, hi = np.percentile(e, [2.5, 50, 97.5], axis=0)
+            ax.fill_between(t, lo, hi, color=color, alpha=0.2, lw=0)
+            ax.plot(t, med, color=color, lw=0.8, label=f"{state} calibration: median, 95 % band ({e.shape[0]} trials)")
+            pv = paper_maxae_deg.get(label)
+            if pv is not None:
+                ax.axhline(pv[k], color=color, ls="--", lw=0.8,
+                           label=f"paper MaxAE {state} ±{pv[k]:g}°")
+                ax.axhline(-pv[k], color=color, ls="--", lw=0.8)
+        ax.set_ylabel(f"{label} error (°)")
+        ax.grid(alpha=0.3)
+    axes[0].legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7)
+    axes[-1].set_xlabel(xlabel)
+    fig.suptitle(title, fontsize=10)
+    return fig
+
+
+def _paper_maxae(table: str, labels) -> dict:
+    from mtcal.reporting import paper_numbers
+
+    p = paper_numbers.load(table)
+    out = {}
+    for lab in labels:
+        v = [float(p.loc[(p.metric == "MaxAE") & (p.calibration_state == s), f"{lab}_deg"].iloc[0])
+             for s in ("before", "after")]
+        out[lab] = tuple(v)
+    return out
+
+
 def fig07(run, grade_label: str):
-    """wang2023cja_fig07 (paper Fig 7): roll and yaw errors in the AoA sweep, trial 0."""
-    return before_after_figure(run.trace, "aoa", ((2, "roll"), (0, "yaw")),
-                               title=f"Fig. 7 (wang2023cja_fig07): roll/yaw errors, AoA sweep — {grade_label}")
+    """wang2023cja_fig07 (paper Fig 7): roll and yaw errors in the AoA sweep, median and 95 % band over trials,
+    the paper's Table 6 MaxAE marked."""
+    from .runs import TRACE_DECIMATION
+
+    sw = run.sweeps["aoa"]
+    return ensemble_figure(run.trace["aoa_time_s"][::TRACE_DECIMATION], sw["before_err_dec"], sw["after_err_dec"],
+                           ((2, "roll"), (0, "yaw")),
+                           _paper_maxae("wang2023cja_table06_aoa_sweep_roll_yaw_errors", ("roll", "yaw")),
+                           title=f"Fig. 7 (wang2023cja_fig07): roll/yaw errors, AoA sweep — {grade_label}")
 
 
 def fig08(run, grade_label: str):
-    """wang2023cja_fig08 (paper Fig 8): pitch and yaw errors in the roll sweep, trial 0."""
-    return before_after_figure(run.trace, "roll", ((1, "pitch"), (0, "yaw")),
-                               title=f"Fig. 8 (wang2023cja_fig08): pitch/yaw errors, roll sweep — {grade_label}")
+    """wang2023cja_fig08 (paper Fig 8): pitch and yaw errors in the roll sweep, median and 95 % band over trials,
+    the paper's Table 8 MaxAE marked."""
+    from .runs import TRACE_DECIMATION
+
+    sw = run.sweeps["roll"]
+    return ensemble_figure(run.trace["roll_time_s"][::TRACE_DECIMATION], sw["before_err_dec"], sw["after_err_dec"],
+                           ((1, "pitch"), (0, "yaw")),
+                           _paper_maxae("wang2023cja_table08_roll_sweep_pitch_yaw_errors", ("pitch", "yaw")),
+                           title=f"Fig. 8 (wang2023cja_fig08): pitch/yaw errors, roll sweep — {grade_label}")
 
 
 def fig10(run, grade_label: str, rates_deg_s: tuple):
@@ -177,9 +240,15 @@ def fig10(run, grade_label: str, rates_deg_s: tuple):
 
 
 def fig11(run, grade_label: str):
-    """wang2023cja_fig11 (paper Fig 11): roll and yaw errors in the wind-off AoA sweep, trial 0."""
-    return before_after_figure(run.trace, "nowind", ((2, "roll"), (0, "yaw")),
-                               title=f"Fig. 11 (wang2023cja_fig11): roll/yaw errors, wind-off sweep — {grade_label}")
+    """wang2023cja_fig11 (paper Fig 11): roll and yaw errors in the wind-off AoA sweep, median and 95 % band over
+    trials, the paper's Table 11 MaxAE marked."""
+    from .runs import TRACE_DECIMATION
+
+    nw = run.nowind
+    return ensemble_figure(run.trace["nowind_time_s"][::TRACE_DECIMATION], nw["before_err_dec"], nw["after_err_dec"],
+                           ((2, "roll"), (0, "yaw")),
+                           _paper_maxae("wang2023cja_table11_windtunnel_nowind_roll_yaw_errors", ("roll", "yaw")),
+                           title=f"Fig. 11 (wang2023cja_fig11): roll/yaw errors, wind-off sweep — {grade_label}")
 
 
 def extra_amd(run, threshold_pct: float, vibration_accel_m_s2: float):

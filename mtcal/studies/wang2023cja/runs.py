@@ -27,6 +27,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from mtcal.core.cache import cached
 from mtcal.core.montecarlo import progress
 from mtcal.core import metrics, rotations
 from mtcal.core.profiles import AngleProfile, step_schedule
@@ -43,11 +44,14 @@ from .scenario import (SOURCES, TurntableScenario, WindTunnelScenario, complianc
 #: Gates of :func:`mtcal.systems.installation.calibrate_installation` in the Monte Carlo runs: all off
 #: (``inf``). The procedure and its numbers are the CLI's; a Monte Carlo reports the spread of every
 #: trial instead of refusing the set because one trial would be refused at the bench.
+#: Every trial's sweep error series is kept at every TRACE_DECIMATION-th sample (ensemble figures).
+TRACE_DECIMATION = 20
+
 MONTE_CARLO_GATES = {"max_condition": np.inf, "max_so4_distance": np.inf, "max_residual_rad": np.inf}
 
 __all__ = ["turntable_runs", "turntable_profile", "six_position_reference", "TurntableRun", "TurntableJob",
            "calibration_step", "run_turntable", "run_turntable_jobs", "position_errors_deg", "load_tilt_outputs",
-           "WindTunnelRun", "run_windtunnel", "elastic_deflection_rad", "MONTE_CARLO_GATES"]
+           "WindTunnelRun", "run_windtunnel", "elastic_deflection_rad", "MONTE_CARLO_GATES", "TRACE_DECIMATION"]
 
 
 def _concat_profiles(parts: list[AngleProfile]) -> tuple[AngleProfile, list[slice]]:
@@ -171,6 +175,11 @@ class TurntableJob:
         Error sources switched on (names from :data:`SOURCES`).
     fraction : float, optional
         Averaging fraction of each rest (default ``sc.averaging_fraction``).
+    errors : ErrorModel, optional
+        The set's own hardware error model (default ``sc.errors``): one parameter draw of a
+        predictive band.
+    alpha_deg : 3-tuple, optional
+        The set's own installation angles (deg; default ``sc.alpha_deg[test]``).
     """
 
     test: str
@@ -178,6 +187,8 @@ class TurntableJob:
     trials: int
     sources: tuple = SOURCES
     fraction: float | None = None
+    errors: object = None
+    alpha_deg: tuple | None = None
 
 
 def _check_sources(sources) -> tuple:
@@ -202,7 +213,7 @@ def _run_pieces(sc: TurntableScenario, prof: AngleProfile, spans: dict, pieces: 
     """
     gyro, accel, rngs = [], [], []
     ver0 = spans["verification"].start
-    for test, sources, rng, trials, _ in pieces:
+    for test, sources, rng, trials, _, sc in pieces:
         rng_imu, rng_ref, rng_change = rng.spawn(3)
         k = sc.errors.compliance_deg_g(MOUNT_TYPE[test]) * DEG if "mount_compliance" in sources else 0.0
         traj = compliance_trajectory(prof.time_s, prof.angle_rad, k)
@@ -227,7 +238,7 @@ def _run_pieces(sc: TurntableScenario, prof: AngleProfile, spans: dict, pieces: 
     del res
     pos = six_position_reference(sc)
     out, start = [], 0
-    for i, ((_, sources, _, trials, fraction), rng_ref) in enumerate(zip(pieces, rngs)):
+    for i, ((_, sources, _, trials, fraction, sc), rng_ref) in enumerate(zip(pieces, rngs)):
         sl = slice(start, start + trials)
         start += trials
         frac = sc.averaging_fraction if fraction is None else fraction
@@ -364,7 +375,11 @@ def run_turntable_jobs(sc: TurntableScenario, jobs: list[TurntableJob], *, with_
     for i, job in enumerate(jobs):
         src = _check_sources(job.sources)
         sizes = [min(block, job.trials - k) for k in range(0, job.trials, block)]
-        pieces += [(i, (job.test, src, r, n, job.fraction)) for r, n in zip(job.rng.spawn(len(sizes)), sizes)]
+        sc_job = sc
+        if job.errors is not None or job.alpha_deg is not None:
+            sc_job = replace(sc, errors=sc.errors if job.errors is None else job.errors,
+                             alpha_deg={**sc.alpha_deg, **({} if job.alpha_deg is None else {job.test: tuple(job.alpha_deg)})})
+        pieces += [(i, (job.test, src, r, n, job.fraction, sc_job)) for r, n in zip(job.rng.spawn(len(sizes)), sizes)]
     calls, count = [[]], 0
     for item in pieces:
         if calls[-1] and count + item[1][3] > per_call:
@@ -401,6 +416,7 @@ def _evaluate_sweeps(sc, prof, spans, q_s, q_mat, frac, rng, keep_trace, ref_err
             for c in chans_err:
                 sweeps[name][f"{state}_maxae_{c}"] = metrics.max_abs_error(err[..., c], axis=-1)
                 sweeps[name][f"{state}_rmse_{c}"] = metrics.rmse(err[..., c], axis=-1)
+            sweeps[name][f"{state}_err_dec"] = err[:, ::TRACE_DECIMATION].astype(np.float32)
             if keep_trace:
                 trace[f"{name}_{state}_err"] = err[0]
         del before, after
@@ -521,6 +537,7 @@ def _run_windtunnel_block(sc: WindTunnelScenario, rng: np.random.Generator, tria
         for c in (2, 0):
             nowind[f"{state}_maxae_{c}"] = metrics.max_abs_error(err[..., c], axis=-1)
             nowind[f"{state}_rmse_{c}"] = metrics.rmse(err[..., c], axis=-1)
+        nowind[f"{state}_err_dec"] = err[:, ::TRACE_DECIMATION].astype(np.float32)
     trace = {}
     if keep_trace:
         trace = {"nowind_time_s": prof.time_s[span] - prof.time_s[span.start],
@@ -598,6 +615,7 @@ def _wind_on_groups(sc, model, q_mat, rng, trials, trace, k_mount, keep_trace):
 
 
 
+@cached  # Monte Carlo result cached under $MTCAL_CACHE_DIR (make reproduce/artifact)
 def turntable_runs(sc: TurntableScenario, trials: int, seed: int) -> dict:
     """The notebook's Monte Carlo: T1 session with sweeps, T2–T4 sessions, ``trials`` each.
 

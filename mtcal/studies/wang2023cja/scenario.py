@@ -213,7 +213,8 @@ def windtunnel_geometry() -> tuple[tuple, float]:
     from mtcal.methods import constrained_fit
     from mtcal.reporting import paper_numbers as paper
 
-    q = paper.load("wang2023cja_matrix_qbs_windtunnel")[["col_1", "col_2", "col_3", "col_4"]].to_numpy(float)
+    q = paper.training("wang2023cja")["wang2023cja_matrix_qbs_windtunnel"][["col_1", "col_2", "col_3", "col_4"]]
+    q = q.to_numpy(float)
     c = rotations.quat_conjugate(constrained_fit.project_to_so4(q).r)
     c = c * np.sign(c[0])
 

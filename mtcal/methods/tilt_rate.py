@@ -1,0 +1,239 @@
+"""Gravity-referenced gyro scale: the accelerometer's tilt rate against the gyro's, sample window by window.
+
+Wherever the specific force is gravity (``‖ā‖ ≈ g``), its direction ``â`` in the
+sensor frame turns with the body: ``dâ/dt = â × ω``, so over a window of length
+``T`` the direction change ``â_k × â_(k+1) ≈ −ω⊥ T`` with ``ω⊥`` the part of
+the rate perpendicular to gravity. Regressing the accelerometer's change
+``u_k = â_k × â_(k+1)`` on the gyro's prediction ``p_k = −(ω̄_k − b)⊥ T``
+gives the gyro's scale as the accelerometer sees it:
+
+``s = Σ u·p / Σ p·p``   (1 for rad/s and the right time base, π/180 for
+deg/s read as rad/s, 0.1 for a time column 10× too slow …)
+
+and the correlation ``r = Σ u·p / √(Σ u·u Σ p·p)`` says whether the record
+holds enough tilting motion to decide. Only consecutive windows whose mean
+``‖ā‖`` lies within ``band_fraction`` of the median are used (linear
+acceleration tilts ``â`` without a rotation; windows whose accelerometer varies
+by more than that fraction are dropped too), and the gyro bias ``b`` is the
+median rate of the windows whose ``â`` does not move. Unlike a check between
+rests this needs no rest pair: slow moves and quasi-static stretches count.
+
+References
+----------
+wang2022sensors Sec. 2.2 (static gravity reading ``R(θ, v)ᵀ ā0``: a rotation
+shows as a change of the accelerometer direction); wang2023cja Eq 5 (the same
+gravity reference corrects the QNCF's gyro integration).
+
+Examples
+--------
+>>> import numpy as np
+>>> dt = 0.01
+>>> t = np.arange(2000) * dt
+>>> rate = 0.5 * np.sin(2 * np.pi * 0.2 * t)                    # rad/s about x
+>>> angle = np.cumsum(rate) * dt
+>>> accel = 9.81 * np.column_stack([np.zeros_like(t), np.sin(angle), np.cos(angle)])
+>>> gyro = np.column_stack([rate, np.zeros_like(t), np.zeros_like(t)])
+>>> res = tilt_rate_scale(gyro, accel, dt)
+>>> round(res["scale"], 2), bool(res["correlation"] > 0.9)
+(1.0, True)
+>>> round(tilt_rate_scale(np.degrees(gyro), accel, dt)["scale"] * 180 / np.pi, 2)  # deg/s read as rad/s
+1.0
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+
+__all__ = ["tilt_rate_scale", "check_tilt_rate_scale", "scale_hint", "tilt_seen", "MIN_CORRELATION",
+           "MIN_AGREEMENT_CORRELATION",
+           "MIN_TILT_RAD", "MIN_WINDOWS", "MIN_STRONG_TILT_RAD", "SCALE_HINTS"]
+
+#: Correlation above which the scale is trusted.
+MIN_CORRELATION = 0.7
+#: Correlation above which a scale in [0.5, 2] counts as agreement.
+MIN_AGREEMENT_CORRELATION = 0.5
+#: Fewest window pairs, and least accelerometer tilt (rad), for a decision on a high correlation alone.
+MIN_WINDOWS = 5
+MIN_STRONG_TILT_RAD = np.radians(1.0)
+#: Least total accelerometer tilt (rad, summed over the windows used) for a decision.
+MIN_TILT_RAD = np.radians(10.0)
+#: Scale → what it means (the mtcal options that fix it).
+SCALE_HINTS = {np.pi / 180: "gyro looks like deg/s read as rad/s: use --gyro-unit deg/s",
+               180 / np.pi: "gyro looks like rad/s read as deg/s: drop --gyro-unit deg/s",
+               10.0: "time column 10x too fast? (check --time-unit / time_s)",
+               0.1: "time column 10x too slow? (check --time-unit / time_s)",
+               1000.0: "time in s labelled ms? (check --time-unit)",
+               0.001: "time in ms read as s? use --time-unit ms"}
+
+
+def tilt_rate_scale(gyro_rad_s, accel_m_s2, dt_s: float, *, window_s: float = 0.05,
+                    band_fraction: float = 0.05, skip=None) -> dict:
+    """Gyro scale seen by the accelerometer's tilt rate (see the module docstring).
+
+    Parameters
+    ----------
+    gyro_rad_s : array_like, shape (N, 3)
+        Angular rate (rad/s), sensor frame.
+    accel_m_s2 : array_like, shape (N, 3)
+        Specific force (m/s²), sensor frame.
+    dt_s : float
+        Sample interval (s).
+    window_s : float
+        Window length ``T`` (s); at least 3 samples.
+    band_fraction : float
+        Windows with ``|‖ā‖ − g| > band_fraction g``, or an accelerometer standard deviation
+        (rms over axes) above ``band_fraction g``, are not used (linear acceleration).
+    skip : array_like (N,) of bool, optional
+        Samples not to trust (e.g. a clipped gyro); windows holding one are not used.
+
+    Returns
+    -------
+    dict
+        ``scale`` (accelerometer tilt / gyro tilt, NaN without motion),
+        ``correlation`` (−1 … 1), ``accel_tilt_rad`` and ``gyro_tilt_rad``
+        (summed ``‖u‖`` and ``‖p‖`` over the windows used), ``windows`` (pairs used),
+        ``accel_spread_rad`` (99th percentile of the angle between a quasi-static
+        window's gravity direction and their mean: how far the record tilts).
+
+    References
+    ----------
+    wang2022sensors Sec. 2.2 (gravity direction turns with the body).
+    """
+    w = np.asarray(gyro_rad_s, float)
+    a = np.asarray(accel_m_s2, float)
+    n = a.shape[0]
+    m = max(3, int(round(window_s / dt_s)))
+    nb = n // m
+    nan = {"scale": float("nan"), "correlation": float("nan"), "accel_tilt_rad": 0.0, "gyro_tilt_rad": 0.0,
+           "windows": 0, "accel_spread_rad": 0.0}
+    if nb < 3:
+        return nan
+    blocks = a[: nb * m].reshape(nb, m, 3)
+    am = blocks.mean(axis=1)
+    a_std = np.sqrt(((blocks - am[:, None, :]) ** 2).mean(axis=(1, 2)))
+    wm = w[: nb * m].reshape(nb, m, 3).mean(axis=1)
+    norm = np.linalg.norm(am, axis=1)
+    g = float(np.median(norm))
+    if not g > 0:
+        return nan
+    ok = (np.abs(norm - g) < band_fraction * g) & (a_std < band_fraction * g)
+    if skip is not None:
+        ok &= ~np.asarray(skip, bool)[: nb * m].reshape(nb, m).any(axis=1)
+    ah = am / np.maximum(norm, 1e-12)[:, None]
+    u = np.cross(ah[:-1], ah[1:])
+    du = np.linalg.norm(u, axis=1)
+    pair = ok[:-1] & ok[1:]
+    if np.count_nonzero(pair) < 2:
+        return nan
+    still = pair & (du <= np.percentile(du[pair], 25))
+    b = np.median(0.5 * (wm[:-1] + wm[1:])[still], axis=0)
+    ab = 0.5 * (ah[:-1] + ah[1:])
+    ab /= np.maximum(np.linalg.norm(ab, axis=1), 1e-12)[:, None]
+    wr = 0.5 * (wm[:-1] + wm[1:]) - b
+    wperp = wr - np.einsum("ij,ij->i", wr, ab)[:, None] * ab
+    p = -wperp * (m * dt_s)
+    ref = ah[ok].mean(axis=0)
+    ref /= max(float(np.linalg.norm(ref)), 1e-12)
+    spread = float(np.percentile(np.arccos(np.clip(ah[ok] @ ref, -1.0, 1.0)), 99))
+    nan["accel_spread_rad"] = spread
+    dp = np.linalg.norm(p, axis=1)
+    moving = (du > 3.0 * np.median(du[still])) | (dp > 3.0 * np.median(dp[still]))  # above the noise
+    use = pair & moving
+    if np.count_nonzero(use) < 2:
+        return nan
+    u, p = u[use], p[use]
+    up, pp, uu = float(np.sum(u * p)), float(np.sum(p * p)), float(np.sum(u * u))
+    out = {"scale": up / pp if pp > 0 else float("nan"),
+           "correlation": float(up / np.sqrt(pp * uu)) if pp > 0 and uu > 0 else float("nan"),
+           "accel_tilt_rad": float(np.linalg.norm(u, axis=1).sum()),
+           "gyro_tilt_rad": float(np.linalg.norm(p, axis=1).sum()), "windows": int(u.shape[0]),
+           "accel_spread_rad": spread}
+    return out
+
+
+def check_tilt_rate_scale(gyro_rad_s, accel_m_s2, dt_s: float, *, max_ratio: float = 5.0,
+                          excess: str = "raise", skip=None) -> dict:
+    """Raise when the accelerometer's tilt rate shows the gyro off by more than ``max_ratio``.
+
+    Decides when the record tilts (:func:`tilt_seen` ≥ :data:`MIN_TILT_RAD`) or
+    when the evidence is strong (correlation ≥ :data:`MIN_CORRELATION` over ≥
+    :data:`MIN_WINDOWS` windows and ≥ :data:`MIN_STRONG_TILT_RAD` of accelerometer
+    tilt): a correlation ≥ :data:`MIN_CORRELATION` with a scale outside
+    ``[1/max_ratio, max_ratio]``, or (tilting record) a gyro that predicts more
+    than ``max_ratio`` times the tilt the accelerometer shows, is refused; a scale
+    in ``[0.5, 2]`` with strong evidence, or with a correlation ≥
+    :data:`MIN_AGREEMENT_CORRELATION` on a tilting record, decides that the units fit.
+
+    Parameters
+    ----------
+    gyro_rad_s, accel_m_s2 : array_like, shape (N, 3)
+    dt_s : float
+    max_ratio : float
+    excess : {"raise", "warn"}
+        What a gyro tilt above ``max_ratio`` times the accelerometer's does when
+        the correlation does not also show the scale (``warn``: ``UserWarning``).
+    skip : array_like (N,) of bool, optional
+        Samples not to use (:func:`tilt_rate_scale`).
+
+    Returns
+    -------
+    dict
+        :func:`tilt_rate_scale` result plus ``decided`` (bool).
+
+    Raises
+    ------
+    ValueError
+        The gyro is implausible for rad/s at the sample rate given; the message
+        names the scale found and its likely cause.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> check_tilt_rate_scale(np.zeros((300, 3)), np.tile([0, 0, 9.81], (300, 1)), 0.01)["decided"]
+    False
+    """
+    res = tilt_rate_scale(gyro_rad_s, accel_m_s2, dt_s, skip=skip)
+    res["decided"] = False
+    if res["windows"] == 0:
+        return res
+    s, r = res["scale"], res["correlation"]
+    big = tilt_seen(res) >= MIN_TILT_RAD
+    strong = (np.isfinite(r) and r >= MIN_CORRELATION and res["windows"] >= MIN_WINDOWS
+              and res["accel_tilt_rad"] >= MIN_STRONG_TILT_RAD)
+    over = big and res["gyro_tilt_rad"] > max_ratio * res["accel_tilt_rad"]
+    off = bool(np.isfinite(s) and (big or strong) and r >= MIN_CORRELATION
+               and not (1.0 / max_ratio <= s <= max_ratio))
+    fits = bool(np.isfinite(s) and 0.5 <= s <= 2.0 and (strong or (big and r >= MIN_AGREEMENT_CORRELATION)))
+    res["decided"] = bool(over or off or fits)
+    if excess == "warn" and over and not off:
+        warnings.warn(f"gyro implausible for rad/s at dt {dt_s:.4g} s: it predicts "
+                      f"{np.degrees(res['gyro_tilt_rad']):.1f} deg of tilt where the accelerometer shows "
+                      f"{np.degrees(res['accel_tilt_rad']):.1f} deg", UserWarning, stacklevel=3)
+        return res
+    if over or off:
+        hint = scale_hint(s if off else res["accel_tilt_rad"] / max(res["gyro_tilt_rad"], 1e-300))
+        raise ValueError(f"gyro implausible for rad/s at dt {dt_s:.4g} s: where the accelerometer reads gravity "
+                         f"it tilts {np.degrees(res['accel_tilt_rad']):.1f} deg in total but the gyro "
+                         f"{np.degrees(res['gyro_tilt_rad']):.1f} deg (tilt-rate scale {s:.3g}, correlation "
+                         f"{r:.2f}, limit {max_ratio:g}x); {hint}")
+    return res
+
+
+def tilt_seen(res: dict) -> float:
+    """How much the record tilts (rad): the accelerometer's spread or the gyro's tilt, and the accelerometer's
+    summed tilt when it correlates with the gyro (≥ :data:`MIN_CORRELATION`, so it is motion, not noise)."""
+    seen = max(res["accel_spread_rad"], res["gyro_tilt_rad"])
+    if np.isfinite(res["correlation"]) and res["correlation"] >= MIN_CORRELATION:
+        seen = max(seen, res["accel_tilt_rad"])
+    return float(seen)
+
+
+def scale_hint(scale: float) -> str:
+    """The likely cause of a gyro scale (``SCALE_HINTS`` entry within a factor 2, else a generic hint)."""
+    if np.isfinite(scale) and scale > 0:
+        best = min(SCALE_HINTS, key=lambda k: abs(np.log(scale / k)))
+        if abs(np.log(scale / best)) < np.log(2.0):
+            return SCALE_HINTS[best]
+    return "check --gyro-unit, --gyro-scale and the time column"

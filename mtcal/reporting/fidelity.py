@@ -1,0 +1,296 @@
+"""Fidelity scores of the held-out paper numbers: calibration and sharpness of our predictive bands.
+
+For every held-out printed number with a 95 % band (a row of
+:func:`mtcal.reporting.compare.comparison_table` with ``role == "heldout"``, a
+numeric ``paper`` value and band ends ``mc_low/mc_high`` or
+``prior_low/prior_high``), two predictive distributions are scored:
+``fitted`` (posterior predictive: each trial's parameters drawn from the fitted
+posterior) and ``prior`` (prior predictive: parameters drawn from the prior, the
+baseline). Per baseline:
+
+* ``n`` held-out numbers with a band, ``inside`` of them inside the band, the
+  coverage ``inside / n`` with its **Wilson score** 95 % interval
+  (:func:`wilson_interval`);
+* the median band width relative to ``|paper value|``;
+* the interval score (Gneiting & Raftery 2007, Eq 43, α = 0.05,
+  :func:`interval_score`) relative to ``|paper value|``: mean and median;
+* ``within_25pct``: paper values within ±25 % of our median (``|x − m| ≤ 0.25 |m|``).
+
+Relative measures skip paper values equal to 0 (no scale).
+
+:func:`score_block` is the text every study notebook ends with; :func:`write_scores`
+merges one notebook's per-number records into ``data/fidelity_numbers.csv`` and
+rewrites the per-paper and overall scores ``data/fidelity_scores.csv`` (byte-stable).
+
+References
+----------
+Gneiting T., Raftery A. E., "Strictly proper scoring rules, prediction, and
+estimation", J. Am. Stat. Assoc. 2007, 102(477):359–378, Eq (43).
+Wilson E. B., "Probable inference, the law of succession, and statistical
+inference", J. Am. Stat. Assoc. 1927, 22(158):209–212.
+
+Examples
+--------
+>>> from mtcal.reporting.compare import comparison_row, comparison_table
+>>> t = comparison_table([comparison_row("a", "x", 1.0, 1.1, "", None, band=(0.9, 1.2), prior_band=(0.0, 5.0)),
+...                       comparison_row("a", "y", 2.0, 1.0, "", None, band=(0.5, 1.5), prior_band=(0.0, 5.0))])
+>>> s = score(t, "fitted")
+>>> s["n"], s["inside"], s["within_25pct"]
+(2, 1, 1)
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from . import paper_numbers
+from .output import output_dir
+
+__all__ = ["BASELINES", "SCORE_COLUMNS", "RECORD_COLUMNS", "wilson_interval", "interval_score", "score",
+           "score_records", "score_block", "aggregate", "write_scores", "quantile_mc_se"]
+
+#: Predictive distributions scored: posterior predictive and prior predictive.
+BASELINES = ("fitted", "prior")
+#: Per-number record columns (``data/fidelity_numbers.csv``).
+RECORD_COLUMNS = ["notebook", "paper_key", "artifact", "quantity", "ref", "paper_value", "fitted_median",
+                  "fitted_low", "fitted_high", "prior_median", "prior_low", "prior_high"]
+#: Score columns (``data/fidelity_scores.csv``).
+SCORE_COLUMNS = ["scope", "baseline", "n", "inside", "coverage", "coverage_low", "coverage_high",
+                 "median_rel_width", "mean_rel_interval_score", "median_rel_interval_score", "within_25pct"]
+_ALPHA = 0.05
+
+
+def wilson_interval(k: int, n: int, level: float = 0.95) -> tuple[float, float]:
+    """Wilson score interval of a binomial proportion ``k / n``.
+
+    Parameters
+    ----------
+    k, n : int
+        Successes and trials, ``0 <= k <= n``, ``n >= 1``.
+    level : float
+        Confidence level in (0, 1).
+
+    Returns
+    -------
+    (low, high) : tuple of float
+        Bounds in [0, 1].
+
+    References
+    ----------
+    Wilson 1927 (see module references).
+
+    >>> [round(v, 4) for v in wilson_interval(8, 10)]
+    [0.4902, 0.9433]
+    """
+    from scipy.stats import norm
+
+    if not (isinstance(k, (int, np.integer)) and isinstance(n, (int, np.integer))):
+        raise TypeError(f"k and n must be int, got {type(k).__name__}, {type(n).__name__}")
+    if n < 1 or not 0 <= k <= n:
+        raise ValueError(f"need n >= 1 and 0 <= k <= n, got k={k}, n={n}")
+    if not 0 < level < 1:
+        raise ValueError(f"level must be in (0, 1), got {level}")
+    z = float(norm.ppf(0.5 + level / 2))
+    p = k / n
+    den = 1 + z * z / n
+    mid = (p + z * z / (2 * n)) / den
+    half = z * np.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / den
+    return float(max(0.0, mid - half)), float(min(1.0, mid + half))
+
+
+def interval_score(low, high, x, alpha: float = _ALPHA) -> np.ndarray:
+    """Interval score of central ``(1 − alpha)`` intervals (Gneiting & Raftery 2007, Eq 43).
+
+    ``IS = (u − l) + (2/α)(l − x)·1[x < l] + (2/α)(x − u)·1[x > u]`` (same unit as ``x``;
+    smaller is better; width plus a penalty for missing).
+
+    Parameters
+    ----------
+    low, high, x : array_like (n,)
+        Interval ends and observed (paper) values, broadcastable, ``low <= high``.
+    alpha : float
+        1 − nominal coverage, in (0, 1).
+
+    >>> interval_score([0.0, 0.0, 0.0], [1.0, 1.0, 1.0], [0.5, -1.0, 3.0]).tolist()
+    [1.0, 41.0, 81.0]
+    """
+    lo, hi, xx = (np.asarray(v, dtype=float) for v in (low, high, x))
+    if not 0 < alpha < 1:
+        raise ValueError(f"alpha must be in (0, 1), got {alpha}")
+    if np.any(lo > hi):
+        raise ValueError("interval score needs low <= high for every interval")
+    return (hi - lo) + (2 / alpha) * (lo - xx) * (xx < lo) + (2 / alpha) * (xx - hi) * (xx > hi)
+
+
+def quantile_mc_se(samples, q: float, n_boot: int = 200, seed: int = 0) -> float:
+    """Monte Carlo standard error of the ``q`` quantile of ``samples`` (bootstrap, ``n_boot`` resamples).
+
+    >>> se = quantile_mc_se(np.linspace(0.0, 1.0, 1001), 0.975)
+    >>> 0.0 < se < 0.02
+    True
+    """
+    from mtcal.core.rng import stream_rng
+
+    x = np.asarray(samples, dtype=float).ravel()
+    if x.size < 2 or not np.all(np.isfinite(x)):
+        raise ValueError(f"samples must be >= 2 finite values, got {x.size}")
+    if not 0 < q < 1:
+        raise ValueError(f"q must be in (0, 1), got {q}")
+    rng = stream_rng(seed, 2107)
+    idx = rng.integers(0, x.size, size=(int(n_boot), x.size))
+    return float(np.std(np.quantile(x[idx], q, axis=1), ddof=1))
+
+
+def _numeric(v) -> float:
+    try:
+        return float(v)
+    except (TypeError, ValueError):
+        return np.nan
+
+
+def score_records(table: pd.DataFrame, paper_key: str, notebook: str) -> pd.DataFrame:
+    """Per-number records of the held-out rows of a comparison table (:data:`RECORD_COLUMNS`).
+
+    Only rows with ``role == "heldout"``, a numeric paper value and at least one band are kept.
+    """
+    if paper_key not in paper_numbers.KEYS:
+        raise ValueError(f"paper_key must be one of {paper_numbers.KEYS}, got {paper_key!r}")
+    if not isinstance(notebook, str) or not notebook:
+        raise ValueError(f"notebook must be a non-empty str, got {notebook!r}")
+    return _records(table, paper_key, notebook)
+
+
+def _records(table: pd.DataFrame, paper_key: str = "", notebook: str = "") -> pd.DataFrame:
+    missing = {"role", "paper", "mtcal", "mc_low", "mc_high", "prior_low", "prior_high"} - set(table.columns)
+    if missing:
+        raise ValueError(f"table is not a comparison table (missing columns {sorted(missing)})")
+    rows = []
+    for r in table[table["role"] == "heldout"].to_dict("records"):
+        x = _numeric(r["paper"])
+        has_band = np.isfinite(_numeric(r["mc_low"])) or np.isfinite(_numeric(r["prior_low"]))
+        if not np.isfinite(x) or not has_band:
+            continue
+        rows.append({"notebook": notebook, "paper_key": paper_key, "artifact": r["artifact"],
+                     "quantity": r["quantity"], "ref": r.get("ref", ""), "paper_value": x,
+                     "fitted_median": _numeric(r["mtcal"]), "fitted_low": _numeric(r["mc_low"]),
+                     "fitted_high": _numeric(r["mc_high"]), "prior_median": _numeric(r.get("prior_median")),
+                     "prior_low": _numeric(r["prior_low"]), "prior_high": _numeric(r["prior_high"])})
+    return pd.DataFrame(rows, columns=RECORD_COLUMNS)
+
+
+def aggregate(records: pd.DataFrame, baseline: str) -> dict:
+    """Scores of per-number records for one baseline (keys: :data:`SCORE_COLUMNS` without scope/baseline)."""
+    if baseline not in BASELINES:
+        raise ValueError(f"baseline must be one of {BASELINES}, got {baseline!r}")
+    lo, hi, med = (records[f"{baseline}_{c}"].to_numpy(float) for c in ("low", "high", "median"))
+    x = records["paper_value"].to_numpy(float)
+    ok = np.isfinite(lo) & np.isfinite(hi) & np.isfinite(x)
+    lo, hi, med, x = lo[ok], hi[ok], med[ok], x[ok]
+    n = int(ok.sum())
+    out = {"n": n, "inside": 0, "coverage": np.nan, "coverage_low": np.nan, "coverage_high": np.nan,
+           "median_rel_width": np.nan, "mean_rel_interval_score": np.nan, "median_rel_interval_score": np.nan,
+           "within_25pct": 0}
+    if n == 0:
+        return out
+    inside = int(np.sum((lo <= x) & (x <= hi)))
+    cl, ch = wilson_interval(inside, n)
+    scale = np.abs(x)
+    rel = scale > 0
+    rel_is = interval_score(lo, hi, x)[rel] / scale[rel]
+    out.update(inside=inside, coverage=inside / n, coverage_low=cl, coverage_high=ch,
+               within_25pct=int(np.sum(np.isfinite(med) & (np.abs(x - med) <= 0.25 * np.abs(med)))))
+    if rel.any():
+        out.update(median_rel_width=float(np.median((hi - lo)[rel] / scale[rel])),
+                   mean_rel_interval_score=float(np.mean(rel_is)), median_rel_interval_score=float(np.median(rel_is)))
+    return out
+
+
+def score(table: pd.DataFrame, baseline: str = "fitted") -> dict:
+    """Scores of the held-out rows of one comparison table (see module docstring)."""
+    return aggregate(_records(table), baseline)
+
+
+def _fmt(v, pct=False):
+    if isinstance(v, float) and not np.isfinite(v):
+        return "n/a"
+    return f"{100 * v:.0f} %" if pct else f"{v:.3g}"
+
+
+def score_block(table: pd.DataFrame, key: str) -> str:
+    """The closing text of a study notebook.
+
+    ``"<key>: N printed numbers: K train, H held out, h inside; C claims: c hold"``
+    (N, K, H from the paper's split; h: held-out rows of ``table`` inside our
+    fitted 95 % band; C, c: rows of kind ``claim``), then one line per baseline
+    with coverage (Wilson 95 % interval), median relative width, relative
+    interval score and the ±25 % count, and whether the fit beats the prior.
+
+    >>> from mtcal.reporting.compare import comparison_row, comparison_table
+    >>> t = comparison_table([comparison_row("a", "x", 1.0, 1.0, "x < 2", True)])
+    >>> score_block(t, "tan2022").splitlines()[0]
+    'tan2022: 16 printed numbers: 1 train, 0 held out, 0 inside; 1 claims: 1 hold'
+    """
+    sp = paper_numbers.split(key)
+    counts = sp["role"].value_counts()
+    recs = _records(table, key)
+    fitted, prior = aggregate(recs, "fitted"), aggregate(recs, "prior")
+    kind = table["kind"].fillna("") if "kind" in table else pd.Series("", index=table.index)
+    claims = table[(kind == "claim") & table["holds"].notna()]
+    cons = table[(kind == "consistency") & table["holds"].notna()]
+    lines = [f"{key}: {len(sp)} printed numbers: {counts.get('train', 0)} train, {counts.get('heldout', 0)} held out, "
+             f"{fitted['inside']} inside; {len(claims)} claims: {int(claims['holds'].astype(bool).sum())} hold",
+             f"  (also {counts.get('input', 0)} input, {counts.get('erratum', 0)} erratum, "
+             f"{counts.get('not-compared', 0)} not compared; {len(cons)} consistency checks, not claims)"]
+    for name, s in (("fitted (posterior predictive)", fitted), ("prior predictive", prior)):
+        if s["n"] == 0:
+            lines.append(f"  {name}: no held-out number with a band")
+            continue
+        lines.append(f"  {name}: {s['inside']} of {s['n']} inside, coverage {_fmt(s['coverage'], True)} "
+                     f"[{_fmt(s['coverage_low'], True)}, {_fmt(s['coverage_high'], True)}] (Wilson 95 %); "
+                     f"median width / |paper| {_fmt(s['median_rel_width'])}; interval score / |paper| "
+                     f"mean {_fmt(s['mean_rel_interval_score'])}, median {_fmt(s['median_rel_interval_score'])}; "
+                     f"within ±25 % of our median: {s['within_25pct']}")
+    if fitted["n"] and prior["n"]:
+        better = fitted["mean_rel_interval_score"] < prior["mean_rel_interval_score"]
+        lines.append("  the fit " + ("beats" if better else "does NOT beat") + " the prior predictive on the mean "
+                     "relative interval score")
+    return "\n".join(lines)
+
+
+def write_scores(table: pd.DataFrame, key: str, notebook: str, folder: str | Path | None = None) -> Path:
+    """Merge one notebook's held-out records into ``data/fidelity_numbers.csv``; rewrite ``data/fidelity_scores.csv``.
+
+    The records of ``notebook`` replace its previous ones; the scores file then has
+    one row per (paper, baseline) for every paper key (``n = 0`` where nothing is
+    held out) and per (overall, baseline), sorted, fixed float format (byte-stable).
+    Returns the scores path.
+
+    Parameters
+    ----------
+    folder : path, optional
+        The ``data`` folder (default ``output_dir() / "data"``).
+    """
+    folder = Path(folder) if folder is not None else output_dir() / "data"
+    folder.mkdir(parents=True, exist_ok=True)
+    new = score_records(table, key, notebook)
+    num_path = folder / "fidelity_numbers.csv"
+    if num_path.is_file():
+        old = pd.read_csv(num_path, dtype={"ref": str}, keep_default_na=False, na_values=[""])
+        old = old[old["notebook"] != notebook]
+        recs = pd.concat([old, new], ignore_index=True) if len(old) else new
+    else:
+        recs = new
+    recs = recs.sort_values(["paper_key", "notebook", "artifact", "quantity", "ref"], kind="stable")
+    recs[RECORD_COLUMNS].to_csv(num_path, index=False, float_format="%.6g", lineterminator="\n")
+    rows = []
+    # every paper has its rows (n = 0 when it has no held-out number with a band, e.g. tan2022)
+    scopes = [(k, recs[recs["paper_key"] == k]) for k in sorted(paper_numbers.KEYS)] + [("overall", recs)]
+    for scope, part in scopes:
+        for b in BASELINES:
+            rows.append({"scope": scope, "baseline": b, **aggregate(part, b)})
+    out = folder / "fidelity_scores.csv"
+    pd.DataFrame(rows, columns=SCORE_COLUMNS).to_csv(out, index=False, float_format="%.4f", lineterminator="\n")
+    return out

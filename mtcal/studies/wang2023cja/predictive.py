@@ -1,0 +1,267 @@
+"""wang2023cja predictive bands: every Monte Carlo trial draws its own parameters.
+
+Two predictive distributions of the same simulation (:mod:`.runs`):
+
+* **fitted posterior predictive** — each trial draws the :class:`.error_model.ErrorModel` from
+  the Laplace approximation of the fit to Tables 1–4 (:func:`.error_model.fit_error_model`):
+  a free value ``N(ML, σ)`` (σ from the inverse Hessian), a value on its prior bound a
+  half-normal from the bound inward whose 95 % point is the one-sided profile limit; all
+  clipped to the prior range. Installation angles: those fitted to the "before" columns.
+* **prior predictive** — each trial draws the error model from its prior ranges (scale
+  parameters log-uniform, signed compliances uniform) and the installation angles from
+  :data:`ALPHA_PRIOR_SIGMA_DEG` — nothing identified on Tables 1–4 is used.
+
+The 2.5 % and 97.5 % band ends carry a Monte Carlo standard error (:func:`quantile_se`,
+bootstrap over trials).
+
+References
+----------
+wang2023cja §4.1 (Tables 1–8), §4.2 (Tables 9–11).
+
+Examples
+--------
+>>> from mtcal.studies.wang2023cja.error_model import ErrorModel
+>>> draws = prior_draws(3, seed=1)
+>>> len(draws), isinstance(draws[0][0], ErrorModel)
+(3, True)
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+
+from mtcal.core.rng import stream_rng
+from mtcal.reporting import leak
+from .error_model import FITTED_PARAMETERS, PRIOR_RANGES, TABLES_1_TO_4, ErrorModel, ErrorModelFit
+from .runs import TurntableJob, run_turntable_jobs, run_windtunnel
+
+__all__ = ["ALPHA_PRIOR_SIGMA_DEG", "KINDS", "posterior_draws", "prior_draws", "turntable_predictive",
+           "windtunnel_predictive", "quantile_se", "LEAK_SIZES", "fit_and_predict"]
+
+# random streams of this module (mtcal.core.rng rule)
+STREAM_POSTERIOR = 210
+STREAM_PRIOR = 211
+STREAM_QUANTILE_SE = 212
+
+#: Prior 1σ of each installation angle per test (deg): T1 screwed on a machined plate, T2–T4 one
+#: side or corner raised by gaskets (§4.1 Figs 4–6; assumed, not fitted).
+ALPHA_PRIOR_SIGMA_DEG = {"T1": 0.3, "T2": 1.5, "T3": 1.5, "T4": 1.5}
+#: The two predictive distributions.
+KINDS = ("fitted", "prior")
+_SCALE = ("accel_run_bias_mg", "gyro_run_bias_deg_h", "position_error_arcsec", "gasket_load_tilt_deg_g")
+
+
+def _clip(name, v):
+    lo, hi = PRIOR_RANGES[name]
+    return float(min(max(v, lo), hi))
+
+
+def posterior_draws(fit: ErrorModelFit, n: int, seed: int) -> list[tuple[ErrorModel, dict]]:
+    """``n`` parameter draws ``(ErrorModel, alpha_deg per test)`` from the fit's Laplace posterior.
+
+    >>> import math
+    >>> from mtcal.studies.wang2023cja.error_model import ErrorModelFit, ErrorModel
+    >>> f = ErrorModelFit(ErrorModel(), {k: 0.0 for k in FITTED_PARAMETERS}, {k: False for k in FITTED_PARAMETERS},
+    ...                   0.0, 0.0, {t: np.zeros(3) for t in TABLES_1_TO_4}, 72, {k: math.nan for k in FITTED_PARAMETERS})
+    >>> posterior_draws(f, 2, 0)[1][0] == ErrorModel()
+    True
+    """
+    n = int(n)
+    if n < 1:
+        raise ValueError(f"n must be >= 1, got {n}")
+    rng = stream_rng(int(seed), STREAM_POSTERIOR)
+    z = rng.standard_normal((n, len(FITTED_PARAMETERS)))
+    alpha = {t: tuple(float(x) for x in np.degrees(a)) for t, a in fit.alpha_rad.items()}
+    out = []
+    for i in range(n):
+        vals = {}
+        for j, name in enumerate(FITTED_PARAMETERS):
+            ml = getattr(fit.model, name)
+            if fit.at_bound[name]:
+                lim = fit.limit95[name]
+                if not np.isfinite(lim):
+                    lo, hi = PRIOR_RANGES[name]
+                    lim = hi if abs(ml - lo) < abs(ml - hi) else lo
+                v = ml + np.sign(lim - ml) * abs(z[i, j]) * abs(lim - ml) / 1.96
+            else:
+                sd = fit.std[name] if np.isfinite(fit.std[name]) else 0.0
+                v = ml + z[i, j] * sd
+            vals[name] = _clip(name, v)
+        out.append((replace(fit.model, **vals), alpha))
+    return out
+
+
+def prior_draws(n: int, seed: int) -> list[tuple[ErrorModel, dict]]:
+    """``n`` parameter draws from the prior: scale parameters log-uniform, compliances uniform, angles normal."""
+    n = int(n)
+    if n < 1:
+        raise ValueError(f"n must be >= 1, got {n}")
+    rng = stream_rng(int(seed), STREAM_PRIOR)
+    out = []
+    for _ in range(n):
+        vals = {}
+        for name in FITTED_PARAMETERS:
+            lo, hi = PRIOR_RANGES[name]
+            if name in _SCALE and lo > 0:
+                vals[name] = _clip(name, float(np.exp(rng.uniform(np.log(lo), np.log(hi)))))
+            else:
+                vals[name] = _clip(name, float(rng.uniform(lo, hi)))
+        alpha = {t: tuple(float(x) for x in rng.normal(0.0, s, 3)) for t, s in ALPHA_PRIOR_SIGMA_DEG.items()}
+        out.append((ErrorModel(**vals), alpha))
+    return out
+
+
+def _draws(kind, fit, n, seed):
+    if kind not in KINDS:
+        raise ValueError(f"kind must be one of {KINDS}, got {kind!r}")
+    return posterior_draws(fit, n, seed) if kind == "fitted" else prior_draws(n, seed)
+
+
+def turntable_predictive(sc, fit: ErrorModelFit, kind: str, trials: int, seed: int, *,
+                         tests=("T1", "T2", "T3", "T4")) -> dict:
+    """Turntable sessions (T1 with its sweeps) with one parameter draw per trial.
+
+    Parameters
+    ----------
+    sc : TurntableScenario
+        The scenario (its ``errors``/``alpha_deg`` are replaced trial by trial).
+    fit : ErrorModelFit
+    kind : {"fitted", "prior"}
+    trials : int
+        Trials (= parameter draws) per test.
+    seed : int
+    tests : tuple of str
+        Tests to run.
+
+    Returns
+    -------
+    dict test → TurntableRun (trial axis = draws).
+    """
+    draws = _draws(kind, fit, trials, seed)
+    out = {}
+    for i, test in enumerate(tests):
+        if test not in TABLES_1_TO_4:
+            raise ValueError(f"tests must be names from {sorted(TABLES_1_TO_4)}, got {test!r}")
+        rngs = np.random.default_rng(np.random.SeedSequence([int(seed), 300 + i])).spawn(len(draws))
+        jobs = [TurntableJob(test, r, 1, errors=m, alpha_deg=a[test]) for r, (m, a) in zip(rngs, draws)]
+        out[test] = run_turntable_jobs(sc, jobs, with_sweeps=(test == "T1"), keep_trace=(test == "T1"), block=1)
+        out[test] = _stack_jobs(out[test])
+    return out
+
+
+def _stack_jobs(runs):
+    from .runs import _concat_runs
+
+    return _concat_runs(runs)
+
+
+def windtunnel_predictive(make_scenario, fit: ErrorModelFit, kind: str, trials: int, seed: int, *,
+                          per_draw: int = 5):
+    """Wind-tunnel runs with one parameter draw per ``per_draw`` trials.
+
+    ``make_scenario(errors)`` builds the :class:`WindTunnelScenario` of one draw (its installation
+    angles and pitch-ratio error come from the printed wind-tunnel matrix: train). Returns one
+    :class:`WindTunnelRun` with ``trials`` trials.
+    """
+    per_draw = int(per_draw)
+    if per_draw < 1:
+        raise ValueError(f"per_draw must be >= 1, got {per_draw}")
+    n_draws = -(-int(trials) // per_draw)
+    draws = _draws(kind, fit, n_draws, seed)
+    rngs = np.random.default_rng(np.random.SeedSequence([int(seed), 11])).spawn(n_draws)
+    runs = []
+    for k, ((m, _), r) in enumerate(zip(draws, rngs)):
+        n = min(per_draw, int(trials) - k * per_draw)
+        runs.append(run_windtunnel(make_scenario(m), r, n, block=per_draw))
+    cat = lambda xs: np.concatenate(xs, axis=0)  # noqa: E731
+    first = runs[0]
+    first.q_matrix = cat([r.q_matrix for r in runs])
+    first.cal_before = cat([r.cal_before for r in runs])
+    first.cal_after = cat([r.cal_after for r in runs])
+    first.nowind = {k: (v if k == "reference" else cat([r.nowind[k] for r in runs])) for k, v in first.nowind.items()}
+    if first.wind_on is not None:
+        w = dict(first.wind_on)
+        w["group_means"] = np.concatenate([r.wind_on["group_means"] for r in runs], axis=1)
+        w["gate_fraction_on_trials"] = cat([r.wind_on["gate_fraction_on_trials"] for r in runs])
+        w["gate_fraction_on"] = float(np.mean(w["gate_fraction_on_trials"]))
+        first.wind_on = w
+    return first
+
+
+def quantile_se(samples, q: float, *, n_boot: int = 400, seed: int = 0) -> float:
+    """Monte Carlo standard error of the ``q`` quantile (0–1) of 1-D ``samples``: bootstrap over trials.
+
+    >>> round(quantile_se(np.arange(100.0), 0.5, seed=1), 1) > 0
+    True
+    """
+    x = np.asarray(samples, float)
+    if x.ndim != 1 or x.size < 2:
+        raise ValueError(f"samples must be 1-D with at least 2 values, got shape {x.shape}")
+    if not 0 < q < 1:
+        raise ValueError(f"q must be in (0, 1), got {q}")
+    rng = stream_rng(int(seed), STREAM_QUANTILE_SE)
+    idx = rng.integers(0, x.size, (int(n_boot), x.size))
+    return float(np.std(np.quantile(x[idx], q, axis=1), ddof=1))
+
+
+#: Leak-test sizes: (fit Monte Carlo draws, turntable trials, wind-tunnel trials, sample rate Hz).
+LEAK_SIZES = {"ci": (4000, 2, 2, 200.0), "full": (4000, 10, 10, 1000.0)}
+
+
+@leak.register("wang2023cja")
+def fit_and_predict(size: str = "ci", seed: int = 0) -> dict:
+    """The fit and the held-out predictions, for the leak test (:mod:`mtcal.reporting.leak`).
+
+    Fits the error model (Tables 1–4) and the wind-tunnel geometry (printed matrix), then
+    predicts every held-out printed number (posterior predictive) with a small Monte Carlo.
+
+    Parameters
+    ----------
+    size : {"ci", "full"}
+        Monte Carlo size (:data:`LEAK_SIZES`).
+    seed : int
+
+    Returns
+    -------
+    dict of str → ndarray
+        ``params`` (fitted values, σ, installation angles), ``windtunnel`` (angles, ratio error),
+        and per held-out cell ``<file>:<row>:<column>`` its (median, low, high) of our number
+        (measured from the printed reference, an ``input``).
+
+    References
+    ----------
+    Issue #21 item 2; wang2023cja Tables 1–4 (train), 5–8 and Table 10 Std (held out).
+
+    Examples
+    --------
+    >>> sorted(LEAK_SIZES)
+    ['ci', 'full']
+    """
+    from mtcal.core import metrics
+
+    from .error_model import fit_error_model
+    from .scenario import turntable_scenario, windtunnel_geometry, windtunnel_scenario
+    from .verdicts import printed_samples, split
+
+    if size not in LEAK_SIZES:
+        raise ValueError(f"size must be one of {sorted(LEAK_SIZES)}, got {size!r}")
+    n_mc, n_tt, n_wt, fs = LEAK_SIZES[size]
+    fit = fit_error_model(n_mc=n_mc, seed=int(seed))
+    out = {"params": np.array([getattr(fit.model, n) for n in FITTED_PARAMETERS]
+                              + [fit.std[n] for n in FITTED_PARAMETERS]
+                              + [float(x) for t in sorted(fit.alpha_rad) for x in fit.alpha_rad[t]])}
+    alpha, ratio = windtunnel_geometry()
+    out["windtunnel"] = np.array(list(alpha) + [ratio])
+    sc = turntable_scenario(errors=fit.model, fs_hz=fs)
+    tt = turntable_predictive(sc, fit, "fitted", n_tt, int(seed), tests=("T1",))
+    wt = windtunnel_predictive(lambda m: windtunnel_scenario(errors=m, fs_hz=fs), fit, "fitted", n_wt, int(seed),
+                               per_draw=n_wt)
+    samples = printed_samples(tt, wt)
+    sp = split()
+    for r in sp[sp.role == "heldout"].itertuples(index=False):
+        off, s = samples[(r.file, int(r.row), r.column)]
+        b = metrics.percentile_band(np.asarray(s, float) - off)
+        out[f"{r.file}:{r.row}:{r.column}"] = np.array([b["median"], b["low"], b["high"]], float)
+    return out

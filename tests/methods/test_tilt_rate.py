@@ -1,0 +1,81 @@
+"""Gravity-referenced gyro scale (mtcal.methods.tilt_rate) and the filters' edge check that uses it."""
+
+import warnings
+
+import numpy as np
+import pytest
+
+from mtcal.methods import tilt_rate as tr
+
+DT = 0.01
+
+
+def _tilting(n=3000, amp_rad_s=0.6, seed=0):
+    rng = np.random.default_rng(seed)
+    t = np.arange(n) * DT
+    rate = amp_rad_s * np.sin(2 * np.pi * 0.25 * t) * (t > 2)
+    angle = np.cumsum(rate) * DT
+    accel = 9.81 * np.column_stack([np.zeros(n), np.sin(angle), np.cos(angle)]) + rng.normal(0, 0.01, (n, 3))
+    gyro = np.column_stack([rate, np.zeros(n), np.zeros(n)]) + rng.normal(0, 0.002, (n, 3)) + 0.01
+    return gyro, accel
+
+
+@pytest.mark.parametrize("factor, dt_factor, expect", [(1.0, 1.0, 1.0), (180 / np.pi, 1.0, np.pi / 180),
+                                                       (1.0, 10.0, 0.1), (1.0, 0.1, 10.0)])
+def test_scale_found(factor, dt_factor, expect):
+    gyro, accel = _tilting()
+    res = tr.tilt_rate_scale(gyro * factor, accel, DT * dt_factor)
+    assert res["scale"] == pytest.approx(expect, rel=0.15)
+    assert res["correlation"] > 0.9
+
+
+def test_check_refuses_deg_s_and_time_scale_and_names_the_fix():
+    gyro, accel = _tilting()
+    assert tr.check_tilt_rate_scale(gyro, accel, DT)["decided"]
+    with pytest.raises(ValueError, match="--gyro-unit deg/s"):
+        tr.check_tilt_rate_scale(np.degrees(gyro), accel, DT)
+    with pytest.raises(ValueError, match="time column 10x too slow"):
+        tr.check_tilt_rate_scale(gyro, accel, DT * 10)
+
+
+def test_check_undecided_without_tilt():
+    rng = np.random.default_rng(1)
+    accel = np.tile([0.0, 0.0, 9.81], (2000, 1)) + rng.normal(0, 0.01, (2000, 3))
+    gyro = np.zeros((2000, 3))
+    gyro[500:1500, 2] = 1.0  # about gravity: invisible to the accelerometer
+    assert not tr.check_tilt_rate_scale(gyro, accel, DT)["decided"]
+
+
+def test_excess_tilt_warns_when_asked():
+    rng = np.random.default_rng(2)
+    accel = np.tile([0.0, 0.0, 9.81], (3000, 1)) + rng.normal(0, 0.01, (3000, 3))
+    gyro = np.zeros((3000, 3))
+    gyro[1000:2000, 0] = 0.5 * np.sin(np.linspace(0, 4 * np.pi, 1000))  # the gyro tilts, the accel does not
+    with pytest.warns(UserWarning, match="gyro implausible for rad/s"):
+        tr.check_tilt_rate_scale(gyro, accel, DT, excess="warn")
+    with pytest.raises(ValueError, match="gyro implausible for rad/s"):
+        tr.check_tilt_rate_scale(gyro, accel, DT)
+
+
+def test_skip_drops_windows():
+    gyro, accel = _tilting()
+    skip = np.ones(len(gyro), bool)
+    assert tr.tilt_rate_scale(gyro, accel, DT, skip=skip)["windows"] == 0
+    skip[: len(gyro) // 2] = False
+    half = tr.tilt_rate_scale(gyro, accel, DT, skip=skip)["windows"]
+    assert 0 < half < tr.tilt_rate_scale(gyro, accel, DT)["windows"]
+
+
+def test_filters_refuse_deg_s_gyro_at_their_public_edge():
+    from mtcal.filters.qncf import qncf
+    from mtcal.filters.rams_ekf import RamsEkfParams, run_rams_ekf
+
+    gyro, accel = _tilting()
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", UserWarning)
+        qncf(gyro, accel, DT)  # rad/s: accepted
+    with pytest.raises(ValueError, match="--gyro-unit deg/s"):
+        qncf(np.degrees(gyro), accel, DT)
+    static = np.zeros(len(gyro), bool)
+    with pytest.raises(ValueError, match="gyro implausible for rad/s"):
+        run_rams_ekf(np.degrees(gyro), accel, static, [1.0, 0.0, 0.0], accel[0], DT, RamsEkfParams())

@@ -1,0 +1,98 @@
+"""Fidelity scores: Wilson interval, interval score closed forms, aggregation, score block, writer."""
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from mtcal.reporting import compare, fidelity
+
+
+def _table():
+    r = compare.comparison_row
+    return compare.comparison_table([
+        r("a", "x", 1.0, 1.1, "", None, band=(0.9, 1.2), prior_band={"median": 2.0, "low": 0.0, "high": 5.0}),
+        r("a", "y", 2.0, 1.0, "", None, band=(0.5, 1.5), prior_band={"median": 2.0, "low": 0.0, "high": 5.0}),
+        r("a", "z", 0.0, 0.1, "", None, band=(-1.0, 1.0)),           # zero paper value: no relative scale
+        r("a", "t", 3.0, 3.0, "", None, band=(2.0, 4.0), role="train"),  # not held out: not scored
+        r("a", "c", 1.0, 0.5, "< 2", True),                             # claim without band: not scored
+    ])
+
+
+def test_interval_score_closed_forms():
+    alpha = 0.05
+    # inside: the width; below: width + (2/α)(l − x); above: width + (2/α)(x − u)
+    assert fidelity.interval_score(1.0, 3.0, 2.0) == pytest.approx(2.0)
+    assert fidelity.interval_score(1.0, 3.0, 0.5) == pytest.approx(2.0 + 2 / alpha * 0.5)
+    assert fidelity.interval_score(1.0, 3.0, 4.0) == pytest.approx(2.0 + 2 / alpha * 1.0)
+    assert fidelity.interval_score(0.0, 1.0, 2.0, alpha=0.5) == pytest.approx(1.0 + 4.0)
+
+
+def test_interval_score_errors():
+    with pytest.raises(ValueError, match="alpha must be in"):
+        fidelity.interval_score(0, 1, 0, alpha=1.5)
+    with pytest.raises(ValueError, match="low <= high"):
+        fidelity.interval_score(2.0, 1.0, 0.0)
+
+
+def test_wilson_interval_known_values_and_errors():
+    lo, hi = fidelity.wilson_interval(8, 10)
+    assert (lo, hi) == pytest.approx((0.4902, 0.9433), abs=1e-4)
+    assert fidelity.wilson_interval(0, 5)[0] == 0.0 and fidelity.wilson_interval(5, 5)[1] == 1.0
+    with pytest.raises(ValueError, match="need n >= 1"):
+        fidelity.wilson_interval(3, 2)
+    with pytest.raises(TypeError, match="k and n must be int"):
+        fidelity.wilson_interval(1.5, 2)
+    with pytest.raises(ValueError, match="level must be in"):
+        fidelity.wilson_interval(1, 2, level=1.0)
+
+
+def test_score_fitted_and_prior():
+    s = fidelity.score(_table(), "fitted")
+    assert s["n"] == 3 and s["inside"] == 2 and s["coverage"] == pytest.approx(2 / 3)
+    # relative widths: 0.3/1 and 1.0/2 (zero paper value skipped) -> median 0.4
+    assert s["median_rel_width"] == pytest.approx(0.4)
+    is_y = (1.0 + 40 * 0.5) / 2.0
+    assert s["mean_rel_interval_score"] == pytest.approx((0.3 + is_y) / 2)
+    assert s["within_25pct"] == 1  # x: |1 − 1.1| <= 0.275; y: |2 − 1| > 0.25; z: |0 − 0.1| > 0.025
+    p = fidelity.score(_table(), "prior")
+    assert p["n"] == 2 and p["inside"] == 2 and p["median_rel_width"] == pytest.approx(3.75)
+    with pytest.raises(ValueError, match="baseline must be one of"):
+        fidelity.score(_table(), "nominal")
+
+
+def test_quantile_mc_se_errors():
+    with pytest.raises(ValueError, match="q must be in"):
+        fidelity.quantile_mc_se(np.arange(10.0), 1.0)
+    with pytest.raises(ValueError, match="samples must be"):
+        fidelity.quantile_mc_se([1.0], 0.5)
+
+
+def test_score_block_text():
+    text = fidelity.score_block(_table(), "wang2022sensors")
+    first = text.splitlines()[0]
+    assert first == "wang2022sensors: 86 printed numbers: 13 train, 8 held out, 2 inside; 1 claims: 1 hold"
+    assert "Wilson 95 %" in text and "prior predictive: 2 of 2 inside" in text
+    assert "does NOT beat" in text or "beats" in text
+
+
+def test_write_scores_merges_and_is_byte_stable(tmp_path):
+    t = _table()
+    path = fidelity.write_scores(t, "tan2022", "20_x", folder=tmp_path)
+    fidelity.write_scores(t, "wang2022sensors", "30_y", folder=tmp_path)
+    first = path.read_bytes()
+    fidelity.write_scores(t, "tan2022", "20_x", folder=tmp_path)  # re-run replaces its own records
+    assert path.read_bytes() == first
+    df = pd.read_csv(path)
+    assert list(df.columns) == fidelity.SCORE_COLUMNS
+    assert list(zip(df.scope, df.baseline)) == [("tan2022", "fitted"), ("tan2022", "prior"),
+                                                ("wang2022sensors", "fitted"), ("wang2022sensors", "prior"),
+                                                ("wang2023cja", "fitted"), ("wang2023cja", "prior"),
+                                                ("overall", "fitted"), ("overall", "prior")]
+    assert df.loc[df.scope == "wang2023cja", "n"].tolist() == [0, 0]
+    assert df.loc[df.scope == "overall", "n"].tolist() == [6, 4]
+    with pytest.raises(ValueError, match="paper_key must be one of"):
+        fidelity.write_scores(t, "x2020", "n", folder=tmp_path)
+    with pytest.raises(ValueError, match="notebook must be a non-empty str"):
+        fidelity.write_scores(t, "tan2022", "", folder=tmp_path)
+    with pytest.raises(ValueError, match="not a comparison table"):
+        fidelity.score_records(pd.DataFrame({"role": []}), "tan2022", "n")

@@ -1,0 +1,131 @@
+"""Tests for mtcal.studies.wang2023cja.verdicts and .predictive: split, one-to-one rows, scores, claims."""
+
+from dataclasses import replace
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from mtcal.studies import wang2023cja as w
+from mtcal.studies.wang2023cja import predictive, verdicts
+
+
+def test_split_roles_are_preregistered():
+    sp = verdicts.split()
+    assert not sp.duplicated(["file", "row", "column"]).any()
+    held = sp[sp.role == "heldout"]
+    assert set(held.file) == {"wang2023cja_table05_aoa_sweep_mean_pitch", "wang2023cja_table06_aoa_sweep_roll_yaw_errors",
+                              "wang2023cja_table07_roll_sweep_mean_roll", "wang2023cja_table08_roll_sweep_pitch_yaw_errors",
+                              "wang2023cja_table10_windtunnel_wind_pitch"}
+    # Table 10: only the Std row is held out; Tables 9 and 11 were tuned on (train)
+    t10 = sp[sp.file == "wang2023cja_table10_windtunnel_wind_pitch"]
+    assert set(t10[t10.role == "heldout"].row.astype(int)) == set(range(36, 41))
+    assert (sp[sp.file.str.contains("table09|table11")].query("role != 'input'").role == "train").all()
+    assert (sp[sp.role.isin(["input", "erratum", "not-compared"])].reason.str.len() > 0).all()
+
+
+def test_scores_coverage_interval_and_interval_score():
+    t = pd.DataFrame({"role": ["heldout"] * 4 + ["train"], "paper": [1.0, 2.0, -1.0, 0.0, 9.0],
+                      "low": [0.5, 2.5, -1.5, -0.1, 0.0], "high": [1.5, 3.0, -0.5, 0.1, 1.0],
+                      "median": [1.1, 2.7, -1.0, 0.0, 0.5]})
+    s = verdicts.scores(t)
+    assert (s["n_heldout"], s["inside"], s["within25"]) == (4, 3, 3)
+    assert s["coverage_low"] < 0.75 < s["coverage_high"]
+    # outside by 0.5 below: width 0.5 + 2/0.05 · 0.5 = 20.5, relative to |2|
+    assert verdicts._interval_score(2.0, 2.5, 3.0) == pytest.approx(20.5)
+    assert verdicts.scores(t, role="erratum")["n_heldout"] == 0
+
+
+def test_one_to_one_measures_from_the_reference():
+    key = ("wang2023cja_table05_aoa_sweep_mean_pitch", 1, "before_mean_pitch_deg")
+    samples = {key: (-4.0, np.full(50, -4.0) + np.linspace(0.0, 0.02, 50))}
+    t = verdicts.one_to_one(samples)
+    row = t.iloc[0]
+    assert len(t) == 1 and row.role == "heldout"
+    assert row.paper == pytest.approx(0.012) and row.inside and row.low > 0
+    assert row.se_low >= 0 and np.isfinite(row.se_high)
+
+
+def test_quantile_se_and_draw_validation():
+    assert predictive.quantile_se(np.arange(200.0), 0.975, seed=1) > 0
+    with pytest.raises(ValueError, match="samples must be 1-D"):
+        predictive.quantile_se(np.zeros((2, 2)), 0.5)
+    with pytest.raises(ValueError, match="q must be in"):
+        predictive.quantile_se(np.zeros(5), 1.5)
+    with pytest.raises(ValueError, match="n must be >= 1"):
+        predictive.prior_draws(0, 1)
+    with pytest.raises(ValueError, match="kind must be one of"):
+        predictive._draws("nominal", None, 1, 0)
+
+
+def test_prior_draws_vary_and_ignore_the_fit():
+    draws = predictive.prior_draws(20, seed=3)
+    pos = [m.position_error_arcsec for m, _ in draws]
+    assert np.ptp(pos) > 10 and min(pos) >= 1.0
+    t1 = np.array([a["T1"] for _, a in draws])
+    assert np.abs(t1).max() > 0.05 and abs(t1.mean()) < 0.3      # not the fitted α (−0.24°, …)
+
+
+def test_posterior_draws_stay_in_prior_and_spread():
+    fit = w.fit_error_model(n_mc=1000)
+    draws = predictive.posterior_draws(fit, 30, seed=2)
+    for name, (lo, hi) in w.PRIOR_RANGES.items():
+        v = np.array([getattr(m, name) for m, _ in draws])
+        assert (v >= lo).all() and (v <= hi).all()
+    g = np.array([m.compliance_gasket_deg_g for m, _ in draws])
+    assert 0 < g.std() < 0.1
+
+
+# --------------------------------------------------------------------------
+# asserted claims can fail: each under a stated perturbation of the scenario
+# --------------------------------------------------------------------------
+@pytest.fixture(scope="module")
+def fast():
+    sc = w.turntable_scenario(fs_hz=100.0)
+    return replace(sc, errors=w.ErrorModel(position_error_arcsec=5.0))
+
+
+def _claims(sc, **job):
+    rng = np.random.default_rng(np.random.SeedSequence([7, 1]))
+    run = w.run_turntable_jobs(sc, [w.TurntableJob("T1", rng, 2, **job)], with_sweeps=True)[0]
+    return verdicts.claims({"T1": run}).set_index("claim_id")
+
+
+def test_asserted_turntable_claims_hold_at_the_fitted_angles(fast):
+    c = _claims(fast)
+    assert c.loc[["c14", "c16", "t6-reduce"], "holds"].all()
+    assert (c.kind.loc[["c08"]] == "consistency").all()
+
+
+def test_c14_c15_fail_with_a_coarse_turntable(fast):
+    # perturbation: per-hold angle error 300″ (a 5′ turntable) instead of 5″
+    c = _claims(fast, errors=w.ErrorModel(position_error_arcsec=300.0))
+    assert not c.loc["c14", "holds"] and not c.loc["c15", "holds"]
+
+
+def test_c16_and_t6_fail_without_installation_error(fast):
+    # perturbation: a perfectly aligned IMU — no coupling for the calibration to remove
+    c = _claims(fast, alpha_deg=(0.0, 0.0, 0.0), errors=w.ErrorModel(position_error_arcsec=60.0))
+    assert not c.loc["c16", "holds"] and not c.loc["t6-reduce", "holds"]
+
+
+def test_claim_block_lists_failures_with_reason():
+    t = pd.DataFrame([verdicts._claim("x", "a", "within 1", "<= 1", "claim", "stat", [2.0, 3.0], lambda v: v <= 1,
+                                      "median {v:.1f}")], columns=verdicts.CLAIM_COLUMNS)
+    text = verdicts.claim_block(t)
+    assert "x FAILS" in text and "median 2.5" in text and "claim: 0 of 1 hold" in text
+
+
+def test_leak_registration_and_comparison_feed_the_scores():
+    from mtcal.reporting import fidelity, leak
+
+    assert leak.registered()["wang2023cja"] is predictive.fit_and_predict
+    with pytest.raises(ValueError, match="size must be one of"):
+        predictive.fit_and_predict("huge")
+    key = ("wang2023cja_table10_windtunnel_wind_pitch", 40, "value_deg")
+    one = {k: verdicts.one_to_one({key: (0.0, np.linspace(lo, hi, 40))}) for k, lo, hi in
+           (("fitted", 0.005, 0.02), ("prior", 0.0, 0.1))}
+    t = verdicts.comparison(one)
+    assert t.ref.iloc[0] == "wang2023cja_table10_windtunnel_wind_pitch:40:value_deg"
+    s = fidelity.score(t, "fitted")
+    assert (s["n"], s["inside"]) == (1, 1)
