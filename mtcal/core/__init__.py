@@ -55,7 +55,8 @@ __all__ = ["rotations", "simulate", "profiles", "metrics", "montecarlo", "valida
            "trial_rng", "stream_rng", "jit", "component_major"]
 
 #: Submodules, loaded on first attribute access (``import mtcal`` stays light for the CLI).
-_SUBMODULES = ('metrics', 'montecarlo', 'profiles', 'rng', 'rotations', 'sensor_grades', 'simulate', 'units', 'validate')
+_SUBMODULES = ("metrics", "montecarlo", "profiles", "rng", "rotations", "sensor_grades", "simulate", "units",
+               "validate")
 #: Re-exported name → submodule defining it (imported on first access).
 _EXPORTS = {
     "component_major": "compiled", "jit": "compiled", "allan_deviation": "metrics", "angle_difference": "metrics",

@@ -17,7 +17,8 @@ if TYPE_CHECKING:  # the eager imports, for type checkers and tests/test_import_
     from .mahony import mahony_imu, MahonyParams, MahonyResult
     from .registry import (AxisContext, available_filters, filter_names, FilterEntry, get_filter, register_filter,
                            require_filter, unregister_filter)
-    from .anchors import RAMS_EKF_DEFAULT_GAIN, run_attitude_filter, run_axis_angle_filter, tilt_error_rad, twist_angle_rad
+    from .anchors import (RAMS_EKF_DEFAULT_GAIN, run_attitude_filter, run_axis_angle_filter, tilt_error_rad,
+                          twist_angle_rad)
 
 __all__ = ["qncf", "rams_ekf", "baselines", "mahony", "anchors", "QncfParams", "QncfResult", "QncfFilter",
            "amd_statistic", "initial_attitude_from_accel", "RamsEkfParams", "RamsEkfReference", "RamsEkfResult",

@@ -19,9 +19,11 @@ if TYPE_CHECKING:  # the eager imports, for type checkers and tests/test_import_
     from . import (constrained_fit, gyro_roll, large_angle, quaternion_lsq, rest_detection, rotation_axis, six_position,
                    zero_velocity)
     from .quaternion_lsq import align_pairs, apply_error_matrix, least_squares_error_matrix
-    from .constrained_fit import (associate_matrix, CalibrationScenario, distance_to_orthogonal, factor_so4, fit_mounting,
+    from .constrained_fit import (associate_matrix, CalibrationScenario, distance_to_orthogonal, factor_so4,
+                                  fit_mounting,
                                   fit_so4, METHODS, MIN_POSITIONS, mounting_error_matrix, MountingFit, project_to_so4,
-                                  random_layout_rad, simulate_calibration_errors, so4_error_matrix, so4_from_quaternions,
+                                  random_layout_rad, simulate_calibration_errors, so4_error_matrix,
+                                  so4_from_quaternions,
                                   So4Fit, So4Projection, symmetric_layout_rad)
     from .six_position import (calibrate, find_rests, match_rests, mean_quaternion, middle_slices, rest_means,
                                schedule_profile, six_positions_rad, SixPositionResult, stillness_from_gyro,
@@ -33,7 +35,8 @@ if TYPE_CHECKING:  # the eager imports, for type checkers and tests/test_import_
                               select_preset_pitch)
     from .gyro_roll import (body_rates_two_dof, euler_differential, loglog_slope, MAX_RATE_RAD_S, pitch_rate_magnitude,
                             projection_roll_error_eq14, projection_roll_error_exact, roll_decoupled_integration,
-                            roll_hybrid, roll_hybrid_rmse_sweep, roll_projection, simulate_two_dof_imu, two_dof_trajectory)
+                            roll_hybrid, roll_hybrid_rmse_sweep, roll_projection, simulate_two_dof_imu,
+                            two_dof_trajectory)
     from .rotation_axis import (angle_between, apply_sign_convention, axis_elevation, axis_error_std, axis_from_means,
                                 AxisEstimator, AxisPlaneFit, AxisResult, distinct_positions, estimate_axis,
                                 fit_axis_plane, gravity_change_norm)
@@ -61,7 +64,8 @@ __all__ = ["quaternion_lsq", "constrained_fit", "six_position", "large_angle", "
            "RejectedRest", "detect_rests", "paper_rest_report"]
 
 #: Submodules, loaded on first attribute access (``import mtcal`` stays light for the CLI).
-_SUBMODULES = ('constrained_fit', 'gyro_roll', 'large_angle', 'quaternion_lsq', 'rest_detection', 'rotation_axis', 'six_position', 'zero_velocity')
+_SUBMODULES = ("constrained_fit", "gyro_roll", "large_angle", "quaternion_lsq", "rest_detection", "rotation_axis",
+               "six_position", "zero_velocity")
 #: Re-exported name → submodule defining it (imported on first access).
 _EXPORTS = {
     "CalibrationScenario": "constrained_fit", "METHODS": "constrained_fit", "MIN_POSITIONS": "constrained_fit",
