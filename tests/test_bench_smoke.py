@@ -10,6 +10,7 @@ from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
+import pandas as pd
 import pytest
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
@@ -17,6 +18,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
 import anchors  # noqa: E402
 import mc_stream  # noqa: E402
 import run  # noqa: E402
+import scalar_limit  # noqa: E402
 from mtcal.core import metrics, rotations  # noqa: E402
 from mtcal.filters.qncf import QncfFilter  # noqa: E402
 from mtcal.core.simulate import simulate_imu  # noqa: E402
@@ -195,6 +197,43 @@ def test_targets_are_evaluated_from_the_ratios(monkeypatch):
     assert [met for name, _, _, met in slow if "1000 trials" in name] == [False, False] * 2
     quick = run.evaluate_targets(_fake_df(3e7, 5e7, 2e7), 1000, dict(mc, trials=10), None, full_size=False)
     assert all(met is None for _, _, _, met in quick)
+
+
+def test_issue24_targets_compare_after_with_before_in_one_run(monkeypatch):
+    monkeypatch.setattr(run.numba.config, "NUMBA_NUM_THREADS", 2)
+
+    def row(method, thr):
+        return run.Measurement(method, "x", 1000, 1000, 1000 * 1000 / thr, 1.0, threads=2)
+    df = _fake_df(3e7, 1.2e8, 2e7)
+    extra = run.results_table([row(run.QNCF + run.BEFORE, 4e7), row(run.LIMIT_QNCF, 6e7),
+                               row(run.EKF + run.BEFORE, 8e7)])
+    got = run.evaluate_targets(pd.concat([df, extra], ignore_index=True), 1000, None, None,
+                               imports={"import_s": 0.25, "help_s": 1.0})
+    verdicts = {name: (measured, met) for name, measured, _, met in got}
+    qncf_before = next(v for k, v in verdicts.items() if k.startswith(run.QNCF) and "previous kernel" in k)
+    assert qncf_before[1] is True and "3.00x" in qncf_before[0] and "2.00 of the scalar limit" in qncf_before[0]
+    ekf_before = next(v for k, v in verdicts.items() if k.startswith(run.EKF) and "previous kernel" in k)
+    assert ekf_before[1] is False and "1.50x" in ekf_before[0]  # 120 vs 80 M/s
+    assert [met for k, (_, met) in verdicts.items() if "BasicVQF (1 trial)" in k] == [True, True]  # 12x
+    assert next(met for k, (_, met) in verdicts.items() if k.startswith("import mtcal")) is True
+
+
+def test_before_kernels_are_swapped_in_and_restored(tiny_inputs):
+    from mtcal.filters import _kernels_qncf
+
+    after = _kernels_qncf.qncf_parallel
+    call = run._qncf_call(tiny_inputs.gyro_t, tiny_inputs.accel_t, tiny_inputs.q0)
+    with run._BeforeKernels():
+        assert _kernels_qncf.qncf_parallel is run.before_kernels_qncf.qncf_parallel
+        old = call()
+    assert _kernels_qncf.qncf_parallel is after
+    assert np.array_equal(old.q_ws, call().q_ws)  # the previous kernel computed the same numbers
+
+
+def test_scalar_limit_filters_track_mtcal(tiny_inputs):
+    q_lim = scalar_limit.qncf_scalar_limit(tiny_inputs.gyro_t, tiny_inputs.accel_t, tiny_inputs.q0, run.DT_S)[0]
+    q = run._qncf_call(tiny_inputs.gyro_t, tiny_inputs.accel_t, tiny_inputs.q0)().q_ws
+    assert np.max(rotations.quat_angle_between(q_lim, q)) < 1e-6  # same filter, independent arithmetic
 
 
 def test_profile_summary_names_the_filter_functions(tiny_inputs):

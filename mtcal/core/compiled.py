@@ -34,8 +34,6 @@ if not os.environ.get("NUMBA_CACHE_DIR"):
                                                        os.W_OK):
         os.environ["NUMBA_CACHE_DIR"] = os.path.join(tempfile.gettempdir(), "mtcal-numba-cache")
 
-import numba  # noqa: E402  (after the settings above)
-
 
 def jit(fn=None, *, parallel: bool = False):
     """``numba.njit(cache=True, nogil=True, parallel=parallel)``, uncached when caching is impossible.
@@ -62,6 +60,8 @@ def jit(fn=None, *, parallel: bool = False):
     >>> twice(1.5)
     3.0
     """
+    import numba  # here, not at import: ``import mtcal`` (a CLI call) does not load numba; settings above
+
     def deco(f):
         try:
             return numba.njit(cache=True, nogil=True, parallel=parallel)(f)

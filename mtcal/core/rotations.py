@@ -40,7 +40,6 @@ array([10., 20., 30.])
 from __future__ import annotations
 
 import numpy as np
-from scipy.spatial.transform import Rotation
 
 from mtcal.core.validate import angle_rad, as_float_array, unit_quaternion
 
@@ -204,6 +203,8 @@ def quat_to_matrix(q) -> np.ndarray:
     The matrix maps vectors from the rotated frame to the reference frame
     (``v_ref = C v_body``), as scipy's ``Rotation.as_matrix``.
     """
+    from scipy.spatial.transform import Rotation  # lazy: scipy costs ~0.5 s of every CLI call's start-up
+
     q = unit_quaternion(q, "q")
     shape = q.shape[:-1]
     mat = Rotation.from_quat(q.reshape(-1, 4), scalar_first=True).as_matrix()
@@ -215,6 +216,8 @@ def quat_from_matrix(matrix) -> np.ndarray:
     m = as_float_array(matrix, "matrix")
     if m.ndim < 2 or m.shape[-2:] != (3, 3):
         raise ValueError(f"matrix must have shape (..., 3, 3), got {m.shape}")
+    from scipy.spatial.transform import Rotation  # lazy, see quat_to_matrix
+
     shape = m.shape[:-2]
     q = Rotation.from_matrix(m.reshape(-1, 3, 3)).as_quat(scalar_first=True)
     return align_signs(q.reshape(shape + (4,)))
@@ -417,6 +420,8 @@ def dcm_zyx(yaw, pitch, roll) -> np.ndarray:
     ``Rotation.from_euler('ZYX', [ψ, θ, φ]).as_matrix()``. This is the
     corrected form of tan2022 Eq 1 (the printed one has θ where φ belongs).
     """
+    from scipy.spatial.transform import Rotation  # lazy, see quat_to_matrix
+
     psi = angle_rad(yaw, "yaw")
     theta = angle_rad(pitch, "pitch")
     phi = angle_rad(roll, "roll")

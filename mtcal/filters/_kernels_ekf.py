@@ -11,18 +11,25 @@ Per-trial state arrays: ``theta`` (T,), ``bias`` (T, 3), ``p`` (T, 10) packed
 covariance, ``omega_prev`` (T,) = vᵀω Δt of the last gyro sample seen (used
 when ``has_prev``); the last step's ``c = P e0`` (T, 4), ``h′`` (T, 3) and
 ``s`` (T,) are returned for S and K.
+
+Batches run as blocks of four trials in structure-of-arrays form (:func:`_block`:
+one 4-lane SIMD vector per state variable, :mod:`mtcal.filters._kernels_lanes`),
+blocks spread over threads with ``prange``; a batched trial is bit-identical to the
+same trial run alone (:func:`_trial`, used for single-trial records and a last lone trial).
 """
 
 from __future__ import annotations
 
 import math
 
+import numba
 import numpy as np
 from numba import prange
 
+from mtcal.filters import _kernels_lanes as L
 from mtcal.filters._kernels_common import jit
 
-__all__ = ["ekf_serial", "ekf_parallel"]
+__all__ = ["ekf_one", "ekf_serial", "ekf_parallel"]
 
 _LOW2 = 2.0 * 2.0 * (1.0 + 1e-9)   # see _kernels_qncf._LOW2
 
@@ -135,10 +142,180 @@ def _trial(g, a, st, t, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, om_s, 
         last_s[t] = s
 
 
+@numba.njit(inline="always")
+def _lanes3(x, ta, tb, tc, td):
+    """Columns 0, 1, 2 of rows ta … td of a (T, 3) array as three 4-lane vectors."""
+    return ((x[ta, 0], x[tb, 0], x[tc, 0], x[td, 0]), (x[ta, 1], x[tb, 1], x[tc, 1], x[td, 1]),
+            (x[ta, 2], x[tb, 2], x[tc, 2], x[td, 2]))
+
+
+@numba.njit(inline="always")
+def _col(x, ta, tb, tc, td, i):
+    return (x[ta, i], x[tb, i], x[tc, i], x[td, i])
+
+
+@numba.njit(inline="always")
+def _at(x, ta, tb, tc, td, k, i):
+    return (x[ta, k, i], x[tb, k, i], x[tc, k, i], x[td, k, i])
+
+
+@numba.njit(inline="always")
+def _put(out, t0, nl, k, X):
+    """out[t0 + j, k] = X[j] for the ``nl`` real lanes (constant lane indices: X stays in registers)."""
+    out[t0, k] = X[0]
+    if nl > 1:
+        out[t0 + 1, k] = X[1]
+    if nl > 2:
+        out[t0 + 2, k] = X[2]
+    if nl > 3:
+        out[t0 + 3, k] = X[3]
+
+
+@numba.njit(inline="always")
+def _put3(out, t0, nl, k, i, X):
+    """out[t0 + j, k, i] = X[j] for the ``nl`` real lanes."""
+    out[t0, k, i] = X[0]
+    if nl > 1:
+        out[t0 + 1, k, i] = X[1]
+    if nl > 2:
+        out[t0 + 2, k, i] = X[2]
+    if nl > 3:
+        out[t0 + 3, k, i] = X[3]
+
+
+@jit()
+def _block(g, a, st, t0, nl, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, om_s, has_prev, use_zvd,
+           var_z, var_m, dt, q_theta, q_b, out_theta, out_bias, out_p, out_y, keep_y, last_c, last_hp, last_s, chk):
+    """Trials ``t0 … t0 + nl - 1`` (``nl`` ≤ 4) as 4-lane SIMD vectors (structure of arrays over trials).
+
+    Each lane performs :func:`_trial`'s operations on the same operands in the same order
+    (cos/sin per lane with the same libm calls), so every trial is bit-identical to
+    :func:`_trial`. Lanes past ``nl`` repeat the last trial and are never stored.
+    """
+    ta, tb, tc, td = t0, t0 + min(1, nl - 1), t0 + min(2, nl - 1), t0 + min(3, nl - 1)
+    V0, V1, V2 = _lanes3(v, ta, tb, tc, td)
+    F1, F2, F3 = _lanes3(f, ta, tb, tc, td)
+    PA0, PA1, PA2 = _lanes3(par, ta, tb, tc, td)
+    PE0, PE1, PE2 = _lanes3(perp, ta, tb, tc, td)
+    NE0, NE1, NE2 = _lanes3(nperp, ta, tb, tc, td)
+    W0, W1, W2 = _lanes3(wv, ta, tb, tc, td)
+    TH = (theta_s[ta], theta_s[tb], theta_s[tc], theta_s[td])
+    B0, B1, B2 = _lanes3(bias_s, ta, tb, tc, td)
+    P00, P01, P02, P03 = (_col(p_s, ta, tb, tc, td, 0), _col(p_s, ta, tb, tc, td, 1),
+                          _col(p_s, ta, tb, tc, td, 2), _col(p_s, ta, tb, tc, td, 3))
+    P11, P22, P33 = _col(p_s, ta, tb, tc, td, 4), _col(p_s, ta, tb, tc, td, 5), _col(p_s, ta, tb, tc, td, 6)
+    P12, P13, P23 = _col(p_s, ta, tb, tc, td, 7), _col(p_s, ta, tb, tc, td, 8), _col(p_s, ta, tb, tc, td, 9)
+    OM = (om_s[ta], om_s[tb], om_s[tc], om_s[td])
+    per_trial_flags = st.shape[0] > 1
+    zero = L.bc(0.0)
+    FW = FA = WM = LOW = zero
+    C0 = C1 = C2 = C3 = H0 = H1 = H2 = S = zero
+    DT, QT, QB = L.bc(dt), L.bc(q_theta), L.bc(q_b)
+    for k in range(g.shape[1]):
+        if has_prev or k > 0:  # prediction with the previous gyro sample (Eq 24–27)
+            TH = L.add(TH, L.sub(OM, L.mul(L.add(L.add(L.mul(V0, B0), L.mul(V2, B2)), L.mul(V1, B1)), DT)))
+            U0 = L.add(L.add(L.mul(P01, F1), L.mul(P03, F3)), L.mul(P02, F2))
+            U1 = L.add(L.add(L.mul(P11, F1), L.mul(P13, F3)), L.mul(P12, F2))
+            U2 = L.add(L.add(L.mul(P12, F1), L.mul(P23, F3)), L.mul(P22, F2))
+            U3 = L.add(L.add(L.mul(P13, F1), L.mul(P33, F3)), L.mul(P23, F2))
+            R1 = L.add(L.add(L.mul(F1, U1), L.mul(F3, U3)), L.mul(F2, U2))
+            P00 = L.add(L.add(L.add(P00, U0), U0), L.add(R1, QT))
+            P01, P02, P03 = L.add(P01, U1), L.add(P02, U2), L.add(P03, U3)
+            P11, P22, P33 = L.add(P11, QB), L.add(P22, QB), L.add(P33, QB)
+        GX, GY, GZ = _at(g, ta, tb, tc, td, k, 0), _at(g, ta, tb, tc, td, k, 1), _at(g, ta, tb, tc, td, k, 2)
+        AX, AY, AZ = _at(a, ta, tb, tc, td, k, 0), _at(a, ta, tb, tc, td, k, 1), _at(a, ta, tb, tc, td, k, 2)
+        FW = L.add(FW, L.add(L.add(L.muls(GX, 0.0), L.muls(GY, 0.0)), L.muls(GZ, 0.0)))
+        FA = L.add(FA, L.add(L.add(L.muls(AX, 0.0), L.muls(AY, 0.0)), L.muls(AZ, 0.0)))
+        WM = L.vmax(WM, L.vmax(L.fabs(GX), L.vmax(L.fabs(GY), L.fabs(GZ))))
+        N2 = L.add(L.add(L.mul(AX, AX), L.mul(AY, AY)), L.mul(AZ, AZ))
+        LOW = L.add(LOW, L.where_lt(N2, L.bc(_LOW2), L.bc(1.0), zero))
+        OM = L.mul(L.add(L.add(L.mul(GX, V0), L.mul(GZ, V2)), L.mul(GY, V1)), DT)
+        # correction (Eq 28–32), scalar-information form
+        CS = (math.cos(TH[0]), math.cos(TH[1]), math.cos(TH[2]), math.cos(TH[3]))
+        SN = (math.sin(TH[0]), math.sin(TH[1]), math.sin(TH[2]), math.sin(TH[3]))
+        Y0 = L.sub(AX, L.sub(L.add(PA0, L.mul(PE0, CS)), L.mul(W0, SN)))
+        Y1 = L.sub(AY, L.sub(L.add(PA1, L.mul(PE1, CS)), L.mul(W1, SN)))
+        Y2 = L.sub(AZ, L.sub(L.add(PA2, L.mul(PE2, CS)), L.mul(W2, SN)))
+        H0 = L.sub(L.mul(NE0, SN), L.mul(W0, CS))
+        H1 = L.sub(L.mul(NE1, SN), L.mul(W1, CS))
+        H2 = L.sub(L.mul(NE2, SN), L.mul(W2, CS))
+        R4 = L.add(L.add(L.mul(H0, H0), L.mul(H2, H2)), L.mul(H1, H1))
+        C0, C1, C2, C3 = P00, P01, P02, P03
+        if not use_zvd:
+            VAR = L.bc(var_z)
+        elif per_trial_flags:
+            VAR = (var_z if st[ta, k] else var_m, var_z if st[tb, k] else var_m,
+                   var_z if st[tc, k] else var_m, var_z if st[td, k] else var_m)
+        else:
+            VAR = L.bc(var_z if st[0, k] else var_m)
+        S = L.add(VAR, L.mul(C0, R4))
+        R0 = L.div(L.add(L.add(L.mul(H0, Y0), L.mul(H2, Y2)), L.mul(H1, Y1)), S)
+        TH = L.add(TH, L.mul(C0, R0))
+        B0, B1, B2 = L.add(B0, L.mul(C1, R0)), L.add(B1, L.mul(C2, R0)), L.add(B2, L.mul(C3, R0))
+        R4 = L.div(R4, S)
+        P00 = L.sub(P00, L.mul(L.mul(C0, C0), R4))
+        P01 = L.sub(P01, L.mul(L.mul(C1, C0), R4))
+        P02 = L.sub(P02, L.mul(L.mul(C2, C0), R4))
+        P03 = L.sub(P03, L.mul(L.mul(C3, C0), R4))
+        P11 = L.sub(P11, L.mul(L.mul(C1, C1), R4))
+        P22 = L.sub(P22, L.mul(L.mul(C2, C2), R4))
+        P33 = L.sub(P33, L.mul(L.mul(C3, C3), R4))
+        P12 = L.sub(P12, L.mul(L.mul(C2, C1), R4))
+        P13 = L.sub(P13, L.mul(L.mul(C3, C1), R4))
+        P23 = L.sub(P23, L.mul(L.mul(C3, C2), R4))
+        _put(out_theta, t0, nl, k, TH)
+        _put(out_p, t0, nl, k, P00)
+        _put3(out_bias, t0, nl, k, 0, B0)
+        _put3(out_bias, t0, nl, k, 1, B1)
+        _put3(out_bias, t0, nl, k, 2, B2)
+        if keep_y:
+            _put3(out_y, t0, nl, k, 0, Y0)
+            _put3(out_y, t0, nl, k, 1, Y1)
+            _put3(out_y, t0, nl, k, 2, Y2)
+    for j in range(nl):
+        t = t0 + j
+        theta_s[t] = TH[j]
+        bias_s[t, 0], bias_s[t, 1], bias_s[t, 2] = B0[j], B1[j], B2[j]
+        p_s[t, 0], p_s[t, 1], p_s[t, 2], p_s[t, 3] = P00[j], P01[j], P02[j], P03[j]
+        p_s[t, 4], p_s[t, 5], p_s[t, 6] = P11[j], P22[j], P33[j]
+        p_s[t, 7], p_s[t, 8], p_s[t, 9] = P12[j], P13[j], P23[j]
+        om_s[t] = OM[j]
+        chk[t, 0], chk[t, 1], chk[t, 2], chk[t, 3] = FW[j], WM[j], FA[j], LOW[j]
+        if g.shape[1] > 0:
+            last_c[t, 0], last_c[t, 1], last_c[t, 2], last_c[t, 3] = C0[j], C1[j], C2[j], C3[j]
+            last_hp[t, 0], last_hp[t, 1], last_hp[t, 2] = H0[j], H1[j], H2[j]
+            last_s[t] = S[j]
+
+
+@jit()
+def _run_block(g, a, st, b, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, om_s, has_prev, use_zvd, var_z,
+               var_m, dt, q_theta, q_b, out_theta, out_bias, out_p, out_y, keep_y, last_c, last_hp, last_s, chk):
+    """Block ``b`` of 4 trials (vector lanes), or its single trial with the scalar kernel."""
+    t0 = np.int64(b) * 4
+    nl = min(4, g.shape[0] - t0)
+    if nl == 1:
+        _trial(g, a, st, t0, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, om_s, has_prev, use_zvd, var_z,
+               var_m, dt, q_theta, q_b, out_theta, out_bias, out_p, out_y, keep_y, last_c, last_hp, last_s, chk)
+    else:
+        _block(g, a, st, t0, nl, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, om_s, has_prev, use_zvd,
+               var_z, var_m, dt, q_theta, q_b, out_theta, out_bias, out_p, out_y, keep_y, last_c, last_hp, last_s,
+               chk)
+
+
 @jit()
 def ekf_serial(g, a, st, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, om_s, has_prev, use_zvd, var_z,
                var_m, dt, q_theta, q_b, out_theta, out_bias, out_p, out_y, keep_y, last_c, last_hp, last_s, chk):
-    """Trials one after the other."""
+    """Blocks of 4 trials one after the other."""
+    for b in range((g.shape[0] + 3) // 4):
+        _run_block(g, a, st, b, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, om_s, has_prev, use_zvd, var_z,
+                   var_m, dt, q_theta, q_b, out_theta, out_bias, out_p, out_y, keep_y, last_c, last_hp, last_s, chk)
+
+
+@jit()
+def ekf_one(g, a, st, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, om_s, has_prev, use_zvd, var_z,
+            var_m, dt, q_theta, q_b, out_theta, out_bias, out_p, out_y, keep_y, last_c, last_hp, last_s, chk):
+    """Trials one after the other with the scalar kernel only (single-trial records: the smallest code for
+    numba to load from its cache)."""
     for t in range(g.shape[0]):
         _trial(g, a, st, t, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, om_s, has_prev, use_zvd, var_z,
                var_m, dt, q_theta, q_b, out_theta, out_bias, out_p, out_y, keep_y, last_c, last_hp, last_s, chk)
@@ -147,10 +324,10 @@ def ekf_serial(g, a, st, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, om_s,
 @jit(parallel=True)
 def ekf_parallel(g, a, st, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, om_s, has_prev, use_zvd, var_z,
                  var_m, dt, q_theta, q_b, out_theta, out_bias, out_p, out_y, keep_y, last_c, last_hp, last_s, chk):
-    """Trials spread over numba's threads (``prange``); each trial computed exactly as serially."""
-    for t in prange(g.shape[0]):
-        _trial(g, a, st, t, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, om_s, has_prev, use_zvd, var_z,
-               var_m, dt, q_theta, q_b, out_theta, out_bias, out_p, out_y, keep_y, last_c, last_hp, last_s, chk)
+    """Blocks of 4 trials spread over numba's threads (``prange``); each trial computed exactly as serially."""
+    for b in prange((g.shape[0] + 3) // 4):
+        _run_block(g, a, st, b, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, om_s, has_prev, use_zvd, var_z,
+                   var_m, dt, q_theta, q_b, out_theta, out_bias, out_p, out_y, keep_y, last_c, last_hp, last_s, chk)
 
 
 def warm_up() -> None:
@@ -160,7 +337,7 @@ def warm_up() -> None:
     a = np.zeros((n, m, 3))
     a[..., 2] = 9.8
     vec = np.tile([1.0, 0.0, 0.0], (n, 1))
-    for fn in (ekf_serial, ekf_parallel):
+    for fn in (ekf_one, ekf_serial, ekf_parallel):
         fn(g, a, np.ones((1, m), np.bool_), vec, vec, vec, vec, vec, vec, np.zeros(n), np.zeros((n, 3)),
            np.ones((n, 10)), np.zeros(n), False, True, 1e-4, 4.0, 1e-3, 1e-10, 1e-14, np.empty((n, m)),
            np.empty((n, m, 3)), np.empty((n, m)), np.empty((n, m, 3)), True, np.empty((n, 4)), np.empty((n, 3)),

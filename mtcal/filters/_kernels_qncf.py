@@ -10,6 +10,13 @@ time block from a bound, the kernel per sample from the actual |Δθ|
 also makes the kernel's result independent of chunking. Each trial is
 processed independently, so the trial-parallel kernel gives bit-identical
 results for any thread count.
+
+Batches run as blocks of four trials in structure-of-arrays form
+(:func:`_block`: one 4-lane SIMD vector per state variable,
+:mod:`mtcal.filters._kernels_lanes`), blocks spread over threads with
+``prange``; each lane performs the scalar kernel's operations on the same
+operands, so a batched trial is bit-identical to the same trial run alone
+(:func:`_trial`, used for single-trial records and a last lone trial).
 """
 
 from __future__ import annotations
@@ -21,9 +28,10 @@ import numpy as np
 from numba import prange
 
 from mtcal.core.montecarlo import euler_errors as _euler_errors
+from mtcal.filters import _kernels_lanes as L
 from mtcal.filters._kernels_common import jit
 
-__all__ = ["qncf_serial", "qncf_parallel"]
+__all__ = ["qncf_one", "qncf_serial", "qncf_parallel"]
 
 _T2 = 0.004 * 0.004   # |Δθ|² bound of the degree-2 series (TAYLOR2_MAX_INCREMENT_RAD²)
 _T3 = 0.04 * 0.04     # |Δθ|² bound of the degree-3 series (TAYLOR_MAX_INCREMENT_RAD²)
@@ -87,118 +95,6 @@ def _step(q0, q1, q2, q3, i0, i1, i2, prev, ax, ay, az, wx, wy, wz, kp, kidt, us
 
 
 @jit()
-def _lanes(w, a, t, nl, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, dt, alpha, gravity, thr,
-           keep, truth, stats, with_stats, chk):
-    """Run trials ``t`` and ``t + 1`` (``nl`` = 2) over all samples of the chunk, updating their state.
-
-    Two trials are stepped side by side in one loop: the recursion is latency-bound, so two
-    independent dependency chains keep the core busy (each trial's arithmetic is unchanged).
-    ``keep``: write ``q_out``/``amd_out``/``gate_out``. ``with_stats``: fold the wrapped Eq 8
-    errors of the attitude at t_k against ``truth`` ((1 or T), M, 3: yaw, pitch, roll in rad) into
-    ``stats[t]`` = (sum ×3, sum of squares ×3, max |·| ×3) — what
-    :meth:`mtcal.core.montecarlo.ErrorAccumulator.add_euler_zxy_errors` computes from ``q_out``.
-    ``chk[t]`` = (Σ 0·gyro, max |gyro|, Σ 0·accel, count of |a| < 2 m/s²): the input scan (0 sums =
-    all finite), done here off the recursion's critical path instead of in separate passes.
-    """
-    u = t + 1 if nl == 2 else t          # lane b (a duplicate of lane a when nl = 1; never stored)
-    m = w.shape[1]
-    per_trial_truth = truth.shape[0] > 1
-    tra = truth[t] if per_trial_truth else truth[0]
-    trb = truth[u] if per_trial_truth else truth[0]
-    fwa = fwb = faa = fab = wma = wmb = lowa = lowb = 0.0
-    s0a = s1a = s2a = s0b = s1b = s2b = 0.0
-    ss0a = ss1a = ss2a = ss0b = ss1b = ss2b = 0.0
-    m0a = m1a = m2a = m0b = m1b = m2b = 0.0
-    if with_stats:
-        m0a, m1a, m2a = stats[t, 6], stats[t, 7], stats[t, 8]
-        m0b, m1b, m2b = stats[u, 6], stats[u, 7], stats[u, 8]
-    q0a, q1a, q2a, q3a = q[t, 0], q[t, 1], q[t, 2], q[t, 3]
-    q0b, q1b, q2b, q3b = q[u, 0], q[u, 1], q[u, 2], q[u, 3]
-    i0a, i1a, i2a = integ[t, 0], integ[t, 1], integ[t, 2]
-    i0b, i1b, i2b = integ[u, 0], integ[u, 1], integ[u, 2]
-    preva, prevb = amd[t], amd[u]
-    if m > 0 and math.isnan(preva):
-        ax, ay, az = a[t, 0, 0], a[t, 0, 1], a[t, 0, 2]
-        preva = abs(math.sqrt((ax * ax + ay * ay) + az * az) / gravity - 1.0) * 100.0
-    if m > 0 and math.isnan(prevb):
-        ax, ay, az = a[u, 0, 0], a[u, 0, 1], a[u, 0, 2]
-        prevb = abs(math.sqrt((ax * ax + ay * ay) + az * az) / gravity - 1.0) * 100.0
-    for k in range(m):
-        if keep:
-            q_out[t, k, 0], q_out[t, k, 1], q_out[t, k, 2], q_out[t, k, 3] = q0a, q1a, q2a, q3a
-            if nl == 2:
-                q_out[u, k, 0], q_out[u, k, 1], q_out[u, k, 2], q_out[u, k, 3] = q0b, q1b, q2b, q3b
-        if with_stats:
-            e0, e1, e2 = _euler_errors(q0a, q1a, q2a, q3a, tra[k, 0], tra[k, 1], tra[k, 2])
-            s0a += e0
-            s1a += e1
-            s2a += e2
-            ss0a += e0 * e0
-            ss1a += e1 * e1
-            ss2a += e2 * e2
-            m0a, m1a, m2a = max(m0a, abs(e0)), max(m1a, abs(e1)), max(m2a, abs(e2))
-            e0, e1, e2 = _euler_errors(q0b, q1b, q2b, q3b, trb[k, 0], trb[k, 1], trb[k, 2])
-            s0b += e0
-            s1b += e1
-            s2b += e2
-            ss0b += e0 * e0
-            ss1b += e1 * e1
-            ss2b += e2 * e2
-            m0b, m1b, m2b = max(m0b, abs(e0)), max(m1b, abs(e1)), max(m2b, abs(e2))
-        axa, aya, aza = a[t, k, 0], a[t, k, 1], a[t, k, 2]
-        wxa, wya, wza = w[t, k, 0], w[t, k, 1], w[t, k, 2]
-        axb, ayb, azb = a[u, k, 0], a[u, k, 1], a[u, k, 2]
-        wxb, wyb, wzb = w[u, k, 0], w[u, k, 1], w[u, k, 2]
-        fwa = fwa + ((wxa * 0.0 + wya * 0.0) + wza * 0.0)
-        faa = faa + ((axa * 0.0 + aya * 0.0) + aza * 0.0)
-        wma = max(wma, max(abs(wxa), max(abs(wya), abs(wza))))
-        fwb = fwb + ((wxb * 0.0 + wyb * 0.0) + wzb * 0.0)
-        fab = fab + ((axb * 0.0 + ayb * 0.0) + azb * 0.0)
-        wmb = max(wmb, max(abs(wxb), max(abs(wyb), abs(wzb))))
-        q0a, q1a, q2a, q3a, i0a, i1a, i2a, preva, gatea, n2a = _step(
-            q0a, q1a, q2a, q3a, i0a, i1a, i2a, preva, axa, aya, aza, wxa, wya, wza, kp, kidt, use_ki, dt, alpha,
-            gravity, thr)
-        q0b, q1b, q2b, q3b, i0b, i1b, i2b, prevb, gateb, n2b = _step(
-            q0b, q1b, q2b, q3b, i0b, i1b, i2b, prevb, axb, ayb, azb, wxb, wyb, wzb, kp, kidt, use_ki, dt, alpha,
-            gravity, thr)
-        if n2a < _LOW2:
-            lowa += 1.0
-        if n2b < _LOW2:
-            lowb += 1.0
-        if keep:
-            amd_out[t, k] = preva
-            gate_out[t, k] = gatea
-            if nl == 2:
-                amd_out[u, k] = prevb
-                gate_out[u, k] = gateb
-    q[t, 0], q[t, 1], q[t, 2], q[t, 3] = q0a, q1a, q2a, q3a
-    integ[t, 0], integ[t, 1], integ[t, 2] = i0a, i1a, i2a
-    amd[t] = preva
-    chk[t, 0], chk[t, 1], chk[t, 2], chk[t, 3] = fwa, wma, faa, lowa
-    if with_stats:
-        stats[t, 0] += s0a
-        stats[t, 1] += s1a
-        stats[t, 2] += s2a
-        stats[t, 3] += ss0a
-        stats[t, 4] += ss1a
-        stats[t, 5] += ss2a
-        stats[t, 6], stats[t, 7], stats[t, 8] = m0a, m1a, m2a
-    if nl == 2:
-        q[u, 0], q[u, 1], q[u, 2], q[u, 3] = q0b, q1b, q2b, q3b
-        integ[u, 0], integ[u, 1], integ[u, 2] = i0b, i1b, i2b
-        amd[u] = prevb
-        chk[u, 0], chk[u, 1], chk[u, 2], chk[u, 3] = fwb, wmb, fab, lowb
-        if with_stats:
-            stats[u, 0] += s0b
-            stats[u, 1] += s1b
-            stats[u, 2] += s2b
-            stats[u, 3] += ss0b
-            stats[u, 4] += ss1b
-            stats[u, 5] += ss2b
-            stats[u, 6], stats[u, 7], stats[u, 8] = m0b, m1b, m2b
-
-
-@jit()
 def _trial(w, a, t, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, dt, alpha, gravity, thr,
            keep, truth, stats, with_stats, chk):
     """One trial alone (same arithmetic as a lane of :func:`_lanes`; used for a single or odd trial)."""
@@ -253,35 +149,218 @@ def _trial(w, a, t, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, d
         stats[t, 6], stats[t, 7], stats[t, 8] = m0, m1, m2
 
 
+@numba.njit(inline="always")
+def _cs(u):
+    """cos(|Δθ|/2) and sin(|Δθ|/2)/|Δθ| from u = |Δθ|², exactly as :func:`_step` picks them."""
+    if u <= _T2:
+        c = (u * _C2 + _C1) * u + 1.0
+        s = (u * _S2 + _S1) * u + _S0
+    elif u <= _T3:
+        c = ((u * _C3 + _C2) * u + _C1) * u + 1.0
+        s = ((u * _S3 + _S2) * u + _S1) * u + _S0
+    else:
+        ang = math.sqrt(u)
+        half = 0.5 * ang
+        c = math.cos(half)
+        if ang < 1e-8:
+            s = 0.5 - ang ** 2 / 48.0
+        else:
+            s = math.sin(half) / ang
+    return c, s
+
+
+@numba.njit(inline="always")
+def _lane(x, i0, i1, i2, i3):
+    """(x[i0], x[i1], x[i2], x[i3]) of a 1-D array."""
+    return (x[i0], x[i1], x[i2], x[i3])
+
+
 @jit()
-def _pair(w, a, p, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, dt, alpha, gravity, thr,
-          keep, truth, stats, with_stats, chk):
-    """Trials 2p and 2p + 1 (or 2p alone at the end)."""
-    t = np.int64(p) * 2
-    if t + 1 < w.shape[0]:
-        _lanes(w, a, t, 2, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, dt, alpha, gravity, thr,
+def _block(w, a, t0, nl, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, dt, alpha, gravity, thr,
+           keep, truth, stats, with_stats, chk):
+    """Trials ``t0 … t0 + nl - 1`` (``nl`` ≤ 4) stepped together as one 4-lane vector per state variable.
+
+    Structure-of-arrays over trials: every state variable is a 4-tuple (one lane per trial,
+    :mod:`mtcal.filters._kernels_lanes`), each lane's operations are :func:`_step`'s with the
+    same operands in the same order (the increment series is a per-lane select of the same two
+    polynomials; a block where a lane needs the trigonometric increment, or has a NaN, takes the
+    scalar :func:`_cs` per lane), so every trial is bit-identical to :func:`_trial`. Lanes past
+    ``nl`` repeat the last trial and are never stored. Arguments as for :func:`_trial`.
+    """
+    m = w.shape[1]
+    ta, tb, tc, td = t0, t0 + min(1, nl - 1), t0 + min(2, nl - 1), t0 + min(3, nl - 1)
+    per_trial_truth = truth.shape[0] > 1
+    Q0 = (q[ta, 0], q[tb, 0], q[tc, 0], q[td, 0])
+    Q1 = (q[ta, 1], q[tb, 1], q[tc, 1], q[td, 1])
+    Q2 = (q[ta, 2], q[tb, 2], q[tc, 2], q[td, 2])
+    Q3 = (q[ta, 3], q[tb, 3], q[tc, 3], q[td, 3])
+    I0 = (integ[ta, 0], integ[tb, 0], integ[tc, 0], integ[td, 0])
+    I1 = (integ[ta, 1], integ[tb, 1], integ[tc, 1], integ[td, 1])
+    I2 = (integ[ta, 2], integ[tb, 2], integ[tc, 2], integ[td, 2])
+    pv = np.empty(4)
+    for j in range(4):
+        tj = t0 + min(j, nl - 1)
+        pv[j] = amd[tj]
+        if m > 0 and math.isnan(pv[j]):
+            ax, ay, az = a[tj, 0, 0], a[tj, 0, 1], a[tj, 0, 2]
+            pv[j] = abs(math.sqrt((ax * ax + ay * ay) + az * az) / gravity - 1.0) * 100.0
+    P = (pv[0], pv[1], pv[2], pv[3])
+    zero = L.bc(0.0)
+    FW = FA = WM = LOW = zero
+    S0 = S1 = S2 = SS0 = SS1 = SS2 = zero
+    M0 = M1 = M2 = zero
+    if with_stats:
+        M0 = (stats[ta, 6], stats[tb, 6], stats[tc, 6], stats[td, 6])
+        M1 = (stats[ta, 7], stats[tb, 7], stats[tc, 7], stats[td, 7])
+        M2 = (stats[ta, 8], stats[tb, 8], stats[tc, 8], stats[td, 8])
+    for k in range(m):
+        if keep:
+            _store_q(q_out, ta, tb, tc, td, nl, k, Q0, Q1, Q2, Q3)
+        if with_stats:
+            E0, E1, E2 = _errors(Q0, Q1, Q2, Q3, truth, per_trial_truth, ta, tb, tc, td, k)
+            S0, S1, S2 = L.add(S0, E0), L.add(S1, E1), L.add(S2, E2)
+            SS0, SS1, SS2 = L.add(SS0, L.mul(E0, E0)), L.add(SS1, L.mul(E1, E1)), L.add(SS2, L.mul(E2, E2))
+            M0, M1, M2 = L.vmax(M0, L.fabs(E0)), L.vmax(M1, L.fabs(E1)), L.vmax(M2, L.fabs(E2))
+        AX = (a[ta, k, 0], a[tb, k, 0], a[tc, k, 0], a[td, k, 0])
+        AY = (a[ta, k, 1], a[tb, k, 1], a[tc, k, 1], a[td, k, 1])
+        AZ = (a[ta, k, 2], a[tb, k, 2], a[tc, k, 2], a[td, k, 2])
+        WX = (w[ta, k, 0], w[tb, k, 0], w[tc, k, 0], w[td, k, 0])
+        WY = (w[ta, k, 1], w[tb, k, 1], w[tc, k, 1], w[td, k, 1])
+        WZ = (w[ta, k, 2], w[tb, k, 2], w[tc, k, 2], w[td, k, 2])
+        # input scan (see _trial)
+        FW = L.add(FW, L.add(L.add(L.muls(WX, 0.0), L.muls(WY, 0.0)), L.muls(WZ, 0.0)))
+        FA = L.add(FA, L.add(L.add(L.muls(AX, 0.0), L.muls(AY, 0.0)), L.muls(AZ, 0.0)))
+        WM = L.vmax(WM, L.vmax(L.fabs(WX), L.vmax(L.fabs(WY), L.fabs(WZ))))
+        # AMD statistic and gate
+        N2 = L.add(L.add(L.mul(AX, AX), L.mul(AY, AY)), L.mul(AZ, AZ))
+        NRM = L.sqrt(N2)
+        D = L.muls(L.fabs(L.adds(L.divs(NRM, gravity), -1.0)), 100.0)
+        P = L.add(P, L.muls(L.sub(D, P), alpha))
+        FAC = L.div(L.where_lt(P, L.bc(thr), L.bc(1.0), L.bc(0.0)), L.maxs(NRM, 1e-12))
+        UX, UY, UZ = L.mul(AX, FAC), L.mul(AY, FAC), L.mul(AZ, FAC)
+        # predicted up direction and e = â × v̂
+        V0 = L.muls(L.sub(L.mul(Q1, Q3), L.mul(Q0, Q2)), 2.0)
+        V1 = L.muls(L.add(L.mul(Q2, Q3), L.mul(Q0, Q1)), 2.0)
+        V2 = L.sub(L.sub(L.add(L.mul(Q0, Q0), L.mul(Q3, Q3)), L.mul(Q1, Q1)), L.mul(Q2, Q2))
+        E0 = L.sub(L.mul(UY, V2), L.mul(UZ, V1))
+        E1 = L.sub(L.mul(UZ, V0), L.mul(UX, V2))
+        E2 = L.sub(L.mul(UX, V1), L.mul(UY, V0))
+        if use_ki:
+            I0, I1, I2 = L.add(I0, L.muls(E0, kidt)), L.add(I1, L.muls(E1, kidt)), L.add(I2, L.muls(E2, kidt))
+        X0 = L.muls(L.add(L.add(L.muls(E0, kp), WX), I0), dt)
+        X1 = L.muls(L.add(L.add(L.muls(E1, kp), WY), I1), dt)
+        X2 = L.muls(L.add(L.add(L.muls(E2, kp), WZ), I2), dt)
+        U = L.add(L.add(L.mul(X0, X0), L.mul(X1, X1)), L.mul(X2, X2))
+        if (U[0] <= _T3) & (U[1] <= _T3) & (U[2] <= _T3) & (U[3] <= _T3):  # series: a select per lane
+            T2 = L.bc(_T2)
+            C = L.where_le(U, T2, L.adds(L.mul(L.adds(L.muls(U, _C2), _C1), U), 1.0),
+                           L.adds(L.mul(L.adds(L.mul(L.adds(L.muls(U, _C3), _C2), U), _C1), U), 1.0))
+            S = L.where_le(U, T2, L.adds(L.mul(L.adds(L.muls(U, _S2), _S1), U), _S0),
+                           L.adds(L.mul(L.adds(L.mul(L.adds(L.muls(U, _S3), _S2), U), _S1), U), _S0))
+        else:
+            ca, sa = _cs(U[0])
+            cb, sb = _cs(U[1])
+            cc, sc = _cs(U[2])
+            cd, sd = _cs(U[3])
+            C, S = (ca, cb, cc, cd), (sa, sb, sc, sd)
+        H1, H2, H3 = L.mul(X0, S), L.mul(X1, S), L.mul(X2, S)
+        N0 = L.sub(L.mul(Q0, C), L.add(L.add(L.mul(Q1, H1), L.mul(Q2, H2)), L.mul(Q3, H3)))
+        NN1 = L.add(L.add(L.mul(H1, Q0), L.mul(Q1, C)), L.sub(L.mul(Q2, H3), L.mul(Q3, H2)))
+        NN2 = L.add(L.add(L.mul(H2, Q0), L.mul(Q2, C)), L.sub(L.mul(Q3, H1), L.mul(Q1, H3)))
+        NN3 = L.add(L.add(L.mul(H3, Q0), L.mul(Q3, C)), L.sub(L.mul(Q1, H2), L.mul(Q2, H1)))
+        NQ = L.sqrt(L.add(L.add(L.add(L.mul(N0, N0), L.mul(NN1, NN1)), L.mul(NN2, NN2)), L.mul(NN3, NN3)))
+        Q0, Q1, Q2, Q3 = L.div(N0, NQ), L.div(NN1, NQ), L.div(NN2, NQ), L.div(NN3, NQ)
+        LOW = L.add(LOW, L.where_lt(N2, L.bc(_LOW2), L.bc(1.0), zero))
+        if keep:  # constant lane indices: P stays in registers
+            amd_out[t0, k], gate_out[t0, k] = P[0], P[0] < thr
+            if nl > 1:
+                amd_out[t0 + 1, k], gate_out[t0 + 1, k] = P[1], P[1] < thr
+            if nl > 2:
+                amd_out[t0 + 2, k], gate_out[t0 + 2, k] = P[2], P[2] < thr
+            if nl > 3:
+                amd_out[t0 + 3, k], gate_out[t0 + 3, k] = P[3], P[3] < thr
+    for j in range(nl):
+        t = t0 + j
+        q[t, 0], q[t, 1], q[t, 2], q[t, 3] = Q0[j], Q1[j], Q2[j], Q3[j]
+        integ[t, 0], integ[t, 1], integ[t, 2] = I0[j], I1[j], I2[j]
+        amd[t] = P[j]
+        chk[t, 0], chk[t, 1], chk[t, 2], chk[t, 3] = FW[j], WM[j], FA[j], LOW[j]
+        if with_stats:
+            stats[t, 0] += S0[j]
+            stats[t, 1] += S1[j]
+            stats[t, 2] += S2[j]
+            stats[t, 3] += SS0[j]
+            stats[t, 4] += SS1[j]
+            stats[t, 5] += SS2[j]
+            stats[t, 6], stats[t, 7], stats[t, 8] = M0[j], M1[j], M2[j]
+
+
+@numba.njit(inline="always")
+def _store_q(q_out, ta, tb, tc, td, nl, k, Q0, Q1, Q2, Q3):
+    """q_out[t, k] = lane's quaternion for the ``nl`` real lanes."""
+    q_out[ta, k, 0], q_out[ta, k, 1], q_out[ta, k, 2], q_out[ta, k, 3] = Q0[0], Q1[0], Q2[0], Q3[0]
+    if nl > 1:
+        q_out[tb, k, 0], q_out[tb, k, 1], q_out[tb, k, 2], q_out[tb, k, 3] = Q0[1], Q1[1], Q2[1], Q3[1]
+    if nl > 2:
+        q_out[tc, k, 0], q_out[tc, k, 1], q_out[tc, k, 2], q_out[tc, k, 3] = Q0[2], Q1[2], Q2[2], Q3[2]
+    if nl > 3:
+        q_out[td, k, 0], q_out[td, k, 1], q_out[td, k, 2], q_out[td, k, 3] = Q0[3], Q1[3], Q2[3], Q3[3]
+
+
+@numba.njit(inline="always")
+def _errors(Q0, Q1, Q2, Q3, truth, per_trial_truth, ta, tb, tc, td, k):
+    """Per lane Eq 8 errors against the truth at t_k (scalar :func:`euler_errors` per lane)."""
+    ra = truth[ta] if per_trial_truth else truth[0]
+    rb = truth[tb] if per_trial_truth else truth[0]
+    rc = truth[tc] if per_trial_truth else truth[0]
+    rd = truth[td] if per_trial_truth else truth[0]
+    a0, a1, a2 = _euler_errors(Q0[0], Q1[0], Q2[0], Q3[0], ra[k, 0], ra[k, 1], ra[k, 2])
+    b0, b1, b2 = _euler_errors(Q0[1], Q1[1], Q2[1], Q3[1], rb[k, 0], rb[k, 1], rb[k, 2])
+    c0, c1, c2 = _euler_errors(Q0[2], Q1[2], Q2[2], Q3[2], rc[k, 0], rc[k, 1], rc[k, 2])
+    d0, d1, d2 = _euler_errors(Q0[3], Q1[3], Q2[3], Q3[3], rd[k, 0], rd[k, 1], rd[k, 2])
+    return (a0, b0, c0, d0), (a1, b1, c1, d1), (a2, b2, c2, d2)
+
+
+@jit()
+def _run_block(w, a, b, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, dt, alpha, gravity, thr,
+               keep, truth, stats, with_stats, chk):
+    """Block ``b`` of 4 trials (vector lanes), or its single trial with the scalar kernel."""
+    t0 = np.int64(b) * 4
+    nl = min(4, w.shape[0] - t0)
+    if nl == 1:
+        _trial(w, a, t0, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, dt, alpha, gravity, thr,
                keep, truth, stats, with_stats, chk)
     else:
-        _trial(w, a, t, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, dt, alpha, gravity, thr,
+        _block(w, a, t0, nl, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, dt, alpha, gravity, thr,
                keep, truth, stats, with_stats, chk)
 
 
 @jit()
 def qncf_serial(w, a, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, dt, alpha, gravity, thr,
                 keep, truth, stats, with_stats, chk):
-    """Trials one pair after the other (single-trial records, small batches)."""
-    for p in range((w.shape[0] + 1) // 2):
-        _pair(w, a, p, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, dt, alpha, gravity, thr,
-              keep, truth, stats, with_stats, chk)
+    """Blocks of 4 trials one after the other (single-trial records, small batches)."""
+    for b in range((w.shape[0] + 3) // 4):
+        _run_block(w, a, b, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, dt, alpha, gravity, thr,
+                   keep, truth, stats, with_stats, chk)
+
+
+@jit()
+def qncf_one(w, a, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, dt, alpha, gravity, thr,
+             keep, truth, stats, with_stats, chk):
+    """Trials one after the other with the scalar kernel only (single-trial records: the smallest code for
+    numba to load from its cache, ~0.2 s less start-up for a CLI call)."""
+    for t in range(w.shape[0]):
+        _trial(w, a, t, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, dt, alpha, gravity, thr,
+               keep, truth, stats, with_stats, chk)
 
 
 @jit(parallel=True)
 def qncf_parallel(w, a, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, dt, alpha, gravity, thr,
                   keep, truth, stats, with_stats, chk):
-    """Pairs of trials spread over numba's threads (``prange``); each trial computed exactly as serially."""
-    for p in prange((w.shape[0] + 1) // 2):
-        _pair(w, a, p, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, dt, alpha, gravity, thr,
-              keep, truth, stats, with_stats, chk)
+    """Blocks of 4 trials spread over numba's threads (``prange``); each trial computed exactly as serially."""
+    for b in prange((w.shape[0] + 3) // 4):
+        _run_block(w, a, b, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, dt, alpha, gravity, thr,
+                   keep, truth, stats, with_stats, chk)
 
 
 def warm_up() -> None:
@@ -289,7 +368,7 @@ def warm_up() -> None:
     w = np.zeros((2, 2, 3))
     a = np.zeros((2, 2, 3))
     a[..., 2] = 9.80665
-    for fn in (qncf_serial, qncf_parallel):
+    for fn in (qncf_one, qncf_serial, qncf_parallel):
         fn(w, a, np.tile([1.0, 0, 0, 0], (2, 1)), np.zeros((2, 3)), np.full(2, np.nan), np.empty((2, 2, 4)),
            np.empty((2, 2)), np.empty((2, 2), np.bool_), 1.0, 2e-5, True, 1e-3, 0.02, 9.80665, 0.3, True,
            np.zeros((1, 2, 3)), np.zeros((2, 9)), True, np.empty((2, 4)))

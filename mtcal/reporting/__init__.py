@@ -6,13 +6,17 @@ Notebook execution and what-if runs are :mod:`mtcal.runs` (above every layer the
 The public names of every submodule are re-exported here (see ``__all__``).
 """
 
-from . import compare, output, paper_numbers
-from . import fidelity, leak
-from .paper_numbers import available, heldout, load, paper_dir, split, training, value
-from .compare import (at_paper_settings, band_record, band_row, band_summary, band_text, check_claims, claim,
-                      claims_summary, comparison_row, comparison_table, COMPARISON_COLUMNS, consistency, describe,
-                      KINDS, prediction_summary, role_summary, ROLES, SOURCES)
-from .output import output_dir, run_size, save_figure, save_table, setup_matplotlib, show_table
+import importlib
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:  # the eager imports, for type checkers and tests/test_import_graph.py
+    from . import compare, output, paper_numbers
+    from . import fidelity, leak
+    from .paper_numbers import available, heldout, load, paper_dir, split, training, value
+    from .compare import (at_paper_settings, band_record, band_row, band_summary, band_text, check_claims, claim,
+                          claims_summary, comparison_row, comparison_table, COMPARISON_COLUMNS, consistency, describe,
+                          KINDS, prediction_summary, role_summary, ROLES, SOURCES)
+    from .output import output_dir, run_size, save_figure, save_table, setup_matplotlib, show_table
 
 __all__ = ["paper_numbers", "compare", "output", "fidelity", "leak", "paper_dir", "available", "load", "value",
            "split", "training", "heldout", "COMPARISON_COLUMNS",
@@ -20,3 +24,31 @@ __all__ = ["paper_numbers", "compare", "output", "fidelity", "leak", "paper_dir"
            "band_text", "describe", "claim", "consistency", "ROLES", "KINDS", "SOURCES", "at_paper_settings",
            "check_claims", "role_summary", "prediction_summary",
            "run_size", "output_dir", "setup_matplotlib", "save_figure", "save_table", "show_table"]
+
+#: Submodules, loaded on first attribute access (``import mtcal`` stays light for the CLI).
+_SUBMODULES = ('compare', 'output', 'paper_numbers', 'fidelity', 'leak')
+#: Re-exported name → submodule defining it (imported on first access).
+_EXPORTS = {
+    "COMPARISON_COLUMNS": "compare", "KINDS": "compare", "ROLES": "compare", "SOURCES": "compare",
+    "at_paper_settings": "compare", "band_record": "compare", "band_row": "compare", "band_summary": "compare",
+    "band_text": "compare", "check_claims": "compare", "claim": "compare", "claims_summary": "compare",
+    "comparison_row": "compare", "comparison_table": "compare", "consistency": "compare", "describe": "compare",
+    "prediction_summary": "compare", "role_summary": "compare", "output_dir": "output", "run_size": "output",
+    "save_figure": "output", "save_table": "output", "setup_matplotlib": "output", "show_table": "output",
+    "available": "paper_numbers", "heldout": "paper_numbers", "load": "paper_numbers", "paper_dir": "paper_numbers",
+    "split": "paper_numbers", "training": "paper_numbers", "value": "paper_numbers",
+}
+
+
+def __getattr__(name):
+    if name in _SUBMODULES:
+        return importlib.import_module(f"{__name__}.{name}")
+    if name in _EXPORTS:
+        value = getattr(importlib.import_module(f"{__name__}.{_EXPORTS[name]}"), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(set(globals()) | set(__all__))

@@ -16,9 +16,35 @@ private internals. It imports from ``core``, ``methods`` and ``filters`` only;
   it (units, time base, clipping, gyro axis)
 """
 
-from mtcal.systems import installation, plausibility, surface_angle
-from mtcal.systems.installation import (CalibratedAttitude, InstallationCalibration, apply_installation,
-                                        calibrate_installation, detect_rests)
+import importlib
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:  # the eager imports, for type checkers and tests/test_import_graph.py
+    from mtcal.systems import installation, plausibility, surface_angle
+    from mtcal.systems.installation import (CalibratedAttitude, InstallationCalibration, apply_installation,
+                                            calibrate_installation, detect_rests)
 
 __all__ = ["installation", "plausibility", "surface_angle", "InstallationCalibration", "CalibratedAttitude",
            "calibrate_installation", "apply_installation", "detect_rests"]
+
+#: Submodules, loaded on first attribute access (``import mtcal`` stays light for the CLI).
+_SUBMODULES = ('installation', 'plausibility', 'surface_angle')
+#: Re-exported name → submodule defining it (imported on first access).
+_EXPORTS = {
+    "CalibratedAttitude": "installation", "InstallationCalibration": "installation",
+    "apply_installation": "installation", "calibrate_installation": "installation", "detect_rests": "installation",
+}
+
+
+def __getattr__(name):
+    if name in _SUBMODULES:
+        return importlib.import_module(f"{__name__}.{name}")
+    if name in _EXPORTS:
+        value = getattr(importlib.import_module(f"{__name__}.{_EXPORTS[name]}"), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(set(globals()) | set(__all__))

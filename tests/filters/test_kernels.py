@@ -104,6 +104,55 @@ def test_qncf_bit_identical_for_any_thread_count_and_chunking(all_parallel, thre
     assert np.array_equal(one.q_ws, first.q_ws[2])
 
 
+@pytest.mark.parametrize("trials", [2, 3, 5, 7, 9])
+def test_qncf_batched_lanes_are_bit_identical_to_each_trial_alone(all_parallel, trials):
+    """4-lane blocks (odd counts: a short last block or a lone trial), the AMD gate closing in trial 0,
+    a lane needing the trigonometric increment while the others use the series, the initial NaN AMD
+    state: every trial of the batch equals the scalar kernel run on that trial alone."""
+    rec, accel = _turntable_record(trials, vibrate=True)
+    g, a, dt = rec.gyro_rad_s[:, ::16].copy(), accel[:, ::16], 16 / FS
+    g[trials // 2] *= 5.0        # |Δθ| > 0.04 rad in this trial only
+    q0 = rec.q_ws_true[0]
+    batch = QncfFilter(q0, dt, trials=trials).run(g, a, return_euler=False)
+    assert not batch.gate[0].all() and batch.gate.any()
+    for t in range(trials):
+        one = qncf(g[t], a[t], dt, q0=q0, return_euler=False)
+        assert np.array_equal(one.q_ws, batch.q_ws[t]), t
+        assert np.array_equal(one.amd_pct, batch.amd_pct[t]) and np.array_equal(one.gate, batch.gate[t]), t
+
+
+@pytest.mark.parametrize("trials", [1, 3, 6])
+def test_qncf_fused_error_statistics_match_per_trial_runs(all_parallel, trials):
+    from mtcal.core.montecarlo import ErrorAccumulator
+
+    rec, accel = _turntable_record(trials, vibrate=True)
+    truth = rotations.euler_zxy_from_quat(rec.q_ws_true)
+    q0 = rec.q_ws_true[0]
+    fused = ErrorAccumulator((trials, 3))
+    QncfFilter(q0, 1 / FS, trials=trials).run_error_stats(rec.gyro_rad_s, accel, truth, fused)
+    for t in range(trials):
+        alone = ErrorAccumulator((1, 3))
+        QncfFilter(q0, 1 / FS, trials=1).run_error_stats(rec.gyro_rad_s[t:t + 1], accel[t:t + 1], truth, alone)
+        assert np.array_equal(alone._sum[0], fused._sum[t]) and np.array_equal(alone._sumsq[0], fused._sumsq[t])
+        assert np.array_equal(alone._max[0], fused._max[t]), t
+
+
+def test_qncf_non_finite_sample_in_one_lane_raises_and_keeps_the_state(all_parallel):
+    rec, accel = _turntable_record(6, vibrate=False)
+    filt = QncfFilter(rec.q_ws_true[0], 1 / FS, trials=6)
+    before = filt.q_ws.copy()
+    bad = accel.copy()
+    bad[5, 100, 2] = np.nan      # last trial of the second (short) block
+    with pytest.raises(ValueError, match="accel_m_s2 must be finite"):
+        filt.run(rec.gyro_rad_s, bad)
+    assert np.array_equal(filt.q_ws, before)
+    g = rec.gyro_rad_s.copy()
+    g[2, 7, 0] = -np.inf
+    with pytest.raises(ValueError, match="gyro_rad_s must be finite"):
+        filt.run(g, accel)
+    assert np.array_equal(filt.q_ws, before)
+
+
 def test_qncf_update_per_sample_matches_run():
     rec, accel = _turntable_record(2, vibrate=False)
     g, a = rec.gyro_rad_s[:, :50], accel[:, :50]
@@ -199,6 +248,30 @@ def test_ekf_bit_identical_for_any_thread_count_and_chunking(all_parallel, threa
     assert np.array_equal(np.concatenate([p.theta_rad for p in parts], axis=1), results[0].theta_rad)
     assert np.array_equal(np.concatenate([p.innovation_m_s2 for p in parts], axis=1), results[0].innovation_m_s2)
     assert np.array_equal(parts[-1].P, results[0].P) and np.array_equal(parts[-1].K, results[0].K)
+
+
+@pytest.mark.parametrize("trials, per_trial_flags", [(2, True), (3, False), (5, True), (7, False)])
+def test_ekf_batched_lanes_are_bit_identical_to_each_trial_alone(all_parallel, trials, per_trial_flags):
+    imu, prof, rec, a0, b0, flags = _ekf_record(trials)
+    st = flags if per_trial_flags else prof.is_static
+    v = RotationSetup().unit_axis()
+    theta0 = np.linspace(-2e-3, 2e-3, trials)
+    batch = run_rams_ekf(rec.gyro_rad_s, rec.accel_m_s2, st, v, a0, imu.dt_s, imu.ekf_params(), bias0_rad_s=b0,
+                         theta0_rad=theta0)
+    for t in range(trials):
+        i = slice(t, t + 1)
+        one = run_rams_ekf(rec.gyro_rad_s[i], rec.accel_m_s2[i], st[i] if per_trial_flags else st, v, a0[i],
+                           imu.dt_s, imu.ekf_params(), bias0_rad_s=b0[i], theta0_rad=theta0[i])
+        for name in ("theta_rad", "bias_rad_s", "p_theta_rad2", "innovation_m_s2", "P", "S", "K"):
+            assert np.array_equal(getattr(one, name)[0], getattr(batch, name)[t]), (t, name)
+
+
+def test_ekf_non_finite_sample_in_one_lane_raises(all_parallel):
+    imu, prof, rec, a0, b0, flags = _ekf_record(3)
+    g = rec.gyro_rad_s.copy()
+    g[2, 50, 1] = np.nan
+    with pytest.raises(ValueError, match="gyro_rad_s must be finite"):
+        run_rams_ekf(g, rec.accel_m_s2, flags, RotationSetup().unit_axis(), a0, imu.dt_s, imu.ekf_params())
 
 
 # --------------------------------------------------------------------------- MARG (AHRS stand-in)
