@@ -64,7 +64,9 @@ CACHE := $(CURDIR)/build/cache
 reproduce: $(STAMP)
 	$(BIN)/python tools/notebooks.py sync $(NOTEBOOK_SRC)
 	MTCAL_SIZE=full MTCAL_OUTPUT_DIR=$(CURDIR) MTCAL_CACHE_DIR=$(CACHE) $(BIN)/python tools/notebooks.py execute --jobs $(JOBS) $(NOTEBOOK_SRC)
+	$(BIN)/python -m mtcal.reporting.fidelity data
 	$(BIN)/python tools/artifact_catalogue.py
+	$(BIN)/python tools/artifact_catalogue.py --check
 	$(BIN)/python tools/report/build.py --out build/report
 
 ## The reproduction report (build/report/index.html) from the committed results.

@@ -45,7 +45,7 @@ from mtcal.studies.wang2023cja import predictive, verdicts
 
 T_START = time.perf_counter()
 SIZE = output.run_size(SIZE)
-N_TRIALS = N_TRIALS or {"ci": 4, "full": 20}[SIZE]   # full: ≈ 2.5 min on the shared 2-core machine
+N_TRIALS = N_TRIALS or {"ci": 4, "full": 200}[SIZE]   # full: ≈ 2.5 min on a 2-core machine
 N_TRAIN_TRIALS = max(2, N_TRIALS // 2)     # T2–T4 sessions (train tables only), fitted model
 N_BUDGET = {"ci": 1, "full": 2}[SIZE]
 params = dict(gyro_grade=gyro_grade, accel_grade=accel_grade, fs_hz=fs_hz, rest_s=rest_s,
@@ -317,6 +317,6 @@ if AT_PAPER and SIZE == "full":                 # 4 CI trials are too few for a 
 # %%
 table = verdicts.comparison(one, claims)
 output.save_table(table, "wang2023cja_turntable_comparison")
-fidelity.write_scores(table, "wang2023cja", "10")
+fidelity.write_scores(table, "wang2023cja", "10_wang2023cja_turntable")
 print(fidelity.score_block(table, "wang2023cja"))
 print(f"notebook run time: {time.perf_counter() - T_START:.0f} s ({SIZE}, {N_TRIALS} trials per model)")

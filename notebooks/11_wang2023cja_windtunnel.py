@@ -53,7 +53,7 @@ from mtcal.studies.wang2023cja import predictive, verdicts
 
 T_START = time.perf_counter()
 SIZE = output.run_size(SIZE)
-N_TRIALS = N_TRIALS or {"ci": 4, "full": 50}[SIZE]
+N_TRIALS = N_TRIALS or {"ci": 4, "full": 200}[SIZE]
 PER_DRAW = {"ci": 2, "full": 5}[SIZE]      # trials per parameter draw
 params = dict(gyro_grade=gyro_grade, accel_grade=accel_grade, fs_hz=fs_hz, rest_s=rest_s,
               mechanism_rate_deg_s=mechanism_rate_deg_s, group5_rate_deg_s=group5_rate_deg_s,
@@ -215,6 +215,6 @@ print(verdicts.claim_block(claims))
 # %%
 table = verdicts.comparison(one, claims)
 output.save_table(table, "wang2023cja_windtunnel_comparison")
-fidelity.write_scores(table, "wang2023cja", "11")
+fidelity.write_scores(table, "wang2023cja", "11_wang2023cja_windtunnel")
 print(fidelity.score_block(table, "wang2023cja"))
 print(f"notebook run time: {time.perf_counter() - T_START:.0f} s ({SIZE}, {N_TRIALS} trials per model)")

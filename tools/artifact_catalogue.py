@@ -225,6 +225,14 @@ def rows(root: Path = ROOT) -> list[tuple[str, str, str, str]]:
     for path, (paper, where, producer) in EXTERNAL.items():
         if (root / path).is_file():
             out.append((path, paper, where, producer))
+    # fidelity scores: one records file per study notebook (its score block), aggregated after the notebooks
+    for rec in sorted((root / "data").glob("fidelity_records_*.csv")):
+        stem = rec.stem.removeprefix("fidelity_records_")
+        out.append((f"data/{rec.name}", "— (held-out numbers, bands)", f"`{stem}` § score block",
+                    "`mtcal.reporting.fidelity.write_scores`"))
+    if (root / "data" / "fidelity_scores.csv").is_file():
+        out.append(("data/fidelity_scores.csv", "— (fidelity scores)", "`make reproduce`, after the notebooks",
+                    "`mtcal.reporting.fidelity.aggregate_scores`"))
     return out
 
 

@@ -19,8 +19,10 @@ baseline). Per baseline:
 Relative measures skip paper values equal to 0 (no scale).
 
 :func:`score_block` is the text every study notebook ends with; :func:`write_scores`
-merges one notebook's per-number records into ``data/fidelity_numbers.csv`` and
-rewrites the per-paper and overall scores ``data/fidelity_scores.csv`` (byte-stable).
+writes one notebook's per-number records to ``data/fidelity_records_<notebook>.csv``
+and rewrites the per-paper and overall scores ``data/fidelity_scores.csv``
+(:func:`aggregate_scores`, byte-stable, also run by ``make reproduce`` after all
+notebooks).
 
 References
 ----------
@@ -41,6 +43,9 @@ Examples
 
 from __future__ import annotations
 
+import os
+import re
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -50,11 +55,14 @@ from . import paper_numbers
 from .output import output_dir
 
 __all__ = ["BASELINES", "SCORE_COLUMNS", "RECORD_COLUMNS", "wilson_interval", "interval_score", "score",
-           "score_records", "score_block", "aggregate", "write_scores", "quantile_mc_se"]
+           "score_records", "score_block", "aggregate", "write_scores", "aggregate_scores", "quantile_mc_se",
+           "RECORDS_PREFIX"]
 
 #: Predictive distributions scored: posterior predictive and prior predictive.
 BASELINES = ("fitted", "prior")
-#: Per-number record columns (``data/fidelity_numbers.csv``).
+#: Per-notebook records files: ``data/fidelity_records_<notebook>.csv``.
+RECORDS_PREFIX = "fidelity_records_"
+#: Per-number record columns (``data/fidelity_records_<notebook>.csv``).
 RECORD_COLUMNS = ["notebook", "paper_key", "artifact", "quantity", "ref", "paper_value", "fitted_median",
                   "fitted_low", "fitted_high", "prior_median", "prior_low", "prior_high"]
 #: Score columns (``data/fidelity_scores.csv``).
@@ -158,8 +166,9 @@ def score_records(table: pd.DataFrame, paper_key: str, notebook: str) -> pd.Data
     """
     if paper_key not in paper_numbers.KEYS:
         raise ValueError(f"paper_key must be one of {paper_numbers.KEYS}, got {paper_key!r}")
-    if not isinstance(notebook, str) or not notebook:
-        raise ValueError(f"notebook must be a non-empty str, got {notebook!r}")
+    if not isinstance(notebook, str) or not re.fullmatch(r"[A-Za-z0-9_]+", notebook):
+        raise ValueError(f"notebook must be a non-empty str of letters, digits and '_' (a notebook stem), "
+                         f"got {notebook!r}")
     return _records(table, paper_key, notebook)
 
 
@@ -260,13 +269,22 @@ def score_block(table: pd.DataFrame, key: str) -> str:
     return "\n".join(lines)
 
 
-def write_scores(table: pd.DataFrame, key: str, notebook: str, folder: str | Path | None = None) -> Path:
-    """Merge one notebook's held-out records into ``data/fidelity_numbers.csv``; rewrite ``data/fidelity_scores.csv``.
+def _write_atomic(df: pd.DataFrame, path: Path, float_format: str) -> None:
+    """Write a CSV through a temporary file in the same folder and rename it (never a half-written file)."""
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    df.to_csv(tmp, index=False, float_format=float_format, lineterminator="\n")
+    os.replace(tmp, path)
 
-    The records of ``notebook`` replace its previous ones; the scores file then has
-    one row per (paper, baseline) for every paper key (``n = 0`` where nothing is
-    held out) and per (overall, baseline), sorted, fixed float format (byte-stable).
-    Returns the scores path.
+
+def write_scores(table: pd.DataFrame, key: str, notebook: str, folder: str | Path | None = None) -> Path:
+    """Write one notebook's held-out records to ``data/fidelity_records_<notebook>.csv``; rewrite the scores.
+
+    Each notebook owns its records file, so notebooks run in parallel processes
+    never write the same records; the per-paper and overall scores
+    ``data/fidelity_scores.csv`` are then recomputed from every records file in
+    the folder (:func:`aggregate_scores`; ``make reproduce`` runs it once more
+    after all notebooks, so the committed file does not depend on their order).
+    Both files are written atomically, byte-stable. Returns the scores path.
 
     Parameters
     ----------
@@ -276,15 +294,22 @@ def write_scores(table: pd.DataFrame, key: str, notebook: str, folder: str | Pat
     folder = Path(folder) if folder is not None else output_dir() / "data"
     folder.mkdir(parents=True, exist_ok=True)
     new = score_records(table, key, notebook)
-    num_path = folder / "fidelity_numbers.csv"
-    if num_path.is_file():
-        old = pd.read_csv(num_path, dtype={"ref": str}, keep_default_na=False, na_values=[""])
-        old = old[old["notebook"] != notebook]
-        recs = pd.concat([old, new], ignore_index=True) if len(old) else new
-    else:
-        recs = new
-    recs = recs.sort_values(["paper_key", "notebook", "artifact", "quantity", "ref"], kind="stable")
-    recs[RECORD_COLUMNS].to_csv(num_path, index=False, float_format="%.6g", lineterminator="\n")
+    new = new.sort_values(["paper_key", "notebook", "artifact", "quantity", "ref"], kind="stable")
+    _write_atomic(new[RECORD_COLUMNS], folder / f"{RECORDS_PREFIX}{notebook}.csv", "%.6g")
+    return aggregate_scores(folder)
+
+
+def aggregate_scores(folder: str | Path | None = None) -> Path:
+    """Recompute ``fidelity_scores.csv`` from every ``fidelity_records_*.csv`` in ``folder`` (sorted by name).
+
+    One row per (paper, baseline) for every paper key (``n = 0`` where nothing is
+    held out) and per (overall, baseline), fixed float format (byte-stable).
+    """
+    folder = Path(folder) if folder is not None else output_dir() / "data"
+    parts = [pd.read_csv(p, dtype={"ref": str, "notebook": str}, keep_default_na=False, na_values=[""])
+             for p in sorted(folder.glob(f"{RECORDS_PREFIX}*.csv"))]
+    parts = [p for p in parts if len(p)]
+    recs = pd.concat(parts, ignore_index=True) if parts else pd.DataFrame(columns=RECORD_COLUMNS)
     rows = []
     # every paper has its rows (n = 0 when it has no held-out number with a band, e.g. tan2022)
     scopes = [(k, recs[recs["paper_key"] == k]) for k in sorted(paper_numbers.KEYS)] + [("overall", recs)]
@@ -292,5 +317,17 @@ def write_scores(table: pd.DataFrame, key: str, notebook: str, folder: str | Pat
         for b in BASELINES:
             rows.append({"scope": scope, "baseline": b, **aggregate(part, b)})
     out = folder / "fidelity_scores.csv"
-    pd.DataFrame(rows, columns=SCORE_COLUMNS).to_csv(out, index=False, float_format="%.4f", lineterminator="\n")
+    _write_atomic(pd.DataFrame(rows, columns=SCORE_COLUMNS), out, "%.4f")
     return out
+
+
+def main(argv: list[str] | None = None) -> int:
+    """``python -m mtcal.reporting.fidelity [DATA_FOLDER]``: rewrite the scores from the records files."""
+    argv = sys.argv[1:] if argv is None else argv
+    path = aggregate_scores(argv[0] if argv else None)
+    print(f"wrote {path}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

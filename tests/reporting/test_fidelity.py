@@ -90,9 +90,15 @@ def test_write_scores_merges_and_is_byte_stable(tmp_path):
                                                 ("overall", "fitted"), ("overall", "prior")]
     assert df.loc[df.scope == "wang2023cja", "n"].tolist() == [0, 0]
     assert df.loc[df.scope == "overall", "n"].tolist() == [6, 4]
+    assert sorted(p.name for p in tmp_path.glob("fidelity_records_*.csv")) == ["fidelity_records_20_x.csv",
+                                                                            "fidelity_records_30_y.csv"]
+    assert fidelity.aggregate_scores(tmp_path).read_bytes() == first   # the final make-reproduce step
+    assert not list(tmp_path.glob(".*.tmp"))                            # atomic writes leave no temporary file
     with pytest.raises(ValueError, match="paper_key must be one of"):
         fidelity.write_scores(t, "x2020", "n", folder=tmp_path)
     with pytest.raises(ValueError, match="notebook must be a non-empty str"):
         fidelity.write_scores(t, "tan2022", "", folder=tmp_path)
+    with pytest.raises(ValueError, match="notebook must be a non-empty str"):
+        fidelity.write_scores(t, "tan2022", "../x", folder=tmp_path)
     with pytest.raises(ValueError, match="not a comparison table"):
         fidelity.score_records(pd.DataFrame({"role": []}), "tan2022", "n")
