@@ -97,7 +97,9 @@ def test_artifacts_link_their_notebook_section_and_producer(report):
 
 def test_paper_of_and_verdicts():
     assert build.paper_of("wang2022sensors_fig06") == "wang2022sensors" and build.paper_of("x") == "extras"
-    assert build._verdict({"holds": "False"}) == ("fail", "fails")
+    assert build._verdict({"holds": "False"}) == ("fail", "check fails")
+    assert build._verdict({"holds": "False", "kind": "claim"}) == ("fail", "claim fails")
+    assert build._verdict({"holds": "True", "kind": "consistency"}) == ("pass", "consistency holds")
     assert build._verdict({"holds": "", "paper_in_band": "True"}) == ("pass", "in band")
     assert build._verdict({}) == ("na", "—")
 

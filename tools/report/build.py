@@ -96,10 +96,11 @@ def _markdown(text: str) -> str:
 def _verdict(row: dict) -> tuple[str, str]:
     """(css class, label) of a comparison row: its claim verdict, else whether the paper is in our band."""
     holds, in_band = str(row.get("holds", "")), str(row.get("paper_in_band", ""))
+    what = {"claim": "claim", "consistency": "consistency"}.get(str(row.get("kind", "")), "check")
     if holds == "True":
-        return "pass", "holds"
+        return "pass", f"{what} holds"
     if holds == "False":
-        return "fail", "fails"
+        return "fail", f"{what} fails"
     if in_band == "True":
         return "pass", "in band"
     if in_band == "False":
@@ -257,7 +258,10 @@ def build_report(root: Path = ROOT, out: Path | None = None) -> dict:
     summary = []
     for key, citation in groups:
         rows = [r for r in comparisons if r["key"] == key]
-        claims = [r for r in rows if r.get("claim")]
+        # the paper's claims (kind "claim") apart from checks true by construction ("consistency") and our findings
+        claims = [r for r in rows if r.get("claim") and r.get("kind") == "claim"]
+        checks = [r for r in rows if r.get("claim") and r.get("kind") != "claim"]
+        heldout = [r for r in rows if r.get("role") == "heldout" and str(r.get("paper_in_band")) in ("True", "False")]
         arts = [a for a in artifacts.values() if a["key"] == key]
         fid = None
         if fidelity is not None and "scope" in fidelity:
@@ -269,10 +273,14 @@ def build_report(root: Path = ROOT, out: Path | None = None) -> dict:
         n_fail = sum(r["verdict_class"] == "fail" for r in rows)
         summary.append({"key": key, "citation": citation, "page": page, "n_rows": len(rows), "n_pass": n_pass,
                         "n_fail": n_fail, "n_claims": len(claims),
-                        "n_claims_hold": sum(str(r.get("holds")) == "True" for r in claims), "n_artifacts": len(arts)})
+                        "n_claims_hold": sum(str(r.get("holds")) == "True" for r in claims),
+                        "n_checks": len(checks), "n_checks_hold": sum(str(r.get("holds")) == "True" for r in checks),
+                        "n_heldout": len(heldout),
+                        "n_heldout_in": sum(str(r.get("paper_in_band")) == "True" for r in heldout),
+                        "n_artifacts": len(arts)})
         roles = sorted({r.get("role", "") for r in rows if r.get("role")})
         (out / page).write_text(env.get_template("paper.html").render(
-            title=key if key != "extras" else "Extras", key=key, citation=citation, rows=rows, claims=claims,
+            title=key if key != "extras" else "Extras", key=key, citation=citation, rows=rows, claims=claims, checks=checks,
             artifacts=arts, fidelity=fid, errata=_markdown(err[1]) if err and key != "extras" else "",
             errata_intro=_markdown(errata.get("intro", ("", ""))[1]) if key == "extras" else "",
             roles=roles, columns=[c for c in COMPARISON_COLUMNS if any(r.get(c) for r in rows)], root=""),
