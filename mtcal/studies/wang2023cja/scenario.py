@@ -211,9 +211,9 @@ def windtunnel_geometry() -> tuple[tuple, float]:
 
     from mtcal.core import rotations
     from mtcal.methods import constrained_fit
-    from mtcal.reporting import paper_numbers as paper
+    from mtcal.reporting import paper_numbers
 
-    q = paper.training("wang2023cja")["wang2023cja_matrix_qbs_windtunnel"][["col_1", "col_2", "col_3", "col_4"]]
+    q = paper_numbers.training("wang2023cja")["wang2023cja_matrix_qbs_windtunnel"][["col_1", "col_2", "col_3", "col_4"]]
     q = q.to_numpy(float)
     c = rotations.quat_conjugate(constrained_fit.project_to_so4(q).r)
     c = c * np.sign(c[0])
