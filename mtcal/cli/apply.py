@@ -19,8 +19,7 @@ import numpy as np
 from mtcal.cli import common, logio
 from mtcal.systems import installation, plausibility
 
-EXAMPLE = """\
-output columns: time_s, q0..q3 (calibrated body attitude), yaw_deg, pitch_deg, roll_deg,
+EXAMPLE = """output columns: time_s, q0..q3 (calibrated body attitude), yaw_deg, pitch_deg, roll_deg,
   sensor_yaw_deg, sensor_pitch_deg, sensor_roll_deg (before calibration)
 example:
   mtcal calibrate turntable.csv --positions pos.csv --out Q.json

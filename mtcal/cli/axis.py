@@ -26,14 +26,12 @@ from mtcal.cli import common, logio
 from mtcal.systems import plausibility
 from mtcal.systems import surface_angle
 
-AXIS_EXAMPLE = """\
-prints: 'axis v = x,y,z' (unit, v_x >= 0), its 1-sigma uncertainty, one line per rest
+AXIS_EXAMPLE = """prints: 'axis v = x,y,z' (unit, v_x >= 0), its 1-sigma uncertainty, one line per rest
 example:
   mtcal axis hinge.csv --figure axis.png
   mtcal axis hinge.parquet --gyro-unit deg/s --accel-unit g --min-separation-deg 5"""
 
-ANGLE_EXAMPLE = """\
-output columns (--out, CSV or Parquet): time_s (s), angle_deg (deg, about --axis, 0 at the
+ANGLE_EXAMPLE = """output columns (--out, CSV or Parquet): time_s (s), angle_deg (deg, about --axis, 0 at the
   first rest; empty before it if the log starts moving), is_static (0/1, rest flag used by the EKF)
 example:
   mtcal angle hinge.csv --axis 0.6,0,0.8 --out angle.csv --figure angle.png

@@ -40,8 +40,7 @@ from mtcal.systems import installation, plausibility
 POS_COLS = ["yaw_deg", "pitch_deg", "roll_deg"]
 FORMAT = "mtcal-calibration/1"
 
-EXAMPLE = """\
-Q.json (--out): q_hat (4x4, q_body = Q_hat q_sensor), installation_angles_deg
+EXAMPLE = """Q.json (--out): q_hat (4x4, q_body = Q_hat q_sensor), installation_angles_deg
   (alpha1 about z, alpha2 about y, alpha3 about x; Eq 1), mounting_quaternion_q_bs,
   reference_offset_quaternion, positions_deg, residual_deg, attitude settings
 example:

@@ -15,8 +15,7 @@ __all__ = ["add_input_options", "add_rest_options", "input_options", "detect", "
            "finite_float", "DiagnosticsFigure", "run_with_figure", "SCHEMA_HELP", "description_with_schema",
            "QUATERNION_DECIMALS", "write_attitude"]
 
-SCHEMA_HELP = """\
-log schema (CSV or Parquet, header row, one row per sample; extra columns ignored):
+SCHEMA_HELP = """log schema (CSV or Parquet, header row, one row per sample; extra columns ignored):
   time_s                                    time (s), strictly increasing (jitter allowed)
   gyro_x_rad_s, gyro_y_rad_s, gyro_z_rad_s  angular rate (rad/s), sensor frame
   accel_x_m_s2, accel_y_m_s2, accel_z_m_s2  specific force (m/s^2); level at rest ~ +g on z

@@ -154,8 +154,8 @@ def get_evaluator(name) -> Evaluator:
 # --------------------------------------------------------------------------- checks
 def _number(params: dict, key: str, lo: float, hi: float, *, lo_open: bool = False) -> float:
     v = params[key]
-    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) \
-            or v < lo or v > hi or (lo_open and v == lo):
+    if (isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v)
+            or v < lo or v > hi or (lo_open and v == lo)):
         bracket = "(" if lo_open else "["
         raise ValueError(f"{key} must be a number in {bracket}{lo:g}, {hi:g}], got {v!r}")
     return float(v)

@@ -364,8 +364,8 @@ def outside_reasons(sc: Scenario, fit: ErrorModelFit, seed: int, n_draws: int = 
         key = (r.axis, r.system, r.kind)
         ll = error_model.log_likelihood(g, keys=(key,), values=pv)
         best, mp = values(np.unravel_index(np.argmax(ll), ll.shape)), values(imap)
-        names = ("heading_deg",) if r.system == "AHRS stand-in" else \
-            ("lever_arm_m", "move_accel_deg_s2", "accel_noise_ug_rt_hz", "latency_ms")
+        names = (("heading_deg",) if r.system == "AHRS stand-in"
+                 else ("lever_arm_m", "move_accel_deg_s2", "accel_noise_ug_rt_hz", "latency_ms"))
         need = ", ".join(f"{n} {best[n]:g} (MAP {mp[n]:g})" for n in names)
         side = "above" if r.paper_deg > r.fitted_high else "below"
         line = (f"{r.axis} {r.system} {r.kind}: paper {r.paper_deg:.4f} {side} [{r.fitted_low:.4f}, "
