@@ -64,7 +64,7 @@ def run(args: argparse.Namespace) -> int:
                                      time_s=log.time_s, skip=plausibility.clipped_samples(log.gyro_rad_s)[0])
             gyro, params, q0, _ = qncf_settings(log, rep)
             att = installation.apply_installation(q_hat, gyro_rad_s=gyro, accel_m_s2=log.accel_m_s2,
-                                                  fs_hz=log.fs_hz, qncf_params=params, q0=q0)
+                                                  dt_s=log.dt_mean_s, qncf_params=params, q0=q0)
             static = rep.is_static
         else:
             att, static = installation.apply_installation(q_hat, q_ws=log.q_ws), None

@@ -110,7 +110,7 @@ def run(args: argparse.Namespace) -> int:
             rep = common.detect(args, log)
             fig.report = rep
             if args.rest_detector == "paper":
-                rests = installation.detect_rests(log.fs_hz, gyro_rad_s=log.gyro_rad_s, min_rest_s=min_rest)
+                rests = installation.detect_rests(log.dt_mean_s, gyro_rad_s=log.gyro_rad_s, min_rest_s=min_rest)
             else:
                 rests = rep.rests
             plausibility.check_units(log.gyro_for_filter(), log.accel_m_s2, log.dt_mean_s, rests,
@@ -119,7 +119,7 @@ def run(args: argparse.Namespace) -> int:
             source = {"gyro_rad_s": gyro, "accel_m_s2": log.accel_m_s2, "qncf_params": params, "q0": q0}
         else:
             still_rad_s = np.radians(common.finite_float(args.still_deg_s, "--still-deg-s"))
-            rests = installation.detect_rests(log.fs_hz, q_ws=log.q_ws, min_rest_s=min_rest,
+            rests = installation.detect_rests(log.dt_mean_s, q_ws=log.q_ws, min_rest_s=min_rest,
                                               threshold_rad_s=still_rad_s)
             source, info = {"q_ws": log.q_ws}, {"filter": "none (q0..q3 from the log)"}
         print(f"log: {args.log} ({log.n} samples at {log.fs_hz:.1f} Hz); "
@@ -138,7 +138,7 @@ def run(args: argparse.Namespace) -> int:
             raise ValueError(f"too few rests: found {len(rests)} rests of >= {min_rest:g} s for "
                              f"{pos.shape[0]} positions ({lv}); see --figure for the rejected stretches")
         try:
-            cal = installation.calibrate_installation(pos, log.fs_hz, rests=rests, fraction=fraction, **source,
+            cal = installation.calibrate_installation(pos, log.dt_mean_s, rests=rests, fraction=fraction, **source,
                                                       **gates)
         except ValueError as exc:
             if "q_ws" not in source:
@@ -167,7 +167,7 @@ def _quaternion_hint(pos, log, rests, fraction, gates) -> str:
     for name, (fn, fix) in QUATERNION_CONVENTIONS.items():
         q = fn(log.q_ws)
         try:
-            installation.calibrate_installation(pos, log.fs_hz, q_ws=q, rests=rests, fraction=fraction, **gates)
+            installation.calibrate_installation(pos, log.dt_mean_s, q_ws=q, rests=rests, fraction=fraction, **gates)
         except ValueError:
             continue
         return f"; the log's q0..q3 would match every position if they were {name}: {fix}"
