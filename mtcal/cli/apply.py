@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from mtcal.cli import common, logio
-from mtcal.systems import installation, plausibility
+from mtcal.systems import plausibility
 
 EXAMPLE = """output columns: time_s, q0..q3 (calibrated body attitude), yaw_deg, pitch_deg, roll_deg,
   sensor_yaw_deg, sensor_pitch_deg, sensor_roll_deg (before calibration)
@@ -53,6 +53,7 @@ def run(args: argparse.Namespace) -> int:
     def body() -> int:
         from mtcal.cli.attitude import qncf_settings
         from mtcal.core import rotations
+        from mtcal.systems import installation  # numba/scipy: loaded when the command runs, not for --help
 
         q_hat = load_calibration(args.calibration)
         log = logio.read_log(args.log, common.input_options(args), need="raw_or_quat")

@@ -24,7 +24,6 @@ import numpy as np
 
 from mtcal.cli import common, logio
 from mtcal.systems import plausibility
-from mtcal.systems import surface_angle
 
 AXIS_EXAMPLE = """prints: 'axis v = x,y,z' (unit, v_x >= 0), its 1-sigma uncertainty, one line per rest
 example:
@@ -51,6 +50,8 @@ def cmd_axis(args: argparse.Namespace) -> int:
     fig = common.DiagnosticsFigure(args.figure, f"mtcal axis {args.log}", inputs=[args.log])
 
     def body() -> int:
+        from mtcal.systems import surface_angle  # numba/scipy: loaded when the command runs, not for --help
+
         log = logio.read_log(args.log, common.input_options(args), need="accel")
         fig.log = log
         if args.rest_detector == "paper":
@@ -91,6 +92,7 @@ def _axis_paper(args, log, fig) -> int:
     """The paper's path: Table 1 ZVD + Algorithm A1 (first three distinct rests)."""
     from mtcal.methods.rest_detection import paper_rest_report
     from mtcal.methods.rotation_axis import estimate_axis
+    from mtcal.systems import surface_angle
 
     min_rest = common.finite_float(args.min_rest_s, "--min-rest-s")
     rep = paper_rest_report(log.accel_m_s2, 1.0 / log.fs_hz, min_rest_s=min_rest)
@@ -123,6 +125,8 @@ def cmd_angle(args: argparse.Namespace) -> int:
     out = logio.check_output_path(args.out, [args.log])
 
     def body() -> int:
+        from mtcal.systems import surface_angle  # numba/scipy: loaded when the command runs, not for --help
+
         v = _parse_axis(args.axis)
         init_s = common.finite_float(args.init_s, "--init-s")
         log = logio.read_log(args.log, common.input_options(args), need="raw")
