@@ -2,9 +2,7 @@
 
 References
 ----------
-Wang X., Zhao X., Zhou B., Wei Q., Zhang R., "Installation error calibration for MEMS
-angular measurement system in hypersonic wind tunnel", Chin. J. Aeronaut. 2023,
-doi:10.1016/j.cja.2022.12.006.
+wang2023cja Figs 7–8 (§4.1), Figs 10–11 (§4.2) (full citation: :mod:`mtcal.studies.wang2023cja`).
 """
 
 from __future__ import annotations

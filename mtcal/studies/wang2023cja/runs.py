@@ -16,9 +16,7 @@ are in the Eq 8 frame; the paper's are ``PAPER_SIGN ·`` ours (roll sign, see
 
 References
 ----------
-Wang X., Zhao X., Zhou B., Wei Q., Zhang R., "Installation error calibration for MEMS
-angular measurement system in hypersonic wind tunnel", Chin. J. Aeronaut. 2023,
-doi:10.1016/j.cja.2022.12.006.
+wang2023cja §3.2 (procedure), §4.1 (turntable T1–T4), §4.2 (wind tunnel), Eq 1, 8, 9 (full citation: :mod:`mtcal.studies.wang2023cja`).
 """
 
 from __future__ import annotations

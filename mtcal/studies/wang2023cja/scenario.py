@@ -13,9 +13,7 @@ and the pitch-ratio identification from the printed Q(2,2) (:func:`identify_pitc
 
 References
 ----------
-Wang X., Zhao X., Zhou B., Wei Q., Zhang R., "Installation error calibration for MEMS
-angular measurement system in hypersonic wind tunnel", Chin. J. Aeronaut. 2023,
-doi:10.1016/j.cja.2022.12.006.
+wang2023cja §3.2, §4.1 (turntable), §4.2 (wind tunnel) (full citation: :mod:`mtcal.studies.wang2023cja`).
 
 Examples
 --------
