@@ -43,6 +43,26 @@ _S0, _S1, _S2, _S3 = 0.5, -1.0 / 48.0, 1.0 / 3840.0, -1.0 / 645120.0
 
 
 @numba.njit(inline="always")
+def _cs(u):
+    """cos(|Δθ|/2) and sin(|Δθ|/2)/|Δθ| from u = |Δθ|², the series of degree 2 or 3 below their bounds, else exact."""
+    if u <= _T2:
+        c = (u * _C2 + _C1) * u + 1.0
+        s = (u * _S2 + _S1) * u + _S0
+    elif u <= _T3:
+        c = ((u * _C3 + _C2) * u + _C1) * u + 1.0
+        s = ((u * _S3 + _S2) * u + _S1) * u + _S0
+    else:
+        ang = math.sqrt(u)
+        half = 0.5 * ang
+        c = math.cos(half)
+        if ang < 1e-8:
+            s = 0.5 - ang ** 2 / 48.0
+        else:
+            s = math.sin(half) / ang
+    return c, s
+
+
+@numba.njit(inline="always")
 def _step(q0, q1, q2, q3, i0, i1, i2, prev, ax, ay, az, wx, wy, wz, kp, kidt, use_ki, dt, alpha, gravity, thr):
     """One QNCF sample (AMD, gate, PI, increment, Eq 6); returns the new state, the gate and |a|²."""
     # AMD statistic and gate (QncfFilter._accel_chunk)
@@ -69,20 +89,7 @@ def _step(q0, q1, q2, q3, i0, i1, i2, prev, ax, ay, az, wx, wy, wz, kp, kidt, us
     x1 = ((e1 * kp + wy) + i1) * dt
     x2 = ((e2 * kp + wz) + i2) * dt
     u = (x0 * x0 + x1 * x1) + x2 * x2
-    if u <= _T2:
-        c = (u * _C2 + _C1) * u + 1.0
-        s = (u * _S2 + _S1) * u + _S0
-    elif u <= _T3:
-        c = ((u * _C3 + _C2) * u + _C1) * u + 1.0
-        s = ((u * _S3 + _S2) * u + _S1) * u + _S0
-    else:
-        ang = math.sqrt(u)
-        half = 0.5 * ang
-        c = math.cos(half)
-        if ang < 1e-8:
-            s = 0.5 - ang ** 2 / 48.0
-        else:
-            s = math.sin(half) / ang
+    c, s = _cs(u)
     h1 = x0 * s
     h2 = x1 * s
     h3 = x2 * s
@@ -148,26 +155,6 @@ def _trial(w, a, t, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, d
         stats[t, 4] += ss1
         stats[t, 5] += ss2
         stats[t, 6], stats[t, 7], stats[t, 8] = m0, m1, m2
-
-
-@numba.njit(inline="always")
-def _cs(u):
-    """cos(|Δθ|/2) and sin(|Δθ|/2)/|Δθ| from u = |Δθ|², exactly as :func:`_step` picks them."""
-    if u <= _T2:
-        c = (u * _C2 + _C1) * u + 1.0
-        s = (u * _S2 + _S1) * u + _S0
-    elif u <= _T3:
-        c = ((u * _C3 + _C2) * u + _C1) * u + 1.0
-        s = ((u * _S3 + _S2) * u + _S1) * u + _S0
-    else:
-        ang = math.sqrt(u)
-        half = 0.5 * ang
-        c = math.cos(half)
-        if ang < 1e-8:
-            s = 0.5 - ang ** 2 / 48.0
-        else:
-            s = math.sin(half) / ang
-    return c, s
 
 
 @numba.njit(inline="always")
