@@ -17,10 +17,9 @@ from pathlib import Path
 import numpy as np
 
 from mtcal.cli import common, logio
-from mtcal.systems import installation, plausibility
+from mtcal.systems import plausibility
 
-EXAMPLE = """\
-output columns: time_s, q0..q3 (calibrated body attitude), yaw_deg, pitch_deg, roll_deg,
+EXAMPLE = """output columns: time_s, q0..q3 (calibrated body attitude), yaw_deg, pitch_deg, roll_deg,
   sensor_yaw_deg, sensor_pitch_deg, sensor_roll_deg (before calibration)
 example:
   mtcal calibrate turntable.csv --positions pos.csv --out Q.json
@@ -54,6 +53,7 @@ def run(args: argparse.Namespace) -> int:
     def body() -> int:
         from mtcal.cli.attitude import qncf_settings
         from mtcal.core import rotations
+        from mtcal.systems import installation  # numba/scipy: loaded when the command runs, not for --help
 
         q_hat = load_calibration(args.calibration)
         log = logio.read_log(args.log, common.input_options(args), need="raw_or_quat")
@@ -65,7 +65,7 @@ def run(args: argparse.Namespace) -> int:
                                      time_s=log.time_s, skip=plausibility.clipped_samples(log.gyro_rad_s)[0])
             gyro, params, q0, _ = qncf_settings(log, rep)
             att = installation.apply_installation(q_hat, gyro_rad_s=gyro, accel_m_s2=log.accel_m_s2,
-                                                  fs_hz=log.fs_hz, qncf_params=params, q0=q0)
+                                                  dt_s=log.dt_mean_s, qncf_params=params, q0=q0)
             static = rep.is_static
         else:
             att, static = installation.apply_installation(q_hat, q_ws=log.q_ws), None

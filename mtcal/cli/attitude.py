@@ -18,8 +18,7 @@ import numpy as np
 from mtcal.cli import common, logio
 from mtcal.systems import plausibility
 
-EXAMPLE = """\
-output columns: time_s (s), q0, q1, q2, q3 (sensor -> world, scalar-first),
+EXAMPLE = """output columns: time_s (s), q0, q1, q2, q3 (sensor -> world, scalar-first),
   yaw_deg, pitch_deg, roll_deg (wang2023cja Eq 8 ZXY), is_static (0/1)
 example:
   mtcal attitude flight.csv --out attitude.parquet --figure attitude.png

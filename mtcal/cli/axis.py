@@ -24,16 +24,13 @@ import numpy as np
 
 from mtcal.cli import common, logio
 from mtcal.systems import plausibility
-from mtcal.systems import surface_angle as sa
 
-AXIS_EXAMPLE = """\
-prints: 'axis v = x,y,z' (unit, v_x >= 0), its 1-sigma uncertainty, one line per rest
+AXIS_EXAMPLE = """prints: 'axis v = x,y,z' (unit, v_x >= 0), its 1-sigma uncertainty, one line per rest
 example:
   mtcal axis hinge.csv --figure axis.png
   mtcal axis hinge.parquet --gyro-unit deg/s --accel-unit g --min-separation-deg 5"""
 
-ANGLE_EXAMPLE = """\
-output columns (--out, CSV or Parquet): time_s (s), angle_deg (deg, about --axis, 0 at the
+ANGLE_EXAMPLE = """output columns (--out, CSV or Parquet): time_s (s), angle_deg (deg, about --axis, 0 at the
   first rest; empty before it if the log starts moving), is_static (0/1, rest flag used by the EKF)
 example:
   mtcal angle hinge.csv --axis 0.6,0,0.8 --out angle.csv --figure angle.png
@@ -53,6 +50,8 @@ def cmd_axis(args: argparse.Namespace) -> int:
     fig = common.DiagnosticsFigure(args.figure, f"mtcal axis {args.log}", inputs=[args.log])
 
     def body() -> int:
+        from mtcal.systems import surface_angle  # numba/scipy: loaded when the command runs, not for --help
+
         log = logio.read_log(args.log, common.input_options(args), need="accel")
         fig.log = log
         if args.rest_detector == "paper":
@@ -70,10 +69,10 @@ def cmd_axis(args: argparse.Namespace) -> int:
         if len(rep.rests) == 0:
             raise ValueError(f"found only 0 rests of >= {rep.min_rest_s:g} s ({rep.levels_text()}); "
                              f"the axis needs rests at three distinct tilts")
-        est = sa.estimate_surface_axis(log.accel_m_s2, rep.rests, accel_noise_m_s2=rep.accel_noise_m_s2,
-                                       window_samples=rep.window_s * log.fs_hz, fit="plane",
-                                       min_separation_deg=sep, max_axis_error_deg=max_err,
-                                       max_elevation_deg=max_el)
+        est = surface_angle.estimate_surface_axis(log.accel_m_s2, rep.rests, accel_noise_m_s2=rep.accel_noise_m_s2,
+                                                  window_samples=rep.window_s * log.fs_hz, fit="plane",
+                                                  min_separation_deg=sep, max_axis_error_deg=max_err,
+                                                  max_elevation_deg=max_el)
         fig.used = [rep.rests[m[0]] for m in est.members]
         v, means = est.axis, est.rest_means_m_s2
         print(f"axis v = {v[0]:.6f},{v[1]:.6f},{v[2]:.6f}")
@@ -93,6 +92,7 @@ def _axis_paper(args, log, fig) -> int:
     """The paper's path: Table 1 ZVD + Algorithm A1 (first three distinct rests)."""
     from mtcal.methods.rest_detection import paper_rest_report
     from mtcal.methods.rotation_axis import estimate_axis
+    from mtcal.systems import surface_angle
 
     min_rest = common.finite_float(args.min_rest_s, "--min-rest-s")
     rep = paper_rest_report(log.accel_m_s2, 1.0 / log.fs_hz, min_rest_s=min_rest)
@@ -108,9 +108,10 @@ def _axis_paper(args, log, fig) -> int:
                          f"at rest {rep.extra['measured_gravity_m_s2']:.4f} m/s^2; --rest-detector adaptive "
                          f"measures the band from the data]") from None
     fig.used = list(res.rests)
-    sa.axis_uncertainty(res.means, np.array([r.stop - r.start for r in res.rests], float),
-                        accel_noise_m_s2=rep.accel_noise_m_s2, window_samples=rep.window_s * log.fs_hz,
-                        max_axis_error_deg=common.finite_float(args.max_axis_error_deg, "--max-axis-error-deg"))
+    surface_angle.axis_uncertainty(res.means, np.array([r.stop - r.start for r in res.rests], float),
+                                   accel_noise_m_s2=rep.accel_noise_m_s2, window_samples=rep.window_s * log.fs_hz,
+                                   max_axis_error_deg=common.finite_float(args.max_axis_error_deg,
+                                                                          "--max-axis-error-deg"))
     print(f"axis v = {res.v[0]:.6f},{res.v[1]:.6f},{res.v[2]:.6f}")
     t = log.time_s
     for i, sl in enumerate(res.rests):
@@ -124,6 +125,8 @@ def cmd_angle(args: argparse.Namespace) -> int:
     out = logio.check_output_path(args.out, [args.log])
 
     def body() -> int:
+        from mtcal.systems import surface_angle  # numba/scipy: loaded when the command runs, not for --help
+
         v = _parse_axis(args.axis)
         init_s = common.finite_float(args.init_s, "--init-s")
         log = logio.read_log(args.log, common.input_options(args), need="raw")
@@ -151,12 +154,13 @@ def cmd_angle(args: argparse.Namespace) -> int:
             if n0 < max(3, int(0.1 * fs)):
                 raise ValueError(f"initial rest too short: {n0} samples ({n0 / fs:.2f} s), need >= 0.1 s")
             init = slice(first.start, first.start + n0)
-        res = sa.surface_angle(log.gyro_rad_s, log.accel_m_s2, v, is_static=rep.is_static, init=init,
-                               time_s=t, rests=rep.rests,
-                               max_elevation_deg=common.finite_float(args.max_elevation_deg, "--max-elevation-deg"),
-                               check_units=True, gyro_noise_rad_s=rep.gyro_noise_rad_s,
-                               max_axis_mismatch_deg=common.finite_float(args.max_axis_mismatch_deg,
-                                                                         "--max-axis-mismatch-deg"))
+        res = surface_angle.surface_angle(log.gyro_rad_s, log.accel_m_s2, v, is_static=rep.is_static, init=init,
+                                          time_s=t, rests=rep.rests,
+                                          max_elevation_deg=common.finite_float(args.max_elevation_deg,
+                                                                                "--max-elevation-deg"),
+                                          check_units=True, gyro_noise_rad_s=rep.gyro_noise_rad_s,
+                                          max_axis_mismatch_deg=common.finite_float(args.max_axis_mismatch_deg,
+                                                                                    "--max-axis-mismatch-deg"))
         if res.clipped.any():
             print(f"warning: gyro clipped at {np.degrees(res.clip_level_rad_s):.1f} deg/s in "
                   f"{int(res.clipped.sum())} samples; angles through those moves rely on the following rest")
@@ -169,7 +173,7 @@ def cmd_angle(args: argparse.Namespace) -> int:
         fig.series = {"angle (deg)": angle}
         logio.write_table(out, {"time_s": t, "angle_deg": angle, "is_static": rep.is_static.astype(np.int8)})
         means = np.array([log.accel_m_s2[r].mean(axis=0) for r in rep.rests]).reshape(-1, 3)
-        acc_ang = np.degrees(sa.angles_about_axis(v, a0, means))
+        acc_ang = np.degrees(surface_angle.angles_about_axis(v, a0, means))
         ekf_ang = np.array([np.nanmedian(angle[r]) if np.isfinite(angle[r]).any() else np.nan for r in rep.rests])
         acc_ang = acc_ang + 360.0 * np.round((ekf_ang - acc_ang) / 360.0)  # same turn as the EKF
         common.print_report(log, rep, angle_deg=angle, extra={"accel_angle_deg": acc_ang})

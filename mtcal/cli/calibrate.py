@@ -35,23 +35,17 @@ from pathlib import Path
 import numpy as np
 
 from mtcal.cli import common, logio
-from mtcal.systems import installation, plausibility
+from mtcal.systems import plausibility
 
 POS_COLS = ["yaw_deg", "pitch_deg", "roll_deg"]
 FORMAT = "mtcal-calibration/1"
 
-EXAMPLE = """\
-Q.json (--out): q_hat (4x4, q_body = Q_hat q_sensor), installation_angles_deg
+EXAMPLE = """Q.json (--out): q_hat (4x4, q_body = Q_hat q_sensor), installation_angles_deg
   (alpha1 about z, alpha2 about y, alpha3 about x; Eq 1), mounting_quaternion_q_bs,
   reference_offset_quaternion, positions_deg, residual_deg, attitude settings
 example:
   mtcal calibrate turntable.csv --positions pos.csv --out Q.json --figure cal.png
   mtcal apply Q.json flight.csv --out body_attitude.csv"""
-
-#: Gates (defaults; options override): distance of Q̂ from SO(4) (Frobenius) and Eq 13 conditioning.
-MAX_SO4_DISTANCE = installation.MAX_SO4_DISTANCE
-MAX_CONDITION = installation.MAX_CONDITION
-
 
 def register(subparsers) -> None:
     """Add the ``calibrate`` subcommand to the ``mtcal`` dispatcher."""
@@ -63,7 +57,7 @@ def register(subparsers) -> None:
     p.add_argument("--out", help="write the calibration (JSON) here, for `mtcal apply`")
     p.add_argument("--fraction", default="0.5", help="middle fraction of each rest averaged")
     p.add_argument("--max-residual-deg", default="1.0", help="refuse a fit with a larger residual (deg)")
-    p.add_argument("--max-so4-distance", default=str(MAX_SO4_DISTANCE),
+    p.add_argument("--max-so4-distance", default=None,  # None: mtcal.systems.installation.MAX_SO4_DISTANCE
                    help="refuse a Q_hat farther than this from a rotation of quaternion space")
     p.add_argument("--still-deg-s", default="0.2", help="quaternion-rate rest threshold for q0..q3 logs (deg/s)")
     common.add_input_options(p)
@@ -96,6 +90,7 @@ def run(args: argparse.Namespace) -> int:
 
     def body() -> int:
         from mtcal.cli.attitude import qncf_settings
+        from mtcal.systems import installation  # numba/scipy: loaded when the command runs, not for --help
 
         log = logio.read_log(args.log, common.input_options(args), need="raw_or_quat")
         fig.log = log if log.accel_m_s2 is not None else None
@@ -104,14 +99,16 @@ def run(args: argparse.Namespace) -> int:
         if args.min_rest_s is None:  # defaults: 1 s (adaptive), 2 s (paper's stillness detector, as before)
             args.min_rest_s = "2.0" if args.rest_detector == "paper" or log.gyro_rad_s is None else "1.0"
         min_rest = common.finite_float(args.min_rest_s, "--min-rest-s")
-        gates = {"max_so4_distance": common.finite_float(args.max_so4_distance, "--max-so4-distance"),
+        so4 = args.max_so4_distance
+        gates = {"max_so4_distance": (installation.MAX_SO4_DISTANCE if so4 is None
+                                      else common.finite_float(so4, "--max-so4-distance")),
                  "max_residual_rad": np.radians(common.finite_float(args.max_residual_deg, "--max-residual-deg"))}
         rep = None
         if log.gyro_rad_s is not None:
             rep = common.detect(args, log)
             fig.report = rep
             if args.rest_detector == "paper":
-                rests = installation.detect_rests(log.fs_hz, gyro_rad_s=log.gyro_rad_s, min_rest_s=min_rest)
+                rests = installation.detect_rests(log.dt_mean_s, gyro_rad_s=log.gyro_rad_s, min_rest_s=min_rest)
             else:
                 rests = rep.rests
             plausibility.check_units(log.gyro_for_filter(), log.accel_m_s2, log.dt_mean_s, rests,
@@ -120,7 +117,7 @@ def run(args: argparse.Namespace) -> int:
             source = {"gyro_rad_s": gyro, "accel_m_s2": log.accel_m_s2, "qncf_params": params, "q0": q0}
         else:
             still_rad_s = np.radians(common.finite_float(args.still_deg_s, "--still-deg-s"))
-            rests = installation.detect_rests(log.fs_hz, q_ws=log.q_ws, min_rest_s=min_rest,
+            rests = installation.detect_rests(log.dt_mean_s, q_ws=log.q_ws, min_rest_s=min_rest,
                                               threshold_rad_s=still_rad_s)
             source, info = {"q_ws": log.q_ws}, {"filter": "none (q0..q3 from the log)"}
         print(f"log: {args.log} ({log.n} samples at {log.fs_hz:.1f} Hz); "
@@ -139,7 +136,7 @@ def run(args: argparse.Namespace) -> int:
             raise ValueError(f"too few rests: found {len(rests)} rests of >= {min_rest:g} s for "
                              f"{pos.shape[0]} positions ({lv}); see --figure for the rejected stretches")
         try:
-            cal = installation.calibrate_installation(pos, log.fs_hz, rests=rests, fraction=fraction, **source,
+            cal = installation.calibrate_installation(pos, log.dt_mean_s, rests=rests, fraction=fraction, **source,
                                                       **gates)
         except ValueError as exc:
             if "q_ws" not in source:
@@ -165,17 +162,19 @@ QUATERNION_CONVENTIONS = {
 
 def _quaternion_hint(pos, log, rests, fraction, gates) -> str:
     """A hint naming the quaternion convention under which the log would match the positions ('' if none)."""
+    from mtcal.systems import installation
+
     for name, (fn, fix) in QUATERNION_CONVENTIONS.items():
         q = fn(log.q_ws)
         try:
-            installation.calibrate_installation(pos, log.fs_hz, q_ws=q, rests=rests, fraction=fraction, **gates)
+            installation.calibrate_installation(pos, log.dt_mean_s, q_ws=q, rests=rests, fraction=fraction, **gates)
         except ValueError:
             continue
         return f"; the log's q0..q3 would match every position if they were {name}: {fix}"
     return ""
 
 
-def _print_and_write(args, out, log, rests, cal: installation.InstallationCalibration, info: dict) -> None:
+def _print_and_write(args, out, log, rests, cal, info: dict) -> None:
     """The ``Q_hat`` block, the per-position table, the installation angles and the JSON (``--out``)."""
     alpha = np.degrees(cal.installation_angles_rad)
     print("Q_hat (Eq 13, q_body = Q_hat q_sensor):")

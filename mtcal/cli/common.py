@@ -9,14 +9,13 @@ import math
 import numpy as np
 
 from mtcal.cli import logio
-from mtcal.methods import rest_detection as rd
+from mtcal.methods import rest_detection
 
 __all__ = ["add_input_options", "add_rest_options", "input_options", "detect", "rest_table", "print_report",
            "finite_float", "DiagnosticsFigure", "run_with_figure", "SCHEMA_HELP", "description_with_schema",
            "QUATERNION_DECIMALS", "write_attitude"]
 
-SCHEMA_HELP = """\
-log schema (CSV or Parquet, header row, one row per sample; extra columns ignored):
+SCHEMA_HELP = """log schema (CSV or Parquet, header row, one row per sample; extra columns ignored):
   time_s                                    time (s), strictly increasing (jitter allowed)
   gyro_x_rad_s, gyro_y_rad_s, gyro_z_rad_s  angular rate (rad/s), sensor frame
   accel_x_m_s2, accel_y_m_s2, accel_z_m_s2  specific force (m/s^2); level at rest ~ +g on z
@@ -99,7 +98,7 @@ def input_options(args) -> logio.InputOptions:
                               fs_hz=None if args.fs_hz is None else finite_float(args.fs_hz, "--fs-hz"))
 
 
-def detect(args, log: logio.ImuLog, *, use_gyro: bool = True) -> rd.RestReport:
+def detect(args, log: logio.ImuLog, *, use_gyro: bool = True) -> rest_detection.RestReport:
     """Run the chosen rest detector on a log with the command-line overrides.
 
     Rests whose listed duration (``t[stop-1] − t[start]``) is below ``--min-rest-s``
@@ -114,25 +113,27 @@ def detect(args, log: logio.ImuLog, *, use_gyro: bool = True) -> rd.RestReport:
     if shoe_thr is not None and args.rest_detector != "shoe":
         raise ValueError("--shoe-threshold needs --rest-detector shoe")
     if args.rest_detector == "paper":
-        rep = rd.paper_rest_report(log.accel_m_s2, 1.0 / log.fs_hz, gyro_rad_s=gyro, min_rest_s=min_rest)
+        rep = rest_detection.paper_rest_report(log.accel_m_s2, 1.0 / log.fs_hz, gyro_rad_s=gyro, min_rest_s=min_rest)
     elif args.rest_detector == "shoe":
         if gyro is None:
             raise ValueError("--rest-detector shoe needs the gyro columns (and not --accel-only)")
-        params = rd.ShoeParams(min_rest_s=min_rest, noise_factor=finite_float(args.noise_factor, "--noise-factor"),
-                               threshold=shoe_thr, rate_level_rad_s=None if thr is None else np.radians(thr),
-                               gravity_m_s2=opt(args.gravity, "--gravity"))
-        rep = rd.detect_rests_shoe(log.accel_m_s2, 1.0 / log.fs_hz, gyro_rad_s=gyro, params=params)
+        params = rest_detection.ShoeParams(min_rest_s=min_rest,
+                                           noise_factor=finite_float(args.noise_factor, "--noise-factor"),
+                                           threshold=shoe_thr,
+                                           rate_level_rad_s=None if thr is None else np.radians(thr),
+                                           gravity_m_s2=opt(args.gravity, "--gravity"))
+        rep = rest_detection.detect_rests_shoe(log.accel_m_s2, 1.0 / log.fs_hz, gyro_rad_s=gyro, params=params)
     else:
-        params = rd.RestDetectorParams(min_rest_s=min_rest,
-                                       noise_factor=finite_float(args.noise_factor, "--noise-factor"),
-                                       gravity_m_s2=opt(args.gravity, "--gravity"),
-                                       accel_band_m_s2=opt(args.accel_band, "--accel-band"),
-                                       gyro_level_max_rad_s=None if thr is None else np.radians(thr))
-        rep = rd.detect_rests(log.accel_m_s2, 1.0 / log.fs_hz, gyro_rad_s=gyro, params=params)
+        params = rest_detection.RestDetectorParams(min_rest_s=min_rest,
+                                                   noise_factor=finite_float(args.noise_factor, "--noise-factor"),
+                                                   gravity_m_s2=opt(args.gravity, "--gravity"),
+                                                   accel_band_m_s2=opt(args.accel_band, "--accel-band"),
+                                                   gyro_level_max_rad_s=None if thr is None else np.radians(thr))
+        rep = rest_detection.detect_rests(log.accel_m_s2, 1.0 / log.fs_hz, gyro_rad_s=gyro, params=params)
     return _drop_short(log, rep)
 
 
-def _drop_short(log: logio.ImuLog, rep: rd.RestReport) -> rd.RestReport:
+def _drop_short(log: logio.ImuLog, rep: rest_detection.RestReport) -> rest_detection.RestReport:
     """Move rests listed shorter than ``min_rest_s`` (by their printed span) to ``rejected``."""
     t = log.time_s
     short = [r for r in rep.rests if t[r.stop - 1] - t[r.start] < rep.min_rest_s]
@@ -142,14 +143,14 @@ def _drop_short(log: logio.ImuLog, rep: rd.RestReport) -> rd.RestReport:
     rejected = list(rep.rejected)
     for r in short:
         flags[r] = False
-        lo, hi = rd.format_ordered(t[r.stop - 1] - t[r.start], rep.min_rest_s, 3)
-        rejected.append(rd.RejectedRest(r, f"too short: {lo} s < {hi} s (--min-rest-s)"))
+        lo, hi = rest_detection.format_ordered(t[r.stop - 1] - t[r.start], rep.min_rest_s, 3)
+        rejected.append(rest_detection.RejectedRest(r, f"too short: {lo} s < {hi} s (--min-rest-s)"))
     rejected.sort(key=lambda x: x.span.start)
     return dataclasses.replace(rep, rests=[r for r in rep.rests if r not in short], rejected=rejected,
                                is_static=flags, n_short=rep.n_short + len(short))
 
 
-def rest_table(log: logio.ImuLog, report: rd.RestReport, angle_deg: np.ndarray | None = None,
+def rest_table(log: logio.ImuLog, report: rest_detection.RestReport, angle_deg: np.ndarray | None = None,
                angle_name: str = "angle_deg", extra: dict | None = None) -> list[str]:
     """Per-rest summary lines: time span, duration, |a|, tilt from sensor z, mean gyro, angle, extras.
 
@@ -179,7 +180,7 @@ def rest_table(log: logio.ImuLog, report: rd.RestReport, angle_deg: np.ndarray |
     return lines
 
 
-def print_report(log: logio.ImuLog, report: rd.RestReport, angle_deg=None, angle_name="angle_deg",
+def print_report(log: logio.ImuLog, report: rest_detection.RestReport, angle_deg=None, angle_name="angle_deg",
                  extra: dict | None = None) -> None:
     print(f"log: {log.path} ({log.n} samples at {log.fs_hz:.2f} Hz, {log.time_s[-1] - log.time_s[0]:.2f} s)"
           + (f"; {'; '.join(log.notes)}" if log.notes else ""))
@@ -218,7 +219,7 @@ class DiagnosticsFigure:
         self.path = None if path is None else logio.check_output_path(path, inputs, option="--figure")
         self.title = title
         self.log: logio.ImuLog | None = None
-        self.report: rd.RestReport | None = None
+        self.report: rest_detection.RestReport | None = None
         self.used: list = []          # rests used by the method (slices)
         self.series: dict = {}        # extra panel: name -> (N,) array
         self.error: str | None = None

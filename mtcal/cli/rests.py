@@ -14,8 +14,7 @@ import numpy as np
 
 from mtcal.cli import common, logio
 
-EXAMPLE = """\
-output columns (--out, CSV or Parquet): rest, start_s, stop_s, duration_s, accel_norm_m_s2,
+EXAMPLE = """output columns (--out, CSV or Parquet): rest, start_s, stop_s, duration_s, accel_norm_m_s2,
   tilt_deg, accel_x_m_s2, accel_y_m_s2, accel_z_m_s2, gyro_x_deg_s, gyro_y_deg_s, gyro_z_deg_s
 example:
   mtcal rests walk.csv --gyro-unit deg/s --accel-unit g --figure rests.png --out rests.csv"""

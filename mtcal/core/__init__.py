@@ -5,10 +5,10 @@ Nothing here names a paper. Radians and SI units throughout.
 The public names of every submodule are re-exported here (see ``__all__``).
 """
 
-import importlib
 from typing import TYPE_CHECKING
 
 from . import compiled  # first: numba's settings are made there before numba loads
+from .lazy import lazy_attributes
 
 if TYPE_CHECKING:  # the eager imports, for type checkers and tests/test_import_graph.py
     from . import compiled  # first: numba's settings are made there before numba loads
@@ -90,16 +90,4 @@ _EXPORTS = {
     "time_vector": "validate", "unit_quaternion": "validate",
 }
 
-
-def __getattr__(name):
-    if name in _SUBMODULES:
-        return importlib.import_module(f"{__name__}.{name}")
-    if name in _EXPORTS:
-        value = getattr(importlib.import_module(f"{__name__}.{_EXPORTS[name]}"), name)
-        globals()[name] = value
-        return value
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-
-
-def __dir__():
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__ = lazy_attributes(globals(), _SUBMODULES, _EXPORTS)

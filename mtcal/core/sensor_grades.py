@@ -165,40 +165,33 @@ class SensorGrade:
         return self.sensor_spec(time_since_power_on_s=time_since_power_on_s).error_model(q_mount)
 
 
-GRADES: dict[str, SensorGrade] = {g.name: g for g in (
-    SensorGrade("consumer", gyro_arw_deg_rt_h=0.6, gyro_bias_instability_deg_h=20.0,
-                gyro_bias_repeatability_deg_h=360.0, gyro_scale_factor_ppm=3000.0,
-                accel_noise_ug_rt_hz=150.0, accel_bias_instability_ug=100.0, accel_bias_repeatability_mg=20.0,
-                source="consumer MEMS (ICM-20948 / BMI088 class: 0.015 °/s/√Hz ≈ 0.6–0.9 °/√h, 150–230 µg/√Hz; "
-                       "turn-on bias after a user calibration ~0.1 °/s, ~20 mg)"),
-    SensorGrade("industrial", gyro_arw_deg_rt_h=0.3, gyro_bias_instability_deg_h=5.0,
-                gyro_bias_repeatability_deg_h=30.0, gyro_scale_factor_ppm=1000.0,
-                accel_noise_ug_rt_hz=60.0, accel_bias_instability_ug=15.0, accel_bias_repeatability_mg=2.0,
-                source="industrial MEMS (ADIS16470 class: ARW 0.34 °/√h, in-run 8 °/h, accel 13 µg in-run)"),
-    SensorGrade("tactical", gyro_arw_deg_rt_h=0.1, gyro_bias_instability_deg_h=0.8,
-                gyro_bias_repeatability_deg_h=3.0, gyro_scale_factor_ppm=300.0,
-                accel_noise_ug_rt_hz=25.0, accel_bias_instability_ug=5.0, accel_bias_repeatability_mg=0.1,
-                source="tactical MEMS (ADIS16495 / STIM300 class: ARW 0.12–0.15 °/√h, 0.5–0.8 °/h; "
-                       "ADXL355 25 µg/√Hz)"),
-    SensorGrade("navigation", gyro_arw_deg_rt_h=0.04, gyro_bias_instability_deg_h=0.25,
-                gyro_bias_repeatability_deg_h=1.0, gyro_scale_factor_ppm=100.0,
-                accel_noise_ug_rt_hz=15.0, accel_bias_instability_ug=3.0, accel_bias_repeatability_mg=0.05,
-                source="navigation-grade MEMS (HG4930 class: ARW 0.04 °/√h, 0.25 °/h, accel 25 µg in-run)"),
-    SensorGrade("wang2023cja", gyro_arw_deg_rt_h=0.1, gyro_bias_instability_deg_h=0.8,
-                gyro_bias_repeatability_deg_h=0.3, gyro_scale_factor_ppm=100.0,
-                accel_noise_ug_rt_hz=25.0, accel_bias_instability_ug=0.0, accel_bias_repeatability_mg=0.05,
-                source="Wang 2023 (Chin. J. Aeronaut.) prints no sensor numbers: the tactical MEMS assumed "
-                       "by mtcal.studies.wang2023cja.ImuSpec (factory-compensated, after warm-up)"),
-    SensorGrade("wang2022sensors", gyro_arw_deg_rt_h=0.02 * 60.0, gyro_bias_instability_deg_h=0.0,
-                gyro_bias_repeatability_deg_h=0.7 * 3600.0, gyro_scale_factor_ppm=0.0,
-                accel_noise_ug_rt_hz=50.0, accel_bias_instability_ug=0.0, accel_bias_repeatability_mg=0.1,
-                source="Wang 2022 (Sensors) Table 3: gyro 0.02 °/s/√Hz (= 1.2 °/√h), bias 0.7 °/s; "
-                       "accel 50 µg/√Hz; accel bias after the paper's calibration 0.1 mg (mtcal)"),
-    SensorGrade("tan2022", gyro_arw_deg_rt_h=0.0, gyro_bias_instability_deg_h=0.0,
-                gyro_bias_repeatability_deg_h=0.2 * 3600.0, gyro_scale_factor_ppm=0.0,
-                accel_noise_ug_rt_hz=0.0, accel_bias_instability_ug=0.0, accel_bias_repeatability_mg=0.1,
-                source="Tan 2022 error analysis: gyro error 0.2 °/s, accelerometer error ΔA = 1e-4 g"),
-)}
+#: Columns of :data:`_CATALOGUE` (the :class:`SensorGrade` fields, in this order).
+_COLUMNS = ("name", "gyro_arw_deg_rt_h", "gyro_bias_instability_deg_h", "gyro_bias_repeatability_deg_h",
+            "gyro_scale_factor_ppm", "accel_noise_ug_rt_hz", "accel_bias_instability_ug",
+            "accel_bias_repeatability_mg", "source")
+_CATALOGUE = (
+    # name, gyro ARW °/√h, gyro bias instability °/h, gyro bias repeatability °/h, gyro scale factor ppm,
+    # accel noise µg/√Hz, accel bias instability µg, accel bias repeatability mg; source
+    ("consumer",                0.6, 20.0,        360.0, 3000.0, 150.0, 100.0, 20.0,
+     "consumer MEMS (ICM-20948 / BMI088 class: 0.015 °/s/√Hz ≈ 0.6–0.9 °/√h, 150–230 µg/√Hz; "
+     "turn-on bias after a user calibration ~0.1 °/s, ~20 mg)"),
+    ("industrial",              0.3,  5.0,         30.0, 1000.0,  60.0,  15.0,  2.0,
+     "industrial MEMS (ADIS16470 class: ARW 0.34 °/√h, in-run 8 °/h, accel 13 µg in-run)"),
+    ("tactical",                0.1,  0.8,          3.0,  300.0,  25.0,   5.0,  0.1,
+     "tactical MEMS (ADIS16495 / STIM300 class: ARW 0.12–0.15 °/√h, 0.5–0.8 °/h; "
+     "ADXL355 25 µg/√Hz)"),
+    ("navigation",             0.04, 0.25,          1.0,  100.0,  15.0,   3.0, 0.05,
+     "navigation-grade MEMS (HG4930 class: ARW 0.04 °/√h, 0.25 °/h, accel 25 µg in-run)"),
+    ("wang2023cja",             0.1,  0.8,          0.3,  100.0,  25.0,   0.0, 0.05,
+     "Wang 2023 (Chin. J. Aeronaut.) prints no sensor numbers: the tactical MEMS assumed "
+     "by mtcal.studies.wang2023cja.ImuSpec (factory-compensated, after warm-up)"),
+    ("wang2022sensors", 0.02 * 60.0,  0.0, 0.7 * 3600.0,    0.0,  50.0,   0.0,  0.1,
+     "Wang 2022 (Sensors) Table 3: gyro 0.02 °/s/√Hz (= 1.2 °/√h), bias 0.7 °/s; "
+     "accel 50 µg/√Hz; accel bias after the paper's calibration 0.1 mg (mtcal)"),
+    ("tan2022",                 0.0,  0.0, 0.2 * 3600.0,    0.0,   0.0,   0.0,  0.1,
+     "Tan 2022 error analysis: gyro error 0.2 °/s, accelerometer error ΔA = 1e-4 g"),
+)
+GRADES: dict[str, SensorGrade] = {row[0]: SensorGrade(**dict(zip(_COLUMNS, row))) for row in _CATALOGUE}
 
 
 def grade_names() -> list[str]:

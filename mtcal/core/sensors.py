@@ -123,8 +123,8 @@ class SensorSpec:
     time_since_power_on_s: float = _f(300.0, "s", "time since power-on at the record start")
 
     def __post_init__(self) -> None:
-        if isinstance(self.fs_hz, bool) or not isinstance(self.fs_hz, (int, float, np.floating)) \
-                or not np.isfinite(self.fs_hz) or self.fs_hz <= 0:
+        if (isinstance(self.fs_hz, bool) or not isinstance(self.fs_hz, (int, float, np.floating))
+                or not np.isfinite(self.fs_hz) or self.fs_hz <= 0):
             raise ValueError(f"fs_hz must be > 0 (Hz), got {self.fs_hz!r}")
         if not isinstance(self.label, str):
             raise TypeError(f"label must be a str, got {self.label!r}")

@@ -4,8 +4,9 @@ and adapters to the anchor libraries (vqf, imufusion, ahrs) for the bake-off.
 The public names of every submodule are re-exported here (see ``__all__``).
 """
 
-import importlib
 from typing import TYPE_CHECKING
+
+from mtcal.core.lazy import lazy_attributes
 
 if TYPE_CHECKING:  # the eager imports, for type checkers and tests/test_import_graph.py
     from . import anchors, baselines, mahony, qncf, rams_ekf, registry
@@ -45,16 +46,4 @@ _EXPORTS = {
     "register_filter": "registry", "require_filter": "registry", "unregister_filter": "registry",
 }
 
-
-def __getattr__(name):
-    if name in _SUBMODULES:
-        return importlib.import_module(f"{__name__}.{name}")
-    if name in _EXPORTS:
-        value = getattr(importlib.import_module(f"{__name__}.{_EXPORTS[name]}"), name)
-        globals()[name] = value
-        return value
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-
-
-def __dir__():
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__ = lazy_attributes(globals(), _SUBMODULES, _EXPORTS)

@@ -28,7 +28,8 @@ import numpy as np
 from numba import prange
 
 from mtcal.core.montecarlo import euler_errors as _euler_errors
-from mtcal.filters import _kernels_lanes as L
+from mtcal.filters._kernels_lanes import (add, adds, bc, div, divs, fabs, maxs, mul, muls, sqrt, sub, vmax,
+                                          where_le, where_lt)
 from mtcal.filters._kernels_common import jit
 
 __all__ = ["qncf_one", "qncf_serial", "qncf_parallel"]
@@ -39,6 +40,26 @@ _T3 = 0.04 * 0.04     # |Δθ|² bound of the degree-3 series (TAYLOR_MAX_INCREM
 _LOW2 = 2.0 * 2.0 * (1.0 + 1e-9)
 _C1, _C2, _C3 = -1.0 / 8.0, 1.0 / 384.0, -1.0 / 46080.0
 _S0, _S1, _S2, _S3 = 0.5, -1.0 / 48.0, 1.0 / 3840.0, -1.0 / 645120.0
+
+
+@numba.njit(inline="always")
+def _cs(u):
+    """cos(|Δθ|/2) and sin(|Δθ|/2)/|Δθ| from u = |Δθ|², the series of degree 2 or 3 below their bounds, else exact."""
+    if u <= _T2:
+        c = (u * _C2 + _C1) * u + 1.0
+        s = (u * _S2 + _S1) * u + _S0
+    elif u <= _T3:
+        c = ((u * _C3 + _C2) * u + _C1) * u + 1.0
+        s = ((u * _S3 + _S2) * u + _S1) * u + _S0
+    else:
+        ang = math.sqrt(u)
+        half = 0.5 * ang
+        c = math.cos(half)
+        if ang < 1e-8:
+            s = 0.5 - ang ** 2 / 48.0
+        else:
+            s = math.sin(half) / ang
+    return c, s
 
 
 @numba.njit(inline="always")
@@ -68,20 +89,7 @@ def _step(q0, q1, q2, q3, i0, i1, i2, prev, ax, ay, az, wx, wy, wz, kp, kidt, us
     x1 = ((e1 * kp + wy) + i1) * dt
     x2 = ((e2 * kp + wz) + i2) * dt
     u = (x0 * x0 + x1 * x1) + x2 * x2
-    if u <= _T2:
-        c = (u * _C2 + _C1) * u + 1.0
-        s = (u * _S2 + _S1) * u + _S0
-    elif u <= _T3:
-        c = ((u * _C3 + _C2) * u + _C1) * u + 1.0
-        s = ((u * _S3 + _S2) * u + _S1) * u + _S0
-    else:
-        ang = math.sqrt(u)
-        half = 0.5 * ang
-        c = math.cos(half)
-        if ang < 1e-8:
-            s = 0.5 - ang ** 2 / 48.0
-        else:
-            s = math.sin(half) / ang
+    c, s = _cs(u)
     h1 = x0 * s
     h2 = x1 * s
     h3 = x2 * s
@@ -150,26 +158,6 @@ def _trial(w, a, t, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, d
 
 
 @numba.njit(inline="always")
-def _cs(u):
-    """cos(|Δθ|/2) and sin(|Δθ|/2)/|Δθ| from u = |Δθ|², exactly as :func:`_step` picks them."""
-    if u <= _T2:
-        c = (u * _C2 + _C1) * u + 1.0
-        s = (u * _S2 + _S1) * u + _S0
-    elif u <= _T3:
-        c = ((u * _C3 + _C2) * u + _C1) * u + 1.0
-        s = ((u * _S3 + _S2) * u + _S1) * u + _S0
-    else:
-        ang = math.sqrt(u)
-        half = 0.5 * ang
-        c = math.cos(half)
-        if ang < 1e-8:
-            s = 0.5 - ang ** 2 / 48.0
-        else:
-            s = math.sin(half) / ang
-    return c, s
-
-
-@numba.njit(inline="always")
 def _lane(x, i0, i1, i2, i3):
     """(x[i0], x[i1], x[i2], x[i3]) of a 1-D array."""
     return (x[i0], x[i1], x[i2], x[i3])
@@ -205,7 +193,7 @@ def _block(w, a, t0, nl, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_
             ax, ay, az = a[tj, 0, 0], a[tj, 0, 1], a[tj, 0, 2]
             pv[j] = abs(math.sqrt((ax * ax + ay * ay) + az * az) / gravity - 1.0) * 100.0
     P = (pv[0], pv[1], pv[2], pv[3])
-    zero = L.bc(0.0)
+    zero = bc(0.0)
     FW = FA = WM = LOW = zero
     S0 = S1 = S2 = SS0 = SS1 = SS2 = zero
     M0 = M1 = M2 = zero
@@ -218,9 +206,9 @@ def _block(w, a, t0, nl, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_
             _store_q(q_out, ta, tb, tc, td, nl, k, Q0, Q1, Q2, Q3)
         if with_stats:
             E0, E1, E2 = _errors(Q0, Q1, Q2, Q3, truth, per_trial_truth, ta, tb, tc, td, k)
-            S0, S1, S2 = L.add(S0, E0), L.add(S1, E1), L.add(S2, E2)
-            SS0, SS1, SS2 = L.add(SS0, L.mul(E0, E0)), L.add(SS1, L.mul(E1, E1)), L.add(SS2, L.mul(E2, E2))
-            M0, M1, M2 = L.vmax(M0, L.fabs(E0)), L.vmax(M1, L.fabs(E1)), L.vmax(M2, L.fabs(E2))
+            S0, S1, S2 = add(S0, E0), add(S1, E1), add(S2, E2)
+            SS0, SS1, SS2 = add(SS0, mul(E0, E0)), add(SS1, mul(E1, E1)), add(SS2, mul(E2, E2))
+            M0, M1, M2 = vmax(M0, fabs(E0)), vmax(M1, fabs(E1)), vmax(M2, fabs(E2))
         AX = (a[ta, k, 0], a[tb, k, 0], a[tc, k, 0], a[td, k, 0])
         AY = (a[ta, k, 1], a[tb, k, 1], a[tc, k, 1], a[td, k, 1])
         AZ = (a[ta, k, 2], a[tb, k, 2], a[tc, k, 2], a[td, k, 2])
@@ -228,49 +216,49 @@ def _block(w, a, t0, nl, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_
         WY = (w[ta, k, 1], w[tb, k, 1], w[tc, k, 1], w[td, k, 1])
         WZ = (w[ta, k, 2], w[tb, k, 2], w[tc, k, 2], w[td, k, 2])
         # input scan (see _trial)
-        FW = L.add(FW, L.add(L.add(L.muls(WX, 0.0), L.muls(WY, 0.0)), L.muls(WZ, 0.0)))
-        FA = L.add(FA, L.add(L.add(L.muls(AX, 0.0), L.muls(AY, 0.0)), L.muls(AZ, 0.0)))
-        WM = L.vmax(WM, L.vmax(L.fabs(WX), L.vmax(L.fabs(WY), L.fabs(WZ))))
+        FW = add(FW, add(add(muls(WX, 0.0), muls(WY, 0.0)), muls(WZ, 0.0)))
+        FA = add(FA, add(add(muls(AX, 0.0), muls(AY, 0.0)), muls(AZ, 0.0)))
+        WM = vmax(WM, vmax(fabs(WX), vmax(fabs(WY), fabs(WZ))))
         # AMD statistic and gate
-        N2 = L.add(L.add(L.mul(AX, AX), L.mul(AY, AY)), L.mul(AZ, AZ))
-        NRM = L.sqrt(N2)
-        D = L.muls(L.fabs(L.adds(L.divs(NRM, gravity), -1.0)), 100.0)
-        P = L.add(P, L.muls(L.sub(D, P), alpha))
-        FAC = L.div(L.where_lt(P, L.bc(thr), L.bc(1.0), L.bc(0.0)), L.maxs(NRM, 1e-12))
-        UX, UY, UZ = L.mul(AX, FAC), L.mul(AY, FAC), L.mul(AZ, FAC)
+        N2 = add(add(mul(AX, AX), mul(AY, AY)), mul(AZ, AZ))
+        NRM = sqrt(N2)
+        D = muls(fabs(adds(divs(NRM, gravity), -1.0)), 100.0)
+        P = add(P, muls(sub(D, P), alpha))
+        FAC = div(where_lt(P, bc(thr), bc(1.0), bc(0.0)), maxs(NRM, 1e-12))
+        UX, UY, UZ = mul(AX, FAC), mul(AY, FAC), mul(AZ, FAC)
         # predicted up direction and e = â × v̂
-        V0 = L.muls(L.sub(L.mul(Q1, Q3), L.mul(Q0, Q2)), 2.0)
-        V1 = L.muls(L.add(L.mul(Q2, Q3), L.mul(Q0, Q1)), 2.0)
-        V2 = L.sub(L.sub(L.add(L.mul(Q0, Q0), L.mul(Q3, Q3)), L.mul(Q1, Q1)), L.mul(Q2, Q2))
-        E0 = L.sub(L.mul(UY, V2), L.mul(UZ, V1))
-        E1 = L.sub(L.mul(UZ, V0), L.mul(UX, V2))
-        E2 = L.sub(L.mul(UX, V1), L.mul(UY, V0))
+        V0 = muls(sub(mul(Q1, Q3), mul(Q0, Q2)), 2.0)
+        V1 = muls(add(mul(Q2, Q3), mul(Q0, Q1)), 2.0)
+        V2 = sub(sub(add(mul(Q0, Q0), mul(Q3, Q3)), mul(Q1, Q1)), mul(Q2, Q2))
+        E0 = sub(mul(UY, V2), mul(UZ, V1))
+        E1 = sub(mul(UZ, V0), mul(UX, V2))
+        E2 = sub(mul(UX, V1), mul(UY, V0))
         if use_ki:
-            I0, I1, I2 = L.add(I0, L.muls(E0, kidt)), L.add(I1, L.muls(E1, kidt)), L.add(I2, L.muls(E2, kidt))
-        X0 = L.muls(L.add(L.add(L.muls(E0, kp), WX), I0), dt)
-        X1 = L.muls(L.add(L.add(L.muls(E1, kp), WY), I1), dt)
-        X2 = L.muls(L.add(L.add(L.muls(E2, kp), WZ), I2), dt)
-        U = L.add(L.add(L.mul(X0, X0), L.mul(X1, X1)), L.mul(X2, X2))
+            I0, I1, I2 = add(I0, muls(E0, kidt)), add(I1, muls(E1, kidt)), add(I2, muls(E2, kidt))
+        X0 = muls(add(add(muls(E0, kp), WX), I0), dt)
+        X1 = muls(add(add(muls(E1, kp), WY), I1), dt)
+        X2 = muls(add(add(muls(E2, kp), WZ), I2), dt)
+        U = add(add(mul(X0, X0), mul(X1, X1)), mul(X2, X2))
         if (U[0] <= _T3) & (U[1] <= _T3) & (U[2] <= _T3) & (U[3] <= _T3):  # series: a select per lane
-            T2 = L.bc(_T2)
-            C = L.where_le(U, T2, L.adds(L.mul(L.adds(L.muls(U, _C2), _C1), U), 1.0),
-                           L.adds(L.mul(L.adds(L.mul(L.adds(L.muls(U, _C3), _C2), U), _C1), U), 1.0))
-            S = L.where_le(U, T2, L.adds(L.mul(L.adds(L.muls(U, _S2), _S1), U), _S0),
-                           L.adds(L.mul(L.adds(L.mul(L.adds(L.muls(U, _S3), _S2), U), _S1), U), _S0))
+            T2 = bc(_T2)
+            C = where_le(U, T2, adds(mul(adds(muls(U, _C2), _C1), U), 1.0),
+                         adds(mul(adds(mul(adds(muls(U, _C3), _C2), U), _C1), U), 1.0))
+            S = where_le(U, T2, adds(mul(adds(muls(U, _S2), _S1), U), _S0),
+                         adds(mul(adds(mul(adds(muls(U, _S3), _S2), U), _S1), U), _S0))
         else:
             ca, sa = _cs(U[0])
             cb, sb = _cs(U[1])
             cc, sc = _cs(U[2])
             cd, sd = _cs(U[3])
             C, S = (ca, cb, cc, cd), (sa, sb, sc, sd)
-        H1, H2, H3 = L.mul(X0, S), L.mul(X1, S), L.mul(X2, S)
-        N0 = L.sub(L.mul(Q0, C), L.add(L.add(L.mul(Q1, H1), L.mul(Q2, H2)), L.mul(Q3, H3)))
-        NN1 = L.add(L.add(L.mul(H1, Q0), L.mul(Q1, C)), L.sub(L.mul(Q2, H3), L.mul(Q3, H2)))
-        NN2 = L.add(L.add(L.mul(H2, Q0), L.mul(Q2, C)), L.sub(L.mul(Q3, H1), L.mul(Q1, H3)))
-        NN3 = L.add(L.add(L.mul(H3, Q0), L.mul(Q3, C)), L.sub(L.mul(Q1, H2), L.mul(Q2, H1)))
-        NQ = L.sqrt(L.add(L.add(L.add(L.mul(N0, N0), L.mul(NN1, NN1)), L.mul(NN2, NN2)), L.mul(NN3, NN3)))
-        Q0, Q1, Q2, Q3 = L.div(N0, NQ), L.div(NN1, NQ), L.div(NN2, NQ), L.div(NN3, NQ)
-        LOW = L.add(LOW, L.where_lt(N2, L.bc(_LOW2), L.bc(1.0), zero))
+        H1, H2, H3 = mul(X0, S), mul(X1, S), mul(X2, S)
+        N0 = sub(mul(Q0, C), add(add(mul(Q1, H1), mul(Q2, H2)), mul(Q3, H3)))
+        NN1 = add(add(mul(H1, Q0), mul(Q1, C)), sub(mul(Q2, H3), mul(Q3, H2)))
+        NN2 = add(add(mul(H2, Q0), mul(Q2, C)), sub(mul(Q3, H1), mul(Q1, H3)))
+        NN3 = add(add(mul(H3, Q0), mul(Q3, C)), sub(mul(Q1, H2), mul(Q2, H1)))
+        NQ = sqrt(add(add(add(mul(N0, N0), mul(NN1, NN1)), mul(NN2, NN2)), mul(NN3, NN3)))
+        Q0, Q1, Q2, Q3 = div(N0, NQ), div(NN1, NQ), div(NN2, NQ), div(NN3, NQ)
+        LOW = add(LOW, where_lt(N2, bc(_LOW2), bc(1.0), zero))
         if keep:  # constant lane indices: P stays in registers
             amd_out[t0, k], gate_out[t0, k] = P[0], P[0] < thr
             if nl > 1:

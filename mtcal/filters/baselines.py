@@ -194,10 +194,10 @@ def mahony_marg(gyro_rad_s, accel_m_s2, mag, dt_s: float, gains: MargGains | Non
     an = a / np.linalg.norm(a, axis=-1, keepdims=True)
     mn = m / np.linalg.norm(m, axis=-1, keepdims=True)
     if check_engine(engine) == "numba":
-        from mtcal.filters import _kernels_marg as kern
+        from mtcal.filters import _kernels_marg
 
         out = np.empty((t_n, n, 4))
-        fn = kern.marg_parallel if use_parallel(t_n, n) else kern.marg_serial
+        fn = _kernels_marg.marg_parallel if use_parallel(t_n, n) else _kernels_marg.marg_serial
         fn(g, an, mn, np.ascontiguousarray(q, dtype=float), out, float(k.kp_accel), float(k.kp_mag),
            float(k.ki * dt), float(dt))
         return out

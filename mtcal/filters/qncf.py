@@ -559,7 +559,7 @@ class QncfFilter:
 
     def _launch(self, w, a, outputs, truth, stats) -> None:
         """Run the kernel over validated (T, M, 3) records and write the state back."""
-        from mtcal.filters import _kernels_qncf as kern
+        from mtcal.filters import _kernels_qncf
 
         p, n, m = self.params, self.trials, w.shape[1]
         q = np.ascontiguousarray(self._q.T)              # copies: the state is written back only
@@ -573,7 +573,8 @@ class QncfFilter:
         with_stats = stats is not None
         if not with_stats:
             truth, stats = np.empty((1, 1, 3)), np.empty((1, 9))
-        fn = kern.qncf_parallel if use_parallel(n, m) else kern.qncf_one if n == 1 else kern.qncf_serial
+        fn = (_kernels_qncf.qncf_parallel if use_parallel(n, m)
+              else _kernels_qncf.qncf_one if n == 1 else _kernels_qncf.qncf_serial)
         fn(np.ascontiguousarray(w), np.ascontiguousarray(a), q, integ, amd, q_out, amd_out, gate_out,
            float(p.kp_rad_s), float(p.ki_rad_s2 * self.dt_s), bool(p.ki_rad_s2), float(self.dt_s),
            float(self._alpha), float(p.gravity_m_s2), float(p.amd_threshold_pct), outputs is not None, truth,

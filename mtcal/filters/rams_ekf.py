@@ -568,7 +568,7 @@ class RamsEkfFilter:
 
     def _run_numba(self, g: np.ndarray, a: np.ndarray, is_static, keep_innovation: bool) -> RamsEkfResult:
         """:meth:`_run` with the compiled kernels (the whole call in one kernel launch)."""
-        from mtcal.filters import _kernels_ekf as kern
+        from mtcal.filters import _kernels_ekf
 
         n, m = self.trials, a.shape[1]
         if self.use_zvd:
@@ -591,7 +591,8 @@ class RamsEkfFilter:
         out_y = np.empty((n, m, 3)) if keep_innovation else np.empty((1, 1, 3))
         last_c, last_hp, last_s = self._c.T.copy(), self._hp.T.copy(), self._s.copy()
         var_z, var_m = self._var
-        fn = kern.ekf_parallel if use_parallel(n, m) else kern.ekf_one if n == 1 else kern.ekf_serial
+        fn = (_kernels_ekf.ekf_parallel if use_parallel(n, m)
+              else _kernels_ekf.ekf_one if n == 1 else _kernels_ekf.ekf_serial)
         fn(g, a, st, v, par, perp, nperp, wv, f, theta, bias, p, om, has_prev, self.use_zvd,
            float(var_z), float(var_m), float(self.dt_s), float(self._q_theta), float(self._q_b), out_theta,
            out_bias, out_p, out_y, bool(keep_innovation), last_c, last_hp, last_s, chk)

@@ -12,8 +12,9 @@
 The public names of every submodule are re-exported here (see ``__all__``).
 """
 
-import importlib
 from typing import TYPE_CHECKING
+
+from mtcal.core.lazy import lazy_attributes
 
 if TYPE_CHECKING:  # the eager imports, for type checkers and tests/test_import_graph.py
     from . import (constrained_fit, gyro_roll, large_angle, quaternion_lsq, rest_detection, rotation_axis, six_position,
@@ -102,16 +103,4 @@ _EXPORTS = {
     "moving_variance": "zero_velocity", "rest_intervals": "zero_velocity",
 }
 
-
-def __getattr__(name):
-    if name in _SUBMODULES:
-        return importlib.import_module(f"{__name__}.{name}")
-    if name in _EXPORTS:
-        value = getattr(importlib.import_module(f"{__name__}.{_EXPORTS[name]}"), name)
-        globals()[name] = value
-        return value
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-
-
-def __dir__():
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__ = lazy_attributes(globals(), _SUBMODULES, _EXPORTS)

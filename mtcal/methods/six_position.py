@@ -18,6 +18,10 @@ Workflow (paper §3.2, steps 1–7, with Eq 13–15):
 6. Eq 13 is solved with :func:`mtcal.methods.quaternion_lsq.least_squares_error_matrix`
    (vectorised over a leading trial axis for Monte Carlo).
 
+Time base: the detectors take the sample interval ``dt_s`` (s); only the
+schedule generator :func:`schedule_profile` takes a rate, like the
+:mod:`mtcal.core.profiles` generators it wraps.
+
 Shapes: a record is (N, …) or (T, N, …) with a leading Monte Carlo trial
 axis. All trials of one simulation share the mechanism schedule, so a sample
 counts as "still" only if it is still in every trial (one set of rests).
@@ -36,7 +40,7 @@ from scipy.optimize import linear_sum_assignment
 
 from mtcal.core import rotations
 from mtcal.methods import quaternion_lsq
-from mtcal.core.validate import as_float_array, positive_scalar, unit_quaternion
+from mtcal.core.validate import as_float_array, positive_scalar, sample_interval, unit_quaternion
 from mtcal.core.profiles import AngleProfile, step_schedule
 
 __all__ = ["six_positions_rad", "schedule_profile", "stillness_from_gyro",
@@ -102,7 +106,7 @@ def _moving_mean(x: np.ndarray, win: int, axis: int = -1) -> np.ndarray:
     return np.moveaxis(out, -1, axis)
 
 
-def stillness_from_gyro(gyro_rad_s, fs_hz: float, *, window_s: float = 0.1,
+def stillness_from_gyro(gyro_rad_s, dt_s: float, *, window_s: float = 0.1,
                         threshold_rad_s: float = np.radians(0.2)) -> np.ndarray:
     """Still where the moving-mean gyro norm is below a threshold.
 
@@ -110,10 +114,10 @@ def stillness_from_gyro(gyro_rad_s, fs_hz: float, *, window_s: float = 0.1,
     ----------
     gyro_rad_s : array_like, shape (N, 3) or (T, N, 3)
         Angular rate (rad/s).
-    fs_hz : float
-        Sample rate (Hz).
+    dt_s : float
+        Sample interval (s), ≤ 1 s.
     window_s : float
-        Moving-mean window (s); averages white noise down.
+        Moving-mean window (s), ``round(window_s / dt_s)`` samples; averages white noise down.
     threshold_rad_s : float
         Threshold on ‖ω‖ (rad/s); default 0.2 °/s (far above a tactical
         gyro's 0.1 s-averaged noise ≈ 0.003 °/s, far below a move).
@@ -123,57 +127,61 @@ def stillness_from_gyro(gyro_rad_s, fs_hz: float, *, window_s: float = 0.1,
     ndarray of bool, shape (N,) — still in every trial.
     """
     w = as_float_array(gyro_rad_s, "gyro_rad_s", ndim=(2, 3), last_dim=3)
-    return _stillness_from_gyro(w, positive_scalar(fs_hz, "fs_hz"), positive_scalar(window_s, "window_s"),
+    return _stillness_from_gyro(w, sample_interval(dt_s), positive_scalar(window_s, "window_s"),
                                 positive_scalar(threshold_rad_s, "threshold_rad_s"))
 
 
-def _stillness_from_gyro(w: np.ndarray, fs: float, window_s: float, threshold_rad_s: float) -> np.ndarray:
+def _stillness_from_gyro(w: np.ndarray, dt: float, window_s: float, threshold_rad_s: float) -> np.ndarray:
     """:func:`stillness_from_gyro` on checked arrays (trusted)."""
-    win = max(1, int(round(window_s * fs)))
+    win = max(1, int(round(window_s / dt)))
     norm = np.linalg.norm(_moving_mean(w, win, axis=-2), axis=-1)
     still = norm < threshold_rad_s
     return still if still.ndim == 1 else np.all(still, axis=0)
 
 
-def stillness_from_quaternions(q, fs_hz: float, *, window_s: float = 0.1,
+def stillness_from_quaternions(q, dt_s: float, *, window_s: float = 0.1,
                                threshold_rad_s: float = np.radians(0.2)) -> np.ndarray:
     """Still where the mean rotation rate over a window (from the quaternions) is small.
 
-    Rate ≈ angle(q[k − w/2], q[k + w/2]) / (w / fs). Shapes (N, 4) or (T, N, 4)
-    → (N,) bool (still in every trial).
+    Rate ≈ angle(q[k − w/2], q[k + w/2]) / (w dt_s), with ``w = window_s / dt_s`` samples and
+    ``dt_s`` the sample interval (s). Shapes (N, 4) or (T, N, 4) → (N,) bool (still in every trial).
     """
     qq = unit_quaternion(q, "q")
     if qq.ndim not in (2, 3):
         raise ValueError(f"q must have shape (N, 4) or (T, N, 4), got {qq.shape}")
-    return _stillness_from_quaternions(qq, positive_scalar(fs_hz, "fs_hz"), positive_scalar(window_s, "window_s"),
+    return _stillness_from_quaternions(qq, sample_interval(dt_s), positive_scalar(window_s, "window_s"),
                                        positive_scalar(threshold_rad_s, "threshold_rad_s"))
 
 
-def _stillness_from_quaternions(qq: np.ndarray, fs: float, window_s: float, threshold_rad_s: float) -> np.ndarray:
+def _stillness_from_quaternions(qq: np.ndarray, dt: float, window_s: float, threshold_rad_s: float) -> np.ndarray:
     """:func:`stillness_from_quaternions` on checked unit quaternions (trusted)."""
-    half = max(1, int(round(window_s * fs / 2)))
+    half = max(1, int(round(window_s / dt / 2)))
     n = qq.shape[-2]
     idx = np.arange(n)
     lo, hi = np.clip(idx - half, 0, n - 1), np.clip(idx + half, 0, n - 1)
     ang = rotations.quat_angle_between(qq[..., lo, :], qq[..., hi, :])
-    rate = ang / np.maximum(hi - lo, 1) * fs
+    rate = ang / np.maximum(hi - lo, 1) / dt
     still = rate < threshold_rad_s
     return still if still.ndim == 1 else np.all(still, axis=0)
 
 
-def find_rests(still, fs_hz: float, *, min_rest_s: float = 2.0) -> list[slice]:
-    """Contiguous still runs lasting at least ``min_rest_s``, as sample slices in time order."""
+def find_rests(still, dt_s: float, *, min_rest_s: float = 2.0) -> list[slice]:
+    """Contiguous still runs lasting at least ``min_rest_s`` (s), as sample slices in time order.
+
+    ``still`` is a 1-D boolean array sampled every ``dt_s`` (s); a run counts if it holds at
+    least ``min_rest_s / dt_s`` samples.
+    """
     s = np.asarray(still)
     if s.dtype != bool or s.ndim != 1:
         raise TypeError(f"still must be a 1-D boolean array, got dtype {s.dtype} shape {s.shape}")
-    return _find_rests(s, positive_scalar(fs_hz, "fs_hz"), positive_scalar(min_rest_s, "min_rest_s"))
+    return _find_rests(s, sample_interval(dt_s), positive_scalar(min_rest_s, "min_rest_s"))
 
 
-def _find_rests(s: np.ndarray, fs: float, min_rest_s: float) -> list[slice]:
+def _find_rests(s: np.ndarray, dt: float, min_rest_s: float) -> list[slice]:
     """:func:`find_rests` on a checked 1-D boolean array (trusted)."""
     edges = np.diff(np.concatenate([[0], s.astype(np.int8), [0]]))
     starts, stops = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)
-    keep = (stops - starts) >= min_rest_s * fs
+    keep = (stops - starts) >= min_rest_s / dt
     return [slice(int(a), int(b)) for a, b in zip(starts[keep], stops[keep])]
 
 
@@ -309,7 +317,7 @@ class SixPositionResult:
     residual_rad: np.ndarray
 
 
-def calibrate(q_ws, reference_euler_rad, fs_hz: float, *, gyro_rad_s=None, fraction: float = 0.5,
+def calibrate(q_ws, reference_euler_rad, dt_s: float, *, gyro_rad_s=None, fraction: float = 0.5,
               min_rest_s: float = 2.0, threshold_rad_s: float = np.radians(0.2),
               window_s: float = 0.1, max_match_rad: float = np.radians(5.0),
               rests: list | None = None) -> SixPositionResult:
@@ -321,8 +329,8 @@ def calibrate(q_ws, reference_euler_rad, fs_hz: float, *, gyro_rad_s=None, fract
         Sensor attitude stream (QNCF output), scalar-first.
     reference_euler_rad : array_like, shape (K, 3)
         Reference ``[ψ, θ, γ]`` of each position (rad), K ≥ 3.
-    fs_hz : float
-        Sample rate (Hz).
+    dt_s : float
+        Sample interval (s), ≤ 1 s.
     gyro_rad_s : array_like, shape like q_ws[..., :3], optional
         If given, rests are detected on the gyro norm, else on the quaternions.
     fraction : float
@@ -351,7 +359,7 @@ def calibrate(q_ws, reference_euler_rad, fs_hz: float, *, gyro_rad_s=None, fract
     ref = as_float_array(reference_euler_rad, "reference_euler_rad", ndim=2, last_dim=3)
     if ref.shape[0] < 3:
         raise ValueError(f"reference_euler_rad must hold at least 3 positions, got {ref.shape[0]}")
-    fs = positive_scalar(fs_hz, "fs_hz")
+    dt = sample_interval(dt_s)
     frac = positive_scalar(fraction, "fraction")
     if frac > 1:
         raise ValueError(f"fraction must be in (0, 1], got {frac}")
@@ -366,7 +374,7 @@ def calibrate(q_ws, reference_euler_rad, fs_hz: float, *, gyro_rad_s=None, fract
             raise ValueError(f"gyro_rad_s has {gyro.shape[-2]} samples but q_ws has {qq.shape[-2]}")
     q_ref = rotations.quat_from_euler_zxy(ref[:, 0], ref[:, 1], ref[:, 2])
     rests, matched, q_s = _rest_attitudes(
-        qq, q_ref, fs, gyro=gyro, rests=rests, fraction=frac, min_rest_s=positive_scalar(min_rest_s, "min_rest_s"),
+        qq, q_ref, dt, gyro=gyro, rests=rests, fraction=frac, min_rest_s=positive_scalar(min_rest_s, "min_rest_s"),
         threshold_rad_s=positive_scalar(threshold_rad_s, "threshold_rad_s"),
         window_s=positive_scalar(window_s, "window_s"), max_match_rad=float(max_match_rad))
     q_mat = quaternion_lsq._least_squares(*quaternion_lsq._align_pairs(q_s, q_ref))  # (4, 4) or (T, 4, 4)
@@ -385,21 +393,21 @@ def _angle_between(p: np.ndarray, q: np.ndarray) -> np.ndarray:
 _CONJ = np.array([1.0, -1.0, -1.0, -1.0])
 
 
-def _rest_attitudes(qq: np.ndarray, q_ref: np.ndarray, fs: float, *, gyro: np.ndarray | None,
+def _rest_attitudes(qq: np.ndarray, q_ref: np.ndarray, dt: float, *, gyro: np.ndarray | None,
                     rests: list | None, fraction: float, min_rest_s: float, threshold_rad_s: float,
                     window_s: float, max_match_rad: float, q_detect: np.ndarray | None = None):
     """Rests → middle-section means → matched to the references (steps 3–5 of §3.2; trusted).
 
-    ``qq`` (N, 4) or (T, N, 4) checked unit quaternions; ``q_ref`` (K, 4) or (T, K, 4);
+    ``qq`` (N, 4) or (T, N, 4) checked unit quaternions sampled every ``dt`` (s); ``q_ref`` (K, 4) or (T, K, 4);
     rests are ``rests`` if given, else detected on ``gyro`` if given, else on the
     quaternion rate of ``q_detect`` (default ``qq``). Returns ``(rests, matched, q_s)``.
     """
     if rests is None:
         if gyro is not None:
-            still = _stillness_from_gyro(gyro, fs, window_s, threshold_rad_s)
+            still = _stillness_from_gyro(gyro, dt, window_s, threshold_rad_s)
         else:
-            still = _stillness_from_quaternions(qq if q_detect is None else q_detect, fs, window_s, threshold_rad_s)
-        rests = _find_rests(still, fs, min_rest_s)
+            still = _stillness_from_quaternions(qq if q_detect is None else q_detect, dt, window_s, threshold_rad_s)
+        rests = _find_rests(still, dt, min_rest_s)
     if len(rests) < q_ref.shape[-2]:
         raise ValueError(f"too few rests: found {len(rests)} still periods of >= {min_rest_s:g} s, "
                          f"need one for each of the {q_ref.shape[-2]} reference positions")

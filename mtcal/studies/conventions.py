@@ -8,12 +8,8 @@ against a threshold (:func:`below`), so the output is the same on every CPU.
 
 References
 ----------
-.. [wang2023cja] Wang X., Zhao X., Zhou B., Wei Q., Zhang R., "Installation error
-   calibration for MEMS angular measurement system in hypersonic wind tunnel",
-   Chin. J. Aeronaut. 2023, doi:10.1016/j.cja.2022.12.006.
-.. [tan2022] Tan Q., Cheng Y., Tang B., Liu X., Zhou H., Li Y., "Large-angle attitude
-   measurement algorithm with pitch/roll coupling", J. Terahertz Sci. Electron. Inf.
-   Technol. 2022, 20(9):946–952.
+wang2023cja Eq 1, 3, 4, 8–9, 13, §3.2; tan2022 Eq 1–3 (full citations: :mod:`mtcal.reporting.paper_numbers`).
+
 .. [ieee952] IEEE Std 952-1997, Specification format guide and test procedure for
    single-axis interferometric fiber optic gyros (Allan variance, Annex C).
 """

@@ -154,8 +154,8 @@ def get_evaluator(name) -> Evaluator:
 # --------------------------------------------------------------------------- checks
 def _number(params: dict, key: str, lo: float, hi: float, *, lo_open: bool = False) -> float:
     v = params[key]
-    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) \
-            or v < lo or v > hi or (lo_open and v == lo):
+    if (isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v)
+            or v < lo or v > hi or (lo_open and v == lo)):
         bracket = "(" if lo_open else "["
         raise ValueError(f"{key} must be a number in {bracket}{lo:g}, {hi:g}], got {v!r}")
     return float(v)
@@ -493,7 +493,7 @@ def _six_position(p: dict, rngs: list) -> dict[str, np.ndarray]:
     q_ws = run_attitude_filter("qncf", gyro, accel, traj.dt_s, init_samples=init)
     rests = prof.hold_slices()[1:-1]
     off = {"max_condition": np.inf, "max_so4_distance": np.inf, "max_residual_rad": np.inf}
-    q_mat = np.stack([installation.calibrate_installation(pos, p["fs_hz"], q_ws=row, rests=rests, **off).q_hat
+    q_mat = np.stack([installation.calibrate_installation(pos, 1.0 / p["fs_hz"], q_ws=row, rests=rests, **off).q_hat
                       for row in q_ws])                                          # (T, 4, 4), per trial
     q_b_val = rotations.quat_from_euler_zxy(val[:, 0], val[:, 1], val[:, 2])      # (12, 4)
     q_true0 = rotations.quat_multiply(traj.q_wb[0], q_bs)

@@ -16,8 +16,9 @@ private internals. It imports from ``core``, ``methods`` and ``filters`` only;
   it (units, time base, clipping, gyro axis)
 """
 
-import importlib
 from typing import TYPE_CHECKING
+
+from mtcal.core.lazy import lazy_attributes
 
 if TYPE_CHECKING:  # the eager imports, for type checkers and tests/test_import_graph.py
     from mtcal.systems import installation, plausibility, surface_angle
@@ -35,16 +36,4 @@ _EXPORTS = {
     "apply_installation": "installation", "calibrate_installation": "installation", "detect_rests": "installation",
 }
 
-
-def __getattr__(name):
-    if name in _SUBMODULES:
-        return importlib.import_module(f"{__name__}.{name}")
-    if name in _EXPORTS:
-        value = getattr(importlib.import_module(f"{__name__}.{_EXPORTS[name]}"), name)
-        globals()[name] = value
-        return value
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-
-
-def __dir__():
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__ = lazy_attributes(globals(), _SUBMODULES, _EXPORTS)

@@ -26,20 +26,8 @@ Eq 13–15 (least squares, positions), §3.2 (procedure), §4.1 (zeroing).
 
 Examples
 --------
->>> import numpy as np
->>> from mtcal.core import rotations
->>> from mtcal.core.profiles import trajectory_from_euler_zxy
->>> from mtcal.methods.six_position import schedule_profile, six_positions_rad
->>> pos = six_positions_rad()
->>> traj = trajectory_from_euler_zxy(schedule_profile(pos, fs_hz=100.0))
->>> alpha = np.radians([0.5, -0.3, 0.4])
->>> q_ws = rotations.quat_multiply(traj.q_wb, rotations.mount_quaternion(alpha))
->>> cal = calibrate_installation(pos, 100.0, q_ws=q_ws)
->>> bool(np.allclose(cal.installation_angles_rad, alpha, atol=1e-9))
-True
->>> body = apply_installation(cal.q_hat, q_ws=q_ws)
->>> bool(rotations.quat_angle_between(body.q_body, traj.q_wb).max() < 1e-9)
-True
+:func:`calibrate_installation` recovers a mounting from a noise-free record and
+:func:`apply_installation` then gives the body attitude back (see its example).
 """
 
 from __future__ import annotations
@@ -50,7 +38,7 @@ from numbers import Real
 import numpy as np
 
 from mtcal.core import metrics, rotations
-from mtcal.core.validate import as_float_array, positive_scalar, unit_quaternion
+from mtcal.core.validate import as_float_array, positive_scalar, sample_interval, unit_quaternion
 from mtcal.filters.qncf import QncfParams, qncf
 from mtcal.methods import constrained_fit, quaternion_lsq, six_position
 from mtcal.methods.constrained_fit import So4Projection
@@ -162,7 +150,7 @@ def _stream(name: str, value, ndim=(2, 3), last_dim: int = 3) -> np.ndarray:
     return as_float_array(value, name, ndim=ndim, last_dim=last_dim)
 
 
-def _attitude_inputs(q_ws, gyro_rad_s, accel_m_s2, qncf_params, q0, fs_hz, *, need_fs: bool):
+def _attitude_inputs(q_ws, gyro_rad_s, accel_m_s2, qncf_params, q0, dt_s, *, need_dt: bool):
     """Check the attitude source once: ``q_ws`` or raw ``gyro_rad_s`` + ``accel_m_s2``."""
     if q_ws is not None:
         if accel_m_s2 is not None or qncf_params is not None or q0 is not None:
@@ -183,27 +171,27 @@ def _attitude_inputs(q_ws, gyro_rad_s, accel_m_s2, qncf_params, q0, fs_hz, *, ne
         raise ValueError(f"gyro_rad_s and accel_m_s2 must have the same shape, got {gyro.shape} and {accel.shape}")
     if qncf_params is not None and not isinstance(qncf_params, QncfParams):
         raise TypeError(f"qncf_params must be a QncfParams, got {type(qncf_params).__name__}")
-    if need_fs and fs_hz is None:
-        raise ValueError("fs_hz is needed to run the QNCF on raw data")
+    if need_dt and dt_s is None:
+        raise ValueError("dt_s is needed to run the QNCF on raw data")
     return None, gyro, accel, QncfParams() if qncf_params is None else qncf_params, q0
 
 
-def _zeroed_attitude(q, gyro, accel, params, q0, fs: float | None) -> np.ndarray:
+def _zeroed_attitude(q, gyro, accel, params, q0, dt: float | None) -> np.ndarray:
     """Steps 1–2 on checked inputs: QNCF (if raw) and zeroing at the first sample (§4.1)."""
     if q is None:
-        q = qncf(gyro, accel, 1.0 / fs, params, q0=q0, return_euler=False).q_ws
+        q = qncf(gyro, accel, dt, params, q0=q0, return_euler=False).q_ws
     return rotations.relative_to_initial(q[None])[0] if q.ndim == 2 else rotations.relative_to_initial(q)
 
 
 # --------------------------------------------------------------------------- public procedure
-def detect_rests(fs_hz: float, *, gyro_rad_s=None, q_ws=None, min_rest_s: float = 2.0,
+def detect_rests(dt_s: float, *, gyro_rad_s=None, q_ws=None, min_rest_s: float = 2.0,
                  threshold_rad_s: float = np.radians(0.2), window_s: float = 0.1) -> list[slice]:
     """Rests of a calibration record, as :func:`calibrate_installation` finds them (§3.2 step 3).
 
     Parameters
     ----------
-    fs_hz : float
-        Sample rate (Hz).
+    dt_s : float
+        Sample interval (s), ≤ 1 s (``1 / fs_hz`` of the record).
     gyro_rad_s : array_like, shape (N, 3) or (T, N, 3), optional
         Angular rate (rad/s): still where the ``window_s`` moving mean of ‖ω‖ is below
         ``threshold_rad_s``. Used when given.
@@ -228,24 +216,24 @@ def detect_rests(fs_hz: float, *, gyro_rad_s=None, q_ws=None, min_rest_s: float 
     --------
     >>> import numpy as np
     >>> gyro = np.zeros((1000, 3)); gyro[300:500, 2] = 0.5
-    >>> detect_rests(100.0, gyro_rad_s=gyro)
+    >>> detect_rests(1.0 / 100.0, gyro_rad_s=gyro)
     [slice(0, 296, None), slice(505, 1000, None)]
     """
-    fs = positive_scalar(fs_hz, "fs_hz")
+    dt = sample_interval(dt_s)
     args = (positive_scalar(window_s, "window_s"), positive_scalar(threshold_rad_s, "threshold_rad_s"))
     if gyro_rad_s is not None:
-        still = six_position._stillness_from_gyro(_stream("gyro_rad_s", gyro_rad_s), fs, *args)
+        still = six_position._stillness_from_gyro(_stream("gyro_rad_s", gyro_rad_s), dt, *args)
     elif q_ws is not None:
         q = unit_quaternion(q_ws, "q_ws")
         if q.ndim not in (2, 3):
             raise ValueError(f"q_ws must have shape (N, 4) or (T, N, 4), got {q.shape}")
-        still = six_position._stillness_from_quaternions(q, fs, *args)
+        still = six_position._stillness_from_quaternions(q, dt, *args)
     else:
         raise ValueError("give gyro_rad_s or q_ws to detect rests from")
-    return six_position._find_rests(still, fs, positive_scalar(min_rest_s, "min_rest_s"))
+    return six_position._find_rests(still, dt, positive_scalar(min_rest_s, "min_rest_s"))
 
 
-def calibrate_installation(positions_rad, fs_hz: float, *, q_ws=None, gyro_rad_s=None, accel_m_s2=None,
+def calibrate_installation(positions_rad, dt_s: float, *, q_ws=None, gyro_rad_s=None, accel_m_s2=None,
                            qncf_params: QncfParams | None = None, q0=None, rests=None, fraction: float = 0.5,
                            min_rest_s: float = 2.0, still_threshold_rad_s: float = np.radians(0.2),
                            still_window_s: float = 0.1, max_match_rad: float = np.radians(5.0),
@@ -259,8 +247,9 @@ def calibrate_installation(positions_rad, fs_hz: float, *, q_ws=None, gyro_rad_s
         Reference ``[ψ, θ, γ]`` of each position (rad; Eq 8/9 frame: yaw about z, pitch
         about x, roll about y), K ≥ 4; per trial (T, K, 3) for a Monte Carlo whose
         reference angles carry their own errors.
-    fs_hz : float
-        Sample rate (Hz).
+    dt_s : float
+        Sample interval (s), ≤ 1 s (``1 / fs_hz`` of the record); the QNCF step and the rest
+        detector's windows.
     q_ws : array_like, shape (N, 4) or (T, N, 4), optional
         Sensor attitude (sensor → world, scalar-first), e.g. a logger's or a session QNCF's;
         zeroed here at its first sample.
@@ -308,17 +297,20 @@ def calibrate_installation(positions_rad, fs_hz: float, *, q_ws=None, gyro_rad_s
     >>> pos = six_positions_rad()
     >>> q_wb = trajectory_from_euler_zxy(schedule_profile(pos, fs_hz=100.0)).q_wb
     >>> q_ws = rotations.quat_multiply(q_wb, rotations.mount_quaternion(np.radians([1.0, 0.0, 0.0])))
-    >>> cal = calibrate_installation(pos, 100.0, q_ws=q_ws)
+    >>> cal = calibrate_installation(pos, 1.0 / 100.0, q_ws=q_ws)
     >>> (np.degrees(cal.installation_angles_rad).round(9) + 0.0).tolist(), float(cal.residual_rad.max()) < 1e-12
     ([1.0, 0.0, 0.0], True)
+    >>> body = apply_installation(cal.q_hat, q_ws=q_ws)                  # Eq 10: the body attitude back
+    >>> bool(rotations.quat_angle_between(body.q_body, q_wb).max() < 1e-9)
+    True
     """
     # ---- the public edge: every input checked once
     pos = as_float_array(positions_rad, "positions_rad", ndim=(2, 3), last_dim=3)
     k = pos.shape[-2]
     if k < 4:
         raise ValueError(f"positions_rad must hold at least 4 positions for Eq 13 (16 unknowns), got {k}")
-    fs = positive_scalar(fs_hz, "fs_hz")
-    q, gyro, accel, params, q0 = _attitude_inputs(q_ws, gyro_rad_s, accel_m_s2, qncf_params, q0, fs, need_fs=True)
+    dt = sample_interval(dt_s)
+    q, gyro, accel, params, q0 = _attitude_inputs(q_ws, gyro_rad_s, accel_m_s2, qncf_params, q0, dt, need_dt=True)
     stream = q if q is not None else gyro
     n = stream.shape[-2]
     if pos.ndim == 3 and (stream.ndim != 3 or stream.shape[0] != pos.shape[0]):
@@ -337,16 +329,16 @@ def calibrate_installation(positions_rad, fs_hz: float, *, q_ws=None, gyro_rad_s
     gates = (_limit(max_condition, "max_condition"), _limit(max_so4_distance, "max_so4_distance"),
              _limit(max_residual_rad, "max_residual_rad"))
     # ---- trusted inside
-    return _calibrate(pos, fs, q, gyro, accel, params, q0, rests, frac, detector, match, gates)
+    return _calibrate(pos, dt, q, gyro, accel, params, q0, rests, frac, detector, match, gates)
 
 
-def _calibrate(pos, fs, q, gyro, accel, params, q0, rests, frac, detector, match, gates) -> InstallationCalibration:
+def _calibrate(pos, dt, q, gyro, accel, params, q0, rests, frac, detector, match, gates) -> InstallationCalibration:
     """Steps 1–6 on checked inputs (see :func:`calibrate_installation`)."""
     q_detect = q                                   # the quaternion-rate detector sees the attitude as given
-    q_s_stream = _zeroed_attitude(q, gyro, accel, params, q0, fs)
+    q_s_stream = _zeroed_attitude(q, gyro, accel, params, q0, dt)
     q_ref = rotations.quat_from_euler_zxy(pos[..., 0], pos[..., 1], pos[..., 2])
     rests, matched, q_s = six_position._rest_attitudes(
-        q_s_stream, q_ref, fs, gyro=gyro, rests=rests, fraction=frac, max_match_rad=match,
+        q_s_stream, q_ref, dt, gyro=gyro, rests=rests, fraction=frac, max_match_rad=match,
         q_detect=q_detect, **detector)
     del q_s_stream
     q_s_al, q_b_al = quaternion_lsq._align_pairs(q_s, q_ref)
@@ -389,7 +381,7 @@ def _gate(q_hat, cond, dist, residual, max_condition: float, max_dist: float, ma
                          f"--max-residual-deg {np.degrees(max_res):g}; a rest does not match its reference position")
 
 
-def apply_installation(q_hat, *, q_ws=None, gyro_rad_s=None, accel_m_s2=None, fs_hz: float | None = None,
+def apply_installation(q_hat, *, q_ws=None, gyro_rad_s=None, accel_m_s2=None, dt_s: float | None = None,
                        qncf_params: QncfParams | None = None, q0=None) -> CalibratedAttitude:
     """Calibrated body attitude of a record, wang2023cja Eq 10: ``q_body = normalize(Q̂ q_sensor)``.
 
@@ -404,8 +396,8 @@ def apply_installation(q_hat, *, q_ws=None, gyro_rad_s=None, accel_m_s2=None, fs
         Sensor attitude (sensor → world, scalar-first).
     gyro_rad_s, accel_m_s2 : array_like, shape (N, 3) or (T, N, 3), optional
         Raw data (rad/s, m/s²) for the QNCF when ``q_ws`` is not given.
-    fs_hz : float, optional
-        Sample rate (Hz), needed with raw data.
+    dt_s : float, optional
+        Sample interval (s), ≤ 1 s; needed with raw data.
     qncf_params, q0 :
         QNCF parameters and start attitude, as in :func:`calibrate_installation`.
 
@@ -427,13 +419,13 @@ def apply_installation(q_hat, *, q_ws=None, gyro_rad_s=None, accel_m_s2=None, fs
     mat = as_float_array(q_hat, "q_hat")
     if mat.ndim not in (2, 3) or mat.shape[-2:] != (4, 4):
         raise ValueError(f"q_hat must be a finite 4x4 array or a stack (T, 4, 4), got shape {mat.shape}")
-    fs = None if fs_hz is None else positive_scalar(fs_hz, "fs_hz")
-    q, gyro, accel, params, q0 = _attitude_inputs(q_ws, gyro_rad_s, accel_m_s2, qncf_params, q0, fs,
-                                                  need_fs=q_ws is None)
+    dt = None if dt_s is None else sample_interval(dt_s)
+    q, gyro, accel, params, q0 = _attitude_inputs(q_ws, gyro_rad_s, accel_m_s2, qncf_params, q0, dt,
+                                                  need_dt=q_ws is None)
     stream = q if q is not None else gyro
     if mat.ndim == 3 and (stream.ndim != 3 or stream.shape[0] != mat.shape[0]):
         raise ValueError(f"a stack of {mat.shape[0]} matrices needs a record with as many trials, "
                          f"got shape {stream.shape}")
-    q_s = _zeroed_attitude(q, gyro, accel, params, q0, fs)
+    q_s = _zeroed_attitude(q, gyro, accel, params, q0, dt)
     q_b = rotations.make_continuous(quaternion_lsq._apply(mat, q_s), axis=-2)
     return CalibratedAttitude(q_body=q_b, q_sensor=q_s)

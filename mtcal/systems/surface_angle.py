@@ -47,7 +47,7 @@ from mtcal.core.validate import as_float_array, positive_scalar
 from mtcal.filters.anchors import RAMS_EKF_DEFAULT_GAIN
 from mtcal.filters.rams_ekf import RamsEkfParams, run_rams_ekf
 from mtcal.filters.registry import AxisContext, register_filter
-from mtcal.methods import rotation_axis as ra
+from mtcal.methods import rotation_axis
 from mtcal.systems import plausibility
 
 __all__ = ["AxisEstimate", "estimate_surface_axis", "axis_uncertainty", "angles_about_axis", "rest_ekf_params",
@@ -111,7 +111,7 @@ def angles_about_axis(axis, accel0_m_s2, means_m_s2) -> np.ndarray:
 
 
 def axis_uncertainty(positions_m_s2, counts, *, accel_noise_m_s2: float, window_samples: float = 1.0,
-                     max_axis_error_deg: float = np.inf) -> ra.AxisPlaneFit:
+                     max_axis_error_deg: float = np.inf) -> rotation_axis.AxisPlaneFit:
     """Plane fit of rest positions with its 1σ uncertainty; refused above ``max_axis_error_deg``.
 
     The std of a rest mean is the accelerometer noise over ``√n_eff`` with
@@ -153,10 +153,10 @@ def axis_uncertainty(positions_m_s2, counts, *, accel_noise_m_s2: float, window_
     noise = positive_scalar(accel_noise_m_s2, "accel_noise_m_s2", allow_zero=True)
     n_eff = float(np.min(n)) / max(1.0, float(window_samples))  # ~independent windows per rest
     sig = max(noise / np.sqrt(max(n_eff, 1.0)), SIGMA_MEAN_FLOOR_M_S2)
-    fit = ra.fit_axis_plane(positions, sig)
+    fit = rotation_axis.fit_axis_plane(positions, sig)
     err = np.degrees(fit.sigma_rad)
     if not err <= max_axis_error_deg:
-        spread = max(np.degrees(ra.angle_between(positions[i], positions[j]))
+        spread = max(np.degrees(rotation_axis.angle_between(positions[i], positions[j]))
                      for i in range(len(positions)) for j in range(i))
         raise ValueError(f"axis too uncertain: +-{err:.2f} deg (1 sigma) > {max_axis_error_deg:g} deg from "
                          f"{len(positions)} positions at most {spread:.2f} deg apart in tilt (rest-mean noise "
@@ -264,9 +264,9 @@ def estimate_surface_axis(accel_m_s2, rests, *, accel_noise_m_s2: float, window_
     if not rests:
         raise ValueError("found no rest; the axis needs rests at three distinct tilts")
     means, counts = _rest_means(a, rests)
-    pos, w, members = ra.distinct_positions(means, counts, min_separation_deg=sep)
+    pos, w, members = rotation_axis.distinct_positions(means, counts, min_separation_deg=sep)
     if pos.shape[0] < 3:
-        spread = max((np.degrees(ra.angle_between(means[i], means[j]))
+        spread = max((np.degrees(rotation_axis.angle_between(means[i], means[j]))
                       for i in range(len(means)) for j in range(i)), default=0.0)
         why = (" — a rotation about the vertical does not change the tilt, so the accelerometer "
                "cannot see its axis" if len(rests) >= 2 and spread < sep else "")
@@ -275,21 +275,21 @@ def estimate_surface_axis(accel_m_s2, rests, *, accel_noise_m_s2: float, window_
                          f"apart); the axis needs rests at three distinct tilts{why}")
     if fit == "eq23":
         pos, w, members = pos[:3], w[:3], members[:3]
-        v = ra.axis_from_means(*pos, min_separation_deg=sep, max_elevation_deg=max_el)
+        v = rotation_axis.axis_from_means(*pos, min_separation_deg=sep, max_elevation_deg=max_el)
     plane = axis_uncertainty(pos, w, accel_noise_m_s2=accel_noise_m_s2, window_samples=window_samples,
                              max_axis_error_deg=max_err)
     if fit == "plane":
         v = plane.v
         # v·a is the same at every rest (rotation about v keeps it), so each rest mean gives the elevation;
         # the centroid of the positions is shorter than g and would overstate it.
-        elev = float(np.degrees(np.mean(ra.axis_elevation(v, means))))
+        elev = float(np.degrees(np.mean(rotation_axis.axis_elevation(v, means))))
         if elev > max_el:
             raise ValueError(f"rotation axis is nearly vertical: elevation {elev:.2f} "
                              f"deg above the horizontal (maximum {max_el:g} deg); rotation about it barely "
                              f"changes gravity")
     n_eff = float(np.min(w)) / max(1.0, float(window_samples))
     sig = max(accel_noise_m_s2 / np.sqrt(max(n_eff, 1.0)), SIGMA_MEAN_FLOOR_M_S2)
-    return AxisEstimate(v, float(plane.sigma_rad), float(np.mean(ra.axis_elevation(v, means))), pos,
+    return AxisEstimate(v, float(plane.sigma_rad), float(np.mean(rotation_axis.axis_elevation(v, means))), pos,
                         tuple(tuple(m) for m in members), means, angles_about_axis(v, means[0], means), float(sig),
                         fit)
 
@@ -481,7 +481,7 @@ def surface_angle(gyro_rad_s, accel_m_s2, axis, *, is_static, init: slice, dt_s=
     k0 = init.start or 0
     a0 = a[..., init, :].mean(axis=-2)
     b0 = g[..., init, :].mean(axis=-2)
-    elev = ra.axis_elevation(v, a0)
+    elev = rotation_axis.axis_elevation(v, a0)
     max_el = positive_scalar(max_elevation_deg, "max_elevation_deg")
     worst = float(np.degrees(np.max(elev)))
     if worst > max_el:

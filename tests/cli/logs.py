@@ -159,11 +159,11 @@ def six_position_log(alpha_deg=(0.5, -0.3, 0.4), *, fs_hz=200.0, g_error=0.011, 
 
     Returns (DataFrame of the log, DataFrame of the positions, mounting angles in deg).
     """
-    from mtcal.methods import six_position as sixpos
+    from mtcal.methods import six_position
 
     rng = np.random.default_rng(seed)
-    pos = sixpos.six_positions_rad() if positions_deg is None else np.radians(np.asarray(positions_deg, float))
-    prof = sixpos.schedule_profile(pos, fs_hz=fs_hz)
+    pos = six_position.six_positions_rad() if positions_deg is None else np.radians(np.asarray(positions_deg, float))
+    prof = six_position.schedule_profile(pos, fs_hz=fs_hz)
     model = ImuErrorModel(gyro=SensorErrors(bias=tuple(np.radians(gyro_bias_deg_s)), noise_density=gyro_noise),
                           accel=SensorErrors(noise_density=accel_noise, scale_factor=g_error),
                           q_mount=tuple(rotations.mount_quaternion(np.radians(alpha_deg))))

@@ -14,3 +14,36 @@ def test_missing_subcommand_is_an_error(capsys):
     with pytest.raises(SystemExit) as exc:
         cli.main([])
     assert exc.value.code == 2
+
+
+HEAVY = ("numba", "scipy", "pandas", "matplotlib")
+_PROBE = """
+import runpy, sys
+sys.argv = ["mtcal"] + sys.argv[1:]
+try:
+    runpy.run_module("mtcal", run_name="__main__")
+except SystemExit as exc:
+    code = exc.code
+else:
+    code = None
+print("exit", code, "loaded", *sorted(m for m in {heavy!r} if m in sys.modules), file=sys.stderr)
+"""
+
+
+@pytest.mark.parametrize("argv", [["--help"], ["calibrate", "--help"], ["apply", "--help"], ["axis", "--help"],
+                                  ["angle", "--help"], ["rests", "--help"], ["sweep", "--help"], ["calibrate"]])
+def test_parsing_loads_no_heavy_library(argv):
+    """``mtcal --help`` (and argument parsing, up to a usage error) imports neither numba, scipy, pandas
+    nor matplotlib: they load only when a subcommand runs."""
+    import os
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    root = Path(cli.__file__).resolve().parents[2]
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(root), os.environ.get("PYTHONPATH", "")])}
+    proc = subprocess.run([sys.executable, "-c", _PROBE.format(heavy=HEAVY), *argv], capture_output=True,
+                          text=True, env=env, timeout=120)
+    last = proc.stderr.strip().splitlines()[-1]
+    assert last.startswith("exit 0" if "--help" in argv else "exit 2"), proc.stderr
+    assert last.split("loaded")[1].split() == [], f"mtcal {' '.join(argv)} loaded: {last}"

@@ -2,7 +2,7 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from mtcal.core import rotations as r
+from mtcal.core import rotations
 
 
 @pytest.fixture
@@ -13,9 +13,9 @@ def angles(rng):
 
 
 def test_eq9_equals_scipy_zxy(angles):
-    q = r.quat_from_euler_zxy(angles[:, 0], angles[:, 1], angles[:, 2])
+    q = rotations.quat_from_euler_zxy(angles[:, 0], angles[:, 1], angles[:, 2])
     ref = Rotation.from_euler("ZXY", angles).as_quat(scalar_first=True)
-    np.testing.assert_allclose(r.align_signs(q), r.align_signs(ref), atol=1e-14)
+    np.testing.assert_allclose(rotations.align_signs(q), rotations.align_signs(ref), atol=1e-14)
 
 
 def test_eq9_equals_printed_component_formulas():
@@ -25,49 +25,50 @@ def test_eq9_equals_printed_component_formulas():
                s(theta / 2) * c(psi / 2) * c(gamma / 2) - c(theta / 2) * s(psi / 2) * s(gamma / 2),
                s(theta / 2) * s(psi / 2) * c(gamma / 2) + c(theta / 2) * c(psi / 2) * s(gamma / 2),
                c(theta / 2) * s(psi / 2) * c(gamma / 2) + s(theta / 2) * c(psi / 2) * s(gamma / 2)]
-    np.testing.assert_allclose(r.quat_from_euler_zxy(psi, theta, gamma), printed, atol=1e-15)
+    np.testing.assert_allclose(rotations.quat_from_euler_zxy(psi, theta, gamma), printed, atol=1e-15)
 
 
 def test_eq8_inverts_eq9(angles):
-    q = r.quat_from_euler_zxy(angles[:, 0], angles[:, 1], angles[:, 2])
-    np.testing.assert_allclose(r.euler_zxy_from_quat(q), angles, atol=1e-12)
-    np.testing.assert_allclose(r.euler_zxy_from_quat(-q), angles, atol=1e-12)  # sign-invariant
+    q = rotations.quat_from_euler_zxy(angles[:, 0], angles[:, 1], angles[:, 2])
+    np.testing.assert_allclose(rotations.euler_zxy_from_quat(q), angles, atol=1e-12)
+    np.testing.assert_allclose(rotations.euler_zxy_from_quat(-q), angles, atol=1e-12)  # sign-invariant
 
 
 def test_eq8_matches_scipy_as_euler(angles):
-    q = r.quat_from_euler_zxy(angles[:, 0], angles[:, 1], angles[:, 2])
+    q = rotations.quat_from_euler_zxy(angles[:, 0], angles[:, 1], angles[:, 2])
     ref = Rotation.from_quat(q, scalar_first=True).as_euler("ZXY")
-    np.testing.assert_allclose(r.euler_zxy_from_quat(q), ref, atol=1e-12)
+    np.testing.assert_allclose(rotations.euler_zxy_from_quat(q), ref, atol=1e-12)
 
 
 def test_hamilton_product_matches_scipy(rng):
-    p = r.quat_normalize(rng.normal(size=(50, 4)))
-    q = r.quat_normalize(rng.normal(size=(50, 4)))
+    p = rotations.quat_normalize(rng.normal(size=(50, 4)))
+    q = rotations.quat_normalize(rng.normal(size=(50, 4)))
     ref = (Rotation.from_quat(p, scalar_first=True) * Rotation.from_quat(q, scalar_first=True)).as_quat(
         scalar_first=True)
-    np.testing.assert_allclose(r.align_signs(r.quat_multiply(p, q)), r.align_signs(ref), atol=1e-14)
+    np.testing.assert_allclose(rotations.align_signs(rotations.quat_multiply(p, q)), rotations.align_signs(ref),
+                               atol=1e-14)
 
 
 def test_left_right_matrices(rng):
     p = rng.normal(size=(10, 4))
     q = rng.normal(size=(10, 4))
-    pq = r.quat_multiply(p, q)
-    np.testing.assert_allclose(np.einsum("nij,nj->ni", r.left_matrix(p), q), pq, atol=1e-14)
-    np.testing.assert_allclose(np.einsum("nij,nj->ni", r.right_matrix(q), p), pq, atol=1e-14)
+    pq = rotations.quat_multiply(p, q)
+    np.testing.assert_allclose(np.einsum("nij,nj->ni", rotations.left_matrix(p), q), pq, atol=1e-14)
+    np.testing.assert_allclose(np.einsum("nij,nj->ni", rotations.right_matrix(q), p), pq, atol=1e-14)
 
 
 def test_conjugate_is_inverse(rng):
-    q = r.quat_normalize(rng.normal(size=(5, 4)))
-    np.testing.assert_allclose(r.quat_multiply(q, r.quat_conjugate(q)), np.tile([1.0, 0, 0, 0], (5, 1)),
+    q = rotations.quat_normalize(rng.normal(size=(5, 4)))
+    np.testing.assert_allclose(rotations.quat_multiply(q, rotations.quat_conjugate(q)), np.tile([1.0, 0, 0, 0], (5, 1)),
                                atol=1e-15)
 
 
 def test_align_signs_and_continuity(rng):
-    q = r.quat_normalize(rng.normal(size=(100, 4)))
-    assert np.all(r.align_signs(q)[:, 0] >= 0)
-    smooth = r.quat_from_rotvec(np.linspace(0, 1, 100)[:, None] * np.array([0.0, 0.0, 6.0]))
+    q = rotations.quat_normalize(rng.normal(size=(100, 4)))
+    assert np.all(rotations.align_signs(q)[:, 0] >= 0)
+    smooth = rotations.quat_from_rotvec(np.linspace(0, 1, 100)[:, None] * np.array([0.0, 0.0, 6.0]))
     flipped = smooth * np.where(rng.random(100) < 0.5, -1.0, 1.0)[:, None]
-    cont = r.make_continuous(flipped, axis=0)
+    cont = rotations.make_continuous(flipped, axis=0)
     assert np.all(np.sum(cont[1:] * cont[:-1], axis=1) > 0)
     np.testing.assert_allclose(cont * np.sign(cont[:1, 0]), smooth * np.sign(smooth[:1, 0]), atol=1e-15)
 
@@ -75,33 +76,34 @@ def test_align_signs_and_continuity(rng):
 def test_rotvec_round_trip(rng):
     v = rng.normal(size=(100, 3))
     v *= (rng.uniform(0, 3.0, 100) / np.linalg.norm(v, axis=1))[:, None]
-    np.testing.assert_allclose(r.rotvec_from_quat(r.quat_from_rotvec(v)), v, atol=1e-12)
+    np.testing.assert_allclose(rotations.rotvec_from_quat(rotations.quat_from_rotvec(v)), v, atol=1e-12)
     tiny = np.array([[1e-12, -2e-12, 3e-12]])
-    np.testing.assert_allclose(r.rotvec_from_quat(r.quat_from_rotvec(tiny)), tiny, rtol=1e-9)
+    np.testing.assert_allclose(rotations.rotvec_from_quat(rotations.quat_from_rotvec(tiny)), tiny, rtol=1e-9)
     ref = Rotation.from_rotvec(v).as_quat(scalar_first=True)
-    np.testing.assert_allclose(r.align_signs(r.quat_from_rotvec(v)), r.align_signs(ref), atol=1e-14)
+    np.testing.assert_allclose(rotations.align_signs(rotations.quat_from_rotvec(v)), rotations.align_signs(ref),
+                               atol=1e-14)
 
 
 def test_matrix_round_trip(angles):
-    q = r.align_signs(r.quat_from_euler_zxy(angles[:, 0], angles[:, 1], angles[:, 2]))
-    np.testing.assert_allclose(r.quat_from_matrix(r.quat_to_matrix(q)), q, atol=1e-12)
+    q = rotations.align_signs(rotations.quat_from_euler_zxy(angles[:, 0], angles[:, 1], angles[:, 2]))
+    np.testing.assert_allclose(rotations.quat_from_matrix(rotations.quat_to_matrix(q)), q, atol=1e-12)
 
 
 def test_quat_angle_between_is_precise_near_zero():
-    q = r.quat_from_rotvec([0.0, 0.0, 1e-10])
-    assert r.quat_angle_between([1.0, 0, 0, 0], q) == pytest.approx(1e-10, rel=1e-6)
+    q = rotations.quat_from_rotvec([0.0, 0.0, 1e-10])
+    assert rotations.quat_angle_between([1.0, 0, 0, 0], q) == pytest.approx(1e-10, rel=1e-6)
 
 
 def test_eq1_equals_scipy_zyx():
     a = np.array([0.02, -0.03, 0.01])
     ref = Rotation.from_euler("ZYX", a).as_matrix()
-    np.testing.assert_allclose(r.installation_matrix(*a), ref, atol=1e-15)
+    np.testing.assert_allclose(rotations.installation_matrix(*a), ref, atol=1e-15)
 
 
 @pytest.mark.parametrize("scale", [1e-2, 1e-3])
 def test_eq1_small_angle_is_first_order(scale):
     a = scale * np.array([1.0, -2.0, 1.5])
-    diff = np.max(np.abs(r.installation_matrix(*a) - r.installation_matrix_small_angle(*a)))
+    diff = np.max(np.abs(rotations.installation_matrix(*a) - rotations.installation_matrix_small_angle(*a)))
     assert diff < 5 * scale**2
 
 
@@ -110,21 +112,21 @@ def test_eq4_corrected_matches_eq1_to_second_order():
     s = np.radians([8.0, -12.0, 30.0])
     for scale in (1e-2, 1e-3):
         a = scale * np.array([1.0, -0.5, 0.7])
-        exact = s - r.installation_matrix(*a).T @ s
-        approx = r.coupling_error_eq4(a, s)
+        exact = s - rotations.installation_matrix(*a).T @ s
+        approx = rotations.coupling_error_eq4(a, s)
         assert np.max(np.abs(exact - approx)) < 2 * scale**2 * np.max(np.abs(s))
-        np.testing.assert_allclose(r.coupling_error_eq4(a, s, printed=True), -approx)
+        np.testing.assert_allclose(rotations.coupling_error_eq4(a, s, printed=True), -approx)
         assert np.max(np.abs(exact + approx)) > 0.5 * np.max(np.abs(exact))  # printed sign is wrong
 
 
 def test_zyx_dcm_and_specific_force():
     theta, phi = 0.4, -0.3
-    c_nb = r.dcm_zyx(0.2, theta, phi)
+    c_nb = rotations.dcm_zyx(0.2, theta, phi)
     np.testing.assert_allclose(c_nb @ c_nb.T, np.eye(3), atol=1e-15)
-    f = r.specific_force_zyx(theta, phi)
+    f = rotations.specific_force_zyx(theta, phi)
     np.testing.assert_allclose(f, c_nb @ np.array([0.0, 0.0, 1.0]), atol=1e-15)
-    np.testing.assert_allclose(r.pitch_roll_from_specific_force(f), [theta, phi], atol=1e-15)
-    np.testing.assert_allclose(r.specific_force_zyx(0.0, 0.0, g=9.8), [0, 0, 9.8])
+    np.testing.assert_allclose(rotations.pitch_roll_from_specific_force(f), [theta, phi], atol=1e-15)
+    np.testing.assert_allclose(rotations.specific_force_zyx(0.0, 0.0, g=9.8), [0, 0, 9.8])
 
 
 def test_axis_angle_matrix_matches_scipy(rng):
@@ -132,23 +134,23 @@ def test_axis_angle_matrix_matches_scipy(rng):
     v /= np.linalg.norm(v)
     th = np.linspace(-np.pi, np.pi, 7)
     ref = Rotation.from_rotvec(th[:, None] * v).as_matrix()
-    np.testing.assert_allclose(r.axis_angle_matrix(th, v), ref, atol=1e-14)
+    np.testing.assert_allclose(rotations.axis_angle_matrix(th, v), ref, atol=1e-14)
 
 
 def test_wrap_angle():
-    np.testing.assert_allclose(r.wrap_angle([np.pi, -np.pi, 3 * np.pi / 2, 0.1]),
+    np.testing.assert_allclose(rotations.wrap_angle([np.pi, -np.pi, 3 * np.pi / 2, 0.1]),
                                [-np.pi, -np.pi, -np.pi / 2, 0.1])
 
 
 @pytest.mark.parametrize("func,args,match", [
-    (r.quat_from_euler_zxy, (0.1, np.nan, 0.0), "pitch must be finite"),
-    (r.quat_from_euler_zxy, (0.1, 45.0, 0.0), "degrees passed as radians"),
-    (r.euler_zxy_from_quat, ([1.0, 0.1, 0, 0],), "unit quaternions"),
-    (r.euler_zxy_from_quat, ([1.0, 0, 0],), "last dimension 4"),
-    (r.quat_multiply, ("abc", [1.0, 0, 0, 0]), "numeric array"),
-    (r.axis_angle_matrix, (0.1, [1.0, 1.0, 0.0]), "unit vector"),
-    (r.quat_normalize, ([0.0, 0, 0, 0],), "zero-norm"),
-    (r.make_continuous, ([[1.0, 0, 0, 0]], -1), "axis must index time"),
+    (rotations.quat_from_euler_zxy, (0.1, np.nan, 0.0), "pitch must be finite"),
+    (rotations.quat_from_euler_zxy, (0.1, 45.0, 0.0), "degrees passed as radians"),
+    (rotations.euler_zxy_from_quat, ([1.0, 0.1, 0, 0],), "unit quaternions"),
+    (rotations.euler_zxy_from_quat, ([1.0, 0, 0],), "last dimension 4"),
+    (rotations.quat_multiply, ("abc", [1.0, 0, 0, 0]), "numeric array"),
+    (rotations.axis_angle_matrix, (0.1, [1.0, 1.0, 0.0]), "unit vector"),
+    (rotations.quat_normalize, ([0.0, 0, 0, 0],), "zero-norm"),
+    (rotations.make_continuous, ([[1.0, 0, 0, 0]], -1), "axis must index time"),
 ])
 def test_bad_input_raises(func, args, match):
     with pytest.raises((ValueError, TypeError), match=match):
@@ -160,13 +162,13 @@ from hypothesis import given, settings, strategies as st  # noqa: E402
 
 
 def _round_trip_error(q):
-    e = r.euler_zxy_from_quat(q)
-    back = r.quat_from_euler_zxy(e[..., 0], e[..., 1], e[..., 2])
-    return r.quat_angle_between(back, q)
+    e = rotations.euler_zxy_from_quat(q)
+    back = rotations.quat_from_euler_zxy(e[..., 0], e[..., 1], e[..., 2])
+    return rotations.quat_angle_between(back, q)
 
 
 def test_euler_exact_at_lock_example():
-    e = r.euler_zxy_from_quat([0.5, 0.5, 0.5, 0.5])
+    e = rotations.euler_zxy_from_quat([0.5, 0.5, 0.5, 0.5])
     np.testing.assert_allclose(np.degrees(e), [90.0, 90.0, 0.0], atol=1e-12)
     assert _round_trip_error(np.array([0.5, 0.5, 0.5, 0.5])) < 1e-14
 
@@ -174,11 +176,11 @@ def test_euler_exact_at_lock_example():
 @pytest.mark.parametrize("pitch_deg", [90.0, -90.0])
 def test_euler_lock_convention_roll_zero(pitch_deg):
     yaw, roll = np.radians(30.0), np.radians(-50.0)
-    q = r.quat_from_euler_zxy(yaw, np.radians(pitch_deg), roll)
-    e = r.euler_zxy_from_quat(q)
+    q = rotations.quat_from_euler_zxy(yaw, np.radians(pitch_deg), roll)
+    e = rotations.euler_zxy_from_quat(q)
     assert abs(e[2]) < 1e-12  # roll 0, rotation about the vertical goes to yaw
     expected_yaw = yaw + roll if pitch_deg > 0 else yaw - roll
-    assert abs(r.wrap_angle(e[0] - expected_yaw)) < 1e-12
+    assert abs(rotations.wrap_angle(e[0] - expected_yaw)) < 1e-12
     assert _round_trip_error(q) < 1e-12
 
 
@@ -190,12 +192,13 @@ _offset = st.sampled_from([0.0, 1e-14, -1e-14, 1e-10, 1e-7, 1e-5, 1e-3, 0.01, 0.
 @given(yaw=_angle, roll=_angle, offset=_offset, sign=st.sampled_from([1.0, -1.0]), flip=st.booleans())
 def test_euler_round_trip_whole_sphere_including_lock(yaw, roll, offset, sign, flip):
     pitch = sign * (np.pi / 2 - abs(offset))
-    q = r.quat_from_euler_zxy(yaw, pitch, roll)
+    q = rotations.quat_from_euler_zxy(yaw, pitch, roll)
     q = q / np.linalg.norm(q)
     if flip:
         q = -q
     assert _round_trip_error(q) < 1e-12
-    np.testing.assert_allclose(r.euler_zxy_unchecked(q[None])[0], r.euler_zxy_from_quat(q), rtol=0, atol=0)
+    np.testing.assert_allclose(rotations.euler_zxy_unchecked(q[None])[0], rotations.euler_zxy_from_quat(q),
+                               rtol=0, atol=0)
 
 
 @settings(max_examples=200, deadline=None)
@@ -212,11 +215,11 @@ def test_euler_bit_identical_away_from_lock(rng):
     q /= np.linalg.norm(q, axis=1, keepdims=True)
     q0, q1, q2, q3 = q.T
     sp = np.clip(2 * (q2 * q3 + q0 * q1), -1, 1)
-    keep = np.sqrt(1 - sp**2) >= r.GIMBAL_LOCK_COS
+    keep = np.sqrt(1 - sp**2) >= rotations.GIMBAL_LOCK_COS
     printed = np.stack([np.arctan2(-2 * (q1 * q2 - q0 * q3), q0**2 - q1**2 + q2**2 - q3**2),
                         np.arcsin(sp),
                         np.arctan2(-2 * (q1 * q3 - q0 * q2), q0**2 - q1**2 - q2**2 + q3**2)], axis=-1)
-    assert np.array_equal(r.euler_zxy_from_quat(q)[keep], printed[keep])
+    assert np.array_equal(rotations.euler_zxy_from_quat(q)[keep], printed[keep])
 
 
 # ---------------------------------------------------------------- inverse of Eq 1
@@ -224,13 +227,13 @@ def test_euler_bit_identical_away_from_lock(rng):
 @given(st.lists(st.floats(-1.5, 1.5, allow_nan=False), min_size=3, max_size=3))
 def test_installation_angles_invert_eq1(a):
     a = np.asarray(a)
-    np.testing.assert_allclose(r.installation_angles(r.installation_matrix(*a)), a, atol=1e-12)
-    np.testing.assert_allclose(r.installation_angles_from_mount(r.mount_quaternion(a)), a, atol=1e-12)
-    np.testing.assert_allclose(r.installation_angles_from_mount(-r.mount_quaternion(a)), a, atol=1e-12)
+    np.testing.assert_allclose(rotations.installation_angles(rotations.installation_matrix(*a)), a, atol=1e-12)
+    np.testing.assert_allclose(rotations.installation_angles_from_mount(rotations.mount_quaternion(a)), a, atol=1e-12)
+    np.testing.assert_allclose(rotations.installation_angles_from_mount(-rotations.mount_quaternion(a)), a, atol=1e-12)
 
 
 def test_installation_angles_rejects_non_rotation():
     with pytest.raises(ValueError, match="rotation matrix"):
-        r.installation_angles(np.diag([1.0, 1.0, -1.0]))
+        rotations.installation_angles(np.diag([1.0, 1.0, -1.0]))
     with pytest.raises(ValueError, match=r"shape \(\.\.\., 3, 3\)"):
-        r.installation_angles(np.eye(4))
+        rotations.installation_angles(np.eye(4))

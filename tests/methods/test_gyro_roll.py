@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from mtcal.methods import gyro_roll as gr
+from mtcal.methods import gyro_roll
 from mtcal.studies.tan2022.scenario import GyroErrors, Oscillation, ProjectionSweep, UniformRotation
 
 D = np.radians
@@ -12,13 +12,13 @@ DT = 1.0 / FS
 
 
 def constant_rate_gyro(rate_deg_s, roll_deg, n, error_deg_s=(0.0, 0.0, 0.0)):
-    w = gr.body_rates_two_dof(D(rate_deg_s), D(roll_deg))
+    w = gyro_roll.body_rates_two_dof(D(rate_deg_s), D(roll_deg))
     return np.broadcast_to(w + D(np.array(error_deg_s)), (n, 3)).copy()
 
 
 # ---------------------------------------------------------------- kinematics / simulator mapping
 def test_body_rates_closed_form():
-    w = gr.body_rates_two_dof(0.5, D(30.0), 0.1)
+    w = gyro_roll.body_rates_two_dof(0.5, D(30.0), 0.1)
     np.testing.assert_allclose(w, [0.1, 0.5 * np.cos(D(30)), -0.5 * np.sin(D(30))])
 
 
@@ -26,13 +26,13 @@ def test_simulator_mapping_reproduces_eq2_and_eq11():
     t = np.arange(0, 2.0, DT)
     theta = D(40.0) * np.sin(np.pi * t)
     phi = D(20.0) + D(5.0) * t
-    rec = gr.simulate_two_dof_imu(t, theta, phi)
+    rec = gyro_roll.simulate_two_dof_imu(t, theta, phi)
     f = rec.accel_true_m_s2 / 9.80665
     np.testing.assert_allclose(f, np.stack([-np.sin(theta), np.cos(theta) * np.sin(phi),
                                             np.cos(theta) * np.cos(phi)], -1), atol=1e-12)
     # gyro sample k = mean rate over [t_k, t_k+1] ≈ Eq 11 at the interval midpoint
     tm = t + 0.5 * DT
-    w_mid = gr.body_rates_two_dof(D(40.0) * np.pi * np.cos(np.pi * tm), D(20.0) + D(5.0) * tm, D(5.0))
+    w_mid = gyro_roll.body_rates_two_dof(D(40.0) * np.pi * np.cos(np.pi * tm), D(20.0) + D(5.0) * tm, D(5.0))
     np.testing.assert_allclose(rec.gyro_true_rad_s[:-1], w_mid[:-1], atol=2e-4)
 
 
@@ -40,35 +40,35 @@ def test_simulator_mapping_reproduces_eq2_and_eq11():
 def test_estimators_exact_without_errors():
     n = 400
     w = constant_rate_gyro(20.0, 25.0, n)
-    np.testing.assert_allclose(gr.roll_projection(w), D(25.0), atol=1e-12)
-    np.testing.assert_allclose(gr.roll_decoupled_integration(w, DT, roll0=D(25.0)), D(25.0), atol=1e-12)
-    h, use = gr.roll_hybrid(w, DT, D(0.5), roll0=0.0)
+    np.testing.assert_allclose(gyro_roll.roll_projection(w), D(25.0), atol=1e-12)
+    np.testing.assert_allclose(gyro_roll.roll_decoupled_integration(w, DT, roll0=D(25.0)), D(25.0), atol=1e-12)
+    h, use = gyro_roll.roll_hybrid(w, DT, D(0.5), roll0=0.0)
     assert use.all()
     np.testing.assert_allclose(h, D(25.0), atol=1e-12)
 
 
 def test_projection_sign_of_pitch_rate_irrelevant():
     for rate in (-30.0, 30.0):
-        np.testing.assert_allclose(gr.roll_projection(constant_rate_gyro(rate, -40.0, 3)), D(-40.0), atol=1e-12)
+        np.testing.assert_allclose(gyro_roll.roll_projection(constant_rate_gyro(rate, -40.0, 3)), D(-40.0), atol=1e-12)
 
 
 def test_decoupled_integration_drifts_linearly():
     n = 1000
     w = constant_rate_gyro(10.0, 0.0, n, error_deg_s=(0.2, 0.2, 0.2))
-    phi = gr.roll_decoupled_integration(w, DT)
+    phi = gyro_roll.roll_decoupled_integration(w, DT)
     np.testing.assert_allclose(phi, D(0.2) * DT * np.arange(n), atol=1e-12)
 
 
 # ---------------------------------------------------------------- Eq 14
 def test_eq14_first_order_and_inverse_rate():
     rates = D(np.geomspace(5, 200, 12))
-    exact = gr.projection_roll_error_exact(0.0, rates, D(0.2), D(0.2))
-    first = gr.projection_roll_error_eq14(0.0, rates, D(0.2), D(0.2))
+    exact = gyro_roll.projection_roll_error_exact(0.0, rates, D(0.2), D(0.2))
+    first = gyro_roll.projection_roll_error_eq14(0.0, rates, D(0.2), D(0.2))
     # at φ = 0: Δφ = −Δω_z/θ̇
     np.testing.assert_allclose(first, -D(0.2) / rates)
     # first order: relative gap ~ Δω_y/θ̇
     assert np.max(np.abs(exact - first) / np.abs(first)) < 0.05
-    assert gr.loglog_slope(rates, exact) == pytest.approx(-1.0, abs=0.02)
+    assert gyro_roll.loglog_slope(rates, exact) == pytest.approx(-1.0, abs=0.02)
 
 
 def test_projection_error_inverse_rate_in_simulation(rng):
@@ -76,10 +76,10 @@ def test_projection_error_inverse_rate_in_simulation(rng):
     err = []
     for r in rates_deg:
         t = np.arange(0, 1.0, DT)
-        rec = gr.simulate_two_dof_imu(t, D(r) * t, np.zeros_like(t), gyro_bias_rad_s=D(0.2),
-                                      gyro_noise_density=D(0.0025), rng=rng, trials=20)
-        err.append(np.mean(gr.roll_projection(rec.gyro_rad_s)))
-    assert gr.loglog_slope(rates_deg, np.array(err)) == pytest.approx(-1.0, abs=0.05)
+        rec = gyro_roll.simulate_two_dof_imu(t, D(r) * t, np.zeros_like(t), gyro_bias_rad_s=D(0.2),
+                                             gyro_noise_density=D(0.0025), rng=rng, trials=20)
+        err.append(np.mean(gyro_roll.roll_projection(rec.gyro_rad_s)))
+    assert gyro_roll.loglog_slope(rates_deg, np.array(err)) == pytest.approx(-1.0, abs=0.05)
 
 
 # ---------------------------------------------------------------- hybrid
@@ -88,9 +88,9 @@ def test_hybrid_picks_branch_by_threshold():
     n = 10
     rates = np.array([10, 10, 10, 0.1, 0.1, 0.1, 0.1, 10, 10, 10.0])
     w = np.stack([np.full(n, D(1.0)), D(rates) * np.cos(D(5.0)), -D(rates) * np.sin(D(5.0))], -1)
-    phi, use = gr.roll_hybrid(w, DT, D(0.5))
+    phi, use = gyro_roll.roll_hybrid(w, DT, D(0.5))
     np.testing.assert_array_equal(use, rates > 0.5)
-    proj = gr.roll_projection(w)
+    proj = gyro_roll.roll_projection(w)
     np.testing.assert_allclose(phi[use], proj[use])
     # k = 3..6: φ_P(2) + (k − 2) ω_x Δt
     np.testing.assert_allclose(phi[3:7], proj[2] + D(1.0) * DT * np.arange(1, 5), atol=1e-15)
@@ -98,20 +98,20 @@ def test_hybrid_picks_branch_by_threshold():
 
 def test_hybrid_starts_from_roll0_and_limits():
     w = constant_rate_gyro(0.1, 0.0, 5, error_deg_s=(0.2, 0.0, 0.0))
-    phi, use = gr.roll_hybrid(w, DT, D(0.5), roll0=D(3.0))
+    phi, use = gyro_roll.roll_hybrid(w, DT, D(0.5), roll0=D(3.0))
     assert not use.any()
     np.testing.assert_allclose(phi, D(3.0) + D(0.2) * DT * np.arange(5))
     # threshold 0 → pure projection; threshold above every rate → pure integration (Eq 12)
     w = constant_rate_gyro(10.0, 10.0, 50, error_deg_s=(0.2, 0.2, 0.2))
-    np.testing.assert_allclose(gr.roll_hybrid(w, DT, 0.0)[0], gr.roll_projection(w))
-    np.testing.assert_allclose(gr.roll_hybrid(w, DT, D(100.0))[0], gr.roll_decoupled_integration(w, DT))
+    np.testing.assert_allclose(gyro_roll.roll_hybrid(w, DT, 0.0)[0], gyro_roll.roll_projection(w))
+    np.testing.assert_allclose(gyro_roll.roll_hybrid(w, DT, D(100.0))[0], gyro_roll.roll_decoupled_integration(w, DT))
 
 
 def test_hybrid_vectorised_over_trials(rng):
     w = constant_rate_gyro(3.0, 10.0, 100)[None] + D(0.5) * rng.standard_normal((4, 100, 3))
-    phi, use = gr.roll_hybrid(w, DT, D(2.0))
+    phi, use = gyro_roll.roll_hybrid(w, DT, D(2.0))
     for k in range(4):
-        p1, u1 = gr.roll_hybrid(w[k], DT, D(2.0))
+        p1, u1 = gyro_roll.roll_hybrid(w[k], DT, D(2.0))
         np.testing.assert_allclose(phi[k], p1)
         np.testing.assert_array_equal(use[k], u1)
 
@@ -119,11 +119,11 @@ def test_hybrid_vectorised_over_trials(rng):
 def test_hybrid_beats_projection_in_oscillation(rng):
     sc = Oscillation(duration_s=4.0)
     t = sc.time_s()[::5]
-    rec = gr.simulate_two_dof_imu(t, sc.pitch_rad(t), np.zeros_like(t), gyro_bias_rad_s=sc.gyro.error_rad_s,
-                                  gyro_noise_density=sc.gyro.noise_density_rad_s_rthz, rng=rng, trials=5)
+    rec = gyro_roll.simulate_two_dof_imu(t, sc.pitch_rad(t), np.zeros_like(t), gyro_bias_rad_s=sc.gyro.error_rad_s,
+                                         gyro_noise_density=sc.gyro.noise_density_rad_s_rthz, rng=rng, trials=5)
     dt = t[1] - t[0]
-    proj = gr.roll_projection(rec.gyro_rad_s)
-    hyb, _ = gr.roll_hybrid(rec.gyro_rad_s, dt, D(20.0))
+    proj = gyro_roll.roll_projection(rec.gyro_rad_s)
+    hyb, _ = gyro_roll.roll_hybrid(rec.gyro_rad_s, dt, D(20.0))
     assert np.sqrt(np.mean(hyb**2)) < 0.5 * np.sqrt(np.mean(proj**2))
 
 
@@ -131,70 +131,70 @@ def test_hybrid_beats_projection_in_oscillation(rng):
 def test_euler_differential_exact_without_errors_and_blows_up_with_them():
     n = int(FS * 12.0)  # 10 °/s from 0° to 120°
     clean = constant_rate_gyro(10.0, 0.0, n)
-    eul = gr.euler_differential(clean, DT)
+    eul = gyro_roll.euler_differential(clean, DT)
     np.testing.assert_allclose(eul[:, 2], 0.0, atol=1e-12)
     np.testing.assert_allclose(eul[:, 1], D(10.0) * DT * np.arange(n), atol=1e-9)
     bad = constant_rate_gyro(10.0, 0.0, n, error_deg_s=(0.2, 0.2, 0.2))
-    eul = gr.euler_differential(bad, DT)
+    eul = gyro_roll.euler_differential(bad, DT)
     theta_true = 10.0 * DT * np.arange(n)
     phi_err = np.degrees(np.abs(eul[:, 2]))
     far = phi_err[theta_true < 60].max()
     near = phi_err[np.abs(theta_true - 90) < 5].max()
-    integ = np.degrees(np.abs(gr.roll_decoupled_integration(bad, DT))).max()
+    integ = np.degrees(np.abs(gyro_roll.roll_decoupled_integration(bad, DT))).max()
     assert far < 5.0 and near > 5 * far and integ < 3.0
 
 
 def test_euler_differential_does_not_crash_on_exact_singularity():
     w = np.zeros((3, 3))
     w[:, 2] = 0.1  # ω_z ≠ 0 while cosθ = 0 exactly is impossible in float; force via pitch0
-    out = gr.euler_differential(w, DT, pitch0=np.pi / 2)
+    out = gyro_roll.euler_differential(w, DT, pitch0=np.pi / 2)
     assert out.shape == (3, 3)
     assert np.isfinite(out[0]).all()
 
 
 def test_euler_differential_vectorised(rng):
     w = constant_rate_gyro(30.0, 0.0, 300)[None] + D(0.3) * rng.standard_normal((3, 300, 3))
-    out = gr.euler_differential(w, DT, pitch0=np.array([0.0, 0.1, -0.1]))
-    np.testing.assert_allclose(out[1], gr.euler_differential(w[1], DT, pitch0=0.1))
+    out = gyro_roll.euler_differential(w, DT, pitch0=np.array([0.0, 0.1, -0.1]))
+    np.testing.assert_allclose(out[1], gyro_roll.euler_differential(w[1], DT, pitch0=0.1))
 
 
 # ---------------------------------------------------------------- bad input
 def test_bad_input_raises():
     w = constant_rate_gyro(10.0, 0.0, 10)
     with pytest.raises(ValueError, match="gyro_rad_s.*degrees"):
-        gr.roll_projection(np.degrees(w) * 10)
+        gyro_roll.roll_projection(np.degrees(w) * 10)
     with pytest.raises(ValueError, match="gyro_rad_s"):
-        gr.roll_projection(np.zeros((0, 3)))
+        gyro_roll.roll_projection(np.zeros((0, 3)))
     with pytest.raises(ValueError, match="gyro_rad_s"):
-        gr.roll_decoupled_integration(np.full((4, 3), np.nan), DT)
+        gyro_roll.roll_decoupled_integration(np.full((4, 3), np.nan), DT)
     with pytest.raises(ValueError, match="gyro_rad_s"):
-        gr.roll_projection(np.zeros(3))
+        gyro_roll.roll_projection(np.zeros(3))
     with pytest.raises(ValueError, match="dt_s"):
-        gr.roll_decoupled_integration(w, 0.0)
+        gyro_roll.roll_decoupled_integration(w, 0.0)
     with pytest.raises(ValueError, match="threshold_rad_s"):
-        gr.roll_hybrid(w, DT, -1.0)
+        gyro_roll.roll_hybrid(w, DT, -1.0)
     with pytest.raises(ValueError, match="threshold_rad_s.*degrees"):
-        gr.roll_hybrid(w, DT, 50.0)
+        gyro_roll.roll_hybrid(w, DT, 50.0)
     with pytest.raises(ValueError, match="pitch0"):
-        gr.euler_differential(w, DT, pitch0=D(95.0))
+        gyro_roll.euler_differential(w, DT, pitch0=D(95.0))
     with pytest.raises(ValueError, match="pitch_rate"):
-        gr.projection_roll_error_eq14(0.0, 0.0, 0.1, 0.1)
+        gyro_roll.projection_roll_error_eq14(0.0, 0.0, 0.1, 0.1)
     with pytest.raises(ValueError, match="pitch_rate.*degrees"):
-        gr.body_rates_two_dof(60.0, 0.0)
+        gyro_roll.body_rates_two_dof(60.0, 0.0)
     with pytest.raises(ValueError, match="roll.*degrees"):
-        gr.body_rates_two_dof(1.0, 30.0)
+        gyro_roll.body_rates_two_dof(1.0, 30.0)
     with pytest.raises(ValueError, match="x must be positive"):
-        gr.loglog_slope([0.0, 1.0], [1.0, 2.0])
+        gyro_roll.loglog_slope([0.0, 1.0], [1.0, 2.0])
     with pytest.raises(ValueError, match="last axis must match"):
-        gr.loglog_slope([1.0, 2.0, 3.0], np.ones((4, 2)))
+        gyro_roll.loglog_slope([1.0, 2.0, 3.0], np.ones((4, 2)))
 
 
 def test_loglog_slope_per_row_matches_1d():
     x = np.array([1.0, 2.0, 5.0, 10.0])
     y = np.stack([3.0 * x**-1.0, -0.5 * x**-0.5, 2.0 * x**2])
-    np.testing.assert_allclose(gr.loglog_slope(x, y), [-1.0, -0.5, 2.0], atol=1e-12)
-    assert isinstance(gr.loglog_slope(x, y[0]), float)
-    assert gr.loglog_slope(x, y[1]) == pytest.approx(-0.5, abs=1e-12)
+    np.testing.assert_allclose(gyro_roll.loglog_slope(x, y), [-1.0, -0.5, 2.0], atol=1e-12)
+    assert isinstance(gyro_roll.loglog_slope(x, y[0]), float)
+    assert gyro_roll.loglog_slope(x, y[1]) == pytest.approx(-0.5, abs=1e-12)
 
 
 def test_scenario_defaults_and_validation():
@@ -222,8 +222,8 @@ def test_hybrid_rmse_sweep_matches_roll_hybrid():
     rate = np.radians(40.0) * np.pi * np.cos(np.pi * t)
     w = np.stack([np.zeros_like(t), rate, np.zeros_like(t)], -1) + np.radians(0.2) + 1e-3 * rng.standard_normal((3, t.size, 3))
     thr = np.radians([0.5, 5.0, 200.0])
-    sweep = gr.roll_hybrid_rmse_sweep(w, 1e-3, thr, roll_true=0.0)
-    direct = np.stack([np.sqrt(np.mean(gr.roll_hybrid(w, 1e-3, th)[0] ** 2, axis=-1)) for th in thr], -1)
+    sweep = gyro_roll.roll_hybrid_rmse_sweep(w, 1e-3, thr, roll_true=0.0)
+    direct = np.stack([np.sqrt(np.mean(gyro_roll.roll_hybrid(w, 1e-3, th)[0] ** 2, axis=-1)) for th in thr], -1)
     np.testing.assert_allclose(sweep, direct, rtol=1e-12)
     with pytest.raises(ValueError, match="thresholds_rad_s must be in rad/s"):
-        gr.roll_hybrid_rmse_sweep(w, 1e-3, [-1.0])
+        gyro_roll.roll_hybrid_rmse_sweep(w, 1e-3, [-1.0])

@@ -1,7 +1,7 @@
 import numpy as np
 import pytest
 
-from mtcal.methods import quaternion_lsq as calibration
+from mtcal.methods import quaternion_lsq
 from mtcal.core import rotations
 
 SIX_POSITIONS_DEG = np.array([[8, 0, 0], [-8, 0, 0], [0, -12, 0], [0, 23, 0], [0, 0, 90], [0, 0, -90]], float)
@@ -21,31 +21,31 @@ def pairs():
 
 def test_noise_free_recovery(pairs, rng):
     q_s, q_b, q_bs = pairs
-    q_mat = calibration.least_squares_error_matrix(q_s, q_b)
+    q_mat = quaternion_lsq.least_squares_error_matrix(q_s, q_b)
     np.testing.assert_allclose(q_mat, rotations.right_matrix(rotations.quat_conjugate(q_bs)), atol=1e-9)
     test_b = body_quats(np.column_stack([rng.uniform(-8, 8, 50), rng.uniform(-12, 23, 50),
                                          rng.uniform(-90, 90, 50)]))
     test_s = rotations.quat_multiply(test_b, q_bs)
-    est = rotations.euler_zxy_from_quat(calibration.apply_error_matrix(q_mat, test_s))
+    est = rotations.euler_zxy_from_quat(quaternion_lsq.apply_error_matrix(q_mat, test_s))
     np.testing.assert_allclose(est, rotations.euler_zxy_from_quat(test_b), atol=1e-9)
 
 
 def test_sign_flips_do_not_change_solution(pairs):
     q_s, q_b, _ = pairs
-    ref = calibration.least_squares_error_matrix(q_s, q_b)
+    ref = quaternion_lsq.least_squares_error_matrix(q_s, q_b)
     flip = np.array([1, -1, 1, -1, -1, 1.0])[:, None]
-    np.testing.assert_allclose(calibration.least_squares_error_matrix(q_s * flip, q_b), ref, atol=1e-12)
-    np.testing.assert_allclose(calibration.least_squares_error_matrix(q_s, -q_b), ref, atol=1e-12)
+    np.testing.assert_allclose(quaternion_lsq.least_squares_error_matrix(q_s * flip, q_b), ref, atol=1e-12)
+    np.testing.assert_allclose(quaternion_lsq.least_squares_error_matrix(q_s, -q_b), ref, atol=1e-12)
 
 
 def test_rank_deficient_positions_raise():
     q_b = body_quats(np.array([[0, 0, a] for a in (-90, -30, 30, 90)], float))  # roll only
     with pytest.raises(ValueError, match="condition number"):
-        calibration.least_squares_error_matrix(q_b, q_b)
+        quaternion_lsq.least_squares_error_matrix(q_b, q_b)
     three = body_quats(SIX_POSITIONS_DEG[[0, 2, 4]])
     with pytest.raises(ValueError, match="at least 4 positions"):  # the paper's "3" is not enough (rank <= 3)
-        calibration.least_squares_error_matrix(three, three)
+        quaternion_lsq.least_squares_error_matrix(three, three)
     with pytest.raises(ValueError, match="shape"):
-        calibration.least_squares_error_matrix(q_b, q_b[:3])
+        quaternion_lsq.least_squares_error_matrix(q_b, q_b[:3])
     with pytest.raises(ValueError, match="q_matrix must be a finite 4x4"):
-        calibration.apply_error_matrix(np.eye(3), q_b)
+        quaternion_lsq.apply_error_matrix(np.eye(3), q_b)

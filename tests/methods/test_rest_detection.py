@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from mtcal.methods import rest_detection as rd
+from mtcal.methods import rest_detection
 from mtcal.methods.zero_velocity import detect_static
 
 FS = 200.0
@@ -26,7 +26,7 @@ def _record(rng, *, g=9.80665 * 1.03, bias_deg_s=(3.0, -2.0, 1.0), turn_z_deg_s=
 
 def test_finds_rests_where_the_paper_band_does_not(rng):
     t, gyro, accel = _record(rng)
-    rep = rd.detect_rests(accel, 1.0 / FS, gyro_rad_s=gyro)
+    rep = rest_detection.detect_rests(accel, 1.0 / FS, gyro_rad_s=gyro)
     assert len(rep.rests) == 2
     assert abs(rep.gravity_m_s2 - 9.80665 * 1.03) < 0.01
     np.testing.assert_allclose(np.degrees(rep.gyro_bias_rad_s), [3.0, -2.0, 1.0], atol=0.05)
@@ -34,42 +34,43 @@ def test_finds_rests_where_the_paper_band_does_not(rng):
     r0, r1 = rep.rests
     assert t[r0.start] == 0.0 and 1.8 < t[r0.stop - 1] < 2.0 and 3.0 < t[r1.start] < 3.2
     assert not detect_static(accel, 1.0 / FS).any()  # 9.76-9.84 excludes a sensor reading 10.10
-    paper = rd.paper_rest_report(accel, 1.0 / FS, gyro_rad_s=gyro)
+    paper = rest_detection.paper_rest_report(accel, 1.0 / FS, gyro_rad_s=gyro)
     assert paper.rests == [] and abs(paper.extra["measured_gravity_m_s2"] - rep.gravity_m_s2) < 1e-9
 
 
 def test_slow_turn_about_vertical_rejected_with_reason(rng):
     t, gyro, accel = _record(rng, turn_z_deg_s=20.0)
-    rep = rd.detect_rests(accel, 1.0 / FS, gyro_rad_s=gyro)
+    rep = rest_detection.detect_rests(accel, 1.0 / FS, gyro_rad_s=gyro)
     assert len(rep.rests) == 3
     assert any("turning" in r.reason for r in rep.rejected)
     assert not rep.is_static[(t > 5.1) & (t < 5.9)].any()
-    only_accel = rd.detect_rests(accel, 1.0 / FS)  # without the gyro the turn is invisible
+    only_accel = rest_detection.detect_rests(accel, 1.0 / FS)  # without the gyro the turn is invisible
     assert only_accel.is_static[(t > 5.1) & (t < 5.9)].all()
 
 
 def test_overrides(rng):
     t, gyro, accel = _record(rng)
-    rep = rd.detect_rests(accel, 1.0 / FS, gyro_rad_s=gyro, params=rd.RestDetectorParams(gravity_m_s2=9.80665,
-                                                                                   accel_band_m_s2=0.05))
+    params = rest_detection.RestDetectorParams(gravity_m_s2=9.80665, accel_band_m_s2=0.05)
+    rep = rest_detection.detect_rests(accel, 1.0 / FS, gyro_rad_s=gyro, params=params)
     assert rep.band_m_s2 == pytest.approx((9.75665, 9.85665)) and rep.rests == []
     assert rep.rejected and all("outside band" in r.reason for r in rep.rejected)
-    rep = rd.detect_rests(accel, 1.0 / FS, gyro_rad_s=gyro,
-                          params=rd.RestDetectorParams(gyro_level_max_rad_s=np.radians(0.001)))
+    rep = rest_detection.detect_rests(accel, 1.0 / FS, gyro_rad_s=gyro,
+                                      params=rest_detection.RestDetectorParams(gyro_level_max_rad_s=np.radians(0.001)))
     assert rep.rests == [] and rep.gyro_level_max_rad_s == pytest.approx(np.radians(0.001))
-    rep = rd.detect_rests(accel, 1.0 / FS, gyro_rad_s=gyro, params=rd.RestDetectorParams(min_rest_s=2.5))
+    params = rest_detection.RestDetectorParams(min_rest_s=2.5)
+    rep = rest_detection.detect_rests(accel, 1.0 / FS, gyro_rad_s=gyro, params=params)
     assert len(rep.rests) == 1 and "too short" in rep.rejected[0].reason
 
 
 def test_levels_text_reports_measured_values(rng):
     t, gyro, accel = _record(rng)
-    txt = rd.detect_rests(accel, 1.0 / FS, gyro_rad_s=gyro).levels_text()
+    txt = rest_detection.detect_rests(accel, 1.0 / FS, gyro_rad_s=gyro).levels_text()
     assert "|a| at rest 10.10" in txt and "gyro bias [+3.00, -2.00, +" in txt
 
 
 def test_paper_report_keeps_the_paper_flags(rng):
     t, gyro, accel = _record(rng, g=9.80665)
-    rep = rd.paper_rest_report(accel, 1.0 / FS, min_rest_s=0.5)
+    rep = rest_detection.paper_rest_report(accel, 1.0 / FS, min_rest_s=0.5)
     assert np.array_equal(rep.is_static, detect_static(accel, 1.0 / FS))
     assert rep.band_m_s2 == (9.76, 9.84) and rep.method == "paper"
     assert all(r.stop - r.start >= 0.5 * FS for r in rep.rests)
@@ -78,7 +79,7 @@ def test_paper_report_keeps_the_paper_flags(rng):
 def test_centred_moving_mean_matches_direct_sum(rng):
     x = rng.normal(size=(57, 2))
     for w in (1, 2, 5, 8, 57, 80):
-        got = rd.centred_moving_mean(x, w)
+        got = rest_detection.centred_moving_mean(x, w)
         ref = np.array([x[max(i - w // 2, 0):min(i - w // 2 + w, 57)].mean(axis=0) for i in range(57)])
         np.testing.assert_allclose(got, ref, atol=1e-12)
 
@@ -86,12 +87,12 @@ def test_centred_moving_mean_matches_direct_sum(rng):
 def test_quantised_constant_rest_uses_noise_floor():
     tilt = np.radians(np.r_[np.zeros(1000), np.linspace(0, 20, 100), np.full(900, 20.0)])
     accel = 9.9 * np.column_stack([np.sin(tilt), np.zeros(2000), np.cos(tilt)])
-    rep = rd.detect_rests(accel, 1.0 / FS, gyro_rad_s=np.zeros((2000, 3)))
-    assert rep.accel_noise_m_s2 == rd.ACCEL_NOISE_FLOOR_M_S2 and len(rep.rests) == 2
+    rep = rest_detection.detect_rests(accel, 1.0 / FS, gyro_rad_s=np.zeros((2000, 3)))
+    assert rep.accel_noise_m_s2 == rest_detection.ACCEL_NOISE_FLOOR_M_S2 and len(rep.rests) == 2
 
 
 @pytest.mark.parametrize("kwargs,exc,match", [
-    (dict(params=rd.RestDetectorParams), TypeError, "params must be a RestDetectorParams"),
+    (dict(params=rest_detection.RestDetectorParams), TypeError, "params must be a RestDetectorParams"),
     (dict(gyro_rad_s=np.zeros((10, 3))), ValueError, "gyro_rad_s must have the shape"),
     (dict(dt_s=-1.0), ValueError, "dt_s must be > 0"),
     (dict(dt_s=200.0), ValueError, r"dt_s must be the sample interval in s \(<= 1 s\), got 200 \(a sample rate"),
@@ -102,20 +103,20 @@ def test_bad_input(rng, kwargs, exc, match):
     args.update(kwargs)
     dt_s = args.pop("dt_s")
     with pytest.raises(exc, match=match):
-        rd.detect_rests(accel, dt_s, **args)
+        rest_detection.detect_rests(accel, dt_s, **args)
 
 
 def test_bad_params_and_short_records():
     with pytest.raises(ValueError, match="quiet_fraction must be in"):
-        rd.RestDetectorParams(quiet_fraction=0.8)
+        rest_detection.RestDetectorParams(quiet_fraction=0.8)
     with pytest.raises(ValueError, match="gravity_m_s2 must be in m/s"):
-        rd.RestDetectorParams(gravity_m_s2=1.0)
+        rest_detection.RestDetectorParams(gravity_m_s2=1.0)
     with pytest.raises(ValueError, match="noise_factor must be > 0"):
-        rd.RestDetectorParams(noise_factor=0.0)
+        rest_detection.RestDetectorParams(noise_factor=0.0)
     with pytest.raises(ValueError, match="record too short"):
-        rd.detect_rests(np.tile([0, 0, 9.8], (30, 1)), 1.0 / FS)
+        rest_detection.detect_rests(np.tile([0, 0, 9.8], (30, 1)), 1.0 / FS)
     with pytest.raises(ValueError, match="looks like it is in g"):
-        rd.detect_rests(np.tile([0, 0, 1.0], (300, 1)), 1.0 / FS)
+        rest_detection.detect_rests(np.tile([0, 0, 1.0], (300, 1)), 1.0 / FS)
 
 
 def test_noisier_rests_after_a_still_stand_are_rests(rng):
@@ -135,7 +136,7 @@ def test_noisier_rests_after_a_still_stand_are_rests(rng):
         acc.append(a + rng.normal(0, sa, (n, 3)))
         gyr.append(g + rng.normal(0, sg, (n, 3)))
         truth.append(kind != "swing")
-    rep = rd.detect_rests(np.vstack(acc), 1.0 / fs, gyro_rad_s=np.vstack(gyr))
+    rep = rest_detection.detect_rests(np.vstack(acc), 1.0 / fs, gyro_rad_s=np.vstack(gyr))
     assert len(rep.rests) == 1 + 8
     assert rep.accel_std_max_m_s2 > 0.15 > 5 * rep.accel_noise_m_s2  # relaxed towards the motion level
 
@@ -146,19 +147,19 @@ def test_shoe_statistic_is_about_six_when_still(rng):
     n = 20000
     accel = rng.normal(0, 0.02, (n, 3)) + [0.0, 0.0, 9.9]
     gyro = rng.normal(0, 0.004, (n, 3)) + 0.01
-    stat = rd.shoe_statistic(accel, gyro, 50, gravity_m_s2=9.9, accel_noise_m_s2=0.02, gyro_noise_rad_s=0.004,
-                             gyro_bias_rad_s=0.01)
+    stat = rest_detection.shoe_statistic(accel, gyro, 50, gravity_m_s2=9.9, accel_noise_m_s2=0.02,
+                                         gyro_noise_rad_s=0.004, gyro_bias_rad_s=0.01)
     assert 5.0 < float(np.median(stat[100:-100])) < 6.5
     turning = gyro + [0.0, 0.1, 0.0]  # 0.1 rad/s = 25 sigma: T rises by (0.1 / 0.004)^2
-    stat2 = rd.shoe_statistic(accel, turning, 50, gravity_m_s2=9.9, accel_noise_m_s2=0.02,
-                              gyro_noise_rad_s=0.004, gyro_bias_rad_s=0.01)
+    stat2 = rest_detection.shoe_statistic(accel, turning, 50, gravity_m_s2=9.9, accel_noise_m_s2=0.02,
+                                          gyro_noise_rad_s=0.004, gyro_bias_rad_s=0.01)
     assert abs(float(np.median(stat2[100:-100])) - float(np.median(stat[100:-100])) - 625.0) < 30.0
 
 
 def test_shoe_matches_the_direct_sum(rng):
     accel = rng.normal(0, 0.5, (40, 3)) + [0.0, 0.0, 9.8]
     gyro = rng.normal(0, 0.2, (40, 3))
-    stat = rd.shoe_statistic(accel, gyro, 5, gravity_m_s2=9.8, accel_noise_m_s2=0.3, gyro_noise_rad_s=0.1)
+    stat = rest_detection.shoe_statistic(accel, gyro, 5, gravity_m_s2=9.8, accel_noise_m_s2=0.3, gyro_noise_rad_s=0.1)
     k = 20
     ya, yw = accel[k - 2:k + 3], gyro[k - 2:k + 3]
     m = ya.mean(axis=0)
@@ -183,20 +184,21 @@ def _hits(t, rests, spans, margin):
 
 def test_shoe_walking_stances_found_swings_not_flagged():
     t, gyro, accel, stances, swings = _walk()
-    rep = rd.detect_rests_shoe(accel, 1 / 1200.0, gyro_rad_s=gyro,
-                               params=rd.ShoeParams(rate_level_rad_s=np.radians(30.0), min_rest_s=0.15))
+    params = rest_detection.ShoeParams(rate_level_rad_s=np.radians(30.0), min_rest_s=0.15)
+    rep = rest_detection.detect_rests_shoe(accel, 1 / 1200.0, gyro_rad_s=gyro, params=params)
     assert all(_hits(t, rep.rests, stances, 0.05)), [(t[r.start], t[r.stop - 1]) for r in rep.rests]
     assert not any(_hits(t, rep.rests, swings, 0.02))
     assert rep.extra["threshold"] == pytest.approx(6.0 + (np.radians(30.0) / rep.gyro_noise_rad_s) ** 2)
-    default = rd.detect_rests_shoe(accel, 1 / 1200.0, gyro_rad_s=gyro)
-    adaptive = rd.detect_rests(accel, 1 / 1200.0, gyro_rad_s=gyro)
+    default = rest_detection.detect_rests_shoe(accel, 1 / 1200.0, gyro_rad_s=gyro)
+    adaptive = rest_detection.detect_rests(accel, 1 / 1200.0, gyro_rad_s=gyro)
     assert not any(_hits(t, default.rests, swings, 0.02))
     assert sum(_hits(t, default.rests, stances, 0.05)) >= sum(_hits(t, adaptive.rests, stances, 0.05))
 
 
 def test_shoe_threshold_override_and_rejections():
     t, gyro, accel, _, _ = _walk()
-    rep = rd.detect_rests_shoe(accel, 1 / 1200.0, gyro_rad_s=gyro, params=rd.ShoeParams(threshold=50.0))
+    params = rest_detection.ShoeParams(threshold=50.0)
+    rep = rest_detection.detect_rests_shoe(accel, 1 / 1200.0, gyro_rad_s=gyro, params=params)
     assert rep.extra["threshold"] == 50.0 and rep.extra["threshold_source"] == "given"
     assert np.all(rep.extra["statistic"][rep.is_static] < 50.0)
     for rej in rep.rejected:
@@ -208,22 +210,24 @@ def test_shoe_threshold_override_and_rejections():
                                        (dict(min_rest_s=-1.0), "min_rest_s")])
 def test_shoe_params_validated(kw, match):
     with pytest.raises(ValueError, match=match):
-        rd.ShoeParams(**kw)
+        rest_detection.ShoeParams(**kw)
 
 
 def test_shoe_input_errors(rng):
     accel = rng.normal(0, 0.01, (500, 3)) + [0, 0, 9.8]
     with pytest.raises(ValueError, match="gyro_rad_s must have the shape"):
-        rd.detect_rests_shoe(accel, 0.01, gyro_rad_s=np.zeros((400, 3)))
+        rest_detection.detect_rests_shoe(accel, 0.01, gyro_rad_s=np.zeros((400, 3)))
     with pytest.raises(TypeError, match="params must be a ShoeParams"):
-        rd.detect_rests_shoe(accel, 0.01, gyro_rad_s=np.zeros((500, 3)), params=rd.RestDetectorParams())
+        rest_detection.detect_rests_shoe(accel, 0.01, gyro_rad_s=np.zeros((500, 3)),
+                                         params=rest_detection.RestDetectorParams())
 
 
 def test_adaptive_rejection_reasons_hold_for_their_numbers(rng):
     import re
 
     t, gyro, accel = _record(rng, turn_z_deg_s=4.0)
-    rep = rd.detect_rests(accel, 1.0 / FS, gyro_rad_s=gyro, params=rd.RestDetectorParams(min_rest_s=1.5))
+    params = rest_detection.RestDetectorParams(min_rest_s=1.5)
+    rep = rest_detection.detect_rests(accel, 1.0 / FS, gyro_rad_s=gyro, params=params)
     assert rep.rejected
     for rej in rep.rejected:
         pairs = re.findall(r"([-\d.]+) (?:s |m/s\^2 |deg/s )?([<>]) ([-\d.]+)", rej.reason)

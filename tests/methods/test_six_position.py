@@ -11,6 +11,7 @@ from mtcal.core.profiles import trajectory_from_euler_zxy
 from mtcal.core.simulate import ImuErrorModel, simulate_imu
 
 FS = 1000.0
+DT_S = 1.0 / FS
 ALPHA = np.radians([0.4, -0.3, 0.6])
 
 
@@ -32,7 +33,7 @@ def test_schedule_within_one_minute(noise_free):
 
 def test_noise_free_recovers_true_map(noise_free):
     pos, prof, rec, q_s = noise_free
-    res = six_position.calibrate(q_s, pos, FS, gyro_rad_s=rec.gyro_rad_s)
+    res = six_position.calibrate(q_s, pos, DT_S, gyro_rad_s=rec.gyro_rad_s)
     assert len(res.rests) == 8 and list(res.matched) == [1, 2, 3, 4, 5, 6]
     assert np.abs(res.q_matrix - wang2023cja.true_error_matrix(ALPHA)).max() < 1e-9
     assert np.abs(res.euler_after_rad - pos).max() < 1e-9
@@ -41,7 +42,7 @@ def test_noise_free_recovers_true_map(noise_free):
     truth = rotations.euler_zxy_from_quat(rotations.quat_from_euler_zxy(*prof.angle_rad.T))
     assert np.abs(metrics_diff(rotations.euler_zxy_from_quat(after), truth)).max() < 1e-9
     # quaternion-only stillness detection finds the same rests
-    res_q = six_position.calibrate(q_s, pos, FS)
+    res_q = six_position.calibrate(q_s, pos, DT_S)
     assert np.abs(res_q.q_matrix - res.q_matrix).max() < 1e-9
 
 
@@ -51,7 +52,7 @@ def metrics_diff(a, b):
 
 def test_sign_flipped_inputs_same_matrix(noise_free, rng):
     pos, _, rec, q_s = noise_free
-    res = six_position.calibrate(q_s, pos, FS, gyro_rad_s=rec.gyro_rad_s)
+    res = six_position.calibrate(q_s, pos, DT_S, gyro_rad_s=rec.gyro_rad_s)
     flip = np.where(rng.random(6) < 0.5, -1.0, 1.0)[:, None]
     q_ref = rotations.quat_from_euler_zxy(*pos.T)
     q2 = quaternion_lsq.least_squares_error_matrix(res.q_sensor * flip, q_ref * flip[::-1])
@@ -70,7 +71,7 @@ def test_rank_deficient_positions_raise():
 def test_too_few_rests(noise_free):
     pos, _, rec, q_s = noise_free
     with pytest.raises(ValueError, match="too few rests"):
-        six_position.calibrate(q_s[:20000], pos, FS, gyro_rad_s=rec.gyro_rad_s[:20000])
+        six_position.calibrate(q_s[:20000], pos, DT_S, gyro_rad_s=rec.gyro_rad_s[:20000])
 
 
 def test_unmatched_position(noise_free):
@@ -78,7 +79,7 @@ def test_unmatched_position(noise_free):
     wrong = pos.copy()
     wrong[0, 0] = np.radians(40.0)
     with pytest.raises(ValueError, match="no rest within"):
-        six_position.calibrate(q_s, wrong, FS, gyro_rad_s=rec.gyro_rad_s)
+        six_position.calibrate(q_s, wrong, DT_S, gyro_rad_s=rec.gyro_rad_s)
 
 
 def test_mean_quaternion_sign_alignment(rng):
@@ -92,20 +93,43 @@ def test_find_rests_and_middle():
     still = np.zeros(10000, bool)
     still[1000:4000] = True
     still[5000:5500] = True
-    rests = six_position.find_rests(still, 1000.0, min_rest_s=2.0)
+    rests = six_position.find_rests(still, 1.0 / 1000.0, min_rest_s=2.0)
     assert rests == [slice(1000, 4000)]
     assert six_position.middle_slices(rests, 0.5) == [slice(1750, 3250)]
     with pytest.raises(TypeError, match="boolean"):
-        six_position.find_rests(still.astype(int), 1000.0)
+        six_position.find_rests(still.astype(int), 1.0 / 1000.0)
 
 
 def test_rests_from_another_detector(noise_free):
     """``rests=`` skips the stillness detector; the same rests give the same matrix bit for bit."""
     pos, _, rec, q_s = noise_free
-    ref = six_position.calibrate(q_s, pos, FS, gyro_rad_s=rec.gyro_rad_s)
-    got = six_position.calibrate(q_s, pos, FS, rests=ref.rests)
+    ref = six_position.calibrate(q_s, pos, DT_S, gyro_rad_s=rec.gyro_rad_s)
+    got = six_position.calibrate(q_s, pos, DT_S, rests=ref.rests)
     assert np.array_equal(got.q_matrix, ref.q_matrix) and got.rests == ref.rests
     with pytest.raises(ValueError, match="rests must be slices within"):
-        six_position.calibrate(q_s, pos, FS, rests=[slice(0, q_s.shape[0] + 5)])
+        six_position.calibrate(q_s, pos, DT_S, rests=[slice(0, q_s.shape[0] + 5)])
     with pytest.raises(ValueError, match="too few rests"):
-        six_position.calibrate(q_s, pos, FS, rests=ref.rests[:3])
+        six_position.calibrate(q_s, pos, DT_S, rests=ref.rests[:3])
+
+
+@pytest.mark.parametrize("fs_hz", [100.0, 200.0, 1000.0])
+def test_rest_length_counts_samples_of_dt(fs_hz):
+    """A run of exactly ``min_rest_s / dt_s`` samples is a rest, one sample fewer is not."""
+    n = int(2.0 * fs_hz)
+    still = np.zeros(3 * n, bool)
+    still[10:10 + n] = True
+    assert six_position.find_rests(still, 1.0 / fs_hz, min_rest_s=2.0) == [slice(10, 10 + n)]
+    still[10 + n - 1] = False
+    assert six_position.find_rests(still, 1.0 / fs_hz, min_rest_s=2.0) == []
+
+
+def test_a_rate_is_refused_where_the_interval_belongs(noise_free):
+    pos, _, rec, q_s = noise_free
+    with pytest.raises(ValueError, match="dt_s must be the sample interval in s"):
+        six_position.find_rests(np.ones(10, bool), 1000.0)
+    with pytest.raises(ValueError, match="dt_s must be the sample interval in s"):
+        six_position.stillness_from_gyro(rec.gyro_rad_s, FS)
+    with pytest.raises(ValueError, match="dt_s must be > 0"):
+        six_position.stillness_from_quaternions(q_s, -DT_S)
+    with pytest.raises(ValueError, match="dt_s must be the sample interval in s"):
+        six_position.calibrate(q_s, pos, FS, gyro_rad_s=rec.gyro_rad_s)

@@ -5,7 +5,7 @@ import warnings
 import numpy as np
 import pytest
 
-from mtcal.methods import tilt_rate as tr
+from mtcal.methods import tilt_rate
 
 DT = 0.01
 
@@ -24,18 +24,18 @@ def _tilting(n=3000, amp_rad_s=0.6, seed=0):
                                                        (1.0, 10.0, 0.1), (1.0, 0.1, 10.0)])
 def test_scale_found(factor, dt_factor, expect):
     gyro, accel = _tilting()
-    res = tr.tilt_rate_scale(gyro * factor, accel, DT * dt_factor)
+    res = tilt_rate.tilt_rate_scale(gyro * factor, accel, DT * dt_factor)
     assert res["scale"] == pytest.approx(expect, rel=0.15)
     assert res["correlation"] > 0.9
 
 
 def test_check_refuses_deg_s_and_time_scale_and_names_the_fix():
     gyro, accel = _tilting()
-    assert tr.check_tilt_rate_scale(gyro, accel, DT)["decided"]
+    assert tilt_rate.check_tilt_rate_scale(gyro, accel, DT)["decided"]
     with pytest.raises(ValueError, match="--gyro-unit deg/s"):
-        tr.check_tilt_rate_scale(np.degrees(gyro), accel, DT)
+        tilt_rate.check_tilt_rate_scale(np.degrees(gyro), accel, DT)
     with pytest.raises(ValueError, match="time column 10x too slow"):
-        tr.check_tilt_rate_scale(gyro, accel, DT * 10)
+        tilt_rate.check_tilt_rate_scale(gyro, accel, DT * 10)
 
 
 def test_check_undecided_without_tilt():
@@ -43,7 +43,7 @@ def test_check_undecided_without_tilt():
     accel = np.tile([0.0, 0.0, 9.81], (2000, 1)) + rng.normal(0, 0.01, (2000, 3))
     gyro = np.zeros((2000, 3))
     gyro[500:1500, 2] = 1.0  # about gravity: invisible to the accelerometer
-    assert not tr.check_tilt_rate_scale(gyro, accel, DT)["decided"]
+    assert not tilt_rate.check_tilt_rate_scale(gyro, accel, DT)["decided"]
 
 
 def test_excess_tilt_warns_when_asked():
@@ -52,18 +52,18 @@ def test_excess_tilt_warns_when_asked():
     gyro = np.zeros((3000, 3))
     gyro[1000:2000, 0] = 0.5 * np.sin(np.linspace(0, 4 * np.pi, 1000))  # the gyro tilts, the accel does not
     with pytest.warns(UserWarning, match="gyro implausible for rad/s"):
-        tr.check_tilt_rate_scale(gyro, accel, DT, excess="warn")
+        tilt_rate.check_tilt_rate_scale(gyro, accel, DT, excess="warn")
     with pytest.raises(ValueError, match="gyro implausible for rad/s"):
-        tr.check_tilt_rate_scale(gyro, accel, DT)
+        tilt_rate.check_tilt_rate_scale(gyro, accel, DT)
 
 
 def test_skip_drops_windows():
     gyro, accel = _tilting()
     skip = np.ones(len(gyro), bool)
-    assert tr.tilt_rate_scale(gyro, accel, DT, skip=skip)["windows"] == 0
+    assert tilt_rate.tilt_rate_scale(gyro, accel, DT, skip=skip)["windows"] == 0
     skip[: len(gyro) // 2] = False
-    half = tr.tilt_rate_scale(gyro, accel, DT, skip=skip)["windows"]
-    assert 0 < half < tr.tilt_rate_scale(gyro, accel, DT)["windows"]
+    half = tilt_rate.tilt_rate_scale(gyro, accel, DT, skip=skip)["windows"]
+    assert 0 < half < tilt_rate.tilt_rate_scale(gyro, accel, DT)["windows"]
 
 
 def test_filters_refuse_deg_s_gyro_at_their_public_edge():

@@ -9,7 +9,7 @@ from mtcal.core.sensors import SensorSpec
 from mtcal.core.units import DEG, MG, UG
 from mtcal.reporting import compare
 from mtcal.studies import wang2022sensors as w
-from mtcal.studies.wang2022sensors import error_model as em
+from mtcal.studies.wang2022sensors import error_model
 
 
 # ----------------------------------------------------------------------------- scenario
@@ -135,46 +135,48 @@ def test_latency_enters_dynamic_rmse_as_rate_times_delay():
 # ----------------------------------------------------------------------------- error model
 def test_weighted_quantile_and_likelihood_peak():
     x = np.array([1.0, 2.0, 3.0, 4.0])
-    assert em.weighted_quantile(x, np.array([1.0, 0.0, 0.0, 1.0]), [0.25, 0.75]).tolist() == [1.0, 4.0]
+    assert error_model.weighted_quantile(x, np.array([1.0, 0.0, 0.0, 1.0]), [0.25, 0.75]).tolist() == [1.0, 4.0]
     # a synthetic grid: the likelihood peaks at the cell whose mean equals the data
     names = ("lever_arm_m", "move_accel_deg_s2", "accel_noise_ug_rt_hz")
     log = {k: np.log(np.array([1.0, 2.0, 4.0]))[:, None, None, None, None] * np.ones((3, 1, 1, 3, 2))
            for k in [("RAMS", "static")]}
     log[("RAMS", "static")][..., 1] += 0.01
-    g = em.GridRun(names, np.ones((3, 3)), np.zeros(1), np.ones(1), ("Bv1", "Bv2", "Bv3"), log,
-                   np.zeros((3, 3, 2, 1)), np.zeros(1))
-    ll = em.log_likelihood(g, keys=(("Bv1", "RAMS", "static"),), values={("Bv1", "RAMS", "static"): 2.0})
+    g = error_model.GridRun(names, np.ones((3, 3)), np.zeros(1), np.ones(1), ("Bv1", "Bv2", "Bv3"), log,
+                            np.zeros((3, 3, 2, 1)), np.zeros(1))
+    ll = error_model.log_likelihood(g, keys=(("Bv1", "RAMS", "static"),), values={("Bv1", "RAMS", "static"): 2.0})
     assert np.argmax(ll[:, 0, 0]) == 1
-    post = em.posterior_weights(g, keys=(("Bv1", "RAMS", "static"),), values={("Bv1", "RAMS", "static"): 2.0})
+    post = error_model.posterior_weights(g, keys=(("Bv1", "RAMS", "static"),), values={("Bv1", "RAMS", "static"): 2.0})
     assert post.sum() == pytest.approx(1.0) and post[1, 0, 0] > 0.5
     with pytest.raises(ValueError, match="reps and ahrs_reps must be >= 2"):
-        em.run_grid(w.scenario_from_parameters(), 1, 0)
+        error_model.run_grid(w.scenario_from_parameters(), 1, 0)
 
 
 def _table5_all():
     from mtcal.reporting import paper_numbers
     df = paper_numbers.load("wang2022sensors_table05_rmse")
-    return {(r.rotation_axis, em.SYSTEMS[r.system], k): float(getattr(r, f"rmse_{k}_deg"))
+    return {(r.rotation_axis, error_model.SYSTEMS[r.system], k): float(getattr(r, f"rmse_{k}_deg"))
             for r in df.itertuples() for k in ("static", "dynamic")}
 
 
 def test_training_and_held_out_are_disjoint_and_cover_table5():
-    assert not set(em.TRAINING) & set(em.HELD_OUT)
-    seen = em.paper_table5()  # what the fit sees: held-out numbers are NaN
-    assert set(em.TRAINING) | set(em.HELD_OUT) == set(seen)
-    assert all(np.isfinite(seen[k]) for k in em.TRAINING) and all(np.isnan(seen[k]) for k in em.HELD_OUT)
+    assert not set(error_model.TRAINING) & set(error_model.HELD_OUT)
+    seen = error_model.paper_table5()  # what the fit sees: held-out numbers are NaN
+    assert set(error_model.TRAINING) | set(error_model.HELD_OUT) == set(seen)
+    assert all(np.isfinite(seen[k]) for k in error_model.TRAINING)
+    assert all(np.isnan(seen[k]) for k in error_model.HELD_OUT)
     # TRAINING is exactly the split's train rows of Table 5
     from mtcal.reporting import paper_numbers
     sp = paper_numbers.split("wang2022sensors")
     t5 = sp[sp.file == "wang2022sensors_table05_rmse"]
-    assert (t5.role == "train").sum() == len(em.TRAINING) and (t5.role == "heldout").sum() == len(em.HELD_OUT)
+    assert (t5.role == "train").sum() == len(error_model.TRAINING)
+    assert (t5.role == "heldout").sum() == len(error_model.HELD_OUT)
     for name, spec in w.ERROR_PRIORS.items():
         assert spec["low"] < spec["high"], name
-        grid = em.FIT_GRID.get(name)
+        grid = error_model.FIT_GRID.get(name)
         if grid is not None:
             assert spec["low"] <= min(grid) and max(grid) <= spec["high"], name
-    assert w.ERROR_PRIORS["latency_s"]["low"] <= em.LATENCY_GRID_S.min()
-    assert em.LATENCY_GRID_S.max() <= w.ERROR_PRIORS["latency_s"]["high"]
+    assert w.ERROR_PRIORS["latency_s"]["low"] <= error_model.LATENCY_GRID_S.min()
+    assert error_model.LATENCY_GRID_S.max() <= w.ERROR_PRIORS["latency_s"]["high"]
 
 
 def _fake_fit(shift_key=None):
@@ -193,10 +195,11 @@ def _fake_fit(shift_key=None):
             log[(system, kind)] = arr
     if shift_key is not None:  # one held-out number the model cannot reach
         log[shift_key[1:]][:, :, :, axes.index(shift_key[0])] += 3.0
-    g = em.GridRun(names, np.array([[0.2, 1000.0, 70.0], [0.4, 300.0, 35.0]]), np.array([0.0, 0.01, 0.02, 0.03]),
-                   np.array([1.0, 2.0, 5.0]), axes, log, np.full((2, 3, 2, 5), 0.03), np.arange(5.0))
-    post = em.posterior_weights(g)
-    return w.ErrorModelFit(g, post, em.prior_weights(g), em.parameter_summary(g, post))
+    g = error_model.GridRun(names, np.array([[0.2, 1000.0, 70.0], [0.4, 300.0, 35.0]]),
+                            np.array([0.0, 0.01, 0.02, 0.03]), np.array([1.0, 2.0, 5.0]), axes, log,
+                            np.full((2, 3, 2, 5), 0.03), np.arange(5.0))
+    post = error_model.posterior_weights(g)
+    return w.ErrorModelFit(g, post, error_model.prior_weights(g), error_model.parameter_summary(g, post))
 
 
 def test_table05_roles_claims_and_consistency():
@@ -204,7 +207,7 @@ def test_table05_roles_claims_and_consistency():
     assert fit.posterior.sum(axis=(1, 2))[0] > 0.99  # the likelihood picks the matching cell
     a = w.table05_rmse(fit, 1, n_draws=500)
     t = a.table
-    assert set(t[t.role == "train"].apply(lambda r: (r.axis, r.system, r.kind), axis=1)) == set(em.TRAINING)
+    assert set(t[t.role == "train"].apply(lambda r: (r.axis, r.system, r.kind), axis=1)) == set(error_model.TRAINING)
     summ = a.data["summary"]
     assert t.paper_in_fitted.all() and (summ["fitted_inside"], summ["prior_inside"], summ["n_heldout"]) == (5, 5, 5)
     assert summ["band_width_ratio"] < 1.0  # the fit narrows the predictive bands
@@ -257,7 +260,7 @@ def test_error_model_priors_inside_prior_is_consistency():
 
 def test_fit_and_predict_validates_size():
     with pytest.raises(ValueError, match="size must be 'ci' or 'full'"):
-        em.fit_and_predict("tiny")
+        error_model.fit_and_predict("tiny")
 
 
 def test_study_runs_the_surface_angle_system():

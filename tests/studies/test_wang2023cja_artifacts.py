@@ -5,7 +5,7 @@ import pytest
 
 from mtcal.reporting import compare
 from mtcal.studies import wang2023cja as w
-from mtcal.studies.wang2023cja import constrained as cs
+from mtcal.studies.wang2023cja import constrained
 
 
 def _fake_sweep():
@@ -57,9 +57,9 @@ def test_installation_fit_table_and_q33_check():
 
 
 def test_constrained_min_positions_and_q22_noise():
-    t = cs.min_positions_table(1)
+    t = constrained.min_positions_table(1)
     assert dict(zip(("eq13", "so4", "mounting"), t.min_K_generic)) == {"eq13": 4, "so4": 3, "mounting": 1}
-    band = w.q22_noise_band(w.ErrorModel(), cs.symmetric_layout_rad(6), n_mc=200)
+    band = w.q22_noise_band(w.ErrorModel(), constrained.symmetric_layout_rad(6), n_mc=200)
     assert band["low"] < 1.0 < band["high"] < 1.004
 
 
@@ -85,8 +85,8 @@ def test_stepwise_coupling_detects_sine_coupling():
 
 
 def test_constrained_parameters_are_validated():
-    assert cs.check_parameters(12, (0.01, 0.02)) == {"k_max": 12, "noise_levels_deg": (0.01, 0.02)}
+    assert constrained.check_parameters(12, (0.01, 0.02)) == {"k_max": 12, "noise_levels_deg": (0.01, 0.02)}
     with pytest.raises(ValueError, match=r"k_max must be an int in \[6, 12\]"):
-        cs.check_parameters(13, (0.01,))
+        constrained.check_parameters(13, (0.01,))
     with pytest.raises(ValueError, match="noise_levels_deg must be angles"):
-        cs.check_parameters(12, (-0.01,))
+        constrained.check_parameters(12, (-0.01,))

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from mtcal.sweep import evaluators as ev_mod
+from mtcal.sweep import evaluators
 from mtcal.sweep.engine import trial_rngs
 from mtcal.sweep.evaluators import (evaluator_names, filter_gain, get_evaluator, register_evaluator,
                                     validation_positions_rad)
@@ -33,11 +33,11 @@ def test_filter_gain_defaults_and_scale():
     assert filter_gain({}, "vqf") == 3.0
     assert filter_gain({"gain_scale": 2.0}, "madgwick") == pytest.approx(0.066)
     assert filter_gain({"gain_rams_ekf": 4.0, "gain_scale": 0.5}, "rams_ekf") == 2.0
-    assert filter_gain({}, "rams_ekf") == ev_mod.RAMS_EKF_DEFAULT_GAIN
+    assert filter_gain({}, "rams_ekf") == evaluators.RAMS_EKF_DEFAULT_GAIN
 
 
 def test_output_is_checked(monkeypatch):
-    monkeypatch.setattr(ev_mod, "_REGISTRY", dict(ev_mod._REGISTRY))
+    monkeypatch.setattr(evaluators, "_REGISTRY", dict(evaluators._REGISTRY))
 
     @register_evaluator("bad_shape", defaults={}, metrics=lambda p: ["x"])
     def _bad(p, rngs):

@@ -15,6 +15,7 @@ from mtcal.methods.six_position import schedule_profile, six_positions_rad
 from mtcal.systems import installation
 
 FS = 100.0
+DT_S = 1.0 / FS
 ALPHA = np.radians([0.5, -0.3, 0.4])
 
 
@@ -29,7 +30,7 @@ def stream():
 
 def test_closed_form_mounting_is_recovered(stream):
     pos, _, q_ws, q_bs = stream
-    cal = installation.calibrate_installation(pos, FS, q_ws=q_ws)
+    cal = installation.calibrate_installation(pos, DT_S, q_ws=q_ws)
     # zeroed sensor = q_bs* ⊗ q_b ⊗ q_bs (the body starts level), so Q = L(q_bs) R(q_bs*)
     expected = rotations.left_matrix(q_bs) @ rotations.right_matrix(rotations.quat_conjugate(q_bs))
     assert np.allclose(cal.q_hat, expected, atol=1e-12)
@@ -43,7 +44,7 @@ def test_closed_form_mounting_is_recovered(stream):
 
 def test_apply_round_trip_gives_the_body_attitude(stream):
     pos, q_wb, q_ws, _ = stream
-    cal = installation.calibrate_installation(pos, FS, q_ws=q_ws)
+    cal = installation.calibrate_installation(pos, DT_S, q_ws=q_ws)
     att = installation.apply_installation(cal.q_hat, q_ws=q_ws)
     assert rotations.quat_angle_between(att.q_body, q_wb).max() < 1e-10
     assert np.allclose(att.q_sensor[0], [1, 0, 0, 0], atol=1e-15)          # zeroed at the first sample
@@ -55,12 +56,12 @@ def test_raw_data_runs_the_qncf_and_equals_given_attitude(stream):
     from mtcal.core.simulate import Trajectory
 
     rec = simulate_imu(Trajectory(np.arange(len(q_wb)) / FS, q_wb), ImuErrorModel(q_mount=tuple(q_bs)))
-    raw = installation.calibrate_installation(pos, FS, gyro_rad_s=rec.gyro_rad_s, accel_m_s2=rec.accel_m_s2)
+    raw = installation.calibrate_installation(pos, DT_S, gyro_rad_s=rec.gyro_rad_s, accel_m_s2=rec.accel_m_s2)
     q = qncf(rec.gyro_rad_s, rec.accel_m_s2, 1 / FS, QncfParams(), return_euler=False).q_ws
-    given = installation.calibrate_installation(pos, FS, q_ws=q, gyro_rad_s=rec.gyro_rad_s)
+    given = installation.calibrate_installation(pos, DT_S, q_ws=q, gyro_rad_s=rec.gyro_rad_s)
     assert np.array_equal(raw.q_hat, given.q_hat)
     assert np.degrees(np.abs(raw.installation_angles_rad - ALPHA)).max() < 0.01
-    body = installation.apply_installation(raw.q_hat, gyro_rad_s=rec.gyro_rad_s, accel_m_s2=rec.accel_m_s2, fs_hz=FS)
+    body = installation.apply_installation(raw.q_hat, gyro_rad_s=rec.gyro_rad_s, accel_m_s2=rec.accel_m_s2, dt_s=DT_S)
     assert np.array_equal(body.q_body, installation.apply_installation(raw.q_hat, q_ws=q).q_body)
 
 
@@ -68,9 +69,9 @@ def test_trial_axis_and_per_trial_positions_match_single_runs(stream):
     pos, _, q_ws, _ = stream
     shift = np.zeros((2, 6, 3))
     shift[1, 2, 1] = np.radians(0.01)
-    stack = installation.calibrate_installation(pos + shift, FS, q_ws=np.stack([q_ws, q_ws]))
+    stack = installation.calibrate_installation(pos + shift, DT_S, q_ws=np.stack([q_ws, q_ws]))
     for t in range(2):
-        one = installation.calibrate_installation(pos + shift[t], FS, q_ws=q_ws)
+        one = installation.calibrate_installation(pos + shift[t], DT_S, q_ws=q_ws)
         assert np.allclose(stack.q_hat[t], one.q_hat, atol=1e-14, rtol=0)
         assert np.allclose(stack.residual_rad[t], one.residual_rad, atol=1e-14)
     assert stack.q_hat.shape == (2, 4, 4) and stack.installation_angles_rad.shape == (2, 3)
@@ -78,25 +79,26 @@ def test_trial_axis_and_per_trial_positions_match_single_runs(stream):
 
 def test_detect_rests_gyro_and_quaternions(stream):
     pos, _, q_ws, _ = stream
-    from_q = installation.detect_rests(FS, q_ws=q_ws)
+    from_q = installation.detect_rests(DT_S, q_ws=q_ws)
     assert len(from_q) == 8                                # start, six positions, end
     gyro = np.zeros((1000, 3))
     gyro[300:500, 2] = 0.5
-    assert installation.detect_rests(100.0, gyro_rad_s=gyro) == [slice(0, 296), slice(505, 1000)]
-    assert installation.detect_rests(100.0, gyro_rad_s=gyro, min_rest_s=4.0) == [slice(505, 1000)]
+    assert installation.detect_rests(1.0 / 100.0, gyro_rad_s=gyro) == [slice(0, 296), slice(505, 1000)]
+    assert installation.detect_rests(1.0 / 100.0, gyro_rad_s=gyro, min_rest_s=4.0) == [slice(505, 1000)]
 
 
 def test_given_rests_are_used(stream):
     pos, _, q_ws, _ = stream
-    rests = installation.detect_rests(FS, q_ws=q_ws)
-    a = installation.calibrate_installation(pos, FS, q_ws=q_ws, rests=rests)
-    b = installation.calibrate_installation(pos, FS, q_ws=q_ws)
+    rests = installation.detect_rests(DT_S, q_ws=q_ws)
+    a = installation.calibrate_installation(pos, DT_S, q_ws=q_ws, rests=rests)
+    b = installation.calibrate_installation(pos, DT_S, q_ws=q_ws)
     assert np.array_equal(a.q_hat, b.q_hat)
 
 
 @pytest.mark.parametrize("kwargs, exc, match", [
     (dict(positions_rad=six_positions_rad()[:3]), ValueError, "at least 4 positions"),
-    (dict(fs_hz=-1.0), ValueError, "fs_hz"),
+    (dict(dt_s=-1.0), ValueError, "dt_s must be > 0"),
+    (dict(dt_s=100.0), ValueError, r"dt_s must be the sample interval in s .* pass 1 / fs_hz"),
     (dict(q_ws=None), ValueError, "a sensor attitude is needed"),
     (dict(accel_m_s2=np.zeros((10, 3))), ValueError, "either q_ws"),
     (dict(q_ws=np.ones((10, 4))), ValueError, "unit quaternions"),
@@ -114,34 +116,34 @@ def test_given_rests_are_used(stream):
 ])
 def test_calibrate_errors(stream, kwargs, exc, match):
     pos, _, q_ws, _ = stream
-    args = dict(positions_rad=pos, fs_hz=FS, q_ws=q_ws)
+    args = dict(positions_rad=pos, dt_s=DT_S, q_ws=q_ws)
     args.update(kwargs)
     with pytest.raises(exc, match=match):
-        installation.calibrate_installation(args.pop("positions_rad"), args.pop("fs_hz"), **args)
+        installation.calibrate_installation(args.pop("positions_rad"), args.pop("dt_s"), **args)
 
 
 def test_raw_data_errors(stream):
     pos = stream[0]
     g = np.zeros((50, 3))
     with pytest.raises(ValueError, match="same shape"):
-        installation.calibrate_installation(pos, FS, gyro_rad_s=g, accel_m_s2=np.zeros((49, 3)))
+        installation.calibrate_installation(pos, DT_S, gyro_rad_s=g, accel_m_s2=np.zeros((49, 3)))
     with pytest.raises(TypeError, match="qncf_params must be a QncfParams"):
-        installation.calibrate_installation(pos, FS, gyro_rad_s=g, accel_m_s2=g, qncf_params={"kp": 1})
+        installation.calibrate_installation(pos, DT_S, gyro_rad_s=g, accel_m_s2=g, qncf_params={"kp": 1})
     with pytest.raises(ValueError, match="a sensor attitude is needed"):
-        installation.calibrate_installation(pos, FS, gyro_rad_s=g)
+        installation.calibrate_installation(pos, DT_S, gyro_rad_s=g)
 
 
 def test_gates_refuse_with_their_messages(stream):
     pos, _, q_ws, _ = stream
     with pytest.raises(ValueError, match="ill-conditioned for Eq 13"):
-        installation.calibrate_installation(pos, FS, q_ws=q_ws, max_condition=1.0)
+        installation.calibrate_installation(pos, DT_S, q_ws=q_ws, max_condition=1.0)
     with pytest.raises(ValueError, match="Q_hat is not a calibration: distance"):
-        installation.calibrate_installation(pos, FS, q_ws=q_ws, max_so4_distance=1e-300)
+        installation.calibrate_installation(pos, DT_S, q_ws=q_ws, max_so4_distance=1e-300)
     bent = pos.copy()
     bent[2, 1] += np.radians(0.5)                            # the reference of position 3 is off by 0.5 deg
     with pytest.raises(ValueError, match=r"residual 0\.\d+ deg at position \d exceeds --max-residual-deg 0\.01"):
-        installation.calibrate_installation(bent, FS, q_ws=q_ws, max_residual_rad=np.radians(0.01))
-    ok = installation.calibrate_installation(bent, FS, q_ws=q_ws, max_residual_rad=np.inf)
+        installation.calibrate_installation(bent, DT_S, q_ws=q_ws, max_residual_rad=np.radians(0.01))
+    ok = installation.calibrate_installation(bent, DT_S, q_ws=q_ws, max_residual_rad=np.inf)
     assert np.degrees(ok.residual_rad.max()) > 0.01
 
 
@@ -167,12 +169,12 @@ def test_apply_errors(stream):
         installation.apply_installation(np.full((4, 4), np.nan), q_ws=q_ws)
     with pytest.raises(ValueError, match="needs a record with as many trials"):
         installation.apply_installation(np.stack([np.eye(4)] * 2), q_ws=q_ws)
-    with pytest.raises(ValueError, match="fs_hz is needed"):
+    with pytest.raises(ValueError, match="dt_s is needed"):
         installation.apply_installation(np.eye(4), gyro_rad_s=np.zeros((9, 3)), accel_m_s2=np.zeros((9, 3)))
     with pytest.raises(ValueError, match="give gyro_rad_s or q_ws"):
-        installation.detect_rests(FS)
+        installation.detect_rests(DT_S)
     with pytest.raises(ValueError, match=r"\(N, 4\) or \(T, N, 4\)"):
-        installation.detect_rests(FS, q_ws=[1.0, 0.0, 0.0, 0.0])
+        installation.detect_rests(DT_S, q_ws=[1.0, 0.0, 0.0, 0.0])
 
 
 def test_cli_calibrate_is_bit_identical_to_the_study_path(tmp_path, monkeypatch):

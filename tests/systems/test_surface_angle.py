@@ -11,9 +11,9 @@ from mtcal.cli.main import main
 from mtcal.core import profiles
 from mtcal.core.rotations import axis_angle_matrix
 from mtcal.filters.rams_ekf import RamsEkfParams, run_rams_ekf
-from mtcal.methods import rest_detection as rd
-from mtcal.systems import plausibility as pl
-from mtcal.systems import surface_angle as sa
+from mtcal.methods import rest_detection
+from mtcal.systems import plausibility
+from mtcal.systems import surface_angle
 
 FS_HZ = 100.0
 DT_S = 1.0 / FS_HZ
@@ -40,19 +40,19 @@ def _hinge(angles_deg=(0.0, 60.0, 120.0, 30.0), rate_deg_s=60.0, hold_s=1.0, tri
 @pytest.mark.parametrize("fit", ["plane", "eq23"])
 def test_axis_of_a_known_hinge(fit):
     accel, rests = _rests_at([0.0, 70.0, 140.0, 70.0])
-    est = sa.estimate_surface_axis(accel, rests, accel_noise_m_s2=0.001, fit=fit)
+    est = surface_angle.estimate_surface_axis(accel, rests, accel_noise_m_s2=0.001, fit=fit)
     np.testing.assert_allclose(est.axis, AXIS, atol=1e-12)
     assert est.positions_m_s2.shape == (3, 3) and est.members == ((0,), (1, 3), (2,))
     np.testing.assert_allclose(np.degrees(est.rest_angles_rad), [0.0, 70.0, 140.0, 70.0], atol=1e-9)
     assert np.degrees(est.elevation_rad) == pytest.approx(np.degrees(np.arcsin(0.8)), abs=1e-9)
     # three positions 70 deg apart on a circle of radius g cos(53 deg): first-order error of the floor noise
-    assert est.sigma_mean_m_s2 == sa.SIGMA_MEAN_FLOOR_M_S2 and 0 < est.sigma_rad < np.radians(0.5)
+    assert est.sigma_mean_m_s2 == surface_angle.SIGMA_MEAN_FLOOR_M_S2 and 0 < est.sigma_rad < np.radians(0.5)
 
 
 def test_axis_sign_convention_and_eq23_equals_the_plane_for_three():
     accel, rests = _rests_at([0.0, -50.0, -100.0], axis=-AXIS)
-    a = sa.estimate_surface_axis(accel, rests, accel_noise_m_s2=0.0, fit="eq23")
-    b = sa.estimate_surface_axis(accel, rests, accel_noise_m_s2=0.0, fit="plane")
+    a = surface_angle.estimate_surface_axis(accel, rests, accel_noise_m_s2=0.0, fit="eq23")
+    b = surface_angle.estimate_surface_axis(accel, rests, accel_noise_m_s2=0.0, fit="plane")
     assert a.axis[0] > 0 and np.allclose(a.axis, b.axis, atol=1e-12)
 
 
@@ -61,8 +61,8 @@ def test_axis_rests_as_masks_equal_rests_as_slices():
     masks = [np.zeros(accel.shape[0], bool) for _ in rests]
     for m, r in zip(masks, rests):
         m[r] = True
-    a = sa.estimate_surface_axis(accel, rests, accel_noise_m_s2=0.01)
-    b = sa.estimate_surface_axis(accel, masks, accel_noise_m_s2=0.01)
+    a = surface_angle.estimate_surface_axis(accel, rests, accel_noise_m_s2=0.01)
+    b = surface_angle.estimate_surface_axis(accel, masks, accel_noise_m_s2=0.01)
     assert np.array_equal(a.axis, b.axis) and a.sigma_rad == b.sigma_rad
 
 
@@ -77,7 +77,7 @@ def test_axis_refusals(angles, kw, match):
     accel, rests = _rests_at(angles)
     kw = {"accel_noise_m_s2": 0.001, **kw}
     with pytest.raises(ValueError, match=match):
-        sa.estimate_surface_axis(accel, rests, **kw)
+        surface_angle.estimate_surface_axis(accel, rests, **kw)
 
 
 @pytest.mark.parametrize("fit,match", [
@@ -88,33 +88,33 @@ def test_nearly_vertical_axis_refused(fit, match):
     steep = np.array([np.cos(np.radians(87.0)), 0.0, np.sin(np.radians(87.0))])
     accel, rests = _rests_at([0.0, 120.0, 240.0], axis=steep)
     with pytest.raises(ValueError, match=match):
-        sa.estimate_surface_axis(accel, rests, accel_noise_m_s2=0.0, fit=fit, min_separation_deg=0.5,
-                                 max_axis_error_deg=None)
+        surface_angle.estimate_surface_axis(accel, rests, accel_noise_m_s2=0.0, fit=fit, min_separation_deg=0.5,
+                                            max_axis_error_deg=None)
 
 
 def test_axis_input_refusals():
     accel, rests = _rests_at([0.0, 70.0, 140.0])
     with pytest.raises(ValueError, match="found no rest"):
-        sa.estimate_surface_axis(accel, [], accel_noise_m_s2=0.01)
+        surface_angle.estimate_surface_axis(accel, [], accel_noise_m_s2=0.01)
     with pytest.raises(ValueError, match="boolean mask of shape"):
-        sa.estimate_surface_axis(accel, [np.ones(5, bool)] * 3, accel_noise_m_s2=0.01)
+        surface_angle.estimate_surface_axis(accel, [np.ones(5, bool)] * 3, accel_noise_m_s2=0.01)
 
 
 def test_axis_uncertainty_scales_with_noise_over_root_n():
     accel, rests = _rests_at([0.0, 70.0, 140.0])
     pos = np.array([accel[r].mean(axis=0) for r in rests])
-    a = sa.axis_uncertainty(pos, [400, 400, 400], accel_noise_m_s2=2.0)
-    b = sa.axis_uncertainty(pos, [1600, 1600, 1600], accel_noise_m_s2=2.0)
+    a = surface_angle.axis_uncertainty(pos, [400, 400, 400], accel_noise_m_s2=2.0)
+    b = surface_angle.axis_uncertainty(pos, [1600, 1600, 1600], accel_noise_m_s2=2.0)
     assert a.sigma_rad == pytest.approx(2.0 * b.sigma_rad, rel=1e-12)
-    c = sa.axis_uncertainty(pos, [400, 400, 400], accel_noise_m_s2=2.0, window_samples=4.0)
+    c = surface_angle.axis_uncertainty(pos, [400, 400, 400], accel_noise_m_s2=2.0, window_samples=4.0)
     assert c.sigma_rad == pytest.approx(2.0 * a.sigma_rad, rel=1e-12)
 
 
 # --------------------------------------------------------------------------- angle
 def test_angle_of_a_known_rotation():
     prof, w, f = _hinge()
-    res = sa.surface_angle(w[0], f[0], AXIS, is_static=prof.is_static, init=slice(0, 90), dt_s=DT_S,
-                           rests=prof.hold_slices(), params=PARAMS)
+    res = surface_angle.surface_angle(w[0], f[0], AXIS, is_static=prof.is_static, init=slice(0, 90), dt_s=DT_S,
+                                      rests=prof.hold_slices(), params=PARAMS)
     for sl, target in zip(prof.hold_slices(), [0.0, 60.0, 120.0, 30.0]):
         np.testing.assert_allclose(np.degrees(res.angle_rad[sl]), target, atol=1e-6)
     assert res.start == 0 and res.restarts == () and not res.clipped.any() and res.clip_level_rad_s == 0.0
@@ -127,7 +127,8 @@ def test_angle_from_a_later_rest_is_nan_before_it_and_measured_params():
     prof, w, f = _hinge()
     w, f = w[0] + rng.normal(0, 1e-3, w[0].shape), f[0] + rng.normal(0, 0.01, f[0].shape)
     hold = prof.hold_slices()[1]
-    res = sa.surface_angle(w, f, AXIS, is_static=prof.is_static, init=hold, dt_s=DT_S, rests=prof.hold_slices())
+    res = surface_angle.surface_angle(w, f, AXIS, is_static=prof.is_static, init=hold, dt_s=DT_S,
+                                      rests=prof.hold_slices())
     assert np.isnan(res.angle_rad[:hold.start]).all() and res.angle_rad[hold.start] == pytest.approx(0, abs=0.01)
     assert np.degrees(res.angle_rad[prof.hold_slices()[2]]).mean() == pytest.approx(60.0, abs=0.2)
     assert res.params.sigma_theta_rad_s == pytest.approx(1e-3, rel=0.2)
@@ -138,12 +139,12 @@ def test_batch_equals_each_trial_alone():
     prof, w, f = _hinge(trials=3)
     w, f = w + rng.normal(0, 1e-3, w.shape), f + rng.normal(0, 0.01, f.shape)
     w[1, 150:170, 2] = np.abs(w[1, :, 2]).max()                               # trial 1 clipped in move 1
-    batch = sa.surface_angle(w, f, AXIS, is_static=prof.is_static, init=slice(0, 90), dt_s=DT_S,
-                             rests=prof.hold_slices(), params=PARAMS)
+    batch = surface_angle.surface_angle(w, f, AXIS, is_static=prof.is_static, init=slice(0, 90), dt_s=DT_S,
+                                        rests=prof.hold_slices(), params=PARAMS)
     assert batch.restarts[0] == () and batch.restarts[1] != ()
     for t in range(3):
-        one = sa.surface_angle(w[t], f[t], AXIS, is_static=prof.is_static, init=slice(0, 90), dt_s=DT_S,
-                               rests=prof.hold_slices(), params=PARAMS)
+        one = surface_angle.surface_angle(w[t], f[t], AXIS, is_static=prof.is_static, init=slice(0, 90), dt_s=DT_S,
+                                          rests=prof.hold_slices(), params=PARAMS)
         assert np.array_equal(batch.angle_rad[t], one.angle_rad)
 
 
@@ -153,8 +154,8 @@ def test_clipped_gyro_restarts_the_ekf_at_the_next_rest():
     prof, w, f = _hinge(rate_deg_s=60.0)
     clip = np.radians(40.0)
     w = np.clip(w[0], -clip, clip)
-    res = sa.surface_angle(w, f[0], AXIS, is_static=prof.is_static, init=slice(0, 90), dt_s=DT_S,
-                           rests=prof.hold_slices(), params=PARAMS)
+    res = surface_angle.surface_angle(w, f[0], AXIS, is_static=prof.is_static, init=slice(0, 90), dt_s=DT_S,
+                                      rests=prof.hold_slices(), params=PARAMS)
     holds = prof.hold_slices()
     assert res.clipped.any() and res.clip_level_rad_s == pytest.approx(clip)
     assert res.restarts == tuple(h.start for h in holds[1:])
@@ -168,9 +169,9 @@ def test_clipped_gyro_restarts_the_ekf_at_the_next_rest():
 def test_jittered_time_base_weights_the_gyro():
     t = np.cumsum(np.r_[0.0, np.full(99, DT_S)])
     t[50:] += 0.3 * DT_S                                                      # one long interval
-    dt, weights = pl.time_base(100, time_s=t)
+    dt, weights = plausibility.time_base(100, time_s=t)
     assert dt == pytest.approx((t[-1] - t[0]) / 99, rel=1e-15) and weights[49] == pytest.approx(1.3 * DT_S / dt)
-    assert pl.time_base(100, dt_s=DT_S) == (DT_S, None)
+    assert plausibility.time_base(100, dt_s=DT_S) == (DT_S, None)
 
 
 @pytest.mark.parametrize("kwargs,match", [
@@ -182,7 +183,7 @@ def test_jittered_time_base_weights_the_gyro():
 ])
 def test_time_base_refusals(kwargs, match):
     with pytest.raises(ValueError, match=match):
-        pl.time_base(5, **kwargs)
+        plausibility.time_base(5, **kwargs)
 
 
 def _angle_kwargs(prof):
@@ -204,21 +205,22 @@ def test_angle_refusals(change, match):
     prof, w, f = _hinge()
     args = change(w[0], f[0], _angle_kwargs(prof))
     with pytest.raises(ValueError, match=match):
-        sa.surface_angle(*args[:3], **args[3])
+        surface_angle.surface_angle(*args[:3], **args[3])
 
 
 def test_batch_refuses_single_record_options():
     prof, w, f = _hinge(trials=2)
     kw = _angle_kwargs(prof)
     with pytest.raises(ValueError, match="check one record, not a batch"):
-        sa.surface_angle(w, f, AXIS, check_units=True, **kw)
+        surface_angle.surface_angle(w, f, AXIS, check_units=True, **kw)
     with pytest.raises(ValueError, match="params must be given for a batch"):
-        sa.surface_angle(w, f, AXIS, **{**kw, "params": None})
+        surface_angle.surface_angle(w, f, AXIS, **{**kw, "params": None})
 
 
 def test_gyro_checks_pass_on_a_consistent_record():
     prof, w, f = _hinge()
-    res = sa.surface_angle(w[0], f[0], AXIS, check_units=True, max_axis_mismatch_deg=1.0, **_angle_kwargs(prof))
+    res = surface_angle.surface_angle(w[0], f[0], AXIS, check_units=True, max_axis_mismatch_deg=1.0,
+                                      **_angle_kwargs(prof))
     assert res.unit_check["pairs"] == 3 and abs(res.gyro_axis @ AXIS) == pytest.approx(1.0, abs=1e-12)
 
 
@@ -243,13 +245,13 @@ def test_cli_axis_and_angle_are_bit_identical_to_the_procedures(tmp_path, capsys
     log = tmp_path / "hinge.parquet"
     pd.DataFrame(cols).to_parquet(log)
 
-    dt, _ = pl.time_base(t.size, time_s=t)
+    dt, _ = plausibility.time_base(t.size, time_s=t)
     fs = 1.0 / dt
     # mtcal axis (adaptive rests, accelerometer + gyro, min rest 0.5 s)
-    rep = rd.detect_rests(accel, 1.0 / ((t.size - 1) / (t[-1] - t[0])), gyro_rad_s=gyro,
-                          params=rd.RestDetectorParams(min_rest_s=0.5, noise_factor=5.0))
-    est = sa.estimate_surface_axis(accel, rep.rests, accel_noise_m_s2=rep.accel_noise_m_s2,
-                                   window_samples=rep.window_s * (t.size - 1) / (t[-1] - t[0]))
+    rep = rest_detection.detect_rests(accel, 1.0 / ((t.size - 1) / (t[-1] - t[0])), gyro_rad_s=gyro,
+                                      params=rest_detection.RestDetectorParams(min_rest_s=0.5, noise_factor=5.0))
+    est = surface_angle.estimate_surface_axis(accel, rep.rests, accel_noise_m_s2=rep.accel_noise_m_s2,
+                                              window_samples=rep.window_s * (t.size - 1) / (t[-1] - t[0]))
     assert main(["axis", str(log)]) == 0
     out = capsys.readouterr().out
     assert re.search(r"^axis v = (.*)$", out, re.M).group(1) == f"{est.axis[0]:.6f},{est.axis[1]:.6f},{est.axis[2]:.6f}"
@@ -258,13 +260,13 @@ def test_cli_axis_and_angle_are_bit_identical_to_the_procedures(tmp_path, capsys
     axis_text = ",".join(repr(float(x)) for x in est.axis)
     angle_out = tmp_path / "angle.parquet"
     assert main(["angle", str(log), "--axis", axis_text, "--out", str(angle_out)]) == 0
-    rep = rd.detect_rests(accel, 1.0 / ((t.size - 1) / (t[-1] - t[0])), gyro_rad_s=gyro,
-                          params=rd.RestDetectorParams(min_rest_s=0.2, noise_factor=5.0))
+    rep = rest_detection.detect_rests(accel, 1.0 / ((t.size - 1) / (t[-1] - t[0])), gyro_rad_s=gyro,
+                                      params=rest_detection.RestDetectorParams(min_rest_s=0.2, noise_factor=5.0))
     first = rep.rests[0]
     n0 = min(int(round(1.0 * fs)), first.stop - first.start)
     axis_parsed = np.array([float(x) for x in axis_text.split(",")])
-    res = sa.surface_angle(gyro, accel, axis_parsed / np.linalg.norm(axis_parsed), is_static=rep.is_static,
-                           init=slice(first.start, first.start + n0), time_s=t, rests=rep.rests)
+    res = surface_angle.surface_angle(gyro, accel, axis_parsed / np.linalg.norm(axis_parsed), is_static=rep.is_static,
+                                      init=slice(first.start, first.start + n0), time_s=t, rests=rep.rests)
     table = pd.read_parquet(angle_out)
     assert list(table.columns) == ["time_s", "angle_deg", "is_static"]
     assert np.array_equal(table.time_s.to_numpy(), t)

@@ -220,33 +220,33 @@ def fig10(art):
     return fig
 
 
-def fig11(art):
-    """tan2022_fig11: projection roll error under oscillation vs time (deg)."""
-    d = art.data
+def _oscillation_roll_figure(d: dict, number: int, method: str, symbol: str, lines) -> plt.Figure:
+    """Roll error (deg) vs time under oscillation: ``lines`` are ``(key of d, plot args, plot kwargs)``."""
     fig, ax = plt.subplots(figsize=(8.0, 3.8), constrained_layout=True)
-    ax.plot(d["time_s"], d["projection"], "C2", lw=0.6, label="Δφ_P projection (Eq 13)")
-    ax.plot(d["time_s"], d["integration"], "C0", label="Δφ_I integration (Eq 12)")
+    for key, args, kwargs in lines:
+        ax.plot(d["time_s"], d[key], *args, **kwargs)
     ax.set(xlabel="time (s)", ylabel="roll error (deg)",
-           title=f"tan2022 Fig 11 (tan2022_fig11): projection roll error under oscillation\n{d['label']}; "
-                 f"median-error trial {d['trial']} of {d['trials']} (by max |Δφ_P|)")
+           title=f"tan2022 Fig {number} (tan2022_fig{number}): {method} roll error under oscillation\n{d['label']}; "
+                 f"median-error trial {d['trial']} of {d['trials']} (by max |{symbol}|)")
     ax.title.set_fontsize(10)
     ax.legend(fontsize=8, loc="lower left")
     return fig
+
+
+def fig11(art):
+    """tan2022_fig11: projection roll error under oscillation vs time (deg)."""
+    return _oscillation_roll_figure(art.data, 11, "projection", "Δφ_P", (
+        ("projection", ("C2",), dict(lw=0.6, label="Δφ_P projection (Eq 13)")),
+        ("integration", ("C0",), dict(label="Δφ_I integration (Eq 12)"))))
 
 
 def fig12(art):
     """tan2022_fig12: hybrid roll error under oscillation vs time (deg)."""
     d = art.data
-    fig, ax = plt.subplots(figsize=(8.0, 3.8), constrained_layout=True)
-    ax.plot(d["time_s"], d["projection"], color="0.75", lw=0.5, label="projection (Eq 13), for reference")
-    ax.plot(d["time_s"], d["hybrid"], "C1", lw=0.6, label=f"Δφ_G hybrid θ̇_t = {d['threshold']:g} °/s, with noise")
-    ax.plot(d["time_s"], d["hybrid_det"], "k", lw=0.8, label="Δφ_G hybrid, constant errors only (paper)")
-    ax.set(xlabel="time (s)", ylabel="roll error (deg)",
-           title=f"tan2022 Fig 12 (tan2022_fig12): hybrid roll error under oscillation\n{d['label']}; "
-                 f"median-error trial {d['trial']} of {d['trials']} (by max |Δφ_G|)")
-    ax.title.set_fontsize(10)
-    ax.legend(fontsize=8, loc="lower left")
-    return fig
+    return _oscillation_roll_figure(d, 12, "hybrid", "Δφ_G", (
+        ("projection", (), dict(color="0.75", lw=0.5, label="projection (Eq 13), for reference")),
+        ("hybrid", ("C1",), dict(lw=0.6, label=f"Δφ_G hybrid θ̇_t = {d['threshold']:g} °/s, with noise")),
+        ("hybrid_det", ("k",), dict(lw=0.8, label="Δφ_G hybrid, constant errors only (paper)"))))
 
 
 def extra_threshold_sweep(art):

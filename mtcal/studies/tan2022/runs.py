@@ -26,8 +26,8 @@ from __future__ import annotations
 import numpy as np
 
 from mtcal.core.rng import stream_rng
-from mtcal.methods import gyro_roll as gr
-from mtcal.methods import large_angle as la
+from mtcal.methods import gyro_roll
+from mtcal.methods import large_angle
 
 from .scenario import AccelScenario, GyroStudy
 
@@ -56,9 +56,9 @@ def simulate_gyro(study: GyroStudy, t, pitch, rng, trials, *, noise: bool = True
     """
     g, spec = study.gyro, study.gyro.sensor_spec()
     roll = np.full_like(t, g.roll0_rad)
-    return gr.simulate_two_dof_imu(t, pitch, roll, gyro_bias_rad_s=np.asarray(spec.gyro_bias_rad_s),
-                                   gyro_noise_density=spec.gyro_noise_rad_s_rt_hz if noise else 0.0,
-                                   rng=rng if noise else None, trials=trials if noise else None).gyro_rad_s
+    return gyro_roll.simulate_two_dof_imu(t, pitch, roll, gyro_bias_rad_s=np.asarray(spec.gyro_bias_rad_s),
+                                          gyro_noise_density=spec.gyro_noise_rad_s_rt_hz if noise else 0.0,
+                                          rng=rng if noise else None, trials=trials if noise else None).gyro_rad_s
 
 def oscillation_gyro(study: GyroStudy, seed: int, trials: int):
     """Oscillation record (Eq 16–17): time (s), noisy gyro (trials, T, 3) from stream ``STREAM_OSCILLATION``
@@ -96,9 +96,9 @@ def large_pitch_ratio(d0, d1, d2, th, ph, sc: AccelScenario):
     lam = np.where(th <= 0, _RAD(sc.lambda1_deg), _RAD(sc.lambda2_deg))
     large = np.abs(th) >= _RAD(45.0)
     th, ph, lam = th[large], ph[large], lam[large]
-    plain = np.abs(la.pitch_error_first_order(th, ph, d0[:, None, :], g=g))
+    plain = np.abs(large_angle.pitch_error_first_order(th, ph, d0[:, None, :], g=g))
     dsel = np.where((th <= 0)[None, :, None], d1[:, None, :], d2[:, None, :])
-    preset = np.abs(la.pitch_error_first_order(th, ph, dsel, preset_rad=lam, g=g))
+    preset = np.abs(large_angle.pitch_error_first_order(th, ph, dsel, preset_rad=lam, g=g))
     return preset.max(axis=1) / plain.max(axis=1)
 
 
@@ -109,15 +109,16 @@ def accel_predictions(sc: AccelScenario, ratios, rng, step_deg):
     n = ratios.size
     d0, d1, d2 = (da * (1.0 + ratios[:, None] * rng.standard_normal((n, 3))) for _ in range(3))
     neg, pos = th <= 0, th > 0
-    m_all, m_neg, m_pos = (la.bias_moment_matrix(th[k], ph[k]) for k in (slice(None), neg, pos))
+    m_all, m_neg, m_pos = (large_angle.bias_moment_matrix(th[k], ph[k]) for k in (slice(None), neg, pos))
     l1, l2 = _RAD(sc.lambda1_deg), _RAD(sc.lambda2_deg)
-    rms_T = la.rms_pitch_error_from_moments(m_all, d0, 0.0, g=g)
-    ms_p = (neg.sum() * la.rms_pitch_error_from_moments(m_neg, d1, l1, g=g) ** 2
-            + pos.sum() * la.rms_pitch_error_from_moments(m_pos, d2, l2, g=g) ** 2) / th.size
+    rms_T = large_angle.rms_pitch_error_from_moments(m_all, d0, 0.0, g=g)
+    ms_p = (neg.sum() * large_angle.rms_pitch_error_from_moments(m_neg, d1, l1, g=g) ** 2
+            + pos.sum() * large_angle.rms_pitch_error_from_moments(m_pos, d2, l2, g=g) ** 2) / th.size
     lam = _RAD(np.arange(-180.0, 180.0, 1.0))
     opt = {}
     for key, m, d, paper in (("lambda1", m_neg, d1, sc.lambda1_deg), ("lambda2", m_pos, d2, sc.lambda2_deg)):
-        best = _DEG(lam[np.argmin(la.rms_pitch_error_from_moments(m, d[:, None, :], lam[None, :], g=g), axis=1)])
+        rms = large_angle.rms_pitch_error_from_moments(m, d[:, None, :], lam[None, :], g=g)
+        best = _DEG(lam[np.argmin(rms, axis=1)])
         opt[key] = (best - paper + 180.0) % 360.0 - 180.0 + paper  # window centred on the paper's angle
     return {"spread": np.max([axis_spread(d) for d in (d0, d1, d2)], axis=0),
             "asymmetry": fig02_asymmetry(d0, th, ph, g), "large_pitch": large_pitch_ratio(d0, d1, d2, th, ph, sc),
@@ -158,9 +159,9 @@ def gyro_predictions(study: GyroStudy, b_deg, n_deg, rng):
             w = gyro_samples(_RAD(r), g.roll0_rad, b, nd, g.fs_hz, rng, (b.size, n_samp))
             out[f"drift_{r:g}"][sl] = _DEG(np.abs(np.sum(w[..., 0], axis=-1) * g.dt_s))
         w = gyro_samples(rate_osc, g.roll0_rad, b, nd, g.fs_hz, rng, (b.size, t.size))
-        h, _ = gr.roll_hybrid(w, g.dt_s, osc.threshold_rad_s, roll0=g.roll0_rad)
+        h, _ = gyro_roll.roll_hybrid(w, g.dt_s, osc.threshold_rad_s, roll0=g.roll0_rad)
         out["hybrid_max"][sl] = _DEG(np.max(np.abs(h - g.roll0_rad), axis=-1))
-        e_p = np.abs(gr.roll_projection(w) - g.roll0_rad)
+        e_p = np.abs(gyro_roll.roll_projection(w) - g.roll0_rad)
         out["spike"][sl] = (np.max(np.where(slow, e_p, 0), axis=-1)
                             / np.maximum(np.max(np.where(slow, 0, e_p), axis=-1), 1e-12))
     return out
@@ -180,8 +181,8 @@ def oscillation_claims(study: GyroStudy, b_z_deg, n_deg, rng, trials):
     w[..., 2] = -rate * np.sin(g.roll0_rad)
     w += np.array([g.error_rad_s[0], g.error_rad_s[1], _RAD(b_z_deg)])
     w += _RAD(n_deg) * np.sqrt(g.fs_hz) * rng.standard_normal(w.shape)
-    e_p = np.abs(gr.roll_projection(w) - g.roll0_rad)
+    e_p = np.abs(gyro_roll.roll_projection(w) - g.roll0_rad)
     spike = np.max(np.where(slow, e_p, 0), axis=-1) / np.maximum(np.max(np.where(slow, 0, e_p), axis=-1), 1e-12)
-    hyb = _DEG(np.max(np.abs(gr.roll_hybrid(w, g.dt_s, osc.threshold_rad_s, roll0=g.roll0_rad)[0] - g.roll0_rad),
+    hyb = _DEG(np.max(np.abs(gyro_roll.roll_hybrid(w, g.dt_s, osc.threshold_rad_s, roll0=g.roll0_rad)[0] - g.roll0_rad),
                       axis=-1))
     return spike, hyb

@@ -55,11 +55,11 @@ from mtcal.core.rng import stream_rng
 from mtcal.core.rotations import axis_angle_matrix
 from mtcal.core.units import DEG, UG
 from mtcal.core.validate import STANDARD_GRAVITY_M_S2
-from mtcal.methods import rotation_axis as axis_mod
+from mtcal.methods import rotation_axis
 from mtcal.reporting import compare
-from mtcal.reporting import paper_numbers as paper
+from mtcal.reporting import paper_numbers
 
-from . import error_model as em
+from . import error_model
 from .error_model import ErrorModelFit, error_model_priors_table, fit_error_model
 from .runs import axis_errors, run_drift, run_fig9, run_fig11, run_zvd_demo
 from .scenario import (AhrsImu, ImuValues, Scenario, labels, scenario_from_parameters,  # noqa: F401
@@ -99,7 +99,7 @@ def table01_zvd(sc: Scenario) -> Artifact:
                       "value": [z.accel_min_m_s2, z.accel_max_m_s2, z.var_threshold_m2_s4, z.window_s,
                                 z.min_duration_s, z.window_samples(1.0 / fs), z.duration_samples(1.0 / fs),
                                 np.nan if z.gyro_max_rad_s is None else z.gyro_max_rad_s / DEG]})
-    paper_t1 = paper.load("wang2022sensors_table01_zvd_params").set_index("symbol")["value"].astype(float)
+    paper_t1 = paper_numbers.load("wang2022sensors_table01_zvd_params").set_index("symbol")["value"].astype(float)
     same = bool(np.isclose(paper_t1["th_a_min"], z.accel_min_m_s2) and np.isclose(paper_t1["th_a_max"], z.accel_max_m_s2)
                 and np.isclose(paper_t1["th_zeta_a"], z.var_threshold_m2_s4))
     n_raw = z.window_s * fs
@@ -139,7 +139,7 @@ def table02_sensors(sc: Scenario) -> Artifact:
     """Table 2 + the simulated IMU, with the derived static angle noise of an accelerometer-only
     reading, σθ = N √fs / g per sample and N / g for a 1 s mean (deg)."""
     fs = sc.imu.fs_hz
-    t2 = paper.load("wang2022sensors_table02_accel_noise_prices").drop(columns="extracted_cell_text")
+    t2 = paper_numbers.load("wang2022sensors_table02_accel_noise_prices").drop(columns="extracted_cell_text")
     t2 = pd.concat([t2, pd.DataFrame({"ic": [f"simulated ({sc.sensor_grade})"],
                                       "accel_noise_density_ug_per_sqrt_hz": [sc.imu.accel_noise_m_s2_rt_hz / UG],
                                       "unit_price_usd": [np.nan]})], ignore_index=True)
@@ -162,7 +162,7 @@ def fig12_gravity_change(sc: Scenario, trials: int, seed: int, n_boot: int) -> A
     the Monte Carlo axis-estimate error vs γ beside the first-order formula (1 s rests)."""
     imu, rig = sc.imu.resolve(), sc.rig.resolve()
     gam = np.arange(0.0, 86.0, 5.0)
-    gnorm = axis_mod.gravity_change_norm(np.radians(gam), np.radians(30.0), 9.8)
+    gnorm = rotation_axis.gravity_change_norm(np.radians(gam), np.radians(30.0), 9.8)
     g0 = np.array([0.0, 0.0, 9.8])
     direct = np.array([np.linalg.norm(axis_angle_matrix(np.radians(30.0), [np.cos(np.radians(x)), 0.0,
                                                                          np.sin(np.radians(x))]).T @ g0 - g0)
@@ -176,7 +176,7 @@ def fig12_gravity_change(sc: Scenario, trials: int, seed: int, n_boot: int) -> A
         errs.append(axis_errors(v, imu, rig, trials, seed, 100 + k, rest_s=1.0)[0])
     bands = [metrics.percentile_band(e) for e in errs]
     sig_mean = imu.accel_noise_per_sample_m_s2 / np.sqrt(imu.fs_hz)
-    pred = np.degrees(axis_mod.axis_error_std(sig_mean, np.radians(gam_mc), np.radians([0.0, 90.0, 180.0])))
+    pred = np.degrees(rotation_axis.axis_error_std(sig_mean, np.radians(gam_mc), np.radians([0.0, 90.0, 180.0])))
     boot = metrics.bootstrap_medians([errs[0], errs[3]], stream_rng(seed, STREAM_FIG12_BOOTSTRAP), n_boot)
     r_band = metrics.percentile_band(boot[:, 1] / boot[:, 0])
     r_med = float(bands[3]["median"] / bands[0]["median"])
@@ -204,7 +204,7 @@ def table04_axes(sc: Scenario, trials: int, seed: int) -> Artifact:
     often an estimate printed to 4 decimals equals the true (whole-degree) vector exactly (all three
     printed vectors do: paper-data README item 5)."""
     imu, rig = sc.imu.resolve(), sc.rig.resolve()
-    p4 = paper.load("wang2022sensors_table04_rotation_axes").set_index("axis_symbol")
+    p4 = paper_numbers.load("wang2022sensors_table04_rotation_axes").set_index("axis_symbol")
     rows, recs = [], []
     for k, (name, v) in enumerate(table4_axes().items()):
         err, est = axis_errors(v, imu, rig, trials, seed, 200 + k, rest_s=2.0)
@@ -243,8 +243,8 @@ def extra_axis_error_vs_rest(sc: Scenario, trials: int, seed: int, n_boot: int,
     e_wh = [axis_errors(sc.fig11_axis, white, rig, trials, seed, 320 + k, rest_s=float(r), use_zvd=False)[0]
             for k, r in enumerate(rest)]
     v = np.asarray(sc.fig11_axis) / np.linalg.norm(sc.fig11_axis)
-    pred = np.degrees(axis_mod.axis_error_std(imu.accel_noise_per_sample_m_s2 / np.sqrt(imu.fs_hz),
-                                              np.arcsin(v[2]), np.radians([0.0, 90.0, 180.0]))) / np.sqrt(rest)
+    pred = np.degrees(rotation_axis.axis_error_std(imu.accel_noise_per_sample_m_s2 / np.sqrt(imu.fs_hz),
+                                                   np.arcsin(v[2]), np.radians([0.0, 90.0, 180.0]))) / np.sqrt(rest)
     rng = stream_rng(seed, STREAM_REST_BOOTSTRAP)
     slopes = {k: np.polyfit(np.log(rest), np.log(metrics.bootstrap_medians(e, rng, n_boot).T), 1)[0]
               for k, e in (("white", e_wh), ("zvd", e_zvd))}
@@ -346,8 +346,8 @@ def outside_reasons(sc: Scenario, fit: ErrorModelFit, seed: int, n_draws: int = 
     the grid point that best explains that number alone, beside the posterior MAP; for an AHRS
     dynamic number above the band also the output latency it implies at the cruise rate."""
     t = table05_rmse(fit, seed, n_draws).table
-    df5 = paper.load("wang2022sensors_table05_rmse")  # comparison layer: the held-out values
-    pv = {(r.rotation_axis, em.SYSTEMS[r.system], k): float(getattr(r, f"rmse_{k}_deg"))
+    df5 = paper_numbers.load("wang2022sensors_table05_rmse")  # comparison layer: the held-out values
+    pv = {(r.rotation_axis, error_model.SYSTEMS[r.system], k): float(getattr(r, f"rmse_{k}_deg"))
           for r in df5.itertuples() for k in ("static", "dynamic")}
     out = t[(t.role == "heldout") & ~t.paper_in_fitted]
     if out.empty:
@@ -362,10 +362,10 @@ def outside_reasons(sc: Scenario, fit: ErrorModelFit, seed: int, n_draws: int = 
     lines = []
     for r in out.itertuples():
         key = (r.axis, r.system, r.kind)
-        ll = em.log_likelihood(g, keys=(key,), values=pv)
+        ll = error_model.log_likelihood(g, keys=(key,), values=pv)
         best, mp = values(np.unravel_index(np.argmax(ll), ll.shape)), values(imap)
-        names = ("heading_deg",) if r.system == "AHRS stand-in" else \
-            ("lever_arm_m", "move_accel_deg_s2", "accel_noise_ug_rt_hz", "latency_ms")
+        names = (("heading_deg",) if r.system == "AHRS stand-in"
+                 else ("lever_arm_m", "move_accel_deg_s2", "accel_noise_ug_rt_hz", "latency_ms"))
         need = ", ".join(f"{n} {best[n]:g} (MAP {mp[n]:g})" for n in names)
         side = "above" if r.paper_deg > r.fitted_high else "below"
         line = (f"{r.axis} {r.system} {r.kind}: paper {r.paper_deg:.4f} {side} [{r.fitted_low:.4f}, "
@@ -424,7 +424,7 @@ _T5_CLAIMS = {("RAMS", "static"): ("the static RMSEs of the RAMS are less than 0
               ("AHRS stand-in", "dynamic"): ("Both the static and moving RMSEs of Ellipse2-N exceed 0.1°",
                                              lambda x: x > 0.1)}
 _T5_ROW = {"RAMS": 0, "Ellipse2-N": 1, "Method in ref. [16]": 2}
-_T5_SYSTEM = {v: k for k, v in em.SYSTEMS.items()}
+_T5_SYSTEM = {v: k for k, v in error_model.SYSTEMS.items()}
 
 
 def _t5_ref(axis: str, system: str, kind: str) -> str:
@@ -447,17 +447,17 @@ def table05_rmse(fit: ErrorModelFit, seed: int, n_draws: int = 4000) -> Artifact
     """
     from mtcal.reporting.fidelity import quantile_mc_se
 
-    df5 = paper.load("wang2022sensors_table05_rmse")  # comparison layer: every printed number
-    pv = {(r.rotation_axis, em.SYSTEMS[r.system], k): float(getattr(r, f"rmse_{k}_deg"))
+    df5 = paper_numbers.load("wang2022sensors_table05_rmse")  # comparison layer: every printed number
+    pv = {(r.rotation_axis, error_model.SYSTEMS[r.system], k): float(getattr(r, f"rmse_{k}_deg"))
           for r in df5.itertuples() for k in ("static", "dynamic")}
     rng = stream_rng(seed, STREAM_TABLE05_DRAWS)
     recs, rows = [], []
-    for key in em.TRAINING + em.HELD_OUT:
+    for key in error_model.TRAINING + error_model.HELD_OUT:
         axis, system, kind = key
-        post = em.predictive_samples(fit.grid, fit.posterior, key, rng, n_draws)
-        prior = em.predictive_samples(fit.grid, fit.prior, key, rng, n_draws)
+        post = error_model.predictive_samples(fit.grid, fit.posterior, key, rng, n_draws)
+        prior = error_model.predictive_samples(fit.grid, fit.prior, key, rng, n_draws)
         b, bp = metrics.percentile_band(post), metrics.percentile_band(prior)
-        role = "train" if key in em.TRAINING else "heldout"
+        role = "train" if key in error_model.TRAINING else "heldout"
         recs.append({"axis": axis, "system": system, "kind": kind, "role": role, "paper_deg": pv[key],
                      "fitted_median": b["median"], "fitted_low": b["low"], "fitted_high": b["high"],
                      "fitted_low_mc_se": quantile_mc_se(post, 0.025, seed=seed),
@@ -532,9 +532,9 @@ def fig14_max_error_per_angle(fit: ErrorModelFit, seed: int, n_draws: int = 4000
     per = g.hold_max_deg  # (C, A, R, H)
     w = np.repeat(wc[:, None, None], per.shape[1] * per.shape[2], axis=1).reshape(-1) / (per.shape[1] * per.shape[2])
     flat = per.reshape(-1, per.shape[-1])
-    q = np.array([em.weighted_quantile(flat[:, h], w, [0.025, 0.5, 0.975]) for h in range(flat.shape[1])])
-    exp = em.fig14_samples(g, fit.posterior, stream_rng(seed, STREAM_FIG14_FITTED), n_draws)
-    exp_prior = em.fig14_samples(g, fit.prior, stream_rng(seed, STREAM_FIG14_PRIOR), n_draws)
+    q = np.array([error_model.weighted_quantile(flat[:, h], w, [0.025, 0.5, 0.975]) for h in range(flat.shape[1])])
+    exp = error_model.fig14_samples(g, fit.posterior, stream_rng(seed, STREAM_FIG14_FITTED), n_draws)
+    exp_prior = error_model.fig14_samples(g, fit.prior, stream_rng(seed, STREAM_FIG14_PRIOR), n_draws)
     b, bp = metrics.percentile_band(exp), metrics.percentile_band(exp_prior)
     med = float(b["median"])
     rows = []

@@ -174,15 +174,15 @@ def simulate_batch(theta_rad, rate_rad_s, accel_rad_s2, axes, lever_arms_m, imu:
     dt = imu.dt_s
     w_true, f = profiles.fixed_axis_imu_truth(th, rate, acc, v, r, gravity0(), dt)
     # sensor errors: white noise, turn-on bias, bias random walk, gyro scale factor
-    noise = np.full(t_n, imu.accel_noise_m_s2_rt_hz) if accel_noise_m_s2_rt_hz is None else \
-        np.broadcast_to(as_float_array(accel_noise_m_s2_rt_hz, "accel_noise_m_s2_rt_hz"), (t_n,))
+    noise = (np.full(t_n, imu.accel_noise_m_s2_rt_hz) if accel_noise_m_s2_rt_hz is None
+             else np.broadcast_to(as_float_array(accel_noise_m_s2_rt_hz, "accel_noise_m_s2_rt_hz"), (t_n,)))
     z = _per_trial_normals(seed, stream, ids, (2 * n + 4, 3))
     sq = np.sqrt(imu.fs_hz)
-    accel = f + (noise * sq)[:, None, None] * z[:, :n] + imu.accel_bias_sigma_m_s2 * z[:, 2 * n:2 * n + 1] \
-        + np.asarray(imu.accel_bias_m_s2)
-    gyro = w_true * (1.0 + imu.gyro_scale_factor) \
-        + imu.gyro_noise_rad_s_rt_hz * sq * z[:, n:2 * n] + np.asarray(imu.gyro_bias_rad_s) \
-        + gyro_bias_sigma_rad_s * z[:, 2 * n + 1:2 * n + 2]
+    accel = (f + (noise * sq)[:, None, None] * z[:, :n] + imu.accel_bias_sigma_m_s2 * z[:, 2 * n:2 * n + 1]
+             + np.asarray(imu.accel_bias_m_s2))
+    gyro = (w_true * (1.0 + imu.gyro_scale_factor)
+            + imu.gyro_noise_rad_s_rt_hz * sq * z[:, n:2 * n] + np.asarray(imu.gyro_bias_rad_s)
+            + gyro_bias_sigma_rad_s * z[:, 2 * n + 1:2 * n + 2])
     del z
     if imu.accel_rw_m_s2_rt_s > 0 or imu.gyro_rw_rad_s_rt_s > 0:
         zw = _per_trial_normals(seed, stream + 1, ids, (n, 6))

@@ -8,9 +8,7 @@ number (train / heldout / input / erratum / not-compared) is pre-registered in
 
 References
 ----------
-Wang X., Zhao X., Zhou B., Wei Q., Zhang R., "Installation error calibration for MEMS
-angular measurement system in hypersonic wind tunnel", Chin. J. Aeronaut. 2023,
-doi:10.1016/j.cja.2022.12.006.
+wang2023cja §4.1 (Tables 1–8), §4.2 (Tables 9–11) (full citation: :mod:`mtcal.studies.wang2023cja`).
 """
 
 from __future__ import annotations

@@ -7,9 +7,7 @@ one number shared with the turntable notebook — and one producer per artifact 
 
 References
 ----------
-Wang X., Zhao X., Zhou B., Wei Q., Zhang R., "Installation error calibration for MEMS
-angular measurement system in hypersonic wind tunnel", Chin. J. Aeronaut. 2023,
-doi:10.1016/j.cja.2022.12.006.
+wang2023cja Eq 13 (least squares), §3.2 (six positions), Tables 1–4 (full citation: :mod:`mtcal.studies.wang2023cja`).
 
 Examples
 --------

@@ -36,9 +36,8 @@ Sources and their signature in the paper
 
 References
 ----------
-Wang X., Zhao X., Zhou B., Wei Q., Zhang R., "Installation error calibration for MEMS
-angular measurement system in hypersonic wind tunnel", Chin. J. Aeronaut. 2023,
-doi:10.1016/j.cja.2022.12.006.
+wang2023cja Tables 1–4, the printed matrices of §4.1–4.2, split per
+``paper_data/wang2023cja_split.csv`` (full citation: :mod:`mtcal.studies.wang2023cja`).
 
 Examples
 --------

@@ -2,9 +2,7 @@
 
 References
 ----------
-Wang X., Zhao X., Zhou B., Wei Q., Zhang R., "Installation error calibration for MEMS
-angular measurement system in hypersonic wind tunnel", Chin. J. Aeronaut. 2023,
-doi:10.1016/j.cja.2022.12.006.
+wang2023cja Figs 7–8 (§4.1), Figs 10–11 (§4.2) (full citation: :mod:`mtcal.studies.wang2023cja`).
 """
 
 from __future__ import annotations
@@ -209,28 +207,27 @@ def _paper_maxae(table: str, labels) -> dict:
     return out
 
 
+def _sweep_ensemble(run, sweep: str, channels, table: str, title: str):
+    """:func:`ensemble_figure` of one sweep of ``run`` (``"aoa"`` or ``"roll"``), ``table``'s MaxAE marked."""
+    from .runs import TRACE_DECIMATION
+
+    sw = run.sweeps[sweep]
+    return ensemble_figure(run.trace[f"{sweep}_time_s"][::TRACE_DECIMATION], sw["before_err_dec"], sw["after_err_dec"],
+                           channels, _paper_maxae(table, tuple(name for _, name in channels)), title=title)
+
+
 def fig07(run, grade_label: str):
     """wang2023cja_fig07 (paper Fig 7): roll and yaw errors in the AoA sweep, median and 95 % band over trials,
     the paper's Table 6 MaxAE marked."""
-    from .runs import TRACE_DECIMATION
-
-    sw = run.sweeps["aoa"]
-    return ensemble_figure(run.trace["aoa_time_s"][::TRACE_DECIMATION], sw["before_err_dec"], sw["after_err_dec"],
-                           ((2, "roll"), (0, "yaw")),
-                           _paper_maxae("wang2023cja_table06_aoa_sweep_roll_yaw_errors", ("roll", "yaw")),
-                           title=f"Fig. 7 (wang2023cja_fig07): roll/yaw errors, AoA sweep — {grade_label}")
+    return _sweep_ensemble(run, "aoa", ((2, "roll"), (0, "yaw")), "wang2023cja_table06_aoa_sweep_roll_yaw_errors",
+                           f"Fig. 7 (wang2023cja_fig07): roll/yaw errors, AoA sweep — {grade_label}")
 
 
 def fig08(run, grade_label: str):
     """wang2023cja_fig08 (paper Fig 8): pitch and yaw errors in the roll sweep, median and 95 % band over trials,
     the paper's Table 8 MaxAE marked."""
-    from .runs import TRACE_DECIMATION
-
-    sw = run.sweeps["roll"]
-    return ensemble_figure(run.trace["roll_time_s"][::TRACE_DECIMATION], sw["before_err_dec"], sw["after_err_dec"],
-                           ((1, "pitch"), (0, "yaw")),
-                           _paper_maxae("wang2023cja_table08_roll_sweep_pitch_yaw_errors", ("pitch", "yaw")),
-                           title=f"Fig. 8 (wang2023cja_fig08): pitch/yaw errors, roll sweep — {grade_label}")
+    return _sweep_ensemble(run, "roll", ((1, "pitch"), (0, "yaw")), "wang2023cja_table08_roll_sweep_pitch_yaw_errors",
+                           f"Fig. 8 (wang2023cja_fig08): pitch/yaw errors, roll sweep — {grade_label}")
 
 
 def fig10(run, grade_label: str, rates_deg_s: tuple):

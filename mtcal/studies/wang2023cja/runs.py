@@ -16,9 +16,7 @@ are in the Eq 8 frame; the paper's are ``PAPER_SIGN ·`` ours (roll sign, see
 
 References
 ----------
-Wang X., Zhao X., Zhou B., Wei Q., Zhang R., "Installation error calibration for MEMS
-angular measurement system in hypersonic wind tunnel", Chin. J. Aeronaut. 2023,
-doi:10.1016/j.cja.2022.12.006.
+wang2023cja §3.2 (procedure), §4.1 (turntable T1–T4), §4.2 (wind tunnel), Eq 1, 8, 9 (full citation: :mod:`mtcal.studies.wang2023cja`).
 """
 
 from __future__ import annotations
@@ -247,7 +245,7 @@ def _run_pieces(sc: TurntableScenario, prof: AngleProfile, spans: dict, pieces: 
         e_ver = _draws(rng_ref, trials, 6, sc.reference_angle_sigma_rad, on)
         # the procedure is fed the commanded reference; the turntable stood at command + e_cal
         cal = calibration_step(sc, q_cal[sl], gyro[sl, spans["calibration"]], pos - e_cal, frac)
-        ver = six_position.calibrate(q_s[sl, spans["verification"]], pos, sc.fs_hz,
+        ver = six_position.calibrate(q_s[sl, spans["verification"]], pos, sc.imu.dt_s,
                                      gyro_rad_s=gyro[sl, spans["verification"]], fraction=frac)
         q_mat = cal.q_hat
         euler = rotations.euler_zxy_from_quat
@@ -272,7 +270,7 @@ def calibration_step(sc: TurntableScenario | WindTunnelScenario, q_ws, gyro_rad_
     Parameters
     ----------
     sc : TurntableScenario or WindTunnelScenario
-        Gives the sample rate ``sc.fs_hz`` (Hz).
+        Gives the sample interval ``sc.imu.dt_s = 1 / sc.fs_hz`` (s).
     q_ws : ndarray (T, N, 4)
         QNCF sensor attitude of the calibration run, as logged (not zeroed).
     gyro_rad_s : ndarray (T, N, 3)
@@ -303,7 +301,7 @@ def calibration_step(sc: TurntableScenario | WindTunnelScenario, q_ws, gyro_rad_
     >>> cal.q_hat.shape, bool(np.abs(cal.q_hat[0] - np.eye(4)).max() < 1e-9)
     ((1, 4, 4), True)
     """
-    return installation.calibrate_installation(reference_rad, sc.fs_hz, q_ws=q_ws, gyro_rad_s=gyro_rad_s,
+    return installation.calibrate_installation(reference_rad, sc.imu.dt_s, q_ws=q_ws, gyro_rad_s=gyro_rad_s,
                                                fraction=fraction, **MONTE_CARLO_GATES)
 
 

@@ -13,9 +13,7 @@ and the pitch-ratio identification from the printed Q(2,2) (:func:`identify_pitc
 
 References
 ----------
-Wang X., Zhao X., Zhou B., Wei Q., Zhang R., "Installation error calibration for MEMS
-angular measurement system in hypersonic wind tunnel", Chin. J. Aeronaut. 2023,
-doi:10.1016/j.cja.2022.12.006.
+wang2023cja §3.2, §4.1 (turntable), §4.2 (wind tunnel) (full citation: :mod:`mtcal.studies.wang2023cja`).
 
 Examples
 --------
@@ -211,9 +209,9 @@ def windtunnel_geometry() -> tuple[tuple, float]:
 
     from mtcal.core import rotations
     from mtcal.methods import constrained_fit
-    from mtcal.reporting import paper_numbers as paper
+    from mtcal.reporting import paper_numbers
 
-    q = paper.training("wang2023cja")["wang2023cja_matrix_qbs_windtunnel"][["col_1", "col_2", "col_3", "col_4"]]
+    q = paper_numbers.training("wang2023cja")["wang2023cja_matrix_qbs_windtunnel"][["col_1", "col_2", "col_3", "col_4"]]
     q = q.to_numpy(float)
     c = rotations.quat_conjugate(constrained_fit.project_to_so4(q).r)
     c = c * np.sign(c[0])
