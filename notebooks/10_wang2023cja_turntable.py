@@ -35,7 +35,6 @@ roll_positions_deg = (90.0, -90.0)
 turntable_rate_deg_s = 20.0           # assumed mean move rate
 
 # %%
-import time
 import numpy as np
 import pandas as pd
 from IPython.display import display
@@ -43,7 +42,6 @@ from mtcal.reporting import compare, fidelity, output
 from mtcal.studies import wang2023cja as w
 from mtcal.studies.wang2023cja import predictive, verdicts
 
-T_START = time.perf_counter()
 SIZE = output.run_size(SIZE)
 N_TRIALS = N_TRIALS or {"ci": 4, "full": 200}[SIZE]   # full: ≈ 2.5 min on a 2-core machine
 N_TRAIN_TRIALS = max(2, N_TRIALS // 2)     # T2–T4 sessions (train tables only), fitted model
@@ -144,12 +142,11 @@ assert not fit.at_bound["position_error_arcsec"]
 
 # %%
 sc = w.turntable_scenario(errors=fit.model, **params)
-t0 = time.perf_counter()
 runs = {"fitted": predictive.turntable_predictive(sc, fit, "fitted", N_TRIALS, SEED, tests=("T1",)),
         "prior": predictive.turntable_predictive(sc, fit, "prior", N_TRIALS, SEED, tests=("T1",))}
 runs["fitted"].update(predictive.turntable_predictive(sc, fit, "fitted", N_TRAIN_TRIALS, SEED + 1,
                                                       tests=("T2", "T3", "T4")))
-print(f"{N_TRIALS} T1 trials per model, {N_TRAIN_TRIALS} T2–T4 trials: {time.perf_counter() - t0:.0f} s")
+print(f"{N_TRIALS} T1 trials per model, {N_TRAIN_TRIALS} T2–T4 trials")
 one = {name: verdicts.one_to_one(verdicts.printed_samples(r), seed=SEED) for name, r in runs.items()}
 claims = verdicts.claims(runs["fitted"])
 claims_prior = verdicts.claims(runs["prior"])
@@ -319,4 +316,4 @@ table = verdicts.comparison(one, claims)
 output.save_table(table, "wang2023cja_turntable_comparison")
 fidelity.write_scores(table, "wang2023cja", "10_wang2023cja_turntable")
 print(fidelity.score_block(table, "wang2023cja"))
-print(f"notebook run time: {time.perf_counter() - T_START:.0f} s ({SIZE}, {N_TRIALS} trials per model)")
+print(f"size {SIZE}: {N_TRIALS} trials per model")

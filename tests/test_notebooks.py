@@ -68,3 +68,19 @@ def test_artifact_catalogue_is_complete_and_current():
     spec.loader.exec_module(cat)
     assert cat.paper_artifact("tan2022_fig06") == "tan2022 Fig. 6"
     assert cat.problems() == []
+
+
+#: run-dependent values a notebook must never print (outputs are committed and must be byte-identical per run)
+_CLOCKS = re.compile(r"\b(time\.(perf_counter|time|monotonic|process_time)|datetime\.now|date\.today)\s*\(")
+
+
+@pytest.mark.parametrize("src", SOURCES, ids=[p.stem for p in SOURCES])
+def test_notebook_prints_no_clock(src):
+    """A notebook reads no clock: a printed run time would change the committed .ipynb on every run."""
+    hits = [f"{src.name}:{i}: {line.strip()}" for i, line in enumerate(src.read_text(encoding="utf-8").splitlines(), 1)
+            if _CLOCKS.search(line)]
+    assert not hits, "notebooks must not read a clock (outputs are committed byte-identically):\n" + "\n".join(hits)
+
+
+def test_clock_check_can_fail():
+    assert _CLOCKS.search("t0 = time.perf_counter()") and not _CLOCKS.search("dt_s = 1 / fs_hz")
