@@ -52,7 +52,8 @@ class Artifact:
         The artifact's table (saved as ``data/<artifact_id>.csv``); angles in degrees.
     rows : list of dict
         Comparison rows (:func:`mtcal.reporting.compare.comparison_row`), each with
-        ``role`` (fitted / predicted / finding / erratum) and ``source``.
+        ``role`` (the split role train / heldout / input / erratum / not-compared, or finding), ``kind``
+        (claim / consistency) and ``source``.
     data : dict
         Arrays, results and labels for the study's plot functions (degrees).
     lines : list of str
