@@ -314,6 +314,6 @@ if AT_PAPER and SIZE == "full":                 # 4 CI trials are too few for a 
 # %%
 table = verdicts.comparison(one, claims)
 output.save_table(table, "wang2023cja_turntable_comparison")
-fidelity.write_scores(table, "wang2023cja", "10_wang2023cja_turntable")
+scores_csv = fidelity.write_scores(table, "wang2023cja", "10_wang2023cja_turntable")
 print(fidelity.score_block(table, "wang2023cja"))
 print(f"size {SIZE}: {N_TRIALS} trials per model")

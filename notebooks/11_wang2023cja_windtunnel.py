@@ -212,6 +212,6 @@ print(verdicts.claim_block(claims))
 # %%
 table = verdicts.comparison(one, claims)
 output.save_table(table, "wang2023cja_windtunnel_comparison")
-fidelity.write_scores(table, "wang2023cja", "11_wang2023cja_windtunnel")
+scores_csv = fidelity.write_scores(table, "wang2023cja", "11_wang2023cja_windtunnel")
 print(fidelity.score_block(table, "wang2023cja"))
 print(f"size {SIZE}: {N_TRIALS} trials per model")

@@ -224,4 +224,4 @@ print(compare.check_claims(table, enforce=AT_PAPER))
 
 # %%
 print(fidelity.score_block(table, "tan2022"))
-fidelity.write_scores(table, "tan2022", "20_tan2022_accelerometer")
+scores_csv = fidelity.write_scores(table, "tan2022", "20_tan2022_accelerometer")

@@ -261,4 +261,4 @@ print(compare.check_claims(table, enforce=AT_PAPER))
 
 # %%
 print(fidelity.score_block(table, "tan2022"))
-fidelity.write_scores(table, "tan2022", "21_tan2022_gyro_roll")
+scores_csv = fidelity.write_scores(table, "tan2022", "21_tan2022_gyro_roll")

@@ -198,4 +198,4 @@ print(compare.check_claims(table, enforce=AT_PAPER))
 
 # %%
 print(fidelity.score_block(table, "wang2022sensors"))
-fidelity.write_scores(table, "wang2022sensors", "30_wang2022sensors_axis_zvd")
+scores_csv = fidelity.write_scores(table, "wang2022sensors", "30_wang2022sensors_axis_zvd")

@@ -258,4 +258,4 @@ print(compare.check_claims(table, enforce=AT_PAPER))
 
 # %%
 print(fidelity.score_block(table, "wang2022sensors"))
-fidelity.write_scores(table, "wang2022sensors", "31_wang2022sensors_ekf")
+scores_csv = fidelity.write_scores(table, "wang2022sensors", "31_wang2022sensors_ekf")

@@ -20,6 +20,15 @@ def _cells(nb):
             for c in nb["cells"]]
 
 
+#: an absolute path printed by a notebook (a repr of a Path, or a temporary/home/work folder)
+_MACHINE_PATH = re.compile(r"PosixPath\(|WindowsPath\(|(?<![\w.])/(?:tmp|home|work|root|Users)/")
+
+
+def test_machine_path_check_can_fail():
+    assert _MACHINE_PATH.search("PosixPath('/work/main/data/x.csv')") and _MACHINE_PATH.search("saved /tmp/a.png")
+    assert not _MACHINE_PATH.search("data/wang2023cja_table05.csv, 0.5 deg/s")
+
+
 @pytest.mark.parametrize("src", SOURCES, ids=[p.stem for p in SOURCES])
 def test_ipynb_in_sync_with_source_and_executed(src):
     nb_path = src.with_suffix(".ipynb")
@@ -36,6 +45,9 @@ def test_ipynb_in_sync_with_source_and_executed(src):
         assert not {"papermill", "execution", "ExecuteTime"} & set(cell.get("metadata", {})), cell.get("id")
         for out in cell.get("outputs", []):
             assert "application/vnd.jupyter.widget-view+json" not in out.get("data", {}), "progress bar in outputs"
+            # no machine-dependent path: the committed outputs must be the same bytes in every checkout
+            found = _MACHINE_PATH.search(json.dumps(out))
+            assert not found, f"{nb_path.name} cell {cell.get('id')}: a path of this machine in the outputs ({found[0]!r})"
 
 
 def test_jupytext_pairing_config():
