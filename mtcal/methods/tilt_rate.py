@@ -47,13 +47,18 @@ import warnings
 import numpy as np
 
 __all__ = ["tilt_rate_scale", "check_tilt_rate_scale", "scale_hint", "tilt_seen", "MIN_CORRELATION",
-           "MIN_AGREEMENT_CORRELATION",
+           "MIN_AGREEMENT_CORRELATION", "MIN_LONG_AGREEMENT_CORRELATION",
            "MIN_TILT_RAD", "MIN_WINDOWS", "MIN_STRONG_TILT_RAD", "SCALE_HINTS"]
 
 #: Correlation above which the scale is trusted.
 MIN_CORRELATION = 0.7
 #: Correlation above which a scale in [0.5, 2] counts as agreement.
 MIN_AGREEMENT_CORRELATION = 0.5
+#: Lower correlation that still counts as agreement when both sensors tilt ≥ MIN_TILT_RAD over the windows
+#: used: long records with long rests dilute the correlation with windows of pure noise (a 1-hour hinge log
+#: in rad/s: scale 0.997, correlation 0.47, 540° / 190° of tilt), while a unit or time-base error moves the
+#: *scale* (57×, 10×, 1000×) far outside [0.5, 2]; a scale fitted on little tilt is never trusted this way.
+MIN_LONG_AGREEMENT_CORRELATION = 0.3
 #: Fewest window pairs, and least accelerometer tilt (rad), for a decision on a high correlation alone.
 MIN_WINDOWS = 5
 MIN_STRONG_TILT_RAD = np.radians(1.0)
@@ -205,7 +210,10 @@ def check_tilt_rate_scale(gyro_rad_s, accel_m_s2, dt_s: float, *, max_ratio: flo
     over = big and res["gyro_tilt_rad"] > max_ratio * res["accel_tilt_rad"]
     off = bool(np.isfinite(s) and (big or strong) and r >= MIN_CORRELATION
                and not (1.0 / max_ratio <= s <= max_ratio))
-    fits = bool(np.isfinite(s) and 0.5 <= s <= 2.0 and (strong or (big and r >= MIN_AGREEMENT_CORRELATION)))
+    long_motion = (r >= MIN_LONG_AGREEMENT_CORRELATION and res["accel_tilt_rad"] >= MIN_TILT_RAD
+                   and res["gyro_tilt_rad"] >= MIN_TILT_RAD)
+    fits = bool(np.isfinite(s) and 0.5 <= s <= 2.0
+                and (strong or (big and (r >= MIN_AGREEMENT_CORRELATION or long_motion))))
     res["decided"] = bool(over or off or fits)
     if excess == "warn" and over and not off:
         warnings.warn(f"gyro implausible for rad/s at dt {dt_s:.4g} s: it predicts "

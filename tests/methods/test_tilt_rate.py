@@ -79,3 +79,17 @@ def test_filters_refuse_deg_s_gyro_at_their_public_edge():
     static = np.zeros(len(gyro), bool)
     with pytest.raises(ValueError, match="gyro implausible for rad/s"):
         run_rams_ekf(np.degrees(gyro), accel, static, [1.0, 0.0, 0.0], accel[0], DT, RamsEkfParams())
+
+
+@pytest.mark.parametrize("measured, decided", [
+    # a 1-hour rad/s hinge log (benchmarks/cli_case.py): long rests dilute the correlation, the scale is exact
+    (dict(scale=0.997, correlation=0.47, windows=3000, accel_tilt_rad=np.radians(543.5),
+          gyro_tilt_rad=np.radians(193.8), accel_spread_rad=np.radians(33.5)), True),
+    # a time column 10x too slow: a weak correlation on 1.6 deg of tilt must not count as agreement
+    (dict(scale=1.19, correlation=0.32, windows=40, accel_tilt_rad=np.radians(1.6),
+          gyro_tilt_rad=np.radians(0.4), accel_spread_rad=np.radians(67.8)), False),
+])
+def test_long_record_agreement_needs_tilt_in_both_sensors(monkeypatch, measured, decided):
+    monkeypatch.setattr(tilt_rate, "tilt_rate_scale", lambda *a, **k: dict(measured))
+    res = tilt_rate.check_tilt_rate_scale(np.zeros((10, 3)), np.tile([0.0, 0.0, 9.81], (10, 1)), 0.01)
+    assert res["decided"] is decided
