@@ -26,7 +26,7 @@ import numba
 import numpy as np
 from numba import prange
 
-from mtcal.filters._kernels_lanes import add, bc, div, fabs, mul, muls, sub, vmax, where_lt
+from mtcal.filters._kernels_lanes import add, div, fabs, mul, pack, splat, sub, unpack, vmax, where_lt
 from mtcal.filters._kernels_common import jit
 
 __all__ = ["ekf_one", "ekf_serial", "ekf_parallel"]
@@ -145,23 +145,24 @@ def _trial(g, a, st, t, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, om_s, 
 @numba.njit(inline="always")
 def _lanes3(x, ta, tb, tc, td):
     """Columns 0, 1, 2 of rows ta … td of a (T, 3) array as three 4-lane vectors."""
-    return ((x[ta, 0], x[tb, 0], x[tc, 0], x[td, 0]), (x[ta, 1], x[tb, 1], x[tc, 1], x[td, 1]),
-            (x[ta, 2], x[tb, 2], x[tc, 2], x[td, 2]))
+    return (pack(x[ta, 0], x[tb, 0], x[tc, 0], x[td, 0]), pack(x[ta, 1], x[tb, 1], x[tc, 1], x[td, 1]),
+            pack(x[ta, 2], x[tb, 2], x[tc, 2], x[td, 2]))
 
 
 @numba.njit(inline="always")
 def _col(x, ta, tb, tc, td, i):
-    return (x[ta, i], x[tb, i], x[tc, i], x[td, i])
+    return pack(x[ta, i], x[tb, i], x[tc, i], x[td, i])
 
 
 @numba.njit(inline="always")
 def _at(x, ta, tb, tc, td, k, i):
-    return (x[ta, k, i], x[tb, k, i], x[tc, k, i], x[td, k, i])
+    return pack(x[ta, k, i], x[tb, k, i], x[tc, k, i], x[td, k, i])
 
 
 @numba.njit(inline="always")
-def _put(out, t0, nl, k, X):
-    """out[t0 + j, k] = X[j] for the ``nl`` real lanes (constant lane indices: X stays in registers)."""
+def _put(out, t0, nl, k, V):
+    """out[t0 + j, k] = V[j] for the ``nl`` real lanes."""
+    X = unpack(V)
     out[t0, k] = X[0]
     if nl > 1:
         out[t0 + 1, k] = X[1]
@@ -172,8 +173,9 @@ def _put(out, t0, nl, k, X):
 
 
 @numba.njit(inline="always")
-def _put3(out, t0, nl, k, i, X):
-    """out[t0 + j, k, i] = X[j] for the ``nl`` real lanes."""
+def _put3(out, t0, nl, k, i, V):
+    """out[t0 + j, k, i] = V[j] for the ``nl`` real lanes."""
+    X = unpack(V)
     out[t0, k, i] = X[0]
     if nl > 1:
         out[t0 + 1, k, i] = X[1]
@@ -190,7 +192,9 @@ def _block(g, a, st, t0, nl, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, o
 
     Each lane performs :func:`_trial`'s operations on the same operands in the same order
     (cos/sin per lane with the same libm calls), so every trial is bit-identical to
-    :func:`_trial`. Lanes past ``nl`` repeat the last trial and are never stored.
+    :func:`_trial`. Lanes past ``nl`` repeat the last trial and are never stored. The state
+    is held in :data:`~mtcal.filters._kernels_lanes.vec4` values (one vector register or
+    spill slot each, no per-step re-packing of tuples).
     """
     ta, tb, tc, td = t0, t0 + min(1, nl - 1), t0 + min(2, nl - 1), t0 + min(3, nl - 1)
     V0, V1, V2 = _lanes3(v, ta, tb, tc, td)
@@ -199,18 +203,19 @@ def _block(g, a, st, t0, nl, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, o
     PE0, PE1, PE2 = _lanes3(perp, ta, tb, tc, td)
     NE0, NE1, NE2 = _lanes3(nperp, ta, tb, tc, td)
     W0, W1, W2 = _lanes3(wv, ta, tb, tc, td)
-    TH = (theta_s[ta], theta_s[tb], theta_s[tc], theta_s[td])
+    TH = pack(theta_s[ta], theta_s[tb], theta_s[tc], theta_s[td])
     B0, B1, B2 = _lanes3(bias_s, ta, tb, tc, td)
     P00, P01, P02, P03 = (_col(p_s, ta, tb, tc, td, 0), _col(p_s, ta, tb, tc, td, 1),
                           _col(p_s, ta, tb, tc, td, 2), _col(p_s, ta, tb, tc, td, 3))
     P11, P22, P33 = _col(p_s, ta, tb, tc, td, 4), _col(p_s, ta, tb, tc, td, 5), _col(p_s, ta, tb, tc, td, 6)
     P12, P13, P23 = _col(p_s, ta, tb, tc, td, 7), _col(p_s, ta, tb, tc, td, 8), _col(p_s, ta, tb, tc, td, 9)
-    OM = (om_s[ta], om_s[tb], om_s[tc], om_s[td])
+    OM = pack(om_s[ta], om_s[tb], om_s[tc], om_s[td])
     per_trial_flags = st.shape[0] > 1
-    zero = bc(0.0)
+    zero = splat(0.0)
     FW = FA = WM = LOW = zero
     C0 = C1 = C2 = C3 = H0 = H1 = H2 = S = zero
-    DT, QT, QB = bc(dt), bc(q_theta), bc(q_b)
+    DT, QT, QB = splat(dt), splat(q_theta), splat(q_b)
+    LOW2, ONE, VZ = splat(_LOW2), splat(1.0), splat(var_z)
     for k in range(g.shape[1]):
         if has_prev or k > 0:  # prediction with the previous gyro sample (Eq 24–27)
             TH = add(TH, sub(OM, mul(add(add(mul(V0, B0), mul(V2, B2)), mul(V1, B1)), DT)))
@@ -224,15 +229,16 @@ def _block(g, a, st, t0, nl, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, o
             P11, P22, P33 = add(P11, QB), add(P22, QB), add(P33, QB)
         GX, GY, GZ = _at(g, ta, tb, tc, td, k, 0), _at(g, ta, tb, tc, td, k, 1), _at(g, ta, tb, tc, td, k, 2)
         AX, AY, AZ = _at(a, ta, tb, tc, td, k, 0), _at(a, ta, tb, tc, td, k, 1), _at(a, ta, tb, tc, td, k, 2)
-        FW = add(FW, add(add(muls(GX, 0.0), muls(GY, 0.0)), muls(GZ, 0.0)))
-        FA = add(FA, add(add(muls(AX, 0.0), muls(AY, 0.0)), muls(AZ, 0.0)))
+        FW = add(FW, add(add(mul(GX, zero), mul(GY, zero)), mul(GZ, zero)))
+        FA = add(FA, add(add(mul(AX, zero), mul(AY, zero)), mul(AZ, zero)))
         WM = vmax(WM, vmax(fabs(GX), vmax(fabs(GY), fabs(GZ))))
         N2 = add(add(mul(AX, AX), mul(AY, AY)), mul(AZ, AZ))
-        LOW = add(LOW, where_lt(N2, bc(_LOW2), bc(1.0), zero))
+        LOW = add(LOW, where_lt(N2, LOW2, ONE, zero))
         OM = mul(add(add(mul(GX, V0), mul(GZ, V2)), mul(GY, V1)), DT)
         # correction (Eq 28–32), scalar-information form
-        CS = (math.cos(TH[0]), math.cos(TH[1]), math.cos(TH[2]), math.cos(TH[3]))
-        SN = (math.sin(TH[0]), math.sin(TH[1]), math.sin(TH[2]), math.sin(TH[3]))
+        T = unpack(TH)
+        CS = pack(math.cos(T[0]), math.cos(T[1]), math.cos(T[2]), math.cos(T[3]))
+        SN = pack(math.sin(T[0]), math.sin(T[1]), math.sin(T[2]), math.sin(T[3]))
         Y0 = sub(AX, sub(add(PA0, mul(PE0, CS)), mul(W0, SN)))
         Y1 = sub(AY, sub(add(PA1, mul(PE1, CS)), mul(W1, SN)))
         Y2 = sub(AZ, sub(add(PA2, mul(PE2, CS)), mul(W2, SN)))
@@ -242,12 +248,12 @@ def _block(g, a, st, t0, nl, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, o
         R4 = add(add(mul(H0, H0), mul(H2, H2)), mul(H1, H1))
         C0, C1, C2, C3 = P00, P01, P02, P03
         if not use_zvd:
-            VAR = bc(var_z)
+            VAR = VZ
         elif per_trial_flags:
-            VAR = (var_z if st[ta, k] else var_m, var_z if st[tb, k] else var_m,
-                   var_z if st[tc, k] else var_m, var_z if st[td, k] else var_m)
+            VAR = pack(var_z if st[ta, k] else var_m, var_z if st[tb, k] else var_m,
+                       var_z if st[tc, k] else var_m, var_z if st[td, k] else var_m)
         else:
-            VAR = bc(var_z if st[0, k] else var_m)
+            VAR = splat(var_z if st[0, k] else var_m)
         S = add(VAR, mul(C0, R4))
         R0 = div(add(add(mul(H0, Y0), mul(H2, Y2)), mul(H1, Y1)), S)
         TH = add(TH, mul(C0, R0))
@@ -272,19 +278,25 @@ def _block(g, a, st, t0, nl, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, o
             _put3(out_y, t0, nl, k, 0, Y0)
             _put3(out_y, t0, nl, k, 1, Y1)
             _put3(out_y, t0, nl, k, 2, Y2)
+    th, b0, b1, b2, om = unpack(TH), unpack(B0), unpack(B1), unpack(B2), unpack(OM)
+    p00, p01, p02, p03 = unpack(P00), unpack(P01), unpack(P02), unpack(P03)
+    p11, p22, p33, p12, p13, p23 = unpack(P11), unpack(P22), unpack(P33), unpack(P12), unpack(P13), unpack(P23)
+    fw, wm, fa, low = unpack(FW), unpack(WM), unpack(FA), unpack(LOW)
+    c0, c1, c2, c3 = unpack(C0), unpack(C1), unpack(C2), unpack(C3)
+    h0, h1, h2, s = unpack(H0), unpack(H1), unpack(H2), unpack(S)
     for j in range(nl):
         t = t0 + j
-        theta_s[t] = TH[j]
-        bias_s[t, 0], bias_s[t, 1], bias_s[t, 2] = B0[j], B1[j], B2[j]
-        p_s[t, 0], p_s[t, 1], p_s[t, 2], p_s[t, 3] = P00[j], P01[j], P02[j], P03[j]
-        p_s[t, 4], p_s[t, 5], p_s[t, 6] = P11[j], P22[j], P33[j]
-        p_s[t, 7], p_s[t, 8], p_s[t, 9] = P12[j], P13[j], P23[j]
-        om_s[t] = OM[j]
-        chk[t, 0], chk[t, 1], chk[t, 2], chk[t, 3] = FW[j], WM[j], FA[j], LOW[j]
+        theta_s[t] = th[j]
+        bias_s[t, 0], bias_s[t, 1], bias_s[t, 2] = b0[j], b1[j], b2[j]
+        p_s[t, 0], p_s[t, 1], p_s[t, 2], p_s[t, 3] = p00[j], p01[j], p02[j], p03[j]
+        p_s[t, 4], p_s[t, 5], p_s[t, 6] = p11[j], p22[j], p33[j]
+        p_s[t, 7], p_s[t, 8], p_s[t, 9] = p12[j], p13[j], p23[j]
+        om_s[t] = om[j]
+        chk[t, 0], chk[t, 1], chk[t, 2], chk[t, 3] = fw[j], wm[j], fa[j], low[j]
         if g.shape[1] > 0:
-            last_c[t, 0], last_c[t, 1], last_c[t, 2], last_c[t, 3] = C0[j], C1[j], C2[j], C3[j]
-            last_hp[t, 0], last_hp[t, 1], last_hp[t, 2] = H0[j], H1[j], H2[j]
-            last_s[t] = S[j]
+            last_c[t, 0], last_c[t, 1], last_c[t, 2], last_c[t, 3] = c0[j], c1[j], c2[j], c3[j]
+            last_hp[t, 0], last_hp[t, 1], last_hp[t, 2] = h0[j], h1[j], h2[j]
+            last_s[t] = s[j]
 
 
 @jit()

@@ -10,6 +10,13 @@ numba). Each lane's result is bit-identical to the scalar operation with the sam
 no fast-math flags, no contraction into FMA, correctly rounded division and square root.
 Comparisons reproduce numba's scalar semantics (ordered ``<``, ``<=``, ``>``: False with a
 NaN operand; ``max(x, y)`` is ``y if y > x else x``).
+
+The same helpers also take :data:`vec4` values (a numba type whose LLVM representation *is*
+``<4 x double>``; build one with :func:`pack` or :func:`splat`, read it with :func:`unpack`).
+A tuple is four scalars to LLVM: a tuple carried from one loop iteration to the next becomes
+four scalar ``phi`` nodes, re-packed into a vector before every operation and split after it
+(shuffles and scalar spills around every libm call). A ``vec4`` loop variable stays one vector
+register (or one 32-byte spill slot); the arithmetic per lane is the same IEEE-754 operation.
 """
 
 from __future__ import annotations
@@ -17,16 +24,41 @@ from __future__ import annotations
 import numba  # after mtcal.core.compiled (imported with the package): numba settings first
 from llvmlite import ir
 from numba.core import cgutils, types
-from numba.extending import intrinsic
+from numba.extending import intrinsic, models, register_model
 
 __all__ = ["LANES", "bc", "add", "sub", "mul", "div", "adds", "muls", "divs", "sqrt", "fabs", "maxs", "vmax",
-           "where_lt", "where_le"]
+           "where_lt", "where_le", "vec4", "pack", "splat", "unpack", "load4"]
 
 #: Trials stepped together by the batched kernels.
 LANES = 4
 
 _V4 = ir.VectorType(ir.DoubleType(), LANES)
 _I32 = ir.IntType(32)
+
+
+class Vec4Type(types.Type):
+    """Four float64 lanes held as one LLVM ``<4 x double>`` value."""
+
+    def __init__(self) -> None:
+        super().__init__(name="Vec4(float64)")
+
+
+#: The numba type of a 4-lane float64 vector.
+vec4 = Vec4Type()
+
+
+@register_model(Vec4Type)
+class _Vec4Model(models.PrimitiveModel):
+    def __init__(self, dmm, fe_type):
+        super().__init__(dmm, fe_type, _V4)
+
+
+def _all_vec(*tys) -> bool:
+    """True when every type is :data:`vec4`; a TypingError for a mix of vectors and tuples."""
+    n = sum(isinstance(ty, Vec4Type) for ty in tys)
+    if n and n != len(tys):
+        raise numba.core.errors.TypingError(f"cannot mix vec4 and tuple lane vectors: {tys}")
+    return n > 0
 
 
 def _check(*tys) -> None:
@@ -52,6 +84,8 @@ def _from_vec(builder, vec, aggty):
 def _binary(op: str):
     @intrinsic
     def fn(typingctx, a, b):
+        if _all_vec(a, b):
+            return a(a, b), lambda context, builder, sig, args: getattr(builder, op)(args[0], args[1])
         _check(a, b)
 
         def codegen(context, builder, sig, args):
@@ -64,6 +98,11 @@ def _binary(op: str):
 def _unary(name: str):
     @intrinsic
     def fn(typingctx, a):
+        if _all_vec(a):
+            def vcodegen(context, builder, sig, args):
+                f = cgutils.get_or_insert_function(builder.module, ir.FunctionType(_V4, [_V4]), f"{name}.v4f64")
+                return builder.call(f, [args[0]])
+            return a(a), vcodegen
         _check(a)
 
         def codegen(context, builder, sig, args):
@@ -77,6 +116,10 @@ def _unary(name: str):
 def _where(pred: str):
     @intrinsic
     def fn(typingctx, x, y, a, b):
+        if _all_vec(x, y, a, b):
+            def vcodegen(context, builder, sig, args):
+                return builder.select(builder.fcmp_ordered(pred, args[0], args[1]), args[2], args[3])
+            return a(x, y, a, b), vcodegen
         _check(x, y, a, b)
 
         def codegen(context, builder, sig, args):
@@ -85,6 +128,55 @@ def _where(pred: str):
             return _from_vec(builder, res, context.get_value_type(sig.return_type))
         return a(x, y, a, b), codegen
     return fn
+
+
+@intrinsic
+def pack(typingctx, x0, x1, x2, x3):
+    """The :data:`vec4` (x0, x1, x2, x3) of four float64 scalars."""
+    for ty in (x0, x1, x2, x3):
+        if ty != types.float64:
+            raise numba.core.errors.TypingError(f"pack takes float64 scalars, got {ty}")
+
+    def codegen(context, builder, sig, args):
+        vec = ir.Constant(_V4, ir.Undefined)
+        for i, x in enumerate(args):
+            vec = builder.insert_element(vec, x, ir.Constant(_I32, i))
+        return vec
+    return vec4(x0, x1, x2, x3), codegen
+
+
+@intrinsic
+def unpack(typingctx, v):
+    """The four lanes of a :data:`vec4` as a UniTuple(float64, 4)."""
+    if not isinstance(v, Vec4Type):
+        raise numba.core.errors.TypingError(f"unpack takes a vec4, got {v}")
+    tup = types.UniTuple(types.float64, LANES)
+
+    def codegen(context, builder, sig, args):
+        return _from_vec(builder, args[0], context.get_value_type(tup))
+    return tup(v), codegen
+
+
+@intrinsic
+def load4(typingctx, arr, start):
+    """:data:`vec4` of ``arr[start:start + 4]`` (1-D C-contiguous float64 array; no bounds check)."""
+    if not (isinstance(arr, types.Array) and arr.ndim == 1 and arr.dtype == types.float64 and arr.layout == "C"):
+        raise numba.core.errors.TypingError(f"load4 takes a 1-D C-contiguous float64 array, got {arr}")
+    if not isinstance(start, types.Integer):
+        raise numba.core.errors.TypingError(f"load4 takes an integer start, got {start}")
+
+    def codegen(context, builder, sig, args):
+        ary = context.make_array(sig.args[0])(context, builder, args[0])
+        ptr = builder.gep(ary.data, [context.cast(builder, args[1], sig.args[1], types.intp)])
+        vptr = builder.bitcast(ptr, _V4.as_pointer())
+        return builder.load(vptr, align=8)
+    return vec4(arr, start), codegen
+
+
+@numba.njit(inline="always")
+def splat(x):
+    """:data:`vec4` (x, x, x, x) of a float64."""
+    return pack(x, x, x, x)
 
 
 add = _binary("fadd")
