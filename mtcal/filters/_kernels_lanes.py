@@ -21,13 +21,16 @@ register (or one 32-byte spill slot); the arithmetic per lane is the same IEEE-7
 
 from __future__ import annotations
 
+import math
+
 import numba  # after mtcal.core.compiled (imported with the package): numba settings first
 from llvmlite import ir
 from numba.core import cgutils, types
 from numba.extending import intrinsic, models, register_model
 
 __all__ = ["LANES", "bc", "add", "sub", "mul", "div", "adds", "muls", "divs", "sqrt", "fabs", "maxs", "vmax",
-           "where_lt", "where_le", "vec4", "pack", "splat", "unpack", "load4"]
+           "where_lt", "where_le", "VecType", "vec4", "vec8", "pack", "unpack", "fill", "take1", "take", "take3",
+           "put1", "put", "put3", "choose", "cos", "sin"]
 
 #: Trials stepped together by the batched kernels.
 LANES = 4
@@ -36,29 +39,61 @@ _V4 = ir.VectorType(ir.DoubleType(), LANES)
 _I32 = ir.IntType(32)
 
 
-class Vec4Type(types.Type):
-    """Four float64 lanes held as one LLVM ``<4 x double>`` value."""
+class VecType(types.Type):
+    """``count`` float64 lanes held as one LLVM ``<count x double>`` value."""
 
-    def __init__(self) -> None:
-        super().__init__(name="Vec4(float64)")
-
-
-#: The numba type of a 4-lane float64 vector.
-vec4 = Vec4Type()
+    def __init__(self, count: int) -> None:
+        self.count = int(count)
+        super().__init__(name=f"Vec{self.count}(float64)")
 
 
-@register_model(Vec4Type)
-class _Vec4Model(models.PrimitiveModel):
+#: The numba types of 4- and 8-lane float64 vectors.
+vec4 = VecType(4)
+vec8 = VecType(8)
+
+
+@register_model(VecType)
+class _VecModel(models.PrimitiveModel):
     def __init__(self, dmm, fe_type):
-        super().__init__(dmm, fe_type, _V4)
+        super().__init__(dmm, fe_type, ir.VectorType(ir.DoubleType(), fe_type.count))
 
 
 def _all_vec(*tys) -> bool:
-    """True when every type is :data:`vec4`; a TypingError for a mix of vectors and tuples."""
-    n = sum(isinstance(ty, Vec4Type) for ty in tys)
-    if n and n != len(tys):
-        raise numba.core.errors.TypingError(f"cannot mix vec4 and tuple lane vectors: {tys}")
+    """True when every type is the same vector type; a TypingError for a mix of vectors and tuples."""
+    n = sum(isinstance(ty, VecType) for ty in tys)
+    if n and (n != len(tys) or len(set(tys)) != 1):
+        raise numba.core.errors.TypingError(f"lane vectors of one vector type expected, got {tys}")
     return n > 0
+
+
+def _vec_of(ty):
+    """The vector type of a UniTuple(float64, n) (n = 4 or 8), else a TypingError."""
+    if not (isinstance(ty, types.UniTuple) and ty.count in (4, 8) and ty.dtype == types.float64):
+        raise numba.core.errors.TypingError(f"expected a UniTuple(float64, 4 or 8), got {ty}")
+    return VecType(ty.count)
+
+
+def _rows_of(rows):
+    """Lane count of a UniTuple of integer rows (4 or 8), else a TypingError."""
+    if not (isinstance(rows, types.UniTuple) and rows.count in (4, 8) and isinstance(rows.dtype, types.Integer)):
+        raise numba.core.errors.TypingError(f"rows must be a UniTuple of 4 or 8 integers, got {rows}")
+    return rows.count
+
+
+def _element_ptr(context, builder, arrty, arr, inds):
+    """Pointer to ``arr[inds]`` (integer index values; no wraparound, no bounds check)."""
+    ary = context.make_array(arrty)(context, builder, arr)
+    shape = cgutils.unpack_tuple(builder, ary.shape, arrty.ndim)
+    strides = cgutils.unpack_tuple(builder, ary.strides, arrty.ndim)
+    return cgutils.get_item_pointer2(context, builder, ary.data, shape, strides, arrty.layout, inds,
+                                     wraparound=False, boundscheck=False)
+
+
+def _index_values(context, builder, sig_args, args, rows_pos):
+    """The rows tuple argument of an intrinsic call as a list of intp values."""
+    rows = [context.cast(builder, builder.extract_value(args[rows_pos], j), sig_args[rows_pos].dtype, types.intp)
+            for j in range(sig_args[rows_pos].count)]
+    return rows
 
 
 def _check(*tys) -> None:
@@ -100,7 +135,8 @@ def _unary(name: str):
     def fn(typingctx, a):
         if _all_vec(a):
             def vcodegen(context, builder, sig, args):
-                f = cgutils.get_or_insert_function(builder.module, ir.FunctionType(_V4, [_V4]), f"{name}.v4f64")
+                vt = ir.VectorType(ir.DoubleType(), a.count)
+                f = cgutils.get_or_insert_function(builder.module, ir.FunctionType(vt, [vt]), f"{name}.v{a.count}f64")
                 return builder.call(f, [args[0]])
             return a(a), vcodegen
         _check(a)
@@ -131,52 +167,201 @@ def _where(pred: str):
 
 
 @intrinsic
-def pack(typingctx, x0, x1, x2, x3):
-    """The :data:`vec4` (x0, x1, x2, x3) of four float64 scalars."""
-    for ty in (x0, x1, x2, x3):
-        if ty != types.float64:
-            raise numba.core.errors.TypingError(f"pack takes float64 scalars, got {ty}")
+def pack(typingctx, tup):
+    """The lane vector of a UniTuple(float64, 4 or 8)."""
+    vt = _vec_of(tup)
 
     def codegen(context, builder, sig, args):
-        vec = ir.Constant(_V4, ir.Undefined)
-        for i, x in enumerate(args):
-            vec = builder.insert_element(vec, x, ir.Constant(_I32, i))
+        vec = ir.Constant(ir.VectorType(ir.DoubleType(), vt.count), ir.Undefined)
+        for i in range(vt.count):
+            vec = builder.insert_element(vec, builder.extract_value(args[0], i), ir.Constant(_I32, i))
         return vec
-    return vec4(x0, x1, x2, x3), codegen
+    return vt(tup), codegen
 
 
 @intrinsic
 def unpack(typingctx, v):
-    """The four lanes of a :data:`vec4` as a UniTuple(float64, 4)."""
-    if not isinstance(v, Vec4Type):
-        raise numba.core.errors.TypingError(f"unpack takes a vec4, got {v}")
-    tup = types.UniTuple(types.float64, LANES)
+    """The lanes of a lane vector as a UniTuple(float64, n)."""
+    if not isinstance(v, VecType):
+        raise numba.core.errors.TypingError(f"unpack takes a lane vector, got {v}")
+    tup = types.UniTuple(types.float64, v.count)
 
     def codegen(context, builder, sig, args):
-        return _from_vec(builder, args[0], context.get_value_type(tup))
+        agg = ir.Constant(context.get_value_type(tup), ir.Undefined)
+        for i in range(v.count):
+            agg = builder.insert_value(agg, builder.extract_element(args[0], ir.Constant(_I32, i)), i)
+        return agg
     return tup(v), codegen
 
 
 @intrinsic
-def load4(typingctx, arr, start):
-    """:data:`vec4` of ``arr[start:start + 4]`` (1-D C-contiguous float64 array; no bounds check)."""
-    if not (isinstance(arr, types.Array) and arr.ndim == 1 and arr.dtype == types.float64 and arr.layout == "C"):
-        raise numba.core.errors.TypingError(f"load4 takes a 1-D C-contiguous float64 array, got {arr}")
-    if not isinstance(start, types.Integer):
-        raise numba.core.errors.TypingError(f"load4 takes an integer start, got {start}")
+def fill(typingctx, like, x):
+    """A lane vector of ``like``'s type with every lane ``x`` (float64)."""
+    if not isinstance(like, VecType) or x != types.float64:
+        raise numba.core.errors.TypingError(f"fill takes a lane vector and a float64, got {like}, {x}")
 
     def codegen(context, builder, sig, args):
-        ary = context.make_array(sig.args[0])(context, builder, args[0])
-        ptr = builder.gep(ary.data, [context.cast(builder, args[1], sig.args[1], types.intp)])
-        vptr = builder.bitcast(ptr, _V4.as_pointer())
-        return builder.load(vptr, align=8)
-    return vec4(arr, start), codegen
+        vec = ir.Constant(ir.VectorType(ir.DoubleType(), like.count), ir.Undefined)
+        for i in range(like.count):
+            vec = builder.insert_element(vec, args[1], ir.Constant(_I32, i))
+        return vec
+    return like(like, x), codegen
 
 
-@numba.njit(inline="always")
-def splat(x):
-    """:data:`vec4` (x, x, x, x) of a float64."""
-    return pack(x, x, x, x)
+def _check_array(arr, ndim, dtype=types.float64):
+    if not (isinstance(arr, types.Array) and arr.ndim == ndim and arr.dtype == dtype):
+        raise numba.core.errors.TypingError(f"expected a {ndim}-D {dtype} array, got {arr}")
+
+
+def _check_ints(*tys):
+    for ty in tys:
+        if not isinstance(ty, types.Integer):
+            raise numba.core.errors.TypingError(f"expected an integer index, got {ty}")
+
+
+@intrinsic
+def take(typingctx, arr, rows, col):
+    """Lane vector ``(arr[rows[0], col], …, arr[rows[n-1], col])`` of a 2-D float64 array (no bounds check)."""
+    _check_array(arr, 2)
+    n = _rows_of(rows)
+    _check_ints(col)
+
+    def codegen(context, builder, sig, args):
+        c = context.cast(builder, args[2], sig.args[2], types.intp)
+        vec = ir.Constant(ir.VectorType(ir.DoubleType(), n), ir.Undefined)
+        for j, r in enumerate(_index_values(context, builder, sig.args, args, 1)):
+            x = builder.load(_element_ptr(context, builder, sig.args[0], args[0], [r, c]))
+            vec = builder.insert_element(vec, x, ir.Constant(_I32, j))
+        return vec
+    return VecType(n)(arr, rows, col), codegen
+
+
+@intrinsic
+def take1(typingctx, arr, rows):
+    """Lane vector ``(arr[rows[0]], …, arr[rows[n-1]])`` of a 1-D float64 array (no bounds check)."""
+    _check_array(arr, 1)
+    n = _rows_of(rows)
+
+    def codegen(context, builder, sig, args):
+        vec = ir.Constant(ir.VectorType(ir.DoubleType(), n), ir.Undefined)
+        for j, r in enumerate(_index_values(context, builder, sig.args, args, 1)):
+            x = builder.load(_element_ptr(context, builder, sig.args[0], args[0], [r]))
+            vec = builder.insert_element(vec, x, ir.Constant(_I32, j))
+        return vec
+    return VecType(n)(arr, rows), codegen
+
+
+@intrinsic
+def put1(typingctx, arr, rows, v):
+    """``arr[rows[j]] = v[j]`` for every lane, in lane order (1-D float64 array, no bounds check)."""
+    _check_array(arr, 1)
+    n = _rows_of(rows)
+    if v != VecType(n):
+        raise numba.core.errors.TypingError(f"put1 takes a Vec{n}(float64) value, got {v}")
+
+    def codegen(context, builder, sig, args):
+        for j, r in enumerate(_index_values(context, builder, sig.args, args, 1)):
+            x = builder.extract_element(args[2], ir.Constant(_I32, j))
+            builder.store(x, _element_ptr(context, builder, sig.args[0], args[0], [r]))
+        return context.get_dummy_value()
+    return types.none(arr, rows, v), codegen
+
+
+@intrinsic
+def take3(typingctx, arr, rows, k, i):
+    """Lane vector ``(arr[rows[j], k, i])_j`` of a 3-D float64 array (no bounds check)."""
+    _check_array(arr, 3)
+    n = _rows_of(rows)
+    _check_ints(k, i)
+
+    def codegen(context, builder, sig, args):
+        kk = context.cast(builder, args[2], sig.args[2], types.intp)
+        ii = context.cast(builder, args[3], sig.args[3], types.intp)
+        vec = ir.Constant(ir.VectorType(ir.DoubleType(), n), ir.Undefined)
+        for j, r in enumerate(_index_values(context, builder, sig.args, args, 1)):
+            x = builder.load(_element_ptr(context, builder, sig.args[0], args[0], [r, kk, ii]))
+            vec = builder.insert_element(vec, x, ir.Constant(_I32, j))
+        return vec
+    return VecType(n)(arr, rows, k, i), codegen
+
+
+@intrinsic
+def put(typingctx, arr, rows, col, v):
+    """``arr[rows[j], col] = v[j]`` for every lane, in lane order (2-D float64 array, no bounds check)."""
+    _check_array(arr, 2)
+    n = _rows_of(rows)
+    _check_ints(col)
+    if v != VecType(n):
+        raise numba.core.errors.TypingError(f"put takes a Vec{n}(float64) value, got {v}")
+
+    def codegen(context, builder, sig, args):
+        c = context.cast(builder, args[2], sig.args[2], types.intp)
+        for j, r in enumerate(_index_values(context, builder, sig.args, args, 1)):
+            x = builder.extract_element(args[3], ir.Constant(_I32, j))
+            builder.store(x, _element_ptr(context, builder, sig.args[0], args[0], [r, c]))
+        return context.get_dummy_value()
+    return types.none(arr, rows, col, v), codegen
+
+
+@intrinsic
+def put3(typingctx, arr, rows, k, i, v):
+    """``arr[rows[j], k, i] = v[j]`` for every lane, in lane order (3-D float64 array, no bounds check)."""
+    _check_array(arr, 3)
+    n = _rows_of(rows)
+    _check_ints(k, i)
+    if v != VecType(n):
+        raise numba.core.errors.TypingError(f"put3 takes a Vec{n}(float64) value, got {v}")
+
+    def codegen(context, builder, sig, args):
+        kk = context.cast(builder, args[2], sig.args[2], types.intp)
+        ii = context.cast(builder, args[3], sig.args[3], types.intp)
+        for j, r in enumerate(_index_values(context, builder, sig.args, args, 1)):
+            x = builder.extract_element(args[4], ir.Constant(_I32, j))
+            builder.store(x, _element_ptr(context, builder, sig.args[0], args[0], [r, kk, ii]))
+        return context.get_dummy_value()
+    return types.none(arr, rows, k, i, v), codegen
+
+
+@intrinsic
+def choose(typingctx, flags, rows, k, a, b):
+    """Lane vector ``(a if flags[rows[j], k] else b)_j`` of a 2-D boolean array and two float64 scalars."""
+    _check_array(flags, 2, types.boolean)
+    n = _rows_of(rows)
+    _check_ints(k)
+    if a != types.float64 or b != types.float64:
+        raise numba.core.errors.TypingError(f"choose takes float64 alternatives, got {a}, {b}")
+
+    def codegen(context, builder, sig, args):
+        kk = context.cast(builder, args[2], sig.args[2], types.intp)
+        vec = ir.Constant(ir.VectorType(ir.DoubleType(), n), ir.Undefined)
+        for j, r in enumerate(_index_values(context, builder, sig.args, args, 1)):
+            raw = builder.load(_element_ptr(context, builder, sig.args[0], args[0], [r, kk]))
+            flag = context.data_model_manager[types.boolean].from_data(builder, raw)
+            vec = builder.insert_element(vec, builder.select(flag, args[3], args[4]), ir.Constant(_I32, j))
+        return vec
+    return VecType(n)(flags, rows, k, a, b), codegen
+
+
+def _per_lane(fn):
+    @intrinsic
+    def lanewise(typingctx, v):
+        if not isinstance(v, VecType):
+            raise numba.core.errors.TypingError(f"expected a lane vector, got {v}")
+
+        def codegen(context, builder, sig, args):
+            impl = context.get_function(fn, types.float64(types.float64))
+            vec = ir.Constant(ir.VectorType(ir.DoubleType(), v.count), ir.Undefined)
+            for j in range(v.count):
+                x = impl(builder, [builder.extract_element(args[0], ir.Constant(_I32, j))])
+                vec = builder.insert_element(vec, x, ir.Constant(_I32, j))
+            return vec
+        return v(v), codegen
+    return lanewise
+
+
+#: Per lane ``math.cos`` / ``math.sin``: numba's scalar lowering of each (the same libm calls as scalar code).
+cos = _per_lane(math.cos)
+sin = _per_lane(math.sin)
 
 
 add = _binary("fadd")
