@@ -54,6 +54,8 @@ def _simd_lanes() -> int:
 
 #: Trials per SIMD block (see :func:`_simd_lanes`).
 LANES = _simd_lanes()
+#: Blocks per dynamically scheduled chunk of the parallel kernel.
+_CHUNK_BLOCKS = 2
 
 
 @jit()
@@ -324,7 +326,7 @@ def _run_block(g, a, st, b, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, om
 @jit()
 def ekf_serial(g, a, st, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, om_s, has_prev, use_zvd, var_z,
                var_m, dt, q_theta, q_b, out_theta, out_bias, out_p, out_y, keep_y, last_c, last_hp, last_s, chk):
-    """Blocks of 4 trials one after the other."""
+    """Blocks of :data:`LANES` trials one after the other."""
     for b in range((g.shape[0] + LANES - 1) // LANES):
         _run_block(g, a, st, b, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, om_s, has_prev, use_zvd, var_z,
                    var_m, dt, q_theta, q_b, out_theta, out_bias, out_p, out_y, keep_y, last_c, last_hp, last_s, chk)
@@ -341,12 +343,24 @@ def ekf_one(g, a, st, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, om_s, ha
 
 
 @jit(parallel=True)
-def ekf_parallel(g, a, st, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, om_s, has_prev, use_zvd, var_z,
-                 var_m, dt, q_theta, q_b, out_theta, out_bias, out_p, out_y, keep_y, last_c, last_hp, last_s, chk):
-    """Blocks of 4 trials spread over numba's threads (``prange``); each trial computed exactly as serially."""
+def _ekf_parallel(g, a, st, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, om_s, has_prev, use_zvd, var_z,
+                  var_m, dt, q_theta, q_b, out_theta, out_bias, out_p, out_y, keep_y, last_c, last_hp, last_s, chk):
+    """Blocks of :data:`LANES` trials spread over numba's threads (``prange``); each trial computed exactly as
+    serially."""
     for b in prange((g.shape[0] + LANES - 1) // LANES):
         _run_block(g, a, st, b, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, om_s, has_prev, use_zvd, var_z,
                    var_m, dt, q_theta, q_b, out_theta, out_bias, out_p, out_y, keep_y, last_c, last_hp, last_s, chk)
+
+
+def ekf_parallel(*args) -> None:
+    """:func:`_ekf_parallel` with its blocks handed to the threads dynamically, :data:`_CHUNK_BLOCKS` at a time
+    (numba's parallel chunk size, set for this call only: a thread slowed by other load passes work on
+    instead of holding the last share of the blocks). Arguments as :func:`ekf_serial`."""
+    saved = numba.set_parallel_chunksize(_CHUNK_BLOCKS)
+    try:
+        _ekf_parallel(*args)
+    finally:
+        numba.set_parallel_chunksize(saved)
 
 
 def warm_up() -> None:
@@ -356,7 +370,7 @@ def warm_up() -> None:
     a = np.zeros((n, m, 3))
     a[..., 2] = 9.8
     vec = np.tile([1.0, 0.0, 0.0], (n, 1))
-    for fn in (ekf_one, ekf_serial, ekf_parallel):
+    for fn in (ekf_one, ekf_serial, _ekf_parallel):
         fn(g, a, np.ones((1, m), np.bool_), vec, vec, vec, vec, vec, vec, np.zeros(n), np.zeros((n, 3)),
            np.ones((n, 10)), np.zeros(n), False, True, 1e-4, 4.0, 1e-3, 1e-10, 1e-14, np.empty((n, m)),
            np.empty((n, m, 3)), np.empty((n, m)), np.empty((n, m, 3)), True, np.empty((n, 4)), np.empty((n, 3)),
