@@ -1,4 +1,4 @@
-"""Four-lane SIMD arithmetic on tuples of float64 (private).
+"""SIMD lane arithmetic for the batched filter kernels: tuples of float64 and LLVM vectors (private).
 
 Structure-of-arrays over trials for the batched filter kernels: a lane vector is a
 ``UniTuple(float64, 4)`` (one value per trial of a block of four). Every helper is one
@@ -11,12 +11,26 @@ no fast-math flags, no contraction into FMA, correctly rounded division and squa
 Comparisons reproduce numba's scalar semantics (ordered ``<``, ``<=``, ``>``: False with a
 NaN operand; ``max(x, y)`` is ``y if y > x else x``).
 
-The same helpers also take :data:`vec4` values (a numba type whose LLVM representation *is*
-``<4 x double>``; build one with :func:`pack` or :func:`splat`, read it with :func:`unpack`).
-A tuple is four scalars to LLVM: a tuple carried from one loop iteration to the next becomes
-four scalar ``phi`` nodes, re-packed into a vector before every operation and split after it
-(shuffles and scalar spills around every libm call). A ``vec4`` loop variable stays one vector
-register (or one 32-byte spill slot); the arithmetic per lane is the same IEEE-754 operation.
+The same helpers also take :class:`VecType` values (:data:`vec4`, :data:`vec8`: numba types
+whose LLVM representation *is* ``<4 x double>`` / ``<8 x double>``; build one with :func:`pack`,
+:func:`fill` or the gathers :func:`take1` / :func:`take` / :func:`take3` / :func:`choose`, read it
+with :func:`unpack` or the scatters :func:`put1` / :func:`put` / :func:`put3`; :func:`cos` and
+:func:`sin` call numba's scalar ``math.cos`` / ``math.sin`` lowering once per lane, i.e. the same
+libm calls as scalar code). A tuple is four scalars to LLVM: a tuple carried from one loop
+iteration to the next becomes four scalar ``phi`` nodes, re-packed into a vector before every
+operation and split after it (shuffles and scalar spills around every libm call). A vector loop
+variable stays one register (or one spill slot); the arithmetic per lane is the same IEEE-754
+operation.
+
+Examples
+--------
+>>> import numba, numpy as np
+>>> @numba.njit
+... def demo(x):
+...     v = pack((x[0], x[1], x[2], x[3]))
+...     return unpack(mul(add(v, v), fill(v, 0.5)))
+>>> demo(np.array([1.0, -2.0, 3.5, 0.0]))
+(1.0, -2.0, 3.5, 0.0)
 """
 
 from __future__ import annotations
