@@ -12,10 +12,13 @@ covariance, ``omega_prev`` (T,) = vᵀω Δt of the last gyro sample seen (used
 when ``has_prev``); the last step's ``c = P e0`` (T, 4), ``h′`` (T, 3) and
 ``s`` (T,) are returned for S and K.
 
-Batches run as blocks of four trials in structure-of-arrays form (:func:`_block`:
-one 4-lane SIMD vector per state variable, :mod:`mtcal.filters._kernels_lanes`),
-blocks spread over threads with ``prange``; a batched trial is bit-identical to the
-same trial run alone (:func:`_trial`, used for single-trial records and a last lone trial).
+Batches run as blocks of :data:`LANES` trials (8 with AVX-512, else 4) in
+structure-of-arrays form (:func:`_block`: one SIMD vector per state variable, held in
+a true LLVM vector type, :class:`mtcal.filters._kernels_lanes.VecType`), blocks spread
+over threads with ``prange``; a batched trial is bit-identical to the same trial run
+alone (:func:`_trial`, used for single-trial records and a last lone trial). Per trial
+and step the cost is about half the libm ``sincos`` (the same call as the scalar path,
+so results cannot differ) and half memory traffic (inputs read, histories written).
 """
 
 from __future__ import annotations
@@ -26,12 +29,33 @@ import numba
 import numpy as np
 from numba import prange
 
-from mtcal.filters._kernels_lanes import add, bc, div, fabs, mul, muls, sub, vmax, where_lt
+from mtcal.filters._kernels_lanes import (add, choose, cos, div, fabs, fill, mul, put, put1, put3, sin, sub, take,
+                                          take1, take3, vmax, where_lt)
 from mtcal.filters._kernels_common import jit
 
 __all__ = ["ekf_one", "ekf_serial", "ekf_parallel"]
 
 _LOW2 = 2.0 * 2.0 * (1.0 + 1e-9)   # see _kernels_qncf._LOW2
+
+
+def _simd_lanes() -> int:
+    """Trials per SIMD block: 8 (one AVX-512 register) when numba compiles for this host and it has
+    AVX-512F, else 4 (one AVX2 register, or 2 × SSE2 on the pinned ``generic`` target). Every trial's
+    arithmetic is the same for any block size (bit-identical results); only the speed differs."""
+    if numba.config.CPU_NAME not in (None, "host") or numba.config.CPU_FEATURES:
+        return 4
+    try:
+        from llvmlite import binding
+
+        return 8 if binding.get_host_cpu_features().get("avx512f", False) else 4
+    except Exception:  # pragma: no cover - llvmlite without host feature detection
+        return 4
+
+
+#: Trials per SIMD block (see :func:`_simd_lanes`).
+LANES = _simd_lanes()
+#: Blocks per dynamically scheduled chunk of the parallel kernel.
+_CHUNK_BLOCKS = 2
 
 
 @jit()
@@ -143,74 +167,54 @@ def _trial(g, a, st, t, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, om_s, 
 
 
 @numba.njit(inline="always")
-def _lanes3(x, ta, tb, tc, td):
-    """Columns 0, 1, 2 of rows ta … td of a (T, 3) array as three 4-lane vectors."""
-    return ((x[ta, 0], x[tb, 0], x[tc, 0], x[td, 0]), (x[ta, 1], x[tb, 1], x[tc, 1], x[td, 1]),
-            (x[ta, 2], x[tb, 2], x[tc, 2], x[td, 2]))
+def _rows4(t0, nl):
+    """Trial rows of a block of 4 lanes starting at ``t0`` with ``nl`` real trials (the rest repeat the last)."""
+    return (t0, t0 + min(1, nl - 1), t0 + min(2, nl - 1), t0 + min(3, nl - 1))
 
 
 @numba.njit(inline="always")
-def _col(x, ta, tb, tc, td, i):
-    return (x[ta, i], x[tb, i], x[tc, i], x[td, i])
+def _rows8(t0, nl):
+    """Trial rows of a block of 8 lanes (see :func:`_rows4`)."""
+    return (t0, t0 + min(1, nl - 1), t0 + min(2, nl - 1), t0 + min(3, nl - 1), t0 + min(4, nl - 1),
+            t0 + min(5, nl - 1), t0 + min(6, nl - 1), t0 + min(7, nl - 1))
 
 
 @numba.njit(inline="always")
-def _at(x, ta, tb, tc, td, k, i):
-    return (x[ta, k, i], x[tb, k, i], x[tc, k, i], x[td, k, i])
-
-
-@numba.njit(inline="always")
-def _put(out, t0, nl, k, X):
-    """out[t0 + j, k] = X[j] for the ``nl`` real lanes (constant lane indices: X stays in registers)."""
-    out[t0, k] = X[0]
-    if nl > 1:
-        out[t0 + 1, k] = X[1]
-    if nl > 2:
-        out[t0 + 2, k] = X[2]
-    if nl > 3:
-        out[t0 + 3, k] = X[3]
-
-
-@numba.njit(inline="always")
-def _put3(out, t0, nl, k, i, X):
-    """out[t0 + j, k, i] = X[j] for the ``nl`` real lanes."""
-    out[t0, k, i] = X[0]
-    if nl > 1:
-        out[t0 + 1, k, i] = X[1]
-    if nl > 2:
-        out[t0 + 2, k, i] = X[2]
-    if nl > 3:
-        out[t0 + 3, k, i] = X[3]
+def _lanes3(x, rows):
+    """Columns 0, 1, 2 of a (T, 3) array at ``rows`` as three lane vectors."""
+    return take(x, rows, 0), take(x, rows, 1), take(x, rows, 2)
 
 
 @jit()
-def _block(g, a, st, t0, nl, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, om_s, has_prev, use_zvd,
+def _block(g, a, st, rows, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, om_s, has_prev, use_zvd,
            var_z, var_m, dt, q_theta, q_b, out_theta, out_bias, out_p, out_y, keep_y, last_c, last_hp, last_s, chk):
-    """Trials ``t0 … t0 + nl - 1`` (``nl`` ≤ 4) as 4-lane SIMD vectors (structure of arrays over trials).
+    """Trials ``rows`` (a tuple of LANES trial indices) as LANES-lane SIMD vectors (structure of arrays over trials).
 
     Each lane performs :func:`_trial`'s operations on the same operands in the same order
     (cos/sin per lane with the same libm calls), so every trial is bit-identical to
-    :func:`_trial`. Lanes past ``nl`` repeat the last trial and are never stored.
+    :func:`_trial`. Rows may repeat (the last trial of a short block fills the spare lanes):
+    a repeated lane computes the same values bit for bit and stores them to the same places.
+    The state is held in lane vectors (:class:`~mtcal.filters._kernels_lanes.VecType`: one
+    vector register or spill slot each, no per-step re-packing of tuples).
     """
-    ta, tb, tc, td = t0, t0 + min(1, nl - 1), t0 + min(2, nl - 1), t0 + min(3, nl - 1)
-    V0, V1, V2 = _lanes3(v, ta, tb, tc, td)
-    F1, F2, F3 = _lanes3(f, ta, tb, tc, td)
-    PA0, PA1, PA2 = _lanes3(par, ta, tb, tc, td)
-    PE0, PE1, PE2 = _lanes3(perp, ta, tb, tc, td)
-    NE0, NE1, NE2 = _lanes3(nperp, ta, tb, tc, td)
-    W0, W1, W2 = _lanes3(wv, ta, tb, tc, td)
-    TH = (theta_s[ta], theta_s[tb], theta_s[tc], theta_s[td])
-    B0, B1, B2 = _lanes3(bias_s, ta, tb, tc, td)
-    P00, P01, P02, P03 = (_col(p_s, ta, tb, tc, td, 0), _col(p_s, ta, tb, tc, td, 1),
-                          _col(p_s, ta, tb, tc, td, 2), _col(p_s, ta, tb, tc, td, 3))
-    P11, P22, P33 = _col(p_s, ta, tb, tc, td, 4), _col(p_s, ta, tb, tc, td, 5), _col(p_s, ta, tb, tc, td, 6)
-    P12, P13, P23 = _col(p_s, ta, tb, tc, td, 7), _col(p_s, ta, tb, tc, td, 8), _col(p_s, ta, tb, tc, td, 9)
-    OM = (om_s[ta], om_s[tb], om_s[tc], om_s[td])
+    V0, V1, V2 = _lanes3(v, rows)
+    F1, F2, F3 = _lanes3(f, rows)
+    PA0, PA1, PA2 = _lanes3(par, rows)
+    PE0, PE1, PE2 = _lanes3(perp, rows)
+    NE0, NE1, NE2 = _lanes3(nperp, rows)
+    W0, W1, W2 = _lanes3(wv, rows)
+    TH = take1(theta_s, rows)
+    B0, B1, B2 = _lanes3(bias_s, rows)
+    P00, P01, P02, P03 = take(p_s, rows, 0), take(p_s, rows, 1), take(p_s, rows, 2), take(p_s, rows, 3)
+    P11, P22, P33 = take(p_s, rows, 4), take(p_s, rows, 5), take(p_s, rows, 6)
+    P12, P13, P23 = take(p_s, rows, 7), take(p_s, rows, 8), take(p_s, rows, 9)
+    OM = take1(om_s, rows)
     per_trial_flags = st.shape[0] > 1
-    zero = bc(0.0)
+    zero = fill(TH, 0.0)
     FW = FA = WM = LOW = zero
     C0 = C1 = C2 = C3 = H0 = H1 = H2 = S = zero
-    DT, QT, QB = bc(dt), bc(q_theta), bc(q_b)
+    DT, QT, QB = fill(TH, dt), fill(TH, q_theta), fill(TH, q_b)
+    LOW2, ONE, VZ = fill(TH, _LOW2), fill(TH, 1.0), fill(TH, var_z)
     for k in range(g.shape[1]):
         if has_prev or k > 0:  # prediction with the previous gyro sample (Eq 24–27)
             TH = add(TH, sub(OM, mul(add(add(mul(V0, B0), mul(V2, B2)), mul(V1, B1)), DT)))
@@ -222,17 +226,17 @@ def _block(g, a, st, t0, nl, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, o
             P00 = add(add(add(P00, U0), U0), add(R1, QT))
             P01, P02, P03 = add(P01, U1), add(P02, U2), add(P03, U3)
             P11, P22, P33 = add(P11, QB), add(P22, QB), add(P33, QB)
-        GX, GY, GZ = _at(g, ta, tb, tc, td, k, 0), _at(g, ta, tb, tc, td, k, 1), _at(g, ta, tb, tc, td, k, 2)
-        AX, AY, AZ = _at(a, ta, tb, tc, td, k, 0), _at(a, ta, tb, tc, td, k, 1), _at(a, ta, tb, tc, td, k, 2)
-        FW = add(FW, add(add(muls(GX, 0.0), muls(GY, 0.0)), muls(GZ, 0.0)))
-        FA = add(FA, add(add(muls(AX, 0.0), muls(AY, 0.0)), muls(AZ, 0.0)))
+        GX, GY, GZ = take3(g, rows, k, 0), take3(g, rows, k, 1), take3(g, rows, k, 2)
+        AX, AY, AZ = take3(a, rows, k, 0), take3(a, rows, k, 1), take3(a, rows, k, 2)
+        FW = add(FW, add(add(mul(GX, zero), mul(GY, zero)), mul(GZ, zero)))
+        FA = add(FA, add(add(mul(AX, zero), mul(AY, zero)), mul(AZ, zero)))
         WM = vmax(WM, vmax(fabs(GX), vmax(fabs(GY), fabs(GZ))))
         N2 = add(add(mul(AX, AX), mul(AY, AY)), mul(AZ, AZ))
-        LOW = add(LOW, where_lt(N2, bc(_LOW2), bc(1.0), zero))
+        LOW = add(LOW, where_lt(N2, LOW2, ONE, zero))
         OM = mul(add(add(mul(GX, V0), mul(GZ, V2)), mul(GY, V1)), DT)
         # correction (Eq 28–32), scalar-information form
-        CS = (math.cos(TH[0]), math.cos(TH[1]), math.cos(TH[2]), math.cos(TH[3]))
-        SN = (math.sin(TH[0]), math.sin(TH[1]), math.sin(TH[2]), math.sin(TH[3]))
+        CS = cos(TH)
+        SN = sin(TH)
         Y0 = sub(AX, sub(add(PA0, mul(PE0, CS)), mul(W0, SN)))
         Y1 = sub(AY, sub(add(PA1, mul(PE1, CS)), mul(W1, SN)))
         Y2 = sub(AZ, sub(add(PA2, mul(PE2, CS)), mul(W2, SN)))
@@ -242,12 +246,11 @@ def _block(g, a, st, t0, nl, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, o
         R4 = add(add(mul(H0, H0), mul(H2, H2)), mul(H1, H1))
         C0, C1, C2, C3 = P00, P01, P02, P03
         if not use_zvd:
-            VAR = bc(var_z)
+            VAR = VZ
         elif per_trial_flags:
-            VAR = (var_z if st[ta, k] else var_m, var_z if st[tb, k] else var_m,
-                   var_z if st[tc, k] else var_m, var_z if st[td, k] else var_m)
+            VAR = choose(st, rows, k, var_z, var_m)
         else:
-            VAR = bc(var_z if st[0, k] else var_m)
+            VAR = fill(TH, var_z if st[0, k] else var_m)
         S = add(VAR, mul(C0, R4))
         R0 = div(add(add(mul(H0, Y0), mul(H2, Y2)), mul(H1, Y1)), S)
         TH = add(TH, mul(C0, R0))
@@ -263,41 +266,59 @@ def _block(g, a, st, t0, nl, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, o
         P12 = sub(P12, mul(mul(C2, C1), R4))
         P13 = sub(P13, mul(mul(C3, C1), R4))
         P23 = sub(P23, mul(mul(C3, C2), R4))
-        _put(out_theta, t0, nl, k, TH)
-        _put(out_p, t0, nl, k, P00)
-        _put3(out_bias, t0, nl, k, 0, B0)
-        _put3(out_bias, t0, nl, k, 1, B1)
-        _put3(out_bias, t0, nl, k, 2, B2)
+        put(out_theta, rows, k, TH)
+        put(out_p, rows, k, P00)
+        put3(out_bias, rows, k, 0, B0)
+        put3(out_bias, rows, k, 1, B1)
+        put3(out_bias, rows, k, 2, B2)
         if keep_y:
-            _put3(out_y, t0, nl, k, 0, Y0)
-            _put3(out_y, t0, nl, k, 1, Y1)
-            _put3(out_y, t0, nl, k, 2, Y2)
-    for j in range(nl):
-        t = t0 + j
-        theta_s[t] = TH[j]
-        bias_s[t, 0], bias_s[t, 1], bias_s[t, 2] = B0[j], B1[j], B2[j]
-        p_s[t, 0], p_s[t, 1], p_s[t, 2], p_s[t, 3] = P00[j], P01[j], P02[j], P03[j]
-        p_s[t, 4], p_s[t, 5], p_s[t, 6] = P11[j], P22[j], P33[j]
-        p_s[t, 7], p_s[t, 8], p_s[t, 9] = P12[j], P13[j], P23[j]
-        om_s[t] = OM[j]
-        chk[t, 0], chk[t, 1], chk[t, 2], chk[t, 3] = FW[j], WM[j], FA[j], LOW[j]
-        if g.shape[1] > 0:
-            last_c[t, 0], last_c[t, 1], last_c[t, 2], last_c[t, 3] = C0[j], C1[j], C2[j], C3[j]
-            last_hp[t, 0], last_hp[t, 1], last_hp[t, 2] = H0[j], H1[j], H2[j]
-            last_s[t] = S[j]
+            put3(out_y, rows, k, 0, Y0)
+            put3(out_y, rows, k, 1, Y1)
+            put3(out_y, rows, k, 2, Y2)
+    put1(theta_s, rows, TH)
+    put(bias_s, rows, 0, B0)
+    put(bias_s, rows, 1, B1)
+    put(bias_s, rows, 2, B2)
+    put(p_s, rows, 0, P00)
+    put(p_s, rows, 1, P01)
+    put(p_s, rows, 2, P02)
+    put(p_s, rows, 3, P03)
+    put(p_s, rows, 4, P11)
+    put(p_s, rows, 5, P22)
+    put(p_s, rows, 6, P33)
+    put(p_s, rows, 7, P12)
+    put(p_s, rows, 8, P13)
+    put(p_s, rows, 9, P23)
+    put1(om_s, rows, OM)
+    put(chk, rows, 0, FW)
+    put(chk, rows, 1, WM)
+    put(chk, rows, 2, FA)
+    put(chk, rows, 3, LOW)
+    if g.shape[1] > 0:
+        put(last_c, rows, 0, C0)
+        put(last_c, rows, 1, C1)
+        put(last_c, rows, 2, C2)
+        put(last_c, rows, 3, C3)
+        put(last_hp, rows, 0, H0)
+        put(last_hp, rows, 1, H1)
+        put(last_hp, rows, 2, H2)
+        put1(last_s, rows, S)
+
+
+_rows = _rows8 if LANES == 8 else _rows4
 
 
 @jit()
 def _run_block(g, a, st, b, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, om_s, has_prev, use_zvd, var_z,
                var_m, dt, q_theta, q_b, out_theta, out_bias, out_p, out_y, keep_y, last_c, last_hp, last_s, chk):
-    """Block ``b`` of 4 trials (vector lanes), or its single trial with the scalar kernel."""
-    t0 = np.int64(b) * 4
-    nl = min(4, g.shape[0] - t0)
+    """Block ``b`` of :data:`LANES` trials (vector lanes), or its single trial with the scalar kernel."""
+    t0 = np.int64(b) * LANES
+    nl = min(LANES, g.shape[0] - t0)
     if nl == 1:
         _trial(g, a, st, t0, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, om_s, has_prev, use_zvd, var_z,
                var_m, dt, q_theta, q_b, out_theta, out_bias, out_p, out_y, keep_y, last_c, last_hp, last_s, chk)
     else:
-        _block(g, a, st, t0, nl, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, om_s, has_prev, use_zvd,
+        _block(g, a, st, _rows(t0, nl), v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, om_s, has_prev, use_zvd,
                var_z, var_m, dt, q_theta, q_b, out_theta, out_bias, out_p, out_y, keep_y, last_c, last_hp, last_s,
                chk)
 
@@ -305,8 +326,8 @@ def _run_block(g, a, st, b, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, om
 @jit()
 def ekf_serial(g, a, st, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, om_s, has_prev, use_zvd, var_z,
                var_m, dt, q_theta, q_b, out_theta, out_bias, out_p, out_y, keep_y, last_c, last_hp, last_s, chk):
-    """Blocks of 4 trials one after the other."""
-    for b in range((g.shape[0] + 3) // 4):
+    """Blocks of :data:`LANES` trials one after the other."""
+    for b in range((g.shape[0] + LANES - 1) // LANES):
         _run_block(g, a, st, b, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, om_s, has_prev, use_zvd, var_z,
                    var_m, dt, q_theta, q_b, out_theta, out_bias, out_p, out_y, keep_y, last_c, last_hp, last_s, chk)
 
@@ -322,12 +343,24 @@ def ekf_one(g, a, st, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, om_s, ha
 
 
 @jit(parallel=True)
-def ekf_parallel(g, a, st, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, om_s, has_prev, use_zvd, var_z,
-                 var_m, dt, q_theta, q_b, out_theta, out_bias, out_p, out_y, keep_y, last_c, last_hp, last_s, chk):
-    """Blocks of 4 trials spread over numba's threads (``prange``); each trial computed exactly as serially."""
-    for b in prange((g.shape[0] + 3) // 4):
+def _ekf_parallel(g, a, st, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, om_s, has_prev, use_zvd, var_z,
+                  var_m, dt, q_theta, q_b, out_theta, out_bias, out_p, out_y, keep_y, last_c, last_hp, last_s, chk):
+    """Blocks of :data:`LANES` trials spread over numba's threads (``prange``); each trial computed exactly as
+    serially."""
+    for b in prange((g.shape[0] + LANES - 1) // LANES):
         _run_block(g, a, st, b, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, om_s, has_prev, use_zvd, var_z,
                    var_m, dt, q_theta, q_b, out_theta, out_bias, out_p, out_y, keep_y, last_c, last_hp, last_s, chk)
+
+
+def ekf_parallel(*args) -> None:
+    """:func:`_ekf_parallel` with its blocks handed to the threads dynamically, :data:`_CHUNK_BLOCKS` at a time
+    (numba's parallel chunk size, set for this call only: a thread slowed by other load passes work on
+    instead of holding the last share of the blocks). Arguments as :func:`ekf_serial`."""
+    saved = numba.set_parallel_chunksize(_CHUNK_BLOCKS)
+    try:
+        _ekf_parallel(*args)
+    finally:
+        numba.set_parallel_chunksize(saved)
 
 
 def warm_up() -> None:
@@ -337,7 +370,7 @@ def warm_up() -> None:
     a = np.zeros((n, m, 3))
     a[..., 2] = 9.8
     vec = np.tile([1.0, 0.0, 0.0], (n, 1))
-    for fn in (ekf_one, ekf_serial, ekf_parallel):
+    for fn in (ekf_one, ekf_serial, _ekf_parallel):
         fn(g, a, np.ones((1, m), np.bool_), vec, vec, vec, vec, vec, vec, np.zeros(n), np.zeros((n, 3)),
            np.ones((n, 10)), np.zeros(n), False, True, 1e-4, 4.0, 1e-3, 1e-10, 1e-14, np.empty((n, m)),
            np.empty((n, m, 3)), np.empty((n, m)), np.empty((n, m, 3)), True, np.empty((n, 4)), np.empty((n, 3)),

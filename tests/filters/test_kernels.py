@@ -250,7 +250,10 @@ def test_ekf_bit_identical_for_any_thread_count_and_chunking(all_parallel, threa
     assert np.array_equal(parts[-1].P, results[0].P) and np.array_equal(parts[-1].K, results[0].K)
 
 
-@pytest.mark.parametrize("trials, per_trial_flags", [(2, True), (3, False), (5, True), (7, False)])
+# with 8 lanes (AVX-512 hosts): partial blocks (2-7), a full block + a lone scalar trial (9), full + partial (13),
+# two full blocks + a lone trial (17); with 4 lanes: full + partial (7), several blocks + a lone trial (9, 13, 17)
+@pytest.mark.parametrize("trials, per_trial_flags", [(2, True), (3, False), (5, True), (7, False), (9, True),
+                                                     (13, False), (17, True)])
 def test_ekf_batched_lanes_are_bit_identical_to_each_trial_alone(all_parallel, trials, per_trial_flags):
     imu, prof, rec, a0, b0, flags = _ekf_record(trials)
     st = flags if per_trial_flags else prof.is_static
@@ -264,6 +267,41 @@ def test_ekf_batched_lanes_are_bit_identical_to_each_trial_alone(all_parallel, t
                            imu.dt_s, imu.ekf_params(), bias0_rad_s=b0[i], theta0_rad=theta0[i])
         for name in ("theta_rad", "bias_rad_s", "p_theta_rad2", "innovation_m_s2", "P", "S", "K"):
             assert np.array_equal(getattr(one, name)[0], getattr(batch, name)[t]), (t, name)
+
+
+def _ekf_kernel_args(trials: int, keep_y: bool):
+    """Direct arguments of the EKF kernels (per-trial flags, a carried previous gyro sample, keep_y)."""
+    imu, prof, rec, a0, b0, flags = _ekf_record(trials)
+    filt = RamsEkfFilter(RotationSetup().unit_axis(), a0, imu.dt_s, imu.ekf_params(), trials=trials,
+                         bias0_rad_s=b0, theta0_rad=np.linspace(-2e-3, 2e-3, trials))
+    n, m = trials, rec.gyro_rad_s.shape[1]
+    consts = tuple(np.ascontiguousarray(x.T) for x in (filt._v, filt._par, filt._perp, filt._nperp, filt._w, filt._f))
+    om = np.linspace(-1e-4, 1e-4, n)
+    return [rec.gyro_rad_s, rec.accel_m_s2, np.ascontiguousarray(flags), *consts, filt._theta.copy(),
+            np.ascontiguousarray(filt._bias.T), np.ascontiguousarray(filt._p.T), om, True, True,
+            float(filt._var[0]), float(filt._var[1]), imu.dt_s, float(filt._q_theta), float(filt._q_b),
+            np.full((n, m), np.nan), np.full((n, m, 3), np.nan), np.full((n, m), np.nan),
+            np.full((n, m, 3), np.nan) if keep_y else np.empty((1, 1, 3)), keep_y, np.full((n, 4), np.nan),
+            np.full((n, 3), np.nan), np.full(n, np.nan), np.full((n, 4), np.nan)]
+
+
+@pytest.mark.parametrize("keep_y", [True, False])
+def test_ekf_blocks_of_4_and_8_lanes_are_bit_identical_to_the_scalar_trial(keep_y):
+    """Both block widths (whichever LANES this host compiles), spare lanes repeating the last trial,
+    reproduce the scalar kernel bit for bit: state, histories, last c/h'/s and the input scan."""
+    from mtcal.filters import _kernels_ekf as K
+
+    ref = _ekf_kernel_args(5, keep_y)
+    K.ekf_one(*ref)
+    for rows in ((0, 1, 2, 3), (1, 2, 3, 4), (0, 1, 2, 3, 4, 4, 4, 4), (2, 3, 4, 4, 4, 4, 4, 4)):
+        got = _ekf_kernel_args(5, keep_y)
+        K._block(got[0], got[1], got[2], rows, *got[3:])
+        for i, (x, y) in enumerate(zip(ref[9:], got[9:])):
+            if isinstance(x, np.ndarray) and x.shape[:1] == (5,):
+                r = sorted(set(rows))
+                assert np.array_equal(x[r], y[r]), (rows, i)
+                other = sorted(set(range(5)) - set(r))
+                assert np.isnan(y[other]).all() or i < 4, (rows, i)  # untouched rows keep their fill
 
 
 def test_ekf_non_finite_sample_in_one_lane_raises(all_parallel):
