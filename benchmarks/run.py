@@ -336,7 +336,7 @@ def benchmark_methods(inp: BenchInputs, sizes: Sizes, log=print) -> list[Measure
                 threads=threads, note="independent scalar re-implementation, one trial per prange iteration")
             if eb is not None:
                 add(EKF, "mtcal", eb, t, m, threads=threads,
-                    note="run_rams_ekf, 4-lane SIMD blocks of trials, prange over blocks (after)")
+                    note="run_rams_ekf, 4/8-lane SIMD blocks of trials (8 on AVX-512), dynamic prange over blocks (after)")
                 add(EKF + BEFORE, "mtcal", _before(eb), t, m, threads=threads,
                     note="run_rams_ekf with the previous kernel (one trial per prange iteration)")
                 add(LIMIT_EKF, "numba",
