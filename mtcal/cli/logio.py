@@ -146,6 +146,7 @@ class ImuLog:
     dt_s: np.ndarray
     jitter: float
     notes: list
+    _gyro_filter: tuple | None = field(default=None, repr=False, compare=False)
 
     @property
     def n(self) -> int:
@@ -156,29 +157,45 @@ class ImuLog:
         return 1.0 / self.fs_hz
 
     def gyro_for_filter(self) -> np.ndarray:
-        """Gyro weighted by per-sample dt for a fixed-step filter at ``dt_mean_s`` (rad/s)."""
+        """Gyro weighted by per-sample dt for a fixed-step filter at ``dt_mean_s`` (rad/s); computed once.
+
+        The caller must not modify the array returned (it is the log's gyro for a uniform time base).
+        """
         from mtcal.systems.plausibility import time_base
 
         if self.gyro_rad_s is None:
             raise ValueError(f"{self.path}: no gyro columns")
-        _, weights = time_base(self.n, time_s=self.time_s)
-        return self.gyro_rad_s if weights is None else self.gyro_rad_s * weights[:, None]
+        cached = self._gyro_filter
+        if cached is None or cached[0] is not self.gyro_rad_s or cached[1] is not self.time_s:
+            _, weights = time_base(self.n, time_s=self.time_s)
+            gyro = self.gyro_rad_s if weights is None else self.gyro_rad_s * weights[:, None]
+            cached = self._gyro_filter = (self.gyro_rad_s, self.time_s, gyro)
+        return cached[2]
 
 
 def _read_table(path: Path, select=None):
     """Column name (stripped) → Arrow column, from CSV or Parquet.
 
-    ``select(names) -> names`` picks the columns a CSV read parses, as float64
-    (no type inference, no unused columns); a value that is not a number makes
-    the read fall back to inferring every column so the error can name its row.
+    ``select(names) -> names`` picks the columns read: a CSV read parses them as
+    float64 (no type inference, no unused columns; a value that is not a number makes
+    the read fall back to inferring every column so the error can name its row), a
+    Parquet read decodes only them. Also returns every column name, for messages.
     """
     import pyarrow as pa
 
     if path.suffix.lower() in (".parquet", ".pq"):
         import pyarrow.parquet as pq
 
-        try:
-            table = pq.read_table(path)
+        try:  # ParquetFile, not read_table: no pyarrow.dataset (which imports pandas, ~0.5 s)
+            pf = pq.ParquetFile(path)
+            names = pf.schema_arrow.names
+            every = [str(n).strip() for n in names if not str(n).startswith(_UNNAMED)]
+            want = None
+            if select is not None:
+                stripped = {str(n).strip(): n for n in names}
+                want = [stripped[n] for n in select(list(stripped)) if n in stripped]
+                want = want if want and len(stripped) == len(names) else None
+            table = pf.read(columns=want)
         except (pa.ArrowException, OSError) as exc:
             raise ValueError(f"{path}: not a readable Parquet file ({str(exc).splitlines()[0]})") from None
     else:
@@ -209,14 +226,10 @@ def _read_table(path: Path, select=None):
                                       convert_options=pcsv.ConvertOptions(strings_can_be_null=True))
             except (pa.ArrowException, UnicodeDecodeError) as exc:
                 raise ValueError(f"{path}: not a readable CSV ({str(exc).splitlines()[0][:200]})") from None
-        raw = [n for n in raw if not n.startswith(_UNNAMED)]
+        every = [n for n in raw if not n.startswith(_UNNAMED)]
     out = {str(name).strip(): col for name, col in zip(table.column_names, table.columns)
            if not str(name).startswith(_UNNAMED)}
-    if path.suffix.lower() not in (".parquet", ".pq") and select is not None and len(out) < len(raw):
-        out_names = raw  # every header of the file, for messages
-    else:
-        out_names = list(out)
-    return out, out_names
+    return out, (every if len(out) < len(every) else list(out))  # every header of the file, for messages
 
 
 _UNNAMED = "_unnamed_"
@@ -240,14 +253,32 @@ def _header_names(head: str, second: str, delim: str) -> list[str]:
     return [n if n else f"{_UNNAMED}{i}" for i, n in enumerate(names)]
 
 
-def _numeric(col, header: str, path: Path) -> np.ndarray:
-    """A column as float64; the first non-numeric/NaN row is named in the error."""
+def _numeric(col, header: str, path: Path, out: np.ndarray | None = None) -> np.ndarray:
+    """A column as float64 (into ``out``, e.g. a column of an (N, 3) array); the first non-numeric/NaN row is
+    named in the error.
+
+    Numeric columns are copied chunk by chunk from their Arrow buffers (no intermediate array, and no
+    ``to_numpy``, which imports pandas: ~0.3 s of a CLI call).
+    """
     import pyarrow as pa
-    import pyarrow.compute as pc
 
     if pa.types.is_integer(col.type) or pa.types.is_floating(col.type) or pa.types.is_boolean(col.type):
-        arr = col.to_numpy(zero_copy_only=False).astype(np.float64, copy=False)
+        import pyarrow.compute as pc
+
+        out = np.empty(len(col)) if out is None else out
+        off = 0
+        for chunk in (col.chunks if isinstance(col, pa.ChunkedArray) else [col]):
+            if chunk.type != pa.float64():
+                chunk = pc.cast(chunk, pa.float64(), safe=False)  # as numpy's astype(float64)
+            if chunk.null_count:
+                chunk = pc.fill_null(chunk, float("nan"))
+            n = len(chunk)
+            out[off:off + n] = np.frombuffer(chunk.buffers()[1], dtype=np.float64, count=n, offset=8 * chunk.offset)
+            off += n
+        arr = out
     else:
+        import pyarrow.compute as pc
+
         try:
             arr = pc.cast(pc.utf8_trim_whitespace(col.cast(pa.string())), pa.float64()).to_numpy(
                 zero_copy_only=False)
@@ -256,10 +287,14 @@ def _numeric(col, header: str, path: Path) -> np.ndarray:
 
             arr = pd.to_numeric(pd.Series(col.to_pylist(), dtype=object).astype(str).str.strip(),
                                 errors="coerce").to_numpy(float)
-    bad = ~np.isfinite(arr)
-    if bad.any():
-        row = int(np.argmax(bad))
-        raise ValueError(f"{path}: non-numeric or NaN value in column {header!r} at data row {row + 1}")
+        if out is not None:
+            out[:] = arr
+            arr = out
+    if not np.isfinite(np.sum(arr)):  # a NaN or inf makes the sum non-finite (so may an overflow: looked at below)
+        bad = ~np.isfinite(arr)
+        if bad.any():
+            row = int(np.argmax(bad))
+            raise ValueError(f"{path}: non-numeric or NaN value in column {header!r} at data row {row + 1}")
     return arr
 
 
@@ -360,7 +395,7 @@ def read_log(path, opts: InputOptions | None = None, *, need: str = "raw", min_s
         unit = unit_opt or implied.get(names[0], next(iter(table)))
         arr = np.empty((t.size, 3))
         for i, c in enumerate(names):
-            arr[:, i] = _numeric(cols.pop(found[c]), found[c], p)  # pop: free the Arrow column early
+            _numeric(cols.pop(found[c]), found[c], p, out=arr[:, i])  # pop: free the Arrow column early
         if scale is not None:
             arr *= scale
             notes.append(f"{scale_name} {','.join(f'{s:g}' for s in scale)}")
