@@ -509,13 +509,27 @@ def write_table(path, columns: dict, *, decimals: dict | None = None) -> None:
 
     Floats are rounded to ``decimals[name]`` (default 6) in CSV, which the
     pyarrow writer then prints in shortest form; Parquet keeps float64. NaN
-    is written as an empty field (CSV) or null (Parquet).
+    is written as an empty field (CSV) or null (Parquet). A CSV of float and
+    integer columns is printed by :mod:`mtcal.core.csvtext` (the same bytes,
+    ~4x less CPU) when it can (:func:`mtcal.core.csvtext.can_format`).
     """
     import pyarrow as pa
 
     p = check_output_path(path)
     dec = decimals or {}
     parquet = p.suffix.lower() in (".parquet", ".pq")
+    if not parquet and _arrow_header_unquoted():
+        from mtcal.core import csvtext
+
+        plain = {name: np.asarray(arr) for name, arr in columns.items()}
+        if csvtext.can_format(plain, dec):
+            def write(tmp):
+                with open(tmp, "wb") as fh:
+                    for chunk in csvtext.csv_chunks(plain, dec):
+                        fh.write(chunk)
+
+            _atomic(p, write)
+            return
     arrays = {}
     for name, arr in columns.items():
         a = np.asarray(arr)
@@ -530,6 +544,17 @@ def write_table(path, columns: dict, *, decimals: dict | None = None) -> None:
         _atomic(p, lambda tmp: pq.write_table(table, tmp, use_dictionary=False))
     else:
         _atomic(p, lambda tmp: _write_csv_parallel(table, tmp))
+
+
+def _arrow_header_unquoted() -> bool:
+    """Whether this pyarrow writes the CSV header unquoted (``quoting_header``, pyarrow >= 19), as csvtext does."""
+    import pyarrow.csv as pcsv
+
+    try:
+        pcsv.WriteOptions(quoting_header="none")
+    except TypeError:
+        return False
+    return True
 
 
 #: Rows per CSV block formatted by one thread (pyarrow's CSV writer releases the GIL).
