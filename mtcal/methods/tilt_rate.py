@@ -48,7 +48,7 @@ import numpy as np
 
 from mtcal.core.validate import positive_scalar
 
-__all__ = ["tilt_rate_scale", "check_tilt_rate_scale", "scale_hint", "tilt_seen", "MIN_CORRELATION",
+__all__ = ["tilt_rate_scale", "check_tilt_rate_scale", "scale_hint", "tilt_seen", "warm_up", "MIN_CORRELATION",
            "MIN_AGREEMENT_CORRELATION", "MIN_LONG_AGREEMENT_CORRELATION",
            "MIN_TILT_RAD", "MIN_WINDOWS", "MIN_STRONG_TILT_RAD", "SCALE_HINTS"]
 
@@ -284,3 +284,15 @@ def scale_hint(scale: float) -> str:
         if abs(np.log(scale / best)) < np.log(2.0):
             return SCALE_HINTS[best]
     return "check --gyro-unit, --gyro-scale and the time column"
+
+
+def warm_up() -> None:
+    """Compile (or load from numba's cache) the compiled window pass of :func:`tilt_rate_scale`.
+
+    Examples
+    --------
+    >>> warm_up()
+    """
+    from mtcal.methods._tilt_rate_kernels import warm_up as warm
+
+    warm()
