@@ -365,13 +365,17 @@ def read_log(path, opts: InputOptions | None = None, *, need: str = "raw", min_s
         found["time_s"] = "--fs-hz"
         notes.append(f"time from --fs-hz {opts.fs_hz:g}")
     else:
-        t = _numeric(cols[found["time_s"]], found["time_s"], p) * TIME_UNITS[time_unit]
+        t = _numeric(cols[found["time_s"]], found["time_s"], p)
+        if TIME_UNITS[time_unit] != 1.0:  # (s: no copy)
+            t = t * TIME_UNITS[time_unit]
     if time_unit != "s":
         notes.append(f"time in {time_unit}")
     if t.size < min_samples:
         raise ValueError(f"{path}: needs at least {min_samples} samples, got {t.size}")
-    dt = np.diff(t)
-    if np.any(dt <= 0):
+    dt_full = np.empty(t.size)  # per-sample dt; the last sample takes the mean (set below)
+    dt = np.subtract(t[1:], t[:-1], out=dt_full[:-1])  # = np.diff(t), a view
+    dt_min, dt_max = float(dt.min()), float(dt.max())
+    if dt_min <= 0:
         k = int(np.argmax(dt <= 0))
         raise ValueError(f"{path}: {found['time_s']} is not strictly increasing at data row {k + 2} "
                          f"({t[k + 1]!r} after {t[k]!r}); sort the log by time and drop duplicates")
@@ -382,14 +386,14 @@ def read_log(path, opts: InputOptions | None = None, *, need: str = "raw", min_s
         raise ValueError(f"{path}: mean sample rate {fs:.4g} Hz from {found['time_s']} (time unit "
                          f"{time_unit}) is implausible for an IMU ({MIN_FS_HZ:g}-{MAX_FS_HZ:g} Hz); {hint}")
     dt_mean = 1.0 / fs
-    jitter = float(max(dt_mean - dt.min(), dt.max() - dt_mean) / dt_mean)
-    dt_full = np.append(dt, dt_mean)
+    jitter = float(max(dt_mean - dt_min, dt_max - dt_mean) / dt_mean)
+    dt_full[-1] = dt_mean
     if jitter > 1e-3:
-        notes.append(f"jittered timestamps (dt {dt.min() * 1e3:.3g}-{dt.max() * 1e3:.3g} ms, mean "
+        notes.append(f"jittered timestamps (dt {dt_min * 1e3:.3g}-{dt_max * 1e3:.3g} ms, mean "
                      f"{dt_mean * 1e3:.4g} ms): per-sample dt used")
-    if dt.max() > 5.0 * dt_mean:
+    if dt_max > 5.0 * dt_mean:
         gaps = dt > 5.0 * np.median(dt)
-        notes.append(f"{int(gaps.sum())} gap(s) > 5x the median dt (largest {dt.max():.3g} s)")
+        notes.append(f"{int(gaps.sum())} gap(s) > 5x the median dt (largest {dt_max:.3g} s)")
 
     def vec(names, unit_name, unit_opt, table, scale, scale_name):
         unit = unit_opt or implied.get(names[0], next(iter(table)))
