@@ -529,8 +529,7 @@ def write_table(path, columns: dict, *, decimals: dict | None = None) -> None:
         if csvtext.can_format(plain, dec):
             def write(tmp):
                 with open(tmp, "wb") as fh:
-                    for chunk in csvtext.csv_chunks(plain, dec):
-                        fh.write(chunk)
+                    csvtext.write_csv(fh, plain, dec)
 
             _atomic(p, write)
             return

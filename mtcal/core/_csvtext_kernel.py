@@ -38,12 +38,12 @@ def format_block(vals, factor, p10, decimals, is_int, out):
     rows, cols = vals.shape
     pos = 0
     buf = np.empty(48, np.int64)
-    for r in range(rows):
+    for row in range(rows):
         for c in range(cols):
             if c:
                 out[pos] = 44  # ','
                 pos += 1
-            x = vals[r, c]
+            x = vals[row, c]
             if np.isnan(x):
                 continue
             if is_int[c]:
@@ -64,12 +64,24 @@ def format_block(vals, factor, p10, decimals, is_int, out):
                 pos += 1
                 continue
             d = decimals[c]
-            # digits of kk, least significant first
+            # digits of kk, least significant first, two per division
             nd = 0
             t = kk
-            while t:
-                buf[nd] = t % 10
-                t //= 10
+            while t >= 100:
+                hi = t // 100
+                two = t - hi * 100
+                q10 = two // 10
+                buf[nd] = two - q10 * 10
+                buf[nd + 1] = q10
+                nd += 2
+                t = hi
+            if t >= 10:
+                q10 = t // 10
+                buf[nd] = t - q10 * 10
+                buf[nd + 1] = q10
+                nd += 2
+            else:
+                buf[nd] = t
                 nd += 1
             lo = 0  # trailing zeros dropped
             while buf[lo] == 0:

@@ -6,18 +6,22 @@ below 1e-6 and from 1e10, ``-0`` for a negative zero, an empty field for NaN) ca
 printed without the general shortest-digits algorithm: the rounded value is the double
 nearest to ``K·10^-d`` with the integer ``K = rint(x·10^d)``, and as long as
 ``|K| < 2^52`` its spacing is below ``10^-d``, so its shortest round-trip digits are
-those of ``K`` with trailing zeros dropped. :func:`csv_chunks` prints them from
+those of ``K`` with trailing zeros dropped. :func:`write_csv` prints them from
 ``K`` in a compiled loop, blocks of rows on all cores; :func:`can_format` says when
 a table qualifies (otherwise the caller uses Arrow's writer, which prints every
 double). Integer columns print as integers.
 
 Examples
 --------
+>>> import io
 >>> import numpy as np
 >>> cols = {"t": np.array([0.0, 0.001, 1e-7]), "q": np.array([-1e-12, 0.5, 3.25e-8]), "k": np.array([0, 1, 1], np.int8)}
 >>> can_format(cols, {"q": 9})
 True
->>> print(b"".join(csv_chunks(cols, {"q": 9})).decode(), end="")
+>>> buf = io.BytesIO()
+>>> write_csv(buf, cols, {"q": 9})
+36
+>>> print(buf.getvalue().decode(), end="")
 t,q,k
 0,-0,0
 0.001,0.5,1
@@ -30,18 +34,17 @@ import os
 
 import numpy as np
 
-__all__ = ["can_format", "csv_chunks", "warm_up", "DEFAULT_DECIMALS", "MAX_DECIMALS"]
+__all__ = ["can_format", "write_csv", "warm_up", "DEFAULT_DECIMALS", "MAX_DECIMALS"]
 
 #: Decimals of a float column not named in ``decimals``.
 DEFAULT_DECIMALS = 6
-#: Most decimals :func:`csv_chunks` prints (10^d exact, K < 2^52 leaves room for the integer part).
+#: Most decimals :func:`write_csv` prints (10^d exact, K < 2^52 leaves room for the integer part).
 MAX_DECIMALS = 15
 #: Rows per block (formatted by one thread; a block's text is ~100 bytes a row).
 BLOCK_ROWS = 65_536
 #: Arrow switches to exponent notation from this magnitude (``1e+10``).
 _EXP_HIGH = 1e10
 _K_MAX = 2.0**52
-_FIELD_BYTES = 40  # longest field: sign, 16 digits, '.', exponent 'e-NN', separator
 
 
 def _kernel():
@@ -51,7 +54,7 @@ def _kernel():
 
 
 def can_format(columns: dict, decimals: dict | None = None) -> bool:
-    """Whether :func:`csv_chunks` prints ``columns`` exactly as Arrow's writer prints the rounded table.
+    """Whether :func:`write_csv` prints ``columns`` exactly as Arrow's writer prints the rounded table.
 
     Parameters
     ----------
@@ -91,9 +94,9 @@ def can_format(columns: dict, decimals: dict | None = None) -> bool:
     return n is not None
 
 
-def csv_chunks(columns: dict, decimals: dict | None = None, *, header: bool = True, block_rows: int = BLOCK_ROWS,
-               threads: int | None = None):
-    """Yield the CSV text (bytes) of ``columns``: header line, then blocks of rows, in order.
+def write_csv(file, columns: dict, decimals: dict | None = None, *, header: bool = True,
+              block_rows: int = BLOCK_ROWS, threads: int | None = None) -> int:
+    """Write the CSV text of ``columns`` to the binary ``file``: header line, then blocks of rows, in order.
 
     Byte-identical to ``pyarrow.csv.write_csv`` (``quoting_style="none"``,
     ``quoting_header="none"``) of the table whose float columns are ``np.round(x, d)``
@@ -101,6 +104,8 @@ def csv_chunks(columns: dict, decimals: dict | None = None, *, header: bool = Tr
 
     Parameters
     ----------
+    file : binary file object
+        Anything with ``write(bytes-like)`` (a file opened ``"wb"``, ``io.BytesIO``).
     columns : dict of str to ndarray (N,)
         Float or integer columns, in output order.
     decimals : dict of str to int, optional
@@ -110,11 +115,13 @@ def csv_chunks(columns: dict, decimals: dict | None = None, *, header: bool = Tr
     block_rows : int
         Rows per block (one block is formatted by one thread).
     threads : int, optional
-        Threads formatting blocks (default: the CPU count); at most two blocks per thread wait.
+        Threads formatting blocks (default: the CPU count); at most two blocks per thread
+        wait, in buffers reused from block to block (memory stays bounded, no fresh pages).
 
-    Yields
-    ------
-    bytes
+    Returns
+    -------
+    int
+        Bytes written.
     """
     from concurrent.futures import ThreadPoolExecutor
 
@@ -127,35 +134,47 @@ def csv_chunks(columns: dict, decimals: dict | None = None, *, header: bool = Tr
     d = np.array([0 if i else dec.get(k, DEFAULT_DECIMALS) for k, i in zip(names, is_int)], np.int64)
     factor = np.array([10.0 ** int(x) for x in d])          # numpy's power_of_ten: exact up to 1e22
     p10 = np.array([10 ** int(x) for x in d], np.int64)
+    # longest field: sign, 10 integer digits, '.', d decimals, separator; exponent form (d >= 7): sign,
+    # 16 digits, '.', 'e-NN', separator; an integer: sign, 19 digits, separator; plus the newline
+    row_bytes = 1 + sum(22 if i else max(14 + int(x), 24) for i, x in zip(is_int, d))
+    written = 0
     if header:
-        yield (",".join(names) + "\n").encode("utf-8")
+        written += file.write((",".join(names) + "\n").encode("utf-8"))
+    starts = list(range(0, n, block_rows))
+    if not starts:
+        return written
+    workers = max(1, min(threads or os.cpu_count() or 1, len(starts)))
+    rows = min(block_rows, n)
+    slots = [(np.empty((rows, len(arrays))), np.empty(rows * row_bytes, np.uint8))
+             for _ in range(2 * workers + 1)]  # in flight: 2 x workers blocks, one more being written
 
-    def block(start: int) -> bytes:
+    def block(i: int) -> memoryview:
+        start = starts[i]
         stop = min(start + block_rows, n)
-        vals = np.empty((stop - start, len(arrays)))
+        vals, out = slots[i % len(slots)]
+        vals = vals[: stop - start]
         for j, a in enumerate(arrays):
             vals[:, j] = a[start:stop]
-        out = np.empty((stop - start) * len(arrays) * _FIELD_BYTES + 1, np.uint8)
-        used = fmt(vals, factor, p10, d, is_int, out)
-        return out[:used].tobytes()
+        return memoryview(out[: fmt(vals, factor, p10, d, is_int, out)])
 
-    starts = list(range(0, n, block_rows))
-    workers = max(1, min(threads or os.cpu_count() or 1, len(starts)))
     if workers == 1:
-        for s in starts:
-            yield block(s)
-        return
+        for i in range(len(starts)):
+            written += file.write(block(i))
+        return written
     with ThreadPoolExecutor(max_workers=workers) as pool:
         pending = []
-        for s in starts:
-            pending.append(pool.submit(block, s))
+        for i in range(len(starts)):
+            pending.append(pool.submit(block, i))
             if len(pending) >= 2 * workers:
-                yield pending.pop(0).result()
+                written += file.write(pending.pop(0).result())
         for fut in pending:
-            yield fut.result()
+            written += file.write(fut.result())
+    return written
 
 
 def warm_up() -> None:
     """Compile (or load from numba's cache) the formatting kernel."""
+    import io
+
     cols = {"x": np.array([0.5, -1e-8, np.nan]), "k": np.array([1, 0, -2], np.int8)}
-    b"".join(csv_chunks(cols, {"x": 9}))
+    write_csv(io.BytesIO(), cols, {"x": 9})

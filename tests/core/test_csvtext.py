@@ -1,5 +1,7 @@
 """CSV text of rounded columns (mtcal.core.csvtext): byte-identical to Arrow's writer of the rounded table."""
 
+import io
+
 import numpy as np
 import pyarrow as pa
 import pyarrow.csv as pcsv
@@ -19,7 +21,10 @@ def _arrow(cols: dict, dec: dict) -> bytes:
 
 def _ours(cols: dict, dec: dict, **kw) -> bytes:
     assert csvtext.can_format(cols, dec)
-    return b"".join(csvtext.csv_chunks(cols, dec, **kw))
+    buf = io.BytesIO()
+    n = csvtext.write_csv(buf, cols, dec, **kw)
+    assert n == len(buf.getvalue())
+    return buf.getvalue()
 
 
 @pytest.mark.parametrize("seed", range(4))
