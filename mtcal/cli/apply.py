@@ -52,7 +52,6 @@ def run(args: argparse.Namespace) -> int:
 
     def body() -> int:
         from mtcal.cli.attitude import qncf_settings
-        from mtcal.core import rotations
         from mtcal.systems import installation  # numba/scipy: loaded when the command runs, not for --help
 
         q_hat = load_calibration(args.calibration)
@@ -70,8 +69,8 @@ def run(args: argparse.Namespace) -> int:
         else:
             att, static = installation.apply_installation(q_hat, q_ws=log.q_ws), None
         qb = att.q_body
-        eb = np.degrees(rotations.euler_zxy_unchecked(qb))
-        es = np.degrees(rotations.euler_zxy_unchecked(att.q_sensor))
+        eb = common.euler_deg(qb)
+        es = common.euler_deg(att.q_sensor)
         extra = {"sensor_yaw_deg": es[:, 0], "sensor_pitch_deg": es[:, 1], "sensor_roll_deg": es[:, 2]}
         if static is not None:
             extra["is_static"] = static.astype(np.int8)

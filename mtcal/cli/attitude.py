@@ -64,12 +64,19 @@ def qncf_settings(log: logio.ImuLog, rep) -> tuple[np.ndarray, object, np.ndarra
     return gyro, params, q0, info
 
 
-def sensor_attitude(log: logio.ImuLog, rep) -> tuple[np.ndarray, dict]:
-    """QNCF sensor attitude (N, 4) of a raw log and a description of how it was made (:func:`qncf_settings`)."""
-    from mtcal.filters.qncf import qncf
+def sensor_attitude(log: logio.ImuLog, rep, *, skip=None) -> tuple[np.ndarray, dict]:
+    """QNCF sensor attitude (N, 4) of a raw log and a description of how it was made (:func:`qncf_settings`).
+
+    The gyro's units and time base are checked first (:func:`mtcal.systems.plausibility.check_units`
+    on the rests of ``rep``, ``skip``: e.g. clipped samples; its result is ``info["units_check"]``);
+    the filter then runs without repeating that check.
+    """
+    from mtcal.filters.qncf import qncf_trusted
 
     gyro, params, q0, info = qncf_settings(log, rep)
-    res = qncf(gyro, log.accel_m_s2, log.dt_mean_s, params, q0=q0, return_euler=False)
+    info["units_check"] = plausibility.check_units(log.gyro_for_filter(), log.accel_m_s2, log.dt_mean_s,
+                                                   rep.rests, time_s=log.time_s, skip=skip)
+    res = qncf_trusted(gyro, log.accel_m_s2, log.dt_mean_s, params, q0=q0, return_euler=False)
     return res.q_ws, info
 
 
@@ -78,8 +85,6 @@ def run(args: argparse.Namespace) -> int:
     out = logio.check_output_path(args.out, [args.log])
 
     def body() -> int:
-        from mtcal.core.rotations import euler_zxy_unchecked
-
         log = logio.read_log(args.log, common.input_options(args), need="raw")
         fig.log = log
         rep = common.detect(args, log)
@@ -87,14 +92,13 @@ def run(args: argparse.Namespace) -> int:
         clipped, level = plausibility.clipped_samples(log.gyro_rad_s)
         if clipped.any():
             print(f"warning: gyro clipped at {np.degrees(level):.1f} deg/s in {int(clipped.sum())} samples")
-        chk = plausibility.check_units(log.gyro_for_filter(), log.accel_m_s2, log.dt_mean_s, rep.rests,
-                                       time_s=log.time_s, skip=clipped)
-        q, info = sensor_attitude(log, rep)
-        e = np.degrees(euler_zxy_unchecked(q))
-        fig.series = {"pitch/roll (deg)": np.maximum(np.abs(e[:, 1]), np.abs(e[:, 2]))}
+        q, info = sensor_attitude(log, rep, skip=clipped)
+        chk = info["units_check"]
+        e = common.euler_deg(q)
+        if fig.path is not None:
+            fig.series = {"pitch/roll (deg)": np.maximum(np.abs(e[:, 1]), np.abs(e[:, 2]))}
         common.write_attitude(out, log.time_s, q, e, is_static=rep.is_static.astype(np.int8))
-        ang = np.column_stack([e[:, 1], e[:, 2]])
-        common.print_report(log, rep, angle_deg=ang[:, 0], angle_name="pitch_deg")
+        common.print_report(log, rep, angle_deg=e[:, 1], angle_name="pitch_deg")
         print(f"gyro units check ({chk['method']}): {chk['evidence']}")
         print(f"qncf: g {info['gravity_m_s2']:.4f} m/s^2, AMD threshold {info['amd_threshold_pct']:.2f} %, "
               f"levelled from the {info['levelled_from']}")

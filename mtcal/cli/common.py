@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import math
+import os
 
 import numpy as np
 
@@ -13,7 +14,7 @@ from mtcal.methods import rest_detection
 
 __all__ = ["add_input_options", "add_rest_options", "input_options", "detect", "rest_table", "print_report",
            "finite_float", "DiagnosticsFigure", "run_with_figure", "SCHEMA_HELP", "description_with_schema",
-           "QUATERNION_DECIMALS", "write_attitude"]
+           "QUATERNION_DECIMALS", "write_attitude", "euler_deg"]
 
 SCHEMA_HELP = """log schema (CSV or Parquet, header row, one row per sample; extra columns ignored):
   time_s                                    time (s), strictly increasing (jitter allowed)
@@ -44,6 +45,37 @@ def write_attitude(path, time_s: np.ndarray, q: np.ndarray, euler_deg: np.ndarra
     cols = {"time_s": time_s, "q0": q[:, 0], "q1": q[:, 1], "q2": q[:, 2], "q3": q[:, 3],
             "yaw_deg": euler_deg[:, 0], "pitch_deg": euler_deg[:, 1], "roll_deg": euler_deg[:, 2], **extra}
     logio.write_table(path, cols, decimals=QUATERNION_DECIMALS)
+
+
+#: Rows per block of :func:`euler_deg` (cache-sized temporaries; blocks run on all cores).
+_EULER_BLOCK_ROWS = 65_536
+
+
+def euler_deg(q: np.ndarray) -> np.ndarray:
+    """Yaw/pitch/roll (deg, wang2023cja Eq 8 ZXY) of filter quaternions ``q`` (N, 4), unit by construction.
+
+    Exactly ``np.degrees(rotations.euler_zxy_unchecked(q))`` (elementwise, so computing it in
+    blocks of rows on a thread pool changes no bit), without full-length temporaries.
+    """
+    from concurrent.futures import ThreadPoolExecutor
+
+    from mtcal.core.rotations import euler_zxy_unchecked
+
+    out = np.empty((q.shape[0], 3))
+
+    def block(start: int) -> None:
+        stop = min(start + _EULER_BLOCK_ROWS, q.shape[0])
+        out[start:stop] = euler_zxy_unchecked(q[start:stop])
+        np.degrees(out[start:stop], out=out[start:stop])
+
+    starts = range(0, q.shape[0], _EULER_BLOCK_ROWS)
+    if len(starts) <= 1:
+        for s in starts:
+            block(s)
+        return out
+    with ThreadPoolExecutor(max_workers=min(len(starts), os.cpu_count() or 1)) as pool:
+        list(pool.map(block, starts))
+    return out
 
 
 def finite_float(text: str, name: str, *, positive: bool = True) -> float:

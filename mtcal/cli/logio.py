@@ -146,6 +146,7 @@ class ImuLog:
     dt_s: np.ndarray
     jitter: float
     notes: list
+    _gyro_filter: tuple | None = field(default=None, repr=False, compare=False)
 
     @property
     def n(self) -> int:
@@ -156,29 +157,45 @@ class ImuLog:
         return 1.0 / self.fs_hz
 
     def gyro_for_filter(self) -> np.ndarray:
-        """Gyro weighted by per-sample dt for a fixed-step filter at ``dt_mean_s`` (rad/s)."""
+        """Gyro weighted by per-sample dt for a fixed-step filter at ``dt_mean_s`` (rad/s); computed once.
+
+        The caller must not modify the array returned (it is the log's gyro for a uniform time base).
+        """
         from mtcal.systems.plausibility import time_base
 
         if self.gyro_rad_s is None:
             raise ValueError(f"{self.path}: no gyro columns")
-        _, weights = time_base(self.n, time_s=self.time_s)
-        return self.gyro_rad_s if weights is None else self.gyro_rad_s * weights[:, None]
+        cached = self._gyro_filter
+        if cached is None or cached[0] is not self.gyro_rad_s or cached[1] is not self.time_s:
+            _, weights = time_base(self.n, time_s=self.time_s)
+            gyro = self.gyro_rad_s if weights is None else self.gyro_rad_s * weights[:, None]
+            cached = self._gyro_filter = (self.gyro_rad_s, self.time_s, gyro)
+        return cached[2]
 
 
 def _read_table(path: Path, select=None):
     """Column name (stripped) → Arrow column, from CSV or Parquet.
 
-    ``select(names) -> names`` picks the columns a CSV read parses, as float64
-    (no type inference, no unused columns); a value that is not a number makes
-    the read fall back to inferring every column so the error can name its row.
+    ``select(names) -> names`` picks the columns read: a CSV read parses them as
+    float64 (no type inference, no unused columns; a value that is not a number makes
+    the read fall back to inferring every column so the error can name its row), a
+    Parquet read decodes only them. Also returns every column name, for messages.
     """
     import pyarrow as pa
 
     if path.suffix.lower() in (".parquet", ".pq"):
         import pyarrow.parquet as pq
 
-        try:
-            table = pq.read_table(path)
+        try:  # ParquetFile, not read_table: no pyarrow.dataset (which imports pandas, ~0.5 s)
+            pf = pq.ParquetFile(path)
+            names = pf.schema_arrow.names
+            every = [str(n).strip() for n in names if not str(n).startswith(_UNNAMED)]
+            want = None
+            if select is not None:
+                stripped = {str(n).strip(): n for n in names}
+                want = [stripped[n] for n in select(list(stripped)) if n in stripped]
+                want = want if want and len(stripped) == len(names) else None
+            table = pf.read(columns=want)
         except (pa.ArrowException, OSError) as exc:
             raise ValueError(f"{path}: not a readable Parquet file ({str(exc).splitlines()[0]})") from None
     else:
@@ -209,14 +226,10 @@ def _read_table(path: Path, select=None):
                                       convert_options=pcsv.ConvertOptions(strings_can_be_null=True))
             except (pa.ArrowException, UnicodeDecodeError) as exc:
                 raise ValueError(f"{path}: not a readable CSV ({str(exc).splitlines()[0][:200]})") from None
-        raw = [n for n in raw if not n.startswith(_UNNAMED)]
+        every = [n for n in raw if not n.startswith(_UNNAMED)]
     out = {str(name).strip(): col for name, col in zip(table.column_names, table.columns)
            if not str(name).startswith(_UNNAMED)}
-    if path.suffix.lower() not in (".parquet", ".pq") and select is not None and len(out) < len(raw):
-        out_names = raw  # every header of the file, for messages
-    else:
-        out_names = list(out)
-    return out, out_names
+    return out, (every if len(out) < len(every) else list(out))  # every header of the file, for messages
 
 
 _UNNAMED = "_unnamed_"
@@ -240,14 +253,32 @@ def _header_names(head: str, second: str, delim: str) -> list[str]:
     return [n if n else f"{_UNNAMED}{i}" for i, n in enumerate(names)]
 
 
-def _numeric(col, header: str, path: Path) -> np.ndarray:
-    """A column as float64; the first non-numeric/NaN row is named in the error."""
+def _numeric(col, header: str, path: Path, out: np.ndarray | None = None) -> np.ndarray:
+    """A column as float64 (into ``out``, e.g. a column of an (N, 3) array); the first non-numeric/NaN row is
+    named in the error.
+
+    Numeric columns are copied chunk by chunk from their Arrow buffers (no intermediate array, and no
+    ``to_numpy``, which imports pandas: ~0.3 s of a CLI call).
+    """
     import pyarrow as pa
-    import pyarrow.compute as pc
 
     if pa.types.is_integer(col.type) or pa.types.is_floating(col.type) or pa.types.is_boolean(col.type):
-        arr = col.to_numpy(zero_copy_only=False).astype(np.float64, copy=False)
+        import pyarrow.compute as pc
+
+        out = np.empty(len(col)) if out is None else out
+        off = 0
+        for chunk in (col.chunks if isinstance(col, pa.ChunkedArray) else [col]):
+            if chunk.type != pa.float64():
+                chunk = pc.cast(chunk, pa.float64(), safe=False)  # as numpy's astype(float64)
+            if chunk.null_count:
+                chunk = pc.fill_null(chunk, float("nan"))
+            n = len(chunk)
+            out[off:off + n] = np.frombuffer(chunk.buffers()[1], dtype=np.float64, count=n, offset=8 * chunk.offset)
+            off += n
+        arr = out
     else:
+        import pyarrow.compute as pc
+
         try:
             arr = pc.cast(pc.utf8_trim_whitespace(col.cast(pa.string())), pa.float64()).to_numpy(
                 zero_copy_only=False)
@@ -256,10 +287,14 @@ def _numeric(col, header: str, path: Path) -> np.ndarray:
 
             arr = pd.to_numeric(pd.Series(col.to_pylist(), dtype=object).astype(str).str.strip(),
                                 errors="coerce").to_numpy(float)
-    bad = ~np.isfinite(arr)
-    if bad.any():
-        row = int(np.argmax(bad))
-        raise ValueError(f"{path}: non-numeric or NaN value in column {header!r} at data row {row + 1}")
+        if out is not None:
+            out[:] = arr
+            arr = out
+    if not np.isfinite(np.sum(arr)):  # a NaN or inf makes the sum non-finite (so may an overflow: looked at below)
+        bad = ~np.isfinite(arr)
+        if bad.any():
+            row = int(np.argmax(bad))
+            raise ValueError(f"{path}: non-numeric or NaN value in column {header!r} at data row {row + 1}")
     return arr
 
 
@@ -330,13 +365,17 @@ def read_log(path, opts: InputOptions | None = None, *, need: str = "raw", min_s
         found["time_s"] = "--fs-hz"
         notes.append(f"time from --fs-hz {opts.fs_hz:g}")
     else:
-        t = _numeric(cols[found["time_s"]], found["time_s"], p) * TIME_UNITS[time_unit]
+        t = _numeric(cols[found["time_s"]], found["time_s"], p)
+        if TIME_UNITS[time_unit] != 1.0:  # (s: no copy)
+            t = t * TIME_UNITS[time_unit]
     if time_unit != "s":
         notes.append(f"time in {time_unit}")
     if t.size < min_samples:
         raise ValueError(f"{path}: needs at least {min_samples} samples, got {t.size}")
-    dt = np.diff(t)
-    if np.any(dt <= 0):
+    dt_full = np.empty(t.size)  # per-sample dt; the last sample takes the mean (set below)
+    dt = np.subtract(t[1:], t[:-1], out=dt_full[:-1])  # = np.diff(t), a view
+    dt_min, dt_max = float(dt.min()), float(dt.max())
+    if dt_min <= 0:
         k = int(np.argmax(dt <= 0))
         raise ValueError(f"{path}: {found['time_s']} is not strictly increasing at data row {k + 2} "
                          f"({t[k + 1]!r} after {t[k]!r}); sort the log by time and drop duplicates")
@@ -347,20 +386,20 @@ def read_log(path, opts: InputOptions | None = None, *, need: str = "raw", min_s
         raise ValueError(f"{path}: mean sample rate {fs:.4g} Hz from {found['time_s']} (time unit "
                          f"{time_unit}) is implausible for an IMU ({MIN_FS_HZ:g}-{MAX_FS_HZ:g} Hz); {hint}")
     dt_mean = 1.0 / fs
-    jitter = float(max(dt_mean - dt.min(), dt.max() - dt_mean) / dt_mean)
-    dt_full = np.append(dt, dt_mean)
+    jitter = float(max(dt_mean - dt_min, dt_max - dt_mean) / dt_mean)
+    dt_full[-1] = dt_mean
     if jitter > 1e-3:
-        notes.append(f"jittered timestamps (dt {dt.min() * 1e3:.3g}-{dt.max() * 1e3:.3g} ms, mean "
+        notes.append(f"jittered timestamps (dt {dt_min * 1e3:.3g}-{dt_max * 1e3:.3g} ms, mean "
                      f"{dt_mean * 1e3:.4g} ms): per-sample dt used")
-    if dt.max() > 5.0 * dt_mean:
+    if dt_max > 5.0 * dt_mean:
         gaps = dt > 5.0 * np.median(dt)
-        notes.append(f"{int(gaps.sum())} gap(s) > 5x the median dt (largest {dt.max():.3g} s)")
+        notes.append(f"{int(gaps.sum())} gap(s) > 5x the median dt (largest {dt_max:.3g} s)")
 
     def vec(names, unit_name, unit_opt, table, scale, scale_name):
         unit = unit_opt or implied.get(names[0], next(iter(table)))
         arr = np.empty((t.size, 3))
         for i, c in enumerate(names):
-            arr[:, i] = _numeric(cols.pop(found[c]), found[c], p)  # pop: free the Arrow column early
+            _numeric(cols.pop(found[c]), found[c], p, out=arr[:, i])  # pop: free the Arrow column early
         if scale is not None:
             arr *= scale
             notes.append(f"{scale_name} {','.join(f'{s:g}' for s in scale)}")
@@ -474,13 +513,26 @@ def write_table(path, columns: dict, *, decimals: dict | None = None) -> None:
 
     Floats are rounded to ``decimals[name]`` (default 6) in CSV, which the
     pyarrow writer then prints in shortest form; Parquet keeps float64. NaN
-    is written as an empty field (CSV) or null (Parquet).
+    is written as an empty field (CSV) or null (Parquet). A CSV of float and
+    integer columns is printed by :mod:`mtcal.core.csvtext` (the same bytes,
+    ~4x less CPU) when it can (:func:`mtcal.core.csvtext.can_format`).
     """
     import pyarrow as pa
 
     p = check_output_path(path)
     dec = decimals or {}
     parquet = p.suffix.lower() in (".parquet", ".pq")
+    if not parquet and _arrow_header_unquoted():
+        from mtcal.core import csvtext
+
+        plain = {name: np.asarray(arr) for name, arr in columns.items()}
+        if csvtext.can_format(plain, dec):
+            def write(tmp):
+                with open(tmp, "wb") as fh:
+                    csvtext.write_csv(fh, plain, dec)
+
+            _atomic(p, write)
+            return
     arrays = {}
     for name, arr in columns.items():
         a = np.asarray(arr)
@@ -495,6 +547,17 @@ def write_table(path, columns: dict, *, decimals: dict | None = None) -> None:
         _atomic(p, lambda tmp: pq.write_table(table, tmp, use_dictionary=False))
     else:
         _atomic(p, lambda tmp: _write_csv_parallel(table, tmp))
+
+
+def _arrow_header_unquoted() -> bool:
+    """Whether this pyarrow writes the CSV header unquoted (``quoting_header``, pyarrow >= 19), as csvtext does."""
+    import pyarrow.csv as pcsv
+
+    try:
+        pcsv.WriteOptions(quoting_header="none")
+    except TypeError:
+        return False
+    return True
 
 
 #: Rows per CSV block formatted by one thread (pyarrow's CSV writer releases the GIL).

@@ -12,8 +12,9 @@ import time
 
 import numpy as np
 
-from mtcal.core import montecarlo, simulate
+from mtcal.core import csvtext, montecarlo, simulate
 from mtcal.filters import _kernels_ekf, _kernels_marg, _kernels_qncf
+from mtcal.methods import tilt_rate
 
 __all__ = ["warm_up_all"]
 
@@ -28,16 +29,18 @@ def warm_up_all() -> dict[str, float]:
     Returns
     -------
     dict of str to float
-        Seconds spent per kernel group: ``qncf``, ``rams_ekf``, ``marg``, ``simulate``, ``metrics``.
+        Seconds spent per kernel group: ``qncf``, ``rams_ekf``, ``marg``, ``tilt_rate`` (the filters' edge
+        check), ``csv_text`` (the CLI's CSV writer), ``simulate``, ``metrics``.
 
     Examples
     --------
     >>> sorted(warm_up_all())
-    ['marg', 'metrics', 'qncf', 'rams_ekf', 'simulate']
+    ['csv_text', 'marg', 'metrics', 'qncf', 'rams_ekf', 'simulate', 'tilt_rate']
     """
     out = {}
     for name, fn in (("qncf", _kernels_qncf.warm_up), ("rams_ekf", _kernels_ekf.warm_up),
-                     ("marg", _kernels_marg.warm_up)):
+                     ("marg", _kernels_marg.warm_up), ("tilt_rate", tilt_rate.warm_up),
+                     ("csv_text", csvtext.warm_up)):
         t0 = time.perf_counter()
         fn()
         out[name] = time.perf_counter() - t0

@@ -674,3 +674,26 @@ def qncf(gyro_rad_s, accel_m_s2, dt_s: float, params: QncfParams = QncfParams(),
     if fast:  # the kernel checks finiteness and units before the results are kept
         return filt._run_numba(w[None] if single else w, a[None] if single else a, return_euler)
     return filt.run(w, a, return_euler=return_euler)
+
+
+def qncf_trusted(gyro_rad_s, accel_m_s2, dt_s: float, params: QncfParams = QncfParams(), *,
+                 q0=None, init_samples: int = 100, return_euler: bool = True) -> QncfResult:
+    """Internal entry: :func:`qncf` on one record whose units a caller has already checked.
+
+    For systems procedures and the CLI that ran :func:`mtcal.systems.plausibility.check_units`
+    (which includes the tilt-rate check) on this record: the same filter and result as
+    :func:`qncf` (numba engine, one (N, 3) record) without its second tilt-rate scan. Types,
+    shapes, finiteness and units are still checked (the kernel scans the values). Not part
+    of the public API (not in ``__all__``); users call :func:`qncf`.
+    """
+    w = record(gyro_rad_s, "gyro_rad_s", (2,), scan=False)
+    a = record(accel_m_s2, "accel_m_s2", (2,), scan=False)
+    if w.shape != a.shape:
+        raise ValueError(f"gyro_rad_s and accel_m_s2 must have the same shape, got {w.shape} and {a.shape}")
+    if q0 is None:
+        n0 = max(1, min(int(init_samples), w.shape[0]))
+        q0 = initial_attitude_from_accel(np.mean(a[:n0, :], axis=0))
+    q0 = unit_quaternion(q0, "q0")
+    if q0.shape != (4,):
+        raise ValueError(f"q0 must have shape (4,) for a single-trial record, got {q0.shape}")
+    return QncfFilter(q0, dt_s, params)._run_numba(w[None], a[None], return_euler)

@@ -665,3 +665,20 @@ def run_rams_ekf(gyro_rad_s, accel_m_s2, is_static, axis, accel0_m_s2, dt_s: flo
     filt = RamsEkfFilter(axis, accel0_m_s2, dt_s, params, trials=a.shape[0], theta0_rad=theta0_rad,
                          bias0_rad_s=bias0_rad_s, use_zvd=use_zvd, engine=engine)
     return filt._run(g, a, is_static, keep_innovation, 2048)
+
+
+def run_rams_ekf_trusted(gyro_rad_s, accel_m_s2, is_static, axis, accel0_m_s2, dt_s: float,
+                         params: RamsEkfParams, *, theta0_rad=0.0, bias0_rad_s=0.0, use_zvd: bool = True,
+                         keep_innovation: bool = True, engine: str = "numba") -> RamsEkfResult:
+    """Internal entry: :func:`run_rams_ekf` on records whose units a caller has already checked.
+
+    For systems procedures that ran :func:`mtcal.systems.plausibility.check_units` (which
+    includes the tilt-rate check) on this record: the same filter and result without the
+    second tilt-rate scan. Types, shapes, finiteness and units are still checked. Not part
+    of the public API (not in ``__all__``); users call :func:`run_rams_ekf`.
+    """
+    check_engine(engine)
+    g, a = _record(gyro_rad_s, accel_m_s2, fast=engine == "numba")
+    filt = RamsEkfFilter(axis, accel0_m_s2, dt_s, params, trials=a.shape[0], theta0_rad=theta0_rad,
+                         bias0_rad_s=bias0_rad_s, use_zvd=use_zvd, engine=engine)
+    return filt._run(g, a, is_static, keep_innovation, 2048)

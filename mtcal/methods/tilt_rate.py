@@ -46,7 +46,9 @@ import warnings
 
 import numpy as np
 
-__all__ = ["tilt_rate_scale", "check_tilt_rate_scale", "scale_hint", "tilt_seen", "MIN_CORRELATION",
+from mtcal.core.validate import positive_scalar
+
+__all__ = ["tilt_rate_scale", "check_tilt_rate_scale", "scale_hint", "tilt_seen", "warm_up", "MIN_CORRELATION",
            "MIN_AGREEMENT_CORRELATION", "MIN_LONG_AGREEMENT_CORRELATION",
            "MIN_TILT_RAD", "MIN_WINDOWS", "MIN_STRONG_TILT_RAD", "SCALE_HINTS"]
 
@@ -102,30 +104,43 @@ def tilt_rate_scale(gyro_rad_s, accel_m_s2, dt_s: float, *, window_s: float = 0.
         ``accel_spread_rad`` (99th percentile of the angle between a quasi-static
         window's gravity direction and their mean: how far the record tilts).
 
+    Raises
+    ------
+    TypeError
+        A record that is not numeric.
+    ValueError
+        Records not of shape (N, 3) alike, a value not finite, ``dt_s``/``window_s``/``band_fraction``
+        not positive, ``skip`` not of N samples. The values are checked in the same compiled pass
+        that forms the window means (one pass over the record, no numpy temporaries).
+
     References
     ----------
     wang2022sensors Sec. 2.2 (gravity direction turns with the body).
     """
-    w = np.asarray(gyro_rad_s, float)
-    a = np.asarray(accel_m_s2, float)
+    w, a, dt_s, skip = _record(gyro_rad_s, accel_m_s2, dt_s, skip)
+    window_s = positive_scalar(window_s, "window_s")
+    band_fraction = positive_scalar(band_fraction, "band_fraction")
+    from mtcal.methods._tilt_rate_kernels import window_stats  # numba: loaded on first use, not by import
+
     n = a.shape[0]
     m = max(3, int(round(window_s / dt_s)))
-    nb = n // m
+    # one compiled pass: window means and accelerometer spread, skipped windows, finiteness of every value
+    am, a_std, wm, skipped, gyro_finite, accel_finite = window_stats(
+        w, a, min(m, n + 1), skip if skip is not None else np.zeros(0, np.bool_), skip is not None)
+    if not gyro_finite:
+        raise ValueError("gyro_rad_s must be finite (no NaN or inf)")
+    if not accel_finite:
+        raise ValueError("accel_m_s2 must be finite (no NaN or inf)")
+    nb = am.shape[0]
     nan = {"scale": float("nan"), "correlation": float("nan"), "accel_tilt_rad": 0.0, "gyro_tilt_rad": 0.0,
            "windows": 0, "accel_spread_rad": 0.0}
     if nb < 3:
         return nan
-    blocks = a[: nb * m].reshape(nb, m, 3)
-    am = blocks.mean(axis=1)
-    a_std = np.sqrt(((blocks - am[:, None, :]) ** 2).mean(axis=(1, 2)))
-    wm = w[: nb * m].reshape(nb, m, 3).mean(axis=1)
     norm = np.linalg.norm(am, axis=1)
     g = float(np.median(norm))
     if not g > 0:
         return nan
-    ok = (np.abs(norm - g) < band_fraction * g) & (a_std < band_fraction * g)
-    if skip is not None:
-        ok &= ~np.asarray(skip, bool)[: nb * m].reshape(nb, m).any(axis=1)
+    ok = (np.abs(norm - g) < band_fraction * g) & (a_std < band_fraction * g) & ~skipped
     ah = am / np.maximum(norm, 1e-12)[:, None]
     u = np.cross(ah[:-1], ah[1:])
     du = np.linalg.norm(u, axis=1)
@@ -156,6 +171,30 @@ def tilt_rate_scale(gyro_rad_s, accel_m_s2, dt_s: float, *, window_s: float = 0.
            "gyro_tilt_rad": float(np.linalg.norm(p, axis=1).sum()), "windows": int(u.shape[0]),
            "accel_spread_rad": spread}
     return out
+
+
+def _record(gyro_rad_s, accel_m_s2, dt_s, skip):
+    """Edge checks of :func:`tilt_rate_scale` that need no pass over the values (the kernel checks finiteness)."""
+    arrays = []
+    for name, value in (("gyro_rad_s", gyro_rad_s), ("accel_m_s2", accel_m_s2)):
+        if isinstance(value, (str, bytes)) or value is None:
+            raise TypeError(f"{name} must be a numeric array, got {type(value).__name__}")
+        try:
+            arr = np.ascontiguousarray(value, dtype=np.float64)
+        except (TypeError, ValueError) as exc:
+            raise TypeError(f"{name} must be a numeric array: {exc}") from None
+        if arr.ndim != 2 or arr.shape[1] != 3:
+            raise ValueError(f"{name} must have shape (N, 3), got {arr.shape}")
+        arrays.append(arr)
+    w, a = arrays
+    if w.shape != a.shape:
+        raise ValueError(f"gyro_rad_s and accel_m_s2 must have the same shape, got {w.shape} and {a.shape}")
+    dt = positive_scalar(dt_s, "dt_s")
+    if skip is not None:
+        skip = np.ascontiguousarray(skip, dtype=np.bool_)
+        if skip.shape != (a.shape[0],):
+            raise ValueError(f"skip must be a boolean array of {a.shape[0]} samples, got shape {skip.shape}")
+    return w, a, dt, skip
 
 
 def check_tilt_rate_scale(gyro_rad_s, accel_m_s2, dt_s: float, *, max_ratio: float = 5.0,
@@ -245,3 +284,15 @@ def scale_hint(scale: float) -> str:
         if abs(np.log(scale / best)) < np.log(2.0):
             return SCALE_HINTS[best]
     return "check --gyro-unit, --gyro-scale and the time column"
+
+
+def warm_up() -> None:
+    """Compile (or load from numba's cache) the compiled window pass of :func:`tilt_rate_scale`.
+
+    Examples
+    --------
+    >>> warm_up()
+    """
+    from mtcal.methods._tilt_rate_kernels import warm_up as warm
+
+    warm()

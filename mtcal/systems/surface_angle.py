@@ -45,7 +45,7 @@ import numpy as np
 
 from mtcal.core.validate import as_float_array, positive_scalar
 from mtcal.filters.anchors import RAMS_EKF_DEFAULT_GAIN
-from mtcal.filters.rams_ekf import RamsEkfParams, run_rams_ekf
+from mtcal.filters.rams_ekf import RamsEkfParams, run_rams_ekf, run_rams_ekf_trusted
 from mtcal.filters.registry import AxisContext, register_filter
 from mtcal.methods import rotation_axis
 from mtcal.systems import plausibility
@@ -379,13 +379,15 @@ def _restart_cuts(clipped: np.ndarray, rests, n: int) -> list[int]:
     return cuts
 
 
-def _ekf_pieces(gyro, accel, static, cuts, v, a0, b0, dt_s, params) -> np.ndarray:
-    """One trial's EKF over ``cuts`` segments, angle and bias carried over, wide angle prior after a cut."""
+def _ekf_pieces(gyro, accel, static, cuts, v, a0, b0, dt_s, params, units_checked: bool = False) -> np.ndarray:
+    """One trial's EKF over ``cuts`` segments, angle and bias carried over, wide angle prior after a cut
+    (``units_checked``: :func:`plausibility.check_units` passed on the record, the EKF does not scan it again)."""
     theta = np.empty(accel.shape[0])
     th0, bias0, p = 0.0, b0, params
+    ekf = run_rams_ekf_trusted if units_checked else run_rams_ekf
     for lo, hi in zip(cuts[:-1], cuts[1:]):
-        res = run_rams_ekf(gyro[lo:hi], accel[lo:hi], static[lo:hi], v, a0, dt_s, p,
-                           theta0_rad=th0, bias0_rad_s=bias0, keep_innovation=False)
+        res = ekf(gyro[lo:hi], accel[lo:hi], static[lo:hi], v, a0, dt_s, p,
+                  theta0_rad=th0, bias0_rad_s=bias0, keep_innovation=False)
         theta[lo:hi] = res.theta_rad[0]
         th0, bias0 = float(res.theta_rad[0, -1]), res.bias_rad_s[0, -1]
         p = replace(params, p0_theta_rad2=CLIPPED_P0_THETA_RAD**2)
@@ -520,7 +522,8 @@ def surface_angle(gyro_rad_s, accel_m_s2, axis, *, is_static, init: slice, dt_s=
     angle = np.full(a.shape[:-1], np.nan)
     if not batch:
         cuts = _restart_cuts(clipped[k0:], local, n - k0)
-        angle[k0:] = _ekf_pieces(gyro_f[k0:], a[k0:], static[k0:], cuts, v, a0, b0, dt, params)
+        angle[k0:] = _ekf_pieces(gyro_f[k0:], a[k0:], static[k0:], cuts, v, a0, b0, dt, params,
+                                 units_checked=check is not None)
         restarts = tuple(c + k0 for c in cuts[1:-1])
     else:
         st = np.broadcast_to(static, a.shape[:-1])

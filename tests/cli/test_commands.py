@@ -154,3 +154,59 @@ def test_rests_on_accelerometer_only_log(hinge, tmp_path, capsys):
     assert cli.main(["rests", str(tmp_path / "acc.csv")]) == 0
     out = capsys.readouterr().out
     assert "rests: 4 of" in out and "gyro bias" not in out
+
+
+def test_attitude_units_check_scans_the_record_once(tmp_path, capsys, monkeypatch):
+    """check_units decides by the tilt rate (no rest pair); the QNCF then runs without scanning again."""
+    from mtcal.methods import tilt_rate
+
+    calls = []
+    scale = tilt_rate.tilt_rate_scale
+    monkeypatch.setattr(tilt_rate, "tilt_rate_scale", lambda *a, **k: calls.append(1) or scale(*a, **k))
+    path = tmp_path / "walk.csv"
+    logs.walking_log(n_steps=4)[0].to_csv(path, index=False)
+    code = cli.main(["attitude", str(path), "--rest-detector", "shoe", "--out", str(tmp_path / "att.csv")])
+    out, err = capsys.readouterr()
+    assert code == 0, err
+    assert "gyro units check (tilt rate)" in out and len(calls) == 1
+
+
+def test_angle_ekf_does_not_repeat_the_units_check(hinge, tmp_path, capsys, monkeypatch):
+    """Rest pairs decide the units check; the EKF (run_rams_ekf_trusted) adds no tilt-rate scan."""
+    from mtcal.methods import tilt_rate
+
+    calls = []
+    scale = tilt_rate.tilt_rate_scale
+    monkeypatch.setattr(tilt_rate, "tilt_rate_scale", lambda *a, **k: calls.append(1) or scale(*a, **k))
+    code = cli.main(["angle", str(hinge[1]), "--axis", "0.6,0,0.8", "--out", str(tmp_path / "a.csv")])
+    out, err = capsys.readouterr()
+    assert code == 0, err
+    assert "gyro units check (rest pairs)" in out and not calls
+
+
+def test_csv_output_is_what_arrows_writer_prints(tmp_path):
+    """The fast CSV path (mtcal.core.csvtext) writes the bytes of pyarrow's writer of the rounded table."""
+    import pyarrow as pa
+    import pyarrow.csv as pcsv
+
+    from mtcal.cli import common, logio
+
+    rng = np.random.default_rng(5)
+    n = 5000
+    q = rng.normal(size=(n, 4))
+    q /= np.linalg.norm(q, axis=1)[:, None]
+    q[::97, 1] = rng.normal(0, 1e-8, q[::97, 1].shape)  # exponent notation below 1e-6, and -0
+    e = rng.uniform(-180, 180, (n, 3))
+    e[::50, 2] = np.nan
+    t = np.arange(n) / 1000.0
+    static = (rng.random(n) < 0.3).astype(np.int8)
+    common.write_attitude(tmp_path / "fast.csv", t, q, e, is_static=static)
+    cols = {"time_s": t, "q0": q[:, 0], "q1": q[:, 1], "q2": q[:, 2], "q3": q[:, 3], "yaw_deg": e[:, 0],
+            "pitch_deg": e[:, 1], "roll_deg": e[:, 2]}
+    arrays = {k: pa.array(np.round(v, common.QUATERNION_DECIMALS.get(k, 6)), from_pandas=True) for k, v in cols.items()}
+    arrays["is_static"] = static
+    pcsv.write_csv(pa.table(arrays), tmp_path / "arrow.csv",
+                   write_options=pcsv.WriteOptions(quoting_style="none", quoting_header="none"))
+    assert (tmp_path / "fast.csv").read_bytes() == (tmp_path / "arrow.csv").read_bytes()
+    logio.write_table(tmp_path / "inf.csv", {"x": np.array([1.0, np.inf])})  # not printable by csvtext: Arrow
+    assert (tmp_path / "inf.csv").read_text() == "x\n1\ninf\n"
