@@ -17,7 +17,7 @@ import numpy as np
 from mtcal.core.compiled import jit
 
 __all__ = ["hamilton3", "continuous3", "rotvec_prepare", "rotvec_finish", "normalize2", "rotvec_angle",
-           "quat_from_rotvec_finish", "euler_zxy_arguments", "euler_zxy_products"]
+           "quat_from_rotvec_finish", "euler_zxy_arguments", "euler_zxy_products", "matrix_from_quat"]
 
 
 @jit
@@ -131,3 +131,27 @@ def euler_zxy_products(cp, sp, ct, st, cg, sg, out):  # pragma: no cover - compi
         out[i, 1] = st[i] * cp[i] * cg[i] - ct[i] * sp[i] * sg[i]
         out[i, 2] = st[i] * sp[i] * cg[i] + ct[i] * cp[i] * sg[i]
         out[i, 3] = ct[i] * sp[i] * cg[i] + st[i] * cp[i] * sg[i]
+
+
+@jit
+def matrix_from_quat(q, out):  # pragma: no cover - compiled
+    """Direction-cosine matrices (M, 3, 3) of scalar-first (M, 4): scipy's ``from_quat(...).as_matrix()``.
+
+    The same operations as scipy's Cython loop: normalise by ``sqrt(x² + y² + z² + w²)`` (scalar
+    last, divided), then the products below.
+    """
+    for i in range(q.shape[0]):
+        w, x, y, z = q[i, 0], q[i, 1], q[i, 2], q[i, 3]
+        n = np.sqrt(x * x + y * y + z * z + w * w)
+        x, y, z, w = x / n, y / n, z / n, w / n
+        x2, y2, z2, w2 = x * x, y * y, z * z, w * w
+        xy, zw, xz, yw, yz, xw = x * y, z * w, x * z, y * w, y * z, x * w
+        out[i, 0, 0] = x2 - y2 - z2 + w2
+        out[i, 1, 0] = 2.0 * (xy + zw)
+        out[i, 2, 0] = 2.0 * (xz - yw)
+        out[i, 0, 1] = 2.0 * (xy - zw)
+        out[i, 1, 1] = -x2 + y2 - z2 + w2
+        out[i, 2, 1] = 2.0 * (yz + xw)
+        out[i, 0, 2] = 2.0 * (xz + yw)
+        out[i, 1, 2] = 2.0 * (yz - xw)
+        out[i, 2, 2] = -x2 - y2 + z2 + w2

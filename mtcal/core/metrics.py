@@ -16,13 +16,18 @@ __all__ = ["angle_difference", "rmse", "max_abs_error", "split_static_moving",
 
 def angle_difference(estimate_rad, truth_rad) -> np.ndarray:
     """Wrapped difference ``estimate − truth`` in ``[−π, π)`` (rad)."""
-    e = as_float_array(estimate_rad, "estimate_rad", allow_empty=True)
-    t = as_float_array(truth_rad, "truth_rad", allow_empty=True)
+    e = as_float_array(estimate_rad, "estimate_rad", allow_empty=True, copy=False)
+    t = as_float_array(truth_rad, "truth_rad", allow_empty=True, copy=False)
     try:
         d = e - t
     except ValueError:
         raise ValueError(f"estimate_rad and truth_rad must broadcast, got {e.shape} and {t.shape}") from None
-    return (d + np.pi) % (2 * np.pi) - np.pi
+    if not isinstance(d, np.ndarray):         # 0-d inputs give a scalar
+        return (d + np.pi) % (2 * np.pi) - np.pi
+    d += np.pi                                # (d + π) mod 2π − π, in place (the same operations)
+    np.remainder(d, 2 * np.pi, out=d)
+    d -= np.pi
+    return d
 
 
 def _errors(error, mask) -> np.ndarray:

@@ -257,10 +257,14 @@ def quat_to_matrix(q) -> np.ndarray:
     The matrix maps vectors from the rotated frame to the reference frame
     (``v_ref = C v_body``), as scipy's ``Rotation.as_matrix``.
     """
-    from scipy.spatial.transform import Rotation  # lazy: scipy costs ~0.5 s of every CLI call's start-up
-
     q = unit_quaternion(q, "q")
     shape = q.shape[:-1]
+    if q.size >= 4 * _KERNEL_MIN_ROWS:   # the same arithmetic as scipy's loop, bit for bit
+        mat = np.empty((q.size // 4, 3, 3))
+        _kernels().matrix_from_quat(q.reshape(-1, 4), mat)
+        return mat.reshape(shape + (3, 3))
+    from scipy.spatial.transform import Rotation  # lazy: scipy costs ~0.5 s of every CLI call's start-up
+
     mat = Rotation.from_quat(q.reshape(-1, 4), scalar_first=True).as_matrix()
     return mat.reshape(shape + (3, 3))
 

@@ -36,8 +36,8 @@ from mtcal.filters.qncf import qncf
 from mtcal.methods import quaternion_lsq, six_position
 from mtcal.systems import installation
 from .error_model import MOUNT_TYPE, PAPER_SIGN
-from .scenario import (SOURCES, TurntableScenario, WindTunnelScenario, compliance_trajectory, mechanism_actual,
-                       windtunnel_positions)
+from .scenario import (SOURCES, TurntableScenario, WindTunnelScenario, _ComplianceBase, _compliant,
+                       compliance_trajectory, mechanism_actual, windtunnel_positions)
 
 #: Gates of :func:`mtcal.systems.installation.calibrate_installation` in the Monte Carlo runs: all off
 #: (``inf``). The procedure and its numbers are the CLI's; a Monte Carlo reports the spread of every
@@ -203,7 +203,7 @@ def _draws(rng, trials: int, k: int, sigma: float, on: bool) -> np.ndarray:
 
 
 def _run_pieces(sc: TurntableScenario, prof: AngleProfile, spans: dict, pieces: list, with_sweeps: bool,
-                keep_trace: bool) -> list[TurntableRun]:
+                keep_trace: bool, base: _ComplianceBase) -> list[TurntableRun]:
     """Simulate every piece ``(test, sources, rng, trials, fraction)``, run ONE stacked QNCF, finish each.
 
     The QNCF cost is dominated by its loop over time, so stacking the pieces along the trial
@@ -214,7 +214,7 @@ def _run_pieces(sc: TurntableScenario, prof: AngleProfile, spans: dict, pieces: 
     for test, sources, rng, trials, _, sc in pieces:
         rng_imu, rng_ref, rng_change = rng.spawn(3)
         k = sc.errors.compliance_deg_g(MOUNT_TYPE[test]) * DEG if "mount_compliance" in sources else 0.0
-        traj = compliance_trajectory(prof.time_s, prof.angle_rad, k)
+        traj = _compliant(prof.time_s, base, k)   # = compliance_trajectory(prof.time_s, prof.angle_rad, k)
         model = sc.imu.error_model(mount_quaternion(sc.alpha_rad(test)), sources, sc.errors)
         rec = simulate_imu(traj, model, rng=rng_imu, trials=trials)
         acc = rec.accel_m_s2
@@ -386,8 +386,9 @@ def run_turntable_jobs(sc: TurntableScenario, jobs: list[TurntableJob], *, with_
         calls[-1].append(item)
         count += item[1][3]
     per_job = [[] for _ in jobs]
+    base = _ComplianceBase(prof.angle_rad)       # shared by every piece (only the compliance differs)
     for c, call in enumerate(progress(calls, desc="turntable Monte Carlo")):
-        runs = _run_pieces(sc, prof, spans, [p for _, p in call], with_sweeps, keep_trace and c == 0)
+        runs = _run_pieces(sc, prof, spans, [p for _, p in call], with_sweeps, keep_trace and c == 0, base)
         for (i, _), run in zip(call, runs):
             per_job[i].append(run)
     return [_concat_runs(r) for r in per_job]
