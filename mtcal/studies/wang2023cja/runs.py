@@ -52,6 +52,11 @@ __all__ = ["turntable_runs", "turntable_profile", "six_position_reference", "Tur
            "WindTunnelRun", "run_windtunnel", "elastic_deflection_rad", "MONTE_CARLO_GATES", "TRACE_DECIMATION"]
 
 
+def _euler(q: np.ndarray) -> np.ndarray:
+    """Eq 8 angles (rad) of QNCF outputs, unit by construction: ``euler_zxy_from_quat`` unvalidated, same numbers."""
+    return rotations.euler_zxy_unchecked(np.asarray(q, dtype=float))
+
+
 def _concat_profiles(parts: list[AngleProfile]) -> tuple[AngleProfile, list[slice]]:
     """Join profiles end to end (each starts where the previous ended); return spans."""
     dt = 1.0 / parts[0].fs_hz
@@ -400,8 +405,8 @@ def _evaluate_sweeps(sc, prof, spans, q_s, q_mat, frac, rng, keep_trace, ref_err
     sweeps, trace = {}, {}
     for name, chan_mean, chans_err in (("aoa", 1, (2, 0)), ("roll", 2, (1, 0))):
         span = spans[name]
-        before = rotations.euler_zxy_from_quat(q_s[:, span])
-        after = rotations.euler_zxy_from_quat(quaternion_lsq.apply_error_matrix(q_mat, q_s[:, span]))
+        before = _euler(q_s[:, span])
+        after = _euler(quaternion_lsq.apply_error_matrix(q_mat, q_s[:, span]))
         ref = truth[span]
         holds = [slice(h.start - span.start, h.stop - span.start) for h in _holds(prof, span, frac)][1:-1]
         e = _draws(rng, q_s.shape[0], len(holds), sc.reference_angle_sigma_rad, ref_errors_on)[..., chan_mean]
@@ -524,8 +529,8 @@ def _run_windtunnel_block(sc: WindTunnelScenario, rng: np.random.Generator, tria
                            pos + ref_err, frac)
     q_mat = cal.q_hat
     span = spans["aoa"]
-    before = rotations.euler_zxy_from_quat(q_s[:, span])
-    after = rotations.euler_zxy_from_quat(quaternion_lsq.apply_error_matrix(q_mat, q_s[:, span]))
+    before = _euler(q_s[:, span])
+    after = _euler(quaternion_lsq.apply_error_matrix(q_mat, q_s[:, span]))
     cmd = prof.angle_rad[span]
     holds = [slice(h.start - span.start, h.stop - span.start) for h in _holds(prof, span, frac)][1:-1]
     nowind = {"reference": np.array([cmd[h, 1].mean() for h in holds]),
@@ -594,7 +599,7 @@ def _wind_on_groups(sc, model, q_mat, rng, trials, trace, k_mount, keep_trace):
         holds = _holds(prof, span, 0.5)[1:-1]
         q_g = q_s[sl]
         for j, h in enumerate(holds):
-            after = rotations.euler_zxy_from_quat(quaternion_lsq.apply_error_matrix(q_rep[sl], q_g[:, h]))
+            after = _euler(quaternion_lsq.apply_error_matrix(q_rep[sl], q_g[:, h]))
             means[g, :, j] = after[..., 1].mean(axis=1)
         if not keep_trace:
             continue

@@ -28,6 +28,7 @@ ValueError: fs_hz must be a number in [100.0, 10000.0] Hz, got -1.0
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -205,6 +206,12 @@ def windtunnel_geometry() -> tuple[tuple, float]:
     >>> round(eps, 5)
     -0.00444
     """
+    return _windtunnel_geometry()
+
+
+@functools.lru_cache(maxsize=1)
+def _windtunnel_geometry() -> tuple[tuple, float]:
+    """:func:`windtunnel_geometry`, fitted once per process (the printed matrix does not change; immutable result)."""
     from scipy.optimize import least_squares
 
     from mtcal.core import rotations
