@@ -17,7 +17,7 @@ import numpy as np
 from mtcal.core.compiled import jit
 
 __all__ = ["hamilton3", "continuous3", "rotvec_prepare", "rotvec_finish", "normalize2", "rotvec_angle",
-           "quat_from_rotvec_finish", "euler_zxy_arguments", "euler_zxy_products", "matrix_from_quat"]
+           "quat_from_rotvec_finish", "euler_zxy_arguments", "euler_zxy_products", "matrix_from_quat", "all_unit"]
 
 
 @jit
@@ -155,3 +155,16 @@ def matrix_from_quat(q, out):  # pragma: no cover - compiled
         out[i, 0, 2] = 2.0 * (xz + yw)
         out[i, 1, 2] = 2.0 * (yz - xw)
         out[i, 2, 2] = -x2 - y2 + z2 + w2
+
+
+@jit
+def all_unit(q, atol):  # pragma: no cover - compiled
+    """True when every row of (M, 4) is finite with ``abs(|q| − 1) <= atol`` (``validate.unit_quaternion``'s test)."""
+    for i in range(q.shape[0]):
+        for c in range(4):
+            if not np.isfinite(q[i, c]):
+                return False
+        n = np.sqrt(q[i, 0] * q[i, 0] + q[i, 1] * q[i, 1] + q[i, 2] * q[i, 2] + q[i, 3] * q[i, 3])
+        if np.abs(n - 1.0) > atol:
+            return False
+    return True

@@ -66,6 +66,16 @@ def _kernels():
     return _rotation_kernels
 
 
+def _unit(q, name: str) -> np.ndarray:
+    """``validate.unit_quaternion(q, name)`` for read-only use: a large float64 array is checked in
+    one compiled pass and returned as is (no copy); anything else, or a failing check, goes through
+    ``unit_quaternion`` (same errors)."""
+    if (isinstance(q, np.ndarray) and q.dtype == np.float64 and q.ndim >= 1 and q.shape[-1] == 4
+            and q.size >= 4 * _KERNEL_MIN_ROWS and _kernels().all_unit(q.reshape(-1, 4), 1e-6)):
+        return q
+    return unit_quaternion(q, name)
+
+
 def _large(*arrays) -> bool:
     return all(isinstance(a, np.ndarray) and a.dtype == np.float64 for a in arrays) and max(
         a.size for a in arrays) >= 4 * _KERNEL_MIN_ROWS
@@ -226,7 +236,7 @@ def quat_from_rotvec(rotvec) -> np.ndarray:
 
 def rotvec_from_quat(q) -> np.ndarray:
     """Rotation vector (axis × angle, angle in [0, π]) of unit quaternions."""
-    q = unit_quaternion(q, "q")
+    q = _unit(q, "q")
     if q.size >= 4 * _KERNEL_MIN_ROWS:
         k = _kernels()
         flat = q.reshape(-1, 4)
@@ -257,7 +267,7 @@ def quat_to_matrix(q) -> np.ndarray:
     The matrix maps vectors from the rotated frame to the reference frame
     (``v_ref = C v_body``), as scipy's ``Rotation.as_matrix``.
     """
-    q = unit_quaternion(q, "q")
+    q = _unit(q, "q")
     shape = q.shape[:-1]
     if q.size >= 4 * _KERNEL_MIN_ROWS:   # the same arithmetic as scipy's loop, bit for bit
         mat = np.empty((q.size // 4, 3, 3))
@@ -350,7 +360,7 @@ def euler_zxy_from_quat(q) -> np.ndarray:
     >>> np.degrees(euler_zxy_from_quat([0.5, 0.5, 0.5, 0.5])).round(9).tolist()  # exact lock
     [90.0, 90.0, 0.0]
     """
-    return euler_zxy_unchecked(unit_quaternion(q, "q"))
+    return euler_zxy_unchecked(_unit(q, "q"))
 
 
 def euler_zxy_unchecked(q: np.ndarray) -> np.ndarray:
@@ -630,8 +640,28 @@ def installation_angles_from_mount(q_bs) -> np.ndarray:
     return installation_angles(np.swapaxes(quat_to_matrix(q), -1, -2))
 
 
-def relative_to_initial(q_est: np.ndarray, n0: int = 1) -> np.ndarray:
-    """Zero the attitude at the start: ``q_est(0)⁻¹ ⊗ q_est(t)`` (§4.1 initial angles 0°), (T, N, 4)."""
+def relative_to_initial(q_est: np.ndarray, n0: int = 1, *, out: np.ndarray | None = None) -> np.ndarray:
+    """Zero the attitude at the start: ``q_est(0)⁻¹ ⊗ q_est(t)`` (§4.1 initial angles 0°), (T, N, 4).
+
+    ``q_est(0)`` is the normalised mean of the first ``n0`` samples. ``out`` (float64, shape of
+    ``q_est``, may be ``q_est`` itself: in place) receives the result instead of a new array.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> q = np.array([[[0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0]]])
+    >>> relative_to_initial(q)[0].tolist()
+    [[1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, -1.0]]
+    """
     q0 = q_est[:, :n0].mean(axis=1)
     q0 /= np.linalg.norm(q0, axis=-1, keepdims=True)
-    return hamilton(quat_conjugate(q0)[:, None, :], q_est)
+    p = quat_conjugate(q0)[:, None, :]
+    if out is None:
+        return hamilton(p, q_est)
+    if out.shape != q_est.shape or out.dtype != np.float64:
+        raise ValueError(f"out must be a float64 array of shape {q_est.shape}, got {out.dtype} {out.shape}")
+    if q_est.ndim == 3 and q_est.dtype == np.float64:
+        _kernels().hamilton3(np.broadcast_to(p, q_est.shape), q_est, out)   # element by element: may alias
+    else:
+        out[...] = hamilton(p, q_est)
+    return out

@@ -208,13 +208,18 @@ def _draws(rng, trials: int, k: int, sigma: float, on: bool) -> np.ndarray:
 
 
 def _run_pieces(sc: TurntableScenario, prof: AngleProfile, spans: dict, pieces: list, with_sweeps: bool,
-                keep_trace: bool, base: _ComplianceBase) -> list[TurntableRun]:
+                keep_trace: bool, base: _ComplianceBase, buffers: dict) -> list[TurntableRun]:
     """Simulate every piece ``(test, sources, rng, trials, fraction)``, run ONE stacked QNCF, finish each.
 
     The QNCF cost is dominated by its loop over time, so stacking the pieces along the trial
-    axis costs about one run; each piece keeps its own generator.
+    axis costs about one run; each piece keeps its own generator. The pieces are stacked into
+    ``buffers`` (reused by every call of a run: no fresh 100 MB arrays per call).
     """
-    gyro, accel, rngs = [], [], []
+    total = sum(p[3] for p in pieces)
+    if buffers.get("gyro") is None or buffers["gyro"].shape[0] < total:
+        buffers["gyro"] = np.empty((total, prof.time_s.size, 3))
+        buffers["accel"] = np.empty((total, prof.time_s.size, 3))
+    gyro, accel, rngs, start = buffers["gyro"][:total], buffers["accel"][:total], [], 0
     ver0 = spans["verification"].start
     for test, sources, rng, trials, _, sc in pieces:
         rng_imu, rng_ref, rng_change = rng.spawn(3)
@@ -228,16 +233,15 @@ def _run_pieces(sc: TurntableScenario, prof: AngleProfile, spans: dict, pieces: 
         if "mount_compliance" in sources and MOUNT_TYPE[test] == "gasket":
             tilt = sc.errors.gasket_load_tilt_deg_g * DEG * rng_change.standard_normal((trials, 3)) * [1.0, 1.0, 0.0]
             load_tilt_outputs(rec.gyro_rad_s, acc, traj.q_wb, sc.fs_hz, model.q_mount, tilt)
-        gyro.append(rec.gyro_rad_s)
-        accel.append(acc)
+        gyro[start:start + trials] = rec.gyro_rad_s
+        accel[start:start + trials] = acc
+        start += trials
         rngs.append(rng_ref)
         del rec, acc
-    gyro = np.concatenate(gyro, axis=0)
-    accel = np.concatenate(accel, axis=0)
     res = qncf(gyro, accel, 1.0 / sc.fs_hz, sc.qncf, return_euler=False)
     del accel
     q_cal = res.q_ws[:, spans["calibration"]].copy()   # the calibration run as logged (zeroed by the procedure)
-    q_s = relative_to_initial(res.q_ws)                 # the session, zeroed once at its start (§4.1)
+    q_s = relative_to_initial(res.q_ws, out=res.q_ws)   # the session, zeroed once at its start (§4.1)
     del res
     pos = six_position_reference(sc)
     out, start = [], 0
@@ -392,8 +396,9 @@ def run_turntable_jobs(sc: TurntableScenario, jobs: list[TurntableJob], *, with_
         count += item[1][3]
     per_job = [[] for _ in jobs]
     base = _ComplianceBase(prof.angle_rad)       # shared by every piece (only the compliance differs)
+    buffers = {}
     for c, call in enumerate(progress(calls, desc="turntable Monte Carlo")):
-        runs = _run_pieces(sc, prof, spans, [p for _, p in call], with_sweeps, keep_trace and c == 0, base)
+        runs = _run_pieces(sc, prof, spans, [p for _, p in call], with_sweeps, keep_trace and c == 0, base, buffers)
         for (i, _), run in zip(call, runs):
             per_job[i].append(run)
     return [_concat_runs(r) for r in per_job]
