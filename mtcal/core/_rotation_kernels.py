@@ -80,10 +80,12 @@ def rotvec_finish(qf, vnorm, angle, out):  # pragma: no cover - compiled
 
 @jit
 def normalize2(q, out, norm):  # pragma: no cover - compiled
-    """(M, 4): ``norm = |q|`` and ``out = q / norm``."""
+    """(M, 4): ``norm = |q|`` and ``out = q / norm`` (rows of norm < 1e-12 left unset)."""
     for i in range(q.shape[0]):
         n = np.sqrt(q[i, 0] * q[i, 0] + q[i, 1] * q[i, 1] + q[i, 2] * q[i, 2] + q[i, 3] * q[i, 3])
         norm[i] = n
+        if n < 1e-12:   # the caller raises on it (numba would raise ZeroDivisionError)
+            continue
         for c in range(4):
             out[i, c] = q[i, c] / n
 
