@@ -17,7 +17,7 @@ import numpy as np
 from mtcal.core.compiled import jit
 
 __all__ = ["hamilton3", "continuous3", "rotvec_prepare", "rotvec_finish", "normalize2", "rotvec_angle",
-           "quat_from_rotvec_finish", "euler_zxy_arguments", "euler_zxy_products", "matrix_from_quat", "all_unit"]
+           "quat_from_rotvec_finish", "euler_zxy_arguments", "euler_zxy_products", "matrix_from_quat", "all_unit", "wrap_difference3"]
 
 
 @jit
@@ -170,3 +170,24 @@ def all_unit(q, atol):  # pragma: no cover - compiled
         if np.abs(n - 1.0) > atol:
             return False
     return True
+
+
+@jit
+def wrap_difference3(e, t, out):  # pragma: no cover - compiled
+    """``out = (e − t + π) mod 2π − π`` for (A, B, C) arrays (broadcast views allowed).
+
+    numpy's float ``remainder`` by ``b = 2π > 0``: ``m = fmod(x, b)`` (exact in every libm),
+    ``m + b`` when ``m < 0``, ``+0`` when ``m == 0`` — the same operations.
+    """
+    two_pi = 2.0 * np.pi
+    for i in range(out.shape[0]):
+        for j in range(out.shape[1]):
+            for k in range(out.shape[2]):
+                x = (e[i, j, k] - t[i, j, k]) + np.pi
+                m = np.fmod(x, two_pi)
+                if m != 0.0:
+                    if m < 0.0:
+                        m += two_pi
+                else:
+                    m = 0.0
+                out[i, j, k] = m - np.pi
