@@ -452,10 +452,40 @@ def position_errors_deg(run: TurntableRun, state: str) -> np.ndarray:
 # --------------------------------------------------------------------------
 # wind tunnel
 # --------------------------------------------------------------------------
+_PROFILES: dict = {}
+
+
+def _shared_profile(key: tuple, build):
+    """A schedule that depends only on a few scenario numbers (``key``), built once per process.
+
+    Every Monte Carlo block (each parameter draw has its own scenario) reuses it; its arrays are
+    made read-only so that no user can change a shared one.
+    """
+    hit = _PROFILES.get(key)
+    if hit is None:
+        if len(_PROFILES) >= 32:
+            _PROFILES.clear()
+        hit = build()
+        for prof in (hit[0] if isinstance(hit, tuple) else hit,):
+            for f in ("time_s", "angle_rad", "rate_rad_s", "accel_rad_s2", "is_static", "segment"):
+                getattr(prof, f).setflags(write=False)
+        _PROFILES[key] = hit
+    return hit
+
+
+def _key(values) -> tuple:
+    return tuple(np.asarray(values, float).ravel().tolist())
+
+
 def _wt_schedule(sc, waypoints_deg, rate, lead_s=8.0, hold_s=None):
+    hold = sc.hold_s if hold_s is None else hold_s
+    return _shared_profile(("wind tunnel sweep", _key(waypoints_deg), float(rate), float(lead_s), float(hold),
+                            float(sc.fs_hz)), lambda: _wt_schedule_build(sc, waypoints_deg, rate, lead_s, hold))
+
+
+def _wt_schedule_build(sc, waypoints_deg, rate, lead_s, hold):
     wp = np.zeros((len(waypoints_deg) + 2, 3))
     wp[1:-1, 1] = np.radians(waypoints_deg)
-    hold = sc.hold_s if hold_s is None else hold_s
     return step_schedule(wp, rate, np.r_[lead_s, np.full(len(waypoints_deg), hold), 1.0], sc.fs_hz,
                          min_move_s=0.5)
 
@@ -518,9 +548,13 @@ def _run_windtunnel_block(sc: WindTunnelScenario, rng: np.random.Generator, tria
     k_mount = sc.errors.compliance_deg_g(MOUNT_TYPE["windtunnel"]) * DEG if "mount_compliance" in on else 0.0
     # --- wind-off session: calibration then AoA sweep
     pos = windtunnel_positions(sc)
-    cal_prof = six_position.schedule_profile(pos, rate_rad_s=5 * DEG, rest_s=sc.rest_s, fs_hz=sc.fs_hz)
-    aoa_prof = _wt_schedule(sc, sc.aoa_sweep_deg, sc.mechanism_rate_rad_s, lead_s=1.0)
-    prof, spans = _concat_profiles([cal_prof, aoa_prof])
+
+    def session():
+        cal_prof = six_position.schedule_profile(pos, rate_rad_s=5 * DEG, rest_s=sc.rest_s, fs_hz=sc.fs_hz)
+        aoa_prof = _wt_schedule_build(sc, sc.aoa_sweep_deg, sc.mechanism_rate_rad_s, 1.0, sc.hold_s)
+        return _concat_profiles([cal_prof, aoa_prof])
+    prof, spans = _shared_profile(("wind tunnel session", _key(pos), float(sc.rest_s), float(sc.fs_hz),
+                                   _key(sc.aoa_sweep_deg), float(sc.mechanism_rate_rad_s), float(sc.hold_s)), session)
     spans = dict(zip(("calibration", "aoa"), spans))
     actual = mechanism_actual(sc, prof, sc.mechanism_rate_rad_s)
     rec = simulate_imu(compliance_trajectory(prof.time_s, actual, k_mount), model, rng=rng_imu, trials=trials)
@@ -528,10 +562,10 @@ def _run_windtunnel_block(sc: WindTunnelScenario, rng: np.random.Generator, tria
         rec.accel_m_s2[:, spans["aoa"].start:] += (sc.errors.accel_run_bias_mg * MG
                                                     * rng_change.standard_normal((trials, 1, 3)))
     res = qncf(rec.gyro_rad_s, rec.accel_m_s2, 1.0 / sc.fs_hz, sc.qncf, return_euler=False)
-    q_s = relative_to_initial(res.q_ws)
+    q_cal = res.q_ws[:, spans["calibration"]].copy()   # the calibration run as logged
+    q_s = relative_to_initial(res.q_ws, out=res.q_ws)   # the session zeroed at its start, in place
     ref_err = _draws(rng_ref, trials, 6, sc.repeatability_rad, "reference_angle" in on)
-    cal = calibration_step(sc, res.q_ws[:, spans["calibration"]], rec.gyro_rad_s[:, spans["calibration"]],
-                           pos + ref_err, frac)
+    cal = calibration_step(sc, q_cal, rec.gyro_rad_s[:, spans["calibration"]], pos + ref_err, frac)
     q_mat = cal.q_hat
     span = spans["aoa"]
     before = _euler(q_s[:, span])
@@ -595,7 +629,7 @@ def _wind_on_groups(sc, model, q_mat, rng, trials, trace, k_mount, keep_trace):
     accel = np.concatenate([pad(x) for x in a_all], axis=0)
     del g_all, a_all
     res = qncf(gyro, accel, 1.0 / sc.fs_hz, sc.qncf, return_euler=False)
-    q_s = relative_to_initial(res.q_ws, n0=1)
+    q_s = relative_to_initial(res.q_ws, n0=1, out=res.q_ws)
     q_rep = np.concatenate([q_mat] * 5, axis=0)
     means = np.empty((5, trials, len(sc.wind_on_sweep_deg)))
     for g, prof in enumerate(profs):
@@ -611,8 +645,8 @@ def _wind_on_groups(sc, model, q_mat, rng, trials, trace, k_mount, keep_trace):
         if g == 0:
             trace["amd_pct"] = res.amd_pct[0, :prof.time_s.size]
             trace["gate"] = res.gate[0, :prof.time_s.size]
-        trace[f"wind_time_s_{g}"] = prof.time_s
-        trace[f"wind_reference_{g}"] = prof.angle_rad[:, 1]
+        trace[f"wind_time_s_{g}"] = prof.time_s.copy()            # the profile is shared (read-only)
+        trace[f"wind_reference_{g}"] = prof.angle_rad[:, 1].copy()
         trace[f"wind_pitch_{g}"] = rotations.euler_zxy_from_quat(
             quaternion_lsq.apply_error_matrix(q_rep[sl][:1], q_g[:1, :prof.time_s.size]))[0, :, 1]
     ref = np.radians(np.asarray(sc.wind_on_sweep_deg, float))
