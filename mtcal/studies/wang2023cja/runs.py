@@ -618,15 +618,22 @@ def _wind_on_groups(sc, model, q_mat, rng, trials, trace, k_mount, keep_trace):
         model_g = replace(model, time_since_power_on_s=model.time_since_power_on_s + sc.group_interval_s * (g + 1))
         rec = simulate_imu(compliance_trajectory(t, actual, k_mount), model_g, rng=r_imu, trials=trials)
         vib = r_vib.uniform(0, 2 * np.pi, (trials, 1, 3))
-        accel = rec.accel_m_s2 + (ramp[None, :, None] * sc.vibration_accel_m_s2
-                                  * np.sin(2 * np.pi * sc.vibration_freq_hz * t[None, :, None] + vib))
+        # accel + ramp · a · sin(2π f t + vib), with fewer temporaries (the same operations)
+        shake = np.add(2 * np.pi * sc.vibration_freq_hz * t[None, :, None], vib)
+        np.sin(shake, out=shake)
+        shake *= ramp[None, :, None] * sc.vibration_accel_m_s2
+        shake += rec.accel_m_s2
         g_all.append(rec.gyro_rad_s)
-        a_all.append(accel)
+        a_all.append(shake)
         profs.append(prof)
+        del rec
     n = max(p.time_s.size for p in profs)
-    pad = lambda x: np.concatenate([x, np.repeat(x[:, -1:], n - x.shape[1], axis=1)], axis=1)  # noqa: E731
-    gyro = np.concatenate([pad(x) for x in g_all], axis=0)
-    accel = np.concatenate([pad(x) for x in a_all], axis=0)
+    gyro, accel = np.empty((5 * trials, n, 3)), np.empty((5 * trials, n, 3))
+    for g, (x_g, x_a) in enumerate(zip(g_all, a_all)):   # stacked, each padded with its last sample
+        for x, out in ((x_g, gyro), (x_a, accel)):
+            m = x.shape[1]
+            out[g * trials:(g + 1) * trials, :m] = x
+            out[g * trials:(g + 1) * trials, m:] = x[:, -1:]
     del g_all, a_all
     res = qncf(gyro, accel, 1.0 / sc.fs_hz, sc.qncf, return_euler=False)
     q_s = relative_to_initial(res.q_ws, n0=1, out=res.q_ws)
