@@ -17,7 +17,7 @@ import numpy as np
 from mtcal.core.compiled import jit
 
 __all__ = ["hamilton3", "continuous3", "rotvec_prepare", "rotvec_finish", "normalize2", "rotvec_angle",
-           "quat_from_rotvec_finish", "euler_zxy_arguments", "euler_zxy_products", "matrix_from_quat", "all_unit", "wrap_difference3"]
+           "quat_from_rotvec_finish", "euler_zxy_arguments", "euler_zxy_products", "matrix_from_quat", "all_unit", "wrap_difference3", "all_finite", "conjugate2"]
 
 
 @jit
@@ -191,3 +191,22 @@ def wrap_difference3(e, t, out):  # pragma: no cover - compiled
                 else:
                     m = 0.0
                 out[i, j, k] = m - np.pi
+
+
+@jit
+def all_finite(x):  # pragma: no cover - compiled
+    """True when every element of the 2-D ``x`` is finite."""
+    for i in range(x.shape[0]):
+        for c in range(x.shape[1]):
+            if not np.isfinite(x[i, c]):
+                return False
+    return True
+
+
+@jit
+def conjugate2(q, out):  # pragma: no cover - compiled
+    """``out = [q0, q1·(−1), q2·(−1), q3·(−1)]`` for (M, 4)."""
+    for i in range(q.shape[0]):
+        out[i, 0] = q[i, 0]
+        for c in range(1, 4):
+            out[i, c] = q[i, c] * -1.0

@@ -76,6 +76,16 @@ def _unit(q, name: str) -> np.ndarray:
     return unit_quaternion(q, name)
 
 
+def _quats(q, name: str) -> np.ndarray:
+    """``as_float_array(q, name, last_dim=4)`` for read-only use: a large float64 array is checked for
+    finiteness in one compiled pass and returned as is (no copy); anything else goes through
+    ``as_float_array`` (same errors)."""
+    if (isinstance(q, np.ndarray) and q.dtype == np.float64 and q.ndim >= 1 and q.shape[-1] == 4
+            and q.size >= 4 * _KERNEL_MIN_ROWS and _kernels().all_finite(q.reshape(-1, 4))):
+        return q
+    return as_float_array(q, name, last_dim=4)
+
+
 def _large(*arrays) -> bool:
     return all(isinstance(a, np.ndarray) and a.dtype == np.float64 for a in arrays) and max(
         a.size for a in arrays) >= 4 * _KERNEL_MIN_ROWS
@@ -113,19 +123,23 @@ def quat_multiply(p, q) -> np.ndarray:
 
     Broadcasts over leading axes. Neither input needs to be unit norm.
     """
-    return hamilton(as_float_array(p, "p", last_dim=4), as_float_array(q, "q", last_dim=4))
+    return hamilton(_quats(p, "p"), _quats(q, "q"))     # hamilton only reads its inputs
 
 
 def quat_conjugate(q) -> np.ndarray:
-    """Conjugate ``[q0, −q1, −q2, −q3]`` (the inverse of a unit quaternion)."""
-    q = as_float_array(q, "q", last_dim=4)
-    q[..., 1:] *= -1.0
+    """Conjugate ``[q0, −q1, −q2, −q3]`` (the inverse of a unit quaternion), a new array."""
+    q = _quats(q, "q")
+    if q.size >= 4 * _KERNEL_MIN_ROWS:
+        out = np.empty(q.shape)
+        _kernels().conjugate2(q.reshape(-1, 4), out.reshape(-1, 4))
+        return out
+    q[..., 1:] *= -1.0                                # q is as_float_array's copy here
     return q
 
 
 def quat_normalize(q) -> np.ndarray:
     """Return ``q / |q|``; raises if any quaternion has (near) zero norm."""
-    q = as_float_array(q, "q", last_dim=4)
+    q = _quats(q, "q")
     if q.size >= 4 * _KERNEL_MIN_ROWS:
         flat = q.reshape(-1, 4)
         out, norm = np.empty_like(flat), np.empty(flat.shape[0])

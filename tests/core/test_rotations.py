@@ -260,7 +260,8 @@ def _numpy_reference(monkeypatch, fn, *args):
 
 @pytest.mark.parametrize("case", ["hamilton", "hamilton_broadcast", "hamilton_strided", "normalize", "continuous",
                                   "continuous_axis0", "from_rotvec", "to_rotvec", "euler", "euler_view",
-                                  "from_euler", "to_matrix", "relative"])
+                                  "from_euler", "to_matrix", "relative", "conjugate", "conjugate_strided",
+                                  "multiply"])
 def test_compiled_loops_equal_the_numpy_expressions_bit_for_bit(case, rng, monkeypatch):
     n = 3 * rotations._KERNEL_MIN_ROWS
     q, p = _unit_quats(rng, n), _unit_quats(rng, n)[::-1].copy()
@@ -282,6 +283,9 @@ def test_compiled_loops_equal_the_numpy_expressions_bit_for_bit(case, rng, monke
         "from_euler": (rotations.quat_from_euler_zxy, tuple(a)),
         "to_matrix": (rotations.quat_to_matrix, (q3 * (1 + 1e-7),)),
         "relative": (rotations.relative_to_initial, (q3, 3)),
+        "conjugate": (rotations.quat_conjugate, (q,)),
+        "conjugate_strided": (rotations.quat_conjugate, (q3[:, ::2],)),
+        "multiply": (rotations.quat_multiply, (p.reshape(3, -1, 4)[:, :1], q3)),
     }[case]
     got, ref = fn(*args), _numpy_reference(monkeypatch, fn, *args)
     assert got.shape == ref.shape
@@ -304,6 +308,12 @@ def test_large_inputs_are_validated_like_small_ones(rng):
         rotations.quat_to_matrix(q)
     with pytest.raises(ValueError, match="zero-norm"):
         rotations.quat_normalize(np.zeros((2 * rotations._KERNEL_MIN_ROWS, 4)))
+    with pytest.raises(ValueError, match="p must be finite"):
+        rotations.quat_multiply(q, np.ones(4))
+    with pytest.raises(ValueError, match="q must be finite"):
+        rotations.quat_conjugate(q)
+    ok = _unit_quats(rng, 2 * rotations._KERNEL_MIN_ROWS)
+    assert rotations.quat_conjugate(ok) is not ok and rotations.quat_multiply(ok, ok) is not ok
 
 
 def test_relative_to_initial_in_place(rng):
