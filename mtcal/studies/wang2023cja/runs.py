@@ -213,7 +213,8 @@ def _run_pieces(sc: TurntableScenario, prof: AngleProfile, spans: dict, pieces: 
 
     The QNCF cost is dominated by its loop over time, so stacking the pieces along the trial
     axis costs about one run; each piece keeps its own generator. The pieces are stacked into
-    ``buffers`` (reused by every call of a run: no fresh 100 MB arrays per call).
+    ``buffers`` (reused by every call of a run: no fresh 100 MB arrays per call), which also keeps
+    the profile's hold windows.
     """
     total = sum(p[3] for p in pieces)
     if buffers.get("gyro") is None or buffers["gyro"].shape[0] < total:
@@ -263,7 +264,7 @@ def _run_pieces(sc: TurntableScenario, prof: AngleProfile, spans: dict, pieces: 
                            pos, -e_cal, -e_ver)
         if with_sweeps:
             run.sweeps, run.trace = _evaluate_sweeps(sc, prof, spans, q_s[sl], q_mat, frac, rng_ref,
-                                                     keep_trace and i == 0, on)
+                                                     keep_trace and i == 0, on, buffers)
         out.append(run)
     return out
 
@@ -404,8 +405,12 @@ def run_turntable_jobs(sc: TurntableScenario, jobs: list[TurntableJob], *, with_
     return [_concat_runs(r) for r in per_job]
 
 
-def _evaluate_sweeps(sc, prof, spans, q_s, q_mat, frac, rng, keep_trace, ref_errors_on):
-    """Hold means (with a turntable angle error per hold) and MaxAE/RMSE of the coupled channels."""
+def _evaluate_sweeps(sc, prof, spans, q_s, q_mat, frac, rng, keep_trace, ref_errors_on, shared=None):
+    """Hold means (with a turntable angle error per hold) and MaxAE/RMSE of the coupled channels.
+
+    ``shared``: a dict kept by the caller for one profile (the hold windows are found once).
+    """
+    shared = {} if shared is None else shared
     truth = prof.angle_rad
     sweeps, trace = {}, {}
     for name, chan_mean, chans_err in (("aoa", 1, (2, 0)), ("roll", 2, (1, 0))):
@@ -413,7 +418,10 @@ def _evaluate_sweeps(sc, prof, spans, q_s, q_mat, frac, rng, keep_trace, ref_err
         before = _euler(q_s[:, span])
         after = _euler(quaternion_lsq.apply_error_matrix(q_mat, q_s[:, span]))
         ref = truth[span]
-        holds = [slice(h.start - span.start, h.stop - span.start) for h in _holds(prof, span, frac)][1:-1]
+        key = ("sweep holds", name, frac)
+        if key not in shared:
+            shared[key] = [slice(h.start - span.start, h.stop - span.start) for h in _holds(prof, span, frac)][1:-1]
+        holds = shared[key]
         e = _draws(rng, q_s.shape[0], len(holds), sc.reference_angle_sigma_rad, ref_errors_on)[..., chan_mean]
         sweeps[name] = {
             "reference": np.array([ref[h, chan_mean].mean() for h in holds]),
