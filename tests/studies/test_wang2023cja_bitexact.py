@@ -79,3 +79,23 @@ def test_compiled_rotation_loops_give_the_numpy_reference_bit_for_bit(outputs, m
                     reason="the pinned hash holds on the numerics environment of make test (numerics_env)")
 def test_outputs_are_the_pinned_ones_on_the_numerics_environment(outputs):
     assert _digest(outputs) == PINNED_SHA256
+
+
+def test_load_tilt_compiled_loop_equals_the_numpy_cross_products():
+    rng = np.random.default_rng(3)
+    n = 3000
+    q_wb = rotations.quat_from_euler_zxy(rng.uniform(-1, 1, n), rng.uniform(-1.5, 1.5, n), rng.uniform(-3, 3, n))
+    gyro = rng.normal(size=(2, n, 3))
+    accel = 3.0 * gyro + 9.8
+    tilt = rng.normal(size=(2, 3)) * 1e-3
+    q_mount = rotations.mount_quaternion(np.radians([1.0, -2.0, 0.5]))
+    g1, a1 = gyro.copy(), accel.copy()
+    w.load_tilt_outputs(g1, a1, q_wb, 100.0, q_mount, tilt)                       # compiled loop
+    s = rotations.quat_to_matrix(q_wb)[:, 2, 2]
+    s_dot = np.gradient(s) * 100.0
+    tilt_s = tilt @ rotations.quat_to_matrix(q_mount)
+    for k in range(2):                                                            # the numpy reference
+        d = s[:, None] * tilt_s[k]
+        accel[k] -= np.cross(d, accel[k])
+        gyro[k] += s_dot[:, None] * tilt_s[k] - np.cross(d, gyro[k])
+    assert np.array_equal(g1, gyro) and np.array_equal(a1, accel)

@@ -136,6 +136,12 @@ def load_tilt_outputs(gyro_rad_s, accel_m_s2, q_wb, fs_hz: float, q_mount, tilt_
     s = rotations.quat_to_matrix(q_wb)[:, 2, 2]          # −ĝ_z: 1 when level
     s_dot = np.gradient(s) * fs_hz
     tilt_s = np.asarray(tilt_rad, float) @ rotations.quat_to_matrix(np.asarray(q_mount, float))  # C(q_bs)ᵀ δ
+    if (all(isinstance(x, np.ndarray) and x.dtype == np.float64 and x.ndim == 3 for x in (gyro_rad_s, accel_m_s2))
+            and tilt_s.shape == (gyro_rad_s.shape[0], 3)):
+        from ._kernels import load_tilt   # the loop below in one compiled pass, bit-identical
+
+        load_tilt(gyro_rad_s, accel_m_s2, s, s_dot, tilt_s)
+        return
     for k in range(gyro_rad_s.shape[0]):
         d = s[:, None] * tilt_s[k]
         accel_m_s2[k] -= np.cross(d, accel_m_s2[k])
