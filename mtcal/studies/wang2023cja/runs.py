@@ -479,10 +479,10 @@ def _shared_profile(key: tuple, build):
     if hit is None:
         if len(_PROFILES) >= 32:
             _PROFILES.clear()
-        hit = build()
-        for prof in (hit[0] if isinstance(hit, tuple) else hit,):
-            for f in ("time_s", "angle_rad", "rate_rad_s", "accel_rad_s2", "is_static", "segment"):
-                getattr(prof, f).setflags(write=False)
+        hit = build()                                  # an AngleProfile, or (AngleProfile, spans)
+        prof = hit[0] if isinstance(hit, tuple) else hit
+        for f in ("time_s", "angle_rad", "rate_rad_s", "accel_rad_s2", "is_static", "segment"):
+            getattr(prof, f).setflags(write=False)
         _PROFILES[key] = hit
     return hit
 
