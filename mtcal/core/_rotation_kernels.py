@@ -1,4 +1,4 @@
-"""Compiled loops behind :mod:`mtcal.core.rotations` for large float64 arrays (private).
+"""Compiled loops behind :mod:`mtcal.core.rotations` and ``metrics.angle_difference`` (large float64, private).
 
 Every kernel performs the numpy reference's arithmetic operation by operation, in the same
 order (sums of 3 or 4 terms left to right, as numpy reduces a short last axis; no
@@ -17,7 +17,8 @@ import numpy as np
 from mtcal.core.compiled import jit
 
 __all__ = ["hamilton3", "continuous3", "rotvec_prepare", "rotvec_finish", "normalize2", "rotvec_angle",
-           "quat_from_rotvec_finish", "euler_zxy_arguments", "euler_zxy_products", "matrix_from_quat", "all_unit", "wrap_difference3", "all_finite", "conjugate2"]
+           "quat_from_rotvec_finish", "euler_zxy_arguments", "euler_zxy_products", "matrix_from_quat", "all_unit",
+           "wrap_difference3", "all_finite", "conjugate2"]
 
 
 @jit
