@@ -467,6 +467,7 @@ def position_errors_deg(run: TurntableRun, state: str) -> np.ndarray:
 # wind tunnel
 # --------------------------------------------------------------------------
 _PROFILES: dict = {}
+_PROFILE_HOLDS: dict = {}   # id(shared profile) → {(span, fraction): hold windows}; cleared with _PROFILES
 
 
 def _shared_profile(key: tuple, build):
@@ -479,12 +480,25 @@ def _shared_profile(key: tuple, build):
     if hit is None:
         if len(_PROFILES) >= 32:
             _PROFILES.clear()
+            _PROFILE_HOLDS.clear()
         hit = build()                                  # an AngleProfile, or (AngleProfile, spans)
         prof = hit[0] if isinstance(hit, tuple) else hit
         for f in ("time_s", "angle_rad", "rate_rad_s", "accel_rad_s2", "is_static", "segment"):
             getattr(prof, f).setflags(write=False)
         _PROFILES[key] = hit
+        _PROFILE_HOLDS[id(prof)] = {}                  # the profile stays alive in _PROFILES: its id is its own
     return hit
+
+
+def _shared_holds(prof: AngleProfile, span: slice, fraction: float) -> list[slice]:
+    """:func:`_holds` of a shared profile (:func:`_shared_profile`), found once; other profiles: computed."""
+    cache = _PROFILE_HOLDS.get(id(prof))
+    if cache is None:
+        return _holds(prof, span, fraction)
+    key = (span.start, span.stop, fraction)
+    if key not in cache:
+        cache[key] = _holds(prof, span, fraction)
+    return list(cache[key])
 
 
 def _key(values) -> tuple:
@@ -585,7 +599,7 @@ def _run_windtunnel_block(sc: WindTunnelScenario, rng: np.random.Generator, tria
     before = _euler(q_s[:, span])
     after = _euler(quaternion_lsq.apply_error_matrix(q_mat, q_s[:, span]))
     cmd = prof.angle_rad[span]
-    holds = [slice(h.start - span.start, h.stop - span.start) for h in _holds(prof, span, frac)][1:-1]
+    holds = [slice(h.start - span.start, h.stop - span.start) for h in _shared_holds(prof, span, frac)][1:-1]
     nowind = {"reference": np.array([cmd[h, 1].mean() for h in holds]),
               "before_mean": np.stack([before[:, h, 1].mean(axis=1) for h in holds], axis=1),
               "after_mean": np.stack([after[:, h, 1].mean(axis=1) for h in holds], axis=1)}
@@ -656,7 +670,7 @@ def _wind_on_groups(sc, model, q_mat, rng, trials, trace, k_mount, keep_trace):
     for g, prof in enumerate(profs):
         sl = slice(g * trials, (g + 1) * trials)
         span = slice(0, prof.time_s.size)
-        holds = _holds(prof, span, 0.5)[1:-1]
+        holds = _shared_holds(prof, span, 0.5)[1:-1]
         q_g = q_s[sl]
         for j, h in enumerate(holds):
             after = _euler(quaternion_lsq.apply_error_matrix(q_rep[sl], q_g[:, h]))
