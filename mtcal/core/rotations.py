@@ -54,6 +54,43 @@ __all__ = ["mount_quaternion", "relative_to_initial", "installation_angles", "in
 ]
 
 
+#: Quaternions (rows) from which the float64 helpers below run a compiled loop
+#: (:mod:`mtcal.core._rotation_kernels`, bit-identical to the numpy expressions) instead of numpy
+#: temporaries; smaller arrays (filters' per-step calls, doctests) stay in numpy and never load numba.
+_KERNEL_MIN_ROWS = 2048
+
+
+def _kernels():
+    from mtcal.core import _rotation_kernels  # lazy: numba is loaded on the first large array only
+
+    return _rotation_kernels
+
+
+def _unit(q, name: str) -> np.ndarray:
+    """``validate.unit_quaternion(q, name)`` for read-only use: a large float64 array is checked in
+    one compiled pass and returned as is (no copy); anything else, or a failing check, goes through
+    ``unit_quaternion`` (same errors)."""
+    if (isinstance(q, np.ndarray) and q.dtype == np.float64 and q.ndim >= 1 and q.shape[-1] == 4
+            and q.size >= 4 * _KERNEL_MIN_ROWS and _kernels().all_unit(q.reshape(-1, 4), 1e-6)):
+        return q
+    return unit_quaternion(q, name)
+
+
+def _quats(q, name: str) -> np.ndarray:
+    """``as_float_array(q, name, last_dim=4)`` for read-only use: a large float64 array is checked for
+    finiteness in one compiled pass and returned as is (no copy); anything else goes through
+    ``as_float_array`` (same errors)."""
+    if (isinstance(q, np.ndarray) and q.dtype == np.float64 and q.ndim >= 1 and q.shape[-1] == 4
+            and q.size >= 4 * _KERNEL_MIN_ROWS and _kernels().all_finite(q.reshape(-1, 4))):
+        return q
+    return as_float_array(q, name, last_dim=4)
+
+
+def _large(*arrays) -> bool:
+    return all(isinstance(a, np.ndarray) and a.dtype == np.float64 for a in arrays) and max(
+        a.size for a in arrays) >= 4 * _KERNEL_MIN_ROWS
+
+
 # --------------------------------------------------------------------------
 # quaternion algebra (scalar-first, broadcasting over leading axes)
 # --------------------------------------------------------------------------
@@ -61,8 +98,16 @@ def hamilton(p: np.ndarray, q: np.ndarray) -> np.ndarray:
     """Unchecked Hamilton product ``p ⊗ q`` for hot loops (float arrays (..., 4)).
 
     Filters call this inside their time loop; public callers should use
-    :func:`quat_multiply`, which validates its inputs first.
+    :func:`quat_multiply`, which validates its inputs first. Large float64 inputs
+    (at most 3 axes after broadcasting) run one compiled loop, bit-identical.
     """
+    if _large(p, q) and p.shape[-1] == 4 and q.shape[-1] == 4:
+        shape = np.broadcast_shapes(p.shape, q.shape)
+        if len(shape) <= 3:
+            shape3 = (1,) * (3 - len(shape)) + shape
+            out = np.empty(shape3)
+            _kernels().hamilton3(np.broadcast_to(p, shape3), np.broadcast_to(q, shape3), out)
+            return out.reshape(shape)
     p0, p1, p2, p3 = p[..., 0], p[..., 1], p[..., 2], p[..., 3]
     q0, q1, q2, q3 = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
     return np.stack([
@@ -78,19 +123,30 @@ def quat_multiply(p, q) -> np.ndarray:
 
     Broadcasts over leading axes. Neither input needs to be unit norm.
     """
-    return hamilton(as_float_array(p, "p", last_dim=4), as_float_array(q, "q", last_dim=4))
+    return hamilton(_quats(p, "p"), _quats(q, "q"))     # hamilton only reads its inputs
 
 
 def quat_conjugate(q) -> np.ndarray:
-    """Conjugate ``[q0, −q1, −q2, −q3]`` (the inverse of a unit quaternion)."""
-    q = as_float_array(q, "q", last_dim=4)
-    q[..., 1:] *= -1.0
+    """Conjugate ``[q0, −q1, −q2, −q3]`` (the inverse of a unit quaternion), a new array."""
+    q = _quats(q, "q")
+    if q.size >= 4 * _KERNEL_MIN_ROWS:
+        out = np.empty(q.shape)
+        _kernels().conjugate2(q.reshape(-1, 4), out.reshape(-1, 4))
+        return out
+    q[..., 1:] *= -1.0                                # q is as_float_array's copy here
     return q
 
 
 def quat_normalize(q) -> np.ndarray:
     """Return ``q / |q|``; raises if any quaternion has (near) zero norm."""
-    q = as_float_array(q, "q", last_dim=4)
+    q = _quats(q, "q")
+    if q.size >= 4 * _KERNEL_MIN_ROWS:
+        flat = q.reshape(-1, 4)
+        out, norm = np.empty_like(flat), np.empty(flat.shape[0])
+        _kernels().normalize2(flat, out, norm)
+        if np.any(norm < 1e-12):
+            raise ValueError("q must not contain zero-norm quaternions")
+        return out.reshape(q.shape)
     norm = np.linalg.norm(q, axis=-1, keepdims=True)
     if np.any(norm < 1e-12):
         raise ValueError("q must not contain zero-norm quaternions")
@@ -156,6 +212,11 @@ def make_continuous(q, axis: int = -2) -> np.ndarray:
     if ax == q.ndim - 1:
         raise ValueError("axis must index time, not the quaternion component axis")
     qt = np.moveaxis(q, ax, 0)
+    if q.size >= 4 * _KERNEL_MIN_ROWS and qt.shape[0] > 0:
+        q3 = qt.reshape(qt.shape[0], -1, 4)
+        out = np.empty(q3.shape)
+        _kernels().continuous3(q3, out)
+        return np.moveaxis(out.reshape(qt.shape), 0, ax)
     dots = np.sum(qt[1:] * qt[:-1], axis=-1)
     flips = np.concatenate([np.zeros((1,) + dots.shape[1:], dtype=bool), dots < 0], axis=0)
     parity = np.cumsum(flips, axis=0) % 2 == 1
@@ -170,6 +231,14 @@ def quat_from_rotvec(rotvec) -> np.ndarray:
     handled without division by zero; shape (..., 3) → (..., 4).
     """
     v = as_float_array(rotvec, "rotvec", last_dim=3)
+    if v.size >= 3 * _KERNEL_MIN_ROWS:
+        k = _kernels()
+        flat = v.reshape(-1, 3)
+        angle, half = np.empty(flat.shape[0]), np.empty(flat.shape[0])
+        k.rotvec_angle(flat, angle, half)
+        out = np.empty((flat.shape[0], 4))
+        k.quat_from_rotvec_finish(flat, angle, np.sin(half), np.cos(half), out)
+        return out.reshape(v.shape[:-1] + (4,))
     angle = np.linalg.norm(v, axis=-1, keepdims=True)
     half = 0.5 * angle
     # sin(x/2)/x, series for small x avoids 0/0
@@ -181,7 +250,16 @@ def quat_from_rotvec(rotvec) -> np.ndarray:
 
 def rotvec_from_quat(q) -> np.ndarray:
     """Rotation vector (axis × angle, angle in [0, π]) of unit quaternions."""
-    q = align_signs(unit_quaternion(q, "q"))
+    q = _unit(q, "q")
+    if q.size >= 4 * _KERNEL_MIN_ROWS:
+        k = _kernels()
+        flat = q.reshape(-1, 4)
+        qf, vnorm = np.empty_like(flat), np.empty(flat.shape[0])
+        k.rotvec_prepare(flat, qf, vnorm)
+        out = np.empty((flat.shape[0], 3))
+        k.rotvec_finish(qf, vnorm, 2.0 * np.arctan2(vnorm, qf[:, 0]), out)
+        return out.reshape(q.shape[:-1] + (3,))
+    q = align_signs(q)
     vnorm = np.linalg.norm(q[..., 1:], axis=-1, keepdims=True)
     angle = 2.0 * np.arctan2(vnorm, q[..., :1])
     small = vnorm < 1e-12
@@ -203,10 +281,14 @@ def quat_to_matrix(q) -> np.ndarray:
     The matrix maps vectors from the rotated frame to the reference frame
     (``v_ref = C v_body``), as scipy's ``Rotation.as_matrix``.
     """
+    q = _unit(q, "q")
+    shape = q.shape[:-1]
+    if q.size >= 4 * _KERNEL_MIN_ROWS:   # the same arithmetic as scipy's loop, bit for bit
+        mat = np.empty((q.size // 4, 3, 3))
+        _kernels().matrix_from_quat(q.reshape(-1, 4), mat)
+        return mat.reshape(shape + (3, 3))
     from scipy.spatial.transform import Rotation  # lazy: scipy costs ~0.5 s of every CLI call's start-up
 
-    q = unit_quaternion(q, "q")
-    shape = q.shape[:-1]
     mat = Rotation.from_quat(q.reshape(-1, 4), scalar_first=True).as_matrix()
     return mat.reshape(shape + (3, 3))
 
@@ -253,6 +335,10 @@ def quat_from_euler_zxy(yaw, pitch, roll) -> np.ndarray:
     cp, sp = np.cos(psi / 2), np.sin(psi / 2)
     ct, st = np.cos(theta / 2), np.sin(theta / 2)
     cg, sg = np.cos(gamma / 2), np.sin(gamma / 2)
+    if psi.size >= _KERNEL_MIN_ROWS:
+        out = np.empty((psi.size, 4))
+        _kernels().euler_zxy_products(*(np.ravel(x) for x in (cp, sp, ct, st, cg, sg)), out)
+        return out.reshape(psi.shape + (4,))
     return np.stack([
         ct * cp * cg - st * sp * sg,
         st * cp * cg - ct * sp * sg,
@@ -288,7 +374,7 @@ def euler_zxy_from_quat(q) -> np.ndarray:
     >>> np.degrees(euler_zxy_from_quat([0.5, 0.5, 0.5, 0.5])).round(9).tolist()  # exact lock
     [90.0, 90.0, 0.0]
     """
-    return euler_zxy_unchecked(unit_quaternion(q, "q"))
+    return euler_zxy_unchecked(_unit(q, "q"))
 
 
 def euler_zxy_unchecked(q: np.ndarray) -> np.ndarray:
@@ -299,8 +385,20 @@ def euler_zxy_unchecked(q: np.ndarray) -> np.ndarray:
     Within :data:`GIMBAL_LOCK_COS` of pitch ±90° the half-angle form is used
     (see :func:`euler_zxy_from_quat`), elsewhere the printed Eq 8.
     """
-    q0, q1, q2, q3 = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
     out = np.empty(q.shape[:-1] + (3,))
+    if _large(q):
+        flat = q.reshape(-1, 4)
+        y0, x0, sin_pitch, y2, x2 = (np.empty(flat.shape[0]) for _ in range(5))
+        _kernels().euler_zxy_arguments(flat, y0, x0, sin_pitch, y2, x2)
+        o = out.reshape(-1, 3)
+        np.arctan2(y0, x0, out=o[:, 0])
+        np.arcsin(sin_pitch, out=o[:, 1])
+        np.arctan2(y2, x2, out=o[:, 2])
+        near = np.abs(sin_pitch) > _LOCK_SIN
+        if np.any(near):
+            o[near] = _euler_zxy_near_lock(flat[near])
+        return out
+    q0, q1, q2, q3 = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
     s00, s11, s22, s33 = q0 * q0, q1 * q1, q2 * q2, q3 * q3
     sin_pitch = np.clip(2.0 * (q2 * q3 + q0 * q1), -1.0, 1.0)
     np.arctan2(-2.0 * (q1 * q2 - q0 * q3), s00 - s11 + s22 - s33, out=out[..., 0])
@@ -556,8 +654,28 @@ def installation_angles_from_mount(q_bs) -> np.ndarray:
     return installation_angles(np.swapaxes(quat_to_matrix(q), -1, -2))
 
 
-def relative_to_initial(q_est: np.ndarray, n0: int = 1) -> np.ndarray:
-    """Zero the attitude at the start: ``q_est(0)⁻¹ ⊗ q_est(t)`` (§4.1 initial angles 0°), (T, N, 4)."""
+def relative_to_initial(q_est: np.ndarray, n0: int = 1, *, out: np.ndarray | None = None) -> np.ndarray:
+    """Zero the attitude at the start: ``q_est(0)⁻¹ ⊗ q_est(t)`` (§4.1 initial angles 0°), (T, N, 4).
+
+    ``q_est(0)`` is the normalised mean of the first ``n0`` samples. ``out`` (float64, shape of
+    ``q_est``, may be ``q_est`` itself: in place) receives the result instead of a new array.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> q = np.array([[[0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0]]])
+    >>> relative_to_initial(q)[0].tolist()
+    [[1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, -1.0]]
+    """
     q0 = q_est[:, :n0].mean(axis=1)
     q0 /= np.linalg.norm(q0, axis=-1, keepdims=True)
-    return hamilton(quat_conjugate(q0)[:, None, :], q_est)
+    p = quat_conjugate(q0)[:, None, :]
+    if out is None:
+        return hamilton(p, q_est)
+    if out.shape != q_est.shape or out.dtype != np.float64:
+        raise ValueError(f"out must be a float64 array of shape {q_est.shape}, got {out.dtype} {out.shape}")
+    if q_est.ndim == 3 and q_est.dtype == np.float64:
+        _kernels().hamilton3(np.broadcast_to(p, q_est.shape), q_est, out)   # element by element: may alias
+    else:
+        out[...] = hamilton(p, q_est)
+    return out

@@ -90,3 +90,26 @@ def test_bad_input_raises():
         bootstrap_medians([np.array([1.0, np.nan])], rng, n_boot=10)
     with pytest.raises(ValueError, match="n_boot"):
         bootstrap_medians([np.ones(3)], rng, n_boot=0)
+
+
+def test_angle_difference_compiled_loop_equals_numpy_remainder_bit_for_bit(monkeypatch):
+    rng = np.random.default_rng(5)
+    e = rng.uniform(-7, 7, (3, 4000, 3))
+    t = rng.uniform(-7, 7, (4000, 3))
+    e[0, :100] = t[:100]                      # zero difference: (0 + π) mod 2π − π
+    e[0, 100:200] = t[100:200] + np.pi        # exactly ±π and 2π apart
+    e[0, 200:300] = t[200:300] - np.pi
+    e[0, 300:400] = t[300:400] + 2 * np.pi
+    e[1, :1000] = np.pi
+    t[:1000] = -0.0
+    got = {k: metrics.angle_difference(a, b) for k, (a, b) in
+           {"3d": (e, t), "strided": (e[:, ::3], t[::3]), "1d": (e[0, :, 0], t[:, 1])}.items()}
+    monkeypatch.setattr(metrics, "_KERNEL_MIN_SIZE", 10 ** 15)
+    for k, (a, b) in {"3d": (e, t), "strided": (e[:, ::3], t[::3]), "1d": (e[0, :, 0], t[:, 1])}.items():
+        ref = metrics.angle_difference(a, b)
+        assert np.array_equal(got[k], ref) and np.array_equal(np.signbit(got[k]), np.signbit(ref)), k
+
+
+def test_angle_difference_rejects_shapes_that_do_not_broadcast():
+    with pytest.raises(ValueError, match="must broadcast"):
+        metrics.angle_difference(np.zeros((9000, 3)), np.zeros((9000, 2)))

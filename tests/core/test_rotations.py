@@ -237,3 +237,93 @@ def test_installation_angles_rejects_non_rotation():
         rotations.installation_angles(np.diag([1.0, 1.0, -1.0]))
     with pytest.raises(ValueError, match=r"shape \(\.\.\., 3, 3\)"):
         rotations.installation_angles(np.eye(4))
+
+
+# ---------------------------------------------------------------- compiled loops (issue #24)
+def _unit_quats(rng, n):
+    q = rng.normal(size=(n, 4))
+    q /= np.linalg.norm(q, axis=1, keepdims=True)
+    q[:8] = [1, 0, 0, 0]
+    q[8:16] = [-1, 0, 0, 0]
+    q[16:24] = [0.5, 0.5, 0.5, 0.5]          # gimbal lock
+    q[24:32] = [0.5, -0.5, 0.5, -0.5]
+    q[32] = [-0.0, 1.0, 0.0, 0.0]
+    q[40:48] = [np.cos(1e-13), np.sin(1e-13), 0.0, 0.0]   # tiny angle
+    return q
+
+
+def _numpy_reference(monkeypatch, fn, *args):
+    with monkeypatch.context() as m:
+        m.setattr(rotations, "_KERNEL_MIN_ROWS", 10 ** 12)
+        return fn(*args)
+
+
+@pytest.mark.parametrize("case", ["hamilton", "hamilton_broadcast", "hamilton_strided", "normalize", "continuous",
+                                  "continuous_axis0", "from_rotvec", "to_rotvec", "euler", "euler_view",
+                                  "from_euler", "to_matrix", "relative", "conjugate", "conjugate_strided",
+                                  "multiply"])
+def test_compiled_loops_equal_the_numpy_expressions_bit_for_bit(case, rng, monkeypatch):
+    n = 3 * rotations._KERNEL_MIN_ROWS
+    q, p = _unit_quats(rng, n), _unit_quats(rng, n)[::-1].copy()
+    q3 = q.reshape(3, -1, 4)
+    v = rng.normal(size=(n, 3)) * np.exp(rng.uniform(-25, 1, (n, 1)))
+    v[:4] = 0.0
+    a = rng.uniform(-1.5, 1.5, (3, n))
+    fn, args = {
+        "hamilton": (rotations.hamilton, (p, q)),
+        "hamilton_broadcast": (rotations.hamilton, (p.reshape(3, -1, 4)[:, :1], q3)),
+        "hamilton_strided": (rotations.hamilton, (p[::2], q[1::2])),
+        "normalize": (rotations.quat_normalize, (3.3 * q,)),
+        "continuous": (rotations.make_continuous, (q * np.sign(rng.normal(size=(n, 1))), 0)),
+        "continuous_axis0": (rotations.make_continuous, (q3, 0)),
+        "from_rotvec": (rotations.quat_from_rotvec, (v,)),
+        "to_rotvec": (rotations.rotvec_from_quat, (q3,)),
+        "euler": (rotations.euler_zxy_from_quat, (q,)),
+        "euler_view": (rotations.euler_zxy_unchecked, (q3[:, 5:-5],)),
+        "from_euler": (rotations.quat_from_euler_zxy, tuple(a)),
+        "to_matrix": (rotations.quat_to_matrix, (q3 * (1 + 1e-7),)),
+        "relative": (rotations.relative_to_initial, (q3, 3)),
+        "conjugate": (rotations.quat_conjugate, (q,)),
+        "conjugate_strided": (rotations.quat_conjugate, (q3[:, ::2],)),
+        "multiply": (rotations.quat_multiply, (p.reshape(3, -1, 4)[:, :1], q3)),
+    }[case]
+    got, ref = fn(*args), _numpy_reference(monkeypatch, fn, *args)
+    assert got.shape == ref.shape
+    assert np.array_equal(got, ref) and np.array_equal(np.signbit(got), np.signbit(ref))
+
+
+def test_quat_to_matrix_is_scipys_bit_for_bit(rng):
+    q = _unit_quats(rng, 2 * rotations._KERNEL_MIN_ROWS) * (1 + 1e-7)
+    assert np.array_equal(rotations.quat_to_matrix(q), Rotation.from_quat(q, scalar_first=True).as_matrix())
+
+
+def test_large_inputs_are_validated_like_small_ones(rng):
+    q = _unit_quats(rng, 2 * rotations._KERNEL_MIN_ROWS)
+    q[7, 0] = 1.1
+    for fn in (rotations.quat_to_matrix, rotations.rotvec_from_quat, rotations.euler_zxy_from_quat):
+        with pytest.raises(ValueError, match=r"unit quaternions .* got \|q\| in \[1, 1.1\]"):
+            fn(q)
+    q[7, 0] = np.nan
+    with pytest.raises(ValueError, match="finite"):
+        rotations.quat_to_matrix(q)
+    with pytest.raises(ValueError, match="zero-norm"):
+        rotations.quat_normalize(np.zeros((2 * rotations._KERNEL_MIN_ROWS, 4)))
+    with pytest.raises(ValueError, match="p must be finite"):
+        rotations.quat_multiply(q, np.ones(4))
+    with pytest.raises(ValueError, match="q must be finite"):
+        rotations.quat_conjugate(q)
+    ok = _unit_quats(rng, 2 * rotations._KERNEL_MIN_ROWS)
+    assert rotations.quat_conjugate(ok) is not ok and rotations.quat_multiply(ok, ok) is not ok
+
+
+def test_relative_to_initial_in_place(rng):
+    q = _unit_quats(rng, 3 * 1000).reshape(3, 1000, 4)
+    expected = rotations.relative_to_initial(q, 2)
+    out = q.copy()
+    assert rotations.relative_to_initial(out, 2, out=out) is out
+    assert np.array_equal(out, expected)
+    big = _unit_quats(rng, 3 * rotations._KERNEL_MIN_ROWS).reshape(3, -1, 4)
+    expected = rotations.relative_to_initial(big)
+    assert np.array_equal(rotations.relative_to_initial(big, out=big), expected)
+    with pytest.raises(ValueError, match=r"out must be a float64 array of shape \(3, 1000, 4\)"):
+        rotations.relative_to_initial(q, out=np.empty((3, 999, 4)))

@@ -36,8 +36,8 @@ from mtcal.filters.qncf import qncf
 from mtcal.methods import quaternion_lsq, six_position
 from mtcal.systems import installation
 from .error_model import MOUNT_TYPE, PAPER_SIGN
-from .scenario import (SOURCES, TurntableScenario, WindTunnelScenario, compliance_trajectory, mechanism_actual,
-                       windtunnel_positions)
+from .scenario import (SOURCES, TurntableScenario, WindTunnelScenario, _ComplianceBase, _compliant,
+                       compliance_trajectory, mechanism_actual, windtunnel_positions)
 
 #: Gates of :func:`mtcal.systems.installation.calibrate_installation` in the Monte Carlo runs: all off
 #: (``inf``). The procedure and its numbers are the CLI's; a Monte Carlo reports the spread of every
@@ -50,6 +50,11 @@ MONTE_CARLO_GATES = {"max_condition": np.inf, "max_so4_distance": np.inf, "max_r
 __all__ = ["turntable_runs", "turntable_profile", "six_position_reference", "TurntableRun", "TurntableJob",
            "calibration_step", "run_turntable", "run_turntable_jobs", "position_errors_deg", "load_tilt_outputs",
            "WindTunnelRun", "run_windtunnel", "elastic_deflection_rad", "MONTE_CARLO_GATES", "TRACE_DECIMATION"]
+
+
+def _euler(q: np.ndarray) -> np.ndarray:
+    """Eq 8 angles (rad) of QNCF outputs, unit by construction: ``euler_zxy_from_quat`` unvalidated, same numbers."""
+    return rotations.euler_zxy_unchecked(np.asarray(q, dtype=float))
 
 
 def _concat_profiles(parts: list[AngleProfile]) -> tuple[AngleProfile, list[slice]]:
@@ -131,6 +136,12 @@ def load_tilt_outputs(gyro_rad_s, accel_m_s2, q_wb, fs_hz: float, q_mount, tilt_
     s = rotations.quat_to_matrix(q_wb)[:, 2, 2]          # −ĝ_z: 1 when level
     s_dot = np.gradient(s) * fs_hz
     tilt_s = np.asarray(tilt_rad, float) @ rotations.quat_to_matrix(np.asarray(q_mount, float))  # C(q_bs)ᵀ δ
+    if (all(isinstance(x, np.ndarray) and x.dtype == np.float64 and x.ndim == 3 for x in (gyro_rad_s, accel_m_s2))
+            and tilt_s.shape == (gyro_rad_s.shape[0], 3)):
+        from ._kernels import load_tilt   # the loop below in one compiled pass, bit-identical
+
+        load_tilt(gyro_rad_s, accel_m_s2, s, s_dot, tilt_s)
+        return
     for k in range(gyro_rad_s.shape[0]):
         d = s[:, None] * tilt_s[k]
         accel_m_s2[k] -= np.cross(d, accel_m_s2[k])
@@ -203,18 +214,24 @@ def _draws(rng, trials: int, k: int, sigma: float, on: bool) -> np.ndarray:
 
 
 def _run_pieces(sc: TurntableScenario, prof: AngleProfile, spans: dict, pieces: list, with_sweeps: bool,
-                keep_trace: bool) -> list[TurntableRun]:
+                keep_trace: bool, base: _ComplianceBase, buffers: dict) -> list[TurntableRun]:
     """Simulate every piece ``(test, sources, rng, trials, fraction)``, run ONE stacked QNCF, finish each.
 
     The QNCF cost is dominated by its loop over time, so stacking the pieces along the trial
-    axis costs about one run; each piece keeps its own generator.
+    axis costs about one run; each piece keeps its own generator. The pieces are stacked into
+    ``buffers`` (reused by every call of a run: no fresh 100 MB arrays per call), which also keeps
+    the profile's hold windows.
     """
-    gyro, accel, rngs = [], [], []
+    total = sum(p[3] for p in pieces)
+    if buffers.get("gyro") is None or buffers["gyro"].shape[0] < total:
+        buffers["gyro"] = np.empty((total, prof.time_s.size, 3))
+        buffers["accel"] = np.empty((total, prof.time_s.size, 3))
+    gyro, accel, rngs, start = buffers["gyro"][:total], buffers["accel"][:total], [], 0
     ver0 = spans["verification"].start
     for test, sources, rng, trials, _, sc in pieces:
         rng_imu, rng_ref, rng_change = rng.spawn(3)
         k = sc.errors.compliance_deg_g(MOUNT_TYPE[test]) * DEG if "mount_compliance" in sources else 0.0
-        traj = compliance_trajectory(prof.time_s, prof.angle_rad, k)
+        traj = _compliant(prof.time_s, base, k)   # = compliance_trajectory(prof.time_s, prof.angle_rad, k)
         model = sc.imu.error_model(mount_quaternion(sc.alpha_rad(test)), sources, sc.errors)
         rec = simulate_imu(traj, model, rng=rng_imu, trials=trials)
         acc = rec.accel_m_s2
@@ -223,16 +240,15 @@ def _run_pieces(sc: TurntableScenario, prof: AngleProfile, spans: dict, pieces: 
         if "mount_compliance" in sources and MOUNT_TYPE[test] == "gasket":
             tilt = sc.errors.gasket_load_tilt_deg_g * DEG * rng_change.standard_normal((trials, 3)) * [1.0, 1.0, 0.0]
             load_tilt_outputs(rec.gyro_rad_s, acc, traj.q_wb, sc.fs_hz, model.q_mount, tilt)
-        gyro.append(rec.gyro_rad_s)
-        accel.append(acc)
+        gyro[start:start + trials] = rec.gyro_rad_s
+        accel[start:start + trials] = acc
+        start += trials
         rngs.append(rng_ref)
         del rec, acc
-    gyro = np.concatenate(gyro, axis=0)
-    accel = np.concatenate(accel, axis=0)
     res = qncf(gyro, accel, 1.0 / sc.fs_hz, sc.qncf, return_euler=False)
     del accel
     q_cal = res.q_ws[:, spans["calibration"]].copy()   # the calibration run as logged (zeroed by the procedure)
-    q_s = relative_to_initial(res.q_ws)                 # the session, zeroed once at its start (§4.1)
+    q_s = relative_to_initial(res.q_ws, out=res.q_ws)   # the session, zeroed once at its start (§4.1)
     del res
     pos = six_position_reference(sc)
     out, start = [], 0
@@ -254,7 +270,7 @@ def _run_pieces(sc: TurntableScenario, prof: AngleProfile, spans: dict, pieces: 
                            pos, -e_cal, -e_ver)
         if with_sweeps:
             run.sweeps, run.trace = _evaluate_sweeps(sc, prof, spans, q_s[sl], q_mat, frac, rng_ref,
-                                                     keep_trace and i == 0, on)
+                                                     keep_trace and i == 0, on, buffers)
         out.append(run)
     return out
 
@@ -386,23 +402,32 @@ def run_turntable_jobs(sc: TurntableScenario, jobs: list[TurntableJob], *, with_
         calls[-1].append(item)
         count += item[1][3]
     per_job = [[] for _ in jobs]
+    base = _ComplianceBase(prof.angle_rad)       # shared by every piece (only the compliance differs)
+    buffers = {}
     for c, call in enumerate(progress(calls, desc="turntable Monte Carlo")):
-        runs = _run_pieces(sc, prof, spans, [p for _, p in call], with_sweeps, keep_trace and c == 0)
+        runs = _run_pieces(sc, prof, spans, [p for _, p in call], with_sweeps, keep_trace and c == 0, base, buffers)
         for (i, _), run in zip(call, runs):
             per_job[i].append(run)
     return [_concat_runs(r) for r in per_job]
 
 
-def _evaluate_sweeps(sc, prof, spans, q_s, q_mat, frac, rng, keep_trace, ref_errors_on):
-    """Hold means (with a turntable angle error per hold) and MaxAE/RMSE of the coupled channels."""
+def _evaluate_sweeps(sc, prof, spans, q_s, q_mat, frac, rng, keep_trace, ref_errors_on, shared=None):
+    """Hold means (with a turntable angle error per hold) and MaxAE/RMSE of the coupled channels.
+
+    ``shared``: a dict kept by the caller for one profile (the hold windows are found once).
+    """
+    shared = {} if shared is None else shared
     truth = prof.angle_rad
     sweeps, trace = {}, {}
     for name, chan_mean, chans_err in (("aoa", 1, (2, 0)), ("roll", 2, (1, 0))):
         span = spans[name]
-        before = rotations.euler_zxy_from_quat(q_s[:, span])
-        after = rotations.euler_zxy_from_quat(quaternion_lsq.apply_error_matrix(q_mat, q_s[:, span]))
+        before = _euler(q_s[:, span])
+        after = _euler(quaternion_lsq.apply_error_matrix(q_mat, q_s[:, span]))
         ref = truth[span]
-        holds = [slice(h.start - span.start, h.stop - span.start) for h in _holds(prof, span, frac)][1:-1]
+        key = ("sweep holds", name, frac)
+        if key not in shared:
+            shared[key] = [slice(h.start - span.start, h.stop - span.start) for h in _holds(prof, span, frac)][1:-1]
+        holds = shared[key]
         e = _draws(rng, q_s.shape[0], len(holds), sc.reference_angle_sigma_rad, ref_errors_on)[..., chan_mean]
         sweeps[name] = {
             "reference": np.array([ref[h, chan_mean].mean() for h in holds]),
@@ -441,10 +466,54 @@ def position_errors_deg(run: TurntableRun, state: str) -> np.ndarray:
 # --------------------------------------------------------------------------
 # wind tunnel
 # --------------------------------------------------------------------------
+_PROFILES: dict = {}
+_PROFILE_HOLDS: dict = {}   # id(shared profile) → {(span, fraction): hold windows}; cleared with _PROFILES
+
+
+def _shared_profile(key: tuple, build):
+    """A schedule that depends only on a few scenario numbers (``key``), built once per process.
+
+    Every Monte Carlo block (each parameter draw has its own scenario) reuses it; its arrays are
+    made read-only so that no user can change a shared one.
+    """
+    hit = _PROFILES.get(key)
+    if hit is None:
+        if len(_PROFILES) >= 32:
+            _PROFILES.clear()
+            _PROFILE_HOLDS.clear()
+        hit = build()                                  # an AngleProfile, or (AngleProfile, spans)
+        prof = hit[0] if isinstance(hit, tuple) else hit
+        for f in ("time_s", "angle_rad", "rate_rad_s", "accel_rad_s2", "is_static", "segment"):
+            getattr(prof, f).setflags(write=False)
+        _PROFILES[key] = hit
+        _PROFILE_HOLDS[id(prof)] = {}                  # the profile stays alive in _PROFILES: its id is its own
+    return hit
+
+
+def _shared_holds(prof: AngleProfile, span: slice, fraction: float) -> list[slice]:
+    """:func:`_holds` of a shared profile (:func:`_shared_profile`), found once; other profiles: computed."""
+    cache = _PROFILE_HOLDS.get(id(prof))
+    if cache is None:
+        return _holds(prof, span, fraction)
+    key = (span.start, span.stop, fraction)
+    if key not in cache:
+        cache[key] = _holds(prof, span, fraction)
+    return list(cache[key])
+
+
+def _key(values) -> tuple:
+    return tuple(np.asarray(values, float).ravel().tolist())
+
+
 def _wt_schedule(sc, waypoints_deg, rate, lead_s=8.0, hold_s=None):
+    hold = sc.hold_s if hold_s is None else hold_s
+    return _shared_profile(("wind tunnel sweep", _key(waypoints_deg), float(rate), float(lead_s), float(hold),
+                            float(sc.fs_hz)), lambda: _wt_schedule_build(sc, waypoints_deg, rate, lead_s, hold))
+
+
+def _wt_schedule_build(sc, waypoints_deg, rate, lead_s, hold):
     wp = np.zeros((len(waypoints_deg) + 2, 3))
     wp[1:-1, 1] = np.radians(waypoints_deg)
-    hold = sc.hold_s if hold_s is None else hold_s
     return step_schedule(wp, rate, np.r_[lead_s, np.full(len(waypoints_deg), hold), 1.0], sc.fs_hz,
                          min_move_s=0.5)
 
@@ -507,9 +576,13 @@ def _run_windtunnel_block(sc: WindTunnelScenario, rng: np.random.Generator, tria
     k_mount = sc.errors.compliance_deg_g(MOUNT_TYPE["windtunnel"]) * DEG if "mount_compliance" in on else 0.0
     # --- wind-off session: calibration then AoA sweep
     pos = windtunnel_positions(sc)
-    cal_prof = six_position.schedule_profile(pos, rate_rad_s=5 * DEG, rest_s=sc.rest_s, fs_hz=sc.fs_hz)
-    aoa_prof = _wt_schedule(sc, sc.aoa_sweep_deg, sc.mechanism_rate_rad_s, lead_s=1.0)
-    prof, spans = _concat_profiles([cal_prof, aoa_prof])
+
+    def session():
+        cal_prof = six_position.schedule_profile(pos, rate_rad_s=5 * DEG, rest_s=sc.rest_s, fs_hz=sc.fs_hz)
+        aoa_prof = _wt_schedule_build(sc, sc.aoa_sweep_deg, sc.mechanism_rate_rad_s, 1.0, sc.hold_s)
+        return _concat_profiles([cal_prof, aoa_prof])
+    prof, spans = _shared_profile(("wind tunnel session", _key(pos), float(sc.rest_s), float(sc.fs_hz),
+                                   _key(sc.aoa_sweep_deg), float(sc.mechanism_rate_rad_s), float(sc.hold_s)), session)
     spans = dict(zip(("calibration", "aoa"), spans))
     actual = mechanism_actual(sc, prof, sc.mechanism_rate_rad_s)
     rec = simulate_imu(compliance_trajectory(prof.time_s, actual, k_mount), model, rng=rng_imu, trials=trials)
@@ -517,16 +590,16 @@ def _run_windtunnel_block(sc: WindTunnelScenario, rng: np.random.Generator, tria
         rec.accel_m_s2[:, spans["aoa"].start:] += (sc.errors.accel_run_bias_mg * MG
                                                     * rng_change.standard_normal((trials, 1, 3)))
     res = qncf(rec.gyro_rad_s, rec.accel_m_s2, 1.0 / sc.fs_hz, sc.qncf, return_euler=False)
-    q_s = relative_to_initial(res.q_ws)
+    q_cal = res.q_ws[:, spans["calibration"]].copy()   # the calibration run as logged
+    q_s = relative_to_initial(res.q_ws, out=res.q_ws)   # the session zeroed at its start, in place
     ref_err = _draws(rng_ref, trials, 6, sc.repeatability_rad, "reference_angle" in on)
-    cal = calibration_step(sc, res.q_ws[:, spans["calibration"]], rec.gyro_rad_s[:, spans["calibration"]],
-                           pos + ref_err, frac)
+    cal = calibration_step(sc, q_cal, rec.gyro_rad_s[:, spans["calibration"]], pos + ref_err, frac)
     q_mat = cal.q_hat
     span = spans["aoa"]
-    before = rotations.euler_zxy_from_quat(q_s[:, span])
-    after = rotations.euler_zxy_from_quat(quaternion_lsq.apply_error_matrix(q_mat, q_s[:, span]))
+    before = _euler(q_s[:, span])
+    after = _euler(quaternion_lsq.apply_error_matrix(q_mat, q_s[:, span]))
     cmd = prof.angle_rad[span]
-    holds = [slice(h.start - span.start, h.stop - span.start) for h in _holds(prof, span, frac)][1:-1]
+    holds = [slice(h.start - span.start, h.stop - span.start) for h in _shared_holds(prof, span, frac)][1:-1]
     nowind = {"reference": np.array([cmd[h, 1].mean() for h in holds]),
               "before_mean": np.stack([before[:, h, 1].mean(axis=1) for h in holds], axis=1),
               "after_mean": np.stack([after[:, h, 1].mean(axis=1) for h in holds], axis=1)}
@@ -573,35 +646,42 @@ def _wind_on_groups(sc, model, q_mat, rng, trials, trace, k_mount, keep_trace):
         model_g = replace(model, time_since_power_on_s=model.time_since_power_on_s + sc.group_interval_s * (g + 1))
         rec = simulate_imu(compliance_trajectory(t, actual, k_mount), model_g, rng=r_imu, trials=trials)
         vib = r_vib.uniform(0, 2 * np.pi, (trials, 1, 3))
-        accel = rec.accel_m_s2 + (ramp[None, :, None] * sc.vibration_accel_m_s2
-                                  * np.sin(2 * np.pi * sc.vibration_freq_hz * t[None, :, None] + vib))
+        # accel + ramp · a · sin(2π f t + vib), with fewer temporaries (the same operations)
+        shake = np.add(2 * np.pi * sc.vibration_freq_hz * t[None, :, None], vib)
+        np.sin(shake, out=shake)
+        shake *= ramp[None, :, None] * sc.vibration_accel_m_s2
+        shake += rec.accel_m_s2
         g_all.append(rec.gyro_rad_s)
-        a_all.append(accel)
+        a_all.append(shake)
         profs.append(prof)
+        del rec
     n = max(p.time_s.size for p in profs)
-    pad = lambda x: np.concatenate([x, np.repeat(x[:, -1:], n - x.shape[1], axis=1)], axis=1)  # noqa: E731
-    gyro = np.concatenate([pad(x) for x in g_all], axis=0)
-    accel = np.concatenate([pad(x) for x in a_all], axis=0)
+    gyro, accel = np.empty((5 * trials, n, 3)), np.empty((5 * trials, n, 3))
+    for g, (x_g, x_a) in enumerate(zip(g_all, a_all)):   # stacked, each padded with its last sample
+        for x, out in ((x_g, gyro), (x_a, accel)):
+            m = x.shape[1]
+            out[g * trials:(g + 1) * trials, :m] = x
+            out[g * trials:(g + 1) * trials, m:] = x[:, -1:]
     del g_all, a_all
     res = qncf(gyro, accel, 1.0 / sc.fs_hz, sc.qncf, return_euler=False)
-    q_s = relative_to_initial(res.q_ws, n0=1)
+    q_s = relative_to_initial(res.q_ws, n0=1, out=res.q_ws)
     q_rep = np.concatenate([q_mat] * 5, axis=0)
     means = np.empty((5, trials, len(sc.wind_on_sweep_deg)))
     for g, prof in enumerate(profs):
         sl = slice(g * trials, (g + 1) * trials)
         span = slice(0, prof.time_s.size)
-        holds = _holds(prof, span, 0.5)[1:-1]
+        holds = _shared_holds(prof, span, 0.5)[1:-1]
         q_g = q_s[sl]
         for j, h in enumerate(holds):
-            after = rotations.euler_zxy_from_quat(quaternion_lsq.apply_error_matrix(q_rep[sl], q_g[:, h]))
+            after = _euler(quaternion_lsq.apply_error_matrix(q_rep[sl], q_g[:, h]))
             means[g, :, j] = after[..., 1].mean(axis=1)
         if not keep_trace:
             continue
         if g == 0:
             trace["amd_pct"] = res.amd_pct[0, :prof.time_s.size]
             trace["gate"] = res.gate[0, :prof.time_s.size]
-        trace[f"wind_time_s_{g}"] = prof.time_s
-        trace[f"wind_reference_{g}"] = prof.angle_rad[:, 1]
+        trace[f"wind_time_s_{g}"] = prof.time_s.copy()            # the profile is shared (read-only)
+        trace[f"wind_reference_{g}"] = prof.angle_rad[:, 1].copy()
         trace[f"wind_pitch_{g}"] = rotations.euler_zxy_from_quat(
             quaternion_lsq.apply_error_matrix(q_rep[sl][:1], q_g[:1, :prof.time_s.size]))[0, :, 1]
     ref = np.radians(np.asarray(sc.wind_on_sweep_deg, float))

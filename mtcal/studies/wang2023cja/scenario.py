@@ -28,6 +28,7 @@ ValueError: fs_hz must be a number in [100.0, 10000.0] Hz, got -1.0
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -205,6 +206,12 @@ def windtunnel_geometry() -> tuple[tuple, float]:
     >>> round(eps, 5)
     -0.00444
     """
+    return _windtunnel_geometry()
+
+
+@functools.lru_cache(maxsize=1)
+def _windtunnel_geometry() -> tuple[tuple, float]:
+    """:func:`windtunnel_geometry`, fitted once per process (the printed matrix does not change; immutable result)."""
     from scipy.optimize import least_squares
 
     from mtcal.core import rotations
@@ -286,10 +293,34 @@ def compliance_trajectory(time_s, angle_rad, compliance_rad_per_g: float) -> Tra
     The mount rotates by ``k · (ẑ_b × ĝ_b)`` (rad, ĝ_b unit gravity in body axes): zero when
     level, ``k`` about the lateral axis at 90° of roll or pitch (wang2023cja §4.1 gasket mounts).
     """
-    q_wb = rotations.quat_from_euler_zxy(angle_rad[:, 0], angle_rad[:, 1], angle_rad[:, 2])
+    return _compliant(time_s, _ComplianceBase(angle_rad), compliance_rad_per_g)
+
+
+class _ComplianceBase:
+    """The compliance-free parts of :func:`compliance_trajectory` of one angle history, computed once.
+
+    ``q_wb`` (Eq 9 of the angles) and the lateral axis ``ẑ_b × ĝ_b`` do not depend on the
+    compliance ``k``: a Monte Carlo whose trials differ only in ``k`` shares them
+    (:func:`_compliant`); the lateral axis is computed on first use.
+    """
+
+    def __init__(self, angle_rad):
+        self.q_wb = rotations.quat_from_euler_zxy(angle_rad[:, 0], angle_rad[:, 1], angle_rad[:, 2])
+        self._lateral = None
+
+    @property
+    def lateral(self) -> np.ndarray:
+        if self._lateral is None:
+            g_b = -rotations.quat_to_matrix(self.q_wb)[:, 2, :]
+            self._lateral = np.stack([-g_b[:, 1], g_b[:, 0], np.zeros(len(g_b))], axis=-1)
+        return self._lateral
+
+
+def _compliant(time_s, base: _ComplianceBase, compliance_rad_per_g: float) -> Trajectory:
+    """:func:`compliance_trajectory` from a shared :class:`_ComplianceBase` (the same operations)."""
+    q_wb = base.q_wb
     if compliance_rad_per_g != 0.0:
-        g_b = -rotations.quat_to_matrix(q_wb)[:, 2, :]
-        rho = compliance_rad_per_g * np.stack([-g_b[:, 1], g_b[:, 0], np.zeros(len(g_b))], axis=-1)
+        rho = compliance_rad_per_g * base.lateral
         q_wb = rotations.hamilton(q_wb, rotations.quat_from_rotvec(rho))
     return Trajectory(time_s, q_wb)
 

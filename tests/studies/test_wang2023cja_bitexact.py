@@ -1,0 +1,101 @@
+"""wang2023cja Monte Carlo producers: pinned outputs (issue #24 speed-ups must not change a bit).
+
+Two guards on a 2-trial run of the turntable (T1 with its sweeps, T2) and wind-tunnel producers:
+
+* the compiled rotation loops (:mod:`mtcal.core._rotation_kernels`) against the numpy expressions
+  they replace, on this machine's code paths (any environment);
+* a SHA-256 of every output array, pinned on the CPU-independent numerics environment of
+  ``make test`` / ``make reproduce`` (:func:`mtcal.runs.environment.numerics_env`), where the
+  committed notebooks and data are produced. The hash was computed with the code before the
+  issue #24 changes and after them (equal).
+"""
+
+import hashlib
+import os
+from dataclasses import fields, is_dataclass
+
+import numpy as np
+import pytest
+
+from mtcal.core import rotations
+from mtcal.runs.environment import numerics_env
+from mtcal.studies import wang2023cja as w
+from mtcal.studies.wang2023cja import predictive
+
+#: SHA-256 of :func:`_outputs` on the pinned numerics environment.
+PINNED_SHA256 = "40bfa722501213cca242df2802b4050444bd84b4ca59377b2dec86f3a26fb01e"
+
+
+def _flatten(obj, prefix: str, out: dict) -> None:
+    if is_dataclass(obj):
+        for f in fields(obj):
+            _flatten(getattr(obj, f.name), f"{prefix}.{f.name}", out)
+    elif isinstance(obj, dict):
+        for k, v in obj.items():
+            _flatten(v, f"{prefix}.{k}", out)
+    elif obj is not None:
+        out[prefix] = np.asarray(obj)
+
+
+def _outputs() -> dict:
+    """Every array of a 2-trial fitted-model run of both producers at 200 Hz."""
+    fit = w.fit_error_model(n_mc=400, seed=2023)
+    out = {}
+    sc = w.turntable_scenario(errors=fit.model, fs_hz=200.0)
+    _flatten(predictive.turntable_predictive(sc, fit, "fitted", 2, 2023, tests=("T1", "T2")), "turntable", out)
+    _flatten(predictive.windtunnel_predictive(lambda m: w.windtunnel_scenario(errors=m, fs_hz=200.0), fit, "fitted", 2,
+                                              2023, per_draw=1), "windtunnel", out)
+    return out
+
+
+def _digest(arrays: dict) -> str:
+    h = hashlib.sha256()
+    for k in sorted(arrays):
+        a = arrays[k]
+        h.update(k.encode())
+        if a.dtype == object:
+            h.update(repr(a.tolist()).encode())
+        else:
+            h.update(f"{a.dtype.str}{a.shape}".encode())
+            h.update(np.ascontiguousarray(a).tobytes())
+    return h.hexdigest()
+
+
+@pytest.fixture(scope="module")
+def outputs():
+    return _outputs()
+
+
+def test_compiled_rotation_loops_give_the_numpy_reference_bit_for_bit(outputs, monkeypatch):
+    monkeypatch.setattr(rotations, "_KERNEL_MIN_ROWS", 10 ** 12)    # every helper on its numpy expressions
+    reference = _outputs()
+    assert sorted(reference) == sorted(outputs)
+    differ = [k for k in outputs if not np.array_equal(outputs[k], reference[k],
+                                                       equal_nan=outputs[k].dtype.kind == "f")]
+    assert differ == []
+
+
+@pytest.mark.skipif(any(os.environ.get(k) != v for k, v in numerics_env().items()),
+                    reason="the pinned hash holds on the numerics environment of make test (numerics_env)")
+def test_outputs_are_the_pinned_ones_on_the_numerics_environment(outputs):
+    assert _digest(outputs) == PINNED_SHA256
+
+
+def test_load_tilt_compiled_loop_equals_the_numpy_cross_products():
+    rng = np.random.default_rng(3)
+    n = 3000
+    q_wb = rotations.quat_from_euler_zxy(rng.uniform(-1, 1, n), rng.uniform(-1.5, 1.5, n), rng.uniform(-3, 3, n))
+    gyro = rng.normal(size=(2, n, 3))
+    accel = 3.0 * gyro + 9.8
+    tilt = rng.normal(size=(2, 3)) * 1e-3
+    q_mount = rotations.mount_quaternion(np.radians([1.0, -2.0, 0.5]))
+    g1, a1 = gyro.copy(), accel.copy()
+    w.load_tilt_outputs(g1, a1, q_wb, 100.0, q_mount, tilt)                       # compiled loop
+    s = rotations.quat_to_matrix(q_wb)[:, 2, 2]
+    s_dot = np.gradient(s) * 100.0
+    tilt_s = tilt @ rotations.quat_to_matrix(q_mount)
+    for k in range(2):                                                            # the numpy reference
+        d = s[:, None] * tilt_s[k]
+        accel[k] -= np.cross(d, accel[k])
+        gyro[k] += s_dot[:, None] * tilt_s[k] - np.cross(d, gyro[k])
+    assert np.array_equal(g1, gyro) and np.array_equal(a1, accel)
