@@ -12,7 +12,7 @@ import time
 
 import numpy as np
 
-from mtcal.core import csvtext, montecarlo, simulate
+from mtcal.core import csvtext, metrics, montecarlo, rotations, simulate
 from mtcal.filters import _kernels_ekf, _kernels_marg, _kernels_qncf
 from mtcal.methods import tilt_rate
 
@@ -30,12 +30,14 @@ def warm_up_all() -> dict[str, float]:
     -------
     dict of str to float
         Seconds spent per kernel group: ``qncf``, ``rams_ekf``, ``marg``, ``tilt_rate`` (the filters' edge
-        check), ``csv_text`` (the CLI's CSV writer), ``simulate``, ``metrics``.
+        check), ``csv_text`` (the CLI's CSV writer), ``simulate``, ``metrics``, ``rotations`` (the compiled
+        quaternion loops :mod:`mtcal.core.rotations` and :func:`mtcal.core.metrics.angle_difference`
+        use on large arrays).
 
     Examples
     --------
     >>> sorted(warm_up_all())
-    ['csv_text', 'marg', 'metrics', 'qncf', 'rams_ekf', 'simulate', 'tilt_rate']
+    ['csv_text', 'marg', 'metrics', 'qncf', 'rams_ekf', 'rotations', 'simulate', 'tilt_rate']
     """
     out = {}
     for name, fn in (("qncf", _kernels_qncf.warm_up), ("rams_ekf", _kernels_ekf.warm_up),
@@ -56,4 +58,14 @@ def warm_up_all() -> dict[str, float]:
     montecarlo._euler_error_stats(np.tile([1.0, 0.0, 0.0, 0.0], (2, 2, 1)), np.zeros((1, 2, 3)), np.zeros((2, 3)),
                                   np.zeros((2, 3)), np.zeros((2, 3)))
     out["metrics"] = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    n = rotations._KERNEL_MIN_ROWS  # the size from which the compiled loops are used
+    ramp = np.linspace(0.0, 1.0, n)
+    q = rotations.quat_from_euler_zxy(0.1 * ramp, 0.2 * ramp, 0.3 * ramp)
+    q = rotations.make_continuous(rotations.quat_normalize(rotations.quat_multiply(q, rotations.quat_conjugate(q))))
+    rotations.quat_from_rotvec(rotations.rotvec_from_quat(q))
+    rotations.quat_to_matrix(q)
+    e = rotations.euler_zxy_from_quat(q)
+    metrics.angle_difference(e, e)
+    out["rotations"] = time.perf_counter() - t0
     return out
