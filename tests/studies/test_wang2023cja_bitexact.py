@@ -99,3 +99,13 @@ def test_load_tilt_compiled_loop_equals_the_numpy_cross_products():
         accel[k] -= np.cross(d, accel[k])
         gyro[k] += s_dot[:, None] * tilt_s[k] - np.cross(d, gyro[k])
     assert np.array_equal(g1, gyro) and np.array_equal(a1, accel)
+
+
+def test_eq8_of_a_failed_calibration_raises_instead_of_returning_nan():
+    from mtcal.studies.wang2023cja import runs
+
+    q = np.tile([1.0, 0.0, 0.0, 0.0], (2, 5, 1))
+    assert np.array_equal(runs._euler(q), np.zeros((2, 5, 3)))
+    q[1, 3] = np.nan
+    with pytest.raises(FloatingPointError, match="not finite"):
+        runs._euler(q)

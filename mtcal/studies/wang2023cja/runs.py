@@ -53,8 +53,15 @@ __all__ = ["turntable_runs", "turntable_profile", "six_position_reference", "Tur
 
 
 def _euler(q: np.ndarray) -> np.ndarray:
-    """Eq 8 angles (rad) of QNCF outputs, unit by construction: ``euler_zxy_from_quat`` unvalidated, same numbers."""
-    return rotations.euler_zxy_unchecked(np.asarray(q, dtype=float))
+    """Eq 8 angles (rad) of QNCF outputs, unit by construction: ``euler_zxy_from_quat`` unvalidated, same numbers.
+
+    A non-finite angle (a failed calibration matrix applied to the attitude) raises instead of
+    entering a band as NaN.
+    """
+    euler = rotations.euler_zxy_unchecked(np.asarray(q, dtype=float))
+    if not np.isfinite(euler).all():
+        raise FloatingPointError("Eq 8 angles are not finite: a calibration matrix or attitude of this run is NaN/inf")
+    return euler
 
 
 def _concat_profiles(parts: list[AngleProfile]) -> tuple[AngleProfile, list[slice]]:
