@@ -19,7 +19,7 @@ import anchors  # noqa: E402
 import mc_stream  # noqa: E402
 import run  # noqa: E402
 import scalar_limit  # noqa: E402
-from mtcal.core import metrics, rotations  # noqa: E402
+from mtcal.core import metrics, montecarlo, rotations  # noqa: E402
 from mtcal.filters.qncf import QncfFilter  # noqa: E402
 from mtcal.core.simulate import simulate_imu  # noqa: E402
 
@@ -283,8 +283,10 @@ def test_streaming_mc_matches_whole_record_metrics():
     rec = next(stream.chunks(len(data.trajectory)))
     res = QncfFilter(stream.q_ws[0], data.trajectory.dt_s, trials=trials).run(rec.gyro_rad_s, rec.accel_m_s2)
     err = metrics.angle_difference(res.euler_rad, rotations.euler_zxy_from_quat(rec.q_ws_true))
-    np.testing.assert_allclose(got["rmse"], metrics.rmse(err, axis=1), rtol=1e-12)
-    np.testing.assert_allclose(got["max_abs"], metrics.max_abs_error(err, axis=1), rtol=1e-14)
+    # per-sample errors within montecarlo.ERROR_BOUND_RAD of the reference (series path), hence RMSE and MaxAE too
+    bound = montecarlo.ERROR_BOUND_RAD
+    np.testing.assert_allclose(got["rmse"], metrics.rmse(err, axis=1), rtol=1e-12, atol=bound)
+    np.testing.assert_allclose(got["max_abs"], metrics.max_abs_error(err, axis=1), rtol=0, atol=bound)
 
 
 def test_prefetch_stream_propagates_errors():
