@@ -67,6 +67,7 @@ reference's operation order — never materialising per-sample noise arrays;
 from __future__ import annotations
 
 import math
+import sys
 from dataclasses import dataclass, field
 
 import numba
@@ -604,13 +605,13 @@ class _SensorStream:
         words = _stream_words(self.sensor_index, source)
         return np.stack([_np_normals(self.key, self.trial_ids, words[j], start, stop) for j in range(3)], axis=-1)
 
-    def process(self, truth: np.ndarray, time_s: np.ndarray, start: int) -> np.ndarray:
-        """Measurements (T, n, 3) for truth samples (n, 3) at global index ``start``."""
+    def process(self, truth: np.ndarray, time_s: np.ndarray, start: int, out: np.ndarray | None = None) -> np.ndarray:
+        """Measurements (T, n, 3) for truth samples (n, 3) at global index ``start`` (into ``out`` if given)."""
         if self.engine == "numba":
-            return self._process_numba(truth, time_s, start)
+            return self._process_numba(truth, time_s, start, out)
         e, n = self.e, truth.shape[-2]  # truth: (n, 3) shared or (T, n, 3) per trial
         stop = start + n
-        out = np.empty((self.trials, n, 3))
+        out = np.empty((self.trials, n, 3)) if out is None else out
         out[:] = truth @ self.matrix_t
         out += self.bias
         if np.any(self.warm):
@@ -634,10 +635,11 @@ class _SensorStream:
             out *= e.quantization
         return out
 
-    def _process_numba(self, truth: np.ndarray, time_s: np.ndarray, start: int) -> np.ndarray:
+    def _process_numba(self, truth: np.ndarray, time_s: np.ndarray, start: int,
+                       out: np.ndarray | None = None) -> np.ndarray:
         """:meth:`process` with the compiled engine: one parallel pass, noise drawn where it is consumed."""
         e, n = self.e, truth.shape[-2]
-        out = np.empty((self.trials, n, 3))
+        out = np.empty((self.trials, n, 3)) if out is None else out
         base = truth @ self.matrix_t          # same product as the reference
         base = np.ascontiguousarray(base if base.ndim == 3 else base[None])
         none2, none3 = np.zeros((1, 3)), np.zeros((1, 1, 3))
@@ -760,16 +762,61 @@ class ImuStream:
         if self._next != 0:
             raise ValueError("chunks() can be iterated once per ImuStream (the noise states advance)")
         n = len(self.trajectory)
+        pool = _BufferPool()
         for start in range(0, n, size):
             stop = min(start + size, n)
             self._next = stop
             t = self.trajectory.time_s[start:stop]
-            gyro = self._gyro.process(self.gyro_true[start:stop], t, start)
-            accel = self._accel.process(self.accel_true[start:stop], t, start)
+            shape = (self.trials, stop - start, 3)
+            gyro = self._gyro.process(self.gyro_true[start:stop], t, start, pool.take(shape))
+            accel = self._accel.process(self.accel_true[start:stop], t, start, pool.take(shape))
             if self.single:
                 gyro, accel = gyro[0], accel[0]
-            yield ImuRecord(t, gyro, accel, self.q_ws[start:stop], self.gyro_true[start:stop],
-                            self.accel_true[start:stop])
+            record = ImuRecord(t, gyro, accel, self.q_ws[start:stop], self.gyro_true[start:stop],
+                               self.accel_true[start:stop])
+            del gyro, accel
+            yield record
+            del record
+
+
+class _BufferPool:
+    """Output arrays of :meth:`ImuStream.chunks`, recycled once nothing refers to them any more.
+
+    A fresh (T, n, 3) array per chunk and sensor costs more than filling it: numpy asks the kernel
+    for transparent huge pages on large allocations, so each chunk's new 24 MB (1000 trials × 1000
+    samples) is faulted in and zeroed again (~3 ms, ~0.4 s CPU over a 1000 × 60 s run). An array is
+    handed out again only when the pool's own reference is the last one (CPython reference count:
+    a chunk still held by a consumer, or any view of its arrays, keeps them out of the pool), so a
+    consumer that keeps chunks (e.g. to concatenate them) sees its data untouched.
+    """
+
+    #: Arrays kept for reuse (a prefetching consumer has at most ~3 chunks × 2 sensors alive).
+    SIZE = 8
+
+    def __init__(self):
+        self.arrays: list[np.ndarray] = []
+
+    @staticmethod
+    def _free_refcount() -> int:
+        """``sys.getrefcount`` of a pooled array nothing else refers to, seen from the loop in :meth:`take`."""
+        probe = [np.empty(0)]
+        for arr in probe:
+            return sys.getrefcount(arr)
+        raise AssertionError
+
+    def take(self, shape: tuple[int, int, int]) -> np.ndarray:
+        """A free pooled array of ``shape``, else a new one (pooled while there is room)."""
+        free = _FREE_REFCOUNT
+        for arr in self.arrays:
+            if arr.shape == shape and sys.getrefcount(arr) <= free:
+                return arr
+        arr = np.empty(shape)
+        if len(self.arrays) < self.SIZE:
+            self.arrays.append(arr)
+        return arr
+
+
+_FREE_REFCOUNT = _BufferPool._free_refcount()
 
 
 def apply_sensor_errors(errors: SensorErrors, truth, time_s, rng: np.random.Generator | None = None, *,
