@@ -436,7 +436,7 @@ def _per_trial_draws(key0, key1, trial_ids, c2, uniform, out):
 # ----------------------------------------------------------------------------- compiled engine
 @jit
 def _trial_errors(out, t, tid, start, base, tb, bias, warm, turn_on, vib, key0, key1, c2s, flags, white_scale,
-                  rw_scale, gm_sigma, gm_c, gm_a, quant, rw_state, gm_state, words, normals, rejected):
+                  rw_scale, gm_sigma, gm_c, gm_a, quant, rw_state, gm_state, words, normals, rejected, flags8):
     """One trial of :func:`_sensor_errors_parallel`: the chunk in blocks of ``normals.shape[2]`` samples, each block's
     normals drawn first (Philox words of a block in one branch-free, vectorisable loop, then the ziggurat),
     then every error term applied in the reference's order."""
@@ -462,24 +462,23 @@ def _trial_errors(out, t, tid, start, base, tb, bias, warm, turn_on, vib, key0, 
                     for p in range(npairs):            # branch-free: vectorised across sample pairs
                         wa, wb = philox.philox_words(m0 + np.uint64(p), np.uint64(tid), c2, np.uint64(0),
                                                      np.uint64(key0), np.uint64(key1))
-                        words[0, p] = wa
-                        words[1, p] = wb
-                    nrej = 0
-                    for q in range(k - b0, hi - b0):   # ziggurat fast path, branch-free but for the rare rejection
-                        r = words[q & 1, q // 2]
+                        words[2 * p] = wa                  # sample order: lane 0, lane 1 of each pair
+                        words[2 * p + 1] = wb
+                    for q in range(k - b0, hi - b0):   # ziggurat fast path, branch-free: vectorised (gathers)
+                        r = words[q]
                         idx = r & _UFF
                         r8 = r >> _U8
                         rabs = (r8 >> _U1) & _MASK52
                         sign = 1.0 - 2.0 * np.float64(np.int64(r8 & _U1))   # ±1: x · sign == ±x exactly,
                         normals[s, j, q] = np.float64(np.int64(rabs)) * _WI[idx] * sign   # without a branch
-                        if rabs >= _KI[idx]:
-                            rejected[nrej] = q
-                            nrej += 1
-                    for i in range(nrej):              # ~1 %: continue on the word's rejection stream
-                        q = rejected[i]
-                        normals[s, j, q] = philox._zig_slow(words[q & 1, q // 2], m0 + np.uint64(q // 2),
-                                                            np.uint64(tid), c2, np.uint64(q & 1), np.uint64(key0),
-                                                            np.uint64(key1))
+                        rejected[q] = rabs >= _KI[idx]
+                    for w8 in range((k - b0) // 8, (hi - b0 + 7) // 8):   # ~1 % rejected: 8 flags per test
+                        if flags8[w8]:
+                            for q in range(max(8 * w8, k - b0), min(8 * w8 + 8, hi - b0)):
+                                if rejected[q]:            # continue on the word's rejection stream
+                                    normals[s, j, q] = philox._zig_slow(words[q], m0 + np.uint64(q // 2),
+                                                                        np.uint64(tid), c2, np.uint64(q & 1),
+                                                                        np.uint64(key0), np.uint64(key1))
         for kk in range(k, hi):
             q = kk - b0
             i = kk - start
@@ -518,13 +517,14 @@ def _sensor_errors_group(g, out, start, base, bias, warm, turn_on, vib, trial_id
     """Trials ``g·group … (g+1)·group`` of :func:`_sensor_errors_parallel`, sharing one scratch buffer."""
     trials = out.shape[0]
     per_trial_base = base.shape[0] > 1
-    words = np.empty((2, block // 2), np.uint64)
-    rejected = np.empty(block, np.int64)
+    words = np.empty(block, np.uint64)
+    rejected = np.zeros(8 * (block // 8 + 1), np.uint8)   # rejection flags, read 8 at a time through flags8
+    flags8 = rejected.view(np.uint64)
     normals = np.empty((3, 3, block))
     for t in range(g * group, min((g + 1) * group, trials)):
         _trial_errors(out, t, trial_ids[t], start, base, t if per_trial_base else 0, bias, warm, turn_on, vib,
                       key0, key1, c2s, flags, white_scale, rw_scale, gm_sigma, gm_c, gm_a, quant, rw_state,
-                      gm_state, words, normals, rejected)
+                      gm_state, words, normals, rejected, flags8)
 
 
 @jit(parallel=True)

@@ -344,12 +344,13 @@ def _errors(Q0, Q1, Q2, Q3, table, per_trial_truth, ta, tb, tc, td, k):
     YB = sub(mul(A, C1), mul(CE, S1))
     XC = add(mul(RX, C2), mul(RY, S2))
     YC = sub(mul(RY, C2), mul(RX, S2))
-    BA, BC = muls(XA, SERIES_MAX), muls(XC, SERIES_MAX)     # the scalar's SERIES_MAX * x
-    FA, FB, FC = fabs(YA), fabs(YB), fabs(YC)
-    ok = True
-    for j in range(4):
-        ok = ok & (FA[j] < BA[j]) & (FB[j] < SERIES_MAX) & (XB[j] > 0.0) & (FC[j] < BC[j])
-    if ok:
+    # the scalar's test |ya| < SERIES_MAX·xa, |yb| < SERIES_MAX, xb > 0, |yc| < SERIES_MAX·xc, as one 0/1 lane mask
+    zero = bc(0.0)
+    OK = where_lt(fabs(YC), muls(XC, SERIES_MAX), one, zero)
+    OK = where_lt(zero, XB, OK, zero)
+    OK = where_lt(fabs(YB), bc(SERIES_MAX), OK, zero)
+    OK = where_lt(fabs(YA), muls(XA, SERIES_MAX), OK, zero)
+    if (OK[0] + OK[1]) + (OK[2] + OK[3]) == 4.0:
         return _atan_small4(div(YA, XA)), _asin_small4(YB), _atan_small4(div(YC, XC))
     ra = table[ta] if per_trial_truth else table[0]
     rb = table[tb] if per_trial_truth else table[0]
