@@ -267,7 +267,7 @@ def test_streaming_mc_is_chunk_size_independent():
 
 
 def test_prefetch_gives_the_same_numbers_as_single_thread():
-    kw = dict(trials=2, duration_s=2.0, chunk_samples=120, seed=5)
+    kw = dict(trials=2, duration_s=2.0, chunk_samples=120, seed=5, workers=1)
     a = mc_stream.run_mc(prefetch=True, **kw)
     b = mc_stream.run_mc(prefetch=False, **kw)
     for key in ("rmse", "max_abs", "mean"):
@@ -310,3 +310,13 @@ def test_mc_main_reports_wall_time_and_rss(capsys):
 def test_parallel_capacity_is_a_speedup_ratio():
     cap = run.parallel_capacity(repeats=1)
     assert 0.05 < cap < 4.0  # 1 thread time / 2 threads time of the same work
+
+
+@pytest.mark.parametrize("workers", [2, 3])
+def test_streaming_mc_workers_give_the_numbers_of_one_stream(workers):
+    """Trials split over worker threads by id: bit-identical to one trial-parallel stream (same chunks)."""
+    kw = dict(trials=7, duration_s=0.6, chunk_samples=200, seed=8, progress=False)
+    one = mc_stream.run_mc(workers=1, prefetch=False, **kw)
+    split = mc_stream.run_mc(workers=workers, **kw)
+    for key in ("rmse", "max_abs", "mean"):
+        np.testing.assert_array_equal(split[key], one[key])
