@@ -438,8 +438,10 @@ def _per_trial_draws(key0, key1, trial_ids, c2, uniform, out):
 def _trial_errors(out, t, tid, start, base, tb, bias, warm, turn_on, vib, key0, key1, c2s, flags, white_scale,
                   rw_scale, gm_sigma, gm_c, gm_a, quant, rw_state, gm_state, words, normals, rejected, flags8):
     """One trial of :func:`_sensor_errors_parallel`: the chunk in blocks of ``normals.shape[2]`` samples, each block's
-    normals drawn first (Philox words of a block in one branch-free, vectorisable loop, then the ziggurat),
-    then every error term applied in the reference's order."""
+    normals drawn first (Philox words of a block in one branch-free, vectorised loop, then the ziggurat's fast
+    path, also vectorised, and the ~1 % rejections), the random walk and Gauss–Markov recursions run over the
+    block with the three axes' states in registers (overwriting their normals), then every error term applied in
+    the reference's order. Indices are unsigned (no negative-index wraparound per access)."""
     n = out.shape[1]
     stop = start + n
     block = normals.shape[2]
@@ -479,9 +481,30 @@ def _trial_errors(out, t, tid, start, base, tb, bias, warm, turn_on, vib, key0, 
                                     normals[s, j, q] = philox._zig_slow(words[q], m0 + np.uint64(q // 2),
                                                                         np.uint64(tid), c2, np.uint64(q & 1),
                                                                         np.uint64(key0), np.uint64(key1))
+        if flags & 8:             # random-walk values over the block in place of their normals (np.cumsum, continued)
+            va, vb, vc = walk[0], walk[1], walk[2]
+            for q in range(k - b0, hi - b0):
+                va = va + normals[1, 0, q] * rw_scale
+                vb = vb + normals[1, 1, q] * rw_scale
+                vc = vc + normals[1, 2, q] * rw_scale
+                normals[1, 0, q], normals[1, 1, q], normals[1, 2, q] = va, vb, vc
+            walk[0], walk[1], walk[2] = va, vb, vc
+        if flags & 16:            # Gauss–Markov outputs over the block in place of their normals, three axes
+            ya, yb, yc = y[0], y[1], y[2]                 # side by side in registers (lfilter: y = c w + a y_prev)
+            for q in range(k - b0, hi - b0):
+                wa = normals[2, 0, q] * gm_sigma
+                wb = normals[2, 1, q] * gm_sigma
+                wc = normals[2, 2, q] * gm_sigma
+                if b0 + q == 0:                           # stationary start: y_0 = σ n_0
+                    wa, wb, wc = wa / gm_c, wb / gm_c, wc / gm_c
+                ya = gm_a * ya + gm_c * wa
+                yb = gm_a * yb + gm_c * wb
+                yc = gm_a * yc + gm_c * wc
+                normals[2, 0, q], normals[2, 1, q], normals[2, 2, q] = ya, yb, yc
+            y[0], y[1], y[2] = ya, yb, yc
         for kk in range(k, hi):
-            q = kk - b0
-            i = kk - start
+            q = np.uint64(kk - b0)                        # unsigned: no negative-index wraparound per access
+            i = np.uint64(kk - start)
             for j in range(3):                             # three independent recursions side by side
                 x = base[tb, i, j] + bias[j]
                 if flags & 1:
@@ -490,16 +513,10 @@ def _trial_errors(out, t, tid, start, base, tb, bias, warm, turn_on, vib, key0, 
                     x = x + turn_on[t, j]
                 if flags & 4:
                     x = x + white_scale * normals[0, j, q]
-                if flags & 8:
-                    walk[j] = walk[j] + normals[1, j, q] * rw_scale   # np.cumsum, continued
-                    x = x + walk[j]
-                if flags & 16:                             # scipy lfilter([c], [1, -a]): y = c w + a y_prev
-                    w = normals[2, j, q] * gm_sigma
-                    if kk == 0:
-                        w = w / gm_c                       # stationary start: y_0 = σ n_0
-                    yj = gm_a * y[j] + gm_c * w
-                    y[j] = yj
-                    x = x + yj
+                if flags & 8:                              # random-walk value of this sample (above)
+                    x = x + normals[1, j, q]
+                if flags & 16:                             # Gauss–Markov output of this sample (above)
+                    x = x + normals[2, j, q]
                 if flags & 32:
                     x = x + vib[t, i, j]
                 if flags & 64:
