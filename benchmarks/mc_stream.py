@@ -30,7 +30,15 @@ Target row (issue #24, in ``benchmarks/run.py``): "streaming Monte Carlo
 1000 x 60 s wall <= 2 s" on 2 cores and "... peak RSS <= 512 MB". The simulator
 draws its noise inside its compiled kernel (counter-based Philox,
 :mod:`mtcal.core.philox`), trials in parallel, so no (trials, samples, 3)
-noise array is made; only each chunk's measurements (T, chunk, 3) per sensor.
+noise array is made; only each chunk's measurements (T, chunk, 3) per sensor, whose
+buffers the stream recycles once the filter has dropped them.
+
+Threads (issue #24): by default the trials are split into one contiguous share per numba
+thread, each streamed by its own worker thread through single-threaded kernels (simulator and
+filter both release the GIL; trials are named by id, so every trial's numbers are those of
+the whole run, bit for bit). Compared with trial-parallel kernels plus a prefetch thread
+(``--workers 1``, the previous scheme, kept) this starts and joins no parallel region per
+chunk and per stage, runs at most one busy thread per core, and halves each core's chunk.
 """
 
 from __future__ import annotations
