@@ -171,22 +171,23 @@ SERIES_MAX = 1.0 / 64.0
 #: on the same products the series path errs ≤ 1.9e-16, the reference ≤ 5.2e-16 (the wrap's rounding at ±π).
 ERROR_BOUND_RAD = 4e-15
 ERROR_BOUND_LOCK_RAD = 2e-15
-_A3, _A5, _A7, _A9 = -1.0 / 3.0, 1.0 / 5.0, -1.0 / 7.0, 1.0 / 9.0
-_B3, _B5, _B7, _B9 = 1.0 / 6.0, 3.0 / 40.0, 5.0 / 112.0, 35.0 / 1152.0
+#: Odd-series coefficients of atan and asin (degree 9) of the series paths.
+ATAN_C3, ATAN_C5, ATAN_C7, ATAN_C9 = -1.0 / 3.0, 1.0 / 5.0, -1.0 / 7.0, 1.0 / 9.0
+ASIN_C3, ASIN_C5, ASIN_C7, ASIN_C9 = 1.0 / 6.0, 3.0 / 40.0, 5.0 / 112.0, 35.0 / 1152.0
 
 
 @numba.njit(inline="always")
 def atan_small(r):
     """atan(r) for |r| < 1/64: r + r·u·(−1/3 + u(1/5 + u(−1/7 + u/9))), u = r² (truncation < 1e-19 relative)."""
     u = r * r
-    return r + r * (u * (_A3 + u * (_A5 + u * (_A7 + u * _A9))))
+    return r + r * (u * (ATAN_C3 + u * (ATAN_C5 + u * (ATAN_C7 + u * ATAN_C9))))
 
 
 @numba.njit(inline="always")
 def asin_small(y):
     """asin(y) for |y| < 1/64: y + y·u·(1/6 + u(3/40 + u(5/112 + u·35/1152))), u = y² (truncation < 1e-19)."""
     u = y * y
-    return y + y * (u * (_B3 + u * (_B5 + u * (_B7 + u * _B9))))
+    return y + y * (u * (ASIN_C3 + u * (ASIN_C5 + u * (ASIN_C7 + u * ASIN_C9))))
 
 
 @numba.njit(inline="always")
@@ -222,7 +223,7 @@ def euler_errors_cs(q0, q1, q2, q3, t0, t1, t2, c0, s0, c1, s1, c2, s2):
 
 @jit
 def _truth_table(truth, out):
-    """``out[..., :]`` = [ψ, θ, γ, cos ψ, sin ψ, cos θ, sin θ, cos γ, sin γ] of truth (…, 3) (libm, deterministic)."""
+    """out[..., :] = [ψ, θ, γ, cos ψ, sin ψ, cos θ, sin θ, cos γ, sin γ] of truth (…, 3), with libm."""
     flat = truth.reshape(-1, 3)
     dst = out.reshape(-1, 9)
     for i in range(flat.shape[0]):

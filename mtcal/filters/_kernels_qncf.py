@@ -27,7 +27,8 @@ import numba
 import numpy as np
 from numba import prange
 
-from mtcal.core.montecarlo import _A3, _A5, _A7, _A9, _B3, _B5, _B7, _B9, SERIES_MAX, table_errors
+from mtcal.core.montecarlo import (ASIN_C3, ASIN_C5, ASIN_C7, ASIN_C9, ATAN_C3, ATAN_C5, ATAN_C7, ATAN_C9, SERIES_MAX,
+                                   table_errors)
 from mtcal.filters._kernels_lanes import (add, adds, bc, div, divs, fabs, maxs, mul, muls, sqrt, sub, vmax,
                                           where_le, where_lt)
 from mtcal.filters._kernels_common import jit
@@ -307,14 +308,14 @@ def _row(table, per_trial_truth, ta, tb, tc, td, k, j):
 def _atan_small4(R):
     """Lane form of :func:`mtcal.core.montecarlo.atan_small` (same operations per lane)."""
     U = mul(R, R)
-    return add(R, mul(R, mul(U, adds(mul(U, adds(mul(U, adds(muls(U, _A9), _A7)), _A5)), _A3))))
+    return add(R, mul(R, mul(U, adds(mul(U, adds(mul(U, adds(muls(U, ATAN_C9), ATAN_C7)), ATAN_C5)), ATAN_C3))))
 
 
 @numba.njit(inline="always")
 def _asin_small4(Y):
     """Lane form of :func:`mtcal.core.montecarlo.asin_small` (same operations per lane)."""
     U = mul(Y, Y)
-    return add(Y, mul(Y, mul(U, adds(mul(U, adds(mul(U, adds(muls(U, _B9), _B7)), _B5)), _B3))))
+    return add(Y, mul(Y, mul(U, adds(mul(U, adds(mul(U, adds(muls(U, ASIN_C9), ASIN_C7)), ASIN_C5)), ASIN_C3))))
 
 
 @numba.njit(inline="always")
