@@ -30,7 +30,15 @@ Target row (issue #24, in ``benchmarks/run.py``): "streaming Monte Carlo
 1000 x 60 s wall <= 2 s" on 2 cores and "... peak RSS <= 512 MB". The simulator
 draws its noise inside its compiled kernel (counter-based Philox,
 :mod:`mtcal.core.philox`), trials in parallel, so no (trials, samples, 3)
-noise array is made; only each chunk's measurements (T, chunk, 3) per sensor.
+noise array is made; only each chunk's measurements (T, chunk, 3) per sensor, whose
+buffers the stream recycles once the filter has dropped them.
+
+Threads (issue #24): by default the trials are split into one contiguous share per numba
+thread, each streamed by its own worker thread through single-threaded kernels (simulator and
+filter both release the GIL; trials are named by id, so every trial's numbers are those of
+the whole run, bit for bit). Compared with trial-parallel kernels plus a prefetch thread
+(``--workers 1``, the previous scheme, kept) this starts and joins no parallel region per
+chunk and per stage, runs at most one busy thread per core, and halves each core's chunk.
 """
 
 from __future__ import annotations
@@ -178,20 +186,66 @@ class QncfErrorConsumer:
 
 
 def run_mc(trials: int, duration_s: float = 60.0, *, chunk_samples: int = 1000, seed: int = 2023,
-           fs_hz: float = 1000.0, prefetch: bool = True, progress: bool | None = None) -> dict[str, np.ndarray]:
+           fs_hz: float = 1000.0, prefetch: bool = True, progress: bool | None = None,
+           workers: int | None = None) -> dict[str, np.ndarray]:
     """Streaming QNCF Monte Carlo; returns per-trial ``rmse``, ``max_abs``, ``mean`` (T, 3) in rad.
 
     Columns are Eq 8 yaw, pitch, roll errors (estimate − truth, wrapped).
-    ``prefetch`` simulates the next chunk in a background thread
-    (:class:`PrefetchStream`); the numbers are the same either way.
+
+    ``workers`` (default: numba's thread count) threads each stream their own contiguous share of
+    the trials (``ImuStream(trial_ids=...)``) through simulator and filter with single-threaded
+    kernels (both release the GIL): no parallel region to start and join twice per chunk, no
+    threads competing for the cores, half the chunk per core. Trials are named by id and the
+    filter's trials are independent (a 4-lane block equals each trial alone), so the numbers are
+    bit-identical for any ``workers`` (tested). With ``workers=1`` the kernels run trial-parallel
+    and ``prefetch`` simulates the next chunk in a background thread (:class:`PrefetchStream`);
+    the numbers are the same either way.
     """
+    import numba
+
     data = bench_scenario(duration_s, fs_hz)
-    cls = PrefetchStream if prefetch else ImuStream
-    stream = cls(data.trajectory, error_model(), np.random.default_rng(seed), trials=trials)
-    consumer = QncfErrorConsumer(stream.q_ws[0], data.trajectory.dt_s, trials)
-    run_streaming(stream, [consumer], chunk_samples, progress=progress)
-    acc = consumer.errors
-    return {"rmse": acc.rmse(), "max_abs": acc.max_abs(), "mean": acc.mean()}
+    n_workers = max(1, min(int(numba.get_num_threads() if workers is None else workers), trials))
+    if n_workers == 1:
+        cls = PrefetchStream if prefetch else ImuStream
+        stream = cls(data.trajectory, error_model(), np.random.default_rng(seed), trials=trials)
+        consumer = QncfErrorConsumer(stream.q_ws[0], data.trajectory.dt_s, trials)
+        run_streaming(stream, [consumer], chunk_samples, progress=progress)
+        accs = [consumer.errors]
+    else:
+        accs = _run_workers(data, trials, chunk_samples, seed, n_workers, progress)
+    return {name: np.concatenate([getattr(acc, name)() for acc in accs]) for name in ("rmse", "max_abs", "mean")}
+
+
+def _run_workers(data: BenchData, trials: int, chunk_samples: int, seed: int, n_workers: int,
+                 progress: bool | None) -> list[ErrorAccumulator]:
+    """:func:`run_mc` split over ``n_workers`` threads by trial id; accumulators in trial order."""
+    import threading
+
+    import numba
+
+    bounds = np.linspace(0, trials, n_workers + 1).round().astype(np.int64)
+    accs: list = [None] * n_workers
+    errors: list[BaseException] = []
+
+    def work(w: int) -> None:
+        try:
+            numba.set_num_threads(1)   # per thread: this worker's kernels run serially
+            ids = np.arange(bounds[w], bounds[w + 1])
+            stream = ImuStream(data.trajectory, error_model(), np.random.default_rng(seed), trial_ids=ids)
+            consumer = QncfErrorConsumer(stream.q_ws[0], data.trajectory.dt_s, ids.size)
+            run_streaming(stream, [consumer], chunk_samples, progress=progress if w == 0 else False)
+            accs[w] = consumer.errors
+        except BaseException as exc:  # re-raised in the caller's thread
+            errors.append(exc)
+
+    threads = [threading.Thread(target=work, args=(w,), name=f"mc-worker-{w}") for w in range(n_workers)]
+    for th in threads:
+        th.start()
+    for th in threads:
+        th.join()
+    if errors:
+        raise errors[0]
+    return accs
 
 
 def peak_rss_mb() -> float:
@@ -230,18 +284,23 @@ def main(argv: list[str] | None = None) -> dict:
     ap.add_argument("--duration", type=float, default=60.0, help="record length (s)")
     ap.add_argument("--chunk", type=int, default=1000, help="samples per chunk")
     ap.add_argument("--seed", type=int, default=2023)
-    ap.add_argument("--no-prefetch", action="store_true", help="simulate and filter in one thread")
+    ap.add_argument("--no-prefetch", action="store_true", help="with --workers 1: simulate and filter in one thread")
+    ap.add_argument("--workers", type=int, default=None,
+                    help="threads, each streaming a share of the trials (default: numba's thread count)")
     ap.add_argument("--json", action="store_true", help="print one JSON line (for benchmarks/run.py)")
     args = ap.parse_args(argv)
+    import numba
+
+    workers = max(1, min(args.workers or numba.get_num_threads(), args.trials))
     rss0 = peak_rss_mb()
     t0, c0 = time.perf_counter(), _cpu_s()
     out = run_mc(args.trials, args.duration, chunk_samples=args.chunk, seed=args.seed,
-                 prefetch=not args.no_prefetch)
+                 prefetch=not args.no_prefetch, workers=workers)
     wall, cpu = time.perf_counter() - t0, _cpu_s() - c0
     band = percentile_band(np.degrees(out["rmse"]), axis=0)
     summary = {
         "trials": args.trials, "duration_s": args.duration, "chunk_samples": args.chunk,
-        "prefetch": not args.no_prefetch,
+        "prefetch": workers == 1 and not args.no_prefetch, "workers": workers,
         "trial_samples": int(args.trials * round(args.duration * 1000.0)),
         "wall_s": wall, "cpu_s": cpu, "peak_rss_mb": peak_rss_mb(), "vm_hwm_mb": vm_hwm_mb(),
         "rss_after_imports_mb": rss0,
@@ -252,7 +311,8 @@ def main(argv: list[str] | None = None) -> dict:
         print(json.dumps(summary))
     else:
         print(f"streaming Monte Carlo: {args.trials} trials x {args.duration:g} s @ 1 kHz, "
-              f"chunk {args.chunk} samples, prefetch {'off' if args.no_prefetch else 'on'}")
+              f"chunk {args.chunk} samples, {workers} worker thread(s)"
+              f"{', prefetch ' + ('on' if summary['prefetch'] else 'off') if workers == 1 else ''}")
         hwm = summary["vm_hwm_mb"]
         print(f"  wall time {wall:.2f} s (CPU {cpu:.2f} s), peak RSS {summary['peak_rss_mb']:.0f} MB (getrusage; "
               f"VmHWM {'n/a' if hwm is None else f'{hwm:.0f} MB'}; after imports {rss0:.0f} MB)")

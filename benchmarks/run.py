@@ -406,8 +406,8 @@ def run_mc_subprocess(sizes: Sizes) -> tuple[Measurement, dict]:
     hwm = res.get("vm_hwm_mb")
     row = Measurement("streaming Monte Carlo (QNCF)", "mtcal", res["trials"],
                       int(round(res["duration_s"] * FS_HZ)), res["wall_s"], res["peak_rss_mb"], memory="peak RSS",
-                      note=f"simulate+QNCF+metrics, chunk {res['chunk_samples']}, prefetch "
-                           f"{'on' if res.get('prefetch') else 'off'}, own process; getrusage peak RSS "
+                      note=f"simulate+QNCF+metrics, chunk {res['chunk_samples']}, {res.get('workers', 1)} worker(s), "
+                           f"prefetch {'on' if res.get('prefetch') else 'off'}, own process; getrusage peak RSS "
                            f"{res['peak_rss_mb']:.0f} MB, VmHWM {'n/a' if hwm is None else f'{hwm:.0f} MB'}",
                       threads=min(2, numba.config.NUMBA_NUM_THREADS))
     return row, res
@@ -639,11 +639,11 @@ def profile_batched(inp: BenchInputs, sizes: Sizes) -> str:
 def _mc_profile_section(sizes: Sizes) -> str:
     """cProfile of a short streaming Monte Carlo (no prefetch thread): what bounds it."""
     trials, dur = sizes.mc_trials, max(2.0, min(3.0, sizes.mc_duration_s))
-    mc_stream.run_mc(min(trials, 8), 2.0, prefetch=False, progress=False)  # compile outside the profile
+    mc_stream.run_mc(min(trials, 8), 2.0, prefetch=False, progress=False, workers=1)  # compile outside the profile
     prof = cProfile.Profile()
     t0 = time.perf_counter()
     prof.enable()
-    mc_stream.run_mc(trials, dur, prefetch=False, progress=False)
+    mc_stream.run_mc(trials, dur, prefetch=False, progress=False, workers=1)  # one thread: cProfile sees it all
     prof.disable()
     wall = time.perf_counter() - t0
     buf = io.StringIO()

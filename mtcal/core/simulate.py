@@ -67,6 +67,7 @@ reference's operation order — never materialising per-sample noise arrays;
 from __future__ import annotations
 
 import math
+import sys
 from dataclasses import dataclass, field
 
 import numba
@@ -435,10 +436,12 @@ def _per_trial_draws(key0, key1, trial_ids, c2, uniform, out):
 # ----------------------------------------------------------------------------- compiled engine
 @jit
 def _trial_errors(out, t, tid, start, base, tb, bias, warm, turn_on, vib, key0, key1, c2s, flags, white_scale,
-                  rw_scale, gm_sigma, gm_c, gm_a, quant, rw_state, gm_state, words, normals, rejected):
+                  rw_scale, gm_sigma, gm_c, gm_a, quant, rw_state, gm_state, words, normals, rejected, flags8):
     """One trial of :func:`_sensor_errors_parallel`: the chunk in blocks of ``normals.shape[2]`` samples, each block's
-    normals drawn first (Philox words of a block in one branch-free, vectorisable loop, then the ziggurat),
-    then every error term applied in the reference's order."""
+    normals drawn first (Philox words of a block in one branch-free, vectorised loop, then the ziggurat's fast
+    path, also vectorised, and the ~1 % rejections), the random walk and Gauss–Markov recursions run over the
+    block with the three axes' states in registers (overwriting their normals), then every error term applied in
+    the reference's order. Indices are unsigned (no negative-index wraparound per access)."""
     n = out.shape[1]
     stop = start + n
     block = normals.shape[2]
@@ -461,27 +464,47 @@ def _trial_errors(out, t, tid, start, base, tb, bias, warm, turn_on, vib, key0, 
                     for p in range(npairs):            # branch-free: vectorised across sample pairs
                         wa, wb = philox.philox_words(m0 + np.uint64(p), np.uint64(tid), c2, np.uint64(0),
                                                      np.uint64(key0), np.uint64(key1))
-                        words[0, p] = wa
-                        words[1, p] = wb
-                    nrej = 0
-                    for q in range(k - b0, hi - b0):   # ziggurat fast path, branch-free but for the rare rejection
-                        r = words[q & 1, q // 2]
+                        words[2 * p] = wa                  # sample order: lane 0, lane 1 of each pair
+                        words[2 * p + 1] = wb
+                    for q in range(k - b0, hi - b0):   # ziggurat fast path, branch-free: vectorised (gathers)
+                        r = words[q]
                         idx = r & _UFF
                         r8 = r >> _U8
                         rabs = (r8 >> _U1) & _MASK52
                         sign = 1.0 - 2.0 * np.float64(np.int64(r8 & _U1))   # ±1: x · sign == ±x exactly,
                         normals[s, j, q] = np.float64(np.int64(rabs)) * _WI[idx] * sign   # without a branch
-                        if rabs >= _KI[idx]:
-                            rejected[nrej] = q
-                            nrej += 1
-                    for i in range(nrej):              # ~1 %: continue on the word's rejection stream
-                        q = rejected[i]
-                        normals[s, j, q] = philox._zig_slow(words[q & 1, q // 2], m0 + np.uint64(q // 2),
-                                                            np.uint64(tid), c2, np.uint64(q & 1), np.uint64(key0),
-                                                            np.uint64(key1))
+                        rejected[q] = rabs >= _KI[idx]
+                    for w8 in range((k - b0) // 8, (hi - b0 + 7) // 8):   # ~1 % rejected: 8 flags per test
+                        if flags8[w8]:
+                            for q in range(max(8 * w8, k - b0), min(8 * w8 + 8, hi - b0)):
+                                if rejected[q]:            # continue on the word's rejection stream
+                                    normals[s, j, q] = philox._zig_slow(words[q], m0 + np.uint64(q // 2),
+                                                                        np.uint64(tid), c2, np.uint64(q & 1),
+                                                                        np.uint64(key0), np.uint64(key1))
+        if flags & 8:             # random-walk values over the block in place of their normals (np.cumsum, continued)
+            va, vb, vc = walk[0], walk[1], walk[2]
+            for q in range(k - b0, hi - b0):
+                va = va + normals[1, 0, q] * rw_scale
+                vb = vb + normals[1, 1, q] * rw_scale
+                vc = vc + normals[1, 2, q] * rw_scale
+                normals[1, 0, q], normals[1, 1, q], normals[1, 2, q] = va, vb, vc
+            walk[0], walk[1], walk[2] = va, vb, vc
+        if flags & 16:            # Gauss–Markov outputs over the block in place of their normals, three axes
+            ya, yb, yc = y[0], y[1], y[2]                 # side by side in registers (lfilter: y = c w + a y_prev)
+            for q in range(k - b0, hi - b0):
+                wa = normals[2, 0, q] * gm_sigma
+                wb = normals[2, 1, q] * gm_sigma
+                wc = normals[2, 2, q] * gm_sigma
+                if b0 + q == 0:                           # stationary start: y_0 = σ n_0
+                    wa, wb, wc = wa / gm_c, wb / gm_c, wc / gm_c
+                ya = gm_a * ya + gm_c * wa
+                yb = gm_a * yb + gm_c * wb
+                yc = gm_a * yc + gm_c * wc
+                normals[2, 0, q], normals[2, 1, q], normals[2, 2, q] = ya, yb, yc
+            y[0], y[1], y[2] = ya, yb, yc
         for kk in range(k, hi):
-            q = kk - b0
-            i = kk - start
+            q = np.uint64(kk - b0)                        # unsigned: no negative-index wraparound per access
+            i = np.uint64(kk - start)
             for j in range(3):                             # three independent recursions side by side
                 x = base[tb, i, j] + bias[j]
                 if flags & 1:
@@ -490,16 +513,10 @@ def _trial_errors(out, t, tid, start, base, tb, bias, warm, turn_on, vib, key0, 
                     x = x + turn_on[t, j]
                 if flags & 4:
                     x = x + white_scale * normals[0, j, q]
-                if flags & 8:
-                    walk[j] = walk[j] + normals[1, j, q] * rw_scale   # np.cumsum, continued
-                    x = x + walk[j]
-                if flags & 16:                             # scipy lfilter([c], [1, -a]): y = c w + a y_prev
-                    w = normals[2, j, q] * gm_sigma
-                    if kk == 0:
-                        w = w / gm_c                       # stationary start: y_0 = σ n_0
-                    yj = gm_a * y[j] + gm_c * w
-                    y[j] = yj
-                    x = x + yj
+                if flags & 8:                              # random-walk value of this sample (above)
+                    x = x + normals[1, j, q]
+                if flags & 16:                             # Gauss–Markov output of this sample (above)
+                    x = x + normals[2, j, q]
                 if flags & 32:
                     x = x + vib[t, i, j]
                 if flags & 64:
@@ -517,13 +534,14 @@ def _sensor_errors_group(g, out, start, base, bias, warm, turn_on, vib, trial_id
     """Trials ``g·group … (g+1)·group`` of :func:`_sensor_errors_parallel`, sharing one scratch buffer."""
     trials = out.shape[0]
     per_trial_base = base.shape[0] > 1
-    words = np.empty((2, block // 2), np.uint64)
-    rejected = np.empty(block, np.int64)
+    words = np.empty(block, np.uint64)
+    rejected = np.zeros(8 * (block // 8 + 1), np.uint8)   # rejection flags, read 8 at a time through flags8
+    flags8 = rejected.view(np.uint64)
     normals = np.empty((3, 3, block))
     for t in range(g * group, min((g + 1) * group, trials)):
         _trial_errors(out, t, trial_ids[t], start, base, t if per_trial_base else 0, bias, warm, turn_on, vib,
                       key0, key1, c2s, flags, white_scale, rw_scale, gm_sigma, gm_c, gm_a, quant, rw_state,
-                      gm_state, words, normals, rejected)
+                      gm_state, words, normals, rejected, flags8)
 
 
 @jit(parallel=True)
@@ -604,13 +622,13 @@ class _SensorStream:
         words = _stream_words(self.sensor_index, source)
         return np.stack([_np_normals(self.key, self.trial_ids, words[j], start, stop) for j in range(3)], axis=-1)
 
-    def process(self, truth: np.ndarray, time_s: np.ndarray, start: int) -> np.ndarray:
-        """Measurements (T, n, 3) for truth samples (n, 3) at global index ``start``."""
+    def process(self, truth: np.ndarray, time_s: np.ndarray, start: int, out: np.ndarray | None = None) -> np.ndarray:
+        """Measurements (T, n, 3) for truth samples (n, 3) at global index ``start`` (into ``out`` if given)."""
         if self.engine == "numba":
-            return self._process_numba(truth, time_s, start)
+            return self._process_numba(truth, time_s, start, out)
         e, n = self.e, truth.shape[-2]  # truth: (n, 3) shared or (T, n, 3) per trial
         stop = start + n
-        out = np.empty((self.trials, n, 3))
+        out = np.empty((self.trials, n, 3)) if out is None else out
         out[:] = truth @ self.matrix_t
         out += self.bias
         if np.any(self.warm):
@@ -634,10 +652,11 @@ class _SensorStream:
             out *= e.quantization
         return out
 
-    def _process_numba(self, truth: np.ndarray, time_s: np.ndarray, start: int) -> np.ndarray:
+    def _process_numba(self, truth: np.ndarray, time_s: np.ndarray, start: int,
+                       out: np.ndarray | None = None) -> np.ndarray:
         """:meth:`process` with the compiled engine: one parallel pass, noise drawn where it is consumed."""
         e, n = self.e, truth.shape[-2]
-        out = np.empty((self.trials, n, 3))
+        out = np.empty((self.trials, n, 3)) if out is None else out
         base = truth @ self.matrix_t          # same product as the reference
         base = np.ascontiguousarray(base if base.ndim == 3 else base[None])
         none2, none3 = np.zeros((1, 3)), np.zeros((1, 1, 3))
@@ -760,16 +779,61 @@ class ImuStream:
         if self._next != 0:
             raise ValueError("chunks() can be iterated once per ImuStream (the noise states advance)")
         n = len(self.trajectory)
+        pool = _BufferPool()
         for start in range(0, n, size):
             stop = min(start + size, n)
             self._next = stop
             t = self.trajectory.time_s[start:stop]
-            gyro = self._gyro.process(self.gyro_true[start:stop], t, start)
-            accel = self._accel.process(self.accel_true[start:stop], t, start)
+            shape = (self.trials, stop - start, 3)
+            gyro = self._gyro.process(self.gyro_true[start:stop], t, start, pool.take(shape))
+            accel = self._accel.process(self.accel_true[start:stop], t, start, pool.take(shape))
             if self.single:
                 gyro, accel = gyro[0], accel[0]
-            yield ImuRecord(t, gyro, accel, self.q_ws[start:stop], self.gyro_true[start:stop],
-                            self.accel_true[start:stop])
+            record = ImuRecord(t, gyro, accel, self.q_ws[start:stop], self.gyro_true[start:stop],
+                               self.accel_true[start:stop])
+            del gyro, accel
+            yield record
+            del record
+
+
+class _BufferPool:
+    """Output arrays of :meth:`ImuStream.chunks`, recycled once nothing refers to them any more.
+
+    A fresh (T, n, 3) array per chunk and sensor costs more than filling it: numpy asks the kernel
+    for transparent huge pages on large allocations, so each chunk's new 24 MB (1000 trials × 1000
+    samples) is faulted in and zeroed again (~3 ms, ~0.4 s CPU over a 1000 × 60 s run). An array is
+    handed out again only when the pool's own reference is the last one (CPython reference count:
+    a chunk still held by a consumer, or any view of its arrays, keeps them out of the pool), so a
+    consumer that keeps chunks (e.g. to concatenate them) sees its data untouched.
+    """
+
+    #: Arrays kept for reuse (a prefetching consumer has at most ~3 chunks × 2 sensors alive).
+    SIZE = 8
+
+    def __init__(self):
+        self.arrays: list[np.ndarray] = []
+
+    @staticmethod
+    def _free_refcount() -> int:
+        """``sys.getrefcount`` of a pooled array nothing else refers to, seen from the loop in :meth:`take`."""
+        probe = [np.empty(0)]
+        for arr in probe:
+            return sys.getrefcount(arr)
+        raise AssertionError
+
+    def take(self, shape: tuple[int, int, int]) -> np.ndarray:
+        """A free pooled array of ``shape``, else a new one (pooled while there is room)."""
+        free = _FREE_REFCOUNT
+        for arr in self.arrays:
+            if arr.shape == shape and sys.getrefcount(arr) <= free:
+                return arr
+        arr = np.empty(shape)
+        if len(self.arrays) < self.SIZE:
+            self.arrays.append(arr)
+        return arr
+
+
+_FREE_REFCOUNT = _BufferPool._free_refcount()
 
 
 def apply_sensor_errors(errors: SensorErrors, truth, time_s, rng: np.random.Generator | None = None, *,

@@ -27,7 +27,8 @@ import numba
 import numpy as np
 from numba import prange
 
-from mtcal.core.montecarlo import euler_errors as _euler_errors
+from mtcal.core.montecarlo import (ASIN_C3, ASIN_C5, ASIN_C7, ASIN_C9, ATAN_C3, ATAN_C5, ATAN_C7, ATAN_C9, SERIES_MAX,
+                                   table_errors)
 from mtcal.filters._kernels_lanes import (add, adds, bc, div, divs, fabs, maxs, mul, muls, sqrt, sub, vmax,
                                           where_le, where_lt)
 from mtcal.filters._kernels_common import jit
@@ -123,7 +124,7 @@ def _trial(w, a, t, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, d
         if keep:
             q_out[t, k, 0], q_out[t, k, 1], q_out[t, k, 2], q_out[t, k, 3] = q0, q1, q2, q3
         if with_stats:
-            e0, e1, e2 = _euler_errors(q0, q1, q2, q3, tr[k, 0], tr[k, 1], tr[k, 2])
+            e0, e1, e2 = table_errors(q0, q1, q2, q3, tr[k])
             s0 += e0
             s1 += e1
             s2 += e2
@@ -296,16 +297,70 @@ def _store_q(q_out, ta, tb, tc, td, nl, k, Q0, Q1, Q2, Q3):
 
 
 @numba.njit(inline="always")
-def _errors(Q0, Q1, Q2, Q3, truth, per_trial_truth, ta, tb, tc, td, k):
-    """Per lane Eq 8 errors against the truth at t_k (scalar :func:`euler_errors` per lane)."""
-    ra = truth[ta] if per_trial_truth else truth[0]
-    rb = truth[tb] if per_trial_truth else truth[0]
-    rc = truth[tc] if per_trial_truth else truth[0]
-    rd = truth[td] if per_trial_truth else truth[0]
-    a0, a1, a2 = _euler_errors(Q0[0], Q1[0], Q2[0], Q3[0], ra[k, 0], ra[k, 1], ra[k, 2])
-    b0, b1, b2 = _euler_errors(Q0[1], Q1[1], Q2[1], Q3[1], rb[k, 0], rb[k, 1], rb[k, 2])
-    c0, c1, c2 = _euler_errors(Q0[2], Q1[2], Q2[2], Q3[2], rc[k, 0], rc[k, 1], rc[k, 2])
-    d0, d1, d2 = _euler_errors(Q0[3], Q1[3], Q2[3], Q3[3], rd[k, 0], rd[k, 1], rd[k, 2])
+def _row(table, per_trial_truth, ta, tb, tc, td, k, j):
+    """Lane vector of column ``j`` of the truth table at t_k (one load broadcast for a shared truth)."""
+    if per_trial_truth:
+        return (table[ta, k, j], table[tb, k, j], table[tc, k, j], table[td, k, j])
+    return bc(table[0, k, j])
+
+
+@numba.njit(inline="always")
+def _atan_small4(R):
+    """Lane form of :func:`mtcal.core.montecarlo.atan_small` (same operations per lane)."""
+    U = mul(R, R)
+    return add(R, mul(R, mul(U, adds(mul(U, adds(mul(U, adds(muls(U, ATAN_C9), ATAN_C7)), ATAN_C5)), ATAN_C3))))
+
+
+@numba.njit(inline="always")
+def _asin_small4(Y):
+    """Lane form of :func:`mtcal.core.montecarlo.asin_small` (same operations per lane)."""
+    U = mul(Y, Y)
+    return add(Y, mul(Y, mul(U, adds(mul(U, adds(mul(U, adds(muls(U, ASIN_C9), ASIN_C7)), ASIN_C5)), ASIN_C3))))
+
+
+@numba.njit(inline="always")
+def _errors(Q0, Q1, Q2, Q3, table, per_trial_truth, ta, tb, tc, td, k):
+    """Per lane Eq 8 errors against the truth table row at t_k: :func:`mtcal.core.montecarlo.euler_errors_cs`
+    as 4-lane vectors when every lane takes its series path, else that scalar function per lane (bit-identical
+    either way: the lane operations are the scalar ones with the same operands in the same order)."""
+    C0 = _row(table, per_trial_truth, ta, tb, tc, td, k, 3)
+    S0 = _row(table, per_trial_truth, ta, tb, tc, td, k, 4)
+    C1 = _row(table, per_trial_truth, ta, tb, tc, td, k, 5)
+    S1 = _row(table, per_trial_truth, ta, tb, tc, td, k, 6)
+    C2 = _row(table, per_trial_truth, ta, tb, tc, td, k, 7)
+    S2 = _row(table, per_trial_truth, ta, tb, tc, td, k, 8)
+    S00, S11, S22, S33 = mul(Q0, Q0), mul(Q1, Q1), mul(Q2, Q2), mul(Q3, Q3)
+    YX = sub(add(sub(S00, S11), S22), S33)
+    YY = muls(sub(mul(Q1, Q2), mul(Q0, Q3)), -2.0)
+    A = muls(add(mul(Q2, Q3), mul(Q0, Q1)), 2.0)
+    A = maxs(A, -1.0)
+    one = bc(1.0)
+    A = where_lt(one, A, one, A)               # min(a, 1.0) as numba computes it
+    RX = add(sub(sub(S00, S11), S22), S33)
+    RY = muls(sub(mul(Q1, Q3), mul(Q0, Q2)), -2.0)
+    XA = add(mul(YX, C0), mul(YY, S0))
+    YA = sub(mul(YY, C0), mul(YX, S0))
+    CE = sqrt(mul(sub(one, A), adds(A, 1.0)))
+    XB = add(mul(CE, C1), mul(A, S1))
+    YB = sub(mul(A, C1), mul(CE, S1))
+    XC = add(mul(RX, C2), mul(RY, S2))
+    YC = sub(mul(RY, C2), mul(RX, S2))
+    # the scalar's test |ya| < SERIES_MAX·xa, |yb| < SERIES_MAX, xb > 0, |yc| < SERIES_MAX·xc, as one 0/1 lane mask
+    zero = bc(0.0)
+    OK = where_lt(fabs(YC), muls(XC, SERIES_MAX), one, zero)
+    OK = where_lt(zero, XB, OK, zero)
+    OK = where_lt(fabs(YB), bc(SERIES_MAX), OK, zero)
+    OK = where_lt(fabs(YA), muls(XA, SERIES_MAX), OK, zero)
+    if (OK[0] + OK[1]) + (OK[2] + OK[3]) == 4.0:
+        return _atan_small4(div(YA, XA)), _asin_small4(YB), _atan_small4(div(YC, XC))
+    ra = table[ta] if per_trial_truth else table[0]
+    rb = table[tb] if per_trial_truth else table[0]
+    rc = table[tc] if per_trial_truth else table[0]
+    rd = table[td] if per_trial_truth else table[0]
+    a0, a1, a2 = table_errors(Q0[0], Q1[0], Q2[0], Q3[0], ra[k])
+    b0, b1, b2 = table_errors(Q0[1], Q1[1], Q2[1], Q3[1], rb[k])
+    c0, c1, c2 = table_errors(Q0[2], Q1[2], Q2[2], Q3[2], rc[k])
+    d0, d1, d2 = table_errors(Q0[3], Q1[3], Q2[3], Q3[3], rd[k])
     return (a0, b0, c0, d0), (a1, b1, c1, d1), (a2, b2, c2, d2)
 
 
@@ -359,4 +414,4 @@ def warm_up() -> None:
     for fn in (qncf_one, qncf_serial, qncf_parallel):
         fn(w, a, np.tile([1.0, 0, 0, 0], (2, 1)), np.zeros((2, 3)), np.full(2, np.nan), np.empty((2, 2, 4)),
            np.empty((2, 2)), np.empty((2, 2), np.bool_), 1.0, 2e-5, True, 1e-3, 0.02, 9.80665, 0.3, True,
-           np.zeros((1, 2, 3)), np.zeros((2, 9)), True, np.empty((2, 4)))
+           np.zeros((1, 2, 9)), np.zeros((2, 9)), True, np.empty((2, 4)))

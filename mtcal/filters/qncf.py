@@ -526,9 +526,13 @@ class QncfFilter:
 
         For streaming Monte Carlo runs that only need metrics: equivalent to
         ``errors.add_euler_zxy_errors(self.run(gyro, accel, return_euler=False).q_ws, truth_euler_rad)``
-        (the wrapped yaw/pitch/roll errors of the attitude at each t_k), computed
-        inside the compiled kernel without materialising the (T, M, 4)
-        quaternions (numba engine only).
+        (the wrapped yaw/pitch/roll errors of the attitude at each t_k, bit for bit),
+        computed inside the compiled kernel without materialising the (T, M, 4)
+        quaternions (numba engine only). Each error agrees with
+        ``metrics.angle_difference(rotations.euler_zxy_from_quat(q), truth)`` within
+        :data:`mtcal.core.montecarlo.ERROR_BOUND_RAD` away from gimbal lock (the small
+        errors of a converged filter by an odd series instead of 2 atan2 + 1 asin, see
+        :func:`mtcal.core.montecarlo.euler_errors_cs`).
 
         Parameters
         ----------
@@ -539,7 +543,7 @@ class QncfFilter:
         errors : mtcal.core.montecarlo.ErrorAccumulator
             Accumulator of shape (T, 3).
         """
-        from mtcal.core.montecarlo import ErrorAccumulator
+        from mtcal.core.montecarlo import ErrorAccumulator, truth_table
 
         if self.engine != "numba":
             raise ValueError("run_error_stats needs engine='numba' (use run() with the numpy engine)")
@@ -554,7 +558,7 @@ class QncfFilter:
         if tr.shape[1] != w.shape[1] or tr.shape[0] not in (1, self.trials):
             raise ValueError(f"truth_euler_rad of shape {tr.shape} does not match the records {w.shape}")
         stats = errors._stats_block()
-        self._launch(w, a, None, tr, stats)
+        self._launch(w, a, None, truth_table(tr), stats)
         errors._stats_block_done(stats, w.shape[1])
 
     def _launch(self, w, a, outputs, truth, stats) -> None:

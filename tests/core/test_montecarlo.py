@@ -143,3 +143,68 @@ def test_streaming_trials_split_across_workers_give_the_same_metrics(stream_args
     for k in range(2):
         np.testing.assert_array_equal(np.concatenate([results[(0, 1)][k], results[(2, 3, 4)][k]]),
                                       results[(0, 1, 2, 3, 4)][k])
+
+
+def _fast_errors(q, truth):
+    """Per-sample compiled errors (euler_errors_cs) of q (n, 4) against truth (n, 3)."""
+    out = np.empty(truth.shape)
+    montecarlo._euler_errors_rows(np.ascontiguousarray(q), montecarlo.truth_table(truth[None])[0], out)
+    return out
+
+
+def _bound_excess(q, truth):
+    """max over samples of |fast − reference| (mod 2π) minus the stated bound (≤ 0 when it holds)."""
+    ref_euler = rotations.euler_zxy_from_quat(q)
+    ref = metrics.angle_difference(ref_euler, truth)
+    diff = np.abs(metrics.angle_difference(_fast_errors(q, truth), ref))
+    cos_pitch = np.cos(ref_euler[:, 1:2])
+    return float(np.max(diff - (montecarlo.ERROR_BOUND_RAD + montecarlo.ERROR_BOUND_LOCK_RAD / cos_pitch)))
+
+
+@pytest.mark.parametrize("scale", [0.0, 1e-9, 1e-5, 1e-2, 0.05, 3.0])
+def test_series_euler_errors_stay_within_the_stated_bound_of_the_reference(rng, scale):
+    """Property: random attitudes, errors from 0 to ±π (series path below SERIES_MAX, libm fallback above)."""
+    n = 20_000
+    q = rotations.quat_normalize(rng.standard_normal((n, 4)))
+    truth = rotations.euler_zxy_from_quat(q) + scale * rng.standard_normal((n, 3))
+    assert _bound_excess(q, truth) <= 0.0
+    if 0 < scale <= 1e-5:  # the series path itself (no fallback) is exercised
+        got = _fast_errors(q, truth)
+        assert np.all(np.abs(got) < montecarlo.SERIES_MAX)
+
+
+@pytest.mark.parametrize("scale", [0.0, 1e-6, 1e-2, 3.0])
+def test_series_euler_errors_near_gimbal_lock(rng, scale):
+    """Pitch within 1e-9 … 0.1 rad of ±90°: the bound grows as 1/cos θ (ill-conditioned Eq 8 in both)."""
+    n = 20_000
+    delta = 10 ** rng.uniform(-9, -1, n)
+    pitch = rng.choice([-1.0, 1.0], n) * (np.pi / 2 - delta)
+    q = rotations.quat_from_euler_zxy(rng.uniform(-np.pi, np.pi, n), pitch, rng.uniform(-np.pi, np.pi, n))
+    truth = rotations.euler_zxy_from_quat(q) + scale * rng.standard_normal((n, 3))
+    assert _bound_excess(q, truth) <= 0.0
+
+
+def test_series_euler_errors_wrap_at_pi(rng):
+    """Errors of ±(π − tiny) and truths outside [−π, π]: the rotated-vector form wraps by itself."""
+    n = 20_000
+    q = rotations.quat_normalize(rng.standard_normal((n, 4)))
+    e = rotations.euler_zxy_from_quat(q)
+    truth = e.copy()
+    truth[:, 0] += np.pi + 1e-12 * rng.standard_normal(n)
+    truth[:, 2] += rng.choice([-1.0, 1.0], n) * (np.pi - 1e-10) + 4 * np.pi
+    truth[:, 1] += 1e-4 * rng.standard_normal(n) + 2 * np.pi
+    assert _bound_excess(q, truth) <= 0.0
+    got = _fast_errors(q, truth)
+    assert np.all(np.abs(got[:, 0]) > 3.14) and np.all(np.abs(got[:, 1]) < 1e-3)
+
+
+def test_series_paths_are_accurate_to_double_rounding():
+    """atan/asin series below SERIES_MAX agree with libm to 1 ulp (truncation < 1e-19 relative)."""
+    import math
+
+    x = np.concatenate([np.linspace(-montecarlo.SERIES_MAX, montecarlo.SERIES_MAX, 40001)[1:-1],
+                        [1e-300, -1e-12, 5e-324, 0.0]])
+    at = np.array([montecarlo.atan_small(v) for v in x])
+    asn = np.array([montecarlo.asin_small(v) for v in x])
+    assert np.all(np.abs(at - np.array([math.atan(v) for v in x])) <= np.spacing(np.abs(at)))
+    assert np.all(np.abs(asn - np.array([math.asin(v) for v in x])) <= np.spacing(np.abs(asn)))

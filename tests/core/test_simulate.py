@@ -185,6 +185,31 @@ def test_stream_is_chunk_size_independent(chunk):
     np.testing.assert_array_equal(np.concatenate([p.time_s for p in parts]), whole.time_s)
 
 
+@pytest.mark.parametrize("engine", ["numba", "numpy"])
+def test_stream_recycles_only_chunks_nobody_holds(engine):
+    """Output buffers are reused once dropped (no fresh 24 MB page faults per chunk), never while a chunk,
+    or a view of one of its arrays, is still held: held data stays what it was."""
+    wp = np.radians([[0, 0, 0], [8, 0, 0]])
+    traj = profiles.trajectory_from_euler_zxy(profiles.step_schedule(wp, np.radians(20), 0.3, 400))
+    model = ImuErrorModel(gyro=SensorErrors(noise_density=1e-4, bias_instability=1e-5, quantization=1e-6),
+                          accel=SensorErrors(noise_density=1e-3))
+    whole = simulate.simulate_imu(traj, model, np.random.default_rng(5), trials=2, engine=engine)
+    stream = simulate.ImuStream(traj, model, np.random.default_rng(5), trials=2, engine=engine)
+    seen, kept, views = set(), [], []
+    for i, chunk in enumerate(stream.chunks(50)):
+        seen.add(id(chunk.gyro_rad_s.base if chunk.gyro_rad_s.base is not None else chunk.gyro_rad_s))
+        if i == 1:
+            kept.append(chunk)                         # a whole chunk held
+        if i == 2:
+            views.append((i, chunk.accel_m_s2[:, 10:20]))  # only a view of one array held
+        del chunk
+    n_chunks = -(-len(traj) // 50)
+    assert n_chunks >= 6 and len(seen) < 2 * n_chunks    # buffers were reused
+    np.testing.assert_array_equal(kept[0].gyro_rad_s, whole.gyro_rad_s[:, 50:100])
+    np.testing.assert_array_equal(kept[0].accel_m_s2, whole.accel_m_s2[:, 50:100])
+    np.testing.assert_array_equal(views[0][1], whole.accel_m_s2[:, 110:120])
+
+
 def test_stream_single_pass_and_bad_chunk():
     traj = Trajectory(np.arange(10) / 10.0, np.tile([1.0, 0, 0, 0], (10, 1)))
     stream = simulate.ImuStream(traj)
