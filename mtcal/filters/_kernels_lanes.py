@@ -20,7 +20,10 @@ libm calls as scalar code). A tuple is four scalars to LLVM: a tuple carried fro
 iteration to the next becomes four scalar ``phi`` nodes, re-packed into a vector before every
 operation and split after it (shuffles and scalar spills around every libm call). A vector loop
 variable stays one register (or one spill slot); the arithmetic per lane is the same IEEE-754
-operation.
+operation. Branching on lanes: :func:`all_le` / :func:`all_lt` (every lane's ordered comparison
+holds), :func:`put_lt` (store each lane's ``<`` into a boolean array); a vector is handed to per-lane
+scalar code through a ``(lanes, k)`` scratch array addressed by :func:`lane_ids`. Block size:
+:func:`simd_lanes` (8 on an AVX-512 host, else 4), block rows :func:`rows4` / :func:`rows8`.
 
 Examples
 --------
