@@ -1,6 +1,7 @@
 """QNCF throughput: vectorised-over-trials filter vs a per-sample scalar Python loop.
 
 Usage: ``.venv/bin/python benchmarks/bench_qncf.py [--trials 1000] [--seconds 10]``
+or, kernel only: ``.venv/bin/python benchmarks/bench_qncf.py --kernel [--before OLD_KERNELS.py] [--repeats 7]``
 
 The vectorised run processes ``trials × seconds × 1000`` samples (1 kHz) in
 time chunks of 2048 samples (:meth:`QncfFilter.run`), so memory stays at the
@@ -9,13 +10,23 @@ input/output arrays (1000 × 10 s: ≈ 0.24 GB per (T, N, 3) float64 array). The
 linear in samples). The reference is the same filter written as a plain
 per-sample Python loop on one trial (scalar math), timed over a few thousand
 samples. Not run by the tests.
+
+``--kernel`` times the batched kernel alone (``qncf_parallel`` on numba's threads, and
+``qncf_serial`` on one thread), with histories kept (as :meth:`QncfFilter.run`) and with the
+fused Eq 8 error statistics (as :meth:`QncfFilter.run_error_stats`), best of ``--repeats``,
+as CPU time (user + system of the process, all threads) per trial-step and wall time. With
+``--before PATH`` (a copy of an earlier ``mtcal/filters/_kernels_qncf.py``) the earlier kernel
+is timed in the same process, interleaved call by call, and both must give the same bits.
 """
 
 from __future__ import annotations
 
 import argparse
+import importlib.util
 import math
+import sys
 import time
+from pathlib import Path
 
 import numpy as np
 
@@ -52,17 +63,81 @@ def scalar_qncf(gyro, accel, dt, p=QncfParams()):
     return out
 
 
+def _kernel_args(gyro, accel, with_stats: bool) -> list:
+    """Arguments of the batched QNCF kernels: histories kept, or the fused Eq 8 statistics against a zero truth."""
+    from mtcal.core.montecarlo import truth_table
+
+    n, m = gyro.shape[:2]
+    q = np.tile([1.0, 0.0, 0.0, 0.0], (n, 1))
+    if with_stats:
+        outs = (np.zeros((1, 1, 4)), np.zeros((1, 1)), np.zeros((1, 1), bool))   # placeholders (never written)
+        truth, stats = truth_table(np.zeros((1, m, 3))), np.zeros((n, 9))
+    else:
+        outs = (np.empty((n, m, 4)), np.empty((n, m)), np.empty((n, m), bool))
+        truth, stats = np.zeros((1, 1, 3)), np.zeros((1, 9))
+    return [gyro, accel, q, np.zeros((n, 3)), np.full(n, np.nan), *outs, 1.0, 2e-5, True, 1e-3, 0.02, 9.80665,
+            0.3, not with_stats, truth, stats, with_stats, np.empty((n, 4))]
+
+
+def kernel_bench(gyro, accel, repeats: int, before_path: str | None) -> None:
+    """Kernel-only CPU and wall time per trial-step (see the module docstring)."""
+    import numba
+
+    from mtcal.filters import _kernels_qncf
+
+    kernels = {"after": _kernels_qncf}
+    if before_path:
+        name = Path(before_path).stem   # module named after its file (numba's cache records the name)
+        spec = importlib.util.spec_from_file_location(name, before_path)
+        before = importlib.util.module_from_spec(spec)
+        sys.modules[name] = before
+        spec.loader.exec_module(before)
+        kernels = {"before": before, "after": _kernels_qncf}
+    for mod in kernels.values():
+        mod.warm_up()
+    work = gyro.shape[0] * gyro.shape[1]
+    print(f"kernel only, {gyro.shape[0]} trials x {gyro.shape[1]} samples, {_kernels_qncf.LANES} lanes per block; "
+          f"best of {repeats}: CPU ns per trial-step (wall s)")
+    threads = numba.get_num_threads()
+    for fn_name, n_threads in (("qncf_parallel", threads), ("qncf_serial", 1)):
+        numba.set_num_threads(n_threads)
+        for with_stats in (False, True):
+            best = {k: [math.inf, math.inf] for k in kernels}
+            last = {}
+            for _ in range(repeats):
+                for name, mod in kernels.items():
+                    x = _kernel_args(gyro, accel, with_stats)
+                    c0, w0 = time.process_time(), time.perf_counter()
+                    getattr(mod, fn_name)(*x)
+                    c1, w1 = time.process_time(), time.perf_counter()
+                    best[name] = [min(best[name][0], c1 - c0), min(best[name][1], w1 - w0)]
+                    last[name] = x
+            same = all(np.array_equal(u, v) for u, v in zip(*last.values()) if isinstance(u, np.ndarray))
+            row = "  ".join(f"{k} {1e9 * c / work:6.2f} ({w:.3f})" for k, (c, w) in best.items())
+            ratio = (f"  CPU {best['before'][0] / best['after'][0]:.2f}x, bit-identical {same}"
+                     if len(kernels) > 1 else "")
+            print(f"  {fn_name:<13} {n_threads} thread(s), {'Eq 8 stats' if with_stats else 'histories '}: "
+                  f"{row}{ratio}")
+    numba.set_num_threads(threads)
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--trials", type=int, default=1000)
     ap.add_argument("--seconds", type=float, default=10.0)
     ap.add_argument("--scalar-samples", type=int, default=5000)
+    ap.add_argument("--kernel", action="store_true", help="time the batched kernel alone")
+    ap.add_argument("--before", default=None, help="with --kernel: path of an earlier _kernels_qncf.py")
+    ap.add_argument("--repeats", type=int, default=7)
     args = ap.parse_args()
     fs = 1000.0
     n = int(args.seconds * fs)
     rng = np.random.default_rng(0)
     gyro = 1e-3 * rng.standard_normal((args.trials, n, 3))
     accel = np.array([0.0, 0.0, 9.80665]) + 2e-3 * rng.standard_normal((args.trials, n, 3))
+    if args.kernel:
+        kernel_bench(gyro, accel, args.repeats, args.before)
+        return 0
 
     t0 = time.perf_counter()
     res = qncf(gyro, accel, 1 / fs, q0=[1.0, 0, 0, 0], return_euler=False)

@@ -20,7 +20,10 @@ libm calls as scalar code). A tuple is four scalars to LLVM: a tuple carried fro
 iteration to the next becomes four scalar ``phi`` nodes, re-packed into a vector before every
 operation and split after it (shuffles and scalar spills around every libm call). A vector loop
 variable stays one register (or one spill slot); the arithmetic per lane is the same IEEE-754
-operation.
+operation. Branching on lanes: :func:`all_le` / :func:`all_lt` (every lane's ordered comparison
+holds), :func:`put_lt` (store each lane's ``<`` into a boolean array); a vector is handed to per-lane
+scalar code through a ``(lanes, k)`` scratch array addressed by :func:`lane_ids`. Block size:
+:func:`simd_lanes` (8 on an AVX-512 host, else 4), block rows :func:`rows4` / :func:`rows8`.
 
 Examples
 --------
@@ -44,7 +47,8 @@ from numba.extending import intrinsic, models, register_model
 
 __all__ = ["LANES", "bc", "add", "sub", "mul", "div", "adds", "muls", "divs", "sqrt", "fabs", "maxs", "vmax",
            "where_lt", "where_le", "VecType", "vec4", "vec8", "pack", "unpack", "fill", "take1", "take", "take3",
-           "put1", "put", "put3", "choose", "cos", "sin"]
+           "put1", "put", "put3", "choose", "cos", "sin", "all_le", "all_lt", "put_lt", "lane_ids", "simd_lanes",
+           "rows4", "rows8"]
 
 #: Trials stepped together by the batched kernels.
 LANES = 4
@@ -373,6 +377,59 @@ def _per_lane(fn):
     return lanewise
 
 
+def _all(pred: str):
+    @intrinsic
+    def fn(typingctx, x, y):
+        if not (_all_vec(x, y) and isinstance(x, VecType)):
+            raise numba.core.errors.TypingError(f"expected two lane vectors, got {x}, {y}")
+
+        def codegen(context, builder, sig, args):
+            mask = builder.fcmp_ordered(pred, args[0], args[1])
+            bits = builder.bitcast(mask, ir.IntType(x.count))
+            return builder.icmp_unsigned("==", bits, ir.Constant(ir.IntType(x.count), (1 << x.count) - 1))
+        return types.boolean(x, y), codegen
+    return fn
+
+
+#: True when ``x[j] <= y[j]`` for every lane (ordered: False for a lane with a NaN operand).
+all_le = _all("<=")
+#: True when ``x[j] < y[j]`` for every lane (ordered: False for a lane with a NaN operand).
+all_lt = _all("<")
+
+
+@intrinsic
+def put_lt(typingctx, flags, rows, col, x, y):
+    """``flags[rows[j], col] = x[j] < y[j]`` for every lane, in lane order (2-D boolean array, ordered ``<``)."""
+    _check_array(flags, 2, types.boolean)
+    n = _rows_of(rows)
+    _check_ints(col)
+    if x != VecType(n) or y != VecType(n):
+        raise numba.core.errors.TypingError(f"put_lt takes two Vec{n}(float64) values, got {x}, {y}")
+
+    def codegen(context, builder, sig, args):
+        c = context.cast(builder, args[2], sig.args[2], types.intp)
+        mask = builder.fcmp_ordered("<", args[3], args[4])
+        for j, r in enumerate(_index_values(context, builder, sig.args, args, 1)):
+            bit = builder.extract_element(mask, ir.Constant(_I32, j))
+            raw = context.data_model_manager[types.boolean].as_data(builder, bit)
+            builder.store(raw, _element_ptr(context, builder, sig.args[0], args[0], [r, c]))
+        return context.get_dummy_value()
+    return types.none(flags, rows, col, x, y), codegen
+
+
+@intrinsic
+def lane_ids(typingctx, v):
+    """``(0, 1, …, n-1)`` (a UniTuple of intp constants) for a lane vector of ``n`` lanes: rows of a
+    (n, k) scratch array for :func:`take` / :func:`put` (a vector spilled for per-lane scalar code)."""
+    if not isinstance(v, VecType):
+        raise numba.core.errors.TypingError(f"lane_ids takes a lane vector, got {v}")
+    tup = types.UniTuple(types.intp, v.count)
+
+    def codegen(context, builder, sig, args):
+        return context.make_tuple(builder, tup, [context.get_constant(types.intp, j) for j in range(v.count)])
+    return tup(v), codegen
+
+
 #: Per lane ``math.cos`` / ``math.sin``: numba's scalar lowering of each (the same libm calls as scalar code).
 cos = _per_lane(math.cos)
 sin = _per_lane(math.sin)
@@ -425,3 +482,30 @@ def maxs(a, s):
     """Per lane ``max(a, s)``."""
     v = (s, s, s, s)
     return _where_gt(v, a, v, a)
+
+
+def simd_lanes() -> int:
+    """Trials per SIMD block of the batched kernels: 8 (one AVX-512 register) when numba compiles for this
+    host and it has AVX-512F, else 4 (one AVX2 register, or 2 × SSE2 on the pinned ``generic`` target).
+    Every trial's arithmetic is the same for any block size (bit-identical results); only the speed differs."""
+    if numba.config.CPU_NAME not in (None, "host") or numba.config.CPU_FEATURES:
+        return 4
+    try:
+        from llvmlite import binding
+
+        return 8 if binding.get_host_cpu_features().get("avx512f", False) else 4
+    except Exception:  # pragma: no cover - llvmlite without host feature detection
+        return 4
+
+
+@_inl
+def rows4(t0, nl):
+    """Trial rows of a block of 4 lanes starting at ``t0`` with ``nl`` real trials (the rest repeat the last)."""
+    return (t0, t0 + min(1, nl - 1), t0 + min(2, nl - 1), t0 + min(3, nl - 1))
+
+
+@_inl
+def rows8(t0, nl):
+    """Trial rows of a block of 8 lanes (see :func:`rows4`)."""
+    return (t0, t0 + min(1, nl - 1), t0 + min(2, nl - 1), t0 + min(3, nl - 1), t0 + min(4, nl - 1),
+            t0 + min(5, nl - 1), t0 + min(6, nl - 1), t0 + min(7, nl - 1))

@@ -11,12 +11,13 @@ also makes the kernel's result independent of chunking. Each trial is
 processed independently, so the trial-parallel kernel gives bit-identical
 results for any thread count.
 
-Batches run as blocks of four trials in structure-of-arrays form
-(:func:`_block`: one 4-lane SIMD vector per state variable,
-:mod:`mtcal.filters._kernels_lanes`), blocks spread over threads with
-``prange``; each lane performs the scalar kernel's operations on the same
-operands, so a batched trial is bit-identical to the same trial run alone
-(:func:`_trial`, used for single-trial records and a last lone trial).
+Batches run as blocks of :data:`LANES` trials (8 with AVX-512, else 4) in
+structure-of-arrays form (:func:`_block`: one SIMD vector per state variable,
+held in a true LLVM vector type, :class:`mtcal.filters._kernels_lanes.VecType`),
+blocks handed to numba's threads dynamically (``prange`` with a small chunk size);
+each lane performs the scalar kernel's operations on the same operands, so a
+batched trial is bit-identical to the same trial run alone (:func:`_trial`, used
+for single-trial records and a last lone trial).
 """
 
 from __future__ import annotations
@@ -29,7 +30,8 @@ from numba import prange
 
 from mtcal.core.montecarlo import (ASIN_C3, ASIN_C5, ASIN_C7, ASIN_C9, ATAN_C3, ATAN_C5, ATAN_C7, ATAN_C9, SERIES_MAX,
                                    table_errors)
-from mtcal.filters._kernels_lanes import (add, adds, bc, div, divs, fabs, maxs, mul, muls, sqrt, sub, vmax,
+from mtcal.filters._kernels_lanes import (add, all_le, all_lt, div, fabs, fill, lane_ids, mul, put, put1, put3,
+                                          put_lt, rows4, rows8, simd_lanes, sqrt, sub, take, take1, take3, vmax,
                                           where_le, where_lt)
 from mtcal.filters._kernels_common import jit
 
@@ -39,6 +41,10 @@ _T2 = 0.004 * 0.004   # |Δθ|² bound of the degree-2 series (TAYLOR2_MAX_INCRE
 _T3 = 0.04 * 0.04     # |Δθ|² bound of the degree-3 series (TAYLOR_MAX_INCREMENT_RAD²)
 #: |a|² below which a sample counts as "low" for the g-instead-of-m/s² check (MIN_MEDIAN_ACCEL_M_S2², with margin)
 _LOW2 = 2.0 * 2.0 * (1.0 + 1e-9)
+#: Trials per SIMD block (:func:`mtcal.filters._kernels_lanes.simd_lanes`: 8 with AVX-512, else 4).
+LANES = simd_lanes()
+#: Blocks per dynamically scheduled chunk of the parallel kernel.
+_CHUNK_BLOCKS = 2
 _C1, _C2, _C3 = -1.0 / 8.0, 1.0 / 384.0, -1.0 / 46080.0
 _S0, _S1, _S2, _S3 = 0.5, -1.0 / 48.0, 1.0 / 3840.0, -1.0 / 645120.0
 
@@ -106,7 +112,7 @@ def _step(q0, q1, q2, q3, i0, i1, i2, prev, ax, ay, az, wx, wy, wz, kp, kidt, us
 @jit()
 def _trial(w, a, t, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, dt, alpha, gravity, thr,
            keep, truth, stats, with_stats, chk):
-    """One trial alone (same arithmetic as a lane of :func:`_lanes`; used for a single or odd trial)."""
+    """One trial alone (same arithmetic as a lane of :func:`_block`; used for a single or a last lone trial)."""
     m = w.shape[1]
     tr = truth[t] if truth.shape[0] > 1 else truth[0]
     fw = fa = wm = low = 0.0
@@ -158,100 +164,92 @@ def _trial(w, a, t, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, d
         stats[t, 6], stats[t, 7], stats[t, 8] = m0, m1, m2
 
 
-@numba.njit(inline="always")
-def _lane(x, i0, i1, i2, i3):
-    """(x[i0], x[i1], x[i2], x[i3]) of a 1-D array."""
-    return (x[i0], x[i1], x[i2], x[i3])
-
-
 @jit()
-def _block(w, a, t0, nl, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, dt, alpha, gravity, thr,
+def _block(w, a, rows, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, dt, alpha, gravity, thr,
            keep, truth, stats, with_stats, chk):
-    """Trials ``t0 … t0 + nl - 1`` (``nl`` ≤ 4) stepped together as one 4-lane vector per state variable.
+    """Trials ``rows`` (a tuple of :data:`LANES` trial indices) stepped together, one lane vector per state variable.
 
-    Structure-of-arrays over trials: every state variable is a 4-tuple (one lane per trial,
-    :mod:`mtcal.filters._kernels_lanes`), each lane's operations are :func:`_step`'s with the
-    same operands in the same order (the increment series is a per-lane select of the same two
-    polynomials; a block where a lane needs the trigonometric increment, or has a NaN, takes the
-    scalar :func:`_cs` per lane), so every trial is bit-identical to :func:`_trial`. Lanes past
-    ``nl`` repeat the last trial and are never stored. Arguments as for :func:`_trial`.
+    Structure-of-arrays over trials: every state variable is a lane vector (one trial per lane,
+    held in a true LLVM vector type, :class:`~mtcal.filters._kernels_lanes.VecType`: one vector
+    register or spill slot, no per-step re-packing), each lane's operations are :func:`_step`'s
+    with the same operands in the same order (the increment series is a per-lane select of the
+    same two polynomials; a step where a lane needs the trigonometric increment, or has a NaN,
+    takes the scalar :func:`_cs` per lane), so every trial is bit-identical to :func:`_trial`.
+    Rows may repeat (the last trial of a short block fills the spare lanes): a repeated lane
+    computes the same values bit for bit and stores them to the same places. Arguments as for
+    :func:`_trial`.
     """
     m = w.shape[1]
-    ta, tb, tc, td = t0, t0 + min(1, nl - 1), t0 + min(2, nl - 1), t0 + min(3, nl - 1)
     per_trial_truth = truth.shape[0] > 1
-    Q0 = (q[ta, 0], q[tb, 0], q[tc, 0], q[td, 0])
-    Q1 = (q[ta, 1], q[tb, 1], q[tc, 1], q[td, 1])
-    Q2 = (q[ta, 2], q[tb, 2], q[tc, 2], q[td, 2])
-    Q3 = (q[ta, 3], q[tb, 3], q[tc, 3], q[td, 3])
-    I0 = (integ[ta, 0], integ[tb, 0], integ[tc, 0], integ[td, 0])
-    I1 = (integ[ta, 1], integ[tb, 1], integ[tc, 1], integ[td, 1])
-    I2 = (integ[ta, 2], integ[tb, 2], integ[tc, 2], integ[td, 2])
-    pv = np.empty(4)
-    for j in range(4):
-        tj = t0 + min(j, nl - 1)
-        pv[j] = amd[tj]
-        if m > 0 and math.isnan(pv[j]):
-            ax, ay, az = a[tj, 0, 0], a[tj, 0, 1], a[tj, 0, 2]
-            pv[j] = abs(math.sqrt((ax * ax + ay * ay) + az * az) / gravity - 1.0) * 100.0
-    P = (pv[0], pv[1], pv[2], pv[3])
-    zero = bc(0.0)
+    Q0, Q1, Q2, Q3 = take(q, rows, 0), take(q, rows, 1), take(q, rows, 2), take(q, rows, 3)
+    I0, I1, I2 = take(integ, rows, 0), take(integ, rows, 1), take(integ, rows, 2)
+    P = take1(amd, rows)
+    ids = lane_ids(P)
+    spill = np.empty((len(ids), 7))   # per-lane scalar fallbacks: lanes in rows, values in columns
+    if m > 0:  # a NaN AMD state starts from the first sample's statistic (as _trial)
+        AX, AY, AZ = take3(a, rows, 0, 0), take3(a, rows, 0, 1), take3(a, rows, 0, 2)
+        D = mul(fabs(add(div(sqrt(add(add(mul(AX, AX), mul(AY, AY)), mul(AZ, AZ))), fill(P, gravity)),
+                         fill(P, -1.0))), fill(P, 100.0))
+        P = where_le(P, P, P, D)
+    zero = fill(P, 0.0)
+    one = fill(P, 1.0)
     FW = FA = WM = LOW = zero
     S0 = S1 = S2 = SS0 = SS1 = SS2 = zero
     M0 = M1 = M2 = zero
     if with_stats:
-        M0 = (stats[ta, 6], stats[tb, 6], stats[tc, 6], stats[td, 6])
-        M1 = (stats[ta, 7], stats[tb, 7], stats[tc, 7], stats[td, 7])
-        M2 = (stats[ta, 8], stats[tb, 8], stats[tc, 8], stats[td, 8])
+        M0, M1, M2 = take(stats, rows, 6), take(stats, rows, 7), take(stats, rows, 8)
+    KP, KIDT, DT, ALPHA, GRAV, THR = (fill(P, kp), fill(P, kidt), fill(P, dt), fill(P, alpha), fill(P, gravity),
+                                      fill(P, thr))
     for k in range(m):
         if keep:
-            _store_q(q_out, ta, tb, tc, td, nl, k, Q0, Q1, Q2, Q3)
+            put3(q_out, rows, k, 0, Q0)
+            put3(q_out, rows, k, 1, Q1)
+            put3(q_out, rows, k, 2, Q2)
+            put3(q_out, rows, k, 3, Q3)
         if with_stats:
-            E0, E1, E2 = _errors(Q0, Q1, Q2, Q3, truth, per_trial_truth, ta, tb, tc, td, k)
+            E0, E1, E2 = _errors(Q0, Q1, Q2, Q3, truth, per_trial_truth, rows, k, spill)
             S0, S1, S2 = add(S0, E0), add(S1, E1), add(S2, E2)
             SS0, SS1, SS2 = add(SS0, mul(E0, E0)), add(SS1, mul(E1, E1)), add(SS2, mul(E2, E2))
             M0, M1, M2 = vmax(M0, fabs(E0)), vmax(M1, fabs(E1)), vmax(M2, fabs(E2))
-        AX = (a[ta, k, 0], a[tb, k, 0], a[tc, k, 0], a[td, k, 0])
-        AY = (a[ta, k, 1], a[tb, k, 1], a[tc, k, 1], a[td, k, 1])
-        AZ = (a[ta, k, 2], a[tb, k, 2], a[tc, k, 2], a[td, k, 2])
-        WX = (w[ta, k, 0], w[tb, k, 0], w[tc, k, 0], w[td, k, 0])
-        WY = (w[ta, k, 1], w[tb, k, 1], w[tc, k, 1], w[td, k, 1])
-        WZ = (w[ta, k, 2], w[tb, k, 2], w[tc, k, 2], w[td, k, 2])
+        AX, AY, AZ = take3(a, rows, k, 0), take3(a, rows, k, 1), take3(a, rows, k, 2)
+        WX, WY, WZ = take3(w, rows, k, 0), take3(w, rows, k, 1), take3(w, rows, k, 2)
         # input scan (see _trial)
-        FW = add(FW, add(add(muls(WX, 0.0), muls(WY, 0.0)), muls(WZ, 0.0)))
-        FA = add(FA, add(add(muls(AX, 0.0), muls(AY, 0.0)), muls(AZ, 0.0)))
+        FW = add(FW, add(add(mul(WX, zero), mul(WY, zero)), mul(WZ, zero)))
+        FA = add(FA, add(add(mul(AX, zero), mul(AY, zero)), mul(AZ, zero)))
         WM = vmax(WM, vmax(fabs(WX), vmax(fabs(WY), fabs(WZ))))
         # AMD statistic and gate
         N2 = add(add(mul(AX, AX), mul(AY, AY)), mul(AZ, AZ))
         NRM = sqrt(N2)
-        D = muls(fabs(adds(divs(NRM, gravity), -1.0)), 100.0)
-        P = add(P, muls(sub(D, P), alpha))
-        FAC = div(where_lt(P, bc(thr), bc(1.0), bc(0.0)), maxs(NRM, 1e-12))
+        D = mul(fabs(add(div(NRM, GRAV), fill(P, -1.0))), fill(P, 100.0))
+        P = add(P, mul(sub(D, P), ALPHA))
+        FAC = div(where_lt(P, THR, one, zero), vmax(NRM, fill(P, 1e-12)))
         UX, UY, UZ = mul(AX, FAC), mul(AY, FAC), mul(AZ, FAC)
         # predicted up direction and e = â × v̂
-        V0 = muls(sub(mul(Q1, Q3), mul(Q0, Q2)), 2.0)
-        V1 = muls(add(mul(Q2, Q3), mul(Q0, Q1)), 2.0)
+        two = fill(P, 2.0)
+        V0 = mul(sub(mul(Q1, Q3), mul(Q0, Q2)), two)
+        V1 = mul(add(mul(Q2, Q3), mul(Q0, Q1)), two)
         V2 = sub(sub(add(mul(Q0, Q0), mul(Q3, Q3)), mul(Q1, Q1)), mul(Q2, Q2))
         E0 = sub(mul(UY, V2), mul(UZ, V1))
         E1 = sub(mul(UZ, V0), mul(UX, V2))
         E2 = sub(mul(UX, V1), mul(UY, V0))
         if use_ki:
-            I0, I1, I2 = add(I0, muls(E0, kidt)), add(I1, muls(E1, kidt)), add(I2, muls(E2, kidt))
-        X0 = muls(add(add(muls(E0, kp), WX), I0), dt)
-        X1 = muls(add(add(muls(E1, kp), WY), I1), dt)
-        X2 = muls(add(add(muls(E2, kp), WZ), I2), dt)
+            I0, I1, I2 = add(I0, mul(E0, KIDT)), add(I1, mul(E1, KIDT)), add(I2, mul(E2, KIDT))
+        X0 = mul(add(add(mul(E0, KP), WX), I0), DT)
+        X1 = mul(add(add(mul(E1, KP), WY), I1), DT)
+        X2 = mul(add(add(mul(E2, KP), WZ), I2), DT)
         U = add(add(mul(X0, X0), mul(X1, X1)), mul(X2, X2))
-        if (U[0] <= _T3) & (U[1] <= _T3) & (U[2] <= _T3) & (U[3] <= _T3):  # series: a select per lane
-            T2 = bc(_T2)
-            C = where_le(U, T2, adds(mul(adds(muls(U, _C2), _C1), U), 1.0),
-                         adds(mul(adds(mul(adds(muls(U, _C3), _C2), U), _C1), U), 1.0))
-            S = where_le(U, T2, adds(mul(adds(muls(U, _S2), _S1), U), _S0),
-                         adds(mul(adds(mul(adds(muls(U, _S3), _S2), U), _S1), U), _S0))
+        if all_le(U, fill(P, _T3)):  # series: a select per lane
+            T2 = fill(P, _T2)
+            C = where_le(U, T2, add(mul(add(mul(U, fill(P, _C2)), fill(P, _C1)), U), one),
+                         add(mul(add(mul(add(mul(U, fill(P, _C3)), fill(P, _C2)), U), fill(P, _C1)), U), one))
+            S = where_le(U, T2, add(mul(add(mul(U, fill(P, _S2)), fill(P, _S1)), U), fill(P, _S0)),
+                         add(mul(add(mul(add(mul(U, fill(P, _S3)), fill(P, _S2)), U), fill(P, _S1)), U),
+                             fill(P, _S0)))
         else:
-            ca, sa = _cs(U[0])
-            cb, sb = _cs(U[1])
-            cc, sc = _cs(U[2])
-            cd, sd = _cs(U[3])
-            C, S = (ca, cb, cc, cd), (sa, sb, sc, sd)
+            put(spill, ids, 0, U)
+            for j in range(len(ids)):
+                spill[j, 1], spill[j, 2] = _cs(spill[j, 0])
+            C, S = take(spill, ids, 1), take(spill, ids, 2)
         H1, H2, H3 = mul(X0, S), mul(X1, S), mul(X2, S)
         N0 = sub(mul(Q0, C), add(add(mul(Q1, H1), mul(Q2, H2)), mul(Q3, H3)))
         NN1 = add(add(mul(H1, Q0), mul(Q1, C)), sub(mul(Q2, H3), mul(Q3, H2)))
@@ -259,130 +257,125 @@ def _block(w, a, t0, nl, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_
         NN3 = add(add(mul(H3, Q0), mul(Q3, C)), sub(mul(Q1, H2), mul(Q2, H1)))
         NQ = sqrt(add(add(add(mul(N0, N0), mul(NN1, NN1)), mul(NN2, NN2)), mul(NN3, NN3)))
         Q0, Q1, Q2, Q3 = div(N0, NQ), div(NN1, NQ), div(NN2, NQ), div(NN3, NQ)
-        LOW = add(LOW, where_lt(N2, bc(_LOW2), bc(1.0), zero))
-        if keep:  # constant lane indices: P stays in registers
-            amd_out[t0, k], gate_out[t0, k] = P[0], P[0] < thr
-            if nl > 1:
-                amd_out[t0 + 1, k], gate_out[t0 + 1, k] = P[1], P[1] < thr
-            if nl > 2:
-                amd_out[t0 + 2, k], gate_out[t0 + 2, k] = P[2], P[2] < thr
-            if nl > 3:
-                amd_out[t0 + 3, k], gate_out[t0 + 3, k] = P[3], P[3] < thr
-    for j in range(nl):
-        t = t0 + j
-        q[t, 0], q[t, 1], q[t, 2], q[t, 3] = Q0[j], Q1[j], Q2[j], Q3[j]
-        integ[t, 0], integ[t, 1], integ[t, 2] = I0[j], I1[j], I2[j]
-        amd[t] = P[j]
-        chk[t, 0], chk[t, 1], chk[t, 2], chk[t, 3] = FW[j], WM[j], FA[j], LOW[j]
-        if with_stats:
-            stats[t, 0] += S0[j]
-            stats[t, 1] += S1[j]
-            stats[t, 2] += S2[j]
-            stats[t, 3] += SS0[j]
-            stats[t, 4] += SS1[j]
-            stats[t, 5] += SS2[j]
-            stats[t, 6], stats[t, 7], stats[t, 8] = M0[j], M1[j], M2[j]
+        LOW = add(LOW, where_lt(N2, fill(P, _LOW2), one, zero))
+        if keep:
+            put(amd_out, rows, k, P)
+            put_lt(gate_out, rows, k, P, THR)
+    put(q, rows, 0, Q0)
+    put(q, rows, 1, Q1)
+    put(q, rows, 2, Q2)
+    put(q, rows, 3, Q3)
+    put(integ, rows, 0, I0)
+    put(integ, rows, 1, I1)
+    put(integ, rows, 2, I2)
+    put1(amd, rows, P)
+    put(chk, rows, 0, FW)
+    put(chk, rows, 1, WM)
+    put(chk, rows, 2, FA)
+    put(chk, rows, 3, LOW)
+    if with_stats:  # every lane reads its row before any lane stores (repeated rows add once)
+        put(stats, rows, 0, add(take(stats, rows, 0), S0))
+        put(stats, rows, 1, add(take(stats, rows, 1), S1))
+        put(stats, rows, 2, add(take(stats, rows, 2), S2))
+        put(stats, rows, 3, add(take(stats, rows, 3), SS0))
+        put(stats, rows, 4, add(take(stats, rows, 4), SS1))
+        put(stats, rows, 5, add(take(stats, rows, 5), SS2))
+        put(stats, rows, 6, M0)
+        put(stats, rows, 7, M1)
+        put(stats, rows, 8, M2)
 
 
 @numba.njit(inline="always")
-def _store_q(q_out, ta, tb, tc, td, nl, k, Q0, Q1, Q2, Q3):
-    """q_out[t, k] = lane's quaternion for the ``nl`` real lanes."""
-    q_out[ta, k, 0], q_out[ta, k, 1], q_out[ta, k, 2], q_out[ta, k, 3] = Q0[0], Q1[0], Q2[0], Q3[0]
-    if nl > 1:
-        q_out[tb, k, 0], q_out[tb, k, 1], q_out[tb, k, 2], q_out[tb, k, 3] = Q0[1], Q1[1], Q2[1], Q3[1]
-    if nl > 2:
-        q_out[tc, k, 0], q_out[tc, k, 1], q_out[tc, k, 2], q_out[tc, k, 3] = Q0[2], Q1[2], Q2[2], Q3[2]
-    if nl > 3:
-        q_out[td, k, 0], q_out[td, k, 1], q_out[td, k, 2], q_out[td, k, 3] = Q0[3], Q1[3], Q2[3], Q3[3]
-
-
-@numba.njit(inline="always")
-def _row(table, per_trial_truth, ta, tb, tc, td, k, j):
+def _row(table, per_trial_truth, rows, k, j, like):
     """Lane vector of column ``j`` of the truth table at t_k (one load broadcast for a shared truth)."""
     if per_trial_truth:
-        return (table[ta, k, j], table[tb, k, j], table[tc, k, j], table[td, k, j])
-    return bc(table[0, k, j])
+        return take3(table, rows, k, j)
+    return fill(like, table[0, k, j])
 
 
 @numba.njit(inline="always")
-def _atan_small4(R):
+def _atan_small_lanes(R):
     """Lane form of :func:`mtcal.core.montecarlo.atan_small` (same operations per lane)."""
     U = mul(R, R)
-    return add(R, mul(R, mul(U, adds(mul(U, adds(mul(U, adds(muls(U, ATAN_C9), ATAN_C7)), ATAN_C5)), ATAN_C3))))
+    return add(R, mul(R, mul(U, add(mul(U, add(mul(U, add(mul(U, fill(R, ATAN_C9)), fill(R, ATAN_C7))),
+                                                 fill(R, ATAN_C5))), fill(R, ATAN_C3)))))
 
 
 @numba.njit(inline="always")
-def _asin_small4(Y):
+def _asin_small_lanes(Y):
     """Lane form of :func:`mtcal.core.montecarlo.asin_small` (same operations per lane)."""
     U = mul(Y, Y)
-    return add(Y, mul(Y, mul(U, adds(mul(U, adds(mul(U, adds(muls(U, ASIN_C9), ASIN_C7)), ASIN_C5)), ASIN_C3))))
+    return add(Y, mul(Y, mul(U, add(mul(U, add(mul(U, add(mul(U, fill(Y, ASIN_C9)), fill(Y, ASIN_C7))),
+                                                 fill(Y, ASIN_C5))), fill(Y, ASIN_C3)))))
 
 
 @numba.njit(inline="always")
-def _errors(Q0, Q1, Q2, Q3, table, per_trial_truth, ta, tb, tc, td, k):
+def _errors(Q0, Q1, Q2, Q3, table, per_trial_truth, rows, k, spill):
     """Per lane Eq 8 errors against the truth table row at t_k: :func:`mtcal.core.montecarlo.euler_errors_cs`
-    as 4-lane vectors when every lane takes its series path, else that scalar function per lane (bit-identical
+    as lane vectors when every lane takes its series path, else that scalar function per lane (bit-identical
     either way: the lane operations are the scalar ones with the same operands in the same order)."""
-    C0 = _row(table, per_trial_truth, ta, tb, tc, td, k, 3)
-    S0 = _row(table, per_trial_truth, ta, tb, tc, td, k, 4)
-    C1 = _row(table, per_trial_truth, ta, tb, tc, td, k, 5)
-    S1 = _row(table, per_trial_truth, ta, tb, tc, td, k, 6)
-    C2 = _row(table, per_trial_truth, ta, tb, tc, td, k, 7)
-    S2 = _row(table, per_trial_truth, ta, tb, tc, td, k, 8)
+    C0 = _row(table, per_trial_truth, rows, k, 3, Q0)
+    S0 = _row(table, per_trial_truth, rows, k, 4, Q0)
+    C1 = _row(table, per_trial_truth, rows, k, 5, Q0)
+    S1 = _row(table, per_trial_truth, rows, k, 6, Q0)
+    C2 = _row(table, per_trial_truth, rows, k, 7, Q0)
+    S2 = _row(table, per_trial_truth, rows, k, 8, Q0)
     S00, S11, S22, S33 = mul(Q0, Q0), mul(Q1, Q1), mul(Q2, Q2), mul(Q3, Q3)
+    m2 = fill(Q0, -2.0)
     YX = sub(add(sub(S00, S11), S22), S33)
-    YY = muls(sub(mul(Q1, Q2), mul(Q0, Q3)), -2.0)
-    A = muls(add(mul(Q2, Q3), mul(Q0, Q1)), 2.0)
-    A = maxs(A, -1.0)
-    one = bc(1.0)
+    YY = mul(sub(mul(Q1, Q2), mul(Q0, Q3)), m2)
+    A = mul(add(mul(Q2, Q3), mul(Q0, Q1)), fill(Q0, 2.0))
+    A = vmax(A, fill(Q0, -1.0))
+    one = fill(Q0, 1.0)
     A = where_lt(one, A, one, A)               # min(a, 1.0) as numba computes it
     RX = add(sub(sub(S00, S11), S22), S33)
-    RY = muls(sub(mul(Q1, Q3), mul(Q0, Q2)), -2.0)
+    RY = mul(sub(mul(Q1, Q3), mul(Q0, Q2)), m2)
     XA = add(mul(YX, C0), mul(YY, S0))
     YA = sub(mul(YY, C0), mul(YX, S0))
-    CE = sqrt(mul(sub(one, A), adds(A, 1.0)))
+    CE = sqrt(mul(sub(one, A), add(A, one)))
     XB = add(mul(CE, C1), mul(A, S1))
     YB = sub(mul(A, C1), mul(CE, S1))
     XC = add(mul(RX, C2), mul(RY, S2))
     YC = sub(mul(RY, C2), mul(RX, S2))
-    # the scalar's test |ya| < SERIES_MAX·xa, |yb| < SERIES_MAX, xb > 0, |yc| < SERIES_MAX·xc, as one 0/1 lane mask
-    zero = bc(0.0)
-    OK = where_lt(fabs(YC), muls(XC, SERIES_MAX), one, zero)
-    OK = where_lt(zero, XB, OK, zero)
-    OK = where_lt(fabs(YB), bc(SERIES_MAX), OK, zero)
-    OK = where_lt(fabs(YA), muls(XA, SERIES_MAX), OK, zero)
-    if (OK[0] + OK[1]) + (OK[2] + OK[3]) == 4.0:
-        return _atan_small4(div(YA, XA)), _asin_small4(YB), _atan_small4(div(YC, XC))
-    ra = table[ta] if per_trial_truth else table[0]
-    rb = table[tb] if per_trial_truth else table[0]
-    rc = table[tc] if per_trial_truth else table[0]
-    rd = table[td] if per_trial_truth else table[0]
-    a0, a1, a2 = table_errors(Q0[0], Q1[0], Q2[0], Q3[0], ra[k])
-    b0, b1, b2 = table_errors(Q0[1], Q1[1], Q2[1], Q3[1], rb[k])
-    c0, c1, c2 = table_errors(Q0[2], Q1[2], Q2[2], Q3[2], rc[k])
-    d0, d1, d2 = table_errors(Q0[3], Q1[3], Q2[3], Q3[3], rd[k])
-    return (a0, b0, c0, d0), (a1, b1, c1, d1), (a2, b2, c2, d2)
+    # the scalar's test |ya| < SERIES_MAX·xa, |yb| < SERIES_MAX, xb > 0, |yc| < SERIES_MAX·xc, in every lane
+    smax = fill(Q0, SERIES_MAX)
+    if (all_lt(fabs(YA), mul(XA, smax)) and all_lt(fabs(YB), smax) and all_lt(fill(Q0, 0.0), XB)
+            and all_lt(fabs(YC), mul(XC, smax))):
+        return _atan_small_lanes(div(YA, XA)), _asin_small_lanes(YB), _atan_small_lanes(div(YC, XC))
+    ids = lane_ids(Q0)
+    put(spill, ids, 0, Q0)
+    put(spill, ids, 1, Q1)
+    put(spill, ids, 2, Q2)
+    put(spill, ids, 3, Q3)
+    for j in range(len(ids)):
+        r = table[rows[j]] if per_trial_truth else table[0]
+        spill[j, 4], spill[j, 5], spill[j, 6] = table_errors(spill[j, 0], spill[j, 1], spill[j, 2], spill[j, 3],
+                                                             r[k])
+    return take(spill, ids, 4), take(spill, ids, 5), take(spill, ids, 6)
+
+
+_rows = rows8 if LANES == 8 else rows4
 
 
 @jit()
 def _run_block(w, a, b, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, dt, alpha, gravity, thr,
                keep, truth, stats, with_stats, chk):
-    """Block ``b`` of 4 trials (vector lanes), or its single trial with the scalar kernel."""
-    t0 = np.int64(b) * 4
-    nl = min(4, w.shape[0] - t0)
+    """Block ``b`` of :data:`LANES` trials (vector lanes), or its single trial with the scalar kernel."""
+    t0 = np.int64(b) * LANES
+    nl = min(LANES, w.shape[0] - t0)
     if nl == 1:
         _trial(w, a, t0, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, dt, alpha, gravity, thr,
                keep, truth, stats, with_stats, chk)
     else:
-        _block(w, a, t0, nl, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, dt, alpha, gravity, thr,
-               keep, truth, stats, with_stats, chk)
+        _block(w, a, _rows(t0, nl), q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, dt, alpha, gravity,
+               thr, keep, truth, stats, with_stats, chk)
 
 
 @jit()
 def qncf_serial(w, a, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, dt, alpha, gravity, thr,
                 keep, truth, stats, with_stats, chk):
-    """Blocks of 4 trials one after the other (single-trial records, small batches)."""
-    for b in range((w.shape[0] + 3) // 4):
+    """Blocks of :data:`LANES` trials one after the other (small batches, one thread per worker)."""
+    for b in range((w.shape[0] + LANES - 1) // LANES):
         _run_block(w, a, b, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, dt, alpha, gravity, thr,
                    keep, truth, stats, with_stats, chk)
 
@@ -398,12 +391,24 @@ def qncf_one(w, a, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, dt
 
 
 @jit(parallel=True)
-def qncf_parallel(w, a, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, dt, alpha, gravity, thr,
-                  keep, truth, stats, with_stats, chk):
-    """Blocks of 4 trials spread over numba's threads (``prange``); each trial computed exactly as serially."""
-    for b in prange((w.shape[0] + 3) // 4):
+def _qncf_parallel(w, a, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, dt, alpha, gravity, thr,
+                   keep, truth, stats, with_stats, chk):
+    """Blocks of :data:`LANES` trials spread over numba's threads (``prange``); each trial computed exactly as
+    serially."""
+    for b in prange((w.shape[0] + LANES - 1) // LANES):
         _run_block(w, a, b, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, dt, alpha, gravity, thr,
                    keep, truth, stats, with_stats, chk)
+
+
+def qncf_parallel(*args) -> None:
+    """:func:`_qncf_parallel` with its blocks handed to the threads dynamically, :data:`_CHUNK_BLOCKS` at a time
+    (numba's parallel chunk size, set for this call only: a thread slowed by other load passes work on
+    instead of holding the last share of the blocks). Arguments as :func:`qncf_serial`."""
+    saved = numba.set_parallel_chunksize(_CHUNK_BLOCKS)
+    try:
+        _qncf_parallel(*args)
+    finally:
+        numba.set_parallel_chunksize(saved)
 
 
 def warm_up() -> None:
@@ -411,7 +416,7 @@ def warm_up() -> None:
     w = np.zeros((2, 2, 3))
     a = np.zeros((2, 2, 3))
     a[..., 2] = 9.80665
-    for fn in (qncf_one, qncf_serial, qncf_parallel):
+    for fn in (qncf_one, qncf_serial, _qncf_parallel):
         fn(w, a, np.tile([1.0, 0, 0, 0], (2, 1)), np.zeros((2, 3)), np.full(2, np.nan), np.empty((2, 2, 4)),
            np.empty((2, 2)), np.empty((2, 2), np.bool_), 1.0, 2e-5, True, 1e-3, 0.02, 9.80665, 0.3, True,
            np.zeros((1, 2, 9)), np.zeros((2, 9)), True, np.empty((2, 4)))

@@ -104,9 +104,11 @@ def test_qncf_bit_identical_for_any_thread_count_and_chunking(all_parallel, thre
     assert np.array_equal(one.q_ws, first.q_ws[2])
 
 
-@pytest.mark.parametrize("trials", [2, 3, 5, 7, 9])
+# 8 lanes (AVX-512 hosts): partial blocks (2-7), a full block + a lone trial (9, 17), full + partial (13);
+# 4 lanes: full + partial (7), several blocks + a lone trial (9, 13, 17)
+@pytest.mark.parametrize("trials", [2, 3, 5, 7, 9, 13, 17])
 def test_qncf_batched_lanes_are_bit_identical_to_each_trial_alone(all_parallel, trials):
-    """4-lane blocks (odd counts: a short last block or a lone trial), the AMD gate closing in trial 0,
+    """Lane blocks (odd counts: a short last block or a lone trial), the AMD gate closing in trial 0,
     a lane needing the trigonometric increment while the others use the series, the initial NaN AMD
     state: every trial of the batch equals the scalar kernel run on that trial alone."""
     rec, accel = _turntable_record(trials, vibrate=True)
@@ -135,6 +137,68 @@ def test_qncf_fused_error_statistics_match_per_trial_runs(all_parallel, trials):
         QncfFilter(q0, 1 / FS, trials=1).run_error_stats(rec.gyro_rad_s[t:t + 1], accel[t:t + 1], truth, alone)
         assert np.array_equal(alone._sum[0], fused._sum[t]) and np.array_equal(alone._sumsq[0], fused._sumsq[t])
         assert np.array_equal(alone._max[0], fused._max[t]), t
+
+
+def _qncf_kernel_args(keep: bool, with_stats: bool):
+    """Direct arguments of the QNCF kernels for 5 trials: AMD gate closing (trial 0), a NaN initial AMD state in
+    trials 0 and 3, the trigonometric increment in trial 2 only, per-trial truth with a large Eq 8 error (off
+    the error series) in trial 1 only; unused outputs NaN-filled so that any stray store shows."""
+    rec, accel = _turntable_record(5, vibrate=True)
+    g, a = rec.gyro_rad_s[:, ::16].copy(), np.ascontiguousarray(accel[:, ::16])
+    g[2] *= 5.0
+    n, m = g.shape[:2]
+    from mtcal.core.montecarlo import truth_table
+
+    truth_e = rotations.euler_zxy_from_quat(rec.q_ws_true[::16])
+    truth = truth_table(np.ascontiguousarray(truth_e + 1e-3 * np.arange(n)[:, None, None]))
+    truth[1, 20:40, 3:] = truth_table(np.radians([[[170.0, 80.0, 100.0]]]))[0, 0, 3:]
+    amd = np.linspace(0.0, 2.0, n)
+    amd[[0, 3]] = np.nan
+    full = (n, m) if keep else (1, 1)
+    return [g, a, np.tile(rec.q_ws_true[0], (n, 1)), np.linspace(-1e-4, 1e-4, 3 * n).reshape(n, 3), amd,
+            np.full(full + (4,), np.nan), np.full(full, np.nan), np.zeros(full, np.bool_), 1.0, 0.02 * 16 / FS,
+            True, 16 / FS, 0.02, 9.80665, 0.3, keep, truth, np.linspace(0.0, 1e-3, 9 * n).reshape(n, 9),
+            with_stats, np.full((n, 4), np.nan)]
+
+
+@pytest.mark.parametrize("keep, with_stats", [(True, True), (False, True), (True, False)])
+def test_qncf_blocks_of_4_and_8_lanes_are_bit_identical_to_the_scalar_trial(keep, with_stats):
+    """Both block widths (whichever LANES this host compiles), spare lanes repeating the last trial, the
+    per-lane scalar fallbacks (trigonometric increment, Eq 8 errors off their series, NaN initial AMD):
+    state, histories, gate, error statistics and the input scan equal the scalar kernel bit for bit."""
+    from mtcal.filters import _kernels_qncf as K
+
+    ref = _qncf_kernel_args(keep, with_stats)
+    K.qncf_one(*ref)
+    outputs = (2, 3, 4, 5, 6, 7, 17, 19)  # q, integ, amd, q_out, amd_out, gate_out, stats, chk
+    for rows in ((0, 1, 2, 3), (1, 2, 3, 4), (0, 1, 2, 3, 4, 4, 4, 4), (2, 3, 4, 4, 4, 4, 4, 4)):
+        got = _qncf_kernel_args(keep, with_stats)
+        K._block(got[0], got[1], rows, *got[2:])
+        r = sorted(set(rows))
+        other = sorted(set(range(5)) - set(r))
+        for i in outputs:
+            x, y = ref[i], got[i]
+            if x.shape[0] == 5:
+                assert np.array_equal(x[r], y[r], equal_nan=True), (rows, i)
+                assert np.array_equal(y[other], _qncf_kernel_args(keep, with_stats)[i][other], equal_nan=True), (
+                    rows, i)  # rows outside the block untouched
+            else:
+                assert np.isnan(y).all() or not y.any(), (rows, i)   # 1 x 1 placeholders never written
+    assert not np.array_equal(ref[2], _qncf_kernel_args(keep, with_stats)[2])  # the kernel did move the state
+
+
+def test_qncf_parallel_kernel_restores_the_chunk_size(all_parallel, threads):
+    from mtcal.filters import _kernels_qncf as K
+
+    threads(min(2, numba.config.NUMBA_NUM_THREADS))
+    before = numba.get_parallel_chunksize()
+    ref, got = _qncf_kernel_args(True, True), _qncf_kernel_args(True, True)
+    K.qncf_serial(*ref)
+    K.qncf_parallel(*got)
+    assert numba.get_parallel_chunksize() == before
+    for x, y in zip(ref, got):
+        if isinstance(x, np.ndarray):
+            assert np.array_equal(x, y, equal_nan=True)
 
 
 def test_qncf_non_finite_sample_in_one_lane_raises_and_keeps_the_state(all_parallel):

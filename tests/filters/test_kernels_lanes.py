@@ -12,8 +12,9 @@ import numpy as np
 import pytest
 from numba.core.errors import TypingError
 
-from mtcal.filters._kernels_lanes import (add, choose, cos, div, fabs, fill, mul, pack, put, put1, put3, sin, sqrt,
-                                          sub, take, take1, take3, unpack, vmax, where_le, where_lt)
+from mtcal.filters._kernels_lanes import (add, all_le, all_lt, choose, cos, div, fabs, fill, lane_ids, mul, pack, put,
+                                          put1, put3, put_lt, rows4, rows8, simd_lanes, sin, sqrt, sub, take, take1,
+                                          take3, unpack, vmax, where_le, where_lt)
 
 
 @numba.njit
@@ -90,6 +91,65 @@ def test_gathers_and_scatters_address_the_given_rows(rows):
 
 
 @numba.njit
+def _reductions(x2, rows):
+    a, b = take(x2, rows, 0), take(x2, rows, 1)
+    flags = np.zeros((x2.shape[0], 2), np.bool_)
+    put_lt(flags, rows, 1, a, b)
+    spill = np.zeros((len(rows), 1))
+    put(spill, lane_ids(a), 0, a)
+    return all_le(a, b), all_lt(a, b), flags, spill, lane_ids(a)
+
+
+@pytest.mark.parametrize("rows", [(0, 1, 2, 3), (7, 6, 5, 4, 3, 2, 1, 0)])
+def test_all_lane_tests_put_lt_and_lane_ids(rows):
+    """all_le / all_lt are the scalar ordered comparisons of every lane (one NaN lane: False), put_lt stores
+    each lane's ``<`` at its row, lane_ids addresses a (lanes, k) scratch array."""
+    x2 = np.zeros((8, 2))
+    x2[:, 0] = np.arange(8.0)
+    x2[:, 1] = np.arange(8.0) + 1.0
+    assert _reductions(x2, rows)[:2] == (True, True)
+    x2[rows[-1], 1] = x2[rows[-1], 0]         # equal in one lane: <= still holds, < does not
+    le, lt, flags, spill, ids = _reductions(x2, rows)
+    assert (le, lt) == (True, False)
+    r = list(rows)
+    assert np.array_equal(flags[r, 1], x2[r, 0] < x2[r, 1]) and not flags[:, 0].any()
+    assert ids == tuple(range(len(rows))) and np.array_equal(spill[:, 0], x2[r, 0])
+    x2[rows[1], 1] = np.nan
+    le, lt, flags, _, _ = _reductions(x2, rows)
+    assert (le, lt) == (False, False) and not flags[rows[1], 1]
+
+
+@numba.njit
+def _rows(t0, nl):
+    return rows4(t0, nl), rows8(t0, nl)
+
+
+def test_block_rows_repeat_the_last_trial_and_lane_count():
+    assert _rows(8, 4) == ((8, 9, 10, 11), (8, 9, 10, 11, 11, 11, 11, 11))
+    assert _rows(3, 2) == ((3, 4, 4, 4), (3, 4, 4, 4, 4, 4, 4, 4))
+    assert simd_lanes() in (4, 8)
+    if numba.config.CPU_NAME == "generic":
+        assert simd_lanes() == 4     # the pinned target: 4 lanes (results are the same for either width)
+
+
+@numba.njit
+def _all_tuple(x):
+    return all_le((x[0], x[1], x[2], x[3]), (x[0], x[1], x[2], x[3]))
+
+
+@numba.njit
+def _put_lt_width(x2):
+    flags = np.zeros((4, 2), np.bool_)
+    put_lt(flags, (0, 1, 2, 3), 0, pack((1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0)),
+           pack((1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0)))
+
+
+@numba.njit
+def _lane_ids_tuple(x):
+    return lane_ids((x[0], x[1], x[2], x[3]))
+
+
+@numba.njit
 def _mixed(x):
     return add(pack((x[0], x[1], x[2], x[3])), (x[0], x[1], x[2], x[3]))
 
@@ -126,6 +186,9 @@ def _take_1d(x1):
     (_take_rows3, np.ones((4, 3)), "rows must be a UniTuple of 4 or 8 integers"),
     (_put_width, np.ones((4, 3)), r"put takes a Vec4\(float64\) value"),
     (_take_1d, np.ones(4), "expected a 2-D float64 array"),
+    (_all_tuple, np.ones(4), "expected two lane vectors"),
+    (_put_lt_width, np.ones((4, 3)), r"put_lt takes two Vec4\(float64\) values"),
+    (_lane_ids_tuple, np.ones(4), "lane_ids takes a lane vector"),
 ])
 def test_misuse_is_a_typing_error(fn, arg, message):
     with pytest.raises(TypingError, match=message):
