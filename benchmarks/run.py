@@ -328,7 +328,7 @@ def benchmark_methods(inp: BenchInputs, sizes: Sizes, log=print) -> list[Measure
     for threads in sorted({two, 1}, reverse=True):
         with _Threads(threads):
             add(QNCF, "mtcal", qb, t, m, threads=threads,
-                note="QncfFilter.run, 4-lane SIMD blocks of trials, prange over blocks (after)")
+                note="QncfFilter.run, 4/8-lane SIMD blocks of trials (8 on AVX-512), dynamic prange over blocks (after)")
             add(QNCF + BEFORE, "mtcal", _before(qb), t, m, threads=threads,
                 note="QncfFilter.run with the previous kernel (2 trials interleaved, no SIMD)")
             add(LIMIT_QNCF, "numba",
