@@ -260,11 +260,10 @@ class _Blocks:
 
     def stats(self, x: np.ndarray):
         """Centred-window mean (nb, d) and rms-over-axes std (nb,) of x (N, d)."""
-        off = x[: min(self.n, 1000)].mean(axis=0)
-        xc = x - off  # centred: the sums keep their precision
-        s1 = np.add.reduceat(xc, self.idx, axis=0)
-        xc *= xc
-        s2 = np.add.reduceat(xc, self.idx, axis=0)
+        from mtcal.methods._rest_kernels import reduceat_sums  # here: importing numba is for callers only
+
+        off = x[: min(self.n, 1000)].mean(axis=0)  # centred: the sums keep their precision
+        s1, s2 = reduceat_sums(x, self.idx, off)  # np.add.reduceat of x - off and its square, bit for bit
         c = self.win_count[:, None]
         m1 = self.window(s1) / c
         var = np.maximum(self.window(s2) / c - m1 * m1, 0.0)
@@ -288,17 +287,16 @@ def _block_levels(accel: np.ndarray, norm: np.ndarray, gyro: np.ndarray | None, 
         raise ValueError(f"record too short for rest detection: {accel.shape[0]} samples, need at least "
                          f"3 windows of {w} samples")
 
+    from mtcal.methods._rest_kernels import block_sums, row_block_sums  # here: numba only when called
+
     def block_stats(x):
-        b = x[: nb * w].reshape(nb, w, -1)
-        first = b[:, :1].copy()
-        b = b - first  # per-block offset keeps the sums precise
-        m1 = b.sum(axis=1) / w
-        b *= b
-        var = np.maximum(b.sum(axis=1) / w - m1 * m1, 0.0)
-        return np.sqrt(var.mean(axis=1)), m1 + first[:, 0]
+        s1, s2 = block_sums(x, w)  # sums of x - (the block's first sample) and its square: per-block offset
+        m1 = s1 / w
+        var = np.maximum(s2 / w - m1 * m1, 0.0)
+        return np.sqrt(var.mean(axis=1)), m1 + x[: nb * w: w]
 
     a_std, _ = block_stats(accel)
-    a_norm = norm[: nb * w].reshape(nb, w).mean(axis=1)
+    a_norm = row_block_sums(norm, w) / w  # = norm[: nb * w].reshape(nb, w).mean(axis=1), bit for bit
     score = np.argsort(np.argsort(a_std)).astype(float)
     if gyro is not None:
         g_std, g_mean = block_stats(gyro)
