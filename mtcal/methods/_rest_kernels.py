@@ -6,8 +6,9 @@ in the last bits, so each kernel here reproduces the order of the numpy expressi
 replaces (checked bit for bit against numpy in ``tests/methods/test_rest_detection.py``,
 on the generic and the native code path):
 
-* ``x.reshape(nb, w, d).sum(axis=1)`` (the reduced axis is not the inner one): a
-  sequential sum, ``((0 + x_0) + x_1) + …``, one running sum per column;
+* ``x.reshape(nb, w, d).sum(axis=1)`` of a C-contiguous ``x`` (the reduced axis is not
+  the inner one): a sequential sum, ``((0 + x_0) + x_1) + …``, one running sum per column
+  (numpy's order follows the memory layout: other layouts keep the numpy expression);
 * ``x.reshape(nb, w).sum(axis=1)`` (contiguous reduced axis): ``0 + pairwise(x_0 … x_(w-1))``,
   numpy's pairwise summation (``pairwise_sum`` in numpy's ``loops_utils.h.src``: fewer
   than 8 terms summed in order from −0.0; up to 128 terms in 8 interleaved running sums
@@ -152,7 +153,9 @@ def block_sums(x: np.ndarray, w: int) -> tuple[np.ndarray, np.ndarray]:
     """Sums of ``d = x − x_first`` and ``d²`` over the ``nb = N // w`` whole blocks of ``w`` rows.
 
     Bit for bit ``b = x[:nb*w].reshape(nb, w, -1); b = b - b[:, :1]; b.sum(axis=1)`` and,
-    after ``b *= b``, ``b.sum(axis=1)``.
+    after ``b *= b``, ``b.sum(axis=1)`` for a C-contiguous ``x`` (numpy sums in another
+    order when ``x`` is laid out otherwise, e.g. Fortran-ordered: then the rows of a block
+    are contiguous and numpy sums them pairwise).
 
     Parameters
     ----------

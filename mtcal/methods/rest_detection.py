@@ -290,7 +290,15 @@ def _block_levels(accel: np.ndarray, norm: np.ndarray, gyro: np.ndarray | None, 
     from mtcal.methods._rest_kernels import block_sums, row_block_sums  # here: numba only when called
 
     def block_stats(x):
-        s1, s2 = block_sums(x, w)  # sums of x - (the block's first sample) and its square: per-block offset
+        # sums of d = x - (the block's first sample) (a per-block offset keeps them precise) and of d²
+        if x.flags.c_contiguous:
+            s1, s2 = block_sums(x, w)  # compiled, bit for bit numpy's sums over axis 1 below
+        else:  # numpy's summation order follows the memory layout: the numpy expression itself
+            b = x[: nb * w].reshape(nb, w, -1)
+            b = b - b[:, :1]
+            s1 = b.sum(axis=1)
+            b *= b
+            s2 = b.sum(axis=1)
         m1 = s1 / w
         var = np.maximum(s2 / w - m1 * m1, 0.0)
         return np.sqrt(var.mean(axis=1)), m1 + x[: nb * w: w]
