@@ -38,7 +38,10 @@ stretch that was *not* accepted, the reason (outside the band, turning, too
 short), so a user sees why a rest was or was not found.
 
 The statistics use centred windows (the detector is for recorded logs, not
-causal); cumulative sums make it O(N) and vectorised over samples.
+causal); sums over blocks of samples and cumulative sums over the blocks make it
+O(N). The block sums are compiled (:mod:`mtcal.methods._rest_kernels`, one pass
+over the record, no temporaries of its size) and add in numpy's order, so the
+levels, rests and report are bit for bit those of the numpy expressions.
 
 References
 ----------

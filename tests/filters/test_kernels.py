@@ -378,5 +378,5 @@ def test_warm_up_all_compiles_every_kernel_group():
     from mtcal.filters.kernels import warm_up_all
 
     times = warm_up_all()
-    assert set(times) == {"qncf", "rams_ekf", "marg", "tilt_rate", "csv_text", "simulate", "metrics"}
+    assert set(times) == {"qncf", "rams_ekf", "marg", "tilt_rate", "rest_detection", "csv_text", "simulate", "metrics"}
     assert all(v >= 0.0 for v in times.values())

@@ -391,7 +391,8 @@ def _check_detector_against_numpy():
     for name, accel, gyro, dt in _real_looking_records():
         w = max(3, int(round(0.1 / dt)))
         norm = np.sqrt(np.einsum("ij,ij->i", accel, accel))
-        got, ref = rest_detection._block_levels(accel, norm, gyro, w, 0.1), _numpy_block_levels(accel, norm, gyro, w, 0.1)
+        got = rest_detection._block_levels(accel, norm, gyro, w, 0.1)
+        ref = _numpy_block_levels(accel, norm, gyro, w, 0.1)
         assert got.keys() == ref.keys(), name
         for key in ref:
             _assert_bits(got[key], ref[key])
