@@ -14,7 +14,7 @@ import numpy as np
 
 from mtcal.core import csvtext, montecarlo, simulate
 from mtcal.filters import _kernels_ekf, _kernels_marg, _kernels_qncf
-from mtcal.methods import _rest_kernels, tilt_rate
+from mtcal.methods import rest_detection, tilt_rate
 
 __all__ = ["warm_up_all"]
 
@@ -40,7 +40,7 @@ def warm_up_all() -> dict[str, float]:
     out = {}
     for name, fn in (("qncf", _kernels_qncf.warm_up), ("rams_ekf", _kernels_ekf.warm_up),
                      ("marg", _kernels_marg.warm_up), ("tilt_rate", tilt_rate.warm_up),
-                     ("rest_detection", _rest_kernels.warm_up), ("csv_text", csvtext.warm_up)):
+                     ("rest_detection", rest_detection.warm_up), ("csv_text", csvtext.warm_up)):
         t0 = time.perf_counter()
         fn()
         out[name] = time.perf_counter() - t0

@@ -77,7 +77,7 @@ import numpy as np
 from mtcal.core.validate import as_float_array, check_accel_units, positive_scalar, sample_interval
 
 __all__ = ["RestDetectorParams", "RestReport", "RejectedRest", "detect_rests", "paper_rest_report", "ShoeParams",
-           "shoe_statistic", "detect_rests_shoe", "format_ordered"]
+           "shoe_statistic", "detect_rests_shoe", "format_ordered", "warm_up"]
 
 DEG = np.pi / 180.0
 
@@ -274,6 +274,18 @@ class _Blocks:
 
     def to_samples(self, b: int) -> int:
         return int(self.idx[b]) if b < self.idx.size else self.n
+
+
+def warm_up() -> None:
+    """Compile (or load from numba's cache) the compiled block sums of :func:`detect_rests`.
+
+    Examples
+    --------
+    >>> warm_up()
+    """
+    from mtcal.methods import _rest_kernels
+
+    _rest_kernels.warm_up()
 
 
 def runs(flag: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
