@@ -560,14 +560,18 @@ def _arrow_array(a: np.ndarray):
 
     if a.ndim != 1 or a.dtype.kind not in "iuf" or not a.dtype.isnative:
         return pa.array(a, from_pandas=True) if a.dtype.kind == "f" else pa.array(a)
-    a = np.ascontiguousarray(a)
+    if a.flags.c_contiguous:
+        values = pa.py_buffer(a)  # no copy
+    else:  # e.g. a column of an (N, 4) array: copied into Arrow's memory pool, which reuses the pages freed
+        values = pa.allocate_buffer(a.nbytes)  # by the log reader's Arrow table (fresh numpy pages fault in)
+        np.copyto(np.frombuffer(values, dtype=a.dtype), a)
     validity, nulls = None, 0
     if a.dtype.kind == "f":
         nan = np.isnan(a)
         nulls = int(np.count_nonzero(nan))
         if nulls:
             validity = pa.py_buffer(np.packbits(~nan, bitorder="little"))
-    return pa.Array.from_buffers(pa.from_numpy_dtype(a.dtype), a.size, [validity, pa.py_buffer(a)], null_count=nulls)
+    return pa.Array.from_buffers(pa.from_numpy_dtype(a.dtype), a.size, [validity, values], null_count=nulls)
 
 
 def _arrow_header_unquoted() -> bool:
