@@ -14,7 +14,7 @@ import numpy as np
 
 from mtcal.core import csvtext, metrics, montecarlo, rotations, simulate
 from mtcal.filters import _kernels_ekf, _kernels_marg, _kernels_qncf
-from mtcal.methods import tilt_rate
+from mtcal.methods import rest_detection, tilt_rate
 
 __all__ = ["warm_up_all"]
 
@@ -30,19 +30,19 @@ def warm_up_all() -> dict[str, float]:
     -------
     dict of str to float
         Seconds spent per kernel group: ``qncf``, ``rams_ekf``, ``marg``, ``tilt_rate`` (the filters' edge
-        check), ``csv_text`` (the CLI's CSV writer), ``simulate``, ``metrics``, ``rotations`` (the compiled
-        quaternion loops :mod:`mtcal.core.rotations` and :func:`mtcal.core.metrics.angle_difference`
-        use on large arrays).
+        check), ``rest_detection`` (its block sums), ``csv_text`` (the CLI's CSV writer), ``simulate``,
+        ``metrics``, ``rotations`` (the compiled quaternion loops :mod:`mtcal.core.rotations` and
+        :func:`mtcal.core.metrics.angle_difference` use on large arrays).
 
     Examples
     --------
     >>> sorted(warm_up_all())
-    ['csv_text', 'marg', 'metrics', 'qncf', 'rams_ekf', 'rotations', 'simulate', 'tilt_rate']
+    ['csv_text', 'marg', 'metrics', 'qncf', 'rams_ekf', 'rest_detection', 'rotations', 'simulate', 'tilt_rate']
     """
     out = {}
     for name, fn in (("qncf", _kernels_qncf.warm_up), ("rams_ekf", _kernels_ekf.warm_up),
                      ("marg", _kernels_marg.warm_up), ("tilt_rate", tilt_rate.warm_up),
-                     ("csv_text", csvtext.warm_up)):
+                     ("rest_detection", rest_detection.warm_up), ("csv_text", csvtext.warm_up)):
         t0 = time.perf_counter()
         fn()
         out[name] = time.perf_counter() - t0

@@ -38,7 +38,10 @@ stretch that was *not* accepted, the reason (outside the band, turning, too
 short), so a user sees why a rest was or was not found.
 
 The statistics use centred windows (the detector is for recorded logs, not
-causal); cumulative sums make it O(N) and vectorised over samples.
+causal); sums over blocks of samples and cumulative sums over the blocks make it
+O(N). The block sums are compiled (:mod:`mtcal.methods._rest_kernels`, one pass
+over the record, no temporaries of its size) and add in numpy's order, so the
+levels, rests and report are bit for bit those of the numpy expressions.
 
 References
 ----------
@@ -74,7 +77,7 @@ import numpy as np
 from mtcal.core.validate import as_float_array, check_accel_units, positive_scalar, sample_interval
 
 __all__ = ["RestDetectorParams", "RestReport", "RejectedRest", "detect_rests", "paper_rest_report", "ShoeParams",
-           "shoe_statistic", "detect_rests_shoe", "format_ordered"]
+           "shoe_statistic", "detect_rests_shoe", "format_ordered", "warm_up"]
 
 DEG = np.pi / 180.0
 
@@ -260,11 +263,10 @@ class _Blocks:
 
     def stats(self, x: np.ndarray):
         """Centred-window mean (nb, d) and rms-over-axes std (nb,) of x (N, d)."""
-        off = x[: min(self.n, 1000)].mean(axis=0)
-        xc = x - off  # centred: the sums keep their precision
-        s1 = np.add.reduceat(xc, self.idx, axis=0)
-        xc *= xc
-        s2 = np.add.reduceat(xc, self.idx, axis=0)
+        from mtcal.methods._rest_kernels import reduceat_sums  # here: importing numba is for callers only
+
+        off = x[: min(self.n, 1000)].mean(axis=0)  # centred: the sums keep their precision
+        s1, s2 = reduceat_sums(x, self.idx, off)  # np.add.reduceat of x - off and its square, bit for bit
         c = self.win_count[:, None]
         m1 = self.window(s1) / c
         var = np.maximum(self.window(s2) / c - m1 * m1, 0.0)
@@ -272,6 +274,18 @@ class _Blocks:
 
     def to_samples(self, b: int) -> int:
         return int(self.idx[b]) if b < self.idx.size else self.n
+
+
+def warm_up() -> None:
+    """Compile (or load from numba's cache) the compiled block sums of :func:`detect_rests`.
+
+    Examples
+    --------
+    >>> warm_up()
+    """
+    from mtcal.methods import _rest_kernels
+
+    _rest_kernels.warm_up()
 
 
 def runs(flag: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -288,17 +302,24 @@ def _block_levels(accel: np.ndarray, norm: np.ndarray, gyro: np.ndarray | None, 
         raise ValueError(f"record too short for rest detection: {accel.shape[0]} samples, need at least "
                          f"3 windows of {w} samples")
 
+    from mtcal.methods._rest_kernels import block_sums, row_block_sums  # here: numba only when called
+
     def block_stats(x):
-        b = x[: nb * w].reshape(nb, w, -1)
-        first = b[:, :1].copy()
-        b = b - first  # per-block offset keeps the sums precise
-        m1 = b.sum(axis=1) / w
-        b *= b
-        var = np.maximum(b.sum(axis=1) / w - m1 * m1, 0.0)
-        return np.sqrt(var.mean(axis=1)), m1 + first[:, 0]
+        # sums of d = x - (the block's first sample) (a per-block offset keeps them precise) and of d²
+        if x.flags.c_contiguous:
+            s1, s2 = block_sums(x, w)  # compiled, bit for bit numpy's sums over axis 1 below
+        else:  # numpy's summation order follows the memory layout: the numpy expression itself
+            b = x[: nb * w].reshape(nb, w, -1)
+            b = b - b[:, :1]
+            s1 = b.sum(axis=1)
+            b *= b
+            s2 = b.sum(axis=1)
+        m1 = s1 / w
+        var = np.maximum(s2 / w - m1 * m1, 0.0)
+        return np.sqrt(var.mean(axis=1)), m1 + x[: nb * w: w]
 
     a_std, _ = block_stats(accel)
-    a_norm = norm[: nb * w].reshape(nb, w).mean(axis=1)
+    a_norm = row_block_sums(norm, w) / w  # = norm[: nb * w].reshape(nb, w).mean(axis=1), bit for bit
     score = np.argsort(np.argsort(a_std)).astype(float)
     if gyro is not None:
         g_std, g_mean = block_stats(gyro)
@@ -354,7 +375,8 @@ def detect_rests(accel_m_s2, dt_s: float, *, gyro_rad_s=None,
         if g.shape != a.shape:
             raise ValueError(f"gyro_rad_s must have the shape of accel_m_s2 {a.shape}, got {g.shape}")
     w = max(3, int(round(p.window_s * fs)))
-    norm = np.sqrt(np.einsum("ij,ij->i", a, a))
+    norm = np.einsum("ij,ij->i", a, a)
+    np.sqrt(norm, out=norm)  # in place: one record-sized array fewer (fresh pages cost ~2 ms/MB to fault in)
     lv = _block_levels(a, norm, g, w, p.quiet_fraction)
     k = p.noise_factor
     grav = p.gravity_m_s2 if p.gravity_m_s2 is not None else lv["gravity"]
@@ -664,7 +686,8 @@ def detect_rests_shoe(accel_m_s2, dt_s: float, *, gyro_rad_s, params: ShoeParams
         raise ValueError(f"gyro_rad_s must have the shape of accel_m_s2 {a.shape}, got {g.shape}")
     fs = 1.0 / sample_interval(dt_s)
     w_lv = max(3, int(round(0.1 * fs)))
-    norm = np.sqrt(np.einsum("ij,ij->i", a, a))
+    norm = np.einsum("ij,ij->i", a, a)
+    np.sqrt(norm, out=norm)  # in place: one record-sized array fewer (fresh pages cost ~2 ms/MB to fault in)
     lv = _block_levels(a, norm, g, w_lv, p.quiet_fraction)
     grav = p.gravity_m_s2 if p.gravity_m_s2 is not None else lv["gravity"]
     sig_a = max(lv["accel_noise"], ACCEL_NOISE_FLOOR_M_S2)

@@ -235,3 +235,193 @@ def test_adaptive_rejection_reasons_hold_for_their_numbers(rng):
         for a, op, b in pairs:
             assert (float(a) < float(b)) if op == "<" else (float(a) > float(b)), rej.reason
     assert np.all(rep.extra["decision_statistic"][rep.is_static] < 1.0)
+
+
+# -- compiled block sums: bit for bit the numpy expressions they replace ------------------------------------
+
+def _numpy_block_levels(accel, norm, gyro, w, quiet_fraction):
+    """The numpy code of ``_block_levels`` before the compiled sums (reference)."""
+    nb = accel.shape[0] // w
+
+    def block_stats(x):
+        b = x[: nb * w].reshape(nb, w, -1)
+        first = b[:, :1].copy()
+        b = b - first
+        m1 = b.sum(axis=1) / w
+        b *= b
+        var = np.maximum(b.sum(axis=1) / w - m1 * m1, 0.0)
+        return np.sqrt(var.mean(axis=1)), m1 + first[:, 0]
+
+    a_std, _ = block_stats(accel)
+    a_norm = norm[: nb * w].reshape(nb, w).mean(axis=1)
+    score = np.argsort(np.argsort(a_std)).astype(float)
+    if gyro is not None:
+        g_std, g_mean = block_stats(gyro)
+        score += np.argsort(np.argsort(g_std))
+    m = max(3, int(np.ceil(quiet_fraction * nb)))
+    quiet = np.argpartition(score, m - 1)[:m]
+    out = {"gravity": float(np.median(a_norm[quiet])), "accel_noise": float(np.median(a_std[quiet])),
+           "accel_motion": float(np.percentile(a_std, 90))}
+    if gyro is not None:
+        out["gyro_noise"] = float(np.median(g_std[quiet]))
+        out["gyro_bias"] = np.median(g_mean[quiet], axis=0)
+        out["gyro_motion"] = float(np.percentile(g_std, 90))
+    return out
+
+
+def _numpy_blocks_stats(blk, x):
+    """The numpy code of ``_Blocks.stats`` before the compiled sums (reference)."""
+    off = x[: min(blk.n, 1000)].mean(axis=0)
+    xc = x - off
+    s1 = np.add.reduceat(xc, blk.idx, axis=0)
+    xc *= xc
+    s2 = np.add.reduceat(xc, blk.idx, axis=0)
+    c = blk.win_count[:, None]
+    m1 = blk.window(s1) / c
+    var = np.maximum(blk.window(s2) / c - m1 * m1, 0.0)
+    return m1 + off, np.sqrt(var.mean(axis=1))
+
+
+def _assert_bits(got, ref):
+    """Same shape and the same float64 values bit for bit (NaN matched as NaN, the sign of zero checked)."""
+    got, ref = np.asarray(got, float), np.asarray(ref, float)
+    assert got.shape == ref.shape
+    assert np.array_equal(got, ref, equal_nan=True), np.flatnonzero(got != ref)[:5]
+    finite = ~np.isnan(ref)
+    assert np.array_equal(np.signbit(got[finite]), np.signbit(ref[finite]))
+
+
+def _wide_record(rng, n, d=3):
+    """Values spread over 12 decades around an offset: every rounding of a sum order shows."""
+    return rng.normal(size=(n, d)) * 10 ** rng.uniform(-6, 6, size=(n, d)) + 10 * rng.normal(size=d)
+
+
+def _kernel_cases(rng):
+    """(x, w) pairs: every pairwise-summation regime (< 8, 8..128, > 128 split recursively), ragged ends."""
+    for w in list(range(1, 34)) + [63, 64, 65, 100, 127, 128, 129, 136, 255, 256, 257, 300, 1000, 1201]:
+        yield _wide_record(rng, 7 * w + int(rng.integers(0, w))), w
+
+
+def _check_kernels_against_numpy(seed=0):
+    from mtcal.methods import _rest_kernels
+
+    rng = np.random.default_rng(seed)
+    for x, w in _kernel_cases(rng):
+        nb = x.shape[0] // w
+        b = x[: nb * w].reshape(nb, w, -1)
+        b = b - b[:, :1]
+        s1, s2 = _rest_kernels.block_sums(x, w)
+        _assert_bits(s1, b.sum(axis=1))
+        _assert_bits(s2, (b * b).sum(axis=1))
+        _assert_bits(_rest_kernels.row_block_sums(x[:, 1], w), x[: nb * w, 1].reshape(nb, w).sum(axis=1))
+        for sub in {1, max(1, w // 4), w}:
+            idx = np.arange(0, x.shape[0], sub)
+            off = x[:1000].mean(axis=0)
+            r1, r2 = _rest_kernels.reduceat_sums(x, idx, off)
+            xc = x - off
+            _assert_bits(r1, np.add.reduceat(xc, idx, axis=0))
+            _assert_bits(r2, np.add.reduceat(xc * xc, idx, axis=0))
+
+
+def test_compiled_block_sums_match_numpy_bit_for_bit():
+    _check_kernels_against_numpy()
+
+
+@pytest.mark.parametrize("special", [np.nan, np.inf, -np.inf, 0.0, -0.0, 1e300])
+def test_compiled_block_sums_special_values_as_numpy(rng, special):
+    from mtcal.methods import _rest_kernels
+
+    x = _wide_record(rng, 1000)
+    x[rng.integers(0, 1000, 7), rng.integers(0, 3, 7)] = special
+    x[:25, 0] = -0.0  # a block of negative zeros: numpy's sums keep or drop the sign, so must the kernel
+    for w in (4, 25, 100, 200):
+        nb = x.shape[0] // w
+        with np.errstate(invalid="ignore", over="ignore"):
+            b = x[: nb * w].reshape(nb, w, -1)
+            b = b - b[:, :1]
+            s1, s2 = _rest_kernels.block_sums(x, w)
+            _assert_bits(s1, b.sum(axis=1))
+            _assert_bits(s2, (b * b).sum(axis=1))
+            _assert_bits(_rest_kernels.row_block_sums(x[:, 0], w), x[: nb * w, 0].reshape(nb, w).sum(axis=1))
+            idx = np.arange(0, x.shape[0], max(1, w // 4))
+            off = np.array([0.0, -0.0, 3.5])
+            r1, r2 = _rest_kernels.reduceat_sums(x, idx, off)
+            xc = x - off
+            _assert_bits(r1, np.add.reduceat(xc, idx, axis=0))
+            _assert_bits(r2, np.add.reduceat(xc * xc, idx, axis=0))
+
+
+def test_compiled_block_sums_take_any_layout(rng):
+    from mtcal.methods import _rest_kernels
+
+    x = _wide_record(rng, 600)
+    fortran, strided = np.asfortranarray(x), np.repeat(x, 2, axis=0)[::2]
+    for y in (fortran, strided, x.astype(np.float32)):
+        _assert_bits(_rest_kernels.block_sums(y, 25)[1], _rest_kernels.block_sums(np.array(y, float), 25)[1])
+    _assert_bits(_rest_kernels.row_block_sums(x[:, 2], 10), x[:, 2].reshape(60, 10).sum(axis=1))
+
+
+def _real_looking_records():
+    """IMU records as the detector meets them: rests and moves, biases, quantised and constant rests."""
+    rng = np.random.default_rng(2023)
+    t, gyro, accel = _record(rng, turn_z_deg_s=20.0)
+    yield "tilt and turn 200 Hz", accel, gyro, 1.0 / FS
+    yield "accelerometer only", accel, None, 1.0 / FS
+    yield "strided views 100 Hz", accel[::2], gyro[::2], 2.0 / FS
+    yield "Fortran-ordered", np.asfortranarray(accel), np.asfortranarray(gyro), 1.0 / FS
+    _, gyro, accel, _, _ = _walk()
+    yield "walking 1200 Hz", accel, gyro, 1 / 1200.0
+    n = 7_777
+    tilt = np.radians(np.r_[np.zeros(3000), np.linspace(0, 20, 777), np.full(4000, 20.0)])
+    accel = np.round(9.9 * np.column_stack([np.sin(tilt), np.zeros(n), np.cos(tilt)]) / 0.0024) * 0.0024
+    yield "quantised, constant rests 1 kHz", accel, np.round(rng.normal(0, 1e-3, (n, 3)) / 1e-3) * 1e-3, 1e-3
+    for fs in (50.0, 333.0, 1000.0, 3000.0):
+        n = int(rng.integers(int(0.4 * fs), int(20 * fs)))
+        gyro = rng.normal(0, 10 ** rng.uniform(-4, -2), (n, 3)) + np.radians(rng.uniform(-3, 3, 3))
+        accel = rng.normal(0, 10 ** rng.uniform(-3, -1), (n, 3)) + [0, 0, 9.8 * rng.uniform(0.97, 1.03)]
+        for _ in range(4):
+            s = int(rng.integers(0, n))
+            e = min(n, s + int(rng.integers(1, 2 * fs)))
+            gyro[s:e, rng.integers(0, 3)] += rng.normal(0, 1)
+            accel[s:e, rng.integers(0, 3)] += rng.normal(0, 2) * np.sin(np.arange(e - s) / fs * 6)
+        yield f"random moves {fs:g} Hz", accel, gyro, 1 / fs
+
+
+def _check_detector_against_numpy():
+    for name, accel, gyro, dt in _real_looking_records():
+        w = max(3, int(round(0.1 / dt)))
+        norm = np.sqrt(np.einsum("ij,ij->i", accel, accel))
+        got = rest_detection._block_levels(accel, norm, gyro, w, 0.1)
+        ref = _numpy_block_levels(accel, norm, gyro, w, 0.1)
+        assert got.keys() == ref.keys(), name
+        for key in ref:
+            _assert_bits(got[key], ref[key])
+        blk = rest_detection._Blocks(accel.shape[0], w)
+        for x in (norm[:, None], accel) + (() if gyro is None else (gyro,)):
+            for g, r in zip(blk.stats(x), _numpy_blocks_stats(blk, x)):
+                _assert_bits(g, r)
+
+
+def test_detector_statistics_match_the_numpy_code_bit_for_bit():
+    _check_detector_against_numpy()
+
+
+def test_compiled_sums_match_numpy_on_the_other_code_path():
+    """The same checks in a fresh process on the other numba/numpy code path (generic <-> native)."""
+    import os
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    env = dict(os.environ)
+    if env.get("NUMBA_CPU_NAME") == "generic":  # tests run generic (make test): check native (make bench)
+        for var in ("NUMBA_CPU_NAME", "NPY_DISABLE_CPU_FEATURES", "GLIBC_TUNABLES"):
+            env.pop(var, None)
+    else:
+        env.update(NUMBA_CPU_NAME="generic", NPY_DISABLE_CPU_FEATURES="X86_V3 X86_V4 AVX512_ICL AVX512_SPR")
+    root = Path(__file__).resolve().parents[2]
+    env["PYTHONPATH"] = os.pathsep.join([str(root)] + [p for p in env.get("PYTHONPATH", "").split(os.pathsep) if p])
+    code = ("from tests.methods import test_rest_detection as t; t._check_kernels_against_numpy(1); "
+            "t._check_detector_against_numpy(); print('same bits')")
+    res = subprocess.run([sys.executable, "-c", code], env=env, cwd=root, capture_output=True, text=True)
+    assert res.returncode == 0 and res.stdout.strip() == "same bits", res.stderr[-2000:]
