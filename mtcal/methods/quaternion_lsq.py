@@ -65,6 +65,8 @@ def _flip(q: np.ndarray, ref: np.ndarray) -> np.ndarray:
 
 
 _IDENTITY = np.array([1.0, 0.0, 0.0, 0.0])
+#: Rows from which :func:`_apply` normalises in one compiled pass.
+_KERNEL_MIN_ROWS = 2048
 
 
 def _align_pairs(q_s: np.ndarray, q_b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -161,10 +163,22 @@ def apply_error_matrix(q_matrix, q_sensor, *, normalize: bool = True) -> np.ndar
 
 
 def _apply(q_mat: np.ndarray, q_s: np.ndarray, normalize: bool = True) -> np.ndarray:
-    """Eq 10 on a checked matrix (stack) and checked unit quaternions (trusted)."""
-    q_s = _flip(q_s, _IDENTITY)
+    """Eq 10 on a checked matrix (stack) and checked (finite) unit quaternions (trusted)."""
+    # _flip(q_s, identity): for finite q, dot(q, [1, 0, 0, 0]) = q0 + (±0) + (±0) + (±0) has the sign of q0
+    q_s = np.where(q_s[..., :1] < 0.0, -q_s, q_s)
     q_b = q_s @ np.swapaxes(q_mat, -1, -2)
     if not normalize:
         return q_b
+    if q_b.dtype == np.float64 and q_b.size >= 4 * _KERNEL_MIN_ROWS and q_b.flags.c_contiguous:
+        from mtcal.core._rotation_kernels import normalize2   # lazy: numba loads on the first large array
+
+        flat = q_b.reshape(-1, 4)
+        out, norm = np.empty_like(flat), np.empty(flat.shape[0])
+        normalize2(flat, out, norm)                # q / |q| as below, row by row (rows of |q| < 1e-12 skipped)
+        small = ~(norm >= 1e-12)                   # NaN matrices give NaN rows: redone below, as numpy does
+        if np.any(small):
+            with np.errstate(invalid="ignore", divide="ignore"):
+                out[small] = flat[small] / norm[small, None]
+        return out.reshape(q_b.shape)
     with np.errstate(invalid="ignore"):
         return q_b / np.linalg.norm(q_b, axis=-1, keepdims=True)
