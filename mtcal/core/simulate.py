@@ -136,6 +136,14 @@ class Trajectory:
         object.__setattr__(self, "time_s", _frozen(t))
         object.__setattr__(self, "q_wb", _frozen(_continuous(q)))
         object.__setattr__(self, "accel_w_m_s2", _frozen(acc))
+        object.__setattr__(self, "_truth", {})   # memo of :func:`_truth_outputs` (not a field: eq/repr ignore it)
+
+    def __getstate__(self) -> dict:
+        return {k: v for k, v in self.__dict__.items() if k != "_truth"}   # pickles carry no memo
+
+    def __setstate__(self, state: dict) -> None:
+        self.__dict__.update(state)
+        self.__dict__["_truth"] = {}
 
     @property
     def dt_s(self) -> float:
@@ -246,6 +254,22 @@ def specific_force(trajectory: Trajectory, gravity_w_m_s2=GRAVITY_W_M_S2) -> np.
         return out
     c_wb = rotations.quat_to_matrix(trajectory.q_wb)
     return np.einsum("nji,nj->ni", c_wb, trajectory.accel_w_m_s2 - g)
+
+
+def _truth_outputs(trajectory: Trajectory, gravity_w_m_s2) -> tuple[np.ndarray, np.ndarray]:
+    """Read-only :func:`body_rates` and :func:`specific_force` of ``trajectory``, computed once per Trajectory.
+
+    A Trajectory is frozen (its arrays are read-only), so simulating the same object again (sweeps,
+    blocks of trials on a shared truth) reuses its truth outputs; the memo keeps the last gravity only.
+    """
+    g = as_float_array(gravity_w_m_s2, "gravity_w_m_s2", ndim=1, last_dim=3)
+    memo = trajectory._truth
+    if "rates" not in memo:
+        memo["rates"] = _frozen(body_rates(trajectory))
+    key = g.tobytes()
+    if memo.get("gravity") != key:
+        memo["force"], memo["gravity"] = _frozen(specific_force(trajectory, g)), key
+    return memo["rates"], memo["force"]
 
 
 def integrate_gyro(q0, gyro_rad_s, dt_s: float) -> np.ndarray:
@@ -845,10 +869,11 @@ class ImuStream:
             raise ValueError(f"trajectory has {len(trajectory)} samples; the counter allows at most 2**33")
         engine = _check_engine(engine)
         q_bs = np.asarray(model.q_mount, dtype=float)
-        self.q_ws = rotations.quat_multiply(trajectory.q_wb, q_bs)
+        self.q_ws = rotations.hamilton(trajectory.q_wb, q_bs)   # both checked (Trajectory, ImuErrorModel)
         c_sb = rotations.quat_to_matrix(q_bs).T
-        self.gyro_true = body_rates(trajectory) @ c_sb.T
-        self.accel_true = specific_force(trajectory, gravity_w_m_s2) @ c_sb.T
+        rates, force = _truth_outputs(trajectory, gravity_w_m_s2)
+        self.gyro_true = rates @ c_sb.T
+        self.accel_true = force @ c_sb.T
         key = spawn_philox_key(rng) if rng is not None else (0, 0)
         dt, t_on = trajectory.dt_s, model.time_since_power_on_s
         self._gyro = _SensorStream(model.gyro, key, 0, ids, dt, t_on, block, engine)
