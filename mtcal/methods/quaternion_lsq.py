@@ -152,7 +152,7 @@ def apply_error_matrix(q_matrix, q_sensor, *, normalize: bool = True) -> np.ndar
     q_mat = np.array(q_matrix, dtype=float)
     if q_mat.ndim < 2 or q_mat.shape[-2:] != (4, 4) or np.any(np.isinf(q_mat)):
         raise ValueError(f"q_matrix must be a finite 4x4 array or a stack (..., 4, 4), got shape {q_mat.shape}")
-    q_s = unit_quaternion(q_sensor, "q_sensor")
+    q_s = unit_quaternion(q_sensor, "q_sensor", copy=False)   # only read: _apply returns new arrays
     if q_mat.ndim > 2 and q_s.ndim < 2:
         raise ValueError(f"q_sensor must have shape (..., N, 4) for a stack of matrices, got {q_s.shape}")
     try:

@@ -386,7 +386,7 @@ def calibrate(q_ws, reference_euler_rad, dt_s: float, *, gyro_rad_s=None, fracti
         Too few rests, a position without a matching rest, or degenerate
         positions (condition number in the message).
     """
-    qq = unit_quaternion(q_ws, "q_ws")
+    qq = unit_quaternion(q_ws, "q_ws", copy=False)      # only read (the result holds new arrays)
     if qq.ndim not in (2, 3):
         raise ValueError(f"q_ws must have shape (N, 4) or (T, N, 4), got {qq.shape}")
     ref = as_float_array(reference_euler_rad, "reference_euler_rad", ndim=2, last_dim=3)
@@ -402,7 +402,7 @@ def calibrate(q_ws, reference_euler_rad, dt_s: float, *, gyro_rad_s=None, fracti
         if any(not isinstance(r, slice) or r.stop > qq.shape[-2] for r in rests):
             raise ValueError(f"rests must be slices within the {qq.shape[-2]} samples of q_ws")
     elif gyro_rad_s is not None:
-        gyro = as_float_array(gyro_rad_s, "gyro_rad_s", ndim=(2, 3), last_dim=3)
+        gyro = as_float_array(gyro_rad_s, "gyro_rad_s", ndim=(2, 3), last_dim=3, copy=False)   # only read
         if gyro.shape[-2] != qq.shape[-2]:
             raise ValueError(f"gyro_rad_s has {gyro.shape[-2]} samples but q_ws has {qq.shape[-2]}")
     q_ref = rotations.quat_from_euler_zxy(ref[:, 0], ref[:, 1], ref[:, 2])

@@ -67,3 +67,12 @@ def test_apply_compiled_normalisation_is_bit_identical(stack):
     nan_mat[..., 0, 0] = np.nan
     assert np.isnan(quaternion_lsq.apply_error_matrix(nan_mat, q)).all()
     assert np.isnan(quaternion_lsq.apply_error_matrix(np.zeros_like(mat), q)).all()   # 0 / 0 rows, as numpy
+
+
+def test_apply_error_matrix_never_aliases_or_modifies_its_input():
+    q = -body_quats(SIX_POSITIONS_DEG)              # q0 < 0: the sign rule flips every row
+    before = q.copy()
+    for normalize in (True, False):
+        out = quaternion_lsq.apply_error_matrix(np.eye(4), q, normalize=normalize)
+        assert not np.shares_memory(out, q) and np.array_equal(q, before)
+        assert np.allclose(out, -before)
