@@ -421,3 +421,17 @@ def test_truth_outputs_memoised_per_trajectory(turntable):
     assert clone._truth == {} and np.array_equal(simulate.simulate_imu(clone, model).gyro_rad_s, first.gyro_rad_s)
     with pytest.raises(ValueError, match="gravity_w_m_s2 must have last dimension 3"):
         simulate.simulate_imu(turntable, model, gravity_w_m_s2=(0.0, -9.8))
+
+
+def test_warmup_decay_reused_only_for_equal_time_samples():
+    t = np.arange(3000) * 1e-3
+    first = simulate._warmup_decay(t, 300.0, 90.0)
+    assert first.tobytes() == np.exp(-(t + 300.0) / 90.0).tobytes() and not first.flags.writeable
+    assert simulate._warmup_decay(t.copy(), 300.0, 90.0) is first            # equal samples: reused
+    assert simulate._warmup_decay(t, 300.0, 60.0) is not first               # another time constant
+    shifted = t + 1e-3
+    assert simulate._warmup_decay(shifted, 300.0, 90.0).tobytes() == np.exp(-(shifted + 300.0) / 90.0).tobytes()
+    errs = SensorErrors(warmup_bias=(1e-3, 0.0, -1e-3), warmup_tau_s=90.0)
+    a = simulate.apply_sensor_errors(errs, np.zeros((3000, 3)), t, time_since_power_on_s=300.0)
+    b = simulate.apply_sensor_errors(errs, np.zeros((3000, 3)), t, time_since_power_on_s=300.0, engine="numpy")
+    assert a.tobytes() == b.tobytes()
