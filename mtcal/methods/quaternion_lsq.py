@@ -165,7 +165,15 @@ def apply_error_matrix(q_matrix, q_sensor, *, normalize: bool = True) -> np.ndar
 def _apply(q_mat: np.ndarray, q_s: np.ndarray, normalize: bool = True) -> np.ndarray:
     """Eq 10 on a checked matrix (stack) and checked (finite) unit quaternions (trusted)."""
     # _flip(q_s, identity): for finite q, dot(q, [1, 0, 0, 0]) = q0 + (±0) + (±0) + (±0) has the sign of q0
-    q_s = np.where(q_s[..., :1] < 0.0, -q_s, q_s)
+    if q_s.dtype == np.float64 and q_s.size >= 4 * _KERNEL_MIN_ROWS:
+        from mtcal.core._rotation_kernels import rotvec_prepare   # lazy: numba loads on the first large array
+
+        flat = q_s.reshape(-1, 4)
+        flipped = np.empty(flat.shape)
+        rotvec_prepare(flat, flipped, np.empty(flat.shape[0]))   # −q where q0 < 0, in one pass
+        q_s = flipped.reshape(q_s.shape)
+    else:
+        q_s = np.where(q_s[..., :1] < 0.0, -q_s, q_s)
     q_b = q_s @ np.swapaxes(q_mat, -1, -2)
     if not normalize:
         return q_b
