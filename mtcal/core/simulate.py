@@ -125,7 +125,7 @@ class Trajectory:
 
     def __post_init__(self) -> None:
         t = time_vector(self.time_s)
-        q = unit_quaternion(self.q_wb, "q_wb")
+        q = unit_quaternion(self.q_wb, "q_wb", copy=False)   # only read: _continuous returns a new array
         if q.ndim != 2 or q.shape[0] != t.size:
             raise ValueError(f"q_wb must have shape ({t.size}, 4) to match time_s, got {q.shape}")
         acc = (np.zeros((t.size, 3)) if self.accel_w_m_s2 is None
@@ -134,8 +134,16 @@ class Trajectory:
             raise ValueError(f"accel_w_m_s2 must have shape ({t.size}, 3), got {acc.shape}")
         uniform_dt(t)
         object.__setattr__(self, "time_s", _frozen(t))
-        object.__setattr__(self, "q_wb", _frozen(rotations.make_continuous(q, axis=0)))
+        object.__setattr__(self, "q_wb", _frozen(_continuous(q)))
         object.__setattr__(self, "accel_w_m_s2", _frozen(acc))
+        object.__setattr__(self, "_truth", {})   # memo of :func:`_truth_outputs` (not a field: eq/repr ignore it)
+
+    def __getstate__(self) -> dict:
+        return {k: v for k, v in self.__dict__.items() if k != "_truth"}   # pickles carry no memo
+
+    def __setstate__(self, state: dict) -> None:
+        self.__dict__.update(state)
+        self.__dict__["_truth"] = {}
 
     @property
     def dt_s(self) -> float:
@@ -151,9 +159,87 @@ class Trajectory:
         return int(self.time_s.size)
 
 
+def _continuous(q: np.ndarray) -> np.ndarray:
+    """``rotations.make_continuous(q, axis=0)`` of a checked (N, 4) float64 array, always a new array.
+
+    A large array goes straight to the compiled loop make_continuous runs (no copy, no re-check)."""
+    if q.dtype == np.float64 and q.ndim == 2 and q.shape[0] >= rotations._KERNEL_MIN_ROWS:
+        out = np.empty((q.shape[0], 1, 4))
+        rotations._kernels().continuous3(q.reshape(q.shape[0], 1, 4), out)
+        return out.reshape(q.shape[0], 4)
+    return rotations.make_continuous(q, axis=0)
+
+
+@jit
+def _relative_rotations(q, qf, vnorm):  # pragma: no cover - compiled
+    """Sign-aligned ``qf = normalize(conj(q_k) ⊗ q_{k+1})`` (M = N − 1 rows) and ``vnorm = |qf[1:]|``.
+
+    The operations of ``quat_conjugate`` (× −1), ``hamilton``, ``quat_normalize`` and
+    ``rotvec_from_quat``'s sign alignment, fused into one pass (mtcal.core._rotation_kernels).
+    """
+    for i in range(qf.shape[0]):
+        p0, p1, p2, p3 = q[i, 0], q[i, 1] * -1.0, q[i, 2] * -1.0, q[i, 3] * -1.0
+        q0, q1, q2, q3 = q[i + 1, 0], q[i + 1, 1], q[i + 1, 2], q[i + 1, 3]
+        d0 = p0 * q0 - p1 * q1 - p2 * q2 - p3 * q3
+        d1 = p0 * q1 + p1 * q0 + p2 * q3 - p3 * q2
+        d2 = p0 * q2 - p1 * q3 + p2 * q0 + p3 * q1
+        d3 = p0 * q3 + p1 * q2 - p2 * q1 + p3 * q0
+        n = np.sqrt(d0 * d0 + d1 * d1 + d2 * d2 + d3 * d3)
+        d0, d1, d2, d3 = d0 / n, d1 / n, d2 / n, d3 / n
+        if d0 < 0.0:
+            d0, d1, d2, d3 = -d0, -d1, -d2, -d3
+        qf[i, 0], qf[i, 1], qf[i, 2], qf[i, 3] = d0, d1, d2, d3
+        vnorm[i] = np.sqrt(d1 * d1 + d2 * d2 + d3 * d3)
+
+
+@jit
+def _rates_finish(qf, vnorm, angle, time_s, out):  # pragma: no cover - compiled
+    """``out[k] = rotvec_k / (t_{k+1} − t_k)`` (``rotvec_from_quat``'s finish), last row repeated."""
+    m = qf.shape[0]
+    for i in range(m):
+        k = 2.0 if vnorm[i] < 1e-12 else angle[i] / vnorm[i]
+        dt = time_s[i + 1] - time_s[i]
+        out[i, 0] = (k * qf[i, 1]) / dt
+        out[i, 1] = (k * qf[i, 2]) / dt
+        out[i, 2] = (k * qf[i, 3]) / dt
+    for c in range(3):
+        out[m, c] = out[m - 1, c]
+
+
+@jit
+def _specific_force_kernel(q, v, out):  # pragma: no cover - compiled
+    """``out[n] = C(q_n)ᵀ v_n``: ``quat_to_matrix``'s arithmetic, then einsum's ``0 + Σ_j C_ji v_j`` (j in order)."""
+    for i in range(q.shape[0]):
+        w, x, y, z = q[i, 0], q[i, 1], q[i, 2], q[i, 3]
+        n = np.sqrt(x * x + y * y + z * z + w * w)
+        x, y, z, w = x / n, y / n, z / n, w / n
+        x2, y2, z2, w2 = x * x, y * y, z * z, w * w
+        xy, zw, xz, yw, yz, xw = x * y, z * w, x * z, y * w, y * z, x * w
+        c00 = x2 - y2 - z2 + w2
+        c10 = 2.0 * (xy + zw)
+        c20 = 2.0 * (xz - yw)
+        c01 = 2.0 * (xy - zw)
+        c11 = -x2 + y2 - z2 + w2
+        c21 = 2.0 * (yz + xw)
+        c02 = 2.0 * (xz + yw)
+        c12 = 2.0 * (yz - xw)
+        c22 = -x2 - y2 + z2 + w2
+        v0, v1, v2 = v[i, 0], v[i, 1], v[i, 2]
+        out[i, 0] = ((0.0 + c00 * v0) + c10 * v1) + c20 * v2
+        out[i, 1] = ((0.0 + c01 * v0) + c11 * v1) + c21 * v2
+        out[i, 2] = ((0.0 + c02 * v0) + c12 * v1) + c22 * v2
+
+
 def body_rates(trajectory: Trajectory) -> np.ndarray:
     """Interval-mean body rates ``ω_k = rotvec(q_k⁻¹ ⊗ q_{k+1}) / Δt`` (rad/s), shape (N, 3)."""
     q = trajectory.q_wb
+    if q.shape[0] - 1 >= rotations._KERNEL_MIN_ROWS:   # fused passes, bit-identical to the expression below
+        m = q.shape[0] - 1
+        qf, vnorm = np.empty((m, 4)), np.empty(m)
+        _relative_rotations(q, qf, vnorm)
+        out = np.empty((m + 1, 3))
+        _rates_finish(qf, vnorm, 2.0 * np.arctan2(vnorm, qf[:, 0]), trajectory.time_s, out)
+        return out
     dq = rotations.quat_multiply(rotations.quat_conjugate(q[:-1]), q[1:])
     omega = rotations.rotvec_from_quat(rotations.quat_normalize(dq)) / np.diff(trajectory.time_s)[:, None]
     return np.concatenate([omega, omega[-1:]], axis=0)
@@ -162,8 +248,28 @@ def body_rates(trajectory: Trajectory) -> np.ndarray:
 def specific_force(trajectory: Trajectory, gravity_w_m_s2=GRAVITY_W_M_S2) -> np.ndarray:
     """Specific force in the body frame ``f_b = C_wbᵀ (a_w − g_w)`` (m/s²), shape (N, 3)."""
     g = as_float_array(gravity_w_m_s2, "gravity_w_m_s2", ndim=1, last_dim=3)
+    if len(trajectory) >= rotations._KERNEL_MIN_ROWS:   # one pass, bit-identical to the einsum below
+        out = np.empty((len(trajectory), 3))
+        _specific_force_kernel(trajectory.q_wb, trajectory.accel_w_m_s2 - g, out)
+        return out
     c_wb = rotations.quat_to_matrix(trajectory.q_wb)
     return np.einsum("nji,nj->ni", c_wb, trajectory.accel_w_m_s2 - g)
+
+
+def _truth_outputs(trajectory: Trajectory, gravity_w_m_s2) -> tuple[np.ndarray, np.ndarray]:
+    """Read-only :func:`body_rates` and :func:`specific_force` of ``trajectory``, computed once per Trajectory.
+
+    A Trajectory is frozen (its arrays are read-only), so simulating the same object again (sweeps,
+    blocks of trials on a shared truth) reuses its truth outputs; the memo keeps the last gravity only.
+    """
+    g = as_float_array(gravity_w_m_s2, "gravity_w_m_s2", ndim=1, last_dim=3)
+    memo = trajectory._truth
+    if "rates" not in memo:
+        memo["rates"] = _frozen(body_rates(trajectory))
+    key = g.tobytes()
+    if memo.get("gravity") != key:
+        memo["force"], memo["gravity"] = _frozen(specific_force(trajectory, g)), key
+    return memo["rates"], memo["force"]
 
 
 def integrate_gyro(q0, gyro_rad_s, dt_s: float) -> np.ndarray:
@@ -573,6 +679,29 @@ def _use_parallel(trials: int, samples: int) -> bool:
     return trials >= 2 and trials * samples >= PARALLEL_MIN_WORK and numba.get_num_threads() > 1
 
 
+#: Recent warm-up decays ``(t_on, tau, time_s, decay)`` of long chunks, newest first (see :func:`_warmup_decay`).
+_WARMUP_MEMO: list = []
+_WARMUP_MEMO_SIZE = 4
+
+
+def _warmup_decay(time_s: np.ndarray, t_on: float, tau_s: float) -> np.ndarray:
+    """``np.exp(-(time_s + t_on) / tau_s)``, reused while equal time samples come back (read-only).
+
+    A Monte Carlo simulating one trial per call on the same time base (each with its own draw, so
+    its own Trajectory) recomputes this exponential every call; an exact comparison of the time
+    samples (equal inputs give equal outputs) is ~20× cheaper than the ``exp``.
+    """
+    if time_s.size < 2048:
+        return np.exp(-(time_s + t_on) / tau_s)
+    for a, b, t, decay in list(_WARMUP_MEMO):
+        if a == t_on and b == tau_s and t.shape == time_s.shape and np.array_equal(t, time_s):
+            return decay
+    decay = _frozen(np.exp(-(time_s + t_on) / tau_s))
+    _WARMUP_MEMO.insert(0, (t_on, tau_s, _frozen(time_s.copy()), decay))
+    del _WARMUP_MEMO[_WARMUP_MEMO_SIZE:]
+    return decay
+
+
 class _SensorStream:
     """Applies one triad's :class:`SensorErrors` chunk by chunk.
 
@@ -663,7 +792,7 @@ class _SensorStream:
         flags = 0
         warm = none2
         if np.any(self.warm):
-            warm, flags = np.ascontiguousarray(np.exp(-(time_s + self.t_on) / e.warmup_tau_s)[:, None] * self.warm), 1
+            warm, flags = np.ascontiguousarray(_warmup_decay(time_s, self.t_on, e.warmup_tau_s)[:, None] * self.warm), 1
         turn_on = none2 if self.turn_on is None else np.ascontiguousarray(self.turn_on[:, 0, :])
         flags |= 0 if self.turn_on is None else 2
         flags |= (4 if e.noise_density else 0) | (8 if e.bias_random_walk else 0) | (16 if e.bias_instability else 0)
@@ -763,10 +892,11 @@ class ImuStream:
             raise ValueError(f"trajectory has {len(trajectory)} samples; the counter allows at most 2**33")
         engine = _check_engine(engine)
         q_bs = np.asarray(model.q_mount, dtype=float)
-        self.q_ws = rotations.quat_multiply(trajectory.q_wb, q_bs)
+        self.q_ws = rotations.hamilton(trajectory.q_wb, q_bs)   # both checked (Trajectory, ImuErrorModel)
         c_sb = rotations.quat_to_matrix(q_bs).T
-        self.gyro_true = body_rates(trajectory) @ c_sb.T
-        self.accel_true = specific_force(trajectory, gravity_w_m_s2) @ c_sb.T
+        rates, force = _truth_outputs(trajectory, gravity_w_m_s2)
+        self.gyro_true = rates @ c_sb.T
+        self.accel_true = force @ c_sb.T
         key = spawn_philox_key(rng) if rng is not None else (0, 0)
         dt, t_on = trajectory.dt_s, model.time_since_power_on_s
         self._gyro = _SensorStream(model.gyro, key, 0, ids, dt, t_on, block, engine)

@@ -131,9 +131,50 @@ def angle_rad(value, name: str, *, limit_rad: float = 2 * np.pi, **kwargs) -> np
     return arr
 
 
-def unit_quaternion(value, name: str, *, atol: float = 1e-6) -> np.ndarray:
-    """Check an array of scalar-first unit quaternions of shape (..., 4)."""
-    q = as_float_array(value, name, last_dim=4)
+#: Quaternions from which :func:`unit_quaternion` checks in one compiled pass (numba loads on first use).
+_COMPILED_CHECK_MIN_ROWS = 2048
+
+
+def unit_quaternion(value, name: str, *, atol: float = 1e-6, copy: bool = True) -> np.ndarray:
+    """Check an array of scalar-first unit quaternions of shape (..., 4).
+
+    A large float64 array is checked in one compiled pass (finite, ``abs(|q| − 1) <= atol``)
+    without temporaries; anything else, or a failing check, goes through the numpy checks
+    (same errors).
+
+    Parameters
+    ----------
+    value : array_like, shape (..., 4)
+        Quaternions to check.
+    name : str
+        Argument name used in error messages.
+    atol : float
+        Tolerance on the norm.
+    copy : bool
+        ``False`` returns float64 input itself (read-only by convention, as
+        :func:`as_float_array`); the caller must not modify it.
+
+    Returns
+    -------
+    ndarray, shape (..., 4)
+        float64 quaternions (a copy unless ``copy=False``).
+
+    Examples
+    --------
+    >>> unit_quaternion([1.0, 0.0, 0.0, 0.0], "q").tolist()
+    [1.0, 0.0, 0.0, 0.0]
+    >>> unit_quaternion([2.0, 0.0, 0.0, 0.0], "q")
+    Traceback (most recent call last):
+    ...
+    ValueError: q must hold unit quaternions (|q| = 1 within 1e-06); got |q| in [2, 2]
+    """
+    if (isinstance(value, np.ndarray) and value.dtype == np.float64 and value.ndim >= 1
+            and value.shape[-1] == 4 and value.size >= 4 * _COMPILED_CHECK_MIN_ROWS):
+        from mtcal.core._rotation_kernels import all_unit  # lazy: numba loads on the first large array
+
+        if all_unit(value.reshape(-1, 4), float(atol)):
+            return np.array(value, dtype=np.float64, copy=True) if copy else np.asarray(value, dtype=np.float64)
+    q = as_float_array(value, name, last_dim=4, copy=copy)
     norm = np.linalg.norm(q, axis=-1)
     if np.any(np.abs(norm - 1.0) > atol):
         raise ValueError(f"{name} must hold unit quaternions (|q| = 1 within {atol:g}); "

@@ -39,6 +39,7 @@ import numpy as np
 from scipy.optimize import linear_sum_assignment
 
 from mtcal.core import rotations
+from mtcal.core.compiled import jit
 from mtcal.methods import quaternion_lsq
 from mtcal.core.validate import as_float_array, positive_scalar, sample_interval, unit_quaternion
 from mtcal.core.profiles import AngleProfile, step_schedule
@@ -131,10 +132,42 @@ def stillness_from_gyro(gyro_rad_s, dt_s: float, *, window_s: float = 0.1,
                                 positive_scalar(threshold_rad_s, "threshold_rad_s"))
 
 
+@jit
+def _moving_mean_kernel(w, win, out):  # pragma: no cover - compiled
+    """:func:`_moving_mean` of (T, N, 3) along N into ``out`` (T, 3, N): the same operations.
+
+    The running sum is ``np.cumsum`` of ``[0, x_0, x_1, …]`` (left to right), then
+    ``(c[hi] − c[lo]) / (hi − lo)`` with the clipped window bounds.
+    """
+    n = w.shape[1]
+    c = np.empty(n + 1)
+    half = win // 2
+    for t in range(w.shape[0]):
+        for j in range(3):
+            c[0] = 0.0
+            for k in range(n):
+                c[k + 1] = c[k] + w[t, k, j]
+            for i in range(n):
+                lo = min(max(i - half, 0), n)
+                hi = min(max(i - half + win, 0), n)
+                out[t, j, i] = (c[hi] - c[lo]) / np.float64(hi - lo)
+
+
+#: Samples from which :func:`_stillness_from_gyro` runs its moving mean compiled.
+_KERNEL_MIN_SAMPLES = 2048
+
+
 def _stillness_from_gyro(w: np.ndarray, dt: float, window_s: float, threshold_rad_s: float) -> np.ndarray:
     """:func:`stillness_from_gyro` on checked arrays (trusted)."""
     win = max(1, int(round(window_s / dt)))
-    norm = np.linalg.norm(_moving_mean(w, win, axis=-2), axis=-1)
+    if w.dtype == np.float64 and w.shape[-2] >= _KERNEL_MIN_SAMPLES:   # one pass, no temporaries; bit-identical
+        w3 = w if w.ndim == 3 else w[None]
+        mean = np.empty((w3.shape[0], 3, w3.shape[1]))                 # _moving_mean's memory layout
+        _moving_mean_kernel(w3, win, mean)
+        mean = np.moveaxis(mean, 1, 2)
+        norm = np.linalg.norm(mean if w.ndim == 3 else mean[0], axis=-1)
+    else:
+        norm = np.linalg.norm(_moving_mean(w, win, axis=-2), axis=-1)
     still = norm < threshold_rad_s
     return still if still.ndim == 1 else np.all(still, axis=0)
 
@@ -353,7 +386,7 @@ def calibrate(q_ws, reference_euler_rad, dt_s: float, *, gyro_rad_s=None, fracti
         Too few rests, a position without a matching rest, or degenerate
         positions (condition number in the message).
     """
-    qq = unit_quaternion(q_ws, "q_ws")
+    qq = unit_quaternion(q_ws, "q_ws", copy=False)      # only read (the result holds new arrays)
     if qq.ndim not in (2, 3):
         raise ValueError(f"q_ws must have shape (N, 4) or (T, N, 4), got {qq.shape}")
     ref = as_float_array(reference_euler_rad, "reference_euler_rad", ndim=2, last_dim=3)
@@ -369,7 +402,7 @@ def calibrate(q_ws, reference_euler_rad, dt_s: float, *, gyro_rad_s=None, fracti
         if any(not isinstance(r, slice) or r.stop > qq.shape[-2] for r in rests):
             raise ValueError(f"rests must be slices within the {qq.shape[-2]} samples of q_ws")
     elif gyro_rad_s is not None:
-        gyro = as_float_array(gyro_rad_s, "gyro_rad_s", ndim=(2, 3), last_dim=3)
+        gyro = as_float_array(gyro_rad_s, "gyro_rad_s", ndim=(2, 3), last_dim=3, copy=False)   # only read
         if gyro.shape[-2] != qq.shape[-2]:
             raise ValueError(f"gyro_rad_s has {gyro.shape[-2]} samples but q_ws has {qq.shape[-2]}")
     q_ref = rotations.quat_from_euler_zxy(ref[:, 0], ref[:, 1], ref[:, 2])

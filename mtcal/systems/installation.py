@@ -146,8 +146,8 @@ def _fraction(value) -> float:
     return f
 
 
-def _stream(name: str, value, ndim=(2, 3), last_dim: int = 3) -> np.ndarray:
-    return as_float_array(value, name, ndim=ndim, last_dim=last_dim)
+def _stream(name: str, value, ndim=(2, 3), last_dim: int = 3, *, copy: bool = True) -> np.ndarray:
+    return as_float_array(value, name, ndim=ndim, last_dim=last_dim, copy=copy)
 
 
 def _attitude_inputs(q_ws, gyro_rad_s, accel_m_s2, qncf_params, q0, dt_s, *, need_dt: bool):
@@ -156,10 +156,11 @@ def _attitude_inputs(q_ws, gyro_rad_s, accel_m_s2, qncf_params, q0, dt_s, *, nee
         if accel_m_s2 is not None or qncf_params is not None or q0 is not None:
             raise ValueError("give either q_ws (sensor attitude) or gyro_rad_s and accel_m_s2 (raw data for "
                              "the QNCF), not both; accel_m_s2, qncf_params and q0 belong to the raw data")
-        q = unit_quaternion(q_ws, "q_ws")
+        # only read inside (the results hold new arrays): no copies of the caller's records
+        q = unit_quaternion(q_ws, "q_ws", copy=False)
         if q.ndim not in (2, 3):
             raise ValueError(f"q_ws must have shape (N, 4) or (T, N, 4), got {q.shape}")
-        gyro = None if gyro_rad_s is None else _stream("gyro_rad_s", gyro_rad_s)
+        gyro = None if gyro_rad_s is None else _stream("gyro_rad_s", gyro_rad_s, copy=False)
         if gyro is not None and gyro.shape[-2] != q.shape[-2]:
             raise ValueError(f"gyro_rad_s has {gyro.shape[-2]} samples but q_ws has {q.shape[-2]}")
         return q, gyro, None, None, None
@@ -222,7 +223,7 @@ def detect_rests(dt_s: float, *, gyro_rad_s=None, q_ws=None, min_rest_s: float =
     dt = sample_interval(dt_s)
     args = (positive_scalar(window_s, "window_s"), positive_scalar(threshold_rad_s, "threshold_rad_s"))
     if gyro_rad_s is not None:
-        still = six_position._stillness_from_gyro(_stream("gyro_rad_s", gyro_rad_s), dt, *args)
+        still = six_position._stillness_from_gyro(_stream("gyro_rad_s", gyro_rad_s, copy=False), dt, *args)
     elif q_ws is not None:
         q = unit_quaternion(q_ws, "q_ws")
         if q.ndim not in (2, 3):

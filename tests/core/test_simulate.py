@@ -369,3 +369,69 @@ def test_trial_ids_bad_input():
         simulate.simulate_imu(traj, model, rng, trials=3, trial_ids=[0, 1])
     with pytest.raises(ValueError, match="trial_ids needs a per-trial truth"):
         simulate.apply_sensor_errors(model.gyro, np.zeros((10, 3)), traj.time_s, rng, trial_ids=[0])
+
+
+def _reference_truth(traj, gravity=simulate.GRAVITY_W_M_S2):
+    """The numpy expressions the fused body-rate and specific-force kernels replace."""
+    q = traj.q_wb
+    dq = rotations.quat_multiply(rotations.quat_conjugate(q[:-1]), q[1:])
+    omega = rotations.rotvec_from_quat(rotations.quat_normalize(dq)) / np.diff(traj.time_s)[:, None]
+    rates = np.concatenate([omega, omega[-1:]], axis=0)
+    c_wb = rotations.quat_to_matrix(q)
+    force = np.einsum("nji,nj->ni", c_wb, traj.accel_w_m_s2 - np.asarray(gravity, dtype=float))
+    return rates, force
+
+
+@pytest.mark.parametrize("with_accel", [False, True])
+def test_fused_truth_kernels_are_bit_identical(turntable, with_accel):
+    assert len(turntable) >= rotations._KERNEL_MIN_ROWS   # the compiled path
+    rng = np.random.default_rng(5)
+    traj = Trajectory(turntable.time_s, turntable.q_wb,
+                      rng.normal(size=(len(turntable), 3)) if with_accel else None)
+    rates, force = _reference_truth(traj)
+    assert simulate.body_rates(traj).tobytes() == rates.tobytes()
+    assert simulate.specific_force(traj).tobytes() == force.tobytes()
+    g = (0.1, -0.2, -9.7)
+    assert simulate.specific_force(traj, g).tobytes() == _reference_truth(traj, g)[1].tobytes()
+
+
+def test_trajectory_continuity_and_no_alias_of_caller_quaternions(turntable):
+    q = turntable.q_wb.copy()
+    q[1::2] *= -1.0                                            # sign flips every other sample
+    traj = Trajectory(turntable.time_s, q)
+    assert np.array_equal(traj.q_wb, rotations.make_continuous(q, axis=0))
+    assert traj.q_wb is not q and not np.shares_memory(traj.q_wb, q)
+    assert q[1, 0] < 0                                         # the caller's array is untouched
+
+
+def test_truth_outputs_memoised_per_trajectory(turntable):
+    import pickle
+
+    model = ImuErrorModel(q_mount=tuple(rotations.quat_from_euler_zxy(0.01, 0.02, -0.03)))
+    first = simulate.simulate_imu(turntable, model)
+    rates, force = turntable._truth["rates"], turntable._truth["force"]
+    again = simulate.simulate_imu(turntable, model)
+    assert turntable._truth["rates"] is rates and turntable._truth["force"] is force   # reused
+    assert np.array_equal(first.gyro_rad_s, again.gyro_rad_s) and np.array_equal(first.accel_m_s2, again.accel_m_s2)
+    assert not rates.flags.writeable
+    other = simulate.simulate_imu(turntable, model, gravity_w_m_s2=(0.0, 0.0, -9.7))
+    assert not np.array_equal(other.accel_m_s2, first.accel_m_s2)
+    assert np.array_equal(simulate.simulate_imu(turntable, model).accel_m_s2, first.accel_m_s2)
+    clone = pickle.loads(pickle.dumps(turntable))
+    assert clone._truth == {} and np.array_equal(simulate.simulate_imu(clone, model).gyro_rad_s, first.gyro_rad_s)
+    with pytest.raises(ValueError, match="gravity_w_m_s2 must have last dimension 3"):
+        simulate.simulate_imu(turntable, model, gravity_w_m_s2=(0.0, -9.8))
+
+
+def test_warmup_decay_reused_only_for_equal_time_samples():
+    t = np.arange(3000) * 1e-3
+    first = simulate._warmup_decay(t, 300.0, 90.0)
+    assert first.tobytes() == np.exp(-(t + 300.0) / 90.0).tobytes() and not first.flags.writeable
+    assert simulate._warmup_decay(t.copy(), 300.0, 90.0) is first            # equal samples: reused
+    assert simulate._warmup_decay(t, 300.0, 60.0) is not first               # another time constant
+    shifted = t + 1e-3
+    assert simulate._warmup_decay(shifted, 300.0, 90.0).tobytes() == np.exp(-(shifted + 300.0) / 90.0).tobytes()
+    errs = SensorErrors(warmup_bias=(1e-3, 0.0, -1e-3), warmup_tau_s=90.0)
+    a = simulate.apply_sensor_errors(errs, np.zeros((3000, 3)), t, time_since_power_on_s=300.0)
+    b = simulate.apply_sensor_errors(errs, np.zeros((3000, 3)), t, time_since_power_on_s=300.0, engine="numpy")
+    assert a.tobytes() == b.tobytes()

@@ -124,3 +124,27 @@ def test_merge_parameters_fills_defaults_and_rejects_unknown_names():
         validate.merge_parameters({"y": 0, "x": 0, "a": 0}, defaults)
     with pytest.raises(ValueError, match=r"^unknown tan2022 parameter\(s\) \['x'\]; valid: \['a', 'b'\]$"):
         validate.merge_parameters({"x": 0}, defaults, what="tan2022 parameter")
+
+
+def test_unit_quaternion_compiled_check_of_large_arrays():
+    rng = np.random.default_rng(3)
+    q = rng.normal(size=(3000, 4))
+    q /= np.linalg.norm(q, axis=-1, keepdims=True)
+    out = validate.unit_quaternion(q, "q")
+    assert out is not q and np.array_equal(out, q)          # a copy by default
+    assert validate.unit_quaternion(q, "q", copy=False) is q  # or the checked input itself
+    bad = q.copy()
+    bad[2500] *= 1.001
+    with pytest.raises(ValueError, match=r"q must hold unit quaternions .* got \|q\| in \[1, 1.001\]"):
+        validate.unit_quaternion(bad, "q")
+    bad[2500] = np.nan
+    with pytest.raises(ValueError, match="q must be finite"):
+        validate.unit_quaternion(bad, "q", copy=False)
+
+
+def test_unit_quaternion_copy_false_small_and_list_input():
+    q = np.array([[1.0, 0.0, 0.0, 0.0]])
+    assert validate.unit_quaternion(q, "q", copy=False) is q
+    assert validate.unit_quaternion([0.0, 1.0, 0.0, 0.0], "q", copy=False).tolist() == [0.0, 1.0, 0.0, 0.0]
+    with pytest.raises(ValueError, match="q must hold unit quaternions"):
+        validate.unit_quaternion([[0.5, 0.0, 0.0, 0.0]], "q", copy=False)

@@ -49,3 +49,30 @@ def test_rank_deficient_positions_raise():
         quaternion_lsq.least_squares_error_matrix(q_b, q_b[:3])
     with pytest.raises(ValueError, match="q_matrix must be a finite 4x4"):
         quaternion_lsq.apply_error_matrix(np.eye(3), q_b)
+
+
+@pytest.mark.parametrize("stack", [False, True])
+def test_apply_compiled_normalisation_is_bit_identical(stack):
+    rng = np.random.default_rng(7)
+    shape = (2, 3000, 4) if stack else (3000, 4)
+    q = rng.normal(size=shape)
+    q[..., ::5, 0] = -0.0                                   # q0 = -0: the sign rule keeps q
+    q /= np.linalg.norm(q, axis=-1, keepdims=True)
+    mat = np.eye(4) + 0.01 * rng.normal(size=(2, 4, 4) if stack else (4, 4))
+    ref_q = np.where(np.sum(q * [1.0, 0.0, 0.0, 0.0], axis=-1, keepdims=True) < 0.0, -q, q)   # the _flip rule
+    ref = ref_q @ np.swapaxes(mat, -1, -2)
+    ref = ref / np.linalg.norm(ref, axis=-1, keepdims=True)
+    assert quaternion_lsq.apply_error_matrix(mat, q).tobytes() == ref.tobytes()
+    nan_mat = mat.copy()
+    nan_mat[..., 0, 0] = np.nan
+    assert np.isnan(quaternion_lsq.apply_error_matrix(nan_mat, q)).all()
+    assert np.isnan(quaternion_lsq.apply_error_matrix(np.zeros_like(mat), q)).all()   # 0 / 0 rows, as numpy
+
+
+def test_apply_error_matrix_never_aliases_or_modifies_its_input():
+    q = -body_quats(SIX_POSITIONS_DEG)              # q0 < 0: the sign rule flips every row
+    before = q.copy()
+    for normalize in (True, False):
+        out = quaternion_lsq.apply_error_matrix(np.eye(4), q, normalize=normalize)
+        assert not np.shares_memory(out, q) and np.array_equal(q, before)
+        assert np.allclose(out, -before)

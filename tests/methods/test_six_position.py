@@ -133,3 +133,22 @@ def test_a_rate_is_refused_where_the_interval_belongs(noise_free):
         six_position.stillness_from_quaternions(q_s, -DT_S)
     with pytest.raises(ValueError, match="dt_s must be the sample interval in s"):
         six_position.calibrate(q_s, pos, FS, gyro_rad_s=rec.gyro_rad_s)
+
+
+@pytest.mark.parametrize("shape", [(5000, 3), (2, 5000, 3)])
+def test_compiled_stillness_matches_numpy_moving_mean(shape):
+    rng = np.random.default_rng(11)
+    w = rng.normal(size=shape) * np.radians(0.1)
+    w[..., 2000:2600, :] += 0.3
+    for window_s in (0.001, 0.002, 0.007, 0.1):
+        win = max(1, int(round(window_s / DT_S)))
+        ref_norm = np.linalg.norm(six_position._moving_mean(w, win, axis=-2), axis=-1)
+        ref = ref_norm < np.radians(0.2)
+        ref = ref if ref.ndim == 1 else np.all(ref, axis=0)
+        got = six_position._stillness_from_gyro(w, DT_S, window_s, np.radians(0.2))
+        assert got.shape == (shape[-2],) and np.array_equal(got, ref)
+    w3 = w if w.ndim == 3 else w[None]
+    mean = np.empty((w3.shape[0], 3, w3.shape[1]))
+    six_position._moving_mean_kernel(w3, 100, mean)
+    ref_mean = six_position._moving_mean(w3, 100, axis=-2)
+    assert np.moveaxis(mean, 1, 2).tobytes() == np.ascontiguousarray(ref_mean).tobytes()
