@@ -18,7 +18,7 @@ import numpy as np
 
 from mtcal.core.compiled import jit
 
-__all__ = ["window_stats", "warm_up"]
+__all__ = ["window_stats", "window_fit", "percentile_linear", "warm_up"]
 
 #: numpy's pairwise-summation block (``PW_BLOCKSIZE`` of numpy's loops_utils.h).
 _PW_BLOCK = 128
@@ -162,7 +162,218 @@ def window_stats(w, a, m, skip, has_skip):
     return am, sd, wm, skipped, zero_w == 0.0, zero_a == 0.0
 
 
+@numba.njit(inline="always")
+def _norm3(x0, x1, x2):
+    """``np.linalg.norm`` of one row of an (n, 3) array along axis 1: ``sqrt((x0² + x1²) + x2²)``."""
+    return np.sqrt((x0 * x0 + x1 * x1) + x2 * x2)
+
+
+@numba.njit
+def _sorted_nan(x):
+    """``x`` sorted (NaN last, as numpy) and whether it holds a NaN (numpy's median/percentile then give NaN)."""
+    s = np.sort(x)
+    return s, s.shape[0] > 0 and np.isnan(s[s.shape[0] - 1])
+
+
+@numba.njit
+def _median(x):
+    """``np.median`` of a 1-D float array with at least one value (mean of the two middle values when even)."""
+    s, has_nan = _sorted_nan(x)
+    if has_nan:
+        return np.nan
+    n = s.shape[0]
+    h = n // 2
+    if n % 2 == 1:
+        return 0.0 + s[h]
+    return ((0.0 + s[h - 1]) + s[h]) / 2.0
+
+
+@numba.njit
+def _percentile(x, q):
+    """``np.percentile(x, 100 q)`` of a 1-D float array (method 'linear', numpy's ``_lerp``); ``q`` = ``p / 100``."""
+    s, has_nan = _sorted_nan(x)
+    if has_nan:
+        return np.nan
+    n = s.shape[0]
+    v = (n - 1) * q
+    if v >= n - 1:  # numpy: both neighbours are the last value
+        return s[n - 1]
+    lo = int(np.floor(v))
+    t = v - lo
+    a = s[lo]
+    b = s[lo + 1]
+    diff = b - a
+    if t >= 0.5:
+        return b - diff * (1 - t)
+    return a + diff * t
+
+
+@jit
+def percentile_linear(x, q):
+    """``np.percentile(x, 100 q)`` (method 'linear') of a non-empty 1-D float64 array, bit for bit."""
+    return _percentile(x, q)
+
+
+@jit
+def window_fit(am, a_std, wm, skipped, m, dt_s, band_fraction):
+    """What :func:`mtcal.methods.tilt_rate.tilt_rate_scale` forms from the window statistics, in numpy's arithmetic.
+
+    Every step reproduces the numpy expression it replaces bit for bit (``np.linalg.norm``
+    along axis 1, ``np.median``, ``np.percentile`` 'linear', ``np.cross``, ``np.einsum``
+    'ij,ij->i' (numpy adds the products as ``(p0 + p2) + p1``), ``np.sum`` by numpy's
+    pairwise summation), except the accelerometer spread, which needs a BLAS product and
+    numpy's ``arccos`` and is left to the caller.
+
+    Parameters
+    ----------
+    am, wm : ndarray (nb, 3)
+        Window means of the accelerometer and the gyro, nb ≥ 3.
+    a_std : ndarray (nb,)
+    skipped : ndarray (nb,) of bool
+    m : int
+        Samples per window.
+    dt_s, band_fraction : float
+
+    Returns
+    -------
+    status : int
+        0: no decision and no spread (median norm not positive, or fewer than 2 window pairs);
+        1: the spread is due but fewer than 2 moving pairs; 2: the sums are valid.
+    ok : ndarray (nb,) of bool
+        Windows within the band.
+    ah : ndarray (nb, 3)
+        Unit gravity directions of the windows.
+    up, pp, uu, accel_tilt, gyro_tilt : float
+        ``Σ u·p``, ``Σ p·p``, ``Σ u·u``, ``Σ ‖u‖``, ``Σ ‖p‖`` over the pairs used.
+    count : int
+        Pairs used.
+    """
+    nb = am.shape[0]
+    ok = np.zeros(nb, np.bool_)
+    ah = np.empty((nb, 3))
+    nrm = np.empty(nb)
+    for i in range(nb):
+        nrm[i] = _norm3(am[i, 0], am[i, 1], am[i, 2])
+    g = _median(nrm)
+    if not g > 0:
+        return 0, ok, ah, 0.0, 0.0, 0.0, 0.0, 0.0, 0
+    lim = band_fraction * g
+    for i in range(nb):
+        ok[i] = (np.abs(nrm[i] - g) < lim) and (a_std[i] < lim) and not skipped[i]
+        d = nrm[i]
+        if d < 1e-12:
+            d = 1e-12
+        ah[i, 0], ah[i, 1], ah[i, 2] = am[i, 0] / d, am[i, 1] / d, am[i, 2] / d
+    k = nb - 1
+    u = np.empty((k, 3))
+    du = np.empty(k)
+    pair = np.zeros(k, np.bool_)
+    npair = 0
+    for i in range(k):
+        a0, a1, a2 = ah[i, 0], ah[i, 1], ah[i, 2]
+        b0, b1, b2 = ah[i + 1, 0], ah[i + 1, 1], ah[i + 1, 2]
+        u0 = a1 * b2 - a2 * b1
+        u1 = a2 * b0 - a0 * b2
+        u2 = a0 * b1 - a1 * b0
+        u[i, 0], u[i, 1], u[i, 2] = u0, u1, u2
+        du[i] = _norm3(u0, u1, u2)
+        if ok[i] and ok[i + 1]:
+            pair[i] = True
+            npair += 1
+    if npair < 2:
+        return 0, ok, ah, 0.0, 0.0, 0.0, 0.0, 0.0, 0
+    sel = np.empty(npair)
+    j = 0
+    for i in range(k):
+        if pair[i]:
+            sel[j] = du[i]
+            j += 1
+    q25 = _percentile(sel, 0.25)
+    still = np.zeros(k, np.bool_)
+    nstill = 0
+    for i in range(k):
+        if pair[i] and du[i] <= q25:
+            still[i] = True
+            nstill += 1
+    wmid = np.empty((k, 3))
+    for i in range(k):
+        for c in range(3):
+            wmid[i, c] = 0.5 * (wm[i, c] + wm[i + 1, c])
+    bias = np.empty(3)
+    col = np.empty(nstill)
+    for c in range(3):
+        j = 0
+        for i in range(k):
+            if still[i]:
+                col[j] = wmid[i, c]
+                j += 1
+        bias[c] = _median(col)
+    T = m * dt_s
+    p = np.empty((k, 3))
+    dp = np.empty(k)
+    for i in range(k):
+        s0 = 0.5 * (ah[i, 0] + ah[i + 1, 0])
+        s1 = 0.5 * (ah[i, 1] + ah[i + 1, 1])
+        s2 = 0.5 * (ah[i, 2] + ah[i + 1, 2])
+        d = _norm3(s0, s1, s2)
+        if d < 1e-12:
+            d = 1e-12
+        s0, s1, s2 = s0 / d, s1 / d, s2 / d
+        r0, r1, r2 = wmid[i, 0] - bias[0], wmid[i, 1] - bias[1], wmid[i, 2] - bias[2]
+        dot = (r0 * s0 + r2 * s2) + r1 * s1
+        p0 = -(r0 - dot * s0) * T
+        p1 = -(r1 - dot * s1) * T
+        p2 = -(r2 - dot * s2) * T
+        p[i, 0], p[i, 1], p[i, 2] = p0, p1, p2
+        dp[i] = _norm3(p0, p1, p2)
+    j = 0
+    for i in range(k):
+        if still[i]:
+            col[j] = du[i]
+            j += 1
+    du_lim = 3.0 * _median(col)
+    j = 0
+    for i in range(k):
+        if still[i]:
+            col[j] = dp[i]
+            j += 1
+    dp_lim = 3.0 * _median(col)
+    use = np.zeros(k, np.bool_)
+    count = 0
+    for i in range(k):
+        if pair[i] and ((du[i] > du_lim) or (dp[i] > dp_lim)):
+            use[i] = True
+            count += 1
+    if count < 2:
+        return 1, ok, ah, 0.0, 0.0, 0.0, 0.0, 0.0, count
+    bup = np.empty(3 * count)
+    bpp = np.empty(3 * count)
+    buu = np.empty(3 * count)
+    bdu = np.empty(count)
+    bdp = np.empty(count)
+    j = 0
+    for i in range(k):
+        if use[i]:
+            for c in range(3):
+                bup[3 * j + c] = u[i, c] * p[i, c]
+                bpp[3 * j + c] = p[i, c] * p[i, c]
+                buu[3 * j + c] = u[i, c] * u[i, c]
+            bdu[j] = du[i]
+            bdp[j] = dp[i]
+            j += 1
+    f_lo, f_n, f_state, f_left = np.empty(64, np.int64), np.empty(64, np.int64), np.empty(64, np.int64), np.empty(64)
+    up = _pairwise(bup, 3 * count, f_lo, f_n, f_left, f_state)
+    pp = _pairwise(bpp, 3 * count, f_lo, f_n, f_left, f_state)
+    uu = _pairwise(buu, 3 * count, f_lo, f_n, f_left, f_state)
+    accel_tilt = _pairwise(bdu, count, f_lo, f_n, f_left, f_state)
+    gyro_tilt = _pairwise(bdp, count, f_lo, f_n, f_left, f_state)
+    return 2, ok, ah, up, pp, uu, accel_tilt, gyro_tilt, count
+
+
 def warm_up() -> None:
-    """Compile (or load from numba's cache) :func:`window_stats`."""
+    """Compile (or load from numba's cache) :func:`window_stats`, :func:`window_fit` and :func:`percentile_linear`."""
     x = np.zeros((400, 3))
     window_stats(x, x, 150, np.zeros(400, np.bool_), True)
+    am = np.tile([0.0, 0.0, 9.81], (4, 1))
+    window_fit(am, np.zeros(4), np.zeros((4, 3)), np.zeros(4, np.bool_), 50, 0.001, 0.05)
+    percentile_linear(np.zeros(3), 0.99)

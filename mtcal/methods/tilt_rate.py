@@ -120,7 +120,7 @@ def tilt_rate_scale(gyro_rad_s, accel_m_s2, dt_s: float, *, window_s: float = 0.
     w, a, dt_s, skip = _record(gyro_rad_s, accel_m_s2, dt_s, skip)
     window_s = positive_scalar(window_s, "window_s")
     band_fraction = positive_scalar(band_fraction, "band_fraction")
-    from mtcal.methods._tilt_rate_kernels import window_stats  # numba: loaded on first use, not by import
+    from mtcal.methods._tilt_rate_kernels import percentile_linear, window_fit, window_stats  # numba: loaded on first use, not by import
 
     n = a.shape[0]
     m = max(3, int(round(window_s / dt_s)))
@@ -136,39 +136,21 @@ def tilt_rate_scale(gyro_rad_s, accel_m_s2, dt_s: float, *, window_s: float = 0.
            "windows": 0, "accel_spread_rad": 0.0}
     if nb < 3:
         return nan
-    norm = np.linalg.norm(am, axis=1)
-    g = float(np.median(norm))
-    if not g > 0:
+    # the glue on the window means, compiled in numpy's arithmetic (bit-identical to the numpy expressions)
+    status, ok, ah, up, pp, uu, accel_tilt, gyro_tilt, count = window_fit(am, a_std, wm, skipped, m, dt_s,
+                                                                         band_fraction)
+    if status == 0:
         return nan
-    ok = (np.abs(norm - g) < band_fraction * g) & (a_std < band_fraction * g) & ~skipped
-    ah = am / np.maximum(norm, 1e-12)[:, None]
-    u = np.cross(ah[:-1], ah[1:])
-    du = np.linalg.norm(u, axis=1)
-    pair = ok[:-1] & ok[1:]
-    if np.count_nonzero(pair) < 2:
-        return nan
-    still = pair & (du <= np.percentile(du[pair], 25))
-    b = np.median(0.5 * (wm[:-1] + wm[1:])[still], axis=0)
-    ab = 0.5 * (ah[:-1] + ah[1:])
-    ab /= np.maximum(np.linalg.norm(ab, axis=1), 1e-12)[:, None]
-    wr = 0.5 * (wm[:-1] + wm[1:]) - b
-    wperp = wr - np.einsum("ij,ij->i", wr, ab)[:, None] * ab
-    p = -wperp * (m * dt_s)
-    ref = ah[ok].mean(axis=0)
+    sel = ah[ok]  # accelerometer spread: BLAS product and numpy's arccos stay numpy
+    ref = sel.mean(axis=0)
     ref /= max(float(np.linalg.norm(ref)), 1e-12)
-    spread = float(np.percentile(np.arccos(np.clip(ah[ok] @ ref, -1.0, 1.0)), 99))
+    spread = float(percentile_linear(np.arccos(np.clip(sel @ ref, -1.0, 1.0)), 99 / 100))
     nan["accel_spread_rad"] = spread
-    dp = np.linalg.norm(p, axis=1)
-    moving = (du > 3.0 * np.median(du[still])) | (dp > 3.0 * np.median(dp[still]))  # above the noise
-    use = pair & moving
-    if np.count_nonzero(use) < 2:
+    if status == 1:
         return nan
-    u, p = u[use], p[use]
-    up, pp, uu = float(np.sum(u * p)), float(np.sum(p * p)), float(np.sum(u * u))
     out = {"scale": up / pp if pp > 0 else float("nan"),
            "correlation": float(up / np.sqrt(pp * uu)) if pp > 0 and uu > 0 else float("nan"),
-           "accel_tilt_rad": float(np.linalg.norm(u, axis=1).sum()),
-           "gyro_tilt_rad": float(np.linalg.norm(p, axis=1).sum()), "windows": int(u.shape[0]),
+           "accel_tilt_rad": float(accel_tilt), "gyro_tilt_rad": float(gyro_tilt), "windows": int(count),
            "accel_spread_rad": spread}
     return out
 

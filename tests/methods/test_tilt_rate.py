@@ -159,3 +159,142 @@ def test_trusted_filter_entries_match_the_public_ones_bit_for_bit():
     assert np.array_equal(run_rams_ekf(*args).theta_rad, run_rams_ekf_trusted(*args).theta_rad)
     with pytest.raises(ValueError, match="gyro_rad_s must be in rad/s"):  # the kernel's scan still runs
         qncf_trusted(np.full_like(gyro, 90.0), accel, DT)
+
+
+def _numpy_glue(gyro, accel, dt_s, window_s=0.05, band_fraction=0.05, skip=None):
+    """The numpy code the compiled ``window_fit`` replaces (kept verbatim as the reference)."""
+    from mtcal.methods._tilt_rate_kernels import window_stats
+
+    w, a = np.ascontiguousarray(gyro, float), np.ascontiguousarray(accel, float)
+    n = a.shape[0]
+    m = max(3, int(round(window_s / dt_s)))
+    skip_arr = np.ascontiguousarray(skip, np.bool_) if skip is not None else np.zeros(0, np.bool_)
+    am, a_std, wm, skipped, _, _ = window_stats(w, a, min(m, n + 1), skip_arr, skip is not None)
+    nb = am.shape[0]
+    nan = {"scale": float("nan"), "correlation": float("nan"), "accel_tilt_rad": 0.0, "gyro_tilt_rad": 0.0,
+           "windows": 0, "accel_spread_rad": 0.0}
+    if nb < 3:
+        return nan
+    norm = np.linalg.norm(am, axis=1)
+    g = float(np.median(norm))
+    if not g > 0:
+        return nan
+    ok = (np.abs(norm - g) < band_fraction * g) & (a_std < band_fraction * g) & ~skipped
+    ah = am / np.maximum(norm, 1e-12)[:, None]
+    u = np.cross(ah[:-1], ah[1:])
+    du = np.linalg.norm(u, axis=1)
+    pair = ok[:-1] & ok[1:]
+    if np.count_nonzero(pair) < 2:
+        return nan
+    still = pair & (du <= np.percentile(du[pair], 25))
+    b = np.median(0.5 * (wm[:-1] + wm[1:])[still], axis=0)
+    ab = 0.5 * (ah[:-1] + ah[1:])
+    ab /= np.maximum(np.linalg.norm(ab, axis=1), 1e-12)[:, None]
+    wr = 0.5 * (wm[:-1] + wm[1:]) - b
+    wperp = wr - np.einsum("ij,ij->i", wr, ab)[:, None] * ab
+    p = -wperp * (m * dt_s)
+    ref = ah[ok].mean(axis=0)
+    ref /= max(float(np.linalg.norm(ref)), 1e-12)
+    spread = float(np.percentile(np.arccos(np.clip(ah[ok] @ ref, -1.0, 1.0)), 99))
+    nan["accel_spread_rad"] = spread
+    dp = np.linalg.norm(p, axis=1)
+    moving = (du > 3.0 * np.median(du[still])) | (dp > 3.0 * np.median(dp[still]))
+    use = pair & moving
+    if np.count_nonzero(use) < 2:
+        return nan
+    u, p = u[use], p[use]
+    up, pp, uu = float(np.sum(u * p)), float(np.sum(p * p)), float(np.sum(u * u))
+    return {"scale": up / pp if pp > 0 else float("nan"),
+            "correlation": float(up / np.sqrt(pp * uu)) if pp > 0 and uu > 0 else float("nan"),
+            "accel_tilt_rad": float(np.linalg.norm(u, axis=1).sum()),
+            "gyro_tilt_rad": float(np.linalg.norm(p, axis=1).sum()), "windows": int(u.shape[0]),
+            "accel_spread_rad": spread}
+
+
+def _records():
+    """Realistic and adversarial records: (gyro, accel, dt_s, kwargs) — rests, tilts, 3-axis rotations, linear
+    acceleration, skip masks, deg/s and time-base errors, tiny records, zero and constant accelerometers."""
+    rng = np.random.default_rng(24)
+    out = []
+    for seed in range(12):
+        g, a = _tilting(n=int(rng.integers(200, 4000)), amp_rad_s=float(rng.uniform(0.05, 2.0)), seed=seed)
+        out.append((g, a, DT, {}))
+        out.append((np.degrees(g), a, DT, {"skip": rng.random(len(g)) < 0.02}))
+        out.append((g, a, DT * float(rng.choice([0.1, 10.0, 0.3])), {"band_fraction": float(rng.uniform(0.01, 0.2))}))
+    for seed in range(10):  # rotation about a random axis with rests and linear acceleration bursts
+        r = np.random.default_rng(100 + seed)
+        n, dt = int(r.integers(500, 6000)), float(r.choice([1e-3, 5e-3, 0.01]))
+        t = np.arange(n) * dt
+        axis = r.normal(size=3)
+        axis /= np.linalg.norm(axis)
+        rate = r.uniform(0.1, 3.0) * np.sin(2 * np.pi * r.uniform(0.1, 2.0) * t) * (r.random(n) > 0.001)
+        rate[: n // 4] = 0.0  # a rest
+        ang = np.cumsum(rate) * dt
+        g0 = np.array([0.0, 0.0, 9.81])
+        acc = np.empty((n, 3))
+        for i in range(n):  # Rodrigues rotation of gravity into the sensor frame
+            c, s = np.cos(ang[i]), np.sin(ang[i])
+            acc[i] = g0 * c - np.cross(axis, g0) * s + axis * (axis @ g0) * (1 - c)
+        burst = r.random(n) < 0.02
+        acc += r.normal(0, r.uniform(0.001, 0.1), (n, 3)) + burst[:, None] * r.normal(0, 5.0, (n, 3))
+        gyro = rate[:, None] * axis + r.normal(0, 0.003, (n, 3)) + r.normal(0, 0.02, 3)
+        out.append((gyro, acc, dt, {"skip": r.random(n) < r.uniform(0, 0.05), "window_s": float(r.uniform(0.01, 0.2))}))
+    for n in (5, 8, 9, 10, 12, 15, 20, 31):  # tiny records: fewer than 3 windows, or just enough
+        out.append((rng.normal(0, 1, (n, 3)), rng.normal(0, 1, (n, 3)) + [0, 0, 9.81], 0.01, {"window_s": 0.03}))
+    z = np.zeros((300, 3))
+    out.append((z, z, 0.01, {}))  # zero accelerometer: median norm 0
+    out.append((z, np.tile([0.0, 0.0, 9.81], (300, 1)), 0.01, {}))  # still and noiseless: no moving pair
+    out.append((rng.normal(0, 1, (900, 3)), rng.normal(0, 20, (900, 3)), 0.01, {}))  # no gravity band
+    step = np.tile([0.0, 0.0, 9.81], (300, 1))
+    step[150:] = [0.0, 9.81 * np.sin(0.1), 9.81 * np.cos(0.1)]  # one tilt step: a spread but a single moving pair
+    out.append((z, step, 0.01, {}))
+    return out
+
+
+def _same(got, want):
+    assert got.keys() == want.keys()
+    for key, value in want.items():
+        assert type(got[key]) is type(value), key
+        assert got[key] == value or (np.isnan(value) and np.isnan(got[key])), (key, got[key], value)
+
+
+def _check_against_numpy():
+    """Every record of :func:`_records`: the compiled glue returns exactly the numpy code's dict."""
+    from mtcal.methods._tilt_rate_kernels import percentile_linear
+
+    statuses = set()
+    for gyro, accel, dt_s, kw in _records():
+        want = _numpy_glue(gyro, accel, dt_s, **kw)
+        _same(tilt_rate.tilt_rate_scale(gyro, accel, dt_s, **kw), want)
+        statuses.add((want["windows"] > 0, want["accel_spread_rad"] > 0))
+    assert statuses == {(False, False), (False, True), (True, True)}  # all three exits are exercised
+    rng = np.random.default_rng(7)
+    for n in (1, 2, 3, 4, 5, 8, 101, 1000, 1201):
+        x = rng.normal(size=n)
+        x[rng.random(n) < 0.3] = 0.5  # ties
+        for q in (0, 25, 50, 99, 100, 33.3):
+            assert percentile_linear(x, q / 100) == np.percentile(x, q)
+
+
+def test_compiled_glue_returns_exactly_the_numpy_result():
+    _check_against_numpy()
+
+
+def test_compiled_glue_matches_numpy_on_the_other_code_path():
+    """The same check in a fresh process on the other numba/numpy code path (generic <-> native)."""
+    import os
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    env = dict(os.environ)
+    if env.get("NUMBA_CPU_NAME") == "generic":  # tests run generic (make test): check native (make bench)
+        for var in ("NUMBA_CPU_NAME", "NPY_DISABLE_CPU_FEATURES", "GLIBC_TUNABLES"):
+            env.pop(var, None)
+    else:
+        env.update(NUMBA_CPU_NAME="generic", NPY_DISABLE_CPU_FEATURES="X86_V3 X86_V4 AVX512_ICL AVX512_SPR")
+    root = Path(__file__).resolve().parents[2]
+    env["PYTHONPATH"] = os.pathsep.join([str(root)] + [p for p in env.get("PYTHONPATH", "").split(os.pathsep) if p])
+    code = "from tests.methods import test_tilt_rate as t; t._check_against_numpy(); print('same bits')"
+    res = subprocess.run([sys.executable, "-c", code], env=env, cwd=root, capture_output=True, text=True)
+    assert res.returncode == 0 and res.stdout.strip() == "same bits", res.stderr[-2000:]
