@@ -169,39 +169,50 @@ def _norm3(x0, x1, x2):
 
 
 @numba.njit
-def _sorted_nan(x):
-    """``x`` sorted (NaN last, as numpy) and whether it holds a NaN (numpy's median/percentile then give NaN)."""
-    s = np.sort(x)
-    return s, s.shape[0] > 0 and np.isnan(s[s.shape[0] - 1])
+def _has_nan(x):
+    """Whether ``x`` holds a NaN (numpy's median and percentile then return NaN)."""
+    for v in x:
+        if np.isnan(v):
+            return True
+    return False
+
+
+@numba.njit
+def _order_pair(x, k):
+    """The ``k``-th and ``(k - 1)``-th smallest values of ``x`` (``k`` ≥ 1), by one partition (no full sort)."""
+    s = np.partition(x, k)
+    lower = s[0]
+    for i in range(1, k):
+        if s[i] > lower:
+            lower = s[i]
+    return s[k], lower
 
 
 @numba.njit
 def _median(x):
     """``np.median`` of a 1-D float array with at least one value (mean of the two middle values when even)."""
-    s, has_nan = _sorted_nan(x)
-    if has_nan:
+    if _has_nan(x):
         return np.nan
-    n = s.shape[0]
+    n = x.shape[0]
     h = n // 2
     if n % 2 == 1:
-        return 0.0 + s[h]
-    return ((0.0 + s[h - 1]) + s[h]) / 2.0
+        return 0.0 + np.partition(x, h)[h]
+    upper, lower = _order_pair(x, h)
+    return ((0.0 + lower) + upper) / 2.0
 
 
 @numba.njit
 def _percentile(x, q):
     """``np.percentile(x, 100 q)`` of a 1-D float array (method 'linear', numpy's ``_lerp``); ``q`` = ``p / 100``."""
-    s, has_nan = _sorted_nan(x)
-    if has_nan:
+    if _has_nan(x):
         return np.nan
-    n = s.shape[0]
+    n = x.shape[0]
     v = (n - 1) * q
     if v >= n - 1:  # numpy: both neighbours are the last value
-        return s[n - 1]
+        return np.max(x)
     lo = int(np.floor(v))
     t = v - lo
-    a = s[lo]
-    b = s[lo + 1]
+    b, a = _order_pair(x, lo + 1)
     diff = b - a
     if t >= 0.5:
         return b - diff * (1 - t)
@@ -239,10 +250,10 @@ def window_fit(am, a_std, wm, skipped, m, dt_s, band_fraction):
     status : int
         0: no decision and no spread (median norm not positive, or fewer than 2 window pairs);
         1: the spread is due but fewer than 2 moving pairs; 2: the sums are valid.
-    ok : ndarray (nb,) of bool
-        Windows within the band.
-    ah : ndarray (nb, 3)
-        Unit gravity directions of the windows.
+    ah_ok : ndarray (n_ok, 3)
+        Unit gravity directions of the windows within the band (``ah[ok]``; meaningless when ``status`` is 0).
+    ref : ndarray (3,)
+        Their mean ``ah[ok].mean(axis=0)`` (meaningless when ``status`` is 0).
     up, pp, uu, accel_tilt, gyro_tilt : float
         ``Σ u·p``, ``Σ p·p``, ``Σ u·u``, ``Σ ‖u‖``, ``Σ ‖p‖`` over the pairs used.
     count : int
@@ -256,7 +267,7 @@ def window_fit(am, a_std, wm, skipped, m, dt_s, band_fraction):
         nrm[i] = _norm3(am[i, 0], am[i, 1], am[i, 2])
     g = _median(nrm)
     if not g > 0:
-        return 0, ok, ah, 0.0, 0.0, 0.0, 0.0, 0.0, 0
+        return 0, ah, ah[0], 0.0, 0.0, 0.0, 0.0, 0.0, 0
     lim = band_fraction * g
     for i in range(nb):
         ok[i] = (np.abs(nrm[i] - g) < lim) and (a_std[i] < lim) and not skipped[i]
@@ -281,7 +292,21 @@ def window_fit(am, a_std, wm, skipped, m, dt_s, band_fraction):
             pair[i] = True
             npair += 1
     if npair < 2:
-        return 0, ok, ah, 0.0, 0.0, 0.0, 0.0, 0.0, 0
+        return 0, ah, ah[0], 0.0, 0.0, 0.0, 0.0, 0.0, 0
+    nok = 0
+    for i in range(nb):
+        nok += ok[i]
+    ah_ok = np.empty((nok, 3))  # ``ah[ok]`` and its ``.mean(axis=0)`` (numpy adds the rows in order)
+    ref = np.zeros(3)
+    j = 0
+    for i in range(nb):
+        if ok[i]:
+            for c in range(3):
+                ah_ok[j, c] = ah[i, c]
+                ref[c] += ah[i, c]
+            j += 1
+    for c in range(3):
+        ref[c] /= nok
     sel = np.empty(npair)
     j = 0
     for i in range(k):
@@ -345,7 +370,7 @@ def window_fit(am, a_std, wm, skipped, m, dt_s, band_fraction):
             use[i] = True
             count += 1
     if count < 2:
-        return 1, ok, ah, 0.0, 0.0, 0.0, 0.0, 0.0, count
+        return 1, ah_ok, ref, 0.0, 0.0, 0.0, 0.0, 0.0, count
     bup = np.empty(3 * count)
     bpp = np.empty(3 * count)
     buu = np.empty(3 * count)
@@ -367,7 +392,7 @@ def window_fit(am, a_std, wm, skipped, m, dt_s, band_fraction):
     uu = _pairwise(buu, 3 * count, f_lo, f_n, f_left, f_state)
     accel_tilt = _pairwise(bdu, count, f_lo, f_n, f_left, f_state)
     gyro_tilt = _pairwise(bdp, count, f_lo, f_n, f_left, f_state)
-    return 2, ok, ah, up, pp, uu, accel_tilt, gyro_tilt, count
+    return 2, ah_ok, ref, up, pp, uu, accel_tilt, gyro_tilt, count
 
 
 def warm_up() -> None:

@@ -120,7 +120,8 @@ def tilt_rate_scale(gyro_rad_s, accel_m_s2, dt_s: float, *, window_s: float = 0.
     w, a, dt_s, skip = _record(gyro_rad_s, accel_m_s2, dt_s, skip)
     window_s = positive_scalar(window_s, "window_s")
     band_fraction = positive_scalar(band_fraction, "band_fraction")
-    from mtcal.methods._tilt_rate_kernels import percentile_linear, window_fit, window_stats  # numba: loaded on first use, not by import
+    # numba: loaded on first use, not by import
+    from mtcal.methods._tilt_rate_kernels import percentile_linear, window_fit, window_stats
 
     n = a.shape[0]
     m = max(3, int(round(window_s / dt_s)))
@@ -137,14 +138,12 @@ def tilt_rate_scale(gyro_rad_s, accel_m_s2, dt_s: float, *, window_s: float = 0.
     if nb < 3:
         return nan
     # the glue on the window means, compiled in numpy's arithmetic (bit-identical to the numpy expressions)
-    status, ok, ah, up, pp, uu, accel_tilt, gyro_tilt, count = window_fit(am, a_std, wm, skipped, m, dt_s,
-                                                                         band_fraction)
+    status, ah_ok, ref, up, pp, uu, accel_tilt, gyro_tilt, count = window_fit(am, a_std, wm, skipped, m, dt_s,
+                                                                            band_fraction)
     if status == 0:
         return nan
-    sel = ah[ok]  # accelerometer spread: BLAS product and numpy's arccos stay numpy
-    ref = sel.mean(axis=0)
-    ref /= max(float(np.linalg.norm(ref)), 1e-12)
-    spread = float(percentile_linear(np.arccos(np.clip(sel @ ref, -1.0, 1.0)), 99 / 100))
+    ref /= max(float(np.linalg.norm(ref)), 1e-12)  # accelerometer spread: BLAS product, numpy's arccos
+    spread = float(percentile_linear(np.arccos(np.clip(ah_ok @ ref, -1.0, 1.0)), 99 / 100))
     nan["accel_spread_rad"] = spread
     if status == 1:
         return nan

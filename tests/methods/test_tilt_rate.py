@@ -274,6 +274,9 @@ def _check_against_numpy():
         x[rng.random(n) < 0.3] = 0.5  # ties
         for q in (0, 25, 50, 99, 100, 33.3):
             assert percentile_linear(x, q / 100) == np.percentile(x, q)
+    for _ in range(300):  # gamma exactly 0.5 (n = 3, 7 at the 25th percentile): numpy interpolates from b
+        x = rng.normal(size=int(rng.choice([3, 7]))) * 10.0 ** rng.integers(-3, 4)
+        assert percentile_linear(x, 0.25) == np.percentile(x, 25)
 
 
 def test_compiled_glue_returns_exactly_the_numpy_result():
