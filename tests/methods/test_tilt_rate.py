@@ -245,6 +245,17 @@ def _records():
     out.append((z, z, 0.01, {}))  # zero accelerometer: median norm 0
     out.append((z, np.tile([0.0, 0.0, 9.81], (300, 1)), 0.01, {}))  # still and noiseless: no moving pair
     out.append((rng.normal(0, 1, (900, 3)), rng.normal(0, 20, (900, 3)), 0.01, {}))  # no gravity band
+    from mtcal.core import profiles
+    from mtcal.core.simulate import simulate_imu
+    from mtcal.studies.wang2023cja import ImuSpec
+
+    for seed, (fs_hz, dur_s) in enumerate([(1000.0, 20.0), (200.0, 30.0), (100.0, 8.0)]):  # the bench pitch steps
+        wp = np.radians([0.0, 30.0, -20.0, 45.0, 10.0, 0.0])
+        prof = profiles.step_schedule(wp, float(np.abs(np.diff(wp)).sum()) / (0.3 * dur_s), 0.7 * dur_s / 6, fs_hz)
+        rec = simulate_imu(profiles.fixed_axis_trajectory(prof, (1.0, 0.0, 0.0)),
+                           ImuSpec().error_model((1.0, 0.0, 0.0, 0.0)), np.random.default_rng(2023 + seed))
+        out.append((rec.gyro_rad_s, rec.accel_m_s2, 1.0 / fs_hz, {}))
+        out.append((rec.gyro_rad_s, rec.accel_m_s2, 1.0 / fs_hz, {"skip": np.abs(rec.gyro_rad_s).max(axis=1) > 0.3}))
     step = np.tile([0.0, 0.0, 9.81], (300, 1))
     step[150:] = [0.0, 9.81 * np.sin(0.1), 9.81 * np.cos(0.1)]  # one tilt step: a spread but a single moving pair
     out.append((z, step, 0.01, {}))
