@@ -9,6 +9,11 @@ deviations for the standard deviation), so the results are bit-identical to the
 numpy expressions ``blocks.mean(axis=1)`` and
 ``sqrt(((blocks - mean) ** 2).mean(axis=(1, 2)))`` they replace, on every CPU target.
 Imported on first use (numba is not loaded by ``import mtcal``).
+
+:func:`window_fit` then forms the scale's sums from the ~N/m window means, again in numpy's
+arithmetic (median, 'linear' percentile, cross, einsum, pairwise sums), and
+:func:`percentile_linear` is ``np.percentile``; only the spread's BLAS product and ``arccos``
+stay numpy (their results may depend on the CPU's vector units).
 """
 
 from __future__ import annotations
