@@ -29,33 +29,17 @@ import numba
 import numpy as np
 from numba import prange
 
-from mtcal.filters._kernels_lanes import (add, choose, cos, div, fabs, fill, mul, put, put1, put3, sin, sub, take,
-                                          take1, take3, vmax, where_lt)
-from mtcal.filters._kernels_common import jit
+from mtcal.filters._kernels_lanes import (add, choose, cos, div, fabs, fill, mul, put, put1, put3, rows4, rows8, sin,
+                                          simd_lanes, sub, take, take1, take3, vmax, where_lt)
+from mtcal.filters._kernels_common import jit, run_dynamic
 
 __all__ = ["ekf_one", "ekf_serial", "ekf_parallel"]
 
 _LOW2 = 2.0 * 2.0 * (1.0 + 1e-9)   # see _kernels_qncf._LOW2
 
 
-def _simd_lanes() -> int:
-    """Trials per SIMD block: 8 (one AVX-512 register) when numba compiles for this host and it has
-    AVX-512F, else 4 (one AVX2 register, or 2 × SSE2 on the pinned ``generic`` target). Every trial's
-    arithmetic is the same for any block size (bit-identical results); only the speed differs."""
-    if numba.config.CPU_NAME not in (None, "host") or numba.config.CPU_FEATURES:
-        return 4
-    try:
-        from llvmlite import binding
-
-        return 8 if binding.get_host_cpu_features().get("avx512f", False) else 4
-    except Exception:  # pragma: no cover - llvmlite without host feature detection
-        return 4
-
-
-#: Trials per SIMD block (see :func:`_simd_lanes`).
-LANES = _simd_lanes()
-#: Blocks per dynamically scheduled chunk of the parallel kernel.
-_CHUNK_BLOCKS = 2
+#: Trials per SIMD block (:func:`mtcal.filters._kernels_lanes.simd_lanes`: 8 with AVX-512, else 4).
+LANES = simd_lanes()
 
 
 @jit()
@@ -164,19 +148,6 @@ def _trial(g, a, st, t, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, om_s, 
         last_c[t, 0], last_c[t, 1], last_c[t, 2], last_c[t, 3] = c0, c1, c2, c3
         last_hp[t, 0], last_hp[t, 1], last_hp[t, 2] = h0, h1, h2
         last_s[t] = s
-
-
-@numba.njit(inline="always")
-def _rows4(t0, nl):
-    """Trial rows of a block of 4 lanes starting at ``t0`` with ``nl`` real trials (the rest repeat the last)."""
-    return (t0, t0 + min(1, nl - 1), t0 + min(2, nl - 1), t0 + min(3, nl - 1))
-
-
-@numba.njit(inline="always")
-def _rows8(t0, nl):
-    """Trial rows of a block of 8 lanes (see :func:`_rows4`)."""
-    return (t0, t0 + min(1, nl - 1), t0 + min(2, nl - 1), t0 + min(3, nl - 1), t0 + min(4, nl - 1),
-            t0 + min(5, nl - 1), t0 + min(6, nl - 1), t0 + min(7, nl - 1))
 
 
 @numba.njit(inline="always")
@@ -305,7 +276,7 @@ def _block(g, a, st, rows, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, om_
         put1(last_s, rows, S)
 
 
-_rows = _rows8 if LANES == 8 else _rows4
+_rows = rows8 if LANES == 8 else rows4
 
 
 @jit()
@@ -353,14 +324,9 @@ def _ekf_parallel(g, a, st, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, om
 
 
 def ekf_parallel(*args) -> None:
-    """:func:`_ekf_parallel` with its blocks handed to the threads dynamically, :data:`_CHUNK_BLOCKS` at a time
-    (numba's parallel chunk size, set for this call only: a thread slowed by other load passes work on
-    instead of holding the last share of the blocks). Arguments as :func:`ekf_serial`."""
-    saved = numba.set_parallel_chunksize(_CHUNK_BLOCKS)
-    try:
-        _ekf_parallel(*args)
-    finally:
-        numba.set_parallel_chunksize(saved)
+    """:func:`_ekf_parallel` with its blocks handed to the threads dynamically
+    (:func:`mtcal.filters._kernels_common.run_dynamic`). Arguments as :func:`ekf_serial`."""
+    run_dynamic(_ekf_parallel, *args)
 
 
 def warm_up() -> None:

@@ -33,7 +33,7 @@ from mtcal.core.montecarlo import (ASIN_C3, ASIN_C5, ASIN_C7, ASIN_C9, ATAN_C3, 
 from mtcal.filters._kernels_lanes import (add, all_le, all_lt, div, fabs, fill, lane_ids, mul, put, put1, put3,
                                           put_lt, rows4, rows8, simd_lanes, sqrt, sub, take, take1, take3, vmax,
                                           where_le, where_lt)
-from mtcal.filters._kernels_common import jit
+from mtcal.filters._kernels_common import jit, run_dynamic
 
 __all__ = ["qncf_one", "qncf_serial", "qncf_parallel"]
 
@@ -43,8 +43,6 @@ _T3 = 0.04 * 0.04     # |Δθ|² bound of the degree-3 series (TAYLOR_MAX_INCREM
 _LOW2 = 2.0 * 2.0 * (1.0 + 1e-9)
 #: Trials per SIMD block (:func:`mtcal.filters._kernels_lanes.simd_lanes`: 8 with AVX-512, else 4).
 LANES = simd_lanes()
-#: Blocks per dynamically scheduled chunk of the parallel kernel.
-_CHUNK_BLOCKS = 2
 _C1, _C2, _C3 = -1.0 / 8.0, 1.0 / 384.0, -1.0 / 46080.0
 _S0, _S1, _S2, _S3 = 0.5, -1.0 / 48.0, 1.0 / 3840.0, -1.0 / 645120.0
 
@@ -401,14 +399,9 @@ def _qncf_parallel(w, a, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_
 
 
 def qncf_parallel(*args) -> None:
-    """:func:`_qncf_parallel` with its blocks handed to the threads dynamically, :data:`_CHUNK_BLOCKS` at a time
-    (numba's parallel chunk size, set for this call only: a thread slowed by other load passes work on
-    instead of holding the last share of the blocks). Arguments as :func:`qncf_serial`."""
-    saved = numba.set_parallel_chunksize(_CHUNK_BLOCKS)
-    try:
-        _qncf_parallel(*args)
-    finally:
-        numba.set_parallel_chunksize(saved)
+    """:func:`_qncf_parallel` with its blocks handed to the threads dynamically
+    (:func:`mtcal.filters._kernels_common.run_dynamic`). Arguments as :func:`qncf_serial`."""
+    run_dynamic(_qncf_parallel, *args)
 
 
 def warm_up() -> None:
