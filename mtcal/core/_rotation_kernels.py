@@ -17,8 +17,8 @@ import numpy as np
 from mtcal.core.compiled import jit
 
 __all__ = ["hamilton3", "continuous3", "rotvec_prepare", "rotvec_finish", "normalize2", "rotvec_angle",
-           "quat_from_rotvec_finish", "euler_zxy_arguments", "euler_zxy_products", "matrix_from_quat", "all_unit",
-           "wrap_difference3", "all_finite", "conjugate2"]
+           "quat_from_rotvec_finish", "euler_zxy_arguments", "euler_zxy_products", "dcm_entries", "matrix_from_quat",
+           "all_unit", "wrap_difference3", "all_finite", "conjugate2"]
 
 
 @jit
@@ -137,27 +137,30 @@ def euler_zxy_products(cp, sp, ct, st, cg, sg, out):  # pragma: no cover - compi
 
 
 @jit
-def matrix_from_quat(q, out):  # pragma: no cover - compiled
-    """Direction-cosine matrices (M, 3, 3) of scalar-first (M, 4): scipy's ``from_quat(...).as_matrix()``.
+def dcm_entries(w, x, y, z):  # pragma: no cover - compiled
+    """Direction-cosine matrix of one scalar-first quaternion as ``(c00, c10, c20, c01, c11, c21, c02, c12, c22)``.
 
-    The same operations as scipy's Cython loop: normalise by ``sqrt(x² + y² + z² + w²)`` (scalar
-    last, divided), then the products below.
+    The same operations as scipy's Cython ``from_quat(...).as_matrix()``: normalise by
+    ``sqrt(x² + y² + z² + w²)`` (scalar last, divided), then the products below.
     """
+    n = np.sqrt(x * x + y * y + z * z + w * w)
+    x, y, z, w = x / n, y / n, z / n, w / n
+    x2, y2, z2, w2 = x * x, y * y, z * z, w * w
+    xy, zw, xz, yw, yz, xw = x * y, z * w, x * z, y * w, y * z, x * w
+    return (x2 - y2 - z2 + w2, 2.0 * (xy + zw), 2.0 * (xz - yw),
+            2.0 * (xy - zw), -x2 + y2 - z2 + w2, 2.0 * (yz + xw),
+            2.0 * (xz + yw), 2.0 * (yz - xw), -x2 - y2 + z2 + w2)
+
+
+@jit
+def matrix_from_quat(q, out):  # pragma: no cover - compiled
+    """Direction-cosine matrices (M, 3, 3) of scalar-first (M, 4): scipy's ``from_quat(...).as_matrix()``
+    (:func:`dcm_entries` per row)."""
     for i in range(q.shape[0]):
-        w, x, y, z = q[i, 0], q[i, 1], q[i, 2], q[i, 3]
-        n = np.sqrt(x * x + y * y + z * z + w * w)
-        x, y, z, w = x / n, y / n, z / n, w / n
-        x2, y2, z2, w2 = x * x, y * y, z * z, w * w
-        xy, zw, xz, yw, yz, xw = x * y, z * w, x * z, y * w, y * z, x * w
-        out[i, 0, 0] = x2 - y2 - z2 + w2
-        out[i, 1, 0] = 2.0 * (xy + zw)
-        out[i, 2, 0] = 2.0 * (xz - yw)
-        out[i, 0, 1] = 2.0 * (xy - zw)
-        out[i, 1, 1] = -x2 + y2 - z2 + w2
-        out[i, 2, 1] = 2.0 * (yz + xw)
-        out[i, 0, 2] = 2.0 * (xz + yw)
-        out[i, 1, 2] = 2.0 * (yz - xw)
-        out[i, 2, 2] = -x2 - y2 + z2 + w2
+        c00, c10, c20, c01, c11, c21, c02, c12, c22 = dcm_entries(q[i, 0], q[i, 1], q[i, 2], q[i, 3])
+        out[i, 0, 0], out[i, 1, 0], out[i, 2, 0] = c00, c10, c20
+        out[i, 0, 1], out[i, 1, 1], out[i, 2, 1] = c01, c11, c21
+        out[i, 0, 2], out[i, 1, 2], out[i, 2, 2] = c02, c12, c22
 
 
 @jit

@@ -74,7 +74,7 @@ import numba
 import numpy as np
 from numba import prange
 
-from mtcal.core import philox, rotations
+from mtcal.core import _rotation_kernels, philox, rotations
 from mtcal.core.compiled import jit
 from mtcal.core.rng import spawn_philox_key
 from mtcal.core.validate import (STANDARD_GRAVITY_M_S2, as_float_array, positive_int,
@@ -210,20 +210,8 @@ def _rates_finish(qf, vnorm, angle, time_s, out):  # pragma: no cover - compiled
 def _specific_force_kernel(q, v, out):  # pragma: no cover - compiled
     """``out[n] = C(q_n)ᵀ v_n``: ``quat_to_matrix``'s arithmetic, then einsum's ``0 + Σ_j C_ji v_j`` (j in order)."""
     for i in range(q.shape[0]):
-        w, x, y, z = q[i, 0], q[i, 1], q[i, 2], q[i, 3]
-        n = np.sqrt(x * x + y * y + z * z + w * w)
-        x, y, z, w = x / n, y / n, z / n, w / n
-        x2, y2, z2, w2 = x * x, y * y, z * z, w * w
-        xy, zw, xz, yw, yz, xw = x * y, z * w, x * z, y * w, y * z, x * w
-        c00 = x2 - y2 - z2 + w2
-        c10 = 2.0 * (xy + zw)
-        c20 = 2.0 * (xz - yw)
-        c01 = 2.0 * (xy - zw)
-        c11 = -x2 + y2 - z2 + w2
-        c21 = 2.0 * (yz + xw)
-        c02 = 2.0 * (xz + yw)
-        c12 = 2.0 * (yz - xw)
-        c22 = -x2 - y2 + z2 + w2
+        c00, c10, c20, c01, c11, c21, c02, c12, c22 = _rotation_kernels.dcm_entries(q[i, 0], q[i, 1], q[i, 2],
+                                                                                   q[i, 3])
         v0, v1, v2 = v[i, 0], v[i, 1], v[i, 2]
         out[i, 0] = ((0.0 + c00 * v0) + c10 * v1) + c20 * v2
         out[i, 1] = ((0.0 + c01 * v0) + c11 * v1) + c21 * v2
