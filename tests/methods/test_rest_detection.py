@@ -5,6 +5,7 @@ import pytest
 
 from mtcal.methods import rest_detection
 from mtcal.methods.zero_velocity import detect_static
+from tests.code_paths import run_on_the_other_code_path
 
 FS = 200.0
 
@@ -408,20 +409,7 @@ def test_detector_statistics_match_the_numpy_code_bit_for_bit():
 
 def test_compiled_sums_match_numpy_on_the_other_code_path():
     """The same checks in a fresh process on the other numba/numpy code path (generic <-> native)."""
-    import os
-    import subprocess
-    import sys
-    from pathlib import Path
-
-    env = dict(os.environ)
-    if env.get("NUMBA_CPU_NAME") == "generic":  # tests run generic (make test): check native (make bench)
-        for var in ("NUMBA_CPU_NAME", "NPY_DISABLE_CPU_FEATURES", "GLIBC_TUNABLES"):
-            env.pop(var, None)
-    else:
-        env.update(NUMBA_CPU_NAME="generic", NPY_DISABLE_CPU_FEATURES="X86_V3 X86_V4 AVX512_ICL AVX512_SPR")
-    root = Path(__file__).resolve().parents[2]
-    env["PYTHONPATH"] = os.pathsep.join([str(root)] + [p for p in env.get("PYTHONPATH", "").split(os.pathsep) if p])
     code = ("from tests.methods import test_rest_detection as t; t._check_kernels_against_numpy(1); "
             "t._check_detector_against_numpy(); print('same bits')")
-    res = subprocess.run([sys.executable, "-c", code], env=env, cwd=root, capture_output=True, text=True)
+    res = run_on_the_other_code_path(code)
     assert res.returncode == 0 and res.stdout.strip() == "same bits", res.stderr[-2000:]

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from mtcal.methods import tilt_rate
+from tests.code_paths import run_on_the_other_code_path
 
 DT = 0.01
 
@@ -296,19 +297,6 @@ def test_compiled_glue_returns_exactly_the_numpy_result():
 
 def test_compiled_glue_matches_numpy_on_the_other_code_path():
     """The same check in a fresh process on the other numba/numpy code path (generic <-> native)."""
-    import os
-    import subprocess
-    import sys
-    from pathlib import Path
-
-    env = dict(os.environ)
-    if env.get("NUMBA_CPU_NAME") == "generic":  # tests run generic (make test): check native (make bench)
-        for var in ("NUMBA_CPU_NAME", "NPY_DISABLE_CPU_FEATURES", "GLIBC_TUNABLES"):
-            env.pop(var, None)
-    else:
-        env.update(NUMBA_CPU_NAME="generic", NPY_DISABLE_CPU_FEATURES="X86_V3 X86_V4 AVX512_ICL AVX512_SPR")
-    root = Path(__file__).resolve().parents[2]
-    env["PYTHONPATH"] = os.pathsep.join([str(root)] + [p for p in env.get("PYTHONPATH", "").split(os.pathsep) if p])
     code = "from tests.methods import test_tilt_rate as t; t._check_against_numpy(); print('same bits')"
-    res = subprocess.run([sys.executable, "-c", code], env=env, cwd=root, capture_output=True, text=True)
+    res = run_on_the_other_code_path(code)
     assert res.returncode == 0 and res.stdout.strip() == "same bits", res.stderr[-2000:]
