@@ -63,7 +63,8 @@ CACHE := $(CURDIR)/build/cache
 ## rewrites notebooks/*.ipynb, figures/, data/ (byte-identical when nothing changed), then the report.
 reproduce: $(STAMP)
 	$(BIN)/python tools/notebooks.py sync $(NOTEBOOK_SRC)
-	MTCAL_SIZE=full MTCAL_OUTPUT_DIR=$(CURDIR) MTCAL_CACHE_DIR=$(CACHE) $(BIN)/python tools/notebooks.py execute --jobs $(JOBS) $(NOTEBOOK_SRC)
+	MTCAL_SIZE=full MTCAL_OUTPUT_DIR=$(CURDIR) MTCAL_CACHE_DIR=$(CACHE) $(BIN)/python tools/notebooks.py execute --jobs $(JOBS) \
+		--resources $(CURDIR)/build/reproduce/resources.csv $(NOTEBOOK_SRC)
 	$(BIN)/python -m mtcal.reporting.fidelity data
 	$(BIN)/python tools/artifact_catalogue.py
 	$(BIN)/python tools/artifact_catalogue.py --check

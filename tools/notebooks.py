@@ -3,7 +3,9 @@
 Usage (from the repository root)::
 
     python tools/notebooks.py sync    [notebooks/NN_x.py ...]   # .ipynb inputs from the .py (jupytext)
-    python tools/notebooks.py execute [--jobs N] [notebooks/NN_x.py ...]   # papermill, in place (default 2 jobs)
+    python tools/notebooks.py execute [--jobs N] [--resources CSV] [notebooks/NN_x.py ...]
+        # papermill, in place (default 2 jobs); --resources: start the longest notebooks of the
+        # previous run first, then write each notebook's wall time and peak RSS (and the total) there
     python tools/notebooks.py measure [--out build/measure] [notebooks/NN_x.py ...]
         # each notebook in its own process tree; wall time and peak RSS → <out>/resources.csv
 
@@ -43,12 +45,44 @@ def cmd_sync(args) -> int:
     return 0
 
 
+def _previous_seconds(path: Path | None) -> dict[str, float]:
+    """Wall time per notebook of the previous run recorded in ``path`` (empty when there is none)."""
+    if path is None or not path.is_file():
+        return {}
+    try:
+        with open(path, newline="") as fh:
+            return {r["notebook"]: float(r["wall_s"]) for r in csv.DictReader(ln for ln in fh if not ln.startswith("#"))
+                    if r.get("status") == "ok" and r.get("notebook") != "total"}
+    except (OSError, KeyError, ValueError):
+        return {}
+
+
+def _write_resources(path: Path, results, total_s: float, jobs: int) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    rows = [{"notebook": Path(r.job.source).stem, "status": r.status, "wall_s": f"{r.seconds:.1f}",
+             "peak_rss_kernel_mb": "" if r.peak_rss_mb != r.peak_rss_mb else f"{r.peak_rss_mb:.0f}"}
+            for r in sorted(results, key=lambda r: Path(r.job.source).stem)]
+    peaks = [float(r["peak_rss_kernel_mb"]) for r in rows if r["peak_rss_kernel_mb"]]
+    rows.append({"notebook": "total", "status": "ok" if all(r.ok for r in results) else "failed",
+                 "wall_s": f"{total_s:.1f}", "peak_rss_kernel_mb": f"{max(peaks):.0f}" if peaks else ""})
+    tmp = path.with_name(path.name + ".tmp")
+    with open(tmp, "w", newline="") as fh:
+        fh.write(f"# tools/notebooks.py execute --jobs {jobs}: wall time per notebook and in total (s), "
+                 "peak RSS of the notebook's kernel (MiB)\n")
+        writer = csv.DictWriter(fh, fieldnames=list(rows[0]), lineterminator="\n")
+        writer.writeheader()
+        writer.writerows(rows)
+    os.replace(tmp, path)
+
+
 def cmd_execute(args) -> int:
     """Execute notebooks, ``--jobs`` at a time, each in its own process (own cwd and environment:
     :func:`mtcal.runs.executor.execute_jobs`). The notebooks read nothing written by another and
     every result is seeded, so the files do not depend on the order or the number of jobs. No new
-    notebook starts after the first failure; each failure is one line naming the partial notebook."""
-    from mtcal.runs.executor import NotebookJob, execute_jobs
+    notebook starts after the first failure; each failure is one line naming the partial notebook.
+    With ``--resources``, the previous run's longest notebooks start first and this run's times and
+    peak memory are written there."""
+    from mtcal.runs.executor import NotebookJob, execute_jobs, longest_first
 
     sources = _sources(args.notebooks)
     if args.output and len(sources) != 1:
@@ -57,13 +91,19 @@ def cmd_execute(args) -> int:
     if args.jobs < 1:
         print(f"notebooks: --jobs must be >= 1, got {args.jobs}", file=sys.stderr)
         return 2
+    resources = Path(args.resources) if args.resources else None
     jobs = [NotebookJob(src, Path(args.output) if args.output else src.with_suffix(".ipynb")) for src in sources]
+    jobs = longest_first(jobs, _previous_seconds(resources))
 
     def report(result):
         if result.ok:
-            print(f"{result.job.output}: executed in {result.seconds:.0f} s", flush=True)
+            print(f"{result.job.output}: executed in {result.seconds:.0f} s, peak RSS {result.peak_rss_mb:.0f} MiB",
+                  flush=True)
 
+    start = time.perf_counter()
     results = execute_jobs(jobs, n_jobs=args.jobs, on_result=report)
+    if resources is not None:
+        _write_resources(resources, results, time.perf_counter() - start, args.jobs)
     errors = [r.error for r in results if r.status == "failed"]
     for err in errors:
         print(f"notebooks: {err}", file=sys.stderr)
@@ -134,6 +174,7 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("notebooks", nargs="*")
     p.add_argument("--output", help="executed notebook path (one notebook only; default: in place)")
     p.add_argument("--jobs", type=int, default=2, help="notebooks executed at the same time (default 2)")
+    p.add_argument("--resources", help="CSV of wall time and peak RSS per notebook: read (longest first) and rewritten")
     p.set_defaults(func=cmd_execute)
     p = sub.add_parser("measure")
     p.add_argument("notebooks", nargs="*")

@@ -13,16 +13,18 @@ and no new job starts after the first failure (``stop_on_failure``).
 from __future__ import annotations
 
 import json
+import math
 import os
 import subprocess
 import sys
+import tempfile
 import threading
 import time
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
 
-__all__ = ["NotebookJob", "JobResult", "execute_jobs", "failure_line"]
+__all__ = ["NotebookJob", "JobResult", "execute_jobs", "failure_line", "longest_first"]
 
 
 @dataclass(frozen=True)
@@ -63,12 +65,15 @@ class NotebookJob:
 @dataclass(frozen=True)
 class JobResult:
     """Outcome of a :class:`NotebookJob`: ``status`` is ``ok``, ``failed`` or ``skipped`` (not started
-    after an earlier failure); ``error`` the one-line message (``""`` when ok); ``seconds`` the wall time."""
+    after an earlier failure); ``error`` the one-line message (``""`` when ok); ``seconds`` the wall
+    time; ``peak_rss_mb`` the peak resident memory of the largest single process of the job's tree
+    (its kernel; MiB, from ``wait4``; NaN when not started)."""
 
     job: NotebookJob
     status: str
     error: str = ""
     seconds: float = 0.0
+    peak_rss_mb: float = math.nan
 
     @property
     def ok(self) -> bool:
@@ -116,13 +121,47 @@ def _run_one(job: NotebookJob) -> JobResult:
     spec = {"source": str(source), "output": str(output), "parameters": job.parameters, "cwd": str(cwd),
             "timeout_s": job.timeout_s, "mode": job.mode}
     start = time.perf_counter()
-    proc = subprocess.run([sys.executable, "-m", "mtcal.runs._runner", json.dumps(spec)], cwd=cwd,
-                          env=_child_env(job), stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
-                          stderr=subprocess.PIPE, text=True)
+    # output to files and the child reaped by wait4: its rusage (ru_maxrss covers the child and its
+    # reaped descendants, i.e. the notebook's kernel) is the job's peak memory
+    with tempfile.TemporaryFile("w+") as out, tempfile.TemporaryFile("w+") as err:
+        child = subprocess.Popen([sys.executable, "-m", "mtcal.runs._runner", json.dumps(spec)], cwd=cwd,
+                                 env=_child_env(job), stdin=subprocess.DEVNULL, stdout=out, stderr=err, text=True)
+        _, wait_status, usage = os.wait4(child.pid, 0)
+        child.returncode = os.waitstatus_to_exitcode(wait_status)
+        err.seek(0)
+        stderr = err.read()
     seconds = time.perf_counter() - start
-    if proc.returncode == 0:
-        return JobResult(job, "ok", "", seconds)
-    return JobResult(job, "failed", failure_line(source.stem, job.output, proc.stderr), seconds)
+    peak_mb = usage.ru_maxrss / 1024.0
+    if child.returncode == 0:
+        return JobResult(job, "ok", "", seconds, peak_mb)
+    return JobResult(job, "failed", failure_line(source.stem, job.output, stderr), seconds, peak_mb)
+
+
+def longest_first(jobs: list[NotebookJob], seconds: dict[str, float]) -> list[NotebookJob]:
+    """``jobs`` reordered by a previous run's wall time, longest first (the shortest makespan for
+    parallel jobs of known length, greedily); jobs without a time keep their order, after the timed ones.
+
+    The outputs do not depend on the order (each job in its own process, seeded), only the wall time.
+
+    Parameters
+    ----------
+    jobs : list of NotebookJob
+    seconds : dict of str → float
+        Previous wall time (s) per source stem (``10_x`` for ``notebooks/10_x.py``).
+
+    Returns
+    -------
+    list of NotebookJob
+
+    Examples
+    --------
+    >>> jobs = [NotebookJob(Path(f"{s}.py"), Path(f"{s}.ipynb")) for s in ("a", "b", "c")]
+    >>> [j.source.stem for j in longest_first(jobs, {"a": 5.0, "c": 40.0})]
+    ['c', 'a', 'b']
+    """
+    timed = [j for j in jobs if Path(j.source).stem in seconds]
+    timed.sort(key=lambda j: -float(seconds[Path(j.source).stem]))   # stable: ties keep their order
+    return timed + [j for j in jobs if Path(j.source).stem not in seconds]
 
 
 def execute_jobs(jobs: list[NotebookJob], *, n_jobs: int = 2, stop_on_failure: bool = True,

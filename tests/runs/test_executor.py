@@ -103,3 +103,31 @@ def test_script_mode_runs_the_cells_in_the_job_process(tmp_path):
     assert src.read_text(encoding="utf-8") == WRITER  # the source is never written in script mode
     with pytest.raises(ValueError, match="NotebookJob.mode must be 'kernel' or 'script', got 'thread'"):
         execute_jobs([NotebookJob(src, src, mode="thread")])
+
+
+MEMORY = '''# %% tags=["parameters"]
+MB = 0
+
+# %%
+import numpy as np
+block = np.ones(MB * 2**17)  # MB MiB of float64, touched
+'''
+
+
+def test_peak_memory_of_the_job_is_recorded(tmp_path):
+    (tmp_path / "01_mem.py").write_text(MEMORY, encoding="utf-8")
+    small, large = execute_jobs([NotebookJob(tmp_path / "01_mem.py", tmp_path / f"{n}.ipynb", {"MB": mb})
+                                 for n, mb in (("small", 1), ("large", 300))], n_jobs=2)
+    assert small.ok and large.ok
+    # the peak is the largest process of the job's tree: the large job's kernel (300 MiB of data on
+    # top of numpy), the small job's runner or kernel (~150 MiB); both measured, neither NaN
+    assert 300 < large.peak_rss_mb < 800 and 50 < small.peak_rss_mb < large.peak_rss_mb - 150
+
+
+def test_longest_first_orders_by_previous_time_and_keeps_untimed_jobs():
+    from mtcal.runs.executor import longest_first
+
+    jobs = [NotebookJob(Path(f"nb/{s}.py"), Path(f"nb/{s}.ipynb")) for s in ("00_a", "10_b", "11_c", "20_d")]
+    order = longest_first(jobs, {"11_c": 60.0, "00_a": 8.0, "10_b": 80.0, "gone": 99.0})
+    assert [j.source.stem for j in order] == ["10_b", "11_c", "00_a", "20_d"]
+    assert longest_first(jobs, {}) == jobs
