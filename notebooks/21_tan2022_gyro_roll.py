@@ -57,11 +57,11 @@ from mtcal.studies.tan2022 import plots
 
 output.setup_matplotlib()
 SIZE = output.run_size(SIZE)
-N_TRIALS = N_TRIALS or {"ci": 20, "full": 100}[SIZE]
-N_UNIFORM = {"ci": 5, "full": 20}[SIZE]  # trials of the long uniform rotations
+N_TRIALS = N_TRIALS or {"ci": 20, "full": 1000}[SIZE]
+N_UNIFORM = {"ci": 5, "full": 1000}[SIZE]  # trials of the long uniform rotations
 N_THRESHOLDS = {"ci": 25, "full": 60}[SIZE]
-N_PATTERN = {"ci": 5, "full": 10}[SIZE]  # noise trials per grid point of the error-pattern fit
-N_PREDICT = {"ci": 20, "full": 1000}[SIZE]  # posterior / prior predictive trials of the gyro error model
+N_PATTERN = {"ci": 5, "full": 20}[SIZE]  # noise trials per grid point of the error-pattern likelihood (not a band)
+N_PREDICT = {"ci": 20, "full": 1000}[SIZE]  # posterior / prior predictive draws (gyro error model and pattern)
 params = {"gyro_error_x_deg_s": gyro_error_x_deg_s, "gyro_error_y_deg_s": gyro_error_y_deg_s,
           "gyro_error_z_deg_s": gyro_error_z_deg_s, "gyro_noise_density_deg_s_rthz": gyro_noise_density_deg_s_rthz,
           "fs_hz": fs_hz, "pitch_rates_deg_s": pitch_rates_deg_s, "oscillation_amplitude_deg": oscillation_amplitude_deg,
@@ -218,7 +218,7 @@ display(output.save_figure(plots.gyro_error_model(fit), "tan2022_extra_error_mod
 # constant error).
 
 # %%
-pattern = tan2022.fit_gyro_error_pattern(study, tan2022.GyroErrorPrior(), SEED, N_PATTERN)
+pattern = tan2022.fit_gyro_error_pattern(study, tan2022.GyroErrorPrior(), SEED, N_PATTERN, N_PREDICT)
 print(*pattern.lines, sep="\n")
 output.show_table(pattern.parameters, "{:.5f}")
 rows += pattern.rows
