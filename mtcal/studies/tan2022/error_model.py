@@ -452,7 +452,9 @@ def fit_gyro_error_model(study: GyroStudy, prior: GyroErrorPrior, seed: int, tri
     lines = [f"b: ML {bgrid[i_ml]:.3f} °/s, posterior median {pb['median']:.3f} [{pb['low']:.3f}, {pb['high']:.3f}]; "
              f"N: ML {ngrid[j_ml]:.4f}, median {pn['median']:.4f} [{pn['low']:.4f}, {pn['high']:.4f}] °/s/√Hz",
              f"Fig 12 'accurate' (max < {prior.accurate_deg:g}°) needs a y/z error ≤ {need:.4f} °/s at "
-             f"θ̇_t = {study.oscillation.threshold_deg_s:g} °/s: {e_x / need:.0f}× below the paper's {e_x:g} °/s"]
+             f"θ̇_t = {study.oscillation.threshold_deg_s:g} °/s: {e_x / need:.0f}× below the paper's {e_x:g} °/s",
+             f"(b, N): grid posterior, likelihood from {n_fit} noise trials per grid point; predictive bands from "
+             f"{n} draws each (posterior and prior)"]
     return ErrorModelFit(params, {"bias_grid": bgrid, "noise_grid": ngrid, "likelihood": lik,
                                   "posterior_b": pb["posterior"], "posterior_n": pn["posterior"],
                                   "predictive_bands": np.asarray(numeric)},
@@ -485,7 +487,7 @@ def fit_gyro_error_pattern(study: GyroStudy, prior: GyroErrorPrior, seed: int, t
 
     The x and y gyros keep the study's constant errors (the paper's 0.2 °/s).
     Likelihood of ``(b_z, N)``: Monte Carlo probability over ``trials`` noise
-    draws that the Fig 11 statement (projection error jumps as θ̇ → 0: spike
+    draws (the same draws at every grid point) that the Fig 11 statement (projection error jumps as θ̇ → 0: spike
     ratio > 5) and the Fig 12 statement (hybrid accurate: max error below
     ``prior.accurate_deg``) both hold. Uniform priors on [0, 0.5] °/s and
     [0, 0.01] °/s/√Hz via quadrature weights on non-uniform grids. Consistency:
@@ -509,9 +511,11 @@ def fit_gyro_error_pattern(study: GyroStudy, prior: GyroErrorPrior, seed: int, t
     rng = stream_rng(seed, STREAM_GYRO_PATTERN)
     bgrid, ngrid = PATTERN_BIAS_GRID_DEG_S, PATTERN_NOISE_GRID_DEG_S_RTHZ
     lik = np.empty((bgrid.size, ngrid.size))
+    z = rng.standard_normal((n, study.oscillation.time_s().size, 3))  # common random numbers over the grid
     for i, b in enumerate(bgrid):
         for j, nd in enumerate(ngrid):
-            spike, hyb = oscillation_claims(study, b, nd, rng, n if nd > 0 else 1, accurate_deg=prior.accurate_deg)
+            spike, hyb = oscillation_claims(study, b, nd, rng, n if nd > 0 else 1, accurate_deg=prior.accurate_deg,
+                                            normals=z if nd > 0 else z[:1])
             lik[i, j] = np.mean((spike > 5.0) & (hyb < prior.accurate_deg))
     wb, wn = _trapezoid_weights(bgrid), _trapezoid_weights(ngrid)
     post = lik * wb[:, None] * wn[None, :]
@@ -567,7 +571,8 @@ def fit_gyro_error_pattern(study: GyroStudy, prior: GyroErrorPrior, seed: int, t
     table = pd.DataFrame(lik, index=pd.Index(bgrid, name="b_z_deg_s"),
                          columns=[f"N={v:g}" for v in ngrid]).reset_index()
     return ErrorModelFit(params, {"bias_grid": bgrid, "noise_grid": ngrid, "likelihood": lik,
-                                  "posterior_b": pb["posterior"], "posterior_n": pn["posterior"]},
+                                  "posterior_b": pb["posterior"], "posterior_n": pn["posterior"], "trials": n,
+                                  "predict_trials": n_pred},
                          table, rows, [], lines)
 
 

@@ -228,13 +228,16 @@ def gyro_predictions(study: GyroStudy, b_deg, n_deg, rng):
     return out
 
 
-def oscillation_claims(study: GyroStudy, b_z_deg, n_deg, rng, trials, *, accurate_deg: float | None = None):
+def oscillation_claims(study: GyroStudy, b_z_deg, n_deg, rng, trials, *, accurate_deg: float | None = None,
+                       normals=None):
     """Per-trial Fig 11 spike ratio and Fig 12 hybrid max error (deg) for a z error ``b_z`` and noise ``N``.
 
     x and y gyros keep the study's constant errors. Trials run in blocks of ``_CHUNK``. With
     ``accurate_deg`` a trial stops once its hybrid error exceeds it (Fig 12 "accurate" then
     fails, so both statements fail whatever follows): its spike ratio is NaN. The test
-    ``(spike > 5) & (hyb < accurate_deg)`` is unchanged by the early stop.
+    ``(spike > 5) & (hyb < accurate_deg)`` is unchanged by the early stop. ``normals``
+    (trials, T, 3), if given, are the standard normal draws to use (common random numbers over
+    a grid of (b_z, N)); ``rng`` is then not used.
     """
     g, osc = study.gyro, study.oscillation
     t = osc.time_s()
@@ -249,7 +252,8 @@ def oscillation_claims(study: GyroStudy, b_z_deg, n_deg, rng, trials, *, accurat
     sigma = _RAD(n_deg) * np.sqrt(g.fs_hz)
     spike, hyb = np.empty(trials), np.empty(trials)
     for sl in trial_chunks(trials):
-        w = base + sigma * rng.standard_normal((sl.stop - sl.start, t.size, 3))
+        z = rng.standard_normal((sl.stop - sl.start, t.size, 3)) if normals is None else normals[sl]
+        w = base + sigma * z
         spike[sl], h, _ = gyro_roll.projection_hybrid_max_errors(w, g.dt_s, osc.threshold_rad_s, slow,
                                                                  roll0=g.roll0_rad, stop_above_rad=stop)
         hyb[sl] = _DEG(h)
