@@ -152,10 +152,12 @@ def large_pitch_ratio(d0, d1, d2, th, ph, sc: AccelScenario):
     lam = np.where(th <= 0, _RAD(sc.lambda1_deg), _RAD(sc.lambda2_deg))
     large = np.abs(th) >= _RAD(45.0)
     th, ph, lam = th[large], ph[large], lam[large]
-    plain = np.abs(large_angle.pitch_error_first_order(th, ph, d0[:, None, :], g=g))
-    dsel = np.where((th <= 0)[None, :, None], d1[:, None, :], d2[:, None, :])
-    preset = np.abs(large_angle.pitch_error_first_order(th, ph, dsel, preset_rad=lam, g=g))
-    return preset.max(axis=1) / plain.max(axis=1)
+    plain = np.max(np.abs(large_angle.pitch_error_first_order(th, ph, d0[:, None, :], g=g)), axis=1)
+    neg = th <= 0  # triad λ1 on θ ≤ 0, λ2 on θ > 0: each part with its own biases (no (n, P, 3) selection)
+    preset = np.maximum(
+        *(np.max(np.abs(large_angle.pitch_error_first_order(th[k], ph[k], d[:, None, :], preset_rad=lam[k], g=g)),
+                 axis=1) for k, d in ((neg, d1), (~neg, d2))))
+    return preset / plain
 
 
 def accel_predictions(sc: AccelScenario, ratios, rng, step_deg):
