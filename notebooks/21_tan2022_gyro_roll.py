@@ -29,7 +29,12 @@
 # equations); a `claim` is tested with the threshold quoted, and a claim our
 # simulation contradicts (Fig 12 "accurate") is reported failing with the
 # computed reason. Time-series figures draw the median-error trial (named in
-# each title), not trial 0.
+# each title), not trial 0. Every printed band (median and 2.5–97.5 % band) rests
+# on 1000 Monte Carlo trials or predictive draws at full size (`N_TRIALS`,
+# `N_UNIFORM`, `N_PREDICT`); the ci size runs 5–20 trials, so its "bands" are
+# ranges of a smoke test, not 95 % bands. The identified-model parameters are
+# grid posteriors (credible intervals, not Monte Carlo bands) whose likelihoods
+# are Monte Carlo estimates from fewer trials per grid point (stated where printed).
 
 # %% tags=["parameters"]
 SIZE = None  # "ci" or "full"; None → $MTCAL_SIZE, else "full"
@@ -57,11 +62,11 @@ from mtcal.studies.tan2022 import plots
 
 output.setup_matplotlib()
 SIZE = output.run_size(SIZE)
-N_TRIALS = N_TRIALS or {"ci": 20, "full": 100}[SIZE]
-N_UNIFORM = {"ci": 5, "full": 20}[SIZE]  # trials of the long uniform rotations
+N_TRIALS = N_TRIALS or {"ci": 20, "full": 1000}[SIZE]
+N_UNIFORM = {"ci": 5, "full": 1000}[SIZE]  # trials of the long uniform rotations
 N_THRESHOLDS = {"ci": 25, "full": 60}[SIZE]
-N_PATTERN = {"ci": 5, "full": 10}[SIZE]  # noise trials per grid point of the error-pattern fit
-N_PREDICT = {"ci": 20, "full": 1000}[SIZE]  # posterior / prior predictive trials of the gyro error model
+N_PATTERN = {"ci": 5, "full": 100}[SIZE]  # noise trials per grid point of the error-pattern likelihood (not a band)
+N_PREDICT = {"ci": 20, "full": 1000}[SIZE]  # posterior / prior predictive draws (gyro error model and pattern)
 params = {"gyro_error_x_deg_s": gyro_error_x_deg_s, "gyro_error_y_deg_s": gyro_error_y_deg_s,
           "gyro_error_z_deg_s": gyro_error_z_deg_s, "gyro_noise_density_deg_s_rthz": gyro_noise_density_deg_s_rthz,
           "fs_hz": fs_hz, "pitch_rates_deg_s": pitch_rates_deg_s, "oscillation_amplitude_deg": oscillation_amplitude_deg,
@@ -76,8 +81,8 @@ print(f"{tan2022.gyro_label(study)}; paper settings: {AT_PAPER}")
 #
 # Paper (Sec. 2.2.2): with a 0.2 °/s gyro error the projection error falls as
 # the pitch rate rises (Eq 14). Constant-rate pitch, one window per rate,
-# per-trial mean error; median and 95 % band against Eq 14 and the exact
-# arctan. Tested: log-log slope ≈ −1.
+# per-trial mean error; median and 95 % band over `N_TRIALS` trials against
+# Eq 14 and the exact arctan. Tested: log-log slope ≈ −1.
 
 # %%
 art = tan2022.fig06(study, SEED, N_TRIALS)
@@ -107,7 +112,9 @@ rows += art.rows
 # One revolution at each rate, roll rate 0. Paper (Sec. 3.2): (a) Eq 5 jumps
 # at θ = ±90° (the integrated Euler angles switch branch, so "roll" jumps by
 # ≈ 180°); (b) Eq 12 accumulates error; (c) Eq 13 stays stable, with an error
-# that falls as θ̇ rises. Figure: one noise seed; rows: median and band.
+# that falls as θ̇ rises. Figure: the median-error trial of the ensemble (by
+# final |Eq 12 error|, named in each panel title), an example of the ensemble;
+# rows: median and 95 % band over `N_UNIFORM` trials.
 
 # %%
 art = tan2022.fig09(study, SEED, N_UNIFORM)
@@ -119,12 +126,13 @@ display(output.save_figure(plots.fig09(art), "tan2022_fig09"))
 # %% [markdown]
 # ## tan2022_fig10 — pitch rate under oscillation θ = θm sin(2πft)
 #
-# Eq 17 and the rate magnitude the hybrid sees, `√(ω_y² + ω_z²)`, against θ̇_t.
+# Eq 17 and the rate magnitude the hybrid sees, `√(ω_y² + ω_z²)` (median and
+# 95 % band over `N_TRIALS` noise trials, first two periods), against θ̇_t.
 # The oscillation never comes near θ = ±90°, so it does not exercise the
 # singularity that motivates the method.
 
 # %%
-art = tan2022.fig10(study, SEED)
+art = tan2022.fig10(study, SEED, N_TRIALS)
 print(*art.lines, sep="\n")
 output.save_table(art.table, "tan2022_fig10")
 display(output.save_figure(plots.fig10(art), "tan2022_fig10"))
@@ -133,6 +141,8 @@ display(output.save_figure(plots.fig10(art), "tan2022_fig10"))
 # ## tan2022_fig11 — projection roll error under oscillation
 #
 # Paper: the projection error jumps wherever θ̇ → 0 (twice per period).
+# Row: median and 95 % band of the spike ratio over `N_TRIALS` trials; figure:
+# the median-error trial (by max |Δφ_P|).
 
 # %%
 art = tan2022.fig11(study, SEED, N_TRIALS)
@@ -149,7 +159,9 @@ display(output.save_figure(plots.fig11(art), "tan2022_fig11"))
 # only on the ≈ 2.5 ms around each rate reversal (θ̈ = (2πf)²θm ≈ 395 °/s²);
 # just above the threshold it uses projection, whose error there is tens of
 # degrees. The "accurate" claim therefore fails, also with the paper's
-# constant errors alone; the rows record that as our finding.
+# constant errors alone; the rows record that as our finding. Table: median and
+# 95 % band over `N_TRIALS` trials; figure: the median-error trial (by max |Δφ_G|)
+# beside the constant-errors-only run.
 
 # %%
 art = tan2022.fig12(study, SEED, N_TRIALS)
@@ -162,8 +174,8 @@ display(output.save_figure(plots.fig12(art), "tan2022_fig12"))
 # %% [markdown]
 # ## tan2022_extra_threshold_sweep (beyond the paper) — where the threshold should be
 #
-# Roll RMSE vs θ̇_t, same trials for every threshold; each trial's own optimum
-# gives the band. Above the peak rate the hybrid becomes pure integration.
+# Roll RMSE vs θ̇_t, same `N_TRIALS` trials for every threshold; each trial's own
+# optimum gives the band. Above the peak rate the hybrid becomes pure integration.
 
 # %%
 art = tan2022.extra_threshold_sweep(study, SEED, N_TRIALS, N_THRESHOLDS)
@@ -188,7 +200,9 @@ display(output.save_figure(plots.extra_threshold_sweep(art), "tan2022_extra_thre
 #
 # Each row carries the posterior-predictive band (`mc_band`: (b, N) drawn from
 # the posterior per trial) and the prior-predictive band (`prior_band`: drawn
-# from the priors).
+# from the priors), `N_PREDICT` draws each. The (b, N) intervals are grid
+# posteriors; their likelihood uses 10 noise trials per grid point (the Monte
+# Carlo spread enters the likelihood's variance).
 
 # %%
 fit = tan2022.fit_gyro_error_model(study, tan2022.GyroErrorPrior(), SEED, N_PREDICT)
@@ -213,12 +227,13 @@ display(output.save_figure(plots.gyro_error_model(fit), "tan2022_extra_error_mod
 # constant z-gyro error `b_z` (prior [0, 0.5] °/s) and the noise density `N`
 # (prior [0, 0.01] °/s/√Hz) to the two oscillation statements together
 # (training: Fig 11 spikes *and* Fig 12 accurate, Monte Carlo probability per
-# grid point; `consistency`). Checked: the Fig 9 statement that the projection
-# error falls as θ̇ rises (`consistency`: Eq 14 gives Δφ ∝ 1/θ̇ for any
-# constant error).
+# grid point from `N_PATTERN` noise trials, the same draws at every point — a
+# likelihood, not a band; `consistency`). Checked: the Fig 9 statement that the
+# projection error falls as θ̇ rises (`consistency`: Eq 14 gives Δφ ∝ 1/θ̇ for
+# any constant error; band over `N_PREDICT` posterior draws).
 
 # %%
-pattern = tan2022.fit_gyro_error_pattern(study, tan2022.GyroErrorPrior(), SEED, N_PATTERN)
+pattern = tan2022.fit_gyro_error_pattern(study, tan2022.GyroErrorPrior(), SEED, N_PATTERN, N_PREDICT)
 print(*pattern.lines, sep="\n")
 output.show_table(pattern.parameters, "{:.5f}")
 rows += pattern.rows

@@ -42,13 +42,15 @@ from mtcal.core.validate import angle_rad, as_float_array, positive_scalar, time
 
 __all__ = ["MAX_RATE_RAD_S", "body_rates_two_dof", "two_dof_trajectory", "simulate_two_dof_imu",
            "euler_differential", "roll_decoupled_integration", "roll_projection",
-           "pitch_rate_magnitude", "roll_hybrid", "roll_hybrid_rmse_sweep", "projection_roll_error_eq14",
+           "pitch_rate_magnitude", "roll_hybrid", "roll_hybrid_rmse_sweep", "projection_hybrid_max_errors",
+           "projection_roll_error_eq14",
            "projection_roll_error_exact", "loglog_slope"]
 
 #: Largest accepted body rate (rad/s) = ±2000 °/s, the full scale of common MEMS gyros;
 #: larger values are taken as degrees passed as radians.
 MAX_RATE_RAD_S = float(np.radians(2000.0))
 _MECH_LIMIT_RAD = 4 * np.pi
+_KERNEL_MIN_SIZE = 30_000  # array elements from which the compiled kernels beat numpy (numba import aside)
 
 
 # --------------------------------------------------------------------------
@@ -56,14 +58,15 @@ _MECH_LIMIT_RAD = 4 * np.pi
 # --------------------------------------------------------------------------
 def _gyro(value, name: str = "gyro_rad_s") -> np.ndarray:
     """Gyro samples (..., N, 3) in rad/s, N ≥ 1, |ω| ≤ 2000 °/s."""
-    w = as_float_array(value, name, last_dim=3)
+    w = as_float_array(value, name, last_dim=3, copy=False)  # read only here: no copy of long records
     if w.ndim < 2:
         raise ValueError(f"{name} must have shape (N, 3) or (T, N, 3), got {w.shape}")
     if w.shape[-2] == 0:
         raise ValueError(f"{name} must not be empty (zero samples), got shape {w.shape}")
-    if np.max(np.abs(w)) > MAX_RATE_RAD_S:
+    peak = max(float(w.max()), -float(w.min()))  # max |w| without an |w| temporary
+    if peak > MAX_RATE_RAD_S:
         raise ValueError(f"{name} must be in rad/s with |{name}| <= {MAX_RATE_RAD_S:.4g} (2000 deg/s); "
-                         f"got {np.max(np.abs(w)):.6g} (degrees passed as radians?)")
+                         f"got {peak:.6g} (degrees passed as radians?)")
     return w
 
 
@@ -170,7 +173,8 @@ def simulate_two_dof_imu(time_s, pitch_rad, roll_rad, *, gyro_bias_rad_s=0.0,
 # --------------------------------------------------------------------------
 # roll estimators
 # --------------------------------------------------------------------------
-def euler_differential(gyro_rad_s, dt_s: float, *, pitch0=0.0, roll0=0.0, yaw0=0.0) -> np.ndarray:
+def euler_differential(gyro_rad_s, dt_s: float, *, pitch0=0.0, roll0=0.0, yaw0=0.0,
+                       engine: str = "numba") -> np.ndarray:
     """tan2022 Eq 5: integrate the Z-Y-X Euler-angle rates (forward Euler).
 
     ``ψ̇ = (ω_y sinφ + ω_z cosφ)/cosθ``, ``θ̇ = ω_y cosφ − ω_z sinφ``,
@@ -187,19 +191,35 @@ def euler_differential(gyro_rad_s, dt_s: float, *, pitch0=0.0, roll0=0.0, yaw0=0
         Sample interval (s).
     pitch0, roll0, yaw0 : float or array_like (T,)
         Initial Euler angles (rad; |pitch0| ≤ π/2).
+    engine : {"numba", "numpy"}
+        Compiled loop (default, :mod:`mtcal.methods._gyro_roll_kernels`) or the numpy
+        reference (a Python loop over time); equal to rounding.
 
     Returns
     -------
     ndarray, shape (..., N, 3)
         ``[ψ, θ, φ]`` at every sample (rad).
+
+    Examples
+    --------
+    >>> w = np.tile([0.0, 0.1, 0.0], (100, 1))  # pitch at 0.1 rad/s for 1 s
+    >>> float(euler_differential(w, 0.01)[-1, 1].round(6))
+    0.099
     """
     w = _gyro(gyro_rad_s)
     dt = positive_scalar(dt_s, "dt_s")
+    if engine not in ("numba", "numpy"):
+        raise ValueError(f"engine must be one of ('numba', 'numpy'), got {engine!r}")
     lead = w.shape[:-2]
     state = np.empty(lead + (3,))
     state[..., 0] = angle_rad(yaw0, "yaw0")
     state[..., 1] = _euler_pitch(pitch0)
     state[..., 2] = angle_rad(roll0, "roll0")
+    if engine == "numba":
+        from mtcal.methods import _gyro_roll_kernels  # here: numba is imported only when called
+
+        flat = np.ascontiguousarray(w.reshape((-1,) + w.shape[-2:]))
+        return _gyro_roll_kernels.euler_differential(flat, dt, state.reshape(-1, 3)).reshape(w.shape)
     out = np.empty(w.shape)
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         for k in range(w.shape[-2]):  # recursive: loop over time, vectorised over trials
@@ -253,6 +273,11 @@ def roll_projection(gyro_rad_s) -> np.ndarray:
     θ̇ → 0 (Eq 15): then it returns the angle of the gyro errors.
     """
     w = _gyro(gyro_rad_s)
+    if w.size >= _KERNEL_MIN_SIZE:  # long records: one compiled pass, the same operations
+        from mtcal.methods import _gyro_roll_kernels  # here: numba is imported only when called
+
+        flat = np.ascontiguousarray(w.reshape((-1,) + w.shape[-2:]))
+        return _gyro_roll_kernels.projection(flat).reshape(w.shape[:-1])
     wy, wz = w[..., 1], w[..., 2]
     sign = np.where(wy < 0.0, -1.0, 1.0)
     return np.arctan2(-wz * sign, np.abs(wy))
@@ -312,7 +337,8 @@ def _hybrid_from_parts(proj: np.ndarray, cum: np.ndarray, use: np.ndarray, phi0:
     return np.where(use, proj, base + cum)
 
 
-def roll_hybrid_rmse_sweep(gyro_rad_s, dt_s: float, thresholds_rad_s, *, roll_true=0.0, roll0=0.0) -> np.ndarray:
+def roll_hybrid_rmse_sweep(gyro_rad_s, dt_s: float, thresholds_rad_s, *, roll_true=0.0, roll0=0.0,
+                           engine: str = "numba") -> np.ndarray:
     """Roll RMSE of :func:`roll_hybrid` for many thresholds θ̇_t, sharing the per-sample work (rad).
 
     Parameters
@@ -327,6 +353,9 @@ def roll_hybrid_rmse_sweep(gyro_rad_s, dt_s: float, thresholds_rad_s, *, roll_tr
         True roll (rad) the errors are taken against.
     roll0 : float or array_like (T,)
         Initial roll (rad).
+    engine : {"numba", "numpy"}
+        Compiled sweep (default: one pass per trial and threshold, no temporaries) or the
+        numpy reference; equal to rounding (the sums run in another order).
 
     Returns
     -------
@@ -346,9 +375,22 @@ def roll_hybrid_rmse_sweep(gyro_rad_s, dt_s: float, thresholds_rad_s, *, roll_tr
     thr = as_float_array(thresholds_rad_s, "thresholds_rad_s", ndim=1)
     if np.any(thr < 0) or np.any(thr > MAX_RATE_RAD_S):
         raise ValueError(f"thresholds_rad_s must be in rad/s within [0, {MAX_RATE_RAD_S:.4g}]")
+    if engine not in ("numba", "numpy"):
+        raise ValueError(f"engine must be one of ('numba', 'numpy'), got {engine!r}")
     phi0 = np.asarray(angle_rad(roll0, "roll0"))[..., None]
     truth = np.asarray(angle_rad(roll_true, "roll_true"))
     proj, rate, cum = roll_projection(w), pitch_rate_magnitude(w), _cumulative_angle(w[..., 0], dt)
+    if engine == "numba":
+        from mtcal.methods import _gyro_roll_kernels  # here: numba is imported only when called
+
+        lead, n = w.shape[:-2], w.shape[-2]
+        m = int(np.prod(lead, dtype=int))
+        flat = lambda a: np.ascontiguousarray(a.reshape(m, n))  # noqa: E731
+        out = _gyro_roll_kernels.hybrid_rmse_sweep(flat(proj), flat(rate), flat(cum),
+                                                   np.ascontiguousarray(np.broadcast_to(phi0[..., 0], lead).ravel()),
+                                                   np.ascontiguousarray(np.broadcast_to(truth, (n,)), dtype=float),
+                                                   np.ascontiguousarray(thr))
+        return out.reshape(lead + (thr.size,))
     out = np.empty(w.shape[:-2] + (thr.size,))
     for k, th in enumerate(thr):  # loop over thresholds; samples and trials vectorised
         err = _hybrid_from_parts(proj, cum, rate > th, phi0) - truth
@@ -420,3 +462,60 @@ def loglog_slope(x, y) -> float | np.ndarray:
         raise ValueError("x must be positive and y non-zero for a log-log fit")
     slope = np.polyfit(np.log(xx), np.log(np.abs(yy)).T, 1)[0]
     return float(slope) if yy.ndim == 1 else slope
+
+
+def projection_hybrid_max_errors(gyro_rad_s, dt_s: float, threshold_rad_s: float, slow, *, roll0=0.0,
+                                 stop_above_rad: float = np.inf) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Per trial: projection spike ratio and hybrid max |roll error| at constant true roll ``roll0`` (one pass).
+
+    The spike ratio is max |Eq 13 error| over the samples where ``slow`` over the max
+    elsewhere (tan2022 Fig 11); the hybrid max is max |Fig 7 hybrid error| (Fig 12), both
+    against the constant true roll ``roll0``. Compiled (no (T, N) temporaries).
+
+    Parameters
+    ----------
+    gyro_rad_s : array_like, shape (N, 3) or (T, N, 3)
+        Body rates (rad/s).
+    dt_s : float
+        Sample interval (s).
+    threshold_rad_s : float
+        Hybrid switch θ̇_t (rad/s, ≥ 0).
+    slow : array_like of bool (N,)
+        Samples counted as "θ̇ → 0" for the spike ratio.
+    roll0 : float
+        Initial and true roll (rad).
+    stop_above_rad : float
+        A trial stops as soon as its hybrid error exceeds this (rad): its spike ratio is
+        then NaN and ``complete`` False (for a test of "spikes and accurate" that is
+        already decided). Default ``inf``: full records.
+
+    Returns
+    -------
+    spike : ndarray, shape (T,) (0-d for one (N, 3) record)
+    hybrid_max_rad : ndarray, shape (T,) (rad)
+    complete : ndarray of bool, shape (T,)
+
+    Examples
+    --------
+    >>> t = np.arange(0.0, 2.0, 0.001)
+    >>> w = np.stack([np.zeros_like(t), np.cos(np.pi * t), np.full_like(t, 1e-3)], -1)
+    >>> spike, hyb, ok = projection_hybrid_max_errors(w, 0.001, 0.01, np.abs(np.cos(np.pi * t)) < 0.1)
+    >>> bool(spike > 5), bool(ok)
+    (True, True)
+    """
+    from mtcal.methods import _gyro_roll_kernels  # here: numba is imported only when called
+
+    w = _gyro(gyro_rad_s)
+    dt = positive_scalar(dt_s, "dt_s")
+    thr = positive_scalar(threshold_rad_s, "threshold_rad_s", allow_zero=True)
+    mask = np.asarray(slow)
+    if mask.dtype != bool or mask.shape != (w.shape[-2],):
+        raise ValueError(f"slow must be a boolean array of shape ({w.shape[-2]},), got {mask.dtype} {mask.shape}")
+    stop = float(stop_above_rad)
+    if not stop > 0:
+        raise ValueError(f"stop_above_rad must be > 0, got {stop_above_rad}")
+    phi0 = float(angle_rad(roll0, "roll0"))
+    lead = w.shape[:-2]
+    flat = np.ascontiguousarray(w.reshape((-1,) + w.shape[-2:]))
+    spike, hyb, ok = _gyro_roll_kernels.oscillation_claims(flat, dt, thr, phi0, np.ascontiguousarray(mask), stop)
+    return spike.reshape(lead), hyb.reshape(lead), ok.reshape(lead)

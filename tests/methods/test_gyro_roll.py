@@ -227,3 +227,65 @@ def test_hybrid_rmse_sweep_matches_roll_hybrid():
     np.testing.assert_allclose(sweep, direct, rtol=1e-12)
     with pytest.raises(ValueError, match="thresholds_rad_s must be in rad/s"):
         gyro_roll.roll_hybrid_rmse_sweep(w, 1e-3, [-1.0])
+
+
+# ---------------------------------------------------------------- compiled kernels vs the numpy references
+def test_compiled_euler_matches_numpy_reference_bit_for_bit(rng):
+    t = np.arange(0.0, 40.0, 0.01)  # one revolution at 10 °/s: through θ = ±90°, the angles wrap
+    w = np.broadcast_to(gyro_roll.body_rates_two_dof(D(10.0), 0.0), (2, t.size, 3)) + D(0.5) * rng.standard_normal(
+        (2, t.size, 3))
+    fast = gyro_roll.euler_differential(w, 0.01, pitch0=np.array([0.0, 0.3]), roll0=0.1)
+    ref = gyro_roll.euler_differential(w, 0.01, pitch0=np.array([0.0, 0.3]), roll0=0.1, engine="numpy")
+    assert np.array_equal(fast, ref, equal_nan=True)
+    assert np.nanmax(np.abs(fast[..., 2])) > 1.0  # the singularity was crossed (a jump), not a trivial run
+    singular = np.zeros((3, 3))
+    singular[:, 2] = 0.1
+    assert np.array_equal(gyro_roll.euler_differential(singular, DT, pitch0=np.pi / 2),
+                          gyro_roll.euler_differential(singular, DT, pitch0=np.pi / 2, engine="numpy"), equal_nan=True)
+    with pytest.raises(ValueError, match="engine must be one of"):
+        gyro_roll.euler_differential(singular, DT, engine="fortran")
+
+
+def test_compiled_projection_matches_numpy_expression(rng):
+    w = 0.3 * rng.standard_normal((4, 20_000, 3))
+    w[0, :10, 1] = 0.0
+    w[0, 10:20, 1] = -0.0
+    wy, wz = w[..., 1], w[..., 2]
+    assert w.size >= gyro_roll._KERNEL_MIN_SIZE  # the compiled path is the one under test
+    assert np.array_equal(gyro_roll.roll_projection(w), np.arctan2(-wz * np.where(wy < 0.0, -1.0, 1.0), np.abs(wy)))
+
+
+def test_compiled_hybrid_sweep_matches_numpy_reference(rng):
+    t = np.arange(0.0, 4.0, 1e-3)
+    rate = np.radians(40.0) * np.pi * np.cos(np.pi * t)
+    w = np.stack([np.zeros_like(t), rate, np.zeros_like(t)], -1) + np.radians(0.2) + 1e-3 * rng.standard_normal(
+        (2, 3, t.size, 3))
+    thr = np.radians([0.0, 0.5, 5.0, 200.0])
+    truth = np.full(t.size, 0.01)
+    fast = gyro_roll.roll_hybrid_rmse_sweep(w, 1e-3, thr, roll_true=truth, roll0=0.02)
+    ref = gyro_roll.roll_hybrid_rmse_sweep(w, 1e-3, thr, roll_true=truth, roll0=0.02, engine="numpy")
+    assert fast.shape == (2, 3, 4)
+    np.testing.assert_allclose(fast, ref, rtol=1e-12)
+    with pytest.raises(ValueError, match="engine must be one of"):
+        gyro_roll.roll_hybrid_rmse_sweep(w, 1e-3, thr, engine="gpu")
+
+
+def test_projection_hybrid_max_errors_matches_the_estimators_and_stops_early(rng):
+    t = np.arange(0.0, 4.0, 1e-3)
+    rate = np.radians(40.0) * np.pi * np.cos(np.pi * t)
+    w = np.stack([np.zeros_like(t), rate, np.zeros_like(t)], -1) + np.radians(0.2) + 1e-3 * rng.standard_normal(
+        (5, t.size, 3))
+    slow = np.abs(rate) < np.radians(5.0)
+    spike, hyb, ok = gyro_roll.projection_hybrid_max_errors(w, 1e-3, np.radians(0.5), slow, roll0=0.0)
+    e_p = np.abs(gyro_roll.roll_projection(w))
+    np.testing.assert_allclose(spike, e_p[:, slow].max(-1) / e_p[:, ~slow].max(-1), rtol=1e-14)
+    np.testing.assert_allclose(hyb, np.abs(gyro_roll.roll_hybrid(w, 1e-3, np.radians(0.5))[0]).max(-1), rtol=1e-14)
+    assert ok.all()
+    limit = float(np.median(hyb))  # some trials stay below it, some exceed it
+    s2, h2, ok2 = gyro_roll.projection_hybrid_max_errors(w, 1e-3, np.radians(0.5), slow, stop_above_rad=limit)
+    assert np.array_equal(ok2, hyb <= limit) and np.all(np.isnan(s2[~ok2])) and np.all(h2[~ok2] > limit)
+    assert np.array_equal((s2 > 5) & (h2 < limit), (spike > 5) & (hyb < limit))  # the decision is unchanged
+    with pytest.raises(ValueError, match="slow must be a boolean array"):
+        gyro_roll.projection_hybrid_max_errors(w, 1e-3, 0.01, slow[:-1])
+    with pytest.raises(ValueError, match="stop_above_rad must be > 0"):
+        gyro_roll.projection_hybrid_max_errors(w, 1e-3, 0.01, slow, stop_above_rad=0.0)

@@ -200,3 +200,57 @@ def test_fit_and_predict_is_deterministic_and_validated():
     assert all(np.array_equal(a[k], b[k]) for k in a)
     with pytest.raises(ValueError, match="size must be 'ci' or 'full'"):
         t.error_model.fit_and_predict("huge")
+
+
+# ---------------------------------------------------------------- trial blocks (1000-trial runs in bounded memory)
+def test_gyro_trials_equal_the_one_shot_simulation_in_any_blocks():
+    from mtcal.core.rng import stream_rng
+    from mtcal.studies.tan2022.runs import GyroTrials, simulate_gyro
+
+    st = t.gyro_study(oscillation_duration_s=1.0)
+    time_s, pitch = st.uniform.profile(60.0)
+    a, b = stream_rng(4, 9), stream_rng(4, 9)
+    one_shot = simulate_gyro(st, time_s, pitch, a, 5)
+    runs = GyroTrials(st, time_s, pitch, b, 5)
+    assert np.array_equal(np.concatenate([w for _, w in runs.blocks(2)]), one_shot)
+    assert np.array_equal(runs.records([3])[0], one_shot[3])  # any trial regenerated alone
+    assert np.array_equal(simulate_gyro(st, time_s, pitch, a, 2), simulate_gyro(st, time_s, pitch, b, 2))  # rng moved on alike
+
+
+def test_fig09_draws_the_median_trial_of_the_ensemble():
+    st = t.gyro_study(pitch_rates_deg_s=(60.0, 120.0))
+    art = t.fig09(st, 1, 5)
+    for curve, rec in zip(art.data["curves"], art.table.to_dict("records")):
+        assert curve["trials"] == 5 and 0 <= curve["trial"] < 5
+        assert abs(curve["integration"][-1]) == pytest.approx(rec["integration_final_median_deg"], rel=1e-12)
+
+
+def test_fig10_shows_the_band_over_trials():
+    art = t.fig10(t.gyro_study(oscillation_duration_s=2.0), 1, 7)
+    band, n = art.data["band"], art.data["trials"]
+    assert n == 7 and band["low"].shape == art.data["true"].shape
+    assert np.all(band["low"] <= band["median"]) and np.all(band["median"] <= band["high"])
+    with pytest.raises(ValueError, match="trials"):
+        t.fig10(t.gyro_study(oscillation_duration_s=2.0), 1, 0)
+
+
+def test_pattern_claims_early_stop_keeps_the_decision():
+    from mtcal.core.rng import stream_rng
+    from mtcal.studies.tan2022.runs import oscillation_claims
+
+    st = t.gyro_study(oscillation_duration_s=4.0)
+    z = stream_rng(1, 220).standard_normal((4, st.oscillation.time_s().size, 3))
+    for b_z in (0.0, 0.2):
+        full = oscillation_claims(st, b_z, 1e-4, None, 4, normals=z)
+        fast = oscillation_claims(st, b_z, 1e-4, None, 4, normals=z, accurate_deg=1.0)
+        assert np.array_equal((full[0] > 5) & (full[1] < 1.0), (fast[0] > 5) & (fast[1] < 1.0))
+
+
+def test_gyro_predictions_drift_without_noise_is_bias_times_duration():
+    from mtcal.core.rng import stream_rng
+    from mtcal.studies.tan2022.runs import gyro_predictions
+
+    st = t.gyro_study(oscillation_duration_s=1.0)
+    out = gyro_predictions(st, np.array([0.2, 0.1]), np.zeros(2), stream_rng(1, 210))
+    for r in st.uniform.pitch_rates_deg_s:
+        np.testing.assert_allclose(out[f"drift_{r:g}"], np.array([0.2, 0.1]) * 360.0 / r, rtol=1e-9)

@@ -36,8 +36,8 @@ from mtcal.methods import gyro_roll
 from mtcal.methods import large_angle
 from mtcal.reporting import compare
 
-from .runs import (STREAM_FIG06, STREAM_FIG09, STREAM_INDEPENDENT_ERRORS, oscillation_gyro,
-                   simulate_gyro)
+from .runs import (STREAM_FIG06, STREAM_FIG09, STREAM_INDEPENDENT_ERRORS, STREAM_OSCILLATION, GyroTrials,
+                   oscillation_trials, simulate_gyro)
 from .scenario import AccelScenario, GyroStudy
 
 __all__ = ["Artifact", "accel_label", "eq3_erratum", "fig02", "extra_roll_error", "fig05", "fig08",
@@ -46,6 +46,7 @@ __all__ = ["Artifact", "accel_label", "eq3_erratum", "fig02", "extra_roll_error"
 
 _DEG = np.degrees
 _RAD = np.radians
+_BLOCK = 50  # trials per block of a gyro Monte Carlo (memory bound; the numbers do not depend on it)
 #: Why a check of the paper's statement at the paper's own settings is ``consistency``, not a claim.
 ANALYTIC = ("the paper's own analytic error model at its stated settings (no fitted parameter; tan2022 prints "
             "no result number): the statement follows from its equations")
@@ -387,9 +388,9 @@ def fig06(study: GyroStudy, seed: int, trials: int) -> Artifact:
     rates = sweep.rates_rad_s
     t = np.arange(0.0, sweep.window_s, g.dt_s)
     sim = np.empty((n, rates.size))
-    for j, r in enumerate(rates):  # loop over rates; trials vectorised
-        w = simulate_gyro(study, t, r * t, rng, n)
-        sim[:, j] = np.mean(gyro_roll.roll_projection(w) - g.roll0_rad, axis=-1)
+    for j, r in enumerate(rates):  # loop over rates; trials vectorised in blocks
+        for sl, w in GyroTrials(study, t, r * t, rng, n).blocks(_BLOCK):
+            sim[sl, j] = np.mean(gyro_roll.roll_projection(w) - g.roll0_rad, axis=-1)
     band = metrics.percentile_band(_DEG(np.abs(sim)))
     ey, ez = g.error_rad_s[1], g.error_rad_s[2]
     eq14 = _DEG(np.abs(gyro_roll.projection_roll_error_eq14(g.roll0_rad, rates, ey, ez)))
@@ -437,8 +438,9 @@ def fig09(study: GyroStudy, seed: int, trials: int) -> Artifact:
     """tan2022_fig09: uniform pitch rotation through ±90° at each rate: roll errors vs TIME (deg).
 
     One revolution per rate, roll rate 0; Eq 5 (Euler differential), Eq 12
-    (decoupled integration), Eq 13 (projection). Figure data: trial 0; rows:
-    median and 95 % band over trials. Paper claims (Sec 3.2 a–c): Eq 5 jumps
+    (decoupled integration), Eq 13 (projection). Figure data: the median-error
+    trial (by final |Eq 12 error|, named in the title); rows: median and 95 %
+    band over ``trials`` trials. Paper claims (Sec 3.2 a–c): Eq 5 jumps
     at θ = ±90°; Eq 12 accumulates; Eq 13 is stable with error falling as θ̇
     rises.
     """
@@ -446,22 +448,30 @@ def fig09(study: GyroStudy, seed: int, trials: int) -> Artifact:
     uni, g = study.uniform, study.gyro
     rng = stream_rng(seed, STREAM_FIG09)
     curves, per_rate, recs = [], [], []
-    for rate in uni.pitch_rates_deg_s:
-        t, theta = uni.profile(rate)
-        w = simulate_gyro(study, t, theta, rng, n)
+    def errors(w, theta):
         e_E = metrics.angle_difference(gyro_roll.euler_differential(w, g.dt_s, pitch0=theta[0], roll0=g.roll0_rad)[..., 2],
                                        g.roll0_rad)
         e_I = gyro_roll.roll_decoupled_integration(w, g.dt_s, roll0=g.roll0_rad) - g.roll0_rad
-        e_P = gyro_roll.roll_projection(w) - g.roll0_rad
+        return e_E, e_I, gyro_roll.roll_projection(w) - g.roll0_rad
+
+    for rate in uni.pitch_rates_deg_s:
+        t, theta = uni.profile(rate)
         th_deg = _DEG(theta)
         near = np.minimum(np.abs(th_deg - 90), np.abs(th_deg - 270)) < 2
-        trial = {"euler_lt60": _DEG(np.max(np.abs(e_E[:, th_deg < 60]), axis=1)),
-                 "euler_near90": _DEG(np.max(np.abs(e_E[:, near]), axis=1)),
-                 "integration_final": _DEG(e_I[:, -1]), "projection_mean": _DEG(np.mean(np.abs(e_P), axis=1))}
+        below60 = th_deg < 60
+        trial = {key: np.empty(n) for key in ("euler_lt60", "euler_near90", "integration_final", "projection_mean")}
+        runs = GyroTrials(study, t, theta, rng, n)
+        for sl, w in runs.blocks(_BLOCK):  # per-trial metrics only: bounded memory
+            e_E, e_I, e_P = errors(w, theta)
+            trial["euler_lt60"][sl] = _DEG(np.max(np.abs(e_E[:, below60]), axis=1))
+            trial["euler_near90"][sl] = _DEG(np.max(np.abs(e_E[:, near]), axis=1))
+            trial["integration_final"][sl] = _DEG(e_I[:, -1])
+            trial["projection_mean"][sl] = _DEG(np.mean(np.abs(e_P), axis=1))
         per_rate.append(trial)
-        k = median_trial(np.abs(e_I[:, -1]))  # the median-error trial by final integration error
-        curves.append({"rate": rate, "time_s": t, "pitch_deg": th_deg, "euler": _DEG(e_E[k]),
-                       "integration": _DEG(e_I[k]), "projection": _DEG(e_P[k]), "trial": k, "trials": e_I.shape[0]})
+        k = median_trial(np.abs(trial["integration_final"]))  # the median-error trial by final integration error
+        e_E, e_I, e_P = (e[0] for e in errors(runs.records([k]), theta))
+        curves.append({"rate": rate, "time_s": t, "pitch_deg": th_deg, "euler": _DEG(e_E),
+                       "integration": _DEG(e_I), "projection": _DEG(e_P), "trial": k, "trials": n})
         recs.append({"pitch_rate_deg_s": rate, "duration_s": float(t[-1] + g.dt_s),
                      **{f"{k}_median_deg": float(np.median(v)) for k, v in trial.items()}})
     blow = metrics.percentile_band(np.min([_ratio(p["euler_near90"], p["euler_lt60"]) for p in per_rate], axis=0))
@@ -483,18 +493,33 @@ def fig09(study: GyroStudy, seed: int, trials: int) -> Artifact:
 
 
 @produces("tan2022_fig10", "figure", "Fig. 10")
-def fig10(study: GyroStudy, seed: int) -> Artifact:
-    """tan2022_fig10: pitch rate under oscillation θ = θm sin(2πft) (Eq 16–17), true and gyro-derived (deg/s)."""
+def fig10(study: GyroStudy, seed: int, trials: int = 1000) -> Artifact:
+    """tan2022_fig10: pitch rate under oscillation θ = θm sin(2πft) (Eq 16–17), true and gyro-derived (deg/s).
+
+    The gyro-derived magnitude ``√(ω_y² + ω_z²)`` is shown as the median and 95 % band over
+    ``trials`` noise trials (stream ``STREAM_OSCILLATION``) over the first two periods (the
+    plotted window).
+    """
+    n = positive_int(trials, "trials")
     osc = study.oscillation
-    t, w, _ = oscillation_gyro(study, seed, 1)
+    t_all = osc.time_s()
+    t = t_all[t_all < min(2.0 / osc.freq_hz, osc.duration_s)]
     true_rate = _DEG(osc.pitch_rate_rad_s(t))
-    meas = _DEG(gyro_roll.pitch_rate_magnitude(w[0]))
-    frac = float(np.mean(np.abs(true_rate) <= osc.threshold_deg_s))
-    table = pd.DataFrame({"time_s": t[::10], "pitch_rate_deg_s": true_rate[::10], "gyro_rate_magnitude_deg_s": meas[::10]})
-    return Artifact(table, [], {"time_s": t, "true": true_rate, "measured": meas, "threshold": osc.threshold_deg_s,
-                                "peak": osc.peak_rate_deg_s, "amplitude": osc.amplitude_deg, "freq": osc.freq_hz},
+    runs = GyroTrials(study, t, osc.pitch_rad(t), stream_rng(seed, STREAM_OSCILLATION), n)
+    meas = np.empty((n, t.size))
+    for sl, w in runs.blocks(_BLOCK):
+        meas[sl] = _DEG(gyro_roll.pitch_rate_magnitude(w))
+    band = metrics.percentile_band(meas)
+    frac = float(np.mean(np.abs(_DEG(osc.pitch_rate_rad_s(t_all))) <= osc.threshold_deg_s))
+    table = pd.DataFrame({"time_s": t[::10], "pitch_rate_deg_s": true_rate[::10],
+                          "gyro_rate_magnitude_median_deg_s": band["median"][::10],
+                          "gyro_rate_magnitude_low_deg_s": band["low"][::10],
+                          "gyro_rate_magnitude_high_deg_s": band["high"][::10]})
+    return Artifact(table, [], {"time_s": t, "true": true_rate, "band": band, "trials": n,
+                                "threshold": osc.threshold_deg_s, "peak": osc.peak_rate_deg_s,
+                                "amplitude": osc.amplitude_deg, "freq": osc.freq_hz},
                     [f"peak pitch rate {osc.peak_rate_deg_s:.1f} °/s; share of samples with |θ̇| ≤ "
-                     f"{osc.threshold_deg_s:g} °/s: {frac:.4f}"])
+                     f"{osc.threshold_deg_s:g} °/s: {frac:.4f}; gyro-derived |θ̇| band over {n} trials"])
 
 
 @cached  # Monte Carlo result cached under $MTCAL_CACHE_DIR (make reproduce/artifact)
@@ -507,18 +532,25 @@ def fig11(study: GyroStudy, seed: int, trials: int) -> Artifact:
     """
     n = positive_int(trials, "trials")
     osc, g = study.oscillation, study.gyro
-    t, w, _ = oscillation_gyro(study, seed, n)
-    e_P = gyro_roll.roll_projection(w) - g.roll0_rad
-    e_I = gyro_roll.roll_decoupled_integration(w, g.dt_s, roll0=g.roll0_rad) - g.roll0_rad
-    slow = np.broadcast_to(np.abs(osc.pitch_rate_rad_s(t)) < _RAD(5.0), e_P.shape)
-    spike = metrics.percentile_band(_ratio(metrics.max_abs_error(e_P, mask=slow), metrics.max_abs_error(e_P, mask=~slow)))
+    runs = oscillation_trials(study, seed, n)
+    t = runs.t
+    slow = np.abs(osc.pitch_rate_rad_s(t)) < _RAD(5.0)
+    ratio, peak = np.empty(n), np.empty(n)
+    for sl, w in runs.blocks(_BLOCK):  # per-trial metrics only: bounded memory
+        e_P = np.abs(gyro_roll.roll_projection(w) - g.roll0_rad)
+        ratio[sl] = _ratio(np.max(e_P[:, slow], axis=-1), np.max(e_P[:, ~slow], axis=-1))
+        peak[sl] = np.max(e_P, axis=-1)
+    spike = metrics.percentile_band(ratio)
     rows = [_ROW("tan2022_fig11", "max|Δφ_P| where |θ̇| < 5 °/s / elsewhere", "error jumps as θ̇ → 0",
                  float(spike["median"]), "> 5", bool(spike["median"] > 5), band=spike)]
-    k = median_trial(np.max(np.abs(e_P), axis=-1))  # the median-error trial by max |Δφ_P|
-    table = pd.DataFrame({"time_s": t[::10], "projection_err_deg": _DEG(e_P[k, ::10]),
-                          "integration_err_deg": _DEG(e_I[k, ::10])})
-    return Artifact(table, rows, {"time_s": t, "projection": _DEG(e_P[k]), "integration": _DEG(e_I[k]),
-                                  "trial": k, "trials": e_P.shape[0],
+    k = median_trial(peak)  # the median-error trial by max |Δφ_P|
+    w = runs.records([k])[0]
+    e_P = gyro_roll.roll_projection(w) - g.roll0_rad
+    e_I = gyro_roll.roll_decoupled_integration(w, g.dt_s, roll0=g.roll0_rad) - g.roll0_rad
+    table = pd.DataFrame({"time_s": t[::10], "projection_err_deg": _DEG(e_P[::10]),
+                          "integration_err_deg": _DEG(e_I[::10])})
+    return Artifact(table, rows, {"time_s": t, "projection": _DEG(e_P), "integration": _DEG(e_I),
+                                  "trial": k, "trials": n,
                                   "label": gyro_label(study)},
                     [f"spike ratio {spike['median']:.1f} [{spike['low']:.1f}, {spike['high']:.1f}] ({n} trials)"])
 
@@ -536,24 +568,37 @@ def fig12(study: GyroStudy, seed: int, trials: int) -> Artifact:
     """
     n = positive_int(trials, "trials")
     osc, g = study.oscillation, study.gyro
-    t, w, w_det = oscillation_gyro(study, seed, n)
+    runs = oscillation_trials(study, seed, n)
+    t = runs.t
+    w_det = simulate_gyro(study, t, osc.pitch_rad(t), None, None, noise=False)
     thr = osc.threshold_rad_s
-    hyb, use = gyro_roll.roll_hybrid(w, g.dt_s, thr, roll0=g.roll0_rad)
-    hyb_det, _ = gyro_roll.roll_hybrid(w_det, g.dt_s, thr, roll0=g.roll0_rad)
-    e_P = gyro_roll.roll_projection(w) - g.roll0_rad
-    e_I = gyro_roll.roll_decoupled_integration(w, g.dt_s, roll0=g.roll0_rad) - g.roll0_rad
-    e_H, e_Hd = hyb - g.roll0_rad, hyb_det - g.roll0_rad
+
+    def errors(w):
+        hyb, use = gyro_roll.roll_hybrid(w, g.dt_s, thr, roll0=g.roll0_rad)
+        e_P = gyro_roll.roll_projection(w) - g.roll0_rad
+        e_I = gyro_roll.roll_decoupled_integration(w, g.dt_s, roll0=g.roll0_rad) - g.roll0_rad
+        return e_P, e_I, hyb - g.roll0_rad, use
+
+    names = ("projection Eq 13", "integration Eq 12", f"hybrid θ̇_t = {osc.threshold_deg_s:g} °/s")
+    rms, mx = np.empty((3, n)), np.empty((3, n))
+    integrated = np.empty(n)
+    for sl, w in runs.blocks(_BLOCK):  # per-trial metrics only: bounded memory
+        *errs, use = errors(w)
+        for i, err in enumerate(errs):
+            rms[i, sl], mx[i, sl] = metrics.rmse(err), metrics.max_abs_error(err)
+        integrated[sl] = np.mean(~use, axis=-1)
+    e_Hd = gyro_roll.roll_hybrid(w_det, g.dt_s, thr, roll0=g.roll0_rad)[0] - g.roll0_rad
     recs = []
-    for name, err in (("projection Eq 13", e_P), ("integration Eq 12", e_I), (f"hybrid θ̇_t = {osc.threshold_deg_s:g} °/s", e_H)):
-        r, m = metrics.percentile_band(_DEG(metrics.rmse(err))), metrics.percentile_band(_DEG(metrics.max_abs_error(err)))
+    for name, rr, mm in zip(names, rms, mx):
+        r, m = metrics.percentile_band(_DEG(rr)), metrics.percentile_band(_DEG(mm))
         recs.append({"method": name, "rmse_median_deg": float(r["median"]), "rmse_low_deg": float(r["low"]),
                      "rmse_high_deg": float(r["high"]), "maxae_median_deg": float(m["median"]),
                      "maxae_low_deg": float(m["low"]), "maxae_high_deg": float(m["high"])})
     max_det = float(_DEG(np.max(np.abs(e_Hd))))
     recs.append({"method": "hybrid, constant errors only", "rmse_median_deg": float(_DEG(metrics.rmse(e_Hd))),
                  "maxae_median_deg": max_det})
-    band_h = metrics.percentile_band(_DEG(metrics.max_abs_error(e_H)))
-    switched = metrics.percentile_band(np.mean(~use, axis=-1))
+    band_h = metrics.percentile_band(_DEG(mx[2]))
+    switched = metrics.percentile_band(integrated)
     lab = f"θ̇_t = {osc.threshold_deg_s:g} °/s"
     rows = [
         _failing_claim("tan2022_fig12", f"hybrid ({lab}) max |Δφ|, constant errors only (deg)",
@@ -565,17 +610,18 @@ def fig12(study: GyroStudy, seed: int, trials: int) -> Artifact:
                        "error", band=band_h),
         compare.claim("tan2022_fig12", f"hybrid ({lab}) max |Δφ| / projection max |Δφ|",
                       "hybrid avoids the spikes (Sec. 3.2, Fig 12)",
-                      float(np.median(_ratio(np.max(np.abs(e_H), axis=-1), np.max(np.abs(e_P), axis=-1)))),
+                      float(np.median(_ratio(mx[2], mx[0]))),
                       "the hybrid's worst error is lower than the projection's (ratio < 1, mtcal threshold)",
                       lambda v: bool(v < 1.0), role="finding"),
         _ROW("tan2022_fig12", f"share of samples integrated by the hybrid ({lab})", "-", float(switched["median"]),
              "the switch fires in every trial", bool(switched["low"] > 0), band=switched, role="finding",
              source="mtcal finding"),
     ]
-    k = median_trial(np.max(np.abs(e_H), axis=-1))  # the median-error trial by max |Δφ_G|
-    return Artifact(pd.DataFrame(recs), rows, {"time_s": t, "hybrid": _DEG(e_H[k]), "hybrid_det": _DEG(e_Hd),
-                                                "projection": _DEG(e_P[k]), "threshold": osc.threshold_deg_s,
-                                                "trial": k, "trials": e_H.shape[0],
+    k = median_trial(mx[2])  # the median-error trial by max |Δφ_G|
+    e_P, _, e_H, _ = (e[0] for e in errors(runs.records([k])))
+    return Artifact(pd.DataFrame(recs), rows, {"time_s": t, "hybrid": _DEG(e_H), "hybrid_det": _DEG(e_Hd),
+                                                "projection": _DEG(e_P), "threshold": osc.threshold_deg_s,
+                                                "trial": k, "trials": n,
                                                 "label": gyro_label(study)},
                     [f"hybrid max |Δφ|: {max_det:.3f}° (constant errors), {band_h['median']:.3f}° "
                      f"[{band_h['low']:.3f}, {band_h['high']:.3f}] with noise; integrated share "
@@ -592,12 +638,15 @@ def extra_threshold_sweep(study: GyroStudy, seed: int, trials: int, n_thresholds
     """
     n = positive_int(trials, "trials")
     osc, g = study.oscillation, study.gyro
-    _, w, w_det = oscillation_gyro(study, seed, n)
     thresholds = np.unique(np.concatenate([np.geomspace(0.1, 2 * osc.peak_rate_deg_s,
                                                         positive_int(n_thresholds, "n_thresholds", minimum=3)),
                                            [osc.threshold_deg_s]]))
+    runs = oscillation_trials(study, seed, n)
+    w_det = simulate_gyro(study, runs.t, osc.pitch_rad(runs.t), None, None, noise=False)
     kw = {"roll_true": g.roll0_rad, "roll0": g.roll0_rad}
-    rmse = _DEG(gyro_roll.roll_hybrid_rmse_sweep(w, g.dt_s, _RAD(thresholds), **kw))
+    rmse = np.empty((n, thresholds.size))
+    for sl, w in runs.blocks(_BLOCK):  # per-trial RMSEs only: bounded memory
+        rmse[sl] = _DEG(gyro_roll.roll_hybrid_rmse_sweep(w, g.dt_s, _RAD(thresholds), **kw))
     rmse_det = _DEG(gyro_roll.roll_hybrid_rmse_sweep(w_det, g.dt_s, _RAD(thresholds), **kw))
     bt = metrics.percentile_band(rmse)
     k_paper = int(np.flatnonzero(thresholds == osc.threshold_deg_s)[0])
@@ -615,6 +664,6 @@ def extra_threshold_sweep(study: GyroStudy, seed: int, trials: int, n_thresholds
                           "rmse_high_deg": bt["high"], "rmse_constant_errors_deg": rmse_det})
     return Artifact(table, rows, {"thresholds": thresholds, "band": bt, "det": rmse_det,
                                   "optimum": float(opt["median"]), "paper": osc.threshold_deg_s,
-                                  "peak": osc.peak_rate_deg_s, "label": gyro_label(study)},
+                                  "peak": osc.peak_rate_deg_s, "label": gyro_label(study), "trials": n},
                     [f"optimal θ̇_t {opt['median']:.1f} °/s [{opt['low']:.1f}, {opt['high']:.1f}]; RMSE ratio "
-                     f"optimum / paper {gain['median']:.4f} [{gain['low']:.4f}, {gain['high']:.4f}]"])
+                     f"optimum / paper {gain['median']:.4f} [{gain['low']:.4f}, {gain['high']:.4f}] ({n} trials)"])

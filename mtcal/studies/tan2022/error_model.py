@@ -47,7 +47,8 @@ from mtcal.reporting import compare, leak, paper_numbers
 from mtcal.core.rng import stream_rng
 
 from .runs import (STREAM_ACCEL_FIT, STREAM_GYRO_FIT, STREAM_GYRO_PATTERN, accel_grid, accel_predictions, axis_spread,
-                   fig02_asymmetry, gyro_predictions, gyro_samples, large_pitch_ratio, oscillation_claims)
+                   fig02_asymmetry, gyro_predictions, gyro_samples, large_pitch_ratio, oscillation_claims,
+                   trial_chunks)
 from .scenario import AccelScenario, GyroStudy
 
 __all__ = ["AccelErrorPrior", "GyroErrorPrior", "ErrorModelFit", "grid_posterior", "fit_accel_error_model", "fit_gyro_error_model",
@@ -451,7 +452,9 @@ def fit_gyro_error_model(study: GyroStudy, prior: GyroErrorPrior, seed: int, tri
     lines = [f"b: ML {bgrid[i_ml]:.3f} °/s, posterior median {pb['median']:.3f} [{pb['low']:.3f}, {pb['high']:.3f}]; "
              f"N: ML {ngrid[j_ml]:.4f}, median {pn['median']:.4f} [{pn['low']:.4f}, {pn['high']:.4f}] °/s/√Hz",
              f"Fig 12 'accurate' (max < {prior.accurate_deg:g}°) needs a y/z error ≤ {need:.4f} °/s at "
-             f"θ̇_t = {study.oscillation.threshold_deg_s:g} °/s: {e_x / need:.0f}× below the paper's {e_x:g} °/s"]
+             f"θ̇_t = {study.oscillation.threshold_deg_s:g} °/s: {e_x / need:.0f}× below the paper's {e_x:g} °/s",
+             f"(b, N): grid posterior, likelihood from {n_fit} noise trials per grid point; predictive bands from "
+             f"{n} draws each (posterior and prior)"]
     return ErrorModelFit(params, {"bias_grid": bgrid, "noise_grid": ngrid, "likelihood": lik,
                                   "posterior_b": pb["posterior"], "posterior_n": pn["posterior"],
                                   "predictive_bands": np.asarray(numeric)},
@@ -478,12 +481,13 @@ def _trapezoid_weights(x):
 
 
 @cached  # Monte Carlo result cached under $MTCAL_CACHE_DIR (make reproduce/artifact)
-def fit_gyro_error_pattern(study: GyroStudy, prior: GyroErrorPrior, seed: int, trials: int) -> ErrorModelFit:
+def fit_gyro_error_pattern(study: GyroStudy, prior: GyroErrorPrior, seed: int, trials: int,
+                           predict_trials: int | None = None) -> ErrorModelFit:
     """Fit the z-gyro error and the noise density to the oscillation statements (Figs 11, 12); predict Fig 9.
 
     The x and y gyros keep the study's constant errors (the paper's 0.2 °/s).
     Likelihood of ``(b_z, N)``: Monte Carlo probability over ``trials`` noise
-    draws that the Fig 11 statement (projection error jumps as θ̇ → 0: spike
+    draws (the same draws at every grid point) that the Fig 11 statement (projection error jumps as θ̇ → 0: spike
     ratio > 5) and the Fig 12 statement (hybrid accurate: max error below
     ``prior.accurate_deg``) both hold. Uniform priors on [0, 0.5] °/s and
     [0, 0.01] °/s/√Hz via quadrature weights on non-uniform grids. Consistency:
@@ -498,15 +502,20 @@ def fit_gyro_error_pattern(study: GyroStudy, prior: GyroErrorPrior, seed: int, t
     seed : int
         RNG seed (stream ``STREAM_GYRO_PATTERN``).
     trials : int
-        Noise trials per grid point and per prediction.
+        Noise trials per grid point of the likelihood (one where the noise is zero).
+    predict_trials : int, optional
+        Posterior draws of the held-out Fig 9 slope band (default ``trials``).
     """
     n = positive_int(trials, "trials")
+    n_pred = n if predict_trials is None else positive_int(predict_trials, "predict_trials")
     rng = stream_rng(seed, STREAM_GYRO_PATTERN)
     bgrid, ngrid = PATTERN_BIAS_GRID_DEG_S, PATTERN_NOISE_GRID_DEG_S_RTHZ
     lik = np.empty((bgrid.size, ngrid.size))
+    z = rng.standard_normal((n, study.oscillation.time_s().size, 3))  # common random numbers over the grid
     for i, b in enumerate(bgrid):
         for j, nd in enumerate(ngrid):
-            spike, hyb = oscillation_claims(study, b, nd, rng, n if nd > 0 else 1)
+            spike, hyb = oscillation_claims(study, b, nd, rng, n if nd > 0 else 1, accurate_deg=prior.accurate_deg,
+                                            normals=z if nd > 0 else z[:1])
             lik[i, j] = np.mean((spike > 5.0) & (hyb < prior.accurate_deg))
     wb, wn = _trapezoid_weights(bgrid), _trapezoid_weights(ngrid)
     post = lik * wb[:, None] * wn[None, :]
@@ -524,17 +533,19 @@ def fit_gyro_error_pattern(study: GyroStudy, prior: GyroErrorPrior, seed: int, t
          "median": pn["median"], "low_2.5": pn["low"], "high_97.5": pn["high"],
          "source": "not in the paper; ADIS16465 0.0025, BMI088 0.014"}])
     # held out: Fig 9 (c), projection error vs rate in the uniform rotations, posterior draws
-    idx = rng.choice(post.size, size=n, p=post.ravel())
+    idx = rng.choice(post.size, size=n_pred, p=post.ravel())
     b_d, n_d = bgrid[idx // ngrid.size], ngrid[idx % ngrid.size]
     g = study.gyro
     rates = np.array(study.uniform.pitch_rates_deg_s)
     n_win = int(round(g.fs_hz))  # 1 s of each rotation (the error is stationary at constant rate)
-    means = np.empty((n, rates.size))
+    means = np.empty((n_pred, rates.size))
     for k, r in enumerate(rates):
-        w = gyro_samples(_RAD(r), g.roll0_rad, np.zeros(n), _RAD(n_d), g.fs_hz, rng, (n, n_win))
-        w += np.array([g.error_rad_s[0], g.error_rad_s[1], 0.0])
-        w[..., 2] += _RAD(b_d)[:, None]
-        means[:, k] = np.mean(np.abs(gyro_roll.roll_projection(w) - g.roll0_rad), axis=-1)
+        for sl in trial_chunks(n_pred):
+            m = sl.stop - sl.start
+            w = gyro_samples(_RAD(r), g.roll0_rad, np.zeros(m), _RAD(n_d[sl]), g.fs_hz, rng, (m, n_win))
+            w += np.array([g.error_rad_s[0], g.error_rad_s[1], 0.0])
+            w[..., 2] += _RAD(b_d[sl])[:, None]
+            means[sl, k] = np.mean(np.abs(gyro_roll.roll_projection(w) - g.roll0_rad), axis=-1)
     ok = np.all(means > 0, axis=1)
     slope = metrics.percentile_band(gyro_roll.loglog_slope(rates, means[ok])) if np.any(ok) else None
     lab = f"θ̇_t = {study.oscillation.threshold_deg_s:g} °/s"
@@ -553,12 +564,15 @@ def fit_gyro_error_pattern(study: GyroStudy, prior: GyroErrorPrior, seed: int, t
     ]
     lines = [f"b_z: ML {bgrid[i_ml]:.3f}, median {pb['median']:.3f} [{pb['low']:.3f}, {pb['high']:.3f}] °/s; "
              f"N: ML {ngrid[j_ml]:.5f}, median {pn['median']:.5f} [{pn['low']:.5f}, {pn['high']:.5f}] °/s/√Hz",
+             f"likelihood: Monte Carlo probability from {n} noise trials per grid point (1 where N = 0)",
              "Fig 9 slope (held out): " + ("undefined" if slope is None else
-                                           f"{slope['median']:.3f} [{slope['low']:.3f}, {slope['high']:.3f}]")]
+                                           f"{slope['median']:.3f} [{slope['low']:.3f}, {slope['high']:.3f}]")
+             + f" ({n_pred} posterior draws)"]
     table = pd.DataFrame(lik, index=pd.Index(bgrid, name="b_z_deg_s"),
                          columns=[f"N={v:g}" for v in ngrid]).reset_index()
     return ErrorModelFit(params, {"bias_grid": bgrid, "noise_grid": ngrid, "likelihood": lik,
-                                  "posterior_b": pb["posterior"], "posterior_n": pn["posterior"]},
+                                  "posterior_b": pb["posterior"], "posterior_n": pn["posterior"], "trials": n,
+                                  "predict_trials": n_pred},
                          table, rows, [], lines)
 
 

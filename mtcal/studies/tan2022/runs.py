@@ -25,14 +25,16 @@ from __future__ import annotations
 
 import numpy as np
 
-from mtcal.core.rng import stream_rng
+from mtcal.core import simulate
+from mtcal.core.rng import spawn_philox_key, stream_rng
 from mtcal.methods import gyro_roll
 from mtcal.methods import large_angle
 
 from .scenario import AccelScenario, GyroStudy
 
 __all__ = ["STREAM_FIG06", "STREAM_FIG09", "STREAM_OSCILLATION", "STREAM_INDEPENDENT_ERRORS", "STREAM_ACCEL_FIT",
-           "STREAM_GYRO_FIT", "STREAM_GYRO_PATTERN", "simulate_gyro", "oscillation_gyro", "accel_grid",
+           "STREAM_GYRO_FIT", "STREAM_GYRO_PATTERN", "simulate_gyro", "GyroTrials", "oscillation_trials",
+           "oscillation_gyro", "accel_grid",
            "fig02_asymmetry", "axis_spread", "large_pitch_ratio", "accel_predictions", "gyro_samples",
            "trial_chunks", "gyro_predictions", "oscillation_claims"]
 
@@ -59,6 +61,60 @@ def simulate_gyro(study: GyroStudy, t, pitch, rng, trials, *, noise: bool = True
     return gyro_roll.simulate_two_dof_imu(t, pitch, roll, gyro_bias_rad_s=np.asarray(spec.gyro_bias_rad_s),
                                           gyro_noise_density=spec.gyro_noise_rad_s_rt_hz if noise else 0.0,
                                           rng=rng if noise else None, trials=trials if noise else None).gyro_rad_s
+
+class GyroTrials:
+    """Noisy gyro records of the 2-DOF mechanism, delivered by trial blocks in bounded memory.
+
+    Trial ``i`` is exactly ``simulate_gyro(study, t, pitch, rng, n)[i]`` for the generator state
+    at construction (the trajectory is built once; :func:`mtcal.core.simulate.simulate_imu` draws
+    the named trials with the key the one-shot call would spawn),
+    whatever blocks are asked for, so a Monte Carlo keeps per-trial metrics only and any one
+    trial (e.g. the median-error trial drawn in a figure) can be regenerated on its own.
+    Construction advances ``rng`` as one :func:`simulate_gyro` call does.
+
+    Parameters
+    ----------
+    study : GyroStudy
+    t, pitch : ndarray (T,)
+        Time (s) and mechanism pitch (rad).
+    rng : numpy.random.Generator
+        Made from a SeedSequence (:func:`mtcal.core.rng.stream_rng`).
+    trials : int
+        Number of trials.
+    """
+
+    def __init__(self, study: GyroStudy, t, pitch, rng, trials: int):
+        g, spec = study.gyro, study.gyro.sensor_spec()
+        self.t, self.trials = np.asarray(t, dtype=float), int(trials)
+        self.trajectory = gyro_roll.two_dof_trajectory(self.t, pitch, np.full_like(self.t, g.roll0_rad))
+        errors = simulate.SensorErrors(bias=tuple(np.broadcast_to(np.asarray(spec.gyro_bias_rad_s), (3,))),
+                                       noise_density=spec.gyro_noise_rad_s_rt_hz)
+        self.model = simulate.ImuErrorModel(gyro=errors)  # as gyro_roll.simulate_two_dof_imu builds it
+        ss = rng.bit_generator.seed_seq
+        self._seed_seq = (ss.entropy, ss.spawn_key, ss.pool_size, ss.n_children_spawned)
+        spawn_philox_key(rng)  # the caller's generator moves on as after one simulate_gyro call
+
+    def records(self, trial_ids) -> np.ndarray:
+        """Gyro records (len(trial_ids), T, 3) rad/s of the named trials."""
+        ids = np.asarray(trial_ids, dtype=np.int64)
+        entropy, spawn_key, pool_size, n_spawned = self._seed_seq
+        rng = np.random.Generator(np.random.PCG64(np.random.SeedSequence(
+            entropy, spawn_key=spawn_key, pool_size=pool_size, n_children_spawned=n_spawned)))
+        return simulate.simulate_imu(self.trajectory, self.model, rng, trial_ids=ids).gyro_rad_s
+
+    def blocks(self, size: int = _CHUNK):
+        """Yield ``(slice, records)`` over all trials, ``size`` trials at a time."""
+        for start in range(0, self.trials, size):
+            stop = min(start + size, self.trials)
+            yield slice(start, stop), self.records(np.arange(start, stop))
+
+
+def oscillation_trials(study: GyroStudy, seed: int, trials: int) -> GyroTrials:
+    """The noisy oscillation records (Eq 16–17) of stream ``STREAM_OSCILLATION`` as :class:`GyroTrials`."""
+    osc = study.oscillation
+    t = osc.time_s()
+    return GyroTrials(study, t, osc.pitch_rad(t), stream_rng(seed, STREAM_OSCILLATION), trials)
+
 
 def oscillation_gyro(study: GyroStudy, seed: int, trials: int):
     """Oscillation record (Eq 16–17): time (s), noisy gyro (trials, T, 3) from stream ``STREAM_OSCILLATION``
@@ -96,10 +152,12 @@ def large_pitch_ratio(d0, d1, d2, th, ph, sc: AccelScenario):
     lam = np.where(th <= 0, _RAD(sc.lambda1_deg), _RAD(sc.lambda2_deg))
     large = np.abs(th) >= _RAD(45.0)
     th, ph, lam = th[large], ph[large], lam[large]
-    plain = np.abs(large_angle.pitch_error_first_order(th, ph, d0[:, None, :], g=g))
-    dsel = np.where((th <= 0)[None, :, None], d1[:, None, :], d2[:, None, :])
-    preset = np.abs(large_angle.pitch_error_first_order(th, ph, dsel, preset_rad=lam, g=g))
-    return preset.max(axis=1) / plain.max(axis=1)
+    plain = np.max(np.abs(large_angle.pitch_error_first_order(th, ph, d0[:, None, :], g=g)), axis=1)
+    neg = th <= 0  # triad λ1 on θ ≤ 0, λ2 on θ > 0: each part with its own biases (no (n, P, 3) selection)
+    preset = np.maximum(
+        *(np.max(np.abs(large_angle.pitch_error_first_order(th[k], ph[k], d[:, None, :], preset_rad=lam[k], g=g)),
+                 axis=1) for k, d in ((neg, d1), (~neg, d2))))
+    return preset / plain
 
 
 def accel_predictions(sc: AccelScenario, ratios, rng, step_deg):
@@ -144,7 +202,13 @@ def trial_chunks(n):
 
 
 def gyro_predictions(study: GyroStudy, b_deg, n_deg, rng):
-    """Held-out quantities per trial for per-trial (b, N)."""
+    """Held-out quantities per trial for per-trial (b, N).
+
+    The Fig 9 drift after one revolution is ``|Σ ω_x Δt|`` over the ``n`` samples of the
+    revolution, ``ω_x = b + σ z_k`` (roll rate 0): drawn as ``|(n b + σ √n z) Δt|``, z ~ N(0, 1)
+    (the same distribution as summing ``n`` draws). Figs 11/12 come from full oscillation
+    records (one compiled pass per trial, :func:`mtcal.methods.gyro_roll.projection_hybrid_max_errors`).
+    """
     g, osc = study.gyro, study.oscillation
     out = {f"drift_{r:g}": np.empty(b_deg.size) for r in study.uniform.pitch_rates_deg_s}
     out.update(hybrid_max=np.empty(b_deg.size), spike=np.empty(b_deg.size))
@@ -154,35 +218,45 @@ def gyro_predictions(study: GyroStudy, b_deg, n_deg, rng):
     slow = np.abs(osc.pitch_rate_rad_s(t)) < _RAD(5.0)
     for sl in trial_chunks(b_deg.size):
         b, nd = _RAD(b_deg[sl]), _RAD(n_deg[sl])
+        sigma = nd * np.sqrt(g.fs_hz)
         for r in study.uniform.pitch_rates_deg_s:
             n_samp = int(round(study.uniform.sweep_deg / r * g.fs_hz))
-            w = gyro_samples(_RAD(r), g.roll0_rad, b, nd, g.fs_hz, rng, (b.size, n_samp))
-            out[f"drift_{r:g}"][sl] = _DEG(np.abs(np.sum(w[..., 0], axis=-1) * g.dt_s))
+            total = n_samp * b + sigma * np.sqrt(n_samp) * rng.standard_normal(b.size)
+            out[f"drift_{r:g}"][sl] = _DEG(np.abs(total * g.dt_s))
         w = gyro_samples(rate_osc, g.roll0_rad, b, nd, g.fs_hz, rng, (b.size, t.size))
-        h, _ = gyro_roll.roll_hybrid(w, g.dt_s, osc.threshold_rad_s, roll0=g.roll0_rad)
-        out["hybrid_max"][sl] = _DEG(np.max(np.abs(h - g.roll0_rad), axis=-1))
-        e_p = np.abs(gyro_roll.roll_projection(w) - g.roll0_rad)
-        out["spike"][sl] = (np.max(np.where(slow, e_p, 0), axis=-1)
-                            / np.maximum(np.max(np.where(slow, 0, e_p), axis=-1), 1e-12))
+        spike, hyb, _ = gyro_roll.projection_hybrid_max_errors(w, g.dt_s, osc.threshold_rad_s, slow, roll0=g.roll0_rad)
+        out["hybrid_max"][sl] = _DEG(hyb)
+        out["spike"][sl] = spike
     return out
 
-def oscillation_claims(study: GyroStudy, b_z_deg, n_deg, rng, trials):
-    """Per-trial Fig 11 spike ratio and Fig 12 hybrid max error for a z error ``b_z`` and noise ``N``.
 
-    x and y gyros keep the study's constant errors.
+def oscillation_claims(study: GyroStudy, b_z_deg, n_deg, rng, trials, *, accurate_deg: float | None = None,
+                       normals=None):
+    """Per-trial Fig 11 spike ratio and Fig 12 hybrid max error (deg) for a z error ``b_z`` and noise ``N``.
+
+    x and y gyros keep the study's constant errors. Trials run in blocks of ``_CHUNK``. With
+    ``accurate_deg`` a trial stops once its hybrid error exceeds it (Fig 12 "accurate" then
+    fails, so both statements fail whatever follows): its spike ratio is NaN. The test
+    ``(spike > 5) & (hyb < accurate_deg)`` is unchanged by the early stop. ``normals``
+    (trials, T, 3), if given, are the standard normal draws to use (common random numbers over
+    a grid of (b_z, N)); ``rng`` is then not used.
     """
     g, osc = study.gyro, study.oscillation
     t = osc.time_s()
     th = osc.pitch_rad(np.append(t, t[-1] + g.dt_s))
     rate = np.diff(th) / g.dt_s
     slow = np.abs(osc.pitch_rate_rad_s(t)) < _RAD(5.0)
-    w = np.zeros((trials, t.size, 3))
-    w[..., 1] = rate * np.cos(g.roll0_rad)
-    w[..., 2] = -rate * np.sin(g.roll0_rad)
-    w += np.array([g.error_rad_s[0], g.error_rad_s[1], _RAD(b_z_deg)])
-    w += _RAD(n_deg) * np.sqrt(g.fs_hz) * rng.standard_normal(w.shape)
-    e_p = np.abs(gyro_roll.roll_projection(w) - g.roll0_rad)
-    spike = np.max(np.where(slow, e_p, 0), axis=-1) / np.maximum(np.max(np.where(slow, 0, e_p), axis=-1), 1e-12)
-    hyb = _DEG(np.max(np.abs(gyro_roll.roll_hybrid(w, g.dt_s, osc.threshold_rad_s, roll0=g.roll0_rad)[0] - g.roll0_rad),
-                      axis=-1))
+    stop = np.inf if accurate_deg is None else float(_RAD(accurate_deg))
+    base = np.zeros((t.size, 3))
+    base[:, 1] = rate * np.cos(g.roll0_rad)
+    base[:, 2] = -rate * np.sin(g.roll0_rad)
+    base += np.array([g.error_rad_s[0], g.error_rad_s[1], _RAD(b_z_deg)])
+    sigma = _RAD(n_deg) * np.sqrt(g.fs_hz)
+    spike, hyb = np.empty(trials), np.empty(trials)
+    for sl in trial_chunks(trials):
+        z = rng.standard_normal((sl.stop - sl.start, t.size, 3)) if normals is None else normals[sl]
+        w = base + sigma * z
+        spike[sl], h, _ = gyro_roll.projection_hybrid_max_errors(w, g.dt_s, osc.threshold_rad_s, slow,
+                                                                 roll0=g.roll0_rad, stop_above_rad=stop)
+        hyb[sl] = _DEG(h)
     return spike, hyb

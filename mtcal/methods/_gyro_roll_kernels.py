@@ -1,0 +1,145 @@
+"""Compiled per-trial loops of :mod:`mtcal.methods.gyro_roll` (tan2022 roll from gyros).
+
+* :func:`projection` — Eq 13 over many samples (numpy's expression without its temporaries);
+* :func:`euler_differential` — the Eq 5 recursion (forward Euler over time, one
+  trial after the other), operation by operation the numpy loop it replaces;
+* :func:`hybrid_rmse_sweep` — roll RMSE of the Fig 7 hybrid for K thresholds, one
+  sequential pass per trial and threshold (no (T, N) temporaries per threshold);
+* :func:`oscillation_claims` — per trial, the Fig 11 spike ratio and the Fig 12
+  hybrid max error from raw gyro samples in one pass; with ``accurate_rad`` finite
+  it only decides whether both statements hold and stops a trial as soon as the
+  hybrid error exceeds it (the statement then fails whatever follows).
+
+Kernels are float64 without ``fastmath`` (:func:`mtcal.core.compiled.jit`); sums run
+in sample order (numpy's ``cumsum`` order); ``sin``/``cos``/``atan2`` come from the
+platform's libm, so results agree with the numpy reference to rounding (tests compare
+them with ``allclose``), not bit for bit.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from mtcal.core.compiled import jit
+
+__all__ = ["euler_differential", "hybrid_rmse_sweep", "oscillation_claims", "projection"]
+
+_TWO_PI = 2.0 * np.pi
+
+
+@jit
+def _wrap(a):
+    """``(a + π) mod 2π − π`` (numpy's ``%`` sign convention); NaN for a non-finite angle."""
+    x = a + np.pi
+    if 0.0 <= x < _TWO_PI:  # fmod(x, 2π) = x exactly: the common case, without the division
+        return x - np.pi
+    if -_TWO_PI <= x < 0.0:  # fmod(x, 2π) = x, then + 2π (the sign rule of Python's and numpy's %)
+        return (x + _TWO_PI) - np.pi
+    if not math.isfinite(x):
+        return np.nan
+    return x % _TWO_PI - np.pi  # Python's float %: numpy's remainder (sign of the divisor)
+
+
+@jit
+def _div(num, den):
+    """``num / den`` with numpy's result for a zero denominator (±inf, NaN for 0/0), no exception."""
+    if den != 0.0:
+        return num / den
+    if num != num or num == 0.0:
+        return np.nan
+    return np.inf if (num > 0.0) == (math.copysign(1.0, den) > 0.0) else -np.inf
+
+
+@jit
+def euler_differential(w, dt, state0):
+    """Eq 5 Euler-angle integration of ``w`` (M, N, 3) from ``state0`` (M, 3) ``[ψ, θ, φ]``; out (M, N, 3)."""
+    m, n = w.shape[0], w.shape[1]
+    out = np.empty((m, n, 3))
+    for i in range(m):
+        psi, theta, phi = state0[i, 0], state0[i, 1], state0[i, 2]
+        for k in range(n):
+            out[i, k, 0] = psi
+            out[i, k, 1] = theta
+            out[i, k, 2] = phi
+            wx, wy, wz = w[i, k, 0], w[i, k, 1], w[i, k, 2]
+            sphi, cphi = math.sin(phi), math.cos(phi)
+            dpsi = _div(wy * sphi + wz * cphi, math.cos(theta))
+            dtheta = wy * cphi - wz * sphi
+            dphi = wx + dpsi * math.sin(theta)
+            psi, theta, phi = _wrap(psi + dpsi * dt), theta + dtheta * dt, _wrap(phi + dphi * dt)
+    return out
+
+
+@jit
+def hybrid_rmse_sweep(proj, rate, cum, phi0, truth, thresholds):
+    """RMSE (M, K) of the hybrid ``where(rate > thr, proj, last(proj − cum) + cum) − truth`` per threshold."""
+    m, n, nk = proj.shape[0], proj.shape[1], thresholds.size
+    out = np.empty((m, nk))
+    for i in range(m):
+        for j in range(nk):
+            thr = thresholds[j]
+            base = phi0[i]
+            acc = 0.0
+            for k in range(n):
+                if rate[i, k] > thr:
+                    base = proj[i, k] - cum[i, k]
+                    e = proj[i, k] - truth[k]
+                else:
+                    e = base + cum[i, k] - truth[k]
+                acc += e * e
+            out[i, j] = math.sqrt(acc / n)
+    return out
+
+
+@jit
+def oscillation_claims(w, dt, thr, roll0, slow, accurate_rad):
+    """Per trial of ``w`` (M, N, 3): projection max |error| where ``slow`` / elsewhere and hybrid max |error| (rad).
+
+    Returns ``(spike (M,), hybrid_max (M,), complete (M,) bool)``; a trial stops early (``complete``
+    False, ``spike`` NaN) once its hybrid error exceeds ``accurate_rad`` (pass ``inf`` for full records).
+    """
+    m, n = w.shape[0], w.shape[1]
+    spike = np.empty(m)
+    hyb = np.empty(m)
+    complete = np.ones(m, dtype=np.bool_)
+    for i in range(m):
+        cum = 0.0
+        base = roll0
+        slow_max, fast_max, h_max = 0.0, 0.0, 0.0
+        for k in range(n):
+            wx, wy, wz = w[i, k, 0], w[i, k, 1], w[i, k, 2]
+            sign = -1.0 if wy < 0.0 else 1.0
+            p = math.atan2(-wz * sign, abs(wy))
+            e_p = abs(p - roll0)
+            if slow[k]:
+                slow_max = max(slow_max, e_p)
+            else:
+                fast_max = max(fast_max, e_p)
+            if math.hypot(wy, wz) > thr:
+                base = p - cum
+                h = p
+            else:
+                h = base + cum
+            h_max = max(h_max, abs(h - roll0))
+            cum += wx * dt
+            if h_max > accurate_rad:
+                complete[i] = False
+                break
+        spike[i] = slow_max / max(fast_max, 1e-12) if complete[i] else np.nan
+        hyb[i] = h_max
+    return spike, hyb, complete
+
+
+@jit
+def projection(w):
+    """Eq 13 ``atan2(−ω_z sgn ω_y, |ω_y|)`` of ``w`` (M, N, 3), out (M, N): numpy's expression, one pass."""
+    m, n = w.shape[0], w.shape[1]
+    out = np.empty((m, n))
+    for i in range(m):
+        for k in range(n):
+            wy = w[i, k, 1]
+            sign = -1.0 if wy < 0.0 else 1.0
+            out[i, k] = math.atan2(-w[i, k, 2] * sign, abs(wy))
+    return out
