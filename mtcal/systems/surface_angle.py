@@ -50,7 +50,8 @@ from mtcal.filters.registry import AxisContext, register_filter
 from mtcal.methods import rotation_axis
 from mtcal.systems import plausibility
 
-__all__ = ["AxisEstimate", "estimate_surface_axis", "estimate_surface_axes", "axis_uncertainty", "angles_about_axis", "rest_ekf_params",
+__all__ = ["AxisEstimate", "estimate_surface_axis", "estimate_surface_axes", "axis_uncertainty", "angles_about_axis",
+           "rest_ekf_params",
            "SurfaceAngle", "surface_angle", "SIGMA_MEAN_FLOOR_M_S2", "CLIPPED_P0_THETA_RAD",
            "MIN_TURN_FOR_AXIS_CHECK_DEG"]
 

@@ -74,7 +74,7 @@ def plot_fig11(data: dict):
     fig, ax = plt.subplots(figsize=(8, 4.2))
     for b, lab in ((data["rams"], "proposed (RAMS EKF)"), (data["ref16"], "ref. [16] (accelerometer only)")):
         ax.fill_between(ang, b["low"], b["high"], alpha=0.25)
-        ax.plot(ang, b["median"], "o-", ms=3, label=f"{lab}: median, 95 % band")
+        ax.plot(ang, b["median"], "o-", ms=3, label=f"{lab}: {b['label']} repetitions per angle")
     ax.set_xlabel("rotation angle (deg)")
     ax.set_ylabel("max error over 1000 measurements (deg)")
     ax.set_xticks(np.arange(-180, 181, 45))
@@ -93,7 +93,8 @@ def plot_fig12(data: dict):
     axs[0].set_ylabel("‖g1 − g0‖ (g)")
     axs[0].set_title("Paper Fig. 12 (wang2022sensors_fig12)", fontsize=10)
     g = data["gamma_mc_deg"]
-    axs[1].fill_between(g, data["mc_low"], data["mc_high"], alpha=0.3, label="Monte Carlo 95 % band")
+    axs[1].fill_between(g, data["mc_low"], data["mc_high"], alpha=0.3,
+                        label=f"Monte Carlo {data['band_label'].replace('median, ', '')} trials")
     axs[1].plot(g, data["mc_median"], "o-", label="Monte Carlo median")
     axs[1].plot(g, data["formula_median"], "k--", label="first-order formula (median)")
     axs[1].set_yscale("log")
@@ -109,7 +110,8 @@ def plot_axis_error_vs_rest(data: dict):
     """Axis error vs rest duration (log-log), ticks only at the simulated durations (no overprint)."""
     r = data["rest_s"]
     fig, ax = plt.subplots(figsize=(7, 4.5))
-    ax.fill_between(r, data["zvd_low"], data["zvd_high"], alpha=0.3, label="95 % band (ZVD rests, IMU walks)")
+    ax.fill_between(r, data["zvd_low"], data["zvd_high"], alpha=0.3,
+                    label=f"{data['band_label'].replace('median, ', '')} trials (ZVD rests, IMU walks)")
     ax.plot(r, data["zvd_median"], "o-", label=f"median (ZVD rests), slope {data['slope_zvd']:.2f}")
     ax.plot(r, data["white_median"], "s-", label=f"median (true rests, white noise), slope {data['slope_white']:.2f}")
     ax.plot(r, data["formula_median"], "k--", label="first-order formula, slope −0.50")
@@ -130,16 +132,16 @@ def plot_axis_error_vs_rest(data: dict):
 
 def plot_fig13(data: dict, n_show: int = 4):
     """Fig. 13 — angle error while standing still for 1 min after running, RAMS vs AHRS stand-in (deg):
-    median over trials and the 95 % band (``n_show`` is kept for callers and unused)."""
+    median over trials and the 95 % band (≥ 1000 trials) or the range (fewer) (``n_show`` is kept for callers and
+    unused)."""
     d = data["run"]
     fig, ax = plt.subplots(figsize=(8, 4.2))
-    for err, color, lab in ((d.err_ahrs, "tab:red", "AHRS stand-in"), (d.err_rams, "tab:blue", "RAMS")):
-        lo, med, hi = np.percentile(err, [2.5, 50.0, 97.5], axis=0)
-        ax.fill_between(d.time_s, lo, hi, color=color, alpha=0.25, label=f"{lab}: 95 % band over trials")
-        ax.plot(d.time_s, med, color=color, lw=0.9, label=f"{lab}: median")
+    for b, color, lab in ((data["ahrs"], "tab:red", "AHRS stand-in"), (data["rams"], "tab:blue", "RAMS")):
+        ax.fill_between(d.time_s, b["low"], b["high"], color=color, alpha=0.25, label=f"{lab}: {b['label']} trials")
+        ax.plot(d.time_s, b["median"], color=color, lw=0.9, label=f"{lab}: median")
     ax.set_xlabel("time standing still (s)")
     ax.set_ylabel("angle error (deg)")
-    ax.set_title(f"Paper Fig. 13 (wang2022sensors_fig13): median and 95 % band over {d.err_rams.shape[0]} trials\n"
+    ax.set_title(f"Paper Fig. 13 (wang2022sensors_fig13): {data['rams']['label']} trials\n"
                  f"{data['labels']['rig']}", fontsize=10)
     _legend_below(ax)
     fig.tight_layout()
@@ -150,7 +152,8 @@ def plot_fig14(data: dict):
     """Fig. 14 — RAMS max |error| per angle (settled half-holds), fitted-model median and 95 % band (deg)."""
     ang = data["angle_deg"]
     fig, ax = plt.subplots(figsize=(8, 4.2))
-    ax.fill_between(ang, data["low"], data["high"], alpha=0.3, label="fitted model: 95 % band")
+    ax.fill_between(ang, data["low"], data["high"], alpha=0.3,
+                    label=f"fitted model: posterior-weighted 2.5–97.5 % of {data['n_runs']} grid runs")
     ax.plot(ang, data["median"], "o-", ms=3, label="fitted model: median")
     ax.axhline(0.05, color="k", ls=":", label="0.05° (paper's bound)")
     ax.set_xticks(np.arange(-180, 181, 45))
