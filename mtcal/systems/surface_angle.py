@@ -305,8 +305,7 @@ def estimate_surface_axes(accel_m_s2, rest_masks, *, accel_noise_m_s2: float, wi
     Carlo) and rests that are all ≥ ``min_separation_deg`` apart in tilt, the rest means and
     Eq 23 (:func:`mtcal.methods.rotation_axis.axis_from_means`) run on all such trials at
     once; every other trial (rests to merge, a plane fit, a gate) goes through
-    :func:`estimate_surface_axis` itself. Results equal the per-trial call to rounding
-    (the batched mean sums in another order).
+    :func:`estimate_surface_axis` itself. Results equal the per-trial call bit for bit.
 
     Parameters
     ----------
@@ -358,11 +357,15 @@ def estimate_surface_axes(accel_m_s2, rest_masks, *, accel_noise_m_s2: float, wi
     fast = np.zeros(t_n, bool)
     if fit == "eq23" and max_axis_error_deg is None and len(masks) >= 3:
         counts = np.stack([m.sum(axis=1) for m in masks]).astype(float)          # (R, T)
-        sums = np.stack([np.matmul(m[:, None, :].astype(float), a)[:, 0] for m in masks])  # (R, T, 3)
-        with np.errstate(invalid="ignore", divide="ignore"):
-            means = sums / counts[..., None]
-        r_n = len(masks)
-        pair = np.stack([rotation_axis.angle_between(means[i], means[j]) for i in range(r_n) for j in range(i)])
+        means = np.full((len(masks), t_n, 3), np.nan)
+        for k, m in enumerate(masks):  # the rest means exactly as estimate_surface_axis takes them
+            for t in np.flatnonzero(counts[k] > 0):
+                means[k, t] = a[t][m[t]].mean(axis=0)
+        # as distinct_positions weights them (mean * n / n), so Eq 23 sees the same numbers
+        with np.errstate(invalid="ignore"):
+            means = means * counts[..., None] / counts[..., None]
+            r_n = len(masks)
+            pair = np.stack([rotation_axis.angle_between(means[i], means[j]) for i in range(r_n) for j in range(i)])
         # strictly apart (a margin for rounding), so per trial no rests would merge
         fast = np.all(counts > 0, axis=0) & np.all(pair > np.radians(sep) * (1 + 1e-9), axis=0)
         if fast.any():

@@ -79,7 +79,7 @@ def plot_fig11(data: dict):
     ax.set_ylabel("max error over 1000 measurements (deg)")
     ax.set_xticks(np.arange(-180, 181, 45))
     ax.set_title(f"Paper Fig. 11 (wang2022sensors_fig11): {data['labels']['axis']}", fontsize=10)
-    _legend_below(ax)
+    _legend_below(ax, ncol=1)
     fig.tight_layout()
     return fig
 
@@ -137,7 +137,8 @@ def plot_fig13(data: dict, n_show: int = 4):
     d = data["run"]
     fig, ax = plt.subplots(figsize=(8, 4.2))
     for b, color, lab in ((data["ahrs"], "tab:red", "AHRS stand-in"), (data["rams"], "tab:blue", "RAMS")):
-        ax.fill_between(d.time_s, b["low"], b["high"], color=color, alpha=0.25, label=f"{lab}: {b['label']} trials")
+        ax.fill_between(d.time_s, b["low"], b["high"], color=color, alpha=0.25,
+                        label=f"{lab}: {b['label'].replace('median, ', '')} trials")
         ax.plot(d.time_s, b["median"], color=color, lw=0.9, label=f"{lab}: median")
     ax.set_xlabel("time standing still (s)")
     ax.set_ylabel("angle error (deg)")
