@@ -78,9 +78,10 @@ rows += a.rows
 # Table 1's ZVD looks only at ‖a‖, which a rotation about an axis through the sensor
 # does not change; it sees motion only through the lever-arm acceleration. The
 # optional gyro condition ‖ω − b̂‖ < 2 °/s (Sec. 3.1 cites it from ref. [20]) closes
-# the gap. Figure: the median trial (by Table 1 false-static share), an example beside the
-# ensemble numbers: median and 95 % band over `ZVD_TRIALS` trials (1000 at full size; with
-# fewer, as at CI size, a row gives the range with its count instead of a band).
+# the gap. Figure: ‖a‖ of the median trial (by Table 1 false-static share), an example;
+# the flags panel shows the ensemble, the share of all `ZVD_TRIALS` trials each ZVD flags
+# static per sample. Numbers: median and 95 % band over `ZVD_TRIALS` trials (1000 at full
+# size; with fewer, as at CI size, a row gives the range with its count instead).
 #
 # **Claim (paper):** every rest is detected. **Findings (ours):** how many moving
 # samples each ZVD flags static, and how many rest samples Table 1 misses. With

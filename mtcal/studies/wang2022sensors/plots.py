@@ -31,17 +31,24 @@ def plot_fig06(data: dict):
     axs[0].set_ylabel("θ (deg)")
     axs[1].plot(d.time_s, d.accel_norm_m_s2, lw=0.6, label=f"‖a‖, median trial {d.trial} of {d.trials}")
     axs[1].set_ylabel("‖a‖ (m/s²)")
-    axs[2].step(d.time_s, d.true_static + 0.0, "k", lw=2, where="post", label="true rest")
-    axs[2].step(d.time_s, d.flags_table1 * 0.9, where="post", label="Table 1 ZVD")
-    axs[2].step(d.time_s, d.flags_gyro * 0.8, where="post", label="ZVD + gyro (mtcal)")
-    axs[2].set_ylabel("static flag")
+    if d.share_table1 is None:  # a record without the ensemble: the drawn trial's flags
+        axs[2].step(d.time_s, d.true_static + 0.0, "k", lw=2, where="post", label="true rest")
+        axs[2].step(d.time_s, d.flags_table1 * 0.9, where="post", label="Table 1 ZVD")
+        axs[2].step(d.time_s, d.flags_gyro * 0.8, where="post", label="ZVD + gyro (mtcal)")
+        axs[2].set_ylabel("static flag")
+    else:
+        axs[2].fill_between(d.time_s, 0.0, d.true_static + 0.0, step="post", color="0.85", label="true rest")
+        axs[2].step(d.time_s, d.share_table1, where="post", label="Table 1 ZVD")
+        axs[2].step(d.time_s, d.share_gyro, "--", where="post", label="ZVD + gyro (mtcal)")
+        axs[2].set_ylabel(f"share of {d.trials}\ntrials flagged static")
     axs[2].set_yticks([0, 1])
     axs[2].set_xlabel("time (s)")
     axs[1].axhspan(9.76, 9.84, color="tab:green", alpha=0.15, label="Table 1 ‖a‖ band")
     axs[1].legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False, fontsize=9)
     axs[2].legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False, fontsize=9)
-    axs[0].set_title(f"Paper Fig. 6 (wang2022sensors_fig06): ZVD on a rotate/hold record\n{data['labels']['rig']}; "
-                     f"median trial {d.trial} of {d.trials} (by Table 1 false-static share)", fontsize=10)
+    axs[0].set_title(f"Paper Fig. 6 (wang2022sensors_fig06): ZVD on a rotate/hold record\n{data['labels']['rig']}\n"
+                     f"‖a‖: median trial {d.trial} of {d.trials} (by Table 1 false-static share); flags: all trials",
+                     fontsize=10)
     fig.tight_layout()
     return fig
 

@@ -550,7 +550,8 @@ def _median_trial(score) -> int:
 
 @dataclass(frozen=True)
 class ZvdDemo:
-    """Fig. 6: one record and per-trial shares (moving samples flagged static, rests found)."""
+    """Fig. 6: one record (the median trial), per-trial shares (moving samples flagged static, rests found) and,
+    per sample, the share of trials each ZVD flags static (``share_table1``, ``share_gyro``, (N,))."""
 
     time_s: np.ndarray
     theta_deg: np.ndarray
@@ -565,6 +566,8 @@ class ZvdDemo:
     n_rests: int
     trial: int = 0
     trials: int = 1
+    share_table1: np.ndarray | None = None
+    share_gyro: np.ndarray | None = None
 
 
 def run_zvd_demo(axis, imu: ImuValues, rig: RigValues, trials: int, seed: int, *,
@@ -589,7 +592,8 @@ def run_zvd_demo(axis, imu: ImuValues, rig: RigValues, trials: int, seed: int, *
     k = _median_trial(fp1)  # the record drawn: the median trial by Table 1 false-static share
     return ZvdDemo(prof.time_s, np.degrees(prof.angle_rad[:, 0]), np.linalg.norm(sim.accel_m_s2[k], axis=1), st,
                    f1[k], fg[k], fp1, np.mean(fg & ~st, axis=1) / np.mean(~st),
-                   np.mean(~f1 & st, axis=1) / np.mean(st), found, len(holds), k, trials)
+                   np.mean(~f1 & st, axis=1) / np.mean(st), found, len(holds), k, trials, np.mean(f1, axis=0),
+                   np.mean(fg, axis=0))
 
 
 # --------------------------------------------------------------------------
