@@ -77,10 +77,11 @@ print(w.labels(sc))
 # 0–1 s still, 1–2 s rotating 60° (lever arm: tangential + centripetal acceleration),
 # 2–3 s still. The standard EKF (always V_z) reads the lever-arm acceleration as angle;
 # with ZVD switching the gyro carries the motion. **Claims (paper):** the switched EKF
-# is better in motion and both agree at rest. Figure: the median trial (by moving RMSE
-# ratio), an example beside the ensemble numbers: median and 95 % band over `F9_TRIALS`
-# trials (1000 at full size), claims on the 97.5 % end; with fewer than 1000 trials (CI
-# size) a row gives the range with its count and the claims use its ends.
+# is better in motion and both agree at rest. Figure: the error panel (b) shows the
+# ensemble (median and 95 % band over all `F9_TRIALS` trials); θ, ‖a‖ and ‖ω‖ are the
+# median trial (by moving RMSE ratio), an example. Numbers: median and 95 % band over
+# `F9_TRIALS` trials (1000 at full size), claims on the 97.5 % end; with fewer than 1000
+# trials (CI size) the band becomes the range with its count and the claims use its ends.
 
 # %%
 a = w.fig09_ekf_switching(sc, F9_TRIALS, SEED)

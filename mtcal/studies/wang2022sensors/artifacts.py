@@ -323,7 +323,8 @@ def fig09_ekf_switching(sc: Scenario, trials: int, seed: int) -> Artifact:
             _row("wang2022sensors_fig09", "last 0.5 s still: max |error| with ZVD (deg)", "figure",
                  med[2], "back at rest (97.5 % < 0.05)", bool(end_hi < 0.05), band=end,
                  role="finding", source="mtcal finding", note=n_e)]
-    return Artifact(None, rows, {"run": r, "labels": labels(sc)})
+    return Artifact(None, rows, {"run": r, "err_zvd": _band_or_range(r.all_err_zvd_deg),
+                                 "err_std": _band_or_range(r.all_err_std_deg), "labels": labels(sc)})
 
 
 @cached  # Monte Carlo result cached under $MTCAL_CACHE_DIR (make reproduce/artifact)

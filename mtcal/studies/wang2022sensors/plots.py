@@ -59,8 +59,13 @@ def plot_fig09(data: dict):
     fig, axs = plt.subplots(4, 1, figsize=(8, 8), sharex=True)
     axs[0].plot(r.time_s, r.theta_deg)
     axs[0].set_ylabel("(a) θ ref (deg)")
-    axs[1].plot(r.time_s, r.err_zvd_deg, label="EKF with ZVD")
-    axs[1].plot(r.time_s, r.err_std_deg, "--", label="standard EKF")
+    if "err_zvd" in data:  # the ensemble: median and band (or range) over all trials
+        for b, style, lab in ((data["err_zvd"], "-", "EKF with ZVD"), (data["err_std"], "--", "standard EKF")):
+            line, = axs[1].plot(r.time_s, b["median"], style, label=f"{lab}: {b['label']} trials")
+            axs[1].fill_between(r.time_s, b["low"], b["high"], color=line.get_color(), alpha=0.25)
+    else:
+        axs[1].plot(r.time_s, r.err_zvd_deg, label="EKF with ZVD")
+        axs[1].plot(r.time_s, r.err_std_deg, "--", label="standard EKF")
     axs[1].set_ylabel("(b) error (deg)")
     axs[1].legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False, fontsize=9)
     axs[2].plot(r.time_s, r.accel_norm_m_s2)
@@ -69,7 +74,7 @@ def plot_fig09(data: dict):
     axs[3].set_ylabel("(d) ‖ω‖ (°/s)")
     axs[3].set_xlabel("time (s)")
     axs[0].set_title(f"Paper Fig. 9 (wang2022sensors_fig09): EKF with / without ZVD switching\n"
-                     f"{data['labels']['zvd']}; median trial {r.trial} of {r.trials} (by moving RMSE ratio)",
+                     f"{data['labels']['zvd']}\n(a, c, d): median trial {r.trial} of {r.trials}; (b): all trials",
                      fontsize=10)
     fig.tight_layout()
     return fig

@@ -503,7 +503,8 @@ def axis_errors(axis, imu: ImuValues, rig: RigValues, trials: int, seed: int, st
 
 @dataclass(frozen=True)
 class Fig9Result:
-    """Fig. 9: one record (time, θ, ‖a‖, ‖ω‖, errors with/without ZVD; deg) + per-trial metrics."""
+    """Fig. 9: one record (time, θ, ‖a‖, ‖ω‖, errors with/without ZVD; deg) + per-trial metrics, and every
+    trial's errors with / without ZVD (``all_err_zvd_deg``, ``all_err_std_deg``, (T, N); deg)."""
 
     time_s: np.ndarray
     theta_deg: np.ndarray
@@ -516,6 +517,8 @@ class Fig9Result:
     end_max_err_deg: np.ndarray
     trial: int = 0
     trials: int = 1
+    all_err_zvd_deg: np.ndarray | None = None
+    all_err_std_deg: np.ndarray | None = None
 
 
 def run_fig9(axis, imu: ImuValues, rig: RigValues, trials: int, seed: int) -> Fig9Result:
@@ -539,7 +542,7 @@ def run_fig9(axis, imu: ImuValues, rig: RigValues, trials: int, seed: int) -> Fi
     return Fig9Result(t, np.degrees(sim.theta_rad[k]), np.linalg.norm(sim.accel_m_s2[k], axis=1),
                       np.degrees(np.linalg.norm(sim.gyro_rad_s[k], axis=1)), e_z[k], e_n[k], ratio,
                       np.max(np.abs(e_z - e_n)[:, t < 1.0], axis=1), np.max(np.abs(e_z[:, t > 2.5]), axis=1),
-                      k, trials)
+                      k, trials, e_z, e_n)
 
 
 def _median_trial(score) -> int:
