@@ -50,7 +50,8 @@ from mtcal.filters.registry import AxisContext, register_filter
 from mtcal.methods import rotation_axis
 from mtcal.systems import plausibility
 
-__all__ = ["AxisEstimate", "estimate_surface_axis", "axis_uncertainty", "angles_about_axis", "rest_ekf_params",
+__all__ = ["AxisEstimate", "estimate_surface_axis", "estimate_surface_axes", "axis_uncertainty", "angles_about_axis",
+           "rest_ekf_params",
            "SurfaceAngle", "surface_angle", "SIGMA_MEAN_FLOOR_M_S2", "CLIPPED_P0_THETA_RAD",
            "MIN_TURN_FOR_AXIS_CHECK_DEG"]
 
@@ -292,6 +293,90 @@ def estimate_surface_axis(accel_m_s2, rests, *, accel_noise_m_s2: float, window_
     return AxisEstimate(v, float(plane.sigma_rad), float(np.mean(rotation_axis.axis_elevation(v, means))), pos,
                         tuple(tuple(m) for m in members), means, angles_about_axis(v, means[0], means), float(sig),
                         fit)
+
+
+def estimate_surface_axes(accel_m_s2, rest_masks, *, accel_noise_m_s2: float, window_samples: float = 1.0,
+                          fit: str = "plane", min_separation_deg: float = 3.0,
+                          max_axis_error_deg: float | None = 2.0, max_elevation_deg: float = 85.0) -> np.ndarray:
+    """:func:`estimate_surface_axis` on a batch of T records: the hinge axis of each, (T, 3).
+
+    The same procedure per trial (wang2022sensors Eq 23, Algorithm A1), vectorised where it
+    can be: with ``fit="eq23"``, no uncertainty gate (``max_axis_error_deg=None``, a Monte
+    Carlo) and rests that are all ≥ ``min_separation_deg`` apart in tilt, the rest means and
+    Eq 23 (:func:`mtcal.methods.rotation_axis.axis_from_means`) run on all such trials at
+    once; every other trial (rests to merge, a plane fit, a gate) goes through
+    :func:`estimate_surface_axis` itself. Results equal the per-trial call bit for bit.
+
+    Parameters
+    ----------
+    accel_m_s2 : array_like (T, N, 3)
+        Accelerometer records (m/s²).
+    rest_masks : sequence of array_like of bool (T, N)
+        Rest samples per trial, one mask per rest, in time order (R ≥ 1).
+    accel_noise_m_s2, window_samples, fit, min_separation_deg, max_axis_error_deg, max_elevation_deg
+        As :func:`estimate_surface_axis`.
+
+    Returns
+    -------
+    ndarray (T, 3)
+        Unit axes (``v_x ≥ 0``).
+
+    Raises
+    ------
+    ValueError
+        A mask of the wrong shape or dtype, and every error of :func:`estimate_surface_axis`
+        for the first trial that fails.
+
+    References
+    ----------
+    wang2022sensors Eq 23 (axis), Algorithm A1.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> acc = np.repeat([[0, 0, 9.8], [0, -9.8, 0], [0, 0, -9.8]], 40, axis=0).astype(float)
+    >>> masks = [np.zeros((2, 120), bool) for _ in range(3)]
+    >>> for k, m in enumerate(masks):
+    ...     m[:, 40 * k:40 * k + 40] = True
+    >>> estimate_surface_axes(np.stack([acc, acc]), masks, accel_noise_m_s2=0.01, fit="eq23",
+    ...                       max_axis_error_deg=None).tolist()
+    [[1.0, 0.0, 0.0], [1.0, 0.0, 0.0]]
+    """
+    if fit not in ("plane", "eq23"):
+        raise ValueError(f"fit must be 'plane' or 'eq23', got {fit!r}")
+    a = as_float_array(accel_m_s2, "accel_m_s2", ndim=3, last_dim=3, copy=False)
+    sep = positive_scalar(min_separation_deg, "min_separation_deg")
+    masks = [np.asarray(m) for m in rest_masks]
+    if not masks:
+        raise ValueError("found no rest; the axis needs rests at three distinct tilts")
+    for m in masks:
+        if m.dtype != bool or m.shape != a.shape[:2]:
+            raise ValueError(f"each rest mask must be boolean of shape {a.shape[:2]}, got {m.dtype} {m.shape}")
+    t_n = a.shape[0]
+    out = np.empty((t_n, 3))
+    fast = np.zeros(t_n, bool)
+    if fit == "eq23" and max_axis_error_deg is None and len(masks) >= 3:
+        counts = np.stack([m.sum(axis=1) for m in masks]).astype(float)          # (R, T)
+        means = np.full((len(masks), t_n, 3), np.nan)
+        for k, m in enumerate(masks):  # the rest means exactly as estimate_surface_axis takes them
+            for t in np.flatnonzero(counts[k] > 0):
+                means[k, t] = a[t][m[t]].mean(axis=0)
+        # as distinct_positions weights them (mean * n / n), so Eq 23 sees the same numbers
+        with np.errstate(invalid="ignore"):
+            means = means * counts[..., None] / counts[..., None]
+            r_n = len(masks)
+            pair = np.stack([rotation_axis.angle_between(means[i], means[j]) for i in range(r_n) for j in range(i)])
+        # strictly apart (a margin for rounding), so per trial no rests would merge
+        fast = np.all(counts > 0, axis=0) & np.all(pair > np.radians(sep) * (1 + 1e-9), axis=0)
+        if fast.any():
+            out[fast] = rotation_axis.axis_from_means(*means[:3, fast], min_separation_deg=sep,
+                                                      max_elevation_deg=max_elevation_deg)
+    for t in np.flatnonzero(~fast):
+        out[t] = estimate_surface_axis(a[t], [m[t] for m in masks], accel_noise_m_s2=accel_noise_m_s2,
+                                       window_samples=window_samples, fit=fit, min_separation_deg=sep,
+                                       max_axis_error_deg=max_axis_error_deg,
+                                       max_elevation_deg=max_elevation_deg).axis
+    return out
 
 
 def rest_ekf_params(gyro_rad_s, accel_m_s2, init: slice) -> RamsEkfParams:

@@ -302,3 +302,40 @@ def test_fig11_and_fig13_claims_can_fail():
     assert len(f13) == 2
     assert f13[0]["check"](0.05) is False  # RAMS drifting by 0.05° in a minute
     assert f13[1]["check"](0.0) is False   # an AHRS that holds as well as RAMS
+
+
+def test_bands_need_1000_trials_else_the_range_with_its_count():
+    from mtcal.studies.wang2022sensors.artifacts import MIN_BAND_TRIALS, _band_or_range, _spread
+
+    x = np.arange(MIN_BAND_TRIALS, dtype=float)
+    band, lo, hi, note = _spread(x)
+    assert band is not None and note == "" and (lo, hi) == (band["low"], band["high"]) and lo > x.min()
+    band, lo, hi, note = _spread(x[:8], "repetitions")
+    assert band is None and (lo, hi) == (0.0, 7.0)
+    assert note.startswith("range over 8 repetitions [0, 7]") and "no 95 % band" in note
+    few = _band_or_range(np.arange(14.0).reshape(7, 2))
+    assert few["label"] == "median, range of 7" and few["low"].tolist() == [0.0, 1.0]
+    many = _band_or_range(np.tile(x[:, None], (1, 2)))
+    assert many["label"] == f"median, 95 % band of {MIN_BAND_TRIALS}" and many["high"][0] < x.max()
+
+
+def test_fig13_rows_give_the_range_with_the_count_and_drift_is_chunk_independent():
+    sc = w.scenario_from_parameters()
+    a = w.fig13_drift(sc, None, 3, 1, 2.0, 5.0)
+    assert all(r["mc_band"] == "" and "range over 3 trials" in r["note"] for r in a.rows)
+    imu, rig = sc.imu.resolve(), sc.rig.resolve()
+    one = w.run_drift(rig, imu, sc.fig11_axis, w.AhrsImu(), 3, 1, run_s=2.0, stand_s=2.0, chunk_trials=1)
+    all3 = w.run_drift(rig, imu, sc.fig11_axis, w.AhrsImu(), 3, 1, run_s=2.0, stand_s=2.0, chunk_trials=3)
+    assert np.array_equal(one.err_rams, all3.err_rams) and np.array_equal(one.err_ahrs, all3.err_ahrs)
+
+
+def test_simulate_batch_shared_truth_equals_the_per_trial_truth():
+    imu = w.ImuSpec().resolve()
+    prof = w.trapezoid_profile(np.radians([0.0, 40.0]), np.radians(20.0), np.radians(200.0), [0.5, 0.5], imu.fs_hz)
+    v = np.tile([0.1734, 0.9835, 0.0523] / np.linalg.norm([0.1734, 0.9835, 0.0523]), (2, 1))
+    r = np.tile([0.0, 0.0, 0.2], (2, 1))
+    args = (prof.angle_rad[:, 0], prof.rate_rad_s[:, 0], prof.accel_rad_s2[:, 0])
+    shared = w.simulate_batch(*args, v, r, imu, 3, 0, [0, 1])
+    per_trial = w.simulate_batch(*(np.tile(x, (2, 1)) for x in args), v, r, imu, 3, 0, [0, 1])
+    np.testing.assert_allclose(shared.accel_m_s2, per_trial.accel_m_s2, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(shared.gyro_rad_s, per_trial.gyro_rad_s, rtol=0, atol=1e-15)

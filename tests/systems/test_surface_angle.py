@@ -80,6 +80,48 @@ def test_axis_refusals(angles, kw, match):
         surface_angle.estimate_surface_axis(accel, rests, **kw)
 
 
+def _noisy_batch(angles_deg, trials=4, n=40, seed=0):
+    accel, rests = _rests_at(angles_deg, n=n)
+    rng = np.random.default_rng(seed)
+    batch = accel + 0.02 * rng.standard_normal((trials,) + accel.shape)
+    masks = [np.zeros((trials, accel.shape[0]), bool) for _ in rests]
+    for m, r in zip(masks, rests):
+        m[:, r] = True
+    masks[1][0, rests[1].start:rests[1].start + n // 2] = False  # trial 0: a shorter second rest
+    return batch, masks
+
+
+@pytest.mark.parametrize("angles,kw", [
+    ([0.0, 70.0, 140.0], dict(fit="eq23", max_axis_error_deg=None)),           # vectorised path
+    ([0.0, 70.0, 140.0, 70.0], dict(fit="eq23", max_axis_error_deg=None)),     # rests to merge: per trial
+    ([0.0, 70.0, 140.0, 200.0], dict(fit="eq23", max_axis_error_deg=None)),    # first three of four
+    ([0.0, 70.0, 140.0], dict(fit="plane")),                                    # plane fit with a gate
+])
+def test_batched_axes_equal_the_per_trial_procedure(angles, kw):
+    batch, masks = _noisy_batch(angles)
+    got = surface_angle.estimate_surface_axes(batch, masks, accel_noise_m_s2=0.02, **kw)
+    for t in range(batch.shape[0]):
+        one = surface_angle.estimate_surface_axis(batch[t], [m[t] for m in masks], accel_noise_m_s2=0.02, **kw)
+        assert np.array_equal(got[t], one.axis)
+    assert np.degrees(np.arccos(np.min(got @ AXIS))) < 2.0
+
+
+def test_batched_axes_refusals():
+    batch, masks = _noisy_batch([0.0, 70.0, 140.0])
+    with pytest.raises(ValueError, match="fit must be 'plane' or 'eq23'"):
+        surface_angle.estimate_surface_axes(batch, masks, accel_noise_m_s2=0.02, fit="lsq")
+    with pytest.raises(ValueError, match="found no rest"):
+        surface_angle.estimate_surface_axes(batch, [], accel_noise_m_s2=0.02)
+    with pytest.raises(ValueError, match="each rest mask must be boolean of shape"):
+        surface_angle.estimate_surface_axes(batch, [m[:, :5] for m in masks], accel_noise_m_s2=0.02)
+    with pytest.raises(ValueError, match="accel_m_s2 must"):
+        surface_angle.estimate_surface_axes(batch[0], masks, accel_noise_m_s2=0.02)
+    # a trial whose rests are one tilt fails as the per-trial procedure does
+    same, masks1 = _noisy_batch([0.0, 1.0, 2.0], trials=2)
+    with pytest.raises(ValueError, match=r"found only 1 distinct tilt\(s\) among 3 rest\(s\)"):
+        surface_angle.estimate_surface_axes(same, masks1, accel_noise_m_s2=0.02, fit="eq23", max_axis_error_deg=None)
+
+
 @pytest.mark.parametrize("fit,match", [
     ("plane", "rotation axis is nearly vertical: .* rotation about it barely changes gravity"),
     ("eq23", "rotation axis is nearly vertical: .* rotation barely changes gravity"),

@@ -31,17 +31,24 @@ def plot_fig06(data: dict):
     axs[0].set_ylabel("θ (deg)")
     axs[1].plot(d.time_s, d.accel_norm_m_s2, lw=0.6, label=f"‖a‖, median trial {d.trial} of {d.trials}")
     axs[1].set_ylabel("‖a‖ (m/s²)")
-    axs[2].step(d.time_s, d.true_static + 0.0, "k", lw=2, where="post", label="true rest")
-    axs[2].step(d.time_s, d.flags_table1 * 0.9, where="post", label="Table 1 ZVD")
-    axs[2].step(d.time_s, d.flags_gyro * 0.8, where="post", label="ZVD + gyro (mtcal)")
-    axs[2].set_ylabel("static flag")
+    if d.share_table1 is None:  # a record without the ensemble: the drawn trial's flags
+        axs[2].step(d.time_s, d.true_static + 0.0, "k", lw=2, where="post", label="true rest")
+        axs[2].step(d.time_s, d.flags_table1 * 0.9, where="post", label="Table 1 ZVD")
+        axs[2].step(d.time_s, d.flags_gyro * 0.8, where="post", label="ZVD + gyro (mtcal)")
+        axs[2].set_ylabel("static flag")
+    else:
+        axs[2].fill_between(d.time_s, 0.0, d.true_static + 0.0, step="post", color="0.85", label="true rest")
+        axs[2].step(d.time_s, d.share_table1, where="post", label="Table 1 ZVD")
+        axs[2].step(d.time_s, d.share_gyro, "--", where="post", label="ZVD + gyro (mtcal)")
+        axs[2].set_ylabel(f"share of {d.trials}\ntrials flagged static")
     axs[2].set_yticks([0, 1])
     axs[2].set_xlabel("time (s)")
     axs[1].axhspan(9.76, 9.84, color="tab:green", alpha=0.15, label="Table 1 ‖a‖ band")
     axs[1].legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False, fontsize=9)
     axs[2].legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False, fontsize=9)
-    axs[0].set_title(f"Paper Fig. 6 (wang2022sensors_fig06): ZVD on a rotate/hold record\n{data['labels']['rig']}; "
-                     f"median trial {d.trial} of {d.trials} (by Table 1 false-static share)", fontsize=10)
+    axs[0].set_title(f"Paper Fig. 6 (wang2022sensors_fig06): ZVD on a rotate/hold record\n{data['labels']['rig']}\n"
+                     f"‖a‖: median trial {d.trial} of {d.trials} (by Table 1 false-static share); flags: all trials",
+                     fontsize=10)
     fig.tight_layout()
     return fig
 
@@ -52,8 +59,13 @@ def plot_fig09(data: dict):
     fig, axs = plt.subplots(4, 1, figsize=(8, 8), sharex=True)
     axs[0].plot(r.time_s, r.theta_deg)
     axs[0].set_ylabel("(a) θ ref (deg)")
-    axs[1].plot(r.time_s, r.err_zvd_deg, label="EKF with ZVD")
-    axs[1].plot(r.time_s, r.err_std_deg, "--", label="standard EKF")
+    if "err_zvd" in data:  # the ensemble: median and band (or range) over all trials
+        for b, style, lab in ((data["err_zvd"], "-", "EKF with ZVD"), (data["err_std"], "--", "standard EKF")):
+            line, = axs[1].plot(r.time_s, b["median"], style, label=f"{lab}: {b['label']} trials")
+            axs[1].fill_between(r.time_s, b["low"], b["high"], color=line.get_color(), alpha=0.25)
+    else:
+        axs[1].plot(r.time_s, r.err_zvd_deg, label="EKF with ZVD")
+        axs[1].plot(r.time_s, r.err_std_deg, "--", label="standard EKF")
     axs[1].set_ylabel("(b) error (deg)")
     axs[1].legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False, fontsize=9)
     axs[2].plot(r.time_s, r.accel_norm_m_s2)
@@ -62,7 +74,7 @@ def plot_fig09(data: dict):
     axs[3].set_ylabel("(d) ‖ω‖ (°/s)")
     axs[3].set_xlabel("time (s)")
     axs[0].set_title(f"Paper Fig. 9 (wang2022sensors_fig09): EKF with / without ZVD switching\n"
-                     f"{data['labels']['zvd']}; median trial {r.trial} of {r.trials} (by moving RMSE ratio)",
+                     f"{data['labels']['zvd']}\n(a, c, d): median trial {r.trial} of {r.trials}; (b): all trials",
                      fontsize=10)
     fig.tight_layout()
     return fig
@@ -74,12 +86,12 @@ def plot_fig11(data: dict):
     fig, ax = plt.subplots(figsize=(8, 4.2))
     for b, lab in ((data["rams"], "proposed (RAMS EKF)"), (data["ref16"], "ref. [16] (accelerometer only)")):
         ax.fill_between(ang, b["low"], b["high"], alpha=0.25)
-        ax.plot(ang, b["median"], "o-", ms=3, label=f"{lab}: median, 95 % band")
+        ax.plot(ang, b["median"], "o-", ms=3, label=f"{lab}: {b['label']} repetitions per angle")
     ax.set_xlabel("rotation angle (deg)")
     ax.set_ylabel("max error over 1000 measurements (deg)")
     ax.set_xticks(np.arange(-180, 181, 45))
     ax.set_title(f"Paper Fig. 11 (wang2022sensors_fig11): {data['labels']['axis']}", fontsize=10)
-    _legend_below(ax)
+    _legend_below(ax, ncol=1)
     fig.tight_layout()
     return fig
 
@@ -93,7 +105,8 @@ def plot_fig12(data: dict):
     axs[0].set_ylabel("‖g1 − g0‖ (g)")
     axs[0].set_title("Paper Fig. 12 (wang2022sensors_fig12)", fontsize=10)
     g = data["gamma_mc_deg"]
-    axs[1].fill_between(g, data["mc_low"], data["mc_high"], alpha=0.3, label="Monte Carlo 95 % band")
+    axs[1].fill_between(g, data["mc_low"], data["mc_high"], alpha=0.3,
+                        label=f"Monte Carlo {data['band_label'].replace('median, ', '')} trials")
     axs[1].plot(g, data["mc_median"], "o-", label="Monte Carlo median")
     axs[1].plot(g, data["formula_median"], "k--", label="first-order formula (median)")
     axs[1].set_yscale("log")
@@ -109,7 +122,8 @@ def plot_axis_error_vs_rest(data: dict):
     """Axis error vs rest duration (log-log), ticks only at the simulated durations (no overprint)."""
     r = data["rest_s"]
     fig, ax = plt.subplots(figsize=(7, 4.5))
-    ax.fill_between(r, data["zvd_low"], data["zvd_high"], alpha=0.3, label="95 % band (ZVD rests, IMU walks)")
+    ax.fill_between(r, data["zvd_low"], data["zvd_high"], alpha=0.3,
+                    label=f"{data['band_label'].replace('median, ', '')} trials (ZVD rests, IMU walks)")
     ax.plot(r, data["zvd_median"], "o-", label=f"median (ZVD rests), slope {data['slope_zvd']:.2f}")
     ax.plot(r, data["white_median"], "s-", label=f"median (true rests, white noise), slope {data['slope_white']:.2f}")
     ax.plot(r, data["formula_median"], "k--", label="first-order formula, slope −0.50")
@@ -130,16 +144,17 @@ def plot_axis_error_vs_rest(data: dict):
 
 def plot_fig13(data: dict, n_show: int = 4):
     """Fig. 13 — angle error while standing still for 1 min after running, RAMS vs AHRS stand-in (deg):
-    median over trials and the 95 % band (``n_show`` is kept for callers and unused)."""
+    median over trials and the 95 % band (≥ 1000 trials) or the range (fewer) (``n_show`` is kept for callers and
+    unused)."""
     d = data["run"]
     fig, ax = plt.subplots(figsize=(8, 4.2))
-    for err, color, lab in ((d.err_ahrs, "tab:red", "AHRS stand-in"), (d.err_rams, "tab:blue", "RAMS")):
-        lo, med, hi = np.percentile(err, [2.5, 50.0, 97.5], axis=0)
-        ax.fill_between(d.time_s, lo, hi, color=color, alpha=0.25, label=f"{lab}: 95 % band over trials")
-        ax.plot(d.time_s, med, color=color, lw=0.9, label=f"{lab}: median")
+    for b, color, lab in ((data["ahrs"], "tab:red", "AHRS stand-in"), (data["rams"], "tab:blue", "RAMS")):
+        ax.fill_between(d.time_s, b["low"], b["high"], color=color, alpha=0.25,
+                        label=f"{lab}: {b['label'].replace('median, ', '')} trials")
+        ax.plot(d.time_s, b["median"], color=color, lw=0.9, label=f"{lab}: median")
     ax.set_xlabel("time standing still (s)")
     ax.set_ylabel("angle error (deg)")
-    ax.set_title(f"Paper Fig. 13 (wang2022sensors_fig13): median and 95 % band over {d.err_rams.shape[0]} trials\n"
+    ax.set_title(f"Paper Fig. 13 (wang2022sensors_fig13): {data['rams']['label']} trials\n"
                  f"{data['labels']['rig']}", fontsize=10)
     _legend_below(ax)
     fig.tight_layout()
@@ -150,7 +165,8 @@ def plot_fig14(data: dict):
     """Fig. 14 — RAMS max |error| per angle (settled half-holds), fitted-model median and 95 % band (deg)."""
     ang = data["angle_deg"]
     fig, ax = plt.subplots(figsize=(8, 4.2))
-    ax.fill_between(ang, data["low"], data["high"], alpha=0.3, label="fitted model: 95 % band")
+    ax.fill_between(ang, data["low"], data["high"], alpha=0.3,
+                    label=f"fitted model: posterior-weighted 2.5–97.5 % of {data['n_runs']} grid runs")
     ax.plot(ang, data["median"], "o-", ms=3, label="fitted model: median")
     ax.axhline(0.05, color="k", ls=":", label="0.05° (paper's bound)")
     ax.set_xticks(np.arange(-180, 181, 45))

@@ -41,7 +41,7 @@ from mtcal.filters import baselines
 from mtcal.filters.rams_ekf import initial_state
 from mtcal.methods.rotation_axis import DEFAULT_MAX_ELEVATION_DEG, DEFAULT_MIN_SEPARATION_DEG
 from mtcal.methods.zero_velocity import ZvdParams, detect_static
-from mtcal.systems.surface_angle import estimate_surface_axis, surface_angle
+from mtcal.systems.surface_angle import estimate_surface_axes, surface_angle
 
 from .scenario import PAPER_AXIS_FIG11, AhrsImu, ImuSpec, ImuValues, RigValues, gravity0, lever_arm_vector
 
@@ -132,8 +132,12 @@ class SimBatch:
 
 
 def _per_trial_normals(seed: int, stream: int, trials, shape) -> np.ndarray:
-    """Standard normals (T, *shape), trial t from ``default_rng([seed, stream, t])``."""
-    return np.stack([np.random.default_rng([seed, stream, int(t)]).standard_normal(shape) for t in trials])
+    """Standard normals (T, *shape), trial t from ``default_rng([seed, stream, t])`` (filled in place)."""
+    ids = [int(t) for t in trials]
+    out = np.empty((len(ids),) + tuple(shape))
+    for k, t in enumerate(ids):
+        np.random.default_rng([seed, stream, t]).standard_normal(out=out[k])
+    return out
 
 
 def simulate_batch(theta_rad, rate_rad_s, accel_rad_s2, axes, lever_arms_m, imu: ImuValues, seed: int,
@@ -172,21 +176,31 @@ def simulate_batch(theta_rad, rate_rad_s, accel_rad_s2, axes, lever_arms_m, imu:
         raise ValueError(f"axes, lever_arms_m and trial_ids must have T = {t_n} rows")
     n = th.shape[1]
     dt = imu.dt_s
-    w_true, f = profiles.fixed_axis_imu_truth(th, rate, acc, v, r, gravity0(), dt)
+    one_history = np.ndim(theta_rad) == 1 and np.ndim(rate_rad_s) == 1 and np.ndim(accel_rad_s2) == 1
+    if one_history and np.all(v == v[0]) and np.all(r == r[0]):
+        # one geometry and one angle history: the truth once, broadcast over the trials
+        w_true, f = profiles.fixed_axis_imu_truth(th[:1], rate[:1], acc[:1], v[:1], r[:1], gravity0(), dt)
+    else:
+        w_true, f = profiles.fixed_axis_imu_truth(th, rate, acc, v, r, gravity0(), dt)
     # sensor errors: white noise, turn-on bias, bias random walk, gyro scale factor
     noise = (np.full(t_n, imu.accel_noise_m_s2_rt_hz) if accel_noise_m_s2_rt_hz is None
              else np.broadcast_to(as_float_array(accel_noise_m_s2_rt_hz, "accel_noise_m_s2_rt_hz"), (t_n,)))
     z = _per_trial_normals(seed, stream, ids, (2 * n + 4, 3))
     sq = np.sqrt(imu.fs_hz)
-    accel = (f + (noise * sq)[:, None, None] * z[:, :n] + imu.accel_bias_sigma_m_s2 * z[:, 2 * n:2 * n + 1]
-             + np.asarray(imu.accel_bias_m_s2))
-    gyro = (w_true * (1.0 + imu.gyro_scale_factor)
-            + imu.gyro_noise_rad_s_rt_hz * sq * z[:, n:2 * n] + np.asarray(imu.gyro_bias_rad_s)
-            + gyro_bias_sigma_rad_s * z[:, 2 * n + 1:2 * n + 2])
+    # in place, in the order of f + noise + turn-on bias + fixed bias (same sums, fewer temporaries)
+    accel = np.multiply((noise * sq)[:, None, None], z[:, :n])
+    accel += f
+    accel += imu.accel_bias_sigma_m_s2 * z[:, 2 * n:2 * n + 1]
+    accel += np.asarray(imu.accel_bias_m_s2)
+    gyro = np.multiply(imu.gyro_noise_rad_s_rt_hz * sq, z[:, n:2 * n])
+    gyro += w_true * (1.0 + imu.gyro_scale_factor)
+    gyro += np.asarray(imu.gyro_bias_rad_s)
+    gyro += gyro_bias_sigma_rad_s * z[:, 2 * n + 1:2 * n + 2]
     del z
     if imu.accel_rw_m_s2_rt_s > 0 or imu.gyro_rw_rad_s_rt_s > 0:
-        zw = _per_trial_normals(seed, stream + 1, ids, (n, 6))
-        walk = np.cumsum(zw, axis=1) * np.sqrt(dt)
+        walk = _per_trial_normals(seed, stream + 1, ids, (n, 6))
+        np.cumsum(walk, axis=1, out=walk)
+        walk *= np.sqrt(dt)
         accel += imu.accel_rw_m_s2_rt_s * walk[..., :3]
         gyro += imu.gyro_rw_rad_s_rt_s * walk[..., 3:]
     return SimBatch(gyro, accel, np.ascontiguousarray(th))
@@ -205,13 +219,13 @@ def _rest_masks(flags: np.ndarray, slices) -> list[np.ndarray]:
 
 
 def axis_estimate(accel_m_s2: np.ndarray, masks: list[np.ndarray], imu: ImuValues) -> np.ndarray:
-    """Per trial, :func:`mtcal.systems.surface_angle.estimate_surface_axis` (Eq 23 on the three masked rests,
+    """:func:`mtcal.systems.surface_angle.estimate_surface_axes` (the batched
+    :func:`~mtcal.systems.surface_angle.estimate_surface_axis`: Eq 23 on the three masked rests,
     Algorithm A1's defaults, no uncertainty gate): (T, 3)."""
     noise = imu.accel_noise_m_s2_rt_hz * np.sqrt(imu.fs_hz)
-    return np.stack([estimate_surface_axis(accel_m_s2[t], [m[t].astype(bool) for m in masks], accel_noise_m_s2=noise,
-                                           fit="eq23", min_separation_deg=DEFAULT_MIN_SEPARATION_DEG,
-                                           max_axis_error_deg=None, max_elevation_deg=DEFAULT_MAX_ELEVATION_DEG).axis
-                     for t in range(accel_m_s2.shape[0])])
+    return estimate_surface_axes(accel_m_s2, [m.astype(bool) for m in masks], accel_noise_m_s2=noise, fit="eq23",
+                                 min_separation_deg=DEFAULT_MIN_SEPARATION_DEG, max_axis_error_deg=None,
+                                 max_elevation_deg=DEFAULT_MAX_ELEVATION_DEG)
 
 
 def _rams_angle(sim: SimBatch, is_static: np.ndarray, axes: np.ndarray, n_init: int, imu: ImuValues,
@@ -422,10 +436,11 @@ class DriftResult:
 
 
 def run_drift(rig: RigValues, imu: ImuValues, axis, ahrs: AhrsImu, trials: int, seed: int, *,
-              run_s: float = 600.0, stand_s: float = 60.0) -> DriftResult:
+              run_s: float = 600.0, stand_s: float = 60.0, chunk_trials: int = 50) -> DriftResult:
     """Fig. 13: ``run_s`` of random ±(1–3)×step moves with the rig's holds, then ``stand_s`` still.
 
-    Returns only the standing part of the errors (memory: the run itself is not kept).
+    Returns only the standing part of the errors (memory: the run itself is not kept); runs in
+    chunks of ``chunk_trials`` (per-trial random streams: results do not depend on the chunking).
     """
     v = np.asarray(axis, float) / np.linalg.norm(axis)
     r_wp = np.random.default_rng([seed, 40])
@@ -437,19 +452,21 @@ def run_drift(rig: RigValues, imu: ImuValues, axis, ahrs: AhrsImu, trials: int, 
     holds = np.r_[rig.axis_rest_s, np.full(n_steps, rig.hold_s), stand_s]
     prof = trapezoid_profile(wp, rig.move_rate_rad_s, rig.move_accel_rad_s2, holds, imu.fs_hz)
     th = prof.angle_rad[:, 0]
-    ids = np.arange(trials)
-    lever = np.tile(lever_arm_vector(v, rig.lever_arm_m, rig.lever_arm_up_m), (trials, 1))
-    axes = np.tile(v, (trials, 1))
-    sim = simulate_batch(th, prof.rate_rad_s[:, 0], prof.accel_rad_s2[:, 0], axes, lever, imu, seed, 41, ids)
     n0 = prof.hold_slices()[0].stop - 1
-    _, b0 = initial_state(sim.gyro_rad_s, sim.accel_m_s2, n0)
-    flags = _zvd_flags(sim, rig.zvd, imu.fs_hz, b0)
-    theta = _rams_angle(sim, flags, axes, n0, imu, prof.hold_slices())
     stand = prof.hold_slices()[-1]
-    err_r = np.degrees(_WRAP(theta[:, stand] - th[stand]))
-    del sim, theta
-    err_a = np.degrees(_ahrs_errors(th, prof, axes, lever, ahrs, imu.fs_hz, seed, ids, n0)[:, stand])
-    return DriftResult(prof.time_s[stand] - prof.time_s[stand.start], err_r, err_a)
+    err_r, err_a = [], []
+    for c0 in progress(range(0, trials, chunk_trials), desc="Fig 13 Monte Carlo"):
+        ids = np.arange(c0, min(c0 + chunk_trials, trials))
+        lever = np.tile(lever_arm_vector(v, rig.lever_arm_m, rig.lever_arm_up_m), (ids.size, 1))
+        axes = np.tile(v, (ids.size, 1))
+        sim = simulate_batch(th, prof.rate_rad_s[:, 0], prof.accel_rad_s2[:, 0], axes, lever, imu, seed, 41, ids)
+        _, b0 = initial_state(sim.gyro_rad_s, sim.accel_m_s2, n0)
+        flags = _zvd_flags(sim, rig.zvd, imu.fs_hz, b0)
+        theta = _rams_angle(sim, flags, axes, n0, imu, prof.hold_slices())
+        err_r.append(np.degrees(_WRAP(theta[:, stand] - th[stand])))
+        del sim, theta, flags
+        err_a.append(np.degrees(_ahrs_errors(th, prof, axes, lever, ahrs, imu.fs_hz, seed, ids, n0)[:, stand]))
+    return DriftResult(prof.time_s[stand] - prof.time_s[stand.start], np.concatenate(err_r), np.concatenate(err_a))
 
 
 def axis_errors(axis, imu: ImuValues, rig: RigValues, trials: int, seed: int, stream: int, *,
@@ -462,8 +479,10 @@ def axis_errors(axis, imu: ImuValues, rig: RigValues, trials: int, seed: int, st
     Returns (angular error (T,) in deg, estimates (T, 3)); runs in chunks (memory).
     """
     v = np.asarray(axis, float) / np.linalg.norm(axis)
-    prof = trapezoid_profile(np.radians([0.0, 90.0, 180.0, 0.0]), move_rate_rad_s, rig.move_accel_rad_s2,
-                             [rest_s, rest_s, rest_s, 0.5], imu.fs_hz)
+    # the record ends with the third rest: the ZVD is causal and Eq 23 uses only the rests, so a move
+    # back afterwards would change nothing but the cost
+    prof = trapezoid_profile(np.radians([0.0, 90.0, 180.0]), move_rate_rad_s, rig.move_accel_rad_s2,
+                             [rest_s, rest_s, rest_s], imu.fs_hz)
     lever = lever_arm_vector(v, rig.lever_arm_m, rig.lever_arm_up_m)
     slices = prof.hold_slices()[:3]
     est = []
@@ -484,7 +503,8 @@ def axis_errors(axis, imu: ImuValues, rig: RigValues, trials: int, seed: int, st
 
 @dataclass(frozen=True)
 class Fig9Result:
-    """Fig. 9: one record (time, θ, ‖a‖, ‖ω‖, errors with/without ZVD; deg) + per-trial metrics."""
+    """Fig. 9: one record (time, θ, ‖a‖, ‖ω‖, errors with/without ZVD; deg) + per-trial metrics, and every
+    trial's errors with / without ZVD (``all_err_zvd_deg``, ``all_err_std_deg``, (T, N); deg)."""
 
     time_s: np.ndarray
     theta_deg: np.ndarray
@@ -497,6 +517,8 @@ class Fig9Result:
     end_max_err_deg: np.ndarray
     trial: int = 0
     trials: int = 1
+    all_err_zvd_deg: np.ndarray | None = None
+    all_err_std_deg: np.ndarray | None = None
 
 
 def run_fig9(axis, imu: ImuValues, rig: RigValues, trials: int, seed: int) -> Fig9Result:
@@ -520,7 +542,7 @@ def run_fig9(axis, imu: ImuValues, rig: RigValues, trials: int, seed: int) -> Fi
     return Fig9Result(t, np.degrees(sim.theta_rad[k]), np.linalg.norm(sim.accel_m_s2[k], axis=1),
                       np.degrees(np.linalg.norm(sim.gyro_rad_s[k], axis=1)), e_z[k], e_n[k], ratio,
                       np.max(np.abs(e_z - e_n)[:, t < 1.0], axis=1), np.max(np.abs(e_z[:, t > 2.5]), axis=1),
-                      k, trials)
+                      k, trials, e_z, e_n)
 
 
 def _median_trial(score) -> int:
@@ -531,7 +553,8 @@ def _median_trial(score) -> int:
 
 @dataclass(frozen=True)
 class ZvdDemo:
-    """Fig. 6: one record and per-trial shares (moving samples flagged static, rests found)."""
+    """Fig. 6: one record (the median trial), per-trial shares (moving samples flagged static, rests found) and,
+    per sample, the share of trials each ZVD flags static (``share_table1``, ``share_gyro``, (N,))."""
 
     time_s: np.ndarray
     theta_deg: np.ndarray
@@ -546,6 +569,8 @@ class ZvdDemo:
     n_rests: int
     trial: int = 0
     trials: int = 1
+    share_table1: np.ndarray | None = None
+    share_gyro: np.ndarray | None = None
 
 
 def run_zvd_demo(axis, imu: ImuValues, rig: RigValues, trials: int, seed: int, *,
@@ -570,7 +595,8 @@ def run_zvd_demo(axis, imu: ImuValues, rig: RigValues, trials: int, seed: int, *
     k = _median_trial(fp1)  # the record drawn: the median trial by Table 1 false-static share
     return ZvdDemo(prof.time_s, np.degrees(prof.angle_rad[:, 0]), np.linalg.norm(sim.accel_m_s2[k], axis=1), st,
                    f1[k], fg[k], fp1, np.mean(fg & ~st, axis=1) / np.mean(~st),
-                   np.mean(~f1 & st, axis=1) / np.mean(st), found, len(holds), k, trials)
+                   np.mean(~f1 & st, axis=1) / np.mean(st), found, len(holds), k, trials, np.mean(f1, axis=0),
+                   np.mean(fg, axis=0))
 
 
 # --------------------------------------------------------------------------
