@@ -217,12 +217,22 @@ def _grade_model(params: dict) -> ImuErrorModel:
 # --------------------------------------------------------------------------- simulation
 def _simulate_block(truth: "Trajectory", model: ImuErrorModel, rngs: list, vibration_m_s2: float = 0.0,
                     vibration_hz: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
-    """Per-trial sensor errors on a shared truth: gyro, accel (T, N, 3); trial j uses rngs[j] only."""
-    ideal = simulate_imu(truth, ImuErrorModel(q_mount=model.q_mount))
+    """Per-trial sensor errors on a shared truth: gyro, accel (T, N, 3).
+
+    From the engine (``rngs`` a :class:`mtcal.sweep.engine.TrialStreams`): one batched
+    :func:`~mtcal.core.simulate.simulate_imu` call, the cell's keyed stream with the trials'
+    global indices as ``trial_ids`` (trial j's numbers do not depend on its block-mates).
+    From a plain list of generators: trial j uses ``rngs[j]`` only (one call per trial).
+    """
     accel_err = model.accel
     if vibration_m_s2 > 0:
         accel_err = replace(accel_err, vibration_amplitude=float(vibration_m_s2),
                             vibration_freq_hz=float(vibration_hz))
+    ids = getattr(rngs, "trial_ids", None)
+    if ids is not None:
+        rec = simulate_imu(truth, replace(model, accel=accel_err), rngs.cell_rng(), trials=len(ids), trial_ids=ids)
+        return rec.gyro_rad_s, rec.accel_m_s2
+    ideal = simulate_imu(truth, ImuErrorModel(q_mount=model.q_mount))
     n = len(truth)
     gyro = np.empty((len(rngs), n, 3))
     accel = np.empty((len(rngs), n, 3))
