@@ -126,7 +126,8 @@ class SweepResult:
     spec : SweepSpec
     table : pandas.DataFrame
         One row per cell and metric: ``cell``, the grid parameters, ``metric``,
-        ``median``, ``low``, ``high`` (95 % band), ``trials``.
+        ``median``, ``low``, ``high`` (2.5 and 97.5 percentiles: a 95 % band when ``trials`` >= 1000),
+        ``trials``.
     per_trial : dict
         ``{cell index: {metric: ndarray (trials,)}}`` in trial order.
     out_dir : Path or None
