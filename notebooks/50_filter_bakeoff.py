@@ -195,12 +195,12 @@ for _, r in headline.iterrows():
 # an anchor rests on those few trials; at CI size, with 2 trials, the close races change
 # order):
 #
-# * **Turntable, tactical sensors** (`wang2023cja`): all accelerometer-aided filters are
-#   within about 25 % of each other (a few thousandths of a degree); Fusion has the
-#   smallest median on 12 trials. QNCF and Mahony give the same number when tuned
-#   alike: on a turntable the AMD gate stays open.
+# * **Turntable, tactical sensors** (`wang2023cja`): QNCF, Mahony, VQF and Fusion are
+#   within about 25 % of each other (a few thousandths of a degree; Fusion has the
+#   smallest median, on 12 trials), Madgwick about 1.5× higher (3 trials). QNCF and
+#   Mahony give the same number when tuned alike: on a turntable the AMD gate stays open.
 # * **Industrial grade**: the 2 mg accelerometer bias (≈ 0.1°) sets the error of every
-#   filter; the ranking is within about 10 %.
+#   filter (medians 0.11–0.19°).
 # * **Consumer grade**: the sensor sets the error (≈ 1° from the 20 mg accelerometer
 #   bias) for Mahony, Madgwick, VQF and Fusion alike — but QNCF is last: its gate
 #   threshold (0.3 % g = 3 mg) is below the accelerometer's own bias, so the gate
