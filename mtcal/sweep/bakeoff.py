@@ -419,7 +419,7 @@ def bakeoff_figure(result: BakeoffResult, family: str):
     scen_cols = [c for c in t.columns if c not in ("filter", "quantity", *_STAT_COLS)]
     scenarios = [k for k, _ in t.groupby(scen_cols, sort=False)]
     filters = list(dict.fromkeys(t["filter"]))
-    fig, ax = plt.subplots(figsize=(max(7.0, 1.1 * len(scenarios) + 2), 4.6))
+    fig, ax = plt.subplots(figsize=(max(7.0, 1.1 * len(scenarios) + 2), 5.0))
     width = 0.8 / len(filters)
     for j, f in enumerate(filters):
         sub = t[t["filter"] == f]
@@ -434,10 +434,11 @@ def bakeoff_figure(result: BakeoffResult, family: str):
     ax.set_yscale("log")
     what = "RMS tilt error" if metric == "tilt_rmse_deg" else "RMS angle-about-axis error"
     ax.set_ylabel(f"{what} (deg)")
-    ax.set_title(f"{family}: {what}, median and band per scenario (band and trials per filter in the legend)",
-                 fontsize=9)
-    ax.legend(fontsize=7, ncol=min(len(filters), 3))
-    fig.tight_layout()
+    ax.set_title(f"{family}: {what}, median and band (legend: band kind, trials)", fontsize=9)
+    handles, names = ax.get_legend_handles_labels()
+    fig.legend(handles, names, fontsize=7, ncol=min(len(filters), 3), loc="lower center", frameon=False)
+    rows = -(-len(filters) // 3)
+    fig.tight_layout(rect=(0.0, 0.045 * rows + 0.01, 1.0, 1.0))
     return fig
 
 

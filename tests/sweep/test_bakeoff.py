@@ -60,7 +60,7 @@ def test_evaluation_tables_headline_and_findings(small_run):
                                              "wang2022sensors_extra_bakeoff_surface"}
     assert all(r["role"] == "finding" and isinstance(r["holds"], bool) for r in rows)
     fig = bakeoff_figure(res, "surface")
-    legend = [x.get_text() for x in fig.axes[0].get_legend().get_texts()]
+    legend = [x.get_text() for x in fig.legends[0].get_texts()]
     assert fig.axes[0].get_yscale() == "log" and "rams_ekf: range of 3 trials" in legend
     assert "95 %" not in fig.axes[0].get_title()
     assert (h["paired_trials"] == 3).all() and (h["winner_band"] == "range of 3 trials").all()
