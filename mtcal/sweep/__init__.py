@@ -1,6 +1,6 @@
 """Parameter sweeps: a grid of scenario parameters × Monte Carlo trials on local cores or a Dask cluster.
 
-``run_sweep(spec)`` gives the same tidy table (median and 95 % band per cell and
+``run_sweep(spec)`` gives the same tidy table (median, 2.5 and 97.5 percentiles per cell and
 metric) for any number of workers, any executor and any interruption/resume.
 See :mod:`mtcal.sweep.spec` (TOML format), :mod:`mtcal.sweep.evaluators` (what a
 cell computes), :mod:`mtcal.sweep.engine` (determinism, run folder) and

@@ -3,8 +3,10 @@
 Determinism
 -----------
 Trial ``j`` of cell ``i`` draws every random number from
-``numpy.random.SeedSequence([seed, i, j])`` — keyed by index, not by execution
-order — so its random inputs do not depend on the number of workers, on which
+``numpy.random.SeedSequence([seed, i, j])``, or — the built-in evaluators' batched
+sensor simulation — from the counter-based stream keyed by ``SeedSequence([seed, i])``
+at trial index ``j`` (:class:`TrialStreams`): keyed by index, not by execution
+order, so its random inputs do not depend on the number of workers, on which
 worker runs it, or on which trials share its task. Tasks are fixed blocks of
 ``block_trials`` consecutive trials of one cell; results are put back in trial
 order before any statistic is formed; every per-trial reduction (RMS, means)
@@ -64,7 +66,7 @@ from mtcal.core.metrics import percentile_band
 from mtcal.sweep.evaluators import get_evaluator
 from mtcal.sweep.spec import SweepSpec, load_spec
 
-__all__ = ["SweepResult", "run_sweep", "run_block", "trial_rngs", "summarize", "TABLE_COLUMNS"]
+__all__ = ["SweepResult", "run_sweep", "run_block", "trial_rngs", "TrialStreams", "summarize", "TABLE_COLUMNS"]
 
 #: Columns of the tidy table after the grid columns.
 TABLE_COLUMNS = ("metric", "median", "low", "high", "trials")
@@ -77,10 +79,36 @@ def trial_rngs(seed: int, cell: int, start: int, stop: int) -> list[np.random.Ge
             for j in range(int(start), int(stop))]
 
 
+class TrialStreams(list):
+    """The generators of trials ``start … stop−1`` of a cell (:func:`trial_rngs`), plus keyed batch streams.
+
+    A list of ``numpy.random.Generator`` (what an evaluator's ``rngs`` is), with
+    ``trial_ids`` (the trials' indices in the cell) and :meth:`cell_rng`: a fresh generator
+    of ``SeedSequence([seed, cell])``, the key of a counter-based batched simulation in which
+    trial ``trial_ids[i]`` draws by its index (``simulate_imu(..., trial_ids=...)``), so that its
+    numbers do not depend on which trials share the block either.
+
+    Examples
+    --------
+    >>> s = TrialStreams(7, 1, 3, 5)
+    >>> len(s), s.trial_ids.tolist(), bool(s.cell_rng().integers(1 << 30) == s.cell_rng().integers(1 << 30))
+    (2, [3, 4], True)
+    """
+
+    def __init__(self, seed: int, cell: int, start: int, stop: int):
+        super().__init__(trial_rngs(seed, cell, start, stop))
+        self.seed, self.cell = int(seed), int(cell)
+        self.trial_ids = np.arange(int(start), int(stop), dtype=np.int64)
+
+    def cell_rng(self) -> np.random.Generator:
+        """Generator of ``SeedSequence([seed, cell])`` (the same in every block of the cell)."""
+        return np.random.Generator(np.random.PCG64(np.random.SeedSequence([self.seed, self.cell])))
+
+
 def run_block(evaluator: str, params: dict, seed: int, cell: int, start: int, stop: int) -> dict[str, np.ndarray]:
     """One task: evaluate trials ``[start, stop)`` of a cell → per-trial metrics (runs on a worker)."""
     ev = get_evaluator(evaluator)
-    return ev(params, trial_rngs(seed, cell, start, stop))
+    return ev(params, TrialStreams(seed, cell, start, stop))
 
 
 def summarize(values: np.ndarray, level: float = 0.95) -> dict[str, float]:
@@ -98,7 +126,8 @@ class SweepResult:
     spec : SweepSpec
     table : pandas.DataFrame
         One row per cell and metric: ``cell``, the grid parameters, ``metric``,
-        ``median``, ``low``, ``high`` (95 % band), ``trials``.
+        ``median``, ``low``, ``high`` (2.5 and 97.5 percentiles: a 95 % band when ``trials`` >= 1000),
+        ``trials``.
     per_trial : dict
         ``{cell index: {metric: ndarray (trials,)}}`` in trial order.
     out_dir : Path or None

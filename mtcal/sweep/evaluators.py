@@ -48,6 +48,7 @@ from typing import Callable
 import numpy as np
 
 from mtcal.core import rotations
+from mtcal.core.compiled import jit
 from mtcal.core.profiles import AngleProfile, fixed_axis_trajectory, step_schedule, trajectory_from_euler_zxy
 from mtcal.core.sensor_grades import grade_names, sensor_grade
 from mtcal.core.simulate import ImuErrorModel, Trajectory, apply_sensor_errors, simulate_imu
@@ -216,12 +217,22 @@ def _grade_model(params: dict) -> ImuErrorModel:
 # --------------------------------------------------------------------------- simulation
 def _simulate_block(truth: "Trajectory", model: ImuErrorModel, rngs: list, vibration_m_s2: float = 0.0,
                     vibration_hz: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
-    """Per-trial sensor errors on a shared truth: gyro, accel (T, N, 3); trial j uses rngs[j] only."""
-    ideal = simulate_imu(truth, ImuErrorModel(q_mount=model.q_mount))
+    """Per-trial sensor errors on a shared truth: gyro, accel (T, N, 3).
+
+    From the engine (``rngs`` a :class:`mtcal.sweep.engine.TrialStreams`): one batched
+    :func:`~mtcal.core.simulate.simulate_imu` call, the cell's keyed stream with the trials'
+    global indices as ``trial_ids`` (trial j's numbers do not depend on its block-mates).
+    From a plain list of generators: trial j uses ``rngs[j]`` only (one call per trial).
+    """
     accel_err = model.accel
     if vibration_m_s2 > 0:
         accel_err = replace(accel_err, vibration_amplitude=float(vibration_m_s2),
                             vibration_freq_hz=float(vibration_hz))
+    ids = getattr(rngs, "trial_ids", None)
+    if ids is not None:
+        rec = simulate_imu(truth, replace(model, accel=accel_err), rngs.cell_rng(), trials=len(ids), trial_ids=ids)
+        return rec.gyro_rad_s, rec.accel_m_s2
+    ideal = simulate_imu(truth, ImuErrorModel(q_mount=model.q_mount))
     n = len(truth)
     gyro = np.empty((len(rngs), n, 3))
     accel = np.empty((len(rngs), n, 3))
@@ -241,6 +252,72 @@ def _rms_rows(x: np.ndarray, mask: np.ndarray) -> np.ndarray:
     so a trial's last bit would depend on its batch-mates; a per-row reduction does not.
     """
     return np.array([np.sqrt(np.mean(row[mask] ** 2)) for row in x])
+
+
+@jit
+def _row_metrics_kernel(err, after, holds):  # pragma: no cover - compiled
+    """Per trial: RMS over ``after``, RMS over ``holds``, max |err| over ``after`` (sequential sums per row)."""
+    n_trials, n = err.shape
+    out = np.empty((n_trials, 3))
+    for j in range(n_trials):
+        s_a = 0.0
+        n_a = 0
+        s_h = 0.0
+        n_h = 0
+        m = -np.inf
+        for k in range(n):
+            e = err[j, k]
+            if after[k]:
+                s_a += e * e
+                n_a += 1
+                a = abs(e)
+                if a > m or a != a:
+                    m = a
+            if holds[k]:
+                s_h += e * e
+                n_h += 1
+        out[j, 0] = np.sqrt(s_a / n_a) if n_a else np.nan
+        out[j, 1] = np.sqrt(s_h / n_h) if n_h else np.nan
+        out[j, 2] = m if n_a else np.nan
+    return out
+
+
+@jit
+def _tilt_deg_kernel(q_est, up_true):  # pragma: no cover - compiled
+    """Tilt error (deg) of ``q_est`` (T, N, 4) against the true "up" in the sensor frame ``up_true`` (N, 3)."""
+    n_trials, n = q_est.shape[0], q_est.shape[1]
+    out = np.empty((n_trials, n))
+    for j in range(n_trials):
+        for k in range(n):
+            q0, q1, q2, q3 = q_est[j, k, 0], q_est[j, k, 1], q_est[j, k, 2], q_est[j, k, 3]
+            ux = 2.0 * (q1 * q3 - q0 * q2)
+            uy = 2.0 * (q2 * q3 + q0 * q1)
+            uz = q0 * q0 - q1 * q1 - q2 * q2 + q3 * q3
+            vx, vy, vz = up_true[k, 0], up_true[k, 1], up_true[k, 2]
+            cx = uy * vz - uz * vy
+            cy = uz * vx - ux * vz
+            cz = ux * vy - uy * vx
+            out[j, k] = np.degrees(np.arctan2(np.sqrt(cx * cx + cy * cy + cz * cz), ux * vx + uy * vy + uz * vz))
+    return out
+
+
+def _row_metrics(err: np.ndarray, after: np.ndarray, holds: np.ndarray) -> np.ndarray:
+    """(T, 3): RMS over ``after``, RMS over ``holds``, max |err| over ``after`` of each trial's row.
+
+    One compiled pass per row, summed sample by sample: a trial's numbers do not depend
+    on its block-mates (as :func:`_rms_rows`), with no (T, N) temporaries.
+    """
+    return _row_metrics_kernel(np.ascontiguousarray(err, dtype=float), np.ascontiguousarray(after, dtype=np.bool_),
+                               np.ascontiguousarray(holds, dtype=np.bool_))
+
+
+def _tilt_error_deg(q_est: np.ndarray, q_true: np.ndarray) -> np.ndarray:
+    """Tilt error (deg), shape (T, N): :func:`mtcal.filters.anchors.tilt_error_rad` in one compiled pass."""
+    q = np.asarray(q_true, float)
+    q0, q1, q2, q3 = q[:, 0], q[:, 1], q[:, 2], q[:, 3]
+    up = np.stack([2.0 * (q1 * q3 - q0 * q2), 2.0 * (q2 * q3 + q0 * q1), q0 * q0 - q1 * q1 - q2 * q2 + q3 * q3],
+                  axis=-1)
+    return _tilt_deg_kernel(np.ascontiguousarray(q_est, dtype=float), np.ascontiguousarray(up))
 
 
 def _hold_mask(profile: AngleProfile, first: int = 1, fraction: float = 0.5) -> np.ndarray:
@@ -326,7 +403,7 @@ def _attitude_metrics(p: dict) -> list[str]:
     description="tilt error of attitude filters on wang2023cja turntable / wind-tunnel sweeps")
 def _attitude(p: dict, rngs: list) -> dict[str, np.ndarray]:
     """Tilt errors (deg) of each filter after the settling rest: RMS, RMS over holds, max."""
-    from mtcal.filters.anchors import run_attitude_filter, tilt_error_rad
+    from mtcal.filters.anchors import run_attitude_filter
 
     prof = attitude_profile(p["motion"], p["fs_hz"], hold_s=p["hold_s"], speed=p["speed"])
     traj = trajectory_from_euler_zxy(prof)
@@ -337,10 +414,8 @@ def _attitude(p: dict, rngs: list) -> dict[str, np.ndarray]:
     out = {}
     for name in _filter_list(p):
         q = run_attitude_filter(name, gyro, accel, traj.dt_s, filter_gain(p, name), init_samples=init)
-        err = np.degrees(tilt_error_rad(q, traj.q_wb))          # (T, N)
-        out[f"{name}.tilt_rmse_deg"] = _rms_rows(err, after)
-        out[f"{name}.hold_tilt_rmse_deg"] = _rms_rows(err, holds)
-        out[f"{name}.tilt_max_deg"] = np.max(err[:, after], axis=1)
+        m = _row_metrics(_tilt_error_deg(q, traj.q_wb), after, holds)          # (T, 3)
+        out[f"{name}.tilt_rmse_deg"], out[f"{name}.hold_tilt_rmse_deg"], out[f"{name}.tilt_max_deg"] = m.T
     return out
 
 
@@ -426,9 +501,8 @@ def _surface(p: dict, rngs: list) -> dict[str, np.ndarray]:
         theta = run_axis_angle_filter(name, gyro, accel, traj.dt_s, filter_gain(p, name), ctx, ref_index=ref,
                                       init_samples=init)
         err = np.degrees(rotations.wrap_angle(theta - theta_true))
-        out[f"{name}.angle_rmse_deg"] = _rms_rows(err, after)
-        out[f"{name}.hold_angle_rmse_deg"] = _rms_rows(err, holds)
-        out[f"{name}.angle_max_deg"] = np.max(np.abs(err[:, after]), axis=1)
+        m = _row_metrics(err, after, holds)
+        out[f"{name}.angle_rmse_deg"], out[f"{name}.hold_angle_rmse_deg"], out[f"{name}.angle_max_deg"] = m.T
     return out
 
 

@@ -1,4 +1,4 @@
-"""Figure of a sweep table: each metric against the grid, one panel per metric, with its 95 % band.
+"""Figure of a sweep table: each metric against the grid, one panel per metric, with its band.
 
 :func:`sweep_figure` draws ``table.csv`` of :func:`mtcal.sweep.engine.run_sweep` (one row per
 cell and metric: the grid parameters, ``metric``, ``median``, ``low``, ``high``, ``trials``):
@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-__all__ = ["sweep_figure"]
+__all__ = ["sweep_figure", "band_text"]
 
 
 def _numeric(values: pd.Series) -> np.ndarray | None:
@@ -25,8 +25,30 @@ def _numeric(values: pd.Series) -> np.ndarray | None:
     return out if np.isfinite(out).all() else None
 
 
+def band_text(table: pd.DataFrame) -> str:
+    """What the table's ``low``/``high`` are, with the trial count: a "95 % band" only from >= 1000 trials.
+
+    The engine's ``low``/``high`` are the 2.5 and 97.5 percentiles of the trials; from fewer than
+    1000 trials they are named as such (with the count), not called a 95 % band.
+
+    Examples
+    --------
+    >>> band_text(pd.DataFrame({"trials": [50, 50]}))
+    '2.5-97.5 percentiles of 50 trials'
+    >>> band_text(pd.DataFrame({"trials": [1000, 2000]}))
+    '95 % band (>= 1000 trials)'
+    """
+    if "trials" not in table.columns or table.empty:
+        return "2.5-97.5 percentiles of the trials"
+    n_min, n_max = int(table["trials"].min()), int(table["trials"].max())
+    if n_min >= 1000:
+        return f"95 % band (>= {n_min} trials)"
+    count = f"{n_min}" if n_min == n_max else f"{n_min}-{n_max}"
+    return f"2.5-97.5 percentiles of {count} trials"
+
+
 def sweep_figure(table: pd.DataFrame, grid: list[str], path: str | Path | None = None, *, title: str = ""):
-    """Metric vs grid, one panel per metric, median and 95 % band.
+    """Metric vs grid, one panel per metric, median and band (:func:`band_text` names it, with the count).
 
     Parameters
     ----------
@@ -101,7 +123,7 @@ def sweep_figure(table: pd.DataFrame, grid: list[str], path: str | Path | None =
                 ax.legend(fontsize=7)
         for ax in axes.ravel()[n:]:
             ax.set_visible(False)
-        fig.suptitle(f"{title + ': ' if title else ''}median and 95 % band per grid cell", fontsize=10)
+        fig.suptitle(f"{title + ': ' if title else ''}median and {band_text(table)} per grid cell", fontsize=10)
         fig.tight_layout()
         if path is None:
             return fig

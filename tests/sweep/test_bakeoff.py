@@ -7,8 +7,9 @@ matplotlib.use("Agg")
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 
-from mtcal.sweep.bakeoff import (BAKEOFF_DEFAULTS, bakeoff_figure, bakeoff_params, family_specs,  # noqa: E402
-                                 findings, headline_table, run_bakeoff, tune_gains)
+from mtcal.sweep.bakeoff import (BAKEOFF_DEFAULTS, BAND_MIN_TRIALS, band_label, band_summary,  # noqa: E402
+                                 bakeoff_figure, bakeoff_params, family_specs, findings, headline_table, run_bakeoff,
+                                 tune_gains)
 
 SMALL = dict(filters=["qncf", "mahony", "vqf"], turntable_motions=["aoa"], turntable_grades=["wang2023cja"],
              windtunnel_grades=["wang2023cja"], vibration_levels_m_s2=[0.0, 3.0], vibration_hz=20.0,
@@ -18,7 +19,7 @@ SMALL = dict(filters=["qncf", "mahony", "vqf"], turntable_motions=["aoa"], turnt
 
 @pytest.fixture(scope="module")
 def small_run():
-    gains, tuning = tune_gains(SMALL, seed=1, trials=2, hold_s=0.5)
+    gains, tuning = tune_gains(SMALL, seed=1, trials=2, filter_trials={"vqf": 1}, hold_s=0.5)
     res = run_bakeoff(SMALL, gains, seed=2, trials=3, hold_s=0.5)
     return gains, tuning, res
 
@@ -31,6 +32,8 @@ def test_tuning_picks_each_filters_best_scale_independently(small_run):
         assert g["chosen"].sum() == 1
         best = g.loc[g["tuning_error_deg"].idxmin()]
         assert bool(best["chosen"]) and gains[family][f] == best["gain"]
+    assert set(tuning[tuning["filter"] == "vqf"].tuning_trials) == {1}
+    assert set(tuning[tuning["filter"] != "vqf"].tuning_trials) == {2}
     vqf = tuning[(tuning["filter"] == "vqf") & (tuning.gain_scale == 1.0)]
     assert (vqf["gain"] == 3.0).all() and (vqf["gain_unit"] == "tau_acc (s)").all()
 
@@ -38,8 +41,13 @@ def test_tuning_picks_each_filters_best_scale_independently(small_run):
 def test_evaluation_tables_headline_and_findings(small_run):
     gains, _, res = small_run
     t = res.tables["windtunnel"]
-    assert list(t.columns) == ["vibration_m_s2", "grade", "filter", "quantity", "median", "low", "high", "trials"]
-    assert set(t["filter"]) == {"qncf", "mahony", "vqf"} and set(t.trials) == {3}
+    assert list(t.columns) == ["vibration_m_s2", "grade", "filter", "quantity", "median", "low", "high", "trials",
+                               "band"]
+    assert set(t["filter"]) == {"qncf", "mahony", "vqf"} and set(t.trials) == {3} and set(t.band) == {"range"}
+    tr = res.trials["windtunnel"]
+    row = t[(t["filter"] == "vqf") & (t.quantity == "tilt_rmse_deg") & (t.vibration_m_s2 == 3.0)].iloc[0]
+    vals = tr.loc[tr.vibration_m_s2 == 3.0, "vqf.tilt_rmse_deg"]
+    assert (row["low"], row["high"]) == (vals.min(), vals.max())      # 3 trials: the range, not a "95 % band"
     assert (t["low"] <= t["median"]).all() and (t["median"] <= t["high"]).all()
     h = headline_table(res)
     assert len(h) == 1 + 2 + 1
@@ -52,7 +60,10 @@ def test_evaluation_tables_headline_and_findings(small_run):
                                              "wang2022sensors_extra_bakeoff_surface"}
     assert all(r["role"] == "finding" and isinstance(r["holds"], bool) for r in rows)
     fig = bakeoff_figure(res, "surface")
-    assert fig.axes[0].get_yscale() == "log" and "3 trials" in fig.axes[0].get_title()
+    legend = [x.get_text() for x in fig.legends[0].get_texts()]
+    assert fig.axes[0].get_yscale() == "log" and "rams_ekf: range of 3 trials" in legend
+    assert "95 %" not in fig.axes[0].get_title()
+    assert (h["paired_trials"] == 3).all() and (h["winner_band"] == "range of 3 trials").all()
     # tuning and evaluation draw from different seeds: different data
     spec_t = family_specs(SMALL, "surface", seed=1, trials=2, tuning=True)
     spec_e = family_specs(SMALL, "surface", seed=2, trials=3, gains=gains["surface"])
@@ -77,3 +88,35 @@ def test_params_validation():
     with pytest.raises(ValueError, match="vibration_levels_m_s2"):
         bakeoff_params(vibration_levels_m_s2=[-1.0])
     assert np.isclose(bakeoff_params(fs_hz=100.0, vibration_hz=45.0)["vibration_hz"], 45.0)
+
+
+def test_filters_with_their_own_trial_count_share_the_records(small_run):
+    gains, _, full = small_run
+    res = run_bakeoff(SMALL, gains, seed=2, trials=3, filter_trials={"vqf": 2}, hold_s=0.5,
+                      families=("windtunnel",))
+    t = res.tables["windtunnel"]
+    assert set(t[t["filter"] == "vqf"].trials) == {2} and set(t[t["filter"] != "vqf"].trials) == {3}
+    tr, ref = res.trials["windtunnel"], full.trials["windtunnel"]
+    assert tr["vqf.tilt_rmse_deg"].isna().sum() == 2                  # trial 2 of both cells: not run for vqf
+    first = tr.trial < 2
+    assert np.array_equal(tr.loc[first, "vqf.tilt_rmse_deg"], ref.loc[first, "vqf.tilt_rmse_deg"])   # same records
+    assert np.array_equal(tr["qncf.tilt_rmse_deg"], ref["qncf.tilt_rmse_deg"])
+    h = headline_table(res)
+    assert set(h.paired_trials) <= {2, 3}
+    with pytest.raises(ValueError, match=r"filter_trials\['vqf'\] must be a positive integer, got 0"):
+        run_bakeoff(SMALL, gains, seed=2, trials=3, filter_trials={"vqf": 0}, families=("windtunnel",))
+    with pytest.raises(ValueError, match="trials must be a positive integer, got -1"):
+        tune_gains(SMALL, seed=1, trials=-1, families=("windtunnel",))
+    with pytest.raises(ValueError, match=r"only=\['kalman'\] leaves no filter"):
+        family_specs(SMALL, "surface", seed=1, trials=2, only=["kalman"])
+
+
+def test_band_summary_names_its_band():
+    few = band_summary([3.0, 1.0, np.nan, 2.0])
+    assert few == {"median": 2.0, "low": 1.0, "high": 3.0, "trials": 3, "band": "range"}
+    x = np.random.default_rng(0).normal(size=BAND_MIN_TRIALS)
+    many = band_summary(x)
+    assert many["band"] == "95 % band" and many["trials"] == BAND_MIN_TRIALS
+    assert np.isclose(many["low"], np.percentile(x, 2.5)) and many["low"] > x.min()
+    assert band_summary([np.nan])["trials"] == 0
+    assert band_label("95 % band", 1000) == "95 % band of 1000 trials"

@@ -105,6 +105,10 @@ def test_sweep_figure_panels_bands_and_errors():
     assert [ax.get_title() for ax in fig.axes] == ["rms", "max"]
     assert [t.get_text() for t in fig.axes[0].get_xticklabels()] == ["a", "b"]
     assert len(fig.axes[0].collections) == 1  # the band
+    assert "2.5-97.5 percentiles of the trials" in fig._suptitle.get_text()
+    fig = sweep_figure(table.assign(trials=12), ["grade"])
+    assert fig._suptitle.get_text() == "median and 2.5-97.5 percentiles of 12 trials per grid cell"
+    assert "95 % band (>= 1000 trials)" in sweep_figure(table.assign(trials=1000), ["grade"])._suptitle.get_text()
     with pytest.raises(ValueError, match="table is empty"):
         sweep_figure(table.iloc[0:0], ["grade"])
     with pytest.raises(ValueError, match=r"table lacks columns \['high'\]"):

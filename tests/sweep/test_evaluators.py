@@ -87,3 +87,26 @@ def test_attitude_and_surface_physics():
     out = sv(sv.resolve({"filters": ["rams_ekf", "vqf"], "fs_hz": 100.0}), trial_rngs(1, 0, 0, 2))
     assert np.all(out["rams_ekf.hold_angle_rmse_deg"] < 0.2)
     assert np.all(out["vqf.angle_rmse_deg"] < 1.0)
+
+
+def test_compiled_metrics_match_the_numpy_reference():
+    from mtcal.filters.anchors import tilt_error_rad
+
+    rng = np.random.default_rng(3)
+    q = rng.normal(size=(3, 400, 4))
+    q /= np.linalg.norm(q, axis=-1, keepdims=True)
+    qt = rng.normal(size=(400, 4))
+    qt /= np.linalg.norm(qt, axis=-1, keepdims=True)
+    ref = np.degrees(tilt_error_rad(q, qt))
+    err = evaluators._tilt_error_deg(q, qt)
+    assert np.allclose(err, ref, rtol=0, atol=1e-12)
+    after, holds = np.arange(400) >= 50, np.arange(400) % 4 == 0
+    m = evaluators._row_metrics(err - 90.0, after, holds)
+    assert np.allclose(m[:, 0], evaluators._rms_rows(err - 90.0, after), rtol=1e-13)
+    assert np.allclose(m[:, 1], evaluators._rms_rows(err - 90.0, holds), rtol=1e-13)
+    assert np.array_equal(m[:, 2], np.max(np.abs(err - 90.0)[:, after], axis=1))
+    err[1, 60] = np.nan
+    m = evaluators._row_metrics(err, after, holds)
+    assert np.isnan(m[1, [0, 2]]).all() and np.isfinite(m[[0, 2]]).all()
+    # a trial's metrics do not depend on its block-mates
+    assert np.array_equal(evaluators._row_metrics(err[2:], after, holds), m[2:])
