@@ -11,7 +11,8 @@ import numpy as np
 from mtcal.core.validate import as_float_array, positive_int, positive_scalar, sample_interval
 
 __all__ = ["angle_difference", "rmse", "max_abs_error", "split_static_moving",
-           "allan_deviation", "fit_allan_noise", "percentile_band", "bootstrap_medians"]
+           "allan_deviation", "fit_allan_noise", "percentile_band", "bootstrap_medians",
+           "MIN_BAND_DRAWS", "band_or_range", "band_label"]
 
 
 #: Elements from which :func:`angle_difference` runs a compiled loop (bit-identical to numpy's).
@@ -189,3 +190,89 @@ def bootstrap_medians(samples, rng: np.random.Generator, n_boot: int = 1000) -> 
     if not sets or any(x.size < 2 for x in sets):
         raise ValueError("samples must hold at least one set of >= 2 values")
     return np.stack([np.median(x[rng.integers(0, x.size, (n, x.size))], axis=1) for x in sets], axis=1)
+
+
+#: Fewest Monte Carlo draws behind an interval reported as a "95 % band" (docs/conventions.md). With
+#: fewer, the 2.5 % and 97.5 % points are about the smallest and largest draw (from 20 draws, the
+#: interval between them holds a new draw with probability 19/21 ≈ 90 %, not 95 %), and their
+#: Monte Carlo error is of the order of the band's width: such a spread is reported as the
+#: min–max range with its count, never as a 95 % band.
+MIN_BAND_DRAWS = 1000
+
+
+def band_label(n: int, what: str = "trials") -> str:
+    """What a spread of ``n`` draws is called: ``"95 % band of n …"`` or ``"range of n …"``.
+
+    Parameters
+    ----------
+    n : int
+        Draws behind the spread (≥ 1).
+    what : str
+        What a draw is (``"trials"``, ``"repetitions"``, ``"draws"``).
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> band_label(1000)
+    '95 % band of 1000 trials'
+    >>> band_label(12, "repetitions")
+    'range of 12 repetitions (fewer than 1000: no 95 % band)'
+    """
+    n = positive_int(n, "n")
+    if n >= MIN_BAND_DRAWS:
+        return f"95 % band of {n} {what}"
+    return f"range of {n} {what} (fewer than {MIN_BAND_DRAWS}: no 95 % band)"
+
+
+def band_or_range(samples, axis: int = 0, *, what: str = "trials", finite_only: bool = False) -> dict:
+    """Median and spread of Monte Carlo draws along ``axis``: the 95 % band from ≥ :data:`MIN_BAND_DRAWS`
+    draws, else the min–max range (the rule every printed band follows).
+
+    Parameters
+    ----------
+    samples : array_like
+        Draws along ``axis`` (one per trial).
+    axis : int
+        Draw axis; ``None`` with ``finite_only``: all values, flattened.
+    what : str
+        What a draw is, for ``label`` (:func:`band_label`).
+    finite_only : bool
+        Drop non-finite values first (they mark draws that were not run); needs a 1-D result
+        (``samples`` flattened). Otherwise a non-finite value is an error.
+
+    Returns
+    -------
+    dict
+        ``median, low, high`` (ndarray or float; the 2.5/97.5 % points, or min and max), ``n``
+        (draws), ``kind`` (``"95 % band"`` or ``"range"``), ``label`` (:func:`band_label`).
+
+    Examples
+    --------
+    >>> b = band_or_range([3.0, 1.0, 2.0])
+    >>> float(b["low"]), float(b["high"]), b["kind"], b["n"]
+    (1.0, 3.0, 'range', 3)
+    >>> band_or_range(np.arange(1000.0))["kind"]
+    '95 % band'
+    >>> band_or_range([1.0, float("nan")], finite_only=True)["n"]
+    1
+    """
+    if finite_only:
+        x = np.asarray(samples, dtype=float).ravel()
+        x = x[np.isfinite(x)]
+        if x.size == 0:
+            raise ValueError("samples must hold at least one finite value")
+        axis = 0
+    else:
+        x = as_float_array(samples, "samples", copy=False)
+        if x.ndim == 0:
+            raise ValueError("samples must have at least one dimension (the draw axis)")
+    n = x.shape[axis]
+    if n >= MIN_BAND_DRAWS:
+        out = {**percentile_band(x, axis=axis), "kind": "95 % band"}
+    else:
+        out = {"median": np.median(x, axis=axis), "low": np.min(x, axis=axis), "high": np.max(x, axis=axis),
+               "kind": "range"}
+    return {**out, "n": int(n), "label": band_label(n, what)}

@@ -39,7 +39,7 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
-from mtcal.core.metrics import percentile_band
+from mtcal.core.metrics import MIN_BAND_DRAWS, band_or_range
 from mtcal.core.sensor_grades import grade_names
 from mtcal.core.validate import merge_parameters
 from mtcal.sweep.engine import run_sweep
@@ -166,7 +166,7 @@ def _executor(workers, scheduler):
 
 
 #: Fewest trials behind a band called "95 % band"; with fewer, ``low``/``high`` are the min and max of the trials.
-BAND_MIN_TRIALS = 1000
+BAND_MIN_TRIALS = MIN_BAND_DRAWS
 #: Trials per task of the sweeps (mtcal's batched filters amortise their per-call cost over a block).
 _BLOCK_TRIALS = 50
 
@@ -192,15 +192,11 @@ def band_summary(values) -> dict:
     '95 % band'
     """
     x = np.asarray(values, float).ravel()
-    x = x[np.isfinite(x)]
-    if x.size == 0:
+    if not np.isfinite(x).any():
         return {"median": np.nan, "low": np.nan, "high": np.nan, "trials": 0, "band": "none"}
-    if x.size >= BAND_MIN_TRIALS:
-        b = percentile_band(x, level=0.95)
-        low, high, kind = float(b["low"]), float(b["high"]), "95 % band"
-    else:
-        low, high, kind = float(x.min()), float(x.max()), "range"
-    return {"median": float(np.median(x)), "low": low, "high": high, "trials": int(x.size), "band": kind}
+    b = band_or_range(x, finite_only=True)          # the project's rule (mtcal.core.metrics)
+    return {"median": float(b["median"]), "low": float(b["low"]), "high": float(b["high"]), "trials": b["n"],
+            "band": b["kind"]}
 
 
 def _trial_groups(filters: list, trials: int, filter_trials: dict | None) -> dict:

@@ -14,6 +14,8 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from mtcal.core.metrics import MIN_BAND_DRAWS
+
 __all__ = ["sweep_figure", "band_text"]
 
 
@@ -41,7 +43,7 @@ def band_text(table: pd.DataFrame) -> str:
     if "trials" not in table.columns or table.empty:
         return "2.5-97.5 percentiles of the trials"
     n_min, n_max = int(table["trials"].min()), int(table["trials"].max())
-    if n_min >= 1000:
+    if n_min >= MIN_BAND_DRAWS:
         return f"95 % band (>= {n_min} trials)"
     count = f"{n_min}" if n_min == n_max else f"{n_min}-{n_max}"
     return f"2.5-97.5 percentiles of {count} trials"

@@ -113,3 +113,36 @@ def test_angle_difference_compiled_loop_equals_numpy_remainder_bit_for_bit(monke
 def test_angle_difference_rejects_shapes_that_do_not_broadcast():
     with pytest.raises(ValueError, match="must broadcast"):
         metrics.angle_difference(np.zeros((9000, 3)), np.zeros((9000, 2)))
+
+
+def test_band_or_range_is_a_95_percent_band_only_from_1000_draws():
+    from mtcal.core.metrics import MIN_BAND_DRAWS, band_label, band_or_range, percentile_band
+
+    x = np.random.default_rng(3).normal(size=(MIN_BAND_DRAWS, 2))
+    many = band_or_range(x)
+    ref = percentile_band(x)
+    assert many["kind"] == "95 % band" and many["n"] == MIN_BAND_DRAWS
+    assert all(np.array_equal(many[k], ref[k]) for k in ("median", "low", "high"))
+    assert many["label"] == "95 % band of 1000 trials"
+    few = band_or_range(x[:999], what="repetitions")          # one draw short: the min-max range
+    assert few["kind"] == "range" and few["n"] == 999
+    assert np.array_equal(few["low"], x[:999].min(axis=0)) and np.array_equal(few["high"], x[:999].max(axis=0))
+    assert few["label"] == "range of 999 repetitions (fewer than 1000: no 95 % band)"
+    per_row = band_or_range(x[:5].T, axis=1)                  # the draw axis is the caller's
+    assert per_row["n"] == 5 and per_row["low"].shape == (2,)
+    kept = band_or_range([2.0, np.nan, 1.0, np.inf], finite_only=True)
+    assert kept["n"] == 2 and (kept["low"], kept["high"]) == (1.0, 2.0)
+    assert band_label(1) == "range of 1 trials (fewer than 1000: no 95 % band)"
+
+
+def test_band_or_range_errors():
+    from mtcal.core.metrics import band_label, band_or_range
+
+    with pytest.raises(ValueError, match="samples"):
+        band_or_range([1.0, np.nan])                           # a non-finite draw is an error unless dropped
+    with pytest.raises(ValueError, match="at least one finite"):
+        band_or_range([np.nan], finite_only=True)
+    with pytest.raises(ValueError, match="dimension"):
+        band_or_range(1.0)
+    with pytest.raises(ValueError, match="n"):
+        band_label(0)

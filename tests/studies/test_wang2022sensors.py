@@ -314,9 +314,10 @@ def test_bands_need_1000_trials_else_the_range_with_its_count():
     assert band is None and (lo, hi) == (0.0, 7.0)
     assert note.startswith("range over 8 repetitions [0, 7]") and "no 95 % band" in note
     few = _band_or_range(np.arange(14.0).reshape(7, 2))
-    assert few["label"] == "median, range of 7" and few["low"].tolist() == [0.0, 1.0]
+    assert few["label"] == "median, range of 7 trials (fewer than 1000: no 95 % band)"
+    assert few["low"].tolist() == [0.0, 1.0] and few["kind"] == "range" and few["n"] == 7
     many = _band_or_range(np.tile(x[:, None], (1, 2)))
-    assert many["label"] == f"median, 95 % band of {MIN_BAND_TRIALS}" and many["high"][0] < x.max()
+    assert many["label"] == f"median, 95 % band of {MIN_BAND_TRIALS} trials" and many["high"][0] < x.max()
 
 
 def test_fig13_rows_give_the_range_with_the_count_and_drift_is_chunk_independent():

@@ -391,7 +391,7 @@ def fig06(study: GyroStudy, seed: int, trials: int) -> Artifact:
     for j, r in enumerate(rates):  # loop over rates; trials vectorised in blocks
         for sl, w in GyroTrials(study, t, r * t, rng, n).blocks(_BLOCK):
             sim[sl, j] = np.mean(gyro_roll.roll_projection(w) - g.roll0_rad, axis=-1)
-    band = metrics.percentile_band(_DEG(np.abs(sim)))
+    band = metrics.band_or_range(_DEG(np.abs(sim)))     # 95 % band from >= 1000 trials, else the range
     ey, ez = g.error_rad_s[1], g.error_rad_s[2]
     eq14 = _DEG(np.abs(gyro_roll.projection_roll_error_eq14(g.roll0_rad, rates, ey, ez)))
     exact = _DEG(np.abs(gyro_roll.projection_roll_error_exact(g.roll0_rad, rates, ey, ez)))
@@ -509,7 +509,7 @@ def fig10(study: GyroStudy, seed: int, trials: int = 1000) -> Artifact:
     meas = np.empty((n, t.size))
     for sl, w in runs.blocks(_BLOCK):
         meas[sl] = _DEG(gyro_roll.pitch_rate_magnitude(w))
-    band = metrics.percentile_band(meas)
+    band = metrics.band_or_range(meas, what="noise trials")
     frac = float(np.mean(np.abs(_DEG(osc.pitch_rate_rad_s(t_all))) <= osc.threshold_deg_s))
     table = pd.DataFrame({"time_s": t[::10], "pitch_rate_deg_s": true_rate[::10],
                           "gyro_rate_magnitude_median_deg_s": band["median"][::10],
@@ -648,7 +648,7 @@ def extra_threshold_sweep(study: GyroStudy, seed: int, trials: int, n_thresholds
     for sl, w in runs.blocks(_BLOCK):  # per-trial RMSEs only: bounded memory
         rmse[sl] = _DEG(gyro_roll.roll_hybrid_rmse_sweep(w, g.dt_s, _RAD(thresholds), **kw))
     rmse_det = _DEG(gyro_roll.roll_hybrid_rmse_sweep(w_det, g.dt_s, _RAD(thresholds), **kw))
-    bt = metrics.percentile_band(rmse)
+    bt = metrics.band_or_range(rmse)                     # 95 % band from >= 1000 trials, else the range
     k_paper = int(np.flatnonzero(thresholds == osc.threshold_deg_s)[0])
     opt = metrics.percentile_band(thresholds[np.argmin(rmse, axis=1)])
     gain = metrics.percentile_band(_ratio(np.min(rmse, axis=1), rmse[:, k_paper]))

@@ -18,24 +18,9 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.colors import LogNorm
 
-__all__ = ["BAND_MIN_TRIALS", "band_label", "error_map", "eq3_erratum", "fig02", "extra_roll_error", "fig05", "fig08", "extra_independent_errors",
+__all__ = ["error_map", "eq3_erratum", "fig02", "extra_roll_error", "fig05", "fig08", "extra_independent_errors",
            "accel_error_model", "fig06", "fig09", "fig10", "fig11", "fig12", "extra_threshold_sweep",
            "gyro_error_model", "gyro_error_pattern"]
-
-
-#: Fewest trials for which a 2.5–97.5 % percentile band is labelled a "95 % band" (the project's rule).
-BAND_MIN_TRIALS = 1000
-
-
-def band_label(trials: int, what: str = "trials") -> str:
-    """``"95 % band over 1000 trials"``, or for fewer trials the honest ``"2.5–97.5 % range of 20 trials"``.
-
-    >>> band_label(20)
-    '2.5–97.5 % range of 20 trials (too few for a 95 % band)'
-    """
-    if trials >= BAND_MIN_TRIALS:
-        return f"95 % band over {trials} {what}"
-    return f"2.5–97.5 % range of {trials} {what} (too few for a 95 % band)"
 
 
 def error_map(ax, theta_deg, phi_deg, field_deg, levels, *, log=False, cmap="viridis"):
@@ -184,7 +169,7 @@ def fig06(art):
     ax.loglog(d["rate_deg_s"], d["eq14"], "k-", label="Eq 14 at φ0")
     ax.loglog(d["rate_deg_s"], d["exact"], "C1--", label="exact arctan (constant error)")
     ax.fill_between(d["rate_deg_s"], d["band"]["low"], d["band"]["high"], color="C0", alpha=0.3,
-                    label=f"simulation: {band_label(d['trials'])}")
+                    label=f"simulation: {d['band']['label']}")
     ax.loglog(d["rate_deg_s"], d["band"]["median"], "C0o", ms=4, label=f"simulation median (slope {d['slope']:.2f})")
     ax.axvline(d["threshold_deg_s"], color="C3", lw=0.8, label=f"θ̇_t = {d['threshold_deg_s']:g} °/s")
     ax.set(xlabel="pitch rate θ̇ (deg/s)", ylabel="|roll error Δφ| (deg)",
@@ -227,7 +212,7 @@ def fig10(art):
     fig, ax = plt.subplots(figsize=(8.0, 3.8), constrained_layout=True)
     ax.plot(d["time_s"], d["true"], "k", label="θ̇ (Eq 17)")
     ax.fill_between(d["time_s"], d["band"]["low"], d["band"]["high"], color="C0", alpha=0.3, lw=0,
-                    label=f"|θ̇| from gyros √(ω_y² + ω_z²): {band_label(d['trials'], 'noise trials')}")
+                    label=f"|θ̇| from gyros √(ω_y² + ω_z²): {d['band']['label']}")
     ax.plot(d["time_s"], d["band"]["median"], "C0", lw=0.6, label="|θ̇| from gyros, median")
     ax.axhline(d["threshold"], color="C3", lw=0.8, label=f"θ̇_t = {d['threshold']:g} °/s")
     ax.set(xlabel="time (s)", ylabel="pitch rate (deg/s)", xlim=(0, d["time_s"][-1]),
@@ -271,7 +256,7 @@ def extra_threshold_sweep(art):
     d = art.data
     fig, ax = plt.subplots(figsize=(8.0, 4.6), constrained_layout=True)
     ax.fill_between(d["thresholds"], d["band"]["low"], d["band"]["high"], color="C1", alpha=0.3,
-                    label=band_label(d['trials'], 'noise trials'))
+                    label=d['band']['label'])
     ax.loglog(d["thresholds"], d["band"]["median"], "C1-", label="median roll RMSE (errors + noise)")
     ax.loglog(d["thresholds"], d["det"], "k--", label="constant errors only")
     ax.axvline(d["optimum"], color="C3", lw=1.0, label=f"optimum (median over trials) {d['optimum']:.0f} °/s")

@@ -81,34 +81,30 @@ def _row(*args, role="finding", **kw):
 def _ref(file_stem: str, row: int, column: str) -> str:
     return f"wang2022sensors_{file_stem}:{row}:{column}"
 
-#: Fewest trials (draws) behind a printed "95 % band"; below it a row reports the range with its count.
-MIN_BAND_TRIALS = 1000
+#: Fewest trials (draws) behind a printed "95 % band" (:data:`mtcal.core.metrics.MIN_BAND_DRAWS`).
+MIN_BAND_TRIALS = metrics.MIN_BAND_DRAWS
 
 
 def _spread(x, what: str = "trials") -> tuple[dict | None, float, float, str]:
-    """(95 % band or None, lower end, upper end, note) of per-trial values ``x``.
+    """(95 % band or None, lower end, upper end, note) of per-trial values ``x``
+    (:func:`mtcal.core.metrics.band_or_range`).
 
     With ≥ :data:`MIN_BAND_TRIALS` values: the 2.5–97.5 % band and its ends. With fewer: no band
     (too few for one), the ends are the minimum and maximum (a claim on them is stricter than
     on the band's ends) and the note gives that range with its count.
     """
-    v = np.asarray(x, float).ravel()
-    if v.size >= MIN_BAND_TRIALS:
-        b = metrics.percentile_band(v)
-        return b, float(b["low"]), float(b["high"]), ""
-    lo, hi = float(np.min(v)), float(np.max(v))
-    return None, lo, hi, f"range over {v.size} {what} [{lo:.4g}, {hi:.4g}] (fewer than {MIN_BAND_TRIALS}: no 95 % band)"
+    b = metrics.band_or_range(np.asarray(x, float).ravel(), what=what)
+    lo, hi = float(b["low"]), float(b["high"])
+    if b["kind"] == "95 % band":
+        return b, lo, hi, ""
+    return None, lo, hi, f"range over {b['n']} {what} [{lo:.4g}, {hi:.4g}] (fewer than {MIN_BAND_TRIALS}: no 95 % band)"
 
 
-def _band_or_range(x, axis: int = 0) -> dict:
+def _band_or_range(x, axis: int = 0, what: str = "trials") -> dict:
     """Per-column median and 95 % band of ``x`` along ``axis`` with ≥ :data:`MIN_BAND_TRIALS` rows, else the
     median and the range (min, max); ``label`` says which, with the count (for a figure's legend)."""
-    v = np.asarray(x, float)
-    n = v.shape[axis]
-    if n >= MIN_BAND_TRIALS:
-        return {**metrics.percentile_band(v, axis=axis), "label": f"median, 95 % band of {n}"}
-    return {"median": np.median(v, axis=axis), "low": np.min(v, axis=axis), "high": np.max(v, axis=axis),
-            "label": f"median, range of {n}"}
+    b = metrics.band_or_range(x, axis=axis, what=what)
+    return {**b, "label": f"median, {b['label']}"}
 
 
 # random streams of this module (mtcal.core.rng rule: key (seed, stream))
@@ -356,8 +352,8 @@ def fig11_max_error(sc: Scenario, reps: int, seed: int, *, imu: ImuValues | None
             _row("wang2022sensors_fig11", "proposed: worst per-angle max error of a repetition (deg)", "figure",
                  float(np.median(np.max(f.max_err_rams, axis=1))), "", None, band=worst, role="finding",
                  source="mtcal finding", note=n_w)]
-    return Artifact(None, rows, {"result": f, "rams": _band_or_range(f.max_err_rams),
-                                 "ref16": _band_or_range(f.max_err_ref16), "n_trials": n_trials,
+    return Artifact(None, rows, {"result": f, "rams": _band_or_range(f.max_err_rams, what="repetitions per angle"),
+                                 "ref16": _band_or_range(f.max_err_ref16, what="repetitions per angle"), "n_trials": n_trials,
                                  "labels": labels(sc)})
 
 

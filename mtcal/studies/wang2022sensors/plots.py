@@ -61,7 +61,7 @@ def plot_fig09(data: dict):
     axs[0].set_ylabel("(a) θ ref (deg)")
     if "err_zvd" in data:  # the ensemble: median and band (or range) over all trials
         for b, style, lab in ((data["err_zvd"], "-", "EKF with ZVD"), (data["err_std"], "--", "standard EKF")):
-            line, = axs[1].plot(r.time_s, b["median"], style, label=f"{lab}: {b['label']} trials")
+            line, = axs[1].plot(r.time_s, b["median"], style, label=f"{lab}: {b['label']}")
             axs[1].fill_between(r.time_s, b["low"], b["high"], color=line.get_color(), alpha=0.25)
     else:
         axs[1].plot(r.time_s, r.err_zvd_deg, label="EKF with ZVD")
@@ -86,7 +86,7 @@ def plot_fig11(data: dict):
     fig, ax = plt.subplots(figsize=(8, 4.2))
     for b, lab in ((data["rams"], "proposed (RAMS EKF)"), (data["ref16"], "ref. [16] (accelerometer only)")):
         ax.fill_between(ang, b["low"], b["high"], alpha=0.25)
-        ax.plot(ang, b["median"], "o-", ms=3, label=f"{lab}: {b['label']} repetitions per angle")
+        ax.plot(ang, b["median"], "o-", ms=3, label=f"{lab}: {b['label']}")
     ax.set_xlabel("rotation angle (deg)")
     ax.set_ylabel("max error over 1000 measurements (deg)")
     ax.set_xticks(np.arange(-180, 181, 45))
@@ -106,7 +106,7 @@ def plot_fig12(data: dict):
     axs[0].set_title("Paper Fig. 12 (wang2022sensors_fig12)", fontsize=10)
     g = data["gamma_mc_deg"]
     axs[1].fill_between(g, data["mc_low"], data["mc_high"], alpha=0.3,
-                        label=f"Monte Carlo {data['band_label'].replace('median, ', '')} trials")
+                        label=f"Monte Carlo {data['band_label'].replace('median, ', '')}")
     axs[1].plot(g, data["mc_median"], "o-", label="Monte Carlo median")
     axs[1].plot(g, data["formula_median"], "k--", label="first-order formula (median)")
     axs[1].set_yscale("log")
@@ -123,7 +123,7 @@ def plot_axis_error_vs_rest(data: dict):
     r = data["rest_s"]
     fig, ax = plt.subplots(figsize=(7, 4.5))
     ax.fill_between(r, data["zvd_low"], data["zvd_high"], alpha=0.3,
-                    label=f"{data['band_label'].replace('median, ', '')} trials (ZVD rests, IMU walks)")
+                    label=f"{data['band_label'].replace('median, ', '')} (ZVD rests, IMU walks)")
     ax.plot(r, data["zvd_median"], "o-", label=f"median (ZVD rests), slope {data['slope_zvd']:.2f}")
     ax.plot(r, data["white_median"], "s-", label=f"median (true rests, white noise), slope {data['slope_white']:.2f}")
     ax.plot(r, data["formula_median"], "k--", label="first-order formula, slope −0.50")
@@ -150,11 +150,11 @@ def plot_fig13(data: dict, n_show: int = 4):
     fig, ax = plt.subplots(figsize=(8, 4.2))
     for b, color, lab in ((data["ahrs"], "tab:red", "AHRS stand-in"), (data["rams"], "tab:blue", "RAMS")):
         ax.fill_between(d.time_s, b["low"], b["high"], color=color, alpha=0.25,
-                        label=f"{lab}: {b['label'].replace('median, ', '')} trials")
+                        label=f"{lab}: {b['label'].replace('median, ', '')}")
         ax.plot(d.time_s, b["median"], color=color, lw=0.9, label=f"{lab}: median")
     ax.set_xlabel("time standing still (s)")
     ax.set_ylabel("angle error (deg)")
-    ax.set_title(f"Paper Fig. 13 (wang2022sensors_fig13): {data['rams']['label']} trials\n"
+    ax.set_title(f"Paper Fig. 13 (wang2022sensors_fig13): {data['rams']['label']}\n"
                  f"{data['labels']['rig']}", fontsize=10)
     _legend_below(ax)
     fig.tight_layout()
