@@ -880,7 +880,7 @@ class ImuStream:
             raise ValueError(f"trajectory has {len(trajectory)} samples; the counter allows at most 2**33")
         engine = _check_engine(engine)
         q_bs = np.asarray(model.q_mount, dtype=float)
-        self.q_ws = rotations.hamilton(trajectory.q_wb, q_bs)   # both checked (Trajectory, ImuErrorModel)
+        self._q_bs, self._q_ws = q_bs, None
         c_sb = rotations.quat_to_matrix(q_bs).T
         rates, force = _truth_outputs(trajectory, gravity_w_m_s2)
         self.gyro_true = rates @ c_sb.T
@@ -890,6 +890,48 @@ class ImuStream:
         self._gyro = _SensorStream(model.gyro, key, 0, ids, dt, t_on, block, engine)
         self._accel = _SensorStream(model.accel, key, 1, ids, dt, t_on, block, engine)
         self._next = 0
+
+    @property
+    def q_ws(self) -> np.ndarray:
+        """True sensor attitude (N, 4) ``q_wb ⊗ q_bs``, computed on first use."""
+        if self._q_ws is None:
+            self._q_ws = rotations.hamilton(self.trajectory.q_wb, self._q_bs)   # both checked on construction
+        return self._q_ws
+
+    def fill(self, gyro_out: np.ndarray, accel_out: np.ndarray) -> None:
+        """Write the whole record's measurements into ``gyro_out`` and ``accel_out`` (no :class:`ImuRecord`).
+
+        The numbers are :func:`simulate_imu`'s ``gyro_rad_s`` and ``accel_m_s2`` for the same
+        arguments, bit for bit; a Monte Carlo that stacks trials into a preallocated buffer fills its
+        slice directly (no per-call arrays, no copy, no truth attitude).
+
+        Parameters
+        ----------
+        gyro_out, accel_out : ndarray (T, N, 3)
+            C-contiguous float64, ``T`` = trials of this stream, ``N`` = trajectory samples
+            (rad/s and m/s²).
+
+        Examples
+        --------
+        >>> t = np.arange(0, 1, 0.01)
+        >>> stream = ImuStream(Trajectory(t, np.tile([1.0, 0, 0, 0], (t.size, 1))), trials=1)
+        >>> g, a = np.empty((1, t.size, 3)), np.empty((1, t.size, 3))
+        >>> stream.fill(g, a)
+        >>> a[0, 0].round(5).tolist()
+        [0.0, 0.0, 9.80665]
+        """
+        n = len(self.trajectory)
+        for name, arr in (("gyro_out", gyro_out), ("accel_out", accel_out)):
+            if (not isinstance(arr, np.ndarray) or arr.dtype != np.float64 or arr.shape != (self.trials, n, 3)
+                    or not arr.flags.c_contiguous or not arr.flags.writeable):
+                raise ValueError(f"{name} must be a writeable C-contiguous float64 array of shape "
+                                 f"{(self.trials, n, 3)}, got {getattr(arr, 'dtype', None)} {getattr(arr, 'shape', None)}")
+        if self._next != 0:
+            raise ValueError("fill() and chunks() can run once per ImuStream (the noise states advance)")
+        self._next = n
+        t = self.trajectory.time_s
+        self._gyro.process(self.gyro_true, t, 0, gyro_out)
+        self._accel.process(self.accel_true, t, 0, accel_out)
 
     def chunks(self, chunk_samples: int):
         """Yield consecutive :class:`ImuRecord` chunks of ``chunk_samples`` samples."""

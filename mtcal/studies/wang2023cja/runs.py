@@ -21,7 +21,10 @@ wang2023cja §3.2 (procedure), §4.1 (turntable T1–T4), §4.2 (wind tunnel), E
 
 from __future__ import annotations
 
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, replace
+
+import numba
 
 import numpy as np
 
@@ -30,7 +33,7 @@ from mtcal.core.montecarlo import progress
 from mtcal.core import metrics, rotations
 from mtcal.core.profiles import AngleProfile, step_schedule
 from mtcal.core.rotations import mount_quaternion, relative_to_initial
-from mtcal.core.simulate import simulate_imu
+from mtcal.core.simulate import ImuStream, simulate_imu
 from mtcal.core.units import DEG, MG
 from mtcal.filters.qncf import qncf
 from mtcal.methods import quaternion_lsq, six_position
@@ -220,55 +223,79 @@ def _draws(rng, trials: int, k: int, sigma: float, on: bool) -> np.ndarray:
     return e if on else np.zeros_like(e)
 
 
+def _workers() -> int:
+    """Threads of the per-piece work: numba's thread count (``NUMBA_NUM_THREADS``, ``numba.set_num_threads``)."""
+    return max(1, int(numba.get_num_threads()))
+
+
+def _map(fn, items: list) -> list:
+    """``[fn(x) for x in items]``, the items spread over :func:`_workers` threads, results in item order.
+
+    Every item owns its generator and writes only its own slice of the shared buffers, and the
+    compiled kernels release the GIL: the numbers do not depend on the thread count.
+    """
+    n = min(_workers(), len(items))
+    if n < 2:
+        return [fn(x) for x in items]
+    with ThreadPoolExecutor(n) as pool:
+        return list(pool.map(fn, items))
+
+
 def _run_pieces(sc: TurntableScenario, prof: AngleProfile, spans: dict, pieces: list, with_sweeps: bool,
                 keep_trace: bool, base: _ComplianceBase, buffers: dict) -> list[TurntableRun]:
     """Simulate every piece ``(test, sources, rng, trials, fraction)``, run ONE stacked QNCF, finish each.
 
     The QNCF cost is dominated by its loop over time, so stacking the pieces along the trial
-    axis costs about one run; each piece keeps its own generator. The pieces are stacked into
-    ``buffers`` (reused by every call of a run: no fresh 100 MB arrays per call), which also keeps
-    the profile's hold windows.
+    axis costs about one run; each piece keeps its own generator. The pieces are simulated
+    straight into ``buffers`` (reused by every call of a run: no fresh 100 MB arrays per call),
+    which also keeps the profile's hold windows. Pieces are simulated and finished on
+    :func:`_workers` threads (each its own generator and slice: the same numbers for any count).
     """
     total = sum(p[3] for p in pieces)
     if buffers.get("gyro") is None or buffers["gyro"].shape[0] < total:
         buffers["gyro"] = np.empty((total, prof.time_s.size, 3))
         buffers["accel"] = np.empty((total, prof.time_s.size, 3))
-    gyro, accel, rngs, start = buffers["gyro"][:total], buffers["accel"][:total], [], 0
+    gyro, accel = buffers["gyro"][:total], buffers["accel"][:total]
     ver0 = spans["verification"].start
-    for test, sources, rng, trials, _, sc in pieces:
+    starts = np.cumsum([0] + [p[3] for p in pieces]).tolist()
+    if any("mount_compliance" in p[1] for p in pieces):
+        base.lateral                               # computed once, before the threads share it
+
+    def simulate(i):
+        test, sources, rng, trials, _, sc = pieces[i]
         rng_imu, rng_ref, rng_change = rng.spawn(3)
         k = sc.errors.compliance_deg_g(MOUNT_TYPE[test]) * DEG if "mount_compliance" in sources else 0.0
         traj = _compliant(prof.time_s, base, k)   # = compliance_trajectory(prof.time_s, prof.angle_rad, k)
         model = sc.imu.error_model(mount_quaternion(sc.alpha_rad(test)), sources, sc.errors)
-        rec = simulate_imu(traj, model, rng=rng_imu, trials=trials)
-        acc = rec.accel_m_s2
+        g, acc = gyro[starts[i]:starts[i + 1]], accel[starts[i]:starts[i + 1]]
+        ImuStream(traj, model, rng=rng_imu, trials=trials).fill(g, acc)   # = simulate_imu(...), into the buffer
         if "accel_run_change" in sources:       # warm-up/temperature bias change between the runs
             acc[:, ver0:] += sc.errors.accel_run_bias_mg * MG * rng_change.standard_normal((trials, 1, 3))
         if "mount_compliance" in sources and MOUNT_TYPE[test] == "gasket":
             tilt = sc.errors.gasket_load_tilt_deg_g * DEG * rng_change.standard_normal((trials, 3)) * [1.0, 1.0, 0.0]
-            load_tilt_outputs(rec.gyro_rad_s, acc, traj.q_wb, sc.fs_hz, model.q_mount, tilt)
-        gyro[start:start + trials] = rec.gyro_rad_s
-        accel[start:start + trials] = acc
-        start += trials
-        rngs.append(rng_ref)
-        del rec, acc
+            load_tilt_outputs(g, acc, traj.q_wb, sc.fs_hz, model.q_mount, tilt)
+        return rng_ref
+
+    rngs = _map(simulate, list(range(len(pieces))))
     res = qncf(gyro, accel, 1.0 / sc.fs_hz, sc.qncf, return_euler=False)
-    del accel
-    q_cal = res.q_ws[:, spans["calibration"]].copy()   # the calibration run as logged (zeroed by the procedure)
-    q_s = relative_to_initial(res.q_ws, out=res.q_ws)   # the session, zeroed once at its start (§4.1)
+    # the session zeroed once at its start (§4.1), in place from the verification run on: the
+    # calibration run stays as logged (zeroed by the procedure itself)
+    q_all = relative_to_initial(res.q_ws, out=res.q_ws, start=ver0)
     del res
+    q_cal = q_all[:, spans["calibration"]]
     pos = six_position_reference(sc)
-    out, start = [], 0
-    for i, ((_, sources, _, trials, fraction, sc), rng_ref) in enumerate(zip(pieces, rngs)):
-        sl = slice(start, start + trials)
-        start += trials
+
+    def finish(i):
+        _, sources, _, trials, fraction, sc = pieces[i]
+        rng_ref = rngs[i]
+        sl = slice(starts[i], starts[i + 1])
         frac = sc.averaging_fraction if fraction is None else fraction
         on = "reference_angle" in sources
         e_cal = _draws(rng_ref, trials, 6, sc.reference_angle_sigma_rad, on)
         e_ver = _draws(rng_ref, trials, 6, sc.reference_angle_sigma_rad, on)
         # the procedure is fed the commanded reference; the turntable stood at command + e_cal
         cal = calibration_step(sc, q_cal[sl], gyro[sl, spans["calibration"]], pos - e_cal, frac)
-        ver = six_position.calibrate(q_s[sl, spans["verification"]], pos, sc.imu.dt_s,
+        ver = six_position.calibrate(q_all[sl, spans["verification"]], pos, sc.imu.dt_s,
                                      gyro_rad_s=gyro[sl, spans["verification"]], fraction=frac)
         q_mat = cal.q_hat
         euler = rotations.euler_zxy_from_quat
@@ -276,10 +303,11 @@ def _run_pieces(sc: TurntableScenario, prof: AngleProfile, spans: dict, pieces: 
                            euler(ver.q_sensor), euler(quaternion_lsq.apply_error_matrix(q_mat, ver.q_sensor)),
                            pos, -e_cal, -e_ver)
         if with_sweeps:
-            run.sweeps, run.trace = _evaluate_sweeps(sc, prof, spans, q_s[sl], q_mat, frac, rng_ref,
+            run.sweeps, run.trace = _evaluate_sweeps(sc, prof, spans, q_all[sl], q_mat, frac, rng_ref,
                                                      keep_trace and i == 0, on, buffers)
-        out.append(run)
-    return out
+        return run
+
+    return _map(finish, list(range(len(pieces))))
 
 
 def calibration_step(sc: TurntableScenario | WindTunnelScenario, q_ws, gyro_rad_s, reference_rad,
@@ -597,8 +625,9 @@ def _run_windtunnel_block(sc: WindTunnelScenario, rng: np.random.Generator, tria
         rec.accel_m_s2[:, spans["aoa"].start:] += (sc.errors.accel_run_bias_mg * MG
                                                     * rng_change.standard_normal((trials, 1, 3)))
     res = qncf(rec.gyro_rad_s, rec.accel_m_s2, 1.0 / sc.fs_hz, sc.qncf, return_euler=False)
-    q_cal = res.q_ws[:, spans["calibration"]].copy()   # the calibration run as logged
-    q_s = relative_to_initial(res.q_ws, out=res.q_ws)   # the session zeroed at its start, in place
+    # the session zeroed at its start, in place after the calibration run (kept as logged: no copy)
+    q_s = relative_to_initial(res.q_ws, out=res.q_ws, start=spans["aoa"].start)
+    q_cal = q_s[:, spans["calibration"]]
     ref_err = _draws(rng_ref, trials, 6, sc.repeatability_rad, "reference_angle" in on)
     cal = calibration_step(sc, q_cal, rec.gyro_rad_s[:, spans["calibration"]], pos + ref_err, frac)
     q_mat = cal.q_hat
