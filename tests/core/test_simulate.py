@@ -435,3 +435,17 @@ def test_warmup_decay_reused_only_for_equal_time_samples():
     a = simulate.apply_sensor_errors(errs, np.zeros((3000, 3)), t, time_since_power_on_s=300.0)
     b = simulate.apply_sensor_errors(errs, np.zeros((3000, 3)), t, time_since_power_on_s=300.0, engine="numpy")
     assert a.tobytes() == b.tobytes()
+
+
+def test_stream_fill_writes_simulate_imus_numbers_into_given_arrays():
+    traj = _static(501, 100.0)
+    model = ImuErrorModel(gyro=_EVERY_SOURCE, accel=_EVERY_SOURCE, time_since_power_on_s=1.0)
+    rec = simulate.simulate_imu(traj, model, rng=np.random.default_rng(4), trials=3)
+    g, a = np.empty((3, 501, 3)), np.empty((3, 501, 3))
+    stream = simulate.ImuStream(traj, model, rng=np.random.default_rng(4), trials=3)
+    stream.fill(g, a)
+    assert np.array_equal(g, rec.gyro_rad_s) and np.array_equal(a, rec.accel_m_s2)
+    with pytest.raises(ValueError, match="once per ImuStream"):
+        stream.fill(g, a)
+    with pytest.raises(ValueError, match="accel_out must be a writeable C-contiguous float64"):
+        simulate.ImuStream(traj, model, rng=np.random.default_rng(4), trials=3).fill(g, a[:, ::2])

@@ -140,3 +140,47 @@ def test_scenario_does_not_import_runs():
 
     assert "runs" not in imported(scenario) and "scenario" in imported(runs)
     assert w.identify_pitch_ratio is scenario.identify_pitch_ratio
+
+
+def _arrays(obj, prefix="", out=None):
+    from dataclasses import fields, is_dataclass
+
+    out = {} if out is None else out
+    if is_dataclass(obj):
+        for f in fields(obj):
+            _arrays(getattr(obj, f.name), f"{prefix}.{f.name}", out)
+    elif isinstance(obj, dict):
+        for k, v in obj.items():
+            _arrays(v, f"{prefix}.{k}", out)
+    elif obj is not None:
+        out[prefix] = np.asarray(obj)
+    return out
+
+
+def test_threaded_pieces_and_draws_give_the_same_numbers_for_any_thread_count(fast_sc):
+    import numba
+
+    from mtcal.studies.wang2023cja import predictive, runs
+
+    fit = w.fit_error_model(n_mc=200, seed=1)
+    sc = replace(fast_sc, errors=fit.model)
+
+    def produce():
+        tt = predictive.turntable_predictive(sc, fit, "prior", 3, 5, tests=("T1", "T3"))
+        wt = predictive.windtunnel_predictive(lambda m: w.windtunnel_scenario(errors=m, fs_hz=100.0), fit, "fitted",
+                                              3, 5, per_draw=1)
+        return _arrays(tt, "tt"), _arrays(wt, "wt")
+
+    before = numba.get_num_threads()
+    try:
+        numba.set_num_threads(1)
+        assert runs._workers() == 1
+        serial = produce()
+        numba.set_num_threads(min(2, numba.config.NUMBA_NUM_THREADS))
+        threaded = produce()
+    finally:
+        numba.set_num_threads(before)
+    for a, b in zip(serial, threaded):
+        assert sorted(a) == sorted(b)
+        assert [k for k in a if not np.array_equal(a[k], b[k], equal_nan=a[k].dtype.kind == "f")] == []
+
