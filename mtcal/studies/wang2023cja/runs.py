@@ -446,6 +446,33 @@ def run_turntable_jobs(sc: TurntableScenario, jobs: list[TurntableJob], *, with_
     return [_concat_runs(r) for r in per_job]
 
 
+def _before_after(q_s, q_mat, ref) -> tuple[np.ndarray, np.ndarray, dict]:
+    """Eq 8 angles of ``q_s`` (T, n, 4) before and after Eq 10 with ``q_mat``, and their wrapped errors from ``ref``.
+
+    ``_euler(q_s)``, ``_euler(apply_error_matrix(q_mat, q_s))`` and ``metrics.angle_difference`` of
+    each; a large float64 input in one compiled pass (the same operations, bit-identical), unless a
+    row is near gimbal lock or the matrix is not finite (then the expressions themselves).
+    """
+    q_mat = np.asarray(q_mat, float)
+    if (q_s.dtype == np.float64 and q_s.ndim == 3 and q_s.shape[0] * q_s.shape[1] >= rotations._KERNEL_MIN_ROWS
+            and q_mat.shape == (q_s.shape[0], 4, 4) and np.isfinite(q_mat).all()):
+        from mtcal.core._rotation_kernels import euler_zxy_before_after
+
+        before, after = np.empty(q_s.shape[:-1] + (3,)), np.empty(q_s.shape[:-1] + (3,))
+        err_b, err_a = np.empty_like(before), np.empty_like(after)
+        ref = np.ascontiguousarray(ref, dtype=float)
+        if euler_zxy_before_after(q_s, np.ascontiguousarray(q_mat), ref, rotations._LOCK_SIN, before, after,
+                                  err_b, err_a) == 0:
+            if not (np.isfinite(before).all() and np.isfinite(after).all()):
+                raise FloatingPointError("Eq 8 angles are not finite: a calibration matrix or attitude of this run "
+                                         "is NaN/inf")
+            return before, after, {"before": err_b, "after": err_a}
+    before = _euler(q_s)
+    after = _euler(quaternion_lsq.apply_error_matrix(q_mat, q_s))
+    return before, after, {"before": metrics.angle_difference(before, ref),
+                           "after": metrics.angle_difference(after, ref)}
+
+
 def _evaluate_sweeps(sc, prof, spans, q_s, q_mat, frac, rng, keep_trace, ref_errors_on, shared=None):
     """Hold means (with a turntable angle error per hold) and MaxAE/RMSE of the coupled channels.
 
@@ -456,9 +483,8 @@ def _evaluate_sweeps(sc, prof, spans, q_s, q_mat, frac, rng, keep_trace, ref_err
     sweeps, trace = {}, {}
     for name, chan_mean, chans_err in (("aoa", 1, (2, 0)), ("roll", 2, (1, 0))):
         span = spans[name]
-        before = _euler(q_s[:, span])
-        after = _euler(quaternion_lsq.apply_error_matrix(q_mat, q_s[:, span]))
         ref = truth[span]
+        before, after, errs = _before_after(q_s[:, span], q_mat, ref)
         key = ("sweep holds", name, frac)
         if key not in shared:
             shared[key] = [slice(h.start - span.start, h.stop - span.start) for h in _holds(prof, span, frac)][1:-1]
@@ -470,7 +496,7 @@ def _evaluate_sweeps(sc, prof, spans, q_s, q_mat, frac, rng, keep_trace, ref_err
             "after_mean": np.stack([after[:, h, chan_mean].mean(axis=1) for h in holds], axis=1) - e,
         }
         for state, est in (("before", before), ("after", after)):
-            err = metrics.angle_difference(est, ref)
+            err = errs[state]
             for c in chans_err:
                 sweeps[name][f"{state}_maxae_{c}"] = metrics.max_abs_error(err[..., c], axis=-1)
                 sweeps[name][f"{state}_rmse_{c}"] = metrics.rmse(err[..., c], axis=-1)
