@@ -693,11 +693,14 @@ def _wind_on_groups(sc, model, q_mat, rng, trials, trace, k_mount, keep_trace):
     """Five wind-on AoA sweeps; each group its own record; all groups stacked as trials for the QNCF."""
     lead_s = 8.0
     group_rngs = rng.spawn(5)
-    g_all, a_all, profs = [], [], []
-    for g in range(5):
+    rates = [sc.group5_rate_rad_s if g == 4 else sc.mechanism_rate_rad_s for g in range(5)]
+    profs = [_wt_schedule(sc, sc.wind_on_sweep_deg, rate, lead_s=lead_s, hold_s=sc.wind_on_hold_s) for rate in rates]
+    n = max(p.time_s.size for p in profs)
+    # stacked, each group padded with its last sample; a group goes in as soon as it is simulated (peak
+    # memory: the stack + one group)
+    gyro, accel = np.empty((5 * trials, n, 3)), np.empty((5 * trials, n, 3))
+    for g, (prof, rate) in enumerate(zip(profs, rates)):
         r_q, r_imu, r_vib = group_rngs[g].spawn(3)
-        rate = sc.group5_rate_rad_s if g == 4 else sc.mechanism_rate_rad_s
-        prof = _wt_schedule(sc, sc.wind_on_sweep_deg, rate, lead_s=lead_s, hold_s=sc.wind_on_hold_s)
         actual = mechanism_actual(sc, prof, rate)
         q_factor = 1.0 + sc.dynamic_pressure_sigma * r_q.standard_normal()
         t = prof.time_s
@@ -713,18 +716,11 @@ def _wind_on_groups(sc, model, q_mat, rng, trials, trace, k_mount, keep_trace):
         np.sin(shake, out=shake)
         shake *= ramp[None, :, None] * sc.vibration_accel_m_s2
         shake += rec.accel_m_s2
-        g_all.append(rec.gyro_rad_s)
-        a_all.append(shake)
-        profs.append(prof)
-        del rec
-    n = max(p.time_s.size for p in profs)
-    gyro, accel = np.empty((5 * trials, n, 3)), np.empty((5 * trials, n, 3))
-    for g, (x_g, x_a) in enumerate(zip(g_all, a_all)):   # stacked, each padded with its last sample
-        for x, out in ((x_g, gyro), (x_a, accel)):
+        for x, out in ((rec.gyro_rad_s, gyro), (shake, accel)):
             m = x.shape[1]
             out[g * trials:(g + 1) * trials, :m] = x
             out[g * trials:(g + 1) * trials, m:] = x[:, -1:]
-    del g_all, a_all
+        del rec, shake
     res = qncf(gyro, accel, 1.0 / sc.fs_hz, sc.qncf, return_euler=False)
     q_s = relative_to_initial(res.q_ws, n0=1, out=res.q_ws)
     q_rep = np.concatenate([q_mat] * 5, axis=0)
