@@ -174,7 +174,7 @@ def windtunnel_predictive(make_scenario, fit: ErrorModelFit, kind: str, trials: 
 
     def one(k):       # each draw its own generator and scenario: the same numbers for any thread count
         return run_windtunnel(make_scenario(draws[k][0]), rngs[k], min(per_draw, int(trials) - k * per_draw),
-                              block=per_draw)
+                              block=per_draw, keep_trace=(k == 0))   # only the first run's trace is kept
 
     runs = _map(one, list(range(n_draws)))
     cat = lambda xs: np.concatenate(xs, axis=0)  # noqa: E731

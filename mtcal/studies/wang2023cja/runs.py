@@ -592,11 +592,13 @@ class WindTunnelRun:
 
 
 def run_windtunnel(sc: WindTunnelScenario, rng: np.random.Generator, trials: int, sources=SOURCES,
-                   *, wind_on: bool = True, block: int = 10) -> WindTunnelRun:
+                   *, wind_on: bool = True, block: int = 10, keep_trace: bool = True) -> WindTunnelRun:
     """Wind-off calibration + AoA sweep (Tables 9, 11) and five wind-on groups (Table 10), in trial blocks.
 
     Block ``i`` of ``block`` trials draws from ``rng.spawn(n_blocks)[i]``; peak memory is set by
-    ``block`` (≈ 0.6 GB at 10), not by ``trials``. Trial 0's time series are kept for figures.
+    ``block`` (≈ 0.6 GB at 10), not by ``trials``. Trial 0's time series are kept for figures
+    (``keep_trace``; off: ``trace`` is empty, a caller that keeps another run's does not hold ~10 MB
+    per run).
     """
     trials = int(trials)
     if trials < 1:
@@ -604,7 +606,8 @@ def run_windtunnel(sc: WindTunnelScenario, rng: np.random.Generator, trials: int
     if int(block) < 1:
         raise ValueError(f"block must be >= 1, got {block}")
     sizes = [min(int(block), trials - k) for k in range(0, trials, int(block))]
-    runs = [_run_windtunnel_block(sc, r, n, _check_sources(sources), wind_on=wind_on, keep_trace=(i == 0))
+    runs = [_run_windtunnel_block(sc, r, n, _check_sources(sources), wind_on=wind_on,
+                                  keep_trace=keep_trace and i == 0)
             for i, (r, n) in enumerate(progress(list(zip(rng.spawn(len(sizes)), sizes)),
                                                 desc="wind-tunnel Monte Carlo"))]
     cat = lambda xs: np.concatenate(xs, axis=0)  # noqa: E731
