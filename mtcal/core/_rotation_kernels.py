@@ -188,7 +188,7 @@ def wrap_difference3(e, t, out):  # pragma: no cover - compiled
         for j in range(out.shape[1]):
             for k in range(out.shape[2]):
                 x = (e[i, j, k] - t[i, j, k]) + np.pi
-                m = np.fmod(x, two_pi)
+                m = x if 0.0 <= x < two_pi else np.fmod(x, two_pi)   # fmod(x, b) is x itself there
                 if m != 0.0:
                     if m < 0.0:
                         m += two_pi
@@ -262,7 +262,7 @@ def euler_zxy_before_after(q, q_mat, ref, lock_sin, before, after, err_before, e
             after[t, i, 0], after[t, i, 1], after[t, i, 2] = a0, a1, a2
             for k in range(6):
                 x = ((before[t, i, k] if k < 3 else after[t, i, k - 3]) - ref[i, k % 3]) + np.pi
-                r = np.fmod(x, two_pi)
+                r = x if 0.0 <= x < two_pi else np.fmod(x, two_pi)   # fmod(x, b) is x itself there
                 if r != 0.0:
                     if r < 0.0:
                         r += two_pi
