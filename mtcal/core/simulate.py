@@ -260,6 +260,95 @@ def _truth_outputs(trajectory: Trajectory, gravity_w_m_s2) -> tuple[np.ndarray, 
     return memo["rates"], memo["force"]
 
 
+@jit
+def _tilted_truth_kernel(q_base, axis, gain, time_s, v, q_out, rates, force):  # pragma: no cover - compiled
+    """One pass per output of :func:`_tilted_trajectory`, with the operations of the expressions it replaces.
+
+    ``q_out = continuous(q_base ⊗ quat_from_rotvec(gain · axis))`` (``rotvec_angle``, sin/cos of the
+    half angle, ``quat_from_rotvec_finish``, ``hamilton3``, ``continuous3``; a row whose axis equals
+    the previous one reuses its rotation quaternion: equal inputs, equal outputs), then
+    :func:`body_rates` (``_relative_rotations``, ``2·atan2``, ``_rates_finish``) and
+    :func:`specific_force` (``_specific_force_kernel`` with ``v = accel_w − g``).
+    """
+    n = q_base.shape[0]
+    r0 = r1 = r2 = 0.0
+    c = x = y = z = 0.0
+    a0 = a1 = a2 = a3 = 0.0
+    flip = False
+    for i in range(n):
+        if i == 0 or not (axis[i, 0] == axis[i - 1, 0] and axis[i, 1] == axis[i - 1, 1]
+                          and axis[i, 2] == axis[i - 1, 2]):
+            r0, r1, r2 = gain * axis[i, 0], gain * axis[i, 1], gain * axis[i, 2]
+            ang = np.sqrt(r0 * r0 + r1 * r1 + r2 * r2)
+            half = 0.5 * ang
+            k = 0.5 - ang * ang / 48.0 if ang < 1e-8 else np.sin(half) / ang
+            c, x, y, z = np.cos(half), k * r0, k * r1, k * r2
+        p0, p1, p2, p3 = q_base[i, 0], q_base[i, 1], q_base[i, 2], q_base[i, 3]
+        b0 = p0 * c - p1 * x - p2 * y - p3 * z
+        b1 = p0 * x + p1 * c + p2 * z - p3 * y
+        b2 = p0 * y - p1 * z + p2 * c + p3 * x
+        b3 = p0 * z + p1 * y - p2 * x + p3 * c
+        if i > 0 and b0 * a0 + b1 * a1 + b2 * a2 + b3 * a3 < 0.0:
+            flip = not flip
+        a0, a1, a2, a3 = b0, b1, b2, b3
+        if flip:
+            q_out[i, 0], q_out[i, 1], q_out[i, 2], q_out[i, 3] = -b0, -b1, -b2, -b3
+        else:
+            q_out[i, 0], q_out[i, 1], q_out[i, 2], q_out[i, 3] = b0, b1, b2, b3
+    for i in range(n - 1):
+        p0, p1, p2, p3 = q_out[i, 0], q_out[i, 1] * -1.0, q_out[i, 2] * -1.0, q_out[i, 3] * -1.0
+        q0, q1, q2, q3 = q_out[i + 1, 0], q_out[i + 1, 1], q_out[i + 1, 2], q_out[i + 1, 3]
+        d0 = p0 * q0 - p1 * q1 - p2 * q2 - p3 * q3
+        d1 = p0 * q1 + p1 * q0 + p2 * q3 - p3 * q2
+        d2 = p0 * q2 - p1 * q3 + p2 * q0 + p3 * q1
+        d3 = p0 * q3 + p1 * q2 - p2 * q1 + p3 * q0
+        nn = np.sqrt(d0 * d0 + d1 * d1 + d2 * d2 + d3 * d3)
+        d0, d1, d2, d3 = d0 / nn, d1 / nn, d2 / nn, d3 / nn
+        if d0 < 0.0:
+            d0, d1, d2, d3 = -d0, -d1, -d2, -d3
+        vn = np.sqrt(d1 * d1 + d2 * d2 + d3 * d3)
+        k = 2.0 if vn < 1e-12 else (2.0 * np.arctan2(vn, d0)) / vn
+        dt = time_s[i + 1] - time_s[i]
+        rates[i, 0] = (k * d1) / dt
+        rates[i, 1] = (k * d2) / dt
+        rates[i, 2] = (k * d3) / dt
+    for j in range(3):
+        rates[n - 1, j] = rates[n - 2, j]
+    v0, v1, v2 = v[0], v[1], v[2]
+    for i in range(n):
+        c00, c10, c20, c01, c11, c21, c02, c12, c22 = _rotation_kernels.dcm_entries(q_out[i, 0], q_out[i, 1],
+                                                                                   q_out[i, 2], q_out[i, 3])
+        force[i, 0] = ((0.0 + c00 * v0) + c10 * v1) + c20 * v2
+        force[i, 1] = ((0.0 + c01 * v0) + c11 * v1) + c21 * v2
+        force[i, 2] = ((0.0 + c02 * v0) + c12 * v1) + c22 * v2
+
+
+def _tilted_trajectory(time_s: np.ndarray, q_base: np.ndarray, axis: np.ndarray, gain: float,
+                       gravity_w_m_s2=GRAVITY_W_M_S2) -> Trajectory:
+    """``Trajectory(time_s, hamilton(q_base, quat_from_rotvec(gain · axis)))`` with its truth outputs, in one pass.
+
+    For a Monte Carlo whose trials tilt one checked base attitude (N, 4) by their own ``gain``
+    about a shared ``axis`` (N, 3) (a mount compliance): the attitude, :func:`body_rates` and
+    :func:`specific_force` (no translation) come from one compiled pass and are memoised on the
+    returned Trajectory, bit-identical to the expressions (trusted inputs: float64, unit
+    ``q_base``, uniform ``time_s``; small records take the expressions).
+    """
+    n = q_base.shape[0]
+    if n - 1 < max(rotations._KERNEL_MIN_ROWS, 1) or gain == 0.0:
+        q = q_base if gain == 0.0 else rotations.hamilton(q_base, rotations.quat_from_rotvec(gain * axis))
+        return Trajectory(time_s, q)
+    g = np.asarray(gravity_w_m_s2, dtype=float)
+    q_out, rates, force = np.empty((n, 4)), np.empty((n, 3)), np.empty((n, 3))
+    _tilted_truth_kernel(q_base, axis, float(gain), time_s, 0.0 - g, q_out, rates, force)
+    traj = object.__new__(Trajectory)
+    acc = np.zeros((n, 3))
+    for name, value in (("time_s", time_s if not time_s.flags.writeable else time_s.copy()), ("q_wb", q_out),
+                        ("accel_w_m_s2", acc)):
+        object.__setattr__(traj, name, _frozen(value) if value.flags.writeable else value)
+    object.__setattr__(traj, "_truth", {"rates": _frozen(rates), "force": _frozen(force), "gravity": g.tobytes()})
+    return traj
+
+
 def integrate_gyro(q0, gyro_rad_s, dt_s: float) -> np.ndarray:
     """wang2023cja Eq 6–7 without correction: ``Q_{k+1} = Q_k ⊗ q(ω_k Δt)``.
 
