@@ -661,15 +661,14 @@ def _run_windtunnel_block(sc: WindTunnelScenario, rng: np.random.Generator, tria
     cal = calibration_step(sc, q_cal, rec.gyro_rad_s[:, spans["calibration"]], pos + ref_err, frac)
     q_mat = cal.q_hat
     span = spans["aoa"]
-    before = _euler(q_s[:, span])
-    after = _euler(quaternion_lsq.apply_error_matrix(q_mat, q_s[:, span]))
     cmd = prof.angle_rad[span]
+    before, after, errs = _before_after(q_s[:, span], q_mat, cmd)
     holds = [slice(h.start - span.start, h.stop - span.start) for h in _shared_holds(prof, span, frac)][1:-1]
     nowind = {"reference": np.array([cmd[h, 1].mean() for h in holds]),
               "before_mean": np.stack([before[:, h, 1].mean(axis=1) for h in holds], axis=1),
               "after_mean": np.stack([after[:, h, 1].mean(axis=1) for h in holds], axis=1)}
-    for state, est in (("before", before), ("after", after)):
-        err = metrics.angle_difference(est, cmd)
+    for state in ("before", "after"):
+        err = errs[state]
         for c in (2, 0):
             nowind[f"{state}_maxae_{c}"] = metrics.max_abs_error(err[..., c], axis=-1)
             nowind[f"{state}_rmse_{c}"] = metrics.rmse(err[..., c], axis=-1)
@@ -677,8 +676,7 @@ def _run_windtunnel_block(sc: WindTunnelScenario, rng: np.random.Generator, tria
     trace = {}
     if keep_trace:
         trace = {"nowind_time_s": prof.time_s[span] - prof.time_s[span.start],
-                 "nowind_before_err": metrics.angle_difference(before[0], cmd),
-                 "nowind_after_err": metrics.angle_difference(after[0], cmd)}
+                 "nowind_before_err": errs["before"][0].copy(), "nowind_after_err": errs["after"][0].copy()}
     del before, after, res, q_s
     out = WindTunnelRun(q_mat, cal.euler_before_rad, cal.euler_after_rad, nowind, None, trace)
     if wind_on:
