@@ -81,7 +81,8 @@ from mtcal.core.validate import (STANDARD_GRAVITY_M_S2, as_float_array, positive
                              positive_scalar, time_vector, unit_quaternion)
 
 __all__ = ["Trajectory", "SensorErrors", "ImuErrorModel", "ImuRecord", "ImuStream", "body_rates",
-           "specific_force", "simulate_imu", "apply_sensor_errors", "integrate_gyro", "GRAVITY_W_M_S2"]
+           "specific_force", "simulate_imu", "apply_sensor_errors", "integrate_gyro", "tilted_trajectory",
+           "GRAVITY_W_M_S2"]
 
 #: Default world gravity vector, z-up frame (m/s²).
 GRAVITY_W_M_S2 = (0.0, 0.0, -STANDARD_GRAVITY_M_S2)
@@ -262,7 +263,7 @@ def _truth_outputs(trajectory: Trajectory, gravity_w_m_s2) -> tuple[np.ndarray, 
 
 @jit
 def _tilted_truth_kernel(q_base, axis, gain, time_s, v, q_out, rates, force):  # pragma: no cover - compiled
-    """One pass per output of :func:`_tilted_trajectory`, with the operations of the expressions it replaces.
+    """One pass per output of :func:`tilted_trajectory`, with the operations of the expressions it replaces.
 
     ``q_out = continuous(q_base ⊗ quat_from_rotvec(gain · axis))`` (``rotvec_angle``, sin/cos of the
     half angle, ``quat_from_rotvec_finish``, ``hamilton3``, ``continuous3``; a row whose axis equals
@@ -323,28 +324,67 @@ def _tilted_truth_kernel(q_base, axis, gain, time_s, v, q_out, rates, force):  #
         force[i, 2] = ((0.0 + c02 * v0) + c12 * v1) + c22 * v2
 
 
-def _tilted_trajectory(time_s: np.ndarray, q_base: np.ndarray, axis: np.ndarray, gain: float,
-                       gravity_w_m_s2=GRAVITY_W_M_S2) -> Trajectory:
-    """``Trajectory(time_s, hamilton(q_base, quat_from_rotvec(gain · axis)))`` with its truth outputs, in one pass.
+def tilted_trajectory(time_s, q_base, axis, gain: float, gravity_w_m_s2=GRAVITY_W_M_S2) -> Trajectory:
+    """A base attitude tilted by ``gain · axis(t)``, with its truth outputs computed in one pass.
 
-    For a Monte Carlo whose trials tilt one checked base attitude (N, 4) by their own ``gain``
-    about a shared ``axis`` (N, 3) (a mount compliance): the attitude, :func:`body_rates` and
-    :func:`specific_force` (no translation) come from one compiled pass and are memoised on the
-    returned Trajectory, bit-identical to the expressions (trusted inputs: float64, unit
-    ``q_base``, uniform ``time_s``; small records take the expressions).
+    ``Trajectory(time_s, hamilton(q_base, quat_from_rotvec(gain · axis)))`` — e.g. a compliant
+    mount that tilts by ``gain`` rad per unit of a load direction ``axis`` — whose :func:`body_rates`
+    and :func:`specific_force` (no translation, ``gravity_w_m_s2``) are computed in the same
+    compiled pass and kept on the returned Trajectory (:func:`simulate_imu` reuses them). The
+    numbers are those of the expressions, bit for bit (a sample whose axis equals the previous
+    one reuses its rotation quaternion). A Monte Carlo whose trials differ only in ``gain`` shares
+    ``q_base`` and ``axis``.
+
+    Parameters
+    ----------
+    time_s : array_like, shape (N,)
+        Uniformly sampled, strictly increasing time (s).
+    q_base : array_like, shape (N, 4)
+        Scalar-first unit quaternions of the untilted body attitude (body → world).
+    axis : array_like, shape (N, 3)
+        Tilt direction and size per unit gain, body axes (rad per unit gain).
+    gain : float
+        Tilt gain (0: the base attitude itself).
+    gravity_w_m_s2 : 3-vector
+        World gravity (m/s²) of the specific force kept on the trajectory.
+
+    Returns
+    -------
+    Trajectory
+
+    References
+    ----------
+    wang2023cja §4.1 (compliant gasket mounts tilt with the lateral load).
+
+    Examples
+    --------
+    >>> t = np.arange(5000) * 1e-3
+    >>> q = np.tile([1.0, 0.0, 0.0, 0.0], (t.size, 1))
+    >>> axis = np.tile([0.0, 1.0, 0.0], (t.size, 1))
+    >>> traj = tilted_trajectory(t, q, axis, 0.01)
+    >>> bool(np.allclose(traj.q_wb[0], [np.cos(0.005), 0.0, np.sin(0.005), 0.0]))
+    True
     """
-    n = q_base.shape[0]
+    t = time_vector(time_s)
+    q = unit_quaternion(q_base, "q_base", copy=False)
+    ax = as_float_array(axis, "axis", ndim=2, last_dim=3)
+    if q.ndim != 2 or q.shape[0] != t.size or ax.shape[0] != t.size:
+        raise ValueError(f"q_base (N, 4) and axis (N, 3) must match time_s (N = {t.size}), "
+                         f"got {q.shape} and {ax.shape}")
+    gain = float(gain)
+    if not np.isfinite(gain):
+        raise ValueError(f"gain must be finite, got {gain}")
+    n = t.size
     if n - 1 < max(rotations._KERNEL_MIN_ROWS, 1) or gain == 0.0:
-        q = q_base if gain == 0.0 else rotations.hamilton(q_base, rotations.quat_from_rotvec(gain * axis))
-        return Trajectory(time_s, q)
-    g = np.asarray(gravity_w_m_s2, dtype=float)
+        return Trajectory(t, q if gain == 0.0 else rotations.hamilton(q, rotations.quat_from_rotvec(gain * ax)))
+    g = as_float_array(gravity_w_m_s2, "gravity_w_m_s2", ndim=1, last_dim=3)
+    uniform_dt(t)
     q_out, rates, force = np.empty((n, 4)), np.empty((n, 3)), np.empty((n, 3))
-    _tilted_truth_kernel(q_base, axis, float(gain), time_s, 0.0 - g, q_out, rates, force)
+    _tilted_truth_kernel(q, ax, gain, t, 0.0 - g, q_out, rates, force)
     traj = object.__new__(Trajectory)
-    acc = np.zeros((n, 3))
-    for name, value in (("time_s", time_s if not time_s.flags.writeable else time_s.copy()), ("q_wb", q_out),
-                        ("accel_w_m_s2", acc)):
-        object.__setattr__(traj, name, _frozen(value) if value.flags.writeable else value)
+    object.__setattr__(traj, "time_s", t if not t.flags.writeable else _frozen(t.copy()))
+    object.__setattr__(traj, "q_wb", _frozen(q_out))
+    object.__setattr__(traj, "accel_w_m_s2", _frozen(np.zeros((n, 3))))
     object.__setattr__(traj, "_truth", {"rates": _frozen(rates), "force": _frozen(force), "gravity": g.tobytes()})
     return traj
 

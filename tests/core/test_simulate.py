@@ -460,11 +460,22 @@ def test_tilted_trajectory_is_the_expressions_bit_for_bit():
     q_base = rotations.quat_from_euler_zxy(angles[:, 0], angles[:, 1], angles[:, 2])
     axis = np.cross([0.0, 0.0, 1.0], -rotations.quat_to_matrix(q_base)[:, 2, :])
     for gain in (3e-3, -0.7):
-        fused = simulate._tilted_trajectory(t, q_base, axis, gain)
+        fused = simulate.tilted_trajectory(t, q_base, axis, gain)
         ref = Trajectory(t, rotations.hamilton(q_base, rotations.quat_from_rotvec(gain * axis)))
         assert np.array_equal(fused.q_wb, ref.q_wb)
         assert np.array_equal(simulate._truth_outputs(fused, simulate.GRAVITY_W_M_S2)[0], simulate.body_rates(ref))
         assert np.array_equal(simulate._truth_outputs(fused, simulate.GRAVITY_W_M_S2)[1],
                               simulate.specific_force(ref))
         assert not fused.q_wb.flags.writeable and fused.dt_s == ref.dt_s
-    assert simulate._tilted_trajectory(t, q_base, axis, 0.0).q_wb.tolist() == Trajectory(t, q_base).q_wb.tolist()
+    assert simulate.tilted_trajectory(t, q_base, axis, 0.0).q_wb.tolist() == Trajectory(t, q_base).q_wb.tolist()
+
+
+def test_tilted_trajectory_checks_its_inputs():
+    t = np.arange(10) * 0.01
+    q = np.tile([1.0, 0.0, 0.0, 0.0], (10, 1))
+    with pytest.raises(ValueError, match="must match time_s"):
+        simulate.tilted_trajectory(t, q, np.zeros((9, 3)), 0.1)
+    with pytest.raises(ValueError, match="gain must be finite"):
+        simulate.tilted_trajectory(t, q, np.zeros((10, 3)), np.nan)
+    with pytest.raises(ValueError, match="q_base"):
+        simulate.tilted_trajectory(t, 2.0 * q, np.zeros((10, 3)), 0.1)

@@ -36,7 +36,7 @@ import numpy as np
 from mtcal.core import rotations
 from mtcal.core.profiles import AngleProfile
 from mtcal.core.rotations import mount_quaternion
-from mtcal.core.simulate import Trajectory, _tilted_trajectory
+from mtcal.core.simulate import Trajectory, tilted_trajectory
 from mtcal.core.sensor_grades import GRADES, sensor_spec
 from mtcal.core.sensors import SensorSpec
 from mtcal.core.units import ARCSEC, DEG, DEG_H, UG
@@ -321,7 +321,7 @@ def _compliant(time_s, base: _ComplianceBase, compliance_rad_per_g: float) -> Tr
     if compliance_rad_per_g == 0.0:
         return Trajectory(time_s, base.q_wb)
     # Trajectory(time_s, hamilton(q_wb, quat_from_rotvec(k · lateral))) with its truth outputs, one compiled pass
-    return _tilted_trajectory(time_s, base.q_wb, base.lateral, compliance_rad_per_g)
+    return tilted_trajectory(time_s, base.q_wb, base.lateral, compliance_rad_per_g)
 
 
 def mechanism_actual(sc: WindTunnelScenario, prof: AngleProfile, rate_rad_s: float) -> np.ndarray:
