@@ -177,6 +177,7 @@ def test_threaded_pieces_and_draws_give_the_same_numbers_for_any_thread_count(fa
         assert runs._workers() == 1
         serial = produce()
         numba.set_num_threads(min(2, numba.config.NUMBA_NUM_THREADS))
+        assert runs._workers() == numba.get_num_threads() or numba.threading_layer() == "workqueue"
         threaded = produce()
     finally:
         numba.set_num_threads(before)

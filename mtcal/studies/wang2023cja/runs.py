@@ -224,8 +224,22 @@ def _draws(rng, trials: int, k: int, sigma: float, on: bool) -> np.ndarray:
 
 
 def _workers() -> int:
-    """Threads of the per-piece work: numba's thread count (``NUMBA_NUM_THREADS``, ``numba.set_num_threads``)."""
-    return max(1, int(numba.get_num_threads()))
+    """Threads of the per-piece work: numba's thread count (``NUMBA_NUM_THREADS``, ``numba.set_num_threads``).
+
+    One thread unless numba's threading layer takes parallel kernels launched from several threads
+    at once (``omp``, ``tbb``; ``workqueue`` would abort the process).
+    """
+    n = int(numba.get_num_threads())
+    if n < 2:
+        return 1
+    try:
+        from numba.np.ufunc.parallel import _launch_threads   # starts (once) the layer a parallel kernel uses
+
+        _launch_threads()
+        layer = numba.threading_layer()
+    except Exception:                                          # noqa: BLE001 - no usable layer: stay serial
+        return 1
+    return n if layer in ("omp", "tbb") else 1
 
 
 def _map(fn, items: list) -> list:
