@@ -273,3 +273,35 @@ def euler_zxy_before_after(q, q_mat, ref, lock_sin, before, after, err_before, e
                 else:
                     err_after[t, i, k - 3] = r - np.pi
     return bad
+
+
+@jit
+def pitch_after(q, q_mat, lock_sin, out):  # pragma: no cover - compiled
+    """Eq 8 pitch of ``_apply(q_mat, q)`` for (T, N, 4) ``q`` and (T, 4, 4) ``q_mat``, into ``out`` (T, N).
+
+    The operations of the sign alignment, ``q @ q_matᵀ`` (index order), ``normalize2`` and
+    ``euler_zxy_unchecked``'s ``arcsin`` of the clipped argument. Returns the number of rows left
+    unset for the caller (norm below 1e-12, or |sin pitch| above ``lock_sin``: the half-angle form).
+    """
+    bad = 0
+    for t in range(q.shape[0]):
+        m = q_mat[t]
+        for i in range(q.shape[1]):
+            q0, q1, q2, q3 = q[t, i, 0], q[t, i, 1], q[t, i, 2], q[t, i, 3]
+            if q0 < 0.0:
+                q0, q1, q2, q3 = -q0, -q1, -q2, -q3
+            b0 = ((q0 * m[0, 0] + q1 * m[0, 1]) + q2 * m[0, 2]) + q3 * m[0, 3]
+            b1 = ((q0 * m[1, 0] + q1 * m[1, 1]) + q2 * m[1, 2]) + q3 * m[1, 3]
+            b2 = ((q0 * m[2, 0] + q1 * m[2, 1]) + q2 * m[2, 2]) + q3 * m[2, 3]
+            b3 = ((q0 * m[3, 0] + q1 * m[3, 1]) + q2 * m[3, 2]) + q3 * m[3, 3]
+            n = np.sqrt(b0 * b0 + b1 * b1 + b2 * b2 + b3 * b3)
+            if n < 1e-12:
+                bad += 1
+                continue
+            b0, b1, b2, b3 = b0 / n, b1 / n, b2 / n, b3 / n
+            sp = min(max(2.0 * (b2 * b3 + b0 * b1), -1.0), 1.0)
+            if abs(sp) > lock_sin:
+                bad += 1
+                continue
+            out[t, i] = np.arcsin(sp)
+    return bad

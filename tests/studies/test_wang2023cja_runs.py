@@ -185,3 +185,27 @@ def test_threaded_pieces_and_draws_give_the_same_numbers_for_any_thread_count(fa
         assert sorted(a) == sorted(b)
         assert [k for k in a if not np.array_equal(a[k], b[k], equal_nan=a[k].dtype.kind == "f")] == []
 
+
+
+def test_compiled_pitch_and_sweep_angles_equal_the_expressions():
+    from mtcal.methods import quaternion_lsq
+    from mtcal.studies.wang2023cja import runs
+
+    rng = np.random.default_rng(11)
+    q = rotations.quat_normalize(np.array([1.0, 0.1, -0.05, 0.02]) + 0.2 * rng.normal(size=(3, 1500, 4)))
+    q[:, ::7] *= -1.0                                                     # both signs of q0
+    q_mat = np.eye(4) + 2e-3 * rng.normal(size=(3, 4, 4))
+    ref = 0.3 * rng.normal(size=(1500, 3))
+    after = runs._euler(quaternion_lsq.apply_error_matrix(q_mat, q))
+    assert np.array_equal(runs._pitch_after(q_mat, q), after[..., 1])
+    before_k, after_k, errs = runs._before_after(q, q_mat, ref)
+    before = runs._euler(q)
+    assert np.array_equal(before_k, before) and np.array_equal(after_k, after)
+    from mtcal.core import metrics
+
+    assert np.array_equal(errs["before"], metrics.angle_difference(before, ref))
+    assert np.array_equal(errs["after"], metrics.angle_difference(after, ref))
+    bad = q_mat.copy()
+    bad[1, 0, 0] = np.nan
+    with pytest.raises(FloatingPointError, match="not finite"):
+        runs._pitch_after(bad, q)

@@ -487,6 +487,24 @@ def _before_after(q_s, q_mat, ref) -> tuple[np.ndarray, np.ndarray, dict]:
                            "after": metrics.angle_difference(after, ref)}
 
 
+def _pitch_after(q_mat, q_s) -> np.ndarray:
+    """``_euler(apply_error_matrix(q_mat, q_s))[..., 1]`` (T, n): a large float64 input in one compiled pass
+    computing the pitch only (the same operations, bit-identical); near gimbal lock or with a
+    non-finite matrix, the expression itself."""
+    q_mat = np.asarray(q_mat, float)
+    if (q_s.dtype == np.float64 and q_s.ndim == 3 and q_s.shape[0] * q_s.shape[1] >= rotations._KERNEL_MIN_ROWS
+            and q_mat.shape == (q_s.shape[0], 4, 4) and np.isfinite(q_mat).all()):
+        from mtcal.core._rotation_kernels import pitch_after
+
+        out = np.empty(q_s.shape[:-1])
+        if pitch_after(q_s, np.ascontiguousarray(q_mat), rotations._LOCK_SIN, out) == 0:
+            if not np.isfinite(out).all():
+                raise FloatingPointError("Eq 8 angles are not finite: a calibration matrix or attitude of this run "
+                                         "is NaN/inf")
+            return out
+    return _euler(quaternion_lsq.apply_error_matrix(q_mat, q_s))[..., 1]
+
+
 def _evaluate_sweeps(sc, prof, spans, q_s, q_mat, frac, rng, keep_trace, ref_errors_on, shared=None):
     """Hold means (with a turntable angle error per hold) and MaxAE/RMSE of the coupled channels.
 
@@ -746,8 +764,7 @@ def _wind_on_groups(sc, model, q_mat, rng, trials, trace, k_mount, keep_trace):
         holds = _shared_holds(prof, span, 0.5)[1:-1]
         q_g = q_s[sl]
         for j, h in enumerate(holds):
-            after = _euler(quaternion_lsq.apply_error_matrix(q_rep[sl], q_g[:, h]))
-            means[g, :, j] = after[..., 1].mean(axis=1)
+            means[g, :, j] = _pitch_after(q_rep[sl], q_g[:, h]).mean(axis=1)
         if not keep_trace:
             continue
         if g == 0:
