@@ -188,7 +188,7 @@ def wrap_difference3(e, t, out):  # pragma: no cover - compiled
         for j in range(out.shape[1]):
             for k in range(out.shape[2]):
                 x = (e[i, j, k] - t[i, j, k]) + np.pi
-                m = np.fmod(x, two_pi)
+                m = x if 0.0 <= x < two_pi else np.fmod(x, two_pi)   # fmod(x, b) is x itself there
                 if m != 0.0:
                     if m < 0.0:
                         m += two_pi
@@ -214,3 +214,94 @@ def conjugate2(q, out):  # pragma: no cover - compiled
         out[i, 0] = q[i, 0]
         for c in range(1, 4):
             out[i, c] = q[i, c] * -1.0
+
+
+@jit
+def euler_zxy_before_after(q, q_mat, ref, lock_sin, before, after, err_before, err_after):  # pragma: no cover
+    """Eq 8 angles of ``q`` (T, N, 4) before and after Eq 10 with ``q_mat`` (T, 4, 4), and their errors from ``ref``.
+
+    One pass with the operations of ``euler_zxy_unchecked(q)``, ``euler_zxy_unchecked(_apply(q_mat, q))``
+    (sign alignment, ``q @ q_matᵀ`` summed in index order, ``normalize2``) and ``wrap_difference3``
+    against ``ref`` (N, 3). Returns the number of rows that need the caller's care (|sin pitch| above
+    ``lock_sin``: the half-angle form; or a norm below 1e-12); those rows are left unset.
+    """
+    two_pi = 2.0 * np.pi
+    bad = 0
+    for t in range(q.shape[0]):
+        m = q_mat[t]
+        for i in range(q.shape[1]):
+            q0, q1, q2, q3 = q[t, i, 0], q[t, i, 1], q[t, i, 2], q[t, i, 3]
+            s00, s11, s22, s33 = q0 * q0, q1 * q1, q2 * q2, q3 * q3
+            sp = min(max(2.0 * (q2 * q3 + q0 * q1), -1.0), 1.0)
+            if abs(sp) > lock_sin:
+                bad += 1
+                continue
+            e0 = np.arctan2(-2.0 * (q1 * q2 - q0 * q3), s00 - s11 + s22 - s33)
+            e1 = np.arcsin(sp)
+            e2 = np.arctan2(-2.0 * (q1 * q3 - q0 * q2), s00 - s11 - s22 + s33)
+            if q0 < 0.0:
+                q0, q1, q2, q3 = -q0, -q1, -q2, -q3
+            b0 = ((q0 * m[0, 0] + q1 * m[0, 1]) + q2 * m[0, 2]) + q3 * m[0, 3]
+            b1 = ((q0 * m[1, 0] + q1 * m[1, 1]) + q2 * m[1, 2]) + q3 * m[1, 3]
+            b2 = ((q0 * m[2, 0] + q1 * m[2, 1]) + q2 * m[2, 2]) + q3 * m[2, 3]
+            b3 = ((q0 * m[3, 0] + q1 * m[3, 1]) + q2 * m[3, 2]) + q3 * m[3, 3]
+            n = np.sqrt(b0 * b0 + b1 * b1 + b2 * b2 + b3 * b3)
+            if n < 1e-12:
+                bad += 1
+                continue
+            b0, b1, b2, b3 = b0 / n, b1 / n, b2 / n, b3 / n
+            s00, s11, s22, s33 = b0 * b0, b1 * b1, b2 * b2, b3 * b3
+            spa = min(max(2.0 * (b2 * b3 + b0 * b1), -1.0), 1.0)
+            if abs(spa) > lock_sin:
+                bad += 1
+                continue
+            a0 = np.arctan2(-2.0 * (b1 * b2 - b0 * b3), s00 - s11 + s22 - s33)
+            a1 = np.arcsin(spa)
+            a2 = np.arctan2(-2.0 * (b1 * b3 - b0 * b2), s00 - s11 - s22 + s33)
+            before[t, i, 0], before[t, i, 1], before[t, i, 2] = e0, e1, e2
+            after[t, i, 0], after[t, i, 1], after[t, i, 2] = a0, a1, a2
+            for k in range(6):
+                x = ((before[t, i, k] if k < 3 else after[t, i, k - 3]) - ref[i, k % 3]) + np.pi
+                r = x if 0.0 <= x < two_pi else np.fmod(x, two_pi)   # fmod(x, b) is x itself there
+                if r != 0.0:
+                    if r < 0.0:
+                        r += two_pi
+                else:
+                    r = 0.0
+                if k < 3:
+                    err_before[t, i, k] = r - np.pi
+                else:
+                    err_after[t, i, k - 3] = r - np.pi
+    return bad
+
+
+@jit
+def pitch_after(q, q_mat, lock_sin, out):  # pragma: no cover - compiled
+    """Eq 8 pitch of ``_apply(q_mat, q)`` for (T, N, 4) ``q`` and (T, 4, 4) ``q_mat``, into ``out`` (T, N).
+
+    The operations of the sign alignment, ``q @ q_matᵀ`` (index order), ``normalize2`` and
+    ``euler_zxy_unchecked``'s ``arcsin`` of the clipped argument. Returns the number of rows left
+    unset for the caller (norm below 1e-12, or |sin pitch| above ``lock_sin``: the half-angle form).
+    """
+    bad = 0
+    for t in range(q.shape[0]):
+        m = q_mat[t]
+        for i in range(q.shape[1]):
+            q0, q1, q2, q3 = q[t, i, 0], q[t, i, 1], q[t, i, 2], q[t, i, 3]
+            if q0 < 0.0:
+                q0, q1, q2, q3 = -q0, -q1, -q2, -q3
+            b0 = ((q0 * m[0, 0] + q1 * m[0, 1]) + q2 * m[0, 2]) + q3 * m[0, 3]
+            b1 = ((q0 * m[1, 0] + q1 * m[1, 1]) + q2 * m[1, 2]) + q3 * m[1, 3]
+            b2 = ((q0 * m[2, 0] + q1 * m[2, 1]) + q2 * m[2, 2]) + q3 * m[2, 3]
+            b3 = ((q0 * m[3, 0] + q1 * m[3, 1]) + q2 * m[3, 2]) + q3 * m[3, 3]
+            n = np.sqrt(b0 * b0 + b1 * b1 + b2 * b2 + b3 * b3)
+            if n < 1e-12:
+                bad += 1
+                continue
+            b0, b1, b2, b3 = b0 / n, b1 / n, b2 / n, b3 / n
+            sp = min(max(2.0 * (b2 * b3 + b0 * b1), -1.0), 1.0)
+            if abs(sp) > lock_sin:
+                bad += 1
+                continue
+            out[t, i] = np.arcsin(sp)
+    return bad

@@ -654,11 +654,15 @@ def installation_angles_from_mount(q_bs) -> np.ndarray:
     return installation_angles(np.swapaxes(quat_to_matrix(q), -1, -2))
 
 
-def relative_to_initial(q_est: np.ndarray, n0: int = 1, *, out: np.ndarray | None = None) -> np.ndarray:
+def relative_to_initial(q_est: np.ndarray, n0: int = 1, *, out: np.ndarray | None = None,
+                        start: int = 0) -> np.ndarray:
     """Zero the attitude at the start: ``q_est(0)⁻¹ ⊗ q_est(t)`` (§4.1 initial angles 0°), (T, N, 4).
 
     ``q_est(0)`` is the normalised mean of the first ``n0`` samples. ``out`` (float64, shape of
     ``q_est``, may be ``q_est`` itself: in place) receives the result instead of a new array.
+    ``start`` (with ``out``): only samples ``start:`` are written (each sample's product does not
+    depend on the others); the earlier samples of ``out`` are left as they are — with
+    ``out=q_est`` a session keeps its first part as logged and zeroes the rest, without a copy.
 
     Examples
     --------
@@ -666,7 +670,12 @@ def relative_to_initial(q_est: np.ndarray, n0: int = 1, *, out: np.ndarray | Non
     >>> q = np.array([[[0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0]]])
     >>> relative_to_initial(q)[0].tolist()
     [[1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, -1.0]]
+    >>> relative_to_initial(q.copy(), out=q, start=1)[0].tolist()     # sample 0 kept as logged
+    [[0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 0.0, -1.0]]
     """
+    start = int(start)
+    if start < 0 or start >= max(q_est.shape[-2], 1) or (start and out is None):
+        raise ValueError(f"start must be in [0, {q_est.shape[-2]}) and needs out=, got start={start}")
     q0 = q_est[:, :n0].mean(axis=1)
     q0 /= np.linalg.norm(q0, axis=-1, keepdims=True)
     p = quat_conjugate(q0)[:, None, :]
@@ -674,8 +683,9 @@ def relative_to_initial(q_est: np.ndarray, n0: int = 1, *, out: np.ndarray | Non
         return hamilton(p, q_est)
     if out.shape != q_est.shape or out.dtype != np.float64:
         raise ValueError(f"out must be a float64 array of shape {q_est.shape}, got {out.dtype} {out.shape}")
+    src, dst = q_est[:, start:], out[:, start:]
     if q_est.ndim == 3 and q_est.dtype == np.float64:
-        _kernels().hamilton3(np.broadcast_to(p, q_est.shape), q_est, out)   # element by element: may alias
+        _kernels().hamilton3(np.broadcast_to(p, src.shape), src, dst)   # element by element: may alias
     else:
-        out[...] = hamilton(p, q_est)
+        dst[...] = hamilton(p, src)
     return out

@@ -81,7 +81,8 @@ from mtcal.core.validate import (STANDARD_GRAVITY_M_S2, as_float_array, positive
                              positive_scalar, time_vector, unit_quaternion)
 
 __all__ = ["Trajectory", "SensorErrors", "ImuErrorModel", "ImuRecord", "ImuStream", "body_rates",
-           "specific_force", "simulate_imu", "apply_sensor_errors", "integrate_gyro", "GRAVITY_W_M_S2"]
+           "specific_force", "simulate_imu", "apply_sensor_errors", "integrate_gyro", "tilted_trajectory",
+           "GRAVITY_W_M_S2"]
 
 #: Default world gravity vector, z-up frame (m/s²).
 GRAVITY_W_M_S2 = (0.0, 0.0, -STANDARD_GRAVITY_M_S2)
@@ -258,6 +259,134 @@ def _truth_outputs(trajectory: Trajectory, gravity_w_m_s2) -> tuple[np.ndarray, 
     if memo.get("gravity") != key:
         memo["force"], memo["gravity"] = _frozen(specific_force(trajectory, g)), key
     return memo["rates"], memo["force"]
+
+
+@jit
+def _tilted_truth_kernel(q_base, axis, gain, time_s, v, q_out, rates, force):  # pragma: no cover - compiled
+    """One pass per output of :func:`tilted_trajectory`, with the operations of the expressions it replaces.
+
+    ``q_out = continuous(q_base ⊗ quat_from_rotvec(gain · axis))`` (``rotvec_angle``, sin/cos of the
+    half angle, ``quat_from_rotvec_finish``, ``hamilton3``, ``continuous3``; a row whose axis equals
+    the previous one reuses its rotation quaternion: equal inputs, equal outputs), then
+    :func:`body_rates` (``_relative_rotations``, ``2·atan2``, ``_rates_finish``) and
+    :func:`specific_force` (``_specific_force_kernel`` with ``v = accel_w − g``).
+    """
+    n = q_base.shape[0]
+    r0 = r1 = r2 = 0.0
+    c = x = y = z = 0.0
+    a0 = a1 = a2 = a3 = 0.0
+    flip = False
+    for i in range(n):
+        if i == 0 or not (axis[i, 0] == axis[i - 1, 0] and axis[i, 1] == axis[i - 1, 1]
+                          and axis[i, 2] == axis[i - 1, 2]):
+            r0, r1, r2 = gain * axis[i, 0], gain * axis[i, 1], gain * axis[i, 2]
+            ang = np.sqrt(r0 * r0 + r1 * r1 + r2 * r2)
+            half = 0.5 * ang
+            k = 0.5 - ang * ang / 48.0 if ang < 1e-8 else np.sin(half) / ang
+            c, x, y, z = np.cos(half), k * r0, k * r1, k * r2
+        p0, p1, p2, p3 = q_base[i, 0], q_base[i, 1], q_base[i, 2], q_base[i, 3]
+        b0 = p0 * c - p1 * x - p2 * y - p3 * z
+        b1 = p0 * x + p1 * c + p2 * z - p3 * y
+        b2 = p0 * y - p1 * z + p2 * c + p3 * x
+        b3 = p0 * z + p1 * y - p2 * x + p3 * c
+        if i > 0 and b0 * a0 + b1 * a1 + b2 * a2 + b3 * a3 < 0.0:
+            flip = not flip
+        a0, a1, a2, a3 = b0, b1, b2, b3
+        if flip:
+            q_out[i, 0], q_out[i, 1], q_out[i, 2], q_out[i, 3] = -b0, -b1, -b2, -b3
+        else:
+            q_out[i, 0], q_out[i, 1], q_out[i, 2], q_out[i, 3] = b0, b1, b2, b3
+    for i in range(n - 1):
+        p0, p1, p2, p3 = q_out[i, 0], q_out[i, 1] * -1.0, q_out[i, 2] * -1.0, q_out[i, 3] * -1.0
+        q0, q1, q2, q3 = q_out[i + 1, 0], q_out[i + 1, 1], q_out[i + 1, 2], q_out[i + 1, 3]
+        d0 = p0 * q0 - p1 * q1 - p2 * q2 - p3 * q3
+        d1 = p0 * q1 + p1 * q0 + p2 * q3 - p3 * q2
+        d2 = p0 * q2 - p1 * q3 + p2 * q0 + p3 * q1
+        d3 = p0 * q3 + p1 * q2 - p2 * q1 + p3 * q0
+        nn = np.sqrt(d0 * d0 + d1 * d1 + d2 * d2 + d3 * d3)
+        d0, d1, d2, d3 = d0 / nn, d1 / nn, d2 / nn, d3 / nn
+        if d0 < 0.0:
+            d0, d1, d2, d3 = -d0, -d1, -d2, -d3
+        vn = np.sqrt(d1 * d1 + d2 * d2 + d3 * d3)
+        k = 2.0 if vn < 1e-12 else (2.0 * np.arctan2(vn, d0)) / vn
+        dt = time_s[i + 1] - time_s[i]
+        rates[i, 0] = (k * d1) / dt
+        rates[i, 1] = (k * d2) / dt
+        rates[i, 2] = (k * d3) / dt
+    for j in range(3):
+        rates[n - 1, j] = rates[n - 2, j]
+    v0, v1, v2 = v[0], v[1], v[2]
+    for i in range(n):
+        c00, c10, c20, c01, c11, c21, c02, c12, c22 = _rotation_kernels.dcm_entries(q_out[i, 0], q_out[i, 1],
+                                                                                   q_out[i, 2], q_out[i, 3])
+        force[i, 0] = ((0.0 + c00 * v0) + c10 * v1) + c20 * v2
+        force[i, 1] = ((0.0 + c01 * v0) + c11 * v1) + c21 * v2
+        force[i, 2] = ((0.0 + c02 * v0) + c12 * v1) + c22 * v2
+
+
+def tilted_trajectory(time_s, q_base, axis, gain: float, gravity_w_m_s2=GRAVITY_W_M_S2) -> Trajectory:
+    """A base attitude tilted by ``gain · axis(t)``, with its truth outputs computed in one pass.
+
+    ``Trajectory(time_s, hamilton(q_base, quat_from_rotvec(gain · axis)))`` — e.g. a compliant
+    mount that tilts by ``gain`` rad per unit of a load direction ``axis`` — whose :func:`body_rates`
+    and :func:`specific_force` (no translation, ``gravity_w_m_s2``) are computed in the same
+    compiled pass and kept on the returned Trajectory (:func:`simulate_imu` reuses them). The
+    numbers are those of the expressions, bit for bit (a sample whose axis equals the previous
+    one reuses its rotation quaternion). A Monte Carlo whose trials differ only in ``gain`` shares
+    ``q_base`` and ``axis``.
+
+    Parameters
+    ----------
+    time_s : array_like, shape (N,)
+        Uniformly sampled, strictly increasing time (s).
+    q_base : array_like, shape (N, 4)
+        Scalar-first unit quaternions of the untilted body attitude (body → world).
+    axis : array_like, shape (N, 3)
+        Tilt direction and size per unit gain, body axes (rad per unit gain).
+    gain : float
+        Tilt gain (0: the base attitude itself).
+    gravity_w_m_s2 : 3-vector
+        World gravity (m/s²) of the specific force kept on the trajectory.
+
+    Returns
+    -------
+    Trajectory
+
+    References
+    ----------
+    wang2023cja §4.1 (compliant gasket mounts tilt with the lateral load).
+
+    Examples
+    --------
+    >>> t = np.arange(5000) * 1e-3
+    >>> q = np.tile([1.0, 0.0, 0.0, 0.0], (t.size, 1))
+    >>> axis = np.tile([0.0, 1.0, 0.0], (t.size, 1))
+    >>> traj = tilted_trajectory(t, q, axis, 0.01)
+    >>> bool(np.allclose(traj.q_wb[0], [np.cos(0.005), 0.0, np.sin(0.005), 0.0]))
+    True
+    """
+    t = time_vector(time_s)
+    q = unit_quaternion(q_base, "q_base", copy=False)
+    ax = as_float_array(axis, "axis", ndim=2, last_dim=3)
+    if q.ndim != 2 or q.shape[0] != t.size or ax.shape[0] != t.size:
+        raise ValueError(f"q_base (N, 4) and axis (N, 3) must match time_s (N = {t.size}), "
+                         f"got {q.shape} and {ax.shape}")
+    gain = float(gain)
+    if not np.isfinite(gain):
+        raise ValueError(f"gain must be finite, got {gain}")
+    n = t.size
+    if n - 1 < max(rotations._KERNEL_MIN_ROWS, 1) or gain == 0.0:
+        return Trajectory(t, q if gain == 0.0 else rotations.hamilton(q, rotations.quat_from_rotvec(gain * ax)))
+    g = as_float_array(gravity_w_m_s2, "gravity_w_m_s2", ndim=1, last_dim=3)
+    uniform_dt(t)
+    q_out, rates, force = np.empty((n, 4)), np.empty((n, 3)), np.empty((n, 3))
+    _tilted_truth_kernel(q, ax, gain, t, 0.0 - g, q_out, rates, force)
+    traj = object.__new__(Trajectory)
+    object.__setattr__(traj, "time_s", t if not t.flags.writeable else _frozen(t.copy()))
+    object.__setattr__(traj, "q_wb", _frozen(q_out))
+    object.__setattr__(traj, "accel_w_m_s2", _frozen(np.zeros((n, 3))))
+    object.__setattr__(traj, "_truth", {"rates": _frozen(rates), "force": _frozen(force), "gravity": g.tobytes()})
+    return traj
 
 
 def integrate_gyro(q0, gyro_rad_s, dt_s: float) -> np.ndarray:
@@ -880,7 +1009,7 @@ class ImuStream:
             raise ValueError(f"trajectory has {len(trajectory)} samples; the counter allows at most 2**33")
         engine = _check_engine(engine)
         q_bs = np.asarray(model.q_mount, dtype=float)
-        self.q_ws = rotations.hamilton(trajectory.q_wb, q_bs)   # both checked (Trajectory, ImuErrorModel)
+        self._q_bs, self._q_ws = q_bs, None
         c_sb = rotations.quat_to_matrix(q_bs).T
         rates, force = _truth_outputs(trajectory, gravity_w_m_s2)
         self.gyro_true = rates @ c_sb.T
@@ -890,6 +1019,48 @@ class ImuStream:
         self._gyro = _SensorStream(model.gyro, key, 0, ids, dt, t_on, block, engine)
         self._accel = _SensorStream(model.accel, key, 1, ids, dt, t_on, block, engine)
         self._next = 0
+
+    @property
+    def q_ws(self) -> np.ndarray:
+        """True sensor attitude (N, 4) ``q_wb ⊗ q_bs``, computed on first use."""
+        if self._q_ws is None:
+            self._q_ws = rotations.hamilton(self.trajectory.q_wb, self._q_bs)   # both checked on construction
+        return self._q_ws
+
+    def fill(self, gyro_out: np.ndarray, accel_out: np.ndarray) -> None:
+        """Write the whole record's measurements into ``gyro_out`` and ``accel_out`` (no :class:`ImuRecord`).
+
+        The numbers are :func:`simulate_imu`'s ``gyro_rad_s`` and ``accel_m_s2`` for the same
+        arguments, bit for bit; a Monte Carlo that stacks trials into a preallocated buffer fills its
+        slice directly (no per-call arrays, no copy, no truth attitude).
+
+        Parameters
+        ----------
+        gyro_out, accel_out : ndarray (T, N, 3)
+            C-contiguous float64, ``T`` = trials of this stream, ``N`` = trajectory samples
+            (rad/s and m/s²).
+
+        Examples
+        --------
+        >>> t = np.arange(0, 1, 0.01)
+        >>> stream = ImuStream(Trajectory(t, np.tile([1.0, 0, 0, 0], (t.size, 1))), trials=1)
+        >>> g, a = np.empty((1, t.size, 3)), np.empty((1, t.size, 3))
+        >>> stream.fill(g, a)
+        >>> a[0, 0].round(5).tolist()
+        [0.0, 0.0, 9.80665]
+        """
+        n = len(self.trajectory)
+        for name, arr in (("gyro_out", gyro_out), ("accel_out", accel_out)):
+            if (not isinstance(arr, np.ndarray) or arr.dtype != np.float64 or arr.shape != (self.trials, n, 3)
+                    or not arr.flags.c_contiguous or not arr.flags.writeable):
+                raise ValueError(f"{name} must be a writeable C-contiguous float64 array of shape "
+                                 f"{(self.trials, n, 3)}, got {getattr(arr, 'dtype', None)} {getattr(arr, 'shape', None)}")
+        if self._next != 0:
+            raise ValueError("fill() and chunks() can run once per ImuStream (the noise states advance)")
+        self._next = n
+        t = self.trajectory.time_s
+        self._gyro.process(self.gyro_true, t, 0, gyro_out)
+        self._accel.process(self.accel_true, t, 0, accel_out)
 
     def chunks(self, chunk_samples: int):
         """Yield consecutive :class:`ImuRecord` chunks of ``chunk_samples`` samples."""

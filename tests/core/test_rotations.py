@@ -327,3 +327,14 @@ def test_relative_to_initial_in_place(rng):
     assert np.array_equal(rotations.relative_to_initial(big, out=big), expected)
     with pytest.raises(ValueError, match=r"out must be a float64 array of shape \(3, 1000, 4\)"):
         rotations.relative_to_initial(q, out=np.empty((3, 999, 4)))
+
+
+def test_relative_to_initial_from_a_start_sample_keeps_the_earlier_ones():
+    rng = np.random.default_rng(0)
+    q = rotations.quat_normalize(rng.normal(size=(2, 50, 4)))
+    full = rotations.relative_to_initial(q)
+    part = q.copy()
+    rotations.relative_to_initial(part, out=part, start=20)
+    assert np.array_equal(part[:, :20], q[:, :20]) and np.array_equal(part[:, 20:], full[:, 20:])
+    with pytest.raises(ValueError, match="start must be"):
+        rotations.relative_to_initial(q, start=3)

@@ -435,3 +435,47 @@ def test_warmup_decay_reused_only_for_equal_time_samples():
     a = simulate.apply_sensor_errors(errs, np.zeros((3000, 3)), t, time_since_power_on_s=300.0)
     b = simulate.apply_sensor_errors(errs, np.zeros((3000, 3)), t, time_since_power_on_s=300.0, engine="numpy")
     assert a.tobytes() == b.tobytes()
+
+
+def test_stream_fill_writes_simulate_imus_numbers_into_given_arrays():
+    traj = _static(501, 100.0)
+    model = ImuErrorModel(gyro=_EVERY_SOURCE, accel=_EVERY_SOURCE, time_since_power_on_s=1.0)
+    rec = simulate.simulate_imu(traj, model, rng=np.random.default_rng(4), trials=3)
+    g, a = np.empty((3, 501, 3)), np.empty((3, 501, 3))
+    stream = simulate.ImuStream(traj, model, rng=np.random.default_rng(4), trials=3)
+    stream.fill(g, a)
+    assert np.array_equal(g, rec.gyro_rad_s) and np.array_equal(a, rec.accel_m_s2)
+    with pytest.raises(ValueError, match="once per ImuStream"):
+        stream.fill(g, a)
+    with pytest.raises(ValueError, match="accel_out must be a writeable C-contiguous float64"):
+        simulate.ImuStream(traj, model, rng=np.random.default_rng(4), trials=3).fill(g, a[:, ::2])
+
+
+def test_tilted_trajectory_is_the_expressions_bit_for_bit():
+    rng = np.random.default_rng(7)
+    n = 6000
+    t = np.arange(n) / 1000.0
+    angles = np.cumsum(rng.normal(size=(n, 3)) * 2e-3, axis=0)
+    angles[1000:3000] = angles[1000]                         # a rest: repeated axis rows reuse their rotation
+    q_base = rotations.quat_from_euler_zxy(angles[:, 0], angles[:, 1], angles[:, 2])
+    axis = np.cross([0.0, 0.0, 1.0], -rotations.quat_to_matrix(q_base)[:, 2, :])
+    for gain in (3e-3, -0.7):
+        fused = simulate.tilted_trajectory(t, q_base, axis, gain)
+        ref = Trajectory(t, rotations.hamilton(q_base, rotations.quat_from_rotvec(gain * axis)))
+        assert np.array_equal(fused.q_wb, ref.q_wb)
+        assert np.array_equal(simulate._truth_outputs(fused, simulate.GRAVITY_W_M_S2)[0], simulate.body_rates(ref))
+        assert np.array_equal(simulate._truth_outputs(fused, simulate.GRAVITY_W_M_S2)[1],
+                              simulate.specific_force(ref))
+        assert not fused.q_wb.flags.writeable and fused.dt_s == ref.dt_s
+    assert simulate.tilted_trajectory(t, q_base, axis, 0.0).q_wb.tolist() == Trajectory(t, q_base).q_wb.tolist()
+
+
+def test_tilted_trajectory_checks_its_inputs():
+    t = np.arange(10) * 0.01
+    q = np.tile([1.0, 0.0, 0.0, 0.0], (10, 1))
+    with pytest.raises(ValueError, match="must match time_s"):
+        simulate.tilted_trajectory(t, q, np.zeros((9, 3)), 0.1)
+    with pytest.raises(ValueError, match="gain must be finite"):
+        simulate.tilted_trajectory(t, q, np.zeros((10, 3)), np.nan)
+    with pytest.raises(ValueError, match="q_base"):
+        simulate.tilted_trajectory(t, 2.0 * q, np.zeros((10, 3)), 0.1)

@@ -140,3 +140,72 @@ def test_scenario_does_not_import_runs():
 
     assert "runs" not in imported(scenario) and "scenario" in imported(runs)
     assert w.identify_pitch_ratio is scenario.identify_pitch_ratio
+
+
+def _arrays(obj, prefix="", out=None):
+    from dataclasses import fields, is_dataclass
+
+    out = {} if out is None else out
+    if is_dataclass(obj):
+        for f in fields(obj):
+            _arrays(getattr(obj, f.name), f"{prefix}.{f.name}", out)
+    elif isinstance(obj, dict):
+        for k, v in obj.items():
+            _arrays(v, f"{prefix}.{k}", out)
+    elif obj is not None:
+        out[prefix] = np.asarray(obj)
+    return out
+
+
+def test_threaded_pieces_and_draws_give_the_same_numbers_for_any_thread_count(fast_sc):
+    import numba
+
+    from mtcal.studies.wang2023cja import predictive, runs
+
+    fit = w.fit_error_model(n_mc=200, seed=1)
+    sc = replace(fast_sc, errors=fit.model)
+
+    def produce():
+        tt = predictive.turntable_predictive(sc, fit, "prior", 3, 5, tests=("T1", "T3"))
+        wt = predictive.windtunnel_predictive(lambda m: w.windtunnel_scenario(errors=m, fs_hz=100.0), fit, "fitted",
+                                              3, 5, per_draw=1)
+        return _arrays(tt, "tt"), _arrays(wt, "wt")
+
+    before = numba.get_num_threads()
+    try:
+        numba.set_num_threads(1)
+        assert runs._workers() == 1
+        serial = produce()
+        numba.set_num_threads(min(2, numba.config.NUMBA_NUM_THREADS))
+        assert runs._workers() == numba.get_num_threads() or numba.threading_layer() == "workqueue"
+        threaded = produce()
+    finally:
+        numba.set_num_threads(before)
+    for a, b in zip(serial, threaded):
+        assert sorted(a) == sorted(b)
+        assert [k for k in a if not np.array_equal(a[k], b[k], equal_nan=a[k].dtype.kind == "f")] == []
+
+
+
+def test_compiled_pitch_and_sweep_angles_equal_the_expressions():
+    from mtcal.methods import quaternion_lsq
+    from mtcal.studies.wang2023cja import runs
+
+    rng = np.random.default_rng(11)
+    q = rotations.quat_normalize(np.array([1.0, 0.1, -0.05, 0.02]) + 0.2 * rng.normal(size=(3, 1500, 4)))
+    q[:, ::7] *= -1.0                                                     # both signs of q0
+    q_mat = np.eye(4) + 2e-3 * rng.normal(size=(3, 4, 4))
+    ref = 0.3 * rng.normal(size=(1500, 3))
+    after = runs._euler(quaternion_lsq.apply_error_matrix(q_mat, q))
+    assert np.array_equal(runs._pitch_after(q_mat, q), after[..., 1])
+    before_k, after_k, errs = runs._before_after(q, q_mat, ref)
+    before = runs._euler(q)
+    assert np.array_equal(before_k, before) and np.array_equal(after_k, after)
+    from mtcal.core import metrics
+
+    assert np.array_equal(errs["before"], metrics.angle_difference(before, ref))
+    assert np.array_equal(errs["after"], metrics.angle_difference(after, ref))
+    bad = q_mat.copy()
+    bad[1, 0, 0] = np.nan
+    with pytest.raises(FloatingPointError, match="not finite"):
+        runs._pitch_after(bad, q)

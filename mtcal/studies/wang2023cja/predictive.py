@@ -35,7 +35,7 @@ import numpy as np
 from mtcal.core.rng import stream_rng
 from mtcal.reporting import leak
 from .error_model import FITTED_PARAMETERS, PRIOR_RANGES, TABLES_1_TO_4, ErrorModel, ErrorModelFit
-from .runs import TurntableJob, run_turntable_jobs, run_windtunnel
+from .runs import TurntableJob, _map, run_turntable_jobs, run_windtunnel
 
 __all__ = ["ALPHA_PRIOR_SIGMA_DEG", "KINDS", "posterior_draws", "prior_draws", "turntable_predictive",
            "windtunnel_predictive", "quantile_se", "LEAK_SIZES", "fit_and_predict"]
@@ -171,10 +171,12 @@ def windtunnel_predictive(make_scenario, fit: ErrorModelFit, kind: str, trials: 
     n_draws = -(-int(trials) // per_draw)
     draws = _draws(kind, fit, n_draws, seed)
     rngs = np.random.default_rng(np.random.SeedSequence([int(seed), 11])).spawn(n_draws)
-    runs = []
-    for k, ((m, _), r) in enumerate(zip(draws, rngs)):
-        n = min(per_draw, int(trials) - k * per_draw)
-        runs.append(run_windtunnel(make_scenario(m), r, n, block=per_draw))
+
+    def one(k):       # each draw its own generator and scenario: the same numbers for any thread count
+        return run_windtunnel(make_scenario(draws[k][0]), rngs[k], min(per_draw, int(trials) - k * per_draw),
+                              block=per_draw, keep_trace=(k == 0))   # only the first run's trace is kept
+
+    runs = _map(one, list(range(n_draws)))
     cat = lambda xs: np.concatenate(xs, axis=0)  # noqa: E731
     first = runs[0]
     first.q_matrix = cat([r.q_matrix for r in runs])

@@ -21,7 +21,10 @@ wang2023cja §3.2 (procedure), §4.1 (turntable T1–T4), §4.2 (wind tunnel), E
 
 from __future__ import annotations
 
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, replace
+
+import numba
 
 import numpy as np
 
@@ -30,7 +33,7 @@ from mtcal.core.montecarlo import progress
 from mtcal.core import metrics, rotations
 from mtcal.core.profiles import AngleProfile, step_schedule
 from mtcal.core.rotations import mount_quaternion, relative_to_initial
-from mtcal.core.simulate import simulate_imu
+from mtcal.core.simulate import ImuStream, simulate_imu
 from mtcal.core.units import DEG, MG
 from mtcal.filters.qncf import qncf
 from mtcal.methods import quaternion_lsq, six_position
@@ -220,55 +223,93 @@ def _draws(rng, trials: int, k: int, sigma: float, on: bool) -> np.ndarray:
     return e if on else np.zeros_like(e)
 
 
+def _workers() -> int:
+    """Threads of the per-piece work: numba's thread count (``NUMBA_NUM_THREADS``, ``numba.set_num_threads``).
+
+    One thread unless numba's threading layer takes parallel kernels launched from several threads
+    at once (``omp``, ``tbb``; ``workqueue`` would abort the process).
+    """
+    n = int(numba.get_num_threads())
+    if n < 2:
+        return 1
+    try:
+        from numba.np.ufunc.parallel import _launch_threads   # starts (once) the layer a parallel kernel uses
+
+        _launch_threads()
+        layer = numba.threading_layer()
+    except Exception:                                          # noqa: BLE001 - no usable layer: stay serial
+        return 1
+    return n if layer in ("omp", "tbb") else 1
+
+
+def _map(fn, items: list) -> list:
+    """``[fn(x) for x in items]``, the items spread over :func:`_workers` threads, results in item order.
+
+    Every item owns its generator and writes only its own slice of the shared buffers, and the
+    compiled kernels release the GIL: the numbers do not depend on the thread count.
+    """
+    n = min(_workers(), len(items))
+    if n < 2:
+        return [fn(x) for x in items]
+    with ThreadPoolExecutor(n) as pool:
+        return list(pool.map(fn, items))
+
+
 def _run_pieces(sc: TurntableScenario, prof: AngleProfile, spans: dict, pieces: list, with_sweeps: bool,
                 keep_trace: bool, base: _ComplianceBase, buffers: dict) -> list[TurntableRun]:
     """Simulate every piece ``(test, sources, rng, trials, fraction)``, run ONE stacked QNCF, finish each.
 
     The QNCF cost is dominated by its loop over time, so stacking the pieces along the trial
-    axis costs about one run; each piece keeps its own generator. The pieces are stacked into
-    ``buffers`` (reused by every call of a run: no fresh 100 MB arrays per call), which also keeps
-    the profile's hold windows.
+    axis costs about one run; each piece keeps its own generator. The pieces are simulated
+    straight into ``buffers`` (reused by every call of a run: no fresh 100 MB arrays per call),
+    which also keeps the profile's hold windows. Pieces are simulated and finished on
+    :func:`_workers` threads (each its own generator and slice: the same numbers for any count).
     """
     total = sum(p[3] for p in pieces)
     if buffers.get("gyro") is None or buffers["gyro"].shape[0] < total:
         buffers["gyro"] = np.empty((total, prof.time_s.size, 3))
         buffers["accel"] = np.empty((total, prof.time_s.size, 3))
-    gyro, accel, rngs, start = buffers["gyro"][:total], buffers["accel"][:total], [], 0
+    gyro, accel = buffers["gyro"][:total], buffers["accel"][:total]
     ver0 = spans["verification"].start
-    for test, sources, rng, trials, _, sc in pieces:
+    starts = np.cumsum([0] + [p[3] for p in pieces]).tolist()
+    if any("mount_compliance" in p[1] for p in pieces):
+        base.lateral                               # computed once, before the threads share it
+
+    def simulate(i):
+        test, sources, rng, trials, _, sc = pieces[i]
         rng_imu, rng_ref, rng_change = rng.spawn(3)
         k = sc.errors.compliance_deg_g(MOUNT_TYPE[test]) * DEG if "mount_compliance" in sources else 0.0
         traj = _compliant(prof.time_s, base, k)   # = compliance_trajectory(prof.time_s, prof.angle_rad, k)
         model = sc.imu.error_model(mount_quaternion(sc.alpha_rad(test)), sources, sc.errors)
-        rec = simulate_imu(traj, model, rng=rng_imu, trials=trials)
-        acc = rec.accel_m_s2
+        g, acc = gyro[starts[i]:starts[i + 1]], accel[starts[i]:starts[i + 1]]
+        ImuStream(traj, model, rng=rng_imu, trials=trials).fill(g, acc)   # = simulate_imu(...), into the buffer
         if "accel_run_change" in sources:       # warm-up/temperature bias change between the runs
             acc[:, ver0:] += sc.errors.accel_run_bias_mg * MG * rng_change.standard_normal((trials, 1, 3))
         if "mount_compliance" in sources and MOUNT_TYPE[test] == "gasket":
             tilt = sc.errors.gasket_load_tilt_deg_g * DEG * rng_change.standard_normal((trials, 3)) * [1.0, 1.0, 0.0]
-            load_tilt_outputs(rec.gyro_rad_s, acc, traj.q_wb, sc.fs_hz, model.q_mount, tilt)
-        gyro[start:start + trials] = rec.gyro_rad_s
-        accel[start:start + trials] = acc
-        start += trials
-        rngs.append(rng_ref)
-        del rec, acc
+            load_tilt_outputs(g, acc, traj.q_wb, sc.fs_hz, model.q_mount, tilt)
+        return rng_ref
+
+    rngs = _map(simulate, list(range(len(pieces))))
     res = qncf(gyro, accel, 1.0 / sc.fs_hz, sc.qncf, return_euler=False)
-    del accel
-    q_cal = res.q_ws[:, spans["calibration"]].copy()   # the calibration run as logged (zeroed by the procedure)
-    q_s = relative_to_initial(res.q_ws, out=res.q_ws)   # the session, zeroed once at its start (§4.1)
+    # the session zeroed once at its start (§4.1), in place from the verification run on: the
+    # calibration run stays as logged (zeroed by the procedure itself)
+    q_all = relative_to_initial(res.q_ws, out=res.q_ws, start=ver0)
     del res
+    q_cal = q_all[:, spans["calibration"]]
     pos = six_position_reference(sc)
-    out, start = [], 0
-    for i, ((_, sources, _, trials, fraction, sc), rng_ref) in enumerate(zip(pieces, rngs)):
-        sl = slice(start, start + trials)
-        start += trials
+
+    def finish(i):
+        _, sources, _, trials, fraction, sc = pieces[i]
+        rng_ref = rngs[i]
+        sl = slice(starts[i], starts[i + 1])
         frac = sc.averaging_fraction if fraction is None else fraction
         on = "reference_angle" in sources
         e_cal = _draws(rng_ref, trials, 6, sc.reference_angle_sigma_rad, on)
         e_ver = _draws(rng_ref, trials, 6, sc.reference_angle_sigma_rad, on)
         # the procedure is fed the commanded reference; the turntable stood at command + e_cal
         cal = calibration_step(sc, q_cal[sl], gyro[sl, spans["calibration"]], pos - e_cal, frac)
-        ver = six_position.calibrate(q_s[sl, spans["verification"]], pos, sc.imu.dt_s,
+        ver = six_position.calibrate(q_all[sl, spans["verification"]], pos, sc.imu.dt_s,
                                      gyro_rad_s=gyro[sl, spans["verification"]], fraction=frac)
         q_mat = cal.q_hat
         euler = rotations.euler_zxy_from_quat
@@ -276,10 +317,11 @@ def _run_pieces(sc: TurntableScenario, prof: AngleProfile, spans: dict, pieces: 
                            euler(ver.q_sensor), euler(quaternion_lsq.apply_error_matrix(q_mat, ver.q_sensor)),
                            pos, -e_cal, -e_ver)
         if with_sweeps:
-            run.sweeps, run.trace = _evaluate_sweeps(sc, prof, spans, q_s[sl], q_mat, frac, rng_ref,
+            run.sweeps, run.trace = _evaluate_sweeps(sc, prof, spans, q_all[sl], q_mat, frac, rng_ref,
                                                      keep_trace and i == 0, on, buffers)
-        out.append(run)
-    return out
+        return run
+
+    return _map(finish, list(range(len(pieces))))
 
 
 def calibration_step(sc: TurntableScenario | WindTunnelScenario, q_ws, gyro_rad_s, reference_rad,
@@ -418,6 +460,51 @@ def run_turntable_jobs(sc: TurntableScenario, jobs: list[TurntableJob], *, with_
     return [_concat_runs(r) for r in per_job]
 
 
+def _before_after(q_s, q_mat, ref) -> tuple[np.ndarray, np.ndarray, dict]:
+    """Eq 8 angles of ``q_s`` (T, n, 4) before and after Eq 10 with ``q_mat``, and their wrapped errors from ``ref``.
+
+    ``_euler(q_s)``, ``_euler(apply_error_matrix(q_mat, q_s))`` and ``metrics.angle_difference`` of
+    each; a large float64 input in one compiled pass (the same operations, bit-identical), unless a
+    row is near gimbal lock or the matrix is not finite (then the expressions themselves).
+    """
+    q_mat = np.asarray(q_mat, float)
+    if (q_s.dtype == np.float64 and q_s.ndim == 3 and q_s.shape[0] * q_s.shape[1] >= rotations._KERNEL_MIN_ROWS
+            and q_mat.shape == (q_s.shape[0], 4, 4) and np.isfinite(q_mat).all()):
+        from mtcal.core._rotation_kernels import euler_zxy_before_after
+
+        before, after = np.empty(q_s.shape[:-1] + (3,)), np.empty(q_s.shape[:-1] + (3,))
+        err_b, err_a = np.empty_like(before), np.empty_like(after)
+        ref = np.ascontiguousarray(ref, dtype=float)
+        if euler_zxy_before_after(q_s, np.ascontiguousarray(q_mat), ref, rotations._LOCK_SIN, before, after,
+                                  err_b, err_a) == 0:
+            if not (np.isfinite(before).all() and np.isfinite(after).all()):
+                raise FloatingPointError("Eq 8 angles are not finite: a calibration matrix or attitude of this run "
+                                         "is NaN/inf")
+            return before, after, {"before": err_b, "after": err_a}
+    before = _euler(q_s)
+    after = _euler(quaternion_lsq.apply_error_matrix(q_mat, q_s))
+    return before, after, {"before": metrics.angle_difference(before, ref),
+                           "after": metrics.angle_difference(after, ref)}
+
+
+def _pitch_after(q_mat, q_s) -> np.ndarray:
+    """``_euler(apply_error_matrix(q_mat, q_s))[..., 1]`` (T, n): a large float64 input in one compiled pass
+    computing the pitch only (the same operations, bit-identical); near gimbal lock or with a
+    non-finite matrix, the expression itself."""
+    q_mat = np.asarray(q_mat, float)
+    if (q_s.dtype == np.float64 and q_s.ndim == 3 and q_s.shape[0] * q_s.shape[1] >= rotations._KERNEL_MIN_ROWS
+            and q_mat.shape == (q_s.shape[0], 4, 4) and np.isfinite(q_mat).all()):
+        from mtcal.core._rotation_kernels import pitch_after
+
+        out = np.empty(q_s.shape[:-1])
+        if pitch_after(q_s, np.ascontiguousarray(q_mat), rotations._LOCK_SIN, out) == 0:
+            if not np.isfinite(out).all():
+                raise FloatingPointError("Eq 8 angles are not finite: a calibration matrix or attitude of this run "
+                                         "is NaN/inf")
+            return out
+    return _euler(quaternion_lsq.apply_error_matrix(q_mat, q_s))[..., 1]
+
+
 def _evaluate_sweeps(sc, prof, spans, q_s, q_mat, frac, rng, keep_trace, ref_errors_on, shared=None):
     """Hold means (with a turntable angle error per hold) and MaxAE/RMSE of the coupled channels.
 
@@ -428,9 +515,8 @@ def _evaluate_sweeps(sc, prof, spans, q_s, q_mat, frac, rng, keep_trace, ref_err
     sweeps, trace = {}, {}
     for name, chan_mean, chans_err in (("aoa", 1, (2, 0)), ("roll", 2, (1, 0))):
         span = spans[name]
-        before = _euler(q_s[:, span])
-        after = _euler(quaternion_lsq.apply_error_matrix(q_mat, q_s[:, span]))
         ref = truth[span]
+        before, after, errs = _before_after(q_s[:, span], q_mat, ref)
         key = ("sweep holds", name, frac)
         if key not in shared:
             shared[key] = [slice(h.start - span.start, h.stop - span.start) for h in _holds(prof, span, frac)][1:-1]
@@ -442,7 +528,7 @@ def _evaluate_sweeps(sc, prof, spans, q_s, q_mat, frac, rng, keep_trace, ref_err
             "after_mean": np.stack([after[:, h, chan_mean].mean(axis=1) for h in holds], axis=1) - e,
         }
         for state, est in (("before", before), ("after", after)):
-            err = metrics.angle_difference(est, ref)
+            err = errs[state]
             for c in chans_err:
                 sweeps[name][f"{state}_maxae_{c}"] = metrics.max_abs_error(err[..., c], axis=-1)
                 sweeps[name][f"{state}_rmse_{c}"] = metrics.rmse(err[..., c], axis=-1)
@@ -538,11 +624,13 @@ class WindTunnelRun:
 
 
 def run_windtunnel(sc: WindTunnelScenario, rng: np.random.Generator, trials: int, sources=SOURCES,
-                   *, wind_on: bool = True, block: int = 10) -> WindTunnelRun:
+                   *, wind_on: bool = True, block: int = 10, keep_trace: bool = True) -> WindTunnelRun:
     """Wind-off calibration + AoA sweep (Tables 9, 11) and five wind-on groups (Table 10), in trial blocks.
 
     Block ``i`` of ``block`` trials draws from ``rng.spawn(n_blocks)[i]``; peak memory is set by
-    ``block`` (≈ 0.6 GB at 10), not by ``trials``. Trial 0's time series are kept for figures.
+    ``block`` (≈ 0.6 GB at 10), not by ``trials``. Trial 0's time series are kept for figures
+    (``keep_trace``; off: ``trace`` is empty, a caller that keeps another run's does not hold ~10 MB
+    per run).
     """
     trials = int(trials)
     if trials < 1:
@@ -550,7 +638,8 @@ def run_windtunnel(sc: WindTunnelScenario, rng: np.random.Generator, trials: int
     if int(block) < 1:
         raise ValueError(f"block must be >= 1, got {block}")
     sizes = [min(int(block), trials - k) for k in range(0, trials, int(block))]
-    runs = [_run_windtunnel_block(sc, r, n, _check_sources(sources), wind_on=wind_on, keep_trace=(i == 0))
+    runs = [_run_windtunnel_block(sc, r, n, _check_sources(sources), wind_on=wind_on,
+                                  keep_trace=keep_trace and i == 0)
             for i, (r, n) in enumerate(progress(list(zip(rng.spawn(len(sizes)), sizes)),
                                                 desc="wind-tunnel Monte Carlo"))]
     cat = lambda xs: np.concatenate(xs, axis=0)  # noqa: E731
@@ -597,21 +686,21 @@ def _run_windtunnel_block(sc: WindTunnelScenario, rng: np.random.Generator, tria
         rec.accel_m_s2[:, spans["aoa"].start:] += (sc.errors.accel_run_bias_mg * MG
                                                     * rng_change.standard_normal((trials, 1, 3)))
     res = qncf(rec.gyro_rad_s, rec.accel_m_s2, 1.0 / sc.fs_hz, sc.qncf, return_euler=False)
-    q_cal = res.q_ws[:, spans["calibration"]].copy()   # the calibration run as logged
-    q_s = relative_to_initial(res.q_ws, out=res.q_ws)   # the session zeroed at its start, in place
+    # the session zeroed at its start, in place after the calibration run (kept as logged: no copy)
+    q_s = relative_to_initial(res.q_ws, out=res.q_ws, start=spans["aoa"].start)
+    q_cal = q_s[:, spans["calibration"]]
     ref_err = _draws(rng_ref, trials, 6, sc.repeatability_rad, "reference_angle" in on)
     cal = calibration_step(sc, q_cal, rec.gyro_rad_s[:, spans["calibration"]], pos + ref_err, frac)
     q_mat = cal.q_hat
     span = spans["aoa"]
-    before = _euler(q_s[:, span])
-    after = _euler(quaternion_lsq.apply_error_matrix(q_mat, q_s[:, span]))
     cmd = prof.angle_rad[span]
+    before, after, errs = _before_after(q_s[:, span], q_mat, cmd)
     holds = [slice(h.start - span.start, h.stop - span.start) for h in _shared_holds(prof, span, frac)][1:-1]
     nowind = {"reference": np.array([cmd[h, 1].mean() for h in holds]),
               "before_mean": np.stack([before[:, h, 1].mean(axis=1) for h in holds], axis=1),
               "after_mean": np.stack([after[:, h, 1].mean(axis=1) for h in holds], axis=1)}
-    for state, est in (("before", before), ("after", after)):
-        err = metrics.angle_difference(est, cmd)
+    for state in ("before", "after"):
+        err = errs[state]
         for c in (2, 0):
             nowind[f"{state}_maxae_{c}"] = metrics.max_abs_error(err[..., c], axis=-1)
             nowind[f"{state}_rmse_{c}"] = metrics.rmse(err[..., c], axis=-1)
@@ -619,8 +708,7 @@ def _run_windtunnel_block(sc: WindTunnelScenario, rng: np.random.Generator, tria
     trace = {}
     if keep_trace:
         trace = {"nowind_time_s": prof.time_s[span] - prof.time_s[span.start],
-                 "nowind_before_err": metrics.angle_difference(before[0], cmd),
-                 "nowind_after_err": metrics.angle_difference(after[0], cmd)}
+                 "nowind_before_err": errs["before"][0].copy(), "nowind_after_err": errs["after"][0].copy()}
     del before, after, res, q_s
     out = WindTunnelRun(q_mat, cal.euler_before_rad, cal.euler_after_rad, nowind, None, trace)
     if wind_on:
@@ -638,11 +726,14 @@ def _wind_on_groups(sc, model, q_mat, rng, trials, trace, k_mount, keep_trace):
     """Five wind-on AoA sweeps; each group its own record; all groups stacked as trials for the QNCF."""
     lead_s = 8.0
     group_rngs = rng.spawn(5)
-    g_all, a_all, profs = [], [], []
-    for g in range(5):
+    rates = [sc.group5_rate_rad_s if g == 4 else sc.mechanism_rate_rad_s for g in range(5)]
+    profs = [_wt_schedule(sc, sc.wind_on_sweep_deg, rate, lead_s=lead_s, hold_s=sc.wind_on_hold_s) for rate in rates]
+    n = max(p.time_s.size for p in profs)
+    # stacked, each group padded with its last sample; a group goes in as soon as it is simulated (peak
+    # memory: the stack + one group)
+    gyro, accel = np.empty((5 * trials, n, 3)), np.empty((5 * trials, n, 3))
+    for g, (prof, rate) in enumerate(zip(profs, rates)):
         r_q, r_imu, r_vib = group_rngs[g].spawn(3)
-        rate = sc.group5_rate_rad_s if g == 4 else sc.mechanism_rate_rad_s
-        prof = _wt_schedule(sc, sc.wind_on_sweep_deg, rate, lead_s=lead_s, hold_s=sc.wind_on_hold_s)
         actual = mechanism_actual(sc, prof, rate)
         q_factor = 1.0 + sc.dynamic_pressure_sigma * r_q.standard_normal()
         t = prof.time_s
@@ -658,18 +749,11 @@ def _wind_on_groups(sc, model, q_mat, rng, trials, trace, k_mount, keep_trace):
         np.sin(shake, out=shake)
         shake *= ramp[None, :, None] * sc.vibration_accel_m_s2
         shake += rec.accel_m_s2
-        g_all.append(rec.gyro_rad_s)
-        a_all.append(shake)
-        profs.append(prof)
-        del rec
-    n = max(p.time_s.size for p in profs)
-    gyro, accel = np.empty((5 * trials, n, 3)), np.empty((5 * trials, n, 3))
-    for g, (x_g, x_a) in enumerate(zip(g_all, a_all)):   # stacked, each padded with its last sample
-        for x, out in ((x_g, gyro), (x_a, accel)):
+        for x, out in ((rec.gyro_rad_s, gyro), (shake, accel)):
             m = x.shape[1]
             out[g * trials:(g + 1) * trials, :m] = x
             out[g * trials:(g + 1) * trials, m:] = x[:, -1:]
-    del g_all, a_all
+        del rec, shake
     res = qncf(gyro, accel, 1.0 / sc.fs_hz, sc.qncf, return_euler=False)
     q_s = relative_to_initial(res.q_ws, n0=1, out=res.q_ws)
     q_rep = np.concatenate([q_mat] * 5, axis=0)
@@ -680,8 +764,7 @@ def _wind_on_groups(sc, model, q_mat, rng, trials, trace, k_mount, keep_trace):
         holds = _shared_holds(prof, span, 0.5)[1:-1]
         q_g = q_s[sl]
         for j, h in enumerate(holds):
-            after = _euler(quaternion_lsq.apply_error_matrix(q_rep[sl], q_g[:, h]))
-            means[g, :, j] = after[..., 1].mean(axis=1)
+            means[g, :, j] = _pitch_after(q_rep[sl], q_g[:, h]).mean(axis=1)
         if not keep_trace:
             continue
         if g == 0:
