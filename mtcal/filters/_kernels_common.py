@@ -12,6 +12,9 @@ The engine used by the public filters is chosen by ``engine=`` arguments:
 
 from __future__ import annotations
 
+import sys
+import threading
+
 import numba
 import numpy as np
 from numba import prange
@@ -20,7 +23,7 @@ from mtcal.core.compiled import jit
 from mtcal.core.validate import MAX_GYRO_RAD_S, MIN_MEDIAN_ACCEL_M_S2
 
 __all__ = ["jit", "ENGINES", "check_engine", "use_parallel", "run_dynamic", "record", "check_scanned",
-           "check_kernel_scan"]
+           "check_kernel_scan", "OutputPool", "RECYCLE_MIN_BYTES"]
 
 ENGINES = ("numba", "numpy")
 
@@ -53,6 +56,49 @@ def run_dynamic(kernel, *args) -> None:
         kernel(*args)
     finally:
         numba.set_parallel_chunksize(saved)
+
+
+#: Output histories at least this large (bytes) are recycled by :class:`OutputPool`.
+RECYCLE_MIN_BYTES = 16 << 20
+
+
+class OutputPool:
+    """The large output arrays of a filter's last call, handed out again once nobody else holds them.
+
+    A batched call writes every element of its (T, M, …) histories, so an array the caller has
+    dropped can take the next call's results instead of a fresh allocation. Fresh memory is paid
+    for by first-touch page faults inside the parallel kernel (zeroing, and on a VM host faults:
+    0.03-0.9 s per 400 MB measured on the 2-vCPU bench machine, ~4x the CPU when two threads fault
+    at once), as much as the filtering itself at 1000 trials x 10 s. Reuse needs the exact shape and
+    that the pool's reference is the only one (``sys.getrefcount``: no result, view or alias of the
+    array is alive), so a result the caller still holds is never overwritten. At most one array per
+    role is retained between calls (freed by the next call that cannot reuse it, or by :meth:`clear`).
+    """
+
+    def __init__(self) -> None:
+        self._slots: dict = {}
+        self._lock = threading.Lock()
+
+    def take(self, role: str, shape: tuple) -> np.ndarray:
+        """A float64 array of ``shape``: the retained one for ``role`` if free and of that shape, else new."""
+        with self._lock:
+            arr = self._slots.pop(role, None)
+        # references: ``arr`` and getrefcount's argument; any other holder (result, view's base) adds one
+        if arr is not None and arr.shape == tuple(shape) and sys.getrefcount(arr) == 2:
+            return arr
+        del arr
+        return np.empty(shape)
+
+    def keep(self, role: str, arr: np.ndarray) -> None:
+        """Retain ``arr`` (just returned to a caller) for ``role`` when it is large enough to be worth it."""
+        if arr.nbytes >= RECYCLE_MIN_BYTES:
+            with self._lock:
+                self._slots[role] = arr
+
+    def clear(self) -> None:
+        """Drop every retained array."""
+        with self._lock:
+            self._slots.clear()
 
 
 def use_parallel(trials: int, samples: int) -> bool:

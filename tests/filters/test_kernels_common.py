@@ -1,0 +1,53 @@
+"""Tests of mtcal.filters._kernels_common.OutputPool (recycled output histories of the batched filters)."""
+
+import weakref
+
+import numpy as np
+import pytest
+
+from mtcal.filters import _kernels_common
+from mtcal.filters._kernels_common import OutputPool
+
+
+@pytest.fixture
+def pool(monkeypatch):
+    """A pool that keeps arrays of any size."""
+    monkeypatch.setattr(_kernels_common, "RECYCLE_MIN_BYTES", 0)
+    return OutputPool()
+
+
+def test_dropped_array_is_reused(pool):
+    arr = pool.take("theta", (3, 5))
+    pool.keep("theta", arr)
+    ref = weakref.ref(arr)
+    del arr
+    again = pool.take("theta", (3, 5))
+    assert ref() is again and again.shape == (3, 5) and again.dtype == np.float64
+
+
+@pytest.mark.parametrize("holder", ["array", "view", "other shape", "other role"])
+def test_array_still_held_or_unfit_is_not_reused(pool, holder):
+    arr = pool.take("theta", (3, 5))
+    arr[:] = 7.0
+    pool.keep("theta", arr)
+    held = {"array": arr, "view": arr[1:]}.get(holder)
+    ref = weakref.ref(arr)
+    del arr
+    shape = (5, 3) if holder == "other shape" else (3, 5)
+    got = pool.take("bias" if holder == "other role" else "theta", shape)
+    got[:] = -1.0
+    assert ref() is not got
+    if held is not None:
+        assert np.all(held == 7.0)           # what the caller holds is never overwritten
+
+
+def test_small_arrays_are_not_retained_and_clear_drops(monkeypatch):
+    p = OutputPool()
+    small = p.take("theta", (2, 2))
+    p.keep("theta", small)                    # below RECYCLE_MIN_BYTES: not retained
+    assert p._slots == {}
+    monkeypatch.setattr(_kernels_common, "RECYCLE_MIN_BYTES", 0)
+    p.keep("theta", small)
+    assert set(p._slots) == {"theta"}
+    p.clear()
+    assert p._slots == {}
