@@ -18,11 +18,13 @@ import threading
 import numba
 import numpy as np
 from numba import prange
+from numba.core import types
+from numba.extending import intrinsic
 
 from mtcal.core.compiled import jit
 from mtcal.core.validate import MAX_GYRO_RAD_S, MIN_MEDIAN_ACCEL_M_S2
 
-__all__ = ["jit", "ENGINES", "check_engine", "use_parallel", "run_dynamic", "record", "check_scanned",
+__all__ = ["jit", "ENGINES", "check_engine", "use_parallel", "run_dynamic", "fetch_add", "record", "check_scanned",
            "check_kernel_scan", "OutputPool", "RECYCLE_MIN_BYTES"]
 
 ENGINES = ("numba", "numpy")
@@ -99,6 +101,24 @@ class OutputPool:
         """Drop every retained array."""
         with self._lock:
             self._slots.clear()
+
+
+@intrinsic
+def fetch_add(typingctx, counter, step):
+    """Atomically ``old = counter[0]; counter[0] += step``; returns ``old`` (1-D int64 array, sequentially
+    consistent). Threads of a ``prange`` loop take work items from a shared counter this way: a real
+    dynamic schedule (numba's OpenMP layer hands out ``prange`` iterations in fixed contiguous shares, whatever
+    :func:`numba.set_parallel_chunksize` says, so one thread slowed by other load holds half the work)."""
+    if not (isinstance(counter, types.Array) and counter.ndim == 1 and counter.dtype == types.int64):
+        raise numba.core.errors.TypingError(f"fetch_add needs a 1-D int64 array, got {counter}")
+    if not isinstance(step, types.Integer):
+        raise numba.core.errors.TypingError(f"fetch_add step must be an integer, got {step}")
+
+    def codegen(context, builder, sig, args):
+        ary = context.make_array(sig.args[0])(context, builder, args[0])
+        inc = context.cast(builder, args[1], sig.args[1], types.int64)
+        return builder.atomic_rmw("add", ary.data, inc, "seq_cst")
+    return types.int64(counter, step), codegen
 
 
 def use_parallel(trials: int, samples: int) -> bool:

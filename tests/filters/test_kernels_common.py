@@ -51,3 +51,38 @@ def test_small_arrays_are_not_retained_and_clear_drops(monkeypatch):
     assert set(p._slots) == {"theta"}
     p.clear()
     assert p._slots == {}
+
+
+def test_fetch_add_hands_out_every_item_once_across_threads():
+    import numba
+    from numba import prange
+
+    from mtcal.filters._kernels_common import fetch_add
+
+    @numba.njit(parallel=True)
+    def take_all(counter, owner, workers):
+        for w in prange(workers):
+            i = fetch_add(counter, 1)
+            while i < owner.size:
+                owner[i] += 1 + w
+                i = fetch_add(counter, 1)
+
+    counter = np.zeros(1, np.int64)
+    owner = np.zeros(5000, np.int64)
+    take_all(counter, owner, max(2, numba.get_num_threads()))
+    assert np.all(owner >= 1) and counter[0] >= owner.size           # every item taken, by exactly one worker
+    assert np.all(owner <= max(2, numba.get_num_threads()))
+
+
+def test_fetch_add_rejects_other_types():
+    import numba
+
+    from mtcal.filters._kernels_common import fetch_add
+
+    @numba.njit
+    def bump(counter):
+        return fetch_add(counter, 1)
+
+    assert bump(np.array([41], np.int64)) == 41
+    with pytest.raises(numba.core.errors.TypingError, match="1-D int64 array"):
+        bump(np.zeros(1))
