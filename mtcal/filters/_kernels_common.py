@@ -24,7 +24,7 @@ from numba.extending import intrinsic
 from mtcal.core.compiled import jit
 from mtcal.core.validate import MAX_GYRO_RAD_S, MIN_MEDIAN_ACCEL_M_S2
 
-__all__ = ["jit", "ENGINES", "check_engine", "use_parallel", "run_dynamic", "fetch_add", "record", "check_scanned",
+__all__ = ["jit", "ENGINES", "check_engine", "use_parallel", "fetch_add", "record", "check_scanned",
            "check_kernel_scan", "OutputPool", "RECYCLE_MIN_BYTES"]
 
 ENGINES = ("numba", "numpy")
@@ -40,24 +40,6 @@ def check_engine(engine: str) -> str:
 #: Work (trial-samples) from which the trial-parallel (prange) kernels are used: below it a
 #: parallel region costs more than it saves.
 PARALLEL_MIN_WORK = 200_000
-
-
-#: Blocks per dynamically scheduled chunk of the parallel kernels (:func:`run_dynamic`).
-CHUNK_BLOCKS = 2
-
-
-def run_dynamic(kernel, *args) -> None:
-    """Run a ``prange`` kernel with its iterations handed to the threads :data:`CHUNK_BLOCKS` at a time.
-
-    numba's parallel chunk size is set for this call only and restored after it (set from Python, so the
-    kernel itself stays cacheable): a thread slowed by other load passes work on instead of holding the
-    last share of the blocks.
-    """
-    saved = numba.set_parallel_chunksize(CHUNK_BLOCKS)
-    try:
-        kernel(*args)
-    finally:
-        numba.set_parallel_chunksize(saved)
 
 
 #: Output histories at least this large (bytes) are recycled by :class:`OutputPool`.

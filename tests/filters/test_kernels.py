@@ -187,7 +187,7 @@ def test_qncf_blocks_of_4_and_8_lanes_are_bit_identical_to_the_scalar_trial(keep
     assert not np.array_equal(ref[2], _qncf_kernel_args(keep, with_stats)[2])  # the kernel did move the state
 
 
-def test_qncf_parallel_kernel_restores_the_chunk_size(all_parallel, threads):
+def test_qncf_parallel_kernel_leaves_the_chunk_size_alone(all_parallel, threads):
     from mtcal.filters import _kernels_qncf as K
 
     threads(min(2, numba.config.NUMBA_NUM_THREADS))
