@@ -42,6 +42,9 @@ def check_engine(engine: str) -> str:
 PARALLEL_MIN_WORK = 200_000
 
 
+#: Whether ``sys.getrefcount`` counts every holder (CPython): elsewhere :class:`OutputPool` never reuses.
+_COUNTS_REFERENCES = sys.implementation.name == "cpython"
+
 #: Output histories at least this large (bytes) are recycled by :class:`OutputPool`.
 RECYCLE_MIN_BYTES = 16 << 20
 
@@ -55,8 +58,10 @@ class OutputPool:
     0.03-0.9 s per 400 MB measured on the 2-vCPU bench machine, ~4x the CPU when two threads fault
     at once), as much as the filtering itself at 1000 trials x 10 s. Reuse needs the exact shape and
     that the pool's reference is the only one (``sys.getrefcount``: no result, view or alias of the
-    array is alive), so a result the caller still holds is never overwritten. At most one array per
-    role is retained between calls (freed by the next call that cannot reuse it, or by :meth:`clear`).
+    array is alive; compared with the count of an object only the pool's frame holds, so an
+    interpreter that borrows references counts both alike; not CPython: never reused), so a result
+    the caller still holds is never overwritten. At most one array per role is retained between
+    calls (freed by the next call that cannot reuse it, or by :meth:`clear`).
     """
 
     def __init__(self) -> None:
@@ -67,8 +72,9 @@ class OutputPool:
         """A float64 array of ``shape``: the retained one for ``role`` if free and of that shape, else new."""
         with self._lock:
             arr = self._slots.pop(role, None)
-        # references: ``arr`` and getrefcount's argument; any other holder (result, view's base) adds one
-        if arr is not None and arr.shape == tuple(shape) and sys.getrefcount(arr) == 2:
+        probe = object()                    # held by this frame only: the count of an array nobody else holds
+        if arr is not None and arr.shape == tuple(shape) and _COUNTS_REFERENCES and (
+                sys.getrefcount(arr) == sys.getrefcount(probe)):  # any other holder (result, view's base) adds one
             return arr
         del arr
         return np.empty(shape)

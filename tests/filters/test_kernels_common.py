@@ -86,3 +86,12 @@ def test_fetch_add_rejects_other_types():
     assert bump(np.array([41], np.int64)) == 41
     with pytest.raises(numba.core.errors.TypingError, match="1-D int64 array"):
         bump(np.zeros(1))
+
+
+def test_no_reuse_where_reference_counts_say_nothing(pool, monkeypatch):
+    monkeypatch.setattr(_kernels_common, "_COUNTS_REFERENCES", False)
+    arr = pool.take("theta", (3, 5))
+    pool.keep("theta", arr)
+    ref = weakref.ref(arr)
+    del arr
+    assert ref() is not pool.take("theta", (3, 5))
