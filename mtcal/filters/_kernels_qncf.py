@@ -14,7 +14,7 @@ results for any thread count.
 Batches run as blocks of :data:`LANES` trials (8 with AVX-512, else 4) in
 structure-of-arrays form (:func:`_block`: one SIMD vector per state variable,
 held in a true LLVM vector type, :class:`mtcal.filters._kernels_lanes.VecType`),
-blocks handed to numba's threads dynamically (``prange`` workers, shared block counter);
+blocks handed to numba's threads (one contiguous range each, shared at the end);
 each lane performs the scalar kernel's operations on the same operands, so a
 batched trial is bit-identical to the same trial run alone (:func:`_trial`, used
 for single-trial records and a last lone trial).
@@ -33,7 +33,7 @@ from mtcal.core.montecarlo import (ASIN_C3, ASIN_C5, ASIN_C7, ASIN_C9, ATAN_C3, 
 from mtcal.filters._kernels_lanes import (add, all_le, all_lt, div, fabs, fill, lane_ids, mul, put, put1, put3,
                                           put_lt, rows4, rows8, simd_lanes, sqrt, sub, take, take1, take3, vmax,
                                           where_le, where_lt)
-from mtcal.filters._kernels_common import fetch_add, jit
+from mtcal.filters._kernels_common import claim, jit, schedule
 
 __all__ = ["qncf_one", "qncf_serial", "qncf_parallel"]
 
@@ -392,21 +392,26 @@ def qncf_one(w, a, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, dt
 def _qncf_parallel(w, a, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, dt, alpha, gravity, thr,
                    keep, truth, stats, with_stats, chk, counter, workers):
     """Blocks of :data:`LANES` trials spread over numba's threads: ``workers`` ``prange`` iterations (one per
-    thread) each take the next block from the shared ``counter`` (:func:`~mtcal.filters._kernels_common.fetch_add`,
-    a dynamic schedule) until none is left; each trial computed exactly as serially."""
+    thread) each run their own contiguous range of blocks in order, then help with the others' from their far
+    end (:func:`~mtcal.filters._kernels_common.claim`: a dynamic schedule that keeps the threads apart);
+    each trial computed exactly as serially."""
     nb = (w.shape[0] + LANES - 1) // LANES
-    for _ in prange(workers):
-        b = fetch_add(counter, 1)
-        while b < nb:
-            _run_block(w, a, b, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, dt, alpha, gravity, thr,
-                       keep, truth, stats, with_stats, chk)
-            b = fetch_add(counter, 1)
+    for i in prange(workers):
+        for j in range(workers):
+            r = (i + j) % workers
+            lo, hi = r * nb // workers, (r + 1) * nb // workers
+            b = claim(counter, r, lo, hi, j == 0)
+            while b >= 0:
+                _run_block(w, a, b, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, dt, alpha, gravity,
+                           thr, keep, truth, stats, with_stats, chk)
+                b = claim(counter, r, lo, hi, j == 0)
 
 
 def qncf_parallel(*args) -> None:
-    """:func:`_qncf_parallel` on numba's threads, blocks handed out one at a time by a shared counter.
+    """:func:`_qncf_parallel` on numba's threads (one range of blocks each, shared at the end).
     Arguments as :func:`qncf_serial`."""
-    _qncf_parallel(*args, np.zeros(1, np.int64), numba.get_num_threads())
+    workers = numba.get_num_threads()
+    _qncf_parallel(*args, schedule(workers), workers)
 
 
 def warm_up() -> None:

@@ -95,3 +95,36 @@ def test_no_reuse_where_reference_counts_say_nothing(pool, monkeypatch):
     ref = weakref.ref(arr)
     del arr
     assert ref() is not pool.take("theta", (3, 5))
+
+
+@pytest.mark.parametrize("blocks, workers, present", [(125, 2, 2), (7, 2, 2), (1, 2, 2), (10, 3, 1), (0, 2, 2)])
+def test_claim_hands_out_every_block_once(blocks, workers, present):
+    """Ranges split among ``workers``; only ``present`` of them run (numba may start fewer): still every block
+    exactly once, the owner front to back, helpers from the far end."""
+    import numba
+    from numba import prange
+
+    from mtcal.filters._kernels_common import claim, schedule
+
+    @numba.njit(parallel=True)
+    def run(counter, taken, order, workers, present):
+        nb = taken.size
+        for w in prange(present):
+            n = 0
+            for j in range(workers):
+                r = (w + j) % workers
+                lo, hi = r * nb // workers, (r + 1) * nb // workers
+                b = claim(counter, r, lo, hi, j == 0)
+                while b >= 0:
+                    taken[b] += 1
+                    order[w, n] = b
+                    n += 1
+                    b = claim(counter, r, lo, hi, j == 0)
+
+    taken = np.zeros(blocks, np.int64)
+    order = np.full((present, blocks + 1), -1)
+    run(schedule(workers), taken, order, workers, present)
+    assert np.all(taken == 1)
+    first = order[0][order[0] >= 0]
+    own = first[: blocks // workers]
+    assert np.array_equal(own, np.arange(own.size))          # worker 0 walks its own range in order first
