@@ -144,6 +144,23 @@ def test_measure_reports_time_and_traced_peak():
     assert row.seconds > 0 and row.trial_samples == 10
     assert row.throughput == pytest.approx(10 / row.seconds)
     assert 15.0 <= row.peak_mb < 40.0  # 16 MB array (15.3 MiB)
+    assert row.seconds <= row.median_s   # best <= median of the timed calls
+
+
+def test_ekf_peak_counts_outputs_even_when_recycled(monkeypatch):
+    """The timed EKF calls reuse a dropped result's arrays; the traced call must still count its outputs."""
+    from mtcal.filters import _kernels_common
+    from mtcal.filters.rams_ekf import RamsEkfParams, run_rams_ekf
+
+    monkeypatch.setattr(_kernels_common, "RECYCLE_MIN_BYTES", 0)
+    t, m = 4, 50_000                                                     # theta + p + bias: 8 MB of outputs
+    g = np.zeros((t, m, 3))
+    a = np.zeros((t, m, 3))
+    a[..., 2] = 9.80665
+    row = run.measure("ekf", "mtcal", lambda: run_rams_ekf(g, a, np.ones(m, bool), [1.0, 0.0, 0.0], a[:, 0],
+                                                            1e-3, RamsEkfParams(), keep_innovation=False),
+                      trials=t, samples=m, repeats=2)
+    assert row.peak_mb >= 7.5
 
 
 def test_benchmark_methods_return_sane_rows(tiny_inputs):

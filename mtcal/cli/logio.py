@@ -253,6 +253,42 @@ def _header_names(head: str, second: str, delim: str) -> list[str]:
     return [n if n else f"{_UNNAMED}{i}" for i, n in enumerate(names)]
 
 
+_PREWARM: list = []
+
+
+def _load_compiler() -> None:
+    """Import numba and load its CPU target's typing/lowering registries (what the first cached kernel of a
+    command would do: ~0.8 s, mostly ``numba.np.arraymath``, which imports ``scipy.linalg``)."""
+    try:
+        import mtcal.core.compiled  # noqa: F401 - numba's settings before numba loads
+        import numba  # noqa: F401
+        from numba.core.compiler_lock import global_compiler_lock
+        from numba.core.registry import cpu_target
+
+        with global_compiler_lock:
+            cpu_target.target_context.refresh()
+    except BaseException:  # noqa: BLE001 - only a head start: the command itself reports any real problem
+        pass
+
+
+def prewarm_compiled() -> None:
+    """Start loading the compiled kernels' machinery (numba) in a background thread, once per process.
+
+    The log is read meanwhile (pyarrow and numpy release the GIL), so the two overlap instead of
+    running one after the other; a command waits for nothing it would not have waited for anyway
+    (numba's compile lock and Python's import locks serialise the shared parts). The thread is not
+    a daemon: the interpreter lets it finish before exiting. Results cannot differ (no kernel runs).
+    """
+    import sys
+    import threading
+
+    if _PREWARM or "numba.np.arraymath" in sys.modules:
+        return
+    thread = threading.Thread(target=_load_compiler, name="mtcal-prewarm")
+    _PREWARM.append(thread)
+    thread.start()
+
+
 def _numeric(col, header: str, path: Path, out: np.ndarray | None = None) -> np.ndarray:
     """A column as float64 (into ``out``, e.g. a column of an (N, 3) array); the first non-numeric/NaN row is
     named in the error.
@@ -339,6 +375,7 @@ def read_log(path, opts: InputOptions | None = None, *, need: str = "raw", min_s
         raise ValueError(f"log file not found: {path}")
     if not p.is_file():
         raise ValueError(f"log {path} is not a regular file")
+    prewarm_compiled()
     cols, all_names = _read_table(p, select=lambda names: list(_resolve(set(names), CANONICAL, opts)[0].values()))
     for c, header in opts.columns.items():
         if header not in cols:

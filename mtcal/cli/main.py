@@ -63,12 +63,43 @@ def _one_line(exc: BaseException) -> str:
     return "".join(c if c.isprintable() else "?" for c in text)[:500]
 
 
+#: glibc ``mallopt`` settings of a CLI process (:func:`_keep_freed_memory`): parameter number → value (bytes).
+_MALLOPT = {-3: 1 << 30,   # M_MMAP_THRESHOLD: blocks below 1 GiB come from the heap, not from fresh mmaps
+            -1: 1 << 30,   # M_TRIM_THRESHOLD: keep up to 1 GiB of freed heap instead of returning it
+            -2: 64 << 20}  # M_TOP_PAD: grow the heap 64 MiB at a time
+
+
+def _keep_freed_memory() -> None:
+    """Let glibc's malloc reuse the memory a command frees instead of handing it back to the kernel.
+
+    A command on a long log allocates and frees many column-sized temporaries; by default each
+    block above 128 KiB-32 MiB is a fresh ``mmap`` whose pages fault in (and are zeroed) on first
+    touch, which on the 2-vCPU bench VM was a third of the CPU of ``mtcal attitude`` on the 1-hour
+    log (sys 1.05 s of 2.99 s; 0.61 s with these settings, same peak RSS). Only the allocator's
+    reuse changes, never a value. Not glibc (or no ``mallopt``): nothing to do.
+    """
+    if not sys.platform.startswith("linux"):
+        return
+    import ctypes
+
+    try:
+        mallopt = ctypes.CDLL("libc.so.6").mallopt
+    except (OSError, AttributeError):
+        return
+    for param, value in _MALLOPT.items():
+        mallopt(param, value)
+
+
 def main(argv: list[str] | None = None) -> int:
-    """Run ``mtcal`` with ``argv`` (default ``sys.argv[1:]``); returns the exit status."""
+    """Run ``mtcal`` with ``argv`` (default ``sys.argv[1:]``); returns the exit status.
+
+    The program's entry point: it also tunes the process's allocator (:func:`_keep_freed_memory`).
+    """
     argv = list(sys.argv[1:] if argv is None else argv)
     parser = build_parser()
     args = parser.parse_args(_join_negative_vectors(argv))
     debug = os.environ.get("MTCAL_DEBUG", "") not in ("", "0")
+    _keep_freed_memory()
     try:
         with warnings.catch_warnings():
             if not debug:

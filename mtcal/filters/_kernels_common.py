@@ -12,15 +12,20 @@ The engine used by the public filters is chosen by ``engine=`` arguments:
 
 from __future__ import annotations
 
+import sys
+import threading
+
 import numba
 import numpy as np
 from numba import prange
+from numba.core import types
+from numba.extending import intrinsic
 
 from mtcal.core.compiled import jit
 from mtcal.core.validate import MAX_GYRO_RAD_S, MIN_MEDIAN_ACCEL_M_S2
 
-__all__ = ["jit", "ENGINES", "check_engine", "use_parallel", "run_dynamic", "record", "check_scanned",
-           "check_kernel_scan"]
+__all__ = ["jit", "ENGINES", "check_engine", "use_parallel", "fetch_add", "claim", "schedule", "record",
+           "check_scanned", "check_kernel_scan", "OutputPool", "RECYCLE_MIN_BYTES"]
 
 ENGINES = ("numba", "numpy")
 
@@ -37,22 +42,95 @@ def check_engine(engine: str) -> str:
 PARALLEL_MIN_WORK = 200_000
 
 
-#: Blocks per dynamically scheduled chunk of the parallel kernels (:func:`run_dynamic`).
-CHUNK_BLOCKS = 2
+#: Whether ``sys.getrefcount`` counts every holder (CPython): elsewhere :class:`OutputPool` never reuses.
+_COUNTS_REFERENCES = sys.implementation.name == "cpython"
+
+#: Output histories at least this large (bytes) are recycled by :class:`OutputPool`.
+RECYCLE_MIN_BYTES = 16 << 20
 
 
-def run_dynamic(kernel, *args) -> None:
-    """Run a ``prange`` kernel with its iterations handed to the threads :data:`CHUNK_BLOCKS` at a time.
+class OutputPool:
+    """The large output arrays of a filter's last call, handed out again once nobody else holds them.
 
-    numba's parallel chunk size is set for this call only and restored after it (set from Python, so the
-    kernel itself stays cacheable): a thread slowed by other load passes work on instead of holding the
-    last share of the blocks.
+    A batched call writes every element of its (T, M, …) histories, so an array the caller has
+    dropped can take the next call's results instead of a fresh allocation. Fresh memory is paid
+    for by first-touch page faults inside the parallel kernel (zeroing, and on a VM host faults:
+    0.03-0.9 s per 400 MB measured on the 2-vCPU bench machine, ~4x the CPU when two threads fault
+    at once), as much as the filtering itself at 1000 trials x 10 s. Reuse needs the exact shape and
+    that the pool's reference is the only one (``sys.getrefcount``: no result, view or alias of the
+    array is alive; compared with the count of an object only the pool's frame holds, so an
+    interpreter that borrows references counts both alike; not CPython: never reused), so a result
+    the caller still holds is never overwritten. At most one array per role is retained between
+    calls (freed by the next call that cannot reuse it, or by :meth:`clear`).
     """
-    saved = numba.set_parallel_chunksize(CHUNK_BLOCKS)
-    try:
-        kernel(*args)
-    finally:
-        numba.set_parallel_chunksize(saved)
+
+    def __init__(self) -> None:
+        self._slots: dict = {}
+        self._lock = threading.Lock()
+
+    def take(self, role: str, shape: tuple) -> np.ndarray:
+        """A float64 array of ``shape``: the retained one for ``role`` if free and of that shape, else new."""
+        with self._lock:
+            arr = self._slots.pop(role, None)
+        probe = object()                    # held by this frame only: the count of an array nobody else holds
+        if arr is not None and arr.shape == tuple(shape) and _COUNTS_REFERENCES and (
+                sys.getrefcount(arr) == sys.getrefcount(probe)):  # any other holder (result, view's base) adds one
+            return arr
+        del arr
+        return np.empty(shape)
+
+    def keep(self, role: str, arr: np.ndarray) -> None:
+        """Retain ``arr`` (just returned to a caller) for ``role`` when it is large enough to be worth it."""
+        if arr.nbytes >= RECYCLE_MIN_BYTES:
+            with self._lock:
+                self._slots[role] = arr
+
+    def clear(self) -> None:
+        """Drop every retained array."""
+        with self._lock:
+            self._slots.clear()
+
+
+@intrinsic
+def fetch_add(typingctx, counter, step):
+    """Atomically ``old = counter[0]; counter[0] += step``; returns ``old`` (1-D int64 array, sequentially
+    consistent). Threads of a ``prange`` loop take work items from a shared counter this way: a real
+    dynamic schedule (numba's OpenMP layer hands out ``prange`` iterations in fixed contiguous shares, whatever
+    :func:`numba.set_parallel_chunksize` says, so one thread slowed by other load holds half the work)."""
+    if not (isinstance(counter, types.Array) and counter.ndim == 1 and counter.dtype == types.int64):
+        raise numba.core.errors.TypingError(f"fetch_add needs a 1-D int64 array, got {counter}")
+    if not isinstance(step, types.Integer):
+        raise numba.core.errors.TypingError(f"fetch_add step must be an integer, got {step}")
+
+    def codegen(context, builder, sig, args):
+        ary = context.make_array(sig.args[0])(context, builder, args[0])
+        inc = context.cast(builder, args[1], sig.args[1], types.int64)
+        return builder.atomic_rmw("add", ary.data, inc, "seq_cst")
+    return types.int64(counter, step), codegen
+
+
+@numba.njit(inline="always")
+def claim(counters, v, lo, hi, own):
+    """The next block of range ``v`` = blocks ``[lo, hi)`` for a worker, or -1 when none is left.
+
+    ``counters`` (3 W,) int64, zeros at the start: per range the blocks claimed, taken from the front
+    (by the range's own worker, ``own``) and taken from the back (by the others once their own range is
+    done). A claim first counts itself against the range's size, so front and back never meet: every
+    block is handed out once. The owner walks its range in order and a helper starts at the far end,
+    so two threads seldom write neighbouring rows at the same time (first-touch page faults of the same
+    huge page from two threads cost the bench VM ~10x the CPU of one thread's).
+    """
+    w = counters.size // 3
+    if fetch_add(counters[v:v + 1], 1) >= hi - lo:
+        return -1
+    if own:
+        return lo + fetch_add(counters[w + v:w + v + 1], 1)
+    return hi - 1 - fetch_add(counters[2 * w + v:2 * w + v + 1], 1)
+
+
+def schedule(workers: int) -> np.ndarray:
+    """Zeroed counters of :func:`claim` for ``workers`` ranges."""
+    return np.zeros(3 * workers, np.int64)
 
 
 def use_parallel(trials: int, samples: int) -> bool:

@@ -15,8 +15,9 @@ when ``has_prev``); the last step's ``c = P e0`` (T, 4), ``h′`` (T, 3) and
 Batches run as blocks of :data:`LANES` trials (8 with AVX-512, else 4) in
 structure-of-arrays form (:func:`_block`: one SIMD vector per state variable, held in
 a true LLVM vector type, :class:`mtcal.filters._kernels_lanes.VecType`), blocks spread
-over threads with ``prange``; a batched trial is bit-identical to the same trial run
-alone (:func:`_trial`, used for single-trial records and a last lone trial). Per trial
+over threads (``prange`` workers, one range of blocks each, shared at the end); a batched trial is
+bit-identical to the same trial run alone (:func:`_trial`, used for single-trial records and
+a last lone trial). Per trial
 and step the cost is about half the libm ``sincos`` (the same call as the scalar path,
 so results cannot differ) and half memory traffic (inputs read, histories written).
 """
@@ -31,7 +32,7 @@ from numba import prange
 
 from mtcal.filters._kernels_lanes import (add, choose, cos, div, fabs, fill, mul, put, put1, put3, rows4, rows8, sin,
                                           simd_lanes, sub, take, take1, take3, vmax, where_lt)
-from mtcal.filters._kernels_common import jit, run_dynamic
+from mtcal.filters._kernels_common import claim, jit, schedule
 
 __all__ = ["ekf_one", "ekf_serial", "ekf_parallel"]
 
@@ -315,18 +316,30 @@ def ekf_one(g, a, st, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, om_s, ha
 
 @jit(parallel=True)
 def _ekf_parallel(g, a, st, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, om_s, has_prev, use_zvd, var_z,
-                  var_m, dt, q_theta, q_b, out_theta, out_bias, out_p, out_y, keep_y, last_c, last_hp, last_s, chk):
-    """Blocks of :data:`LANES` trials spread over numba's threads (``prange``); each trial computed exactly as
-    serially."""
-    for b in prange((g.shape[0] + LANES - 1) // LANES):
-        _run_block(g, a, st, b, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, om_s, has_prev, use_zvd, var_z,
-                   var_m, dt, q_theta, q_b, out_theta, out_bias, out_p, out_y, keep_y, last_c, last_hp, last_s, chk)
+                  var_m, dt, q_theta, q_b, out_theta, out_bias, out_p, out_y, keep_y, last_c, last_hp, last_s, chk,
+                  counter, workers):
+    """Blocks of :data:`LANES` trials spread over numba's threads: ``workers`` ``prange`` iterations (one per
+    thread) each run their own contiguous range of blocks in order, then help with the others' from their far
+    end (:func:`~mtcal.filters._kernels_common.claim`: a dynamic schedule that keeps the threads apart);
+    each trial computed exactly as serially."""
+    nb = (g.shape[0] + LANES - 1) // LANES
+    for w in prange(workers):
+        for j in range(workers):
+            r = (w + j) % workers
+            lo, hi = r * nb // workers, (r + 1) * nb // workers
+            b = claim(counter, r, lo, hi, j == 0)
+            while b >= 0:
+                _run_block(g, a, st, b, v, par, perp, nperp, wv, f, theta_s, bias_s, p_s, om_s, has_prev, use_zvd,
+                           var_z, var_m, dt, q_theta, q_b, out_theta, out_bias, out_p, out_y, keep_y, last_c, last_hp,
+                           last_s, chk)
+                b = claim(counter, r, lo, hi, j == 0)
 
 
 def ekf_parallel(*args) -> None:
-    """:func:`_ekf_parallel` with its blocks handed to the threads dynamically
-    (:func:`mtcal.filters._kernels_common.run_dynamic`). Arguments as :func:`ekf_serial`."""
-    run_dynamic(_ekf_parallel, *args)
+    """:func:`_ekf_parallel` on numba's threads (one range of blocks each, shared at the end).
+    Arguments as :func:`ekf_serial`."""
+    workers = numba.get_num_threads()
+    _ekf_parallel(*args, schedule(workers), workers)
 
 
 def warm_up() -> None:
@@ -336,7 +349,7 @@ def warm_up() -> None:
     a = np.zeros((n, m, 3))
     a[..., 2] = 9.8
     vec = np.tile([1.0, 0.0, 0.0], (n, 1))
-    for fn in (ekf_one, ekf_serial, _ekf_parallel):
+    for fn in (ekf_one, ekf_serial, ekf_parallel):
         fn(g, a, np.ones((1, m), np.bool_), vec, vec, vec, vec, vec, vec, np.zeros(n), np.zeros((n, 3)),
            np.ones((n, 10)), np.zeros(n), False, True, 1e-4, 4.0, 1e-3, 1e-10, 1e-14, np.empty((n, m)),
            np.empty((n, m, 3)), np.empty((n, m)), np.empty((n, m, 3)), True, np.empty((n, 4)), np.empty((n, 3)),

@@ -14,7 +14,7 @@ results for any thread count.
 Batches run as blocks of :data:`LANES` trials (8 with AVX-512, else 4) in
 structure-of-arrays form (:func:`_block`: one SIMD vector per state variable,
 held in a true LLVM vector type, :class:`mtcal.filters._kernels_lanes.VecType`),
-blocks handed to numba's threads dynamically (``prange`` with a small chunk size);
+blocks handed to numba's threads (one contiguous range each, shared at the end);
 each lane performs the scalar kernel's operations on the same operands, so a
 batched trial is bit-identical to the same trial run alone (:func:`_trial`, used
 for single-trial records and a last lone trial).
@@ -33,7 +33,7 @@ from mtcal.core.montecarlo import (ASIN_C3, ASIN_C5, ASIN_C7, ASIN_C9, ATAN_C3, 
 from mtcal.filters._kernels_lanes import (add, all_le, all_lt, div, fabs, fill, lane_ids, mul, put, put1, put3,
                                           put_lt, rows4, rows8, simd_lanes, sqrt, sub, take, take1, take3, vmax,
                                           where_le, where_lt)
-from mtcal.filters._kernels_common import jit, run_dynamic
+from mtcal.filters._kernels_common import claim, jit, schedule
 
 __all__ = ["qncf_one", "qncf_serial", "qncf_parallel"]
 
@@ -390,18 +390,28 @@ def qncf_one(w, a, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, dt
 
 @jit(parallel=True)
 def _qncf_parallel(w, a, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, dt, alpha, gravity, thr,
-                   keep, truth, stats, with_stats, chk):
-    """Blocks of :data:`LANES` trials spread over numba's threads (``prange``); each trial computed exactly as
-    serially."""
-    for b in prange((w.shape[0] + LANES - 1) // LANES):
-        _run_block(w, a, b, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, dt, alpha, gravity, thr,
-                   keep, truth, stats, with_stats, chk)
+                   keep, truth, stats, with_stats, chk, counter, workers):
+    """Blocks of :data:`LANES` trials spread over numba's threads: ``workers`` ``prange`` iterations (one per
+    thread) each run their own contiguous range of blocks in order, then help with the others' from their far
+    end (:func:`~mtcal.filters._kernels_common.claim`: a dynamic schedule that keeps the threads apart);
+    each trial computed exactly as serially."""
+    nb = (w.shape[0] + LANES - 1) // LANES
+    for i in prange(workers):
+        for j in range(workers):
+            r = (i + j) % workers
+            lo, hi = r * nb // workers, (r + 1) * nb // workers
+            b = claim(counter, r, lo, hi, j == 0)
+            while b >= 0:
+                _run_block(w, a, b, q, integ, amd, q_out, amd_out, gate_out, kp, kidt, use_ki, dt, alpha, gravity,
+                           thr, keep, truth, stats, with_stats, chk)
+                b = claim(counter, r, lo, hi, j == 0)
 
 
 def qncf_parallel(*args) -> None:
-    """:func:`_qncf_parallel` with its blocks handed to the threads dynamically
-    (:func:`mtcal.filters._kernels_common.run_dynamic`). Arguments as :func:`qncf_serial`."""
-    run_dynamic(_qncf_parallel, *args)
+    """:func:`_qncf_parallel` on numba's threads (one range of blocks each, shared at the end).
+    Arguments as :func:`qncf_serial`."""
+    workers = numba.get_num_threads()
+    _qncf_parallel(*args, schedule(workers), workers)
 
 
 def warm_up() -> None:
@@ -409,7 +419,7 @@ def warm_up() -> None:
     w = np.zeros((2, 2, 3))
     a = np.zeros((2, 2, 3))
     a[..., 2] = 9.80665
-    for fn in (qncf_one, qncf_serial, _qncf_parallel):
+    for fn in (qncf_one, qncf_serial, qncf_parallel):
         fn(w, a, np.tile([1.0, 0, 0, 0], (2, 1)), np.zeros((2, 3)), np.full(2, np.nan), np.empty((2, 2, 4)),
            np.empty((2, 2)), np.empty((2, 2), np.bool_), 1.0, 2e-5, True, 1e-3, 0.02, 9.80665, 0.3, True,
            np.zeros((1, 2, 9)), np.zeros((2, 9)), True, np.empty((2, 4)))

@@ -56,7 +56,7 @@ import numpy as np
 from mtcal.core.compiled import component_major
 from mtcal.core.validate import as_float_array, check_accel_units, check_gyro_units, positive_scalar
 from mtcal.methods.tilt_rate import check_tilt_rate_scale
-from mtcal.filters._kernels_common import check_engine, check_kernel_scan, record, use_parallel
+from mtcal.filters._kernels_common import OutputPool, check_engine, check_kernel_scan, record, use_parallel
 
 __all__ = ["RamsEkfParams", "RamsEkfReference", "RamsEkfResult", "RamsEkfFilter", "run_rams_ekf",
            "measurement_model", "initial_state"]
@@ -587,8 +587,10 @@ class RamsEkfFilter:
         chk = np.empty((n, 4))
         has_prev = self._omega_prev is not None
         om = np.array(self._omega_prev) if has_prev else np.zeros(n)
-        out_theta, out_bias, out_p = np.empty((n, m)), np.empty((n, m, 3)), np.empty((n, m))
-        out_y = np.empty((n, m, 3)) if keep_innovation else np.empty((1, 1, 3))
+        # histories: every element is written by the kernel; large ones recycled from a dropped result
+        out_theta, out_p = _POOL.take("theta", (n, m)), _POOL.take("p", (n, m))
+        out_bias = _POOL.take("bias", (n, m, 3))
+        out_y = _POOL.take("y", (n, m, 3)) if keep_innovation else np.empty((1, 1, 3))
         last_c, last_hp, last_s = self._c.T.copy(), self._hp.T.copy(), self._s.copy()
         var_z, var_m = self._var
         fn = (_kernels_ekf.ekf_parallel if use_parallel(n, m)
@@ -608,7 +610,14 @@ class RamsEkfFilter:
         c, hp, s = last_c, last_hp, last_s
         S = c[:, 0, None, None] * (hp[:, :, None] * hp[:, None, :]) + var_last[:, None, None] * np.eye(3)
         K = c[:, :, None] * hp[:, None, :] / s[:, None, None]
+        for role, arr in (("theta", out_theta), ("bias", out_bias), ("p", out_p), ("y", out_y)):
+            if keep_innovation or role != "y":
+                _POOL.keep(role, arr)
         return RamsEkfResult(out_theta, out_bias, out_p, out_y if keep_innovation else None, self.P, S, K)
+
+
+#: Output histories of the compiled engine's last call, reused once the caller drops them (no page faults).
+_POOL = OutputPool()
 
 
 def _unpack(p: np.ndarray) -> np.ndarray:

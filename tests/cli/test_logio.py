@@ -289,3 +289,30 @@ def test_arrow_columns_with_infinities_but_no_nan():
     got = logio._arrow_array(a[:3])  # inf - inf sums to NaN: no null all the same
     assert got.null_count == 0 and got.to_pylist() == [np.inf, -np.inf, 1.0]
     assert logio._arrow_array(a).null_count == 1
+
+
+def test_read_log_prewarms_numba_once_and_swallows_its_failures(base, tmp_path, monkeypatch):
+    """read_log starts one background load of numba's machinery per process; a failure there is not the
+    command's (the command reports its own errors), and a bad log still fails with its own message."""
+    import threading
+
+    from numba.core.registry import cpu_target
+
+    csv = tmp_path / "log.csv"
+    base.write(csv)
+    calls = []
+
+    def boom():
+        calls.append(threading.current_thread().name)
+        raise RuntimeError("registry failure")
+
+    monkeypatch.setattr(logio, "_PREWARM", [])
+    monkeypatch.setattr(cpu_target.target_context, "refresh", boom)
+    monkeypatch.delitem(sys.modules, "numba.np.arraymath")
+    log = logio.read_log(csv)
+    logio.read_log(csv)
+    assert len(logio._PREWARM) == 1
+    logio._PREWARM[0].join()
+    assert calls == ["mtcal-prewarm"] and log.n == len(base.df)
+    with pytest.raises(ValueError, match="log file not found"):
+        logio.read_log(tmp_path / "missing.csv")

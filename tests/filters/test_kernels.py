@@ -187,7 +187,7 @@ def test_qncf_blocks_of_4_and_8_lanes_are_bit_identical_to_the_scalar_trial(keep
     assert not np.array_equal(ref[2], _qncf_kernel_args(keep, with_stats)[2])  # the kernel did move the state
 
 
-def test_qncf_parallel_kernel_restores_the_chunk_size(all_parallel, threads):
+def test_qncf_parallel_kernel_leaves_the_chunk_size_alone(all_parallel, threads):
     from mtcal.filters import _kernels_qncf as K
 
     threads(min(2, numba.config.NUMBA_NUM_THREADS))
@@ -312,6 +312,31 @@ def test_ekf_bit_identical_for_any_thread_count_and_chunking(all_parallel, threa
     assert np.array_equal(np.concatenate([p.theta_rad for p in parts], axis=1), results[0].theta_rad)
     assert np.array_equal(np.concatenate([p.innovation_m_s2 for p in parts], axis=1), results[0].innovation_m_s2)
     assert np.array_equal(parts[-1].P, results[0].P) and np.array_equal(parts[-1].K, results[0].K)
+
+
+def test_ekf_dynamic_schedule_runs_every_block_once(all_parallel, threads):
+    """Many blocks taken from the shared counter by 2 threads: every output equals the serial kernel's."""
+    from mtcal.filters import _kernels_ekf as K
+
+    imu, prof, rec, a0, b0, flags = _ekf_record(4)
+    reps = 11                                              # 44 trials: several blocks per thread, a short last one
+    g, a = np.tile(rec.gyro_rad_s, (reps, 1, 1)), np.tile(rec.accel_m_s2, (reps, 1, 1))
+    v = RotationSetup().unit_axis()
+    threads(min(2, numba.config.NUMBA_NUM_THREADS))
+    whole = run_rams_ekf(g, a, np.tile(flags, (reps, 1)), v, np.tile(a0, (reps, 1)), imu.dt_s, imu.ekf_params(),
+                         bias0_rad_s=np.tile(b0, (reps, 1)))
+    calls = []
+    serial = K.ekf_serial
+    monkey = pytest.MonkeyPatch()
+    monkey.setattr(K, "ekf_parallel", lambda *args: calls.append(1) or serial(*args))
+    try:
+        ref = run_rams_ekf(g, a, np.tile(flags, (reps, 1)), v, np.tile(a0, (reps, 1)), imu.dt_s, imu.ekf_params(),
+                           bias0_rad_s=np.tile(b0, (reps, 1)))
+    finally:
+        monkey.undo()
+    assert calls == [1]                                    # the first call did take the parallel kernel
+    for name in ("theta_rad", "bias_rad_s", "p_theta_rad2", "innovation_m_s2", "P", "S", "K"):
+        assert np.array_equal(getattr(whole, name), getattr(ref, name)), name
 
 
 # with 8 lanes (AVX-512 hosts): partial blocks (2-7), a full block + a lone scalar trial (9), full + partial (13),

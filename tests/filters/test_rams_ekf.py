@@ -199,3 +199,27 @@ def test_fast_does_not_mutate_inputs():
     g0, a0_copy = g.copy(), a.copy()
     run_rams_ekf(g, a, st, v, a0, dt, _P_SYN)
     assert np.array_equal(g, g0) and np.array_equal(a, a0_copy)
+
+
+def test_recycled_outputs_never_touch_a_held_result(monkeypatch):
+    """Output histories are recycled (no fresh pages) only once the caller has dropped them; results equal."""
+    import weakref
+
+    from mtcal.filters import _kernels_common, rams_ekf
+    monkeypatch.setattr(_kernels_common, "RECYCLE_MIN_BYTES", 0)
+    monkeypatch.setattr(rams_ekf, "_POOL", _kernels_common.OutputPool())
+    g, a, st, v, a0, dt = _synthetic_record()
+    names = ("theta_rad", "bias_rad_s", "p_theta_rad2", "innovation_m_s2")
+    first = run_rams_ekf(g, a, st, v, a0, dt, _P_SYN)
+    kept = {name: getattr(first, name).copy() for name in names}
+    second = run_rams_ekf(g[:, ::-1], a[:, ::-1], st[::-1], v, a0, dt, _P_SYN)   # other data, first held
+    for name in names:
+        assert np.array_equal(getattr(first, name), kept[name])
+        assert not np.shares_memory(getattr(first, name), getattr(second, name))
+    pooled = {name: weakref.ref(getattr(second, name)) for name in names}
+    del second
+    third = run_rams_ekf(g, a, st, v, a0, dt, _P_SYN)
+    for name in names:
+        assert pooled[name]() is getattr(third, name)                          # the dropped arrays came back
+        assert np.array_equal(getattr(third, name), kept[name])
+        assert np.array_equal(getattr(first, name), kept[name])
