@@ -340,3 +340,34 @@ def test_streaming_mc_workers_give_the_numbers_of_one_stream(workers):
     split = mc_stream.run_mc(workers=workers, **kw)
     for key in ("rmse", "max_abs", "mean"):
         np.testing.assert_array_equal(split[key], one[key])
+
+
+def test_reproduce_row_reads_the_last_make_reproduce_run(tmp_path, monkeypatch):
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("notebooks_tool", run.ROOT / "tools" / "notebooks.py")
+    tool = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(tool)
+    from mtcal.runs.executor import JobResult, NotebookJob
+
+    def results(seconds, mb):
+        return [JobResult(NotebookJob(Path(f"notebooks/{s}.py"), Path("x.ipynb")), "ok", "", t, m)
+                for s, t, m in zip(("00_a", "10_b"), seconds, mb)]
+    path = tmp_path / "resources.csv"
+    assert run.read_reproduce_resources(path) is None
+    assert [met for *_, met in run._reproduce_rows(None)] == [None]
+    monkeypatch.setenv("MTCAL_SIZE", "full")
+    tool._write_resources(path, results((20.0, 150.0), (700.0, 1400.0)), 170.4, 2)
+    rep = run.read_reproduce_resources(path)
+    assert rep["total_s"] == 170.4 and rep["peak_mb"] == 1400.0 and rep["slowest"] == ("10_b", 150.0)
+    assert rep["jobs"] == 2 and rep["size"] == "full" and rep["ok"]
+    (t, measured, ratio, met), (_, mb, _, met_mb) = run._reproduce_rows(rep)
+    assert met is True and met_mb is True and measured.startswith("170 s") and ratio == "0.95"
+    tool._write_resources(path, results((20.0, 190.0), (700.0, 2100.0)), 200.0, 2)   # over both targets
+    assert [met for *_, met in run._reproduce_rows(run.read_reproduce_resources(path))] == [False, False]
+    monkeypatch.setenv("MTCAL_SIZE", "ci")                                              # not the target size
+    tool._write_resources(path, results((2.0, 3.0), (700.0, 700.0)), 5.0, 2)
+    (_, measured, _, met), = run._reproduce_rows(run.read_reproduce_resources(path))
+    assert met is None and "MTCAL_SIZE=ci" in measured
+    path.write_text("garbage")
+    assert run.read_reproduce_resources(path) is None

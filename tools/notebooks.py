@@ -67,8 +67,8 @@ def _write_resources(path: Path, results, total_s: float, jobs: int) -> None:
                  "wall_s": f"{total_s:.1f}", "peak_rss_kernel_mb": f"{max(peaks):.0f}" if peaks else ""})
     tmp = path.with_name(path.name + ".tmp")
     with open(tmp, "w", newline="") as fh:
-        fh.write(f"# tools/notebooks.py execute --jobs {jobs}: wall time per notebook and in total (s), "
-                 "peak RSS of the notebook's kernel (MiB)\n")
+        fh.write(f"# tools/notebooks.py execute --jobs {jobs} MTCAL_SIZE={os.environ.get('MTCAL_SIZE', '')}: wall time "
+                 "per notebook and in total (s), peak RSS of the notebook's kernel (MiB)\n")
         writer = csv.DictWriter(fh, fieldnames=list(rows[0]), lineterminator="\n")
         writer.writeheader()
         writer.writerows(rows)

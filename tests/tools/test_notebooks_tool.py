@@ -17,13 +17,14 @@ def _result(stem, status, seconds, mb):
     return JobResult(NotebookJob(Path(f"notebooks/{stem}.py"), Path(f"notebooks/{stem}.ipynb")), status, "", seconds, mb)
 
 
-def test_resources_file_round_trip(tmp_path):
+def test_resources_file_round_trip(tmp_path, monkeypatch):
+    monkeypatch.setenv("MTCAL_SIZE", "full")
     path = tmp_path / "sub" / "resources.csv"
     results = [_result("11_b", "ok", 61.24, 1650.4), _result("00_a", "ok", 8.0, 700.0),
                _result("20_c", "skipped", 0.0, math.nan)]
     tool._write_resources(path, results, 70.5, 2)
     text = path.read_text()
-    assert text.startswith("# tools/notebooks.py execute --jobs 2")
+    assert text.startswith("# tools/notebooks.py execute --jobs 2 MTCAL_SIZE=full:")
     rows = list(csv.DictReader(ln for ln in text.splitlines() if not ln.startswith("#")))
     assert [r["notebook"] for r in rows] == ["00_a", "11_b", "20_c", "total"]
     assert rows[1]["wall_s"] == "61.2" and rows[1]["peak_rss_kernel_mb"] == "1650"
