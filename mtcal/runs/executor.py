@@ -67,7 +67,9 @@ class JobResult:
     """Outcome of a :class:`NotebookJob`: ``status`` is ``ok``, ``failed`` or ``skipped`` (not started
     after an earlier failure); ``error`` the one-line message (``""`` when ok); ``seconds`` the wall
     time; ``peak_rss_mb`` the peak resident memory of the largest single process of the job's tree
-    (its kernel; MiB, from ``wait4``; NaN when not started)."""
+    (its kernel; MiB, from ``wait4``; NaN when not started). Linux counts a child from its parent's
+    size at ``fork``, so the figure is at least the calling process's size: call from a small process
+    (``tools/notebooks.py``) to measure the notebooks."""
 
     job: NotebookJob
     status: str
