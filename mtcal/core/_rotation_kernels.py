@@ -217,6 +217,19 @@ def conjugate2(q, out):  # pragma: no cover - compiled
 
 
 @jit
+def _apply_row(q0, q1, q2, q3, m):  # pragma: no cover - compiled
+    """``_apply``'s operations on one quaternion before ``normalize2``'s division: sign alignment
+    (q0 ≥ 0), ``q @ mᵀ`` summed in index order, and the norm. Returns (b0, b1, b2, b3, norm)."""
+    if q0 < 0.0:
+        q0, q1, q2, q3 = -q0, -q1, -q2, -q3
+    b0 = ((q0 * m[0, 0] + q1 * m[0, 1]) + q2 * m[0, 2]) + q3 * m[0, 3]
+    b1 = ((q0 * m[1, 0] + q1 * m[1, 1]) + q2 * m[1, 2]) + q3 * m[1, 3]
+    b2 = ((q0 * m[2, 0] + q1 * m[2, 1]) + q2 * m[2, 2]) + q3 * m[2, 3]
+    b3 = ((q0 * m[3, 0] + q1 * m[3, 1]) + q2 * m[3, 2]) + q3 * m[3, 3]
+    return b0, b1, b2, b3, np.sqrt(b0 * b0 + b1 * b1 + b2 * b2 + b3 * b3)
+
+
+@jit
 def euler_zxy_before_after(q, q_mat, ref, lock_sin, before, after, err_before, err_after):  # pragma: no cover
     """Eq 8 angles of ``q`` (T, N, 4) before and after Eq 10 with ``q_mat`` (T, 4, 4), and their errors from ``ref``.
 
@@ -239,13 +252,7 @@ def euler_zxy_before_after(q, q_mat, ref, lock_sin, before, after, err_before, e
             e0 = np.arctan2(-2.0 * (q1 * q2 - q0 * q3), s00 - s11 + s22 - s33)
             e1 = np.arcsin(sp)
             e2 = np.arctan2(-2.0 * (q1 * q3 - q0 * q2), s00 - s11 - s22 + s33)
-            if q0 < 0.0:
-                q0, q1, q2, q3 = -q0, -q1, -q2, -q3
-            b0 = ((q0 * m[0, 0] + q1 * m[0, 1]) + q2 * m[0, 2]) + q3 * m[0, 3]
-            b1 = ((q0 * m[1, 0] + q1 * m[1, 1]) + q2 * m[1, 2]) + q3 * m[1, 3]
-            b2 = ((q0 * m[2, 0] + q1 * m[2, 1]) + q2 * m[2, 2]) + q3 * m[2, 3]
-            b3 = ((q0 * m[3, 0] + q1 * m[3, 1]) + q2 * m[3, 2]) + q3 * m[3, 3]
-            n = np.sqrt(b0 * b0 + b1 * b1 + b2 * b2 + b3 * b3)
+            b0, b1, b2, b3, n = _apply_row(q0, q1, q2, q3, m)
             if n < 1e-12:
                 bad += 1
                 continue
@@ -288,13 +295,7 @@ def pitch_after(q, q_mat, lock_sin, out):  # pragma: no cover - compiled
         m = q_mat[t]
         for i in range(q.shape[1]):
             q0, q1, q2, q3 = q[t, i, 0], q[t, i, 1], q[t, i, 2], q[t, i, 3]
-            if q0 < 0.0:
-                q0, q1, q2, q3 = -q0, -q1, -q2, -q3
-            b0 = ((q0 * m[0, 0] + q1 * m[0, 1]) + q2 * m[0, 2]) + q3 * m[0, 3]
-            b1 = ((q0 * m[1, 0] + q1 * m[1, 1]) + q2 * m[1, 2]) + q3 * m[1, 3]
-            b2 = ((q0 * m[2, 0] + q1 * m[2, 1]) + q2 * m[2, 2]) + q3 * m[2, 3]
-            b3 = ((q0 * m[3, 0] + q1 * m[3, 1]) + q2 * m[3, 2]) + q3 * m[3, 3]
-            n = np.sqrt(b0 * b0 + b1 * b1 + b2 * b2 + b3 * b3)
+            b0, b1, b2, b3, n = _apply_row(q0, q1, q2, q3, m)
             if n < 1e-12:
                 bad += 1
                 continue

@@ -172,6 +172,23 @@ def _continuous(q: np.ndarray) -> np.ndarray:
 
 
 @jit
+def _relative_unit(q, i):  # pragma: no cover - compiled
+    """Sign-aligned ``normalize(conj(q_i) ⊗ q_{i+1})`` of the (N, 4) quaternions ``q``: the operations of
+    ``quat_conjugate`` (× −1), ``hamilton``, ``quat_normalize`` and ``rotvec_from_quat``'s sign alignment."""
+    p0, p1, p2, p3 = q[i, 0], q[i, 1] * -1.0, q[i, 2] * -1.0, q[i, 3] * -1.0
+    q0, q1, q2, q3 = q[i + 1, 0], q[i + 1, 1], q[i + 1, 2], q[i + 1, 3]
+    d0 = p0 * q0 - p1 * q1 - p2 * q2 - p3 * q3
+    d1 = p0 * q1 + p1 * q0 + p2 * q3 - p3 * q2
+    d2 = p0 * q2 - p1 * q3 + p2 * q0 + p3 * q1
+    d3 = p0 * q3 + p1 * q2 - p2 * q1 + p3 * q0
+    n = np.sqrt(d0 * d0 + d1 * d1 + d2 * d2 + d3 * d3)
+    d0, d1, d2, d3 = d0 / n, d1 / n, d2 / n, d3 / n
+    if d0 < 0.0:
+        d0, d1, d2, d3 = -d0, -d1, -d2, -d3
+    return d0, d1, d2, d3
+
+
+@jit
 def _relative_rotations(q, qf, vnorm):  # pragma: no cover - compiled
     """Sign-aligned ``qf = normalize(conj(q_k) ⊗ q_{k+1})`` (M = N − 1 rows) and ``vnorm = |qf[1:]|``.
 
@@ -179,16 +196,7 @@ def _relative_rotations(q, qf, vnorm):  # pragma: no cover - compiled
     ``rotvec_from_quat``'s sign alignment, fused into one pass (mtcal.core._rotation_kernels).
     """
     for i in range(qf.shape[0]):
-        p0, p1, p2, p3 = q[i, 0], q[i, 1] * -1.0, q[i, 2] * -1.0, q[i, 3] * -1.0
-        q0, q1, q2, q3 = q[i + 1, 0], q[i + 1, 1], q[i + 1, 2], q[i + 1, 3]
-        d0 = p0 * q0 - p1 * q1 - p2 * q2 - p3 * q3
-        d1 = p0 * q1 + p1 * q0 + p2 * q3 - p3 * q2
-        d2 = p0 * q2 - p1 * q3 + p2 * q0 + p3 * q1
-        d3 = p0 * q3 + p1 * q2 - p2 * q1 + p3 * q0
-        n = np.sqrt(d0 * d0 + d1 * d1 + d2 * d2 + d3 * d3)
-        d0, d1, d2, d3 = d0 / n, d1 / n, d2 / n, d3 / n
-        if d0 < 0.0:
-            d0, d1, d2, d3 = -d0, -d1, -d2, -d3
+        d0, d1, d2, d3 = _relative_unit(q, i)
         qf[i, 0], qf[i, 1], qf[i, 2], qf[i, 3] = d0, d1, d2, d3
         vnorm[i] = np.sqrt(d1 * d1 + d2 * d2 + d3 * d3)
 
@@ -297,16 +305,7 @@ def _tilted_truth_kernel(q_base, axis, gain, time_s, v, q_out, rates, force):  #
         else:
             q_out[i, 0], q_out[i, 1], q_out[i, 2], q_out[i, 3] = b0, b1, b2, b3
     for i in range(n - 1):
-        p0, p1, p2, p3 = q_out[i, 0], q_out[i, 1] * -1.0, q_out[i, 2] * -1.0, q_out[i, 3] * -1.0
-        q0, q1, q2, q3 = q_out[i + 1, 0], q_out[i + 1, 1], q_out[i + 1, 2], q_out[i + 1, 3]
-        d0 = p0 * q0 - p1 * q1 - p2 * q2 - p3 * q3
-        d1 = p0 * q1 + p1 * q0 + p2 * q3 - p3 * q2
-        d2 = p0 * q2 - p1 * q3 + p2 * q0 + p3 * q1
-        d3 = p0 * q3 + p1 * q2 - p2 * q1 + p3 * q0
-        nn = np.sqrt(d0 * d0 + d1 * d1 + d2 * d2 + d3 * d3)
-        d0, d1, d2, d3 = d0 / nn, d1 / nn, d2 / nn, d3 / nn
-        if d0 < 0.0:
-            d0, d1, d2, d3 = -d0, -d1, -d2, -d3
+        d0, d1, d2, d3 = _relative_unit(q_out, i)
         vn = np.sqrt(d1 * d1 + d2 * d2 + d3 * d3)
         k = 2.0 if vn < 1e-12 else (2.0 * np.arctan2(vn, d0)) / vn
         dt = time_s[i + 1] - time_s[i]
