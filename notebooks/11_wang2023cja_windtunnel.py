@@ -200,7 +200,8 @@ output.show_table(one["fitted"][["quantity", "role", "paper", "median", "low", "
 # ## The paper's claims, with its thresholds
 # Only Table 10's Std claim is a `claim` here (held out); the others are `consistency` checks against
 # a mechanism tuned on these tables. Failing ones are listed with the computed reason; nothing is
-# enforced that fails.
+# enforced that fails. A verdict whose share of holding trials is within Monte Carlo error of one
+# half is marked "not resolved".
 
 # %%
 output.save_table(claims, "wang2023cja_extra_windtunnel_claims")

@@ -129,3 +129,15 @@ def test_leak_registration_and_comparison_feed_the_scores():
     assert t.ref.iloc[0] == "wang2023cja_table10_windtunnel_wind_pitch:40:value_deg"
     s = fidelity.score(t, "fitted")
     assert (s["n"], s["inside"]) == (1, 1)
+
+
+def test_a_coin_flip_verdict_is_marked_not_resolved():
+    x = np.arange(1000.0)                                   # holds (<= 499.5) in exactly half the trials
+    even = verdicts._claim("x", "a", "within", "<= 499.5", "claim", "stat", x, lambda v: v <= 499.5, "median {v:.1f}")
+    assert even["holds"] and even["reason"].startswith("not resolved: holds in 50.0 % of 1000 trials")
+    clear = verdicts._claim("x", "a", "within", "<= 600", "claim", "stat", x, lambda v: v <= 600, "median {v:.1f}")
+    assert clear["holds"] and clear["reason"] == ""          # 60 %: resolved at 1000 trials
+    fails = verdicts._claim("x", "a", "within", "<= 480", "claim", "stat", x, lambda v: v <= 480, "median {v:.1f}")
+    assert not fails["holds"] and fails["reason"].startswith("median 499.5; not resolved: holds in 48.1 %")
+    few = verdicts._claim("x", "a", "within", "<= 600", "claim", "stat", x[::250], lambda v: v <= 600, "m {v}")
+    assert "not resolved" in few["reason"]                   # 4 trials resolve nothing

@@ -41,7 +41,7 @@ from mtcal.reporting.fidelity import quantile_mc_se
 from .error_model import PAPER_SIGN, TABLES_1_TO_4
 from .runs import position_errors_deg
 
-__all__ = ["SPLIT_FILE", "split", "printed_samples", "one_to_one", "scores", "claims",
+__all__ = ["SPLIT_FILE", "split", "printed_samples", "one_to_one", "scores", "claims", "unresolved_note",
            "claim_block", "CLAIM_COLUMNS", "comparison"]
 
 SPLIT_FILE = "wang2023cja_split"
@@ -210,12 +210,31 @@ CLAIM_COLUMNS = ["claim_id", "artifact", "quote", "threshold", "kind", "statisti
                  "holds", "reason"]
 
 
+def unresolved_note(share: float, n: int) -> str:
+    """Why a verdict on the median trial is not resolved, or ``""``: the share of trials for which the claim
+    holds lies within two binomial standard errors of one half (``2·√(0.25/n)``), so the median trial sits
+    on the threshold within Monte Carlo error and another seed can flip the verdict.
+
+    >>> unresolved_note(0.503, 1000)
+    'not resolved: holds in 50.3 % of 1000 trials, within Monte Carlo error (±3.2 %) of one half'
+    >>> unresolved_note(0.455, 1000)
+    ''
+    """
+    band = 2.0 * np.sqrt(0.25 / int(n))
+    if abs(float(share) - 0.5) > band:
+        return ""
+    return (f"not resolved: holds in {100 * share:.1f} % of {int(n)} trials, within Monte Carlo error "
+            f"(±{100 * band:.1f} %) of one half")
+
+
 def _claim(cid, artifact, quote, threshold, kind, statistic, x, test, why_fail, why_kind=""):
     x = np.asarray(x, float)
     ok = test(x)
     med = float(np.median(x))
     holds = bool(test(np.array([med]))[0])
     reason = ("" if holds else why_fail.format(v=med)) + (f" [{why_kind}]" if why_kind else "")
+    unresolved = unresolved_note(float(np.mean(ok)), x.size)
+    reason = f"{reason.strip()}; {unresolved}" if reason.strip() and unresolved else (reason or unresolved)
     return {"claim_id": cid, "artifact": artifact, "quote": quote, "threshold": threshold, "kind": kind,
             "statistic": statistic, "value": med, "fraction_of_trials": float(np.mean(ok)), "holds": holds,
             "reason": reason.strip()}
