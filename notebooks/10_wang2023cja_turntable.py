@@ -167,7 +167,8 @@ def section(artifact_prefix, table=None):
 
 # %% [markdown]
 # ## wang2023cja_table01 — six positions, normal (screwed) installation (Table 1)
-# Trial 0 of the verification run beside the paper, plus the Monte Carlo median of "after"; then
+# One session of the verification run beside the paper (`mtcal_*`: the median session by its largest
+# after-calibration error, never trial 0), plus the Monte Carlo median of "after"; then
 # every printed number one to one (all `train`: the error model was fitted on them).
 
 # %%

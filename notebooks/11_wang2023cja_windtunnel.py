@@ -134,8 +134,9 @@ section("wang2023cja_table09")
 # ## wang2023cja_fig10 — pitch minus the commanded AoA in the five wind-on sweeps (paper Fig 10)
 # The paper plots pitch; the five curves then overlay at the scale of the 12° sweep. Pitch −
 # reference (0.2 s mean, removing the 45 Hz model vibration) shows what Table 10 is about: the
-# elastic offset growing with AoA, and the ≈ 0.01° group-to-group scatter. Trial 0 (one parameter
-# draw); the ensemble of every Table 10 number is in the table below.
+# elastic offset growing with AoA, and the ≈ 0.01° group-to-group scatter. One session — the median
+# one by Table 10's largest group-to-group Std, never trial 0; the ensemble of every Table 10 number
+# is in the table below.
 
 # %%
 from mtcal.studies.wang2023cja import plots

@@ -12,7 +12,7 @@ from mtcal.core.validate import as_float_array, positive_int, positive_scalar, s
 
 __all__ = ["angle_difference", "rmse", "max_abs_error", "split_static_moving",
            "allan_deviation", "fit_allan_noise", "percentile_band", "bootstrap_medians",
-           "MIN_BAND_DRAWS", "band_or_range", "band_label"]
+           "MIN_BAND_DRAWS", "band_or_range", "band_label", "median_trial"]
 
 
 #: Elements from which :func:`angle_difference` runs a compiled loop (bit-identical to numpy's).
@@ -276,3 +276,29 @@ def band_or_range(samples, axis: int = 0, *, what: str = "trials", finite_only: 
         out = {"median": np.median(x, axis=axis), "low": np.min(x, axis=axis), "high": np.max(x, axis=axis),
                "kind": "range"}
     return {**out, "n": int(n), "label": band_label(n, what)}
+
+
+def median_trial(score) -> int:
+    """Index of the median trial: the trial whose ``score`` (one value per trial) is the lower median.
+
+    Figures and "one session" table columns show this trial, never trial 0 (a lucky or unlucky draw),
+    and say so.
+
+    Parameters
+    ----------
+    score : array_like (T,)
+        One value per trial (e.g. its maximum error; NaN sorts last).
+
+    Returns
+    -------
+    int
+
+    Examples
+    --------
+    >>> median_trial([3.0, 1.0, 2.0, 5.0])
+    2
+    """
+    x = np.asarray(score, dtype=float)
+    if x.ndim != 1 or x.size == 0:
+        raise ValueError(f"score must be a non-empty 1-D array (one value per trial), got shape {x.shape}")
+    return int(np.argsort(x, kind="stable")[(x.size - 1) // 2])     # a NaN score sorts last

@@ -209,3 +209,34 @@ def test_compiled_pitch_and_sweep_angles_equal_the_expressions():
     bad[1, 0, 0] = np.nan
     with pytest.raises(FloatingPointError, match="not finite"):
         runs._pitch_after(bad, q)
+
+
+def test_windtunnel_trace_is_the_chosen_trial_and_changes_no_number():
+    from mtcal.studies.wang2023cja.runs import TRACE_DECIMATION, windtunnel_median_trial
+
+    sc = w.windtunnel_scenario(fs_hz=200.0)
+    runs = [w.run_windtunnel(sc, np.random.default_rng(5), 3, wind_on=True, block=2, trace_trial=t) for t in (0, 2)]
+    assert np.array_equal(runs[0].q_matrix, runs[1].q_matrix)
+    assert np.array_equal(runs[0].wind_on["group_means"], runs[1].wind_on["group_means"])
+    for t, run in zip((0, 2), runs):          # the trace is trial t's (second block for t = 2)
+        dec = run.trace["nowind_before_err"][::TRACE_DECIMATION].astype(np.float32)
+        assert np.array_equal(dec, run.nowind["before_err_dec"][t])
+    assert not np.array_equal(runs[0].trace["wind_pitch_0"], runs[1].trace["wind_pitch_0"])
+    m = windtunnel_median_trial(runs[0])
+    std = np.degrees(runs[0].wind_on["group_means"]).std(axis=0, ddof=1).max(axis=-1)
+    assert std[m] == np.sort(std)[1]          # the median of three
+    with pytest.raises(ValueError, match="trace_trial"):
+        w.run_windtunnel(sc, np.random.default_rng(5), 3, trace_trial=3)
+
+
+def test_windtunnel_predictive_traces_its_median_session():
+    from mtcal.studies.wang2023cja import predictive
+    from mtcal.studies.wang2023cja.runs import TRACE_DECIMATION, windtunnel_median_trial
+
+    fit = w.fit_error_model(n_mc=400, seed=1)
+    run = predictive.windtunnel_predictive(lambda m: w.windtunnel_scenario(errors=m, fs_hz=200.0), fit, "fitted",
+                                           5, 1, per_draw=2)
+    m = windtunnel_median_trial(run)
+    assert run.trace["median_trial"] == m
+    dec = run.trace["nowind_before_err"][::TRACE_DECIMATION].astype(np.float32)
+    assert np.array_equal(dec, run.nowind["before_err_dec"][m])

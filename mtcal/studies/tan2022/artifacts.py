@@ -86,16 +86,13 @@ def _slope_band(x, y):
 
 
 def median_trial(score) -> int:
-    """Index of the median-error trial: the trial whose ``score`` (one value per trial) is the lower median.
-
-    Time-series figures draw this trial (never trial 0) and say so in their title.
+    """Index of the median-error trial (:func:`mtcal.core.metrics.median_trial`); time-series figures draw
+    this trial (never trial 0) and say so in their title.
 
     >>> median_trial([3.0, 1.0, 2.0, 5.0])
     2
     """
-    x = np.asarray(score, dtype=float)
-    order = np.argsort(x, kind="stable")
-    return int(order[(x.size - 1) // 2])
+    return metrics.median_trial(score)
 
 
 def _slope_row(artifact, quantity, paper, band):

@@ -34,7 +34,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from mtcal.core.montecarlo import progress
-from mtcal.core import profiles, rotations, simulate
+from mtcal.core import metrics, profiles, rotations, simulate
 from mtcal.core.simulate import ImuErrorModel
 from mtcal.core.validate import STANDARD_GRAVITY_M_S2, as_float_array, positive_scalar
 from mtcal.filters import baselines
@@ -546,9 +546,8 @@ def run_fig9(axis, imu: ImuValues, rig: RigValues, trials: int, seed: int) -> Fi
 
 
 def _median_trial(score) -> int:
-    """Index of the trial whose ``score`` is the lower median (the record a figure draws, never trial 0)."""
-    x = np.asarray(score, dtype=float)
-    return int(np.argsort(x, kind="stable")[(x.size - 1) // 2])
+    """The median trial (:func:`mtcal.core.metrics.median_trial`)."""
+    return metrics.median_trial(score)
 
 
 @dataclass(frozen=True)

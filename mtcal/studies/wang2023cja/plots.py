@@ -230,10 +230,18 @@ def fig08(run, grade_label: str):
                            f"Fig. 8 (wang2023cja_fig08): pitch/yaw errors, roll sweep — {grade_label}")
 
 
+def _session(run) -> str:
+    """Which session a time-series figure draws (the predictive runs trace their median session)."""
+    k = run.trace.get("median_trial")
+    n = run.q_matrix.shape[0]
+    return f"median session ({k + 1} of {n}, by Table 10's group Std)" if k is not None else f"session 1 of {n}"
+
+
 def fig10(run, grade_label: str, rates_deg_s: tuple):
-    """wang2023cja_fig10 (paper Fig 10): pitch − reference in the five wind-on sweeps, trial 0."""
+    """wang2023cja_fig10 (paper Fig 10): pitch − reference in the five wind-on sweeps of the median session."""
     return wind_on_figure(run.trace, title=(f"Fig. 10 (wang2023cja_fig10): pitch − reference, wind-on groups — "
-                                            f"{grade_label}, {rates_deg_s[0]:g}/{rates_deg_s[1]:g} °/s"))
+                                            f"{grade_label}, {rates_deg_s[0]:g}/{rates_deg_s[1]:g} °/s\n"
+                                            f"{_session(run)}"))
 
 
 def fig11(run, grade_label: str):
@@ -249,6 +257,7 @@ def fig11(run, grade_label: str):
 
 
 def extra_amd(run, threshold_pct: float, vibration_accel_m_s2: float):
-    """wang2023cja_extra_amd (beyond the paper): the AMD statistic in wind-on Group 1, trial 0."""
+    """wang2023cja_extra_amd (beyond the paper): the AMD statistic in wind-on Group 1 of the median session."""
     return amd_figure(run.trace, threshold_pct,
-                      title=f"wang2023cja_extra_amd: AMD, wind-on Group 1 — vibration {vibration_accel_m_s2:g} m/s²")
+                      title=f"wang2023cja_extra_amd: AMD, wind-on Group 1 — vibration {vibration_accel_m_s2:g} m/s²\n"
+                            f"{_session(run)}")

@@ -35,7 +35,7 @@ import numpy as np
 from mtcal.core.rng import stream_rng
 from mtcal.reporting import leak
 from .error_model import FITTED_PARAMETERS, PRIOR_RANGES, TABLES_1_TO_4, ErrorModel, ErrorModelFit
-from .runs import TurntableJob, _map, run_turntable_jobs, run_windtunnel
+from .runs import TurntableJob, _map, run_turntable_jobs, run_windtunnel, windtunnel_median_trial
 
 __all__ = ["ALPHA_PRIOR_SIGMA_DEG", "KINDS", "posterior_draws", "prior_draws", "turntable_predictive",
            "windtunnel_predictive", "quantile_se", "LEAK_SIZES", "fit_and_predict"]
@@ -174,7 +174,7 @@ def windtunnel_predictive(make_scenario, fit: ErrorModelFit, kind: str, trials: 
 
     def one(k):       # each draw its own generator and scenario: the same numbers for any thread count
         return run_windtunnel(make_scenario(draws[k][0]), rngs[k], min(per_draw, int(trials) - k * per_draw),
-                              block=per_draw, keep_trace=(k == 0))   # only the first run's trace is kept
+                              block=per_draw, keep_trace=False)
 
     runs = _map(one, list(range(n_draws)))
     cat = lambda xs: np.concatenate(xs, axis=0)  # noqa: E731
@@ -189,6 +189,13 @@ def windtunnel_predictive(make_scenario, fit: ErrorModelFit, kind: str, trials: 
         w["gate_fraction_on_trials"] = cat([r.wind_on["gate_fraction_on_trials"] for r in runs])
         w["gate_fraction_on"] = float(np.mean(w["gate_fraction_on_trials"]))
         first.wind_on = w
+    # the figures' time series: the median session (never trial 0), its draw re-run from a fresh copy of
+    # that draw's generator (the same numbers) with its trace kept
+    k, i = divmod(windtunnel_median_trial(first), per_draw)
+    fresh = np.random.default_rng(np.random.SeedSequence([int(seed), 11])).spawn(n_draws)[k]
+    first.trace = run_windtunnel(make_scenario(draws[k][0]), fresh, min(per_draw, int(trials) - k * per_draw),
+                                 block=per_draw, keep_trace=True, trace_trial=i).trace
+    first.trace["median_trial"] = k * per_draw + i
     return first
 
 

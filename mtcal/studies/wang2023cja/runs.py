@@ -52,7 +52,8 @@ MONTE_CARLO_GATES = {"max_condition": np.inf, "max_so4_distance": np.inf, "max_r
 
 __all__ = ["turntable_runs", "turntable_profile", "six_position_reference", "TurntableRun", "TurntableJob",
            "calibration_step", "run_turntable", "run_turntable_jobs", "position_errors_deg", "load_tilt_outputs",
-           "WindTunnelRun", "run_windtunnel", "elastic_deflection_rad", "MONTE_CARLO_GATES", "TRACE_DECIMATION"]
+           "WindTunnelRun", "run_windtunnel", "windtunnel_median_trial", "elastic_deflection_rad", "MONTE_CARLO_GATES",
+           "TRACE_DECIMATION"]
 
 
 def _euler(q: np.ndarray) -> np.ndarray:
@@ -624,26 +625,31 @@ class WindTunnelRun:
 
 
 def run_windtunnel(sc: WindTunnelScenario, rng: np.random.Generator, trials: int, sources=SOURCES,
-                   *, wind_on: bool = True, block: int = 10, keep_trace: bool = True) -> WindTunnelRun:
+                   *, wind_on: bool = True, block: int = 10, keep_trace: bool = True,
+                   trace_trial: int = 0) -> WindTunnelRun:
     """Wind-off calibration + AoA sweep (Tables 9, 11) and five wind-on groups (Table 10), in trial blocks.
 
     Block ``i`` of ``block`` trials draws from ``rng.spawn(n_blocks)[i]``; peak memory is set by
-    ``block`` (≈ 0.6 GB at 10), not by ``trials``. Trial 0's time series are kept for figures
-    (``keep_trace``; off: ``trace`` is empty, a caller that keeps another run's does not hold ~10 MB
-    per run).
+    ``block`` (≈ 0.6 GB at 10), not by ``trials``. The time series of trial ``trace_trial`` are kept
+    for figures (``keep_trace``; off: ``trace`` is empty, a caller that keeps another run's does not
+    hold ~10 MB per run); the trials' numbers do not depend on which one is traced.
     """
     trials = int(trials)
     if trials < 1:
         raise ValueError(f"trials must be >= 1, got {trials}")
     if int(block) < 1:
         raise ValueError(f"block must be >= 1, got {block}")
+    if not 0 <= int(trace_trial) < trials:
+        raise ValueError(f"trace_trial must be in [0, {trials}), got {trace_trial}")
     sizes = [min(int(block), trials - k) for k in range(0, trials, int(block))]
+    b_trace, i_trace = divmod(int(trace_trial), int(block))
     runs = [_run_windtunnel_block(sc, r, n, _check_sources(sources), wind_on=wind_on,
-                                  keep_trace=keep_trace and i == 0)
+                                  keep_trace=keep_trace and i == b_trace, trace_index=i_trace)
             for i, (r, n) in enumerate(progress(list(zip(rng.spawn(len(sizes)), sizes)),
                                                 desc="wind-tunnel Monte Carlo"))]
     cat = lambda xs: np.concatenate(xs, axis=0)  # noqa: E731
     first = runs[0]
+    first.trace = runs[b_trace].trace
     nowind = {k: (v if k == "reference" else cat([r.nowind[k] for r in runs])) for k, v in first.nowind.items()}
     wind = None
     if wind_on:
@@ -656,7 +662,7 @@ def run_windtunnel(sc: WindTunnelScenario, rng: np.random.Generator, trials: int
 
 
 def _run_windtunnel_block(sc: WindTunnelScenario, rng: np.random.Generator, trials: int, sources,
-                          *, wind_on: bool, keep_trace: bool) -> WindTunnelRun:
+                          *, wind_on: bool, keep_trace: bool, trace_index: int = 0) -> WindTunnelRun:
     """Wind-off calibration + AoA sweep (Tables 9, 11) and five wind-on groups (Table 10).
 
     Truth = actual mechanism angles (:func:`mechanism_actual`) + elastic
@@ -708,12 +714,26 @@ def _run_windtunnel_block(sc: WindTunnelScenario, rng: np.random.Generator, tria
     trace = {}
     if keep_trace:
         trace = {"nowind_time_s": prof.time_s[span] - prof.time_s[span.start],
-                 "nowind_before_err": errs["before"][0].copy(), "nowind_after_err": errs["after"][0].copy()}
+                 "nowind_before_err": errs["before"][trace_index].copy(),
+                 "nowind_after_err": errs["after"][trace_index].copy()}
     del before, after, res, q_s
     out = WindTunnelRun(q_mat, cal.euler_before_rad, cal.euler_after_rad, nowind, None, trace)
     if wind_on:
-        out.wind_on = _wind_on_groups(sc, model, q_mat, rng_wind, trials, out.trace, k_mount, keep_trace)
+        out.wind_on = _wind_on_groups(sc, model, q_mat, rng_wind, trials, out.trace, k_mount, keep_trace,
+                                      trace_index)
     return out
+
+
+def windtunnel_median_trial(run: WindTunnelRun) -> int:
+    """The median session of a wind-tunnel run: median of Table 10's largest group-to-group Std over
+    the AoA points (wind on), else of the wind-off sweep's largest MaxAE after calibration.
+
+    Table 10 and the wind-on figures show this session, never trial 0.
+    """
+    if run.wind_on is not None:
+        return metrics.median_trial(np.degrees(run.wind_on["group_means"]).std(axis=0, ddof=1).max(axis=-1))
+    nw = run.nowind
+    return metrics.median_trial(np.max([nw[f"after_maxae_{c}"] for c in (2, 0)], axis=0))
 
 
 def elastic_deflection_rad(coeffs_deg, alpha_rad) -> np.ndarray:
@@ -722,7 +742,7 @@ def elastic_deflection_rad(coeffs_deg, alpha_rad) -> np.ndarray:
     return np.radians(c0) + c1 * np.asarray(alpha_rad)
 
 
-def _wind_on_groups(sc, model, q_mat, rng, trials, trace, k_mount, keep_trace):
+def _wind_on_groups(sc, model, q_mat, rng, trials, trace, k_mount, keep_trace, trace_index=0):
     """Five wind-on AoA sweeps; each group its own record; all groups stacked as trials for the QNCF."""
     lead_s = 8.0
     group_rngs = rng.spawn(5)
@@ -768,12 +788,13 @@ def _wind_on_groups(sc, model, q_mat, rng, trials, trace, k_mount, keep_trace):
         if not keep_trace:
             continue
         if g == 0:
-            trace["amd_pct"] = res.amd_pct[0, :prof.time_s.size]
-            trace["gate"] = res.gate[0, :prof.time_s.size]
+            trace["amd_pct"] = res.amd_pct[trace_index, :prof.time_s.size]
+            trace["gate"] = res.gate[trace_index, :prof.time_s.size]
         trace[f"wind_time_s_{g}"] = prof.time_s.copy()            # the profile is shared (read-only)
         trace[f"wind_reference_{g}"] = prof.angle_rad[:, 1].copy()
         trace[f"wind_pitch_{g}"] = rotations.euler_zxy_from_quat(
-            quaternion_lsq.apply_error_matrix(q_rep[sl][:1], q_g[:1, :prof.time_s.size]))[0, :, 1]
+            quaternion_lsq.apply_error_matrix(q_rep[sl][trace_index:trace_index + 1],
+                                              q_g[trace_index:trace_index + 1, :prof.time_s.size]))[0, :, 1]
     ref = np.radians(np.asarray(sc.wind_on_sweep_deg, float))
     return {"reference": ref, "group_means": means,
             "elastic_corrected": ref + elastic_deflection_rad(sc.elastic_model_deg, ref),
