@@ -12,12 +12,35 @@ from numbers import Real
 
 import numpy as np
 
-__all__ = ["STANDARD_GRAVITY_M_S2", "as_float_array", "positive_scalar", "sample_interval", "MAX_SAMPLE_INTERVAL_S", "positive_int", "time_vector", "angle_rad",
+__all__ = ["STANDARD_GRAVITY_M_S2", "float64_array", "as_float_array", "positive_scalar", "sample_interval", "MAX_SAMPLE_INTERVAL_S", "positive_int", "time_vector", "angle_rad",
            "unit_quaternion", "same_leading_shape", "MAX_GYRO_RAD_S", "check_gyro_units", "check_accel_units",
            "number_in_range", "angle_pair_deg", "choice", "merge_parameters"]
 
 #: Standard gravity in m/s² (used to detect g passed where m/s² is expected).
 STANDARD_GRAVITY_M_S2 = 9.80665
+
+
+def float64_array(value, name: str, *, copy: bool = False, contiguous: bool = False) -> np.ndarray:
+    """``value`` as a float64 array, or a ``TypeError`` naming ``name``: the type check of every array input.
+
+    ``copy`` returns a new array; otherwise a view where possible (C-contiguous with ``contiguous``).
+    Nothing about shape or values is checked.
+
+    >>> float64_array([1, 2], "x").dtype
+    dtype('float64')
+    >>> float64_array("1", "x")
+    Traceback (most recent call last):
+    ...
+    TypeError: x must be a numeric array, got str
+    """
+    if isinstance(value, (str, bytes)) or value is None:
+        raise TypeError(f"{name} must be a numeric array, got {type(value).__name__}")
+    try:
+        if copy:
+            return np.array(value, dtype=np.float64, copy=True)
+        return (np.ascontiguousarray if contiguous else np.asarray)(value, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise TypeError(f"{name} must be a numeric array: {exc}") from None
 
 
 def as_float_array(value, name: str, *, ndim: int | tuple[int, ...] | None = None,
@@ -40,12 +63,7 @@ def as_float_array(value, name: str, *, ndim: int | tuple[int, ...] | None = Non
         ``False`` returns float64 input as a read-only-by-convention view
         (no copy of large filter records); the caller must not modify it.
     """
-    if isinstance(value, (str, bytes)) or value is None:
-        raise TypeError(f"{name} must be a numeric array, got {type(value).__name__}")
-    try:
-        arr = np.array(value, dtype=np.float64, copy=True) if copy else np.asarray(value, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
-        raise TypeError(f"{name} must be a numeric array: {exc}") from None
+    arr = float64_array(value, name, copy=copy)
     if ndim is not None:
         allowed = (ndim,) if isinstance(ndim, int) else tuple(ndim)
         if arr.ndim not in allowed:

@@ -22,7 +22,7 @@ from numba.core import types
 from numba.extending import intrinsic
 
 from mtcal.core.compiled import jit
-from mtcal.core.validate import MAX_GYRO_RAD_S, MIN_MEDIAN_ACCEL_M_S2
+from mtcal.core.validate import MAX_GYRO_RAD_S, MIN_MEDIAN_ACCEL_M_S2, float64_array
 
 __all__ = ["jit", "ENGINES", "check_engine", "use_parallel", "fetch_add", "claim", "schedule", "record",
            "check_scanned", "check_kernel_scan", "OutputPool", "RECYCLE_MIN_BYTES"]
@@ -195,12 +195,7 @@ def record(value, name: str, ndim: tuple, kind: str | None = None, scan: bool = 
     ``scan=False`` checks type and shape only: the caller's kernel scans the values while it
     filters and calls :func:`check_scanned` before it keeps any result.
     """
-    if isinstance(value, (str, bytes)) or value is None:
-        raise TypeError(f"{name} must be a numeric array, got {type(value).__name__}")
-    try:
-        arr = np.ascontiguousarray(value, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
-        raise TypeError(f"{name} must be a numeric array: {exc}") from None
+    arr = float64_array(value, name, contiguous=True)
     if arr.ndim not in ndim:
         raise ValueError(f"{name} must have ndim in {tuple(ndim)}, got shape {arr.shape}")
     if arr.ndim == 0 or arr.shape[-1] != 3:

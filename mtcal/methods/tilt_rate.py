@@ -46,7 +46,7 @@ import warnings
 
 import numpy as np
 
-from mtcal.core.validate import positive_scalar
+from mtcal.core.validate import float64_array, positive_scalar
 
 __all__ = ["tilt_rate_scale", "check_tilt_rate_scale", "scale_hint", "tilt_seen", "warm_up", "MIN_CORRELATION",
            "MIN_AGREEMENT_CORRELATION", "MIN_LONG_AGREEMENT_CORRELATION",
@@ -158,12 +158,7 @@ def _record(gyro_rad_s, accel_m_s2, dt_s, skip):
     """Edge checks of :func:`tilt_rate_scale` that need no pass over the values (the kernel checks finiteness)."""
     arrays = []
     for name, value in (("gyro_rad_s", gyro_rad_s), ("accel_m_s2", accel_m_s2)):
-        if isinstance(value, (str, bytes)) or value is None:
-            raise TypeError(f"{name} must be a numeric array, got {type(value).__name__}")
-        try:
-            arr = np.ascontiguousarray(value, dtype=np.float64)
-        except (TypeError, ValueError) as exc:
-            raise TypeError(f"{name} must be a numeric array: {exc}") from None
+        arr = float64_array(value, name, contiguous=True)
         if arr.ndim != 2 or arr.shape[1] != 3:
             raise ValueError(f"{name} must have shape (N, 3), got {arr.shape}")
         arrays.append(arr)
