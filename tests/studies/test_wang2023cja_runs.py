@@ -142,18 +142,12 @@ def test_scenario_does_not_import_runs():
     assert w.identify_pitch_ratio is scenario.identify_pitch_ratio
 
 
-def _arrays(obj, prefix="", out=None):
-    from dataclasses import fields, is_dataclass
+def _arrays(obj, prefix=""):
+    """Every array of a run, by field path (the pinned-hash test's flattening)."""
+    from tests.studies.test_wang2023cja_bitexact import _flatten
 
-    out = {} if out is None else out
-    if is_dataclass(obj):
-        for f in fields(obj):
-            _arrays(getattr(obj, f.name), f"{prefix}.{f.name}", out)
-    elif isinstance(obj, dict):
-        for k, v in obj.items():
-            _arrays(v, f"{prefix}.{k}", out)
-    elif obj is not None:
-        out[prefix] = np.asarray(obj)
+    out = {}
+    _flatten(obj, prefix, out)
     return out
 
 
