@@ -230,6 +230,18 @@ def _apply_row(q0, q1, q2, q3, m):  # pragma: no cover - compiled
 
 
 @jit
+def _euler_row(q0, q1, q2, q3, lock_sin):  # pragma: no cover - compiled
+    """``euler_zxy_unchecked``'s operations on one quaternion: (True, yaw, pitch, roll), or (False, 0, 0, 0)
+    when |sin pitch| is above ``lock_sin`` (the caller's half-angle form)."""
+    sp = min(max(2.0 * (q2 * q3 + q0 * q1), -1.0), 1.0)
+    if abs(sp) > lock_sin:
+        return False, 0.0, 0.0, 0.0
+    s00, s11, s22, s33 = q0 * q0, q1 * q1, q2 * q2, q3 * q3
+    return (True, np.arctan2(-2.0 * (q1 * q2 - q0 * q3), s00 - s11 + s22 - s33), np.arcsin(sp),
+            np.arctan2(-2.0 * (q1 * q3 - q0 * q2), s00 - s11 - s22 + s33))
+
+
+@jit
 def euler_zxy_before_after(q, q_mat, ref, lock_sin, before, after, err_before, err_after):  # pragma: no cover
     """Eq 8 angles of ``q`` (T, N, 4) before and after Eq 10 with ``q_mat`` (T, 4, 4), and their errors from ``ref``.
 
@@ -244,27 +256,18 @@ def euler_zxy_before_after(q, q_mat, ref, lock_sin, before, after, err_before, e
         m = q_mat[t]
         for i in range(q.shape[1]):
             q0, q1, q2, q3 = q[t, i, 0], q[t, i, 1], q[t, i, 2], q[t, i, 3]
-            s00, s11, s22, s33 = q0 * q0, q1 * q1, q2 * q2, q3 * q3
-            sp = min(max(2.0 * (q2 * q3 + q0 * q1), -1.0), 1.0)
-            if abs(sp) > lock_sin:
+            ok, e0, e1, e2 = _euler_row(q0, q1, q2, q3, lock_sin)
+            if not ok:
                 bad += 1
                 continue
-            e0 = np.arctan2(-2.0 * (q1 * q2 - q0 * q3), s00 - s11 + s22 - s33)
-            e1 = np.arcsin(sp)
-            e2 = np.arctan2(-2.0 * (q1 * q3 - q0 * q2), s00 - s11 - s22 + s33)
             b0, b1, b2, b3, n = _apply_row(q0, q1, q2, q3, m)
             if n < 1e-12:
                 bad += 1
                 continue
-            b0, b1, b2, b3 = b0 / n, b1 / n, b2 / n, b3 / n
-            s00, s11, s22, s33 = b0 * b0, b1 * b1, b2 * b2, b3 * b3
-            spa = min(max(2.0 * (b2 * b3 + b0 * b1), -1.0), 1.0)
-            if abs(spa) > lock_sin:
+            ok, a0, a1, a2 = _euler_row(b0 / n, b1 / n, b2 / n, b3 / n, lock_sin)
+            if not ok:
                 bad += 1
                 continue
-            a0 = np.arctan2(-2.0 * (b1 * b2 - b0 * b3), s00 - s11 + s22 - s33)
-            a1 = np.arcsin(spa)
-            a2 = np.arctan2(-2.0 * (b1 * b3 - b0 * b2), s00 - s11 - s22 + s33)
             before[t, i, 0], before[t, i, 1], before[t, i, 2] = e0, e1, e2
             after[t, i, 0], after[t, i, 1], after[t, i, 2] = a0, a1, a2
             for k in range(6):
