@@ -378,13 +378,23 @@ def tilted_trajectory(time_s, q_base, axis, gain: float, gravity_w_m_s2=GRAVITY_
         return Trajectory(t, q if gain == 0.0 else rotations.hamilton(q, rotations.quat_from_rotvec(gain * ax)))
     g = as_float_array(gravity_w_m_s2, "gravity_w_m_s2", ndim=1, last_dim=3)
     uniform_dt(t)
+    return _tilted_trajectory(t if not t.flags.writeable else _frozen(t.copy()), q, ax, gain, g)
+
+
+def _tilted_trajectory(time_s: np.ndarray, q_base: np.ndarray, axis: np.ndarray, gain: float,
+                       gravity_w_m_s2: np.ndarray) -> Trajectory:
+    """:func:`tilted_trajectory` on inputs it has checked (trusted): read-only uniform ``time_s`` (N,),
+    unit ``q_base`` (N, 4), ``axis`` (N, 3) float64, finite nonzero ``gain``, N − 1 ≥ the kernel's
+    minimum rows. A Monte Carlo sharing one checked base calls it per gain (no re-check per trial)."""
+    n = time_s.size
     q_out, rates, force = np.empty((n, 4)), np.empty((n, 3)), np.empty((n, 3))
-    _tilted_truth_kernel(q, ax, gain, t, 0.0 - g, q_out, rates, force)
+    _tilted_truth_kernel(q_base, axis, gain, time_s, 0.0 - gravity_w_m_s2, q_out, rates, force)
     traj = object.__new__(Trajectory)
-    object.__setattr__(traj, "time_s", t if not t.flags.writeable else _frozen(t.copy()))
+    object.__setattr__(traj, "time_s", time_s)
     object.__setattr__(traj, "q_wb", _frozen(q_out))
     object.__setattr__(traj, "accel_w_m_s2", _frozen(np.zeros((n, 3))))
-    object.__setattr__(traj, "_truth", {"rates": _frozen(rates), "force": _frozen(force), "gravity": g.tobytes()})
+    object.__setattr__(traj, "_truth", {"rates": _frozen(rates), "force": _frozen(force),
+                                        "gravity": gravity_w_m_s2.tobytes()})
     return traj
 
 

@@ -234,3 +234,46 @@ def test_windtunnel_predictive_traces_its_median_session():
     assert run.trace["median_trial"] == m
     dec = run.trace["nowind_before_err"][::TRACE_DECIMATION].astype(np.float32)
     assert np.array_equal(dec, run.nowind["before_err_dec"][m])
+
+
+def test_sweeps_of_stacked_pieces_equal_the_sweeps_piece_by_piece(fast_sc, monkeypatch):
+    """The T1 sweeps run once per group of pieces (rows independent): the numbers of one pass per piece."""
+    from mtcal.studies.wang2023cja import predictive, runs
+
+    fit = w.fit_error_model(n_mc=200, seed=1)
+    sc = replace(fast_sc, errors=fit.model)
+    grouped = _arrays(predictive.turntable_predictive(sc, fit, "fitted", 5, 3, tests=("T1",)), "tt")
+    assert runs._sweep_groups([("T1", (), None, 1, None, sc)] * 5, [0, 1, 2, 3, 4, 5], 1) == [[0, 1, 2, 3, 4]]
+    monkeypatch.setattr(runs, "_sweep_groups", lambda pieces, starts, parts: [[i] for i in range(len(pieces))])
+    single = _arrays(predictive.turntable_predictive(sc, fit, "fitted", 5, 3, tests=("T1",)), "tt")
+    assert sorted(grouped) == sorted(single)
+    assert [k for k in grouped if not np.array_equal(grouped[k], single[k], equal_nan=True)] == []
+
+
+def test_sweep_groups_split_on_settings_and_balance_trials(fast_sc):
+    from mtcal.studies.wang2023cja import runs
+
+    other = replace(fast_sc, averaging_fraction=0.3)
+    pieces = [("T1", (), None, 2, None, fast_sc)] * 4 + [("T1", (), None, 2, None, other)] * 2
+    starts = list(range(0, 14, 2))
+    assert runs._sweep_groups(pieces, starts, 2) == [[0, 1, 2], [3], [4, 5]]
+    assert runs._sweep_groups(pieces, starts, 1) == [[0, 1, 2, 3], [4, 5]]
+    assert sum(runs._sweep_groups(pieces, starts, 8), []) == list(range(6))
+
+
+def test_shared_compliance_base_checks_once_and_gives_the_public_numbers():
+    from mtcal.core.simulate import tilted_trajectory
+    from mtcal.studies.wang2023cja.scenario import _ComplianceBase
+
+    t = np.arange(3000) * 1e-3
+    angle = np.zeros((t.size, 3))
+    angle[:, 2] = np.linspace(0.0, np.pi / 2, t.size)
+    base = _ComplianceBase(angle)
+    for k in (1e-3, -2e-3, 1e-3):          # the first call checks, the later ones take the checked inputs
+        got, ref = base.tilted(t, k), tilted_trajectory(t, base.q_wb, base.lateral, k)
+        assert np.array_equal(got.q_wb, ref.q_wb)
+        assert np.array_equal(got._truth["rates"], ref._truth["rates"])
+        assert np.array_equal(got._truth["force"], ref._truth["force"])
+    assert base._checked is not None and base._checked[0] is t
+    with pytest.raises(ValueError, match="gain must be finite"):
+        base.tilted(t, np.nan)

@@ -317,12 +317,62 @@ def _run_pieces(sc: TurntableScenario, prof: AngleProfile, spans: dict, pieces: 
         run = TurntableRun(q_mat, cal.euler_before_rad, cal.euler_after_rad,
                            euler(ver.q_sensor), euler(quaternion_lsq.apply_error_matrix(q_mat, ver.q_sensor)),
                            pos, -e_cal, -e_ver)
-        if with_sweeps:
-            run.sweeps, run.trace = _evaluate_sweeps(sc, prof, spans, q_all[sl], q_mat, frac, rng_ref,
-                                                     keep_trace and i == 0, on, buffers)
+        if with_sweeps:     # the sweeps' turntable angle errors, drawn next from the piece's generator
+            run.sweeps = {name: _draws(rng_ref, trials, len(_sweep_holds(prof, spans, name, frac, buffers)),
+                                       sc.reference_angle_sigma_rad, on)[..., chan_mean]
+                          for name, chan_mean, _ in _SWEEPS}
         return run
 
-    return _map(finish, list(range(len(pieces))))
+    runs = _map(finish, list(range(len(pieces))))
+    if with_sweeps:
+        # the sweeps of consecutive pieces that share their settings in one pass each (rows independent:
+        # the same numbers as piece by piece), the groups spread over the threads
+        groups = _sweep_groups(pieces, starts, _workers())
+        done = _map(lambda g: _evaluate_sweeps(
+            pieces[g[0]][5], prof, spans, q_all[starts[g[0]]:starts[g[-1] + 1]],
+            np.concatenate([runs[i].q_matrix for i in g], axis=0), _fraction(pieces[g[0]]),
+            {name: np.concatenate([runs[i].sweeps[name] for i in g], axis=0) for name, _, _ in _SWEEPS},
+            keep_trace and g[0] == 0, buffers), groups)
+        for g, (sweeps, trace) in zip(groups, done):
+            for i in g:
+                rows = slice(starts[i] - starts[g[0]], starts[i + 1] - starts[g[0]])
+                runs[i].sweeps = {name: {k: (v if k == "reference" else v[rows]) for k, v in d.items()}
+                                  for name, d in sweeps.items()}
+                runs[i].trace = trace if i == 0 else {}
+    return runs
+
+
+#: The sweeps of a T1 session: (name, channel averaged at the holds, channels whose errors are scored).
+_SWEEPS = (("aoa", 1, (2, 0)), ("roll", 2, (1, 0)))
+
+
+def _fraction(piece) -> float:
+    return piece[5].averaging_fraction if piece[4] is None else piece[4]
+
+
+def _sweep_groups(pieces, starts, parts: int) -> list[list[int]]:
+    """Consecutive pieces cut into about ``parts`` groups of similar trial counts; a group's pieces share
+    the averaging fraction and the turntable angle-error sigma (the settings of one sweep pass)."""
+    total = starts[-1]
+    groups, cur = [], []
+    for i, p in enumerate(pieces):
+        if cur and (_fraction(pieces[cur[0]]) != _fraction(p)
+                    or pieces[cur[0]][5].reference_angle_sigma_rad != p[5].reference_angle_sigma_rad
+                    or starts[i] >= (len(groups) + 1) * total / max(parts, 1)):
+            groups.append(cur)
+            cur = []
+        cur.append(i)
+    return groups + [cur]
+
+
+def _sweep_holds(prof, spans, name: str, frac: float, shared: dict) -> list[slice]:
+    """Hold windows of sweep ``name`` relative to its span (first and last hold dropped), found once per
+    ``shared`` (a dict the caller keeps for one profile)."""
+    key = ("sweep holds", name, frac)
+    if key not in shared:
+        span = spans[name]
+        shared[key] = [slice(h.start - span.start, h.stop - span.start) for h in _holds(prof, span, frac)][1:-1]
+    return shared[key]
 
 
 def calibration_step(sc: TurntableScenario | WindTunnelScenario, q_ws, gyro_rad_s, reference_rad,
@@ -506,23 +556,21 @@ def _pitch_after(q_mat, q_s) -> np.ndarray:
     return _euler(quaternion_lsq.apply_error_matrix(q_mat, q_s))[..., 1]
 
 
-def _evaluate_sweeps(sc, prof, spans, q_s, q_mat, frac, rng, keep_trace, ref_errors_on, shared=None):
+def _evaluate_sweeps(sc, prof, spans, q_s, q_mat, frac, hold_errors, keep_trace, shared=None):
     """Hold means (with a turntable angle error per hold) and MaxAE/RMSE of the coupled channels.
 
-    ``shared``: a dict kept by the caller for one profile (the hold windows are found once).
+    ``hold_errors``: sweep name → (T, holds) turntable angle error of the averaged channel at each
+    hold (rad). ``shared``: a dict kept by the caller for one profile (the hold windows are found once).
     """
     shared = {} if shared is None else shared
     truth = prof.angle_rad
     sweeps, trace = {}, {}
-    for name, chan_mean, chans_err in (("aoa", 1, (2, 0)), ("roll", 2, (1, 0))):
+    for name, chan_mean, chans_err in _SWEEPS:
         span = spans[name]
         ref = truth[span]
         before, after, errs = _before_after(q_s[:, span], q_mat, ref)
-        key = ("sweep holds", name, frac)
-        if key not in shared:
-            shared[key] = [slice(h.start - span.start, h.stop - span.start) for h in _holds(prof, span, frac)][1:-1]
-        holds = shared[key]
-        e = _draws(rng, q_s.shape[0], len(holds), sc.reference_angle_sigma_rad, ref_errors_on)[..., chan_mean]
+        holds = _sweep_holds(prof, spans, name, frac, shared)
+        e = hold_errors[name]
         sweeps[name] = {
             "reference": np.array([ref[h, chan_mean].mean() for h in holds]),
             "before_mean": np.stack([before[:, h, chan_mean].mean(axis=1) for h in holds], axis=1) - e,

@@ -36,7 +36,7 @@ import numpy as np
 from mtcal.core import rotations
 from mtcal.core.profiles import AngleProfile
 from mtcal.core.rotations import mount_quaternion
-from mtcal.core.simulate import Trajectory, tilted_trajectory
+from mtcal.core.simulate import GRAVITY_W_M_S2, Trajectory, _tilted_trajectory, tilted_trajectory
 from mtcal.core.sensor_grades import GRADES, sensor_spec
 from mtcal.core.sensors import SensorSpec
 from mtcal.core.units import ARCSEC, DEG, DEG_H, UG
@@ -296,6 +296,9 @@ def compliance_trajectory(time_s, angle_rad, compliance_rad_per_g: float) -> Tra
     return _compliant(time_s, _ComplianceBase(angle_rad), compliance_rad_per_g)
 
 
+_GRAVITY = np.asarray(GRAVITY_W_M_S2, dtype=float)
+
+
 class _ComplianceBase:
     """The compliance-free parts of :func:`compliance_trajectory` of one angle history, computed once.
 
@@ -307,6 +310,18 @@ class _ComplianceBase:
     def __init__(self, angle_rad):
         self.q_wb = rotations.quat_from_euler_zxy(angle_rad[:, 0], angle_rad[:, 1], angle_rad[:, 2])
         self._lateral = None
+        self._checked = None          # (time_s given, its checked read-only copy) after one checked call
+
+    def tilted(self, time_s, k: float) -> Trajectory:
+        """``tilted_trajectory(time_s, q_wb, lateral, k)``: the first call checks the shared inputs, later
+        calls with the same ``time_s`` object skip the check (the same numbers)."""
+        hit = self._checked
+        if hit is None or hit[0] is not time_s or not np.isfinite(k) or k == 0.0:
+            traj = tilted_trajectory(time_s, self.q_wb, self.lateral, k)
+            if len(traj) - 1 >= rotations._KERNEL_MIN_ROWS:
+                self._checked = (time_s, traj.time_s)
+            return traj
+        return _tilted_trajectory(hit[1], self.q_wb, self.lateral, float(k), _GRAVITY)
 
     @property
     def lateral(self) -> np.ndarray:
@@ -321,7 +336,7 @@ def _compliant(time_s, base: _ComplianceBase, compliance_rad_per_g: float) -> Tr
     if compliance_rad_per_g == 0.0:
         return Trajectory(time_s, base.q_wb)
     # Trajectory(time_s, hamilton(q_wb, quat_from_rotvec(k · lateral))) with its truth outputs, one compiled pass
-    return tilted_trajectory(time_s, base.q_wb, base.lateral, compliance_rad_per_g)
+    return base.tilted(time_s, compliance_rad_per_g)
 
 
 def mechanism_actual(sc: WindTunnelScenario, prof: AngleProfile, rate_rad_s: float) -> np.ndarray:
