@@ -175,7 +175,9 @@ display(output.save_figure(bakeoff.bakeoff_figure(result, "surface"), "wang2022s
 # names it: 95 % band or range, and its trial count), the runner-up, the ratio of their
 # medians and the paired win fraction over the trials both ran (`paired_trials`, same
 # records), plus QNCF's median and rank. A winner decided against an anchor rests on the
-# anchor's few trials (`runner_up_trials`).
+# anchor's few trials (`runner_up_trials`). **`resolved`** says whether the ranking is more than a
+# coin flip: the Wilson 95 % interval of the paired win fraction lies above ½ (`verdict` gives
+# the count and the interval); an unresolved winner is only the smaller median, not a win.
 
 # %%
 headline = bakeoff.headline_table(result)
@@ -187,7 +189,8 @@ for _, r in headline.iterrows():
     print(f"{r.family:10s} {r.scenario:40s} {r.winner:8s} wins ({r.winner_median_deg:.4f} deg, "
           f"{r.winner_band} [{r.winner_low_deg:.4f}, {r.winner_high_deg:.4f}]) by {r.ratio:.2f}x over "
           f"{r.runner_up} ({r.runner_up_trials} trials; paired {100 * r.paired_win_fraction:.0f} % of "
-          f"{r.paired_trials}); QNCF rank {r.qncf_rank}")
+          f"{r.paired_trials}); QNCF rank {r.qncf_rank}; {r.verdict}")
+print(f"resolved rankings: {int(headline.resolved.sum())} of {len(headline)}")
 
 # %% [markdown]
 # Reading the table (full size: mtcal's filters over 1000 trials with 95 % bands; VQF and

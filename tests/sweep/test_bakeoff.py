@@ -120,3 +120,28 @@ def test_band_summary_names_its_band():
     assert np.isclose(many["low"], np.percentile(x, 2.5)) and many["low"] > x.min()
     assert band_summary([np.nan])["trials"] == 0
     assert band_label("95 % band", 1000) == "95 % band of 1000 trials"
+
+
+def test_a_ranking_is_resolved_only_beyond_a_coin_flip():
+    from mtcal.sweep.bakeoff import _resolution
+
+    assert _resolution(863, 1000) == (True, "resolved: wins 863 of 1000 paired trials (Wilson 95 % 0.84–0.88)")
+    assert _resolution(12, 12)[0] and not _resolution(3, 3)[0] and not _resolution(6, 12)[0]
+    assert _resolution(530, 1000)[0] is False           # 53 %: within Monte Carlo error of ½
+    assert _resolution(0, 0) == (False, "not resolved: no trial ran both filters")
+    with pytest.raises(ValueError, match="need n >= 1 and 0 <= k <= n"):
+        _resolution(5, 3)
+
+
+def test_surface_finding_fails_when_the_ranking_is_not_resolved(small_run):
+    _, _, res = small_run
+    h = headline_table(res)
+    assert {"paired_wins", "resolved", "verdict"} <= set(h.columns)
+    assert (h["paired_wins"] <= h["paired_trials"]).all()
+    assert (~h["resolved"]).all()                         # 3 paired trials never resolve a ranking
+    surf = [r for r in findings(res, h) if r["artifact"] == "wang2022sensors_extra_bakeoff_surface"]
+    assert surf and all(r["holds"] is False and r["enforced"] is False and r["note"].startswith("fails")
+                        for r in surf)
+    forced = h.copy()
+    forced.loc[forced.family == "surface", ["winner", "resolved"]] = ["rams_ekf", True]
+    assert all(r["holds"] for r in findings(res, forced) if r["artifact"] == "wang2022sensors_extra_bakeoff_surface")
