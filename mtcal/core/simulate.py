@@ -82,7 +82,7 @@ from mtcal.core.validate import (STANDARD_GRAVITY_M_S2, as_float_array, positive
 
 __all__ = ["Trajectory", "SensorErrors", "ImuErrorModel", "ImuRecord", "ImuStream", "body_rates",
            "specific_force", "simulate_imu", "apply_sensor_errors", "integrate_gyro", "tilted_trajectory",
-           "GRAVITY_W_M_S2"]
+           "TiltedTrajectories", "GRAVITY_W_M_S2"]
 
 #: Default world gravity vector, z-up frame (m/s²).
 GRAVITY_W_M_S2 = (0.0, 0.0, -STANDARD_GRAVITY_M_S2)
@@ -364,38 +364,73 @@ def tilted_trajectory(time_s, q_base, axis, gain: float, gravity_w_m_s2=GRAVITY_
     >>> bool(np.allclose(traj.q_wb[0], [np.cos(0.005), 0.0, np.sin(0.005), 0.0]))
     True
     """
-    t = time_vector(time_s)
-    q = unit_quaternion(q_base, "q_base", copy=False)
-    ax = as_float_array(axis, "axis", ndim=2, last_dim=3)
-    if q.ndim != 2 or q.shape[0] != t.size or ax.shape[0] != t.size:
-        raise ValueError(f"q_base (N, 4) and axis (N, 3) must match time_s (N = {t.size}), "
-                         f"got {q.shape} and {ax.shape}")
-    gain = float(gain)
-    if not np.isfinite(gain):
-        raise ValueError(f"gain must be finite, got {gain}")
-    n = t.size
-    if n - 1 < max(rotations._KERNEL_MIN_ROWS, 1) or gain == 0.0:
-        return Trajectory(t, q if gain == 0.0 else rotations.hamilton(q, rotations.quat_from_rotvec(gain * ax)))
-    g = as_float_array(gravity_w_m_s2, "gravity_w_m_s2", ndim=1, last_dim=3)
-    uniform_dt(t)
-    return _tilted_trajectory(t if not t.flags.writeable else _frozen(t.copy()), q, ax, gain, g)
+    return TiltedTrajectories(time_s, q_base, axis, gravity_w_m_s2)(gain)
 
 
-def _tilted_trajectory(time_s: np.ndarray, q_base: np.ndarray, axis: np.ndarray, gain: float,
-                       gravity_w_m_s2: np.ndarray) -> Trajectory:
-    """:func:`tilted_trajectory` on inputs it has checked (trusted): read-only uniform ``time_s`` (N,),
-    unit ``q_base`` (N, 4), ``axis`` (N, 3) float64, finite nonzero ``gain``, N − 1 ≥ the kernel's
-    minimum rows. A Monte Carlo sharing one checked base calls it per gain (no re-check per trial)."""
-    n = time_s.size
-    q_out, rates, force = np.empty((n, 4)), np.empty((n, 3)), np.empty((n, 3))
-    _tilted_truth_kernel(q_base, axis, gain, time_s, 0.0 - gravity_w_m_s2, q_out, rates, force)
-    traj = object.__new__(Trajectory)
-    object.__setattr__(traj, "time_s", time_s)
-    object.__setattr__(traj, "q_wb", _frozen(q_out))
-    object.__setattr__(traj, "accel_w_m_s2", _frozen(np.zeros((n, 3))))
-    object.__setattr__(traj, "_truth", {"rates": _frozen(rates), "force": _frozen(force),
-                                        "gravity": gravity_w_m_s2.tobytes()})
-    return traj
+class TiltedTrajectories:
+    """The trajectories of :func:`tilted_trajectory` of one base for any gain, the inputs checked once.
+
+    ``TiltedTrajectories(time_s, q_base, axis)(gain)`` is ``tilted_trajectory(time_s, q_base, axis, gain)``,
+    bit for bit. A Monte Carlo whose trials differ only in the gain (a compliant mount per trial) builds
+    one and calls it per trial: the shared time, attitude and axis are checked on construction, not
+    per trial.
+
+    Parameters
+    ----------
+    time_s : array_like, shape (N,)
+        Uniformly sampled, strictly increasing time (s).
+    q_base : array_like, shape (N, 4)
+        Scalar-first unit quaternions of the untilted body attitude (body → world).
+    axis : array_like, shape (N, 3)
+        Tilt direction and size per unit gain, body axes (rad per unit gain).
+    gravity_w_m_s2 : 3-vector
+        World gravity (m/s²) of the specific force kept on each trajectory.
+
+    References
+    ----------
+    wang2023cja §4.1 (compliant gasket mounts tilt with the lateral load).
+
+    Examples
+    --------
+    >>> t = np.arange(5000) * 1e-3
+    >>> family = TiltedTrajectories(t, np.tile([1.0, 0.0, 0.0, 0.0], (t.size, 1)), np.tile([0.0, 1.0, 0.0], (t.size, 1)))
+    >>> bool(np.array_equal(family(0.01).q_wb, tilted_trajectory(t, family.q_base, family.axis, 0.01).q_wb))
+    True
+    """
+
+    def __init__(self, time_s, q_base, axis, gravity_w_m_s2=GRAVITY_W_M_S2):
+        t = time_vector(time_s)
+        q = unit_quaternion(q_base, "q_base", copy=False)
+        ax = as_float_array(axis, "axis", ndim=2, last_dim=3)
+        if q.ndim != 2 or q.shape[0] != t.size or ax.shape[0] != t.size:
+            raise ValueError(f"q_base (N, 4) and axis (N, 3) must match time_s (N = {t.size}), "
+                             f"got {q.shape} and {ax.shape}")
+        self._compiled = t.size - 1 >= max(rotations._KERNEL_MIN_ROWS, 1)
+        self._gravity = None
+        if self._compiled:          # one compiled pass per gain (the truth outputs kept on the trajectory)
+            self._gravity = as_float_array(gravity_w_m_s2, "gravity_w_m_s2", ndim=1, last_dim=3)
+            uniform_dt(t)
+            t = t if not t.flags.writeable else _frozen(t.copy())
+        self.time_s, self.q_base, self.axis = t, q, ax
+
+    def __call__(self, gain: float) -> Trajectory:
+        """The base tilted by ``gain · axis(t)`` (``gain`` finite; 0: the base attitude itself)."""
+        gain = float(gain)
+        if not np.isfinite(gain):
+            raise ValueError(f"gain must be finite, got {gain}")
+        t, q = self.time_s, self.q_base
+        if not self._compiled or gain == 0.0:
+            return Trajectory(t, q if gain == 0.0 else rotations.hamilton(q, rotations.quat_from_rotvec(gain * self.axis)))
+        n = t.size
+        q_out, rates, force = np.empty((n, 4)), np.empty((n, 3)), np.empty((n, 3))
+        _tilted_truth_kernel(q, self.axis, gain, t, 0.0 - self._gravity, q_out, rates, force)
+        traj = object.__new__(Trajectory)
+        object.__setattr__(traj, "time_s", t)
+        object.__setattr__(traj, "q_wb", _frozen(q_out))
+        object.__setattr__(traj, "accel_w_m_s2", _frozen(np.zeros((n, 3))))
+        object.__setattr__(traj, "_truth", {"rates": _frozen(rates), "force": _frozen(force),
+                                            "gravity": self._gravity.tobytes()})
+        return traj
 
 
 def integrate_gyro(q0, gyro_rad_s, dt_s: float) -> np.ndarray:

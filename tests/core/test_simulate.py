@@ -479,3 +479,24 @@ def test_tilted_trajectory_checks_its_inputs():
         simulate.tilted_trajectory(t, q, np.zeros((10, 3)), np.nan)
     with pytest.raises(ValueError, match="q_base"):
         simulate.tilted_trajectory(t, 2.0 * q, np.zeros((10, 3)), 0.1)
+
+
+def test_tilted_trajectories_check_once_and_give_tilted_trajectory_bit_for_bit():
+    rng = np.random.default_rng(4)
+    n = 4000
+    t = np.arange(n) * 1e-3
+    q_base = rotations.quat_from_euler_zxy(*(np.cumsum(rng.normal(0, 1e-3, (3, n)), axis=1)))
+    axis = np.repeat(rng.normal(0, 1, (n // 100, 3)), 100, axis=0)
+    family = simulate.TiltedTrajectories(t, q_base, axis)
+    assert not family.time_s.flags.writeable and family.time_s is not t
+    for gain in (2e-3, -1e-3, 0.0, 2e-3):
+        a, b = family(gain), simulate.tilted_trajectory(t, q_base, axis, gain)
+        assert np.array_equal(a.q_wb, b.q_wb)
+        assert np.array_equal(a._truth.get("rates", 0), b._truth.get("rates", 0))
+        assert np.array_equal(a._truth.get("force", 0), b._truth.get("force", 0))
+    with pytest.raises(ValueError, match="gain must be finite, got inf"):
+        family(np.inf)
+    with pytest.raises(ValueError, match="time_s must be uniformly sampled|uniform"):
+        simulate.TiltedTrajectories(np.r_[t[:-1], t[-1] + 0.5], q_base, axis)
+    with pytest.raises(ValueError, match="gravity_w_m_s2"):
+        simulate.TiltedTrajectories(t, q_base, axis, gravity_w_m_s2=(0.0, -9.8))

@@ -274,6 +274,6 @@ def test_shared_compliance_base_checks_once_and_gives_the_public_numbers():
         assert np.array_equal(got.q_wb, ref.q_wb)
         assert np.array_equal(got._truth["rates"], ref._truth["rates"])
         assert np.array_equal(got._truth["force"], ref._truth["force"])
-    assert base._checked is not None and base._checked[0] is t
+    assert base._family is not None and base._family[0] is t
     with pytest.raises(ValueError, match="gain must be finite"):
         base.tilted(t, np.nan)

@@ -36,7 +36,7 @@ import numpy as np
 from mtcal.core import rotations
 from mtcal.core.profiles import AngleProfile
 from mtcal.core.rotations import mount_quaternion
-from mtcal.core.simulate import GRAVITY_W_M_S2, Trajectory, _tilted_trajectory, tilted_trajectory
+from mtcal.core.simulate import TiltedTrajectories, Trajectory
 from mtcal.core.sensor_grades import GRADES, sensor_spec
 from mtcal.core.sensors import SensorSpec
 from mtcal.core.units import ARCSEC, DEG, DEG_H, UG
@@ -296,9 +296,6 @@ def compliance_trajectory(time_s, angle_rad, compliance_rad_per_g: float) -> Tra
     return _compliant(time_s, _ComplianceBase(angle_rad), compliance_rad_per_g)
 
 
-_GRAVITY = np.asarray(GRAVITY_W_M_S2, dtype=float)
-
-
 class _ComplianceBase:
     """The compliance-free parts of :func:`compliance_trajectory` of one angle history, computed once.
 
@@ -310,18 +307,15 @@ class _ComplianceBase:
     def __init__(self, angle_rad):
         self.q_wb = rotations.quat_from_euler_zxy(angle_rad[:, 0], angle_rad[:, 1], angle_rad[:, 2])
         self._lateral = None
-        self._checked = None          # (time_s given, its checked read-only copy) after one checked call
+        self._family = None           # (time_s, TiltedTrajectories of this base over it)
 
     def tilted(self, time_s, k: float) -> Trajectory:
-        """``tilted_trajectory(time_s, q_wb, lateral, k)``: the first call checks the shared inputs, later
-        calls with the same ``time_s`` object skip the check (the same numbers)."""
-        hit = self._checked
-        if hit is None or hit[0] is not time_s or not np.isfinite(k) or k == 0.0:
-            traj = tilted_trajectory(time_s, self.q_wb, self.lateral, k)
-            if len(traj) - 1 >= rotations._KERNEL_MIN_ROWS:
-                self._checked = (time_s, traj.time_s)
-            return traj
-        return _tilted_trajectory(hit[1], self.q_wb, self.lateral, float(k), _GRAVITY)
+        """``tilted_trajectory(time_s, q_wb, lateral, k)``, the shared inputs checked once per ``time_s``
+        object (:class:`mtcal.core.simulate.TiltedTrajectories`; the same numbers)."""
+        hit = self._family
+        if hit is None or hit[0] is not time_s:
+            hit = self._family = (time_s, TiltedTrajectories(time_s, self.q_wb, self.lateral))
+        return hit[1](k)
 
     @property
     def lateral(self) -> np.ndarray:
