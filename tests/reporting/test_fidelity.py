@@ -7,15 +7,37 @@ import pytest
 from mtcal.reporting import compare, fidelity
 
 
+def _b(low, high, median=None, n=1000, kind="95 % band"):
+    out = {"low": low, "high": high, "n": n, "kind": kind}
+    return out if median is None else {**out, "median": median}
+
+
 def _table():
     r = compare.comparison_row
     return compare.comparison_table([
-        r("a", "x", 1.0, 1.1, "", None, band=(0.9, 1.2), prior_band={"median": 2.0, "low": 0.0, "high": 5.0}),
-        r("a", "y", 2.0, 1.0, "", None, band=(0.5, 1.5), prior_band={"median": 2.0, "low": 0.0, "high": 5.0}),
-        r("a", "z", 0.0, 0.1, "", None, band=(-1.0, 1.0)),           # zero paper value: no relative scale
-        r("a", "t", 3.0, 3.0, "", None, band=(2.0, 4.0), role="train"),  # not held out: not scored
+        r("a", "x", 1.0, 1.1, "", None, band=_b(0.9, 1.2), prior_band=_b(0.0, 5.0, 2.0, n=4, kind="range")),
+        r("a", "y", 2.0, 1.0, "", None, band=_b(0.5, 1.5), prior_band=_b(0.0, 5.0, 2.0, n=4, kind="range")),
+        r("a", "z", 0.0, 0.1, "", None, band=_b(-1.0, 1.0)),           # zero paper value: no relative scale
+        r("a", "t", 3.0, 3.0, "", None, band=_b(2.0, 4.0), role="train"),  # not held out: not scored
         r("a", "c", 1.0, 0.5, "< 2", True),                             # claim without band: not scored
     ])
+
+
+def test_records_carry_draws_and_kind():
+    rec = fidelity.score_records(_table(), "tan2022", "20_x")
+    assert list(rec.columns) == fidelity.RECORD_COLUMNS
+    assert rec["fitted_draws"].tolist() == [1000, 1000, 1000] and rec["fitted_kind"].tolist() == ["95 % band"] * 3
+    assert rec["prior_draws"].tolist()[:2] == [4, 4] and rec["prior_kind"].tolist() == ["range", "range", ""]
+    assert rec["prior_draws"].isna().tolist() == [False, False, True]
+
+
+def test_scoring_audits_the_band_rule():
+    row = compare.comparison_row("a", "x", 1.0, 1.1, "", None, band=_b(0.9, 1.2, n=999))
+    t = pd.DataFrame([row], columns=compare.COMPARISON_COLUMNS)     # not through comparison_table
+    with pytest.raises(ValueError, match=r"a \| x: mc_band is a 95 % band from 999 draws"):
+        fidelity.score_records(t, "tan2022", "20_x")
+    with pytest.raises(ValueError, match="95 % band from 999 draws"):
+        fidelity.score(t)
 
 
 def test_interval_score_closed_forms():
