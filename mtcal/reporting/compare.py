@@ -13,9 +13,10 @@ Every band carries its Monte Carlo draw count and kind (``mc_draws, mc_kind,
 prior_draws, prior_kind``; :data:`BAND_KINDS`): a ``"95 % band"`` (the 2.5–97.5 %
 points) rests on at least :data:`mtcal.core.metrics.MIN_BAND_DRAWS` draws; from fewer
 draws the spread is the min–max ``"range"``, printed with its count
-(``"range [a, b] (n=4)"``; :func:`mtcal.core.metrics.band_or_range` makes both). A
-band given as a bare ``(low, high)`` pair, or as a dict without ``n``, has an unknown
-count. :func:`check_bands` enforces the rule; :func:`comparison_table` runs it on every
+(``"range [a, b] (n=4)"``; :func:`mtcal.core.metrics.band_or_range` makes both); a
+posterior interval computed on a parameter grid (no draws) is a ``"credible interval"``
+(:func:`credible_interval`). A band given as a bare ``(low, high)`` pair, or as a dict
+without ``n``, has an unknown count. :func:`check_bands` enforces the rule; :func:`comparison_table` runs it on every
 table it builds, :func:`check_claims` and :mod:`mtcal.reporting.fidelity` on every table
 they check or score, so no notebook prints, saves or scores a band that breaks it.
 
@@ -47,14 +48,16 @@ from mtcal.core.validate import merge_parameters
 __all__ = ["COMPARISON_COLUMNS", "DISPLAY_COLUMNS", "comparison_row", "comparison_table", "band_summary", "claims_summary",
            "band_record", "band_row", "band_text", "describe", "claim", "consistency",
            "ROLES", "KINDS", "SOURCES", "at_paper_settings", "check_claims", "role_summary", "prediction_summary",
-           "BAND_KINDS", "BAND_COUNT_COLUMNS", "check_bands"]
+           "BAND_KINDS", "BAND_COUNT_COLUMNS", "check_bands", "credible_interval"]
 
 COMPARISON_COLUMNS = ["artifact", "quantity", "paper", "mtcal", "mc_band", "paper_in_band", "prior_band",
                       "prior_in_band", "claim", "holds", "kind", "role", "source", "note", "enforced", "ref",
                       "mc_low", "mc_high", "prior_median", "prior_low", "prior_high", "mc_draws", "mc_kind",
                       "prior_draws", "prior_kind"]
-#: What a band of a row is: the 2.5–97.5 % points of >= ``metrics.MIN_BAND_DRAWS`` draws, or the min–max range.
-BAND_KINDS = ("95 % band", "range")
+#: What a band of a row is: the 2.5–97.5 % points of >= ``metrics.MIN_BAND_DRAWS`` Monte Carlo draws, the min–max
+#: range of fewer draws (printed with its count), or a 95 % posterior credible interval computed by quadrature on a
+#: parameter grid (no Monte Carlo draws, no count; :func:`credible_interval`).
+BAND_KINDS = ("95 % band", "range", "credible interval")
 #: Per band (``mc``: posterior predictive, ``prior``: prior predictive): its text, draw-count and kind columns.
 BAND_COUNT_COLUMNS = {"mc": ("mc_band", "mc_draws", "mc_kind"), "prior": ("prior_band", "prior_draws", "prior_kind")}
 
@@ -94,7 +97,25 @@ def _band(band, name):
     text = f"[{low:.4g}, {high:.4g}]"
     if kind == "range":
         text = f"range {text} (n={'?' if draws is None else draws})"
+    elif kind == "credible interval":
+        if draws is not None:
+            raise ValueError(f"{name} of kind 'credible interval' is computed on a grid, not from draws: "
+                             f"expected no 'n', got {draws!r}")
+        text = f"credible {text}"
     return med, low, high, draws, kind, text
+
+
+def credible_interval(low, high, median=np.nan) -> dict:
+    """A 95 % posterior credible interval computed on a parameter grid, as a ``band=`` of :func:`comparison_row`.
+
+    Quadrature over a grid posterior has no Monte Carlo draws (its error is the grid's resolution), so
+    the band rule's draw count does not apply; the row records kind ``"credible interval"`` and prints
+    ``"credible [low, high]"``.
+
+    >>> comparison_row("a", "b (deg/s)", 0.2, 0.21, "", None, band=credible_interval(0.1, 0.3))["mc_band"]
+    'credible [0.1, 0.3]'
+    """
+    return {"low": low, "high": high, "median": median, "kind": "credible interval"}
 
 
 def _inside(paper, low, high):
@@ -280,7 +301,8 @@ def check_bands(table: pd.DataFrame) -> str:
 
     Every band of a row (``mc_band``: posterior predictive, ``prior_band``: prior predictive;
     :data:`BAND_COUNT_COLUMNS`) must have a known draw count (``mc_draws``/``prior_draws``) and
-    a kind in :data:`BAND_KINDS`; a ``"95 % band"`` must rest on at least
+    a kind in :data:`BAND_KINDS` (a grid ``"credible interval"`` has no draws and needs no count); a
+    ``"95 % band"`` must rest on at least
     :data:`mtcal.core.metrics.MIN_BAND_DRAWS` draws (with fewer, the producer reports the
     min–max range with its count: :func:`mtcal.core.metrics.band_or_range`). Run by
     :func:`comparison_table`, :func:`check_claims` and the fidelity scores; works on tables
@@ -318,7 +340,7 @@ def check_bands(table: pd.DataFrame) -> str:
 
     if not isinstance(table, pd.DataFrame):
         raise TypeError(f"table must be a pandas DataFrame (a comparison table), got {type(table).__name__}")
-    bad, n_band, n_range = [], 0, 0
+    bad, n_band, n_range, n_cred = [], 0, 0, 0
     for i, r in enumerate(table.to_dict("records")):
         name = f"{r.get('artifact', f'row {i}')} | {r.get('quantity', '')}"
         for text_col, draws_col, kind_col in BAND_COUNT_COLUMNS.values():
@@ -326,8 +348,13 @@ def check_bands(table: pd.DataFrame) -> str:
                 continue
             draws, kind = _draw_count(r.get(draws_col)), r.get(kind_col)
             kind = "" if _missing(kind) else str(kind)
-            if kind not in BAND_KINDS:
+            if kind_col not in r or draws_col not in r:
+                bad.append(f"{name}: {text_col} has no {draws_col}/{kind_col} columns (a table from before the "
+                           "band rule was recorded: regenerate it)")
+            elif kind not in BAND_KINDS:
                 bad.append(f"{name}: {text_col} has kind {kind!r}, expected one of {BAND_KINDS}")
+            elif kind == "credible interval":
+                n_cred += 1
             elif draws is None:
                 bad.append(f"{name}: {text_col} has no known draw count ({draws_col} empty)")
             elif kind == "95 % band" and draws < MIN_BAND_DRAWS:
@@ -339,7 +366,8 @@ def check_bands(table: pd.DataFrame) -> str:
     if bad:
         raise ValueError(f"table must print a 95 % band only from >= {MIN_BAND_DRAWS} Monte Carlo draws (else the "
                          "range with its count, metrics.band_or_range); breaking rows: " + "; ".join(bad))
-    return f"bands: {n_band} 95 % bands (>= {MIN_BAND_DRAWS} draws), {n_range} ranges with their count"
+    text = f"bands: {n_band} 95 % bands (>= {MIN_BAND_DRAWS} draws), {n_range} ranges with their count"
+    return text + (f", {n_cred} grid credible intervals" if n_cred else "")
 
 
 def band_summary(table: pd.DataFrame) -> str:
