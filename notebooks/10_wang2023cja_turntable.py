@@ -160,7 +160,7 @@ def section(artifact_prefix, table=None):
     t = one["fitted"] if table is None else table
     rows = t[t.file.str.startswith(artifact_prefix)]
     if len(rows):
-        output.show_table(rows[["quantity", "role", "paper", "median", "low", "high", "inside"]], "{:.4f}")
+        output.show_table(rows[["quantity", "role", "paper", "median", "low", "high", "kind", "n", "inside"]], "{:.4f}")
     c = claims[claims.artifact == artifact_prefix[:19]]
     if len(c):
         print(verdicts.claim_block(c))

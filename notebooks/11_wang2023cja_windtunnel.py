@@ -85,7 +85,7 @@ def section(prefix):
     t = one["fitted"]
     rows = t[t.file.str.startswith(prefix)]
     if len(rows):
-        output.show_table(rows[["quantity", "role", "paper", "median", "low", "high", "inside"]], "{:.4f}")
+        output.show_table(rows[["quantity", "role", "paper", "median", "low", "high", "kind", "n", "inside"]], "{:.4f}")
     c = claims[claims.artifact == prefix]
     if len(c):
         print(verdicts.claim_block(c))

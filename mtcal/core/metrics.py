@@ -157,13 +157,31 @@ def fit_allan_noise(taus_s, adev, *, flat_term: bool = True) -> dict[str, float]
     return {"N": float(np.sqrt(n2)), "B_flat": float(np.sqrt(b2)), "K": float(np.sqrt(k2))}
 
 
-def percentile_band(samples, axis: int = 0, level: float = 0.95) -> dict[str, np.ndarray]:
-    """Median and central ``level`` interval of Monte Carlo samples along ``axis``."""
+def percentile_band(samples, axis: int = 0, level: float = 0.95) -> dict:
+    """Median and central ``level`` interval of Monte Carlo samples along ``axis``, with the draw count.
+
+    It is called a "95 % band" only from ≥ :data:`MIN_BAND_DRAWS` draws; :func:`band_or_range`
+    applies that rule (with fewer draws it gives the min–max range), and the comparison tables
+    audit it through ``n`` (:func:`mtcal.reporting.compare.check_bands`).
+
+    Returns
+    -------
+    dict
+        ``median, low, high`` (ndarray or float) and ``n`` (int, draws along ``axis``).
+
+    Examples
+    --------
+    >>> b = percentile_band(np.arange(1001.0))
+    >>> round(float(b["low"]), 6), float(b["median"]), float(b["high"]), b["n"]
+    (25.0, 500.0, 975.0, 1001)
+    """
     x = as_float_array(samples, "samples")
     if not 0 < level < 1:
         raise ValueError(f"level must be in (0, 1), got {level}")
+    if x.ndim == 0:
+        raise ValueError("samples must have at least one dimension (the draw axis)")
     lo, med, hi = np.percentile(x, [50 * (1 - level), 50, 50 * (1 + level)], axis=axis)
-    return {"median": med, "low": lo, "high": hi}
+    return {"median": med, "low": lo, "high": hi, "n": int(x.shape[axis])}
 
 
 def bootstrap_medians(samples, rng: np.random.Generator, n_boot: int = 1000) -> np.ndarray:

@@ -9,6 +9,17 @@ the mtcal number comes from a Monte Carlo: posterior-predictive median in
 ``mtcal``, its 95 % interval in ``mc_band``; the prior-predictive interval (the
 baseline, parameters drawn from the prior) in ``prior_band``.
 
+Every band carries its Monte Carlo draw count and kind (``mc_draws, mc_kind,
+prior_draws, prior_kind``; :data:`BAND_KINDS`): a ``"95 % band"`` (the 2.5–97.5 %
+points) rests on at least :data:`mtcal.core.metrics.MIN_BAND_DRAWS` draws; from fewer
+draws the spread is the min–max ``"range"``, printed with its count
+(``"range [a, b] (n=4)"``; :func:`mtcal.core.metrics.band_or_range` makes both); a
+posterior interval computed on a parameter grid (no draws) is a ``"credible interval"``
+(:func:`credible_interval`). A band given as a bare ``(low, high)`` pair, or as a dict
+without ``n``, has an unknown count. :func:`check_bands` enforces the rule; :func:`comparison_table` runs it on every
+table it builds, :func:`check_claims` and :mod:`mtcal.reporting.fidelity` on every table
+they check or score, so no notebook prints, saves or scores a band that breaks it.
+
 ``role`` is the split role of the paper number (:data:`ROLES`: ``train``,
 ``heldout``, ``input``, ``erratum``, ``not-compared`` as in
 ``paper_data/<key>_split.csv``, plus ``finding`` for our own results). ``kind``
@@ -17,10 +28,11 @@ quoted in ``claim``) or ``consistency`` (true by construction: a model fitted to
 the same numbers, a prior containing the grid, a bounded transform) -- consistency
 rows never count as claims.
 
+>>> from mtcal.core import metrics
 >>> row = comparison_row("wang2023cja_table06", "roll RMSE (deg)", 0.009, 0.0071, "<= 0.01", True,
-...                      band=(0.005, 0.010))
->>> row["paper_in_band"], row["kind"], row["role"]
-(True, 'claim', 'heldout')
+...                      band=metrics.band_or_range([0.005, 0.007, 0.010]))
+>>> row["paper_in_band"], row["kind"], row["role"], row["mc_band"], row["mc_draws"], row["mc_kind"]
+(True, 'claim', 'heldout', 'range [0.005, 0.01] (n=3)', 3, 'range')
 """
 
 from __future__ import annotations
@@ -35,11 +47,19 @@ from mtcal.core.validate import merge_parameters
 
 __all__ = ["COMPARISON_COLUMNS", "DISPLAY_COLUMNS", "comparison_row", "comparison_table", "band_summary", "claims_summary",
            "band_record", "band_row", "band_text", "describe", "claim", "consistency",
-           "ROLES", "KINDS", "SOURCES", "at_paper_settings", "check_claims", "role_summary", "prediction_summary"]
+           "ROLES", "KINDS", "SOURCES", "at_paper_settings", "check_claims", "role_summary", "prediction_summary",
+           "BAND_KINDS", "BAND_COUNT_COLUMNS", "check_bands", "credible_interval"]
 
 COMPARISON_COLUMNS = ["artifact", "quantity", "paper", "mtcal", "mc_band", "paper_in_band", "prior_band",
                       "prior_in_band", "claim", "holds", "kind", "role", "source", "note", "enforced", "ref",
-                      "mc_low", "mc_high", "prior_median", "prior_low", "prior_high"]
+                      "mc_low", "mc_high", "prior_median", "prior_low", "prior_high", "mc_draws", "mc_kind",
+                      "prior_draws", "prior_kind"]
+#: What a band of a row is: the 2.5–97.5 % points of >= ``metrics.MIN_BAND_DRAWS`` Monte Carlo draws, the min–max
+#: range of fewer draws (printed with its count), or a 95 % posterior credible interval computed by quadrature on a
+#: parameter grid (no Monte Carlo draws, no count; :func:`credible_interval`).
+BAND_KINDS = ("95 % band", "range", "credible interval")
+#: Per band (``mc``: posterior predictive, ``prior``: prior predictive): its text, draw-count and kind columns.
+BAND_COUNT_COLUMNS = {"mc": ("mc_band", "mc_draws", "mc_kind"), "prior": ("prior_band", "prior_draws", "prior_kind")}
 
 #: The columns a notebook prints (the numeric band ends and bookkeeping stay in the saved CSV).
 DISPLAY_COLUMNS = ["artifact", "quantity", "paper", "mtcal", "mc_band", "prior_band", "claim", "holds", "kind",
@@ -54,16 +74,48 @@ SOURCES = ("paper claim", "mtcal finding")
 
 
 def _band(band, name):
-    """(median or nan, low, high) of a band given as a dict or a pair; validated."""
+    """(median or nan, low, high, draws or None, kind, text) of a band given as a dict or a pair; validated.
+
+    A dict's ``n`` (draws) and ``kind`` (:data:`BAND_KINDS`, default ``"95 % band"``) are recorded; a
+    pair, or a dict without ``n``, has an unknown count (``None``), which :func:`check_bands` rejects.
+    """
     if isinstance(band, dict):
         low, high, med = band["low"], band["high"], band.get("median", np.nan)
+        draws, kind = band.get("n"), band.get("kind", "95 % band")
     else:
         low, high = band
-        med = np.nan
+        med, draws, kind = np.nan, None, "95 % band"
     low, high, med = float(low), float(high), float(med)
     if not (np.isfinite(low) and np.isfinite(high)) or low > high:
         raise ValueError(f"{name} must be a finite (low, high) with low <= high, got ({low}, {high})")
-    return med, low, high
+    if draws is not None:
+        if isinstance(draws, (bool, np.bool_)) or not isinstance(draws, (int, np.integer)) or draws < 1:
+            raise ValueError(f"{name}['n'] must be a positive int (the Monte Carlo draws), got {draws!r}")
+        draws = int(draws)
+    if kind not in BAND_KINDS:
+        raise ValueError(f"{name}['kind'] must be one of {BAND_KINDS}, got {kind!r}")
+    text = f"[{low:.4g}, {high:.4g}]"
+    if kind == "range":
+        text = f"range {text} (n={'?' if draws is None else draws})"
+    elif kind == "credible interval":
+        if draws is not None:
+            raise ValueError(f"{name} of kind 'credible interval' is computed on a grid, not from draws: "
+                             f"expected no 'n', got {draws!r}")
+        text = f"credible {text}"
+    return med, low, high, draws, kind, text
+
+
+def credible_interval(low, high, median=np.nan) -> dict:
+    """A 95 % posterior credible interval computed on a parameter grid, as a ``band=`` of :func:`comparison_row`.
+
+    Quadrature over a grid posterior has no Monte Carlo draws (its error is the grid's resolution), so
+    the band rule's draw count does not apply; the row records kind ``"credible interval"`` and prints
+    ``"credible [low, high]"``.
+
+    >>> comparison_row("a", "b (deg/s)", 0.2, 0.21, "", None, band=credible_interval(0.1, 0.3))["mc_band"]
+    'credible [0.1, 0.3]'
+    """
+    return {"low": low, "high": high, "median": median, "kind": "credible interval"}
 
 
 def _inside(paper, low, high):
@@ -89,11 +141,16 @@ def comparison_row(artifact: str, quantity: str, paper, mtcal, claim: str, holds
     holds : bool or None
         Whether the claim holds in simulation (``None``: nothing tested).
     band : dict or (low, high), optional
-        Posterior-predictive 95 % band of the mtcal number (``metrics.percentile_band``
-        output or a pair). The row records it as ``"[low, high]"`` and whether a
-        numeric paper value lies inside it.
+        Posterior-predictive spread of the mtcal number: ``metrics.band_or_range`` output
+        (``low, high``, optional ``median``, ``n`` draws, ``kind`` in :data:`BAND_KINDS`;
+        a dict without ``kind`` is a 95 % band). The row records it as ``"[low, high]"``
+        (a range as ``"range [low, high] (n=…)"``), its draws in ``mc_draws``, its kind in
+        ``mc_kind`` and whether a numeric paper value lies inside it. A bare pair, or a
+        dict without ``n``, has an unknown draw count: :func:`check_bands` (run by
+        :func:`comparison_table`) rejects it.
     prior_band : dict or (low, high), optional
-        Prior-predictive 95 % band (parameters drawn from the prior): the baseline.
+        Prior-predictive spread (parameters drawn from the prior): the baseline
+        (``prior_band, prior_draws, prior_kind``).
     role : {"train", "heldout", "input", "erratum", "not-compared", "finding"}
         Split role of the paper number (``finding``: our own result).
     source : {"paper claim", "mtcal finding"}
@@ -125,15 +182,16 @@ def comparison_row(artifact: str, quantity: str, paper, mtcal, claim: str, holds
            "mc_band": "", "paper_in_band": None, "prior_band": "", "prior_in_band": None, "claim": claim,
            "holds": None if holds is None else bool(holds), "kind": kind, "role": role, "source": source,
            "note": note, "enforced": bool(enforce) if holds is not None else None, "ref": ref,
-           "mc_low": np.nan, "mc_high": np.nan, "prior_median": np.nan, "prior_low": np.nan, "prior_high": np.nan}
+           "mc_low": np.nan, "mc_high": np.nan, "prior_median": np.nan, "prior_low": np.nan, "prior_high": np.nan,
+           "mc_draws": None, "mc_kind": "", "prior_draws": None, "prior_kind": ""}
     if band is not None:
-        _, low, high = _band(band, "band")
-        out.update(mc_band=f"[{low:.4g}, {high:.4g}]", paper_in_band=_inside(paper, low, high), mc_low=low,
-                   mc_high=high)
+        _, low, high, draws, bkind, text = _band(band, "band")
+        out.update(mc_band=text, paper_in_band=_inside(paper, low, high), mc_low=low, mc_high=high,
+                   mc_draws=draws, mc_kind=bkind)
     if prior_band is not None:
-        med, low, high = _band(prior_band, "prior_band")
-        out.update(prior_band=f"[{low:.4g}, {high:.4g}]", prior_in_band=_inside(paper, low, high),
-                   prior_median=med, prior_low=low, prior_high=high)
+        med, low, high, draws, bkind, text = _band(prior_band, "prior_band")
+        out.update(prior_band=text, prior_in_band=_inside(paper, low, high), prior_median=med, prior_low=low,
+                   prior_high=high, prior_draws=draws, prior_kind=bkind)
     return out
 
 
@@ -188,10 +246,23 @@ def consistency(artifact: str, quantity: str, paper, mtcal, statement: str, hold
 
 
 def comparison_table(rows: list[dict], digits: int = 4) -> pd.DataFrame:
-    """Build the comparison table; float cells are rounded to ``digits`` for stable output."""
+    """Build the comparison table; float cells are rounded to ``digits`` for stable output.
+
+    The band rule is audited here (:func:`check_bands`): a table with a 95 % band from fewer
+    than ``metrics.MIN_BAND_DRAWS`` draws, or with a band of unknown draw count, is never built.
+    ``mc_draws``/``prior_draws`` are nullable integers (empty where a row has no band).
+
+    >>> from mtcal.core import metrics
+    >>> t = comparison_table([comparison_row("a", "x", 1.0, 1.1, "", None, band=metrics.band_or_range([0.9, 1.2]))])
+    >>> t.loc[0, "mc_band"], int(t.loc[0, "mc_draws"])
+    ('range [0.9, 1.2] (n=2)', 2)
+    """
     df = pd.DataFrame(rows, columns=COMPARISON_COLUMNS)
-    for col in ("mc_band", "prior_band", "kind", "note", "ref"):
+    for col in ("mc_band", "prior_band", "kind", "note", "ref", "mc_kind", "prior_kind"):
         df[col] = df[col].fillna("")
+    for col in ("mc_draws", "prior_draws"):
+        df[col] = pd.array([None if _missing(v) else int(v) for v in df[col]], dtype="Int64")
+    check_bands(df)
 
     def fmt(x):
         if isinstance(x, (float, np.floating)):
@@ -200,6 +271,103 @@ def comparison_table(rows: list[dict], digits: int = 4) -> pd.DataFrame:
     for col in ("paper", "mtcal"):
         df[col] = df[col].map(fmt)
     return df
+
+
+def _missing(v) -> bool:
+    """True for an empty cell: None, NaN, pandas NA or an empty/"nan" string (a table read back from CSV)."""
+    if v is None or v is pd.NA:
+        return True
+    if isinstance(v, str):
+        return v.strip().lower() in ("", "nan", "<na>", "none")
+    try:
+        return bool(np.isnan(float(v)))
+    except (TypeError, ValueError):
+        return False
+
+
+def _draw_count(v):
+    """Draw count of a cell (int, float or str from a CSV), or None when unknown."""
+    if _missing(v):
+        return None
+    try:
+        x = float(v)
+    except (TypeError, ValueError):
+        return None
+    return int(x) if x.is_integer() and x >= 1 else None
+
+
+def check_bands(table: pd.DataFrame) -> str:
+    """Audit the band rule on a comparison table: raise on a row whose band breaks it.
+
+    Every band of a row (``mc_band``: posterior predictive, ``prior_band``: prior predictive;
+    :data:`BAND_COUNT_COLUMNS`) must have a known draw count (``mc_draws``/``prior_draws``) and
+    a kind in :data:`BAND_KINDS` (a grid ``"credible interval"`` has no draws and needs no count); a
+    ``"95 % band"`` must rest on at least
+    :data:`mtcal.core.metrics.MIN_BAND_DRAWS` draws (with fewer, the producer reports the
+    min–max range with its count: :func:`mtcal.core.metrics.band_or_range`). Run by
+    :func:`comparison_table`, :func:`check_claims` and the fidelity scores; works on tables
+    read back from CSV (string cells).
+
+    Parameters
+    ----------
+    table : DataFrame
+        A comparison table (:data:`COMPARISON_COLUMNS`; only the band columns are read).
+
+    Returns
+    -------
+    str
+        ``"bands: k 95 % bands (>= 1000 draws), r ranges with their count"``.
+
+    Raises
+    ------
+    ValueError
+        One line naming every offending row (``artifact | quantity``) and what is wrong.
+
+    Examples
+    --------
+    >>> from mtcal.core import metrics
+    >>> rows = [comparison_row("a", "x", 1.0, 1.0, "", None, band=metrics.band_or_range(np.arange(1000.0))),
+    ...         comparison_row("b", "y", 1.0, 1.0, "", None, band=metrics.band_or_range([0.5, 1.5]))]
+    >>> check_bands(comparison_table(rows))
+    'bands: 1 95 % bands (>= 1000 draws), 1 ranges with their count'
+    >>> bad = pd.DataFrame([comparison_row("c", "z", 1.0, 1.0, "", None, band=metrics.percentile_band([0.5, 1.5]))])
+    >>> check_bands(bad)
+    Traceback (most recent call last):
+    ...
+    ValueError: table must print a 95 % band only from >= 1000 Monte Carlo draws (else the range with its count, metrics.band_or_range); breaking rows: c | z: mc_band is a 95 % band from 2 draws
+    """
+    from mtcal.core.metrics import MIN_BAND_DRAWS
+
+    if not isinstance(table, pd.DataFrame):
+        raise TypeError(f"table must be a pandas DataFrame (a comparison table), got {type(table).__name__}")
+    bad, n_band, n_range, n_cred = [], 0, 0, 0
+    for i, r in enumerate(table.to_dict("records")):
+        name = f"{r.get('artifact', f'row {i}')} | {r.get('quantity', '')}"
+        for text_col, draws_col, kind_col in BAND_COUNT_COLUMNS.values():
+            if _missing(r.get(text_col)):
+                continue
+            draws, kind = _draw_count(r.get(draws_col)), r.get(kind_col)
+            kind = "" if _missing(kind) else str(kind)
+            if kind_col not in r or draws_col not in r:
+                bad.append(f"{name}: {text_col} has no {draws_col}/{kind_col} columns (a table from before the "
+                           "band rule was recorded: regenerate it)")
+            elif kind not in BAND_KINDS:
+                bad.append(f"{name}: {text_col} has kind {kind!r}, expected one of {BAND_KINDS}")
+            elif kind == "credible interval":
+                n_cred += 1
+            elif draws is None:
+                bad.append(f"{name}: {text_col} has no known draw count ({draws_col} empty)")
+            elif kind == "95 % band" and draws < MIN_BAND_DRAWS:
+                bad.append(f"{name}: {text_col} is a 95 % band from {draws} draws")
+            elif kind == "95 % band":
+                n_band += 1
+            else:
+                n_range += 1
+    if bad:
+        raise ValueError(f"table must print a 95 % band only from >= {MIN_BAND_DRAWS} Monte Carlo draws (else the "
+                         "range with its count, metrics.band_or_range); breaking rows: " + "; ".join(bad))
+    text = f"bands: {n_band} 95 % bands (>= {MIN_BAND_DRAWS} draws), {n_range} ranges with their count"
+    return text + (f", {n_cred} grid credible intervals" if n_cred else "")
 
 
 def band_summary(table: pd.DataFrame) -> str:
@@ -233,32 +401,40 @@ def describe(obj) -> pd.DataFrame:
 
 
 def band_record(artifact: str, quantity: str, paper_value: float, samples) -> dict:
-    """Median and 95 % band of Monte Carlo ``samples`` (1-D, display unit) next to the paper's value.
+    """Median and spread of Monte Carlo ``samples`` (1-D, display unit) next to the paper's value.
 
-    Returns a dict with ``artifact, quantity, paper, median, low, high,
-    paper_in_band`` (floats and a bool); it is also a valid ``band=`` for
-    :func:`mtcal.reporting.paper_numbers.comparison_row` (see :func:`band_row`).
+    The spread follows the band rule (:func:`mtcal.core.metrics.band_or_range`): the 95 % band from
+    >= ``MIN_BAND_DRAWS`` samples, else the min–max range. Returns a dict with ``artifact,
+    quantity, paper, median, low, high, paper_in_band, n, kind`` (floats, a bool, the draw count
+    and the kind); it is also a valid ``band=`` for :func:`comparison_row` (see :func:`band_row`).
+
+    >>> r = band_record("a", "x (deg)", 2.0, [1.0, 2.0, 3.0])
+    >>> r["low"], r["high"], r["n"], r["kind"], r["paper_in_band"]
+    (1.0, 3.0, 3, 'range', True)
     """
     x = np.asarray(samples, dtype=float)
     if x.ndim != 1 or x.size < 1:
         raise ValueError(f"samples must be a non-empty 1-D array (one value per trial), got shape {x.shape}")
-    b = metrics.percentile_band(x)
+    b = metrics.band_or_range(x)
     med, low, high, pv = float(b["median"]), float(b["low"]), float(b["high"]), float(paper_value)
     return {"artifact": artifact, "quantity": quantity, "paper": pv, "median": med, "low": low, "high": high,
-            "paper_in_band": bool(low <= pv <= high)}
+            "paper_in_band": bool(low <= pv <= high), "n": b["n"], "kind": b["kind"]}
 
 
 def band_row(record: dict, claim: str, holds: bool | None) -> dict:
-    """Comparison row from a :func:`band_record`: MC median as the mtcal value, its 95 % band."""
+    """Comparison row from a :func:`band_record`: MC median as the mtcal value, its band (or range) and count."""
     return comparison_row(record["artifact"], record["quantity"], record["paper"], record["median"],
                           claim, holds, band=record)
 
 
 def band_text(record: dict, digits: int = 4) -> str:
-    """``"<quantity>: MC median m [low, high] (paper p)"`` with fixed precision."""
+    """``"<quantity>: MC median m [low, high] (paper p)"`` with fixed precision (a range: ``"range [low, high]
+    (n=…)"``)."""
     d = digits
-    return (f"{record['quantity']}: MC median {record['median']:.{d}f} [{record['low']:.{d}f}, "
-            f"{record['high']:.{d}f}] (paper {record['paper']:.{d}f})")
+    spread = f"[{record['low']:.{d}f}, {record['high']:.{d}f}]"
+    if record.get("kind") == "range":
+        spread = f"range {spread} (n={record.get('n', '?')})"
+    return f"{record['quantity']}: MC median {record['median']:.{d}f} {spread} (paper {record['paper']:.{d}f})"
 
 
 def at_paper_settings(values: dict, defaults: dict) -> bool:
@@ -297,6 +473,8 @@ def check_claims(table: pd.DataFrame, *, enforce: bool) -> str:
         that does not hold, so CI fails when a reproduction breaks. Claims
         reported as failing (``enforced`` False) are listed, never raised.
         False in a what-if run: never raise, return the report.
+        The band rule (:func:`check_bands`) is audited in both cases (a band from
+        too few draws is a reporting error, not a what-if result).
 
     Returns
     -------
@@ -310,6 +488,7 @@ def check_claims(table: pd.DataFrame, *, enforce: bool) -> str:
     1 of 2 claims hold; not holding:
       b | y | y = 1 | paper 1.0000 | mtcal 2.0000 | y is 2
     """
+    check_bands(table)
     kind = _kind(table)
     tested = table[table["holds"].notna() & (kind == "claim")]
     failing = tested[~tested["holds"].astype(bool)]
@@ -344,8 +523,10 @@ def check_claims(table: pd.DataFrame, *, enforce: bool) -> str:
 def role_summary(table: pd.DataFrame) -> str:
     """Paper-inside-band counts split by role (``heldout`` rows are the out-of-sample test).
 
-    >>> t = comparison_table([comparison_row("a", "x", 1.0, 1.1, "", None, band=(0.9, 1.2)),
-    ...                       comparison_row("b", "y", 1.0, 1.1, "", None, band=(1.05, 1.2), role="train")])
+    >>> t = comparison_table([comparison_row("a", "x", 1.0, 1.1, "", None, band={"low": 0.9, "high": 1.2, "n": 5,
+    ...                                                                           "kind": "range"}),
+    ...                       comparison_row("b", "y", 1.0, 1.1, "", None, band={"low": 1.05, "high": 1.2, "n": 1000},
+    ...                                      role="train")])
     >>> role_summary(t)
     'paper inside our 95 % band: train 0 of 1, heldout 1 of 1'
     """

@@ -18,6 +18,11 @@ baseline). Per baseline:
 
 Relative measures skip paper values equal to 0 (no scale).
 
+Each record carries the draw count and kind of both bands (``fitted_draws, fitted_kind,
+prior_draws, prior_kind``: a ``"95 % band"`` from >= ``metrics.MIN_BAND_DRAWS`` draws, or a
+``"range"`` with its count); the table is audited (:func:`mtcal.reporting.compare.check_bands`)
+before it is scored, so no score rests on a "95 % band" of too few draws.
+
 :func:`score_block` is the text every study notebook ends with; :func:`write_scores`
 writes one notebook's per-number records to ``data/fidelity_records_<notebook>.csv``
 and rewrites the per-paper and overall scores ``data/fidelity_scores.csv``
@@ -34,8 +39,9 @@ inference", J. Am. Stat. Assoc. 1927, 22(158):209–212.
 Examples
 --------
 >>> from mtcal.reporting.compare import comparison_row, comparison_table
->>> t = comparison_table([comparison_row("a", "x", 1.0, 1.1, "", None, band=(0.9, 1.2), prior_band=(0.0, 5.0)),
-...                       comparison_row("a", "y", 2.0, 1.0, "", None, band=(0.5, 1.5), prior_band=(0.0, 5.0))])
+>>> band = lambda lo, hi: {"low": lo, "high": hi, "n": 1000, "kind": "95 % band"}
+>>> t = comparison_table([comparison_row("a", "x", 1.0, 1.1, "", None, band=band(0.9, 1.2), prior_band=band(0.0, 5.0)),
+...                       comparison_row("a", "y", 2.0, 1.0, "", None, band=band(0.5, 1.5), prior_band=band(0.0, 5.0))])
 >>> s = score(t, "fitted")
 >>> s["n"], s["inside"], s["within_25pct"]
 (2, 1, 1)
@@ -64,7 +70,8 @@ BASELINES = ("fitted", "prior")
 RECORDS_PREFIX = "fidelity_records_"
 #: Per-number record columns (``data/fidelity_records_<notebook>.csv``).
 RECORD_COLUMNS = ["notebook", "paper_key", "artifact", "quantity", "ref", "paper_value", "fitted_median",
-                  "fitted_low", "fitted_high", "prior_median", "prior_low", "prior_high"]
+                  "fitted_low", "fitted_high", "prior_median", "prior_low", "prior_high", "fitted_draws",
+                  "fitted_kind", "prior_draws", "prior_kind"]
 #: Score columns (``data/fidelity_scores.csv``).
 SCORE_COLUMNS = ["scope", "baseline", "n", "inside", "coverage", "coverage_low", "coverage_high",
                  "median_rel_width", "mean_rel_interval_score", "median_rel_interval_score", "within_25pct"]
@@ -173,9 +180,12 @@ def score_records(table: pd.DataFrame, paper_key: str, notebook: str) -> pd.Data
 
 
 def _records(table: pd.DataFrame, paper_key: str = "", notebook: str = "") -> pd.DataFrame:
+    from .compare import check_bands
+
     missing = {"role", "paper", "mtcal", "mc_low", "mc_high", "prior_low", "prior_high"} - set(table.columns)
     if missing:
         raise ValueError(f"table is not a comparison table (missing columns {sorted(missing)})")
+    check_bands(table)
     rows = []
     for r in table[table["role"] == "heldout"].to_dict("records"):
         x = _numeric(r["paper"])
@@ -186,8 +196,22 @@ def _records(table: pd.DataFrame, paper_key: str = "", notebook: str = "") -> pd
                      "quantity": r["quantity"], "ref": r.get("ref", ""), "paper_value": x,
                      "fitted_median": _numeric(r["mtcal"]), "fitted_low": _numeric(r["mc_low"]),
                      "fitted_high": _numeric(r["mc_high"]), "prior_median": _numeric(r.get("prior_median")),
-                     "prior_low": _numeric(r["prior_low"]), "prior_high": _numeric(r["prior_high"])})
-    return pd.DataFrame(rows, columns=RECORD_COLUMNS)
+                     "prior_low": _numeric(r["prior_low"]), "prior_high": _numeric(r["prior_high"]),
+                     "fitted_draws": _draws(r.get("mc_draws")), "fitted_kind": _text(r.get("mc_kind")),
+                     "prior_draws": _draws(r.get("prior_draws")), "prior_kind": _text(r.get("prior_kind"))})
+    out = pd.DataFrame(rows, columns=RECORD_COLUMNS)
+    for col in ("fitted_draws", "prior_draws"):
+        out[col] = out[col].astype("Int64")
+    return out
+
+
+def _draws(v):
+    x = _numeric(v)
+    return int(x) if np.isfinite(x) else None
+
+
+def _text(v) -> str:
+    return "" if v is None or (isinstance(v, float) and np.isnan(v)) or v is pd.NA else str(v)
 
 
 def aggregate(records: pd.DataFrame, baseline: str) -> dict:

@@ -146,3 +146,11 @@ def test_band_or_range_errors():
         band_or_range(1.0)
     with pytest.raises(ValueError, match="n"):
         band_label(0)
+
+
+def test_percentile_band_records_its_draw_count():
+    x = np.random.default_rng(5).normal(size=(7, 3))
+    assert metrics.percentile_band(x)["n"] == 7                  # draws along the (default) axis 0
+    assert metrics.percentile_band(x, axis=1)["n"] == 3
+    with pytest.raises(ValueError, match="samples must have at least one dimension"):
+        metrics.percentile_band(1.0)

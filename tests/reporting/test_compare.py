@@ -1,7 +1,10 @@
 """compare: split roles, claim/consistency kinds, prior bands, claims that can fail."""
 
+import numpy as np
+import pandas as pd
 import pytest
 
+from mtcal.core import metrics
 from mtcal.reporting import compare
 
 
@@ -20,10 +23,99 @@ def test_roles_are_the_split_roles_plus_finding():
 
 
 def test_prior_band_columns():
-    r = compare.comparison_row("a", "b", 1.0, 1.0, "", None, band=(0.5, 0.9), prior_band=(0.0, 2.0))
-    assert r["paper_in_band"] is False and r["prior_in_band"] is True and r["prior_band"] == "[0, 2]"
+    r = compare.comparison_row("a", "b", 1.0, 1.0, "", None, band={"low": 0.5, "high": 0.9, "n": 1000},
+                               prior_band=metrics.band_or_range([0.0, 1.0, 2.0]))
+    assert r["paper_in_band"] is False and r["prior_in_band"] is True and r["prior_band"] == "range [0, 2] (n=3)"
+    assert (r["mc_draws"], r["mc_kind"], r["prior_draws"], r["prior_kind"]) == (1000, "95 % band", 3, "range")
     t = compare.comparison_table([r])
     assert list(t.columns) == compare.COMPARISON_COLUMNS
+    assert t["mc_draws"].dtype == "Int64" and t.loc[0, "prior_draws"] == 3
+
+
+def _row(name, band=None, prior_band=None):
+    return compare.comparison_row("art", name, 1.0, 1.0, "", None, band=band, prior_band=prior_band)
+
+
+def _frame(*rows):
+    """A table built without comparison_table (whose own audit would raise first)."""
+    return pd.DataFrame(list(rows), columns=compare.COMPARISON_COLUMNS)
+
+
+def test_band_rule_audit_threshold_is_min_band_draws():
+    assert metrics.MIN_BAND_DRAWS == 1000
+    ok = _row("x", band=metrics.percentile_band(np.arange(1000.0)))          # 1000 draws: a 95 % band
+    assert ok["mc_draws"] == 1000 and ok["mc_kind"] == "95 % band"
+    assert compare.check_bands(compare.comparison_table([ok])).startswith("bands: 1 95 % bands")
+    short = _row("x", band=metrics.percentile_band(np.arange(999.0)))        # 999 draws called a 95 % band
+    with pytest.raises(ValueError, match=r"art \| x: mc_band is a 95 % band from 999 draws"):
+        compare.check_bands(_frame(short))
+    with pytest.raises(ValueError, match="95 % band from 999 draws"):
+        compare.comparison_table([short])                                     # no table is built with it
+    with pytest.raises(ValueError, match=r"art \| x: prior_band is a 95 % band from 999 draws"):
+        compare.check_bands(_frame(_row("x", prior_band=metrics.percentile_band(np.arange(999.0)))))
+
+
+def test_band_rule_audit_accepts_a_labelled_range():
+    r = _row("x", band=metrics.band_or_range([1.0, 2.0, 3.0, 4.0]))
+    assert (r["mc_band"], r["mc_draws"], r["mc_kind"]) == ("range [1, 4] (n=4)", 4, "range")
+    assert compare.check_bands(compare.comparison_table([r])) == "bands: 0 95 % bands (>= 1000 draws), 1 ranges with their count"
+
+
+def test_band_rule_audit_rejects_unknown_counts_and_kinds():
+    pair = _row("x", band=(0.5, 1.5))                                         # a bare pair: unknown draws
+    assert pair["mc_draws"] is None and pair["mc_kind"] == "95 % band"
+    with pytest.raises(ValueError, match=r"art \| x: mc_band has no known draw count"):
+        compare.check_bands(_frame(pair))
+    with pytest.raises(ValueError, match="no known draw count"):
+        compare.comparison_table([_row("y", prior_band={"low": 0.0, "high": 1.0})])
+    bad_kind = dict(_row("x", band=metrics.band_or_range(np.arange(1000.0))), mc_kind="90 % band")
+    with pytest.raises(ValueError, match=r"mc_band has kind '90 % band', expected one of"):
+        compare.check_bands(_frame(bad_kind))
+    legacy = _frame(_row("x", band=metrics.band_or_range(np.arange(1000.0)))).drop(columns=["mc_draws", "mc_kind"])
+    with pytest.raises(ValueError, match="mc_band has no mc_draws/mc_kind columns"):   # a table from before them
+        compare.check_bands(legacy)
+    with pytest.raises(TypeError, match="table must be a pandas DataFrame"):
+        compare.check_bands([pair])
+
+
+def test_band_rule_audit_reads_tables_back_from_csv(tmp_path):
+    rows = [_row("x", band=metrics.band_or_range(np.arange(1000.0))), _row("y", band=metrics.band_or_range([1.0, 2.0])),
+            _row("z")]
+    path = tmp_path / "t_comparison.csv"
+    compare.comparison_table(rows).to_csv(path, index=False)
+    back = pd.read_csv(path, dtype=str, keep_default_na=False)
+    assert back["mc_draws"].tolist() == ["1000", "2", ""]
+    assert compare.check_bands(back) == "bands: 1 95 % bands (>= 1000 draws), 1 ranges with their count"
+    back.loc[0, "mc_draws"] = "999"
+    with pytest.raises(ValueError, match="95 % band from 999 draws"):
+        compare.check_bands(back)
+
+
+def test_check_claims_runs_the_band_audit_even_in_a_what_if_run():
+    t = _frame(compare.comparison_row("a", "x", 1.0, 1.0, "x = 1", True, band=metrics.percentile_band([0.5, 1.5])))
+    for enforce in (True, False):
+        with pytest.raises(ValueError, match=r"a \| x: mc_band is a 95 % band from 2 draws"):
+            compare.check_claims(t, enforce=enforce)
+
+
+def test_band_validation_errors():
+    with pytest.raises(ValueError, match=r"band\['n'\] must be a positive int"):
+        _row("x", band={"low": 0.0, "high": 1.0, "n": 0})
+    with pytest.raises(ValueError, match=r"prior_band\['n'\] must be a positive int"):
+        _row("x", prior_band={"low": 0.0, "high": 1.0, "n": 2.5})
+    with pytest.raises(ValueError, match=r"band\['n'\] must be a positive int"):
+        _row("x", band={"low": 0.0, "high": 1.0, "n": True})
+    with pytest.raises(ValueError, match=r"band\['kind'\] must be one of"):
+        _row("x", band={"low": 0.0, "high": 1.0, "n": 5, "kind": "interval"})
+
+
+def test_band_record_follows_the_rule():
+    few = compare.band_record("a", "x", 2.0, [1.0, 2.0, 3.0])
+    assert (few["n"], few["kind"]) == (3, "range")
+    assert compare.band_row(few, "", None)["mc_band"] == "range [1, 3] (n=3)"
+    assert "range [1.0000, 3.0000] (n=3)" in compare.band_text(few)
+    many = compare.band_record("a", "x", 2.0, np.linspace(0.0, 4.0, 1000))
+    assert (many["n"], many["kind"]) == (1000, "95 % band") and compare.band_row(many, "", None)["mc_draws"] == 1000
 
 
 def test_claim_carries_its_check_and_can_fail():

@@ -52,9 +52,10 @@ def test_printed_matrices_are_4x4():
 
 
 def test_band_columns_and_summary():
-    rows = [compare.comparison_row("T", "a", 0.009, 0.011, "<= 0.01", False, band={"low": 0.003, "high": 0.03}),
-            compare.comparison_row("T", "b", 0.05, 0.011, "<= 0.01", True, band=(0.003, 0.03)),
-            compare.comparison_row("T", "c", "n/a", 0.011, "", None, band=(0.003, 0.03)),
+    band = {"low": 0.003, "high": 0.03, "n": 1000}
+    rows = [compare.comparison_row("T", "a", 0.009, 0.011, "<= 0.01", False, band=band),
+            compare.comparison_row("T", "b", 0.05, 0.011, "<= 0.01", True, band=band),
+            compare.comparison_row("T", "c", "n/a", 0.011, "", None, band=band),
             compare.comparison_row("T", "d", 0.05, 0.011, "", None)]
     table = compare.comparison_table(rows)
     assert table.loc[0, "mc_band"] == "[0.003, 0.03]"

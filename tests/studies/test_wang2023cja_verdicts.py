@@ -42,8 +42,25 @@ def test_one_to_one_measures_from_the_reference():
     t = verdicts.one_to_one(samples)
     row = t.iloc[0]
     assert len(t) == 1 and row.role == "heldout"
-    assert row.paper == pytest.approx(0.012) and row.inside and row.low > 0
+    assert row.paper == pytest.approx(0.012) and row.inside
+    assert (row.kind, row.n, row.low, row.high) == ("range", 50, 0.0, pytest.approx(0.02))  # 50 draws: the range
     assert row.se_low >= 0 and np.isfinite(row.se_high)
+    many = verdicts.one_to_one({key: (-4.0, np.full(1000, -4.0) + np.linspace(0.0, 0.02, 1000))}).iloc[0]
+    assert (many.kind, many.n) == ("95 % band", 1000) and 0.0 < many.low < many.high < 0.02
+
+
+def test_comparison_prints_ci_ranges_and_full_size_bands():
+    """CI size (4 draws) prints the range with its count; 1000 draws a 95 % band; both pass the band audit."""
+    from mtcal.reporting import compare
+
+    key = ("wang2023cja_table10_windtunnel_wind_pitch", 40, "value_deg")
+    for n, kind, text in ((4, "range", "range [0.005, 0.02] (n=4)"), (1000, "95 % band", None)):
+        one = {k: verdicts.one_to_one({key: (0.0, np.linspace(0.005, 0.02, n))}) for k in ("fitted", "prior")}
+        t = verdicts.comparison(one)
+        r = t.iloc[0]
+        assert (r.mc_kind, int(r.mc_draws), r.prior_kind, int(r.prior_draws)) == (kind, n, kind, n)
+        assert text is None or r.mc_band == text
+        assert compare.check_bands(t).startswith(f"bands: {2 * (kind != 'range')} 95 % bands")
 
 
 def test_quantile_se_and_draw_validation():

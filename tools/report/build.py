@@ -36,8 +36,10 @@ TEMPLATES = Path(__file__).resolve().parent / "templates"
 KEYS = ("wang2023cja", "tan2022", "wang2022sensors")
 FILE_RE = re.compile(r"^`(?P<file>(?:figures|data)/(?P<id>[A-Za-z0-9_]+)\.(?P<ext>png|csv))`$")
 WHERE_RE = re.compile(r"^`(?P<notebook>\d\d_[A-Za-z0-9_]+)`\s*§\s*(?P<section>.*)$")
-COMPARISON_COLUMNS = ["artifact", "quantity", "paper", "mtcal", "mc_band", "paper_in_band", "prior_band",
-                      "prior_in_band", "claim", "holds", "kind", "role", "source"]
+#: Shown per comparison row; ``mc_draws``/``prior_draws`` are the Monte Carlo draws behind each band (a "95 % band"
+#: rests on >= 1000, a range prints its count in the band text; mtcal.reporting.compare.check_bands).
+COMPARISON_COLUMNS = ["artifact", "quantity", "paper", "mtcal", "mc_band", "mc_draws", "paper_in_band", "prior_band",
+                      "prior_draws", "prior_in_band", "claim", "holds", "kind", "role", "source"]
 MAX_TABLE_ROWS = 40
 
 

@@ -82,7 +82,7 @@ def _slope_band(x, y):
     ok = np.all(y > 0, axis=-1)
     if not np.any(ok):
         return None
-    return metrics.percentile_band(gyro_roll.loglog_slope(x, y[ok]))
+    return metrics.band_or_range(gyro_roll.loglog_slope(x, y[ok]))
 
 
 def median_trial(score) -> int:
@@ -335,9 +335,9 @@ def extra_independent_errors(sc: AccelScenario, seed: int, trials: int, step_deg
                                      g=sc.gravity_m_s2)
     unit = _DEG(sc.delta_accel_g)  # ΔA/g in degrees
     rms_trial = {k: np.sqrt(np.mean(v.reshape(n, -1) ** 2, axis=1)) for k, v in mc.items()}
-    gain_p = metrics.percentile_band(rms_trial["single"] / rms_trial["preset"])
-    gain_m = metrics.percentile_band(rms_trial["single"] / rms_trial["mean_of_two"])
-    single = metrics.percentile_band(_DEG(rms_trial["single"]))
+    gain_p = metrics.band_or_range(rms_trial["single"] / rms_trial["preset"])
+    gain_m = metrics.band_or_range(rms_trial["single"] / rms_trial["mean_of_two"])
+    single = metrics.band_or_range(_DEG(rms_trial["single"]))
     rows = [
         _ROW("tan2022_extra_independent_errors", "plain triad RMS |Δθ| (deg), independent errors", "not studied",
              float(single["median"]), f"first order ΔA/g = {unit:.3g}° inside the band",
@@ -471,8 +471,8 @@ def fig09(study: GyroStudy, seed: int, trials: int) -> Artifact:
                        "integration": _DEG(e_I), "projection": _DEG(e_P), "trial": k, "trials": n})
         recs.append({"pitch_rate_deg_s": rate, "duration_s": float(t[-1] + g.dt_s),
                      **{f"{k}_median_deg": float(np.median(v)) for k, v in trial.items()}})
-    blow = metrics.percentile_band(np.min([_ratio(p["euler_near90"], p["euler_lt60"]) for p in per_rate], axis=0))
-    drift = metrics.percentile_band(np.min([np.abs(p["integration_final"]) for p in per_rate], axis=0))
+    blow = metrics.band_or_range(np.min([_ratio(p["euler_near90"], p["euler_lt60"]) for p in per_rate], axis=0))
+    drift = metrics.band_or_range(np.min([np.abs(p["integration_final"]) for p in per_rate], axis=0))
     slope = _slope_band(np.array(uni.pitch_rates_deg_s), np.stack([p["projection_mean"] for p in per_rate], axis=1))
     rows = [
         _ROW("tan2022_fig09", "Eq 5: max|Δφ_E| within 2° of ±90° / max for θ < 60° (min over rates)",
@@ -537,7 +537,7 @@ def fig11(study: GyroStudy, seed: int, trials: int) -> Artifact:
         e_P = np.abs(gyro_roll.roll_projection(w) - g.roll0_rad)
         ratio[sl] = _ratio(np.max(e_P[:, slow], axis=-1), np.max(e_P[:, ~slow], axis=-1))
         peak[sl] = np.max(e_P, axis=-1)
-    spike = metrics.percentile_band(ratio)
+    spike = metrics.band_or_range(ratio)
     rows = [_ROW("tan2022_fig11", "max|Δφ_P| where |θ̇| < 5 °/s / elsewhere", "error jumps as θ̇ → 0",
                  float(spike["median"]), "> 5", bool(spike["median"] > 5), band=spike)]
     k = median_trial(peak)  # the median-error trial by max |Δφ_P|
@@ -587,15 +587,15 @@ def fig12(study: GyroStudy, seed: int, trials: int) -> Artifact:
     e_Hd = gyro_roll.roll_hybrid(w_det, g.dt_s, thr, roll0=g.roll0_rad)[0] - g.roll0_rad
     recs = []
     for name, rr, mm in zip(names, rms, mx):
-        r, m = metrics.percentile_band(_DEG(rr)), metrics.percentile_band(_DEG(mm))
+        r, m = metrics.band_or_range(_DEG(rr)), metrics.band_or_range(_DEG(mm))
         recs.append({"method": name, "rmse_median_deg": float(r["median"]), "rmse_low_deg": float(r["low"]),
                      "rmse_high_deg": float(r["high"]), "maxae_median_deg": float(m["median"]),
                      "maxae_low_deg": float(m["low"]), "maxae_high_deg": float(m["high"])})
     max_det = float(_DEG(np.max(np.abs(e_Hd))))
     recs.append({"method": "hybrid, constant errors only", "rmse_median_deg": float(_DEG(metrics.rmse(e_Hd))),
                  "maxae_median_deg": max_det})
-    band_h = metrics.percentile_band(_DEG(mx[2]))
-    switched = metrics.percentile_band(integrated)
+    band_h = metrics.band_or_range(_DEG(mx[2]))
+    switched = metrics.band_or_range(integrated)
     lab = f"θ̇_t = {osc.threshold_deg_s:g} °/s"
     rows = [
         _failing_claim("tan2022_fig12", f"hybrid ({lab}) max |Δφ|, constant errors only (deg)",
@@ -647,8 +647,8 @@ def extra_threshold_sweep(study: GyroStudy, seed: int, trials: int, n_thresholds
     rmse_det = _DEG(gyro_roll.roll_hybrid_rmse_sweep(w_det, g.dt_s, _RAD(thresholds), **kw))
     bt = metrics.band_or_range(rmse)                     # 95 % band from >= 1000 trials, else the range
     k_paper = int(np.flatnonzero(thresholds == osc.threshold_deg_s)[0])
-    opt = metrics.percentile_band(thresholds[np.argmin(rmse, axis=1)])
-    gain = metrics.percentile_band(_ratio(np.min(rmse, axis=1), rmse[:, k_paper]))
+    opt = metrics.band_or_range(thresholds[np.argmin(rmse, axis=1)])
+    gain = metrics.band_or_range(_ratio(np.min(rmse, axis=1), rmse[:, k_paper]))
     rows = [
         _ROW("tan2022_extra_threshold_sweep", "optimal θ̇_t (deg/s), per trial", osc.threshold_deg_s,
              float(opt["median"]), f"optimum far above {osc.threshold_deg_s:g} °/s (band low > 10×)",

@@ -191,6 +191,12 @@ class ErrorModelFit:
     lines: list = field(default_factory=list)
 
 
+def _spread_text(b: dict) -> str:
+    """``"[low, high]"`` of a 95 % band, ``"range [low, high] (n=…)"`` of a range (:func:`metrics.band_or_range`)."""
+    text = f"[{b['low']:.3g}, {b['high']:.3g}]"
+    return text if b["kind"] == "95 % band" else f"range {text} (n={b['n']})"
+
+
 def _band_mc_se(samples, seed: int) -> dict:
     """Monte Carlo standard error (bootstrap) of the 2.5 % and 97.5 % ends of a posterior-predictive band."""
     from mtcal.reporting.fidelity import quantile_mc_se
@@ -312,7 +318,7 @@ def fit_accel_error_model(sc: AccelScenario, prior: AccelErrorPrior, seed: int, 
     table, rows, numeric = [], [], []
     for key, art, qty, paper, claim, test, kind, note in specs:
         rec = {"quantity": qty, "paper": paper}
-        b, bp = (metrics.percentile_band(pred[m][key]) for m in ("fitted", "prior"))
+        b, bp = (metrics.band_or_range(pred[m][key]) for m in ("fitted", "prior"))
         holds = bool(b["low"] <= paper <= b["high"]) if test is None else bool(test(b))
         role = "input" if key.startswith("lambda") else "finding"
         if kind == "claim":
@@ -320,12 +326,11 @@ def fit_accel_error_model(sc: AccelScenario, prior: AccelErrorPrior, seed: int, 
                                 lambda v, t=test: t({"median": v}),
                                 band=b, prior_band=bp, role=role)
         else:
-            row = compare.consistency(art, qty, paper, float(b["median"]), claim, holds, by=note, band=b, role=role)
-            row.update(prior_band=f"[{bp['low']:.4g}, {bp['high']:.4g}]", prior_low=float(bp["low"]),
-                       prior_high=float(bp["high"]), prior_median=float(bp["median"]))
+            row = compare.consistency(art, qty, paper, float(b["median"]), claim, holds, by=note, band=b,
+                                      prior_band=bp, role=role)
         rows.append(row)
         for model, bb in (("fitted", b), ("prior", bp)):
-            rec.update({f"{model} median": float(bb["median"]), f"{model} band": f"[{bb['low']:.3g}, {bb['high']:.3g}]"})
+            rec.update({f"{model} median": float(bb["median"]), f"{model} band": _spread_text(bb)})
         rec.update(_band_mc_se(pred["fitted"][key], seed))
         table.append(rec)
         numeric.append([[float(bb[q]) for q in ("low", "median", "high")] for bb in (b, bp)])
@@ -425,7 +430,7 @@ def fit_gyro_error_model(study: GyroStudy, prior: GyroErrorPrior, seed: int, tri
     table, rows, numeric = [], [], []
     for key, art, qty, paper, claim, test in specs:
         rec = {"quantity": qty, "paper": paper}
-        b, bp = (metrics.percentile_band(pred[m][key]) for m in ("fitted", "prior"))
+        b, bp = (metrics.band_or_range(pred[m][key]) for m in ("fitted", "prior"))
         if test is None:
             rows.append(_ROW(art, qty, paper, float(b["median"]), "", None, band=b, prior_band=bp, role="finding",
                              source="mtcal finding"))
@@ -436,14 +441,15 @@ def fit_gyro_error_model(study: GyroStudy, prior: GyroErrorPrior, seed: int, tri
             rows.append(compare.claim(art, qty, paper, float(b["median"]), claim, test, band=b, prior_band=bp,
                                       role="finding", enforce=holds, note=note))
         for model, bb in (("fitted", b), ("prior", bp)):
-            rec.update({f"{model} median": float(bb["median"]), f"{model} band": f"[{bb['low']:.3g}, {bb['high']:.3g}]"})
+            rec.update({f"{model} median": float(bb["median"]), f"{model} band": _spread_text(bb)})
         rec.update(_band_mc_se(pred["fitted"][key], seed))
         table.append(rec)
         numeric.append([[float(bb[q]) for q in ("low", "median", "high")] for bb in (b, bp)])
     fit_row = compare.consistency("tan2022_fig06", f"Fig 6 curve at {_DEG(rates[0]):.1f}–{_DEG(rates[-1]):.0f} °/s: "
                                   "b posterior median (deg/s) [training]", e_x, pb["median"],
                                   "paper Δω inside the credible interval", bool(pb["low"] <= e_x <= pb["high"]),
-                                  by="b is fitted to the Fig 6 curve computed from this Δω", band=(pb["low"], pb["high"]),
+                                  by="b is fitted to the Fig 6 curve computed from this Δω",
+                                  band=compare.credible_interval(pb["low"], pb["high"]),
                                   role="train", ref="tan2022_params:7:value")
     need = float(study.oscillation.threshold_deg_s * np.tan(_RAD(prior.accurate_deg)))
     need_row = _ROW("tan2022_fig12", "largest constant y/z error for which Fig 12's hybrid is accurate (deg/s)",
@@ -547,7 +553,7 @@ def fit_gyro_error_pattern(study: GyroStudy, prior: GyroErrorPrior, seed: int, t
             w[..., 2] += _RAD(b_d[sl])[:, None]
             means[sl, k] = np.mean(np.abs(gyro_roll.roll_projection(w) - g.roll0_rad), axis=-1)
     ok = np.all(means > 0, axis=1)
-    slope = metrics.percentile_band(gyro_roll.loglog_slope(rates, means[ok])) if np.any(ok) else None
+    slope = metrics.band_or_range(gyro_roll.loglog_slope(rates, means[ok])) if np.any(ok) else None
     lab = f"θ̇_t = {study.oscillation.threshold_deg_s:g} °/s"
     rows = [
         compare.consistency("tan2022_fig11", "P(Fig 11 spikes and Fig 12 accurate) at the ML (b_z, N) [training]",
@@ -560,7 +566,8 @@ def fit_gyro_error_pattern(study: GyroStudy, prior: GyroErrorPrior, seed: int, t
                             role="finding"),
         _ROW("tan2022_fig12", f"z-gyro error consistent with Figs 11 + 12 ({lab}), 97.5 % bound (deg/s)", e_paper,
              pb["high"], "the paper's 0.2 °/s on z is excluded: the error must sit on x/y",
-             bool(pb["high"] < e_paper), band=(pb["low"], pb["high"]), role="finding", source="mtcal finding"),
+             bool(pb["high"] < e_paper), band=compare.credible_interval(pb["low"], pb["high"]), role="finding",
+             source="mtcal finding"),
     ]
     lines = [f"b_z: ML {bgrid[i_ml]:.3f}, median {pb['median']:.3f} [{pb['low']:.3f}, {pb['high']:.3f}] °/s; "
              f"N: ML {ngrid[j_ml]:.5f}, median {pn['median']:.5f} [{pn['low']:.5f}, {pn['high']:.5f}] °/s/√Hz",

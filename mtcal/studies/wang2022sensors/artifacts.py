@@ -208,7 +208,7 @@ def fig12_gravity_change(sc: Scenario, trials: int, seed: int, n_boot: int) -> A
     sig_mean = imu.accel_noise_per_sample_m_s2 / np.sqrt(imu.fs_hz)
     pred = np.degrees(rotation_axis.axis_error_std(sig_mean, np.radians(gam_mc), np.radians([0.0, 90.0, 180.0])))
     boot = metrics.bootstrap_medians([errs[0], errs[3]], stream_rng(seed, STREAM_FIG12_BOOTSTRAP), n_boot)
-    r_band = metrics.percentile_band(boot[:, 1] / boot[:, 0])
+    r_band = metrics.band_or_range(boot[:, 1] / boot[:, 0])
     r_med = float(bands[3]["median"] / bands[0]["median"])
     rows = [compare.consistency("wang2022sensors_fig12", "||g1-g0|| ratio gamma = 60/0 deg", 0.5, ratio,
                                 "When γ = 60°, the magnitude of ||g1 − g0|| is half of that at γ = 0°",
@@ -238,7 +238,7 @@ def table04_axes(sc: Scenario, trials: int, seed: int) -> Artifact:
     rows, recs = [], []
     for k, (name, v) in enumerate(table4_axes().items()):
         err, est = axis_errors(v, imu, rig, trials, seed, 200 + k, rest_s=2.0)
-        b = metrics.percentile_band(err)
+        b = metrics.band_or_range(err)
         band, _, _, n_b = _spread(err)
         est = est * np.sign(est[:, :1])  # v_x >= 0 (paper's convention)
         printed = p4.loc[name, ["bv_x", "bv_y", "bv_z"]].to_numpy(float)
@@ -283,8 +283,8 @@ def extra_axis_error_vs_rest(sc: Scenario, trials: int, seed: int, n_boot: int,
     med_z = np.array([np.median(e) for e in e_zvd])
     s_w = float(np.polyfit(np.log(rest), np.log(med_w), 1)[0])
     s_z = float(np.polyfit(np.log(rest), np.log(med_z), 1)[0])
-    b_w, b_z = metrics.percentile_band(slopes["white"]), metrics.percentile_band(slopes["zvd"])
-    b_d = metrics.percentile_band(slopes["zvd"] - slopes["white"])
+    b_w, b_z = metrics.band_or_range(slopes["white"]), metrics.band_or_range(slopes["zvd"])
+    b_d = metrics.band_or_range(slopes["zvd"] - slopes["white"])
     rows = [_row("wang2022sensors_extra_axis_error_vs_rest", "slope vs rest time (white noise, true rests)", -0.5,
                  s_w, "error falls as 1/sqrt(t) (|slope + 0.5| < 0.1)", bool(abs(s_w + 0.5) < 0.1), band=b_w,
                  role="finding", source="mtcal finding"),
@@ -426,7 +426,8 @@ def extra_error_model(fit: ErrorModelFit) -> Artifact:
     rows = [compare.consistency("wang2022sensors_extra_error_model", f"{r.parameter} ({r.unit})", "not stated",
                                 float(r.posterior_mean), f"inside prior [{r.prior_low:g}, {r.prior_high:g}]",
                                 bool(r.inside_prior), by="the fit grid lies inside the prior: any posterior does",
-                                band=(r.low_95, r.high_95), role="finding") for r in t.itertuples()]
+                                band=compare.credible_interval(r.low_95, r.high_95), role="finding")
+            for r in t.itertuples()]
     g = fit.grid
     c, l, _ = np.unravel_index(np.argmax(fit.posterior), fit.posterior.shape)
     dyn = np.exp(g.log_rmse[("RAMS", "dynamic")][c, :, 0])  # (L, A, R) deg
@@ -496,7 +497,7 @@ def table05_rmse(fit: ErrorModelFit, seed: int, n_draws: int = 4000) -> Artifact
         axis, system, kind = key
         post = error_model.predictive_samples(fit.grid, fit.posterior, key, rng, n_draws)
         prior = error_model.predictive_samples(fit.grid, fit.prior, key, rng, n_draws)
-        b, bp = metrics.percentile_band(post), metrics.percentile_band(prior)
+        b, bp = metrics.band_or_range(post), metrics.band_or_range(prior)
         role = "train" if key in error_model.TRAINING else "heldout"
         recs.append({"axis": axis, "system": system, "kind": kind, "role": role, "paper_deg": pv[key],
                      "fitted_median": b["median"], "fitted_low": b["low"], "fitted_high": b["high"],
@@ -587,7 +588,7 @@ def fig14_max_error_per_angle(fit: ErrorModelFit, seed: int, n_draws: int = 4000
     q = np.array([error_model.weighted_quantile(flat[:, h], w, [0.025, 0.5, 0.975]) for h in range(flat.shape[1])])
     exp = error_model.fig14_samples(g, fit.posterior, stream_rng(seed, STREAM_FIG14_FITTED), n_draws)
     exp_prior = error_model.fig14_samples(g, fit.prior, stream_rng(seed, STREAM_FIG14_PRIOR), n_draws)
-    b, bp = metrics.percentile_band(exp), metrics.percentile_band(exp_prior)
+    b, bp = metrics.band_or_range(exp), metrics.band_or_range(exp_prior)
     med = float(b["median"])
     rows = []
     for num, quote in ((8, "the maximum measurement error of RAMS for various angles did not exceed 0.05°"),

@@ -57,7 +57,8 @@ STREAM_ERROR_BUDGET = 100     # key (seed, 100, row): one error-budget row
 
 def banded(artifact: str, quantity: str, paper_value, samples, *, claim: str = "", holds=None,
            role: str = "heldout", source: str = "paper claim") -> dict:
-    """Comparison row with the Monte Carlo median and 95 % band of ``samples`` (1-D, display unit)."""
+    """Comparison row with the Monte Carlo median and 95 % band of ``samples`` (1-D, display unit); from fewer
+    than ``metrics.MIN_BAND_DRAWS`` samples the min–max range with its count (:func:`compare.band_record`)."""
     rec = compare.band_record(artifact, quantity, paper_value, np.asarray(samples, float))
     return compare.comparison_row(artifact, quantity, paper_value, rec["median"], claim, holds, band=rec,
                                   role=role, source=source)
@@ -131,21 +132,23 @@ def positions_table(test: str, run) -> pd.DataFrame:
 
 def sweep_mean_table(artifact: str, sweep: dict, angle: str, sign: float = 1.0) -> pd.DataFrame:
     """Tables 5, 7, 9: hold means (deg, paper sign): paper, ours (``mtcal_*``: the median session — median of
-    the largest |after − reference| over the holds — never trial 0), MC median and band of after."""
+    the largest |after − reference| over the holds — never trial 0), MC median and band of after (``mc_kind``:
+    the 95 % band from ≥ 1000 trials, else the min–max range; ``mc_draws``: the trials)."""
     p = paper_numbers.load(_TABLE_FILES[artifact])
     col = lambda kind: p[f"{kind}_mean_{angle}_deg"].to_numpy(float)  # noqa: E731
     after = sign * np.degrees(sweep["after_mean"])
     m = metrics.median_trial(np.abs(after - col("reference")).max(axis=1))
-    band = metrics.percentile_band(after, axis=0)
+    band = metrics.band_or_range(after, axis=0)
     return pd.DataFrame({"reference": col("reference"), "paper_before": col("before"),
                          "mtcal_before": sign * np.degrees(sweep["before_mean"][m]), "paper_after": col("after"),
                          "mtcal_after": after[m], "mc_after_median": band["median"], "mc_after_low": band["low"],
-                         "mc_after_high": band["high"]})
+                         "mc_after_high": band["high"], "mc_draws": band["n"], "mc_kind": band["kind"]})
 
 
 def error_metric_table(artifact: str, sweep: dict, channels) -> pd.DataFrame:
     """Tables 6, 8, 11: MaxAE / RMSE per state and channel: paper, ours (``mtcal``: the median session — median
-    of the largest after-calibration MaxAE over the channels — never trial 0), MC median and 95 % band (deg)."""
+    of the largest after-calibration MaxAE over the channels — never trial 0), MC median and 95 % band (deg;
+    from fewer than 1000 trials the min–max range: ``mc_kind``, ``mc_draws``)."""
     p = paper_numbers.load(_TABLE_FILES[artifact])
     m = metrics.median_trial(np.max([np.asarray(sweep[f"after_maxae_{j}"], float) for j, _ in channels], axis=0))
     rows = []
@@ -154,10 +157,11 @@ def error_metric_table(artifact: str, sweep: dict, channels) -> pd.DataFrame:
             for j, ang in channels:
                 pv = float(p.loc[(p.metric == metric) & (p.calibration_state == state), f"{ang}_deg"].iloc[0])
                 x = np.degrees(sweep[f"{state}_{key}_{j}"])
-                b = metrics.percentile_band(x)
+                b = metrics.band_or_range(x)
                 rows.append({"metric": metric, "state": state, "angle": ang, "paper": pv, "mtcal": float(x[m]),
                              "mc_median": float(b["median"]), "mc_low": float(b["low"]), "mc_high": float(b["high"]),
-                             "paper_in_band": bool(b["low"] <= pv <= b["high"])})
+                             "paper_in_band": bool(b["low"] <= pv <= b["high"]), "mc_draws": b["n"],
+                             "mc_kind": b["kind"]})
     return pd.DataFrame(rows)
 
 
@@ -222,7 +226,8 @@ def outside_rows(table: pd.DataFrame) -> pd.DataFrame:
 
 
 def q22_noise_band(model: ErrorModel, positions_rad, *, n_mc: int = 4000, seed: int = 2023) -> dict:
-    """Q(2,2) of Eq 13 from rest errors alone (no mechanism ratio error): median and 95 % band.
+    """Q(2,2) of Eq 13 from rest errors alone (no mechanism ratio error): median and 95 % band (``n``, ``kind``:
+    from fewer than 1000 draws the min–max range, :func:`mtcal.core.metrics.band_or_range`).
 
     Rest-level model (:func:`.error_model.rest_residuals`, screwed mount, no installation
     error) at the wind-tunnel positions; the answer to "can noise make Q(2,2) = 1.0045?".
@@ -232,8 +237,9 @@ def q22_noise_band(model: ErrorModel, positions_rad, *, n_mc: int = 4000, seed: 
     rng = stream_rng(seed, STREAM_Q22_NOISE)
     res = rest_residuals(np.zeros(3), model, "screw", rng.standard_normal((n_mc, N_NORMALS)),
                          positions_rad=positions_rad)
-    b = metrics.percentile_band(res["q_matrix"][:, 1, 1])
-    return {"median": float(b["median"]), "low": float(b["low"]), "high": float(b["high"])}
+    b = metrics.band_or_range(res["q_matrix"][:, 1, 1], what="draws")
+    return {"median": float(b["median"]), "low": float(b["low"]), "high": float(b["high"]), "n": b["n"],
+            "kind": b["kind"]}
 
 
 @cached  # Monte Carlo result cached under $MTCAL_CACHE_DIR (make reproduce/artifact)

@@ -10,6 +10,8 @@ from __future__ import annotations
 import matplotlib.pyplot as plt
 import numpy as np
 
+from mtcal.core import metrics
+
 __all__ = ["before_after_figure", "wind_on_figure", "amd_figure", "error_vs_positions_figure", "error_vs_noise_figure",
            "noise_distance_figure", "ensemble_figure", "fig07", "fig08", "fig10", "fig11", "extra_amd"]
 
@@ -139,7 +141,9 @@ def noise_distance_figure(table, lines: dict, *, sigma_deg: float, title: str):
     from matplotlib.ticker import NullFormatter
 
     fig, ax = plt.subplots(figsize=(7.5, 4.4), constrained_layout=True)
-    ax.plot(table.sigma_deg, table["median"], "o-", color=_COLOR["eq13"], label="Eq 13 estimate (median, 95 % band)")
+    spread = ("95 % band" if (table["kind"] == "95 % band").all() else "range") if "kind" in table else "95 % band"
+    n = f" of {int(table['n'].min())} trials" if "n" in table else ""
+    ax.plot(table.sigma_deg, table["median"], "o-", color=_COLOR["eq13"], label=f"Eq 13 estimate (median, {spread}{n})")
     ax.fill_between(table.sigma_deg, table.low, table.high, color=_COLOR["eq13"], alpha=0.15)
     for (name, value), style in zip(lines.items(), ("--", ":")):
         ax.axhline(value, color="k", ls=style, lw=1, label=name)
@@ -158,7 +162,8 @@ def noise_distance_figure(table, lines: dict, *, sigma_deg: float, title: str):
 
 def ensemble_figure(time_s, err_before_rad, err_after_rad, channels, paper_maxae_deg: dict, *, title: str,
                     xlabel: str = "time (s)"):
-    """Paper Figs 7, 8, 11 over the ensemble: median and 95 % band over trials of the error (deg) vs time.
+    """Paper Figs 7, 8, 11 over the ensemble: median and 95 % band over trials of the error (deg) vs time
+    (from fewer than ``metrics.MIN_BAND_DRAWS`` trials the min–max range, labelled with its count).
 
     Parameters
     ----------
@@ -179,9 +184,9 @@ def ensemble_figure(time_s, err_before_rad, err_after_rad, channels, paper_maxae
         for k, (state, err, color) in enumerate((("before", err_before_rad, "tab:red"),
                                                  ("after", err_after_rad, "tab:blue"))):
             e = np.degrees(np.asarray(err, float)[:, :n, j])
-            lo, med, hi = np.percentile(e, [2.5, 50, 97.5], axis=0)
-            ax.fill_between(t, lo, hi, color=color, alpha=0.2, lw=0)
-            ax.plot(t, med, color=color, lw=0.8, label=f"{state} calibration: median, 95 % band ({e.shape[0]} trials)")
+            b = metrics.band_or_range(e, axis=0)       # 95 % band from >= 1000 trials, else the range
+            ax.fill_between(t, b["low"], b["high"], color=color, alpha=0.2, lw=0)
+            ax.plot(t, b["median"], color=color, lw=0.8, label=f"{state} calibration: median, {b['label']}")
             pv = paper_maxae_deg.get(label)
             if pv is not None:
                 ax.axhline(pv[k], color=color, ls="--", lw=0.8,

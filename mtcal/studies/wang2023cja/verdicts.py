@@ -148,9 +148,12 @@ def one_to_one(samples: dict, *, seed: int = 0) -> pd.DataFrame:
     """One row per printed number of the split with a role other than ``input``/``not-compared``.
 
     Columns: ``file, row, column, role, quantity, paper, median, low, high, se_low, se_high,
-    inside, rel_width, interval_score_rel, within25`` (``paper``/``median``/``low``/``high`` are
-    the compared number, i.e. printed − reference for angle tables, deg or 1). Numbers without
-    samples (a run not given) are left out.
+    inside, rel_width, interval_score_rel, within25, n, kind`` (``paper``/``median``/``low``/``high`` are
+    the compared number, i.e. printed − reference for angle tables, deg or 1). ``low``/``high``
+    follow the band rule (:func:`mtcal.core.metrics.band_or_range`): the 95 % band from ≥ 1000
+    draws (``kind`` ``"95 % band"``), else the min–max ``"range"``; ``n`` is the draw count.
+    ``se_low``/``se_high`` are the bootstrap standard errors of the 2.5/97.5 % quantiles.
+    Numbers without samples (a run not given) are left out.
     """
     sp = split()
     rows = []
@@ -165,7 +168,7 @@ def one_to_one(samples: dict, *, seed: int = 0) -> pd.DataFrame:
         df = paper_numbers.load(r.file)
         paper = float(df[r.column].iloc[int(r.row) - 1]) - off
         x = s - off
-        b = metrics.percentile_band(x)
+        b = metrics.band_or_range(x)            # 95 % band from >= 1000 draws, else the range with its count
         lo, med, hi = float(b["low"]), float(b["median"]), float(b["high"])
         se_lo = quantile_mc_se(x, 0.025, seed=seed) if x.size > 1 else float("nan")
         se_hi = quantile_mc_se(x, 0.975, seed=seed) if x.size > 1 else float("nan")
@@ -174,7 +177,7 @@ def one_to_one(samples: dict, *, seed: int = 0) -> pd.DataFrame:
                      "quantity": _label(r.file, r.row, r.column), "paper": paper, "median": med, "low": lo,
                      "high": hi, "se_low": se_lo, "se_high": se_hi, "inside": bool(lo <= paper <= hi),
                      "rel_width": (hi - lo) / den, "interval_score_rel": _interval_score(paper, lo, hi) / den,
-                     "within25": bool(abs(med - paper) <= 0.25 * abs(paper))})
+                     "within25": bool(abs(med - paper) <= 0.25 * abs(paper)), "n": b["n"], "kind": b["kind"]})
     return pd.DataFrame(rows)
 
 
@@ -383,6 +386,9 @@ def comparison(one: dict, claim_table: pd.DataFrame | None = None) -> pd.DataFra
     fitted = one["fitted"]
     prior = one.get("prior")
     pk = {} if prior is None else {(r.file, r.row, r.column): r for r in prior.itertuples(index=False)}
+
+    def spread(r):                       # the band (or range) of a one_to_one row with its draw count and kind
+        return {"median": r.median, "low": r.low, "high": r.high, "n": int(r.n), "kind": r.kind}
     rows = []
     for r in fitted.itertuples(index=False):
         p = pk.get((r.file, r.row, r.column))
@@ -390,8 +396,8 @@ def comparison(one: dict, claim_table: pd.DataFrame | None = None) -> pd.DataFra
         if "matrix" in r.file:
             art = r.file
         rows.append(compare.comparison_row(
-            art, r.quantity, r.paper, r.median, "", None, band=(r.low, r.high),
-            prior_band=None if p is None else {"median": p.median, "low": p.low, "high": p.high},
+            art, r.quantity, r.paper, r.median, "", None, band=spread(r),
+            prior_band=None if p is None else spread(p),
             role=r.role, ref=f"{r.file}:{r.row}:{r.column}"))
     if claim_table is not None:
         for c in claim_table.itertuples(index=False):
