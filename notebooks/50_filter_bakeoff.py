@@ -196,7 +196,9 @@ print(f"resolved rankings: {int(headline.resolved.sum())} of {len(headline)}")
 # Reading the table (full size: mtcal's filters over 1000 trials with 95 % bands; VQF and
 # Fusion over 12 and Madgwick over 3 trials, with their ranges — a ranking decided against
 # an anchor rests on those few trials; at CI size, with 2 trials, the close races change
-# order):
+# order). "Smallest median" is not "wins": only the cells whose `resolved` is true beat
+# their runner-up on the same records beyond a coin flip (the last line above counts them;
+# a 3-trial anchor never resolves a ranking):
 #
 # * **Turntable, tactical sensors** (`wang2023cja`): QNCF, Mahony, VQF and Fusion are
 #   within about 25 % of each other (a few thousandths of a degree; Fusion has the
@@ -213,15 +215,17 @@ print(f"resolved rankings: {int(headline.resolved.sum())} of {len(headline)}")
 #   vibration (rectification of the normalised accelerometer direction); QNCF's gate
 #   removes most of it (gyro-only during the run), and VQF — which low-pass filters the
 #   acceleration before taking its direction — removes it while keeping the
-#   correction: VQF is the best wind-on filter with the paper's sensor, by about an
-#   order of magnitude at 3 m/s² (12 VQF trials). **Wind off**, VQF's median is about
+#   correction: VQF has the smallest wind-on median with the paper's sensor, about an
+#   order of magnitude below QNCF's at 3 m/s² (12 VQF trials; against the runner-up
+#   Madgwick, 3 trials, the ranking is not resolved). **Wind off**, VQF's median is about
 #   4–5× QNCF's: its rest detector (default 2 °/s) flags about 30 % of the 2 °/s
 #   mechanism moves as rest and learns their rate as gyro bias (with VQF's rest bias
 #   estimation off its wind-off error drops from 0.020° to 0.0035°; checked outside
 #   this notebook on 4 trials). The "gate wins by ≥ 3× in every trial" finding, drawn
 #   from 12 trials, does not hold over 1000: the comparison table gives the share.
 # * **Movable surface**: with the paper's sensor the 1-DOF RAMS EKF (which knows the
-#   hinge axis) has the smallest median with and without vibration; under vibration
+#   hinge axis) has the smallest median with and without vibration (resolved against
+#   VQF's 12 trials without vibration only: see `verdict`); under vibration
 #   QNCF's gate shuts and the 0.7 °/s gyro bias of the wang2022sensors sensor puts it
 #   among the worst, whereas with the industrial gyro (30 °/h) gyro-only integration
 #   is the best choice.
