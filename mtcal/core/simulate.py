@@ -377,18 +377,9 @@ class TiltedTrajectories:
 
     Parameters
     ----------
-    time_s : array_like, shape (N,)
-        Uniformly sampled, strictly increasing time (s).
-    q_base : array_like, shape (N, 4)
-        Scalar-first unit quaternions of the untilted body attitude (body → world).
-    axis : array_like, shape (N, 3)
-        Tilt direction and size per unit gain, body axes (rad per unit gain).
-    gravity_w_m_s2 : 3-vector
-        World gravity (m/s²) of the specific force kept on each trajectory.
-
-    References
-    ----------
-    wang2023cja §4.1 (compliant gasket mounts tilt with the lateral load).
+    time_s, q_base, axis, gravity_w_m_s2
+        As for :func:`tilted_trajectory` (shapes (N,), (N, 4), (N, 3), (3,); s, unit quaternions,
+        rad per unit gain, m/s²).
 
     Examples
     --------
