@@ -221,9 +221,11 @@ def _coalesce_streams(outputs: list) -> list:
 
 
 def normalise_notebook(nb):
-    """Drop run-dependent metadata (papermill durations/paths, nbclient timestamps, widgets), merge
-    stream outputs split by timing, and number the cell ids, so that re-running a deterministic
-    notebook gives identical bytes. Returns ``nb``."""
+    """Drop run-dependent metadata (papermill durations/paths, nbclient timestamps, widgets, the
+    empty ``tags`` lists papermill adds), merge stream outputs split by timing, and number the cell
+    ids, so that re-running a deterministic notebook gives identical bytes, and an executed notebook
+    and one whose inputs were re-synced from its ``.py`` (:func:`sync_notebook`) have the same
+    metadata. Returns ``nb``."""
     nb.metadata.pop("papermill", None)
     nb.metadata.pop("widgets", None)
     for i, cell in enumerate(nb.cells):
@@ -231,6 +233,8 @@ def normalise_notebook(nb):
         cell.metadata.pop("papermill", None)
         cell.metadata.pop("execution", None)
         cell.metadata.pop("ExecuteTime", None)
+        if "tags" in cell.metadata and not cell.metadata["tags"]:
+            cell.metadata.pop("tags")
         if cell.get("cell_type") == "code":
             cell["outputs"] = _coalesce_streams(cell.get("outputs", []))
     return nb

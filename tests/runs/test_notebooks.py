@@ -110,3 +110,22 @@ def test_normalise_notebook_merges_stream_outputs_split_by_timing():
                      nbformat.v4.new_output("stream", name="stderr", text="w\n"),
                      nbformat.v4.new_output("stream", name="stdout", text="b\n")])
     assert [o["name"] for o in mixed.cells[0].outputs] == ["stdout", "stderr", "stdout"]
+
+
+def test_normalise_notebook_drops_empty_tags_so_executed_and_synced_notebooks_agree():
+    import nbformat
+
+    nb = nbformat.v4.new_notebook()
+    nb.cells.append(nbformat.v4.new_markdown_cell("# t", metadata={"tags": []}))          # as papermill leaves it
+    nb.cells.append(nbformat.v4.new_code_cell("x = 1", metadata={"tags": ["parameters"]}))
+    nb.cells.append(nbformat.v4.new_code_cell("y = 2"))
+    out = notebooks.normalise_notebook(nb)
+    assert [dict(c.metadata) for c in out.cells] == [{}, {"tags": ["parameters"]}, {}]
+
+
+def test_committed_notebooks_carry_no_empty_tags():
+    """``make reproduce`` (execute) and ``make sync`` write the same metadata: no ``"tags": []`` left."""
+    root = Path(__file__).resolve().parents[2]
+    for path in sorted((root / "notebooks").glob("*.ipynb")):
+        cells = json.loads(path.read_text(encoding="utf-8"))["cells"]
+        assert [c["id"] for c in cells if c["metadata"].get("tags") == []] == [], path.name
