@@ -409,7 +409,8 @@ def headline_table(result: BakeoffResult) -> pd.DataFrame:
                          "winner_high_deg": win["high"], "winner_band": band_label(win["band"], win["trials"]),
                          "runner_up": run["filter"], "runner_up_median_deg": run["median"],
                          "runner_up_trials": int(run["trials"]), "ratio": run["median"] / win["median"],
-                         "paired_win_fraction": float(np.mean(a[both] < b[both])), "paired_trials": int(both.sum()),
+                         "paired_win_fraction": wins / both.sum() if both.any() else np.nan,
+                         "paired_trials": int(both.sum()),
                          "qncf_median_deg": float(qncf["median"].iloc[0]) if len(qncf) else np.nan,
                          "qncf_rank": int(qncf.index[0]) + 1 if len(qncf) else -1,
                          "paired_wins": wins, "resolved": resolved, "verdict": verdict})

@@ -304,7 +304,7 @@ def _run_pieces(sc: TurntableScenario, prof: AngleProfile, spans: dict, pieces: 
         _, sources, _, trials, fraction, sc = pieces[i]
         rng_ref = rngs[i]
         sl = slice(starts[i], starts[i + 1])
-        frac = sc.averaging_fraction if fraction is None else fraction
+        frac = _fraction(pieces[i])
         on = "reference_angle" in sources
         e_cal = _draws(rng_ref, trials, 6, sc.reference_angle_sigma_rad, on)
         e_ver = _draws(rng_ref, trials, 6, sc.reference_angle_sigma_rad, on)
@@ -317,21 +317,22 @@ def _run_pieces(sc: TurntableScenario, prof: AngleProfile, spans: dict, pieces: 
         run = TurntableRun(q_mat, cal.euler_before_rad, cal.euler_after_rad,
                            euler(ver.q_sensor), euler(quaternion_lsq.apply_error_matrix(q_mat, ver.q_sensor)),
                            pos, -e_cal, -e_ver)
-        if with_sweeps:     # the sweeps' turntable angle errors, drawn next from the piece's generator
-            run.sweeps = {name: _draws(rng_ref, trials, len(_sweep_holds(prof, spans, name, frac, buffers)),
-                                       sc.reference_angle_sigma_rad, on)[..., chan_mean]
-                          for name, chan_mean, _ in _SWEEPS}
-        return run
+        if not with_sweeps:
+            return run, None
+        # the sweeps' turntable angle errors at their holds, drawn next from the piece's generator
+        return run, {name: _draws(rng_ref, trials, len(_sweep_holds(prof, spans, name, frac, buffers)),
+                                  sc.reference_angle_sigma_rad, on)[..., chan_mean] for name, chan_mean, _ in _SWEEPS}
 
-    runs = _map(finish, list(range(len(pieces))))
+    runs, hold_errors = zip(*_map(finish, list(range(len(pieces)))))
+    runs = list(runs)
     if with_sweeps:
         # the sweeps of consecutive pieces that share their settings in one pass each (rows independent:
         # the same numbers as piece by piece), the groups spread over the threads
         groups = _sweep_groups(pieces, starts, _workers())
         done = _map(lambda g: _evaluate_sweeps(
-            pieces[g[0]][5], prof, spans, q_all[starts[g[0]]:starts[g[-1] + 1]],
+            prof, spans, q_all[starts[g[0]]:starts[g[-1] + 1]],
             np.concatenate([runs[i].q_matrix for i in g], axis=0), _fraction(pieces[g[0]]),
-            {name: np.concatenate([runs[i].sweeps[name] for i in g], axis=0) for name, _, _ in _SWEEPS},
+            {name: np.concatenate([hold_errors[i][name] for i in g], axis=0) for name, _, _ in _SWEEPS},
             keep_trace and g[0] == 0, buffers), groups)
         for g, (sweeps, trace) in zip(groups, done):
             for i in g:
@@ -352,12 +353,11 @@ def _fraction(piece) -> float:
 
 def _sweep_groups(pieces, starts, parts: int) -> list[list[int]]:
     """Consecutive pieces cut into about ``parts`` groups of similar trial counts; a group's pieces share
-    the averaging fraction and the turntable angle-error sigma (the settings of one sweep pass)."""
+    the averaging fraction (the hold windows of one sweep pass)."""
     total = starts[-1]
     groups, cur = [], []
     for i, p in enumerate(pieces):
         if cur and (_fraction(pieces[cur[0]]) != _fraction(p)
-                    or pieces[cur[0]][5].reference_angle_sigma_rad != p[5].reference_angle_sigma_rad
                     or starts[i] >= (len(groups) + 1) * total / max(parts, 1)):
             groups.append(cur)
             cur = []
@@ -556,7 +556,7 @@ def _pitch_after(q_mat, q_s) -> np.ndarray:
     return _euler(quaternion_lsq.apply_error_matrix(q_mat, q_s))[..., 1]
 
 
-def _evaluate_sweeps(sc, prof, spans, q_s, q_mat, frac, hold_errors, keep_trace, shared=None):
+def _evaluate_sweeps(prof, spans, q_s, q_mat, frac, hold_errors, keep_trace, shared=None):
     """Hold means (with a turntable angle error per hold) and MaxAE/RMSE of the coupled channels.
 
     ``hold_errors``: sweep name → (T, holds) turntable angle error of the averaged channel at each
