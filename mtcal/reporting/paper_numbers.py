@@ -19,6 +19,8 @@ References
 
 from __future__ import annotations
 
+import functools
+import io
 import os
 import re
 from importlib import resources
@@ -79,7 +81,14 @@ def load(name: str, *, as_text: bool = False) -> pd.DataFrame:
     path = paper_dir() / f"{name.removesuffix('.csv')}.csv"
     if not path.is_file():
         raise ValueError(f"name must be one of the paper tables {available()}, got {name!r}")
-    df = pd.read_csv(path, dtype=str, keep_default_na=False)
+    return _parsed(path.read_bytes(), as_text).copy()
+
+
+@functools.lru_cache(maxsize=512)
+def _parsed(content: bytes, as_text: bool) -> pd.DataFrame:
+    """One CSV's table, parsed once per distinct file content (a notebook reads the same tables hundreds of
+    times; keyed on the bytes, not the file's time stamp, so an edited file is never served stale)."""
+    df = pd.read_csv(io.BytesIO(content), dtype=str, keep_default_na=False)
     if as_text:
         return df
     for col in df.columns:

@@ -64,3 +64,27 @@ def test_band_columns_and_summary():
     assert compare.band_summary(table) == "paper value inside the mtcal 95 % Monte Carlo band: 1 of 2"
     with pytest.raises(ValueError, match="band must be"):
         compare.comparison_row("T", "a", 1.0, 1.0, "", None, band=(2.0, 1.0))
+
+
+def test_load_rereads_an_edited_file_and_hands_out_copies(tmp_path, monkeypatch):
+    """The parse cache is keyed on the content: an edit of the same size and time stamp is seen (the leak
+    tests perturb files in place), and changing a returned table does not change the next one."""
+    import os
+    import shutil
+
+    src = paper_numbers.paper_dir() / "wang2023cja_table01_positions.csv"
+    shutil.copy(src, tmp_path / src.name)
+    monkeypatch.setenv("MTCAL_PAPER_DIR", str(tmp_path))
+    first = paper_numbers.load("wang2023cja_table01_positions", as_text=True)
+    col = next(c for c in first.columns if any(ch.isdigit() for ch in first[c].iloc[0]))
+    cell = first[col].iloc[0]
+    swapped = cell.replace(next(ch for ch in cell if ch.isdigit()), "9" if "9" not in cell[:1] else "8", 1)
+    assert swapped != cell and len(swapped) == len(cell)
+    stat = (tmp_path / src.name).stat()
+    text = (tmp_path / src.name).read_text().replace(cell, swapped, 1)
+    (tmp_path / src.name).write_text(text)
+    os.utime(tmp_path / src.name, ns=(stat.st_atime_ns, stat.st_mtime_ns))
+    again = paper_numbers.load("wang2023cja_table01_positions", as_text=True)
+    assert again[col].iloc[0] == swapped
+    again.iloc[0, 0] = "changed by the caller"
+    assert paper_numbers.load("wang2023cja_table01_positions", as_text=True).iloc[0, 0] != "changed by the caller"
