@@ -371,3 +371,28 @@ def test_reproduce_row_reads_the_last_make_reproduce_run(tmp_path, monkeypatch):
     assert met is None and "MTCAL_SIZE=ci" in measured
     path.write_text("garbage")
     assert run.read_reproduce_resources(path) is None
+
+
+def test_reproduce_floor_row_scales_the_timed_trials_and_can_fail():
+    """mc_floor scales CPU per trial to the band rule's draws (2 T1 models + T2–T4 in notebook 10, 2 wind-tunnel
+    models in notebook 11, one fit each) and the row under the reproduce target is MET only at or below 3 min."""
+    import mc_floor
+
+    per = {"t1_cpu_s_per_trial": 0.05, "t234_cpu_s_per_trial": 0.02, "windtunnel_cpu_s_per_trial": 0.06,
+           "fit_cpu_s": 2.0, "trials": 40}
+    fl = mc_floor.floor(per)
+    assert fl["nb10_cpu_s"] == pytest.approx(1000 * 0.12 + 2.0) and fl["nb11_cpu_s"] == pytest.approx(122.0)
+    assert fl["wall_floor_s"] == pytest.approx((122.0 + 122.0) / 2)
+    (title, measured, ratio, met), = run._floor_rows({**per, **fl})
+    assert met is True and measured.startswith("122 s") and ratio == "0.68" and "1000 draws per band" in title
+    (_, _, _, met), = run._floor_rows({**per, **mc_floor.floor(dict(per, t1_cpu_s_per_trial=0.2))})
+    assert met is False
+    assert [m for *_, m in run._floor_rows(None)] == [None]
+
+
+def test_reproduce_floor_rejects_too_few_trials(capsys):
+    import mc_floor
+
+    with pytest.raises(SystemExit):
+        mc_floor.main(["--trials", "1"])
+    assert "--trials must be >= 2, got 1" in capsys.readouterr().err
