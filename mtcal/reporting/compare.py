@@ -48,7 +48,8 @@ from mtcal.core.validate import merge_parameters
 __all__ = ["COMPARISON_COLUMNS", "DISPLAY_COLUMNS", "comparison_row", "comparison_table", "band_summary", "claims_summary",
            "band_record", "band_row", "band_text", "describe", "claim", "consistency",
            "ROLES", "KINDS", "SOURCES", "at_paper_settings", "check_claims", "role_summary", "prediction_summary",
-           "BAND_KINDS", "BAND_COUNT_COLUMNS", "check_bands", "credible_interval"]
+           "BAND_KINDS", "BAND_COUNT_COLUMNS", "check_bands", "credible_interval", "spread_text", "band_description",
+           "is_missing", "draw_count", "cell_text"]
 
 COMPARISON_COLUMNS = ["artifact", "quantity", "paper", "mtcal", "mc_band", "paper_in_band", "prior_band",
                       "prior_in_band", "claim", "holds", "kind", "role", "source", "note", "enforced", "ref",
@@ -94,15 +95,52 @@ def _band(band, name):
         draws = int(draws)
     if kind not in BAND_KINDS:
         raise ValueError(f"{name}['kind'] must be one of {BAND_KINDS}, got {kind!r}")
-    text = f"[{low:.4g}, {high:.4g}]"
+    if kind == "credible interval" and draws is not None:
+        raise ValueError(f"{name} of kind 'credible interval' is computed on a grid, not from draws: "
+                         f"expected no 'n', got {draws!r}")
+    return med, low, high, draws, kind, spread_text(low, high, kind, draws)
+
+
+def spread_text(low: float, high: float, kind: str = "95 % band", n: int | None = None,
+                digits: int | None = None) -> str:
+    """The printed form of a band: ``"[low, high]"``, ``"range [low, high] (n=…)"`` or ``"credible [low, high]"``.
+
+    The one formatter of a band's ends (the ``mc_band``/``prior_band`` cells of
+    :func:`comparison_row`, :func:`band_text`).
+
+    Parameters
+    ----------
+    low, high : float
+        The band's ends.
+    kind : str
+        One of :data:`BAND_KINDS`: a ``"95 % band"`` prints bare, a ``"range"`` with its draw
+        count (``n=?`` when unknown), a ``"credible interval"`` as ``"credible [low, high]"``.
+    n : int, optional
+        Draw count (printed for a range).
+    digits : int, optional
+        Fixed decimals; default four significant digits.
+
+    Raises
+    ------
+    ValueError
+        ``kind`` not in :data:`BAND_KINDS`.
+
+    Examples
+    --------
+    >>> spread_text(0.005, 0.01, "range", 3)
+    'range [0.005, 0.01] (n=3)'
+    >>> spread_text(1.0, 3.0, "range", 3, digits=4)
+    'range [1.0000, 3.0000] (n=3)'
+    >>> spread_text(0.1, 0.3, "credible interval")
+    'credible [0.1, 0.3]'
+    """
+    if kind not in BAND_KINDS:
+        raise ValueError(f"kind must be one of {BAND_KINDS}, got {kind!r}")
+    ends = (f"{v:.4g}" if digits is None else f"{v:.{int(digits)}f}" for v in (low, high))
+    text = "[{}, {}]".format(*ends)
     if kind == "range":
-        text = f"range {text} (n={'?' if draws is None else draws})"
-    elif kind == "credible interval":
-        if draws is not None:
-            raise ValueError(f"{name} of kind 'credible interval' is computed on a grid, not from draws: "
-                             f"expected no 'n', got {draws!r}")
-        text = f"credible {text}"
-    return med, low, high, draws, kind, text
+        return f"range {text} (n={'?' if n is None else n})"
+    return f"credible {text}" if kind == "credible interval" else text
 
 
 def credible_interval(low, high, median=np.nan) -> dict:
@@ -261,7 +299,7 @@ def comparison_table(rows: list[dict], digits: int = 4) -> pd.DataFrame:
     for col in ("mc_band", "prior_band", "kind", "note", "ref", "mc_kind", "prior_kind"):
         df[col] = df[col].fillna("")
     for col in ("mc_draws", "prior_draws"):
-        df[col] = pd.array([None if _missing(v) else int(v) for v in df[col]], dtype="Int64")
+        df[col] = pd.array([None if is_missing(v) else int(v) for v in df[col]], dtype="Int64")
     check_bands(df)
 
     def fmt(x):
@@ -273,8 +311,12 @@ def comparison_table(rows: list[dict], digits: int = 4) -> pd.DataFrame:
     return df
 
 
-def _missing(v) -> bool:
-    """True for an empty cell: None, NaN, pandas NA or an empty/"nan" string (a table read back from CSV)."""
+def is_missing(v) -> bool:
+    """True for an empty cell: None, NaN, pandas NA or an empty/"nan" string (a table read back from CSV).
+
+    >>> [is_missing(v) for v in (None, float("nan"), pd.NA, "", " NaN ", "<NA>", 0, "range")]
+    [True, True, True, True, True, True, False, False]
+    """
     if v is None or v is pd.NA:
         return True
     if isinstance(v, str):
@@ -285,15 +327,28 @@ def _missing(v) -> bool:
         return False
 
 
-def _draw_count(v):
-    """Draw count of a cell (int, float or str from a CSV), or None when unknown."""
-    if _missing(v):
+def draw_count(v) -> int | None:
+    """Draw count of a cell (int, float or str from a CSV), or None when unknown (empty, not a whole number >= 1).
+
+    >>> draw_count(1000), draw_count("4.0"), draw_count(np.nan), draw_count("2.5"), draw_count(0)
+    (1000, 4, None, None, None)
+    """
+    if is_missing(v):
         return None
     try:
         x = float(v)
     except (TypeError, ValueError):
         return None
     return int(x) if x.is_integer() and x >= 1 else None
+
+
+def cell_text(v) -> str:
+    """A text cell as ``str``, ``""`` when empty (:func:`is_missing`; a table read back from CSV).
+
+    >>> cell_text("range"), cell_text(None), cell_text(float("nan"))
+    ('range', '', '')
+    """
+    return "" if is_missing(v) else str(v)
 
 
 def check_bands(table: pd.DataFrame) -> str:
@@ -344,10 +399,9 @@ def check_bands(table: pd.DataFrame) -> str:
     for i, r in enumerate(table.to_dict("records")):
         name = f"{r.get('artifact', f'row {i}')} | {r.get('quantity', '')}"
         for text_col, draws_col, kind_col in BAND_COUNT_COLUMNS.values():
-            if _missing(r.get(text_col)):
+            if is_missing(r.get(text_col)):
                 continue
-            draws, kind = _draw_count(r.get(draws_col)), r.get(kind_col)
-            kind = "" if _missing(kind) else str(kind)
+            draws, kind = draw_count(r.get(draws_col)), cell_text(r.get(kind_col))
             if kind_col not in r or draws_col not in r:
                 bad.append(f"{name}: {text_col} has no {draws_col}/{kind_col} columns (a table from before the "
                            "band rule was recorded: regenerate it)")
@@ -370,10 +424,65 @@ def check_bands(table: pd.DataFrame) -> str:
     return text + (f", {n_cred} grid credible intervals" if n_cred else "")
 
 
+def band_description(table: pd.DataFrame, which: str = "mc") -> str:
+    """What the bands of a table are: their kind(s) (:data:`BAND_KINDS`) and draw counts.
+
+    Reads the rows of ``table`` with a ``which`` band (``"mc"``: posterior predictive, ``"prior"``:
+    prior predictive; :data:`BAND_COUNT_COLUMNS`). One kind: ``"95 % band of 1000 draws"``,
+    ``"range of 4 draws"`` (several counts: ``"range of 4–12 draws"``; an unknown count: ``"?"``),
+    ``"credible interval"`` (grid, no draws). Several kinds: ``"band (95 % band of 1000 draws;
+    range of 4 draws)"`` in the order of :data:`BAND_KINDS` (a row without a kind counts as ``"band"``).
+    No band, or a table without the kind column: ``"band"``.
+
+    Raises
+    ------
+    ValueError
+        ``which`` not in :data:`BAND_COUNT_COLUMNS`.
+
+    Examples
+    --------
+    >>> rows = [comparison_row("a", "x", 1.0, 1.0, "", None, band={"low": 0.9, "high": 1.2, "n": 1000}),
+    ...         comparison_row("b", "y", 1.0, 1.0, "", None, band={"low": 0.9, "high": 1.2, "n": 4, "kind": "range"})]
+    >>> band_description(comparison_table(rows[:1]))
+    '95 % band of 1000 draws'
+    >>> band_description(comparison_table(rows))
+    'band (95 % band of 1000 draws; range of 4 draws)'
+    """
+    if which not in BAND_COUNT_COLUMNS:
+        raise ValueError(f"which must be one of {tuple(BAND_COUNT_COLUMNS)}, got {which!r}")
+    text_col, draws_col, kind_col = BAND_COUNT_COLUMNS[which]
+    if kind_col not in table or text_col not in table:
+        return "band"
+    counts: dict[str, list] = {}
+    for r in table.to_dict("records"):
+        if not is_missing(r[text_col]):
+            counts.setdefault(cell_text(r[kind_col]) or "band", []).append(draw_count(r.get(draws_col)))
+    parts = []
+    for kind in [k for k in BAND_KINDS if k in counts] + sorted(set(counts) - set(BAND_KINDS)):
+        known = sorted({c for c in counts[kind] if c is not None})
+        if kind == "credible interval":
+            parts.append(kind)
+            continue
+        n = "?" if None in counts[kind] else f"{known[0]}" if len(known) == 1 else f"{known[0]}–{known[-1]}"
+        parts.append(f"{kind} of {n} draw{'' if n == '1' else 's'}")
+    if not parts:
+        return "band"
+    return parts[0] if len(parts) == 1 else f"band ({'; '.join(parts)})"
+
+
 def band_summary(table: pd.DataFrame) -> str:
-    """``"paper inside our 95 % band: k of n"`` over rows with a band and a numeric paper value."""
-    placed = table["paper_in_band"].dropna()
-    return f"paper value inside the mtcal 95 % Monte Carlo band: {int(placed.sum())} of {len(placed)}"
+    """``"paper value inside the mtcal <bands>: k of n"`` over rows with a band and a numeric paper value.
+
+    ``<bands>`` names the kind(s) and draw counts of those rows' bands (:func:`band_description`).
+
+    >>> t = comparison_table([comparison_row("a", "x", 1.0, 1.1, "", None,
+    ...                                      band={"low": 0.9, "high": 1.2, "n": 4, "kind": "range"})])
+    >>> band_summary(t)
+    'paper value inside the mtcal range of 4 draws: 1 of 1'
+    """
+    placed = table[table["paper_in_band"].notna()]
+    return (f"paper value inside the mtcal {band_description(placed)}: "
+            f"{int(placed['paper_in_band'].astype(bool).sum())} of {len(placed)}")
 
 
 def claims_summary(table: pd.DataFrame) -> str:
@@ -429,11 +538,13 @@ def band_row(record: dict, claim: str, holds: bool | None) -> dict:
 
 def band_text(record: dict, digits: int = 4) -> str:
     """``"<quantity>: MC median m [low, high] (paper p)"`` with fixed precision (a range: ``"range [low, high]
-    (n=…)"``)."""
+    (n=…)"``; :func:`spread_text`).
+
+    >>> band_text(band_record("a", "x (deg)", 2.0, [1.0, 2.0, 3.0]), digits=2)
+    'x (deg): MC median 2.00 range [1.00, 3.00] (n=3) (paper 2.00)'
+    """
     d = digits
-    spread = f"[{record['low']:.{d}f}, {record['high']:.{d}f}]"
-    if record.get("kind") == "range":
-        spread = f"range {spread} (n={record.get('n', '?')})"
+    spread = spread_text(record["low"], record["high"], record.get("kind", "95 % band"), record.get("n"), digits=d)
     return f"{record['quantity']}: MC median {record['median']:.{d}f} {spread} (paper {record['paper']:.{d}f})"
 
 
@@ -523,19 +634,24 @@ def check_claims(table: pd.DataFrame, *, enforce: bool) -> str:
 def role_summary(table: pd.DataFrame) -> str:
     """Paper-inside-band counts split by role (``heldout`` rows are the out-of-sample test).
 
+    The text names the kind(s) and draw counts of the bands counted (:func:`band_description`).
+
     >>> t = comparison_table([comparison_row("a", "x", 1.0, 1.1, "", None, band={"low": 0.9, "high": 1.2, "n": 5,
     ...                                                                           "kind": "range"}),
     ...                       comparison_row("b", "y", 1.0, 1.1, "", None, band={"low": 1.05, "high": 1.2, "n": 1000},
     ...                                      role="train")])
     >>> role_summary(t)
-    'paper inside our 95 % band: train 0 of 1, heldout 1 of 1'
+    'paper inside our band (95 % band of 1000 draws; range of 5 draws): train 0 of 1, heldout 1 of 1'
+    >>> role_summary(t[t.role == "train"])
+    'paper inside our 95 % band of 1000 draws: train 0 of 1'
     """
+    placed = table[table["paper_in_band"].notna()]
     parts = []
     for role in ROLES:
-        rows = table[(table["role"] == role) & table["paper_in_band"].notna()]
+        rows = placed[placed["role"] == role]
         if len(rows):
             parts.append(f"{role} {int(rows['paper_in_band'].astype(bool).sum())} of {len(rows)}")
-    return "paper inside our 95 % band: " + (", ".join(parts) if parts else "no banded rows")
+    return f"paper inside our {band_description(placed)}: " + (", ".join(parts) if parts else "no banded rows")
 
 
 #: Former name of :func:`role_summary` (kept for the notebooks that call it).

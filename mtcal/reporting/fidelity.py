@@ -10,7 +10,7 @@ baseline). Per baseline:
 
 * ``n`` held-out numbers with a band, ``inside`` of them inside the band, the
   coverage ``inside / n`` with its **Wilson score** 95 % interval
-  (:func:`wilson_interval`);
+  (:func:`mtcal.reporting.binomial.wilson_interval`, re-exported here);
 * the median band width relative to ``|paper value|``;
 * the interval score (Gneiting & Raftery 2007, Eq 43, α = 0.05,
   :func:`interval_score`) relative to ``|paper value|``: mean and median;
@@ -58,6 +58,8 @@ import numpy as np
 import pandas as pd
 
 from . import paper_numbers
+from .binomial import wilson_interval  # re-exported: the coverage interval of the scores
+from .compare import cell_text, check_bands, draw_count
 from .output import output_dir
 
 __all__ = ["BASELINES", "SCORE_COLUMNS", "RECORD_COLUMNS", "wilson_interval", "interval_score", "score",
@@ -76,44 +78,6 @@ RECORD_COLUMNS = ["notebook", "paper_key", "artifact", "quantity", "ref", "paper
 SCORE_COLUMNS = ["scope", "baseline", "n", "inside", "coverage", "coverage_low", "coverage_high",
                  "median_rel_width", "mean_rel_interval_score", "median_rel_interval_score", "within_25pct"]
 _ALPHA = 0.05
-
-
-def wilson_interval(k: int, n: int, level: float = 0.95) -> tuple[float, float]:
-    """Wilson score interval of a binomial proportion ``k / n``.
-
-    Parameters
-    ----------
-    k, n : int
-        Successes and trials, ``0 <= k <= n``, ``n >= 1``.
-    level : float
-        Confidence level in (0, 1).
-
-    Returns
-    -------
-    (low, high) : tuple of float
-        Bounds in [0, 1].
-
-    References
-    ----------
-    Wilson 1927 (see module references).
-
-    >>> [round(v, 4) for v in wilson_interval(8, 10)]
-    [0.4902, 0.9433]
-    """
-    from scipy.stats import norm
-
-    if not (isinstance(k, (int, np.integer)) and isinstance(n, (int, np.integer))):
-        raise TypeError(f"k and n must be int, got {type(k).__name__}, {type(n).__name__}")
-    if n < 1 or not 0 <= k <= n:
-        raise ValueError(f"need n >= 1 and 0 <= k <= n, got k={k}, n={n}")
-    if not 0 < level < 1:
-        raise ValueError(f"level must be in (0, 1), got {level}")
-    z = float(norm.ppf(0.5 + level / 2))
-    p = k / n
-    den = 1 + z * z / n
-    mid = (p + z * z / (2 * n)) / den
-    half = z * np.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / den
-    return float(max(0.0, mid - half)), float(min(1.0, mid + half))
 
 
 def interval_score(low, high, x, alpha: float = _ALPHA) -> np.ndarray:
@@ -180,8 +144,6 @@ def score_records(table: pd.DataFrame, paper_key: str, notebook: str) -> pd.Data
 
 
 def _records(table: pd.DataFrame, paper_key: str = "", notebook: str = "") -> pd.DataFrame:
-    from .compare import check_bands
-
     missing = {"role", "paper", "mtcal", "mc_low", "mc_high", "prior_low", "prior_high"} - set(table.columns)
     if missing:
         raise ValueError(f"table is not a comparison table (missing columns {sorted(missing)})")
@@ -197,21 +159,12 @@ def _records(table: pd.DataFrame, paper_key: str = "", notebook: str = "") -> pd
                      "fitted_median": _numeric(r["mtcal"]), "fitted_low": _numeric(r["mc_low"]),
                      "fitted_high": _numeric(r["mc_high"]), "prior_median": _numeric(r.get("prior_median")),
                      "prior_low": _numeric(r["prior_low"]), "prior_high": _numeric(r["prior_high"]),
-                     "fitted_draws": _draws(r.get("mc_draws")), "fitted_kind": _text(r.get("mc_kind")),
-                     "prior_draws": _draws(r.get("prior_draws")), "prior_kind": _text(r.get("prior_kind"))})
+                     "fitted_draws": draw_count(r.get("mc_draws")), "fitted_kind": cell_text(r.get("mc_kind")),
+                     "prior_draws": draw_count(r.get("prior_draws")), "prior_kind": cell_text(r.get("prior_kind"))})
     out = pd.DataFrame(rows, columns=RECORD_COLUMNS)
     for col in ("fitted_draws", "prior_draws"):
         out[col] = out[col].astype("Int64")
     return out
-
-
-def _draws(v):
-    x = _numeric(v)
-    return int(x) if np.isfinite(x) else None
-
-
-def _text(v) -> str:
-    return "" if v is None or (isinstance(v, float) and np.isnan(v)) or v is pd.NA else str(v)
 
 
 def aggregate(records: pd.DataFrame, baseline: str) -> dict:

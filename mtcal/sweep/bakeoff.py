@@ -375,13 +375,15 @@ def headline_table(result: BakeoffResult) -> pd.DataFrame:
     both ran in which the winner's error is below the runner-up's), ``resolved`` (the Wilson 95 %
     interval of the paired win fraction lies above ½: the winner beats the runner-up on the same
     records in more than half of the trials beyond Monte Carlo error) and ``verdict`` (that sentence,
-    with the count and the interval). A winner by median whose paired wins are within Monte Carlo error
-    of a coin flip is reported as ``not resolved``, never as a win.
+    with the count and the interval: :func:`mtcal.reporting.binomial.coin_flip`, the suite's one
+    coin-flip rule). A winner by median whose paired wins are within Monte Carlo error of a coin flip
+    is reported as ``not resolved``, never as a win; one whose interval lies *below* ½ (the runner-up
+    wins the paired trials) has verdict ``"resolved: … below ½"`` and ``resolved`` False.
 
     Examples
     --------
-    >>> _resolution(11, 12)[0], _resolution(7, 12)[0], _resolution(3, 3)[0]
-    (True, False, False)
+    >>> _resolution(11, 12)[0], _resolution(7, 12)[0], _resolution(3, 3)[0], _resolution(2, 12)[0]
+    (True, False, False, False)
     >>> _resolution(7, 12)[1]
     'not resolved: wins 7 of 12 paired trials (Wilson 95 % 0.32–0.81 includes ½)'
     """
@@ -418,16 +420,14 @@ def headline_table(result: BakeoffResult) -> pd.DataFrame:
 
 
 def _resolution(wins: int, n: int) -> tuple[bool, str]:
-    """Whether ``wins`` of ``n`` paired trials resolve a ranking (Wilson 95 % interval above ½), and why."""
-    from mtcal.reporting.fidelity import wilson_interval
+    """Whether ``wins`` of ``n`` paired trials resolve a ranking for the winner (Wilson 95 % interval above ½:
+    :func:`mtcal.reporting.binomial.coin_flip`), and its verdict."""
+    from mtcal.reporting.binomial import coin_flip
 
     if n < 1:
         return False, "not resolved: no trial ran both filters"
-    lo, hi = wilson_interval(int(wins), int(n))
-    resolved = bool(lo > 0.5)
-    what = "resolved" if resolved else "not resolved"
-    tail = "" if resolved else " includes ½"
-    return resolved, f"{what}: wins {int(wins)} of {int(n)} paired trials (Wilson 95 % {lo:.2f}–{hi:.2f}{tail})"
+    flip = coin_flip(wins, n)
+    return bool(flip.resolved and flip.low > 0.5), flip.verdict
 
 
 def bakeoff_figure(result: BakeoffResult, family: str):

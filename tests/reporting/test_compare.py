@@ -143,3 +143,68 @@ def test_enforced_failing_row_raises():
     with pytest.raises(AssertionError, match="every enforced claim"):
         compare.check_claims(t, enforce=True)
     assert compare.check_claims(t, enforce=False).startswith("0 of 1 claims hold")
+
+
+def _banded(name, band, role="heldout", paper=1.0):
+    return compare.comparison_row("a", name, paper, 1.0, "", None, band=band, role=role)
+
+
+@pytest.mark.parametrize(("band", "words"), [
+    ({"low": 0.9, "high": 1.2, "n": 1000}, "95 % band of 1000 draws"),
+    ({"low": 0.9, "high": 1.2, "n": 4, "kind": "range"}, "range of 4 draws"),
+    ({"low": 0.9, "high": 1.2, "n": 1, "kind": "range"}, "range of 1 draw"),
+    (compare.credible_interval(0.9, 1.2), "credible interval"),
+])
+def test_summaries_name_the_band_kind_and_draws(band, words):
+    t = compare.comparison_table([_banded("x", band), _banded("y", band, role="train", paper=5.0)])
+    assert compare.band_description(t) == words
+    assert compare.band_summary(t) == f"paper value inside the mtcal {words}: 1 of 2"
+    assert compare.role_summary(t) == f"paper inside our {words}: train 0 of 1, heldout 1 of 1"
+
+
+def test_summaries_list_each_kind_of_a_mixed_table():
+    rows = [_banded("x", {"low": 0.9, "high": 1.2, "n": 4, "kind": "range"}),
+            _banded("y", {"low": 0.9, "high": 1.2, "n": 12, "kind": "range"}),
+            _banded("z", {"low": 0.9, "high": 1.2, "n": 2000}, role="train"),
+            _banded("w", {"low": 0.9, "high": 1.2, "n": 1000}, role="train"),
+            _banded("v", compare.credible_interval(0.0, 0.5)),
+            compare.comparison_row("a", "no band", 1.0, 1.0, "", None)]
+    t = compare.comparison_table(rows)
+    words = "band (95 % band of 1000–2000 draws; range of 4–12 draws; credible interval)"
+    assert compare.band_description(t) == words
+    assert compare.role_summary(t) == f"paper inside our {words}: train 2 of 2, heldout 2 of 3"
+    assert compare.band_summary(t) == f"paper value inside the mtcal {words}: 4 of 5"
+    # only the rows counted are described: the prior bands here are all ranges
+    prior = compare.comparison_table([compare.comparison_row("a", "x", 1.0, 1.0, "", None,
+                                                             prior_band=metrics.band_or_range([0.0, 2.0]))])
+    assert compare.band_description(prior, "prior") == "range of 2 draws"
+    assert compare.band_description(prior) == "band"
+    assert compare.role_summary(prior) == "paper inside our band: no banded rows"
+
+
+def test_band_description_unknown_counts_and_errors():
+    t = pd.DataFrame([_banded("x", (0.9, 1.2))])           # a bare pair: unknown count (check_bands rejects it)
+    assert compare.band_description(t) == "95 % band of ? draws"
+    assert compare.band_description(t.drop(columns="mc_kind")) == "band"
+    with pytest.raises(ValueError, match=r"which must be one of \('mc', 'prior'\), got 'posterior'"):
+        compare.band_description(t, "posterior")
+
+
+def test_spread_text_is_the_one_band_formatter():
+    assert compare.spread_text(0.0051234, 0.01, "95 % band", 1000) == "[0.005123, 0.01]"
+    assert compare.spread_text(1.0, 3.0, "range", None, digits=2) == "range [1.00, 3.00] (n=?)"
+    assert compare.spread_text(0.1, 0.3, "credible interval") == "credible [0.1, 0.3]"
+    rec = compare.band_record("a", "x", 2.0, [1.0, 2.0, 3.0])
+    assert compare.band_row(rec, "", None)["mc_band"] == compare.spread_text(1.0, 3.0, "range", 3)
+    assert compare.spread_text(1.0, 3.0, "range", 3, digits=4) in compare.band_text(rec)
+    with pytest.raises(ValueError, match=r"kind must be one of \('95 % band', 'range', 'credible interval'\), "
+                                         r"got 'interval'"):
+        compare.spread_text(0.0, 1.0, "interval")
+
+
+def test_cell_helpers_read_csv_cells():
+    assert [compare.is_missing(v) for v in (None, np.nan, pd.NA, "", "nan", "None", 0, 0.0, "0")] == \
+        [True] * 6 + [False] * 3
+    assert [compare.draw_count(v) for v in (4, 4.0, "1000", "1000.0", pd.NA, "", 0, -3, 2.5, "x")] == \
+        [4, 4, 1000, 1000, None, None, None, None, None, None]
+    assert [compare.cell_text(v) for v in ("range", None, np.nan, 3)] == ["range", "", "", "3"]

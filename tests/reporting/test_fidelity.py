@@ -59,18 +59,6 @@ def test_interval_score_errors():
         fidelity.interval_score(2.0, 1.0, 0.0)
 
 
-def test_wilson_interval_known_values_and_errors():
-    lo, hi = fidelity.wilson_interval(8, 10)
-    assert (lo, hi) == pytest.approx((0.4902, 0.9433), abs=1e-4)
-    assert fidelity.wilson_interval(0, 5)[0] == 0.0 and fidelity.wilson_interval(5, 5)[1] == 1.0
-    with pytest.raises(ValueError, match="need n >= 1"):
-        fidelity.wilson_interval(3, 2)
-    with pytest.raises(TypeError, match="k and n must be int"):
-        fidelity.wilson_interval(1.5, 2)
-    with pytest.raises(ValueError, match="level must be in"):
-        fidelity.wilson_interval(1, 2, level=1.0)
-
-
 def test_score_fitted_and_prior():
     s = fidelity.score(_table(), "fitted")
     assert s["n"] == 3 and s["inside"] == 2 and s["coverage"] == pytest.approx(2 / 3)

@@ -61,7 +61,7 @@ def test_band_columns_and_summary():
     assert table.loc[0, "mc_band"] == "[0.003, 0.03]"
     assert table["paper_in_band"].tolist()[:3] == [True, False, None]
     assert table.loc[3, "mc_band"] == ""
-    assert compare.band_summary(table) == "paper value inside the mtcal 95 % Monte Carlo band: 1 of 2"
+    assert compare.band_summary(table) == "paper value inside the mtcal 95 % band of 1000 draws: 1 of 2"
     with pytest.raises(ValueError, match="band must be"):
         compare.comparison_row("T", "a", 1.0, 1.0, "", None, band=(2.0, 1.0))
 

@@ -43,7 +43,7 @@ def test_roles_and_outside_rows():
     t = compare.comparison_table(rows)
     assert list(t.role) == ["train", "heldout", "heldout"]
     assert list(w.outside_rows(t).artifact) == ["b"]
-    assert compare.prediction_summary(t) == "paper inside our 95 % band: train 1 of 1, heldout 1 of 2"
+    assert compare.prediction_summary(t) == "paper inside our range of 41 draws: train 1 of 1, heldout 1 of 2"
     with pytest.raises(ValueError, match="role must be one of"):
         w.banded("a", "x", 1.0, np.ones(3), role="predicted")
 

@@ -44,9 +44,24 @@ def test_one_to_one_measures_from_the_reference():
     assert len(t) == 1 and row.role == "heldout"
     assert row.paper == pytest.approx(0.012) and row.inside
     assert (row.kind, row.n, row.low, row.high) == ("range", 50, 0.0, pytest.approx(0.02))  # 50 draws: the range
-    assert row.se_low >= 0 and np.isfinite(row.se_high)
+    assert np.isnan(row.se_low) and np.isnan(row.se_high)       # a range's ends are min/max: no quantile SE
     many = verdicts.one_to_one({key: (-4.0, np.full(1000, -4.0) + np.linspace(0.0, 0.02, 1000))}).iloc[0]
     assert (many.kind, many.n) == ("95 % band", 1000) and 0.0 < many.low < many.high < 0.02
+    assert 0.0 < many.se_low < 0.002 and 0.0 < many.se_high < 0.002
+
+
+def test_unresolved_note_uses_the_one_coin_flip_rule():
+    assert verdicts.unresolved_note(503, 1000) == ("not resolved: holds in 503 of 1000 trials "
+                                                   "(Wilson 95 % 0.47–0.53 includes ½)")
+    assert verdicts.unresolved_note(531, 1000) == "" and verdicts.unresolved_note(469, 1000) == ""
+    assert verdicts.unresolved_note(9, 12).startswith("not resolved: holds in 9 of 12 trials")
+    assert verdicts.unresolved_note(10, 12) == "" and verdicts.unresolved_note(2, 12) == ""
+    with pytest.raises(ValueError, match=r"need n >= 1 and 0 <= k <= n, got k=0, n=0"):
+        verdicts.unresolved_note(0, 0)
+    with pytest.raises(ValueError, match=r"need n >= 1 and 0 <= k <= n, got k=13, n=12"):
+        verdicts.unresolved_note(13, 12)
+    with pytest.raises(TypeError, match="k and n must be int"):
+        verdicts.unresolved_note(0.503, 1000)
 
 
 def test_comparison_prints_ci_ranges_and_full_size_bands():
@@ -151,10 +166,16 @@ def test_leak_registration_and_comparison_feed_the_scores():
 def test_a_coin_flip_verdict_is_marked_not_resolved():
     x = np.arange(1000.0)                                   # holds (<= 499.5) in exactly half the trials
     even = verdicts._claim("x", "a", "within", "<= 499.5", "claim", "stat", x, lambda v: v <= 499.5, "median {v:.1f}")
-    assert even["holds"] and even["reason"].startswith("not resolved: holds in 50.0 % of 1000 trials")
+    assert even["holds"]
+    assert even["reason"] == "not resolved: holds in 500 of 1000 trials (Wilson 95 % 0.47–0.53 includes ½)"
     clear = verdicts._claim("x", "a", "within", "<= 600", "claim", "stat", x, lambda v: v <= 600, "median {v:.1f}")
     assert clear["holds"] and clear["reason"] == ""          # 60 %: resolved at 1000 trials
     fails = verdicts._claim("x", "a", "within", "<= 480", "claim", "stat", x, lambda v: v <= 480, "median {v:.1f}")
-    assert not fails["holds"] and fails["reason"].startswith("median 499.5; not resolved: holds in 48.1 %")
+    assert not fails["holds"] and fails["reason"].startswith("median 499.5; not resolved: holds in 481 of 1000 trials")
     few = verdicts._claim("x", "a", "within", "<= 600", "claim", "stat", x[::250], lambda v: v <= 600, "m {v}")
     assert "not resolved" in few["reason"]                   # 4 trials resolve nothing
+    # n = 12: 9 holding trials are a coin flip (Wilson 0.47–0.91), 10 are not (0.55–0.95)
+    nine, ten = (np.r_[np.full(k, 0.01), np.full(12 - k, 0.05)] for k in (9, 10))
+    assert verdicts._claim("x", "a", "q", "<= 0.03", "claim", "s", nine, lambda v: v <= 0.03, "m {v}")["reason"] == \
+        "not resolved: holds in 9 of 12 trials (Wilson 95 % 0.47–0.91 includes ½)"
+    assert verdicts._claim("x", "a", "q", "<= 0.03", "claim", "s", ten, lambda v: v <= 0.03, "m {v}")["reason"] == ""

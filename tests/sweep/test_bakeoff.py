@@ -129,8 +129,16 @@ def test_a_ranking_is_resolved_only_beyond_a_coin_flip():
     assert _resolution(12, 12)[0] and not _resolution(3, 3)[0] and not _resolution(6, 12)[0]
     assert _resolution(530, 1000)[0] is False           # 53 %: within Monte Carlo error of ½
     assert _resolution(0, 0) == (False, "not resolved: no trial ran both filters")
+    # n = 12: 10 wins is the smallest count that resolves (Wilson 0.55–0.95); 9 does not (0.47–0.91)
+    assert _resolution(10, 12) == (True, "resolved: wins 10 of 12 paired trials (Wilson 95 % 0.55–0.95)")
+    assert _resolution(9, 12) == (False, "not resolved: wins 9 of 12 paired trials "
+                                         "(Wilson 95 % 0.47–0.91 includes ½)")
+    # the runner-up wins the paired trials beyond a coin flip: not a resolved ranking for the winner
+    assert _resolution(2, 12) == (False, "resolved: wins 2 of 12 paired trials (Wilson 95 % 0.05–0.45 below ½)")
     with pytest.raises(ValueError, match="need n >= 1 and 0 <= k <= n"):
         _resolution(5, 3)
+    with pytest.raises(TypeError, match="k and n must be int"):
+        _resolution(7.0, 12)
 
 
 def test_surface_finding_fails_when_the_ranking_is_not_resolved(small_run):

@@ -4,8 +4,9 @@
   ``paper_data`` — to our Monte Carlo samples of the same number (one per trial).
 * :func:`one_to_one` joins them with the pre-registered split
   (``paper_data/wang2023cja_split.csv``: ``train`` / ``heldout`` / ``input`` / ``erratum`` /
-  ``not-compared``) into one row per printed number: paper value, our median, 95 % band, the
-  Monte Carlo standard error of both band ends, inside or not.
+  ``not-compared``) into one row per printed number: paper value, our median, 95 % band (from
+  fewer than 1000 draws: the range), the Monte Carlo standard error of both band ends (NaN for a
+  range), inside or not.
 * :func:`scores` summarises the held-out rows: coverage with its binomial (Clopper–Pearson)
   95 % interval, median band width relative to the paper number, median interval score
   (Gneiting & Raftery 2007, α = 0.05) relative to the paper number, count within ±25 % of our
@@ -14,7 +15,8 @@
 * :func:`claims` tests the paper's statements with the paper's own thresholds, quoted; each row
   has ``kind`` = ``claim`` (tested against numbers the model was not fitted or tuned on) or
   ``consistency`` (true by construction or checked against a model fitted/tuned on the same
-  numbers; not counted as a claim), the computed statistic and, when it fails, why.
+  numbers; not counted as a claim), the computed statistic and, when it fails, why; a verdict whose
+  share of holding trials is consistent with a coin flip (:func:`unresolved_note`) says "not resolved".
 
 References
 ----------
@@ -37,6 +39,7 @@ from scipy import stats
 
 from mtcal.core import metrics
 from mtcal.reporting import compare, paper_numbers
+from mtcal.reporting.binomial import coin_flip
 from mtcal.reporting.fidelity import quantile_mc_se
 from .error_model import PAPER_SIGN, TABLES_1_TO_4
 from .runs import position_errors_deg
@@ -152,7 +155,9 @@ def one_to_one(samples: dict, *, seed: int = 0) -> pd.DataFrame:
     the compared number, i.e. printed − reference for angle tables, deg or 1). ``low``/``high``
     follow the band rule (:func:`mtcal.core.metrics.band_or_range`): the 95 % band from ≥ 1000
     draws (``kind`` ``"95 % band"``), else the min–max ``"range"``; ``n`` is the draw count.
-    ``se_low``/``se_high`` are the bootstrap standard errors of the 2.5/97.5 % quantiles.
+    ``se_low``/``se_high`` are the bootstrap standard errors of the 2.5/97.5 % quantiles, i.e. of the
+    band ends printed for a ``"95 % band"``; for a ``"range"`` (fewer than 1000 draws, ends = min and
+    max) they do not describe what is printed and are NaN.
     Numbers without samples (a run not given) are left out.
     """
     sp = split()
@@ -170,8 +175,9 @@ def one_to_one(samples: dict, *, seed: int = 0) -> pd.DataFrame:
         x = s - off
         b = metrics.band_or_range(x)            # 95 % band from >= 1000 draws, else the range with its count
         lo, med, hi = float(b["low"]), float(b["median"]), float(b["high"])
-        se_lo = quantile_mc_se(x, 0.025, seed=seed) if x.size > 1 else float("nan")
-        se_hi = quantile_mc_se(x, 0.975, seed=seed) if x.size > 1 else float("nan")
+        quantiles = b["kind"] == "95 % band"    # a range's ends are min and max: no quantile SE describes them
+        se_lo = quantile_mc_se(x, 0.025, seed=seed) if quantiles else float("nan")
+        se_hi = quantile_mc_se(x, 0.975, seed=seed) if quantiles else float("nan")
         den = max(abs(paper), PRINT_RESOLUTION_DEG)
         rows.append({"file": r.file, "row": int(r.row), "column": r.column, "role": r.role,
                      "quantity": _label(r.file, r.row, r.column), "paper": paper, "median": med, "low": lo,
@@ -213,21 +219,35 @@ CLAIM_COLUMNS = ["claim_id", "artifact", "quote", "threshold", "kind", "statisti
                  "holds", "reason"]
 
 
-def unresolved_note(share: float, n: int) -> str:
-    """Why a verdict on the median trial is not resolved, or ``""``: the share of trials for which the claim
-    holds lies within two binomial standard errors of one half (``2·√(0.25/n)``), so the median trial sits
-    on the threshold within Monte Carlo error and another seed can flip the verdict.
+def unresolved_note(holding: int, n: int) -> str:
+    """Why a verdict on the median trial is not resolved, or ``""``.
 
-    >>> unresolved_note(0.503, 1000)
-    'not resolved: holds in 50.3 % of 1000 trials, within Monte Carlo error (±3.2 %) of one half'
-    >>> unresolved_note(0.455, 1000)
+    The claim is judged on the median trial; for a threshold on the statistic, the median trial's
+    verdict is "holds" when the claim holds in (about) half of the trials or more. That verdict is
+    within Monte Carlo error -- the median trial sits on the threshold and another seed can flip it --
+    when the share of trials for which the claim holds is consistent with a coin flip: ½ inside the
+    Wilson 95 % interval of ``holding / n`` (:func:`mtcal.reporting.binomial.coin_flip`, the suite's
+    one coin-flip rule).
+
+    Parameters
+    ----------
+    holding, n : int
+        Trials for which the claim holds, and trials (``n >= 1``, ``0 <= holding <= n``).
+
+    Raises
+    ------
+    TypeError, ValueError
+        As :func:`mtcal.reporting.binomial.coin_flip` (non-integer counts, ``n < 1``, ``holding > n``).
+
+    Examples
+    --------
+    >>> unresolved_note(503, 1000)
+    'not resolved: holds in 503 of 1000 trials (Wilson 95 % 0.47–0.53 includes ½)'
+    >>> unresolved_note(455, 1000)
     ''
     """
-    band = 2.0 * np.sqrt(0.25 / int(n))
-    if abs(float(share) - 0.5) > band:
-        return ""
-    return (f"not resolved: holds in {100 * share:.1f} % of {int(n)} trials, within Monte Carlo error "
-            f"(±{100 * band:.1f} %) of one half")
+    flip = coin_flip(holding, n, counted="holds in", of="trials")
+    return "" if flip.resolved else flip.verdict
 
 
 def _claim(cid, artifact, quote, threshold, kind, statistic, x, test, why_fail, why_kind=""):
@@ -236,7 +256,7 @@ def _claim(cid, artifact, quote, threshold, kind, statistic, x, test, why_fail, 
     med = float(np.median(x))
     holds = bool(test(np.array([med]))[0])
     reason = ("" if holds else why_fail.format(v=med)) + (f" [{why_kind}]" if why_kind else "")
-    unresolved = unresolved_note(float(np.mean(ok)), x.size)
+    unresolved = unresolved_note(int(np.sum(ok)), x.size)
     reason = f"{reason.strip()}; {unresolved}" if reason.strip() and unresolved else (reason or unresolved)
     return {"claim_id": cid, "artifact": artifact, "quote": quote, "threshold": threshold, "kind": kind,
             "statistic": statistic, "value": med, "fraction_of_trials": float(np.mean(ok)), "holds": holds,
