@@ -189,7 +189,7 @@ section("wang2023cja_table11")
 # %% [markdown]
 # ## Paper vs mtcal — every printed number, posterior predictive and prior predictive
 # One row per printed number of Tables 9–11 and the wind-tunnel matrix, with its split role;
-# `se_low`/`se_high` are the Monte Carlo standard errors of the band ends.
+# `se_low`/`se_high` are the Monte Carlo standard errors of the band ends (empty where a row prints a range).
 
 # %%
 output.save_table(one["fitted"], "wang2023cja_extra_windtunnel_one_to_one")
