@@ -63,8 +63,8 @@ from .compare import cell_text, check_bands, draw_count
 from .output import output_dir
 
 __all__ = ["BASELINES", "SCORE_COLUMNS", "RECORD_COLUMNS", "wilson_interval", "interval_score", "score",
-           "score_records", "score_block", "aggregate", "write_scores", "aggregate_scores", "quantile_mc_se",
-           "RECORDS_PREFIX"]
+           "score_records", "score_block", "aggregate", "within_25pct", "write_scores", "aggregate_scores",
+           "quantile_mc_se", "RECORDS_PREFIX"]
 
 #: Predictive distributions scored: posterior predictive and prior predictive.
 BASELINES = ("fitted", "prior")
@@ -167,6 +167,28 @@ def _records(table: pd.DataFrame, paper_key: str = "", notebook: str = "") -> pd
     return out
 
 
+def within_25pct(paper, median):
+    """Whether each paper value lies within ±25 % of our median: ``|x − m| ≤ 0.25 |m|`` (False for a NaN median).
+
+    Parameters
+    ----------
+    paper, median : float or array_like
+        Paper values ``x`` and our medians ``m`` (broadcast).
+
+    Returns
+    -------
+    bool or ndarray of bool
+
+    Examples
+    --------
+    >>> within_25pct(1.0, 1.1), within_25pct(2.0, 1.0), within_25pct([0.0, 1.0], [0.0, np.nan]).tolist()
+    (True, False, [True, False])
+    """
+    x, m = np.asarray(paper, dtype=float), np.asarray(median, dtype=float)
+    ok = np.isfinite(m) & (np.abs(x - m) <= 0.25 * np.abs(m))
+    return bool(ok) if ok.ndim == 0 else ok
+
+
 def aggregate(records: pd.DataFrame, baseline: str) -> dict:
     """Scores of per-number records for one baseline (keys: :data:`SCORE_COLUMNS` without scope/baseline)."""
     if baseline not in BASELINES:
@@ -187,7 +209,7 @@ def aggregate(records: pd.DataFrame, baseline: str) -> dict:
     rel = scale > 0
     rel_is = interval_score(lo, hi, x)[rel] / scale[rel]
     out.update(inside=inside, coverage=inside / n, coverage_low=cl, coverage_high=ch,
-               within_25pct=int(np.sum(np.isfinite(med) & (np.abs(x - med) <= 0.25 * np.abs(med)))))
+               within_25pct=int(np.sum(within_25pct(x, med))))
     if rel.any():
         out.update(median_rel_width=float(np.median((hi - lo)[rel] / scale[rel])),
                    mean_rel_interval_score=float(np.mean(rel_is)), median_rel_interval_score=float(np.median(rel_is)))

@@ -179,3 +179,20 @@ def test_a_coin_flip_verdict_is_marked_not_resolved():
     assert verdicts._claim("x", "a", "q", "<= 0.03", "claim", "s", nine, lambda v: v <= 0.03, "m {v}")["reason"] == \
         "not resolved: holds in 9 of 12 trials (Wilson 95 % 0.47–0.91 includes ½)"
     assert verdicts._claim("x", "a", "q", "<= 0.03", "claim", "s", ten, lambda v: v <= 0.03, "m {v}")["reason"] == ""
+
+
+def test_scores_are_the_suites_one_scoring():
+    """verdicts.scores is fidelity.aggregate on the same rows: Wilson coverage interval, and 'within 25 %' of
+    our median (|x − m| <= 0.25 |m|), which differs from 'within 25 % of the paper' for x = 1, m = 1.3."""
+    from mtcal.reporting import fidelity
+    from mtcal.reporting.binomial import wilson_interval
+
+    t = pd.DataFrame({"role": ["heldout"] * 3, "paper": [1.0, 2.0, 5.0], "low": [0.5, 2.5, 4.0],
+                      "high": [1.5, 3.0, 6.0], "median": [1.3, 2.7, 6.5]})
+    s = verdicts.scores(t)
+    assert (s["n_heldout"], s["inside"], s["within25"]) == (3, 2, 2)     # 1 vs 1.3 in, 2 vs 2.7 out, 5 vs 6.5 in
+    assert (s["coverage_low"], s["coverage_high"]) == wilson_interval(2, 3)
+    assert fidelity.within_25pct(1.0, 1.3) and not fidelity.within_25pct(2.0, 2.7)
+    key = ("wang2023cja_table05_aoa_sweep_mean_pitch", 1, "before_mean_pitch_deg")
+    row = verdicts.one_to_one({key: (-4.0, np.full(50, -4.0 + 0.012 * 1.3))}).iloc[0]   # paper 0.012, median 0.0156
+    assert row.within25 == fidelity.within_25pct(row.paper, row["median"]) and row.within25

@@ -7,11 +7,13 @@
   ``not-compared``) into one row per printed number: paper value, our median, 95 % band (from
   fewer than 1000 draws: the range), the Monte Carlo standard error of both band ends (NaN for a
   range), inside or not.
-* :func:`scores` summarises the held-out rows: coverage with its binomial (Clopper–Pearson)
-  95 % interval, median band width relative to the paper number, median interval score
-  (Gneiting & Raftery 2007, α = 0.05) relative to the paper number, count within ±25 % of our
-  median. For a table of angles the compared number is *printed − reference* (the reference
-  is an ``input``); a relative measure divides by ``max(|paper|, 0.001°)`` (print resolution).
+* :func:`scores` summarises the held-out rows with the suite's one scoring
+  (:func:`mtcal.reporting.fidelity.aggregate`): coverage with its Wilson 95 % interval, median
+  band width and median interval score (Gneiting & Raftery 2007, α = 0.05) relative to the paper
+  number (paper values of 0 skipped), count of paper numbers within ±25 % of our median. For a
+  table of angles the compared number is *printed − reference* (the reference is an ``input``);
+  the per-row relative columns of :func:`one_to_one` divide by ``max(|paper|, 0.001°)`` (print
+  resolution) so that a printed 0 has one too.
 * :func:`claims` tests the paper's statements with the paper's own thresholds, quoted; each row
   has ``kind`` = ``claim`` (tested against numbers the model was not fitted or tuned on) or
   ``consistency`` (true by construction or checked against a model fitted/tuned on the same
@@ -35,11 +37,11 @@ from __future__ import annotations
 
 import numpy as np
 import pandas as pd
-from scipy import stats
 
 from mtcal.core import metrics
 from mtcal.reporting import compare, paper_numbers
 from mtcal.reporting.binomial import coin_flip
+from mtcal.reporting import fidelity
 from mtcal.reporting.fidelity import quantile_mc_se
 from .error_model import PAPER_SIGN, TABLES_1_TO_4
 from .runs import position_errors_deg
@@ -183,7 +185,7 @@ def one_to_one(samples: dict, *, seed: int = 0) -> pd.DataFrame:
                      "quantity": _label(r.file, r.row, r.column), "paper": paper, "median": med, "low": lo,
                      "high": hi, "se_low": se_lo, "se_high": se_hi, "inside": bool(lo <= paper <= hi),
                      "rel_width": (hi - lo) / den, "interval_score_rel": _interval_score(paper, lo, hi) / den,
-                     "within25": bool(abs(med - paper) <= 0.25 * abs(paper)), "n": b["n"], "kind": b["kind"]})
+                     "within25": fidelity.within_25pct(paper, med), "n": b["n"], "kind": b["kind"]})
     return pd.DataFrame(rows)
 
 
@@ -192,27 +194,20 @@ def _interval_score(x, lo, hi, alpha=0.05):
 
 
 def scores(table: pd.DataFrame, role: str = "heldout") -> dict:
-    """Scores of the rows of ``role``: count, inside, coverage with its Clopper–Pearson 95 % interval,
-    median relative width, median relative interval score, count within ±25 % of our median.
+    """Scores of the rows of ``role`` by the suite's one scoring (:func:`mtcal.reporting.fidelity.aggregate`).
 
-    ``table`` needs ``role, paper, low, high, median`` (extra columns ignored).
+    Keys: ``n_heldout``, ``inside``, ``coverage`` with its Wilson 95 % interval (``coverage_low``,
+    ``coverage_high``), ``median_rel_width``, ``median_interval_score_rel`` (relative to ``|paper|``,
+    paper values of 0 skipped), ``within25`` (paper within ±25 % of our median). ``table`` needs
+    ``role, paper, low, high, median`` (extra columns ignored).
     """
     t = table[table["role"] == role]
-    n = int(len(t))
-    if n == 0:
-        return {"n_heldout": 0, "inside": 0, "coverage": float("nan"), "coverage_low": float("nan"),
-                "coverage_high": float("nan"), "median_rel_width": float("nan"),
-                "median_interval_score_rel": float("nan"), "within25": 0}
-    p = t["paper"].to_numpy(float)
-    lo, hi, med = (t[c].to_numpy(float) for c in ("low", "high", "median"))
-    k = int(((lo <= p) & (p <= hi)).sum())
-    den = np.maximum(np.abs(p), PRINT_RESOLUTION_DEG)
-    ci_lo = 0.0 if k == 0 else float(stats.beta.ppf(0.025, k, n - k + 1))
-    ci_hi = 1.0 if k == n else float(stats.beta.ppf(0.975, k + 1, n - k))
-    isr = [_interval_score(a, b, c) / d for a, b, c, d in zip(p, lo, hi, den)]
-    return {"n_heldout": n, "inside": k, "coverage": k / n, "coverage_low": ci_lo, "coverage_high": ci_hi,
-            "median_rel_width": float(np.median((hi - lo) / den)), "median_interval_score_rel": float(np.median(isr)),
-            "within25": int((np.abs(med - p) <= 0.25 * np.abs(p)).sum())}
+    records = pd.DataFrame({"paper_value": t["paper"].to_numpy(float), "fitted_low": t["low"].to_numpy(float),
+                            "fitted_high": t["high"].to_numpy(float), "fitted_median": t["median"].to_numpy(float)})
+    s = fidelity.aggregate(records, "fitted")
+    return {"n_heldout": s["n"], "inside": s["inside"], "coverage": s["coverage"], "coverage_low": s["coverage_low"],
+            "coverage_high": s["coverage_high"], "median_rel_width": s["median_rel_width"],
+            "median_interval_score_rel": s["median_rel_interval_score"], "within25": s["within_25pct"]}
 
 
 CLAIM_COLUMNS = ["claim_id", "artifact", "quote", "threshold", "kind", "statistic", "value", "fraction_of_trials",
