@@ -292,7 +292,8 @@ if held.se_low.notna().any():
     print(f"median MC standard error of the band ends: low {held.se_low.median():.4f}°, "
           f"high {held.se_high.median():.4f}° (median band width {(held.high - held.low).median():.4f}°)")
 else:  # CI size: too few draws for a 95 % band, the rows print ranges (no quantile standard error)
-    print(f"band ends are ranges of {held.n.min()}–{held.n.max()} draws: no Monte Carlo standard error")
+    n_draws = f"{held.n.min()}" if held.n.min() == held.n.max() else f"{held.n.min()}–{held.n.max()}"
+    print(f"band ends are ranges of {n_draws} draws: no Monte Carlo standard error")
 
 # %% [markdown]
 # ## The paper's claims, with its thresholds
