@@ -6,6 +6,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from mtcal.reporting import fidelity
 from mtcal.studies import wang2023cja as w
 from mtcal.studies.wang2023cja import predictive, verdicts
 
@@ -32,7 +33,7 @@ def test_scores_coverage_interval_and_interval_score():
     assert (s["n_heldout"], s["inside"], s["within25"]) == (4, 3, 3)
     assert s["coverage_low"] < 0.75 < s["coverage_high"]
     # outside by 0.5 below: width 0.5 + 2/0.05 · 0.5 = 20.5, relative to |2|
-    assert verdicts._interval_score(2.0, 2.5, 3.0) == pytest.approx(20.5)
+    assert float(fidelity.interval_score(2.5, 3.0, 2.0)) == pytest.approx(20.5)
     assert verdicts.scores(t, role="erratum")["n_heldout"] == 0
 
 

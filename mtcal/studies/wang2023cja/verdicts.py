@@ -39,10 +39,8 @@ import numpy as np
 import pandas as pd
 
 from mtcal.core import metrics
-from mtcal.reporting import compare, paper_numbers
+from mtcal.reporting import compare, fidelity, paper_numbers
 from mtcal.reporting.binomial import coin_flip
-from mtcal.reporting import fidelity
-from mtcal.reporting.fidelity import quantile_mc_se
 from .error_model import PAPER_SIGN, TABLES_1_TO_4
 from .runs import position_errors_deg
 
@@ -178,19 +176,15 @@ def one_to_one(samples: dict, *, seed: int = 0) -> pd.DataFrame:
         b = metrics.band_or_range(x)            # 95 % band from >= 1000 draws, else the range with its count
         lo, med, hi = float(b["low"]), float(b["median"]), float(b["high"])
         quantiles = b["kind"] == "95 % band"    # a range's ends are min and max: no quantile SE describes them
-        se_lo = quantile_mc_se(x, 0.025, seed=seed) if quantiles else float("nan")
-        se_hi = quantile_mc_se(x, 0.975, seed=seed) if quantiles else float("nan")
+        se_lo = fidelity.quantile_mc_se(x, 0.025, seed=seed) if quantiles else float("nan")
+        se_hi = fidelity.quantile_mc_se(x, 0.975, seed=seed) if quantiles else float("nan")
         den = max(abs(paper), PRINT_RESOLUTION_DEG)
         rows.append({"file": r.file, "row": int(r.row), "column": r.column, "role": r.role,
                      "quantity": _label(r.file, r.row, r.column), "paper": paper, "median": med, "low": lo,
                      "high": hi, "se_low": se_lo, "se_high": se_hi, "inside": bool(lo <= paper <= hi),
-                     "rel_width": (hi - lo) / den, "interval_score_rel": _interval_score(paper, lo, hi) / den,
+                     "rel_width": (hi - lo) / den, "interval_score_rel": float(fidelity.interval_score(lo, hi, paper)) / den,
                      "within25": fidelity.within_25pct(paper, med), "n": b["n"], "kind": b["kind"]})
     return pd.DataFrame(rows)
-
-
-def _interval_score(x, lo, hi, alpha=0.05):
-    return (hi - lo) + (2 / alpha) * max(lo - x, 0.0) + (2 / alpha) * max(x - hi, 0.0)
 
 
 def scores(table: pd.DataFrame, role: str = "heldout") -> dict:
