@@ -6,13 +6,16 @@ series; pass ``axis`` for other layouts) and are vectorised over trials.
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
 from mtcal.core.validate import as_float_array, positive_int, positive_scalar, sample_interval
 
 __all__ = ["angle_difference", "rmse", "max_abs_error", "split_static_moving",
            "allan_deviation", "fit_allan_noise", "percentile_band", "bootstrap_medians",
-           "MIN_BAND_DRAWS", "band_or_range", "band_label", "median_trial"]
+           "MIN_BAND_DRAWS", "band_or_range", "band_label", "median_trial",
+           "OrientationErrors", "orientation_errors", "rmse_over_phase"]
 
 
 #: Elements from which :func:`angle_difference` runs a compiled loop (bit-identical to numpy's).
@@ -64,6 +67,125 @@ def rmse(error, axis: int = -1, mask=None) -> np.ndarray:
     """Root-mean-square of ``error`` along ``axis``, optionally over ``mask`` only."""
     err = _errors(error, mask)
     return np.sqrt(np.nanmean(err**2, axis=axis))
+
+
+class OrientationErrors(NamedTuple):
+    """Total, heading and inclination error (rad) of :func:`orientation_errors`, each shape (N,)."""
+
+    total_rad: np.ndarray
+    heading_rad: np.ndarray
+    inclination_rad: np.ndarray
+
+
+def orientation_errors(q_est, q_ref) -> OrientationErrors:
+    """Earth-frame orientation errors of an estimate against a reference.
+
+    The error quaternion in the earth (reference) frame is ``q_e = q_est ⊗ q_ref⁻¹``
+    (both quaternions sensor → earth, scalar-first, z vertical). It splits into a rotation
+    about the vertical (heading) and one about a horizontal axis (inclination):
+
+    * total error       ``2·arccos|w_e|``
+    * heading error     ``2·arctan(|z_e| / |w_e|)``
+    * inclination error ``2·arccos √(w_e² + z_e²)``
+
+    The inclination error does not depend on a heading offset, so a 6D filter
+    (gyroscope + accelerometer, heading free) is judged on it alone. Rows where the
+    reference is NaN (e.g. optical markers lost) give NaN errors; :func:`rmse_over_phase`
+    skips them.
+
+    Parameters
+    ----------
+    q_est, q_ref : array_like, shape (N, 4) or (4,)
+        Estimated and reference orientation, unit quaternions, scalar-first, sensor → earth.
+        Sign and normalisation do not matter (both are normalised here).
+
+    Returns
+    -------
+    OrientationErrors
+        ``total_rad``, ``heading_rad``, ``inclination_rad``, each shape (N,) (rad), in [0, π].
+
+    References
+    ----------
+    D. Laidig, M. Caruso, A. Cereatti, T. Seel, "BROAD — A Benchmark for Robust Inertial
+    Orientation Estimation", Data 6(7):72, 2021, doi:10.3390/data6070072, Sec. 4 (error metrics).
+
+    Examples
+    --------
+    A pure heading offset gives no inclination error; a 10° tilt about a horizontal axis
+    gives 10° of inclination error and no heading error:
+
+    >>> import numpy as np
+    >>> half = np.radians(10) / 2
+    >>> ref = np.array([1.0, 0, 0, 0])
+    >>> e = orientation_errors([np.cos(half), 0, 0, np.sin(half)], ref)
+    >>> np.degrees([e.total_rad[0], e.heading_rad[0], e.inclination_rad[0]]).round(12) + 0
+    array([10., 10.,  0.])
+    >>> e = orientation_errors([np.cos(half), np.sin(half), 0, 0], ref)
+    >>> np.degrees([e.total_rad[0], e.heading_rad[0], e.inclination_rad[0]]).round(12) + 0
+    array([10.,  0., 10.])
+    """
+    est = np.atleast_2d(as_float_array(q_est, "q_est"))
+    ref = np.atleast_2d(np.asarray(q_ref, dtype=float))      # NaN rows allowed (reference lost)
+    if np.isinf(ref).any():
+        raise ValueError("q_ref must not contain infinite values")
+    if est.shape[-1] != 4 or ref.shape[-1] != 4 or est.ndim != 2 or ref.ndim != 2:
+        raise ValueError(f"q_est and q_ref must have shape (N, 4), got {est.shape} and {ref.shape}")
+    if est.shape[0] != ref.shape[0] and 1 not in (est.shape[0], ref.shape[0]):
+        raise ValueError(f"q_est and q_ref must have the same length, got {est.shape[0]} and {ref.shape[0]}")
+    est = est / np.linalg.norm(est, axis=1, keepdims=True)
+    ref = ref / np.linalg.norm(ref, axis=1, keepdims=True)
+    # q_e = q_est ⊗ conj(q_ref): only w and z are needed
+    w1, x1, y1, z1 = est.T
+    w2, x2, y2, z2 = ref.T
+    w = w1 * w2 + x1 * x2 + y1 * y2 + z1 * z2
+    z = -w1 * z2 + z1 * w2 - x1 * y2 + y1 * x2
+    aw, az = np.abs(w), np.abs(z)
+    total = 2.0 * np.arccos(np.clip(aw, 0.0, 1.0))
+    heading = 2.0 * np.arctan2(az, aw)
+    inclination = 2.0 * np.arccos(np.clip(np.sqrt(w * w + z * z), 0.0, 1.0))
+    return OrientationErrors(total, heading, inclination)
+
+
+def rmse_over_phase(error, phase=None) -> float:
+    """RMSE of a 1-D error series over a phase, samples with NaN error (reference lost) excluded.
+
+    Parameters
+    ----------
+    error : array_like, shape (N,)
+        Error series (any unit; e.g. :func:`orientation_errors` fields in rad). NaN marks a
+        sample without reference; infinite values are refused.
+    phase : array_like of bool or {0, 1}, shape (N,), optional
+        Samples that belong to the phase (e.g. BROAD's ``movement`` flag); all samples if omitted.
+
+    Returns
+    -------
+    float
+        ``sqrt(mean(error²))`` over the finite samples of the phase, in the unit of ``error``.
+
+    Raises
+    ------
+    ValueError
+        If the shapes differ, ``error`` holds an infinite value, or no finite sample is in the phase.
+
+    Examples
+    --------
+    >>> rmse_over_phase([3.0, float("nan"), 4.0, 100.0], [1, 1, 1, 0])
+    3.5355339059327378
+    """
+    err = np.asarray(error, dtype=float)
+    if err.ndim != 1:
+        raise ValueError(f"error must be 1-D, got shape {err.shape}")
+    if np.isinf(err).any():
+        raise ValueError("error must not contain infinite values")
+    keep = np.isfinite(err)
+    if phase is not None:
+        ph = np.asarray(phase)
+        if ph.shape != err.shape:
+            raise ValueError(f"phase must have the shape of error {err.shape}, got {ph.shape}")
+        keep &= ph.astype(bool)
+    if not keep.any():
+        raise ValueError("no finite error sample in the phase")
+    return float(np.sqrt(np.mean(err[keep] ** 2)))
 
 
 def max_abs_error(error, axis: int = -1, mask=None) -> np.ndarray:

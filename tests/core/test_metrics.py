@@ -154,3 +154,69 @@ def test_percentile_band_records_its_draw_count():
     assert metrics.percentile_band(x, axis=1)["n"] == 3
     with pytest.raises(ValueError, match="samples must have at least one dimension"):
         metrics.percentile_band(1.0)
+
+
+# --- orientation_errors (BROAD's earth-frame error definitions) ------------------------------
+
+def _scalar_first(rot):
+    return np.roll(rot.as_quat(), 1, axis=-1)
+
+
+def test_orientation_errors_total_equals_scipy_relative_angle():
+    from scipy.spatial.transform import Rotation
+
+    from mtcal.core.metrics import orientation_errors
+
+    a, b = Rotation.random(500, random_state=1), Rotation.random(500, random_state=2)
+    e = orientation_errors(_scalar_first(a), -_scalar_first(b))     # sign of q_ref does not matter
+    np.testing.assert_allclose(e.total_rad, (a * b.inv()).magnitude(), atol=1e-12)
+
+
+def test_orientation_errors_split_heading_then_tilt():
+    """An earth-frame error = heading h about z after a tilt t about a horizontal axis."""
+    from scipy.spatial.transform import Rotation
+
+    from mtcal.core.metrics import orientation_errors
+
+    rng = np.random.default_rng(3)
+    h = rng.uniform(-3, 3, 200)
+    t = rng.uniform(0, 3, 200)
+    phi = rng.uniform(-np.pi, np.pi, 200)
+    axis = np.stack([np.cos(phi), np.sin(phi), np.zeros(200)], axis=1)
+    ref = Rotation.random(200, random_state=4)
+    err = Rotation.from_rotvec(h[:, None] * [0, 0, 1]) * Rotation.from_rotvec(t[:, None] * axis)
+    e = orientation_errors(_scalar_first(err * ref), _scalar_first(ref))
+    np.testing.assert_allclose(e.heading_rad, np.abs(h), atol=1e-9)
+    np.testing.assert_allclose(e.inclination_rad, t, atol=1e-9)
+
+
+def test_orientation_errors_nan_reference_rows_skipped_by_rmse():
+    from mtcal.core.metrics import orientation_errors, rmse_over_phase
+
+    half = np.radians(2.0) / 2
+    est = np.tile([np.cos(half), np.sin(half), 0, 0], (4, 1))
+    ref = np.tile([1.0, 0, 0, 0], (4, 1))
+    ref[1] = np.nan
+    e = orientation_errors(est, ref)
+    assert np.isnan(e.inclination_rad[1])
+    assert np.degrees(rmse_over_phase(e.inclination_rad)) == pytest.approx(2.0)
+    assert np.degrees(rmse_over_phase(e.inclination_rad, [1, 1, 0, 0])) == pytest.approx(2.0)
+    with pytest.raises(ValueError, match="no finite error sample"):
+        rmse_over_phase(e.inclination_rad, [0, 1, 0, 0])
+    with pytest.raises(ValueError, match="shape of error"):
+        rmse_over_phase(e.inclination_rad, [1, 1])
+    with pytest.raises(ValueError, match="infinite"):
+        rmse_over_phase([np.inf])
+    with pytest.raises(ValueError, match="1-D"):
+        rmse_over_phase(np.ones((2, 2)))
+
+
+def test_orientation_errors_rejects_bad_shapes():
+    from mtcal.core.metrics import orientation_errors
+
+    with pytest.raises(ValueError, match="shape"):
+        orientation_errors(np.ones((3, 3)), np.ones((3, 4)))
+    with pytest.raises(ValueError, match="same length"):
+        orientation_errors(np.ones((3, 4)), np.ones((2, 4)))
+    with pytest.raises(ValueError, match="infinite"):
+        orientation_errors(np.ones((1, 4)), np.array([[np.inf, 0, 0, 0]]))
