@@ -38,11 +38,29 @@ from mtcal.cli import common, logio
 from mtcal.systems import plausibility
 
 POS_COLS = ["yaw_deg", "pitch_deg", "roll_deg"]
-FORMAT = "mtcal-calibration/1"
+FORMAT = "mtcal-calibration/2"
+#: Calibration-file formats ``mtcal apply`` reads (version 1: no units, version, direction or uncertainty).
+KNOWN_FORMATS = ("mtcal-calibration/1", FORMAT)
 
-EXAMPLE = """Q.json (--out): q_hat (4x4, q_body = Q_hat q_sensor), installation_angles_deg
-  (alpha1 about z, alpha2 about y, alpha3 about x; Eq 1), mounting_quaternion_q_bs,
-  reference_offset_quaternion, positions_deg, residual_deg, attitude settings
+#: What the installation angles mean (wang2023cja Eq 1), printed with the numbers and saved in the file.
+ALPHA_MEANING = ("installation angles (wang2023cja Eq 1, C_b^s = Rz(alpha1) Ry(alpha2) Rx(alpha3)): alpha1 about z "
+                 "(yaw), alpha2 about y (roll), alpha3 about x (pitch) in the positions' naming; alpha describes the "
+                 "body relative to the sensor, to first order the negative of the sensor's misalignment")
+#: What the mounting quaternion means, and how another filter uses it.
+MOUNTING_MEANING = ("q_bs, scalar-first: sensor attitude = body attitude (x) q_bs (q_ws = q_wb (x) q_bs, "
+                    "v_body = C(q_bs) v_sensor); body attitude from any filter's sensor attitude q_ws (z-up world): "
+                    "q_wb = q_ws (x) conj(q_bs)")
+
+EXAMPLE = """installation angles (wang2023cja Eq 1): C_b^s = Rz(alpha1) Ry(alpha2) Rx(alpha3), alpha1 about z
+  (yaw), alpha2 about y (roll), alpha3 about x (pitch); alpha describes the body relative to the
+  sensor, to first order the negative of the sensor's misalignment (printed beside them: the
+  mounting as yaw/pitch/roll of q_bs, Eq 8 ZXY).
+Q.json (--out, format mtcal-calibration/2): format, mtcal_version, comment, input (units, scales,
+  column mapping, sample rate), q_hat (4x4, q_body = Q_hat q_sensor), installation_angles_deg and
+  installation_angles_1sigma_deg (fit covariance) with their meaning, mounting_quaternion_q_bs
+  (q_ws = q_wb (x) q_bs: another filter's body attitude is q_ws (x) conj(q_bs)), mounting_ypr_deg,
+  reference_offset_quaternion, positions_deg with their convention, residual_deg, rests_s,
+  attitude settings; see README "Calibration file".
 example:
   mtcal calibrate turntable.csv --positions pos.csv --out Q.json --figure cal.png
   mtcal apply Q.json flight.csv --out body_attitude.csv"""
@@ -55,6 +73,7 @@ def register(subparsers) -> None:
     p.add_argument("log", type=Path, help="IMU log (time_s + gyro/accel columns or q0..q3)")
     p.add_argument("--positions", type=Path, required=True, help="reference positions CSV (yaw/pitch/roll deg, >= 4)")
     p.add_argument("--out", help="write the calibration (JSON) here, for `mtcal apply`")
+    p.add_argument("--comment", default="", help="free text saved in the calibration file (e.g. rig, IMU serial)")
     p.add_argument("--fraction", default="0.5", help="middle fraction of each rest averaged")
     p.add_argument("--max-residual-deg", default="1.0", help="refuse a fit with a larger residual (deg)")
     p.add_argument("--max-so4-distance", default=None,  # None: mtcal.systems.installation.MAX_SO4_DISTANCE
@@ -124,6 +143,8 @@ def run(args: argparse.Namespace) -> int:
               f"{len(rests)} rests found, {pos.shape[0]} positions")
         if rep is not None:
             print(rep.levels_text())
+        if "gyro_bias_text" in info:
+            print(info["gyro_bias_text"])
         if len(rests) < pos.shape[0]:
             if rep is None:
                 lv = "quaternion-rate threshold --still-deg-s"
@@ -176,6 +197,9 @@ def _quaternion_hint(pos, log, rests, fraction, gates) -> str:
 
 def _print_and_write(args, out, log, rests, cal, info: dict) -> None:
     """The ``Q_hat`` block, the per-position table, the installation angles and the JSON (``--out``)."""
+    from mtcal.core import rotations
+    from mtcal.systems import installation
+
     alpha = np.degrees(cal.installation_angles_rad)
     print("Q_hat (Eq 13, q_body = Q_hat q_sensor):")
     for row in cal.q_hat:
@@ -188,19 +212,50 @@ def _print_and_write(args, out, log, rests, cal, info: dict) -> None:
     for k in range(ref_deg.shape[0]):
         print(f"{k + 1:>3} {fmt(ref_deg[k]):>27} {fmt(before[k]):>27} {fmt(after[k]):>27} "
               f"{np.degrees(cal.residual_rad[k]):9.5f}")
-    print(f"installation angles (Eq 1, alpha1 about z, alpha2 about y, alpha3 about x): "
-          f"{alpha[0]:+.4f} {alpha[1]:+.4f} {alpha[2]:+.4f} deg; |Q_hat - SO(4)| {float(cal.so4_distance):.2e}")
+    sigma = np.degrees(installation.installation_angles_sigma(cal))
+    mount = np.degrees(rotations.euler_zxy_from_quat(cal.mounting_quaternion_q_bs))
+    sig_txt = ("1-sigma not estimable (4 positions leave no degrees of freedom)" if not np.all(np.isfinite(sigma))
+               else "1-sigma " + " ".join(f"{v:.4f}" for v in sigma) + " deg (Eq 13 fit covariance)")
+    print(f"installation angles alpha1 (z) alpha2 (y) alpha3 (x): {alpha[0]:+.4f} {alpha[1]:+.4f} {alpha[2]:+.4f} deg, "
+          f"{sig_txt}; |Q_hat - SO(4)| {float(cal.so4_distance):.2e}")
+    print(f"  meaning: {ALPHA_MEANING}")
+    print(f"  mounting q_bs = [{', '.join(f'{v:+.6f}' for v in cal.mounting_quaternion_q_bs)}]: the sensor on the "
+          f"body at yaw {mount[0]:+.4f}, pitch {mount[1]:+.4f}, roll {mount[2]:+.4f} deg (Eq 8 ZXY of q_bs)")
     if ref_deg.shape[0] == 4:
         print("note: 4 positions determine Eq 13 exactly — residuals are 0 by construction and check "
               "nothing; record 6 positions")
     if out is not None:
         t = log.time_s
-        doc = {"format": FORMAT, "log": str(args.log), "positions_file": str(args.positions),
+        import mtcal
+
+        opts = common.input_options(args)
+        doc = {"format": FORMAT, "format_version": 2, "mtcal_version": mtcal.__version__, "comment": args.comment,
+               "log": str(args.log), "positions_file": str(args.positions),
+               "input": {"time_unit": opts.time_unit or "s", "gyro_unit": opts.gyro_unit or "rad/s",
+                         "accel_unit": opts.accel_unit or "m/s2",
+                         "gyro_scale": None if opts.gyro_scale is None else np.ravel(opts.gyro_scale).tolist(),
+                         "accel_scale": None if opts.accel_scale is None else np.ravel(opts.accel_scale).tolist(),
+                         "columns": dict(opts.columns), "fs_hz_option": opts.fs_hz,
+                         "sample_rate_hz": float(log.fs_hz), "interpretation": list(log.notes),
+                         "attitude_source": "q0..q3 columns" if log.gyro_rad_s is None else "gyro/accel (QNCF)"},
+               "model": "eq13",
                "q_hat": cal.q_hat.tolist(), "so4_distance": float(cal.so4_distance),
                "installation_angles_deg": {"alpha1_z": alpha[0], "alpha2_y": alpha[1], "alpha3_x": alpha[2]},
+               "installation_angles_1sigma_deg": (None if not np.all(np.isfinite(sigma)) else
+                                                  {"alpha1_z": sigma[0], "alpha2_y": sigma[1], "alpha3_x": sigma[2]}),
+               "installation_angles_uncertainty": "1-sigma from the Eq 13 fit covariance (residual variance, "
+                                                  "4K-16 degrees of freedom) propagated through the SO(4) projection",
+               "installation_angles_meaning": ALPHA_MEANING,
                "mounting_quaternion_q_bs": cal.mounting_quaternion_q_bs.tolist(),
+               "mounting_meaning": MOUNTING_MEANING,
+               "mounting_ypr_deg": {"yaw_z": mount[0], "pitch_x": mount[1], "roll_y": mount[2]},
                "reference_offset_quaternion": cal.projection.p.tolist(),
-               "positions_deg": ref_deg.tolist(), "residual_deg": np.degrees(cal.residual_rad).tolist(),
+               "positions_deg": ref_deg.tolist(),
+               "positions_convention": "rows yaw_deg, pitch_deg, roll_deg: wang2023cja Eq 8/9 ZXY, q = qz(yaw) qx(pitch) "
+                                       "qy(roll), z up, y forward (nose), x right; relative to the mechanism zero "
+                                       "at which the log starts",
+               "residual_deg": np.degrees(cal.residual_rad).tolist(),
+               "residual_max_deg": float(np.degrees(np.max(cal.residual_rad))),
                "rests_s": [[float(t[r.start]), float(t[r.stop - 1])] for r in cal.matched_rests],
                "attitude": {**info, "zeroed_at_first_sample": True},
                "convention": "q_body = normalize(Q_hat q_sensor), q scalar-first; sensor attitude zeroed "

@@ -13,7 +13,10 @@
 6. installation angles (inverse of Eq 1) of the mounting part of Q̂'s SO(4)
    projection ``L(p) R(r)``, mounting quaternion ``q_bs = r*``.
 
-:func:`apply_installation` is Eq 10 on a stream (``q_body = normalize(Q̂ q_sensor)``).
+:func:`apply_installation` is Eq 10 on a stream (``q_body = normalize(Q̂ q_sensor)``): the
+paper's *relative* body attitude, zeroed where the record starts (the turntable's zero).
+:func:`absolute_body_attitude` is the gravity-referenced one for a record that starts anywhere
+(a parked aircraft): ``q_body = q_ws ⊗ q_bs*`` with the mounting of Q̂, heading zeroed.
 The CLI (``mtcal calibrate`` / ``mtcal apply``), the wang2023cja turntable study and
 the ``six_position`` sweep evaluator all call these functions; inputs are checked
 here once and the methods' trusted internals do the arithmetic.
@@ -44,7 +47,8 @@ from mtcal.methods import constrained_fit, quaternion_lsq, six_position
 from mtcal.methods.constrained_fit import So4Projection
 
 __all__ = ["MAX_CONDITION", "MAX_SO4_DISTANCE", "MAX_RESIDUAL_RAD", "InstallationCalibration",
-           "CalibratedAttitude", "detect_rests", "calibrate_installation", "apply_installation"]
+           "CalibratedAttitude", "detect_rests", "calibrate_installation", "apply_installation",
+           "absolute_body_attitude", "mounting_from_q_hat", "installation_angles_sigma"]
 
 #: Gate: condition number of ``A_q^s (A_q^s)ᵀ`` (Eq 13) above which the positions are refused.
 MAX_CONDITION = 1e4
@@ -430,3 +434,143 @@ def apply_installation(q_hat, *, q_ws=None, gyro_rad_s=None, accel_m_s2=None, dt
     q_s = _zeroed_attitude(q, gyro, accel, params, q0, dt)
     q_b = rotations.make_continuous(quaternion_lsq._apply(mat, q_s), axis=-2)
     return CalibratedAttitude(q_body=q_b, q_sensor=q_s)
+
+
+def mounting_from_q_hat(q_hat) -> np.ndarray:
+    """Mounting quaternion ``q_bs = r*`` (4,) of Q̂'s nearest SO(4) matrix ``L(p) R(r)``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from mtcal.core import rotations
+    >>> c = rotations.mount_quaternion(np.radians([0.3, -0.2, 0.5]))
+    >>> bool(np.allclose(mounting_from_q_hat(rotations.right_matrix(rotations.quat_conjugate(c))), c))
+    True
+    """
+    mat = as_float_array(q_hat, "q_hat")
+    if mat.shape != (4, 4):
+        raise ValueError(f"q_hat must be a finite 4x4 array, got shape {mat.shape}")
+    q = rotations.quat_conjugate(constrained_fit.project_to_so4(mat).r)
+    return q if q[0] >= 0 else -q
+
+
+def absolute_body_attitude(q_bs, *, q_ws=None, gyro_rad_s=None, accel_m_s2=None, dt_s: float | None = None,
+                           qncf_params: QncfParams | None = None, q0=None,
+                           zero_heading: bool = True) -> CalibratedAttitude:
+    """Gravity-referenced body attitude of a record: ``q_body = q_ws ⊗ q_bs*``, heading zeroed.
+
+    Eq 10 (:func:`apply_installation`) gives the body attitude *relative to where the record
+    starts* (§4.1: the turntable starts at its zero). A flight log starts anywhere — parked at
+    a few degrees of pitch and roll — and relative angles then carry that start as an error.
+    Here the sensor attitude is the QNCF's own (levelled from the accelerometer: pitch and roll
+    referenced to gravity) or ``q_ws`` as given (its world frame must be z up), and the mounting
+    ``q_bs`` (sensor = body ⊗ q_bs) is taken off on the right. Heading is not observable from
+    gravity: with ``zero_heading`` the body's yaw at the first sample is set to 0 (a rotation
+    about the world vertical, which leaves pitch and roll — Eq 8 ZXY — unchanged).
+
+    Parameters
+    ----------
+    q_bs : array_like, shape (4,)
+        Mounting quaternion (scalar-first), e.g. ``InstallationCalibration.mounting_quaternion_q_bs``
+        or :func:`mounting_from_q_hat`.
+    q_ws, gyro_rad_s, accel_m_s2, dt_s, qncf_params, q0 :
+        The sensor attitude or the raw data for the QNCF, as in :func:`apply_installation`.
+    zero_heading : bool
+        Zero the body yaw at the first sample (default True).
+
+    Returns
+    -------
+    CalibratedAttitude
+        ``q_body`` (body → world, z-up world, heading zeroed) and ``q_sensor`` (the sensor
+        attitude in the same world frame).
+
+    References
+    ----------
+    wang2023cja Eq 1 (mounting), Eq 8/9 (yaw about z, pitch about x, roll about y).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from mtcal.core import rotations
+    >>> q_wb = rotations.quat_from_euler_zxy(np.radians(30.0), np.radians(2.0), np.radians(-1.5))[None]
+    >>> q_bs = rotations.mount_quaternion(np.radians([0.3, 0.8, -0.5]))
+    >>> att = absolute_body_attitude(q_bs, q_ws=rotations.quat_multiply(q_wb, q_bs))
+    >>> np.degrees(rotations.euler_zxy_from_quat(att.q_body)).round(9).tolist()   # heading zeroed
+    [[0.0, 2.0, -1.5]]
+    """
+    c = unit_quaternion(q_bs, "q_bs")
+    if c.shape != (4,):
+        raise ValueError(f"q_bs must be one quaternion of shape (4,), got {c.shape}")
+    dt = None if dt_s is None else sample_interval(dt_s)
+    q, gyro, accel, params, q0 = _attitude_inputs(q_ws, gyro_rad_s, accel_m_s2, qncf_params, q0, dt,
+                                                  need_dt=q_ws is None)
+    if q is None:
+        q = qncf(gyro, accel, dt, params, q0=q0, return_euler=False).q_ws
+    q_s = rotations.make_continuous(np.asarray(q, float), axis=-2)
+    q_b = rotations.hamilton(q_s, rotations.quat_conjugate(c))
+    if zero_heading:
+        yaw0 = rotations.euler_zxy_unchecked(q_b[..., :1, :])[..., 0]           # (..., 1)
+        turn = np.zeros(yaw0.shape + (4,))
+        turn[..., 0], turn[..., 3] = np.cos(-yaw0 / 2), np.sin(-yaw0 / 2)
+        q_b = rotations.hamilton(turn, q_b)
+        q_s = rotations.hamilton(turn, q_s)
+    return CalibratedAttitude(q_body=rotations.make_continuous(q_b, axis=-2), q_sensor=q_s)
+
+
+def _angles_of(q_hat: np.ndarray) -> np.ndarray:
+    q = rotations.quat_conjugate(constrained_fit.project_to_so4(q_hat).r)
+    return rotations.installation_angles_from_mount(q)
+
+
+def installation_angles_sigma(cal: InstallationCalibration) -> np.ndarray:
+    """1σ uncertainty (rad) of the installation angles ``[α1, α2, α3]`` from the Eq 13 fit covariance.
+
+    Eq 13 is linear least squares row by row: row i of Q̂ solves ``A_b[i] = Q̂[i] A_s`` over the K
+    positions, so its covariance is ``σ² (A_s A_sᵀ)⁻¹`` with ``σ²`` the residual variance
+    ``‖A_b − Q̂ A_s‖² / (4K − 16)`` (4K equations, 16 unknowns). The angles are a smooth function
+    of Q̂ (SO(4) projection → mounting → inverse of Eq 1); their covariance is ``J C Jᵀ`` with
+    ``J`` the central-difference Jacobian. With K = 4 there are no degrees of freedom left: NaN.
+
+    Parameters
+    ----------
+    cal : InstallationCalibration
+        One calibration (no trial axis).
+
+    Returns
+    -------
+    ndarray (3,)
+        1σ of ``[α1, α2, α3]`` (rad); NaN when K = 4.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from mtcal.core import rotations
+    >>> from mtcal.core.profiles import trajectory_from_euler_zxy
+    >>> from mtcal.methods.six_position import schedule_profile, six_positions_rad
+    >>> pos = six_positions_rad()
+    >>> q_wb = trajectory_from_euler_zxy(schedule_profile(pos, fs_hz=100.0)).q_wb
+    >>> q_ws = rotations.quat_multiply(q_wb, rotations.mount_quaternion(np.radians([1.0, 0.0, 0.0])))
+    >>> cal = calibrate_installation(pos, 1.0 / 100.0, q_ws=q_ws)
+    >>> bool(np.all(installation_angles_sigma(cal) < 1e-9))       # noise-free: no scatter
+    True
+    """
+    q_s, q_b = quaternion_lsq._align_pairs(np.asarray(cal.q_sensor), np.asarray(cal.q_reference))
+    if q_s.ndim != 2:
+        raise ValueError("installation_angles_sigma takes one calibration (no trial axis)")
+    k = q_s.shape[0]
+    dof = 4 * k - 16
+    if dof <= 0:
+        return np.full(3, np.nan)
+    q_hat = np.asarray(cal.q_hat, float)
+    resid = q_b.T - q_hat @ q_s.T                                  # (4, K)
+    sigma2 = float(np.sum(resid**2)) / dof
+    row_cov = sigma2 * np.linalg.inv(q_s.T @ q_s)                  # (4, 4), the same for every row
+    h = 1e-6
+    jac = np.empty((3, 4, 4))
+    for i in range(4):
+        for j in range(4):
+            d = np.zeros((4, 4))
+            d[i, j] = h
+            jac[:, i, j] = (_angles_of(q_hat + d) - _angles_of(q_hat - d)) / (2 * h)
+    cov = sum(jac[:, i, :] @ row_cov @ jac[:, i, :].T for i in range(4))
+    return np.sqrt(np.clip(np.diag(cov), 0.0, None))
