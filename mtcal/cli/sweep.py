@@ -38,13 +38,13 @@ def _positive_int(text: str) -> int:
 
 
 def _list_evaluators() -> int:
-    from mtcal.sweep.evaluators import evaluator_names, get_evaluator
+    from mtcal.sweep.evaluators import evaluator_names, get_evaluator, parameter_help
 
     for name in evaluator_names():
         ev = get_evaluator(name)
         print(f"{name}: {ev.description}")
         for key, value in ev.defaults.items():
-            print(f"    {key} = {json.dumps(value)}")
+            print(f"    {key + ' = ' + json.dumps(value):<44} # {parameter_help(key)}")
     return 0
 
 

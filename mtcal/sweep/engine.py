@@ -108,7 +108,16 @@ class TrialStreams(list):
 def run_block(evaluator: str, params: dict, seed: int, cell: int, start: int, stop: int) -> dict[str, np.ndarray]:
     """One task: evaluate trials ``[start, stop)`` of a cell → per-trial metrics (runs on a worker)."""
     ev = get_evaluator(evaluator)
-    return ev(params, TrialStreams(seed, cell, start, stop))
+    try:
+        return ev(params, TrialStreams(seed, cell, start, stop))
+    except ValueError as exc:
+        raise ValueError(f"cell {cell} (evaluator {evaluator}, {_cell_text(params)}), trials {start}-{stop - 1}: "
+                         f"{exc}") from None
+
+
+def _cell_text(params: dict) -> str:
+    """``key=value`` of a cell's parameters, short."""
+    return ", ".join(f"{k}={v}" for k, v in params.items())[:200]
 
 
 def summarize(values: np.ndarray, level: float = 0.95) -> dict[str, float]:

@@ -243,7 +243,8 @@ def calibrate_installation(positions_rad, dt_s: float, *, q_ws=None, gyro_rad_s=
                            min_rest_s: float = 2.0, still_threshold_rad_s: float = np.radians(0.2),
                            still_window_s: float = 0.1, max_match_rad: float = np.radians(5.0),
                            max_condition: float = MAX_CONDITION, max_so4_distance: float = MAX_SO4_DISTANCE,
-                           max_residual_rad: float = MAX_RESIDUAL_RAD) -> InstallationCalibration:
+                           max_residual_rad: float = MAX_RESIDUAL_RAD,
+                           rests_in_order: bool = False) -> InstallationCalibration:
     """Six-position installation-error calibration of a record (wang2023cja §3.2, Eq 1, 9, 13–15).
 
     Parameters
@@ -273,6 +274,9 @@ def calibrate_installation(positions_rad, dt_s: float, *, q_ws=None, gyro_rad_s=
         Rest detector settings (s, rad/s, s), see :func:`detect_rests`.
     max_match_rad : float
         Largest distance between a rest and its position (rad).
+    rests_in_order : bool
+        ``rests`` are known by construction, one per position in the positions' order (a
+        simulated schedule): rest k is used for position k, without matching by attitude.
     max_condition, max_so4_distance, max_residual_rad : float
         Gates (dimensionless, dimensionless, rad); ``inf`` switches one off. With a trial
         axis the worst trial is gated.
@@ -322,6 +326,8 @@ def calibrate_installation(positions_rad, dt_s: float, *, q_ws=None, gyro_rad_s=
         raise ValueError(f"positions_rad of shape {pos.shape} needs a record with {pos.shape[0]} trials, "
                          f"got shape {stream.shape}")
     frac = _fraction(fraction)
+    if rests_in_order and (rests is None or len(list(rests)) != k):
+        raise ValueError(f"rests_in_order needs rests: one slice per position ({k})")
     if rests is not None:
         rests = list(rests)
         if any(not isinstance(r, slice) or r.start is None or r.stop is None or not 0 <= r.start < r.stop <= n
@@ -334,17 +340,18 @@ def calibrate_installation(positions_rad, dt_s: float, *, q_ws=None, gyro_rad_s=
     gates = (_limit(max_condition, "max_condition"), _limit(max_so4_distance, "max_so4_distance"),
              _limit(max_residual_rad, "max_residual_rad"))
     # ---- trusted inside
-    return _calibrate(pos, dt, q, gyro, accel, params, q0, rests, frac, detector, match, gates)
+    return _calibrate(pos, dt, q, gyro, accel, params, q0, rests, frac, detector, match, gates, bool(rests_in_order))
 
 
-def _calibrate(pos, dt, q, gyro, accel, params, q0, rests, frac, detector, match, gates) -> InstallationCalibration:
+def _calibrate(pos, dt, q, gyro, accel, params, q0, rests, frac, detector, match, gates,
+               in_order: bool = False) -> InstallationCalibration:
     """Steps 1–6 on checked inputs (see :func:`calibrate_installation`)."""
     q_detect = q                                   # the quaternion-rate detector sees the attitude as given
     q_s_stream = _zeroed_attitude(q, gyro, accel, params, q0, dt)
     q_ref = rotations.quat_from_euler_zxy(pos[..., 0], pos[..., 1], pos[..., 2])
     rests, matched, q_s = six_position._rest_attitudes(
         q_s_stream, q_ref, dt, gyro=gyro, rests=rests, fraction=frac, max_match_rad=match,
-        q_detect=q_detect, **detector)
+        q_detect=q_detect, in_order=in_order, **detector)
     del q_s_stream
     q_s_al, q_b_al = quaternion_lsq._align_pairs(q_s, q_ref)
     q_hat = quaternion_lsq._least_squares(q_s_al, q_b_al)                       # Eq 13

@@ -158,3 +158,16 @@ def test_spec_path_and_errors(tmp_path):
         run_sweep(p, workers=0, progress=False)
     with pytest.raises(ValueError, match="either workers"):
         run_sweep(p, workers=2, scheduler="tcp://127.0.0.1:1", progress=False)
+
+
+def test_an_evaluator_error_names_the_cell_and_trials(monkeypatch):
+    from mtcal.sweep import engine, evaluators
+
+    monkeypatch.setattr(evaluators, "_REGISTRY", dict(evaluators._REGISTRY))
+
+    @evaluators.register_evaluator("fails", defaults={"x": 1.0}, metrics=lambda p: ["m"])
+    def _fails(p, rngs):
+        raise ValueError("reference position 4 has no rest")
+
+    with pytest.raises(ValueError, match=r"^cell 3 \(evaluator fails, x=2.0\), trials 4-7: reference position 4"):
+        engine.run_block("fails", {"x": 2.0}, 1, 3, 4, 8)
