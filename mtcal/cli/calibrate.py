@@ -74,6 +74,11 @@ def register(subparsers) -> None:
     p.add_argument("--positions", type=Path, required=True, help="reference positions CSV (yaw/pitch/roll deg, >= 4)")
     p.add_argument("--out", help="write the calibration (JSON) here, for `mtcal apply`")
     p.add_argument("--comment", default="", help="free text saved in the calibration file (e.g. rig, IMU serial)")
+    p.add_argument("--model", choices=["eq13", "so4", "mounting"], default="eq13",
+                   help="error map fitted: eq13 (wang2023cja's 16-parameter least squares, default; needs "
+                        "rotations about all three axes), so4 (nearest rotation of quaternion space L(p) R(r), "
+                        "6 parameters) or mounting (q_body = q_bs q_sensor q_bs*, 3 parameters); so4 and "
+                        "mounting also serve sets about two axes such as the classic +-g six positions")
     p.add_argument("--fraction", default="0.5", help="middle fraction of each rest averaged")
     p.add_argument("--max-residual-deg", default="1.0", help="refuse a fit with a larger residual (deg)")
     p.add_argument("--max-so4-distance", default=None,  # None: mtcal.systems.installation.MAX_SO4_DISTANCE
@@ -158,11 +163,11 @@ def run(args: argparse.Namespace) -> int:
                              f"{pos.shape[0]} positions ({lv}); see --figure for the rejected stretches")
         try:
             cal = installation.calibrate_installation(pos, log.dt_mean_s, rests=rests, fraction=fraction, **source,
-                                                      **gates)
+                                                      model=args.model, **gates)
         except ValueError as exc:
             if "q_ws" not in source:
                 raise
-            raise ValueError(f"{exc}{_quaternion_hint(pos, log, rests, fraction, gates)}") from None
+            raise ValueError(f"{exc}{_quaternion_hint(pos, log, rests, fraction, gates, args.model)}") from None
         fig.used = cal.matched_rests
         _print_and_write(args, out, log, rests, cal, info)
         return 0
@@ -181,14 +186,15 @@ QUATERNION_CONVENTIONS = {
 }
 
 
-def _quaternion_hint(pos, log, rests, fraction, gates) -> str:
+def _quaternion_hint(pos, log, rests, fraction, gates, model="eq13") -> str:
     """A hint naming the quaternion convention under which the log would match the positions ('' if none)."""
     from mtcal.systems import installation
 
     for name, (fn, fix) in QUATERNION_CONVENTIONS.items():
         q = fn(log.q_ws)
         try:
-            installation.calibrate_installation(pos, log.dt_mean_s, q_ws=q, rests=rests, fraction=fraction, **gates)
+            installation.calibrate_installation(pos, log.dt_mean_s, q_ws=q, rests=rests, fraction=fraction,
+                                                model=model, **gates)
         except ValueError:
             continue
         return f"; the log's q0..q3 would match every position if they were {name}: {fix}"
@@ -201,7 +207,9 @@ def _print_and_write(args, out, log, rests, cal, info: dict) -> None:
     from mtcal.systems import installation
 
     alpha = np.degrees(cal.installation_angles_rad)
-    print("Q_hat (Eq 13, q_body = Q_hat q_sensor):")
+    model_name = {"eq13": "Eq 13", "so4": "SO(4) fit L(p) R(r), 6 parameters",
+                  "mounting": "mounting fit L(q_bs) R(q_bs*), 3 parameters"}[getattr(args, "model", "eq13")]
+    print(f"Q_hat ({model_name}, q_body = Q_hat q_sensor):")
     for row in cal.q_hat:
         print("  " + "  ".join(f"{v:+.6f}" for v in row))
     print(f"{'pos':>3} {'ref yaw/pitch/roll (deg)':>27} {'before error (deg)':>27} "
@@ -212,16 +220,17 @@ def _print_and_write(args, out, log, rests, cal, info: dict) -> None:
     for k in range(ref_deg.shape[0]):
         print(f"{k + 1:>3} {fmt(ref_deg[k]):>27} {fmt(before[k]):>27} {fmt(after[k]):>27} "
               f"{np.degrees(cal.residual_rad[k]):9.5f}")
-    sigma = np.degrees(installation.installation_angles_sigma(cal))
+    model = getattr(args, "model", "eq13")
+    sigma = np.degrees(installation.installation_angles_sigma(cal, model))
     mount = np.degrees(rotations.euler_zxy_from_quat(cal.mounting_quaternion_q_bs))
     sig_txt = ("1-sigma not estimable (4 positions leave no degrees of freedom)" if not np.all(np.isfinite(sigma))
-               else "1-sigma " + " ".join(f"{v:.4f}" for v in sigma) + " deg (Eq 13 fit covariance)")
+               else "1-sigma " + " ".join(f"{v:.4f}" for v in sigma) + f" deg ({model} fit covariance)")
     print(f"installation angles alpha1 (z) alpha2 (y) alpha3 (x): {alpha[0]:+.4f} {alpha[1]:+.4f} {alpha[2]:+.4f} deg, "
           f"{sig_txt}; |Q_hat - SO(4)| {float(cal.so4_distance):.2e}")
     print(f"  meaning: {ALPHA_MEANING}")
     print(f"  mounting q_bs = [{', '.join(f'{v:+.6f}' for v in cal.mounting_quaternion_q_bs)}]: the sensor on the "
           f"body at yaw {mount[0]:+.4f}, pitch {mount[1]:+.4f}, roll {mount[2]:+.4f} deg (Eq 8 ZXY of q_bs)")
-    if ref_deg.shape[0] == 4:
+    if ref_deg.shape[0] == 4 and model == "eq13":
         print("note: 4 positions determine Eq 13 exactly — residuals are 0 by construction and check "
               "nothing; record 6 positions")
     if out is not None:
@@ -238,13 +247,14 @@ def _print_and_write(args, out, log, rests, cal, info: dict) -> None:
                          "columns": dict(opts.columns), "fs_hz_option": opts.fs_hz,
                          "sample_rate_hz": float(log.fs_hz), "interpretation": list(log.notes),
                          "attitude_source": "q0..q3 columns" if log.gyro_rad_s is None else "gyro/accel (QNCF)"},
-               "model": "eq13",
+               "model": model,
                "q_hat": cal.q_hat.tolist(), "so4_distance": float(cal.so4_distance),
                "installation_angles_deg": {"alpha1_z": alpha[0], "alpha2_y": alpha[1], "alpha3_x": alpha[2]},
                "installation_angles_1sigma_deg": (None if not np.all(np.isfinite(sigma)) else
                                                   {"alpha1_z": sigma[0], "alpha2_y": sigma[1], "alpha3_x": sigma[2]}),
-               "installation_angles_uncertainty": "1-sigma from the Eq 13 fit covariance (residual variance, "
-                                                  "4K-16 degrees of freedom) propagated through the SO(4) projection",
+               "installation_angles_uncertainty": f"1-sigma from the {model} fit covariance (residual variance of the "
+                                                  f"4K quaternion components, 4K-{installation.MODELS[model][0]} "
+                                                  f"degrees of freedom) propagated through the SO(4) projection",
                "installation_angles_meaning": ALPHA_MEANING,
                "mounting_quaternion_q_bs": cal.mounting_quaternion_q_bs.tolist(),
                "mounting_meaning": MOUNTING_MEANING,

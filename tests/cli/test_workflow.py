@@ -122,3 +122,35 @@ def test_apply_reads_a_version_1_file(calibrated, tmp_path, capsys):
     assert cli.main(["apply", str(tmp_path / "Q1.json"), str(tmp_path / "f.csv"), "--out", str(tmp_path / "b.csv")]) == 0
     err = _errors(tmp_path / "b.csv", fl.ypr_deg)
     assert np.abs(err[:, 1:]).max() < 0.05
+
+
+PM_G_DEG = ((0, 0, 0), (0, 0, 180), (0, 90, 0), (0, -90, 0), (0, 0, 90), (0, 0, -90))
+
+
+@pytest.fixture(scope="module")
+def pm_g(tmp_path_factory):
+    d = tmp_path_factory.mktemp("pmg")
+    wp = [(0, 0, 0)] + [p for pos in PM_G_DEG[1:] for p in (pos, (0, 0, 0))]
+    log = nl.imu_log(nl.waypoint_path(wp, hold_s=3.0, move_s=3.0), seed=11)
+    log.write(d / "pmg.csv")
+    pd.DataFrame(PM_G_DEG, columns=["yaw_deg", "pitch_deg", "roll_deg"]).to_csv(d / "pos.csv", index=False)
+    return d
+
+
+def test_pm_g_set_refused_by_eq13_with_a_hint(pm_g, capsys):
+    code = cli.main(["calibrate", str(pm_g / "pmg.csv"), "--positions", str(pm_g / "pos.csv")])
+    err = capsys.readouterr().err
+    assert code == 2 and len(err.strip().splitlines()) == 1
+    assert "no rotation about z (yaw)" in err and "--model so4 (6) or --model mounting (3)" in err
+
+
+@pytest.mark.parametrize("model", ["so4", "mounting"])
+def test_pm_g_set_calibrates_with_a_constrained_model(pm_g, capsys, model):
+    out = pm_g / f"Q_{model}.json"
+    assert cli.main(["calibrate", str(pm_g / "pmg.csv"), "--positions", str(pm_g / "pos.csv"),
+                     "--model", model, "--out", str(out)]) == 0
+    doc = json.loads(out.read_text())
+    assert doc["model"] == model
+    m = doc["mounting_ypr_deg"]
+    np.testing.assert_allclose([m["yaw_z"], m["pitch_x"], m["roll_y"]], nl.MOUNT_DEG, atol=0.05)
+    assert all(np.isfinite(v) for v in doc["installation_angles_1sigma_deg"].values())
