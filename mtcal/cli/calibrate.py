@@ -165,14 +165,92 @@ def run(args: argparse.Namespace) -> int:
             cal = installation.calibrate_installation(pos, log.dt_mean_s, rests=rests, fraction=fraction, **source,
                                                       model=args.model, **gates)
         except ValueError as exc:
-            if "q_ws" not in source:
+            tiny = np.max(np.abs(np.degrees(pos))) <= np.pi / 2 + 1e-9        # values that may be radians
+            if not (any(m in str(exc) for m in MISMATCH_MESSAGES) or (tiny and "ill-conditioned" in str(exc))):
                 raise
-            raise ValueError(f"{exc}{_quaternion_hint(pos, log, rests, fraction, gates, args.model)}") from None
+            hint = _quaternion_hint(pos, log, rests, fraction, gates, args.model) if "q_ws" in source else ""
+            if not hint:
+                hint = _diagnose(args, pos, log, rests, fraction, gates, source)
+            raise ValueError(f"{exc}{hint}") from None
         fig.used = cal.matched_rests
         _print_and_write(args, out, log, rests, cal, info)
         return 0
 
     return common.run_with_figure(fig, body)
+
+
+#: Refusals that mean "the rests do not match the positions" (a convention mistake is then looked for).
+MISMATCH_MESSAGES = ("has no rest within", "Q_hat is not a calibration", "a rest does not match its reference")
+
+#: Position-file mistakes tried on refusal: name → (transform of the positions in rad, what to do).
+POSITION_MISTAKES = {
+    "radians": (np.degrees, "the positions file holds radians: write degrees (yaw_deg, pitch_deg, roll_deg)"),
+    "pitch sign flipped": (lambda p: p * [1.0, -1.0, 1.0], "negate pitch_deg (pitch is positive about +x, nose up)"),
+    "roll sign flipped": (lambda p: p * [1.0, 1.0, -1.0], "negate roll_deg (roll is positive about +y)"),
+    "yaw sign flipped": (lambda p: p * [-1.0, 1.0, 1.0], "negate yaw_deg (yaw is positive about +z, up)"),
+    "pitch and roll swapped": (lambda p: p[:, [0, 2, 1]], "swap the pitch_deg and roll_deg columns "
+                               "(pitch about x, roll about y: wang2023cja Eq 8/9)"),
+}
+
+
+def _diagnose(args, pos, log, rests, fraction, gates, source) -> str:
+    """Why the rests do not match the positions: per position the nearest rest's attitude, and the likely mistake.
+
+    Prints the table (stdout) and returns the hint appended to the one-line error.
+    """
+    from mtcal.methods import six_position
+    from mtcal.systems import installation
+
+    dt = log.dt_mean_s
+    q_abs = installation.absolute_body_attitude(np.array([1.0, 0.0, 0.0, 0.0]), zero_heading=False,
+                                                **({"dt_s": dt} if "q_ws" not in source else {}), **source).q_sensor
+    q_rel = installation.apply_installation(np.eye(4), q_ws=q_abs).q_sensor
+    means = six_position.rest_means(q_rel, rests, fraction)
+    t = log.time_s
+    from mtcal.core import rotations
+
+    q_ref = rotations.quat_from_euler_zxy(pos[:, 0], pos[:, 1], pos[:, 2])
+    dist = np.degrees(rotations.quat_angle_between(means[:, None, :], q_ref[None, :, :]))      # (R, K)
+    print("calibration refused; per reference position the nearest rest (zeroed sensor attitude, Eq 8 ZXY deg):")
+    print(f"  {'pos':>3} {'ref yaw/pitch/roll':>26} {'nearest rest':>14} {'measured yaw/pitch/roll':>26} {'dist':>7}")
+    for k in range(pos.shape[0]):
+        r = int(np.argmin(dist[:, k]))
+        e = np.degrees(rotations.euler_zxy_from_quat(means[r]))
+        ref = np.degrees(pos[k])
+        print(f"  {k + 1:>3} {' '.join(f'{v:+8.2f}' for v in ref):>26} "
+              f"{t[rests[r].start]:>6.1f}-{t[rests[r].stop - 1]:<6.1f}s {' '.join(f'{v:+8.2f}' for v in e):>26} "
+              f"{dist[r, k]:7.2f}")
+
+    def fits(p, q=q_abs, rr=rests) -> bool:
+        try:
+            installation.calibrate_installation(p, dt, q_ws=q, rests=rr, fraction=fraction, model=args.model, **gates)
+        except ValueError:
+            return False
+        return True
+
+    if log.accel_m_s2 is not None and rests:
+        a0 = log.accel_m_s2[rests[0]].mean(axis=0)
+        if a0[2] < -0.5 * np.linalg.norm(a0):
+            return (f"; likely mistake: the sensor reads -g on z at its first rest (a = [{a0[0]:+.2f}, {a0[1]:+.2f}, "
+                    f"{a0[2]:+.2f}] m/s^2): FRD/NED axes (z down)? mtcal expects x right, y forward, z up (+g on z "
+                    f"when level); map FRD to it with --columns gyro_x=<gyro y>,gyro_y=<gyro x>,accel_x=<accel y>,"
+                    f"accel_y=<accel x> --gyro-scale 1,1,-1 --accel-scale 1,1,-1")
+    for name, (fn, fix) in POSITION_MISTAKES.items():
+        cand = fn(pos)
+        if name == "radians" and np.max(np.abs(cand)) > 2 * np.pi:
+            continue
+        if fits(cand):
+            return f"; likely mistake: {name} — every position matches after that change: {fix}"
+    for i, r in enumerate(rests[1:], start=1):
+        shifted = [slice(x.start - r.start, x.stop - r.start) for x in rests[i:]]
+        if len(shifted) >= pos.shape[0] and fits(pos, q_abs[r.start:], shifted):
+            return (f"; likely mistake: the log does not start at the mechanism zero — with the attitude zeroed at the "
+                    f"rest at {t[r.start]:.1f} s every position matches: trim the log to start at the zero "
+                    f"(the positions are relative to where the log starts)")
+    if np.max(np.abs(pos)) <= np.pi / 2 + 1e-9 and np.max(np.abs(pos)) > 0:
+        return ("; the positions are all within +-1.571 deg: if they are radians, write degrees "
+                "(the table above shows what each rest measured)")
+    return "; no single convention mistake (radians, sign, pitch/roll swap, FRD axes, start) explains it: see the table above"
 
 
 #: Other quaternion conventions tried when a q0..q3 log matches no position: name → (transform, fix).

@@ -154,3 +154,43 @@ def test_pm_g_set_calibrates_with_a_constrained_model(pm_g, capsys, model):
     m = doc["mounting_ypr_deg"]
     np.testing.assert_allclose([m["yaw_z"], m["pitch_x"], m["roll_y"]], nl.MOUNT_DEG, atol=0.05)
     assert all(np.isfinite(v) for v in doc["installation_angles_1sigma_deg"].values())
+
+
+def _frd(df: pd.DataFrame) -> pd.DataFrame:
+    """The same log from a sensor with FRD axes (x forward, y right, z down)."""
+    out = df.copy()
+    for k, u in (("gyro", "rad_s"), ("accel", "m_s2")):
+        x, y, z = (df[f"{k}_{a}_{u}"].to_numpy() for a in "xyz")
+        out[f"{k}_x_{u}"], out[f"{k}_y_{u}"], out[f"{k}_z_{u}"] = y, x, -z
+    return out
+
+
+@pytest.mark.parametrize("mistake,expected", [
+    ("radians", "likely mistake: radians"),
+    ("pitch_sign", "likely mistake: pitch sign flipped"),
+    ("swap", "likely mistake: pitch and roll swapped"),
+    ("frd", "reads -g on z at its first rest"),
+    ("start", "does not start at the mechanism zero — with the attitude zeroed at the rest at 4.7 s"),
+])
+def test_convention_mistakes_are_diagnosed(calibrated, tmp_path, capsys, mistake, expected):
+    tt, pos = nl.turntable_log()
+    df = tt.df
+    if mistake == "radians":
+        pos = np.radians(pos)
+    elif mistake == "pitch_sign":
+        pos = pos.assign(pitch_deg=-pos.pitch_deg)
+    elif mistake == "swap":
+        pos = pos.assign(pitch_deg=pos.roll_deg, roll_deg=pos.pitch_deg)
+    elif mistake == "frd":
+        df = _frd(df)
+    else:
+        wp = [(0, 5, 0), (0, 0, 0)] + [p for q in nl.SIX_POSITIONS_DEG for p in (q, (0, 0, 0))]
+        df = nl.imu_log(nl.waypoint_path(wp, hold_s=3.0, move_s=2.0)).df
+    df.to_csv(tmp_path / "log.csv", index=False)
+    pos.to_csv(tmp_path / "pos.csv", index=False)
+    capsys.readouterr()
+    code = cli.main(["calibrate", str(tmp_path / "log.csv"), "--positions", str(tmp_path / "pos.csv")])
+    cap = capsys.readouterr()
+    assert code == 2 and len(cap.err.strip().splitlines()) == 1 and expected in cap.err
+    table = cap.out.split("nearest rest (zeroed sensor attitude")[1].splitlines()
+    assert len([ln for ln in table if ln.strip()[:1].isdigit()]) == len(pos)     # one row per reference position
