@@ -647,15 +647,16 @@ def installation_angles_sigma(cal: InstallationCalibration, model: str = "eq13")
 
     Examples
     --------
+    The classic ±g set (no rotation about z) with the 3-parameter mounting model, noise-free:
+
     >>> import numpy as np
-    >>> from mtcal.core import rotations
-    >>> from mtcal.core.profiles import trajectory_from_euler_zxy
-    >>> from mtcal.methods.six_position import schedule_profile, six_positions_rad
-    >>> pos = six_positions_rad()
-    >>> q_wb = trajectory_from_euler_zxy(schedule_profile(pos, fs_hz=100.0)).q_wb
-    >>> q_ws = rotations.quat_multiply(q_wb, rotations.mount_quaternion(np.radians([1.0, 0.0, 0.0])))
-    >>> cal = calibrate_installation(pos, 1.0 / 100.0, q_ws=q_ws)
-    >>> bool(np.all(installation_angles_sigma(cal) < 1e-9))       # noise-free: no scatter
+    >>> from mtcal.core import profiles, rotations
+    >>> from mtcal.methods import six_position
+    >>> pm_g = np.radians([[0, 0, 0], [0, 0, 180], [0, 90, 0], [0, -90, 0], [0, 0, 90], [0, 0, -90]])
+    >>> truth = profiles.trajectory_from_euler_zxy(six_position.schedule_profile(pm_g, fs_hz=50.0))
+    >>> mount = rotations.mount_quaternion(np.radians([0.5, 0.0, -0.2]))
+    >>> cal = calibrate_installation(pm_g, 1 / 50.0, q_ws=rotations.quat_multiply(truth.q_wb, mount), model="mounting")
+    >>> bool(np.all(installation_angles_sigma(cal, "mounting") < 1e-9))       # no scatter, no uncertainty
     True
     """
     q_s, q_b = quaternion_lsq._align_pairs(np.asarray(cal.q_sensor), np.asarray(cal.q_reference))
