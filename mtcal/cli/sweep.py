@@ -68,14 +68,14 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     res = run_sweep(spec, out, workers=args.workers, scheduler=args.scheduler, progress=progress)
     from mtcal.sweep.plots import sweep_figure
 
-    from mtcal.sweep.plots import _x_parameter, band_text
+    from mtcal.sweep.plots import x_parameter, band_text
 
     figure = sweep_figure(res.table, list(spec.grid), out / "table.png", title=spec.name)
     print(f"sweep {spec.name}: {spec.n_cells} cells x {spec.trials} trials, evaluator {spec.evaluator}, "
           f"seed {spec.seed}")
     print(f"ran on {res.executor}: {len(res.computed)} cells computed, {len(res.skipped)} already stored")
     print(f"table: {out / 'table.csv'} ({len(res.table)} rows)")
-    print(f"figure: {figure} (each metric vs {_x_parameter(res.table, list(spec.grid)) or 'cell'}, median and "
+    print(f"figure: {figure} (each metric vs {x_parameter(res.table, list(spec.grid)) or 'cell'}, median and "
           f"{band_text(res.table)})")
     return 0
 

@@ -16,7 +16,7 @@ import pandas as pd
 
 from mtcal.core.metrics import MIN_BAND_DRAWS
 
-__all__ = ["sweep_figure", "band_text"]
+__all__ = ["sweep_figure", "band_text", "x_parameter"]
 
 
 def _numeric(values: pd.Series) -> np.ndarray | None:
@@ -49,7 +49,7 @@ def band_text(table: pd.DataFrame) -> str:
     return f"range of {count} trials"
 
 
-def _x_parameter(table: pd.DataFrame, grid: list[str]) -> str | None:
+def x_parameter(table: pd.DataFrame, grid: list[str]) -> str | None:
     """The grid parameter for the x axis: the first numeric one with more than one value, else the first."""
     for name in grid:
         if name in table and table[name].nunique() > 1 and _numeric(table[name]) is not None:
@@ -100,7 +100,7 @@ def sweep_figure(table: pd.DataFrame, grid: list[str], path: str | Path | None =
     if table.empty:
         raise ValueError("table is empty: nothing to plot")
     metrics = list(dict.fromkeys(table["metric"]))
-    x_name = _x_parameter(table, grid)                  # a numeric swept parameter on x when there is one
+    x_name = x_parameter(table, grid)                  # a numeric swept parameter on x when there is one
     others = [g for g in grid if g != x_name]
     n = len(metrics)
     cols = min(n, 3)
