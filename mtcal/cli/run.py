@@ -36,6 +36,7 @@ def cmd_run(args) -> int:
     print(f"running notebook {args.notebook} at size {args.size}"
           + (" (full size: minutes; '--size ci' for a quick run, and compare runs of the same size)"
              if args.size == "full" else "") + " ...", flush=True)
+    start = time.perf_counter()
     try:
         result = notebooks.run_notebook(args.notebook, name=args.name, parameters=params, size=args.size,
                                         runs_dir=args.runs_dir, notebooks_dir=args.notebooks_dir,
@@ -43,7 +44,7 @@ def cmd_run(args) -> int:
     except notebooks.NotebookRunError as exc:
         print(f"mtcal: error: {exc}", file=sys.stderr)
         return 1
-    print(f"run folder: {result.folder}")
+    print(f"run folder: {result.folder} (finished in {time.perf_counter() - start:.0f} s)")
     print(f"notebook:   {result.notebook}")
     print(result.claims)
     return 0
