@@ -49,11 +49,13 @@ def qncf_settings(log: logio.ImuLog, rep) -> tuple[np.ndarray, object, np.ndarra
     params = QncfParams() if paper else qncf_params(rep)
     first = rep.rests[0] if rep.rests and not paper else None
     gyro = log.gyro_for_filter()
+    core = None
     if first is not None and first.start <= max(int(0.25 * log.fs_hz), 1):
-        q0 = initial_attitude_from_accel(log.accel_m_s2[first].mean(axis=0))
-        bias = log.gyro_rad_s[first].mean(axis=0)
+        core = common.rest_bias(log, rep, first)
+        q0 = initial_attitude_from_accel(log.accel_m_s2[core.core].mean(axis=0))
+        bias = core.bias_rad_s
         gyro = gyro - bias  # the QNCF's integral term cannot see a bias about the vertical
-        init = "first rest (gyro bias of that rest removed)"
+        init = "first rest (gyro bias of its quiet core removed)"
     else:
         q0, bias = None, np.zeros(3)
         init = "first 100 samples (log does not start at rest)"
@@ -61,6 +63,8 @@ def qncf_settings(log: logio.ImuLog, rep) -> tuple[np.ndarray, object, np.ndarra
             "amd_threshold_pct": params.amd_threshold_pct, "kp_rad_s": params.kp_rad_s,
             "ki_rad_s2": params.ki_rad_s2, "levelled_from": init,
             "initial_gyro_bias_rad_s": bias.tolist()}
+    if core is not None:
+        info["gyro_bias_text"] = common.rest_bias_text(log, core)
     return gyro, params, q0, info
 
 
@@ -102,6 +106,8 @@ def run(args: argparse.Namespace) -> int:
         print(f"gyro units check ({chk['method']}): {chk['evidence']}")
         print(f"qncf: g {info['gravity_m_s2']:.4f} m/s^2, AMD threshold {info['amd_threshold_pct']:.2f} %, "
               f"levelled from the {info['levelled_from']}")
+        if "gyro_bias_text" in info:
+            print(info["gyro_bias_text"])
         print(f"attitude: {log.n} samples written to {out}; final yaw/pitch/roll "
               f"{e[-1, 0]:.3f}/{e[-1, 1]:.3f}/{e[-1, 2]:.3f} deg")
         return 0

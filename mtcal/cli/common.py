@@ -14,7 +14,7 @@ from mtcal.methods import rest_detection
 
 __all__ = ["add_input_options", "add_rest_options", "input_options", "detect", "rest_table", "print_report",
            "finite_float", "DiagnosticsFigure", "run_with_figure", "SCHEMA_HELP", "description_with_schema",
-           "QUATERNION_DECIMALS", "write_attitude", "euler_deg"]
+           "QUATERNION_DECIMALS", "write_attitude", "euler_deg", "rest_bias", "rest_bias_text"]
 
 SCHEMA_HELP = """log schema (CSV or Parquet, header row, one row per sample; extra columns ignored):
   time_s                                    time (s), strictly increasing (jitter allowed)
@@ -180,6 +180,26 @@ def _drop_short(log: logio.ImuLog, rep: rest_detection.RestReport) -> rest_detec
     rejected.sort(key=lambda x: x.span.start)
     return dataclasses.replace(rep, rests=[r for r in rep.rests if r not in short], rejected=rejected,
                                is_static=flags, n_short=rep.n_short + len(short))
+
+
+def rest_bias(log: logio.ImuLog, report: rest_detection.RestReport, rest: slice) -> rest_detection.QuietCore:
+    """Gyro bias from the quiet core of ``rest`` (:func:`mtcal.methods.rest_detection.quiet_core`).
+
+    The threshold is 5 standard deviations of a 0.05 s moving mean of the measured per-sample
+    gyro noise (``report.gyro_noise_rad_s``): no fixed floor.
+    """
+    return rest_detection.quiet_core(log.gyro_rad_s, rest, log.dt_mean_s, report.gyro_noise_rad_s)
+
+
+def rest_bias_text(log: logio.ImuLog, qc: rest_detection.QuietCore) -> str:
+    """One line: which rest and which part of it gave the gyro bias, the bias and the threshold."""
+    t = log.time_s
+    b = np.degrees(qc.bias_rad_s)
+    return (f"gyro bias {b[0]:+.4f} {b[1]:+.4f} {b[2]:+.4f} deg/s from the quiet core "
+            f"{t[qc.core.start]:.3f}-{t[qc.core.stop - 1]:.3f} s of the first rest "
+            f"{t[qc.rest.start]:.3f}-{t[qc.rest.stop - 1]:.3f} s (moving mean over {qc.window} samples within "
+            f"{np.degrees(qc.threshold_rad_s):.4f} deg/s of the bias: {qc.noise_factor:g} x measured noise "
+            f"{np.degrees(qc.noise_rad_s):.4f} deg/s / sqrt({qc.window}))")
 
 
 def rest_table(log: logio.ImuLog, report: rest_detection.RestReport, angle_deg: np.ndarray | None = None,

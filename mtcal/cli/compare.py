@@ -3,8 +3,8 @@
 ``mtcal compare runs/A runs/B [runs/C ...]`` (``committed`` stands for the
 committed results in the repository's ``data/``) joins every
 ``data/*_comparison.csv`` of the runs on (table, artifact, quantity), prints the
-quantities whose value or claim differs (``--all``: every quantity), lists the
-claims that flip (holds True→False …) and saves the full table to
+claims that flip first (holds True→False …, "none" when none), then the
+quantities whose value or claim differs (``--all``: every quantity), and saves the full table to
 ``compare_<names>.csv`` and a figure of the numeric quantities relative to the
 first run to ``compare_<names>.png`` (in ``--out``, default: the first run's
 parent folder). Runs that differ in size (``--size ci`` vs the full-size committed
@@ -41,16 +41,16 @@ def cmd_compare(args) -> int:
     for n in labels:  # one column per run: value [95 % band] and whether the claim holds
         view[n] = [f"{v}{' ' + b if b else ''}{mark.get(h, '')}" for v, b, h in
                    zip(shown[f"mtcal [{n}]"], shown[f"band [{n}]"], shown[f"holds [{n}]"])]
+    flips = table[table["flips"] != ""]          # the headline first: claims that flip, "none" when none
+    print(f"claims that flip ({len(flips)}):" if len(flips) else "claims that flip: none")
+    for r in flips.itertuples():
+        print(f"  {r.table} | {r.artifact} | {r.quantity} | {r.claim} | {r.flips}")
     with pd.option_context("display.width", 250, "display.max_columns", 50, "display.max_rows", 1000,
                            "display.max_colwidth", 60):
         print(f"{int(differs.sum())} of {len(table)} quantities differ between {', '.join(labels)}"
               f" (value [95 % band], ✓/✗ claim holds/fails)")
         if len(view):
             print(view.to_string(index=False))
-    flips = table[table["flips"] != ""]
-    print(f"claims that flip ({len(flips)}):" if len(flips) else "no claim flips")
-    for r in flips.itertuples():
-        print(f"  {r.table} | {r.artifact} | {r.quantity} | {r.claim} | {r.flips}")
     print(f"saved: {csv_path}" + (f", {png_path}" if png_path else ""))
     if table.attrs.get("warnings"):
         print(f"WARNING: {len(table.attrs['warnings'])} comparability warning(s), see stderr")

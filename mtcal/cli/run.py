@@ -30,8 +30,13 @@ def cmd_run(args) -> int:
     if args.list:
         source = notebooks.resolve_notebook(args.notebook, args.notebooks_dir)
         for name, p in notebooks.notebook_parameters(source).items():
-            print(f"{name} = {p['default']}" + (f"  # {p['help']}" if p.get("help") else ""))
+            print(f"{name} = {p['default']}" + (f"  # {p['help']}" if p.get("help") else "")
+                  + _valid_values(name, p))
         return 0
+    print(f"running notebook {args.notebook} at size {args.size}"
+          + (" (full size: minutes; '--size ci' for a quick run, and compare runs of the same size)"
+             if args.size == "full" else "") + " ...", flush=True)
+    start = time.perf_counter()
     try:
         result = notebooks.run_notebook(args.notebook, name=args.name, parameters=params, size=args.size,
                                         runs_dir=args.runs_dir, notebooks_dir=args.notebooks_dir,
@@ -39,10 +44,19 @@ def cmd_run(args) -> int:
     except notebooks.NotebookRunError as exc:
         print(f"mtcal: error: {exc}", file=sys.stderr)
         return 1
-    print(f"run folder: {result.folder}")
+    print(f"run folder: {result.folder} (finished in {time.perf_counter() - start:.0f} s)")
     print(f"notebook:   {result.notebook}")
     print(result.claims)
     return 0
+
+
+def _valid_values(name: str, p: dict) -> str:
+    """``; valid: …`` for a parameter whose values come from a catalogue (sensor grades), else ''."""
+    if name.endswith("grade") or "sensor_grades" in p.get("help", ""):
+        from mtcal.core.sensor_grades import grade_names
+
+        return f"; valid: {', '.join(grade_names())}"
+    return ""
 
 
 def register(subparsers) -> None:

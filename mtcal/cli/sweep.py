@@ -3,8 +3,9 @@
 * ``mtcal sweep SPEC.toml`` — every cell of the spec's grid × its trials on all
   local cores; the run folder (default ``runs/sweeps/<name>``) gets
   ``sweep.json``, one ``cells/cell_NNNNN.npz`` per finished cell and ``table.csv``
-  (one row per cell and metric: median, 95 % band, trials) and ``table.png`` (each
-  metric vs the grid, one panel per metric, with its band); a progress bar over cells
+  (one row per cell and metric: median, low/high — the 95 % band from >= 1000 trials, else
+  the min–max range, named in ``band`` — and trials) and ``table.png`` (each
+  metric vs the numeric swept parameter, one panel per metric, with its band or range); a progress bar over cells
   on a terminal (``--no-progress``). Run the same command again after an
   interruption: stored cells are skipped.
 * ``--workers N`` — N local processes (1 = in this process).
@@ -38,13 +39,13 @@ def _positive_int(text: str) -> int:
 
 
 def _list_evaluators() -> int:
-    from mtcal.sweep.evaluators import evaluator_names, get_evaluator
+    from mtcal.sweep.evaluators import evaluator_names, get_evaluator, parameter_help
 
     for name in evaluator_names():
         ev = get_evaluator(name)
         print(f"{name}: {ev.description}")
         for key, value in ev.defaults.items():
-            print(f"    {key} = {json.dumps(value)}")
+            print(f"    {key + ' = ' + json.dumps(value):<44} # {parameter_help(key)}")
     return 0
 
 
@@ -67,12 +68,15 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     res = run_sweep(spec, out, workers=args.workers, scheduler=args.scheduler, progress=progress)
     from mtcal.sweep.plots import sweep_figure
 
+    from mtcal.sweep.plots import x_parameter, band_text
+
     figure = sweep_figure(res.table, list(spec.grid), out / "table.png", title=spec.name)
     print(f"sweep {spec.name}: {spec.n_cells} cells x {spec.trials} trials, evaluator {spec.evaluator}, "
           f"seed {spec.seed}")
     print(f"ran on {res.executor}: {len(res.computed)} cells computed, {len(res.skipped)} already stored")
     print(f"table: {out / 'table.csv'} ({len(res.table)} rows)")
-    print(f"figure: {figure} (each metric vs {next(iter(spec.grid), 'cell')}, median and 95 % band)")
+    print(f"figure: {figure} (each metric vs {x_parameter(res.table, list(spec.grid)) or 'cell'}, median and "
+          f"{band_text(res.table)})")
     return 0
 
 

@@ -77,7 +77,7 @@ import numpy as np
 from mtcal.core.validate import as_float_array, check_accel_units, positive_scalar, sample_interval
 
 __all__ = ["RestDetectorParams", "RestReport", "RejectedRest", "detect_rests", "paper_rest_report", "ShoeParams",
-           "shoe_statistic", "detect_rests_shoe", "format_ordered", "warm_up"]
+           "shoe_statistic", "detect_rests_shoe", "format_ordered", "warm_up", "QuietCore", "quiet_core"]
 
 DEG = np.pi / 180.0
 
@@ -736,3 +736,111 @@ def detect_rests_shoe(accel_m_s2, dt_s: float, *, gyro_rad_s, params: ShoeParams
                       extra={"statistic": stat, "threshold": float(gamma), "threshold_source": how,
                              "rate_equivalent_deg_s": rate_eq, "decision_statistic": stat / gamma,
                              "decision_label": "SHOE T / gamma"})
+
+
+@dataclass(frozen=True)
+class QuietCore:
+    """Outcome of :func:`quiet_core`: the quiet part of a rest and the gyro bias measured over it.
+
+    Attributes
+    ----------
+    core : slice
+        Samples of the record (a sub-slice of the rest) whose moving-mean rate stays within the
+        threshold of the bias.
+    rest : slice
+        The rest it was cut from.
+    bias_rad_s : ndarray (3,)
+        Mean gyro rate over ``core`` (rad/s).
+    threshold_rad_s : float
+        Largest accepted per-axis deviation of the moving mean from the bias (rad/s),
+        ``noise_factor · σ_ω / √window``.
+    window : int
+        Moving-mean window (samples).
+    noise_rad_s, noise_factor : float
+        The per-sample noise std (rad/s) and the factor the threshold was made of.
+    """
+
+    core: slice
+    rest: slice
+    bias_rad_s: np.ndarray
+    threshold_rad_s: float
+    window: int
+    noise_rad_s: float
+    noise_factor: float
+
+
+def quiet_core(gyro_rad_s, rest: slice, dt_s: float, gyro_noise_rad_s: float, *, noise_factor: float = 5.0,
+               window_s: float = 0.05) -> QuietCore:
+    """The quiet core of a rest and the gyro bias over it (threshold from the measured noise).
+
+    A rest found with a rate threshold of a few °/s can run into a slow start of motion
+    (a taxiing aircraft, a minimum-jerk turntable move): its mean rate then carries part
+    of the motion, and a yaw integrated with that "bias" drifts. Here the bias is measured
+    only where the rate is indistinguishable from white noise about it:
+
+    1. ``b`` = median rate over the rest;
+    2. moving mean ``m`` of ``ω − b`` over ``window_s``; its white-noise std per axis is
+       ``σ_ω / √W`` (``W`` samples), so a sample is quiet when every axis of ``m`` is within
+       ``noise_factor · σ_ω / √W`` — a threshold derived from the measured noise, not a
+       fixed floor;
+    3. the core is the longest quiet run, shortened by ``W/2`` at each end (the moving mean
+       spreads the first motion over half a window); ``b`` = its mean, and steps 2–3 are
+       repeated once with that ``b``.
+
+    A core shorter than ``2 W`` samples (a rest too noisy for its stated noise) falls back to
+    the whole rest.
+
+    Parameters
+    ----------
+    gyro_rad_s : ndarray, shape (N, 3)
+        Angular rate (rad/s).
+    rest : slice
+        The rest (sample slice) to examine.
+    dt_s : float
+        Sample interval (s).
+    gyro_noise_rad_s : float
+        Per-sample gyro noise std at rest (rad/s), e.g. :attr:`RestReport.gyro_noise_rad_s`.
+    noise_factor : float
+        Threshold in noise standard deviations of the moving mean (default 5).
+    window_s : float
+        Moving-mean window (s), at least 5 samples.
+
+    Returns
+    -------
+    QuietCore
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> rng = np.random.default_rng(0)
+    >>> t = np.arange(4000) / 1000.0
+    >>> gyro = rng.normal(0.0, 1e-3, (t.size, 3)) + [0.005, -0.003, 0.004]
+    >>> gyro[3000:, 2] += 0.05 * (t[3000:] - 3.0)             # a slow start of motion at 3 s
+    >>> qc = quiet_core(gyro, slice(0, 4000), 1e-3, 1e-3)
+    >>> qc.core.stop < 3100, bool(np.abs(qc.bias_rad_s[2] - 0.004) < 1e-4)
+    (True, True)
+    """
+    w = np.asarray(gyro_rad_s, float)[rest]
+    n = w.shape[0]
+    win = max(5, int(round(float(window_s) / float(dt_s))))
+    thr = float(noise_factor) * float(gyro_noise_rad_s) / np.sqrt(win)
+    start, stop = 0, n
+    bias = np.median(w, axis=0)
+    if n >= 3 * win and thr > 0:
+        for _ in range(2):
+            quiet = np.all(np.abs(centred_moving_mean(w - bias, win)) < thr, axis=1)
+            a, b = runs(quiet)
+            if a.size == 0:
+                start, stop = 0, n
+                break
+            i = int(np.argmax(b - a))
+            s0, s1 = int(a[i]) + (win // 2 if a[i] > 0 else 0), int(b[i]) - (win // 2 if b[i] < n else 0)
+            if s1 - s0 < 2 * win:
+                start, stop = 0, n
+                break
+            start, stop = s0, s1
+            bias = w[start:stop].mean(axis=0)
+    bias = w[start:stop].mean(axis=0)
+    r0 = 0 if rest.start is None else rest.start
+    return QuietCore(core=slice(r0 + start, r0 + stop), rest=rest, bias_rad_s=bias, threshold_rad_s=thr,
+                     window=win, noise_rad_s=float(gyro_noise_rad_s), noise_factor=float(noise_factor))

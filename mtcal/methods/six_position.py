@@ -428,8 +428,12 @@ _CONJ = np.array([1.0, -1.0, -1.0, -1.0])
 
 def _rest_attitudes(qq: np.ndarray, q_ref: np.ndarray, dt: float, *, gyro: np.ndarray | None,
                     rests: list | None, fraction: float, min_rest_s: float, threshold_rad_s: float,
-                    window_s: float, max_match_rad: float, q_detect: np.ndarray | None = None):
+                    window_s: float, max_match_rad: float, q_detect: np.ndarray | None = None,
+                    in_order: bool = False):
     """Rests → middle-section means → matched to the references (steps 3–5 of §3.2; trusted).
+
+    ``in_order``: the rests are known by construction (a simulated schedule) — rest k belongs to
+    position k, no matching by attitude (and no ``max_match_rad`` window).
 
     ``qq`` (N, 4) or (T, N, 4) checked unit quaternions sampled every ``dt`` (s); ``q_ref`` (K, 4) or (T, K, 4);
     rests are ``rests`` if given, else detected on ``gyro`` if given, else on the
@@ -445,5 +449,10 @@ def _rest_attitudes(qq: np.ndarray, q_ref: np.ndarray, dt: float, *, gyro: np.nd
         raise ValueError(f"too few rests: found {len(rests)} still periods of >= {min_rest_s:g} s, "
                          f"need one for each of the {q_ref.shape[-2]} reference positions")
     means = _rest_means(qq, _middle_slices(rests, fraction))
-    matched = _match_rests(means, q_ref, max_match_rad)
+    if in_order:
+        if len(rests) != q_ref.shape[-2]:
+            raise ValueError(f"rests in schedule order: got {len(rests)} rests for {q_ref.shape[-2]} positions")
+        matched = np.arange(len(rests))
+    else:
+        matched = _match_rests(means, q_ref, max_match_rad)
     return rests, matched, means[..., matched, :]

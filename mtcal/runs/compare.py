@@ -163,8 +163,10 @@ def compare_runs(runs: list[str | Path], *, names: list[str] | None = None, out_
     -------
     table : DataFrame
         ``table, artifact, quantity, paper, claim, role`` then ``mtcal``, ``band`` and
-        ``holds`` per run (``<column> [<name>]``) and ``flips`` (e.g. ``True→False (B)``); only
-        the comparison tables (notebooks) present in every run.
+        ``holds`` per run (``<column> [<name>]``), ``flips`` (e.g. ``True→False (B)``) and
+        ``comparability`` (``"comparable"``, or the size/seed differences compared anyway with
+        ``allow_mismatch``; also printed on the figure); only the comparison tables (notebooks)
+        present in every run.
     csv_path, png_path : Path
         Saved table and figure (figure: every numeric quantity relative to the first run,
         flipped claims marked; ``None`` when ``figure=False`` or nothing is numeric).
@@ -206,6 +208,8 @@ def compare_runs(runs: list[str | Path], *, names: list[str] | None = None, out_
         f"{c} [{n}]" for n in names for c in ("mtcal", "band", "holds")]
     merged = merged[order + ["flips"]]
     merged.attrs["warnings"] = problems + notes
+    # a size/seed mismatch is part of the result: recorded in the saved table (and the figure)
+    merged["comparability"] = "; ".join(problems) if problems else "comparable"
 
     if out_dir is None:
         first = runs[0] if str(runs[0]) != "committed" else (runs[1] if len(runs) > 1 else "runs/x")
@@ -253,6 +257,9 @@ def _compare_figure(table: pd.DataFrame, names: list[str], path: Path, max_rows:
     ax.axvline(1.0, color="k", lw=0.6)
     ax.set_xlabel(f"mtcal value / value in run '{names[0]}'")
     ax.set_title(f"comparison-table quantities: {' vs '.join(names)}")
+    mismatch = str(table["comparability"].iloc[0]) if "comparability" in table and len(table) else "comparable"
+    if mismatch != "comparable":
+        fig.suptitle(f"NOT COMPARABLE: {mismatch}"[:160], fontsize=8, color="C3")
     ax.legend(fontsize=8, loc="lower right")
     fig.savefig(path, metadata={"Software": None}, bbox_inches="tight")
     plt.close(fig)

@@ -62,14 +62,14 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from mtcal.core.metrics import percentile_band
+from mtcal.core.metrics import band_or_range
 from mtcal.sweep.evaluators import get_evaluator
 from mtcal.sweep.spec import SweepSpec, load_spec
 
 __all__ = ["SweepResult", "run_sweep", "run_block", "trial_rngs", "TrialStreams", "summarize", "TABLE_COLUMNS"]
 
 #: Columns of the tidy table after the grid columns.
-TABLE_COLUMNS = ("metric", "median", "low", "high", "trials")
+TABLE_COLUMNS = ("metric", "median", "low", "high", "trials", "band")
 _FORMAT = 1
 
 
@@ -108,13 +108,26 @@ class TrialStreams(list):
 def run_block(evaluator: str, params: dict, seed: int, cell: int, start: int, stop: int) -> dict[str, np.ndarray]:
     """One task: evaluate trials ``[start, stop)`` of a cell → per-trial metrics (runs on a worker)."""
     ev = get_evaluator(evaluator)
-    return ev(params, TrialStreams(seed, cell, start, stop))
+    try:
+        return ev(params, TrialStreams(seed, cell, start, stop))
+    except ValueError as exc:
+        raise ValueError(f"cell {cell} (evaluator {evaluator}, {_cell_text(params)}), trials {start}-{stop - 1}: "
+                         f"{exc}") from None
 
 
-def summarize(values: np.ndarray, level: float = 0.95) -> dict[str, float]:
-    """Median and central ``level`` band (``metrics.percentile_band``) of per-trial values."""
-    band = percentile_band(np.asarray(values, float), axis=0, level=level)
-    return {"median": float(band["median"]), "low": float(band["low"]), "high": float(band["high"])}
+def _cell_text(params: dict) -> str:
+    """``key=value`` of a cell's parameters, short."""
+    return ", ".join(f"{k}={v}" for k, v in params.items())[:200]
+
+
+def summarize(values: np.ndarray) -> dict:
+    """Median and spread of per-trial values by the band rule (``metrics.band_or_range``).
+
+    ``low``/``high`` are the 95 % band (2.5/97.5 percentiles) from at least 1000 trials, else
+    the min–max range; ``band`` says which (``"95 % band"`` or ``"range"``, docs/conventions.md).
+    """
+    b = band_or_range(np.asarray(values, float), axis=0)
+    return {"median": float(b["median"]), "low": float(b["low"]), "high": float(b["high"]), "band": b["kind"]}
 
 
 @dataclass

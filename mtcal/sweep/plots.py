@@ -16,7 +16,7 @@ import pandas as pd
 
 from mtcal.core.metrics import MIN_BAND_DRAWS
 
-__all__ = ["sweep_figure", "band_text"]
+__all__ = ["sweep_figure", "band_text", "x_parameter"]
 
 
 def _numeric(values: pd.Series) -> np.ndarray | None:
@@ -30,23 +30,31 @@ def _numeric(values: pd.Series) -> np.ndarray | None:
 def band_text(table: pd.DataFrame) -> str:
     """What the table's ``low``/``high`` are, with the trial count: a "95 % band" only from >= 1000 trials.
 
-    The engine's ``low``/``high`` are the 2.5 and 97.5 percentiles of the trials; from fewer than
-    1000 trials they are named as such (with the count), not called a 95 % band.
+    The engine gives the 2.5/97.5 percentiles from at least 1000 trials, else the min–max range
+    (``band`` column; docs/conventions.md, Bands).
 
     Examples
     --------
     >>> band_text(pd.DataFrame({"trials": [50, 50]}))
-    '2.5-97.5 percentiles of 50 trials'
+    'range of 50 trials'
     >>> band_text(pd.DataFrame({"trials": [1000, 2000]}))
     '95 % band (>= 1000 trials)'
     """
     if "trials" not in table.columns or table.empty:
-        return "2.5-97.5 percentiles of the trials"
+        return "spread of the trials"
     n_min, n_max = int(table["trials"].min()), int(table["trials"].max())
     if n_min >= MIN_BAND_DRAWS:
         return f"95 % band (>= {n_min} trials)"
     count = f"{n_min}" if n_min == n_max else f"{n_min}-{n_max}"
-    return f"2.5-97.5 percentiles of {count} trials"
+    return f"range of {count} trials"
+
+
+def x_parameter(table: pd.DataFrame, grid: list[str]) -> str | None:
+    """The grid parameter for the x axis: the first numeric one with more than one value, else the first."""
+    for name in grid:
+        if name in table and table[name].nunique() > 1 and _numeric(table[name]) is not None:
+            return name
+    return grid[0] if grid else None
 
 
 def sweep_figure(table: pd.DataFrame, grid: list[str], path: str | Path | None = None, *, title: str = ""):
@@ -92,7 +100,8 @@ def sweep_figure(table: pd.DataFrame, grid: list[str], path: str | Path | None =
     if table.empty:
         raise ValueError("table is empty: nothing to plot")
     metrics = list(dict.fromkeys(table["metric"]))
-    x_name, others = (grid[0], grid[1:]) if grid else (None, [])
+    x_name = x_parameter(table, grid)                  # a numeric swept parameter on x when there is one
+    others = [g for g in grid if g != x_name]
     n = len(metrics)
     cols = min(n, 3)
     rows = int(np.ceil(n / cols))

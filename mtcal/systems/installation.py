@@ -13,7 +13,10 @@
 6. installation angles (inverse of Eq 1) of the mounting part of Q̂'s SO(4)
    projection ``L(p) R(r)``, mounting quaternion ``q_bs = r*``.
 
-:func:`apply_installation` is Eq 10 on a stream (``q_body = normalize(Q̂ q_sensor)``).
+:func:`apply_installation` is Eq 10 on a stream (``q_body = normalize(Q̂ q_sensor)``): the
+paper's *relative* body attitude, zeroed where the record starts (the turntable's zero).
+:func:`absolute_body_attitude` is the gravity-referenced one for a record that starts anywhere
+(a parked aircraft): ``q_body = q_ws ⊗ q_bs*`` with the mounting of Q̂, heading zeroed.
 The CLI (``mtcal calibrate`` / ``mtcal apply``), the wang2023cja turntable study and
 the ``six_position`` sweep evaluator all call these functions; inputs are checked
 here once and the methods' trusted internals do the arithmetic.
@@ -43,8 +46,9 @@ from mtcal.filters.qncf import QncfParams, qncf
 from mtcal.methods import constrained_fit, quaternion_lsq, six_position
 from mtcal.methods.constrained_fit import So4Projection
 
-__all__ = ["MAX_CONDITION", "MAX_SO4_DISTANCE", "MAX_RESIDUAL_RAD", "InstallationCalibration",
-           "CalibratedAttitude", "detect_rests", "calibrate_installation", "apply_installation"]
+__all__ = ["MODELS", "missing_rotation_axis", "MAX_CONDITION", "MAX_SO4_DISTANCE", "MAX_RESIDUAL_RAD", "InstallationCalibration",
+           "CalibratedAttitude", "detect_rests", "calibrate_installation", "apply_installation",
+           "absolute_body_attitude", "mounting_from_q_hat", "installation_angles_sigma"]
 
 #: Gate: condition number of ``A_q^s (A_q^s)ᵀ`` (Eq 13) above which the positions are refused.
 MAX_CONDITION = 1e4
@@ -239,7 +243,8 @@ def calibrate_installation(positions_rad, dt_s: float, *, q_ws=None, gyro_rad_s=
                            min_rest_s: float = 2.0, still_threshold_rad_s: float = np.radians(0.2),
                            still_window_s: float = 0.1, max_match_rad: float = np.radians(5.0),
                            max_condition: float = MAX_CONDITION, max_so4_distance: float = MAX_SO4_DISTANCE,
-                           max_residual_rad: float = MAX_RESIDUAL_RAD) -> InstallationCalibration:
+                           max_residual_rad: float = MAX_RESIDUAL_RAD,
+                           rests_in_order: bool = False, model: str = "eq13") -> InstallationCalibration:
     """Six-position installation-error calibration of a record (wang2023cja §3.2, Eq 1, 9, 13–15).
 
     Parameters
@@ -269,6 +274,15 @@ def calibrate_installation(positions_rad, dt_s: float, *, q_ws=None, gyro_rad_s=
         Rest detector settings (s, rad/s, s), see :func:`detect_rests`.
     max_match_rad : float
         Largest distance between a rest and its position (rad).
+    model : {"eq13", "so4", "mounting"}
+        The error map fitted (see :data:`MODELS`): ``"eq13"`` the paper's 16-parameter least
+        squares (default; needs rotations about all three axes), ``"so4"`` the nearest rotation of
+        quaternion space ``L(p) R(r)`` (6 parameters, rotations about two axes suffice),
+        ``"mounting"`` the mounting alone, ``q_body = q_bs ⊗ q_sensor ⊗ q_bs*`` (3 parameters: the
+        zeroed sensor attitude of a record that starts at the mechanism zero).
+    rests_in_order : bool
+        ``rests`` are known by construction, one per position in the positions' order (a
+        simulated schedule): rest k is used for position k, without matching by attitude.
     max_condition, max_so4_distance, max_residual_rad : float
         Gates (dimensionless, dimensionless, rad); ``inf`` switches one off. With a trial
         axis the worst trial is gated.
@@ -318,6 +332,10 @@ def calibrate_installation(positions_rad, dt_s: float, *, q_ws=None, gyro_rad_s=
         raise ValueError(f"positions_rad of shape {pos.shape} needs a record with {pos.shape[0]} trials, "
                          f"got shape {stream.shape}")
     frac = _fraction(fraction)
+    if model not in MODELS:
+        raise ValueError(f"model must be one of {', '.join(MODELS)}, got {model!r}")
+    if rests_in_order and (rests is None or len(list(rests)) != k):
+        raise ValueError(f"rests_in_order needs rests: one slice per position ({k})")
     if rests is not None:
         rests = list(rests)
         if any(not isinstance(r, slice) or r.start is None or r.stop is None or not 0 <= r.start < r.stop <= n
@@ -330,26 +348,34 @@ def calibrate_installation(positions_rad, dt_s: float, *, q_ws=None, gyro_rad_s=
     gates = (_limit(max_condition, "max_condition"), _limit(max_so4_distance, "max_so4_distance"),
              _limit(max_residual_rad, "max_residual_rad"))
     # ---- trusted inside
-    return _calibrate(pos, dt, q, gyro, accel, params, q0, rests, frac, detector, match, gates)
+    return _calibrate(pos, dt, q, gyro, accel, params, q0, rests, frac, detector, match, gates, bool(rests_in_order),
+                      model)
 
 
-def _calibrate(pos, dt, q, gyro, accel, params, q0, rests, frac, detector, match, gates) -> InstallationCalibration:
+def _calibrate(pos, dt, q, gyro, accel, params, q0, rests, frac, detector, match, gates,
+               in_order: bool = False, model: str = "eq13") -> InstallationCalibration:
     """Steps 1–6 on checked inputs (see :func:`calibrate_installation`)."""
     q_detect = q                                   # the quaternion-rate detector sees the attitude as given
     q_s_stream = _zeroed_attitude(q, gyro, accel, params, q0, dt)
     q_ref = rotations.quat_from_euler_zxy(pos[..., 0], pos[..., 1], pos[..., 2])
     rests, matched, q_s = six_position._rest_attitudes(
         q_s_stream, q_ref, dt, gyro=gyro, rests=rests, fraction=frac, max_match_rad=match,
-        q_detect=q_detect, **detector)
+        q_detect=q_detect, in_order=in_order, **detector)
     del q_s_stream
     q_s_al, q_b_al = quaternion_lsq._align_pairs(q_s, q_ref)
-    q_hat = quaternion_lsq._least_squares(q_s_al, q_b_al)                       # Eq 13
-    after = quaternion_lsq._apply(q_hat, q_s)                                   # Eq 10 at the rests
-    residual = six_position._angle_between(after, q_ref)
     sv = np.linalg.svd(np.swapaxes(q_s_al, -1, -2) @ q_s_al, compute_uv=False)
     cond = sv[..., 0] / np.maximum(sv[..., 3], 1e-300)
+    if model == "eq13":
+        _gate_condition(cond, gates[0], q_ref)
+        q_hat = quaternion_lsq._least_squares(q_s_al, q_b_al)                   # Eq 13
+    elif model == "so4":
+        q_hat = constrained_fit.fit_so4(q_s_al, q_b_al).matrix
+    else:
+        q_hat = _fit_conjugation(q_s_al, q_b_al)
+    after = quaternion_lsq._apply(q_hat, q_s)                                   # Eq 10 at the rests
+    residual = six_position._angle_between(after, q_ref)
     proj = constrained_fit.project_to_so4(q_hat)
-    _gate(q_hat, cond, proj.distance, residual, *gates)
+    _gate(q_hat, proj.distance, residual, *gates[1:])
     q_bs = rotations.quat_conjugate(proj.r)
     before_e = rotations.euler_zxy_unchecked(q_s)
     after_e = rotations.euler_zxy_unchecked(after)
@@ -362,12 +388,73 @@ def _calibrate(pos, dt, q, gyro, accel, params, q0, rests, frac, detector, match
         error_after_rad=metrics.angle_difference(after_e, pos), residual_rad=residual)
 
 
-def _gate(q_hat, cond, dist, residual, max_condition: float, max_dist: float, max_res: float) -> None:
-    """Refuse a Q̂ that is not a plausible calibration (conditioning, SO(4) distance, residuals)."""
+#: Error-map models of :func:`calibrate_installation`: name → (parameters, what the positions must span).
+MODELS = {"eq13": (16, "rotations about all three axes (4 linearly independent quaternions)"),
+          "so4": (6, "rotations about two axes (3 linearly independent quaternions)"),
+          "mounting": (3, "rotations about two axes")}
+_AXIS_NAMES = {1: "x (pitch)", 2: "y (roll)", 3: "z (yaw)"}
+
+
+def missing_rotation_axis(q_ref) -> str | None:
+    """The rotation axis a set of reference quaternions (K, 4) lacks, e.g. ``"z (yaw)"``; None if none.
+
+    The weakest direction of ``A Aᵀ`` (its last singular vector) is the quaternion component no
+    position reaches; a vector part component ``q1, q2, q3`` names the axis x, y, z.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from mtcal.core import rotations
+    >>> pm_g = np.radians([[0, 0, 0], [0, 0, 180], [0, 90, 0], [0, -90, 0], [0, 0, 90], [0, 0, -90]])
+    >>> missing_rotation_axis(rotations.quat_from_euler_zxy(*pm_g.T))      # the classic +-g set
+    'z (yaw)'
+    """
+    q = rotations.align_signs(np.asarray(q_ref, float))
+    _, sv, vt = np.linalg.svd(q.T @ q)
+    if sv[3] * MAX_CONDITION > sv[0]:                 # the Eq 13 gate's condition number
+        return None
+    weak = np.abs(vt[3])
+    i = int(np.argmax(weak))
+    return _AXIS_NAMES.get(i) if weak[i] > 0.9 else None
+
+
+def _gate_condition(cond, max_condition: float, q_ref) -> None:
+    """Refuse positions that leave Eq 13 ill-conditioned; name the missing axis and a model that works."""
     worst_cond = float(np.max(cond))
-    if worst_cond > max_condition:
-        raise ValueError(f"calibration positions are ill-conditioned for Eq 13 (condition number {worst_cond:.3g} "
-                         f"> {max_condition:.0e}); use positions about more than one axis (the six of §3.2)")
+    if worst_cond <= max_condition:
+        return
+    ref = q_ref if q_ref.ndim == 2 else q_ref[0]
+    axis = missing_rotation_axis(ref)
+    sv = np.linalg.svd(rotations.align_signs(ref), compute_uv=False)
+    rank3 = sv.size >= 3 and sv[2] > sv[0] / np.sqrt(MAX_CONDITION)
+    what = f"they contain no rotation about {axis}" if axis else "their quaternions span fewer than 4 directions"
+    fix = ("; add a position rotated about that axis (the six of §3.2 rotate about all three), or fit fewer "
+           "parameters: --model so4 (6) or --model mounting (3) work with these positions" if rank3 else
+           "; use positions about more than one axis (the six of §3.2)")
+    raise ValueError(f"calibration positions are ill-conditioned for Eq 13 (condition number {worst_cond:.3g} "
+                     f"> {max_condition:.0e}): {what}{fix}")
+
+
+def _fit_conjugation(q_s: np.ndarray, q_b: np.ndarray) -> np.ndarray:
+    """Mounting-only map of a zeroed record, ``q_b = c ⊗ q_s ⊗ c*`` (3 parameters): Q̂ = L(c) R(c*).
+
+    ``c ⊗ q_s − q_b ⊗ c = (R(q_s) − L(q_b)) c = 0`` for every position: ``c`` is the eigenvector of
+    the smallest eigenvalue of ``Σ Mₖᵀ Mₖ``, ``Mₖ = R(q_s,k) − L(q_b,k)`` (closed form, sign-free).
+    Positions about a single axis leave ``c`` free about it: refused.
+    """
+    m = rotations.right_matrix(q_s) - rotations.left_matrix(q_b)                 # (..., K, 4, 4)
+    k = np.einsum("...kij,...kil->...jl", m, m)
+    lam, vec = np.linalg.eigh(k)
+    if np.any(lam[..., 1] - lam[..., 0] <= 1e-10 * np.maximum(lam[..., 3], 1e-300)):
+        raise ValueError("calibration positions do not determine the mounting (--model mounting): they rotate "
+                         "about a single axis; use positions about two axes")
+    c = vec[..., :, 0]
+    c = np.where(c[..., :1] < 0, -c, c)
+    return rotations.left_matrix(c) @ rotations.right_matrix(rotations.quat_conjugate(c))
+
+
+def _gate(q_hat, dist, residual, max_dist: float, max_res: float) -> None:
+    """Refuse a Q̂ that is not a plausible calibration (SO(4) distance, residuals)."""
     worst_dist = float(np.max(dist))
     if not worst_dist <= max_dist:
         t = int(np.argmax(dist)) if np.ndim(dist) else None
@@ -430,3 +517,164 @@ def apply_installation(q_hat, *, q_ws=None, gyro_rad_s=None, accel_m_s2=None, dt
     q_s = _zeroed_attitude(q, gyro, accel, params, q0, dt)
     q_b = rotations.make_continuous(quaternion_lsq._apply(mat, q_s), axis=-2)
     return CalibratedAttitude(q_body=q_b, q_sensor=q_s)
+
+
+def mounting_from_q_hat(q_hat) -> np.ndarray:
+    """Mounting quaternion ``q_bs = r*`` (4,) of Q̂'s nearest SO(4) matrix ``L(p) R(r)``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from mtcal.core import rotations
+    >>> c = rotations.mount_quaternion(np.radians([0.3, -0.2, 0.5]))
+    >>> bool(np.allclose(mounting_from_q_hat(rotations.right_matrix(rotations.quat_conjugate(c))), c))
+    True
+    """
+    mat = as_float_array(q_hat, "q_hat")
+    if mat.shape != (4, 4):
+        raise ValueError(f"q_hat must be a finite 4x4 array, got shape {mat.shape}")
+    q = rotations.quat_conjugate(constrained_fit.project_to_so4(mat).r)
+    return q if q[0] >= 0 else -q
+
+
+def absolute_body_attitude(q_bs, *, q_ws=None, gyro_rad_s=None, accel_m_s2=None, dt_s: float | None = None,
+                           qncf_params: QncfParams | None = None, q0=None,
+                           zero_heading: bool = True) -> CalibratedAttitude:
+    """Gravity-referenced body attitude of a record: ``q_body = q_ws ⊗ q_bs*``, heading zeroed.
+
+    Eq 10 (:func:`apply_installation`) gives the body attitude *relative to where the record
+    starts* (§4.1: the turntable starts at its zero). A flight log starts anywhere — parked at
+    a few degrees of pitch and roll — and relative angles then carry that start as an error.
+    Here the sensor attitude is the QNCF's own (levelled from the accelerometer: pitch and roll
+    referenced to gravity) or ``q_ws`` as given (its world frame must be z up), and the mounting
+    ``q_bs`` (sensor = body ⊗ q_bs) is taken off on the right. Heading is not observable from
+    gravity: with ``zero_heading`` the body's yaw at the first sample is set to 0 (a rotation
+    about the world vertical, which leaves pitch and roll — Eq 8 ZXY — unchanged).
+
+    Parameters
+    ----------
+    q_bs : array_like, shape (4,)
+        Mounting quaternion (scalar-first), e.g. ``InstallationCalibration.mounting_quaternion_q_bs``
+        or :func:`mounting_from_q_hat`.
+    q_ws, gyro_rad_s, accel_m_s2, dt_s, qncf_params, q0 :
+        The sensor attitude or the raw data for the QNCF, as in :func:`apply_installation`.
+    zero_heading : bool
+        Zero the body yaw at the first sample (default True).
+
+    Returns
+    -------
+    CalibratedAttitude
+        ``q_body`` (body → world, z-up world, heading zeroed) and ``q_sensor`` (the sensor
+        attitude in the same world frame).
+
+    References
+    ----------
+    wang2023cja Eq 1 (mounting), Eq 8/9 (yaw about z, pitch about x, roll about y).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from mtcal.core import rotations
+    >>> q_wb = rotations.quat_from_euler_zxy(np.radians(30.0), np.radians(2.0), np.radians(-1.5))[None]
+    >>> q_bs = rotations.mount_quaternion(np.radians([0.3, 0.8, -0.5]))
+    >>> att = absolute_body_attitude(q_bs, q_ws=rotations.quat_multiply(q_wb, q_bs))
+    >>> np.degrees(rotations.euler_zxy_from_quat(att.q_body)).round(9).tolist()   # heading zeroed
+    [[0.0, 2.0, -1.5]]
+    """
+    c = unit_quaternion(q_bs, "q_bs")
+    if c.shape != (4,):
+        raise ValueError(f"q_bs must be one quaternion of shape (4,), got {c.shape}")
+    dt = None if dt_s is None else sample_interval(dt_s)
+    q, gyro, accel, params, q0 = _attitude_inputs(q_ws, gyro_rad_s, accel_m_s2, qncf_params, q0, dt,
+                                                  need_dt=q_ws is None)
+    if q is None:
+        q = qncf(gyro, accel, dt, params, q0=q0, return_euler=False).q_ws
+    q_s = rotations.make_continuous(np.asarray(q, float), axis=-2)
+    q_b = rotations.hamilton(q_s, rotations.quat_conjugate(c))
+    if zero_heading:
+        yaw0 = rotations.euler_zxy_unchecked(q_b[..., :1, :])[..., 0]           # (..., 1)
+        turn = np.zeros(yaw0.shape + (4,))
+        turn[..., 0], turn[..., 3] = np.cos(-yaw0 / 2), np.sin(-yaw0 / 2)
+        q_b = rotations.hamilton(turn, q_b)
+        q_s = rotations.hamilton(turn, q_s)
+    return CalibratedAttitude(q_body=rotations.make_continuous(q_b, axis=-2), q_sensor=q_s)
+
+
+def _angles_of(q_hat: np.ndarray) -> np.ndarray:
+    q = rotations.quat_conjugate(constrained_fit.project_to_so4(q_hat).r)
+    return rotations.installation_angles_from_mount(q)
+
+
+def _model_matrix(model: str, q_hat: np.ndarray):
+    """The fitted map as a function of a small parameter perturbation δ, and the number of parameters."""
+    if model == "eq13":
+        return (lambda d: q_hat + d.reshape(4, 4)), 16
+    proj = constrained_fit.project_to_so4(q_hat)
+    p, r = proj.p, proj.r
+    if model == "so4":
+        return (lambda d: rotations.left_matrix(rotations.quat_multiply(p, rotations.quat_from_rotvec(d[:3])))
+                @ rotations.right_matrix(rotations.quat_multiply(rotations.quat_from_rotvec(d[3:]), r))), 6
+    c = rotations.quat_conjugate(r)
+
+    def conj(d):
+        cc = rotations.quat_multiply(c, rotations.quat_from_rotvec(d))
+        return rotations.left_matrix(cc) @ rotations.right_matrix(rotations.quat_conjugate(cc))
+    return conj, 3
+
+
+def installation_angles_sigma(cal: InstallationCalibration, model: str = "eq13") -> np.ndarray:
+    """1σ uncertainty (rad) of the installation angles ``[α1, α2, α3]`` from the fit covariance.
+
+    The fit is least squares over the K positions' quaternion components, ``A_b ≈ Q(θ) A_s``
+    (4K equations; θ: the 16 entries of Q̂ for Eq 13, 6 rotation parameters for ``"so4"``, 3 for
+    ``"mounting"``). Its covariance is ``σ² (JᵀJ)⁻¹`` with ``σ²`` the residual variance
+    ``‖A_b − Q̂ A_s‖² / (4K − n)`` and ``J`` the Jacobian of the residuals (for Eq 13, linear:
+    row i of Q̂ has covariance ``σ² (A_s A_sᵀ)⁻¹``); the angles (SO(4) projection → mounting →
+    inverse of Eq 1) get ``G cov Gᵀ`` with ``G`` their central-difference Jacobian. With no
+    degrees of freedom left (K = 4 for Eq 13) the result is NaN.
+
+    Parameters
+    ----------
+    cal : InstallationCalibration
+        One calibration (no trial axis).
+    model : {"eq13", "so4", "mounting"}
+        The model ``cal`` was fitted with.
+
+    Returns
+    -------
+    ndarray (3,)
+        1σ of ``[α1, α2, α3]`` (rad); NaN when not estimable.
+
+    Examples
+    --------
+    The classic ±g set (no rotation about z) with the 3-parameter mounting model, noise-free:
+
+    >>> import numpy as np
+    >>> from mtcal.core import profiles, rotations
+    >>> from mtcal.methods import six_position
+    >>> pm_g = np.radians([[0, 0, 0], [0, 0, 180], [0, 90, 0], [0, -90, 0], [0, 0, 90], [0, 0, -90]])
+    >>> truth = profiles.trajectory_from_euler_zxy(six_position.schedule_profile(pm_g, fs_hz=50.0))
+    >>> mount = rotations.mount_quaternion(np.radians([0.5, 0.0, -0.2]))
+    >>> cal = calibrate_installation(pm_g, 1 / 50.0, q_ws=rotations.quat_multiply(truth.q_wb, mount), model="mounting")
+    >>> bool(np.all(installation_angles_sigma(cal, "mounting") < 1e-9))       # no scatter, no uncertainty
+    True
+    """
+    q_s, q_b = quaternion_lsq._align_pairs(np.asarray(cal.q_sensor), np.asarray(cal.q_reference))
+    if q_s.ndim != 2:
+        raise ValueError("installation_angles_sigma takes one calibration (no trial axis)")
+    fun, n = _model_matrix(model, np.asarray(cal.q_hat, float))
+    dof = 4 * q_s.shape[0] - n
+    if dof <= 0:
+        return np.full(3, np.nan)
+    zero = np.zeros(n)
+    resid = lambda d: (q_b.T - fun(d) @ q_s.T).ravel()              # noqa: E731
+    h = 1e-6
+    eye = np.eye(n) * h
+    jac = np.stack([(resid(e) - resid(-e)) / (2 * h) for e in eye], axis=1)      # (4K, n)
+    sigma2 = float(np.sum(resid(zero) ** 2)) / dof
+    try:
+        cov = sigma2 * np.linalg.inv(jac.T @ jac)
+    except np.linalg.LinAlgError:
+        return np.full(3, np.nan)
+    g = np.stack([(_angles_of(fun(e)) - _angles_of(fun(-e))) / (2 * h) for e in eye], axis=1)  # (3, n)
+    return np.sqrt(np.clip(np.diag(g @ cov @ g.T), 0.0, None))

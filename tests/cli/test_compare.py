@@ -21,6 +21,7 @@ def test_compare_prints_flips_and_saves(tmp_path, capsys):
     assert code == 0
     assert "1 of 2 quantities differ between paper, industrial" in out
     assert "claims that flip (1):" in out and "roll RMSE (deg) | <= 0.01 | True→False (industrial)" in out
+    assert out.index("claims that flip") < out.index("quantities differ")          # the headline first
     assert (tmp_path / "runs" / "compare_paper_vs_industrial.csv").is_file()
     assert (tmp_path / "runs" / "compare_paper_vs_industrial.png").is_file()
 
@@ -55,7 +56,9 @@ def test_compare_refuses_runs_of_different_size_unless_allowed(tmp_path, capsys)
     assert cli.main(argv + ["--allow-mismatch"]) == 0
     captured = capsys.readouterr()
     assert "mtcal: WARNING: runs differ in size (full: full, small: ci)" in captured.err
-    assert "comparability warning(s)" in captured.out
+    assert "comparability warning(s)" in captured.out and "claims that flip: none" in captured.out
+    saved = pd.read_csv(tmp_path / "runs" / "compare_full_vs_small.csv")
+    assert saved["comparability"].str.startswith("runs differ in size (full: full, small: ci)").all()
 
 
 def test_compare_refuses_runs_of_different_seed(tmp_path, capsys):

@@ -51,3 +51,12 @@ def test_failed_run_keeps_partial_notebook(tiny_notebooks, tmp_path, capsys):
     assert "size=ci gain=2.0 label=base" in outputs  # cells before the failure were executed and kept
     assert json.loads((folder / "params.json").read_text())["status"] == "failed"
     assert (folder / "data" / "tiny_table.csv").is_file() and not (folder / "data" / "tiny_comparison.csv").exists()
+
+
+def test_run_list_gives_valid_grade_names():
+    from mtcal.cli.run import _valid_values
+    from mtcal.core.sensor_grades import grade_names
+
+    text = _valid_values("gyro_grade", {"help": "a mtcal.core.sensor_grades name"})
+    assert text.startswith("; valid: ") and all(g in text for g in grade_names())
+    assert _valid_values("fs_hz", {"help": "Hz"}) == ""

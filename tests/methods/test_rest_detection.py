@@ -413,3 +413,24 @@ def test_compiled_sums_match_numpy_on_the_other_code_path():
             "t._check_detector_against_numpy(); print('same bits')")
     res = run_on_the_other_code_path(code)
     assert res.returncode == 0 and res.stdout.strip() == "same bits", res.stderr[-2000:]
+
+
+def test_quiet_core_keeps_a_slow_start_of_motion_out_of_the_bias():
+    from mtcal.methods.rest_detection import quiet_core
+
+    rng = np.random.default_rng(5)
+    fs, sigma = 1000.0, np.radians(0.05)
+    t = np.arange(int(8 * fs)) / fs
+    bias = np.radians([0.35, -0.25, 0.3])
+    gyro = rng.normal(0.0, sigma, (t.size, 3)) + bias
+    ramp = t > 5.0
+    gyro[ramp, 2] += np.radians(1.0) * (t[ramp] - 5.0) ** 2       # rate below 1.5 deg/s for 1.2 s
+    rest = slice(0, int(6.2 * fs))                                 # a 1.5 deg/s detector's rest
+    qc = quiet_core(gyro, rest, 1.0 / fs, sigma)
+    assert qc.core.start == 0 and 5.0 * fs < qc.core.stop < 5.6 * fs
+    assert abs(np.degrees(qc.bias_rad_s[2] - bias[2])) < 0.003
+    assert np.degrees(gyro[rest, 2].mean() - bias[2]) > 0.05       # the whole rest's mean leaks the ramp
+    assert qc.threshold_rad_s == pytest.approx(5 * sigma / np.sqrt(50))
+    # a rest too noisy for the stated noise falls back to the whole rest
+    qc2 = quiet_core(gyro, rest, 1.0 / fs, sigma / 100)
+    assert qc2.core == slice(0, rest.stop)

@@ -23,7 +23,7 @@ def test_sweep_runs_and_resumes(tmp_path, capsys):
     assert cli.main(["sweep", str(spec), "--workers", "1", "--out", str(out)]) == 0
     text = capsys.readouterr().out
     assert "2 cells x 8 trials" in text and "2 cells computed, 0 already stored" in text
-    assert (out / "table.csv").read_text().startswith("cell,sigma,metric,median,low,high,trials\n")
+    assert (out / "table.csv").read_text().startswith("cell,sigma,metric,median,low,high,trials,band\n")
     assert cli.main(["sweep", str(spec), "--workers", "1", "--out", str(out)]) == 0
     assert "0 cells computed, 2 already stored" in capsys.readouterr().out
 
@@ -105,9 +105,13 @@ def test_sweep_figure_panels_bands_and_errors():
     assert [ax.get_title() for ax in fig.axes] == ["rms", "max"]
     assert [t.get_text() for t in fig.axes[0].get_xticklabels()] == ["a", "b"]
     assert len(fig.axes[0].collections) == 1  # the band
-    assert "2.5-97.5 percentiles of the trials" in fig._suptitle.get_text()
+    assert "spread of the trials" in fig._suptitle.get_text()
     fig = sweep_figure(table.assign(trials=12), ["grade"])
-    assert fig._suptitle.get_text() == "median and 2.5-97.5 percentiles of 12 trials per grid cell"
+    assert fig._suptitle.get_text() == "median and range of 12 trials per grid cell"
+    # the numeric swept parameter goes on x, whatever the grid order
+    both = pd.concat([table.assign(vib=0.0), table.assign(vib=3.0)], ignore_index=True)
+    fig = sweep_figure(both, ["grade", "vib"])
+    assert fig.axes[0].get_xlabel() == "vib" and len(fig.axes[0].get_lines()) == 2
     assert "95 % band (>= 1000 trials)" in sweep_figure(table.assign(trials=1000), ["grade"])._suptitle.get_text()
     with pytest.raises(ValueError, match="table is empty"):
         sweep_figure(table.iloc[0:0], ["grade"])

@@ -59,13 +59,14 @@ def test_block_size_does_not_change_tables_for_per_trial_filters():
 def test_table_is_tidy_with_median_and_band():
     res = run_sweep(small(), workers=1, progress=False)
     t = res.table
-    assert list(t.columns) == ["cell", "grade", "vibration_m_s2", "metric", "median", "low", "high", "trials"]
+    assert list(t.columns) == ["cell", "grade", "vibration_m_s2", "metric", "median", "low", "high", "trials", "band"]
     assert len(t) == 4 * 6 and set(t.trials) == {5}
     assert (t["low"] <= t["median"]).all() and (t["median"] <= t["high"]).all()
     row = t[(t.cell == 3) & (t.metric == "vqf.tilt_max_deg")].iloc[0]
     values = res.per_trial[3]["vqf.tilt_max_deg"]
     assert row["median"] == float(np.median(values))
-    assert row["low"] == float(np.percentile(values, 2.5)) and row["high"] == float(np.percentile(values, 97.5))
+    # 5 trials: the min-max range with its count, never a "95 % band" (docs/conventions.md, Bands)
+    assert row["low"] == float(values.min()) and row["high"] == float(values.max()) and row["band"] == "range"
     frame = res.trials_frame()
     assert len(frame) == 4 * 5 and "mahony.tilt_rmse_deg" in frame
     # the consumer grade (20 mg accelerometer bias) tilts far more than the industrial one (2 mg)
@@ -75,14 +76,17 @@ def test_table_is_tidy_with_median_and_band():
 
 
 def test_gaussian_check_statistics_match_closed_form():
-    spec = parse_spec('[sweep]\nname="g"\nevaluator="gaussian_check"\nseed=1\ntrials=400\nblock_trials=100\n'
+    spec = parse_spec('[sweep]\nname="g"\nevaluator="gaussian_check"\nseed=1\ntrials=1000\nblock_trials=250\n'
                       '[fixed]\nn_samples=100\n[grid]\nsigma=[0.5, 4.0]\n')
     t = run_sweep(spec, workers=1, progress=False).table.set_index(["sigma", "metric"])
     for sigma in (0.5, 4.0):
         assert abs(t.loc[(sigma, "rms"), "median"] / sigma - 1) < 0.02
         # mean of 100 draws: 95 % band ≈ ±1.96 σ/√100
         assert abs(t.loc[(sigma, "mean"), "high"] / (1.96 * sigma / 10) - 1) < 0.15
-    assert summarize(np.arange(101.0)) == pytest.approx({"median": 50.0, "low": 2.5, "high": 97.5}, abs=1e-12)
+    assert set(t["band"]) == {"95 % band"}
+    assert summarize(np.arange(1001.0)) == pytest.approx({"median": 500.0, "low": 25.0, "high": 975.0,
+                                                          "band": "95 % band"}, abs=1e-12)
+    assert summarize(np.arange(101.0)) == {"median": 50.0, "low": 0.0, "high": 100.0, "band": "range"}
 
 
 class _Interrupt(Exception):
@@ -158,3 +162,16 @@ def test_spec_path_and_errors(tmp_path):
         run_sweep(p, workers=0, progress=False)
     with pytest.raises(ValueError, match="either workers"):
         run_sweep(p, workers=2, scheduler="tcp://127.0.0.1:1", progress=False)
+
+
+def test_an_evaluator_error_names_the_cell_and_trials(monkeypatch):
+    from mtcal.sweep import engine, evaluators
+
+    monkeypatch.setattr(evaluators, "_REGISTRY", dict(evaluators._REGISTRY))
+
+    @evaluators.register_evaluator("fails", defaults={"x": 1.0}, metrics=lambda p: ["m"])
+    def _fails(p, rngs):
+        raise ValueError("reference position 4 has no rest")
+
+    with pytest.raises(ValueError, match=r"^cell 3 \(evaluator fails, x=2.0\), trials 4-7: reference position 4"):
+        engine.run_block("fails", {"x": 2.0}, 1, 3, 4, 8)

@@ -153,12 +153,56 @@ def test_gate_refuses_zero_row_matrix_and_large_residual():
     bad[0, 1] = 10.0
     from mtcal.methods.constrained_fit import project_to_so4
 
-    lim = (installation.MAX_CONDITION, installation.MAX_SO4_DISTANCE, installation.MAX_RESIDUAL_RAD)
+    lim = (installation.MAX_SO4_DISTANCE, installation.MAX_RESIDUAL_RAD)
     with pytest.raises(ValueError, match="Q_hat is not a calibration: distance .* min row norm 0"):
-        installation._gate(bad, 1.0, project_to_so4(bad).distance, np.zeros(6), *lim)
-    installation._gate(np.eye(4), 1.0, project_to_so4(np.eye(4)).distance, np.zeros(6), *lim)  # a rotation passes
+        installation._gate(bad, project_to_so4(bad).distance, np.zeros(6), *lim)
+    installation._gate(np.eye(4), project_to_so4(np.eye(4)).distance, np.zeros(6), *lim)  # a rotation passes
     with pytest.raises(ValueError, match="residual 2.000 deg at position 1"):
-        installation._gate(np.eye(4), 1.0, 0.0, np.full(6, np.radians(2.0)), *lim)
+        installation._gate(np.eye(4), 0.0, np.full(6, np.radians(2.0)), *lim)
+
+
+PM_G_DEG = [[0, 0, 0], [0, 0, 180], [0, 90, 0], [0, -90, 0], [0, 0, 90], [0, 0, -90]]   # the classic +-g set
+
+
+@pytest.fixture(scope="module")
+def pm_g_record():
+    from mtcal.core.profiles import trajectory_from_euler_zxy
+    from mtcal.methods.six_position import schedule_profile
+
+    pos = np.radians(PM_G_DEG)
+    q_wb = trajectory_from_euler_zxy(schedule_profile(pos, fs_hz=100.0)).q_wb
+    alpha = np.radians([0.3, -0.8, 0.5])
+    return pos, rotations.quat_multiply(q_wb, rotations.mount_quaternion(alpha)), alpha
+
+
+def test_pm_g_set_refused_by_eq13_with_the_missing_axis_and_the_models_that_work(pm_g_record):
+    pos, q_ws, _ = pm_g_record
+    with pytest.raises(ValueError, match=r"no rotation about z \(yaw\).*--model so4 \(6\) or --model mounting"):
+        installation.calibrate_installation(pos, 0.01, q_ws=q_ws)
+    assert installation.missing_rotation_axis(rotations.quat_from_euler_zxy(*pos.T)) == "z (yaw)"
+    six = np.radians([[8, 0, 0], [-8, 0, 0], [0, -12, 0], [0, 23, 0], [0, 0, 90], [0, 0, -90]])
+    assert installation.missing_rotation_axis(rotations.quat_from_euler_zxy(*six.T)) is None
+
+
+@pytest.mark.parametrize("model", ["so4", "mounting"])
+def test_constrained_models_calibrate_the_pm_g_set(pm_g_record, model):
+    pos, q_ws, alpha = pm_g_record
+    cal = installation.calibrate_installation(pos, 0.01, q_ws=q_ws, model=model)
+    np.testing.assert_allclose(cal.installation_angles_rad, alpha, atol=1e-10)
+    assert cal.residual_rad.max() < 1e-10 and cal.so4_distance < 1e-10
+    assert np.all(installation.installation_angles_sigma(cal, model) < 1e-9)
+
+
+def test_mounting_model_refuses_rotations_about_one_axis():
+    from mtcal.core.profiles import trajectory_from_euler_zxy
+    from mtcal.methods.six_position import schedule_profile
+
+    pos = np.radians([[10, 0, 0], [-10, 0, 0], [20, 0, 0], [-20, 0, 0]])
+    q_wb = trajectory_from_euler_zxy(schedule_profile(pos, fs_hz=100.0)).q_wb
+    with pytest.raises(ValueError, match="do not determine the mounting .* single axis"):
+        installation.calibrate_installation(pos, 0.01, q_ws=q_wb, model="mounting")
+    with pytest.raises(ValueError, match="model must be one of eq13, so4, mounting"):
+        installation.calibrate_installation(pos, 0.01, q_ws=q_wb, model="svd")
 
 
 def test_apply_errors(stream):
