@@ -124,10 +124,10 @@ def test_rest_model_identifies_injected_bias(trial):
 
 def test_run_study_ci_slice_and_producers():
     sc = scenario.scenario_from_parameters(trials=scenario.trial_names()[:2], filters=["mahony", "vqf", "qncf_paper"],
-                                           n_draws=2, max_samples=12000)
+                                           n_draws=2, max_samples=16000)
     run = artifacts.run_study(sc, 1)
     rep = b.table_published_vs_ours(run)
-    assert rep.artifact_id == "broad2021_table_published_vs_ours" and len(rep.rows) == 12
+    assert rep.artifact_id == "broad2021_extra_published_vs_ours" and len(rep.rows) == 12
     assert all(r["role"] == "heldout" for r in rep.rows)
     rk = b.extra_rankings(run)
     assert {"verdict", "holds_in", "wilson_low"} <= set(rk.table.columns)

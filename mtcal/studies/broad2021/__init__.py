@@ -45,9 +45,9 @@ def __getattr__(name):
 @leak.register("broad2021")
 def fit_and_predict(size: str = "ci", seed: int = 0) -> dict:
     """What notebook 60 computes before comparing (never reads the held-out published numbers):
-    the 9D RMSE at BROAD's parameters and the twin's draws, on the first trial (CI: its first 40 s)."""
+    the 9D RMSE at BROAD's parameters and the twin's draws, on the first trial (CI: its first 56 s)."""
     sc = scenario_from_parameters(trials=[trial_names()[0]], filters=["mahony"], n_draws=2,
-                                  max_samples=None if size == "full" else 11500)
+                                  max_samples=None if size == "full" else 16000)
     tr = trial_head(load_trials(sc.trials)[0], sc.max_samples)
     res = run_9d(tr, [sc.madgwick_beta], [sc.mahony_kp], [sc.mahony_ki])
     twin = predict_real_error(tr, "mahony", n_draws=2, seed=seed)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.ticker import FuncFormatter, NullFormatter
 
 __all__ = ["bakeoff_groups", "median_trial", "twin_coverage", "grids"]
 
@@ -69,6 +70,8 @@ def twin_coverage(art):
         miss = ~s.inside
         ax.plot(s.real_deg[miss], y[miss], "o", ms=3.5, color="tab:red", label="real, outside")
         ax.set_xscale("log")
+        ax.xaxis.set_minor_formatter(NullFormatter())
+        ax.xaxis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}"))
         ax.set_title(f"{f}\n{int(s.inside.sum())}/{len(s)} inside", fontsize=8)
         ax.set_yticks(y, [t[:2] for t in s.trial], fontsize=7)
         ax.set_xlabel("inclination RMSE (deg)", fontsize=7)
@@ -90,6 +93,8 @@ def grids(art):
             ax.plot(t.gain, t.published_inclination_deg, "-", lw=2.5, alpha=0.35)
             ax.plot(t.gain, t.ours_inclination_deg, "k:", lw=0.7)
         ax.set_yscale("log")
+        ax.yaxis.set_minor_formatter(NullFormatter())
+        ax.yaxis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}"))
         ax.set_xlabel(unit)
         ax.set_ylabel("inclination RMSE (deg)")
         ax.set_title(f"{f} 9D: published (thick) vs ours (dotted)", fontsize=9)
