@@ -95,7 +95,7 @@ if len(run.grids):
 art = broad2021.extra_bakeoff_6d(run)
 print(*art.lines, sep="\n")
 output.save_table(art.table, "broad2021_extra_bakeoff_6d")
-output.show_table(art.data["per_trial"])
+output.show_table(art.data["per_trial"].reset_index())
 display(output.save_figure(plots.bakeoff_groups(art), "broad2021_extra_bakeoff_6d"))
 
 # %% [markdown]
@@ -128,7 +128,10 @@ output.show_table(art.table)
 # Per filter and trial: the min–max range of the twin's draws (fewer than 1000 draws: a range, which
 # covers (n−1)/(n+1) of the draws' distribution) against the real RMSE; coverage with its Wilson
 # interval and the median width, overall and per BROAD group. A miss is a finding: the lines name
-# what the twin lacks.
+# what the twin lacks. The rest table above measures one candidate without any filter: the angle between
+# the accelerometer's and the optical "up" at rest (IMU-to-marker misalignment + accelerometer bias). Its
+# fix is tested **leave-one-trial-out**: each trial's twin gets a mount tilt of the median measured on
+# the *other* trials (random direction per draw), for Mahony, Madgwick and VQF.
 
 # %%
 art = broad2021.extra_twin(run)

@@ -136,3 +136,14 @@ def test_run_study_ci_slice_and_producers():
     assert isinstance(b.extra_bakeoff_6d(run).table, pd.DataFrame)
     with pytest.raises(ValueError, match="seed must be a non-negative integer"):
         artifacts.run_study(sc, -1)
+
+
+def test_twin_mount_tilt_keeps_noise_and_validates(trial):
+    short = scenario.trial_head(trial, 12000)
+    r0, _, _ = error_model.simulate_twin(short, 2, 3)
+    r1, _, _ = error_model.simulate_twin(short, 2, 3, mount_tilt_rad=0.0)
+    assert np.array_equal(r0.gyro_rad_s, r1.gyro_rad_s)
+    r2, _, _ = error_model.simulate_twin(short, 2, 3, mount_tilt_rad=np.radians(0.3))
+    assert r2.gyro_rad_s.shape == r0.gyro_rad_s.shape and not np.array_equal(r0.accel_m_s2, r2.accel_m_s2)
+    with pytest.raises(ValueError, match="mount_tilt_rad"):
+        error_model.simulate_twin(short, 2, 3, mount_tilt_rad=-1.0)

@@ -26,6 +26,7 @@ min–max range for fewer than 1000 draws, which covers (n−1)/(n+1) of the dra
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
@@ -39,11 +40,13 @@ from mtcal.core.validate import positive_int, positive_scalar
 from .runs import initial_rest, rmse_deg, run_6d
 from .scenario import FILTERS_6D, Trial
 
-__all__ = ["STREAM_TWIN", "RestModel", "identify_rest_model", "twin_truth", "TwinTruth", "simulate_twin",
+__all__ = ["STREAM_TWIN", "STREAM_TWIN_MOUNT", "RestModel", "identify_rest_model", "twin_truth", "TwinTruth", "simulate_twin",
            "predict_real_error", "TwinPrediction", "twin_predictions", "LOCAL_GRAVITY_M_S2"]
 
 #: Random stream of the twin's draws (keyed by seed, this stream, the trial number).
 STREAM_TWIN = 60
+#: Random stream of the direction of the twin's mount tilt (keyed by seed, this stream, the trial number).
+STREAM_TWIN_MOUNT = 61
 #: Gravity at the recording site (Berlin 52.5° N, normal gravity formula, m/s²).
 LOCAL_GRAVITY_M_S2 = 9.8128
 
@@ -160,14 +163,34 @@ def _trial_number(trial: Trial) -> int:
 
 
 def simulate_twin(trial: Trial, n_draws: int, seed: int, *, margin_s: float = 0.5, smooth_quat_s: float = 0.1,
-                  smooth_pos_s: float = 0.2, local_gravity_m_s2: float = LOCAL_GRAVITY_M_S2):
-    """``n_draws`` simulated records of the trial's twin: (ImuRecord with (n_draws, N, 3) arrays, truth, RestModel)."""
+                  smooth_pos_s: float = 0.2, local_gravity_m_s2: float = LOCAL_GRAVITY_M_S2,
+                  mount_tilt_rad: float = 0.0):
+    """``n_draws`` simulated records of the trial's twin: (ImuRecord with (n_draws, N, 3) arrays, truth, RestModel).
+
+    ``mount_tilt_rad`` > 0 tilts the simulated IMU against the optical body frame by that angle about a
+    sensor-horizontal axis (x–y plane) of random direction per draw (stream :data:`STREAM_TWIN_MOUNT`): the
+    IMU-to-marker misalignment an engineer cannot measure on the trial itself. Each draw keeps its noise
+    numbers (``trial_ids``), with or without the tilt.
+    """
     model = identify_rest_model(trial, margin_s, local_gravity_m_s2)
     truth = twin_truth(trial, smooth_quat_s, smooth_pos_s)
     traj = Trajectory(np.arange(trial.n) * trial.dt_s, truth.q_ws, truth.accel_w_m_s2)
-    rng = trial_rng(seed, STREAM_TWIN, _trial_number(trial))
-    rec = simulate_imu(traj, model.error_model(), rng, trials=positive_int(n_draws, "n_draws"),
-                       gravity_w_m_s2=(0.0, 0.0, -local_gravity_m_s2))
+    n_draws = positive_int(n_draws, "n_draws")
+    gravity = (0.0, 0.0, -local_gravity_m_s2)
+    errors = model.error_model()
+    if positive_scalar(mount_tilt_rad, "mount_tilt_rad", allow_zero=True) == 0.0:
+        rec = simulate_imu(traj, errors, trial_rng(seed, STREAM_TWIN, _trial_number(trial)), trials=n_draws,
+                           gravity_w_m_s2=gravity)
+        return rec, truth, model
+    phi = trial_rng(seed, STREAM_TWIN_MOUNT, _trial_number(trial)).uniform(0.0, 2.0 * np.pi, n_draws)
+    parts = []
+    for d in range(n_draws):
+        q_bs = rotations.quat_from_rotvec(mount_tilt_rad * np.array([np.cos(phi[d]), np.sin(phi[d]), 0.0]))
+        tilted = dataclasses.replace(errors, q_mount=tuple(float(v) for v in q_bs))
+        parts.append(simulate_imu(traj, tilted, trial_rng(seed, STREAM_TWIN, _trial_number(trial)), trials=1,
+                                  gravity_w_m_s2=gravity, trial_ids=[d]))
+    rec = dataclasses.replace(parts[0], gyro_rad_s=np.concatenate([p.gyro_rad_s for p in parts]),
+                              accel_m_s2=np.concatenate([p.accel_m_s2 for p in parts]))
     return rec, truth, model
 
 
@@ -224,7 +247,8 @@ def predict_real_error(trial: Trial, filter: str, n_draws: int = 20, seed: int =
     seed : int
         Seed of the keyed stream :data:`STREAM_TWIN` (the trial number is the key's trial).
     **twin
-        ``margin_s``, ``smooth_quat_s``, ``smooth_pos_s``, ``local_gravity_m_s2`` (module docstring).
+        ``margin_s``, ``smooth_quat_s``, ``smooth_pos_s``, ``local_gravity_m_s2`` (module docstring),
+        ``mount_tilt_rad`` (:func:`simulate_twin`; 0 by default: the blind twin).
 
     Returns
     -------
