@@ -128,10 +128,12 @@ output.show_table(art.table)
 # Per filter and trial: the min–max range of the twin's draws (fewer than 1000 draws: a range, which
 # covers (n−1)/(n+1) of the draws' distribution) against the real RMSE; coverage with its Wilson
 # interval and the median width, overall and per BROAD group. A miss is a finding: the lines name
-# what the twin lacks. The rest table above measures one candidate without any filter: the angle between
-# the accelerometer's and the optical "up" at rest (IMU-to-marker misalignment + accelerometer bias). Its
-# fix is tested **leave-one-trial-out**: each trial's twin gets a mount tilt of the median measured on
-# the *other* trials (random direction per draw), for Mahony, Madgwick and VQF.
+# what the twin lacks. The rest table above measures the candidates after the fact, without any filter:
+# the angle between the accelerometer's and the optical "up" at rest (IMU-to-marker misalignment +
+# accelerometer bias), and on the movement phase a least-squares fit of the real gyro on the optical
+# rate (`twin_gaps`: gyro scale factor, misalignment, IMU-vs-optical time offset). The fix is tested
+# **leave-one-trial-out**: each draw of a trial's twin borrows the gaps measured on one *other* trial
+# (keyed choice), never its own; for Mahony, Madgwick and VQF.
 
 # %%
 art = broad2021.extra_twin(run)

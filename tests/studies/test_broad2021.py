@@ -145,5 +145,25 @@ def test_twin_mount_tilt_keeps_noise_and_validates(trial):
     assert np.array_equal(r0.gyro_rad_s, r1.gyro_rad_s)
     r2, _, _ = error_model.simulate_twin(short, 2, 3, mount_tilt_rad=np.radians(0.3))
     assert r2.gyro_rad_s.shape == r0.gyro_rad_s.shape and not np.array_equal(r0.accel_m_s2, r2.accel_m_s2)
-    with pytest.raises(ValueError, match="mount_tilt_rad"):
+    with pytest.raises(ValueError, match="mount_tilt_rad must be finite and >= 0"):
         error_model.simulate_twin(short, 2, 3, mount_tilt_rad=-1.0)
+    with pytest.raises(TypeError, match="time_offset_samples must be integers"):
+        error_model.simulate_twin(short, 2, 3, time_offset_samples=0.5)
+    # a per-draw time offset shifts that draw only; its noise numbers stay those of the blind twin's draw
+    r3, _, _ = error_model.simulate_twin(short, 2, 3, time_offset_samples=np.array([0, -2]))
+    assert np.array_equal(r3.gyro_rad_s[0], r0.gyro_rad_s[0])
+    assert np.array_equal(r3.gyro_rad_s[1, 2:], r0.gyro_rad_s[1, :-2])
+
+
+def test_twin_gaps_find_injected_scale_and_offset(trial):
+    from mtcal.core.simulate import Trajectory, body_rates
+
+    short = scenario.trial_head(trial, 20000)
+    truth = error_model.twin_truth(short)
+    w = body_rates(Trajectory(np.arange(short.n) * short.dt_s, truth.q_ws))
+    a = np.diag([1.01, 0.99, 1.0])
+    g = (w @ a.T)[np.clip(np.arange(short.n) - 3, 0, short.n - 1)]
+    fake = scenario.Trial(short.name, g, short.accel_m_s2, short.mag_uT, short.opt_quat, short.opt_pos_m,
+                          short.movement, short.fs_hz, short.groups)
+    gaps = error_model.twin_gaps(fake)
+    assert abs(gaps["gyro_scale_pct"] - 2.0 / 3.0) < 0.05 and abs(gaps["time_offset_ms"] + 3000 * short.dt_s) < 1e-9

@@ -40,13 +40,15 @@ from mtcal.core.validate import positive_int, positive_scalar
 from .runs import initial_rest, rmse_deg, run_6d
 from .scenario import FILTERS_6D, Trial
 
-__all__ = ["STREAM_TWIN", "STREAM_TWIN_MOUNT", "RestModel", "identify_rest_model", "twin_truth", "TwinTruth", "simulate_twin",
-           "predict_real_error", "TwinPrediction", "twin_predictions", "LOCAL_GRAVITY_M_S2"]
+__all__ = ["STREAM_TWIN", "STREAM_TWIN_MOUNT", "STREAM_TWIN_LOTO", "RestModel", "identify_rest_model", "twin_truth", "TwinTruth", "simulate_twin",
+           "predict_real_error", "TwinPrediction", "twin_predictions", "twin_gaps", "trial_number", "LOCAL_GRAVITY_M_S2"]
 
 #: Random stream of the twin's draws (keyed by seed, this stream, the trial number).
 STREAM_TWIN = 60
 #: Random stream of the direction of the twin's mount tilt (keyed by seed, this stream, the trial number).
 STREAM_TWIN_MOUNT = 61
+#: Random stream choosing, per draw, the other trial whose measured gaps a leave-one-trial-out twin borrows.
+STREAM_TWIN_LOTO = 62
 #: Gravity at the recording site (Berlin 52.5° N, normal gravity formula, m/s²).
 LOCAL_GRAVITY_M_S2 = 9.8128
 
@@ -157,20 +159,66 @@ def twin_truth(trial: Trial, smooth_quat_s: float = 0.1, smooth_pos_s: float = 0
     return TwinTruth(q_ws=q, accel_w_m_s2=acc)
 
 
-def _trial_number(trial: Trial) -> int:
+def twin_gaps(trial: Trial, smooth_quat_s: float = 0.1, max_lag_samples: int = 10, *, matrix: bool = False):
+    """What the twin lacks, measured after the fact on the movement phase (a diagnosis, never a twin input).
+
+    Least squares of the real gyro on the twin's true rate (the smoothed optical attitude's interval-mean
+    rate): ``ω_imu(t_k) ≈ A ω_opt(t_{k+lag}) + b``, over lags of ±``max_lag_samples`` samples; the lag with
+    the smallest residual is the IMU-vs-optical time offset. ``A − I`` holds the gyro scale-factor errors
+    (diagonal) and axis misalignment (off-diagonal), both absent from the twin.
+
+    Returns
+    -------
+    dict
+        ``gyro_scale_pct`` (mean |A_ii − 1|, %), ``gyro_misalignment_deg`` (RMS off-diagonal of A, deg),
+        ``time_offset_ms`` (best lag), ``gyro_fit_residual_deg_s`` (RMS residual), ``opt_rate_rms_deg_s``;
+        with ``matrix=True`` the fitted 3×3 ``A`` instead.
+    """
+    from mtcal.core.simulate import body_rates
+
+    truth = twin_truth(trial, smooth_quat_s)
+    w_opt = body_rates(Trajectory(np.arange(trial.n) * trial.dt_s, truth.q_ws))
+    ok = trial.movement & np.isfinite(trial.opt_quat[:, 0])
+    idx = np.flatnonzero(ok)
+    idx = idx[(idx >= max_lag_samples) & (idx < trial.n - max_lag_samples)]
+    y = trial.gyro_rad_s[idx]
+    best = None
+    for lag in range(-max_lag_samples, max_lag_samples + 1):
+        x = np.column_stack([w_opt[idx + lag], np.ones(idx.size)])
+        coef, *_ = np.linalg.lstsq(x, y, rcond=None)
+        res = float(np.sqrt(np.mean((y - x @ coef) ** 2)))
+        if best is None or res < best[0]:
+            best = (res, lag, coef[:3].T)
+    res, lag, a = best
+    if matrix:
+        return a
+    off = a[~np.eye(3, dtype=bool)]
+    return {"gyro_scale_pct": float(100.0 * np.mean(np.abs(np.diag(a) - 1.0))),
+            "gyro_misalignment_deg": float(np.degrees(np.sqrt(np.mean(off ** 2)))),
+            "time_offset_ms": 1000.0 * lag * trial.dt_s, "gyro_fit_residual_deg_s": float(np.degrees(res)),
+            "opt_rate_rms_deg_s": float(np.degrees(np.sqrt(np.mean(w_opt[idx] ** 2))))}
+
+
+def trial_number(trial: Trial) -> int:
+    """The trial's number (leading digits of its name), the key of its random streams."""
     head = trial.name.split("_", 1)[0]
     return int(head) if head.isdigit() else sum(trial.name.encode())
 
 
 def simulate_twin(trial: Trial, n_draws: int, seed: int, *, margin_s: float = 0.5, smooth_quat_s: float = 0.1,
                   smooth_pos_s: float = 0.2, local_gravity_m_s2: float = LOCAL_GRAVITY_M_S2,
-                  mount_tilt_rad: float = 0.0):
+                  mount_tilt_rad=0.0, gyro_matrix=None, time_offset_samples=0):
     """``n_draws`` simulated records of the trial's twin: (ImuRecord with (n_draws, N, 3) arrays, truth, RestModel).
 
-    ``mount_tilt_rad`` > 0 tilts the simulated IMU against the optical body frame by that angle about a
-    sensor-horizontal axis (x–y plane) of random direction per draw (stream :data:`STREAM_TWIN_MOUNT`): the
-    IMU-to-marker misalignment an engineer cannot measure on the trial itself. Each draw keeps its noise
-    numbers (``trial_ids``), with or without the tilt.
+    The blind twin has none of the three extra error sources below (their defaults); each may be one value
+    or one per draw (what :func:`twin_gaps` measured on *other* trials, for a leave-one-trial-out test):
+
+    * ``mount_tilt_rad`` ≥ 0: the simulated IMU is tilted against the optical body frame by that angle about
+      a sensor-horizontal axis (x–y plane) of random direction per draw (stream :data:`STREAM_TWIN_MOUNT`);
+    * ``gyro_matrix`` (3×3 ``I + S + M``, or (n_draws, 3, 3)): gyro scale-factor and misalignment errors;
+    * ``time_offset_samples`` (int): record sample k is the simulated sample k + offset (clipped at the ends).
+
+    Each draw keeps its noise numbers (``trial_ids``) whatever the extra sources.
     """
     model = identify_rest_model(trial, margin_s, local_gravity_m_s2)
     truth = twin_truth(trial, smooth_quat_s, smooth_pos_s)
@@ -178,19 +226,36 @@ def simulate_twin(trial: Trial, n_draws: int, seed: int, *, margin_s: float = 0.
     n_draws = positive_int(n_draws, "n_draws")
     gravity = (0.0, 0.0, -local_gravity_m_s2)
     errors = model.error_model()
-    if positive_scalar(mount_tilt_rad, "mount_tilt_rad", allow_zero=True) == 0.0:
-        rec = simulate_imu(traj, errors, trial_rng(seed, STREAM_TWIN, _trial_number(trial)), trials=n_draws,
-                           gravity_w_m_s2=gravity)
-        return rec, truth, model
-    phi = trial_rng(seed, STREAM_TWIN_MOUNT, _trial_number(trial)).uniform(0.0, 2.0 * np.pi, n_draws)
-    parts = []
+    tilts = np.broadcast_to(np.asarray(mount_tilt_rad, dtype=float), (n_draws,))
+    if not np.all(np.isfinite(tilts)) or np.any(tilts < 0):
+        raise ValueError(f"mount_tilt_rad must be finite and >= 0, got {mount_tilt_rad!r}")
+    lags = np.broadcast_to(np.asarray(time_offset_samples), (n_draws,))
+    if lags.dtype.kind not in "iu":
+        raise TypeError(f"time_offset_samples must be integers, got {lags.dtype}")
+    mats = None
+    if gyro_matrix is not None:
+        mats = np.broadcast_to(np.asarray(gyro_matrix, dtype=float), (n_draws, 3, 3))
+        if not np.all(np.isfinite(mats)):
+            raise ValueError("gyro_matrix must be finite 3x3 matrices")
+    rng = trial_rng(seed, STREAM_TWIN, trial_number(trial))
+    if mats is None and not np.any(tilts) and not np.any(lags):
+        return simulate_imu(traj, errors, rng, trials=n_draws, gravity_w_m_s2=gravity), truth, model
+    phi = trial_rng(seed, STREAM_TWIN_MOUNT, trial_number(trial)).uniform(0.0, 2.0 * np.pi, n_draws)
+    gyr, acc = [], []
     for d in range(n_draws):
-        q_bs = rotations.quat_from_rotvec(mount_tilt_rad * np.array([np.cos(phi[d]), np.sin(phi[d]), 0.0]))
-        tilted = dataclasses.replace(errors, q_mount=tuple(float(v) for v in q_bs))
-        parts.append(simulate_imu(traj, tilted, trial_rng(seed, STREAM_TWIN, _trial_number(trial)), trials=1,
-                                  gravity_w_m_s2=gravity, trial_ids=[d]))
-    rec = dataclasses.replace(parts[0], gyro_rad_s=np.concatenate([p.gyro_rad_s for p in parts]),
-                              accel_m_s2=np.concatenate([p.accel_m_s2 for p in parts]))
+        q_bs = rotations.quat_from_rotvec(tilts[d] * np.array([np.cos(phi[d]), np.sin(phi[d]), 0.0]))
+        err = dataclasses.replace(errors, q_mount=tuple(float(v) for v in q_bs))
+        if mats is not None:
+            off = np.where(np.eye(3, dtype=bool), 0.0, mats[d])
+            err = dataclasses.replace(err, gyro=dataclasses.replace(
+                err.gyro, scale_factor=tuple(float(v) for v in np.diag(mats[d]) - 1.0),
+                misalignment=tuple(tuple(float(v) for v in row) for row in off)))
+        part = simulate_imu(traj, err, trial_rng(seed, STREAM_TWIN, trial_number(trial)), trials=1,
+                            gravity_w_m_s2=gravity, trial_ids=[d])
+        shift = np.clip(np.arange(trial.n) + int(lags[d]), 0, trial.n - 1)
+        gyr.append(part.gyro_rad_s[:, shift])
+        acc.append(part.accel_m_s2[:, shift])
+    rec = dataclasses.replace(part, gyro_rad_s=np.concatenate(gyr), accel_m_s2=np.concatenate(acc))
     return rec, truth, model
 
 
@@ -248,7 +313,8 @@ def predict_real_error(trial: Trial, filter: str, n_draws: int = 20, seed: int =
         Seed of the keyed stream :data:`STREAM_TWIN` (the trial number is the key's trial).
     **twin
         ``margin_s``, ``smooth_quat_s``, ``smooth_pos_s``, ``local_gravity_m_s2`` (module docstring),
-        ``mount_tilt_rad`` (:func:`simulate_twin`; 0 by default: the blind twin).
+        ``mount_tilt_rad``, ``gyro_matrix``, ``time_offset_samples`` (:func:`simulate_twin`; none by default:
+        the blind twin).
 
     Returns
     -------
