@@ -14,7 +14,7 @@ from mtcal.methods import rest_detection
 
 __all__ = ["add_input_options", "add_rest_options", "input_options", "detect", "rest_table", "print_report",
            "finite_float", "DiagnosticsFigure", "run_with_figure", "SCHEMA_HELP", "description_with_schema",
-           "QUATERNION_DECIMALS", "write_attitude", "euler_deg"]
+           "QUATERNION_DECIMALS", "write_attitude", "euler_deg", "print_units_check"]
 
 SCHEMA_HELP = """log schema (CSV or Parquet, header row, one row per sample; extra columns ignored):
   time_s                                    time (s), strictly increasing (jitter allowed)
@@ -76,6 +76,14 @@ def euler_deg(q: np.ndarray) -> np.ndarray:
     with ThreadPoolExecutor(max_workers=min(len(starts), os.cpu_count() or 1)) as pool:
         list(pool.map(block, starts))
     return out
+
+
+def print_units_check(chk: dict) -> None:
+    """Print a :func:`mtcal.systems.plausibility.check_units` result: which evidence decided, or its one warning."""
+    if chk.get("warning"):
+        print(f"warning: {chk['warning']}")
+    else:
+        print(f"gyro units check ({chk['method']}): {chk['evidence']}")
 
 
 def finite_float(text: str, name: str, *, positive: bool = True) -> float:
