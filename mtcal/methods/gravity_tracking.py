@@ -73,8 +73,9 @@ MIN_WINDOWS = 5
 CONFIRM_FRACTION = 0.8
 #: A rival contradicts the stated scale when it wins at least this fraction of the discriminating windows.
 #: Higher than :data:`CONFIRM_FRACTION` on purpose: linear acceleration tilts the accelerometer without a
-#: rotation, which favours whichever hypothesis predicts the *smaller* rotation (on BROAD's slow
-#: translation trials, correct rad/s data, a 57x smaller rotation wins up to 72 % of the few windows).
+#: rotation, which favours whichever hypothesis predicts the *smaller* rotation (on real hand-held slow
+#: translation recordings in correct rad/s, a 57x smaller rotation was measured to win up to 72 % of the
+#: few discriminating windows).
 CONTRADICT_FRACTION = 0.9
 
 
@@ -93,7 +94,7 @@ def _angle_deg(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 def gravity_tracking(gyro_rad_s, accel_m_s2, dt_s: float, *, window_s: float = 0.5, avg_s: float = 0.05,
                      band_fraction: float = 0.1, min_difference_deg: float = 2.0,
-                     max_windows: int = 4000, hypotheses: dict | None = None) -> dict:
+                     max_windows: int = 2000, hypotheses: dict | None = None) -> dict:
     """Test the gyro's stated scale against unit/time-base rivals by how each tracks gravity.
 
     Parameters

@@ -381,7 +381,8 @@ def _gravity_tracking(gyro_rad_s, accel_m_s2, dt_s: float) -> dict:
     """:func:`mtcal.methods.gravity_tracking.gravity_tracking`; raises when a rival scale wins (naming the fix)."""
     gt = gravity_tracking.gravity_tracking(gyro_rad_s, accel_m_s2, dt_s)
     if gt["decision"] == "rival":
-        others = [k for k, r in gt["rivals"].items() if k != gt["winner"] and r["windows"] >= gravity_tracking.MIN_WINDOWS
+        others = [k for k, r in gt["rivals"].items() if k != gt["winner"]
+                  and r["windows"] >= gravity_tracking.MIN_WINDOWS
                   and 1.0 - r["win_fraction"] >= gravity_tracking.CONTRADICT_FRACTION]
         also = "".join(f"; or {k} ({1.0 - gt['rivals'][k]['win_fraction']:.2f}): {TRACKING_HINTS.get(k, '')}"
                        for k in others)

@@ -18,21 +18,10 @@ from mtcal.cli import attitude, common, logio
 from mtcal.core.arrayfile import read_arrays
 from mtcal.systems import plausibility
 
+from .test_realistic_logs import _refused, _run
+
 TRIALS = sorted((Path(__file__).resolve().parents[2] / "datasets" / "broad2021" / "trials").glob("*.mat"))
 BREAKS = [p for p in TRIALS if "with_breaks" in p.name]
-
-
-def _run(args, capsys):
-    code = cli.main([str(a) for a in args])
-    cap = capsys.readouterr()
-    return code, cap.out, cap.err
-
-
-def _refused(code, err, *needles):
-    assert code == 2, err
-    assert err.startswith("mtcal: error: ") and err.count("\n") == 1, err
-    for n in needles:
-        assert n in err, err
 
 
 def _defaults(extra=()):
