@@ -478,7 +478,7 @@ def read_log(path, opts: InputOptions | None = None, *, need: str = "raw", min_s
         _check_accel(accel, p)
     if has_raw:
         gyro = vec(GYRO_COLS, "gyro", opts.gyro_unit, GYRO_UNITS, opts.gyro_scale, "gyro scale")
-        _check_gyro(gyro, p)
+        _check_gyro(gyro, p, accel, dt_mean)
         if opts.gyro_unit is not None:
             stated = f"--gyro-unit {opts.gyro_unit}"
         elif array_file:
@@ -589,11 +589,29 @@ def _check_accel(accel: np.ndarray, path: Path) -> None:
                          f"raw counts or mg? use --accel-scale (e.g. 1/LSB per g with --accel-unit g)")
 
 
-def _check_gyro(gyro: np.ndarray, path: Path) -> None:
+def _check_gyro(gyro: np.ndarray, path: Path, accel: np.ndarray | None = None, dt_s: float | None = None) -> None:
     peak = max(float(gyro.max()), -float(gyro.min())) if gyro.size else 0.0  # max |gyro| without a temporary
     if peak > 40.0:
-        raise ValueError(f"{path}: peak |gyro| {peak:.4g} rad/s exceeds any MEMS full scale (~35 rad/s): "
-                         f"gyro in deg/s or counts? use --gyro-unit deg/s or --gyro-scale")
+        hint = (f"gyro in mrad/s or counts? use --gyro-scale (0.001 for mrad/s; read as deg/s it would still peak "
+                f"at {np.radians(peak):.4g} rad/s)")
+        if peak <= 40.0 * 180.0 / np.pi:  # deg/s and mrad/s both plausible: say which tracks gravity
+            hint = ("gyro in deg/s (use --gyro-unit deg/s) or mrad/s (use --gyro-scale 0.001)? "
+                    + _tracking_hint(gyro, accel, dt_s))
+        raise ValueError(f"{path}: peak |gyro| {peak:.4g} rad/s exceeds any MEMS full scale (~35 rad/s): {hint}")
+
+
+def _tracking_hint(gyro: np.ndarray, accel: np.ndarray | None, dt_s: float | None) -> str:
+    """Which of deg/s and mrad/s carries the accelerometer's gravity direction (gravity tracking), for a message."""
+    if accel is None or dt_s is None:
+        return ""
+    from mtcal.methods import gravity_tracking
+
+    res = gravity_tracking.gravity_tracking(gyro, accel, dt_s, hypotheses={"deg/s": np.pi / 180, "mrad/s": 1e-3})
+    if res["decision"] != "rival":
+        return "gravity tracking cannot tell"
+    r = res["rivals"][res["winner"]]
+    return (f"gravity tracking favours {res['winner']} ({1.0 - r['win_fraction']:.2f} of {r['windows']} windows "
+            f"against the stated unit; windows with linear acceleration favour the smaller rate)")
 
 
 def check_output_path(out, inputs=(), option: str = "--out") -> Path:

@@ -73,7 +73,7 @@ def test_cli_accepts_and_refuses_mislabelled_csv(path, tmp_path, capsys):
     _refused(*_run(["attitude", _csv(tmp_path / "deg.csv", arrays, gyro_factor=180 / np.pi), "--out",
                     tmp_path / "o.csv"], capsys)[::2], "--gyro-unit deg/s")
     _refused(*_run(["attitude", _csv(tmp_path / "mrad.csv", arrays, gyro_factor=1e3), "--out",
-                    tmp_path / "o.csv"], capsys)[::2], "--gyro-")
+                    tmp_path / "o.csv"], capsys)[::2], "--gyro-scale (0.001 for mrad/s")
     _refused(*_run(["attitude", _csv(tmp_path / "ms.csv", arrays, time_factor=1e3), "--out",
                     tmp_path / "o.csv"], capsys)[::2], "--time-unit ms")
     assert not (tmp_path / "o.csv").exists()
