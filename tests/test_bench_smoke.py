@@ -405,7 +405,7 @@ def test_broad_accuracy_smoke():
 
     rows = broad_accuracy.trial_rows(["qncf", "vqf"], ["02"])
     names = [r["filter"] for r in rows]
-    assert names == ["qncf", "qncf_gate_open*", "qncf_gate_closed_share*", "vqf"]
+    assert names == ["qncf", "qncf_gate_open*", "qncf_next_row*", "qncf_gate_closed_share*", "vqf"]
     assert all(np.isfinite(r["inclination_rmse_deg"]) for r in rows)
     summ = {s["filter"]: s for s in broad_accuracy.summary(rows)}
     assert summ["vqf"]["median_ratio_to_vqf"] == 1.0
