@@ -33,30 +33,11 @@ example:
   mtcal attitude raw.csv --gyro-scale 0.0175 --gyro-unit deg/s --accel-scale 0.000244 --accel-unit g"""
 
 
-#: Range of the QNCF proportional gain from :func:`qncf_params`' noise rule (1/s).
-KP_RANGE_RAD_S = (0.05, 5.0)
-
-
 def qncf_params(rep):
-    """QNCF parameters from the data: gravity and AMD threshold from the rest level, gains from the noise.
+    """QNCF parameters from the rests' levels and noise: :func:`mtcal.systems.attitude.qncf_params_from_rests`."""
+    from mtcal.systems.attitude import qncf_params_from_rests
 
-    * ``gravity_m_s2``: the measured ``|a|`` at rest; ``amd_threshold_pct``: the rest band's half
-      width in % of g, at least the paper's 0.3 (wang2023cja §3.1).
-    * ``kp_rad_s = g σ_ω / σ_a`` (clipped to :data:`KP_RANGE_RAD_S`), σ_ω (rad/s) and σ_a (m/s²) the
-      per-sample gyro and accelerometer noise measured at rest: the complementary filter's crossover
-      at which the tilt variance from accelerometer noise, ``(σ_a/g)² Δt K_p / 2``, equals the one from
-      gyro noise, ``σ_ω² Δt / (2 K_p)``; their sum is smallest there. The sample interval cancels: the
-      rule holds at any sample rate for per-sample noise. ``ki_rad_s2 = K_p / 50 s`` (QNCF's default
-      ratio, bias time constant 50 s). The paper gives no gains; no optical or other reference is used.
-    """
-    from mtcal.filters.qncf import QncfParams
-
-    half = 0.5 * (rep.band_m_s2[1] - rep.band_m_s2[0])
-    kp = QncfParams.kp_rad_s
-    if rep.gyro_noise_rad_s > 0 and rep.accel_noise_m_s2 > 0:
-        kp = float(np.clip(rep.gravity_m_s2 * rep.gyro_noise_rad_s / rep.accel_noise_m_s2, *KP_RANGE_RAD_S))
-    return QncfParams(gravity_m_s2=rep.gravity_m_s2, kp_rad_s=kp, ki_rad_s2=kp / 50.0,
-                      amd_threshold_pct=max(0.3, 100.0 * half / rep.gravity_m_s2))
+    return qncf_params_from_rests(rep)
 
 
 def qncf_settings(log: logio.ImuLog, rep) -> tuple[np.ndarray, object, np.ndarray | None, dict]:
@@ -68,29 +49,17 @@ def qncf_settings(log: logio.ImuLog, rep) -> tuple[np.ndarray, object, np.ndarra
     follow the measured rest level, the start is levelled from the first rest and
     that rest's mean gyro is removed.
     """
-    from mtcal.filters.qncf import QncfParams, initial_attitude_from_accel
+    from mtcal.systems.attitude import qncf_log_setup
 
-    paper = rep.method == "paper"
-    params = QncfParams() if paper else qncf_params(rep)
-    first = rep.rests[0] if rep.rests and not paper else None
-    gyro = log.gyro_for_filter()
-    core = None
-    if first is not None and first.start <= max(int(0.25 * log.fs_hz), 1):
-        core = common.rest_bias(log, rep, first)
-        q0 = initial_attitude_from_accel(log.accel_m_s2[core.core].mean(axis=0))
-        bias = core.bias_rad_s
-        gyro = gyro - bias  # the QNCF's integral term cannot see a bias about the vertical
-        init = "first rest (gyro bias of its quiet core removed)"
-    else:
-        q0, bias = None, np.zeros(3)
-        init = "first 100 samples (log does not start at rest)"
+    setup = qncf_log_setup(log.gyro_for_filter(), log.accel_m_s2, log.dt_mean_s, rep, gyro_rad_s=log.gyro_rad_s)
+    params = setup.params
     info = {"filter": "qncf", "gravity_m_s2": params.gravity_m_s2,
             "amd_threshold_pct": params.amd_threshold_pct, "kp_rad_s": params.kp_rad_s,
-            "ki_rad_s2": params.ki_rad_s2, "levelled_from": init,
-            "initial_gyro_bias_rad_s": bias.tolist()}
-    if core is not None:
-        info["gyro_bias_text"] = common.rest_bias_text(log, core)
-    return gyro, params, q0, info
+            "ki_rad_s2": params.ki_rad_s2, "levelled_from": setup.levelled_from,
+            "initial_gyro_bias_rad_s": setup.bias_rad_s.tolist()}
+    if setup.quiet_core is not None:
+        info["gyro_bias_text"] = common.rest_bias_text(log, setup.quiet_core)
+    return setup.gyro_rad_s, params, setup.q0, info
 
 
 #: ``--filter`` choices; ``qncf`` (the paper's filter) is the default.

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import dataclasses
 import math
 import os
 
@@ -14,7 +13,7 @@ from mtcal.methods import rest_detection
 
 __all__ = ["add_input_options", "add_rest_options", "input_options", "detect", "rest_table", "print_report",
            "finite_float", "DiagnosticsFigure", "run_with_figure", "SCHEMA_HELP", "description_with_schema",
-           "QUATERNION_DECIMALS", "write_attitude", "euler_deg", "rest_bias", "rest_bias_text",
+           "QUATERNION_DECIMALS", "write_attitude", "euler_deg", "rest_bias_text",
            "print_units_check"]
 
 SCHEMA_HELP = """log schema (CSV or Parquet, header row, one row per sample; extra columns ignored;
@@ -146,7 +145,7 @@ def detect(args, log: logio.ImuLog, *, use_gyro: bool = True) -> rest_detection.
     """Run the chosen rest detector on a log with the command-line overrides.
 
     Rests whose listed duration (``t[stop-1] − t[start]``) is below ``--min-rest-s``
-    are moved to the rejected list, so a listing never shows a rest shorter than the
+    are moved to the rejected list (:func:`mtcal.systems.attitude.drop_short_rests`), so a listing never shows a rest shorter than the
     stated minimum.
     """
     min_rest = finite_float(args.min_rest_s, "--min-rest-s")
@@ -174,33 +173,9 @@ def detect(args, log: logio.ImuLog, *, use_gyro: bool = True) -> rest_detection.
                                                    accel_band_m_s2=opt(args.accel_band, "--accel-band"),
                                                    gyro_level_max_rad_s=None if thr is None else np.radians(thr))
         rep = rest_detection.detect_rests(log.accel_m_s2, 1.0 / log.fs_hz, gyro_rad_s=gyro, params=params)
-    return _drop_short(log, rep)
+    from mtcal.systems.attitude import drop_short_rests
 
-
-def _drop_short(log: logio.ImuLog, rep: rest_detection.RestReport) -> rest_detection.RestReport:
-    """Move rests listed shorter than ``min_rest_s`` (by their printed span) to ``rejected``."""
-    t = log.time_s
-    short = [r for r in rep.rests if t[r.stop - 1] - t[r.start] < rep.min_rest_s]
-    if not short:
-        return rep
-    flags = rep.is_static.copy()
-    rejected = list(rep.rejected)
-    for r in short:
-        flags[r] = False
-        lo, hi = rest_detection.format_ordered(t[r.stop - 1] - t[r.start], rep.min_rest_s, 3)
-        rejected.append(rest_detection.RejectedRest(r, f"too short: {lo} s < {hi} s (--min-rest-s)"))
-    rejected.sort(key=lambda x: x.span.start)
-    return dataclasses.replace(rep, rests=[r for r in rep.rests if r not in short], rejected=rejected,
-                               is_static=flags, n_short=rep.n_short + len(short))
-
-
-def rest_bias(log: logio.ImuLog, report: rest_detection.RestReport, rest: slice) -> rest_detection.QuietCore:
-    """Gyro bias from the quiet core of ``rest`` (:func:`mtcal.methods.rest_detection.quiet_core`).
-
-    The threshold is 5 standard deviations of a 0.05 s moving mean of the measured per-sample
-    gyro noise (``report.gyro_noise_rad_s``): no fixed floor.
-    """
-    return rest_detection.quiet_core(log.gyro_rad_s, rest, log.dt_mean_s, report.gyro_noise_rad_s)
+    return drop_short_rests(rep, log.time_s)
 
 
 def rest_bias_text(log: logio.ImuLog, qc: rest_detection.QuietCore) -> str:

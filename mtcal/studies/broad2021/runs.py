@@ -56,22 +56,17 @@ def initial_rest(trial: Trial, margin_s: float = 0.5) -> slice:
 def qncf_cli_settings(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: float):
     """``mtcal attitude``'s default QNCF setup on one record: (gyro for the filter, QncfParams, q0 or None).
 
-    The adaptive rest detector (:func:`mtcal.methods.rest_detection.detect_rests`, minimum rest 0.2 s as
-    the command's default); gravity = ``‖a‖`` at rest, AMD threshold = max(0.3 %, rest band half-width);
-    start levelled from the first rest when it starts within 0.25 s, whose mean rate is removed
-    (the same rule as ``mtcal.cli.attitude.qncf_settings``).
+    The same library procedure the command runs (:func:`mtcal.systems.attitude.default_rests` — the
+    adaptive rest detector, rests ≥ 0.2 s — then :func:`mtcal.systems.attitude.qncf_log_setup`: gravity,
+    AMD threshold and gains from the rest levels and measured noise; start levelled from the first
+    rest's quiet core when that rest starts within 0.25 s, whose mean rate is removed). No optical
+    data is read.
     """
-    from mtcal.filters.qncf import QncfParams
-    from mtcal.methods.rest_detection import RestDetectorParams, detect_rests
+    from mtcal.systems import attitude as system_attitude
 
-    rep = detect_rests(accel_m_s2, dt_s, gyro_rad_s=gyro_rad_s, params=RestDetectorParams(min_rest_s=0.2))
-    half = 0.5 * (rep.band_m_s2[1] - rep.band_m_s2[0])
-    params = QncfParams(gravity_m_s2=rep.gravity_m_s2, amd_threshold_pct=max(0.3, 100.0 * half / rep.gravity_m_s2))
-    first = rep.rests[0] if rep.rests else None
-    if first is not None and first.start <= max(int(0.25 / dt_s), 1):
-        return (gyro_rad_s - gyro_rad_s[first].mean(axis=0), params,
-                initial_attitude_from_accel(accel_m_s2[first].mean(axis=0)))
-    return gyro_rad_s, params, None
+    rep = system_attitude.default_rests(accel_m_s2, dt_s, gyro_rad_s)
+    setup = system_attitude.qncf_log_setup(gyro_rad_s, accel_m_s2, dt_s, rep)
+    return setup.gyro_rad_s, setup.params, setup.q0
 
 
 def _basicvqf(w: np.ndarray, a: np.ndarray, dt: float, tau_acc_s: float, q0: np.ndarray) -> np.ndarray:
