@@ -39,6 +39,7 @@ import re
 import shutil
 import sys
 import time
+import warnings
 from collections import Counter, OrderedDict
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -408,9 +409,8 @@ class Site:
             if m and a.notebook and m["key"] in KEYS:
                 paper_notebooks.setdefault(a.notebook, m["key"])
         pages: OrderedDict[str, dict] = OrderedDict()
-        papers = {self.verdicts[a]["paper"] for a in self.verdicts}
         for key in KEYS:
-            if key in papers or key in paper_notebooks.values():
+            if key in paper_notebooks.values():
                 pages[f"papers/{key}"] = {"title": key, "key": key, "artifacts": []}
         for a in self.catalogue.values():
             key = paper_notebooks.get(a.notebook)
@@ -463,22 +463,35 @@ class Site:
         return sum(int(r["claims_holding"]) for r in rows), sum(int(r["claims_failing"]) for r in rows)
 
     # page writers -------------------------------------------------------------------------------
+    def paper_groups(self) -> "OrderedDict[str, list[str]]":
+        """``{paper: [artifact ids]}`` by the verdicts' ``paper`` column (the papers of :data:`KEYS` first)."""
+        groups: OrderedDict[str, list[str]] = OrderedDict((k, []) for k in KEYS)
+        for aid, row in self.verdicts.items():
+            if row["paper"]:
+                groups.setdefault(row["paper"], []).append(aid)
+        return OrderedDict((k, ids) for k, ids in groups.items() if ids)
+
+    def page_of(self, key: str, ids: list[str]) -> str:
+        """The paper's page, else the page showing most of its artifacts (a real-data study's notebook page)."""
+        if f"papers/{key}" in self.pages:
+            return f"papers/{key}"
+        where = Counter(n for n, p in self.pages.items() for a in p["artifacts"] if a in set(ids))
+        return where.most_common(1)[0][0]
+
     def scoreboard(self) -> str:
         """The front page's table: per paper, artifacts by verdict, held-out numbers inside, claims, errata."""
-        head = ("<tr><th>paper</th><th>artifacts</th>" + "".join(f"<th>{badge(v)}</th>" for v in VERDICTS)
+        head = ("<tr><th>paper (artifacts)</th>" + "".join(f"<th>{badge(v)}</th>" for v in VERDICTS)
                 + "<th>held-out inside</th><th>claims hold</th><th>claims fail</th><th>errata</th></tr>")
         body = []
-        for name, page in self.pages.items():
-            if not page["key"]:
-                continue
-            key, ids = page["key"], page["artifacts"]
+        for key, ids in self.paper_groups().items():
+            name = self.page_of(key, ids)
             c, (hold, fail) = self.counts(ids), self.claims_words(ids)
             fit = self.fidelity.get((key, "fitted"))
             held = f"{fit['inside']} of {fit['n']}" if fit and int(fit["n"] or 0) else "none held out"
             n_err = self.errata.get(key, ("", 0))[1]
             err = (f'<a href="errata.html#{slugify(key + " — " + self.errata[key][0])}">{n_err}</a>'
                    if n_err else "0")
-            body.append(f'<tr><td><a href="{name}.html">{esc(key)}</a></td><td>{len(ids)}</td>'
+            body.append(f'<tr><td><a href="{name}.html">{esc(key)}</a> ({len(ids)})</td>'
                         + "".join(f"<td>{c[v]}</td>" for v in VERDICTS)
                         + f"<td>{held}</td><td>{hold}</td><td>{fail}</td><td>{err}</td></tr>")
         return ('<div class="table-scroll"><table class="scoreboard"><thead>' + head + "</thead><tbody>"
@@ -493,13 +506,11 @@ class Site:
                  "a verdict's cause is computed in the notebook section linked beside it.", "",
                  "```{raw} html", self.scoreboard(), "```", ""]
         lines += [""]
-        for name, page in self.pages.items():
-            if not page["key"]:
-                continue
-            key, ids = page["key"], page["artifacts"]
+        for key, ids in self.paper_groups().items():
+            name = self.page_of(key, ids)
             c, (hold, fail) = self.counts(ids), self.claims_words(ids)
             citation = self.errata.get(key, ("", 0))[0]
-            items = page["items"]
+            items = paper_order([a for a in ids if ITEM_RE.match(a)])
             ci = self.counts(items)
             lines += [f"## [{key}]({name}.md)", ""] + ([f"*{md_escape(citation)}*", ""] if citation else []) + [
                       f"Of the paper's {len(items)} figures and tables: "
@@ -702,7 +713,11 @@ def build_site(root: Path = ROOT, out: Path | None = None, verdicts: Path | None
     log = src.parent / f"{src.name}-sphinx.log"
     args = ["-b", "html", "-W", "--keep-going", "-w", str(log), "-d", str(src.parent / f"{src.name}-doctrees"),
             str(src), str(out)] + (["-q"] if quiet else [])
-    if build_main(args) != 0:
+    with warnings.catch_warnings():  # the theme's and MyST's use of APIs Sphinx will remove: not ours to fix
+        warnings.simplefilter("ignore", DeprecationWarning)
+        warnings.simplefilter("ignore", PendingDeprecationWarning)
+        status = build_main(args)
+    if status != 0:
         raise SiteError(f"sphinx-build reported warnings or errors: {log}\n{log.read_text(encoding='utf-8')[-3000:]}")
     pages = [n for n in site.pages]
     return {"out": out, "pages": pages, "artifacts": list(site.catalogue), "seconds": time.perf_counter() - start,

@@ -3,6 +3,8 @@ headless Debian chromium (selenium): no console error, no broken link, anchor or
 no horizontal page overflow at 1280×800, every catalogue artifact once with its verdict badge, search works."""
 
 import csv
+import re
+from collections import Counter
 import doctest
 import importlib.util
 import shutil
@@ -212,3 +214,15 @@ def test_site_in_headless_chromium(built):
             assert driver.save_screenshot(str(shots / name)) and (shots / name).stat().st_size > 10_000
     finally:
         driver.quit()
+
+
+def test_front_page_counts_come_from_the_verdicts(built):
+    s = built["site"]
+    board = (Path(built["out"]) / "index.html").read_text(encoding="utf-8")
+    for key, ids in s.paper_groups().items():
+        assert ids == [a for a, r in s.verdicts.items() if r["paper"] == key]
+        counts = Counter(s.verdicts[a]["verdict"] for a in ids)
+        row = board[board.index(f'{key}</a> ({len(ids)})'):]
+        row = row[:row.index("</tr>")]
+        assert [int(c) for c in re.findall(r"<td>(\d+)</td>", row)[:4]] == [counts[v] for v in site.VERDICTS]
+    assert "calibrated bands would hold about" in board or not s.fidelity
