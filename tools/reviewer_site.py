@@ -339,8 +339,8 @@ def other_numbers_table(rows: list[dict]) -> str:
     if not rows:
         return ""
     lines = ['<div class="table-scroll"><table class="numbers">',
-             "<thead><tr><th>quantity</th><th>paper</th><th>ours</th><th>our 95 % band</th><th>paper in band</th>"
-             "<th>role</th><th>claim or check</th><th>holds</th></tr></thead><tbody>"]
+             "<thead><tr><th>quantity</th><th>paper</th><th>ours</th><th>our 95 % band</th><th>paper inside</th>"
+             "<th>role</th><th>claim or check</th></tr></thead><tbody>"]
     for r in rows:
         holds = {"True": '<span class="holds yes">holds</span>',
                  "False": '<span class="holds no">fails</span>'}.get(r.get("holds", ""), "")
@@ -348,7 +348,7 @@ def other_numbers_table(rows: list[dict]) -> str:
         lines.append(f'<tr><td>{esc(r.get("quantity", ""))}</td><td>{esc(r.get("paper", ""))}</td>'
                      f'<td>{esc(r.get("mtcal", ""))}</td><td>{esc(fmt_band(r))}</td>'
                      f'<td class="cmp {in_band_class(r)}">{inside}</td><td>{role_tag(r)}</td>'
-                     f'<td>{esc(r.get("claim", ""))}</td><td>{holds}</td></tr>')
+                     f'<td>{holds} {esc(r.get("claim", ""))}</td></tr>')
     lines.append("</tbody></table></div>")
     return "\n".join(lines)
 
