@@ -23,6 +23,7 @@ SPEC.loader.exec_module(site)
 CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
 CHROMEDRIVER = shutil.which("chromedriver")
 CATALOGUE = site.read_catalogue(ROOT / "docs" / "artifacts.md")
+CATALOGUE.pop(site.SELF, None)  # data/verdicts.csv itself: the source of the badges
 COMMITTED_VERDICTS = ROOT / "data" / "verdicts.csv"
 
 
@@ -57,6 +58,9 @@ def test_verdicts_are_checked_against_the_catalogue(tmp_path):
         site.read_verdicts(write_verdicts(tmp_path / "d.csv", ids, drop=(ids[3],)), CATALOGUE)
     with pytest.raises(site.SiteError, match=r"not in the catalogue: wang2023cja_fig99"):
         site.read_verdicts(write_verdicts(tmp_path / "e.csv", ids, extra=("wang2023cja_fig99",)), CATALOGUE)
+    with_self = dict(CATALOGUE, verdicts=None)  # the verdicts table catalogued: no row needed, one allowed
+    assert len(site.read_verdicts(write_verdicts(tmp_path / "s.csv", ids), with_self)) == len(ids)
+    assert len(site.read_verdicts(write_verdicts(tmp_path / "t.csv", ids, extra=("verdicts",)), CATALOGUE)) == len(ids)
     with pytest.raises(site.SiteError, match=rf"{ids[0]} has a second row"):
         site.read_verdicts(write_verdicts(tmp_path / "f.csv", ids, extra=(ids[0],)), CATALOGUE)
 
