@@ -60,7 +60,7 @@ sync: $(STAMP)
 CACHE := $(CURDIR)/build/cache
 
 ## Every notebook at full paper size (papermill), JOBS at a time, each in its own process:
-## rewrites notebooks/*.ipynb, figures/, data/ (byte-identical when nothing changed), then the report.
+## rewrites notebooks/*.ipynb, figures/, data/ (byte-identical when nothing changed), then the site.
 reproduce: $(STAMP)
 	$(BIN)/python tools/notebooks.py sync $(NOTEBOOK_SRC)
 	MTCAL_SIZE=full MTCAL_OUTPUT_DIR=$(CURDIR) MTCAL_CACHE_DIR=$(CACHE) $(BIN)/python tools/notebooks.py execute --jobs $(JOBS) \
@@ -68,11 +68,12 @@ reproduce: $(STAMP)
 	$(BIN)/python -m mtcal.reporting.fidelity data
 	$(BIN)/python tools/artifact_catalogue.py
 	$(BIN)/python tools/artifact_catalogue.py --check
-	$(BIN)/python tools/report/build.py --out build/report
+	$(BIN)/python tools/reviewer_site.py --out build/report
 
-## The reproduction report (build/report/index.html) from the committed results.
+## The reviewer's site (build/report/index.html; Sphinx + MyST-NB, not committed) from the committed results:
+## data/verdicts.csv, docs/, notebooks/*.ipynb, figures/, data/. Fails when data/verdicts.csv is missing.
 report: $(STAMP)
-	$(BIN)/python tools/report/build.py --out build/report
+	$(BIN)/python tools/reviewer_site.py --out build/report
 
 ## One figure or table from the Monte Carlo cache: make artifact ID=wang2023cja_fig07
 artifact: $(STAMP)
