@@ -3,7 +3,7 @@
 Producers return plain DataFrames (paper value, our median-session value, Monte Carlo median and
 95 % band); figure data go to :mod:`.plots`. The one-to-one comparison of every printed
 number, the scores and the paper's claims live in :mod:`.verdicts`; the role of every printed
-number (train / heldout / input / erratum / not-compared) is pre-registered in
+number (train / tuned / heldout / input / erratum / not-compared) is declared in
 ``mtcal/reporting/paper_data/wang2023cja_split.csv``.
 
 References
