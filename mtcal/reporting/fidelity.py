@@ -339,8 +339,8 @@ def aggregate_scores(folder: str | Path | None = None) -> Path:
     recs = pd.concat(parts, ignore_index=True) if parts else pd.DataFrame(columns=RECORD_COLUMNS)
     rows = []
     # every paper has its rows (n = 0 when it has no held-out number with a band, e.g. tan2022)
-    if "role" not in recs:  # a records file from before the tuned role: every record held out
-        recs["role"] = "heldout"
+    # a records file from before the tuned role holds held-out records only
+    recs["role"] = recs["role"].fillna("heldout") if "role" in recs else "heldout"
     scopes = [(k, recs[recs["paper_key"] == k]) for k in sorted(paper_numbers.KEYS)] + [("overall", recs)]
     for scope, part in scopes:
         for role in SCORED_ROLES:

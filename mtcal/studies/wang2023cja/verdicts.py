@@ -46,7 +46,7 @@ from .error_model import PAPER_SIGN, TABLES_1_TO_4
 from .runs import position_errors_deg
 
 __all__ = ["SPLIT_FILE", "split", "printed_samples", "one_to_one", "scores", "claims", "unresolved_note",
-           "claim_block", "CLAIM_COLUMNS", "comparison"]
+           "claim_block", "CLAIM_COLUMNS", "comparison", "shape_predictions"]
 
 SPLIT_FILE = "wang2023cja_split"
 _ANG = ("yaw", "pitch", "roll")
@@ -321,12 +321,13 @@ def claims(turntable: dict | None = None, windtunnel=None) -> pd.DataFrame:
                            "> 80 % (Table 7 is roll: read as roll)", "claim", "smaller reduction at the two 90° holds (%)",
                            (100 * (1 - e7a[:, at90] / e7b[:, at90])).min(axis=1), lambda x: x > 80,
                            "our median run: {v:.1f} %"))
-        rows.append(_claim("c14", "wang2023cja_table07", "All pitch errors are within 0.06° before calibration",
-                           "<= 0.06 deg (read as roll)", "claim", "max |mean roll before − reference| (deg)",
-                           e7b.max(axis=1), lt(0.06), "our median run gives {v:.4f}°"))
-        rows.append(_claim("c15", "wang2023cja_table07", "and 0.04° after calibration", "<= 0.04 deg (read as roll)",
-                           "claim", "max |mean roll after − reference| (deg)", e7a.max(axis=1), lt(0.04),
-                           "our median run gives {v:.4f}°"))
+        # one sentence, two thresholds: tested once, on the larger share of its bound (claims c14 and c15 of the
+        # text-claims file)
+        rows.append(_claim("c14", "wang2023cja_table07", "All pitch errors are within 0.06° before calibration and "
+                           "0.04° after calibration", "before <= 0.06 deg and after <= 0.04 deg (read as roll)",
+                           "claim", "max(max |mean roll before − reference| / 0.06°, max |after − reference| / 0.04°)",
+                           np.maximum(e7b.max(axis=1) / 0.06, e7a.max(axis=1) / 0.04), lt(1.0),
+                           "our median run reaches {v:.2f} of the bound"))
         red8 = np.array([100 * (1 - sw["roll"][f"after_{m}_{j}"] / sw["roll"][f"before_{m}_{j}"])
                          for m in ("maxae", "rmse") for j in (1, 0)]).min(axis=0)
         rows.append(_claim("c16", "wang2023cja_table08", "the pitch-yaw errors are reduced by at least 30 %",
@@ -391,7 +392,82 @@ def claim_block(table: pd.DataFrame) -> str:
     return "\n".join(lines)
 
 
-def comparison(one: dict, claim_table: pd.DataFrame | None = None) -> pd.DataFrame:
+def _errors(samples: dict, table: int, column: str, n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(paper − reference (n,), ours − reference (T, n), reference (n,)) of the holds of one sweep table."""
+    df = paper_numbers.load(_F[table])
+    keys = [_key(_F[table], k + 1, column) for k in range(n)]
+    ref = np.array([samples[k][0] for k in keys])
+    paper = df[column].to_numpy(float)[:n] - ref
+    ours = np.stack([np.asarray(samples[k][1], float) - samples[k][0] for k in keys], axis=1)
+    return paper, ours, ref
+
+
+def shape_predictions(samples: dict) -> list[dict]:
+    """Shape predictions that can fail (comparison rows, kind ``claim``, our own threshold, role ``finding``).
+
+    From :func:`printed_samples` of the T1 run (Tables 5, 7, 8):
+
+    * **Table 5 trend**: Kendall τ between the paper's and our median error (mean pitch − reference) over
+      the 8 holds, before and after calibration; holds when τ > 0 with one-sided p < 0.05 (exact
+      permutation distribution, ``scipy.stats.kendalltau``); the band is τ of single trials.
+    * **Table 7 slope**: least-squares slope of the roll error against the reference roll, before and
+      after; holds when the paper's slope lies inside our band of per-trial slopes.
+    * **Table 8 reduction fraction**: ``1 − after / before`` of pitch and yaw MaxAE and RMSE; holds when
+      the paper's fraction lies inside our band of per-trial fractions.
+
+    These are functions of held-out numbers (never of train ones), so they test the same paper
+    numbers as the one-to-one rows; they are not scored as numbers (role ``finding``), only counted
+    as claims of their artifact.
+    """
+    from scipy.stats import kendalltau
+
+    rows = []
+    if _key(_F[5], 1, "before_mean_pitch_deg") not in samples:
+        return rows
+    for state in ("before", "after"):
+        paper, ours, _ = _errors(samples, 5, f"{state}_mean_pitch_deg", 8)
+        med = np.median(ours, axis=0)
+        res = kendalltau(paper, med, alternative="greater")
+        per = np.array([kendalltau(paper, o).statistic for o in ours])
+        per = np.where(np.isfinite(per), per, 0.0)
+        holds = bool(res.statistic > 0 and res.pvalue < 0.05)
+        rows.append(compare.comparison_row(
+            "wang2023cja_table05", f"Kendall τ, paper vs our median {state}-calibration pitch error over the 8 holds",
+            "trend", float(res.statistic), "(mtcal) the error trend over the sweep follows the paper's: τ > 0, "
+            "one-sided p < 0.05 (n = 8)", holds, band=metrics.band_or_range(per), role="finding",
+            source="mtcal finding", kind="claim", enforce=False,
+            note=f"τ = {res.statistic:.2f}, one-sided p = {res.pvalue:.3f}"))
+    for state in ("before", "after"):
+        paper, ours, ref = _errors(samples, 7, f"{state}_mean_roll_deg", 8)
+        x = ref - ref.mean()
+        slope_paper = float(np.sum(x * (paper - paper.mean())) / np.sum(x * x))
+        slopes = (ours - ours.mean(axis=1, keepdims=True)) @ x / np.sum(x * x)
+        b = metrics.band_or_range(slopes)
+        holds = bool(b["low"] <= slope_paper <= b["high"])
+        rows.append(compare.comparison_row(
+            "wang2023cja_table07", f"slope of the {state}-calibration roll error vs the reference roll (deg/deg)",
+            slope_paper, float(b["median"]), "(mtcal) the paper's slope lies inside our band", holds, band=b,
+            role="finding", source="mtcal finding", kind="claim", enforce=False,
+            note="" if holds else f"paper {slope_paper:.2e}, ours {b['median']:.2e} [{b['low']:.2e}, {b['high']:.2e}]"))
+    df8 = paper_numbers.load(_F[8])
+    for m, (rb, ra) in (("MaxAE", (1, 2)), ("RMSE", (3, 4))):
+        for ax in ("pitch", "yaw"):
+            col = f"{ax}_deg"
+            before, after = (float(df8[col].iloc[r - 1]) for r in (rb, ra))
+            frac_paper = 1.0 - after / before
+            ours = 1.0 - np.asarray(samples[_key(_F[8], ra, col)][1]) / np.asarray(samples[_key(_F[8], rb, col)][1])
+            b = metrics.band_or_range(ours)
+            holds = bool(b["low"] <= frac_paper <= b["high"])
+            rows.append(compare.comparison_row(
+                "wang2023cja_table08", f"{ax} {m} reduction fraction 1 − after/before", frac_paper, float(b["median"]),
+                "(mtcal) the paper's reduction fraction lies inside our band", holds, band=b, role="finding",
+                source="mtcal finding", kind="claim", enforce=False,
+                note="" if holds else f"paper {frac_paper:.0%}, ours {b['median']:.0%} [{b['low']:.0%}, {b['high']:.0%}]: "
+                f"our calibration removes {'more' if b['median'] > frac_paper else 'less'} of the error than the paper's"))
+    return rows
+
+
+def comparison(one: dict, claim_table: pd.DataFrame | None = None, extra_rows: list[dict] | None = None) -> pd.DataFrame:
     """The notebook's comparison table (:func:`mtcal.reporting.compare.comparison_table`) for the scores.
 
     One row per printed number of ``one["fitted"]`` (posterior-predictive band, the prior-predictive
@@ -420,4 +496,4 @@ def comparison(one: dict, claim_table: pd.DataFrame | None = None) -> pd.DataFra
             rows.append(compare.comparison_row(
                 c.artifact, c.statistic, c.threshold, float(c.value), f"\"{c.quote}\" ({c.threshold})", bool(c.holds),
                 kind=c.kind, note=c.reason, enforce=bool(c.holds) and c.kind != "in-sample", role=c.role))
-    return compare.comparison_table(rows)
+    return compare.comparison_table(rows + list(extra_rows or []))
