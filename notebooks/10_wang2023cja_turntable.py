@@ -332,6 +332,17 @@ output.show_table(shape_table[["artifact", "quantity", "paper", "mtcal", "mc_ban
 print(compare.claims_summary(shape_table))
 
 # %% [markdown]
+# ## wang2023cja_extra_baselines — the fit against a band with no physics
+# The held-out angle errors of Tables 5 and 7 scored three ways on the same rows: our posterior predictive,
+# the prior predictive, and a band with no physics — 0 ± 1.96 × the RMS of Table 1's 18 "after − reference"
+# residuals (train numbers). A model that does not beat the no-physics band on a table adds nothing there.
+
+# %%
+baselines = verdicts.no_physics_baseline(one)
+output.save_table(baselines, "wang2023cja_extra_baselines")
+output.show_table(baselines, "{:.3g}")
+
+# %% [markdown]
 # ## Score block
 # The comparison table (every printed number with its posterior- and prior-predictive band, then
 # the claims and the shape predictions) is scored by `mtcal.reporting.fidelity` and merged into

@@ -235,3 +235,18 @@ def test_shape_predictions_hold_on_the_paper_shape_and_fail_otherwise():
     # counted as claims of their artifact, not as scored numbers
     from mtcal.reporting import fidelity
     assert fidelity.score(compare.comparison_table(rows))["n"] == 0
+
+
+def test_no_physics_baseline_scores_three_bands_on_the_same_rows():
+    key5 = (verdicts._F[5], 1, "before_mean_pitch_deg")
+    key7 = (verdicts._F[7], 2, "after_mean_roll_deg")
+    wide = {key5: (-4.0, np.linspace(-4.5, -3.5, 50)), key7: (60.0, np.linspace(59.5, 60.5, 50))}
+    narrow = {key5: (-4.0, np.linspace(-3.9, -3.8, 50)), key7: (60.0, np.linspace(59.9, 59.95, 50))}
+    one = {"fitted": verdicts.one_to_one(narrow), "prior": verdicts.one_to_one(wide)}
+    b = verdicts.no_physics_baseline(one).set_index(["scope", "baseline"])
+    assert list(b.index.get_level_values(0).unique()) == ["Table 5", "Table 7", "Tables 5 + 7"]
+    # paper Table 5 r1 before: -3.988 - (-4) = 0.012; Table 7 r2 after: 59.986 - 60 = -0.014
+    assert b.loc[("Tables 5 + 7", "fitted"), "inside"] == 0 and b.loc[("Tables 5 + 7", "prior"), "inside"] == 2
+    half = b.loc[("Table 5", "no-physics"), "band_halfwidth_deg"]
+    assert 0.02 < half < 0.06 and b.loc[("Tables 5 + 7", "no-physics"), "inside"] == 2
+    assert b.loc[("Table 5", "no-physics"), "n"] == 1

@@ -46,7 +46,7 @@ from .error_model import PAPER_SIGN, TABLES_1_TO_4
 from .runs import position_errors_deg
 
 __all__ = ["SPLIT_FILE", "split", "printed_samples", "one_to_one", "scores", "claims", "unresolved_note",
-           "claim_block", "CLAIM_COLUMNS", "comparison", "shape_predictions"]
+           "claim_block", "CLAIM_COLUMNS", "comparison", "shape_predictions", "no_physics_baseline"]
 
 SPLIT_FILE = "wang2023cja_split"
 _ANG = ("yaw", "pitch", "roll")
@@ -465,6 +465,49 @@ def shape_predictions(samples: dict) -> list[dict]:
                 note="" if holds else f"paper {frac_paper:.0%}, ours {b['median']:.0%} [{b['low']:.0%}, {b['high']:.0%}]: "
                 f"our calibration removes {'more' if b['median'] > frac_paper else 'less'} of the error than the paper's"))
     return rows
+
+
+def no_physics_baseline(one: dict) -> pd.DataFrame:
+    """The fit against a band with no physics, on the held-out angle errors of Tables 5 and 7.
+
+    Three predictive intervals scored with the suite's one scoring (:func:`mtcal.reporting.fidelity.aggregate`)
+    on the same rows (printed − reference of the held-out mean-angle rows): ``fitted`` (posterior predictive),
+    ``prior`` (prior predictive) and ``no-physics``: ``0 ± 1.96 s`` with ``s`` the RMS of Table 1's 18
+    "after − reference" residuals (train numbers, read through :func:`mtcal.reporting.paper_numbers.training`):
+    what one would predict knowing only how well the calibration did on the turntable, with no model of the
+    sweeps.
+
+    Parameters
+    ----------
+    one : dict
+        ``{"fitted": one_to_one(...), "prior": one_to_one(...)}`` of the T1 run.
+
+    Returns
+    -------
+    DataFrame
+        ``scope, baseline, n, inside, coverage, coverage_low, coverage_high, median_rel_width,
+        mean_rel_interval_score, median_rel_interval_score, within_25pct, band_halfwidth_deg``.
+    """
+    t1 = paper_numbers.training("wang2023cja")[TABLES_1_TO_4["T1"]]
+    res = np.concatenate([(t1[f"{a}_after_deg"] - t1[f"{a}_reference_deg"]).to_numpy(float) for a in _ANG])
+    half = 1.959964 * float(np.sqrt(np.mean(res ** 2)))
+    fitted = one["fitted"]
+    prior = one["prior"].set_index(["file", "row", "column"])
+    rows = []
+    for scope, tables in (("Table 5", (5,)), ("Table 7", (7,)), ("Tables 5 + 7", (5, 7))):
+        h = fitted[(fitted["role"] == "heldout") & fitted["file"].isin([_F[t] for t in tables])]
+        if not len(h):
+            continue
+        p = prior.loc[list(zip(h["file"], h["row"], h["column"]))]
+        x = h["paper"].to_numpy(float)
+        for name, lo, hi, med in (("fitted", h["low"], h["high"], h["median"]),
+                                  ("prior", p["low"], p["high"], p["median"]),
+                                  ("no-physics", np.full(x.size, -half), np.full(x.size, half), np.zeros(x.size))):
+            rec = pd.DataFrame({"paper_value": x, "fitted_low": np.asarray(lo, float),
+                                "fitted_high": np.asarray(hi, float), "fitted_median": np.asarray(med, float)})
+            rows.append({"scope": scope, "baseline": name, **fidelity.aggregate(rec, "fitted"),
+                         "band_halfwidth_deg": half if name == "no-physics" else np.nan})
+    return pd.DataFrame(rows)
 
 
 def comparison(one: dict, claim_table: pd.DataFrame | None = None, extra_rows: list[dict] | None = None) -> pd.DataFrame:
