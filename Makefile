@@ -67,6 +67,7 @@ reproduce: $(STAMP)
 		--resources $(CURDIR)/build/reproduce/resources.csv $(NOTEBOOK_SRC)
 	$(BIN)/python -m mtcal.reporting.fidelity data
 	$(BIN)/python tools/artifact_catalogue.py
+	$(BIN)/python -m mtcal.reporting.artifact_verdicts data docs/artifacts.md
 	$(BIN)/python tools/artifact_catalogue.py --check
 	$(BIN)/python tools/reviewer_site.py --out build/report
 

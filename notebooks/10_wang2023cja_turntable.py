@@ -8,7 +8,7 @@
 # 1. **"After" is measured on a separate verification run**, as the paper did: the matrix is fitted
 #    on one six-position run and applied to a later run of the same power-on session (new rests,
 #    new noise, a changed accelerometer bias). In-sample residuals are shown, labelled as such.
-# 2. **The hardware error model is identified** on a pre-registered training split
+# 2. **The hardware error model is identified** on a declared training split
 #    (`mtcal/reporting/paper_data/wang2023cja_split.csv`: Tables 1–4 and the printed matrices are
 #    `train`) and the held-out Tables 5–8 are **predicted** with 95 % posterior-predictive bands:
 #    every Monte Carlo trial draws its own parameters from the fit's posterior. Beside it runs the
@@ -18,7 +18,8 @@
 # 3. **Every printed number is compared one to one** with its split role; scores (coverage with its
 #    binomial interval, relative width, interval score, ±25 %) count held-out numbers only, and the
 #    paper's claims are tested with the paper's own thresholds — failing ones are listed with the
-#    computed reason; checks true by construction are labelled `consistency`.
+#    computed reason; checks on numbers the model was fitted on are labelled `in-sample` (shown holding
+#    or failing, never counted as claims).
 
 # %% tags=["parameters"]
 SIZE = None          # "ci" or "full"; None → $MTCAL_SIZE, else "full"
@@ -299,9 +300,9 @@ else:  # CI size: too few draws for a 95 % band, the rows print ranges (no quant
 # ## The paper's claims, with its thresholds
 #
 # `claim` rows are tested against held-out numbers; the notebook enforces (at the paper's settings)
-# only the claims that hold, and lists every failing one with its computed reason. `consistency`
-# rows are true by construction or checked against numbers the model was fitted on; they are
-# reported, not counted. A verdict is taken on the median trial; where the share of trials for which
+# only the claims that hold, and lists every failing one with its computed reason. `in-sample`
+# rows are checked against numbers the model was fitted on; they are reported (a failing one says
+# FAILS), never counted as claims. A verdict is taken on the median trial; where the share of trials for which
 # the claim holds is within Monte Carlo error of one half, the reason says "not resolved": our model
 # cannot tell whether the paper's threshold is met, and another seed may flip that verdict.
 
@@ -310,18 +311,45 @@ output.save_table(claims, "wang2023cja_extra_turntable_claims")
 print(verdicts.claim_block(claims))
 print("prior predictive:")
 print(verdicts.claim_block(claims_prior[claims_prior.kind == "claim"]))
-ENFORCED = ("c14", "c15", "c16", "t6-reduce")   # hold in the full run; the others fail (listed above)
+ENFORCED = ("c14", "c16", "t6-reduce")          # hold in the full run; the others fail (listed above)
 if AT_PAPER and SIZE == "full":                 # 4 CI trials are too few for a verdict
     held_claims = claims.set_index("claim_id").loc[list(ENFORCED)]
     assert held_claims.holds.all(), held_claims[~held_claims.holds]
 
 # %% [markdown]
-# ## Score block
-# The comparison table (every printed number with its posterior- and prior-predictive band, then
-# the claims) is scored by `mtcal.reporting.fidelity` and merged into `data/fidelity_scores.csv`.
+# ## Shape predictions that can fail
+# Beyond each number inside its band: does our model get the *shape* of the held-out tables? Table 5's
+# error trend over the 8 holds (Kendall τ between the paper's and our median errors, one-sided p < 0.05),
+# Table 7's slope of the roll error against the reference roll, and Table 8's reduction fraction
+# 1 − after/before, each against our band of per-trial values. Our thresholds (`mtcal finding`), counted as
+# claims of their table in `data/verdicts.csv`, not as scored numbers (they are functions of the same
+# held-out numbers).
 
 # %%
-table = verdicts.comparison(one, claims)
+shape = verdicts.shape_predictions(verdicts.printed_samples(runs["fitted"]))
+shape_table = compare.comparison_table(shape)
+output.show_table(shape_table[["artifact", "quantity", "paper", "mtcal", "mc_band", "holds", "note"]])
+print(compare.claims_summary(shape_table))
+
+# %% [markdown]
+# ## wang2023cja_extra_baselines — the fit against a band with no physics
+# The held-out angle errors of Tables 5 and 7 scored three ways on the same rows: our posterior predictive,
+# the prior predictive, and a band with no physics — 0 ± 1.96 × the RMS of Table 1's 18 "after − reference"
+# residuals (train numbers). A model that does not beat the no-physics band on a table adds nothing there.
+
+# %%
+baselines = verdicts.no_physics_baseline(one)
+output.save_table(baselines, "wang2023cja_extra_baselines")
+output.show_table(baselines, "{:.3g}")
+
+# %% [markdown]
+# ## Score block
+# The comparison table (every printed number with its posterior- and prior-predictive band, then
+# the claims and the shape predictions) is scored by `mtcal.reporting.fidelity` and merged into
+# `data/fidelity_scores.csv`.
+
+# %%
+table = verdicts.comparison(one, claims, shape)
 output.save_table(table, "wang2023cja_turntable_comparison")
 scores_csv = fidelity.write_scores(table, "wang2023cja", "10_wang2023cja_turntable")
 print(fidelity.score_block(table, "wang2023cja"))

@@ -7,14 +7,16 @@
 # (Tables 9, 11); five wind-on sweeps (Table 10) add an elastic pitch deflection and model vibration
 # that trips the AMD (the QNCF then runs on the gyro alone). Group 5 uses a different mechanism rate.
 #
-# **What is identified from what** (pre-registered in `paper_data/wang2023cja_split.csv`). The
+# **What is identified from what** (declared in `paper_data/wang2023cja_split.csv`). The
 # installation angles and the mechanism's pitch-ratio error come from the printed wind-tunnel matrix
 # (`train`); the IMU error model is the one identified on Tables 1–4 (notebook 10); the elastic
-# models come from Table 10's Mean and elastic-corrected rows (`train`). The mechanism's gap, servo
-# stop error and non-orthogonality were chosen while comparing with Tables 9–11, so **Tables 9 and
-# 11 and Table 10's group values are `train`**, not out of sample (Table 9's before-slope is also
-# −(Q(2,2) − 1) of the training matrix). The only held-out wind-tunnel numbers are Table 10's five
-# Std values. Every printed number is still compared one to one. Bands: each trial block draws its
+# constants were chosen to match Table 10's Mean and elastic-corrected rows. The mechanism's gap, servo
+# stop error and non-orthogonality were chosen while comparing with Tables 9–11, and the vibration/gate
+# scenario while viewing Table 10, so **every number of Tables 9–11 is `tuned`**: no fit reads it (the
+# leak test perturbs it), but it is in-sample, scored apart from the held-out numbers and never a
+# prediction (Table 9's before-slope is also −(Q(2,2) − 1) of the training matrix; Table 10's Std row is
+# the sample SD of the tuned group rows). **No wind-tunnel number is held out.** Every printed number is
+# still compared one to one. Bands: each trial block draws its
 # error model from the fit's posterior (fitted) or from the prior (prior predictive; the geometry
 # still comes from the printed wind-tunnel matrix, which is not from Tables 1–4).
 
@@ -120,9 +122,10 @@ output.show_table(w.windtunnel_matrix_table(run), "{:+.6f}")
 section("wang2023cja_matrix_qbs_windtunnel")
 
 # %% [markdown]
-# ## wang2023cja_table09 — wind-off AoA sweep, mean pitch (Table 9, train)
+# ## wang2023cja_table09 — wind-off AoA sweep, mean pitch (Table 9, tuned)
 # "the pitch errors before and after calibration are within 0.05° and 0.02°" is checked with those
-# thresholds, as `consistency`: the mechanism was tuned on this table.
+# thresholds, `in-sample`: the mechanism was tuned on this table, so holding confirms nothing, and a
+# failing check is shown failing.
 
 # %%
 t9 = w.sweep_mean_table("wang2023cja_table09", run.nowind, "pitch")
@@ -147,7 +150,7 @@ display(output.save_figure(plots.fig10(run, sc.imu.label, (mechanism_rate_deg_s,
 # ## wang2023cja_extra_amd — the AMD statistic with wind on (beyond the paper)
 # Vibration of `vibration_accel_m_s2` keeps the acceleration-magnitude detector above its threshold,
 # so the QNCF runs gyro-only during the wind-on sweeps. The amplitude is an assumption chosen to trip
-# the gate, so the gate check is `consistency`, not a finding.
+# the gate, so the gate check is `in-sample`, not a finding.
 
 # %%
 display(output.save_figure(plots.extra_amd(run, sc.qncf.amd_threshold_pct, vibration_accel_m_s2),
@@ -155,10 +158,10 @@ display(output.save_figure(plots.extra_amd(run, sc.qncf.amd_threshold_pct, vibra
 
 # %% [markdown]
 # ## wang2023cja_table10 — five wind-on groups: Mean, elastic-corrected, Std (Table 10)
-# All 40 printed numbers one to one. Groups, Mean and elastic-corrected are `train` (both elastic
-# models come from this table); the five Std values are held out. Claims: "The standard deviation of
-# the five wind-on tests is [...] within 0.01°" (claim); "even more than 0.1°" and "within 0.03°"
-# (consistency: fitted to this table).
+# All 40 printed numbers one to one, all `tuned` (both elastic constants and the vibration/gate scenario
+# were chosen against this table; the Std row is the sample SD of the group rows). "The standard
+# deviation of the five wind-on tests is [...] within 0.01°", "even more than 0.1°" and "within 0.03°"
+# are `in-sample` checks.
 
 # %%
 t10 = w.table10(run, sc.wind_on_sweep_deg)
@@ -174,7 +177,7 @@ section("wang2023cja_table10")
 display(output.save_figure(plots.fig11(run, sc.imu.label), "wang2023cja_fig11"))
 
 # %% [markdown]
-# ## wang2023cja_table11 — MaxAE / RMSE of roll and yaw, wind off (Table 11, train: tuned on)
+# ## wang2023cja_table11 — MaxAE / RMSE of roll and yaw, wind off (Table 11, tuned)
 # The paper's roll got slightly *worse* after calibration (RMSE 0.007° → 0.010°). In our runs too:
 # every mechanism axis stops short by half its transmission gap plus the servo stop error, so the
 # roll positions of the calibration (±30°) feed Eq 13 a roll reference that is off by that amount,
@@ -199,9 +202,9 @@ output.show_table(one["fitted"][["quantity", "role", "paper", "median", "low", "
 
 # %% [markdown]
 # ## The paper's claims, with its thresholds
-# Only Table 10's Std claim is a `claim` here (held out); the others are `consistency` checks against
-# a mechanism tuned on these tables. Failing ones are listed with the computed reason; nothing is
-# enforced that fails. A verdict whose share of holding trials is within Monte Carlo error of one
+# No wind-tunnel statement is a `claim`: every one is an `in-sample` check against numbers a mechanism
+# or setting was tuned on, shown holding or FAILING with the computed reason, never enforced and never
+# counted as a claim. A verdict whose share of holding trials is within Monte Carlo error of one
 # half is marked "not resolved".
 
 # %%

@@ -22,7 +22,7 @@
 # result numbers: its figures are contour plots and curves whose only numbers
 # are the settings (ΔA = 1e-4 g) and the derived preset angles λ1, λ2. The
 # old comparison rows had "small vs large" or "-" in the paper column, so no
-# band could contain them. The pre-registered split
+# band could contain them. The declared split
 # (`mtcal/reporting/paper_data/tan2022_split.csv`) therefore has no held-out
 # number: the presets λ1, λ2 are `input` (the paper derives them from its own
 # model, Eq 9, and our search window is centred on them). Each row below has a

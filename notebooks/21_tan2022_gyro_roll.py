@@ -21,7 +21,7 @@
 # **Why the paper's numbers were never inside our bands.** tan2022 prints no
 # result numbers; its figures' only numbers are its settings. The numbers
 # its figures must show follow from those settings by its own definitions
-# (Fig 6 is Eq 14 at 0.2 °/s). The pre-registered split
+# (Fig 6 is Eq 14 at 0.2 °/s). The declared split
 # (`paper_data/tan2022_split.csv`) has one `train` number (Fig 6's Δω) and no
 # held-out number: a Fig 9 drift Δω × T would be computed from the training
 # number, so it is not a prediction and is shown as our finding only. A paper

@@ -9,7 +9,7 @@
 # paper: lever arm, turntable accelerations, the sensor-to-reference latency, the
 # accelerometer noise actually reached and the AHRS's magnetic environment are unknown.
 # We therefore **identify** five such parameters from the `train` rows of the
-# pre-registered split (`mtcal/reporting/paper_data/wang2022sensors_split.csv`, read
+# declared split (`mtcal/reporting/paper_data/wang2022sensors_split.csv`, read
 # through `paper_numbers.training`: the six RAMS numbers, the six ref. [16] numbers —
 # Bv2/Bv3 are near-copies of Bv1 in our axis-independent ref. [16] model, so they are
 # training replicates, not a test — and the AHRS's Bv1 static number) and compare the
@@ -17,9 +17,11 @@
 # **posterior-predictive** 95 % band (each draw: parameters from the fitted posterior,
 # a Monte Carlo repetition, the declared model discrepancy) and the **prior-predictive**
 # band (parameters drawn from the prior). `kind` separates the paper's `claim`s (threshold
-# quoted; a failing claim is reported with its computed reason) from `consistency`
-# checks that hold by construction (a row the model was fitted to, a grid inside its
-# prior). Everything is computed in `mtcal.studies.wang2022sensors`.
+# quoted; a failing claim is reported with its computed reason) from `in-sample` checks
+# (a statement on rows the model was fitted to, or judged with a window chosen after a
+# failure: shown holding or FAILING, never counted) and `consistency` checks that hold by
+# construction (a grid inside its prior). Each sentence of the paper counts once.
+# Everything is computed in `mtcal.studies.wang2022sensors`.
 
 # %% tags=["parameters"]
 SIZE = None            # "ci" or "full"; None -> $MTCAL_SIZE, else "full"
@@ -188,13 +190,12 @@ display(output.save_figure(plots.plot_error_model(a.table), "wang2022sensors_ext
 # held-out numbers that fall outside, and their computed reasons, are listed in the
 # summary cell at the end.
 #
-# **Claims.** RAMS static < 0.02° and moving < 0.5° (and ref. [16] static < 0.1°) are
-# statements about training rows (role `train`): the model was fitted to them, so they
-# are `consistency` checks, not claims (with the share of
-# model draws in which they hold) but not tested or counted as confirmations. The
-# tested Table 5 claims are those on held-out rows (ref. [16] Bv2/Bv3, AHRS vs RAMS). The paper's
-# text says both Ellipse2-N RMSEs exceed 0.1°; its own Table 5 has 0.0827° for Bv3
-# (erratum row).
+# **Claims.** Each sentence of the text is tested once, on the worst of the Table 5 rows
+# it covers (our posterior-predictive medians). RAMS static < 0.02°, moving < 0.5° and
+# ref. [16] static < 0.1° are statements about training rows: `in-sample`, not claims.
+# "Both the static and moving RMSEs of Ellipse2-N exceed 0.1°" covers the Bv1 static
+# training row and five held-out rows, so it is `in-sample` too, and it fails: the
+# paper's own Table 5 has 0.0827° for Bv3 (erratum row).
 
 # %%
 print(compare.check_claims(compare.comparison_table(a.rows), enforce=AT_PAPER))
@@ -222,15 +223,20 @@ print(compare.check_claims(compare.comparison_table(a.rows), enforce=AT_PAPER))
 # ## wang2022sensors_fig14 — maximum RAMS error per angle
 #
 # Per 10° hold of the Table 5 sweeps, the maximum |error| over the settled second half
-# of the hold (our reading of "the measurement error for various angles"), from the
-# same grid Monte Carlo, weighted by the posterior (Fig. 14 was not in the training
-# set): median and posterior-weighted 2.5–97.5 % of the grid runs per angle (360 runs at
-# full size — fewer than 1000, the legend gives the count; more need more `GRID_REPS`).
-# The paper's claims (c01 abstract "static measurement error of less than 0.05°", c08
-# Sec. 7 "did not exceed 0.05°", c10 conclusions "maximum static measurement error is
-# less than 0.05°") are about one experiment, so the number compared is an experiment's
-# largest per-angle error (median and 95 % band of 4000 posterior-predictive draws),
-# beside its prior-predictive band. The legend sits below the axes.
+# of the hold, from the same grid Monte Carlo, weighted by the posterior (Fig. 14 was not
+# in the training set): median and posterior-weighted 2.5–97.5 % of the grid runs per
+# angle (360 runs at full size — fewer than 1000, the legend gives the count; more need
+# more `GRID_REPS`). The paper's bound (c01 abstract "static measurement error of less
+# than 0.05°", c08 Sec. 7 "did not exceed 0.05°", c10 conclusions "maximum static
+# measurement error is less than 0.05°": one statement, tested once per reading) is about
+# one experiment, so the number compared is an experiment's largest per-angle error
+# (median and 95 % band of 4000 posterior-predictive draws), beside its prior-predictive
+# band. The paper does not say which part of a 1 s hold Fig. 14 measures, so both
+# readings are shown with their verdicts: the **whole hold** (the claim) and the
+# **settled second half** (`in-sample`, role `tuned`: this window was chosen after the
+# whole-hold reading failed). Claim c02, "a dynamic measurement error of less than 1° in
+# the range of ±180°", is tested on an experiment's largest error while moving (ZVD
+# dynamic samples, with the identified latency). The legend sits below the axes.
 
 # %%
 a = w.fig14_max_error_per_angle(fit, SEED)

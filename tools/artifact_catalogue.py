@@ -29,7 +29,9 @@ HEADING_RE = re.compile(r"^#{2,3}\s+`?([A-Za-z0-9_]*)`?(.*)$")
 NOT_PRODUCERS = re.compile(r"^mtcal\.reporting\.(output|compare|paper_numbers)\.|^mtcal\.reporting\.[a-z_]+$")
 #: artifacts made outside the notebooks
 EXTERNAL = {"data/benchmarks.csv": ("—", "`make bench`", "`benchmarks/run.py`"),
-            "data/bench_sweep.csv": ("—", "`make bench`", "`benchmarks/bench_sweep.py`")}
+            "data/bench_sweep.csv": ("—", "`make bench`", "`benchmarks/bench_sweep.py`"),
+            "data/verdicts.csv": ("— (one verdict per paper figure/table)", "`make reproduce`, after the notebooks",
+                                  "`mtcal.reporting.artifact_verdicts.write_verdicts`")}
 
 
 @dataclass

@@ -20,13 +20,16 @@ without ``n``, has an unknown count. :func:`check_bands` enforces the rule; :fun
 table it builds, :func:`check_claims` and :mod:`mtcal.reporting.fidelity` on every table
 they check or score, so no notebook prints, saves or scores a band that breaks it.
 
-``role`` is the split role of the paper number (:data:`ROLES`: ``train``,
+``role`` is the split role of the paper number (:data:`ROLES`: ``train``, ``tuned``,
 ``heldout``, ``input``, ``erratum``, ``not-compared`` as in
 ``paper_data/<key>_split.csv``, plus ``finding`` for our own results). ``kind``
-says what a tested row is: ``claim`` (the paper's statement with its threshold
-quoted in ``claim``) or ``consistency`` (true by construction: a model fitted to
-the same numbers, a prior containing the grid, a bounded transform) -- consistency
-rows never count as claims.
+says what a tested row is (:data:`KINDS`): ``claim`` (the paper's statement with its
+threshold quoted in ``claim``, tested on numbers no fit read and no setting was chosen
+against), ``in-sample`` (the paper's statement checked on numbers the model was fitted
+or tuned on: it can fail, and a failing one prints "FAILS", but it is no confirmation)
+or ``consistency`` (true by construction: a prior containing its grid, arithmetic on
+printed numbers, a geometric identity). Neither in-sample nor consistency rows count as
+claims.
 
 >>> from mtcal.core import metrics
 >>> row = comparison_row("wang2023cja_table06", "roll RMSE (deg)", 0.009, 0.0071, "<= 0.01", True,
@@ -46,7 +49,7 @@ from mtcal.core import metrics
 from mtcal.core.validate import merge_parameters
 
 __all__ = ["COMPARISON_COLUMNS", "DISPLAY_COLUMNS", "comparison_row", "comparison_table", "band_summary", "claims_summary",
-           "band_record", "band_row", "band_text", "describe", "claim", "consistency",
+           "band_record", "band_row", "band_text", "describe", "claim", "consistency", "in_sample",
            "ROLES", "KINDS", "SOURCES", "at_paper_settings", "check_claims", "role_summary", "prediction_summary",
            "BAND_KINDS", "BAND_COUNT_COLUMNS", "check_bands", "credible_interval", "spread_text", "band_description",
            "is_missing", "draw_count", "cell_text"]
@@ -67,9 +70,10 @@ DISPLAY_COLUMNS = ["artifact", "quantity", "paper", "mtcal", "mc_band", "prior_b
                    "role"]
 #: What the paper number of a row is: its split role (``paper_data/<key>_split.csv``) or ``finding``
 #: (a result of ours the paper does not state).
-ROLES = ("train", "heldout", "input", "erratum", "not-compared", "finding")
-#: What a tested row is: the paper's claim, or a check that holds by construction.
-KINDS = ("claim", "consistency")
+ROLES = ("train", "tuned", "heldout", "input", "erratum", "not-compared", "finding")
+#: What a tested row is: the paper's claim (out of sample), the paper's statement checked in-sample (on numbers a fit
+#: read or a setting was chosen against), or a check that holds by construction.
+KINDS = ("claim", "in-sample", "consistency")
 #: Who makes the claim in the row.
 SOURCES = ("paper claim", "mtcal finding")
 
@@ -193,7 +197,7 @@ def comparison_row(artifact: str, quantity: str, paper, mtcal, claim: str, holds
         Split role of the paper number (``finding``: our own result).
     source : {"paper claim", "mtcal finding"}
         Whose claim the ``claim`` column states.
-    kind : {"claim", "consistency"}, optional
+    kind : {"claim", "in-sample", "consistency"}, optional
         Default ``"claim"`` when ``holds`` is given and ``source`` is the paper,
         else empty (our own findings are never the paper's claims).
     note : str
@@ -281,6 +285,27 @@ def consistency(artifact: str, quantity: str, paper, mtcal, statement: str, hold
         raise ValueError("by must say why the check holds by construction")
     return comparison_row(artifact, quantity, paper, mtcal, statement, holds, band=band, prior_band=prior_band,
                           role=role, kind="consistency", note=by, ref=ref, enforce=enforce)
+
+
+def in_sample(artifact: str, quantity: str, paper, mtcal, statement: str, holds: bool, *, on: str,
+              band=None, prior_band=None, role: str = "train", ref: str = "") -> dict:
+    """The paper's statement checked on numbers the model was fitted or tuned on (kind ``in-sample``).
+
+    It can fail (a failing one prints "FAILS"), but holding confirms nothing: never counted as a claim,
+    never enforced. ``on`` says what was fitted or tuned on the numbers (the row's note, with the
+    computed reason when it fails).
+
+    >>> r = in_sample("t", "max error (deg)", 0.05, 0.07, "within 0.05°", False, on="mechanism tuned on Table 9",
+    ...               role="tuned")
+    >>> r["kind"], r["enforced"], r["role"]
+    ('in-sample', False, 'tuned')
+    """
+    if not on:
+        raise ValueError("on must say what was fitted or tuned on the numbers checked")
+    if role not in ("train", "tuned"):
+        raise ValueError(f"role must be 'train' or 'tuned' for an in-sample check, got {role!r}")
+    return comparison_row(artifact, quantity, paper, mtcal, statement, holds, band=band, prior_band=prior_band,
+                          role=role, kind="in-sample", note=on, ref=ref, enforce=False)
 
 
 def comparison_table(rows: list[dict], digits: int = 4) -> pd.DataFrame:
@@ -608,13 +633,15 @@ def check_claims(table: pd.DataFrame, *, enforce: bool) -> str:
         text += "; not holding:\n" + "\n".join(
             f"  {r.artifact} | {r.quantity} | {r.claim} | paper {r.paper} | mtcal {r.mtcal}"
             + (f" | {r.note}" if getattr(r, "note", "") else "") for r in failing.itertuples())
-    cons = table[table["holds"].notna() & (kind == "consistency")]
-    if len(cons):
-        n_ok = int(cons["holds"].astype(bool).sum())
-        text += f"\nconsistency checks (true by construction, not claims): {n_ok} of {len(cons)} hold"
-        bad = cons[~cons["holds"].astype(bool)]
-        text += "".join(f"\n  not holding: {r.artifact} | {r.quantity} | {r.claim} | mtcal {r.mtcal} | {r.note}"
-                        for r in bad.itertuples())
+    for k, title in (("in-sample", "in-sample checks (on numbers the model was fitted or tuned on; not claims)"),
+                     ("consistency", "consistency checks (true by construction, not claims)")):
+        rows = table[table["holds"].notna() & (kind == k)]
+        if len(rows):
+            n_ok = int(rows["holds"].astype(bool).sum())
+            text += f"\n{title}: {n_ok} of {len(rows)} hold"
+            bad = rows[~rows["holds"].astype(bool)]
+            text += "".join(f"\n  FAILS: {r.artifact} | {r.quantity} | {r.claim} | mtcal {r.mtcal} | {r.note}"
+                            for r in bad.itertuples())
     own = table[table["holds"].notna() & (kind == "")]
     if len(own):
         n_ok = int(own["holds"].astype(bool).sum())

@@ -1,4 +1,4 @@
-"""Fidelity scores of the held-out paper numbers: calibration and sharpness of our predictive bands.
+"""Fidelity scores of the held-out (and, apart, the tuned) paper numbers: calibration and sharpness of our bands.
 
 For every held-out printed number with a 95 % band (a row of
 :func:`mtcal.reporting.compare.comparison_table` with ``role == "heldout"``, a
@@ -16,7 +16,10 @@ baseline). Per baseline:
   :func:`interval_score`) relative to ``|paper value|``: mean and median;
 * ``within_25pct``: paper values within ±25 % of our median (``|x − m| ≤ 0.25 |m|``).
 
-Relative measures skip paper values equal to 0 (no scale).
+Relative measures skip paper values equal to 0 (no scale). The same scores are computed, in a row of
+their own (``role`` ``tuned``), for the ``tuned`` numbers: no fit reads them, but a mechanism or
+setting was chosen while comparing with them, so they are in-sample -- shown beside the held-out
+scores, never pooled with them (:data:`SCORED_ROLES`).
 
 Each record carries the draw count and kind of both bands (``fitted_draws, fitted_kind,
 prior_draws, prior_kind``: a ``"95 % band"`` from >= ``metrics.MIN_BAND_DRAWS`` draws, or a
@@ -62,20 +65,22 @@ from .binomial import wilson_interval  # re-exported: the coverage interval of t
 from .compare import cell_text, check_bands, draw_count
 from .output import output_dir
 
-__all__ = ["BASELINES", "SCORE_COLUMNS", "RECORD_COLUMNS", "wilson_interval", "interval_score", "score",
+__all__ = ["BASELINES", "SCORED_ROLES", "SCORE_COLUMNS", "RECORD_COLUMNS", "wilson_interval", "interval_score", "score",
            "score_records", "score_block", "aggregate", "within_25pct", "write_scores", "aggregate_scores",
            "quantile_mc_se", "RECORDS_PREFIX"]
 
 #: Predictive distributions scored: posterior predictive and prior predictive.
 BASELINES = ("fitted", "prior")
+#: Split roles scored, each on its own: the out-of-sample test and the in-sample tuned numbers.
+SCORED_ROLES = ("heldout", "tuned")
 #: Per-notebook records files: ``data/fidelity_records_<notebook>.csv``.
 RECORDS_PREFIX = "fidelity_records_"
 #: Per-number record columns (``data/fidelity_records_<notebook>.csv``).
 RECORD_COLUMNS = ["notebook", "paper_key", "artifact", "quantity", "ref", "paper_value", "fitted_median",
                   "fitted_low", "fitted_high", "prior_median", "prior_low", "prior_high", "fitted_draws",
-                  "fitted_kind", "prior_draws", "prior_kind"]
+                  "fitted_kind", "prior_draws", "prior_kind", "role"]
 #: Score columns (``data/fidelity_scores.csv``).
-SCORE_COLUMNS = ["scope", "baseline", "n", "inside", "coverage", "coverage_low", "coverage_high",
+SCORE_COLUMNS = ["scope", "role", "baseline", "n", "inside", "coverage", "coverage_low", "coverage_high",
                  "median_rel_width", "mean_rel_interval_score", "median_rel_interval_score", "within_25pct"]
 _ALPHA = 0.05
 
@@ -131,9 +136,9 @@ def _numeric(v) -> float:
 
 
 def score_records(table: pd.DataFrame, paper_key: str, notebook: str) -> pd.DataFrame:
-    """Per-number records of the held-out rows of a comparison table (:data:`RECORD_COLUMNS`).
+    """Per-number records of the held-out and tuned rows of a comparison table (:data:`RECORD_COLUMNS`).
 
-    Only rows with ``role == "heldout"``, a numeric paper value and at least one band are kept.
+    Only rows with ``role`` in :data:`SCORED_ROLES`, a numeric paper value and at least one band are kept.
     """
     if paper_key not in paper_numbers.KEYS:
         raise ValueError(f"paper_key must be one of {paper_numbers.KEYS}, got {paper_key!r}")
@@ -149,7 +154,7 @@ def _records(table: pd.DataFrame, paper_key: str = "", notebook: str = "") -> pd
         raise ValueError(f"table is not a comparison table (missing columns {sorted(missing)})")
     check_bands(table)
     rows = []
-    for r in table[table["role"] == "heldout"].to_dict("records"):
+    for r in table[table["role"].isin(SCORED_ROLES)].to_dict("records"):
         x = _numeric(r["paper"])
         has_band = np.isfinite(_numeric(r["mc_low"])) or np.isfinite(_numeric(r["prior_low"]))
         if not np.isfinite(x) or not has_band:
@@ -160,7 +165,8 @@ def _records(table: pd.DataFrame, paper_key: str = "", notebook: str = "") -> pd
                      "fitted_high": _numeric(r["mc_high"]), "prior_median": _numeric(r.get("prior_median")),
                      "prior_low": _numeric(r["prior_low"]), "prior_high": _numeric(r["prior_high"]),
                      "fitted_draws": draw_count(r.get("mc_draws")), "fitted_kind": cell_text(r.get("mc_kind")),
-                     "prior_draws": draw_count(r.get("prior_draws")), "prior_kind": cell_text(r.get("prior_kind"))})
+                     "prior_draws": draw_count(r.get("prior_draws")), "prior_kind": cell_text(r.get("prior_kind")),
+                     "role": r["role"]})
     out = pd.DataFrame(rows, columns=RECORD_COLUMNS)
     for col in ("fitted_draws", "prior_draws"):
         out[col] = out[col].astype("Int64")
@@ -216,9 +222,12 @@ def aggregate(records: pd.DataFrame, baseline: str) -> dict:
     return out
 
 
-def score(table: pd.DataFrame, baseline: str = "fitted") -> dict:
-    """Scores of the held-out rows of one comparison table (see module docstring)."""
-    return aggregate(_records(table), baseline)
+def score(table: pd.DataFrame, baseline: str = "fitted", role: str = "heldout") -> dict:
+    """Scores of the ``role`` rows (default the held-out ones) of one comparison table (see module docstring)."""
+    if role not in SCORED_ROLES:
+        raise ValueError(f"role must be one of {SCORED_ROLES}, got {role!r}")
+    recs = _records(table)
+    return aggregate(recs[recs["role"] == role], baseline)
 
 
 def _fmt(v, pct=False):
@@ -234,7 +243,8 @@ def score_block(table: pd.DataFrame, key: str) -> str:
     (N, K, H from the paper's split; h: held-out rows of ``table`` inside our
     fitted 95 % band; C, c: rows of kind ``claim``), then one line per baseline
     with coverage (Wilson 95 % interval), median relative width, relative
-    interval score and the ±25 % count, and whether the fit beats the prior.
+    interval score and the ±25 % count, and whether the fit beats the prior; where
+    the paper has ``tuned`` numbers, the same lines for them, marked in-sample.
 
     >>> from mtcal.reporting.compare import comparison_row, comparison_table
     >>> t = comparison_table([comparison_row("a", "x", 1.0, 1.0, "x < 2", True)])
@@ -244,28 +254,46 @@ def score_block(table: pd.DataFrame, key: str) -> str:
     sp = paper_numbers.split(key)
     counts = sp["role"].value_counts()
     recs = _records(table, key)
-    fitted, prior = aggregate(recs, "fitted"), aggregate(recs, "prior")
+    held = recs[recs["role"] == "heldout"]
+    fitted, prior = aggregate(held, "fitted"), aggregate(held, "prior")
     kind = table["kind"].fillna("") if "kind" in table else pd.Series("", index=table.index)
     claims = table[(kind == "claim") & table["holds"].notna()]
     cons = table[(kind == "consistency") & table["holds"].notna()]
-    lines = [f"{key}: {len(sp)} printed numbers: {counts.get('train', 0)} train, {counts.get('heldout', 0)} held out, "
-             f"{fitted['inside']} inside; {len(claims)} claims: {int(claims['holds'].astype(bool).sum())} hold",
+    insample = table[(kind == "in-sample") & table["holds"].notna()]
+    n_tuned = counts.get("tuned", 0)
+    lines = [f"{key}: {len(sp)} printed numbers: {counts.get('train', 0)} train, "
+             + (f"{n_tuned} tuned, " if n_tuned else "")
+             + f"{counts.get('heldout', 0)} held out, {fitted['inside']} inside; {len(claims)} claims: "
+             f"{int(claims['holds'].astype(bool).sum())} hold",
              f"  (also {counts.get('input', 0)} input, {counts.get('erratum', 0)} erratum, "
-             f"{counts.get('not-compared', 0)} not compared; {len(cons)} consistency checks, not claims)"]
+             f"{counts.get('not-compared', 0)} not compared; "
+             + (f"{len(insample)} in-sample checks, {int(insample['holds'].astype(bool).sum())} hold; "
+                if len(insample) else "")
+             + f"{len(cons)} consistency checks, not claims)"]
+    lines += _score_lines(fitted, prior, "held-out")
+    tuned = recs[recs["role"] == "tuned"]
+    if len(tuned):
+        lines += _score_lines(aggregate(tuned, "fitted"), aggregate(tuned, "prior"), "tuned (in-sample)")
+    return "\n".join(lines)
+
+
+def _score_lines(fitted: dict, prior: dict, what: str) -> list[str]:
+    lines = []
+    prefix = "" if what == "held-out" else f"{what} "
     for name, s in (("fitted (posterior predictive)", fitted), ("prior predictive", prior)):
         if s["n"] == 0:
-            lines.append(f"  {name}: no held-out number with a band")
+            lines.append(f"  {prefix}{name}: no {what} number with a band")
             continue
-        lines.append(f"  {name}: {s['inside']} of {s['n']} inside, coverage {_fmt(s['coverage'], True)} "
+        lines.append(f"  {prefix}{name}: {s['inside']} of {s['n']} inside, coverage {_fmt(s['coverage'], True)} "
                      f"[{_fmt(s['coverage_low'], True)}, {_fmt(s['coverage_high'], True)}] (Wilson 95 %); "
                      f"median width / |paper| {_fmt(s['median_rel_width'])}; interval score / |paper| "
                      f"mean {_fmt(s['mean_rel_interval_score'])}, median {_fmt(s['median_rel_interval_score'])}; "
                      f"within ±25 % of our median: {s['within_25pct']}")
     if fitted["n"] and prior["n"]:
         better = fitted["mean_rel_interval_score"] < prior["mean_rel_interval_score"]
-        lines.append("  the fit " + ("beats" if better else "does NOT beat") + " the prior predictive on the mean "
-                     "relative interval score")
-    return "\n".join(lines)
+        lines.append(f"  {prefix}the fit " + ("beats" if better else "does NOT beat") + " the prior predictive on "
+                     "the mean relative interval score")
+    return lines
 
 
 def _write_atomic(df: pd.DataFrame, path: Path, float_format: str) -> None:
@@ -301,8 +329,8 @@ def write_scores(table: pd.DataFrame, key: str, notebook: str, folder: str | Pat
 def aggregate_scores(folder: str | Path | None = None) -> Path:
     """Recompute ``fidelity_scores.csv`` from every ``fidelity_records_*.csv`` in ``folder`` (sorted by name).
 
-    One row per (paper, baseline) for every paper key (``n = 0`` where nothing is
-    held out) and per (overall, baseline), fixed float format (byte-stable).
+    One row per (paper, role, baseline) for every paper key and role of :data:`SCORED_ROLES` (``n = 0``
+    where the paper has no such number) and per (overall, role, baseline), fixed float format (byte-stable).
     """
     folder = Path(folder) if folder is not None else output_dir() / "data"
     parts = [pd.read_csv(p, dtype={"ref": str, "notebook": str}, keep_default_na=False, na_values=[""])
@@ -311,10 +339,13 @@ def aggregate_scores(folder: str | Path | None = None) -> Path:
     recs = pd.concat(parts, ignore_index=True) if parts else pd.DataFrame(columns=RECORD_COLUMNS)
     rows = []
     # every paper has its rows (n = 0 when it has no held-out number with a band, e.g. tan2022)
+    # a records file from before the tuned role holds held-out records only
+    recs["role"] = recs["role"].fillna("heldout") if "role" in recs else "heldout"
     scopes = [(k, recs[recs["paper_key"] == k]) for k in sorted(paper_numbers.KEYS)] + [("overall", recs)]
     for scope, part in scopes:
-        for b in BASELINES:
-            rows.append({"scope": scope, "baseline": b, **aggregate(part, b)})
+        for role in SCORED_ROLES:
+            for b in BASELINES:
+                rows.append({"scope": scope, "role": role, "baseline": b, **aggregate(part[part["role"] == role], b)})
     out = folder / "fidelity_scores.csv"
     _write_atomic(pd.DataFrame(rows, columns=SCORE_COLUMNS), out, "%.4f")
     return out

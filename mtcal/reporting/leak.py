@@ -2,8 +2,9 @@
 
 Each study registers one function ``fit_and_predict(size="ci", seed=0) -> dict[str, ndarray]``
 (:func:`register`) returning its fitted parameters and predictive bands. :func:`check_no_leak`
-copies ``paper_data`` to a temporary folder, replaces every ``heldout`` value of the
-split (:func:`mtcal.reporting.paper_numbers.split`) by garbage (:data:`PERTURBATIONS`:
+copies ``paper_data`` to a temporary folder, replaces every ``heldout`` and ``tuned`` value of the
+split (:func:`mtcal.reporting.paper_numbers.split`; :data:`PERTURBED_ROLES`: a ``tuned`` number is one no fit
+reads, so perturbing it must change nothing either) by garbage (:data:`PERTURBATIONS`:
 ×1000, shifted, NaN, negated), points ``MTCAL_PAPER_DIR`` at the copy, re-runs the
 function and asserts bit-identical outputs. A registered function must compute
 from scratch on every call (no cache keyed on anything but its arguments).
@@ -32,11 +33,13 @@ import pandas as pd
 
 from . import paper_numbers
 
-__all__ = ["PERTURBATIONS", "register", "registered", "perturb_text", "perturbed_copy", "paper_dir_override",
+__all__ = ["PERTURBATIONS", "PERTURBED_ROLES", "register", "registered", "perturb_text", "perturbed_copy", "paper_dir_override",
            "differences", "check_no_leak"]
 
 #: Garbage written over every held-out value: scaled ×1000, shifted by +123.456, NaN, negated.
 PERTURBATIONS = ("scale", "shift", "nan", "negate")
+#: Split roles whose values the fits must not read (perturbed together).
+PERTURBED_ROLES = ("heldout", "tuned")
 _REGISTRY: dict[str, Callable] = {}
 
 
@@ -82,13 +85,14 @@ def perturb_text(text: str, mode: str) -> str:
 
 
 def perturbed_copy(dst: str | Path, mode: str, keys=paper_numbers.KEYS) -> Path:
-    """Copy the current paper folder to ``dst`` with every held-out value of ``keys`` perturbed; return ``dst``."""
+    """Copy the current paper folder to ``dst`` with every held-out and tuned value of ``keys`` perturbed; return ``dst``."""
     src, dst = paper_numbers.paper_dir(), Path(dst)
     if dst.exists() and any(dst.iterdir()):
         raise ValueError(f"dst must be empty or absent, got {dst}")
     shutil.copytree(src, dst, dirs_exist_ok=True)
     for key in keys:
-        held = paper_numbers.heldout(key)
+        sp = paper_numbers.split(key)
+        held = sp[sp["role"].isin(PERTURBED_ROLES)]
         for name, part in held.groupby("file", sort=True):
             path = dst / f"{name}.csv"
             df = pd.read_csv(path, dtype=str, keep_default_na=False)
@@ -172,6 +176,6 @@ def check_no_leak(key: str, fn: Callable | None = None, *, size: str = "ci", see
                 out = fn(size=size, seed=seed)
         diff = differences(ref, out)
         if diff:
-            raise AssertionError(f"leak in {key}: with held-out values perturbed ({mode!r}) these outputs "
+            raise AssertionError(f"leak in {key}: with held-out and tuned values perturbed ({mode!r}) these outputs "
                                  f"changed: {diff}")
     return ref

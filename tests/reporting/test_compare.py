@@ -9,7 +9,7 @@ from mtcal.reporting import compare
 
 
 def test_roles_are_the_split_roles_plus_finding():
-    assert compare.ROLES == ("train", "heldout", "input", "erratum", "not-compared", "finding")
+    assert compare.ROLES == ("train", "tuned", "heldout", "input", "erratum", "not-compared", "finding")
     with pytest.raises(ValueError, match="role must be one of"):
         compare.comparison_row("a", "b", 1, 1, "", None, role="predicted")
     with pytest.raises(ValueError, match="kind must be one of"):

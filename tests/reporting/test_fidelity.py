@@ -83,7 +83,7 @@ def test_quantile_mc_se_errors():
 def test_score_block_text():
     text = fidelity.score_block(_table(), "wang2022sensors")
     first = text.splitlines()[0]
-    assert first == "wang2022sensors: 86 printed numbers: 13 train, 8 held out, 2 inside; 1 claims: 1 hold"
+    assert first == "wang2022sensors: 86 printed numbers: 13 train, 9 held out, 2 inside; 1 claims: 1 hold"
     assert "Wilson 95 %" in text and "prior predictive: 2 of 2 inside" in text
     assert "does NOT beat" in text or "beats" in text
 
@@ -97,13 +97,12 @@ def test_write_scores_merges_and_is_byte_stable(tmp_path):
     assert path.read_bytes() == first
     df = pd.read_csv(path)
     assert list(df.columns) == fidelity.SCORE_COLUMNS
-    assert list(zip(df.scope, df.baseline)) == [("broad2021", "fitted"), ("broad2021", "prior"),
-                                                ("tan2022", "fitted"), ("tan2022", "prior"),
-                                                ("wang2022sensors", "fitted"), ("wang2022sensors", "prior"),
-                                                ("wang2023cja", "fitted"), ("wang2023cja", "prior"),
-                                                ("overall", "fitted"), ("overall", "prior")]
-    assert df.loc[df.scope == "wang2023cja", "n"].tolist() == [0, 0]
-    assert df.loc[df.scope == "overall", "n"].tolist() == [6, 4]
+    assert list(zip(df.scope, df.role, df.baseline)) == [
+        (scope, role, b) for scope in ("broad2021", "tan2022", "wang2022sensors", "wang2023cja", "overall")
+        for role in ("heldout", "tuned") for b in ("fitted", "prior")]
+    assert df.loc[df.scope == "wang2023cja", "n"].tolist() == [0, 0, 0, 0]
+    assert df.loc[df.scope == "overall", "n"].tolist() == [6, 4, 0, 0]
+    assert df.loc[df.scope == "broad2021", "n"].tolist() == [0, 0, 0, 0]
     assert sorted(p.name for p in tmp_path.glob("fidelity_records_*.csv")) == ["fidelity_records_20_x.csv",
                                                                             "fidelity_records_30_y.csv"]
     assert fidelity.aggregate_scores(tmp_path).read_bytes() == first   # the final make-reproduce step
@@ -161,3 +160,22 @@ def test_committed_results_check_fails_on_a_short_band(tmp_path):
     back.loc[0, "mc_draws"] = ""
     with pytest.raises(ValueError, match="no known draw count"):
         compare.check_bands(back)
+
+
+def test_tuned_numbers_are_scored_beside_the_heldout_ones_never_pooled(tmp_path):
+    from mtcal.reporting.compare import comparison_row, comparison_table
+
+    band = lambda lo, hi: {"low": lo, "high": hi, "n": 1000, "kind": "95 % band"}
+    t = comparison_table([comparison_row("a", "x", 1.0, 1.0, "", None, band=band(0.9, 1.1), role="heldout"),
+                          comparison_row("a", "y", 2.0, 1.0, "", None, band=band(0.9, 1.1), role="tuned"),
+                          comparison_row("a", "z", 1.0, 1.0, "", None, band=band(0.9, 1.1), role="tuned"),
+                          comparison_row("a", "w", 5.0, 1.0, "", None, band=band(0.9, 1.1), role="train")])
+    assert (fidelity.score(t)["n"], fidelity.score(t)["inside"]) == (1, 1)
+    tuned = fidelity.score(t, role="tuned")
+    assert (tuned["n"], tuned["inside"]) == (2, 1)
+    with pytest.raises(ValueError, match="role must be one of"):
+        fidelity.score(t, role="train")
+    fidelity.write_scores(t, "wang2023cja", "10_x", folder=tmp_path)
+    df = pd.read_csv(tmp_path / "fidelity_scores.csv").set_index(["scope", "role", "baseline"])
+    assert df.loc[("wang2023cja", "heldout", "fitted"), "n"] == 1 and df.loc[("wang2023cja", "tuned", "fitted"), "n"] == 2
+    assert "tuned (in-sample) fitted (posterior predictive): 1 of 2 inside" in fidelity.score_block(t, "wang2023cja")

@@ -1,4 +1,4 @@
-"""The pre-registered split: every printed number once, validated loader, fitting code reaches train rows only."""
+"""The declared split: every printed number once, validated loader, fitting code reaches train rows only."""
 
 import ast
 import shutil
@@ -121,7 +121,27 @@ def test_training_is_blind_to_perturbed_heldout(tmp_path):
 def test_heldout_lists_values():
     h = paper_numbers.heldout("wang2022sensors")
     assert list(h.columns) == ["file", "row", "column", "text", "value"]
-    assert len(h) == 8 and h["value"].notna().all()
+    assert len(h) == 9 and h["value"].notna().all()
+
+
+def test_a_heldout_number_documented_as_computed_from_others_is_rejected(tmp_path, monkeypatch):
+    import shutil
+    shutil.copytree(paper_numbers.paper_dir(), tmp_path, dirs_exist_ok=True)
+    path = tmp_path / "wang2023cja_split.csv"
+    sp = pd.read_csv(path, dtype=str, keep_default_na=False)
+    std = (sp.file == "wang2023cja_table10_windtunnel_wind_pitch") & (sp.row == "36") & (sp.column == "value_deg")
+    sp.loc[std, "role"] = "heldout"
+    sp.loc[std, "reason"] = "the sample standard deviation of the group rows at this reference"
+    sp.to_csv(path, index=False, lineterminator="\n")
+    monkeypatch.setenv("MTCAL_PAPER_DIR", str(tmp_path))
+    with pytest.raises(ValueError, match="row 36 column value_deg: a heldout number documented as computed"):
+        paper_numbers.split("wang2023cja")
+    sp.loc[std, "reason"] = "group-to-group scatter, not fitted"   # a plain held-out number is accepted
+    sp.to_csv(path, index=False, lineterminator="\n")
+    assert (paper_numbers.split("wang2023cja").role == "heldout").sum() == 49
+    for text in ("a function of the train rows", "computed from Table 1", "the mean of the group rows",
+                 "slope of the before columns", "follows arithmetically from Q(2,2)"):
+        assert paper_numbers.DERIVED_RE.search(text), text
 
 
 def _forbidden_calls(path: Path) -> list[str]:

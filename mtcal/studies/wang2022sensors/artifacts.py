@@ -113,6 +113,10 @@ STREAM_REST_BOOTSTRAP = 399
 STREAM_TABLE05_DRAWS = 500
 STREAM_FIG14_FITTED = 600
 STREAM_FIG14_PRIOR = 601
+STREAM_FIG14_WHOLE_FITTED = 602
+STREAM_FIG14_WHOLE_PRIOR = 603
+STREAM_C02_FITTED = 604
+STREAM_C02_PRIOR = 605
 
 
 # --------------------------------------------------------------------------- notebook 30
@@ -464,6 +468,10 @@ _T5_CLAIMS = {("RAMS", "static"): ("the static RMSEs of the RAMS are less than 0
                                             lambda x: x > 0.1),
               ("AHRS stand-in", "dynamic"): ("Both the static and moving RMSEs of Ellipse2-N exceed 0.1°",
                                              lambda x: x > 0.1)}
+_T5_THRESHOLD = {q: t for q, t in (("the static RMSEs of the RAMS are less than 0.02°", "< 0.02"),
+                                   ("the moving RMSEs are less than 0.5°", "< 0.5"),
+                                   ("The static RMSEs of the method in ref. [16] are less than 0.1°", "< 0.1"),
+                                   ("Both the static and moving RMSEs of Ellipse2-N exceed 0.1°", "> 0.1"))}
 _T5_ROW = {"RAMS": 0, "Ellipse2-N": 1, "Method in ref. [16]": 2}
 _T5_SYSTEM = {v: k for k, v in error_model.SYSTEMS.items()}
 
@@ -483,8 +491,9 @@ def table05_rmse(fit: ErrorModelFit, seed: int, n_draws: int = 4000) -> Artifact
     (fitted) or the prior, a Monte Carlo repetition there, and the declared model discrepancy.
     The table carries the Monte Carlo standard error of the 2.5 % and 97.5 % quantiles
     (bootstrap of the ``n_draws`` draws, :func:`mtcal.reporting.fidelity.quantile_mc_se`).
-    The paper's text statements on Table 5 are claims on held-out rows and consistency checks on
-    training rows (the model is fitted to them).
+    Each sentence of the paper's text on Table 5 is tested once, on the worst of the rows it covers (our
+    posterior-predictive medians): a claim when all of them are held out, an in-sample check when the model was
+    fitted to any of them.
     """
     from mtcal.reporting.fidelity import quantile_mc_se
 
@@ -492,7 +501,7 @@ def table05_rmse(fit: ErrorModelFit, seed: int, n_draws: int = 4000) -> Artifact
     pv = {(r.rotation_axis, error_model.SYSTEMS[r.system], k): float(getattr(r, f"rmse_{k}_deg"))
           for r in df5.itertuples() for k in ("static", "dynamic")}
     rng = stream_rng(seed, STREAM_TABLE05_DRAWS)
-    recs, rows = [], []
+    recs, rows, said = [], [], {}
     for key in error_model.TRAINING + error_model.HELD_OUT:
         axis, system, kind = key
         post = error_model.predictive_samples(fit.grid, fit.posterior, key, rng, n_draws)
@@ -506,22 +515,29 @@ def table05_rmse(fit: ErrorModelFit, seed: int, n_draws: int = 4000) -> Artifact
                      "prior_median": bp["median"], "prior_low": bp["low"], "prior_high": bp["high"],
                      "paper_in_fitted": bool(b["low"] <= pv[key] <= b["high"]),
                      "paper_in_prior": bool(bp["low"] <= pv[key] <= bp["high"]), "n_draws": n_draws})
-        quote, test = _T5_CLAIMS[(system, kind)]
         qty, ref = f"{axis} {system} {kind} RMSE (deg)", _t5_ref(axis, system, kind)
-        med = float(b["median"])
-        if test is None:
-            rows.append(_row("wang2022sensors_table05", qty, pv[key], med, "", None, band=b, prior_band=bp, role=role,
-                             ref=ref))
-        elif role == "train":
-            rows.append(compare.consistency("wang2022sensors_table05", qty, pv[key], med, quote, bool(test(med)),
-                                            by="fitted to this Table 5 row", band=b, prior_band=bp, role=role,
-                                            ref=ref, enforce=False))
+        rows.append(_row("wang2022sensors_table05", qty, pv[key], float(b["median"]), "", None, band=b, prior_band=bp,
+                         role=role, ref=ref))
+        if _T5_CLAIMS[(system, kind)][1] is not None:
+            said.setdefault(_T5_CLAIMS[(system, kind)][0], []).append((key, role, float(b["median"]), ref))
+    # each sentence of the text once: its threshold on the worst of the rows it covers (our medians); in-sample
+    # when any of those rows is train (the model was fitted to it), a claim when all are held out
+    for quote, covered in said.items():
+        test = next(t for q, t in _T5_CLAIMS.values() if q == quote)
+        worst = (max if test(0.0) else min)(m for _, _, m, _ in covered)
+        qty = f"worst of {len(covered)} Table 5 rows: {', '.join(f'{k[0]} {k[2]}' for k, *_ in covered)} (deg)"
+        refs = ";".join(r for *_, r in covered)
+        holds = bool(test(worst))
+        train = [k for k, role, *_ in covered if role == "train"]
+        if train:
+            rows.append(compare.in_sample("wang2022sensors_table05", f"{covered[0][0][1]}: {qty}",
+                                          _T5_THRESHOLD[quote], worst, quote, holds, role="train", ref=refs,
+                                          on=f"fitted to {len(train)} of these rows"
+                                          + ("" if holds else f"; our worst median {worst:.4f}°")))
         else:
-            holds = bool(test(med))
-            note = "" if holds else (f"posterior-predictive median {med:.4f}°; the paper's own Table 5 prints "
-                                     f"{pv[key]:.4f}°")
-            rows.append(_claim("wang2022sensors_table05", qty, pv[key], med, quote, test, band=b, prior_band=bp,
-                               role=role, enforce=holds, note=note, ref=ref))
+            rows.append(_claim("wang2022sensors_table05", f"{covered[0][0][1]}: {qty}", _T5_THRESHOLD[quote], worst,
+                               quote, test, role="heldout", enforce=holds, ref=refs,
+                               note="" if holds else f"our worst posterior-predictive median {worst:.4f}°"))
     t5 = pd.DataFrame(recs)
     # the paper's own text vs its table (Sec. 7: "Both ... RMSEs of Ellipse2-N exceed 0.1°")
     low = min(pv[(a, "AHRS stand-in", k)] for a in ("Bv1", "Bv2", "Bv3") for k in ("static", "dynamic"))
@@ -579,25 +595,53 @@ def fig13_drift(sc: Scenario, fit: ErrorModelFit | None, trials: int, seed: int,
 def fig14_max_error_per_angle(fit: ErrorModelFit, seed: int, n_draws: int = 4000) -> Artifact:
     """Fig. 14: RAMS max |error| per sweep angle (settled half of each 1 s hold), posterior-predictive
     median and posterior-weighted 2.5–97.5 % of the grid runs per angle, and one experiment's worst angle against the
-    paper's 0.05° (claims c01, c08, c10)."""
+    paper's 0.05° under both readings of "the measurement error for various angles", and claim c02 (the largest error
+    while moving over the ±180° sweep against 1°).
+
+    c01 (abstract), c08 (Sec. 7) and c10 (conclusions) state one bound on one statistic: one row per reading, so
+    the statement counts once. The paper does not say which part of a hold Fig. 14 measures, so both readings are
+    shown with their verdicts: the **whole hold** (kind ``claim``, role ``heldout``: the reading that involves no
+    choice) and the **settled second half** (kind ``in-sample``, role ``tuned``: this window was chosen after the
+    whole-hold reading failed).
+    """
     g = fit.grid
     wc = fit.posterior.sum(axis=(1, 2))
     per = g.hold_max_deg  # (C, A, R, H)
     w = np.repeat(wc[:, None, None], per.shape[1] * per.shape[2], axis=1).reshape(-1) / (per.shape[1] * per.shape[2])
     flat = per.reshape(-1, per.shape[-1])
     q = np.array([error_model.weighted_quantile(flat[:, h], w, [0.025, 0.5, 0.975]) for h in range(flat.shape[1])])
-    exp = error_model.fig14_samples(g, fit.posterior, stream_rng(seed, STREAM_FIG14_FITTED), n_draws)
-    exp_prior = error_model.fig14_samples(g, fit.prior, stream_rng(seed, STREAM_FIG14_PRIOR), n_draws)
-    b, bp = metrics.band_or_range(exp), metrics.band_or_range(exp_prior)
-    med = float(b["median"])
-    rows = []
-    for num, quote in ((8, "the maximum measurement error of RAMS for various angles did not exceed 0.05°"),
-                       (10, "the maximum static measurement error is less than 0.05°"),
-                       (1, "static measurement error of less than 0.05°")):
+    refs = ";".join(_ref("text_claims", n, "value") for n in (1, 8, 10))
+    quote = ("the maximum measurement error of RAMS for various angles did not exceed 0.05° (c08; also c01 "
+             "\"static measurement error of less than 0.05°\", c10 \"the maximum static measurement error is less "
+             "than 0.05°\")")
+    rows, bands = [], {}
+    for window, stream_fit, stream_prior in (("whole hold", STREAM_FIG14_WHOLE_FITTED, STREAM_FIG14_WHOLE_PRIOR),
+                                             ("settled half", STREAM_FIG14_FITTED, STREAM_FIG14_PRIOR)):
+        exp = error_model.fig14_samples(g, fit.posterior, stream_rng(seed, stream_fit), n_draws, window=window)
+        exp_prior = error_model.fig14_samples(g, fit.prior, stream_rng(seed, stream_prior), n_draws, window=window)
+        b, bp = metrics.band_or_range(exp), metrics.band_or_range(exp_prior)
+        bands[window] = b
+        med = float(b["median"])
         holds = med < 0.05
-        rows.append(_claim("wang2022sensors_fig14", "one experiment's largest per-angle max error, settled holds "
-                           "(deg)", "< 0.05", med, quote, lambda v: bool(v < 0.05), band=b, prior_band=bp,
-                           role="heldout", enforce=holds, ref=_ref("text_claims", num, "value"),
-                           note="" if holds else f"posterior-predictive median {med:.3f}° (median experiment)"))
+        qty = f"one experiment's largest per-angle max error, {window} reading (deg)"
+        note = "" if holds else f"posterior-predictive median {med:.3f}° (median experiment), {med / 0.05:.1f}× the bound"
+        if window == "whole hold":
+            rows.append(_claim("wang2022sensors_fig14", qty, "< 0.05", med, quote, lambda v: bool(v < 0.05), band=b,
+                               prior_band=bp, role="heldout", enforce=holds, ref=refs, note=note))
+        else:
+            rows.append(compare.in_sample("wang2022sensors_fig14", qty, "< 0.05", med, quote, holds, band=b,
+                                          prior_band=bp, role="tuned", ref=refs,
+                                          on="window chosen after the whole-hold reading failed"
+                                          + (f"; {note}" if note else "")))
+    dyn = error_model.dynamic_max_samples(g, fit.posterior, stream_rng(seed, STREAM_C02_FITTED), n_draws)
+    dyn_prior = error_model.dynamic_max_samples(g, fit.prior, stream_rng(seed, STREAM_C02_PRIOR), n_draws)
+    b2, bp2 = metrics.band_or_range(dyn), metrics.band_or_range(dyn_prior)
+    med2 = float(b2["median"])
+    rows.append(_claim("wang2022sensors_fig14", "one experiment's largest RAMS error while moving over the ±180° sweep "
+                       "(deg)", "< 1", med2, "a dynamic measurement error of less than 1° in the range of ±180°",
+                       lambda v: bool(v < 1.0), band=b2, prior_band=bp2, role="heldout", enforce=med2 < 1.0,
+                       ref=_ref("text_claims", 2, "value"),
+                       note="" if med2 < 1.0 else f"posterior-predictive median {med2:.3f}° (median experiment)"))
+    b = bands["settled half"]
     return Artifact(None, rows, {"angle_deg": g.hold_angle_deg, "low": q[:, 0], "median": q[:, 1],
                                  "high": q[:, 2], "experiment": b, "n_runs": int(flat.shape[0])})

@@ -254,7 +254,8 @@ class SweepMetrics:
     ``rams_static``/``ref16_static`` (T, L) static RMSE,
     ``*_dynamic`` (T, L) dynamic RMSE (static/dynamic by the RAMS ZVD, as Sec. 7),
     ``hold_max`` (T, H) RAMS max |error| over the settled second half of each sweep hold,
-    ``hold_angle_deg`` (H,), ``zvd_static_share`` (T,) share of true-moving sweep samples
+    ``hold_max_whole`` (T, H) the same over the whole hold, ``dynamic_max`` (T, L) RAMS max |error| over the
+    moving (ZVD dynamic) sweep samples with each latency, ``hold_angle_deg`` (H,), ``zvd_static_share`` (T,) share of true-moving sweep samples
     the ZVD flags static, ``latency_s`` (L,).
     """
 
@@ -266,6 +267,8 @@ class SweepMetrics:
     hold_max: np.ndarray
     hold_angle_deg: np.ndarray
     zvd_static_share: np.ndarray
+    hold_max_whole: np.ndarray
+    dynamic_max: np.ndarray
 
 
 def sweep_metrics(rig: RigValues, imu: ImuValues, axes, lever_arms_m, seed: int, trial_ids, *,
@@ -327,11 +330,14 @@ def sweep_metrics(rig: RigValues, imu: ImuValues, axes, lever_arms_m, seed: int,
     holds = slices[first:]
     hold_max = np.stack([np.max(np.abs(err_rams[:, (sl.start + sl.stop) // 2:sl.stop]), axis=1)
                          for sl in holds], axis=1)
+    hold_whole = np.stack([np.max(np.abs(err_rams[:, sl]), axis=1) for sl in holds], axis=1)
+    dyn_max = np.stack([np.max(np.abs(err_rams + d) * dyn, axis=1) for d in delta], axis=1)  # (T, L)
     share = np.sum(flags & sweep & ~prof.is_static, axis=1) / max(np.sum(sweep & ~prof.is_static), 1)
     out = dict(rams_static=rms(err_rams, stat, ns), rams_dynamic=rms(err_rams, dyn, nd),
                ref16_static=rms(err_16, stat, ns), ref16_dynamic=rms(err_16, dyn, nd))
     return SweepMetrics(lat, out["rams_static"], out["rams_dynamic"], out["ref16_static"], out["ref16_dynamic"],
-                        np.degrees(hold_max), np.degrees(th[[sl.start for sl in holds]]), share)
+                        np.degrees(hold_max), np.degrees(th[[sl.start for sl in holds]]), share,
+                        np.degrees(hold_whole), np.degrees(dyn_max))
 
 
 def ahrs_sweep_metrics(rig: RigValues, fs_hz: float, axes, lever_arms_m, ahrs: AhrsImu, seed: int,

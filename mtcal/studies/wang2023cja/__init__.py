@@ -18,7 +18,7 @@ table/figure, plus comparison rows), :mod:`.plots` (figures; imports matplotlib 
 from . import artifacts, constrained, error_model, predictive, runs, scenario, verdicts
 from .artifacts import (banded, error_budget_table, error_metric_table, error_model_table, HELD_OUT,
                         installation_fit_table, outside_rows, positions_table, printed_matrix_check, q22_noise_band,
-                        stepwise_coupling, sweep_mean_table, table08_reductions, table10, TRAINING,
+                        stepwise_coupling, sweep_mean_table, table08_reductions, table10, TRAINING, TUNED,
                         windtunnel_matrix_table)
 from .error_model import (ErrorModel, ErrorModelFit, fit_error_model, fit_installation_angles, FITTED_PARAMETERS,
                           InstallationFit, MOUNT_TYPE, N_NORMALS, paper_positions, PAPER_SIGN, position_noise_deg,
@@ -41,7 +41,7 @@ __all__ = ["artifacts", "constrained", "error_model", "predictive", "runs", "sce
            "turntable_runs", "windtunnel_positions", "identify_pitch_ratio", "turntable_profile",
            "six_position_reference", "TurntableRun", "TurntableJob", "run_turntable", "run_turntable_jobs",
            "position_errors_deg", "compliance_trajectory", "load_tilt_outputs", "mechanism_actual", "WindTunnelRun",
-           "run_windtunnel", "elastic_deflection_rad", "calibration_step", "MONTE_CARLO_GATES", "TRAINING", "HELD_OUT", "installation_fit_table",
+           "run_windtunnel", "elastic_deflection_rad", "calibration_step", "MONTE_CARLO_GATES", "TRAINING", "TUNED", "HELD_OUT", "installation_fit_table",
            "error_model_table", "printed_matrix_check", "positions_table", "sweep_mean_table", "error_metric_table",
            "table08_reductions", "windtunnel_matrix_table", "table10", "banded",
            "outside_rows", "q22_noise_band", "stepwise_coupling", "error_budget_table"]

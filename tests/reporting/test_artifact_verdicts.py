@@ -1,0 +1,83 @@
+"""One verdict per paper artifact: the rule (a case per verdict), the evidence counted, every catalogue artifact a row."""
+
+from pathlib import Path
+
+import pandas as pd
+import pytest
+
+from mtcal.reporting import artifact_verdicts as av
+from mtcal.reporting.compare import claim, comparison_row, comparison_table, in_sample
+
+ROOT = Path(__file__).resolve().parents[2]
+BAND = {"low": 0.9, "high": 1.1, "n": 1000, "kind": "95 % band"}
+
+
+@pytest.mark.parametrize("counts, expected", [
+    ((3, 3, 1, 0), "reproduced"),           # every held-out number inside, every claim holds
+    ((0, 0, 2, 0), "reproduced"),           # claims only
+    ((3, 2, 1, 0), "partly reproduced"),    # one number outside
+    ((3, 3, 1, 1), "partly reproduced"),    # one claim fails
+    ((0, 0, 1, 1), "partly reproduced"),
+    ((4, 0, 0, 0), "not reproduced"),       # nothing inside, no claim
+    ((4, 0, 0, 2), "not reproduced"),
+    ((0, 0, 0, 3), "not reproduced"),
+    ((0, 0, 0, 0), "not comparable"),       # no held-out evidence at all
+])
+def test_rule_has_a_case_for_each_verdict(counts, expected):
+    assert av.verdict(*counts) == expected
+    assert set(av.VERDICTS) == {"reproduced", "partly reproduced", "not reproduced", "not comparable"}
+
+
+def test_rule_rejects_impossible_counts():
+    with pytest.raises(ValueError, match="must not exceed numbers_compared"):
+        av.verdict(2, 3, 0, 0)
+    with pytest.raises(ValueError, match="non-negative integers"):
+        av.verdict(-1, 0, 0, 0)
+
+
+def _table(rows):
+    t = comparison_table(rows)
+    return pd.read_csv(pd.io.common.StringIO(t.to_csv(index=False)), dtype=str, keep_default_na=False,
+                       na_values=[""])  # as read back from data/*_comparison.csv
+
+
+def test_only_heldout_numbers_and_claims_are_evidence():
+    rows = [comparison_row("p2020_table01", "a", 1.0, 1.0, "", None, band=BAND, role="heldout"),
+            comparison_row("p2020_table01", "b", 2.0, 1.0, "", None, band=BAND, role="heldout"),
+            comparison_row("p2020_table01", "c", 1.0, 1.0, "", None, band=BAND, role="train"),
+            comparison_row("p2020_table01", "d", 1.0, 1.0, "", None, band=BAND, role="tuned"),
+            claim("p2020_table01", "e", 0.5, 0.4, "below 0.5", lambda v: v < 0.5),
+            in_sample("p2020_table01", "f", 0.5, 0.7, "below 0.5", False, on="tuned on it", role="tuned"),
+            comparison_row("p2020_fig02", "g", 1.0, 1.0, "", None, band=BAND, role="tuned")]
+    arts = pd.DataFrame([{"artifact_id": "p2020_table01", "paper": "p2020", "paper_item": "Table 1",
+                          "notebook_section": "s1"},
+                         {"artifact_id": "p2020_fig02", "paper": "p2020", "paper_item": "Fig. 2",
+                          "notebook_section": "s2"},
+                         {"artifact_id": "p2020_fig03", "paper": "p2020", "paper_item": "Fig. 3",
+                          "notebook_section": "s3"}])
+    out = av.artifact_rows(_table(rows), arts).set_index("artifact_id")
+    t1 = out.loc["p2020_table01"]
+    assert (t1.numbers_compared, t1.numbers_inside, t1.claims_holding, t1.claims_failing) == (2, 1, 1, 0)
+    assert t1.verdict == "partly reproduced" and "farthest b: paper 2" in t1.cause and "4.5 band widths" in t1.cause
+    assert out.loc["p2020_fig02"].verdict == "not comparable" and "in-sample only" in out.loc["p2020_fig02"].cause
+    assert out.loc["p2020_fig03"].verdict == "not comparable" and "no comparison row" in out.loc["p2020_fig03"].cause
+    assert list(out.reset_index().columns) == av.VERDICT_COLUMNS
+
+
+def test_committed_verdicts_cover_every_catalogue_artifact_and_follow_the_rule():
+    arts = av.paper_artifacts(ROOT / "docs" / "artifacts.md")
+    table = pd.read_csv(ROOT / "data" / "verdicts.csv", keep_default_na=False)
+    assert list(table.columns) == av.VERDICT_COLUMNS
+    assert sorted(table.artifact_id) == sorted(arts.artifact_id) and len(arts) > 20
+    assert set(table.paper) >= {"wang2023cja", "tan2022", "wang2022sensors"}
+    for r in table.itertuples():
+        assert r.verdict == av.verdict(r.numbers_compared, r.numbers_inside, r.claims_holding, r.claims_failing)
+    # the committed file is what the code makes from the committed comparison tables
+    fresh = av.artifact_rows(av._comparisons(ROOT / "data"), arts)
+    pd.testing.assert_frame_equal(fresh.reset_index(drop=True), table.reset_index(drop=True), check_dtype=False)
+
+
+def test_main_refuses_bad_arguments(capsys):
+    assert av.main(["only-one"]) == 2
+    assert av.main(["/nonexistent", "x.md"]) == 2
+    assert "mtcal: error: DATA_FOLDER /nonexistent does not exist" in capsys.readouterr().err
