@@ -105,8 +105,19 @@ def read_catalogue(path: Path) -> "OrderedDict[str, Artifact]":
     return out
 
 
+def needs_verdict(artifact: "Artifact") -> bool:
+    """A catalogue entry that carries a verdict: a paper figure/table or one of our additions
+    (:func:`mtcal.reporting.artifact_verdicts.has_verdict`, the rule that writes ``data/verdicts.csv``);
+    the bookkeeping files (comparison tables, fidelity records and scores, benchmarks) carry none."""
+    from mtcal.reporting.artifact_verdicts import has_verdict
+
+    return has_verdict(artifact.paper_item)
+
+
 def read_verdicts(path: Path, catalogue: dict) -> "OrderedDict[str, dict]":
     """``data/verdicts.csv`` checked against the catalogue: ``{artifact_id: row}``.
+
+    Every catalogue entry that :func:`needs_verdict` has exactly one row; no row names another id.
 
     Raises
     ------
@@ -137,7 +148,8 @@ def read_verdicts(path: Path, catalogue: dict) -> "OrderedDict[str, dict]":
             raise SiteError(f"{path}:{i}: {aid} has a second row")
         out[aid] = row
     unknown = [a for a in out if a not in catalogue]
-    absent = [a for a in catalogue if a not in out and a != SELF]
+    absent = [a for a, art in catalogue.items() if a not in out and a != SELF
+              and (art is None or needs_verdict(art))]
     if unknown or absent:
         raise SiteError(f"{path}: rows and catalogue (docs/artifacts.md) differ: "
                         + "; ".join(p for p in (f"no verdict for {', '.join(absent)}" if absent else "",
@@ -157,12 +169,12 @@ def read_comparisons(data: Path) -> list[dict]:
     return rows
 
 
-def read_fidelity(path: Path) -> dict[tuple[str, str], dict]:
-    """``{(scope, baseline): row}`` of ``data/fidelity_scores.csv`` (empty when the file is absent)."""
+def read_fidelity(path: Path, role: str = "heldout") -> dict[tuple[str, str], dict]:
+    """``{(scope, baseline): row}`` of the ``role`` rows of ``data/fidelity_scores.csv`` (empty when absent)."""
     if not path.is_file():
         return {}
     with path.open(encoding="utf-8", newline="") as fh:
-        return {(r["scope"], r["baseline"]): r for r in csv.DictReader(fh)}
+        return {(r["scope"], r["baseline"]): r for r in csv.DictReader(fh) if r.get("role", "heldout") == role}
 
 
 def errata_sections(path: Path) -> dict[str, tuple[str, int]]:
@@ -393,6 +405,7 @@ class Site:
         self.verdicts = read_verdicts(Path(verdicts_path), self.catalogue)
         self.comparisons = read_comparisons(self.root / "data")
         self.fidelity = read_fidelity(self.root / "data" / "fidelity_scores.csv")
+        self.fidelity_tuned = read_fidelity(self.root / "data" / "fidelity_scores.csv", role="tuned")
         self.errata = errata_sections(self.root / "docs" / "errata.md")
         self.headings = {p.stem: notebook_headings(p) for p in sorted((self.root / "notebooks").glob("[0-9][0-9]_*.ipynb"))}
         self.rows_of: dict[str, list[dict]] = {}
@@ -443,7 +456,7 @@ class Site:
 
     # numbers in words ---------------------------------------------------------------------------
     def counts(self, ids) -> Counter:
-        return Counter(self.verdicts[a]["verdict"] for a in ids)
+        return Counter(self.verdicts[a]["verdict"] for a in ids if a in self.verdicts)
 
     def fidelity_words(self, scope: str) -> str:
         """Held-out coverage and sharpness of ``scope`` (a paper key or ``overall``) in one paragraph."""
@@ -460,11 +473,15 @@ class Site:
                      f"value; {fit['within_25pct']} of {n} printed values lie within 25 % of our median. ")
         if prior and prior.get("median_rel_width"):
             text += (f"Before fitting (prior predictive) the bands hold {prior['inside']} of {prior['n']} but are "
-                     f"{float(prior['median_rel_width']):.1f}× as wide.")
-        return text
+                     f"{float(prior['median_rel_width']):.1f}× as wide. ")
+        tuned = self.fidelity_tuned.get((scope, "fitted"))
+        if tuned and int(tuned["n"] or 0):
+            text += (f"In-sample (numbers a mechanism or setting was chosen against, not predictions): "
+                     f"{tuned['inside']} of {tuned['n']} inside.")
+        return text.strip()
 
     def claims_words(self, ids) -> tuple[int, int]:
-        rows = [self.verdicts[a] for a in ids]
+        rows = [self.verdicts[a] for a in ids if a in self.verdicts]
         return sum(int(r["claims_holding"]) for r in rows), sum(int(r["claims_failing"]) for r in rows)
 
     # page writers -------------------------------------------------------------------------------
@@ -539,17 +556,20 @@ class Site:
         lines += ["```", "", "```{toctree}", ":caption: Notebooks", ":maxdepth: 1", ""]
         lines += [f"notebooks/{s}" for s in self.headings]
         lines += ["```", "", "```{toctree}", ":caption: Reference", ":maxdepth: 1", "", "errata", "artifacts",
-                  "conventions", "study_template", "api", "```", ""]
+                  "conventions", "deviations", "study_template", "api", "```", ""]
         return "\n".join(lines)
 
     def artifact_section(self, aid: str, level: str = "##") -> list[str]:
-        a, v = self.catalogue[aid], self.verdicts[aid]
+        a = self.catalogue[aid]
+        v = self.verdicts.get(aid, {"verdict": "", "cause": "", "numbers_compared": "0", "numbers_inside": "0",
+                                    "claims_holding": "0", "claims_failing": "0"})
         title = re.sub(rf"^{re.escape(aid)}\s*(\(beyond the paper\))?\s*[—-]?\s*", "", a.section.replace("`", ""))
         m = ITEM_RE.match(aid)
         item = (f"{'Fig.' if m['kind'] == 'fig' else 'Table'} {int(m['num'])}" if m else aid)
         heading = f"{item} — {title}" if title and title != aid else item
         lines = [f"(art-{aid})=", f"{level} {md_escape(heading)}", "",
-                 f"{badge(v['verdict'], aid)} {md_escape(v['cause'])}", ""]
+                 f"{badge(v['verdict'], aid)} {md_escape(v['cause'])}" if v["verdict"] else
+                 "Bookkeeping file (the rows behind the verdicts; it carries no verdict of its own).", ""]
         facts = [f"`{aid}`"]
         if int(v["numbers_compared"]):
             facts.append(f"{v['numbers_inside']} of {v['numbers_compared']} printed numbers inside our band")

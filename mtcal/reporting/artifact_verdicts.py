@@ -1,7 +1,9 @@
-"""One verdict per paper artifact (``data/verdicts.csv``), from the committed comparison tables and the catalogue.
+"""One verdict per artifact (``data/verdicts.csv``), from the committed comparison tables and the catalogue.
 
 Every figure and table of a paper that the artifact catalogue lists (``docs/artifacts.md``, rows whose
-paper column reads ``<key> Fig. N`` or ``<key> Table N``) gets one row, whatever the paper key, so a
+paper column reads ``<key> Fig. N`` or ``<key> Table N``) and every addition of ours (``<key> (ours:
+slug)``, notebook 00's ``conventions/errata (ours: slug)``) gets one row, whatever the paper key — the
+bookkeeping files (comparison tables, fidelity records and scores, benchmarks, this file) get none — so a
 new study that saves its comparison table the standard way (``data/<key>_<topic>_comparison.csv``,
 :func:`mtcal.reporting.compare.comparison_table`) gets its rows without code here.
 
@@ -45,7 +47,7 @@ import pandas as pd
 
 from .compare import cell_text, is_missing
 
-__all__ = ["VERDICTS", "VERDICT_COLUMNS", "verdict", "paper_artifacts", "artifact_rows", "write_verdicts"]
+__all__ = ["VERDICTS", "VERDICT_COLUMNS", "verdict", "has_verdict", "paper_artifacts", "artifact_rows", "write_verdicts"]
 
 #: The four verdicts, best first.
 VERDICTS = ("reproduced", "partly reproduced", "not reproduced", "not comparable")
@@ -53,6 +55,8 @@ VERDICTS = ("reproduced", "partly reproduced", "not reproduced", "not comparable
 VERDICT_COLUMNS = ["artifact_id", "paper", "paper_item", "verdict", "numbers_compared", "numbers_inside",
                    "claims_holding", "claims_failing", "cause", "notebook_section"]
 _PAPER_ITEM = re.compile(r"^(?P<key>[a-z]+\d{4}[a-z]*) (?P<item>(Fig\.|Table) \d+)$")
+#: our additions: ``<key> (ours: slug)`` and notebook 00's ``conventions/errata (ours: slug)``
+_EXTRA_ITEM = re.compile(r"^(?P<key>[a-z]+\d{4}[a-z]*|conventions)(?:/errata)? \((?P<item>ours: [^)]+)\)$")
 _ROW = re.compile(r"^\|\s*`(?P<file>[^`]+)`\s*\|\s*(?P<paper>[^|]*?)\s*\|\s*(?P<section>[^|]*?)\s*\|")
 
 
@@ -81,8 +85,20 @@ def verdict(numbers_compared: int, numbers_inside: int, claims_holding: int, cla
     return "partly reproduced"
 
 
+def has_verdict(paper_column: str) -> bool:
+    """True for a catalogue row that gets a verdict: a paper's figure or table, or an addition of ours.
+
+    >>> has_verdict("abc2020 Table 2"), has_verdict("abc2020 (ours: y)"), has_verdict("paper vs mtcal table")
+    (True, True, False)
+    """
+    text = str(paper_column).strip()
+    return bool(_PAPER_ITEM.match(text) or _EXTRA_ITEM.match(text))
+
+
 def paper_artifacts(catalogue_md: str | Path) -> pd.DataFrame:
-    """The papers' figures and tables of the artifact catalogue: ``artifact_id, paper, paper_item, notebook_section``.
+    """The artifacts of the catalogue: ``artifact_id, paper, paper_item, notebook_section``.
+
+    The papers' figures and tables (paper item ``Table 2``) and our additions (paper item ``ours: y``).
 
     One row per artifact id (a figure and its table share one), in catalogue order.
 
@@ -94,13 +110,17 @@ def paper_artifacts(catalogue_md: str | Path) -> pd.DataFrame:
     ...     p = Path(d) / "a.md"; _ = p.write_text(md)
     ...     paper_artifacts(p).iloc[0].tolist()
     ['abc2020_table02', 'abc2020', 'Table 2', '`10_abc` § abc2020_table02 — x']
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     p = Path(d) / "a.md"; _ = p.write_text(md)
+    ...     paper_artifacts(p).iloc[1].tolist()
+    ['abc2020_extra_y', 'abc2020', 'ours: y', '`10_abc` § y']
     """
     rows = {}
     for line in Path(catalogue_md).read_text(encoding="utf-8").splitlines():
         m = _ROW.match(line)
         if not m:
             continue
-        p = _PAPER_ITEM.match(m["paper"])
+        p = _PAPER_ITEM.match(m["paper"]) or _EXTRA_ITEM.match(m["paper"])
         if not p:
             continue
         ident = Path(m["file"]).stem
