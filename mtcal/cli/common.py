@@ -185,10 +185,13 @@ def _drop_short(log: logio.ImuLog, rep: rest_detection.RestReport) -> rest_detec
 def rest_bias(log: logio.ImuLog, report: rest_detection.RestReport, rest: slice) -> rest_detection.QuietCore:
     """Gyro bias from the quiet core of ``rest`` (:func:`mtcal.methods.rest_detection.quiet_core`).
 
-    The threshold is 5 standard deviations of a 0.05 s moving mean of the measured per-sample
-    gyro noise (``report.gyro_noise_rad_s``): no fixed floor.
+    The threshold is K standard deviations of a 0.05 s moving mean of the measured per-sample
+    gyro noise (``report.gyro_noise_rad_s``), no fixed floor; K is the rest detector's
+    ``--noise-factor`` (``report.noise_factor``, default 5): one meaning of the factor for every
+    noise-derived threshold.
     """
-    return rest_detection.quiet_core(log.gyro_rad_s, rest, log.dt_mean_s, report.gyro_noise_rad_s)
+    return rest_detection.quiet_core(log.gyro_rad_s, rest, log.dt_mean_s, report.gyro_noise_rad_s,
+                                     noise_factor=report.noise_factor)
 
 
 def rest_bias_text(log: logio.ImuLog, qc: rest_detection.QuietCore) -> str:
