@@ -8,10 +8,11 @@ quantities whose value or claim differs (``--all``: every quantity), and saves t
 ``compare_<names>.csv`` (with each claim's threshold read from its text and
 whether that reading reproduces every run's verdict) and a figure to
 ``compare_<names>.png`` — each claim quantity of every run against the claim's
-threshold (flipped claims first), then the numeric quantities relative to the first run (in ``--out``, default: the first run's
-parent folder). Runs that differ in size (``--size ci`` vs the full-size committed
-results) or seed (``params.json``) are refused unless ``--allow-mismatch``, which
-compares them with a warning.
+threshold (flipped claims first), then the numeric quantities relative to the
+first run (in ``--out``, default: the first run's parent folder). Runs that
+differ in size (``--size ci`` vs the full-size committed results) or seed
+(``params.json``) are refused unless ``--allow-mismatch``, which compares them
+with a warning.
 """
 
 from __future__ import annotations
