@@ -95,6 +95,7 @@ bench: $(STAMP)
 	$(BIN)/python -m pip install --quiet --disable-pip-version-check -c constraints.txt -e '.[dev,bench]'
 	$(BENCH_ENV) $(BIN)/python benchmarks/run.py $(BENCH_ARGS)
 	$(BENCH_ENV) $(BIN)/python benchmarks/bench_sweep.py --csv data/bench_sweep.csv $(BENCH_SWEEP_ARGS)
+	$(BENCH_ENV) $(BIN)/python benchmarks/broad_accuracy.py --csv build/bench/broad2021_accuracy.csv
 
 clean:
 	rm -rf build $(VENV)

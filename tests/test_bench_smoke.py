@@ -396,3 +396,17 @@ def test_reproduce_floor_rejects_too_few_trials(capsys):
     with pytest.raises(SystemExit):
         mc_floor.main(["--trials", "1"])
     assert "--trials must be >= 2, got 1" in capsys.readouterr().err
+
+
+def test_broad_accuracy_smoke():
+    """benchmarks/broad_accuracy.py on one BROAD trial: rows for each filter asked, the QNCF diagnostics, a summary."""
+    pytest.importorskip("vqf")
+    import broad_accuracy
+
+    rows = broad_accuracy.trial_rows(["qncf", "vqf"], ["02"])
+    names = [r["filter"] for r in rows]
+    assert names == ["qncf", "qncf_gate_open*", "qncf_next_row*", "qncf_gate_closed_share*", "vqf"]
+    assert all(np.isfinite(r["inclination_rmse_deg"]) for r in rows)
+    summ = {s["filter"]: s for s in broad_accuracy.summary(rows)}
+    assert summ["vqf"]["median_ratio_to_vqf"] == 1.0
+    assert 0.0 <= broad_accuracy.summary_share(rows) <= 1.0

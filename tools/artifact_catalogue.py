@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-KEYS = ("wang2023cja", "tan2022", "wang2022sensors")
+KEYS = ("wang2023cja", "tan2022", "wang2022sensors", "broad2021")
 ID_RE = re.compile(r"^(?:(?:%s)_\w+|conventions_\w+)$" % "|".join(KEYS))
 HEADING_RE = re.compile(r"^#{2,3}\s+`?([A-Za-z0-9_]*)`?(.*)$")
 #: helpers that show or save a result rather than produce it

@@ -92,8 +92,10 @@ def run(args: argparse.Namespace) -> int:
         if log.gyro_rad_s is not None:
             rep = common.detect(args, log)
             fig.report = rep
-            plausibility.check_units(log.gyro_for_filter(), log.accel_m_s2, log.dt_mean_s, rep.rests,
-                                     time_s=log.time_s, skip=plausibility.clipped_samples(log.gyro_rad_s)[0])
+            chk = plausibility.check_units(log.gyro_for_filter(), log.accel_m_s2, log.dt_mean_s, rep.rests,
+                                           time_s=log.time_s, skip=plausibility.clipped_samples(log.gyro_rad_s)[0],
+                                           unit_stated=log.gyro_unit_stated)
+            common.print_units_check(chk)
             gyro, params, q0, info = qncf_settings(log, rep)
             source = dict(gyro_rad_s=gyro, accel_m_s2=log.accel_m_s2, dt_s=log.dt_mean_s, qncf_params=params, q0=q0)
             static = rep.is_static

@@ -64,8 +64,9 @@ def cmd_axis(args: argparse.Namespace) -> int:
         common.print_report(log, rep)
         if log.gyro_rad_s is not None:  # the rests used gyro: its units and the time base must fit
             chk = plausibility.check_units(log.gyro_for_filter(), log.accel_m_s2, log.dt_mean_s, rep.rests,
-                                           time_s=log.time_s, skip=plausibility.clipped_samples(log.gyro_rad_s)[0])
-            print(f"gyro units check ({chk['method']}): {chk['evidence']}")
+                                           time_s=log.time_s, skip=plausibility.clipped_samples(log.gyro_rad_s)[0],
+                                           unit_stated=log.gyro_unit_stated)
+            common.print_units_check(chk)
         if len(rep.rests) == 0:
             raise ValueError(f"found only 0 rests of >= {rep.min_rest_s:g} s ({rep.levels_text()}); "
                              f"the axis needs rests at three distinct tilts")
@@ -159,6 +160,7 @@ def cmd_angle(args: argparse.Namespace) -> int:
                                           max_elevation_deg=common.finite_float(args.max_elevation_deg,
                                                                                 "--max-elevation-deg"),
                                           check_units=True, gyro_noise_rad_s=rep.gyro_noise_rad_s,
+                                          unit_stated=log.gyro_unit_stated,
                                           max_axis_mismatch_deg=common.finite_float(args.max_axis_mismatch_deg,
                                                                                     "--max-axis-mismatch-deg"))
         if res.clipped.any():
@@ -182,7 +184,7 @@ def cmd_angle(args: argparse.Namespace) -> int:
             i = int(np.nanargmax(off))
             print(f"warning: at rest {i} the EKF angle differs from the accelerometer's by {off[i]:.2f} deg "
                   f"(axis or accelerometer errors; check --axis)")
-        print(f"gyro units check ({check['method']}): {check['evidence']}")
+        common.print_units_check(check)
         print(f"angle: {t.size} samples written to {out}; final angle {angle[-1]:.3f} deg")
         return 0
 
@@ -203,7 +205,7 @@ def register(subparsers) -> None:
                               description=_bullet(0) + "\n\n" + common.SCHEMA_HELP
                               + "\n(axis needs only the accelerometer columns)",
                               epilog=AXIS_EXAMPLE, formatter_class=fmt)
-    p.add_argument("log", help="IMU log (CSV or Parquet)")
+    p.add_argument("log", help="IMU log (CSV, Parquet, .mat or .h5)")
     p.add_argument("--min-separation-deg", default="3", help="rests closer in tilt are one position (deg)")
     p.add_argument("--max-axis-error-deg", default="2", help="refuse an axis less certain than this (deg, 1 sigma)")
     p.add_argument("--max-elevation-deg", default="85", help="refuse an axis steeper than this (deg)")
@@ -213,7 +215,7 @@ def register(subparsers) -> None:
     q = subparsers.add_parser("angle", help="EKF rotation angle about a known axis (wang2022sensors)",
                               description=_bullet(1) + "\n\n" + common.SCHEMA_HELP,
                               epilog=ANGLE_EXAMPLE, formatter_class=fmt)
-    q.add_argument("log", help="IMU log (CSV or Parquet)")
+    q.add_argument("log", help="IMU log (CSV, Parquet, .mat or .h5)")
     q.add_argument("--axis", required=True, help="axis vx,vy,vz in the sensor frame (from `mtcal axis`)")
     q.add_argument("--out", default="angle.csv", help="output table (.csv or .parquet)")
     q.add_argument("--init-s", default="1.0", help="initial rest used for a0 and the bias (s)")

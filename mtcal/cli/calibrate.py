@@ -135,8 +135,10 @@ def run(args: argparse.Namespace) -> int:
                 rests = installation.detect_rests(log.dt_mean_s, gyro_rad_s=log.gyro_rad_s, min_rest_s=min_rest)
             else:
                 rests = rep.rests
-            plausibility.check_units(log.gyro_for_filter(), log.accel_m_s2, log.dt_mean_s, rests,
-                                     time_s=log.time_s, skip=plausibility.clipped_samples(log.gyro_rad_s)[0])
+            chk = plausibility.check_units(log.gyro_for_filter(), log.accel_m_s2, log.dt_mean_s, rests,
+                                           time_s=log.time_s, skip=plausibility.clipped_samples(log.gyro_rad_s)[0],
+                                           unit_stated=log.gyro_unit_stated)
+            common.print_units_check(chk)
             gyro, params, q0, info = qncf_settings(log, rep)
             source = {"gyro_rad_s": gyro, "accel_m_s2": log.accel_m_s2, "qncf_params": params, "q0": q0}
         else:

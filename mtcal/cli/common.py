@@ -14,9 +14,12 @@ from mtcal.methods import rest_detection
 
 __all__ = ["add_input_options", "add_rest_options", "input_options", "detect", "rest_table", "print_report",
            "finite_float", "DiagnosticsFigure", "run_with_figure", "SCHEMA_HELP", "description_with_schema",
-           "QUATERNION_DECIMALS", "write_attitude", "euler_deg", "rest_bias", "rest_bias_text"]
+           "QUATERNION_DECIMALS", "write_attitude", "euler_deg", "rest_bias", "rest_bias_text",
+           "print_units_check"]
 
-SCHEMA_HELP = """log schema (CSV or Parquet, header row, one row per sample; extra columns ignored):
+SCHEMA_HELP = """log schema (CSV or Parquet, header row, one row per sample; extra columns ignored;
+or .mat/.h5 arrays: --columns gyro=NAME,accel=NAME[,time=NAME], rate from 'sampling_rate' or --fs-hz;
+BROAD's imu_gyr/imu_acc/sampling_rate opens as is):
   time_s                                    time (s), strictly increasing (jitter allowed)
   gyro_x_rad_s, gyro_y_rad_s, gyro_z_rad_s  angular rate (rad/s), sensor frame
   accel_x_m_s2, accel_y_m_s2, accel_z_m_s2  specific force (m/s^2); level at rest ~ +g on z
@@ -25,7 +28,8 @@ other units: --time-unit ms|us, --gyro-unit deg/s, --accel-unit g, --gyro-scale/
 gyro_x_deg_s, accel_x_g); no time column: --fs-hz. Jittered timestamps: per-sample dt. Rests: measured from the data
 (--rest-detector adaptive, default), the paper's fixed ZVD band (--rest-detector paper) or quasi-static
 stance phases (--rest-detector shoe, Skog et al. 2010; level with --gyro-threshold-deg-s or --shoe-threshold).
-Gyro units and time base are always checked against the accelerometer (or the command refuses)."""
+Gyro units and time base are checked against the accelerometer (rest pairs, tilt rate, gravity tracking);
+a stated unit (--gyro-unit, a unit header, BROAD's layout) that no check can decide is used with a warning."""
 
 
 def description_with_schema(doc: str, paragraphs: int) -> str:
@@ -76,6 +80,14 @@ def euler_deg(q: np.ndarray) -> np.ndarray:
     with ThreadPoolExecutor(max_workers=min(len(starts), os.cpu_count() or 1)) as pool:
         list(pool.map(block, starts))
     return out
+
+
+def print_units_check(chk: dict) -> None:
+    """Print a :func:`mtcal.systems.plausibility.check_units` result: which evidence decided, or its one warning."""
+    if chk.get("warning"):
+        print(f"warning: {chk['warning']}")
+    else:
+        print(f"gyro units check ({chk['method']}): {chk['evidence']}")
 
 
 def finite_float(text: str, name: str, *, positive: bool = True) -> float:

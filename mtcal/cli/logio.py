@@ -1,4 +1,4 @@
-"""The one log reader and writer of the ``mtcal`` command line (CSV and Parquet).
+"""The one log reader and writer of the ``mtcal`` command line (CSV, Parquet, MATLAB .mat, HDF5).
 
 Input schema (header row, one row per sample; extra columns are ignored)::
 
@@ -24,8 +24,13 @@ weighted by its own interval, ``ω_k (t_(k+1) − t_k) / dt_mean``, so every
 integrated angle uses the recorded time; no resampling, no interpolation of
 the accelerometer.
 
-Files ending in ``.parquet``/``.pq`` are Parquet, anything else CSV (comma,
-semicolon or tab, sniffed from the header). Outputs are written to a
+Files ending in ``.parquet``/``.pq`` are Parquet, ``.mat`` (v5 or v7.3) and ``.h5``/``.hdf5``
+hold named arrays (read by :func:`mtcal.core.arrayfile.read_arrays`), anything else CSV (comma,
+semicolon or tab, sniffed from the header). An array file's N×3 arrays are mapped with
+``--columns gyro=NAME,accel=NAME[,time=NAME]``; without a time array the sample rate is a
+scalar ``sampling_rate`` (Hz) in the file or ``--fs-hz``. A file holding ``imu_gyr``, ``imu_acc``
+and ``sampling_rate`` (the BROAD benchmark's layout: rad/s, m/s², Hz) opens with no option; its
+other arrays (optical reference, magnetometer) are ignored. Outputs are written to a
 temporary file in the target directory and renamed over the target
 (``os.replace``), so a failed write never leaves a truncated file and never
 touches an existing one.
@@ -41,7 +46,7 @@ from pathlib import Path
 import numpy as np
 
 __all__ = ["InputOptions", "ImuLog", "read_log", "write_table", "check_output_path",
-           "CANONICAL", "MIN_FS_HZ", "MAX_FS_HZ", "parse_scale", "parse_columns"]
+           "CANONICAL", "MIN_FS_HZ", "MAX_FS_HZ", "parse_scale", "parse_columns", "ARRAY_KEYS", "ARRAY_LAYOUT"]
 
 GYRO_COLS = ("gyro_x_rad_s", "gyro_y_rad_s", "gyro_z_rad_s")
 ACCEL_COLS = ("accel_x_m_s2", "accel_y_m_s2", "accel_z_m_s2")
@@ -56,6 +61,10 @@ _UNIT_ALIASES = {
 TIME_UNITS = {"s": 1.0, "ms": 1e-3, "us": 1e-6}
 GYRO_UNITS = {"rad/s": 1.0, "deg/s": np.pi / 180.0}
 ACCEL_UNITS = {"m/s2": 1.0, "g": 9.80665}
+#: --columns keys naming an N×3 array of a .mat/.h5 file
+ARRAY_KEYS = ("gyro", "accel")
+#: array names recognised without --columns (the BROAD benchmark's layout: rad/s, m/s², sample rate in Hz)
+ARRAY_LAYOUT = {"gyro": "imu_gyr", "accel": "imu_acc", "fs_hz": "sampling_rate"}
 #: plausible IMU sample rates (Hz): outside, the time column is in another unit or mislabelled
 MIN_FS_HZ = 5.0
 MAX_FS_HZ = 20000.0
@@ -90,8 +99,8 @@ def parse_columns(text: str | None) -> dict:
             raise ValueError(f"--columns entries must look like name=header, got {item.strip()!r}")
         key, val = (s.strip() for s in item.split("=", 1))
         key = short.get(key, key)
-        if key not in CANONICAL:
-            raise ValueError(f"--columns: unknown name {key!r}; known: {', '.join(CANONICAL)}")
+        if key not in CANONICAL and key not in ARRAY_KEYS:
+            raise ValueError(f"--columns: unknown name {key!r}; known: {', '.join(CANONICAL + ARRAY_KEYS)}")
         out[key] = val
     return out
 
@@ -135,6 +144,10 @@ class ImuLog:
         ``max |dt − dt_mean| / dt_mean``.
     notes : list of str
         What was adapted (units, per-sample dt, gaps).
+    gyro_unit_stated : str or None
+        Where the gyro unit was stated (``--gyro-unit``, a unit-carrying header such as
+        ``gyro_x_rad_s``, a recognised array layout); None when only assumed (e.g. ``--columns``
+        without ``--gyro-unit``). A units check that cannot decide warns instead of refusing then.
     """
 
     path: str
@@ -146,6 +159,7 @@ class ImuLog:
     dt_s: np.ndarray
     jitter: float
     notes: list
+    gyro_unit_stated: str | None = None
     _gyro_filter: tuple | None = field(default=None, repr=False, compare=False)
 
     @property
@@ -375,8 +389,20 @@ def read_log(path, opts: InputOptions | None = None, *, need: str = "raw", min_s
         raise ValueError(f"log file not found: {path}")
     if not p.is_file():
         raise ValueError(f"log {path} is not a regular file")
-    prewarm_compiled()
-    cols, all_names = _read_table(p, select=lambda names: list(_resolve(set(names), CANONICAL, opts)[0].values()))
+    from mtcal.core.arrayfile import is_array_file
+
+    fs_opt, stated, array_file = opts.fs_hz, None, is_array_file(p)
+    if array_file:  # read first: scipy.io/h5py imported before the prewarm thread imports scipy (import race)
+        cols, all_names, fs_opt, stated = _array_columns(p, opts)
+        opts = InputOptions(**{**opts.__dict__, "columns": {}})
+        prewarm_compiled()
+    else:
+        prewarm_compiled()
+        array_keys = [k for k in ARRAY_KEYS if k in opts.columns]
+        if array_keys:
+            raise ValueError(f"--columns {array_keys[0]}=… names an N x 3 array of a .mat/.h5 file; map the "
+                             f"columns of {path} with {array_keys[0]}_x=HEADER,{array_keys[0]}_y=…")
+        cols, all_names = _read_table(p, select=lambda names: list(_resolve(set(names), CANONICAL, opts)[0].values()))
     for c, header in opts.columns.items():
         if header not in cols:
             raise ValueError(f"{path}: --columns maps {c} to {header!r}, which is not a column "
@@ -385,7 +411,7 @@ def read_log(path, opts: InputOptions | None = None, *, need: str = "raw", min_s
     has_raw = all(c in found for c in GYRO_COLS + ACCEL_COLS)
     has_acc = all(c in found for c in ACCEL_COLS)
     has_q = all(c in found for c in QUAT_COLS)
-    if "time_s" not in found and opts.fs_hz is None:
+    if "time_s" not in found and fs_opt is None:
         raise ValueError(f"{path}: missing column time_s (columns: {', '.join(all_names[:20])}); "
                          f"map yours with --columns time_s=NAME, or give --fs-hz for a uniformly sampled log")
     required = {"raw": GYRO_COLS + ACCEL_COLS, "accel": ACCEL_COLS, "raw_or_quat": QUAT_COLS}[need]
@@ -397,10 +423,11 @@ def read_log(path, opts: InputOptions | None = None, *, need: str = "raw", min_s
                          f"{', '.join(all_names[:20])}; map yours with --columns NAME=HEADER")
     notes = []
     time_unit = opts.time_unit or implied.get("time_s", "s")
-    if opts.fs_hz is not None:  # --fs-hz: uniform time, any time column ignored
-        t = np.arange(len(next(iter(cols.values())))) / opts.fs_hz
-        found["time_s"] = "--fs-hz"
-        notes.append(f"time from --fs-hz {opts.fs_hz:g}")
+    if fs_opt is not None:  # --fs-hz (or an array file's sample rate): uniform time, any time column ignored
+        t = np.arange(len(next(iter(cols.values())))) / fs_opt
+        source = "--fs-hz" if opts.fs_hz is not None else ARRAY_LAYOUT["fs_hz"]
+        found["time_s"] = source
+        notes.append(f"time from {source} {fs_opt:g}")
     else:
         t = _numeric(cols[found["time_s"]], found["time_s"], p)
         if TIME_UNITS[time_unit] != 1.0:  # (s: no copy)
@@ -451,7 +478,15 @@ def read_log(path, opts: InputOptions | None = None, *, need: str = "raw", min_s
         _check_accel(accel, p)
     if has_raw:
         gyro = vec(GYRO_COLS, "gyro", opts.gyro_unit, GYRO_UNITS, opts.gyro_scale, "gyro scale")
-        _check_gyro(gyro, p)
+        _check_gyro(gyro, p, accel, dt_mean)
+        if opts.gyro_unit is not None:
+            stated = f"--gyro-unit {opts.gyro_unit}"
+        elif array_file:
+            pass  # stated only by the recognised layout (above) or --gyro-unit
+        elif GYRO_COLS[0] in implied:
+            stated = f"header {found[GYRO_COLS[0]]}"
+        elif found[GYRO_COLS[0]] == GYRO_COLS[0] and GYRO_COLS[0] not in opts.columns:
+            stated = f"header {GYRO_COLS[0]}"
     if has_q and need == "raw_or_quat":
         q = np.column_stack([_numeric(cols[found[c]], found[c], p) for c in QUAT_COLS])
         norm = np.linalg.norm(q, axis=1)
@@ -459,7 +494,79 @@ def read_log(path, opts: InputOptions | None = None, *, need: str = "raw", min_s
             raise ValueError(f"{path}: q0..q3 are not unit quaternions (|q| in [{norm.min():.4g}, "
                              f"{norm.max():.4g}])")
         q = q / norm[:, None]
-    return ImuLog(str(path), t, gyro, accel, q, float(fs), dt_full, jitter, notes)
+    return ImuLog(str(path), t, gyro, accel, q, float(fs), dt_full, jitter, notes, gyro_unit_stated=stated)
+
+
+def _array_columns(path: Path, opts: InputOptions):
+    """The log-schema columns of a .mat/.h5 file: named arrays mapped by ``--columns gyro=…,accel=…,time=…``.
+
+    Returns ``(columns, names, fs_hz, stated)``: canonical name → Arrow column, the file's array names
+    (for messages), the sample rate (``--fs-hz``, else the file's ``sampling_rate`` scalar when no time
+    array is mapped, else None) and where the gyro unit was stated (the recognised layout) or None.
+    """
+    from mtcal.core.arrayfile import read_arrays
+
+    try:
+        arrays = read_arrays(path)
+    except (OSError, ValueError) as exc:
+        raise ValueError(str(exc).splitlines()[0] if str(exc) else f"{path}: not readable") from None
+    names = sorted(arrays)
+    mapped = {k: opts.columns[k] for k in ARRAY_KEYS if k in opts.columns}
+    other = [k for k in opts.columns if k not in ARRAY_KEYS and k != "time_s"]
+    if other:
+        raise ValueError(f"--columns {other[0]}=… maps a table column; in the array file {path} map N x 3 arrays "
+                         f"with --columns gyro=NAME,accel=NAME[,time=NAME] (arrays: {', '.join(names[:20])})")
+    layout = all(ARRAY_LAYOUT[k] in arrays for k in ARRAY_KEYS) and not mapped
+    for k in ARRAY_KEYS:
+        mapped.setdefault(k, ARRAY_LAYOUT[k])
+    out, n_rows = {}, None
+    for key in ARRAY_KEYS:
+        name = mapped[key]
+        if name not in arrays:
+            raise ValueError(f"{path}: no array {name!r} for the {key}; map yours with --columns {key}=NAME "
+                             f"(arrays: {', '.join(names[:20])})")
+        arr = arrays[name]
+        if arr.ndim != 2 or arr.shape[1] != 3:
+            raise ValueError(f"{path}: array {name!r} ({key}) must be N x 3, got shape {arr.shape}")
+        n_rows = arr.shape[0] if n_rows is None else n_rows
+        if arr.shape[0] != n_rows:
+            raise ValueError(f"{path}: arrays of different lengths: {mapped['gyro']!r} has {n_rows} rows, "
+                             f"{name!r} {arr.shape[0]}")
+        _finite_rows(arr, name, path)
+        cols = GYRO_COLS if key == "gyro" else ACCEL_COLS
+        for i, c in enumerate(cols):
+            out[c] = _arrow_array(np.ascontiguousarray(arr[:, i]))
+    fs = opts.fs_hz
+    if "time_s" in opts.columns:
+        name = opts.columns["time_s"]
+        if name not in arrays:
+            raise ValueError(f"{path}: no array {name!r} for the time; map yours with --columns time=NAME "
+                             f"(arrays: {', '.join(names[:20])})")
+        tarr = arrays[name]
+        if tarr.ndim != 1 or tarr.shape[0] != n_rows:
+            raise ValueError(f"{path}: time array {name!r} must have {n_rows} values (one per row of "
+                             f"{mapped['gyro']!r}), got shape {tarr.shape}")
+        _finite_rows(tarr, name, path)
+        out["time_s"] = _arrow_array(np.ascontiguousarray(tarr))
+    elif fs is None and ARRAY_LAYOUT["fs_hz"] in arrays:
+        rate = arrays[ARRAY_LAYOUT["fs_hz"]]
+        if rate.ndim != 0 or not (np.isfinite(rate) and MIN_FS_HZ <= float(rate) <= MAX_FS_HZ):
+            raise ValueError(f"{path}: {ARRAY_LAYOUT['fs_hz']!r} must be one sample rate in {MIN_FS_HZ:g}-"
+                             f"{MAX_FS_HZ:g} Hz, got {rate!r}; give --fs-hz")
+        fs = float(rate)
+    elif fs is None:
+        raise ValueError(f"{path}: no sample rate: the file has no scalar {ARRAY_LAYOUT['fs_hz']!r}; give --fs-hz "
+                         f"or map a time array with --columns time=NAME (arrays: {', '.join(names[:20])})")
+    stated = (f"array layout {ARRAY_LAYOUT['gyro']}/{ARRAY_LAYOUT['accel']}/{ARRAY_LAYOUT['fs_hz']} "
+              f"(the BROAD benchmark's, gyro in rad/s)") if layout else None
+    return out, names, fs, stated
+
+
+def _finite_rows(arr: np.ndarray, name: str, path: Path) -> None:
+    """Refuse an array with a NaN/inf, naming the array and its first bad row (1-based)."""
+    if not np.isfinite(arr).all():
+        bad = ~np.isfinite(arr.reshape(arr.shape[0], -1)).all(axis=1)
+        raise ValueError(f"{path}: array {name!r} has a non-finite value (NaN or inf) at row {int(np.argmax(bad)) + 1}")
 
 
 #: Largest plausible specific force (m/s²): beyond any accelerometer's full scale (~200 g).
@@ -482,11 +589,29 @@ def _check_accel(accel: np.ndarray, path: Path) -> None:
                          f"raw counts or mg? use --accel-scale (e.g. 1/LSB per g with --accel-unit g)")
 
 
-def _check_gyro(gyro: np.ndarray, path: Path) -> None:
+def _check_gyro(gyro: np.ndarray, path: Path, accel: np.ndarray | None = None, dt_s: float | None = None) -> None:
     peak = max(float(gyro.max()), -float(gyro.min())) if gyro.size else 0.0  # max |gyro| without a temporary
     if peak > 40.0:
-        raise ValueError(f"{path}: peak |gyro| {peak:.4g} rad/s exceeds any MEMS full scale (~35 rad/s): "
-                         f"gyro in deg/s or counts? use --gyro-unit deg/s or --gyro-scale")
+        hint = (f"gyro in mrad/s or counts? use --gyro-scale (0.001 for mrad/s; read as deg/s it would still peak "
+                f"at {np.radians(peak):.4g} rad/s)")
+        if peak <= 40.0 * 180.0 / np.pi:  # deg/s and mrad/s both plausible: say which tracks gravity
+            hint = ("gyro in deg/s (use --gyro-unit deg/s) or mrad/s (use --gyro-scale 0.001)? "
+                    + _tracking_hint(gyro, accel, dt_s))
+        raise ValueError(f"{path}: peak |gyro| {peak:.4g} rad/s exceeds any MEMS full scale (~35 rad/s): {hint}")
+
+
+def _tracking_hint(gyro: np.ndarray, accel: np.ndarray | None, dt_s: float | None) -> str:
+    """Which of deg/s and mrad/s carries the accelerometer's gravity direction (gravity tracking), for a message."""
+    if accel is None or dt_s is None:
+        return ""
+    from mtcal.methods import gravity_tracking
+
+    res = gravity_tracking.gravity_tracking(gyro, accel, dt_s, hypotheses={"deg/s": np.pi / 180, "mrad/s": 1e-3})
+    if res["decision"] != "rival":
+        return "gravity tracking cannot tell"
+    r = res["rivals"][res["winner"]]
+    return (f"gravity tracking favours {res['winner']} ({1.0 - r['win_fraction']:.2f} of {r['windows']} windows "
+            f"against the stated unit; windows with linear acceleration favour the smaller rate)")
 
 
 def check_output_path(out, inputs=(), option: str = "--out") -> Path:

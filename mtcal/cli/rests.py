@@ -25,7 +25,7 @@ def register(subparsers) -> None:
     p = subparsers.add_parser("rests", help="static intervals and the measured rest levels",
                               description=common.description_with_schema(__doc__, 1),
                               epilog=EXAMPLE, formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("log", help="IMU log (CSV or Parquet)")
+    p.add_argument("log", help="IMU log (CSV, Parquet, .mat or .h5)")
     p.add_argument("--out", help="write the rests table here (.csv or .parquet)")
     p.add_argument("--accel-only", action="store_true",
                    help="ignore the gyro columns (a log without them is accelerometer-only anyway)")

@@ -15,6 +15,9 @@ References
    Electron. Inf. Technol. 2022, 20(9):946–952.
 .. [wang2022sensors] Wang C., Tu X., Chen Q., Yang Q., Fang T., "Movable Surface Rotation
    Angle Measurement System Using IMU", Sensors 2022, 22, 8996, doi:10.3390/s22228996.
+.. [broad2021] Laidig D., Caruso M., Cereatti A., Seel T., "BROAD — A Benchmark for Robust Inertial
+   Orientation Estimation", Data 2021, 6(7):72, doi:10.3390/data6070072 (published per-trial RMSE of its
+   Madgwick/Mahony case study, ``datasets/broad2021/published``).
 """
 
 from __future__ import annotations
@@ -32,8 +35,8 @@ import pandas as pd
 __all__ = ["paper_dir", "available", "load", "value", "KEYS", "SPLIT_ROLES", "SPLIT_COLUMNS", "NON_NUMBER_COLUMNS",
            "is_printed_number", "printed_cells", "paper_tables", "split", "training", "heldout"]
 
-#: The three paper keys (file-name prefixes in ``paper_data``).
-KEYS = ("wang2023cja", "tan2022", "wang2022sensors")
+#: The paper keys (file-name prefixes in ``paper_data``): three papers and the BROAD benchmark.
+KEYS = ("wang2023cja", "tan2022", "wang2022sensors", "broad2021")
 #: Roles of a printed number in the pre-registered split (``<key>_split.csv``).
 SPLIT_ROLES = ("train", "heldout", "input", "erratum", "not-compared")
 #: Columns of a split file.

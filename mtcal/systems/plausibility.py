@@ -19,9 +19,13 @@ The messages name the ``mtcal`` options that fix a log (``--gyro-unit``,
 * :func:`check_units` — the units check every procedure runs: the rest pairs
   above, then (no pair) every rest without the turning-rest filter, then the
   gravity-referenced tilt rate over quasi-static stretches
-  (:mod:`mtcal.methods.tilt_rate`), then a rate bound for rotations about
+  (:mod:`mtcal.methods.tilt_rate`), then gravity tracking on short windows
+  (:mod:`mtcal.methods.gravity_tracking`: which unit/time-base hypothesis
+  carries the accelerometer's direction), then a rate bound for rotations about
   gravity; a record whose rotation none of them can check is refused with a
-  one-line error naming ``--gyro-unit`` and the evidence.
+  one-line error naming ``--gyro-unit`` and the evidence — unless the unit was
+  stated (option or unit-carrying header), which no check then contradicts: it
+  is accepted with a warning naming the evidence.
 
 References
 ----------
@@ -46,11 +50,12 @@ import numpy as np
 
 from mtcal.core import rotations
 from mtcal.core.validate import MAX_GYRO_RAD_S, as_float_array, positive_scalar
-from mtcal.methods import tilt_rate
+from mtcal.methods import gravity_tracking, tilt_rate
 
 __all__ = ["gyro_tilt_consistency", "clipped_samples", "rotation_axis_from_gyro", "cumulative_rotation",
            "time_base", "check_units", "MAX_REST_RATE_RAD_S", "MAX_UNCHECKED_ROTATION_DEG",
-           "MAX_GRAVITY_AXIS_RATE_RAD_S", "MIN_FULL_SCALE_RAD_S", "MIN_GRAVITY_AXIS_SHARE"]
+           "MAX_GRAVITY_AXIS_RATE_RAD_S", "MIN_FULL_SCALE_RAD_S", "MIN_GRAVITY_AXIS_SHARE", "TRACKING_HINTS",
+           "MIN_LEAN_CORRELATION", "MAX_LEAN_RATIO"]
 
 _CANDIDATES = {np.pi / 180: "gyro looks like deg/s read as rad/s: use --gyro-unit deg/s",
                180 / np.pi: "gyro looks like rad/s read as deg/s: drop --gyro-unit deg/s",
@@ -201,6 +206,24 @@ def gyro_tilt_consistency(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: 
     return out
 
 
+#: What to do when gravity tracking finds a rival unit/time base (:data:`gravity_tracking.HYPOTHESES`).
+TRACKING_HINTS = {
+    "deg/s read as rad/s": "use --gyro-unit deg/s",
+    "rad/s read as deg/s": "drop --gyro-unit deg/s (the gyro is in rad/s)",
+    "mrad/s read as rad/s (or time in ms read as s)": "gyro in mrad/s? use --gyro-scale 0.001; time in ms? "
+                                                        "use --time-unit ms",
+    "rad/s read as mrad/s (or time in s read as ms)": "check --gyro-scale and --time-unit (time in s read as ms?)",
+    "time column 10x too fast": "check --time-unit / time_s (integrated gyro 10x too small)",
+    "time column 10x too slow": "check --time-unit / time_s (integrated gyro 10x too large)",
+}
+
+
+#: A stated unit that no check decides is still refused when the tilt rate, with at least this correlation,
+#: puts the gyro scale outside 1/MAX_LEAN_RATIO … MAX_LEAN_RATIO (weak evidence, but against the unit).
+MIN_LEAN_CORRELATION = 0.3
+MAX_LEAN_RATIO = 5.0
+
+
 #: Largest gyro rotation (deg, bias removed, integrated |ω|) accepted without any units check.
 MAX_UNCHECKED_ROTATION_DEG = 10.0
 #: Smallest gyro full scale (rad/s; 30 °/s): a clipping plateau between this and 40 rad/s is a rad/s full scale.
@@ -212,7 +235,7 @@ MAX_GRAVITY_AXIS_RATE_RAD_S = 2 * np.pi
 
 
 def check_units(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: float, rests: list, *, time_s=None,
-                skip=None) -> dict:
+                skip=None, unit_stated: str | None = None) -> dict:
     """Check the gyro's units and time base, or refuse: no procedure answers without this.
 
     In order, the first check that can decide does:
@@ -222,7 +245,12 @@ def check_units(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: float, res
        deg/s log read as rad/s has rests 57× noisier than the filter expects);
     3. the gravity-referenced tilt rate over all quasi-static stretches
        (:func:`mtcal.methods.tilt_rate.check_tilt_rate_scale`, slow moves count);
-    4. no tilt to compare: a gyro that turns less than
+    4. gravity tracking (:func:`mtcal.methods.gravity_tracking.gravity_tracking`): the gyro
+       under the stated unit and under each rival (deg/s, mrad/s, time in ms …) carries the
+       accelerometer's direction over 0.5 s windows; the stated unit is confirmed when it wins
+       ≥ 80 % of the discriminating windows against every rival, refused when a rival wins
+       ≥ 90 % (the message names the option);
+    5. no tilt to compare: a gyro that turns less than
        :data:`MAX_UNCHECKED_ROTATION_DEG` in total needs no check; a rotation
        only about gravity (no tilt seen, ≥ :data:`MIN_GRAVITY_AXIS_SHARE` of the
        integrated rate along the accelerometer's direction) passes unless it is faster than
@@ -230,7 +258,11 @@ def check_units(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: float, res
        (no centripetal acceleration: a deg/s rate read as rad/s); a gyro clipped
        (``skip``) at a plateau of :data:`MIN_FULL_SCALE_RAD_S` … 40 rad/s has a
        full scale that only rad/s explains (read as deg/s it would be > 40
-       rad/s and refused on reading); anything else is refused.
+       rad/s and refused on reading); anything else is refused — unless
+       ``unit_stated``: a stated unit that no check contradicts is accepted, the
+       result's ``warning`` naming the evidence (not when the tilt rate leans
+       against it: correlation ≥ :data:`MIN_LEAN_CORRELATION` with a scale off by
+       more than :data:`MAX_LEAN_RATIO`).
 
     Parameters
     ----------
@@ -246,12 +278,16 @@ def check_units(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: float, res
         For messages.
     skip : ndarray (N,) of bool, optional
         Samples not to use between rests (e.g. clipped).
+    unit_stated : str, optional
+        Where the user stated the gyro unit (e.g. ``"--gyro-unit deg/s"``, ``"header gyro_x_rad_s"``);
+        None: not stated (a check must decide).
 
     Returns
     -------
     dict
         ``method`` (which check decided), ``pairs``, ``worst_deg``, ``ratio``
-        (rest-pair checks; 0/NaN otherwise) and ``evidence`` (one line).
+        (rest-pair checks; 0/NaN otherwise), ``evidence`` (one line) and, when no
+        check could decide a stated unit, ``warning`` (one line).
 
     Raises
     ------
@@ -280,13 +316,21 @@ def check_units(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: float, res
         return {**res, "method": "rest pairs (all rests)",
                 "evidence": f"{res['pairs']} rest pair(s), rotation/tilt ratio {res['ratio']:.3f}"}
     out = {"pairs": 0, "worst_deg": float("nan"), "ratio": float("nan")}
-    tr = tilt_rate.check_tilt_rate_scale(gyro_rad_s, accel_m_s2, dt_s, skip=skip)
+    try:
+        tr = tilt_rate.check_tilt_rate_scale(gyro_rad_s, accel_m_s2, dt_s, skip=skip)
+    except ValueError:  # refused: gravity tracking, when it finds the scale, names the option that fits
+        _gravity_tracking(gyro_rad_s, accel_m_s2, dt_s)
+        raise
     ev = (f"accelerometer tilts {np.degrees(tr['accel_spread_rad']):.1f} deg from its mean direction and "
           f"{np.degrees(tr['accel_tilt_rad']):.1f} deg in total, gyro tilt "
           f"{np.degrees(tr['gyro_tilt_rad']):.1f} deg, tilt-rate scale {tr['scale']:.3g}, correlation "
           f"{tr['correlation']:.2f}")
     if tr["decided"]:
         return {**out, "method": "tilt rate", "evidence": ev}
+    gt = _gravity_tracking(gyro_rad_s, accel_m_s2, dt_s)
+    if gt["decision"] == "stated":
+        return {**out, "method": "gravity tracking", "margin": gt["margin"], "evidence": gt["evidence"]}
+    ev = f"{ev}; {gt['evidence']}"
     if rests:
         bias = np.median(np.array([gyro_rad_s[r].mean(axis=0) for r in rests]), axis=0)
     else:
@@ -317,9 +361,36 @@ def check_units(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: float, res
         return {**out, "method": "rotation about gravity",
                 "evidence": f"gyro turns {turned:.1f} deg about gravity only (accelerometer cannot check the "
                             f"units; peak rate {rate.max():.3g} rad/s)"}
-    raise ValueError(f"cannot check the gyro units: no pair of rests with a tilt change and the tilt rate is "
-                     f"inconclusive ({ev}; gyro turns {turned:.1f} deg in total, {100 * share:.0f} % of it about "
-                     f"gravity); check --gyro-unit (deg/s?) and --time-unit, or record rests at different tilts")
+    detail = (f"no rest pair with a tilt change; {ev}; gyro turns {turned:.1f} deg in total, "
+              f"{100 * share:.0f} % of it about gravity")
+    lean = (np.isfinite(tr["scale"]) and np.isfinite(tr["correlation"])
+            and tr["correlation"] >= MIN_LEAN_CORRELATION
+            and not 1.0 / MAX_LEAN_RATIO <= tr["scale"] <= MAX_LEAN_RATIO)
+    if unit_stated and lean:
+        raise ValueError(f"gyro units doubtful: {tilt_rate.scale_hint(tr['scale'])}; no check decides but the tilt "
+                         f"rate leans to a scale of {tr['scale']:.3g} (correlation {tr['correlation']:.2f} >= "
+                         f"{MIN_LEAN_CORRELATION:g}, outside 1/{MAX_LEAN_RATIO:g}..{MAX_LEAN_RATIO:g}); {detail}")
+    if unit_stated:
+        return {**out, "method": "stated unit (unchecked)", "evidence": detail,
+                "warning": f"gyro unit as stated ({unit_stated}) not checked: no check decides ({detail})"}
+    raise ValueError(f"cannot check the gyro units: state the unit with --gyro-unit (deg/s?) and check --time-unit, "
+                     f"or record rests at different tilts; {detail}")
+
+
+def _gravity_tracking(gyro_rad_s, accel_m_s2, dt_s: float) -> dict:
+    """:func:`mtcal.methods.gravity_tracking.gravity_tracking`; raises when a rival scale wins (naming the fix)."""
+    gt = gravity_tracking.gravity_tracking(gyro_rad_s, accel_m_s2, dt_s)
+    if gt["decision"] == "rival":
+        others = [k for k, r in gt["rivals"].items() if k != gt["winner"]
+                  and r["windows"] >= gravity_tracking.MIN_WINDOWS
+                  and 1.0 - r["win_fraction"] >= gravity_tracking.CONTRADICT_FRACTION]
+        also = "".join(f"; or {k} ({1.0 - gt['rivals'][k]['win_fraction']:.2f}): {TRACKING_HINTS.get(k, '')}"
+                       for k in others)
+        raise ValueError(f"gyro units: {gt['winner']}? {TRACKING_HINTS.get(gt['winner'], '')} (gravity tracking: "
+                         f"that hypothesis carries the accelerometer's gravity direction better in {gt['margin']:.2f}"
+                         f" of {gt['rivals'][gt['winner']]['windows']} discriminating windows, refused at >= "
+                         f"{gravity_tracking.CONTRADICT_FRACTION:g}){also}")
+    return gt
 
 
 def rotation_axis_from_gyro(gyro_rad_s: np.ndarray, bias_rad_s: np.ndarray, moving: np.ndarray):

@@ -482,7 +482,7 @@ def _ekf_pieces(gyro, accel, static, cuts, v, a0, b0, dt_s, params, units_checke
 def surface_angle(gyro_rad_s, accel_m_s2, axis, *, is_static, init: slice, dt_s=None, time_s=None,
                   rests=(), params: RamsEkfParams | None = None, max_elevation_deg: float = 85.0,
                   check_units: bool = False, max_axis_mismatch_deg: float | None = None,
-                  gyro_noise_rad_s: float = 0.0) -> SurfaceAngle:
+                  gyro_noise_rad_s: float = 0.0, unit_stated: str | None = None) -> SurfaceAngle:
     """Angle about a known hinge axis: ZVD-switched RAMS EKF from a rest (wang2022sensors Sec. 2.2–3.3).
 
     ā0 and the initial bias are the means over ``init`` (Sec. 2.2); the EKF
@@ -521,6 +521,9 @@ def surface_angle(gyro_rad_s, accel_m_s2, axis, *, is_static, init: slice, dt_s=
         further than this from ``axis`` (deg).
     gyro_noise_rad_s : float
         Gyro noise per sample (rad/s) for the moving-sample threshold of that check.
+    unit_stated : str, optional
+        Where the gyro unit was stated (:func:`~mtcal.systems.plausibility.check_units`: a stated unit
+        that no check can decide is accepted with a ``warning`` in ``unit_check``).
 
     Returns
     -------
@@ -586,7 +589,7 @@ def surface_angle(gyro_rad_s, accel_m_s2, axis, *, is_static, init: slice, dt_s=
     if (check_units or max_axis_mismatch_deg is not None) and batch:
         raise ValueError("check_units and max_axis_mismatch_deg check one record, not a batch")
     if check_units:
-        check = plausibility.check_units(gyro_f, a, dt, rests, time_s=time_s, skip=clipped)
+        check = plausibility.check_units(gyro_f, a, dt, rests, time_s=time_s, skip=clipped, unit_stated=unit_stated)
     if max_axis_mismatch_deg is not None:
         moving = ~static & (np.linalg.norm(g - b0, axis=1) > max(5 * gyro_noise_rad_s, np.radians(2.0)))
         turned = float(np.degrees(np.sum(np.linalg.norm(g[moving] - b0, axis=1)) * dt))

@@ -2,7 +2,8 @@
 "Command line" section, on generated logs with the file names, units and options it shows.
 
 Logs: foot/walk/hinge records from :mod:`tests.cli.logs` (mtcal's simulator, with real-sensor
-quirks), turntable and flight logs from :mod:`tests.cli.numpy_logs` (a plain numpy script).
+quirks; the hinge record also as ``rec.h5`` arrays), turntable and flight logs from
+:mod:`tests.cli.numpy_logs` (a plain numpy script), and the shipped BROAD trials (``datasets/``).
 """
 
 import re
@@ -58,6 +59,14 @@ def _write_logs(d: Path) -> None:
     wp = [(0, 0, 0)] + [p for q in pm_g[1:] for p in (q, (0, 0, 0))]
     nl.imu_log(nl.waypoint_path(wp, hold_s=3.0, move_s=3.0), seed=11).write(d / "pm_g.csv")
     pd.DataFrame(pm_g, columns=["yaw_deg", "pitch_deg", "roll_deg"]).to_csv(d / "pm_g_pos.csv", index=False)
+    (d / "datasets").symlink_to(README.parent / "datasets")      # the shipped BROAD trials
+    import h5py
+
+    hinge = logs.hinge_log().df                                  # an HDF5 log with its own array names
+    with h5py.File(d / "rec.h5", "w") as f:
+        f["t"] = hinge["time_s"].to_numpy()
+        f["gyr"] = hinge[[f"gyro_{a}_rad_s" for a in "xyz"]].to_numpy()
+        f["acc"] = hinge[[f"accel_{a}_m_s2" for a in "xyz"]].to_numpy()
 
 
 def test_readme_block_is_found():

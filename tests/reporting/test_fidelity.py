@@ -97,7 +97,8 @@ def test_write_scores_merges_and_is_byte_stable(tmp_path):
     assert path.read_bytes() == first
     df = pd.read_csv(path)
     assert list(df.columns) == fidelity.SCORE_COLUMNS
-    assert list(zip(df.scope, df.baseline)) == [("tan2022", "fitted"), ("tan2022", "prior"),
+    assert list(zip(df.scope, df.baseline)) == [("broad2021", "fitted"), ("broad2021", "prior"),
+                                                ("tan2022", "fitted"), ("tan2022", "prior"),
                                                 ("wang2022sensors", "fitted"), ("wang2022sensors", "prior"),
                                                 ("wang2023cja", "fitted"), ("wang2023cja", "prior"),
                                                 ("overall", "fitted"), ("overall", "prior")]

@@ -9,7 +9,7 @@ import pytest
 from mtcal.reporting import leak, paper_numbers
 
 #: Every paper registers a fit_and_predict for the leak test.
-STUDIES = ("tan2022", "wang2022sensors", "wang2023cja")
+STUDIES = ("tan2022", "wang2022sensors", "wang2023cja", "broad2021")
 
 
 @pytest.mark.parametrize("key", STUDIES)

@@ -137,4 +137,4 @@ def test_check_units_clipped_full_scale_accepted():
     skip[rests[1].stop:rests[2].start] = True
     w = np.clip(w, -np.radians(50.0), np.radians(50.0))
     res = plausibility.check_units(w, f, DT_S, rests, skip=skip)
-    assert res["method"] in ("full-scale plateau", "tilt rate")
+    assert res["method"] in ("full-scale plateau", "tilt rate", "gravity tracking")

@@ -1,0 +1,169 @@
+"""broad2021: trial loader, BROAD's published 9D numbers reproduced, the 6D runs, the blind twin."""
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from mtcal.core import metrics
+from mtcal.reporting import paper_numbers
+from mtcal.studies import broad2021 as b
+from mtcal.studies.broad2021 import artifacts, error_model, runs, scenario
+
+FIRST = "01_undisturbed_slow_rotation_A"
+
+
+@pytest.fixture(scope="module")
+def trial():
+    return scenario.load_trials([FIRST])[0]
+
+
+def test_loader_reads_every_shipped_trial_with_groups():
+    names = scenario.trial_names()
+    assert len(names) == 14 and names[0] == FIRST
+    tr = scenario.load_trials(names[-1:])[0]
+    assert tr.gyro_rad_s.shape == (tr.n, 3) and tr.opt_quat.shape == (tr.n, 4) and tr.movement.dtype == bool
+    assert abs(tr.fs_hz - 285.714) < 0.01 and "attached_magnet" in tr.groups
+
+
+def test_data_dir_env_and_clear_error(tmp_path, monkeypatch):
+    monkeypatch.setenv(scenario.DATA_ENV, str(tmp_path))
+    with pytest.raises(FileNotFoundError, match="BROAD data not found in .*MTCAL_BROAD_DIR"):
+        scenario.data_dir()
+
+
+def test_trial_from_arrays_errors():
+    with pytest.raises(ValueError, match=r"arrays \['imu_acc', 'imu_mag'"):
+        scenario.trial_from_arrays("x", {"imu_gyr": np.zeros((3, 3))})
+    arrays = {"imu_gyr": np.zeros((4, 3)), "imu_acc": np.zeros((4, 3)), "imu_mag": np.zeros((4, 3)),
+              "opt_quat": np.zeros((4, 3)), "opt_pos": np.zeros((4, 3)), "movement": np.zeros(4),
+              "sampling_rate": np.array(100.0)}
+    with pytest.raises(ValueError, match=r"opt_quat must have shape \(4, 4\)"):
+        scenario.trial_from_arrays("x", arrays)
+
+
+def test_scenario_validation():
+    with pytest.raises(ValueError, match="trials must be shipped BROAD trials"):
+        scenario.scenario_from_parameters(trials=["nope"])
+    with pytest.raises(ValueError, match="filters must be among"):
+        scenario.scenario_from_parameters(filters=["kalman"])
+    with pytest.raises(ValueError, match="not a valid broad2021 parameter|broad2021 parameter"):
+        scenario.scenario_from_parameters(speed=1)
+
+
+def test_published_9d_numbers_reproduced_on_first_trial(trial):
+    pub = paper_numbers.load("broad2021_published_rmse")
+    res = runs.run_9d(trial, [0.12], [0.74], [0.0012])
+    for f in ("madgwick", "mahony"):
+        row = pub[(pub["filter"] == f) & (pub["trial"] == FIRST)].iloc[0]
+        want = row[["total_rmse_deg", "heading_rmse_deg", "inclination_rmse_deg"]].to_numpy(float)
+        assert np.abs(res[f][:, 0] - want).max() <= artifacts.TOLERANCE_DEG
+    # a wrong frame convention (no 90° rotation into ENU) must break the heading/total agreement
+    from mtcal.filters import xio_ahrs
+    q0 = xio_ahrs.initial_quaternion_acc_mag(trial.accel_m_s2[0], trial.mag_uT[0])
+    q = xio_ahrs.madgwick(trial.gyro_rad_s, trial.accel_m_s2, trial.dt_s, 0.12, mag_uT=trial.mag_uT, q0=q0)[0]
+    wrong = runs.rmse_deg(q, trial)
+    assert abs(wrong[1] - pub[(pub["filter"] == "madgwick") & (pub["trial"] == FIRST)].heading_rmse_deg.iloc[0]) > 10
+
+
+def test_batched_errors_equal_the_core_metric(trial):
+    q = np.stack([trial.opt_quat, np.roll(trial.opt_quat, 7, axis=0)])[:, :3000]
+    q = np.where(np.isfinite(q), q, 1.0)
+    batch = runs.errors_deg(q, trial.opt_quat[:3000])
+    for i in range(2):
+        ref = np.degrees(np.stack(metrics.orientation_errors(q[i], trial.opt_quat[:3000])))
+        np.testing.assert_allclose(batch[:, i], ref, atol=1e-9, equal_nan=True)
+
+
+def test_madgwick_6d_matches_the_ahrs_anchor_adapter(trial):
+    pytest.importorskip("ahrs")
+    from mtcal.filters.anchors import run_attitude_filter
+
+    g, a = trial.gyro_rad_s[:1500], trial.accel_m_s2[:1500]
+    ours = runs.run_6d("madgwick", g, a, trial.dt_s)
+    anchor = run_attitude_filter("madgwick", g[None], a[None], trial.dt_s)[0]
+    assert np.abs(ours - anchor).max() < 1e-10
+
+
+def test_run_6d_every_filter_small_record(trial):
+    g, a = trial.gyro_rad_s[:2000], trial.accel_m_s2[:2000]
+    for f in scenario.FILTERS_6D:
+        q = runs.run_6d(f, g, a, trial.dt_s)
+        assert q.shape == (2000, 4) and np.allclose(np.linalg.norm(q, axis=1), 1.0, atol=1e-5)
+    with pytest.raises(ValueError, match="name must be one of"):
+        runs.run_6d("kalman", g, a, trial.dt_s)
+
+
+def test_twin_is_blind_and_deterministic(trial, monkeypatch):
+    p1 = error_model.predict_real_error(trial, "mahony", n_draws=2, seed=5)
+    p2 = error_model.predict_real_error(trial, "mahony", n_draws=2, seed=5)
+    assert np.array_equal(p1.rmse_deg, p2.rmse_deg) and p1.band["kind"] == "range"
+    # blind: garbage in the IMU samples of the movement phase leaves the prediction unchanged
+    moving = ~np.zeros(trial.n, bool)
+    moving[runs.initial_rest(trial)] = False
+    g = trial.gyro_rad_s.copy(); g[moving] = 5.0
+    a = trial.accel_m_s2.copy(); a[moving] = -30.0
+    spoiled = scenario.Trial(trial.name, g, a, trial.mag_uT, trial.opt_quat, trial.opt_pos_m, trial.movement,
+                             trial.fs_hz, trial.groups)
+    p3 = error_model.predict_real_error(spoiled, "mahony", n_draws=2, seed=5)
+    assert np.array_equal(p1.rmse_deg, p3.rmse_deg)
+    other = error_model.predict_real_error(trial, "mahony", n_draws=2, seed=6)
+    assert not np.array_equal(p1.rmse_deg, other.rmse_deg)
+
+
+def test_rest_model_identifies_injected_bias(trial):
+    g = trial.gyro_rad_s + np.array([0.01, -0.02, 0.0])
+    shifted = scenario.Trial(trial.name, g, trial.accel_m_s2, trial.mag_uT, trial.opt_quat, trial.opt_pos_m,
+                             trial.movement, trial.fs_hz, trial.groups)
+    d = error_model.identify_rest_model(shifted).gyro_bias_rad_s - error_model.identify_rest_model(trial).gyro_bias_rad_s
+    np.testing.assert_allclose(d, [0.01, -0.02, 0.0], atol=1e-12)
+    short = scenario.Trial("s", trial.gyro_rad_s[:500], trial.accel_m_s2[:500], trial.mag_uT[:500],
+                           trial.opt_quat[:500], trial.opt_pos_m[:500], np.ones(500, bool), trial.fs_hz)
+    with pytest.raises(ValueError, match="initial rest shorter than 1 s"):
+        error_model.identify_rest_model(short)
+
+
+def test_run_study_ci_slice_and_producers():
+    sc = scenario.scenario_from_parameters(trials=scenario.trial_names()[:2], filters=["mahony", "vqf", "qncf_paper"],
+                                           n_draws=2, max_samples=16000)
+    run = artifacts.run_study(sc, 1)
+    rep = b.table_published_vs_ours(run)
+    assert rep.artifact_id == "broad2021_extra_published_vs_ours" and len(rep.rows) == 12
+    assert all(r["role"] == "heldout" for r in rep.rows)
+    rk = b.extra_rankings(run)
+    assert {"verdict", "holds_in", "wilson_low"} <= set(rk.table.columns)
+    tw = b.extra_twin(run)
+    assert set(tw.table["filter"]) == {"mahony", "vqf", "qncf_paper"}
+    assert isinstance(b.extra_bakeoff_6d(run).table, pd.DataFrame)
+    with pytest.raises(ValueError, match="seed must be a non-negative integer"):
+        artifacts.run_study(sc, -1)
+
+
+def test_twin_mount_tilt_keeps_noise_and_validates(trial):
+    short = scenario.trial_head(trial, 12000)
+    r0, _, _ = error_model.simulate_twin(short, 2, 3)
+    r1, _, _ = error_model.simulate_twin(short, 2, 3, mount_tilt_rad=0.0)
+    assert np.array_equal(r0.gyro_rad_s, r1.gyro_rad_s)
+    r2, _, _ = error_model.simulate_twin(short, 2, 3, mount_tilt_rad=np.radians(0.3))
+    assert r2.gyro_rad_s.shape == r0.gyro_rad_s.shape and not np.array_equal(r0.accel_m_s2, r2.accel_m_s2)
+    with pytest.raises(ValueError, match="mount_tilt_rad must be finite and >= 0"):
+        error_model.simulate_twin(short, 2, 3, mount_tilt_rad=-1.0)
+    with pytest.raises(TypeError, match="time_offset_samples must be integers"):
+        error_model.simulate_twin(short, 2, 3, time_offset_samples=0.5)
+    # a per-draw time offset shifts that draw only; its noise numbers stay those of the blind twin's draw
+    r3, _, _ = error_model.simulate_twin(short, 2, 3, time_offset_samples=np.array([0, -2]))
+    assert np.array_equal(r3.gyro_rad_s[0], r0.gyro_rad_s[0])
+    assert np.array_equal(r3.gyro_rad_s[1, 2:], r0.gyro_rad_s[1, :-2])
+
+
+def test_twin_gaps_find_injected_scale_and_offset(trial):
+    from mtcal.core.simulate import Trajectory, body_rates
+
+    short = scenario.trial_head(trial, 20000)
+    truth = error_model.twin_truth(short)
+    w = body_rates(Trajectory(np.arange(short.n) * short.dt_s, truth.q_ws))
+    a = np.diag([1.01, 0.99, 1.0])
+    g = (w @ a.T)[np.clip(np.arange(short.n) - 3, 0, short.n - 1)]
+    fake = scenario.Trial(short.name, g, short.accel_m_s2, short.mag_uT, short.opt_quat, short.opt_pos_m,
+                          short.movement, short.fs_hz, short.groups)
+    gaps = error_model.twin_gaps(fake)
+    assert abs(gaps["gyro_scale_pct"] - 2.0 / 3.0) < 0.05 and abs(gaps["time_offset_ms"] + 3000 * short.dt_s) < 1e-9
