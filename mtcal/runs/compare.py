@@ -349,7 +349,7 @@ def compare_figure(table: pd.DataFrame, names: list[str], *, max_rows: int = 30,
     every numeric quantity relative to the first run.
 
     Top: one panel per claim (rows with a ``holds`` verdict in some run and a number in every run;
-    flipped claims first, at most ``max_claims``): each run's value (its band as a bar), marked
+    flipped claims first, then claims failing in some run, at most ``max_claims``): each run's value (its band as a bar), marked
     holds/FAILS, and the claim's threshold as a dashed line with the passing side shaded — drawn
     only where the threshold read from the claim text (:func:`claim_threshold`) reproduces the
     recorded verdicts (``threshold_check``), else the panel says so. Bottom: each numeric quantity
@@ -376,7 +376,9 @@ def compare_figure(table: pd.DataFrame, names: list[str], *, max_rows: int = 30,
     # claim panels: a verdict in some run, a number in every run
     verdict = np.column_stack([table[f"holds [{n}]"].isin(["True", "False"]).to_numpy() for n in names]).any(axis=1)
     claim_rows = np.flatnonzero(finite & verdict)
-    claim_rows = claim_rows[np.argsort(~flips[claim_rows], kind="stable")][:max_claims]
+    fails = np.column_stack([table[f"holds [{n}]"].eq("False").to_numpy() for n in names]).any(axis=1)
+    order = np.lexsort((~fails[claim_rows], ~flips[claim_rows]))   # flipped, then failing somewhere, then the rest
+    claim_rows = claim_rows[order][:max_claims]
     # ratio panel
     ref = values[:, 0]
     usable = finite & (ref != 0)
@@ -387,7 +389,12 @@ def compare_figure(table: pd.DataFrame, names: list[str], *, max_rows: int = 30,
     keep = np.argsort(-np.asarray(spread), kind="stable")[:max_rows][::-1]
     heights = [0.55 + 0.16 * len(names)] * len(claim_rows) + ([0.28 * len(keep) + 1.0] if len(keep) else [])
     fig = plt.figure(figsize=(9.0, sum(heights) + 0.9), layout="constrained")
-    axes = fig.subplots(len(heights), 1, gridspec_kw={"height_ratios": heights}, squeeze=False)[:, 0]
+    # claims and ratios in separate subfigures: the ratio panel's long labels do not narrow the claim panels
+    parts = [heights[:len(claim_rows)], heights[len(claim_rows):]]
+    parts = [h for h in parts if h]
+    subfigs = fig.subfigures(len(parts), 1, height_ratios=[sum(h) for h in parts], squeeze=False)[:, 0]
+    axes = [ax for sub, h in zip(subfigs, parts)
+            for ax in sub.subplots(len(h), 1, gridspec_kw={"height_ratios": h}, squeeze=False)[:, 0]]
     n_claims = int((finite & verdict).sum())
     for ax, idx in zip(axes, claim_rows):
         _claim_panel(ax, table.iloc[idx], values[idx], names)

@@ -130,6 +130,9 @@ def test_compare_figure_shows_claims_against_their_thresholds(tmp_path):
     panels = {next(ln for ln in ax.get_title(loc="left").split("\n") if ln.startswith("10_x:")).split("  —")[0]: ax
               for ax in fig.axes[:-1]}
     assert len(fig.axes) == 6                                        # five claims, then the ratio panel
+    titles = [ax.get_title(loc="left") for ax in fig.axes[:5]]
+    assert all("CLAIM FLIPS" in t for t in titles[:3]) and "roll RMSE" in titles[0]   # flipped claims first
+    assert not any("CLAIM FLIPS" in t for t in titles[3:])
 
     def dashed(ax):
         return sorted(round(float(ln.get_xdata()[0]), 6) for ln in ax.get_lines() if ln.get_linestyle() == "--")
