@@ -125,7 +125,9 @@ def add_rest_options(p: argparse.ArgumentParser, *, min_rest_s: float | None, fi
     g.add_argument("--gyro-threshold-deg-s", metavar="DEG_S", help="max |w - bias| at rest (deg/s); "
                    "default max(5 x gyro noise, 1.5); with --rest-detector shoe the quasi-static level "
                    "(e.g. 30 for a foot's stance: gamma = 6 + (level / gyro noise)^2)")
-    g.add_argument("--noise-factor", metavar="K", default="5", help="thresholds = K x measured noise (default 5)")
+    g.add_argument("--noise-factor", metavar="K", default="5",
+                   help="thresholds = K x measured noise (default 5): rest detection and the quiet core of "
+                        "the first rest that gives the gyro bias")
     g.add_argument("--min-rest-s", metavar="S", default=None if min_rest_s is None else str(min_rest_s),
                    help="shortest rest (s), default " + ("1 (adaptive) or 2 (paper / q0..q3 logs)"
                                                           if min_rest_s is None else f"{min_rest_s:g}"))

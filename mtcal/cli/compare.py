@@ -5,11 +5,14 @@ committed results in the repository's ``data/``) joins every
 ``data/*_comparison.csv`` of the runs on (table, artifact, quantity), prints the
 claims that flip first (holds True→False …, "none" when none), then the
 quantities whose value or claim differs (``--all``: every quantity), and saves the full table to
-``compare_<names>.csv`` and a figure of the numeric quantities relative to the
-first run to ``compare_<names>.png`` (in ``--out``, default: the first run's
-parent folder). Runs that differ in size (``--size ci`` vs the full-size committed
-results) or seed (``params.json``) are refused unless ``--allow-mismatch``, which
-compares them with a warning.
+``compare_<names>.csv`` (with each claim's threshold read from its text and
+whether that reading reproduces every run's verdict) and a figure to
+``compare_<names>.png`` — each claim quantity of every run against the claim's
+threshold (flipped claims first), then the numeric quantities relative to the
+first run (in ``--out``, default: the first run's parent folder). Runs that
+differ in size (``--size ci`` vs the full-size committed results) or seed
+(``params.json``) are refused unless ``--allow-mismatch``, which compares them
+with a warning.
 """
 
 from __future__ import annotations

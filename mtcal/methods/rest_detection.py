@@ -174,6 +174,9 @@ class RestReport:
         Detector specifics; ``decision_statistic`` (N,) is the statistic that decides
         (static below 1: the largest statistic/threshold ratio, or SHOE ``T/γ``) and
         ``decision_label`` names it.
+    noise_factor : float
+        The detector's factor K of its noise-derived thresholds (``--noise-factor``; 5 for the
+        paper's fixed-band detector); the quiet core of a rest (:func:`quiet_core`) uses the same K.
     """
 
     is_static: np.ndarray
@@ -192,6 +195,7 @@ class RestReport:
     window_s: float
     n_short: int = 0
     extra: dict = field(default_factory=dict)
+    noise_factor: float = 5.0
 
     def levels_text(self) -> str:
         """One line with the measured levels and the thresholds (display units)."""
@@ -423,6 +427,7 @@ def detect_rests(accel_m_s2, dt_s: float, *, gyro_rad_s=None,
                       band_m_s2=(float(band[0]), float(band[1])), accel_std_max_m_s2=float(a_std_max),
                       gyro_std_max_rad_s=float(g_std_max), gyro_level_max_rad_s=float(g_lvl_max),
                       min_rest_s=float(p.min_rest_s), window_s=float(w / fs), n_short=n_short,
+                      noise_factor=float(p.noise_factor),
                       extra={"decision_statistic": np.repeat(ratio, blk.count.astype(int)),
                              "decision_label": "max(statistic / threshold)"})
 
@@ -733,6 +738,7 @@ def detect_rests_shoe(accel_m_s2, dt_s: float, *, gyro_rad_s, params: ShoeParams
                       band_m_s2=(float(grav - half), float(grav + half)),
                       accel_std_max_m_s2=np.nan, gyro_std_max_rad_s=np.nan, gyro_level_max_rad_s=np.nan,
                       min_rest_s=float(p.min_rest_s), window_s=float(w / fs), n_short=int(np.count_nonzero(~keep)),
+                      noise_factor=float(p.noise_factor),
                       extra={"statistic": stat, "threshold": float(gamma), "threshold_source": how,
                              "rate_equivalent_deg_s": rate_eq, "decision_statistic": stat / gamma,
                              "decision_label": "SHOE T / gamma"})

@@ -1,7 +1,8 @@
 """Child process of :func:`mtcal.runs.executor.execute_jobs`: execute one notebook, report one line.
 
 ``python -m mtcal.runs._runner '<json spec>'`` with keys ``source``, ``output``, ``parameters``,
-``cwd``, ``timeout_s``. Exit 0 when the notebook ran; else exit 1 with one line on stderr
+``cwd``, ``timeout_s``, ``mode``, ``progress`` (a line per executed cell on stderr, prefixed
+``mtcal-progress: ``; the parent forwards them). Exit 0 when the notebook ran; else exit 1 with one line on stderr
 (``mtcal-runner: <error>``), never a traceback. The process's cwd and environment were set by
 the parent for this notebook only.
 """
@@ -10,7 +11,39 @@ from __future__ import annotations
 
 import json
 import sys
+import time
 from pathlib import Path
+
+PROGRESS_PREFIX = "mtcal-progress: "   # = mtcal.runs.executor.PROGRESS_PREFIX (tested)
+
+
+class _ProgressLines:
+    """A file for papermill's tqdm bar that writes each update as one line on stderr.
+
+    tqdm redraws its bar in place with ``\\r`` (no newline when stderr is not a terminal, so a log
+    or a pipe would get nothing until the end); here every redraw becomes a prefixed line.
+    """
+
+    def __init__(self, stem: str):
+        self.stem = stem
+        self.last = ""
+
+    def write(self, text: str) -> None:
+        for part in text.replace("\n", "\r").split("\r"):
+            part = part.strip()
+            if part and part.split(" [")[0] != self.last:   # one line per cell (not tqdm's final refresh)
+                self.last = part.split(" [")[0]
+                sys.stderr.write(f"{PROGRESS_PREFIX}{self.stem}: {part}\n")
+                sys.stderr.flush()
+
+    def flush(self) -> None:
+        sys.stderr.flush()
+
+
+def _progress_bar(stem: str) -> dict:
+    """papermill ``progress_bar`` settings: a line per executed cell, ``cell 12/40 [01:23]``."""
+    return {"file": _ProgressLines(stem), "bar_format": "cell {n_fmt}/{total_fmt} [{elapsed}]",
+            "mininterval": 0, "miniters": 1, "ascii": True, "dynamic_ncols": False}
 
 
 def _run_script(spec: dict) -> None:
@@ -33,10 +66,16 @@ def _run_script(spec: dict) -> None:
     namespace = {"__name__": "__main__", "display": display}
     parameters = spec.get("parameters") or {}
     number = 0
+    total = sum(cell.cell_type == "code" for cell in nb.cells)
+    start = time.perf_counter()
     for cell in nb.cells:
         if cell.cell_type != "code":
             continue
         number += 1
+        if spec.get("progress"):
+            minutes, seconds = divmod(int(time.perf_counter() - start), 60)
+            print(f"{PROGRESS_PREFIX}{source.stem}: cell {number}/{total} [{minutes:02d}:{seconds:02d}]",
+                  file=sys.stderr, flush=True)
         try:
             exec(compile(cell.source, f"{source.name}:cell{number}", "exec"), namespace)  # noqa: S102
         except Exception as exc:  # noqa: BLE001 - one line, as execute_notebook reports it
@@ -56,8 +95,10 @@ def main(argv: list[str]) -> int:
         if spec.get("mode", "kernel") == "script":
             _run_script(spec)
         else:
+            progress = _progress_bar(Path(spec["source"]).stem) if spec.get("progress") else False
             execute_notebook(spec["source"], spec["output"], parameters=spec.get("parameters") or None,
-                             cwd=spec.get("cwd"), timeout_s=float(spec.get("timeout_s", 3600.0)))
+                             cwd=spec.get("cwd"), timeout_s=float(spec.get("timeout_s", 3600.0)),
+                             progress_bar=progress)
     except NotebookRunError as exc:
         print(f"mtcal-runner: {str(exc).splitlines()[0]}", file=sys.stderr)
         return 1

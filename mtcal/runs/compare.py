@@ -19,7 +19,8 @@ import pandas as pd
 from mtcal.reporting.output import setup_matplotlib
 from mtcal.runs.environment import repo_root
 
-__all__ = ["load_comparisons", "compare_runs", "flip_text", "run_metadata", "comparability_problems"]
+__all__ = ["load_comparisons", "compare_runs", "flip_text", "run_metadata", "comparability_problems",
+           "claim_threshold", "threshold_holds", "threshold_text", "compare_figure"]
 
 _KEY = ["table", "artifact", "key"]
 _NUMBER_RE = re.compile(r"[-+−]?\d+(?:\.\d+)?(?:[eE][-+]?\d+)?")
@@ -165,11 +166,13 @@ def compare_runs(runs: list[str | Path], *, names: list[str] | None = None, out_
         ``table, artifact, quantity, paper, claim, role`` then ``mtcal``, ``band`` and
         ``holds`` per run (``<column> [<name>]``), ``flips`` (e.g. ``True→False (B)``) and
         ``comparability`` (``"comparable"``, or the size/seed differences compared anyway with
-        ``allow_mismatch``; also printed on the figure); only the comparison tables (notebooks)
-        present in every run.
+        ``allow_mismatch``; also printed on the figure), ``threshold`` (read from the claim text,
+        :func:`claim_threshold`) and ``threshold_check`` (whether that reading reproduces every
+        run's ``holds``); only the comparison tables (notebooks) present in every run.
     csv_path, png_path : Path
-        Saved table and figure (figure: every numeric quantity relative to the first run,
-        flipped claims marked; ``None`` when ``figure=False`` or nothing is numeric).
+        Saved table and figure (:func:`compare_figure`: claim quantities against their
+        thresholds, flipped claims first, then every numeric quantity relative to the first run;
+        ``None`` when ``figure=False`` or nothing is numeric).
     """
     if not isinstance(runs, (list, tuple)) or len(runs) < 2:
         raise ValueError(f"runs must list at least two run folders (or 'committed'), got {runs!r}")
@@ -210,6 +213,8 @@ def compare_runs(runs: list[str | Path], *, names: list[str] | None = None, out_
     merged.attrs["warnings"] = problems + notes
     # a size/seed mismatch is part of the result: recorded in the saved table (and the figure)
     merged["comparability"] = "; ".join(problems) if problems else "comparable"
+    # the claim's threshold read from its text, kept only where it reproduces every run's verdict
+    merged["threshold"], merged["threshold_check"] = _claim_thresholds(merged, names)
 
     if out_dir is None:
         first = runs[0] if str(runs[0]) != "committed" else (runs[1] if len(runs) > 1 else "runs/x")
@@ -223,44 +228,254 @@ def compare_runs(runs: list[str | Path], *, names: list[str] | None = None, out_
     return merged, csv_path, png_path
 
 
-def _compare_figure(table: pd.DataFrame, names: list[str], path: Path, max_rows: int = 30) -> Path | None:
-    """Dot plot: each numeric quantity of every run divided by the first run's value."""
-    ref = table[f"mtcal [{names[0]}]"].map(_as_float).to_numpy()
-    values = np.column_stack([table[f"mtcal [{n}]"].map(_as_float).to_numpy() for n in names])
-    usable = np.isfinite(ref) & (ref != 0) & np.isfinite(values).all(axis=1)
-    if not usable.any():
+_OP_RE = re.compile(r"(?:^|(?<=[\s(\"':]))(<=|>=|≤|≥|<|>|=)\s*([-+−]?\d+(?:\.(\d+))?(?:[eE][-+]?\d+)?)\s*(%?)")
+_RANGE_RE = re.compile(r"\(\s*([-+−]?\d+(?:\.\d+)?)\s*(?:…|\.\.\.)\s*([-+−]?\d+(?:\.\d+)?)\s*\)")
+_BAND_RE = re.compile(r"\[\s*([-+−]?[\d.]+(?:[eE][-+]?\d+)?),\s*([-+−]?[\d.]+(?:[eE][-+]?\d+)?)\s*\]")
+_OPS = {"≤": "<=", "≥": ">="}
+
+
+def _number(text: str) -> float:
+    return float(text.replace("−", "-"))
+
+
+def claim_threshold(claim: str) -> dict | None:
+    """The threshold of a claim, read from its text: the first comparison with a number
+    (``<= 0.04``, ``> 80 %``, ``= 0.04`` at print precision) or a range ``(−1.1…−0.9)``; None when
+    the text has neither (e.g. "max error after < max error before").
+
+    The claim columns quote the paper's statement with its threshold verbatim; this reads that
+    threshold back for the comparison figure. Whether the reading is right is checked against the
+    row's recorded ``holds`` (:func:`threshold_holds`, :func:`compare_runs`), never assumed.
+
+    Returns
+    -------
+    dict or None
+        ``{"op", "value", "percent", "decimals"}`` (``op`` one of ``<=, >=, <, >, =``; ``percent``:
+        the number is followed by ``%``), or ``{"op": "in", "low", "high"}``.
+
+    Examples
+    --------
+    >>> claim_threshold('"The results after calibration are all within 0.03°" (<= 0.03 deg)')
+    {'op': '<=', 'value': 0.03, 'percent': False, 'decimals': 2}
+    >>> claim_threshold('Fig. 11: superior (> 90 % of angles in 97.5 % of repetitions)')["value"]
+    90.0
+    >>> claim_threshold("≈ −1 (−1.1…−0.9)")
+    {'op': 'in', 'low': -1.1, 'high': -0.9}
+    >>> claim_threshold("(max error after < max error before)") is None
+    True
+    """
+    op = _OP_RE.search(str(claim))
+    rng = _RANGE_RE.search(str(claim))
+    if rng is not None and (op is None or rng.start() < op.start()):
+        low, high = sorted((_number(rng.group(1)), _number(rng.group(2))))
+        return {"op": "in", "low": low, "high": high}
+    if op is None:
         return None
-    ratio = values[usable] / ref[usable, None]
-    labels = (table.loc[usable, "table"].str.replace("_comparison", "") + ": "
-              + table.loc[usable, "quantity"]).str.slice(0, 70).to_numpy()
-    flips = table.loc[usable, "flips"].to_numpy() != ""
-    # the quantities that moved most (and every flipped claim) first
-    spread = np.nanmax(np.abs(np.log10(np.abs(ratio) + 1e-300)), axis=1) + 10.0 * flips
-    keep = np.argsort(-spread, kind="stable")[:max_rows][::-1]
-    setup_matplotlib()
+    return {"op": _OPS.get(op.group(1), op.group(1)), "value": _number(op.group(2)), "percent": op.group(4) == "%",
+            "decimals": len(op.group(3) or "")}
+
+
+def threshold_holds(threshold: dict, value: float, scale: float = 1.0) -> bool:
+    """Whether ``value`` meets ``threshold`` (:func:`claim_threshold`); the threshold's number times
+    ``scale`` (0.01: a percentage read as a fraction). ``=`` is equality at the threshold's print
+    precision (half a unit of its last decimal).
+
+    >>> threshold_holds(claim_threshold("(<= 0.04 deg)"), 0.0412), threshold_holds(claim_threshold("(= 0.04)"), 0.043)
+    (False, True)
+    """
+    if threshold["op"] == "in":
+        return bool(threshold["low"] <= value <= threshold["high"])
+    t = threshold["value"] * scale
+    op = threshold["op"]
+    if op == "=":
+        return bool(abs(value - t) <= 0.5 * 10.0 ** -threshold["decimals"] * scale * (1 + 1e-9))
+    return bool({"<=": value <= t, ">=": value >= t, "<": value < t, ">": value > t}[op])
+
+
+def threshold_text(threshold: dict | None, scale: float = 1.0) -> str:
+    """``"<= 0.04"``, ``"> 0.9 (90 %)"``, ``"in [-1.1, -0.9]"``; ``""`` for None.
+
+    >>> threshold_text(claim_threshold("(> 90 % of angles)"), 0.01)
+    '> 0.9 (90 %)'
+    """
+    if threshold is None:
+        return ""
+    if threshold["op"] == "in":
+        return f"in [{threshold['low']:g}, {threshold['high']:g}]"
+    text = f"{threshold['op']} {threshold['value'] * scale:g}"
+    if threshold["percent"]:
+        text += f" ({threshold['value']:g} %)" if scale != 1.0 else " %"
+    return text
+
+
+def _claim_thresholds(table: pd.DataFrame, names: list[str]) -> tuple[list[str], list[str]]:
+    """Per row: the threshold read from the claim (``threshold`` column) and whether that reading
+    reproduces the recorded ``holds`` of every run with a number and a verdict (``threshold_check``:
+    ``reproduces holds``, ``does not reproduce holds (claim judged otherwise)`` or ``""``)."""
+    texts, checks = [], []
+    for _, row in table.iterrows():
+        threshold = claim_threshold(row["claim"]) if str(row["claim"]) else None
+        judged = [(_as_float(row[f"mtcal [{n}]"]), str(row[f"holds [{n}]"])) for n in names]
+        judged = [(v, h == "True") for v, h in judged if np.isfinite(v) and h in ("True", "False")]
+        if threshold is None or not judged:
+            texts.append(threshold_text(threshold))
+            checks.append("")
+            continue
+        scales = [1.0]
+        if threshold["op"] != "in" and threshold["percent"] and "%" not in str(row["quantity"]):
+            scales.append(0.01)  # "> 90 %" of a share printed as a fraction
+        found = next((s for s in scales if all(threshold_holds(threshold, v, s) == h for v, h in judged)), None)
+        texts.append(threshold_text(threshold, found or 1.0))
+        checks.append("reproduces holds" if found is not None else
+                      "does not reproduce holds (the claim is judged on another number or rule)")
+    return texts, checks
+
+
+def _compare_figure(table: pd.DataFrame, names: list[str], path: Path, max_rows: int = 30,
+                    max_claims: int = 20) -> Path | None:
+    """Save :func:`compare_figure` to ``path`` (byte-stable: fixed rc settings, no metadata); None when empty."""
+    fig = compare_figure(table, names, max_rows=max_rows, max_claims=max_claims)
+    if fig is None:
+        return None
     import matplotlib.pyplot as plt
 
-    fig, ax = plt.subplots(figsize=(9.0, 0.28 * len(keep) + 1.6))
-    y = np.arange(len(keep))
-    for j, name in enumerate(names):
-        ax.plot(ratio[keep, j], y, "o" if j else "|", ms=6 if j else 12, label=name)
-    for k, idx in enumerate(keep):
-        if flips[idx]:
-            ax.annotate("claim flips", (1.0, k), xytext=(4, -3), textcoords="offset points", fontsize=7, color="C3")
-    ax.set_yticks(y, labels[keep], fontsize=7)
-    shown = ratio[keep]
-    if np.all(shown > 0):
-        ax.set_xscale("log")
-        ax.set_xlim(shown.min() / 1.6, shown.max() * 1.6)
-    else:
-        ax.set_xscale("symlog", linthresh=1e-2)
-    ax.axvline(1.0, color="k", lw=0.6)
-    ax.set_xlabel(f"mtcal value / value in run '{names[0]}'")
-    ax.set_title(f"comparison-table quantities: {' vs '.join(names)}")
-    mismatch = str(table["comparability"].iloc[0]) if "comparability" in table and len(table) else "comparable"
-    if mismatch != "comparable":
-        fig.suptitle(f"NOT COMPARABLE: {mismatch}"[:160], fontsize=8, color="C3")
-    ax.legend(fontsize=8, loc="lower right")
     fig.savefig(path, metadata={"Software": None}, bbox_inches="tight")
     plt.close(fig)
     return path
+
+
+def compare_figure(table: pd.DataFrame, names: list[str], *, max_rows: int = 30, max_claims: int = 20):
+    """The comparison figure of :func:`compare_runs`: claim quantities against their thresholds, and
+    every numeric quantity relative to the first run.
+
+    Top: one panel per claim (rows with a ``holds`` verdict in some run and a number in every run;
+    flipped claims first, then claims failing in some run, at most ``max_claims``): each run's value (its band as a bar), marked
+    holds/FAILS, and the claim's threshold as a dashed line with the passing side shaded — drawn
+    only where the threshold read from the claim text (:func:`claim_threshold`) reproduces the
+    recorded verdicts (``threshold_check``), else the panel says so. Bottom: each numeric quantity
+    divided by the first run's value (the ``max_rows`` that moved most, flipped claims first).
+
+    Parameters
+    ----------
+    table : DataFrame
+        :func:`compare_runs`' table (with ``threshold`` and ``threshold_check`` columns).
+    names : list of str
+        The runs' labels, the first the reference.
+
+    Returns
+    -------
+    matplotlib Figure or None
+        None when no row is numeric.
+    """
+    setup_matplotlib()
+    import matplotlib.pyplot as plt
+
+    values = np.column_stack([table[f"mtcal [{n}]"].map(_as_float).to_numpy() for n in names])
+    finite = np.isfinite(values).all(axis=1)
+    flips = table["flips"].to_numpy() != ""
+    # claim panels: a verdict in some run, a number in every run
+    verdict = np.column_stack([table[f"holds [{n}]"].isin(["True", "False"]).to_numpy() for n in names]).any(axis=1)
+    claim_rows = np.flatnonzero(finite & verdict)
+    fails = np.column_stack([table[f"holds [{n}]"].eq("False").to_numpy() for n in names]).any(axis=1)
+    order = np.lexsort((~fails[claim_rows], ~flips[claim_rows]))   # flipped, then failing somewhere, then the rest
+    claim_rows = claim_rows[order][:max_claims]
+    # ratio panel
+    ref = values[:, 0]
+    usable = finite & (ref != 0)
+    ratio = values[usable] / ref[usable, None] if usable.any() else np.empty((0, len(names)))
+    if not len(claim_rows) and not usable.any():
+        return None
+    spread = np.nanmax(np.abs(np.log10(np.abs(ratio) + 1e-300)), axis=1) + 10.0 * flips[usable] if len(ratio) else []
+    keep = np.argsort(-np.asarray(spread), kind="stable")[:max_rows][::-1]
+    heights = [0.55 + 0.16 * len(names)] * len(claim_rows) + ([0.28 * len(keep) + 1.0] if len(keep) else [])
+    fig = plt.figure(figsize=(9.0, sum(heights) + 0.9), layout="constrained")
+    # claims and ratios in separate subfigures: the ratio panel's long labels do not narrow the claim panels
+    parts = [heights[:len(claim_rows)], heights[len(claim_rows):]]
+    parts = [h for h in parts if h]
+    subfigs = fig.subfigures(len(parts), 1, height_ratios=[sum(h) for h in parts], squeeze=False)[:, 0]
+    axes = [ax for sub, h in zip(subfigs, parts)
+            for ax in sub.subplots(len(h), 1, gridspec_kw={"height_ratios": h}, squeeze=False)[:, 0]]
+    n_claims = int((finite & verdict).sum())
+    for ax, idx in zip(axes, claim_rows):
+        _claim_panel(ax, table.iloc[idx], values[idx], names)
+    if len(claim_rows):
+        shown = f" ({len(claim_rows)} of {n_claims}; all in the CSV)" if n_claims > len(claim_rows) else ""
+        axes[0].set_title(f"CLAIMS AGAINST THEIR THRESHOLDS{shown}\n" + axes[0].get_title(loc="left"), fontsize=7,
+                          loc="left")
+    if len(keep):
+        ax = axes[-1]
+        labels = (table.loc[usable, "table"].str.replace("_comparison", "") + ": "
+                  + table.loc[usable, "quantity"]).str.slice(0, 70).to_numpy()
+        flipped = flips[usable]
+        y = np.arange(len(keep))
+        for j, name in enumerate(names):
+            ax.plot(ratio[keep, j], y, "o" if j else "|", ms=6 if j else 12, color=f"C{j}", label=name)
+        for k, idx in enumerate(keep):
+            if flipped[idx]:
+                ax.annotate("claim flips", (1.0, k), xytext=(4, -3), textcoords="offset points", fontsize=7,
+                            color="C3")
+        ax.set_yticks(y, labels[keep], fontsize=7)
+        shown_ratio = ratio[keep]
+        if np.all(shown_ratio > 0):
+            ax.set_xscale("log")
+            ax.set_xlim(shown_ratio.min() / 1.6, shown_ratio.max() * 1.6)
+        else:
+            ax.set_xscale("symlog", linthresh=1e-2)
+        ax.axvline(1.0, color="k", lw=0.6)
+        ax.set_xlabel(f"mtcal value / value in run '{names[0]}'", fontsize=8)
+        ax.set_title(f"comparison-table quantities: {' vs '.join(names)}", fontsize=8)
+        ax.legend(fontsize=7, loc="lower right")
+    mismatch = str(table["comparability"].iloc[0]) if "comparability" in table and len(table) else "comparable"
+    if mismatch != "comparable":
+        fig.suptitle(f"NOT COMPARABLE: {mismatch}"[:160], fontsize=8, color="C3")
+    return fig
+
+
+def _claim_panel(ax, row: pd.Series, values: np.ndarray, names: list[str]) -> None:
+    """One claim: each run's value and band, holds/FAILS, the threshold line and its passing side."""
+    y = np.arange(len(names))
+    xs = list(values)
+    for j, name in enumerate(names):
+        band = _BAND_RE.search(str(row[f"band [{name}]"]))
+        if band:
+            low, high = _number(band.group(1)), _number(band.group(2))
+            ax.hlines(j, low, high, color=f"C{j}", lw=3, alpha=0.35)
+            xs += [low, high]
+        holds = str(row[f"holds [{name}]"])
+        ax.plot(values[j], j, "o" if holds != "False" else "X", color=f"C{j}", ms=6)
+        mark = {"True": "holds", "False": "FAILS"}.get(holds, "")
+        ax.annotate(mark, (values[j], j), xytext=(6, -3), textcoords="offset points", fontsize=7,
+                    color="C2" if holds == "True" else "C3")
+    threshold = claim_threshold(row["claim"]) if row.get("threshold_check") == "reproduces holds" else None
+    lines = []
+    if threshold is not None:
+        scale = 0.01 if "(" in str(row["threshold"]) and threshold.get("percent") else 1.0
+        lines = [threshold["low"], threshold["high"]] if threshold["op"] == "in" else [threshold["value"] * scale]
+        xs += lines
+    lo, hi = float(np.min(xs)), float(np.max(xs))
+    pad = 0.12 * (hi - lo) if hi > lo else 0.1 * max(abs(lo), 1e-6)
+    ax.set_xlim(lo - pad, hi + pad)
+    for x in lines:
+        ax.axvline(x, color="C3", ls="--", lw=1.0)
+    if threshold is not None:
+        left, right = ax.get_xlim()
+        op = threshold["op"]
+        if op == "in":
+            ax.axvspan(lines[0], lines[1], color="C2", alpha=0.08, lw=0)
+        elif op in ("<", "<="):
+            ax.axvspan(left, lines[0], color="C2", alpha=0.08, lw=0)
+        elif op in (">", ">="):
+            ax.axvspan(lines[0], right, color="C2", alpha=0.08, lw=0)
+        ax.set_xlim(left, right)
+        ax.annotate(f"threshold {row['threshold']}", (lines[-1], len(names) - 0.5), xytext=(3, 0),
+                    textcoords="offset points", fontsize=7, color="C3", va="top")
+    verdict = "" if threshold is not None else (
+        " [threshold not drawn: not read from the claim text]" if not row.get("threshold") else
+        f" [threshold {row['threshold']} read from the text does not reproduce the verdicts: not drawn]")
+    title = f"{str(row['table']).removesuffix('_comparison')}: {row['quantity']}"[:80]
+    claim = str(row["claim"])
+    ax.set_title(f"{title}{'  — CLAIM FLIPS' if row['flips'] else ''}\nclaim: "
+                 f"{claim[:120] + ('…' if len(claim) > 120 else '')}{verdict}", fontsize=7, loc="left")
+    ax.set_yticks(y, names, fontsize=7)
+    ax.set_ylim(-0.7, len(names) - 0.3)
+    ax.tick_params(axis="x", labelsize=7)

@@ -24,7 +24,10 @@ from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
 
-__all__ = ["NotebookJob", "JobResult", "execute_jobs", "failure_line", "longest_first"]
+__all__ = ["NotebookJob", "JobResult", "execute_jobs", "failure_line", "longest_first", "PROGRESS_PREFIX"]
+
+#: Prefix of the child's progress lines on its stderr (:attr:`NotebookJob.progress`).
+PROGRESS_PREFIX = "mtcal-progress: "
 
 
 @dataclass(frozen=True)
@@ -51,6 +54,10 @@ class NotebookJob:
         (``make reproduce``, ``mtcal run``); ``script``: the code cells executed in the job's
         process, no kernel, nothing written to ``output`` (``mtcal reproduce``: seconds faster;
         the files a notebook saves are the same bytes — tested).
+    progress : bool
+        Print a line per executed cell on this process's stderr while the job runs
+        (``NN_x: cell 12/40 [01:23]``, papermill's progress as lines, also when stderr is not a
+        terminal: ``mtcal run``). The executed notebook and the files are the same either way.
     """
 
     source: Path
@@ -60,6 +67,7 @@ class NotebookJob:
     cwd: Path | None = None
     timeout_s: float = 3600.0
     mode: str = "kernel"
+    progress: bool = False
 
 
 @dataclass(frozen=True)
@@ -121,15 +129,23 @@ def _run_one(job: NotebookJob) -> JobResult:
     output = Path(job.output).resolve()
     cwd = Path(job.cwd).resolve() if job.cwd else source.parent
     spec = {"source": str(source), "output": str(output), "parameters": job.parameters, "cwd": str(cwd),
-            "timeout_s": job.timeout_s, "mode": job.mode}
+            "timeout_s": job.timeout_s, "mode": job.mode, "progress": bool(job.progress)}
     start = time.perf_counter()
     # output to files and the child reaped by wait4: its rusage (ru_maxrss covers the child and its
     # reaped descendants, i.e. the notebook's kernel) is the job's peak memory
     with tempfile.TemporaryFile("w+") as out, tempfile.TemporaryFile("w+") as err:
         child = subprocess.Popen([sys.executable, "-m", "mtcal.runs._runner", json.dumps(spec)], cwd=cwd,
-                                 env=_child_env(job), stdin=subprocess.DEVNULL, stdout=out, stderr=err, text=True)
+                                 env=_child_env(job), stdin=subprocess.DEVNULL, stdout=out,
+                                 stderr=subprocess.PIPE if job.progress else err, text=True)
+        reader = None
+        if job.progress:  # progress lines go on at once, everything else is kept for the failure line
+            reader = threading.Thread(target=_forward_progress, args=(child.stderr, err), daemon=True)
+            reader.start()
         _, wait_status, usage = os.wait4(child.pid, 0)
         child.returncode = os.waitstatus_to_exitcode(wait_status)
+        if reader is not None:
+            reader.join()
+            child.stderr.close()
         err.seek(0)
         stderr = err.read()
     seconds = time.perf_counter() - start
@@ -137,6 +153,16 @@ def _run_one(job: NotebookJob) -> JobResult:
     if child.returncode == 0:
         return JobResult(job, "ok", "", seconds, peak_mb)
     return JobResult(job, "failed", failure_line(source.stem, job.output, stderr), seconds, peak_mb)
+
+
+def _forward_progress(stream, keep) -> None:
+    """Copy the child's stderr: ``mtcal-progress: …`` lines to this process's stderr at once
+    (without the prefix), every other line to ``keep``."""
+    for line in stream:
+        if line.startswith(PROGRESS_PREFIX):
+            print(line.removeprefix(PROGRESS_PREFIX).rstrip("\n"), file=sys.stderr, flush=True)
+        else:
+            keep.write(line)
 
 
 def longest_first(jobs: list[NotebookJob], seconds: dict[str, float]) -> list[NotebookJob]:

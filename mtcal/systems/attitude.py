@@ -104,7 +104,8 @@ def qncf_log_setup(filter_gyro_rad_s, accel_m_s2, dt_s: float, rep: rest_detecti
     default :class:`QncfParams`, levelled from the first 100 samples, no initial bias removed.
     Otherwise the parameters follow the measured rest level and noise (:func:`qncf_params_from_rests`)
     and, when the first rest starts within 0.25 s, the start is levelled from that rest's quiet core
-    (:func:`mtcal.methods.rest_detection.quiet_core`) and the core's mean gyro removed as the bias.
+    (:func:`mtcal.methods.rest_detection.quiet_core`, its threshold the rest detector's noise factor
+    ``rep.noise_factor`` times the measured noise) and the core's mean gyro removed as the bias.
 
     Parameters
     ----------
@@ -139,7 +140,7 @@ def qncf_log_setup(filter_gyro_rad_s, accel_m_s2, dt_s: float, rep: rest_detecti
     params = QncfParams() if paper else qncf_params_from_rests(rep)
     first = rep.rests[0] if rep.rests and not paper else None
     if first is not None and first.start <= max(int(0.25 / dt_s + 1e-9), 1):
-        core = rest_detection.quiet_core(raw, first, dt_s, rep.gyro_noise_rad_s)
+        core = rest_detection.quiet_core(raw, first, dt_s, rep.gyro_noise_rad_s, noise_factor=rep.noise_factor)
         q0 = initial_attitude_from_accel(accel_m_s2[core.core].mean(axis=0))
         bias = core.bias_rad_s
         return QncfLogSetup(filter_gyro_rad_s - bias, params, q0, bias, core,

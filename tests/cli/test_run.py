@@ -60,3 +60,15 @@ def test_run_list_gives_valid_grade_names():
     text = _valid_values("gyro_grade", {"help": "a mtcal.core.sensor_grades name"})
     assert text.startswith("; valid: ") and all(g in text for g in grade_names())
     assert _valid_values("fs_hz", {"help": "Hz"}) == ""
+
+
+def test_run_prints_progress_per_cell_when_stderr_is_not_a_terminal(tiny_notebooks, tmp_path, capsys):
+    """Issue #36: a full-size run takes minutes; it must not be silent when its output goes to a log."""
+    code = cli.main(["run", "99", "--name", "progress", "--size", "ci", "--notebooks-dir", str(tiny_notebooks),
+                     "--runs-dir", str(tmp_path / "runs")])
+    out, err = capsys.readouterr()
+    assert code == 0, err
+    cells = [ln for ln in err.splitlines() if ln.startswith("99_tiny: cell ")]
+    n_cells = len(json.loads((tmp_path / "runs" / "progress" / "99_tiny.ipynb").read_text())["cells"])
+    assert [c.split(" [")[0] for c in cells] == [f"99_tiny: cell {k}/{n_cells}" for k in range(n_cells + 1)]
+    assert "running notebook 99 at size ci" in out and "tiny_comparison: 2 of 2 claims hold" in out

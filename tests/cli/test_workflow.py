@@ -194,3 +194,21 @@ def test_convention_mistakes_are_diagnosed(calibrated, tmp_path, capsys, mistake
     assert code == 2 and len(cap.err.strip().splitlines()) == 1 and expected in cap.err
     table = cap.out.split("nearest rest (zeroed sensor attitude")[1].splitlines()
     assert len([ln for ln in table if ln.strip()[:1].isdigit()]) == len(pos)     # one row per reference position
+
+
+def test_quiet_core_threshold_honours_noise_factor(calibrated, capsys):
+    """--noise-factor K sets every noise-derived threshold, the quiet core's K σ/√W included (one meaning
+    of K): the printed threshold scales with K, and a looser K lets more of the slow start into the core."""
+    d = calibrated
+    nl.flight_log(slow_start_s=3.0, seed=3, duration_s=20.0).write(d / "slow_k.csv")
+    lines = {}
+    for k in ("3", "5", "12"):
+        capsys.readouterr()
+        argv = ["apply", str(d / "Q.json"), str(d / "slow_k.csv"), "--out", str(d / f"body_k{k}.csv")]
+        assert cli.main(argv + ([] if k == "5" else ["--noise-factor", k])) == 0
+        lines[k] = next(ln for ln in capsys.readouterr().out.splitlines() if ln.startswith("gyro bias"))
+        assert f": {k} x measured noise" in lines[k]
+    thr = {k: float(v.split(" deg/s of the bias")[0].split()[-1]) for k, v in lines.items()}
+    assert thr["3"] == pytest.approx(0.6 * thr["5"], rel=0.01) and thr["12"] == pytest.approx(2.4 * thr["5"], rel=0.01)
+    end = {k: float(v.split("quiet core ")[1].split("-")[1].split()[0]) for k, v in lines.items()}
+    assert end["3"] <= end["5"] <= end["12"] < 5.6   # the motion starts at 5 s

@@ -95,3 +95,55 @@ def test_compare_runs_refuses_size_mismatch(tmp_path):
         compare_runs([tmp_path / "a", tmp_path / "b"], figure=False)
     table, _, _ = compare_runs([tmp_path / "a", tmp_path / "b"], figure=False, allow_mismatch=True)
     assert table.attrs["warnings"][0].startswith("runs differ in size")
+
+
+def test_compare_figure_shows_claims_against_their_thresholds(tmp_path):
+    """Issue #36: the figure shows each claim quantity against the claim's threshold (read from the
+    claim text, drawn only where that reading reproduces every run's recorded verdict), byte-stable."""
+    from mtcal.runs.compare import claim_threshold, compare_figure, threshold_holds
+
+    rows_a = [("t06", "roll RMSE (deg)", 0.009, 0.0071, "[0.005, 0.01]", '"within 0.01°" (<= 0.01 deg)', True),
+              ("t07", "share of angles better", "-", 1.0, "", "superior (> 90 % of angles)", True),
+              ("t08", "slope", "-", -0.99, "", "≈ −1 (−1.1…−0.9)", True),
+              ("t09", "gain at 60 deg", "-", 2.4, "", "> 2", False),      # a verdict the text cannot give
+              ("t10", "after − before (deg)", "-", -0.1, "", "after < before", True)]
+    rows_b = [("t06", "roll RMSE (deg)", 0.009, 0.031, "[0.02, 0.05]", '"within 0.01°" (<= 0.01 deg)', False),
+              ("t07", "share of angles better", "-", 0.8, "", "superior (> 90 % of angles)", False),
+              ("t08", "slope", "-", -1.05, "", "≈ −1 (−1.1…−0.9)", True),
+              ("t09", "gain at 60 deg", "-", 2.5, "", "> 2", True),
+              ("t10", "after − before (deg)", "-", -0.2, "", "after < before", True)]
+    _fake_run(tmp_path / "runs" / "paper", rows_a)
+    _fake_run(tmp_path / "runs" / "industrial", rows_b)
+    runs = [tmp_path / "runs" / "paper", tmp_path / "runs" / "industrial"]
+    table, csv_path, png_path = compare_runs(runs)
+    by = table.set_index("artifact")
+    assert by.loc["t06", "threshold"] == "<= 0.01" and by.loc["t06", "threshold_check"] == "reproduces holds"
+    assert by.loc["t07", "threshold"] == "> 0.9 (90 %)"          # a percentage of a share printed as a fraction
+    assert by.loc["t08", "threshold"] == "in [-1.1, -0.9]" and by.loc["t08", "threshold_check"] == "reproduces holds"
+    assert by.loc["t09", "threshold_check"].startswith("does not reproduce holds")
+    assert by.loc["t10", "threshold"] == "" and by.loc["t10", "threshold_check"] == ""
+    saved = pd.read_csv(csv_path, dtype=str, keep_default_na=False)
+    assert list(saved["threshold"]) == list(table["threshold"])
+    first = png_path.read_bytes()
+    assert compare_runs(runs)[2].read_bytes() == first               # byte-stable
+    fig = compare_figure(table, ["paper", "industrial"])
+    panels = {next(ln for ln in ax.get_title(loc="left").split("\n") if ln.startswith("10_x:")).split("  —")[0]: ax
+              for ax in fig.axes[:-1]}
+    assert len(fig.axes) == 6                                        # five claims, then the ratio panel
+    titles = [ax.get_title(loc="left") for ax in fig.axes[:5]]
+    assert all("CLAIM FLIPS" in t for t in titles[:3]) and "roll RMSE" in titles[0]   # flipped claims first
+    assert not any("CLAIM FLIPS" in t for t in titles[3:])
+
+    def dashed(ax):
+        return sorted(round(float(ln.get_xdata()[0]), 6) for ln in ax.get_lines() if ln.get_linestyle() == "--")
+
+    assert dashed(panels["10_x: roll RMSE (deg)"]) == [0.01]
+    assert dashed(panels["10_x: share of angles better"]) == [0.9]
+    assert dashed(panels["10_x: slope"]) == [-1.1, -0.9]
+    assert dashed(panels["10_x: gain at 60 deg"]) == [] and "not drawn" in panels["10_x: gain at 60 deg"].get_title(
+        loc="left")
+    assert "CLAIM FLIPS" in panels["10_x: roll RMSE (deg)"].get_title(loc="left")
+    assert threshold_holds(claim_threshold("(<= 0.01 deg)"), 0.0071)
+    import matplotlib.pyplot as plt
+
+    plt.close(fig)

@@ -140,3 +140,44 @@ def test_longest_first_orders_by_previous_time_and_keeps_untimed_jobs():
     order = longest_first(jobs, {"11_c": 60.0, "00_a": 8.0, "10_b": 80.0, "gone": 99.0})
     assert [j.source.stem for j in order] == ["10_b", "11_c", "00_a", "20_d"]
     assert longest_first(jobs, {}) == jobs
+
+
+def test_progress_lines_are_forwarded_and_kept_out_of_the_failure_line(tmp_path, capsys):
+    """A job with ``progress=True`` prints one line per executed cell on the caller's stderr while it
+    runs (stderr is not a terminal under pytest); the failure line is still the runner's one line."""
+    from mtcal.runs import _runner, executor
+
+    assert _runner.PROGRESS_PREFIX == executor.PROGRESS_PREFIX
+    src = tmp_path / "05_progress.py"
+    src.write_text(WRITER.replace("time.sleep(1.0)", "pass"), encoding="utf-8")
+    env = {"MTCAL_OUTPUT_DIR": str(tmp_path / "out")}
+    ok, bad = execute_jobs([NotebookJob(src, src, {"NAME": "p"}, env=env, mode="script", progress=True),
+                            NotebookJob(src, src, {"FAIL": True}, env=env, mode="script", progress=True)],
+                           n_jobs=1, stop_on_failure=False)
+    err = capsys.readouterr().err
+    assert ok.ok and [ln for ln in err.splitlines() if ln.startswith("05_progress: cell 1/3")] != []
+    assert "05_progress: cell 3/3 [00:0" in err and executor.PROGRESS_PREFIX not in err
+    assert bad.error.startswith("05_progress failed in cell 3: ValueError: asked to fail")
+    quiet = execute_jobs([NotebookJob(src, src, {"NAME": "q"}, env=env, mode="script")])[0]
+    assert quiet.ok and capsys.readouterr().err == ""
+
+
+def test_progress_lines_from_papermill_one_per_cell():
+    """papermill's tqdm redraws (``\\r``, no newline off a terminal) become one prefixed line per cell."""
+    import io
+    import sys
+
+    from mtcal.runs import _runner
+
+    buffer, saved = io.StringIO(), sys.stderr
+    sys.stderr = buffer
+    try:
+        lines = _runner._ProgressLines("10_x")
+        for text in ("\rcell 0/3 [00:00]", "\rcell 1/3 [00:01]", "\rcell 1/3 [00:01]", "\rcell 3/3 [00:04]",
+                     "\rcell 3/3 [00:05]\n"):
+            lines.write(text)
+    finally:
+        sys.stderr = saved
+    assert buffer.getvalue().splitlines() == ["mtcal-progress: 10_x: cell 0/3 [00:00]",
+                                              "mtcal-progress: 10_x: cell 1/3 [00:01]",
+                                              "mtcal-progress: 10_x: cell 3/3 [00:04]"]
