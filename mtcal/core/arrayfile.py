@@ -9,7 +9,8 @@ checking units is the caller's job (the command line's log reader, a study's tri
 * MATLAB v7.3 files are HDF5 files with a 512-byte header; they, and ``.h5``/``.hdf5``
   files, are read with h5py. MATLAB writes column-major, so a v7.3 array of MATLAB shape
   N×3 appears as 3×N in HDF5 and is transposed back here; plain HDF5 datasets are returned
-  as stored.
+  as stored; a numeric scalar attribute of the file's root (e.g. ``sampling_rate`` kept as an
+  attribute) is returned like a scalar dataset unless a dataset has its name.
 * Scalars (a MATLAB 1×1 array, an HDF5 scalar dataset) come back as 0-d arrays; an N×1 or
   1×N array as shape (N,). Text, cell and struct variables are skipped; datasets inside
   HDF5 groups are keyed by their path (``group/name``).
@@ -102,6 +103,10 @@ def _read_hdf5(path: Path, matlab: bool) -> dict[str, np.ndarray]:
                 arr = arr.T                       # MATLAB is column-major
             out[name] = _squeeze(arr)
         f.visititems(visit)
+        for name, value in f.attrs.items():        # numeric root attributes (e.g. a sampling rate)
+            arr = _numeric(value)
+            if arr is not None and arr.size == 1 and name not in out and not name.startswith("MATLAB"):
+                out[name] = arr.reshape(())
     return out
 
 

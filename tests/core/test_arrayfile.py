@@ -48,10 +48,14 @@ def test_hdf5_as_stored_with_groups(tmp_path):
             f[k] = v
         f.create_group("g")["x"] = np.arange(3.0)
         f["name"] = "text"
+        f.attrs["fs_hz"] = 100.0
+        f.attrs["sampling_rate"] = 1.0         # a dataset of that name wins
+        f.attrs["note"] = "text"
     got = read_arrays(p)
     assert "name" not in got
     np.testing.assert_array_equal(got["g/x"], [0.0, 1.0, 2.0])
     np.testing.assert_array_equal(got["imu_gyr"], _arrays()["imu_gyr"])
+    assert float(got["fs_hz"]) == 100.0 and float(got["sampling_rate"]) == 285.7 and "note" not in got
 
 
 def test_errors(tmp_path):

@@ -167,3 +167,29 @@ def test_twin_gaps_find_injected_scale_and_offset(trial):
                           short.movement, short.fs_hz, short.groups)
     gaps = error_model.twin_gaps(fake)
     assert abs(gaps["gyro_scale_pct"] - 2.0 / 3.0) < 0.05 and abs(gaps["time_offset_ms"] + 3000 * short.dt_s) < 1e-9
+
+
+def test_hdf5_trials_load_like_the_mat_ones(tmp_path):
+    """BROAD ships every trial as .mat and as .hdf5 (same data): a folder of .hdf5 trials (here the first
+    2000 samples of trial 01 written with h5py, the rate as a root attribute) loads with its groups."""
+    import shutil
+
+    h5py = pytest.importorskip("h5py")
+    from mtcal.core.arrayfile import read_arrays
+
+    name = "01_undisturbed_slow_rotation_A"
+    src = scenario.data_dir()
+    arrays = read_arrays(src / "trials" / f"{name}.mat")
+    (tmp_path / "trials").mkdir()
+    shutil.copy(src / "trials.json", tmp_path / "trials.json")
+    with h5py.File(tmp_path / "trials" / f"{name}.hdf5", "w") as f:
+        for k, v in arrays.items():
+            if k != "sampling_rate":
+                f[k] = v[:2000]
+        f.attrs["sampling_rate"] = float(arrays["sampling_rate"])
+    assert scenario.trial_names(tmp_path) == [name]
+    (h5,) = scenario.load_trials(folder=tmp_path)
+    mat = scenario.trial_head(scenario.load_trials([name])[0], 2000)
+    assert h5.groups == mat.groups and h5.fs_hz == mat.fs_hz
+    for field in ("gyro_rad_s", "accel_m_s2", "mag_uT", "opt_quat", "opt_pos_m", "movement"):
+        np.testing.assert_array_equal(getattr(h5, field), getattr(mat, field))

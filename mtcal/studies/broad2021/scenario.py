@@ -154,10 +154,18 @@ def _info(folder: Path) -> dict:
         return json.load(f)
 
 
+def _trial_files(folder: Path) -> dict[str, Path]:
+    """``{name: file}`` of the trials in ``folder/trials`` (.mat, else .hdf5/.h5 — BROAD ships both, same data)."""
+    files: dict[str, Path] = {}
+    for suffix in (".h5", ".hdf5", ".mat"):          # later suffixes win: .mat when both exist
+        files.update({p.stem: p for p in (folder / "trials").glob(f"*{suffix}")})
+    return dict(sorted(files.items()))
+
+
 def trial_names(folder=None) -> list[str]:
-    """Names of the shipped trials (files in ``trials/``), sorted."""
+    """Names of the trials in ``trials/`` (``.mat``, ``.hdf5`` or ``.h5`` files), sorted."""
     folder = data_dir() if folder is None else Path(folder)
-    return sorted(p.stem for p in (folder / "trials").glob("*.mat"))
+    return list(_trial_files(folder))
 
 
 def trial_groups(folder=None) -> dict[str, tuple]:
@@ -175,7 +183,8 @@ def load_trials(names=None, folder=None) -> list[Trial]:
     if bad:
         raise ValueError(f"trials {bad} are not shipped; available: {available}")
     groups = trial_groups(folder)
-    return [load_trial(folder / "trials" / f"{n}.mat", groups.get(n, ())) for n in names]
+    files = _trial_files(folder)
+    return [load_trial(files[n], groups.get(n, ())) for n in names]
 
 
 def broad_parameters() -> dict[str, float]:
