@@ -72,7 +72,6 @@ WEAK_RULES = (
     ("metrics", "core.rotations (Eq 8)", "mtcal/core/rotations.py", None),
     ("metrics", "core.rotations (Eq 8)", "mtcal/core/_rotation_kernels.py", None),
 )
-OTHER = ("other", "other")
 
 
 def classify(frames) -> tuple[str, str]:
@@ -85,7 +84,11 @@ def classify(frames) -> tuple[str, str]:
     >>> classify([("/r/mtcal/core/rotations.py", "euler_zxy"), ("10_x.py:cell3", "<module>")])
     ('metrics', 'core.rotations (Eq 8)')
     >>> classify([("/r/mtcal/methods/six_position.py", "fit"), ("10_x.py:cell3", "<module>")])
-    ('other', 'other')
+    ('other', 'mtcal.methods.six_position')
+    >>> classify([("/v/site-packages/matplotlib/figure.py", "savefig"), ("/r/mtcal/reporting/output.py", "save")])
+    ('other', 'mtcal.reporting.output')
+    >>> classify([("<frozen importlib._bootstrap>", "_load"), ("10_x.py:cell1", "<module>")])
+    ('other', 'notebook cells, imports, interpreter')
     """
     frames = [(f.replace(os.sep, "/"), fn) for f, fn in frames]
     for rules in (RULES, WEAK_RULES):
@@ -93,7 +96,18 @@ def classify(frames) -> tuple[str, str]:
             for category, part, fragment, funcs in rules:
                 if fragment in filename and (funcs is None or func in funcs):
                     return category, part
-    return OTHER
+    return "other", _other_part(frames)
+
+
+def _other_part(frames) -> str:
+    """The innermost mtcal module on the stack (``mtcal.x.y``), else the innermost third-party package."""
+    for filename, _ in frames:
+        if "/mtcal/" in filename and filename.endswith(".py"):
+            return "mtcal." + filename.rsplit("/mtcal/", 1)[1][:-3].replace("/", ".")
+    for filename, _ in frames:
+        if "-packages/" in filename:
+            return filename.rsplit("-packages/", 1)[1].split("/", 1)[0].removesuffix(".py")
+    return "notebook cells, imports, interpreter"
 
 
 class StackSampler:
