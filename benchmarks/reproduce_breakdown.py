@@ -9,10 +9,12 @@ never touched). ``WORKERS=1`` is passed as a parameter, so a notebook that would
 processes (notebook 50 at full size) runs in-process and is seen whole: its CPU is the same, its wall
 is the serial one.
 
-Attribution is by sampling (a thread of the child reads the main thread's stack every
+Attribution is by sampling (a thread of the child reads every Python thread's stack every
 ``--interval-ms``; no per-call profiler overhead, which would inflate pure-Python loops such as
-``ahrs``' Madgwick several-fold): the CPU (``time.process_time``, all threads of the process) and the
-wall time elapsed since the previous sample go to the category of the innermost frame that a rule in
+``ahrs``' Madgwick several-fold): each Python thread's CPU since the previous sample (its own
+clock, ``pthread_getcpuclockid``) goes to the class of its stack; the rest of the process CPU
+(numba's parallel workers, which have no Python frame) and the wall time go to the main thread's;
+the class of a stack is the category of the innermost frame that a rule in
 :data:`RULES` names (first the strong rules, innermost first; then the weak ones, e.g. a rotation
 helper called from study code counts as metrics; else "other": study code, calibration methods,
 reporting, plotting, imports). Compiled kernels (numba, C++) have no Python frame, so their time goes
@@ -58,6 +60,10 @@ RULES = (
     ("filter", "vqf (C++ batch)", "/vqf/", None),
     ("filter", "filterpy", "/filterpy/", None),
     ("filter", "mtcal filters (compiled)", "mtcal/filters/", None),
+    ("simulation", "wang2023cja runs: truth, compliance", "mtcal/studies/wang2023cja/runs.py",
+     ("simulate", "_compliant", "load_tilt_outputs", "_wt_schedule_build")),
+    ("metrics", "wang2023cja runs: Eq 8 before/after", "mtcal/studies/wang2023cja/runs.py",
+     ("_before_after", "_pitch_after", "_evaluate_sweeps", "_euler", "position_errors_deg")),
     ("simulation", "core.simulate", "mtcal/core/simulate.py", None),
     ("simulation", "core.rng / philox", "mtcal/core/rng.py", None),
     ("simulation", "core.rng / philox", "mtcal/core/philox.py", None),
@@ -102,7 +108,7 @@ def classify(frames) -> tuple[str, str]:
 def _other_part(frames) -> str:
     """The innermost mtcal module on the stack (``mtcal.x.y``), else the innermost third-party package."""
     for filename, _ in frames:
-        if "/mtcal/" in filename and filename.endswith(".py"):
+        if "/mtcal/" in filename and filename.endswith(".py") and not filename.endswith("/runs/_runner.py"):
             return "mtcal." + filename.rsplit("/mtcal/", 1)[1][:-3].replace("/", ".")
     for filename, _ in frames:
         if "-packages/" in filename:
@@ -120,24 +126,55 @@ class StackSampler:
         self.samples: dict[tuple[str, str], int] = {}
         self._stop = threading.Event()
         self._main = threading.main_thread().ident
+        self._own = None
         self._thread = threading.Thread(target=self._loop, daemon=True)
 
-    def _stack(self):
-        frame = sys._current_frames().get(self._main)
-        out = []
-        while frame is not None:
-            out.append((frame.f_code.co_filename, frame.f_code.co_name))
-            frame = frame.f_back
+    def _stacks(self) -> dict:
+        """Every Python thread's stack but the sampler's, innermost frame first, by thread id."""
+        out = {}
+        for ident, frame in sys._current_frames().items():
+            if ident == self._own:
+                continue
+            stack = []
+            while frame is not None:
+                stack.append((frame.f_code.co_filename, frame.f_code.co_name))
+                frame = frame.f_back
+            out[ident] = stack
         return out
 
+    @staticmethod
+    def _thread_cpu(ident: int) -> float | None:
+        try:
+            return time.clock_gettime(time.pthread_getcpuclockid(ident))
+        except (AttributeError, OSError, ValueError):   # no per-thread clocks here, or the thread ended
+            return None
+
+    def _add(self, key, cpu_s: float, wall_s: float = 0.0, sample: int = 0) -> None:
+        self.cpu_s[key] = self.cpu_s.get(key, 0.0) + cpu_s
+        self.wall_s[key] = self.wall_s.get(key, 0.0) + wall_s
+        self.samples[key] = self.samples.get(key, 0) + sample
+
     def _loop(self) -> None:
+        """Each Python thread's CPU since the last sample goes to its own stack's class; the rest of the
+        process CPU (numba/OpenMP workers, the sampler, ended threads) and the wall to the main thread's."""
+        self._own = threading.get_ident()
         cpu, wall = time.process_time(), time.perf_counter()
+        threads: dict[int, float] = {}
         while not self._stop.wait(self.interval_s):
-            key = classify(self._stack())
+            stacks = self._stacks()
             c, w = time.process_time(), time.perf_counter()
-            self.cpu_s[key] = self.cpu_s.get(key, 0.0) + c - cpu
-            self.wall_s[key] = self.wall_s.get(key, 0.0) + w - wall
-            self.samples[key] = self.samples.get(key, 0) + 1
+            attributed = 0.0
+            for ident, stack in stacks.items():
+                now = self._thread_cpu(ident)
+                if now is None:
+                    continue
+                if ident in threads and ident != self._main:
+                    delta = now - threads[ident]
+                    self._add(classify(stack), delta)
+                    attributed += delta
+                threads[ident] = now
+            main = classify(stacks.get(self._main, []))
+            self._add(main, max(c - cpu - attributed, 0.0), w - wall, 1)
             cpu, wall = c, w
 
     def __enter__(self):

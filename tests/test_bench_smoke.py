@@ -410,6 +410,14 @@ def test_breakdown_sampler_attributes_cpu_to_the_running_layer(tmp_path):
     assert s.cpu_s[sim] > 0.6 * sum(s.cpu_s.values())
     idle = [k for k in s.wall_s if k[0] == "other"]
     assert sum(s.wall_s[k] for k in idle) > 0.1 > sum(s.cpu_s[k] for k in idle)
+    # work on another Python thread goes to that thread's stack, not to the main thread's wait
+    import threading
+
+    with rb.StackSampler(0.002) as s:
+        worker = threading.Thread(target=mod.busy, args=(0.3,))
+        worker.start()
+        worker.join()
+    assert s.cpu_s[sim] > 0.6 * sum(s.cpu_s.values())
 
 
 def test_breakdown_runs_a_notebook_in_its_own_process_and_adds_up(tmp_path):
