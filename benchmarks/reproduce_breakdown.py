@@ -159,20 +159,23 @@ class StackSampler:
         process CPU (numba/OpenMP workers, the sampler, ended threads) and the wall to the main thread's."""
         self._own = threading.get_ident()
         cpu, wall = time.process_time(), time.perf_counter()
-        threads: dict[int, float] = {}
+        threads: dict[int, tuple] = {}   # ident -> (Thread object, its CPU clock at the last sample)
         while not self._stop.wait(self.interval_s):
             stacks = self._stacks()
             c, w = time.process_time(), time.perf_counter()
             attributed = 0.0
             for ident, stack in stacks.items():
                 now = self._thread_cpu(ident)
-                if now is None:
+                if now is None or ident == self._main:
                     continue
-                if ident in threads and ident != self._main:
-                    delta = now - threads[ident]
-                    self._add(classify(stack), delta)
-                    attributed += delta
-                threads[ident] = now
+                obj = threading._active.get(ident)
+                seen, before = threads.get(ident, (None, 0.0))
+                # a thread seen for the first time (idents are reused by new pool threads): all its CPU so far
+                delta = max(now - before, 0.0) if (seen is obj and obj is not None) else now
+                delta = min(delta, max(c - cpu - attributed, 0.0))
+                self._add(classify(stack), delta)
+                attributed += delta
+                threads[ident] = (obj, now)
             main = classify(stacks.get(self._main, []))
             self._add(main, max(c - cpu - attributed, 0.0), w - wall, 1)
             cpu, wall = c, w

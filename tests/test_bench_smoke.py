@@ -417,7 +417,12 @@ def test_breakdown_sampler_attributes_cpu_to_the_running_layer(tmp_path):
         worker = threading.Thread(target=mod.busy, args=(0.3,))
         worker.start()
         worker.join()
+        for _ in range(5):   # short-lived threads: their idents are reused, no time may go negative
+            t = threading.Thread(target=mod.busy, args=(0.02,))
+            t.start()
+            t.join()
     assert s.cpu_s[sim] > 0.6 * sum(s.cpu_s.values())
+    assert min(s.cpu_s.values()) >= 0.0
 
 
 def test_breakdown_runs_a_notebook_in_its_own_process_and_adds_up(tmp_path):
