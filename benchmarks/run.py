@@ -67,8 +67,8 @@ if str(HERE) not in sys.path:
 import anchors  # noqa: E402
 import before_kernels_ekf  # noqa: E402
 import before_kernels_qncf  # noqa: E402
-import mc_floor  # noqa: E402
 import mc_stream  # noqa: E402
+import reproduce_breakdown  # noqa: E402
 import scalar_limit  # noqa: E402
 import numba  # noqa: E402
 from mtcal.filters.qncf import QncfFilter, QncfParams  # noqa: E402
@@ -96,8 +96,6 @@ TARGETS = {"x_basicvqf": 2.0, "x_vqf": 5.0, "x_imufusion": 20.0, "batched_throug
            "import_s": 0.3, "mc_wall_s_24": 2.0, "mc_rss_mb_24": 512.0,
            # issue #24: `make reproduce` at full size (every band from >= 1000 draws) on 2 cores
            "reproduce_s_24": 180.0, "reproduce_rss_mb": 2048.0}
-#: Trials per procedure timed by the make-reproduce floor (mc_floor.py; per-call set-up amortised over them).
-FLOOR_TRIALS = 40
 #: What `make reproduce` recorded about its last run (tools/notebooks.py execute --resources).
 REPRODUCE_RESOURCES = ROOT / "build" / "reproduce" / "resources.csv"
 QNCF = "mtcal QNCF"
@@ -561,7 +559,7 @@ def _reproduce_rows(rep: dict | None) -> list[tuple[str, str, str, bool | None]]
 
 def evaluate_targets(df: pd.DataFrame, batch_trials: int, mc: dict | None, cli: list[dict] | None = None,
                      full_size: bool = True, imports: dict | None = None, reproduce: dict | None = None,
-                     mc_floor: dict | None = None) -> list[tuple[str, str, str, bool | None]]:
+                     breakdown: pd.DataFrame | None = None) -> list[tuple[str, str, str, bool | None]]:
     """(target, measured, ratio to target, met) for every issue #17 target; met is None when not measured."""
     out = []
     size_tag = "" if full_size else " (quick sizes: not the target size)"
@@ -660,22 +658,24 @@ def evaluate_targets(df: pd.DataFrame, batch_trials: int, mc: dict | None, cli: 
     if cli is None:
         out.append(("CLI 1-hour log end to end <= 5 s, <= 1.5 GB", "not measured (--no-cli)", "-", None))
     out.extend(_reproduce_rows(reproduce))
-    out.extend(_floor_rows(mc_floor))
+    out.extend(_breakdown_rows(breakdown))
     return out
 
 
-def _floor_rows(fl: dict | None) -> list[tuple[str, str, str, bool | None]]:
-    """The row under the `make reproduce` target: its CPU floor from ``mc_floor.py`` (None: not measured)."""
-    goal = TARGETS["reproduce_s_24"]
-    title = (f"  floor of the row above: the wang2023cja trials of notebooks 10-11 alone, {mc_floor.DRAWS_PER_BAND} "
-             f"draws per band, pinned arithmetic, serial CPU / {mc_floor.CORES} cores <= {goal / 60:g} min "
-             "(benchmarks/mc_floor.py)")
-    if fl is None:
-        return [(title, "not measured (--no-floor)", "-", None)]
-    return [(title, f"{fl['wall_floor_s']:.0f} s ({fl['cpu_s']:.0f} CPU-s: per trial T1 "
-                    f"{fl['t1_cpu_s_per_trial'] * 1e3:.0f} ms, T2-T4 {fl['t234_cpu_s_per_trial'] * 1e3:.0f} ms, "
-                    f"wind tunnel {fl['windtunnel_cpu_s_per_trial'] * 1e3:.0f} ms; timed on {fl['trials']} trials)",
-             f"{fl['wall_floor_s'] / goal:.2f}", bool(fl["wall_floor_s"] <= goal))]
+def _breakdown_rows(bd: pd.DataFrame | None) -> list[tuple[str, str, str, bool | None]]:
+    """The rows under the `make reproduce` target: each notebook's CPU and wall by category
+    (``reproduce_breakdown.py``; no target of their own, so a regression shows where; None: not measured)."""
+    if bd is None or bd.empty:
+        return [("  per-notebook breakdown (benchmarks/reproduce_breakdown.py)", "not measured (--no-breakdown)",
+                 "-", None)]
+    out = []
+    for nb, g in bd.groupby("notebook", sort=True):
+        by = g.groupby("category")[["cpu_s", "wall_s"]].sum()
+        parts = ", ".join(f"{c} {by.cpu_s.get(c, 0.0):.1f}/{by.wall_s.get(c, 0.0):.1f}"
+                          for c in reproduce_breakdown.CATEGORIES)
+        out.append((f"  {nb} at MTCAL_SIZE={g['size'].iloc[0]}, CPU/wall s by part",
+                    f"CPU {g.notebook_cpu_s.iloc[0]:.1f} s, wall {g.notebook_wall_s.iloc[0]:.1f} s: {parts}", "-", None))
+    return out
 
 
 def format_table(df: pd.DataFrame) -> str:
@@ -858,7 +858,10 @@ def main(argv: list[str] | None = None) -> pd.DataFrame:
     ap.add_argument("--no-mc", action="store_true", help="skip the streaming Monte Carlo subprocess")
     ap.add_argument("--no-cli", action="store_true", help="skip the CLI end-to-end cases")
     ap.add_argument("--no-compile", action="store_true", help="skip the compile-time subprocesses")
-    ap.add_argument("--no-floor", action="store_true", help="skip the make-reproduce CPU floor (mc_floor.py)")
+    ap.add_argument("--no-breakdown", action="store_true",
+                    help="skip the per-notebook CPU/wall breakdown (reproduce_breakdown.py)")
+    ap.add_argument("--breakdown-size", choices=("ci", "full"), default="ci",
+                    help="MTCAL_SIZE of the per-notebook breakdown (default ci: fast)")
     ap.add_argument("--no-profile", action="store_true", help="skip cProfile")
     ap.add_argument("--csv", type=Path, default=ROOT / "data" / "benchmarks.csv")
     ap.add_argument("--profile-out", type=Path, default=HERE / "profile_summary.txt")
@@ -884,13 +887,11 @@ def main(argv: list[str] | None = None) -> pd.DataFrame:
         print(f"streaming Monte Carlo {sizes.mc_trials} x {sizes.mc_duration_s:g} s in a subprocess ...")
         mc_row, mc = run_mc_subprocess(sizes)
         print(f"  {mc['wall_s']:.2f} s, peak RSS {mc['peak_rss_mb']:.0f} MB")
-    floor = None
-    if not args.no_floor and not args.quick:
-        print(f"make-reproduce CPU floor: wang2023cja Monte Carlo on {FLOOR_TRIALS} trials per procedure, pinned "
-              "arithmetic, one thread, in a subprocess ...")
-        floor = mc_floor.run_child(FLOOR_TRIALS)
-        print(f"  {floor['cpu_s']:.0f} CPU-s at {floor['draws']} draws per band: >= {floor['wall_floor_s']:.0f} s "
-              f"on {floor['cores']} cores")
+    breakdown = None
+    if not args.no_breakdown and not args.quick:
+        print(f"make-reproduce breakdown: every notebook at MTCAL_SIZE={args.breakdown_size}, pinned arithmetic, "
+              "no cache, stack-sampled, one process each ...")
+        breakdown = reproduce_breakdown.main(["--size", args.breakdown_size])
     cli = None
     if not args.no_cli and sizes.cli_hours > 0:
         print(f"CLI end to end on a generated {sizes.cli_hours:g} h @ 1 kHz log (CSV and Parquet), own processes ...")
@@ -924,7 +925,7 @@ def main(argv: list[str] | None = None) -> pd.DataFrame:
           "targets <= 1 is met)")
     for name, measured, ratio, met in evaluate_targets(df, sizes.batch_trials, mc, cli, full_size=not args.quick,
                                                        imports=imports, reproduce=read_reproduce_resources(),
-                                                       mc_floor=floor):
+                                                       breakdown=breakdown):
         verdict = "n/a" if met is None else ("MET" if met else "MISSED")
         print(f"  [{verdict:6s}] {name}: {measured} (ratio {ratio})")
     if mc is not None:

@@ -373,29 +373,91 @@ def test_reproduce_row_reads_the_last_make_reproduce_run(tmp_path, monkeypatch):
     assert run.read_reproduce_resources(path) is None
 
 
-def test_reproduce_floor_row_scales_the_timed_trials_and_can_fail():
-    """mc_floor scales CPU per trial to the band rule's draws (2 T1 models + T2–T4 in notebook 10, 2 wind-tunnel
-    models in notebook 11, one fit each) and the row under the reproduce target is MET only at or below 3 min."""
-    import mc_floor
+def test_breakdown_classifies_by_the_innermost_named_frame():
+    """Strong rules innermost first (a rotation helper inside a filter is the filter's), weak ones as a fallback."""
+    import reproduce_breakdown as rb
 
-    per = {"t1_cpu_s_per_trial": 0.05, "t234_cpu_s_per_trial": 0.02, "windtunnel_cpu_s_per_trial": 0.06,
-           "fit_cpu_s": 2.0, "trials": 40}
-    fl = mc_floor.floor(per)
-    assert fl["nb10_cpu_s"] == pytest.approx(1000 * 0.12 + 2.0) and fl["nb11_cpu_s"] == pytest.approx(122.0)
-    assert fl["wall_floor_s"] == pytest.approx((122.0 + 122.0) / 2)
-    (title, measured, ratio, met), = run._floor_rows({**per, **fl})
-    assert met is True and measured.startswith("122 s") and ratio == "0.68" and "1000 draws per band" in title
-    (_, _, _, met), = run._floor_rows({**per, **mc_floor.floor(dict(per, t1_cpu_s_per_trial=0.2))})
-    assert met is False
-    assert [m for *_, m in run._floor_rows(None)] == [None]
+    assert rb.classify([("/v/site-packages/ahrs/filters/madgwick.py", "updateIMU"),
+                        ("/r/mtcal/filters/anchors.py", "_per_record")]) == ("filter", "ahrs Madgwick (pure Python)")
+    assert rb.classify([("/r/mtcal/filters/anchors.py", "tilt_error_rad")])[0] == "metrics"
+    assert rb.classify([("/r/mtcal/filters/anchors.py", "_fusion")]) == ("filter", "imufusion per-sample loop")
+    assert rb.classify([("/r/mtcal/core/rotations.py", "f"), ("/r/mtcal/core/simulate.py", "g")])[0] == "simulation"
+    assert rb.classify([("/r/mtcal/core/rotations.py", "f"), ("50_x.py:cell3", "<module>")])[0] == "metrics"
+    assert rb.classify([("/r/mtcal/methods/six_position.py", "fit")]) == ("other", "mtcal.methods.six_position")
+    assert rb.classify([("/v/site-packages/scipy/optimize/x.py", "f")]) == ("other", "scipy")
+    assert rb.classify([]) == ("other", "notebook cells, imports, interpreter")
 
 
-def test_reproduce_floor_rejects_too_few_trials(capsys):
-    import mc_floor
+def test_breakdown_sampler_attributes_cpu_to_the_running_layer(tmp_path):
+    """A busy function in a file the rules call simulation gets most of the sampled CPU; a sleep gets wall, no CPU."""
+    import importlib.util
+    import time as _time
 
+    import reproduce_breakdown as rb
+
+    src = tmp_path / "mtcal" / "core" / "simulate.py"
+    src.parent.mkdir(parents=True)
+    src.write_text("def busy(seconds):\n    import time\n    t = time.process_time()\n"
+                   "    while time.process_time() - t < seconds:\n        sum(range(1000))\n")
+    spec = importlib.util.spec_from_file_location("fake_simulate", src)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    with rb.StackSampler(0.002) as s:
+        mod.busy(0.3)
+        _time.sleep(0.2)
+    sim = ("simulation", "core.simulate")
+    assert s.samples[sim] > 10
+    assert s.cpu_s[sim] > 0.6 * sum(s.cpu_s.values())
+    idle = [k for k in s.wall_s if k[0] == "other"]
+    assert sum(s.wall_s[k] for k in idle) > 0.1 > sum(s.cpu_s[k] for k in idle)
+    # work on another Python thread goes to that thread's stack, not to the main thread's wait
+    import threading
+
+    with rb.StackSampler(0.002) as s:
+        worker = threading.Thread(target=mod.busy, args=(0.3,))
+        worker.start()
+        worker.join()
+        for _ in range(5):   # short-lived threads: their idents are reused, no time may go negative
+            t = threading.Thread(target=mod.busy, args=(0.02,))
+            t.start()
+            t.join()
+    assert s.cpu_s[sim] > 0.6 * sum(s.cpu_s.values())
+    assert min(s.cpu_s.values()) >= 0.0
+
+
+def test_breakdown_runs_a_notebook_in_its_own_process_and_adds_up(tmp_path):
+    """run_notebook executes the cells in a child (parameters after the parameters cell, WORKERS=1 injected);
+    the frame's parts add up to the child's measured totals; the run.py rows name every category."""
+    import reproduce_breakdown as rb
+
+    nb = tmp_path / "99_tiny.py"
+    nb.write_text('# %% tags=["parameters"]\nWORKERS = None\n\n# %%\nassert WORKERS == 1\n'
+                  "import time\nt = time.process_time()\nwhile time.process_time() - t < 0.2:\n    pass\n")
+    res = rb.run_notebook(nb, "ci", 0.002)
+    assert res["notebook"] == "99_tiny" and res["cpu_s"] >= 0.2 and res["wall_s"] >= res["cpu_s"] * 0.5
+    df = rb.to_frame([res])
+    assert df.cpu_s.sum() == pytest.approx(res["cpu_s"]) and df.wall_s.sum() == pytest.approx(res["wall_s"])
+    assert df.cpu_share.sum() == pytest.approx(1.0)
+    assert "99_tiny" in rb.table(df, parts=True)
+    (title, measured, ratio, met), = run._breakdown_rows(df)
+    assert "99_tiny" in title and all(c in measured for c in rb.CATEGORIES) and met is None
+    assert [m for *_, m in run._breakdown_rows(None)] == [None]
+    bad = tmp_path / "98_bad.py"
+    bad.write_text("# %%\nraise ValueError('boom')\n")
+    with pytest.raises(RuntimeError, match="98_bad at size ci failed: .*ValueError: boom"):
+        rb.run_notebook(bad, "ci", 0.002)
+
+
+def test_breakdown_rejects_unknown_notebooks_and_bad_intervals(capsys):
+    import reproduce_breakdown as rb
+
+    assert [p.name[:2] for p in rb.select(["50"])] == ["50"]
     with pytest.raises(SystemExit):
-        mc_floor.main(["--trials", "1"])
-    assert "--trials must be >= 2, got 1" in capsys.readouterr().err
+        rb.main(["97"])
+    assert "no notebook numbered 97" in capsys.readouterr().err
+    with pytest.raises(SystemExit):
+        rb.main(["--interval-ms", "0"])
+    assert "--interval-ms must be > 0, got 0.0" in capsys.readouterr().err
 
 
 def test_broad_accuracy_smoke():
