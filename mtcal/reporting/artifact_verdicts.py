@@ -161,9 +161,16 @@ def _evidence(rows: pd.DataFrame) -> dict:
         parts.append(f"{len(outside)} held-out outside; farthest {cell_text(r['quantity'])}: paper {x[r.name]:.4g}, "
                      f"ours {_float(r['mtcal']):.4g} [{lo[r.name]:.4g}, {hi[r.name]:.4g}] "
                      f"({miss[r.name]:.1f} band widths out)")
+    failing: dict[str, list] = {}                 # one line per claim text (rows of one claim kept together)
     for r in claims[~holds[claims.index].astype(bool)].itertuples():
-        why = cell_text(getattr(r, "note", ""))
-        parts.append(f"fails: {cell_text(r.claim)}" + (f" ({why})" if why else ""))
+        failing.setdefault(cell_text(r.claim), []).append(r)
+    for claim, group in failing.items():
+        why = cell_text(getattr(group[0], "note", ""))
+        if len(group) == 1:
+            parts.append(f"fails: {claim}" + (f" ({why})" if why else ""))
+        else:
+            names = ", ".join(cell_text(g.quantity).split(":")[0] for g in group)
+            parts.append(f"fails in {len(group)} rows ({names}): {claim}" + (f" (first: {why})" if why else ""))
     if not len(numbers) and not len(claims):
         own = rows[rows["role"].isin(("train", "tuned")) & inside.notna() & ~tested]
         checks = rows[(kind == "in-sample") & tested]
