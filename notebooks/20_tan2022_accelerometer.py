@@ -162,16 +162,19 @@ display(output.save_figure(plots.extra_independent_errors(art), "tan2022_extra_i
 # parameter `r` = independent / common part (prior uniform on [0, 2]: MEMS
 # datasheets specify offsets per axis; the paper assumes r = 0).
 #
-# * **Training** (`consistency` rows: fitted to the same statements): the
+# * **Training** (`in-sample` rows, role `train`: fitted to the same statements,
+#   shown failing if they fail, never claims): the
 #   paper's own error assumption (Sec. 1.1, 2.1: the axes' output errors are
 #   "comparable", tested as max/min within a factor 2 on every triad), the
 #   Fig 2 statement (θ ≤ 0 small, θ, φ ≥ 0 large) and the Fig 5 statement
 #   (large-pitch error suppressed); likelihood = Monte Carlo probability that
 #   all three hold at `r`.
 # * **Tested** (`claim`): Fig 8's "clear improvement" (gain > 1.3, our threshold).
-# * **Inputs** (`consistency`): λ1 = 45° and λ2 = −135° (Eq 9). The RMS-optimal
-#   preset angle per trial is searched in a 360° window centred on the paper's
-#   value, so "λ inside the band" holds by construction and is not evidence.
+# * **Inputs** (role `input`, our own statement): λ1 = 45° and λ2 = −135° (Eq 9).
+#   The RMS-optimal preset angle per trial is searched over the whole circle (the
+#   360° window centred on the paper's value only picks its representation), so
+#   "λ inside the band" can fail; but the r fit reads λ (the Fig 5 statement), so
+#   it is no independent evidence and never a claim.
 #
 # Every row carries the posterior-predictive band (`mc_band`: r drawn from the
 # posterior, one sensor set per trial) and the prior-predictive band
@@ -191,7 +194,7 @@ display(output.save_figure(plots.accel_error_model(fit), "tan2022_extra_error_mo
 # The statements favour a mostly common-mode error: `r` ≈ 0.1, 95 % interval
 # about [0, 0.5], inside the prior. With that model the optimal preset angles
 # scatter by about ±15° around the paper's λ1 = 45° and λ2 = −135° (inside
-# the bands by construction, see above) and the Fig 8 gain stays ≈ 1.5 (its
+# the bands, no independent evidence, see above) and the Fig 8 gain stays ≈ 1.5 (its
 # band reaches down to ≈ 1: for some sensor sets the preset rotation barely
 # helps). With r drawn from the prior the bands for λ span most of the circle
 # and the median gain is ≈ 1.2: the paper's statements carry real

@@ -115,13 +115,33 @@ def test_accel_fit_prefers_common_mode_and_predicts_eq9_angles():
     p = fit.parameters.iloc[0]
     assert 0.0 <= p["low_2.5"] <= p["median"] <= p["high_97.5"] <= 2.0
     lam = [r for r in fit.rows if "preset angle" in r["quantity"]]
-    # λ1/λ2 are inputs: inside the band by construction (window centred on them), never a claim
-    assert len(lam) == 2 and all(r["paper_in_band"] and r["kind"] == "consistency" and r["role"] == "input"
-                                 for r in lam)
+    # λ1/λ2 are inputs the r fit reads: our own statement (no kind), never a claim, never "true by construction"
+    assert len(lam) == 2 and all(r["paper_in_band"] and r["kind"] == "" and r["role"] == "input"
+                                 and r["source"] == "mtcal finding" and "not by construction" in r["note"] for r in lam)
+    # the statements the likelihood is fitted to: in-sample, role train; the label comes from the role, no suffix
+    fitted = [r for r in fit.rows if r["kind"] == "in-sample"]
+    assert len(fitted) == 3 and all(r["role"] == "train" and not r["enforced"] for r in fitted)
+    assert not any("[training]" in r["quantity"] for r in fit.rows)
+    assert list(fit.predictions["role"]) == [r["role"] for r in fit.rows]
     gain = [r for r in fit.rows if r["artifact"] == "tan2022_fig08"][0]
     assert gain["kind"] == "claim" and gain["holds"] is True and gain["prior_band"]
     # the claim can fail: no gain from the preset rotation (gain 1.0) violates "clear improvement"
     assert gain["check"](1.0) is False
+
+
+def test_rms_optimal_preset_angle_is_not_inside_by_construction():
+    # the search window is centred on the scenario's λ, but the optimum is not: a wrong λ1 = 80° is not found
+    from mtcal.studies.tan2022 import runs
+    for lam1 in (45.0, 80.0):
+        p = runs.accel_predictions(t.AccelScenario(lambda1_deg=lam1), np.zeros(3), np.random.default_rng(0), 10.0)
+        assert np.all(p["lambda1"] == 45.0) and np.all(p["lambda2"] == -135.0)  # common mode: Eq 9's angles
+
+
+def test_a_failing_training_check_prints_fails():
+    row = compare.in_sample("tan2022_fig02", "Fig 2 asymmetry", "small vs large", 0.9, "< 0.7", False,
+                            on="the likelihood is P(this statement holds | r): fitted to the same statement")
+    report = compare.check_claims(compare.comparison_table([row]), enforce=True)  # in-sample: never enforced
+    assert "FAILS: tan2022_fig02 | Fig 2 asymmetry" in report and "0 of 0 claims hold" in report
 
 
 def test_gyro_fit_recovers_the_stated_error_and_flags_fig12():
@@ -130,8 +150,12 @@ def test_gyro_fit_recovers_the_stated_error_and_flags_fig12():
     b = fit.parameters.iloc[0]
     assert b["low_2.5"] <= 0.2 + 1e-9 and b["high_97.5"] >= 0.2 - 1e-9
     hybrid = [r for r in fit.rows if r["artifact"] == "tan2022_fig12" and "hybrid" in r["quantity"]][0]
-    # Fig 12's claim fails under the model fitted to Fig 6: reported failing with its reason, not enforced
-    assert hybrid["holds"] is False and hybrid["enforced"] is False and hybrid["mtcal"] > 5 and hybrid["note"]
+    # Fig 12's sentence fails under the model fitted to Fig 6 too; it is judged once (fig12), here only shown
+    assert hybrid["holds"] is None and hybrid["kind"] == "" and hybrid["mtcal"] > 5
+    assert hybrid["note"].startswith("the Fig 12 sentence is judged once") and "above the 1° made" in hybrid["note"]
+    fig6 = [r for r in fit.rows if r["artifact"] == "tan2022_fig06"][0]
+    assert (fig6["kind"], fig6["role"], fig6["ref"]) == ("in-sample", "train", "tan2022_params:7:value")
+    assert not any("[training]" in r["quantity"] for r in fit.rows)
     assert not any(r["role"] == "heldout" for r in fit.rows)  # tan2022 prints no result number
     drift = [r for r in fit.rows if r["artifact"] == "tan2022_fig09"]
     assert drift and all(r["paper"] == "—" and r["holds"] is None for r in drift)  # no circular "prediction"
@@ -163,6 +187,8 @@ def test_gyro_pattern_fit_excludes_the_printed_z_error():
     assert like[list(t.PATTERN_BIAS_GRID_DEG_S).index(0.2)].max() == 0.0
     finding = [r for r in fit.rows if r["source"] == "mtcal finding"][0]
     assert finding["holds"] and finding["paper_in_band"] is False
+    fitted = fit.rows[0]  # the likelihood is P(Fig 11 and Fig 12 statements): checked in-sample, role train
+    assert (fitted["kind"], fitted["role"], fitted["enforced"]) == ("in-sample", "train", False)
 
 
 def test_producers_return_the_core_artifact_with_its_id():
@@ -184,10 +210,19 @@ def test_error_model_does_not_import_artifacts():
 
 
 def test_hybrid_avoids_spikes_claim_can_fail():
-    row = [r for r in t.fig12(t.gyro_study(oscillation_duration_s=4.0), seed=1, trials=2).rows
-           if "/ projection" in r["quantity"]][0]
-    assert row["kind"] == "claim" and row["holds"] is True
-    assert row["check"](1.5) is False  # a hybrid worse than the projection would contradict the claim
+    rows = t.fig12(t.gyro_study(oscillation_duration_s=4.0), seed=1, trials=2).rows
+    # one sentence (avoids the jumps, accurate for a long time): one claim on the paper's own simulation, both parts
+    claims = [r for r in rows if r["kind"] == "claim"]
+    assert len(claims) == 1 and claims[0]["holds"] is False and claims[0]["enforced"] is False
+    assert "ratio" in claims[0]["quantity"] and "the jumps are avoided" in claims[0]["note"]
+    assert claims[0]["check"](0.9) is True and claims[0]["check"](1.5) is False  # worse than the projection fails
+    noisy = [r for r in rows if "with noise" in r["quantity"]]
+    assert len(noisy) == 2 and all(r["holds"] is None and r["mc_band"] for r in noisy)
+    assert all(r["note"].startswith("the Fig 12 sentence is judged once") for r in noisy)
+    # a hybrid accurate with constant errors: a gyro error far below the threshold's tolerance (tan 1° × 0.5 °/s)
+    good = t.fig12(t.gyro_study(oscillation_duration_s=4.0, gyro_error_y_deg_s=0.001, gyro_error_z_deg_s=0.001),
+                   seed=1, trials=2).rows
+    assert [r["holds"] for r in good if r["kind"] == "claim"] == [True]
 
 
 def test_paper_statements_at_paper_settings_are_consistency():

@@ -36,8 +36,8 @@ from mtcal.methods import gyro_roll
 from mtcal.methods import large_angle
 from mtcal.reporting import compare
 
-from .runs import (STREAM_FIG06, STREAM_FIG09, STREAM_INDEPENDENT_ERRORS, STREAM_OSCILLATION, GyroTrials,
-                   oscillation_trials, simulate_gyro)
+from .runs import (FIG12_COUNTED_ONCE, STREAM_FIG06, STREAM_FIG09, STREAM_INDEPENDENT_ERRORS, STREAM_OSCILLATION,
+                   GyroTrials, oscillation_trials, simulate_gyro)
 from .scenario import AccelScenario, GyroStudy
 
 __all__ = ["Artifact", "accel_label", "eq3_erratum", "fig02", "extra_roll_error", "fig05", "fig08",
@@ -557,11 +557,14 @@ def fig11(study: GyroStudy, seed: int, trials: int) -> Artifact:
 def fig12(study: GyroStudy, seed: int, trials: int) -> Artifact:
     """tan2022_fig12: hybrid (projection if |θ̇| > θ̇_t, else integration) under oscillation (deg).
 
-    Paper claims (Sec 3.2): the hybrid avoids the projection spikes (tested:
-    its max error below the projection's) and stays accurate for a long time.
-    The second does not hold at θ̇_t = 0.5 °/s with a 0.2 °/s gyro error; the
-    rows state the simulation-level fact (max > 5°, a finding) so that a
-    what-if run in which the paper's claim would hold flips them.
+    Paper claim (Sec 3.2, one sentence): the hybrid avoids the projection's
+    error jumps and stays accurate for a long time. Judged once, on the paper's
+    own simulation (constant errors only), both parts must hold: the hybrid's
+    max error below the projection's and below 1° (mtcal thresholds), tested as
+    the larger share of the two bounds. The second part does not hold at
+    θ̇_t = 0.5 °/s with a 0.2 °/s gyro error. Both quantities with white noise
+    are shown beside it with their bands, not counted again
+    (:data:`mtcal.studies.tan2022.runs.FIG12_COUNTED_ONCE`).
     """
     n = positive_int(trials, "trials")
     osc, g = study.oscillation, study.gyro
@@ -597,19 +600,33 @@ def fig12(study: GyroStudy, seed: int, trials: int) -> Artifact:
     band_h = metrics.band_or_range(_DEG(mx[2]))
     switched = metrics.band_or_range(integrated)
     lab = f"θ̇_t = {osc.threshold_deg_s:g} °/s"
+    # One sentence (Sec. 3.2: "从图 12 可以看到 … 能有效地避免 … 姿态误差突变问题，能在振荡环境下长时间保持较高的精确度"),
+    # two statements: judged once, both must hold, on the paper's own simulation (constant errors only, no noise),
+    # as the larger share of its two bounds (hybrid/projection max error < 1, max error < 1°); with noise: shown.
+    ratio_det = float(_ratio(max_det, _DEG(np.max(np.abs(gyro_roll.roll_projection(w_det) - g.roll0_rad)))))
+    ratio_h = metrics.band_or_range(_ratio(mx[2], mx[0]))
+    share = max(ratio_det, max_det / 1.0)
+    shown = dict(role="finding", source="mtcal finding")
     rows = [
-        _failing_claim("tan2022_fig12", f"hybrid ({lab}) max |Δφ|, constant errors only (deg)",
-                       "accurate for a long time (Sec. 3.2, Fig 12)", max_det, 1.0,
-                       f"max {max_det:.1f}°: below θ̇_t the hybrid integrates the paper's own 0.2 °/s error"),
-        _failing_claim("tan2022_fig12", f"hybrid ({lab}) max |Δφ| with noise (deg)",
-                       "accurate for a long time (Sec. 3.2, Fig 12)", float(band_h["median"]), 1.0,
-                       f"median max {float(band_h['median']):.1f}°: below θ̇_t the hybrid integrates the 0.2 °/s "
-                       "error", band=band_h),
-        compare.claim("tan2022_fig12", f"hybrid ({lab}) max |Δφ| / projection max |Δφ|",
-                      "hybrid avoids the spikes (Sec. 3.2, Fig 12)",
-                      float(np.median(_ratio(mx[2], mx[0]))),
-                      "the hybrid's worst error is lower than the projection's (ratio < 1, mtcal threshold)",
-                      lambda v: bool(v < 1.0), role="finding"),
+        compare.claim("tan2022_fig12", f"hybrid ({lab}), constant errors only: max(max |Δφ| / projection max |Δφ|, "
+                      f"max |Δφ| / 1°); ratio {ratio_det:.3g}, max |Δφ| {max_det:.3g}°",
+                      "avoids the projection's error jumps and stays accurate for a long time (Sec. 3.2, Fig 12)",
+                      share, "'effectively avoids the error jumps … keeps a high accuracy for a long time' made "
+                      "testable: hybrid max |Δφ| below the projection's and below 1° (mtcal thresholds; the paper "
+                      "gives none)", lambda v: bool(v < 1.0), role="finding", enforce=share < 1.0,
+                      note="" if share < 1.0 else
+                      (f"max {max_det:.1f}°: below θ̇_t the hybrid integrates the paper's own 0.2 °/s error"
+                       + ("" if ratio_det >= 1.0 else f" (the jumps are avoided: ratio {ratio_det:.3g})"))),
+        compare.comparison_row("tan2022_fig12", f"hybrid ({lab}) max |Δφ| with noise (deg)",
+                               "accurate for a long time (Sec. 3.2, Fig 12)", float(band_h["median"]), "", None,
+                               band=band_h, note=FIG12_COUNTED_ONCE.format(
+                                   what="max |Δφ| (deg)", v=float(band_h["median"]), limit="1°",
+                                   verdict="above" if band_h["median"] >= 1.0 else "below"), **shown),
+        compare.comparison_row("tan2022_fig12", f"hybrid ({lab}) max |Δφ| / projection max |Δφ| with noise",
+                               "hybrid avoids the spikes (Sec. 3.2, Fig 12)", float(ratio_h["median"]), "", None,
+                               band=ratio_h, note=FIG12_COUNTED_ONCE.format(
+                                   what="ratio", v=float(ratio_h["median"]), limit="1",
+                                   verdict="above" if ratio_h["median"] >= 1.0 else "below"), **shown),
         _ROW("tan2022_fig12", f"share of samples integrated by the hybrid ({lab})", "-", float(switched["median"]),
              "the switch fires in every trial", bool(switched["low"] > 0), band=switched, role="finding",
              source="mtcal finding"),
