@@ -125,7 +125,8 @@ section("wang2023cja_matrix_qbs_windtunnel")
 # ## wang2023cja_table09 — wind-off AoA sweep, mean pitch (Table 9, tuned)
 # "the pitch errors before and after calibration are within 0.05° and 0.02°" is checked with those
 # thresholds, `in-sample`: the mechanism was tuned on this table, so holding confirms nothing, and a
-# failing check is shown failing.
+# failing check is shown failing. One sentence, one check (both thresholds must hold; both statistics
+# are printed).
 
 # %%
 t9 = w.sweep_mean_table("wang2023cja_table09", run.nowind, "pitch")

@@ -101,7 +101,8 @@ print(compare.check_claims(compare.comparison_table(a.rows), enforce=AT_PAPER))
 # and 95 % band over all trials; what is counted per repetition (the share of angles, the
 # worst angle) or per angle (the figure) rests on 14 repetitions only, so those give the
 # range with its count (the figure shades it) and the share claim must hold in every
-# repetition. **Claim (paper):** the proposed method is more accurate than ref. [16].
+# repetition. **Claim (paper):** the proposed method is more accurate than ref. [16] — one
+# sentence, one claim: both readings (share of angles; pooled max errors) must hold.
 # The legend sits below the axes, off the data.
 
 # %%
@@ -210,8 +211,9 @@ print(compare.check_claims(compare.comparison_table(a.rows), enforce=AT_PAPER))
 # full size: 1000 three-minute runs do not fit the notebook's time budget), so the figure
 # and the rows give the median and the range with its count, not a 95 % band.
 # **Claim (paper):** RAMS is held by the accelerometer; the AHRS's angle shifts with its
-# magnetic heading. The mtcal threshold for the first is "every trial < 0.02°": a row
-# that fails it says how many trials pass 0.02° and the computed reason.
+# magnetic heading. One sentence, one claim: both parts must hold. The mtcal threshold for
+# the first is "every trial < 0.02°": a claim that fails it says how many trials pass 0.02°
+# and the computed reason.
 
 # %%
 a = w.fig13_drift(sc, fit, DRIFT_TRIALS, SEED, DRIFT_RUN_S, STAND_S)

@@ -1,5 +1,6 @@
 """One verdict per paper artifact: the rule (a case per verdict), the evidence counted, every catalogue artifact a row."""
 
+import re
 from pathlib import Path
 
 import pandas as pd
@@ -81,3 +82,70 @@ def test_main_refuses_bad_arguments(capsys):
     assert av.main(["only-one"]) == 2
     assert av.main(["/nonexistent", "x.md"]) == 2
     assert "mtcal: error: DATA_FOLDER /nonexistent does not exist" in capsys.readouterr().err
+
+
+# ---------------------------------------------------------------- each paper sentence counts once
+_PLACEHOLDERS = {"", "-", "—", "figure", "all (figure)"}
+
+
+def _sentence(row) -> tuple:
+    """What a counted row tests: a printed number compared within a tolerance (numeric paper cell with its split
+    ref) is keyed by that cell; a paper sentence by its quote (the leading "…" of the claim), else the paper cell's
+    phrase, else the claim text, each cut before its parenthesis."""
+    c, p, ref = (str(row.get(k, "")).strip() for k in ("claim", "paper", "ref"))
+    if ref and re.fullmatch(r"[-+]?\d+(\.\d+)?([eE][-+]?\d+)?", p):
+        return ("number", ref)
+    if c.startswith('"'):
+        return ("sentence", c[1:].split('"')[0].strip())
+    if re.search(r"[^\W\d_]", p) and p.lower() not in _PLACEHOLDERS and not re.match(r"^[<>=≤≥]", p):
+        return ("sentence", p.split(" (")[0].strip())
+    return ("sentence", c.split(" (")[0].strip())
+
+
+def _counted_twice(table: pd.DataFrame) -> list[str]:
+    """Paper sentences (or printed numbers) tested by two counted rows of one kind (claim, in-sample) of one paper.
+
+    Counted rows are the paper's statements (``source`` ``paper claim``) of kind ``claim`` or ``in-sample``: they
+    enter the claims tallies, ``data/verdicts.csv`` and the site's counts. Two readings of one ambiguous sentence are
+    one ``claim`` and one ``in-sample`` row (docs/conventions.md), so each kind is checked on its own.
+    """
+    rows = table[table["kind"].isin(["claim", "in-sample"]) & (table["source"] == "paper claim")]
+    keys = pd.DataFrame({"paper": rows["artifact"].str.split("_").str[0], "kind": rows["kind"],
+                         "what": [_sentence(r) for r in rows.to_dict("records")], "artifact": rows["artifact"]})
+    twice = keys[keys.duplicated(["paper", "kind", "what"], keep=False)]
+    return sorted({f"{r.paper} {r.kind} {r.what[1]!r} ({r.artifact})" for r in twice.itertuples()})
+
+
+def test_a_sentence_counted_twice_is_found():
+    q = "the pitch errors before and after calibration are within 0.05° and 0.02°"
+    rows = [in_sample("p2020_table09", s, "<= 0.05", 0.06, f'"{q}" ({s} <= 0.05 deg)', False, on="tuned",
+                      role="tuned") for s in ("before", "after")]
+    assert _counted_twice(_table(rows)) == [f"p2020 in-sample {q!r} (p2020_table09)"]
+    # tan2022's paraphrases: one sentence in the paper cell, whatever the threshold text
+    rows = [claim("p2020_fig12", x, f"accurate for a long time (Sec. 3.2{tail})", 14.0, f"{x} made testable: < 1°",
+                  lambda v: v < 1) for x, tail in (("a", ""), ("b", ", Fig 12"))]
+    assert len(_counted_twice(_table(rows))) == 1
+    # one printed number compared twice within a tolerance, keyed by its cell
+    rows = [claim("p2020_extra", x, 2.3, 2.3, "|ours - published| <= 0.01 deg", lambda v: True, ref="p:1:v")
+            for x in ("a", "b")]
+    assert len(_counted_twice(_table(rows))) == 1
+    # two readings of one sentence (a claim and an in-sample check) and distinct printed numbers are fine
+    rows = [claim("p2020_fig14", "whole", "< 0.05", 0.2, "did not exceed 0.05°", lambda v: v < 0.05),
+            in_sample("p2020_fig14", "settled", "< 0.05", 0.04, "did not exceed 0.05°", True, on="window tuned",
+                      role="tuned")]
+    rows += [claim("p2020_extra", x, 2.3, 2.3, "|ours - published| <= 0.01 deg", lambda v: True, ref=f"p:{i}:v")
+             for i, x in enumerate("ab")]
+    assert _counted_twice(_table(rows)) == []
+
+
+def test_each_paper_sentence_counts_once_in_the_committed_tables():
+    """Every data/*_comparison.csv (all papers and broad2021): no sentence in two counted rows of one kind; the
+    wang2023cja claims files: no quote twice per kind."""
+    parts = [pd.read_csv(p, dtype=str, keep_default_na=False) for p in sorted((ROOT / "data").glob("*_comparison.csv"))]
+    table = pd.concat([p for p in parts if {"kind", "source", "claim", "paper", "ref"} <= set(p.columns)],
+                      ignore_index=True)
+    assert {"wang2023cja", "tan2022", "wang2022sensors", "broad2021"} <= set(table["artifact"].str.split("_").str[0])
+    assert _counted_twice(table) == []
+    for path in sorted((ROOT / "data").glob("*_claims.csv")):
+        claims = pd.read_csv(path, dtype=str, keep_default_na=False)
+        assert not claims.duplicated(["quote", "kind"]).any(), path.name

@@ -250,3 +250,31 @@ def test_no_physics_baseline_scores_three_bands_on_the_same_rows():
     half = b.loc[("Table 5", "no-physics"), "band_halfwidth_deg"]
     assert 0.02 < half < 0.06 and b.loc[("Tables 5 + 7", "no-physics"), "inside"] == 2
     assert b.loc[("Table 5", "no-physics"), "n"] == 1
+
+
+def _windtunnel(before_deg, after_deg, n_trials=5):
+    """A wind-off run whose max |mean − reference| is ``before_deg`` / ``after_deg`` in every trial."""
+    from types import SimpleNamespace
+
+    ref = np.radians(np.array([-4.0, 0.0, 4.0]))
+    dev = np.radians(np.array([0.0, 0.5, 1.0]))
+    nowind = {"reference": ref, "before_mean": ref + before_deg * dev[None, :].repeat(n_trials, 0),
+              "after_mean": ref - after_deg * dev[None, :].repeat(n_trials, 0)}
+    nowind.update({f"{s}_maxae_{j}": np.full(n_trials, np.radians(0.01)) for s in ("before", "after") for j in (2, 0)})
+    return SimpleNamespace(nowind=nowind, wind_on=None)
+
+
+@pytest.mark.parametrize("before, after, holds", [(0.04, 0.015, True), (0.06, 0.015, False), (0.04, 0.025, False)])
+def test_c02_one_sentence_is_one_check_and_both_thresholds_must_hold(before, after, holds):
+    c = verdicts.claims(windtunnel=_windtunnel(before, after)).set_index("claim_id")
+    assert "c03" not in c.index and list(c.loc[["c02"], "kind"]) == ["in-sample"]   # one sentence, one row
+    row = c.loc["c02"]
+    assert bool(row.holds) is holds and row.role == "tuned"
+    assert row.value == pytest.approx(max(before / 0.05, after / 0.02))
+    assert f"before {before:.4f}°, after {after:.4f}°" in row.statistic              # both statistics shown
+    assert ("FAILS" in verdicts.claim_block(c.reset_index())) is not holds
+
+
+def test_no_sentence_is_tested_twice_by_the_claims():
+    t = verdicts.claims(windtunnel=_windtunnel(0.04, 0.015))
+    assert not t.duplicated(["quote", "kind"]).any()

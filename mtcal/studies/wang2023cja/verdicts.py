@@ -338,13 +338,13 @@ def claims(turntable: dict | None = None, windtunnel=None) -> pd.DataFrame:
         b9, a9 = _maxdev(nw, "before"), _maxdev(nw, "after")
         tuned = ("Table 9–11 numbers were used to choose the mechanism errors and the pitch-ratio error comes from "
                  "Q(2,2) of the printed matrix")
+        # one sentence, two thresholds (c02 and c03 of the text-claims file): one row, both must hold, as c14. Two
+        # rows counted once would need a sentence key in every tally (claims, verdicts.csv, the site); one row none.
         rows.append(_claim("c02", "wang2023cja_table09", "the pitch errors before and after calibration are within "
-                           "0.05° and 0.02°", "before <= 0.05 deg", "in-sample",
-                           "max |mean pitch before − reference| (deg)", b9, lt(0.05), "our median run gives {v:.4f}°",
-                           tuned))
-        rows.append(_claim("c03", "wang2023cja_table09", "the pitch errors before and after calibration are within "
-                           "0.05° and 0.02°", "after <= 0.02 deg", "in-sample",
-                           "max |mean pitch after − reference| (deg)", a9, lt(0.02), "our median run gives {v:.4f}°",
+                           "0.05° and 0.02°", "before <= 0.05 deg and after <= 0.02 deg", "in-sample",
+                           f"max(max |mean pitch before − reference| / 0.05°, max |after − reference| / 0.02°); "
+                           f"median runs: before {np.median(b9):.4f}°, after {np.median(a9):.4f}°",
+                           np.maximum(b9 / 0.05, a9 / 0.02), lt(1.0), "our median run reaches {v:.2f} of the bound",
                            tuned))
         mx = np.max([np.degrees(nw[f"{s}_maxae_{j}"]) for s in ("before", "after") for j in (2, 0)], axis=0)
         rows.append(_claim("c18", "wang2023cja_table11", "they are both within 0.03°", "<= 0.03 deg", "in-sample",
