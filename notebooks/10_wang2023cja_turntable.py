@@ -11,7 +11,7 @@
 # 2. **The hardware error model is identified** on a declared training split
 #    (`mtcal/reporting/paper_data/wang2023cja_split.csv`: Tables 1–4 and the printed matrices are
 #    `train`) and the held-out Tables 5–8 are **predicted** with 95 % posterior-predictive bands:
-#    every Monte Carlo trial draws its own parameters from the fit's posterior. Beside it runs the
+#    every parameter draw from the fit's joint posterior runs two sessions. Beside it runs the
 #    **prior predictive**: every trial draws the error model from its prior ranges and the
 #    installation angles from their prior (`w.predictive.ALPHA_PRIOR_SIGMA_DEG`) — nothing fitted
 #    on Tables 1–4 is used.
@@ -132,14 +132,16 @@ assert not fit.at_bound["position_error_arcsec"]
 # * *Other bounds*: the screwed-mount compliance sits at −0.05°/g (T1's ±90° rows undershoot by
 #   ≈ 0.02°; rigid bracket class, left); the run-to-run accelerometer-bias change and the gyro bias
 #   sit on their *lower* bounds (the data do not need them; their 95 % limits in the table). The
-#   posterior predictive draws a value on a bound from a half-normal reaching its 95 % limit.
+#   posterior predictive draws a value on a bound from a half-normal reaching its 95 % limit (one-sided,
+#   independent of the others: no Hessian row exists at a bound), the free values jointly (full
+#   inverse-Hessian covariance).
 
 # %% [markdown]
 # ## Runs: posterior predictive and prior predictive
 #
 # One session per trial: calibration six positions, then verification six positions (Tables 1–4
-# "after") and, for T1, the AoA sweep and the roll sweep (Tables 5–8). **Each trial draws its own
-# parameters** (`w.predictive`): from the fit's joint posterior (fitted: the free error-model values
+# "after") and, for T1, the AoA sweep and the roll sweep (Tables 5–8). **Each pair of trials draws its
+# own parameters** (`w.predictive`): from the fit's joint posterior (fitted: the free error-model values
 # jointly normal with the full inverse-Hessian covariance, a value on its prior bound one-sided to its
 # profile limit, the installation angles of each test normal about their fit with their least-squares
 # covariance) or from the prior (prior predictive: error model from its prior ranges, installation

@@ -168,4 +168,6 @@ def test_table08_cause_text_names_an_explaining_candidate_or_none():
     wide = pd.DataFrame([{**base, "candidate": "b", "supported": True, "pitch_fraction_low": 0.1,
                           "pitch_fraction_high": 0.99, "yaw_fraction_low": 0.1, "yaw_fraction_high": 0.99}])
     assert verdicts.table08_cause(wide).endswith("explained by b")
-    assert "none explains it" in verdicts.table08_cause(wide.assign(supported=False))
+    text = verdicts.table08_cause(pd.concat([none, wide.assign(supported=False, support_reason="excluded")]))
+    assert "none explains it (the supported ones leave at least pitch 80%, yaw 80%: lowest a)" in text
+    assert "reaching the paper's fractions needs b (excluded)" in text
