@@ -77,7 +77,8 @@ output.show_table(compare.describe(sc))
 runs = {kind: predictive.windtunnel_predictive(lambda m: w.windtunnel_scenario(errors=m, **params), fit, kind,
                                                N_TRIALS, SEED, per_draw=PER_DRAW) for kind in predictive.KINDS}
 print(f"{N_TRIALS} trials per model ({PER_DRAW} per draw)")
-one = {name: verdicts.one_to_one(verdicts.printed_samples(windtunnel=r), seed=SEED) for name, r in runs.items()}
+one = {name: verdicts.one_to_one(verdicts.printed_samples(windtunnel=r), seed=SEED, per_draw=PER_DRAW)
+       for name, r in runs.items()}
 claims = verdicts.claims(windtunnel=runs["fitted"])
 run = runs["fitted"]
 
@@ -200,6 +201,18 @@ output.save_table(one["fitted"], "wang2023cja_extra_windtunnel_one_to_one")
 output.save_table(one["prior"], "wang2023cja_extra_windtunnel_one_to_one_prior_predictive")
 output.show_table(one["fitted"][["quantity", "role", "paper", "median", "low", "high", "se_low", "se_high", "inside"]],
                   "{:.4f}")
+
+# %% [markdown]
+# ### Where the width of a band comes from
+# Law of total variance over the `PER_DRAW` sessions sharing one parameter draw
+# (`predictive.variance_parts`): `var_parameter` (variance of the conditional mean over the posterior
+# draws) plus `var_sampling` (mean variance between sessions of one draw) ≈ `var_band` (deg² or 1²).
+# The wind-tunnel geometry comes from the printed matrix (train), so no installation-angle draw enters here.
+
+# %%
+output.show_table(one["fitted"][["quantity", "role", "var_band", "var_parameter", "var_sampling", "parameter_share"]],
+                  "{:.3g}")
+print(f"median parameter share {one['fitted'].parameter_share.median():.2f}")
 
 # %% [markdown]
 # ## The paper's claims, with its thresholds

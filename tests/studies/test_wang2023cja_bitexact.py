@@ -9,6 +9,8 @@ Two guards on a 2-trial run of the turntable (T1 with its sweeps, T2) and wind-t
   committed notebooks and data are produced. The hash was computed with the code before the
   issue #24 changes and after them (equal). Re-pinned once (session 5): the wind-tunnel trace
   records which session it draws (``trace.median_trial``); every array was compared equal.
+  Re-pinned (session 9, issue #33 item 5, intended): the posterior draws are joint (full covariance,
+  installation angles drawn) and the turntable runs two sessions per parameter draw.
 """
 
 import hashlib
@@ -24,7 +26,7 @@ from mtcal.studies import wang2023cja as w
 from mtcal.studies.wang2023cja import predictive
 
 #: SHA-256 of :func:`_outputs` on the pinned numerics environment.
-PINNED_SHA256 = "4ecf7bdff7425fe5f7dac53d16f148fe31d81329504a1212cec5abcb70f9b552"
+PINNED_SHA256 = "be71e913bcb5a3e0550744d0d1461fc33ee8c8f7fcc1a251ed76698bd8683f34"
 
 
 def _flatten(obj, prefix: str, out: dict) -> None:

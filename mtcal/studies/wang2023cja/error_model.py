@@ -176,26 +176,36 @@ def _table_angles(table: str):
 
 @dataclass(frozen=True)
 class InstallationFit:
-    """Result of :func:`fit_installation_angles` (angles in rad, residuals in deg)."""
+    """Result of :func:`fit_installation_angles` (angles in rad, residuals in deg).
+
+    ``cov_rad2`` (3, 3): the least-squares covariance of ``alpha_rad`` (rad²),
+    ``s² (JᵀJ)⁻¹`` with ``s²`` the residual variance (18 numbers − 3 angles) and ``J`` the
+    Jacobian of the residuals at the solution.
+    """
 
     alpha_rad: np.ndarray
     residual_deg: np.ndarray
     rms_deg: float
     raw_rms_deg: float
+    cov_rad2: np.ndarray
 
 
-def fit_installation_angles(table: str, sign=PAPER_SIGN) -> InstallationFit:
+def fit_installation_angles(table: str, sign=PAPER_SIGN, *, columns: str = "before") -> InstallationFit:
     """Fit α1..α3 to a paper table's "before − reference" (Tables 1–4), least squares in deg.
 
     Model: ``paper_before = sign · predicted_before(α, sign · reference)``; ``sign=(1, 1, 1)``
-    is Eq 8/9 as printed. With the roll sign flipped (:data:`PAPER_SIGN`, a handedness change,
+    is Eq 8/9 as printed. ``columns="after"`` fits the same rotation to the "after" columns: the
+    misalignment the calibration left (:mod:`.table08_causes`). With the roll sign flipped (:data:`PAPER_SIGN`, a handedness change,
     cf. the printed Q(3,3) = −1.000355) the residual drops several-fold.
 
     >>> fit = fit_installation_angles(TABLES_1_TO_4["T2"])
     >>> round(float(np.degrees(fit.alpha_rad[2])), 2)
     -1.15
     """
-    ref, before, _ = _table_angles(table)
+    if columns not in ("before", "after"):
+        raise ValueError(f"columns must be 'before' or 'after', got {columns!r}")
+    ref, before, after = _table_angles(table)
+    before = before if columns == "before" else after
     s = np.asarray(sign, dtype=float)
 
     def resid(a):
@@ -206,8 +216,10 @@ def fit_installation_angles(table: str, sign=PAPER_SIGN) -> InstallationFit:
         if best is None or r.cost < best.cost:
             best = r
     raw = np.degrees(metrics.angle_difference(before, ref))
+    dof = best.fun.size - best.x.size
+    cov = np.linalg.pinv(best.jac.T @ best.jac) * float(best.fun @ best.fun) / dof   # rad² (J in deg/rad)
     return InstallationFit(best.x, best.fun.reshape(-1, 3), float(np.sqrt(np.mean(best.fun**2))),
-                           float(np.sqrt(np.mean(raw**2))))
+                           float(np.sqrt(np.mean(raw**2))), cov)
 
 
 def paper_positions(yaw_deg=(8.0, -8.0), pitch_deg=(-12.0, 23.0), roll_deg=(90.0, -90.0)) -> np.ndarray:
@@ -332,6 +344,13 @@ class ErrorModelFit:
         For a value on its bound: the one-sided 95 % profile-likelihood limit inward from the
         bound (−log L rises by 1.92, the other values held), NaN otherwise or if the whole range
         is within it.
+    cov : ndarray (F, F), optional
+        Joint covariance (inverse Hessian of −log L, field units) of the ``F`` free values, in
+        :data:`FITTED_PARAMETERS` order of those not on a bound (``std`` is the root of its diagonal).
+        ``None``: no joint covariance (the draws fall back to independent values).
+    alpha_cov_rad2 : dict, optional
+        Test → (3, 3) least-squares covariance of its installation angles (rad²,
+        :attr:`InstallationFit.cov_rad2`). ``None``: the angles are held at their fit.
     """
 
     model: ErrorModel
@@ -342,6 +361,13 @@ class ErrorModelFit:
     alpha_rad: dict
     n_train: int
     limit95: dict
+    cov: np.ndarray | None = None
+    alpha_cov_rad2: dict | None = None
+
+    @property
+    def free(self) -> tuple:
+        """Names of the fitted values not on a prior bound (the rows of :attr:`cov`)."""
+        return tuple(n for n in FITTED_PARAMETERS if not self.at_bound[n])
 
 
 def _training_residuals() -> dict:
@@ -413,21 +439,11 @@ def _loglik(model: ErrorModel, tests: dict) -> float:
     return float(total)
 
 
-@cached  # Monte Carlo result cached under $MTCAL_CACHE_DIR (make reproduce/artifact)
-def fit_error_model(*, n_mc: int = 4000, seed: int = 2023, prior: ErrorModel | None = None) -> ErrorModelFit:
-    """ML fit of the :class:`ErrorModel` fields to Tables 1–4 "after − reference" (72 numbers).
+def _maximise(tests: dict, prior: ErrorModel) -> tuple[ErrorModel, float]:
+    """ML values of :data:`FITTED_PARAMETERS` on the linearised ``tests`` and the minimum of −log L.
 
-    Each test's 18 residuals ``r`` (paper after − reference, Eq 8 frame) are modelled with the
-    rest-level session model (:func:`rest_residuals`) linearised in the small errors:
-    ``r ~ N(k · ∂μ/∂k, Σ_s σ_s² C_s + σ_print² I)`` — ``k`` the mount compliance of the test,
-    ``C_s`` the Monte Carlo covariance (``n_mc`` draws) of source ``s`` at unit σ, ``σ_print``
-    the 0.001° printing round-off. Parameters are optimised inside their prior ranges
-    (logistic transform); the uncertainty is the inverse Hessian of −log L in field units.
+    Nelder–Mead on a logistic transform of each prior range (values stay inside), three starts.
     """
-    prior = ErrorModel() if prior is None else prior
-    alphas = {t: fit_installation_angles(tab).alpha_rad for t, tab in TABLES_1_TO_4.items()}
-    times = rest_times_s(paper_positions(), 20 * DEG, 3.0, 100.0)
-    tests = _linear_tests(alphas, n_mc, seed, times)
     names = FITTED_PARAMETERS
     lo = np.array([PRIOR_RANGES[n][0] for n in names])
     hi = np.array([PRIOR_RANGES[n][1] for n in names])
@@ -442,7 +458,29 @@ def fit_error_model(*, n_mc: int = 4000, seed: int = 2023, prior: ErrorModel | N
                      options={"xatol": 1e-6, "fatol": 1e-8, "maxiter": 20000, "maxfev": 20000})
         if best is None or r.fun < best.fun:
             best = r
-    model = to_model(best.x)
+    return to_model(best.x), float(best.fun)
+
+
+@cached  # Monte Carlo result cached under $MTCAL_CACHE_DIR (make reproduce/artifact)
+def fit_error_model(*, n_mc: int = 4000, seed: int = 2023, prior: ErrorModel | None = None) -> ErrorModelFit:
+    """ML fit of the :class:`ErrorModel` fields to Tables 1–4 "after − reference" (72 numbers).
+
+    Each test's 18 residuals ``r`` (paper after − reference, Eq 8 frame) are modelled with the
+    rest-level session model (:func:`rest_residuals`) linearised in the small errors:
+    ``r ~ N(k · ∂μ/∂k, Σ_s σ_s² C_s + σ_print² I)`` — ``k`` the mount compliance of the test,
+    ``C_s`` the Monte Carlo covariance (``n_mc`` draws) of source ``s`` at unit σ, ``σ_print``
+    the 0.001° printing round-off. Parameters are optimised inside their prior ranges
+    (logistic transform); the uncertainty is the inverse Hessian of −log L in field units.
+    """
+    prior = ErrorModel() if prior is None else prior
+    inst = {t: fit_installation_angles(tab) for t, tab in TABLES_1_TO_4.items()}
+    alphas = {t: f.alpha_rad for t, f in inst.items()}
+    times = rest_times_s(paper_positions(), 20 * DEG, 3.0, 100.0)
+    tests = _linear_tests(alphas, n_mc, seed, times)
+    names = FITTED_PARAMETERS
+    lo = np.array([PRIOR_RANGES[n][0] for n in names])
+    hi = np.array([PRIOR_RANGES[n][1] for n in names])
+    model, best_nll = _maximise(tests, prior)
     x = np.array([getattr(model, n) for n in names])
     at_bound = {n: bool(min(xi - l, h - xi) < 1e-3 * (h - l)) for n, xi, l, h in zip(names, x, lo, hi)}
     free = [i for i, n in enumerate(names) if not at_bound[n]]
@@ -453,6 +491,7 @@ def fit_error_model(*, n_mc: int = 4000, seed: int = 2023, prior: ErrorModel | N
             object.__setattr__(m, n, float(v))
         return -_loglik(m, tests)
     std = {n: float("nan") for n in names}
+    cov = None
     if free:
         h = np.array([max(1e-4 * (hi[i] - lo[i]), 1e-3 * abs(x[i])) for i in range(len(x))])
         f0 = nll_x(x)
@@ -483,8 +522,9 @@ def fit_error_model(*, n_mc: int = 4000, seed: int = 2023, prior: ErrorModel | N
             if nll_x(xv) - f_ml > 1.92:
                 limit[n] = float(v)
                 break
-    return ErrorModelFit(model, std, at_bound, -float(best.fun), _loglik(prior, tests), alphas,
-                         sum(lt.data.size for lt in tests.values()), limit)
+    return ErrorModelFit(model, std, at_bound, -best_nll, _loglik(prior, tests), alphas,
+                         sum(lt.data.size for lt in tests.values()), limit, cov,
+                         {t: f.cov_rad2 for t, f in inst.items()})
 
 
 def position_noise_deg(model: ErrorModel, *, n_mc: int = 2000, seed: int = 2023, mount: str = "screw",

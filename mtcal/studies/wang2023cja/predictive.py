@@ -2,11 +2,15 @@
 
 Two predictive distributions of the same simulation (:mod:`.runs`):
 
-* **fitted posterior predictive** — each trial draws the :class:`.error_model.ErrorModel` from
-  the Laplace approximation of the fit to Tables 1–4 (:func:`.error_model.fit_error_model`):
-  a free value ``N(ML, σ)`` (σ from the inverse Hessian), a value on its prior bound a
-  half-normal from the bound inward whose 95 % point is the one-sided profile limit; all
-  clipped to the prior range. Installation angles: those fitted to the "before" columns.
+* **fitted posterior predictive** — each draw takes the :class:`.error_model.ErrorModel` from
+  the joint Laplace approximation of the fit to Tables 1–4 (:func:`.error_model.fit_error_model`):
+  the free values jointly normal with the full inverse-Hessian covariance (correlations kept), a
+  value on its prior bound a half-normal from the bound inward whose 95 % point is the one-sided
+  profile limit; all clipped to the prior range. Installation angles: those fitted to the
+  "before" columns plus a normal draw with their least-squares covariance (:func:`posterior_draws`).
+* **sessions per draw** — every parameter draw runs ``per_draw`` sessions (turntable 2, wind tunnel
+  5 at full size in notebook 11), so that a band's variance splits into a parameter part
+  and a sampling part (law of total variance, :func:`variance_parts`).
 * **prior predictive** — each trial draws the error model from its prior ranges (scale
   parameters log-uniform, signed compliances uniform) and the installation angles from
   :data:`ALPHA_PRIOR_SIGMA_DEG` — nothing identified on Tables 1–4 is used.
@@ -36,8 +40,9 @@ from mtcal.core.rng import stream_rng
 from mtcal.reporting import leak
 from .error_model import FITTED_PARAMETERS, PRIOR_RANGES, TABLES_1_TO_4, ErrorModel, ErrorModelFit
 from .runs import TurntableJob, _map, run_turntable_jobs, run_windtunnel, windtunnel_median_trial
+from .verdicts import variance_parts
 
-__all__ = ["ALPHA_PRIOR_SIGMA_DEG", "KINDS", "posterior_draws", "prior_draws", "turntable_predictive",
+__all__ = ["ALPHA_PRIOR_SIGMA_DEG", "KINDS", "TURNTABLE_PER_DRAW", "variance_parts", "posterior_draws", "prior_draws", "turntable_predictive",
            "windtunnel_predictive", "quantile_se", "LEAK_SIZES", "fit_and_predict"]
 
 # random streams of this module (mtcal.core.rng rule)
@@ -50,6 +55,8 @@ STREAM_QUANTILE_SE = 212
 ALPHA_PRIOR_SIGMA_DEG = {"T1": 0.3, "T2": 1.5, "T3": 1.5, "T4": 1.5}
 #: The two predictive distributions.
 KINDS = ("fitted", "prior")
+#: Turntable sessions per parameter draw (pairs: the band's variance splits into parameter and sampling parts).
+TURNTABLE_PER_DRAW = 2
 _SCALE = ("accel_run_bias_mg", "gyro_run_bias_deg_h", "position_error_arcsec", "gasket_load_tilt_deg_g")
 
 
@@ -58,8 +65,30 @@ def _clip(name, v):
     return float(min(max(v, lo), hi))
 
 
+def _sqrt_cov(cov) -> np.ndarray:
+    """A matrix ``L`` with ``L Lᵀ = cov`` for a symmetric positive semi-definite ``cov`` (eigen-decomposition:
+    a zero or slightly negative eigenvalue of a finite-difference Hessian's inverse is clipped to 0)."""
+    c = np.asarray(cov, float)
+    vals, vecs = np.linalg.eigh(0.5 * (c + c.T))
+    return vecs * np.sqrt(np.clip(vals, 0.0, None))
+
+
 def posterior_draws(fit: ErrorModelFit, n: int, seed: int) -> list[tuple[ErrorModel, dict]]:
-    """``n`` parameter draws ``(ErrorModel, alpha_deg per test)`` from the fit's Laplace posterior.
+    """``n`` parameter draws ``(ErrorModel, alpha_deg per test)`` from the fit's joint Laplace posterior.
+
+    * **free values** (not on a prior bound): jointly normal, ``ML + L z`` with ``L Lᵀ = fit.cov`` (the full
+      inverse Hessian of −log L: correlations kept); without a joint covariance (``fit.cov is None``)
+      each value from its own σ;
+    * **a value on its prior bound** (no Hessian row: the likelihood still rises at the bound): one-sided,
+      a half-normal from the bound inward whose 95 % point is the one-sided profile limit
+      (``fit.limit95``), independent of the others;
+    * **installation angles** of each test: ``α̂ + L_t z_t`` with ``L_t L_tᵀ`` the least-squares
+      covariance of the angles fitted to that test's "before" columns (``fit.alpha_cov_rad2``;
+      independent of the error-model values, which are fitted to the "after" columns); held at their
+      fit when it is ``None``.
+
+    All values are clipped to their prior range. Draw order (seeded stream ``STREAM_POSTERIOR``):
+    the (n, 6) error-model normals, then the (n, tests, 3) angle normals.
 
     >>> import math
     >>> from mtcal.studies.wang2023cja.error_model import ErrorModelFit, ErrorModel
@@ -73,23 +102,34 @@ def posterior_draws(fit: ErrorModelFit, n: int, seed: int) -> list[tuple[ErrorMo
         raise ValueError(f"n must be >= 1, got {n}")
     rng = stream_rng(int(seed), STREAM_POSTERIOR)
     z = rng.standard_normal((n, len(FITTED_PARAMETERS)))
-    alpha = {t: tuple(float(x) for x in np.degrees(a)) for t, a in fit.alpha_rad.items()}
+    tests = sorted(fit.alpha_rad)
+    z_alpha = rng.standard_normal((n, len(tests), 3))
+    ml = np.array([getattr(fit.model, name) for name in FITTED_PARAMETERS])
+    x = ml.copy()[None].repeat(n, axis=0)
+    free = [j for j, name in enumerate(FITTED_PARAMETERS) if not fit.at_bound[name]]
+    if fit.cov is not None and free:
+        x[:, free] = ml[free] + z[:, free] @ _sqrt_cov(fit.cov).T
+    else:
+        for j in free:
+            sd = fit.std[FITTED_PARAMETERS[j]]
+            x[:, j] = ml[j] + z[:, j] * (sd if np.isfinite(sd) else 0.0)
+    for j, name in enumerate(FITTED_PARAMETERS):
+        if fit.at_bound[name]:
+            lim = fit.limit95[name]
+            if not np.isfinite(lim):
+                lo, hi = PRIOR_RANGES[name]
+                lim = hi if abs(ml[j] - lo) < abs(ml[j] - hi) else lo
+            x[:, j] = ml[j] + np.sign(lim - ml[j]) * np.abs(z[:, j]) * abs(lim - ml[j]) / 1.96
+    alpha = np.stack([np.broadcast_to(fit.alpha_rad[t], (n, 3)) for t in tests], axis=1).astype(float)
+    if fit.alpha_cov_rad2 is not None:
+        for k, t in enumerate(tests):
+            alpha[:, k] += z_alpha[:, k] @ _sqrt_cov(fit.alpha_cov_rad2[t]).T
+    alpha_deg = np.degrees(alpha)
     out = []
     for i in range(n):
-        vals = {}
-        for j, name in enumerate(FITTED_PARAMETERS):
-            ml = getattr(fit.model, name)
-            if fit.at_bound[name]:
-                lim = fit.limit95[name]
-                if not np.isfinite(lim):
-                    lo, hi = PRIOR_RANGES[name]
-                    lim = hi if abs(ml - lo) < abs(ml - hi) else lo
-                v = ml + np.sign(lim - ml) * abs(z[i, j]) * abs(lim - ml) / 1.96
-            else:
-                sd = fit.std[name] if np.isfinite(fit.std[name]) else 0.0
-                v = ml + z[i, j] * sd
-            vals[name] = _clip(name, v)
-        out.append((replace(fit.model, **vals), alpha))
+        vals = {name: _clip(name, x[i, j]) for j, name in enumerate(FITTED_PARAMETERS)}
+        out.append((replace(fit.model, **vals),
+                    {t: tuple(float(v) for v in alpha_deg[i, k]) for k, t in enumerate(tests)}))
     return out
 
 
@@ -120,32 +160,41 @@ def _draws(kind, fit, n, seed):
 
 
 def turntable_predictive(sc, fit: ErrorModelFit, kind: str, trials: int, seed: int, *,
-                         tests=("T1", "T2", "T3", "T4")) -> dict:
-    """Turntable sessions (T1 with its sweeps) with one parameter draw per trial.
+                         tests=("T1", "T2", "T3", "T4"), per_draw: int = TURNTABLE_PER_DRAW) -> dict:
+    """Turntable sessions (T1 with its sweeps) with one parameter draw per ``per_draw`` trials.
 
     Parameters
     ----------
     sc : TurntableScenario
-        The scenario (its ``errors``/``alpha_deg`` are replaced trial by trial).
+        The scenario (its ``errors``/``alpha_deg`` are replaced draw by draw).
     fit : ErrorModelFit
     kind : {"fitted", "prior"}
     trials : int
-        Trials (= parameter draws) per test.
+        Trials (sessions) per test.
     seed : int
     tests : tuple of str
         Tests to run.
+    per_draw : int
+        Consecutive trials sharing one parameter draw (the last draw may have fewer): trials
+        ``per_draw·k … per_draw·k + per_draw − 1`` share draw ``k``, each session its own noise
+        (:func:`variance_parts` splits a band's variance with them).
 
     Returns
     -------
-    dict test → TurntableRun (trial axis = draws).
+    dict test → TurntableRun (trial axis = sessions, draw-major).
     """
-    draws = _draws(kind, fit, trials, seed)
+    per_draw = int(per_draw)
+    if per_draw < 1:
+        raise ValueError(f"per_draw must be >= 1, got {per_draw}")
+    n_draws = -(-int(trials) // per_draw)
+    draws = _draws(kind, fit, n_draws, seed)
     out = {}
     for i, test in enumerate(tests):
         if test not in TABLES_1_TO_4:
             raise ValueError(f"tests must be names from {sorted(TABLES_1_TO_4)}, got {test!r}")
-        rngs = np.random.default_rng(np.random.SeedSequence([int(seed), 300 + i])).spawn(len(draws))
-        jobs = [TurntableJob(test, r, 1, errors=m, alpha_deg=a[test]) for r, (m, a) in zip(rngs, draws)]
+        rngs = np.random.default_rng(np.random.SeedSequence([int(seed), 300 + i])).spawn(n_draws)
+        jobs = [TurntableJob(test, r, min(per_draw, int(trials) - k * per_draw), errors=m, alpha_deg=a[test])
+                for k, (r, (m, a)) in enumerate(zip(rngs, draws))]
         out[test] = run_turntable_jobs(sc, jobs, with_sweeps=(test == "T1"), keep_trace=(test == "T1"), block=1)
         out[test] = _stack_jobs(out[test])
     return out
@@ -162,8 +211,9 @@ def windtunnel_predictive(make_scenario, fit: ErrorModelFit, kind: str, trials: 
     """Wind-tunnel runs with one parameter draw per ``per_draw`` trials.
 
     ``make_scenario(errors)`` builds the :class:`WindTunnelScenario` of one draw (its installation
-    angles and pitch-ratio error come from the printed wind-tunnel matrix: train). Returns one
-    :class:`WindTunnelRun` with ``trials`` trials.
+    angles and pitch-ratio error come from the printed wind-tunnel matrix: train; the turntable
+    installation-angle draws do not enter). Returns one :class:`WindTunnelRun` with ``trials`` trials,
+    draw-major (:func:`variance_parts` with ``per_draw``).
     """
     per_draw = int(per_draw)
     if per_draw < 1:

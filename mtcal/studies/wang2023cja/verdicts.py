@@ -46,7 +46,8 @@ from .error_model import PAPER_SIGN, TABLES_1_TO_4
 from .runs import position_errors_deg
 
 __all__ = ["SPLIT_FILE", "split", "printed_samples", "one_to_one", "scores", "claims", "unresolved_note",
-           "claim_block", "CLAIM_COLUMNS", "comparison", "shape_predictions", "no_physics_baseline"]
+           "claim_block", "CLAIM_COLUMNS", "comparison", "shape_predictions", "table08_cause", "no_physics_baseline",
+           "variance_parts"]
 
 SPLIT_FILE = "wang2023cja_split"
 _ANG = ("yaw", "pitch", "roll")
@@ -148,7 +149,7 @@ def _label(file, row, column):
     return f"{file.removesuffix('.csv').removeprefix('wang2023cja_')} r{row} {column}"
 
 
-def one_to_one(samples: dict, *, seed: int = 0) -> pd.DataFrame:
+def one_to_one(samples: dict, *, seed: int = 0, per_draw: int | None = None) -> pd.DataFrame:
     """One row per printed number of the split with a role other than ``input``/``not-compared``.
 
     Columns: ``file, row, column, role, quantity, paper, median, low, high, se_low, se_high,
@@ -160,6 +161,12 @@ def one_to_one(samples: dict, *, seed: int = 0) -> pd.DataFrame:
     band ends printed for a ``"95 % band"``; for a ``"range"`` (fewer than 1000 draws, ends = min and
     max) they do not describe what is printed and are NaN.
     Numbers without samples (a run not given) are left out.
+
+    With ``per_draw`` (≥ 2; the samples draw-major, ``per_draw`` sessions per parameter draw, as
+    :mod:`.predictive` runs them) four more columns split each row's spread by the law of total
+    variance (:func:`variance_parts`): ``var_band`` (the sample variance of our number,
+    unit²), ``var_parameter`` (Var of the conditional mean over the parameter draws), ``var_sampling``
+    (mean variance between sessions of one draw) and ``parameter_share``.
     """
     sp = split()
     rows = []
@@ -185,7 +192,60 @@ def one_to_one(samples: dict, *, seed: int = 0) -> pd.DataFrame:
                      "high": hi, "se_low": se_lo, "se_high": se_hi, "inside": bool(lo <= paper <= hi),
                      "rel_width": (hi - lo) / den, "interval_score_rel": float(fidelity.interval_score(lo, hi, paper)) / den,
                      "within25": fidelity.within_25pct(paper, med), "n": b["n"], "kind": b["kind"]})
+        if per_draw is not None:
+            parts = variance_parts(x, per_draw)
+            rows[-1].update({"var_band": float(np.var(x, ddof=1)), "var_parameter": parts["parameter"],
+                             "var_sampling": parts["sampling"], "parameter_share": parts["parameter_share"]})
     return pd.DataFrame(rows)
+
+
+def variance_parts(samples, per_draw: int) -> dict:
+    """Split the variance of ``samples`` into a parameter part and a sampling part (law of total variance).
+
+    ``samples`` (T,) are draw-major: consecutive groups of ``per_draw`` sessions share one parameter
+    draw θ (an incomplete last group is left out). One-way random-effects analysis of variance:
+
+    * ``sampling`` = E[Var(Y | θ)], estimated by the mean within-group variance (ddof 1);
+    * ``parameter`` = Var(E[Y | θ]), estimated by the variance of the group means (ddof 1) minus
+      ``sampling / per_draw`` (unbiased; it can come out slightly negative by Monte Carlo error when the
+      parameters contribute little);
+    * ``total`` = ``parameter + sampling``, an unbiased estimate of Var(Y) (compare the sample variance);
+    * ``parameter_share`` = ``parameter / total`` clipped to [0, 1].
+
+    Parameters
+    ----------
+    samples : array_like (T,)
+    per_draw : int
+        Sessions per parameter draw (≥ 2).
+
+    Returns
+    -------
+    dict with ``parameter``, ``sampling``, ``total`` (unit of ``samples`` squared), ``parameter_share`` and
+    ``draws`` (complete groups used).
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(0)
+    >>> y = np.repeat(rng.normal(0, 2, 4000), 2) + rng.normal(0, 1, 8000)
+    >>> p = variance_parts(y, 2)
+    >>> round(p["parameter"]), round(p["sampling"]), p["draws"]
+    (4, 1, 4000)
+    """
+    per_draw = int(per_draw)
+    if per_draw < 2:
+        raise ValueError(f"per_draw must be >= 2 to split the variance, got {per_draw}")
+    x = np.asarray(samples, float)
+    if x.ndim != 1:
+        raise ValueError(f"samples must be 1-D, got shape {x.shape}")
+    g = x.size // per_draw
+    if g < 2:
+        raise ValueError(f"samples must hold at least 2 complete groups of {per_draw}, got {x.size} values")
+    groups = x[:g * per_draw].reshape(g, per_draw)
+    sampling = float(np.mean(np.var(groups, axis=1, ddof=1)))
+    parameter = float(np.var(groups.mean(axis=1), ddof=1)) - sampling / per_draw
+    total = parameter + sampling
+    share = float(np.clip(parameter / total, 0.0, 1.0)) if total > 0 else float("nan")
+    return {"parameter": parameter, "sampling": sampling, "total": total, "parameter_share": share, "draws": g}
 
 
 def scores(table: pd.DataFrame, role: str = "heldout") -> dict:
@@ -402,7 +462,39 @@ def _errors(samples: dict, table: int, column: str, n: int) -> tuple[np.ndarray,
     return paper, ours, ref
 
 
-def shape_predictions(samples: dict) -> list[dict]:
+def table08_cause(causes: pd.DataFrame) -> str:
+    """One line: which Table 8 candidate causes (:func:`.table08_causes.candidate_fractions`) explain the paper's
+    MaxAE reductions.
+
+    A candidate *explains* the miss when the paper's pitch and yaw MaxAE reduction fractions both lie
+    inside its 95 % band and Tables 1–4 support it (``supported``). The candidates are computed on
+    Tables 1–4 only; Table 8 enters here, in the comparison.
+    """
+    df8 = paper_numbers.load(_F[8])
+    paper = {ax: 1.0 - float(df8[f"{ax}_deg"].iloc[1]) / float(df8[f"{ax}_deg"].iloc[0]) for ax in ("pitch", "yaw")}
+    inside = np.ones(len(causes), bool)
+    for ax in ("pitch", "yaw"):
+        inside &= (causes[f"{ax}_fraction_low"] <= paper[ax]).to_numpy() & (paper[ax] <= causes[f"{ax}_fraction_high"]).to_numpy()
+    supported = causes["supported"].to_numpy(bool)
+    explains = inside & supported
+    head = (f"paper MaxAE reduction pitch {paper['pitch']:.0%}, yaw {paper['yaw']:.0%}; candidate causes computed on "
+            f"Tables 1–4 only ({len(causes)}, wang2023cja_extra_table08_causes): ")
+    if explains.any():
+        return head + "explained by " + ", ".join(causes["candidate"][explains])
+    text = head + "none explains it"
+    if supported.any():
+        sup = causes[supported]
+        low = sup.loc[sup["pitch_fraction_low"].idxmin()]
+        text += (f" (the supported ones leave at least pitch {sup['pitch_fraction_low'].min():.0%}, "
+                 f"yaw {sup['yaw_fraction_low'].min():.0%}: lowest {low['candidate']})")
+    unsupported = causes[inside & ~supported]
+    if len(unsupported):
+        text += ("; reaching the paper's fractions needs " + ", ".join(
+            f"{r.candidate} ({r.support_reason})" for r in unsupported.itertuples()))
+    return text + "; the paper's 'after' coupling is not one its own Tables 1–4 or printed matrix predict"
+
+
+def shape_predictions(samples: dict, table08_note: str = "") -> list[dict]:
     """Shape predictions that can fail (comparison rows, kind ``claim``, our own threshold, role ``finding``).
 
     From :func:`printed_samples` of the T1 run (Tables 5, 7, 8):
@@ -413,7 +505,8 @@ def shape_predictions(samples: dict) -> list[dict]:
     * **Table 7 slope**: least-squares slope of the roll error against the reference roll, before and
       after; holds when the paper's slope lies inside our band of per-trial slopes.
     * **Table 8 reduction fraction**: ``1 − after / before`` of pitch and yaw MaxAE and RMSE; holds when
-      the paper's fraction lies inside our band of per-trial fractions.
+      the paper's fraction lies inside our band of per-trial fractions. A failing row's note ends with
+      ``table08_note`` (:func:`table08_cause`: the candidate causes computed on Tables 1–4).
 
     These are functions of held-out numbers (never of train ones), so they test the same paper
     numbers as the one-to-one rows; they are not scored as numbers (role ``finding``), only counted
@@ -463,7 +556,8 @@ def shape_predictions(samples: dict) -> list[dict]:
                 "(mtcal) the paper's reduction fraction lies inside our band", holds, band=b, role="finding",
                 source="mtcal finding", kind="claim", enforce=False,
                 note="" if holds else f"paper {frac_paper:.0%}, ours {b['median']:.0%} [{b['low']:.0%}, {b['high']:.0%}]: "
-                f"our calibration removes {'more' if b['median'] > frac_paper else 'less'} of the error than the paper's"))
+                f"our calibration removes {'more' if b['median'] > frac_paper else 'less'} of the error than the paper's"
+                + (f"; {table08_note}" if table08_note else "")))
     return rows
 
 
