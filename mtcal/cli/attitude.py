@@ -13,7 +13,8 @@ roll about y; exact at pitch ±90° with roll 0 there), ``is_static``.
 ``vqf.VQF(dt).updateBatch(gyr, acc)["quat6D"]`` and ``basicvqf`` ``vqf.BasicVQF(dt)…`` (Laidig &
 Seel 2023; gyro sample k integrated over t_(k-1)..t_k as their convention; heading free, z up),
 ``mahony``, ``madgwick`` (``ahrs``' filter, run by its compiled equivalent, β 0.033) and ``fusion``
-(``imufusion``, gain 0.5) through :func:`mtcal.filters.anchors.run_attitude_filter`, levelled from the first 100 samples.
+(``imufusion``, gain 0.5) through :func:`mtcal.filters.anchors.run_attitude_filter`, levelled from the
+first 100 samples.
 """
 
 from __future__ import annotations
