@@ -12,8 +12,9 @@ roll about y; exact at pitch ±90° with roll 0 there), ``is_static``.
 (same checks, same output schema), each at its documented default gains: ``vqf`` is exactly
 ``vqf.VQF(dt).updateBatch(gyr, acc)["quat6D"]`` and ``basicvqf`` ``vqf.BasicVQF(dt)…`` (Laidig &
 Seel 2023; gyro sample k integrated over t_(k-1)..t_k as their convention; heading free, z up),
-``mahony``, ``madgwick`` (``ahrs``, β 0.033) and ``fusion`` (``imufusion``, gain 0.5) through
-:func:`mtcal.filters.anchors.run_attitude_filter`, levelled from the first 100 samples.
+``mahony``, ``madgwick`` (``ahrs``' filter, run by its compiled equivalent, β 0.033) and ``fusion``
+(``imufusion``, gain 0.5) through :func:`mtcal.filters.anchors.run_attitude_filter`, levelled from the
+first 100 samples.
 """
 
 from __future__ import annotations

@@ -13,10 +13,21 @@ name       implementation               input units             quaternion / fra
 =========  ===========================  ======================  ======================  ===========
 qncf       mtcal.filters.qncf           rad/s, m/s²             w,x,y,z; s → w, z up    K_p (1/s)
 mahony     mtcal.filters.mahony         rad/s, m/s²             w,x,y,z; s → w, z up    K_p (1/s)
-madgwick   ``ahrs.filters.Madgwick``    rad/s, m/s² (normed)    w,x,y,z; s → earth      β (rad/s)
+madgwick   ``ahrs.filters.Madgwick``ᶜ   rad/s, m/s² (normed)    w,x,y,z; s → earth      β (rad/s)
 vqf        ``vqf.VQF`` (C++)            rad/s, m/s²             w,x,y,z; IMU → ENU-z    τ_acc (s)
 fusion     ``imufusion.Ahrs`` (C)       **°/s and g**           w,x,y,z; NWU (z up)     gain (1)
 =========  ===========================  ======================  ======================  ===========
+
+ᶜ computed by mtcal's compiled equivalent of ``ahrs``' per-sample Python loop
+(:func:`mtcal.filters.xio_ahrs.madgwick`, ``timing="before"``, ``hold_zero_rate=True``,
+the start normalised as ``ahrs`` does): the same IEEE operations up to the order of a few
+sums and ``ahrs``' repeated renormalisation of ``q``, so the two agree to ≈ 1e-12 per
+quaternion component (measured: :func:`reference_difference`, tested in
+``tests/filters/test_anchors.py``; the bake-off re-checks it on one record per family,
+:func:`mtcal.sweep.bakeoff.reference_check`) at ≈ 1/500 of the CPU (issue #37: ``ahrs``'
+loop was 32 % of notebook 50). ``ahrs`` is still required: the registry keeps its runner
+as the entry's ``reference``, and :func:`run_attitude_filter` runs it with
+``reference=True``.
 
 Adapters:
 
@@ -78,6 +89,7 @@ True
 
 from __future__ import annotations
 
+from contextlib import contextmanager
 
 import numpy as np
 
@@ -86,7 +98,7 @@ from mtcal.core.validate import STANDARD_GRAVITY_M_S2, as_float_array, positive_
 from mtcal.filters.registry import AxisContext, available_filters, get_filter, register_filter, require_filter
 
 __all__ = ["available_filters", "require_filter", "run_attitude_filter", "run_axis_angle_filter",
-           "tilt_error_rad", "twist_angle_rad", "RAMS_EKF_DEFAULT_GAIN"]
+           "reference_difference", "reference_runs", "tilt_error_rad", "twist_angle_rad", "RAMS_EKF_DEFAULT_GAIN"]
 
 _KI_RATIO_S = 50.0
 #: Default of the RAMS EKF's tuned value, σa,moving (m/s²).
@@ -102,7 +114,7 @@ def _level_q0(accel: np.ndarray, init_samples: int) -> np.ndarray:
 
 
 def run_attitude_filter(name: str, gyro_rad_s, accel_m_s2, dt_s: float, gain: float | None = None, *,
-                        q0=None, init_samples: int = 100) -> np.ndarray:
+                        q0=None, init_samples: int = 100, reference: bool = False) -> np.ndarray:
     """Run one bake-off filter on a batch of records; attitude in mtcal's convention.
 
     Parameters
@@ -121,6 +133,9 @@ def run_attitude_filter(name: str, gyro_rad_s, accel_m_s2, dt_s: float, gain: fl
         Initial attitude; default levelled from the first ``init_samples`` samples.
     init_samples : int
         Samples averaged for the default levelling.
+    reference : bool
+        Run the external library's own runner of an anchor that mtcal computes with a
+        compiled equivalent (the registry entry's ``reference``; e.g. ``ahrs``' Madgwick).
 
     Returns
     -------
@@ -130,13 +145,17 @@ def run_attitude_filter(name: str, gyro_rad_s, accel_m_s2, dt_s: float, gain: fl
     Raises
     ------
     ValueError
-        Unknown filter, bad shapes or non-positive gain/dt.
+        Unknown filter, bad shapes, non-positive gain/dt, or ``reference=True`` for a filter
+        without a reference runner.
     ImportError
         The filter's optional library is not installed.
     """
     entry = get_filter(name)
     if entry.output != "attitude":
         raise ValueError(f"filter {name!r} returns an {entry.output}, not an attitude")
+    if reference and entry.reference is None:
+        raise ValueError(f"filter {name!r} has no reference runner (reference=True needs one of "
+                         f"{[n for n in available_filters(output='attitude') if get_filter(n).reference]})")
     require_filter(name)
     w = as_float_array(gyro_rad_s, "gyro_rad_s", ndim=3, last_dim=3, copy=False)
     a = as_float_array(accel_m_s2, "accel_m_s2", ndim=3, last_dim=3, copy=False)
@@ -149,7 +168,74 @@ def run_attitude_filter(name: str, gyro_rad_s, accel_m_s2, dt_s: float, gain: fl
     if q_init.shape not in ((4,), (trials, 4)):
         raise ValueError(f"q0 must have shape (4,) or ({trials}, 4), got {q_init.shape}")
     q_init = np.broadcast_to(q_init, (trials, 4))
-    return entry.run(w, a, dt, g, q_init)
+    return (entry.reference if reference else entry.run)(w, a, dt, g, q_init)
+
+
+def reference_difference(name: str, gyro_rad_s, accel_m_s2, dt_s: float, gain: float | None = None, *,
+                         q0=None, init_samples: int = 100) -> float:
+    """Largest |Δ| over all quaternion components between a filter's runner and its library reference.
+
+    For an anchor computed by mtcal's compiled equivalent of an external library's loop
+    (registry ``reference``), both run on the same records and start; the sign of each
+    quaternion is taken as returned (both keep ``q0``'s hemisphere).
+
+    Parameters
+    ----------
+    name, gyro_rad_s, accel_m_s2, dt_s, gain, q0, init_samples
+        As :func:`run_attitude_filter`.
+
+    Returns
+    -------
+    float
+        ``max |q_run − q_reference|`` (dimensionless).
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(1)
+    >>> acc = np.tile([0.0, 0.0, 9.80665], (1, 300, 1)) + rng.normal(0, 0.05, (1, 300, 3))
+    >>> gyr = rng.normal(0, 0.01, (1, 300, 3))
+    >>> reference_difference("madgwick", gyr, acc, 0.01) < 1e-13
+    True
+    """
+    run = run_attitude_filter(name, gyro_rad_s, accel_m_s2, dt_s, gain, q0=q0, init_samples=init_samples,
+                              reference=False)
+    ref = run_attitude_filter(name, gyro_rad_s, accel_m_s2, dt_s, gain, q0=q0, init_samples=init_samples,
+                              reference=True)
+    return float(np.max(np.abs(run - ref)))
+
+
+@contextmanager
+def reference_runs(*names: str):
+    """Within the block, the named filters run their library reference (this process only).
+
+    For checks that go through code which looks filters up by name (the sweep evaluators,
+    :func:`mtcal.sweep.bakeoff.reference_check`); restored on exit, also on error.
+
+    Examples
+    --------
+    >>> with reference_runs("madgwick"):
+    ...     get_filter("madgwick").run is get_filter("madgwick").reference
+    True
+    >>> get_filter("madgwick").run is get_filter("madgwick").reference
+    False
+    """
+    saved = [get_filter(n) for n in names]
+    missing = [e.name for e in saved if e.reference is None]
+    if missing:
+        raise ValueError(f"filters without a reference runner: {missing}")
+    try:
+        for e in saved:
+            _reregister(e, e.reference)
+        yield
+    finally:
+        for e in saved:
+            _reregister(e, e.run)
+
+
+def _reregister(entry, run) -> None:
+    register_filter(entry.name, run, output=entry.output, default_gain=entry.default_gain, gain_unit=entry.gain_unit,
+                    origin=entry.origin, description=entry.description, requires=entry.requires,
+                    reference=entry.reference, replace=True)
 
 
 def run_axis_angle_filter(name: str, gyro_rad_s, accel_m_s2, dt_s: float, gain: float | None,
@@ -232,6 +318,13 @@ def _madgwick(w: np.ndarray, a: np.ndarray, dt: float, beta: float, q0: np.ndarr
     return Madgwick(gyr=_delayed(w), acc=_delayed(a), frequency=1.0 / dt, beta=beta, q0=q0.copy()).Q
 
 
+def _madgwick_compiled(w: np.ndarray, a: np.ndarray, dt: float, beta: float, q0: np.ndarray) -> np.ndarray:
+    """:func:`_madgwick` without the Python loop: ahrs' row t (inputs delayed) is the attitude before sample t."""
+    from mtcal.filters.xio_ahrs import madgwick
+
+    return madgwick(w, a, dt, beta, q0=q0 / np.linalg.norm(q0), timing="before", hold_zero_rate=True)[0]
+
+
 def _vqf(w: np.ndarray, a: np.ndarray, dt: float, tau_acc_s: float, q0: np.ndarray) -> np.ndarray:
     import vqf
 
@@ -305,9 +398,10 @@ register_filter("qncf", _qncf, output="attitude", default_gain=1.0, gain_unit="K
                 description="quaternion nonlinear complementary filter (wang2023cja Eq 5-9), K_i = K_p / 50 s")
 register_filter("mahony", _mahony, output="attitude", default_gain=1.0, gain_unit="K_p (1/s)", origin="ours",
                 description="IMU-only Mahony explicit complementary filter, K_i = K_p / 50 s")
-register_filter("madgwick", _per_record(_madgwick), output="attitude", default_gain=0.033,
-                gain_unit="beta (rad/s)", origin="anchor", requires="ahrs",
-                description="ahrs.filters.Madgwick (gradient descent), inputs delayed one sample")
+register_filter("madgwick", _per_record(_madgwick_compiled), output="attitude", default_gain=0.033,
+                gain_unit="beta (rad/s)", origin="anchor", requires="ahrs", reference=_per_record(_madgwick),
+                description="ahrs.filters.Madgwick (gradient descent), inputs delayed one sample; "
+                            "compiled equivalent (xio_ahrs), ahrs itself as the reference")
 register_filter("vqf", _per_record(_vqf), output="attitude", default_gain=3.0, gain_unit="tau_acc (s)",
                 origin="anchor", requires="vqf", description="vqf.VQF 6D (Laidig & Seel 2023), gyro delayed one sample")
 register_filter("fusion", _per_record(_fusion), output="attitude", default_gain=0.5, gain_unit="gain (1)",

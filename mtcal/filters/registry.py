@@ -109,6 +109,10 @@ class FilterEntry:
         One line for listings.
     requires : str or None
         Optional Python package the runner imports (``None`` = always available).
+    reference : callable or None
+        For an anchor that ``run`` computes with mtcal's compiled equivalent of the library's
+        per-sample loop: the library's own runner (same signature as ``run``), kept to check
+        their equality on a subset (:func:`mtcal.filters.anchors.reference_difference`).
     """
 
     name: str
@@ -119,10 +123,12 @@ class FilterEntry:
     origin: str
     description: str = ""
     requires: str | None = None
+    reference: Callable | None = None
 
 
 def register_filter(name: str, run: Callable, *, output: str, default_gain: float, gain_unit: str, origin: str,
-                    description: str = "", requires: str | None = None, replace: bool = False) -> FilterEntry:
+                    description: str = "", requires: str | None = None, reference: Callable | None = None,
+                    replace: bool = False) -> FilterEntry:
     """Register a filter; returns its :class:`FilterEntry`.
 
     Raises
@@ -130,7 +136,7 @@ def register_filter(name: str, run: Callable, *, output: str, default_gain: floa
     ValueError
         Empty/duplicate name (unless ``replace``), unknown ``output``/``origin``, gain ≤ 0.
     TypeError
-        ``run`` not callable.
+        ``run`` (or a given ``reference``) not callable.
     """
     if not isinstance(name, str) or not name or "." in name:
         raise ValueError(f"filter name must be a non-empty str without '.', got {name!r}")
@@ -138,13 +144,16 @@ def register_filter(name: str, run: Callable, *, output: str, default_gain: floa
         raise ValueError(f"filter {name!r} is already registered (pass replace=True)")
     if not callable(run):
         raise TypeError(f"run must be callable, got {type(run).__name__}")
+    if reference is not None and not callable(reference):
+        raise TypeError(f"reference must be callable or None, got {type(reference).__name__}")
     if output not in OUTPUTS:
         raise ValueError(f"output must be one of {list(OUTPUTS)}, got {output!r}")
     if origin not in ORIGINS:
         raise ValueError(f"origin must be one of {list(ORIGINS)}, got {origin!r}")
     if isinstance(default_gain, bool) or not isinstance(default_gain, (int, float)) or not default_gain > 0:
         raise ValueError(f"default_gain must be a number > 0, got {default_gain!r}")
-    entry = FilterEntry(name, run, output, float(default_gain), str(gain_unit), origin, description, requires)
+    entry = FilterEntry(name, run, output, float(default_gain), str(gain_unit), origin, description, requires,
+                        reference)
     _REGISTRY[name] = entry
     return entry
 

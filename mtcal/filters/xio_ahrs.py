@@ -68,7 +68,7 @@ FIELD_REFERENCES = ("c", "paper")
 
 
 @jit()
-def _madgwick_lane(g, a, m, use_mag, q_init, beta, dt, field_k, before, out, lane):
+def _madgwick_lane(g, a, m, use_mag, q_init, beta, dt, field_k, before, hold_zero_rate, out, lane):
     q0, q1, q2, q3 = q_init[0], q_init[1], q_init[2], q_init[3]
     for i in range(g.shape[0]):
         if before:
@@ -77,6 +77,14 @@ def _madgwick_lane(g, a, m, use_mag, q_init, beta, dt, field_k, before, out, lan
             out[lane, i, 2] = q2
             out[lane, i, 3] = q3
         gx, gy, gz = g[i, 0], g[i, 1], g[i, 2]
+        if hold_zero_rate and gx == 0.0 and gy == 0.0 and gz == 0.0:
+            # ahrs' Madgwick.updateIMU/updateMARG return q unchanged on an exactly zero rate sample
+            if not before:
+                out[lane, i, 0] = q0
+                out[lane, i, 1] = q1
+                out[lane, i, 2] = q2
+                out[lane, i, 3] = q3
+            continue
         d0 = 0.5 * (-q1 * gx - q2 * gy - q3 * gz)
         d1 = 0.5 * (q0 * gx + q2 * gz - q3 * gy)
         d2 = 0.5 * (q0 * gy - q1 * gz + q3 * gx)
@@ -142,9 +150,9 @@ def _madgwick_lane(g, a, m, use_mag, q_init, beta, dt, field_k, before, out, lan
 
 
 @jit(parallel=True)
-def _madgwick_lanes(g, a, m, use_mag, q_init, betas, dt, field_k, before, out):
+def _madgwick_lanes(g, a, m, use_mag, q_init, betas, dt, field_k, before, hold_zero_rate, out):
     for lane in prange(betas.shape[0]):
-        _madgwick_lane(g, a, m, use_mag, q_init, betas[lane], dt, field_k, before, out, lane)
+        _madgwick_lane(g, a, m, use_mag, q_init, betas[lane], dt, field_k, before, hold_zero_rate, out, lane)
 
 
 @jit()
@@ -253,7 +261,7 @@ def _gains(values, name: str, allow_zero: bool = False) -> np.ndarray:
 
 
 def madgwick(gyro_rad_s, accel_m_s2, dt_s: float, beta_rad_s, *, mag_uT=None, q0=None, timing: str = "after",
-             field_reference: str = "c") -> np.ndarray:
+             field_reference: str = "c", hold_zero_rate: bool = False) -> np.ndarray:
     """Madgwick's gradient-descent filter (6D, or 9D with ``mag_uT``) for each β, shape (L, N, 4).
 
     Parameters
@@ -272,6 +280,9 @@ def madgwick(gyro_rad_s, accel_m_s2, dt_s: float, beta_rad_s, *, mag_uT=None, q0
         Row k = estimate after sample k, or before it (attitude at ``t_k``).
     field_reference : {"c", "paper"}
         9D field reference: x-io's C code (half of Eq 46, what BROAD ran) or Eq 46.
+    hold_zero_rate : bool
+        Skip a sample whose rate is exactly zero (q unchanged), as ``ahrs``' Madgwick does
+        (the compiled bake-off anchor, :mod:`mtcal.filters.anchors`); x-io's code updates.
 
     Returns
     -------
@@ -287,7 +298,7 @@ def madgwick(gyro_rad_s, accel_m_s2, dt_s: float, beta_rad_s, *, mag_uT=None, q0
     betas = _gains(beta_rad_s, "beta_rad_s")
     out = np.empty((betas.size, g.shape[0], 4))
     _madgwick_lanes(g, a, m, use_mag, q_init, betas, dt, 1.0 if field_reference == "c" else 2.0,
-                    timing == "before", out)
+                    timing == "before", bool(hold_zero_rate), out)
     return out
 
 

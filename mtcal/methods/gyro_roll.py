@@ -42,7 +42,8 @@ from mtcal.core.validate import angle_rad, as_float_array, positive_scalar, time
 
 __all__ = ["MAX_RATE_RAD_S", "body_rates_two_dof", "two_dof_trajectory", "simulate_two_dof_imu",
            "euler_differential", "roll_decoupled_integration", "roll_projection",
-           "pitch_rate_magnitude", "roll_hybrid", "roll_hybrid_rmse_sweep", "projection_hybrid_max_errors",
+           "pitch_rate_magnitude", "roll_hybrid", "roll_estimates", "roll_hybrid_rmse_sweep",
+           "projection_hybrid_max_errors",
            "projection_roll_error_eq14",
            "projection_roll_error_exact", "loglog_slope"]
 
@@ -314,6 +315,38 @@ def roll_hybrid(gyro_rad_s, dt_s: float, threshold_rad_s: float, *,
     roll_rad : ndarray, shape (..., N)
     uses_projection : ndarray of bool, shape (..., N)
     """
+    _, _, hybrid, use = roll_estimates(gyro_rad_s, dt_s, threshold_rad_s, roll0=roll0)
+    return hybrid, use
+
+
+def roll_estimates(gyro_rad_s, dt_s: float, threshold_rad_s: float, *,
+                   roll0=0.0) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The three roll estimates of tan2022 from one pass over the parts they share (rad), shape (..., N) each.
+
+    Projection (Eq 13, :func:`roll_projection`), integration (Eq 12,
+    :func:`roll_decoupled_integration`) and the Fig 7 hybrid (:func:`roll_hybrid`, which
+    is built from the other two), with the hybrid's switch: the same numbers as the three
+    functions called one by one, the projection and the integrated x rate computed once.
+
+    Parameters
+    ----------
+    gyro_rad_s, dt_s, threshold_rad_s, roll0
+        As :func:`roll_hybrid`.
+
+    Returns
+    -------
+    projection_rad, integration_rad, hybrid_rad : ndarray, shape (..., N)
+    uses_projection : ndarray of bool, shape (..., N)
+
+    Examples
+    --------
+    >>> w = np.tile([0.01, 0.2, 0.0], (50, 1))
+    >>> p, i, h, use = roll_estimates(w, 0.01, 0.1)
+    >>> bool(np.array_equal(h, roll_hybrid(w, 0.01, 0.1)[0]))
+    True
+    >>> bool(np.array_equal(i, roll_decoupled_integration(w, 0.01)) and np.array_equal(p, roll_projection(w)))
+    True
+    """
     w = _gyro(gyro_rad_s)
     dt = positive_scalar(dt_s, "dt_s")
     thr = positive_scalar(threshold_rad_s, "threshold_rad_s", allow_zero=True)
@@ -324,7 +357,7 @@ def roll_hybrid(gyro_rad_s, dt_s: float, threshold_rad_s: float, *,
     proj = roll_projection(w)
     use = pitch_rate_magnitude(w) > thr
     cum = _cumulative_angle(w[..., 0], dt)
-    return _hybrid_from_parts(proj, cum, use, phi0), use
+    return proj, phi0 + cum, _hybrid_from_parts(proj, cum, use, phi0), use
 
 
 def _hybrid_from_parts(proj: np.ndarray, cum: np.ndarray, use: np.ndarray, phi0: np.ndarray) -> np.ndarray:

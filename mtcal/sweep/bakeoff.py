@@ -46,7 +46,8 @@ from mtcal.sweep.engine import run_sweep
 from mtcal.sweep.spec import SweepSpec
 
 __all__ = ["BAKEOFF_DEFAULTS", "FAMILIES", "BAND_MIN_TRIALS", "bakeoff_params", "family_specs", "band_summary",
-           "tune_gains", "BakeoffResult", "run_bakeoff", "band_label", "headline_table", "bakeoff_figure", "findings"]
+           "tune_gains", "BakeoffResult", "run_bakeoff", "reference_check", "REFERENCE_TOLERANCE_DEG", "band_label",
+           "headline_table", "bakeoff_figure", "findings"]
 
 #: Scenario parameters of the bake-off (what a parameters cell may change), with defaults.
 BAKEOFF_DEFAULTS = {
@@ -344,6 +345,54 @@ def run_bakeoff(params: dict, gains: dict, *, seed: int, trials: int, filter_tri
         tables[family] = _summary_table(frame, grid, metric_cols)
         per_trial[family] = frame
     return BakeoffResult(tables, per_trial, gains)
+
+
+#: Largest metric difference (deg) allowed between an anchor's compiled equivalent and its library.
+REFERENCE_TOLERANCE_DEG = 1e-9
+
+
+def reference_check(params: dict, gains: dict, *, seed: int, trials: int = 1, hold_s: float | None = None,
+                    families=tuple(FAMILIES)) -> pd.DataFrame:
+    """Anchors computed by a compiled equivalent, re-run through their own library on a check subset.
+
+    For every filter of ``params`` whose registry entry has a ``reference`` (e.g. Madgwick:
+    mtcal's compiled loop, ``ahrs`` as the reference), the first scenario cell of each family
+    (first motion/vibration and grade) is evaluated twice on the same ``trials`` records
+    (seed and cell as in :func:`run_bakeoff`, so trial 0 is the bake-off's own trial 0 of that
+    cell): once as the bake-off runs it, once through the library
+    (:func:`mtcal.filters.anchors.reference_runs`, in this process).
+
+    Returns
+    -------
+    DataFrame
+        ``family, scenario, filter, quantity, trial, compiled_deg, reference_deg, difference_deg``
+        and ``equal`` (``difference_deg <= REFERENCE_TOLERANCE_DEG``); empty when no filter of
+        ``params`` has a reference.
+    """
+    from mtcal.filters.anchors import reference_runs
+    from mtcal.filters.registry import get_filter
+
+    p = bakeoff_params(**params)
+    names = [f for f in p["filters"] if get_filter(f).reference is not None]
+    first = {k: (v[:1] if isinstance(v, list) and k not in ("filters", "gain_scales") else v) for k, v in p.items()}
+    rows = []
+    for family in families if names else ():
+        spec = family_specs(first, family, seed=seed, trials=trials, hold_s=hold_s, gains=gains[family], only=names,
+                            block_trials=trials)
+        compiled = run_sweep(spec, workers=1, progress=False).trials_frame()
+        with reference_runs(*names):
+            reference = run_sweep(spec, workers=1, progress=False).trials_frame()
+        for col in [c for c in compiled.columns if c.split(".", 1)[0] in names]:
+            f, quantity = col.split(".", 1)
+            for j, (a, b) in enumerate(zip(compiled[col].to_numpy(), reference[col].to_numpy())):
+                scenario = _scenario_label(compiled.iloc[j], family)
+                rows.append({"family": family, "scenario": scenario, "filter": f, "quantity": quantity,
+                             "trial": int(compiled["trial"].iloc[j]), "compiled_deg": float(a),
+                             "reference_deg": float(b), "difference_deg": float(abs(a - b))})
+    out = pd.DataFrame(rows, columns=["family", "scenario", "filter", "quantity", "trial", "compiled_deg",
+                                      "reference_deg", "difference_deg"])
+    out["equal"] = out["difference_deg"] <= REFERENCE_TOLERANCE_DEG
+    return out
 
 
 def _scenario_label(row: pd.Series, family: str) -> str:

@@ -8,8 +8,8 @@ import pytest
 from mtcal.core import rotations
 from mtcal.core.simulate import Trajectory, simulate_imu
 from mtcal.filters import registry
-from mtcal.filters.anchors import (available_filters, require_filter, run_attitude_filter, tilt_error_rad,
-                                   twist_angle_rad)
+from mtcal.filters.anchors import (available_filters, reference_difference, reference_runs, require_filter,
+                                   run_attitude_filter, tilt_error_rad, twist_angle_rad)
 from mtcal.filters.registry import filter_names, get_filter
 
 G = 9.80665
@@ -112,3 +112,62 @@ def test_available_and_errors(monkeypatch):
     with pytest.raises(ImportError, match="optional package 'vqf'"):
         require_filter("vqf")
     assert "vqf" not in available_filters()
+
+
+needs_ahrs = pytest.mark.skipif(not _installed("madgwick"), reason="optional ahrs missing")
+
+
+def _rotating_record(n=6000, fs=200.0, seed=4):
+    rng = np.random.default_rng(seed)
+    t = np.arange(n) / fs
+    angle = np.radians(40.0) * np.sin(2 * np.pi * 0.3 * t)
+    q_true = rotations.quat_from_rotvec(angle[:, None] * np.array([0.6, 0.0, 0.8]))
+    rec = simulate_imu(Trajectory(t, q_true))
+    gyr = rec.gyro_rad_s[None] + rng.normal(0, 2e-3, (1, n, 3))
+    acc = rec.accel_m_s2[None] + rng.normal(0, 0.05, (1, n, 3))
+    return gyr, acc, 1 / fs
+
+
+@needs_ahrs
+def test_compiled_madgwick_equals_ahrs_through_the_adapter():
+    # the bake-off's Madgwick runs mtcal's compiled loop; ahrs' own (delayed inputs, q0 renormalised) is its reference
+    gyr, acc, dt = _rotating_record()
+    entry = get_filter("madgwick")
+    assert entry.origin == "anchor" and entry.requires == "ahrs" and entry.reference is not None
+    for beta in (0.0033, 0.033, 0.33):
+        assert reference_difference("madgwick", gyr, acc, dt, beta) < 1e-12
+    q = run_attitude_filter("madgwick", gyr, acc, dt)
+    ref = run_attitude_filter("madgwick", gyr, acc, dt, reference=True)
+    assert not np.array_equal(q, run_attitude_filter("mahony", gyr, acc, dt))
+    np.testing.assert_allclose(q, ref, rtol=0, atol=1e-12)
+    # ahrs holds q on an exactly zero rate sample; so does the compiled loop
+    gyr0 = gyr.copy()
+    gyr0[0, 1000:1400] = 0.0
+    assert reference_difference("madgwick", gyr0, acc, dt) < 1e-12
+    q0 = run_attitude_filter("madgwick", gyr0, acc, dt)
+    assert np.array_equal(q0[0, 1001:1401], np.repeat(q0[0, 1001:1002], 400, axis=0))
+
+
+@needs_ahrs
+def test_reference_runs_swaps_in_the_library_and_restores():
+    gyr, acc, dt = _rotating_record(n=800)
+    compiled = get_filter("madgwick").run
+    with reference_runs("madgwick"):
+        assert get_filter("madgwick").run is get_filter("madgwick").reference
+        inside = run_attitude_filter("madgwick", gyr, acc, dt)
+    assert get_filter("madgwick").run is compiled
+    assert np.array_equal(inside, run_attitude_filter("madgwick", gyr, acc, dt, reference=True))
+    with pytest.raises(RuntimeError, match="boom"):
+        with reference_runs("madgwick"):
+            raise RuntimeError("boom")
+    assert get_filter("madgwick").run is compiled
+    assert filter_names(output="attitude") == ["qncf", "mahony", "madgwick", "vqf", "fusion"]
+
+
+def test_reference_is_refused_for_a_filter_without_one():
+    gyr, acc, dt = _rotating_record(n=300)
+    with pytest.raises(ValueError, match="'qncf' has no reference runner"):
+        run_attitude_filter("qncf", gyr, acc, dt, reference=True)
+    with pytest.raises(ValueError, match=r"filters without a reference runner: \['qncf'\]"):
+        with reference_runs("qncf"):
+            pass

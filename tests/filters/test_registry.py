@@ -103,6 +103,10 @@ def test_register_errors():
         register_filter("a.b", _hold, output="attitude", default_gain=1.0, gain_unit="", origin="ours")
     with pytest.raises(TypeError, match="run must be callable"):
         register_filter("x", None, output="attitude", default_gain=1.0, gain_unit="", origin="ours")
+    with pytest.raises(TypeError, match="reference must be callable or None, got str"):
+        register_filter("x", _hold, output="attitude", default_gain=1.0, gain_unit="", origin="anchor",
+                        reference="ahrs")
+    assert "x" not in filter_names()
     with pytest.raises(ValueError, match="filter must be one of"):
         get_filter("nope")
     with pytest.raises(ValueError, match="filter must be one of"):

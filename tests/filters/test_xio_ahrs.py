@@ -71,6 +71,20 @@ def test_lanes_equal_single_runs_and_timing():
     assert np.array_equal(before[:, 1:], after[:, :-1]) and np.array_equal(before[:, 0], np.tile([1.0, 0, 0, 0], (2, 1)))
 
 
+def test_hold_zero_rate_keeps_q_on_exact_zero_rate_samples_like_ahrs():
+    from ahrs.filters import Madgwick
+
+    gyr, acc, mag, dt = _record(400)
+    gyr = gyr.copy()
+    gyr[100:150] = 0.0
+    q0 = xio_ahrs.initial_quaternion_acc_mag(acc[0], mag[0])
+    held = xio_ahrs.madgwick(gyr, acc, dt, 0.12, q0=q0, hold_zero_rate=True)[0]
+    assert np.array_equal(held[100:150], np.repeat(held[99:100], 50, axis=0))
+    assert np.abs(held - _ahrs_loop(Madgwick(beta=0.12, frequency=1 / dt).updateIMU, q0, gyr, acc)).max() < 1e-12
+    plain = xio_ahrs.madgwick(gyr, acc, dt, 0.12, q0=q0)[0]          # x-io's code updates on a zero rate
+    assert np.array_equal(plain[:100], held[:100]) and not np.array_equal(plain[100:150], held[100:150])
+
+
 def test_errors():
     gyr, acc, mag, dt = _record(10)
     with pytest.raises(ValueError, match="beta_rad_s must be one or more finite positive"):

@@ -289,3 +289,18 @@ def test_projection_hybrid_max_errors_matches_the_estimators_and_stops_early(rng
         gyro_roll.projection_hybrid_max_errors(w, 1e-3, 0.01, slow[:-1])
     with pytest.raises(ValueError, match="stop_above_rad must be > 0"):
         gyro_roll.projection_hybrid_max_errors(w, 1e-3, 0.01, slow, stop_above_rad=0.0)
+
+
+def test_roll_estimates_equal_the_three_functions_bit_for_bit():
+    rng = np.random.default_rng(5)
+    t = np.arange(4000) * DT
+    w = np.stack([np.full_like(t, D(0.2)), D(40.0) * np.cos(np.pi * t), np.full_like(t, D(0.2))], -1)
+    w = w[None] + D(0.05) * rng.standard_normal((3, t.size, 3))      # (T, N, 3), long enough for the kernel
+    roll0 = D(np.array([0.0, 3.0, -2.0]))
+    p, i, h, use = gyro_roll.roll_estimates(w, DT, D(0.5), roll0=roll0)
+    hyb, use_ref = gyro_roll.roll_hybrid(w, DT, D(0.5), roll0=roll0)
+    assert np.array_equal(p, gyro_roll.roll_projection(w)) and np.array_equal(use, use_ref)
+    assert np.array_equal(i, gyro_roll.roll_decoupled_integration(w, DT, roll0=roll0)) and np.array_equal(h, hyb)
+    assert use.any() and not use.all()
+    with pytest.raises(ValueError, match="threshold_rad_s must be in rad/s"):
+        gyro_roll.roll_estimates(w, DT, 1e4)

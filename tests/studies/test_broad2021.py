@@ -72,6 +72,15 @@ def test_batched_errors_equal_the_core_metric(trial):
     for i in range(2):
         ref = np.degrees(np.stack(metrics.orientation_errors(q[i], trial.opt_quat[:3000])))
         np.testing.assert_allclose(batch[:, i], ref, atol=1e-9, equal_nan=True)
+    # the inclination alone (what the twin reads) is the same numbers, bit for bit, batched and single
+    only = runs.errors_deg(q, trial.opt_quat[:3000], inclination_only=True)
+    assert only.shape == (1, 2, 3000) and np.array_equal(only[0], batch[2], equal_nan=True)
+    single = runs.errors_deg(q[0], trial.opt_quat[:3000])
+    assert np.array_equal(runs.errors_deg(q[0], trial.opt_quat[:3000], inclination_only=True)[0], single[2],
+                          equal_nan=True)
+    qf = np.stack([trial.opt_quat, np.roll(trial.opt_quat, 7, axis=0)])
+    qf = np.where(np.isfinite(qf), qf, 1.0)
+    assert np.array_equal(runs.rmse_deg(qf, trial, inclination_only=True), runs.rmse_deg(qf, trial)[2:])
 
 
 def test_madgwick_6d_matches_the_ahrs_anchor_adapter(trial):
@@ -80,7 +89,7 @@ def test_madgwick_6d_matches_the_ahrs_anchor_adapter(trial):
 
     g, a = trial.gyro_rad_s[:1500], trial.accel_m_s2[:1500]
     ours = runs.run_6d("madgwick", g, a, trial.dt_s)
-    anchor = run_attitude_filter("madgwick", g[None], a[None], trial.dt_s)[0]
+    anchor = run_attitude_filter("madgwick", g[None], a[None], trial.dt_s, reference=True)[0]   # ahrs itself
     assert np.abs(ours - anchor).max() < 1e-10
 
 

@@ -153,3 +153,26 @@ def test_surface_finding_fails_when_the_ranking_is_not_resolved(small_run):
     forced = h.copy()
     forced.loc[forced.family == "surface", ["winner", "resolved"]] = ["rams_ekf", True]
     assert all(r["holds"] for r in findings(res, forced) if r["artifact"] == "wang2022sensors_extra_bakeoff_surface")
+
+
+def test_reference_check_reruns_the_compiled_anchor_through_its_library_on_the_bakeoffs_own_records():
+    pytest.importorskip("ahrs")
+    from mtcal.sweep.bakeoff import REFERENCE_TOLERANCE_DEG, reference_check
+    from mtcal.sweep.evaluators import filter_gain
+
+    p = {**SMALL, "filters": ["qncf", "madgwick"], "vibration_levels_m_s2": [3.0, 0.0]}
+    gains = {fam: {f: filter_gain({"gain_scale": 1.0}, f) for f in ("qncf", "madgwick", "rams_ekf")}
+             for fam in ("turntable", "windtunnel", "surface")}
+    check = reference_check(p, gains, seed=2, hold_s=0.5, trials=2)
+    assert set(check["filter"]) == {"madgwick"} and set(check.trial) == {0, 1}       # only filters with a reference
+    assert set(check.scenario) == {"aoa sweep, wang2023cja", "vibration 3 m/s², wang2023cja",
+                                   "vibration 0 m/s², wang2022sensors"}              # the first cell of each family
+    assert len(check) == 3 * 3 * 2 and check.equal.all()
+    assert (check.difference_deg <= REFERENCE_TOLERANCE_DEG).all() and (check.compiled_deg > 0).all()
+    # trial j of the check is the bake-off's own trial j of that cell
+    res = run_bakeoff(p, gains, seed=2, trials=2, hold_s=0.5, families=("windtunnel",))
+    tr = res.trials["windtunnel"]
+    own = tr.loc[tr.vibration_m_s2 == 3.0, "madgwick.tilt_rmse_deg"].to_numpy()
+    got = check[(check.family == "windtunnel") & (check.quantity == "tilt_rmse_deg")].compiled_deg.to_numpy()
+    assert np.array_equal(own, got)
+    assert reference_check({**p, "filters": ["qncf"]}, gains, seed=2, hold_s=0.5).empty

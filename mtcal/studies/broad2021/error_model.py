@@ -292,7 +292,7 @@ def twin_predictions(trial: Trial, filters, n_draws: int, seed: int, **twin) -> 
     out = {}
     for f in filters:
         q = run_6d(f, rec.gyro_rad_s, rec.accel_m_s2, trial.dt_s)
-        r = rmse_deg(q, scored)[2]
+        r = rmse_deg(q, scored, inclination_only=True)[0]
         out[f] = TwinPrediction(f, r, metrics.band_or_range(r, what="twin draws"), model)
     return out
 

@@ -116,16 +116,20 @@ def run_6d(name: str, gyro_rad_s, accel_m_s2, dt_s: float) -> np.ndarray:
     return out[0] if single else out
 
 
-def errors_deg(q_est, opt_quat) -> np.ndarray:
+def errors_deg(q_est, opt_quat, *, inclination_only: bool = False) -> np.ndarray:
     """BROAD's total, heading and inclination error (deg) of estimates against optical truth, shape (3, …, N).
 
     One record (N, 4): :func:`mtcal.core.metrics.orientation_errors`. A batch (L, N, 4) (gain lanes,
     twin draws): the same definitions from the two components of ``q_e = q ⊗ q_ref⁻¹`` they need
     (``w_e = q·q_ref``, ``z_e``), vectorised (tests check it against ``orientation_errors``).
+    ``inclination_only``: the inclination row alone, shape (1, …, N) — the same numbers, without the
+    total and heading errors' ``arccos``/``arctan`` over every sample (the twin's predictions read
+    only the inclination).
     """
     q = np.asarray(q_est, dtype=float)
     if q.ndim == 2:
-        return np.degrees(np.stack(metrics.orientation_errors(q, opt_quat)))
+        e = metrics.orientation_errors(q, opt_quat)
+        return np.degrees(np.stack(e[2:] if inclination_only else e))
     r = np.asarray(opt_quat, dtype=float)
     r = r / np.linalg.norm(r, axis=-1, keepdims=True)
     q = q / np.sqrt(np.einsum("...i,...i->...", q, q))[..., None]
@@ -133,18 +137,21 @@ def errors_deg(q_est, opt_quat) -> np.ndarray:
     z = -q[..., 0] * r[:, 3] - q[..., 1] * r[:, 2] + q[..., 2] * r[:, 1] + q[..., 3] * r[:, 0]
     nrm = np.sqrt(w * w + z * z)      # |q_e| = 1, so w² + z² <= 1
     with np.errstate(invalid="ignore", divide="ignore"):
+        incl = 2.0 * np.arccos(np.clip(nrm, 0.0, 1.0))
+        if inclination_only:
+            return np.degrees(incl[None])
         total = 2.0 * np.arccos(np.clip(np.abs(w), 0.0, 1.0))
         heading = 2.0 * np.arctan(np.abs(z / w))
-        incl = 2.0 * np.arccos(np.clip(nrm, 0.0, 1.0))
     return np.degrees(np.stack([total, heading, incl]))
 
 
-def rmse_deg(q_est, trial: Trial) -> np.ndarray:
+def rmse_deg(q_est, trial: Trial, *, inclination_only: bool = False) -> np.ndarray:
     """RMSE (deg) over the movement phase of total, heading, inclination error, shape (3, …).
 
-    ``q_est`` (…, N, 4); optical NaN samples are excluded (BROAD's rule).
+    ``q_est`` (…, N, 4); optical NaN samples are excluded (BROAD's rule). ``inclination_only``:
+    the inclination row alone, shape (1, …) (:func:`errors_deg`).
     """
-    e = errors_deg(q_est, trial.opt_quat)
+    e = errors_deg(q_est, trial.opt_quat, inclination_only=inclination_only)
     flat = e.reshape(-1, e.shape[-1])
     return np.array([metrics.rmse_over_phase(x, trial.movement) for x in flat]).reshape(e.shape[:-1])
 

@@ -574,10 +574,8 @@ def fig12(study: GyroStudy, seed: int, trials: int) -> Artifact:
     thr = osc.threshold_rad_s
 
     def errors(w):
-        hyb, use = gyro_roll.roll_hybrid(w, g.dt_s, thr, roll0=g.roll0_rad)
-        e_P = gyro_roll.roll_projection(w) - g.roll0_rad
-        e_I = gyro_roll.roll_decoupled_integration(w, g.dt_s, roll0=g.roll0_rad) - g.roll0_rad
-        return e_P, e_I, hyb - g.roll0_rad, use
+        proj, integ, hyb, use = gyro_roll.roll_estimates(w, g.dt_s, thr, roll0=g.roll0_rad)
+        return proj - g.roll0_rad, integ - g.roll0_rad, hyb - g.roll0_rad, use
 
     names = ("projection Eq 13", "integration Eq 12", f"hybrid θ̇_t = {osc.threshold_deg_s:g} °/s")
     rms, mx = np.empty((3, n)), np.empty((3, n))
