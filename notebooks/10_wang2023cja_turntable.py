@@ -359,7 +359,8 @@ cv_rows = w.crossval.cross_validate(seed=SEED)
 cv_scores = w.crossval.fold_scores(cv_rows)
 output.save_table(cv_scores, "wang2023cja_extra_crossval")
 for fold, part in cv_rows.groupby("fold", sort=True):
-    print(f"{w.crossval.fold_artifact(fold)} held out (fit on {', '.join(w.crossval.training_tests(fold))}):")
+    print(f"{w.crossval.fold_artifact(fold)} held out (fit on {', '.join(w.crossval.training_tests(fold))}; "
+          f"no-physics band 0 ± {part['no-physics_high'].iloc[0]:.4f}°):")
     output.show_table(part[["quantity", "paper", "fitted_median", "fitted_low", "fitted_high", "fitted_inside",
                             "fitted_interval_score", "no-physics_interval_score", "prior_interval_score"]], "{:.4f}")
 output.show_table(cv_scores, "{:.3g}")
@@ -368,7 +369,8 @@ for r in cv_scores[cv_scores.baseline == "fitted"].itertuples():
              for name, skill in (("no-physics", r.skill_vs_no_physics), ("the prior predictive", r.skill_vs_prior))]
     print(f"{r.scope}: {r.inside} of {r.n} inside; mean interval score {r.mean_interval_score_deg:.3f}°; "
           f"the model {' and '.join(words)}")
-fidelity.write_cv_records(w.crossval.cv_records(cv_rows, "10_wang2023cja_turntable"), "10_wang2023cja_turntable")
+cv_scores_csv = fidelity.write_cv_records(w.crossval.cv_records(cv_rows, "10_wang2023cja_turntable"),
+                                          "10_wang2023cja_turntable")
 
 # %% [markdown]
 # ## Score block
