@@ -232,6 +232,10 @@ def rows(root: Path = ROOT) -> list[tuple[str, str, str, str]]:
         stem = rec.stem.removeprefix("fidelity_records_")
         out.append((f"data/{rec.name}", "— (held-out numbers, bands)", f"`{stem}` § score block",
                     "`mtcal.reporting.fidelity.write_scores`"))
+    for rec in sorted((root / "data").glob("fidelity_cv_*.csv")):      # cross-validation records, same scores file
+        stem = rec.stem.removeprefix("fidelity_cv_")
+        out.append((f"data/{rec.name}", "— (cross-validated numbers, bands of the model and two baselines)",
+                    f"`{stem}` § cross-validation", "`mtcal.reporting.fidelity.write_cv_records`"))
     if (root / "data" / "fidelity_scores.csv").is_file():
         out.append(("data/fidelity_scores.csv", "— (fidelity scores)", "`make reproduce`, after the notebooks",
                     "`mtcal.reporting.fidelity.aggregate_scores`"))

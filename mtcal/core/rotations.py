@@ -596,9 +596,12 @@ def wrap_angle(angle) -> np.ndarray:
 
 
 def mount_quaternion(alpha_rad) -> np.ndarray:
-    """``q_bs`` (simulator ``q_mount``) of Eq 1 angles ``[α1, α2, α3]`` (rad): C(q_bs) = (C_b^s)ᵀ."""
+    """``q_bs`` (simulator ``q_mount``) of Eq 1 angles ``[α1, α2, α3]`` (rad, shape (..., 3)): C(q_bs) = (C_b^s)ᵀ.
+
+    Returns shape (..., 4): one quaternion per row of angles (e.g. one per Monte Carlo draw).
+    """
     a = np.asarray(alpha_rad, dtype=float)
-    return quat_from_matrix(np.swapaxes(installation_matrix(a[0], a[1], a[2]), -1, -2))
+    return quat_from_matrix(np.swapaxes(installation_matrix(a[..., 0], a[..., 1], a[..., 2]), -1, -2))
 
 
 def installation_angles(matrix) -> np.ndarray:

@@ -67,7 +67,8 @@ from .output import output_dir
 
 __all__ = ["BASELINES", "SCORED_ROLES", "SCORE_COLUMNS", "RECORD_COLUMNS", "wilson_interval", "interval_score", "score",
            "score_records", "score_block", "aggregate", "within_25pct", "write_scores", "aggregate_scores",
-           "quantile_mc_se", "RECORDS_PREFIX"]
+           "quantile_mc_se", "RECORDS_PREFIX", "CV_ROLE", "CV_BASELINES", "CV_PREFIX", "CV_RECORD_COLUMNS",
+           "write_cv_records"]
 
 #: Predictive distributions scored: posterior predictive and prior predictive.
 BASELINES = ("fitted", "prior")
@@ -79,6 +80,13 @@ RECORDS_PREFIX = "fidelity_records_"
 RECORD_COLUMNS = ["notebook", "paper_key", "artifact", "quantity", "ref", "paper_value", "fitted_median",
                   "fitted_low", "fitted_high", "prior_median", "prior_low", "prior_high", "fitted_draws",
                   "fitted_kind", "prior_draws", "prior_kind", "role"]
+#: Cross-validation: role of its rows in the scores, the bands it scores (the model, the prior predictive and a
+#: band with no physics), its per-number records ``data/fidelity_cv_<notebook>.csv`` and their columns.
+CV_ROLE = "cv-heldout"
+CV_BASELINES = ("fitted", "prior", "no-physics")
+CV_PREFIX = "fidelity_cv_"
+CV_RECORD_COLUMNS = (["notebook", "paper_key", "artifact", "quantity", "ref", "paper_value"]
+                     + [f"{b}_{c}" for b in CV_BASELINES for c in ("median", "low", "high")] + ["draws"])
 #: Score columns (``data/fidelity_scores.csv``).
 SCORE_COLUMNS = ["scope", "role", "baseline", "n", "inside", "coverage", "coverage_low", "coverage_high",
                  "median_rel_width", "mean_rel_interval_score", "median_rel_interval_score", "within_25pct"]
@@ -197,8 +205,8 @@ def within_25pct(paper, median):
 
 def aggregate(records: pd.DataFrame, baseline: str) -> dict:
     """Scores of per-number records for one baseline (keys: :data:`SCORE_COLUMNS` without scope/baseline)."""
-    if baseline not in BASELINES:
-        raise ValueError(f"baseline must be one of {BASELINES}, got {baseline!r}")
+    if baseline not in CV_BASELINES:
+        raise ValueError(f"baseline must be one of {CV_BASELINES}, got {baseline!r}")
     lo, hi, med = (records[f"{baseline}_{c}"].to_numpy(float) for c in ("low", "high", "median"))
     x = records["paper_value"].to_numpy(float)
     ok = np.isfinite(lo) & np.isfinite(hi) & np.isfinite(x)
@@ -326,11 +334,50 @@ def write_scores(table: pd.DataFrame, key: str, notebook: str, folder: str | Pat
     return aggregate_scores(folder)
 
 
+def write_cv_records(records: pd.DataFrame, notebook: str, folder: str | Path | None = None) -> Path:
+    """Write one notebook's cross-validation records to ``data/fidelity_cv_<notebook>.csv``; rewrite the scores.
+
+    ``records`` has :data:`CV_RECORD_COLUMNS`: one row per held-out number of a fold (``artifact`` = the
+    held-out table) with the bands of every baseline of :data:`CV_BASELINES`. Returns the scores path.
+    """
+    if not isinstance(notebook, str) or not re.fullmatch(r"[A-Za-z0-9_]+", notebook):
+        raise ValueError(f"notebook must be a non-empty str of letters, digits and '_' (a notebook stem), "
+                         f"got {notebook!r}")
+    missing = set(CV_RECORD_COLUMNS) - set(records.columns)
+    if missing:
+        raise ValueError(f"records must have the columns CV_RECORD_COLUMNS (missing {sorted(missing)})")
+    bad = set(records["paper_key"]) - set(paper_numbers.KEYS)
+    if bad:
+        raise ValueError(f"paper_key must be one of {paper_numbers.KEYS}, got {sorted(bad)}")
+    folder = Path(folder) if folder is not None else output_dir() / "data"
+    folder.mkdir(parents=True, exist_ok=True)
+    _write_atomic(records[CV_RECORD_COLUMNS], folder / f"{CV_PREFIX}{notebook}.csv", "%.6g")
+    return aggregate_scores(folder)
+
+
+def _cv_rows(folder: Path) -> list[dict]:
+    """Score rows of the cross-validation records: per held-out table and per paper, each baseline."""
+    parts = [pd.read_csv(p, keep_default_na=False, na_values=[""]) for p in sorted(folder.glob(f"{CV_PREFIX}*.csv"))]
+    parts = [p for p in parts if len(p)]
+    if not parts:
+        return []
+    recs = pd.concat(parts, ignore_index=True)
+    rows = []
+    for key in sorted(set(recs["paper_key"])):
+        part = recs[recs["paper_key"] == key]
+        for scope, sub in [(a, part[part["artifact"] == a]) for a in sorted(set(part["artifact"]))] + [(key, part)]:
+            for b in CV_BASELINES:
+                rows.append({"scope": scope, "role": CV_ROLE, "baseline": b, **aggregate(sub, b)})
+    return rows
+
+
 def aggregate_scores(folder: str | Path | None = None) -> Path:
     """Recompute ``fidelity_scores.csv`` from every ``fidelity_records_*.csv`` in ``folder`` (sorted by name).
 
     One row per (paper, role, baseline) for every paper key and role of :data:`SCORED_ROLES` (``n = 0``
-    where the paper has no such number) and per (overall, role, baseline), fixed float format (byte-stable).
+    where the paper has no such number) and per (overall, role, baseline), fixed float format (byte-stable);
+    then, from every ``fidelity_cv_*.csv`` (:func:`write_cv_records`), role :data:`CV_ROLE` rows per held-out
+    table (scope = its artifact id) and per paper, one per baseline of :data:`CV_BASELINES`.
     """
     folder = Path(folder) if folder is not None else output_dir() / "data"
     parts = [pd.read_csv(p, dtype={"ref": str, "notebook": str}, keep_default_na=False, na_values=[""])
@@ -346,6 +393,7 @@ def aggregate_scores(folder: str | Path | None = None) -> Path:
         for role in SCORED_ROLES:
             for b in BASELINES:
                 rows.append({"scope": scope, "role": role, "baseline": b, **aggregate(part[part["role"] == role], b)})
+    rows += _cv_rows(folder)
     out = folder / "fidelity_scores.csv"
     _write_atomic(pd.DataFrame(rows, columns=SCORE_COLUMNS), out, "%.4f")
     return out

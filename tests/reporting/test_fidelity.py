@@ -179,3 +179,42 @@ def test_tuned_numbers_are_scored_beside_the_heldout_ones_never_pooled(tmp_path)
     df = pd.read_csv(tmp_path / "fidelity_scores.csv").set_index(["scope", "role", "baseline"])
     assert df.loc[("wang2023cja", "heldout", "fitted"), "n"] == 1 and df.loc[("wang2023cja", "tuned", "fitted"), "n"] == 2
     assert "tuned (in-sample) fitted (posterior predictive): 1 of 2 inside" in fidelity.score_block(t, "wang2023cja")
+
+
+def _cv_records(n=4):
+    recs = pd.DataFrame({"notebook": "10_x", "paper_key": "wang2023cja", "artifact": ["t1", "t1", "t2", "t2"][:n],
+                         "quantity": list("abcd")[:n], "ref": list("abcd")[:n], "paper_value": [0.1, -0.2, 0.05, 0.3][:n]})
+    for b, half in (("fitted", 0.15), ("prior", 1.0), ("no-physics", 0.25)):
+        recs[f"{b}_median"], recs[f"{b}_low"], recs[f"{b}_high"] = 0.0, -half, half
+    recs["draws"] = 1000
+    return recs[fidelity.CV_RECORD_COLUMNS]
+
+
+def test_cross_validation_rows_follow_the_existing_ones_per_table_and_baseline(tmp_path):
+    from mtcal.reporting.compare import comparison_row, comparison_table
+
+    t = comparison_table([comparison_row("a", "x", 1.0, 1.0, "", None, band=_b(0.9, 1.1), role="heldout")])
+    fidelity.write_scores(t, "wang2023cja", "10_x", folder=tmp_path)
+    before = (tmp_path / "fidelity_scores.csv").read_text().splitlines()
+    fidelity.write_cv_records(_cv_records(), "10_x", folder=tmp_path)
+    after = (tmp_path / "fidelity_scores.csv").read_text().splitlines()
+    assert after[:len(before)] == before                           # existing rows unchanged, the CV rows appended
+    df = pd.read_csv(tmp_path / "fidelity_scores.csv")
+    cv = df[df.role == fidelity.CV_ROLE].set_index(["scope", "baseline"])
+    assert len(cv) == 3 * 3 and set(cv.index.get_level_values(0)) == {"t1", "t2", "wang2023cja"}
+    # t1: paper 0.1 and -0.2 against ±0.15 (fitted): 1 inside; ±0.25 (no physics): 2 inside
+    assert cv.loc[("t1", "fitted"), "inside"] == 1 and cv.loc[("t1", "no-physics"), "inside"] == 2
+    is_t1 = fidelity.interval_score([-0.15, -0.15], [0.15, 0.15], [0.1, -0.2]) / np.array([0.1, 0.2])
+    assert cv.loc[("t1", "fitted"), "mean_rel_interval_score"] == pytest.approx(is_t1.mean(), abs=1e-4)
+    assert cv.loc[("wang2023cja", "prior"), "n"] == 4
+
+
+def test_cross_validation_records_errors(tmp_path):
+    with pytest.raises(ValueError, match="missing \\['draws'\\]"):
+        fidelity.write_cv_records(_cv_records().drop(columns="draws"), "10_x", folder=tmp_path)
+    with pytest.raises(ValueError, match="notebook must be a non-empty str"):
+        fidelity.write_cv_records(_cv_records(), "10 x", folder=tmp_path)
+    with pytest.raises(ValueError, match="paper_key must be one of"):
+        fidelity.write_cv_records(_cv_records().assign(paper_key="x2020"), "10_x", folder=tmp_path)
+    with pytest.raises(ValueError, match="baseline must be one of"):
+        fidelity.aggregate(_cv_records(), "posterior")

@@ -12,10 +12,11 @@ printed matrices), :mod:`.runs` (simulation runs), :mod:`.artifacts` (one produc
 table/figure, plus comparison rows), :mod:`.plots` (figures; imports matplotlib on call);
 :mod:`.constrained` (the constrained-calibration question of notebook 40); :mod:`.predictive`
 (predictive bands: one parameter draw per trial, fitted posterior or prior) and :mod:`.verdicts`
-(every printed number one to one, scores, the paper's claims with its thresholds).
+(every printed number one to one, scores, the paper's claims with its thresholds); :mod:`.crossval`
+(leave-one-table-out cross-validation over Tables 1–4 against two baselines).
 """
 
-from . import artifacts, constrained, error_model, predictive, runs, scenario, verdicts
+from . import artifacts, constrained, crossval, error_model, predictive, runs, scenario, verdicts
 from .artifacts import (banded, error_budget_table, error_metric_table, error_model_table, HELD_OUT,
                         installation_fit_table, outside_rows, positions_table, printed_matrix_check, q22_noise_band,
                         stepwise_coupling, sweep_mean_table, table08_reductions, table10, TRAINING, TUNED,
@@ -32,7 +33,7 @@ from .scenario import (compliance_trajectory, identify_pitch_ratio, IMU_ASSUMPTI
                        TurntableScenario, WINDTUNNEL_DEFAULTS, windtunnel_geometry, windtunnel_scenario,
                        WindTunnelScenario)
 
-__all__ = ["artifacts", "constrained", "error_model", "predictive", "runs", "scenario", "verdicts", "plots", "PAPER_SIGN", "TABLES_1_TO_4",
+__all__ = ["artifacts", "constrained", "crossval", "error_model", "predictive", "runs", "scenario", "verdicts", "plots", "PAPER_SIGN", "TABLES_1_TO_4",
            "MOUNT_TYPE", "PRIOR_RANGES", "FITTED_PARAMETERS", "ErrorModel", "InstallationFit",
            "fit_installation_angles", "true_error_matrix", "predicted_before", "paper_positions", "rest_times_s",
            "rest_residuals", "N_NORMALS", "ErrorModelFit", "fit_error_model", "position_noise_deg", "SOURCES",

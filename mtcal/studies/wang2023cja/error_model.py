@@ -66,7 +66,7 @@ from mtcal.reporting import paper_numbers
 __all__ = ["PAPER_SIGN", "TABLES_1_TO_4", "MOUNT_TYPE", "PRIOR_RANGES", "FITTED_PARAMETERS", "ErrorModel",
            "InstallationFit", "fit_installation_angles", "true_error_matrix", "predicted_before",
            "paper_positions", "rest_times_s", "rest_residuals", "N_NORMALS", "ErrorModelFit", "fit_error_model",
-           "position_noise_deg"]
+           "position_noise_deg", "ErrorModelDraws", "identified_parameters"]
 
 # random streams of this module (mtcal.core.rng rule: key (seed, stream))
 STREAM_LINEAR_TESTS = 13      # rest-noise normals of the likelihood's linear tests
@@ -148,6 +148,66 @@ class ErrorModel:
 PRIOR_RANGES = {f.name: f.metadata["prior"] for f in fields(ErrorModel)}
 #: The fitted subset (all six; ≤ 6 per the study design).
 FITTED_PARAMETERS = tuple(PRIOR_RANGES)
+#: Fields informed only by tests of one mount type (a fit without such a test cannot identify them).
+_MOUNT_FIELDS = {"screw": ("compliance_screw_deg_g",),
+                 "gasket": ("compliance_gasket_deg_g", "gasket_load_tilt_deg_g")}
+
+
+def identified_parameters(tests) -> tuple:
+    """The :data:`FITTED_PARAMETERS` that the "after" columns of ``tests`` (names ``"T1"``–``"T4"``) can identify.
+
+    A mount's compliance (and, for gaskets, the load tilt) acts only on tests of that mount
+    (:data:`MOUNT_TYPE`, §4.1 Figs 4–6): without one of them in ``tests`` it is left out of the fit.
+
+    >>> identified_parameters(("T2", "T3", "T4"))
+    ('accel_run_bias_mg', 'gyro_run_bias_deg_h', 'position_error_arcsec', 'compliance_gasket_deg_g', 'gasket_load_tilt_deg_g')
+    >>> identified_parameters(tuple(TABLES_1_TO_4)) == FITTED_PARAMETERS
+    True
+    """
+    mounts = {MOUNT_TYPE[t] for t in tests}
+    skip = {n for m, names in _MOUNT_FIELDS.items() if m not in mounts for n in names}
+    return tuple(n for n in FITTED_PARAMETERS if n not in skip)
+
+
+@dataclass(frozen=True)
+class ErrorModelDraws:
+    """Many :class:`ErrorModel` values at once, for one vectorised :func:`rest_residuals` call.
+
+    Every field of :class:`ErrorModel` (same name and unit) holds one value per draw, as an
+    array of shape (n, 1, 1) so that it broadcasts against the (n, rests, 3) arrays of
+    :func:`rest_residuals`; build it with :meth:`stack`.
+
+    >>> d = ErrorModelDraws.stack([ErrorModel(), ErrorModel(position_error_arcsec=50.0)])
+    >>> d.position_error_arcsec.ravel().tolist(), d.n
+    ([5.0, 50.0], 2)
+    """
+
+    accel_run_bias_mg: np.ndarray
+    gyro_run_bias_deg_h: np.ndarray
+    position_error_arcsec: np.ndarray
+    compliance_screw_deg_g: np.ndarray
+    compliance_gasket_deg_g: np.ndarray
+    gasket_load_tilt_deg_g: np.ndarray
+
+    @classmethod
+    def stack(cls, models) -> "ErrorModelDraws":
+        """Stack a sequence of :class:`ErrorModel` (validated each) into one draws object."""
+        models = list(models)
+        if not models or not all(isinstance(m, ErrorModel) for m in models):
+            raise ValueError("models must be a non-empty sequence of ErrorModel")
+        return cls(**{f.name: np.array([getattr(m, f.name) for m in models], float).reshape(-1, 1, 1)
+                      for f in fields(ErrorModel)})
+
+    @property
+    def n(self) -> int:
+        """Number of draws."""
+        return int(self.accel_run_bias_mg.shape[0])
+
+    def compliance_deg_g(self, mount: str) -> np.ndarray:
+        """Mount compliance (°/g) of ``mount`` per draw, (n, 1, 1)."""
+        if mount not in ("screw", "gasket"):
+            raise ValueError(f"mount must be 'screw' or 'gasket', got {mount!r}")
+        return self.compliance_screw_deg_g if mount == "screw" else self.compliance_gasket_deg_g
 
 
 # --------------------------------------------------------------------------
@@ -264,7 +324,8 @@ def _rest_estimates(q_bs, pos, model: ErrorModel, mount: str, err_rad, bias_g, y
 N_NORMALS = 13 * 3 + 9
 
 
-def rest_residuals(alpha_rad, model: ErrorModel, mount: str, z, *, positions_rad=None, times_s=None) -> dict:
+def rest_residuals(alpha_rad, model: ErrorModel | ErrorModelDraws, mount: str, z, *, positions_rad=None,
+                   times_s=None) -> dict:
     """Calibrate on one run and verify on a later, separate run of the same session (rest level, rad).
 
     The QNCF is zeroed once, at the start of the session (§4.1 "initial attitude angles are
@@ -275,8 +336,10 @@ def rest_residuals(alpha_rad, model: ErrorModel, mount: str, z, *, positions_rad
 
     Parameters
     ----------
-    alpha_rad : (3,) installation angles (rad).
-    model : ErrorModel
+    alpha_rad : (3,) or (n, 3)
+        Installation angles (rad): one set, or one per draw (row of ``z``).
+    model : ErrorModel or ErrorModelDraws
+        One error model, or one per draw (:class:`ErrorModelDraws` with ``n`` draws).
     mount : {"screw", "gasket"}
     z : ndarray (n, N_NORMALS)
         Standard normal draws (common random numbers make the likelihood smooth).
@@ -296,6 +359,8 @@ def rest_residuals(alpha_rad, model: ErrorModel, mount: str, z, *, positions_rad
     n, k = z.shape[0], ref.shape[0]
     run_s = float(times_s[-1]) + 5.0
     q_bs = mount_quaternion(alpha_rad)
+    if q_bs.ndim == 2:                                        # one mount per draw: (n, 1, 4) against (n, rests, 4)
+        q_bs = q_bs[:, None, :]
     z_pos = z[:, :3 * (2 * k + 1)].reshape(n, 2 * k + 1, 3)
     delta_g = model.accel_run_bias_mg * MG / 9.80665 * z[:, None, 39:42]
     gyro = model.gyro_run_bias_deg_h * DEG_H * z[:, None, 44:45]
@@ -351,6 +416,9 @@ class ErrorModelFit:
     alpha_cov_rad2 : dict, optional
         Test → (3, 3) least-squares covariance of its installation angles (rad²,
         :attr:`InstallationFit.cov_rad2`). ``None``: the angles are held at their fit.
+    fitted : tuple of str
+        The fields the fit estimated (:func:`identified_parameters` of its training tests); the
+        others stay at the prior's values with σ NaN and are on no bound.
     """
 
     model: ErrorModel
@@ -363,16 +431,19 @@ class ErrorModelFit:
     limit95: dict
     cov: np.ndarray | None = None
     alpha_cov_rad2: dict | None = None
+    fitted: tuple = FITTED_PARAMETERS
 
     @property
     def free(self) -> tuple:
         """Names of the fitted values not on a prior bound (the rows of :attr:`cov`)."""
-        return tuple(n for n in FITTED_PARAMETERS if not self.at_bound[n])
+        return tuple(n for n in FITTED_PARAMETERS if n in self.fitted and not self.at_bound[n])
 
 
-def _training_residuals() -> dict:
+def _training_residuals(tests=tuple(TABLES_1_TO_4)) -> dict:
     out = {}
     for test, table in TABLES_1_TO_4.items():
+        if test not in tests:
+            continue
         ref, _, after = _table_angles(table)
         out[test] = (PAPER_SIGN * metrics.angle_difference(after, ref)).ravel()
     return out
@@ -398,7 +469,7 @@ def _residual_matrix(alpha, model, mount, z, times_s):
 
 
 def _linear_tests(alphas: dict, n_mc: int, seed: int, times_s) -> dict:
-    data = _training_residuals()
+    data = _training_residuals(tuple(alphas))
     rng = stream_rng(seed, STREAM_LINEAR_TESTS)
     out = {}
     for test, r in data.items():
@@ -439,12 +510,26 @@ def _loglik(model: ErrorModel, tests: dict) -> float:
     return float(total)
 
 
-def _maximise(tests: dict, prior: ErrorModel) -> tuple[ErrorModel, float]:
-    """ML values of :data:`FITTED_PARAMETERS` on the linearised ``tests`` and the minimum of −log L.
+def _training_tests(tables) -> tuple:
+    if tables is None:
+        return tuple(TABLES_1_TO_4)
+    if isinstance(tables, str) or not all(isinstance(t, str) for t in tables):
+        raise ValueError(f"tables must be a sequence of test names from {sorted(TABLES_1_TO_4)}, got {tables!r}")
+    tables = tuple(tables)
+    bad = [t for t in tables if t not in TABLES_1_TO_4]
+    if bad or not tables or len(set(tables)) != len(tables):
+        raise ValueError(f"tables must be distinct test names from {sorted(TABLES_1_TO_4)} (at least one), "
+                         f"got {tables!r}")
+    return tuple(t for t in TABLES_1_TO_4 if t in tables)
+
+
+def _maximise(tests: dict, prior: ErrorModel, names=FITTED_PARAMETERS) -> tuple[ErrorModel, float]:
+    """ML values of ``names`` (default :data:`FITTED_PARAMETERS`) on the linearised ``tests`` and the
+    minimum of −log L; the other fields stay at ``prior``'s values.
 
     Nelder–Mead on a logistic transform of each prior range (values stay inside), three starts.
     """
-    names = FITTED_PARAMETERS
+    names = tuple(names)
     lo = np.array([PRIOR_RANGES[n][0] for n in names])
     hi = np.array([PRIOR_RANGES[n][1] for n in names])
 
@@ -462,27 +547,38 @@ def _maximise(tests: dict, prior: ErrorModel) -> tuple[ErrorModel, float]:
 
 
 @cached  # Monte Carlo result cached under $MTCAL_CACHE_DIR (make reproduce/artifact)
-def fit_error_model(*, n_mc: int = 4000, seed: int = 2023, prior: ErrorModel | None = None) -> ErrorModelFit:
+def fit_error_model(*, n_mc: int = 4000, seed: int = 2023, prior: ErrorModel | None = None,
+                    tables=None) -> ErrorModelFit:
     """ML fit of the :class:`ErrorModel` fields to Tables 1–4 "after − reference" (72 numbers).
+
+    ``tables`` (test names, e.g. ``("T2", "T3", "T4")``; default all four) restricts the training
+    set: only those tests' installation angles ("before" columns) and "after" columns are read, and
+    a field no training test can identify (:func:`identified_parameters`, e.g. the screwed-mount
+    compliance without T1) stays at ``prior``'s value with σ NaN (used by the leave-one-table-out
+    cross-validation, :mod:`.crossval`). The default reads all four and gives today's fit.
 
     Each test's 18 residuals ``r`` (paper after − reference, Eq 8 frame) are modelled with the
     rest-level session model (:func:`rest_residuals`) linearised in the small errors:
     ``r ~ N(k · ∂μ/∂k, Σ_s σ_s² C_s + σ_print² I)`` — ``k`` the mount compliance of the test,
     ``C_s`` the Monte Carlo covariance (``n_mc`` draws) of source ``s`` at unit σ, ``σ_print``
     the 0.001° printing round-off. Parameters are optimised inside their prior ranges
-    (logistic transform); the uncertainty is the inverse Hessian of −log L in field units.
+    (logistic transform); the uncertainty is the inverse Hessian of −log L in field units
+    (:attr:`ErrorModelFit.cov`, rows :attr:`ErrorModelFit.free`), and each training test's
+    installation angles carry their least-squares covariance (:attr:`ErrorModelFit.alpha_cov_rad2`).
     """
     prior = ErrorModel() if prior is None else prior
-    inst = {t: fit_installation_angles(tab) for t, tab in TABLES_1_TO_4.items()}
+    train = _training_tests(tables)
+    inst = {t: fit_installation_angles(TABLES_1_TO_4[t]) for t in train}
     alphas = {t: f.alpha_rad for t, f in inst.items()}
     times = rest_times_s(paper_positions(), 20 * DEG, 3.0, 100.0)
     tests = _linear_tests(alphas, n_mc, seed, times)
-    names = FITTED_PARAMETERS
+    names = identified_parameters(train)
     lo = np.array([PRIOR_RANGES[n][0] for n in names])
     hi = np.array([PRIOR_RANGES[n][1] for n in names])
-    model, best_nll = _maximise(tests, prior)
+    model, best_nll = _maximise(tests, prior, names)
     x = np.array([getattr(model, n) for n in names])
-    at_bound = {n: bool(min(xi - l, h - xi) < 1e-3 * (h - l)) for n, xi, l, h in zip(names, x, lo, hi)}
+    at_bound = {n: False for n in FITTED_PARAMETERS}      # a field left out of the fit is on no bound
+    at_bound.update({n: bool(min(xi - l, h - xi) < 1e-3 * (h - l)) for n, xi, l, h in zip(names, x, lo, hi)})
     free = [i for i, n in enumerate(names) if not at_bound[n]]
 
     def nll_x(xv):
@@ -490,7 +586,7 @@ def fit_error_model(*, n_mc: int = 4000, seed: int = 2023, prior: ErrorModel | N
         for n, v in zip(names, xv):
             object.__setattr__(m, n, float(v))
         return -_loglik(m, tests)
-    std = {n: float("nan") for n in names}
+    std = {n: float("nan") for n in FITTED_PARAMETERS}
     cov = None
     if free:
         h = np.array([max(1e-4 * (hi[i] - lo[i]), 1e-3 * abs(x[i])) for i in range(len(x))])
@@ -510,7 +606,7 @@ def fit_error_model(*, n_mc: int = 4000, seed: int = 2023, prior: ErrorModel | N
         cov = np.linalg.pinv(hess)
         for a, i in enumerate(free):
             std[names[i]] = float(np.sqrt(cov[a, a])) if cov[a, a] > 0 else float("nan")
-    limit = {n: float("nan") for n in names}
+    limit = {n: float("nan") for n in FITTED_PARAMETERS}
     f_ml = nll_x(x)
     for i, n in enumerate(names):                # one-sided 95 % profile limit inward from a bound
         if not at_bound[n]:
@@ -524,7 +620,7 @@ def fit_error_model(*, n_mc: int = 4000, seed: int = 2023, prior: ErrorModel | N
                 break
     return ErrorModelFit(model, std, at_bound, -best_nll, _loglik(prior, tests), alphas,
                          sum(lt.data.size for lt in tests.values()), limit, cov,
-                         {t: f.cov_rad2 for t, f in inst.items()})
+                         {t: f.cov_rad2 for t, f in inst.items()}, tuple(names))
 
 
 def position_noise_deg(model: ErrorModel, *, n_mc: int = 2000, seed: int = 2023, mount: str = "screw",

@@ -106,7 +106,7 @@ def posterior_draws(fit: ErrorModelFit, n: int, seed: int) -> list[tuple[ErrorMo
     z_alpha = rng.standard_normal((n, len(tests), 3))
     ml = np.array([getattr(fit.model, name) for name in FITTED_PARAMETERS])
     x = ml.copy()[None].repeat(n, axis=0)
-    free = [j for j, name in enumerate(FITTED_PARAMETERS) if not fit.at_bound[name]]
+    free = [FITTED_PARAMETERS.index(name) for name in fit.free]   # a field the fit did not estimate stays at its value
     if fit.cov is not None and free:
         x[:, free] = ml[free] + z[:, free] @ _sqrt_cov(fit.cov).T
     else:

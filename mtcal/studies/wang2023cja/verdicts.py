@@ -47,7 +47,7 @@ from .runs import position_errors_deg
 
 __all__ = ["SPLIT_FILE", "split", "printed_samples", "one_to_one", "scores", "claims", "unresolved_note",
            "claim_block", "CLAIM_COLUMNS", "comparison", "shape_predictions", "table08_cause", "no_physics_baseline",
-           "variance_parts"]
+           "no_physics_halfwidth_deg", "variance_parts"]
 
 SPLIT_FILE = "wang2023cja_split"
 _ANG = ("yaw", "pitch", "roll")
@@ -561,6 +561,25 @@ def shape_predictions(samples: dict, table08_note: str = "") -> list[dict]:
     return rows
 
 
+def no_physics_halfwidth_deg(tests=("T1",)) -> float:
+    """Half-width (deg) of the no-physics 95 % band ``0 ± 1.96 s``: ``s`` the RMS of the "after − reference"
+    residuals of the six-position tables of ``tests`` (Tables 1–4, 18 numbers each; train numbers, read
+    through :func:`mtcal.reporting.paper_numbers.training`).
+
+    What one would predict knowing only how well the calibration did on those tables, with no model.
+
+    >>> round(no_physics_halfwidth_deg(("T1",)), 4)
+    0.037
+    """
+    tests = tuple(tests)
+    if not tests or any(t not in TABLES_1_TO_4 for t in tests):
+        raise ValueError(f"tests must be names from {sorted(TABLES_1_TO_4)} (at least one), got {tests!r}")
+    tables = paper_numbers.training("wang2023cja")
+    res = np.concatenate([(tables[TABLES_1_TO_4[t]][f"{a}_after_deg"] - tables[TABLES_1_TO_4[t]][f"{a}_reference_deg"])
+                          .to_numpy(float) for t in tests for a in _ANG])
+    return 1.959964 * float(np.sqrt(np.mean(res ** 2)))
+
+
 def no_physics_baseline(one: dict) -> pd.DataFrame:
     """The fit against a band with no physics, on the held-out angle errors of Tables 5 and 7.
 
@@ -582,9 +601,7 @@ def no_physics_baseline(one: dict) -> pd.DataFrame:
         ``scope, baseline, n, inside, coverage, coverage_low, coverage_high, median_rel_width,
         mean_rel_interval_score, median_rel_interval_score, within_25pct, band_halfwidth_deg``.
     """
-    t1 = paper_numbers.training("wang2023cja")[TABLES_1_TO_4["T1"]]
-    res = np.concatenate([(t1[f"{a}_after_deg"] - t1[f"{a}_reference_deg"]).to_numpy(float) for a in _ANG])
-    half = 1.959964 * float(np.sqrt(np.mean(res ** 2)))
+    half = no_physics_halfwidth_deg(("T1",))
     fitted = one["fitted"]
     prior = one["prior"].set_index(["file", "row", "column"])
     rows = []
