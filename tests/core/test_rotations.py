@@ -338,3 +338,56 @@ def test_relative_to_initial_from_a_start_sample_keeps_the_earlier_ones():
     assert np.array_equal(part[:, :20], q[:, :20]) and np.array_equal(part[:, 20:], full[:, 20:])
     with pytest.raises(ValueError, match="start must be"):
         rotations.relative_to_initial(q, start=3)
+
+
+def _before_after_inputs(seed, trials=3, n=1500):
+    rng = np.random.default_rng(seed)
+    q = rotations.quat_normalize(np.array([1.0, 0.1, -0.05, 0.02]) + 0.2 * rng.normal(size=(trials, n, 4)))
+    q[:, ::7] *= -1.0                                                     # both signs of q0
+    q_mat = np.eye(4) + 2e-3 * rng.normal(size=(trials, 4, 4))
+    return q, q_mat
+
+
+def _both_kernels(q, q_mat, ref, chan, capacity=4096):
+    from mtcal.core._rotation_kernels import euler_zxy_before_after, euler_zxy_channel_errors
+
+    lock = rotations._LOCK_SIN
+    full = [np.full(q.shape[:-1] + (3,), np.nan) for _ in range(4)]
+    bad_full = euler_zxy_before_after(q, q_mat, ref, lock, *full)
+    part = [np.full(q.shape[:-1], np.nan), np.full(q.shape[:-1], np.nan),
+            np.full(q.shape[:-1] + (3,), np.nan), np.full(q.shape[:-1] + (3,), np.nan)]
+    bad = euler_zxy_channel_errors(q, q_mat, ref, lock, chan, *part, np.empty((capacity, 2), np.int64))
+    return bad_full, full, bad, part
+
+
+@pytest.mark.parametrize("chan", [0, 1, 2])
+def test_channel_errors_kernel_equals_the_full_kernel(chan):
+    """Angle ``chan`` and the three wrapped errors, bit for bit as euler_zxy_before_after (random inputs)."""
+    q, q_mat = _before_after_inputs(11)
+    ref = 0.3 * np.random.default_rng(12).normal(size=(q.shape[1], 3))
+    bad_full, (b, a, eb, ea), bad, (bc, ac, ebc, eac) = _both_kernels(q, q_mat, ref, chan)
+    assert bad_full == bad == 0
+    assert np.array_equal(bc, b[..., chan]) and np.array_equal(ac, a[..., chan])
+    assert np.array_equal(ebc, eb) and np.array_equal(eac, ea)
+
+
+def test_channel_errors_kernel_wraps_at_pi_like_the_remainder():
+    """Errors at and around ±π (x = (e − t) + π at 0, just below 0, at and beyond 2π, ±3π) take the
+    fmod path after the loop and equal the full kernel and metrics.angle_difference bit for bit; more
+    wrapped rows than the list holds: −1 (the caller's reference path)."""
+    from mtcal.core import metrics
+
+    q, q_mat = _before_after_inputs(5, trials=1, n=1200)
+    e = _both_kernels(q, q_mat, np.zeros((1200, 3)), 0)[1][0][0]         # the angles of trial 0
+    ulp = np.spacing(np.pi)
+    offsets = np.array([np.pi, -np.pi, np.pi + ulp, -np.pi - ulp, np.pi - ulp, -np.pi + ulp, 3 * np.pi, -3 * np.pi,
+                        2 * np.pi, 0.0, 1e-3, -1e-3])
+    ref = e - offsets[np.arange(e.size).reshape(e.shape) % offsets.size]   # e − ref = offset (rounded)
+    ref[::5] = e[::5] + np.pi                                            # (e − ref) + π = 0 exactly or ±ulp
+    bad_full, (b, a, eb, ea), bad, (bc, ac, ebc, eac) = _both_kernels(q, q_mat, ref, 2)
+    assert bad_full == bad == 0
+    assert np.array_equal(ebc, eb) and np.array_equal(eac, ea)
+    assert np.array_equal(ebc[0], metrics.angle_difference(b[0], ref))
+    assert (np.abs(ebc) <= np.pi).all()                # (x mod 2π) − π can round to +π, as numpy's does
+    assert np.isclose(np.abs(ebc[0][np.isclose(np.abs(e - ref), np.pi)]), np.pi).all()
+    assert _both_kernels(q, q_mat, ref, 2, capacity=3)[2] == -1

@@ -192,13 +192,19 @@ def test_compiled_pitch_and_sweep_angles_equal_the_expressions():
     ref = 0.3 * rng.normal(size=(1500, 3))
     after = runs._euler(quaternion_lsq.apply_error_matrix(q_mat, q))
     assert np.array_equal(runs._pitch_after(q_mat, q), after[..., 1])
-    before_k, after_k, errs = runs._before_after(q, q_mat, ref)
     before = runs._euler(q)
-    assert np.array_equal(before_k, before) and np.array_equal(after_k, after)
     from mtcal.core import metrics
 
-    assert np.array_equal(errs["before"], metrics.angle_difference(before, ref))
-    assert np.array_equal(errs["after"], metrics.angle_difference(after, ref))
+    for chan in (0, 1, 2):
+        before_k, after_k, errs = runs._before_after(q, q_mat, ref, chan)
+        assert np.array_equal(before_k, before[..., chan]) and np.array_equal(after_k, after[..., chan])
+        assert np.array_equal(errs["before"], metrics.angle_difference(before, ref))
+        assert np.array_equal(errs["after"], metrics.angle_difference(after, ref))
+    for err in (errs["before"], errs["after"]):          # the sweeps' MaxAE / RMSE, without NaN handling
+        for c in range(3):
+            maxae, rms = runs._maxae_rmse(err[..., c])
+            assert np.array_equal(maxae, metrics.max_abs_error(err[..., c], axis=-1))
+            assert np.array_equal(rms, metrics.rmse(err[..., c], axis=-1))
     bad = q_mat.copy()
     bad[1, 0, 0] = np.nan
     with pytest.raises(FloatingPointError, match="not finite"):
