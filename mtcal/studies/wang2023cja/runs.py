@@ -21,6 +21,7 @@ wang2023cja §3.2 (procedure), §4.1 (turntable T1–T4), §4.2 (wind tunnel), E
 
 from __future__ import annotations
 
+import threading
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, replace
 
@@ -257,6 +258,38 @@ def _map(fn, items: list) -> list:
         return list(pool.map(fn, items))
 
 
+class _SharedTrajectories:
+    """``_compliant(time_s, base, k)`` of the pieces of one call, each distinct ``k`` computed once.
+
+    Pieces with equal compliance (a parameter draw's T2–T4 gasket sessions) get the same
+    :class:`Trajectory` object, whose truth outputs are computed once too
+    (:func:`mtcal.core.simulate._truth_outputs`); a trajectory is dropped after its last piece took
+    it (memory: about one per thread). Thread-safe: pieces are simulated on :func:`_workers` threads.
+    """
+
+    def __init__(self, time_s, base: _ComplianceBase, ks: list):
+        self.time_s, self.base = time_s, base
+        self.uses = {}
+        for k in ks:
+            self.uses[k] = self.uses.get(k, 0) + 1
+        self.memo, self.lock = {}, threading.Lock()
+
+    def __call__(self, k: float):
+        with self.lock:
+            entry = self.memo.get(k)
+            if entry is None:
+                entry = self.memo[k] = [threading.Lock(), None]
+        with entry[0]:                               # the first piece of this k computes it, the others wait
+            if entry[1] is None:
+                entry[1] = _compliant(self.time_s, self.base, k)
+            traj = entry[1]
+        with self.lock:
+            self.uses[k] -= 1
+            if self.uses[k] == 0:
+                del self.memo[k]
+        return traj
+
+
 def _run_pieces(sc: TurntableScenario, prof: AngleProfile, spans: dict, pieces: list, with_sweeps: bool,
                 keep_trace: bool, base: _ComplianceBase, buffers: dict) -> list[TurntableRun]:
     """Simulate every piece ``(test, sources, rng, trials, fraction)``, run ONE stacked QNCF, finish each.
@@ -277,11 +310,16 @@ def _run_pieces(sc: TurntableScenario, prof: AngleProfile, spans: dict, pieces: 
     if any("mount_compliance" in p[1] for p in pieces):
         base.lateral                               # computed once, before the threads share it
 
+    def compliance(i):
+        test, sources, _, _, _, sc = pieces[i]
+        return sc.errors.compliance_deg_g(MOUNT_TYPE[test]) * DEG if "mount_compliance" in sources else 0.0
+
+    trajectory = _SharedTrajectories(prof.time_s, base, [compliance(i) for i in range(len(pieces))])
+
     def simulate(i):
         test, sources, rng, trials, _, sc = pieces[i]
         rng_imu, rng_ref, rng_change = rng.spawn(3)
-        k = sc.errors.compliance_deg_g(MOUNT_TYPE[test]) * DEG if "mount_compliance" in sources else 0.0
-        traj = _compliant(prof.time_s, base, k)   # = compliance_trajectory(prof.time_s, prof.angle_rad, k)
+        traj = trajectory(compliance(i))   # = compliance_trajectory(prof.time_s, prof.angle_rad, k)
         model = sc.imu.error_model(mount_quaternion(sc.alpha_rad(test)), sources, sc.errors)
         g, acc = gyro[starts[i]:starts[i + 1]], accel[starts[i]:starts[i + 1]]
         ImuStream(traj, model, rng=rng_imu, trials=trials).fill(g, acc)   # = simulate_imu(...), into the buffer
