@@ -406,6 +406,7 @@ class Site:
         self.comparisons = read_comparisons(self.root / "data")
         self.fidelity = read_fidelity(self.root / "data" / "fidelity_scores.csv")
         self.fidelity_tuned = read_fidelity(self.root / "data" / "fidelity_scores.csv", role="tuned")
+        self.fidelity_cv = read_fidelity(self.root / "data" / "fidelity_scores.csv", role="cv-heldout")
         self.errata = errata_sections(self.root / "docs" / "errata.md")
         self.headings = {p.stem: notebook_headings(p) for p in sorted((self.root / "notebooks").glob("[0-9][0-9]_*.ipynb"))}
         self.rows_of: dict[str, list[dict]] = {}
@@ -477,7 +478,16 @@ class Site:
         tuned = self.fidelity_tuned.get((scope, "fitted"))
         if tuned and int(tuned["n"] or 0):
             text += (f"In-sample (numbers a mechanism or setting was chosen against, not predictions): "
-                     f"{tuned['inside']} of {tuned['n']} inside.")
+                     f"{tuned['inside']} of {tuned['n']} inside. ")
+        cv = {b: self.fidelity_cv.get((scope, b)) for b in ("fitted", "no-physics", "prior")}
+        if cv["fitted"] and int(cv["fitted"]["n"] or 0):
+            f = cv["fitted"]
+            others = "; ".join(f"{b} {r['inside']} of {r['n']}, {float(r['mean_rel_interval_score']):.1f}"
+                               for b, r in cv.items() if b != "fitted" and r)
+            text += (f"Leave-one-table-out cross-validation (each table predicted by a fit to the others, blind by "
+                     f"construction): {f['inside']} of {f['n']} inside, mean interval score/|paper| "
+                     f"{float(f['mean_rel_interval_score']):.1f} (lower is better; baselines on the same numbers: "
+                     f"{others}).")
         return text.strip()
 
     def claims_words(self, ids) -> tuple[int, int]:

@@ -63,31 +63,15 @@ def _one_line(exc: BaseException) -> str:
     return "".join(c if c.isprintable() else "?" for c in text)[:500]
 
 
-#: glibc ``mallopt`` settings of a CLI process (:func:`_keep_freed_memory`): parameter number → value (bytes).
-_MALLOPT = {-3: 1 << 30,   # M_MMAP_THRESHOLD: blocks below 1 GiB come from the heap, not from fresh mmaps
-            -1: 1 << 30,   # M_TRIM_THRESHOLD: keep up to 1 GiB of freed heap instead of returning it
-            -2: 64 << 20}  # M_TOP_PAD: grow the heap 64 MiB at a time
-
-
 def _keep_freed_memory() -> None:
-    """Let glibc's malloc reuse the memory a command frees instead of handing it back to the kernel.
+    """Let glibc's malloc reuse the memory a command frees (:func:`mtcal.core.allocator.keep_freed_memory`).
 
-    A command on a long log allocates and frees many column-sized temporaries; by default each
-    block above 128 KiB-32 MiB is a fresh ``mmap`` whose pages fault in (and are zeroed) on first
-    touch, which on the 2-vCPU bench VM was a third of the CPU of ``mtcal attitude`` on the 1-hour
-    log (sys 1.05 s of 2.99 s; 0.61 s with these settings, same peak RSS). Only the allocator's
-    reuse changes, never a value. Not glibc (or no ``mallopt``): nothing to do.
+    A command on a long log allocates and frees many column-sized temporaries; on the 2-vCPU bench
+    VM fresh pages were a third of the CPU of ``mtcal attitude`` on the 1-hour log.
     """
-    if not sys.platform.startswith("linux"):
-        return
-    import ctypes
+    from mtcal.core.allocator import keep_freed_memory
 
-    try:
-        mallopt = ctypes.CDLL("libc.so.6").mallopt
-    except (OSError, AttributeError):
-        return
-    for param, value in _MALLOPT.items():
-        mallopt(param, value)
+    keep_freed_memory()
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -18,7 +18,8 @@ from mtcal.core.compiled import jit
 
 __all__ = ["hamilton3", "continuous3", "rotvec_prepare", "rotvec_finish", "normalize2", "rotvec_angle",
            "quat_from_rotvec_finish", "euler_zxy_arguments", "euler_zxy_products", "dcm_entries", "matrix_from_quat",
-           "all_unit", "wrap_difference3", "all_finite", "conjugate2"]
+           "all_unit", "wrap_difference3", "all_finite", "conjugate2",
+           "euler_zxy_channel_errors", "pitch_after"]
 
 
 @jit
@@ -242,16 +243,38 @@ def _euler_row(q0, q1, q2, q3, lock_sin):  # pragma: no cover - compiled
 
 
 @jit
-def euler_zxy_before_after(q, q_mat, ref, lock_sin, before, after, err_before, err_after):  # pragma: no cover
-    """Eq 8 angles of ``q`` (T, N, 4) before and after Eq 10 with ``q_mat`` (T, 4, 4), and their errors from ``ref``.
+def _wrap_row(x):  # pragma: no cover - compiled
+    """``wrap_difference3``'s remainder of one ``x = (e − t) + π``, minus π (the rare path: ``fmod``)."""
+    two_pi = 2.0 * np.pi
+    r = x if 0.0 <= x < two_pi else np.fmod(x, two_pi)
+    if r != 0.0:
+        if r < 0.0:
+            r += two_pi
+    else:
+        r = 0.0
+    return r - np.pi
+
+
+@jit
+def euler_zxy_channel_errors(q, q_mat, ref, lock_sin, chan, before, after, err_before, err_after,
+                             wrapped):  # pragma: no cover - compiled
+    """Eq 8 angle ``chan`` of ``q`` (T, N, 4) before and after Eq 10 with ``q_mat`` (T, 4, 4) into
+    ``before``/``after`` (T, N), and the wrapped errors of all three angles from ``ref`` (N, 3) into
+    ``err_before``/``err_after`` (T, N, 3): what the sweeps read, nothing more.
 
     One pass with the operations of ``euler_zxy_unchecked(q)``, ``euler_zxy_unchecked(_apply(q_mat, q))``
     (sign alignment, ``q @ q_matᵀ`` summed in index order, ``normalize2``) and ``wrap_difference3``
-    against ``ref`` (N, 3). Returns the number of rows that need the caller's care (|sin pitch| above
-    ``lock_sin``: the half-angle form; or a norm below 1e-12); those rows are left unset.
+    against ``ref`` (so the same numbers), with the wrap of a
+    difference ``x = (e − t) + π`` in ``[0, 2π)`` — every angle error below π — done as ``x − π``
+    (what ``(x mod 2π) − π`` is there, ``x = ±0`` included) and no ``fmod`` in the loop; a row with an
+    ``x`` outside (an error of π or more) is listed in ``wrapped`` (int64, (K, 2): trial, sample) and
+    finished by :func:`_wrap_row` after the loop. Returns the rows the caller must handle (|sin pitch|
+    above ``lock_sin`` or a norm below 1e-12; left unset), or −1 when more than K rows wrapped (the
+    caller's reference path then computes everything).
     """
     two_pi = 2.0 * np.pi
     bad = 0
+    n_wrapped = 0
     for t in range(q.shape[0]):
         m = q_mat[t]
         for i in range(q.shape[1]):
@@ -268,20 +291,39 @@ def euler_zxy_before_after(q, q_mat, ref, lock_sin, before, after, err_before, e
             if not ok:
                 bad += 1
                 continue
-            before[t, i, 0], before[t, i, 1], before[t, i, 2] = e0, e1, e2
-            after[t, i, 0], after[t, i, 1], after[t, i, 2] = a0, a1, a2
-            for k in range(6):
-                x = ((before[t, i, k] if k < 3 else after[t, i, k - 3]) - ref[i, k % 3]) + np.pi
-                r = x if 0.0 <= x < two_pi else np.fmod(x, two_pi)   # fmod(x, b) is x itself there
-                if r != 0.0:
-                    if r < 0.0:
-                        r += two_pi
-                else:
-                    r = 0.0
-                if k < 3:
-                    err_before[t, i, k] = r - np.pi
-                else:
-                    err_after[t, i, k - 3] = r - np.pi
+            before[t, i] = e0 if chan == 0 else (e1 if chan == 1 else e2)
+            after[t, i] = a0 if chan == 0 else (a1 if chan == 1 else a2)
+            x0 = (e0 - ref[i, 0]) + np.pi
+            x1 = (e1 - ref[i, 1]) + np.pi
+            x2 = (e2 - ref[i, 2]) + np.pi
+            x3 = (a0 - ref[i, 0]) + np.pi
+            x4 = (a1 - ref[i, 1]) + np.pi
+            x5 = (a2 - ref[i, 2]) + np.pi
+            err_before[t, i, 0] = x0 - np.pi
+            err_before[t, i, 1] = x1 - np.pi
+            err_before[t, i, 2] = x2 - np.pi
+            err_after[t, i, 0] = x3 - np.pi
+            err_after[t, i, 1] = x4 - np.pi
+            err_after[t, i, 2] = x5 - np.pi
+            if not (0.0 <= x0 < two_pi and 0.0 <= x1 < two_pi and 0.0 <= x2 < two_pi
+                    and 0.0 <= x3 < two_pi and 0.0 <= x4 < two_pi and 0.0 <= x5 < two_pi):
+                if n_wrapped == wrapped.shape[0]:
+                    return -1
+                wrapped[n_wrapped, 0] = t
+                wrapped[n_wrapped, 1] = i
+                n_wrapped += 1
+    for k in range(n_wrapped):       # rows with an error of π or more: the full remainder
+        t, i = wrapped[k, 0], wrapped[k, 1]
+        q0, q1, q2, q3 = q[t, i, 0], q[t, i, 1], q[t, i, 2], q[t, i, 3]
+        ok, e0, e1, e2 = _euler_row(q0, q1, q2, q3, lock_sin)
+        b0, b1, b2, b3, n = _apply_row(q0, q1, q2, q3, q_mat[t])
+        ok, a0, a1, a2 = _euler_row(b0 / n, b1 / n, b2 / n, b3 / n, lock_sin)
+        err_before[t, i, 0] = _wrap_row((e0 - ref[i, 0]) + np.pi)
+        err_before[t, i, 1] = _wrap_row((e1 - ref[i, 1]) + np.pi)
+        err_before[t, i, 2] = _wrap_row((e2 - ref[i, 2]) + np.pi)
+        err_after[t, i, 0] = _wrap_row((a0 - ref[i, 0]) + np.pi)
+        err_after[t, i, 1] = _wrap_row((a1 - ref[i, 1]) + np.pi)
+        err_after[t, i, 2] = _wrap_row((a2 - ref[i, 2]) + np.pi)
     return bad
 
 

@@ -192,13 +192,19 @@ def test_compiled_pitch_and_sweep_angles_equal_the_expressions():
     ref = 0.3 * rng.normal(size=(1500, 3))
     after = runs._euler(quaternion_lsq.apply_error_matrix(q_mat, q))
     assert np.array_equal(runs._pitch_after(q_mat, q), after[..., 1])
-    before_k, after_k, errs = runs._before_after(q, q_mat, ref)
     before = runs._euler(q)
-    assert np.array_equal(before_k, before) and np.array_equal(after_k, after)
     from mtcal.core import metrics
 
-    assert np.array_equal(errs["before"], metrics.angle_difference(before, ref))
-    assert np.array_equal(errs["after"], metrics.angle_difference(after, ref))
+    for chan in (0, 1, 2):
+        before_k, after_k, errs = runs._before_after(q, q_mat, ref, chan)
+        assert np.array_equal(before_k, before[..., chan]) and np.array_equal(after_k, after[..., chan])
+        assert np.array_equal(errs["before"], metrics.angle_difference(before, ref))
+        assert np.array_equal(errs["after"], metrics.angle_difference(after, ref))
+    for err in (errs["before"], errs["after"]):          # the sweeps' MaxAE / RMSE, without NaN handling
+        for c in range(3):
+            maxae, rms = runs._maxae_rmse(err[..., c])
+            assert np.array_equal(maxae, metrics.max_abs_error(err[..., c], axis=-1))
+            assert np.array_equal(rms, metrics.rmse(err[..., c], axis=-1))
     bad = q_mat.copy()
     bad[1, 0, 0] = np.nan
     with pytest.raises(FloatingPointError, match="not finite"):
@@ -277,3 +283,38 @@ def test_shared_compliance_base_checks_once_and_gives_the_public_numbers():
     assert base._family is not None and base._family[0] is t
     with pytest.raises(ValueError, match="gain must be finite"):
         base.tilted(t, np.nan)
+
+
+def test_interleaved_t2_to_t4_equal_one_call_per_test_and_share_their_truth(fast_sc, monkeypatch):
+    """turntable_predictive runs a draw's T2–T4 sessions side by side: the numbers of one call per test
+    (each job its own generator), and one compliant truth trajectory per draw instead of three."""
+    from mtcal.studies.wang2023cja import predictive, runs
+
+    fit = w.fit_error_model(n_mc=200, seed=1)
+    sc = replace(fast_sc, errors=fit.model)
+    calls = []
+    compliant = runs._compliant
+    monkeypatch.setattr(runs, "_compliant", lambda *a: calls.append(a[2]) or compliant(*a))
+    got = predictive.turntable_predictive(sc, fit, "fitted", 3, 7, tests=("T2", "T3", "T4"), per_draw=1)
+    assert list(got) == ["T2", "T3", "T4"]
+    assert len(calls) == len(set(calls)) == 3                    # one trajectory per draw (gasket: equal k)
+    draws = predictive.posterior_draws(fit, 3, 7)
+    for i, test in enumerate(("T2", "T3", "T4")):
+        rngs = np.random.default_rng(np.random.SeedSequence([7, 300 + i])).spawn(3)
+        jobs = [runs.TurntableJob(test, r, 1, errors=m, alpha_deg=a[test]) for r, (m, a) in zip(rngs, draws)]
+        alone = runs._concat_runs(runs.run_turntable_jobs(sc, jobs, block=1))
+        a, b = _arrays(alone), _arrays(got[test])
+        assert sorted(a) == sorted(b) and all(np.array_equal(a[k], b[k]) for k in a)
+
+
+def test_shared_trajectories_give_one_object_per_compliance_and_drop_it_after_its_last_use(fast_sc):
+    from mtcal.studies.wang2023cja import runs, scenario
+
+    prof, _ = runs.turntable_profile(fast_sc, False)
+    base = scenario._ComplianceBase(prof.angle_rad)
+    shared = runs._SharedTrajectories(prof.time_s, base, [1e-3, 1e-3, 2e-3])
+    first, second = shared(1e-3), shared(1e-3)
+    assert first is second and 1e-3 not in shared.memo
+    other = shared(2e-3)
+    assert shared.memo == {}
+    assert np.array_equal(other.q_wb, scenario._compliant(prof.time_s, base, 2e-3).q_wb)

@@ -235,3 +235,21 @@ def test_front_page_counts_come_from_the_verdicts(built):
         row = row[:row.index("</tr>")]
         assert [int(c) for c in re.findall(r"<td>(\d+)</td>", row)[:4]] == [counts[v] for v in site.VERDICTS]
     assert "calibrated bands would hold about" in board or not s.fidelity
+
+
+def test_front_page_states_the_cross_validation_against_both_baselines(built):
+    """The leave-one-table-out rows of fidelity_scores.csv are put in words, each baseline beside the model."""
+    s = built["site"]
+    board = (Path(built["out"]) / "index.html").read_text(encoding="utf-8")
+    for scope in {k[0] for k in s.fidelity_cv} & {k[0] for k in s.fidelity}:   # a paper's page, not a fold
+        fit = s.fidelity_cv.get((scope, "fitted"))
+        if not fit:
+            continue
+        words = s.fidelity_words(scope)
+        assert f"{fit['inside']} of {fit['n']} inside" in words
+        for baseline in ("no-physics", "prior"):
+            other = s.fidelity_cv.get((scope, baseline))
+            if other:
+                assert f"{baseline} {other['inside']} of {other['n']}" in words
+    if ("wang2023cja", "fitted") in s.fidelity_cv:
+        assert "Leave-one-table-out cross-validation" in board

@@ -186,18 +186,27 @@ def turntable_predictive(sc, fit: ErrorModelFit, kind: str, trials: int, seed: i
     per_draw = int(per_draw)
     if per_draw < 1:
         raise ValueError(f"per_draw must be >= 1, got {per_draw}")
-    n_draws = -(-int(trials) // per_draw)
-    draws = _draws(kind, fit, n_draws, seed)
-    out = {}
-    for i, test in enumerate(tests):
+    for test in tests:
         if test not in TABLES_1_TO_4:
             raise ValueError(f"tests must be names from {sorted(TABLES_1_TO_4)}, got {test!r}")
+    n_draws = -(-int(trials) // per_draw)
+    draws = _draws(kind, fit, n_draws, seed)
+    jobs = {}
+    for i, test in enumerate(tests):
         rngs = np.random.default_rng(np.random.SeedSequence([int(seed), 300 + i])).spawn(n_draws)
-        jobs = [TurntableJob(test, r, min(per_draw, int(trials) - k * per_draw), errors=m, alpha_deg=a[test])
-                for k, (r, (m, a)) in enumerate(zip(rngs, draws))]
-        out[test] = run_turntable_jobs(sc, jobs, with_sweeps=(test == "T1"), keep_trace=(test == "T1"), block=1)
-        out[test] = _stack_jobs(out[test])
-    return out
+        jobs[test] = [TurntableJob(test, r, min(per_draw, int(trials) - k * per_draw), errors=m, alpha_deg=a[test])
+                      for k, (r, (m, a)) in enumerate(zip(rngs, draws))]
+    out = {}
+    if "T1" in jobs:
+        out["T1"] = _stack_jobs(run_turntable_jobs(sc, jobs["T1"], with_sweeps=True, keep_trace=True, block=1))
+    rest = [t for t in tests if t != "T1"]
+    if rest:
+        # the sessions of one draw side by side (T2, T3, T4 of draw 0, then of draw 1, …): a draw's gasket
+        # sessions share their compliance and so one truth trajectory (runs._run_pieces); every job keeps
+        # its own generator, so the numbers are those of one call per test
+        runs = run_turntable_jobs(sc, [jobs[t][j] for j in range(n_draws) for t in rest], block=1)
+        out.update((t, _stack_jobs(runs[k::len(rest)])) for k, t in enumerate(rest))
+    return {t: out[t] for t in tests}
 
 
 def _stack_jobs(runs):

@@ -21,6 +21,7 @@ wang2023cja §3.2 (procedure), §4.1 (turntable T1–T4), §4.2 (wind tunnel), E
 
 from __future__ import annotations
 
+import threading
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, replace
 
@@ -31,9 +32,10 @@ import numpy as np
 from mtcal.core.cache import cached
 from mtcal.core.montecarlo import progress
 from mtcal.core import metrics, rotations
+from mtcal.core.allocator import keep_freed_memory
 from mtcal.core.profiles import AngleProfile, step_schedule
 from mtcal.core.rotations import mount_quaternion, relative_to_initial
-from mtcal.core.simulate import ImuStream, simulate_imu
+from mtcal.core.simulate import ImuStream
 from mtcal.core.units import DEG, MG
 from mtcal.filters.qncf import qncf
 from mtcal.methods import quaternion_lsq, six_position
@@ -256,6 +258,38 @@ def _map(fn, items: list) -> list:
         return list(pool.map(fn, items))
 
 
+class _SharedTrajectories:
+    """``_compliant(time_s, base, k)`` of the pieces of one call, each distinct ``k`` computed once.
+
+    Pieces with equal compliance (a parameter draw's T2–T4 gasket sessions) get the same
+    :class:`Trajectory` object, whose truth outputs are computed once too
+    (:func:`mtcal.core.simulate._truth_outputs`); a trajectory is dropped after its last piece took
+    it (memory: about one per thread). Thread-safe: pieces are simulated on :func:`_workers` threads.
+    """
+
+    def __init__(self, time_s, base: _ComplianceBase, ks: list):
+        self.time_s, self.base = time_s, base
+        self.uses = {}
+        for k in ks:
+            self.uses[k] = self.uses.get(k, 0) + 1
+        self.memo, self.lock = {}, threading.Lock()
+
+    def __call__(self, k: float):
+        with self.lock:
+            entry = self.memo.get(k)
+            if entry is None:
+                entry = self.memo[k] = [threading.Lock(), None]
+        with entry[0]:                               # the first piece of this k computes it, the others wait
+            if entry[1] is None:
+                entry[1] = _compliant(self.time_s, self.base, k)
+            traj = entry[1]
+        with self.lock:
+            self.uses[k] -= 1
+            if self.uses[k] == 0:
+                del self.memo[k]
+        return traj
+
+
 def _run_pieces(sc: TurntableScenario, prof: AngleProfile, spans: dict, pieces: list, with_sweeps: bool,
                 keep_trace: bool, base: _ComplianceBase, buffers: dict) -> list[TurntableRun]:
     """Simulate every piece ``(test, sources, rng, trials, fraction)``, run ONE stacked QNCF, finish each.
@@ -276,11 +310,16 @@ def _run_pieces(sc: TurntableScenario, prof: AngleProfile, spans: dict, pieces: 
     if any("mount_compliance" in p[1] for p in pieces):
         base.lateral                               # computed once, before the threads share it
 
+    def compliance(i):
+        test, sources, _, _, _, sc = pieces[i]
+        return sc.errors.compliance_deg_g(MOUNT_TYPE[test]) * DEG if "mount_compliance" in sources else 0.0
+
+    trajectory = _SharedTrajectories(prof.time_s, base, [compliance(i) for i in range(len(pieces))])
+
     def simulate(i):
         test, sources, rng, trials, _, sc = pieces[i]
         rng_imu, rng_ref, rng_change = rng.spawn(3)
-        k = sc.errors.compliance_deg_g(MOUNT_TYPE[test]) * DEG if "mount_compliance" in sources else 0.0
-        traj = _compliant(prof.time_s, base, k)   # = compliance_trajectory(prof.time_s, prof.angle_rad, k)
+        traj = trajectory(compliance(i))   # = compliance_trajectory(prof.time_s, prof.angle_rad, k)
         model = sc.imu.error_model(mount_quaternion(sc.alpha_rad(test)), sources, sc.errors)
         g, acc = gyro[starts[i]:starts[i + 1]], accel[starts[i]:starts[i + 1]]
         ImuStream(traj, model, rng=rng_imu, trials=trials).fill(g, acc)   # = simulate_imu(...), into the buffer
@@ -483,6 +522,7 @@ def run_turntable_jobs(sc: TurntableScenario, jobs: list[TurntableJob], *, with_
             raise ValueError(f"job test must be one of {sorted(sc.alpha_deg)}, got {job.test!r}")
     if int(block) < 1:
         raise ValueError(f"block must be >= 1, got {block}")
+    keep_freed_memory()                          # the per-call arrays below reuse freed heap, not fresh zeroed pages
     prof, spans = turntable_profile(sc, with_sweeps)
     per_call = max(int(block), int(max_trial_samples) // prof.time_s.size)
     pieces = []                                  # (job index, piece)
@@ -511,31 +551,38 @@ def run_turntable_jobs(sc: TurntableScenario, jobs: list[TurntableJob], *, with_
     return [_concat_runs(r) for r in per_job]
 
 
-def _before_after(q_s, q_mat, ref) -> tuple[np.ndarray, np.ndarray, dict]:
-    """Eq 8 angles of ``q_s`` (T, n, 4) before and after Eq 10 with ``q_mat``, and their wrapped errors from ``ref``.
+#: Rows of a :func:`_before_after` call whose angle errors may reach π (the compiled pass's second loop).
+_WRAPPED_ROWS = 4096
 
-    ``_euler(q_s)``, ``_euler(apply_error_matrix(q_mat, q_s))`` and ``metrics.angle_difference`` of
-    each; a large float64 input in one compiled pass (the same operations, bit-identical), unless a
-    row is near gimbal lock or the matrix is not finite (then the expressions themselves).
+
+def _before_after(q_s, q_mat, ref, chan: int) -> tuple[np.ndarray, np.ndarray, dict]:
+    """Eq 8 angle ``chan`` of ``q_s`` (T, n, 4) before and after Eq 10 with ``q_mat`` ((T, n) each), and the
+    wrapped errors of all three angles from ``ref`` ((T, n, 3) each).
+
+    ``_euler(q_s)[..., chan]``, ``_euler(apply_error_matrix(q_mat, q_s))[..., chan]`` and
+    ``metrics.angle_difference`` of the full angles; a large float64 input in one compiled pass that
+    writes only these (the same operations, bit-identical:
+    :func:`mtcal.core._rotation_kernels.euler_zxy_channel_errors`), unless a row is near gimbal lock,
+    the matrix is not finite or many errors reach π (then the expressions themselves).
     """
     q_mat = np.asarray(q_mat, float)
     if (q_s.dtype == np.float64 and q_s.ndim == 3 and q_s.shape[0] * q_s.shape[1] >= rotations._KERNEL_MIN_ROWS
             and q_mat.shape == (q_s.shape[0], 4, 4) and np.isfinite(q_mat).all()):
-        from mtcal.core._rotation_kernels import euler_zxy_before_after
+        from mtcal.core._rotation_kernels import euler_zxy_channel_errors
 
-        before, after = np.empty(q_s.shape[:-1] + (3,)), np.empty(q_s.shape[:-1] + (3,))
-        err_b, err_a = np.empty_like(before), np.empty_like(after)
+        before, after = np.empty(q_s.shape[:-1]), np.empty(q_s.shape[:-1])
+        err_b, err_a = np.empty(q_s.shape[:-1] + (3,)), np.empty(q_s.shape[:-1] + (3,))
         ref = np.ascontiguousarray(ref, dtype=float)
-        if euler_zxy_before_after(q_s, np.ascontiguousarray(q_mat), ref, rotations._LOCK_SIN, before, after,
-                                  err_b, err_a) == 0:
-            if not (np.isfinite(before).all() and np.isfinite(after).all()):
+        if euler_zxy_channel_errors(q_s, np.ascontiguousarray(q_mat), ref, rotations._LOCK_SIN, int(chan), before,
+                                    after, err_b, err_a, np.empty((_WRAPPED_ROWS, 2), np.int64)) == 0:
+            if not (np.isfinite(err_b).all() and np.isfinite(err_a).all()):
                 raise FloatingPointError("Eq 8 angles are not finite: a calibration matrix or attitude of this run "
                                          "is NaN/inf")
             return before, after, {"before": err_b, "after": err_a}
     before = _euler(q_s)
     after = _euler(quaternion_lsq.apply_error_matrix(q_mat, q_s))
-    return before, after, {"before": metrics.angle_difference(before, ref),
-                           "after": metrics.angle_difference(after, ref)}
+    return before[..., chan], after[..., chan], {"before": metrics.angle_difference(before, ref),
+                                                 "after": metrics.angle_difference(after, ref)}
 
 
 def _pitch_after(q_mat, q_s) -> np.ndarray:
@@ -556,6 +603,16 @@ def _pitch_after(q_mat, q_s) -> np.ndarray:
     return _euler(quaternion_lsq.apply_error_matrix(q_mat, q_s))[..., 1]
 
 
+def _maxae_rmse(err) -> tuple[np.ndarray, np.ndarray]:
+    """``metrics.max_abs_error(err, axis=-1)`` and ``metrics.rmse(err, axis=-1)`` of finite errors (T, n).
+
+    The errors of :func:`_before_after` are finite (checked there), so the NaN handling of the
+    metrics (a validated copy, a NaN mask, a second copy) changes nothing: ``max(|e|)`` and
+    ``sqrt(mean(e²))`` over the same contiguous ``e²`` are the same numbers (tested).
+    """
+    return np.max(np.abs(err), axis=-1), np.sqrt(np.mean(err**2, axis=-1))
+
+
 def _evaluate_sweeps(prof, spans, q_s, q_mat, frac, hold_errors, keep_trace, shared=None):
     """Hold means (with a turntable angle error per hold) and MaxAE/RMSE of the coupled channels.
 
@@ -568,19 +625,18 @@ def _evaluate_sweeps(prof, spans, q_s, q_mat, frac, hold_errors, keep_trace, sha
     for name, chan_mean, chans_err in _SWEEPS:
         span = spans[name]
         ref = truth[span]
-        before, after, errs = _before_after(q_s[:, span], q_mat, ref)
+        before, after, errs = _before_after(q_s[:, span], q_mat, ref, chan_mean)
         holds = _sweep_holds(prof, spans, name, frac, shared)
         e = hold_errors[name]
         sweeps[name] = {
             "reference": np.array([ref[h, chan_mean].mean() for h in holds]),
-            "before_mean": np.stack([before[:, h, chan_mean].mean(axis=1) for h in holds], axis=1) - e,
-            "after_mean": np.stack([after[:, h, chan_mean].mean(axis=1) for h in holds], axis=1) - e,
+            "before_mean": np.stack([before[:, h].mean(axis=1) for h in holds], axis=1) - e,
+            "after_mean": np.stack([after[:, h].mean(axis=1) for h in holds], axis=1) - e,
         }
         for state, est in (("before", before), ("after", after)):
             err = errs[state]
             for c in chans_err:
-                sweeps[name][f"{state}_maxae_{c}"] = metrics.max_abs_error(err[..., c], axis=-1)
-                sweeps[name][f"{state}_rmse_{c}"] = metrics.rmse(err[..., c], axis=-1)
+                sweeps[name][f"{state}_maxae_{c}"], sweeps[name][f"{state}_rmse_{c}"] = _maxae_rmse(err[..., c])
             sweeps[name][f"{state}_err_dec"] = err[:, ::TRACE_DECIMATION].astype(np.float32)
             if keep_trace:
                 trace[f"{name}_{state}_err"] = err[0]
@@ -689,6 +745,7 @@ def run_windtunnel(sc: WindTunnelScenario, rng: np.random.Generator, trials: int
         raise ValueError(f"block must be >= 1, got {block}")
     if not 0 <= int(trace_trial) < trials:
         raise ValueError(f"trace_trial must be in [0, {trials}), got {trace_trial}")
+    keep_freed_memory()                          # the per-block arrays reuse freed heap, not fresh zeroed pages
     sizes = [min(int(block), trials - k) for k in range(0, trials, int(block))]
     b_trace, i_trace = divmod(int(trace_trial), int(block))
     runs = [_run_windtunnel_block(sc, r, n, _check_sources(sources), wind_on=wind_on,
@@ -735,41 +792,51 @@ def _run_windtunnel_block(sc: WindTunnelScenario, rng: np.random.Generator, tria
                                    _key(sc.aoa_sweep_deg), float(sc.mechanism_rate_rad_s), float(sc.hold_s)), session)
     spans = dict(zip(("calibration", "aoa"), spans))
     actual = mechanism_actual(sc, prof, sc.mechanism_rate_rad_s)
-    rec = simulate_imu(compliance_trajectory(prof.time_s, actual, k_mount), model, rng=rng_imu, trials=trials)
+    gyro, accel = _simulate_into(compliance_trajectory(prof.time_s, actual, k_mount), model, rng_imu, trials)
     if "accel_run_change" in on:        # bias change between the calibration and the sweep
-        rec.accel_m_s2[:, spans["aoa"].start:] += (sc.errors.accel_run_bias_mg * MG
-                                                    * rng_change.standard_normal((trials, 1, 3)))
-    res = qncf(rec.gyro_rad_s, rec.accel_m_s2, 1.0 / sc.fs_hz, sc.qncf, return_euler=False)
+        accel[:, spans["aoa"].start:] += (sc.errors.accel_run_bias_mg * MG
+                                          * rng_change.standard_normal((trials, 1, 3)))
+    res = qncf(gyro, accel, 1.0 / sc.fs_hz, sc.qncf, return_euler=False)
     # the session zeroed at its start, in place after the calibration run (kept as logged: no copy)
     q_s = relative_to_initial(res.q_ws, out=res.q_ws, start=spans["aoa"].start)
     q_cal = q_s[:, spans["calibration"]]
     ref_err = _draws(rng_ref, trials, 6, sc.repeatability_rad, "reference_angle" in on)
-    cal = calibration_step(sc, q_cal, rec.gyro_rad_s[:, spans["calibration"]], pos + ref_err, frac)
+    cal = calibration_step(sc, q_cal, gyro[:, spans["calibration"]], pos + ref_err, frac)
     q_mat = cal.q_hat
     span = spans["aoa"]
     cmd = prof.angle_rad[span]
-    before, after, errs = _before_after(q_s[:, span], q_mat, cmd)
+    before, after, errs = _before_after(q_s[:, span], q_mat, cmd, 1)
     holds = [slice(h.start - span.start, h.stop - span.start) for h in _shared_holds(prof, span, frac)][1:-1]
     nowind = {"reference": np.array([cmd[h, 1].mean() for h in holds]),
-              "before_mean": np.stack([before[:, h, 1].mean(axis=1) for h in holds], axis=1),
-              "after_mean": np.stack([after[:, h, 1].mean(axis=1) for h in holds], axis=1)}
+              "before_mean": np.stack([before[:, h].mean(axis=1) for h in holds], axis=1),
+              "after_mean": np.stack([after[:, h].mean(axis=1) for h in holds], axis=1)}
     for state in ("before", "after"):
         err = errs[state]
         for c in (2, 0):
-            nowind[f"{state}_maxae_{c}"] = metrics.max_abs_error(err[..., c], axis=-1)
-            nowind[f"{state}_rmse_{c}"] = metrics.rmse(err[..., c], axis=-1)
+            nowind[f"{state}_maxae_{c}"], nowind[f"{state}_rmse_{c}"] = _maxae_rmse(err[..., c])
         nowind[f"{state}_err_dec"] = err[:, ::TRACE_DECIMATION].astype(np.float32)
     trace = {}
     if keep_trace:
         trace = {"nowind_time_s": prof.time_s[span] - prof.time_s[span.start],
                  "nowind_before_err": errs["before"][trace_index].copy(),
                  "nowind_after_err": errs["after"][trace_index].copy()}
-    del before, after, res, q_s
+    del before, after, res, q_s, gyro, accel
     out = WindTunnelRun(q_mat, cal.euler_before_rad, cal.euler_after_rad, nowind, None, trace)
     if wind_on:
         out.wind_on = _wind_on_groups(sc, model, q_mat, rng_wind, trials, out.trace, k_mount, keep_trace,
                                       trace_index)
     return out
+
+
+def _simulate_into(traj, model, rng, trials: int, gyro=None, accel=None) -> tuple[np.ndarray, np.ndarray]:
+    """``simulate_imu(traj, model, rng=rng, trials=trials)``'s gyro and accelerometer (T, N, 3), written into
+    ``gyro``/``accel`` (new arrays when None) by :meth:`ImuStream.fill` (the same numbers, without the
+    record's truth attitude)."""
+    shape = (int(trials), len(traj), 3)
+    gyro = np.empty(shape) if gyro is None else gyro
+    accel = np.empty(shape) if accel is None else accel
+    ImuStream(traj, model, rng=rng, trials=int(trials)).fill(gyro, accel)
+    return gyro, accel
 
 
 def windtunnel_median_trial(run: WindTunnelRun) -> int:
@@ -810,18 +877,22 @@ def _wind_on_groups(sc, model, q_mat, rng, trials, trace, k_mount, keep_trace, t
         actual[:, 1] += ramp * (q_factor * elastic_deflection_rad(sc.elastic_true_deg, prof.angle_rad[:, 1])
                                 + sc.vibration_angle_rad * np.sin(2 * np.pi * sc.vibration_freq_hz * t + phase))
         model_g = replace(model, time_since_power_on_s=model.time_since_power_on_s + sc.group_interval_s * (g + 1))
-        rec = simulate_imu(compliance_trajectory(t, actual, k_mount), model_g, rng=r_imu, trials=trials)
+        m = t.size
+        rows = slice(g * trials, (g + 1) * trials)
+        # a group as long as the stack is simulated straight into its rows, a shorter one into its own arrays
+        g_g, a_g = (gyro[rows], accel[rows]) if m == n else (None, None)
+        g_g, a_g = _simulate_into(compliance_trajectory(t, actual, k_mount), model_g, r_imu, trials, g_g, a_g)
         vib = r_vib.uniform(0, 2 * np.pi, (trials, 1, 3))
-        # accel + ramp · a · sin(2π f t + vib), with fewer temporaries (the same operations)
+        # accel + ramp · a · sin(2π f t + vib), with fewer temporaries (the same operations; a + b == b + a)
         shake = np.add(2 * np.pi * sc.vibration_freq_hz * t[None, :, None], vib)
         np.sin(shake, out=shake)
         shake *= ramp[None, :, None] * sc.vibration_accel_m_s2
-        shake += rec.accel_m_s2
-        for x, out in ((rec.gyro_rad_s, gyro), (shake, accel)):
-            m = x.shape[1]
-            out[g * trials:(g + 1) * trials, :m] = x
-            out[g * trials:(g + 1) * trials, m:] = x[:, -1:]
-        del rec, shake
+        a_g += shake
+        if m < n:
+            for x, out in ((g_g, gyro), (a_g, accel)):
+                out[rows, :m] = x
+                out[rows, m:] = x[:, -1:]
+        del g_g, a_g, shake
     res = qncf(gyro, accel, 1.0 / sc.fs_hz, sc.qncf, return_euler=False)
     q_s = relative_to_initial(res.q_ws, n0=1, out=res.q_ws)
     q_rep = np.concatenate([q_mat] * 5, axis=0)
