@@ -17,8 +17,10 @@ score the held-out table's 18 "after − reference" numbers: log predictive dens
 Gaussian), coverage of the marginal 95 % intervals and the mean interval score (deg). The drift
 replaces the white term only if it predicts better (higher summed log density, coverage no worse).
 
-This is a small fold-wise check of our own, to be replaced by the project's cross-validation module
-once it exists; it writes nothing. Seeded: the same numbers on every run.
+It complements :mod:`mtcal.studies.wang2023cja.crossval` (the same folds, scoring the committed
+model's 95 % bands against the no-physics and prior baselines, where the per-rest structure is not a
+switch): here two noise structures are compared by their held-out log density, a strictly proper
+score. It writes nothing. Seeded: the same numbers on every run.
 """
 
 from __future__ import annotations
