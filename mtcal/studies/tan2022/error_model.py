@@ -586,11 +586,16 @@ def fit_gyro_error_pattern(study: GyroStudy, prior: GyroErrorPrior, seed: int, t
         compare.in_sample("tan2022_fig11", "P(Fig 11 spikes and Fig 12 accurate) at the ML (b_z, N)",
                           "both statements", float(lik[i_ml, j_ml]), "> 0.5", bool(lik[i_ml, j_ml] > 0.5),
                           on="the likelihood is P(both statements hold): fitted to them", role="train"),
-        compare.consistency("tan2022_fig09", "Eq 13: log-log slope of mean |Δφ_P| over the rates (pattern model)",
-                            "larger θ̇ → smaller error", "undefined" if slope is None else float(slope["median"]),
-                            "≈ −1 (−1.1…−0.9)", slope is not None and bool(-1.1 < slope["median"] < -0.9),
-                            by="Eq 14: Δφ ∝ 1/θ̇ for any constant error (the paper's analytic model)", band=slope,
-                            role="finding"),
+        # Sec. 3.2 c) (error falls as θ̇ rises) follows from the paper's Eq 14 for any constant error and is checked
+        # once at the paper's settings (artifacts.fig09, consistency); here the pattern model's band is shown, not
+        # counted and not called "by construction": with the fitted noise it could fail
+        compare.comparison_row("tan2022_fig09", "Eq 13: log-log slope of mean |Δφ_P| over the rates (pattern model "
+                               "fitted to Figs 11–12, posterior draws)", "larger θ̇ → smaller error",
+                               "undefined" if slope is None else float(slope["median"]), "", None, band=slope,
+                               role="finding", source="mtcal finding",
+                               note="shown, not counted: the Sec. 3.2 c) statement is checked once at the paper's "
+                                    "settings (the analytic row of tan2022_fig09); Eq 14 gives −1 for a constant "
+                                    "error, the band shows how far the fitted noise moves it"),
         _ROW("tan2022_fig12", f"z-gyro error consistent with Figs 11 + 12 ({lab}), 97.5 % bound (deg/s)", e_paper,
              pb["high"], "the paper's 0.2 °/s on z is excluded: the error must sit on x/y",
              bool(pb["high"] < e_paper), band=compare.credible_interval(pb["low"], pb["high"]), role="finding",
