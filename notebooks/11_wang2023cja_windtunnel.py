@@ -74,8 +74,8 @@ output.show_table(compare.describe(sc))
 # are built here, each section shows its rows.
 
 # %%
-runs = {kind: predictive.windtunnel_predictive(lambda m: w.windtunnel_scenario(errors=m, **params), fit, kind,
-                                               N_TRIALS, SEED, per_draw=PER_DRAW) for kind in predictive.KINDS}
+runs = predictive.windtunnel_predictive_kinds(lambda m: w.windtunnel_scenario(errors=m, **params), fit,
+                                             predictive.KINDS, N_TRIALS, SEED, per_draw=PER_DRAW)
 print(f"{N_TRIALS} trials per model ({PER_DRAW} per draw)")
 one = {name: verdicts.one_to_one(verdicts.printed_samples(windtunnel=r), seed=SEED, per_draw=PER_DRAW)
        for name, r in runs.items()}

@@ -242,6 +242,53 @@ def test_windtunnel_predictive_traces_its_median_session():
     assert np.array_equal(dec, run.nowind["before_err_dec"][m])
 
 
+def test_windtunnel_kinds_side_by_side_equal_separate_runs_and_share_the_vibration(monkeypatch):
+    """Fitted and prior side by side: each kind's run equals its own call bit for bit, and every draw's
+    wind-on vibration is computed by the first kind and reused (equal phases) by the second."""
+    from mtcal.studies.wang2023cja import predictive, runs
+
+    fit = w.fit_error_model(n_mc=200, seed=1)
+    make = lambda m: w.windtunnel_scenario(errors=m, fs_hz=100.0)  # noqa: E731
+    separate = {kind: _arrays(predictive.windtunnel_predictive(make, fit, kind, 3, 4, per_draw=2), kind)
+                for kind in predictive.KINDS}
+    reused, orig = [], runs._vibration_accel
+
+    def spy(sc, t, ramp, vib, shared, g):
+        before = None if shared is None else shared.get(g)
+        out = orig(sc, t, ramp, vib, shared, g)
+        reused.append(before is not None and out is before[4])
+        return out
+
+    monkeypatch.setattr(runs, "_vibration_accel", spy)
+    joint = predictive.windtunnel_predictive_kinds(make, fit, predictive.KINDS, 3, 4, per_draw=2)
+    assert list(joint) == list(predictive.KINDS)
+    # 2 draws × 5 groups: the fitted run computes, the prior run reuses; each kind's trace re-run computes its 5
+    assert reused.count(True) == 10 and reused.count(False) == 20
+    for kind in predictive.KINDS:
+        arrays = _arrays(joint[kind], kind)
+        assert sorted(arrays) == sorted(separate[kind])
+        assert [k for k in arrays if not np.array_equal(arrays[k], separate[kind][k], equal_nan=True)] == []
+
+
+def test_shared_vibration_is_recomputed_when_phases_or_settings_differ():
+    from mtcal.studies.wang2023cja import runs
+
+    sc = w.windtunnel_scenario(fs_hz=100.0)
+    t = np.arange(0.0, 2.0, 0.01)
+    ramp = np.clip(t - 0.5, 0.0, 1.0)
+    vib = np.random.default_rng(0).uniform(0, 2 * np.pi, (2, 1, 3))
+    shared = {}
+    first = runs._vibration_accel(sc, t, ramp, vib, shared, 0)
+    assert runs._vibration_accel(sc, t, ramp, vib.copy(), shared, 0) is first
+    other = runs._vibration_accel(sc, t, ramp, vib + 1e-9, shared, 0)
+    assert other is not first and not np.array_equal(other, first)
+    faster = replace(sc, vibration_freq_hz=2 * sc.vibration_freq_hz)
+    assert runs._vibration_accel(faster, t, ramp, vib + 1e-9, shared, 0) is not other
+    expected = ramp[None, :, None] * sc.vibration_accel_m_s2 * np.sin(2 * np.pi * sc.vibration_freq_hz
+                                                                      * t[None, :, None] + vib)
+    assert np.array_equal(first, expected)
+
+
 def test_sweeps_of_stacked_pieces_equal_the_sweeps_piece_by_piece(fast_sc, monkeypatch):
     """The T1 sweeps run once per group of pieces (rows independent): the numbers of one pass per piece."""
     from mtcal.studies.wang2023cja import predictive, runs

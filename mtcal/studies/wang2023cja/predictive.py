@@ -43,7 +43,7 @@ from .runs import TurntableJob, _map, run_turntable_jobs, run_windtunnel, windtu
 from .verdicts import variance_parts
 
 __all__ = ["ALPHA_PRIOR_SIGMA_DEG", "KINDS", "TURNTABLE_PER_DRAW", "variance_parts", "posterior_draws", "prior_draws", "turntable_predictive",
-           "windtunnel_predictive", "quantile_se", "LEAK_SIZES", "fit_and_predict"]
+           "windtunnel_predictive", "windtunnel_predictive_kinds", "quantile_se", "LEAK_SIZES", "fit_and_predict"]
 
 # random streams of this module (mtcal.core.rng rule)
 STREAM_POSTERIOR = 210
@@ -222,20 +222,46 @@ def windtunnel_predictive(make_scenario, fit: ErrorModelFit, kind: str, trials: 
     ``make_scenario(errors)`` builds the :class:`WindTunnelScenario` of one draw (its installation
     angles and pitch-ratio error come from the printed wind-tunnel matrix: train; the turntable
     installation-angle draws do not enter). Returns one :class:`WindTunnelRun` with ``trials`` trials,
-    draw-major (:func:`variance_parts` with ``per_draw``).
+    draw-major (:func:`variance_parts` with ``per_draw``). :func:`windtunnel_predictive_kinds` runs
+    several kinds at once (the same numbers).
+    """
+    return windtunnel_predictive_kinds(make_scenario, fit, (kind,), trials, seed, per_draw=per_draw)[kind]
+
+
+def windtunnel_predictive_kinds(make_scenario, fit: ErrorModelFit, kinds, trials: int, seed: int, *,
+                                per_draw: int = 5) -> dict:
+    """:func:`windtunnel_predictive` of each kind in ``kinds``, draw by draw side by side.
+
+    Trial *j* of every kind draws from the same generator key, so the wind-on accelerometer
+    vibration (phases, time base and settings equal; checked) is computed once per draw and shared
+    (``runs.run_windtunnel(..., shared=...)``); every kind keeps its own generators and parameter
+    draws, so each run equals the one of a separate :func:`windtunnel_predictive` call bit for bit.
+
+    Returns
+    -------
+    dict kind → WindTunnelRun.
     """
     per_draw = int(per_draw)
     if per_draw < 1:
         raise ValueError(f"per_draw must be >= 1, got {per_draw}")
+    kinds = tuple(kinds)
     n_draws = -(-int(trials) // per_draw)
-    draws = _draws(kind, fit, n_draws, seed)
-    rngs = np.random.default_rng(np.random.SeedSequence([int(seed), 11])).spawn(n_draws)
+    draws = {kind: _draws(kind, fit, n_draws, seed) for kind in kinds}
+    spawn = lambda: np.random.default_rng(np.random.SeedSequence([int(seed), 11])).spawn(n_draws)  # noqa: E731
+    rngs = {kind: spawn() for kind in kinds}          # one generator per kind and draw (run_windtunnel spawns)
 
-    def one(k):       # each draw its own generator and scenario: the same numbers for any thread count
-        return run_windtunnel(make_scenario(draws[k][0]), rngs[k], min(per_draw, int(trials) - k * per_draw),
-                              block=per_draw, keep_trace=False)
+    def one(k):       # each draw its own generators and scenarios: the same numbers for any thread count
+        shared = {}   # this draw's wind-on vibration, computed by the first kind
+        return [run_windtunnel(make_scenario(draws[kind][k][0]), rngs[kind][k], min(per_draw, int(trials) - k * per_draw),
+                               block=per_draw, keep_trace=False, shared=shared) for kind in kinds]
 
     runs = _map(one, list(range(n_draws)))
+    return {kind: _windtunnel_draws([r[i] for r in runs], make_scenario, draws[kind], trials, seed, per_draw,
+                                    spawn()) for i, kind in enumerate(kinds)}
+
+
+def _windtunnel_draws(runs, make_scenario, draws, trials, seed, per_draw, fresh):
+    """The draws' runs as one WindTunnelRun, traced at the median session (``fresh``: unused generators)."""
     cat = lambda xs: np.concatenate(xs, axis=0)  # noqa: E731
     first = runs[0]
     first.q_matrix = cat([r.q_matrix for r in runs])
@@ -251,8 +277,7 @@ def windtunnel_predictive(make_scenario, fit: ErrorModelFit, kind: str, trials: 
     # the figures' time series: the median session (never trial 0), its draw re-run from a fresh copy of
     # that draw's generator (the same numbers) with its trace kept
     k, i = divmod(windtunnel_median_trial(first), per_draw)
-    fresh = np.random.default_rng(np.random.SeedSequence([int(seed), 11])).spawn(n_draws)[k]
-    first.trace = run_windtunnel(make_scenario(draws[k][0]), fresh, min(per_draw, int(trials) - k * per_draw),
+    first.trace = run_windtunnel(make_scenario(draws[k][0]), fresh[k], min(per_draw, int(trials) - k * per_draw),
                                  block=per_draw, keep_trace=True, trace_trial=i).trace
     first.trace["median_trial"] = k * per_draw + i
     return first

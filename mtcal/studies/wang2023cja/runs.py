@@ -730,13 +730,18 @@ class WindTunnelRun:
 
 def run_windtunnel(sc: WindTunnelScenario, rng: np.random.Generator, trials: int, sources=SOURCES,
                    *, wind_on: bool = True, block: int = 10, keep_trace: bool = True,
-                   trace_trial: int = 0) -> WindTunnelRun:
+                   trace_trial: int = 0, shared: dict | None = None) -> WindTunnelRun:
     """Wind-off calibration + AoA sweep (Tables 9, 11) and five wind-on groups (Table 10), in trial blocks.
 
     Block ``i`` of ``block`` trials draws from ``rng.spawn(n_blocks)[i]``; peak memory is set by
     ``block`` (≈ 0.6 GB at 10), not by ``trials``. The time series of trial ``trace_trial`` are kept
     for figures (``keep_trace``; off: ``trace`` is empty, a caller that keeps another run's does not
     hold ~10 MB per run); the trials' numbers do not depend on which one is traced.
+
+    ``shared`` (a dict, empty on the first of several runs from equal generators): the wind-on
+    accelerometer vibration of each block and group is kept there and reused by a later run whose
+    phases, time base and vibration settings are equal (checked, else computed afresh), so runs of
+    two error models on one key compute it once — the same numbers as separate runs.
     """
     trials = int(trials)
     if trials < 1:
@@ -749,7 +754,8 @@ def run_windtunnel(sc: WindTunnelScenario, rng: np.random.Generator, trials: int
     sizes = [min(int(block), trials - k) for k in range(0, trials, int(block))]
     b_trace, i_trace = divmod(int(trace_trial), int(block))
     runs = [_run_windtunnel_block(sc, r, n, _check_sources(sources), wind_on=wind_on,
-                                  keep_trace=keep_trace and i == b_trace, trace_index=i_trace)
+                                  keep_trace=keep_trace and i == b_trace, trace_index=i_trace,
+                                  shared=None if shared is None else shared.setdefault(i, {}))
             for i, (r, n) in enumerate(progress(list(zip(rng.spawn(len(sizes)), sizes)),
                                                 desc="wind-tunnel Monte Carlo"))]
     cat = lambda xs: np.concatenate(xs, axis=0)  # noqa: E731
@@ -767,7 +773,8 @@ def run_windtunnel(sc: WindTunnelScenario, rng: np.random.Generator, trials: int
 
 
 def _run_windtunnel_block(sc: WindTunnelScenario, rng: np.random.Generator, trials: int, sources,
-                          *, wind_on: bool, keep_trace: bool, trace_index: int = 0) -> WindTunnelRun:
+                          *, wind_on: bool, keep_trace: bool, trace_index: int = 0,
+                          shared: dict | None = None) -> WindTunnelRun:
     """Wind-off calibration + AoA sweep (Tables 9, 11) and five wind-on groups (Table 10).
 
     Truth = actual mechanism angles (:func:`mechanism_actual`) + elastic
@@ -824,7 +831,7 @@ def _run_windtunnel_block(sc: WindTunnelScenario, rng: np.random.Generator, tria
     out = WindTunnelRun(q_mat, cal.euler_before_rad, cal.euler_after_rad, nowind, None, trace)
     if wind_on:
         out.wind_on = _wind_on_groups(sc, model, q_mat, rng_wind, trials, out.trace, k_mount, keep_trace,
-                                      trace_index)
+                                      trace_index, shared)
     return out
 
 
@@ -857,8 +864,27 @@ def elastic_deflection_rad(coeffs_deg, alpha_rad) -> np.ndarray:
     return np.radians(c0) + c1 * np.asarray(alpha_rad)
 
 
-def _wind_on_groups(sc, model, q_mat, rng, trials, trace, k_mount, keep_trace, trace_index=0):
-    """Five wind-on AoA sweeps; each group its own record; all groups stacked as trials for the QNCF."""
+def _vibration_accel(sc, t, ramp, vib, shared, g) -> np.ndarray:
+    """``ramp · a · sin(2π f t + vib)`` (trials, N, 3) of wind-on group ``g``, taken from ``shared`` when an
+    earlier run stored it for equal phases, time base and settings (read-only there), else computed
+    (and stored when ``shared`` is a dict)."""
+    settings = (float(sc.vibration_freq_hz), float(sc.vibration_accel_m_s2))
+    hit = None if shared is None else shared.get(g)
+    if (hit is not None and hit[0] == settings and np.array_equal(hit[1], vib)
+            and (hit[2] is t or np.array_equal(hit[2], t)) and np.array_equal(hit[3], ramp)):
+        return hit[4]
+    # with fewer temporaries than the expression (the same operations)
+    shake = np.add(2 * np.pi * sc.vibration_freq_hz * t[None, :, None], vib)
+    np.sin(shake, out=shake)
+    shake *= ramp[None, :, None] * sc.vibration_accel_m_s2
+    if shared is not None:
+        shared[g] = (settings, vib, t, ramp, shake)
+    return shake
+
+
+def _wind_on_groups(sc, model, q_mat, rng, trials, trace, k_mount, keep_trace, trace_index=0, shared=None):
+    """Five wind-on AoA sweeps; each group its own record; all groups stacked as trials for the QNCF
+    (``shared``: :func:`run_windtunnel`)."""
     lead_s = 8.0
     group_rngs = rng.spawn(5)
     rates = [sc.group5_rate_rad_s if g == 4 else sc.mechanism_rate_rad_s for g in range(5)]
@@ -883,10 +909,8 @@ def _wind_on_groups(sc, model, q_mat, rng, trials, trace, k_mount, keep_trace, t
         g_g, a_g = (gyro[rows], accel[rows]) if m == n else (None, None)
         g_g, a_g = _simulate_into(compliance_trajectory(t, actual, k_mount), model_g, r_imu, trials, g_g, a_g)
         vib = r_vib.uniform(0, 2 * np.pi, (trials, 1, 3))
-        # accel + ramp · a · sin(2π f t + vib), with fewer temporaries (the same operations; a + b == b + a)
-        shake = np.add(2 * np.pi * sc.vibration_freq_hz * t[None, :, None], vib)
-        np.sin(shake, out=shake)
-        shake *= ramp[None, :, None] * sc.vibration_accel_m_s2
+        # accel + ramp · a · sin(2π f t + vib) (the same operations; a + b == b + a)
+        shake = _vibration_accel(sc, t, ramp, vib, shared, g)
         a_g += shake
         if m < n:
             for x, out in ((g_g, gyro), (a_g, accel)):
