@@ -104,7 +104,8 @@ def variant(trials: int, seed: int) -> dict:
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--trials", type=int, default=1000, help="T1 sessions (= parameter draws) per model")
+    ap.add_argument("--trials", type=int, default=1000,
+                    help="T1 sessions per model (TURNTABLE_PER_DRAW per parameter draw; D5/D6 were computed with one)")
     ap.add_argument("--seed", type=int, default=2023, help="seed of the fit and the draws (notebook 10's SEED)")
     a = ap.parse_args(argv)
     if a.trials < 2:
