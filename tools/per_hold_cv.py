@@ -73,10 +73,7 @@ def fit(tests: dict) -> em.ErrorModel:
 
 def score(model: em.ErrorModel, lt) -> dict:
     """Held-out scores of one table: log density, inside count of 95 % marginal intervals, mean interval score (deg)."""
-    k = model.compliance_deg_g(lt.mount)
-    cov = sum(getattr(model, n) ** 2 * lt.cov_unit[n] for n in em._SIGMA_FIELDS) + \
-        np.radians(em.PRINT_SIGMA_DEG) ** 2 * np.eye(lt.data.size)
-    mean = k * lt.dmu_dk
+    mean, cov = em._linear_moments(model, lt)
     sd = np.sqrt(np.diag(cov))
     lo, hi = np.degrees(mean - 1.96 * sd), np.degrees(mean + 1.96 * sd)
     y = np.degrees(lt.data)

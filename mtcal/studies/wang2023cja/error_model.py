@@ -497,14 +497,20 @@ def _only_unchecked(name, value) -> ErrorModel:
     return m
 
 
+def _linear_moments(model: ErrorModel, lt: _LinearTest) -> tuple[np.ndarray, np.ndarray]:
+    """Mean (18,) and covariance (18, 18) of one test's residuals under the linearised model (rad, rad²):
+    ``k · ∂μ/∂k`` and ``Σ_s σ_s² C_s + σ_print² I``."""
+    noise = np.radians(PRINT_SIGMA_DEG) ** 2
+    cov = sum(getattr(model, n) ** 2 * lt.cov_unit[n] for n in _SIGMA_FIELDS) + noise * np.eye(lt.data.size)
+    return model.compliance_deg_g(lt.mount) * lt.dmu_dk, cov
+
+
 def _loglik(model: ErrorModel, tests: dict) -> float:
     """Gaussian log-likelihood of the training residuals under the linearised model."""
     total = 0.0
-    noise = np.radians(PRINT_SIGMA_DEG) ** 2
     for lt in tests.values():
-        k = model.compliance_deg_g(lt.mount)
-        cov = sum(getattr(model, n) ** 2 * lt.cov_unit[n] for n in _SIGMA_FIELDS) + noise * np.eye(lt.data.size)
-        d = lt.data - k * lt.dmu_dk
+        mean, cov = _linear_moments(model, lt)
+        d = lt.data - mean
         _, logdet = np.linalg.slogdet(cov)
         total += -0.5 * (logdet + d @ np.linalg.solve(cov, d) + d.size * np.log(2 * np.pi))
     return float(total)

@@ -42,8 +42,9 @@ from .error_model import FITTED_PARAMETERS, PRIOR_RANGES, TABLES_1_TO_4, ErrorMo
 from .runs import TurntableJob, _map, run_turntable_jobs, run_windtunnel, windtunnel_median_trial
 from .verdicts import variance_parts
 
-__all__ = ["ALPHA_PRIOR_SIGMA_DEG", "KINDS", "TURNTABLE_PER_DRAW", "variance_parts", "posterior_draws", "prior_draws", "turntable_predictive",
-           "windtunnel_predictive", "windtunnel_predictive_kinds", "quantile_se", "LEAK_SIZES", "fit_and_predict"]
+__all__ = ["ALPHA_PRIOR_SIGMA_DEG", "KINDS", "TURNTABLE_PER_DRAW", "variance_parts", "posterior_draws", "prior_draws",
+           "turntable_predictive", "windtunnel_predictive", "windtunnel_predictive_kinds", "quantile_se", "LEAK_SIZES",
+           "fit_and_predict"]
 
 # random streams of this module (mtcal.core.rng rule)
 STREAM_POSTERIOR = 210
@@ -256,11 +257,11 @@ def windtunnel_predictive_kinds(make_scenario, fit: ErrorModelFit, kinds, trials
                                block=per_draw, keep_trace=False, shared=shared) for kind in kinds]
 
     runs = _map(one, list(range(n_draws)))
-    return {kind: _windtunnel_draws([r[i] for r in runs], make_scenario, draws[kind], trials, seed, per_draw,
-                                    spawn()) for i, kind in enumerate(kinds)}
+    return {kind: _windtunnel_draws([r[i] for r in runs], make_scenario, draws[kind], trials, per_draw, spawn())
+            for i, kind in enumerate(kinds)}
 
 
-def _windtunnel_draws(runs, make_scenario, draws, trials, seed, per_draw, fresh):
+def _windtunnel_draws(runs, make_scenario, draws, trials, per_draw, fresh):
     """The draws' runs as one WindTunnelRun, traced at the median session (``fresh``: unused generators)."""
     cat = lambda xs: np.concatenate(xs, axis=0)  # noqa: E731
     first = runs[0]
