@@ -53,10 +53,11 @@ Adapters:
 * The QNCF and Mahony integral gains follow K_p: ``K_i = K_p / 50 s`` (QNCF's
   default ratio).
 
-Each filter is one :func:`mtcal.filters.registry.register_filter` call at the end of this
-module (name, runner, output, default gain and its unit, ours/anchor, optional package); the
-RAMS EKF is registered here too, as an ``output="angle"`` filter (angle about a known axis),
-run through :func:`run_axis_angle_filter`. Everything else looks filters up in the registry.
+Each filter is one entry of :data:`mtcal.filters.registry.BUILTIN_FILTERS` (name, runner
+by module and function — the batch runners of this module — output,
+default gain and its unit, ours/anchor, optional package); the RAMS EKF is declared there
+too, as an ``output="angle"`` filter (angle about a known axis), run through
+:func:`run_axis_angle_filter`. Everything else looks filters up in the registry.
 
 Every filter starts from the same ``q0``: levelled from the mean of the first
 ``init_samples`` accelerometer samples, yaw 0. The three external libraries
@@ -95,14 +96,13 @@ import numpy as np
 
 from mtcal.core.validate import STANDARD_GRAVITY_M_S2, as_float_array, positive_scalar, unit_quaternion
 
-from mtcal.filters.registry import AxisContext, available_filters, get_filter, register_filter, require_filter
+from mtcal.filters.registry import (RAMS_EKF_DEFAULT_GAIN, AxisContext, available_filters, get_filter, register_filter,
+                                    require_filter)
 
 __all__ = ["available_filters", "require_filter", "run_attitude_filter", "run_axis_angle_filter",
            "reference_difference", "reference_runs", "tilt_error_rad", "twist_angle_rad", "RAMS_EKF_DEFAULT_GAIN"]
 
 _KI_RATIO_S = 50.0
-#: Default of the RAMS EKF's tuned value, σa,moving (m/s²).
-RAMS_EKF_DEFAULT_GAIN = 2.0
 
 
 def _level_q0(accel: np.ndarray, init_samples: int) -> np.ndarray:
@@ -393,18 +393,9 @@ def twist_angle_rad(q_ws, axis_s, ref_index: int = 0) -> np.ndarray:
     return rotations.wrap_angle(2.0 * np.arctan2(rel[..., 1:] @ v, rel[..., 0]))
 
 
-# --------------------------------------------------------------------------- registrations
-register_filter("qncf", _qncf, output="attitude", default_gain=1.0, gain_unit="K_p (1/s)", origin="ours",
-                description="quaternion nonlinear complementary filter (wang2023cja Eq 5-9), K_i = K_p / 50 s")
-register_filter("mahony", _mahony, output="attitude", default_gain=1.0, gain_unit="K_p (1/s)", origin="ours",
-                description="IMU-only Mahony explicit complementary filter, K_i = K_p / 50 s")
-register_filter("madgwick", _per_record(_madgwick_compiled), output="attitude", default_gain=0.033,
-                gain_unit="beta (rad/s)", origin="anchor", requires="ahrs", reference=_per_record(_madgwick),
-                description="ahrs.filters.Madgwick (gradient descent), inputs delayed one sample; "
-                            "compiled equivalent (xio_ahrs), ahrs itself as the reference")
-register_filter("vqf", _per_record(_vqf), output="attitude", default_gain=3.0, gain_unit="tau_acc (s)",
-                origin="anchor", requires="vqf", description="vqf.VQF 6D (Laidig & Seel 2023), gyro delayed one sample")
-register_filter("fusion", _per_record(_fusion), output="attitude", default_gain=0.5, gain_unit="gain (1)",
-                origin="anchor", requires="imufusion", description="imufusion.Ahrs (x-io Fusion), NWU, °/s and g")
-# the RAMS EKF entry ("rams_ekf", angle output) is registered by mtcal.systems.surface_angle: it runs the
-# mtcal angle procedure (ZVD-switched EKF from the reference rest, restart after clipping)
+# --------------------------------------------------------------------------- the registry's runners
+# declared in mtcal.filters.registry.BUILTIN_FILTERS (by module and function, imported on first call)
+_madgwick_batch = _per_record(_madgwick_compiled)
+_madgwick_ahrs_batch = _per_record(_madgwick)
+_vqf_batch = _per_record(_vqf)
+_fusion_batch = _per_record(_fusion)

@@ -629,7 +629,8 @@ def surface_angle(gyro_rad_s, accel_m_s2, axis, *, is_static, init: slice, dt_s=
 
 
 def _registered_rams_ekf(w, a, dt, gain, ctx: AxisContext):
-    """The filter registry's ``rams_ekf`` entry: :func:`surface_angle` (the ``mtcal angle`` system) with noise from
+    """The filter registry's ``rams_ekf`` runner (declared in :data:`mtcal.filters.registry.BUILTIN_FILTERS`, imported
+    on its first call): :func:`surface_angle` (the ``mtcal angle`` system) with noise from
     the sensors: σθ = gyro noise per sample, σa,static = accelerometer noise per sample (floors 1e-5 rad/s and
     1e-2 m/s²), σa,moving = ``gain`` (m/s²); initialised on ``ctx.init`` (default: the first 0.5 s)."""
     params = RamsEkfParams(sigma_theta_rad_s=max(ctx.gyro_noise_rad_s_rt_hz / np.sqrt(dt), 1e-5),
@@ -639,9 +640,3 @@ def _registered_rams_ekf(w, a, dt, gain, ctx: AxisContext):
     init = ctx.init if ctx.init is not None else slice(0, max(1, int(round(0.5 / dt))))
     return surface_angle(w, a, ctx.axis_s, is_static=static, init=init, dt_s=dt, rests=ctx.rests,
                          params=params).angle_rad
-
-
-register_filter("rams_ekf", _registered_rams_ekf, output="angle", default_gain=RAMS_EKF_DEFAULT_GAIN,
-                gain_unit="sigma_a_moving (m/s²)", origin="ours",
-                description="RAMS EKF as mtcal angle runs it: angle about a known axis, ZVD switching, restart "
-                            "after clipping (wang2022sensors Sec. 4)")
