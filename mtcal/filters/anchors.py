@@ -94,7 +94,8 @@ from contextlib import contextmanager
 
 import numpy as np
 
-from mtcal.core.validate import STANDARD_GRAVITY_M_S2, as_float_array, positive_scalar, unit_quaternion
+from mtcal.core.validate import (STANDARD_GRAVITY_M_S2, as_float_array, check_accel_units, check_gyro_units,
+                                 positive_scalar, unit_quaternion)
 
 from mtcal.filters.registry import (RAMS_EKF_DEFAULT_GAIN, AxisContext, available_filters, get_filter, register_filter,
                                     require_filter)
@@ -145,10 +146,15 @@ def run_attitude_filter(name: str, gyro_rad_s, accel_m_s2, dt_s: float, gain: fl
     Raises
     ------
     ValueError
-        Unknown filter, bad shapes, non-positive gain/dt, or ``reference=True`` for a filter
-        without a reference runner.
+        Unknown filter, bad shapes, values not finite, a gyro not in rad/s or an accelerometer
+        in g, non-positive gain/dt, or ``reference=True`` for a filter without a reference runner.
     ImportError
         The filter's optional library is not installed.
+
+    Notes
+    -----
+    The records, ``dt_s``, the gain and ``q0`` are checked here, once; the registry's runners
+    trust them (finite float64 (T, N, 3), units checked, ``dt_s`` and gain > 0, ``q0`` unit (T, 4)).
     """
     entry = get_filter(name)
     if entry.output != "attitude":
@@ -161,6 +167,9 @@ def run_attitude_filter(name: str, gyro_rad_s, accel_m_s2, dt_s: float, gain: fl
     a = as_float_array(accel_m_s2, "accel_m_s2", ndim=3, last_dim=3, copy=False)
     if w.shape != a.shape:
         raise ValueError(f"gyro_rad_s and accel_m_s2 must have the same shape, got {w.shape} and {a.shape}")
+    check_gyro_units(w)
+    if w.shape[1] > 1:
+        check_accel_units(a)
     dt = positive_scalar(dt_s, "dt_s")
     g = positive_scalar(entry.default_gain if gain is None else gain, "gain")
     trials = w.shape[0]
@@ -293,9 +302,9 @@ def _qncf(w, a, dt, gain, q0):
 
 
 def _mahony(w, a, dt, gain, q0):
-    from mtcal.filters.mahony import MahonyParams, mahony_imu
+    from mtcal.filters.mahony import MahonyParams, mahony_trusted
 
-    return mahony_imu(w, a, dt, MahonyParams(kp_rad_s=gain, ki_rad_s2=gain / _KI_RATIO_S), q0=q0).q_ws
+    return mahony_trusted(w, a, dt, MahonyParams(kp_rad_s=gain, ki_rad_s2=gain / _KI_RATIO_S), q0).q_ws
 
 
 def _per_record(runner):
@@ -320,9 +329,9 @@ def _madgwick(w: np.ndarray, a: np.ndarray, dt: float, beta: float, q0: np.ndarr
 
 def _madgwick_compiled(w: np.ndarray, a: np.ndarray, dt: float, beta: float, q0: np.ndarray) -> np.ndarray:
     """:func:`_madgwick` without the Python loop: ahrs' row t (inputs delayed) is the attitude before sample t."""
-    from mtcal.filters.xio_ahrs import madgwick
+    from mtcal.filters.xio_ahrs import madgwick_trusted
 
-    return madgwick(w, a, dt, beta, q0=q0 / np.linalg.norm(q0), timing="before", hold_zero_rate=True)[0]
+    return madgwick_trusted(w, a, dt, beta, q0 / np.linalg.norm(q0), timing="before", hold_zero_rate=True)
 
 
 def _vqf(w: np.ndarray, a: np.ndarray, dt: float, tau_acc_s: float, q0: np.ndarray) -> np.ndarray:

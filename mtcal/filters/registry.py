@@ -9,6 +9,8 @@ batch of records:
   with ``gyro_rad_s``, ``accel_m_s2`` of shape (T, N, 3) (T trials of N samples; rad/s,
   m/s², gyro sample k over ``[t_k, t_{k+1}]``), ``dt_s`` (s), ``gain`` (> 0) and ``q0``
   (T, 4); returns the scalar-first sensor → world (z up) attitude at each ``t_k``, (T, N, 4).
+  A runner trusts its inputs: :func:`mtcal.filters.anchors.run_attitude_filter` checks them
+  once (finite float64, units, ``dt_s`` and ``gain`` > 0, unit ``q0``).
 * ``output="angle"`` — ``run(gyro_rad_s, accel_m_s2, dt_s, gain, context) -> theta_rad``
   (T, N): the angle about a known axis (a movable surface), where ``context`` is an
   :class:`AxisContext` (axis, rest flags, initial specific force, sensor noise).
