@@ -62,3 +62,19 @@ def test_vectorised_over_trials_equals_single(rng):
     both = detect_static(a, 0.005)
     for t in range(3):
         assert np.array_equal(both[t], detect_static(a[t], 0.005))
+
+
+def test_trusted_detector_equals_the_checked_call_and_params_are_typed(rng):
+    from mtcal.methods.zero_velocity import detect_static_trusted, zvd_params
+
+    a = np.tile([0.1, 0.2, 9.80], (2, 600, 1)) + rng.normal(0, 0.01, (2, 600, 3))
+    a[:, 200:300] += 2.0
+    w = rng.normal(0, 0.01, (2, 600, 3))
+    p = ZvdParams(gyro_max_rad_s=0.05)
+    assert np.array_equal(detect_static(a, 0.01, p, gyro_rad_s=w), detect_static_trusted(a, 0.01, p, w))
+    assert np.array_equal(detect_static(a, 0.01), detect_static_trusted(a, 0.01, ZvdParams()))
+    assert zvd_params(None) == ZvdParams() and zvd_params(p) is p
+    with pytest.raises(TypeError, match="params must be a ZvdParams"):
+        zvd_params({"window_s": 0.01})
+    with pytest.raises(ValueError, match="gyro_rad_s is required"):
+        detect_static_trusted(a, 0.01, p)
