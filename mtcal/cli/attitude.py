@@ -40,12 +40,12 @@ def run(args: argparse.Namespace) -> int:
     out = logio.check_output_path(args.out, [args.log])
 
     def body() -> int:
-        from mtcal.systems.attitude import AttitudeConfig, estimate_attitude
+        from mtcal.systems.attitude import estimate_attitude
         from mtcal.systems.rests import find_rests
 
         log = logio.read_log(args.log, common.input_options(args), need="raw")
         fig.log = log
-        config = AttitudeConfig(filter=args.filter, rests=common.rests_config(args))
+        config = common.attitude_config(args)
         rep = find_rests(log.accel_m_s2, log.dt_mean_s, config.rests, gyro_rad_s=log.gyro_rad_s, time_s=log.time_s)
         fig.report = rep
         clipped, level = plausibility.clipped_samples(log.gyro_rad_s)

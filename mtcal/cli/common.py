@@ -11,7 +11,7 @@ import numpy as np
 from mtcal.cli import logio
 from mtcal.methods import rest_detection
 
-__all__ = ["add_input_options", "add_rest_options", "input_options", "rests_config", "detect", "qncf_settings",
+__all__ = ["add_input_options", "add_rest_options", "input_options", "rests_config", "attitude_config", "detect", "qncf_settings",
            "qncf_info", "rest_table", "print_report",
            "finite_float", "DiagnosticsFigure", "run_with_figure", "SCHEMA_HELP", "description_with_schema",
            "QUATERNION_DECIMALS", "write_attitude", "euler_deg", "rest_bias_text",
@@ -167,6 +167,13 @@ def rests_config(args, *, has_gyro: bool = True):
     return RestsConfig(detector=args.rest_detector, min_rest_s=min_rest, noise_factor=noise, gravity_m_s2=gravity,
                        accel_band_m_s2=band, gyro_threshold_rad_s=None if thr is None else np.radians(thr),
                        shoe_threshold=shoe_thr, use_gyro=has_gyro)
+
+
+def attitude_config(args):
+    """The :class:`mtcal.systems.attitude.AttitudeConfig` that ``--filter`` and the rest options state."""
+    from mtcal.systems.attitude import AttitudeConfig
+
+    return AttitudeConfig(filter=args.filter, rests=rests_config(args))
 
 
 def detect(args, log: logio.ImuLog, *, use_gyro: bool = True) -> rest_detection.RestReport:

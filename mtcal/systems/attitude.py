@@ -323,23 +323,17 @@ def estimate_attitude(gyro_rad_s, accel_m_s2, dt_s: float, config: AttitudeConfi
     filter_gyro = g if weights is None else g * weights[:, None]
     rep = find_rests(a, dt, config.rests, gyro_rad_s=g, time_s=time_s) if rests is None else rests
 
-    def units() -> dict | None:
-        if not config.check_units:
-            return None
-        return plausibility.check_units(filter_gyro, a, dt, rep.rests, time_s=time_s, skip=skip,
-                                        unit_stated=unit_stated)
-
-    if config.filter == "qncf":
+    setup = qncf_log_setup(filter_gyro, a, dt, rep, gyro_rad_s=g) if config.filter == "qncf" else None
+    chk = None
+    if config.check_units:
+        chk = plausibility.check_units(filter_gyro, a, dt, rep.rests, time_s=time_s, skip=skip,
+                                       unit_stated=unit_stated)
+    if setup is not None:
         from mtcal.filters.qncf import qncf, qncf_trusted
 
-        setup = qncf_log_setup(filter_gyro, a, dt, rep, gyro_rad_s=g)
-        chk = units()
         run = qncf_trusted if config.check_units else qncf   # unchecked: the filter's own tilt-rate check
         q = run(setup.gyro_rad_s, a, dt, setup.params, q0=setup.q0, return_euler=False).q_ws
         return AttitudeResult(q, rep, setup, chk, "")
-    chk = units()
-    gyro = np.ascontiguousarray(filter_gyro)
-    acc = np.ascontiguousarray(a)
     runner = _library_vqf if config.filter in ("vqf", "basicvqf") else _registry_filter
-    q, gain_text = runner(config.filter, gyro, acc, dt)
+    q, gain_text = runner(config.filter, np.ascontiguousarray(filter_gyro), np.ascontiguousarray(a), dt)
     return AttitudeResult(q, rep, None, chk, gain_text)
