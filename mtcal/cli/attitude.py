@@ -15,6 +15,10 @@ Seel 2023; gyro sample k integrated over t_(k-1)..t_k as their convention; headi
 ``mahony``, ``madgwick`` (``ahrs``' filter, run by its compiled equivalent, β 0.033) and ``fusion``
 (``imufusion``, gain 0.5) through :func:`mtcal.filters.anchors.run_attitude_filter`, levelled from the
 first 100 samples.
+
+The command parses the options into one :class:`mtcal.systems.attitude.AttitudeConfig`
+(:func:`mtcal.cli.common.attitude_config`), reads the log, calls the attitude system
+(:func:`mtcal.systems.rests.find_rests`, then :func:`mtcal.systems.attitude.estimate_attitude`) and writes.
 """
 
 from __future__ import annotations

@@ -4,6 +4,10 @@ Prints the measured rest levels (|a| at rest, accelerometer and gyro noise, gyro
 bias), the band and thresholds used, one line per rest (time span, duration,
 |a|, tilt from the sensor z axis, mean |ω|) and the quiet stretches that were
 rejected with the reason. ``--out`` writes the rests as a table.
+
+The command parses the options into one :class:`mtcal.systems.rests.RestsConfig`
+(:func:`mtcal.cli.common.rests_config`), reads the log, calls :func:`mtcal.systems.rests.find_rests`
+and writes :func:`mtcal.systems.rests.rests_table`.
 """
 
 from __future__ import annotations
