@@ -58,9 +58,9 @@ def cmd_axis(args: argparse.Namespace) -> int:
             return _axis_paper(args, log, fig)
         rep = common.detect(args, log, use_gyro=log.gyro_rad_s is not None)
         fig.report = rep
-        sep = common.finite_float(args.min_separation_deg, "--min-separation-deg")
-        max_el = common.finite_float(args.max_elevation_deg, "--max-elevation-deg")
-        max_err = common.finite_float(args.max_axis_error_deg, "--max-axis-error-deg")
+        limits = dict(min_separation_deg=common.finite_float(args.min_separation_deg, "--min-separation-deg"),
+                      max_axis_error_deg=common.finite_float(args.max_axis_error_deg, "--max-axis-error-deg"),
+                      max_elevation_deg=common.finite_float(args.max_elevation_deg, "--max-elevation-deg"))
         common.print_report(log, rep)
         if log.gyro_rad_s is not None:  # the rests used gyro: its units and the time base must fit
             chk = plausibility.check_units(log.gyro_for_filter(), log.accel_m_s2, log.dt_mean_s, rep.rests,
@@ -70,10 +70,8 @@ def cmd_axis(args: argparse.Namespace) -> int:
         if len(rep.rests) == 0:
             raise ValueError(f"found only 0 rests of >= {rep.min_rest_s:g} s ({rep.levels_text()}); "
                              f"the axis needs rests at three distinct tilts")
-        est = surface_angle.estimate_surface_axis(log.accel_m_s2, rep.rests, accel_noise_m_s2=rep.accel_noise_m_s2,
-                                                  window_samples=rep.window_s * log.fs_hz, fit="plane",
-                                                  min_separation_deg=sep, max_axis_error_deg=max_err,
-                                                  max_elevation_deg=max_el)
+        config = surface_angle.AxisConfig.cli(rep.accel_noise_m_s2, rep.window_s * log.fs_hz, **limits)
+        est = surface_angle.estimate_surface_axis(log.accel_m_s2, rep.rests, config)
         fig.used = [rep.rests[m[0]] for m in est.members]
         v, means = est.axis, est.rest_means_m_s2
         print(f"axis v = {v[0]:.6f},{v[1]:.6f},{v[2]:.6f}")
@@ -155,14 +153,12 @@ def cmd_angle(args: argparse.Namespace) -> int:
             if n0 < max(3, int(0.1 * fs)):
                 raise ValueError(f"initial rest too short: {n0} samples ({n0 / fs:.2f} s), need >= 0.1 s")
             init = slice(first.start, first.start + n0)
-        res = surface_angle.surface_angle(log.gyro_rad_s, log.accel_m_s2, v, is_static=rep.is_static, init=init,
-                                          time_s=t, rests=rep.rests,
-                                          max_elevation_deg=common.finite_float(args.max_elevation_deg,
-                                                                                "--max-elevation-deg"),
-                                          check_units=True, gyro_noise_rad_s=rep.gyro_noise_rad_s,
-                                          unit_stated=log.gyro_unit_stated,
-                                          max_axis_mismatch_deg=common.finite_float(args.max_axis_mismatch_deg,
-                                                                                    "--max-axis-mismatch-deg"))
+        config = surface_angle.SurfaceAngleConfig.cli(
+            max_elevation_deg=common.finite_float(args.max_elevation_deg, "--max-elevation-deg"),
+            max_axis_mismatch_deg=common.finite_float(args.max_axis_mismatch_deg, "--max-axis-mismatch-deg"),
+            gyro_noise_rad_s=rep.gyro_noise_rad_s, unit_stated=log.gyro_unit_stated)
+        res = surface_angle.surface_angle(log.gyro_rad_s, log.accel_m_s2, v, config, is_static=rep.is_static,
+                                          init=init, time_s=t, rests=rep.rests)
         if res.clipped.any():
             print(f"warning: gyro clipped at {np.degrees(res.clip_level_rad_s):.1f} deg/s in "
                   f"{int(res.clipped.sum())} samples; angles through those moves rely on the following rest")

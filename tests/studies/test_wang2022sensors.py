@@ -273,8 +273,11 @@ def test_fit_and_predict_validates_size():
 
 
 def test_study_runs_the_surface_angle_system():
-    """The study's axis is the system's Eq 23 procedure, trial by trial, on the ZVD-masked rests."""
-    from mtcal.systems.surface_angle import estimate_surface_axis
+    """The study's axis is the system's Eq 23 procedure, trial by trial, on the rests (the batched procedure
+    with the study's configuration, the schedule's rests as flags)."""
+    from dataclasses import replace
+
+    from mtcal.systems.surface_angle import AxisConfig, estimate_surface_axis, surface_angle_batch
 
     sc = w.scenario_from_parameters()
     imu = sc.imu.resolve()
@@ -283,12 +286,12 @@ def test_study_runs_the_surface_angle_system():
     v = np.asarray(sc.fig11_axis) / np.linalg.norm(sc.fig11_axis)
     sim = w.simulate_batch(prof.angle_rad[:, 0], prof.rate_rad_s[:, 0], prof.accel_rad_s2[:, 0], np.tile(v, (2, 1)),
                            np.zeros((2, 3)), imu, 4, 0, [0, 1])
-    masks = [np.broadcast_to(np.isin(np.arange(prof.time_s.size), np.arange(s.start, s.stop)), (2, prof.time_s.size))
-             .astype(float) for s in prof.hold_slices()[:3]]
-    got = w.runs.axis_estimate(sim.accel_m_s2, masks, imu)
+    proc = replace(w.runs.paper_procedure(imu, sc.rig.zvd), zvd=None, angle=None)
+    got = surface_angle_batch(sim.gyro_rad_s, sim.accel_m_s2, imu.dt_s, proc, init_samples=10,
+                              rests=prof.hold_slices(), known_static=prof.is_static).axis
+    noise = imu.accel_noise_m_s2_rt_hz * np.sqrt(imu.fs_hz)
     for t in range(2):
-        one = estimate_surface_axis(sim.accel_m_s2[t], prof.hold_slices()[:3], accel_noise_m_s2=0.01, fit="eq23",
-                                    min_separation_deg=0.5, max_axis_error_deg=None)
+        one = estimate_surface_axis(sim.accel_m_s2[t], prof.hold_slices()[:3], AxisConfig.paper(noise))
         assert np.array_equal(got[t], one.axis)
     assert np.degrees(np.arccos(np.min(got @ v))) < 0.5
 

@@ -11,6 +11,7 @@ from mtcal.cli.main import main
 from mtcal.core import profiles
 from mtcal.core.rotations import axis_angle_matrix
 from mtcal.filters.rams_ekf import RamsEkfParams, run_rams_ekf
+from mtcal.systems.surface_angle import AxisConfig, SurfaceAngleConfig
 from mtcal.methods import rest_detection
 from mtcal.systems import plausibility
 from mtcal.systems import surface_angle
@@ -20,6 +21,7 @@ DT_S = 1.0 / FS_HZ
 AXIS = np.array([0.6, 0.0, 0.8])
 G0 = np.array([0.0, 0.0, 9.81])
 PARAMS = RamsEkfParams(sigma_theta_rad_s=1e-3, sigma_a_static_m_s2=0.01, sigma_a_moving_m_s2=5.0)
+CONFIG = SurfaceAngleConfig(PARAMS)
 
 
 def _rests_at(angles_deg, n=40, axis=AXIS):
@@ -40,7 +42,7 @@ def _hinge(angles_deg=(0.0, 60.0, 120.0, 30.0), rate_deg_s=60.0, hold_s=1.0, tri
 @pytest.mark.parametrize("fit", ["plane", "eq23"])
 def test_axis_of_a_known_hinge(fit):
     accel, rests = _rests_at([0.0, 70.0, 140.0, 70.0])
-    est = surface_angle.estimate_surface_axis(accel, rests, accel_noise_m_s2=0.001, fit=fit)
+    est = surface_angle.estimate_surface_axis(accel, rests, AxisConfig(0.001, fit=fit))
     np.testing.assert_allclose(est.axis, AXIS, atol=1e-12)
     assert est.positions_m_s2.shape == (3, 3) and est.members == ((0,), (1, 3), (2,))
     np.testing.assert_allclose(np.degrees(est.rest_angles_rad), [0.0, 70.0, 140.0, 70.0], atol=1e-9)
@@ -51,8 +53,8 @@ def test_axis_of_a_known_hinge(fit):
 
 def test_axis_sign_convention_and_eq23_equals_the_plane_for_three():
     accel, rests = _rests_at([0.0, -50.0, -100.0], axis=-AXIS)
-    a = surface_angle.estimate_surface_axis(accel, rests, accel_noise_m_s2=0.0, fit="eq23")
-    b = surface_angle.estimate_surface_axis(accel, rests, accel_noise_m_s2=0.0, fit="plane")
+    a = surface_angle.estimate_surface_axis(accel, rests, AxisConfig(0.0, fit="eq23"))
+    b = surface_angle.estimate_surface_axis(accel, rests, AxisConfig(0.0, fit="plane"))
     assert a.axis[0] > 0 and np.allclose(a.axis, b.axis, atol=1e-12)
 
 
@@ -61,8 +63,8 @@ def test_axis_rests_as_masks_equal_rests_as_slices():
     masks = [np.zeros(accel.shape[0], bool) for _ in rests]
     for m, r in zip(masks, rests):
         m[r] = True
-    a = surface_angle.estimate_surface_axis(accel, rests, accel_noise_m_s2=0.01)
-    b = surface_angle.estimate_surface_axis(accel, masks, accel_noise_m_s2=0.01)
+    a = surface_angle.estimate_surface_axis(accel, rests, AxisConfig(0.01))
+    b = surface_angle.estimate_surface_axis(accel, masks, AxisConfig(0.01))
     assert np.array_equal(a.axis, b.axis) and a.sigma_rad == b.sigma_rad
 
 
@@ -77,7 +79,7 @@ def test_axis_refusals(angles, kw, match):
     accel, rests = _rests_at(angles)
     kw = {"accel_noise_m_s2": 0.001, **kw}
     with pytest.raises(ValueError, match=match):
-        surface_angle.estimate_surface_axis(accel, rests, **kw)
+        surface_angle.estimate_surface_axis(accel, rests, AxisConfig(**kw))
 
 
 def _noisy_batch(angles_deg, trials=4, n=40, seed=0):
@@ -99,9 +101,9 @@ def _noisy_batch(angles_deg, trials=4, n=40, seed=0):
 ])
 def test_batched_axes_equal_the_per_trial_procedure(angles, kw):
     batch, masks = _noisy_batch(angles)
-    got = surface_angle.estimate_surface_axes(batch, masks, accel_noise_m_s2=0.02, **kw)
+    got = surface_angle.estimate_surface_axes(batch, masks, AxisConfig(0.02, **kw))
     for t in range(batch.shape[0]):
-        one = surface_angle.estimate_surface_axis(batch[t], [m[t] for m in masks], accel_noise_m_s2=0.02, **kw)
+        one = surface_angle.estimate_surface_axis(batch[t], [m[t] for m in masks], AxisConfig(0.02, **kw))
         assert np.array_equal(got[t], one.axis)
     assert np.degrees(np.arccos(np.min(got @ AXIS))) < 2.0
 
@@ -109,17 +111,17 @@ def test_batched_axes_equal_the_per_trial_procedure(angles, kw):
 def test_batched_axes_refusals():
     batch, masks = _noisy_batch([0.0, 70.0, 140.0])
     with pytest.raises(ValueError, match="fit must be 'plane' or 'eq23'"):
-        surface_angle.estimate_surface_axes(batch, masks, accel_noise_m_s2=0.02, fit="lsq")
+        surface_angle.estimate_surface_axes(batch, masks, AxisConfig(0.02, fit="lsq"))
     with pytest.raises(ValueError, match="found no rest"):
-        surface_angle.estimate_surface_axes(batch, [], accel_noise_m_s2=0.02)
+        surface_angle.estimate_surface_axes(batch, [], AxisConfig(0.02))
     with pytest.raises(ValueError, match="each rest mask must be boolean of shape"):
-        surface_angle.estimate_surface_axes(batch, [m[:, :5] for m in masks], accel_noise_m_s2=0.02)
+        surface_angle.estimate_surface_axes(batch, [m[:, :5] for m in masks], AxisConfig(0.02))
     with pytest.raises(ValueError, match="accel_m_s2 must"):
-        surface_angle.estimate_surface_axes(batch[0], masks, accel_noise_m_s2=0.02)
+        surface_angle.estimate_surface_axes(batch[0], masks, AxisConfig(0.02))
     # a trial whose rests are one tilt fails as the per-trial procedure does
     same, masks1 = _noisy_batch([0.0, 1.0, 2.0], trials=2)
     with pytest.raises(ValueError, match=r"found only 1 distinct tilt\(s\) among 3 rest\(s\)"):
-        surface_angle.estimate_surface_axes(same, masks1, accel_noise_m_s2=0.02, fit="eq23", max_axis_error_deg=None)
+        surface_angle.estimate_surface_axes(same, masks1, AxisConfig(0.02, fit="eq23", max_axis_error_deg=None))
 
 
 @pytest.mark.parametrize("fit,match", [
@@ -130,16 +132,16 @@ def test_nearly_vertical_axis_refused(fit, match):
     steep = np.array([np.cos(np.radians(87.0)), 0.0, np.sin(np.radians(87.0))])
     accel, rests = _rests_at([0.0, 120.0, 240.0], axis=steep)
     with pytest.raises(ValueError, match=match):
-        surface_angle.estimate_surface_axis(accel, rests, accel_noise_m_s2=0.0, fit=fit, min_separation_deg=0.5,
-                                            max_axis_error_deg=None)
+        surface_angle.estimate_surface_axis(accel, rests, AxisConfig(0.0, fit=fit, min_separation_deg=0.5,
+                                            max_axis_error_deg=None))
 
 
 def test_axis_input_refusals():
     accel, rests = _rests_at([0.0, 70.0, 140.0])
     with pytest.raises(ValueError, match="found no rest"):
-        surface_angle.estimate_surface_axis(accel, [], accel_noise_m_s2=0.01)
+        surface_angle.estimate_surface_axis(accel, [], AxisConfig(0.01))
     with pytest.raises(ValueError, match="boolean mask of shape"):
-        surface_angle.estimate_surface_axis(accel, [np.ones(5, bool)] * 3, accel_noise_m_s2=0.01)
+        surface_angle.estimate_surface_axis(accel, [np.ones(5, bool)] * 3, AxisConfig(0.01))
 
 
 def test_axis_uncertainty_scales_with_noise_over_root_n():
@@ -155,8 +157,8 @@ def test_axis_uncertainty_scales_with_noise_over_root_n():
 # --------------------------------------------------------------------------- angle
 def test_angle_of_a_known_rotation():
     prof, w, f = _hinge()
-    res = surface_angle.surface_angle(w[0], f[0], AXIS, is_static=prof.is_static, init=slice(0, 90), dt_s=DT_S,
-                                      rests=prof.hold_slices(), params=PARAMS)
+    res = surface_angle.surface_angle(w[0], f[0], AXIS, CONFIG, is_static=prof.is_static, init=slice(0, 90), dt_s=DT_S,
+                                      rests=prof.hold_slices())
     for sl, target in zip(prof.hold_slices(), [0.0, 60.0, 120.0, 30.0]):
         np.testing.assert_allclose(np.degrees(res.angle_rad[sl]), target, atol=1e-6)
     assert res.start == 0 and res.restarts == () and not res.clipped.any() and res.clip_level_rad_s == 0.0
@@ -181,12 +183,12 @@ def test_batch_equals_each_trial_alone():
     prof, w, f = _hinge(trials=3)
     w, f = w + rng.normal(0, 1e-3, w.shape), f + rng.normal(0, 0.01, f.shape)
     w[1, 150:170, 2] = np.abs(w[1, :, 2]).max()                               # trial 1 clipped in move 1
-    batch = surface_angle.surface_angle(w, f, AXIS, is_static=prof.is_static, init=slice(0, 90), dt_s=DT_S,
-                                        rests=prof.hold_slices(), params=PARAMS)
+    batch = surface_angle.surface_angle(w, f, AXIS, CONFIG, is_static=prof.is_static, init=slice(0, 90), dt_s=DT_S,
+                                        rests=prof.hold_slices())
     assert batch.restarts[0] == () and batch.restarts[1] != ()
     for t in range(3):
-        one = surface_angle.surface_angle(w[t], f[t], AXIS, is_static=prof.is_static, init=slice(0, 90), dt_s=DT_S,
-                                          rests=prof.hold_slices(), params=PARAMS)
+        one = surface_angle.surface_angle(w[t], f[t], AXIS, CONFIG, is_static=prof.is_static, init=slice(0, 90), dt_s=DT_S,
+                                          rests=prof.hold_slices())
         assert np.array_equal(batch.angle_rad[t], one.angle_rad)
 
 
@@ -196,8 +198,8 @@ def test_clipped_gyro_restarts_the_ekf_at_the_next_rest():
     prof, w, f = _hinge(rate_deg_s=60.0)
     clip = np.radians(40.0)
     w = np.clip(w[0], -clip, clip)
-    res = surface_angle.surface_angle(w, f[0], AXIS, is_static=prof.is_static, init=slice(0, 90), dt_s=DT_S,
-                                      rests=prof.hold_slices(), params=PARAMS)
+    res = surface_angle.surface_angle(w, f[0], AXIS, CONFIG, is_static=prof.is_static, init=slice(0, 90), dt_s=DT_S,
+                                      rests=prof.hold_slices())
     holds = prof.hold_slices()
     assert res.clipped.any() and res.clip_level_rad_s == pytest.approx(clip)
     assert res.restarts == tuple(h.start for h in holds[1:])
@@ -229,7 +231,7 @@ def test_time_base_refusals(kwargs, match):
 
 
 def _angle_kwargs(prof):
-    return dict(is_static=prof.is_static, init=slice(0, 90), dt_s=DT_S, rests=prof.hold_slices(), params=PARAMS)
+    return dict(is_static=prof.is_static, init=slice(0, 90), dt_s=DT_S, rests=prof.hold_slices())
 
 
 @pytest.mark.parametrize("change,match", [
@@ -238,30 +240,51 @@ def _angle_kwargs(prof):
     (lambda w, f, kw: (w, f, AXIS, {**kw, "is_static": kw["is_static"].astype(int)}), "is_static must be boolean"),
     (lambda w, f, kw: (w, f, AXIS, {**kw, "init": slice(5, 5)}), "init must be a non-empty slice"),
     (lambda w, f, kw: (w, f, [0.0, 0.0, 1.0], kw), r"--axis is 0.00 deg from gravity .* non-vertical axis"),
-    (lambda w, f, kw: (w, f, AXIS, {**kw, "max_elevation_deg": 0.0}), "max_elevation_deg must be > 0"),
-    (lambda w, f, kw: (w * 0.1, f, AXIS, {**kw, "check_units": True}), "gyro and accelerometer disagree: .* 10x"),
-    (lambda w, f, kw: (w, f, [1.0, 0.0, 0.0], {**kw, "max_axis_mismatch_deg": 10.0}),
+    (lambda w, f, kw: (w * 0.1, f, AXIS, {**kw, "config": SurfaceAngleConfig(PARAMS, check_units=True)}),
+     "gyro and accelerometer disagree: .* 10x"),
+    (lambda w, f, kw: (w, f, [1.0, 0.0, 0.0], {**kw, "config": SurfaceAngleConfig(PARAMS, max_axis_mismatch_deg=10.0)}),
      r"the gyro turns about \[0.600, -?0.000, 0.800\] \(100 % of the rotation\), 53.1 deg from --axis"),
+    (lambda w, f, kw: (w, f, AXIS, {**kw, "params": PARAMS}), "give params in config, not both"),
 ])
 def test_angle_refusals(change, match):
     prof, w, f = _hinge()
-    args = change(w[0], f[0], _angle_kwargs(prof))
+    args = change(w[0], f[0], {"config": CONFIG, **_angle_kwargs(prof)})
     with pytest.raises(ValueError, match=match):
         surface_angle.surface_angle(*args[:3], **args[3])
+
+
+@pytest.mark.parametrize("kw,match", [
+    (dict(max_elevation_deg=0.0), "max_elevation_deg must be > 0"),
+    (dict(max_axis_mismatch_deg=-1.0), "max_axis_mismatch_deg must be > 0"),
+    (dict(gyro_noise_rad_s=-1.0), "gyro_noise_rad_s must be >= 0"),
+])
+def test_angle_config_refusals(kw, match):
+    with pytest.raises(ValueError, match=match):
+        SurfaceAngleConfig(**kw)
+    with pytest.raises(TypeError, match="params must be a RamsEkfParams or None"):
+        SurfaceAngleConfig(params={"sigma": 1.0})
+
+
+def test_registry_params_shortcut_equals_the_config():
+    prof, w, f = _hinge()
+    a = surface_angle.surface_angle(w[0], f[0], AXIS, CONFIG, **_angle_kwargs(prof))
+    b = surface_angle.surface_angle(w[0], f[0], AXIS, params=PARAMS, **_angle_kwargs(prof))
+    assert np.array_equal(a.angle_rad, b.angle_rad)
 
 
 def test_batch_refuses_single_record_options():
     prof, w, f = _hinge(trials=2)
     kw = _angle_kwargs(prof)
     with pytest.raises(ValueError, match="check one record, not a batch"):
-        surface_angle.surface_angle(w, f, AXIS, check_units=True, **kw)
+        surface_angle.surface_angle(w, f, AXIS, SurfaceAngleConfig(PARAMS, check_units=True), **kw)
     with pytest.raises(ValueError, match="params must be given for a batch"):
-        surface_angle.surface_angle(w, f, AXIS, **{**kw, "params": None})
+        surface_angle.surface_angle(w, f, AXIS, **kw)
 
 
 def test_gyro_checks_pass_on_a_consistent_record():
     prof, w, f = _hinge()
-    res = surface_angle.surface_angle(w[0], f[0], AXIS, check_units=True, max_axis_mismatch_deg=1.0,
+    res = surface_angle.surface_angle(w[0], f[0], AXIS, SurfaceAngleConfig(PARAMS, check_units=True,
+                                                                           max_axis_mismatch_deg=1.0),
                                       **_angle_kwargs(prof))
     assert res.unit_check["pairs"] == 3 and abs(res.gyro_axis @ AXIS) == pytest.approx(1.0, abs=1e-12)
 
@@ -292,8 +315,8 @@ def test_cli_axis_and_angle_are_bit_identical_to_the_procedures(tmp_path, capsys
     # mtcal axis (adaptive rests, accelerometer + gyro, min rest 0.5 s)
     rep = rest_detection.detect_rests(accel, 1.0 / ((t.size - 1) / (t[-1] - t[0])), gyro_rad_s=gyro,
                                       params=rest_detection.RestDetectorParams(min_rest_s=0.5, noise_factor=5.0))
-    est = surface_angle.estimate_surface_axis(accel, rep.rests, accel_noise_m_s2=rep.accel_noise_m_s2,
-                                              window_samples=rep.window_s * (t.size - 1) / (t[-1] - t[0]))
+    est = surface_angle.estimate_surface_axis(accel, rep.rests, AxisConfig(rep.accel_noise_m_s2,
+                                              window_samples=rep.window_s * (t.size - 1) / (t[-1] - t[0])))
     assert main(["axis", str(log)]) == 0
     out = capsys.readouterr().out
     assert re.search(r"^axis v = (.*)$", out, re.M).group(1) == f"{est.axis[0]:.6f},{est.axis[1]:.6f},{est.axis[2]:.6f}"
