@@ -2,6 +2,7 @@
 and the bit-identity of the study path and the ``mtcal axis`` / ``mtcal angle`` commands."""
 
 import re
+from dataclasses import replace
 
 import numpy as np
 import pandas as pd
@@ -187,7 +188,8 @@ def test_batch_equals_each_trial_alone():
                                         rests=prof.hold_slices())
     assert batch.restarts[0] == () and batch.restarts[1] != ()
     for t in range(3):
-        one = surface_angle.surface_angle(w[t], f[t], AXIS, CONFIG, is_static=prof.is_static, init=slice(0, 90), dt_s=DT_S,
+        one = surface_angle.surface_angle(w[t], f[t], AXIS, CONFIG, is_static=prof.is_static, init=slice(0, 90),
+                                          dt_s=DT_S,
                                           rests=prof.hold_slices())
         assert np.array_equal(batch.angle_rad[t], one.angle_rad)
 
@@ -338,3 +340,87 @@ def test_cli_axis_and_angle_are_bit_identical_to_the_procedures(tmp_path, capsys
     assert np.array_equal(table.angle_deg.to_numpy(), np.degrees(res.angle_rad), equal_nan=True)
     assert np.array_equal(table.is_static.to_numpy(bool), rep.is_static)
     assert abs(table.angle_deg.iloc[-1] - 90.0) < 0.5
+
+
+def test_cli_angle_is_bit_identical_to_the_study_procedure(tmp_path):
+    """``mtcal angle --rest-detector paper`` on a log of the study's simulator equals the study's batched
+    procedure (:func:`~mtcal.studies.wang2022sensors.runs.paper_procedure`: Table 1 ZVD, EKF switched by
+    it, a0 and bias from the first second) bit for bit, with the CLI's settings: the given axis and the EKF
+    noise measured on the initial rest."""
+    from mtcal.methods.zero_velocity import ZvdParams
+    from mtcal.studies.wang2022sensors import ImuSpec, lever_arm_vector
+    from mtcal.studies.wang2022sensors.runs import paper_procedure, simulate_batch, trapezoid_profile
+
+    imu = ImuSpec().resolve()
+    prof = trapezoid_profile(np.radians([0.0, 60.0, 120.0, 30.0, 90.0]), np.radians(40.0), np.radians(200.0),
+                             2.0, imu.fs_hz)
+    sim = simulate_batch(prof.angle_rad[:, 0], prof.rate_rad_s[:, 0], prof.accel_rad_s2[:, 0], AXIS[None],
+                         lever_arm_vector(AXIS, 0.2, 0.02)[None], imu, 12, 0, [0])
+    gyro, accel = sim.gyro_rad_s[0], sim.accel_m_s2[0]
+    t = np.arange(gyro.shape[0]) / imu.fs_hz
+    cols = {"time_s": t}
+    cols.update({f"gyro_{a}_rad_s": gyro[:, i] for i, a in enumerate("xyz")})
+    cols.update({f"accel_{a}_m_s2": accel[:, i] for i, a in enumerate("xyz")})
+    log = tmp_path / "hinge.parquet"
+    pd.DataFrame(cols).to_parquet(log)
+    out = tmp_path / "angle.parquet"
+    assert main(["angle", str(log), "--axis", ",".join(repr(float(x)) for x in AXIS), "--out", str(out),
+                 "--rest-detector", "paper"]) == 0
+    table = pd.read_parquet(out)
+
+    dt, weights = plausibility.time_base(t.size, time_s=t)
+    assert weights is None                                                   # a uniform time column
+    n0 = int(round(1.0 / dt))                                                # --init-s 1.0
+    rests = rest_detection.paper_rest_report(accel, dt, min_rest_s=0.2).rests
+    proc = replace(paper_procedure(imu, ZvdParams()), axis=None,
+                   angle=SurfaceAngleConfig.paper(surface_angle.rest_ekf_params(gyro, accel, slice(0, n0))))
+    study = surface_angle.surface_angle_batch(sim.gyro_rad_s, sim.accel_m_s2, dt, proc, init_samples=n0,
+                                              rests=rests, axis=AXIS)
+    assert np.array_equal(table.is_static.to_numpy(bool), study.is_static[0])
+    assert np.array_equal(table.angle_deg.to_numpy(), np.degrees(study.angle_rad[0]))
+    assert abs(table.angle_deg.iloc[-1] - 90.0) < 0.5
+
+
+def test_batched_procedure_refusals():
+    prof, w, f = _hinge(trials=2)
+    cfg = surface_angle.SurfaceBatchConfig(None, AxisConfig(0.01, fit="eq23", max_axis_error_deg=None), CONFIG)
+    kw = dict(init_samples=90, rests=prof.hold_slices(), known_static=prof.is_static)
+    with pytest.raises(ValueError, match="init_samples must be an integer in"):
+        surface_angle.surface_angle_batch(w, f, DT_S, cfg, **{**kw, "init_samples": 0})
+    with pytest.raises(ValueError, match="known_static must be given"):
+        surface_angle.surface_angle_batch(w, f, DT_S, cfg, **{**kw, "known_static": None})
+    with pytest.raises(ValueError, match="rests must be non-empty slices"):
+        surface_angle.surface_angle_batch(w, f, DT_S, cfg, **{**kw, "rests": [slice(5, 5)]})
+    with pytest.raises(ValueError, match="the axis needs 3 rests, got 2"):
+        surface_angle.surface_angle_batch(w, f, DT_S, cfg, **{**kw, "rests": prof.hold_slices()[:2]})
+    with pytest.raises(ValueError, match="give axis, or config.axis"):
+        surface_angle.surface_angle_batch(w, f, DT_S, replace(cfg, axis=None), **kw)
+    with pytest.raises(ValueError, match="accel_m_s2 must"):
+        surface_angle.surface_angle_batch(w, f[0], DT_S, cfg, **kw)
+    with pytest.raises(ValueError, match="angle.params must be given for a batch"):
+        surface_angle.SurfaceBatchConfig(None, None, SurfaceAngleConfig())
+    with pytest.raises(ValueError, match="ekf_switch must be 'zvd' or 'known'"):
+        surface_angle.SurfaceBatchConfig(None, None, CONFIG, ekf_switch="truth")
+    with pytest.raises(ValueError, match="axis_rests must be an integer >= 3"):
+        surface_angle.SurfaceBatchConfig(None, None, CONFIG, axis_rests=2)
+
+
+def test_batched_procedure_equals_its_steps():
+    """ZVD flags, Eq 23 axes on the masked rests and the EKF: the batched procedure is the per-step systems."""
+    from mtcal.methods.zero_velocity import ZvdParams, detect_static
+
+    rng = np.random.default_rng(3)
+    prof, w, f = _hinge(angles_deg=(0.0, 90.0, 180.0, 40.0), trials=3)
+    w, f = w + rng.normal(0, 1e-3, w.shape), f + rng.normal(0, 0.01, f.shape)
+    axis_cfg = AxisConfig(0.01, fit="eq23", min_separation_deg=0.5, max_axis_error_deg=None)
+    cfg = surface_angle.SurfaceBatchConfig(ZvdParams(), axis_cfg, CONFIG)
+    res = surface_angle.surface_angle_batch(w, f, DT_S, cfg, init_samples=90, rests=prof.hold_slices())
+    flags = detect_static(f, DT_S, ZvdParams())
+    assert np.array_equal(res.is_static, flags)
+    axes = surface_angle.estimate_surface_axes(f, surface_angle.rest_masks(flags, prof.hold_slices()[:3]), axis_cfg)
+    assert np.array_equal(res.axis, axes)
+    one = surface_angle.surface_angle(w, f, axes, CONFIG, is_static=flags, init=slice(0, 90), dt_s=DT_S,
+                                      rests=prof.hold_slices())
+    assert np.array_equal(res.angle_rad, one.angle_rad)
+    assert np.array_equal(res.accel0_m_s2, one.accel0_m_s2) and np.array_equal(res.bias0_rad_s, one.bias0_rad_s)
+    assert np.max(np.abs(np.degrees(res.angle_rad[:, -1]) - 40.0)) < 0.5
