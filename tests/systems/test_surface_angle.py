@@ -301,7 +301,7 @@ def test_cli_axis_and_angle_are_bit_identical_to_the_procedures(tmp_path, capsys
     imu = ImuSpec().resolve()
     v = AXIS
     prof = trapezoid_profile(np.radians([0.0, 60.0, 120.0, 30.0, 90.0]), np.radians(40.0), np.radians(200.0),
-                             2.0, imu.fs_hz)
+                             2.0, imu.dt_s)
     sim = simulate_batch(prof.angle_rad[:, 0], prof.rate_rad_s[:, 0], prof.accel_rad_s2[:, 0], v[None],
                          lever_arm_vector(v, 0.2, 0.02)[None], imu, 11, 0, [0])
     gyro, accel = sim.gyro_rad_s[0], sim.accel_m_s2[0]
@@ -353,7 +353,7 @@ def test_cli_angle_is_bit_identical_to_the_study_procedure(tmp_path):
 
     imu = ImuSpec().resolve()
     prof = trapezoid_profile(np.radians([0.0, 60.0, 120.0, 30.0, 90.0]), np.radians(40.0), np.radians(200.0),
-                             2.0, imu.fs_hz)
+                             2.0, imu.dt_s)
     sim = simulate_batch(prof.angle_rad[:, 0], prof.rate_rad_s[:, 0], prof.accel_rad_s2[:, 0], AXIS[None],
                          lever_arm_vector(AXIS, 0.2, 0.02)[None], imu, 12, 0, [0])
     gyro, accel = sim.gyro_rad_s[0], sim.accel_m_s2[0]

@@ -24,7 +24,7 @@ Wang C., Tu X., Chen Q., Yang Q., Fang T., Sensors 2022, 22, 8996, doi:10.3390/s
 
 Examples
 --------
->>> prof = trapezoid_profile(np.radians([0.0, 10.0]), np.radians(20.0), np.radians(100.0), [1.0, 1.0], 200.0)
+>>> prof = trapezoid_profile(np.radians([0.0, 10.0]), np.radians(20.0), np.radians(100.0), [1.0, 1.0], 1 / 200.0)
 >>> round(float(np.degrees(prof.angle_rad[-1, 0])), 6), round(float(np.degrees(prof.rate_rad_s.max())), 6)
 (10.0, 20.0)
 """
@@ -55,7 +55,7 @@ _WRAP = rotations.wrap_angle
 
 
 def trapezoid_profile(waypoints_rad, rate_rad_s: float, accel_rad_s2: float, hold_s,
-                      fs_hz: float) -> profiles.AngleProfile:
+                      dt_s: float) -> profiles.AngleProfile:
     """Holds at each waypoint joined by trapezoidal-velocity moves (a turntable's position moves).
 
     Each move ramps at ``accel_rad_s2`` to ``rate_rad_s``, cruises, and ramps down
@@ -70,7 +70,8 @@ def trapezoid_profile(waypoints_rad, rate_rad_s: float, accel_rad_s2: float, hol
         Cruise rate (rad/s) and acceleration limit (rad/s²).
     hold_s : array_like (K,)
         Hold at each waypoint (s).
-    fs_hz : float
+    dt_s : float
+        Sample interval (s).
 
     Returns
     -------
@@ -79,7 +80,7 @@ def trapezoid_profile(waypoints_rad, rate_rad_s: float, accel_rad_s2: float, hol
     wp = as_float_array(waypoints_rad, "waypoints_rad", ndim=1)
     w = positive_scalar(rate_rad_s, "rate_rad_s")
     a = positive_scalar(accel_rad_s2, "accel_rad_s2")
-    fs = positive_scalar(fs_hz, "fs_hz")
+    fs = 1.0 / positive_scalar(dt_s, "dt_s")
     holds = np.broadcast_to(as_float_array(hold_s, "hold_s"), wp.shape).astype(float)
     if np.any(holds <= 0):
         raise ValueError("hold_s must be > 0 at every waypoint")
@@ -112,16 +113,16 @@ def trapezoid_profile(waypoints_rad, rate_rad_s: float, accel_rad_s2: float, hol
     return profiles.AngleProfile(t, angle[:, None], rate[:, None], acc[:, None], ~is_move, seg)
 
 
-def sweep_profile(rig: RigValues, fs_hz: float, axis_rests_rad=(0.0, np.pi / 2, np.pi)):
+def sweep_profile(rig: RigValues, dt_s: float, axis_rests_rad=(0.0, np.pi / 2, np.pi)):
     """Sec. 7 test: three axis-estimation rests, back to 0, then −180…180° in ``step`` with holds.
 
-    Returns the profile and the index of the first sweep hold.
+    ``dt_s``: sample interval (s). Returns the profile and the index of the first sweep hold.
     """
     sweep = np.arange(-np.pi, np.pi + 1e-9, rig.step_rad)
     wp = np.concatenate([axis_rests_rad, [0.0], sweep])
     n_ax = len(axis_rests_rad)
     holds = np.r_[np.full(n_ax, rig.axis_rest_s), np.full(wp.size - n_ax, rig.hold_s)]
-    return trapezoid_profile(wp, rig.move_rate_rad_s, rig.move_accel_rad_s2, holds, fs_hz), n_ax + 1
+    return trapezoid_profile(wp, rig.move_rate_rad_s, rig.move_accel_rad_s2, holds, dt_s), n_ax + 1
 
 
 @dataclass(frozen=True)
@@ -275,7 +276,7 @@ def sweep_metrics(rig: RigValues, imu: ImuValues, axes, lever_arms_m, seed: int,
     lat = np.atleast_1d(as_float_array(rig.latency_s if latencies_s is None else latencies_s, "latencies_s"))
     if np.any(lat < 0) or np.any(lat > 1.0):
         raise ValueError("latencies_s must lie in [0, 1] s")
-    prof, first = sweep_profile(rig, imu.fs_hz)
+    prof, first = sweep_profile(rig, imu.dt_s)
     th = prof.angle_rad[:, 0]
     sim = simulate_batch(th, prof.rate_rad_s[:, 0], prof.accel_rad_s2[:, 0], v, lever_arms_m, imu, seed, 10,
                          ids, accel_noise_m_s2_rt_hz=accel_noise_m_s2_rt_hz)
@@ -314,31 +315,31 @@ def sweep_metrics(rig: RigValues, imu: ImuValues, axes, lever_arms_m, seed: int,
                         np.degrees(hold_whole), np.degrees(dyn_max))
 
 
-def ahrs_sweep_metrics(rig: RigValues, fs_hz: float, axes, lever_arms_m, ahrs: AhrsImu, seed: int,
+def ahrs_sweep_metrics(rig: RigValues, dt_s: float, axes, lever_arms_m, ahrs: AhrsImu, seed: int,
                        trial_ids, heading_sigma_deg=None) -> tuple[np.ndarray, np.ndarray]:
     """AHRS stand-in on the Sec. 7 sweep: static and dynamic RMSE (deg) per trial, (T,) each.
 
     Mahony MARG filter on its own sensors (``ahrs``) in a disturbed magnetic field, angle
     from the axis-angle of its orientation; static/dynamic split by the true schedule
     (the stand-in has no ZVD of its own), no latency. ``heading_sigma_deg`` (T,) overrides
-    the field's heading disturbance per trial.
+    the field's heading disturbance per trial. ``dt_s``: sample interval (s).
     """
     v = as_float_array(axes, "axes", ndim=2, last_dim=3)
     ids = np.asarray(trial_ids, int)
-    prof, first = sweep_profile(rig, fs_hz)
+    prof, first = sweep_profile(rig, dt_s)
     th = prof.angle_rad[:, 0]
     slices = prof.hold_slices()
-    err = _ahrs_errors(th, prof, v, lever_arms_m, ahrs, fs_hz, seed, ids, slices[0].stop - 1, heading_sigma_deg)
+    err = _ahrs_errors(th, prof, v, lever_arms_m, ahrs, dt_s, seed, ids, slices[0].stop - 1, heading_sigma_deg)
     sweep = np.arange(th.size) >= slices[first].start
     stat, dyn = sweep & prof.is_static, sweep & ~prof.is_static
     return (np.degrees(np.sqrt(np.mean(err[:, stat] ** 2, axis=1))),
             np.degrees(np.sqrt(np.mean(err[:, dyn] ** 2, axis=1))))
 
 
-def _ahrs_errors(th, prof, axes, lever_arms_m, ahrs: AhrsImu, fs_hz: float, seed: int, ids, n0: int,
+def _ahrs_errors(th, prof, axes, lever_arms_m, ahrs: AhrsImu, dt_s: float, seed: int, ids, n0: int,
                  heading_sigma_deg=None) -> np.ndarray:
     """AHRS stand-in angle error (T, N) in rad: per-trial axis, own sensors, disturbed field."""
-    vals = ahrs.resolve(fs_hz)
+    vals = ahrs.resolve(1.0 / dt_s)
     sim = simulate_batch(th, prof.rate_rad_s[:, 0], prof.accel_rad_s2[:, 0], axes, lever_arms_m, vals, seed, 20,
                          ids, gyro_bias_sigma_rad_s=ahrs.gyro_bias_deg_s * np.pi / 180.0)
     sig = np.broadcast_to(ahrs.magnetic_heading_sigma_deg if heading_sigma_deg is None else heading_sigma_deg,
@@ -430,7 +431,7 @@ def run_drift(rig: RigValues, imu: ImuValues, axis, ahrs: AhrsImu, trials: int, 
     wp = np.radians(np.r_[0.0, wp, wp[-1]])
     wp[-1] = wp[-2] + 1e-6  # a zero-length "move" into the stand-still
     holds = np.r_[rig.axis_rest_s, np.full(n_steps, rig.hold_s), stand_s]
-    prof = trapezoid_profile(wp, rig.move_rate_rad_s, rig.move_accel_rad_s2, holds, imu.fs_hz)
+    prof = trapezoid_profile(wp, rig.move_rate_rad_s, rig.move_accel_rad_s2, holds, imu.dt_s)
     th = prof.angle_rad[:, 0]
     n0 = prof.hold_slices()[0].stop - 1
     stand = prof.hold_slices()[-1]
@@ -445,7 +446,7 @@ def run_drift(rig: RigValues, imu: ImuValues, axis, ahrs: AhrsImu, trials: int, 
                                     rests=prof.hold_slices(), axis=axes).angle_rad
         err_r.append(np.degrees(_WRAP(theta[:, stand] - th[stand])))
         del sim, theta
-        err_a.append(np.degrees(_ahrs_errors(th, prof, axes, lever, ahrs, imu.fs_hz, seed, ids, n0)[:, stand]))
+        err_a.append(np.degrees(_ahrs_errors(th, prof, axes, lever, ahrs, imu.dt_s, seed, ids, n0)[:, stand]))
     return DriftResult(prof.time_s[stand] - prof.time_s[stand.start], np.concatenate(err_r), np.concatenate(err_a))
 
 
@@ -462,7 +463,7 @@ def axis_errors(axis, imu: ImuValues, rig: RigValues, trials: int, seed: int, st
     # the record ends with the third rest: the ZVD is causal and Eq 23 uses only the rests, so a move
     # back afterwards would change nothing but the cost
     prof = trapezoid_profile(np.radians([0.0, 90.0, 180.0]), move_rate_rad_s, rig.move_accel_rad_s2,
-                             [rest_s, rest_s, rest_s], imu.fs_hz)
+                             [rest_s, rest_s, rest_s], imu.dt_s)
     lever = lever_arm_vector(v, rig.lever_arm_m, rig.lever_arm_up_m)
     slices = prof.hold_slices()[:3]
     # the axis alone; without the ZVD the schedule's rests are the rest flags (the ZVD flags are used only
@@ -560,7 +561,7 @@ def run_zvd_demo(axis, imu: ImuValues, rig: RigValues, trials: int, seed: int, *
     without the gyro condition; per-trial false-static and missed-rest shares."""
     v = np.asarray(axis, float) / np.linalg.norm(axis)
     prof = trapezoid_profile(np.radians([0, 30, 60, 30, -30, 0]), rig.move_rate_rad_s, rig.move_accel_rad_s2,
-                             rig.hold_s, imu.fs_hz)
+                             rig.hold_s, imu.dt_s)
     ids = np.arange(trials)
     lever = np.tile(lever_arm_vector(v, rig.lever_arm_m, rig.lever_arm_up_m), (trials, 1))
     sim = simulate_batch(prof.angle_rad[:, 0], prof.rate_rad_s[:, 0], prof.accel_rad_s2[:, 0],
@@ -653,8 +654,12 @@ class RotationRecord:
     accel_true_m_s2: np.ndarray
 
 
+#: Keyed stream of :func:`simulate_rotation`: ``stream_rng(seed, STREAM_ROTATION, 0 | 1)`` for gyro | accelerometer.
+STREAM_ROTATION = 70
+
+
 def simulate_rotation(theta_rad, rate_rad_s, accel_rad_s2, is_static, setup: RotationSetup,
-                      model: ImuErrorModel, fs_hz: float, rng: np.random.Generator) -> RotationRecord:
+                      model: ImuErrorModel, dt_s: float, seed: int) -> RotationRecord:
     """Simulate T trials of rotation about ``setup.axis``, each with its own angle history.
 
     Parameters
@@ -666,8 +671,11 @@ def simulate_rotation(theta_rad, rate_rad_s, accel_rad_s2, is_static, setup: Rot
     setup : RotationSetup
     model : ImuErrorModel
         Sensor errors (mounting ignored: v is given in the IMU frame).
-    fs_hz : float
-    rng : numpy.random.Generator
+    dt_s : float
+        Sample interval (s).
+    seed : int
+        Run seed: the gyro draws from ``stream_rng(seed, STREAM_ROTATION, 0)``, the accelerometer from
+        ``stream_rng(seed, STREAM_ROTATION, 1)`` (:mod:`mtcal.core.rng`).
 
     Returns
     -------
@@ -679,15 +687,12 @@ def simulate_rotation(theta_rad, rate_rad_s, accel_rad_s2, is_static, setup: Rot
     if not th.shape == rate.shape == acc.shape:
         raise ValueError(f"theta_rad, rate_rad_s, accel_rad_s2 must share a shape, got "
                          f"{th.shape}, {rate.shape}, {acc.shape}")
-    if not isinstance(rng, np.random.Generator):
-        raise TypeError(f"rng must be a numpy.random.Generator, got {type(rng).__name__}")
-    fs = positive_scalar(fs_hz, "fs_hz")
+    dt = positive_scalar(dt_s, "dt_s")
     t_n, n = th.shape
-    dt = 1.0 / fs
     time = np.arange(n) * dt
     w_true, f_true = profiles.fixed_axis_imu_truth(th, rate, acc, np.tile(setup.unit_axis(), (t_n, 1)),
                                                    np.tile(setup.lever_arm(), (t_n, 1)), setup.gravity0(), dt)
-    r_gyro, r_accel = rng.spawn(2)
+    r_gyro, r_accel = (stream_rng(seed, STREAM_ROTATION, k) for k in (0, 1))
     gyro = simulate.apply_sensor_errors(model.gyro, w_true, time, r_gyro,
                                         time_since_power_on_s=model.time_since_power_on_s)
     accel = simulate.apply_sensor_errors(model.accel, f_true, time, r_accel,
