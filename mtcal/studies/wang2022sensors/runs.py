@@ -213,8 +213,8 @@ def paper_procedure(imu: ImuValues, zvd: ZvdParams, *, ekf_switch: str = "zvd") 
     """The surface-angle procedure as the study runs it (:meth:`SurfaceBatchConfig.paper
     <mtcal.systems.surface_angle.SurfaceBatchConfig.paper>`): ``zvd``, the Eq 23 axis with the IMU's
     accelerometer noise per sample, the EKF noise of the IMU (:meth:`ImuValues.ekf_params`)."""
-    return SurfaceBatchConfig.paper(zvd, imu.accel_noise_m_s2_rt_hz * np.sqrt(imu.fs_hz), imu.ekf_params(),
-                                    ekf_switch=ekf_switch)
+    params, noise = imu.ekf_params(), imu.accel_noise_m_s2_rt_hz * np.sqrt(imu.fs_hz)
+    return SurfaceBatchConfig.paper(zvd, noise, params, ekf_switch=ekf_switch)
 
 
 def _latency_sse(err: np.ndarray, mask: np.ndarray, delta: np.ndarray) -> np.ndarray:
