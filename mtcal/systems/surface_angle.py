@@ -1,6 +1,6 @@
 """wang2022sensors movable-surface angle system: rotation axis from rests, then the ZVD-switched RAMS EKF.
 
-The measurement procedure of the paper (Sec. 2–3, Algorithm A1) as two steps
+The measurement procedure of the paper (Sec. 2–3, Algorithm A1) as two steps and their batch
 over plain arrays, the same code for the ``mtcal axis`` / ``mtcal angle``
 commands, the study's Monte Carlo runs and the sweep evaluator:
 
@@ -19,6 +19,16 @@ commands, the study's Monte Carlo runs and the sweep evaluator:
    the angle again). Optional plausibility gates (gyro units/time base against
    the accelerometer's tilt change, gyro turning about another axis) come from
    :mod:`mtcal.systems.plausibility`.
+3. :func:`surface_angle_batch` — the whole procedure on T stacked trials (the study's
+   Monte Carlo): ā0 and bias from the initial rest, the Table 1 ZVD (Sec. 3.1), Eq 23 on
+   the ZVD-flagged rests, the ZVD-switched EKF.
+
+Each procedure takes the data arrays and ONE frozen, resolved config —
+:class:`AxisConfig`, :class:`SurfaceAngleConfig`, :class:`SurfaceBatchConfig` — with
+constructors for the paper's settings (``paper``), the CLI defaults (``cli``) and a sweep
+cell (:meth:`SurfaceAngleConfig.sweep_cell`). A config is checked when it is made, the
+arrays once at the procedure's edge; the methods and the filter below run on the checked
+arrays (:func:`mtcal.filters.rams_ekf.run_rams_ekf_trusted`).
 
 References
 ----------

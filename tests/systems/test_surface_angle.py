@@ -292,25 +292,32 @@ def test_gyro_checks_pass_on_a_consistent_record():
 
 
 # --------------------------------------------------------------------------- the CLI runs the same system
-def test_cli_axis_and_angle_are_bit_identical_to_the_procedures(tmp_path, capsys):
-    """A hinge log from the study's simulator, written losslessly (Parquet); ``mtcal axis`` and ``mtcal angle``
-    print/write exactly what the procedures return on the same arrays with the same rests."""
-    from mtcal.studies.wang2022sensors import ImuSpec, lever_arm_vector, sweep_profile  # noqa: F401
+def _hinge_log(tmp_path, seed: int):
+    """A hinge record (rests at 0/60/120/30/90 deg, lever arm) from the study's simulator and its lossless
+    Parquet log: (imu, sim, time_s, path)."""
+    from mtcal.studies.wang2022sensors import ImuSpec, lever_arm_vector
     from mtcal.studies.wang2022sensors.runs import simulate_batch, trapezoid_profile
 
     imu = ImuSpec().resolve()
-    v = AXIS
     prof = trapezoid_profile(np.radians([0.0, 60.0, 120.0, 30.0, 90.0]), np.radians(40.0), np.radians(200.0),
                              2.0, imu.dt_s)
-    sim = simulate_batch(prof.angle_rad[:, 0], prof.rate_rad_s[:, 0], prof.accel_rad_s2[:, 0], v[None],
-                         lever_arm_vector(v, 0.2, 0.02)[None], imu, 11, 0, [0])
-    gyro, accel = sim.gyro_rad_s[0], sim.accel_m_s2[0]
-    t = np.arange(gyro.shape[0]) / imu.fs_hz
+    sim = simulate_batch(prof.angle_rad[:, 0], prof.rate_rad_s[:, 0], prof.accel_rad_s2[:, 0], AXIS[None],
+                         lever_arm_vector(AXIS, 0.2, 0.02)[None], imu, seed, 0, [0])
+    t = np.arange(sim.gyro_rad_s.shape[1]) / imu.fs_hz
     cols = {"time_s": t}
-    cols.update({f"gyro_{a}_rad_s": gyro[:, i] for i, a in enumerate("xyz")})
-    cols.update({f"accel_{a}_m_s2": accel[:, i] for i, a in enumerate("xyz")})
+    cols.update({f"gyro_{a}_rad_s": sim.gyro_rad_s[0, :, i] for i, a in enumerate("xyz")})
+    cols.update({f"accel_{a}_m_s2": sim.accel_m_s2[0, :, i] for i, a in enumerate("xyz")})
     log = tmp_path / "hinge.parquet"
     pd.DataFrame(cols).to_parquet(log)
+    return imu, sim, t, log
+
+
+def test_cli_axis_and_angle_are_bit_identical_to_the_procedures(tmp_path, capsys):
+    """A hinge log from the study's simulator, written losslessly (Parquet); ``mtcal axis`` and ``mtcal angle``
+    print/write exactly what the procedures return on the same arrays with the same rests."""
+    v = AXIS
+    imu, sim, t, log = _hinge_log(tmp_path, 11)
+    gyro, accel = sim.gyro_rad_s[0], sim.accel_m_s2[0]
 
     dt, _ = plausibility.time_base(t.size, time_s=t)
     fs = 1.0 / dt
@@ -348,21 +355,10 @@ def test_cli_angle_is_bit_identical_to_the_study_procedure(tmp_path):
     it, a0 and bias from the first second) bit for bit, with the CLI's settings: the given axis and the EKF
     noise measured on the initial rest."""
     from mtcal.methods.zero_velocity import ZvdParams
-    from mtcal.studies.wang2022sensors import ImuSpec, lever_arm_vector
-    from mtcal.studies.wang2022sensors.runs import paper_procedure, simulate_batch, trapezoid_profile
+    from mtcal.studies.wang2022sensors.runs import paper_procedure
 
-    imu = ImuSpec().resolve()
-    prof = trapezoid_profile(np.radians([0.0, 60.0, 120.0, 30.0, 90.0]), np.radians(40.0), np.radians(200.0),
-                             2.0, imu.dt_s)
-    sim = simulate_batch(prof.angle_rad[:, 0], prof.rate_rad_s[:, 0], prof.accel_rad_s2[:, 0], AXIS[None],
-                         lever_arm_vector(AXIS, 0.2, 0.02)[None], imu, 12, 0, [0])
+    imu, sim, t, log = _hinge_log(tmp_path, 12)
     gyro, accel = sim.gyro_rad_s[0], sim.accel_m_s2[0]
-    t = np.arange(gyro.shape[0]) / imu.fs_hz
-    cols = {"time_s": t}
-    cols.update({f"gyro_{a}_rad_s": gyro[:, i] for i, a in enumerate("xyz")})
-    cols.update({f"accel_{a}_m_s2": accel[:, i] for i, a in enumerate("xyz")})
-    log = tmp_path / "hinge.parquet"
-    pd.DataFrame(cols).to_parquet(log)
     out = tmp_path / "angle.parquet"
     assert main(["angle", str(log), "--axis", ",".join(repr(float(x)) for x in AXIS), "--out", str(out),
                  "--rest-detector", "paper"]) == 0
