@@ -420,3 +420,23 @@ def test_batched_procedure_equals_its_steps():
     assert np.array_equal(res.angle_rad, one.angle_rad)
     assert np.array_equal(res.accel0_m_s2, one.accel0_m_s2) and np.array_equal(res.bias0_rad_s, one.bias0_rad_s)
     assert np.max(np.abs(np.degrees(res.angle_rad[:, -1]) - 40.0)) < 0.5
+
+
+def test_sweep_cell_config_is_the_registry_entry():
+    """The sweep cell's config (:meth:`SurfaceAngleConfig.sweep_cell`) runs the filter registry's ``rams_ekf``
+    entry bit for bit."""
+    from mtcal.filters.registry import AxisContext, get_filter
+
+    rng = np.random.default_rng(4)
+    prof, w, f = _hinge(trials=2)
+    w, f = w + rng.normal(0, 1e-3, w.shape), f + rng.normal(0, 0.01, f.shape)
+    static = np.broadcast_to(prof.is_static, f.shape[:2])
+    ctx = AxisContext(AXIS, static, f[:, :90].mean(axis=1), 2e-4, 3e-3, init=slice(0, 90),
+                      rests=tuple(prof.hold_slices()))
+    entry = get_filter("rams_ekf")
+    got = entry.run(w, f, DT_S, 2.0, ctx)
+    cfg = SurfaceAngleConfig.sweep_cell(gyro_noise_rad_s_rt_hz=2e-4, accel_noise_m_s2_rt_hz=3e-3, dt_s=DT_S,
+                                        gain_m_s2=2.0)
+    res = surface_angle.surface_angle(w, f, AXIS, cfg, is_static=static, init=slice(0, 90), dt_s=DT_S,
+                                      rests=prof.hold_slices())
+    assert np.array_equal(got, res.angle_rad)
