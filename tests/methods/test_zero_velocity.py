@@ -30,7 +30,7 @@ def test_flags_exactly_the_rests_of_a_schedule(rng):
     imu = ImuSpec()
     prof = profiles.step_schedule(np.radians([0, 40, -30, 20]), np.radians(40), 1.0, imu.fs_hz)
     rec = simulate_rotation(prof.angle_rad[:, 0], prof.rate_rad_s[:, 0], prof.accel_rad_s2[:, 0],
-                            prof.is_static, RotationSetup(), imu.error_model(), imu.fs_hz, rng)
+                            prof.is_static, RotationSetup(), imu.error_model(), imu.dt_s, 12345)
     b0 = rec.gyro_rad_s[0, :150].mean(axis=0)
     st = detect_static(rec.accel_m_s2[0], 1.0 / imu.fs_hz, ZvdParams(gyro_max_rad_s=np.radians(2.0)),
                        rec.gyro_rad_s[0] - b0)
