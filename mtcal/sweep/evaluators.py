@@ -17,7 +17,7 @@ Registered evaluators (:func:`evaluator_names`):
   any registered filter's angle about the axis (attitude filters: swing–twist;
   angle filters: their own output), via :func:`mtcal.filters.anchors.run_axis_angle_filter`;
   the RAMS EKF entry is the ``mtcal angle`` procedure
-  (:func:`mtcal.systems.surface_angle.surface_angle`, registered by that module).
+  (:func:`mtcal.systems.surface_angle.surface_angle`, declared in the filter registry's table).
 * ``six_position`` — wang2023cja §3.2 installation-error calibration with K = 4…12
   turntable positions: QNCF attitudes, the calibration procedure of
   :mod:`mtcal.systems.installation` (as ``mtcal calibrate``), error left at 12
@@ -53,7 +53,6 @@ from mtcal.core.profiles import AngleProfile, fixed_axis_trajectory, step_schedu
 from mtcal.core.sensor_grades import grade_names, sensor_grade
 from mtcal.core.simulate import ImuErrorModel, Trajectory, apply_sensor_errors, simulate_imu
 from mtcal.core.units import DEG
-import mtcal.systems.surface_angle  # noqa: F401,E402  (registers the RAMS EKF entry: the mtcal angle system)
 
 __all__ = ["Evaluator", "register_evaluator", "get_evaluator", "evaluator_names", "MOTIONS", "filter_gain",
            "RAMS_EKF_DEFAULT_GAIN", "SURFACE_AXIS",

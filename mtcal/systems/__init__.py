@@ -28,12 +28,15 @@ if TYPE_CHECKING:  # the eager imports, for type checkers and tests/test_import_
     from mtcal.systems import attitude, installation, plausibility, rests, surface_angle
     from mtcal.systems.attitude import AttitudeConfig, estimate_attitude
     from mtcal.systems.rests import RestsConfig, find_rests
+    from mtcal.systems.surface_angle import (AxisConfig, SurfaceAngleBatch, SurfaceAngleConfig, SurfaceBatchConfig,
+                                             estimate_surface_axis, surface_angle_batch)
     from mtcal.systems.installation import (CalibratedAttitude, InstallationCalibration, apply_installation,
                                             calibrate_installation, detect_rests)
 
 __all__ = ["attitude", "installation", "plausibility", "rests", "surface_angle", "InstallationCalibration",
            "CalibratedAttitude", "calibrate_installation", "apply_installation", "detect_rests", "AttitudeConfig",
-           "estimate_attitude", "RestsConfig", "find_rests"]
+           "estimate_attitude", "RestsConfig", "find_rests", "AxisConfig", "SurfaceAngleConfig", "SurfaceBatchConfig",
+           "SurfaceAngleBatch", "surface_angle_batch", "estimate_surface_axis"]
 
 #: Submodules, loaded on first attribute access (``import mtcal`` stays light for the CLI).
 _SUBMODULES = ('attitude', 'installation', 'plausibility', 'rests', 'surface_angle')
@@ -42,6 +45,9 @@ _EXPORTS = {
     "CalibratedAttitude": "installation", "InstallationCalibration": "installation",
     "apply_installation": "installation", "calibrate_installation": "installation", "detect_rests": "installation",
     "AttitudeConfig": "attitude", "estimate_attitude": "attitude", "RestsConfig": "rests", "find_rests": "rests",
+    "AxisConfig": "surface_angle", "SurfaceAngleConfig": "surface_angle", "SurfaceBatchConfig": "surface_angle",
+    "SurfaceAngleBatch": "surface_angle", "surface_angle_batch": "surface_angle",
+    "estimate_surface_axis": "surface_angle",
 }
 
 __getattr__, __dir__ = lazy_attributes(globals(), _SUBMODULES, _EXPORTS)

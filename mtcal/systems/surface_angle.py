@@ -54,9 +54,8 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from mtcal.core.validate import as_float_array, positive_scalar
-from mtcal.filters.anchors import RAMS_EKF_DEFAULT_GAIN
 from mtcal.filters.rams_ekf import RamsEkfParams, run_rams_ekf_trusted
-from mtcal.filters.registry import AxisContext, register_filter
+from mtcal.filters.registry import AxisContext
 from mtcal.methods import rotation_axis
 from mtcal.methods.tilt_rate import check_tilt_rate_scale
 from mtcal.methods.zero_velocity import ZvdParams, detect_static
@@ -641,7 +640,7 @@ def _checked_record(gyro_rad_s, accel_m_s2, ndim) -> tuple[np.ndarray, np.ndarra
 
 
 def surface_angle(gyro_rad_s, accel_m_s2, axis, config: SurfaceAngleConfig | None = None, *, is_static,
-                  init: slice, dt_s=None, time_s=None, rests=(), params: RamsEkfParams | None = None) -> SurfaceAngle:
+                  init: slice, dt_s=None, time_s=None, rests=()) -> SurfaceAngle:
     """Angle about a known hinge axis: ZVD-switched RAMS EKF from a rest (wang2022sensors Sec. 2.2–3.3).
 
     ā0 and the initial bias are the means over ``init`` (Sec. 2.2); the EKF
@@ -672,8 +671,6 @@ def surface_angle(gyro_rad_s, accel_m_s2, axis, config: SurfaceAngleConfig | Non
         (a jittered time column weights the gyro by each sample's interval).
     rests : sequence of slice
         Rests (time order) where the EKF may restart after clipping.
-    params : RamsEkfParams, optional
-        The filter registry's shortcut for ``SurfaceAngleConfig(params=params)`` (not with ``config``).
 
     Returns
     -------
@@ -702,10 +699,6 @@ def surface_angle(gyro_rad_s, accel_m_s2, axis, config: SurfaceAngleConfig | Non
     >>> round(float(np.degrees(res.angle_rad[-1])), 3)
     40.0
     """
-    if params is not None:
-        if config is not None:
-            raise ValueError("give params in config, not both")
-        config = SurfaceAngleConfig(params=params)
     cfg = SurfaceAngleConfig() if config is None else config
     if not isinstance(cfg, SurfaceAngleConfig):
         raise TypeError(f"config must be a SurfaceAngleConfig, got {type(cfg).__name__}")
@@ -992,13 +985,11 @@ def surface_angle_batch(gyro_rad_s, accel_m_s2, dt_s: float, config: SurfaceBatc
 
 def _registered_rams_ekf(w, a, dt, gain, ctx: AxisContext):
     """The filter registry's ``rams_ekf`` runner (declared in :data:`mtcal.filters.registry.BUILTIN_FILTERS`, imported
-    on its first call): :func:`surface_angle` (the ``mtcal angle`` system) with noise from
-    the sensors: σθ = gyro noise per sample, σa,static = accelerometer noise per sample (floors 1e-5 rad/s and
-    1e-2 m/s²), σa,moving = ``gain`` (m/s²); initialised on ``ctx.init`` (default: the first 0.5 s)."""
-    params = RamsEkfParams(sigma_theta_rad_s=max(ctx.gyro_noise_rad_s_rt_hz / np.sqrt(dt), 1e-5),
-                           sigma_a_static_m_s2=max(ctx.accel_noise_m_s2_rt_hz / np.sqrt(dt), 1e-2),
-                           sigma_a_moving_m_s2=gain)
+    on its first call): :func:`surface_angle` (the ``mtcal angle`` system) with the sweep cell's config
+    (:meth:`SurfaceAngleConfig.sweep_cell`: noise from the sensors, σa,moving = ``gain`` m/s²), initialised on
+    ``ctx.init`` (default: the first 0.5 s)."""
+    config = SurfaceAngleConfig.sweep_cell(gyro_noise_rad_s_rt_hz=ctx.gyro_noise_rad_s_rt_hz,
+                                           accel_noise_m_s2_rt_hz=ctx.accel_noise_m_s2_rt_hz, dt_s=dt, gain_m_s2=gain)
     static = np.broadcast_to(ctx.is_static, a.shape[:2])
     init = ctx.init if ctx.init is not None else slice(0, max(1, int(round(0.5 / dt))))
-    return surface_angle(w, a, ctx.axis_s, is_static=static, init=init, dt_s=dt, rests=ctx.rests,
-                         params=params).angle_rad
+    return surface_angle(w, a, ctx.axis_s, config, is_static=static, init=init, dt_s=dt, rests=ctx.rests).angle_rad

@@ -246,7 +246,6 @@ def _angle_kwargs(prof):
      "gyro and accelerometer disagree: .* 10x"),
     (lambda w, f, kw: (w, f, [1.0, 0.0, 0.0], {**kw, "config": SurfaceAngleConfig(PARAMS, max_axis_mismatch_deg=10.0)}),
      r"the gyro turns about \[0.600, -?0.000, 0.800\] \(100 % of the rotation\), 53.1 deg from --axis"),
-    (lambda w, f, kw: (w, f, AXIS, {**kw, "params": PARAMS}), "give params in config, not both"),
 ])
 def test_angle_refusals(change, match):
     prof, w, f = _hinge()
@@ -265,13 +264,6 @@ def test_angle_config_refusals(kw, match):
         SurfaceAngleConfig(**kw)
     with pytest.raises(TypeError, match="params must be a RamsEkfParams or None"):
         SurfaceAngleConfig(params={"sigma": 1.0})
-
-
-def test_registry_params_shortcut_equals_the_config():
-    prof, w, f = _hinge()
-    a = surface_angle.surface_angle(w[0], f[0], AXIS, CONFIG, **_angle_kwargs(prof))
-    b = surface_angle.surface_angle(w[0], f[0], AXIS, params=PARAMS, **_angle_kwargs(prof))
-    assert np.array_equal(a.angle_rad, b.angle_rad)
 
 
 def test_batch_refuses_single_record_options():
