@@ -108,6 +108,21 @@ def _read_positions(path: Path) -> np.ndarray:
     return np.radians(ang)
 
 
+def _settings(args: argparse.Namespace, quaternion_log: bool) -> dict:
+    """The procedure's settings from the options (SI), for :meth:`InstallationConfig.command_line`.
+
+    ``--still-deg-s`` is the quaternion-rate detector's threshold: read for a q0..q3 log only.
+    """
+    so4 = args.max_so4_distance
+    out = {"model": args.model, "fraction": common.finite_float(args.fraction, "--fraction"),
+           "min_rest_s": common.finite_float(args.min_rest_s, "--min-rest-s"),
+           "max_residual_rad": np.radians(common.finite_float(args.max_residual_deg, "--max-residual-deg")),
+           "max_so4_distance": None if so4 is None else common.finite_float(so4, "--max-so4-distance")}
+    if quaternion_log:
+        out["still_threshold_rad_s"] = np.radians(common.finite_float(args.still_deg_s, "--still-deg-s"))
+    return out
+
+
 def run(args: argparse.Namespace) -> int:
     """Entry point of ``mtcal calibrate``: read the log, run the procedure, print and write."""
     fig = common.DiagnosticsFigure(args.figure, f"mtcal calibrate {args.log}", inputs=[args.log, args.positions])
@@ -122,14 +137,7 @@ def run(args: argparse.Namespace) -> int:
         pos = _read_positions(args.positions)
         if args.min_rest_s is None:  # defaults: 1 s (adaptive), 2 s (paper's stillness detector, as before)
             args.min_rest_s = "2.0" if args.rest_detector == "paper" or log.gyro_rad_s is None else "1.0"
-        so4 = args.max_so4_distance
-        cfg = installation.InstallationConfig.command_line(
-            model=args.model, fraction=common.finite_float(args.fraction, "--fraction"),
-            min_rest_s=common.finite_float(args.min_rest_s, "--min-rest-s"),
-            max_residual_rad=np.radians(common.finite_float(args.max_residual_deg, "--max-residual-deg")),
-            max_so4_distance=None if so4 is None else common.finite_float(so4, "--max-so4-distance"),
-            **({} if log.gyro_rad_s is not None else
-               {"still_threshold_rad_s": np.radians(common.finite_float(args.still_deg_s, "--still-deg-s"))}))
+        cfg = installation.InstallationConfig.command_line(**_settings(args, quaternion_log=log.gyro_rad_s is None))
         rep = None
         if log.gyro_rad_s is not None:
             rep = common.detect(args, log)
@@ -167,13 +175,12 @@ def run(args: argparse.Namespace) -> int:
                              f"{pos.shape[0]} positions ({lv}); see --figure for the rejected stretches")
         try:
             cal = installation.calibrate_installation(cfg, pos, log.dt_mean_s, rests=rests, **source)
-        except ValueError as exc:
+        except installation.InstallationRefused as exc:
             tiny = np.max(np.abs(np.degrees(pos))) <= np.pi / 2 + 1e-9        # values that may be radians
             if not (any(m in str(exc) for m in MISMATCH_MESSAGES) or (tiny and "ill-conditioned" in str(exc))):
                 raise
-            hint = _quaternion_hint(cfg, pos, log, rests) if "q_ws" in source else ""
-            if not hint:
-                hint = _diagnose(cfg, pos, log, rests, source)
+            hint = (_quaternion_hint(cfg, pos, log, rests) if "q_ws" in source else "") or _diagnose(
+                cfg, pos, log, rests, exc.q_ws)
             raise ValueError(f"{exc}{hint}") from None
         fig.used = cal.matched_rests
         _print_and_write(args, cfg, out, log, cal, info)
@@ -196,21 +203,18 @@ POSITION_MISTAKES = {
 }
 
 
-def _diagnose(cfg, pos, log, rests, source) -> str:
+def _diagnose(cfg, pos, log, rests, q_abs) -> str:
     """Why the rests do not match the positions: per position the nearest rest's attitude, and the likely mistake.
 
-    Prints the table (stdout) and returns the hint appended to the one-line error.
+    ``q_abs`` is the sensor attitude the refused calibration made (not zeroed). Prints the table
+    (stdout) and returns the hint appended to the one-line error.
     """
     from mtcal.core import rotations
     from mtcal.methods import six_position
     from mtcal.systems import installation
 
     dt = log.dt_mean_s
-    raw = "q_ws" not in source
-    q_abs = installation.absolute_body_attitude(replace(cfg, zero_heading=False), np.array([1.0, 0.0, 0.0, 0.0]),
-                                                dt if raw else None, **source).q_sensor
-    q_rel = installation.apply_installation(cfg, np.eye(4), q_ws=q_abs).q_sensor
-    means = six_position.rest_means(q_rel, rests, cfg.fraction)
+    means = six_position.rest_means(rotations.relative_to_initial(q_abs[None])[0], rests, cfg.fraction)
     t = log.time_s
     q_ref = rotations.quat_from_euler_zxy(pos[:, 0], pos[:, 1], pos[:, 2])
     dist = np.degrees(rotations.quat_angle_between(means[:, None, :], q_ref[None, :, :]))      # (R, K)

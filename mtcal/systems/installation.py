@@ -50,7 +50,7 @@ from mtcal.methods import constrained_fit, quaternion_lsq, six_position
 from mtcal.methods.constrained_fit import So4Projection
 
 __all__ = ["MODELS", "missing_rotation_axis", "MAX_CONDITION", "MAX_SO4_DISTANCE", "MAX_RESIDUAL_RAD",
-           "InstallationConfig", "InstallationCalibration", "CalibratedAttitude", "detect_rests",
+           "InstallationConfig", "InstallationCalibration", "CalibratedAttitude", "InstallationRefused", "detect_rests",
            "calibrate_installation", "verify_installation", "apply_installation", "absolute_body_attitude",
            "mounting_from_q_hat", "installation_angles_sigma"]
 
@@ -137,6 +137,23 @@ class CalibratedAttitude:
 
     q_body: np.ndarray
     q_sensor: np.ndarray
+
+
+class InstallationRefused(ValueError):
+    """:func:`calibrate_installation` refused a record after it made its sensor attitude (no rest for a
+    position, a gate); the message says why.
+
+    Attributes
+    ----------
+    q_ws : ndarray (N, 4) or (T, N, 4)
+        The sensor attitude the procedure computed (QNCF of the raw data, or ``q_ws`` as given),
+        before zeroing: a caller looking for the cause (a convention mistake) starts from it
+        instead of running the QNCF again.
+    """
+
+    def __init__(self, message: str, q_ws: np.ndarray):
+        super().__init__(message)
+        self.q_ws = q_ws
 
 
 #: Error-map models of :func:`calibrate_installation`: name → (parameters, what the positions must span).
@@ -326,24 +343,33 @@ def _positions_record(config: InstallationConfig, positions_rad, dt_s, q_ws, gyr
 
 
 def _sensor_attitude(config: InstallationConfig, q, gyro, accel, q0, dt: float | None) -> np.ndarray:
-    """Steps 1–2 on checked inputs: QNCF (if raw) and, by the config, zeroing at the first sample (§4.1)."""
-    if q is None:
-        q = qncf(gyro, accel, dt, config.qncf_params, q0=q0, return_euler=False).q_ws
+    """Step 1 on checked inputs: the QNCF of raw data (``q`` None), else ``q`` as given."""
+    return qncf(gyro, accel, dt, config.qncf_params, q0=q0, return_euler=False).q_ws if q is None else q
+
+
+def _zeroed(config: InstallationConfig, q: np.ndarray) -> np.ndarray:
+    """Step 2: by the config, zeroed at the first sample (§4.1)."""
     if not config.zero_at_first_sample:
         return q
     return rotations.relative_to_initial(q[None])[0] if q.ndim == 2 else rotations.relative_to_initial(q)
 
 
 def _positions(config: InstallationConfig, pos, dt, q, gyro, accel, q0, rests):
-    """Steps 1–5 on checked inputs: (q_ref, rests, matched, q_sensor) — Eq 9 references, Eq 14 columns."""
-    q_s_stream = _sensor_attitude(config, q, gyro, accel, q0, dt)
+    """Steps 1–5 on checked inputs: (q_ref, rests, matched, q_sensor, q_ws) — Eq 9 references, Eq 14
+    columns and the sensor attitude before zeroing (the quaternion-rate detector sees it)."""
+    q = _sensor_attitude(config, q, gyro, accel, q0, dt)
+    q_zeroed = _zeroed(config, q)
     q_ref = rotations.quat_from_euler_zxy(pos[..., 0], pos[..., 1], pos[..., 2])
-    # the quaternion-rate detector sees the attitude as given
-    rests, matched, q_s = six_position.rest_attitudes(
-        q_s_stream, q_ref, dt, gyro_rad_s=gyro, rests=rests, fraction=config.fraction,
-        min_rest_s=config.min_rest_s, threshold_rad_s=config.still_threshold_rad_s, window_s=config.still_window_s,
-        max_match_rad=config.max_match_rad, q_detect=q, in_order=config.rests_in_order)
-    return q_ref, rests, matched, q_s
+    try:
+        rests, matched, q_s = six_position.rest_attitudes(
+            q_zeroed, q_ref, dt, gyro_rad_s=gyro, rests=rests, fraction=config.fraction,
+            min_rest_s=config.min_rest_s, threshold_rad_s=config.still_threshold_rad_s,
+            window_s=config.still_window_s, max_match_rad=config.max_match_rad, q_detect=q,
+            in_order=config.rests_in_order)
+    except ValueError as exc:
+        raise InstallationRefused(str(exc), q) from None
+    del q_zeroed                                   # the record's zeroed copy: only its rest means are kept
+    return q_ref, rests, matched, q_s, q
 
 
 # --------------------------------------------------------------------------- public procedure
@@ -430,8 +456,10 @@ def calibrate_installation(config: InstallationConfig, positions_rad, dt_s: floa
     Raises
     ------
     ValueError
-        Bad inputs; too few rests; a position without a rest; degenerate positions; a gate
-        refusing Q̂ (message names the measured value and the limit).
+        Bad inputs (the message names the argument).
+    InstallationRefused
+        A ValueError after the sensor attitude is made: too few rests; a position without a rest;
+        degenerate positions; a gate refusing Q̂ (message names the measured value and the limit).
 
     References
     ----------
@@ -463,18 +491,21 @@ def calibrate_installation(config: InstallationConfig, positions_rad, dt_s: floa
 
 def _calibrate(config: InstallationConfig, pos, dt, q, gyro, accel, q0, rests) -> InstallationCalibration:
     """Steps 1–6 on checked inputs (see :func:`calibrate_installation`)."""
-    q_ref, rests, matched, q_s = _positions(config, pos, dt, q, gyro, accel, q0, rests)
+    q_ref, rests, matched, q_s, q = _positions(config, pos, dt, q, gyro, accel, q0, rests)
     q_s_al, q_b_al = quaternion_lsq._align_pairs(q_s, q_ref)
     sv = np.linalg.svd(np.swapaxes(q_s_al, -1, -2) @ q_s_al, compute_uv=False)
     cond = sv[..., 0] / np.maximum(sv[..., 3], 1e-300)
-    if config.model == "eq13":
-        _gate_condition(cond, config.max_condition, q_ref)
-        q_hat = quaternion_lsq._least_squares(q_s_al, q_b_al)                   # Eq 13
-    elif config.model == "so4":
-        q_hat = constrained_fit.fit_so4(q_s_al, q_b_al).matrix
-    else:
-        q_hat = _fit_conjugation(q_s_al, q_b_al)
-    return _outcome(config, q_hat, cond, pos, q_ref, rests, matched, q_s, gate=True)
+    try:
+        if config.model == "eq13":
+            _gate_condition(cond, config.max_condition, q_ref)
+            q_hat = quaternion_lsq._least_squares(q_s_al, q_b_al)               # Eq 13
+        elif config.model == "so4":
+            q_hat = constrained_fit.fit_so4(q_s_al, q_b_al).matrix
+        else:
+            q_hat = _fit_conjugation(q_s_al, q_b_al)
+        return _outcome(config, q_hat, cond, pos, q_ref, rests, matched, q_s, gate=True)
+    except ValueError as exc:
+        raise InstallationRefused(str(exc), q) from None
 
 
 def _outcome(config: InstallationConfig, q_hat, cond, pos, q_ref, rests, matched, q_s,
@@ -542,7 +573,7 @@ def verify_installation(config: InstallationConfig, q_hat, positions_rad, dt_s: 
     mat = _q_hat(q_hat)
     pos, dt, q, gyro, accel, q0, rests = _positions_record(config, positions_rad, dt_s, q_ws, gyro_rad_s,
                                                            accel_m_s2, q0, rests)
-    q_ref, rests, matched, q_s = _positions(config, pos, dt, q, gyro, accel, q0, rests)
+    q_ref, rests, matched, q_s, _ = _positions(config, pos, dt, q, gyro, accel, q0, rests)
     q_s_al = quaternion_lsq._align_pairs(q_s, q_ref)[0]
     sv = np.linalg.svd(np.swapaxes(q_s_al, -1, -2) @ q_s_al, compute_uv=False)
     return _outcome(config, mat, sv[..., 0] / np.maximum(sv[..., 3], 1e-300), pos, q_ref, rests, matched, q_s,
@@ -675,7 +706,7 @@ def apply_installation(config: InstallationConfig, q_hat, dt_s: float | None = N
     if mat.ndim == 3 and (stream.ndim != 3 or stream.shape[0] != mat.shape[0]):
         raise ValueError(f"a stack of {mat.shape[0]} matrices needs a record with as many trials, "
                          f"got shape {stream.shape}")
-    q_s = _sensor_attitude(config, q, gyro, accel, q0, dt)
+    q_s = _zeroed(config, _sensor_attitude(config, q, gyro, accel, q0, dt))
     q_b = rotations.make_continuous(quaternion_lsq._apply(mat, q_s), axis=-2)
     return CalibratedAttitude(q_body=q_b, q_sensor=q_s)
 
@@ -753,9 +784,7 @@ def absolute_body_attitude(config: InstallationConfig, q_bs, dt_s: float | None 
     if c.shape != (4,):
         raise ValueError(f"q_bs must be one quaternion of shape (4,), got {c.shape}")
     dt, q, gyro, accel, q0, _ = _application_record(config, dt_s, q_ws, gyro_rad_s, accel_m_s2, q0)
-    if q is None:
-        q = qncf(gyro, accel, dt, config.qncf_params, q0=q0, return_euler=False).q_ws
-    q_s = rotations.make_continuous(np.asarray(q, float), axis=-2)
+    q_s = rotations.make_continuous(_sensor_attitude(config, q, gyro, accel, q0, dt), axis=-2)
     q_b = rotations.hamilton(q_s, rotations.quat_conjugate(c))
     if config.zero_heading:
         yaw0 = rotations.euler_zxy_unchecked(q_b[..., :1, :])[..., 0]           # (..., 1)

@@ -250,6 +250,22 @@ def test_verify_is_the_calibration_procedure_with_q_hat_given(stream):
         installation.verify_installation(PAPER, np.eye(3), pos, DT_S, q_ws=q_ws)
 
 
+def test_a_refusal_carries_the_attitude_it_was_made_from(stream):
+    """InstallationRefused (a ValueError) hands the caller the un-zeroed sensor attitude: no second QNCF run."""
+    pos, q_wb, _, q_bs = stream
+    from mtcal.core.simulate import Trajectory
+
+    rec = simulate_imu(Trajectory(np.arange(len(q_wb)) / FS, q_wb), ImuErrorModel(q_mount=tuple(q_bs)))
+    wrong = pos * [1.0, -1.0, 1.0]                                        # pitch sign flipped
+    with pytest.raises(installation.InstallationRefused, match="has no rest within") as info:
+        installation.calibrate_installation(PAPER, wrong, DT_S, gyro_rad_s=rec.gyro_rad_s, accel_m_s2=rec.accel_m_s2)
+    assert np.array_equal(info.value.q_ws, qncf(rec.gyro_rad_s, rec.accel_m_s2, DT_S, QncfParams(),
+                                               return_euler=False).q_ws)
+    with pytest.raises(ValueError, match="dt_s must be > 0") as info:                   # bad input: not a refusal
+        installation.calibrate_installation(PAPER, pos, -1.0, q_ws=q_wb)
+    assert not isinstance(info.value, installation.InstallationRefused)
+
+
 def test_apply_errors(stream):
     q_ws = stream[2]
     with pytest.raises(ValueError, match="4x4"):
