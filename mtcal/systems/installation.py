@@ -318,10 +318,13 @@ def _record(q_ws, gyro_rad_s, accel_m_s2, q0, need_dt: bool, dt_s):
     return None, gyro, accel, q0, gyro
 
 
-def _positions_record(config: InstallationConfig, positions_rad, dt_s, q_ws, gyro_rad_s, accel_m_s2, q0, rests):
-    """The edge of :func:`calibrate_installation` and :func:`verify_installation`: every input checked once."""
+def _positions_record(config: InstallationConfig, positions_rad, dt_s, q_ws, gyro_rad_s, accel_m_s2, q0, rests,
+                      q_hat=None):
+    """The edge of :func:`calibrate_installation` and :func:`verify_installation` (with ``q_hat``): every
+    input checked once; ``q_hat`` given, it leads the checked values."""
     if not isinstance(config, InstallationConfig):
         raise TypeError(f"config must be an InstallationConfig, got {type(config).__name__}")
+    mat = None if q_hat is None else _q_hat(q_hat)
     pos = as_float_array(positions_rad, "positions_rad", ndim=(2, 3), last_dim=3)
     k = pos.shape[-2]
     if k < 4:
@@ -339,7 +342,8 @@ def _positions_record(config: InstallationConfig, positions_rad, dt_s, q_ws, gyr
         if any(not isinstance(r, slice) or r.start is None or r.stop is None or not 0 <= r.start < r.stop <= n
                for r in rests):
             raise ValueError(f"rests must be slices (start < stop) within the {n} samples of the record")
-    return pos, dt, q, gyro, accel, q0, rests
+    checked = (pos, dt, q, gyro, accel, q0, rests)
+    return checked if mat is None else (mat,) + checked
 
 
 def _sensor_attitude(config: InstallationConfig, q, gyro, accel, q0, dt: float | None) -> np.ndarray:
@@ -510,18 +514,18 @@ def _calibrate(config: InstallationConfig, pos, dt, q, gyro, accel, q0, rests) -
 
 def _outcome(config: InstallationConfig, q_hat, cond, pos, q_ref, rests, matched, q_s,
              gate: bool) -> InstallationCalibration:
-    """Eq 10 at the positions, the gates (``gate``), the SO(4) projection and the angles of Q̂."""
+    """The SO(4) projection and the angles of Q̂, Eq 10 at the positions, then the gates (``gate``)."""
+    proj = constrained_fit.project_to_so4(q_hat)
     after = quaternion_lsq._apply(q_hat, q_s)                                   # Eq 10 at the rests
     residual = six_position._angle_between(after, q_ref)
-    proj = constrained_fit.project_to_so4(q_hat)
-    if gate:
-        _gate(q_hat, proj.distance, residual, config.max_so4_distance, config.max_residual_rad)
     q_bs = rotations.quat_conjugate(proj.r)
+    alpha = rotations.installation_angles_from_mount(q_bs)
     before_e = rotations.euler_zxy_unchecked(q_s)
     after_e = rotations.euler_zxy_unchecked(after)
+    if gate:
+        _gate(q_hat, proj.distance, residual, config.max_so4_distance, config.max_residual_rad)
     return InstallationCalibration(
-        q_hat=q_hat, projection=proj, mounting_quaternion_q_bs=q_bs,
-        installation_angles_rad=rotations.installation_angles_from_mount(q_bs), condition=cond,
+        q_hat=q_hat, projection=proj, mounting_quaternion_q_bs=q_bs, installation_angles_rad=alpha, condition=cond,
         positions_rad=pos, q_reference=q_ref, rests=rests, matched=matched, q_sensor=q_s,
         euler_before_rad=before_e, euler_after_rad=after_e,
         error_before_rad=metrics.angle_difference(before_e, pos),
@@ -570,9 +574,8 @@ def verify_installation(config: InstallationConfig, q_hat, positions_rad, dt_s: 
     >>> float(ver.residual_rad.max()) < 1e-12, ver.matched.tolist()
     (True, [1, 2, 3, 4, 5, 6])
     """
-    mat = _q_hat(q_hat)
-    pos, dt, q, gyro, accel, q0, rests = _positions_record(config, positions_rad, dt_s, q_ws, gyro_rad_s,
-                                                           accel_m_s2, q0, rests)
+    mat, pos, dt, q, gyro, accel, q0, rests = _positions_record(config, positions_rad, dt_s, q_ws, gyro_rad_s,
+                                                                accel_m_s2, q0, rests, q_hat)
     q_ref, rests, matched, q_s, _ = _positions(config, pos, dt, q, gyro, accel, q0, rests)
     q_s_al = quaternion_lsq._align_pairs(q_s, q_ref)[0]
     sv = np.linalg.svd(np.swapaxes(q_s_al, -1, -2) @ q_s_al, compute_uv=False)
