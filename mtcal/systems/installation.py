@@ -346,23 +346,20 @@ def _positions_record(config: InstallationConfig, positions_rad, dt_s, q_ws, gyr
     return checked if mat is None else (mat,) + checked
 
 
-def _sensor_attitude(config: InstallationConfig, q, gyro, accel, q0, dt: float | None) -> np.ndarray:
-    """Step 1 on checked inputs: the QNCF of raw data (``q`` None), else ``q`` as given."""
-    return qncf(gyro, accel, dt, config.qncf_params, q0=q0, return_euler=False).q_ws if q is None else q
-
-
-def _zeroed(config: InstallationConfig, q: np.ndarray) -> np.ndarray:
-    """Step 2: by the config, zeroed at the first sample (§4.1)."""
-    if not config.zero_at_first_sample:
-        return q
-    return rotations.relative_to_initial(q[None])[0] if q.ndim == 2 else rotations.relative_to_initial(q)
+def _sensor_attitude(config: InstallationConfig, q, gyro, accel, q0, dt: float | None, zero: bool = True) -> tuple:
+    """Steps 1–2 on checked inputs: the QNCF of raw data (``q`` None), else ``q`` as given; and that
+    attitude zeroed at the first sample (§4.1) if ``zero`` and the config say so. Returns ``(made, zeroed)``."""
+    if q is None:
+        q = qncf(gyro, accel, dt, config.qncf_params, q0=q0, return_euler=False).q_ws
+    if not (zero and config.zero_at_first_sample):
+        return q, q
+    return q, rotations.relative_to_initial(q[None])[0] if q.ndim == 2 else rotations.relative_to_initial(q)
 
 
 def _positions(config: InstallationConfig, pos, dt, q, gyro, accel, q0, rests):
     """Steps 1–5 on checked inputs: (q_ref, rests, matched, q_sensor, q_ws) — Eq 9 references, Eq 14
     columns and the sensor attitude before zeroing (the quaternion-rate detector sees it)."""
-    q = _sensor_attitude(config, q, gyro, accel, q0, dt)
-    q_zeroed = _zeroed(config, q)
+    q, q_zeroed = _sensor_attitude(config, q, gyro, accel, q0, dt)
     q_ref = rotations.quat_from_euler_zxy(pos[..., 0], pos[..., 1], pos[..., 2])
     try:
         rests, matched, q_s = six_position.rest_attitudes(
@@ -709,7 +706,7 @@ def apply_installation(config: InstallationConfig, q_hat, dt_s: float | None = N
     if mat.ndim == 3 and (stream.ndim != 3 or stream.shape[0] != mat.shape[0]):
         raise ValueError(f"a stack of {mat.shape[0]} matrices needs a record with as many trials, "
                          f"got shape {stream.shape}")
-    q_s = _zeroed(config, _sensor_attitude(config, q, gyro, accel, q0, dt))
+    q_s = _sensor_attitude(config, q, gyro, accel, q0, dt)[1]
     q_b = rotations.make_continuous(quaternion_lsq._apply(mat, q_s), axis=-2)
     return CalibratedAttitude(q_body=q_b, q_sensor=q_s)
 
@@ -787,7 +784,7 @@ def absolute_body_attitude(config: InstallationConfig, q_bs, dt_s: float | None 
     if c.shape != (4,):
         raise ValueError(f"q_bs must be one quaternion of shape (4,), got {c.shape}")
     dt, q, gyro, accel, q0, _ = _application_record(config, dt_s, q_ws, gyro_rad_s, accel_m_s2, q0)
-    q_s = rotations.make_continuous(_sensor_attitude(config, q, gyro, accel, q0, dt), axis=-2)
+    q_s = rotations.make_continuous(_sensor_attitude(config, q, gyro, accel, q0, dt, zero=False)[0], axis=-2)
     q_b = rotations.hamilton(q_s, rotations.quat_conjugate(c))
     if config.zero_heading:
         yaw0 = rotations.euler_zxy_unchecked(q_b[..., :1, :])[..., 0]           # (..., 1)
