@@ -255,10 +255,12 @@ class InstallationConfig:
         return cls(fraction=fraction)
 
     @classmethod
-    def monte_carlo(cls, fraction: float = 0.5) -> "InstallationConfig":
+    def monte_carlo(cls, fraction: float = 0.5, *, zero_at_first_sample: bool = True) -> "InstallationConfig":
         """The studies' Monte Carlo: :meth:`paper` with the gates off (``inf``) — a Monte Carlo reports
-        the spread of every trial instead of refusing the set because one trial would be refused."""
-        return cls(fraction=fraction, max_condition=np.inf, max_so4_distance=np.inf, max_residual_rad=np.inf)
+        the spread of every trial instead of refusing the set because one trial would be refused.
+        ``zero_at_first_sample=False`` for a verification run already zeroed at its session's start."""
+        return cls(fraction=fraction, max_condition=np.inf, max_so4_distance=np.inf, max_residual_rad=np.inf,
+                   zero_at_first_sample=zero_at_first_sample)
 
     @classmethod
     def sweep_cell(cls, fraction: float = 0.5) -> "InstallationConfig":

@@ -353,7 +353,7 @@ def _run_pieces(sc: TurntableScenario, prof: AngleProfile, spans: dict, pieces: 
         cal = calibration_step(sc, q_cal[sl], gyro[sl, spans["calibration"]], pos - e_cal, frac)
         # the verification run: the same procedure with Q̂ given (the session is already zeroed at its start)
         ver = installation.verify_installation(
-            replace(installation.InstallationConfig.monte_carlo(frac), zero_at_first_sample=False), cal.q_hat, pos,
+            installation.InstallationConfig.monte_carlo(frac, zero_at_first_sample=False), cal.q_hat, pos,
             sc.imu.dt_s, q_ws=q_all[sl, spans["verification"]], gyro_rad_s=gyro[sl, spans["verification"]])
         run = TurntableRun(cal.q_hat, cal.euler_before_rad, cal.euler_after_rad, ver.euler_before_rad,
                            ver.euler_after_rad, pos, -e_cal, -e_ver)
