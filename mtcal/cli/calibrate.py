@@ -182,8 +182,9 @@ def run(args: argparse.Namespace) -> int:
             hint = (_quaternion_hint(cfg, pos, log, rests) if "q_ws" in source else "") or _diagnose(
                 cfg, pos, log, rests, exc.q_ws)
             raise ValueError(f"{exc}{hint}") from None
+        sigma = installation.installation_angles_sigma(cal, cfg.model)      # 1σ of the angles, fit covariance
         fig.used = cal.matched_rests
-        _print_and_write(args, cfg, out, log, cal, info)
+        _print_and_write(args, cfg, out, log, cal, sigma, info)
         return 0
 
     return common.run_with_figure(fig, body)
@@ -285,7 +286,7 @@ def _quaternion_hint(cfg, pos, log, rests) -> str:
     return ""
 
 
-def _print_and_write(args, cfg, out, log, cal, info: dict) -> None:
+def _print_and_write(args, cfg, out, log, cal, sigma_rad: np.ndarray, info: dict) -> None:
     """The ``Q_hat`` block, the per-position table, the installation angles and the JSON (``--out``)."""
     from mtcal.core import rotations
     from mtcal.systems import installation
@@ -305,7 +306,7 @@ def _print_and_write(args, cfg, out, log, cal, info: dict) -> None:
         print(f"{k + 1:>3} {fmt(ref_deg[k]):>27} {fmt(before[k]):>27} {fmt(after[k]):>27} "
               f"{np.degrees(cal.residual_rad[k]):9.5f}")
     model = cfg.model
-    sigma = np.degrees(installation.installation_angles_sigma(cal, model))
+    sigma = np.degrees(sigma_rad)
     mount = np.degrees(rotations.euler_zxy_from_quat(cal.mounting_quaternion_q_bs))
     sig_txt = ("1-sigma not estimable (4 positions leave no degrees of freedom)" if not np.all(np.isfinite(sigma))
                else "1-sigma " + " ".join(f"{v:.4f}" for v in sigma) + f" deg ({model} fit covariance)")
