@@ -579,9 +579,9 @@ def _six_position(p: dict, rngs: list) -> dict[str, np.ndarray]:
     :func:`mtcal.systems.installation.calibrate_installation` — the procedure ``mtcal
     calibrate`` runs — on the stacked trials with the sweep cell's config
     (:meth:`~mtcal.systems.installation.InstallationConfig.sweep_cell`: the scheduled holds, known
-    by construction, matched in schedule order, middle half averaged, gates off). Validation: the zeroed sensor attitude at each of the 12
-    attitudes (``q_true(0)⁻¹ ⊗ q_b ⊗ q_bs``: the filter's start offset cancels in the
-    zeroing) is mapped by Q̂ and compared with the true body attitude. ``before`` is the
+    by construction, matched in schedule order, middle half averaged, gates off). Validation: the
+    zeroed sensor attitude at each of the 12 attitudes (``q_true(0)⁻¹ ⊗ q_b ⊗ q_bs``: the filter's
+    start offset cancels in the zeroing) is mapped by Q̂ and compared with the true body attitude. ``before`` is the
     same error without calibration.
     """
     from mtcal.filters.anchors import run_attitude_filter

@@ -19,7 +19,8 @@ from mtcal.systems import installation
 FS = 100.0
 DT_S = 1.0 / FS
 ALPHA = np.radians([0.5, -0.3, 0.4])
-PAPER = installation.InstallationConfig.paper()
+Config = installation.InstallationConfig
+PAPER = Config.paper()
 
 
 @pytest.fixture(scope="module")
@@ -88,7 +89,7 @@ def test_detect_rests_gyro_and_quaternions(stream):
     gyro = np.zeros((1000, 3))
     gyro[300:500, 2] = 0.5
     assert installation.detect_rests(PAPER, 1.0 / 100.0, gyro_rad_s=gyro) == [slice(0, 296), slice(505, 1000)]
-    assert installation.detect_rests(installation.InstallationConfig(min_rest_s=4.0), 1.0 / 100.0, gyro_rad_s=gyro) == [slice(505, 1000)]
+    assert installation.detect_rests(Config(min_rest_s=4.0), 1.0 / 100.0, gyro_rad_s=gyro) == [slice(505, 1000)]
 
 
 def test_given_rests_are_used(stream):
@@ -127,7 +128,7 @@ def test_calibrate_errors(stream, kwargs, exc, match):
     args.update(kwargs)
     settings = {k: args.pop(k) for k in list(args) if k in CONFIG_FIELDS}
     with pytest.raises(exc, match=match):      # a setting is refused when the config is made, data at the call
-        installation.calibrate_installation(installation.InstallationConfig(**settings), args.pop("positions_rad"),
+        installation.calibrate_installation(Config(**settings), args.pop("positions_rad"),
                                             args.pop("dt_s"), **args)
 
 
@@ -137,7 +138,7 @@ def test_raw_data_errors(stream):
     with pytest.raises(ValueError, match="same shape"):
         installation.calibrate_installation(PAPER, pos, DT_S, gyro_rad_s=g, accel_m_s2=np.zeros((49, 3)))
     with pytest.raises(TypeError, match="qncf_params must be a QncfParams"):
-        installation.InstallationConfig(qncf_params={"kp": 1})
+        Config(qncf_params={"kp": 1})
     with pytest.raises(ValueError, match="a sensor attitude is needed"):
         installation.calibrate_installation(PAPER, pos, DT_S, gyro_rad_s=g)
 
@@ -145,14 +146,15 @@ def test_raw_data_errors(stream):
 def test_gates_refuse_with_their_messages(stream):
     pos, _, q_ws, _ = stream
     with pytest.raises(ValueError, match="ill-conditioned for Eq 13"):
-        installation.calibrate_installation(installation.InstallationConfig(max_condition=1.0), pos, DT_S, q_ws=q_ws)
+        installation.calibrate_installation(Config(max_condition=1.0), pos, DT_S, q_ws=q_ws)
     with pytest.raises(ValueError, match="Q_hat is not a calibration: distance"):
-        installation.calibrate_installation(installation.InstallationConfig(max_so4_distance=1e-300), pos, DT_S, q_ws=q_ws)
+        installation.calibrate_installation(Config(max_so4_distance=1e-300), pos, DT_S, q_ws=q_ws)
     bent = pos.copy()
     bent[2, 1] += np.radians(0.5)                            # the reference of position 3 is off by 0.5 deg
     with pytest.raises(ValueError, match=r"residual 0\.\d+ deg at position \d exceeds --max-residual-deg 0\.01"):
-        installation.calibrate_installation(installation.InstallationConfig(max_residual_rad=np.radians(0.01)), bent, DT_S, q_ws=q_ws)
-    ok = installation.calibrate_installation(installation.InstallationConfig(max_residual_rad=np.inf), bent, DT_S, q_ws=q_ws)
+        installation.calibrate_installation(Config(max_residual_rad=np.radians(0.01)), bent, DT_S,
+                                            q_ws=q_ws)
+    ok = installation.calibrate_installation(Config(max_residual_rad=np.inf), bent, DT_S, q_ws=q_ws)
     assert np.degrees(ok.residual_rad.max()) > 0.01
 
 
@@ -196,7 +198,7 @@ def test_pm_g_set_refused_by_eq13_with_the_missing_axis_and_the_models_that_work
 @pytest.mark.parametrize("model", ["so4", "mounting"])
 def test_constrained_models_calibrate_the_pm_g_set(pm_g_record, model):
     pos, q_ws, alpha = pm_g_record
-    cal = installation.calibrate_installation(installation.InstallationConfig(model=model), pos, 0.01, q_ws=q_ws)
+    cal = installation.calibrate_installation(Config(model=model), pos, 0.01, q_ws=q_ws)
     np.testing.assert_allclose(cal.installation_angles_rad, alpha, atol=1e-10)
     assert cal.residual_rad.max() < 1e-10 and cal.so4_distance < 1e-10
     assert np.all(installation.installation_angles_sigma(cal, model) < 1e-9)
@@ -209,9 +211,9 @@ def test_mounting_model_refuses_rotations_about_one_axis():
     pos = np.radians([[10, 0, 0], [-10, 0, 0], [20, 0, 0], [-20, 0, 0]])
     q_wb = trajectory_from_euler_zxy(schedule_profile(pos, fs_hz=100.0)).q_wb
     with pytest.raises(ValueError, match="do not determine the mounting .* single axis"):
-        installation.calibrate_installation(installation.InstallationConfig(model="mounting"), pos, 0.01, q_ws=q_wb)
+        installation.calibrate_installation(Config(model="mounting"), pos, 0.01, q_ws=q_wb)
     with pytest.raises(ValueError, match="model must be one of eq13, so4, mounting"):
-        installation.InstallationConfig(model="svd")
+        Config(model="svd")
 
 
 def test_config_constructors_name_the_settings_of_each_caller():
@@ -228,7 +230,8 @@ def test_config_constructors_name_the_settings_of_each_caller():
     with pytest.raises(ValueError, match="min_rest_s must be"):
         cfg(min_rest_s=0.0)
     with pytest.raises(TypeError, match="config must be an InstallationConfig"):
-        installation.calibrate_installation({"fraction": 0.5}, six_positions_rad(), DT_S, q_ws=np.tile([1.0, 0, 0, 0], (9, 1)))
+        installation.calibrate_installation({"fraction": 0.5}, six_positions_rad(), DT_S,
+                                            q_ws=np.tile([1.0, 0, 0, 0], (9, 1)))
 
 
 def test_verify_is_the_calibration_procedure_with_q_hat_given(stream):
