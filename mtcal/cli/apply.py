@@ -96,18 +96,20 @@ def run(args: argparse.Namespace) -> int:
                                            unit_stated=log.gyro_unit_stated)
             common.print_units_check(chk)
             gyro, params, q0, info = common.qncf_settings(log, rep)
-            source = dict(gyro_rad_s=gyro, accel_m_s2=log.accel_m_s2, dt_s=log.dt_mean_s, qncf_params=params, q0=q0)
+            cfg = installation.InstallationConfig.command_line(qncf_params=params)
+            source = dict(dt_s=log.dt_mean_s, gyro_rad_s=gyro, accel_m_s2=log.accel_m_s2, q0=q0)
             static = rep.is_static
         else:
+            cfg = installation.InstallationConfig.command_line()
             source = dict(q_ws=log.q_ws)
         if args.mode == "absolute":
-            att = installation.absolute_body_attitude(q_bs, **source)
+            att = installation.absolute_body_attitude(cfg, q_bs, **source)
             how = ("absolute: pitch and roll referenced to gravity (" +
                    ("QNCF levelled from the first rest" if rep is not None else "the log's q0..q3, z-up world") +
                    "), q_body = q_sensor (x) conj(q_bs) with the calibration's mounting; heading (yaw) zeroed at "
                    "the first sample (gravity gives no heading)")
         else:
-            att = installation.apply_installation(q_hat, **source)
+            att = installation.apply_installation(cfg, q_hat, **source)
             how = ("relative (wang2023cja Eq 10): q_body = normalize(Q_hat q_sensor), sensor attitude zeroed at the "
                    "first sample: angles relative to where the log starts")
             _warn_if_tilted(log, rep, q_bs, doc)

@@ -30,6 +30,7 @@ from __future__ import annotations
 
 import argparse
 import json
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -107,6 +108,21 @@ def _read_positions(path: Path) -> np.ndarray:
     return np.radians(ang)
 
 
+def _settings(args: argparse.Namespace, quaternion_log: bool) -> dict:
+    """The procedure's settings from the options (SI), for :meth:`InstallationConfig.command_line`.
+
+    ``--still-deg-s`` is the quaternion-rate detector's threshold: read for a q0..q3 log only.
+    """
+    so4 = args.max_so4_distance
+    out = {"model": args.model, "fraction": common.finite_float(args.fraction, "--fraction"),
+           "min_rest_s": common.finite_float(args.min_rest_s, "--min-rest-s"),
+           "max_residual_rad": np.radians(common.finite_float(args.max_residual_deg, "--max-residual-deg")),
+           "max_so4_distance": None if so4 is None else common.finite_float(so4, "--max-so4-distance")}
+    if quaternion_log:
+        out["still_threshold_rad_s"] = np.radians(common.finite_float(args.still_deg_s, "--still-deg-s"))
+    return out
+
+
 def run(args: argparse.Namespace) -> int:
     """Entry point of ``mtcal calibrate``: read the log, run the procedure, print and write."""
     fig = common.DiagnosticsFigure(args.figure, f"mtcal calibrate {args.log}", inputs=[args.log, args.positions])
@@ -118,20 +134,15 @@ def run(args: argparse.Namespace) -> int:
         log = logio.read_log(args.log, common.input_options(args), need="raw_or_quat")
         fig.log = log if log.accel_m_s2 is not None else None
         pos = _read_positions(args.positions)
-        fraction = common.finite_float(args.fraction, "--fraction")
         if args.min_rest_s is None:  # defaults: 1 s (adaptive), 2 s (paper's stillness detector, as before)
             args.min_rest_s = "2.0" if args.rest_detector == "paper" or log.gyro_rad_s is None else "1.0"
-        min_rest = common.finite_float(args.min_rest_s, "--min-rest-s")
-        so4 = args.max_so4_distance
-        gates = {"max_so4_distance": (installation.MAX_SO4_DISTANCE if so4 is None
-                                      else common.finite_float(so4, "--max-so4-distance")),
-                 "max_residual_rad": np.radians(common.finite_float(args.max_residual_deg, "--max-residual-deg"))}
+        cfg = installation.InstallationConfig.command_line(**_settings(args, quaternion_log=log.gyro_rad_s is None))
         rep = None
         if log.gyro_rad_s is not None:
             rep = common.detect(args, log)
             fig.report = rep
             if args.rest_detector == "paper":
-                rests = installation.detect_rests(log.dt_mean_s, gyro_rad_s=log.gyro_rad_s, min_rest_s=min_rest)
+                rests = installation.detect_rests(cfg, log.dt_mean_s, gyro_rad_s=log.gyro_rad_s)
             else:
                 rests = rep.rests
             chk = plausibility.check_units(log.gyro_for_filter(), log.accel_m_s2, log.dt_mean_s, rests,
@@ -139,11 +150,10 @@ def run(args: argparse.Namespace) -> int:
                                            unit_stated=log.gyro_unit_stated)
             common.print_units_check(chk)
             gyro, params, q0, info = common.qncf_settings(log, rep)
-            source = {"gyro_rad_s": gyro, "accel_m_s2": log.accel_m_s2, "qncf_params": params, "q0": q0}
+            cfg = replace(cfg, qncf_params=params)
+            source = {"gyro_rad_s": gyro, "accel_m_s2": log.accel_m_s2, "q0": q0}
         else:
-            still_rad_s = np.radians(common.finite_float(args.still_deg_s, "--still-deg-s"))
-            rests = installation.detect_rests(log.dt_mean_s, q_ws=log.q_ws, min_rest_s=min_rest,
-                                              threshold_rad_s=still_rad_s)
+            rests = installation.detect_rests(cfg, log.dt_mean_s, q_ws=log.q_ws)
             source, info = {"q_ws": log.q_ws}, {"filter": "none (q0..q3 from the log)"}
         print(f"log: {args.log} ({log.n} samples at {log.fs_hz:.1f} Hz); "
               f"{len(rests)} rests found, {pos.shape[0]} positions")
@@ -160,21 +170,20 @@ def run(args: argparse.Namespace) -> int:
                       f"{np.degrees(rep.gyro_noise_rad_s):.3f} deg/s")
             else:
                 lv = rep.levels_text()
-            raise ValueError(f"too few rests: found {len(rests)} rests of >= {min_rest:g} s for "
+            raise ValueError(f"too few rests: found {len(rests)} rests of >= {cfg.min_rest_s:g} s for "
                              f"{pos.shape[0]} positions ({lv}); see --figure for the rejected stretches")
         try:
-            cal = installation.calibrate_installation(pos, log.dt_mean_s, rests=rests, fraction=fraction, **source,
-                                                      model=args.model, **gates)
-        except ValueError as exc:
+            cal = installation.calibrate_installation(cfg, pos, log.dt_mean_s, rests=rests, **source)
+        except installation.InstallationRefused as exc:
             tiny = np.max(np.abs(np.degrees(pos))) <= np.pi / 2 + 1e-9        # values that may be radians
             if not (any(m in str(exc) for m in MISMATCH_MESSAGES) or (tiny and "ill-conditioned" in str(exc))):
                 raise
-            hint = _quaternion_hint(pos, log, rests, fraction, gates, args.model) if "q_ws" in source else ""
-            if not hint:
-                hint = _diagnose(args, pos, log, rests, fraction, gates, source)
+            hint = (_quaternion_hint(cfg, pos, log, rests) if "q_ws" in source else "") or _diagnose(
+                cfg, pos, log, rests, exc.q_ws)
             raise ValueError(f"{exc}{hint}") from None
+        sigma = installation.installation_angles_sigma(cal, cfg.model)      # 1σ of the angles, fit covariance
         fig.used = cal.matched_rests
-        _print_and_write(args, out, log, rests, cal, info)
+        _print_and_write(args, cfg, out, log, cal, sigma, info)
         return 0
 
     return common.run_with_figure(fig, body)
@@ -194,22 +203,19 @@ POSITION_MISTAKES = {
 }
 
 
-def _diagnose(args, pos, log, rests, fraction, gates, source) -> str:
+def _diagnose(cfg, pos, log, rests, q_abs) -> str:
     """Why the rests do not match the positions: per position the nearest rest's attitude, and the likely mistake.
 
-    Prints the table (stdout) and returns the hint appended to the one-line error.
+    ``q_abs`` is the sensor attitude the refused calibration made (not zeroed). Prints the table
+    (stdout) and returns the hint appended to the one-line error.
     """
+    from mtcal.core import rotations
     from mtcal.methods import six_position
     from mtcal.systems import installation
 
     dt = log.dt_mean_s
-    q_abs = installation.absolute_body_attitude(np.array([1.0, 0.0, 0.0, 0.0]), zero_heading=False,
-                                                **({"dt_s": dt} if "q_ws" not in source else {}), **source).q_sensor
-    q_rel = installation.apply_installation(np.eye(4), q_ws=q_abs).q_sensor
-    means = six_position.rest_means(q_rel, rests, fraction)
+    means = six_position.rest_means(rotations.relative_to_initial(q_abs[None])[0], rests, cfg.fraction)
     t = log.time_s
-    from mtcal.core import rotations
-
     q_ref = rotations.quat_from_euler_zxy(pos[:, 0], pos[:, 1], pos[:, 2])
     dist = np.degrees(rotations.quat_angle_between(means[:, None, :], q_ref[None, :, :]))      # (R, K)
     print("calibration refused; per reference position the nearest rest (zeroed sensor attitude, Eq 8 ZXY deg):")
@@ -224,7 +230,7 @@ def _diagnose(args, pos, log, rests, fraction, gates, source) -> str:
 
     def fits(p, q=q_abs, rr=rests) -> bool:
         try:
-            installation.calibrate_installation(p, dt, q_ws=q, rests=rr, fraction=fraction, model=args.model, **gates)
+            installation.calibrate_installation(cfg, p, dt, q_ws=q, rests=rr)
         except ValueError:
             return False
         return True
@@ -265,29 +271,28 @@ QUATERNION_CONVENTIONS = {
 }
 
 
-def _quaternion_hint(pos, log, rests, fraction, gates, model="eq13") -> str:
+def _quaternion_hint(cfg, pos, log, rests) -> str:
     """A hint naming the quaternion convention under which the log would match the positions ('' if none)."""
     from mtcal.systems import installation
 
     for name, (fn, fix) in QUATERNION_CONVENTIONS.items():
         q = fn(log.q_ws)
         try:
-            installation.calibrate_installation(pos, log.dt_mean_s, q_ws=q, rests=rests, fraction=fraction,
-                                                model=model, **gates)
+            installation.calibrate_installation(cfg, pos, log.dt_mean_s, q_ws=q, rests=rests)
         except ValueError:
             continue
         return f"; the log's q0..q3 would match every position if they were {name}: {fix}"
     return ""
 
 
-def _print_and_write(args, out, log, rests, cal, info: dict) -> None:
+def _print_and_write(args, cfg, out, log, cal, sigma_rad: np.ndarray, info: dict) -> None:
     """The ``Q_hat`` block, the per-position table, the installation angles and the JSON (``--out``)."""
     from mtcal.core import rotations
     from mtcal.systems import installation
 
     alpha = np.degrees(cal.installation_angles_rad)
     model_name = {"eq13": "Eq 13", "so4": "SO(4) fit L(p) R(r), 6 parameters",
-                  "mounting": "mounting fit L(q_bs) R(q_bs*), 3 parameters"}[getattr(args, "model", "eq13")]
+                  "mounting": "mounting fit L(q_bs) R(q_bs*), 3 parameters"}[cfg.model]
     print(f"Q_hat ({model_name}, q_body = Q_hat q_sensor):")
     for row in cal.q_hat:
         print("  " + "  ".join(f"{v:+.6f}" for v in row))
@@ -299,8 +304,8 @@ def _print_and_write(args, out, log, rests, cal, info: dict) -> None:
     for k in range(ref_deg.shape[0]):
         print(f"{k + 1:>3} {fmt(ref_deg[k]):>27} {fmt(before[k]):>27} {fmt(after[k]):>27} "
               f"{np.degrees(cal.residual_rad[k]):9.5f}")
-    model = getattr(args, "model", "eq13")
-    sigma = np.degrees(installation.installation_angles_sigma(cal, model))
+    model = cfg.model
+    sigma = np.degrees(sigma_rad)
     mount = np.degrees(rotations.euler_zxy_from_quat(cal.mounting_quaternion_q_bs))
     sig_txt = ("1-sigma not estimable (4 positions leave no degrees of freedom)" if not np.all(np.isfinite(sigma))
                else "1-sigma " + " ".join(f"{v:.4f}" for v in sigma) + f" deg ({model} fit covariance)")

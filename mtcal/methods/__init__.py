@@ -26,9 +26,8 @@ if TYPE_CHECKING:  # the eager imports, for type checkers and tests/test_import_
                                   random_layout_rad, simulate_calibration_errors, so4_error_matrix,
                                   so4_from_quaternions,
                                   So4Fit, So4Projection, symmetric_layout_rad)
-    from .six_position import (calibrate, find_rests, match_rests, mean_quaternion, middle_slices, rest_means,
-                               schedule_profile, six_positions_rad, SixPositionResult, stillness_from_gyro,
-                               stillness_from_quaternions)
+    from .six_position import (find_rests, match_rests, mean_quaternion, middle_slices, rest_attitudes, rest_means,
+                               schedule_profile, six_positions_rad, stillness_from_gyro, stillness_from_quaternions)
     from .large_angle import (bias_moment_matrix, LAMBDA1_RAD, LAMBDA2_RAD, monte_carlo_pitch_errors, perturbed_errors,
                               perturbed_preset_pitch_error, pitch_error_eq10, pitch_error_eq3_printed, pitch_error_eq8,
                               pitch_error_first_order, pitch_roll_eq2, pitch_roll_from_preset_triad, preset_lambda,
@@ -51,7 +50,7 @@ __all__ = ["quaternion_lsq", "constrained_fit", "six_position", "large_angle", "
            "MountingFit", "So4Projection", "CalibrationScenario", "symmetric_layout_rad", "random_layout_rad",
            "simulate_calibration_errors", "METHODS", "six_positions_rad", "schedule_profile", "stillness_from_gyro",
            "stillness_from_quaternions", "find_rests", "middle_slices", "mean_quaternion", "rest_means",
-           "match_rests", "SixPositionResult", "calibrate", "LAMBDA1_RAD", "LAMBDA2_RAD", "pitch_roll_eq2",
+           "match_rests", "rest_attitudes", "LAMBDA1_RAD", "LAMBDA2_RAD", "pitch_roll_eq2",
            "pitch_error_first_order", "pitch_error_eq3_printed", "pitch_error_eq8", "roll_error_eq4", "preset_lambda",
            "pitch_error_eq10", "preset_matrix", "preset_specific_force", "pitch_roll_from_preset_triad",
            "select_preset_pitch", "perturbed_errors", "perturbed_preset_pitch_error", "monte_carlo_pitch_errors",
@@ -95,8 +94,8 @@ _EXPORTS = {
     "AxisPlaneFit": "rotation_axis", "AxisResult": "rotation_axis", "angle_between": "rotation_axis",
     "apply_sign_convention": "rotation_axis", "axis_elevation": "rotation_axis", "axis_error_std": "rotation_axis",
     "axis_from_means": "rotation_axis", "distinct_positions": "rotation_axis", "estimate_axis": "rotation_axis",
-    "fit_axis_plane": "rotation_axis", "gravity_change_norm": "rotation_axis", "SixPositionResult": "six_position",
-    "calibrate": "six_position", "find_rests": "six_position", "match_rests": "six_position",
+    "fit_axis_plane": "rotation_axis", "gravity_change_norm": "rotation_axis", "rest_attitudes": "six_position",
+    "find_rests": "six_position", "match_rests": "six_position",
     "mean_quaternion": "six_position", "middle_slices": "six_position", "rest_means": "six_position",
     "schedule_profile": "six_position", "six_positions_rad": "six_position", "stillness_from_gyro": "six_position",
     "stillness_from_quaternions": "six_position", "ZvdParams": "zero_velocity", "detect_static": "zero_velocity",

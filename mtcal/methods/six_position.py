@@ -15,8 +15,8 @@ Workflow (paper §3.2, steps 1–7, with Eq 13–15):
    sign-aligned chordal mean) → the columns of ``A_q^s`` (Eq 14);
 5. rests are matched to the reference positions (``A_e^b`` of Eq 15,
    converted with Eq 9) by nearest attitude (:func:`match_rests`);
-6. Eq 13 is solved with :func:`mtcal.methods.quaternion_lsq.least_squares_error_matrix`
-   (vectorised over a leading trial axis for Monte Carlo).
+6. Eq 13 is solved by least squares (:mod:`mtcal.methods.quaternion_lsq`, vectorised over a
+   leading trial axis for Monte Carlo).
 
 Time base: the detectors take the sample interval ``dt_s`` (s); only the
 schedule generator :func:`schedule_profile` takes a rate, like the
@@ -26,27 +26,26 @@ Shapes: a record is (N, …) or (T, N, …) with a leading Monte Carlo trial
 axis. All trials of one simulation share the mechanism schedule, so a sample
 counts as "still" only if it is still in every trial (one set of rests).
 
-Every public function validates its inputs; the private ``_…`` twins take
-already-checked arrays and are what :mod:`mtcal.systems.installation` (and
-:func:`calibrate`) call after validating once at their own edge.
+The schedule generators (:func:`six_positions_rad`, :func:`schedule_profile`) check their
+arguments; the data steps (stillness, rests, means, matching: :func:`rest_attitudes` strings
+them together) trust their inputs and document their preconditions — the procedure that
+checks a record once, at its edge, and calls them is
+:func:`mtcal.systems.installation.calibrate_installation`, the one six-position procedure.
 """
 
 from __future__ import annotations
-
-from dataclasses import dataclass
 
 import numpy as np
 from scipy.optimize import linear_sum_assignment
 
 from mtcal.core import rotations
 from mtcal.core.compiled import jit
-from mtcal.methods import quaternion_lsq
-from mtcal.core.validate import as_float_array, positive_scalar, sample_interval, unit_quaternion
+from mtcal.core.validate import as_float_array
 from mtcal.core.profiles import AngleProfile, step_schedule
 
 __all__ = ["six_positions_rad", "schedule_profile", "stillness_from_gyro",
            "stillness_from_quaternions", "find_rests", "middle_slices", "mean_quaternion",
-           "rest_means", "match_rests", "SixPositionResult", "calibrate"]
+           "rest_means", "match_rests", "rest_attitudes"]
 
 #: Paper §3.2: rest at each position (s).
 REST_S = 3.0
@@ -107,31 +106,6 @@ def _moving_mean(x: np.ndarray, win: int, axis: int = -1) -> np.ndarray:
     return np.moveaxis(out, -1, axis)
 
 
-def stillness_from_gyro(gyro_rad_s, dt_s: float, *, window_s: float = 0.1,
-                        threshold_rad_s: float = np.radians(0.2)) -> np.ndarray:
-    """Still where the moving-mean gyro norm is below a threshold.
-
-    Parameters
-    ----------
-    gyro_rad_s : array_like, shape (N, 3) or (T, N, 3)
-        Angular rate (rad/s).
-    dt_s : float
-        Sample interval (s), ≤ 1 s.
-    window_s : float
-        Moving-mean window (s), ``round(window_s / dt_s)`` samples; averages white noise down.
-    threshold_rad_s : float
-        Threshold on ‖ω‖ (rad/s); default 0.2 °/s (far above a tactical
-        gyro's 0.1 s-averaged noise ≈ 0.003 °/s, far below a move).
-
-    Returns
-    -------
-    ndarray of bool, shape (N,) — still in every trial.
-    """
-    w = as_float_array(gyro_rad_s, "gyro_rad_s", ndim=(2, 3), last_dim=3)
-    return _stillness_from_gyro(w, sample_interval(dt_s), positive_scalar(window_s, "window_s"),
-                                positive_scalar(threshold_rad_s, "threshold_rad_s"))
-
-
 @jit
 def _moving_mean_kernel(w, win, out):  # pragma: no cover - compiled
     """:func:`_moving_mean` of (T, N, 3) along N into ``out`` (T, 3, N): the same operations.
@@ -153,12 +127,40 @@ def _moving_mean_kernel(w, win, out):  # pragma: no cover - compiled
                 out[t, j, i] = (c[hi] - c[lo]) / np.float64(hi - lo)
 
 
-#: Samples from which :func:`_stillness_from_gyro` runs its moving mean compiled.
+#: Samples from which :func:`stillness_from_gyro` runs its moving mean compiled.
 _KERNEL_MIN_SAMPLES = 2048
 
 
-def _stillness_from_gyro(w: np.ndarray, dt: float, window_s: float, threshold_rad_s: float) -> np.ndarray:
-    """:func:`stillness_from_gyro` on checked arrays (trusted)."""
+def stillness_from_gyro(gyro_rad_s: np.ndarray, dt_s: float, window_s: float = 0.1,
+                        threshold_rad_s: float = np.radians(0.2)) -> np.ndarray:
+    """Still where the moving-mean gyro norm is below a threshold.
+
+    Trusts its inputs (preconditions below; :func:`mtcal.systems.installation.detect_rests`
+    checks a record and calls this).
+
+    Parameters
+    ----------
+    gyro_rad_s : ndarray, shape (N, 3) or (T, N, 3)
+        Angular rate (rad/s), finite float64.
+    dt_s : float
+        Sample interval (s), 0 < dt_s ≤ 1.
+    window_s : float
+        Moving-mean window (s) > 0, ``round(window_s / dt_s)`` samples; averages white noise down.
+    threshold_rad_s : float
+        Threshold on ‖ω‖ (rad/s) > 0; default 0.2 °/s (far above a tactical
+        gyro's 0.1 s-averaged noise ≈ 0.003 °/s, far below a move).
+
+    Returns
+    -------
+    ndarray of bool, shape (N,) — still in every trial.
+
+    Examples
+    --------
+    >>> gyro = np.zeros((10, 3)); gyro[4:6, 0] = 1.0
+    >>> stillness_from_gyro(gyro, 0.01, window_s=0.01).astype(int).tolist()
+    [1, 1, 1, 1, 0, 0, 1, 1, 1, 1]
+    """
+    w, dt = gyro_rad_s, dt_s
     win = max(1, int(round(window_s / dt)))
     if w.dtype == np.float64 and w.shape[-2] >= _KERNEL_MIN_SAMPLES:   # one pass, no temporaries; bit-identical
         w3 = w if w.ndim == 3 else w[None]
@@ -172,114 +174,114 @@ def _stillness_from_gyro(w: np.ndarray, dt: float, window_s: float, threshold_ra
     return still if still.ndim == 1 else np.all(still, axis=0)
 
 
-def stillness_from_quaternions(q, dt_s: float, *, window_s: float = 0.1,
+
+def stillness_from_quaternions(q: np.ndarray, dt_s: float, window_s: float = 0.1,
                                threshold_rad_s: float = np.radians(0.2)) -> np.ndarray:
     """Still where the mean rotation rate over a window (from the quaternions) is small.
 
-    Rate ≈ angle(q[k − w/2], q[k + w/2]) / (w dt_s), with ``w = window_s / dt_s`` samples and
-    ``dt_s`` the sample interval (s). Shapes (N, 4) or (T, N, 4) → (N,) bool (still in every trial).
+    Rate ≈ angle(q[k − w/2], q[k + w/2]) / (w dt_s), with ``w = window_s / dt_s`` samples.
+    Trusts its inputs: ``q`` float64 unit quaternions (N, 4) or (T, N, 4), scalar-first;
+    ``dt_s`` the sample interval (s), 0 < dt_s ≤ 1; ``window_s`` (s) and ``threshold_rad_s``
+    (rad/s) > 0.
+
+    Returns
+    -------
+    ndarray of bool, shape (N,) — still in every trial.
+
+    Examples
+    --------
+    >>> from mtcal.core import rotations
+    >>> q = rotations.quat_from_rotvec(np.outer(np.r_[np.zeros(5), np.arange(5) * 0.1], [0.0, 0.0, 1.0]))
+    >>> stillness_from_quaternions(q, 0.01, window_s=0.02).astype(int).tolist()
+    [1, 1, 1, 1, 1, 0, 0, 0, 0, 0]
     """
-    qq = unit_quaternion(q, "q")
-    if qq.ndim not in (2, 3):
-        raise ValueError(f"q must have shape (N, 4) or (T, N, 4), got {qq.shape}")
-    return _stillness_from_quaternions(qq, sample_interval(dt_s), positive_scalar(window_s, "window_s"),
-                                       positive_scalar(threshold_rad_s, "threshold_rad_s"))
-
-
-def _stillness_from_quaternions(qq: np.ndarray, dt: float, window_s: float, threshold_rad_s: float) -> np.ndarray:
-    """:func:`stillness_from_quaternions` on checked unit quaternions (trusted)."""
-    half = max(1, int(round(window_s / dt / 2)))
-    n = qq.shape[-2]
+    half = max(1, int(round(window_s / dt_s / 2)))
+    n = q.shape[-2]
     idx = np.arange(n)
     lo, hi = np.clip(idx - half, 0, n - 1), np.clip(idx + half, 0, n - 1)
-    ang = rotations.quat_angle_between(qq[..., lo, :], qq[..., hi, :])
-    rate = ang / np.maximum(hi - lo, 1) / dt
+    ang = _angle_between(q[..., lo, :], q[..., hi, :])
+    rate = ang / np.maximum(hi - lo, 1) / dt_s
     still = rate < threshold_rad_s
     return still if still.ndim == 1 else np.all(still, axis=0)
 
 
-def find_rests(still, dt_s: float, *, min_rest_s: float = 2.0) -> list[slice]:
+def find_rests(still: np.ndarray, dt_s: float, min_rest_s: float = 2.0) -> list[slice]:
     """Contiguous still runs lasting at least ``min_rest_s`` (s), as sample slices in time order.
 
-    ``still`` is a 1-D boolean array sampled every ``dt_s`` (s); a run counts if it holds at
-    least ``min_rest_s / dt_s`` samples.
+    Trusts its inputs: ``still`` a 1-D boolean array sampled every ``dt_s`` (s, 0 < dt_s ≤ 1);
+    a run counts if it holds at least ``min_rest_s / dt_s`` samples.
+
+    Examples
+    --------
+    >>> find_rests(np.r_[np.ones(300, bool), np.zeros(10, bool), np.ones(100, bool)], 0.01)
+    [slice(0, 300, None)]
     """
-    s = np.asarray(still)
-    if s.dtype != bool or s.ndim != 1:
-        raise TypeError(f"still must be a 1-D boolean array, got dtype {s.dtype} shape {s.shape}")
-    return _find_rests(s, sample_interval(dt_s), positive_scalar(min_rest_s, "min_rest_s"))
-
-
-def _find_rests(s: np.ndarray, dt: float, min_rest_s: float) -> list[slice]:
-    """:func:`find_rests` on a checked 1-D boolean array (trusted)."""
-    edges = np.diff(np.concatenate([[0], s.astype(np.int8), [0]]))
+    edges = np.diff(np.concatenate([[0], still.astype(np.int8), [0]]))
     starts, stops = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)
-    keep = (stops - starts) >= min_rest_s / dt
+    keep = (stops - starts) >= min_rest_s / dt_s
     return [slice(int(a), int(b)) for a, b in zip(starts[keep], stops[keep])]
 
 
 def middle_slices(rests: list[slice], fraction: float = 0.5) -> list[slice]:
-    """The central ``fraction`` of each rest ("middle section", §3.2)."""
-    f = positive_scalar(fraction, "fraction")
-    if f > 1:
-        raise ValueError(f"fraction must be in (0, 1], got {f}")
-    return _middle_slices(rests, f)
+    """The central ``fraction`` (0 < fraction ≤ 1, trusted) of each rest ("middle section", §3.2).
 
-
-def _middle_slices(rests: list[slice], f: float) -> list[slice]:
-    """:func:`middle_slices` with a checked fraction (trusted)."""
+    Examples
+    --------
+    >>> middle_slices([slice(1000, 4000)], 0.5)
+    [slice(1750, 3250, None)]
+    """
     out = []
     for r in rests:
         n = r.stop - r.start
-        m = max(1, int(round(n * f)))
+        m = max(1, int(round(n * fraction)))
         a = r.start + (n - m) // 2
         out.append(slice(a, a + m))
     return out
 
 
-def mean_quaternion(q, axis: int = -2) -> np.ndarray:
+def mean_quaternion(q: np.ndarray, axis: int = -2) -> np.ndarray:
     """Sign-aligned chordal mean of unit quaternions along ``axis`` (normalised).
 
     Each quaternion is flipped to agree in sign with the first one along
     ``axis`` (q and −q are the same attitude), averaged, and renormalised.
     Exact for identical inputs; for a spread of a few 0.01° it equals the
-    rotation-averaging mean to second order.
+    rotation-averaging mean to second order. Trusts ``q``: float64 unit quaternions (..., 4).
+
+    Examples
+    --------
+    >>> mean_quaternion(np.array([[1.0, 0.0, 0.0, 0.0], [-1.0, 0.0, 0.0, 0.0]])).tolist()
+    [1.0, 0.0, 0.0, 0.0]
     """
-    return _mean_quaternion(unit_quaternion(q, "q"), axis)
-
-
-def _mean_quaternion(qq: np.ndarray, axis: int = -2) -> np.ndarray:
-    """:func:`mean_quaternion` of checked unit quaternions (trusted)."""
-    ax = axis % qq.ndim
-    ref = np.take(qq, [0], axis=ax)
-    dot = np.sum(qq * ref, axis=-1, keepdims=True)
-    m = np.mean(np.where(dot < 0, -qq, qq), axis=ax)
+    ax = axis % q.ndim
+    ref = np.take(q, [0], axis=ax)
+    dot = np.sum(q * ref, axis=-1, keepdims=True)
+    m = np.mean(np.where(dot < 0, -q, q), axis=ax)
     return m / np.linalg.norm(m, axis=-1, keepdims=True)
 
 
-def rest_means(q_ws, rests: list[slice], fraction: float = 0.5) -> np.ndarray:
-    """Mean attitude over the middle of each rest: (N, 4) → (K, 4), (T, N, 4) → (T, K, 4)."""
-    qq = unit_quaternion(q_ws, "q_ws")
-    if qq.ndim not in (2, 3):
-        raise ValueError(f"q_ws must have shape (N, 4) or (T, N, 4), got {qq.shape}")
-    mids = middle_slices(rests, fraction)
-    return _rest_means(qq, mids)
+def rest_means(q_ws: np.ndarray, rests: list[slice], fraction: float = 0.5) -> np.ndarray:
+    """Mean attitude over the middle ``fraction`` of each rest: (N, 4) → (K, 4), (T, N, 4) → (T, K, 4).
+
+    Trusts its inputs: ``q_ws`` float64 unit quaternions, ``rests`` slices within its N samples,
+    0 < fraction ≤ 1.
+
+    Examples
+    --------
+    >>> rest_means(np.tile([1.0, 0.0, 0.0, 0.0], (10, 1)), [slice(0, 4), slice(6, 10)]).shape
+    (2, 4)
+    """
+    return np.stack([mean_quaternion(q_ws[..., s, :], axis=-2) for s in middle_slices(rests, fraction)], axis=-2)
 
 
-def _rest_means(qq: np.ndarray, mids: list[slice]) -> np.ndarray:
-    """Mean attitude over each (already trimmed) slice of checked quaternions (trusted)."""
-    return np.stack([_mean_quaternion(qq[..., s, :], axis=-2) for s in mids], axis=-2)
-
-
-def match_rests(q_rest, q_ref, *, max_angle_rad: float = np.radians(5.0)) -> np.ndarray:
+def match_rests(q_rest: np.ndarray, q_ref: np.ndarray, max_angle_rad: float = np.radians(5.0)) -> np.ndarray:
     """Assign one detected rest to each reference position (nearest attitude, Hungarian).
 
     Parameters
     ----------
-    q_rest : array_like, shape (R, 4) or (T, R, 4)
-        Mean sensor attitude of each detected rest (trials: distances averaged).
-    q_ref : array_like, shape (K, 4)
-        Reference attitudes (Eq 9 of Eq 15's angles).
+    q_rest : ndarray, shape (R, 4) or (T, R, 4)
+        Mean sensor attitude of each detected rest (trials: distances averaged); unit, float64.
+    q_ref : ndarray, shape (K, 4) or (T, K, 4)
+        Reference attitudes (Eq 9 of Eq 15's angles); unit, float64.
     max_angle_rad : float
         Largest accepted distance (rad) between a rest and its position; must
         exceed installation error + yaw offset, and stay below half the
@@ -289,21 +291,24 @@ def match_rests(q_rest, q_ref, *, max_angle_rad: float = np.radians(5.0)) -> np.
     -------
     ndarray of int, shape (K,)
         Index of the rest used for each reference position.
+
+    Raises
+    ------
+    ValueError
+        Fewer rests than positions, or a position without a rest within ``max_angle_rad``.
+
+    Examples
+    --------
+    >>> from mtcal.core import rotations
+    >>> ref = rotations.quat_from_euler_zxy(np.radians([0.0, 10.0]), np.zeros(2), np.zeros(2))
+    >>> match_rests(ref[::-1], ref).tolist()
+    [1, 0]
     """
-    qr = unit_quaternion(q_rest, "q_rest")
-    qb = unit_quaternion(q_ref, "q_ref")
-    if qb.ndim != 2:
-        raise ValueError(f"q_ref must have shape (K, 4), got {qb.shape}")
-    return _match_rests(qr, qb, float(max_angle_rad))
-
-
-def _match_rests(qr: np.ndarray, qb: np.ndarray, max_angle_rad: float) -> np.ndarray:
-    """:func:`match_rests` on checked quaternions (trusted); ``qb`` may also be (T, K, 4) per trial."""
-    k, r = qb.shape[-2], qr.shape[-2]
+    k, r = q_ref.shape[-2], q_rest.shape[-2]
     if r < k:
         raise ValueError(f"found {r} rests in the record but {k} reference positions were given; "
                          f"each position needs a rest of at least min_rest_s")
-    dist = _angle_between(qr[..., :, None, :], qb[..., None, :, :])
+    dist = _angle_between(q_rest[..., :, None, :], q_ref[..., None, :, :])
     if dist.ndim == 3:
         dist = dist.mean(axis=0)
     rows, cols = linear_sum_assignment(dist.T)  # rows: reference, cols: rest
@@ -318,105 +323,6 @@ def _match_rests(qr: np.ndarray, qb: np.ndarray, max_angle_rad: float) -> np.nda
     return out
 
 
-@dataclass(frozen=True)
-class SixPositionResult:
-    """Outcome of :func:`calibrate` (trial axis T present iff the input had one).
-
-    Attributes
-    ----------
-    q_matrix : ndarray (4, 4) or (T, 4, 4)
-        Q̂_s^b (Eq 13).
-    rests : list of slice
-        All detected rests (time order).
-    matched : ndarray (K,) of int
-        Rest index used for each reference position.
-    q_sensor : ndarray (K, 4) or (T, K, 4)
-        Middle-section mean sensor quaternions (Eq 14 columns).
-    q_reference : ndarray (K, 4)
-        Reference quaternions (Eq 9 of the reference angles).
-    euler_before_rad, euler_after_rad : ndarray (K, 3) or (T, K, 3)
-        Eq 8 angles of the sensor means and of ``Q̂ q_s`` (rad).
-    residual_rad : ndarray (K,) or (T, K)
-        Angle between ``Q̂ q_s`` and the reference (rad).
-    """
-
-    q_matrix: np.ndarray
-    rests: list
-    matched: np.ndarray
-    q_sensor: np.ndarray
-    q_reference: np.ndarray
-    euler_before_rad: np.ndarray
-    euler_after_rad: np.ndarray
-    residual_rad: np.ndarray
-
-
-def calibrate(q_ws, reference_euler_rad, dt_s: float, *, gyro_rad_s=None, fraction: float = 0.5,
-              min_rest_s: float = 2.0, threshold_rad_s: float = np.radians(0.2),
-              window_s: float = 0.1, max_match_rad: float = np.radians(5.0),
-              rests: list | None = None) -> SixPositionResult:
-    """Six-position calibration from a recorded sensor-attitude stream (§3.2, Eq 13–15).
-
-    Parameters
-    ----------
-    q_ws : array_like, shape (N, 4) or (T, N, 4)
-        Sensor attitude stream (QNCF output), scalar-first.
-    reference_euler_rad : array_like, shape (K, 3)
-        Reference ``[ψ, θ, γ]`` of each position (rad), K ≥ 3.
-    dt_s : float
-        Sample interval (s), ≤ 1 s.
-    gyro_rad_s : array_like, shape like q_ws[..., :3], optional
-        If given, rests are detected on the gyro norm, else on the quaternions.
-    fraction : float
-        Middle fraction of each rest that is averaged (0.5 → the central 1.5 s
-        of a 3 s rest).
-    min_rest_s : float
-        Shortest still run accepted as a rest (s).
-    threshold_rad_s, window_s : float
-        Stillness detector threshold (rad/s) and window (s).
-    max_match_rad : float
-        Matching tolerance (rad), see :func:`match_rests`.
-    rests : list of slice, optional
-        Rests found by another detector (e.g.
-        :func:`mtcal.methods.rest_detection.detect_rests`); when given, the
-        stillness detector above is not run and ``min_rest_s`` is not applied.
-
-    Raises
-    ------
-    ValueError
-        Too few rests, a position without a matching rest, or degenerate
-        positions (condition number in the message).
-    """
-    qq = unit_quaternion(q_ws, "q_ws", copy=False)      # only read (the result holds new arrays)
-    if qq.ndim not in (2, 3):
-        raise ValueError(f"q_ws must have shape (N, 4) or (T, N, 4), got {qq.shape}")
-    ref = as_float_array(reference_euler_rad, "reference_euler_rad", ndim=2, last_dim=3)
-    if ref.shape[0] < 3:
-        raise ValueError(f"reference_euler_rad must hold at least 3 positions, got {ref.shape[0]}")
-    dt = sample_interval(dt_s)
-    frac = positive_scalar(fraction, "fraction")
-    if frac > 1:
-        raise ValueError(f"fraction must be in (0, 1], got {frac}")
-    gyro = None
-    if rests is not None:
-        rests = list(rests)
-        if any(not isinstance(r, slice) or r.stop > qq.shape[-2] for r in rests):
-            raise ValueError(f"rests must be slices within the {qq.shape[-2]} samples of q_ws")
-    elif gyro_rad_s is not None:
-        gyro = as_float_array(gyro_rad_s, "gyro_rad_s", ndim=(2, 3), last_dim=3, copy=False)   # only read
-        if gyro.shape[-2] != qq.shape[-2]:
-            raise ValueError(f"gyro_rad_s has {gyro.shape[-2]} samples but q_ws has {qq.shape[-2]}")
-    q_ref = rotations.quat_from_euler_zxy(ref[:, 0], ref[:, 1], ref[:, 2])
-    rests, matched, q_s = _rest_attitudes(
-        qq, q_ref, dt, gyro=gyro, rests=rests, fraction=frac, min_rest_s=positive_scalar(min_rest_s, "min_rest_s"),
-        threshold_rad_s=positive_scalar(threshold_rad_s, "threshold_rad_s"),
-        window_s=positive_scalar(window_s, "window_s"), max_match_rad=float(max_match_rad))
-    q_mat = quaternion_lsq._least_squares(*quaternion_lsq._align_pairs(q_s, q_ref))  # (4, 4) or (T, 4, 4)
-    after = quaternion_lsq._apply(q_mat, q_s)
-    residual = _angle_between(after, q_ref)
-    return SixPositionResult(q_mat, rests, matched, q_s, q_ref, rotations.euler_zxy_unchecked(q_s),
-                             rotations.euler_zxy_unchecked(after), residual)
-
-
 def _angle_between(p: np.ndarray, q: np.ndarray) -> np.ndarray:
     """Attitude difference (rad) of checked unit quaternions (same arithmetic as ``rotations.quat_angle_between``)."""
     d = rotations.hamilton(p * _CONJ, q)
@@ -426,33 +332,62 @@ def _angle_between(p: np.ndarray, q: np.ndarray) -> np.ndarray:
 _CONJ = np.array([1.0, -1.0, -1.0, -1.0])
 
 
-def _rest_attitudes(qq: np.ndarray, q_ref: np.ndarray, dt: float, *, gyro: np.ndarray | None,
-                    rests: list | None, fraction: float, min_rest_s: float, threshold_rad_s: float,
-                    window_s: float, max_match_rad: float, q_detect: np.ndarray | None = None,
-                    in_order: bool = False):
-    """Rests → middle-section means → matched to the references (steps 3–5 of §3.2; trusted).
+def rest_attitudes(q_ws: np.ndarray, q_ref: np.ndarray, dt_s: float, *, gyro_rad_s: np.ndarray | None = None,
+                   rests: list | None = None, fraction: float = 0.5, min_rest_s: float = 2.0,
+                   threshold_rad_s: float = np.radians(0.2), window_s: float = 0.1,
+                   max_match_rad: float = np.radians(5.0), q_detect: np.ndarray | None = None,
+                   in_order: bool = False):
+    """Rests → middle-section means → matched to the references (steps 3–5 of §3.2, Eq 14 columns).
 
-    ``in_order``: the rests are known by construction (a simulated schedule) — rest k belongs to
-    position k, no matching by attitude (and no ``max_match_rad`` window).
+    Trusts its inputs (the procedure :func:`mtcal.systems.installation.calibrate_installation`
+    checks them): ``q_ws`` (N, 4) or (T, N, 4) float64 unit quaternions sampled every ``dt_s``
+    (s, 0 < dt_s ≤ 1); ``q_ref`` (K, 4) or (T, K, 4) unit quaternions; ``gyro_rad_s`` like
+    ``q_ws[..., :3]``; ``rests`` slices within the N samples; settings positive, 0 < fraction ≤ 1.
 
-    ``qq`` (N, 4) or (T, N, 4) checked unit quaternions sampled every ``dt`` (s); ``q_ref`` (K, 4) or (T, K, 4);
-    rests are ``rests`` if given, else detected on ``gyro`` if given, else on the
-    quaternion rate of ``q_detect`` (default ``qq``). Returns ``(rests, matched, q_s)``.
+    Rests are ``rests`` if given, else :func:`find_rests` of :func:`stillness_from_gyro` on
+    ``gyro_rad_s`` if given, else of :func:`stillness_from_quaternions` on ``q_detect`` (default
+    ``q_ws``). ``in_order``: the rests are known by construction (a simulated schedule) — rest k
+    belongs to position k, no matching by attitude (and no ``max_match_rad`` window); else
+    :func:`match_rests`.
+
+    Returns
+    -------
+    rests : list of slice
+        Every rest (time order).
+    matched : ndarray (K,) of int
+        Index into ``rests`` for each position.
+    q_sensor : ndarray (K, 4) or (T, K, 4)
+        Middle-section mean of ``q_ws`` at each matched rest.
+
+    Raises
+    ------
+    ValueError
+        Fewer rests than positions; a position without a rest (see :func:`match_rests`).
+
+    Examples
+    --------
+    >>> from mtcal.core import rotations
+    >>> ref = rotations.quat_from_euler_zxy(np.radians([0.0, 10.0]), np.zeros(2), np.zeros(2))
+    >>> q = np.repeat(ref[::-1], 300, axis=0)
+    >>> rests, matched, q_s = rest_attitudes(q, ref, 0.01, rests=[slice(0, 300), slice(300, 600)])
+    >>> matched.tolist(), bool(np.allclose(q_s, ref))
+    ([1, 0], True)
     """
     if rests is None:
-        if gyro is not None:
-            still = _stillness_from_gyro(gyro, dt, window_s, threshold_rad_s)
+        if gyro_rad_s is not None:
+            still = stillness_from_gyro(gyro_rad_s, dt_s, window_s, threshold_rad_s)
         else:
-            still = _stillness_from_quaternions(qq if q_detect is None else q_detect, dt, window_s, threshold_rad_s)
-        rests = _find_rests(still, dt, min_rest_s)
+            still = stillness_from_quaternions(q_ws if q_detect is None else q_detect, dt_s, window_s,
+                                               threshold_rad_s)
+        rests = find_rests(still, dt_s, min_rest_s)
     if len(rests) < q_ref.shape[-2]:
         raise ValueError(f"too few rests: found {len(rests)} still periods of >= {min_rest_s:g} s, "
                          f"need one for each of the {q_ref.shape[-2]} reference positions")
-    means = _rest_means(qq, _middle_slices(rests, fraction))
+    means = rest_means(q_ws, rests, fraction)
     if in_order:
         if len(rests) != q_ref.shape[-2]:
             raise ValueError(f"rests in schedule order: got {len(rests)} rests for {q_ref.shape[-2]} positions")
         matched = np.arange(len(rests))
     else:
-        matched = _match_rests(means, q_ref, max_match_rad)
+        matched = match_rests(means, q_ref, max_match_rad)
     return rests, matched, means[..., matched, :]

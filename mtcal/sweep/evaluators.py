@@ -576,10 +576,11 @@ def _six_position(p: dict, rngs: list) -> dict[str, np.ndarray]:
     the turntable study and ``mtcal calibrate``; default: the T1 fit of mtcal's turntable
     study); QNCF (paper gains) gives the sensor attitude; the calibration is
     :func:`mtcal.systems.installation.calibrate_installation` — the procedure ``mtcal
-    calibrate`` runs — per trial, on the scheduled holds (known by construction: matched in
-    schedule order, middle half averaged), gates off. Validation: the zeroed sensor attitude at each of the 12
-    attitudes (``q_true(0)⁻¹ ⊗ q_b ⊗ q_bs``: the filter's start offset cancels in the
-    zeroing) is mapped by Q̂ and compared with the true body attitude. ``before`` is the
+    calibrate`` runs — on the stacked trials with the sweep cell's config
+    (:meth:`~mtcal.systems.installation.InstallationConfig.sweep_cell`: the scheduled holds, known
+    by construction, matched in schedule order, middle half averaged, gates off). Validation: the
+    zeroed sensor attitude at each of the 12 attitudes (``q_true(0)⁻¹ ⊗ q_b ⊗ q_bs``: the filter's
+    start offset cancels in the zeroing) is mapped by Q̂ and compared with the true body attitude. ``before`` is the
     same error without calibration.
     """
     from mtcal.filters.anchors import run_attitude_filter
@@ -598,10 +599,8 @@ def _six_position(p: dict, rngs: list) -> dict[str, np.ndarray]:
     init = max(1, int(round(0.5 * p["fs_hz"])))
     q_ws = run_attitude_filter("qncf", gyro, accel, traj.dt_s, init_samples=init)
     rests = prof.hold_slices()[1:-1]
-    off = {"max_condition": np.inf, "max_so4_distance": np.inf, "max_residual_rad": np.inf}
-    q_mat = np.stack([installation.calibrate_installation(pos, 1.0 / p["fs_hz"], q_ws=row, rests=rests,
-                                                          rests_in_order=True, **off).q_hat
-                      for row in q_ws])                                          # (T, 4, 4), per trial
+    q_mat = installation.calibrate_installation(installation.InstallationConfig.sweep_cell(), pos, 1.0 / p["fs_hz"],
+                                                q_ws=q_ws, rests=rests).q_hat    # (T, 4, 4), trials stacked
     q_b_val = rotations.quat_from_euler_zxy(val[:, 0], val[:, 1], val[:, 2])      # (12, 4)
     q_true0 = rotations.quat_multiply(traj.q_wb[0], q_bs)
     q_s_val = rotations.quat_multiply(rotations.quat_conjugate(q_true0), rotations.quat_multiply(q_b_val, q_bs))

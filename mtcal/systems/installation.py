@@ -17,9 +17,12 @@
 paper's *relative* body attitude, zeroed where the record starts (the turntable's zero).
 :func:`absolute_body_attitude` is the gravity-referenced one for a record that starts anywhere
 (a parked aircraft): ``q_body = q_ws ⊗ q_bs*`` with the mounting of Q̂, heading zeroed.
-The CLI (``mtcal calibrate`` / ``mtcal apply``), the wang2023cja turntable study and
-the ``six_position`` sweep evaluator all call these functions; inputs are checked
-here once and the methods' trusted internals do the arithmetic.
+Each takes one frozen, checked :class:`InstallationConfig` (constructors for the paper's
+settings, the studies' Monte Carlo, a sweep cell and the CLI options) plus the data arrays;
+:func:`verify_installation` runs the same steps on a separate run with Q̂ given (the study's
+verification). The CLI (``mtcal calibrate`` / ``mtcal apply``), the wang2023cja studies and the
+``six_position`` sweep evaluator all call these functions; the arrays are checked here once,
+at the edge, and the methods below trust them.
 
 References
 ----------
@@ -46,9 +49,10 @@ from mtcal.filters.qncf import QncfParams, qncf
 from mtcal.methods import constrained_fit, quaternion_lsq, six_position
 from mtcal.methods.constrained_fit import So4Projection
 
-__all__ = ["MODELS", "missing_rotation_axis", "MAX_CONDITION", "MAX_SO4_DISTANCE", "MAX_RESIDUAL_RAD", "InstallationCalibration",
-           "CalibratedAttitude", "detect_rests", "calibrate_installation", "apply_installation",
-           "absolute_body_attitude", "mounting_from_q_hat", "installation_angles_sigma"]
+__all__ = ["MODELS", "missing_rotation_axis", "MAX_CONDITION", "MAX_SO4_DISTANCE", "MAX_RESIDUAL_RAD",
+           "InstallationConfig", "InstallationCalibration", "CalibratedAttitude", "InstallationRefused", "detect_rests",
+           "calibrate_installation", "verify_installation", "apply_installation", "absolute_body_attitude",
+           "mounting_from_q_hat", "installation_angles_sigma"]
 
 #: Gate: condition number of ``A_q^s (A_q^s)ᵀ`` (Eq 13) above which the positions are refused.
 MAX_CONDITION = 1e4
@@ -135,7 +139,151 @@ class CalibratedAttitude:
     q_sensor: np.ndarray
 
 
-# --------------------------------------------------------------------------- edge checks
+class InstallationRefused(ValueError):
+    """:func:`calibrate_installation` refused a record after it made its sensor attitude (no rest for a
+    position, a gate); the message says why.
+
+    Attributes
+    ----------
+    q_ws : ndarray (N, 4) or (T, N, 4)
+        The sensor attitude the procedure computed (QNCF of the raw data, or ``q_ws`` as given),
+        before zeroing: a caller looking for the cause (a convention mistake) starts from it
+        instead of running the QNCF again.
+    """
+
+    def __init__(self, message: str, q_ws: np.ndarray):
+        super().__init__(message)
+        self.q_ws = q_ws
+
+
+#: Error-map models of :func:`calibrate_installation`: name → (parameters, what the positions must span).
+MODELS = {"eq13": (16, "rotations about all three axes (4 linearly independent quaternions)"),
+          "so4": (6, "rotations about two axes (3 linearly independent quaternions)"),
+          "mounting": (3, "rotations about two axes")}
+
+
+@dataclass(frozen=True)
+class InstallationConfig:
+    """Every setting of the six-position procedure and its application, checked once when made.
+
+    The procedure's functions (:func:`calibrate_installation`, :func:`verify_installation`,
+    :func:`detect_rests`, :func:`apply_installation`, :func:`absolute_body_attitude`) take one
+    config and the data arrays. Constructors: :meth:`paper` (wang2023cja §3.2, gates on),
+    :meth:`monte_carlo` (the studies: gates off), :meth:`sweep_cell` (a sweep's simulated
+    schedule) and :meth:`command_line` (``mtcal calibrate`` / ``mtcal apply`` options).
+
+    Attributes
+    ----------
+    model : {"eq13", "so4", "mounting"}
+        The error map fitted (see :data:`MODELS`): ``"eq13"`` the paper's 16-parameter least
+        squares (needs rotations about all three axes), ``"so4"`` the nearest rotation of
+        quaternion space ``L(p) R(r)`` (6 parameters, rotations about two axes suffice),
+        ``"mounting"`` the mounting alone, ``q_body = q_bs ⊗ q_sensor ⊗ q_bs*`` (3 parameters).
+    fraction : float
+        Middle fraction of each rest averaged, (0, 1].
+    min_rest_s, still_threshold_rad_s, still_window_s : float
+        Rest detector (§3.2 stillness on the gyro norm or the quaternion rate): shortest rest
+        (s), stillness threshold (rad/s; 0.2 °/s) and moving window (s).
+    max_match_rad : float
+        Largest distance between a rest and its position (rad).
+    max_condition, max_so4_distance, max_residual_rad : float
+        Gates (dimensionless, dimensionless, rad); ``inf`` switches one off. With a trial axis the
+        worst trial is gated.
+    rests_in_order : bool
+        The rests given are known by construction, one per position in the positions' order (a
+        simulated schedule): rest k is used for position k, without matching by attitude.
+    zero_at_first_sample : bool
+        Zero the sensor attitude at the record's first sample ("initial attitude angles 0°", §4.1);
+        off for a record already zeroed at its session's start (a verification run).
+    qncf_params : QncfParams
+        QNCF (Eq 5–8) parameters for raw data.
+    zero_heading : bool
+        :func:`absolute_body_attitude`: zero the body yaw at the first sample.
+
+    References
+    ----------
+    wang2023cja §3.2 (3 s rests, middle section, six positions), §4.1 (zeroed start), Eq 13.
+
+    Examples
+    --------
+    >>> cfg = InstallationConfig.monte_carlo(fraction=0.5)
+    >>> cfg.max_residual_rad, cfg.model
+    (inf, 'eq13')
+    >>> InstallationConfig(fraction=1.5)
+    Traceback (most recent call last):
+    ...
+    ValueError: fraction must be in (0, 1], got 1.5
+    """
+
+    model: str = "eq13"
+    fraction: float = 0.5
+    min_rest_s: float = 2.0
+    still_threshold_rad_s: float = float(np.radians(0.2))
+    still_window_s: float = 0.1
+    max_match_rad: float = float(np.radians(5.0))
+    max_condition: float = MAX_CONDITION
+    max_so4_distance: float = MAX_SO4_DISTANCE
+    max_residual_rad: float = MAX_RESIDUAL_RAD
+    rests_in_order: bool = False
+    zero_at_first_sample: bool = True
+    qncf_params: QncfParams = QncfParams()
+    zero_heading: bool = True
+
+    def __post_init__(self):
+        if self.model not in MODELS:
+            raise ValueError(f"model must be one of {', '.join(MODELS)}, got {self.model!r}")
+        f = positive_scalar(self.fraction, "fraction")
+        if f > 1:
+            raise ValueError(f"fraction must be in (0, 1], got {f}")
+        if not isinstance(self.qncf_params, QncfParams):
+            raise TypeError(f"qncf_params must be a QncfParams, got {type(self.qncf_params).__name__}")
+        values = dict(fraction=f, min_rest_s=positive_scalar(self.min_rest_s, "min_rest_s"),
+                      still_threshold_rad_s=positive_scalar(self.still_threshold_rad_s, "still_threshold_rad_s"),
+                      still_window_s=positive_scalar(self.still_window_s, "still_window_s"),
+                      max_match_rad=positive_scalar(self.max_match_rad, "max_match_rad"),
+                      **{k: _limit(getattr(self, k), k) for k in ("max_condition", "max_so4_distance",
+                                                                  "max_residual_rad")},
+                      **{k: bool(getattr(self, k)) for k in ("rests_in_order", "zero_at_first_sample",
+                                                             "zero_heading")})
+        for k, v in values.items():
+            object.__setattr__(self, k, v)
+
+    @classmethod
+    def paper(cls, fraction: float = 0.5) -> "InstallationConfig":
+        """wang2023cja §3.2: Eq 13, middle ``fraction`` of 3 s rests found by the 0.2 °/s stillness
+        detector (2 s shortest), the paper's QNCF, gates on."""
+        return cls(fraction=fraction)
+
+    @classmethod
+    def monte_carlo(cls, fraction: float = 0.5, *, zero_at_first_sample: bool = True) -> "InstallationConfig":
+        """The studies' Monte Carlo: :meth:`paper` with the gates off (``inf``) — a Monte Carlo reports
+        the spread of every trial instead of refusing the set because one trial would be refused.
+        ``zero_at_first_sample=False`` for a verification run already zeroed at its session's start."""
+        return cls(fraction=fraction, max_condition=np.inf, max_so4_distance=np.inf, max_residual_rad=np.inf,
+                   zero_at_first_sample=zero_at_first_sample)
+
+    @classmethod
+    def sweep_cell(cls, fraction: float = 0.5) -> "InstallationConfig":
+        """A sweep cell's simulated schedule: the holds known by construction (``rests_in_order``),
+        middle ``fraction`` averaged, gates off."""
+        return cls(fraction=fraction, rests_in_order=True, max_condition=np.inf, max_so4_distance=np.inf,
+                   max_residual_rad=np.inf)
+
+    @classmethod
+    def command_line(cls, *, model: str = "eq13", fraction: float = 0.5, min_rest_s: float = 2.0,
+                     still_threshold_rad_s: float = float(np.radians(0.2)),
+                     max_so4_distance: float | None = None, max_residual_rad: float = MAX_RESIDUAL_RAD,
+                     qncf_params: QncfParams | None = None) -> "InstallationConfig":
+        """``mtcal calibrate`` / ``mtcal apply``: the options' values (SI), defaults as the commands'.
+
+        ``max_so4_distance`` None is :data:`MAX_SO4_DISTANCE`; ``qncf_params`` None the paper's QNCF.
+        """
+        return cls(model=model, fraction=fraction, min_rest_s=min_rest_s, still_threshold_rad_s=still_threshold_rad_s,
+                   max_so4_distance=MAX_SO4_DISTANCE if max_so4_distance is None else max_so4_distance,
+                   max_residual_rad=max_residual_rad, qncf_params=QncfParams() if qncf_params is None else qncf_params)
+
+
+# --------------------------------------------------------------------------- the public edge
 def _limit(value, name: str) -> float:
     """A gate threshold: a positive number; ``inf`` switches the gate off."""
     if isinstance(value, bool) or not isinstance(value, (Real, np.floating, np.integer)) or not float(value) > 0:
@@ -143,69 +291,105 @@ def _limit(value, name: str) -> float:
     return float(value)
 
 
-def _fraction(value) -> float:
-    f = positive_scalar(value, "fraction")
-    if f > 1:
-        raise ValueError(f"fraction must be in (0, 1], got {f}")
-    return f
+def _record(q_ws, gyro_rad_s, accel_m_s2, q0, need_dt: bool, dt_s):
+    """Check the attitude source once: ``q_ws`` or raw ``gyro_rad_s`` + ``accel_m_s2``.
 
-
-def _stream(name: str, value, ndim=(2, 3), last_dim: int = 3, *, copy: bool = True) -> np.ndarray:
-    return as_float_array(value, name, ndim=ndim, last_dim=last_dim, copy=copy)
-
-
-def _attitude_inputs(q_ws, gyro_rad_s, accel_m_s2, qncf_params, q0, dt_s, *, need_dt: bool):
-    """Check the attitude source once: ``q_ws`` or raw ``gyro_rad_s`` + ``accel_m_s2``."""
+    Returns ``(q, gyro, accel, q0, stream)`` with ``stream`` the array that sets the record's shape.
+    """
     if q_ws is not None:
-        if accel_m_s2 is not None or qncf_params is not None or q0 is not None:
+        if accel_m_s2 is not None or q0 is not None:
             raise ValueError("give either q_ws (sensor attitude) or gyro_rad_s and accel_m_s2 (raw data for "
-                             "the QNCF), not both; accel_m_s2, qncf_params and q0 belong to the raw data")
+                             "the QNCF), not both; accel_m_s2 and q0 belong to the raw data")
         # only read inside (the results hold new arrays): no copies of the caller's records
         q = unit_quaternion(q_ws, "q_ws", copy=False)
         if q.ndim not in (2, 3):
             raise ValueError(f"q_ws must have shape (N, 4) or (T, N, 4), got {q.shape}")
-        gyro = None if gyro_rad_s is None else _stream("gyro_rad_s", gyro_rad_s, copy=False)
+        gyro = None if gyro_rad_s is None else as_float_array(gyro_rad_s, "gyro_rad_s", ndim=(2, 3), last_dim=3,
+                                                               copy=False)
         if gyro is not None and gyro.shape[-2] != q.shape[-2]:
             raise ValueError(f"gyro_rad_s has {gyro.shape[-2]} samples but q_ws has {q.shape[-2]}")
-        return q, gyro, None, None, None
+        return q, gyro, None, None, q
     if gyro_rad_s is None or accel_m_s2 is None:
         raise ValueError("a sensor attitude is needed: give q_ws, or gyro_rad_s and accel_m_s2 for the QNCF")
-    gyro = _stream("gyro_rad_s", gyro_rad_s)
-    accel = _stream("accel_m_s2", accel_m_s2)
+    gyro = as_float_array(gyro_rad_s, "gyro_rad_s", ndim=(2, 3), last_dim=3)
+    accel = as_float_array(accel_m_s2, "accel_m_s2", ndim=(2, 3), last_dim=3)
     if gyro.shape != accel.shape:
         raise ValueError(f"gyro_rad_s and accel_m_s2 must have the same shape, got {gyro.shape} and {accel.shape}")
-    if qncf_params is not None and not isinstance(qncf_params, QncfParams):
-        raise TypeError(f"qncf_params must be a QncfParams, got {type(qncf_params).__name__}")
     if need_dt and dt_s is None:
         raise ValueError("dt_s is needed to run the QNCF on raw data")
-    return None, gyro, accel, QncfParams() if qncf_params is None else qncf_params, q0
+    return None, gyro, accel, q0, gyro
 
 
-def _zeroed_attitude(q, gyro, accel, params, q0, dt: float | None) -> np.ndarray:
-    """Steps 1–2 on checked inputs: QNCF (if raw) and zeroing at the first sample (§4.1)."""
+def _positions_record(config: InstallationConfig, positions_rad, dt_s, q_ws, gyro_rad_s, accel_m_s2, q0, rests,
+                      q_hat=None):
+    """The edge of :func:`calibrate_installation` and :func:`verify_installation` (with ``q_hat``): every
+    input checked once; ``q_hat`` given, it leads the checked values."""
+    if not isinstance(config, InstallationConfig):
+        raise TypeError(f"config must be an InstallationConfig, got {type(config).__name__}")
+    mat = None if q_hat is None else _q_hat(q_hat)
+    pos = as_float_array(positions_rad, "positions_rad", ndim=(2, 3), last_dim=3)
+    k = pos.shape[-2]
+    if k < 4:
+        raise ValueError(f"positions_rad must hold at least 4 positions for Eq 13 (16 unknowns), got {k}")
+    dt = sample_interval(dt_s)
+    q, gyro, accel, q0, stream = _record(q_ws, gyro_rad_s, accel_m_s2, q0, True, dt)
+    n = stream.shape[-2]
+    if pos.ndim == 3 and (stream.ndim != 3 or stream.shape[0] != pos.shape[0]):
+        raise ValueError(f"positions_rad of shape {pos.shape} needs a record with {pos.shape[0]} trials, "
+                         f"got shape {stream.shape}")
+    if config.rests_in_order and (rests is None or len(list(rests)) != k):
+        raise ValueError(f"rests_in_order needs rests: one slice per position ({k})")
+    if rests is not None:
+        rests = list(rests)
+        if any(not isinstance(r, slice) or r.start is None or r.stop is None or not 0 <= r.start < r.stop <= n
+               for r in rests):
+            raise ValueError(f"rests must be slices (start < stop) within the {n} samples of the record")
+    checked = (pos, dt, q, gyro, accel, q0, rests)
+    return checked if mat is None else (mat,) + checked
+
+
+def _sensor_attitude(config: InstallationConfig, q, gyro, accel, q0, dt: float | None, zero: bool = True) -> tuple:
+    """Steps 1–2 on checked inputs: the QNCF of raw data (``q`` None), else ``q`` as given; and that
+    attitude zeroed at the first sample (§4.1) if ``zero`` and the config say so. Returns ``(made, zeroed)``."""
     if q is None:
-        q = qncf(gyro, accel, dt, params, q0=q0, return_euler=False).q_ws
-    return rotations.relative_to_initial(q[None])[0] if q.ndim == 2 else rotations.relative_to_initial(q)
+        q = qncf(gyro, accel, dt, config.qncf_params, q0=q0, return_euler=False).q_ws
+    if not (zero and config.zero_at_first_sample):
+        return q, q
+    return q, rotations.relative_to_initial(q[None])[0] if q.ndim == 2 else rotations.relative_to_initial(q)
+
+
+def _positions(config: InstallationConfig, pos, dt, q, gyro, accel, q0, rests):
+    """Steps 1–5 on checked inputs: (q_ref, rests, matched, q_sensor, q_ws) — Eq 9 references, Eq 14
+    columns and the sensor attitude before zeroing (the quaternion-rate detector sees it)."""
+    q, q_zeroed = _sensor_attitude(config, q, gyro, accel, q0, dt)
+    q_ref = rotations.quat_from_euler_zxy(pos[..., 0], pos[..., 1], pos[..., 2])
+    try:
+        rests, matched, q_s = six_position.rest_attitudes(
+            q_zeroed, q_ref, dt, gyro_rad_s=gyro, rests=rests, fraction=config.fraction,
+            min_rest_s=config.min_rest_s, threshold_rad_s=config.still_threshold_rad_s,
+            window_s=config.still_window_s, max_match_rad=config.max_match_rad, q_detect=q,
+            in_order=config.rests_in_order)
+    except ValueError as exc:
+        raise InstallationRefused(str(exc), q) from None
+    del q_zeroed                                   # the record's zeroed copy: only its rest means are kept
+    return q_ref, rests, matched, q_s, q
 
 
 # --------------------------------------------------------------------------- public procedure
-def detect_rests(dt_s: float, *, gyro_rad_s=None, q_ws=None, min_rest_s: float = 2.0,
-                 threshold_rad_s: float = np.radians(0.2), window_s: float = 0.1) -> list[slice]:
+def detect_rests(config: InstallationConfig, dt_s: float, *, gyro_rad_s=None, q_ws=None) -> list[slice]:
     """Rests of a calibration record, as :func:`calibrate_installation` finds them (§3.2 step 3).
 
     Parameters
     ----------
+    config : InstallationConfig
+        ``min_rest_s`` (shortest still run, s), ``still_threshold_rad_s`` and ``still_window_s``.
     dt_s : float
         Sample interval (s), ≤ 1 s (``1 / fs_hz`` of the record).
     gyro_rad_s : array_like, shape (N, 3) or (T, N, 3), optional
-        Angular rate (rad/s): still where the ``window_s`` moving mean of ‖ω‖ is below
-        ``threshold_rad_s``. Used when given.
+        Angular rate (rad/s): still where the window's moving mean of ‖ω‖ is below the
+        threshold. Used when given.
     q_ws : array_like, shape (N, 4) or (T, N, 4), optional
-        Sensor attitude: still where its rotation rate over ``window_s`` is below ``threshold_rad_s``.
-    min_rest_s : float
-        Shortest still run accepted (s).
-    threshold_rad_s, window_s : float
-        Stillness threshold (rad/s; default 0.2 °/s) and window (s).
+        Sensor attitude: still where its rotation rate over the window is below the threshold.
 
     Returns
     -------
@@ -221,34 +405,34 @@ def detect_rests(dt_s: float, *, gyro_rad_s=None, q_ws=None, min_rest_s: float =
     --------
     >>> import numpy as np
     >>> gyro = np.zeros((1000, 3)); gyro[300:500, 2] = 0.5
-    >>> detect_rests(1.0 / 100.0, gyro_rad_s=gyro)
+    >>> detect_rests(InstallationConfig.paper(), 1.0 / 100.0, gyro_rad_s=gyro)
     [slice(0, 296, None), slice(505, 1000, None)]
     """
+    if not isinstance(config, InstallationConfig):
+        raise TypeError(f"config must be an InstallationConfig, got {type(config).__name__}")
     dt = sample_interval(dt_s)
-    args = (positive_scalar(window_s, "window_s"), positive_scalar(threshold_rad_s, "threshold_rad_s"))
+    args = (config.still_window_s, config.still_threshold_rad_s)
     if gyro_rad_s is not None:
-        still = six_position._stillness_from_gyro(_stream("gyro_rad_s", gyro_rad_s, copy=False), dt, *args)
+        gyro = as_float_array(gyro_rad_s, "gyro_rad_s", ndim=(2, 3), last_dim=3, copy=False)
+        still = six_position.stillness_from_gyro(gyro, dt, *args)
     elif q_ws is not None:
         q = unit_quaternion(q_ws, "q_ws")
         if q.ndim not in (2, 3):
             raise ValueError(f"q_ws must have shape (N, 4) or (T, N, 4), got {q.shape}")
-        still = six_position._stillness_from_quaternions(q, dt, *args)
+        still = six_position.stillness_from_quaternions(q, dt, *args)
     else:
         raise ValueError("give gyro_rad_s or q_ws to detect rests from")
-    return six_position._find_rests(still, dt, positive_scalar(min_rest_s, "min_rest_s"))
+    return six_position.find_rests(still, dt, config.min_rest_s)
 
 
-def calibrate_installation(positions_rad, dt_s: float, *, q_ws=None, gyro_rad_s=None, accel_m_s2=None,
-                           qncf_params: QncfParams | None = None, q0=None, rests=None, fraction: float = 0.5,
-                           min_rest_s: float = 2.0, still_threshold_rad_s: float = np.radians(0.2),
-                           still_window_s: float = 0.1, max_match_rad: float = np.radians(5.0),
-                           max_condition: float = MAX_CONDITION, max_so4_distance: float = MAX_SO4_DISTANCE,
-                           max_residual_rad: float = MAX_RESIDUAL_RAD,
-                           rests_in_order: bool = False, model: str = "eq13") -> InstallationCalibration:
+def calibrate_installation(config: InstallationConfig, positions_rad, dt_s: float, *, q_ws=None, gyro_rad_s=None,
+                           accel_m_s2=None, q0=None, rests=None) -> InstallationCalibration:
     """Six-position installation-error calibration of a record (wang2023cja §3.2, Eq 1, 9, 13–15).
 
     Parameters
     ----------
+    config : InstallationConfig
+        Model, averaged fraction, rest detector, matching window, gates, QNCF parameters.
     positions_rad : array_like, shape (K, 3) or (T, K, 3)
         Reference ``[ψ, θ, γ]`` of each position (rad; Eq 8/9 frame: yaw about z, pitch
         about x, roll about y), K ≥ 4; per trial (T, K, 3) for a Monte Carlo whose
@@ -262,30 +446,11 @@ def calibrate_installation(positions_rad, dt_s: float, *, q_ws=None, gyro_rad_s=
     gyro_rad_s, accel_m_s2 : array_like, shape (N, 3) or (T, N, 3), optional
         Raw data (rad/s, m/s²). Without ``q_ws`` both are needed and the QNCF gives the
         attitude; with ``q_ws`` the gyro only serves rest detection.
-    qncf_params : QncfParams, optional
-        QNCF parameters (default the paper's); ``q0`` its start attitude (default: levelled
-        from the first 100 samples).
+    q0 : array_like, shape (4,) or (T, 4), optional
+        The QNCF's start attitude with raw data (default: levelled from the first 100 samples).
     rests : list of slice, optional
         Rests found elsewhere (e.g. :func:`mtcal.methods.rest_detection.detect_rests`); by
         default :func:`detect_rests` on the gyro if given, else on ``q_ws``.
-    fraction : float
-        Middle fraction of each rest averaged, (0, 1].
-    min_rest_s, still_threshold_rad_s, still_window_s : float
-        Rest detector settings (s, rad/s, s), see :func:`detect_rests`.
-    max_match_rad : float
-        Largest distance between a rest and its position (rad).
-    model : {"eq13", "so4", "mounting"}
-        The error map fitted (see :data:`MODELS`): ``"eq13"`` the paper's 16-parameter least
-        squares (default; needs rotations about all three axes), ``"so4"`` the nearest rotation of
-        quaternion space ``L(p) R(r)`` (6 parameters, rotations about two axes suffice),
-        ``"mounting"`` the mounting alone, ``q_body = q_bs ⊗ q_sensor ⊗ q_bs*`` (3 parameters: the
-        zeroed sensor attitude of a record that starts at the mechanism zero).
-    rests_in_order : bool
-        ``rests`` are known by construction, one per position in the positions' order (a
-        simulated schedule): rest k is used for position k, without matching by attitude.
-    max_condition, max_so4_distance, max_residual_rad : float
-        Gates (dimensionless, dimensionless, rad); ``inf`` switches one off. With a trial
-        axis the worst trial is gated.
 
     Returns
     -------
@@ -294,8 +459,10 @@ def calibrate_installation(positions_rad, dt_s: float, *, q_ws=None, gyro_rad_s=
     Raises
     ------
     ValueError
-        Bad inputs; too few rests; a position without a rest; degenerate positions; a gate
-        refusing Q̂ (message names the measured value and the limit).
+        Bad inputs (the message names the argument).
+    InstallationRefused
+        A ValueError after the sensor attitude is made: too few rests; a position without a rest;
+        degenerate positions; a gate refusing Q̂ (message names the measured value and the limit).
 
     References
     ----------
@@ -312,86 +479,116 @@ def calibrate_installation(positions_rad, dt_s: float, *, q_ws=None, gyro_rad_s=
     >>> pos = six_positions_rad()
     >>> q_wb = trajectory_from_euler_zxy(schedule_profile(pos, fs_hz=100.0)).q_wb
     >>> q_ws = rotations.quat_multiply(q_wb, rotations.mount_quaternion(np.radians([1.0, 0.0, 0.0])))
-    >>> cal = calibrate_installation(pos, 1.0 / 100.0, q_ws=q_ws)
+    >>> cfg = InstallationConfig.paper()
+    >>> cal = calibrate_installation(cfg, pos, 1.0 / 100.0, q_ws=q_ws)
     >>> (np.degrees(cal.installation_angles_rad).round(9) + 0.0).tolist(), float(cal.residual_rad.max()) < 1e-12
     ([1.0, 0.0, 0.0], True)
-    >>> body = apply_installation(cal.q_hat, q_ws=q_ws)                  # Eq 10: the body attitude back
+    >>> body = apply_installation(cfg, cal.q_hat, q_ws=q_ws)              # Eq 10: the body attitude back
     >>> bool(rotations.quat_angle_between(body.q_body, q_wb).max() < 1e-9)
     True
     """
-    # ---- the public edge: every input checked once
-    pos = as_float_array(positions_rad, "positions_rad", ndim=(2, 3), last_dim=3)
-    k = pos.shape[-2]
-    if k < 4:
-        raise ValueError(f"positions_rad must hold at least 4 positions for Eq 13 (16 unknowns), got {k}")
-    dt = sample_interval(dt_s)
-    q, gyro, accel, params, q0 = _attitude_inputs(q_ws, gyro_rad_s, accel_m_s2, qncf_params, q0, dt, need_dt=True)
-    stream = q if q is not None else gyro
-    n = stream.shape[-2]
-    if pos.ndim == 3 and (stream.ndim != 3 or stream.shape[0] != pos.shape[0]):
-        raise ValueError(f"positions_rad of shape {pos.shape} needs a record with {pos.shape[0]} trials, "
-                         f"got shape {stream.shape}")
-    frac = _fraction(fraction)
-    if model not in MODELS:
-        raise ValueError(f"model must be one of {', '.join(MODELS)}, got {model!r}")
-    if rests_in_order and (rests is None or len(list(rests)) != k):
-        raise ValueError(f"rests_in_order needs rests: one slice per position ({k})")
-    if rests is not None:
-        rests = list(rests)
-        if any(not isinstance(r, slice) or r.start is None or r.stop is None or not 0 <= r.start < r.stop <= n
-               for r in rests):
-            raise ValueError(f"rests must be slices (start < stop) within the {n} samples of the record")
-    detector = dict(min_rest_s=positive_scalar(min_rest_s, "min_rest_s"),
-                    threshold_rad_s=positive_scalar(still_threshold_rad_s, "still_threshold_rad_s"),
-                    window_s=positive_scalar(still_window_s, "still_window_s"))
-    match = positive_scalar(max_match_rad, "max_match_rad")
-    gates = (_limit(max_condition, "max_condition"), _limit(max_so4_distance, "max_so4_distance"),
-             _limit(max_residual_rad, "max_residual_rad"))
+    checked = _positions_record(config, positions_rad, dt_s, q_ws, gyro_rad_s, accel_m_s2, q0, rests)
     # ---- trusted inside
-    return _calibrate(pos, dt, q, gyro, accel, params, q0, rests, frac, detector, match, gates, bool(rests_in_order),
-                      model)
+    return _calibrate(config, *checked)
 
 
-def _calibrate(pos, dt, q, gyro, accel, params, q0, rests, frac, detector, match, gates,
-               in_order: bool = False, model: str = "eq13") -> InstallationCalibration:
+def _calibrate(config: InstallationConfig, pos, dt, q, gyro, accel, q0, rests) -> InstallationCalibration:
     """Steps 1–6 on checked inputs (see :func:`calibrate_installation`)."""
-    q_detect = q                                   # the quaternion-rate detector sees the attitude as given
-    q_s_stream = _zeroed_attitude(q, gyro, accel, params, q0, dt)
-    q_ref = rotations.quat_from_euler_zxy(pos[..., 0], pos[..., 1], pos[..., 2])
-    rests, matched, q_s = six_position._rest_attitudes(
-        q_s_stream, q_ref, dt, gyro=gyro, rests=rests, fraction=frac, max_match_rad=match,
-        q_detect=q_detect, in_order=in_order, **detector)
-    del q_s_stream
+    q_ref, rests, matched, q_s, q = _positions(config, pos, dt, q, gyro, accel, q0, rests)
     q_s_al, q_b_al = quaternion_lsq._align_pairs(q_s, q_ref)
     sv = np.linalg.svd(np.swapaxes(q_s_al, -1, -2) @ q_s_al, compute_uv=False)
     cond = sv[..., 0] / np.maximum(sv[..., 3], 1e-300)
-    if model == "eq13":
-        _gate_condition(cond, gates[0], q_ref)
-        q_hat = quaternion_lsq._least_squares(q_s_al, q_b_al)                   # Eq 13
-    elif model == "so4":
-        q_hat = constrained_fit.fit_so4(q_s_al, q_b_al).matrix
-    else:
-        q_hat = _fit_conjugation(q_s_al, q_b_al)
+    try:
+        if config.model == "eq13":
+            _gate_condition(cond, config.max_condition, q_ref)
+            q_hat = quaternion_lsq._least_squares(q_s_al, q_b_al)               # Eq 13
+        elif config.model == "so4":
+            q_hat = constrained_fit.fit_so4(q_s_al, q_b_al).matrix
+        else:
+            q_hat = _fit_conjugation(q_s_al, q_b_al)
+        return _outcome(config, q_hat, cond, pos, q_ref, rests, matched, q_s, gate=True)
+    except ValueError as exc:
+        raise InstallationRefused(str(exc), q) from None
+
+
+def _outcome(config: InstallationConfig, q_hat, cond, pos, q_ref, rests, matched, q_s,
+             gate: bool) -> InstallationCalibration:
+    """The SO(4) projection and the angles of Q̂, Eq 10 at the positions, then the gates (``gate``)."""
+    proj = constrained_fit.project_to_so4(q_hat)
     after = quaternion_lsq._apply(q_hat, q_s)                                   # Eq 10 at the rests
     residual = six_position._angle_between(after, q_ref)
-    proj = constrained_fit.project_to_so4(q_hat)
-    _gate(q_hat, proj.distance, residual, *gates[1:])
     q_bs = rotations.quat_conjugate(proj.r)
+    alpha = rotations.installation_angles_from_mount(q_bs)
     before_e = rotations.euler_zxy_unchecked(q_s)
     after_e = rotations.euler_zxy_unchecked(after)
+    if gate:
+        _gate(q_hat, proj.distance, residual, config.max_so4_distance, config.max_residual_rad)
     return InstallationCalibration(
-        q_hat=q_hat, projection=proj, mounting_quaternion_q_bs=q_bs,
-        installation_angles_rad=rotations.installation_angles_from_mount(q_bs), condition=cond,
+        q_hat=q_hat, projection=proj, mounting_quaternion_q_bs=q_bs, installation_angles_rad=alpha, condition=cond,
         positions_rad=pos, q_reference=q_ref, rests=rests, matched=matched, q_sensor=q_s,
         euler_before_rad=before_e, euler_after_rad=after_e,
         error_before_rad=metrics.angle_difference(before_e, pos),
         error_after_rad=metrics.angle_difference(after_e, pos), residual_rad=residual)
 
 
-#: Error-map models of :func:`calibrate_installation`: name → (parameters, what the positions must span).
-MODELS = {"eq13": (16, "rotations about all three axes (4 linearly independent quaternions)"),
-          "so4": (6, "rotations about two axes (3 linearly independent quaternions)"),
-          "mounting": (3, "rotations about two axes")}
+def verify_installation(config: InstallationConfig, q_hat, positions_rad, dt_s: float, *, q_ws=None,
+                        gyro_rad_s=None, accel_m_s2=None, q0=None, rests=None) -> InstallationCalibration:
+    """A calibration ``q_hat`` checked on a separate six-position run: the same steps, Q̂ given, not fitted.
+
+    Steps 1–5 of :func:`calibrate_installation` (sensor attitude, zeroing by the config, rests,
+    middle-section means, matching) on the verification record, then Eq 10 at its positions; no
+    gate refuses (the verification measures how well ``q_hat`` does). ``condition`` is that of
+    the verification positions.
+
+    Parameters
+    ----------
+    config : InstallationConfig
+        As for :func:`calibrate_installation` (``zero_at_first_sample=False`` for a record already
+        zeroed at its session's start, §4.1).
+    q_hat : array_like, shape (4, 4) or (T, 4, 4)
+        The calibration (Q̂ of :func:`calibrate_installation`), finite.
+    positions_rad, dt_s, q_ws, gyro_rad_s, accel_m_s2, q0, rests :
+        The verification run, as for :func:`calibrate_installation`.
+
+    Returns
+    -------
+    InstallationCalibration
+        ``q_hat`` as given; ``euler_before_rad``/``euler_after_rad`` the Eq 8 angles of the
+        verification rest means before and after Eq 10, ``residual_rad`` their distance from
+        the references.
+
+    References
+    ----------
+    wang2023cja §4.1 (separate verification run), Eq 10.
+
+    Examples
+    --------
+    A sensor mounted without error, verified with the identity (no calibration needed):
+
+    >>> import numpy as np
+    >>> from mtcal.core.profiles import trajectory_from_euler_zxy
+    >>> from mtcal.methods.six_position import schedule_profile, six_positions_rad
+    >>> q_ws = trajectory_from_euler_zxy(schedule_profile(six_positions_rad(), fs_hz=100.0)).q_wb
+    >>> ver = verify_installation(InstallationConfig.paper(), np.eye(4), six_positions_rad(), 0.01, q_ws=q_ws)
+    >>> float(ver.residual_rad.max()) < 1e-12, ver.matched.tolist()
+    (True, [1, 2, 3, 4, 5, 6])
+    """
+    mat, pos, dt, q, gyro, accel, q0, rests = _positions_record(config, positions_rad, dt_s, q_ws, gyro_rad_s,
+                                                                accel_m_s2, q0, rests, q_hat)
+    q_ref, rests, matched, q_s, _ = _positions(config, pos, dt, q, gyro, accel, q0, rests)
+    q_s_al = quaternion_lsq._align_pairs(q_s, q_ref)[0]
+    sv = np.linalg.svd(np.swapaxes(q_s_al, -1, -2) @ q_s_al, compute_uv=False)
+    return _outcome(config, mat, sv[..., 0] / np.maximum(sv[..., 3], 1e-300), pos, q_ref, rests, matched, q_s,
+                    gate=False)
+
+
+def _q_hat(q_hat) -> np.ndarray:
+    mat = as_float_array(q_hat, "q_hat")
+    if mat.ndim not in (2, 3) or mat.shape[-2:] != (4, 4):
+        raise ValueError(f"q_hat must be a finite 4x4 array or a stack (T, 4, 4), got shape {mat.shape}")
+    return mat
+
+
 _AXIS_NAMES = {1: "x (pitch)", 2: "y (roll)", 3: "z (yaw)"}
 
 
@@ -469,8 +666,8 @@ def _gate(q_hat, dist, residual, max_dist: float, max_res: float) -> None:
                          f"--max-residual-deg {np.degrees(max_res):g}; a rest does not match its reference position")
 
 
-def apply_installation(q_hat, *, q_ws=None, gyro_rad_s=None, accel_m_s2=None, dt_s: float | None = None,
-                       qncf_params: QncfParams | None = None, q0=None) -> CalibratedAttitude:
+def apply_installation(config: InstallationConfig, q_hat, dt_s: float | None = None, *, q_ws=None,
+                       gyro_rad_s=None, accel_m_s2=None, q0=None) -> CalibratedAttitude:
     """Calibrated body attitude of a record, wang2023cja Eq 10: ``q_body = normalize(Q̂ q_sensor)``.
 
     The sensor attitude is made exactly as in :func:`calibrate_installation` (QNCF of the raw
@@ -478,16 +675,18 @@ def apply_installation(q_hat, *, q_ws=None, gyro_rad_s=None, accel_m_s2=None, dt
 
     Parameters
     ----------
+    config : InstallationConfig
+        ``qncf_params`` (raw data) and ``zero_at_first_sample``.
     q_hat : array_like, shape (4, 4) or (T, 4, 4)
         Q̂ from :func:`calibrate_installation` (dimensionless); finite.
+    dt_s : float, optional
+        Sample interval (s), ≤ 1 s; needed with raw data.
     q_ws : array_like, shape (N, 4) or (T, N, 4), optional
         Sensor attitude (sensor → world, scalar-first).
     gyro_rad_s, accel_m_s2 : array_like, shape (N, 3) or (T, N, 3), optional
         Raw data (rad/s, m/s²) for the QNCF when ``q_ws`` is not given.
-    dt_s : float, optional
-        Sample interval (s), ≤ 1 s; needed with raw data.
-    qncf_params, q0 :
-        QNCF parameters and start attitude, as in :func:`calibrate_installation`.
+    q0 : array_like, optional
+        The QNCF's start attitude, as in :func:`calibrate_installation`.
 
     Returns
     -------
@@ -501,22 +700,25 @@ def apply_installation(q_hat, *, q_ws=None, gyro_rad_s=None, accel_m_s2=None, dt
     --------
     >>> import numpy as np
     >>> q = np.tile([1.0, 0.0, 0.0, 0.0], (3, 1))
-    >>> apply_installation(np.eye(4), q_ws=q).q_body.tolist()[0]
+    >>> apply_installation(InstallationConfig.paper(), np.eye(4), q_ws=q).q_body.tolist()[0]
     [1.0, 0.0, 0.0, 0.0]
     """
-    mat = as_float_array(q_hat, "q_hat")
-    if mat.ndim not in (2, 3) or mat.shape[-2:] != (4, 4):
-        raise ValueError(f"q_hat must be a finite 4x4 array or a stack (T, 4, 4), got shape {mat.shape}")
-    dt = None if dt_s is None else sample_interval(dt_s)
-    q, gyro, accel, params, q0 = _attitude_inputs(q_ws, gyro_rad_s, accel_m_s2, qncf_params, q0, dt,
-                                                  need_dt=q_ws is None)
-    stream = q if q is not None else gyro
+    mat = _q_hat(q_hat)
+    dt, q, gyro, accel, q0, stream = _application_record(config, dt_s, q_ws, gyro_rad_s, accel_m_s2, q0)
     if mat.ndim == 3 and (stream.ndim != 3 or stream.shape[0] != mat.shape[0]):
         raise ValueError(f"a stack of {mat.shape[0]} matrices needs a record with as many trials, "
                          f"got shape {stream.shape}")
-    q_s = _zeroed_attitude(q, gyro, accel, params, q0, dt)
+    q_s = _sensor_attitude(config, q, gyro, accel, q0, dt)[1]
     q_b = rotations.make_continuous(quaternion_lsq._apply(mat, q_s), axis=-2)
     return CalibratedAttitude(q_body=q_b, q_sensor=q_s)
+
+
+def _application_record(config, dt_s, q_ws, gyro_rad_s, accel_m_s2, q0):
+    """The edge of :func:`apply_installation` and :func:`absolute_body_attitude`."""
+    if not isinstance(config, InstallationConfig):
+        raise TypeError(f"config must be an InstallationConfig, got {type(config).__name__}")
+    dt = None if dt_s is None else sample_interval(dt_s)
+    return (dt,) + _record(q_ws, gyro_rad_s, accel_m_s2, q0, q_ws is None, dt)
 
 
 def mounting_from_q_hat(q_hat) -> np.ndarray:
@@ -537,9 +739,8 @@ def mounting_from_q_hat(q_hat) -> np.ndarray:
     return q if q[0] >= 0 else -q
 
 
-def absolute_body_attitude(q_bs, *, q_ws=None, gyro_rad_s=None, accel_m_s2=None, dt_s: float | None = None,
-                           qncf_params: QncfParams | None = None, q0=None,
-                           zero_heading: bool = True) -> CalibratedAttitude:
+def absolute_body_attitude(config: InstallationConfig, q_bs, dt_s: float | None = None, *, q_ws=None,
+                           gyro_rad_s=None, accel_m_s2=None, q0=None) -> CalibratedAttitude:
     """Gravity-referenced body attitude of a record: ``q_body = q_ws ⊗ q_bs*``, heading zeroed.
 
     Eq 10 (:func:`apply_installation`) gives the body attitude *relative to where the record
@@ -548,18 +749,18 @@ def absolute_body_attitude(q_bs, *, q_ws=None, gyro_rad_s=None, accel_m_s2=None,
     Here the sensor attitude is the QNCF's own (levelled from the accelerometer: pitch and roll
     referenced to gravity) or ``q_ws`` as given (its world frame must be z up), and the mounting
     ``q_bs`` (sensor = body ⊗ q_bs) is taken off on the right. Heading is not observable from
-    gravity: with ``zero_heading`` the body's yaw at the first sample is set to 0 (a rotation
+    gravity: with ``config.zero_heading`` the body's yaw at the first sample is set to 0 (a rotation
     about the world vertical, which leaves pitch and roll — Eq 8 ZXY — unchanged).
 
     Parameters
     ----------
+    config : InstallationConfig
+        ``qncf_params`` (raw data) and ``zero_heading`` (zero the body yaw at the first sample).
     q_bs : array_like, shape (4,)
         Mounting quaternion (scalar-first), e.g. ``InstallationCalibration.mounting_quaternion_q_bs``
         or :func:`mounting_from_q_hat`.
-    q_ws, gyro_rad_s, accel_m_s2, dt_s, qncf_params, q0 :
+    dt_s, q_ws, gyro_rad_s, accel_m_s2, q0 :
         The sensor attitude or the raw data for the QNCF, as in :func:`apply_installation`.
-    zero_heading : bool
-        Zero the body yaw at the first sample (default True).
 
     Returns
     -------
@@ -577,21 +778,17 @@ def absolute_body_attitude(q_bs, *, q_ws=None, gyro_rad_s=None, accel_m_s2=None,
     >>> from mtcal.core import rotations
     >>> q_wb = rotations.quat_from_euler_zxy(np.radians(30.0), np.radians(2.0), np.radians(-1.5))[None]
     >>> q_bs = rotations.mount_quaternion(np.radians([0.3, 0.8, -0.5]))
-    >>> att = absolute_body_attitude(q_bs, q_ws=rotations.quat_multiply(q_wb, q_bs))
+    >>> att = absolute_body_attitude(InstallationConfig.paper(), q_bs, q_ws=rotations.quat_multiply(q_wb, q_bs))
     >>> np.degrees(rotations.euler_zxy_from_quat(att.q_body)).round(9).tolist()   # heading zeroed
     [[0.0, 2.0, -1.5]]
     """
     c = unit_quaternion(q_bs, "q_bs")
     if c.shape != (4,):
         raise ValueError(f"q_bs must be one quaternion of shape (4,), got {c.shape}")
-    dt = None if dt_s is None else sample_interval(dt_s)
-    q, gyro, accel, params, q0 = _attitude_inputs(q_ws, gyro_rad_s, accel_m_s2, qncf_params, q0, dt,
-                                                  need_dt=q_ws is None)
-    if q is None:
-        q = qncf(gyro, accel, dt, params, q0=q0, return_euler=False).q_ws
-    q_s = rotations.make_continuous(np.asarray(q, float), axis=-2)
+    dt, q, gyro, accel, q0, _ = _application_record(config, dt_s, q_ws, gyro_rad_s, accel_m_s2, q0)
+    q_s = rotations.make_continuous(_sensor_attitude(config, q, gyro, accel, q0, dt, zero=False)[0], axis=-2)
     q_b = rotations.hamilton(q_s, rotations.quat_conjugate(c))
-    if zero_heading:
+    if config.zero_heading:
         yaw0 = rotations.euler_zxy_unchecked(q_b[..., :1, :])[..., 0]           # (..., 1)
         turn = np.zeros(yaw0.shape + (4,))
         turn[..., 0], turn[..., 3] = np.cos(-yaw0 / 2), np.sin(-yaw0 / 2)
@@ -655,7 +852,8 @@ def installation_angles_sigma(cal: InstallationCalibration, model: str = "eq13")
     >>> pm_g = np.radians([[0, 0, 0], [0, 0, 180], [0, 90, 0], [0, -90, 0], [0, 0, 90], [0, 0, -90]])
     >>> truth = profiles.trajectory_from_euler_zxy(six_position.schedule_profile(pm_g, fs_hz=50.0))
     >>> mount = rotations.mount_quaternion(np.radians([0.5, 0.0, -0.2]))
-    >>> cal = calibrate_installation(pm_g, 1 / 50.0, q_ws=rotations.quat_multiply(truth.q_wb, mount), model="mounting")
+    >>> cal = calibrate_installation(InstallationConfig(model="mounting"), pm_g, 1 / 50.0,
+    ...                              q_ws=rotations.quat_multiply(truth.q_wb, mount))
     >>> bool(np.all(installation_angles_sigma(cal, "mounting") < 1e-9))       # no scatter, no uncertainty
     True
     """

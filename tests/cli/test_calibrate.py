@@ -109,6 +109,7 @@ def test_paper_detector_reproduces_the_library_procedure(files, capsys):
     gyro = raw[["gyro_x_rad_s", "gyro_y_rad_s", "gyro_z_rad_s"]].to_numpy()
     acc = raw[["accel_x_m_s2", "accel_y_m_s2", "accel_z_m_s2"]].to_numpy()
     q = qncf(gyro, acc, 1 / FS, return_euler=False).q_ws
-    ref = installation.calibrate_installation(six_position.six_positions_rad(), 1 / FS, q_ws=q, gyro_rad_s=gyro)
+    ref = installation.calibrate_installation(installation.InstallationConfig.paper(), six_position.six_positions_rad(),
+                                              1 / FS, q_ws=q, gyro_rad_s=gyro)
     block = out.split("q_sensor):\n")[1].splitlines()[:4]
     assert block == ["  " + "  ".join(f"{v:+.6f}" for v in row) for row in ref.q_hat]

@@ -31,19 +31,24 @@ def test_schedule_within_one_minute(noise_free):
     assert prof.time_s[-1] < six_position.MAX_RUN_S
 
 
+def _fit(pos, q_s, **kwargs):
+    """Steps 3–6: the rests' Eq 14 columns (:func:`six_position.rest_attitudes`) and Eq 13."""
+    q_ref = rotations.quat_from_euler_zxy(*pos.T)
+    rests, matched, q_sensor = six_position.rest_attitudes(q_s, q_ref, DT_S, **kwargs)
+    return rests, matched, q_sensor, quaternion_lsq.least_squares_error_matrix(q_sensor, q_ref)
+
+
 def test_noise_free_recovers_true_map(noise_free):
     pos, prof, rec, q_s = noise_free
-    res = six_position.calibrate(q_s, pos, DT_S, gyro_rad_s=rec.gyro_rad_s)
-    assert len(res.rests) == 8 and list(res.matched) == [1, 2, 3, 4, 5, 6]
-    assert np.abs(res.q_matrix - wang2023cja.true_error_matrix(ALPHA)).max() < 1e-9
-    assert np.abs(res.euler_after_rad - pos).max() < 1e-9
+    rests, matched, q_sensor, q_matrix = _fit(pos, q_s, gyro_rad_s=rec.gyro_rad_s)
+    assert len(rests) == 8 and list(matched) == [1, 2, 3, 4, 5, 6]
+    assert np.abs(q_matrix - wang2023cja.true_error_matrix(ALPHA)).max() < 1e-9
     # calibrated Euler angles equal truth along the whole record
-    after = quaternion_lsq.apply_error_matrix(res.q_matrix, q_s)
+    after = quaternion_lsq.apply_error_matrix(q_matrix, q_s)
     truth = rotations.euler_zxy_from_quat(rotations.quat_from_euler_zxy(*prof.angle_rad.T))
     assert np.abs(metrics_diff(rotations.euler_zxy_from_quat(after), truth)).max() < 1e-9
     # quaternion-only stillness detection finds the same rests
-    res_q = six_position.calibrate(q_s, pos, DT_S)
-    assert np.abs(res_q.q_matrix - res.q_matrix).max() < 1e-9
+    assert np.abs(_fit(pos, q_s)[3] - q_matrix).max() < 1e-9
 
 
 def metrics_diff(a, b):
@@ -52,13 +57,13 @@ def metrics_diff(a, b):
 
 def test_sign_flipped_inputs_same_matrix(noise_free, rng):
     pos, _, rec, q_s = noise_free
-    res = six_position.calibrate(q_s, pos, DT_S, gyro_rad_s=rec.gyro_rad_s)
+    _, _, q_sensor, q_matrix = _fit(pos, q_s, gyro_rad_s=rec.gyro_rad_s)
     flip = np.where(rng.random(6) < 0.5, -1.0, 1.0)[:, None]
     q_ref = rotations.quat_from_euler_zxy(*pos.T)
-    q2 = quaternion_lsq.least_squares_error_matrix(res.q_sensor * flip, q_ref * flip[::-1])
-    assert np.allclose(q2, res.q_matrix, atol=1e-12)
-    batch = quaternion_lsq.least_squares_error_matrix((res.q_sensor * flip)[None], q_ref)
-    assert np.allclose(batch[0], res.q_matrix, atol=1e-12)
+    q2 = quaternion_lsq.least_squares_error_matrix(q_sensor * flip, q_ref * flip[::-1])
+    assert np.allclose(q2, q_matrix, atol=1e-12)
+    batch = quaternion_lsq.least_squares_error_matrix((q_sensor * flip)[None], q_ref)
+    assert np.allclose(batch[0], q_matrix, atol=1e-12)
 
 
 def test_rank_deficient_positions_raise():
@@ -71,7 +76,7 @@ def test_rank_deficient_positions_raise():
 def test_too_few_rests(noise_free):
     pos, _, rec, q_s = noise_free
     with pytest.raises(ValueError, match="too few rests"):
-        six_position.calibrate(q_s[:20000], pos, DT_S, gyro_rad_s=rec.gyro_rad_s[:20000])
+        _fit(pos, q_s[:20000], gyro_rad_s=rec.gyro_rad_s[:20000])
 
 
 def test_unmatched_position(noise_free):
@@ -79,7 +84,7 @@ def test_unmatched_position(noise_free):
     wrong = pos.copy()
     wrong[0, 0] = np.radians(40.0)
     with pytest.raises(ValueError, match="no rest within"):
-        six_position.calibrate(q_s, wrong, DT_S, gyro_rad_s=rec.gyro_rad_s)
+        _fit(wrong, q_s, gyro_rad_s=rec.gyro_rad_s)
 
 
 def test_mean_quaternion_sign_alignment(rng):
@@ -96,20 +101,27 @@ def test_find_rests_and_middle():
     rests = six_position.find_rests(still, 1.0 / 1000.0, min_rest_s=2.0)
     assert rests == [slice(1000, 4000)]
     assert six_position.middle_slices(rests, 0.5) == [slice(1750, 3250)]
-    with pytest.raises(TypeError, match="boolean"):
-        six_position.find_rests(still.astype(int), 1.0 / 1000.0)
 
 
 def test_rests_from_another_detector(noise_free):
     """``rests=`` skips the stillness detector; the same rests give the same matrix bit for bit."""
     pos, _, rec, q_s = noise_free
-    ref = six_position.calibrate(q_s, pos, DT_S, gyro_rad_s=rec.gyro_rad_s)
-    got = six_position.calibrate(q_s, pos, DT_S, rests=ref.rests)
-    assert np.array_equal(got.q_matrix, ref.q_matrix) and got.rests == ref.rests
-    with pytest.raises(ValueError, match="rests must be slices within"):
-        six_position.calibrate(q_s, pos, DT_S, rests=[slice(0, q_s.shape[0] + 5)])
+    ref = _fit(pos, q_s, gyro_rad_s=rec.gyro_rad_s)
+    got = _fit(pos, q_s, rests=ref[0])
+    assert np.array_equal(got[3], ref[3]) and got[0] == ref[0]
     with pytest.raises(ValueError, match="too few rests"):
-        six_position.calibrate(q_s, pos, DT_S, rests=ref.rests[:3])
+        _fit(pos, q_s, rests=ref[0][:3])
+
+
+def test_rests_in_schedule_order_skip_the_matching(noise_free):
+    """``in_order``: rest k is position k (a simulated schedule), whatever the attitudes say."""
+    pos, prof, _, q_s = noise_free
+    holds = prof.hold_slices()[1:-1]
+    q_ref = rotations.quat_from_euler_zxy(*pos.T)
+    rests, matched, q_sensor = six_position.rest_attitudes(q_s, q_ref[::-1], DT_S, rests=holds, in_order=True)
+    assert list(matched) == list(range(6)) and rests == holds
+    assert np.array_equal(q_sensor, six_position.rest_means(q_s, holds))
+    assert list(six_position.rest_attitudes(q_s, q_ref[::-1], DT_S, rests=holds)[1]) == [5, 4, 3, 2, 1, 0]
 
 
 @pytest.mark.parametrize("fs_hz", [100.0, 200.0, 1000.0])
@@ -123,18 +135,6 @@ def test_rest_length_counts_samples_of_dt(fs_hz):
     assert six_position.find_rests(still, 1.0 / fs_hz, min_rest_s=2.0) == []
 
 
-def test_a_rate_is_refused_where_the_interval_belongs(noise_free):
-    pos, _, rec, q_s = noise_free
-    with pytest.raises(ValueError, match="dt_s must be the sample interval in s"):
-        six_position.find_rests(np.ones(10, bool), 1000.0)
-    with pytest.raises(ValueError, match="dt_s must be the sample interval in s"):
-        six_position.stillness_from_gyro(rec.gyro_rad_s, FS)
-    with pytest.raises(ValueError, match="dt_s must be > 0"):
-        six_position.stillness_from_quaternions(q_s, -DT_S)
-    with pytest.raises(ValueError, match="dt_s must be the sample interval in s"):
-        six_position.calibrate(q_s, pos, FS, gyro_rad_s=rec.gyro_rad_s)
-
-
 @pytest.mark.parametrize("shape", [(5000, 3), (2, 5000, 3)])
 def test_compiled_stillness_matches_numpy_moving_mean(shape):
     rng = np.random.default_rng(11)
@@ -145,7 +145,7 @@ def test_compiled_stillness_matches_numpy_moving_mean(shape):
         ref_norm = np.linalg.norm(six_position._moving_mean(w, win, axis=-2), axis=-1)
         ref = ref_norm < np.radians(0.2)
         ref = ref if ref.ndim == 1 else np.all(ref, axis=0)
-        got = six_position._stillness_from_gyro(w, DT_S, window_s, np.radians(0.2))
+        got = six_position.stillness_from_gyro(w, DT_S, window_s, np.radians(0.2))
         assert got.shape == (shape[-2],) and np.array_equal(got, ref)
     w3 = w if w.ndim == 3 else w[None]
     mean = np.empty((w3.shape[0], 3, w3.shape[1]))

@@ -11,6 +11,11 @@ Two guards on a 2-trial run of the turntable (T1 with its sweeps, T2) and wind-t
   records which session it draws (``trace.median_trial``); every array was compared equal.
   Re-pinned (session 9, issue #33 item 5, intended): the posterior draws are joint (full covariance,
   installation angles drawn) and the turntable runs two sessions per parameter draw.
+
+A second hash pins the notebooks' own entry points (``turntable_runs``: T1 with sweeps and trace,
+T2–T4; ``run_windtunnel``), one trial each at 200 Hz; computed with the code before issue #35
+(the installation procedure taking one config; the verification run through the system's
+procedure instead of ``six_position.calibrate``) and after it (equal).
 """
 
 import hashlib
@@ -27,6 +32,8 @@ from mtcal.studies.wang2023cja import predictive
 
 #: SHA-256 of :func:`_outputs` on the pinned numerics environment.
 PINNED_SHA256 = "be71e913bcb5a3e0550744d0d1461fc33ee8c8f7fcc1a251ed76698bd8683f34"
+#: SHA-256 of :func:`_notebook_outputs` on the pinned numerics environment.
+PINNED_NOTEBOOK_SHA256 = "53ebe1b773e5f2a665011e0d12ef9a27157a71cdfd9c22dfd8dfb4e6ae02282f"
 
 
 def _flatten(obj, prefix: str, out: dict) -> None:
@@ -48,6 +55,17 @@ def _outputs() -> dict:
     _flatten(predictive.turntable_predictive(sc, fit, "fitted", 2, 2023, tests=("T1", "T2")), "turntable", out)
     _flatten(predictive.windtunnel_predictive(lambda m: w.windtunnel_scenario(errors=m, fs_hz=200.0), fit, "fitted", 2,
                                               2023, per_draw=1), "windtunnel", out)
+    return out
+
+
+def _notebook_outputs() -> dict:
+    """Every array of notebook 10's and 11's producers, one trial at 200 Hz."""
+    from mtcal.studies.wang2023cja import runs
+
+    out = {}
+    _flatten(runs.turntable_runs(w.turntable_scenario(fs_hz=200.0), 1, 2023), "turntable_runs", out)
+    _flatten(runs.run_windtunnel(w.windtunnel_scenario(fs_hz=200.0), np.random.default_rng(2023), 1),
+             "run_windtunnel", out)
     return out
 
 
@@ -82,6 +100,13 @@ def test_compiled_rotation_loops_give_the_numpy_reference_bit_for_bit(outputs, m
                     reason="the pinned hash holds on the numerics environment of make test (numerics_env)")
 def test_outputs_are_the_pinned_ones_on_the_numerics_environment(outputs):
     assert _digest(outputs) == PINNED_SHA256
+
+
+@pytest.mark.skipif(any(os.environ.get(k) != v for k, v in numerics_env().items()),
+                    reason="the pinned hash holds on the numerics environment of make test (numerics_env)")
+def test_notebook_producers_are_the_pinned_ones_on_the_numerics_environment():
+    out = _notebook_outputs()
+    assert len(out) == 107 and _digest(out) == PINNED_NOTEBOOK_SHA256
 
 
 def test_load_tilt_compiled_loop_equals_the_numpy_cross_products():

@@ -122,8 +122,8 @@ def test_calibration_step_is_the_systems_procedure(fast_sc):
     q_ws = qncf(rec.gyro_rad_s, rec.accel_m_s2, 1 / fast_sc.fs_hz, fast_sc.qncf, return_euler=False).q_ws[:, cal]
     pos = w.six_position_reference(fast_sc)
     got = w.calibration_step(fast_sc, q_ws, rec.gyro_rad_s[:, cal], pos, 0.5)
-    ref = installation.calibrate_installation(pos, 1.0 / fast_sc.fs_hz, q_ws=q_ws, gyro_rad_s=rec.gyro_rad_s[:, cal],
-                                              **w.MONTE_CARLO_GATES)
+    ref = installation.calibrate_installation(installation.InstallationConfig(**w.MONTE_CARLO_GATES), pos,
+                                              1.0 / fast_sc.fs_hz, q_ws=q_ws, gyro_rad_s=rec.gyro_rad_s[:, cal])
     assert np.array_equal(got.q_hat, ref.q_hat) and got.q_hat.shape == (2, 4, 4)
     assert all(np.isinf(v) for v in w.MONTE_CARLO_GATES.values())
 

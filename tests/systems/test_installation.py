@@ -1,6 +1,7 @@
 """Tests for mtcal.systems.installation: the six-position calibration procedure shared by CLI, study and sweep."""
 
 import json
+from dataclasses import fields, replace
 
 import numpy as np
 import pandas as pd
@@ -11,12 +12,15 @@ from mtcal.core import rotations
 from mtcal.core.profiles import trajectory_from_euler_zxy
 from mtcal.core.simulate import ImuErrorModel, simulate_imu
 from mtcal.filters.qncf import QncfParams, qncf
+from mtcal.methods import six_position
 from mtcal.methods.six_position import schedule_profile, six_positions_rad
 from mtcal.systems import installation
 
 FS = 100.0
 DT_S = 1.0 / FS
 ALPHA = np.radians([0.5, -0.3, 0.4])
+Config = installation.InstallationConfig
+PAPER = Config.paper()
 
 
 @pytest.fixture(scope="module")
@@ -30,7 +34,7 @@ def stream():
 
 def test_closed_form_mounting_is_recovered(stream):
     pos, _, q_ws, q_bs = stream
-    cal = installation.calibrate_installation(pos, DT_S, q_ws=q_ws)
+    cal = installation.calibrate_installation(PAPER, pos, DT_S, q_ws=q_ws)
     # zeroed sensor = q_bs* ⊗ q_b ⊗ q_bs (the body starts level), so Q = L(q_bs) R(q_bs*)
     expected = rotations.left_matrix(q_bs) @ rotations.right_matrix(rotations.quat_conjugate(q_bs))
     assert np.allclose(cal.q_hat, expected, atol=1e-12)
@@ -44,8 +48,8 @@ def test_closed_form_mounting_is_recovered(stream):
 
 def test_apply_round_trip_gives_the_body_attitude(stream):
     pos, q_wb, q_ws, _ = stream
-    cal = installation.calibrate_installation(pos, DT_S, q_ws=q_ws)
-    att = installation.apply_installation(cal.q_hat, q_ws=q_ws)
+    cal = installation.calibrate_installation(PAPER, pos, DT_S, q_ws=q_ws)
+    att = installation.apply_installation(PAPER, cal.q_hat, q_ws=q_ws)
     assert rotations.quat_angle_between(att.q_body, q_wb).max() < 1e-10
     assert np.allclose(att.q_sensor[0], [1, 0, 0, 0], atol=1e-15)          # zeroed at the first sample
     assert np.all(np.sum(att.q_body[1:] * att.q_body[:-1], axis=-1) >= 0)  # sign-continuous
@@ -56,22 +60,23 @@ def test_raw_data_runs_the_qncf_and_equals_given_attitude(stream):
     from mtcal.core.simulate import Trajectory
 
     rec = simulate_imu(Trajectory(np.arange(len(q_wb)) / FS, q_wb), ImuErrorModel(q_mount=tuple(q_bs)))
-    raw = installation.calibrate_installation(pos, DT_S, gyro_rad_s=rec.gyro_rad_s, accel_m_s2=rec.accel_m_s2)
+    raw = installation.calibrate_installation(PAPER, pos, DT_S, gyro_rad_s=rec.gyro_rad_s, accel_m_s2=rec.accel_m_s2)
     q = qncf(rec.gyro_rad_s, rec.accel_m_s2, 1 / FS, QncfParams(), return_euler=False).q_ws
-    given = installation.calibrate_installation(pos, DT_S, q_ws=q, gyro_rad_s=rec.gyro_rad_s)
+    given = installation.calibrate_installation(PAPER, pos, DT_S, q_ws=q, gyro_rad_s=rec.gyro_rad_s)
     assert np.array_equal(raw.q_hat, given.q_hat)
     assert np.degrees(np.abs(raw.installation_angles_rad - ALPHA)).max() < 0.01
-    body = installation.apply_installation(raw.q_hat, gyro_rad_s=rec.gyro_rad_s, accel_m_s2=rec.accel_m_s2, dt_s=DT_S)
-    assert np.array_equal(body.q_body, installation.apply_installation(raw.q_hat, q_ws=q).q_body)
+    body = installation.apply_installation(PAPER, raw.q_hat, DT_S, gyro_rad_s=rec.gyro_rad_s,
+                                           accel_m_s2=rec.accel_m_s2)
+    assert np.array_equal(body.q_body, installation.apply_installation(PAPER, raw.q_hat, q_ws=q).q_body)
 
 
 def test_trial_axis_and_per_trial_positions_match_single_runs(stream):
     pos, _, q_ws, _ = stream
     shift = np.zeros((2, 6, 3))
     shift[1, 2, 1] = np.radians(0.01)
-    stack = installation.calibrate_installation(pos + shift, DT_S, q_ws=np.stack([q_ws, q_ws]))
+    stack = installation.calibrate_installation(PAPER, pos + shift, DT_S, q_ws=np.stack([q_ws, q_ws]))
     for t in range(2):
-        one = installation.calibrate_installation(pos + shift[t], DT_S, q_ws=q_ws)
+        one = installation.calibrate_installation(PAPER, pos + shift[t], DT_S, q_ws=q_ws)
         assert np.allclose(stack.q_hat[t], one.q_hat, atol=1e-14, rtol=0)
         assert np.allclose(stack.residual_rad[t], one.residual_rad, atol=1e-14)
     assert stack.q_hat.shape == (2, 4, 4) and stack.installation_angles_rad.shape == (2, 3)
@@ -79,20 +84,23 @@ def test_trial_axis_and_per_trial_positions_match_single_runs(stream):
 
 def test_detect_rests_gyro_and_quaternions(stream):
     pos, _, q_ws, _ = stream
-    from_q = installation.detect_rests(DT_S, q_ws=q_ws)
+    from_q = installation.detect_rests(PAPER, DT_S, q_ws=q_ws)
     assert len(from_q) == 8                                # start, six positions, end
     gyro = np.zeros((1000, 3))
     gyro[300:500, 2] = 0.5
-    assert installation.detect_rests(1.0 / 100.0, gyro_rad_s=gyro) == [slice(0, 296), slice(505, 1000)]
-    assert installation.detect_rests(1.0 / 100.0, gyro_rad_s=gyro, min_rest_s=4.0) == [slice(505, 1000)]
+    assert installation.detect_rests(PAPER, 1.0 / 100.0, gyro_rad_s=gyro) == [slice(0, 296), slice(505, 1000)]
+    assert installation.detect_rests(Config(min_rest_s=4.0), 1.0 / 100.0, gyro_rad_s=gyro) == [slice(505, 1000)]
 
 
 def test_given_rests_are_used(stream):
     pos, _, q_ws, _ = stream
-    rests = installation.detect_rests(DT_S, q_ws=q_ws)
-    a = installation.calibrate_installation(pos, DT_S, q_ws=q_ws, rests=rests)
-    b = installation.calibrate_installation(pos, DT_S, q_ws=q_ws)
+    rests = installation.detect_rests(PAPER, DT_S, q_ws=q_ws)
+    a = installation.calibrate_installation(PAPER, pos, DT_S, q_ws=q_ws, rests=rests)
+    b = installation.calibrate_installation(PAPER, pos, DT_S, q_ws=q_ws)
     assert np.array_equal(a.q_hat, b.q_hat)
+
+
+CONFIG_FIELDS = {f.name for f in fields(installation.InstallationConfig)}
 
 
 @pytest.mark.parametrize("kwargs, exc, match", [
@@ -118,32 +126,35 @@ def test_calibrate_errors(stream, kwargs, exc, match):
     pos, _, q_ws, _ = stream
     args = dict(positions_rad=pos, dt_s=DT_S, q_ws=q_ws)
     args.update(kwargs)
-    with pytest.raises(exc, match=match):
-        installation.calibrate_installation(args.pop("positions_rad"), args.pop("dt_s"), **args)
+    settings = {k: args.pop(k) for k in list(args) if k in CONFIG_FIELDS}
+    with pytest.raises(exc, match=match):      # a setting is refused when the config is made, data at the call
+        installation.calibrate_installation(Config(**settings), args.pop("positions_rad"),
+                                            args.pop("dt_s"), **args)
 
 
 def test_raw_data_errors(stream):
     pos = stream[0]
     g = np.zeros((50, 3))
     with pytest.raises(ValueError, match="same shape"):
-        installation.calibrate_installation(pos, DT_S, gyro_rad_s=g, accel_m_s2=np.zeros((49, 3)))
+        installation.calibrate_installation(PAPER, pos, DT_S, gyro_rad_s=g, accel_m_s2=np.zeros((49, 3)))
     with pytest.raises(TypeError, match="qncf_params must be a QncfParams"):
-        installation.calibrate_installation(pos, DT_S, gyro_rad_s=g, accel_m_s2=g, qncf_params={"kp": 1})
+        Config(qncf_params={"kp": 1})
     with pytest.raises(ValueError, match="a sensor attitude is needed"):
-        installation.calibrate_installation(pos, DT_S, gyro_rad_s=g)
+        installation.calibrate_installation(PAPER, pos, DT_S, gyro_rad_s=g)
 
 
 def test_gates_refuse_with_their_messages(stream):
     pos, _, q_ws, _ = stream
     with pytest.raises(ValueError, match="ill-conditioned for Eq 13"):
-        installation.calibrate_installation(pos, DT_S, q_ws=q_ws, max_condition=1.0)
+        installation.calibrate_installation(Config(max_condition=1.0), pos, DT_S, q_ws=q_ws)
     with pytest.raises(ValueError, match="Q_hat is not a calibration: distance"):
-        installation.calibrate_installation(pos, DT_S, q_ws=q_ws, max_so4_distance=1e-300)
+        installation.calibrate_installation(Config(max_so4_distance=1e-300), pos, DT_S, q_ws=q_ws)
     bent = pos.copy()
     bent[2, 1] += np.radians(0.5)                            # the reference of position 3 is off by 0.5 deg
     with pytest.raises(ValueError, match=r"residual 0\.\d+ deg at position \d exceeds --max-residual-deg 0\.01"):
-        installation.calibrate_installation(bent, DT_S, q_ws=q_ws, max_residual_rad=np.radians(0.01))
-    ok = installation.calibrate_installation(bent, DT_S, q_ws=q_ws, max_residual_rad=np.inf)
+        installation.calibrate_installation(Config(max_residual_rad=np.radians(0.01)), bent, DT_S,
+                                            q_ws=q_ws)
+    ok = installation.calibrate_installation(Config(max_residual_rad=np.inf), bent, DT_S, q_ws=q_ws)
     assert np.degrees(ok.residual_rad.max()) > 0.01
 
 
@@ -178,7 +189,7 @@ def pm_g_record():
 def test_pm_g_set_refused_by_eq13_with_the_missing_axis_and_the_models_that_work(pm_g_record):
     pos, q_ws, _ = pm_g_record
     with pytest.raises(ValueError, match=r"no rotation about z \(yaw\).*--model so4 \(6\) or --model mounting"):
-        installation.calibrate_installation(pos, 0.01, q_ws=q_ws)
+        installation.calibrate_installation(PAPER, pos, 0.01, q_ws=q_ws)
     assert installation.missing_rotation_axis(rotations.quat_from_euler_zxy(*pos.T)) == "z (yaw)"
     six = np.radians([[8, 0, 0], [-8, 0, 0], [0, -12, 0], [0, 23, 0], [0, 0, 90], [0, 0, -90]])
     assert installation.missing_rotation_axis(rotations.quat_from_euler_zxy(*six.T)) is None
@@ -187,7 +198,7 @@ def test_pm_g_set_refused_by_eq13_with_the_missing_axis_and_the_models_that_work
 @pytest.mark.parametrize("model", ["so4", "mounting"])
 def test_constrained_models_calibrate_the_pm_g_set(pm_g_record, model):
     pos, q_ws, alpha = pm_g_record
-    cal = installation.calibrate_installation(pos, 0.01, q_ws=q_ws, model=model)
+    cal = installation.calibrate_installation(Config(model=model), pos, 0.01, q_ws=q_ws)
     np.testing.assert_allclose(cal.installation_angles_rad, alpha, atol=1e-10)
     assert cal.residual_rad.max() < 1e-10 and cal.so4_distance < 1e-10
     assert np.all(installation.installation_angles_sigma(cal, model) < 1e-9)
@@ -200,25 +211,78 @@ def test_mounting_model_refuses_rotations_about_one_axis():
     pos = np.radians([[10, 0, 0], [-10, 0, 0], [20, 0, 0], [-20, 0, 0]])
     q_wb = trajectory_from_euler_zxy(schedule_profile(pos, fs_hz=100.0)).q_wb
     with pytest.raises(ValueError, match="do not determine the mounting .* single axis"):
-        installation.calibrate_installation(pos, 0.01, q_ws=q_wb, model="mounting")
+        installation.calibrate_installation(Config(model="mounting"), pos, 0.01, q_ws=q_wb)
     with pytest.raises(ValueError, match="model must be one of eq13, so4, mounting"):
-        installation.calibrate_installation(pos, 0.01, q_ws=q_wb, model="svd")
+        Config(model="svd")
+
+
+def test_config_constructors_name_the_settings_of_each_caller():
+    cfg = installation.InstallationConfig
+    assert cfg.paper() == cfg() and cfg.paper(0.3).fraction == 0.3
+    gates = ("max_condition", "max_so4_distance", "max_residual_rad")
+    assert all(np.isinf(getattr(cfg.monte_carlo(), g)) for g in gates) and not cfg.monte_carlo().rests_in_order
+    assert cfg.sweep_cell().rests_in_order and all(np.isinf(getattr(cfg.sweep_cell(), g)) for g in gates)
+    cli_cfg = cfg.command_line(model="so4", fraction=0.25, max_residual_rad=0.01)
+    assert (cli_cfg.model, cli_cfg.fraction, cli_cfg.max_residual_rad) == ("so4", 0.25, 0.01)
+    assert cli_cfg.max_so4_distance == installation.MAX_SO4_DISTANCE and cli_cfg.qncf_params == QncfParams()
+    with pytest.raises(AttributeError, match="cannot assign"):
+        cli_cfg.fraction = 0.5                                              # frozen: resolved once
+    with pytest.raises(ValueError, match="min_rest_s must be"):
+        cfg(min_rest_s=0.0)
+    with pytest.raises(TypeError, match="config must be an InstallationConfig"):
+        installation.calibrate_installation({"fraction": 0.5}, six_positions_rad(), DT_S,
+                                            q_ws=np.tile([1.0, 0, 0, 0], (9, 1)))
+
+
+def test_verify_is_the_calibration_procedure_with_q_hat_given(stream):
+    """Steps 1–5 as the calibration runs them; Eq 10 with the given Q̂ at the verification's positions."""
+    pos, q_wb, q_ws, _ = stream
+    cal = installation.calibrate_installation(PAPER, pos, DT_S, q_ws=q_ws)
+    same = installation.verify_installation(PAPER, cal.q_hat, pos, DT_S, q_ws=q_ws)
+    for name in ("q_sensor", "euler_before_rad", "euler_after_rad", "residual_rad", "matched", "q_hat"):
+        assert np.array_equal(getattr(same, name), getattr(cal, name)), name
+    # a record already zeroed at its session's start is not zeroed again
+    tilted = rotations.quat_multiply(rotations.quat_from_euler_zxy(0.0, np.radians(2.0), 0.0), q_ws)
+    as_is = replace(PAPER, zero_at_first_sample=False)
+    ver = installation.verify_installation(as_is, np.eye(4), pos, DT_S, q_ws=tilted)
+    assert np.allclose(ver.q_sensor, six_position.rest_means(tilted, ver.matched_rests), atol=1e-15)
+    # no gate refuses a verification: a bad Q̂ is measured, not refused
+    bad = installation.verify_installation(PAPER, 2 * np.eye(4), pos, DT_S, q_ws=q_ws)
+    assert np.degrees(bad.residual_rad.max()) > 0.3
+    with pytest.raises(ValueError, match="4x4"):
+        installation.verify_installation(PAPER, np.eye(3), pos, DT_S, q_ws=q_ws)
+
+
+def test_a_refusal_carries_the_attitude_it_was_made_from(stream):
+    """InstallationRefused (a ValueError) hands the caller the un-zeroed sensor attitude: no second QNCF run."""
+    pos, q_wb, _, q_bs = stream
+    from mtcal.core.simulate import Trajectory
+
+    rec = simulate_imu(Trajectory(np.arange(len(q_wb)) / FS, q_wb), ImuErrorModel(q_mount=tuple(q_bs)))
+    wrong = pos * [1.0, -1.0, 1.0]                                        # pitch sign flipped
+    with pytest.raises(installation.InstallationRefused, match="has no rest within") as info:
+        installation.calibrate_installation(PAPER, wrong, DT_S, gyro_rad_s=rec.gyro_rad_s, accel_m_s2=rec.accel_m_s2)
+    assert np.array_equal(info.value.q_ws, qncf(rec.gyro_rad_s, rec.accel_m_s2, DT_S, QncfParams(),
+                                               return_euler=False).q_ws)
+    with pytest.raises(ValueError, match="dt_s must be > 0") as info:                   # bad input: not a refusal
+        installation.calibrate_installation(PAPER, pos, -1.0, q_ws=q_wb)
+    assert not isinstance(info.value, installation.InstallationRefused)
 
 
 def test_apply_errors(stream):
     q_ws = stream[2]
     with pytest.raises(ValueError, match="4x4"):
-        installation.apply_installation(np.eye(3), q_ws=q_ws)
+        installation.apply_installation(PAPER, np.eye(3), q_ws=q_ws)
     with pytest.raises(ValueError, match="finite"):
-        installation.apply_installation(np.full((4, 4), np.nan), q_ws=q_ws)
+        installation.apply_installation(PAPER, np.full((4, 4), np.nan), q_ws=q_ws)
     with pytest.raises(ValueError, match="needs a record with as many trials"):
-        installation.apply_installation(np.stack([np.eye(4)] * 2), q_ws=q_ws)
+        installation.apply_installation(PAPER, np.stack([np.eye(4)] * 2), q_ws=q_ws)
     with pytest.raises(ValueError, match="dt_s is needed"):
-        installation.apply_installation(np.eye(4), gyro_rad_s=np.zeros((9, 3)), accel_m_s2=np.zeros((9, 3)))
+        installation.apply_installation(PAPER, np.eye(4), gyro_rad_s=np.zeros((9, 3)), accel_m_s2=np.zeros((9, 3)))
     with pytest.raises(ValueError, match="give gyro_rad_s or q_ws"):
-        installation.detect_rests(DT_S)
+        installation.detect_rests(PAPER, DT_S)
     with pytest.raises(ValueError, match=r"\(N, 4\) or \(T, N, 4\)"):
-        installation.detect_rests(DT_S, q_ws=[1.0, 0.0, 0.0, 0.0])
+        installation.detect_rests(PAPER, DT_S, q_ws=[1.0, 0.0, 0.0, 0.0])
 
 
 def test_cli_calibrate_is_bit_identical_to_the_study_path(tmp_path, monkeypatch):
@@ -252,6 +316,11 @@ def test_cli_calibrate_is_bit_identical_to_the_study_path(tmp_path, monkeypatch)
                      "--rest-detector", "paper", "--fraction", repr(sc.averaging_fraction),
                      "--out", str(tmp_path / "q.json")])
     assert code == 0
-    q_cli = np.array(json.loads((tmp_path / "q.json").read_text())["q_hat"])
+    doc = json.loads((tmp_path / "q.json").read_text())
+    q_cli = np.array(doc["q_hat"])
     assert np.array_equal(q_cli, study.q_hat[0])
+    # and every number derived from it: residuals, installation angles, mounting
+    assert doc["residual_deg"] == np.degrees(study.residual_rad[0]).tolist()
+    assert list(doc["installation_angles_deg"].values()) == np.degrees(study.installation_angles_rad[0]).tolist()
+    assert doc["mounting_quaternion_q_bs"] == study.mounting_quaternion_q_bs[0].tolist()
     assert not np.array_equal(study.q_hat[0], np.eye(4))

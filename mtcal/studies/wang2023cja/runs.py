@@ -44,13 +44,15 @@ from .error_model import MOUNT_TYPE, PAPER_SIGN
 from .scenario import (SOURCES, TurntableScenario, WindTunnelScenario, _ComplianceBase, _compliant,
                        compliance_trajectory, mechanism_actual, windtunnel_positions)
 
-#: Gates of :func:`mtcal.systems.installation.calibrate_installation` in the Monte Carlo runs: all off
-#: (``inf``). The procedure and its numbers are the CLI's; a Monte Carlo reports the spread of every
-#: trial instead of refusing the set because one trial would be refused at the bench.
 #: Every trial's sweep error series is kept at every TRACE_DECIMATION-th sample (ensemble figures).
 TRACE_DECIMATION = 20
 
-MONTE_CARLO_GATES = {"max_condition": np.inf, "max_so4_distance": np.inf, "max_residual_rad": np.inf}
+#: Gates of :func:`mtcal.systems.installation.calibrate_installation` in the Monte Carlo runs: all off
+#: (``inf``, :meth:`~mtcal.systems.installation.InstallationConfig.monte_carlo`). The procedure and its
+#: numbers are the CLI's; a Monte Carlo reports the spread of every trial instead of refusing the set
+#: because one trial would be refused at the bench.
+MONTE_CARLO_GATES = {k: getattr(installation.InstallationConfig.monte_carlo(), k)
+                     for k in ("max_condition", "max_so4_distance", "max_residual_rad")}
 
 __all__ = ["turntable_runs", "turntable_profile", "six_position_reference", "TurntableRun", "TurntableJob",
            "calibration_step", "run_turntable", "run_turntable_jobs", "position_errors_deg", "load_tilt_outputs",
@@ -349,13 +351,12 @@ def _run_pieces(sc: TurntableScenario, prof: AngleProfile, spans: dict, pieces: 
         e_ver = _draws(rng_ref, trials, 6, sc.reference_angle_sigma_rad, on)
         # the procedure is fed the commanded reference; the turntable stood at command + e_cal
         cal = calibration_step(sc, q_cal[sl], gyro[sl, spans["calibration"]], pos - e_cal, frac)
-        ver = six_position.calibrate(q_all[sl, spans["verification"]], pos, sc.imu.dt_s,
-                                     gyro_rad_s=gyro[sl, spans["verification"]], fraction=frac)
-        q_mat = cal.q_hat
-        euler = rotations.euler_zxy_from_quat
-        run = TurntableRun(q_mat, cal.euler_before_rad, cal.euler_after_rad,
-                           euler(ver.q_sensor), euler(quaternion_lsq.apply_error_matrix(q_mat, ver.q_sensor)),
-                           pos, -e_cal, -e_ver)
+        # the verification run: the same procedure with Q̂ given (the session is already zeroed at its start)
+        ver = installation.verify_installation(
+            installation.InstallationConfig.monte_carlo(frac, zero_at_first_sample=False), cal.q_hat, pos,
+            sc.imu.dt_s, q_ws=q_all[sl, spans["verification"]], gyro_rad_s=gyro[sl, spans["verification"]])
+        run = TurntableRun(cal.q_hat, cal.euler_before_rad, cal.euler_after_rad, ver.euler_before_rad,
+                           ver.euler_after_rad, pos, -e_cal, -e_ver)
         if not with_sweeps:
             return run, None
         # the sweeps' turntable angle errors at their holds, drawn next from the piece's generator
@@ -420,7 +421,7 @@ def calibration_step(sc: TurntableScenario | WindTunnelScenario, q_ws, gyro_rad_
 
     Exactly the procedure ``mtcal calibrate --rest-detector paper`` runs on a log (the §3.2
     stillness detector on ``gyro_rad_s``, zeroing at the first sample, Eq 13), with the
-    gates off (:data:`MONTE_CARLO_GATES`).
+    gates off (:meth:`~mtcal.systems.installation.InstallationConfig.monte_carlo`).
 
     Parameters
     ----------
@@ -456,8 +457,8 @@ def calibration_step(sc: TurntableScenario | WindTunnelScenario, q_ws, gyro_rad_
     >>> cal.q_hat.shape, bool(np.abs(cal.q_hat[0] - np.eye(4)).max() < 1e-9)
     ((1, 4, 4), True)
     """
-    return installation.calibrate_installation(reference_rad, sc.imu.dt_s, q_ws=q_ws, gyro_rad_s=gyro_rad_s,
-                                               fraction=fraction, **MONTE_CARLO_GATES)
+    return installation.calibrate_installation(installation.InstallationConfig.monte_carlo(fraction), reference_rad,
+                                               sc.imu.dt_s, q_ws=q_ws, gyro_rad_s=gyro_rad_s)
 
 
 def run_turntable(sc: TurntableScenario, test: str, rng: np.random.Generator, trials: int,
