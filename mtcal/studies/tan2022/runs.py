@@ -26,7 +26,7 @@ from __future__ import annotations
 import numpy as np
 
 from mtcal.core import simulate
-from mtcal.core.rng import spawn_philox_key, stream_rng
+from mtcal.core.rng import rng_copy, spawn_philox_key, stream_rng
 from mtcal.methods import gyro_roll
 from mtcal.methods import large_angle
 
@@ -98,17 +98,13 @@ class GyroTrials:
         errors = simulate.SensorErrors(bias=tuple(np.broadcast_to(np.asarray(spec.gyro_bias_rad_s), (3,))),
                                        noise_density=spec.gyro_noise_rad_s_rt_hz)
         self.model = simulate.ImuErrorModel(gyro=errors)  # as gyro_roll.simulate_two_dof_imu builds it
-        ss = rng.bit_generator.seed_seq
-        self._seed_seq = (ss.entropy, ss.spawn_key, ss.pool_size, ss.n_children_spawned)
+        self._rng = rng_copy(rng)  # the caller's SeedSequence as at construction, replayed per block
         spawn_philox_key(rng)  # the caller's generator moves on as after one simulate_gyro call
 
     def records(self, trial_ids) -> np.ndarray:
         """Gyro records (len(trial_ids), T, 3) rad/s of the named trials."""
         ids = np.asarray(trial_ids, dtype=np.int64)
-        entropy, spawn_key, pool_size, n_spawned = self._seed_seq
-        rng = np.random.Generator(np.random.PCG64(np.random.SeedSequence(
-            entropy, spawn_key=spawn_key, pool_size=pool_size, n_children_spawned=n_spawned)))
-        return simulate.simulate_imu(self.trajectory, self.model, rng, trial_ids=ids).gyro_rad_s
+        return simulate.simulate_imu(self.trajectory, self.model, rng_copy(self._rng), trial_ids=ids).gyro_rad_s
 
     def blocks(self, size: int = _CHUNK):
         """Yield ``(slice, records)`` over all trials, ``size`` trials at a time."""

@@ -225,7 +225,8 @@ def variance_parts(samples, per_draw: int) -> dict:
 
     Examples
     --------
-    >>> rng = np.random.default_rng(0)
+    >>> from mtcal.core.rng import stream_rng
+    >>> rng = stream_rng(0, 0)
     >>> y = np.repeat(rng.normal(0, 2, 4000), 2) + rng.normal(0, 1, 8000)
     >>> p = variance_parts(y, 2)
     >>> round(p["parameter"]), round(p["sampling"]), p["draws"]
