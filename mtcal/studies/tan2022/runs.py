@@ -186,17 +186,18 @@ def accel_predictions(sc: AccelScenario, ratios, rng, step_deg):
             "asymmetry": fig02_asymmetry(d0, th, ph, g), "large_pitch": large_pitch_ratio(d0, d1, d2, th, ph, sc),
             "gain": rms_T / np.sqrt(ms_p), **opt}
 
-def gyro_samples(rate_rad_s, roll_rad, bias_rad_s, noise_rad_s_rthz, fs_hz, rng, shape):
+def gyro_samples(rate_rad_s, roll_rad, bias_rad_s, noise_rad_s_rthz, dt_s, rng, shape):
     """Gyro output of the 2-DOF mechanism (ψ̇ = 0, φ̇ = 0): Eq 11 rates + constant error + white noise.
 
     ``rate_rad_s`` is the interval-mean pitch rate of each sample (the simulator's
-    convention), ``bias_rad_s``/``noise_rad_s_rthz`` per trial (leading axis).
+    convention), ``bias_rad_s``/``noise_rad_s_rthz`` per trial (leading axis); ``dt_s`` the
+    sample interval (s): white-noise σ = N·√(1/dt_s) per sample.
     """
     w = np.zeros(shape + (3,))
     w[..., 1] = rate_rad_s * np.cos(roll_rad)
     w[..., 2] = -rate_rad_s * np.sin(roll_rad)
     w += bias_rad_s.reshape((-1,) + (1,) * (len(shape) - 1) + (1,))
-    sigma = (noise_rad_s_rthz * np.sqrt(fs_hz)).reshape((-1,) + (1,) * len(shape))
+    sigma = (noise_rad_s_rthz * np.sqrt(1.0 / dt_s)).reshape((-1,) + (1,) * len(shape))
     return w + sigma * rng.standard_normal(w.shape)
 
 
@@ -227,7 +228,7 @@ def gyro_predictions(study: GyroStudy, b_deg, n_deg, rng):
             n_samp = int(round(study.uniform.sweep_deg / r * g.fs_hz))
             total = n_samp * b + sigma * np.sqrt(n_samp) * rng.standard_normal(b.size)
             out[f"drift_{r:g}"][sl] = _DEG(np.abs(total * g.dt_s))
-        w = gyro_samples(rate_osc, g.roll0_rad, b, nd, g.fs_hz, rng, (b.size, t.size))
+        w = gyro_samples(rate_osc, g.roll0_rad, b, nd, g.dt_s, rng, (b.size, t.size))
         spike, hyb, _ = gyro_roll.projection_hybrid_max_errors(w, g.dt_s, osc.threshold_rad_s, slow, roll0=g.roll0_rad)
         out["hybrid_max"][sl] = _DEG(hyb)
         out["spike"][sl] = spike
