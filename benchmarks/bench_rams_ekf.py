@@ -33,7 +33,7 @@ def main(trials: int = 1000) -> int:
     th = np.broadcast_to(prof.angle_rad[:, 0], (trials, prof.time_s.size))
     rec = simulate_rotation(th, np.broadcast_to(prof.rate_rad_s[:, 0], th.shape),
                             np.broadcast_to(prof.accel_rad_s2[:, 0], th.shape), prof.is_static,
-                            RotationSetup(), imu.error_model(), imu.fs_hz, np.random.default_rng(0))
+                            RotationSetup(), imu.error_model(), imu.dt_s, 0)
     v = RotationSetup().unit_axis()
     a0, b0 = initial_state(rec.gyro_rad_s, rec.accel_m_s2, 150)
     p = imu.ekf_params()

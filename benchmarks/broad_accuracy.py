@@ -2,9 +2,9 @@
 
 Each trial is read by the command line's own log reader (``mtcal.cli.logio.read_log`` on the original
 ``.mat``: BROAD's layout, ``imu_gyr``/``imu_acc``/``sampling_rate``), its rests detected and units checked
-as ``mtcal attitude`` does at default options, and every filter run through the same functions the command
-calls (:func:`mtcal.cli.attitude.sensor_attitude` for QNCF, :func:`~mtcal.cli.attitude.other_filter_attitude`
-for the others). The error is BROAD's inclination error (heading-free, earth frame; a 6D filter is judged
+as ``mtcal attitude`` does at default options, and every filter run through the procedure the command
+calls (:func:`mtcal.systems.attitude.estimate_attitude` with
+:meth:`~mtcal.systems.attitude.AttitudeConfig.cli_defaults`). The error is BROAD's inclination error (heading-free, earth frame; a 6D filter is judged
 fairly) via :func:`mtcal.core.metrics.orientation_errors`, RMSE over the ``movement`` phase with
 :func:`mtcal.core.metrics.rmse_over_phase`. The optical arrays are read separately with
 :func:`mtcal.core.arrayfile.read_arrays`; no filter sees them.
@@ -39,12 +39,14 @@ TARGET_RATIO = 1.25
 
 def trial_rows(filters=None, trials=None):
     """One dict per (trial, filter): inclination RMSE (deg) over the movement phase, units check, time."""
-    from mtcal.cli import attitude, common, logio
+    from mtcal.cli import common, logio
     from mtcal.core.arrayfile import read_arrays
     from mtcal.core.metrics import orientation_errors, rmse_over_phase
     from mtcal.systems import plausibility
+    from mtcal.systems.attitude import FILTERS, AttitudeConfig, estimate_attitude
+    from mtcal.systems.rests import find_rests
 
-    filters = list(attitude.FILTERS if filters is None else filters)
+    filters = list(FILTERS if filters is None else filters)
     paths = sorted(TRIALS.glob("*.mat"))
     if trials:
         paths = [p for p in paths if p.name[:2] in trials]
@@ -55,38 +57,33 @@ def trial_rows(filters=None, trials=None):
     for path in paths:
         arrays = read_arrays(path)
         log = logio.read_log(path, common.input_options(parser.parse_args([])), need="raw")
-        rep = common.detect(parser.parse_args([]), log)
+        rests = AttitudeConfig.cli_defaults().rests
+        rep = find_rests(log.accel_m_s2, log.dt_mean_s, rests, gyro_rad_s=log.gyro_rad_s, time_s=log.time_s)
         clipped, _ = plausibility.clipped_samples(log.gyro_rad_s)
         for name in filters:
             t0 = time.perf_counter()
-            if name == "qncf":
-                q, info = attitude.sensor_attitude(log, rep, skip=clipped)
-                chk = info["units_check"]
-            else:
-                chk = plausibility.check_units(log.gyro_for_filter(), log.accel_m_s2, log.dt_mean_s, rep.rests,
-                                               time_s=log.time_s, skip=clipped, unit_stated=log.gyro_unit_stated)
-                q, info = attitude.other_filter_attitude(name, log)
+            res = estimate_attitude(log.gyro_rad_s, log.accel_m_s2, log.dt_mean_s, AttitudeConfig.cli_defaults(name),
+                                    time_s=log.time_s, rests=rep, skip=clipped, unit_stated=log.gyro_unit_stated)
             secs = time.perf_counter() - t0
-            err = orientation_errors(q, arrays["opt_quat"])
+            err = orientation_errors(res.q_ws, arrays["opt_quat"])
             rmse = float(np.degrees(rmse_over_phase(err.inclination_rad, arrays["movement"])))
             rows.append({"trial": path.name[:2], "name": path.stem, "filter": name, "inclination_rmse_deg": rmse,
-                         "units_check": chk["method"], "seconds": secs})
+                         "units_check": res.units_check["method"], "seconds": secs})
             if name == "qncf":
-                rows.extend(_qncf_cause(log, rep, arrays, path))
+                rows.extend(_qncf_cause(log, res.setup, arrays, path))
     return rows
 
 
-def _qncf_cause(log, rep, arrays, path) -> list[dict]:
+def _qncf_cause(log, setup, arrays, path) -> list[dict]:
     """Diagnostics of QNCF (not a ``--filter``): share of the movement phase with the AMD gate closed, the
     inclination RMSE of the same QNCF with the gate always open, and of its output read one row later (mtcal's
     schema integrates gyro sample k over [t_k, t_k+1], BROAD's gyro, like VQF, over [t_k-1, t_k])."""
     import dataclasses
 
-    from mtcal.cli import attitude
     from mtcal.core.metrics import orientation_errors, rmse_over_phase
     from mtcal.filters.qncf import amd_statistic, qncf_trusted
 
-    gyro, params, q0, _ = attitude.qncf_settings(log, rep)
+    gyro, params, q0 = setup.gyro_rad_s, setup.params, setup.q0
     move = np.asarray(arrays["movement"]).astype(bool)
     closed = float(np.mean(amd_statistic(log.accel_m_s2, log.dt_mean_s, params)[move] >= params.amd_threshold_pct))
     open_gate = dataclasses.replace(params, amd_threshold_pct=1e9)

@@ -8,14 +8,16 @@ Layers (each a subpackage, imports only point downwards):
   quaternion, constrained fits, six-position procedure, large-angle accelerometer
   attitude, gyro roll, rotation axis, zero-velocity detection)
 * :mod:`mtcal.filters` — QNCF, RAMS EKF, baselines
-* :mod:`mtcal.systems` — the papers' measurement procedures
+* :mod:`mtcal.systems` — the measurement systems (installation calibration, surface angle,
+  attitude, plausibility of a log): what the notebooks, the sweeps and the CLI all call
 * :mod:`mtcal.reporting` — the papers' numbers, comparison with bands, output files
   (imports only ``core``; the studies build their comparison rows with it)
 * :mod:`mtcal.studies` — one package per paper: ``wang2023cja``, ``tan2022``,
   ``wang2022sensors``
 * :mod:`mtcal.sweep` — parameter sweeps (trade studies) on local cores or a Dask cluster
-* :mod:`mtcal.runs` — notebook execution, what-if runs and their comparison
-* :mod:`mtcal.cli` — the ``mtcal`` command
+* :mod:`mtcal.runs` — notebook execution, what-if runs and their comparison (tooling, not in
+  ``__all__``: ``import mtcal.runs``)
+* :mod:`mtcal.cli` — the ``mtcal`` command (not in ``__all__``: run ``mtcal``, or ``import mtcal.cli``)
 
 Order, lowest first: core < methods < filters < systems < reporting < studies < sweep <
 runs < cli (``tests/test_import_graph.py`` checks it and that no import cycle exists).
@@ -34,7 +36,7 @@ import importlib
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:  # the eager imports, for type checkers and tests/test_import_graph.py
-    from mtcal import core, filters, methods, reporting
+    from mtcal import core, filters, methods, reporting, systems
     from mtcal.core.metrics import angle_difference, max_abs_error, percentile_band, rmse
     from mtcal.core.rotations import (euler_zxy_from_quat, quat_conjugate, quat_from_euler_zxy, quat_multiply,
                                       quat_to_matrix)
@@ -51,7 +53,7 @@ from mtcal import core  # light: numba's settings (mtcal.core.compiled); every s
 __version__ = "0.2.0"
 
 __all__ = [
-    "core", "methods", "filters", "reporting", "studies", "sweep", "runs", "cli",
+    "core", "methods", "filters", "systems", "reporting", "studies", "sweep",
     "quat_from_euler_zxy", "euler_zxy_from_quat", "quat_multiply", "quat_conjugate", "quat_to_matrix",
     "Trajectory", "SensorErrors", "ImuErrorModel", "ImuRecord", "ImuStream", "simulate_imu",
     "angle_difference", "rmse", "max_abs_error", "percentile_band",
@@ -82,7 +84,7 @@ _RENAMED = {"load_paper_table": ("mtcal.reporting.paper_numbers", "load")}
 
 
 def __getattr__(name):  # lazy: layers and re-exported names load on first use
-    if name in ("methods", "filters", "reporting", "studies", "sweep", "runs", "cli"):
+    if name in ("methods", "filters", "systems", "reporting", "studies", "sweep", "runs", "cli"):
         return importlib.import_module(f"mtcal.{name}")
     if name in _EXPORTS or name in _RENAMED:
         module, attr = _RENAMED.get(name, (_EXPORTS.get(name), name))

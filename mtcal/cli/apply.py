@@ -80,7 +80,6 @@ def run(args: argparse.Namespace) -> int:
     out = logio.check_output_path(args.out, [args.log, args.calibration])
 
     def body() -> int:
-        from mtcal.cli.attitude import qncf_settings
         from mtcal.core import rotations
         from mtcal.systems import installation  # numba/scipy: loaded when the command runs, not for --help
 
@@ -96,7 +95,7 @@ def run(args: argparse.Namespace) -> int:
                                            time_s=log.time_s, skip=plausibility.clipped_samples(log.gyro_rad_s)[0],
                                            unit_stated=log.gyro_unit_stated)
             common.print_units_check(chk)
-            gyro, params, q0, info = qncf_settings(log, rep)
+            gyro, params, q0, info = common.qncf_settings(log, rep)
             source = dict(gyro_rad_s=gyro, accel_m_s2=log.accel_m_s2, dt_s=log.dt_mean_s, qncf_params=params, q0=q0)
             static = rep.is_static
         else:

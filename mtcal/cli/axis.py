@@ -52,15 +52,15 @@ def cmd_axis(args: argparse.Namespace) -> int:
     def body() -> int:
         from mtcal.systems import surface_angle  # numba/scipy: loaded when the command runs, not for --help
 
+        limits = dict(min_separation_deg=common.finite_float(args.min_separation_deg, "--min-separation-deg"),
+                      max_axis_error_deg=common.finite_float(args.max_axis_error_deg, "--max-axis-error-deg"),
+                      max_elevation_deg=common.finite_float(args.max_elevation_deg, "--max-elevation-deg"))
         log = logio.read_log(args.log, common.input_options(args), need="accel")
         fig.log = log
         if args.rest_detector == "paper":
-            return _axis_paper(args, log, fig)
+            return _axis_paper(args, log, fig, limits)
         rep = common.detect(args, log, use_gyro=log.gyro_rad_s is not None)
         fig.report = rep
-        sep = common.finite_float(args.min_separation_deg, "--min-separation-deg")
-        max_el = common.finite_float(args.max_elevation_deg, "--max-elevation-deg")
-        max_err = common.finite_float(args.max_axis_error_deg, "--max-axis-error-deg")
         common.print_report(log, rep)
         if log.gyro_rad_s is not None:  # the rests used gyro: its units and the time base must fit
             chk = plausibility.check_units(log.gyro_for_filter(), log.accel_m_s2, log.dt_mean_s, rep.rests,
@@ -70,10 +70,8 @@ def cmd_axis(args: argparse.Namespace) -> int:
         if len(rep.rests) == 0:
             raise ValueError(f"found only 0 rests of >= {rep.min_rest_s:g} s ({rep.levels_text()}); "
                              f"the axis needs rests at three distinct tilts")
-        est = surface_angle.estimate_surface_axis(log.accel_m_s2, rep.rests, accel_noise_m_s2=rep.accel_noise_m_s2,
-                                                  window_samples=rep.window_s * log.fs_hz, fit="plane",
-                                                  min_separation_deg=sep, max_axis_error_deg=max_err,
-                                                  max_elevation_deg=max_el)
+        config = surface_angle.AxisConfig.cli(rep.accel_noise_m_s2, rep.window_s * log.fs_hz, **limits)
+        est = surface_angle.estimate_surface_axis(log.accel_m_s2, rep.rests, config)
         fig.used = [rep.rests[m[0]] for m in est.members]
         v, means = est.axis, est.rest_means_m_s2
         print(f"axis v = {v[0]:.6f},{v[1]:.6f},{v[2]:.6f}")
@@ -89,8 +87,9 @@ def cmd_axis(args: argparse.Namespace) -> int:
     return common.run_with_figure(fig, body)
 
 
-def _axis_paper(args, log, fig) -> int:
-    """The paper's path: Table 1 ZVD + Algorithm A1 (first three distinct rests)."""
+def _axis_paper(args, log, fig, limits: dict) -> int:
+    """The paper's path: Table 1 ZVD + Algorithm A1 (first three distinct rests); ``limits``: the parsed
+    ``--min-separation-deg``, ``--max-axis-error-deg``, ``--max-elevation-deg``."""
     from mtcal.methods.rest_detection import paper_rest_report
     from mtcal.methods.rotation_axis import estimate_axis
     from mtcal.systems import surface_angle
@@ -99,11 +98,10 @@ def _axis_paper(args, log, fig) -> int:
     rep = paper_rest_report(log.accel_m_s2, 1.0 / log.fs_hz, min_rest_s=min_rest)
     fig.report = rep
     print(rep.levels_text() + f" (measured |a| at rest {rep.extra['measured_gravity_m_s2']:.4f} m/s^2)")
-    sep = common.finite_float(args.min_separation_deg, "--min-separation-deg")
     try:
         res = estimate_axis(log.accel_m_s2, 1.0 / log.fs_hz, min_rest_s=min_rest, is_static=rep.is_static,
-                            min_separation_deg=sep,
-                            max_elevation_deg=common.finite_float(args.max_elevation_deg, "--max-elevation-deg"))
+                            min_separation_deg=limits["min_separation_deg"],
+                            max_elevation_deg=limits["max_elevation_deg"])
     except ValueError as exc:
         raise ValueError(f"{exc} [paper ZVD band {rep.band_m_s2[0]:g}-{rep.band_m_s2[1]:g} m/s^2, measured |a| "
                          f"at rest {rep.extra['measured_gravity_m_s2']:.4f} m/s^2; --rest-detector adaptive "
@@ -111,8 +109,7 @@ def _axis_paper(args, log, fig) -> int:
     fig.used = list(res.rests)
     surface_angle.axis_uncertainty(res.means, np.array([r.stop - r.start for r in res.rests], float),
                                    accel_noise_m_s2=rep.accel_noise_m_s2, window_samples=rep.window_s * log.fs_hz,
-                                   max_axis_error_deg=common.finite_float(args.max_axis_error_deg,
-                                                                          "--max-axis-error-deg"))
+                                   max_axis_error_deg=limits["max_axis_error_deg"])
     print(f"axis v = {res.v[0]:.6f},{res.v[1]:.6f},{res.v[2]:.6f}")
     t = log.time_s
     for i, sl in enumerate(res.rests):
@@ -130,6 +127,8 @@ def cmd_angle(args: argparse.Namespace) -> int:
 
         v = _parse_axis(args.axis)
         init_s = common.finite_float(args.init_s, "--init-s")
+        max_el = common.finite_float(args.max_elevation_deg, "--max-elevation-deg")
+        max_mismatch = common.finite_float(args.max_axis_mismatch_deg, "--max-axis-mismatch-deg")
         log = logio.read_log(args.log, common.input_options(args), need="raw")
         fig.log = log
         rep = common.detect(args, log)
@@ -155,14 +154,13 @@ def cmd_angle(args: argparse.Namespace) -> int:
             if n0 < max(3, int(0.1 * fs)):
                 raise ValueError(f"initial rest too short: {n0} samples ({n0 / fs:.2f} s), need >= 0.1 s")
             init = slice(first.start, first.start + n0)
-        res = surface_angle.surface_angle(log.gyro_rad_s, log.accel_m_s2, v, is_static=rep.is_static, init=init,
-                                          time_s=t, rests=rep.rests,
-                                          max_elevation_deg=common.finite_float(args.max_elevation_deg,
-                                                                                "--max-elevation-deg"),
-                                          check_units=True, gyro_noise_rad_s=rep.gyro_noise_rad_s,
-                                          unit_stated=log.gyro_unit_stated,
-                                          max_axis_mismatch_deg=common.finite_float(args.max_axis_mismatch_deg,
-                                                                                    "--max-axis-mismatch-deg"))
+        config = surface_angle.SurfaceAngleConfig.cli(max_elevation_deg=max_el, max_axis_mismatch_deg=max_mismatch,
+                                                      gyro_noise_rad_s=rep.gyro_noise_rad_s,
+                                                      unit_stated=log.gyro_unit_stated)
+        res = surface_angle.surface_angle(log.gyro_rad_s, log.accel_m_s2, v, config, is_static=rep.is_static,
+                                          init=init, time_s=t, rests=rep.rests)
+        means = np.array([log.accel_m_s2[r].mean(axis=0) for r in rep.rests]).reshape(-1, 3)
+        acc_ang = np.degrees(surface_angle.angles_about_axis(v, res.accel0_m_s2, means))  # each rest's tilt angle
         if res.clipped.any():
             print(f"warning: gyro clipped at {np.degrees(res.clip_level_rad_s):.1f} deg/s in "
                   f"{int(res.clipped.sum())} samples; angles through those moves rely on the following rest")
@@ -174,8 +172,6 @@ def cmd_angle(args: argparse.Namespace) -> int:
                   f"{t[k0] - t[0]:.2f} s (angle 0 there, empty before)")
         fig.series = {"angle (deg)": angle}
         logio.write_table(out, {"time_s": t, "angle_deg": angle, "is_static": rep.is_static.astype(np.int8)})
-        means = np.array([log.accel_m_s2[r].mean(axis=0) for r in rep.rests]).reshape(-1, 3)
-        acc_ang = np.degrees(surface_angle.angles_about_axis(v, a0, means))
         ekf_ang = np.array([np.nanmedian(angle[r]) if np.isfinite(angle[r]).any() else np.nan for r in rep.rests])
         acc_ang = acc_ang + 360.0 * np.round((ekf_ang - acc_ang) / 360.0)  # same turn as the EKF
         common.print_report(log, rep, angle_deg=angle, extra={"accel_angle_deg": acc_ang})

@@ -113,7 +113,6 @@ def run(args: argparse.Namespace) -> int:
     out = None if args.out is None else logio.check_output_path(args.out, [args.log, args.positions])
 
     def body() -> int:
-        from mtcal.cli.attitude import qncf_settings
         from mtcal.systems import installation  # numba/scipy: loaded when the command runs, not for --help
 
         log = logio.read_log(args.log, common.input_options(args), need="raw_or_quat")
@@ -139,7 +138,7 @@ def run(args: argparse.Namespace) -> int:
                                            time_s=log.time_s, skip=plausibility.clipped_samples(log.gyro_rad_s)[0],
                                            unit_stated=log.gyro_unit_stated)
             common.print_units_check(chk)
-            gyro, params, q0, info = qncf_settings(log, rep)
+            gyro, params, q0, info = common.qncf_settings(log, rep)
             source = {"gyro_rad_s": gyro, "accel_m_s2": log.accel_m_s2, "qncf_params": params, "q0": q0}
         else:
             still_rad_s = np.radians(common.finite_float(args.still_deg_s, "--still-deg-s"))

@@ -11,7 +11,8 @@ import numpy as np
 from mtcal.cli import logio
 from mtcal.methods import rest_detection
 
-__all__ = ["add_input_options", "add_rest_options", "input_options", "detect", "rest_table", "print_report",
+__all__ = ["add_input_options", "add_rest_options", "input_options", "rests_config", "attitude_config", "detect", "qncf_settings",
+           "qncf_info", "rest_table", "print_report",
            "finite_float", "DiagnosticsFigure", "run_with_figure", "SCHEMA_HELP", "description_with_schema",
            "QUATERNION_DECIMALS", "write_attitude", "euler_deg", "rest_bias_text",
            "print_units_check"]
@@ -143,41 +144,74 @@ def input_options(args) -> logio.InputOptions:
                               fs_hz=None if args.fs_hz is None else finite_float(args.fs_hz, "--fs-hz"))
 
 
-def detect(args, log: logio.ImuLog, *, use_gyro: bool = True) -> rest_detection.RestReport:
-    """Run the chosen rest detector on a log with the command-line overrides.
+def rests_config(args, *, has_gyro: bool = True):
+    """The :class:`mtcal.systems.rests.RestsConfig` the rest options state (one-line ValueError naming the option).
 
-    Rests whose listed duration (``t[stop-1] − t[start]``) is below ``--min-rest-s``
-    are moved to the rejected list (:func:`mtcal.systems.attitude.drop_short_rests`), so a listing never shows a rest shorter than the
-    stated minimum.
+    ``has_gyro``: the rests may use the log's gyro (it has one and ``--accel-only`` is not given).
     """
+    from mtcal.systems.rests import RestsConfig
+
     min_rest = finite_float(args.min_rest_s, "--min-rest-s")
-    gyro = log.gyro_rad_s if use_gyro else None
     opt = lambda v, n: None if v is None else finite_float(v, n)  # noqa: E731
     thr = opt(args.gyro_threshold_deg_s, "--gyro-threshold-deg-s")
     shoe_thr = opt(getattr(args, "shoe_threshold", None), "--shoe-threshold")
     if shoe_thr is not None and args.rest_detector != "shoe":
         raise ValueError("--shoe-threshold needs --rest-detector shoe")
     if args.rest_detector == "paper":
-        rep = rest_detection.paper_rest_report(log.accel_m_s2, 1.0 / log.fs_hz, gyro_rad_s=gyro, min_rest_s=min_rest)
-    elif args.rest_detector == "shoe":
-        if gyro is None:
-            raise ValueError("--rest-detector shoe needs the gyro columns (and not --accel-only)")
-        params = rest_detection.ShoeParams(min_rest_s=min_rest,
-                                           noise_factor=finite_float(args.noise_factor, "--noise-factor"),
-                                           threshold=shoe_thr,
-                                           rate_level_rad_s=None if thr is None else np.radians(thr),
-                                           gravity_m_s2=opt(args.gravity, "--gravity"))
-        rep = rest_detection.detect_rests_shoe(log.accel_m_s2, 1.0 / log.fs_hz, gyro_rad_s=gyro, params=params)
-    else:
-        params = rest_detection.RestDetectorParams(min_rest_s=min_rest,
-                                                   noise_factor=finite_float(args.noise_factor, "--noise-factor"),
-                                                   gravity_m_s2=opt(args.gravity, "--gravity"),
-                                                   accel_band_m_s2=opt(args.accel_band, "--accel-band"),
-                                                   gyro_level_max_rad_s=None if thr is None else np.radians(thr))
-        rep = rest_detection.detect_rests(log.accel_m_s2, 1.0 / log.fs_hz, gyro_rad_s=gyro, params=params)
-    from mtcal.systems.attitude import drop_short_rests
+        return RestsConfig(detector="paper", min_rest_s=min_rest, use_gyro=has_gyro)
+    if args.rest_detector == "shoe" and not has_gyro:
+        raise ValueError("--rest-detector shoe needs the gyro columns (and not --accel-only)")
+    noise = finite_float(args.noise_factor, "--noise-factor")
+    gravity = opt(args.gravity, "--gravity")
+    band = None if args.rest_detector == "shoe" else opt(args.accel_band, "--accel-band")
+    return RestsConfig(detector=args.rest_detector, min_rest_s=min_rest, noise_factor=noise, gravity_m_s2=gravity,
+                       accel_band_m_s2=band, gyro_threshold_rad_s=None if thr is None else np.radians(thr),
+                       shoe_threshold=shoe_thr, use_gyro=has_gyro)
 
-    return drop_short_rests(rep, log.time_s)
+
+def attitude_config(args):
+    """The :class:`mtcal.systems.attitude.AttitudeConfig` that ``--filter`` and the rest options state."""
+    from mtcal.systems.attitude import AttitudeConfig
+
+    return AttitudeConfig(filter=args.filter, rests=rests_config(args))
+
+
+def detect(args, log: logio.ImuLog, *, use_gyro: bool = True) -> rest_detection.RestReport:
+    """Rests of a log by the rest options: :func:`mtcal.systems.rests.find_rests` with :func:`rests_config`.
+
+    Rests whose listed duration (``t[stop-1] − t[start]``) is below ``--min-rest-s`` are moved to the
+    rejected list, so a listing never shows a rest shorter than the stated minimum.
+    """
+    from mtcal.systems.rests import find_rests
+
+    has_gyro = use_gyro and log.gyro_rad_s is not None
+    config = rests_config(args, has_gyro=has_gyro)
+    return find_rests(log.accel_m_s2, log.dt_mean_s, config, gyro_rad_s=log.gyro_rad_s if has_gyro else None,
+                      time_s=log.time_s)
+
+
+def qncf_settings(log: logio.ImuLog, rep) -> tuple[np.ndarray, object, np.ndarray | None, dict]:
+    """How ``mtcal`` runs the QNCF on a raw log (:func:`mtcal.systems.attitude.qncf_log_setup`) and its description.
+
+    Returns the filter gyro (rad/s), the :class:`~mtcal.filters.qncf.QncfParams`, the start attitude
+    (or None) and a dict of what the command prints (gains, where the start came from, the bias line).
+    """
+    from mtcal.systems.attitude import qncf_log_setup
+
+    setup = qncf_log_setup(log.gyro_for_filter(), log.accel_m_s2, log.dt_mean_s, rep, gyro_rad_s=log.gyro_rad_s)
+    return setup.gyro_rad_s, setup.params, setup.q0, qncf_info(log, setup)
+
+
+def qncf_info(log: logio.ImuLog, setup) -> dict:
+    """What the commands print of a :class:`mtcal.systems.attitude.QncfLogSetup`: gains, start, bias line."""
+    params = setup.params
+    info = {"filter": "qncf", "gravity_m_s2": params.gravity_m_s2,
+            "amd_threshold_pct": params.amd_threshold_pct, "kp_rad_s": params.kp_rad_s,
+            "ki_rad_s2": params.ki_rad_s2, "levelled_from": setup.levelled_from,
+            "initial_gyro_bias_rad_s": setup.bias_rad_s.tolist()}
+    if setup.quiet_core is not None:
+        info["gyro_bias_text"] = rest_bias_text(log, setup.quiet_core)
+    return info
 
 
 def rest_bias_text(log: logio.ImuLog, qc: rest_detection.QuietCore) -> str:

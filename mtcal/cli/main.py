@@ -16,6 +16,8 @@ import re
 import sys
 import warnings
 
+from mtcal.core.allocator import keep_freed_memory
+
 __all__ = ["build_parser", "main"]
 
 #: Options whose value may start with a minus sign (vectors): ``--axis -0.3,0,0.95`` works.
@@ -63,27 +65,19 @@ def _one_line(exc: BaseException) -> str:
     return "".join(c if c.isprintable() else "?" for c in text)[:500]
 
 
-def _keep_freed_memory() -> None:
-    """Let glibc's malloc reuse the memory a command frees (:func:`mtcal.core.allocator.keep_freed_memory`).
-
-    A command on a long log allocates and frees many column-sized temporaries; on the 2-vCPU bench
-    VM fresh pages were a third of the CPU of ``mtcal attitude`` on the 1-hour log.
-    """
-    from mtcal.core.allocator import keep_freed_memory
-
-    keep_freed_memory()
-
-
 def main(argv: list[str] | None = None) -> int:
     """Run ``mtcal`` with ``argv`` (default ``sys.argv[1:]``); returns the exit status.
 
-    The program's entry point: it also tunes the process's allocator (:func:`_keep_freed_memory`).
+    The program's entry point: it also lets glibc's malloc reuse the memory a command frees
+    (:func:`mtcal.core.allocator.keep_freed_memory`: a command on a long log allocates and frees many
+    column-sized temporaries; on the 2-vCPU bench VM fresh pages were a third of the CPU of
+    ``mtcal attitude`` on the 1-hour log).
     """
     argv = list(sys.argv[1:] if argv is None else argv)
     parser = build_parser()
     args = parser.parse_args(_join_negative_vectors(argv))
     debug = os.environ.get("MTCAL_DEBUG", "") not in ("", "0")
-    _keep_freed_memory()
+    keep_freed_memory()
     try:
         with warnings.catch_warnings():
             if not debug:

@@ -4,13 +4,15 @@ Prints the measured rest levels (|a| at rest, accelerometer and gyro noise, gyro
 bias), the band and thresholds used, one line per rest (time span, duration,
 |a|, tilt from the sensor z axis, mean |ω|) and the quiet stretches that were
 rejected with the reason. ``--out`` writes the rests as a table.
+
+The command parses the options into one :class:`mtcal.systems.rests.RestsConfig`
+(:func:`mtcal.cli.common.rests_config`), reads the log, calls :func:`mtcal.systems.rests.find_rests`
+and writes :func:`mtcal.systems.rests.rests_table`.
 """
 
 from __future__ import annotations
 
 import argparse
-
-import numpy as np
 
 from mtcal.cli import common, logio
 
@@ -39,28 +41,17 @@ def run(args: argparse.Namespace) -> int:
     out = None if args.out is None else logio.check_output_path(args.out, [args.log])
 
     def body() -> int:
+        from mtcal.systems.rests import find_rests, rests_table
+
         log = logio.read_log(args.log, common.input_options(args), need="accel")  # gyro used when present
-        use_gyro = log.gyro_rad_s is not None and not args.accel_only
+        gyro = None if args.accel_only else log.gyro_rad_s
         fig.log = log
-        rep = common.detect(args, log, use_gyro=use_gyro)
+        config = common.rests_config(args, has_gyro=gyro is not None)
+        rep = find_rests(log.accel_m_s2, log.dt_mean_s, config, gyro_rad_s=gyro, time_s=log.time_s)
         fig.report = rep
         common.print_report(log, rep)
         if out is not None:
-            t, a = log.time_s, log.accel_m_s2
-            means = np.array([a[r].mean(axis=0) for r in rep.rests]).reshape(-1, 3)
-            cols = {"rest": np.arange(len(rep.rests)),
-                    "start_s": np.array([t[r.start] for r in rep.rests]),
-                    "stop_s": np.array([t[r.stop - 1] for r in rep.rests])}
-            cols["duration_s"] = cols["stop_s"] - cols["start_s"]
-            cols["accel_norm_m_s2"] = np.linalg.norm(means, axis=1)
-            cols["tilt_deg"] = np.degrees(np.arctan2(np.hypot(means[:, 0], means[:, 1]), means[:, 2]))
-            for i, ax in enumerate("xyz"):
-                cols[f"accel_{ax}_m_s2"] = means[:, i]
-            if use_gyro:
-                gm = np.degrees(np.array([log.gyro_rad_s[r].mean(axis=0) for r in rep.rests]).reshape(-1, 3))
-                for i, ax in enumerate("xyz"):
-                    cols[f"gyro_{ax}_deg_s"] = gm[:, i]
-            logio.write_table(out, cols)
+            logio.write_table(out, rests_table(log.time_s, log.accel_m_s2, rep, gyro_rad_s=gyro))
             print(f"rests table: {out}")
         return 0
 

@@ -1,4 +1,4 @@
-"""Error metrics: RMSE, MaxAE, wrapped angle differences, static/moving split, Allan deviation.
+"""Error metrics: RMSE, MaxAE, wrapped angle differences, static/moving split, Allan deviation, bands, variance split.
 
 All reductions act over the sample axis (``axis=-1`` by default for 1-D
 series; pass ``axis`` for other layouts) and are vectorised over trials.
@@ -15,7 +15,7 @@ from mtcal.core.validate import as_float_array, positive_int, positive_scalar, s
 __all__ = ["angle_difference", "rmse", "max_abs_error", "split_static_moving",
            "allan_deviation", "fit_allan_noise", "percentile_band", "bootstrap_medians",
            "MIN_BAND_DRAWS", "band_or_range", "band_label", "median_trial",
-           "OrientationErrors", "orientation_errors", "rmse_over_phase"]
+           "OrientationErrors", "orientation_errors", "rmse_over_phase", "variance_parts"]
 
 
 #: Elements from which :func:`angle_difference` runs a compiled loop (bit-identical to numpy's).
@@ -330,6 +330,55 @@ def bootstrap_medians(samples, rng: np.random.Generator, n_boot: int = 1000) -> 
     if not sets or any(x.size < 2 for x in sets):
         raise ValueError("samples must hold at least one set of >= 2 values")
     return np.stack([np.median(x[rng.integers(0, x.size, (n, x.size))], axis=1) for x in sets], axis=1)
+
+
+def variance_parts(samples, per_draw: int) -> dict:
+    """Split the variance of ``samples`` into a parameter part and a sampling part (law of total variance).
+
+    ``samples`` (T,) are draw-major: consecutive groups of ``per_draw`` sessions share one parameter
+    draw θ (an incomplete last group is left out). One-way random-effects analysis of variance:
+
+    * ``sampling`` = E[Var(Y | θ)], estimated by the mean within-group variance (ddof 1);
+    * ``parameter`` = Var(E[Y | θ]), estimated by the variance of the group means (ddof 1) minus
+      ``sampling / per_draw`` (unbiased; it can come out slightly negative by Monte Carlo error when the
+      parameters contribute little);
+    * ``total`` = ``parameter + sampling``, an unbiased estimate of Var(Y) (compare the sample variance);
+    * ``parameter_share`` = ``parameter / total`` clipped to [0, 1].
+
+    Parameters
+    ----------
+    samples : array_like (T,)
+    per_draw : int
+        Sessions per parameter draw (≥ 2).
+
+    Returns
+    -------
+    dict with ``parameter``, ``sampling``, ``total`` (unit of ``samples`` squared), ``parameter_share`` and
+    ``draws`` (complete groups used).
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(0)
+    >>> y = np.repeat(rng.normal(0, 2, 4000), 2) + rng.normal(0, 1, 8000)
+    >>> p = variance_parts(y, 2)
+    >>> round(p["parameter"]), round(p["sampling"]), p["draws"]
+    (4, 1, 4000)
+    """
+    per_draw = int(per_draw)
+    if per_draw < 2:
+        raise ValueError(f"per_draw must be >= 2 to split the variance, got {per_draw}")
+    x = np.asarray(samples, float)
+    if x.ndim != 1:
+        raise ValueError(f"samples must be 1-D, got shape {x.shape}")
+    g = x.size // per_draw
+    if g < 2:
+        raise ValueError(f"samples must hold at least 2 complete groups of {per_draw}, got {x.size} values")
+    groups = x[:g * per_draw].reshape(g, per_draw)
+    sampling = float(np.mean(np.var(groups, axis=1, ddof=1)))
+    parameter = float(np.var(groups.mean(axis=1), ddof=1)) - sampling / per_draw
+    total = parameter + sampling
+    share = float(np.clip(parameter / total, 0.0, 1.0)) if total > 0 else float("nan")
+    return {"parameter": parameter, "sampling": sampling, "total": total, "parameter_share": share, "draws": g}
 
 
 #: Fewest Monte Carlo draws behind an interval reported as a "95 % band" (docs/conventions.md). With

@@ -16,24 +16,24 @@ if TYPE_CHECKING:  # the eager imports, for type checkers and tests/test_import_
     from .baselines import (accel_only_angle, angle_from_orientation, MagneticDisturbance, mahony_marg, MargGains,
                             simulate_magnetometer, triad_quaternion)
     from .mahony import mahony_imu, MahonyParams, MahonyResult
-    from .registry import (AxisContext, available_filters, filter_names, FilterEntry, get_filter, register_filter,
+    from .registry import (AxisContext, available_filters, BUILTIN_FILTERS, builtin_filter_names, Deferred,
+                           filter_names, FilterEntry, get_filter, RAMS_EKF_DEFAULT_GAIN, register_filter,
                            require_filter, unregister_filter)
-    from .anchors import (RAMS_EKF_DEFAULT_GAIN, run_attitude_filter, run_axis_angle_filter, tilt_error_rad,
-                          twist_angle_rad)
+    from .anchors import run_attitude_filter, run_axis_angle_filter, tilt_error_rad, twist_angle_rad
 
 __all__ = ["qncf", "rams_ekf", "baselines", "mahony", "anchors", "QncfParams", "QncfResult", "QncfFilter",
            "amd_statistic", "initial_attitude_from_accel", "RamsEkfParams", "RamsEkfReference", "RamsEkfResult",
            "RamsEkfFilter", "run_rams_ekf", "measurement_model", "initial_state", "accel_only_angle",
            "MagneticDisturbance", "simulate_magnetometer", "mahony_marg", "MargGains", "angle_from_orientation",
            "triad_quaternion", "MahonyParams", "MahonyResult", "mahony_imu", "registry", "FilterEntry", "AxisContext",
-           "register_filter", "unregister_filter", "get_filter", "filter_names", "available_filters", "require_filter",
+           "Deferred", "BUILTIN_FILTERS", "builtin_filter_names", "register_filter", "unregister_filter", "get_filter", "filter_names", "available_filters", "require_filter",
            "RAMS_EKF_DEFAULT_GAIN", "run_attitude_filter", "run_axis_angle_filter", "tilt_error_rad", "twist_angle_rad"]
 
 #: Submodules, loaded on first attribute access (``import mtcal`` stays light for the CLI).
 _SUBMODULES = ('anchors', 'baselines', 'mahony', 'qncf', 'rams_ekf', 'registry')
 #: Re-exported name → submodule defining it (imported on first access).
 _EXPORTS = {
-    "RAMS_EKF_DEFAULT_GAIN": "anchors", "run_attitude_filter": "anchors", "run_axis_angle_filter": "anchors",
+    "RAMS_EKF_DEFAULT_GAIN": "registry", "run_attitude_filter": "anchors", "run_axis_angle_filter": "anchors",
     "tilt_error_rad": "anchors", "twist_angle_rad": "anchors", "MagneticDisturbance": "baselines",
     "MargGains": "baselines", "accel_only_angle": "baselines", "angle_from_orientation": "baselines",
     "mahony_marg": "baselines", "simulate_magnetometer": "baselines", "triad_quaternion": "baselines",
@@ -41,7 +41,8 @@ _EXPORTS = {
     "QncfParams": "qncf", "QncfResult": "qncf", "amd_statistic": "qncf", "initial_attitude_from_accel": "qncf",
     "RamsEkfFilter": "rams_ekf", "RamsEkfParams": "rams_ekf", "RamsEkfReference": "rams_ekf",
     "RamsEkfResult": "rams_ekf", "initial_state": "rams_ekf", "measurement_model": "rams_ekf",
-    "run_rams_ekf": "rams_ekf", "AxisContext": "registry", "FilterEntry": "registry",
+    "run_rams_ekf": "rams_ekf", "AxisContext": "registry", "FilterEntry": "registry", "Deferred": "registry",
+    "BUILTIN_FILTERS": "registry", "builtin_filter_names": "registry",
     "available_filters": "registry", "filter_names": "registry", "get_filter": "registry",
     "register_filter": "registry", "require_filter": "registry", "unregister_filter": "registry",
 }

@@ -53,10 +53,11 @@ Adapters:
 * The QNCF and Mahony integral gains follow K_p: ``K_i = K_p / 50 s`` (QNCF's
   default ratio).
 
-Each filter is one :func:`mtcal.filters.registry.register_filter` call at the end of this
-module (name, runner, output, default gain and its unit, ours/anchor, optional package); the
-RAMS EKF is registered here too, as an ``output="angle"`` filter (angle about a known axis),
-run through :func:`run_axis_angle_filter`. Everything else looks filters up in the registry.
+Each filter is one entry of :data:`mtcal.filters.registry.BUILTIN_FILTERS` (name, runner
+by module and function — the batch runners of this module — output,
+default gain and its unit, ours/anchor, optional package); the RAMS EKF is declared there
+too, as an ``output="angle"`` filter (angle about a known axis), run through
+:func:`run_axis_angle_filter`. Everything else looks filters up in the registry.
 
 Every filter starts from the same ``q0``: levelled from the mean of the first
 ``init_samples`` accelerometer samples, yaw 0. The three external libraries
@@ -93,16 +94,16 @@ from contextlib import contextmanager
 
 import numpy as np
 
-from mtcal.core.validate import STANDARD_GRAVITY_M_S2, as_float_array, positive_scalar, unit_quaternion
+from mtcal.core.validate import (STANDARD_GRAVITY_M_S2, as_float_array, check_accel_units, check_gyro_units,
+                                 positive_scalar, unit_quaternion)
 
-from mtcal.filters.registry import AxisContext, available_filters, get_filter, register_filter, require_filter
+from mtcal.filters.registry import (RAMS_EKF_DEFAULT_GAIN, AxisContext, available_filters, get_filter, register_filter,
+                                    require_filter)
 
 __all__ = ["available_filters", "require_filter", "run_attitude_filter", "run_axis_angle_filter",
            "reference_difference", "reference_runs", "tilt_error_rad", "twist_angle_rad", "RAMS_EKF_DEFAULT_GAIN"]
 
 _KI_RATIO_S = 50.0
-#: Default of the RAMS EKF's tuned value, σa,moving (m/s²).
-RAMS_EKF_DEFAULT_GAIN = 2.0
 
 
 def _level_q0(accel: np.ndarray, init_samples: int) -> np.ndarray:
@@ -145,10 +146,15 @@ def run_attitude_filter(name: str, gyro_rad_s, accel_m_s2, dt_s: float, gain: fl
     Raises
     ------
     ValueError
-        Unknown filter, bad shapes, non-positive gain/dt, or ``reference=True`` for a filter
-        without a reference runner.
+        Unknown filter, bad shapes, values not finite, a gyro not in rad/s or an accelerometer
+        in g, non-positive gain/dt, or ``reference=True`` for a filter without a reference runner.
     ImportError
         The filter's optional library is not installed.
+
+    Notes
+    -----
+    The records, ``dt_s``, the gain and ``q0`` are checked here, once; the registry's runners
+    trust them (finite float64 (T, N, 3), units checked, ``dt_s`` and gain > 0, ``q0`` unit (T, 4)).
     """
     entry = get_filter(name)
     if entry.output != "attitude":
@@ -161,6 +167,9 @@ def run_attitude_filter(name: str, gyro_rad_s, accel_m_s2, dt_s: float, gain: fl
     a = as_float_array(accel_m_s2, "accel_m_s2", ndim=3, last_dim=3, copy=False)
     if w.shape != a.shape:
         raise ValueError(f"gyro_rad_s and accel_m_s2 must have the same shape, got {w.shape} and {a.shape}")
+    check_gyro_units(w)
+    if w.shape[1] > 1:
+        check_accel_units(a)
     dt = positive_scalar(dt_s, "dt_s")
     g = positive_scalar(entry.default_gain if gain is None else gain, "gain")
     trials = w.shape[0]
@@ -277,7 +286,7 @@ def run_axis_angle_filter(name: str, gyro_rad_s, accel_m_s2, dt_s: float, gain: 
     entry = get_filter(name)
     if entry.output == "attitude":
         q = run_attitude_filter(name, gyro_rad_s, accel_m_s2, dt_s, gain, init_samples=init_samples)
-        return twist_angle_rad(q, context.axis_s, ref_index=ref_index)
+        return _twist(q, _unit_axis(context.axis_s), ref_index)
     require_filter(name)
     w = as_float_array(gyro_rad_s, "gyro_rad_s", ndim=3, last_dim=3, copy=False)
     a = as_float_array(accel_m_s2, "accel_m_s2", ndim=3, last_dim=3, copy=False)
@@ -293,9 +302,9 @@ def _qncf(w, a, dt, gain, q0):
 
 
 def _mahony(w, a, dt, gain, q0):
-    from mtcal.filters.mahony import MahonyParams, mahony_imu
+    from mtcal.filters.mahony import MahonyParams, mahony_trusted
 
-    return mahony_imu(w, a, dt, MahonyParams(kp_rad_s=gain, ki_rad_s2=gain / _KI_RATIO_S), q0=q0).q_ws
+    return mahony_trusted(w, a, dt, MahonyParams(kp_rad_s=gain, ki_rad_s2=gain / _KI_RATIO_S), q0).q_ws
 
 
 def _per_record(runner):
@@ -320,9 +329,9 @@ def _madgwick(w: np.ndarray, a: np.ndarray, dt: float, beta: float, q0: np.ndarr
 
 def _madgwick_compiled(w: np.ndarray, a: np.ndarray, dt: float, beta: float, q0: np.ndarray) -> np.ndarray:
     """:func:`_madgwick` without the Python loop: ahrs' row t (inputs delayed) is the attitude before sample t."""
-    from mtcal.filters.xio_ahrs import madgwick
+    from mtcal.filters.xio_ahrs import madgwick_trusted
 
-    return madgwick(w, a, dt, beta, q0=q0 / np.linalg.norm(q0), timing="before", hold_zero_rate=True)[0]
+    return madgwick_trusted(w, a, dt, beta, q0 / np.linalg.norm(q0), timing="before", hold_zero_rate=True)
 
 
 def _vqf(w: np.ndarray, a: np.ndarray, dt: float, tau_acc_s: float, q0: np.ndarray) -> np.ndarray:
@@ -383,28 +392,28 @@ def twist_angle_rad(q_ws, axis_s, ref_index: int = 0) -> np.ndarray:
     ``q_rel = q_ws[ref]⁻¹ ⊗ q_ws[k]`` is the rotation in the sensor frame; its twist
     about the unit axis ``v`` is ``2 atan2(q_rel,vec · v, q_rel,0)`` (wrapped to (−π, π]).
     """
+    q = as_float_array(q_ws, "q_ws", ndim=(2, 3), last_dim=4, copy=False)
+    return _twist(q, _unit_axis(axis_s), ref_index)
+
+
+def _unit_axis(axis_s) -> np.ndarray:
+    v = as_float_array(axis_s, "axis_s", ndim=1, last_dim=3)
+    return v / np.linalg.norm(v)
+
+
+def _twist(q: np.ndarray, v: np.ndarray, ref_index: int) -> np.ndarray:
+    """:func:`twist_angle_rad` of checked attitudes (finite float64 (..., N, 4), e.g. a filter's output) and
+    a unit axis (3,)."""
     from mtcal.core import rotations
 
-    q = as_float_array(q_ws, "q_ws", ndim=(2, 3), last_dim=4, copy=False)
-    v = as_float_array(axis_s, "axis_s", ndim=1, last_dim=3)
-    v = v / np.linalg.norm(v)
     ref = q[..., ref_index:ref_index + 1, :]
     rel = rotations.hamilton(rotations.quat_conjugate(np.broadcast_to(ref, q.shape)), q)
     return rotations.wrap_angle(2.0 * np.arctan2(rel[..., 1:] @ v, rel[..., 0]))
 
 
-# --------------------------------------------------------------------------- registrations
-register_filter("qncf", _qncf, output="attitude", default_gain=1.0, gain_unit="K_p (1/s)", origin="ours",
-                description="quaternion nonlinear complementary filter (wang2023cja Eq 5-9), K_i = K_p / 50 s")
-register_filter("mahony", _mahony, output="attitude", default_gain=1.0, gain_unit="K_p (1/s)", origin="ours",
-                description="IMU-only Mahony explicit complementary filter, K_i = K_p / 50 s")
-register_filter("madgwick", _per_record(_madgwick_compiled), output="attitude", default_gain=0.033,
-                gain_unit="beta (rad/s)", origin="anchor", requires="ahrs", reference=_per_record(_madgwick),
-                description="ahrs.filters.Madgwick (gradient descent), inputs delayed one sample; "
-                            "compiled equivalent (xio_ahrs), ahrs itself as the reference")
-register_filter("vqf", _per_record(_vqf), output="attitude", default_gain=3.0, gain_unit="tau_acc (s)",
-                origin="anchor", requires="vqf", description="vqf.VQF 6D (Laidig & Seel 2023), gyro delayed one sample")
-register_filter("fusion", _per_record(_fusion), output="attitude", default_gain=0.5, gain_unit="gain (1)",
-                origin="anchor", requires="imufusion", description="imufusion.Ahrs (x-io Fusion), NWU, °/s and g")
-# the RAMS EKF entry ("rams_ekf", angle output) is registered by mtcal.systems.surface_angle: it runs the
-# mtcal angle procedure (ZVD-switched EKF from the reference rest, restart after clipping)
+# --------------------------------------------------------------------------- the registry's runners
+# declared in mtcal.filters.registry.BUILTIN_FILTERS (by module and function, imported on first call)
+_madgwick_batch = _per_record(_madgwick_compiled)
+_madgwick_ahrs_batch = _per_record(_madgwick)
+_vqf_batch = _per_record(_vqf)
+_fusion_batch = _per_record(_fusion)

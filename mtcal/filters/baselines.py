@@ -127,8 +127,11 @@ def triad_quaternion(accel_m_s2, mag) -> np.ndarray:
 
     Earth frame: z up (along the static specific force), x magnetic north.
     """
-    a = as_float_array(accel_m_s2, "accel_m_s2", last_dim=3)
-    m = as_float_array(mag, "mag", last_dim=3)
+    return _triad(as_float_array(accel_m_s2, "accel_m_s2", last_dim=3), as_float_array(mag, "mag", last_dim=3))
+
+
+def _triad(a: np.ndarray, m: np.ndarray) -> np.ndarray:
+    """:func:`triad_quaternion` of checked (finite float64 (..., 3)) accelerometer and magnetometer readings."""
     ez = a / np.linalg.norm(a, axis=-1, keepdims=True)
     ey = np.cross(ez, m)
     ey /= np.linalg.norm(ey, axis=-1, keepdims=True)
@@ -188,7 +191,7 @@ def mahony_marg(gyro_rad_s, accel_m_s2, mag, dt_s: float, gains: MargGains | Non
     k = MargGains() if gains is None else gains
     t_n, n = g.shape[:2]
     if q0 is None:
-        q = triad_quaternion(a[:, :20].mean(axis=1), m[:, :20].mean(axis=1))
+        q = _triad(a[:, :20].mean(axis=1), m[:, :20].mean(axis=1))
     else:
         q = np.broadcast_to(rotations.quat_normalize(as_float_array(q0, "q0", last_dim=4)), (t_n, 4)).copy()
     an = a / np.linalg.norm(a, axis=-1, keepdims=True)

@@ -181,11 +181,23 @@ def mahony_imu(gyro_rad_s, accel_m_s2, dt_s: float, params: MahonyParams = Mahon
     q = unit_quaternion(q0, "q0")
     if q.shape not in ((4,), (trials, 4)):
         raise ValueError(f"q0 must have shape (4,) or ({trials}, 4), got {q.shape}")
-    q = np.ascontiguousarray(np.broadcast_to(q, (trials, 4)))
-    q_out = np.empty(w3.shape[:2] + (4,))
+    res = mahony_trusted(w3, a3, dt, params, np.broadcast_to(q, (trials, 4)))
+    return MahonyResult(res.q_ws[0], res.bias_rad_s[0]) if single else res
+
+
+def mahony_trusted(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: float, params: MahonyParams,
+                   q0: np.ndarray) -> MahonyResult:
+    """:func:`mahony_imu` on a batch a caller has checked at its own edge (e.g.
+    :func:`mtcal.filters.anchors.run_attitude_filter`); nothing is checked again.
+
+    Preconditions: ``gyro_rad_s``, ``accel_m_s2`` finite float64 of one shape (T, N, 3) in rad/s
+    and m/s² (units checked); ``dt_s`` > 0 (s); ``params`` a :class:`MahonyParams`; ``q0`` unit
+    quaternions (T, 4). Returns the batch result ``q_ws`` (T, N, 4), ``bias_rad_s`` (T, 3).
+    """
+    trials = gyro_rad_s.shape[0]
+    q = np.ascontiguousarray(q0)
+    q_out = np.empty(gyro_rad_s.shape[:2] + (4,))
     bias = np.empty((trials, 3))
-    _run(np.ascontiguousarray(w3), np.ascontiguousarray(a3), q, dt, float(params.kp_rad_s),
+    _run(np.ascontiguousarray(gyro_rad_s), np.ascontiguousarray(accel_m_s2), q, dt_s, float(params.kp_rad_s),
          float(params.ki_rad_s2), q_out, bias)
-    if single:
-        return MahonyResult(q_out[0], bias[0])
     return MahonyResult(q_out, bias)

@@ -9,15 +9,22 @@ batch of records:
   with ``gyro_rad_s``, ``accel_m_s2`` of shape (T, N, 3) (T trials of N samples; rad/s,
   m/s², gyro sample k over ``[t_k, t_{k+1}]``), ``dt_s`` (s), ``gain`` (> 0) and ``q0``
   (T, 4); returns the scalar-first sensor → world (z up) attitude at each ``t_k``, (T, N, 4).
+  A runner trusts its inputs: :func:`mtcal.filters.anchors.run_attitude_filter` checks them
+  once (finite float64, units, ``dt_s`` and ``gain`` > 0, unit ``q0``).
 * ``output="angle"`` — ``run(gyro_rad_s, accel_m_s2, dt_s, gain, context) -> theta_rad``
   (T, N): the angle about a known axis (a movable surface), where ``context`` is an
   :class:`AxisContext` (axis, rest flags, initial specific force, sensor noise).
 
 Consumers look filters up here and never by name: :func:`mtcal.filters.anchors.run_attitude_filter`,
 the sweep evaluators (``attitude`` takes every attitude filter, ``surface`` every
-filter) and :mod:`mtcal.sweep.bakeoff` (angle filters join the surface family).
-mtcal's built-in filters are registered by :mod:`mtcal.filters.anchors` (loaded on
-the first look-up). Adding a filter is one :func:`register_filter` call.
+filter), :mod:`mtcal.sweep.bakeoff` (angle filters join the surface family) and the
+``mtcal attitude --filter`` choices.
+
+mtcal's built-in filters are declared in one place, :data:`BUILTIN_FILTERS` below: each
+entry names its runner by module and function (:class:`Deferred`), imported on the
+runner's first call, so no module registers anything by being imported and listing the
+filters imports none of them. Adding a built-in filter is one entry in that table; a
+notebook or a test adds its own with :func:`register_filter`.
 
 References
 ----------
@@ -46,17 +53,43 @@ from typing import Callable
 
 import numpy as np
 
-__all__ = ["FilterEntry", "AxisContext", "register_filter", "unregister_filter", "get_filter", "filter_names",
-           "available_filters", "require_filter", "OUTPUTS", "ORIGINS"]
+__all__ = ["FilterEntry", "AxisContext", "Deferred", "BUILTIN_FILTERS", "register_filter", "unregister_filter",
+           "get_filter", "filter_names", "builtin_filter_names", "available_filters", "require_filter", "OUTPUTS",
+           "ORIGINS", "RAMS_EKF_DEFAULT_GAIN"]
 
 #: What a filter returns: an attitude quaternion, or an angle about a known axis.
 OUTPUTS = ("attitude", "angle")
 #: ``"ours"`` = implemented in mtcal; ``"anchor"`` = an open-source library adapted for comparison.
 ORIGINS = ("ours", "anchor")
 
-_REGISTRY: dict[str, "FilterEntry"] = {}
-_BUILTINS = ("mtcal.filters.anchors",)   # modules whose import registers mtcal's filters
-_loaded = False
+#: Default of the RAMS EKF's tuned value, σa,moving (m/s²).
+RAMS_EKF_DEFAULT_GAIN = 2.0
+
+
+@dataclass(frozen=True)
+class Deferred:
+    """A runner named by its module and function, imported on its first call.
+
+    Calling it calls ``module.function`` with the same arguments; the declaration itself
+    imports nothing (the table of built-in filters stays light, and the module that
+    defines a runner does not register it).
+
+    Examples
+    --------
+    >>> norm = Deferred("numpy.linalg", "norm")
+    >>> float(norm([3.0, 4.0]))
+    5.0
+    """
+
+    module: str
+    function: str
+
+    def resolve(self) -> Callable:
+        """The named function (imports ``module``)."""
+        return getattr(importlib.import_module(self.module), self.function)
+
+    def __call__(self, *args, **kwargs):
+        return self.resolve()(*args, **kwargs)
 
 
 @dataclass(frozen=True)
@@ -126,6 +159,31 @@ class FilterEntry:
     reference: Callable | None = None
 
 
+#: mtcal's built-in filters, in listing order: the one declaration of every filter the bake-off, the
+#: sweep, the anchors and the CLI see (runners in :mod:`mtcal.filters.anchors`; the RAMS EKF entry runs
+#: the ``mtcal angle`` system, :mod:`mtcal.systems.surface_angle`: ZVD-switched EKF from the reference
+#: rest, restart after gyro clipping).
+BUILTIN_FILTERS = (
+    FilterEntry("qncf", Deferred("mtcal.filters.anchors", "_qncf"), "attitude", 1.0, "K_p (1/s)", "ours",
+                "quaternion nonlinear complementary filter (wang2023cja Eq 5-9), K_i = K_p / 50 s"),
+    FilterEntry("mahony", Deferred("mtcal.filters.anchors", "_mahony"), "attitude", 1.0, "K_p (1/s)", "ours",
+                "IMU-only Mahony explicit complementary filter, K_i = K_p / 50 s"),
+    FilterEntry("madgwick", Deferred("mtcal.filters.anchors", "_madgwick_batch"), "attitude", 0.033, "beta (rad/s)",
+                "anchor", "ahrs.filters.Madgwick (gradient descent), inputs delayed one sample; "
+                          "compiled equivalent (xio_ahrs), ahrs itself as the reference",
+                requires="ahrs", reference=Deferred("mtcal.filters.anchors", "_madgwick_ahrs_batch")),
+    FilterEntry("vqf", Deferred("mtcal.filters.anchors", "_vqf_batch"), "attitude", 3.0, "tau_acc (s)", "anchor",
+                "vqf.VQF 6D (Laidig & Seel 2023), gyro delayed one sample", requires="vqf"),
+    FilterEntry("fusion", Deferred("mtcal.filters.anchors", "_fusion_batch"), "attitude", 0.5, "gain (1)", "anchor",
+                "imufusion.Ahrs (x-io Fusion), NWU, °/s and g", requires="imufusion"),
+    FilterEntry("rams_ekf", Deferred("mtcal.systems.surface_angle", "_registered_rams_ekf"), "angle",
+                RAMS_EKF_DEFAULT_GAIN, "sigma_a_moving (m/s²)", "ours",
+                "RAMS EKF as mtcal angle runs it: angle about a known axis, ZVD switching, restart "
+                "after clipping (wang2022sensors Sec. 4)"),
+)
+_REGISTRY: dict[str, FilterEntry] = {e.name: e for e in BUILTIN_FILTERS}
+
+
 def register_filter(name: str, run: Callable, *, output: str, default_gain: float, gain_unit: str, origin: str,
                     description: str = "", requires: str | None = None, reference: Callable | None = None,
                     replace: bool = False) -> FilterEntry:
@@ -160,34 +218,40 @@ def register_filter(name: str, run: Callable, *, output: str, default_gain: floa
 
 def unregister_filter(name: str) -> None:
     """Remove a registered filter (tests, notebooks trying a variant); ValueError if unknown."""
-    _load_builtins()
     if name not in _REGISTRY:
         raise ValueError(f"filter must be one of {sorted(_REGISTRY)}, got {name!r}")
     del _REGISTRY[name]
 
 
-def _load_builtins() -> None:
-    global _loaded
-    if not _loaded:
-        _loaded = True
-        for module in _BUILTINS:
-            importlib.import_module(module)
-
-
 def filter_names(*, output: str | None = None, origin: str | None = None) -> list[str]:
     """Registered names in registration order, optionally only one ``output`` / ``origin``."""
-    _load_builtins()
+    return _names(_REGISTRY.values(), output, origin)
+
+
+def builtin_filter_names(*, output: str | None = None, origin: str | None = None) -> list[str]:
+    """Names declared in :data:`BUILTIN_FILTERS`, whatever a session registered or removed since.
+
+    For defaults that must not depend on the session (the bake-off's filters).
+
+    Examples
+    --------
+    >>> builtin_filter_names(output="attitude")
+    ['qncf', 'mahony', 'madgwick', 'vqf', 'fusion']
+    """
+    return _names(BUILTIN_FILTERS, output, origin)
+
+
+def _names(entries, output: str | None, origin: str | None) -> list[str]:
     if output is not None and output not in OUTPUTS:
         raise ValueError(f"output must be one of {list(OUTPUTS)}, got {output!r}")
     if origin is not None and origin not in ORIGINS:
         raise ValueError(f"origin must be one of {list(ORIGINS)}, got {origin!r}")
-    return [n for n, e in _REGISTRY.items() if (output is None or e.output == output)
+    return [e.name for e in entries if (output is None or e.output == output)
             and (origin is None or e.origin == origin)]
 
 
 def get_filter(name: str) -> FilterEntry:
     """The entry registered as ``name`` (ValueError listing the valid names)."""
-    _load_builtins()
     if not isinstance(name, str) or name not in _REGISTRY:
         raise ValueError(f"filter must be one of {list(_REGISTRY)}, got {name!r}")
     return _REGISTRY[name]

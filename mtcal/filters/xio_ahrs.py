@@ -302,6 +302,22 @@ def madgwick(gyro_rad_s, accel_m_s2, dt_s: float, beta_rad_s, *, mag_uT=None, q0
     return out
 
 
+def madgwick_trusted(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: float, beta_rad_s: float,
+                     q0: np.ndarray, *, timing: str = "after", hold_zero_rate: bool = False) -> np.ndarray:
+    """6D :func:`madgwick` with one gain on a record a caller has checked at its own edge (e.g.
+    :func:`mtcal.filters.anchors.run_attitude_filter`); nothing is checked again. Shape (N, 4).
+
+    Preconditions: ``gyro_rad_s``, ``accel_m_s2`` finite float64 of one shape (N, 3); ``dt_s`` > 0
+    (s); ``beta_rad_s`` > 0 (rad/s); ``q0`` a unit quaternion (4,); ``timing`` in :data:`TIMINGS`.
+    Same numbers as ``madgwick(gyro_rad_s, accel_m_s2, dt_s, beta_rad_s, q0=q0, ...)[0]``.
+    """
+    g, a = np.ascontiguousarray(gyro_rad_s), np.ascontiguousarray(accel_m_s2)
+    out = np.empty((1, g.shape[0], 4))
+    _madgwick_lanes(g, a, np.zeros((1, 3)), False, q0, np.array([float(beta_rad_s)]), dt_s, 1.0,
+                    timing == "before", bool(hold_zero_rate), out)
+    return out[0]
+
+
 def mahony(gyro_rad_s, accel_m_s2, dt_s: float, kp_rad_s, ki_rad_s2, *, mag_uT=None, q0=None,
            timing: str = "after") -> np.ndarray:
     """Mahony's explicit complementary filter (6D, or 9D with ``mag_uT``) for each (K_p, K_i), shape (L, N, 4).

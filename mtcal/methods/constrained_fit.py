@@ -75,7 +75,8 @@ import numpy as np
 
 from mtcal.core import rotations
 from mtcal.core.validate import as_float_array, positive_int, positive_scalar, unit_quaternion
-from mtcal.methods.quaternion_lsq import MAX_CONDITION, align_pairs, apply_error_matrix, least_squares_error_matrix
+from mtcal.methods import quaternion_lsq  # its trusted cores (_align_pairs, _least_squares, _apply)
+from mtcal.methods.quaternion_lsq import MAX_CONDITION
 
 __all__ = [
     "MIN_POSITIONS", "so4_from_quaternions", "associate_matrix", "factor_so4", "project_to_so4",
@@ -275,16 +276,16 @@ def distance_to_orthogonal(matrix) -> np.ndarray:
 # estimators
 # --------------------------------------------------------------------------
 def _pairs(q_sensor, q_body, minimum: int, method: str) -> tuple[np.ndarray, np.ndarray]:
-    """Validate (..., K, 4) pairs, apply the sign rule of calibration.align_pairs."""
-    q_s = as_float_array(q_sensor, "q_sensor", last_dim=4)
-    q_b = as_float_array(q_body, "q_body", last_dim=4)
+    """Validate (..., K, 4) unit-quaternion pairs (once), apply the sign rule of :func:`align_pairs`."""
+    q_s = unit_quaternion(q_sensor, "q_sensor")
+    q_b = unit_quaternion(q_body, "q_body")
     if q_s.ndim < 2 or q_s.shape != q_b.shape:
         raise ValueError(f"q_sensor and q_body must both have shape (K, 4) or (..., K, 4), "
                          f"got {q_s.shape} and {q_b.shape}")
     k = q_s.shape[-2]
     if k < minimum:
         raise ValueError(f"q_sensor must hold at least {minimum} positions for {method}, got {k}")
-    return align_pairs(q_s, q_b)
+    return quaternion_lsq._align_pairs(q_s, q_b)
 
 
 def _degenerate(bad: np.ndarray, out: np.ndarray, on_degenerate: str, message: str) -> np.ndarray:
@@ -360,7 +361,11 @@ def fit_so4(q_sensor, q_body, *, on_degenerate: str = "raise") -> So4Fit:
     >>> bool(np.allclose(fit.p, p) and np.allclose(fit.r, rotations.quat_conjugate(c)))
     True
     """
-    q_s, q_b = _pairs(q_sensor, q_body, MIN_POSITIONS["so4"], "the SO(4) fit (6 unknowns)")
+    return _fit_so4(*_pairs(q_sensor, q_body, MIN_POSITIONS["so4"], "the SO(4) fit (6 unknowns)"), on_degenerate)
+
+
+def _fit_so4(q_s: np.ndarray, q_b: np.ndarray, on_degenerate: str) -> So4Fit:
+    """:func:`fit_so4` of sign-aligned unit-quaternion pairs (..., K, 4), K ≥ 3 (from :func:`_pairs`)."""
     b = np.swapaxes(q_b, -1, -2) @ q_s
     s = np.linalg.svd(b, compute_uv=False)
     bad = s[..., 2] <= _REL_TOL * s[..., 0]
@@ -433,7 +438,12 @@ def fit_mounting(q_sensor, q_body, *, on_degenerate: str = "raise") -> MountingF
     >>> bool(np.allclose(fit.c, c))
     True
     """
-    q_s, q_b = _pairs(q_sensor, q_body, MIN_POSITIONS["mounting"], "the mounting fit (3 unknowns)")
+    return _fit_mounting(*_pairs(q_sensor, q_body, MIN_POSITIONS["mounting"], "the mounting fit (3 unknowns)"),
+                         on_degenerate)
+
+
+def _fit_mounting(q_s: np.ndarray, q_b: np.ndarray, on_degenerate: str) -> MountingFit:
+    """:func:`fit_mounting` of sign-aligned unit-quaternion pairs (..., K, 4), K ≥ 1 (from :func:`_pairs`)."""
     v = rotations.hamilton(rotations.quat_conjugate(q_b), q_s)          # (..., K, 4) = ±c
     kmat = np.swapaxes(v, -1, -2) @ v
     lam, vec = np.linalg.eigh(kmat)
@@ -453,7 +463,7 @@ def mounting_error_matrix(q_sensor, q_body) -> np.ndarray:
 
 
 def _residual(m: np.ndarray, q_s: np.ndarray, q_b: np.ndarray) -> np.ndarray:
-    return _angle(apply_error_matrix(m, q_s), q_b)
+    return _angle(quaternion_lsq._apply(np.ascontiguousarray(m), q_s), q_b)
 
 
 def _angle(q1: np.ndarray, q2: np.ndarray) -> np.ndarray:
@@ -608,15 +618,15 @@ def simulate_calibration_errors(layout_rad, scenario: CalibrationScenario, n_tri
     qs_test = sensor(qb_test)
 
     nan = np.full((n_trials, 4, 4), np.nan)
+    pairs = quaternion_lsq._align_pairs(q_s, q_b)          # unit quaternions made here: no second check
     mats = {
-        "eq13": least_squares_error_matrix(q_s, q_b, on_degenerate="nan")
-        if k >= MIN_POSITIONS["eq13"] else nan,
-        "so4": fit_so4(q_s, q_b, on_degenerate="nan").matrix if k >= MIN_POSITIONS["so4"] else nan,
-        "mounting": fit_mounting(q_s, q_b, on_degenerate="nan").matrix,
+        "eq13": quaternion_lsq._least_squares(*pairs, "nan") if k >= MIN_POSITIONS["eq13"] else nan,
+        "so4": _fit_so4(*pairs, "nan").matrix if k >= MIN_POSITIONS["so4"] else nan,
+        "mounting": _fit_mounting(*pairs, "nan").matrix,
     }
     out = {}
     for name, m in mats.items():
-        err = _angle(apply_error_matrix(m, qs_test), qb_test)
+        err = _angle(quaternion_lsq._apply(np.ascontiguousarray(m), qs_test), qb_test)
         out[name] = np.sqrt(np.mean(err**2, axis=-1))
     return (out, mats) if return_matrices else out
 

@@ -273,7 +273,11 @@ def roll_projection(gyro_rad_s) -> np.ndarray:
     ratio for either sign of θ̇ and defined at ω_y = 0. Meaningless when
     θ̇ → 0 (Eq 15): then it returns the angle of the gyro errors.
     """
-    w = _gyro(gyro_rad_s)
+    return _projection(_gyro(gyro_rad_s))
+
+
+def _projection(w: np.ndarray) -> np.ndarray:
+    """:func:`roll_projection` of a checked gyro record (finite float64 (..., N, 3), rad/s)."""
     if w.size >= _KERNEL_MIN_SIZE:  # long records: one compiled pass, the same operations
         from mtcal.methods import _gyro_roll_kernels  # here: numba is imported only when called
 
@@ -286,7 +290,11 @@ def roll_projection(gyro_rad_s) -> np.ndarray:
 
 def pitch_rate_magnitude(gyro_rad_s) -> np.ndarray:
     """``|θ̇| = √(ω_y² + ω_z²)`` (rad/s), exact for ψ̇ = 0 by Eq 11 and independent of φ."""
-    w = _gyro(gyro_rad_s)
+    return _pitch_rate(_gyro(gyro_rad_s))
+
+
+def _pitch_rate(w: np.ndarray) -> np.ndarray:
+    """:func:`pitch_rate_magnitude` of a checked gyro record (finite float64 (..., N, 3), rad/s)."""
     return np.hypot(w[..., 1], w[..., 2])
 
 
@@ -354,8 +362,8 @@ def roll_estimates(gyro_rad_s, dt_s: float, threshold_rad_s: float, *,
         raise ValueError(f"threshold_rad_s must be in rad/s (<= {MAX_RATE_RAD_S:.4g}); got {thr:.6g} "
                          "(degrees passed as radians?)")
     phi0 = np.asarray(angle_rad(roll0, "roll0"))[..., None]
-    proj = roll_projection(w)
-    use = pitch_rate_magnitude(w) > thr
+    proj = _projection(w)
+    use = _pitch_rate(w) > thr
     cum = _cumulative_angle(w[..., 0], dt)
     return proj, phi0 + cum, _hybrid_from_parts(proj, cum, use, phi0), use
 
@@ -412,7 +420,7 @@ def roll_hybrid_rmse_sweep(gyro_rad_s, dt_s: float, thresholds_rad_s, *, roll_tr
         raise ValueError(f"engine must be one of ('numba', 'numpy'), got {engine!r}")
     phi0 = np.asarray(angle_rad(roll0, "roll0"))[..., None]
     truth = np.asarray(angle_rad(roll_true, "roll_true"))
-    proj, rate, cum = roll_projection(w), pitch_rate_magnitude(w), _cumulative_angle(w[..., 0], dt)
+    proj, rate, cum = _projection(w), _pitch_rate(w), _cumulative_angle(w[..., 0], dt)
     if engine == "numba":
         from mtcal.methods import _gyro_roll_kernels  # here: numba is imported only when called
 

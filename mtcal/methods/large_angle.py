@@ -99,9 +99,13 @@ def pitch_roll_eq2(accel) -> np.ndarray:
     accel : array_like, shape (..., 3)
         Specific force in any unit (m/s² or g).
     """
-    f = as_float_array(accel, "accel", last_dim=3)
+    return _eq2(as_float_array(accel, "accel", last_dim=3))
+
+
+def _eq2(f: np.ndarray, name: str = "accel") -> np.ndarray:
+    """:func:`pitch_roll_eq2` of a checked (finite, float64, (..., 3)) specific force; a zero vector is refused."""
     if np.any(np.linalg.norm(f, axis=-1) == 0.0):
-        raise ValueError("accel must not contain a zero vector (attitude undefined)")
+        raise ValueError(f"{name} must not contain a zero vector (attitude undefined)")
     return rotations.pitch_roll_from_specific_force(f)
 
 
@@ -155,10 +159,12 @@ def pitch_error_eq8(pitch, roll, delta_accel_m_s2, *, preset_rad=0.0,
 
     ``Δθ = −(ΔA/g)[cosθ + √2 sinθ sin(φ + λ + 45°)]``.
     """
-    theta, phi = _pitch(pitch), _roll(roll)
-    lam = angle_rad(preset_rad, "preset_rad")
-    da = _delta(delta_accel_m_s2)
-    gg = _gravity(g)
+    return _eq8(_pitch(pitch), _roll(roll), angle_rad(preset_rad, "preset_rad"), _delta(delta_accel_m_s2),
+                _gravity(g))
+
+
+def _eq8(theta: np.ndarray, phi: np.ndarray, lam: np.ndarray, da: np.ndarray, gg: float) -> np.ndarray:
+    """:func:`pitch_error_eq8` of checked inputs (θ, φ, λ in range, rad; ΔA finite; g > 0)."""
     return -(da / gg) * (np.cos(theta) + np.sqrt(2.0) * np.sin(theta) * np.sin(phi + lam + np.pi / 4))
 
 
@@ -196,7 +202,11 @@ def preset_lambda(pitch, *, lambda1_rad: float = LAMBDA1_RAD, lambda2_rad: float
     >>> np.degrees(preset_lambda(np.radians([-30.0, 30.0])))
     array([  45., -135.])
     """
-    theta = _pitch(pitch)
+    return _preset_lambda(_pitch(pitch), lambda1_rad, lambda2_rad)
+
+
+def _preset_lambda(theta: np.ndarray, lambda1_rad, lambda2_rad) -> np.ndarray:
+    """:func:`preset_lambda` of a checked pitch θ (rad, |θ| ≤ π/2); the preset angles are checked here."""
     l1, l2 = angle_rad(lambda1_rad, "lambda1_rad"), angle_rad(lambda2_rad, "lambda2_rad")
     return np.where(theta <= 0.0, l1, l2)
 
@@ -213,8 +223,9 @@ def pitch_error_eq10(pitch, roll, delta_accel_m_s2, *, g: float = STANDARD_GRAVI
     >>> round(float(pitch_error_eq10(np.pi / 2, 0.0, 1.0, g=1.0)), 6)   # √2 ΔA/g at the pole
     1.414214
     """
-    lam = preset_lambda(pitch, lambda1_rad=lambda1_rad, lambda2_rad=lambda2_rad)
-    return pitch_error_eq8(pitch, roll, delta_accel_m_s2, preset_rad=lam, g=g)
+    theta = _pitch(pitch)
+    return _eq8(theta, _roll(roll), _preset_lambda(theta, lambda1_rad, lambda2_rad), _delta(delta_accel_m_s2),
+                _gravity(g))
 
 
 def preset_matrix(preset_rad, *, printed: bool = False) -> np.ndarray:
@@ -229,7 +240,11 @@ def preset_matrix(preset_rad, *, printed: bool = False) -> np.ndarray:
         ``[[1,0,0],[0,cosλ,sinλ],[0,−sinλ,cosλ]]``. True: Eq 6 as printed
         (``−sinλ`` at (2,3)), which yields ``sin(φ−λ)``.
     """
-    lam = angle_rad(preset_rad, "preset_rad")
+    return _preset_matrix(angle_rad(preset_rad, "preset_rad"), printed)
+
+
+def _preset_matrix(lam: np.ndarray, printed: bool = False) -> np.ndarray:
+    """:func:`preset_matrix` of a checked λ (rad)."""
     c, s = np.cos(lam), np.sin(lam)
     if printed:
         s = -s
@@ -244,10 +259,13 @@ def preset_specific_force(pitch, roll, preset_rad, *, g: float = STANDARD_GRAVIT
     Computed as ``C_b^{b1} f^b`` with :func:`preset_matrix` and
     :func:`mtcal.core.rotations.specific_force_zyx`; shape (..., 3) in the unit of ``g``.
     """
-    theta, phi = _pitch(pitch), _roll(roll)
-    f_b = rotations.specific_force_zyx(theta, phi, _gravity(g))
-    c = preset_matrix(preset_rad)
-    return np.einsum("...ij,...j->...i", c, f_b)
+    return _preset_force(_pitch(pitch), _roll(roll), angle_rad(preset_rad, "preset_rad"), _gravity(g))
+
+
+def _preset_force(theta: np.ndarray, phi: np.ndarray, lam: np.ndarray, gg: float) -> np.ndarray:
+    """:func:`preset_specific_force` of checked θ, φ, λ (rad, in range) and g > 0."""
+    f_b = rotations.specific_force_zyx(theta, phi, gg)
+    return np.einsum("...ij,...j->...i", _preset_matrix(lam), f_b)
 
 
 def pitch_roll_from_preset_triad(accel_b1, preset_rad) -> np.ndarray:
@@ -255,9 +273,12 @@ def pitch_roll_from_preset_triad(accel_b1, preset_rad) -> np.ndarray:
 
     Returns ``[θ, φ]`` (rad, φ wrapped to [−π, π)) along the last axis.
     """
-    f = as_float_array(accel_b1, "accel_b1", last_dim=3)
-    lam = angle_rad(preset_rad, "preset_rad")
-    out = pitch_roll_eq2(f)
+    return _from_preset_triad(as_float_array(accel_b1, "accel_b1", last_dim=3), angle_rad(preset_rad, "preset_rad"))
+
+
+def _from_preset_triad(f: np.ndarray, lam: np.ndarray) -> np.ndarray:
+    """:func:`pitch_roll_from_preset_triad` of a checked specific force (..., 3) and λ (rad)."""
+    out = _eq2(f, "accel_b1")
     roll = rotations.wrap_angle(out[..., 1] - lam)
     return np.stack([out[..., 0], roll], axis=-1)
 
@@ -281,10 +302,14 @@ def select_preset_pitch(accel_lambda1, accel_lambda2) -> tuple[np.ndarray, np.nd
     uses_lambda1 : ndarray of bool
         True where triad λ1 was used.
     """
-    f1 = as_float_array(accel_lambda1, "accel_lambda1", last_dim=3)
-    f2 = as_float_array(accel_lambda2, "accel_lambda2", last_dim=3)
-    theta1 = pitch_roll_eq2(f1)[..., 0]
-    theta2 = pitch_roll_eq2(f2)[..., 0]
+    return _select(as_float_array(accel_lambda1, "accel_lambda1", last_dim=3),
+                   as_float_array(accel_lambda2, "accel_lambda2", last_dim=3))
+
+
+def _select(f1: np.ndarray, f2: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`select_preset_pitch` of checked outputs (..., 3) of the two triads."""
+    theta1 = _eq2(f1, "accel_lambda1")[..., 0]
+    theta2 = _eq2(f2, "accel_lambda2")[..., 0]
     use1 = theta1 <= 0.0
     return np.where(use1, theta1, theta2), use1
 
@@ -317,9 +342,9 @@ def perturbed_errors(pitch, roll, delta_accel_m_s2, *, preset_rad=0.0,
     theta, phi = _pitch(pitch), _roll(roll)
     lam = angle_rad(preset_rad, "preset_rad")
     dx, dy, dz = _common_or_vector(_delta(delta_accel_m_s2))
-    f = preset_specific_force(theta, phi, lam, g=g)
+    f = _preset_force(theta, phi, lam, _gravity(g))
     f_err = f + np.stack(np.broadcast_arrays(dx, dy, dz), axis=-1)
-    est = pitch_roll_from_preset_triad(f_err, lam)
+    est = _from_preset_triad(f_err, lam)
     return est[..., 0] - theta, rotations.wrap_angle(est[..., 1] - phi)
 
 
@@ -353,9 +378,10 @@ def perturbed_preset_pitch_error(pitch, roll, delta_lambda1_m_s2, delta_lambda2_
     theta, phi = _pitch(pitch), _roll(roll)
     d1 = np.stack(np.broadcast_arrays(*_common_or_vector(_delta(delta_lambda1_m_s2, "delta_lambda1_m_s2"))), -1)
     d2 = np.stack(np.broadcast_arrays(*_common_or_vector(_delta(delta_lambda2_m_s2, "delta_lambda2_m_s2"))), -1)
-    f1 = preset_specific_force(theta, phi, lambda1_rad, g=g) + d1
-    f2 = preset_specific_force(theta, phi, lambda2_rad, g=g) + d2
-    est, _ = select_preset_pitch(f1, f2)
+    gg = _gravity(g)
+    f1 = _preset_force(theta, phi, angle_rad(lambda1_rad, "lambda1_rad"), gg) + d1
+    f2 = _preset_force(theta, phi, angle_rad(lambda2_rad, "lambda2_rad"), gg) + d2
+    est, _ = _select(f1, f2)
     return est - theta
 
 
@@ -395,11 +421,12 @@ def monte_carlo_pitch_errors(pitch, roll, sigma_m_s2: float, rng: np.random.Gene
     theta, phi = np.broadcast_arrays(_pitch(pitch), _roll(roll))
     shape = (n,) + theta.shape + (3,)
     d0, d1, d2 = (sigma * rng.standard_normal(shape) for _ in range(3))
-    single = pitch_roll_eq2(rotations.specific_force_zyx(theta, phi, _gravity(g)) + d0)[..., 0] - theta
-    f1 = preset_specific_force(theta, phi, LAMBDA1_RAD, g=g) + d1
-    f2 = preset_specific_force(theta, phi, LAMBDA2_RAD, g=g) + d2
-    preset, _ = select_preset_pitch(f1, f2)
-    mean2 = 0.5 * (pitch_roll_eq2(f1)[..., 0] + pitch_roll_eq2(f2)[..., 0])
+    gg = _gravity(g)
+    single = _eq2(rotations.specific_force_zyx(theta, phi, gg) + d0)[..., 0] - theta
+    f1 = _preset_force(theta, phi, np.asarray(LAMBDA1_RAD, float), gg) + d1
+    f2 = _preset_force(theta, phi, np.asarray(LAMBDA2_RAD, float), gg) + d2
+    preset, _ = _select(f1, f2)
+    mean2 = 0.5 * (_eq2(f1, "accel_lambda1")[..., 0] + _eq2(f2, "accel_lambda2")[..., 0])
     return {"single": single, "preset": preset - theta, "mean_of_two": mean2 - theta}
 
 

@@ -528,13 +528,14 @@ def paper_rest_report(accel_m_s2, dt_s: float, *, gyro_rad_s=None, min_rest_s: f
     the fixed band so a user sees when the band misses the sensor. ``dt_s`` is the sample
     interval (s), ≤ 1 s.
     """
-    from mtcal.methods.zero_velocity import ZvdParams, detect_static
+    from mtcal.methods.zero_velocity import detect_static_trusted, zvd_params
 
-    zp = ZvdParams() if zvd is None else zvd
+    zp = zvd_params(zvd)
     a = as_float_array(accel_m_s2, "accel_m_s2", ndim=2, last_dim=3, copy=False)
+    check_accel_units(a)
     dt = sample_interval(dt_s)
     fs = 1.0 / dt
-    flags = detect_static(a, dt, zp)
+    flags = detect_static_trusted(a, dt, zp)
     g = None if gyro_rad_s is None else as_float_array(gyro_rad_s, "gyro_rad_s", ndim=2, last_dim=3, copy=False)
     w = max(3, int(round(0.1 * fs)))
     lv = _block_levels(a, np.linalg.norm(a, axis=1), g, w, 0.1)

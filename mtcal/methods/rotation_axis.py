@@ -26,8 +26,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from mtcal.core.validate import as_float_array, positive_scalar, sample_interval
-from mtcal.methods.zero_velocity import ZvdParams, detect_static, rest_intervals
+from mtcal.core.validate import as_float_array, check_accel_units, positive_scalar, sample_interval
+from mtcal.methods.zero_velocity import ZvdParams, detect_static_trusted, rest_intervals, zvd_params
 
 __all__ = ["axis_from_means", "apply_sign_convention", "axis_elevation", "angle_between",
            "AxisEstimator", "AxisResult", "estimate_axis", "axis_error_std",
@@ -39,14 +39,21 @@ DEFAULT_MAX_ELEVATION_DEG = 85.0
 
 def angle_between(a, b) -> np.ndarray:
     """Angle (rad) between vectors a and b (..., 3), robust near 0 (atan2 form)."""
-    a = as_float_array(a, "a", last_dim=3)
-    b = as_float_array(b, "b", last_dim=3)
+    return _angle_between(as_float_array(a, "a", last_dim=3), as_float_array(b, "b", last_dim=3))
+
+
+def _angle_between(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """:func:`angle_between` of checked (finite float64 (..., 3)) vectors."""
     return np.arctan2(np.linalg.norm(np.cross(a, b), axis=-1), np.sum(a * b, axis=-1))
 
 
 def apply_sign_convention(v) -> np.ndarray:
     """Flip v (..., 3) so that ``v_x ≥ 0`` (``v_y > 0`` if ``v_x = 0``, then ``v_z > 0``)."""
-    v = as_float_array(v, "v", last_dim=3)
+    return _sign_convention(as_float_array(v, "v", last_dim=3))
+
+
+def _sign_convention(v: np.ndarray) -> np.ndarray:
+    """:func:`apply_sign_convention` of a checked (finite float64 (..., 3)) vector."""
     key = np.where(v[..., 0] != 0, v[..., 0], np.where(v[..., 1] != 0, v[..., 1], v[..., 2]))
     return np.where((key < 0)[..., None], -v, v)
 
@@ -57,8 +64,11 @@ def axis_elevation(v, gravity_s) -> np.ndarray:
     ``gravity_s`` is any static accelerometer reading (sensor frame, m/s²): it
     points along the vertical.
     """
-    v = as_float_array(v, "v", last_dim=3)
-    g = as_float_array(gravity_s, "gravity_s", last_dim=3)
+    return _elevation(as_float_array(v, "v", last_dim=3), as_float_array(gravity_s, "gravity_s", last_dim=3))
+
+
+def _elevation(v: np.ndarray, g: np.ndarray) -> np.ndarray:
+    """:func:`axis_elevation` of checked (finite float64 (..., 3)) axis and gravity."""
     gn = g / np.linalg.norm(g, axis=-1, keepdims=True)
     vn = v / np.linalg.norm(v, axis=-1, keepdims=True)
     return np.arcsin(np.clip(np.abs(np.sum(vn * gn, axis=-1)), 0.0, 1.0))
@@ -94,9 +104,17 @@ def axis_from_means(a0, a1, a2, *, min_separation_deg: float = DEFAULT_MIN_SEPAR
         m0, m1, m2 = np.broadcast_arrays(*means)
     except ValueError:
         raise ValueError(f"a0, a1, a2 must broadcast, got {[m.shape for m in means]}") from None
-    min_sep = np.radians(positive_scalar(min_separation_deg, "min_separation_deg"))
-    max_el = np.radians(positive_scalar(max_elevation_deg, "max_elevation_deg"))
-    seps = np.stack([angle_between(m0, m1), angle_between(m1, m2), angle_between(m0, m2)])
+    positive_scalar(min_separation_deg, "min_separation_deg")
+    positive_scalar(max_elevation_deg, "max_elevation_deg")
+    return _axis_from_means(m0, m1, m2, min_separation_deg, max_elevation_deg)
+
+
+def _axis_from_means(m0: np.ndarray, m1: np.ndarray, m2: np.ndarray, min_separation_deg: float,
+                     max_elevation_deg: float) -> np.ndarray:
+    """:func:`axis_from_means` of checked means (finite float64 (..., 3), one shape) and limits (> 0, deg)."""
+    min_sep = np.radians(float(min_separation_deg))
+    max_el = np.radians(float(max_elevation_deg))
+    seps = np.stack([_angle_between(m0, m1), _angle_between(m1, m2), _angle_between(m0, m2)])
     smallest = float(np.min(seps))
     if smallest < min_sep:
         raise ValueError(f"axis estimation needs three distinct rest positions: two static means "
@@ -110,8 +128,8 @@ def axis_from_means(a0, a1, a2, *, min_separation_deg: float = DEFAULT_MIN_SEPAR
         raise ValueError(f"static means are nearly collinear: angle between a1-a0 and a2-a1 is "
                          f"{np.degrees(float(np.min(chord_angle))):.4f} deg (minimum "
                          f"{min_separation_deg:g} deg)")
-    v = apply_sign_convention(n / np.linalg.norm(n, axis=-1, keepdims=True))
-    elev = axis_elevation(v, m0)
+    v = _sign_convention(n / np.linalg.norm(n, axis=-1, keepdims=True))
+    elev = _elevation(v, m0)
     if float(np.max(elev)) > max_el:
         raise ValueError(f"rotation axis is nearly vertical: elevation "
                          f"{np.degrees(float(np.max(elev))):.2f} deg above the horizontal "
@@ -300,7 +318,9 @@ def estimate_axis(accel_m_s2, dt_s: float, *, zvd: ZvdParams | None = None, is_s
     dt = sample_interval(dt_s)
     fs = 1.0 / dt  # the rate: exact for the rates mtcal uses (1 / (1 / fs) == fs)
     if is_static is None:
-        static = detect_static(a, dt, zvd)
+        zp = zvd_params(zvd)
+        check_accel_units(a)
+        static = detect_static_trusted(a, dt, zp)
     else:
         static = np.asarray(is_static)
         if static.dtype != bool or static.shape != a.shape[:1]:
@@ -323,8 +343,9 @@ def estimate_axis(accel_m_s2, dt_s: float, *, zvd: ZvdParams | None = None, is_s
     if n_found < 3:
         raise ValueError(f"found only {n_found} distinct rest(s) of >= {min_rest_s:g} s in the record; "
                          f"axis estimation needs three (hold still >= 1 s at three positions)")
-    v = axis_from_means(*est.means, min_separation_deg=min_separation_deg,
-                        max_elevation_deg=max_elevation_deg)
+    positive_scalar(min_separation_deg, "min_separation_deg")
+    positive_scalar(max_elevation_deg, "max_elevation_deg")
+    v = _axis_from_means(*est.means, min_separation_deg, max_elevation_deg)   # means of the checked record
     rests = [slice(s, e) for s, e in est.rests]
     return AxisResult(v, np.array(est.means), rests, static, n_found)
 
@@ -356,7 +377,7 @@ def distinct_positions(means, counts, *, min_separation_deg: float) -> tuple[np.
     sums, weights, members = [], [], []
     for i, (mi, ni) in enumerate(zip(m, n)):
         for k in range(len(sums)):
-            if angle_between(sums[k] / weights[k], mi) < tol:
+            if _angle_between(sums[k] / weights[k], mi) < tol:
                 sums[k] = sums[k] + mi * ni
                 weights[k] += ni
                 members[k].append(i)
@@ -426,7 +447,7 @@ def fit_axis_plane(positions_m_s2, sigma_mean_m_s2: float) -> AxisPlaneFit:
     sig = positive_scalar(sigma_mean_m_s2, "sigma_mean_m_s2")
     c = p - p.mean(axis=0)
     _, sv, vt = np.linalg.svd(c)
-    v = apply_sign_convention(vt[2])
+    v = _sign_convention(vt[2])
     rms = float(sv[2] / np.sqrt(p.shape[0])) if p.shape[0] > 3 else 0.0
     plane = c @ vt[:2].T
     a = np.column_stack([np.ones(p.shape[0]), plane])
@@ -436,4 +457,4 @@ def fit_axis_plane(positions_m_s2, sigma_mean_m_s2: float) -> AxisPlaneFit:
     else:
         cov = np.linalg.inv(gram)
         sigma = float(max(sig, rms) * np.sqrt(cov[1, 1] + cov[2, 2]))
-    return AxisPlaneFit(v, sigma, rms, float(axis_elevation(v, p.mean(axis=0))))
+    return AxisPlaneFit(v, sigma, rms, float(_elevation(v, p.mean(axis=0))))

@@ -103,6 +103,11 @@ def moving_variance(x, window: int) -> np.ndarray:
     arr = as_float_array(x, "x")
     if isinstance(window, bool) or not isinstance(window, (int, np.integer)) or window < 1:
         raise ValueError(f"window must be an integer >= 1, got {window!r}")
+    return _moving_variance(arr, window)
+
+
+def _moving_variance(arr: np.ndarray, window: int) -> np.ndarray:
+    """:func:`moving_variance` of a checked (finite float64, non-empty) array and window (int ≥ 1)."""
     arr = arr - arr[..., :1]  # centre on the first sample: cumsum keeps precision
     zeros = np.zeros(arr.shape[:-1] + (1,))
     c1 = np.concatenate([zeros, np.cumsum(arr, axis=-1)], axis=-1)
@@ -136,25 +141,46 @@ def detect_static(accel_m_s2, dt_s: float, params: ZvdParams | None = None,
     -------
     ndarray of bool, shape (..., N)
     """
-    p = ZvdParams() if params is None else params
-    if not isinstance(p, ZvdParams):
-        raise TypeError(f"params must be a ZvdParams, got {type(p).__name__}")
+    p = zvd_params(params)
     a = as_float_array(accel_m_s2, "accel_m_s2", last_dim=3)
     if a.ndim < 2:
         raise ValueError(f"accel_m_s2 must have shape (..., N, 3), got {a.shape}")
     check_accel_units(a)
-    mag = np.linalg.norm(a, axis=-1)
-    band = (mag > p.accel_min_m_s2) & (mag < p.accel_max_m_s2)
-    var = moving_variance(mag - STANDARD_GRAVITY_M_S2, p.window_samples(dt_s))
-    cond = band & (var < p.var_threshold_m2_s4)
-    if p.gyro_max_rad_s is not None:
-        if gyro_rad_s is None:
-            raise ValueError("gyro_rad_s is required when params.gyro_max_rad_s is set")
+    dt = sample_interval(dt_s)
+    w = None
+    if p.gyro_max_rad_s is not None and gyro_rad_s is not None:
         w = as_float_array(gyro_rad_s, "gyro_rad_s", last_dim=3)
         if w.shape != a.shape:
             raise ValueError(f"gyro_rad_s must have the shape of accel_m_s2 {a.shape}, got {w.shape}")
-        cond &= np.linalg.norm(w, axis=-1) < p.gyro_max_rad_s
-    return _min_run(cond, p.duration_samples(dt_s))
+    return detect_static_trusted(a, dt, p, w)
+
+
+def zvd_params(params: ZvdParams | None) -> ZvdParams:
+    """``params``, or Table 1's :class:`ZvdParams` for None (TypeError for anything else)."""
+    p = ZvdParams() if params is None else params
+    if not isinstance(p, ZvdParams):
+        raise TypeError(f"params must be a ZvdParams, got {type(p).__name__}")
+    return p
+
+
+def detect_static_trusted(accel_m_s2: np.ndarray, dt_s: float, params: ZvdParams,
+                          gyro_rad_s: np.ndarray | None = None) -> np.ndarray:
+    """:func:`detect_static` on checked inputs, for callers that validated them at their own edge.
+
+    Preconditions (not checked again): ``accel_m_s2`` finite float64 (..., N, 3) in m/s² (units
+    checked); ``dt_s`` a checked sample interval (s); ``params`` a :class:`ZvdParams`;
+    ``gyro_rad_s`` None or finite float64 of the shape of ``accel_m_s2`` (rad/s), required when
+    ``params.gyro_max_rad_s`` is set. Same flags as :func:`detect_static`.
+    """
+    mag = np.linalg.norm(accel_m_s2, axis=-1)
+    band = (mag > params.accel_min_m_s2) & (mag < params.accel_max_m_s2)
+    var = _moving_variance(mag - STANDARD_GRAVITY_M_S2, params.window_samples(dt_s))
+    cond = band & (var < params.var_threshold_m2_s4)
+    if params.gyro_max_rad_s is not None:
+        if gyro_rad_s is None:
+            raise ValueError("gyro_rad_s is required when params.gyro_max_rad_s is set")
+        cond &= np.linalg.norm(gyro_rad_s, axis=-1) < params.gyro_max_rad_s
+    return _min_run(cond, params.duration_samples(dt_s))
 
 
 def _min_run(cond: np.ndarray, n_h: int) -> np.ndarray:

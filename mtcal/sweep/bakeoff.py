@@ -42,6 +42,7 @@ import pandas as pd
 from mtcal.core.metrics import MIN_BAND_DRAWS, band_or_range
 from mtcal.core.sensor_grades import grade_names
 from mtcal.core.validate import merge_parameters
+from mtcal.filters.registry import builtin_filter_names, filter_names, get_filter
 from mtcal.sweep.engine import run_sweep
 from mtcal.sweep.spec import SweepSpec
 
@@ -51,7 +52,7 @@ __all__ = ["BAKEOFF_DEFAULTS", "FAMILIES", "BAND_MIN_TRIALS", "bakeoff_params", 
 
 #: Scenario parameters of the bake-off (what a parameters cell may change), with defaults.
 BAKEOFF_DEFAULTS = {
-    "filters": ["qncf", "mahony", "madgwick", "vqf", "fusion"],
+    "filters": builtin_filter_names(output="attitude"),   # the registry's declared attitude filters
     "turntable_motions": ["aoa", "roll"],
     "turntable_grades": ["wang2023cja", "industrial", "consumer"],
     "windtunnel_grades": ["wang2023cja", "industrial"],
@@ -73,8 +74,6 @@ def bakeoff_params(**values) -> dict:
     """Defaults overridden by ``values``, validated (ValueError naming the parameter)."""
     merged = merge_parameters(values, BAKEOFF_DEFAULTS, what="bake-off parameter")
     p = {k: (list(v) if isinstance(v, (list, tuple)) else v) for k, v in merged.items()}
-    from mtcal.filters.registry import filter_names
-
     for key, choices in (("filters", filter_names(output="attitude")), ("turntable_motions", ("aoa", "roll")),
                          ("turntable_grades", grade_names()), ("windtunnel_grades", grade_names()),
                          ("surface_grades", grade_names())):
@@ -99,8 +98,6 @@ def bakeoff_params(**values) -> dict:
 
 def _filters_for(params: dict, family: str) -> list[str]:
     """The chosen attitude filters; the surface family adds every registered angle filter (e.g. the RAMS EKF)."""
-    from mtcal.filters.registry import filter_names
-
     return list(params["filters"]) + (filter_names(output="angle") if FAMILIES[family][0] == "surface" else [])
 
 
@@ -274,7 +271,6 @@ def tune_gains(params: dict, *, seed: int, trials: int, filter_trials: dict | No
         metric over ``tuning_trials`` trials; ``at_grid_edge`` marks a chosen scale at either
         end of ``gain_scales`` (the optimum may lie beyond it).
     """
-    from mtcal.filters.registry import get_filter
     from mtcal.sweep.evaluators import filter_gain
 
     p = bakeoff_params(**params)
@@ -370,7 +366,6 @@ def reference_check(params: dict, gains: dict, *, seed: int, trials: int = 1, ho
         ``params`` has a reference.
     """
     from mtcal.filters.anchors import reference_runs
-    from mtcal.filters.registry import get_filter
 
     p = bakeoff_params(**params)
     names = [f for f in p["filters"] if get_filter(f).reference is not None]

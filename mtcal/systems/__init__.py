@@ -12,8 +12,10 @@ private internals. It imports from ``core``, ``methods`` and ``filters`` only;
   calibration (wang2023cja §3.2, Eq 1, 10, 13–15) and its application (Eq 10)
 * :mod:`~mtcal.systems.surface_angle` — wang2022sensors movable-surface angle:
   rotation axis from rests (Eq 23), ZVD-switched RAMS EKF with restart after clipping
-* :mod:`~mtcal.systems.attitude` — the paper's QNCF set up from a recorded log's rests and noise
-  (wang2023cja §3.1), as ``mtcal attitude`` and the real-data study run it
+* :mod:`~mtcal.systems.attitude` — attitude of a recorded log: the paper's QNCF set up from its
+  rests and noise (wang2023cja §3.1) or another filter, as ``mtcal attitude`` and the real-data study run it
+* :mod:`~mtcal.systems.rests` — the rests of a log and the levels the detector measured, as
+  ``mtcal rests`` and every command reading raw data find them
 * :mod:`~mtcal.systems.plausibility` — checks of a record before a procedure trusts
   it (units, time base, clipping, gyro axis)
 """
@@ -23,19 +25,23 @@ from typing import TYPE_CHECKING
 from mtcal.core.lazy import lazy_attributes
 
 if TYPE_CHECKING:  # the eager imports, for type checkers and tests/test_import_graph.py
-    from mtcal.systems import attitude, installation, plausibility, surface_angle
+    from mtcal.systems import attitude, installation, plausibility, rests, surface_angle
+    from mtcal.systems.attitude import AttitudeConfig, estimate_attitude
+    from mtcal.systems.rests import RestsConfig, find_rests
     from mtcal.systems.installation import (CalibratedAttitude, InstallationCalibration, apply_installation,
                                             calibrate_installation, detect_rests)
 
-__all__ = ["attitude", "installation", "plausibility", "surface_angle", "InstallationCalibration", "CalibratedAttitude",
-           "calibrate_installation", "apply_installation", "detect_rests"]
+__all__ = ["attitude", "installation", "plausibility", "rests", "surface_angle", "InstallationCalibration",
+           "CalibratedAttitude", "calibrate_installation", "apply_installation", "detect_rests", "AttitudeConfig",
+           "estimate_attitude", "RestsConfig", "find_rests"]
 
 #: Submodules, loaded on first attribute access (``import mtcal`` stays light for the CLI).
-_SUBMODULES = ('attitude', 'installation', 'plausibility', 'surface_angle')
+_SUBMODULES = ('attitude', 'installation', 'plausibility', 'rests', 'surface_angle')
 #: Re-exported name → submodule defining it (imported on first access).
 _EXPORTS = {
     "CalibratedAttitude": "installation", "InstallationCalibration": "installation",
     "apply_installation": "installation", "calibrate_installation": "installation", "detect_rests": "installation",
+    "AttitudeConfig": "attitude", "estimate_attitude": "attitude", "RestsConfig": "rests", "find_rests": "rests",
 }
 
 __getattr__, __dir__ = lazy_attributes(globals(), _SUBMODULES, _EXPORTS)

@@ -1,15 +1,21 @@
-"""Attitude of a recorded log with the paper's filter: the QNCF set up from the data (wang2023cja).
+"""Attitude of a recorded log: the paper's QNCF set up from the data (wang2023cja), or another filter.
 
-The one procedure behind ``mtcal attitude``/``apply``/``calibrate`` (their default QNCF) and the
-real-data study's ``qncf_cli`` filter: rests found with the adaptive detector, rests shorter than
-the stated minimum dropped, the filter's gravity, AMD threshold and gains from the rest levels and
-the measured noise (:func:`qncf_params_from_rests`), the start levelled from the first rest and the
-gyro bias of that rest's quiet core removed (:func:`qncf_log_setup`). No reference attitude is read.
+The one procedure behind ``mtcal attitude`` (every ``--filter``), the default QNCF of ``mtcal
+apply``/``calibrate`` (:func:`qncf_log_setup`) and the real-data study's ``qncf_cli`` filter:
+:func:`estimate_attitude` takes one frozen :class:`AttitudeConfig` and the arrays. Rests come from
+:func:`mtcal.systems.rests.find_rests` (adaptive detector, rests shorter than the stated minimum
+dropped); the QNCF's gravity, AMD threshold and gains follow the rest levels and the measured noise
+(:func:`qncf_params_from_rests`), the start is levelled from the first rest and the gyro bias of
+that rest's quiet core removed (:func:`qncf_log_setup`); the gyro's units and time base are checked
+against the accelerometer once (:func:`mtcal.systems.plausibility.check_units`). No reference
+attitude is read.
 
 References
 ----------
 Wang X. et al., "Installation error calibration for MEMS angular measurement system in hypersonic
 wind tunnel", Chin. J. Aeronaut. 2023, doi:10.1016/j.cja.2022.12.006, §3.1 (QNCF, AMD gate, Eq 5–8).
+Laidig D., Seel T., "VQF: Highly accurate IMU orientation estimation with bias estimation and magnetic
+disturbance rejection", Information Fusion 91 (2023) (``vqf``, ``basicvqf``).
 """
 
 from __future__ import annotations
@@ -18,11 +24,17 @@ import dataclasses
 
 import numpy as np
 
-from mtcal.filters.qncf import QncfParams, initial_attitude_from_accel
-from mtcal.methods import rest_detection
+from typing import TYPE_CHECKING
 
-__all__ = ["KP_RANGE_RAD_S", "qncf_params_from_rests", "QncfLogSetup", "qncf_log_setup", "drop_short_rests",
-           "default_rests"]
+from mtcal.core.validate import as_float_array, sample_interval
+from mtcal.systems.rests import RestsConfig, find_rests
+
+if TYPE_CHECKING:  # numba-compiled modules, imported when a procedure runs (``mtcal --help`` stays light)
+    from mtcal.filters.qncf import QncfParams
+    from mtcal.methods import rest_detection
+
+__all__ = ["KP_RANGE_RAD_S", "FILTERS", "AttitudeConfig", "AttitudeResult", "estimate_attitude",
+           "qncf_params_from_rests", "QncfLogSetup", "qncf_log_setup"]
 
 #: Range of the QNCF proportional gain from :func:`qncf_params_from_rests`' noise rule (1/s).
 KP_RANGE_RAD_S = (0.05, 5.0)
@@ -61,6 +73,8 @@ def qncf_params_from_rests(rep: rest_detection.RestReport) -> QncfParams:
     >>> round(p.gravity_m_s2, 2), 0.5 < p.kp_rad_s < 1.5, p.ki_rad_s2 == p.kp_rad_s / 50
     (9.81, True, True)
     """
+    from mtcal.filters.qncf import QncfParams
+
     half = 0.5 * (rep.band_m_s2[1] - rep.band_m_s2[0])
     kp = QncfParams.kp_rad_s
     if rep.gyro_noise_rad_s > 0 and rep.accel_noise_m_s2 > 0:
@@ -135,6 +149,9 @@ def qncf_log_setup(filter_gyro_rad_s, accel_m_s2, dt_s: float, rep: rest_detecti
     >>> np.degrees(s.bias_rad_s).round(2), s.levelled_from.startswith("first rest")
     (array([ 0.3, -0.2,  0.1]), True)
     """
+    from mtcal.filters.qncf import QncfParams, initial_attitude_from_accel
+    from mtcal.methods import rest_detection
+
     raw = filter_gyro_rad_s if gyro_rad_s is None else gyro_rad_s
     paper = rep.method == "paper"
     params = QncfParams() if paper else qncf_params_from_rests(rep)
@@ -149,28 +166,174 @@ def qncf_log_setup(filter_gyro_rad_s, accel_m_s2, dt_s: float, rep: rest_detecti
                         "first 100 samples (log does not start at rest)")
 
 
-def drop_short_rests(rep: rest_detection.RestReport, time_s) -> rest_detection.RestReport:
-    """Move rests listed shorter than ``rep.min_rest_s`` (by their span ``t[stop-1] − t[start]``) to ``rejected``."""
-    t = np.asarray(time_s)
-    short = [r for r in rep.rests if t[r.stop - 1] - t[r.start] < rep.min_rest_s]
-    if not short:
-        return rep
-    flags = rep.is_static.copy()
-    rejected = list(rep.rejected)
-    for r in short:
-        flags[r] = False
-        lo, hi = rest_detection.format_ordered(t[r.stop - 1] - t[r.start], rep.min_rest_s, 3)
-        rejected.append(rest_detection.RejectedRest(r, f"too short: {lo} s < {hi} s (--min-rest-s)"))
-    rejected.sort(key=lambda x: x.span.start)
-    return dataclasses.replace(rep, rests=[r for r in rep.rests if r not in short], rejected=rejected,
-                               is_static=flags, n_short=rep.n_short + len(short))
+#: Filters of :func:`estimate_attitude`; ``qncf`` (the paper's filter, set up from the rests) is the default.
+FILTERS = ("qncf", "vqf", "basicvqf", "mahony", "madgwick", "fusion")
 
 
-def default_rests(accel_m_s2, dt_s: float, gyro_rad_s, *, min_rest_s: float = 0.2) -> rest_detection.RestReport:
-    """Rests as ``mtcal attitude`` finds them at its defaults: adaptive detector, rests ≥ ``min_rest_s``.
+@dataclasses.dataclass(frozen=True)
+class AttitudeConfig:
+    """How :func:`estimate_attitude` runs; checked when built.
 
-    Uniform sampling (time = k·dt_s) is assumed for the listed-span rule.
+    Attributes
+    ----------
+    filter : str
+        One of :data:`FILTERS`. ``qncf``: :func:`qncf_log_setup` then the QNCF. ``vqf``/``basicvqf``:
+        ``vqf.VQF(dt).updateBatch(gyr, acc)["quat6D"]`` (resp. ``BasicVQF``) at the library's defaults and
+        timing (gyro sample k over ``[t_(k-1), t_k]``, start from its own state). ``mahony``,
+        ``madgwick``, ``fusion``: :func:`mtcal.filters.anchors.run_attitude_filter` at the registry's
+        default gain, levelled from the first 100 samples.
+    rests : RestsConfig
+        How rests are found when :func:`estimate_attitude` is not given them.
+    check_units : bool
+        Check the gyro's units and time base against the accelerometer once
+        (:func:`mtcal.systems.plausibility.check_units`); False: the QNCF runs its own tilt-rate check
+        (:func:`mtcal.filters.qncf.qncf`, a scale off by > 5× refused).
+
+    Examples
+    --------
+    >>> AttitudeConfig.cli_defaults().filter, AttitudeConfig.real_data_study().check_units
+    ('qncf', False)
     """
-    rep = rest_detection.detect_rests(accel_m_s2, dt_s, gyro_rad_s=gyro_rad_s,
-                                      params=rest_detection.RestDetectorParams(min_rest_s=min_rest_s))
-    return drop_short_rests(rep, np.arange(len(accel_m_s2)) * dt_s)
+
+    filter: str = "qncf"
+    rests: RestsConfig = RestsConfig()
+    check_units: bool = True
+
+    def __post_init__(self):
+        if self.filter not in FILTERS:
+            raise ValueError(f"filter must be one of {FILTERS}, got {self.filter!r}")
+        if not isinstance(self.rests, RestsConfig):
+            raise TypeError(f"rests must be a RestsConfig, got {type(self.rests).__name__}")
+        if not isinstance(self.check_units, bool):
+            raise TypeError(f"check_units must be a bool, got {type(self.check_units).__name__}")
+
+    @classmethod
+    def cli_defaults(cls, filter: str = "qncf") -> "AttitudeConfig":
+        """``mtcal attitude`` at its defaults: adaptive rests ≥ 0.2 s, units checked, QNCF from the rests."""
+        return cls(filter=filter, rests=RestsConfig.cli_defaults(0.2))
+
+    @classmethod
+    def real_data_study(cls) -> "AttitudeConfig":
+        """broad2021's ``qncf_cli``: the command's QNCF set from the log's rests, the filter's own unit check."""
+        return cls(filter="qncf", rests=RestsConfig.cli_defaults(0.2), check_units=False)
+
+    @classmethod
+    def paper(cls, min_rest_s: float = 0.2) -> "AttitudeConfig":
+        """The QNCF as wang2023cja states it: default :class:`QncfParams`, levelled from the first 100 samples.
+
+        Rests by wang2022sensors' fixed band (``--rest-detector paper``); no initial bias removed.
+        """
+        return cls(filter="qncf", rests=RestsConfig.paper(min_rest_s))
+
+
+@dataclasses.dataclass(frozen=True)
+class AttitudeResult:
+    """What :func:`estimate_attitude` found.
+
+    Attributes
+    ----------
+    q_ws : ndarray, shape (N, 4)
+        Sensor attitude at each sample (scalar-first, sensor → world, z up).
+    rests : RestReport
+        The rests used.
+    setup : QncfLogSetup or None
+        The QNCF's gyro, parameters and start (``filter == "qncf"``).
+    units_check : dict or None
+        :func:`mtcal.systems.plausibility.check_units`' result (``config.check_units``).
+    gain_text : str
+        The filter's gains in words.
+    """
+
+    q_ws: np.ndarray
+    rests: rest_detection.RestReport
+    setup: QncfLogSetup | None
+    units_check: dict | None
+    gain_text: str
+
+
+def _library_vqf(name: str, gyro: np.ndarray, acc: np.ndarray, dt_s: float) -> tuple[np.ndarray, str]:
+    import vqf
+
+    cls = vqf.VQF if name == "vqf" else vqf.BasicVQF
+    return cls(dt_s).updateBatch(gyro, acc)["quat6D"], f"{cls.__name__} defaults (tauAcc 3 s)"
+
+
+def _registry_filter(name: str, gyro: np.ndarray, acc: np.ndarray, dt_s: float) -> tuple[np.ndarray, str]:
+    from mtcal.filters import anchors, registry
+
+    entry = registry.get_filter(name)
+    q = anchors.run_attitude_filter(name, gyro[None], acc[None], dt_s)[0]
+    return q, f"{entry.gain_unit} {entry.default_gain:g} (default)"
+
+
+def estimate_attitude(gyro_rad_s, accel_m_s2, dt_s: float, config: AttitudeConfig, *, time_s=None, rests=None,
+                      skip=None, unit_stated: str | None = None) -> AttitudeResult:
+    """Sensor attitude of one record by the configured filter (wang2023cja §3.1 QNCF by default).
+
+    Parameters
+    ----------
+    gyro_rad_s : array_like, shape (N, 3)
+        Angular rate (rad/s), sample k the mean over ``[t_k, t_{k+1}]``.
+    accel_m_s2 : array_like, shape (N, 3)
+        Specific force (m/s²).
+    dt_s : float
+        Mean sample interval (s); the filters run at this fixed step.
+    config : AttitudeConfig
+    time_s : array_like, shape (N,), optional
+        Sample times (s). With jitter (:func:`mtcal.systems.plausibility.time_base`) each gyro sample is
+        weighted by its own interval over ``dt_s``; default uniform ``k · dt_s``.
+    rests : RestReport, optional
+        Rests already found (:func:`mtcal.systems.rests.find_rests`); default found by ``config.rests``.
+    skip : ndarray of bool, shape (N,), optional
+        Samples the units check ignores (e.g. clipped, :func:`mtcal.systems.plausibility.clipped_samples`).
+    unit_stated : str, optional
+        Where the gyro's unit was stated (a check that cannot decide then warns instead of refusing).
+
+    Returns
+    -------
+    AttitudeResult
+
+    Raises
+    ------
+    ValueError
+        Bad shapes, ``dt_s`` or time base; a gyro the units check refuses.
+    ImportError
+        The filter's optional library is missing.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> rng = np.random.default_rng(2)
+    >>> acc = np.array([0.0, 0.0, 9.81]) + 0.02 * rng.standard_normal((1500, 3))
+    >>> gyr = 0.002 * rng.standard_normal((1500, 3))
+    >>> res = estimate_attitude(gyr, acc, 0.01, AttitudeConfig.cli_defaults())
+    >>> res.q_ws.shape, res.setup.levelled_from.startswith("first rest"), float(abs(res.q_ws[-1, 0])) > 0.9999
+    ((1500, 4), True, True)
+    """
+    if not isinstance(config, AttitudeConfig):
+        raise TypeError(f"config must be an AttitudeConfig, got {type(config).__name__}")
+    from mtcal.systems import plausibility
+
+    g = as_float_array(gyro_rad_s, "gyro_rad_s", ndim=2, last_dim=3, copy=False)
+    a = as_float_array(accel_m_s2, "accel_m_s2", ndim=2, last_dim=3, copy=False)
+    if g.shape != a.shape:
+        raise ValueError(f"gyro_rad_s and accel_m_s2 must have the same shape, got {g.shape} and {a.shape}")
+    dt = sample_interval(dt_s)
+    weights = None if time_s is None else plausibility.time_base(g.shape[0], time_s=time_s)[1]
+    filter_gyro = g if weights is None else g * weights[:, None]
+    rep = find_rests(a, dt, config.rests, gyro_rad_s=g, time_s=time_s) if rests is None else rests
+
+    setup = qncf_log_setup(filter_gyro, a, dt, rep, gyro_rad_s=g) if config.filter == "qncf" else None
+    chk = None
+    if config.check_units:
+        chk = plausibility.check_units(filter_gyro, a, dt, rep.rests, time_s=time_s, skip=skip,
+                                       unit_stated=unit_stated)
+    if setup is not None:
+        from mtcal.filters.qncf import qncf, qncf_trusted
+
+        run = qncf_trusted if config.check_units else qncf   # unchecked: the filter's own tilt-rate check
+        q = run(setup.gyro_rad_s, a, dt, setup.params, q0=setup.q0, return_euler=False).q_ws
+        return AttitudeResult(q, rep, setup, chk, "")
+    runner = _library_vqf if config.filter in ("vqf", "basicvqf") else _registry_filter
+    q, gain_text = runner(config.filter, np.ascontiguousarray(filter_gyro), np.ascontiguousarray(a), dt)
+    return AttitudeResult(q, rep, None, chk, gain_text)

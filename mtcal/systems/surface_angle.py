@@ -1,6 +1,6 @@
 """wang2022sensors movable-surface angle system: rotation axis from rests, then the ZVD-switched RAMS EKF.
 
-The measurement procedure of the paper (Sec. 2–3, Algorithm A1) as two steps
+The measurement procedure of the paper (Sec. 2–3, Algorithm A1) as two steps and their batch
 over plain arrays, the same code for the ``mtcal axis`` / ``mtcal angle``
 commands, the study's Monte Carlo runs and the sweep evaluator:
 
@@ -19,6 +19,16 @@ commands, the study's Monte Carlo runs and the sweep evaluator:
    the angle again). Optional plausibility gates (gyro units/time base against
    the accelerometer's tilt change, gyro turning about another axis) come from
    :mod:`mtcal.systems.plausibility`.
+3. :func:`surface_angle_batch` — the whole procedure on T stacked trials (the study's
+   Monte Carlo): ā0 and bias from the initial rest, the Table 1 ZVD (Sec. 3.1), Eq 23 on
+   the ZVD-flagged rests, the ZVD-switched EKF.
+
+Each procedure takes the data arrays and ONE frozen, resolved config —
+:class:`AxisConfig`, :class:`SurfaceAngleConfig`, :class:`SurfaceBatchConfig` — with
+constructors for the paper's settings (``paper``), the CLI defaults (``cli``) and a sweep
+cell (:meth:`SurfaceAngleConfig.sweep_cell`). A config is checked when it is made, the
+arrays once at the procedure's edge; the methods and the filter below run on the checked
+arrays (:func:`mtcal.filters.rams_ekf.run_rams_ekf_trusted`).
 
 References
 ----------
@@ -32,7 +42,7 @@ Examples
 >>> from mtcal.core.rotations import axis_angle_matrix
 >>> v = np.array([0.6, 0.0, 0.8]); a0 = np.array([0.0, 0.0, 9.81])
 >>> accel = np.concatenate([np.tile(axis_angle_matrix(np.radians(d), v).T @ a0, (50, 1)) for d in (0, 90, 135)])
->>> est = estimate_surface_axis(accel, [slice(0, 50), slice(50, 100), slice(100, 150)], accel_noise_m_s2=0.01)
+>>> est = estimate_surface_axis(accel, [slice(0, 50), slice(50, 100), slice(100, 150)], AxisConfig(0.01))
 >>> (np.round(est.axis, 9) + 0.0).tolist(), (np.round(np.degrees(est.rest_angles_rad), 6) + 0.0).tolist()
 ([0.6, 0.0, 0.8], [0.0, 90.0, 135.0])
 """
@@ -45,15 +55,18 @@ import numpy as np
 
 from mtcal.core.validate import as_float_array, positive_scalar
 from mtcal.filters.anchors import RAMS_EKF_DEFAULT_GAIN
-from mtcal.filters.rams_ekf import RamsEkfParams, run_rams_ekf, run_rams_ekf_trusted
+from mtcal.filters.rams_ekf import RamsEkfParams, run_rams_ekf_trusted
 from mtcal.filters.registry import AxisContext, register_filter
 from mtcal.methods import rotation_axis
+from mtcal.methods.tilt_rate import check_tilt_rate_scale
+from mtcal.methods.zero_velocity import ZvdParams, detect_static
 from mtcal.systems import plausibility
 
-__all__ = ["AxisEstimate", "estimate_surface_axis", "estimate_surface_axes", "axis_uncertainty", "angles_about_axis",
-           "rest_ekf_params",
-           "SurfaceAngle", "surface_angle", "SIGMA_MEAN_FLOOR_M_S2", "CLIPPED_P0_THETA_RAD",
-           "MIN_TURN_FOR_AXIS_CHECK_DEG"]
+__all__ = ["AxisConfig", "AxisEstimate", "estimate_surface_axis", "estimate_surface_axes", "axis_uncertainty",
+           "angles_about_axis", "rest_ekf_params",
+           "SurfaceAngleConfig", "SurfaceAngle", "surface_angle",
+           "SurfaceBatchConfig", "SurfaceAngleBatch", "surface_angle_batch", "rest_masks",
+           "SIGMA_MEAN_FLOOR_M_S2", "CLIPPED_P0_THETA_RAD", "MIN_TURN_FOR_AXIS_CHECK_DEG", "MIN_REST_ZVD_SHARE"]
 
 #: Floor on the std of a rest mean (m/s²): ~0.1° of tilt (accelerometer cross-axis/nonlinearity, play).
 SIGMA_MEAN_FLOOR_M_S2 = 0.017
@@ -61,6 +74,8 @@ SIGMA_MEAN_FLOOR_M_S2 = 0.017
 CLIPPED_P0_THETA_RAD = np.radians(30.0)
 #: The gyro's rotation axis is compared with the given axis once the moves add up to this (deg).
 MIN_TURN_FOR_AXIS_CHECK_DEG = 20.0
+#: A known rest where the ZVD flags fewer than this share of samples is used whole for the axis (batched procedure).
+MIN_REST_ZVD_SHARE = 0.1
 
 
 def _rest_means(accel: np.ndarray, rests) -> tuple[np.ndarray, np.ndarray]:
@@ -152,6 +167,12 @@ def axis_uncertainty(positions_m_s2, counts, *, accel_noise_m_s2: float, window_
     positions = as_float_array(positions_m_s2, "positions_m_s2", ndim=2, last_dim=3)
     n = as_float_array(counts, "counts", ndim=1)
     noise = positive_scalar(accel_noise_m_s2, "accel_noise_m_s2", allow_zero=True)
+    return _plane_uncertainty(positions, n, noise, window_samples, max_axis_error_deg)
+
+
+def _plane_uncertainty(positions: np.ndarray, n: np.ndarray, noise: float, window_samples: float,
+                       max_axis_error_deg: float) -> rotation_axis.AxisPlaneFit:
+    """:func:`axis_uncertainty` on checked (P, 3) positions, (P,) counts and a noise ≥ 0."""
     n_eff = float(np.min(n)) / max(1.0, float(window_samples))  # ~independent windows per rest
     sig = max(noise / np.sqrt(max(n_eff, 1.0)), SIGMA_MEAN_FLOOR_M_S2)
     fit = rotation_axis.fit_axis_plane(positions, sig)
@@ -164,6 +185,71 @@ def axis_uncertainty(positions_m_s2, counts, *, accel_noise_m_s2: float, window_
                          f"{sig:.4f} m/s^2, out-of-plane rms {fit.rms_out_of_plane_m_s2:.4f} m/s^2); "
                          f"rotate further between rests")
     return fit
+
+
+def _limit(value, name: str) -> float:
+    """A positive finite limit (deg), or ``inf`` for None (no gate)."""
+    return np.inf if value is None else positive_scalar(value, name)
+
+
+@dataclass(frozen=True)
+class AxisConfig:
+    """Resolved settings of :func:`estimate_surface_axis` / :func:`estimate_surface_axes`, checked once when made.
+
+    Attributes
+    ----------
+    accel_noise_m_s2 : float
+        Accelerometer noise per sample (m/s², ≥ 0).
+    window_samples : float
+        Correlation length of the noise estimate (samples, > 0), e.g. the rest detector's window.
+    fit : {"plane", "eq23"}
+        Least-squares plane through all distinct positions, or Eq 23 on the first three (Algorithm A1).
+    min_separation_deg : float
+        Rests closer in tilt are one position (deg).
+    max_axis_error_deg : float or None
+        Refuse an axis less certain than this (deg, 1σ); None: no gate (Monte Carlo).
+    max_elevation_deg : float
+        Refuse an axis steeper than this above the horizontal (deg).
+
+    Examples
+    --------
+    >>> AxisConfig.paper(0.01).fit, AxisConfig.cli(0.01, 5.0).max_axis_error_deg
+    ('eq23', 2.0)
+    >>> AxisConfig(0.01, fit="lsq")
+    Traceback (most recent call last):
+    ...
+    ValueError: fit must be 'plane' or 'eq23', got 'lsq'
+    """
+
+    accel_noise_m_s2: float
+    window_samples: float = 1.0
+    fit: str = "plane"
+    min_separation_deg: float = 3.0
+    max_axis_error_deg: float | None = 2.0
+    max_elevation_deg: float = rotation_axis.DEFAULT_MAX_ELEVATION_DEG
+
+    def __post_init__(self) -> None:
+        if self.fit not in ("plane", "eq23"):
+            raise ValueError(f"fit must be 'plane' or 'eq23', got {self.fit!r}")
+        positive_scalar(self.accel_noise_m_s2, "accel_noise_m_s2", allow_zero=True)
+        positive_scalar(self.window_samples, "window_samples")
+        positive_scalar(self.min_separation_deg, "min_separation_deg")
+        positive_scalar(self.max_elevation_deg, "max_elevation_deg")
+        _limit(self.max_axis_error_deg, "max_axis_error_deg")
+
+    @classmethod
+    def paper(cls, accel_noise_m_s2: float) -> "AxisConfig":
+        """The study's Monte Carlo: Eq 23 on the first three rests (Algorithm A1), the method's separation and
+        elevation defaults, no uncertainty gate."""
+        return cls(accel_noise_m_s2, fit="eq23", min_separation_deg=rotation_axis.DEFAULT_MIN_SEPARATION_DEG,
+                   max_axis_error_deg=None, max_elevation_deg=rotation_axis.DEFAULT_MAX_ELEVATION_DEG)
+
+    @classmethod
+    def cli(cls, accel_noise_m_s2: float, window_samples: float, *, min_separation_deg: float = 3.0,
+            max_axis_error_deg: float = 2.0, max_elevation_deg: float = 85.0) -> "AxisConfig":
+        """``mtcal axis``: the plane through every distinct rest position, gated (defaults = the command's)."""
+        return cls(accel_noise_m_s2, window_samples, "plane", min_separation_deg, max_axis_error_deg,
+                   max_elevation_deg)
 
 
 @dataclass(frozen=True)
@@ -203,12 +289,10 @@ class AxisEstimate:
     fit: str
 
 
-def estimate_surface_axis(accel_m_s2, rests, *, accel_noise_m_s2: float, window_samples: float = 1.0,
-                          fit: str = "plane", min_separation_deg: float = 3.0, max_axis_error_deg: float | None = 2.0,
-                          max_elevation_deg: float = 85.0) -> AxisEstimate:
+def estimate_surface_axis(accel_m_s2, rests, config: AxisConfig) -> AxisEstimate:
     """Hinge axis from the accelerometer means of ≥ 3 rests (wang2022sensors Eq 23, Sec. 2.2).
 
-    Rests closer in tilt than ``min_separation_deg`` are one position (sample-weighted
+    Rests closer in tilt than ``config.min_separation_deg`` are one position (sample-weighted
     mean). ``fit="plane"``: v is the normal of the least-squares plane through all
     positions (equal to Eq 23 for three). ``fit="eq23"``: Eq 23,
     ``v = (ā1 − ā0) × (ā2 − ā1)``, on the first three positions (Algorithm A1). Both
@@ -220,17 +304,7 @@ def estimate_surface_axis(accel_m_s2, rests, *, accel_noise_m_s2: float, window_
         Accelerometer record (m/s²).
     rests : sequence of slice or boolean mask (N,)
         Rest samples, in time order.
-    accel_noise_m_s2 : float
-        Accelerometer noise per sample (m/s²).
-    window_samples : float
-        Correlation length of the noise estimate (samples).
-    fit : {"plane", "eq23"}
-    min_separation_deg : float
-        Rests closer in tilt are one position (deg).
-    max_axis_error_deg : float or None
-        Refuse an axis less certain than this (deg, 1σ); None: no gate (Monte Carlo).
-    max_elevation_deg : float
-        Refuse an axis steeper than this above the horizontal (deg).
+    config : AxisConfig
 
     Returns
     -------
@@ -239,8 +313,8 @@ def estimate_surface_axis(accel_m_s2, rests, *, accel_noise_m_s2: float, window_
     Raises
     ------
     ValueError
-        ``fit`` unknown; fewer than three distinct tilts (a rotation about the
-        vertical is named); axis too uncertain; axis nearly vertical.
+        Fewer than three distinct tilts (a rotation about the vertical is named);
+        axis too uncertain; axis nearly vertical.
 
     References
     ----------
@@ -250,20 +324,24 @@ def estimate_surface_axis(accel_m_s2, rests, *, accel_noise_m_s2: float, window_
     --------
     >>> import numpy as np
     >>> acc = np.repeat([[0, 0, 9.8], [0, -9.8, 0], [0, 0, -9.8]], 40, axis=0).astype(float)
-    >>> est = estimate_surface_axis(acc, [slice(0, 40), slice(40, 80), slice(80, 120)], accel_noise_m_s2=0.01,
-    ...                             fit="eq23")
+    >>> est = estimate_surface_axis(acc, [slice(0, 40), slice(40, 80), slice(80, 120)],
+    ...                             AxisConfig(0.01, fit="eq23"))
     >>> est.axis.tolist(), round(float(np.degrees(est.elevation_rad)), 6)
     ([1.0, 0.0, 0.0], 0.0)
     """
-    if fit not in ("plane", "eq23"):
-        raise ValueError(f"fit must be 'plane' or 'eq23', got {fit!r}")
+    if not isinstance(config, AxisConfig):
+        raise TypeError(f"config must be an AxisConfig, got {type(config).__name__}")
     a = as_float_array(accel_m_s2, "accel_m_s2", ndim=2, last_dim=3)
-    sep = positive_scalar(min_separation_deg, "min_separation_deg")
-    max_el = positive_scalar(max_elevation_deg, "max_elevation_deg")
-    max_err = np.inf if max_axis_error_deg is None else positive_scalar(max_axis_error_deg, "max_axis_error_deg")
     rests = list(rests)
     if not rests:
         raise ValueError("found no rest; the axis needs rests at three distinct tilts")
+    return _axis_trusted(a, rests, config)
+
+
+def _axis_trusted(a: np.ndarray, rests: list, config: AxisConfig) -> AxisEstimate:
+    """:func:`estimate_surface_axis` on a checked (N, 3) float record, a non-empty rest list and a checked config."""
+    sep, max_el = float(config.min_separation_deg), float(config.max_elevation_deg)
+    max_err = np.inf if config.max_axis_error_deg is None else float(config.max_axis_error_deg)
     means, counts = _rest_means(a, rests)
     pos, w, members = rotation_axis.distinct_positions(means, counts, min_separation_deg=sep)
     if pos.shape[0] < 3:
@@ -274,12 +352,11 @@ def estimate_surface_axis(accel_m_s2, rests, *, accel_noise_m_s2: float, window_
         raise ValueError(f"found only {pos.shape[0]} distinct tilt(s) among {len(rests)} rest(s) "
                          f"(largest tilt difference {spread:.2f} deg, positions must be >= {sep:g} deg "
                          f"apart); the axis needs rests at three distinct tilts{why}")
-    if fit == "eq23":
+    if config.fit == "eq23":
         pos, w, members = pos[:3], w[:3], members[:3]
         v = rotation_axis.axis_from_means(*pos, min_separation_deg=sep, max_elevation_deg=max_el)
-    plane = axis_uncertainty(pos, w, accel_noise_m_s2=accel_noise_m_s2, window_samples=window_samples,
-                             max_axis_error_deg=max_err)
-    if fit == "plane":
+    plane = _plane_uncertainty(pos, w, float(config.accel_noise_m_s2), float(config.window_samples), max_err)
+    if config.fit == "plane":
         v = plane.v
         # v·a is the same at every rest (rotation about v keeps it), so each rest mean gives the elevation;
         # the centroid of the positions is shorter than g and would overstate it.
@@ -288,16 +365,14 @@ def estimate_surface_axis(accel_m_s2, rests, *, accel_noise_m_s2: float, window_
             raise ValueError(f"rotation axis is nearly vertical: elevation {elev:.2f} "
                              f"deg above the horizontal (maximum {max_el:g} deg); rotation about it barely "
                              f"changes gravity")
-    n_eff = float(np.min(w)) / max(1.0, float(window_samples))
-    sig = max(accel_noise_m_s2 / np.sqrt(max(n_eff, 1.0)), SIGMA_MEAN_FLOOR_M_S2)
+    n_eff = float(np.min(w)) / max(1.0, float(config.window_samples))
+    sig = max(config.accel_noise_m_s2 / np.sqrt(max(n_eff, 1.0)), SIGMA_MEAN_FLOOR_M_S2)
     return AxisEstimate(v, float(plane.sigma_rad), float(np.mean(rotation_axis.axis_elevation(v, means))), pos,
                         tuple(tuple(m) for m in members), means, angles_about_axis(v, means[0], means), float(sig),
-                        fit)
+                        config.fit)
 
 
-def estimate_surface_axes(accel_m_s2, rest_masks, *, accel_noise_m_s2: float, window_samples: float = 1.0,
-                          fit: str = "plane", min_separation_deg: float = 3.0,
-                          max_axis_error_deg: float | None = 2.0, max_elevation_deg: float = 85.0) -> np.ndarray:
+def estimate_surface_axes(accel_m_s2, rest_masks, config: AxisConfig) -> np.ndarray:
     """:func:`estimate_surface_axis` on a batch of T records: the hinge axis of each, (T, 3).
 
     The same procedure per trial (wang2022sensors Eq 23, Algorithm A1), vectorised where it
@@ -313,8 +388,7 @@ def estimate_surface_axes(accel_m_s2, rest_masks, *, accel_noise_m_s2: float, wi
         Accelerometer records (m/s²).
     rest_masks : sequence of array_like of bool (T, N)
         Rest samples per trial, one mask per rest, in time order (R ≥ 1).
-    accel_noise_m_s2, window_samples, fit, min_separation_deg, max_axis_error_deg, max_elevation_deg
-        As :func:`estimate_surface_axis`.
+    config : AxisConfig
 
     Returns
     -------
@@ -338,24 +412,29 @@ def estimate_surface_axes(accel_m_s2, rest_masks, *, accel_noise_m_s2: float, wi
     >>> masks = [np.zeros((2, 120), bool) for _ in range(3)]
     >>> for k, m in enumerate(masks):
     ...     m[:, 40 * k:40 * k + 40] = True
-    >>> estimate_surface_axes(np.stack([acc, acc]), masks, accel_noise_m_s2=0.01, fit="eq23",
-    ...                       max_axis_error_deg=None).tolist()
+    >>> estimate_surface_axes(np.stack([acc, acc]), masks, AxisConfig(0.01, fit="eq23",
+    ...                       max_axis_error_deg=None)).tolist()
     [[1.0, 0.0, 0.0], [1.0, 0.0, 0.0]]
     """
-    if fit not in ("plane", "eq23"):
-        raise ValueError(f"fit must be 'plane' or 'eq23', got {fit!r}")
+    if not isinstance(config, AxisConfig):
+        raise TypeError(f"config must be an AxisConfig, got {type(config).__name__}")
     a = as_float_array(accel_m_s2, "accel_m_s2", ndim=3, last_dim=3, copy=False)
-    sep = positive_scalar(min_separation_deg, "min_separation_deg")
     masks = [np.asarray(m) for m in rest_masks]
     if not masks:
         raise ValueError("found no rest; the axis needs rests at three distinct tilts")
     for m in masks:
         if m.dtype != bool or m.shape != a.shape[:2]:
             raise ValueError(f"each rest mask must be boolean of shape {a.shape[:2]}, got {m.dtype} {m.shape}")
+    return _axes_trusted(a, masks, config)
+
+
+def _axes_trusted(a: np.ndarray, masks: list[np.ndarray], config: AxisConfig) -> np.ndarray:
+    """:func:`estimate_surface_axes` on a checked (T, N, 3) float batch and non-empty checked (T, N) bool masks."""
+    sep = float(config.min_separation_deg)
     t_n = a.shape[0]
     out = np.empty((t_n, 3))
     fast = np.zeros(t_n, bool)
-    if fit == "eq23" and max_axis_error_deg is None and len(masks) >= 3:
+    if config.fit == "eq23" and config.max_axis_error_deg is None and len(masks) >= 3:
         counts = np.stack([m.sum(axis=1) for m in masks]).astype(float)          # (R, T)
         means = np.full((len(masks), t_n, 3), np.nan)
         for k, m in enumerate(masks):  # the rest means exactly as estimate_surface_axis takes them
@@ -370,12 +449,9 @@ def estimate_surface_axes(accel_m_s2, rest_masks, *, accel_noise_m_s2: float, wi
         fast = np.all(counts > 0, axis=0) & np.all(pair > np.radians(sep) * (1 + 1e-9), axis=0)
         if fast.any():
             out[fast] = rotation_axis.axis_from_means(*means[:3, fast], min_separation_deg=sep,
-                                                      max_elevation_deg=max_elevation_deg)
+                                                      max_elevation_deg=config.max_elevation_deg)
     for t in np.flatnonzero(~fast):
-        out[t] = estimate_surface_axis(a[t], [m[t] for m in masks], accel_noise_m_s2=accel_noise_m_s2,
-                                       window_samples=window_samples, fit=fit, min_separation_deg=sep,
-                                       max_axis_error_deg=max_axis_error_deg,
-                                       max_elevation_deg=max_elevation_deg).axis
+        out[t] = _axis_trusted(a[t], [m[t] for m in masks], config).axis
     return out
 
 
@@ -406,6 +482,77 @@ def rest_ekf_params(gyro_rad_s, accel_m_s2, init: slice) -> RamsEkfParams:
     sig_w = max(float(np.std(np.asarray(gyro_rad_s)[init], axis=0).mean()), 1e-5)
     return RamsEkfParams(sigma_theta_rad_s=sig_w, sigma_b_rad_s2=1e-4, sigma_a_static_m_s2=sig_a,
                          sigma_a_moving_m_s2=5.0, p0_theta_rad2=1e-8, p0_bias_rad2_s2=1e-8)
+
+
+@dataclass(frozen=True)
+class SurfaceAngleConfig:
+    """Resolved settings of :func:`surface_angle`, checked once when made.
+
+    Attributes
+    ----------
+    params : RamsEkfParams or None
+        EKF noise; None: measured on the initial rest (:func:`rest_ekf_params`, one record only).
+    max_elevation_deg : float
+        Refuse an axis steeper than this (deg): a rotation about the vertical does
+        not change the accelerometer reading.
+    check_units : bool
+        One record: check the gyro's units/time base against the accelerometer's tilt
+        change (:func:`~mtcal.systems.plausibility.check_units`: rest pairs, else the tilt rate).
+    max_axis_mismatch_deg : float or None
+        One record: once moves add up to 20°, refuse when the gyro turns about an axis
+        further than this from ``axis`` (deg).
+    gyro_noise_rad_s : float
+        Gyro noise per sample (rad/s, ≥ 0) for the moving-sample threshold of that check.
+    unit_stated : str or None
+        Where the gyro unit was stated (:func:`~mtcal.systems.plausibility.check_units`: a stated unit
+        that no check can decide is accepted with a ``warning`` in ``unit_check``).
+
+    Examples
+    --------
+    >>> SurfaceAngleConfig().check_units, SurfaceAngleConfig.cli(gyro_noise_rad_s=1e-3).check_units
+    (False, True)
+    >>> SurfaceAngleConfig(max_elevation_deg=0.0)
+    Traceback (most recent call last):
+    ...
+    ValueError: max_elevation_deg must be > 0, got 0.0
+    """
+
+    params: RamsEkfParams | None = None
+    max_elevation_deg: float = rotation_axis.DEFAULT_MAX_ELEVATION_DEG
+    check_units: bool = False
+    max_axis_mismatch_deg: float | None = None
+    gyro_noise_rad_s: float = 0.0
+    unit_stated: str | None = None
+
+    def __post_init__(self) -> None:
+        if self.params is not None and not isinstance(self.params, RamsEkfParams):
+            raise TypeError(f"params must be a RamsEkfParams or None, got {type(self.params).__name__}")
+        positive_scalar(self.max_elevation_deg, "max_elevation_deg")
+        _limit(self.max_axis_mismatch_deg, "max_axis_mismatch_deg")
+        positive_scalar(self.gyro_noise_rad_s, "gyro_noise_rad_s", allow_zero=True)
+        if not isinstance(self.check_units, bool):
+            raise TypeError(f"check_units must be a bool, got {type(self.check_units).__name__}")
+
+    @classmethod
+    def paper(cls, params: RamsEkfParams) -> "SurfaceAngleConfig":
+        """The study's Monte Carlo: the EKF noise of the simulated IMU, no record checks (a batch)."""
+        return cls(params=params)
+
+    @classmethod
+    def cli(cls, *, max_elevation_deg: float = 85.0, max_axis_mismatch_deg: float = 10.0,
+            gyro_noise_rad_s: float = 0.0, unit_stated: str | None = None) -> "SurfaceAngleConfig":
+        """``mtcal angle``: noise measured on the initial rest, units and gyro axis checked (defaults = the
+        command's)."""
+        return cls(None, max_elevation_deg, True, max_axis_mismatch_deg, gyro_noise_rad_s, unit_stated)
+
+    @classmethod
+    def sweep_cell(cls, *, gyro_noise_rad_s_rt_hz: float, accel_noise_m_s2_rt_hz: float, dt_s: float,
+                   gain_m_s2: float) -> "SurfaceAngleConfig":
+        """A sweep cell (the filter registry's ``rams_ekf`` entry): σθ = gyro noise per sample,
+        σa,static = accelerometer noise per sample (floors 1e-5 rad/s and 1e-2 m/s²), σa,moving = ``gain_m_s2``."""
+        return cls(RamsEkfParams(sigma_theta_rad_s=max(gyro_noise_rad_s_rt_hz / np.sqrt(dt_s), 1e-5),
+                                 sigma_a_static_m_s2=max(accel_noise_m_s2_rt_hz / np.sqrt(dt_s), 1e-2),
+                                 sigma_a_moving_m_s2=gain_m_s2))
 
 
 @dataclass(frozen=True)
@@ -464,25 +611,37 @@ def _restart_cuts(clipped: np.ndarray, rests, n: int) -> list[int]:
     return cuts
 
 
-def _ekf_pieces(gyro, accel, static, cuts, v, a0, b0, dt_s, params, units_checked: bool = False) -> np.ndarray:
+def _ekf_pieces(gyro, accel, static, cuts, v, a0, b0, dt_s, params) -> np.ndarray:
     """One trial's EKF over ``cuts`` segments, angle and bias carried over, wide angle prior after a cut
-    (``units_checked``: :func:`plausibility.check_units` passed on the record, the EKF does not scan it again)."""
+    (checked records: the filter's trusted entry)."""
     theta = np.empty(accel.shape[0])
     th0, bias0, p = 0.0, b0, params
-    ekf = run_rams_ekf_trusted if units_checked else run_rams_ekf
     for lo, hi in zip(cuts[:-1], cuts[1:]):
-        res = ekf(gyro[lo:hi], accel[lo:hi], static[lo:hi], v, a0, dt_s, p,
-                  theta0_rad=th0, bias0_rad_s=bias0, keep_innovation=False)
+        res = run_rams_ekf_trusted(gyro[lo:hi], accel[lo:hi], static[lo:hi], v, a0, dt_s, p,
+                                   theta0_rad=th0, bias0_rad_s=bias0, keep_innovation=False)
         theta[lo:hi] = res.theta_rad[0]
         th0, bias0 = float(res.theta_rad[0, -1]), res.bias_rad_s[0, -1]
         p = replace(params, p0_theta_rad2=CLIPPED_P0_THETA_RAD**2)
     return theta
 
 
-def surface_angle(gyro_rad_s, accel_m_s2, axis, *, is_static, init: slice, dt_s=None, time_s=None,
-                  rests=(), params: RamsEkfParams | None = None, max_elevation_deg: float = 85.0,
-                  check_units: bool = False, max_axis_mismatch_deg: float | None = None,
-                  gyro_noise_rad_s: float = 0.0, unit_stated: str | None = None) -> SurfaceAngle:
+def _checked_axis(axis) -> np.ndarray:
+    v = as_float_array(axis, "axis", ndim=(1, 2), last_dim=3)
+    if np.any(np.abs(np.linalg.norm(v, axis=-1) - 1.0) > 1e-6):
+        raise ValueError(f"axis must be a unit vector, got |axis| = {np.linalg.norm(v, axis=-1).max():.6g}")
+    return v
+
+
+def _checked_record(gyro_rad_s, accel_m_s2, ndim) -> tuple[np.ndarray, np.ndarray]:
+    g = as_float_array(gyro_rad_s, "gyro_rad_s", ndim=ndim, last_dim=3, copy=False)
+    a = as_float_array(accel_m_s2, "accel_m_s2", ndim=ndim, last_dim=3, copy=False)
+    if g.shape != a.shape:
+        raise ValueError(f"gyro_rad_s and accel_m_s2 must have the same shape, got {g.shape} and {a.shape}")
+    return g, a
+
+
+def surface_angle(gyro_rad_s, accel_m_s2, axis, config: SurfaceAngleConfig | None = None, *, is_static,
+                  init: slice, dt_s=None, time_s=None, rests=(), params: RamsEkfParams | None = None) -> SurfaceAngle:
     """Angle about a known hinge axis: ZVD-switched RAMS EKF from a rest (wang2022sensors Sec. 2.2–3.3).
 
     ā0 and the initial bias are the means over ``init`` (Sec. 2.2); the EKF
@@ -491,7 +650,10 @@ def surface_angle(gyro_rad_s, accel_m_s2, axis, *, is_static, init: slice, dt_s=
     (:func:`~mtcal.systems.plausibility.clipped_samples`) restart the EKF at the
     next rest in ``rests`` with ``p0_θ = (30°)²`` (angle and bias carried over),
     so that rest's accelerometer reading sets the angle again. Without clipping
-    this is one EKF run; a batch (T, N, 3) runs all trials in one call.
+    this is one EKF run; a batch (T, N, 3) runs all trials in one call. Inputs are
+    checked here once; the filter below runs on the checked arrays. A single record
+    without ``config.check_units`` is still checked against the accelerometer's tilt
+    rate (:func:`mtcal.methods.tilt_rate.check_tilt_rate_scale`, a gyro off by > 5× is refused).
 
     Parameters
     ----------
@@ -499,6 +661,8 @@ def surface_angle(gyro_rad_s, accel_m_s2, axis, *, is_static, init: slice, dt_s=
         Gyro (rad/s) and accelerometer (m/s²).
     axis : array_like (3,) or (T, 3)
         Unit axis v (sensor frame).
+    config : SurfaceAngleConfig, optional
+        Resolved settings (default ``SurfaceAngleConfig()``).
     is_static : array_like of bool (N,) or (T, N)
         ZVD flags.
     init : slice
@@ -509,21 +673,7 @@ def surface_angle(gyro_rad_s, accel_m_s2, axis, *, is_static, init: slice, dt_s=
     rests : sequence of slice
         Rests (time order) where the EKF may restart after clipping.
     params : RamsEkfParams, optional
-        Default: measured on ``init`` (:func:`rest_ekf_params`, one record only).
-    max_elevation_deg : float
-        Refuse an axis steeper than this (deg): a rotation about the vertical does
-        not change the accelerometer reading.
-    check_units : bool
-        One record: check the gyro's units/time base against the accelerometer's tilt
-        change (:func:`~mtcal.systems.plausibility.check_units`: rest pairs, else the tilt rate).
-    max_axis_mismatch_deg : float, optional
-        One record: once moves add up to 20°, refuse when the gyro turns about an axis
-        further than this from ``axis`` (deg).
-    gyro_noise_rad_s : float
-        Gyro noise per sample (rad/s) for the moving-sample threshold of that check.
-    unit_stated : str, optional
-        Where the gyro unit was stated (:func:`~mtcal.systems.plausibility.check_units`: a stated unit
-        that no check can decide is accepted with a ``warning`` in ``unit_check``).
+        The filter registry's shortcut for ``SurfaceAngleConfig(params=params)`` (not with ``config``).
 
     Returns
     -------
@@ -547,38 +697,52 @@ def surface_angle(gyro_rad_s, accel_m_s2, axis, *, is_static, init: slice, dt_s=
     >>> v = np.array([0.6, 0.0, 0.8]); n = prof.time_s.size
     >>> w, f = fixed_axis_imu_truth(prof.angle_rad.T, prof.rate_rad_s.T, prof.accel_rad_s2.T, [v], [[0.0, 0, 0]],
     ...                             [0.0, 0.0, 9.81], 0.01)
-    >>> res = surface_angle(w[0], f[0], v, is_static=prof.is_static, init=slice(0, 90), dt_s=0.01,
-    ...                     params=RamsEkfParams())
+    >>> res = surface_angle(w[0], f[0], v, SurfaceAngleConfig(RamsEkfParams()), is_static=prof.is_static,
+    ...                     init=slice(0, 90), dt_s=0.01)
     >>> round(float(np.degrees(res.angle_rad[-1])), 3)
     40.0
     """
-    g = as_float_array(gyro_rad_s, "gyro_rad_s", ndim=(2, 3), last_dim=3, copy=False)
-    a = as_float_array(accel_m_s2, "accel_m_s2", ndim=(2, 3), last_dim=3, copy=False)
-    if g.shape != a.shape:
-        raise ValueError(f"gyro_rad_s and accel_m_s2 must have the same shape, got {g.shape} and {a.shape}")
+    if params is not None:
+        if config is not None:
+            raise ValueError("give params in config, not both")
+        config = SurfaceAngleConfig(params=params)
+    cfg = SurfaceAngleConfig() if config is None else config
+    if not isinstance(cfg, SurfaceAngleConfig):
+        raise TypeError(f"config must be a SurfaceAngleConfig, got {type(cfg).__name__}")
+    g, a = _checked_record(gyro_rad_s, accel_m_s2, (2, 3))
     batch = a.ndim == 3
     n = a.shape[-2]
     dt, weights = plausibility.time_base(n, dt_s=dt_s, time_s=time_s)
-    gyro_f = g if weights is None else g * weights[:, None]
-    v = as_float_array(axis, "axis", ndim=(1, 2), last_dim=3)
-    if np.any(np.abs(np.linalg.norm(v, axis=-1) - 1.0) > 1e-6):
-        raise ValueError(f"axis must be a unit vector, got |axis| = {np.linalg.norm(v, axis=-1).max():.6g}")
+    v = _checked_axis(axis)
     static = np.asarray(is_static)
     if static.dtype != bool or static.shape[-1] != n:
         raise ValueError(f"is_static must be boolean with {n} samples, got {static.dtype} {static.shape}")
     if not isinstance(init, slice) or not 0 <= (init.start or 0) < (init.stop or 0) <= n:
         raise ValueError(f"init must be a non-empty slice of the {n} samples, got {init!r}")
+    if (cfg.check_units or cfg.max_axis_mismatch_deg is not None) and batch:
+        raise ValueError("check_units and max_axis_mismatch_deg check one record, not a batch")
+    if cfg.params is None and batch:
+        raise ValueError("params must be given for a batch")
+    return _surface_angle_trusted(g, a, v, static, init, dt, weights, time_s, list(rests), cfg)
+
+
+def _surface_angle_trusted(g, a, v, static, init: slice, dt: float, weights, time_s, rests: list,
+                           cfg: SurfaceAngleConfig) -> SurfaceAngle:
+    """:func:`surface_angle` on checked arrays ((N, 3) or (T, N, 3) float, bool flags, unit axis, a non-empty
+    ``init``, ``dt`` and gyro ``weights`` from :func:`~mtcal.systems.plausibility.time_base`)."""
+    batch = a.ndim == 3
+    n = a.shape[-2]
+    gyro_f = g if weights is None else g * weights[:, None]
     k0 = init.start or 0
     a0 = a[..., init, :].mean(axis=-2)
     b0 = g[..., init, :].mean(axis=-2)
     elev = rotation_axis.axis_elevation(v, a0)
-    max_el = positive_scalar(max_elevation_deg, "max_elevation_deg")
+    max_el = float(cfg.max_elevation_deg)
     worst = float(np.degrees(np.max(elev)))
     if worst > max_el:
         raise ValueError(f"--axis is {90 - worst:.2f} deg from gravity (elevation {worst:.2f} deg > {max_el:g}): "
                          f"a rotation about the vertical does not change the accelerometer reading, so the "
                          f"EKF cannot correct the gyro; measure the angle with a non-vertical axis")
-    rests = list(rests)
     if batch:
         clip = [plausibility.clipped_samples(row) for row in g]
         clipped = np.stack([c[0] for c in clip])
@@ -586,38 +750,25 @@ def surface_angle(gyro_rad_s, accel_m_s2, axis, *, is_static, init: slice, dt_s=
     else:
         clipped, level = plausibility.clipped_samples(g)
     check, u = None, None
-    if (check_units or max_axis_mismatch_deg is not None) and batch:
-        raise ValueError("check_units and max_axis_mismatch_deg check one record, not a batch")
-    if check_units:
-        check = plausibility.check_units(gyro_f, a, dt, rests, time_s=time_s, skip=clipped, unit_stated=unit_stated)
-    if max_axis_mismatch_deg is not None:
-        moving = ~static & (np.linalg.norm(g - b0, axis=1) > max(5 * gyro_noise_rad_s, np.radians(2.0)))
-        turned = float(np.degrees(np.sum(np.linalg.norm(g[moving] - b0, axis=1)) * dt))
-        if turned > MIN_TURN_FOR_AXIS_CHECK_DEG:
-            u, share = plausibility.rotation_axis_from_gyro(g, b0, moving)
-            mis = float(np.degrees(np.arccos(min(1.0, abs(float(u @ v))))))
-            if mis > max_axis_mismatch_deg:
-                u = u if u[0] >= 0 else -u
-                raise ValueError(f"the gyro turns about [{u[0]:.3f}, {u[1]:.3f}, {u[2]:.3f}] "
-                                 f"({share * 100:.0f} % of the rotation), {mis:.1f} deg from --axis "
-                                 f"(max {max_axis_mismatch_deg:g}); pass the right axis (mtcal axis LOG) or "
-                                 f"check the axes")
-    if params is None:
-        if batch:
-            raise ValueError("params must be given for a batch")
-        params = rest_ekf_params(g, a, init)
+    if cfg.check_units:
+        check = plausibility.check_units(gyro_f, a, dt, rests, time_s=time_s, skip=clipped,
+                                         unit_stated=cfg.unit_stated)
+    elif not batch:  # the tilt-rate scale check of run_rams_ekf, once for the record
+        check_tilt_rate_scale(gyro_f[k0:], a[k0:], dt, excess="warn")
+    if cfg.max_axis_mismatch_deg is not None:
+        u = _gyro_axis_check(g, static, b0, v, dt, cfg)
+    params = rest_ekf_params(g, a, init) if cfg.params is None else cfg.params
     local = [slice(r.start - k0, r.stop - k0) for r in rests]
     angle = np.full(a.shape[:-1], np.nan)
     if not batch:
         cuts = _restart_cuts(clipped[k0:], local, n - k0)
-        angle[k0:] = _ekf_pieces(gyro_f[k0:], a[k0:], static[k0:], cuts, v, a0, b0, dt, params,
-                                 units_checked=check is not None)
+        angle[k0:] = _ekf_pieces(gyro_f[k0:], a[k0:], static[k0:], cuts, v, a0, b0, dt, params)
         restarts = tuple(c + k0 for c in cuts[1:-1])
     else:
         st = np.broadcast_to(static, a.shape[:-1])
         cuts = [_restart_cuts(c[k0:], local, n - k0) for c in clipped]
-        ekf = run_rams_ekf(gyro_f[:, k0:], a[:, k0:], st[:, k0:], v, a0, dt, params, bias0_rad_s=b0,
-                           keep_innovation=False)
+        ekf = run_rams_ekf_trusted(gyro_f[:, k0:], a[:, k0:], st[:, k0:], v, a0, dt, params, bias0_rad_s=b0,
+                                   keep_innovation=False)
         angle[:, k0:] = ekf.theta_rad
         for t, c in enumerate(cuts):
             if len(c) > 2:
@@ -628,8 +779,220 @@ def surface_angle(gyro_rad_s, accel_m_s2, axis, *, is_static, init: slice, dt_s=
                         level if batch else float(level), restarts, check, u)
 
 
+def _gyro_axis_check(g, static, b0, v, dt: float, cfg: SurfaceAngleConfig) -> np.ndarray | None:
+    """The gyro's principal rotation axis once the moves add up to :data:`MIN_TURN_FOR_AXIS_CHECK_DEG`;
+    refused further than ``cfg.max_axis_mismatch_deg`` from ``v`` (one record)."""
+    moving = ~static & (np.linalg.norm(g - b0, axis=1) > max(5 * cfg.gyro_noise_rad_s, np.radians(2.0)))
+    turned = float(np.degrees(np.sum(np.linalg.norm(g[moving] - b0, axis=1)) * dt))
+    if turned <= MIN_TURN_FOR_AXIS_CHECK_DEG:
+        return None
+    u, share = plausibility.rotation_axis_from_gyro(g, b0, moving)
+    mis = float(np.degrees(np.arccos(min(1.0, abs(float(u @ v))))))
+    if mis > cfg.max_axis_mismatch_deg:
+        u = u if u[0] >= 0 else -u
+        raise ValueError(f"the gyro turns about [{u[0]:.3f}, {u[1]:.3f}, {u[2]:.3f}] "
+                         f"({share * 100:.0f} % of the rotation), {mis:.1f} deg from --axis "
+                         f"(max {cfg.max_axis_mismatch_deg:g}); pass the right axis (mtcal axis LOG) or "
+                         f"check the axes")
+    return u
+
+
+# --------------------------------------------------------------------------- batched: ZVD → axis → EKF
+@dataclass(frozen=True)
+class SurfaceBatchConfig:
+    """Resolved settings of :func:`surface_angle_batch`, checked once when made.
+
+    Attributes
+    ----------
+    zvd : ZvdParams or None
+        The paper's ZVD (Table 1, Sec. 3.1); None: the caller's known rest flags are the rest flags.
+    axis : AxisConfig or None
+        Hinge axis from the first ``axis_rests`` rests (Eq 23); None: the caller gives the axis.
+    angle : SurfaceAngleConfig or None
+        The EKF (``params`` required); None: no angle (ZVD and axis only).
+    ekf_switch : {"zvd", "known"}
+        The EKF's V/V_z switch: the rest flags, or the caller's known flags (an oracle, or all-static for
+        the "standard EKF").
+    axis_rests : int
+        How many of the given rests the axis uses (≥ 3).
+
+    Examples
+    --------
+    >>> from mtcal.filters.rams_ekf import RamsEkfParams
+    >>> cfg = SurfaceBatchConfig.paper(ZvdParams(), 0.01, RamsEkfParams())
+    >>> cfg.axis.fit, cfg.ekf_switch, cfg.axis_rests
+    ('eq23', 'zvd', 3)
+    """
+
+    zvd: ZvdParams | None
+    axis: AxisConfig | None
+    angle: SurfaceAngleConfig | None
+    ekf_switch: str = "zvd"
+    axis_rests: int = 3
+
+    def __post_init__(self) -> None:
+        for name, kind in (("zvd", ZvdParams), ("axis", AxisConfig), ("angle", SurfaceAngleConfig)):
+            value = getattr(self, name)
+            if value is not None and not isinstance(value, kind):
+                raise TypeError(f"{name} must be a {kind.__name__} or None, got {type(value).__name__}")
+        if self.ekf_switch not in ("zvd", "known"):
+            raise ValueError(f"ekf_switch must be 'zvd' or 'known', got {self.ekf_switch!r}")
+        if isinstance(self.axis_rests, bool) or not isinstance(self.axis_rests, int) or self.axis_rests < 3:
+            raise ValueError(f"axis_rests must be an integer >= 3, got {self.axis_rests!r}")
+        if self.angle is not None:
+            if self.angle.params is None:
+                raise ValueError("angle.params must be given for a batch")
+            if self.angle.check_units or self.angle.max_axis_mismatch_deg is not None:
+                raise ValueError("check_units and max_axis_mismatch_deg check one record, not a batch")
+
+    @classmethod
+    def paper(cls, zvd: ZvdParams, accel_noise_m_s2: float, params: RamsEkfParams, *,
+              ekf_switch: str = "zvd") -> "SurfaceBatchConfig":
+        """The study's Monte Carlo (wang2022sensors Algorithm A1 and Sec. 3): Table 1 ZVD, Eq 23 axis on the
+        first three rests (:meth:`AxisConfig.paper`), ZVD-switched EKF with the simulated IMU's noise."""
+        return cls(zvd, AxisConfig.paper(accel_noise_m_s2), SurfaceAngleConfig.paper(params), ekf_switch)
+
+
+@dataclass(frozen=True)
+class SurfaceAngleBatch:
+    """Result of :func:`surface_angle_batch` (T trials, N samples).
+
+    Attributes
+    ----------
+    accel0_m_s2, bias0_rad_s : ndarray (T, 3)
+        ā0 and the initial gyro bias (means over the initial rest).
+    is_static : ndarray of bool (T, N)
+        Rest flags (the ZVD's, or the known ones when ``config.zvd`` is None).
+    axis : ndarray (T, 3) or (3,)
+        The estimated axes, or the given one.
+    angle_rad : ndarray (T, N) or None
+        Angle about the axis (rad), 0 at sample 0; None without ``config.angle``.
+    """
+
+    accel0_m_s2: np.ndarray
+    bias0_rad_s: np.ndarray
+    is_static: np.ndarray
+    axis: np.ndarray | None
+    angle_rad: np.ndarray | None
+
+
+def rest_masks(is_static, rests) -> list[np.ndarray]:
+    """Rest flags restricted to each known rest slice; the whole rest where they flag < 10 % of it
+    (:data:`MIN_REST_ZVD_SHARE`): one (T, N) boolean mask per rest.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> [m.astype(int).tolist() for m in rest_masks(np.array([[True, False, False, False]]),
+    ...                                             [slice(0, 2), slice(2, 4)])]
+    [[[1, 0, 0, 0]], [[0, 0, 1, 1]]]
+    """
+    flags = np.asarray(is_static, bool)
+    out = []
+    for sl in rests:
+        m = np.zeros(flags.shape, bool)
+        m[:, sl] = flags[:, sl]
+        few = m.sum(axis=1) < MIN_REST_ZVD_SHARE * (sl.stop - sl.start)
+        m[few, sl] = True
+        out.append(m)
+    return out
+
+
+def surface_angle_batch(gyro_rad_s, accel_m_s2, dt_s: float, config: SurfaceBatchConfig, *, init_samples: int,
+                        rests, axis=None, known_static=None) -> SurfaceAngleBatch:
+    """The surface-angle procedure on T stacked trials: ZVD → Eq 23 axis → ZVD-switched RAMS EKF.
+
+    ā0 and the initial gyro bias are the means of the first ``init_samples`` samples (Sec. 2.2);
+    the ZVD (Table 1, with the gyro condition on the bias-removed gyro when ``zvd.gyro_max_rad_s``
+    is set) flags the rests; the axis is Eq 23 on the ZVD-flagged samples of the first
+    ``config.axis_rests`` known rests (:func:`rest_masks`, :func:`estimate_surface_axes`) unless
+    ``axis`` is given; the EKF (:func:`surface_angle`) runs from sample 0, restarting after clipped
+    gyro samples at the next of ``rests``. Inputs are checked here once.
+
+    Parameters
+    ----------
+    gyro_rad_s, accel_m_s2 : array_like (T, N, 3)
+        Gyro (rad/s) and accelerometer (m/s²).
+    dt_s : float
+        Sample interval (s).
+    config : SurfaceBatchConfig
+    init_samples : int
+        Length of the initial rest (samples, from sample 0).
+    rests : sequence of slice
+        The known rests (time order) of the schedule.
+    axis : array_like (3,) or (T, 3), optional
+        The hinge axis (unit); required when ``config.axis`` is None and an angle is asked for.
+    known_static : array_like of bool (N,) or (T, N), optional
+        The known rest flags: the rest flags when ``config.zvd`` is None, the EKF switch when
+        ``config.ekf_switch == "known"``.
+
+    Returns
+    -------
+    SurfaceAngleBatch
+
+    References
+    ----------
+    wang2022sensors Sec. 2.2, Sec. 3.1 (ZVD, Table 1), Eq 23 (axis), Algorithm A1, Eq 24–33 (EKF).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from mtcal.core.profiles import fixed_axis_imu_truth, step_schedule
+    >>> from mtcal.filters.rams_ekf import RamsEkfParams
+    >>> prof = step_schedule(np.radians([0.0, 90.0, 180.0, 40.0]), np.radians(90.0), 1.0, 100.0)
+    >>> v = np.array([0.6, 0.0, 0.8])
+    >>> w, f = fixed_axis_imu_truth(prof.angle_rad.T, prof.rate_rad_s.T, prof.accel_rad_s2.T, [v], [[0.0, 0, 0]],
+    ...                             [0.0, 0.0, 9.81], 0.01)
+    >>> cfg = SurfaceBatchConfig(None, AxisConfig.paper(0.01), SurfaceAngleConfig(RamsEkfParams()))
+    >>> res = surface_angle_batch(w, f, 0.01, cfg, init_samples=90, rests=prof.hold_slices(),
+    ...                           known_static=prof.is_static)
+    >>> (np.round(res.axis[0], 6) + 0.0).tolist(), round(float(np.degrees(res.angle_rad[0, -1])), 3)
+    ([0.6, 0.0, 0.8], 40.0)
+    """
+    if not isinstance(config, SurfaceBatchConfig):
+        raise TypeError(f"config must be a SurfaceBatchConfig, got {type(config).__name__}")
+    g, a = _checked_record(gyro_rad_s, accel_m_s2, 3)
+    t_n, n = a.shape[:2]
+    dt = positive_scalar(dt_s, "dt_s")
+    if isinstance(init_samples, bool) or not isinstance(init_samples, (int, np.integer)) \
+            or not 1 <= init_samples <= n:
+        raise ValueError(f"init_samples must be an integer in [1, {n}], got {init_samples!r}")
+    rests = list(rests)
+    if not all(isinstance(r, slice) and 0 <= (r.start or 0) < (r.stop or 0) <= n for r in rests):
+        raise ValueError(f"rests must be non-empty slices of the {n} samples, got {rests!r}")
+    known = None
+    if known_static is not None:
+        known = np.asarray(known_static)
+        if known.dtype != bool or known.shape[-1] != n:
+            raise ValueError(f"known_static must be boolean with {n} samples, got {known.dtype} {known.shape}")
+        known = np.broadcast_to(known, (t_n, n))
+    if known is None and (config.zvd is None or (config.angle is not None and config.ekf_switch == "known")):
+        raise ValueError("known_static must be given when config.zvd is None or ekf_switch is 'known'")
+    v = None if axis is None else _checked_axis(axis)
+    if v is None and config.axis is None and config.angle is not None:
+        raise ValueError("give axis, or config.axis to estimate it")
+    if v is None and config.axis is not None and len(rests) < config.axis_rests:
+        raise ValueError(f"the axis needs {config.axis_rests} rests, got {len(rests)}")
+    a0 = a[:, :init_samples].mean(axis=-2)
+    b0 = g[:, :init_samples].mean(axis=-2)
+    if config.zvd is None:
+        flags = known
+    else:
+        zvd_gyro = g - b0[:, None, :] if config.zvd.gyro_max_rad_s is not None else None
+        flags = detect_static(a, dt, config.zvd, zvd_gyro)
+    if v is None and config.axis is not None:
+        v = _axes_trusted(a, rest_masks(flags, rests[:config.axis_rests]), config.axis)
+    angle = None
+    if config.angle is not None:
+        switch = flags if config.ekf_switch == "zvd" else known
+        angle = _surface_angle_trusted(g, a, v, switch, slice(0, int(init_samples)), dt, None, None, rests,
+                                       config.angle).angle_rad
+    return SurfaceAngleBatch(a0, b0, flags, v, angle)
+
+
 def _registered_rams_ekf(w, a, dt, gain, ctx: AxisContext):
-    """The filter registry's ``rams_ekf`` entry: :func:`surface_angle` (the ``mtcal angle`` system) with noise from
+    """The filter registry's ``rams_ekf`` runner (declared in :data:`mtcal.filters.registry.BUILTIN_FILTERS`, imported
+    on its first call): :func:`surface_angle` (the ``mtcal angle`` system) with noise from
     the sensors: σθ = gyro noise per sample, σa,static = accelerometer noise per sample (floors 1e-5 rad/s and
     1e-2 m/s²), σa,moving = ``gain`` (m/s²); initialised on ``ctx.init`` (default: the first 0.5 s)."""
     params = RamsEkfParams(sigma_theta_rad_s=max(ctx.gyro_noise_rad_s_rt_hz / np.sqrt(dt), 1e-5),
@@ -639,9 +1002,3 @@ def _registered_rams_ekf(w, a, dt, gain, ctx: AxisContext):
     init = ctx.init if ctx.init is not None else slice(0, max(1, int(round(0.5 / dt))))
     return surface_angle(w, a, ctx.axis_s, is_static=static, init=init, dt_s=dt, rests=ctx.rests,
                          params=params).angle_rad
-
-
-register_filter("rams_ekf", _registered_rams_ekf, output="angle", default_gain=RAMS_EKF_DEFAULT_GAIN,
-                gain_unit="sigma_a_moving (m/s²)", origin="ours",
-                description="RAMS EKF as mtcal angle runs it: angle about a known axis, ZVD switching, restart "
-                            "after clipping (wang2022sensors Sec. 4)")

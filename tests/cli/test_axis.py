@@ -17,7 +17,7 @@ def log(tmp_path, rng):
     prof = profiles.step_schedule(np.radians([0, 90, 180, 30]), np.radians(60), 1.5, imu.fs_hz)
     setup = RotationSetup()
     rec = simulate_rotation(prof.angle_rad[:, 0], prof.rate_rad_s[:, 0], prof.accel_rad_s2[:, 0],
-                            prof.is_static, setup, imu.error_model(), imu.fs_hz, rng)
+                            prof.is_static, setup, imu.error_model(), imu.dt_s, 12345)
     df = pd.DataFrame({"time_s": rec.time_s})
     for i, ax in enumerate("xyz"):
         df[f"gyro_{ax}_rad_s"] = rec.gyro_rad_s[0, :, i]

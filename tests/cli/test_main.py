@@ -49,30 +49,12 @@ def test_parsing_loads_no_heavy_library(argv):
     assert last.split("loaded")[1].split() == [], f"mtcal {' '.join(argv)} loaded: {last}"
 
 
-def test_allocator_is_told_to_keep_freed_memory(monkeypatch):
-    """main() sets glibc's mmap/trim thresholds and top pad (values only, never results); no libc: no-op."""
-    import ctypes
+def test_main_tells_the_allocator_to_keep_freed_memory(monkeypatch, capsys):
+    """main() calls mtcal.core.allocator.keep_freed_memory (tested there) before the command runs."""
     import sys
 
     main_mod = sys.modules["mtcal.cli.main"]
     calls = []
-
-    class FakeLibc:
-        def mallopt(self, param, value):
-            calls.append((param, value))
-            return 1
-
-    monkeypatch.setattr(main_mod.sys, "platform", "linux")
-    monkeypatch.setattr(ctypes, "CDLL", lambda name: FakeLibc())
-    main_mod._keep_freed_memory()
-    assert calls == [(-3, 1 << 30), (-1, 1 << 30), (-2, 64 << 20)]
-
-    def no_libc(name):
-        raise OSError("no libc")
-
-    monkeypatch.setattr(ctypes, "CDLL", no_libc)
-    main_mod._keep_freed_memory()                      # silently nothing
-    monkeypatch.setattr(main_mod.sys, "platform", "darwin")
-    monkeypatch.setattr(ctypes, "CDLL", lambda name: FakeLibc())
-    main_mod._keep_freed_memory()
-    assert len(calls) == 3
+    monkeypatch.setattr(main_mod, "keep_freed_memory", lambda: calls.append(1))
+    assert main_mod.main(["rests", "no_such_log.csv"]) == 2
+    assert calls == [1] and "mtcal: error:" in capsys.readouterr().err

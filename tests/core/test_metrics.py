@@ -220,3 +220,20 @@ def test_orientation_errors_rejects_bad_shapes():
         orientation_errors(np.ones((3, 4)), np.ones((2, 4)))
     with pytest.raises(ValueError, match="infinite"):
         orientation_errors(np.ones((1, 4)), np.array([[np.inf, 0, 0, 0]]))
+
+
+def test_variance_parts_split_and_its_old_homes_reexport_it():
+    from mtcal.studies.wang2023cja import predictive, verdicts
+
+    assert predictive.variance_parts is metrics.variance_parts is verdicts.variance_parts
+    rng = np.random.default_rng(2)
+    y = np.repeat(rng.normal(0, 3.0, 3000), 3) + rng.normal(0, 1.0, 9000)
+    p = metrics.variance_parts(y, 3)
+    assert abs(p["parameter"] - 9.0) < 0.8 and abs(p["sampling"] - 1.0) < 0.05 and p["draws"] == 3000
+    assert p["total"] == p["parameter"] + p["sampling"] and 0.85 < p["parameter_share"] < 0.95
+    with pytest.raises(ValueError, match="per_draw must be >= 2"):
+        metrics.variance_parts(y, 1)
+    with pytest.raises(ValueError, match="samples must be 1-D"):
+        metrics.variance_parts(y.reshape(-1, 3), 3)
+    with pytest.raises(ValueError, match="at least 2 complete groups"):
+        metrics.variance_parts(y[:5], 3)

@@ -171,3 +171,13 @@ def test_reference_is_refused_for_a_filter_without_one():
     with pytest.raises(ValueError, match=r"filters without a reference runner: \['qncf'\]"):
         with reference_runs("qncf"):
             pass
+
+
+@pytest.mark.parametrize("name", FILTERS)
+def test_units_are_checked_once_at_the_edge_for_every_filter(name):
+    """run_attitude_filter checks units for every filter (the runners trust their inputs)."""
+    acc = np.tile([0.0, 0.0, G], (1, 50, 1))
+    with pytest.raises(ValueError, match=r"gyro_rad_s must be in rad/s"):
+        run_attitude_filter(name, np.full((1, 50, 3), 100.0), acc, 0.01)       # deg/s passed as rad/s
+    with pytest.raises(ValueError, match=r"accel_m_s2 looks like it is in g"):
+        run_attitude_filter(name, np.zeros((1, 50, 3)), acc / G, 0.01)

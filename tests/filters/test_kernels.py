@@ -271,7 +271,7 @@ def _ekf_record(trials: int):
     th = np.broadcast_to(prof.angle_rad[:, 0], (trials, prof.time_s.size))
     rec = simulate_rotation(th, np.broadcast_to(prof.rate_rad_s[:, 0], th.shape),
                             np.broadcast_to(prof.accel_rad_s2[:, 0], th.shape), prof.is_static,
-                            RotationSetup(), imu.error_model(), imu.fs_hz, np.random.default_rng(5))
+                            RotationSetup(), imu.error_model(), imu.dt_s, 5)
     a0, b0 = initial_state(rec.gyro_rad_s, rec.accel_m_s2, 150)
     # per-trial ZVD-like flags: the truth with a few flipped samples, different per trial
     flags = np.broadcast_to(prof.is_static, th.shape).copy()

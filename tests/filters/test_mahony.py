@@ -83,3 +83,15 @@ def test_errors():
         mahony_imu(g, a, 0.01, q0=[1.0, 0, 0])
     with pytest.raises(ValueError, match="gyro_rad_s"):
         mahony_imu(np.full((10, 3), np.nan), a, 0.01)
+
+
+def test_trusted_batch_equals_the_checked_call():
+    from mtcal.filters.mahony import MahonyParams, mahony_imu, mahony_trusted
+
+    rng = np.random.default_rng(11)
+    w = rng.normal(0, 0.2, (3, 400, 3))
+    a = np.tile([0.3, -0.2, 9.8], (3, 400, 1)) + rng.normal(0, 0.05, (3, 400, 3))
+    q0 = np.tile([1.0, 0.0, 0.0, 0.0], (3, 1))
+    p = MahonyParams(1.5, 0.03)
+    checked, trusted = mahony_imu(w, a, 0.01, p, q0=q0), mahony_trusted(w, a, 0.01, p, q0)
+    assert np.array_equal(checked.q_ws, trusted.q_ws) and np.array_equal(checked.bias_rad_s, trusted.bias_rad_s)

@@ -118,3 +118,28 @@ def test_register_errors():
     with pytest.raises(ValueError, match="returns an angle"):
         run_attitude_filter("rams_ekf", np.zeros((1, 5, 3)), np.ones((1, 5, 3)), 0.01)
     assert "x" not in registry.filter_names()
+
+
+def test_every_filter_is_declared_once_and_listing_imports_none_of_them():
+    """The declaration (registry.BUILTIN_FILTERS) names runners by module and function: no module registers
+    by being imported, and listing or describing filters imports neither the anchors nor the systems."""
+    import subprocess
+    import sys
+
+    assert [e.name for e in registry.BUILTIN_FILTERS] == filter_names()
+    for entry in registry.BUILTIN_FILTERS:
+        assert isinstance(entry.run, registry.Deferred) and callable(entry.run.resolve())
+        assert entry.reference is None or callable(entry.reference.resolve())
+    assert bakeoff.BAKEOFF_DEFAULTS["filters"] == registry.builtin_filter_names(output="attitude")
+    code = ("import sys; from mtcal.filters.registry import filter_names, get_filter; "
+            "names = filter_names(); units = [get_filter(n).gain_unit for n in names]; "
+            "print(names, sorted(m for m in sys.modules if m in ('mtcal.filters.anchors', 'mtcal.systems.surface_angle')))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.strip() == "['qncf', 'mahony', 'madgwick', 'vqf', 'fusion', 'rams_ekf'] []"
+
+
+def test_builtin_names_ignore_what_a_session_registered(hold_filter):
+    assert hold_filter in filter_names(output="attitude")
+    assert hold_filter not in registry.builtin_filter_names(output="attitude")
+    with pytest.raises(ValueError, match="output must be one of"):
+        registry.builtin_filter_names(output="euler")

@@ -97,3 +97,15 @@ def test_errors():
         xio_ahrs.mahony(gyr, acc, dt, 0.5, 0.0, mag_uT=mag[:5])
     with pytest.raises(ValueError, match="same shape"):
         xio_ahrs.mahony(gyr, acc[:5], dt, 0.5, 0.0)
+
+
+def test_trusted_madgwick_equals_the_checked_call():
+    from mtcal.filters.xio_ahrs import madgwick, madgwick_trusted
+
+    rng = np.random.default_rng(12)
+    w = rng.normal(0, 0.2, (400, 3))
+    a = np.tile([0.3, -0.2, 9.8], (400, 1)) + rng.normal(0, 0.05, (400, 3))
+    q0 = np.array([0.9, 0.1, 0.0, 0.0]) / np.linalg.norm([0.9, 0.1, 0.0, 0.0])
+    for timing, hold in (("after", False), ("before", True)):
+        assert np.array_equal(madgwick(w, a, 0.01, 0.05, q0=q0, timing=timing, hold_zero_rate=hold)[0],
+                              madgwick_trusted(w, a, 0.01, 0.05, q0, timing=timing, hold_zero_rate=hold))

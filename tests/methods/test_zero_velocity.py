@@ -30,7 +30,7 @@ def test_flags_exactly_the_rests_of_a_schedule(rng):
     imu = ImuSpec()
     prof = profiles.step_schedule(np.radians([0, 40, -30, 20]), np.radians(40), 1.0, imu.fs_hz)
     rec = simulate_rotation(prof.angle_rad[:, 0], prof.rate_rad_s[:, 0], prof.accel_rad_s2[:, 0],
-                            prof.is_static, RotationSetup(), imu.error_model(), imu.fs_hz, rng)
+                            prof.is_static, RotationSetup(), imu.error_model(), imu.dt_s, 12345)
     b0 = rec.gyro_rad_s[0, :150].mean(axis=0)
     st = detect_static(rec.accel_m_s2[0], 1.0 / imu.fs_hz, ZvdParams(gyro_max_rad_s=np.radians(2.0)),
                        rec.gyro_rad_s[0] - b0)
@@ -62,3 +62,19 @@ def test_vectorised_over_trials_equals_single(rng):
     both = detect_static(a, 0.005)
     for t in range(3):
         assert np.array_equal(both[t], detect_static(a[t], 0.005))
+
+
+def test_trusted_detector_equals_the_checked_call_and_params_are_typed(rng):
+    from mtcal.methods.zero_velocity import detect_static_trusted, zvd_params
+
+    a = np.tile([0.1, 0.2, 9.80], (2, 600, 1)) + rng.normal(0, 0.01, (2, 600, 3))
+    a[:, 200:300] += 2.0
+    w = rng.normal(0, 0.01, (2, 600, 3))
+    p = ZvdParams(gyro_max_rad_s=0.05)
+    assert np.array_equal(detect_static(a, 0.01, p, gyro_rad_s=w), detect_static_trusted(a, 0.01, p, w))
+    assert np.array_equal(detect_static(a, 0.01), detect_static_trusted(a, 0.01, ZvdParams()))
+    assert zvd_params(None) == ZvdParams() and zvd_params(p) is p
+    with pytest.raises(TypeError, match="params must be a ZvdParams"):
+        zvd_params({"window_s": 0.01})
+    with pytest.raises(ValueError, match="gyro_rad_s is required"):
+        detect_static_trusted(a, 0.01, p)

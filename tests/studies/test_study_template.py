@@ -11,14 +11,11 @@ STUDIES = Path(__file__).resolve().parents[2] / "mtcal" / "studies"
 #: direct numpy seeding or drawing, anywhere in a study's source text (code, comments, docstrings)
 FORBIDDEN = re.compile(r"\bdefault_rng\(|\bSeedSequence\(|\.spawn\(|\b(?:PCG64|PCG64DXSM|Philox|MT19937|SFC64|"
                        r"RandomState)\(|\bnp\.random\.(?!Generator\b)[a-z_]+\(")
-#: studies whose conversion is another change of issue #35 item 3 (remove when it lands)
-PENDING = {"wang2022sensors", "broad2021"}
 MODULES = sorted(STUDIES.rglob("*.py"))
 
 
-def _study(path: Path) -> str:
-    rel = path.relative_to(STUDIES)
-    return rel.parts[0] if len(rel.parts) > 1 else rel.stem
+def test_every_study_is_checked():
+    assert {p.parent.name for p in MODULES} >= {"wang2023cja", "tan2022", "wang2022sensors", "broad2021"}
 
 
 def test_the_pattern_catches_each_form():
@@ -32,8 +29,6 @@ def test_the_pattern_catches_each_form():
 
 @pytest.mark.parametrize("path", MODULES, ids=lambda p: str(p.relative_to(STUDIES)))
 def test_study_draws_only_from_keyed_streams(path):
-    if _study(path) in PENDING:
-        pytest.skip(f"{_study(path)}: converted by another change of #35")
     found = [f"{path.name}:{i}: {line.strip()}" for i, line in enumerate(path.read_text(encoding="utf-8").splitlines(), 1)
              if FORBIDDEN.search(line)]
     assert not found, "use mtcal.core.rng (stream_rng / trial_rng / child_rngs / rng_copy):\n" + "\n".join(found)

@@ -89,7 +89,7 @@ def test_table3_readings_match_building_with_the_reading():
 
 # ----------------------------------------------------------------------------- runs
 def test_trapezoid_profile_is_exact():
-    prof = w.trapezoid_profile(np.radians([0.0, 10.0, 4.0]), np.radians(20.0), np.radians(100.0), 1.0, 1000.0)
+    prof = w.trapezoid_profile(np.radians([0.0, 10.0, 4.0]), np.radians(20.0), np.radians(100.0), 1.0, 1 / 1000.0)
     th, rate = prof.angle_rad[:, 0], prof.rate_rad_s[:, 0]
     assert np.degrees(rate).max() == pytest.approx(20.0) and np.degrees(rate).min() < -10.0
     # rate is the derivative of the angle, acceleration bounded by the limit
@@ -98,7 +98,7 @@ def test_trapezoid_profile_is_exact():
     slices = prof.hold_slices()
     assert [round(float(np.degrees(th[s]).mean()), 9) for s in slices] == [0.0, 10.0, 4.0]
     with pytest.raises(ValueError, match="hold_s must be > 0"):
-        w.trapezoid_profile([0.0, 1.0], 1.0, 1.0, [1.0, 0.0], 100.0)
+        w.trapezoid_profile([0.0, 1.0], 1.0, 1.0, [1.0, 0.0], 0.01)
 
 
 def test_simulate_batch_is_chunk_independent_and_noise_free_truth():
@@ -273,22 +273,25 @@ def test_fit_and_predict_validates_size():
 
 
 def test_study_runs_the_surface_angle_system():
-    """The study's axis is the system's Eq 23 procedure, trial by trial, on the ZVD-masked rests."""
-    from mtcal.systems.surface_angle import estimate_surface_axis
+    """The study's axis is the system's Eq 23 procedure, trial by trial, on the rests (the batched procedure
+    with the study's configuration, the schedule's rests as flags)."""
+    from dataclasses import replace
+
+    from mtcal.systems.surface_angle import AxisConfig, estimate_surface_axis, surface_angle_batch
 
     sc = w.scenario_from_parameters()
     imu = sc.imu.resolve()
     prof = w.trapezoid_profile(np.radians([0.0, 90.0, 180.0, 0.0]), np.radians(60.0), np.radians(100.0),
-                               [1.0, 1.0, 1.0, 0.5], imu.fs_hz)
+                               [1.0, 1.0, 1.0, 0.5], imu.dt_s)
     v = np.asarray(sc.fig11_axis) / np.linalg.norm(sc.fig11_axis)
     sim = w.simulate_batch(prof.angle_rad[:, 0], prof.rate_rad_s[:, 0], prof.accel_rad_s2[:, 0], np.tile(v, (2, 1)),
                            np.zeros((2, 3)), imu, 4, 0, [0, 1])
-    masks = [np.broadcast_to(np.isin(np.arange(prof.time_s.size), np.arange(s.start, s.stop)), (2, prof.time_s.size))
-             .astype(float) for s in prof.hold_slices()[:3]]
-    got = w.runs.axis_estimate(sim.accel_m_s2, masks, imu)
+    proc = replace(w.runs.paper_procedure(imu, sc.rig.zvd), zvd=None, angle=None)
+    got = surface_angle_batch(sim.gyro_rad_s, sim.accel_m_s2, imu.dt_s, proc, init_samples=10,
+                              rests=prof.hold_slices(), known_static=prof.is_static).axis
+    noise = imu.accel_noise_m_s2_rt_hz * np.sqrt(imu.fs_hz)
     for t in range(2):
-        one = estimate_surface_axis(sim.accel_m_s2[t], prof.hold_slices()[:3], accel_noise_m_s2=0.01, fit="eq23",
-                                    min_separation_deg=0.5, max_axis_error_deg=None)
+        one = estimate_surface_axis(sim.accel_m_s2[t], prof.hold_slices()[:3], AxisConfig.paper(noise))
         assert np.array_equal(got[t], one.axis)
     assert np.degrees(np.arccos(np.min(got @ v))) < 0.5
 
@@ -345,7 +348,7 @@ def test_fig13_rows_give_the_range_with_the_count_and_drift_is_chunk_independent
 
 def test_simulate_batch_shared_truth_equals_the_per_trial_truth():
     imu = w.ImuSpec().resolve()
-    prof = w.trapezoid_profile(np.radians([0.0, 40.0]), np.radians(20.0), np.radians(200.0), [0.5, 0.5], imu.fs_hz)
+    prof = w.trapezoid_profile(np.radians([0.0, 40.0]), np.radians(20.0), np.radians(200.0), [0.5, 0.5], imu.dt_s)
     v = np.tile([0.1734, 0.9835, 0.0523] / np.linalg.norm([0.1734, 0.9835, 0.0523]), (2, 1))
     r = np.tile([0.0, 0.0, 0.2], (2, 1))
     args = (prof.angle_rad[:, 0], prof.rate_rad_s[:, 0], prof.accel_rad_s2[:, 0])

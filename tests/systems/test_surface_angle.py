@@ -2,6 +2,7 @@
 and the bit-identity of the study path and the ``mtcal axis`` / ``mtcal angle`` commands."""
 
 import re
+from dataclasses import replace
 
 import numpy as np
 import pandas as pd
@@ -11,6 +12,7 @@ from mtcal.cli.main import main
 from mtcal.core import profiles
 from mtcal.core.rotations import axis_angle_matrix
 from mtcal.filters.rams_ekf import RamsEkfParams, run_rams_ekf
+from mtcal.systems.surface_angle import AxisConfig, SurfaceAngleConfig
 from mtcal.methods import rest_detection
 from mtcal.systems import plausibility
 from mtcal.systems import surface_angle
@@ -20,6 +22,7 @@ DT_S = 1.0 / FS_HZ
 AXIS = np.array([0.6, 0.0, 0.8])
 G0 = np.array([0.0, 0.0, 9.81])
 PARAMS = RamsEkfParams(sigma_theta_rad_s=1e-3, sigma_a_static_m_s2=0.01, sigma_a_moving_m_s2=5.0)
+CONFIG = SurfaceAngleConfig(PARAMS)
 
 
 def _rests_at(angles_deg, n=40, axis=AXIS):
@@ -40,7 +43,7 @@ def _hinge(angles_deg=(0.0, 60.0, 120.0, 30.0), rate_deg_s=60.0, hold_s=1.0, tri
 @pytest.mark.parametrize("fit", ["plane", "eq23"])
 def test_axis_of_a_known_hinge(fit):
     accel, rests = _rests_at([0.0, 70.0, 140.0, 70.0])
-    est = surface_angle.estimate_surface_axis(accel, rests, accel_noise_m_s2=0.001, fit=fit)
+    est = surface_angle.estimate_surface_axis(accel, rests, AxisConfig(0.001, fit=fit))
     np.testing.assert_allclose(est.axis, AXIS, atol=1e-12)
     assert est.positions_m_s2.shape == (3, 3) and est.members == ((0,), (1, 3), (2,))
     np.testing.assert_allclose(np.degrees(est.rest_angles_rad), [0.0, 70.0, 140.0, 70.0], atol=1e-9)
@@ -51,8 +54,8 @@ def test_axis_of_a_known_hinge(fit):
 
 def test_axis_sign_convention_and_eq23_equals_the_plane_for_three():
     accel, rests = _rests_at([0.0, -50.0, -100.0], axis=-AXIS)
-    a = surface_angle.estimate_surface_axis(accel, rests, accel_noise_m_s2=0.0, fit="eq23")
-    b = surface_angle.estimate_surface_axis(accel, rests, accel_noise_m_s2=0.0, fit="plane")
+    a = surface_angle.estimate_surface_axis(accel, rests, AxisConfig(0.0, fit="eq23"))
+    b = surface_angle.estimate_surface_axis(accel, rests, AxisConfig(0.0, fit="plane"))
     assert a.axis[0] > 0 and np.allclose(a.axis, b.axis, atol=1e-12)
 
 
@@ -61,8 +64,8 @@ def test_axis_rests_as_masks_equal_rests_as_slices():
     masks = [np.zeros(accel.shape[0], bool) for _ in rests]
     for m, r in zip(masks, rests):
         m[r] = True
-    a = surface_angle.estimate_surface_axis(accel, rests, accel_noise_m_s2=0.01)
-    b = surface_angle.estimate_surface_axis(accel, masks, accel_noise_m_s2=0.01)
+    a = surface_angle.estimate_surface_axis(accel, rests, AxisConfig(0.01))
+    b = surface_angle.estimate_surface_axis(accel, masks, AxisConfig(0.01))
     assert np.array_equal(a.axis, b.axis) and a.sigma_rad == b.sigma_rad
 
 
@@ -77,7 +80,7 @@ def test_axis_refusals(angles, kw, match):
     accel, rests = _rests_at(angles)
     kw = {"accel_noise_m_s2": 0.001, **kw}
     with pytest.raises(ValueError, match=match):
-        surface_angle.estimate_surface_axis(accel, rests, **kw)
+        surface_angle.estimate_surface_axis(accel, rests, AxisConfig(**kw))
 
 
 def _noisy_batch(angles_deg, trials=4, n=40, seed=0):
@@ -99,9 +102,9 @@ def _noisy_batch(angles_deg, trials=4, n=40, seed=0):
 ])
 def test_batched_axes_equal_the_per_trial_procedure(angles, kw):
     batch, masks = _noisy_batch(angles)
-    got = surface_angle.estimate_surface_axes(batch, masks, accel_noise_m_s2=0.02, **kw)
+    got = surface_angle.estimate_surface_axes(batch, masks, AxisConfig(0.02, **kw))
     for t in range(batch.shape[0]):
-        one = surface_angle.estimate_surface_axis(batch[t], [m[t] for m in masks], accel_noise_m_s2=0.02, **kw)
+        one = surface_angle.estimate_surface_axis(batch[t], [m[t] for m in masks], AxisConfig(0.02, **kw))
         assert np.array_equal(got[t], one.axis)
     assert np.degrees(np.arccos(np.min(got @ AXIS))) < 2.0
 
@@ -109,17 +112,17 @@ def test_batched_axes_equal_the_per_trial_procedure(angles, kw):
 def test_batched_axes_refusals():
     batch, masks = _noisy_batch([0.0, 70.0, 140.0])
     with pytest.raises(ValueError, match="fit must be 'plane' or 'eq23'"):
-        surface_angle.estimate_surface_axes(batch, masks, accel_noise_m_s2=0.02, fit="lsq")
+        surface_angle.estimate_surface_axes(batch, masks, AxisConfig(0.02, fit="lsq"))
     with pytest.raises(ValueError, match="found no rest"):
-        surface_angle.estimate_surface_axes(batch, [], accel_noise_m_s2=0.02)
+        surface_angle.estimate_surface_axes(batch, [], AxisConfig(0.02))
     with pytest.raises(ValueError, match="each rest mask must be boolean of shape"):
-        surface_angle.estimate_surface_axes(batch, [m[:, :5] for m in masks], accel_noise_m_s2=0.02)
+        surface_angle.estimate_surface_axes(batch, [m[:, :5] for m in masks], AxisConfig(0.02))
     with pytest.raises(ValueError, match="accel_m_s2 must"):
-        surface_angle.estimate_surface_axes(batch[0], masks, accel_noise_m_s2=0.02)
+        surface_angle.estimate_surface_axes(batch[0], masks, AxisConfig(0.02))
     # a trial whose rests are one tilt fails as the per-trial procedure does
     same, masks1 = _noisy_batch([0.0, 1.0, 2.0], trials=2)
     with pytest.raises(ValueError, match=r"found only 1 distinct tilt\(s\) among 3 rest\(s\)"):
-        surface_angle.estimate_surface_axes(same, masks1, accel_noise_m_s2=0.02, fit="eq23", max_axis_error_deg=None)
+        surface_angle.estimate_surface_axes(same, masks1, AxisConfig(0.02, fit="eq23", max_axis_error_deg=None))
 
 
 @pytest.mark.parametrize("fit,match", [
@@ -130,16 +133,16 @@ def test_nearly_vertical_axis_refused(fit, match):
     steep = np.array([np.cos(np.radians(87.0)), 0.0, np.sin(np.radians(87.0))])
     accel, rests = _rests_at([0.0, 120.0, 240.0], axis=steep)
     with pytest.raises(ValueError, match=match):
-        surface_angle.estimate_surface_axis(accel, rests, accel_noise_m_s2=0.0, fit=fit, min_separation_deg=0.5,
-                                            max_axis_error_deg=None)
+        surface_angle.estimate_surface_axis(accel, rests, AxisConfig(0.0, fit=fit, min_separation_deg=0.5,
+                                            max_axis_error_deg=None))
 
 
 def test_axis_input_refusals():
     accel, rests = _rests_at([0.0, 70.0, 140.0])
     with pytest.raises(ValueError, match="found no rest"):
-        surface_angle.estimate_surface_axis(accel, [], accel_noise_m_s2=0.01)
+        surface_angle.estimate_surface_axis(accel, [], AxisConfig(0.01))
     with pytest.raises(ValueError, match="boolean mask of shape"):
-        surface_angle.estimate_surface_axis(accel, [np.ones(5, bool)] * 3, accel_noise_m_s2=0.01)
+        surface_angle.estimate_surface_axis(accel, [np.ones(5, bool)] * 3, AxisConfig(0.01))
 
 
 def test_axis_uncertainty_scales_with_noise_over_root_n():
@@ -155,8 +158,8 @@ def test_axis_uncertainty_scales_with_noise_over_root_n():
 # --------------------------------------------------------------------------- angle
 def test_angle_of_a_known_rotation():
     prof, w, f = _hinge()
-    res = surface_angle.surface_angle(w[0], f[0], AXIS, is_static=prof.is_static, init=slice(0, 90), dt_s=DT_S,
-                                      rests=prof.hold_slices(), params=PARAMS)
+    res = surface_angle.surface_angle(w[0], f[0], AXIS, CONFIG, is_static=prof.is_static, init=slice(0, 90), dt_s=DT_S,
+                                      rests=prof.hold_slices())
     for sl, target in zip(prof.hold_slices(), [0.0, 60.0, 120.0, 30.0]):
         np.testing.assert_allclose(np.degrees(res.angle_rad[sl]), target, atol=1e-6)
     assert res.start == 0 and res.restarts == () and not res.clipped.any() and res.clip_level_rad_s == 0.0
@@ -181,12 +184,13 @@ def test_batch_equals_each_trial_alone():
     prof, w, f = _hinge(trials=3)
     w, f = w + rng.normal(0, 1e-3, w.shape), f + rng.normal(0, 0.01, f.shape)
     w[1, 150:170, 2] = np.abs(w[1, :, 2]).max()                               # trial 1 clipped in move 1
-    batch = surface_angle.surface_angle(w, f, AXIS, is_static=prof.is_static, init=slice(0, 90), dt_s=DT_S,
-                                        rests=prof.hold_slices(), params=PARAMS)
+    batch = surface_angle.surface_angle(w, f, AXIS, CONFIG, is_static=prof.is_static, init=slice(0, 90), dt_s=DT_S,
+                                        rests=prof.hold_slices())
     assert batch.restarts[0] == () and batch.restarts[1] != ()
     for t in range(3):
-        one = surface_angle.surface_angle(w[t], f[t], AXIS, is_static=prof.is_static, init=slice(0, 90), dt_s=DT_S,
-                                          rests=prof.hold_slices(), params=PARAMS)
+        one = surface_angle.surface_angle(w[t], f[t], AXIS, CONFIG, is_static=prof.is_static, init=slice(0, 90),
+                                          dt_s=DT_S,
+                                          rests=prof.hold_slices())
         assert np.array_equal(batch.angle_rad[t], one.angle_rad)
 
 
@@ -196,8 +200,8 @@ def test_clipped_gyro_restarts_the_ekf_at_the_next_rest():
     prof, w, f = _hinge(rate_deg_s=60.0)
     clip = np.radians(40.0)
     w = np.clip(w[0], -clip, clip)
-    res = surface_angle.surface_angle(w, f[0], AXIS, is_static=prof.is_static, init=slice(0, 90), dt_s=DT_S,
-                                      rests=prof.hold_slices(), params=PARAMS)
+    res = surface_angle.surface_angle(w, f[0], AXIS, CONFIG, is_static=prof.is_static, init=slice(0, 90), dt_s=DT_S,
+                                      rests=prof.hold_slices())
     holds = prof.hold_slices()
     assert res.clipped.any() and res.clip_level_rad_s == pytest.approx(clip)
     assert res.restarts == tuple(h.start for h in holds[1:])
@@ -229,7 +233,7 @@ def test_time_base_refusals(kwargs, match):
 
 
 def _angle_kwargs(prof):
-    return dict(is_static=prof.is_static, init=slice(0, 90), dt_s=DT_S, rests=prof.hold_slices(), params=PARAMS)
+    return dict(is_static=prof.is_static, init=slice(0, 90), dt_s=DT_S, rests=prof.hold_slices())
 
 
 @pytest.mark.parametrize("change,match", [
@@ -238,62 +242,90 @@ def _angle_kwargs(prof):
     (lambda w, f, kw: (w, f, AXIS, {**kw, "is_static": kw["is_static"].astype(int)}), "is_static must be boolean"),
     (lambda w, f, kw: (w, f, AXIS, {**kw, "init": slice(5, 5)}), "init must be a non-empty slice"),
     (lambda w, f, kw: (w, f, [0.0, 0.0, 1.0], kw), r"--axis is 0.00 deg from gravity .* non-vertical axis"),
-    (lambda w, f, kw: (w, f, AXIS, {**kw, "max_elevation_deg": 0.0}), "max_elevation_deg must be > 0"),
-    (lambda w, f, kw: (w * 0.1, f, AXIS, {**kw, "check_units": True}), "gyro and accelerometer disagree: .* 10x"),
-    (lambda w, f, kw: (w, f, [1.0, 0.0, 0.0], {**kw, "max_axis_mismatch_deg": 10.0}),
+    (lambda w, f, kw: (w * 0.1, f, AXIS, {**kw, "config": SurfaceAngleConfig(PARAMS, check_units=True)}),
+     "gyro and accelerometer disagree: .* 10x"),
+    (lambda w, f, kw: (w, f, [1.0, 0.0, 0.0], {**kw, "config": SurfaceAngleConfig(PARAMS, max_axis_mismatch_deg=10.0)}),
      r"the gyro turns about \[0.600, -?0.000, 0.800\] \(100 % of the rotation\), 53.1 deg from --axis"),
+    (lambda w, f, kw: (w, f, AXIS, {**kw, "params": PARAMS}), "give params in config, not both"),
 ])
 def test_angle_refusals(change, match):
     prof, w, f = _hinge()
-    args = change(w[0], f[0], _angle_kwargs(prof))
+    args = change(w[0], f[0], {"config": CONFIG, **_angle_kwargs(prof)})
     with pytest.raises(ValueError, match=match):
         surface_angle.surface_angle(*args[:3], **args[3])
+
+
+@pytest.mark.parametrize("kw,match", [
+    (dict(max_elevation_deg=0.0), "max_elevation_deg must be > 0"),
+    (dict(max_axis_mismatch_deg=-1.0), "max_axis_mismatch_deg must be > 0"),
+    (dict(gyro_noise_rad_s=-1.0), "gyro_noise_rad_s must be >= 0"),
+])
+def test_angle_config_refusals(kw, match):
+    with pytest.raises(ValueError, match=match):
+        SurfaceAngleConfig(**kw)
+    with pytest.raises(TypeError, match="params must be a RamsEkfParams or None"):
+        SurfaceAngleConfig(params={"sigma": 1.0})
+
+
+def test_registry_params_shortcut_equals_the_config():
+    prof, w, f = _hinge()
+    a = surface_angle.surface_angle(w[0], f[0], AXIS, CONFIG, **_angle_kwargs(prof))
+    b = surface_angle.surface_angle(w[0], f[0], AXIS, params=PARAMS, **_angle_kwargs(prof))
+    assert np.array_equal(a.angle_rad, b.angle_rad)
 
 
 def test_batch_refuses_single_record_options():
     prof, w, f = _hinge(trials=2)
     kw = _angle_kwargs(prof)
     with pytest.raises(ValueError, match="check one record, not a batch"):
-        surface_angle.surface_angle(w, f, AXIS, check_units=True, **kw)
+        surface_angle.surface_angle(w, f, AXIS, SurfaceAngleConfig(PARAMS, check_units=True), **kw)
     with pytest.raises(ValueError, match="params must be given for a batch"):
-        surface_angle.surface_angle(w, f, AXIS, **{**kw, "params": None})
+        surface_angle.surface_angle(w, f, AXIS, **kw)
 
 
 def test_gyro_checks_pass_on_a_consistent_record():
     prof, w, f = _hinge()
-    res = surface_angle.surface_angle(w[0], f[0], AXIS, check_units=True, max_axis_mismatch_deg=1.0,
+    res = surface_angle.surface_angle(w[0], f[0], AXIS, SurfaceAngleConfig(PARAMS, check_units=True,
+                                                                           max_axis_mismatch_deg=1.0),
                                       **_angle_kwargs(prof))
     assert res.unit_check["pairs"] == 3 and abs(res.gyro_axis @ AXIS) == pytest.approx(1.0, abs=1e-12)
 
 
 # --------------------------------------------------------------------------- the CLI runs the same system
-def test_cli_axis_and_angle_are_bit_identical_to_the_procedures(tmp_path, capsys):
-    """A hinge log from the study's simulator, written losslessly (Parquet); ``mtcal axis`` and ``mtcal angle``
-    print/write exactly what the procedures return on the same arrays with the same rests."""
-    from mtcal.studies.wang2022sensors import ImuSpec, lever_arm_vector, sweep_profile  # noqa: F401
+def _hinge_log(tmp_path, seed: int):
+    """A hinge record (rests at 0/60/120/30/90 deg, lever arm) from the study's simulator and its lossless
+    Parquet log: (imu, sim, time_s, path)."""
+    from mtcal.studies.wang2022sensors import ImuSpec, lever_arm_vector
     from mtcal.studies.wang2022sensors.runs import simulate_batch, trapezoid_profile
 
     imu = ImuSpec().resolve()
-    v = AXIS
     prof = trapezoid_profile(np.radians([0.0, 60.0, 120.0, 30.0, 90.0]), np.radians(40.0), np.radians(200.0),
-                             2.0, imu.fs_hz)
-    sim = simulate_batch(prof.angle_rad[:, 0], prof.rate_rad_s[:, 0], prof.accel_rad_s2[:, 0], v[None],
-                         lever_arm_vector(v, 0.2, 0.02)[None], imu, 11, 0, [0])
-    gyro, accel = sim.gyro_rad_s[0], sim.accel_m_s2[0]
-    t = np.arange(gyro.shape[0]) / imu.fs_hz
+                             2.0, imu.dt_s)
+    sim = simulate_batch(prof.angle_rad[:, 0], prof.rate_rad_s[:, 0], prof.accel_rad_s2[:, 0], AXIS[None],
+                         lever_arm_vector(AXIS, 0.2, 0.02)[None], imu, seed, 0, [0])
+    t = np.arange(sim.gyro_rad_s.shape[1]) / imu.fs_hz
     cols = {"time_s": t}
-    cols.update({f"gyro_{a}_rad_s": gyro[:, i] for i, a in enumerate("xyz")})
-    cols.update({f"accel_{a}_m_s2": accel[:, i] for i, a in enumerate("xyz")})
+    cols.update({f"gyro_{a}_rad_s": sim.gyro_rad_s[0, :, i] for i, a in enumerate("xyz")})
+    cols.update({f"accel_{a}_m_s2": sim.accel_m_s2[0, :, i] for i, a in enumerate("xyz")})
     log = tmp_path / "hinge.parquet"
     pd.DataFrame(cols).to_parquet(log)
+    return imu, sim, t, log
+
+
+def test_cli_axis_and_angle_are_bit_identical_to_the_procedures(tmp_path, capsys):
+    """A hinge log from the study's simulator, written losslessly (Parquet); ``mtcal axis`` and ``mtcal angle``
+    print/write exactly what the procedures return on the same arrays with the same rests."""
+    v = AXIS
+    imu, sim, t, log = _hinge_log(tmp_path, 11)
+    gyro, accel = sim.gyro_rad_s[0], sim.accel_m_s2[0]
 
     dt, _ = plausibility.time_base(t.size, time_s=t)
     fs = 1.0 / dt
     # mtcal axis (adaptive rests, accelerometer + gyro, min rest 0.5 s)
     rep = rest_detection.detect_rests(accel, 1.0 / ((t.size - 1) / (t[-1] - t[0])), gyro_rad_s=gyro,
                                       params=rest_detection.RestDetectorParams(min_rest_s=0.5, noise_factor=5.0))
-    est = surface_angle.estimate_surface_axis(accel, rep.rests, accel_noise_m_s2=rep.accel_noise_m_s2,
-                                              window_samples=rep.window_s * (t.size - 1) / (t[-1] - t[0]))
+    est = surface_angle.estimate_surface_axis(accel, rep.rests, AxisConfig(rep.accel_noise_m_s2,
+                                              window_samples=rep.window_s * (t.size - 1) / (t[-1] - t[0])))
     assert main(["axis", str(log)]) == 0
     out = capsys.readouterr().out
     assert re.search(r"^axis v = (.*)$", out, re.M).group(1) == f"{est.axis[0]:.6f},{est.axis[1]:.6f},{est.axis[2]:.6f}"
@@ -315,3 +347,113 @@ def test_cli_axis_and_angle_are_bit_identical_to_the_procedures(tmp_path, capsys
     assert np.array_equal(table.angle_deg.to_numpy(), np.degrees(res.angle_rad), equal_nan=True)
     assert np.array_equal(table.is_static.to_numpy(bool), rep.is_static)
     assert abs(table.angle_deg.iloc[-1] - 90.0) < 0.5
+
+
+def test_cli_angle_is_bit_identical_to_the_study_procedure(tmp_path):
+    """``mtcal angle --rest-detector paper`` on a log of the study's simulator equals the study's batched
+    procedure (:func:`~mtcal.studies.wang2022sensors.runs.paper_procedure`: Table 1 ZVD, EKF switched by
+    it, a0 and bias from the first second) bit for bit, with the CLI's settings: the given axis and the EKF
+    noise measured on the initial rest."""
+    from mtcal.methods.zero_velocity import ZvdParams
+    from mtcal.studies.wang2022sensors.runs import paper_procedure
+
+    imu, sim, t, log = _hinge_log(tmp_path, 12)
+    gyro, accel = sim.gyro_rad_s[0], sim.accel_m_s2[0]
+    out = tmp_path / "angle.parquet"
+    assert main(["angle", str(log), "--axis", ",".join(repr(float(x)) for x in AXIS), "--out", str(out),
+                 "--rest-detector", "paper"]) == 0
+    table = pd.read_parquet(out)
+
+    dt, weights = plausibility.time_base(t.size, time_s=t)
+    assert weights is None                                                   # a uniform time column
+    n0 = int(round(1.0 / dt))                                                # --init-s 1.0
+    rests = rest_detection.paper_rest_report(accel, dt, min_rest_s=0.2).rests
+    proc = replace(paper_procedure(imu, ZvdParams()), axis=None,
+                   angle=SurfaceAngleConfig.paper(surface_angle.rest_ekf_params(gyro, accel, slice(0, n0))))
+    study = surface_angle.surface_angle_batch(sim.gyro_rad_s, sim.accel_m_s2, dt, proc, init_samples=n0,
+                                              rests=rests, axis=AXIS)
+    assert np.array_equal(table.is_static.to_numpy(bool), study.is_static[0])
+    assert np.array_equal(table.angle_deg.to_numpy(), np.degrees(study.angle_rad[0]))
+    assert abs(table.angle_deg.iloc[-1] - 90.0) < 0.5
+
+
+def test_batched_procedure_refusals():
+    prof, w, f = _hinge(trials=2)
+    cfg = surface_angle.SurfaceBatchConfig(None, AxisConfig(0.01, fit="eq23", max_axis_error_deg=None), CONFIG)
+    kw = dict(init_samples=90, rests=prof.hold_slices(), known_static=prof.is_static)
+    with pytest.raises(ValueError, match="init_samples must be an integer in"):
+        surface_angle.surface_angle_batch(w, f, DT_S, cfg, **{**kw, "init_samples": 0})
+    with pytest.raises(ValueError, match="known_static must be given"):
+        surface_angle.surface_angle_batch(w, f, DT_S, cfg, **{**kw, "known_static": None})
+    with pytest.raises(ValueError, match="rests must be non-empty slices"):
+        surface_angle.surface_angle_batch(w, f, DT_S, cfg, **{**kw, "rests": [slice(5, 5)]})
+    with pytest.raises(ValueError, match="the axis needs 3 rests, got 2"):
+        surface_angle.surface_angle_batch(w, f, DT_S, cfg, **{**kw, "rests": prof.hold_slices()[:2]})
+    with pytest.raises(ValueError, match="give axis, or config.axis"):
+        surface_angle.surface_angle_batch(w, f, DT_S, replace(cfg, axis=None), **kw)
+    with pytest.raises(ValueError, match="accel_m_s2 must"):
+        surface_angle.surface_angle_batch(w, f[0], DT_S, cfg, **kw)
+    with pytest.raises(ValueError, match="angle.params must be given for a batch"):
+        surface_angle.SurfaceBatchConfig(None, None, SurfaceAngleConfig())
+    with pytest.raises(ValueError, match="ekf_switch must be 'zvd' or 'known'"):
+        surface_angle.SurfaceBatchConfig(None, None, CONFIG, ekf_switch="truth")
+    with pytest.raises(ValueError, match="axis_rests must be an integer >= 3"):
+        surface_angle.SurfaceBatchConfig(None, None, CONFIG, axis_rests=2)
+
+
+def test_batched_procedure_equals_its_steps():
+    """ZVD flags, Eq 23 axes on the masked rests and the EKF: the batched procedure is the per-step systems."""
+    from mtcal.methods.zero_velocity import ZvdParams, detect_static
+
+    rng = np.random.default_rng(3)
+    prof, w, f = _hinge(angles_deg=(0.0, 90.0, 180.0, 40.0), trials=3)
+    w, f = w + rng.normal(0, 1e-3, w.shape), f + rng.normal(0, 0.01, f.shape)
+    axis_cfg = AxisConfig(0.01, fit="eq23", min_separation_deg=0.5, max_axis_error_deg=None)
+    cfg = surface_angle.SurfaceBatchConfig(ZvdParams(), axis_cfg, CONFIG)
+    res = surface_angle.surface_angle_batch(w, f, DT_S, cfg, init_samples=90, rests=prof.hold_slices())
+    flags = detect_static(f, DT_S, ZvdParams())
+    assert np.array_equal(res.is_static, flags)
+    axes = surface_angle.estimate_surface_axes(f, surface_angle.rest_masks(flags, prof.hold_slices()[:3]), axis_cfg)
+    assert np.array_equal(res.axis, axes)
+    one = surface_angle.surface_angle(w, f, axes, CONFIG, is_static=flags, init=slice(0, 90), dt_s=DT_S,
+                                      rests=prof.hold_slices())
+    assert np.array_equal(res.angle_rad, one.angle_rad)
+    assert np.array_equal(res.accel0_m_s2, one.accel0_m_s2) and np.array_equal(res.bias0_rad_s, one.bias0_rad_s)
+    assert np.max(np.abs(np.degrees(res.angle_rad[:, -1]) - 40.0)) < 0.5
+
+
+def test_sweep_cell_config_is_the_registry_entry():
+    """The sweep cell's config (:meth:`SurfaceAngleConfig.sweep_cell`) runs the filter registry's ``rams_ekf``
+    entry bit for bit."""
+    from mtcal.filters.registry import AxisContext, get_filter
+
+    rng = np.random.default_rng(4)
+    prof, w, f = _hinge(trials=2)
+    w, f = w + rng.normal(0, 1e-3, w.shape), f + rng.normal(0, 0.01, f.shape)
+    static = np.broadcast_to(prof.is_static, f.shape[:2])
+    ctx = AxisContext(AXIS, static, f[:, :90].mean(axis=1), 2e-4, 3e-3, init=slice(0, 90),
+                      rests=tuple(prof.hold_slices()))
+    entry = get_filter("rams_ekf")
+    got = entry.run(w, f, DT_S, 2.0, ctx)
+    cfg = SurfaceAngleConfig.sweep_cell(gyro_noise_rad_s_rt_hz=2e-4, accel_noise_m_s2_rt_hz=3e-3, dt_s=DT_S,
+                                        gain_m_s2=2.0)
+    res = surface_angle.surface_angle(w, f, AXIS, cfg, is_static=static, init=slice(0, 90), dt_s=DT_S,
+                                      rests=prof.hold_slices())
+    assert np.array_equal(got, res.angle_rad)
+
+
+def test_cli_defaults_are_the_configs_cli_defaults():
+    """``mtcal axis`` / ``mtcal angle`` option defaults equal those of :meth:`AxisConfig.cli` and
+    :meth:`SurfaceAngleConfig.cli` (one set of CLI defaults)."""
+    import inspect
+
+    from mtcal.cli.main import build_parser
+
+    axis_args = build_parser().parse_args(["axis", "log.csv"])
+    angle_args = build_parser().parse_args(["angle", "log.csv", "--axis", "1,0,0"])
+    for cfg, args in ((AxisConfig.cli, axis_args), (SurfaceAngleConfig.cli, angle_args)):
+        for name, par in inspect.signature(cfg).parameters.items():
+            if par.kind is par.KEYWORD_ONLY and hasattr(args, name) and par.default is not None:
+                assert float(getattr(args, name)) == par.default, name
+    assert float(axis_args.max_elevation_deg) == AxisConfig.cli(0.0, 1.0).max_elevation_deg
+    assert float(angle_args.max_axis_mismatch_deg) == SurfaceAngleConfig.cli().max_axis_mismatch_deg

@@ -19,7 +19,7 @@ from . import scenario, runs, error_model, artifacts
 from .scenario import (DATA_ENV, data_dir, Trial, load_trial, trial_from_arrays, trial_names, load_trials,
                        trial_groups, trial_head, GROUP_CATEGORIES, FILTERS_6D, BroadScenario, PARAMETER_DEFAULTS,
                        scenario_from_parameters, broad_parameters)
-from .runs import run_6d, qncf_cli_settings, errors_deg, rmse_deg, run_9d, initial_rest
+from .runs import run_6d, errors_deg, rmse_deg, run_9d, initial_rest
 from .error_model import (STREAM_TWIN, RestModel, identify_rest_model, twin_truth, simulate_twin, TwinPrediction,
                           twin_predictions, predict_real_error)
 from .artifacts import (StudyRun, run_study, table_published_vs_ours, extra_bakeoff_6d, extra_median_trial,
@@ -28,7 +28,7 @@ from .artifacts import (StudyRun, run_study, table_published_vs_ours, extra_bake
 __all__ = ["scenario", "runs", "error_model", "artifacts", "plots", "DATA_ENV", "data_dir", "Trial", "load_trial",
            "trial_from_arrays", "trial_names", "load_trials", "trial_groups", "trial_head", "GROUP_CATEGORIES", "FILTERS_6D",
            "BroadScenario", "PARAMETER_DEFAULTS", "scenario_from_parameters", "broad_parameters", "run_6d",
-           "qncf_cli_settings", "errors_deg", "rmse_deg", "run_9d", "initial_rest", "STREAM_TWIN", "RestModel",
+           "errors_deg", "rmse_deg", "run_9d", "initial_rest", "STREAM_TWIN", "RestModel",
            "identify_rest_model", "twin_truth", "simulate_twin", "TwinPrediction", "twin_predictions",
            "predict_real_error", "StudyRun", "run_study", "table_published_vs_ours", "extra_bakeoff_6d",
            "extra_median_trial", "extra_rankings", "extra_twin", "TOLERANCE_DEG"]

@@ -102,8 +102,9 @@ def identify_rest_model(trial: Trial, margin_s: float = 0.5,
     """Identify the twin's IMU error model from the trial's initial rest (never from any filter's error).
 
     >>> import numpy as np
+    >>> from mtcal.core.rng import stream_rng
     >>> from mtcal.studies.broad2021.scenario import Trial
-    >>> rng = np.random.default_rng(0); n = 1000
+    >>> rng = stream_rng(0, STREAM_TWIN); n = 1000
     >>> tr = Trial("t", 0.01 + 0.001 * rng.standard_normal((n, 3)), np.tile([0.0, 0.0, 9.9], (n, 1)),
     ...            np.ones((n, 3)), np.tile([1.0, 0, 0, 0], (n, 1)), np.zeros((n, 3)), np.arange(n) > 800, 100.0)
     >>> m = identify_rest_model(tr)

@@ -2,9 +2,11 @@
 
 * :func:`run_6d` — one of :data:`~.scenario.FILTERS_6D` on one or a batch of records (rad/s, m/s²),
   attitude in mtcal's convention (sensor → z-up world, row k = attitude at ``t_k``). Every filter
-  starts levelled from the first 100 samples (yaw 0) except ``qncf_cli``, which does what
-  ``mtcal attitude`` does by default (adaptive rest detector, gravity and AMD threshold from the
-  measured rest level, start levelled from the first rest and that rest's mean rate removed).
+  starts levelled from the first 100 samples (yaw 0) except ``qncf_cli``, which is the attitude
+  system ``mtcal attitude`` runs (:func:`mtcal.systems.attitude.estimate_attitude` with
+  :meth:`~mtcal.systems.attitude.AttitudeConfig.real_data_study`: adaptive rest detector, gravity and
+  AMD threshold from the measured rest level, start levelled from the first rest and that rest's mean
+  rate removed).
   Gains: the registry defaults (QNCF/Mahony K_p = 1 /s, K_i = K_p/50 s; Madgwick β = 0.033 rad/s;
   VQF/BasicVQF τ_acc = 3 s; Fusion gain 0.5) — the same for every trial, nothing tuned on BROAD.
 * :func:`errors_deg` — BROAD's total / heading / inclination error series
@@ -27,10 +29,11 @@ from mtcal.filters import xio_ahrs
 from mtcal.filters.anchors import run_attitude_filter
 from mtcal.filters.qncf import initial_attitude_from_accel
 from mtcal.filters.registry import get_filter
+from mtcal.systems.attitude import AttitudeConfig, estimate_attitude
 
 from .scenario import FILTERS_6D, Trial
 
-__all__ = ["run_6d", "qncf_cli_settings", "errors_deg", "rmse_deg", "run_9d", "initial_rest", "NinedResult",
+__all__ = ["run_6d", "errors_deg", "rmse_deg", "run_9d", "initial_rest", "NinedResult",
            "INIT_SAMPLES"]
 
 #: Samples averaged by the common levelled start (as :func:`mtcal.filters.anchors.run_attitude_filter`).
@@ -51,22 +54,6 @@ def initial_rest(trial: Trial, margin_s: float = 0.5) -> slice:
     if stop < int(round(1.0 * trial.fs_hz)):
         raise ValueError(f"trial {trial.name!r}: initial rest shorter than 1 s before the movement phase")
     return slice(0, stop)
-
-
-def qncf_cli_settings(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: float):
-    """``mtcal attitude``'s default QNCF setup on one record: (gyro for the filter, QncfParams, q0 or None).
-
-    The same library procedure the command runs (:func:`mtcal.systems.attitude.default_rests` — the
-    adaptive rest detector, rests ≥ 0.2 s — then :func:`mtcal.systems.attitude.qncf_log_setup`: gravity,
-    AMD threshold and gains from the rest levels and measured noise; start levelled from the first
-    rest's quiet core when that rest starts within 0.25 s, whose mean rate is removed). No optical
-    data is read.
-    """
-    from mtcal.systems import attitude as system_attitude
-
-    rep = system_attitude.default_rests(accel_m_s2, dt_s, gyro_rad_s)
-    setup = system_attitude.qncf_log_setup(gyro_rad_s, accel_m_s2, dt_s, rep)
-    return setup.gyro_rad_s, setup.params, setup.q0
 
 
 def _basicvqf(w: np.ndarray, a: np.ndarray, dt: float, tau_acc_s: float, q0: np.ndarray) -> np.ndarray:
@@ -108,11 +95,8 @@ def run_6d(name: str, gyro_rad_s, accel_m_s2, dt_s: float) -> np.ndarray:
                                            timing="before")[0]
             elif name == "basicvqf":
                 out[t] = _basicvqf(w3[t], a3[t], dt_s, get_filter("vqf").default_gain, q0s[t])
-            else:  # qncf_cli
-                from mtcal.filters.qncf import qncf
-
-                gyr, params, q0 = qncf_cli_settings(w3[t], a3[t], dt_s)
-                out[t] = qncf(gyr, a3[t], dt_s, params, q0=q0s[t] if q0 is None else q0, return_euler=False).q_ws
+            else:  # qncf_cli: the attitude system as the command runs it (no optical data read)
+                out[t] = estimate_attitude(w3[t], a3[t], dt_s, AttitudeConfig.real_data_study()).q_ws
     return out[0] if single else out
 
 

@@ -206,7 +206,7 @@ def run_grid(sc: Scenario, reps: int, seed: int, *, grid: dict | None = None, la
                                                   np.arange(ahrs_reps), indexing="ij"))
     va = ax[jax]
     lever_a = np.stack([lever_arm_vector(vv, levers[n_l // 2], rig.lever_arm_up_m) for vv in va])
-    st, dy = ahrs_sweep_metrics(rig, imu.fs_hz, va, lever_a, ah, seed, hs * 1000 + jax * 100 + jr,
+    st, dy = ahrs_sweep_metrics(rig, imu.dt_s, va, lever_a, ah, seed, hs * 1000 + jax * 100 + jr,
                                 heading_sigma_deg=np.asarray(heading)[hs])
     for k, val in (("static", st), ("dynamic", dy)):
         ahrs_out[("AHRS stand-in", k)][:, :, :, 0, hs, jax, jr] = np.log(np.maximum(val, 1e-9))

@@ -4,8 +4,8 @@ pipelines (ZVD → axis → EKF, ref. [16], AHRS stand-in) returning per-trial m
 Every run takes *resolved* plain values (:class:`~.scenario.ImuValues`,
 :class:`~.scenario.RigValues`, arrays) — the scenario is opened once by the caller.
 One time base: the sample rate ``fs_hz`` of the resolved IMU; ``dt_s = 1/fs_hz``
-comes from the same object. Random draws come from per-trial generators
-``default_rng([seed, stream, trial])``, so results do not depend on chunking.
+comes from the same object. Random draws come from the keyed per-trial streams
+``trial_rng(seed, stream, trial)`` (:mod:`mtcal.core.rng`), so results do not depend on chunking.
 
 Truth for a fixed axis v through the hinge, lever arm r, angle θ(t) (IMU frame) is
 :func:`mtcal.core.profiles.fixed_axis_imu_truth`::
@@ -13,7 +13,9 @@ Truth for a fixed axis v through the hinge, lever arm r, angle θ(t) (IMU frame)
     ω = θ̇ v  (interval mean: Δθ/Δt),   f = R(θ, v)ᵀ ā0 + θ̈ (v × r) + θ̇² v × (v × r).
 
 The measurement pipeline (ZVD → Eq 23 axis → ZVD-switched RAMS EKF) is the one the
-``mtcal axis`` / ``mtcal angle`` commands run: :mod:`mtcal.systems.surface_angle`.
+``mtcal axis`` / ``mtcal angle`` commands run: :mod:`mtcal.systems.surface_angle`; every Monte Carlo
+here calls its batched procedure :func:`~mtcal.systems.surface_angle.surface_angle_batch` once per chunk
+with a :class:`~mtcal.systems.surface_angle.SurfaceBatchConfig` built by :func:`paper_procedure`.
 
 References
 ----------
@@ -22,7 +24,7 @@ Wang C., Tu X., Chen Q., Yang Q., Fang T., Sensors 2022, 22, 8996, doi:10.3390/s
 
 Examples
 --------
->>> prof = trapezoid_profile(np.radians([0.0, 10.0]), np.radians(20.0), np.radians(100.0), [1.0, 1.0], 200.0)
+>>> prof = trapezoid_profile(np.radians([0.0, 10.0]), np.radians(20.0), np.radians(100.0), [1.0, 1.0], 1 / 200.0)
 >>> round(float(np.degrees(prof.angle_rad[-1, 0])), 6), round(float(np.degrees(prof.rate_rad_s.max())), 6)
 (10.0, 20.0)
 """
@@ -35,25 +37,25 @@ import numpy as np
 
 from mtcal.core.montecarlo import progress
 from mtcal.core import metrics, profiles, rotations, simulate
+from mtcal.core.rng import stream_rng, trial_rng
 from mtcal.core.simulate import ImuErrorModel
 from mtcal.core.validate import STANDARD_GRAVITY_M_S2, as_float_array, positive_scalar
 from mtcal.filters import baselines
-from mtcal.filters.rams_ekf import initial_state
-from mtcal.methods.rotation_axis import DEFAULT_MAX_ELEVATION_DEG, DEFAULT_MIN_SEPARATION_DEG
-from mtcal.methods.zero_velocity import ZvdParams, detect_static
-from mtcal.systems.surface_angle import estimate_surface_axes, surface_angle
+from mtcal.methods.zero_velocity import ZvdParams
+from mtcal.systems.surface_angle import SurfaceBatchConfig, surface_angle_batch
 
 from .scenario import PAPER_AXIS_FIG11, AhrsImu, ImuSpec, ImuValues, RigValues, gravity0, lever_arm_vector
 
 __all__ = ["trapezoid_profile", "sweep_profile", "simulate_batch", "SimBatch", "SweepMetrics", "sweep_metrics",
            "ahrs_sweep_metrics", "Fig11Result", "run_fig11", "DriftResult", "run_drift", "axis_errors", "Fig9Result", "run_fig9",
-           "ZvdDemo", "run_zvd_demo", "ImuSpec", "RotationSetup", "RotationRecord", "simulate_rotation"]
+           "ZvdDemo", "run_zvd_demo", "ImuSpec", "RotationSetup", "RotationRecord", "simulate_rotation",
+           "paper_procedure"]
 
 _WRAP = rotations.wrap_angle
 
 
 def trapezoid_profile(waypoints_rad, rate_rad_s: float, accel_rad_s2: float, hold_s,
-                      fs_hz: float) -> profiles.AngleProfile:
+                      dt_s: float) -> profiles.AngleProfile:
     """Holds at each waypoint joined by trapezoidal-velocity moves (a turntable's position moves).
 
     Each move ramps at ``accel_rad_s2`` to ``rate_rad_s``, cruises, and ramps down
@@ -68,7 +70,8 @@ def trapezoid_profile(waypoints_rad, rate_rad_s: float, accel_rad_s2: float, hol
         Cruise rate (rad/s) and acceleration limit (rad/s²).
     hold_s : array_like (K,)
         Hold at each waypoint (s).
-    fs_hz : float
+    dt_s : float
+        Sample interval (s).
 
     Returns
     -------
@@ -77,7 +80,7 @@ def trapezoid_profile(waypoints_rad, rate_rad_s: float, accel_rad_s2: float, hol
     wp = as_float_array(waypoints_rad, "waypoints_rad", ndim=1)
     w = positive_scalar(rate_rad_s, "rate_rad_s")
     a = positive_scalar(accel_rad_s2, "accel_rad_s2")
-    fs = positive_scalar(fs_hz, "fs_hz")
+    fs = 1.0 / positive_scalar(dt_s, "dt_s")
     holds = np.broadcast_to(as_float_array(hold_s, "hold_s"), wp.shape).astype(float)
     if np.any(holds <= 0):
         raise ValueError("hold_s must be > 0 at every waypoint")
@@ -110,16 +113,16 @@ def trapezoid_profile(waypoints_rad, rate_rad_s: float, accel_rad_s2: float, hol
     return profiles.AngleProfile(t, angle[:, None], rate[:, None], acc[:, None], ~is_move, seg)
 
 
-def sweep_profile(rig: RigValues, fs_hz: float, axis_rests_rad=(0.0, np.pi / 2, np.pi)):
+def sweep_profile(rig: RigValues, dt_s: float, axis_rests_rad=(0.0, np.pi / 2, np.pi)):
     """Sec. 7 test: three axis-estimation rests, back to 0, then −180…180° in ``step`` with holds.
 
-    Returns the profile and the index of the first sweep hold.
+    ``dt_s``: sample interval (s). Returns the profile and the index of the first sweep hold.
     """
     sweep = np.arange(-np.pi, np.pi + 1e-9, rig.step_rad)
     wp = np.concatenate([axis_rests_rad, [0.0], sweep])
     n_ax = len(axis_rests_rad)
     holds = np.r_[np.full(n_ax, rig.axis_rest_s), np.full(wp.size - n_ax, rig.hold_s)]
-    return trapezoid_profile(wp, rig.move_rate_rad_s, rig.move_accel_rad_s2, holds, fs_hz), n_ax + 1
+    return trapezoid_profile(wp, rig.move_rate_rad_s, rig.move_accel_rad_s2, holds, dt_s), n_ax + 1
 
 
 @dataclass(frozen=True)
@@ -132,11 +135,11 @@ class SimBatch:
 
 
 def _per_trial_normals(seed: int, stream: int, trials, shape) -> np.ndarray:
-    """Standard normals (T, *shape), trial t from ``default_rng([seed, stream, t])`` (filled in place)."""
+    """Standard normals (T, *shape), trial t from ``trial_rng(seed, stream, t)`` (filled in place)."""
     ids = [int(t) for t in trials]
     out = np.empty((len(ids),) + tuple(shape))
     for k, t in enumerate(ids):
-        np.random.default_rng([seed, stream, t]).standard_normal(out=out[k])
+        trial_rng(seed, stream, t).standard_normal(out=out[k])
     return out
 
 
@@ -154,7 +157,7 @@ def simulate_batch(theta_rad, rate_rad_s, accel_rad_s2, axes, lever_arms_m, imu:
     imu : ImuValues
         Resolved sensor (fs_hz, noise densities, biases, walks, scale factor).
     seed, stream : int
-        RNG key; trial ``trial_ids[t]`` draws from ``default_rng([seed, stream, id])``.
+        RNG key; trial ``trial_ids[t]`` draws from ``trial_rng(seed, stream, id)``.
     trial_ids : array_like of int (T,)
     accel_noise_m_s2_rt_hz : array_like (T,), optional
         Per-trial accelerometer noise density (default: the IMU's).
@@ -206,39 +209,12 @@ def simulate_batch(theta_rad, rate_rad_s, accel_rad_s2, axes, lever_arms_m, imu:
     return SimBatch(gyro, accel, np.ascontiguousarray(th))
 
 
-def _rest_masks(flags: np.ndarray, slices) -> list[np.ndarray]:
-    """ZVD flags restricted to each known rest slice; the whole rest where the ZVD flags < 10 %."""
-    out = []
-    for sl in slices:
-        m = np.zeros(flags.shape)
-        m[:, sl] = flags[:, sl]
-        few = m.sum(axis=1) < 0.1 * (sl.stop - sl.start)
-        m[few, sl] = 1.0
-        out.append(m)
-    return out
-
-
-def axis_estimate(accel_m_s2: np.ndarray, masks: list[np.ndarray], imu: ImuValues) -> np.ndarray:
-    """:func:`mtcal.systems.surface_angle.estimate_surface_axes` (the batched
-    :func:`~mtcal.systems.surface_angle.estimate_surface_axis`: Eq 23 on the three masked rests,
-    Algorithm A1's defaults, no uncertainty gate): (T, 3)."""
-    noise = imu.accel_noise_m_s2_rt_hz * np.sqrt(imu.fs_hz)
-    return estimate_surface_axes(accel_m_s2, [m.astype(bool) for m in masks], accel_noise_m_s2=noise, fit="eq23",
-                                 min_separation_deg=DEFAULT_MIN_SEPARATION_DEG, max_axis_error_deg=None,
-                                 max_elevation_deg=DEFAULT_MAX_ELEVATION_DEG)
-
-
-def _rams_angle(sim: SimBatch, is_static: np.ndarray, axes: np.ndarray, n_init: int, imu: ImuValues,
-                rests) -> np.ndarray:
-    """:func:`mtcal.systems.surface_angle.surface_angle` on a batch: ā0 and bias from the first ``n_init``
-    samples, the study IMU's EKF noise; (T, N) angle (rad)."""
-    return surface_angle(sim.gyro_rad_s, sim.accel_m_s2, axes, is_static=is_static, init=slice(0, n_init),
-                         dt_s=imu.dt_s, rests=rests, params=imu.ekf_params()).angle_rad
-
-
-def _zvd_flags(sim: SimBatch, zvd: ZvdParams, fs_hz: float, bias0_rad_s: np.ndarray) -> np.ndarray:
-    gyro = sim.gyro_rad_s - bias0_rad_s[:, None, :] if zvd.gyro_max_rad_s is not None else None
-    return detect_static(sim.accel_m_s2, 1.0 / fs_hz, zvd, gyro)
+def paper_procedure(imu: ImuValues, zvd: ZvdParams, *, ekf_switch: str = "zvd") -> SurfaceBatchConfig:
+    """The surface-angle procedure as the study runs it (:meth:`SurfaceBatchConfig.paper
+    <mtcal.systems.surface_angle.SurfaceBatchConfig.paper>`): ``zvd``, the Eq 23 axis with the IMU's
+    accelerometer noise per sample, the EKF noise of the IMU (:meth:`ImuValues.ekf_params`)."""
+    params, noise = imu.ekf_params(), imu.accel_noise_m_s2_rt_hz * np.sqrt(imu.fs_hz)
+    return SurfaceBatchConfig.paper(zvd, noise, params, ekf_switch=ekf_switch)
 
 
 def _latency_sse(err: np.ndarray, mask: np.ndarray, delta: np.ndarray) -> np.ndarray:
@@ -300,18 +276,17 @@ def sweep_metrics(rig: RigValues, imu: ImuValues, axes, lever_arms_m, seed: int,
     lat = np.atleast_1d(as_float_array(rig.latency_s if latencies_s is None else latencies_s, "latencies_s"))
     if np.any(lat < 0) or np.any(lat > 1.0):
         raise ValueError("latencies_s must lie in [0, 1] s")
-    prof, first = sweep_profile(rig, imu.fs_hz)
+    prof, first = sweep_profile(rig, imu.dt_s)
     th = prof.angle_rad[:, 0]
     sim = simulate_batch(th, prof.rate_rad_s[:, 0], prof.accel_rad_s2[:, 0], v, lever_arms_m, imu, seed, 10,
                          ids, accel_noise_m_s2_rt_hz=accel_noise_m_s2_rt_hz)
     slices = prof.hold_slices()
-    n0 = slices[0].stop - 1
-    a0, b0 = initial_state(sim.gyro_rad_s, sim.accel_m_s2, n0)
-    flags = _zvd_flags(sim, rig.zvd, imu.fs_hz, b0)
-    v_est = axis_estimate(sim.accel_m_s2, _rest_masks(flags, slices[:3]), imu)
-    switch = flags if ekf_switch == "zvd" else np.broadcast_to(prof.is_static, flags.shape)
-    theta = _rams_angle(sim, switch, v_est, n0, imu, slices)
-    ref_err = np.stack([np.random.default_rng([seed, 12, int(t)]).uniform(-1, 1, prof.segment.max() + 1)
+    proc = paper_procedure(imu, rig.zvd, ekf_switch="zvd" if ekf_switch == "zvd" else "known")
+    res = surface_angle_batch(sim.gyro_rad_s, sim.accel_m_s2, imu.dt_s, proc, init_samples=slices[0].stop - 1,
+                              rests=slices, known_static=prof.is_static)
+    a0, flags, v_est, theta = res.accel0_m_s2, res.is_static, res.axis, res.angle_rad
+    del res
+    ref_err = np.stack([trial_rng(seed, 12, int(t)).uniform(-1, 1, prof.segment.max() + 1)
                         for t in ids]) * rig.reference_error_rad
     ref_err = ref_err[:, prof.segment]
     err_rams = _WRAP(theta - th) - ref_err
@@ -340,31 +315,31 @@ def sweep_metrics(rig: RigValues, imu: ImuValues, axes, lever_arms_m, seed: int,
                         np.degrees(hold_whole), np.degrees(dyn_max))
 
 
-def ahrs_sweep_metrics(rig: RigValues, fs_hz: float, axes, lever_arms_m, ahrs: AhrsImu, seed: int,
+def ahrs_sweep_metrics(rig: RigValues, dt_s: float, axes, lever_arms_m, ahrs: AhrsImu, seed: int,
                        trial_ids, heading_sigma_deg=None) -> tuple[np.ndarray, np.ndarray]:
     """AHRS stand-in on the Sec. 7 sweep: static and dynamic RMSE (deg) per trial, (T,) each.
 
     Mahony MARG filter on its own sensors (``ahrs``) in a disturbed magnetic field, angle
     from the axis-angle of its orientation; static/dynamic split by the true schedule
     (the stand-in has no ZVD of its own), no latency. ``heading_sigma_deg`` (T,) overrides
-    the field's heading disturbance per trial.
+    the field's heading disturbance per trial. ``dt_s``: sample interval (s).
     """
     v = as_float_array(axes, "axes", ndim=2, last_dim=3)
     ids = np.asarray(trial_ids, int)
-    prof, first = sweep_profile(rig, fs_hz)
+    prof, first = sweep_profile(rig, dt_s)
     th = prof.angle_rad[:, 0]
     slices = prof.hold_slices()
-    err = _ahrs_errors(th, prof, v, lever_arms_m, ahrs, fs_hz, seed, ids, slices[0].stop - 1, heading_sigma_deg)
+    err = _ahrs_errors(th, prof, v, lever_arms_m, ahrs, dt_s, seed, ids, slices[0].stop - 1, heading_sigma_deg)
     sweep = np.arange(th.size) >= slices[first].start
     stat, dyn = sweep & prof.is_static, sweep & ~prof.is_static
     return (np.degrees(np.sqrt(np.mean(err[:, stat] ** 2, axis=1))),
             np.degrees(np.sqrt(np.mean(err[:, dyn] ** 2, axis=1))))
 
 
-def _ahrs_errors(th, prof, axes, lever_arms_m, ahrs: AhrsImu, fs_hz: float, seed: int, ids, n0: int,
+def _ahrs_errors(th, prof, axes, lever_arms_m, ahrs: AhrsImu, dt_s: float, seed: int, ids, n0: int,
                  heading_sigma_deg=None) -> np.ndarray:
     """AHRS stand-in angle error (T, N) in rad: per-trial axis, own sensors, disturbed field."""
-    vals = ahrs.resolve(fs_hz)
+    vals = ahrs.resolve(1.0 / dt_s)
     sim = simulate_batch(th, prof.rate_rad_s[:, 0], prof.accel_rad_s2[:, 0], axes, lever_arms_m, vals, seed, 20,
                          ids, gyro_bias_sigma_rad_s=ahrs.gyro_bias_deg_s * np.pi / 180.0)
     sig = np.broadcast_to(ahrs.magnetic_heading_sigma_deg if heading_sigma_deg is None else heading_sigma_deg,
@@ -372,7 +347,7 @@ def _ahrs_errors(th, prof, axes, lever_arms_m, ahrs: AhrsImu, fs_hz: float, seed
     mag = np.stack([baselines.simulate_magnetometer(
         th, v, (1.0, 0.0, 0.0, 0.0),
         baselines.MagneticDisturbance(heading_sigma_deg=float(sg), heading_tau_s=ahrs.magnetic_heading_tau_s),
-        vals.dt_s, np.random.default_rng([seed, 21, int(t)]), ahrs.mag_noise_fraction)[0]
+        vals.dt_s, trial_rng(seed, 21, int(t)), ahrs.mag_noise_fraction)[0]
         for v, t, sg in zip(axes, ids, sig)])  # the magnetometer model takes one axis per call
     q = baselines.mahony_marg(sim.gyro_rad_s, sim.accel_m_s2, mag, vals.dt_s)
     del sim, mag
@@ -403,6 +378,7 @@ def run_fig11(axis, imu: ImuValues, zvd: ZvdParams, reps: int, seed: int, *, ste
     v = np.asarray(axis, float) / np.linalg.norm(axis)
     angles = np.radians(np.arange(-180.0, 180.0 + 1e-9, step_deg))
     targets = np.tile(angles, reps)
+    proc = paper_procedure(imu, zvd)
     out = {k: [] for k in ("mr", "m16", "rr", "r16")}
     for c0 in progress(range(0, targets.size, chunk_trials), desc="Fig 11 Monte Carlo"):
         tg = targets[c0:c0 + chunk_trials]
@@ -415,10 +391,9 @@ def run_fig11(axis, imu: ImuValues, zvd: ZvdParams, reps: int, seed: int, *, ste
         sim = simulate_batch(prof.angle_rad.T, prof.rate_rad_s.T, prof.accel_rad_s2.T, np.tile(v, (tg.size, 1)),
                              np.zeros((tg.size, 3)), imu, seed, 30, ids)
         slices = prof.hold_slices()
-        a0, b0 = initial_state(sim.gyro_rad_s, sim.accel_m_s2, slices[0].stop)
-        flags = _zvd_flags(sim, zvd, imu.fs_hz, b0)
-        v_est = axis_estimate(sim.accel_m_s2, _rest_masks(flags, slices[:3]), imu)
-        theta = _rams_angle(sim, flags, v_est, slices[0].stop, imu, slices)
+        res = surface_angle_batch(sim.gyro_rad_s, sim.accel_m_s2, imu.dt_s, proc, init_samples=slices[0].stop,
+                                  rests=slices)
+        a0, v_est, theta = res.accel0_m_s2, res.axis, res.angle_rad
         last = slices[-1]
         truth = sim.theta_rad[:, last]
         e_r = _WRAP(theta[:, last] - truth)
@@ -449,29 +424,29 @@ def run_drift(rig: RigValues, imu: ImuValues, axis, ahrs: AhrsImu, trials: int, 
     chunks of ``chunk_trials`` (per-trial random streams: results do not depend on the chunking).
     """
     v = np.asarray(axis, float) / np.linalg.norm(axis)
-    r_wp = np.random.default_rng([seed, 40])
+    r_wp = stream_rng(seed, 40)
     step = np.degrees(rig.step_rad)
     n_steps = max(int(run_s / (rig.hold_s + 2 * step / np.degrees(rig.move_rate_rad_s))), 2)
     wp = np.clip(np.cumsum(r_wp.choice([-3, -2, -1, 1, 2, 3], n_steps)) * step, -180, 180)
     wp = np.radians(np.r_[0.0, wp, wp[-1]])
     wp[-1] = wp[-2] + 1e-6  # a zero-length "move" into the stand-still
     holds = np.r_[rig.axis_rest_s, np.full(n_steps, rig.hold_s), stand_s]
-    prof = trapezoid_profile(wp, rig.move_rate_rad_s, rig.move_accel_rad_s2, holds, imu.fs_hz)
+    prof = trapezoid_profile(wp, rig.move_rate_rad_s, rig.move_accel_rad_s2, holds, imu.dt_s)
     th = prof.angle_rad[:, 0]
     n0 = prof.hold_slices()[0].stop - 1
     stand = prof.hold_slices()[-1]
+    proc = replace(paper_procedure(imu, rig.zvd), axis=None)  # the true axis
     err_r, err_a = [], []
     for c0 in progress(range(0, trials, chunk_trials), desc="Fig 13 Monte Carlo"):
         ids = np.arange(c0, min(c0 + chunk_trials, trials))
         lever = np.tile(lever_arm_vector(v, rig.lever_arm_m, rig.lever_arm_up_m), (ids.size, 1))
         axes = np.tile(v, (ids.size, 1))
         sim = simulate_batch(th, prof.rate_rad_s[:, 0], prof.accel_rad_s2[:, 0], axes, lever, imu, seed, 41, ids)
-        _, b0 = initial_state(sim.gyro_rad_s, sim.accel_m_s2, n0)
-        flags = _zvd_flags(sim, rig.zvd, imu.fs_hz, b0)
-        theta = _rams_angle(sim, flags, axes, n0, imu, prof.hold_slices())
+        theta = surface_angle_batch(sim.gyro_rad_s, sim.accel_m_s2, imu.dt_s, proc, init_samples=n0,
+                                    rests=prof.hold_slices(), axis=axes).angle_rad
         err_r.append(np.degrees(_WRAP(theta[:, stand] - th[stand])))
-        del sim, theta, flags
-        err_a.append(np.degrees(_ahrs_errors(th, prof, axes, lever, ahrs, imu.fs_hz, seed, ids, n0)[:, stand]))
+        del sim, theta
+        err_a.append(np.degrees(_ahrs_errors(th, prof, axes, lever, ahrs, imu.dt_s, seed, ids, n0)[:, stand]))
     return DriftResult(prof.time_s[stand] - prof.time_s[stand.start], np.concatenate(err_r), np.concatenate(err_a))
 
 
@@ -488,20 +463,19 @@ def axis_errors(axis, imu: ImuValues, rig: RigValues, trials: int, seed: int, st
     # the record ends with the third rest: the ZVD is causal and Eq 23 uses only the rests, so a move
     # back afterwards would change nothing but the cost
     prof = trapezoid_profile(np.radians([0.0, 90.0, 180.0]), move_rate_rad_s, rig.move_accel_rad_s2,
-                             [rest_s, rest_s, rest_s], imu.fs_hz)
+                             [rest_s, rest_s, rest_s], imu.dt_s)
     lever = lever_arm_vector(v, rig.lever_arm_m, rig.lever_arm_up_m)
     slices = prof.hold_slices()[:3]
+    # the axis alone; without the ZVD the schedule's rests are the rest flags (the ZVD flags are used only
+    # inside the rests, so they need no masking by the schedule)
+    proc = replace(paper_procedure(imu, rig.zvd if use_zvd else None), angle=None)
     est = []
     for c0 in progress(range(0, trials, chunk_trials), desc="Monte Carlo"):
         ids = np.arange(c0, min(c0 + chunk_trials, trials))
         sim = simulate_batch(prof.angle_rad[:, 0], prof.rate_rad_s[:, 0], prof.accel_rad_s2[:, 0],
                              np.tile(v, (ids.size, 1)), np.tile(lever, (ids.size, 1)), imu, seed, stream, ids)
-        if use_zvd:
-            _, b0 = initial_state(sim.gyro_rad_s, sim.accel_m_s2, slices[0].stop)
-            flags = _zvd_flags(sim, rig.zvd, imu.fs_hz, b0) & prof.is_static
-        else:
-            flags = np.broadcast_to(prof.is_static, (ids.size, prof.time_s.size))
-        est.append(axis_estimate(sim.accel_m_s2, _rest_masks(flags, slices), imu))
+        est.append(surface_angle_batch(sim.gyro_rad_s, sim.accel_m_s2, imu.dt_s, proc, init_samples=slices[0].stop,
+                                       rests=slices, known_static=prof.is_static).axis)
     v_est = np.concatenate(est)
     cosang = np.clip(np.abs(v_est @ v), -1.0, 1.0)
     return np.degrees(np.arccos(cosang)), v_est
@@ -536,10 +510,13 @@ def run_fig9(axis, imu: ImuValues, rig: RigValues, trials: int, seed: int) -> Fi
     sim = simulate_batch(prof.angle_rad[:, 0], prof.rate_rad_s[:, 0], prof.accel_rad_s2[:, 0],
                          np.tile(v, (trials, 1)), lever, imu, seed, 50, ids)
     n0 = int(0.9 * imu.fs_hz)
-    _, b0 = initial_state(sim.gyro_rad_s, sim.accel_m_s2, n0)
-    flags = _zvd_flags(sim, rig.zvd, imu.fs_hz, b0)
-    always = np.ones_like(flags)  # the "standard EKF": V_z throughout
-    res = [_rams_angle(sim, f, v, n0, imu, prof.hold_slices()) for f in (flags, always)]
+    proc = replace(paper_procedure(imu, rig.zvd), axis=None)  # the true axis
+    with_zvd = surface_angle_batch(sim.gyro_rad_s, sim.accel_m_s2, imu.dt_s, proc, init_samples=n0,
+                                   rests=prof.hold_slices(), axis=v)
+    always = np.ones_like(with_zvd.is_static)  # the "standard EKF": V_z throughout
+    standard = surface_angle_batch(sim.gyro_rad_s, sim.accel_m_s2, imu.dt_s, replace(proc, zvd=None), init_samples=n0,
+                                   rests=prof.hold_slices(), axis=v, known_static=always)
+    res = [with_zvd.angle_rad, standard.angle_rad]
     e_z, e_n = (np.degrees(_WRAP(r - sim.theta_rad)) for r in res)
     t = prof.time_s
     moving = ~prof.is_static
@@ -584,17 +561,18 @@ def run_zvd_demo(axis, imu: ImuValues, rig: RigValues, trials: int, seed: int, *
     without the gyro condition; per-trial false-static and missed-rest shares."""
     v = np.asarray(axis, float) / np.linalg.norm(axis)
     prof = trapezoid_profile(np.radians([0, 30, 60, 30, -30, 0]), rig.move_rate_rad_s, rig.move_accel_rad_s2,
-                             rig.hold_s, imu.fs_hz)
+                             rig.hold_s, imu.dt_s)
     ids = np.arange(trials)
     lever = np.tile(lever_arm_vector(v, rig.lever_arm_m, rig.lever_arm_up_m), (trials, 1))
     sim = simulate_batch(prof.angle_rad[:, 0], prof.rate_rad_s[:, 0], prof.accel_rad_s2[:, 0],
                          np.tile(v, (trials, 1)), lever, imu, seed, 60, ids)
-    _, b0 = initial_state(sim.gyro_rad_s, sim.accel_m_s2, int(0.75 * rig.hold_s * imu.fs_hz))
-    z1 = replace(rig.zvd, gyro_max_rad_s=None)
-    f1 = _zvd_flags(sim, z1, imu.fs_hz, b0)
-    fg = _zvd_flags(sim, replace(rig.zvd, gyro_max_rad_s=gyro_max_rad_s), imu.fs_hz, b0)
-    st = prof.is_static
     holds = prof.hold_slices()
+    n0 = int(0.75 * rig.hold_s * imu.fs_hz)
+    f1, fg = (surface_angle_batch(sim.gyro_rad_s, sim.accel_m_s2, imu.dt_s,
+                                  SurfaceBatchConfig(replace(rig.zvd, gyro_max_rad_s=gmax), None, None),
+                                  init_samples=n0, rests=holds).is_static
+              for gmax in (None, gyro_max_rad_s))
+    st = prof.is_static
     found = np.all(np.stack([np.mean(fg[:, sl], axis=1) > 0.5 for sl in holds]), axis=0)
     fp1 = np.mean(f1 & ~st, axis=1) / np.mean(~st)
     k = _median_trial(fp1)  # the record drawn: the median trial by Table 1 false-static share
@@ -676,8 +654,12 @@ class RotationRecord:
     accel_true_m_s2: np.ndarray
 
 
+#: Keyed stream of :func:`simulate_rotation`: ``stream_rng(seed, STREAM_ROTATION, 0 | 1)`` for gyro | accelerometer.
+STREAM_ROTATION = 70
+
+
 def simulate_rotation(theta_rad, rate_rad_s, accel_rad_s2, is_static, setup: RotationSetup,
-                      model: ImuErrorModel, fs_hz: float, rng: np.random.Generator) -> RotationRecord:
+                      model: ImuErrorModel, dt_s: float, seed: int) -> RotationRecord:
     """Simulate T trials of rotation about ``setup.axis``, each with its own angle history.
 
     Parameters
@@ -689,8 +671,11 @@ def simulate_rotation(theta_rad, rate_rad_s, accel_rad_s2, is_static, setup: Rot
     setup : RotationSetup
     model : ImuErrorModel
         Sensor errors (mounting ignored: v is given in the IMU frame).
-    fs_hz : float
-    rng : numpy.random.Generator
+    dt_s : float
+        Sample interval (s).
+    seed : int
+        Run seed: the gyro draws from ``stream_rng(seed, STREAM_ROTATION, 0)``, the accelerometer from
+        ``stream_rng(seed, STREAM_ROTATION, 1)`` (:mod:`mtcal.core.rng`).
 
     Returns
     -------
@@ -702,15 +687,12 @@ def simulate_rotation(theta_rad, rate_rad_s, accel_rad_s2, is_static, setup: Rot
     if not th.shape == rate.shape == acc.shape:
         raise ValueError(f"theta_rad, rate_rad_s, accel_rad_s2 must share a shape, got "
                          f"{th.shape}, {rate.shape}, {acc.shape}")
-    if not isinstance(rng, np.random.Generator):
-        raise TypeError(f"rng must be a numpy.random.Generator, got {type(rng).__name__}")
-    fs = positive_scalar(fs_hz, "fs_hz")
+    dt = positive_scalar(dt_s, "dt_s")
     t_n, n = th.shape
-    dt = 1.0 / fs
     time = np.arange(n) * dt
     w_true, f_true = profiles.fixed_axis_imu_truth(th, rate, acc, np.tile(setup.unit_axis(), (t_n, 1)),
                                                    np.tile(setup.lever_arm(), (t_n, 1)), setup.gravity0(), dt)
-    r_gyro, r_accel = rng.spawn(2)
+    r_gyro, r_accel = (stream_rng(seed, STREAM_ROTATION, k) for k in (0, 1))
     gyro = simulate.apply_sensor_errors(model.gyro, w_true, time, r_gyro,
                                         time_since_power_on_s=model.time_since_power_on_s)
     accel = simulate.apply_sensor_errors(model.accel, f_true, time, r_accel,

@@ -36,11 +36,11 @@ from dataclasses import replace
 
 import numpy as np
 
+from mtcal.core.metrics import variance_parts  # re-exported here (notebooks 10, 11 call predictive.variance_parts)
 from mtcal.core.rng import child_rngs, stream_rng
 from mtcal.reporting import leak
 from .error_model import FITTED_PARAMETERS, PRIOR_RANGES, TABLES_1_TO_4, ErrorModel, ErrorModelFit
 from .runs import TurntableJob, _map, run_turntable_jobs, run_windtunnel, windtunnel_median_trial
-from .verdicts import variance_parts
 
 __all__ = ["ALPHA_PRIOR_SIGMA_DEG", "KINDS", "TURNTABLE_PER_DRAW", "variance_parts", "posterior_draws", "prior_draws",
            "turntable_predictive", "windtunnel_predictive", "windtunnel_predictive_kinds", "quantile_se", "LEAK_SIZES",

@@ -40,6 +40,7 @@ import numpy as np
 import pandas as pd
 
 from mtcal.core import metrics
+from mtcal.core.metrics import variance_parts  # re-exported here (its old home)
 from mtcal.reporting import compare, fidelity, paper_numbers
 from mtcal.reporting.binomial import coin_flip
 from .error_model import PAPER_SIGN, TABLES_1_TO_4
@@ -197,56 +198,6 @@ def one_to_one(samples: dict, *, seed: int = 0, per_draw: int | None = None) -> 
             rows[-1].update({"var_band": float(np.var(x, ddof=1)), "var_parameter": parts["parameter"],
                              "var_sampling": parts["sampling"], "parameter_share": parts["parameter_share"]})
     return pd.DataFrame(rows)
-
-
-def variance_parts(samples, per_draw: int) -> dict:
-    """Split the variance of ``samples`` into a parameter part and a sampling part (law of total variance).
-
-    ``samples`` (T,) are draw-major: consecutive groups of ``per_draw`` sessions share one parameter
-    draw θ (an incomplete last group is left out). One-way random-effects analysis of variance:
-
-    * ``sampling`` = E[Var(Y | θ)], estimated by the mean within-group variance (ddof 1);
-    * ``parameter`` = Var(E[Y | θ]), estimated by the variance of the group means (ddof 1) minus
-      ``sampling / per_draw`` (unbiased; it can come out slightly negative by Monte Carlo error when the
-      parameters contribute little);
-    * ``total`` = ``parameter + sampling``, an unbiased estimate of Var(Y) (compare the sample variance);
-    * ``parameter_share`` = ``parameter / total`` clipped to [0, 1].
-
-    Parameters
-    ----------
-    samples : array_like (T,)
-    per_draw : int
-        Sessions per parameter draw (≥ 2).
-
-    Returns
-    -------
-    dict with ``parameter``, ``sampling``, ``total`` (unit of ``samples`` squared), ``parameter_share`` and
-    ``draws`` (complete groups used).
-
-    Examples
-    --------
-    >>> from mtcal.core.rng import stream_rng
-    >>> rng = stream_rng(0, 0)
-    >>> y = np.repeat(rng.normal(0, 2, 4000), 2) + rng.normal(0, 1, 8000)
-    >>> p = variance_parts(y, 2)
-    >>> round(p["parameter"]), round(p["sampling"]), p["draws"]
-    (4, 1, 4000)
-    """
-    per_draw = int(per_draw)
-    if per_draw < 2:
-        raise ValueError(f"per_draw must be >= 2 to split the variance, got {per_draw}")
-    x = np.asarray(samples, float)
-    if x.ndim != 1:
-        raise ValueError(f"samples must be 1-D, got shape {x.shape}")
-    g = x.size // per_draw
-    if g < 2:
-        raise ValueError(f"samples must hold at least 2 complete groups of {per_draw}, got {x.size} values")
-    groups = x[:g * per_draw].reshape(g, per_draw)
-    sampling = float(np.mean(np.var(groups, axis=1, ddof=1)))
-    parameter = float(np.var(groups.mean(axis=1), ddof=1)) - sampling / per_draw
-    total = parameter + sampling
-    share = float(np.clip(parameter / total, 0.0, 1.0)) if total > 0 else float("nan")
-    return {"parameter": parameter, "sampling": sampling, "total": total, "parameter_share": share, "draws": g}
 
 
 def scores(table: pd.DataFrame, role: str = "heldout") -> dict:
