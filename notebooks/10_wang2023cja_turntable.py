@@ -66,7 +66,7 @@ output.setup_matplotlib()
 
 # %%
 # NBVAL_CHECK_OUTPUT
-fit_table = w.installation_fit_table()
+fit_table = w.extra_installation_fit().table
 output.save_table(fit_table, "wang2023cja_extra_installation_fit")
 output.show_table(fit_table)
 assert (fit_table.fit_rms_roll_flipped_deg < 0.4 * fit_table.fit_rms_eq8_as_printed_deg).all()
@@ -78,7 +78,7 @@ assert (fit_table.fit_rms_roll_flipped_deg < 0.4 * fit_table.fit_rms_eq8_as_prin
 
 # %%
 # NBVAL_CHECK_OUTPUT
-q33 = w.printed_matrix_check()
+q33 = w.extra_q33_roll().table
 output.save_table(q33, "wang2023cja_extra_q33_roll")
 output.show_table(q33, "{:+.3f}")
 flipped = q33[q33.matrix == "printed"]
@@ -98,7 +98,7 @@ assert (np.sign(flipped.roll_deg) != np.sign(flipped.roll_in_deg)).all()
 
 # %%
 fit = w.fit_error_model(seed=SEED)
-em_table = w.error_model_table(fit)
+em_table = w.extra_error_model(fit).table
 output.save_table(em_table, "wang2023cja_extra_error_model")
 output.show_table(em_table.drop(columns="source"), "{:.4g}")
 print(f"log-likelihood of the {fit.n_train} training numbers: fitted {fit.loglik:.1f}, prior nominal {fit.loglik_prior:.1f}")
@@ -180,9 +180,9 @@ def section(artifact_prefix, table=None):
 # every printed number one to one (all `train`: the error model was fitted on them).
 
 # %%
-for i, test in enumerate(("T1", "T2", "T3", "T4")):
-    output.save_table(w.positions_table(test, run[test]), f"wang2023cja_table{i + 1:02d}")
-output.show_table(w.positions_table("T1", run["T1"]), "{:.3f}")
+for art in (w.table01(run["T1"]), w.table02(run["T2"]), w.table03(run["T3"]), w.table04(run["T4"])):
+    output.save_table(art.table, art.artifact_id)
+output.show_table(w.table01(run["T1"]).table, "{:.3f}")
 section("wang2023cja_table01")
 
 # %% [markdown]
@@ -190,21 +190,21 @@ section("wang2023cja_table01")
 # The roll rows at ±90° carry the mount compliance: the paper's +0.139/−0.136 overshoot.
 
 # %%
-output.show_table(w.positions_table("T2", run["T2"]), "{:.3f}")
+output.show_table(w.table02(run["T2"]).table, "{:.3f}")
 section("wang2023cja_table02")
 
 # %% [markdown]
 # ## wang2023cja_table03 — large pitch and roll installation errors (Table 3)
 
 # %%
-output.show_table(w.positions_table("T3", run["T3"]), "{:.3f}")
+output.show_table(w.table03(run["T3"]).table, "{:.3f}")
 section("wang2023cja_table03")
 
 # %% [markdown]
 # ## wang2023cja_table04 — all three installation errors large (Table 4)
 
 # %%
-output.show_table(w.positions_table("T4", run["T4"]), "{:.3f}")
+output.show_table(w.table04(run["T4"]).table, "{:.3f}")
 section("wang2023cja_table04")
 
 # %% [markdown]
@@ -215,7 +215,7 @@ section("wang2023cja_table04")
 # and "there is a significant improvement in the pitch angle after calibration".
 
 # %%
-t5 = w.sweep_mean_table("wang2023cja_table05", run["T1"].sweeps["aoa"], "pitch")
+t5 = w.table05(run["T1"]).table
 output.save_table(t5, "wang2023cja_table05")
 output.show_table(t5, "{:.3f}")
 section("wang2023cja_table05")
@@ -236,7 +236,7 @@ display(output.save_figure(plots.fig07(run["T1"], sc.imu.label), "wang2023cja_fi
 # "the calibration method significantly reduces the roll and yaw errors".
 
 # %%
-t6 = w.error_metric_table("wang2023cja_table06", run["T1"].sweeps["aoa"], ((2, "roll"), (0, "yaw")))
+t6 = w.table06(run["T1"]).table
 output.save_table(t6, "wang2023cja_table06")
 output.show_table(t6)
 section("wang2023cja_table06")
@@ -248,7 +248,7 @@ section("wang2023cja_table06")
 # calibration and 0.04° after" (the text says pitch; Table 7 is roll).
 
 # %%
-t7 = w.sweep_mean_table("wang2023cja_table07", run["T1"].sweeps["roll"], "roll", sign=w.PAPER_SIGN[2])
+t7 = w.table07(run["T1"]).table
 output.save_table(t7, "wang2023cja_table07")
 output.show_table(t7, "{:.3f}")
 section("wang2023cja_table07")
@@ -266,7 +266,7 @@ display(output.save_figure(plots.fig08(run["T1"], sc.imu.label), "wang2023cja_fi
 # Claim: "the pitch-yaw errors are reduced by at least 30 %" (smallest of the four reductions).
 
 # %%
-t8 = w.error_metric_table("wang2023cja_table08", run["T1"].sweeps["roll"], ((1, "pitch"), (0, "yaw")))
+t8 = w.table08(run["T1"]).table
 output.save_table(t8, "wang2023cja_table08")
 output.show_table(t8)
 section("wang2023cja_table08")
@@ -279,7 +279,7 @@ section("wang2023cja_table08")
 # scale factor and quantisation of the paper's grade each stay near 0.001–0.01°.
 
 # %%
-budget = w.error_budget_table(sc, "T2", N_BUDGET, SEED)
+budget = w.extra_error_budget(sc, "T2", N_BUDGET, SEED).table
 output.save_table(budget, "wang2023cja_extra_error_budget")
 output.show_table(budget, "{:.5f}")
 assert budget.set_index("source").loc["none", "after_max_deg"] < 1e-6

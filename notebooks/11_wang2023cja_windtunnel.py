@@ -118,8 +118,9 @@ noise_only = w.q22_noise_band(fit.model, w.windtunnel_positions(sc), seed=SEED)
 print(f"pitch-ratio error fitted to the printed Q(2,2): {sc.pitch_ratio_error:+.6f}")
 print(f"Q(2,2) from rest errors alone: median {noise_only['median']:.5f} [{noise_only['low']:.5f}, {noise_only['high']:.5f}]")
 assert not noise_only["low"] <= 1.004462 <= noise_only["high"]
-output.save_table(w.windtunnel_matrix_table(run), "wang2023cja_extra_windtunnel_matrix")
-output.show_table(w.windtunnel_matrix_table(run), "{:+.6f}")
+matrix = w.extra_windtunnel_matrix(run).table
+output.save_table(matrix, "wang2023cja_extra_windtunnel_matrix")
+output.show_table(matrix, "{:+.6f}")
 section("wang2023cja_matrix_qbs_windtunnel")
 
 # %% [markdown]
@@ -130,7 +131,7 @@ section("wang2023cja_matrix_qbs_windtunnel")
 # are printed).
 
 # %%
-t9 = w.sweep_mean_table("wang2023cja_table09", run.nowind, "pitch")
+t9 = w.table09(run).table
 output.save_table(t9, "wang2023cja_table09")
 output.show_table(t9, "{:.3f}")
 section("wang2023cja_table09")
@@ -166,7 +167,7 @@ display(output.save_figure(plots.extra_amd(run, sc.qncf.amd_threshold_pct, vibra
 # are `in-sample` checks.
 
 # %%
-t10 = w.table10(run, sc.wind_on_sweep_deg)
+t10 = w.table10(run, sc.wind_on_sweep_deg).table
 output.save_table(t10, "wang2023cja_table10")
 output.show_table(t10.pivot(index="row", columns="reference", values="mtcal").reset_index(), "{:.3f}")
 section("wang2023cja_table10")
@@ -186,7 +187,7 @@ display(output.save_figure(plots.fig11(run, sc.imu.label), "wang2023cja_fig11"))
 # and the sweep after calibration inherits it. Yaw is gyro-only and drifts.
 
 # %%
-t11 = w.error_metric_table("wang2023cja_table11", run.nowind, ((2, "roll"), (0, "yaw")))
+t11 = w.table11(run).table
 output.save_table(t11, "wang2023cja_table11")
 output.show_table(t11)
 section("wang2023cja_table11")

@@ -74,7 +74,7 @@ levels = tuple(sorted(set(noise_levels_deg) | {SIGMA_DEG}))
 
 # %%
 # NBVAL_CHECK_OUTPUT
-b1 = constrained.min_positions_table(SEED)
+b1 = w.extra_min_positions(SEED).table
 output.save_table(b1, "wang2023cja_extra_min_positions")
 output.show_table(b1)
 assert dict(zip(("eq13", "so4", "mounting"), b1["min_K_generic"])) == {"eq13": 4, "so4": 3, "mounting": 1}
@@ -90,7 +90,7 @@ assert b1.loc[0, "min_K_paper_order"] == 5  # paper's order: first 4 rows span o
 # the mounting-only model). Lines: median; bands: 95 %.
 
 # %%
-b2 = constrained.error_vs_positions_table(SIGMA_DEG, N_TRIALS, N_TEST, SEED, range(2, k_max + 1))
+b2 = w.extra_error_vs_positions(SIGMA_DEG, N_TRIALS, N_TEST, SEED, range(2, k_max + 1)).table
 output.save_table(b2, "wang2023cja_extra_error_vs_positions")
 from mtcal.studies.wang2023cja import plots
 display(output.save_figure(plots.error_vs_positions_figure(b2, title=(
@@ -101,7 +101,7 @@ display(output.save_figure(plots.error_vs_positions_figure(b2, title=(
 # ## wang2023cja_extra_error_vs_noise — attitude error after calibration vs σ (paper's six positions)
 
 # %%
-b3 = constrained.error_vs_noise_table(levels, N_TRIALS, N_TEST, SEED)
+b3 = w.extra_error_vs_noise(levels, N_TRIALS, N_TEST, SEED).table
 output.save_table(b3, "wang2023cja_extra_error_vs_noise")
 display(output.save_figure(plots.error_vs_noise_figure(b3, sigma_deg=SIGMA_DEG, title=(
     f"wang2023cja_extra_error_vs_noise: paper's six positions, {N_TRIALS} trials; dotted: identified σ")),
@@ -111,10 +111,11 @@ display(output.save_figure(plots.error_vs_noise_figure(b3, sigma_deg=SIGMA_DEG, 
 # ## wang2023cja_extra_constrained_headline — six paper positions at the identified noise level
 
 # %%
-head, info = constrained.headline(b3, b2, SIGMA_DEG)
+art = w.extra_constrained_headline(b3, b2, SIGMA_DEG)
+head, info = art.table, art.data
 output.save_table(head, "wang2023cja_extra_constrained_headline")
 output.show_table(head)
-print(constrained.headline_text(info))
+print(*art.lines, sep="\n")
 assert all(g > 20.0 for g in info["gain_so4_pct"].values()) and info["gain_mount_pct"] > 0
 assert info["ratio_mount_biased"] > 3.0 and info["so4_k"] <= 5
 
@@ -136,7 +137,7 @@ assert info["ratio_mount_biased"] > 3.0 and info["so4_k"] <= 5
 
 # %%
 # NBVAL_CHECK_OUTPUT
-b5 = constrained.printed_matrices_so4_table()
+b5 = w.extra_printed_matrices_so4().table
 output.save_table(b5, "wang2023cja_extra_printed_matrices_so4")
 output.show_table(b5.iloc[:, :5])
 output.show_table(b5[["matrix"] + [c for c in b5.columns if c.startswith(("c_", "w_", "angle"))]])
@@ -158,7 +159,8 @@ assert bw.det > 1.005 and 0.005 < bw.dist_SO4 < 0.006
 
 # %%
 # NBVAL_CHECK_OUTPUT
-b6, q33 = constrained.q33_variants_table()
+art = w.extra_q33_sign()
+b6, q33 = art.table, art.data
 output.save_table(b6, "wang2023cja_extra_q33_sign")
 output.show_table(b6, float_format="{:.3f}")
 print(f"Table 1 after: roll {q33['after_roll_deg'][0]:.3f} / {q33['after_roll_deg'][1]:.3f}; SO(4) projection vs fixed: "
@@ -180,7 +182,7 @@ assert v.loc["Q33 sign fixed", "max_abs_diff_rows1_4_deg"] < 0.06 and v["max_abs
 # the printed wind-tunnel matrix and the sign-fixed turntable matrix as horizontal lines.
 
 # %%
-b7 = constrained.noise_vs_so4_distance_table(levels + (0.1, 0.2, 0.5), N_TRIALS, SEED)
+b7 = w.extra_noise_vs_so4_distance(levels + (0.1, 0.2, 0.5), N_TRIALS, SEED).table
 output.save_table(b7, "wang2023cja_extra_noise_vs_so4_distance")
 display(output.save_figure(plots.noise_distance_figure(
     b7, {"printed wind-tunnel matrix": bw.dist_O4, "turntable matrix, Q33 fixed": bf.dist_O4}, sigma_deg=SIGMA_DEG,

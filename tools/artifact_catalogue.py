@@ -8,9 +8,12 @@ Sources of truth, per notebook ``notebooks/NN_*.py`` (py:percent, read with jupy
 
 * section headings ``## <artifact id> — <title>`` (the notebook convention);
 * ``save_figure(..., "<id>")`` / ``save_table(..., "<id>")`` calls (literal ids);
-* the producing function: the first call in the section's code to a function imported
-  from ``mtcal`` (reporting helpers such as ``save_table``/``comparison_row`` excluded),
-  else a function defined in the notebook itself (reported as notebook code).
+* the producing function: the study's producer registered for that ID with
+  ``mtcal.core.artifacts.produces`` (``mtcal/studies/<key>/artifacts.py``: the one lookup for every
+  study), else the call whose result is saved (``save_table(f(...).table, …)`` included), else the
+  first call in the section's code to a function imported from ``mtcal`` (reporting helpers such
+  as ``save_table``/``comparison_row`` excluded), else a function defined in the notebook itself
+  (reported as notebook code).
 """
 
 from __future__ import annotations
@@ -115,8 +118,34 @@ def _save_ids(tree: ast.AST) -> list[tuple[str, str]]:
     return out
 
 
+def registered_producers() -> dict[str, str]:
+    """Artifact ID → `` `mtcal.studies.<key>.<name>` `` of every producer a study registers with
+    ``mtcal.core.artifacts.produces`` in its ``artifacts`` module (the package's public name when it
+    re-exports the producer)."""
+    import importlib
+
+    out: dict[str, str] = {}
+    for key in KEYS:
+        try:
+            module = importlib.import_module(f"mtcal.studies.{key}.artifacts")
+        except ModuleNotFoundError:
+            continue
+        package = importlib.import_module(f"mtcal.studies.{key}")
+        for name, fn in vars(module).items():
+            ident = getattr(fn, "artifact_id", None)
+            if name.startswith("_") or not callable(fn) or not isinstance(ident, str):
+                continue
+            public = f"{package.__name__}.{name}" if getattr(package, name, None) is fn else f"{module.__name__}.{name}"
+            out.setdefault(ident, f"`{public}`")
+    return out
+
+
 def _function_of(node: ast.AST, imports: dict[str, str], local_defs: set[str]) -> str:
-    """`mtcal.x.f` for a call of an mtcal function, notebook code for a local one, else ""."""
+    """`mtcal.x.f` for a call of an mtcal function (or a field of its result: ``f(...).table``), notebook
+    code for a local one, else ""."""
+    while isinstance(node, (ast.Attribute, ast.Subscript)) and isinstance(node.value, (ast.Call, ast.Attribute,
+                                                                                        ast.Subscript)):
+        node = node.value
     if not isinstance(node, ast.Call):
         return ""
     name = _dotted(node.func)
@@ -169,6 +198,7 @@ def catalogue(notebooks_dir: Path = ROOT / "notebooks") -> list[Entry]:
     import jupytext
 
     entries: dict[str, Entry] = {}
+    registered = registered_producers()
     for src in sorted(notebooks_dir.glob("[0-9][0-9]_*.py")):
         nb = jupytext.read(src, fmt="py:percent")
         trees = [(_parse(c.source) if c.cell_type == "code" else None) for c in nb.cells]
@@ -201,7 +231,7 @@ def catalogue(notebooks_dir: Path = ROOT / "notebooks") -> list[Entry]:
                 entry = entries.get(artifact)
                 if entry is None:
                     producer = ("`mtcal.reporting.compare.comparison_table`" if artifact.endswith("_comparison")
-                                else _producer(code, imports, local_defs, artifact))
+                                else registered.get(artifact) or _producer(code, imports, local_defs, artifact))
                     entry = entries[artifact] = Entry(artifact, src.stem, heading, producer)
                 entry.kinds |= {k for a, k in saves if a == artifact}
         if comparison not in entries:

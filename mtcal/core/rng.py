@@ -40,7 +40,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["stream_key", "trial_rng", "stream_rng", "philox_key", "spawn_philox_key"]
+__all__ = ["stream_key", "trial_rng", "stream_rng", "child_rngs", "rng_copy", "philox_key", "spawn_philox_key"]
 
 
 def stream_key(seed: int, stream: int, *more: int) -> tuple[int, ...]:
@@ -89,6 +89,83 @@ def trial_rng(seed: int, stream: int, trial: int, *more: int) -> np.random.Gener
     True
     """
     return stream_rng(seed, stream, trial, *more)
+
+
+def child_rngs(rng: np.random.Generator, n: int) -> list[np.random.Generator]:
+    """The next ``n`` independent child generators of ``rng`` (numpy NEP 19 ``Generator.spawn``).
+
+    Child ``i`` is keyed by ``rng``'s SeedSequence with spawn key ``(…, c + i)``, ``c`` the number
+    of children spawned before; the call advances that count, not ``rng``'s own stream. For a
+    generator fresh from ``stream_rng(seed, stream)`` child ``i`` equals
+    ``stream_rng(seed, stream, 0, 0, i)`` (see "Keys that look different but are equal"): block
+    ``i`` of a Monte Carlo drawing from child ``i`` gets its numbers whichever other blocks run.
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+        Made from a SeedSequence (:func:`stream_rng`, :func:`trial_rng`, another child).
+    n : int
+        Number of children, ``>= 0``.
+
+    Returns
+    -------
+    list of numpy.random.Generator, length ``n``
+
+    References
+    ----------
+    numpy NEP 19 (``SeedSequence.spawn``); O'Neill 2015 (PCG64).
+
+    Examples
+    --------
+    >>> a, b = child_rngs(stream_rng(7, 300), 2)
+    >>> float(b.uniform()) == float(stream_rng(7, 300, 0, 0, 1).uniform())
+    True
+    >>> child_rngs(stream_rng(7, 300), -1)
+    Traceback (most recent call last):
+    ...
+    ValueError: n must be an integer >= 0, got -1
+    """
+    if not isinstance(rng, np.random.Generator):
+        raise TypeError(f"rng must be a numpy.random.Generator, got {type(rng).__name__}")
+    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 0:
+        raise ValueError(f"n must be an integer >= 0, got {n!r}")
+    return rng.spawn(int(n))
+
+
+def rng_copy(rng: np.random.Generator) -> np.random.Generator:
+    """A fresh generator on a copy of ``rng``'s SeedSequence (entropy, spawn key, pool size and the
+    count of children spawned so far).
+
+    Its children (:func:`child_rngs`, :func:`spawn_philox_key`, :func:`mtcal.core.simulate.simulate_imu`)
+    are the ones ``rng`` would spawn next, and spawning from the copy leaves ``rng`` untouched: a
+    caller keeps one copy and replays any trial's numbers from a further copy of it. The copy's own
+    stream starts at the SeedSequence's first state, not at ``rng``'s current state.
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+        Made from a SeedSequence.
+
+    Returns
+    -------
+    numpy.random.Generator (PCG64)
+
+    References
+    ----------
+    numpy NEP 19 (``SeedSequence``).
+
+    Examples
+    --------
+    >>> g = stream_rng(1, 2)
+    >>> c = rng_copy(g)
+    >>> float(child_rngs(c, 1)[0].uniform()) == float(child_rngs(g, 1)[0].uniform())
+    True
+    """
+    if not isinstance(rng, np.random.Generator):
+        raise TypeError(f"rng must be a numpy.random.Generator, got {type(rng).__name__}")
+    ss = rng.bit_generator.seed_seq
+    return np.random.Generator(np.random.PCG64(np.random.SeedSequence(
+        ss.entropy, spawn_key=ss.spawn_key, pool_size=ss.pool_size, n_children_spawned=ss.n_children_spawned)))
 
 
 def philox_key(seed: int, stream: int, *more: int) -> tuple[int, int]:

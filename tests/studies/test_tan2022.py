@@ -293,3 +293,17 @@ def test_gyro_predictions_drift_without_noise_is_bias_times_duration():
     out = gyro_predictions(st, np.array([0.2, 0.1]), np.zeros(2), stream_rng(1, 210))
     for r in st.uniform.pitch_rates_deg_s:
         np.testing.assert_allclose(out[f"drift_{r:g}"], np.array([0.2, 0.1]) * 360.0 / r, rtol=1e-9)
+
+
+def test_gyro_samples_dt_s_gives_the_fs_hz_numbers():
+    # #35 item 3: the time base in seconds; σ = N·√(1/dt_s) equals the former N·√fs_hz bit for bit at the paper's rate
+    from mtcal.core.rng import stream_rng
+    from mtcal.studies.tan2022.runs import gyro_samples
+
+    rate, b, nd = np.linspace(0.0, 1.0, 50), np.array([1e-3, 2e-3]), np.array([4e-5, 5e-5])
+    new = gyro_samples(rate, 0.3, b, nd, 1.0 / 1000.0, stream_rng(1, 2), (2, 50))
+    w = np.zeros((2, 50, 3))
+    w[..., 1], w[..., 2] = rate * np.cos(0.3), -rate * np.sin(0.3)
+    w += b.reshape(-1, 1, 1)
+    old = w + (nd * np.sqrt(1000.0)).reshape(-1, 1, 1) * stream_rng(1, 2).standard_normal(w.shape)
+    assert np.array_equal(new, old)

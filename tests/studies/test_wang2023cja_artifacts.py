@@ -90,3 +90,78 @@ def test_constrained_parameters_are_validated():
         constrained.check_parameters(13, (0.01,))
     with pytest.raises(ValueError, match="noise_levels_deg must be angles"):
         constrained.check_parameters(12, (-0.01,))
+
+
+# --- one producer per artifact (mtcal.core.artifacts.produces): the Artifact's table is the building block's
+
+
+def _paper_sweep(artifact, angle):
+    """A 2-trial sweep on the reference points of the paper's table ``artifact`` (metrics as in _fake_sweep)."""
+    from mtcal.reporting import paper_numbers
+
+    ref = np.radians(paper_numbers.load(w.artifacts._TABLE_FILES[artifact])[f"reference_mean_{angle}_deg"].to_numpy(float))
+    noise = np.radians(np.linspace(-0.05, 0.05, 2 * ref.size)).reshape(2, -1)
+    return {**_fake_sweep(), "reference": ref, "before_mean": ref + noise, "after_mean": ref + 0.1 * noise}
+
+
+def _fake_turntable_run():
+    z = np.zeros((2, 6, 3))
+    ref = w.paper_positions()
+    run = w.TurntableRun(np.zeros((2, 4, 4)), z, z, ref + np.radians(0.5), ref + np.radians(0.01), ref, z, z)
+    run.sweeps = {"aoa": _paper_sweep("wang2023cja_table05", "pitch"), "roll": _paper_sweep("wang2023cja_table07", "roll")}
+    return run
+
+
+def test_every_producer_is_registered_under_its_id():
+    from mtcal.core.artifacts import Artifact
+
+    assert len(w.PRODUCERS) == 23
+    for ident, fn in w.PRODUCERS.items():
+        assert fn.artifact_id == ident and ident.startswith("wang2023cja_")
+        assert getattr(w, fn.__name__) is fn                     # re-exported by the package
+    art = w.table03(_fake_turntable_run())
+    assert isinstance(art, Artifact) and (art.artifact_id, art.kind, art.paper_item) == ("wang2023cja_table03", "table",
+                                                                                       "Table 3")
+    assert art.producer == "mtcal.studies.wang2023cja.artifacts.table03"
+
+
+def test_turntable_producers_give_the_building_block_tables():
+    run = _fake_turntable_run()
+    for i, test in enumerate(("T1", "T2", "T3", "T4")):
+        assert w.PRODUCERS[f"wang2023cja_table{i + 1:02d}"](run).table.equals(w.positions_table(test, run))
+    sweep = run.sweeps
+    assert w.table05(run).table.equals(w.sweep_mean_table("wang2023cja_table05", sweep["aoa"], "pitch"))
+    assert w.table06(run).table.equals(w.error_metric_table("wang2023cja_table06", sweep["aoa"],
+                                                            ((2, "roll"), (0, "yaw"))))
+    assert w.table07(run).table.equals(w.sweep_mean_table("wang2023cja_table07", sweep["roll"], "roll",
+                                                          sign=w.PAPER_SIGN[2]))
+    assert w.table08(run).table.equals(w.error_metric_table("wang2023cja_table08", sweep["roll"],
+                                                            ((1, "pitch"), (0, "yaw"))))
+    assert w.extra_installation_fit().table.equals(w.installation_fit_table())
+    assert w.extra_q33_roll().table.equals(w.printed_matrix_check())
+
+
+def test_windtunnel_producers_give_the_building_block_tables():
+    from types import SimpleNamespace
+
+    run = SimpleNamespace(nowind=_paper_sweep("wang2023cja_table09", "pitch"), q_matrix=np.tile(np.eye(4), (3, 1, 1)))
+    assert w.table09(run).table.equals(w.sweep_mean_table("wang2023cja_table09", run.nowind, "pitch"))
+    assert w.table11(run).table.equals(w.error_metric_table("wang2023cja_table11", run.nowind,
+                                                            ((2, "roll"), (0, "yaw"))))
+    assert w.extra_windtunnel_matrix(run).table.equals(w.windtunnel_matrix_table(run))
+
+
+def test_constrained_producers_give_the_building_block_tables():
+    noise = w.extra_error_vs_noise((0.01, 0.02), 20, 5, 3)
+    assert noise.table.equals(constrained.error_vs_noise_table((0.01, 0.02), 20, 5, 3))
+    positions = w.extra_error_vs_positions(0.02, 20, 5, 3, range(3, 7))
+    assert positions.table.equals(constrained.error_vs_positions_table(0.02, 20, 5, 3, range(3, 7)))
+    head = w.extra_constrained_headline(noise.table, positions.table, 0.02)
+    table, info = constrained.headline(noise.table, positions.table, 0.02)
+    assert head.table.equals(table) and head.lines == [constrained.headline_text(info)]
+    q33 = w.extra_q33_sign()
+    assert q33.table.equals(constrained.q33_variants_table()[0]) and "after_roll_deg" in q33.data
+    assert w.extra_printed_matrices_so4().table.equals(constrained.printed_matrices_so4_table())
+    assert w.extra_noise_vs_so4_distance((0.01,), 20, 3).table.equals(
+        constrained.noise_vs_so4_distance_table((0.01,), 20, 3))
+    assert w.extra_min_positions(3).kind == "table"

@@ -575,7 +575,7 @@ def fit_gyro_error_pattern(study: GyroStudy, prior: GyroErrorPrior, seed: int, t
     for k, r in enumerate(rates):
         for sl in trial_chunks(n_pred):
             m = sl.stop - sl.start
-            w = gyro_samples(_RAD(r), g.roll0_rad, np.zeros(m), _RAD(n_d[sl]), g.fs_hz, rng, (m, n_win))
+            w = gyro_samples(_RAD(r), g.roll0_rad, np.zeros(m), _RAD(n_d[sl]), g.dt_s, rng, (m, n_win))
             w += np.array([g.error_rad_s[0], g.error_rad_s[1], 0.0])
             w[..., 2] += _RAD(b_d[sl])[:, None]
             means[sl, k] = np.mean(np.abs(gyro_roll.roll_projection(w) - g.roll0_rad), axis=-1)

@@ -26,7 +26,7 @@ from __future__ import annotations
 import numpy as np
 
 from mtcal.core import simulate
-from mtcal.core.rng import spawn_philox_key, stream_rng
+from mtcal.core.rng import rng_copy, spawn_philox_key, stream_rng
 from mtcal.methods import gyro_roll
 from mtcal.methods import large_angle
 
@@ -98,17 +98,13 @@ class GyroTrials:
         errors = simulate.SensorErrors(bias=tuple(np.broadcast_to(np.asarray(spec.gyro_bias_rad_s), (3,))),
                                        noise_density=spec.gyro_noise_rad_s_rt_hz)
         self.model = simulate.ImuErrorModel(gyro=errors)  # as gyro_roll.simulate_two_dof_imu builds it
-        ss = rng.bit_generator.seed_seq
-        self._seed_seq = (ss.entropy, ss.spawn_key, ss.pool_size, ss.n_children_spawned)
+        self._rng = rng_copy(rng)  # the caller's SeedSequence as at construction, replayed per block
         spawn_philox_key(rng)  # the caller's generator moves on as after one simulate_gyro call
 
     def records(self, trial_ids) -> np.ndarray:
         """Gyro records (len(trial_ids), T, 3) rad/s of the named trials."""
         ids = np.asarray(trial_ids, dtype=np.int64)
-        entropy, spawn_key, pool_size, n_spawned = self._seed_seq
-        rng = np.random.Generator(np.random.PCG64(np.random.SeedSequence(
-            entropy, spawn_key=spawn_key, pool_size=pool_size, n_children_spawned=n_spawned)))
-        return simulate.simulate_imu(self.trajectory, self.model, rng, trial_ids=ids).gyro_rad_s
+        return simulate.simulate_imu(self.trajectory, self.model, rng_copy(self._rng), trial_ids=ids).gyro_rad_s
 
     def blocks(self, size: int = _CHUNK):
         """Yield ``(slice, records)`` over all trials, ``size`` trials at a time."""
@@ -190,17 +186,18 @@ def accel_predictions(sc: AccelScenario, ratios, rng, step_deg):
             "asymmetry": fig02_asymmetry(d0, th, ph, g), "large_pitch": large_pitch_ratio(d0, d1, d2, th, ph, sc),
             "gain": rms_T / np.sqrt(ms_p), **opt}
 
-def gyro_samples(rate_rad_s, roll_rad, bias_rad_s, noise_rad_s_rthz, fs_hz, rng, shape):
+def gyro_samples(rate_rad_s, roll_rad, bias_rad_s, noise_rad_s_rthz, dt_s, rng, shape):
     """Gyro output of the 2-DOF mechanism (ψ̇ = 0, φ̇ = 0): Eq 11 rates + constant error + white noise.
 
     ``rate_rad_s`` is the interval-mean pitch rate of each sample (the simulator's
-    convention), ``bias_rad_s``/``noise_rad_s_rthz`` per trial (leading axis).
+    convention), ``bias_rad_s``/``noise_rad_s_rthz`` per trial (leading axis); ``dt_s`` the
+    sample interval (s): white-noise σ = N·√(1/dt_s) per sample.
     """
     w = np.zeros(shape + (3,))
     w[..., 1] = rate_rad_s * np.cos(roll_rad)
     w[..., 2] = -rate_rad_s * np.sin(roll_rad)
     w += bias_rad_s.reshape((-1,) + (1,) * (len(shape) - 1) + (1,))
-    sigma = (noise_rad_s_rthz * np.sqrt(fs_hz)).reshape((-1,) + (1,) * len(shape))
+    sigma = (noise_rad_s_rthz * np.sqrt(1.0 / dt_s)).reshape((-1,) + (1,) * len(shape))
     return w + sigma * rng.standard_normal(w.shape)
 
 
@@ -231,7 +228,7 @@ def gyro_predictions(study: GyroStudy, b_deg, n_deg, rng):
             n_samp = int(round(study.uniform.sweep_deg / r * g.fs_hz))
             total = n_samp * b + sigma * np.sqrt(n_samp) * rng.standard_normal(b.size)
             out[f"drift_{r:g}"][sl] = _DEG(np.abs(total * g.dt_s))
-        w = gyro_samples(rate_osc, g.roll0_rad, b, nd, g.fs_hz, rng, (b.size, t.size))
+        w = gyro_samples(rate_osc, g.roll0_rad, b, nd, g.dt_s, rng, (b.size, t.size))
         spike, hyb, _ = gyro_roll.projection_hybrid_max_errors(w, g.dt_s, osc.threshold_rad_s, slow, roll0=g.roll0_rad)
         out["hybrid_max"][sl] = _DEG(hyb)
         out["spike"][sl] = spike

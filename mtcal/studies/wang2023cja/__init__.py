@@ -19,8 +19,12 @@ table/figure, plus comparison rows), :mod:`.plots` (figures; imports matplotlib 
 from . import artifacts, constrained, crossval, error_model, predictive, runs, scenario, verdicts
 from .artifacts import (banded, error_budget_table, error_metric_table, error_model_table, HELD_OUT,
                         installation_fit_table, outside_rows, positions_table, printed_matrix_check, q22_noise_band,
-                        stepwise_coupling, sweep_mean_table, table08_reductions, table10, TRAINING, TUNED,
-                        windtunnel_matrix_table)
+                        stepwise_coupling, sweep_mean_table, table08_reductions, TRAINING, TUNED,
+                        windtunnel_matrix_table, wind_on_table, PRODUCERS, extra_installation_fit, extra_q33_roll,
+                        extra_error_model, table01, table02, table03, table04, table05, table06, table07, table08,
+                        extra_error_budget, extra_windtunnel_matrix, table09, table10, table11, extra_min_positions,
+                        extra_error_vs_positions, extra_error_vs_noise, extra_constrained_headline,
+                        extra_printed_matrices_so4, extra_q33_sign, extra_noise_vs_so4_distance)
 from .error_model import (ErrorModel, ErrorModelFit, fit_error_model, fit_installation_angles, FITTED_PARAMETERS,
                           InstallationFit, MOUNT_TYPE, N_NORMALS, paper_positions, PAPER_SIGN, position_noise_deg,
                           predicted_before, PRIOR_RANGES, rest_residuals, rest_times_s, TABLES_1_TO_4,
@@ -44,8 +48,14 @@ __all__ = ["artifacts", "constrained", "crossval", "error_model", "predictive", 
            "position_errors_deg", "compliance_trajectory", "load_tilt_outputs", "mechanism_actual", "WindTunnelRun",
            "run_windtunnel", "elastic_deflection_rad", "calibration_step", "MONTE_CARLO_GATES", "TRAINING", "TUNED", "HELD_OUT", "installation_fit_table",
            "error_model_table", "printed_matrix_check", "positions_table", "sweep_mean_table", "error_metric_table",
-           "table08_reductions", "windtunnel_matrix_table", "table10", "banded",
-           "outside_rows", "q22_noise_band", "stepwise_coupling", "error_budget_table"]
+           "table08_reductions", "windtunnel_matrix_table", "wind_on_table", "banded",
+           "outside_rows", "q22_noise_band", "stepwise_coupling", "error_budget_table",
+           # one producer per artifact (artifacts.PRODUCERS)
+           "PRODUCERS", "extra_installation_fit", "extra_q33_roll", "extra_error_model", "table01", "table02",
+           "table03", "table04", "table05", "table06", "table07", "table08", "extra_error_budget",
+           "extra_windtunnel_matrix", "table09", "table10", "table11", "extra_min_positions",
+           "extra_error_vs_positions", "extra_error_vs_noise", "extra_constrained_headline",
+           "extra_printed_matrices_so4", "extra_q33_sign", "extra_noise_vs_so4_distance"]
 
 
 def __getattr__(name):

@@ -1,7 +1,11 @@
 """wang2023cja artifacts: one producer per table, plus the comparison rows of each notebook.
 
-Producers return plain DataFrames (paper value, our median-session value, Monte Carlo median and
-95 % band); figure data go to :mod:`.plots`. The one-to-one comparison of every printed
+One producer per artifact, registered with :func:`mtcal.core.artifacts.produces` (``table01`` …
+``table11``, ``extra_<slug>``; the constrained-calibration extras of notebook 40 included), each
+returning an :class:`~mtcal.core.artifacts.Artifact` whose ``table`` is the saved
+``data/<id>.csv`` (paper value, our median-session value, Monte Carlo median and 95 % band) and
+whose ``data`` holds what else the notebook shows; the ``*_table`` functions below are their
+building blocks. Figures are drawn by :mod:`.plots` from the runs. The one-to-one comparison of every printed
 number, the scores and the paper's claims live in :mod:`.verdicts`; the role of every printed
 number (train / tuned / heldout / input / erratum / not-compared) is declared in
 ``mtcal/reporting/paper_data/wang2023cja_split.csv``.
@@ -18,18 +22,25 @@ from dataclasses import fields
 import numpy as np
 import pandas as pd
 
+from mtcal.core.artifacts import Artifact, produces
 from mtcal.core.cache import cached
 from mtcal.core import metrics, rotations
 from mtcal.core.rng import stream_rng, trial_rng
 from mtcal.reporting import compare, paper_numbers
 from .error_model import (PAPER_SIGN, PRIOR_RANGES, TABLES_1_TO_4, ErrorModel, ErrorModelFit,
                           fit_installation_angles)
+from . import constrained
 from .runs import position_errors_deg, windtunnel_median_trial
 
 __all__ = ["TRAINING", "TUNED", "HELD_OUT", "installation_fit_table", "error_model_table", "printed_matrix_check",
            "positions_table", "sweep_mean_table", "error_metric_table", "table08_reductions",
-           "windtunnel_matrix_table", "table10", "banded", "outside_rows", "q22_noise_band",
-           "stepwise_coupling", "error_budget_table"]
+           "windtunnel_matrix_table", "wind_on_table", "banded", "outside_rows", "q22_noise_band",
+           "stepwise_coupling", "error_budget_table", "PRODUCERS",
+           # one producer per artifact (mtcal.core.artifacts.produces)
+           "extra_installation_fit", "extra_q33_roll", "extra_error_model", "table01", "table02", "table03", "table04",
+           "table05", "table06", "table07", "table08", "extra_error_budget", "extra_windtunnel_matrix", "table09",
+           "table10", "table11", "extra_min_positions", "extra_error_vs_positions", "extra_error_vs_noise",
+           "extra_constrained_headline", "extra_printed_matrices_so4", "extra_q33_sign", "extra_noise_vs_so4_distance"]
 
 #: Summary of the split (``paper_data/wang2023cja_split.csv`` is authoritative): artifacts with train numbers.
 TRAINING = ("wang2023cja_table01", "wang2023cja_table02", "wang2023cja_table03", "wang2023cja_table04",
@@ -205,8 +216,8 @@ def windtunnel_matrix_table(run) -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
-def table10(run, wind_on_sweep_deg) -> pd.DataFrame:
-    """Table 10: five groups, Mean, elastic-corrected, Std: paper and ours (deg). Ours is the median session
+def wind_on_table(run, wind_on_sweep_deg) -> pd.DataFrame:
+    """wang2023cja_table10 (:func:`table10`): five groups, Mean, elastic-corrected, Std: paper and ours (deg). Ours is the median session
     (median of the largest group-to-group Std over the sweep points), never trial 0."""
     w = run.wind_on
     p10 = paper_numbers.load(_TABLE_FILES["wang2023cja_table10"])
@@ -264,3 +275,155 @@ def error_budget_table(sc, test: str, trials: int, seed: int) -> pd.DataFrame:
                      "after_max_deg": float(after.max()),
                      "in_sample_rms_deg": float(np.sqrt(np.mean(position_errors_deg(run, "after_in_sample") ** 2)))})
     return pd.DataFrame(rows)
+
+
+# --------------------------------------------------------------------------
+# one producer per artifact (docs/study_template.md): Artifact.table is the saved data/<id>.csv
+# --------------------------------------------------------------------------
+@produces("wang2023cja_extra_installation_fit", "table")
+def extra_installation_fit() -> Artifact:
+    """Installation angles fitted to the "before" columns of Tables 1–4 (:func:`installation_fit_table`).
+
+    Examples
+    --------
+    >>> a = extra_installation_fit()
+    >>> a.artifact_id, a.kind, a.table is not None
+    ('wang2023cja_extra_installation_fit', 'table', True)
+    """
+    return Artifact(installation_fit_table())
+
+
+@produces("wang2023cja_extra_q33_roll", "table")
+def extra_q33_roll() -> Artifact:
+    """The printed turntable matrix and its Q(3,3) = −1.000355 (erratum) (:func:`printed_matrix_check`)."""
+    return Artifact(printed_matrix_check())
+
+
+@produces("wang2023cja_extra_error_model", "table")
+def extra_error_model(fit: ErrorModelFit, prior: ErrorModel | None = None) -> Artifact:
+    """The hardware error model identified on Tables 1–4 (:func:`error_model_table`)."""
+    return Artifact(error_model_table(fit, prior))
+
+
+def _positions(test: str):
+    """The producer of Table 1–4 (test T1–T4): :func:`positions_table` of that test's TurntableRun."""
+    n = list(TABLES_1_TO_4).index(test) + 1
+
+    def producer(run) -> Artifact:
+        return Artifact(positions_table(test, run))
+    producer.__name__ = producer.__qualname__ = f"table{n:02d}"
+    producer.__doc__ = (f"Table {n}: six positions of test {test} before/after calibration "
+                        f"(:func:`positions_table`); ``run`` the {test} TurntableRun.")
+    return produces(f"wang2023cja_table{n:02d}", "table", f"Table {n}")(producer)
+
+
+table01, table02, table03, table04 = (_positions(t) for t in TABLES_1_TO_4)
+
+
+@produces("wang2023cja_table05", "table", "Table 5")
+def table05(run) -> Artifact:
+    """Table 5: AoA sweep, mean pitch (held out); ``run`` the T1 TurntableRun with its sweeps."""
+    return Artifact(sweep_mean_table("wang2023cja_table05", run.sweeps["aoa"], "pitch"))
+
+
+@produces("wang2023cja_table06", "table", "Table 6")
+def table06(run) -> Artifact:
+    """Table 6: MaxAE / RMSE of roll and yaw in the AoA sweep (held out); ``run`` the T1 TurntableRun."""
+    return Artifact(error_metric_table("wang2023cja_table06", run.sweeps["aoa"], ((2, "roll"), (0, "yaw"))))
+
+
+@produces("wang2023cja_table07", "table", "Table 7")
+def table07(run) -> Artifact:
+    """Table 7: roll sweep, mean roll (held out; the paper's roll sign); ``run`` the T1 TurntableRun."""
+    return Artifact(sweep_mean_table("wang2023cja_table07", run.sweeps["roll"], "roll", sign=PAPER_SIGN[2]))
+
+
+@produces("wang2023cja_table08", "table", "Table 8")
+def table08(run) -> Artifact:
+    """Table 8: MaxAE / RMSE of pitch and yaw in the roll sweep (held out); ``run`` the T1 TurntableRun."""
+    return Artifact(error_metric_table("wang2023cja_table08", run.sweeps["roll"], ((1, "pitch"), (0, "yaw"))))
+
+
+@produces("wang2023cja_extra_error_budget", "table")
+def extra_error_budget(sc, test: str, trials: int, seed: int) -> Artifact:
+    """Each error source alone, then all, on the verification run of ``test`` (:func:`error_budget_table`)."""
+    return Artifact(error_budget_table(sc, test, trials, seed))
+
+
+@produces("wang2023cja_extra_windtunnel_matrix", "table")
+def extra_windtunnel_matrix(run) -> Artifact:
+    """The printed wind-tunnel matrix beside our Monte Carlo median (:func:`windtunnel_matrix_table`)."""
+    return Artifact(windtunnel_matrix_table(run))
+
+
+@produces("wang2023cja_table09", "table", "Table 9")
+def table09(run) -> Artifact:
+    """Table 9: wind-off AoA sweep, mean pitch (tuned); ``run`` a WindTunnelRun."""
+    return Artifact(sweep_mean_table("wang2023cja_table09", run.nowind, "pitch"))
+
+
+@produces("wang2023cja_table10", "table", "Table 10")
+def table10(run, wind_on_sweep_deg) -> Artifact:
+    """Table 10: five wind-on groups, Mean, elastic-corrected, Std (tuned) (:func:`wind_on_table`)."""
+    return Artifact(wind_on_table(run, wind_on_sweep_deg))
+
+
+@produces("wang2023cja_table11", "table", "Table 11")
+def table11(run) -> Artifact:
+    """Table 11: MaxAE / RMSE of roll and yaw, wind off (tuned); ``run`` a WindTunnelRun."""
+    return Artifact(error_metric_table("wang2023cja_table11", run.nowind, ((2, "roll"), (0, "yaw"))))
+
+
+# the constrained-calibration question (notebook 40; numbers: :mod:`.constrained`)
+@produces("wang2023cja_extra_min_positions", "table")
+def extra_min_positions(seed: int) -> Artifact:
+    """Fewest positions for noise-free recovery, per method and layout (:func:`.constrained.min_positions_table`)."""
+    return Artifact(constrained.min_positions_table(seed))
+
+
+@produces("wang2023cja_extra_error_vs_positions", "figure")
+def extra_error_vs_positions(sigma_deg: float, n_trials: int, n_test: int, seed: int, k_range) -> Artifact:
+    """Attitude RMSE after calibration vs K (:func:`.constrained.error_vs_positions_table`)."""
+    return Artifact(constrained.error_vs_positions_table(sigma_deg, n_trials, n_test, seed, k_range))
+
+
+@produces("wang2023cja_extra_error_vs_noise", "figure")
+def extra_error_vs_noise(levels_deg, n_trials: int, n_test: int, seed: int) -> Artifact:
+    """Attitude RMSE after calibration vs σ, the paper's six positions (:func:`.constrained.error_vs_noise_table`)."""
+    return Artifact(constrained.error_vs_noise_table(levels_deg, n_trials, n_test, seed))
+
+
+@produces("wang2023cja_extra_constrained_headline", "table")
+def extra_constrained_headline(noise_table: pd.DataFrame, positions_table: pd.DataFrame, sigma_deg: float) -> Artifact:
+    """The six paper positions at the identified noise level (:func:`.constrained.headline`) from the tables of
+    :func:`extra_error_vs_noise` and :func:`extra_error_vs_positions`: ``data`` the derived numbers (gains in %,
+    ratios, K needed), ``lines`` their sentence."""
+    table, info = constrained.headline(noise_table, positions_table, sigma_deg)
+    return Artifact(table, data=info, lines=[constrained.headline_text(info)])
+
+
+@produces("wang2023cja_extra_printed_matrices_so4", "table")
+def extra_printed_matrices_so4() -> Artifact:
+    """The paper's printed matrices projected onto SO(4) (:func:`.constrained.printed_matrices_so4_table`)."""
+    return Artifact(constrained.printed_matrices_so4_table())
+
+
+@produces("wang2023cja_extra_q33_sign", "table")
+def extra_q33_sign() -> Artifact:
+    """What Q(3,3) = −1.000355 does to roll ±90° (:func:`.constrained.q33_variants_table`; ``data`` its numbers)."""
+    table, numbers = constrained.q33_variants_table()
+    return Artifact(table, data=numbers)
+
+
+@produces("wang2023cja_extra_noise_vs_so4_distance", "figure")
+def extra_noise_vs_so4_distance(levels_deg, n_trials: int, seed: int) -> Artifact:
+    """Distance of the Eq 13 estimate to O(4) vs σ (:func:`.constrained.noise_vs_so4_distance_table`)."""
+    return Artifact(constrained.noise_vs_so4_distance_table(levels_deg, n_trials, seed))
+
+
+#: Every producer of this study by artifact ID (the catalogue's and ``make artifact``'s lookup).
+PRODUCERS = {f.artifact_id: f for f in (
+    extra_installation_fit, extra_q33_roll, extra_error_model, table01, table02, table03, table04, table05, table06,
+    table07, table08, extra_error_budget, extra_windtunnel_matrix, table09, table10, table11, extra_min_positions,
+    extra_error_vs_positions, extra_error_vs_noise, extra_constrained_headline, extra_printed_matrices_so4,
+    extra_q33_sign, extra_noise_vs_so4_distance)}

@@ -21,6 +21,7 @@ import numpy as np
 import pandas as pd
 
 from mtcal.core import metrics, rotations
+from mtcal.core.rng import stream_rng
 from mtcal.methods import constrained_fit
 from mtcal.methods.quaternion_lsq import apply_error_matrix
 from mtcal.reporting import paper_numbers
@@ -33,6 +34,13 @@ __all__ = ["ENVELOPE_DEG", "METHOD_LABEL", "paper_six_positions_deg", "symmetric
 #: The paper's calibration envelope (§4.1): yaw ±8°, pitch −12…23°, roll ±90°.
 ENVELOPE_DEG = ((-8.0, 8.0), (-12.0, 23.0), (-90.0, 90.0))
 METHOD_LABEL = {"eq13": "Eq 13 (16 par.)", "so4": "SO(4) (6 par.)", "mounting": "mounting (3 par.)"}
+
+# random streams of this module (mtcal.core.rng rule). A key (s, 0) hashes as the bare integer s
+# (SeedSequence zero-pads to its pool; mtcal.core.rng), the keys these tables were first drawn with.
+STREAM_CALIBRATION = 0        # key (seed + k, 0): noise of the K-position calibrations; (seed, 0) per σ level
+STREAM_LAYOUT = 0             # key (seed + LAYOUT_SEED_OFFSET + k, 0): random K-position layouts
+LAYOUT_SEED_OFFSET = 100      # the layouts' seed offset, so layouts and noise of one K never share a key
+MIN_POSITIONS_SEED = 0        # key (K, 0): the fixed generic layouts of the noise-free minimum-K search
 
 
 def paper_six_positions_deg() -> np.ndarray:
@@ -66,7 +74,7 @@ def min_positions_table(seed: int) -> pd.DataFrame:
         sc = constrained_fit.CalibrationScenario(noise_sigma_rad=0.0, reference_offset=(method != "mounting"),
                                                  n_test=20, envelope_deg=ENVELOPE_DEG)
         n = layout_rad.shape[0] if layout_rad.ndim == 3 else 20
-        err = constrained_fit.simulate_calibration_errors(layout_rad, sc, n, np.random.default_rng(seed))[method]
+        err = constrained_fit.simulate_calibration_errors(layout_rad, sc, n, stream_rng(seed, STREAM_CALIBRATION))[method]
         return bool(np.all(np.isfinite(err)) and np.max(err) < 1e-9)
 
     paper_order = np.radians(paper_six_positions_deg())
@@ -74,7 +82,8 @@ def min_positions_table(seed: int) -> pd.DataFrame:
     for method, dof in (("eq13", 16), ("so4", 6), ("mounting", 3)):
         ks = range(1, 7)
         generic = [k for k in ks
-                   if recovered(constrained_fit.random_layout_rad(np.random.default_rng(k), 50, k, ENVELOPE_DEG), method)]
+                   if recovered(constrained_fit.random_layout_rad(stream_rng(MIN_POSITIONS_SEED + k, STREAM_LAYOUT), 50, k,
+                                                               ENVELOPE_DEG), method)]
         symmetric = [k for k in ks if recovered(symmetric_layout_rad(k), method)]
         in_order = [k for k in ks if recovered(paper_order[:k], method)]
         rows.append({"method": METHOD_LABEL[method], "parameters": dof, "min_K_generic": min(generic),
@@ -94,9 +103,11 @@ def error_vs_positions_table(sigma_deg: float, n_trials: int, n_test: int, seed:
         for layout in ("symmetric", "random"):
             for k in k_range:
                 lay = (symmetric_layout_rad(k) if layout == "symmetric"
-                       else constrained_fit.random_layout_rad(np.random.default_rng(seed + 100 + k), n_trials, k,
+                       else constrained_fit.random_layout_rad(stream_rng(seed + LAYOUT_SEED_OFFSET + k, STREAM_LAYOUT),
+                                                              n_trials, k,
                                                               ENVELOPE_DEG))
-                err = constrained_fit.simulate_calibration_errors(lay, sc, n_trials, np.random.default_rng(seed + k))
+                err = constrained_fit.simulate_calibration_errors(lay, sc, n_trials,
+                                                                 stream_rng(seed + k, STREAM_CALIBRATION))
                 rows += [_band(err[m], truth=truth, layout=layout, K=k, method=m) for m in constrained_fit.METHODS]
     return pd.DataFrame(rows)
 
@@ -108,7 +119,7 @@ def error_vs_noise_table(levels_deg, n_trials: int, n_test: int, seed: int) -> p
     for truth, offset in TRUTHS.items():
         for sigma in levels_deg:
             err = constrained_fit.simulate_calibration_errors(six, _scenario(sigma, offset, n_test), n_trials,
-                                                              np.random.default_rng(seed))
+                                                              stream_rng(seed, STREAM_CALIBRATION))
             rows += [_band(err[m], truth=truth, sigma_deg=sigma, method=m) for m in constrained_fit.METHODS]
     return pd.DataFrame(rows)
 
@@ -195,7 +206,7 @@ def noise_vs_so4_distance_table(levels_deg, n_trials: int, seed: int) -> pd.Data
     rows = []
     for sigma in levels_deg:
         _, mats = constrained_fit.simulate_calibration_errors(six, _scenario(sigma, False, 5), n_trials,
-                                                              np.random.default_rng(seed), return_matrices=True)
+                                                              stream_rng(seed, STREAM_CALIBRATION), return_matrices=True)
         b = metrics.band_or_range(constrained_fit.distance_to_orthogonal(mats["eq13"]))
         # a one-sided 97.5 % quantile (the assertion "noise does not reach Q(2,2) = 1.0045"), not a band
         q22 = metrics.percentile_band(np.abs(mats["eq13"][:, 1, 1]) - 1.0)

@@ -37,7 +37,7 @@ from dataclasses import replace
 import numpy as np
 
 from mtcal.core.metrics import variance_parts  # re-exported here (notebooks 10, 11 call predictive.variance_parts)
-from mtcal.core.rng import stream_rng
+from mtcal.core.rng import child_rngs, stream_rng
 from mtcal.reporting import leak
 from .error_model import FITTED_PARAMETERS, PRIOR_RANGES, TABLES_1_TO_4, ErrorModel, ErrorModelFit
 from .runs import TurntableJob, _map, run_turntable_jobs, run_windtunnel, windtunnel_median_trial
@@ -50,6 +50,8 @@ __all__ = ["ALPHA_PRIOR_SIGMA_DEG", "KINDS", "TURNTABLE_PER_DRAW", "variance_par
 STREAM_POSTERIOR = 210
 STREAM_PRIOR = 211
 STREAM_QUANTILE_SE = 212
+STREAM_TURNTABLE_TEST = 300   # key (seed, 300 + i): test i of turntable_predictive; its children, one per draw
+STREAM_WINDTUNNEL = 11        # key (seed, 11): windtunnel_predictive_kinds; its children, one per draw (each kind)
 
 #: Prior 1σ of each installation angle per test (deg): T1 screwed on a machined plate, T2–T4 one
 #: side or corner raised by gaskets (§4.1 Figs 4–6; assumed, not fitted).
@@ -194,7 +196,7 @@ def turntable_predictive(sc, fit: ErrorModelFit, kind: str, trials: int, seed: i
     draws = _draws(kind, fit, n_draws, seed)
     jobs = {}
     for i, test in enumerate(tests):
-        rngs = np.random.default_rng(np.random.SeedSequence([int(seed), 300 + i])).spawn(n_draws)
+        rngs = child_rngs(stream_rng(int(seed), STREAM_TURNTABLE_TEST + i), n_draws)
         jobs[test] = [TurntableJob(test, r, min(per_draw, int(trials) - k * per_draw), errors=m, alpha_deg=a[test])
                       for k, (r, (m, a)) in enumerate(zip(rngs, draws))]
     out = {}
@@ -248,8 +250,8 @@ def windtunnel_predictive_kinds(make_scenario, fit: ErrorModelFit, kinds, trials
     kinds = tuple(kinds)
     n_draws = -(-int(trials) // per_draw)
     draws = {kind: _draws(kind, fit, n_draws, seed) for kind in kinds}
-    spawn = lambda: np.random.default_rng(np.random.SeedSequence([int(seed), 11])).spawn(n_draws)  # noqa: E731
-    rngs = {kind: spawn() for kind in kinds}          # one generator per kind and draw (run_windtunnel spawns)
+    children = lambda: child_rngs(stream_rng(int(seed), STREAM_WINDTUNNEL), n_draws)  # noqa: E731
+    rngs = {kind: children() for kind in kinds}          # one generator per kind and draw (run_windtunnel spawns)
 
     def one(k):       # each draw its own generators and scenarios: the same numbers for any thread count
         shared = {}   # this draw's wind-on vibration, computed by the first kind
@@ -257,7 +259,7 @@ def windtunnel_predictive_kinds(make_scenario, fit: ErrorModelFit, kinds, trials
                                block=per_draw, keep_trace=False, shared=shared) for kind in kinds]
 
     runs = _map(one, list(range(n_draws)))
-    return {kind: _windtunnel_draws([r[i] for r in runs], make_scenario, draws[kind], trials, per_draw, spawn())
+    return {kind: _windtunnel_draws([r[i] for r in runs], make_scenario, draws[kind], trials, per_draw, children())
             for i, kind in enumerate(kinds)}
 
 

@@ -34,6 +34,7 @@ from mtcal.core.montecarlo import progress
 from mtcal.core import metrics, rotations
 from mtcal.core.allocator import keep_freed_memory
 from mtcal.core.profiles import AngleProfile, step_schedule
+from mtcal.core.rng import child_rngs, stream_rng
 from mtcal.core.rotations import mount_quaternion, relative_to_initial
 from mtcal.core.simulate import ImuStream
 from mtcal.core.units import DEG, MG
@@ -320,7 +321,7 @@ def _run_pieces(sc: TurntableScenario, prof: AngleProfile, spans: dict, pieces: 
 
     def simulate(i):
         test, sources, rng, trials, _, sc = pieces[i]
-        rng_imu, rng_ref, rng_change = rng.spawn(3)
+        rng_imu, rng_ref, rng_change = child_rngs(rng, 3)
         traj = trajectory(compliance(i))   # = compliance_trajectory(prof.time_s, prof.angle_rad, k)
         model = sc.imu.error_model(mount_quaternion(sc.alpha_rad(test)), sources, sc.errors)
         g, acc = gyro[starts[i]:starts[i + 1]], accel[starts[i]:starts[i + 1]]
@@ -504,7 +505,7 @@ def run_turntable_jobs(sc: TurntableScenario, jobs: list[TurntableJob], *, with_
     """Several Monte Carlo sets (tests, error budgets, averaging fractions) sharing QNCF runs.
 
     Each job is split into blocks of ``block`` trials, block ``i`` drawing from
-    ``job.rng.spawn(n_blocks)[i]``. Consecutive blocks are stacked into one QNCF run while
+    ``child_rngs(job.rng, n_blocks)[i]``. Consecutive blocks are stacked into one QNCF run while
     trials × samples stays below ``max_trial_samples`` (memory bound: ≈ 1 GB peak at the default).
 
     Returns
@@ -534,7 +535,7 @@ def run_turntable_jobs(sc: TurntableScenario, jobs: list[TurntableJob], *, with_
         if job.errors is not None or job.alpha_deg is not None:
             sc_job = replace(sc, errors=sc.errors if job.errors is None else job.errors,
                              alpha_deg={**sc.alpha_deg, **({} if job.alpha_deg is None else {job.test: tuple(job.alpha_deg)})})
-        pieces += [(i, (job.test, src, r, n, job.fraction, sc_job)) for r, n in zip(job.rng.spawn(len(sizes)), sizes)]
+        pieces += [(i, (job.test, src, r, n, job.fraction, sc_job)) for r, n in zip(child_rngs(job.rng, len(sizes)), sizes)]
     calls, count = [[]], 0
     for item in pieces:
         if calls[-1] and count + item[1][3] > per_call:
@@ -734,7 +735,7 @@ def run_windtunnel(sc: WindTunnelScenario, rng: np.random.Generator, trials: int
                    trace_trial: int = 0, shared: dict | None = None) -> WindTunnelRun:
     """Wind-off calibration + AoA sweep (Tables 9, 11) and five wind-on groups (Table 10), in trial blocks.
 
-    Block ``i`` of ``block`` trials draws from ``rng.spawn(n_blocks)[i]``; peak memory is set by
+    Block ``i`` of ``block`` trials draws from ``child_rngs(rng, n_blocks)[i]``; peak memory is set by
     ``block`` (≈ 0.6 GB at 10), not by ``trials``. The time series of trial ``trace_trial`` are kept
     for figures (``keep_trace``; off: ``trace`` is empty, a caller that keeps another run's does not
     hold ~10 MB per run); the trials' numbers do not depend on which one is traced.
@@ -757,7 +758,7 @@ def run_windtunnel(sc: WindTunnelScenario, rng: np.random.Generator, trials: int
     runs = [_run_windtunnel_block(sc, r, n, _check_sources(sources), wind_on=wind_on,
                                   keep_trace=keep_trace and i == b_trace, trace_index=i_trace,
                                   shared=None if shared is None else shared.setdefault(i, {}))
-            for i, (r, n) in enumerate(progress(list(zip(rng.spawn(len(sizes)), sizes)),
+            for i, (r, n) in enumerate(progress(list(zip(child_rngs(rng, len(sizes)), sizes)),
                                                 desc="wind-tunnel Monte Carlo"))]
     cat = lambda xs: np.concatenate(xs, axis=0)  # noqa: E731
     first = runs[0]
@@ -784,7 +785,7 @@ def _run_windtunnel_block(sc: WindTunnelScenario, rng: np.random.Generator, tria
     ``vibration_freq_hz`` plus angular pitch vibration), which trips the AMD:
     the QNCF runs on the gyro alone.
     """
-    rng_imu, rng_ref, rng_wind, rng_change = rng.spawn(4)
+    rng_imu, rng_ref, rng_wind, rng_change = child_rngs(rng, 4)
     frac = 0.5
     on = set(sources)
     model = sc.imu.error_model(mount_quaternion(np.radians(sc.alpha_deg)), sources, sc.errors)
@@ -887,7 +888,7 @@ def _wind_on_groups(sc, model, q_mat, rng, trials, trace, k_mount, keep_trace, t
     """Five wind-on AoA sweeps; each group its own record; all groups stacked as trials for the QNCF
     (``shared``: :func:`run_windtunnel`)."""
     lead_s = 8.0
-    group_rngs = rng.spawn(5)
+    group_rngs = child_rngs(rng, 5)
     rates = [sc.group5_rate_rad_s if g == 4 else sc.mechanism_rate_rad_s for g in range(5)]
     profs = [_wt_schedule(sc, sc.wind_on_sweep_deg, rate, lead_s=lead_s, hold_s=sc.wind_on_hold_s) for rate in rates]
     n = max(p.time_s.size for p in profs)
@@ -895,7 +896,7 @@ def _wind_on_groups(sc, model, q_mat, rng, trials, trace, k_mount, keep_trace, t
     # memory: the stack + one group)
     gyro, accel = np.empty((5 * trials, n, 3)), np.empty((5 * trials, n, 3))
     for g, (prof, rate) in enumerate(zip(profs, rates)):
-        r_q, r_imu, r_vib = group_rngs[g].spawn(3)
+        r_q, r_imu, r_vib = child_rngs(group_rngs[g], 3)
         actual = mechanism_actual(sc, prof, rate)
         q_factor = 1.0 + sc.dynamic_pressure_sigma * r_q.standard_normal()
         t = prof.time_s
@@ -948,14 +949,18 @@ def _wind_on_groups(sc, model, q_mat, rng, trials, trace, k_mount, keep_trace, t
 
 
 
+# random streams of turntable_runs (mtcal.core.rng rule)
+STREAM_TESTS = 0              # key (seed, 0 + i): test i (T1 … T4); its children, one per block of trials
+
+
 @cached  # Monte Carlo result cached under $MTCAL_CACHE_DIR (make reproduce/artifact)
 def turntable_runs(sc: TurntableScenario, trials: int, seed: int) -> dict:
     """The notebook's Monte Carlo: T1 session with sweeps, T2–T4 sessions, ``trials`` each.
 
-    Test ``i`` draws from ``SeedSequence([seed, i])``, so results do not depend on the order or
-    on the chunking; T2–T4 share stacked QNCF runs.
+    Test ``i`` (T1 … T4) draws from ``stream_rng(seed, STREAM_TESTS + i)``, so results do not depend
+    on the order or on the chunking; T2–T4 share stacked QNCF runs.
     """
-    gens = {t: np.random.default_rng(np.random.SeedSequence([int(seed), i])) for i, t in enumerate(("T1", "T2", "T3", "T4"))}
+    gens = {t: stream_rng(int(seed), STREAM_TESTS + i) for i, t in enumerate(("T1", "T2", "T3", "T4"))}
     out = {"T1": run_turntable_jobs(sc, [TurntableJob("T1", gens["T1"], int(trials))], with_sweeps=True,
                                     keep_trace=True)[0]}
     rest = run_turntable_jobs(sc, [TurntableJob(t, gens[t], int(trials)) for t in ("T2", "T3", "T4")])

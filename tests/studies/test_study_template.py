@@ -1,0 +1,34 @@
+"""docs/study_template.md, checked on the source: random numbers only through the keyed streams of
+``mtcal.core.rng`` (no ``default_rng(…)``, ``SeedSequence(…)``, ``.spawn(…)``, no bit generator or
+legacy global draw), docstrings and doctest examples included."""
+
+import re
+from pathlib import Path
+
+import pytest
+
+STUDIES = Path(__file__).resolve().parents[2] / "mtcal" / "studies"
+#: direct numpy seeding or drawing, anywhere in a study's source text (code, comments, docstrings)
+FORBIDDEN = re.compile(r"\bdefault_rng\(|\bSeedSequence\(|\.spawn\(|\b(?:PCG64|PCG64DXSM|Philox|MT19937|SFC64|"
+                       r"RandomState)\(|\bnp\.random\.(?!Generator\b)[a-z_]+\(")
+MODULES = sorted(STUDIES.rglob("*.py"))
+
+
+def test_every_study_is_checked():
+    assert {p.parent.name for p in MODULES} >= {"wang2023cja", "tan2022", "wang2022sensors", "broad2021"}
+
+
+def test_the_pattern_catches_each_form():
+    for bad in ("np.random.default_rng(seed)", "np.random.SeedSequence([s, 1])", "rng.spawn(3)",
+                "np.random.Generator(np.random.PCG64(k))", "np.random.normal(0, 1)", ">>> rng = default_rng(0)"):
+        assert FORBIDDEN.search(bad), bad
+    for fine in ("stream_rng(seed, STREAM_FIG06)", "child_rngs(rng, 3)", "rng: np.random.Generator",
+                 "a SeedSequence (mtcal.core.rng)", "spawn_philox_key(rng)"):
+        assert not FORBIDDEN.search(fine), fine
+
+
+@pytest.mark.parametrize("path", MODULES, ids=lambda p: str(p.relative_to(STUDIES)))
+def test_study_draws_only_from_keyed_streams(path):
+    found = [f"{path.name}:{i}: {line.strip()}" for i, line in enumerate(path.read_text(encoding="utf-8").splitlines(), 1)
+             if FORBIDDEN.search(line)]
+    assert not found, "use mtcal.core.rng (stream_rng / trial_rng / child_rngs / rng_copy):\n" + "\n".join(found)
