@@ -118,7 +118,7 @@ def test_load_tilt_compiled_loop_equals_the_numpy_cross_products():
     tilt = rng.normal(size=(2, 3)) * 1e-3
     q_mount = rotations.mount_quaternion(np.radians([1.0, -2.0, 0.5]))
     g1, a1 = gyro.copy(), accel.copy()
-    w.load_tilt_outputs(g1, a1, q_wb, 100.0, q_mount, tilt)                       # compiled loop
+    w.load_tilt_outputs(g1, a1, q_wb, 0.01, q_mount, tilt)                       # compiled loop
     s = rotations.quat_to_matrix(q_wb)[:, 2, 2]
     s_dot = np.gradient(s) * 100.0
     tilt_s = tilt @ rotations.quat_to_matrix(q_mount)

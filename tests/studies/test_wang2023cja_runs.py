@@ -73,7 +73,7 @@ def test_load_tilt_outputs_rotate_gravity():
     q_wb = np.tile([1.0, 0, 0, 0], (5, 1))
     acc = np.tile([0.0, 0.0, 9.8], (1, 5, 1))
     gyro = np.zeros((1, 5, 3))
-    w.load_tilt_outputs(gyro, acc, q_wb, 100.0, (1.0, 0, 0, 0), np.array([[0.01, 0.0, 0.0]]))
+    w.load_tilt_outputs(gyro, acc, q_wb, 0.01, (1.0, 0, 0, 0), np.array([[0.01, 0.0, 0.0]]))
     assert np.allclose(acc[0, :, 1], 0.098) and np.allclose(gyro, 0.0)   # level: constant tilt, no rate
 
 

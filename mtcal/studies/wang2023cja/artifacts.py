@@ -305,19 +305,32 @@ def extra_error_model(fit: ErrorModelFit, prior: ErrorModel | None = None) -> Ar
     return Artifact(error_model_table(fit, prior))
 
 
-def _positions(test: str):
-    """The producer of Table 1–4 (test T1–T4): :func:`positions_table` of that test's TurntableRun."""
-    n = list(TABLES_1_TO_4).index(test) + 1
-
-    def producer(run) -> Artifact:
-        return Artifact(positions_table(test, run))
-    producer.__name__ = producer.__qualname__ = f"table{n:02d}"
-    producer.__doc__ = (f"Table {n}: six positions of test {test} before/after calibration "
-                        f"(:func:`positions_table`); ``run`` the {test} TurntableRun.")
-    return produces(f"wang2023cja_table{n:02d}", "table", f"Table {n}")(producer)
+@produces("wang2023cja_table01", "table", "Table 1")
+def table01(run) -> Artifact:
+    """Table 1: six positions of test T1 before/after calibration (:func:`positions_table`); ``run`` the T1
+    TurntableRun."""
+    return Artifact(positions_table("T1", run))
 
 
-table01, table02, table03, table04 = (_positions(t) for t in TABLES_1_TO_4)
+@produces("wang2023cja_table02", "table", "Table 2")
+def table02(run) -> Artifact:
+    """Table 2: six positions of test T2 before/after calibration (:func:`positions_table`); ``run`` the T2
+    TurntableRun."""
+    return Artifact(positions_table("T2", run))
+
+
+@produces("wang2023cja_table03", "table", "Table 3")
+def table03(run) -> Artifact:
+    """Table 3: six positions of test T3 before/after calibration (:func:`positions_table`); ``run`` the T3
+    TurntableRun."""
+    return Artifact(positions_table("T3", run))
+
+
+@produces("wang2023cja_table04", "table", "Table 4")
+def table04(run) -> Artifact:
+    """Table 4: six positions of test T4 before/after calibration (:func:`positions_table`); ``run`` the T4
+    TurntableRun."""
+    return Artifact(positions_table("T4", run))
 
 
 @produces("wang2023cja_table05", "table", "Table 5")

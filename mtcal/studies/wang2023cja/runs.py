@@ -129,7 +129,7 @@ def six_position_reference(sc: TurntableScenario) -> np.ndarray:
                                           np.radians(sc.roll_positions_deg)) * PAPER_SIGN
 
 
-def load_tilt_outputs(gyro_rad_s, accel_m_s2, q_wb, fs_hz: float, q_mount, tilt_rad) -> None:
+def load_tilt_outputs(gyro_rad_s, accel_m_s2, q_wb, dt_s: float, q_mount, tilt_rad) -> None:
     """Add, in place, a per-trial mount tilt proportional to the load normal to the mount plate.
 
     The installation tilts by ``δ(t) = tilt · s(t)`` (body axes, rad) with ``s = −ĝ_z`` the
@@ -142,15 +142,15 @@ def load_tilt_outputs(gyro_rad_s, accel_m_s2, q_wb, fs_hz: float, q_mount, tilt_
         Sensor outputs, modified in place.
     q_wb : ndarray (N, 4)
         Truth body attitude.
-    fs_hz : float
-        Sample rate (Hz).
+    dt_s : float
+        Sample interval (s); ``ṡ`` is the central difference of ``s`` times ``1 / dt_s``.
     q_mount : 4-sequence
         ``q_bs``.
     tilt_rad : ndarray (T, 3)
         Tilt per g of normal load (rad), per trial.
     """
     s = rotations.quat_to_matrix(q_wb)[:, 2, 2]          # −ĝ_z: 1 when level
-    s_dot = np.gradient(s) * fs_hz
+    s_dot = np.gradient(s) * (1.0 / dt_s)
     tilt_s = np.asarray(tilt_rad, float) @ rotations.quat_to_matrix(np.asarray(q_mount, float))  # C(q_bs)ᵀ δ
     if (all(isinstance(x, np.ndarray) and x.dtype == np.float64 and x.ndim == 3 for x in (gyro_rad_s, accel_m_s2))
             and tilt_s.shape == (gyro_rad_s.shape[0], 3)):
@@ -330,7 +330,7 @@ def _run_pieces(sc: TurntableScenario, prof: AngleProfile, spans: dict, pieces: 
             acc[:, ver0:] += sc.errors.accel_run_bias_mg * MG * rng_change.standard_normal((trials, 1, 3))
         if "mount_compliance" in sources and MOUNT_TYPE[test] == "gasket":
             tilt = sc.errors.gasket_load_tilt_deg_g * DEG * rng_change.standard_normal((trials, 3)) * [1.0, 1.0, 0.0]
-            load_tilt_outputs(g, acc, traj.q_wb, sc.fs_hz, model.q_mount, tilt)
+            load_tilt_outputs(g, acc, traj.q_wb, sc.imu.dt_s, model.q_mount, tilt)
         return rng_ref
 
     rngs = _map(simulate, list(range(len(pieces))))
