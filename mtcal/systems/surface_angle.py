@@ -53,12 +53,12 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from mtcal.core.validate import as_float_array, positive_scalar
+from mtcal.core.validate import as_float_array, check_accel_units, positive_scalar, sample_interval
 from mtcal.filters.rams_ekf import RamsEkfParams, run_rams_ekf_trusted
 from mtcal.filters.registry import AxisContext
 from mtcal.methods import rotation_axis
 from mtcal.methods.tilt_rate import check_tilt_rate_scale
-from mtcal.methods.zero_velocity import ZvdParams, detect_static
+from mtcal.methods.zero_velocity import ZvdParams, detect_static_trusted
 from mtcal.systems import plausibility
 
 __all__ = ["AxisConfig", "AxisEstimate", "estimate_surface_axis", "estimate_surface_axes", "axis_uncertainty",
@@ -174,10 +174,10 @@ def _plane_uncertainty(positions: np.ndarray, n: np.ndarray, noise: float, windo
     """:func:`axis_uncertainty` on checked (P, 3) positions, (P,) counts and a noise ≥ 0."""
     n_eff = float(np.min(n)) / max(1.0, float(window_samples))  # ~independent windows per rest
     sig = max(noise / np.sqrt(max(n_eff, 1.0)), SIGMA_MEAN_FLOOR_M_S2)
-    fit = rotation_axis.fit_axis_plane(positions, sig)
+    fit = rotation_axis.fit_axis_plane_trusted(positions, float(sig))
     err = np.degrees(fit.sigma_rad)
     if not err <= max_axis_error_deg:
-        spread = max(np.degrees(rotation_axis.angle_between(positions[i], positions[j]))
+        spread = max(np.degrees(rotation_axis.angle_between_trusted(positions[i], positions[j]))
                      for i in range(len(positions)) for j in range(i))
         raise ValueError(f"axis too uncertain: +-{err:.2f} deg (1 sigma) > {max_axis_error_deg:g} deg from "
                          f"{len(positions)} positions at most {spread:.2f} deg apart in tilt (rest-mean noise "
@@ -342,9 +342,11 @@ def _axis_trusted(a: np.ndarray, rests: list, config: AxisConfig) -> AxisEstimat
     sep, max_el = float(config.min_separation_deg), float(config.max_elevation_deg)
     max_err = np.inf if config.max_axis_error_deg is None else float(config.max_axis_error_deg)
     means, counts = _rest_means(a, rests)
-    pos, w, members = rotation_axis.distinct_positions(means, counts, min_separation_deg=sep)
+    if not np.all(counts > 0):
+        raise ValueError(f"rest {int(np.argmin(counts > 0))} holds no sample; each rest needs samples")
+    pos, w, members = rotation_axis.distinct_positions_trusted(means, counts, sep)
     if pos.shape[0] < 3:
-        spread = max((np.degrees(rotation_axis.angle_between(means[i], means[j]))
+        spread = max((np.degrees(rotation_axis.angle_between_trusted(means[i], means[j]))
                       for i in range(len(means)) for j in range(i)), default=0.0)
         why = (" — a rotation about the vertical does not change the tilt, so the accelerometer "
                "cannot see its axis" if len(rests) >= 2 and spread < sep else "")
@@ -353,20 +355,20 @@ def _axis_trusted(a: np.ndarray, rests: list, config: AxisConfig) -> AxisEstimat
                          f"apart); the axis needs rests at three distinct tilts{why}")
     if config.fit == "eq23":
         pos, w, members = pos[:3], w[:3], members[:3]
-        v = rotation_axis.axis_from_means(*pos, min_separation_deg=sep, max_elevation_deg=max_el)
+        v = rotation_axis.axis_from_means_trusted(pos[0], pos[1], pos[2], sep, max_el)
     plane = _plane_uncertainty(pos, w, float(config.accel_noise_m_s2), float(config.window_samples), max_err)
     if config.fit == "plane":
         v = plane.v
         # v·a is the same at every rest (rotation about v keeps it), so each rest mean gives the elevation;
         # the centroid of the positions is shorter than g and would overstate it.
-        elev = float(np.degrees(np.mean(rotation_axis.axis_elevation(v, means))))
+        elev = float(np.degrees(np.mean(rotation_axis.axis_elevation_trusted(v, means))))
         if elev > max_el:
             raise ValueError(f"rotation axis is nearly vertical: elevation {elev:.2f} "
                              f"deg above the horizontal (maximum {max_el:g} deg); rotation about it barely "
                              f"changes gravity")
     n_eff = float(np.min(w)) / max(1.0, float(config.window_samples))
     sig = max(config.accel_noise_m_s2 / np.sqrt(max(n_eff, 1.0)), SIGMA_MEAN_FLOOR_M_S2)
-    return AxisEstimate(v, float(plane.sigma_rad), float(np.mean(rotation_axis.axis_elevation(v, means))), pos,
+    return AxisEstimate(v, float(plane.sigma_rad), float(np.mean(rotation_axis.axis_elevation_trusted(v, means))), pos,
                         tuple(tuple(m) for m in members), means, angles_about_axis(v, means[0], means), float(sig),
                         config.fit)
 
@@ -443,12 +445,13 @@ def _axes_trusted(a: np.ndarray, masks: list[np.ndarray], config: AxisConfig) ->
         with np.errstate(invalid="ignore"):
             means = means * counts[..., None] / counts[..., None]
             r_n = len(masks)
-            pair = np.stack([rotation_axis.angle_between(means[i], means[j]) for i in range(r_n) for j in range(i)])
+            pair = np.stack([rotation_axis.angle_between_trusted(means[i], means[j])
+                             for i in range(r_n) for j in range(i)])
         # strictly apart (a margin for rounding), so per trial no rests would merge
         fast = np.all(counts > 0, axis=0) & np.all(pair > np.radians(sep) * (1 + 1e-9), axis=0)
         if fast.any():
-            out[fast] = rotation_axis.axis_from_means(*means[:3, fast], min_separation_deg=sep,
-                                                      max_elevation_deg=config.max_elevation_deg)
+            out[fast] = rotation_axis.axis_from_means_trusted(*means[:3, fast], sep,
+                                                              float(config.max_elevation_deg))
     for t in np.flatnonzero(~fast):
         out[t] = _axis_trusted(a[t], [m[t] for m in masks], config).axis
     return out
@@ -729,7 +732,7 @@ def _surface_angle_trusted(g, a, v, static, init: slice, dt: float, weights, tim
     k0 = init.start or 0
     a0 = a[..., init, :].mean(axis=-2)
     b0 = g[..., init, :].mean(axis=-2)
-    elev = rotation_axis.axis_elevation(v, a0)
+    elev = rotation_axis.axis_elevation_trusted(v, a0)
     max_el = float(cfg.max_elevation_deg)
     worst = float(np.degrees(np.max(elev)))
     if worst > max_el:
@@ -947,6 +950,9 @@ def surface_angle_batch(gyro_rad_s, accel_m_s2, dt_s: float, config: SurfaceBatc
     g, a = _checked_record(gyro_rad_s, accel_m_s2, 3)
     t_n, n = a.shape[:2]
     dt = positive_scalar(dt_s, "dt_s")
+    if config.zvd is not None:  # the ZVD's own edge (mtcal.methods.zero_velocity.detect_static), checked here once
+        sample_interval(dt_s)
+        check_accel_units(a)
     if isinstance(init_samples, bool) or not isinstance(init_samples, (int, np.integer)) \
             or not 1 <= init_samples <= n:
         raise ValueError(f"init_samples must be an integer in [1, {n}], got {init_samples!r}")
@@ -972,7 +978,7 @@ def surface_angle_batch(gyro_rad_s, accel_m_s2, dt_s: float, config: SurfaceBatc
         flags = known
     else:
         zvd_gyro = g - b0[:, None, :] if config.zvd.gyro_max_rad_s is not None else None
-        flags = detect_static(a, dt, config.zvd, zvd_gyro)
+        flags = detect_static_trusted(a, dt, config.zvd, zvd_gyro)
     if v is None and config.axis is not None:
         v = _axes_trusted(a, rest_masks(flags, rests[:config.axis_rests]), config.axis)
     angle = None
