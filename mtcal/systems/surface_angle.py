@@ -57,7 +57,7 @@ from mtcal.core.validate import as_float_array, check_accel_units, positive_scal
 from mtcal.filters.rams_ekf import RamsEkfParams, run_rams_ekf_trusted
 from mtcal.filters.registry import AxisContext
 from mtcal.methods import rotation_axis
-from mtcal.methods.tilt_rate import check_tilt_rate_scale
+from mtcal.methods.tilt_rate import check_tilt_rate_scale_trusted
 from mtcal.methods.zero_velocity import ZvdParams, detect_static_trusted
 from mtcal.systems import plausibility
 
@@ -750,7 +750,7 @@ def _surface_angle_trusted(g, a, v, static, init: slice, dt: float, weights, tim
         check = plausibility.check_units(gyro_f, a, dt, rests, time_s=time_s, skip=clipped,
                                          unit_stated=cfg.unit_stated)
     elif not batch:  # the tilt-rate scale check of run_rams_ekf, once for the record
-        check_tilt_rate_scale(gyro_f[k0:], a[k0:], dt, excess="warn")
+        check_tilt_rate_scale_trusted(gyro_f[k0:], a[k0:], dt, excess="warn")
     if cfg.max_axis_mismatch_deg is not None:
         u = _gyro_axis_check(g, static, b0, v, dt, cfg)
     params = rest_ekf_params(g, a, init) if cfg.params is None else cfg.params
