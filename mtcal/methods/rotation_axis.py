@@ -31,7 +31,7 @@ from mtcal.methods.zero_velocity import ZvdParams, detect_static_trusted, rest_i
 
 __all__ = ["axis_from_means", "apply_sign_convention", "axis_elevation", "angle_between",
            "AxisEstimator", "AxisResult", "estimate_axis", "axis_error_std",
-           "gravity_change_norm", "distinct_positions", "AxisPlaneFit", "fit_axis_plane"]
+           "gravity_change_norm", "distinct_positions", "AxisPlaneFit", "fit_axis_plane", "angles_about_axis"]
 
 DEFAULT_MIN_SEPARATION_DEG = 0.5
 DEFAULT_MAX_ELEVATION_DEG = 85.0
@@ -145,6 +145,37 @@ def axis_from_means_trusted(m0: np.ndarray, m1: np.ndarray, m2: np.ndarray, min_
                          f"{np.degrees(float(np.max(elev))):.2f} deg above the horizontal "
                          f"(maximum {max_elevation_deg:g} deg); rotation barely changes gravity")
     return v
+
+
+def angles_about_axis(axis, accel0_m_s2, means_m_s2) -> np.ndarray:
+    """Rotation angle (rad) of each static mean about v relative to ā0, with ``a = R(θ, v)ᵀ ā0`` (wang2022sensors Eq 16).
+
+    Parameters
+    ----------
+    axis : array_like (3,)
+        Unit axis v.
+    accel0_m_s2 : array_like (3,)
+        Reference rest mean ā0 (m/s²).
+    means_m_s2 : array_like (R, 3)
+        Rest means (m/s²).
+
+    Returns
+    -------
+    ndarray (R,)
+        Angles (rad) in (−π, π].
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> round(float(np.degrees(angles_about_axis([1.0, 0, 0], [0, 0, 9.8], [[0, 9.8, 0]])[0])), 6)
+    90.0
+    """
+    v = np.asarray(axis, float)
+    a0 = np.asarray(accel0_m_s2, float)
+    means = np.asarray(means_m_s2, float).reshape(-1, 3)
+    p0 = a0 - v * (v @ a0)
+    p = means - np.outer(means @ v, v)
+    return -np.arctan2(np.cross(p0, p) @ v, p @ p0)
 
 
 def gravity_change_norm(elevation_rad, angle_rad: float, g_m_s2: float = 9.8) -> np.ndarray:

@@ -57,6 +57,7 @@ from mtcal.core.validate import as_float_array, check_accel_units, positive_scal
 from mtcal.filters.rams_ekf import RamsEkfParams, run_rams_ekf_trusted
 from mtcal.filters.registry import AxisContext
 from mtcal.methods import rotation_axis
+from mtcal.methods.rotation_axis import angles_about_axis
 from mtcal.methods.tilt_rate import check_tilt_rate_scale_trusted
 from mtcal.methods.zero_velocity import ZvdParams, detect_static_trusted
 from mtcal.systems import plausibility
@@ -92,37 +93,6 @@ def _rest_means(accel: np.ndarray, rests) -> tuple[np.ndarray, np.ndarray]:
             means.append(accel[m].mean(axis=0))
             counts.append(float(np.count_nonzero(m)))
     return np.array(means).reshape(-1, 3), np.array(counts)
-
-
-def angles_about_axis(axis, accel0_m_s2, means_m_s2) -> np.ndarray:
-    """Rotation angle (rad) of each static mean about v relative to ā0, with ``a = R(θ, v)ᵀ ā0`` (Eq 16).
-
-    Parameters
-    ----------
-    axis : array_like (3,)
-        Unit axis v.
-    accel0_m_s2 : array_like (3,)
-        Reference rest mean ā0 (m/s²).
-    means_m_s2 : array_like (R, 3)
-        Rest means (m/s²).
-
-    Returns
-    -------
-    ndarray (R,)
-        Angles (rad) in (−π, π].
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> round(float(np.degrees(angles_about_axis([1.0, 0, 0], [0, 0, 9.8], [[0, 9.8, 0]])[0])), 6)
-    90.0
-    """
-    v = np.asarray(axis, float)
-    a0 = np.asarray(accel0_m_s2, float)
-    means = np.asarray(means_m_s2, float).reshape(-1, 3)
-    p0 = a0 - v * (v @ a0)
-    p = means - np.outer(means @ v, v)
-    return -np.arctan2(np.cross(p0, p) @ v, p @ p0)
 
 
 def axis_uncertainty(positions_m_s2, counts, *, accel_noise_m_s2: float, window_samples: float = 1.0,
@@ -732,6 +702,12 @@ def _surface_angle_trusted(g, a, v, static, init: slice, dt: float, weights, tim
     k0 = init.start or 0
     a0 = a[..., init, :].mean(axis=-2)
     b0 = g[..., init, :].mean(axis=-2)
+    if batch:
+        clip = [plausibility.clipped_samples(row) for row in g]
+        clipped = np.stack([c[0] for c in clip])
+        level = np.array([c[1] for c in clip])
+    else:
+        clipped, level = plausibility.clipped_samples(g)
     elev = rotation_axis.axis_elevation_trusted(v, a0)
     max_el = float(cfg.max_elevation_deg)
     worst = float(np.degrees(np.max(elev)))
@@ -739,12 +715,6 @@ def _surface_angle_trusted(g, a, v, static, init: slice, dt: float, weights, tim
         raise ValueError(f"--axis is {90 - worst:.2f} deg from gravity (elevation {worst:.2f} deg > {max_el:g}): "
                          f"a rotation about the vertical does not change the accelerometer reading, so the "
                          f"EKF cannot correct the gyro; measure the angle with a non-vertical axis")
-    if batch:
-        clip = [plausibility.clipped_samples(row) for row in g]
-        clipped = np.stack([c[0] for c in clip])
-        level = np.array([c[1] for c in clip])
-    else:
-        clipped, level = plausibility.clipped_samples(g)
     check, u = None, None
     if cfg.check_units:
         check = plausibility.check_units(gyro_f, a, dt, rests, time_s=time_s, skip=clipped,
