@@ -49,7 +49,7 @@ Implementations, equal to 1e-9 on the same data:
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -719,3 +719,23 @@ def run_rams_ekf_trusted(gyro_rad_s, accel_m_s2, is_static, axis, accel0_m_s2, d
     filt = RamsEkfFilter.trusted(axis, accel0_m_s2, dt_s, params, trials=a.shape[0], theta0_rad=theta0_rad,
                                  bias0_rad_s=bias0_rad_s, use_zvd=use_zvd, engine=engine)
     return filt._run(g, a, is_static, keep_innovation, 2048)
+
+
+def run_rams_ekf_restarts_trusted(gyro_rad_s, accel_m_s2, is_static, cuts, axis, accel0_m_s2, bias0_rad_s,
+                                  dt_s: float, params: RamsEkfParams, p0_theta_after_cut_rad2: float) -> np.ndarray:
+    """One record's EKF over the segments ``cuts[k]:cuts[k+1]``: angle and bias carried over each cut, the
+    angle prior widened to ``p0_theta_after_cut_rad2`` there (a restart; e.g. after clipped gyro samples).
+
+    Internal entry on inputs a caller validated at its own edge (preconditions of
+    :func:`run_rams_ekf_trusted`, one record (N, 3), ``cuts`` increasing sample indices from 0 to N).
+    Returns the angle (N,) (rad).
+    """
+    theta = np.empty(accel_m_s2.shape[0])
+    th0, bias0, p = 0.0, bias0_rad_s, params
+    for lo, hi in zip(cuts[:-1], cuts[1:]):
+        res = run_rams_ekf_trusted(gyro_rad_s[lo:hi], accel_m_s2[lo:hi], is_static[lo:hi], axis, accel0_m_s2, dt_s, p,
+                                   theta0_rad=th0, bias0_rad_s=bias0, keep_innovation=False)
+        theta[lo:hi] = res.theta_rad[0]
+        th0, bias0 = float(res.theta_rad[0, -1]), res.bias_rad_s[0, -1]
+        p = replace(params, p0_theta_rad2=p0_theta_after_cut_rad2)
+    return theta

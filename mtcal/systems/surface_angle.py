@@ -49,12 +49,12 @@ Examples
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 
 from mtcal.core.validate import as_float_array, check_accel_units, positive_scalar, sample_interval
-from mtcal.filters.rams_ekf import RamsEkfParams, run_rams_ekf_trusted
+from mtcal.filters.rams_ekf import RamsEkfParams, run_rams_ekf_restarts_trusted, run_rams_ekf_trusted
 from mtcal.filters.registry import AxisContext
 from mtcal.methods import rotation_axis
 from mtcal.methods.rotation_axis import angles_about_axis
@@ -583,20 +583,6 @@ def _restart_cuts(clipped: np.ndarray, rests, n: int) -> list[int]:
     return cuts
 
 
-def _ekf_pieces(gyro, accel, static, cuts, v, a0, b0, dt_s, params) -> np.ndarray:
-    """One trial's EKF over ``cuts`` segments, angle and bias carried over, wide angle prior after a cut
-    (checked records: the filter's trusted entry)."""
-    theta = np.empty(accel.shape[0])
-    th0, bias0, p = 0.0, b0, params
-    for lo, hi in zip(cuts[:-1], cuts[1:]):
-        res = run_rams_ekf_trusted(gyro[lo:hi], accel[lo:hi], static[lo:hi], v, a0, dt_s, p,
-                                   theta0_rad=th0, bias0_rad_s=bias0, keep_innovation=False)
-        theta[lo:hi] = res.theta_rad[0]
-        th0, bias0 = float(res.theta_rad[0, -1]), res.bias_rad_s[0, -1]
-        p = replace(params, p0_theta_rad2=CLIPPED_P0_THETA_RAD**2)
-    return theta
-
-
 def _checked_axis(axis) -> np.ndarray:
     v = as_float_array(axis, "axis", ndim=(1, 2), last_dim=3)
     if np.any(np.abs(np.linalg.norm(v, axis=-1) - 1.0) > 1e-6):
@@ -728,7 +714,8 @@ def _surface_angle_trusted(g, a, v, static, init: slice, dt: float, weights, tim
     angle = np.full(a.shape[:-1], np.nan)
     if not batch:
         cuts = _restart_cuts(clipped[k0:], local, n - k0)
-        angle[k0:] = _ekf_pieces(gyro_f[k0:], a[k0:], static[k0:], cuts, v, a0, b0, dt, params)
+        angle[k0:] = run_rams_ekf_restarts_trusted(gyro_f[k0:], a[k0:], static[k0:], cuts, v, a0, b0, dt, params,
+                                                   CLIPPED_P0_THETA_RAD**2)
         restarts = tuple(c + k0 for c in cuts[1:-1])
     else:
         st = np.broadcast_to(static, a.shape[:-1])
@@ -739,7 +726,8 @@ def _surface_angle_trusted(g, a, v, static, init: slice, dt: float, weights, tim
         for t, c in enumerate(cuts):
             if len(c) > 2:
                 vt = v if v.ndim == 1 else v[t]
-                angle[t, k0:] = _ekf_pieces(gyro_f[t, k0:], a[t, k0:], st[t, k0:], c, vt, a0[t], b0[t], dt, params)
+                angle[t, k0:] = run_rams_ekf_restarts_trusted(gyro_f[t, k0:], a[t, k0:], st[t, k0:], c, vt, a0[t],
+                                                              b0[t], dt, params, CLIPPED_P0_THETA_RAD**2)
         restarts = tuple(tuple(x + k0 for x in c[1:-1]) for c in cuts)
     return SurfaceAngle(angle, k0, a0, b0, elev if batch else float(elev), params, dt, clipped,
                         level if batch else float(level), restarts, check, u)
