@@ -464,6 +464,32 @@ class AxisPlaneFit:
     elevation_rad: float
 
 
+def gated_plane_fit_trusted(positions_m_s2: np.ndarray, counts: np.ndarray, accel_noise_m_s2: float,
+                            window_samples: float, max_axis_error_deg: float, sigma_floor_m_s2: float) -> "AxisPlaneFit":
+    """:func:`fit_axis_plane` with the rest-mean noise from the sample counts, refused when too uncertain.
+
+    The std of a position's mean is ``max(σ / √n_eff, sigma_floor_m_s2)`` with ``n_eff`` the smallest
+    count over ``window_samples`` (~independent windows per rest); a fit whose 1σ exceeds
+    ``max_axis_error_deg`` raises ``ValueError`` naming the tilt spread of the positions.
+    Preconditions (not checked again): ``positions_m_s2`` finite float64 (P, 3), P ≥ 3 (m/s²);
+    ``counts`` (P,) > 0; ``accel_noise_m_s2`` ≥ 0 (m/s², per sample); ``window_samples`` > 0;
+    ``max_axis_error_deg`` > 0 or inf; ``sigma_floor_m_s2`` > 0.
+    """
+    positions, n, noise = positions_m_s2, counts, accel_noise_m_s2
+    n_eff = float(np.min(n)) / max(1.0, float(window_samples))  # ~independent windows per rest
+    sig = max(noise / np.sqrt(max(n_eff, 1.0)), sigma_floor_m_s2)
+    fit = fit_axis_plane_trusted(positions, float(sig))
+    err = np.degrees(fit.sigma_rad)
+    if not err <= max_axis_error_deg:
+        spread = max(np.degrees(angle_between_trusted(positions[i], positions[j]))
+                     for i in range(len(positions)) for j in range(i))
+        raise ValueError(f"axis too uncertain: +-{err:.2f} deg (1 sigma) > {max_axis_error_deg:g} deg from "
+                         f"{len(positions)} positions at most {spread:.2f} deg apart in tilt (rest-mean noise "
+                         f"{sig:.4f} m/s^2, out-of-plane rms {fit.rms_out_of_plane_m_s2:.4f} m/s^2); "
+                         f"rotate further between rests")
+    return fit
+
+
 def fit_axis_plane(positions_m_s2, sigma_mean_m_s2: float) -> AxisPlaneFit:
     """Rotation axis as the normal of the plane through ≥ 3 rest means (Eq 23 generalised).
 

@@ -59,7 +59,7 @@ from mtcal.filters.registry import AxisContext
 from mtcal.methods import rotation_axis
 from mtcal.methods.rotation_axis import angles_about_axis
 from mtcal.methods.tilt_rate import check_tilt_rate_scale_trusted
-from mtcal.methods.zero_velocity import ZvdParams, detect_static_trusted
+from mtcal.methods.zero_velocity import ZvdParams, detect_static_trusted, rest_masks_trusted
 from mtcal.systems import plausibility
 
 __all__ = ["AxisConfig", "AxisEstimate", "estimate_surface_axis", "estimate_surface_axes", "axis_uncertainty",
@@ -136,24 +136,8 @@ def axis_uncertainty(positions_m_s2, counts, *, accel_noise_m_s2: float, window_
     positions = as_float_array(positions_m_s2, "positions_m_s2", ndim=2, last_dim=3)
     n = as_float_array(counts, "counts", ndim=1)
     noise = positive_scalar(accel_noise_m_s2, "accel_noise_m_s2", allow_zero=True)
-    return _plane_uncertainty(positions, n, noise, window_samples, max_axis_error_deg)
-
-
-def _plane_uncertainty(positions: np.ndarray, n: np.ndarray, noise: float, window_samples: float,
-                       max_axis_error_deg: float) -> rotation_axis.AxisPlaneFit:
-    """:func:`axis_uncertainty` on checked (P, 3) positions, (P,) counts and a noise ≥ 0."""
-    n_eff = float(np.min(n)) / max(1.0, float(window_samples))  # ~independent windows per rest
-    sig = max(noise / np.sqrt(max(n_eff, 1.0)), SIGMA_MEAN_FLOOR_M_S2)
-    fit = rotation_axis.fit_axis_plane_trusted(positions, float(sig))
-    err = np.degrees(fit.sigma_rad)
-    if not err <= max_axis_error_deg:
-        spread = max(np.degrees(rotation_axis.angle_between_trusted(positions[i], positions[j]))
-                     for i in range(len(positions)) for j in range(i))
-        raise ValueError(f"axis too uncertain: +-{err:.2f} deg (1 sigma) > {max_axis_error_deg:g} deg from "
-                         f"{len(positions)} positions at most {spread:.2f} deg apart in tilt (rest-mean noise "
-                         f"{sig:.4f} m/s^2, out-of-plane rms {fit.rms_out_of_plane_m_s2:.4f} m/s^2); "
-                         f"rotate further between rests")
-    return fit
+    return rotation_axis.gated_plane_fit_trusted(positions, n, noise, window_samples, max_axis_error_deg,
+                                                 SIGMA_MEAN_FLOOR_M_S2)
 
 
 def _limit(value, name: str) -> float:
@@ -326,7 +310,8 @@ def _axis_trusted(a: np.ndarray, rests: list, config: AxisConfig) -> AxisEstimat
     if config.fit == "eq23":
         pos, w, members = pos[:3], w[:3], members[:3]
         v = rotation_axis.axis_from_means_trusted(pos[0], pos[1], pos[2], sep, max_el)
-    plane = _plane_uncertainty(pos, w, float(config.accel_noise_m_s2), float(config.window_samples), max_err)
+    plane = rotation_axis.gated_plane_fit_trusted(pos, w, float(config.accel_noise_m_s2),
+                                                  float(config.window_samples), max_err, SIGMA_MEAN_FLOOR_M_S2)
     if config.fit == "plane":
         v = plane.v
         # v·a is the same at every rest (rotation about v keeps it), so each rest mean gives the elevation;
@@ -841,15 +826,7 @@ def rest_masks(is_static, rests) -> list[np.ndarray]:
     ...                                             [slice(0, 2), slice(2, 4)])]
     [[[1, 0, 0, 0]], [[0, 0, 1, 1]]]
     """
-    flags = np.asarray(is_static, bool)
-    out = []
-    for sl in rests:
-        m = np.zeros(flags.shape, bool)
-        m[:, sl] = flags[:, sl]
-        few = m.sum(axis=1) < MIN_REST_ZVD_SHARE * (sl.stop - sl.start)
-        m[few, sl] = True
-        out.append(m)
-    return out
+    return rest_masks_trusted(np.asarray(is_static, bool), rests, MIN_REST_ZVD_SHARE)
 
 
 def surface_angle_batch(gyro_rad_s, accel_m_s2, dt_s: float, config: SurfaceBatchConfig, *, init_samples: int,
@@ -938,7 +915,7 @@ def surface_angle_batch(gyro_rad_s, accel_m_s2, dt_s: float, config: SurfaceBatc
         zvd_gyro = g - b0[:, None, :] if config.zvd.gyro_max_rad_s is not None else None
         flags = detect_static_trusted(a, dt, config.zvd, zvd_gyro)
     if v is None and config.axis is not None:
-        v = _axes_trusted(a, rest_masks(flags, rests[:config.axis_rests]), config.axis)
+        v = _axes_trusted(a, rest_masks_trusted(flags, rests[:config.axis_rests], MIN_REST_ZVD_SHARE), config.axis)
     angle = None
     if config.angle is not None:
         switch = flags if config.ekf_switch == "zvd" else known
