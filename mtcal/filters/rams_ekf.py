@@ -49,7 +49,7 @@ Implementations, equal to 1e-9 on the same data:
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -356,15 +356,41 @@ class RamsEkfFilter:
 
     def __init__(self, axis, accel0_m_s2, dt_s: float, params: "RamsEkfParams", *, trials: int,
                  theta0_rad=0.0, bias0_rad_s=0.0, use_zvd: bool = True, engine: str = "numba") -> None:
-        self.engine = check_engine(engine)
+        engine = check_engine(engine)
         n = int(trials)
         if n < 1:
             raise ValueError(f"trials must be >= 1, got {trials}")
-        v = np.broadcast_to(_check_axis(axis), (n, 3))
-        a0 = np.broadcast_to(as_float_array(accel0_m_s2, "accel0_m_s2", last_dim=3), (n, 3))
-        self.dt_s = dt = positive_scalar(dt_s, "dt_s")
+        v = _check_axis(axis)
+        a0 = as_float_array(accel0_m_s2, "accel0_m_s2", last_dim=3)
+        dt = positive_scalar(dt_s, "dt_s")
         if not isinstance(params, RamsEkfParams):
             raise TypeError(f"params must be a RamsEkfParams, got {type(params).__name__}")
+        self._setup(v, a0, dt, params, n, as_float_array(theta0_rad, "theta0_rad"),
+                    as_float_array(bias0_rad_s, "bias0_rad_s"), use_zvd, engine)
+
+    @classmethod
+    def trusted(cls, axis: np.ndarray, accel0_m_s2: np.ndarray, dt_s: float, params: "RamsEkfParams", *,
+                trials: int, theta0_rad=0.0, bias0_rad_s=0.0, use_zvd: bool = True,
+                engine: str = "numba") -> "RamsEkfFilter":
+        """The filter built from inputs a caller validated at its own edge (same filter as the constructor).
+
+        Preconditions (not checked again): ``axis`` finite float64 unit vector(s) (3,) or (T, 3);
+        ``accel0_m_s2`` finite float64 (3,) or (T, 3) (m/s²); ``dt_s`` finite > 0 (s); ``params`` a
+        :class:`RamsEkfParams`; ``trials`` ≥ 1; ``theta0_rad``, ``bias0_rad_s`` finite, broadcasting
+        to (T,) and (T, 3); ``engine`` one of ``"numba"``, ``"numpy"``.
+        """
+        filt = cls.__new__(cls)
+        filt._setup(axis, accel0_m_s2, float(dt_s), params, int(trials), np.asarray(theta0_rad, float),
+                    np.asarray(bias0_rad_s, float), use_zvd, engine)
+        return filt
+
+    def _setup(self, v: np.ndarray, a0: np.ndarray, dt: float, params: "RamsEkfParams", n: int,
+               theta0: np.ndarray, bias0: np.ndarray, use_zvd: bool, engine: str) -> None:
+        """The state and constants from checked inputs (see :meth:`trusted`)."""
+        self.engine = engine
+        v = np.broadcast_to(v, (n, 3))
+        a0 = np.broadcast_to(a0, (n, 3))
+        self.dt_s = dt
         self.params, self.trials, self.use_zvd = params, n, bool(use_zvd)
         par = v * np.sum(v * a0, axis=1, keepdims=True)     # constant per trial, as in Eq 28
         self._par = np.array(par.T, order="C")
@@ -379,9 +405,8 @@ class RamsEkfFilter:
         self._q_theta = params.sigma_theta_rad_s**2 * dt * dt
         self._q_b = params.sigma_b_rad_s2**2 * dt * dt
         self._var = (params.sigma_a_static_m_s2**2, params.sigma_a_moving_m_s2**2)
-        self._theta = np.broadcast_to(as_float_array(theta0_rad, "theta0_rad"), (n,)).copy()
-        self._bias = np.array(
-            np.broadcast_to(as_float_array(bias0_rad_s, "bias0_rad_s"), (n, 3)).T, order="C")
+        self._theta = np.broadcast_to(theta0, (n,)).copy()
+        self._bias = np.array(np.broadcast_to(bias0, (n, 3)).T, order="C")
         p0 = params.initial_covariance()
         self._p = np.empty((10, n))
         for r, (i, j) in enumerate(PACKED_INDEX):
@@ -679,15 +704,38 @@ def run_rams_ekf(gyro_rad_s, accel_m_s2, is_static, axis, accel0_m_s2, dt_s: flo
 def run_rams_ekf_trusted(gyro_rad_s, accel_m_s2, is_static, axis, accel0_m_s2, dt_s: float,
                          params: RamsEkfParams, *, theta0_rad=0.0, bias0_rad_s=0.0, use_zvd: bool = True,
                          keep_innovation: bool = True, engine: str = "numba") -> RamsEkfResult:
-    """Internal entry: :func:`run_rams_ekf` on records whose units a caller has already checked.
+    """Internal entry: :func:`run_rams_ekf` on inputs a caller validated at its own edge.
 
-    For systems procedures that ran :func:`mtcal.systems.plausibility.check_units` (which
-    includes the tilt-rate check) on this record: the same filter and result without the
-    second tilt-rate scan. Types, shapes, finiteness and units are still checked. Not part
-    of the public API (not in ``__all__``); users call :func:`run_rams_ekf`.
+    For systems procedures that checked the records (finite float64, units) and ran their own
+    tilt-rate check: the same filter and result without a second check of any input.
+    Preconditions (not checked again): ``gyro_rad_s``, ``accel_m_s2`` finite float64 (T, N, 3) or
+    (N, 3) of one shape, gyro in rad/s and accel in m/s²; ``is_static`` bool (T, N) or (N,);
+    the rest as :meth:`RamsEkfFilter.trusted`. Not part of the public API (not in ``__all__``);
+    users call :func:`run_rams_ekf`.
     """
-    check_engine(engine)
-    g, a = _record(gyro_rad_s, accel_m_s2, fast=engine == "numba")
-    filt = RamsEkfFilter(axis, accel0_m_s2, dt_s, params, trials=a.shape[0], theta0_rad=theta0_rad,
-                         bias0_rad_s=bias0_rad_s, use_zvd=use_zvd, engine=engine)
+    g = np.ascontiguousarray(gyro_rad_s)
+    a = np.ascontiguousarray(accel_m_s2)
+    g, a = (g[None] if g.ndim == 2 else g), (a[None] if a.ndim == 2 else a)
+    filt = RamsEkfFilter.trusted(axis, accel0_m_s2, dt_s, params, trials=a.shape[0], theta0_rad=theta0_rad,
+                                 bias0_rad_s=bias0_rad_s, use_zvd=use_zvd, engine=engine)
     return filt._run(g, a, is_static, keep_innovation, 2048)
+
+
+def run_rams_ekf_restarts_trusted(gyro_rad_s, accel_m_s2, is_static, cuts, axis, accel0_m_s2, bias0_rad_s,
+                                  dt_s: float, params: RamsEkfParams, p0_theta_after_cut_rad2: float) -> np.ndarray:
+    """One record's EKF over the segments ``cuts[k]:cuts[k+1]``: angle and bias carried over each cut, the
+    angle prior widened to ``p0_theta_after_cut_rad2`` there (a restart; e.g. after clipped gyro samples).
+
+    Internal entry on inputs a caller validated at its own edge (preconditions of
+    :func:`run_rams_ekf_trusted`, one record (N, 3), ``cuts`` increasing sample indices from 0 to N).
+    Returns the angle (N,) (rad).
+    """
+    theta = np.empty(accel_m_s2.shape[0])
+    th0, bias0, p = 0.0, bias0_rad_s, params
+    for lo, hi in zip(cuts[:-1], cuts[1:]):
+        res = run_rams_ekf_trusted(gyro_rad_s[lo:hi], accel_m_s2[lo:hi], is_static[lo:hi], axis, accel0_m_s2, dt_s, p,
+                                   theta0_rad=th0, bias0_rad_s=bias0, keep_innovation=False)
+        theta[lo:hi] = res.theta_rad[0]
+        th0, bias0 = float(res.theta_rad[0, -1]), res.bias_rad_s[0, -1]
+        p = replace(params, p0_theta_rad2=p0_theta_after_cut_rad2)
+    return theta

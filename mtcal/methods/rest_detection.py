@@ -372,12 +372,25 @@ def detect_rests(accel_m_s2, dt_s: float, *, gyro_rad_s=None,
         raise TypeError(f"params must be a RestDetectorParams, got {type(p).__name__}")
     a = as_float_array(accel_m_s2, "accel_m_s2", ndim=2, last_dim=3, copy=False)
     check_accel_units(a)
-    fs = 1.0 / sample_interval(dt_s)  # the rate: exact for the rates mtcal uses (1 / (1 / fs) == fs)
+    dt = sample_interval(dt_s)
     g = None
     if gyro_rad_s is not None:
         g = as_float_array(gyro_rad_s, "gyro_rad_s", ndim=2, last_dim=3, copy=False)
         if g.shape != a.shape:
             raise ValueError(f"gyro_rad_s must have the shape of accel_m_s2 {a.shape}, got {g.shape}")
+    return detect_rests_trusted(a, dt, g, p)
+
+
+def detect_rests_trusted(accel_m_s2: np.ndarray, dt_s: float, gyro_rad_s: np.ndarray | None,
+                         params: RestDetectorParams) -> RestReport:
+    """:func:`detect_rests` on inputs a caller validated at its own edge (same report).
+
+    Preconditions (not checked again): ``accel_m_s2`` finite float64 (N, 3) in m/s² (units
+    checked); ``dt_s`` a checked sample interval (s, ≤ 1); ``gyro_rad_s`` None or finite float64
+    (N, 3) rad/s; ``params`` a :class:`RestDetectorParams`.
+    """
+    a, g, p = accel_m_s2, gyro_rad_s, params
+    fs = 1.0 / dt_s  # the rate: exact for the rates mtcal uses (1 / (1 / fs) == fs)
     w = max(3, int(round(p.window_s * fs)))
     norm = np.einsum("ij,ij->i", a, a)
     np.sqrt(norm, out=norm)  # in place: one record-sized array fewer (fresh pages cost ~2 ms/MB to fault in)
@@ -528,15 +541,29 @@ def paper_rest_report(accel_m_s2, dt_s: float, *, gyro_rad_s=None, min_rest_s: f
     the fixed band so a user sees when the band misses the sensor. ``dt_s`` is the sample
     interval (s), ≤ 1 s.
     """
-    from mtcal.methods.zero_velocity import detect_static_trusted, zvd_params
+    from mtcal.methods.zero_velocity import zvd_params
 
     zp = zvd_params(zvd)
     a = as_float_array(accel_m_s2, "accel_m_s2", ndim=2, last_dim=3, copy=False)
     check_accel_units(a)
     dt = sample_interval(dt_s)
+    g = None if gyro_rad_s is None else as_float_array(gyro_rad_s, "gyro_rad_s", ndim=2, last_dim=3, copy=False)
+    return paper_rest_report_trusted(a, dt, g, float(min_rest_s), zp)
+
+
+def paper_rest_report_trusted(accel_m_s2: np.ndarray, dt_s: float, gyro_rad_s: np.ndarray | None,
+                              min_rest_s: float, zvd) -> RestReport:
+    """:func:`paper_rest_report` on inputs a caller validated at its own edge (same report).
+
+    Preconditions (not checked again): ``accel_m_s2`` finite float64 (N, 3) in m/s² (units
+    checked); ``dt_s`` a checked sample interval (s); ``gyro_rad_s`` None or finite float64 (N, 3)
+    rad/s; ``min_rest_s`` ≥ 0 (s); ``zvd`` a :class:`~mtcal.methods.zero_velocity.ZvdParams`.
+    """
+    from mtcal.methods.zero_velocity import detect_static_trusted
+
+    a, g, zp, dt = accel_m_s2, gyro_rad_s, zvd, dt_s
     fs = 1.0 / dt
     flags = detect_static_trusted(a, dt, zp)
-    g = None if gyro_rad_s is None else as_float_array(gyro_rad_s, "gyro_rad_s", ndim=2, last_dim=3, copy=False)
     w = max(3, int(round(0.1 * fs)))
     lv = _block_levels(a, np.linalg.norm(a, axis=1), g, w, 0.1)
     starts, stops = runs(flags)
@@ -690,7 +717,19 @@ def detect_rests_shoe(accel_m_s2, dt_s: float, *, gyro_rad_s, params: ShoeParams
     g = as_float_array(gyro_rad_s, "gyro_rad_s", ndim=2, last_dim=3, copy=False)
     if g.shape != a.shape:
         raise ValueError(f"gyro_rad_s must have the shape of accel_m_s2 {a.shape}, got {g.shape}")
-    fs = 1.0 / sample_interval(dt_s)
+    return detect_rests_shoe_trusted(a, sample_interval(dt_s), g, p)
+
+
+def detect_rests_shoe_trusted(accel_m_s2: np.ndarray, dt_s: float, gyro_rad_s: np.ndarray,
+                              params: ShoeParams) -> RestReport:
+    """:func:`detect_rests_shoe` on inputs a caller validated at its own edge (same report).
+
+    Preconditions (not checked again): ``accel_m_s2`` finite float64 (N, 3) in m/s² (units
+    checked); ``dt_s`` a checked sample interval (s, ≤ 1); ``gyro_rad_s`` finite float64 (N, 3)
+    rad/s; ``params`` a :class:`ShoeParams`.
+    """
+    a, g, p = accel_m_s2, gyro_rad_s, params
+    fs = 1.0 / dt_s
     w_lv = max(3, int(round(0.1 * fs)))
     norm = np.einsum("ij,ij->i", a, a)
     np.sqrt(norm, out=norm)  # in place: one record-sized array fewer (fresh pages cost ~2 ms/MB to fault in)

@@ -31,7 +31,7 @@ from mtcal.methods.zero_velocity import ZvdParams, detect_static_trusted, rest_i
 
 __all__ = ["axis_from_means", "apply_sign_convention", "axis_elevation", "angle_between",
            "AxisEstimator", "AxisResult", "estimate_axis", "axis_error_std",
-           "gravity_change_norm", "distinct_positions", "AxisPlaneFit", "fit_axis_plane"]
+           "gravity_change_norm", "distinct_positions", "AxisPlaneFit", "fit_axis_plane", "angles_about_axis"]
 
 DEFAULT_MIN_SEPARATION_DEG = 0.5
 DEFAULT_MAX_ELEVATION_DEG = 85.0
@@ -39,11 +39,14 @@ DEFAULT_MAX_ELEVATION_DEG = 85.0
 
 def angle_between(a, b) -> np.ndarray:
     """Angle (rad) between vectors a and b (..., 3), robust near 0 (atan2 form)."""
-    return _angle_between(as_float_array(a, "a", last_dim=3), as_float_array(b, "b", last_dim=3))
+    return angle_between_trusted(as_float_array(a, "a", last_dim=3), as_float_array(b, "b", last_dim=3))
 
 
-def _angle_between(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """:func:`angle_between` of checked (finite float64 (..., 3)) vectors."""
+def angle_between_trusted(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """:func:`angle_between` for callers that validated at their own edge.
+
+    Precondition (not checked again): ``a``, ``b`` finite float64 (..., 3) that broadcast.
+    """
     return np.arctan2(np.linalg.norm(np.cross(a, b), axis=-1), np.sum(a * b, axis=-1))
 
 
@@ -64,11 +67,14 @@ def axis_elevation(v, gravity_s) -> np.ndarray:
     ``gravity_s`` is any static accelerometer reading (sensor frame, m/s²): it
     points along the vertical.
     """
-    return _elevation(as_float_array(v, "v", last_dim=3), as_float_array(gravity_s, "gravity_s", last_dim=3))
+    return axis_elevation_trusted(as_float_array(v, "v", last_dim=3), as_float_array(gravity_s, "gravity_s", last_dim=3))
 
 
-def _elevation(v: np.ndarray, g: np.ndarray) -> np.ndarray:
-    """:func:`axis_elevation` of checked (finite float64 (..., 3)) axis and gravity."""
+def axis_elevation_trusted(v: np.ndarray, g: np.ndarray) -> np.ndarray:
+    """:func:`axis_elevation` for callers that validated at their own edge.
+
+    Precondition (not checked again): ``v``, ``g`` finite float64 (..., 3), non-zero, that broadcast.
+    """
     gn = g / np.linalg.norm(g, axis=-1, keepdims=True)
     vn = v / np.linalg.norm(v, axis=-1, keepdims=True)
     return np.arcsin(np.clip(np.abs(np.sum(vn * gn, axis=-1)), 0.0, 1.0))
@@ -106,15 +112,19 @@ def axis_from_means(a0, a1, a2, *, min_separation_deg: float = DEFAULT_MIN_SEPAR
         raise ValueError(f"a0, a1, a2 must broadcast, got {[m.shape for m in means]}") from None
     positive_scalar(min_separation_deg, "min_separation_deg")
     positive_scalar(max_elevation_deg, "max_elevation_deg")
-    return _axis_from_means(m0, m1, m2, min_separation_deg, max_elevation_deg)
+    return axis_from_means_trusted(m0, m1, m2, min_separation_deg, max_elevation_deg)
 
 
-def _axis_from_means(m0: np.ndarray, m1: np.ndarray, m2: np.ndarray, min_separation_deg: float,
+def axis_from_means_trusted(m0: np.ndarray, m1: np.ndarray, m2: np.ndarray, min_separation_deg: float,
                      max_elevation_deg: float) -> np.ndarray:
-    """:func:`axis_from_means` of checked means (finite float64 (..., 3), one shape) and limits (> 0, deg)."""
+    """:func:`axis_from_means` for callers that validated at their own edge (same axis, same refusals).
+
+    Preconditions (not checked again): ``m0``, ``m1``, ``m2`` finite float64 (..., 3) of one shape
+    (m/s²); ``min_separation_deg``, ``max_elevation_deg`` finite > 0 (deg).
+    """
     min_sep = np.radians(float(min_separation_deg))
     max_el = np.radians(float(max_elevation_deg))
-    seps = np.stack([_angle_between(m0, m1), _angle_between(m1, m2), _angle_between(m0, m2)])
+    seps = np.stack([angle_between_trusted(m0, m1), angle_between_trusted(m1, m2), angle_between_trusted(m0, m2)])
     smallest = float(np.min(seps))
     if smallest < min_sep:
         raise ValueError(f"axis estimation needs three distinct rest positions: two static means "
@@ -129,12 +139,43 @@ def _axis_from_means(m0: np.ndarray, m1: np.ndarray, m2: np.ndarray, min_separat
                          f"{np.degrees(float(np.min(chord_angle))):.4f} deg (minimum "
                          f"{min_separation_deg:g} deg)")
     v = _sign_convention(n / np.linalg.norm(n, axis=-1, keepdims=True))
-    elev = _elevation(v, m0)
+    elev = axis_elevation_trusted(v, m0)
     if float(np.max(elev)) > max_el:
         raise ValueError(f"rotation axis is nearly vertical: elevation "
                          f"{np.degrees(float(np.max(elev))):.2f} deg above the horizontal "
                          f"(maximum {max_elevation_deg:g} deg); rotation barely changes gravity")
     return v
+
+
+def angles_about_axis(axis, accel0_m_s2, means_m_s2) -> np.ndarray:
+    """Rotation angle (rad) of each static mean about v relative to ā0, with ``a = R(θ, v)ᵀ ā0`` (wang2022sensors Eq 16).
+
+    Parameters
+    ----------
+    axis : array_like (3,)
+        Unit axis v.
+    accel0_m_s2 : array_like (3,)
+        Reference rest mean ā0 (m/s²).
+    means_m_s2 : array_like (R, 3)
+        Rest means (m/s²).
+
+    Returns
+    -------
+    ndarray (R,)
+        Angles (rad) in (−π, π].
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> round(float(np.degrees(angles_about_axis([1.0, 0, 0], [0, 0, 9.8], [[0, 9.8, 0]])[0])), 6)
+    90.0
+    """
+    v = np.asarray(axis, float)
+    a0 = np.asarray(accel0_m_s2, float)
+    means = np.asarray(means_m_s2, float).reshape(-1, 3)
+    p0 = a0 - v * (v @ a0)
+    p = means - np.outer(means @ v, v)
+    return -np.arctan2(np.cross(p0, p) @ v, p @ p0)
 
 
 def gravity_change_norm(elevation_rad, angle_rad: float, g_m_s2: float = 9.8) -> np.ndarray:
@@ -345,7 +386,7 @@ def estimate_axis(accel_m_s2, dt_s: float, *, zvd: ZvdParams | None = None, is_s
                          f"axis estimation needs three (hold still >= 1 s at three positions)")
     positive_scalar(min_separation_deg, "min_separation_deg")
     positive_scalar(max_elevation_deg, "max_elevation_deg")
-    v = _axis_from_means(*est.means, min_separation_deg, max_elevation_deg)   # means of the checked record
+    v = axis_from_means_trusted(*est.means, min_separation_deg, max_elevation_deg)   # means of the checked record
     rests = [slice(s, e) for s, e in est.rests]
     return AxisResult(v, np.array(est.means), rests, static, n_found)
 
@@ -373,11 +414,22 @@ def distinct_positions(means, counts, *, min_separation_deg: float) -> tuple[np.
     """
     m = as_float_array(means, "means", ndim=2, last_dim=3)
     n = as_float_array(counts, "counts", ndim=1)
-    tol = np.radians(positive_scalar(min_separation_deg, "min_separation_deg"))
+    return distinct_positions_trusted(m, n, positive_scalar(min_separation_deg, "min_separation_deg"))
+
+
+def distinct_positions_trusted(means: np.ndarray, counts: np.ndarray,
+                               min_separation_deg: float) -> tuple[np.ndarray, np.ndarray, list]:
+    """:func:`distinct_positions` for callers that validated at their own edge (same result).
+
+    Preconditions (not checked again): ``means`` finite float64 (R, 3) (m/s²), ``counts`` finite
+    float64 (R,), ``min_separation_deg`` finite > 0 (deg).
+    """
+    m, n = means, counts
+    tol = np.radians(min_separation_deg)
     sums, weights, members = [], [], []
     for i, (mi, ni) in enumerate(zip(m, n)):
         for k in range(len(sums)):
-            if _angle_between(sums[k] / weights[k], mi) < tol:
+            if angle_between_trusted(sums[k] / weights[k], mi) < tol:
                 sums[k] = sums[k] + mi * ni
                 weights[k] += ni
                 members[k].append(i)
@@ -412,6 +464,32 @@ class AxisPlaneFit:
     elevation_rad: float
 
 
+def gated_plane_fit_trusted(positions_m_s2: np.ndarray, counts: np.ndarray, accel_noise_m_s2: float,
+                            window_samples: float, max_axis_error_deg: float, sigma_floor_m_s2: float) -> "AxisPlaneFit":
+    """:func:`fit_axis_plane` with the rest-mean noise from the sample counts, refused when too uncertain.
+
+    The std of a position's mean is ``max(σ / √n_eff, sigma_floor_m_s2)`` with ``n_eff`` the smallest
+    count over ``window_samples`` (~independent windows per rest); a fit whose 1σ exceeds
+    ``max_axis_error_deg`` raises ``ValueError`` naming the tilt spread of the positions.
+    Preconditions (not checked again): ``positions_m_s2`` finite float64 (P, 3), P ≥ 3 (m/s²);
+    ``counts`` (P,) > 0; ``accel_noise_m_s2`` ≥ 0 (m/s², per sample); ``window_samples`` > 0;
+    ``max_axis_error_deg`` > 0 or inf; ``sigma_floor_m_s2`` > 0.
+    """
+    positions, n, noise = positions_m_s2, counts, accel_noise_m_s2
+    n_eff = float(np.min(n)) / max(1.0, float(window_samples))  # ~independent windows per rest
+    sig = max(noise / np.sqrt(max(n_eff, 1.0)), sigma_floor_m_s2)
+    fit = fit_axis_plane_trusted(positions, float(sig))
+    err = np.degrees(fit.sigma_rad)
+    if not err <= max_axis_error_deg:
+        spread = max(np.degrees(angle_between_trusted(positions[i], positions[j]))
+                     for i in range(len(positions)) for j in range(i))
+        raise ValueError(f"axis too uncertain: +-{err:.2f} deg (1 sigma) > {max_axis_error_deg:g} deg from "
+                         f"{len(positions)} positions at most {spread:.2f} deg apart in tilt (rest-mean noise "
+                         f"{sig:.4f} m/s^2, out-of-plane rms {fit.rms_out_of_plane_m_s2:.4f} m/s^2); "
+                         f"rotate further between rests")
+    return fit
+
+
 def fit_axis_plane(positions_m_s2, sigma_mean_m_s2: float) -> AxisPlaneFit:
     """Rotation axis as the normal of the plane through ≥ 3 rest means (Eq 23 generalised).
 
@@ -444,7 +522,16 @@ def fit_axis_plane(positions_m_s2, sigma_mean_m_s2: float) -> AxisPlaneFit:
     p = as_float_array(positions_m_s2, "positions_m_s2", ndim=2, last_dim=3)
     if p.shape[0] < 3:
         raise ValueError(f"positions_m_s2 must hold at least 3 positions, got {p.shape[0]}")
-    sig = positive_scalar(sigma_mean_m_s2, "sigma_mean_m_s2")
+    return fit_axis_plane_trusted(p, positive_scalar(sigma_mean_m_s2, "sigma_mean_m_s2"))
+
+
+def fit_axis_plane_trusted(positions_m_s2: np.ndarray, sigma_mean_m_s2: float) -> AxisPlaneFit:
+    """:func:`fit_axis_plane` for callers that validated at their own edge (same fit).
+
+    Preconditions (not checked again): ``positions_m_s2`` finite float64 (P, 3), P ≥ 3 (m/s²);
+    ``sigma_mean_m_s2`` finite > 0 (m/s²).
+    """
+    p, sig = positions_m_s2, sigma_mean_m_s2
     c = p - p.mean(axis=0)
     _, sv, vt = np.linalg.svd(c)
     v = _sign_convention(vt[2])
@@ -457,4 +544,4 @@ def fit_axis_plane(positions_m_s2, sigma_mean_m_s2: float) -> AxisPlaneFit:
     else:
         cov = np.linalg.inv(gram)
         sigma = float(max(sig, rms) * np.sqrt(cov[1, 1] + cov[2, 2]))
-    return AxisPlaneFit(v, sigma, rms, float(_elevation(v, p.mean(axis=0))))
+    return AxisPlaneFit(v, sigma, rms, float(axis_elevation_trusted(v, p.mean(axis=0))))

@@ -120,6 +120,19 @@ def tilt_rate_scale(gyro_rad_s, accel_m_s2, dt_s: float, *, window_s: float = 0.
     w, a, dt_s, skip = _record(gyro_rad_s, accel_m_s2, dt_s, skip)
     window_s = positive_scalar(window_s, "window_s")
     band_fraction = positive_scalar(band_fraction, "band_fraction")
+    return tilt_rate_scale_trusted(w, a, dt_s, window_s=window_s, band_fraction=band_fraction, skip=skip)
+
+
+def tilt_rate_scale_trusted(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: float, *, window_s: float = 0.05,
+                            band_fraction: float = 0.05, skip: np.ndarray | None = None) -> dict:
+    """:func:`tilt_rate_scale` for callers that validated at their own edge (same result).
+
+    Preconditions (not checked again): ``gyro_rad_s``, ``accel_m_s2`` float64 (N, 3) of one shape
+    (rad/s, m/s²; their finiteness is still checked by the compiled pass); ``dt_s``, ``window_s``,
+    ``band_fraction`` finite > 0; ``skip`` None or bool (N,).
+    """
+    w, a = np.ascontiguousarray(gyro_rad_s), np.ascontiguousarray(accel_m_s2)
+    skip = None if skip is None else np.ascontiguousarray(skip, dtype=np.bool_)
     # numba: loaded on first use, not by import
     from mtcal.methods._tilt_rate_kernels import percentile_linear, window_fit, window_stats
 
@@ -214,7 +227,20 @@ def check_tilt_rate_scale(gyro_rad_s, accel_m_s2, dt_s: float, *, max_ratio: flo
     >>> check_tilt_rate_scale(np.zeros((300, 3)), np.tile([0, 0, 9.81], (300, 1)), 0.01)["decided"]
     False
     """
-    res = tilt_rate_scale(gyro_rad_s, accel_m_s2, dt_s, skip=skip)
+    return _judge(tilt_rate_scale(gyro_rad_s, accel_m_s2, dt_s, skip=skip), dt_s, max_ratio, excess)
+
+
+def check_tilt_rate_scale_trusted(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: float, *,
+                                  max_ratio: float = 5.0, excess: str = "raise", skip=None) -> dict:
+    """:func:`check_tilt_rate_scale` for callers that validated at their own edge (same result and refusals).
+
+    Preconditions (not checked again): as :func:`tilt_rate_scale_trusted`.
+    """
+    return _judge(tilt_rate_scale_trusted(gyro_rad_s, accel_m_s2, dt_s, skip=skip), dt_s, max_ratio, excess)
+
+
+def _judge(res: dict, dt_s: float, max_ratio: float, excess: str) -> dict:
+    """The decision of :func:`check_tilt_rate_scale` on a :func:`tilt_rate_scale` result."""
     res["decided"] = False
     if res["windows"] == 0:
         return res
@@ -233,7 +259,7 @@ def check_tilt_rate_scale(gyro_rad_s, accel_m_s2, dt_s: float, *, max_ratio: flo
     if excess == "warn" and over and not off:
         warnings.warn(f"gyro implausible for rad/s at dt {dt_s:.4g} s: it predicts "
                       f"{np.degrees(res['gyro_tilt_rad']):.1f} deg of tilt where the accelerometer shows "
-                      f"{np.degrees(res['accel_tilt_rad']):.1f} deg", UserWarning, stacklevel=3)
+                      f"{np.degrees(res['accel_tilt_rad']):.1f} deg", UserWarning, stacklevel=4)
         return res
     if over or off:
         hint = scale_hint(s if off else res["accel_tilt_rad"] / max(res["gyro_tilt_rad"], 1e-300))

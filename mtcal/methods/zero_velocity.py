@@ -199,3 +199,20 @@ def rest_intervals(is_static) -> list[slice]:
     starts = np.flatnonzero(d == 1)
     stops = np.flatnonzero(d == -1)
     return [slice(int(a), int(b)) for a, b in zip(starts, stops)]
+
+
+def rest_masks_trusted(is_static: np.ndarray, rests, min_share: float) -> list[np.ndarray]:
+    """Static flags restricted to each known rest slice, the whole rest where they flag fewer than
+    ``min_share`` of it: one (T, N) boolean mask per rest.
+
+    Preconditions (not checked again): ``is_static`` bool (T, N); ``rests`` slices with explicit
+    ``start`` < ``stop`` within N; ``min_share`` in [0, 1].
+    """
+    out = []
+    for sl in rests:
+        m = np.zeros(is_static.shape, bool)
+        m[:, sl] = is_static[:, sl]
+        few = m.sum(axis=1) < min_share * (sl.stop - sl.start)
+        m[few, sl] = True
+        out.append(m)
+    return out

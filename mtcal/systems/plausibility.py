@@ -153,7 +153,15 @@ def gyro_tilt_consistency(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: 
         The gyro misses the tilt change by more than max(3°, 25 % of it) on the
         majority of the checked pairs; the message names the scale that fits.
     """
-    t = np.arange(accel_m_s2.shape[0]) * dt_s if time_s is None else time_s
+    cand = _tilt_pairs(gyro_rad_s, accel_m_s2, dt_s, rests, skip, min_tilt_deg, max_pairs, max_gap_s, drop_turning)
+    if not cand:
+        return {"pairs": 0, "worst_deg": float("nan"), "ratio": float("nan")}
+    return _pair_misfits(cand, gyro_rad_s, dt_s, np.arange(accel_m_s2.shape[0]) * dt_s if time_s is None else time_s)
+
+
+def _tilt_pairs(gyro_rad_s, accel_m_s2, dt_s: float, rests: list, skip, min_tilt_deg: float = 5.0,
+                max_pairs: int = 8, max_gap_s: float = 120.0, drop_turning: bool = True) -> list:
+    """The rest pairs :func:`gyro_tilt_consistency` checks (largest tilt first): (tilt deg, r0, r1, ā0, ā1)."""
     if len(rests) >= 2 and drop_turning:  # a "rest" that turns (accelerometer-only ZVD in a pure rotation) is no rest
         means = np.array([gyro_rad_s[r].mean(axis=0) for r in rests])
         ref = np.median(means, axis=0)
@@ -169,9 +177,11 @@ def gyro_tilt_consistency(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: 
         if tilt >= min_tilt_deg:
             cand.append((tilt, r0, r1, a0, a1))
     cand.sort(key=lambda c: -c[0])
-    cand = cand[:max_pairs]
-    if not cand:
-        return {"pairs": 0, "worst_deg": float("nan"), "ratio": float("nan")}
+    return cand[:max_pairs]
+
+
+def _pair_misfits(cand: list, gyro_rad_s, dt_s: float, t) -> dict:
+    """:func:`gyro_tilt_consistency` on its (non-empty) rest pairs; ``t`` sample times (s) for messages."""
     misfits = {s: [] for s in [1.0, *_CANDIDATES]}
     ratios = []
     for tilt, r0, r1, a0, a1 in cand:
@@ -248,7 +258,7 @@ def check_units(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: float, res
     2. the same on every rest (rests whose mean rate is off the median kept: a
        deg/s log read as rad/s has rests 57× noisier than the filter expects);
     3. the gravity-referenced tilt rate over all quasi-static stretches
-       (:func:`mtcal.methods.tilt_rate.check_tilt_rate_scale`, slow moves count);
+       (:func:`mtcal.methods.tilt_rate.check_tilt_rate_scale`, slow moves count; its trusted twin);
     4. gravity tracking (:func:`mtcal.methods.gravity_tracking.gravity_tracking`): the gyro
        under the stated unit and under each rival (deg/s, mrad/s, time in ms …) carries the
        accelerometer's direction over 0.5 s windows; the stated unit is confirmed when it wins
@@ -267,6 +277,9 @@ def check_units(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: float, res
        result's ``warning`` naming the evidence (not when the tilt rate leans
        against it: correlation ≥ :data:`MIN_LEAN_CORRELATION` with a scale off by
        more than :data:`MAX_LEAN_RATIO`).
+
+    The records are the checked arrays of the caller's edge (a system's, or the log reader's): finite
+    float64 (N, 3) of one shape, ``dt_s`` finite > 0; they are not checked again here.
 
     Parameters
     ----------
@@ -310,28 +323,47 @@ def check_units(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: float, res
     >>> check_units(np.zeros((500, 3)), acc, 0.01, [slice(0, 100), slice(400, 500)])["method"]
     'no rotation'
     """
-    res = gyro_tilt_consistency(gyro_rad_s, accel_m_s2, dt_s, rests, time_s=time_s, skip=skip)
-    if res["pairs"]:
-        return {**res, "method": "rest pairs",
-                "evidence": f"{res['pairs']} rest pair(s), rotation/tilt ratio {res['ratio']:.3f}"}
-    res = gyro_tilt_consistency(gyro_rad_s, accel_m_s2, dt_s, rests, time_s=time_s, skip=skip,
-                                drop_turning=False)
-    if res["pairs"]:
-        return {**res, "method": "rest pairs (all rests)",
+    if skip is not None:
+        skip = np.asarray(skip, bool)
+        if skip.shape != (accel_m_s2.shape[0],):
+            raise ValueError(f"skip must be a boolean array of {accel_m_s2.shape[0]} samples, got shape {skip.shape}")
+    # the rest pairs (turning rests dropped, else all rests), then one pass of their misfits
+    method, cand = "rest pairs", _tilt_pairs(gyro_rad_s, accel_m_s2, dt_s, rests, skip)
+    if not cand:
+        method, cand = "rest pairs (all rests)", _tilt_pairs(gyro_rad_s, accel_m_s2, dt_s, rests, skip,
+                                                             drop_turning=False)
+    if cand:
+        res = _pair_misfits(cand, gyro_rad_s, dt_s,
+                            np.arange(accel_m_s2.shape[0]) * dt_s if time_s is None else time_s)
+        return {**res, "method": method,
                 "evidence": f"{res['pairs']} rest pair(s), rotation/tilt ratio {res['ratio']:.3f}"}
     out = {"pairs": 0, "worst_deg": float("nan"), "ratio": float("nan")}
+    refused = tr = None
     try:
-        tr = tilt_rate.check_tilt_rate_scale(gyro_rad_s, accel_m_s2, dt_s, skip=skip)
-    except ValueError:  # refused: gravity tracking, when it finds the scale, names the option that fits
-        _gravity_tracking(gyro_rad_s, accel_m_s2, dt_s)
-        raise
-    ev = (f"accelerometer tilts {np.degrees(tr['accel_spread_rad']):.1f} deg from its mean direction and "
-          f"{np.degrees(tr['accel_tilt_rad']):.1f} deg in total, gyro tilt "
-          f"{np.degrees(tr['gyro_tilt_rad']):.1f} deg, tilt-rate scale {tr['scale']:.3g}, correlation "
-          f"{tr['correlation']:.2f}")
-    if tr["decided"]:
-        return {**out, "method": "tilt rate", "evidence": ev}
-    gt = _gravity_tracking(gyro_rad_s, accel_m_s2, dt_s)
+        tr = tilt_rate.check_tilt_rate_scale_trusted(gyro_rad_s, accel_m_s2, dt_s, skip=skip)
+    except ValueError as exc:  # refused: gravity tracking, when it finds the scale, names the option that fits
+        refused = exc
+    if tr is not None:
+        ev = (f"accelerometer tilts {np.degrees(tr['accel_spread_rad']):.1f} deg from its mean direction and "
+              f"{np.degrees(tr['accel_tilt_rad']):.1f} deg in total, gyro tilt "
+              f"{np.degrees(tr['gyro_tilt_rad']):.1f} deg, tilt-rate scale {tr['scale']:.3g}, correlation "
+              f"{tr['correlation']:.2f}")
+        if tr["decided"]:
+            return {**out, "method": "tilt rate", "evidence": ev}
+        seen, lean_hint = tilt_rate.tilt_seen(tr), tilt_rate.scale_hint(tr["scale"])
+    gt = gravity_tracking.gravity_tracking(gyro_rad_s, accel_m_s2, dt_s)
+    if gt["decision"] == "rival":
+        others = [k for k, r in gt["rivals"].items() if k != gt["winner"]
+                  and r["windows"] >= gravity_tracking.MIN_WINDOWS
+                  and 1.0 - r["win_fraction"] >= gravity_tracking.CONTRADICT_FRACTION]
+        also = "".join(f"; or {k} ({1.0 - gt['rivals'][k]['win_fraction']:.2f}): {TRACKING_HINTS.get(k, '')}"
+                       for k in others)
+        raise ValueError(f"gyro units: {gt['winner']}? {TRACKING_HINTS.get(gt['winner'], '')} (gravity tracking: "
+                         f"that hypothesis carries the accelerometer's gravity direction better in {gt['margin']:.2f}"
+                         f" of {gt['rivals'][gt['winner']]['windows']} discriminating windows, refused at >= "
+                         f"{gravity_tracking.CONTRADICT_FRACTION:g}){also}") from refused
+    if refused is not None:
+        raise refused
     if gt["decision"] == "stated":
         return {**out, "method": "gravity tracking", "margin": gt["margin"], "evidence": gt["evidence"]}
     ev = f"{ev}; {gt['evidence']}"
@@ -354,7 +386,7 @@ def check_units(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: float, res
     w_along = np.einsum("ij,ij->i", gyro_rad_s[mv] - bias, accel_m_s2[mv]) / np.maximum(norm[mv], 1e-12)
     along = float(np.abs(w_along).sum())
     share = along / max(float(rate[mv].sum()), 1e-300)
-    if tilt_rate.tilt_seen(tr) < tilt_rate.MIN_TILT_RAD and share >= MIN_GRAVITY_AXIS_SHARE:
+    if seen < tilt_rate.MIN_TILT_RAD and share >= MIN_GRAVITY_AXIS_SHARE:
         g = float(np.median(norm))
         fast = rate > MAX_GRAVITY_AXIS_RATE_RAD_S
         if fast.any() and float(np.max(np.abs(norm[fast] - g))) < 0.05 * g:
@@ -371,7 +403,7 @@ def check_units(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: float, res
             and tr["correlation"] >= MIN_LEAN_CORRELATION
             and not 1.0 / MAX_LEAN_RATIO <= tr["scale"] <= MAX_LEAN_RATIO)
     if unit_stated and lean:
-        raise ValueError(f"gyro units doubtful: {tilt_rate.scale_hint(tr['scale'])}; no check decides but the tilt "
+        raise ValueError(f"gyro units doubtful: {lean_hint}; no check decides but the tilt "
                          f"rate leans to a scale of {tr['scale']:.3g} (correlation {tr['correlation']:.2f} >= "
                          f"{MIN_LEAN_CORRELATION:g}, outside 1/{MAX_LEAN_RATIO:g}..{MAX_LEAN_RATIO:g}); {detail}")
     if unit_stated:
@@ -379,22 +411,6 @@ def check_units(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: float, res
                 "warning": f"gyro unit as stated ({unit_stated}) not checked: no check decides ({detail})"}
     raise ValueError(f"cannot check the gyro units: state the unit with --gyro-unit (deg/s?) and check --time-unit, "
                      f"or record rests at different tilts; {detail}")
-
-
-def _gravity_tracking(gyro_rad_s, accel_m_s2, dt_s: float) -> dict:
-    """:func:`mtcal.methods.gravity_tracking.gravity_tracking`; raises when a rival scale wins (naming the fix)."""
-    gt = gravity_tracking.gravity_tracking(gyro_rad_s, accel_m_s2, dt_s)
-    if gt["decision"] == "rival":
-        others = [k for k, r in gt["rivals"].items() if k != gt["winner"]
-                  and r["windows"] >= gravity_tracking.MIN_WINDOWS
-                  and 1.0 - r["win_fraction"] >= gravity_tracking.CONTRADICT_FRACTION]
-        also = "".join(f"; or {k} ({1.0 - gt['rivals'][k]['win_fraction']:.2f}): {TRACKING_HINTS.get(k, '')}"
-                       for k in others)
-        raise ValueError(f"gyro units: {gt['winner']}? {TRACKING_HINTS.get(gt['winner'], '')} (gravity tracking: "
-                         f"that hypothesis carries the accelerometer's gravity direction better in {gt['margin']:.2f}"
-                         f" of {gt['rivals'][gt['winner']]['windows']} discriminating windows, refused at >= "
-                         f"{gravity_tracking.CONTRADICT_FRACTION:g}){also}")
-    return gt
 
 
 def rotation_axis_from_gyro(gyro_rad_s: np.ndarray, bias_rad_s: np.ndarray, moving: np.ndarray):

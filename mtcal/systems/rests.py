@@ -23,7 +23,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from mtcal.core.validate import as_float_array, sample_interval
+from mtcal.core.validate import as_float_array, check_accel_units, sample_interval
 
 if TYPE_CHECKING:  # imported when a procedure runs (``mtcal --help`` stays light)
     from mtcal.methods import rest_detection
@@ -131,8 +131,9 @@ def drop_short_rests(rep: rest_detection.RestReport, time_s) -> rest_detection.R
 
 
 def _records(accel_m_s2, dt_s, gyro_rad_s, time_s):
-    """The edge check: (N, 3) float arrays of equal shape, dt > 0, N strictly increasing times (default k·dt)."""
+    """The edge check: (N, 3) float arrays of equal shape (accel in m/s²), dt > 0, N strictly increasing times (default k·dt)."""
     a = as_float_array(accel_m_s2, "accel_m_s2", ndim=2, last_dim=3, copy=False)
+    check_accel_units(a)
     g = None if gyro_rad_s is None else as_float_array(gyro_rad_s, "gyro_rad_s", ndim=2, last_dim=3, copy=False)
     if g is not None and g.shape != a.shape:
         raise ValueError(f"gyro_rad_s and accel_m_s2 must have the same shape, got {g.shape} and {a.shape}")
@@ -181,13 +182,14 @@ def find_rests(accel_m_s2, dt_s: float, config: RestsConfig, *, gyro_rad_s=None,
     1
     """
     from mtcal.methods import rest_detection
+    from mtcal.methods.zero_velocity import ZvdParams
 
     if not isinstance(config, RestsConfig):
         raise TypeError(f"config must be a RestsConfig, got {type(config).__name__}")
     a, g, dt, t = _records(accel_m_s2, dt_s, gyro_rad_s, time_s)
     gyro = g if config.use_gyro else None
     if config.detector == "paper":
-        rep = rest_detection.paper_rest_report(a, dt, gyro_rad_s=gyro, min_rest_s=config.min_rest_s)
+        rep = rest_detection.paper_rest_report_trusted(a, dt, gyro, float(config.min_rest_s), ZvdParams())
     elif config.detector == "shoe":
         if gyro is None:
             raise ValueError("detector 'shoe' needs gyro_rad_s")
@@ -195,13 +197,13 @@ def find_rests(accel_m_s2, dt_s: float, config: RestsConfig, *, gyro_rad_s=None,
                                            threshold=config.shoe_threshold,
                                            rate_level_rad_s=config.gyro_threshold_rad_s,
                                            gravity_m_s2=config.gravity_m_s2)
-        rep = rest_detection.detect_rests_shoe(a, dt, gyro_rad_s=gyro, params=params)
+        rep = rest_detection.detect_rests_shoe_trusted(a, dt, gyro, params)
     else:
         params = rest_detection.RestDetectorParams(min_rest_s=config.min_rest_s, noise_factor=config.noise_factor,
                                                    gravity_m_s2=config.gravity_m_s2,
                                                    accel_band_m_s2=config.accel_band_m_s2,
                                                    gyro_level_max_rad_s=config.gyro_threshold_rad_s)
-        rep = rest_detection.detect_rests(a, dt, gyro_rad_s=gyro, params=params)
+        rep = rest_detection.detect_rests_trusted(a, dt, gyro, params)
     return drop_short_rests(rep, t)
 
 

@@ -49,16 +49,17 @@ Examples
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 
-from mtcal.core.validate import as_float_array, positive_scalar
-from mtcal.filters.rams_ekf import RamsEkfParams, run_rams_ekf_trusted
+from mtcal.core.validate import as_float_array, check_accel_units, positive_scalar, sample_interval
+from mtcal.filters.rams_ekf import RamsEkfParams, run_rams_ekf_restarts_trusted, run_rams_ekf_trusted
 from mtcal.filters.registry import AxisContext
 from mtcal.methods import rotation_axis
-from mtcal.methods.tilt_rate import check_tilt_rate_scale
-from mtcal.methods.zero_velocity import ZvdParams, detect_static
+from mtcal.methods.rotation_axis import angles_about_axis
+from mtcal.methods.tilt_rate import check_tilt_rate_scale_trusted
+from mtcal.methods.zero_velocity import ZvdParams, detect_static_trusted, rest_masks_trusted
 from mtcal.systems import plausibility
 
 __all__ = ["AxisConfig", "AxisEstimate", "estimate_surface_axis", "estimate_surface_axes", "axis_uncertainty",
@@ -92,37 +93,6 @@ def _rest_means(accel: np.ndarray, rests) -> tuple[np.ndarray, np.ndarray]:
             means.append(accel[m].mean(axis=0))
             counts.append(float(np.count_nonzero(m)))
     return np.array(means).reshape(-1, 3), np.array(counts)
-
-
-def angles_about_axis(axis, accel0_m_s2, means_m_s2) -> np.ndarray:
-    """Rotation angle (rad) of each static mean about v relative to ā0, with ``a = R(θ, v)ᵀ ā0`` (Eq 16).
-
-    Parameters
-    ----------
-    axis : array_like (3,)
-        Unit axis v.
-    accel0_m_s2 : array_like (3,)
-        Reference rest mean ā0 (m/s²).
-    means_m_s2 : array_like (R, 3)
-        Rest means (m/s²).
-
-    Returns
-    -------
-    ndarray (R,)
-        Angles (rad) in (−π, π].
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> round(float(np.degrees(angles_about_axis([1.0, 0, 0], [0, 0, 9.8], [[0, 9.8, 0]])[0])), 6)
-    90.0
-    """
-    v = np.asarray(axis, float)
-    a0 = np.asarray(accel0_m_s2, float)
-    means = np.asarray(means_m_s2, float).reshape(-1, 3)
-    p0 = a0 - v * (v @ a0)
-    p = means - np.outer(means @ v, v)
-    return -np.arctan2(np.cross(p0, p) @ v, p @ p0)
 
 
 def axis_uncertainty(positions_m_s2, counts, *, accel_noise_m_s2: float, window_samples: float = 1.0,
@@ -166,24 +136,8 @@ def axis_uncertainty(positions_m_s2, counts, *, accel_noise_m_s2: float, window_
     positions = as_float_array(positions_m_s2, "positions_m_s2", ndim=2, last_dim=3)
     n = as_float_array(counts, "counts", ndim=1)
     noise = positive_scalar(accel_noise_m_s2, "accel_noise_m_s2", allow_zero=True)
-    return _plane_uncertainty(positions, n, noise, window_samples, max_axis_error_deg)
-
-
-def _plane_uncertainty(positions: np.ndarray, n: np.ndarray, noise: float, window_samples: float,
-                       max_axis_error_deg: float) -> rotation_axis.AxisPlaneFit:
-    """:func:`axis_uncertainty` on checked (P, 3) positions, (P,) counts and a noise ≥ 0."""
-    n_eff = float(np.min(n)) / max(1.0, float(window_samples))  # ~independent windows per rest
-    sig = max(noise / np.sqrt(max(n_eff, 1.0)), SIGMA_MEAN_FLOOR_M_S2)
-    fit = rotation_axis.fit_axis_plane(positions, sig)
-    err = np.degrees(fit.sigma_rad)
-    if not err <= max_axis_error_deg:
-        spread = max(np.degrees(rotation_axis.angle_between(positions[i], positions[j]))
-                     for i in range(len(positions)) for j in range(i))
-        raise ValueError(f"axis too uncertain: +-{err:.2f} deg (1 sigma) > {max_axis_error_deg:g} deg from "
-                         f"{len(positions)} positions at most {spread:.2f} deg apart in tilt (rest-mean noise "
-                         f"{sig:.4f} m/s^2, out-of-plane rms {fit.rms_out_of_plane_m_s2:.4f} m/s^2); "
-                         f"rotate further between rests")
-    return fit
+    return rotation_axis.gated_plane_fit_trusted(positions, n, noise, window_samples, max_axis_error_deg,
+                                                 SIGMA_MEAN_FLOOR_M_S2)
 
 
 def _limit(value, name: str) -> float:
@@ -342,9 +296,11 @@ def _axis_trusted(a: np.ndarray, rests: list, config: AxisConfig) -> AxisEstimat
     sep, max_el = float(config.min_separation_deg), float(config.max_elevation_deg)
     max_err = np.inf if config.max_axis_error_deg is None else float(config.max_axis_error_deg)
     means, counts = _rest_means(a, rests)
-    pos, w, members = rotation_axis.distinct_positions(means, counts, min_separation_deg=sep)
+    if not np.all(counts > 0):
+        raise ValueError(f"rest {int(np.argmin(counts > 0))} holds no sample; each rest needs samples")
+    pos, w, members = rotation_axis.distinct_positions_trusted(means, counts, sep)
     if pos.shape[0] < 3:
-        spread = max((np.degrees(rotation_axis.angle_between(means[i], means[j]))
+        spread = max((np.degrees(rotation_axis.angle_between_trusted(means[i], means[j]))
                       for i in range(len(means)) for j in range(i)), default=0.0)
         why = (" — a rotation about the vertical does not change the tilt, so the accelerometer "
                "cannot see its axis" if len(rests) >= 2 and spread < sep else "")
@@ -353,20 +309,21 @@ def _axis_trusted(a: np.ndarray, rests: list, config: AxisConfig) -> AxisEstimat
                          f"apart); the axis needs rests at three distinct tilts{why}")
     if config.fit == "eq23":
         pos, w, members = pos[:3], w[:3], members[:3]
-        v = rotation_axis.axis_from_means(*pos, min_separation_deg=sep, max_elevation_deg=max_el)
-    plane = _plane_uncertainty(pos, w, float(config.accel_noise_m_s2), float(config.window_samples), max_err)
+        v = rotation_axis.axis_from_means_trusted(pos[0], pos[1], pos[2], sep, max_el)
+    plane = rotation_axis.gated_plane_fit_trusted(pos, w, float(config.accel_noise_m_s2),
+                                                  float(config.window_samples), max_err, SIGMA_MEAN_FLOOR_M_S2)
     if config.fit == "plane":
         v = plane.v
         # v·a is the same at every rest (rotation about v keeps it), so each rest mean gives the elevation;
         # the centroid of the positions is shorter than g and would overstate it.
-        elev = float(np.degrees(np.mean(rotation_axis.axis_elevation(v, means))))
+        elev = float(np.degrees(np.mean(rotation_axis.axis_elevation_trusted(v, means))))
         if elev > max_el:
             raise ValueError(f"rotation axis is nearly vertical: elevation {elev:.2f} "
                              f"deg above the horizontal (maximum {max_el:g} deg); rotation about it barely "
                              f"changes gravity")
     n_eff = float(np.min(w)) / max(1.0, float(config.window_samples))
     sig = max(config.accel_noise_m_s2 / np.sqrt(max(n_eff, 1.0)), SIGMA_MEAN_FLOOR_M_S2)
-    return AxisEstimate(v, float(plane.sigma_rad), float(np.mean(rotation_axis.axis_elevation(v, means))), pos,
+    return AxisEstimate(v, float(plane.sigma_rad), float(np.mean(rotation_axis.axis_elevation_trusted(v, means))), pos,
                         tuple(tuple(m) for m in members), means, angles_about_axis(v, means[0], means), float(sig),
                         config.fit)
 
@@ -443,12 +400,13 @@ def _axes_trusted(a: np.ndarray, masks: list[np.ndarray], config: AxisConfig) ->
         with np.errstate(invalid="ignore"):
             means = means * counts[..., None] / counts[..., None]
             r_n = len(masks)
-            pair = np.stack([rotation_axis.angle_between(means[i], means[j]) for i in range(r_n) for j in range(i)])
+            pair = np.stack([rotation_axis.angle_between_trusted(means[i], means[j])
+                             for i in range(r_n) for j in range(i)])
         # strictly apart (a margin for rounding), so per trial no rests would merge
         fast = np.all(counts > 0, axis=0) & np.all(pair > np.radians(sep) * (1 + 1e-9), axis=0)
         if fast.any():
-            out[fast] = rotation_axis.axis_from_means(*means[:3, fast], min_separation_deg=sep,
-                                                      max_elevation_deg=config.max_elevation_deg)
+            out[fast] = rotation_axis.axis_from_means_trusted(*means[:3, fast], sep,
+                                                              float(config.max_elevation_deg))
     for t in np.flatnonzero(~fast):
         out[t] = _axis_trusted(a[t], [m[t] for m in masks], config).axis
     return out
@@ -610,20 +568,6 @@ def _restart_cuts(clipped: np.ndarray, rests, n: int) -> list[int]:
     return cuts
 
 
-def _ekf_pieces(gyro, accel, static, cuts, v, a0, b0, dt_s, params) -> np.ndarray:
-    """One trial's EKF over ``cuts`` segments, angle and bias carried over, wide angle prior after a cut
-    (checked records: the filter's trusted entry)."""
-    theta = np.empty(accel.shape[0])
-    th0, bias0, p = 0.0, b0, params
-    for lo, hi in zip(cuts[:-1], cuts[1:]):
-        res = run_rams_ekf_trusted(gyro[lo:hi], accel[lo:hi], static[lo:hi], v, a0, dt_s, p,
-                                   theta0_rad=th0, bias0_rad_s=bias0, keep_innovation=False)
-        theta[lo:hi] = res.theta_rad[0]
-        th0, bias0 = float(res.theta_rad[0, -1]), res.bias_rad_s[0, -1]
-        p = replace(params, p0_theta_rad2=CLIPPED_P0_THETA_RAD**2)
-    return theta
-
-
 def _checked_axis(axis) -> np.ndarray:
     v = as_float_array(axis, "axis", ndim=(1, 2), last_dim=3)
     if np.any(np.abs(np.linalg.norm(v, axis=-1) - 1.0) > 1e-6):
@@ -729,25 +673,25 @@ def _surface_angle_trusted(g, a, v, static, init: slice, dt: float, weights, tim
     k0 = init.start or 0
     a0 = a[..., init, :].mean(axis=-2)
     b0 = g[..., init, :].mean(axis=-2)
-    elev = rotation_axis.axis_elevation(v, a0)
-    max_el = float(cfg.max_elevation_deg)
-    worst = float(np.degrees(np.max(elev)))
-    if worst > max_el:
-        raise ValueError(f"--axis is {90 - worst:.2f} deg from gravity (elevation {worst:.2f} deg > {max_el:g}): "
-                         f"a rotation about the vertical does not change the accelerometer reading, so the "
-                         f"EKF cannot correct the gyro; measure the angle with a non-vertical axis")
     if batch:
         clip = [plausibility.clipped_samples(row) for row in g]
         clipped = np.stack([c[0] for c in clip])
         level = np.array([c[1] for c in clip])
     else:
         clipped, level = plausibility.clipped_samples(g)
+    elev = rotation_axis.axis_elevation_trusted(v, a0)
+    max_el = float(cfg.max_elevation_deg)
+    worst = float(np.degrees(np.max(elev)))
+    if worst > max_el:
+        raise ValueError(f"--axis is {90 - worst:.2f} deg from gravity (elevation {worst:.2f} deg > {max_el:g}): "
+                         f"a rotation about the vertical does not change the accelerometer reading, so the "
+                         f"EKF cannot correct the gyro; measure the angle with a non-vertical axis")
     check, u = None, None
     if cfg.check_units:
         check = plausibility.check_units(gyro_f, a, dt, rests, time_s=time_s, skip=clipped,
                                          unit_stated=cfg.unit_stated)
     elif not batch:  # the tilt-rate scale check of run_rams_ekf, once for the record
-        check_tilt_rate_scale(gyro_f[k0:], a[k0:], dt, excess="warn")
+        check_tilt_rate_scale_trusted(gyro_f[k0:], a[k0:], dt, excess="warn")
     if cfg.max_axis_mismatch_deg is not None:
         u = _gyro_axis_check(g, static, b0, v, dt, cfg)
     params = rest_ekf_params(g, a, init) if cfg.params is None else cfg.params
@@ -755,7 +699,8 @@ def _surface_angle_trusted(g, a, v, static, init: slice, dt: float, weights, tim
     angle = np.full(a.shape[:-1], np.nan)
     if not batch:
         cuts = _restart_cuts(clipped[k0:], local, n - k0)
-        angle[k0:] = _ekf_pieces(gyro_f[k0:], a[k0:], static[k0:], cuts, v, a0, b0, dt, params)
+        angle[k0:] = run_rams_ekf_restarts_trusted(gyro_f[k0:], a[k0:], static[k0:], cuts, v, a0, b0, dt, params,
+                                                   CLIPPED_P0_THETA_RAD**2)
         restarts = tuple(c + k0 for c in cuts[1:-1])
     else:
         st = np.broadcast_to(static, a.shape[:-1])
@@ -766,7 +711,8 @@ def _surface_angle_trusted(g, a, v, static, init: slice, dt: float, weights, tim
         for t, c in enumerate(cuts):
             if len(c) > 2:
                 vt = v if v.ndim == 1 else v[t]
-                angle[t, k0:] = _ekf_pieces(gyro_f[t, k0:], a[t, k0:], st[t, k0:], c, vt, a0[t], b0[t], dt, params)
+                angle[t, k0:] = run_rams_ekf_restarts_trusted(gyro_f[t, k0:], a[t, k0:], st[t, k0:], c, vt, a0[t],
+                                                              b0[t], dt, params, CLIPPED_P0_THETA_RAD**2)
         restarts = tuple(tuple(x + k0 for x in c[1:-1]) for c in cuts)
     return SurfaceAngle(angle, k0, a0, b0, elev if batch else float(elev), params, dt, clipped,
                         level if batch else float(level), restarts, check, u)
@@ -880,15 +826,7 @@ def rest_masks(is_static, rests) -> list[np.ndarray]:
     ...                                             [slice(0, 2), slice(2, 4)])]
     [[[1, 0, 0, 0]], [[0, 0, 1, 1]]]
     """
-    flags = np.asarray(is_static, bool)
-    out = []
-    for sl in rests:
-        m = np.zeros(flags.shape, bool)
-        m[:, sl] = flags[:, sl]
-        few = m.sum(axis=1) < MIN_REST_ZVD_SHARE * (sl.stop - sl.start)
-        m[few, sl] = True
-        out.append(m)
-    return out
+    return rest_masks_trusted(np.asarray(is_static, bool), rests, MIN_REST_ZVD_SHARE)
 
 
 def surface_angle_batch(gyro_rad_s, accel_m_s2, dt_s: float, config: SurfaceBatchConfig, *, init_samples: int,
@@ -947,6 +885,9 @@ def surface_angle_batch(gyro_rad_s, accel_m_s2, dt_s: float, config: SurfaceBatc
     g, a = _checked_record(gyro_rad_s, accel_m_s2, 3)
     t_n, n = a.shape[:2]
     dt = positive_scalar(dt_s, "dt_s")
+    if config.zvd is not None:  # the ZVD's own edge (mtcal.methods.zero_velocity.detect_static), checked here once
+        sample_interval(dt_s)
+        check_accel_units(a)
     if isinstance(init_samples, bool) or not isinstance(init_samples, (int, np.integer)) \
             or not 1 <= init_samples <= n:
         raise ValueError(f"init_samples must be an integer in [1, {n}], got {init_samples!r}")
@@ -972,9 +913,9 @@ def surface_angle_batch(gyro_rad_s, accel_m_s2, dt_s: float, config: SurfaceBatc
         flags = known
     else:
         zvd_gyro = g - b0[:, None, :] if config.zvd.gyro_max_rad_s is not None else None
-        flags = detect_static(a, dt, config.zvd, zvd_gyro)
+        flags = detect_static_trusted(a, dt, config.zvd, zvd_gyro)
     if v is None and config.axis is not None:
-        v = _axes_trusted(a, rest_masks(flags, rests[:config.axis_rests]), config.axis)
+        v = _axes_trusted(a, rest_masks_trusted(flags, rests[:config.axis_rests], MIN_REST_ZVD_SHARE), config.axis)
     angle = None
     if config.angle is not None:
         switch = flags if config.ekf_switch == "zvd" else known

@@ -223,3 +223,27 @@ def test_recycled_outputs_never_touch_a_held_result(monkeypatch):
         assert pooled[name]() is getattr(third, name)                          # the dropped arrays came back
         assert np.array_equal(getattr(third, name), kept[name])
         assert np.array_equal(getattr(first, name), kept[name])
+
+
+def test_trusted_entry_equals_the_checked_call_bit_for_bit():
+    """run_rams_ekf_trusted (RamsEkfFilter.trusted, no re-check) gives run_rams_ekf's result exactly."""
+    from mtcal.filters.rams_ekf import run_rams_ekf, run_rams_ekf_trusted
+
+    prof = profiles.step_schedule(np.radians([0.0, 50.0, -20.0]), np.radians(40.0), 1.0, 100.0)
+    v = np.array([0.6, 0.0, 0.8])
+    two = [np.tile(x.T, (2, 1)) for x in (prof.angle_rad, prof.rate_rad_s, prof.accel_rad_s2)]
+    w, f = profiles.fixed_axis_imu_truth(*two, [v, v],
+                                         [[0.0, 0, 0], [0.1, 0, 0]], [0.0, 0.0, 9.81], 0.01)
+    rng = np.random.default_rng(3)
+    w = w + 1e-3 * rng.standard_normal(w.shape)
+    f = f + 1e-2 * rng.standard_normal(f.shape)
+    a0 = f[:, :50].mean(axis=1)
+    b0 = w[:, :50].mean(axis=1)
+    for engine in ("numba", "numpy"):
+        ref = run_rams_ekf(w, f, prof.is_static, v, a0, 0.01, RamsEkfParams(), bias0_rad_s=b0, engine=engine)
+        got = run_rams_ekf_trusted(w, f, prof.is_static, v, a0, 0.01, RamsEkfParams(), bias0_rad_s=b0,
+                                   engine=engine)
+        assert np.array_equal(ref.theta_rad, got.theta_rad) and np.array_equal(ref.bias_rad_s, got.bias_rad_s)
+        assert np.array_equal(ref.P, got.P)
+    with pytest.raises(ValueError, match="unit vector"):
+        RamsEkfFilter(2 * v, a0, 0.01, RamsEkfParams(), trials=2)   # the public constructor still checks

@@ -434,3 +434,25 @@ def test_quiet_core_keeps_a_slow_start_of_motion_out_of_the_bias():
     # a rest too noisy for the stated noise falls back to the whole rest
     qc2 = quiet_core(gyro, rest, 1.0 / fs, sigma / 100)
     assert qc2.core == slice(0, rest.stop)
+
+
+def test_trusted_twins_equal_the_checked_calls():
+    """detect_rests / paper_rest_report / detect_rests_shoe and their *_trusted twins: the same report."""
+    from mtcal.methods import rest_detection as rd
+    from mtcal.methods.zero_velocity import ZvdParams
+
+    rng = np.random.default_rng(8)
+    n, dt = 3000, 0.01
+    accel = np.tile([0.0, 0.0, 9.81], (n, 1)) + 0.02 * rng.standard_normal((n, 3))
+    gyro = 0.002 * rng.standard_normal((n, 3))
+    accel[1000:1400] += 3.0 * np.sin(np.linspace(0, 8 * np.pi, 400))[:, None]
+    gyro[1000:1400] += 1.0
+
+    def same(r1, r2):
+        assert np.array_equal(r1.is_static, r2.is_static) and r1.rests == r2.rests
+        assert repr(r1.levels_text()) == repr(r2.levels_text())
+
+    same(rd.detect_rests(accel, dt, gyro_rad_s=gyro), rd.detect_rests_trusted(accel, dt, gyro, rd.RestDetectorParams()))
+    same(rd.paper_rest_report(accel, dt, gyro_rad_s=gyro, min_rest_s=0.5),
+         rd.paper_rest_report_trusted(accel, dt, gyro, 0.5, ZvdParams()))
+    same(rd.detect_rests_shoe(accel, dt, gyro_rad_s=gyro), rd.detect_rests_shoe_trusted(accel, dt, gyro, rd.ShoeParams()))

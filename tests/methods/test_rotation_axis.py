@@ -123,3 +123,27 @@ def test_distinct_positions_merges_same_tilt():
         fit_axis_plane(pos[:2], 0.01)
     with pytest.raises(ValueError, match="min_separation_deg must be > 0"):
         distinct_positions(m, [1] * 5, min_separation_deg=0.0)
+
+
+def test_trusted_twins_equal_the_checked_calls_bit_for_bit():
+    """The systems' trusted entries give exactly the checked functions' results."""
+    from mtcal.methods import rotation_axis as ra
+
+    rng = np.random.default_rng(11)
+    v = np.array([0.6, 0.0, 0.8])
+    a0 = np.array([0.0, 0.0, 9.81])
+    means = np.array([rotations.axis_angle_matrix(np.radians(d), v).T @ a0 for d in (0, 40, 90, 91e-3, 160)])
+    means += 0.01 * rng.standard_normal(means.shape)
+    counts = np.array([50.0, 80.0, 60.0, 40.0, 70.0])
+    assert np.array_equal(ra.angle_between(means[0], means[1:]), ra.angle_between_trusted(means[0], means[1:]))
+    assert np.array_equal(ra.axis_elevation(v, means), ra.axis_elevation_trusted(v, means))
+    assert np.array_equal(ra.axis_from_means(*means[:3], min_separation_deg=0.5, max_elevation_deg=85.0),
+                          ra.axis_from_means_trusted(means[0], means[1], means[2], 0.5, 85.0))
+    pos, w, members = ra.distinct_positions(means, counts, min_separation_deg=3.0)
+    pos_t, w_t, members_t = ra.distinct_positions_trusted(means, counts, 3.0)
+    assert np.array_equal(pos, pos_t) and np.array_equal(w, w_t) and members == members_t
+    fit, fit_t = ra.fit_axis_plane(pos, 0.01), ra.fit_axis_plane_trusted(pos, 0.01)
+    assert np.array_equal(fit.v, fit_t.v) and (fit.sigma_rad, fit.rms_out_of_plane_m_s2, fit.elevation_rad) == (
+        fit_t.sigma_rad, fit_t.rms_out_of_plane_m_s2, fit_t.elevation_rad)
+    with pytest.raises(ValueError, match="finite"):
+        ra.fit_axis_plane(np.full((3, 3), np.nan), 0.01)   # the checked entry still checks

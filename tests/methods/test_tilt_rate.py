@@ -300,3 +300,22 @@ def test_compiled_glue_matches_numpy_on_the_other_code_path():
     code = "from tests.methods import test_tilt_rate as t; t._check_against_numpy(); print('same bits')"
     res = run_on_the_other_code_path(code)
     assert res.returncode == 0 and res.stdout.strip() == "same bits", res.stderr[-2000:]
+
+
+def test_trusted_twins_equal_the_checked_calls():
+    """tilt_rate_scale_trusted / check_tilt_rate_scale_trusted: the checked functions' results, no second check."""
+    from mtcal.methods import tilt_rate
+
+    rng = np.random.default_rng(4)
+    n, dt = 2000, 0.01
+    ang = np.radians(30.0) * np.sin(np.linspace(0, 6 * np.pi, n))
+    rate = np.gradient(ang, dt)
+    accel = np.column_stack([np.zeros(n), 9.81 * np.sin(ang), 9.81 * np.cos(ang)]) + 0.01 * rng.standard_normal((n, 3))
+    gyro = np.column_stack([rate, np.zeros(n), np.zeros(n)]) + 0.001 * rng.standard_normal((n, 3))
+    skip = np.zeros(n, bool)
+    skip[100:120] = True
+    assert tilt_rate.tilt_rate_scale(gyro, accel, dt, skip=skip) == tilt_rate.tilt_rate_scale_trusted(
+        gyro, accel, dt, skip=skip)
+    assert tilt_rate.check_tilt_rate_scale(gyro, accel, dt) == tilt_rate.check_tilt_rate_scale_trusted(gyro, accel, dt)
+    with pytest.raises(ValueError, match="implausible"):
+        tilt_rate.check_tilt_rate_scale_trusted(gyro * 57.3, accel, dt)
