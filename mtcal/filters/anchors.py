@@ -94,6 +94,7 @@ from contextlib import contextmanager
 
 import numpy as np
 
+from mtcal.core import rotations
 from mtcal.core.validate import (STANDARD_GRAVITY_M_S2, as_float_array, check_accel_units, check_gyro_units,
                                  positive_scalar, unit_quaternion)
 
@@ -284,10 +285,13 @@ def run_axis_angle_filter(name: str, gyro_rad_s, accel_m_s2, dt_s: float, gain: 
     ((1, 50), True)
     """
     entry = get_filter(name)
+    require_filter(name)
     if entry.output == "attitude":
         q = run_attitude_filter(name, gyro_rad_s, accel_m_s2, dt_s, gain, init_samples=init_samples)
-        return _twist(q, _unit_axis(context.axis_s), ref_index)
-    require_filter(name)
+        # the twist about the axis (:func:`twist_angle_rad`) in core's rotations: the filter layer is left once
+        v = as_float_array(context.axis_s, "axis_s", ndim=1, last_dim=3)
+        rel = rotations.hamilton(rotations.quat_conjugate(np.broadcast_to(q[:, ref_index:ref_index + 1], q.shape)), q)
+        return rotations.wrap_angle(2.0 * np.arctan2(rel[..., 1:] @ (v / np.linalg.norm(v)), rel[..., 0]))
     w = as_float_array(gyro_rad_s, "gyro_rad_s", ndim=3, last_dim=3, copy=False)
     a = as_float_array(accel_m_s2, "accel_m_s2", ndim=3, last_dim=3, copy=False)
     g = positive_scalar(entry.default_gain if gain is None else gain, "gain")
@@ -393,22 +397,9 @@ def twist_angle_rad(q_ws, axis_s, ref_index: int = 0) -> np.ndarray:
     about the unit axis ``v`` is ``2 atan2(q_rel,vec · v, q_rel,0)`` (wrapped to (−π, π]).
     """
     q = as_float_array(q_ws, "q_ws", ndim=(2, 3), last_dim=4, copy=False)
-    return _twist(q, _unit_axis(axis_s), ref_index)
-
-
-def _unit_axis(axis_s) -> np.ndarray:
     v = as_float_array(axis_s, "axis_s", ndim=1, last_dim=3)
-    return v / np.linalg.norm(v)
-
-
-def _twist(q: np.ndarray, v: np.ndarray, ref_index: int) -> np.ndarray:
-    """:func:`twist_angle_rad` of checked attitudes (finite float64 (..., N, 4), e.g. a filter's output) and
-    a unit axis (3,)."""
-    from mtcal.core import rotations
-
-    ref = q[..., ref_index:ref_index + 1, :]
-    rel = rotations.hamilton(rotations.quat_conjugate(np.broadcast_to(ref, q.shape)), q)
-    return rotations.wrap_angle(2.0 * np.arctan2(rel[..., 1:] @ v, rel[..., 0]))
+    rel = rotations.hamilton(rotations.quat_conjugate(np.broadcast_to(q[..., ref_index:ref_index + 1, :], q.shape)), q)
+    return rotations.wrap_angle(2.0 * np.arctan2(rel[..., 1:] @ (v / np.linalg.norm(v)), rel[..., 0]))
 
 
 # --------------------------------------------------------------------------- the registry's runners

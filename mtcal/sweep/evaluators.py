@@ -51,7 +51,7 @@ from mtcal.core import rotations
 from mtcal.core.compiled import jit
 from mtcal.core.profiles import AngleProfile, fixed_axis_trajectory, step_schedule, trajectory_from_euler_zxy
 from mtcal.core.sensor_grades import grade_names, sensor_grade
-from mtcal.core.simulate import ImuErrorModel, Trajectory, apply_sensor_errors, simulate_imu
+from mtcal.core.simulate import ImuErrorModel, ImuStream, Trajectory, apply_sensor_errors
 from mtcal.core.units import DEG
 
 __all__ = ["Evaluator", "register_evaluator", "get_evaluator", "evaluator_names", "MOTIONS", "filter_gain",
@@ -240,37 +240,35 @@ def filter_gain(params: dict, name: str) -> float:
     return float(base) * float(params.get("gain_scale", 1.0))
 
 
-def _grade_model(params: dict) -> ImuErrorModel:
-    return sensor_grade(params["grade"]).error_model(time_since_power_on_s=300.0)
-
-
 # --------------------------------------------------------------------------- simulation
 def _simulate_block(truth: "Trajectory", model: ImuErrorModel, rngs: list, vibration_m_s2: float = 0.0,
                     vibration_hz: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
     """Per-trial sensor errors on a shared truth: gyro, accel (T, N, 3).
 
     From the engine (``rngs`` a :class:`mtcal.sweep.engine.TrialStreams`): one batched
-    :func:`~mtcal.core.simulate.simulate_imu` call, the cell's keyed stream with the trials'
-    global indices as ``trial_ids`` (trial j's numbers do not depend on its block-mates).
-    From a plain list of generators: trial j uses ``rngs[j]`` only (one call per trial).
+    :class:`~mtcal.core.simulate.ImuStream` filled at once (as :func:`~mtcal.core.simulate.simulate_imu`),
+    the cell's keyed stream with the trials' global indices as ``trial_ids`` (trial j's numbers do not
+    depend on its block-mates). From a plain list of generators: trial j uses ``rngs[j]`` only (one call
+    per trial).
     """
     accel_err = model.accel
     if vibration_m_s2 > 0:
         accel_err = replace(accel_err, vibration_amplitude=float(vibration_m_s2),
                             vibration_freq_hz=float(vibration_hz))
     ids = getattr(rngs, "trial_ids", None)
-    if ids is not None:
-        rec = simulate_imu(truth, replace(model, accel=accel_err), rngs.cell_rng(), trials=len(ids), trial_ids=ids)
-        return rec.gyro_rad_s, rec.accel_m_s2
-    ideal = simulate_imu(truth, ImuErrorModel(q_mount=model.q_mount))
     n = len(truth)
+    if ids is not None:
+        gyro, accel = np.empty((len(ids), n, 3)), np.empty((len(ids), n, 3))
+        ImuStream(truth, replace(model, accel=accel_err), rngs.cell_rng(), len(ids), trial_ids=ids).fill(gyro, accel)
+        return gyro, accel
+    ideal = ImuStream(truth, ImuErrorModel(q_mount=model.q_mount))
     gyro = np.empty((len(rngs), n, 3))
     accel = np.empty((len(rngs), n, 3))
     for j, rng in enumerate(rngs):  # per-trial streams keep every trial independent of the block
         g_rng, a_rng = rng.spawn(2)
-        gyro[j] = apply_sensor_errors(model.gyro, ideal.gyro_true_rad_s, truth.time_s, g_rng,
+        gyro[j] = apply_sensor_errors(model.gyro, ideal.gyro_true, truth.time_s, g_rng,
                                       time_since_power_on_s=model.time_since_power_on_s)
-        accel[j] = apply_sensor_errors(accel_err, ideal.accel_true_m_s2, truth.time_s, a_rng,
+        accel[j] = apply_sensor_errors(accel_err, ideal.accel_true, truth.time_s, a_rng,
                                        time_since_power_on_s=model.time_since_power_on_s)
     return gyro, accel
 
@@ -350,10 +348,10 @@ def _tilt_error_deg(q_est: np.ndarray, q_true: np.ndarray) -> np.ndarray:
     return _tilt_deg_kernel(np.ascontiguousarray(q_est, dtype=float), np.ascontiguousarray(up))
 
 
-def _hold_mask(profile: AngleProfile, first: int = 1, fraction: float = 0.5) -> np.ndarray:
-    """Middle ``fraction`` of every hold from hold ``first`` on (the static evaluation windows)."""
-    mask = np.zeros(profile.time_s.size, bool)
-    for s in profile.hold_slices()[first:]:
+def _hold_mask(holds: list, n_samples: int, fraction: float = 0.5) -> np.ndarray:
+    """Middle ``fraction`` of every hold slice in ``holds`` (the static evaluation windows), shape (n_samples,)."""
+    mask = np.zeros(n_samples, bool)
+    for s in holds:
         n = s.stop - s.start
         m = max(1, int(round(n * fraction)))
         a = s.start + (n - m) // 2
@@ -432,19 +430,25 @@ def _attitude_metrics(p: dict) -> list[str]:
     metrics=_attitude_metrics, check=_check_attitude,
     description="tilt error of attitude filters on wang2023cja turntable / wind-tunnel sweeps")
 def _attitude(p: dict, rngs: list) -> dict[str, np.ndarray]:
-    """Tilt errors (deg) of each filter after the settling rest: RMS, RMS over holds, max."""
+    """Tilt errors (deg) of each filter after the settling rest: RMS, RMS over holds, max.
+
+    One pass per layer: the truth (profile, trajectory, holds, sensor model: :mod:`mtcal.core`), the
+    trials simulated at once, then each filter on the stacked trials with its gain, then its metrics.
+    """
     from mtcal.filters.anchors import run_attitude_filter
 
     prof = attitude_profile(p["motion"], p["fs_hz"], hold_s=p["hold_s"], speed=p["speed"])
     traj = trajectory_from_euler_zxy(prof)
-    gyro, accel = _simulate_block(traj, _grade_model(p), rngs, p["vibration_m_s2"], p["vibration_hz"])
-    after = prof.time_s >= prof.time_s[prof.hold_slices()[0].stop - 1]
-    holds = _hold_mask(prof)
+    holds = prof.hold_slices()
+    model = sensor_grade(p["grade"]).error_model(time_since_power_on_s=300.0)
+    gyro, accel = _simulate_block(traj, model, rngs, p["vibration_m_s2"], p["vibration_hz"])
+    after = prof.time_s >= prof.time_s[holds[0].stop - 1]
     init = max(1, int(round(0.5 * p["fs_hz"])))   # level from the first 0.5 s of the settling rest
+    gains = {name: filter_gain(p, name) for name in _filter_list(p)}
     out = {}
-    for name in _filter_list(p):
-        q = run_attitude_filter(name, gyro, accel, traj.dt_s, filter_gain(p, name), init_samples=init)
-        m = _row_metrics(_tilt_error_deg(q, traj.q_wb), after, holds)          # (T, 3)
+    for name, gain in gains.items():
+        q = run_attitude_filter(name, gyro, accel, traj.dt_s, gain, init_samples=init)
+        m = _row_metrics(_tilt_error_deg(q, traj.q_wb), after, _hold_mask(holds[1:], after.size))   # (T, 3)
         out[f"{name}.tilt_rmse_deg"], out[f"{name}.hold_tilt_rmse_deg"], out[f"{name}.tilt_max_deg"] = m.T
     return out
 
@@ -514,24 +518,24 @@ def _surface(p: dict, rngs: list) -> dict[str, np.ndarray]:
     chord = np.cross(axis, [0.0, 0.0, 1.0])
     lever = p["lever_arm_m"] * chord / np.linalg.norm(chord) + np.array([0.0, 0.0, 0.02])
     traj = fixed_axis_trajectory(prof, axis, lever_arm_b_m=lever)
+    holds = prof.hold_slices()
     grade = sensor_grade(p["grade"])
-    gyro, accel = _simulate_block(traj, _grade_model(p), rngs, p["vibration_m_s2"], p["vibration_hz"])
-    settle = prof.hold_slices()[0]
-    ref = settle.stop - 1
+    gyro, accel = _simulate_block(traj, grade.error_model(time_since_power_on_s=300.0), rngs, p["vibration_m_s2"],
+                                  p["vibration_hz"])
+    settle, ref = holds[0], holds[0].stop - 1
     theta_true = prof.angle_rad[:, 0] - prof.angle_rad[ref, 0]
     after = np.arange(prof.time_s.size) >= ref
-    holds = _hold_mask(prof)
+    gains = {name: filter_gain(p, name) for name in _filter_list(p)}
     ctx = AxisContext(axis, np.broadcast_to(prof.is_static, accel.shape[:2]),
                       np.stack([np.mean(row[settle], axis=0) for row in accel]),
                       grade.gyro_noise_density_rad_s_rt_hz, grade.accel_noise_density_m_s2_rt_hz,
-                      init=settle, rests=tuple(prof.hold_slices()))
+                      init=settle, rests=tuple(holds))
     init = max(1, int(round(0.5 * p["fs_hz"])))
     out = {}
-    for name in _filter_list(p):
-        theta = run_axis_angle_filter(name, gyro, accel, traj.dt_s, filter_gain(p, name), ctx, ref_index=ref,
-                                      init_samples=init)
+    for name, gain in gains.items():
+        theta = run_axis_angle_filter(name, gyro, accel, traj.dt_s, gain, ctx, ref_index=ref, init_samples=init)
         err = np.degrees(rotations.wrap_angle(theta - theta_true))
-        m = _row_metrics(err, after, holds)
+        m = _row_metrics(err, after, _hold_mask(holds[1:], after.size))
         out[f"{name}.angle_rmse_deg"], out[f"{name}.hold_angle_rmse_deg"], out[f"{name}.angle_max_deg"] = m.T
     return out
 
@@ -588,25 +592,26 @@ def _six_position(p: dict, rngs: list) -> dict[str, np.ndarray]:
     from mtcal.methods.six_position import schedule_profile
     from mtcal.systems import installation
 
+    config = installation.InstallationConfig.sweep_cell()
     val = validation_positions_rad()
     pos = val[:p["n_positions"]]
     prof = schedule_profile(pos, rate_rad_s=20 * DEG, rest_s=p["rest_s"], fs_hz=p["fs_hz"])
     traj = trajectory_from_euler_zxy(prof)
-    alpha = np.radians(p["alpha_deg"])
-    q_bs = rotations.mount_quaternion(alpha)                                     # Eq 1, as the study and CLI
+    rests = prof.hold_slices()[1:-1]
+    q_bs = rotations.mount_quaternion(np.radians(p["alpha_deg"]))               # Eq 1, as the study and CLI
+    q_b_val = rotations.quat_from_euler_zxy(val[:, 0], val[:, 1], val[:, 2])      # (12, 4)
+    q_true0 = rotations.quat_multiply(traj.q_wb[0], q_bs)
+    q_s_val = rotations.quat_multiply(rotations.quat_conjugate(q_true0), rotations.quat_multiply(q_b_val, q_bs))
+    before = np.degrees(rotations.quat_angle_between(q_s_val, q_b_val))
     model = sensor_grade(p["grade"]).error_model(q_mount=q_bs, time_since_power_on_s=300.0)
     gyro, accel = _simulate_block(traj, model, rngs)
     init = max(1, int(round(0.5 * p["fs_hz"])))
     q_ws = run_attitude_filter("qncf", gyro, accel, traj.dt_s, init_samples=init)
-    rests = prof.hold_slices()[1:-1]
-    q_mat = installation.calibrate_installation(installation.InstallationConfig.sweep_cell(), pos, 1.0 / p["fs_hz"],
-                                                q_ws=q_ws, rests=rests).q_hat    # (T, 4, 4), trials stacked
-    q_b_val = rotations.quat_from_euler_zxy(val[:, 0], val[:, 1], val[:, 2])      # (12, 4)
-    q_true0 = rotations.quat_multiply(traj.q_wb[0], q_bs)
-    q_s_val = rotations.quat_multiply(rotations.quat_conjugate(q_true0), rotations.quat_multiply(q_b_val, q_bs))
-    after = quaternion_lsq.apply_error_matrix(q_mat, np.broadcast_to(q_s_val, (len(rngs),) + q_s_val.shape))
+    q_mat = installation.calibrate_installation(config, pos, 1.0 / p["fs_hz"], q_ws=q_ws, rests=rests).q_hat  # (T, 4, 4)
+    # Eq 10 on the checked Q̂ (the system's) and the validation attitudes made here: methods' trusted map
+    after = quaternion_lsq._apply(q_mat, np.broadcast_to(q_s_val, (len(rngs),) + q_s_val.shape))
     res = np.degrees(rotations.quat_angle_between(after, q_b_val[None]))
-    before = np.broadcast_to(np.degrees(rotations.quat_angle_between(q_s_val, q_b_val)), res.shape)
+    before = np.broadcast_to(before, res.shape)
     return {"residual_max_deg": res.max(axis=1), "residual_rms_deg": _rms_rows(res, np.ones(res.shape[1], bool)),
             "before_max_deg": before.max(axis=1)}
 
