@@ -607,7 +607,8 @@ def _six_position(p: dict, rngs: list) -> dict[str, np.ndarray]:
     gyro, accel = _simulate_block(traj, model, rngs)
     init = max(1, int(round(0.5 * p["fs_hz"])))
     q_ws = run_attitude_filter("qncf", gyro, accel, traj.dt_s, init_samples=init)
-    q_mat = installation.calibrate_installation(config, pos, 1.0 / p["fs_hz"], q_ws=q_ws, rests=rests).q_hat  # (T, 4, 4)
+    cal = installation.calibrate_installation(config, pos, 1.0 / p["fs_hz"], q_ws=q_ws, rests=rests)
+    q_mat = cal.q_hat                                                             # (T, 4, 4), trials stacked
     # Eq 10 on the checked Q̂ (the system's) and the validation attitudes made here: methods' trusted map
     after = quaternion_lsq._apply(q_mat, np.broadcast_to(q_s_val, (len(rngs),) + q_s_val.shape))
     res = np.degrees(rotations.quat_angle_between(after, q_b_val[None]))

@@ -9,8 +9,8 @@ from mtcal.core import rotations
 from mtcal.core.simulate import Trajectory, simulate_imu
 from mtcal.filters import registry
 from mtcal.filters.anchors import (available_filters, reference_difference, reference_runs, require_filter,
-                                   run_attitude_filter, tilt_error_rad, twist_angle_rad)
-from mtcal.filters.registry import filter_names, get_filter
+                                   run_attitude_filter, run_axis_angle_filter, tilt_error_rad, twist_angle_rad)
+from mtcal.filters.registry import AxisContext, filter_names, get_filter
 
 G = 9.80665
 _LIBS = {"madgwick": "ahrs", "vqf": "vqf", "fusion": "imufusion"}
@@ -85,6 +85,22 @@ def test_tilt_error_ignores_yaw_and_twist_angle_recovers_rotation():
     q0 = rotations.quat_from_euler_zxy(0.2, 0.1, -0.3)
     qs = rotations.quat_multiply(q0, rotations.quat_from_rotvec(theta[:, None] * axis))
     np.testing.assert_allclose(twist_angle_rad(qs, axis, ref_index=17), theta - theta[17], atol=1e-12)
+
+
+def test_axis_angle_of_an_attitude_filter_is_the_twist_of_its_attitude():
+    rng = np.random.default_rng(4)
+    axis = np.array([0.1734, 0.9835, 0.0523])
+    t = np.arange(300) * 0.01
+    theta = 0.8 * np.sin(t)
+    q_ws = rotations.quat_from_rotvec(theta[:, None] * (axis / np.linalg.norm(axis)))
+    rec = simulate_imu(Trajectory(t, q_ws))
+    gyro = rec.gyro_rad_s[None] + rng.normal(0, 1e-3, (2, t.size, 3))
+    accel = rec.accel_m_s2[None] + rng.normal(0, 1e-2, (2, t.size, 3))
+    ctx = AxisContext(axis, np.zeros((2, t.size), bool), accel[:, 0], 1e-4, 1e-3)
+    got = run_axis_angle_filter("mahony", gyro, accel, 0.01, 0.5, ctx, ref_index=20, init_samples=30)
+    q = run_attitude_filter("mahony", gyro, accel, 0.01, 0.5, init_samples=30)
+    assert np.array_equal(got, twist_angle_rad(q, axis, ref_index=20))   # the same operations, bit for bit
+    assert got.shape == (2, t.size) and np.all(got[:, 20] == 0.0)
 
 
 def test_available_and_errors(monkeypatch):
