@@ -25,6 +25,11 @@ Registered evaluators (:func:`evaluator_names`):
 * ``gaussian_check`` — the engine's self-check (RMS of white noise: median known
   in closed form).
 
+Each simulation evaluator is one pass per layer: the cell's truth (profile, trajectory, holds,
+sensor model: :mod:`mtcal.core`), every trial simulated at once (:func:`_simulate_block`), the
+gains resolved, the filters (or the installation system) run once on the stacked trials, then
+the metrics.
+
 Motion values (sweep angles, rates, holds) are the wang2023cja / wang2022sensors
 scenario values, restated here with their source so that the sweep does not
 depend on the study packages' internals.
