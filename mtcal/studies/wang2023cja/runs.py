@@ -607,7 +607,10 @@ def _pitch_after(q_mat, q_s) -> np.ndarray:
                 raise FloatingPointError("Eq 8 angles are not finite: a calibration matrix or attitude of this run "
                                          "is NaN/inf")
             return out
-    return _euler(quaternion_lsq.apply_error_matrix(q_mat, q_s))[..., 1]
+    euler = rotations.euler_zxy_unchecked(quaternion_lsq.apply_error_matrix(q_mat, q_s))   # _euler, written out
+    if not np.isfinite(euler).all():
+        raise FloatingPointError("Eq 8 angles are not finite: a calibration matrix or attitude of this run is NaN/inf")
+    return euler[..., 1]
 
 
 def _maxae_rmse(err) -> tuple[np.ndarray, np.ndarray]:
@@ -717,8 +720,8 @@ def _wt_schedule(sc, waypoints_deg, rate, lead_s=8.0, hold_s=None):
 
 
 def _wt_schedule_build(sc, waypoints_deg, rate, lead_s, hold):
-    return step_schedule(_wt_waypoints(waypoints_deg), rate, _wt_holds_s(waypoints_deg, lead_s, hold), sc.fs_hz,
-                         min_move_s=0.5)
+    wp, holds_s = _wt_waypoints(waypoints_deg), _wt_holds_s(waypoints_deg, lead_s, hold)
+    return step_schedule(wp, rate, holds_s, sc.fs_hz, min_move_s=0.5)
 
 
 def _wt_waypoints(waypoints_deg) -> np.ndarray:
@@ -809,10 +812,11 @@ def _run_windtunnel_block(sc: WindTunnelScenario, rng: np.random.Generator, tria
     aoa_wp = _wt_waypoints(sc.aoa_sweep_deg)
     pos = windtunnel_positions(sc)
 
+    aoa_holds_s = _wt_holds_s(sc.aoa_sweep_deg, 1.0, sc.hold_s)
+
     def session():
         cal_prof = six_position.schedule_profile(pos, rate_rad_s=5 * DEG, rest_s=sc.rest_s, fs_hz=sc.fs_hz)
-        aoa_prof = step_schedule(aoa_wp, sc.mechanism_rate_rad_s, _wt_holds_s(sc.aoa_sweep_deg, 1.0, sc.hold_s),
-                                 sc.fs_hz, min_move_s=0.5)
+        aoa_prof = step_schedule(aoa_wp, sc.mechanism_rate_rad_s, aoa_holds_s, sc.fs_hz, min_move_s=0.5)
         return _concat_profiles([cal_prof, aoa_prof])
     prof, spans = _shared_profile(("wind tunnel session", _key(pos), float(sc.rest_s), float(sc.fs_hz),
                                    _key(sc.aoa_sweep_deg), float(sc.mechanism_rate_rad_s), float(sc.hold_s)), session)
@@ -821,8 +825,13 @@ def _run_windtunnel_block(sc: WindTunnelScenario, rng: np.random.Generator, tria
     holds = [slice(h.start - span.start, h.stop - span.start) for h in _shared_holds(prof, span, frac)][1:-1]
     ref_err = _draws(rng_ref, trials, 6, sc.repeatability_rad, "reference_angle" in on)   # its own generator
     # truth: the mechanism's actual angles, tilted by the mount; then the IMU (core)
-    groups = _wind_on_truth(sc, rng_wind, trials, k_mount) if wind_on else None
-    traj = compliance_trajectory(prof.time_s, mechanism_actual(sc, prof, sc.mechanism_rate_rad_s), k_mount)
+    actual = mechanism_actual(sc, prof, sc.mechanism_rate_rad_s)
+    groups = _wind_on_truth(sc, rng_wind, trials) if wind_on else []
+    traj, *group_trajs = [compliance_trajectory(t, a, k_mount) for t, a in
+                          [(prof.time_s, actual)] + [(grp.prof.time_s, grp.actual) for grp in groups]]
+    for grp, group_traj in zip(groups, group_trajs):
+        grp.traj = group_traj
+    del actual, group_trajs
     model = sc.imu.error_model(mount_quaternion(np.radians(sc.alpha_deg)), sources, sc.errors)
     gyro, accel = np.empty((trials, len(traj), 3)), np.empty((trials, len(traj), 3))
     ImuStream(traj, model, rng=rng_imu, trials=trials).fill(gyro, accel)
@@ -902,15 +911,17 @@ class _WindOnGroup:
     """One wind-on group's settings and truth (:func:`_wind_on_truth`)."""
 
     prof: AngleProfile
-    traj: object              # Trajectory of the IMU base
+    holds: list               # hold windows of the sweep (first and last dropped)
+    actual: np.ndarray        # truth angles (N, 3) rad: mechanism + elastic deflection + angular vibration
     ramp: np.ndarray          # flow ramp 0…1 (N,)
     vib: np.ndarray           # accelerometer vibration phases (trials, 1, 3) rad
     rng_imu: np.random.Generator
+    traj: object = None       # Trajectory of the IMU base (compliance_trajectory of ``actual``)
 
 
-def _wind_on_truth(sc, rng, trials, k_mount) -> list[_WindOnGroup]:
-    """The five wind-on groups' profiles, draws and truth trajectories (mechanism angles + elastic deflection
-    + angular vibration, tilted by the mount), each group from its own generators
+def _wind_on_truth(sc, rng, trials) -> list[_WindOnGroup]:
+    """The five wind-on groups' profiles, hold windows, draws and truth angles (mechanism angles + elastic
+    deflection + angular vibration; the caller tilts them by the mount), each group from its own generators
     ``child_rngs(child_rngs(rng, 5)[g], 3)`` (dynamic pressure, IMU, vibration)."""
     group_rngs = child_rngs(rng, 5)
     rates = [sc.group5_rate_rad_s if g == 4 else sc.mechanism_rate_rad_s for g in range(5)]
@@ -927,7 +938,7 @@ def _wind_on_truth(sc, rng, trials, k_mount) -> list[_WindOnGroup]:
         actual[:, 1] += ramp * (q_factor * elastic_deflection_rad(sc.elastic_true_deg, prof.angle_rad[:, 1])
                                 + sc.vibration_angle_rad * np.sin(2 * np.pi * sc.vibration_freq_hz * t + phase))
         vib = r_vib.uniform(0, 2 * np.pi, (trials, 1, 3))
-        groups.append(_WindOnGroup(prof, compliance_trajectory(t, actual, k_mount), ramp, vib, r_imu))
+        groups.append(_WindOnGroup(prof, _shared_holds(prof, slice(0, t.size), 0.5)[1:-1], actual, ramp, vib, r_imu))
     return groups
 
 
@@ -936,6 +947,8 @@ def _wind_on_groups(sc, model, q_mat, groups, trials, trace, keep_trace, trace_i
     trials for the QNCF (``shared``: :func:`run_windtunnel`)."""
     lead_s = _WIND_LEAD_S
     profs = [grp.prof for grp in groups]
+    ref = np.radians(np.asarray(sc.wind_on_sweep_deg, float))
+    elastic_corrected = ref + elastic_deflection_rad(sc.elastic_model_deg, ref)
     n = max(p.time_s.size for p in profs)
     # stacked, each group padded with its last sample; a group goes in as soon as it is simulated (peak
     # memory: the stack + one group)
@@ -962,10 +975,8 @@ def _wind_on_groups(sc, model, q_mat, groups, trials, trace, keep_trace, trace_i
     means = np.empty((5, trials, len(sc.wind_on_sweep_deg)))
     for g, prof in enumerate(profs):
         sl = slice(g * trials, (g + 1) * trials)
-        span = slice(0, prof.time_s.size)
-        holds = _shared_holds(prof, span, 0.5)[1:-1]
         q_g = q_s[sl]
-        for j, h in enumerate(holds):
+        for j, h in enumerate(groups[g].holds):
             means[g, :, j] = _pitch_after(q_rep[sl], q_g[:, h]).mean(axis=1)
         if not keep_trace:
             continue
@@ -974,12 +985,10 @@ def _wind_on_groups(sc, model, q_mat, groups, trials, trace, keep_trace, trace_i
             trace["gate"] = res.gate[trace_index, :prof.time_s.size]
         trace[f"wind_time_s_{g}"] = prof.time_s.copy()            # the profile is shared (read-only)
         trace[f"wind_reference_{g}"] = prof.angle_rad[:, 1].copy()
-        trace[f"wind_pitch_{g}"] = rotations.euler_zxy_from_quat(
-            quaternion_lsq.apply_error_matrix(q_rep[sl][trace_index:trace_index + 1],
-                                              q_g[trace_index:trace_index + 1, :prof.time_s.size]))[0, :, 1]
-    ref = np.radians(np.asarray(sc.wind_on_sweep_deg, float))
-    return {"reference": ref, "group_means": means,
-            "elastic_corrected": ref + elastic_deflection_rad(sc.elastic_model_deg, ref),
+        q_after = quaternion_lsq.apply_error_matrix(q_rep[sl][trace_index:trace_index + 1],
+                                                    q_g[trace_index:trace_index + 1, :prof.time_s.size])
+        trace[f"wind_pitch_{g}"] = rotations.euler_zxy_from_quat(q_after)[0, :, 1]
+    return {"reference": ref, "group_means": means, "elastic_corrected": elastic_corrected,
             "gate_fraction_on": float(res.gate[:, int(lead_s * sc.fs_hz):].mean()),
             "gate_fraction_on_trials": res.gate[:, int(lead_s * sc.fs_hz):].reshape(5, trials, -1).mean(axis=(0, 2))}
 
