@@ -689,12 +689,13 @@ def _shared_profile(key: tuple, build):
         if len(_PROFILES) >= 32:
             _PROFILES.clear()
             _PROFILE_HOLDS.clear()
-        hit = build()                                  # an AngleProfile, or (AngleProfile, spans)
-        prof = hit[0] if isinstance(hit, tuple) else hit
-        for f in ("time_s", "angle_rad", "rate_rad_s", "accel_rad_s2", "is_static", "segment"):
-            getattr(prof, f).setflags(write=False)
+        hit = build()                     # an AngleProfile, or (AngleProfile, spans[, tuple of AngleProfile])
+        profs = [hit] if not isinstance(hit, tuple) else [hit[0], *(hit[2] if len(hit) > 2 else ())]
+        for prof in profs:
+            for f in ("time_s", "angle_rad", "rate_rad_s", "accel_rad_s2", "is_static", "segment"):
+                getattr(prof, f).setflags(write=False)
+            _PROFILE_HOLDS[id(prof)] = {}              # the profile stays alive in _PROFILES: its id is its own
         _PROFILES[key] = hit
-        _PROFILE_HOLDS[id(prof)] = {}                  # the profile stays alive in _PROFILES: its id is its own
     return hit
 
 
@@ -711,17 +712,6 @@ def _shared_holds(prof: AngleProfile, span: slice, fraction: float) -> list[slic
 
 def _key(values) -> tuple:
     return tuple(np.asarray(values, float).ravel().tolist())
-
-
-def _wt_schedule(sc, waypoints_deg, rate, lead_s=8.0, hold_s=None):
-    hold = sc.hold_s if hold_s is None else hold_s
-    return _shared_profile(("wind tunnel sweep", _key(waypoints_deg), float(rate), float(lead_s), float(hold),
-                            float(sc.fs_hz)), lambda: _wt_schedule_build(sc, waypoints_deg, rate, lead_s, hold))
-
-
-def _wt_schedule_build(sc, waypoints_deg, rate, lead_s, hold):
-    wp, holds_s = _wt_waypoints(waypoints_deg), _wt_holds_s(waypoints_deg, lead_s, hold)
-    return step_schedule(wp, rate, holds_s, sc.fs_hz, min_move_s=0.5)
 
 
 def _wt_waypoints(waypoints_deg) -> np.ndarray:
@@ -809,24 +799,29 @@ def _run_windtunnel_block(sc: WindTunnelScenario, rng: np.random.Generator, tria
     on = set(sources)
     k_mount = sc.errors.compliance_deg_g(MOUNT_TYPE["windtunnel"]) * DEG if "mount_compliance" in on else 0.0
     # --- wind-off session: calibration then AoA sweep
-    aoa_wp = _wt_waypoints(sc.aoa_sweep_deg)
+    aoa_wp, aoa_holds_s = _wt_waypoints(sc.aoa_sweep_deg), _wt_holds_s(sc.aoa_sweep_deg, 1.0, sc.hold_s)
+    # the wind-on groups' sweeps (group 5 at its own rate)
+    won_rates = [sc.group5_rate_rad_s if g == 4 else sc.mechanism_rate_rad_s for g in range(5)]
+    won_wp = _wt_waypoints(sc.wind_on_sweep_deg)
+    won_holds_s = _wt_holds_s(sc.wind_on_sweep_deg, _WIND_LEAD_S, sc.wind_on_hold_s)
     pos = windtunnel_positions(sc)
-
-    aoa_holds_s = _wt_holds_s(sc.aoa_sweep_deg, 1.0, sc.hold_s)
 
     def session():
         cal_prof = six_position.schedule_profile(pos, rate_rad_s=5 * DEG, rest_s=sc.rest_s, fs_hz=sc.fs_hz)
         aoa_prof = step_schedule(aoa_wp, sc.mechanism_rate_rad_s, aoa_holds_s, sc.fs_hz, min_move_s=0.5)
-        return _concat_profiles([cal_prof, aoa_prof])
-    prof, spans = _shared_profile(("wind tunnel session", _key(pos), float(sc.rest_s), float(sc.fs_hz),
-                                   _key(sc.aoa_sweep_deg), float(sc.mechanism_rate_rad_s), float(sc.hold_s)), session)
+        by_rate = {r: step_schedule(won_wp, r, won_holds_s, sc.fs_hz, min_move_s=0.5) for r in dict.fromkeys(won_rates)}
+        return (*_concat_profiles([cal_prof, aoa_prof]), tuple(by_rate[r] for r in won_rates))
+    prof, spans, won_profs = _shared_profile(
+        ("wind tunnel session", _key(pos), float(sc.rest_s), float(sc.fs_hz), _key(sc.aoa_sweep_deg),
+         float(sc.mechanism_rate_rad_s), float(sc.hold_s), _key(sc.wind_on_sweep_deg), float(sc.group5_rate_rad_s),
+         float(sc.wind_on_hold_s)), session)
     spans = dict(zip(("calibration", "aoa"), spans))
     span = spans["aoa"]
     holds = [slice(h.start - span.start, h.stop - span.start) for h in _shared_holds(prof, span, frac)][1:-1]
     ref_err = _draws(rng_ref, trials, 6, sc.repeatability_rad, "reference_angle" in on)   # its own generator
     # truth: the mechanism's actual angles, tilted by the mount; then the IMU (core)
     actual = mechanism_actual(sc, prof, sc.mechanism_rate_rad_s)
-    groups = _wind_on_truth(sc, rng_wind, trials) if wind_on else []
+    groups = _wind_on_truth(sc, rng_wind, trials, won_profs, won_rates) if wind_on else []
     traj, *group_trajs = [compliance_trajectory(t, a, k_mount) for t, a in
                           [(prof.time_s, actual)] + [(grp.prof.time_s, grp.actual) for grp in groups]]
     for grp, group_traj in zip(groups, group_trajs):
@@ -919,14 +914,11 @@ class _WindOnGroup:
     traj: object = None       # Trajectory of the IMU base (compliance_trajectory of ``actual``)
 
 
-def _wind_on_truth(sc, rng, trials) -> list[_WindOnGroup]:
+def _wind_on_truth(sc, rng, trials, profs, rates) -> list[_WindOnGroup]:
     """The five wind-on groups' profiles, hold windows, draws and truth angles (mechanism angles + elastic
     deflection + angular vibration; the caller tilts them by the mount), each group from its own generators
     ``child_rngs(child_rngs(rng, 5)[g], 3)`` (dynamic pressure, IMU, vibration)."""
     group_rngs = child_rngs(rng, 5)
-    rates = [sc.group5_rate_rad_s if g == 4 else sc.mechanism_rate_rad_s for g in range(5)]
-    profs = [_wt_schedule(sc, sc.wind_on_sweep_deg, rate, lead_s=_WIND_LEAD_S, hold_s=sc.wind_on_hold_s)
-             for rate in rates]
     groups = []
     for g, (prof, rate) in enumerate(zip(profs, rates)):
         r_q, r_imu, r_vib = child_rngs(group_rngs[g], 3)
