@@ -793,7 +793,8 @@ def _run_windtunnel_block(sc: WindTunnelScenario, rng: np.random.Generator, tria
     ``vibration_freq_hz`` plus angular pitch vibration), which trips the AMD:
     the QNCF runs on the gyro alone.
     """
-    # settings: positions, the session's profile and hold windows, the mount's compliance
+    # settings: waypoints, positions, the profiles of the session and of the wind-on groups, hold windows,
+    # the reference draws and the mount's compliance
     rng_imu, rng_ref, rng_wind, rng_change = child_rngs(rng, 4)
     frac = 0.5
     on = set(sources)
@@ -825,11 +826,12 @@ def _run_windtunnel_block(sc: WindTunnelScenario, rng: np.random.Generator, tria
     traj, *group_trajs = [compliance_trajectory(t, a, k_mount) for t, a in
                           [(prof.time_s, actual)] + [(grp.prof.time_s, grp.actual) for grp in groups]]
     for grp, group_traj in zip(groups, group_trajs):
-        grp.traj = group_traj
+        grp.traj, grp.actual = group_traj, None      # the angles are in the trajectory now
     del actual, group_trajs
     model = sc.imu.error_model(mount_quaternion(np.radians(sc.alpha_deg)), sources, sc.errors)
     gyro, accel = np.empty((trials, len(traj), 3)), np.empty((trials, len(traj), 3))
     ImuStream(traj, model, rng=rng_imu, trials=trials).fill(gyro, accel)
+    del traj                                         # (its truth outputs: not kept while the wind is on)
     if "accel_run_change" in on:        # bias change between the calibration and the sweep
         accel[:, spans["aoa"].start:] += (sc.errors.accel_run_bias_mg * MG
                                           * rng_change.standard_normal((trials, 1, 3)))
@@ -955,6 +957,7 @@ def _wind_on_groups(sc, model, q_mat, groups, trials, trace, keep_trace, trace_i
         # a group as long as the stack is simulated straight into its rows, a shorter one into its own arrays
         g_g, a_g = (gyro[rows], accel[rows]) if m == n else (np.empty((trials, m, 3)), np.empty((trials, m, 3)))
         ImuStream(grp.traj, model_g, rng=grp.rng_imu, trials=trials).fill(g_g, a_g)
+        grp.traj = None                              # dropped once simulated (peak memory: the stack + one group)
         a_g += shake
         if m < n:
             for x, out in ((g_g, gyro), (a_g, accel)):
