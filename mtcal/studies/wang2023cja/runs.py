@@ -957,7 +957,8 @@ def _wind_on_groups(sc, model, q_mat, groups, trials, trace, keep_trace, trace_i
         # a group as long as the stack is simulated straight into its rows, a shorter one into its own arrays
         g_g, a_g = (gyro[rows], accel[rows]) if m == n else (np.empty((trials, m, 3)), np.empty((trials, m, 3)))
         ImuStream(grp.traj, model_g, rng=grp.rng_imu, trials=trials).fill(g_g, a_g)
-        grp.traj = None                              # dropped once simulated (peak memory: the stack + one group)
+        grp.traj = None                              # dropped once simulated (the groups still to come keep
+        #                                              theirs: about 1 % of the stack at 500 Hz, measured)
         a_g += shake
         if m < n:
             for x, out in ((g_g, gyro), (a_g, accel)):
