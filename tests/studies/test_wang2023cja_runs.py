@@ -365,3 +365,48 @@ def test_shared_trajectories_give_one_object_per_compliance_and_drop_it_after_it
     other = shared(2e-3)
     assert shared.memo == {}
     assert np.array_equal(other.q_wb, scenario._compliant(prof.time_s, base, 2e-3).q_wb)
+
+
+def test_expression_paths_of_the_angles_equal_euler(monkeypatch):
+    from mtcal.methods import quaternion_lsq
+    from mtcal.studies.wang2023cja import runs
+
+    monkeypatch.setattr(rotations, "_KERNEL_MIN_ROWS", 10 ** 12)    # the numpy expressions, not the compiled pass
+    rng = np.random.default_rng(12)
+    q = rotations.quat_normalize(np.array([1.0, 0.1, -0.05, 0.02]) + 0.2 * rng.normal(size=(2, 300, 4)))
+    q_mat = np.eye(4) + 2e-3 * rng.normal(size=(2, 4, 4))
+    after = runs._euler(quaternion_lsq.apply_error_matrix(q_mat, q))
+    before_k, after_k, _ = runs._before_after(q, q_mat, np.zeros((300, 3)), 1)
+    assert np.array_equal(before_k, runs._euler(q)[..., 1]) and np.array_equal(after_k, after[..., 1])
+    assert np.array_equal(runs._pitch_after(q_mat, q), after[..., 1])
+    bad = q_mat.copy()
+    bad[0, 1, 1] = np.inf                  # refused where the matrix is applied (apply_error_matrix)
+    with pytest.raises(ValueError, match="q_matrix must be a finite"):
+        runs._pitch_after(bad, q)
+
+
+def test_compliance_base_computes_its_attitude_on_first_use():
+    from mtcal.studies.wang2023cja.scenario import _ComplianceBase
+
+    angle = np.column_stack([np.linspace(0, 0.1, 50), np.linspace(0, 0.2, 50), np.linspace(0, -0.3, 50)])
+    base = _ComplianceBase(angle)
+    assert base._q_wb is None
+    q = base.q_wb
+    assert q is base.q_wb and np.array_equal(q, rotations.quat_from_euler_zxy(angle[:, 0], angle[:, 1], angle[:, 2]))
+
+
+def test_windtunnel_session_holds_the_wind_on_sweeps_read_only():
+    from mtcal.core.profiles import step_schedule
+    from mtcal.studies.wang2023cja import runs
+
+    sc = w.windtunnel_scenario(fs_hz=200.0)
+    w.run_windtunnel(sc, np.random.default_rng(1), 1, keep_trace=False)
+    entry = [v for k, v in runs._PROFILES.items() if k[0] == "wind tunnel session" and k[3] == 200.0][-1]
+    won = entry[2]
+    assert len(won) == 5 and won[0] is won[3] and won[4] is not won[0]     # groups 1–4 share one sweep
+    for prof, rate in ((won[0], sc.mechanism_rate_rad_s), (won[4], sc.group5_rate_rad_s)):
+        ref = step_schedule(runs._wt_waypoints(sc.wind_on_sweep_deg), rate,
+                            runs._wt_holds_s(sc.wind_on_sweep_deg, runs._WIND_LEAD_S, sc.wind_on_hold_s),
+                            sc.fs_hz, min_move_s=0.5)
+        assert np.array_equal(prof.angle_rad, ref.angle_rad) and np.array_equal(prof.time_s, ref.time_s)
+        assert not prof.angle_rad.flags.writeable and id(prof) in runs._PROFILE_HOLDS

@@ -310,8 +310,9 @@ def _run_pieces(sc: TurntableScenario, prof: AngleProfile, spans: dict, pieces: 
     gyro, accel = buffers["gyro"][:total], buffers["accel"][:total]
     ver0 = spans["verification"].start
     starts = np.cumsum([0] + [p[3] for p in pieces]).tolist()
+    base.q_wb                                      # the truth of the pieces: computed once, before the threads
     if any("mount_compliance" in p[1] for p in pieces):
-        base.lateral                               # computed once, before the threads share it
+        base.lateral                               # share it
 
     def compliance(i):
         test, sources, _, _, _, sc = pieces[i]
@@ -581,8 +582,12 @@ def _before_after(q_s, q_mat, ref, chan: int) -> tuple[np.ndarray, np.ndarray, d
                 raise FloatingPointError("Eq 8 angles are not finite: a calibration matrix or attitude of this run "
                                          "is NaN/inf")
             return before, after, {"before": err_b, "after": err_a}
-    before = _euler(q_s)
-    after = _euler(quaternion_lsq.apply_error_matrix(q_mat, q_s))
+    # _euler of both, written out (one finiteness check of the two)
+    after = quaternion_lsq.apply_error_matrix(q_mat, q_s)
+    before = rotations.euler_zxy_unchecked(np.asarray(q_s, dtype=float))
+    after = rotations.euler_zxy_unchecked(after)
+    if not (np.isfinite(before).all() and np.isfinite(after).all()):
+        raise FloatingPointError("Eq 8 angles are not finite: a calibration matrix or attitude of this run is NaN/inf")
     return before[..., chan], after[..., chan], {"before": metrics.angle_difference(before, ref),
                                                  "after": metrics.angle_difference(after, ref)}
 
@@ -602,7 +607,10 @@ def _pitch_after(q_mat, q_s) -> np.ndarray:
                 raise FloatingPointError("Eq 8 angles are not finite: a calibration matrix or attitude of this run "
                                          "is NaN/inf")
             return out
-    return _euler(quaternion_lsq.apply_error_matrix(q_mat, q_s))[..., 1]
+    euler = rotations.euler_zxy_unchecked(quaternion_lsq.apply_error_matrix(q_mat, q_s))   # _euler, written out
+    if not np.isfinite(euler).all():
+        raise FloatingPointError("Eq 8 angles are not finite: a calibration matrix or attitude of this run is NaN/inf")
+    return euler[..., 1]
 
 
 def _maxae_rmse(err) -> tuple[np.ndarray, np.ndarray]:
@@ -681,12 +689,13 @@ def _shared_profile(key: tuple, build):
         if len(_PROFILES) >= 32:
             _PROFILES.clear()
             _PROFILE_HOLDS.clear()
-        hit = build()                                  # an AngleProfile, or (AngleProfile, spans)
-        prof = hit[0] if isinstance(hit, tuple) else hit
-        for f in ("time_s", "angle_rad", "rate_rad_s", "accel_rad_s2", "is_static", "segment"):
-            getattr(prof, f).setflags(write=False)
+        hit = build()                     # an AngleProfile, or (AngleProfile, spans[, tuple of AngleProfile])
+        profs = [hit] if not isinstance(hit, tuple) else [hit[0], *(hit[2] if len(hit) > 2 else ())]
+        for prof in profs:
+            for f in ("time_s", "angle_rad", "rate_rad_s", "accel_rad_s2", "is_static", "segment"):
+                getattr(prof, f).setflags(write=False)
+            _PROFILE_HOLDS[id(prof)] = {}              # the profile stays alive in _PROFILES: its id is its own
         _PROFILES[key] = hit
-        _PROFILE_HOLDS[id(prof)] = {}                  # the profile stays alive in _PROFILES: its id is its own
     return hit
 
 
@@ -705,17 +714,16 @@ def _key(values) -> tuple:
     return tuple(np.asarray(values, float).ravel().tolist())
 
 
-def _wt_schedule(sc, waypoints_deg, rate, lead_s=8.0, hold_s=None):
-    hold = sc.hold_s if hold_s is None else hold_s
-    return _shared_profile(("wind tunnel sweep", _key(waypoints_deg), float(rate), float(lead_s), float(hold),
-                            float(sc.fs_hz)), lambda: _wt_schedule_build(sc, waypoints_deg, rate, lead_s, hold))
-
-
-def _wt_schedule_build(sc, waypoints_deg, rate, lead_s, hold):
+def _wt_waypoints(waypoints_deg) -> np.ndarray:
+    """Pitch waypoints (rad) of a wind-tunnel sweep, from and back to zero, (K + 2, 3)."""
     wp = np.zeros((len(waypoints_deg) + 2, 3))
     wp[1:-1, 1] = np.radians(waypoints_deg)
-    return step_schedule(wp, rate, np.r_[lead_s, np.full(len(waypoints_deg), hold), 1.0], sc.fs_hz,
-                         min_move_s=0.5)
+    return wp
+
+
+def _wt_holds_s(waypoints_deg, lead_s, hold) -> np.ndarray:
+    """Hold times (s) of :func:`_wt_waypoints`: ``lead_s`` first, ``hold`` at each point, 1 s at the end."""
+    return np.r_[lead_s, np.full(len(waypoints_deg), hold), 1.0]
 
 
 @dataclass
@@ -785,23 +793,45 @@ def _run_windtunnel_block(sc: WindTunnelScenario, rng: np.random.Generator, tria
     ``vibration_freq_hz`` plus angular pitch vibration), which trips the AMD:
     the QNCF runs on the gyro alone.
     """
+    # settings: waypoints, positions, the profiles of the session and of the wind-on groups, hold windows,
+    # the reference draws and the mount's compliance
     rng_imu, rng_ref, rng_wind, rng_change = child_rngs(rng, 4)
     frac = 0.5
     on = set(sources)
-    model = sc.imu.error_model(mount_quaternion(np.radians(sc.alpha_deg)), sources, sc.errors)
     k_mount = sc.errors.compliance_deg_g(MOUNT_TYPE["windtunnel"]) * DEG if "mount_compliance" in on else 0.0
     # --- wind-off session: calibration then AoA sweep
+    aoa_wp, aoa_holds_s = _wt_waypoints(sc.aoa_sweep_deg), _wt_holds_s(sc.aoa_sweep_deg, 1.0, sc.hold_s)
+    # the wind-on groups' sweeps (group 5 at its own rate)
+    won_rates = [sc.group5_rate_rad_s if g == 4 else sc.mechanism_rate_rad_s for g in range(5)]
+    won_wp = _wt_waypoints(sc.wind_on_sweep_deg)
+    won_holds_s = _wt_holds_s(sc.wind_on_sweep_deg, _WIND_LEAD_S, sc.wind_on_hold_s)
     pos = windtunnel_positions(sc)
 
     def session():
         cal_prof = six_position.schedule_profile(pos, rate_rad_s=5 * DEG, rest_s=sc.rest_s, fs_hz=sc.fs_hz)
-        aoa_prof = _wt_schedule_build(sc, sc.aoa_sweep_deg, sc.mechanism_rate_rad_s, 1.0, sc.hold_s)
-        return _concat_profiles([cal_prof, aoa_prof])
-    prof, spans = _shared_profile(("wind tunnel session", _key(pos), float(sc.rest_s), float(sc.fs_hz),
-                                   _key(sc.aoa_sweep_deg), float(sc.mechanism_rate_rad_s), float(sc.hold_s)), session)
+        aoa_prof = step_schedule(aoa_wp, sc.mechanism_rate_rad_s, aoa_holds_s, sc.fs_hz, min_move_s=0.5)
+        by_rate = {r: step_schedule(won_wp, r, won_holds_s, sc.fs_hz, min_move_s=0.5) for r in dict.fromkeys(won_rates)}
+        return (*_concat_profiles([cal_prof, aoa_prof]), tuple(by_rate[r] for r in won_rates))
+    prof, spans, won_profs = _shared_profile(
+        ("wind tunnel session", _key(pos), float(sc.rest_s), float(sc.fs_hz), _key(sc.aoa_sweep_deg),
+         float(sc.mechanism_rate_rad_s), float(sc.hold_s), _key(sc.wind_on_sweep_deg), float(sc.group5_rate_rad_s),
+         float(sc.wind_on_hold_s)), session)
     spans = dict(zip(("calibration", "aoa"), spans))
+    span = spans["aoa"]
+    holds = [slice(h.start - span.start, h.stop - span.start) for h in _shared_holds(prof, span, frac)][1:-1]
+    ref_err = _draws(rng_ref, trials, 6, sc.repeatability_rad, "reference_angle" in on)   # its own generator
+    # truth: the mechanism's actual angles, tilted by the mount; then the IMU (core)
     actual = mechanism_actual(sc, prof, sc.mechanism_rate_rad_s)
-    gyro, accel = _simulate_into(compliance_trajectory(prof.time_s, actual, k_mount), model, rng_imu, trials)
+    groups = _wind_on_truth(sc, rng_wind, trials, won_profs, won_rates) if wind_on else []
+    traj, *group_trajs = [compliance_trajectory(t, a, k_mount) for t, a in
+                          [(prof.time_s, actual)] + [(grp.prof.time_s, grp.actual) for grp in groups]]
+    for grp, group_traj in zip(groups, group_trajs):
+        grp.traj, grp.actual = group_traj, None      # the angles are in the trajectory now
+    del actual, group_trajs
+    model = sc.imu.error_model(mount_quaternion(np.radians(sc.alpha_deg)), sources, sc.errors)
+    gyro, accel = np.empty((trials, len(traj), 3)), np.empty((trials, len(traj), 3))
+    ImuStream(traj, model, rng=rng_imu, trials=trials).fill(gyro, accel)
+    del traj                                         # (its truth outputs: not kept while the wind is on)
     if "accel_run_change" in on:        # bias change between the calibration and the sweep
         accel[:, spans["aoa"].start:] += (sc.errors.accel_run_bias_mg * MG
                                           * rng_change.standard_normal((trials, 1, 3)))
@@ -809,13 +839,10 @@ def _run_windtunnel_block(sc: WindTunnelScenario, rng: np.random.Generator, tria
     # the session zeroed at its start, in place after the calibration run (kept as logged: no copy)
     q_s = relative_to_initial(res.q_ws, out=res.q_ws, start=spans["aoa"].start)
     q_cal = q_s[:, spans["calibration"]]
-    ref_err = _draws(rng_ref, trials, 6, sc.repeatability_rad, "reference_angle" in on)
     cal = calibration_step(sc, q_cal, gyro[:, spans["calibration"]], pos + ref_err, frac)
     q_mat = cal.q_hat
-    span = spans["aoa"]
     cmd = prof.angle_rad[span]
     before, after, errs = _before_after(q_s[:, span], q_mat, cmd, 1)
-    holds = [slice(h.start - span.start, h.stop - span.start) for h in _shared_holds(prof, span, frac)][1:-1]
     nowind = {"reference": np.array([cmd[h, 1].mean() for h in holds]),
               "before_mean": np.stack([before[:, h].mean(axis=1) for h in holds], axis=1),
               "after_mean": np.stack([after[:, h].mean(axis=1) for h in holds], axis=1)}
@@ -832,20 +859,8 @@ def _run_windtunnel_block(sc: WindTunnelScenario, rng: np.random.Generator, tria
     del before, after, res, q_s, gyro, accel
     out = WindTunnelRun(q_mat, cal.euler_before_rad, cal.euler_after_rad, nowind, None, trace)
     if wind_on:
-        out.wind_on = _wind_on_groups(sc, model, q_mat, rng_wind, trials, out.trace, k_mount, keep_trace,
-                                      trace_index, shared)
+        out.wind_on = _wind_on_groups(sc, model, q_mat, groups, trials, out.trace, keep_trace, trace_index, shared)
     return out
-
-
-def _simulate_into(traj, model, rng, trials: int, gyro=None, accel=None) -> tuple[np.ndarray, np.ndarray]:
-    """``simulate_imu(traj, model, rng=rng, trials=trials)``'s gyro and accelerometer (T, N, 3), written into
-    ``gyro``/``accel`` (new arrays when None) by :meth:`ImuStream.fill` (the same numbers, without the
-    record's truth attitude)."""
-    shape = (int(trials), len(traj), 3)
-    gyro = np.empty(shape) if gyro is None else gyro
-    accel = np.empty(shape) if accel is None else accel
-    ImuStream(traj, model, rng=rng, trials=int(trials)).fill(gyro, accel)
-    return gyro, accel
 
 
 def windtunnel_median_trial(run: WindTunnelRun) -> int:
@@ -884,35 +899,66 @@ def _vibration_accel(sc, t, ramp, vib, shared, g) -> np.ndarray:
     return shake
 
 
-def _wind_on_groups(sc, model, q_mat, rng, trials, trace, k_mount, keep_trace, trace_index=0, shared=None):
-    """Five wind-on AoA sweeps; each group its own record; all groups stacked as trials for the QNCF
-    (``shared``: :func:`run_windtunnel`)."""
-    lead_s = 8.0
+#: Wind-on groups: lead before the sweep (s); the flow starts 3 s before the sweep.
+_WIND_LEAD_S = 8.0
+
+
+@dataclass
+class _WindOnGroup:
+    """One wind-on group's settings and truth (:func:`_wind_on_truth`)."""
+
+    prof: AngleProfile
+    holds: list               # hold windows of the sweep (first and last dropped)
+    actual: np.ndarray        # truth angles (N, 3) rad: mechanism + elastic deflection + angular vibration
+    ramp: np.ndarray          # flow ramp 0…1 (N,)
+    vib: np.ndarray           # accelerometer vibration phases (trials, 1, 3) rad
+    rng_imu: np.random.Generator
+    traj: object = None       # Trajectory of the IMU base (compliance_trajectory of ``actual``)
+
+
+def _wind_on_truth(sc, rng, trials, profs, rates) -> list[_WindOnGroup]:
+    """The five wind-on groups' profiles, hold windows, draws and truth angles (mechanism angles + elastic
+    deflection + angular vibration; the caller tilts them by the mount), each group from its own generators
+    ``child_rngs(child_rngs(rng, 5)[g], 3)`` (dynamic pressure, IMU, vibration)."""
     group_rngs = child_rngs(rng, 5)
-    rates = [sc.group5_rate_rad_s if g == 4 else sc.mechanism_rate_rad_s for g in range(5)]
-    profs = [_wt_schedule(sc, sc.wind_on_sweep_deg, rate, lead_s=lead_s, hold_s=sc.wind_on_hold_s) for rate in rates]
-    n = max(p.time_s.size for p in profs)
-    # stacked, each group padded with its last sample; a group goes in as soon as it is simulated (peak
-    # memory: the stack + one group)
-    gyro, accel = np.empty((5 * trials, n, 3)), np.empty((5 * trials, n, 3))
+    groups = []
     for g, (prof, rate) in enumerate(zip(profs, rates)):
         r_q, r_imu, r_vib = child_rngs(group_rngs[g], 3)
         actual = mechanism_actual(sc, prof, rate)
         q_factor = 1.0 + sc.dynamic_pressure_sigma * r_q.standard_normal()
         t = prof.time_s
-        ramp = np.clip((t - (lead_s - 3.0)) / 1.0, 0.0, 1.0)          # flow starts 3 s before the sweep
+        ramp = np.clip((t - (_WIND_LEAD_S - 3.0)) / 1.0, 0.0, 1.0)          # flow starts 3 s before the sweep
         phase = r_vib.uniform(0, 2 * np.pi)
         actual[:, 1] += ramp * (q_factor * elastic_deflection_rad(sc.elastic_true_deg, prof.angle_rad[:, 1])
                                 + sc.vibration_angle_rad * np.sin(2 * np.pi * sc.vibration_freq_hz * t + phase))
+        vib = r_vib.uniform(0, 2 * np.pi, (trials, 1, 3))
+        groups.append(_WindOnGroup(prof, _shared_holds(prof, slice(0, t.size), 0.5)[1:-1], actual, ramp, vib, r_imu))
+    return groups
+
+
+def _wind_on_groups(sc, model, q_mat, groups, trials, trace, keep_trace, trace_index=0, shared=None):
+    """Five wind-on AoA sweeps (:func:`_wind_on_truth`); each group its own record; all groups stacked as
+    trials for the QNCF (``shared``: :func:`run_windtunnel`)."""
+    lead_s = _WIND_LEAD_S
+    profs = [grp.prof for grp in groups]
+    ref = np.radians(np.asarray(sc.wind_on_sweep_deg, float))
+    elastic_corrected = ref + elastic_deflection_rad(sc.elastic_model_deg, ref)
+    n = max(p.time_s.size for p in profs)
+    # stacked, each group padded with its last sample; a group goes in as soon as it is simulated (peak
+    # memory: the stack + one group)
+    gyro, accel = np.empty((5 * trials, n, 3)), np.empty((5 * trials, n, 3))
+    for g, grp in enumerate(groups):
+        t = grp.prof.time_s
+        # accel + ramp · a · sin(2π f t + vib) (the same operations; a + b == b + a)
+        shake = _vibration_accel(sc, t, grp.ramp, grp.vib, shared, g)
         model_g = replace(model, time_since_power_on_s=model.time_since_power_on_s + sc.group_interval_s * (g + 1))
         m = t.size
         rows = slice(g * trials, (g + 1) * trials)
         # a group as long as the stack is simulated straight into its rows, a shorter one into its own arrays
-        g_g, a_g = (gyro[rows], accel[rows]) if m == n else (None, None)
-        g_g, a_g = _simulate_into(compliance_trajectory(t, actual, k_mount), model_g, r_imu, trials, g_g, a_g)
-        vib = r_vib.uniform(0, 2 * np.pi, (trials, 1, 3))
-        # accel + ramp · a · sin(2π f t + vib) (the same operations; a + b == b + a)
-        shake = _vibration_accel(sc, t, ramp, vib, shared, g)
+        g_g, a_g = (gyro[rows], accel[rows]) if m == n else (np.empty((trials, m, 3)), np.empty((trials, m, 3)))
+        ImuStream(grp.traj, model_g, rng=grp.rng_imu, trials=trials).fill(g_g, a_g)
+        grp.traj = None                              # dropped once simulated (the groups still to come keep
+        #                                              theirs: about 1 % of the stack at 500 Hz, measured)
         a_g += shake
         if m < n:
             for x, out in ((g_g, gyro), (a_g, accel)):
@@ -925,10 +971,8 @@ def _wind_on_groups(sc, model, q_mat, rng, trials, trace, k_mount, keep_trace, t
     means = np.empty((5, trials, len(sc.wind_on_sweep_deg)))
     for g, prof in enumerate(profs):
         sl = slice(g * trials, (g + 1) * trials)
-        span = slice(0, prof.time_s.size)
-        holds = _shared_holds(prof, span, 0.5)[1:-1]
         q_g = q_s[sl]
-        for j, h in enumerate(holds):
+        for j, h in enumerate(groups[g].holds):
             means[g, :, j] = _pitch_after(q_rep[sl], q_g[:, h]).mean(axis=1)
         if not keep_trace:
             continue
@@ -937,12 +981,10 @@ def _wind_on_groups(sc, model, q_mat, rng, trials, trace, k_mount, keep_trace, t
             trace["gate"] = res.gate[trace_index, :prof.time_s.size]
         trace[f"wind_time_s_{g}"] = prof.time_s.copy()            # the profile is shared (read-only)
         trace[f"wind_reference_{g}"] = prof.angle_rad[:, 1].copy()
-        trace[f"wind_pitch_{g}"] = rotations.euler_zxy_from_quat(
-            quaternion_lsq.apply_error_matrix(q_rep[sl][trace_index:trace_index + 1],
-                                              q_g[trace_index:trace_index + 1, :prof.time_s.size]))[0, :, 1]
-    ref = np.radians(np.asarray(sc.wind_on_sweep_deg, float))
-    return {"reference": ref, "group_means": means,
-            "elastic_corrected": ref + elastic_deflection_rad(sc.elastic_model_deg, ref),
+        q_after = quaternion_lsq.apply_error_matrix(q_rep[sl][trace_index:trace_index + 1],
+                                                    q_g[trace_index:trace_index + 1, :prof.time_s.size])
+        trace[f"wind_pitch_{g}"] = rotations.euler_zxy_from_quat(q_after)[0, :, 1]
+    return {"reference": ref, "group_means": means, "elastic_corrected": elastic_corrected,
             "gate_fraction_on": float(res.gate[:, int(lead_s * sc.fs_hz):].mean()),
             "gate_fraction_on_trials": res.gate[:, int(lead_s * sc.fs_hz):].reshape(5, trials, -1).mean(axis=(0, 2))}
 

@@ -293,7 +293,8 @@ def compliance_trajectory(time_s, angle_rad, compliance_rad_per_g: float) -> Tra
     The mount rotates by ``k · (ẑ_b × ĝ_b)`` (rad, ĝ_b unit gravity in body axes): zero when
     level, ``k`` about the lateral axis at 90° of roll or pitch (wang2023cja §4.1 gasket mounts).
     """
-    return _compliant(time_s, _ComplianceBase(angle_rad), compliance_rad_per_g)
+    base = _ComplianceBase(angle_rad)
+    return _compliant(time_s, base, compliance_rad_per_g)
 
 
 class _ComplianceBase:
@@ -301,11 +302,13 @@ class _ComplianceBase:
 
     ``q_wb`` (Eq 9 of the angles) and the lateral axis ``ẑ_b × ĝ_b`` do not depend on the
     compliance ``k``: a Monte Carlo whose trials differ only in ``k`` shares them
-    (:func:`_compliant`); the lateral axis is computed on first use.
+    (:func:`_compliant`). Both are computed on first use: a run resolves its bases with its
+    settings and computes them with the rest of the truth.
     """
 
     def __init__(self, angle_rad):
-        self.q_wb = rotations.quat_from_euler_zxy(angle_rad[:, 0], angle_rad[:, 1], angle_rad[:, 2])
+        self.angle_rad = angle_rad
+        self._q_wb = None
         self._lateral = None
         self._family = None           # (time_s, TiltedTrajectories of this base over it)
 
@@ -316,6 +319,14 @@ class _ComplianceBase:
         if hit is None or hit[0] is not time_s:
             hit = self._family = (time_s, TiltedTrajectories(time_s, self.q_wb, self.lateral))
         return hit[1](k)
+
+    @property
+    def q_wb(self) -> np.ndarray:
+        """Eq 9 body attitude of the angles (N, 4)."""
+        if self._q_wb is None:
+            a = self.angle_rad
+            self._q_wb = rotations.quat_from_euler_zxy(a[:, 0], a[:, 1], a[:, 2])
+        return self._q_wb
 
     @property
     def lateral(self) -> np.ndarray:
