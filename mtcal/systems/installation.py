@@ -722,6 +722,11 @@ def apply_installation(config: InstallationConfig, q_hat, dt_s: float | None = N
     if mat.ndim == 3 and (stream.ndim != 3 or stream.shape[0] != mat.shape[0]):
         raise ValueError(f"a stack of {mat.shape[0]} matrices needs a record with as many trials, "
                          f"got shape {stream.shape}")
+    return _relative_attitude(config, mat, q, gyro, accel, q0, dt)
+
+
+def _relative_attitude(config, mat, q, gyro, accel, q0, dt) -> CalibratedAttitude:
+    """:func:`apply_installation` on checked inputs: the zeroed sensor attitude mapped by Q̂ (Eq 10)."""
     q_s = _sensor_attitude(config, q, gyro, accel, q0, dt)[1]
     q_b = rotations.make_continuous(quaternion_lsq._apply(mat, q_s), axis=-2)
     return CalibratedAttitude(q_body=q_b, q_sensor=q_s)
@@ -749,6 +754,11 @@ def mounting_from_q_hat(q_hat) -> np.ndarray:
     mat = as_float_array(q_hat, "q_hat")
     if mat.shape != (4, 4):
         raise ValueError(f"q_hat must be a finite 4x4 array, got shape {mat.shape}")
+    return _mounting(mat)
+
+
+def _mounting(mat: np.ndarray) -> np.ndarray:
+    """:func:`mounting_from_q_hat` of a checked 4x4 Q̂."""
     q = rotations.quat_conjugate(constrained_fit.project_to_so4(mat).r)
     return q if q[0] >= 0 else -q
 
@@ -800,6 +810,11 @@ def absolute_body_attitude(config: InstallationConfig, q_bs, dt_s: float | None 
     if c.shape != (4,):
         raise ValueError(f"q_bs must be one quaternion of shape (4,), got {c.shape}")
     dt, q, gyro, accel, q0, _ = _application_record(config, dt_s, q_ws, gyro_rad_s, accel_m_s2, q0)
+    return _absolute_attitude(config, c, q, gyro, accel, q0, dt)
+
+
+def _absolute_attitude(config, c, q, gyro, accel, q0, dt) -> CalibratedAttitude:
+    """:func:`absolute_body_attitude` on checked inputs (``c`` the mounting ``q_bs``)."""
     q_s = rotations.make_continuous(_sensor_attitude(config, q, gyro, accel, q0, dt, zero=False)[0], axis=-2)
     q_b = rotations.hamilton(q_s, rotations.quat_conjugate(c))
     if config.zero_heading:
@@ -1031,23 +1046,30 @@ def calibrate_record(config: InstallationConfig, positions_rad, dt_s: float, *, 
     wang2023cja §3.2, §4.1, Eq 13; see :func:`calibrate_installation`.
     """
     pos = np.asarray(positions_rad, dtype=float)
-    if gyro_rad_s is None:
+    rep = chk = setup = None
+    cfg, source, q_logged = config, {"q_ws": q_ws}, q_ws
+    if gyro_rad_s is not None:
+        filter_gyro = gyro_rad_s if filter_gyro_rad_s is None else filter_gyro_rad_s
+        detector = config.rest_detector
+        rep = rests_system.find_rests(accel_m_s2, dt_s, detector, gyro_rad_s=gyro_rad_s if detector.use_gyro else None,
+                                      time_s=time_s)
+        found = rep.rests
+        if detector.detector == "paper":     # §3.2 stillness of the gyro (checked by find_rests): detect_rests
+            still = six_position.stillness_from_gyro(np.asarray(gyro_rad_s, dtype=float), dt_s, config.still_window_s,
+                                                     config.still_threshold_rad_s)
+            found = six_position.find_rests(still, dt_s, config.min_rest_s)
+        try:
+            chk = plausibility.check_units(filter_gyro, accel_m_s2, dt_s, found, time_s=time_s,
+                                           skip=plausibility.clipped_samples(gyro_rad_s)[0],
+                                           unit_stated=gyro_unit_stated)
+        except ValueError as exc:
+            raise RecordRefused(str(exc), rep) from None
+        setup = attitude.qncf_log_setup(filter_gyro, accel_m_s2, dt_s, rep, gyro_rad_s=gyro_rad_s)
+        cfg = replace(config, qncf_params=setup.params)
+        source, q_logged = {"gyro_rad_s": setup.gyro_rad_s, "accel_m_s2": accel_m_s2, "q0": setup.q0}, None
+    else:
         found = detect_rests(config, dt_s, q_ws=q_ws)
-        return _calibrate_record_rests(config, pos, dt_s, found, None, None, None, {"q_ws": q_ws}, accel_m_s2, q_ws, time_s)
-    filter_gyro = gyro_rad_s if filter_gyro_rad_s is None else filter_gyro_rad_s
-    detector = config.rest_detector
-    rep = rests_system.find_rests(accel_m_s2, dt_s, detector, gyro_rad_s=gyro_rad_s if detector.use_gyro else None,
-                                  time_s=time_s)
-    found = detect_rests(config, dt_s, gyro_rad_s=gyro_rad_s) if detector.detector == "paper" else rep.rests
-    try:
-        chk = plausibility.check_units(filter_gyro, accel_m_s2, dt_s, found, time_s=time_s,
-                                       skip=plausibility.clipped_samples(gyro_rad_s)[0], unit_stated=gyro_unit_stated)
-    except ValueError as exc:
-        raise RecordRefused(str(exc), rep) from None
-    setup = attitude.qncf_log_setup(filter_gyro, accel_m_s2, dt_s, rep, gyro_rad_s=gyro_rad_s)
-    cfg = replace(config, qncf_params=setup.params)
-    source = {"gyro_rad_s": setup.gyro_rad_s, "accel_m_s2": accel_m_s2, "q0": setup.q0}
-    return _calibrate_record_rests(cfg, pos, dt_s, found, rep, chk, setup, source, accel_m_s2, None, time_s)
+    return _calibrate_record_rests(cfg, pos, dt_s, found, rep, chk, setup, source, accel_m_s2, q_logged, time_s)
 
 
 def _calibrate_record_rests(cfg, pos, dt, found, rep, chk, setup, source, accel, q_ws, time_s) -> RecordCalibration:
@@ -1180,10 +1202,11 @@ def apply_record(config: InstallationConfig, q_hat, dt_s: float, *, mode: str = 
     """
     if mode not in ("absolute", "relative"):
         raise ValueError(f"mode must be 'absolute' or 'relative', got {mode!r}")
-    q_bs = mounting_from_q_hat(q_hat)
-    mount = rotations.euler_zxy_from_quat(q_bs)
+    mat = _q_hat(q_hat)
+    if mat.shape != (4, 4):
+        raise ValueError(f"q_hat must be a finite 4x4 array, got shape {mat.shape}")
     rep = chk = setup = None
-    cfg = config
+    cfg, raw = config, (None, q_ws, None, None, None)
     if gyro_rad_s is not None:
         filter_gyro = gyro_rad_s if filter_gyro_rad_s is None else filter_gyro_rad_s
         rep = rests_system.find_rests(accel_m_s2, dt_s, config.rest_detector, gyro_rad_s=gyro_rad_s, time_s=time_s)
@@ -1195,20 +1218,26 @@ def apply_record(config: InstallationConfig, q_hat, dt_s: float, *, mode: str = 
             raise RecordRefused(str(exc), rep) from None
         setup = attitude.qncf_log_setup(filter_gyro, accel_m_s2, dt_s, rep, gyro_rad_s=gyro_rad_s)
         cfg = replace(config, qncf_params=setup.params)
-        source = dict(dt_s=dt_s, gyro_rad_s=setup.gyro_rad_s, accel_m_s2=accel_m_s2, q0=setup.q0)
-    else:
-        source = dict(q_ws=q_ws)
+        raw = (dt_s, None, setup.gyro_rad_s, accel_m_s2, setup.q0)
+    return _apply_record_attitude(cfg, mat, mode, _application_record(cfg, *raw), rep, chk, setup, accel_m_s2)
+
+
+def _apply_record_attitude(cfg, mat, mode, checked, rep, chk, setup, accel) -> RecordApplication:
+    """:func:`apply_record` from the checked record on: the mounting, the body attitude, the tilt at the start."""
+    dt, q, gyro, acc, q0, _ = checked
+    q_bs = _mounting(mat)
+    done = dict(q_bs=q_bs, report=rep, units_check=chk, qncf=setup)
     if mode == "absolute":
-        return RecordApplication(q_bs=q_bs, attitude=absolute_body_attitude(cfg, q_bs, **source),
-                                 mounting_euler_rad=mount, report=rep, units_check=chk, qncf=setup)
-    att = apply_installation(cfg, q_hat, **source)
+        return RecordApplication(attitude=_absolute_attitude(cfg, q_bs, q, gyro, acc, q0, dt),
+                                 mounting_euler_rad=rotations.euler_zxy_from_quat(q_bs), **done)
+    att = _relative_attitude(cfg, mat, q, gyro, acc, q0, dt)
     start, q_s0 = None, None
-    if accel_m_s2 is not None and rep is not None and rep.rests:
+    if accel is not None and rep is not None and rep.rests:
         start = rep.rests[0]
-        q_s0 = initial_attitude_from_accel(accel_m_s2[start].mean(axis=0))
-    elif q_ws is not None:
-        q_s0 = q_ws[0]
+        q_s0 = initial_attitude_from_accel(accel[start].mean(axis=0))
+    elif q is not None:
+        q_s0 = q[0]
     tilt = None if q_s0 is None else rotations.euler_zxy_from_quat(
         rotations.quat_multiply(q_s0, rotations.quat_conjugate(q_bs)))
-    return RecordApplication(q_bs=q_bs, attitude=att, mounting_euler_rad=mount, report=rep, units_check=chk,
-                             qncf=setup, start_euler_rad=tilt, start_rest=start)
+    return RecordApplication(attitude=att, mounting_euler_rad=rotations.euler_zxy_from_quat(q_bs), start_euler_rad=tilt,
+                             start_rest=start, **done)
