@@ -1049,27 +1049,37 @@ def calibrate_record(config: InstallationConfig, positions_rad, dt_s: float, *, 
     rep = chk = setup = None
     cfg, source, q_logged = config, {"q_ws": q_ws}, q_ws
     if gyro_rad_s is not None:
-        filter_gyro = gyro_rad_s if filter_gyro_rad_s is None else filter_gyro_rad_s
-        detector = config.rest_detector
-        rep = rests_system.find_rests(accel_m_s2, dt_s, detector, gyro_rad_s=gyro_rad_s if detector.use_gyro else None,
-                                      time_s=time_s)
-        found = rep.rests
-        if detector.detector == "paper":     # §3.2 stillness of the gyro (checked by find_rests): detect_rests
-            still = six_position.stillness_from_gyro(np.asarray(gyro_rad_s, dtype=float), dt_s, config.still_window_s,
-                                                     config.still_threshold_rad_s)
-            found = six_position.find_rests(still, dt_s, config.min_rest_s)
-        try:
-            chk = plausibility.check_units(filter_gyro, accel_m_s2, dt_s, found, time_s=time_s,
-                                           skip=plausibility.clipped_samples(gyro_rad_s)[0],
-                                           unit_stated=gyro_unit_stated)
-        except ValueError as exc:
-            raise RecordRefused(str(exc), rep) from None
-        setup = attitude.qncf_log_setup(filter_gyro, accel_m_s2, dt_s, rep, gyro_rad_s=gyro_rad_s)
+        rep, found, chk, setup = _raw_record(config, dt_s, time_s, accel_m_s2, gyro_rad_s, filter_gyro_rad_s,
+                                             gyro_unit_stated, paper_rests=config.rest_detector.detector == "paper")
         cfg = replace(config, qncf_params=setup.params)
         source, q_logged = {"gyro_rad_s": setup.gyro_rad_s, "accel_m_s2": accel_m_s2, "q0": setup.q0}, None
     else:
         found = detect_rests(config, dt_s, q_ws=q_ws)
     return _calibrate_record_rests(cfg, pos, dt_s, found, rep, chk, setup, source, accel_m_s2, q_logged, time_s)
+
+
+def _raw_record(config, dt_s, time_s, accel_m_s2, gyro_rad_s, filter_gyro_rad_s, gyro_unit_stated, *,
+                paper_rests: bool) -> tuple:
+    """A raw record's rests, units check and QNCF set-up: ``(report, rests, units check, QncfLogSetup)``.
+
+    ``paper_rests``: the rests returned are the §3.2 stillness of the gyro (:func:`detect_rests` on the
+    gyro :func:`mtcal.systems.rests.find_rests` checked), else the report's.
+    """
+    filter_gyro = gyro_rad_s if filter_gyro_rad_s is None else filter_gyro_rad_s
+    detector = config.rest_detector
+    rep = rests_system.find_rests(accel_m_s2, dt_s, detector, gyro_rad_s=gyro_rad_s if detector.use_gyro else None,
+                                  time_s=time_s)
+    found = rep.rests
+    if paper_rests:
+        still = six_position.stillness_from_gyro(np.asarray(gyro_rad_s, dtype=float), dt_s, config.still_window_s,
+                                                 config.still_threshold_rad_s)
+        found = six_position.find_rests(still, dt_s, config.min_rest_s)
+    try:
+        chk = plausibility.check_units(filter_gyro, accel_m_s2, dt_s, found, time_s=time_s,
+                                       skip=plausibility.clipped_samples(gyro_rad_s)[0], unit_stated=gyro_unit_stated)
+    except ValueError as exc:
+        raise RecordRefused(str(exc), rep) from None
+    return rep, found, chk, attitude.qncf_log_setup(filter_gyro, accel_m_s2, dt_s, rep, gyro_rad_s=gyro_rad_s)
 
 
 def _calibrate_record_rests(cfg, pos, dt, found, rep, chk, setup, source, accel, q_ws, time_s) -> RecordCalibration:
@@ -1189,12 +1199,8 @@ def apply_record(config: InstallationConfig, q_hat, dt_s: float, *, mode: str = 
 
     ``mode="absolute"``: :func:`absolute_body_attitude` with the mounting of ``q_hat``;
     ``mode="relative"``: :func:`apply_installation` (Eq 10) and the body's tilt at the start.
-    The log's arrays as in :func:`calibrate_record`.
-
-    Raises
-    ------
-    RecordRefused
-        The units check refused the log (``report`` attached).
+    The log's arrays, and the :class:`RecordRefused` of a units check that refuses, as in
+    :func:`calibrate_record`.
 
     References
     ----------
@@ -1208,15 +1214,8 @@ def apply_record(config: InstallationConfig, q_hat, dt_s: float, *, mode: str = 
     rep = chk = setup = None
     cfg, raw = config, (None, q_ws, None, None, None)
     if gyro_rad_s is not None:
-        filter_gyro = gyro_rad_s if filter_gyro_rad_s is None else filter_gyro_rad_s
-        rep = rests_system.find_rests(accel_m_s2, dt_s, config.rest_detector, gyro_rad_s=gyro_rad_s, time_s=time_s)
-        try:
-            chk = plausibility.check_units(filter_gyro, accel_m_s2, dt_s, rep.rests, time_s=time_s,
-                                           skip=plausibility.clipped_samples(gyro_rad_s)[0],
-                                           unit_stated=gyro_unit_stated)
-        except ValueError as exc:
-            raise RecordRefused(str(exc), rep) from None
-        setup = attitude.qncf_log_setup(filter_gyro, accel_m_s2, dt_s, rep, gyro_rad_s=gyro_rad_s)
+        rep, _, chk, setup = _raw_record(config, dt_s, time_s, accel_m_s2, gyro_rad_s, filter_gyro_rad_s,
+                                         gyro_unit_stated, paper_rests=False)
         cfg = replace(config, qncf_params=setup.params)
         raw = (dt_s, None, setup.gyro_rad_s, accel_m_s2, setup.q0)
     return _apply_record_attitude(cfg, mat, mode, _application_record(cfg, *raw), rep, chk, setup, accel_m_s2)
