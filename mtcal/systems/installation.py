@@ -758,8 +758,10 @@ def mounting_from_q_hat(q_hat) -> np.ndarray:
 
 
 def _mounting(mat: np.ndarray) -> np.ndarray:
-    """:func:`mounting_from_q_hat` of a checked 4x4 Q̂."""
-    q = rotations.quat_conjugate(constrained_fit.project_to_so4(mat).r)
+    """:func:`mounting_from_q_hat` of a checked 4x4 Q̂ (the trusted projection and factoring of
+    :func:`mtcal.methods.constrained_fit.project_to_so4`)."""
+    r = constrained_fit._factor(constrained_fit._project(mat))[1]
+    q = r * np.array([1.0, -1.0, -1.0, -1.0])                                 # conjugate: q_bs = r*
     return q if q[0] >= 0 else -q
 
 
@@ -1208,8 +1210,8 @@ def apply_record(config: InstallationConfig, q_hat, dt_s: float, *, mode: str = 
     """
     if mode not in ("absolute", "relative"):
         raise ValueError(f"mode must be 'absolute' or 'relative', got {mode!r}")
-    mat = _q_hat(q_hat)
-    if mat.shape != (4, 4):
+    mat = np.array(q_hat, dtype=float)
+    if mat.shape != (4, 4) or not np.all(np.isfinite(mat)):
         raise ValueError(f"q_hat must be a finite 4x4 array, got shape {mat.shape}")
     rep = chk = setup = None
     cfg, raw = config, (None, q_ws, None, None, None)
