@@ -23,7 +23,6 @@ from pathlib import Path
 import numpy as np
 
 from mtcal.cli import common, logio
-from mtcal.systems import plausibility
 
 EXAMPLE = """output columns: time_s, q0..q3 (calibrated body attitude), yaw_deg, pitch_deg, roll_deg,
   sensor_yaw_deg, sensor_pitch_deg, sensor_roll_deg (before calibration); Eq 8 ZXY angles
@@ -76,79 +75,74 @@ def _accuracy_deg(doc: dict) -> float:
 
 
 def run(args: argparse.Namespace) -> int:
+    """Entry point of ``mtcal apply``: read the calibration and the log, one procedure, print and write."""
     fig = common.DiagnosticsFigure(args.figure, f"mtcal apply {args.log}", inputs=[args.log, args.calibration])
     out = logio.check_output_path(args.out, [args.log, args.calibration])
 
     def body() -> int:
-        from mtcal.core import rotations
-        from mtcal.systems import installation  # numba/scipy: loaded when the command runs, not for --help
+        # numba/scipy: loaded when the command runs, not for --help
+        from mtcal.systems.installation import InstallationConfig, RecordRefused, apply_record
 
         q_hat, doc = load_calibration_file(args.calibration)
-        q_bs = installation.mounting_from_q_hat(q_hat)
         log = logio.read_log(args.log, common.input_options(args), need="raw_or_quat")
         fig.log = log if log.accel_m_s2 is not None else None
-        static, rep, info = None, None, {}
-        if log.gyro_rad_s is not None:
-            rep = common.detect(args, log)
-            fig.report = rep
-            chk = plausibility.check_units(log.gyro_for_filter(), log.accel_m_s2, log.dt_mean_s, rep.rests,
-                                           time_s=log.time_s, skip=plausibility.clipped_samples(log.gyro_rad_s)[0],
-                                           unit_stated=log.gyro_unit_stated)
-            common.print_units_check(chk)
-            gyro, params, q0, info = common.qncf_settings(log, rep)
-            cfg = installation.InstallationConfig.command_line(qncf_params=params)
-            source = dict(dt_s=log.dt_mean_s, gyro_rad_s=gyro, accel_m_s2=log.accel_m_s2, q0=q0)
-            static = rep.is_static
-        else:
-            cfg = installation.InstallationConfig.command_line()
-            source = dict(q_ws=log.q_ws)
-        if args.mode == "absolute":
-            att = installation.absolute_body_attitude(cfg, q_bs, **source)
-            how = ("absolute: pitch and roll referenced to gravity (" +
-                   ("QNCF levelled from the first rest" if rep is not None else "the log's q0..q3, z-up world") +
-                   "), q_body = q_sensor (x) conj(q_bs) with the calibration's mounting; heading (yaw) zeroed at "
-                   "the first sample (gravity gives no heading)")
-        else:
-            att = installation.apply_installation(cfg, q_hat, **source)
-            how = ("relative (wang2023cja Eq 10): q_body = normalize(Q_hat q_sensor), sensor attitude zeroed at the "
-                   "first sample: angles relative to where the log starts")
-            _warn_if_tilted(log, rep, q_bs, doc)
-        qb = att.q_body
-        eb = common.euler_deg(qb)
-        es = common.euler_deg(att.q_sensor)
-        extra = {"sensor_yaw_deg": es[:, 0], "sensor_pitch_deg": es[:, 1], "sensor_roll_deg": es[:, 2]}
-        if static is not None:
-            extra["is_static"] = static.astype(np.int8)
-            common.print_report(log, rep, angle_deg=eb[:, 1], angle_name="pitch_deg")
-        if "gyro_bias_text" in info:
-            print(info["gyro_bias_text"])
-        mount = np.degrees(rotations.euler_zxy_from_quat(q_bs))
-        print(f"body attitude {how}")
-        print(f"mounting q_bs = [{', '.join(f'{v:+.6f}' for v in q_bs)}] (sensor on the body at yaw {mount[0]:+.4f}, "
-              f"pitch {mount[1]:+.4f}, roll {mount[2]:+.4f} deg) from {args.calibration}"
-              + (f" ({doc['comment']})" if doc.get("comment") else ""))
-        common.write_attitude(out, log.time_s, qb, eb, **extra)
-        print(f"apply: {log.n} samples written to {out}; first body yaw/pitch/roll "
-              f"{eb[0, 0]:.3f}/{eb[0, 1]:.3f}/{eb[0, 2]:.3f} deg, final {eb[-1, 0]:.3f}/{eb[-1, 1]:.3f}/{eb[-1, 2]:.3f} deg")
+        raw = log.gyro_rad_s is not None
+        cfg = InstallationConfig.command_line(rest_detector=common.rests_config(args) if raw else None)
+        try:
+            res = apply_record(cfg, q_hat, log.dt_mean_s, mode=args.mode, **common.log_arrays(log))
+        except RecordRefused as exc:
+            fig.report = exc.report
+            raise
+        fig.report = res.report
+        _print_result(args, out, log, doc, res)
         return 0
 
     return common.run_with_figure(fig, body)
 
 
-def _warn_if_tilted(log, rep, q_bs: np.ndarray, doc: dict) -> None:
-    """Relative mode: one warning line when the log's first rest is tilted beyond the calibration's accuracy."""
-    from mtcal.core import rotations
-    from mtcal.filters.qncf import initial_attitude_from_accel
-
-    if log.accel_m_s2 is not None and rep is not None and rep.rests:
-        q_s0 = initial_attitude_from_accel(log.accel_m_s2[rep.rests[0]].mean(axis=0))
-        where = f"at the first rest ({log.time_s[rep.rests[0].start]:.2f} s)"
-    elif log.q_ws is not None:
-        q_s0 = log.q_ws[0]
-        where = "at the first sample (log's q0..q3)"
+def _print_result(args, out, log, doc: dict, res) -> None:
+    """What ``mtcal apply`` prints of a :class:`~mtcal.systems.installation.RecordApplication`, and the table."""
+    rep = res.report
+    if res.units_check is not None:
+        common.print_units_check(res.units_check)
+    info = {} if res.qncf is None else common.qncf_info(log, res.qncf)
+    if args.mode == "absolute":
+        how = ("absolute: pitch and roll referenced to gravity (" +
+               ("QNCF levelled from the first rest" if rep is not None else "the log's q0..q3, z-up world") +
+               "), q_body = q_sensor (x) conj(q_bs) with the calibration's mounting; heading (yaw) zeroed at "
+               "the first sample (gravity gives no heading)")
     else:
+        how = ("relative (wang2023cja Eq 10): q_body = normalize(Q_hat q_sensor), sensor attitude zeroed at the "
+               "first sample: angles relative to where the log starts")
+        _warn_if_tilted(log, res, doc)
+    qb = res.attitude.q_body
+    eb = common.euler_deg(qb)
+    es = common.euler_deg(res.attitude.q_sensor)
+    extra = {"sensor_yaw_deg": es[:, 0], "sensor_pitch_deg": es[:, 1], "sensor_roll_deg": es[:, 2]}
+    if rep is not None:
+        extra["is_static"] = rep.is_static.astype(np.int8)
+        common.print_report(log, rep, angle_deg=eb[:, 1], angle_name="pitch_deg")
+    if "gyro_bias_text" in info:
+        print(info["gyro_bias_text"])
+    mount = np.degrees(res.mounting_euler_rad)
+    print(f"body attitude {how}")
+    print(f"mounting q_bs = [{', '.join(f'{v:+.6f}' for v in res.q_bs)}] (sensor on the body at yaw {mount[0]:+.4f}, "
+          f"pitch {mount[1]:+.4f}, roll {mount[2]:+.4f} deg) from {args.calibration}"
+          + (f" ({doc['comment']})" if doc.get("comment") else ""))
+    common.write_attitude(out, log.time_s, qb, eb, **extra)
+    print(f"apply: {log.n} samples written to {out}; first body yaw/pitch/roll "
+          f"{eb[0, 0]:.3f}/{eb[0, 1]:.3f}/{eb[0, 2]:.3f} deg, final {eb[-1, 0]:.3f}/{eb[-1, 1]:.3f}/{eb[-1, 2]:.3f} deg")
+
+
+def _warn_if_tilted(log, res, doc: dict) -> None:
+    """Relative mode: one warning line when the log's start is tilted beyond the calibration's accuracy."""
+    if res.start_euler_rad is None:
         return
-    e = np.degrees(rotations.euler_zxy_from_quat(rotations.quat_multiply(q_s0, rotations.quat_conjugate(q_bs))))
+    if res.start_rest is not None:
+        where = f"at the first rest ({log.time_s[res.start_rest.start]:.2f} s)"
+    else:
+        where = "at the first sample (log's q0..q3)"
+    e = np.degrees(res.start_euler_rad)
     acc = _accuracy_deg(doc)
     if max(abs(e[1]), abs(e[2])) > acc:
         print(f"warning: --mode relative: the body is tilted {where}: pitch {e[1]:+.3f}, roll {e[2]:+.3f} deg from "

@@ -30,13 +30,11 @@ from __future__ import annotations
 
 import argparse
 import json
-from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 
 from mtcal.cli import common, logio
-from mtcal.systems import plausibility
 
 POS_COLS = ["yaw_deg", "pitch_deg", "roll_deg"]
 FORMAT = "mtcal-calibration/2"
@@ -108,11 +106,14 @@ def _read_positions(path: Path) -> np.ndarray:
     return np.radians(ang)
 
 
-def _settings(args: argparse.Namespace, quaternion_log: bool) -> dict:
-    """The procedure's settings from the options (SI), for :meth:`InstallationConfig.command_line`.
+def _config(args: argparse.Namespace, quaternion_log: bool):
+    """The procedure's one config from the options (SI): :meth:`InstallationConfig.command_line`.
 
-    ``--still-deg-s`` is the quaternion-rate detector's threshold: read for a q0..q3 log only.
+    ``--still-deg-s`` is the quaternion-rate detector's threshold: read for a q0..q3 log only; the
+    rest options make the raw log's rest detector.
     """
+    from mtcal.systems.installation import InstallationConfig
+
     so4 = args.max_so4_distance
     out = {"model": args.model, "fraction": common.finite_float(args.fraction, "--fraction"),
            "min_rest_s": common.finite_float(args.min_rest_s, "--min-rest-s"),
@@ -120,175 +121,88 @@ def _settings(args: argparse.Namespace, quaternion_log: bool) -> dict:
            "max_so4_distance": None if so4 is None else common.finite_float(so4, "--max-so4-distance")}
     if quaternion_log:
         out["still_threshold_rad_s"] = np.radians(common.finite_float(args.still_deg_s, "--still-deg-s"))
-    return out
+    else:
+        out["rest_detector"] = common.rests_config(args)
+    return InstallationConfig.command_line(**out)
 
 
 def run(args: argparse.Namespace) -> int:
-    """Entry point of ``mtcal calibrate``: read the log, run the procedure, print and write."""
+    """Entry point of ``mtcal calibrate``: options → one config, read the log, one procedure, print and write."""
     fig = common.DiagnosticsFigure(args.figure, f"mtcal calibrate {args.log}", inputs=[args.log, args.positions])
     out = None if args.out is None else logio.check_output_path(args.out, [args.log, args.positions])
 
     def body() -> int:
-        from mtcal.systems import installation  # numba/scipy: loaded when the command runs, not for --help
+        # numba/scipy: loaded when the command runs, not for --help
+        from mtcal.systems.installation import RecordRefused, calibrate_record
 
         log = logio.read_log(args.log, common.input_options(args), need="raw_or_quat")
         fig.log = log if log.accel_m_s2 is not None else None
         pos = _read_positions(args.positions)
         if args.min_rest_s is None:  # defaults: 1 s (adaptive), 2 s (paper's stillness detector, as before)
             args.min_rest_s = "2.0" if args.rest_detector == "paper" or log.gyro_rad_s is None else "1.0"
-        cfg = installation.InstallationConfig.command_line(**_settings(args, quaternion_log=log.gyro_rad_s is None))
-        rep = None
-        if log.gyro_rad_s is not None:
-            rep = common.detect(args, log)
-            fig.report = rep
-            if args.rest_detector == "paper":
-                rests = installation.detect_rests(cfg, log.dt_mean_s, gyro_rad_s=log.gyro_rad_s)
-            else:
-                rests = rep.rests
-            chk = plausibility.check_units(log.gyro_for_filter(), log.accel_m_s2, log.dt_mean_s, rests,
-                                           time_s=log.time_s, skip=plausibility.clipped_samples(log.gyro_rad_s)[0],
-                                           unit_stated=log.gyro_unit_stated)
-            common.print_units_check(chk)
-            gyro, params, q0, info = common.qncf_settings(log, rep)
-            cfg = replace(cfg, qncf_params=params)
-            source = {"gyro_rad_s": gyro, "accel_m_s2": log.accel_m_s2, "q0": q0}
-        else:
-            rests = installation.detect_rests(cfg, log.dt_mean_s, q_ws=log.q_ws)
-            source, info = {"q_ws": log.q_ws}, {"filter": "none (q0..q3 from the log)"}
-        print(f"log: {args.log} ({log.n} samples at {log.fs_hz:.1f} Hz); "
-              f"{len(rests)} rests found, {pos.shape[0]} positions")
-        if rep is not None:
-            print(rep.levels_text())
-        if "gyro_bias_text" in info:
-            print(info["gyro_bias_text"])
-        if len(rests) < pos.shape[0]:
-            if rep is None:
-                lv = "quaternion-rate threshold --still-deg-s"
-            elif args.rest_detector == "paper":
-                lv = (f"paper stillness threshold |w| < 0.2 deg/s; measured gyro bias "
-                      f"{np.degrees(np.linalg.norm(rep.gyro_bias_rad_s)):.2f} deg/s, noise "
-                      f"{np.degrees(rep.gyro_noise_rad_s):.3f} deg/s")
-            else:
-                lv = rep.levels_text()
-            raise ValueError(f"too few rests: found {len(rests)} rests of >= {cfg.min_rest_s:g} s for "
-                             f"{pos.shape[0]} positions ({lv}); see --figure for the rejected stretches")
+        cfg = _config(args, quaternion_log=log.gyro_rad_s is None)
         try:
-            cal = installation.calibrate_installation(cfg, pos, log.dt_mean_s, rests=rests, **source)
-        except installation.InstallationRefused as exc:
-            tiny = np.max(np.abs(np.degrees(pos))) <= np.pi / 2 + 1e-9        # values that may be radians
-            if not (any(m in str(exc) for m in MISMATCH_MESSAGES) or (tiny and "ill-conditioned" in str(exc))):
-                raise
-            hint = (_quaternion_hint(cfg, pos, log, rests) if "q_ws" in source else "") or _diagnose(
-                cfg, pos, log, rests, exc.q_ws)
-            raise ValueError(f"{exc}{hint}") from None
-        sigma = installation.installation_angles_sigma(cal, cfg.model)      # 1σ of the angles, fit covariance
-        fig.used = cal.matched_rests
-        _print_and_write(args, cfg, out, log, cal, sigma, info)
+            res = calibrate_record(cfg, pos, log.dt_mean_s, **common.log_arrays(log))
+        except RecordRefused as exc:
+            fig.report = exc.report
+            raise
+        fig.report = res.report
+        _print_result(args, out, log, pos, res, fig)
         return 0
 
     return common.run_with_figure(fig, body)
 
 
-#: Refusals that mean "the rests do not match the positions" (a convention mistake is then looked for).
-MISMATCH_MESSAGES = ("has no rest within", "Q_hat is not a calibration", "a rest does not match its reference")
+def _print_result(args, out, log, pos, res, fig) -> None:
+    """What ``mtcal calibrate`` prints of a :class:`~mtcal.systems.installation.RecordCalibration`, and ``--out``."""
+    rep = res.report
+    if res.units_check is not None:
+        common.print_units_check(res.units_check)
+    info = {"filter": "none (q0..q3 from the log)"} if res.qncf is None else common.qncf_info(log, res.qncf)
+    print(f"log: {args.log} ({log.n} samples at {log.fs_hz:.1f} Hz); "
+          f"{len(res.rests)} rests found, {pos.shape[0]} positions")
+    if rep is not None:
+        print(rep.levels_text())
+    if "gyro_bias_text" in info:
+        print(info["gyro_bias_text"])
+    if len(res.rests) < pos.shape[0]:
+        if rep is None:
+            lv = "quaternion-rate threshold --still-deg-s"
+        elif args.rest_detector == "paper":
+            lv = (f"paper stillness threshold |w| < 0.2 deg/s; measured gyro bias "
+                  f"{np.degrees(np.linalg.norm(rep.gyro_bias_rad_s)):.2f} deg/s, noise "
+                  f"{np.degrees(rep.gyro_noise_rad_s):.3f} deg/s")
+        else:
+            lv = rep.levels_text()
+        raise ValueError(f"too few rests: found {len(res.rests)} rests of >= {res.config.min_rest_s:g} s for "
+                         f"{pos.shape[0]} positions ({lv}); see --figure for the rejected stretches")
+    if res.diagnosis is not None:
+        _print_diagnosis(log, pos, res.diagnosis)
+    if res.refusal is not None:
+        raise ValueError(res.refusal)
+    fig.used = res.calibration.matched_rests
+    _print_and_write(args, res, out, log, info)
 
-#: Position-file mistakes tried on refusal: name → (transform of the positions in rad, what to do).
-POSITION_MISTAKES = {
-    "radians": (np.degrees, "the positions file holds radians: write degrees (yaw_deg, pitch_deg, roll_deg)"),
-    "pitch sign flipped": (lambda p: p * [1.0, -1.0, 1.0], "negate pitch_deg (pitch is positive about +x, nose up)"),
-    "roll sign flipped": (lambda p: p * [1.0, 1.0, -1.0], "negate roll_deg (roll is positive about +y)"),
-    "yaw sign flipped": (lambda p: p * [-1.0, 1.0, 1.0], "negate yaw_deg (yaw is positive about +z, up)"),
-    "pitch and roll swapped": (lambda p: p[:, [0, 2, 1]], "swap the pitch_deg and roll_deg columns "
-                               "(pitch about x, roll about y: wang2023cja Eq 8/9)"),
-}
 
-
-def _diagnose(cfg, pos, log, rests, q_abs) -> str:
-    """Why the rests do not match the positions: per position the nearest rest's attitude, and the likely mistake.
-
-    ``q_abs`` is the sensor attitude the refused calibration made (not zeroed). Prints the table
-    (stdout) and returns the hint appended to the one-line error.
-    """
-    from mtcal.core import rotations
-    from mtcal.methods import six_position
-    from mtcal.systems import installation
-
-    dt = log.dt_mean_s
-    means = six_position.rest_means(rotations.relative_to_initial(q_abs[None])[0], rests, cfg.fraction)
+def _print_diagnosis(log, pos, diag) -> None:
+    """The table of a refusal looked into: per reference position the nearest rest (Eq 8 ZXY deg)."""
     t = log.time_s
-    q_ref = rotations.quat_from_euler_zxy(pos[:, 0], pos[:, 1], pos[:, 2])
-    dist = np.degrees(rotations.quat_angle_between(means[:, None, :], q_ref[None, :, :]))      # (R, K)
     print("calibration refused; per reference position the nearest rest (zeroed sensor attitude, Eq 8 ZXY deg):")
     print(f"  {'pos':>3} {'ref yaw/pitch/roll':>26} {'nearest rest':>14} {'measured yaw/pitch/roll':>26} {'dist':>7}")
     for k in range(pos.shape[0]):
-        r = int(np.argmin(dist[:, k]))
-        e = np.degrees(rotations.euler_zxy_from_quat(means[r]))
+        r = diag.nearest[k]
+        e = np.degrees(diag.measured_rad[k])
         ref = np.degrees(pos[k])
         print(f"  {k + 1:>3} {' '.join(f'{v:+8.2f}' for v in ref):>26} "
-              f"{t[rests[r].start]:>6.1f}-{t[rests[r].stop - 1]:<6.1f}s {' '.join(f'{v:+8.2f}' for v in e):>26} "
-              f"{dist[r, k]:7.2f}")
-
-    def fits(p, q=q_abs, rr=rests) -> bool:
-        try:
-            installation.calibrate_installation(cfg, p, dt, q_ws=q, rests=rr)
-        except ValueError:
-            return False
-        return True
-
-    if log.accel_m_s2 is not None and rests:
-        a0 = log.accel_m_s2[rests[0]].mean(axis=0)
-        if a0[2] < -0.5 * np.linalg.norm(a0):
-            return (f"; likely mistake: the sensor reads -g on z at its first rest (a = [{a0[0]:+.2f}, {a0[1]:+.2f}, "
-                    f"{a0[2]:+.2f}] m/s^2): FRD/NED axes (z down)? mtcal expects x right, y forward, z up (+g on z "
-                    f"when level); map FRD to it with --columns gyro_x=<gyro y>,gyro_y=<gyro x>,accel_x=<accel y>,"
-                    f"accel_y=<accel x> --gyro-scale 1,1,-1 --accel-scale 1,1,-1")
-    for name, (fn, fix) in POSITION_MISTAKES.items():
-        cand = fn(pos)
-        if name == "radians" and np.max(np.abs(cand)) > 2 * np.pi:
-            continue
-        if fits(cand):
-            return f"; likely mistake: {name} — every position matches after that change: {fix}"
-    for i, r in enumerate(rests[1:], start=1):
-        shifted = [slice(x.start - r.start, x.stop - r.start) for x in rests[i:]]
-        if len(shifted) >= pos.shape[0] and fits(pos, q_abs[r.start:], shifted):
-            return (f"; likely mistake: the log does not start at the mechanism zero — with the attitude zeroed at the "
-                    f"rest at {t[r.start]:.1f} s every position matches: trim the log to start at the zero "
-                    f"(the positions are relative to where the log starts)")
-    if np.max(np.abs(pos)) <= np.pi / 2 + 1e-9 and np.max(np.abs(pos)) > 0:
-        return ("; the positions are all within +-1.571 deg: if they are radians, write degrees "
-                "(the table above shows what each rest measured)")
-    return "; no single convention mistake (radians, sign, pitch/roll swap, FRD axes, start) explains it: see the table above"
+              f"{t[r.start]:>6.1f}-{t[r.stop - 1]:<6.1f}s {' '.join(f'{v:+8.2f}' for v in e):>26} "
+              f"{np.degrees(diag.distance_rad[k]):7.2f}")
 
 
-#: Other quaternion conventions tried when a q0..q3 log matches no position: name → (transform, fix).
-QUATERNION_CONVENTIONS = {
-    "scalar-last (x, y, z, w)": (lambda q: q[:, [3, 0, 1, 2]],
-                                 "map the scalar column to q0 with --columns q0=W,q1=X,q2=Y,q3=Z"),
-    "conjugated (world -> sensor)": (lambda q: q * np.array([1.0, -1.0, -1.0, -1.0]),
-                                     "give the sensor -> world attitude (negate q1..q3)"),
-    "scalar-last and conjugated": (lambda q: q[:, [3, 0, 1, 2]] * np.array([1.0, -1.0, -1.0, -1.0]),
-                                   "map the scalar column to q0 with --columns and negate q1..q3"),
-}
-
-
-def _quaternion_hint(cfg, pos, log, rests) -> str:
-    """A hint naming the quaternion convention under which the log would match the positions ('' if none)."""
-    from mtcal.systems import installation
-
-    for name, (fn, fix) in QUATERNION_CONVENTIONS.items():
-        q = fn(log.q_ws)
-        try:
-            installation.calibrate_installation(cfg, pos, log.dt_mean_s, q_ws=q, rests=rests)
-        except ValueError:
-            continue
-        return f"; the log's q0..q3 would match every position if they were {name}: {fix}"
-    return ""
-
-
-def _print_and_write(args, cfg, out, log, cal, sigma_rad: np.ndarray, info: dict) -> None:
+def _print_and_write(args, res, out, log, info: dict) -> None:
     """The ``Q_hat`` block, the per-position table, the installation angles and the JSON (``--out``)."""
-    from mtcal.core import rotations
     from mtcal.systems import installation
+
+    cfg, cal, sigma_rad = res.config, res.calibration, res.sigma_rad
 
     alpha = np.degrees(cal.installation_angles_rad)
     model_name = {"eq13": "Eq 13", "so4": "SO(4) fit L(p) R(r), 6 parameters",
@@ -306,7 +220,7 @@ def _print_and_write(args, cfg, out, log, cal, sigma_rad: np.ndarray, info: dict
               f"{np.degrees(cal.residual_rad[k]):9.5f}")
     model = cfg.model
     sigma = np.degrees(sigma_rad)
-    mount = np.degrees(rotations.euler_zxy_from_quat(cal.mounting_quaternion_q_bs))
+    mount = np.degrees(res.mounting_euler_rad)
     sig_txt = ("1-sigma not estimable (4 positions leave no degrees of freedom)" if not np.all(np.isfinite(sigma))
                else "1-sigma " + " ".join(f"{v:.4f}" for v in sigma) + f" deg ({model} fit covariance)")
     print(f"installation angles alpha1 (z) alpha2 (y) alpha3 (x): {alpha[0]:+.4f} {alpha[1]:+.4f} {alpha[2]:+.4f} deg, "

@@ -11,7 +11,7 @@ import numpy as np
 from mtcal.cli import logio
 from mtcal.methods import rest_detection
 
-__all__ = ["add_input_options", "add_rest_options", "input_options", "rests_config", "attitude_config", "detect", "qncf_settings",
+__all__ = ["add_input_options", "add_rest_options", "input_options", "rests_config", "attitude_config", "detect", "log_arrays", "qncf_settings",
            "qncf_info", "rest_table", "print_report",
            "finite_float", "DiagnosticsFigure", "run_with_figure", "SCHEMA_HELP", "description_with_schema",
            "QUATERNION_DECIMALS", "write_attitude", "euler_deg", "rest_bias_text",
@@ -188,6 +188,14 @@ def detect(args, log: logio.ImuLog, *, use_gyro: bool = True) -> rest_detection.
     config = rests_config(args, has_gyro=has_gyro)
     return find_rests(log.accel_m_s2, log.dt_mean_s, config, gyro_rad_s=log.gyro_rad_s if has_gyro else None,
                       time_s=log.time_s)
+
+
+def log_arrays(log: logio.ImuLog) -> dict:
+    """A log's arrays as the systems' log procedures take them (:func:`mtcal.systems.installation.calibrate_record`)."""
+    raw = log.gyro_rad_s is not None
+    return {"time_s": log.time_s, "accel_m_s2": log.accel_m_s2, "gyro_rad_s": log.gyro_rad_s,
+            "filter_gyro_rad_s": log.gyro_for_filter() if raw else None, "q_ws": None if raw else log.q_ws,
+            "gyro_unit_stated": log.gyro_unit_stated}
 
 
 def qncf_settings(log: logio.ImuLog, rep) -> tuple[np.ndarray, object, np.ndarray | None, dict]:

@@ -38,21 +38,26 @@ Examples
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from numbers import Real
 
 import numpy as np
 
 from mtcal.core import metrics, rotations
 from mtcal.core.validate import as_float_array, positive_scalar, sample_interval, unit_quaternion
-from mtcal.filters.qncf import QncfParams, qncf
+from mtcal.filters.qncf import QncfParams, initial_attitude_from_accel, qncf
 from mtcal.methods import constrained_fit, quaternion_lsq, six_position
 from mtcal.methods.constrained_fit import So4Projection
+from mtcal.systems import attitude, plausibility
+from mtcal.systems import rests as rests_system
+from mtcal.systems.rests import RestsConfig
 
 __all__ = ["MODELS", "missing_rotation_axis", "MAX_CONDITION", "MAX_SO4_DISTANCE", "MAX_RESIDUAL_RAD",
            "InstallationConfig", "InstallationCalibration", "CalibratedAttitude", "InstallationRefused", "detect_rests",
            "calibrate_installation", "verify_installation", "apply_installation", "absolute_body_attitude",
-           "mounting_from_q_hat", "installation_angles_sigma"]
+           "mounting_from_q_hat", "installation_angles_sigma", "calibrate_record", "apply_record", "RecordCalibration",
+           "RecordApplication", "RecordRefused", "RefusalDiagnosis", "MISMATCH_MESSAGES", "POSITION_MISTAKES",
+           "QUATERNION_CONVENTIONS"]
 
 #: Gate: condition number of ``A_q^s (A_q^s)ᵀ`` (Eq 13) above which the positions are refused.
 MAX_CONDITION = 1e4
@@ -199,6 +204,9 @@ class InstallationConfig:
         QNCF (Eq 5–8) parameters for raw data.
     zero_heading : bool
         :func:`absolute_body_attitude`: zero the body yaw at the first sample.
+    rest_detector : RestsConfig or None
+        The rest detector of a raw log (:func:`calibrate_record`, :func:`apply_record`; ``detector="paper"``:
+        the calibration matches the §3.2 stillness rests of :func:`detect_rests`).
 
     References
     ----------
@@ -228,6 +236,7 @@ class InstallationConfig:
     zero_at_first_sample: bool = True
     qncf_params: QncfParams = QncfParams()
     zero_heading: bool = True
+    rest_detector: RestsConfig | None = None
 
     def __post_init__(self):
         if self.model not in MODELS:
@@ -235,6 +244,8 @@ class InstallationConfig:
         f = positive_scalar(self.fraction, "fraction")
         if f > 1:
             raise ValueError(f"fraction must be in (0, 1], got {f}")
+        if self.rest_detector is not None and not isinstance(self.rest_detector, RestsConfig):
+            raise TypeError(f"rest_detector must be a RestsConfig or None, got {type(self.rest_detector).__name__}")
         if not isinstance(self.qncf_params, QncfParams):
             raise TypeError(f"qncf_params must be a QncfParams, got {type(self.qncf_params).__name__}")
         values = dict(fraction=f, min_rest_s=positive_scalar(self.min_rest_s, "min_rest_s"),
@@ -273,14 +284,17 @@ class InstallationConfig:
     def command_line(cls, *, model: str = "eq13", fraction: float = 0.5, min_rest_s: float = 2.0,
                      still_threshold_rad_s: float = float(np.radians(0.2)),
                      max_so4_distance: float | None = None, max_residual_rad: float = MAX_RESIDUAL_RAD,
-                     qncf_params: QncfParams | None = None) -> "InstallationConfig":
+                     qncf_params: QncfParams | None = None,
+                     rest_detector: RestsConfig | None = None) -> "InstallationConfig":
         """``mtcal calibrate`` / ``mtcal apply``: the options' values (SI), defaults as the commands'.
 
-        ``max_so4_distance`` None is :data:`MAX_SO4_DISTANCE`; ``qncf_params`` None the paper's QNCF.
+        ``max_so4_distance`` None is :data:`MAX_SO4_DISTANCE`; ``qncf_params`` None the paper's QNCF;
+        ``rest_detector`` the rest options (a raw log's detector).
         """
         return cls(model=model, fraction=fraction, min_rest_s=min_rest_s, still_threshold_rad_s=still_threshold_rad_s,
                    max_so4_distance=MAX_SO4_DISTANCE if max_so4_distance is None else max_so4_distance,
-                   max_residual_rad=max_residual_rad, qncf_params=QncfParams() if qncf_params is None else qncf_params)
+                   max_residual_rad=max_residual_rad, qncf_params=QncfParams() if qncf_params is None else qncf_params,
+                   rest_detector=rest_detector)
 
 
 # --------------------------------------------------------------------------- the public edge
@@ -708,6 +722,11 @@ def apply_installation(config: InstallationConfig, q_hat, dt_s: float | None = N
     if mat.ndim == 3 and (stream.ndim != 3 or stream.shape[0] != mat.shape[0]):
         raise ValueError(f"a stack of {mat.shape[0]} matrices needs a record with as many trials, "
                          f"got shape {stream.shape}")
+    return _relative_attitude(config, mat, q, gyro, accel, q0, dt)
+
+
+def _relative_attitude(config, mat, q, gyro, accel, q0, dt) -> CalibratedAttitude:
+    """:func:`apply_installation` on checked inputs: the zeroed sensor attitude mapped by Q̂ (Eq 10)."""
     q_s = _sensor_attitude(config, q, gyro, accel, q0, dt)[1]
     q_b = rotations.make_continuous(quaternion_lsq._apply(mat, q_s), axis=-2)
     return CalibratedAttitude(q_body=q_b, q_sensor=q_s)
@@ -735,7 +754,14 @@ def mounting_from_q_hat(q_hat) -> np.ndarray:
     mat = as_float_array(q_hat, "q_hat")
     if mat.shape != (4, 4):
         raise ValueError(f"q_hat must be a finite 4x4 array, got shape {mat.shape}")
-    q = rotations.quat_conjugate(constrained_fit.project_to_so4(mat).r)
+    return _mounting(mat)
+
+
+def _mounting(mat: np.ndarray) -> np.ndarray:
+    """:func:`mounting_from_q_hat` of a checked 4x4 Q̂ (the trusted projection and factoring of
+    :func:`mtcal.methods.constrained_fit.project_to_so4`)."""
+    r = constrained_fit._factor(constrained_fit._project(mat))[1]
+    q = r * np.array([1.0, -1.0, -1.0, -1.0])                                 # conjugate: q_bs = r*
     return q if q[0] >= 0 else -q
 
 
@@ -786,6 +812,11 @@ def absolute_body_attitude(config: InstallationConfig, q_bs, dt_s: float | None 
     if c.shape != (4,):
         raise ValueError(f"q_bs must be one quaternion of shape (4,), got {c.shape}")
     dt, q, gyro, accel, q0, _ = _application_record(config, dt_s, q_ws, gyro_rad_s, accel_m_s2, q0)
+    return _absolute_attitude(config, c, q, gyro, accel, q0, dt)
+
+
+def _absolute_attitude(config, c, q, gyro, accel, q0, dt) -> CalibratedAttitude:
+    """:func:`absolute_body_attitude` on checked inputs (``c`` the mounting ``q_bs``)."""
     q_s = rotations.make_continuous(_sensor_attitude(config, q, gyro, accel, q0, dt, zero=False)[0], axis=-2)
     q_b = rotations.hamilton(q_s, rotations.quat_conjugate(c))
     if config.zero_heading:
@@ -876,3 +907,338 @@ def installation_angles_sigma(cal: InstallationCalibration, model: str = "eq13")
         return np.full(3, np.nan)
     g = np.stack([(_angles_of(fun(e)) - _angles_of(fun(-e))) / (2 * h) for e in eye], axis=1)  # (3, n)
     return np.sqrt(np.clip(np.diag(g @ cov @ g.T), 0.0, None))
+
+
+# --------------------------------------------------------------------------- whole logs (the CLI's procedures)
+@dataclass(frozen=True)
+class RefusalDiagnosis:
+    """Per reference position the nearest rest of a refused calibration (zeroed sensor attitude).
+
+    Attributes
+    ----------
+    nearest : list of slice
+        For each position (K) the rest (sample slice) nearest to it.
+    measured_rad : ndarray (K, 3)
+        Eq 8 angles of that rest's middle-section mean (rad).
+    distance_rad : ndarray (K,)
+        Rotation angle between that rest and the position (rad).
+    """
+
+    nearest: list
+    measured_rad: np.ndarray
+    distance_rad: np.ndarray
+
+
+@dataclass(frozen=True)
+class RecordCalibration:
+    """Outcome of :func:`calibrate_record`: what the procedure found, in the order it found it.
+
+    Attributes
+    ----------
+    config : InstallationConfig
+        The config as run (QNCF parameters of the log's rests).
+    rests : list of slice
+        The rests the positions are matched to.
+    report : RestReport or None
+        The rest detector's report (raw logs).
+    units_check : dict or None
+        :func:`mtcal.systems.plausibility.check_units` (raw logs).
+    qncf : QncfLogSetup or None
+        How the QNCF ran (raw logs).
+    calibration : InstallationCalibration or None
+        None when there are fewer rests than positions, or when refused.
+    sigma_rad : ndarray (3,) or None
+        1σ of the installation angles (:func:`installation_angles_sigma`).
+    refusal : str or None
+        The one-line refusal, with the likely convention mistake when one explains it.
+    diagnosis : RefusalDiagnosis or None
+        The nearest rest per position of a refusal looked into.
+    mounting_euler_rad : ndarray (3,) or None
+        Eq 8 yaw/pitch/roll of the mounting ``q_bs`` (rad): the sensor on the body.
+    """
+
+    config: InstallationConfig
+    rests: list
+    report: object = None
+    units_check: dict | None = None
+    qncf: object = None
+    calibration: InstallationCalibration | None = None
+    sigma_rad: np.ndarray | None = None
+    refusal: str | None = None
+    diagnosis: RefusalDiagnosis | None = None
+    mounting_euler_rad: np.ndarray | None = None
+
+
+class RecordRefused(ValueError):
+    """A log refused after its rests were found (units check); ``report`` holds the rests for a figure."""
+
+    def __init__(self, message: str, report):
+        super().__init__(message)
+        self.report = report
+
+
+#: Refusals that mean "the rests do not match the positions" (a convention mistake is then looked for).
+MISMATCH_MESSAGES = ("has no rest within", "Q_hat is not a calibration", "a rest does not match its reference")
+
+#: Position-file mistakes tried on refusal: name → (transform of the positions in rad, what to do).
+POSITION_MISTAKES = {
+    "radians": (np.degrees, "the positions file holds radians: write degrees (yaw_deg, pitch_deg, roll_deg)"),
+    "pitch sign flipped": (lambda p: p * [1.0, -1.0, 1.0], "negate pitch_deg (pitch is positive about +x, nose up)"),
+    "roll sign flipped": (lambda p: p * [1.0, 1.0, -1.0], "negate roll_deg (roll is positive about +y)"),
+    "yaw sign flipped": (lambda p: p * [-1.0, 1.0, 1.0], "negate yaw_deg (yaw is positive about +z, up)"),
+    "pitch and roll swapped": (lambda p: p[:, [0, 2, 1]], "swap the pitch_deg and roll_deg columns "
+                               "(pitch about x, roll about y: wang2023cja Eq 8/9)"),
+}
+
+#: Other quaternion conventions tried when a q0..q3 log matches no position: name → (transform, fix).
+QUATERNION_CONVENTIONS = {
+    "scalar-last (x, y, z, w)": (lambda q: q[:, [3, 0, 1, 2]],
+                                 "map the scalar column to q0 with --columns q0=W,q1=X,q2=Y,q3=Z"),
+    "conjugated (world -> sensor)": (lambda q: q * np.array([1.0, -1.0, -1.0, -1.0]),
+                                     "give the sensor -> world attitude (negate q1..q3)"),
+    "scalar-last and conjugated": (lambda q: q[:, [3, 0, 1, 2]] * np.array([1.0, -1.0, -1.0, -1.0]),
+                                   "map the scalar column to q0 with --columns and negate q1..q3"),
+}
+
+
+def calibrate_record(config: InstallationConfig, positions_rad, dt_s: float, *, time_s=None, accel_m_s2=None,
+                  gyro_rad_s=None, filter_gyro_rad_s=None, q_ws=None, gyro_unit_stated=None) -> RecordCalibration:
+    """The whole ``mtcal calibrate`` measurement of one log: rests → units check → attitude → Eq 13 → diagnosis.
+
+    A raw log (``gyro_rad_s`` and ``accel_m_s2``): rests by ``config.rest_detector``
+    (:func:`mtcal.systems.rests.find_rests`; with the paper's detector the calibration's rests are the
+    §3.2 stillness of the gyro, :func:`detect_rests`), the gyro units checked against the accelerometer
+    (:func:`mtcal.systems.plausibility.check_units`), the QNCF set from the rests
+    (:func:`mtcal.systems.attitude.qncf_log_setup`), then :func:`calibrate_installation`. A q0..q3 log
+    (``q_ws``): rests from the quaternion rate. A refusal meaning "the rests do not match the
+    positions" is looked into: the convention mistake (radians, a sign, pitch/roll swapped, FRD axes,
+    a late start, a quaternion convention) under which every position matches is named.
+
+    Parameters
+    ----------
+    config : InstallationConfig
+        The procedure's settings; ``config.rest_detector`` the raw log's rest detector (required for raw logs).
+    positions_rad : array_like, shape (K, 3)
+        Reference ``[ψ, θ, γ]`` (rad, Eq 8/9), K ≥ 4.
+    dt_s : float
+        Mean sample interval (s).
+    time_s : array_like, shape (N,)
+        Sample times (s).
+    accel_m_s2, gyro_rad_s : array_like, shape (N, 3), optional
+        Raw data (m/s², rad/s).
+    filter_gyro_rad_s : array_like, shape (N, 3), optional
+        The gyro for a fixed-step filter at ``dt_s`` (per-sample dt weighted); default ``gyro_rad_s``.
+    q_ws : array_like, shape (N, 4), optional
+        The logger's sensor attitude, when there is no raw data.
+    gyro_unit_stated : str, optional
+        The gyro unit the user stated (the units check warns instead of refusing).
+
+    Returns
+    -------
+    RecordCalibration
+        Too few rests: ``calibration`` None and no ``refusal`` (the caller words it from ``report``).
+
+    Raises
+    ------
+    RecordRefused
+        The units check refused the log (``report`` attached).
+
+    References
+    ----------
+    wang2023cja §3.2, §4.1, Eq 13; see :func:`calibrate_installation`.
+    """
+    pos = np.asarray(positions_rad, dtype=float)
+    rep = chk = setup = None
+    cfg, source, q_logged = config, {"q_ws": q_ws}, q_ws
+    if gyro_rad_s is not None:
+        rep, found, chk, setup = _raw_record(config, dt_s, time_s, accel_m_s2, gyro_rad_s, filter_gyro_rad_s,
+                                             gyro_unit_stated, paper_rests=config.rest_detector.detector == "paper")
+        cfg = replace(config, qncf_params=setup.params)
+        source, q_logged = {"gyro_rad_s": setup.gyro_rad_s, "accel_m_s2": accel_m_s2, "q0": setup.q0}, None
+    else:
+        found = detect_rests(config, dt_s, q_ws=q_ws)
+    return _calibrate_record_rests(cfg, pos, dt_s, found, rep, chk, setup, source, accel_m_s2, q_logged, time_s)
+
+
+def _raw_record(config, dt_s, time_s, accel_m_s2, gyro_rad_s, filter_gyro_rad_s, gyro_unit_stated, *,
+                paper_rests: bool) -> tuple:
+    """A raw record's rests, units check and QNCF set-up: ``(report, rests, units check, QncfLogSetup)``.
+
+    ``paper_rests``: the rests returned are the §3.2 stillness of the gyro (:func:`detect_rests` on the
+    gyro :func:`mtcal.systems.rests.find_rests` checked), else the report's.
+    """
+    filter_gyro = gyro_rad_s if filter_gyro_rad_s is None else filter_gyro_rad_s
+    detector = config.rest_detector
+    rep = rests_system.find_rests(accel_m_s2, dt_s, detector, gyro_rad_s=gyro_rad_s if detector.use_gyro else None,
+                                  time_s=time_s)
+    found = rep.rests
+    if paper_rests:
+        still = six_position.stillness_from_gyro(np.asarray(gyro_rad_s, dtype=float), dt_s, config.still_window_s,
+                                                 config.still_threshold_rad_s)
+        found = six_position.find_rests(still, dt_s, config.min_rest_s)
+    try:
+        chk = plausibility.check_units(filter_gyro, accel_m_s2, dt_s, found, time_s=time_s,
+                                       skip=plausibility.clipped_samples(gyro_rad_s)[0], unit_stated=gyro_unit_stated)
+    except ValueError as exc:
+        raise RecordRefused(str(exc), rep) from None
+    return rep, found, chk, attitude.qncf_log_setup(filter_gyro, accel_m_s2, dt_s, rep, gyro_rad_s=gyro_rad_s)
+
+
+def _calibrate_record_rests(cfg, pos, dt, found, rep, chk, setup, source, accel, q_ws, time_s) -> RecordCalibration:
+    """:func:`calibrate_record` from its rests on: Eq 13 and, on a mismatch refusal, the diagnosis."""
+    done = dict(config=cfg, rests=found, report=rep, units_check=chk, qncf=setup)
+    if len(found) < pos.shape[0]:
+        return RecordCalibration(**done)
+    try:
+        cal = calibrate_installation(cfg, pos, dt, rests=found, **source)
+    except InstallationRefused as exc:
+        tiny = np.max(np.abs(np.degrees(pos))) <= np.pi / 2 + 1e-9        # values that may be radians
+        if not (any(m in str(exc) for m in MISMATCH_MESSAGES) or (tiny and "ill-conditioned" in str(exc))):
+            return RecordCalibration(**done, refusal=str(exc))
+        hint = _quaternion_hint(cfg, pos, dt, q_ws, found) if q_ws is not None else ""
+        diagnosis = None
+        if not hint:
+            diagnosis, hint = _diagnose(cfg, pos, dt, found, exc.q_ws, accel, time_s)
+        return RecordCalibration(**done, refusal=f"{exc}{hint}", diagnosis=diagnosis)
+    return RecordCalibration(**done, calibration=cal, sigma_rad=installation_angles_sigma(cal, cfg.model),
+                             mounting_euler_rad=rotations.euler_zxy_from_quat(cal.mounting_quaternion_q_bs))
+
+
+def _fits(cfg, pos, dt, q, rests) -> bool:
+    """Whether :func:`calibrate_installation` accepts the record."""
+    try:
+        calibrate_installation(cfg, pos, dt, q_ws=q, rests=rests)
+    except ValueError:
+        return False
+    return True
+
+
+def _quaternion_hint(cfg, pos, dt, q_ws, rests) -> str:
+    """A hint naming the quaternion convention under which the log would match the positions ('' if none)."""
+    for name, (fn, fix) in QUATERNION_CONVENTIONS.items():
+        if _fits(cfg, pos, dt, fn(q_ws), rests):
+            return f"; the log's q0..q3 would match every position if they were {name}: {fix}"
+    return ""
+
+
+def _diagnose(cfg, pos, dt, rests, q_abs, accel, time_s) -> tuple:
+    """Why the rests do not match the positions: the nearest rest per position and the likely mistake.
+
+    ``q_abs`` is the sensor attitude the refused calibration made (not zeroed). Returns
+    ``(RefusalDiagnosis, hint)`` with the hint appended to the one-line refusal.
+    """
+    means = six_position.rest_means(rotations.relative_to_initial(q_abs[None])[0], rests, cfg.fraction)
+    q_ref = rotations.quat_from_euler_zxy(pos[:, 0], pos[:, 1], pos[:, 2])
+    dist = rotations.quat_angle_between(means[:, None, :], q_ref[None, :, :])      # (R, K)
+    near = np.argmin(dist, axis=0)
+    diagnosis = RefusalDiagnosis(nearest=[rests[int(r)] for r in near],
+                                 measured_rad=rotations.euler_zxy_from_quat(means[near]),
+                                 distance_rad=dist[near, np.arange(pos.shape[0])])
+    return diagnosis, _mistake(cfg, pos, dt, rests, q_abs, accel, time_s)
+
+
+def _mistake(cfg, pos, dt, rests, q_abs, accel, time_s) -> str:
+    """The convention mistake under which every position matches, as a hint ('; likely mistake: …')."""
+    if accel is not None and rests:
+        a0 = accel[rests[0]].mean(axis=0)
+        if a0[2] < -0.5 * np.linalg.norm(a0):
+            return (f"; likely mistake: the sensor reads -g on z at its first rest (a = [{a0[0]:+.2f}, {a0[1]:+.2f}, "
+                    f"{a0[2]:+.2f}] m/s^2): FRD/NED axes (z down)? mtcal expects x right, y forward, z up (+g on z "
+                    f"when level); map FRD to it with --columns gyro_x=<gyro y>,gyro_y=<gyro x>,accel_x=<accel y>,"
+                    f"accel_y=<accel x> --gyro-scale 1,1,-1 --accel-scale 1,1,-1")
+    for name, (fn, fix) in POSITION_MISTAKES.items():
+        cand = fn(pos)
+        if name == "radians" and np.max(np.abs(cand)) > 2 * np.pi:
+            continue
+        if _fits(cfg, cand, dt, q_abs, rests):
+            return f"; likely mistake: {name} — every position matches after that change: {fix}"
+    for i, r in enumerate(rests[1:], start=1):
+        shifted = [slice(x.start - r.start, x.stop - r.start) for x in rests[i:]]
+        if len(shifted) >= pos.shape[0] and _fits(cfg, pos, dt, q_abs[r.start:], shifted):
+            return ("; likely mistake: the log does not start at the mechanism zero — with the attitude zeroed at the "
+                    f"rest at {time_s[r.start]:.1f} s every position matches: trim the log to start at the zero "
+                    "(the positions are relative to where the log starts)")
+    if np.max(np.abs(pos)) <= np.pi / 2 + 1e-9 and np.max(np.abs(pos)) > 0:
+        return ("; the positions are all within +-1.571 deg: if they are radians, write degrees "
+                "(the table above shows what each rest measured)")
+    return "; no single convention mistake (radians, sign, pitch/roll swap, FRD axes, start) explains it: see the table above"
+
+
+@dataclass(frozen=True)
+class RecordApplication:
+    """Outcome of :func:`apply_record`.
+
+    Attributes
+    ----------
+    q_bs : ndarray (4,)
+        The calibration's mounting (:func:`mounting_from_q_hat`).
+    attitude : CalibratedAttitude
+        Body and sensor attitude of the log.
+    report, units_check, qncf :
+        As in :class:`RecordCalibration` (raw logs; None for a q0..q3 log).
+    start_euler_rad : ndarray (3,) or None
+        ``mode="relative"``: Eq 8 angles of the body at the log's start (the first rest's accelerometer
+        levelling, or the first q0..q3 sample) — the tilt the relative angles carry; else None.
+    start_rest : slice or None
+        The rest ``start_euler_rad`` was levelled at (None: the first sample of a q0..q3 log).
+    mounting_euler_rad : ndarray (3,)
+        Eq 8 yaw/pitch/roll of ``q_bs`` (rad).
+    """
+
+    q_bs: np.ndarray
+    attitude: CalibratedAttitude
+    mounting_euler_rad: np.ndarray
+    report: object = None
+    units_check: dict | None = None
+    qncf: object = None
+    start_euler_rad: np.ndarray | None = None
+    start_rest: slice | None = None
+
+
+def apply_record(config: InstallationConfig, q_hat, dt_s: float, *, mode: str = "absolute", time_s=None, accel_m_s2=None,
+              gyro_rad_s=None, filter_gyro_rad_s=None, q_ws=None, gyro_unit_stated=None) -> RecordApplication:
+    """The whole ``mtcal apply`` measurement of one log: rests → units check → attitude → body attitude.
+
+    ``mode="absolute"``: :func:`absolute_body_attitude` with the mounting of ``q_hat``;
+    ``mode="relative"``: :func:`apply_installation` (Eq 10) and the body's tilt at the start.
+    The log's arrays, and the :class:`RecordRefused` of a units check that refuses, as in
+    :func:`calibrate_record`.
+
+    References
+    ----------
+    wang2023cja Eq 1, Eq 10, §4.1.
+    """
+    if mode not in ("absolute", "relative"):
+        raise ValueError(f"mode must be 'absolute' or 'relative', got {mode!r}")
+    mat = np.array(q_hat, dtype=float)
+    if mat.shape != (4, 4) or not np.all(np.isfinite(mat)):
+        raise ValueError(f"q_hat must be a finite 4x4 array, got shape {mat.shape}")
+    rep = chk = setup = None
+    cfg, raw = config, (None, q_ws, None, None, None)
+    if gyro_rad_s is not None:
+        rep, _, chk, setup = _raw_record(config, dt_s, time_s, accel_m_s2, gyro_rad_s, filter_gyro_rad_s,
+                                         gyro_unit_stated, paper_rests=False)
+        cfg = replace(config, qncf_params=setup.params)
+        raw = (dt_s, None, setup.gyro_rad_s, accel_m_s2, setup.q0)
+    return _apply_record_attitude(cfg, mat, mode, _application_record(cfg, *raw), rep, chk, setup, accel_m_s2)
+
+
+def _apply_record_attitude(cfg, mat, mode, checked, rep, chk, setup, accel) -> RecordApplication:
+    """:func:`apply_record` from the checked record on: the mounting, the body attitude, the tilt at the start."""
+    dt, q, gyro, acc, q0, _ = checked
+    q_bs = _mounting(mat)
+    done = dict(q_bs=q_bs, report=rep, units_check=chk, qncf=setup)
+    if mode == "absolute":
+        return RecordApplication(attitude=_absolute_attitude(cfg, q_bs, q, gyro, acc, q0, dt),
+                                 mounting_euler_rad=rotations.euler_zxy_from_quat(q_bs), **done)
+    att = _relative_attitude(cfg, mat, q, gyro, acc, q0, dt)
+    start, q_s0 = None, None
+    if accel is not None and rep is not None and rep.rests:
+        start = rep.rests[0]
+        q_s0 = initial_attitude_from_accel(accel[start].mean(axis=0))
+    elif q is not None:
+        q_s0 = q[0]
+    tilt = None if q_s0 is None else rotations.euler_zxy_from_quat(
+        rotations.quat_multiply(q_s0, rotations.quat_conjugate(q_bs)))
+    return RecordApplication(attitude=att, mounting_euler_rad=rotations.euler_zxy_from_quat(q_bs), start_euler_rad=tilt,
+                             start_rest=start, **done)

@@ -324,3 +324,59 @@ def test_cli_calibrate_is_bit_identical_to_the_study_path(tmp_path, monkeypatch)
     assert list(doc["installation_angles_deg"].values()) == np.degrees(study.installation_angles_rad[0]).tolist()
     assert doc["mounting_quaternion_q_bs"] == study.mounting_quaternion_q_bs[0].tolist()
     assert not np.array_equal(study.q_hat[0], np.eye(4))
+
+
+# --------------------------------------------------------------------------- whole records (the CLI's procedures)
+def test_calibrate_record_of_a_quaternion_log_is_the_calibration(stream):
+    pos, _, q_ws, _ = stream
+    t = np.arange(q_ws.shape[0]) * DT_S
+    cfg = Config.command_line()
+    res = installation.calibrate_record(cfg, pos, DT_S, time_s=t, q_ws=q_ws)
+    cal = installation.calibrate_installation(cfg, pos, DT_S, q_ws=q_ws, rests=res.rests)
+    assert res.refusal is None and res.report is None and res.units_check is None
+    np.testing.assert_array_equal(res.calibration.q_hat, cal.q_hat)
+    np.testing.assert_array_equal(res.mounting_euler_rad, rotations.euler_zxy_from_quat(cal.mounting_quaternion_q_bs))
+
+
+def test_calibrate_record_names_a_convention_mistake(stream):
+    pos, _, q_ws, _ = stream
+    t = np.arange(q_ws.shape[0]) * DT_S
+    cfg = Config.command_line()
+    res = installation.calibrate_record(cfg, pos[:, [0, 2, 1]], DT_S, time_s=t, q_ws=q_ws)
+    assert res.calibration is None and "likely mistake: pitch and roll swapped" in res.refusal
+    assert res.diagnosis.measured_rad.shape == (6, 3) and len(res.diagnosis.nearest) == 6
+    conj = installation.calibrate_record(cfg, pos, DT_S, time_s=t, q_ws=q_ws * [1.0, -1.0, -1.0, -1.0])
+    assert "would match every position if they were conjugated" in conj.refusal and conj.diagnosis is None
+
+
+def test_calibrate_record_with_too_few_rests_leaves_the_wording_to_the_caller(stream):
+    pos, _, q_ws, _ = stream
+    t = np.arange(q_ws.shape[0]) * DT_S
+    res = installation.calibrate_record(Config.command_line(min_rest_s=100.0), pos, DT_S, time_s=t, q_ws=q_ws)
+    assert res.calibration is None and res.refusal is None and len(res.rests) < pos.shape[0]
+
+
+def test_apply_record_modes_are_the_application_functions(stream):
+    pos, _, q_ws, q_bs = stream
+    t = np.arange(q_ws.shape[0]) * DT_S
+    cal = installation.calibrate_installation(PAPER, pos, DT_S, q_ws=q_ws)
+    cfg = Config.command_line()
+    rel = installation.apply_record(cfg, cal.q_hat, DT_S, mode="relative", time_s=t, q_ws=q_ws)
+    np.testing.assert_array_equal(rel.attitude.q_body, installation.apply_installation(cfg, cal.q_hat, q_ws=q_ws).q_body)
+    assert rel.start_rest is None and rel.start_euler_rad.shape == (3,)
+    ab = installation.apply_record(cfg, cal.q_hat, DT_S, time_s=t, q_ws=q_ws)
+    np.testing.assert_array_equal(ab.attitude.q_body,
+                                  installation.absolute_body_attitude(cfg, ab.q_bs, q_ws=q_ws).q_body)
+    assert ab.start_euler_rad is None
+    np.testing.assert_array_equal(ab.q_bs, installation.mounting_from_q_hat(cal.q_hat))
+    proj = installation.constrained_fit.project_to_so4(cal.q_hat)          # the trusted twin: the same bits
+    np.testing.assert_array_equal(ab.q_bs, np.copysign(1.0, proj.r[0]) * rotations.quat_conjugate(proj.r))
+    with pytest.raises(ValueError, match="mode must be 'absolute' or 'relative'"):
+        installation.apply_record(cfg, cal.q_hat, DT_S, mode="sideways", time_s=t, q_ws=q_ws)
+    with pytest.raises(ValueError, match="q_hat must be a finite 4x4 array"):
+        installation.apply_record(cfg, np.eye(3), DT_S, time_s=t, q_ws=q_ws)
+
+
+def test_the_rest_detector_of_a_config_is_a_rests_config():
+    with pytest.raises(TypeError, match="rest_detector must be a RestsConfig or None"):
+        Config(rest_detector=[slice(0, 10)])
