@@ -32,10 +32,12 @@ if TYPE_CHECKING:  # the eager imports, for type checkers and tests/test_import_
                                              estimate_surface_axis, surface_angle_batch)
     from mtcal.systems.installation import (CalibratedAttitude, InstallationCalibration, InstallationConfig,
                                             InstallationRefused, apply_installation, calibrate_installation,
-                                            detect_rests, verify_installation)
+                                            detect_rests, verify_installation, calibrate_record, apply_record,
+                                            RecordCalibration, RecordApplication, RecordRefused, RefusalDiagnosis)
 
 __all__ = ["attitude", "installation", "plausibility", "rests", "surface_angle", "InstallationCalibration",
-           "InstallationConfig", "InstallationRefused", "verify_installation",
+           "InstallationConfig", "InstallationRefused", "verify_installation", "calibrate_record", "apply_record",
+           "RecordCalibration", "RecordApplication", "RecordRefused", "RefusalDiagnosis",
            "CalibratedAttitude", "calibrate_installation", "apply_installation", "detect_rests", "AttitudeConfig",
            "estimate_attitude", "RestsConfig", "find_rests", "AxisConfig", "SurfaceAngleConfig", "SurfaceBatchConfig",
            "SurfaceAngleBatch", "surface_angle_batch", "estimate_surface_axis"]
@@ -47,6 +49,8 @@ _EXPORTS = {
     "CalibratedAttitude": "installation", "InstallationCalibration": "installation",
     "apply_installation": "installation", "calibrate_installation": "installation", "detect_rests": "installation",
     "InstallationConfig": "installation", "InstallationRefused": "installation", "verify_installation": "installation",
+    "calibrate_record": "installation", "apply_record": "installation", "RecordCalibration": "installation",
+    "RecordApplication": "installation", "RecordRefused": "installation", "RefusalDiagnosis": "installation",
     "AttitudeConfig": "attitude", "estimate_attitude": "attitude", "RestsConfig": "rests", "find_rests": "rests",
     "AxisConfig": "surface_angle", "SurfaceAngleConfig": "surface_angle", "SurfaceBatchConfig": "surface_angle",
     "SurfaceAngleBatch": "surface_angle", "surface_angle_batch": "surface_angle",
