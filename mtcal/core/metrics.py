@@ -30,6 +30,21 @@ def angle_difference(estimate_rad, truth_rad) -> np.ndarray:
         shape = np.broadcast_shapes(e.shape, t.shape)
     except ValueError:
         raise ValueError(f"estimate_rad and truth_rad must broadcast, got {e.shape} and {t.shape}") from None
+    return _wrapped_difference(e, t, shape)
+
+
+def angle_difference_trusted(estimate_rad: np.ndarray, truth_rad: np.ndarray) -> np.ndarray:
+    """:func:`angle_difference` without input validation (not public API; users call it).
+
+    Preconditions: ``estimate_rad`` and ``truth_rad`` are float64 arrays (rad) that broadcast against
+    each other (e.g. angles a procedure computed from inputs it checked at its edge). Bit-identical
+    to :func:`angle_difference` on such input.
+    """
+    return _wrapped_difference(estimate_rad, truth_rad, np.broadcast_shapes(estimate_rad.shape, truth_rad.shape))
+
+
+def _wrapped_difference(e: np.ndarray, t: np.ndarray, shape: tuple) -> np.ndarray:
+    """``(e − t + π) mod 2π − π`` over the broadcast ``shape`` (a compiled pass for large inputs)."""
     size = int(np.prod(shape))
     if 1 <= len(shape) <= 3 and size >= _KERNEL_MIN_SIZE:   # one compiled pass, the same operations
         from mtcal.core import _rotation_kernels

@@ -155,7 +155,15 @@ def quat_normalize(q) -> np.ndarray:
 
 def left_matrix(q) -> np.ndarray:
     """Left product matrix ``L(q)`` with ``q ⊗ p = L(q) p``; shape (..., 4, 4)."""
-    q = as_float_array(q, "q", last_dim=4)
+    return left_matrix_trusted(as_float_array(q, "q", last_dim=4))
+
+
+def left_matrix_trusted(q: np.ndarray) -> np.ndarray:
+    """:func:`left_matrix` without input validation (not public API).
+
+    Precondition: ``q`` is a finite float64 array (..., 4) (e.g. made by a procedure that checked
+    its inputs at its edge). Bit-identical to :func:`left_matrix` on such input.
+    """
     q0, q1, q2, q3 = np.moveaxis(q, -1, 0)
     rows = [[q0, -q1, -q2, -q3],
             [q1, q0, -q3, q2],
@@ -166,7 +174,14 @@ def left_matrix(q) -> np.ndarray:
 
 def right_matrix(q) -> np.ndarray:
     """Right product matrix ``R(q)`` with ``p ⊗ q = R(q) p``; shape (..., 4, 4)."""
-    q = as_float_array(q, "q", last_dim=4)
+    return right_matrix_trusted(as_float_array(q, "q", last_dim=4))
+
+
+def right_matrix_trusted(q: np.ndarray) -> np.ndarray:
+    """:func:`right_matrix` without input validation (not public API).
+
+    Precondition: ``q`` is a finite float64 array (..., 4). Bit-identical to :func:`right_matrix`.
+    """
     q0, q1, q2, q3 = np.moveaxis(q, -1, 0)
     rows = [[q0, -q1, -q2, -q3],
             [q1, q0, q3, -q2],
@@ -281,7 +296,15 @@ def quat_to_matrix(q) -> np.ndarray:
     The matrix maps vectors from the rotated frame to the reference frame
     (``v_ref = C v_body``), as scipy's ``Rotation.as_matrix``.
     """
-    q = _unit(q, "q")
+    return quat_to_matrix_trusted(_unit(q, "q"))
+
+
+def quat_to_matrix_trusted(q: np.ndarray) -> np.ndarray:
+    """:func:`quat_to_matrix` without input validation (not public API).
+
+    Precondition: ``q`` is a float64 array (..., 4) of unit quaternions (to 1e-6). Bit-identical to
+    :func:`quat_to_matrix` on such input.
+    """
     shape = q.shape[:-1]
     if q.size >= 4 * _KERNEL_MIN_ROWS:   # the same arithmetic as scipy's loop, bit for bit
         mat = np.empty((q.size // 4, 3, 3))
@@ -331,7 +354,17 @@ def quat_from_euler_zxy(yaw, pitch, roll) -> np.ndarray:
     psi = angle_rad(yaw, "yaw", allow_empty=True)
     theta = angle_rad(pitch, "pitch", allow_empty=True)
     gamma = angle_rad(roll, "roll", allow_empty=True)
-    psi, theta, gamma = np.broadcast_arrays(psi, theta, gamma)
+    return quat_from_euler_zxy_trusted(psi, theta, gamma)
+
+
+def quat_from_euler_zxy_trusted(yaw: np.ndarray, pitch: np.ndarray, roll: np.ndarray) -> np.ndarray:
+    """wang2023cja Eq 9 without input validation (not public API; users call :func:`quat_from_euler_zxy`).
+
+    Preconditions: ``yaw``, ``pitch``, ``roll`` are finite float64 arrays (rad) that broadcast against
+    each other — e.g. columns of positions a procedure checked at its edge. Bit-identical to
+    :func:`quat_from_euler_zxy` on such input; shape (..., 4).
+    """
+    psi, theta, gamma = np.broadcast_arrays(yaw, pitch, roll)
     cp, sp = np.cos(psi / 2), np.sin(psi / 2)
     ct, st = np.cos(theta / 2), np.sin(theta / 2)
     cg, sg = np.cos(gamma / 2), np.sin(gamma / 2)
@@ -633,6 +666,11 @@ def installation_angles(matrix) -> np.ndarray:
     ortho = np.abs(np.swapaxes(m, -1, -2) @ m - np.eye(3)).max() if m.size else 0.0
     if ortho > 1e-6 or np.any(np.linalg.det(m) <= 0):
         raise ValueError(f"matrix must be a rotation matrix (|M^T M - I| = {ortho:.3g}, det > 0)")
+    return _installation_angles(m)
+
+
+def _installation_angles(m: np.ndarray) -> np.ndarray:
+    """Inverse Eq 1 of checked rotation matrices (..., 3, 3) (see :func:`installation_angles`)."""
     a2 = np.arctan2(-m[..., 2, 0], np.hypot(m[..., 2, 1], m[..., 2, 2]))
     lock = np.hypot(m[..., 0, 0], m[..., 1, 0]) < 1e-12
     a1 = np.where(lock, np.arctan2(-m[..., 0, 1], m[..., 1, 1]), np.arctan2(m[..., 1, 0], m[..., 0, 0]))
@@ -655,6 +693,16 @@ def installation_angles_from_mount(q_bs) -> np.ndarray:
     """
     q = unit_quaternion(q_bs, "q_bs")
     return installation_angles(np.swapaxes(quat_to_matrix(q), -1, -2))
+
+
+def installation_angles_from_mount_trusted(q_bs: np.ndarray) -> np.ndarray:
+    """:func:`installation_angles_from_mount` without input validation (not public API).
+
+    Precondition: ``q_bs`` is a float64 array (..., 4) of unit quaternions (to 1e-6), e.g. the
+    right factor of an SO(4) projection. Bit-identical to :func:`installation_angles_from_mount`
+    on such input (the matrix of a unit quaternion is a rotation, so the rotation check is skipped).
+    """
+    return _installation_angles(np.swapaxes(quat_to_matrix_trusted(q_bs), -1, -2))
 
 
 def relative_to_initial(q_est: np.ndarray, n0: int = 1, *, out: np.ndarray | None = None,

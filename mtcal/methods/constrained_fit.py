@@ -149,14 +149,18 @@ def associate_matrix(matrix) -> np.ndarray:
     -------
     ndarray, shape (..., 4, 4)
     """
-    m = _matrix(matrix, "matrix")
+    return _associate(_matrix(matrix, "matrix"))
+
+
+def _associate(m: np.ndarray) -> np.ndarray:
+    """:func:`associate_matrix` of a checked float array (..., 4, 4)."""
     flat = m.reshape(m.shape[:-2] + (16,))
     return (flat @ _T / 4.0).reshape(m.shape)
 
 
 def _factor(m: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Top singular pair of the associate matrix: (p, r, σ1), p0 ≥ 0."""
-    u, s, vt = np.linalg.svd(associate_matrix(m))
+    """Top singular pair of the associate matrix of a checked ``m``: (p, r, σ1), p0 ≥ 0."""
+    u, s, vt = np.linalg.svd(_associate(m))
     p, r = u[..., :, 0], vt[..., 0, :]
     flip = np.where(p[..., :1] < 0.0, -1.0, 1.0)
     return p * flip, r * flip, s[..., 0]
@@ -254,7 +258,15 @@ def project_to_so4(matrix) -> So4Projection:
     >>> print(f"{float(proj.distance):.4f}")
     0.0040
     """
-    m = _matrix(matrix, "matrix")
+    return project_to_so4_trusted(_matrix(matrix, "matrix"))
+
+
+def project_to_so4_trusted(m: np.ndarray) -> So4Projection:
+    """:func:`project_to_so4` without input validation (not public API; users call it).
+
+    Precondition: ``m`` is a finite float64 array (..., 4, 4) (e.g. an Eq 13 estimate a procedure made
+    from inputs it checked at its edge). Bit-identical to :func:`project_to_so4` on such input.
+    """
     proj = _project(m)
     p, r, _ = _factor(proj)
     return So4Projection(matrix=proj, distance=np.linalg.norm(m - proj, axis=(-2, -1)), p=p, r=r,

@@ -163,7 +163,12 @@ def apply_error_matrix(q_matrix, q_sensor, *, normalize: bool = True) -> np.ndar
 
 
 def _apply(q_mat: np.ndarray, q_s: np.ndarray, normalize: bool = True) -> np.ndarray:
-    """Eq 10 on a checked matrix (stack) and checked (finite) unit quaternions (trusted)."""
+    """Eq 10 on a checked matrix (stack) and checked (finite) unit quaternions (trusted twin of
+    :func:`apply_error_matrix`, for procedures that checked or made their inputs).
+
+    Preconditions: ``q_mat`` float (4, 4) or (..., 4, 4) without inf (NaN gives NaN rows);
+    ``q_s`` float64 unit quaternions (..., N, 4) whose batch axes broadcast with ``q_mat``'s.
+    """
     # _flip(q_s, identity): for finite q, dot(q, [1, 0, 0, 0]) = q0 + (±0) + (±0) + (±0) has the sign of q0
     if q_s.dtype == np.float64 and q_s.size >= 4 * _KERNEL_MIN_ROWS:
         from mtcal.core._rotation_kernels import rotvec_prepare   # lazy: numba loads on the first large array

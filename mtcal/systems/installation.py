@@ -376,7 +376,7 @@ def _positions(config: InstallationConfig, pos, dt, q, gyro, accel, q0, rests):
     """Steps 1–5 on checked inputs: (q_ref, rests, matched, q_sensor, q_ws) — Eq 9 references, Eq 14
     columns and the sensor attitude before zeroing (the quaternion-rate detector sees it)."""
     q, q_zeroed = _sensor_attitude(config, q, gyro, accel, q0, dt)
-    q_ref = rotations.quat_from_euler_zxy(pos[..., 0], pos[..., 1], pos[..., 2])
+    q_ref = rotations.quat_from_euler_zxy_trusted(pos[..., 0], pos[..., 1], pos[..., 2])
     try:
         rests, matched, q_s = six_position.rest_attitudes(
             q_zeroed, q_ref, dt, gyro_rad_s=gyro, rests=rests, fraction=config.fraction,
@@ -528,11 +528,11 @@ def _calibrate(config: InstallationConfig, pos, dt, q, gyro, accel, q0, rests) -
 def _outcome(config: InstallationConfig, q_hat, cond, pos, q_ref, rests, matched, q_s,
              gate: bool) -> InstallationCalibration:
     """The SO(4) projection and the angles of Q̂, Eq 10 at the positions, then the gates (``gate``)."""
-    proj = constrained_fit.project_to_so4(q_hat)
+    proj = constrained_fit.project_to_so4_trusted(q_hat)
     after = quaternion_lsq._apply(q_hat, q_s)                                   # Eq 10 at the rests
     residual = six_position._angle_between(after, q_ref)
     q_bs = rotations.quat_conjugate(proj.r)
-    alpha = rotations.installation_angles_from_mount(q_bs)
+    alpha = rotations.installation_angles_from_mount_trusted(q_bs)
     before_e = rotations.euler_zxy_unchecked(q_s)
     after_e = rotations.euler_zxy_unchecked(after)
     if gate:
@@ -541,8 +541,8 @@ def _outcome(config: InstallationConfig, q_hat, cond, pos, q_ref, rests, matched
         q_hat=q_hat, projection=proj, mounting_quaternion_q_bs=q_bs, installation_angles_rad=alpha, condition=cond,
         positions_rad=pos, q_reference=q_ref, rests=rests, matched=matched, q_sensor=q_s,
         euler_before_rad=before_e, euler_after_rad=after_e,
-        error_before_rad=metrics.angle_difference(before_e, pos),
-        error_after_rad=metrics.angle_difference(after_e, pos), residual_rad=residual)
+        error_before_rad=metrics.angle_difference_trusted(before_e, pos),
+        error_after_rad=metrics.angle_difference_trusted(after_e, pos), residual_rad=residual)
 
 
 def verify_installation(config: InstallationConfig, q_hat, positions_rad, dt_s: float, *, q_ws=None,
@@ -653,7 +653,7 @@ def _fit_conjugation(q_s: np.ndarray, q_b: np.ndarray) -> np.ndarray:
     the smallest eigenvalue of ``Σ Mₖᵀ Mₖ``, ``Mₖ = R(q_s,k) − L(q_b,k)`` (closed form, sign-free).
     Positions about a single axis leave ``c`` free about it: refused.
     """
-    m = rotations.right_matrix(q_s) - rotations.left_matrix(q_b)                 # (..., K, 4, 4)
+    m = rotations.right_matrix_trusted(q_s) - rotations.left_matrix_trusted(q_b)               # (..., K, 4, 4)
     k = np.einsum("...kij,...kil->...jl", m, m)
     lam, vec = np.linalg.eigh(k)
     if np.any(lam[..., 1] - lam[..., 0] <= 1e-10 * np.maximum(lam[..., 3], 1e-300)):
@@ -661,7 +661,7 @@ def _fit_conjugation(q_s: np.ndarray, q_b: np.ndarray) -> np.ndarray:
                          "about a single axis; use positions about two axes")
     c = vec[..., :, 0]
     c = np.where(c[..., :1] < 0, -c, c)
-    return rotations.left_matrix(c) @ rotations.right_matrix(rotations.quat_conjugate(c))
+    return rotations.left_matrix_trusted(c) @ rotations.right_matrix_trusted(rotations.quat_conjugate(c))
 
 
 def _gate(q_hat, dist, residual, max_dist: float, max_res: float) -> None:
@@ -829,24 +829,24 @@ def _absolute_attitude(config, c, q, gyro, accel, q0, dt) -> CalibratedAttitude:
 
 
 def _angles_of(q_hat: np.ndarray) -> np.ndarray:
-    q = rotations.quat_conjugate(constrained_fit.project_to_so4(q_hat).r)
-    return rotations.installation_angles_from_mount(q)
+    r = constrained_fit.project_to_so4_trusted(q_hat).r
+    return rotations.installation_angles_from_mount_trusted(rotations.quat_conjugate(r))
 
 
 def _model_matrix(model: str, q_hat: np.ndarray):
     """The fitted map as a function of a small parameter perturbation δ, and the number of parameters."""
     if model == "eq13":
         return (lambda d: q_hat + d.reshape(4, 4)), 16
-    proj = constrained_fit.project_to_so4(q_hat)
+    proj = constrained_fit.project_to_so4_trusted(q_hat)
     p, r = proj.p, proj.r
     if model == "so4":
-        return (lambda d: rotations.left_matrix(rotations.quat_multiply(p, rotations.quat_from_rotvec(d[:3])))
-                @ rotations.right_matrix(rotations.quat_multiply(rotations.quat_from_rotvec(d[3:]), r))), 6
+        return (lambda d: rotations.left_matrix_trusted(rotations.quat_multiply(p, rotations.quat_from_rotvec(d[:3])))
+                @ rotations.right_matrix_trusted(rotations.quat_multiply(rotations.quat_from_rotvec(d[3:]), r))), 6
     c = rotations.quat_conjugate(r)
 
     def conj(d):
         cc = rotations.quat_multiply(c, rotations.quat_from_rotvec(d))
-        return rotations.left_matrix(cc) @ rotations.right_matrix(rotations.quat_conjugate(cc))
+        return rotations.left_matrix_trusted(cc) @ rotations.right_matrix_trusted(rotations.quat_conjugate(cc))
     return conj, 3
 
 
@@ -1128,7 +1128,7 @@ def _diagnose(cfg, pos, dt, rests, q_abs, accel, time_s) -> tuple:
     ``(RefusalDiagnosis, hint)`` with the hint appended to the one-line refusal.
     """
     means = six_position.rest_means(rotations.relative_to_initial(q_abs[None])[0], rests, cfg.fraction)
-    q_ref = rotations.quat_from_euler_zxy(pos[:, 0], pos[:, 1], pos[:, 2])
+    q_ref = rotations.quat_from_euler_zxy_trusted(pos[:, 0], pos[:, 1], pos[:, 2])
     dist = rotations.quat_angle_between(means[:, None, :], q_ref[None, :, :])      # (R, K)
     near = np.argmin(dist, axis=0)
     diagnosis = RefusalDiagnosis(nearest=[rests[int(r)] for r in near],

@@ -237,3 +237,13 @@ def test_variance_parts_split_and_its_old_homes_reexport_it():
         metrics.variance_parts(y.reshape(-1, 3), 3)
     with pytest.raises(ValueError, match="at least 2 complete groups"):
         metrics.variance_parts(y[:5], 3)
+
+
+@pytest.mark.parametrize("shape", [(5, 3), (4000, 3), (2, 3000, 3)])   # numpy path and the compiled path
+def test_angle_difference_trusted_bit_identical(shape):
+    rng = np.random.default_rng(35)
+    e, t = rng.uniform(-7, 7, shape), rng.uniform(-7, 7, shape[-1:])
+    assert np.array_equal(metrics.angle_difference_trusted(e, t), metrics.angle_difference(e, t))
+    assert "angle_difference_trusted" not in metrics.__all__
+    with pytest.raises(ValueError, match="must broadcast"):   # the public call keeps its check
+        metrics.angle_difference(e, t[:2])

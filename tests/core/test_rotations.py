@@ -391,3 +391,27 @@ def test_channel_errors_kernel_wraps_at_pi_like_the_remainder():
     assert (np.abs(ebc) <= np.pi).all()                # (x mod 2π) − π can round to +π, as numpy's does
     assert np.isclose(np.abs(ebc[0][np.isclose(np.abs(e - ref), np.pi)]), np.pi).all()
     assert _kernel_and_reference(q, q_mat, ref, 2, capacity=3)[0] == -1
+
+
+@pytest.mark.parametrize("n", [7, 3000])   # numpy path and the compiled path
+def test_trusted_twins_bit_identical_to_checked(n):
+    """The trusted twins (systems call them after their edge checks) equal the checked calls bit for bit."""
+    rng = np.random.default_rng(35)
+    ang = rng.uniform(-np.pi, np.pi, (n, 3)) * [1.0, 0.5, 1.0]
+    q = rotations.quat_from_euler_zxy(ang[:, 0], ang[:, 1], ang[:, 2])
+    assert np.array_equal(rotations.quat_from_euler_zxy_trusted(ang[:, 0], ang[:, 1], ang[:, 2]), q)
+    assert np.array_equal(rotations.quat_from_euler_zxy_trusted(ang[:, 0], np.float64(0.1), ang[:, 2]),
+                          rotations.quat_from_euler_zxy(ang[:, 0], 0.1, ang[:, 2]))
+    assert np.array_equal(rotations.left_matrix_trusted(q), rotations.left_matrix(q))
+    assert np.array_equal(rotations.right_matrix_trusted(q), rotations.right_matrix(q))
+    assert np.array_equal(rotations.quat_to_matrix_trusted(q), rotations.quat_to_matrix(q))
+    assert np.array_equal(rotations.installation_angles_from_mount_trusted(q),
+                          rotations.installation_angles_from_mount(q))
+
+
+def test_trusted_twins_not_public():
+    for name in ("quat_from_euler_zxy_trusted", "left_matrix_trusted", "right_matrix_trusted",
+                 "quat_to_matrix_trusted", "installation_angles_from_mount_trusted"):
+        assert name not in rotations.__all__ and callable(getattr(rotations, name))
+    with pytest.raises(ValueError, match="yaw"):   # the public call keeps its check
+        rotations.quat_from_euler_zxy(np.nan, 0.0, 0.0)

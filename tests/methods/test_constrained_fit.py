@@ -329,3 +329,15 @@ def test_monte_carlo_returns_matrices_eq13_not_orthogonal_with_noise():
     assert mats["eq13"].shape == (50, 4, 4) and out["eq13"].shape == (50,)
     assert np.all(constrained_fit.distance_to_orthogonal(mats["eq13"]) > 1e-6)
     assert np.all(constrained_fit.distance_to_orthogonal(mats["so4"]) < 1e-12)
+
+
+def test_project_to_so4_trusted_bit_identical():
+    """The trusted twin (systems call it on an Eq 13 estimate they made) equals the checked call bit for bit."""
+    rng = np.random.default_rng(35)
+    m = np.eye(4) + 0.05 * rng.standard_normal((6, 4, 4))
+    a, b = constrained_fit.project_to_so4(m), constrained_fit.project_to_so4_trusted(m)
+    for f in ("matrix", "distance", "p", "r", "determinant"):
+        assert np.array_equal(getattr(a, f), getattr(b, f)), f
+    assert "project_to_so4_trusted" not in constrained_fit.__all__
+    with pytest.raises(ValueError, match="4, 4"):
+        constrained_fit.project_to_so4(np.eye(3))

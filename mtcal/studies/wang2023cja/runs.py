@@ -583,13 +583,15 @@ def _before_after(q_s, q_mat, ref, chan: int) -> tuple[np.ndarray, np.ndarray, d
                                          "is NaN/inf")
             return before, after, {"before": err_b, "after": err_a}
     # _euler of both, written out (one finiteness check of the two)
-    after = quaternion_lsq.apply_error_matrix(q_mat, q_s)
-    before = rotations.euler_zxy_unchecked(np.asarray(q_s, dtype=float))
+    q_s = np.asarray(q_s, dtype=float)             # the QNCF's unit quaternions: Eq 10 without re-checking them
+    after = quaternion_lsq._apply(q_mat, q_s)
+    before = rotations.euler_zxy_unchecked(q_s)
     after = rotations.euler_zxy_unchecked(after)
     if not (np.isfinite(before).all() and np.isfinite(after).all()):
         raise FloatingPointError("Eq 8 angles are not finite: a calibration matrix or attitude of this run is NaN/inf")
-    return before[..., chan], after[..., chan], {"before": metrics.angle_difference(before, ref),
-                                                 "after": metrics.angle_difference(after, ref)}
+    ref = np.asarray(ref, dtype=float)
+    return before[..., chan], after[..., chan], {"before": metrics.angle_difference_trusted(before, ref),
+                                                 "after": metrics.angle_difference_trusted(after, ref)}
 
 
 def _pitch_after(q_mat, q_s) -> np.ndarray:
@@ -607,7 +609,7 @@ def _pitch_after(q_mat, q_s) -> np.ndarray:
                 raise FloatingPointError("Eq 8 angles are not finite: a calibration matrix or attitude of this run "
                                          "is NaN/inf")
             return out
-    euler = rotations.euler_zxy_unchecked(quaternion_lsq.apply_error_matrix(q_mat, q_s))   # _euler, written out
+    euler = rotations.euler_zxy_unchecked(quaternion_lsq._apply(q_mat, q_s))   # _euler, written out (trusted Eq 10)
     if not np.isfinite(euler).all():
         raise FloatingPointError("Eq 8 angles are not finite: a calibration matrix or attitude of this run is NaN/inf")
     return euler[..., 1]
@@ -668,7 +670,7 @@ def position_errors_deg(run: TurntableRun, state: str) -> np.ndarray:
     if sel is None:
         raise ValueError(f"state must be 'before', 'after' or 'after_in_sample', got {state!r}")
     est, err = sel
-    return np.degrees(metrics.angle_difference(est, run.reference + err))
+    return np.degrees(metrics.angle_difference_trusted(est, run.reference + err))
 
 
 # --------------------------------------------------------------------------
@@ -981,9 +983,9 @@ def _wind_on_groups(sc, model, q_mat, groups, trials, trace, keep_trace, trace_i
             trace["gate"] = res.gate[trace_index, :prof.time_s.size]
         trace[f"wind_time_s_{g}"] = prof.time_s.copy()            # the profile is shared (read-only)
         trace[f"wind_reference_{g}"] = prof.angle_rad[:, 1].copy()
-        q_after = quaternion_lsq.apply_error_matrix(q_rep[sl][trace_index:trace_index + 1],
-                                                    q_g[trace_index:trace_index + 1, :prof.time_s.size])
-        trace[f"wind_pitch_{g}"] = rotations.euler_zxy_from_quat(q_after)[0, :, 1]
+        q_after = quaternion_lsq._apply(q_rep[sl][trace_index:trace_index + 1],    # the QNCF's own quaternions,
+                                        q_g[trace_index:trace_index + 1, :prof.time_s.size])   # finite Q̂ (above)
+        trace[f"wind_pitch_{g}"] = rotations.euler_zxy_unchecked(q_after)[0, :, 1]
     return {"reference": ref, "group_means": means, "elastic_corrected": elastic_corrected,
             "gate_fraction_on": float(res.gate[:, int(lead_s * sc.fs_hz):].mean()),
             "gate_fraction_on_trials": res.gate[:, int(lead_s * sc.fs_hz):].reshape(5, trials, -1).mean(axis=(0, 2))}
