@@ -1101,7 +1101,7 @@ def _calibrate_record_rests(cfg, pos, dt, found, rep, chk, setup, source, accel,
             diagnosis, hint = _diagnose(cfg, pos, dt, found, exc.q_ws, accel, time_s)
         return RecordCalibration(**done, refusal=f"{exc}{hint}", diagnosis=diagnosis)
     return RecordCalibration(**done, calibration=cal, sigma_rad=installation_angles_sigma(cal, cfg.model),
-                             mounting_euler_rad=rotations.euler_zxy_from_quat(cal.mounting_quaternion_q_bs))
+                             mounting_euler_rad=rotations.euler_zxy_unchecked(cal.mounting_quaternion_q_bs))
 
 
 def _fits(cfg, pos, dt, q, rests) -> bool:
@@ -1230,7 +1230,7 @@ def _apply_record_attitude(cfg, mat, mode, checked, rep, chk, setup, accel) -> R
     done = dict(q_bs=q_bs, report=rep, units_check=chk, qncf=setup)
     if mode == "absolute":
         return RecordApplication(attitude=_absolute_attitude(cfg, q_bs, q, gyro, acc, q0, dt),
-                                 mounting_euler_rad=rotations.euler_zxy_from_quat(q_bs), **done)
+                                 mounting_euler_rad=rotations.euler_zxy_unchecked(q_bs), **done)
     att = _relative_attitude(cfg, mat, q, gyro, acc, q0, dt)
     start, q_s0 = None, None
     if accel is not None and rep is not None and rep.rests:
@@ -1240,5 +1240,5 @@ def _apply_record_attitude(cfg, mat, mode, checked, rep, chk, setup, accel) -> R
         q_s0 = q[0]
     tilt = None if q_s0 is None else rotations.euler_zxy_from_quat(
         rotations.quat_multiply(q_s0, rotations.quat_conjugate(q_bs)))
-    return RecordApplication(attitude=att, mounting_euler_rad=rotations.euler_zxy_from_quat(q_bs), start_euler_rad=tilt,
+    return RecordApplication(attitude=att, mounting_euler_rad=rotations.euler_zxy_unchecked(q_bs), start_euler_rad=tilt,
                              start_rest=start, **done)

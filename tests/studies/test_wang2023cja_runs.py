@@ -380,9 +380,11 @@ def test_expression_paths_of_the_angles_equal_euler(monkeypatch):
     assert np.array_equal(before_k, runs._euler(q)[..., 1]) and np.array_equal(after_k, after[..., 1])
     assert np.array_equal(runs._pitch_after(q_mat, q), after[..., 1])
     bad = q_mat.copy()
-    bad[0, 1, 1] = np.inf                  # refused where the matrix is applied (apply_error_matrix)
-    with pytest.raises(ValueError, match="q_matrix must be a finite"):
+    bad[0, 1, 1] = np.inf                  # refused: the trusted Eq 10 gives non-finite angles, caught after it
+    with pytest.raises(FloatingPointError, match="Eq 8 angles are not finite"):
         runs._pitch_after(bad, q)
+    with pytest.raises(FloatingPointError, match="Eq 8 angles are not finite"):
+        runs._before_after(q, bad, np.zeros((300, 3)), 1)
 
 
 def test_compliance_base_computes_its_attitude_on_first_use():
