@@ -728,7 +728,8 @@ def apply_installation(config: InstallationConfig, q_hat, dt_s: float | None = N
 def _relative_attitude(config, mat, q, gyro, accel, q0, dt) -> CalibratedAttitude:
     """:func:`apply_installation` on checked inputs: the zeroed sensor attitude mapped by Q̂ (Eq 10)."""
     q_s = _sensor_attitude(config, q, gyro, accel, q0, dt)[1]
-    q_b = rotations.make_continuous(quaternion_lsq._apply(mat, q_s), axis=-2)
+    q_b = quaternion_lsq._apply(mat, q_s)                                       # Eq 10, then sign-continuous
+    q_b = rotations.make_continuous(q_b, axis=-2)
     return CalibratedAttitude(q_body=q_b, q_sensor=q_s)
 
 
@@ -817,7 +818,8 @@ def absolute_body_attitude(config: InstallationConfig, q_bs, dt_s: float | None 
 
 def _absolute_attitude(config, c, q, gyro, accel, q0, dt) -> CalibratedAttitude:
     """:func:`absolute_body_attitude` on checked inputs (``c`` the mounting ``q_bs``)."""
-    q_s = rotations.make_continuous(_sensor_attitude(config, q, gyro, accel, q0, dt, zero=False)[0], axis=-2)
+    q_made = _sensor_attitude(config, q, gyro, accel, q0, dt, zero=False)[0]
+    q_s = rotations.make_continuous(q_made, axis=-2)
     q_b = rotations.hamilton(q_s, rotations.quat_conjugate(c))
     if config.zero_heading:
         yaw0 = rotations.euler_zxy_unchecked(q_b[..., :1, :])[..., 0]           # (..., 1)

@@ -609,7 +609,8 @@ def _pitch_after(q_mat, q_s) -> np.ndarray:
                 raise FloatingPointError("Eq 8 angles are not finite: a calibration matrix or attitude of this run "
                                          "is NaN/inf")
             return out
-    euler = rotations.euler_zxy_unchecked(quaternion_lsq._apply(q_mat, q_s))   # _euler, written out (trusted Eq 10)
+    q_after = quaternion_lsq._apply(q_mat, q_s)                      # the trusted Eq 10, then _euler written out
+    euler = rotations.euler_zxy_unchecked(q_after)
     if not np.isfinite(euler).all():
         raise FloatingPointError("Eq 8 angles are not finite: a calibration matrix or attitude of this run is NaN/inf")
     return euler[..., 1]
