@@ -517,7 +517,7 @@ def _calibrate(config: InstallationConfig, pos, dt, q, gyro, accel, q0, rests) -
             _gate_condition(cond, config.max_condition, q_ref)
             q_hat = quaternion_lsq._least_squares(q_s_al, q_b_al)               # Eq 13
         elif config.model == "so4":
-            q_hat = constrained_fit.fit_so4(q_s_al, q_b_al).matrix
+            q_hat = constrained_fit._fit_so4(q_s_al, q_b_al, "raise").matrix        # aligned, K >= 4 (trusted)
         else:
             q_hat = _fit_conjugation(q_s_al, q_b_al)
         return _outcome(config, q_hat, cond, pos, q_ref, rests, matched, q_s, gate=True)
@@ -1222,7 +1222,8 @@ def apply_record(config: InstallationConfig, q_hat, dt_s: float, *, mode: str = 
                                          gyro_unit_stated, paper_rests=False)
         cfg = replace(config, qncf_params=setup.params)
         raw = (dt_s, None, setup.gyro_rad_s, accel_m_s2, setup.q0)
-    return _apply_record_attitude(cfg, mat, mode, _application_record(cfg, *raw), rep, chk, setup, accel_m_s2)
+    checked = _application_record(cfg, *raw)
+    return _apply_record_attitude(cfg, mat, mode, checked, rep, chk, setup, accel_m_s2)
 
 
 def _apply_record_attitude(cfg, mat, mode, checked, rep, chk, setup, accel) -> RecordApplication:
