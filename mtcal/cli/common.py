@@ -11,7 +11,7 @@ import numpy as np
 from mtcal.cli import logio
 from mtcal.methods import rest_detection
 
-__all__ = ["add_input_options", "add_rest_options", "input_options", "rests_config", "attitude_config", "detect", "log_arrays", "qncf_settings",
+__all__ = ["add_input_options", "add_rest_options", "input_options", "rests_config", "attitude_config", "detect", "log_arrays",
            "qncf_info", "rest_table", "print_report",
            "finite_float", "DiagnosticsFigure", "run_with_figure", "SCHEMA_HELP", "description_with_schema",
            "QUATERNION_DECIMALS", "write_attitude", "euler_deg", "rest_bias_text",
@@ -196,18 +196,6 @@ def log_arrays(log: logio.ImuLog) -> dict:
     return {"time_s": log.time_s, "accel_m_s2": log.accel_m_s2, "gyro_rad_s": log.gyro_rad_s,
             "filter_gyro_rad_s": log.gyro_for_filter() if raw else None, "q_ws": None if raw else log.q_ws,
             "gyro_unit_stated": log.gyro_unit_stated}
-
-
-def qncf_settings(log: logio.ImuLog, rep) -> tuple[np.ndarray, object, np.ndarray | None, dict]:
-    """How ``mtcal`` runs the QNCF on a raw log (:func:`mtcal.systems.attitude.qncf_log_setup`) and its description.
-
-    Returns the filter gyro (rad/s), the :class:`~mtcal.filters.qncf.QncfParams`, the start attitude
-    (or None) and a dict of what the command prints (gains, where the start came from, the bias line).
-    """
-    from mtcal.systems.attitude import qncf_log_setup
-
-    setup = qncf_log_setup(log.gyro_for_filter(), log.accel_m_s2, log.dt_mean_s, rep, gyro_rad_s=log.gyro_rad_s)
-    return setup.gyro_rad_s, setup.params, setup.q0, qncf_info(log, setup)
 
 
 def qncf_info(log: logio.ImuLog, setup) -> dict:

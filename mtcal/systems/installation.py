@@ -425,17 +425,20 @@ def detect_rests(config: InstallationConfig, dt_s: float, *, gyro_rad_s=None, q_
     if not isinstance(config, InstallationConfig):
         raise TypeError(f"config must be an InstallationConfig, got {type(config).__name__}")
     dt = sample_interval(dt_s)
-    args = (config.still_window_s, config.still_threshold_rad_s)
     if gyro_rad_s is not None:
-        gyro = as_float_array(gyro_rad_s, "gyro_rad_s", ndim=(2, 3), last_dim=3, copy=False)
-        still = six_position.stillness_from_gyro(gyro, dt, *args)
-    elif q_ws is not None:
-        q = unit_quaternion(q_ws, "q_ws")
-        if q.ndim not in (2, 3):
-            raise ValueError(f"q_ws must have shape (N, 4) or (T, N, 4), got {q.shape}")
-        still = six_position.stillness_from_quaternions(q, dt, *args)
-    else:
+        return _gyro_rests(config, as_float_array(gyro_rad_s, "gyro_rad_s", ndim=(2, 3), last_dim=3, copy=False), dt)
+    if q_ws is None:
         raise ValueError("give gyro_rad_s or q_ws to detect rests from")
+    q = unit_quaternion(q_ws, "q_ws")
+    if q.ndim not in (2, 3):
+        raise ValueError(f"q_ws must have shape (N, 4) or (T, N, 4), got {q.shape}")
+    still = six_position.stillness_from_quaternions(q, dt, config.still_window_s, config.still_threshold_rad_s)
+    return six_position.find_rests(still, dt, config.min_rest_s)
+
+
+def _gyro_rests(config: InstallationConfig, gyro: np.ndarray, dt: float) -> list:
+    """:func:`detect_rests` of a checked float gyro record (…, N, 3) and step ``dt`` (s): the §3.2 stillness."""
+    still = six_position.stillness_from_gyro(gyro, dt, config.still_window_s, config.still_threshold_rad_s)
     return six_position.find_rests(still, dt, config.min_rest_s)
 
 
@@ -1075,9 +1078,7 @@ def _raw_record(config, dt_s, time_s, accel_m_s2, gyro_rad_s, filter_gyro_rad_s,
                                   time_s=time_s)
     found = rep.rests
     if paper_rests:
-        still = six_position.stillness_from_gyro(np.asarray(gyro_rad_s, dtype=float), dt_s, config.still_window_s,
-                                                 config.still_threshold_rad_s)
-        found = six_position.find_rests(still, dt_s, config.min_rest_s)
+        found = _gyro_rests(config, np.asarray(gyro_rad_s, dtype=float), dt_s)
     try:
         chk = plausibility.check_units(filter_gyro, accel_m_s2, dt_s, found, time_s=time_s,
                                        skip=plausibility.clipped_samples(gyro_rad_s)[0], unit_stated=gyro_unit_stated)
