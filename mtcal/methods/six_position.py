@@ -16,7 +16,8 @@ Workflow (paper §3.2, steps 1–7, with Eq 13–15):
 5. rests are matched to the reference positions (``A_e^b`` of Eq 15,
    converted with Eq 9) by nearest attitude (:func:`match_rests`);
 6. Eq 13 is solved by least squares (:mod:`mtcal.methods.quaternion_lsq`, vectorised over a
-   leading trial axis for Monte Carlo).
+   leading trial axis for Monte Carlo), gated and turned into installation angles:
+   :func:`calibrate_from_rests` strings steps 3–6 together on a sensor attitude.
 
 Time base: the detectors take the sample interval ``dt_s`` (s); only the
 schedule generator :func:`schedule_profile` takes a rate, like the
@@ -35,17 +36,22 @@ checks a record once, at its edge, and calls them is
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 from scipy.optimize import linear_sum_assignment
 
-from mtcal.core import rotations
+from mtcal.core import metrics, rotations
 from mtcal.core.compiled import jit
 from mtcal.core.validate import as_float_array
 from mtcal.core.profiles import AngleProfile, step_schedule
+from mtcal.methods import constrained_fit, quaternion_lsq
+from mtcal.methods.constrained_fit import So4Projection
 
 __all__ = ["six_positions_rad", "schedule_profile", "stillness_from_gyro",
-           "stillness_from_quaternions", "find_rests", "middle_slices", "mean_quaternion",
-           "rest_means", "match_rests", "rest_attitudes"]
+           "stillness_from_quaternions", "find_rests", "still_rests", "middle_slices", "mean_quaternion",
+           "rest_means", "match_rests", "rest_attitudes", "MAX_CONDITION", "MODELS", "PositionCalibration",
+           "PositionsRefused", "calibrate_from_rests", "missing_rotation_axis", "angles_sigma"]
 
 #: Paper §3.2: rest at each position (s).
 REST_S = 3.0
@@ -222,6 +228,28 @@ def find_rests(still: np.ndarray, dt_s: float, min_rest_s: float = 2.0) -> list[
     return [slice(int(a), int(b)) for a, b in zip(starts[keep], stops[keep])]
 
 
+def still_rests(dt_s: float, min_rest_s: float = 2.0, window_s: float = 0.1,
+                threshold_rad_s: float = np.radians(0.2), *, gyro_rad_s: np.ndarray | None = None,
+                q: np.ndarray | None = None) -> list[slice]:
+    """Rests of a record (§3.2 step 3): :func:`find_rests` of :func:`stillness_from_gyro` on ``gyro_rad_s``
+    if given, else of :func:`stillness_from_quaternions` on ``q``.
+
+    Trusts its inputs, as those functions (``gyro_rad_s`` (N, 3) or (T, N, 3) finite float64, or ``q``
+    float64 unit quaternions (N, 4) or (T, N, 4); settings positive, ``dt_s`` ≤ 1 s).
+
+    Examples
+    --------
+    >>> gyro = np.zeros((1000, 3)); gyro[300:500, 2] = 0.5
+    >>> still_rests(0.01, gyro_rad_s=gyro)
+    [slice(0, 296, None), slice(505, 1000, None)]
+    """
+    if gyro_rad_s is not None:
+        still = stillness_from_gyro(gyro_rad_s, dt_s, window_s, threshold_rad_s)
+    else:
+        still = stillness_from_quaternions(q, dt_s, window_s, threshold_rad_s)
+    return find_rests(still, dt_s, min_rest_s)
+
+
 def middle_slices(rests: list[slice], fraction: float = 0.5) -> list[slice]:
     """The central ``fraction`` (0 < fraction ≤ 1, trusted) of each rest ("middle section", §3.2).
 
@@ -374,12 +402,8 @@ def rest_attitudes(q_ws: np.ndarray, q_ref: np.ndarray, dt_s: float, *, gyro_rad
     ([1, 0], True)
     """
     if rests is None:
-        if gyro_rad_s is not None:
-            still = stillness_from_gyro(gyro_rad_s, dt_s, window_s, threshold_rad_s)
-        else:
-            still = stillness_from_quaternions(q_ws if q_detect is None else q_detect, dt_s, window_s,
-                                               threshold_rad_s)
-        rests = find_rests(still, dt_s, min_rest_s)
+        rests = still_rests(dt_s, min_rest_s, window_s, threshold_rad_s, gyro_rad_s=gyro_rad_s,
+                            q=q_ws if q_detect is None else q_detect)
     if len(rests) < q_ref.shape[-2]:
         raise ValueError(f"too few rests: found {len(rests)} still periods of >= {min_rest_s:g} s, "
                          f"need one for each of the {q_ref.shape[-2]} reference positions")
@@ -391,3 +415,326 @@ def rest_attitudes(q_ws: np.ndarray, q_ref: np.ndarray, dt_s: float, *, gyro_rad
     else:
         matched = match_rests(means, q_ref, max_match_rad)
     return rests, matched, means[..., matched, :]
+
+
+# --------------------------------------------------------------------------- the calibration from rests
+#: Gate: condition number of ``A_q^s (A_q^s)ᵀ`` (Eq 13) above which the positions are refused.
+MAX_CONDITION = 1e4
+
+#: Error-map models of :func:`calibrate_from_rests`: name → (parameters, what the positions must span).
+MODELS = {"eq13": (16, "rotations about all three axes (4 linearly independent quaternions)"),
+          "so4": (6, "rotations about two axes (3 linearly independent quaternions)"),
+          "mounting": (3, "rotations about two axes")}
+
+
+@dataclass(frozen=True)
+class PositionCalibration:
+    """Outcome of :func:`calibrate_from_rests` (leading trial axis T iff the input had one).
+
+    Attributes
+    ----------
+    q_hat : ndarray (4, 4) or (T, 4, 4)
+        Q̂_s^b of Eq 13: ``q_body ≈ normalize(Q̂ q_sensor)`` (sensor attitude zeroed at its first sample).
+    projection : So4Projection
+        Nearest SO(4) matrix ``L(p) R(r)`` of Q̂ and its distance (dimensionless).
+    mounting_quaternion_q_bs : ndarray (4,) or (T, 4)
+        ``q_bs = r*`` (sensor = body ⊗ q_bs), scalar-first.
+    installation_angles_rad : ndarray (3,) or (T, 3)
+        ``[α1 about z, α2 about y, α3 about x]`` (rad), inverse of Eq 1 of ``q_bs``.
+    condition : float or ndarray (T,)
+        Condition number of the aligned ``A_q^s (A_q^s)ᵀ`` (dimensionless).
+    positions_rad : ndarray (K, 3) or (T, K, 3)
+        Reference ``[ψ, θ, γ]`` (rad, Eq 8 frame) fed to Eq 13.
+    q_reference : ndarray (K, 4) or (T, K, 4)
+        Eq 9 quaternions of ``positions_rad``.
+    rests : list of slice
+        Every rest used for matching (time order, sample indices).
+    matched : ndarray (K,) of int
+        Index into ``rests`` of the rest used for each position.
+    q_sensor : ndarray (K, 4) or (T, K, 4)
+        Middle-section mean of the zeroed sensor attitude at each matched rest (Eq 14 columns).
+    euler_before_rad, euler_after_rad : ndarray (K, 3) or (T, K, 3)
+        Eq 8 angles of ``q_sensor`` and of ``Q̂ q_sensor`` (rad).
+    error_before_rad, error_after_rad : ndarray (K, 3) or (T, K, 3)
+        Those angles minus ``positions_rad``, wrapped to [−π, π) (rad).
+    residual_rad : ndarray (K,) or (T, K)
+        Rotation angle between ``Q̂ q_sensor`` and the reference (rad).
+    angles_sigma_rad : ndarray (3,) or None
+        1σ of ``installation_angles_rad`` from the fit covariance (:func:`angles_sigma`), when asked for.
+    """
+
+    q_hat: np.ndarray
+    projection: So4Projection
+    mounting_quaternion_q_bs: np.ndarray
+    installation_angles_rad: np.ndarray
+    condition: np.ndarray
+    positions_rad: np.ndarray
+    q_reference: np.ndarray
+    rests: list
+    matched: np.ndarray
+    q_sensor: np.ndarray
+    euler_before_rad: np.ndarray
+    euler_after_rad: np.ndarray
+    error_before_rad: np.ndarray
+    error_after_rad: np.ndarray
+    residual_rad: np.ndarray
+    angles_sigma_rad: np.ndarray | None = None
+
+    @property
+    def so4_distance(self) -> np.ndarray:
+        """``‖Q̂ − L(p) R(r)‖_F`` (dimensionless)."""
+        return self.projection.distance
+
+    @property
+    def matched_rests(self) -> list[slice]:
+        """The rest (sample slice) used for each position, in position order."""
+        return [self.rests[i] for i in self.matched]
+
+
+class PositionsRefused(ValueError):
+    """:func:`calibrate_from_rests` refused a record (no rest for a position, a gate); the message says why.
+
+    Attributes
+    ----------
+    q_ws : ndarray (N, 4) or (T, N, 4)
+        The sensor attitude the calibration was given, before zeroing: a caller looking for the
+        cause (a convention mistake) starts from it instead of making it again.
+    """
+
+    def __init__(self, message: str, q_ws: np.ndarray):
+        super().__init__(message)
+        self.q_ws = q_ws
+
+
+def calibrate_from_rests(q_ws: np.ndarray, positions_rad: np.ndarray, dt_s: float, *, model: str = "eq13",
+                         q_hat: np.ndarray | None = None, zero: bool = True, gyro_rad_s: np.ndarray | None = None,
+                         rests: list | None = None, fraction: float = 0.5, min_rest_s: float = 2.0,
+                         threshold_rad_s: float = np.radians(0.2), window_s: float = 0.1,
+                         max_match_rad: float = np.radians(5.0), in_order: bool = False,
+                         max_condition: float = MAX_CONDITION, max_so4_distance: float = np.inf,
+                         max_residual_rad: float = np.inf, sigma: bool = False) -> PositionCalibration:
+    """Steps 2–6 of the six-position procedure on a sensor attitude: zeroing → rests → Eq 13 → gates → angles.
+
+    The sensor attitude zeroed at its first sample (``zero``; §4.1 "initial angles 0°"), its rests
+    found or given, their middle sections averaged and matched to the Eq 9 references of
+    ``positions_rad`` (:func:`rest_attitudes`); then the error map of ``model`` fitted (Eq 13's 16-parameter
+    least squares, the nearest SO(4) map ``L(p) R(r)`` or the mounting alone ``L(c) R(c*)``) — or ``q_hat``
+    taken as given (a verification: no gate) — its SO(4) projection, Eq 10 at the rests, the installation
+    angles of the mounting ``q_bs = r*`` (inverse of Eq 1), and the gates (conditioning of the positions,
+    distance from SO(4), residual).
+
+    Trusts its inputs (:func:`mtcal.systems.installation.calibrate_installation` checks them): ``q_ws``
+    float64 unit quaternions (N, 4) or (T, N, 4) sampled every ``dt_s`` (s, 0 < dt_s ≤ 1);
+    ``positions_rad`` (K, 3) or (T, K, 3) finite, K ≥ 4; ``q_hat`` finite (4, 4) or (T, 4, 4);
+    ``gyro_rad_s`` like ``q_ws[..., :3]``; ``rests`` slices within the N samples; settings positive,
+    0 < fraction ≤ 1; ``model`` one of :data:`MODELS`; a gate of ``inf`` is off.
+
+    Returns
+    -------
+    PositionCalibration
+        ``angles_sigma_rad`` (:func:`angles_sigma`) with ``sigma`` (one record, no trial axis).
+
+    Raises
+    ------
+    PositionsRefused
+        Too few rests; a position without a rest; degenerate positions; a gate refusing Q̂ (the message
+        names the measured value and the limit).
+
+    Examples
+    --------
+    A sensor mounted without error, its attitude logged at six positions (rest k = position k):
+
+    >>> from mtcal.core import profiles
+    >>> pos = six_positions_rad()
+    >>> prof = schedule_profile(pos, fs_hz=50.0)
+    >>> q = profiles.trajectory_from_euler_zxy(prof).q_wb
+    >>> cal = calibrate_from_rests(q, pos, 0.02, rests=prof.hold_slices()[1:-1], in_order=True)
+    >>> bool(np.allclose(cal.q_hat, np.eye(4))), float(cal.residual_rad.max()) < 1e-12
+    (True, True)
+    """
+    q_zeroed = q_ws
+    if zero:
+        q_zeroed = rotations.relative_to_initial(q_ws[None])[0] if q_ws.ndim == 2 else rotations.relative_to_initial(q_ws)
+    pos = positions_rad
+    q_ref = rotations.quat_from_euler_zxy_trusted(pos[..., 0], pos[..., 1], pos[..., 2])
+    try:
+        rests, matched, q_s = rest_attitudes(
+            q_zeroed, q_ref, dt_s, gyro_rad_s=gyro_rad_s, rests=rests, fraction=fraction, min_rest_s=min_rest_s,
+            threshold_rad_s=threshold_rad_s, window_s=window_s, max_match_rad=max_match_rad, q_detect=q_ws,
+            in_order=in_order)
+        del q_zeroed                               # the record's zeroed copy: only its rest means are kept
+        q_s_al, q_b_al = quaternion_lsq._align_pairs(q_s, q_ref)
+        sv = np.linalg.svd(np.swapaxes(q_s_al, -1, -2) @ q_s_al, compute_uv=False)
+        cond = sv[..., 0] / np.maximum(sv[..., 3], 1e-300)
+        gate = q_hat is None
+        if not gate:
+            mat = q_hat
+        elif model == "eq13":
+            _gate_condition(cond, max_condition, q_ref)
+            mat = quaternion_lsq._least_squares(q_s_al, q_b_al)                      # Eq 13
+        elif model == "so4":
+            mat = constrained_fit._fit_so4(q_s_al, q_b_al, "raise").matrix            # aligned, K >= 4 (trusted)
+        else:
+            mat = _fit_conjugation(q_s_al, q_b_al)
+        proj = constrained_fit.project_to_so4_trusted(mat)
+        after = quaternion_lsq._apply(mat, q_s)                                     # Eq 10 at the rests
+        residual = _angle_between(after, q_ref)
+        q_bs = rotations.quat_conjugate(proj.r)
+        alpha = rotations.installation_angles_from_mount_trusted(q_bs)
+        before_e = rotations.euler_zxy_unchecked(q_s)
+        after_e = rotations.euler_zxy_unchecked(after)
+        if gate:
+            _gate(mat, proj.distance, residual, max_so4_distance, max_residual_rad)
+    except ValueError as exc:
+        raise PositionsRefused(str(exc), q_ws) from None
+    return PositionCalibration(
+        q_hat=mat, projection=proj, mounting_quaternion_q_bs=q_bs, installation_angles_rad=alpha, condition=cond,
+        positions_rad=pos, q_reference=q_ref, rests=rests, matched=matched, q_sensor=q_s,
+        euler_before_rad=before_e, euler_after_rad=after_e,
+        error_before_rad=metrics.angle_difference_trusted(before_e, pos),
+        error_after_rad=metrics.angle_difference_trusted(after_e, pos), residual_rad=residual,
+        angles_sigma_rad=angles_sigma(q_s, q_ref, mat, model) if sigma else None)
+
+
+_AXIS_NAMES = {1: "x (pitch)", 2: "y (roll)", 3: "z (yaw)"}
+
+
+def missing_rotation_axis(q_ref) -> str | None:
+    """The rotation axis a set of reference quaternions (K, 4) lacks, e.g. ``"z (yaw)"``; None if none.
+
+    The weakest direction of ``A Aᵀ`` (its last singular vector) is the quaternion component no
+    position reaches; a vector part component ``q1, q2, q3`` names the axis x, y, z.
+
+    Examples
+    --------
+    >>> from mtcal.core import rotations
+    >>> pm_g = np.radians([[0, 0, 0], [0, 0, 180], [0, 90, 0], [0, -90, 0], [0, 0, 90], [0, 0, -90]])
+    >>> missing_rotation_axis(rotations.quat_from_euler_zxy(*pm_g.T))      # the classic +-g set
+    'z (yaw)'
+    """
+    q = rotations.align_signs(np.asarray(q_ref, float))
+    _, sv, vt = np.linalg.svd(q.T @ q)
+    if sv[3] * MAX_CONDITION > sv[0]:                 # the Eq 13 gate's condition number
+        return None
+    weak = np.abs(vt[3])
+    i = int(np.argmax(weak))
+    return _AXIS_NAMES.get(i) if weak[i] > 0.9 else None
+
+
+def _gate_condition(cond, max_condition: float, q_ref) -> None:
+    """Refuse positions that leave Eq 13 ill-conditioned; name the missing axis and a model that works."""
+    worst_cond = float(np.max(cond))
+    if worst_cond <= max_condition:
+        return
+    ref = q_ref if q_ref.ndim == 2 else q_ref[0]
+    axis = missing_rotation_axis(ref)
+    sv = np.linalg.svd(rotations.align_signs(ref), compute_uv=False)
+    rank3 = sv.size >= 3 and sv[2] > sv[0] / np.sqrt(MAX_CONDITION)
+    what = f"they contain no rotation about {axis}" if axis else "their quaternions span fewer than 4 directions"
+    fix = ("; add a position rotated about that axis (the six of §3.2 rotate about all three), or fit fewer "
+           "parameters: --model so4 (6) or --model mounting (3) work with these positions" if rank3 else
+           "; use positions about more than one axis (the six of §3.2)")
+    raise ValueError(f"calibration positions are ill-conditioned for Eq 13 (condition number {worst_cond:.3g} "
+                     f"> {max_condition:.0e}): {what}{fix}")
+
+
+def _fit_conjugation(q_s: np.ndarray, q_b: np.ndarray) -> np.ndarray:
+    """Mounting-only map of a zeroed record, ``q_b = c ⊗ q_s ⊗ c*`` (3 parameters): Q̂ = L(c) R(c*).
+
+    ``c ⊗ q_s − q_b ⊗ c = (R(q_s) − L(q_b)) c = 0`` for every position: ``c`` is the eigenvector of
+    the smallest eigenvalue of ``Σ Mₖᵀ Mₖ``, ``Mₖ = R(q_s,k) − L(q_b,k)`` (closed form, sign-free).
+    Positions about a single axis leave ``c`` free about it: refused.
+    """
+    m = rotations.right_matrix_trusted(q_s) - rotations.left_matrix_trusted(q_b)               # (..., K, 4, 4)
+    k = np.einsum("...kij,...kil->...jl", m, m)
+    lam, vec = np.linalg.eigh(k)
+    if np.any(lam[..., 1] - lam[..., 0] <= 1e-10 * np.maximum(lam[..., 3], 1e-300)):
+        raise ValueError("calibration positions do not determine the mounting (--model mounting): they rotate "
+                         "about a single axis; use positions about two axes")
+    c = vec[..., :, 0]
+    c = np.where(c[..., :1] < 0, -c, c)
+    return rotations.left_matrix_trusted(c) @ rotations.right_matrix_trusted(rotations.quat_conjugate(c))
+
+
+def _gate(q_hat, dist, residual, max_dist: float, max_res: float) -> None:
+    """Refuse a Q̂ that is not a plausible calibration (SO(4) distance, residuals)."""
+    worst_dist = float(np.max(dist))
+    if not worst_dist <= max_dist:
+        t = int(np.argmax(dist)) if np.ndim(dist) else None
+        q = q_hat if t is None else q_hat[t]
+        raise ValueError(f"Q_hat is not a calibration: distance {worst_dist:.3g} from a rotation of quaternion "
+                         f"space (> {max_dist:g}; max |entry| {np.abs(q).max():.3g}, min row norm "
+                         f"{np.linalg.norm(q, axis=1).min():.3g}); rests do not match the positions")
+    worst = float(np.max(residual))
+    if not worst <= max_res:
+        kk = int(np.unravel_index(np.argmax(residual), residual.shape)[-1])
+        raise ValueError(f"calibration residual {np.degrees(worst):.3f} deg at position {kk + 1} exceeds "
+                         f"--max-residual-deg {np.degrees(max_res):g}; a rest does not match its reference position")
+
+
+def angles_sigma(q_sensor: np.ndarray, q_reference: np.ndarray, q_hat: np.ndarray, model: str = "eq13") -> np.ndarray:
+    """1σ uncertainty (rad) of the installation angles ``[α1, α2, α3]`` of a fit, from its covariance.
+
+    The fit is least squares over the K positions' quaternion components, ``A_b ≈ Q(θ) A_s``
+    (4K equations; θ: the 16 entries of Q̂ for Eq 13, 6 rotation parameters for ``"so4"``, 3 for
+    ``"mounting"``). Its covariance is ``σ² (JᵀJ)⁻¹`` with ``σ²`` the residual variance
+    ``‖A_b − Q̂ A_s‖² / (4K − n)`` and ``J`` the Jacobian of the residuals (for Eq 13, linear:
+    row i of Q̂ has covariance ``σ² (A_s A_sᵀ)⁻¹``); the angles (SO(4) projection → mounting →
+    inverse of Eq 1) get ``G cov Gᵀ`` with ``G`` their central-difference Jacobian. With no
+    degrees of freedom left (K = 4 for Eq 13) the result is NaN.
+
+    Trusts its inputs: ``q_sensor`` and ``q_reference`` unit quaternions (K, 4) (one record, no trial
+    axis: a ValueError otherwise), ``q_hat`` the finite (4, 4) map ``model`` fitted to them.
+
+    Returns
+    -------
+    ndarray (3,)
+        1σ of ``[α1, α2, α3]`` (rad); NaN when not estimable.
+
+    Examples
+    --------
+    >>> q = np.eye(4)                                     # four positions fitted exactly by the identity
+    >>> angles_sigma(q, q, np.eye(4), "eq13").tolist()    # 4K - 16 = 0 degrees of freedom
+    [nan, nan, nan]
+    """
+    q_s, q_b = quaternion_lsq._align_pairs(np.asarray(q_sensor), np.asarray(q_reference))
+    if q_s.ndim != 2:
+        raise ValueError("installation_angles_sigma takes one calibration (no trial axis)")
+    fun, n = _model_matrix(model, np.asarray(q_hat, float))
+    dof = 4 * q_s.shape[0] - n
+    if dof <= 0:
+        return np.full(3, np.nan)
+    zero = np.zeros(n)
+    resid = lambda d: (q_b.T - fun(d) @ q_s.T).ravel()              # noqa: E731
+    h = 1e-6
+    eye = np.eye(n) * h
+    jac = np.stack([(resid(e) - resid(-e)) / (2 * h) for e in eye], axis=1)      # (4K, n)
+    sigma2 = float(np.sum(resid(zero) ** 2)) / dof
+    try:
+        cov = sigma2 * np.linalg.inv(jac.T @ jac)
+    except np.linalg.LinAlgError:
+        return np.full(3, np.nan)
+    g = np.stack([(_angles_of(fun(e)) - _angles_of(fun(-e))) / (2 * h) for e in eye], axis=1)  # (3, n)
+    return np.sqrt(np.clip(np.diag(g @ cov @ g.T), 0.0, None))
+
+
+def _angles_of(q_hat: np.ndarray) -> np.ndarray:
+    r = constrained_fit.project_to_so4_trusted(q_hat).r
+    return rotations.installation_angles_from_mount_trusted(rotations.quat_conjugate(r))
+
+
+def _model_matrix(model: str, q_hat: np.ndarray):
+    """The fitted map as a function of a small parameter perturbation δ, and the number of parameters."""
+    if model == "eq13":
+        return (lambda d: q_hat + d.reshape(4, 4)), 16
+    proj = constrained_fit.project_to_so4_trusted(q_hat)
+    p, r = proj.p, proj.r
+    if model == "so4":
+        return (lambda d: rotations.left_matrix_trusted(rotations.quat_multiply(p, rotations.quat_from_rotvec(d[:3])))
+                @ rotations.right_matrix_trusted(rotations.quat_multiply(rotations.quat_from_rotvec(d[3:]), r))), 6
+    c = rotations.quat_conjugate(r)
+
+    def conj(d):
+        cc = rotations.quat_multiply(c, rotations.quat_from_rotvec(d))
+        return rotations.left_matrix_trusted(cc) @ rotations.right_matrix_trusted(rotations.quat_conjugate(cc))
+    return conj, 3

@@ -43,11 +43,10 @@ from numbers import Real
 
 import numpy as np
 
-from mtcal.core import metrics, rotations
+from mtcal.core import rotations
 from mtcal.core.validate import as_float_array, positive_scalar, sample_interval, unit_quaternion
 from mtcal.filters.qncf import QncfParams, initial_attitude_from_accel, qncf
 from mtcal.methods import constrained_fit, quaternion_lsq, six_position
-from mtcal.methods.constrained_fit import So4Projection
 from mtcal.systems import attitude, plausibility
 from mtcal.systems import rests as rests_system
 from mtcal.systems.rests import RestsConfig
@@ -60,72 +59,20 @@ __all__ = ["MODELS", "missing_rotation_axis", "MAX_CONDITION", "MAX_SO4_DISTANCE
            "QUATERNION_CONVENTIONS"]
 
 #: Gate: condition number of ``A_q^s (A_q^s)ᵀ`` (Eq 13) above which the positions are refused.
-MAX_CONDITION = 1e4
+MAX_CONDITION = six_position.MAX_CONDITION
 #: Gate: Frobenius distance of Q̂ from SO(4) above which Q̂ is not a calibration.
 MAX_SO4_DISTANCE = 0.05
 #: Gate: largest accepted residual at a position (rad), 1°.
 MAX_RESIDUAL_RAD = float(np.radians(1.0))
 
-
-@dataclass(frozen=True)
-class InstallationCalibration:
-    """Outcome of :func:`calibrate_installation` (leading trial axis T iff the input had one).
-
-    Attributes
-    ----------
-    q_hat : ndarray (4, 4) or (T, 4, 4)
-        Q̂_s^b of Eq 13: ``q_body ≈ normalize(Q̂ q_sensor)`` (sensor attitude zeroed at its first sample).
-    projection : So4Projection
-        Nearest SO(4) matrix ``L(p) R(r)`` of Q̂ and its distance (dimensionless).
-    mounting_quaternion_q_bs : ndarray (4,) or (T, 4)
-        ``q_bs = r*`` (sensor = body ⊗ q_bs), scalar-first.
-    installation_angles_rad : ndarray (3,) or (T, 3)
-        ``[α1 about z, α2 about y, α3 about x]`` (rad), inverse of Eq 1 of ``q_bs``.
-    condition : float or ndarray (T,)
-        Condition number of the aligned ``A_q^s (A_q^s)ᵀ`` (dimensionless).
-    positions_rad : ndarray (K, 3) or (T, K, 3)
-        Reference ``[ψ, θ, γ]`` (rad, Eq 8 frame) fed to Eq 13.
-    q_reference : ndarray (K, 4) or (T, K, 4)
-        Eq 9 quaternions of ``positions_rad``.
-    rests : list of slice
-        Every rest used for matching (time order, sample indices).
-    matched : ndarray (K,) of int
-        Index into ``rests`` of the rest used for each position.
-    q_sensor : ndarray (K, 4) or (T, K, 4)
-        Middle-section mean of the zeroed sensor attitude at each matched rest (Eq 14 columns).
-    euler_before_rad, euler_after_rad : ndarray (K, 3) or (T, K, 3)
-        Eq 8 angles of ``q_sensor`` and of ``Q̂ q_sensor`` (rad).
-    error_before_rad, error_after_rad : ndarray (K, 3) or (T, K, 3)
-        Those angles minus ``positions_rad``, wrapped to [−π, π) (rad).
-    residual_rad : ndarray (K,) or (T, K)
-        Rotation angle between ``Q̂ q_sensor`` and the reference (rad).
-    """
-
-    q_hat: np.ndarray
-    projection: So4Projection
-    mounting_quaternion_q_bs: np.ndarray
-    installation_angles_rad: np.ndarray
-    condition: np.ndarray
-    positions_rad: np.ndarray
-    q_reference: np.ndarray
-    rests: list
-    matched: np.ndarray
-    q_sensor: np.ndarray
-    euler_before_rad: np.ndarray
-    euler_after_rad: np.ndarray
-    error_before_rad: np.ndarray
-    error_after_rad: np.ndarray
-    residual_rad: np.ndarray
-
-    @property
-    def so4_distance(self) -> np.ndarray:
-        """``‖Q̂ − L(p) R(r)‖_F`` (dimensionless)."""
-        return self.projection.distance
-
-    @property
-    def matched_rests(self) -> list[slice]:
-        """The rest (sample slice) used for each position, in position order."""
-        return [self.rests[i] for i in self.matched]
+#: Outcome of :func:`calibrate_installation` (:class:`mtcal.methods.six_position.PositionCalibration`).
+InstallationCalibration = six_position.PositionCalibration
+#: :func:`calibrate_installation` refused a record after it made its sensor attitude (no rest for a
+#: position, a gate); ``q_ws`` holds that attitude (:class:`mtcal.methods.six_position.PositionsRefused`).
+InstallationRefused = six_position.PositionsRefused
+#: Error-map models of :func:`calibrate_installation`: name → (parameters, what the positions must span).
+MODELS = six_position.MODELS
+missing_rotation_axis = six_position.missing_rotation_axis
 
 
 @dataclass(frozen=True)
@@ -142,29 +89,6 @@ class CalibratedAttitude:
 
     q_body: np.ndarray
     q_sensor: np.ndarray
-
-
-class InstallationRefused(ValueError):
-    """:func:`calibrate_installation` refused a record after it made its sensor attitude (no rest for a
-    position, a gate); the message says why.
-
-    Attributes
-    ----------
-    q_ws : ndarray (N, 4) or (T, N, 4)
-        The sensor attitude the procedure computed (QNCF of the raw data, or ``q_ws`` as given),
-        before zeroing: a caller looking for the cause (a convention mistake) starts from it
-        instead of running the QNCF again.
-    """
-
-    def __init__(self, message: str, q_ws: np.ndarray):
-        super().__init__(message)
-        self.q_ws = q_ws
-
-
-#: Error-map models of :func:`calibrate_installation`: name → (parameters, what the positions must span).
-MODELS = {"eq13": (16, "rotations about all three axes (4 linearly independent quaternions)"),
-          "so4": (6, "rotations about two axes (3 linearly independent quaternions)"),
-          "mounting": (3, "rotations about two axes")}
 
 
 @dataclass(frozen=True)
@@ -372,21 +296,20 @@ def _sensor_attitude(config: InstallationConfig, q, gyro, accel, q0, dt: float |
     return q, rotations.relative_to_initial(q[None])[0] if q.ndim == 2 else rotations.relative_to_initial(q)
 
 
-def _positions(config: InstallationConfig, pos, dt, q, gyro, accel, q0, rests):
-    """Steps 1–5 on checked inputs: (q_ref, rests, matched, q_sensor, q_ws) — Eq 9 references, Eq 14
-    columns and the sensor attitude before zeroing (the quaternion-rate detector sees it)."""
-    q, q_zeroed = _sensor_attitude(config, q, gyro, accel, q0, dt)
-    q_ref = rotations.quat_from_euler_zxy_trusted(pos[..., 0], pos[..., 1], pos[..., 2])
-    try:
-        rests, matched, q_s = six_position.rest_attitudes(
-            q_zeroed, q_ref, dt, gyro_rad_s=gyro, rests=rests, fraction=config.fraction,
-            min_rest_s=config.min_rest_s, threshold_rad_s=config.still_threshold_rad_s,
-            window_s=config.still_window_s, max_match_rad=config.max_match_rad, q_detect=q,
-            in_order=config.rests_in_order)
-    except ValueError as exc:
-        raise InstallationRefused(str(exc), q) from None
-    del q_zeroed                                   # the record's zeroed copy: only its rest means are kept
-    return q_ref, rests, matched, q_s, q
+def _calibrate(config: InstallationConfig, pos, dt, q, gyro, accel, q0, rests, q_hat=None,
+               sigma: bool = False) -> InstallationCalibration:
+    """Steps 1–6 on checked inputs (see :func:`calibrate_installation`): the sensor attitude (the QNCF of
+    raw data, or ``q`` as given), then one methods-level calibration from its rests
+    (:func:`mtcal.methods.six_position.calibrate_from_rests` with the config's settings); ``q_hat``
+    given: a verification (Q̂ not fitted, no gate)."""
+    if q is None:
+        q = qncf(gyro, accel, dt, config.qncf_params, q0=q0, return_euler=False).q_ws
+    return six_position.calibrate_from_rests(
+        q, pos, dt, model=config.model, q_hat=q_hat, zero=config.zero_at_first_sample, gyro_rad_s=gyro, rests=rests,
+        fraction=config.fraction, min_rest_s=config.min_rest_s, threshold_rad_s=config.still_threshold_rad_s,
+        window_s=config.still_window_s, max_match_rad=config.max_match_rad, in_order=config.rests_in_order,
+        max_condition=config.max_condition, max_so4_distance=config.max_so4_distance,
+        max_residual_rad=config.max_residual_rad, sigma=sigma)
 
 
 # --------------------------------------------------------------------------- public procedure
@@ -426,24 +349,19 @@ def detect_rests(config: InstallationConfig, dt_s: float, *, gyro_rad_s=None, q_
         raise TypeError(f"config must be an InstallationConfig, got {type(config).__name__}")
     dt = sample_interval(dt_s)
     if gyro_rad_s is not None:
-        return _gyro_rests(config, as_float_array(gyro_rad_s, "gyro_rad_s", ndim=(2, 3), last_dim=3, copy=False), dt)
+        gyro = as_float_array(gyro_rad_s, "gyro_rad_s", ndim=(2, 3), last_dim=3, copy=False)
+        return six_position.still_rests(dt, config.min_rest_s, config.still_window_s, config.still_threshold_rad_s,
+                                        gyro_rad_s=gyro)
     if q_ws is None:
         raise ValueError("give gyro_rad_s or q_ws to detect rests from")
     q = unit_quaternion(q_ws, "q_ws")
     if q.ndim not in (2, 3):
         raise ValueError(f"q_ws must have shape (N, 4) or (T, N, 4), got {q.shape}")
-    still = six_position.stillness_from_quaternions(q, dt, config.still_window_s, config.still_threshold_rad_s)
-    return six_position.find_rests(still, dt, config.min_rest_s)
-
-
-def _gyro_rests(config: InstallationConfig, gyro: np.ndarray, dt: float) -> list:
-    """:func:`detect_rests` of a checked float gyro record (…, N, 3) and step ``dt`` (s): the §3.2 stillness."""
-    still = six_position.stillness_from_gyro(gyro, dt, config.still_window_s, config.still_threshold_rad_s)
-    return six_position.find_rests(still, dt, config.min_rest_s)
+    return six_position.still_rests(dt, config.min_rest_s, config.still_window_s, config.still_threshold_rad_s, q=q)
 
 
 def calibrate_installation(config: InstallationConfig, positions_rad, dt_s: float, *, q_ws=None, gyro_rad_s=None,
-                           accel_m_s2=None, q0=None, rests=None) -> InstallationCalibration:
+                           accel_m_s2=None, q0=None, rests=None, sigma: bool = False) -> InstallationCalibration:
     """Six-position installation-error calibration of a record (wang2023cja §3.2, Eq 1, 9, 13–15).
 
     Parameters
@@ -468,6 +386,9 @@ def calibrate_installation(config: InstallationConfig, positions_rad, dt_s: floa
     rests : list of slice, optional
         Rests found elsewhere (e.g. :func:`mtcal.methods.rest_detection.detect_rests`); by
         default :func:`detect_rests` on the gyro if given, else on ``q_ws``.
+    sigma : bool
+        Also the 1σ of the installation angles from the fit covariance (``angles_sigma_rad``,
+        :func:`installation_angles_sigma`; one record, no trial axis).
 
     Returns
     -------
@@ -506,46 +427,7 @@ def calibrate_installation(config: InstallationConfig, positions_rad, dt_s: floa
     """
     checked = _positions_record(config, positions_rad, dt_s, q_ws, gyro_rad_s, accel_m_s2, q0, rests)
     # ---- trusted inside
-    return _calibrate(config, *checked)
-
-
-def _calibrate(config: InstallationConfig, pos, dt, q, gyro, accel, q0, rests) -> InstallationCalibration:
-    """Steps 1–6 on checked inputs (see :func:`calibrate_installation`)."""
-    q_ref, rests, matched, q_s, q = _positions(config, pos, dt, q, gyro, accel, q0, rests)
-    q_s_al, q_b_al = quaternion_lsq._align_pairs(q_s, q_ref)
-    sv = np.linalg.svd(np.swapaxes(q_s_al, -1, -2) @ q_s_al, compute_uv=False)
-    cond = sv[..., 0] / np.maximum(sv[..., 3], 1e-300)
-    try:
-        if config.model == "eq13":
-            _gate_condition(cond, config.max_condition, q_ref)
-            q_hat = quaternion_lsq._least_squares(q_s_al, q_b_al)               # Eq 13
-        elif config.model == "so4":
-            q_hat = constrained_fit._fit_so4(q_s_al, q_b_al, "raise").matrix        # aligned, K >= 4 (trusted)
-        else:
-            q_hat = _fit_conjugation(q_s_al, q_b_al)
-        return _outcome(config, q_hat, cond, pos, q_ref, rests, matched, q_s, gate=True)
-    except ValueError as exc:
-        raise InstallationRefused(str(exc), q) from None
-
-
-def _outcome(config: InstallationConfig, q_hat, cond, pos, q_ref, rests, matched, q_s,
-             gate: bool) -> InstallationCalibration:
-    """The SO(4) projection and the angles of Q̂, Eq 10 at the positions, then the gates (``gate``)."""
-    proj = constrained_fit.project_to_so4_trusted(q_hat)
-    after = quaternion_lsq._apply(q_hat, q_s)                                   # Eq 10 at the rests
-    residual = six_position._angle_between(after, q_ref)
-    q_bs = rotations.quat_conjugate(proj.r)
-    alpha = rotations.installation_angles_from_mount_trusted(q_bs)
-    before_e = rotations.euler_zxy_unchecked(q_s)
-    after_e = rotations.euler_zxy_unchecked(after)
-    if gate:
-        _gate(q_hat, proj.distance, residual, config.max_so4_distance, config.max_residual_rad)
-    return InstallationCalibration(
-        q_hat=q_hat, projection=proj, mounting_quaternion_q_bs=q_bs, installation_angles_rad=alpha, condition=cond,
-        positions_rad=pos, q_reference=q_ref, rests=rests, matched=matched, q_sensor=q_s,
-        euler_before_rad=before_e, euler_after_rad=after_e,
-        error_before_rad=metrics.angle_difference_trusted(before_e, pos),
-        error_after_rad=metrics.angle_difference_trusted(after_e, pos), residual_rad=residual)
+    return _calibrate(config, *checked, sigma=sigma)
 
 
 def verify_installation(config: InstallationConfig, q_hat, positions_rad, dt_s: float, *, q_ws=None,
@@ -592,11 +474,7 @@ def verify_installation(config: InstallationConfig, q_hat, positions_rad, dt_s: 
     """
     mat, pos, dt, q, gyro, accel, q0, rests = _positions_record(config, positions_rad, dt_s, q_ws, gyro_rad_s,
                                                                 accel_m_s2, q0, rests, q_hat)
-    q_ref, rests, matched, q_s, _ = _positions(config, pos, dt, q, gyro, accel, q0, rests)
-    q_s_al = quaternion_lsq._align_pairs(q_s, q_ref)[0]
-    sv = np.linalg.svd(np.swapaxes(q_s_al, -1, -2) @ q_s_al, compute_uv=False)
-    return _outcome(config, mat, sv[..., 0] / np.maximum(sv[..., 3], 1e-300), pos, q_ref, rests, matched, q_s,
-                    gate=False)
+    return _calibrate(config, pos, dt, q, gyro, accel, q0, rests, q_hat=mat)
 
 
 def _q_hat(q_hat) -> np.ndarray:
@@ -604,83 +482,6 @@ def _q_hat(q_hat) -> np.ndarray:
     if mat.ndim not in (2, 3) or mat.shape[-2:] != (4, 4):
         raise ValueError(f"q_hat must be a finite 4x4 array or a stack (T, 4, 4), got shape {mat.shape}")
     return mat
-
-
-_AXIS_NAMES = {1: "x (pitch)", 2: "y (roll)", 3: "z (yaw)"}
-
-
-def missing_rotation_axis(q_ref) -> str | None:
-    """The rotation axis a set of reference quaternions (K, 4) lacks, e.g. ``"z (yaw)"``; None if none.
-
-    The weakest direction of ``A Aᵀ`` (its last singular vector) is the quaternion component no
-    position reaches; a vector part component ``q1, q2, q3`` names the axis x, y, z.
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> from mtcal.core import rotations
-    >>> pm_g = np.radians([[0, 0, 0], [0, 0, 180], [0, 90, 0], [0, -90, 0], [0, 0, 90], [0, 0, -90]])
-    >>> missing_rotation_axis(rotations.quat_from_euler_zxy(*pm_g.T))      # the classic +-g set
-    'z (yaw)'
-    """
-    q = rotations.align_signs(np.asarray(q_ref, float))
-    _, sv, vt = np.linalg.svd(q.T @ q)
-    if sv[3] * MAX_CONDITION > sv[0]:                 # the Eq 13 gate's condition number
-        return None
-    weak = np.abs(vt[3])
-    i = int(np.argmax(weak))
-    return _AXIS_NAMES.get(i) if weak[i] > 0.9 else None
-
-
-def _gate_condition(cond, max_condition: float, q_ref) -> None:
-    """Refuse positions that leave Eq 13 ill-conditioned; name the missing axis and a model that works."""
-    worst_cond = float(np.max(cond))
-    if worst_cond <= max_condition:
-        return
-    ref = q_ref if q_ref.ndim == 2 else q_ref[0]
-    axis = missing_rotation_axis(ref)
-    sv = np.linalg.svd(rotations.align_signs(ref), compute_uv=False)
-    rank3 = sv.size >= 3 and sv[2] > sv[0] / np.sqrt(MAX_CONDITION)
-    what = f"they contain no rotation about {axis}" if axis else "their quaternions span fewer than 4 directions"
-    fix = ("; add a position rotated about that axis (the six of §3.2 rotate about all three), or fit fewer "
-           "parameters: --model so4 (6) or --model mounting (3) work with these positions" if rank3 else
-           "; use positions about more than one axis (the six of §3.2)")
-    raise ValueError(f"calibration positions are ill-conditioned for Eq 13 (condition number {worst_cond:.3g} "
-                     f"> {max_condition:.0e}): {what}{fix}")
-
-
-def _fit_conjugation(q_s: np.ndarray, q_b: np.ndarray) -> np.ndarray:
-    """Mounting-only map of a zeroed record, ``q_b = c ⊗ q_s ⊗ c*`` (3 parameters): Q̂ = L(c) R(c*).
-
-    ``c ⊗ q_s − q_b ⊗ c = (R(q_s) − L(q_b)) c = 0`` for every position: ``c`` is the eigenvector of
-    the smallest eigenvalue of ``Σ Mₖᵀ Mₖ``, ``Mₖ = R(q_s,k) − L(q_b,k)`` (closed form, sign-free).
-    Positions about a single axis leave ``c`` free about it: refused.
-    """
-    m = rotations.right_matrix_trusted(q_s) - rotations.left_matrix_trusted(q_b)               # (..., K, 4, 4)
-    k = np.einsum("...kij,...kil->...jl", m, m)
-    lam, vec = np.linalg.eigh(k)
-    if np.any(lam[..., 1] - lam[..., 0] <= 1e-10 * np.maximum(lam[..., 3], 1e-300)):
-        raise ValueError("calibration positions do not determine the mounting (--model mounting): they rotate "
-                         "about a single axis; use positions about two axes")
-    c = vec[..., :, 0]
-    c = np.where(c[..., :1] < 0, -c, c)
-    return rotations.left_matrix_trusted(c) @ rotations.right_matrix_trusted(rotations.quat_conjugate(c))
-
-
-def _gate(q_hat, dist, residual, max_dist: float, max_res: float) -> None:
-    """Refuse a Q̂ that is not a plausible calibration (SO(4) distance, residuals)."""
-    worst_dist = float(np.max(dist))
-    if not worst_dist <= max_dist:
-        t = int(np.argmax(dist)) if np.ndim(dist) else None
-        q = q_hat if t is None else q_hat[t]
-        raise ValueError(f"Q_hat is not a calibration: distance {worst_dist:.3g} from a rotation of quaternion "
-                         f"space (> {max_dist:g}; max |entry| {np.abs(q).max():.3g}, min row norm "
-                         f"{np.linalg.norm(q, axis=1).min():.3g}); rests do not match the positions")
-    worst = float(np.max(residual))
-    if not worst <= max_res:
-        kk = int(np.unravel_index(np.argmax(residual), residual.shape)[-1])
-        raise ValueError(f"calibration residual {np.degrees(worst):.3f} deg at position {kk + 1} exceeds "
-                         f"--max-residual-deg {np.degrees(max_res):g}; a rest does not match its reference position")
 
 
 def apply_installation(config: InstallationConfig, q_hat, dt_s: float | None = None, *, q_ws=None,
@@ -833,28 +634,6 @@ def _absolute_attitude(config, c, q, gyro, accel, q0, dt) -> CalibratedAttitude:
     return CalibratedAttitude(q_body=rotations.make_continuous(q_b, axis=-2), q_sensor=q_s)
 
 
-def _angles_of(q_hat: np.ndarray) -> np.ndarray:
-    r = constrained_fit.project_to_so4_trusted(q_hat).r
-    return rotations.installation_angles_from_mount_trusted(rotations.quat_conjugate(r))
-
-
-def _model_matrix(model: str, q_hat: np.ndarray):
-    """The fitted map as a function of a small parameter perturbation δ, and the number of parameters."""
-    if model == "eq13":
-        return (lambda d: q_hat + d.reshape(4, 4)), 16
-    proj = constrained_fit.project_to_so4_trusted(q_hat)
-    p, r = proj.p, proj.r
-    if model == "so4":
-        return (lambda d: rotations.left_matrix_trusted(rotations.quat_multiply(p, rotations.quat_from_rotvec(d[:3])))
-                @ rotations.right_matrix_trusted(rotations.quat_multiply(rotations.quat_from_rotvec(d[3:]), r))), 6
-    c = rotations.quat_conjugate(r)
-
-    def conj(d):
-        cc = rotations.quat_multiply(c, rotations.quat_from_rotvec(d))
-        return rotations.left_matrix_trusted(cc) @ rotations.right_matrix_trusted(rotations.quat_conjugate(cc))
-    return conj, 3
-
-
 def installation_angles_sigma(cal: InstallationCalibration, model: str = "eq13") -> np.ndarray:
     """1σ uncertainty (rad) of the installation angles ``[α1, α2, α3]`` from the fit covariance.
 
@@ -893,25 +672,7 @@ def installation_angles_sigma(cal: InstallationCalibration, model: str = "eq13")
     >>> bool(np.all(installation_angles_sigma(cal, "mounting") < 1e-9))       # no scatter, no uncertainty
     True
     """
-    q_s, q_b = quaternion_lsq._align_pairs(np.asarray(cal.q_sensor), np.asarray(cal.q_reference))
-    if q_s.ndim != 2:
-        raise ValueError("installation_angles_sigma takes one calibration (no trial axis)")
-    fun, n = _model_matrix(model, np.asarray(cal.q_hat, float))
-    dof = 4 * q_s.shape[0] - n
-    if dof <= 0:
-        return np.full(3, np.nan)
-    zero = np.zeros(n)
-    resid = lambda d: (q_b.T - fun(d) @ q_s.T).ravel()              # noqa: E731
-    h = 1e-6
-    eye = np.eye(n) * h
-    jac = np.stack([(resid(e) - resid(-e)) / (2 * h) for e in eye], axis=1)      # (4K, n)
-    sigma2 = float(np.sum(resid(zero) ** 2)) / dof
-    try:
-        cov = sigma2 * np.linalg.inv(jac.T @ jac)
-    except np.linalg.LinAlgError:
-        return np.full(3, np.nan)
-    g = np.stack([(_angles_of(fun(e)) - _angles_of(fun(-e))) / (2 * h) for e in eye], axis=1)  # (3, n)
-    return np.sqrt(np.clip(np.diag(g @ cov @ g.T), 0.0, None))
+    return six_position.angles_sigma(cal.q_sensor, cal.q_reference, cal.q_hat, model)
 
 
 # --------------------------------------------------------------------------- whole logs (the CLI's procedures)
@@ -1077,8 +838,9 @@ def _raw_record(config, dt_s, time_s, accel_m_s2, gyro_rad_s, filter_gyro_rad_s,
     rep = rests_system.find_rests(accel_m_s2, dt_s, detector, gyro_rad_s=gyro_rad_s if detector.use_gyro else None,
                                   time_s=time_s)
     found = rep.rests
-    if paper_rests:
-        found = _gyro_rests(config, np.asarray(gyro_rad_s, dtype=float), dt_s)
+    if paper_rests:          # the §3.2 stillness of the gyro (detect_rests; find_rests checked the gyro)
+        found = six_position.still_rests(dt_s, config.min_rest_s, config.still_window_s,
+                                         config.still_threshold_rad_s, gyro_rad_s=np.asarray(gyro_rad_s, dtype=float))
     try:
         chk = plausibility.check_units(filter_gyro, accel_m_s2, dt_s, found, time_s=time_s,
                                        skip=plausibility.clipped_samples(gyro_rad_s)[0], unit_stated=gyro_unit_stated)
@@ -1093,7 +855,7 @@ def _calibrate_record_rests(cfg, pos, dt, found, rep, chk, setup, source, accel,
     if len(found) < pos.shape[0]:
         return RecordCalibration(**done)
     try:
-        cal = calibrate_installation(cfg, pos, dt, rests=found, **source)
+        cal = calibrate_installation(cfg, pos, dt, rests=found, sigma=True, **source)
     except InstallationRefused as exc:
         tiny = np.max(np.abs(np.degrees(pos))) <= np.pi / 2 + 1e-9        # values that may be radians
         if not (any(m in str(exc) for m in MISMATCH_MESSAGES) or (tiny and "ill-conditioned" in str(exc))):
@@ -1103,7 +865,7 @@ def _calibrate_record_rests(cfg, pos, dt, found, rep, chk, setup, source, accel,
         if not hint:
             diagnosis, hint = _diagnose(cfg, pos, dt, found, exc.q_ws, accel, time_s)
         return RecordCalibration(**done, refusal=f"{exc}{hint}", diagnosis=diagnosis)
-    return RecordCalibration(**done, calibration=cal, sigma_rad=installation_angles_sigma(cal, cfg.model),
+    return RecordCalibration(**done, calibration=cal, sigma_rad=cal.angles_sigma_rad,
                              mounting_euler_rad=rotations.euler_zxy_unchecked(cal.mounting_quaternion_q_bs))
 
 
@@ -1130,6 +892,7 @@ def _diagnose(cfg, pos, dt, rests, q_abs, accel, time_s) -> tuple:
     ``q_abs`` is the sensor attitude the refused calibration made (not zeroed). Returns
     ``(RefusalDiagnosis, hint)`` with the hint appended to the one-line refusal.
     """
+    hint = _mistake(cfg, pos, dt, rests, q_abs, accel, time_s)
     means = six_position.rest_means(rotations.relative_to_initial(q_abs[None])[0], rests, cfg.fraction)
     q_ref = rotations.quat_from_euler_zxy_trusted(pos[:, 0], pos[:, 1], pos[:, 2])
     dist = rotations.quat_angle_between(means[:, None, :], q_ref[None, :, :])      # (R, K)
@@ -1137,7 +900,7 @@ def _diagnose(cfg, pos, dt, rests, q_abs, accel, time_s) -> tuple:
     diagnosis = RefusalDiagnosis(nearest=[rests[int(r)] for r in near],
                                  measured_rad=rotations.euler_zxy_from_quat(means[near]),
                                  distance_rad=dist[near, np.arange(pos.shape[0])])
-    return diagnosis, _mistake(cfg, pos, dt, rests, q_abs, accel, time_s)
+    return diagnosis, hint
 
 
 def _mistake(cfg, pos, dt, rests, q_abs, accel, time_s) -> str:

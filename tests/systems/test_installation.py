@@ -166,10 +166,10 @@ def test_gate_refuses_zero_row_matrix_and_large_residual():
 
     lim = (installation.MAX_SO4_DISTANCE, installation.MAX_RESIDUAL_RAD)
     with pytest.raises(ValueError, match="Q_hat is not a calibration: distance .* min row norm 0"):
-        installation._gate(bad, project_to_so4(bad).distance, np.zeros(6), *lim)
-    installation._gate(np.eye(4), project_to_so4(np.eye(4)).distance, np.zeros(6), *lim)  # a rotation passes
+        six_position._gate(bad, project_to_so4(bad).distance, np.zeros(6), *lim)
+    six_position._gate(np.eye(4), project_to_so4(np.eye(4)).distance, np.zeros(6), *lim)  # a rotation passes
     with pytest.raises(ValueError, match="residual 2.000 deg at position 1"):
-        installation._gate(np.eye(4), 0.0, np.full(6, np.radians(2.0)), *lim)
+        six_position._gate(np.eye(4), 0.0, np.full(6, np.radians(2.0)), *lim)
 
 
 PM_G_DEG = [[0, 0, 0], [0, 0, 180], [0, 90, 0], [0, -90, 0], [0, 0, 90], [0, 0, -90]]   # the classic +-g set
