@@ -669,12 +669,9 @@ def qncf(gyro_rad_s, accel_m_s2, dt_s: float, params: QncfParams = QncfParams(),
         n0 = max(1, min(int(init_samples), w.shape[-2]))
         q0 = initial_attitude_from_accel(np.mean(a[..., :n0, :], axis=-2))
     q0 = unit_quaternion(q0, "q0")
-    if single:
-        if q0.shape != (4,):
-            raise ValueError(f"q0 must have shape (4,) for a single-trial record, got {q0.shape}")
-        filt = QncfFilter(q0, dt_s, params, engine=engine)
-    else:
-        filt = QncfFilter(np.broadcast_to(q0, (w.shape[0], 4)), dt_s, params, engine=engine)
+    if single and q0.shape != (4,):
+        raise ValueError(f"q0 must have shape (4,) for a single-trial record, got {q0.shape}")
+    filt = QncfFilter(q0 if single else np.broadcast_to(q0, (w.shape[0], 4)), dt_s, params, engine=engine)
     if fast:  # the kernel checks finiteness and units before the results are kept
         return filt._run_numba(w[None] if single else w, a[None] if single else a, return_euler)
     return filt.run(w, a, return_euler=return_euler)

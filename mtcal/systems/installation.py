@@ -45,7 +45,7 @@ import numpy as np
 
 from mtcal.core import rotations
 from mtcal.core.validate import as_float_array, positive_scalar, sample_interval, unit_quaternion
-from mtcal.filters.qncf import QncfParams, initial_attitude_from_accel, qncf
+from mtcal.filters.qncf import QncfParams, initial_attitude_from_accel, qncf, qncf_trusted
 from mtcal.methods import constrained_fit, quaternion_lsq, six_position
 from mtcal.systems import attitude, plausibility
 from mtcal.systems import rests as rests_system
@@ -286,11 +286,17 @@ def _positions_record(config: InstallationConfig, positions_rad, dt_s, q_ws, gyr
     return checked if mat is None else (mat,) + checked
 
 
-def _sensor_attitude(config: InstallationConfig, q, gyro, accel, q0, dt: float | None, zero: bool = True) -> tuple:
+def _sensor_attitude(config: InstallationConfig, q, gyro, accel, q0, dt: float | None, zero: bool = True,
+                     units_checked: bool = False) -> tuple:
     """Steps 1–2 on checked inputs: the QNCF of raw data (``q`` None), else ``q`` as given; and that
-    attitude zeroed at the first sample (§4.1) if ``zero`` and the config say so. Returns ``(made, zeroed)``."""
+    attitude zeroed at the first sample (§4.1) if ``zero`` and the config say so. Returns ``(made, zeroed)``.
+
+    ``units_checked``: the record's units were checked (:func:`mtcal.systems.plausibility.check_units`, a log
+    procedure): the QNCF runs without its own tilt-rate scan (:func:`mtcal.filters.qncf.qncf_trusted`, the
+    same numbers), as :func:`mtcal.systems.attitude.estimate_attitude` runs it."""
     if q is None:
-        q = qncf(gyro, accel, dt, config.qncf_params, q0=q0, return_euler=False).q_ws
+        run = qncf_trusted if units_checked else qncf
+        q = run(gyro, accel, dt, config.qncf_params, q0=q0, return_euler=False).q_ws
     if not (zero and config.zero_at_first_sample):
         return q, q
     return q, rotations.relative_to_initial(q[None])[0] if q.ndim == 2 else rotations.relative_to_initial(q)
@@ -526,15 +532,28 @@ def apply_installation(config: InstallationConfig, q_hat, dt_s: float | None = N
     if mat.ndim == 3 and (stream.ndim != 3 or stream.shape[0] != mat.shape[0]):
         raise ValueError(f"a stack of {mat.shape[0]} matrices needs a record with as many trials, "
                          f"got shape {stream.shape}")
-    return _relative_attitude(config, mat, q, gyro, accel, q0, dt)
+    return _body_attitude(config, "relative", mat, None, q, gyro, accel, q0, dt)
 
 
-def _relative_attitude(config, mat, q, gyro, accel, q0, dt) -> CalibratedAttitude:
-    """:func:`apply_installation` on checked inputs: the zeroed sensor attitude mapped by Q̂ (Eq 10)."""
-    q_s = _sensor_attitude(config, q, gyro, accel, q0, dt)[1]
-    q_b = quaternion_lsq._apply(mat, q_s)                                       # Eq 10, then sign-continuous
-    q_b = rotations.make_continuous(q_b, axis=-2)
-    return CalibratedAttitude(q_body=q_b, q_sensor=q_s)
+def _body_attitude(config: InstallationConfig, mode: str, mat, c, q, gyro, accel, q0, dt,
+                   units_checked: bool = False) -> CalibratedAttitude:
+    """The body attitude of a checked record: the sensor attitude made once, then ``mode="relative"``
+    Eq 10 on it zeroed (:func:`apply_installation`, ``mat`` Q̂) or ``mode="absolute"`` the mounting ``c``
+    taken off, heading zeroed by the config (:func:`absolute_body_attitude`)."""
+    q_made, q_s = _sensor_attitude(config, q, gyro, accel, q0, dt, zero=mode == "relative",
+                                   units_checked=units_checked)
+    if mode == "relative":
+        q_b = quaternion_lsq._apply(mat, q_s)                                   # Eq 10, then sign-continuous
+        return CalibratedAttitude(q_body=rotations.make_continuous(q_b, axis=-2), q_sensor=q_s)
+    q_s = rotations.make_continuous(q_made, axis=-2)
+    q_b = rotations.hamilton(q_s, rotations.quat_conjugate(c))
+    if config.zero_heading:
+        yaw0 = rotations.euler_zxy_unchecked(q_b[..., :1, :])[..., 0]           # (..., 1)
+        turn = np.zeros(yaw0.shape + (4,))
+        turn[..., 0], turn[..., 3] = np.cos(-yaw0 / 2), np.sin(-yaw0 / 2)
+        q_b = rotations.hamilton(turn, q_b)
+        q_s = rotations.hamilton(turn, q_s)
+    return CalibratedAttitude(q_body=rotations.make_continuous(q_b, axis=-2), q_sensor=q_s)
 
 
 def _application_record(config, dt_s, q_ws, gyro_rad_s, accel_m_s2, q0):
@@ -617,21 +636,7 @@ def absolute_body_attitude(config: InstallationConfig, q_bs, dt_s: float | None 
     if c.shape != (4,):
         raise ValueError(f"q_bs must be one quaternion of shape (4,), got {c.shape}")
     dt, q, gyro, accel, q0, _ = _application_record(config, dt_s, q_ws, gyro_rad_s, accel_m_s2, q0)
-    return _absolute_attitude(config, c, q, gyro, accel, q0, dt)
-
-
-def _absolute_attitude(config, c, q, gyro, accel, q0, dt) -> CalibratedAttitude:
-    """:func:`absolute_body_attitude` on checked inputs (``c`` the mounting ``q_bs``)."""
-    q_made = _sensor_attitude(config, q, gyro, accel, q0, dt, zero=False)[0]
-    q_s = rotations.make_continuous(q_made, axis=-2)
-    q_b = rotations.hamilton(q_s, rotations.quat_conjugate(c))
-    if config.zero_heading:
-        yaw0 = rotations.euler_zxy_unchecked(q_b[..., :1, :])[..., 0]           # (..., 1)
-        turn = np.zeros(yaw0.shape + (4,))
-        turn[..., 0], turn[..., 3] = np.cos(-yaw0 / 2), np.sin(-yaw0 / 2)
-        q_b = rotations.hamilton(turn, q_b)
-        q_s = rotations.hamilton(turn, q_s)
-    return CalibratedAttitude(q_body=rotations.make_continuous(q_b, axis=-2), q_sensor=q_s)
+    return _body_attitude(config, "absolute", None, c, q, gyro, accel, q0, dt)
 
 
 def installation_angles_sigma(cal: InstallationCalibration, model: str = "eq13") -> np.ndarray:
@@ -995,15 +1000,12 @@ def _apply_record_attitude(cfg, mat, mode, checked, rep, chk, setup, accel) -> R
     dt, q, gyro, acc, q0, _ = checked
     q_bs = _mounting(mat)
     done = dict(q_bs=q_bs, report=rep, units_check=chk, qncf=setup)
-    if mode == "absolute":
-        return RecordApplication(attitude=_absolute_attitude(cfg, q_bs, q, gyro, acc, q0, dt),
-                                 mounting_euler_rad=rotations.euler_zxy_unchecked(q_bs), **done)
-    att = _relative_attitude(cfg, mat, q, gyro, acc, q0, dt)
+    att = _body_attitude(cfg, mode, mat, q_bs, q, gyro, acc, q0, dt, units_checked=chk is not None)
     start, q_s0 = None, None
-    if accel is not None and rep is not None and rep.rests:
+    if mode == "relative" and accel is not None and rep is not None and rep.rests:
         start = rep.rests[0]
         q_s0 = initial_attitude_from_accel(accel[start].mean(axis=0))
-    elif q is not None:
+    elif mode == "relative" and q is not None:
         q_s0 = q[0]
     tilt = None if q_s0 is None else rotations.euler_zxy_from_quat(
         rotations.quat_multiply(q_s0, rotations.quat_conjugate(q_bs)))
