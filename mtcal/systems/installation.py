@@ -265,12 +265,12 @@ def _positions_record(config: InstallationConfig, positions_rad, dt_s, q_ws, gyr
     if not isinstance(config, InstallationConfig):
         raise TypeError(f"config must be an InstallationConfig, got {type(config).__name__}")
     mat = None if q_hat is None else _q_hat(q_hat)
+    q, gyro, accel, q0, stream = _record(q_ws, gyro_rad_s, accel_m_s2, q0, True, dt_s)
     pos = as_float_array(positions_rad, "positions_rad", ndim=(2, 3), last_dim=3)
     k = pos.shape[-2]
     if k < 4:
         raise ValueError(f"positions_rad must hold at least 4 positions for Eq 13 (16 unknowns), got {k}")
     dt = sample_interval(dt_s)
-    q, gyro, accel, q0, stream = _record(q_ws, gyro_rad_s, accel_m_s2, q0, True, dt)
     n = stream.shape[-2]
     if pos.ndim == 3 and (stream.ndim != 3 or stream.shape[0] != pos.shape[0]):
         raise ValueError(f"positions_rad of shape {pos.shape} needs a record with {pos.shape[0]} trials, "
