@@ -578,22 +578,21 @@ def calibrate_from_rests(q_ws: np.ndarray, positions_rad: np.ndarray, dt_s: floa
             mat = _fit_conjugation(q_s_al, q_b_al)
         proj = constrained_fit.project_to_so4_trusted(mat)
         after = quaternion_lsq._apply(mat, q_s)                                     # Eq 10 at the rests
-        residual = _angle_between(after, q_ref)
-        q_bs = rotations.quat_conjugate(proj.r)
-        alpha = rotations.installation_angles_from_mount_trusted(q_bs)
-        before_e = rotations.euler_zxy_unchecked(q_s)
-        after_e = rotations.euler_zxy_unchecked(after)
-        if gate:
-            _gate(mat, proj.distance, residual, max_so4_distance, max_residual_rad)
+        residual = _gated_residual(mat, proj.distance, after, q_ref, max_so4_distance, max_residual_rad, gate)
     except ValueError as exc:
         raise PositionsRefused(str(exc), q_ws) from None
+    sig = angles_sigma(q_s, q_ref, mat, model) if sigma else None
+    q_bs = rotations.quat_conjugate(proj.r)
+    alpha = rotations.installation_angles_from_mount_trusted(q_bs)
+    before_e = rotations.euler_zxy_unchecked(q_s)
+    after_e = rotations.euler_zxy_unchecked(after)
     return PositionCalibration(
         q_hat=mat, projection=proj, mounting_quaternion_q_bs=q_bs, installation_angles_rad=alpha, condition=cond,
         positions_rad=pos, q_reference=q_ref, rests=rests, matched=matched, q_sensor=q_s,
         euler_before_rad=before_e, euler_after_rad=after_e,
         error_before_rad=metrics.angle_difference_trusted(before_e, pos),
         error_after_rad=metrics.angle_difference_trusted(after_e, pos), residual_rad=residual,
-        angles_sigma_rad=angles_sigma(q_s, q_ref, mat, model) if sigma else None)
+        angles_sigma_rad=sig)
 
 
 _AXIS_NAMES = {1: "x (pitch)", 2: "y (roll)", 3: "z (yaw)"}
@@ -656,20 +655,24 @@ def _fit_conjugation(q_s: np.ndarray, q_b: np.ndarray) -> np.ndarray:
     return rotations.left_matrix_trusted(c) @ rotations.right_matrix_trusted(rotations.quat_conjugate(c))
 
 
-def _gate(q_hat, dist, residual, max_dist: float, max_res: float) -> None:
-    """Refuse a Q̂ that is not a plausible calibration (SO(4) distance, residuals)."""
+def _gated_residual(q_hat, dist, after, q_ref, max_dist: float, max_res: float, gate: bool = True) -> np.ndarray:
+    """Residual (rad) of Eq 10 at the rests, ``after`` against the references ``q_ref``; with ``gate``
+    Q̂ is refused when farther than ``max_dist`` from SO(4) (distance ``dist``), then when a residual
+    exceeds ``max_res`` (``inf`` switches a gate off)."""
     worst_dist = float(np.max(dist))
-    if not worst_dist <= max_dist:
+    if gate and not worst_dist <= max_dist:
         t = int(np.argmax(dist)) if np.ndim(dist) else None
         q = q_hat if t is None else q_hat[t]
         raise ValueError(f"Q_hat is not a calibration: distance {worst_dist:.3g} from a rotation of quaternion "
                          f"space (> {max_dist:g}; max |entry| {np.abs(q).max():.3g}, min row norm "
                          f"{np.linalg.norm(q, axis=1).min():.3g}); rests do not match the positions")
+    residual = _angle_between(after, q_ref)
     worst = float(np.max(residual))
-    if not worst <= max_res:
+    if gate and not worst <= max_res:
         kk = int(np.unravel_index(np.argmax(residual), residual.shape)[-1])
         raise ValueError(f"calibration residual {np.degrees(worst):.3f} deg at position {kk + 1} exceeds "
                          f"--max-residual-deg {np.degrees(max_res):g}; a rest does not match its reference position")
+    return residual
 
 
 def angles_sigma(q_sensor: np.ndarray, q_reference: np.ndarray, q_hat: np.ndarray, model: str = "eq13") -> np.ndarray:

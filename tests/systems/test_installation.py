@@ -165,11 +165,15 @@ def test_gate_refuses_zero_row_matrix_and_large_residual():
     from mtcal.methods.constrained_fit import project_to_so4
 
     lim = (installation.MAX_SO4_DISTANCE, installation.MAX_RESIDUAL_RAD)
+    q = np.tile([1.0, 0.0, 0.0, 0.0], (6, 1))
     with pytest.raises(ValueError, match="Q_hat is not a calibration: distance .* min row norm 0"):
-        six_position._gate(bad, project_to_so4(bad).distance, np.zeros(6), *lim)
-    six_position._gate(np.eye(4), project_to_so4(np.eye(4)).distance, np.zeros(6), *lim)  # a rotation passes
+        six_position._gated_residual(bad, project_to_so4(bad).distance, q, q, *lim)
+    assert not np.any(six_position._gated_residual(np.eye(4), project_to_so4(np.eye(4)).distance, q, q, *lim))
+    turned = rotations.quat_from_rotvec(np.tile([0.0, 0.0, np.radians(2.0)], (6, 1)))      # 2 deg off each
     with pytest.raises(ValueError, match="residual 2.000 deg at position 1"):
-        six_position._gate(np.eye(4), 0.0, np.full(6, np.radians(2.0)), *lim)
+        six_position._gated_residual(np.eye(4), 0.0, turned, q, *lim)
+    ungated = six_position._gated_residual(bad, project_to_so4(bad).distance, turned, q, *lim, gate=False)
+    assert np.allclose(np.degrees(ungated), 2.0)                  # a verification measures, never refuses
 
 
 PM_G_DEG = [[0, 0, 0], [0, 0, 180], [0, 90, 0], [0, -90, 0], [0, 0, 90], [0, 0, -90]]   # the classic +-g set
