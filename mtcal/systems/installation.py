@@ -642,13 +642,10 @@ def absolute_body_attitude(config: InstallationConfig, q_bs, dt_s: float | None 
 def installation_angles_sigma(cal: InstallationCalibration, model: str = "eq13") -> np.ndarray:
     """1σ uncertainty (rad) of the installation angles ``[α1, α2, α3]`` from the fit covariance.
 
-    The fit is least squares over the K positions' quaternion components, ``A_b ≈ Q(θ) A_s``
-    (4K equations; θ: the 16 entries of Q̂ for Eq 13, 6 rotation parameters for ``"so4"``, 3 for
-    ``"mounting"``). Its covariance is ``σ² (JᵀJ)⁻¹`` with ``σ²`` the residual variance
-    ``‖A_b − Q̂ A_s‖² / (4K − n)`` and ``J`` the Jacobian of the residuals (for Eq 13, linear:
-    row i of Q̂ has covariance ``σ² (A_s A_sᵀ)⁻¹``); the angles (SO(4) projection → mounting →
-    inverse of Eq 1) get ``G cov Gᵀ`` with ``G`` their central-difference Jacobian. With no
-    degrees of freedom left (K = 4 for Eq 13) the result is NaN.
+    :func:`mtcal.methods.six_position.angles_sigma` (the fit's least-squares covariance propagated
+    through the SO(4) projection and the inverse of Eq 1) of a calibration; NaN when not estimable
+    (K = 4 for Eq 13 leaves no degrees of freedom). :func:`calibrate_installation` with ``sigma=True``
+    gives the same numbers as ``angles_sigma_rad``.
 
     Parameters
     ----------

@@ -15,6 +15,7 @@ from mtcal.filters.qncf import QncfParams, qncf
 from mtcal.methods import six_position
 from mtcal.methods.six_position import schedule_profile, six_positions_rad
 from mtcal.systems import installation
+from mtcal.systems.rests import RestsConfig
 
 FS = 100.0
 DT_S = 1.0 / FS
@@ -379,6 +380,45 @@ def test_apply_record_modes_are_the_application_functions(stream):
         installation.apply_record(cfg, cal.q_hat, DT_S, mode="sideways", time_s=t, q_ws=q_ws)
     with pytest.raises(ValueError, match="q_hat must be a finite 4x4 array"):
         installation.apply_record(cfg, np.eye(3), DT_S, time_s=t, q_ws=q_ws)
+
+
+@pytest.mark.parametrize("model", ["eq13", "so4", "mounting"])
+def test_the_calibration_carries_the_1_sigma_of_its_fit(stream, model):
+    pos, _, q_ws, _ = stream
+    rng = np.random.default_rng(5)
+    q = q_ws + 1e-5 * rng.standard_normal(q_ws.shape)              # scatter at the rests: a 1-sigma to estimate
+    q /= np.linalg.norm(q, axis=1, keepdims=True)
+    cfg = Config(model=model)
+    cal = installation.calibrate_installation(cfg, pos, DT_S, q_ws=q, sigma=True)
+    sigma = installation.installation_angles_sigma(cal, model)
+    assert np.all(np.isfinite(sigma)) and np.all(sigma > 0)
+    np.testing.assert_array_equal(cal.angles_sigma_rad, sigma)
+    assert installation.calibrate_installation(cfg, pos, DT_S, q_ws=q).angles_sigma_rad is None
+    with pytest.raises(ValueError, match="one calibration"):
+        installation.calibrate_installation(cfg, pos, DT_S, q_ws=np.stack([q, q]), sigma=True)
+
+
+@pytest.mark.parametrize("mode", ["absolute", "relative"])
+def test_apply_record_of_a_raw_log_is_the_checked_procedure_bit_for_bit(mode):
+    """After its units check the log procedure runs the QNCF trusted: the same bits as the public functions."""
+    from tests.cli.logs import six_position_log
+
+    df, pos_df, _ = six_position_log()
+    t = df["time_s"].to_numpy()
+    g = df[["gyro_x_rad_s", "gyro_y_rad_s", "gyro_z_rad_s"]].to_numpy()
+    a = df[["accel_x_m_s2", "accel_y_m_s2", "accel_z_m_s2"]].to_numpy()
+    dt = float(np.mean(np.diff(t)))
+    cfg = Config.command_line(rest_detector=RestsConfig.cli_defaults(0.2))
+    q_hat = installation.calibrate_record(cfg, np.radians(pos_df.to_numpy()), dt, time_s=t, accel_m_s2=a,
+                                          gyro_rad_s=g).calibration.q_hat
+    res = installation.apply_record(cfg, q_hat, dt, mode=mode, time_s=t, accel_m_s2=a, gyro_rad_s=g)
+    assert res.units_check is not None
+    run = replace(cfg, qncf_params=res.qncf.params)
+    raw = dict(gyro_rad_s=res.qncf.gyro_rad_s, accel_m_s2=a, q0=res.qncf.q0)
+    want = (installation.absolute_body_attitude(run, res.q_bs, dt, **raw) if mode == "absolute" else
+            installation.apply_installation(run, q_hat, dt, **raw))
+    np.testing.assert_array_equal(res.attitude.q_body, want.q_body)
+    np.testing.assert_array_equal(res.attitude.q_sensor, want.q_sensor)
 
 
 def test_the_rest_detector_of_a_config_is_a_rests_config():
