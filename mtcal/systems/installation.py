@@ -13,6 +13,10 @@
 6. installation angles (inverse of Eq 1) of the mounting part of Q̂'s SO(4)
    projection ``L(p) R(r)``, mounting quaternion ``q_bs = r*``.
 
+Step 1 is the system's (the QNCF of :mod:`mtcal.filters.qncf`); steps 2–6 are one methods-level
+procedure on that attitude, :func:`mtcal.methods.six_position.calibrate_from_rests`, which the
+system calls once with the config's settings after checking every input here.
+
 :func:`apply_installation` is Eq 10 on a stream (``q_body = normalize(Q̂ q_sensor)``): the
 paper's *relative* body attitude, zeroed where the record starts (the turntable's zero).
 :func:`absolute_body_attitude` is the gravity-referenced one for a record that starts anywhere
