@@ -61,10 +61,12 @@ from mtcal.methods.rotation_axis import angles_about_axis
 from mtcal.methods.tilt_rate import check_tilt_rate_scale_trusted
 from mtcal.methods.zero_velocity import ZvdParams, detect_static_trusted, rest_masks_trusted
 from mtcal.systems import plausibility
+from mtcal.systems.rests import RestsConfig, find_rests
 
 __all__ = ["AxisConfig", "AxisEstimate", "estimate_surface_axis", "estimate_surface_axes", "axis_uncertainty",
            "angles_about_axis", "rest_ekf_params",
            "SurfaceAngleConfig", "SurfaceAngle", "surface_angle",
+           "SurfaceRecordConfig", "SurfaceRecordAngle", "surface_angle_record",
            "SurfaceBatchConfig", "SurfaceAngleBatch", "surface_angle_batch", "rest_masks",
            "SIGMA_MEAN_FLOOR_M_S2", "CLIPPED_P0_THETA_RAD", "MIN_TURN_FOR_AXIS_CHECK_DEG", "MIN_REST_ZVD_SHARE"]
 
@@ -734,6 +736,160 @@ def _gyro_axis_check(g, static, b0, v, dt: float, cfg: SurfaceAngleConfig) -> np
                          f"(max {cfg.max_axis_mismatch_deg:g}); pass the right axis (mtcal axis LOG) or "
                          f"check the axes")
     return u
+
+
+# --------------------------------------------------------------------------- one record (a log): rests → EKF
+@dataclass(frozen=True)
+class SurfaceRecordConfig:
+    """Resolved settings of :func:`surface_angle_record` (``mtcal angle``), checked once when made.
+
+    Attributes
+    ----------
+    rests : RestsConfig
+        How the log's rests are found (the initial rest, the EKF's V switch, the restarts).
+    init_s : float
+        Initial rest for ā0 and the gyro bias (s, > 0): with the paper's detector the first ``init_s``
+        seconds of the log (they must be at rest, Sec. 2.2), else the first ``init_s`` seconds of the
+        first rest found.
+    max_elevation_deg : float
+        Refuse an axis steeper than this (deg), :class:`SurfaceAngleConfig`.
+    max_axis_mismatch_deg : float or None
+        Refuse a gyro turning about an axis this far from the given one (deg); None: not checked.
+
+    Examples
+    --------
+    >>> SurfaceRecordConfig(RestsConfig.cli_defaults()).init_s
+    1.0
+    >>> SurfaceRecordConfig(RestsConfig(), init_s=0.0)
+    Traceback (most recent call last):
+    ...
+    ValueError: init_s must be > 0, got 0.0
+    """
+
+    rests: RestsConfig
+    init_s: float = 1.0
+    max_elevation_deg: float = 85.0
+    max_axis_mismatch_deg: float | None = 10.0
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.rests, RestsConfig):
+            raise TypeError(f"rests must be a RestsConfig, got {type(self.rests).__name__}")
+        positive_scalar(self.init_s, "init_s")
+        positive_scalar(self.max_elevation_deg, "max_elevation_deg")
+        _limit(self.max_axis_mismatch_deg, "max_axis_mismatch_deg")
+
+
+@dataclass(frozen=True)
+class SurfaceRecordAngle:
+    """Result of :func:`surface_angle_record`.
+
+    Attributes
+    ----------
+    rests : mtcal.methods.rest_detection.RestReport
+        The log's rests.
+    angle : SurfaceAngle
+        The EKF angle (NaN before the initial rest), its checks and set-up.
+    late : bool
+        The log starts moving: the angle is measured from the first rest, not from sample 0.
+    rest_accel_angles_rad : ndarray (R,)
+        The accelerometer's angle of each rest about the axis from ā0 (rad, Eq 16), in (−π, π].
+    """
+
+    rests: object
+    angle: SurfaceAngle
+    late: bool
+    rest_accel_angles_rad: np.ndarray
+
+
+def surface_angle_record(gyro_rad_s, accel_m_s2, axis, config: SurfaceRecordConfig, *, fs_hz: float, time_s,
+                         unit_stated: str | None = None) -> SurfaceRecordAngle:
+    """The surface angle of one recorded log (``mtcal angle``): rests, initial rest, checked EKF.
+
+    The rests (:func:`mtcal.systems.rests.find_rests` with ``config.rests``, at the mean step
+    ``1 / fs_hz``) give the EKF's V switch and its restarts; the initial rest (``config.init_s``)
+    gives ā0, the gyro bias and angle 0; the gyro's units and time base and its rotation axis are
+    checked (:meth:`SurfaceAngleConfig.cli` with the gyro noise the rests measured), then the
+    ZVD-switched RAMS EKF runs (:func:`surface_angle`). Each rest's accelerometer angle about the
+    axis (Eq 16) is returned to compare with the EKF's. Inputs are checked here once.
+
+    Parameters
+    ----------
+    gyro_rad_s, accel_m_s2 : array_like (N, 3)
+        Gyro (rad/s) and accelerometer (m/s²).
+    axis : array_like (3,)
+        Unit hinge axis v (sensor frame).
+    config : SurfaceRecordConfig
+    fs_hz : float
+        Sample rate of the log (Hz); the rests run at the mean step ``1 / fs_hz``.
+    time_s : array_like (N,)
+        Sample times (s): the EKF's time base (:func:`~mtcal.systems.plausibility.time_base`).
+    unit_stated : str, optional
+        Where the gyro unit was stated (a units check that cannot decide then warns).
+
+    Returns
+    -------
+    SurfaceRecordAngle
+
+    Raises
+    ------
+    ValueError
+        No initial rest (messages name the rest levels), and every refusal of :func:`surface_angle`;
+        a refusal after the rests were found carries them as ``exc.rests``.
+
+    References
+    ----------
+    wang2022sensors Sec. 2.2 (ā0, Eq 16), Sec. 3.1 (ZVD), Eq 24–33 (EKF).
+
+    Examples
+    --------
+    >>> from mtcal.core.profiles import fixed_axis_imu_truth, step_schedule
+    >>> prof = step_schedule(np.radians([0.0, 40.0]), np.radians(40.0), 2.0, 100.0)
+    >>> v = np.array([0.6, 0.0, 0.8])
+    >>> w, f = fixed_axis_imu_truth(prof.angle_rad.T, prof.rate_rad_s.T, prof.accel_rad_s2.T, [v], [[0.0, 0, 0]],
+    ...                             [0.0, 0.0, 9.81], 0.01)
+    >>> rng = np.random.default_rng(0)
+    >>> res = surface_angle_record(w[0] + 1e-3 * rng.standard_normal(w[0].shape),
+    ...                            f[0] + 1e-2 * rng.standard_normal(f[0].shape), v,
+    ...                            SurfaceRecordConfig(RestsConfig.cli_defaults()), fs_hz=100.0, time_s=prof.time_s)
+    >>> len(res.rests.rests), round(float(np.degrees(res.angle.angle_rad[-1])), 1)
+    (2, 40.0)
+    """
+    if not isinstance(config, SurfaceRecordConfig):
+        raise TypeError(f"config must be a SurfaceRecordConfig, got {type(config).__name__}")
+    g, a = _checked_record(gyro_rad_s, accel_m_s2, 2)
+    fs = positive_scalar(fs_hz, "fs_hz")
+    dt, weights = plausibility.time_base(a.shape[0], time_s=time_s)
+    rep = find_rests(a, 1.0 / fs, config.rests, gyro_rad_s=g, time_s=time_s)
+    try:
+        n, init_s = a.shape[0], float(config.init_s)
+        if config.rests.detector == "paper":  # the paper's set-up: the first init_s seconds are the rest
+            n0 = int(round(init_s * fs))
+            if n0 < 1 or n0 >= n:
+                raise ValueError(f"--init-s {init_s:g} s must cover at least one sample and leave data")
+            if not rep.is_static[min(n0, n - 1) // 2:n0].any():
+                raise ValueError(f"the first {init_s:g} s are not at rest by the paper ZVD ({rep.levels_text()}; "
+                                 f"measured |a| at rest {rep.extra['measured_gravity_m_s2']:.4f} m/s^2); "
+                                 f"--rest-detector adaptive measures the band from the data")
+            late, init = False, slice(0, n0)
+        else:
+            if not rep.rests:
+                raise ValueError(f"no rest found: the angle is measured from a rest (reference and gyro bias); "
+                                 f"{rep.levels_text()}")
+            first = rep.rests[0]
+            late = first.start > max(0.25 * fs, rep.window_s * fs)
+            n0 = min(int(round(init_s * fs)), first.stop - first.start)
+            if n0 < max(3, int(0.1 * fs)):
+                raise ValueError(f"initial rest too short: {n0} samples ({n0 / fs:.2f} s), need >= 0.1 s")
+            init = slice(first.start, first.start + n0)
+        means = np.array([a[r].mean(axis=0) for r in rep.rests]).reshape(-1, 3)
+        v = _checked_axis(axis)
+        cfg = SurfaceAngleConfig(None, config.max_elevation_deg, True, config.max_axis_mismatch_deg,
+                                 rep.gyro_noise_rad_s, unit_stated)
+        res = _surface_angle_trusted(g, a, v, rep.is_static, init, dt, weights, time_s, list(rep.rests), cfg)
+    except ValueError as exc:
+        exc.rests = rep  # the caller's diagnostics show the rests the refusal saw
+        raise
+    return SurfaceRecordAngle(rep, res, bool(late), angles_about_axis(v, res.accel0_m_s2, means))
 
 
 # --------------------------------------------------------------------------- batched: ZVD → axis → EKF
