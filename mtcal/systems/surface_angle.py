@@ -54,10 +54,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from mtcal.core.validate import as_float_array, check_accel_units, positive_scalar, sample_interval
-from mtcal.filters.rams_ekf import RamsEkfParams, run_rams_ekf_restarts_trusted, run_rams_ekf_trusted
+from mtcal.filters.rams_ekf import (RamsEkfParams, run_rams_ekf_batch_restarts_trusted,
+                                   run_rams_ekf_restarts_trusted)
 from mtcal.filters.registry import AxisContext
 from mtcal.methods import rotation_axis
-from mtcal.methods.rotation_axis import angles_about_axis
+from mtcal.methods.rotation_axis import AxisEstimate, angles_about_axis
 from mtcal.methods.tilt_rate import check_tilt_rate_scale_trusted
 from mtcal.methods.zero_velocity import ZvdParams, detect_static_trusted, rest_masks_trusted
 from mtcal.systems import plausibility
@@ -78,23 +79,6 @@ CLIPPED_P0_THETA_RAD = np.radians(30.0)
 MIN_TURN_FOR_AXIS_CHECK_DEG = 20.0
 #: A known rest where the ZVD flags fewer than this share of samples is used whole for the axis (batched procedure).
 MIN_REST_ZVD_SHARE = 0.1
-
-
-def _rest_means(accel: np.ndarray, rests) -> tuple[np.ndarray, np.ndarray]:
-    """Means (R, 3) and sample counts (R,) of rests given as slices or boolean masks (N,)."""
-    means, counts = [], []
-    for r in rests:
-        if isinstance(r, slice):
-            means.append(accel[r].mean(axis=0))
-            counts.append(float(len(range(*r.indices(accel.shape[0])))))
-        else:
-            m = np.asarray(r)
-            if m.dtype != bool or m.shape != accel.shape[:1]:
-                raise ValueError(f"each rest must be a slice or a boolean mask of shape {accel.shape[:1]}, "
-                                 f"got {m.dtype} {m.shape}")
-            means.append(accel[m].mean(axis=0))
-            counts.append(float(np.count_nonzero(m)))
-    return np.array(means).reshape(-1, 3), np.array(counts)
 
 
 def axis_uncertainty(positions_m_s2, counts, *, accel_noise_m_s2: float, window_samples: float = 1.0,
@@ -207,41 +191,13 @@ class AxisConfig:
                    max_elevation_deg)
 
 
-@dataclass(frozen=True)
-class AxisEstimate:
-    """Result of :func:`estimate_surface_axis`.
-
-    Attributes
-    ----------
-    axis : ndarray (3,)
-        Unit hinge axis v in the sensor frame (``v_x ≥ 0``).
-    sigma_rad : float
-        First-order 1σ direction uncertainty (rad).
-    elevation_rad : float
-        Axis elevation above the horizontal (rad), ``asin |v·â|`` averaged over the rest means.
-    positions_m_s2 : ndarray (P, 3)
-        Distinct rest positions used (m/s²).
-    members : tuple of tuple of int
-        Rest indices merged into each position.
-    rest_means_m_s2 : ndarray (R, 3)
-        Mean of every rest (m/s²).
-    rest_angles_rad : ndarray (R,)
-        Angle of each rest about v from the first rest (rad, Eq 16).
-    sigma_mean_m_s2 : float
-        Std of one position mean used for the uncertainty (m/s²).
-    fit : str
-        ``"plane"`` or ``"eq23"``.
-    """
-
-    axis: np.ndarray
-    sigma_rad: float
-    elevation_rad: float
-    positions_m_s2: np.ndarray
-    members: tuple
-    rest_means_m_s2: np.ndarray
-    rest_angles_rad: np.ndarray
-    sigma_mean_m_s2: float
-    fit: str
+def _axis_settings(config: AxisConfig) -> dict:
+    """The keywords of :func:`mtcal.methods.rotation_axis.axis_from_rests_trusted` a checked config states."""
+    return dict(fit=config.fit, min_separation_deg=float(config.min_separation_deg),
+                max_elevation_deg=float(config.max_elevation_deg),
+                max_axis_error_deg=np.inf if config.max_axis_error_deg is None else float(config.max_axis_error_deg),
+                accel_noise_m_s2=config.accel_noise_m_s2, window_samples=config.window_samples,
+                sigma_floor_m_s2=SIGMA_MEAN_FLOOR_M_S2)
 
 
 def estimate_surface_axis(accel_m_s2, rests, config: AxisConfig) -> AxisEstimate:
@@ -286,48 +242,12 @@ def estimate_surface_axis(accel_m_s2, rests, config: AxisConfig) -> AxisEstimate
     """
     if not isinstance(config, AxisConfig):
         raise TypeError(f"config must be an AxisConfig, got {type(config).__name__}")
+    settings = _axis_settings(config)
     a = as_float_array(accel_m_s2, "accel_m_s2", ndim=2, last_dim=3)
     rests = list(rests)
     if not rests:
         raise ValueError("found no rest; the axis needs rests at three distinct tilts")
-    return _axis_trusted(a, rests, config)
-
-
-def _axis_trusted(a: np.ndarray, rests: list, config: AxisConfig) -> AxisEstimate:
-    """:func:`estimate_surface_axis` on a checked (N, 3) float record, a non-empty rest list and a checked config."""
-    sep, max_el = float(config.min_separation_deg), float(config.max_elevation_deg)
-    max_err = np.inf if config.max_axis_error_deg is None else float(config.max_axis_error_deg)
-    means, counts = _rest_means(a, rests)
-    if not np.all(counts > 0):
-        raise ValueError(f"rest {int(np.argmin(counts > 0))} holds no sample; each rest needs samples")
-    pos, w, members = rotation_axis.distinct_positions_trusted(means, counts, sep)
-    if pos.shape[0] < 3:
-        spread = max((np.degrees(rotation_axis.angle_between_trusted(means[i], means[j]))
-                      for i in range(len(means)) for j in range(i)), default=0.0)
-        why = (" — a rotation about the vertical does not change the tilt, so the accelerometer "
-               "cannot see its axis" if len(rests) >= 2 and spread < sep else "")
-        raise ValueError(f"found only {pos.shape[0]} distinct tilt(s) among {len(rests)} rest(s) "
-                         f"(largest tilt difference {spread:.2f} deg, positions must be >= {sep:g} deg "
-                         f"apart); the axis needs rests at three distinct tilts{why}")
-    if config.fit == "eq23":
-        pos, w, members = pos[:3], w[:3], members[:3]
-        v = rotation_axis.axis_from_means_trusted(pos[0], pos[1], pos[2], sep, max_el)
-    plane = rotation_axis.gated_plane_fit_trusted(pos, w, float(config.accel_noise_m_s2),
-                                                  float(config.window_samples), max_err, SIGMA_MEAN_FLOOR_M_S2)
-    if config.fit == "plane":
-        v = plane.v
-        # v·a is the same at every rest (rotation about v keeps it), so each rest mean gives the elevation;
-        # the centroid of the positions is shorter than g and would overstate it.
-        elev = float(np.degrees(np.mean(rotation_axis.axis_elevation_trusted(v, means))))
-        if elev > max_el:
-            raise ValueError(f"rotation axis is nearly vertical: elevation {elev:.2f} "
-                             f"deg above the horizontal (maximum {max_el:g} deg); rotation about it barely "
-                             f"changes gravity")
-    n_eff = float(np.min(w)) / max(1.0, float(config.window_samples))
-    sig = max(config.accel_noise_m_s2 / np.sqrt(max(n_eff, 1.0)), SIGMA_MEAN_FLOOR_M_S2)
-    return AxisEstimate(v, float(plane.sigma_rad), float(np.mean(rotation_axis.axis_elevation_trusted(v, means))), pos,
-                        tuple(tuple(m) for m in members), means, angles_about_axis(v, means[0], means), float(sig),
-                        config.fit)
+    return rotation_axis.axis_from_rests_trusted(a, rests, **settings)
 
 
 def estimate_surface_axes(accel_m_s2, rest_masks, config: AxisConfig) -> np.ndarray:
@@ -376,6 +296,7 @@ def estimate_surface_axes(accel_m_s2, rest_masks, config: AxisConfig) -> np.ndar
     """
     if not isinstance(config, AxisConfig):
         raise TypeError(f"config must be an AxisConfig, got {type(config).__name__}")
+    settings = _axis_settings(config)
     a = as_float_array(accel_m_s2, "accel_m_s2", ndim=3, last_dim=3, copy=False)
     masks = [np.asarray(m) for m in rest_masks]
     if not masks:
@@ -383,35 +304,7 @@ def estimate_surface_axes(accel_m_s2, rest_masks, config: AxisConfig) -> np.ndar
     for m in masks:
         if m.dtype != bool or m.shape != a.shape[:2]:
             raise ValueError(f"each rest mask must be boolean of shape {a.shape[:2]}, got {m.dtype} {m.shape}")
-    return _axes_trusted(a, masks, config)
-
-
-def _axes_trusted(a: np.ndarray, masks: list[np.ndarray], config: AxisConfig) -> np.ndarray:
-    """:func:`estimate_surface_axes` on a checked (T, N, 3) float batch and non-empty checked (T, N) bool masks."""
-    sep = float(config.min_separation_deg)
-    t_n = a.shape[0]
-    out = np.empty((t_n, 3))
-    fast = np.zeros(t_n, bool)
-    if config.fit == "eq23" and config.max_axis_error_deg is None and len(masks) >= 3:
-        counts = np.stack([m.sum(axis=1) for m in masks]).astype(float)          # (R, T)
-        means = np.full((len(masks), t_n, 3), np.nan)
-        for k, m in enumerate(masks):  # the rest means exactly as estimate_surface_axis takes them
-            for t in np.flatnonzero(counts[k] > 0):
-                means[k, t] = a[t][m[t]].mean(axis=0)
-        # as distinct_positions weights them (mean * n / n), so Eq 23 sees the same numbers
-        with np.errstate(invalid="ignore"):
-            means = means * counts[..., None] / counts[..., None]
-            r_n = len(masks)
-            pair = np.stack([rotation_axis.angle_between_trusted(means[i], means[j])
-                             for i in range(r_n) for j in range(i)])
-        # strictly apart (a margin for rounding), so per trial no rests would merge
-        fast = np.all(counts > 0, axis=0) & np.all(pair > np.radians(sep) * (1 + 1e-9), axis=0)
-        if fast.any():
-            out[fast] = rotation_axis.axis_from_means_trusted(*means[:3, fast], sep,
-                                                              float(config.max_elevation_deg))
-    for t in np.flatnonzero(~fast):
-        out[t] = _axis_trusted(a[t], [m[t] for m in masks], config).axis
-    return out
+    return rotation_axis.axes_from_rests_trusted(a, masks, **settings)
 
 
 def rest_ekf_params(gyro_rad_s, accel_m_s2, init: slice) -> RamsEkfParams:
@@ -681,13 +574,7 @@ def _surface_angle_trusted(g, a, v, static, init: slice, dt: float, weights, tim
         level = np.array([c[1] for c in clip])
     else:
         clipped, level = plausibility.clipped_samples(g)
-    elev = rotation_axis.axis_elevation_trusted(v, a0)
-    max_el = float(cfg.max_elevation_deg)
-    worst = float(np.degrees(np.max(elev)))
-    if worst > max_el:
-        raise ValueError(f"--axis is {90 - worst:.2f} deg from gravity (elevation {worst:.2f} deg > {max_el:g}): "
-                         f"a rotation about the vertical does not change the accelerometer reading, so the "
-                         f"EKF cannot correct the gyro; measure the angle with a non-vertical axis")
+    elev = rotation_axis.gated_elevation_trusted(v, a0, cfg.max_elevation_deg)
     check, u = None, None
     if cfg.check_units:
         check = plausibility.check_units(gyro_f, a, dt, rests, time_s=time_s, skip=clipped,
@@ -707,14 +594,8 @@ def _surface_angle_trusted(g, a, v, static, init: slice, dt: float, weights, tim
     else:
         st = np.broadcast_to(static, a.shape[:-1])
         cuts = [_restart_cuts(c[k0:], local, n - k0) for c in clipped]
-        ekf = run_rams_ekf_trusted(gyro_f[:, k0:], a[:, k0:], st[:, k0:], v, a0, dt, params, bias0_rad_s=b0,
-                                   keep_innovation=False)
-        angle[:, k0:] = ekf.theta_rad
-        for t, c in enumerate(cuts):
-            if len(c) > 2:
-                vt = v if v.ndim == 1 else v[t]
-                angle[t, k0:] = run_rams_ekf_restarts_trusted(gyro_f[t, k0:], a[t, k0:], st[t, k0:], c, vt, a0[t],
-                                                              b0[t], dt, params, CLIPPED_P0_THETA_RAD**2)
+        angle[:, k0:] = run_rams_ekf_batch_restarts_trusted(gyro_f[:, k0:], a[:, k0:], st[:, k0:], cuts, v, a0, b0,
+                                                            dt, params, CLIPPED_P0_THETA_RAD**2)
         restarts = tuple(tuple(x + k0 for x in c[1:-1]) for c in cuts)
     return SurfaceAngle(angle, k0, a0, b0, elev if batch else float(elev), params, dt, clipped,
                         level if batch else float(level), restarts, check, u)
@@ -1038,6 +919,7 @@ def surface_angle_batch(gyro_rad_s, accel_m_s2, dt_s: float, config: SurfaceBatc
     """
     if not isinstance(config, SurfaceBatchConfig):
         raise TypeError(f"config must be a SurfaceBatchConfig, got {type(config).__name__}")
+    settings = None if config.axis is None else _axis_settings(config.axis)  # the config was checked when made
     g, a = _checked_record(gyro_rad_s, accel_m_s2, 3)
     t_n, n = a.shape[:2]
     dt = positive_scalar(dt_s, "dt_s")
@@ -1065,18 +947,24 @@ def surface_angle_batch(gyro_rad_s, accel_m_s2, dt_s: float, config: SurfaceBatc
         raise ValueError(f"the axis needs {config.axis_rests} rests, got {len(rests)}")
     a0 = a[:, :init_samples].mean(axis=-2)
     b0 = g[:, :init_samples].mean(axis=-2)
+    cuts = None
+    if config.angle is not None:  # the EKF restarts at the next rest after clipped gyro samples
+        cuts = [_restart_cuts(plausibility.clipped_samples(row)[0], rests, n) for row in g]
+    # then one chain down: the ZVD, the Eq 23 axes (methods), the axis gate, the EKF (filter)
     if config.zvd is None:
         flags = known
     else:
         zvd_gyro = g - b0[:, None, :] if config.zvd.gyro_max_rad_s is not None else None
         flags = detect_static_trusted(a, dt, config.zvd, zvd_gyro)
-    if v is None and config.axis is not None:
-        v = _axes_trusted(a, rest_masks_trusted(flags, rests[:config.axis_rests], MIN_REST_ZVD_SHARE), config.axis)
+    if v is None and settings is not None:
+        masks = rest_masks_trusted(flags, rests[:config.axis_rests], MIN_REST_ZVD_SHARE)
+        v = rotation_axis.axes_from_rests_trusted(a, masks, **settings)
     angle = None
     if config.angle is not None:
-        switch = flags if config.ekf_switch == "zvd" else known
-        angle = _surface_angle_trusted(g, a, v, switch, slice(0, int(init_samples)), dt, None, None, rests,
-                                       config.angle).angle_rad
+        rotation_axis.gated_elevation_trusted(v, a0, config.angle.max_elevation_deg)
+        switch = np.broadcast_to(flags if config.ekf_switch == "zvd" else known, a.shape[:2])
+        angle = run_rams_ekf_batch_restarts_trusted(g, a, switch, cuts, v, a0, b0, dt, config.angle.params,
+                                                    CLIPPED_P0_THETA_RAD**2)
     return SurfaceAngleBatch(a0, b0, flags, v, angle)
 
 
