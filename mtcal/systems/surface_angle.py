@@ -22,9 +22,18 @@ commands, the study's Monte Carlo runs and the sweep evaluator:
 3. :func:`surface_angle_batch` — the whole procedure on T stacked trials (the study's
    Monte Carlo): ā0 and bias from the initial rest, the Table 1 ZVD (Sec. 3.1), Eq 23 on
    the ZVD-flagged rests, the ZVD-switched EKF.
+4. :func:`surface_angle_record` — the procedure on one recorded log (``mtcal angle``): its
+   rests (:func:`mtcal.systems.rests.find_rests`), the initial rest, the checked EKF and each
+   rest's accelerometer angle, in one call.
+
+Each procedure checks its inputs, then goes down once: the axis estimate and its gates are
+methods (:func:`mtcal.methods.rotation_axis.axis_from_rests_trusted`,
+:func:`~mtcal.methods.rotation_axis.gated_elevation_trusted`), the EKF a filter call
+(:func:`mtcal.filters.rams_ekf.run_rams_ekf_restarts_trusted` /
+:func:`~mtcal.filters.rams_ekf.run_rams_ekf_batch_restarts_trusted`).
 
 Each procedure takes the data arrays and ONE frozen, resolved config —
-:class:`AxisConfig`, :class:`SurfaceAngleConfig`, :class:`SurfaceBatchConfig` — with
+:class:`AxisConfig`, :class:`SurfaceAngleConfig`, :class:`SurfaceBatchConfig`, :class:`SurfaceRecordConfig` — with
 constructors for the paper's settings (``paper``), the CLI defaults (``cli``) and a sweep
 cell (:meth:`SurfaceAngleConfig.sweep_cell`). A config is checked when it is made, the
 arrays once at the procedure's edge; the methods and the filter below run on the checked
