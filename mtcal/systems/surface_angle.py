@@ -59,6 +59,7 @@ Examples
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -72,6 +73,9 @@ from mtcal.methods.tilt_rate import check_tilt_rate_scale_trusted
 from mtcal.methods.zero_velocity import ZvdParams, detect_static_trusted, rest_masks_trusted
 from mtcal.systems import plausibility
 from mtcal.systems.rests import RestsConfig, find_rests
+
+if TYPE_CHECKING:
+    from mtcal.methods.rest_detection import RestReport
 
 __all__ = ["AxisConfig", "AxisEstimate", "estimate_surface_axis", "estimate_surface_axes", "axis_uncertainty",
            "angles_about_axis", "rest_ekf_params",
@@ -685,7 +689,7 @@ class SurfaceRecordAngle:
         The accelerometer's angle of each rest about the axis from ā0 (rad, Eq 16), in (−π, π].
     """
 
-    rests: object
+    rests: RestReport
     angle: SurfaceAngle
     late: bool
     rest_accel_angles_rad: np.ndarray
@@ -773,8 +777,9 @@ def surface_angle_record(gyro_rad_s, accel_m_s2, axis, config: SurfaceRecordConf
             init = slice(first.start, first.start + n0)
         means = np.array([a[r].mean(axis=0) for r in rep.rests]).reshape(-1, 3)
         v = _checked_axis(axis)
-        cfg = SurfaceAngleConfig(None, config.max_elevation_deg, True, config.max_axis_mismatch_deg,
-                                 rep.gyro_noise_rad_s, unit_stated)
+        cfg = SurfaceAngleConfig.cli(max_elevation_deg=config.max_elevation_deg,
+                                     max_axis_mismatch_deg=config.max_axis_mismatch_deg,
+                                     gyro_noise_rad_s=rep.gyro_noise_rad_s, unit_stated=unit_stated)
         res = _surface_angle_trusted(g, a, v, rep.is_static, init, dt, weights, time_s, list(rep.rests), cfg)
     except ValueError as exc:
         exc.rests = rep  # the caller's diagnostics show the rests the refusal saw
