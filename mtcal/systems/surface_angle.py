@@ -767,8 +767,11 @@ def surface_angle_record(gyro_rad_s, accel_m_s2, axis, config: SurfaceRecordConf
             late, init = False, slice(0, n0)
         else:
             if not rep.rests:
+                rej = rep.rejected[0] if rep.rejected else None
+                why = ("" if rej is None else f"; {len(rep.rejected)} quiet stretch(es) rejected, the first "
+                       f"{time_s[rej.span.start]:.3f}-{time_s[rej.span.stop - 1]:.3f} s: {rej.reason}")
                 raise ValueError(f"no rest found: the angle is measured from a rest (reference and gyro bias); "
-                                 f"{rep.levels_text()}")
+                                 f"{rep.levels_text()}{why}")
             first = rep.rests[0]
             late = first.start > max(0.25 * fs, rep.window_s * fs)
             n0 = min(int(round(init_s * fs)), first.stop - first.start)

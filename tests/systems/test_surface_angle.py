@@ -500,6 +500,9 @@ def test_record_procedure_refusals(tmp_path):
     with pytest.raises(ValueError, match="no rest found: the angle is measured from a rest"):
         surface_angle.surface_angle_record(turning, moving, AXIS, surface_angle.SurfaceRecordConfig(RestsConfig()),
                                            fs_hz=100.0, time_s=tt)
+    with pytest.raises(ValueError, match=r"no rest found: .* quiet stretch\(es\) rejected, the first [0-9.]+-[0-9.]+ s: "):
+        surface_angle.surface_angle_record(turning, moving, AXIS, surface_angle.SurfaceRecordConfig(
+            RestsConfig(min_rest_s=1.0)), fs_hz=100.0, time_s=tt)   # the reason a quiet stretch is no rest
     with pytest.raises(ValueError, match="are not at rest by the paper ZVD") as exc:
         surface_angle.surface_angle_record(turning, moving, AXIS, paper, fs_hz=100.0, time_s=tt)
     assert exc.value.rests.method == "paper"
