@@ -123,7 +123,8 @@ def cmd_angle(args: argparse.Namespace) -> int:
     out = logio.check_output_path(args.out, [args.log])
 
     def body() -> int:
-        from mtcal.systems import surface_angle  # numba/scipy: loaded when the command runs, not for --help
+        # numba/scipy: loaded when the command runs, not for --help
+        from mtcal.systems.surface_angle import SurfaceRecordConfig, surface_angle_record
 
         v = _parse_axis(args.axis)
         init_s = common.finite_float(args.init_s, "--init-s")
@@ -131,56 +132,38 @@ def cmd_angle(args: argparse.Namespace) -> int:
         max_mismatch = common.finite_float(args.max_axis_mismatch_deg, "--max-axis-mismatch-deg")
         log = logio.read_log(args.log, common.input_options(args), need="raw")
         fig.log = log
-        rep = common.detect(args, log)
+        config = SurfaceRecordConfig(common.rests_config(args), init_s, max_el, max_mismatch)
+        # computed first (one system call), printed and written after
+        try:
+            found = surface_angle_record(log.gyro_rad_s, log.accel_m_s2, v, config, fs_hz=log.fs_hz,
+                                         time_s=log.time_s, unit_stated=log.gyro_unit_stated)
+        except ValueError as exc:
+            fig.report = getattr(exc, "rests", None)
+            raise
+        rep, res, t = found.rests, found.angle, log.time_s
         fig.report = rep
-        fs, t = log.fs_hz, log.time_s
-        if args.rest_detector == "paper":  # the paper's set-up: the first --init-s seconds are the rest
-            n0 = int(round(init_s * fs))
-            if n0 < 1 or n0 >= t.size:
-                raise ValueError(f"--init-s {init_s:g} s must cover at least one sample and leave data")
-            if not rep.is_static[min(n0, t.size - 1) // 2:n0].any():
-                raise ValueError(f"the first {init_s:g} s are not at rest by the paper ZVD ({rep.levels_text()}; "
-                                 f"measured |a| at rest {rep.extra['measured_gravity_m_s2']:.4f} m/s^2); "
-                                 f"--rest-detector adaptive measures the band from the data")
-            first, late, init = slice(0, n0), False, slice(0, n0)
-        else:
-            if not rep.rests:
-                common.print_report(log, rep)
-                raise ValueError(f"no rest found: the angle is measured from a rest (reference and gyro bias); "
-                                 f"{rep.levels_text()}")
-            late = rep.rests[0].start > max(0.25 * fs, rep.window_s * fs)
-            first = rep.rests[0]
-            n0 = min(int(round(init_s * fs)), first.stop - first.start)
-            if n0 < max(3, int(0.1 * fs)):
-                raise ValueError(f"initial rest too short: {n0} samples ({n0 / fs:.2f} s), need >= 0.1 s")
-            init = slice(first.start, first.start + n0)
-        config = surface_angle.SurfaceAngleConfig.cli(max_elevation_deg=max_el, max_axis_mismatch_deg=max_mismatch,
-                                                      gyro_noise_rad_s=rep.gyro_noise_rad_s,
-                                                      unit_stated=log.gyro_unit_stated)
-        res = surface_angle.surface_angle(log.gyro_rad_s, log.accel_m_s2, v, config, is_static=rep.is_static,
-                                          init=init, time_s=t, rests=rep.rests)
-        means = np.array([log.accel_m_s2[r].mean(axis=0) for r in rep.rests]).reshape(-1, 3)
-        acc_ang = np.degrees(surface_angle.angles_about_axis(v, res.accel0_m_s2, means))  # each rest's tilt angle
+        acc_ang = np.degrees(found.rest_accel_angles_rad)  # each rest's tilt angle
         if res.clipped.any():
             print(f"warning: gyro clipped at {np.degrees(res.clip_level_rad_s):.1f} deg/s in "
                   f"{int(res.clipped.sum())} samples; angles through those moves rely on the following rest")
-        a0, check, k0 = res.accel0_m_s2, res.unit_check, res.start
+        check, k0 = res.unit_check, res.start
         elev = float(np.degrees(res.elevation_rad))
         angle = np.degrees(res.angle_rad)
-        if late:
+        if found.late:
             print(f"note: the log starts moving; angles are measured from the first rest at "
                   f"{t[k0] - t[0]:.2f} s (angle 0 there, empty before)")
         fig.series = {"angle (deg)": angle}
         logio.write_table(out, {"time_s": t, "angle_deg": angle, "is_static": rep.is_static.astype(np.int8)})
         ekf_ang = np.array([np.nanmedian(angle[r]) if np.isfinite(angle[r]).any() else np.nan for r in rep.rests])
         acc_ang = acc_ang + 360.0 * np.round((ekf_ang - acc_ang) / 360.0)  # same turn as the EKF
-        common.print_report(log, rep, angle_deg=angle, extra={"accel_angle_deg": acc_ang})
+        units_line = common.units_check_line(check)
+        print("\n".join(common.report_lines(log, rep, angle_deg=angle, extra={"accel_angle_deg": acc_ang})))
         off = np.abs(ekf_ang - acc_ang)
         if np.nanmax(off, initial=0.0) > 2.0 and np.cos(np.radians(elev)) > 0.2:
             i = int(np.nanargmax(off))
             print(f"warning: at rest {i} the EKF angle differs from the accelerometer's by {off[i]:.2f} deg "
                   f"(axis or accelerometer errors; check --axis)")
-        common.print_units_check(check)
+        print(units_line)
         print(f"angle: {t.size} samples written to {out}; final angle {angle[-1]:.3f} deg")
         return 0
 

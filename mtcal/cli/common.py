@@ -12,7 +12,7 @@ from mtcal.cli import logio
 from mtcal.methods import rest_detection
 
 __all__ = ["add_input_options", "add_rest_options", "input_options", "rests_config", "attitude_config", "detect", "log_arrays",
-           "qncf_info", "rest_table", "print_report",
+           "qncf_info", "rest_table", "print_report", "report_lines", "units_check_line",
            "finite_float", "DiagnosticsFigure", "run_with_figure", "SCHEMA_HELP", "description_with_schema",
            "QUATERNION_DECIMALS", "write_attitude", "euler_deg", "rest_bias_text",
            "print_units_check"]
@@ -88,6 +88,11 @@ def print_units_check(chk: dict) -> None:
         print(f"warning: {chk['warning']}")
     else:
         print(f"gyro units check ({chk['method']}): {chk['evidence']}")
+
+
+def units_check_line(chk: dict) -> str:
+    """The line :func:`print_units_check` prints: which evidence decided, or the check's one warning."""
+    return f"warning: {chk['warning']}" if chk.get("warning") else f"gyro units check ({chk['method']}): {chk['evidence']}"
 
 
 def finite_float(text: str, name: str, *, positive: bool = True) -> float:
@@ -264,6 +269,25 @@ def print_report(log: logio.ImuLog, report: rest_detection.RestReport, angle_deg
         print(f"  rejected {log.time_s[rej.span.start]:.3f}-{log.time_s[rej.span.stop - 1]:.3f} s: {rej.reason}")
     if len(report.rejected) > 10:
         print(f"  ... {len(report.rejected) - 10} more rejected stretches")
+
+
+def report_lines(log: logio.ImuLog, report: rest_detection.RestReport, angle_deg=None, angle_name="angle_deg",
+                 extra: dict | None = None) -> list[str]:
+    """The lines :func:`print_report` prints (log, rest levels, per-rest table, rejected stretches), as a list.
+
+    Built from the finished report, the table first, so a command computes its summary and prints it after.
+    """
+    table = ["  " + line for line in rest_table(log, report, angle_deg, angle_name, extra)]
+    rejected = [f"  rejected {log.time_s[rej.span.start]:.3f}-{log.time_s[rej.span.stop - 1]:.3f} s: {rej.reason}"
+                for rej in report.rejected[:10]]
+    if len(report.rejected) > 10:
+        rejected.append(f"  ... {len(report.rejected) - 10} more rejected stretches")
+    n_rej = f", {len(report.rejected)} quiet stretches rejected" if report.rejected else ""
+    head = [f"log: {log.path} ({log.n} samples at {log.fs_hz:.2f} Hz, {log.time_s[-1] - log.time_s[0]:.2f} s)"
+            + (f"; {'; '.join(log.notes)}" if log.notes else ""),
+            report.levels_text(),
+            f"rests: {len(report.rests)} of >= {report.min_rest_s:g} s (duration stop_s - start_s){n_rej}"]
+    return head + table + rejected
 
 
 def _envelope(t: np.ndarray, y: np.ndarray, buckets: int = 3000):

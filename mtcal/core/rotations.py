@@ -47,7 +47,7 @@ __all__ = ["mount_quaternion", "relative_to_initial", "installation_angles", "in
     "GIMBAL_LOCK_COS",
     "hamilton", "quat_multiply", "quat_conjugate", "quat_normalize", "left_matrix", "right_matrix",
     "align_signs", "make_continuous", "quat_from_rotvec", "rotvec_from_quat",
-    "quat_from_euler_zxy", "euler_zxy_from_quat", "euler_zxy_unchecked", "quat_to_matrix", "quat_from_matrix",
+    "quat_from_euler_zxy", "level_quat_zxy", "euler_zxy_from_quat", "euler_zxy_unchecked", "quat_to_matrix", "quat_from_matrix",
     "installation_matrix", "installation_matrix_small_angle", "coupling_error_eq4",
     "dcm_zyx", "specific_force_zyx", "pitch_roll_from_specific_force",
     "axis_angle_matrix", "wrap_angle", "quat_angle_between",
@@ -355,6 +355,44 @@ def quat_from_euler_zxy(yaw, pitch, roll) -> np.ndarray:
     theta = angle_rad(pitch, "pitch", allow_empty=True)
     gamma = angle_rad(roll, "roll", allow_empty=True)
     return quat_from_euler_zxy_trusted(psi, theta, gamma)
+
+
+def level_quat_zxy(accel_m_s2, yaw_rad: float = 0.0) -> np.ndarray:
+    """Levelling: the ZXY quaternion (wang2023cja Eq 9) whose pitch/roll explain a static specific force.
+
+    For the ZXY convention a static sensor reads ``f = g [−sinγ cosθ, sinθ, cosγ cosθ]``, so
+    ``θ = asin(f_y/‖f‖)`` and ``γ = atan2(−f_x, f_z)``; the yaw is assigned.
+
+    Parameters
+    ----------
+    accel_m_s2 : array_like, shape (..., 3)
+        Mean static specific force (m/s², any scale).
+    yaw_rad : float
+        Yaw to assign (rad), default 0.
+
+    Returns
+    -------
+    ndarray, shape (..., 4)
+        Scalar-first quaternion, sensor → world.
+
+    Raises
+    ------
+    ValueError
+        A zero specific force (no gravity to level on).
+
+    Examples
+    --------
+    >>> q = level_quat_zxy([0.0, 0.0, 9.81])
+    >>> q.tolist()
+    [1.0, 0.0, 0.0, 0.0]
+    """
+    f = as_float_array(accel_m_s2, "accel_m_s2", last_dim=3)
+    norm = np.linalg.norm(f, axis=-1)
+    if np.any(norm < 1e-6):
+        raise ValueError("accel_m_s2 must not be zero (cannot level without gravity)")
+    pitch = np.arcsin(np.clip(f[..., 1] / norm, -1.0, 1.0))
+    roll = np.arctan2(-f[..., 0], f[..., 2])
+    return quat_from_euler_zxy(np.full_like(pitch, yaw_rad), pitch, roll)
 
 
 def quat_from_euler_zxy_trusted(yaw: np.ndarray, pitch: np.ndarray, roll: np.ndarray) -> np.ndarray:

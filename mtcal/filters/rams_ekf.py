@@ -739,3 +739,25 @@ def run_rams_ekf_restarts_trusted(gyro_rad_s, accel_m_s2, is_static, cuts, axis,
         th0, bias0 = float(res.theta_rad[0, -1]), res.bias_rad_s[0, -1]
         p = replace(params, p0_theta_rad2=p0_theta_after_cut_rad2)
     return theta
+
+
+def run_rams_ekf_batch_restarts_trusted(gyro_rad_s, accel_m_s2, is_static, cuts, axis, accel0_m_s2, bias0_rad_s,
+                                        dt_s: float, params: RamsEkfParams,
+                                        p0_theta_after_cut_rad2: float) -> np.ndarray:
+    """T records' EKF in one run; a record with inner cuts (``len(cuts[t]) > 2``) runs again over its
+    segments (:func:`run_rams_ekf_restarts_trusted`).
+
+    Internal entry on inputs a caller validated at its own edge (preconditions of
+    :func:`run_rams_ekf_trusted`, a batch (T, N, 3) with ``is_static`` (T, N), ``axis`` (3,) or (T, 3),
+    ``accel0_m_s2`` and ``bias0_rad_s`` (T, 3); ``cuts`` one increasing index list from 0 to N per record).
+    Returns the angle (T, N) (rad).
+    """
+    theta = run_rams_ekf_trusted(gyro_rad_s, accel_m_s2, is_static, axis, accel0_m_s2, dt_s, params,
+                                 bias0_rad_s=bias0_rad_s, keep_innovation=False).theta_rad
+    for t, c in enumerate(cuts):
+        if len(c) > 2:
+            vt = axis if axis.ndim == 1 else axis[t]
+            theta[t] = run_rams_ekf_restarts_trusted(gyro_rad_s[t], accel_m_s2[t], is_static[t], c, vt,
+                                                     accel0_m_s2[t], bias0_rad_s[t], dt_s, params,
+                                                     p0_theta_after_cut_rad2)
+    return theta

@@ -31,7 +31,8 @@ from mtcal.methods.zero_velocity import ZvdParams, detect_static_trusted, rest_i
 
 __all__ = ["axis_from_means", "apply_sign_convention", "axis_elevation", "angle_between",
            "AxisEstimator", "AxisResult", "estimate_axis", "axis_error_std",
-           "gravity_change_norm", "distinct_positions", "AxisPlaneFit", "fit_axis_plane", "angles_about_axis"]
+           "gravity_change_norm", "distinct_positions", "AxisPlaneFit", "fit_axis_plane", "angles_about_axis",
+           "AxisEstimate"]
 
 DEFAULT_MIN_SEPARATION_DEG = 0.5
 DEFAULT_MAX_ELEVATION_DEG = 85.0
@@ -545,3 +546,175 @@ def fit_axis_plane_trusted(positions_m_s2: np.ndarray, sigma_mean_m_s2: float) -
         cov = np.linalg.inv(gram)
         sigma = float(max(sig, rms) * np.sqrt(cov[1, 1] + cov[2, 2]))
     return AxisPlaneFit(v, sigma, rms, float(axis_elevation_trusted(v, p.mean(axis=0))))
+
+
+@dataclass(frozen=True)
+class AxisEstimate:
+    """Result of :func:`axis_from_rests_trusted` (:func:`mtcal.systems.surface_angle.estimate_surface_axis`).
+
+    Attributes
+    ----------
+    axis : ndarray (3,)
+        Unit hinge axis v in the sensor frame (``v_x ≥ 0``).
+    sigma_rad : float
+        First-order 1σ direction uncertainty (rad).
+    elevation_rad : float
+        Axis elevation above the horizontal (rad), ``asin |v·â|`` averaged over the rest means.
+    positions_m_s2 : ndarray (P, 3)
+        Distinct rest positions used (m/s²).
+    members : tuple of tuple of int
+        Rest indices merged into each position.
+    rest_means_m_s2 : ndarray (R, 3)
+        Mean of every rest (m/s²).
+    rest_angles_rad : ndarray (R,)
+        Angle of each rest about v from the first rest (rad, Eq 16).
+    sigma_mean_m_s2 : float
+        Std of one position mean used for the uncertainty (m/s²).
+    fit : str
+        ``"plane"`` or ``"eq23"``.
+    """
+
+    axis: np.ndarray
+    sigma_rad: float
+    elevation_rad: float
+    positions_m_s2: np.ndarray
+    members: tuple
+    rest_means_m_s2: np.ndarray
+    rest_angles_rad: np.ndarray
+    sigma_mean_m_s2: float
+    fit: str
+
+
+def rest_means_trusted(accel: np.ndarray, rests) -> tuple[np.ndarray, np.ndarray]:
+    """Means (R, 3) and sample counts (R,) of rests given as slices or boolean masks (N,).
+
+    Precondition: ``accel`` a checked float (N, 3) record; a mask of the wrong dtype or shape is refused.
+    """
+    means, counts = [], []
+    for r in rests:
+        if isinstance(r, slice):
+            means.append(accel[r].mean(axis=0))
+            counts.append(float(len(range(*r.indices(accel.shape[0])))))
+        else:
+            m = np.asarray(r)
+            if m.dtype != bool or m.shape != accel.shape[:1]:
+                raise ValueError(f"each rest must be a slice or a boolean mask of shape {accel.shape[:1]}, "
+                                 f"got {m.dtype} {m.shape}")
+            means.append(accel[m].mean(axis=0))
+            counts.append(float(np.count_nonzero(m)))
+    return np.array(means).reshape(-1, 3), np.array(counts)
+
+
+def axis_from_rests_trusted(a: np.ndarray, rests: list, *, fit: str, min_separation_deg: float,
+                            max_elevation_deg: float, max_axis_error_deg: float, accel_noise_m_s2: float,
+                            window_samples: float, sigma_floor_m_s2: float) -> AxisEstimate:
+    """Hinge axis from the accelerometer means of ≥ 3 rests (wang2022sensors Eq 23, Sec. 2.2), gated.
+
+    Rests closer in tilt than ``min_separation_deg`` are one position (:func:`distinct_positions`);
+    ``fit="plane"``: the normal of the least-squares plane through all positions, refused above
+    ``max_elevation_deg``; ``fit="eq23"``: Eq 23 on the first three positions
+    (:func:`axis_from_means`); both refused above ``max_axis_error_deg`` of 1σ plane-tilt
+    uncertainty (:func:`gated_plane_fit_trusted`, rest-mean noise floor ``sigma_floor_m_s2``).
+    The procedure of :func:`mtcal.systems.surface_angle.estimate_surface_axis`, which checks its inputs.
+
+    Preconditions (not checked again): ``a`` finite float64 (N, 3) (m/s²); ``rests`` a non-empty list
+    of slices or boolean (N,) masks in time order; ``fit`` "plane" or "eq23"; the limits > 0
+    (``max_axis_error_deg`` may be inf); ``accel_noise_m_s2`` ≥ 0; ``window_samples`` > 0.
+
+    Raises
+    ------
+    ValueError
+        A rest without samples; fewer than three distinct tilts; axis too uncertain; axis nearly vertical.
+    """
+    sep, max_el, max_err = float(min_separation_deg), float(max_elevation_deg), float(max_axis_error_deg)
+    means, counts = rest_means_trusted(a, rests)
+    if not np.all(counts > 0):
+        raise ValueError(f"rest {int(np.argmin(counts > 0))} holds no sample; each rest needs samples")
+    pos, w, members = distinct_positions_trusted(means, counts, sep)
+    if pos.shape[0] < 3:
+        spread = max((np.degrees(angle_between_trusted(means[i], means[j]))
+                      for i in range(len(means)) for j in range(i)), default=0.0)
+        why = (" — a rotation about the vertical does not change the tilt, so the accelerometer "
+               "cannot see its axis" if len(rests) >= 2 and spread < sep else "")
+        raise ValueError(f"found only {pos.shape[0]} distinct tilt(s) among {len(rests)} rest(s) "
+                         f"(largest tilt difference {spread:.2f} deg, positions must be >= {sep:g} deg "
+                         f"apart); the axis needs rests at three distinct tilts{why}")
+    if fit == "eq23":
+        pos, w, members = pos[:3], w[:3], members[:3]
+        v = axis_from_means_trusted(pos[0], pos[1], pos[2], sep, max_el)
+    plane = gated_plane_fit_trusted(pos, w, float(accel_noise_m_s2), float(window_samples), max_err,
+                                    sigma_floor_m_s2)
+    if fit == "plane":
+        v = plane.v
+        # v·a is the same at every rest (rotation about v keeps it), so each rest mean gives the elevation;
+        # the centroid of the positions is shorter than g and would overstate it.
+        elev = float(np.degrees(np.mean(axis_elevation_trusted(v, means))))
+        if elev > max_el:
+            raise ValueError(f"rotation axis is nearly vertical: elevation {elev:.2f} "
+                             f"deg above the horizontal (maximum {max_el:g} deg); rotation about it barely "
+                             f"changes gravity")
+    n_eff = float(np.min(w)) / max(1.0, float(window_samples))
+    sig = max(accel_noise_m_s2 / np.sqrt(max(n_eff, 1.0)), sigma_floor_m_s2)
+    return AxisEstimate(v, float(plane.sigma_rad), float(np.mean(axis_elevation_trusted(v, means))), pos,
+                        tuple(tuple(m) for m in members), means, angles_about_axis(v, means[0], means), float(sig),
+                        fit)
+
+
+def axes_from_rests_trusted(a: np.ndarray, masks: list[np.ndarray], **settings) -> np.ndarray:
+    """:func:`axis_from_rests_trusted` on a batch of T records: the hinge axis of each, (T, 3).
+
+    Vectorised where it can be: with ``fit="eq23"``, no uncertainty gate (``max_axis_error_deg``
+    inf, a Monte Carlo) and rests all ≥ ``min_separation_deg`` apart in tilt, the rest means and
+    Eq 23 (:func:`axis_from_means_trusted`) run on all such trials at once; every other trial goes
+    through :func:`axis_from_rests_trusted` itself. Results equal the per-trial call bit for bit.
+    The procedure of :func:`mtcal.systems.surface_angle.estimate_surface_axes`, which checks its inputs.
+
+    Preconditions (not checked again): ``a`` finite float64 (T, N, 3); ``masks`` a non-empty list of
+    boolean (T, N) rest masks in time order; ``settings`` the keywords of :func:`axis_from_rests_trusted`.
+    """
+    sep = float(settings["min_separation_deg"])
+    t_n = a.shape[0]
+    out = np.empty((t_n, 3))
+    fast = np.zeros(t_n, bool)
+    if settings["fit"] == "eq23" and settings["max_axis_error_deg"] == np.inf and len(masks) >= 3:
+        counts = np.stack([m.sum(axis=1) for m in masks]).astype(float)          # (R, T)
+        means = np.full((len(masks), t_n, 3), np.nan)
+        for k, m in enumerate(masks):  # the rest means exactly as axis_from_rests_trusted takes them
+            for t in np.flatnonzero(counts[k] > 0):
+                means[k, t] = a[t][m[t]].mean(axis=0)
+        # as distinct_positions weights them (mean * n / n), so Eq 23 sees the same numbers
+        with np.errstate(invalid="ignore"):
+            means = means * counts[..., None] / counts[..., None]
+            r_n = len(masks)
+            pair = np.stack([angle_between_trusted(means[i], means[j])
+                             for i in range(r_n) for j in range(i)])
+        # strictly apart (a margin for rounding), so per trial no rests would merge
+        fast = np.all(counts > 0, axis=0) & np.all(pair > np.radians(sep) * (1 + 1e-9), axis=0)
+        if fast.any():
+            out[fast] = axis_from_means_trusted(*means[:3, fast], sep, float(settings["max_elevation_deg"]))
+    for t in np.flatnonzero(~fast):
+        out[t] = axis_from_rests_trusted(a[t], [m[t] for m in masks], **settings).axis
+    return out
+
+
+def gated_elevation_trusted(v: np.ndarray, accel0_m_s2: np.ndarray, max_elevation_deg: float) -> np.ndarray:
+    """Elevation of the axis above the horizontal at ā0 (rad, :func:`axis_elevation`), refused above the limit.
+
+    A rotation about the vertical does not change the accelerometer reading, so the RAMS EKF
+    (wang2022sensors Eq 24–33) cannot correct the gyro about a nearly vertical axis.
+    Preconditions (not checked again): ``v`` unit float64 (3,) or (T, 3); ``accel0_m_s2`` finite
+    non-zero float64 (3,) or (T, 3); ``max_elevation_deg`` > 0.
+
+    Raises
+    ------
+    ValueError
+        ``--axis is … deg from gravity`` for the steepest trial above ``max_elevation_deg``.
+    """
+    elev = axis_elevation_trusted(v, accel0_m_s2)
+    max_el = float(max_elevation_deg)
+    worst = float(np.degrees(np.max(elev)))
+    if worst > max_el:
+        raise ValueError(f"--axis is {90 - worst:.2f} deg from gravity (elevation {worst:.2f} deg > {max_el:g}): "
+                         f"a rotation about the vertical does not change the accelerometer reading, so the "
+                         f"EKF cannot correct the gyro; measure the angle with a non-vertical axis")
+    return elev

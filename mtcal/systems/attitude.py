@@ -149,7 +149,8 @@ def qncf_log_setup(filter_gyro_rad_s, accel_m_s2, dt_s: float, rep: rest_detecti
     >>> np.degrees(s.bias_rad_s).round(2), s.levelled_from.startswith("first rest")
     (array([ 0.3, -0.2,  0.1]), True)
     """
-    from mtcal.filters.qncf import QncfParams, initial_attitude_from_accel
+    from mtcal.core.rotations import level_quat_zxy
+    from mtcal.filters.qncf import QncfParams
     from mtcal.methods import rest_detection
 
     raw = filter_gyro_rad_s if gyro_rad_s is None else gyro_rad_s
@@ -158,7 +159,7 @@ def qncf_log_setup(filter_gyro_rad_s, accel_m_s2, dt_s: float, rep: rest_detecti
     first = rep.rests[0] if rep.rests and not paper else None
     if first is not None and first.start <= max(int(0.25 / dt_s + 1e-9), 1):
         core = rest_detection.quiet_core(raw, first, dt_s, rep.gyro_noise_rad_s, noise_factor=rep.noise_factor)
-        q0 = initial_attitude_from_accel(accel_m_s2[core.core].mean(axis=0))
+        q0 = level_quat_zxy(accel_m_s2[core.core].mean(axis=0))  # the QNCF's levelling (Eq 9)
         bias = core.bias_rad_s
         return QncfLogSetup(filter_gyro_rad_s - bias, params, q0, bias, core,
                             "first rest (gyro bias of its quiet core removed)")

@@ -22,9 +22,18 @@ commands, the study's Monte Carlo runs and the sweep evaluator:
 3. :func:`surface_angle_batch` — the whole procedure on T stacked trials (the study's
    Monte Carlo): ā0 and bias from the initial rest, the Table 1 ZVD (Sec. 3.1), Eq 23 on
    the ZVD-flagged rests, the ZVD-switched EKF.
+4. :func:`surface_angle_record` — the procedure on one recorded log (``mtcal angle``): its
+   rests (:func:`mtcal.systems.rests.find_rests`), the initial rest, the checked EKF and each
+   rest's accelerometer angle, in one call.
+
+Each procedure checks its inputs, then goes down once: the axis estimate and its gates are
+methods (:func:`mtcal.methods.rotation_axis.axis_from_rests_trusted`,
+:func:`~mtcal.methods.rotation_axis.gated_elevation_trusted`), the EKF a filter call
+(:func:`mtcal.filters.rams_ekf.run_rams_ekf_restarts_trusted` /
+:func:`~mtcal.filters.rams_ekf.run_rams_ekf_batch_restarts_trusted`).
 
 Each procedure takes the data arrays and ONE frozen, resolved config —
-:class:`AxisConfig`, :class:`SurfaceAngleConfig`, :class:`SurfaceBatchConfig` — with
+:class:`AxisConfig`, :class:`SurfaceAngleConfig`, :class:`SurfaceBatchConfig`, :class:`SurfaceRecordConfig` — with
 constructors for the paper's settings (``paper``), the CLI defaults (``cli``) and a sweep
 cell (:meth:`SurfaceAngleConfig.sweep_cell`). A config is checked when it is made, the
 arrays once at the procedure's edge; the methods and the filter below run on the checked
@@ -50,21 +59,28 @@ Examples
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from mtcal.core.validate import as_float_array, check_accel_units, positive_scalar, sample_interval
-from mtcal.filters.rams_ekf import RamsEkfParams, run_rams_ekf_restarts_trusted, run_rams_ekf_trusted
+from mtcal.filters.rams_ekf import (RamsEkfParams, run_rams_ekf_batch_restarts_trusted,
+                                   run_rams_ekf_restarts_trusted)
 from mtcal.filters.registry import AxisContext
 from mtcal.methods import rotation_axis
-from mtcal.methods.rotation_axis import angles_about_axis
+from mtcal.methods.rotation_axis import AxisEstimate, angles_about_axis
 from mtcal.methods.tilt_rate import check_tilt_rate_scale_trusted
 from mtcal.methods.zero_velocity import ZvdParams, detect_static_trusted, rest_masks_trusted
 from mtcal.systems import plausibility
+from mtcal.systems.rests import RestsConfig, find_rests
+
+if TYPE_CHECKING:
+    from mtcal.methods.rest_detection import RestReport
 
 __all__ = ["AxisConfig", "AxisEstimate", "estimate_surface_axis", "estimate_surface_axes", "axis_uncertainty",
            "angles_about_axis", "rest_ekf_params",
            "SurfaceAngleConfig", "SurfaceAngle", "surface_angle",
+           "SurfaceRecordConfig", "SurfaceRecordAngle", "surface_angle_record",
            "SurfaceBatchConfig", "SurfaceAngleBatch", "surface_angle_batch", "rest_masks",
            "SIGMA_MEAN_FLOOR_M_S2", "CLIPPED_P0_THETA_RAD", "MIN_TURN_FOR_AXIS_CHECK_DEG", "MIN_REST_ZVD_SHARE"]
 
@@ -76,23 +92,6 @@ CLIPPED_P0_THETA_RAD = np.radians(30.0)
 MIN_TURN_FOR_AXIS_CHECK_DEG = 20.0
 #: A known rest where the ZVD flags fewer than this share of samples is used whole for the axis (batched procedure).
 MIN_REST_ZVD_SHARE = 0.1
-
-
-def _rest_means(accel: np.ndarray, rests) -> tuple[np.ndarray, np.ndarray]:
-    """Means (R, 3) and sample counts (R,) of rests given as slices or boolean masks (N,)."""
-    means, counts = [], []
-    for r in rests:
-        if isinstance(r, slice):
-            means.append(accel[r].mean(axis=0))
-            counts.append(float(len(range(*r.indices(accel.shape[0])))))
-        else:
-            m = np.asarray(r)
-            if m.dtype != bool or m.shape != accel.shape[:1]:
-                raise ValueError(f"each rest must be a slice or a boolean mask of shape {accel.shape[:1]}, "
-                                 f"got {m.dtype} {m.shape}")
-            means.append(accel[m].mean(axis=0))
-            counts.append(float(np.count_nonzero(m)))
-    return np.array(means).reshape(-1, 3), np.array(counts)
 
 
 def axis_uncertainty(positions_m_s2, counts, *, accel_noise_m_s2: float, window_samples: float = 1.0,
@@ -205,41 +204,13 @@ class AxisConfig:
                    max_elevation_deg)
 
 
-@dataclass(frozen=True)
-class AxisEstimate:
-    """Result of :func:`estimate_surface_axis`.
-
-    Attributes
-    ----------
-    axis : ndarray (3,)
-        Unit hinge axis v in the sensor frame (``v_x ≥ 0``).
-    sigma_rad : float
-        First-order 1σ direction uncertainty (rad).
-    elevation_rad : float
-        Axis elevation above the horizontal (rad), ``asin |v·â|`` averaged over the rest means.
-    positions_m_s2 : ndarray (P, 3)
-        Distinct rest positions used (m/s²).
-    members : tuple of tuple of int
-        Rest indices merged into each position.
-    rest_means_m_s2 : ndarray (R, 3)
-        Mean of every rest (m/s²).
-    rest_angles_rad : ndarray (R,)
-        Angle of each rest about v from the first rest (rad, Eq 16).
-    sigma_mean_m_s2 : float
-        Std of one position mean used for the uncertainty (m/s²).
-    fit : str
-        ``"plane"`` or ``"eq23"``.
-    """
-
-    axis: np.ndarray
-    sigma_rad: float
-    elevation_rad: float
-    positions_m_s2: np.ndarray
-    members: tuple
-    rest_means_m_s2: np.ndarray
-    rest_angles_rad: np.ndarray
-    sigma_mean_m_s2: float
-    fit: str
+def _axis_settings(config: AxisConfig) -> dict:
+    """The keywords of :func:`mtcal.methods.rotation_axis.axis_from_rests_trusted` a checked config states."""
+    return dict(fit=config.fit, min_separation_deg=float(config.min_separation_deg),
+                max_elevation_deg=float(config.max_elevation_deg),
+                max_axis_error_deg=np.inf if config.max_axis_error_deg is None else float(config.max_axis_error_deg),
+                accel_noise_m_s2=config.accel_noise_m_s2, window_samples=config.window_samples,
+                sigma_floor_m_s2=SIGMA_MEAN_FLOOR_M_S2)
 
 
 def estimate_surface_axis(accel_m_s2, rests, config: AxisConfig) -> AxisEstimate:
@@ -284,48 +255,12 @@ def estimate_surface_axis(accel_m_s2, rests, config: AxisConfig) -> AxisEstimate
     """
     if not isinstance(config, AxisConfig):
         raise TypeError(f"config must be an AxisConfig, got {type(config).__name__}")
+    settings = _axis_settings(config)
     a = as_float_array(accel_m_s2, "accel_m_s2", ndim=2, last_dim=3)
     rests = list(rests)
     if not rests:
         raise ValueError("found no rest; the axis needs rests at three distinct tilts")
-    return _axis_trusted(a, rests, config)
-
-
-def _axis_trusted(a: np.ndarray, rests: list, config: AxisConfig) -> AxisEstimate:
-    """:func:`estimate_surface_axis` on a checked (N, 3) float record, a non-empty rest list and a checked config."""
-    sep, max_el = float(config.min_separation_deg), float(config.max_elevation_deg)
-    max_err = np.inf if config.max_axis_error_deg is None else float(config.max_axis_error_deg)
-    means, counts = _rest_means(a, rests)
-    if not np.all(counts > 0):
-        raise ValueError(f"rest {int(np.argmin(counts > 0))} holds no sample; each rest needs samples")
-    pos, w, members = rotation_axis.distinct_positions_trusted(means, counts, sep)
-    if pos.shape[0] < 3:
-        spread = max((np.degrees(rotation_axis.angle_between_trusted(means[i], means[j]))
-                      for i in range(len(means)) for j in range(i)), default=0.0)
-        why = (" — a rotation about the vertical does not change the tilt, so the accelerometer "
-               "cannot see its axis" if len(rests) >= 2 and spread < sep else "")
-        raise ValueError(f"found only {pos.shape[0]} distinct tilt(s) among {len(rests)} rest(s) "
-                         f"(largest tilt difference {spread:.2f} deg, positions must be >= {sep:g} deg "
-                         f"apart); the axis needs rests at three distinct tilts{why}")
-    if config.fit == "eq23":
-        pos, w, members = pos[:3], w[:3], members[:3]
-        v = rotation_axis.axis_from_means_trusted(pos[0], pos[1], pos[2], sep, max_el)
-    plane = rotation_axis.gated_plane_fit_trusted(pos, w, float(config.accel_noise_m_s2),
-                                                  float(config.window_samples), max_err, SIGMA_MEAN_FLOOR_M_S2)
-    if config.fit == "plane":
-        v = plane.v
-        # v·a is the same at every rest (rotation about v keeps it), so each rest mean gives the elevation;
-        # the centroid of the positions is shorter than g and would overstate it.
-        elev = float(np.degrees(np.mean(rotation_axis.axis_elevation_trusted(v, means))))
-        if elev > max_el:
-            raise ValueError(f"rotation axis is nearly vertical: elevation {elev:.2f} "
-                             f"deg above the horizontal (maximum {max_el:g} deg); rotation about it barely "
-                             f"changes gravity")
-    n_eff = float(np.min(w)) / max(1.0, float(config.window_samples))
-    sig = max(config.accel_noise_m_s2 / np.sqrt(max(n_eff, 1.0)), SIGMA_MEAN_FLOOR_M_S2)
-    return AxisEstimate(v, float(plane.sigma_rad), float(np.mean(rotation_axis.axis_elevation_trusted(v, means))), pos,
-                        tuple(tuple(m) for m in members), means, angles_about_axis(v, means[0], means), float(sig),
-                        config.fit)
+    return rotation_axis.axis_from_rests_trusted(a, rests, **settings)
 
 
 def estimate_surface_axes(accel_m_s2, rest_masks, config: AxisConfig) -> np.ndarray:
@@ -374,6 +309,7 @@ def estimate_surface_axes(accel_m_s2, rest_masks, config: AxisConfig) -> np.ndar
     """
     if not isinstance(config, AxisConfig):
         raise TypeError(f"config must be an AxisConfig, got {type(config).__name__}")
+    settings = _axis_settings(config)
     a = as_float_array(accel_m_s2, "accel_m_s2", ndim=3, last_dim=3, copy=False)
     masks = [np.asarray(m) for m in rest_masks]
     if not masks:
@@ -381,35 +317,7 @@ def estimate_surface_axes(accel_m_s2, rest_masks, config: AxisConfig) -> np.ndar
     for m in masks:
         if m.dtype != bool or m.shape != a.shape[:2]:
             raise ValueError(f"each rest mask must be boolean of shape {a.shape[:2]}, got {m.dtype} {m.shape}")
-    return _axes_trusted(a, masks, config)
-
-
-def _axes_trusted(a: np.ndarray, masks: list[np.ndarray], config: AxisConfig) -> np.ndarray:
-    """:func:`estimate_surface_axes` on a checked (T, N, 3) float batch and non-empty checked (T, N) bool masks."""
-    sep = float(config.min_separation_deg)
-    t_n = a.shape[0]
-    out = np.empty((t_n, 3))
-    fast = np.zeros(t_n, bool)
-    if config.fit == "eq23" and config.max_axis_error_deg is None and len(masks) >= 3:
-        counts = np.stack([m.sum(axis=1) for m in masks]).astype(float)          # (R, T)
-        means = np.full((len(masks), t_n, 3), np.nan)
-        for k, m in enumerate(masks):  # the rest means exactly as estimate_surface_axis takes them
-            for t in np.flatnonzero(counts[k] > 0):
-                means[k, t] = a[t][m[t]].mean(axis=0)
-        # as distinct_positions weights them (mean * n / n), so Eq 23 sees the same numbers
-        with np.errstate(invalid="ignore"):
-            means = means * counts[..., None] / counts[..., None]
-            r_n = len(masks)
-            pair = np.stack([rotation_axis.angle_between_trusted(means[i], means[j])
-                             for i in range(r_n) for j in range(i)])
-        # strictly apart (a margin for rounding), so per trial no rests would merge
-        fast = np.all(counts > 0, axis=0) & np.all(pair > np.radians(sep) * (1 + 1e-9), axis=0)
-        if fast.any():
-            out[fast] = rotation_axis.axis_from_means_trusted(*means[:3, fast], sep,
-                                                              float(config.max_elevation_deg))
-    for t in np.flatnonzero(~fast):
-        out[t] = _axis_trusted(a[t], [m[t] for m in masks], config).axis
-    return out
+    return rotation_axis.axes_from_rests_trusted(a, masks, **settings)
 
 
 def rest_ekf_params(gyro_rad_s, accel_m_s2, init: slice) -> RamsEkfParams:
@@ -679,13 +587,7 @@ def _surface_angle_trusted(g, a, v, static, init: slice, dt: float, weights, tim
         level = np.array([c[1] for c in clip])
     else:
         clipped, level = plausibility.clipped_samples(g)
-    elev = rotation_axis.axis_elevation_trusted(v, a0)
-    max_el = float(cfg.max_elevation_deg)
-    worst = float(np.degrees(np.max(elev)))
-    if worst > max_el:
-        raise ValueError(f"--axis is {90 - worst:.2f} deg from gravity (elevation {worst:.2f} deg > {max_el:g}): "
-                         f"a rotation about the vertical does not change the accelerometer reading, so the "
-                         f"EKF cannot correct the gyro; measure the angle with a non-vertical axis")
+    elev = rotation_axis.gated_elevation_trusted(v, a0, cfg.max_elevation_deg)
     check, u = None, None
     if cfg.check_units:
         check = plausibility.check_units(gyro_f, a, dt, rests, time_s=time_s, skip=clipped,
@@ -705,14 +607,8 @@ def _surface_angle_trusted(g, a, v, static, init: slice, dt: float, weights, tim
     else:
         st = np.broadcast_to(static, a.shape[:-1])
         cuts = [_restart_cuts(c[k0:], local, n - k0) for c in clipped]
-        ekf = run_rams_ekf_trusted(gyro_f[:, k0:], a[:, k0:], st[:, k0:], v, a0, dt, params, bias0_rad_s=b0,
-                                   keep_innovation=False)
-        angle[:, k0:] = ekf.theta_rad
-        for t, c in enumerate(cuts):
-            if len(c) > 2:
-                vt = v if v.ndim == 1 else v[t]
-                angle[t, k0:] = run_rams_ekf_restarts_trusted(gyro_f[t, k0:], a[t, k0:], st[t, k0:], c, vt, a0[t],
-                                                              b0[t], dt, params, CLIPPED_P0_THETA_RAD**2)
+        angle[:, k0:] = run_rams_ekf_batch_restarts_trusted(gyro_f[:, k0:], a[:, k0:], st[:, k0:], cuts, v, a0, b0,
+                                                            dt, params, CLIPPED_P0_THETA_RAD**2)
         restarts = tuple(tuple(x + k0 for x in c[1:-1]) for c in cuts)
     return SurfaceAngle(angle, k0, a0, b0, elev if batch else float(elev), params, dt, clipped,
                         level if batch else float(level), restarts, check, u)
@@ -734,6 +630,164 @@ def _gyro_axis_check(g, static, b0, v, dt: float, cfg: SurfaceAngleConfig) -> np
                          f"(max {cfg.max_axis_mismatch_deg:g}); pass the right axis (mtcal axis LOG) or "
                          f"check the axes")
     return u
+
+
+# --------------------------------------------------------------------------- one record (a log): rests → EKF
+@dataclass(frozen=True)
+class SurfaceRecordConfig:
+    """Resolved settings of :func:`surface_angle_record` (``mtcal angle``), checked once when made.
+
+    Attributes
+    ----------
+    rests : RestsConfig
+        How the log's rests are found (the initial rest, the EKF's V switch, the restarts).
+    init_s : float
+        Initial rest for ā0 and the gyro bias (s, > 0): with the paper's detector the first ``init_s``
+        seconds of the log (they must be at rest, Sec. 2.2), else the first ``init_s`` seconds of the
+        first rest found.
+    max_elevation_deg : float
+        Refuse an axis steeper than this (deg), :class:`SurfaceAngleConfig`.
+    max_axis_mismatch_deg : float or None
+        Refuse a gyro turning about an axis this far from the given one (deg); None: not checked.
+
+    Examples
+    --------
+    >>> SurfaceRecordConfig(RestsConfig.cli_defaults()).init_s
+    1.0
+    >>> SurfaceRecordConfig(RestsConfig(), init_s=0.0)
+    Traceback (most recent call last):
+    ...
+    ValueError: init_s must be > 0, got 0.0
+    """
+
+    rests: RestsConfig
+    init_s: float = 1.0
+    max_elevation_deg: float = 85.0
+    max_axis_mismatch_deg: float | None = 10.0
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.rests, RestsConfig):
+            raise TypeError(f"rests must be a RestsConfig, got {type(self.rests).__name__}")
+        positive_scalar(self.init_s, "init_s")
+        positive_scalar(self.max_elevation_deg, "max_elevation_deg")
+        _limit(self.max_axis_mismatch_deg, "max_axis_mismatch_deg")
+
+
+@dataclass(frozen=True)
+class SurfaceRecordAngle:
+    """Result of :func:`surface_angle_record`.
+
+    Attributes
+    ----------
+    rests : mtcal.methods.rest_detection.RestReport
+        The log's rests.
+    angle : SurfaceAngle
+        The EKF angle (NaN before the initial rest), its checks and set-up.
+    late : bool
+        The log starts moving: the angle is measured from the first rest, not from sample 0.
+    rest_accel_angles_rad : ndarray (R,)
+        The accelerometer's angle of each rest about the axis from ā0 (rad, Eq 16), in (−π, π].
+    """
+
+    rests: RestReport
+    angle: SurfaceAngle
+    late: bool
+    rest_accel_angles_rad: np.ndarray
+
+
+def surface_angle_record(gyro_rad_s, accel_m_s2, axis, config: SurfaceRecordConfig, *, fs_hz: float, time_s,
+                         unit_stated: str | None = None) -> SurfaceRecordAngle:
+    """The surface angle of one recorded log (``mtcal angle``): rests, initial rest, checked EKF.
+
+    The rests (:func:`mtcal.systems.rests.find_rests` with ``config.rests``, at the mean step
+    ``1 / fs_hz``) give the EKF's V switch and its restarts; the initial rest (``config.init_s``)
+    gives ā0, the gyro bias and angle 0; the gyro's units and time base and its rotation axis are
+    checked (:meth:`SurfaceAngleConfig.cli` with the gyro noise the rests measured), then the
+    ZVD-switched RAMS EKF runs (:func:`surface_angle`). Each rest's accelerometer angle about the
+    axis (Eq 16) is returned to compare with the EKF's. Inputs are checked here once.
+
+    Parameters
+    ----------
+    gyro_rad_s, accel_m_s2 : array_like (N, 3)
+        Gyro (rad/s) and accelerometer (m/s²).
+    axis : array_like (3,)
+        Unit hinge axis v (sensor frame).
+    config : SurfaceRecordConfig
+    fs_hz : float
+        Sample rate of the log (Hz); the rests run at the mean step ``1 / fs_hz``.
+    time_s : array_like (N,)
+        Sample times (s): the EKF's time base (:func:`~mtcal.systems.plausibility.time_base`).
+    unit_stated : str, optional
+        Where the gyro unit was stated (a units check that cannot decide then warns).
+
+    Returns
+    -------
+    SurfaceRecordAngle
+
+    Raises
+    ------
+    ValueError
+        No initial rest (messages name the rest levels), and every refusal of :func:`surface_angle`;
+        a refusal after the rests were found carries them as ``exc.rests``.
+
+    References
+    ----------
+    wang2022sensors Sec. 2.2 (ā0, Eq 16), Sec. 3.1 (ZVD), Eq 24–33 (EKF).
+
+    Examples
+    --------
+    >>> from mtcal.core.profiles import fixed_axis_imu_truth, step_schedule
+    >>> prof = step_schedule(np.radians([0.0, 40.0]), np.radians(40.0), 2.0, 100.0)
+    >>> v = np.array([0.6, 0.0, 0.8])
+    >>> w, f = fixed_axis_imu_truth(prof.angle_rad.T, prof.rate_rad_s.T, prof.accel_rad_s2.T, [v], [[0.0, 0, 0]],
+    ...                             [0.0, 0.0, 9.81], 0.01)
+    >>> rng = np.random.default_rng(0)
+    >>> res = surface_angle_record(w[0] + 1e-3 * rng.standard_normal(w[0].shape),
+    ...                            f[0] + 1e-2 * rng.standard_normal(f[0].shape), v,
+    ...                            SurfaceRecordConfig(RestsConfig.cli_defaults()), fs_hz=100.0, time_s=prof.time_s)
+    >>> len(res.rests.rests), round(float(np.degrees(res.angle.angle_rad[-1])), 1)
+    (2, 40.0)
+    """
+    if not isinstance(config, SurfaceRecordConfig):
+        raise TypeError(f"config must be a SurfaceRecordConfig, got {type(config).__name__}")
+    g, a = _checked_record(gyro_rad_s, accel_m_s2, 2)
+    fs = positive_scalar(fs_hz, "fs_hz")
+    dt, weights = plausibility.time_base(a.shape[0], time_s=time_s)
+    rep = find_rests(a, 1.0 / fs, config.rests, gyro_rad_s=g, time_s=time_s)
+    try:
+        n, init_s = a.shape[0], float(config.init_s)
+        if config.rests.detector == "paper":  # the paper's set-up: the first init_s seconds are the rest
+            n0 = int(round(init_s * fs))
+            if n0 < 1 or n0 >= n:
+                raise ValueError(f"--init-s {init_s:g} s must cover at least one sample and leave data")
+            if not rep.is_static[min(n0, n - 1) // 2:n0].any():
+                raise ValueError(f"the first {init_s:g} s are not at rest by the paper ZVD ({rep.levels_text()}; "
+                                 f"measured |a| at rest {rep.extra['measured_gravity_m_s2']:.4f} m/s^2); "
+                                 f"--rest-detector adaptive measures the band from the data")
+            late, init = False, slice(0, n0)
+        else:
+            if not rep.rests:
+                rej = rep.rejected[0] if rep.rejected else None
+                why = ("" if rej is None else f"; {len(rep.rejected)} quiet stretch(es) rejected, the first "
+                       f"{time_s[rej.span.start]:.3f}-{time_s[rej.span.stop - 1]:.3f} s: {rej.reason}")
+                raise ValueError(f"no rest found: the angle is measured from a rest (reference and gyro bias); "
+                                 f"{rep.levels_text()}{why}")
+            first = rep.rests[0]
+            late = first.start > max(0.25 * fs, rep.window_s * fs)
+            n0 = min(int(round(init_s * fs)), first.stop - first.start)
+            if n0 < max(3, int(0.1 * fs)):
+                raise ValueError(f"initial rest too short: {n0} samples ({n0 / fs:.2f} s), need >= 0.1 s")
+            init = slice(first.start, first.start + n0)
+        means = np.array([a[r].mean(axis=0) for r in rep.rests]).reshape(-1, 3)
+        v = _checked_axis(axis)
+        cfg = SurfaceAngleConfig.cli(max_elevation_deg=config.max_elevation_deg,
+                                     max_axis_mismatch_deg=config.max_axis_mismatch_deg,
+                                     gyro_noise_rad_s=rep.gyro_noise_rad_s, unit_stated=unit_stated)
+        res = _surface_angle_trusted(g, a, v, rep.is_static, init, dt, weights, time_s, list(rep.rests), cfg)
+    except ValueError as exc:
+        exc.rests = rep  # the caller's diagnostics show the rests the refusal saw
+        raise
+    return SurfaceRecordAngle(rep, res, bool(late), angles_about_axis(v, res.accel0_m_s2, means))
 
 
 # --------------------------------------------------------------------------- batched: ZVD → axis → EKF
@@ -882,6 +936,7 @@ def surface_angle_batch(gyro_rad_s, accel_m_s2, dt_s: float, config: SurfaceBatc
     """
     if not isinstance(config, SurfaceBatchConfig):
         raise TypeError(f"config must be a SurfaceBatchConfig, got {type(config).__name__}")
+    settings = None if config.axis is None else _axis_settings(config.axis)  # the config was checked when made
     g, a = _checked_record(gyro_rad_s, accel_m_s2, 3)
     t_n, n = a.shape[:2]
     dt = positive_scalar(dt_s, "dt_s")
@@ -909,18 +964,24 @@ def surface_angle_batch(gyro_rad_s, accel_m_s2, dt_s: float, config: SurfaceBatc
         raise ValueError(f"the axis needs {config.axis_rests} rests, got {len(rests)}")
     a0 = a[:, :init_samples].mean(axis=-2)
     b0 = g[:, :init_samples].mean(axis=-2)
+    cuts = None
+    if config.angle is not None:  # the EKF restarts at the next rest after clipped gyro samples
+        cuts = [_restart_cuts(plausibility.clipped_samples(row)[0], rests, n) for row in g]
+    # then one chain down: the ZVD, the Eq 23 axes (methods), the axis gate, the EKF (filter)
     if config.zvd is None:
         flags = known
     else:
         zvd_gyro = g - b0[:, None, :] if config.zvd.gyro_max_rad_s is not None else None
         flags = detect_static_trusted(a, dt, config.zvd, zvd_gyro)
-    if v is None and config.axis is not None:
-        v = _axes_trusted(a, rest_masks_trusted(flags, rests[:config.axis_rests], MIN_REST_ZVD_SHARE), config.axis)
+    if v is None and settings is not None:
+        masks = rest_masks_trusted(flags, rests[:config.axis_rests], MIN_REST_ZVD_SHARE)
+        v = rotation_axis.axes_from_rests_trusted(a, masks, **settings)
     angle = None
     if config.angle is not None:
-        switch = flags if config.ekf_switch == "zvd" else known
-        angle = _surface_angle_trusted(g, a, v, switch, slice(0, int(init_samples)), dt, None, None, rests,
-                                       config.angle).angle_rad
+        rotation_axis.gated_elevation_trusted(v, a0, config.angle.max_elevation_deg)
+        switch = np.broadcast_to(flags if config.ekf_switch == "zvd" else known, a.shape[:2])
+        angle = run_rams_ekf_batch_restarts_trusted(g, a, switch, cuts, v, a0, b0, dt, config.angle.params,
+                                                    CLIPPED_P0_THETA_RAD**2)
     return SurfaceAngleBatch(a0, b0, flags, v, angle)
 
 

@@ -82,3 +82,22 @@ def test_angle_bad_axis_exit_2(log, capsys):
     path, _, _, _ = log
     assert cli.main(["angle", str(path), "--axis", "1,2"]) == 2
     assert "--axis" in capsys.readouterr().err
+
+
+def test_report_lines_are_what_print_report_prints(log, capsys):
+    from mtcal.cli import common, logio
+    from mtcal.systems.rests import RestsConfig, find_rests
+
+    path = log[0]
+    imu_log = logio.read_log(path, logio.InputOptions(), need="raw")
+    rep = find_rests(imu_log.accel_m_s2, imu_log.dt_mean_s, RestsConfig(), gyro_rad_s=imu_log.gyro_rad_s,
+                     time_s=imu_log.time_s)
+    extra = {"x_deg": np.arange(len(rep.rests), dtype=float)}
+    common.print_report(imu_log, rep, angle_deg=np.zeros(imu_log.n), extra=extra)
+    printed = capsys.readouterr().out
+    assert printed == "\n".join(common.report_lines(imu_log, rep, angle_deg=np.zeros(imu_log.n), extra=extra)) + "\n"
+    chk = {"method": "rest pairs", "evidence": "3 pairs"}
+    common.print_units_check(chk)
+    common.print_units_check({"warning": "undecided"})
+    assert capsys.readouterr().out == (common.units_check_line(chk) + "\n"
+                                       + common.units_check_line({"warning": "undecided"}) + "\n")

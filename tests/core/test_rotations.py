@@ -415,3 +415,15 @@ def test_trusted_twins_not_public():
         assert name not in rotations.__all__ and callable(getattr(rotations, name))
     with pytest.raises(ValueError, match="yaw"):   # the public call keeps its check
         rotations.quat_from_euler_zxy(np.nan, 0.0, 0.0)
+
+
+def test_level_quat_zxy_is_the_qncf_levelling_bit_for_bit():
+    from mtcal.core.rotations import level_quat_zxy
+    from mtcal.filters.qncf import initial_attitude_from_accel
+
+    rng = np.random.default_rng(7)
+    f = rng.normal(size=(50, 3)) + [0.0, 0.0, 9.81]
+    assert np.array_equal(level_quat_zxy(f), initial_attitude_from_accel(f))
+    assert np.array_equal(level_quat_zxy(f[0], 0.3), initial_attitude_from_accel(f[0], 0.3))
+    with pytest.raises(ValueError, match="cannot level without gravity"):
+        level_quat_zxy([0.0, 0.0, 0.0])

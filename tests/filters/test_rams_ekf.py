@@ -247,3 +247,28 @@ def test_trusted_entry_equals_the_checked_call_bit_for_bit():
         assert np.array_equal(ref.P, got.P)
     with pytest.raises(ValueError, match="unit vector"):
         RamsEkfFilter(2 * v, a0, 0.01, RamsEkfParams(), trials=2)   # the public constructor still checks
+
+
+def test_batch_restarts_entry_equals_one_run_and_the_per_record_restarts():
+    from mtcal.filters.rams_ekf import (run_rams_ekf_batch_restarts_trusted, run_rams_ekf_restarts_trusted,
+                                        run_rams_ekf_trusted)
+    from mtcal.core import profiles
+
+    prof = profiles.step_schedule(np.radians([0.0, 60.0, 20.0]), np.radians(60.0), 1.0, 100.0)
+    v = np.array([0.6, 0.0, 0.8])
+    w, f = profiles.fixed_axis_imu_truth(np.tile(prof.angle_rad[:, 0], (2, 1)), np.tile(prof.rate_rad_s[:, 0], (2, 1)),
+                                         np.tile(prof.accel_rad_s2[:, 0], (2, 1)), np.tile(v, (2, 1)),
+                                         np.zeros((2, 3)), [0.0, 0.0, 9.81], 0.01)
+    rng = np.random.default_rng(3)
+    w = w + 1e-3 * rng.standard_normal(w.shape)
+    static = np.broadcast_to(prof.is_static, w.shape[:2])
+    a0, b0 = f[:, :50].mean(axis=1), w[:, :50].mean(axis=1)
+    params = RamsEkfParams(sigma_theta_rad_s=1e-3, sigma_a_static_m_s2=0.01)
+    n = w.shape[1]
+    cut = prof.hold_slices()[1].start
+    got = run_rams_ekf_batch_restarts_trusted(w, f, static, [[0, n], [0, cut, n]], v, a0, b0, 0.01, params, 0.1)
+    one = run_rams_ekf_trusted(w, f, static, v, a0, 0.01, params, bias0_rad_s=b0, keep_innovation=False).theta_rad
+    assert np.array_equal(got[0], one[0])
+    assert np.array_equal(got[1], run_rams_ekf_restarts_trusted(w[1], f[1], static[1], [0, cut, n], v, a0[1], b0[1],
+                                                                0.01, params, 0.1))
+    assert not np.array_equal(got[1], one[1])

@@ -365,3 +365,21 @@ def test_ellipse2n_datasheet_is_an_input_the_heading_prior_spans():
     prior = w.ERROR_PRIORS["magnetic_heading_sigma_deg"]
     assert prior["low"] <= 2 * roll_pitch and prior["low"] <= yaw <= prior["high"]
     assert "Ellipse2-N datasheet" in prior["source"]
+
+
+def test_step_batch_simulation_is_the_schedule_then_simulate_batch():
+    """``simulate_step_batch`` (Fig 11's chunks) = ``step_schedule`` at the IMU's rate, then ``simulate_batch``
+    on its transposed histories, bit for bit."""
+    from mtcal.core import profiles
+    from mtcal.studies.wang2022sensors.runs import simulate_batch, simulate_step_batch
+
+    imu = w.ImuSpec().resolve()
+    wp = np.radians([[0.0, 0.0, 0.0], [90.0, 90.0, 90.0], [180.0, 180.0, 180.0], [-30.0, 10.0, 170.0]])
+    hold = np.r_[np.full(3, 0.5), 0.3]
+    axes, lever = np.tile([0.6, 0.0, 0.8], (3, 1)), np.zeros((3, 3))
+    prof, sim = simulate_step_batch(wp, np.radians(60.0), hold, axes, lever, imu, 5, 30, [4, 5, 6])
+    ref = profiles.step_schedule(wp, np.radians(60.0), hold, imu.fs_hz)
+    old = simulate_batch(ref.angle_rad.T, ref.rate_rad_s.T, ref.accel_rad_s2.T, axes, lever, imu, 5, 30, [4, 5, 6])
+    assert np.array_equal(prof.angle_rad, ref.angle_rad) and prof.hold_slices() == ref.hold_slices()
+    for name in ("gyro_rad_s", "accel_m_s2", "theta_rad"):
+        assert np.array_equal(getattr(sim, name), getattr(old, name))

@@ -449,3 +449,66 @@ def test_cli_defaults_are_the_configs_cli_defaults():
                 assert float(getattr(args, name)) == par.default, name
     assert float(axis_args.max_elevation_deg) == AxisConfig.cli(0.0, 1.0).max_elevation_deg
     assert float(angle_args.max_axis_mismatch_deg) == SurfaceAngleConfig.cli().max_axis_mismatch_deg
+
+
+def _fs_of(t):
+    return (t.size - 1) / (t[-1] - t[0])
+
+
+def test_record_procedure_is_the_rests_then_the_checked_ekf(tmp_path):
+    """``surface_angle_record`` (``mtcal angle``'s one system call) equals its steps bit for bit: the rests,
+    the first ``init_s`` of the first rest, :func:`surface_angle` with the command's checks, Eq 16 per rest."""
+    from mtcal.systems.rests import RestsConfig, find_rests
+
+    _, sim, t, _ = _hinge_log(tmp_path, 13)
+    gyro, accel = sim.gyro_rad_s[0], sim.accel_m_s2[0]
+    fs = _fs_of(t)
+    config = surface_angle.SurfaceRecordConfig(RestsConfig.cli_defaults(0.2))
+    found = surface_angle.surface_angle_record(gyro, accel, AXIS, config, fs_hz=fs, time_s=t)
+    rep = find_rests(accel, 1.0 / fs, config.rests, gyro_rad_s=gyro, time_s=t)
+    first = rep.rests[0]
+    n0 = min(int(round(config.init_s * fs)), first.stop - first.start)
+    res = surface_angle.surface_angle(gyro, accel, AXIS, SurfaceAngleConfig.cli(gyro_noise_rad_s=rep.gyro_noise_rad_s),
+                                      is_static=rep.is_static, init=slice(first.start, first.start + n0), time_s=t,
+                                      rests=rep.rests)
+    assert found.rests.rests == rep.rests and not found.late
+    assert np.array_equal(found.angle.angle_rad, res.angle_rad, equal_nan=True)
+    assert found.angle.unit_check == res.unit_check
+    means = np.array([accel[r].mean(axis=0) for r in rep.rests])
+    assert np.array_equal(found.rest_accel_angles_rad, surface_angle.angles_about_axis(AXIS, res.accel0_m_s2, means))
+    # a log that starts moving: measured from the first rest, angle NaN before it
+    k = int(2.5 * fs)
+    late = surface_angle.surface_angle_record(gyro[k:], accel[k:], AXIS, config, fs_hz=fs, time_s=t[k:])
+    assert late.late and np.isnan(late.angle.angle_rad[0]) and late.angle.start == late.rests.rests[0].start
+
+
+def test_record_procedure_refusals(tmp_path):
+    from mtcal.systems.rests import RestsConfig
+
+    _, sim, t, _ = _hinge_log(tmp_path, 14)
+    gyro, accel = sim.gyro_rad_s[0], sim.accel_m_s2[0]
+    fs = _fs_of(t)
+    paper = surface_angle.SurfaceRecordConfig(RestsConfig.paper(0.2))
+    with pytest.raises(ValueError, match="--init-s 1000 s must cover at least one sample and leave data"):
+        surface_angle.surface_angle_record(gyro, accel, AXIS, replace(paper, init_s=1000.0), fs_hz=fs, time_s=t)
+    with pytest.raises(ValueError, match="from gravity") as exc:
+        surface_angle.surface_angle_record(gyro, accel, [0.0, 0.0, 1.0], paper, fs_hz=fs, time_s=t)
+    assert len(exc.value.rests.rests) >= 3               # the refusal carries the rests it saw
+    tt = np.arange(2000) / 100.0                         # |a| swinging 9.81 +- 3 m/s^2: never at rest
+    s = np.sin(2 * np.pi * 0.7 * tt)
+    moving, turning = np.c_[2 * s, 2 * np.cos(2 * np.pi * 0.7 * tt), 9.81 + 3 * s], np.c_[0.5 + 0.3 * s, 0.2 * s, s]
+    with pytest.raises(ValueError, match="no rest found: the angle is measured from a rest"):
+        surface_angle.surface_angle_record(turning, moving, AXIS, surface_angle.SurfaceRecordConfig(RestsConfig()),
+                                           fs_hz=100.0, time_s=tt)
+    with pytest.raises(ValueError, match=r"no rest found: .* quiet stretch\(es\) rejected, the first [0-9.]+-[0-9.]+ s: "):
+        surface_angle.surface_angle_record(turning, moving, AXIS, surface_angle.SurfaceRecordConfig(
+            RestsConfig(min_rest_s=1.0)), fs_hz=100.0, time_s=tt)   # the reason a quiet stretch is no rest
+    with pytest.raises(ValueError, match="are not at rest by the paper ZVD") as exc:
+        surface_angle.surface_angle_record(turning, moving, AXIS, paper, fs_hz=100.0, time_s=tt)
+    assert exc.value.rests.method == "paper"
+    with pytest.raises(TypeError, match="config must be a SurfaceRecordConfig"):
+        surface_angle.surface_angle_record(gyro, accel, AXIS, SurfaceAngleConfig(), fs_hz=fs, time_s=t)
+    with pytest.raises(TypeError, match="rests must be a RestsConfig"):
+        surface_angle.SurfaceRecordConfig("adaptive")
+    with pytest.raises(ValueError, match="max_axis_mismatch_deg must be"):
+        surface_angle.SurfaceRecordConfig(RestsConfig(), max_axis_mismatch_deg=-1.0)

@@ -46,7 +46,7 @@ from mtcal.systems.surface_angle import SurfaceBatchConfig, surface_angle_batch
 
 from .scenario import PAPER_AXIS_FIG11, AhrsImu, ImuSpec, ImuValues, RigValues, gravity0, lever_arm_vector
 
-__all__ = ["trapezoid_profile", "sweep_profile", "simulate_batch", "SimBatch", "SweepMetrics", "sweep_metrics",
+__all__ = ["trapezoid_profile", "sweep_profile", "simulate_batch", "simulate_step_batch", "SimBatch", "SweepMetrics", "sweep_metrics",
            "ahrs_sweep_metrics", "Fig11Result", "run_fig11", "DriftResult", "run_drift", "axis_errors", "Fig9Result", "run_fig9",
            "ZvdDemo", "run_zvd_demo", "ImuSpec", "RotationSetup", "RotationRecord", "simulate_rotation",
            "paper_procedure"]
@@ -168,6 +168,36 @@ def simulate_batch(theta_rad, rate_rad_s, accel_rad_s2, axes, lever_arms_m, imu:
     -------
     SimBatch
     """
+    return _simulate(None, (theta_rad, rate_rad_s, accel_rad_s2), axes, lever_arms_m, imu, seed, stream, trial_ids,
+                     accel_noise_m_s2_rt_hz, gyro_bias_sigma_rad_s)[1]
+
+
+def simulate_step_batch(waypoints_rad, rate_rad_s: float, hold_s, axes, lever_arms_m, imu: ImuValues, seed: int,
+                        stream: int, trial_ids) -> tuple[profiles.AngleProfile, SimBatch]:
+    """:func:`simulate_batch` of a step schedule sampled at the IMU's rate: the profile, then the trials.
+
+    The schedule is :func:`mtcal.core.profiles.step_schedule` ``(waypoints_rad, rate_rad_s, hold_s,
+    imu.fs_hz)``; its angle history ``(K, N)`` drives trial k with column k of the waypoints
+    (``waypoints_rad`` (W, T): one column per trial). Other parameters as :func:`simulate_batch`.
+
+    Returns
+    -------
+    profile : AngleProfile
+    sim : SimBatch
+    """
+    return _simulate((waypoints_rad, rate_rad_s, hold_s), None, axes, lever_arms_m, imu, seed, stream, trial_ids,
+                     None, 0.0)
+
+
+def _simulate(steps, histories, axes, lever_arms_m, imu: ImuValues, seed: int, stream: int, trial_ids,
+              accel_noise_m_s2_rt_hz, gyro_bias_sigma_rad_s: float) -> tuple[profiles.AngleProfile | None, SimBatch]:
+    """:func:`simulate_batch` (``histories`` = theta, rate, accel) or :func:`simulate_step_batch` (``steps`` =
+    waypoints, rate, holds: the profile made here at ``imu.fs_hz``, its histories transposed to (T, N))."""
+    prof = None
+    if steps is not None:
+        prof = profiles.step_schedule(*steps, imu.fs_hz)
+        histories = (prof.angle_rad.T, prof.rate_rad_s.T, prof.accel_rad_s2.T)
+    theta_rad, rate_rad_s, accel_rad_s2 = histories
     v = as_float_array(axes, "axes", ndim=2, last_dim=3)
     r = as_float_array(lever_arms_m, "lever_arms_m", ndim=2, last_dim=3)
     t_n = v.shape[0]
@@ -206,7 +236,7 @@ def simulate_batch(theta_rad, rate_rad_s, accel_rad_s2, axes, lever_arms_m, imu:
         walk *= np.sqrt(dt)
         accel += imu.accel_rw_m_s2_rt_s * walk[..., :3]
         gyro += imu.gyro_rw_rad_s_rt_s * walk[..., 3:]
-    return SimBatch(gyro, accel, np.ascontiguousarray(th))
+    return prof, SimBatch(gyro, accel, np.ascontiguousarray(th))
 
 
 def paper_procedure(imu: ImuValues, zvd: ZvdParams, *, ekf_switch: str = "zvd") -> SurfaceBatchConfig:
@@ -378,19 +408,17 @@ def run_fig11(axis, imu: ImuValues, zvd: ZvdParams, reps: int, seed: int, *, ste
     v = np.asarray(axis, float) / np.linalg.norm(axis)
     angles = np.radians(np.arange(-180.0, 180.0 + 1e-9, step_deg))
     targets = np.tile(angles, reps)
-    proc = paper_procedure(imu, zvd)
     out = {k: [] for k in ("mr", "m16", "rr", "r16")}
     for c0 in progress(range(0, targets.size, chunk_trials), desc="Fig 11 Monte Carlo"):
         tg = targets[c0:c0 + chunk_trials]
         wp = np.empty((4, tg.size))
         wp[:3] = np.radians([0.0, 90.0, 180.0])[:, None]
         wp[3] = tg
-        prof = profiles.step_schedule(wp, np.radians(rate_deg_s), np.r_[np.full(3, rest_s), n_meas / imu.fs_hz],
-                                      imu.fs_hz)
         ids = np.arange(c0, c0 + tg.size)
-        sim = simulate_batch(prof.angle_rad.T, prof.rate_rad_s.T, prof.accel_rad_s2.T, np.tile(v, (tg.size, 1)),
-                             np.zeros((tg.size, 3)), imu, seed, 30, ids)
+        prof, sim = simulate_step_batch(wp, np.radians(rate_deg_s), np.r_[np.full(3, rest_s), n_meas / imu.fs_hz],
+                                        np.tile(v, (tg.size, 1)), np.zeros((tg.size, 3)), imu, seed, 30, ids)
         slices = prof.hold_slices()
+        proc = paper_procedure(imu, zvd)  # the chunk measured as the paper does it: ZVD -> Eq 23 axis -> EKF
         res = surface_angle_batch(sim.gyro_rad_s, sim.accel_m_s2, imu.dt_s, proc, init_samples=slices[0].stop,
                                   rests=slices)
         a0, v_est, theta = res.accel0_m_s2, res.axis, res.angle_rad
