@@ -84,10 +84,7 @@ def euler_deg(q: np.ndarray) -> np.ndarray:
 
 def print_units_check(chk: dict) -> None:
     """Print a :func:`mtcal.systems.plausibility.check_units` result: which evidence decided, or its one warning."""
-    if chk.get("warning"):
-        print(f"warning: {chk['warning']}")
-    else:
-        print(f"gyro units check ({chk['method']}): {chk['evidence']}")
+    print(units_check_line(chk))
 
 
 def units_check_line(chk: dict) -> str:
@@ -258,17 +255,8 @@ def rest_table(log: logio.ImuLog, report: rest_detection.RestReport, angle_deg: 
 
 def print_report(log: logio.ImuLog, report: rest_detection.RestReport, angle_deg=None, angle_name="angle_deg",
                  extra: dict | None = None) -> None:
-    print(f"log: {log.path} ({log.n} samples at {log.fs_hz:.2f} Hz, {log.time_s[-1] - log.time_s[0]:.2f} s)"
-          + (f"; {'; '.join(log.notes)}" if log.notes else ""))
-    print(report.levels_text())
-    rejected = f", {len(report.rejected)} quiet stretches rejected" if report.rejected else ""
-    print(f"rests: {len(report.rests)} of >= {report.min_rest_s:g} s (duration stop_s - start_s){rejected}")
-    for line in rest_table(log, report, angle_deg, angle_name, extra):
-        print("  " + line)
-    for rej in report.rejected[:10]:
-        print(f"  rejected {log.time_s[rej.span.start]:.3f}-{log.time_s[rej.span.stop - 1]:.3f} s: {rej.reason}")
-    if len(report.rejected) > 10:
-        print(f"  ... {len(report.rejected) - 10} more rejected stretches")
+    """Print :func:`report_lines` (log, rest levels, per-rest table, rejected stretches)."""
+    print("\n".join(report_lines(log, report, angle_deg, angle_name, extra)))
 
 
 def report_lines(log: logio.ImuLog, report: rest_detection.RestReport, angle_deg=None, angle_name="angle_deg",

@@ -169,7 +169,7 @@ def amd_statistic(accel_m_s2, dt_s: float, params: QncfParams = QncfParams()) ->
 
 
 def initial_attitude_from_accel(accel_m_s2, yaw_rad: float = 0.0) -> np.ndarray:
-    """Levelling: Eq 9 quaternion with pitch/roll from a static specific force.
+    """Levelling: Eq 9 quaternion with pitch/roll from a static specific force (:func:`mtcal.core.rotations.level_quat_zxy`).
 
     For the ZXY convention a static sensor reads ``f = g [−sinγ cosθ, sinθ,
     cosγ cosθ]``, so ``θ = asin(f_y/‖f‖)`` and ``γ = atan2(−f_x, f_z)``.
@@ -185,13 +185,7 @@ def initial_attitude_from_accel(accel_m_s2, yaw_rad: float = 0.0) -> np.ndarray:
     -------
     ndarray, shape (..., 4)
     """
-    f = as_float_array(accel_m_s2, "accel_m_s2", last_dim=3)
-    norm = np.linalg.norm(f, axis=-1)
-    if np.any(norm < 1e-6):
-        raise ValueError("accel_m_s2 must not be zero (cannot level without gravity)")
-    pitch = np.arcsin(np.clip(f[..., 1] / norm, -1.0, 1.0))
-    roll = np.arctan2(-f[..., 0], f[..., 2])
-    return rotations.quat_from_euler_zxy(np.full_like(pitch, yaw_rad), pitch, roll)
+    return rotations.level_quat_zxy(accel_m_s2, yaw_rad)
 
 
 #: Largest increment angle |Δθ| (rad per sample) for which the increment quaternion uses the
