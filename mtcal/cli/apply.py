@@ -101,11 +101,19 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _print_result(args, out, log, doc: dict, res) -> None:
-    """What ``mtcal apply`` prints of a :class:`~mtcal.systems.installation.RecordApplication`, and the table."""
+    """What ``mtcal apply`` writes and prints of a :class:`~mtcal.systems.installation.RecordApplication`.
+
+    The table is written first, then every line is printed (units check, the relative mode's tilt
+    warning, the rest report, the gyro-bias line, how the body attitude was made, the mounting, the summary).
+    """
     rep = res.report
-    if res.units_check is not None:
-        common.print_units_check(res.units_check)
-    info = {} if res.qncf is None else common.qncf_info(log, res.qncf)
+    eb = np.degrees(res.body_euler_rad, out=res.body_euler_rad)     # in place (a long log): rad not read after
+    es = np.degrees(res.sensor_euler_rad, out=res.sensor_euler_rad)
+    extra = {"sensor_yaw_deg": es[:, 0], "sensor_pitch_deg": es[:, 1], "sensor_roll_deg": es[:, 2]}
+    if rep is not None:
+        extra["is_static"] = rep.is_static.astype(np.int8)
+    common.write_attitude(out, log.time_s, res.attitude.q_body, eb, **extra)
+    lines = [] if res.units_check is None else [common.units_check_line(res.units_check)]
     if args.mode == "absolute":
         how = ("absolute: pitch and roll referenced to gravity (" +
                ("QNCF levelled from the first rest" if rep is not None else "the log's q0..q3, z-up world") +
@@ -114,40 +122,36 @@ def _print_result(args, out, log, doc: dict, res) -> None:
     else:
         how = ("relative (wang2023cja Eq 10): q_body = normalize(Q_hat q_sensor), sensor attitude zeroed at the "
                "first sample: angles relative to where the log starts")
-        _warn_if_tilted(log, res, doc)
-    qb = res.attitude.q_body
-    eb = common.euler_deg(qb)
-    es = common.euler_deg(res.attitude.q_sensor)
-    extra = {"sensor_yaw_deg": es[:, 0], "sensor_pitch_deg": es[:, 1], "sensor_roll_deg": es[:, 2]}
+        lines += _tilt_warning(log, res, doc)
     if rep is not None:
-        extra["is_static"] = rep.is_static.astype(np.int8)
-        common.print_report(log, rep, angle_deg=eb[:, 1], angle_name="pitch_deg")
-    if "gyro_bias_text" in info:
-        print(info["gyro_bias_text"])
+        lines += common.report_lines(log, rep, angle_deg=eb[:, 1], angle_name="pitch_deg")
+    if res.qncf is not None and res.qncf.quiet_core is not None:
+        lines.append(common.rest_bias_text(log, res.qncf.quiet_core))
     mount = np.degrees(res.mounting_euler_rad)
-    print(f"body attitude {how}")
-    print(f"mounting q_bs = [{', '.join(f'{v:+.6f}' for v in res.q_bs)}] (sensor on the body at yaw {mount[0]:+.4f}, "
-          f"pitch {mount[1]:+.4f}, roll {mount[2]:+.4f} deg) from {args.calibration}"
-          + (f" ({doc['comment']})" if doc.get("comment") else ""))
-    common.write_attitude(out, log.time_s, qb, eb, **extra)
-    print(f"apply: {log.n} samples written to {out}; first body yaw/pitch/roll "
-          f"{eb[0, 0]:.3f}/{eb[0, 1]:.3f}/{eb[0, 2]:.3f} deg, final {eb[-1, 0]:.3f}/{eb[-1, 1]:.3f}/{eb[-1, 2]:.3f} deg")
+    lines += [f"body attitude {how}",
+              f"mounting q_bs = [{', '.join(f'{v:+.6f}' for v in res.q_bs)}] (sensor on the body at yaw {mount[0]:+.4f}, "
+              f"pitch {mount[1]:+.4f}, roll {mount[2]:+.4f} deg) from {args.calibration}"
+              + (f" ({doc['comment']})" if doc.get("comment") else ""),
+              f"apply: {log.n} samples written to {out}; first body yaw/pitch/roll "
+              f"{eb[0, 0]:.3f}/{eb[0, 1]:.3f}/{eb[0, 2]:.3f} deg, final {eb[-1, 0]:.3f}/{eb[-1, 1]:.3f}/{eb[-1, 2]:.3f} deg"]
+    print("\n".join(lines))
 
 
-def _warn_if_tilted(log, res, doc: dict) -> None:
+def _tilt_warning(log, res, doc: dict) -> list[str]:
     """Relative mode: one warning line when the log's start is tilted beyond the calibration's accuracy."""
     if res.start_euler_rad is None:
-        return
+        return []
     if res.start_rest is not None:
         where = f"at the first rest ({log.time_s[res.start_rest.start]:.2f} s)"
     else:
         where = "at the first sample (log's q0..q3)"
     e = np.degrees(res.start_euler_rad)
     acc = _accuracy_deg(doc)
-    if max(abs(e[1]), abs(e[2])) > acc:
-        print(f"warning: --mode relative: the body is tilted {where}: pitch {e[1]:+.3f}, roll {e[2]:+.3f} deg from "
-              f"gravity, more than the calibration's accuracy {acc:.3f} deg; the output pitch/roll are relative to that "
-              f"start and are off by about that much from gravity-referenced angles (use --mode absolute)")
+    if max(abs(e[1]), abs(e[2])) <= acc:
+        return []
+    return [f"warning: --mode relative: the body is tilted {where}: pitch {e[1]:+.3f}, roll {e[2]:+.3f} deg from "
+            f"gravity, more than the calibration's accuracy {acc:.3f} deg; the output pitch/roll are relative to that "
+            f"start and are off by about that much from gravity-referenced angles (use --mode absolute)"]
 
 
 __all__ = ["register", "run", "load_calibration", "load_calibration_file"]

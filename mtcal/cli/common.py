@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import argparse
 import math
-import os
 
 import numpy as np
 
@@ -51,35 +50,16 @@ def write_attitude(path, time_s: np.ndarray, q: np.ndarray, euler_deg: np.ndarra
     logio.write_table(path, cols, decimals=QUATERNION_DECIMALS)
 
 
-#: Rows per block of :func:`euler_deg` (cache-sized temporaries; blocks run on all cores).
-_EULER_BLOCK_ROWS = 65_536
-
-
 def euler_deg(q: np.ndarray) -> np.ndarray:
     """Yaw/pitch/roll (deg, wang2023cja Eq 8 ZXY) of filter quaternions ``q`` (N, 4), unit by construction.
 
-    Exactly ``np.degrees(rotations.euler_zxy_unchecked(q))`` (elementwise, so computing it in
-    blocks of rows on a thread pool changes no bit), without full-length temporaries.
+    Exactly ``np.degrees(rotations.euler_zxy_unchecked(q))``, in row blocks without full-length
+    temporaries (:func:`mtcal.core.rotations.euler_zxy_rows_trusted`), converted in place.
     """
-    from concurrent.futures import ThreadPoolExecutor
+    from mtcal.core.rotations import euler_zxy_rows_trusted
 
-    from mtcal.core.rotations import euler_zxy_unchecked
-
-    out = np.empty((q.shape[0], 3))
-
-    def block(start: int) -> None:
-        stop = min(start + _EULER_BLOCK_ROWS, q.shape[0])
-        out[start:stop] = euler_zxy_unchecked(q[start:stop])
-        np.degrees(out[start:stop], out=out[start:stop])
-
-    starts = range(0, q.shape[0], _EULER_BLOCK_ROWS)
-    if len(starts) <= 1:
-        for s in starts:
-            block(s)
-        return out
-    with ThreadPoolExecutor(max_workers=min(len(starts), os.cpu_count() or 1)) as pool:
-        list(pool.map(block, starts))
-    return out
+    out = euler_zxy_rows_trusted(q)
+    return np.degrees(out, out=out)
 
 
 def print_units_check(chk: dict) -> None:

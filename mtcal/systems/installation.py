@@ -49,7 +49,7 @@ import numpy as np
 
 from mtcal.core import rotations
 from mtcal.core.validate import as_float_array, positive_scalar, sample_interval, unit_quaternion
-from mtcal.filters.qncf import QncfParams, initial_attitude_from_accel, qncf, qncf_trusted
+from mtcal.filters.qncf import QncfParams, qncf, qncf_trusted
 from mtcal.methods import constrained_fit, quaternion_lsq, six_position
 from mtcal.systems import attitude, plausibility
 from mtcal.systems import rests as rests_system
@@ -955,11 +955,16 @@ class RecordApplication:
         The rest ``start_euler_rad`` was levelled at (None: the first sample of a q0..q3 log).
     mounting_euler_rad : ndarray (3,)
         Eq 8 yaw/pitch/roll of ``q_bs`` (rad).
+    body_euler_rad, sensor_euler_rad : ndarray (N, 3)
+        Eq 8 yaw/pitch/roll (rad) of ``attitude.q_body`` and ``attitude.q_sensor`` (what the command
+        prints and writes, :func:`mtcal.core.rotations.euler_zxy_rows_trusted`).
     """
 
     q_bs: np.ndarray
     attitude: CalibratedAttitude
     mounting_euler_rad: np.ndarray
+    body_euler_rad: np.ndarray
+    sensor_euler_rad: np.ndarray
     report: object = None
     units_check: dict | None = None
     qncf: object = None
@@ -1005,10 +1010,11 @@ def _apply_record_attitude(cfg, mat, mode, checked, rep, chk, setup, accel) -> R
     start, q_s0 = None, None
     if mode == "relative" and accel is not None and rep is not None and rep.rests:
         start = rep.rests[0]
-        q_s0 = initial_attitude_from_accel(accel[start].mean(axis=0))
+        q_s0 = rotations.level_quat_zxy(accel[start].mean(axis=0))
     elif mode == "relative" and q is not None:
         q_s0 = q[0]
     tilt = None if q_s0 is None else rotations.euler_zxy_from_quat(
         rotations.quat_multiply(q_s0, rotations.quat_conjugate(q_bs)))
     return RecordApplication(attitude=att, mounting_euler_rad=rotations.euler_zxy_unchecked(q_bs), start_euler_rad=tilt,
-                             start_rest=start, **done)
+                             start_rest=start, body_euler_rad=rotations.euler_zxy_rows_trusted(att.q_body),
+                             sensor_euler_rad=rotations.euler_zxy_rows_trusted(att.q_sensor), **done)
