@@ -179,9 +179,22 @@ def _print_result(args, out, log, pos, res, fig) -> None:
     if res.diagnosis is not None:
         _print_diagnosis(log, pos, res.diagnosis)
     if res.refusal is not None:
-        raise ValueError(res.refusal)
+        raise ValueError(_with_options(res.refusal))
     fig.used = res.calibration.matched_rests
     _print_and_write(args, res, out, log, info)
+
+
+#: The procedure's parameters as this command's options, for its refusals (the methods name their own
+#: parameters: ``model="so4"``, ``max_residual_rad``; the command names what the user types).
+_OPTION_OF = (('model="so4"', "--model so4"), ('model="mounting"', "--model mounting"),
+              ("max_residual_rad (", "--max-residual-deg ("))
+
+
+def _with_options(message: str) -> str:
+    """A refusal of the calibration procedure with its parameters named as this command's options."""
+    for parameter, option in _OPTION_OF:
+        message = message.replace(parameter, option)
+    return message
 
 
 def _print_diagnosis(log, pos, diag) -> None:

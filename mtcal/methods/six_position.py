@@ -631,7 +631,7 @@ def _gate_condition(cond, max_condition: float, q_ref) -> None:
     rank3 = sv.size >= 3 and sv[2] > sv[0] / np.sqrt(MAX_CONDITION)
     what = f"they contain no rotation about {axis}" if axis else "their quaternions span fewer than 4 directions"
     fix = ("; add a position rotated about that axis (the six of §3.2 rotate about all three), or fit fewer "
-           "parameters: --model so4 (6) or --model mounting (3) work with these positions" if rank3 else
+           "parameters: model=\"so4\" (6) or model=\"mounting\" (3) work with these positions" if rank3 else
            "; use positions about more than one axis (the six of §3.2)")
     raise ValueError(f"calibration positions are ill-conditioned for Eq 13 (condition number {worst_cond:.3g} "
                      f"> {max_condition:.0e}): {what}{fix}")
@@ -648,7 +648,7 @@ def _fit_conjugation(q_s: np.ndarray, q_b: np.ndarray) -> np.ndarray:
     k = np.einsum("...kij,...kil->...jl", m, m)
     lam, vec = np.linalg.eigh(k)
     if np.any(lam[..., 1] - lam[..., 0] <= 1e-10 * np.maximum(lam[..., 3], 1e-300)):
-        raise ValueError("calibration positions do not determine the mounting (--model mounting): they rotate "
+        raise ValueError("calibration positions do not determine the mounting (model=\"mounting\"): they rotate "
                          "about a single axis; use positions about two axes")
     c = vec[..., :, 0]
     c = np.where(c[..., :1] < 0, -c, c)
@@ -671,7 +671,7 @@ def _gated_residual(q_hat, dist, after, q_ref, max_dist: float, max_res: float, 
     if gate and not worst <= max_res:
         kk = int(np.unravel_index(np.argmax(residual), residual.shape)[-1])
         raise ValueError(f"calibration residual {np.degrees(worst):.3f} deg at position {kk + 1} exceeds "
-                         f"--max-residual-deg {np.degrees(max_res):g}; a rest does not match its reference position")
+                         f"max_residual_rad ({np.degrees(max_res):g} deg); a rest does not match its reference position")
     return residual
 
 

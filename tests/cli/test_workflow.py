@@ -212,3 +212,14 @@ def test_quiet_core_threshold_honours_noise_factor(calibrated, capsys):
     assert thr["3"] == pytest.approx(0.6 * thr["5"], rel=0.01) and thr["12"] == pytest.approx(2.4 * thr["5"], rel=0.01)
     end = {k: float(v.split("quiet core ")[1].split("-")[1].split()[0]) for k, v in lines.items()}
     assert end["3"] <= end["5"] <= end["12"] < 5.6   # the motion starts at 5 s
+
+
+def test_residual_refusal_names_the_option(calibrated, capsys):
+    """The procedure names its parameter (max_residual_rad); the command names the option the user types."""
+    d = calibrated
+    code = cli.main(["calibrate", str(d / "turntable.csv"), "--positions", str(d / "pos.csv"),
+                     "--max-residual-deg", "0.0001"])
+    err = capsys.readouterr().err
+    assert code == 2 and err.count("\n") == 1
+    assert "exceeds --max-residual-deg (0.0001 deg); a rest does not match its reference position" in err
+    assert "max_residual_rad" not in err
