@@ -82,7 +82,7 @@ from mtcal.core.validate import (STANDARD_GRAVITY_M_S2, as_float_array, positive
 
 __all__ = ["Trajectory", "SensorErrors", "ImuErrorModel", "ImuRecord", "ImuStream", "body_rates",
            "specific_force", "simulate_imu", "apply_sensor_errors", "integrate_gyro", "tilted_trajectory",
-           "TiltedTrajectories", "GRAVITY_W_M_S2", "fill_streams"]
+           "TiltedTrajectories", "GRAVITY_W_M_S2", "fill_streams", "noise_mismatch"]
 
 #: Default world gravity vector, z-up frame (m/s²).
 GRAVITY_W_M_S2 = (0.0, 0.0, -STANDARD_GRAVITY_M_S2)
@@ -1253,6 +1253,43 @@ class ImuStream:
 _NOISE_FIELDS = ("noise_density", "bias_random_walk", "bias_instability", "bias_instability_tau_s")
 
 
+def noise_mismatch(stream: ImuStream, other: ImuStream) -> str | None:
+    """Why two :class:`ImuStream` do not draw the same noise (:func:`fill_streams`), or None when they do.
+
+    Parameters
+    ----------
+    stream, other : ImuStream
+
+    Returns
+    -------
+    str or None
+        e.g. ``"has another generator key"``; None when key, trial ids, time samples, engine, block size
+        and each triad's :data:`_NOISE_FIELDS` are equal.
+
+    Examples
+    --------
+    >>> t = np.arange(0, 1, 0.01)
+    >>> traj = Trajectory(t, np.tile([1.0, 0, 0, 0], (t.size, 1)))
+    >>> noise_mismatch(ImuStream(traj, trials=2), ImuStream(traj, trials=3))
+    'has other trial ids'
+    """
+    if other._gyro.key != stream._gyro.key:
+        return "draws from another generator key"
+    if not np.array_equal(other.trial_ids, stream.trial_ids):
+        return "has other trial ids"
+    t, t0 = other.trajectory.time_s, stream.trajectory.time_s
+    if not (t is t0 or (t.shape == t0.shape and np.array_equal(t, t0))):
+        return "has another time base"
+    if (other._gyro.engine, other._gyro.block) != (stream._gyro.engine, stream._gyro.block):
+        return "has another engine or block size"
+    for sensor in ("gyro", "accel"):
+        for name in _NOISE_FIELDS:
+            a, b = getattr(getattr(other.model, sensor), name), getattr(getattr(stream.model, sensor), name)
+            if a != b:
+                return f"has {sensor}.{name} = {a!r}, not {b!r} (the noise scales must be equal)"
+    return None
+
+
 def fill_streams(streams, outputs) -> None:
     """:meth:`ImuStream.fill` of several streams that draw the same noise, the noise drawn once.
 
@@ -1305,21 +1342,9 @@ def fill_streams(streams, outputs) -> None:
         stream._check_fill(*out, name=f"streams[{i}]: ")
     first = streams[0]
     for i, stream in enumerate(streams[1:], 1):
-        if stream._gyro.key != first._gyro.key:
-            raise ValueError(f"streams[{i}] draws from another generator key than streams[0]: no shared noise")
-        if not np.array_equal(stream.trial_ids, first.trial_ids):
-            raise ValueError(f"streams[{i}] has other trial ids than streams[0]: no shared noise")
-        t, t0 = stream.trajectory.time_s, first.trajectory.time_s
-        if not (t is t0 or (t.shape == t0.shape and np.array_equal(t, t0))):
-            raise ValueError(f"streams[{i}] has another time base than streams[0]: no shared noise")
-        if (stream._gyro.engine, stream._gyro.block) != (first._gyro.engine, first._gyro.block):
-            raise ValueError(f"streams[{i}] has another engine or block size than streams[0]")
-        for sensor in ("gyro", "accel"):
-            for name in _NOISE_FIELDS:
-                a, b = getattr(getattr(stream.model, sensor), name), getattr(getattr(first.model, sensor), name)
-                if a != b:
-                    raise ValueError(f"streams[{i}] has {sensor}.{name} = {a!r}, streams[0] {b!r}: the noise "
-                                     f"scales must be equal to share the noise")
+        reason = noise_mismatch(first, stream)
+        if reason is not None:
+            raise ValueError(f"streams[{i}] {reason} than streams[0]: no shared noise")
     if len(streams) == 1 or first._gyro.engine != "numba":
         for stream, out in zip(streams, outputs):
             stream.fill(*out)
