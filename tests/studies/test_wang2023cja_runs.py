@@ -260,10 +260,19 @@ def test_windtunnel_kinds_side_by_side_equal_separate_runs_and_share_the_vibrati
         return out
 
     monkeypatch.setattr(runs, "_vibration_accel", spy)
+    filled, fill = [], runs.fill_streams
+
+    def fill_spy(streams, outputs):
+        filled.append(len(streams))
+        return fill(streams, outputs)
+
+    monkeypatch.setattr(runs, "fill_streams", fill_spy)
     joint = predictive.windtunnel_predictive_kinds(make, fit, predictive.KINDS, 3, 4, per_draw=2)
     assert list(joint) == list(predictive.KINDS)
     # 2 draws × 5 groups: the fitted run computes, the prior run reuses; each kind's trace re-run computes its 5
     assert reused.count(True) == 10 and reused.count(False) == 20
+    # 2 draws × (wind off + 5 groups): both kinds' records from one noise draw; the traces' re-runs alone
+    assert filled == [2] * 12 + [1] * 12
     for kind in predictive.KINDS:
         arrays = _arrays(joint[kind], kind)
         assert sorted(arrays) == sorted(separate[kind])
@@ -412,3 +421,21 @@ def test_windtunnel_session_holds_the_wind_on_sweeps_read_only():
                             sc.fs_hz, min_move_s=0.5)
         assert np.array_equal(prof.angle_rad, ref.angle_rad) and np.array_equal(prof.time_s, ref.time_s)
         assert not prof.angle_rad.flags.writeable and id(prof) in runs._PROFILE_HOLDS
+
+
+def test_windtunnel_kinds_without_shared_noise_fill_apart_with_the_same_numbers():
+    """Scenarios whose sensors differ in their noise (another gyro grade) or generators on other keys are
+    not refused: their records are filled apart, each run equal to its own run_windtunnel call."""
+    from mtcal.studies.wang2023cja import runs
+
+    scs = [w.windtunnel_scenario(fs_hz=100.0), w.windtunnel_scenario(fs_hz=100.0, gyro_grade="industrial"),
+           w.windtunnel_scenario(fs_hz=100.0)]
+    seeds = [3, 3, 4]
+    joint = runs.run_windtunnel_kinds(scs, [np.random.default_rng(s) for s in seeds], 2, block=1)
+    for sc, seed, run in zip(scs, seeds, joint):
+        alone = _arrays(w.run_windtunnel(sc, np.random.default_rng(seed), 2, block=1))
+        arrays = _arrays(run)
+        assert sorted(arrays) == sorted(alone)
+        assert [k for k in arrays if not np.array_equal(arrays[k], alone[k], equal_nan=True)] == []
+    with pytest.raises(ValueError, match="scenarios and rngs must be non-empty and of equal length"):
+        runs.run_windtunnel_kinds(scs, [np.random.default_rng(1)], 2)

@@ -40,7 +40,8 @@ from mtcal.core.metrics import variance_parts  # re-exported here (notebooks 10,
 from mtcal.core.rng import child_rngs, stream_rng
 from mtcal.reporting import leak
 from .error_model import FITTED_PARAMETERS, PRIOR_RANGES, TABLES_1_TO_4, ErrorModel, ErrorModelFit
-from .runs import TurntableJob, _map, run_turntable_jobs, run_windtunnel, windtunnel_median_trial
+from .runs import (TurntableJob, _map, run_turntable_jobs, run_windtunnel, run_windtunnel_kinds,
+                   windtunnel_median_trial)
 
 __all__ = ["ALPHA_PRIOR_SIGMA_DEG", "KINDS", "TURNTABLE_PER_DRAW", "variance_parts", "posterior_draws", "prior_draws",
            "turntable_predictive", "windtunnel_predictive", "windtunnel_predictive_kinds", "quantile_se", "LEAK_SIZES",
@@ -235,10 +236,12 @@ def windtunnel_predictive_kinds(make_scenario, fit: ErrorModelFit, kinds, trials
                                 per_draw: int = 5) -> dict:
     """:func:`windtunnel_predictive` of each kind in ``kinds``, draw by draw side by side.
 
-    Trial *j* of every kind draws from the same generator key, so the wind-on accelerometer
-    vibration (phases, time base and settings equal; checked) is computed once per draw and shared
-    (``runs.run_windtunnel(..., shared=...)``); every kind keeps its own generators and parameter
-    draws, so each run equals the one of a separate :func:`windtunnel_predictive` call bit for bit.
+    Trial *j* of every kind draws from the same generator key, so the kinds of one draw run side by
+    side (:func:`.runs.run_windtunnel_kinds`): their IMU records are filled together, the sensor noise
+    (equal scales: the sensor spec's) drawn once, and the wind-on accelerometer vibration (phases,
+    time base and settings equal; checked) computed once; every kind keeps its own generators and
+    parameter draws, so each run equals the one of a separate :func:`windtunnel_predictive` call bit
+    for bit.
 
     Returns
     -------
@@ -254,9 +257,10 @@ def windtunnel_predictive_kinds(make_scenario, fit: ErrorModelFit, kinds, trials
     rngs = {kind: children() for kind in kinds}          # one generator per kind and draw (run_windtunnel spawns)
 
     def one(k):       # each draw its own generators and scenarios: the same numbers for any thread count
-        shared = {}   # this draw's wind-on vibration, computed by the first kind
-        return [run_windtunnel(make_scenario(draws[kind][k][0]), rngs[kind][k], min(per_draw, int(trials) - k * per_draw),
-                               block=per_draw, keep_trace=False, shared=shared) for kind in kinds]
+        # the kinds' blocks side by side: their IMU records filled together (noise drawn once), the wind-on
+        # vibration computed by the first kind (shared)
+        return run_windtunnel_kinds([make_scenario(draws[kind][k][0]) for kind in kinds], [rngs[kind][k] for kind in kinds],
+                                    min(per_draw, int(trials) - k * per_draw), block=per_draw, keep_trace=False, shared={})
 
     runs = _map(one, list(range(n_draws)))
     return {kind: _windtunnel_draws([r[i] for r in runs], make_scenario, draws[kind], trials, per_draw, children())

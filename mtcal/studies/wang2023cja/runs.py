@@ -36,7 +36,7 @@ from mtcal.core.allocator import keep_freed_memory
 from mtcal.core.profiles import AngleProfile, step_schedule
 from mtcal.core.rng import child_rngs, stream_rng
 from mtcal.core.rotations import mount_quaternion, relative_to_initial
-from mtcal.core.simulate import ImuStream
+from mtcal.core.simulate import ImuStream, fill_streams, noise_mismatch
 from mtcal.core.units import DEG, MG
 from mtcal.filters.qncf import qncf
 from mtcal.methods import quaternion_lsq, six_position
@@ -57,7 +57,7 @@ MONTE_CARLO_GATES = {k: getattr(installation.InstallationConfig.monte_carlo(), k
 
 __all__ = ["turntable_runs", "turntable_profile", "six_position_reference", "TurntableRun", "TurntableJob",
            "calibration_step", "run_turntable", "run_turntable_jobs", "position_errors_deg", "load_tilt_outputs",
-           "WindTunnelRun", "run_windtunnel", "windtunnel_median_trial", "elastic_deflection_rad", "MONTE_CARLO_GATES",
+           "WindTunnelRun", "run_windtunnel", "run_windtunnel_kinds", "windtunnel_median_trial", "elastic_deflection_rad", "MONTE_CARLO_GATES",
            "TRACE_DECIMATION"]
 
 
@@ -755,7 +755,40 @@ def run_windtunnel(sc: WindTunnelScenario, rng: np.random.Generator, trials: int
     accelerometer vibration of each block and group is kept there and reused by a later run whose
     phases, time base and vibration settings are equal (checked, else computed afresh), so runs of
     two error models on one key compute it once — the same numbers as separate runs.
+    :func:`run_windtunnel_kinds` runs several scenarios on equal generators side by side.
     """
+    return run_windtunnel_kinds([sc], [rng], trials, sources, wind_on=wind_on, block=block, keep_trace=keep_trace,
+                                trace_trial=trace_trial, shared=shared)[0]
+
+
+def run_windtunnel_kinds(scenarios, rngs, trials: int, sources=SOURCES, *, wind_on: bool = True, block: int = 10,
+                         keep_trace: bool = True, trace_trial: int = 0, shared: dict | None = None) -> list:
+    """:func:`run_windtunnel` of each scenario with its generator, block by block side by side.
+
+    The scenarios' blocks are set up one by one, their IMU records filled together
+    (:func:`mtcal.core.simulate.fill_streams`: generators with equal keys and sensors with equal noise
+    scales — the predictive kinds of one parameter draw — draw the white, random-walk and
+    Gauss–Markov noise once; others are filled apart), then measured one by one. Every run equals
+    ``run_windtunnel(scenarios[m], rngs[m], ...)`` bit for bit; peak memory: the records of all
+    scenarios' blocks at once.
+
+    Parameters
+    ----------
+    scenarios : sequence of WindTunnelScenario
+    rngs : sequence of numpy.random.Generator
+        One per scenario.
+    trials, sources, wind_on, block, keep_trace, trace_trial, shared
+        As for :func:`run_windtunnel` (``shared``: the wind-on vibration, computed by the first scenario).
+
+    Returns
+    -------
+    list of WindTunnelRun
+        One per scenario.
+    """
+    scenarios, rngs = list(scenarios), list(rngs)
+    if not scenarios or len(rngs) != len(scenarios):
+        raise ValueError(f"scenarios and rngs must be non-empty and of equal length, got {len(scenarios)} and "
+                         f"{len(rngs)}")
     trials = int(trials)
     if trials < 1:
         raise ValueError(f"trials must be >= 1, got {trials}")
@@ -764,13 +797,20 @@ def run_windtunnel(sc: WindTunnelScenario, rng: np.random.Generator, trials: int
     if not 0 <= int(trace_trial) < trials:
         raise ValueError(f"trace_trial must be in [0, {trials}), got {trace_trial}")
     keep_freed_memory()                          # the per-block arrays reuse freed heap, not fresh zeroed pages
+    sources = _check_sources(sources)
     sizes = [min(int(block), trials - k) for k in range(0, trials, int(block))]
     b_trace, i_trace = divmod(int(trace_trial), int(block))
-    runs = [_run_windtunnel_block(sc, r, n, _check_sources(sources), wind_on=wind_on,
-                                  keep_trace=keep_trace and i == b_trace, trace_index=i_trace,
-                                  shared=None if shared is None else shared.setdefault(i, {}))
-            for i, (r, n) in enumerate(progress(list(zip(child_rngs(rng, len(sizes)), sizes)),
-                                                desc="wind-tunnel Monte Carlo"))]
+    block_rngs = list(zip(*(child_rngs(rng, len(sizes)) for rng in rngs)))   # [block][scenario]
+    per_block = [_run_windtunnel_blocks(scenarios, list(r), n, sources, wind_on=wind_on,
+                                        keep_trace=keep_trace and i == b_trace, trace_index=i_trace,
+                                        shared=None if shared is None else shared.setdefault(i, {}))
+                 for i, (r, n) in enumerate(progress(list(zip(block_rngs, sizes)), desc="wind-tunnel Monte Carlo"))]
+    return [_concat_windtunnel([runs[m] for runs in per_block], sizes, b_trace, wind_on)
+            for m in range(len(scenarios))]
+
+
+def _concat_windtunnel(runs: list, sizes: list, b_trace: int, wind_on: bool) -> WindTunnelRun:
+    """The blocks' runs of one scenario as one WindTunnelRun (trace from block ``b_trace``)."""
     cat = lambda xs: np.concatenate(xs, axis=0)  # noqa: E731
     first = runs[0]
     first.trace = runs[b_trace].trace
@@ -785,10 +825,45 @@ def run_windtunnel(sc: WindTunnelScenario, rng: np.random.Generator, trials: int
                          cat([r.cal_after for r in runs]), nowind, wind, first.trace)
 
 
-def _run_windtunnel_block(sc: WindTunnelScenario, rng: np.random.Generator, trials: int, sources,
-                          *, wind_on: bool, keep_trace: bool, trace_index: int = 0,
-                          shared: dict | None = None) -> WindTunnelRun:
-    """Wind-off calibration + AoA sweep (Tables 9, 11) and five wind-on groups (Table 10).
+def _fill_together(streams: list, outputs: list) -> None:
+    """Fill each :class:`ImuStream` into its ``(gyro, accel)`` output, the streams that share their noise
+    with an earlier one (:func:`mtcal.core.simulate.noise_mismatch`) together (the same numbers)."""
+    groups = []
+    for stream, out in zip(streams, outputs):
+        for group in groups:
+            if noise_mismatch(group[0][0], stream) is None:
+                group.append((stream, out))
+                break
+        else:
+            groups.append([(stream, out)])
+    for group in groups:
+        fill_streams(*zip(*group))
+
+
+@dataclass
+class _WindTunnelBlock:
+    """One scenario's block of :func:`_run_windtunnel_blocks` between its phases (:func:`_wt_setup`)."""
+
+    sc: WindTunnelScenario
+    trials: int
+    rng_imu: np.random.Generator
+    rng_change: np.random.Generator
+    prof: AngleProfile
+    spans: dict
+    holds: list               # hold windows of the wind-off AoA sweep (first and last dropped)
+    ref_err: np.ndarray       # (trials, 6, 3) mechanism reference errors at the calibration positions
+    pos: np.ndarray
+    groups: list              # the wind-on groups (:func:`_wind_on_truth`); [] with the wind off
+    model: object             # ImuErrorModel
+    traj: object              # Trajectory of the wind-off session (dropped once simulated)
+
+
+def _run_windtunnel_blocks(scenarios, rngs, trials: int, sources, *, wind_on: bool, keep_trace: bool,
+                           trace_index: int = 0, shared: dict | None = None) -> list[WindTunnelRun]:
+    """Wind-off calibration + AoA sweep (Tables 9, 11) and five wind-on groups (Table 10) of one block per
+    scenario: set up each (:func:`_wt_setup`), fill the wind-off records together (:func:`_fill_together`),
+    measure each (:func:`_wt_nowind`); then the same for the wind-on groups (:func:`_wind_on_fill`,
+    :func:`_wind_on_measure`).
 
     Truth = actual mechanism angles (:func:`mechanism_actual`) + elastic
     deflection with wind on; reference = commanded angles. With wind on the
@@ -796,8 +871,28 @@ def _run_windtunnel_block(sc: WindTunnelScenario, rng: np.random.Generator, tria
     ``vibration_freq_hz`` plus angular pitch vibration), which trips the AMD:
     the QNCF runs on the gyro alone.
     """
-    # settings: waypoints, positions, the profiles of the session and of the wind-on groups, hold windows,
-    # the reference draws and the mount's compliance
+    blocks = [_wt_setup(sc, rng, trials, sources, wind_on) for sc, rng in zip(scenarios, rngs)]
+    shape = (trials, len(blocks[0].traj), 3)
+    records = [(np.empty(shape), np.empty(shape)) for _ in blocks]
+    _fill_together([ImuStream(b.traj, b.model, rng=b.rng_imu, trials=trials) for b in blocks], records)
+    out = []
+    for m, b in enumerate(blocks):
+        b.traj = None                                # (its truth outputs: not kept while the wind is on)
+        out.append(_wt_nowind(b, *records[m], sources, keep_trace, trace_index))
+        records[m] = None
+    if wind_on:
+        stacks = _wind_on_fill(blocks, shared)
+        for m, b in enumerate(blocks):
+            out[m].wind_on = _wind_on_measure(b.sc, out[m].q_matrix, b.groups, trials, out[m].trace, keep_trace,
+                                              trace_index, *stacks[m])
+            stacks[m] = None
+    return out
+
+
+def _wt_setup(sc: WindTunnelScenario, rng: np.random.Generator, trials: int, sources, wind_on: bool):
+    """One scenario's block up to its IMU streams: the settings (waypoints, positions, the profiles of the
+    session and of the wind-on groups, hold windows), the reference draws, the truth (the mechanism's actual
+    angles tilted by the mount's compliance) and the error model."""
     rng_imu, rng_ref, rng_wind, rng_change = child_rngs(rng, 4)
     frac = 0.5
     on = set(sources)
@@ -830,22 +925,26 @@ def _run_windtunnel_block(sc: WindTunnelScenario, rng: np.random.Generator, tria
                           [(prof.time_s, actual)] + [(grp.prof.time_s, grp.actual) for grp in groups]]
     for grp, group_traj in zip(groups, group_trajs):
         grp.traj, grp.actual = group_traj, None      # the angles are in the trajectory now
-    del actual, group_trajs
     model = sc.imu.error_model(mount_quaternion(np.radians(sc.alpha_deg)), sources, sc.errors)
-    gyro, accel = np.empty((trials, len(traj), 3)), np.empty((trials, len(traj), 3))
-    ImuStream(traj, model, rng=rng_imu, trials=trials).fill(gyro, accel)
-    del traj                                         # (its truth outputs: not kept while the wind is on)
-    if "accel_run_change" in on:        # bias change between the calibration and the sweep
-        accel[:, spans["aoa"].start:] += (sc.errors.accel_run_bias_mg * MG
-                                          * rng_change.standard_normal((trials, 1, 3)))
+    return _WindTunnelBlock(sc, trials, rng_imu, rng_change, prof, spans, holds, ref_err, pos, groups, model, traj)
+
+
+def _wt_nowind(b: _WindTunnelBlock, gyro, accel, sources, keep_trace: bool, trace_index: int) -> WindTunnelRun:
+    """The wind-off session of one block from its IMU record (modified in place): the run-to-run accelerometer
+    bias change, the QNCF, the calibration and the AoA sweep's errors."""
+    sc, trials, spans, frac = b.sc, b.trials, b.spans, 0.5
+    span = spans["aoa"]
+    if "accel_run_change" in sources:   # bias change between the calibration and the sweep
+        accel[:, span.start:] += (sc.errors.accel_run_bias_mg * MG * b.rng_change.standard_normal((trials, 1, 3)))
     res = qncf(gyro, accel, 1.0 / sc.fs_hz, sc.qncf, return_euler=False)
     # the session zeroed at its start, in place after the calibration run (kept as logged: no copy)
-    q_s = relative_to_initial(res.q_ws, out=res.q_ws, start=spans["aoa"].start)
+    q_s = relative_to_initial(res.q_ws, out=res.q_ws, start=span.start)
     q_cal = q_s[:, spans["calibration"]]
-    cal = calibration_step(sc, q_cal, gyro[:, spans["calibration"]], pos + ref_err, frac)
+    cal = calibration_step(sc, q_cal, gyro[:, spans["calibration"]], b.pos + b.ref_err, frac)
     q_mat = cal.q_hat
-    cmd = prof.angle_rad[span]
+    cmd = b.prof.angle_rad[span]
     before, after, errs = _before_after(q_s[:, span], q_mat, cmd, 1)
+    holds = b.holds
     nowind = {"reference": np.array([cmd[h, 1].mean() for h in holds]),
               "before_mean": np.stack([before[:, h].mean(axis=1) for h in holds], axis=1),
               "after_mean": np.stack([after[:, h].mean(axis=1) for h in holds], axis=1)}
@@ -856,14 +955,10 @@ def _run_windtunnel_block(sc: WindTunnelScenario, rng: np.random.Generator, tria
         nowind[f"{state}_err_dec"] = err[:, ::TRACE_DECIMATION].astype(np.float32)
     trace = {}
     if keep_trace:
-        trace = {"nowind_time_s": prof.time_s[span] - prof.time_s[span.start],
+        trace = {"nowind_time_s": b.prof.time_s[span] - b.prof.time_s[span.start],
                  "nowind_before_err": errs["before"][trace_index].copy(),
                  "nowind_after_err": errs["after"][trace_index].copy()}
-    del before, after, res, q_s, gyro, accel
-    out = WindTunnelRun(q_mat, cal.euler_before_rad, cal.euler_after_rad, nowind, None, trace)
-    if wind_on:
-        out.wind_on = _wind_on_groups(sc, model, q_mat, groups, trials, out.trace, keep_trace, trace_index, shared)
-    return out
+    return WindTunnelRun(q_mat, cal.euler_before_rad, cal.euler_after_rad, nowind, None, trace)
 
 
 def windtunnel_median_trial(run: WindTunnelRun) -> int:
@@ -939,35 +1034,48 @@ def _wind_on_truth(sc, rng, trials, profs, rates) -> list[_WindOnGroup]:
     return groups
 
 
-def _wind_on_groups(sc, model, q_mat, groups, trials, trace, keep_trace, trace_index=0, shared=None):
-    """Five wind-on AoA sweeps (:func:`_wind_on_truth`); each group its own record; all groups stacked as
-    trials for the QNCF (``shared``: :func:`run_windtunnel`)."""
+def _wind_on_fill(blocks: list, shared: dict | None) -> list[tuple[np.ndarray, np.ndarray]]:
+    """The five wind-on groups' records of each block (:func:`_wind_on_truth`), stacked as trials for the QNCF,
+    each group padded with its last sample; a group's records of all blocks filled together
+    (:func:`_fill_together`), then the accelerometer vibration added (``shared``: :func:`run_windtunnel`).
+    Peak memory: the stacks + one group."""
+    trials = blocks[0].trials
+    n = max(grp.prof.time_s.size for grp in blocks[0].groups)
+    stacks = [(np.empty((5 * trials, n, 3)), np.empty((5 * trials, n, 3))) for _ in blocks]
+    for g in range(5):
+        streams, records = [], []
+        for b, (gyro, accel) in zip(blocks, stacks):
+            grp = b.groups[g]
+            model_g = replace(b.model, time_since_power_on_s=b.model.time_since_power_on_s
+                              + b.sc.group_interval_s * (g + 1))
+            m, rows = grp.prof.time_s.size, slice(g * trials, (g + 1) * trials)
+            # a group as long as the stack is simulated straight into its rows, a shorter one into its own arrays
+            records.append((gyro[rows], accel[rows]) if m == n else (np.empty((trials, m, 3)), np.empty((trials, m, 3))))
+            streams.append(ImuStream(grp.traj, model_g, rng=grp.rng_imu, trials=trials))
+            grp.traj = None                          # dropped once simulated (the groups still to come keep
+            #                                          theirs: about 1 % of the stack at 500 Hz, measured)
+        _fill_together(streams, records)
+        del streams
+        for b, (gyro, accel), (g_g, a_g) in zip(blocks, stacks, records):
+            grp = b.groups[g]
+            # accel + ramp · a · sin(2π f t + vib) (the same operations; a + b == b + a)
+            a_g += _vibration_accel(b.sc, grp.prof.time_s, grp.ramp, grp.vib, shared, g)
+            m, rows = grp.prof.time_s.size, slice(g * trials, (g + 1) * trials)
+            if m < n:
+                for x, out in ((g_g, gyro), (a_g, accel)):
+                    out[rows, :m] = x
+                    out[rows, m:] = x[:, -1:]
+        del records, g_g, a_g
+    return stacks
+
+
+def _wind_on_measure(sc, q_mat, groups, trials, trace, keep_trace, trace_index, gyro, accel):
+    """Five wind-on AoA sweeps of one block from their stacked records (:func:`_wind_on_fill`): one QNCF, the
+    pitch after calibration at each group's holds."""
     lead_s = _WIND_LEAD_S
     profs = [grp.prof for grp in groups]
     ref = np.radians(np.asarray(sc.wind_on_sweep_deg, float))
     elastic_corrected = ref + elastic_deflection_rad(sc.elastic_model_deg, ref)
-    n = max(p.time_s.size for p in profs)
-    # stacked, each group padded with its last sample; a group goes in as soon as it is simulated (peak
-    # memory: the stack + one group)
-    gyro, accel = np.empty((5 * trials, n, 3)), np.empty((5 * trials, n, 3))
-    for g, grp in enumerate(groups):
-        t = grp.prof.time_s
-        # accel + ramp · a · sin(2π f t + vib) (the same operations; a + b == b + a)
-        shake = _vibration_accel(sc, t, grp.ramp, grp.vib, shared, g)
-        model_g = replace(model, time_since_power_on_s=model.time_since_power_on_s + sc.group_interval_s * (g + 1))
-        m = t.size
-        rows = slice(g * trials, (g + 1) * trials)
-        # a group as long as the stack is simulated straight into its rows, a shorter one into its own arrays
-        g_g, a_g = (gyro[rows], accel[rows]) if m == n else (np.empty((trials, m, 3)), np.empty((trials, m, 3)))
-        ImuStream(grp.traj, model_g, rng=grp.rng_imu, trials=trials).fill(g_g, a_g)
-        grp.traj = None                              # dropped once simulated (the groups still to come keep
-        #                                              theirs: about 1 % of the stack at 500 Hz, measured)
-        a_g += shake
-        if m < n:
-            for x, out in ((g_g, gyro), (a_g, accel)):
-                out[rows, :m] = x
-                out[rows, m:] = x[:, -1:]
-        del g_g, a_g, shake
     res = qncf(gyro, accel, 1.0 / sc.fs_hz, sc.qncf, return_euler=False)
     q_s = relative_to_initial(res.q_ws, n0=1, out=res.q_ws)
     q_rep = np.concatenate([q_mat] * 5, axis=0)
