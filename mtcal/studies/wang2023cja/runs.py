@@ -56,7 +56,7 @@ MONTE_CARLO_GATES = {k: getattr(installation.InstallationConfig.monte_carlo(), k
                      for k in ("max_condition", "max_so4_distance", "max_residual_rad")}
 
 __all__ = ["turntable_runs", "turntable_profile", "six_position_reference", "TurntableRun", "TurntableJob",
-           "calibration_step", "run_turntable", "run_turntable_jobs", "position_errors_deg", "load_tilt_outputs",
+           "calibration_step", "run_turntable", "run_turntable_jobs", "run_turntable_jobs_kinds", "position_errors_deg", "load_tilt_outputs",
            "WindTunnelRun", "run_windtunnel", "run_windtunnel_kinds", "windtunnel_median_trial", "elastic_deflection_rad", "MONTE_CARLO_GATES",
            "TRACE_DECIMATION"]
 
@@ -294,14 +294,17 @@ class _SharedTrajectories:
 
 
 def _run_pieces(sc: TurntableScenario, prof: AngleProfile, spans: dict, pieces: list, with_sweeps: bool,
-                keep_trace: bool, base: _ComplianceBase, buffers: dict) -> list[TurntableRun]:
+                traced: set, base: _ComplianceBase, buffers: dict, fill_groups: list) -> list[TurntableRun]:
     """Simulate every piece ``(test, sources, rng, trials, fraction)``, run ONE stacked QNCF, finish each.
 
     The QNCF cost is dominated by its loop over time, so stacking the pieces along the trial
     axis costs about one run; each piece keeps its own generator. The pieces are simulated
     straight into ``buffers`` (reused by every call of a run: no fresh 100 MB arrays per call),
-    which also keeps the profile's hold windows. Pieces are simulated and finished on
-    :func:`_workers` threads (each its own generator and slice: the same numbers for any count).
+    which also keeps the profile's hold windows. The pieces of each list in ``fill_groups`` (a
+    partition of the piece indices: the predictive kinds' pieces on one key) fill their records
+    together (:func:`_fill_together`: the noise drawn once when shared). Groups are simulated and
+    pieces finished on :func:`_workers` threads (each its own generator and slice: the same numbers
+    for any count). Pieces in ``traced`` keep the sweeps' time series of their first trial.
     """
     total = sum(p[3] for p in pieces)
     if buffers.get("gyro") is None or buffers["gyro"].shape[0] < total:
@@ -320,21 +323,28 @@ def _run_pieces(sc: TurntableScenario, prof: AngleProfile, spans: dict, pieces: 
 
     trajectory = _SharedTrajectories(prof.time_s, base, [compliance(i) for i in range(len(pieces))])
 
-    def simulate(i):
-        test, sources, rng, trials, _, sc = pieces[i]
-        rng_imu, rng_ref, rng_change = child_rngs(rng, 3)
-        traj = trajectory(compliance(i))   # = compliance_trajectory(prof.time_s, prof.angle_rad, k)
-        model = sc.imu.error_model(mount_quaternion(sc.alpha_rad(test)), sources, sc.errors)
-        g, acc = gyro[starts[i]:starts[i + 1]], accel[starts[i]:starts[i + 1]]
-        ImuStream(traj, model, rng=rng_imu, trials=trials).fill(g, acc)   # = simulate_imu(...), into the buffer
-        if "accel_run_change" in sources:       # warm-up/temperature bias change between the runs
-            acc[:, ver0:] += sc.errors.accel_run_bias_mg * MG * rng_change.standard_normal((trials, 1, 3))
-        if "mount_compliance" in sources and MOUNT_TYPE[test] == "gasket":
-            tilt = sc.errors.gasket_load_tilt_deg_g * DEG * rng_change.standard_normal((trials, 3)) * [1.0, 1.0, 0.0]
-            load_tilt_outputs(g, acc, traj.q_wb, sc.imu.dt_s, model.q_mount, tilt)
-        return rng_ref
+    def simulate(group):
+        streams, parts = [], []
+        for i in group:
+            test, sources, rng, trials, _, sc = pieces[i]
+            rng_imu, rng_ref, rng_change = child_rngs(rng, 3)
+            traj = trajectory(compliance(i))   # = compliance_trajectory(prof.time_s, prof.angle_rad, k)
+            model = sc.imu.error_model(mount_quaternion(sc.alpha_rad(test)), sources, sc.errors)
+            streams.append(ImuStream(traj, model, rng=rng_imu, trials=trials))
+            parts.append((rng_ref, rng_change, traj, model))
+        rows = [(gyro[starts[i]:starts[i + 1]], accel[starts[i]:starts[i + 1]]) for i in group]
+        _fill_together(streams, rows)           # = simulate_imu(...) of each, into the buffer
+        del streams
+        for i, (g, acc), (_, rng_change, traj, model) in zip(group, rows, parts):
+            test, sources, _, trials, _, sc = pieces[i]
+            if "accel_run_change" in sources:       # warm-up/temperature bias change between the runs
+                acc[:, ver0:] += sc.errors.accel_run_bias_mg * MG * rng_change.standard_normal((trials, 1, 3))
+            if "mount_compliance" in sources and MOUNT_TYPE[test] == "gasket":
+                tilt = sc.errors.gasket_load_tilt_deg_g * DEG * rng_change.standard_normal((trials, 3)) * [1.0, 1.0, 0.0]
+                load_tilt_outputs(g, acc, traj.q_wb, sc.imu.dt_s, model.q_mount, tilt)
+        return [(i, part[0]) for i, part in zip(group, parts)]
 
-    rngs = _map(simulate, list(range(len(pieces))))
+    rngs = dict(pair for done in _map(simulate, fill_groups) for pair in done)
     res = qncf(gyro, accel, 1.0 / sc.fs_hz, sc.qncf, return_euler=False)
     # the session zeroed once at its start (§4.1), in place from the verification run on: the
     # calibration run stays as logged (zeroed by the procedure itself)
@@ -370,18 +380,18 @@ def _run_pieces(sc: TurntableScenario, prof: AngleProfile, spans: dict, pieces: 
     if with_sweeps:
         # the sweeps of consecutive pieces that share their settings in one pass each (rows independent:
         # the same numbers as piece by piece), the groups spread over the threads
-        groups = _sweep_groups(pieces, starts, _workers())
+        groups = _sweep_groups(pieces, starts, _workers(), traced)
         done = _map(lambda g: _evaluate_sweeps(
             prof, spans, q_all[starts[g[0]]:starts[g[-1] + 1]],
             np.concatenate([runs[i].q_matrix for i in g], axis=0), _fraction(pieces[g[0]]),
             {name: np.concatenate([hold_errors[i][name] for i in g], axis=0) for name, _, _ in _SWEEPS},
-            keep_trace and g[0] == 0, buffers), groups)
+            g[0] in traced, buffers), groups)
         for g, (sweeps, trace) in zip(groups, done):
             for i in g:
                 rows = slice(starts[i] - starts[g[0]], starts[i + 1] - starts[g[0]])
                 runs[i].sweeps = {name: {k: (v if k == "reference" else v[rows]) for k, v in d.items()}
                                   for name, d in sweeps.items()}
-                runs[i].trace = trace if i == 0 else {}
+                runs[i].trace = trace if i in traced else {}
     return runs
 
 
@@ -393,13 +403,14 @@ def _fraction(piece) -> float:
     return piece[5].averaging_fraction if piece[4] is None else piece[4]
 
 
-def _sweep_groups(pieces, starts, parts: int) -> list[list[int]]:
+def _sweep_groups(pieces, starts, parts: int, traced=()) -> list[list[int]]:
     """Consecutive pieces cut into about ``parts`` groups of similar trial counts; a group's pieces share
-    the averaging fraction (the hold windows of one sweep pass)."""
+    the averaging fraction (the hold windows of one sweep pass); a piece in ``traced`` starts a group
+    (its first trial is the group's first row, whose time series are kept)."""
     total = starts[-1]
     groups, cur = [], []
     for i, p in enumerate(pieces):
-        if cur and (_fraction(pieces[cur[0]]) != _fraction(p)
+        if cur and (_fraction(pieces[cur[0]]) != _fraction(p) or i in traced
                     or starts[i] >= (len(groups) + 1) * total / max(parts, 1)):
             groups.append(cur)
             cur = []
@@ -508,27 +519,88 @@ def run_turntable_jobs(sc: TurntableScenario, jobs: list[TurntableJob], *, with_
     Each job is split into blocks of ``block`` trials, block ``i`` drawing from
     ``child_rngs(job.rng, n_blocks)[i]``. Consecutive blocks are stacked into one QNCF run while
     trials × samples stays below ``max_trial_samples`` (memory bound: ≈ 1 GB peak at the default).
+    :func:`run_turntable_jobs_kinds` runs several aligned job lists side by side.
 
     Returns
     -------
     list of TurntableRun
         One per job, trials in job order.
     """
-    if not jobs:
+    return run_turntable_jobs_kinds(sc, [jobs], with_sweeps=with_sweeps, keep_trace=keep_trace, block=block,
+                                    max_trial_samples=max_trial_samples)[0]
+
+
+def run_turntable_jobs_kinds(sc: TurntableScenario, kinds_jobs: list, *, with_sweeps: bool = False,
+                             keep_trace: bool = False, block: int = 10,
+                             max_trial_samples: int = 4_000_000) -> list[list[TurntableRun]]:
+    """:func:`run_turntable_jobs` of several aligned job lists (the predictive kinds), side by side.
+
+    Job ``j`` of every list has the same test and trial count; its blocks (pieces) are stacked next to
+    the same blocks of the other lists in one QNCF run (the stack stays below ``max_trial_samples``:
+    each list gets its share) and their IMU records are filled together
+    (:func:`mtcal.core.simulate.fill_streams`: generators with equal keys and sensors with equal noise
+    scales draw the white, random-walk and Gauss–Markov noise once; others are filled apart). Every
+    run equals the one of a separate :func:`run_turntable_jobs` call bit for bit (with ``keep_trace``
+    each list's first job keeps its trace).
+
+    Parameters
+    ----------
+    sc : TurntableScenario
+    kinds_jobs : list of list of TurntableJob
+        Aligned job lists (equal length, job ``j`` of equal test and trials in each).
+    with_sweeps, keep_trace, block, max_trial_samples
+        As for :func:`run_turntable_jobs`.
+
+    Returns
+    -------
+    list of list of TurntableRun
+        Per list, one run per job.
+    """
+    kinds_jobs = [list(jobs) for jobs in kinds_jobs]
+    if not kinds_jobs or not kinds_jobs[0]:
         raise ValueError("jobs must hold at least one TurntableJob")
-    for job in jobs:
-        if not isinstance(job, TurntableJob):
-            raise TypeError(f"jobs must hold TurntableJob items, got {type(job).__name__}")
-        if int(job.trials) < 1:
-            raise ValueError(f"job trials must be >= 1, got {job.trials}")
-        if job.test not in sc.alpha_deg:
-            raise ValueError(f"job test must be one of {sorted(sc.alpha_deg)}, got {job.test!r}")
+    for jobs in kinds_jobs:
+        for job in jobs:
+            if not isinstance(job, TurntableJob):
+                raise TypeError(f"jobs must hold TurntableJob items, got {type(job).__name__}")
+            if int(job.trials) < 1:
+                raise ValueError(f"job trials must be >= 1, got {job.trials}")
+            if job.test not in sc.alpha_deg:
+                raise ValueError(f"job test must be one of {sorted(sc.alpha_deg)}, got {job.test!r}")
+        if [(j.test, int(j.trials)) for j in jobs] != [(j.test, int(j.trials)) for j in kinds_jobs[0]]:
+            raise ValueError("kinds_jobs must be aligned: job j of every list with the same test and trials")
     if int(block) < 1:
         raise ValueError(f"block must be >= 1, got {block}")
     keep_freed_memory()                          # the per-call arrays below reuse freed heap, not fresh zeroed pages
     prof, spans = turntable_profile(sc, with_sweeps)
-    per_call = max(int(block), int(max_trial_samples) // prof.time_s.size)
-    pieces = []                                  # (job index, piece)
+    n_kinds = len(kinds_jobs)
+    per_call = max(n_kinds * int(block), int(max_trial_samples) // prof.time_s.size)
+    pieces = [_job_pieces(sc, jobs, int(block)) for jobs in kinds_jobs]   # per kind: (job index, piece)
+    calls, count = [[]], 0                       # piece positions p (the same in every kind) per call
+    for p, (_, piece) in enumerate(pieces[0]):
+        if calls[-1] and count + n_kinds * piece[3] > per_call:
+            calls.append([])
+            count = 0
+        calls[-1].append(p)
+        count += n_kinds * piece[3]
+    per_job = [[[] for _ in jobs] for jobs in kinds_jobs]
+    base = _ComplianceBase(prof.angle_rad)       # shared by every piece (only the compliance differs)
+    buffers = {}
+    for c, call in enumerate(progress(calls, desc="turntable Monte Carlo")):
+        n = len(call)                            # kind-major: the call's pieces of kind 0, then of kind 1, …
+        items = [(m, pieces[m][p]) for m in range(n_kinds) for p in call]
+        runs = _run_pieces(sc, prof, spans, [piece for _, (_, piece) in items], with_sweeps,
+                           {m * n for m in range(n_kinds)} if keep_trace and c == 0 else set(), base, buffers,
+                           [[m * n + k for m in range(n_kinds)] for k in range(n)])
+        for (m, (i, _)), run in zip(items, runs):
+            per_job[m][i].append(run)
+    return [[_concat_runs(r) for r in jobs] for jobs in per_job]
+
+
+def _job_pieces(sc: TurntableScenario, jobs: list, block: int) -> list:
+    """``(job index, (test, sources, rng, trials, fraction, scenario))`` of every block of ``block`` trials of
+    the jobs, in job order; block ``i`` of a job draws from ``child_rngs(job.rng, n_blocks)[i]``."""
+    pieces = []
     for i, job in enumerate(jobs):
         src = _check_sources(job.sources)
         sizes = [min(block, job.trials - k) for k in range(0, job.trials, block)]
@@ -537,21 +609,7 @@ def run_turntable_jobs(sc: TurntableScenario, jobs: list[TurntableJob], *, with_
             sc_job = replace(sc, errors=sc.errors if job.errors is None else job.errors,
                              alpha_deg={**sc.alpha_deg, **({} if job.alpha_deg is None else {job.test: tuple(job.alpha_deg)})})
         pieces += [(i, (job.test, src, r, n, job.fraction, sc_job)) for r, n in zip(child_rngs(job.rng, len(sizes)), sizes)]
-    calls, count = [[]], 0
-    for item in pieces:
-        if calls[-1] and count + item[1][3] > per_call:
-            calls.append([])
-            count = 0
-        calls[-1].append(item)
-        count += item[1][3]
-    per_job = [[] for _ in jobs]
-    base = _ComplianceBase(prof.angle_rad)       # shared by every piece (only the compliance differs)
-    buffers = {}
-    for c, call in enumerate(progress(calls, desc="turntable Monte Carlo")):
-        runs = _run_pieces(sc, prof, spans, [p for _, p in call], with_sweeps, keep_trace and c == 0, base, buffers)
-        for (i, _), run in zip(call, runs):
-            per_job[i].append(run)
-    return [_concat_runs(r) for r in per_job]
+    return pieces
 
 
 #: Rows of a :func:`_before_after` call whose angle errors may reach π (the compiled pass's second loop).
