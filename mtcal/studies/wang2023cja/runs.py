@@ -536,8 +536,8 @@ def run_turntable_jobs_kinds(sc: TurntableScenario, kinds_jobs: list, *, with_sw
     """:func:`run_turntable_jobs` of several aligned job lists (the predictive kinds), side by side.
 
     Job ``j`` of every list has the same test and trial count; its blocks (pieces) are stacked next to
-    the same blocks of the other lists in one QNCF run (the stack stays below ``max_trial_samples``:
-    each list gets its share) and their IMU records are filled together
+    the same blocks of the other lists in one QNCF run (the stack stays below ``max_trial_samples``,
+    rounded up to a multiple of the lists: each list gets an equal share) and their IMU records are filled together
     (:func:`mtcal.core.simulate.fill_streams`: generators with equal keys and sensors with equal noise
     scales draw the white, random-walk and Gauss–Markov noise once; others are filled apart). Every
     run equals the one of a separate :func:`run_turntable_jobs` call bit for bit (with ``keep_trace``
@@ -574,7 +574,8 @@ def run_turntable_jobs_kinds(sc: TurntableScenario, kinds_jobs: list, *, with_sw
     keep_freed_memory()                          # the per-call arrays below reuse freed heap, not fresh zeroed pages
     prof, spans = turntable_profile(sc, with_sweeps)
     n_kinds = len(kinds_jobs)
-    per_call = max(n_kinds * int(block), int(max_trial_samples) // prof.time_s.size)
+    per_call = max(int(block), int(max_trial_samples) // prof.time_s.size)
+    per_call = -(-per_call // n_kinds) * n_kinds   # each kind an equal share (rounded up: 18 for 17 at 1000 Hz)
     pieces = [_job_pieces(sc, jobs, int(block)) for jobs in kinds_jobs]   # per kind: (job index, piece)
     calls, count = [[]], 0                       # piece positions p (the same in every kind) per call
     for p, (_, piece) in enumerate(pieces[0]):
