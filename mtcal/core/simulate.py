@@ -778,41 +778,14 @@ def _block_apply(out, t, k, b0, hi, start, base, tb, bias, warm, turn_on, vib, f
 
 
 @jit
-def _trial_errors(out, t, tid, start, base, tb, bias, warm, turn_on, vib, key0, key1, c2s, flags, white_scale,
-                  rw_scale, gm_sigma, gm_c, gm_a, quant, rw_state, gm_state, words, normals, rejected, flags8):
-    """One trial of :func:`_sensor_errors_parallel`: the chunk in blocks of ``normals.shape[2]`` samples, each block's
-    noise drawn first (:func:`_block_noise`), then every error term applied in the reference's order
-    (:func:`_block_apply`)."""
-    stop = start + out.shape[1]
-    block = normals.shape[2]
-    y = np.empty(3)
-    walk = np.empty(3)
-    for j in range(3):
-        walk[j] = rw_state[t, j]
-        y[j] = gm_state[t, j]
-    k = start
-    while k < stop:
-        b0 = k - (k & 1)                                  # blocks start on a sample pair
-        b1 = min(b0 + block, stop + (stop & 1))
-        hi = min(b1, stop)
-        _block_noise(tid, k, b0, b1, stop, key0, key1, c2s, flags, rw_scale, gm_sigma, gm_c, gm_a, walk, y, words,
-                     normals, rejected, flags8)
-        _block_apply(out, t, k, b0, hi, start, base, tb, bias, warm, turn_on, vib, flags, white_scale, quant,
-                     normals)
-        k = hi
-    for j in range(3):
-        rw_state[t, j] = walk[j]
-        gm_state[t, j] = y[j]
-
-
-@jit
-def _trial_errors_shared(outs, t, tid, start, bases, tbs, biases, warms, turn_ons, vibs, key0, key1, c2s, flags,
-                         model_flags, white_scale, rw_scale, gm_sigma, gm_c, gm_a, quants, rw_state, gm_state, words,
-                         normals, rejected, flags8):  # pragma: no cover - compiled
-    """:func:`_trial_errors` of K error models sharing their noise: each block's noise drawn once
-    (:func:`_block_noise`, source flags ``flags``), then applied to each model ``m`` (its own ``outs[m]``,
-    base, bias, warm-up, turn-on bias, vibration, flags ``model_flags[m]`` and quantisation): output ``m``
-    equals :func:`_trial_errors` of model ``m`` bit for bit."""
+def _trial_errors(outs, t, tid, start, bases, tbs, biases, warms, turn_ons, vibs, key0, key1, c2s, flags,
+                  model_flags, white_scale, rw_scale, gm_sigma, gm_c, gm_a, quants, rw_state, gm_state, words,
+                  normals, rejected, flags8):  # pragma: no cover - compiled
+    """One trial of :func:`_sensor_errors_parallel` for K error models sharing their noise: the chunk in blocks of
+    ``normals.shape[2]`` samples, each block's noise drawn once (:func:`_block_noise`, source flags ``flags``),
+    then every error term of each model ``m`` (its own ``outs[m]``, base, bias, warm-up, turn-on bias,
+    vibration, flags ``model_flags[m]`` and quantisation) applied in the reference's order
+    (:func:`_block_apply`): output ``m`` is the one of model ``m`` alone, bit for bit."""
     stop = start + outs[0].shape[1]
     block = normals.shape[2]
     y = np.empty(3)
@@ -837,45 +810,10 @@ def _trial_errors_shared(outs, t, tid, start, bases, tbs, biases, warms, turn_on
 
 
 @jit
-def _sensor_errors_group(g, out, start, base, bias, warm, turn_on, vib, trial_ids, key0, key1, c2s, flags,
-                         white_scale, rw_scale, gm_sigma, gm_c, gm_a, quant, rw_state, gm_state, block, group):
-    """Trials ``g·group … (g+1)·group`` of :func:`_sensor_errors_parallel`, sharing one scratch buffer."""
-    trials = out.shape[0]
-    per_trial_base = base.shape[0] > 1
-    words = np.empty(block, np.uint64)
-    rejected = np.zeros(8 * (block // 8 + 1), np.uint8)   # rejection flags, read 8 at a time through flags8
-    flags8 = rejected.view(np.uint64)
-    normals = np.empty((3, 3, block))
-    for t in range(g * group, min((g + 1) * group, trials)):
-        _trial_errors(out, t, trial_ids[t], start, base, t if per_trial_base else 0, bias, warm, turn_on, vib,
-                      key0, key1, c2s, flags, white_scale, rw_scale, gm_sigma, gm_c, gm_a, quant, rw_state,
-                      gm_state, words, normals, rejected, flags8)
-
-
-@jit(parallel=True)
-def _sensor_errors_parallel(out, start, base, bias, warm, turn_on, vib, trial_ids, key0, key1, c2s, flags,
-                            white_scale, rw_scale, gm_sigma, gm_c, gm_a, quant, rw_state, gm_state, block, group):
-    """Measurements ``out`` (T, n, 3) of global samples ``start … start+n``, groups of trials in parallel.
-    Each trial's numbers are a function of its id only, so the thread count does not change them."""
-    for g in prange((out.shape[0] + group - 1) // group):
-        _sensor_errors_group(g, out, start, base, bias, warm, turn_on, vib, trial_ids, key0, key1, c2s, flags,
-                             white_scale, rw_scale, gm_sigma, gm_c, gm_a, quant, rw_state, gm_state, block, group)
-
-
-@jit
-def _sensor_errors_serial(out, start, base, bias, warm, turn_on, vib, trial_ids, key0, key1, c2s, flags,
-                          white_scale, rw_scale, gm_sigma, gm_c, gm_a, quant, rw_state, gm_state, block, group):
-    """:func:`_sensor_errors_parallel` on the calling thread (small work: no OpenMP start-up)."""
-    for g in range((out.shape[0] + group - 1) // group):
-        _sensor_errors_group(g, out, start, base, bias, warm, turn_on, vib, trial_ids, key0, key1, c2s, flags,
-                             white_scale, rw_scale, gm_sigma, gm_c, gm_a, quant, rw_state, gm_state, block, group)
-
-
-@jit
-def _shared_errors_group(g, outs, start, bases, biases, warms, turn_ons, vibs, trial_ids, key0, key1, c2s, flags,
+def _sensor_errors_group(g, outs, start, bases, biases, warms, turn_ons, vibs, trial_ids, key0, key1, c2s, flags,
                          model_flags, white_scale, rw_scale, gm_sigma, gm_c, gm_a, quants, rw_state, gm_state, block,
                          group):  # pragma: no cover - compiled
-    """Trials ``g·group … (g+1)·group`` of :func:`_shared_errors_parallel`, sharing one scratch buffer."""
+    """Trials ``g·group … (g+1)·group`` of :func:`_sensor_errors_parallel`, sharing one scratch buffer."""
     trials = outs[0].shape[0]
     per_trial_base = np.empty(len(bases), np.int64)
     tbs = np.zeros(len(bases), np.int64)
@@ -888,29 +826,31 @@ def _shared_errors_group(g, outs, start, bases, biases, warms, turn_ons, vibs, t
     for t in range(g * group, min((g + 1) * group, trials)):
         for m in range(len(bases)):
             tbs[m] = t if per_trial_base[m] else 0
-        _trial_errors_shared(outs, t, trial_ids[t], start, bases, tbs, biases, warms, turn_ons, vibs, key0, key1,
-                             c2s, flags, model_flags, white_scale, rw_scale, gm_sigma, gm_c, gm_a, quants, rw_state,
-                             gm_state, words, normals, rejected, flags8)
+        _trial_errors(outs, t, trial_ids[t], start, bases, tbs, biases, warms, turn_ons, vibs, key0, key1, c2s, flags,
+                      model_flags, white_scale, rw_scale, gm_sigma, gm_c, gm_a, quants, rw_state, gm_state, words,
+                      normals, rejected, flags8)
 
 
 @jit(parallel=True)
-def _shared_errors_parallel(outs, start, bases, biases, warms, turn_ons, vibs, trial_ids, key0, key1, c2s, flags,
+def _sensor_errors_parallel(outs, start, bases, biases, warms, turn_ons, vibs, trial_ids, key0, key1, c2s, flags,
                             model_flags, white_scale, rw_scale, gm_sigma, gm_c, gm_a, quants, rw_state, gm_state,
                             block, group):  # pragma: no cover - compiled
-    """:func:`_sensor_errors_parallel` of K error models sharing their noise (:func:`_trial_errors_shared`)."""
+    """Measurements ``outs[m]`` (T, n, 3) of K error models sharing their noise (:func:`_trial_errors`), global
+    samples ``start … start+n``, groups of trials in parallel. Each trial's numbers are a function of its id
+    only, so the thread count does not change them."""
     for g in prange((outs[0].shape[0] + group - 1) // group):
-        _shared_errors_group(g, outs, start, bases, biases, warms, turn_ons, vibs, trial_ids, key0, key1, c2s, flags,
+        _sensor_errors_group(g, outs, start, bases, biases, warms, turn_ons, vibs, trial_ids, key0, key1, c2s, flags,
                              model_flags, white_scale, rw_scale, gm_sigma, gm_c, gm_a, quants, rw_state, gm_state,
                              block, group)
 
 
 @jit
-def _shared_errors_serial(outs, start, bases, biases, warms, turn_ons, vibs, trial_ids, key0, key1, c2s, flags,
+def _sensor_errors_serial(outs, start, bases, biases, warms, turn_ons, vibs, trial_ids, key0, key1, c2s, flags,
                           model_flags, white_scale, rw_scale, gm_sigma, gm_c, gm_a, quants, rw_state, gm_state,
                           block, group):  # pragma: no cover - compiled
-    """:func:`_shared_errors_parallel` on the calling thread."""
+    """:func:`_sensor_errors_parallel` on the calling thread (small work: no OpenMP start-up)."""
     for g in range((outs[0].shape[0] + group - 1) // group):
-        _shared_errors_group(g, outs, start, bases, biases, warms, turn_ons, vibs, trial_ids, key0, key1, c2s, flags,
+        _sensor_errors_group(g, outs, start, bases, biases, warms, turn_ons, vibs, trial_ids, key0, key1, c2s, flags,
                              model_flags, white_scale, rw_scale, gm_sigma, gm_c, gm_a, quants, rw_state, gm_state,
                              block, group)
 
@@ -1063,30 +1003,26 @@ class _SensorStream:
     def _process_numba(self, truth: np.ndarray, time_s: np.ndarray, start: int,
                        out: np.ndarray | None = None) -> np.ndarray:
         """:meth:`process` with the compiled engine: one parallel pass, noise drawn where it is consumed."""
-        out, base, warm, turn_on, vib, flags = self._kernel_args(truth, time_s, out)
-        key = self.key if self.key is not None else (0, 0)
-        kernel = _sensor_errors_parallel if _use_parallel(self.trials, truth.shape[-2]) else _sensor_errors_serial
-        kernel(out, start, base, self.bias, warm, turn_on, vib, self.trial_ids, key[0], key[1], self.c2s,
-               flags, *self._noise_scales(), float(self.e.quantization), self._rw, self._gm, self.block, _TRIAL_GROUP)
-        return out
+        return self.process_shared([self], [truth], time_s, [out], start)[0]
 
     @staticmethod
-    def process_shared(streams: list, truths: list, time_s: np.ndarray, outs: list) -> None:
+    def process_shared(streams: list, truths: list, time_s: np.ndarray, outs: list, start: int = 0) -> list:
         """:meth:`process` (compiled engine) of several streams whose noise is equal (same key, trial ids,
         sensor, sample interval, noise scales and block: the caller checks), the noise drawn once.
 
-        Output ``m`` equals ``streams[m].process(truths[m], time_s, 0, outs[m])`` bit for bit."""
+        Output ``m`` equals ``streams[m].process(truths[m], time_s, start, outs[m])`` bit for bit."""
         first = streams[0]
         args = [s._kernel_args(x, time_s, o) for s, x, o in zip(streams, truths, outs)]
         key = first.key if first.key is not None else (0, 0)
-        kernel = _shared_errors_parallel if _use_parallel(first.trials, time_s.size) else _shared_errors_serial
-        kernel(tuple(a[0] for a in args), 0, tuple(a[1] for a in args), tuple(s.bias for s in streams),
+        kernel = _sensor_errors_parallel if _use_parallel(first.trials, time_s.size) else _sensor_errors_serial
+        kernel(tuple(a[0] for a in args), start, tuple(a[1] for a in args), tuple(s.bias for s in streams),
                tuple(a[2] for a in args), tuple(a[3] for a in args), tuple(a[4] for a in args), first.trial_ids,
                key[0], key[1], first.c2s, first._noise_flags(), np.array([a[5] for a in args], np.int64),
                *first._noise_scales(), np.array([float(s.e.quantization) for s in streams]), first._rw, first._gm,
                first.block, _TRIAL_GROUP)
         for s in streams[1:]:
             s._rw[:], s._gm[:] = first._rw, first._gm
+        return [a[0] for a in args]
 
     def _gauss_markov(self, start: int, stop: int) -> np.ndarray:
         """First-order Gauss–Markov bias ``b_k = a b_{k−1} + √(1−a²) σ w_k``, stationary from k = 0."""
