@@ -225,8 +225,8 @@ def turntable_predictive_kinds(sc, fit: ErrorModelFit, kinds, trials: int, seed:
     if "T1" in tests:
         t1 = run_turntable_jobs_kinds(sc, [jobs[kind]["T1"] for kind in kinds], with_sweeps=True, keep_trace=True,
                                       block=1)
-        for kind, runs in zip(kinds, t1):
-            out[kind]["T1"] = _stack_jobs(runs)
+        for m, kind in enumerate(kinds):        # each kind's per-job runs dropped once stacked (peak: one copy)
+            out[kind]["T1"], t1[m] = _stack_jobs(t1[m]), None
     rest = [t for t in tests if t != "T1"]
     for kind in kinds if rest else ():
         # the sessions of one draw side by side (T2, T3, T4 of draw 0, then of draw 1, …): a draw's gasket

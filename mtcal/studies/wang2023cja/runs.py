@@ -595,7 +595,10 @@ def run_turntable_jobs_kinds(sc: TurntableScenario, kinds_jobs: list, *, with_sw
                            [[m * n + k for m in range(n_kinds)] for k in range(n)])
         for (m, (i, _)), run in zip(items, runs):
             per_job[m][i].append(run)
-    return [[_concat_runs(r) for r in jobs] for jobs in per_job]
+    for jobs in per_job:                         # each job's pieces dropped as soon as joined (peak: one copy)
+        for i, pieces_run in enumerate(jobs):
+            jobs[i] = _concat_runs(pieces_run)
+    return per_job
 
 
 def _job_pieces(sc: TurntableScenario, jobs: list, block: int) -> list:
