@@ -151,8 +151,7 @@ assert not fit.at_bound["position_error_arcsec"]
 
 # %%
 sc = w.turntable_scenario(errors=fit.model, **params)
-runs = {"fitted": predictive.turntable_predictive(sc, fit, "fitted", N_TRIALS, SEED, tests=("T1",)),
-        "prior": predictive.turntable_predictive(sc, fit, "prior", N_TRIALS, SEED, tests=("T1",))}
+runs = predictive.turntable_predictive_kinds(sc, fit, predictive.KINDS, N_TRIALS, SEED, tests=("T1",))
 runs["fitted"].update(predictive.turntable_predictive(sc, fit, "fitted", N_TRAIN_TRIALS, SEED + 1,
                                                       tests=("T2", "T3", "T4")))
 print(f"{N_TRIALS} T1 trials per model, {N_TRAIN_TRIALS} T2–T4 trials")

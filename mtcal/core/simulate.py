@@ -82,7 +82,7 @@ from mtcal.core.validate import (STANDARD_GRAVITY_M_S2, as_float_array, positive
 
 __all__ = ["Trajectory", "SensorErrors", "ImuErrorModel", "ImuRecord", "ImuStream", "body_rates",
            "specific_force", "simulate_imu", "apply_sensor_errors", "integrate_gyro", "tilted_trajectory",
-           "TiltedTrajectories", "GRAVITY_W_M_S2"]
+           "TiltedTrajectories", "GRAVITY_W_M_S2", "fill_streams", "noise_mismatch"]
 
 #: Default world gravity vector, z-up frame (m/s²).
 GRAVITY_W_M_S2 = (0.0, 0.0, -STANDARD_GRAVITY_M_S2)
@@ -693,15 +693,100 @@ def _per_trial_draws(key0, key1, trial_ids, c2, uniform, out):
 
 # ----------------------------------------------------------------------------- compiled engine
 @jit
-def _trial_errors(out, t, tid, start, base, tb, bias, warm, turn_on, vib, key0, key1, c2s, flags, white_scale,
-                  rw_scale, gm_sigma, gm_c, gm_a, quant, rw_state, gm_state, words, normals, rejected, flags8):
-    """One trial of :func:`_sensor_errors_parallel`: the chunk in blocks of ``normals.shape[2]`` samples, each block's
-    normals drawn first (Philox words of a block in one branch-free, vectorised loop, then the ziggurat's fast
-    path, also vectorised, and the ~1 % rejections), the random walk and Gauss–Markov recursions run over the
-    block with the three axes' states in registers (overwriting their normals), then every error term applied in
-    the reference's order. Indices are unsigned (no negative-index wraparound per access)."""
-    n = out.shape[1]
-    stop = start + n
+def _block_noise(tid, k, b0, b1, stop, key0, key1, c2s, flags, rw_scale, gm_sigma, gm_c, gm_a, walk, y, words,
+                 normals, rejected, flags8):  # pragma: no cover - compiled
+    """The noise of one block (global samples ``k … min(b1, stop)``, pairs from ``b0``) of trial id ``tid`` into
+    ``normals`` (3, 3, block): the Philox words of each enabled source and axis in one branch-free, vectorised
+    loop, the ziggurat's fast path (also vectorised) and the ~1 % rejections; then the random walk (state
+    ``walk``) and the Gauss–Markov recursion (state ``y``) over the block, three axes side by side in
+    registers, overwriting their normals. Indices are unsigned (no negative-index wraparound per access)."""
+    m0 = np.uint64(b0 // 2)
+    npairs = (b1 - b0) // 2
+    hi = min(b1, stop)
+    for s in range(3):
+        if flags & (4 << s):
+            for j in range(3):
+                c2 = np.uint64(c2s[s, j])
+                for p in range(npairs):            # branch-free: vectorised across sample pairs
+                    wa, wb = philox.philox_words(m0 + np.uint64(p), np.uint64(tid), c2, np.uint64(0),
+                                                 np.uint64(key0), np.uint64(key1))
+                    words[2 * p] = wa                  # sample order: lane 0, lane 1 of each pair
+                    words[2 * p + 1] = wb
+                for q in range(k - b0, hi - b0):   # ziggurat fast path, branch-free: vectorised (gathers)
+                    r = words[q]
+                    idx = r & _UFF
+                    r8 = r >> _U8
+                    rabs = (r8 >> _U1) & _MASK52
+                    sign = 1.0 - 2.0 * np.float64(np.int64(r8 & _U1))   # ±1: x · sign == ±x exactly,
+                    normals[s, j, q] = np.float64(np.int64(rabs)) * _WI[idx] * sign   # without a branch
+                    rejected[q] = rabs >= _KI[idx]
+                for w8 in range((k - b0) // 8, (hi - b0 + 7) // 8):   # ~1 % rejected: 8 flags per test
+                    if flags8[w8]:
+                        for q in range(max(8 * w8, k - b0), min(8 * w8 + 8, hi - b0)):
+                            if rejected[q]:            # continue on the word's rejection stream
+                                normals[s, j, q] = philox._zig_slow(words[q], m0 + np.uint64(q // 2),
+                                                                    np.uint64(tid), c2, np.uint64(q & 1),
+                                                                    np.uint64(key0), np.uint64(key1))
+    if flags & 8:             # random-walk values over the block in place of their normals (np.cumsum, continued)
+        va, vb, vc = walk[0], walk[1], walk[2]
+        for q in range(k - b0, hi - b0):
+            va = va + normals[1, 0, q] * rw_scale
+            vb = vb + normals[1, 1, q] * rw_scale
+            vc = vc + normals[1, 2, q] * rw_scale
+            normals[1, 0, q], normals[1, 1, q], normals[1, 2, q] = va, vb, vc
+        walk[0], walk[1], walk[2] = va, vb, vc
+    if flags & 16:            # Gauss–Markov outputs over the block in place of their normals, three axes
+        ya, yb, yc = y[0], y[1], y[2]                 # side by side in registers (lfilter: y = c w + a y_prev)
+        for q in range(k - b0, hi - b0):
+            wa = normals[2, 0, q] * gm_sigma
+            wb = normals[2, 1, q] * gm_sigma
+            wc = normals[2, 2, q] * gm_sigma
+            if b0 + q == 0:                           # stationary start: y_0 = σ n_0
+                wa, wb, wc = wa / gm_c, wb / gm_c, wc / gm_c
+            ya = gm_a * ya + gm_c * wa
+            yb = gm_a * yb + gm_c * wb
+            yc = gm_a * yc + gm_c * wc
+            normals[2, 0, q], normals[2, 1, q], normals[2, 2, q] = ya, yb, yc
+        y[0], y[1], y[2] = ya, yb, yc
+
+
+@jit
+def _block_apply(out, t, k, b0, hi, start, base, tb, bias, warm, turn_on, vib, flags, white_scale, quant,
+                 normals):  # pragma: no cover - compiled
+    """Measurements ``out[t]`` of global samples ``k … hi`` from the block's noise (:func:`_block_noise`):
+    every error term added in the reference's order, then the quantisation."""
+    for kk in range(k, hi):
+        q = np.uint64(kk - b0)                        # unsigned: no negative-index wraparound per access
+        i = np.uint64(kk - start)
+        for j in range(3):                             # three independent recursions side by side
+            x = base[tb, i, j] + bias[j]
+            if flags & 1:
+                x = x + warm[i, j]
+            if flags & 2:
+                x = x + turn_on[t, j]
+            if flags & 4:
+                x = x + white_scale * normals[0, j, q]
+            if flags & 8:                              # random-walk value of this sample (_block_noise)
+                x = x + normals[1, j, q]
+            if flags & 16:                             # Gauss–Markov output of this sample (_block_noise)
+                x = x + normals[2, j, q]
+            if flags & 32:
+                x = x + vib[t, i, j]
+            if flags & 64:
+                x = np.rint(x / quant) * quant
+            out[t, i, j] = x
+
+
+@jit
+def _trial_errors(outs, t, tid, start, bases, tbs, biases, warms, turn_ons, vibs, key0, key1, c2s, flags,
+                  model_flags, white_scale, rw_scale, gm_sigma, gm_c, gm_a, quants, rw_state, gm_state, words,
+                  normals, rejected, flags8):  # pragma: no cover - compiled
+    """One trial of :func:`_sensor_errors_parallel` for K error models sharing their noise: the chunk in blocks of
+    ``normals.shape[2]`` samples, each block's noise drawn once (:func:`_block_noise`, source flags ``flags``),
+    then every error term of each model ``m`` (its own ``outs[m]``, base, bias, warm-up, turn-on bias,
+    vibration, flags ``model_flags[m]`` and quantisation) applied in the reference's order
+    (:func:`_block_apply`): output ``m`` is the one of model ``m`` alone, bit for bit."""
+    stop = start + outs[0].shape[1]
     block = normals.shape[2]
     y = np.empty(3)
     walk = np.empty(3)
@@ -712,74 +797,12 @@ def _trial_errors(out, t, tid, start, base, tb, bias, warm, turn_on, vib, key0, 
     while k < stop:
         b0 = k - (k & 1)                                  # blocks start on a sample pair
         b1 = min(b0 + block, stop + (stop & 1))
-        m0 = np.uint64(b0 // 2)
-        npairs = (b1 - b0) // 2
         hi = min(b1, stop)
-        for s in range(3):
-            if flags & (4 << s):
-                for j in range(3):
-                    c2 = np.uint64(c2s[s, j])
-                    for p in range(npairs):            # branch-free: vectorised across sample pairs
-                        wa, wb = philox.philox_words(m0 + np.uint64(p), np.uint64(tid), c2, np.uint64(0),
-                                                     np.uint64(key0), np.uint64(key1))
-                        words[2 * p] = wa                  # sample order: lane 0, lane 1 of each pair
-                        words[2 * p + 1] = wb
-                    for q in range(k - b0, hi - b0):   # ziggurat fast path, branch-free: vectorised (gathers)
-                        r = words[q]
-                        idx = r & _UFF
-                        r8 = r >> _U8
-                        rabs = (r8 >> _U1) & _MASK52
-                        sign = 1.0 - 2.0 * np.float64(np.int64(r8 & _U1))   # ±1: x · sign == ±x exactly,
-                        normals[s, j, q] = np.float64(np.int64(rabs)) * _WI[idx] * sign   # without a branch
-                        rejected[q] = rabs >= _KI[idx]
-                    for w8 in range((k - b0) // 8, (hi - b0 + 7) // 8):   # ~1 % rejected: 8 flags per test
-                        if flags8[w8]:
-                            for q in range(max(8 * w8, k - b0), min(8 * w8 + 8, hi - b0)):
-                                if rejected[q]:            # continue on the word's rejection stream
-                                    normals[s, j, q] = philox._zig_slow(words[q], m0 + np.uint64(q // 2),
-                                                                        np.uint64(tid), c2, np.uint64(q & 1),
-                                                                        np.uint64(key0), np.uint64(key1))
-        if flags & 8:             # random-walk values over the block in place of their normals (np.cumsum, continued)
-            va, vb, vc = walk[0], walk[1], walk[2]
-            for q in range(k - b0, hi - b0):
-                va = va + normals[1, 0, q] * rw_scale
-                vb = vb + normals[1, 1, q] * rw_scale
-                vc = vc + normals[1, 2, q] * rw_scale
-                normals[1, 0, q], normals[1, 1, q], normals[1, 2, q] = va, vb, vc
-            walk[0], walk[1], walk[2] = va, vb, vc
-        if flags & 16:            # Gauss–Markov outputs over the block in place of their normals, three axes
-            ya, yb, yc = y[0], y[1], y[2]                 # side by side in registers (lfilter: y = c w + a y_prev)
-            for q in range(k - b0, hi - b0):
-                wa = normals[2, 0, q] * gm_sigma
-                wb = normals[2, 1, q] * gm_sigma
-                wc = normals[2, 2, q] * gm_sigma
-                if b0 + q == 0:                           # stationary start: y_0 = σ n_0
-                    wa, wb, wc = wa / gm_c, wb / gm_c, wc / gm_c
-                ya = gm_a * ya + gm_c * wa
-                yb = gm_a * yb + gm_c * wb
-                yc = gm_a * yc + gm_c * wc
-                normals[2, 0, q], normals[2, 1, q], normals[2, 2, q] = ya, yb, yc
-            y[0], y[1], y[2] = ya, yb, yc
-        for kk in range(k, hi):
-            q = np.uint64(kk - b0)                        # unsigned: no negative-index wraparound per access
-            i = np.uint64(kk - start)
-            for j in range(3):                             # three independent recursions side by side
-                x = base[tb, i, j] + bias[j]
-                if flags & 1:
-                    x = x + warm[i, j]
-                if flags & 2:
-                    x = x + turn_on[t, j]
-                if flags & 4:
-                    x = x + white_scale * normals[0, j, q]
-                if flags & 8:                              # random-walk value of this sample (above)
-                    x = x + normals[1, j, q]
-                if flags & 16:                             # Gauss–Markov output of this sample (above)
-                    x = x + normals[2, j, q]
-                if flags & 32:
-                    x = x + vib[t, i, j]
-                if flags & 64:
-                    x = np.rint(x / quant) * quant
-                out[t, i, j] = x
+        _block_noise(tid, k, b0, b1, stop, key0, key1, c2s, flags, rw_scale, gm_sigma, gm_c, gm_a, walk, y, words,
+                     normals, rejected, flags8)
+        for m in range(len(outs)):
+            _block_apply(outs[m], t, k, b0, hi, start, bases[m], tbs[m], biases[m], warms[m], turn_ons[m], vibs[m],
+                         model_flags[m], white_scale, quants[m], normals)
         k = hi
     for j in range(3):
         rw_state[t, j] = walk[j]
@@ -787,38 +810,49 @@ def _trial_errors(out, t, tid, start, base, tb, bias, warm, turn_on, vib, key0, 
 
 
 @jit
-def _sensor_errors_group(g, out, start, base, bias, warm, turn_on, vib, trial_ids, key0, key1, c2s, flags,
-                         white_scale, rw_scale, gm_sigma, gm_c, gm_a, quant, rw_state, gm_state, block, group):
+def _sensor_errors_group(g, outs, start, bases, biases, warms, turn_ons, vibs, trial_ids, key0, key1, c2s, flags,
+                         model_flags, white_scale, rw_scale, gm_sigma, gm_c, gm_a, quants, rw_state, gm_state, block,
+                         group):  # pragma: no cover - compiled
     """Trials ``g·group … (g+1)·group`` of :func:`_sensor_errors_parallel`, sharing one scratch buffer."""
-    trials = out.shape[0]
-    per_trial_base = base.shape[0] > 1
+    trials = outs[0].shape[0]
+    per_trial_base = np.empty(len(bases), np.int64)
+    tbs = np.zeros(len(bases), np.int64)
+    for m in range(len(bases)):
+        per_trial_base[m] = bases[m].shape[0] > 1
     words = np.empty(block, np.uint64)
     rejected = np.zeros(8 * (block // 8 + 1), np.uint8)   # rejection flags, read 8 at a time through flags8
     flags8 = rejected.view(np.uint64)
     normals = np.empty((3, 3, block))
     for t in range(g * group, min((g + 1) * group, trials)):
-        _trial_errors(out, t, trial_ids[t], start, base, t if per_trial_base else 0, bias, warm, turn_on, vib,
-                      key0, key1, c2s, flags, white_scale, rw_scale, gm_sigma, gm_c, gm_a, quant, rw_state,
-                      gm_state, words, normals, rejected, flags8)
+        for m in range(len(bases)):
+            tbs[m] = t if per_trial_base[m] else 0
+        _trial_errors(outs, t, trial_ids[t], start, bases, tbs, biases, warms, turn_ons, vibs, key0, key1, c2s, flags,
+                      model_flags, white_scale, rw_scale, gm_sigma, gm_c, gm_a, quants, rw_state, gm_state, words,
+                      normals, rejected, flags8)
 
 
 @jit(parallel=True)
-def _sensor_errors_parallel(out, start, base, bias, warm, turn_on, vib, trial_ids, key0, key1, c2s, flags,
-                            white_scale, rw_scale, gm_sigma, gm_c, gm_a, quant, rw_state, gm_state, block, group):
-    """Measurements ``out`` (T, n, 3) of global samples ``start … start+n``, groups of trials in parallel.
-    Each trial's numbers are a function of its id only, so the thread count does not change them."""
-    for g in prange((out.shape[0] + group - 1) // group):
-        _sensor_errors_group(g, out, start, base, bias, warm, turn_on, vib, trial_ids, key0, key1, c2s, flags,
-                             white_scale, rw_scale, gm_sigma, gm_c, gm_a, quant, rw_state, gm_state, block, group)
+def _sensor_errors_parallel(outs, start, bases, biases, warms, turn_ons, vibs, trial_ids, key0, key1, c2s, flags,
+                            model_flags, white_scale, rw_scale, gm_sigma, gm_c, gm_a, quants, rw_state, gm_state,
+                            block, group):  # pragma: no cover - compiled
+    """Measurements ``outs[m]`` (T, n, 3) of K error models sharing their noise (:func:`_trial_errors`), global
+    samples ``start … start+n``, groups of trials in parallel. Each trial's numbers are a function of its id
+    only, so the thread count does not change them."""
+    for g in prange((outs[0].shape[0] + group - 1) // group):
+        _sensor_errors_group(g, outs, start, bases, biases, warms, turn_ons, vibs, trial_ids, key0, key1, c2s, flags,
+                             model_flags, white_scale, rw_scale, gm_sigma, gm_c, gm_a, quants, rw_state, gm_state,
+                             block, group)
 
 
 @jit
-def _sensor_errors_serial(out, start, base, bias, warm, turn_on, vib, trial_ids, key0, key1, c2s, flags,
-                          white_scale, rw_scale, gm_sigma, gm_c, gm_a, quant, rw_state, gm_state, block, group):
+def _sensor_errors_serial(outs, start, bases, biases, warms, turn_ons, vibs, trial_ids, key0, key1, c2s, flags,
+                          model_flags, white_scale, rw_scale, gm_sigma, gm_c, gm_a, quants, rw_state, gm_state,
+                          block, group):  # pragma: no cover - compiled
     """:func:`_sensor_errors_parallel` on the calling thread (small work: no OpenMP start-up)."""
-    for g in range((out.shape[0] + group - 1) // group):
-        _sensor_errors_group(g, out, start, base, bias, warm, turn_on, vib, trial_ids, key0, key1, c2s, flags,
-                             white_scale, rw_scale, gm_sigma, gm_c, gm_a, quant, rw_state, gm_state, block, group)
+    for g in range((outs[0].shape[0] + group - 1) // group):
+        _sensor_errors_group(g, outs, start, bases, biases, warms, turn_ons, vibs, trial_ids, key0, key1, c2s, flags,
+                             model_flags, white_scale, rw_scale, gm_sigma, gm_c, gm_a, quants, rw_state, gm_state,
+                             block, group)
 
 
 #: Trial-samples of a chunk from which the trial-parallel kernel is used (as the filters'
@@ -933,9 +967,8 @@ class _SensorStream:
             out *= e.quantization
         return out
 
-    def _process_numba(self, truth: np.ndarray, time_s: np.ndarray, start: int,
-                       out: np.ndarray | None = None) -> np.ndarray:
-        """:meth:`process` with the compiled engine: one parallel pass, noise drawn where it is consumed."""
+    def _kernel_args(self, truth: np.ndarray, time_s: np.ndarray, out: np.ndarray | None):
+        """``(out, base, warm, turn_on, vib, flags)`` of the compiled kernel for truth samples (n, 3) or (T, n, 3)."""
         e, n = self.e, truth.shape[-2]
         out = np.empty((self.trials, n, 3)) if out is None else out
         base = truth @ self.matrix_t          # same product as the reference
@@ -947,21 +980,49 @@ class _SensorStream:
             warm, flags = np.ascontiguousarray(_warmup_decay(time_s, self.t_on, e.warmup_tau_s)[:, None] * self.warm), 1
         turn_on = none2 if self.turn_on is None else np.ascontiguousarray(self.turn_on[:, 0, :])
         flags |= 0 if self.turn_on is None else 2
-        flags |= (4 if e.noise_density else 0) | (8 if e.bias_random_walk else 0) | (16 if e.bias_instability else 0)
+        flags |= self._noise_flags()
         vib = none3
         if self.phase is not None:
             vib = np.ascontiguousarray(self.vib * np.sin(2 * np.pi * e.vibration_freq_hz * time_s[None, :, None]
                                                          + self.phase))
             flags |= 32
         flags |= 64 if e.quantization else 0
-        key = self.key if self.key is not None else (0, 0)
-        gm_a = float(self.gm_a)
-        kernel = _sensor_errors_parallel if _use_parallel(self.trials, n) else _sensor_errors_serial
-        kernel(out, start, base, self.bias, warm, turn_on, vib, self.trial_ids, key[0], key[1], self.c2s,
-                       flags, float(e.noise_density / np.sqrt(self.dt)), float(e.bias_random_walk * np.sqrt(self.dt)),
-                       float(e.bias_instability), float(np.sqrt(1.0 - gm_a * gm_a)), gm_a, float(e.quantization),
-                       self._rw, self._gm, self.block, _TRIAL_GROUP)
-        return out
+        return out, base, warm, turn_on, vib, flags
+
+    def _noise_flags(self) -> int:
+        """Kernel flags of the per-sample noise sources switched on (white 4, random walk 8, instability 16)."""
+        e = self.e
+        return (4 if e.noise_density else 0) | (8 if e.bias_random_walk else 0) | (16 if e.bias_instability else 0)
+
+    def _noise_scales(self) -> tuple[float, float, float, float, float]:
+        """``(white_scale, rw_scale, gm_sigma, gm_c, gm_a)`` of the compiled kernel."""
+        e, gm_a = self.e, float(self.gm_a)
+        return (float(e.noise_density / np.sqrt(self.dt)), float(e.bias_random_walk * np.sqrt(self.dt)),
+                float(e.bias_instability), float(np.sqrt(1.0 - gm_a * gm_a)), gm_a)
+
+    def _process_numba(self, truth: np.ndarray, time_s: np.ndarray, start: int,
+                       out: np.ndarray | None = None) -> np.ndarray:
+        """:meth:`process` with the compiled engine: one parallel pass, noise drawn where it is consumed."""
+        return self.process_shared([self], [truth], time_s, [out], start)[0]
+
+    @staticmethod
+    def process_shared(streams: list, truths: list, time_s: np.ndarray, outs: list, start: int = 0) -> list:
+        """:meth:`process` (compiled engine) of several streams whose noise is equal (same key, trial ids,
+        sensor, sample interval, noise scales and block: the caller checks), the noise drawn once.
+
+        Output ``m`` equals ``streams[m].process(truths[m], time_s, start, outs[m])`` bit for bit."""
+        first = streams[0]
+        args = [s._kernel_args(x, time_s, o) for s, x, o in zip(streams, truths, outs)]
+        key = first.key if first.key is not None else (0, 0)
+        kernel = _sensor_errors_parallel if _use_parallel(first.trials, time_s.size) else _sensor_errors_serial
+        kernel(tuple(a[0] for a in args), start, tuple(a[1] for a in args), tuple(s.bias for s in streams),
+               tuple(a[2] for a in args), tuple(a[3] for a in args), tuple(a[4] for a in args), first.trial_ids,
+               key[0], key[1], first.c2s, first._noise_flags(), np.array([a[5] for a in args], np.int64),
+               *first._noise_scales(), np.array([float(s.e.quantization) for s in streams]), first._rw, first._gm,
+               first.block, _TRIAL_GROUP)
+        for s in streams[1:]:
+            s._rw[:], s._gm[:] = first._rw, first._gm
+        return [a[0] for a in args]
 
     def _gauss_markov(self, start: int, stop: int) -> np.ndarray:
         """First-order Gauss–Markov bias ``b_k = a b_{k−1} + √(1−a²) σ w_k``, stationary from k = 0."""
@@ -1084,18 +1145,22 @@ class ImuStream:
         >>> a[0, 0].round(5).tolist()
         [0.0, 0.0, 9.80665]
         """
-        n = len(self.trajectory)
-        for name, arr in (("gyro_out", gyro_out), ("accel_out", accel_out)):
-            if (not isinstance(arr, np.ndarray) or arr.dtype != np.float64 or arr.shape != (self.trials, n, 3)
-                    or not arr.flags.c_contiguous or not arr.flags.writeable):
-                raise ValueError(f"{name} must be a writeable C-contiguous float64 array of shape "
-                                 f"{(self.trials, n, 3)}, got {getattr(arr, 'dtype', None)} {getattr(arr, 'shape', None)}")
-        if self._next != 0:
-            raise ValueError("fill() and chunks() can run once per ImuStream (the noise states advance)")
-        self._next = n
+        self._check_fill(gyro_out, accel_out)
+        self._next = n = len(self.trajectory)
         t = self.trajectory.time_s
         self._gyro.process(self.gyro_true, t, 0, gyro_out)
         self._accel.process(self.accel_true, t, 0, accel_out)
+
+    def _check_fill(self, gyro_out, accel_out, name: str = "") -> None:
+        """Refuse outputs :meth:`fill` cannot write, or a stream that already ran."""
+        n = len(self.trajectory)
+        for label, arr in (("gyro_out", gyro_out), ("accel_out", accel_out)):
+            if (not isinstance(arr, np.ndarray) or arr.dtype != np.float64 or arr.shape != (self.trials, n, 3)
+                    or not arr.flags.c_contiguous or not arr.flags.writeable):
+                raise ValueError(f"{name}{label} must be a writeable C-contiguous float64 array of shape "
+                                 f"{(self.trials, n, 3)}, got {getattr(arr, 'dtype', None)} {getattr(arr, 'shape', None)}")
+        if self._next != 0:
+            raise ValueError(f"{name}fill() and chunks() can run once per ImuStream (the noise states advance)")
 
     def chunks(self, chunk_samples: int):
         """Yield consecutive :class:`ImuRecord` chunks of ``chunk_samples`` samples."""
@@ -1118,6 +1183,114 @@ class ImuStream:
             del gyro, accel
             yield record
             del record
+
+
+#: Fields of a triad's :class:`SensorErrors` that set its per-sample noise (equal in streams that share it).
+_NOISE_FIELDS = ("noise_density", "bias_random_walk", "bias_instability", "bias_instability_tau_s")
+
+
+def noise_mismatch(stream: ImuStream, other: ImuStream) -> str | None:
+    """Why two :class:`ImuStream` do not draw the same noise (:func:`fill_streams`), or None when they do.
+
+    Parameters
+    ----------
+    stream, other : ImuStream
+
+    Returns
+    -------
+    str or None
+        e.g. ``"has another generator key"``; None when key, trial ids, time samples, engine, block size
+        and each triad's :data:`_NOISE_FIELDS` are equal.
+
+    Examples
+    --------
+    >>> t = np.arange(0, 1, 0.01)
+    >>> traj = Trajectory(t, np.tile([1.0, 0, 0, 0], (t.size, 1)))
+    >>> noise_mismatch(ImuStream(traj, trials=2), ImuStream(traj, trials=3))
+    'has other trial ids'
+    """
+    if other._gyro.key != stream._gyro.key:
+        return "draws from another generator key"
+    if not np.array_equal(other.trial_ids, stream.trial_ids):
+        return "has other trial ids"
+    t, t0 = other.trajectory.time_s, stream.trajectory.time_s
+    if not (t is t0 or (t.shape == t0.shape and np.array_equal(t, t0))):
+        return "has another time base"
+    if (other._gyro.engine, other._gyro.block) != (stream._gyro.engine, stream._gyro.block):
+        return "has another engine or block size"
+    for sensor in ("gyro", "accel"):
+        for name in _NOISE_FIELDS:
+            a, b = getattr(getattr(other.model, sensor), name), getattr(getattr(stream.model, sensor), name)
+            if a != b:
+                return f"has {sensor}.{name} = {a!r}, not {b!r} (the noise scales must be equal)"
+    return None
+
+
+def fill_streams(streams, outputs) -> None:
+    """:meth:`ImuStream.fill` of several streams that draw the same noise, the noise drawn once.
+
+    Streams on the same generator key, trial ids and time base whose triads have the same noise
+    scales (white-noise density, bias random walk, bias instability and its correlation time) draw
+    the same white, random-walk and Gauss–Markov numbers; they may differ in everything else (truth
+    trajectory, mounting, scale factor, misalignment, constant, turn-on and warm-up bias, vibration,
+    quantisation, time since power-on). The compiled kernel draws each block's noise once and
+    applies it to every stream in the order of :meth:`ImuStream.fill`: ``outputs[m]`` equals
+    ``streams[m].fill(*outputs[m])`` bit for bit (the numpy engine fills stream by stream).
+
+    Parameters
+    ----------
+    streams : sequence of ImuStream
+        Fresh streams (not yet filled or chunked) with equal key, trial ids, time samples, engine,
+        block size and, per triad, the :data:`_NOISE_FIELDS`.
+    outputs : sequence of (gyro_out, accel_out)
+        Per stream, C-contiguous float64 arrays (T, N, 3) (rad/s, m/s²), as for :meth:`ImuStream.fill`.
+
+    Raises
+    ------
+    ValueError
+        When the streams do not share their noise (naming what differs) or an output is unusable.
+
+    Examples
+    --------
+    >>> from dataclasses import replace
+    >>> from mtcal.core.rng import stream_rng
+    >>> t = np.arange(0, 1, 0.01)
+    >>> traj = Trajectory(t, np.tile([1.0, 0, 0, 0], (t.size, 1)))
+    >>> noisy = SensorErrors(noise_density=1e-3)
+    >>> a_model = ImuErrorModel(gyro=noisy, accel=noisy)
+    >>> b_model = ImuErrorModel(gyro=replace(noisy, bias=1e-3), accel=noisy)
+    >>> outs = [(np.empty((2, t.size, 3)), np.empty((2, t.size, 3))) for _ in range(2)]
+    >>> fill_streams([ImuStream(traj, m, stream_rng(1, 0), trials=2) for m in (a_model, b_model)], outs)
+    >>> g, a = np.empty((2, t.size, 3)), np.empty((2, t.size, 3))
+    >>> ImuStream(traj, b_model, stream_rng(1, 0), trials=2).fill(g, a)
+    >>> bool(np.array_equal(outs[1][0], g) and np.array_equal(outs[1][1], a))
+    True
+    """
+    streams, outputs = list(streams), list(outputs)
+    if not streams or len(outputs) != len(streams):
+        raise ValueError(f"streams and outputs must be non-empty and of equal length, got {len(streams)} and "
+                         f"{len(outputs)}")
+    for i, (stream, out) in enumerate(zip(streams, outputs)):
+        if not isinstance(stream, ImuStream):
+            raise TypeError(f"streams[{i}] must be an ImuStream, got {type(stream).__name__}")
+        if not (isinstance(out, (tuple, list)) and len(out) == 2):
+            raise ValueError(f"outputs[{i}] must be a pair (gyro_out, accel_out)")
+        stream._check_fill(*out, name=f"streams[{i}]: ")
+    first = streams[0]
+    for i, stream in enumerate(streams[1:], 1):
+        reason = noise_mismatch(first, stream)
+        if reason is not None:
+            raise ValueError(f"streams[{i}] {reason} than streams[0]: no shared noise")
+    if len(streams) == 1 or first._gyro.engine != "numba":
+        for stream, out in zip(streams, outputs):
+            stream.fill(*out)
+        return
+    for stream in streams:
+        stream._next = len(stream.trajectory)
+    t = first.trajectory.time_s
+    for sensor, truth, k in (("_gyro", "gyro_true", 0), ("_accel", "accel_true", 1)):
+        _SensorStream.process_shared([getattr(s, sensor) for s in streams], [getattr(s, truth) for s in streams], t,
+                                     [out[k] for out in outputs])
 
 
 class _BufferPool:

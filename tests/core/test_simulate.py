@@ -500,3 +500,93 @@ def test_tilted_trajectories_check_once_and_give_tilted_trajectory_bit_for_bit()
         simulate.TiltedTrajectories(np.r_[t[:-1], t[-1] + 0.5], q_base, axis)
     with pytest.raises(ValueError, match="gravity_w_m_s2"):
         simulate.TiltedTrajectories(t, q_base, axis, gravity_w_m_s2=(0.0, -9.8))
+
+
+def _shared_models():
+    """Error models that share their noise scales and differ in everything else (sources on/off per model)."""
+    from dataclasses import replace
+
+    gyro = _EVERY_SOURCE
+    accel = SensorErrors(noise_density=1e-3, bias_random_walk=1e-4, bias_instability=1e-4, quantization=1e-4)
+    return [ImuErrorModel(gyro=gyro, accel=accel, time_since_power_on_s=1.0),
+            ImuErrorModel(gyro=replace(gyro, bias_sigma=0.0, warmup_bias=0.0, vibration_amplitude=0.0,
+                                       quantization=0.0, scale_factor=0.0), accel=replace(accel, bias=0.2),
+                          q_mount=(np.cos(0.1), 0.0, np.sin(0.1), 0.0)),
+            ImuErrorModel(gyro=replace(gyro, bias_sigma=3e-4, bias=0.0), accel=replace(accel, quantization=0.0,
+                                                                                    bias_sigma=0.01))]
+
+
+def _separate_and_shared(trajs, models, trials, block=256, **kw):
+    n = len(trajs[0])
+    fresh = lambda: [simulate.ImuStream(tr, m, np.random.default_rng(5), trials=trials, block_samples=block, **kw)  # noqa: E731
+                     for tr, m in zip(trajs, models)]
+    separate, shared = [], [(np.empty((trials, n, 3)), np.empty((trials, n, 3))) for _ in models]
+    for stream in fresh():
+        out = (np.empty((trials, n, 3)), np.empty((trials, n, 3)))
+        stream.fill(*out)
+        separate.append(out)
+    simulate.fill_streams(fresh(), shared)
+    return separate, shared
+
+
+@pytest.mark.parametrize("min_work", [0, 10 ** 12])     # always / never the trial-parallel kernel
+@pytest.mark.parametrize("block", [8, 256])
+def test_fill_streams_equals_separate_fills_bit_for_bit(monkeypatch, turntable, min_work, block):
+    """Streams on one key with equal noise scales: the shared fill (noise drawn once) writes each stream's
+    own numbers: every source on in one model, several off in another, other truth, mount and biases; trials
+    across more than 8 groups of the parallel kernel, an odd record length, kernel blocks of 8 and 256."""
+    monkeypatch.setattr(simulate, "PARALLEL_MIN_WORK", min_work)
+    n = len(turntable) - 1                      # odd
+    t = turntable.time_s[:n]
+    other = Trajectory(t, rotations.hamilton(turntable.q_wb[:n], np.array([np.cos(0.2), np.sin(0.2), 0.0, 0.0])))
+    trajs = [Trajectory(t, turntable.q_wb[:n]), other, other]
+    separate, shared = _separate_and_shared(trajs, _shared_models(), 67, block)
+    for (g, a), (g_s, a_s) in zip(separate, shared):
+        np.testing.assert_array_equal(g, g_s)
+        np.testing.assert_array_equal(a, a_s)
+    assert not np.array_equal(separate[0][0], separate[2][0])   # the models do differ
+
+
+def test_fill_streams_numpy_engine_and_one_stream():
+    traj = _static(301, 100.0)
+    for models in (_shared_models(), _shared_models()[:1]):
+        for engine in ("numba", "numpy"):
+            separate, shared = _separate_and_shared([traj] * len(models), models, 3, engine=engine)
+            for x, y in zip(separate, shared):
+                np.testing.assert_array_equal(x[0], y[0])
+                np.testing.assert_array_equal(x[1], y[1])
+
+
+def test_fill_streams_refuses_streams_without_shared_noise():
+    from dataclasses import replace
+
+    traj = _static(200, 100.0)
+    m0, m1 = _shared_models()[:2]
+    out = lambda trials=4, n=200: (np.empty((trials, n, 3)), np.empty((trials, n, 3)))  # noqa: E731
+    stream = lambda m=m0, rng=1, trajectory=traj, **kw: simulate.ImuStream(  # noqa: E731
+        trajectory, m, np.random.default_rng(rng), **({"trials": 4} | kw))
+    cases = [
+        ([stream(), stream(m1, rng=2)], "another generator key"),
+        ([stream(), stream(m1, trial_ids=[0, 1, 2, 5])], "other trial ids"),
+        ([stream(), stream(m1, trajectory=_static(200, 50.0))], "another time base"),
+        ([stream(), stream(m1, block_samples=64)], "another engine or block size"),
+        ([stream(), stream(replace(m1, accel=replace(m1.accel, noise_density=2e-3)))],
+         r"accel\.noise_density = 0\.002, not 0\.001"),
+        ([stream(), stream(replace(m1, gyro=replace(m1.gyro, bias_instability_tau_s=5.0)))],
+         r"gyro\.bias_instability_tau_s"),
+    ]
+    for streams, match in cases:
+        with pytest.raises(ValueError, match=match):
+            simulate.fill_streams(streams, [out(), out()])
+    with pytest.raises(ValueError, match="non-empty and of equal length"):
+        simulate.fill_streams([stream()], [out(), out()])
+    with pytest.raises(TypeError, match=r"streams\[1\] must be an ImuStream"):
+        simulate.fill_streams([stream(), "x"], [out(), out()])
+    with pytest.raises(ValueError, match=r"outputs\[0\] must be a pair"):
+        simulate.fill_streams([stream()], [out()[0]])
+    with pytest.raises(ValueError, match=r"streams\[1\]: accel_out must be a writeable"):
+        simulate.fill_streams([stream(), stream(m1)], [out(), (out()[0], np.empty((4, 199, 3)))])
+    used = stream()
+    used.fill(*out())
+    with pytest.raises(ValueError, match=r"streams\[0\]: fill\(\) and chunks\(\) can run once"):
+        simulate.fill_streams([used, stream(m1)], [out(), out()])

@@ -260,10 +260,19 @@ def test_windtunnel_kinds_side_by_side_equal_separate_runs_and_share_the_vibrati
         return out
 
     monkeypatch.setattr(runs, "_vibration_accel", spy)
+    filled, fill = [], runs.fill_streams
+
+    def fill_spy(streams, outputs):
+        filled.append(len(streams))
+        return fill(streams, outputs)
+
+    monkeypatch.setattr(runs, "fill_streams", fill_spy)
     joint = predictive.windtunnel_predictive_kinds(make, fit, predictive.KINDS, 3, 4, per_draw=2)
     assert list(joint) == list(predictive.KINDS)
     # 2 draws × 5 groups: the fitted run computes, the prior run reuses; each kind's trace re-run computes its 5
     assert reused.count(True) == 10 and reused.count(False) == 20
+    # 2 draws × (wind off + 5 groups): both kinds' records from one noise draw; the traces' re-runs alone
+    assert filled == [2] * 12 + [1] * 12
     for kind in predictive.KINDS:
         arrays = _arrays(joint[kind], kind)
         assert sorted(arrays) == sorted(separate[kind])
@@ -297,7 +306,7 @@ def test_sweeps_of_stacked_pieces_equal_the_sweeps_piece_by_piece(fast_sc, monke
     sc = replace(fast_sc, errors=fit.model)
     grouped = _arrays(predictive.turntable_predictive(sc, fit, "fitted", 5, 3, tests=("T1",)), "tt")
     assert runs._sweep_groups([("T1", (), None, 1, None, sc)] * 5, [0, 1, 2, 3, 4, 5], 1) == [[0, 1, 2, 3, 4]]
-    monkeypatch.setattr(runs, "_sweep_groups", lambda pieces, starts, parts: [[i] for i in range(len(pieces))])
+    monkeypatch.setattr(runs, "_sweep_groups", lambda pieces, starts, parts, traced=(): [[i] for i in range(len(pieces))])
     single = _arrays(predictive.turntable_predictive(sc, fit, "fitted", 5, 3, tests=("T1",)), "tt")
     assert sorted(grouped) == sorted(single)
     assert [k for k in grouped if not np.array_equal(grouped[k], single[k], equal_nan=True)] == []
@@ -311,6 +320,7 @@ def test_sweep_groups_split_on_settings_and_balance_trials(fast_sc):
     starts = list(range(0, 14, 2))
     assert runs._sweep_groups(pieces, starts, 2) == [[0, 1, 2], [3], [4, 5]]
     assert runs._sweep_groups(pieces, starts, 1) == [[0, 1, 2, 3], [4, 5]]
+    assert runs._sweep_groups(pieces, starts, 1, {0, 2}) == [[0, 1], [2, 3], [4, 5]]   # a traced piece leads
     assert sum(runs._sweep_groups(pieces, starts, 8), []) == list(range(6))
 
 
@@ -412,3 +422,62 @@ def test_windtunnel_session_holds_the_wind_on_sweeps_read_only():
                             sc.fs_hz, min_move_s=0.5)
         assert np.array_equal(prof.angle_rad, ref.angle_rad) and np.array_equal(prof.time_s, ref.time_s)
         assert not prof.angle_rad.flags.writeable and id(prof) in runs._PROFILE_HOLDS
+
+
+def test_windtunnel_kinds_without_shared_noise_fill_apart_with_the_same_numbers():
+    """Scenarios whose sensors differ in their noise (another gyro grade) or generators on other keys are
+    not refused: their records are filled apart, each run equal to its own run_windtunnel call."""
+    from mtcal.studies.wang2023cja import runs
+
+    scs = [w.windtunnel_scenario(fs_hz=100.0), w.windtunnel_scenario(fs_hz=100.0, gyro_grade="industrial"),
+           w.windtunnel_scenario(fs_hz=100.0)]
+    seeds = [3, 3, 4]
+    joint = runs.run_windtunnel_kinds(scs, [np.random.default_rng(s) for s in seeds], 2, block=1)
+    for sc, seed, run in zip(scs, seeds, joint):
+        alone = _arrays(w.run_windtunnel(sc, np.random.default_rng(seed), 2, block=1))
+        arrays = _arrays(run)
+        assert sorted(arrays) == sorted(alone)
+        assert [k for k in arrays if not np.array_equal(arrays[k], alone[k], equal_nan=True)] == []
+    with pytest.raises(ValueError, match="scenarios and rngs must be non-empty and of equal length"):
+        runs.run_windtunnel_kinds(scs, [np.random.default_rng(1)], 2)
+
+
+def test_turntable_kinds_side_by_side_equal_separate_calls_and_share_the_noise(monkeypatch):
+    """Fitted and prior T1 sessions side by side (turntable_predictive_kinds): each kind's runs, sweeps and
+    trace equal its own turntable_predictive call bit for bit, and every piece pair fills from one noise draw."""
+    from mtcal.studies.wang2023cja import predictive, runs
+
+    fit = w.fit_error_model(n_mc=200, seed=1)
+    sc = w.turntable_scenario(errors=fit.model, fs_hz=200.0)
+    separate = {kind: _arrays(predictive.turntable_predictive(sc, fit, kind, 3, 5, tests=("T1", "T2")), kind)
+                for kind in predictive.KINDS}
+    filled, fill = [], runs.fill_streams
+    monkeypatch.setattr(runs, "fill_streams", lambda streams, outputs: filled.append(len(streams))
+                        or fill(streams, outputs))
+    joint = predictive.turntable_predictive_kinds(sc, fit, predictive.KINDS, 3, 5, tests=("T1", "T2"))
+    assert filled[:3] == [2, 2, 2]        # T1: 3 pieces of one trial per kind, pairs filled together
+    for kind in predictive.KINDS:
+        arrays = _arrays(joint[kind], kind)
+        assert sorted(arrays) == sorted(separate[kind])
+        assert any(k.startswith(f"{kind}.T1.trace.aoa") for k in arrays)
+        assert [k for k in arrays if not np.array_equal(arrays[k], separate[kind][k], equal_nan=True)] == []
+
+
+def test_turntable_jobs_kinds_over_several_calls_equal_separate_runs(fast_sc):
+    """Aligned job lists over several stacked QNCF calls (each call holding each list's share), with traces:
+    the runs of separate run_turntable_jobs calls; misaligned lists refused."""
+    from mtcal.studies.wang2023cja import runs
+
+    n = runs.turntable_profile(fast_sc, True)[0].time_s.size
+    errors = [fast_sc.errors, replace(fast_sc.errors, gyro_run_bias_deg_h=3.0)]
+    make = lambda m: [runs.TurntableJob("T1", np.random.default_rng(s), 2, errors=errors[m]) for s in (1, 2)]  # noqa: E731
+    kw = dict(with_sweeps=True, keep_trace=True, block=1, max_trial_samples=int(3 * n))
+    joint = runs.run_turntable_jobs_kinds(fast_sc, [make(0), make(1)], **kw)
+    for m in range(2):
+        alone = runs.run_turntable_jobs(fast_sc, make(m), **kw)
+        for got, ref in zip(joint[m], alone):
+            a, b = _arrays(got), _arrays(ref)
+            assert sorted(a) == sorted(b) and any(k.startswith(".trace") for k in a) == any(k.startswith(".trace") for k in b)
+            assert [k for k in a if not np.array_equal(a[k], b[k], equal_nan=True)] == []
+    with pytest.raises(ValueError, match="kinds_jobs must be aligned"):
+        runs.run_turntable_jobs_kinds(fast_sc, [make(0), make(1)[:1]])

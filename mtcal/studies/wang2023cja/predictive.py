@@ -40,10 +40,11 @@ from mtcal.core.metrics import variance_parts  # re-exported here (notebooks 10,
 from mtcal.core.rng import child_rngs, stream_rng
 from mtcal.reporting import leak
 from .error_model import FITTED_PARAMETERS, PRIOR_RANGES, TABLES_1_TO_4, ErrorModel, ErrorModelFit
-from .runs import TurntableJob, _map, run_turntable_jobs, run_windtunnel, windtunnel_median_trial
+from .runs import (TurntableJob, _map, run_turntable_jobs, run_turntable_jobs_kinds, run_windtunnel,
+                   run_windtunnel_kinds, windtunnel_median_trial)
 
 __all__ = ["ALPHA_PRIOR_SIGMA_DEG", "KINDS", "TURNTABLE_PER_DRAW", "variance_parts", "posterior_draws", "prior_draws",
-           "turntable_predictive", "windtunnel_predictive", "windtunnel_predictive_kinds", "quantile_se", "LEAK_SIZES",
+           "turntable_predictive", "turntable_predictive_kinds", "windtunnel_predictive", "windtunnel_predictive_kinds", "quantile_se", "LEAK_SIZES",
            "fit_and_predict"]
 
 # random streams of this module (mtcal.core.rng rule)
@@ -184,7 +185,25 @@ def turntable_predictive(sc, fit: ErrorModelFit, kind: str, trials: int, seed: i
 
     Returns
     -------
-    dict test → TurntableRun (trial axis = sessions, draw-major).
+    dict test → TurntableRun (trial axis = sessions, draw-major). :func:`turntable_predictive_kinds`
+    runs several kinds at once (the same numbers).
+    """
+    return turntable_predictive_kinds(sc, fit, (kind,), trials, seed, tests=tests, per_draw=per_draw)[kind]
+
+
+def turntable_predictive_kinds(sc, fit: ErrorModelFit, kinds, trials: int, seed: int, *,
+                               tests=("T1", "T2", "T3", "T4"), per_draw: int = TURNTABLE_PER_DRAW) -> dict:
+    """:func:`turntable_predictive` of each kind in ``kinds``, the kinds' T1 sessions side by side.
+
+    Trial *j* of every kind draws from the same generator key, so the kinds' T1 pieces run in the same
+    stacked QNCF calls, their IMU records filled together with the sensor noise (equal scales: the
+    sensor spec's) drawn once (:func:`.runs.run_turntable_jobs_kinds`; each call holds the same number of
+    trials as one kind alone); every kind keeps its own generators and parameter draws, so each run
+    equals the one of a separate :func:`turntable_predictive` call bit for bit. T2–T4 run kind by kind.
+
+    Returns
+    -------
+    dict kind → dict test → TurntableRun.
     """
     per_draw = int(per_draw)
     if per_draw < 1:
@@ -192,24 +211,30 @@ def turntable_predictive(sc, fit: ErrorModelFit, kind: str, trials: int, seed: i
     for test in tests:
         if test not in TABLES_1_TO_4:
             raise ValueError(f"tests must be names from {sorted(TABLES_1_TO_4)}, got {test!r}")
+    kinds = tuple(kinds)
     n_draws = -(-int(trials) // per_draw)
-    draws = _draws(kind, fit, n_draws, seed)
     jobs = {}
-    for i, test in enumerate(tests):
-        rngs = child_rngs(stream_rng(int(seed), STREAM_TURNTABLE_TEST + i), n_draws)
-        jobs[test] = [TurntableJob(test, r, min(per_draw, int(trials) - k * per_draw), errors=m, alpha_deg=a[test])
-                      for k, (r, (m, a)) in enumerate(zip(rngs, draws))]
-    out = {}
-    if "T1" in jobs:
-        out["T1"] = _stack_jobs(run_turntable_jobs(sc, jobs["T1"], with_sweeps=True, keep_trace=True, block=1))
+    for kind in kinds:
+        draws = _draws(kind, fit, n_draws, seed)
+        jobs[kind] = {}
+        for i, test in enumerate(tests):
+            rngs = child_rngs(stream_rng(int(seed), STREAM_TURNTABLE_TEST + i), n_draws)
+            jobs[kind][test] = [TurntableJob(test, r, min(per_draw, int(trials) - k * per_draw), errors=m,
+                                             alpha_deg=a[test]) for k, (r, (m, a)) in enumerate(zip(rngs, draws))]
+    out = {kind: {} for kind in kinds}
+    if "T1" in tests:
+        t1 = run_turntable_jobs_kinds(sc, [jobs[kind]["T1"] for kind in kinds], with_sweeps=True, keep_trace=True,
+                                      block=1)
+        for m, kind in enumerate(kinds):        # each kind's per-job runs dropped once stacked (peak: one copy)
+            out[kind]["T1"], t1[m] = _stack_jobs(t1[m]), None
     rest = [t for t in tests if t != "T1"]
-    if rest:
+    for kind in kinds if rest else ():
         # the sessions of one draw side by side (T2, T3, T4 of draw 0, then of draw 1, …): a draw's gasket
         # sessions share their compliance and so one truth trajectory (runs._run_pieces); every job keeps
         # its own generator, so the numbers are those of one call per test
-        runs = run_turntable_jobs(sc, [jobs[t][j] for j in range(n_draws) for t in rest], block=1)
-        out.update((t, _stack_jobs(runs[k::len(rest)])) for k, t in enumerate(rest))
-    return {t: out[t] for t in tests}
+        runs = run_turntable_jobs(sc, [jobs[kind][t][j] for j in range(n_draws) for t in rest], block=1)
+        out[kind].update((t, _stack_jobs(runs[k::len(rest)])) for k, t in enumerate(rest))
+    return {kind: {t: out[kind][t] for t in tests} for kind in kinds}
 
 
 def _stack_jobs(runs):
@@ -235,10 +260,12 @@ def windtunnel_predictive_kinds(make_scenario, fit: ErrorModelFit, kinds, trials
                                 per_draw: int = 5) -> dict:
     """:func:`windtunnel_predictive` of each kind in ``kinds``, draw by draw side by side.
 
-    Trial *j* of every kind draws from the same generator key, so the wind-on accelerometer
-    vibration (phases, time base and settings equal; checked) is computed once per draw and shared
-    (``runs.run_windtunnel(..., shared=...)``); every kind keeps its own generators and parameter
-    draws, so each run equals the one of a separate :func:`windtunnel_predictive` call bit for bit.
+    Trial *j* of every kind draws from the same generator key, so the kinds of one draw run side by
+    side (:func:`.runs.run_windtunnel_kinds`): their IMU records are filled together, the sensor noise
+    (equal scales: the sensor spec's) drawn once, and the wind-on accelerometer vibration (phases,
+    time base and settings equal; checked) computed once; every kind keeps its own generators and
+    parameter draws, so each run equals the one of a separate :func:`windtunnel_predictive` call bit
+    for bit.
 
     Returns
     -------
@@ -254,9 +281,10 @@ def windtunnel_predictive_kinds(make_scenario, fit: ErrorModelFit, kinds, trials
     rngs = {kind: children() for kind in kinds}          # one generator per kind and draw (run_windtunnel spawns)
 
     def one(k):       # each draw its own generators and scenarios: the same numbers for any thread count
-        shared = {}   # this draw's wind-on vibration, computed by the first kind
-        return [run_windtunnel(make_scenario(draws[kind][k][0]), rngs[kind][k], min(per_draw, int(trials) - k * per_draw),
-                               block=per_draw, keep_trace=False, shared=shared) for kind in kinds]
+        # the kinds' blocks side by side: their IMU records filled together (noise drawn once), the wind-on
+        # vibration computed by the first kind (shared)
+        return run_windtunnel_kinds([make_scenario(draws[kind][k][0]) for kind in kinds], [rngs[kind][k] for kind in kinds],
+                                    min(per_draw, int(trials) - k * per_draw), block=per_draw, keep_trace=False, shared={})
 
     runs = _map(one, list(range(n_draws)))
     return {kind: _windtunnel_draws([r[i] for r in runs], make_scenario, draws[kind], trials, per_draw, children())

@@ -36,7 +36,7 @@ from mtcal.core.allocator import keep_freed_memory
 from mtcal.core.profiles import AngleProfile, step_schedule
 from mtcal.core.rng import child_rngs, stream_rng
 from mtcal.core.rotations import mount_quaternion, relative_to_initial
-from mtcal.core.simulate import ImuStream
+from mtcal.core.simulate import ImuStream, fill_streams, noise_mismatch
 from mtcal.core.units import DEG, MG
 from mtcal.filters.qncf import qncf
 from mtcal.methods import quaternion_lsq, six_position
@@ -56,8 +56,8 @@ MONTE_CARLO_GATES = {k: getattr(installation.InstallationConfig.monte_carlo(), k
                      for k in ("max_condition", "max_so4_distance", "max_residual_rad")}
 
 __all__ = ["turntable_runs", "turntable_profile", "six_position_reference", "TurntableRun", "TurntableJob",
-           "calibration_step", "run_turntable", "run_turntable_jobs", "position_errors_deg", "load_tilt_outputs",
-           "WindTunnelRun", "run_windtunnel", "windtunnel_median_trial", "elastic_deflection_rad", "MONTE_CARLO_GATES",
+           "calibration_step", "run_turntable", "run_turntable_jobs", "run_turntable_jobs_kinds", "position_errors_deg", "load_tilt_outputs",
+           "WindTunnelRun", "run_windtunnel", "run_windtunnel_kinds", "windtunnel_median_trial", "elastic_deflection_rad", "MONTE_CARLO_GATES",
            "TRACE_DECIMATION"]
 
 
@@ -294,14 +294,17 @@ class _SharedTrajectories:
 
 
 def _run_pieces(sc: TurntableScenario, prof: AngleProfile, spans: dict, pieces: list, with_sweeps: bool,
-                keep_trace: bool, base: _ComplianceBase, buffers: dict) -> list[TurntableRun]:
+                traced: set, base: _ComplianceBase, buffers: dict, fill_groups: list) -> list[TurntableRun]:
     """Simulate every piece ``(test, sources, rng, trials, fraction)``, run ONE stacked QNCF, finish each.
 
     The QNCF cost is dominated by its loop over time, so stacking the pieces along the trial
     axis costs about one run; each piece keeps its own generator. The pieces are simulated
     straight into ``buffers`` (reused by every call of a run: no fresh 100 MB arrays per call),
-    which also keeps the profile's hold windows. Pieces are simulated and finished on
-    :func:`_workers` threads (each its own generator and slice: the same numbers for any count).
+    which also keeps the profile's hold windows. The pieces of each list in ``fill_groups`` (a
+    partition of the piece indices: the predictive kinds' pieces on one key) fill their records
+    together (:func:`_fill_together`: the noise drawn once when shared). Groups are simulated and
+    pieces finished on :func:`_workers` threads (each its own generator and slice: the same numbers
+    for any count). Pieces in ``traced`` keep the sweeps' time series of their first trial.
     """
     total = sum(p[3] for p in pieces)
     if buffers.get("gyro") is None or buffers["gyro"].shape[0] < total:
@@ -320,21 +323,28 @@ def _run_pieces(sc: TurntableScenario, prof: AngleProfile, spans: dict, pieces: 
 
     trajectory = _SharedTrajectories(prof.time_s, base, [compliance(i) for i in range(len(pieces))])
 
-    def simulate(i):
-        test, sources, rng, trials, _, sc = pieces[i]
-        rng_imu, rng_ref, rng_change = child_rngs(rng, 3)
-        traj = trajectory(compliance(i))   # = compliance_trajectory(prof.time_s, prof.angle_rad, k)
-        model = sc.imu.error_model(mount_quaternion(sc.alpha_rad(test)), sources, sc.errors)
-        g, acc = gyro[starts[i]:starts[i + 1]], accel[starts[i]:starts[i + 1]]
-        ImuStream(traj, model, rng=rng_imu, trials=trials).fill(g, acc)   # = simulate_imu(...), into the buffer
-        if "accel_run_change" in sources:       # warm-up/temperature bias change between the runs
-            acc[:, ver0:] += sc.errors.accel_run_bias_mg * MG * rng_change.standard_normal((trials, 1, 3))
-        if "mount_compliance" in sources and MOUNT_TYPE[test] == "gasket":
-            tilt = sc.errors.gasket_load_tilt_deg_g * DEG * rng_change.standard_normal((trials, 3)) * [1.0, 1.0, 0.0]
-            load_tilt_outputs(g, acc, traj.q_wb, sc.imu.dt_s, model.q_mount, tilt)
-        return rng_ref
+    def simulate(group):
+        streams, parts = [], []
+        for i in group:
+            test, sources, rng, trials, _, sc = pieces[i]
+            rng_imu, rng_ref, rng_change = child_rngs(rng, 3)
+            traj = trajectory(compliance(i))   # = compliance_trajectory(prof.time_s, prof.angle_rad, k)
+            model = sc.imu.error_model(mount_quaternion(sc.alpha_rad(test)), sources, sc.errors)
+            streams.append(ImuStream(traj, model, rng=rng_imu, trials=trials))
+            parts.append((rng_ref, rng_change, traj, model))
+        rows = [(gyro[starts[i]:starts[i + 1]], accel[starts[i]:starts[i + 1]]) for i in group]
+        _fill_together(streams, rows)           # = simulate_imu(...) of each, into the buffer
+        del streams
+        for i, (g, acc), (_, rng_change, traj, model) in zip(group, rows, parts):
+            test, sources, _, trials, _, sc = pieces[i]
+            if "accel_run_change" in sources:       # warm-up/temperature bias change between the runs
+                acc[:, ver0:] += sc.errors.accel_run_bias_mg * MG * rng_change.standard_normal((trials, 1, 3))
+            if "mount_compliance" in sources and MOUNT_TYPE[test] == "gasket":
+                tilt = sc.errors.gasket_load_tilt_deg_g * DEG * rng_change.standard_normal((trials, 3)) * [1.0, 1.0, 0.0]
+                load_tilt_outputs(g, acc, traj.q_wb, sc.imu.dt_s, model.q_mount, tilt)
+        return [(i, part[0]) for i, part in zip(group, parts)]
 
-    rngs = _map(simulate, list(range(len(pieces))))
+    rngs = dict(pair for done in _map(simulate, fill_groups) for pair in done)
     res = qncf(gyro, accel, 1.0 / sc.fs_hz, sc.qncf, return_euler=False)
     # the session zeroed once at its start (§4.1), in place from the verification run on: the
     # calibration run stays as logged (zeroed by the procedure itself)
@@ -370,18 +380,18 @@ def _run_pieces(sc: TurntableScenario, prof: AngleProfile, spans: dict, pieces: 
     if with_sweeps:
         # the sweeps of consecutive pieces that share their settings in one pass each (rows independent:
         # the same numbers as piece by piece), the groups spread over the threads
-        groups = _sweep_groups(pieces, starts, _workers())
+        groups = _sweep_groups(pieces, starts, _workers(), traced)
         done = _map(lambda g: _evaluate_sweeps(
             prof, spans, q_all[starts[g[0]]:starts[g[-1] + 1]],
             np.concatenate([runs[i].q_matrix for i in g], axis=0), _fraction(pieces[g[0]]),
             {name: np.concatenate([hold_errors[i][name] for i in g], axis=0) for name, _, _ in _SWEEPS},
-            keep_trace and g[0] == 0, buffers), groups)
+            g[0] in traced, buffers), groups)
         for g, (sweeps, trace) in zip(groups, done):
             for i in g:
                 rows = slice(starts[i] - starts[g[0]], starts[i + 1] - starts[g[0]])
                 runs[i].sweeps = {name: {k: (v if k == "reference" else v[rows]) for k, v in d.items()}
                                   for name, d in sweeps.items()}
-                runs[i].trace = trace if i == 0 else {}
+                runs[i].trace = trace if i in traced else {}
     return runs
 
 
@@ -393,13 +403,14 @@ def _fraction(piece) -> float:
     return piece[5].averaging_fraction if piece[4] is None else piece[4]
 
 
-def _sweep_groups(pieces, starts, parts: int) -> list[list[int]]:
+def _sweep_groups(pieces, starts, parts: int, traced=()) -> list[list[int]]:
     """Consecutive pieces cut into about ``parts`` groups of similar trial counts; a group's pieces share
-    the averaging fraction (the hold windows of one sweep pass)."""
+    the averaging fraction (the hold windows of one sweep pass); a piece in ``traced`` starts a group
+    (its first trial is the group's first row, whose time series are kept)."""
     total = starts[-1]
     groups, cur = [], []
     for i, p in enumerate(pieces):
-        if cur and (_fraction(pieces[cur[0]]) != _fraction(p)
+        if cur and (_fraction(pieces[cur[0]]) != _fraction(p) or i in traced
                     or starts[i] >= (len(groups) + 1) * total / max(parts, 1)):
             groups.append(cur)
             cur = []
@@ -508,27 +519,92 @@ def run_turntable_jobs(sc: TurntableScenario, jobs: list[TurntableJob], *, with_
     Each job is split into blocks of ``block`` trials, block ``i`` drawing from
     ``child_rngs(job.rng, n_blocks)[i]``. Consecutive blocks are stacked into one QNCF run while
     trials × samples stays below ``max_trial_samples`` (memory bound: ≈ 1 GB peak at the default).
+    :func:`run_turntable_jobs_kinds` runs several aligned job lists side by side.
 
     Returns
     -------
     list of TurntableRun
         One per job, trials in job order.
     """
-    if not jobs:
+    return run_turntable_jobs_kinds(sc, [jobs], with_sweeps=with_sweeps, keep_trace=keep_trace, block=block,
+                                    max_trial_samples=max_trial_samples)[0]
+
+
+def run_turntable_jobs_kinds(sc: TurntableScenario, kinds_jobs: list, *, with_sweeps: bool = False,
+                             keep_trace: bool = False, block: int = 10,
+                             max_trial_samples: int = 4_000_000) -> list[list[TurntableRun]]:
+    """:func:`run_turntable_jobs` of several aligned job lists (the predictive kinds), side by side.
+
+    Job ``j`` of every list has the same test and trial count; its blocks (pieces) are stacked next to
+    the same blocks of the other lists in one QNCF run (the stack stays below ``max_trial_samples``,
+    rounded up to a multiple of the lists: each list gets an equal share) and their IMU records are filled together
+    (:func:`mtcal.core.simulate.fill_streams`: generators with equal keys and sensors with equal noise
+    scales draw the white, random-walk and Gauss–Markov noise once; others are filled apart). Every
+    run equals the one of a separate :func:`run_turntable_jobs` call bit for bit (with ``keep_trace``
+    each list's first job keeps its trace).
+
+    Parameters
+    ----------
+    sc : TurntableScenario
+    kinds_jobs : list of list of TurntableJob
+        Aligned job lists (equal length, job ``j`` of equal test and trials in each).
+    with_sweeps, keep_trace, block, max_trial_samples
+        As for :func:`run_turntable_jobs`.
+
+    Returns
+    -------
+    list of list of TurntableRun
+        Per list, one run per job.
+    """
+    kinds_jobs = [list(jobs) for jobs in kinds_jobs]
+    if not kinds_jobs or not kinds_jobs[0]:
         raise ValueError("jobs must hold at least one TurntableJob")
-    for job in jobs:
-        if not isinstance(job, TurntableJob):
-            raise TypeError(f"jobs must hold TurntableJob items, got {type(job).__name__}")
-        if int(job.trials) < 1:
-            raise ValueError(f"job trials must be >= 1, got {job.trials}")
-        if job.test not in sc.alpha_deg:
-            raise ValueError(f"job test must be one of {sorted(sc.alpha_deg)}, got {job.test!r}")
+    for jobs in kinds_jobs:
+        for job in jobs:
+            if not isinstance(job, TurntableJob):
+                raise TypeError(f"jobs must hold TurntableJob items, got {type(job).__name__}")
+            if int(job.trials) < 1:
+                raise ValueError(f"job trials must be >= 1, got {job.trials}")
+            if job.test not in sc.alpha_deg:
+                raise ValueError(f"job test must be one of {sorted(sc.alpha_deg)}, got {job.test!r}")
+        if [(j.test, int(j.trials)) for j in jobs] != [(j.test, int(j.trials)) for j in kinds_jobs[0]]:
+            raise ValueError("kinds_jobs must be aligned: job j of every list with the same test and trials")
     if int(block) < 1:
         raise ValueError(f"block must be >= 1, got {block}")
     keep_freed_memory()                          # the per-call arrays below reuse freed heap, not fresh zeroed pages
     prof, spans = turntable_profile(sc, with_sweeps)
+    n_kinds = len(kinds_jobs)
     per_call = max(int(block), int(max_trial_samples) // prof.time_s.size)
-    pieces = []                                  # (job index, piece)
+    per_call = -(-per_call // n_kinds) * n_kinds   # each kind an equal share (rounded up: 18 for 17 at 1000 Hz)
+    pieces = [_job_pieces(sc, jobs, int(block)) for jobs in kinds_jobs]   # per kind: (job index, piece)
+    calls, count = [[]], 0                       # piece positions p (the same in every kind) per call
+    for p, (_, piece) in enumerate(pieces[0]):
+        if calls[-1] and count + n_kinds * piece[3] > per_call:
+            calls.append([])
+            count = 0
+        calls[-1].append(p)
+        count += n_kinds * piece[3]
+    per_job = [[[] for _ in jobs] for jobs in kinds_jobs]
+    base = _ComplianceBase(prof.angle_rad)       # shared by every piece (only the compliance differs)
+    buffers = {}
+    for c, call in enumerate(progress(calls, desc="turntable Monte Carlo")):
+        n = len(call)                            # kind-major: the call's pieces of kind 0, then of kind 1, …
+        items = [(m, pieces[m][p]) for m in range(n_kinds) for p in call]
+        runs = _run_pieces(sc, prof, spans, [piece for _, (_, piece) in items], with_sweeps,
+                           {m * n for m in range(n_kinds)} if keep_trace and c == 0 else set(), base, buffers,
+                           [[m * n + k for m in range(n_kinds)] for k in range(n)])
+        for (m, (i, _)), run in zip(items, runs):
+            per_job[m][i].append(run)
+    for jobs in per_job:                         # each job's pieces dropped as soon as joined (peak: one copy)
+        for i, pieces_run in enumerate(jobs):
+            jobs[i] = _concat_runs(pieces_run)
+    return per_job
+
+
+def _job_pieces(sc: TurntableScenario, jobs: list, block: int) -> list:
+    """``(job index, (test, sources, rng, trials, fraction, scenario))`` of every block of ``block`` trials of
+    the jobs, in job order; block ``i`` of a job draws from ``child_rngs(job.rng, n_blocks)[i]``."""
+    pieces = []
     for i, job in enumerate(jobs):
         src = _check_sources(job.sources)
         sizes = [min(block, job.trials - k) for k in range(0, job.trials, block)]
@@ -537,21 +613,7 @@ def run_turntable_jobs(sc: TurntableScenario, jobs: list[TurntableJob], *, with_
             sc_job = replace(sc, errors=sc.errors if job.errors is None else job.errors,
                              alpha_deg={**sc.alpha_deg, **({} if job.alpha_deg is None else {job.test: tuple(job.alpha_deg)})})
         pieces += [(i, (job.test, src, r, n, job.fraction, sc_job)) for r, n in zip(child_rngs(job.rng, len(sizes)), sizes)]
-    calls, count = [[]], 0
-    for item in pieces:
-        if calls[-1] and count + item[1][3] > per_call:
-            calls.append([])
-            count = 0
-        calls[-1].append(item)
-        count += item[1][3]
-    per_job = [[] for _ in jobs]
-    base = _ComplianceBase(prof.angle_rad)       # shared by every piece (only the compliance differs)
-    buffers = {}
-    for c, call in enumerate(progress(calls, desc="turntable Monte Carlo")):
-        runs = _run_pieces(sc, prof, spans, [p for _, p in call], with_sweeps, keep_trace and c == 0, base, buffers)
-        for (i, _), run in zip(call, runs):
-            per_job[i].append(run)
-    return [_concat_runs(r) for r in per_job]
+    return pieces
 
 
 #: Rows of a :func:`_before_after` call whose angle errors may reach π (the compiled pass's second loop).
@@ -755,7 +817,40 @@ def run_windtunnel(sc: WindTunnelScenario, rng: np.random.Generator, trials: int
     accelerometer vibration of each block and group is kept there and reused by a later run whose
     phases, time base and vibration settings are equal (checked, else computed afresh), so runs of
     two error models on one key compute it once — the same numbers as separate runs.
+    :func:`run_windtunnel_kinds` runs several scenarios on equal generators side by side.
     """
+    return run_windtunnel_kinds([sc], [rng], trials, sources, wind_on=wind_on, block=block, keep_trace=keep_trace,
+                                trace_trial=trace_trial, shared=shared)[0]
+
+
+def run_windtunnel_kinds(scenarios, rngs, trials: int, sources=SOURCES, *, wind_on: bool = True, block: int = 10,
+                         keep_trace: bool = True, trace_trial: int = 0, shared: dict | None = None) -> list:
+    """:func:`run_windtunnel` of each scenario with its generator, block by block side by side.
+
+    The scenarios' blocks are set up one by one, their IMU records filled together
+    (:func:`mtcal.core.simulate.fill_streams`: generators with equal keys and sensors with equal noise
+    scales — the predictive kinds of one parameter draw — draw the white, random-walk and
+    Gauss–Markov noise once; others are filled apart), then measured one by one. Every run equals
+    ``run_windtunnel(scenarios[m], rngs[m], ...)`` bit for bit; peak memory: the records of all
+    scenarios' blocks at once.
+
+    Parameters
+    ----------
+    scenarios : sequence of WindTunnelScenario
+    rngs : sequence of numpy.random.Generator
+        One per scenario.
+    trials, sources, wind_on, block, keep_trace, trace_trial, shared
+        As for :func:`run_windtunnel` (``shared``: the wind-on vibration, computed by the first scenario).
+
+    Returns
+    -------
+    list of WindTunnelRun
+        One per scenario.
+    """
+    scenarios, rngs = list(scenarios), list(rngs)
+    if not scenarios or len(rngs) != len(scenarios):
+        raise ValueError(f"scenarios and rngs must be non-empty and of equal length, got {len(scenarios)} and "
+                         f"{len(rngs)}")
     trials = int(trials)
     if trials < 1:
         raise ValueError(f"trials must be >= 1, got {trials}")
@@ -764,13 +859,20 @@ def run_windtunnel(sc: WindTunnelScenario, rng: np.random.Generator, trials: int
     if not 0 <= int(trace_trial) < trials:
         raise ValueError(f"trace_trial must be in [0, {trials}), got {trace_trial}")
     keep_freed_memory()                          # the per-block arrays reuse freed heap, not fresh zeroed pages
+    sources = _check_sources(sources)
     sizes = [min(int(block), trials - k) for k in range(0, trials, int(block))]
     b_trace, i_trace = divmod(int(trace_trial), int(block))
-    runs = [_run_windtunnel_block(sc, r, n, _check_sources(sources), wind_on=wind_on,
-                                  keep_trace=keep_trace and i == b_trace, trace_index=i_trace,
-                                  shared=None if shared is None else shared.setdefault(i, {}))
-            for i, (r, n) in enumerate(progress(list(zip(child_rngs(rng, len(sizes)), sizes)),
-                                                desc="wind-tunnel Monte Carlo"))]
+    block_rngs = list(zip(*(child_rngs(rng, len(sizes)) for rng in rngs)))   # [block][scenario]
+    per_block = [_run_windtunnel_blocks(scenarios, list(r), n, sources, wind_on=wind_on,
+                                        keep_trace=keep_trace and i == b_trace, trace_index=i_trace,
+                                        shared=None if shared is None else shared.setdefault(i, {}))
+                 for i, (r, n) in enumerate(progress(list(zip(block_rngs, sizes)), desc="wind-tunnel Monte Carlo"))]
+    return [_concat_windtunnel([runs[m] for runs in per_block], sizes, b_trace, wind_on)
+            for m in range(len(scenarios))]
+
+
+def _concat_windtunnel(runs: list, sizes: list, b_trace: int, wind_on: bool) -> WindTunnelRun:
+    """The blocks' runs of one scenario as one WindTunnelRun (trace from block ``b_trace``)."""
     cat = lambda xs: np.concatenate(xs, axis=0)  # noqa: E731
     first = runs[0]
     first.trace = runs[b_trace].trace
@@ -785,10 +887,45 @@ def run_windtunnel(sc: WindTunnelScenario, rng: np.random.Generator, trials: int
                          cat([r.cal_after for r in runs]), nowind, wind, first.trace)
 
 
-def _run_windtunnel_block(sc: WindTunnelScenario, rng: np.random.Generator, trials: int, sources,
-                          *, wind_on: bool, keep_trace: bool, trace_index: int = 0,
-                          shared: dict | None = None) -> WindTunnelRun:
-    """Wind-off calibration + AoA sweep (Tables 9, 11) and five wind-on groups (Table 10).
+def _fill_together(streams: list, outputs: list) -> None:
+    """Fill each :class:`ImuStream` into its ``(gyro, accel)`` output, the streams that share their noise
+    with an earlier one (:func:`mtcal.core.simulate.noise_mismatch`) together (the same numbers)."""
+    groups = []
+    for stream, out in zip(streams, outputs):
+        for group in groups:
+            if noise_mismatch(group[0][0], stream) is None:
+                group.append((stream, out))
+                break
+        else:
+            groups.append([(stream, out)])
+    for group in groups:
+        fill_streams(*zip(*group))
+
+
+@dataclass
+class _WindTunnelBlock:
+    """One scenario's block of :func:`_run_windtunnel_blocks` between its phases (:func:`_wt_setup`)."""
+
+    sc: WindTunnelScenario
+    trials: int
+    rng_imu: np.random.Generator
+    rng_change: np.random.Generator
+    prof: AngleProfile
+    spans: dict
+    holds: list               # hold windows of the wind-off AoA sweep (first and last dropped)
+    ref_err: np.ndarray       # (trials, 6, 3) mechanism reference errors at the calibration positions
+    pos: np.ndarray
+    groups: list              # the wind-on groups (:func:`_wind_on_truth`); [] with the wind off
+    model: object             # ImuErrorModel
+    traj: object              # Trajectory of the wind-off session (dropped once simulated)
+
+
+def _run_windtunnel_blocks(scenarios, rngs, trials: int, sources, *, wind_on: bool, keep_trace: bool,
+                           trace_index: int = 0, shared: dict | None = None) -> list[WindTunnelRun]:
+    """Wind-off calibration + AoA sweep (Tables 9, 11) and five wind-on groups (Table 10) of one block per
+    scenario: set up each (:func:`_wt_setup`), fill the wind-off records together (:func:`_fill_together`),
+    measure each (:func:`_wt_nowind`); then the same for the wind-on groups (:func:`_wind_on_fill`,
+    :func:`_wind_on_measure`).
 
     Truth = actual mechanism angles (:func:`mechanism_actual`) + elastic
     deflection with wind on; reference = commanded angles. With wind on the
@@ -796,8 +933,28 @@ def _run_windtunnel_block(sc: WindTunnelScenario, rng: np.random.Generator, tria
     ``vibration_freq_hz`` plus angular pitch vibration), which trips the AMD:
     the QNCF runs on the gyro alone.
     """
-    # settings: waypoints, positions, the profiles of the session and of the wind-on groups, hold windows,
-    # the reference draws and the mount's compliance
+    blocks = [_wt_setup(sc, rng, trials, sources, wind_on) for sc, rng in zip(scenarios, rngs)]
+    shape = (trials, len(blocks[0].traj), 3)
+    records = [(np.empty(shape), np.empty(shape)) for _ in blocks]
+    _fill_together([ImuStream(b.traj, b.model, rng=b.rng_imu, trials=trials) for b in blocks], records)
+    out = []
+    for m, b in enumerate(blocks):
+        b.traj = None                                # (its truth outputs: not kept while the wind is on)
+        out.append(_wt_nowind(b, *records[m], sources, keep_trace, trace_index))
+        records[m] = None
+    if wind_on:
+        stacks = _wind_on_fill(blocks, shared)
+        for m, b in enumerate(blocks):
+            out[m].wind_on = _wind_on_measure(b.sc, out[m].q_matrix, b.groups, trials, out[m].trace, keep_trace,
+                                              trace_index, *stacks[m])
+            stacks[m] = None
+    return out
+
+
+def _wt_setup(sc: WindTunnelScenario, rng: np.random.Generator, trials: int, sources, wind_on: bool):
+    """One scenario's block up to its IMU streams: the settings (waypoints, positions, the profiles of the
+    session and of the wind-on groups, hold windows), the reference draws, the truth (the mechanism's actual
+    angles tilted by the mount's compliance) and the error model."""
     rng_imu, rng_ref, rng_wind, rng_change = child_rngs(rng, 4)
     frac = 0.5
     on = set(sources)
@@ -830,22 +987,26 @@ def _run_windtunnel_block(sc: WindTunnelScenario, rng: np.random.Generator, tria
                           [(prof.time_s, actual)] + [(grp.prof.time_s, grp.actual) for grp in groups]]
     for grp, group_traj in zip(groups, group_trajs):
         grp.traj, grp.actual = group_traj, None      # the angles are in the trajectory now
-    del actual, group_trajs
     model = sc.imu.error_model(mount_quaternion(np.radians(sc.alpha_deg)), sources, sc.errors)
-    gyro, accel = np.empty((trials, len(traj), 3)), np.empty((trials, len(traj), 3))
-    ImuStream(traj, model, rng=rng_imu, trials=trials).fill(gyro, accel)
-    del traj                                         # (its truth outputs: not kept while the wind is on)
-    if "accel_run_change" in on:        # bias change between the calibration and the sweep
-        accel[:, spans["aoa"].start:] += (sc.errors.accel_run_bias_mg * MG
-                                          * rng_change.standard_normal((trials, 1, 3)))
+    return _WindTunnelBlock(sc, trials, rng_imu, rng_change, prof, spans, holds, ref_err, pos, groups, model, traj)
+
+
+def _wt_nowind(b: _WindTunnelBlock, gyro, accel, sources, keep_trace: bool, trace_index: int) -> WindTunnelRun:
+    """The wind-off session of one block from its IMU record (modified in place): the run-to-run accelerometer
+    bias change, the QNCF, the calibration and the AoA sweep's errors."""
+    sc, trials, spans, frac = b.sc, b.trials, b.spans, 0.5
+    span = spans["aoa"]
+    if "accel_run_change" in sources:   # bias change between the calibration and the sweep
+        accel[:, span.start:] += (sc.errors.accel_run_bias_mg * MG * b.rng_change.standard_normal((trials, 1, 3)))
     res = qncf(gyro, accel, 1.0 / sc.fs_hz, sc.qncf, return_euler=False)
     # the session zeroed at its start, in place after the calibration run (kept as logged: no copy)
-    q_s = relative_to_initial(res.q_ws, out=res.q_ws, start=spans["aoa"].start)
+    q_s = relative_to_initial(res.q_ws, out=res.q_ws, start=span.start)
     q_cal = q_s[:, spans["calibration"]]
-    cal = calibration_step(sc, q_cal, gyro[:, spans["calibration"]], pos + ref_err, frac)
+    cal = calibration_step(sc, q_cal, gyro[:, spans["calibration"]], b.pos + b.ref_err, frac)
     q_mat = cal.q_hat
-    cmd = prof.angle_rad[span]
+    cmd = b.prof.angle_rad[span]
     before, after, errs = _before_after(q_s[:, span], q_mat, cmd, 1)
+    holds = b.holds
     nowind = {"reference": np.array([cmd[h, 1].mean() for h in holds]),
               "before_mean": np.stack([before[:, h].mean(axis=1) for h in holds], axis=1),
               "after_mean": np.stack([after[:, h].mean(axis=1) for h in holds], axis=1)}
@@ -856,14 +1017,10 @@ def _run_windtunnel_block(sc: WindTunnelScenario, rng: np.random.Generator, tria
         nowind[f"{state}_err_dec"] = err[:, ::TRACE_DECIMATION].astype(np.float32)
     trace = {}
     if keep_trace:
-        trace = {"nowind_time_s": prof.time_s[span] - prof.time_s[span.start],
+        trace = {"nowind_time_s": b.prof.time_s[span] - b.prof.time_s[span.start],
                  "nowind_before_err": errs["before"][trace_index].copy(),
                  "nowind_after_err": errs["after"][trace_index].copy()}
-    del before, after, res, q_s, gyro, accel
-    out = WindTunnelRun(q_mat, cal.euler_before_rad, cal.euler_after_rad, nowind, None, trace)
-    if wind_on:
-        out.wind_on = _wind_on_groups(sc, model, q_mat, groups, trials, out.trace, keep_trace, trace_index, shared)
-    return out
+    return WindTunnelRun(q_mat, cal.euler_before_rad, cal.euler_after_rad, nowind, None, trace)
 
 
 def windtunnel_median_trial(run: WindTunnelRun) -> int:
@@ -939,35 +1096,48 @@ def _wind_on_truth(sc, rng, trials, profs, rates) -> list[_WindOnGroup]:
     return groups
 
 
-def _wind_on_groups(sc, model, q_mat, groups, trials, trace, keep_trace, trace_index=0, shared=None):
-    """Five wind-on AoA sweeps (:func:`_wind_on_truth`); each group its own record; all groups stacked as
-    trials for the QNCF (``shared``: :func:`run_windtunnel`)."""
+def _wind_on_fill(blocks: list, shared: dict | None) -> list[tuple[np.ndarray, np.ndarray]]:
+    """The five wind-on groups' records of each block (:func:`_wind_on_truth`), stacked as trials for the QNCF,
+    each group padded with its last sample; a group's records of all blocks filled together
+    (:func:`_fill_together`), then the accelerometer vibration added (``shared``: :func:`run_windtunnel`).
+    Peak memory: the stacks + one group."""
+    trials = blocks[0].trials
+    n = max(grp.prof.time_s.size for grp in blocks[0].groups)
+    stacks = [(np.empty((5 * trials, n, 3)), np.empty((5 * trials, n, 3))) for _ in blocks]
+    for g in range(5):
+        streams, records = [], []
+        for b, (gyro, accel) in zip(blocks, stacks):
+            grp = b.groups[g]
+            model_g = replace(b.model, time_since_power_on_s=b.model.time_since_power_on_s
+                              + b.sc.group_interval_s * (g + 1))
+            m, rows = grp.prof.time_s.size, slice(g * trials, (g + 1) * trials)
+            # a group as long as the stack is simulated straight into its rows, a shorter one into its own arrays
+            records.append((gyro[rows], accel[rows]) if m == n else (np.empty((trials, m, 3)), np.empty((trials, m, 3))))
+            streams.append(ImuStream(grp.traj, model_g, rng=grp.rng_imu, trials=trials))
+            grp.traj = None                          # dropped once simulated (the groups still to come keep
+            #                                          theirs: about 1 % of the stack at 500 Hz, measured)
+        _fill_together(streams, records)
+        del streams
+        for b, (gyro, accel), (g_g, a_g) in zip(blocks, stacks, records):
+            grp = b.groups[g]
+            # accel + ramp · a · sin(2π f t + vib) (the same operations; a + b == b + a)
+            a_g += _vibration_accel(b.sc, grp.prof.time_s, grp.ramp, grp.vib, shared, g)
+            m, rows = grp.prof.time_s.size, slice(g * trials, (g + 1) * trials)
+            if m < n:
+                for x, out in ((g_g, gyro), (a_g, accel)):
+                    out[rows, :m] = x
+                    out[rows, m:] = x[:, -1:]
+        del records, g_g, a_g
+    return stacks
+
+
+def _wind_on_measure(sc, q_mat, groups, trials, trace, keep_trace, trace_index, gyro, accel):
+    """Five wind-on AoA sweeps of one block from their stacked records (:func:`_wind_on_fill`): one QNCF, the
+    pitch after calibration at each group's holds."""
     lead_s = _WIND_LEAD_S
     profs = [grp.prof for grp in groups]
     ref = np.radians(np.asarray(sc.wind_on_sweep_deg, float))
     elastic_corrected = ref + elastic_deflection_rad(sc.elastic_model_deg, ref)
-    n = max(p.time_s.size for p in profs)
-    # stacked, each group padded with its last sample; a group goes in as soon as it is simulated (peak
-    # memory: the stack + one group)
-    gyro, accel = np.empty((5 * trials, n, 3)), np.empty((5 * trials, n, 3))
-    for g, grp in enumerate(groups):
-        t = grp.prof.time_s
-        # accel + ramp · a · sin(2π f t + vib) (the same operations; a + b == b + a)
-        shake = _vibration_accel(sc, t, grp.ramp, grp.vib, shared, g)
-        model_g = replace(model, time_since_power_on_s=model.time_since_power_on_s + sc.group_interval_s * (g + 1))
-        m = t.size
-        rows = slice(g * trials, (g + 1) * trials)
-        # a group as long as the stack is simulated straight into its rows, a shorter one into its own arrays
-        g_g, a_g = (gyro[rows], accel[rows]) if m == n else (np.empty((trials, m, 3)), np.empty((trials, m, 3)))
-        ImuStream(grp.traj, model_g, rng=grp.rng_imu, trials=trials).fill(g_g, a_g)
-        grp.traj = None                              # dropped once simulated (the groups still to come keep
-        #                                              theirs: about 1 % of the stack at 500 Hz, measured)
-        a_g += shake
-        if m < n:
-            for x, out in ((g_g, gyro), (a_g, accel)):
-                out[rows, :m] = x
-                out[rows, m:] = x[:, -1:]
-        del g_g, a_g, shake
     res = qncf(gyro, accel, 1.0 / sc.fs_hz, sc.qncf, return_euler=False)
     q_s = relative_to_initial(res.q_ws, n0=1, out=res.q_ws)
     q_rep = np.concatenate([q_mat] * 5, axis=0)
