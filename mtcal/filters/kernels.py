@@ -53,6 +53,14 @@ def warm_up_all() -> dict[str, float]:
     t = np.arange(300) * 1e-3
     simulate.simulate_imu(simulate.Trajectory(t, np.tile([1.0, 0.0, 0.0, 0.0], (t.size, 1))),
                           simulate.ImuErrorModel(gyro=every), np.random.default_rng(0), trials=2)
+    # the noise kernel per number of error models sharing one draw (1: a fill; 2: the predictive kinds'
+    # fill_streams) — serial, and parallel from PARALLEL_MIN_WORK trial-samples when numba has threads
+    for n in (t.size, simulate.PARALLEL_MIN_WORK // 2):
+        traj = simulate.Trajectory(np.arange(n) * 1e-3, np.tile([1.0, 0.0, 0.0, 0.0], (n, 1)))
+        for k in (1, 2):
+            streams = [simulate.ImuStream(traj, simulate.ImuErrorModel(gyro=every), np.random.default_rng(0), trials=2)
+                       for _ in range(k)]
+            simulate.fill_streams(streams, [(np.empty((2, n, 3)), np.empty((2, n, 3))) for _ in range(k)])
     out["simulate"] = time.perf_counter() - t0
     t0 = time.perf_counter()
     montecarlo._euler_error_stats(np.tile([1.0, 0.0, 0.0, 0.0], (2, 2, 1)), np.zeros((1, 2, 3)), np.zeros((2, 3)),
