@@ -19,7 +19,7 @@ from mtcal.core.compiled import jit
 __all__ = ["hamilton3", "continuous3", "rotvec_prepare", "rotvec_finish", "normalize2", "rotvec_angle",
            "quat_from_rotvec_finish", "euler_zxy_arguments", "euler_zxy_products", "dcm_entries", "matrix_from_quat",
            "all_unit", "wrap_difference3", "all_finite", "conjugate2",
-           "euler_zxy_channel_errors", "pitch_after"]
+           "euler_zxy_channel_errors", "pitch_after", "rows_times_matrix3"]
 
 
 @jit
@@ -151,6 +151,22 @@ def dcm_entries(w, x, y, z):  # pragma: no cover - compiled
     return (x2 - y2 - z2 + w2, 2.0 * (xy + zw), 2.0 * (xz - yw),
             2.0 * (xy - zw), -x2 + y2 - z2 + w2, 2.0 * (yz + xw),
             2.0 * (xz + yw), 2.0 * (yz - xw), -x2 - y2 + z2 + w2)
+
+
+@jit
+def rows_times_matrix3(a, m, out):  # pragma: no cover - compiled
+    """``out = a @ m`` for rows ``a`` (M, 3) and a matrix ``m`` (3, 3): each entry
+    ``(a0·m0j + a1·m1j) + a2·m2j``, the order numpy's matmul sums a length-3 inner axis in (so the
+    same numbers; tested against ``a @ m`` for many row counts), ~10× faster than the BLAS call
+    on such thin arrays."""
+    m00, m01, m02 = m[0, 0], m[0, 1], m[0, 2]
+    m10, m11, m12 = m[1, 0], m[1, 1], m[1, 2]
+    m20, m21, m22 = m[2, 0], m[2, 1], m[2, 2]
+    for i in range(a.shape[0]):
+        a0, a1, a2 = a[i, 0], a[i, 1], a[i, 2]
+        out[i, 0] = (a0 * m00 + a1 * m10) + a2 * m20
+        out[i, 1] = (a0 * m01 + a1 * m11) + a2 * m21
+        out[i, 2] = (a0 * m02 + a1 * m12) + a2 * m22
 
 
 @jit

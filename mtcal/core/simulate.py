@@ -253,6 +253,18 @@ def specific_force(trajectory: Trajectory, gravity_w_m_s2=GRAVITY_W_M_S2) -> np.
     return np.einsum("nji,nj->ni", c_wb, trajectory.accel_w_m_s2 - g)
 
 
+def _rows_at(a: np.ndarray, m: np.ndarray) -> np.ndarray:
+    """``a @ m`` for rows ``a`` (..., 3) and a (3, 3) matrix, the same numbers: a large C-contiguous float64
+    ``a`` through one compiled pass (:func:`mtcal.core._rotation_kernels.rows_times_matrix3`, ~10× faster
+    than the BLAS call on such thin arrays), otherwise the matmul itself."""
+    if a.dtype == np.float64 and a.flags.c_contiguous and a.size >= 3 * rotations._KERNEL_MIN_ROWS:
+        out = np.empty(a.shape)
+        _rotation_kernels.rows_times_matrix3(a.reshape(-1, 3), np.ascontiguousarray(m, dtype=float),
+                                             out.reshape(-1, 3))
+        return out
+    return a @ m
+
+
 def _truth_outputs(trajectory: Trajectory, gravity_w_m_s2) -> tuple[np.ndarray, np.ndarray]:
     """Read-only :func:`body_rates` and :func:`specific_force` of ``trajectory``, computed once per Trajectory.
 
@@ -971,7 +983,7 @@ class _SensorStream:
         """``(out, base, warm, turn_on, vib, flags)`` of the compiled kernel for truth samples (n, 3) or (T, n, 3)."""
         e, n = self.e, truth.shape[-2]
         out = np.empty((self.trials, n, 3)) if out is None else out
-        base = truth @ self.matrix_t          # same product as the reference
+        base = _rows_at(truth, self.matrix_t)  # same product as the reference
         base = np.ascontiguousarray(base if base.ndim == 3 else base[None])
         none2, none3 = np.zeros((1, 3)), np.zeros((1, 1, 3))
         flags = 0
@@ -1108,8 +1120,8 @@ class ImuStream:
         self._q_bs, self._q_ws = q_bs, None
         c_sb = rotations.quat_to_matrix(q_bs).T
         rates, force = _truth_outputs(trajectory, gravity_w_m_s2)
-        self.gyro_true = rates @ c_sb.T
-        self.accel_true = force @ c_sb.T
+        self.gyro_true = _rows_at(rates, c_sb.T)
+        self.accel_true = _rows_at(force, c_sb.T)
         key = spawn_philox_key(rng) if rng is not None else (0, 0)
         dt, t_on = trajectory.dt_s, model.time_since_power_on_s
         self._gyro = _SensorStream(model.gyro, key, 0, ids, dt, t_on, block, engine)

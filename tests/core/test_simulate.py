@@ -590,3 +590,21 @@ def test_fill_streams_refuses_streams_without_shared_noise():
     used.fill(*out())
     with pytest.raises(ValueError, match=r"streams\[0\]: fill\(\) and chunks\(\) can run once"):
         simulate.fill_streams([used, stream(m1)], [out(), out()])
+
+
+@pytest.mark.parametrize("shape", [(2048, 3), (2049, 3), (4097, 3), (3, 2731, 3), (224050, 3)])
+def test_rows_at_equals_matmul_bit_for_bit(shape):
+    """The compiled thin product is ``a @ m`` exactly (row counts on and off any blocking of the BLAS call),
+    including non-finite rows; a small, non-float64 or non-contiguous input takes the matmul itself."""
+    from mtcal.core.simulate import _rows_at
+
+    rng = np.random.default_rng(7)
+    a = rng.standard_normal(shape) * 10.0 ** rng.uniform(-6, 6, shape)
+    a.reshape(-1, 3)[5] = [np.nan, np.inf, -np.inf]
+    m = rng.standard_normal((3, 3))
+    for mat in (m, m.T):                              # the transposed (non-contiguous) matrix the callers pass
+        np.testing.assert_array_equal(_rows_at(a, mat), a @ mat)
+        assert _rows_at(a, mat).tobytes() == (a @ mat).tobytes()
+    small = a.reshape(-1, 3)[:10]
+    assert _rows_at(small, m).tobytes() == (small @ m).tobytes()
+    assert _rows_at(a.astype(np.float32), m).dtype == np.float64
