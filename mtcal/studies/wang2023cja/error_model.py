@@ -228,8 +228,11 @@ def predicted_before(alpha_rad, reference_rad) -> np.ndarray:
     return rotations.euler_zxy_from_quat(q_s)
 
 
-def _table_angles(table: str):
-    df = paper_numbers.training("wang2023cja")[table]       # train/input numbers only (the split)
+def _table_angles(table: str, training: dict | None = None):
+    """(reference, before, after) angles (18, 3) rad of one of Tables 1–4, from ``training`` (a
+    ``paper_numbers.training("wang2023cja")`` the caller read once) or read here."""
+    training = paper_numbers.training("wang2023cja") if training is None else training
+    df = training[table]                                     # train/input numbers only (the split)
     cols = lambda kind: [f"{a}_{kind}_deg" for a in ("yaw", "pitch", "roll")]  # noqa: E731
     return tuple(np.radians(df[cols(k)].to_numpy(float)) for k in ("reference", "before", "after"))
 
@@ -264,7 +267,12 @@ def fit_installation_angles(table: str, sign=PAPER_SIGN, *, columns: str = "befo
     """
     if columns not in ("before", "after"):
         raise ValueError(f"columns must be 'before' or 'after', got {columns!r}")
-    ref, before, after = _table_angles(table)
+    return _installation_fit(table, sign, columns, None)
+
+
+def _installation_fit(table: str, sign, columns: str, training: dict | None) -> InstallationFit:
+    """:func:`fit_installation_angles` (checked arguments) on ``training`` tables (read here when None)."""
+    ref, before, after = _table_angles(table, training)
     before = before if columns == "before" else after
     s = np.asarray(sign, dtype=float)
 
@@ -439,12 +447,12 @@ class ErrorModelFit:
         return tuple(n for n in FITTED_PARAMETERS if n in self.fitted and not self.at_bound[n])
 
 
-def _training_residuals(tests=tuple(TABLES_1_TO_4)) -> dict:
+def _training_residuals(tests=tuple(TABLES_1_TO_4), training: dict | None = None) -> dict:
     out = {}
     for test, table in TABLES_1_TO_4.items():
         if test not in tests:
             continue
-        ref, _, after = _table_angles(table)
+        ref, _, after = _table_angles(table, training)
         out[test] = (PAPER_SIGN * metrics.angle_difference(after, ref)).ravel()
     return out
 
@@ -468,8 +476,8 @@ def _residual_matrix(alpha, model, mount, z, times_s):
     return metrics.angle_difference(res["after"], paper_positions()[None]).reshape(z.shape[0], -1)
 
 
-def _linear_tests(alphas: dict, n_mc: int, seed: int, times_s) -> dict:
-    data = _training_residuals(tuple(alphas))
+def _linear_tests(alphas: dict, n_mc: int, seed: int, times_s, training: dict | None = None) -> dict:
+    data = _training_residuals(tuple(alphas), training)
     rng = stream_rng(seed, STREAM_LINEAR_TESTS)
     out = {}
     for test, r in data.items():
@@ -574,10 +582,11 @@ def fit_error_model(*, n_mc: int = 4000, seed: int = 2023, prior: ErrorModel | N
     """
     prior = ErrorModel() if prior is None else prior
     train = _training_tests(tables)
-    inst = {t: fit_installation_angles(TABLES_1_TO_4[t]) for t in train}
+    training = paper_numbers.training("wang2023cja")   # read once per fit (train/input numbers only)
+    inst = {t: _installation_fit(TABLES_1_TO_4[t], PAPER_SIGN, "before", training) for t in train}
     alphas = {t: f.alpha_rad for t, f in inst.items()}
     times = rest_times_s(paper_positions(), 20 * DEG, 3.0, 100.0)
-    tests = _linear_tests(alphas, n_mc, seed, times)
+    tests = _linear_tests(alphas, n_mc, seed, times, training)
     names = identified_parameters(train)
     lo = np.array([PRIOR_RANGES[n][0] for n in names])
     hi = np.array([PRIOR_RANGES[n][1] for n in names])
