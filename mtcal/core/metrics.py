@@ -265,10 +265,48 @@ def allan_deviation(rate, dt_s: float, taus_s=None) -> tuple[np.ndarray, np.ndar
             raise ValueError(f"taus_s must lie in [1/fs, N/(2 fs)) = [{1 / fs:g}, {n / (2 * fs):g}) s")
     theta = np.concatenate([np.zeros(x.shape[:-1] + (1,)), np.cumsum(x, axis=-1)], axis=-1) / fs
     avar = np.empty(m.size)
+    scratch = np.empty(theta[..., 2 * int(m[0]):].size) if theta.ndim <= 3 else None   # m ascending: the largest
     for i, mi in enumerate(m):
-        d = theta[..., 2 * mi:] - 2 * theta[..., mi:-mi] + theta[..., :-2 * mi]
-        avar[i] = np.mean(d**2) / (2.0 * (mi / fs) ** 2)
+        avar[i] = np.mean(_second_difference_squared(theta, int(mi), scratch)) / (2.0 * (mi / fs) ** 2)
     return m / fs, np.sqrt(avar)
+
+
+def _time_middle(a: np.ndarray) -> list[np.ndarray]:
+    """Views (A, T, B) of ``a`` (…, T), time on axis 1, whose innermost axis is the fastest in memory
+    where the layout allows (one view per leading index of a C-ordered 3-D array); [] for ndim > 3."""
+    if a.ndim == 1:
+        return [a[None, :, None]]
+    if a.ndim == 2:
+        return [a[:, :, None]]
+    if a.ndim == 3:
+        if a.strides[1] < a.strides[2]:       # e.g. records (trials, N, 3) with the axis moved: (trials, 3, N)
+            return [a.transpose(0, 2, 1)]
+        return [a[p][:, :, None] for p in range(a.shape[0])]
+    return []
+
+
+def _second_difference_squared(theta: np.ndarray, m: int, scratch: np.ndarray | None) -> np.ndarray:
+    """``(θ[..., 2m:] − 2 θ[..., m:−m] + θ[..., :−2m])**2`` in the memory layout numpy gives it (one compiled pass
+    into ``scratch`` for large inputs, the same operations), so ``np.mean`` of it sums the same values in the same
+    order."""
+    view = theta[..., 2 * m:]
+    if scratch is not None and view.size >= _KERNEL_MIN_SIZE:
+        from mtcal.core import _metrics_kernels
+
+        out = _like(view, scratch)
+        for src, dst in zip(_time_middle(theta), _time_middle(out)):
+            _metrics_kernels.allan_second_difference_squared3(src, m, dst)
+        return out
+    d = view - 2 * theta[..., m:-m] + theta[..., :-2 * m]
+    return d**2
+
+
+def _like(a: np.ndarray, buffer: np.ndarray) -> np.ndarray:
+    """A dense array of ``a``'s shape in the first ``a.size`` elements of the flat ``buffer``, its axes in ``a``'s
+    memory order: the layout ``np.empty_like(a)`` and numpy's elementwise results (order "K") take."""
+    perm = sorted(range(a.ndim), key=lambda ax: -abs(a.strides[ax]))     # stable: ties keep axis order
+    dense = buffer[:a.size].reshape([a.shape[ax] for ax in perm])
+    return dense.transpose(np.argsort(perm))
 
 
 def fit_allan_noise(taus_s, adev, *, flat_term: bool = True) -> dict[str, float]:
