@@ -267,7 +267,7 @@ def allan_deviation(rate, dt_s: float, taus_s=None) -> tuple[np.ndarray, np.ndar
     avar = np.empty(m.size)
     scratch = np.empty(theta[..., 2 * int(m[0]):].size) if theta.ndim <= 3 else None   # m ascending: the largest
     for i, mi in enumerate(m):
-        avar[i] = np.mean(_second_difference_squared(theta, int(mi), scratch)) / (2.0 * (mi / fs) ** 2)
+        avar[i] = _second_difference_mean(theta, int(mi), scratch) / (2.0 * (mi / fs) ** 2)
     return m / fs, np.sqrt(avar)
 
 
@@ -285,20 +285,20 @@ def _time_middle(a: np.ndarray) -> list[np.ndarray]:
     return []
 
 
-def _second_difference_squared(theta: np.ndarray, m: int, scratch: np.ndarray | None) -> np.ndarray:
-    """``(θ[..., 2m:] − 2 θ[..., m:−m] + θ[..., :−2m])**2`` in the memory layout numpy gives it (one compiled pass
-    into ``scratch`` for large inputs, the same operations), so ``np.mean`` of it sums the same values in the same
-    order."""
+def _second_difference_mean(theta: np.ndarray, m: int, scratch: np.ndarray | None) -> float:
+    """``np.mean((θ[..., 2m:] − 2 θ[..., m:−m] + θ[..., :−2m])**2)``, bit-identical: for large inputs the squared
+    differences are made by one compiled pass (the same operations) into ``scratch``, in the memory layout numpy
+    gives its elementwise result, so ``np.mean`` sums the same values in the same order."""
     view = theta[..., 2 * m:]
-    if scratch is not None and view.size >= _KERNEL_MIN_SIZE:
-        from mtcal.core import _metrics_kernels
+    if scratch is None or view.size < _KERNEL_MIN_SIZE:
+        d = view - 2 * theta[..., m:-m] + theta[..., :-2 * m]
+        return np.mean(d**2)
+    from mtcal.core import _metrics_kernels
 
-        out = _like(view, scratch)
-        for src, dst in zip(_time_middle(theta), _time_middle(out)):
-            _metrics_kernels.allan_second_difference_squared3(src, m, dst)
-        return out
-    d = view - 2 * theta[..., m:-m] + theta[..., :-2 * m]
-    return d**2
+    out = _like(view, scratch)            # the layout numpy's elementwise result takes (order "K")
+    for src, dst in zip(_time_middle(theta), _time_middle(out)):
+        _metrics_kernels.allan_second_difference_squared3(src, m, dst)
+    return np.mean(out)
 
 
 def _like(a: np.ndarray, buffer: np.ndarray) -> np.ndarray:

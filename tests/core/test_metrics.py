@@ -261,10 +261,11 @@ def _allan_numpy(x, dt_s):
     return m / fs, np.sqrt(avar)
 
 
-@pytest.mark.parametrize("layout", ["1d", "2d", "3d", "moved_axis", "4d"])
+@pytest.mark.parametrize("layout", ["1d", "2d", "2d_fortran", "3d", "moved_axis", "4d"])
 def test_allan_deviation_compiled_pass_bit_identical(layout):
     rng = np.random.default_rng(3)
     x = {"1d": lambda: rng.normal(size=30000), "2d": lambda: rng.normal(size=(3, 12000)),
+         "2d_fortran": lambda: np.asfortranarray(rng.normal(size=(3, 12000))),
          "3d": lambda: rng.normal(size=(2, 3, 9000)),
          "moved_axis": lambda: np.moveaxis(rng.normal(size=(2, 9000, 3)), -1, 1),   # records (trials, N, 3)
          "4d": lambda: rng.normal(size=(2, 2, 2, 3000))}[layout]()
