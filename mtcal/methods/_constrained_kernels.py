@@ -21,6 +21,18 @@ _BIG = np.finfo(np.float64).max
 
 
 @jit
+def _finite(v):  # pragma: no cover - compiled
+    """``np.nan_to_num(v)`` (NaN → 0, ±inf → ±max) and whether ``v`` was NaN."""
+    if np.isnan(v):
+        return 0.0, True
+    if v == np.inf:
+        return _BIG, False
+    if v == -np.inf:
+        return -_BIG, False
+    return v, False
+
+
+@jit
 def angle_arguments(q1, q2, vec_norm, scalar_abs, has_nan):  # pragma: no cover - compiled
     """Per row of (N, 4) ``q1``, ``q2``: ``d = conj(nan_to_num(q1)) ⊗ q2``; ``vec_norm = ‖d[1:]‖``,
     ``scalar_abs = |d[0]|``, ``has_nan`` = any NaN in the row of ``q1``.
@@ -29,19 +41,12 @@ def angle_arguments(q1, q2, vec_norm, scalar_abs, has_nan):  # pragma: no cover 
     product's terms in :func:`mtcal.core.rotations.hamilton`'s order.
     """
     for i in range(q1.shape[0]):
-        nan = False
-        a = np.empty(4)
-        for j in range(4):
-            v = q1[i, j]
-            if np.isnan(v):
-                nan = True
-                v = 0.0
-            elif v == np.inf:
-                v = _BIG
-            elif v == -np.inf:
-                v = -_BIG
-            a[j] = v
-        p0, p1, p2, p3 = a[0], -a[1], -a[2], -a[3]
+        a0, nan0 = _finite(q1[i, 0])
+        a1, nan1 = _finite(q1[i, 1])
+        a2, nan2 = _finite(q1[i, 2])
+        a3, nan3 = _finite(q1[i, 3])
+        nan = nan0 or nan1 or nan2 or nan3
+        p0, p1, p2, p3 = a0, -a1, -a2, -a3
         r0, r1, r2, r3 = q2[i, 0], q2[i, 1], q2[i, 2], q2[i, 3]
         d0 = p0 * r0 - p1 * r1 - p2 * r2 - p3 * r3
         d1 = p0 * r1 + p1 * r0 + p2 * r3 - p3 * r2

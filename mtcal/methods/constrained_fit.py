@@ -504,8 +504,10 @@ def _angle(q1: np.ndarray, q2: np.ndarray) -> np.ndarray:
         rows = q1.size // 4
         num, den, nan = np.empty(rows), np.empty(rows), np.empty(rows, dtype=np.bool_)
         angle_arguments(q1.reshape(rows, 4), q2.reshape(rows, 4), num, den, nan)
-        ang = 2.0 * np.arctan2(num, den)
-        return np.where(nan, np.nan, ang).reshape(q1.shape[:-1])
+        ang = np.arctan2(num, den, out=num)
+        ang *= 2.0
+        ang[nan] = np.nan
+        return ang.reshape(q1.shape[:-1])
     d = rotations.hamilton(rotations.quat_conjugate(np.nan_to_num(q1)), q2)
     ang = 2.0 * np.arctan2(np.linalg.norm(d[..., 1:], axis=-1), np.abs(d[..., 0]))
     return np.where(np.any(np.isnan(q1), axis=-1), np.nan, ang)
