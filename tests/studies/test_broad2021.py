@@ -234,3 +234,13 @@ def test_errors_deg_compiled_pass_bit_identical(order, inclination_only):
         got = runs.errors_deg(q, ref, inclination_only=inclination_only)
         want = _errors_deg_numpy(q, ref, inclination_only)
     assert got.tobytes() == want.tobytes()
+
+
+def test_rmse_deg_rows_equal_rmse_over_phase(trial):
+    rng = np.random.default_rng(8)
+    q = np.ascontiguousarray(trial.opt_quat[None] + 0.02 * rng.normal(size=(2,) + trial.opt_quat.shape))
+    q = np.where(np.isfinite(q), q, 1.0)
+    got = runs.rmse_deg(q, trial)
+    e = runs.errors_deg(q, trial.opt_quat)
+    want = np.array([[metrics.rmse_over_phase(e[m, lane], trial.movement) for lane in range(2)] for m in range(3)])
+    assert got.tobytes() == want.tobytes()

@@ -157,7 +157,17 @@ def rmse_deg(q_est, trial: Trial, *, inclination_only: bool = False) -> np.ndarr
     """
     e = errors_deg(q_est, trial.opt_quat, inclination_only=inclination_only)
     flat = e.reshape(-1, e.shape[-1])
-    return np.array([metrics.rmse_over_phase(x, trial.movement) for x in flat]).reshape(e.shape[:-1])
+    # metrics.rmse_over_phase of every row, its checks made once for all rows: the same arithmetic per row
+    if np.isinf(flat).any():
+        raise ValueError("error must not contain infinite values")
+    phase = np.asarray(trial.movement)
+    if phase.shape != flat.shape[1:]:
+        raise ValueError(f"phase must have the shape of error {flat.shape[1:]}, got {phase.shape}")
+    keep = np.isfinite(flat)
+    keep &= phase.astype(bool)
+    if not keep.any(axis=1).all():
+        raise ValueError("no finite error sample in the phase")
+    return np.array([float(np.sqrt(np.mean(x[k] ** 2))) for x, k in zip(flat, keep)]).reshape(e.shape[:-1])
 
 
 class NinedResult(dict):
