@@ -595,7 +595,8 @@ def _euler_quat(angles: np.ndarray) -> np.ndarray:
 
 
 def simulate_calibration_errors(layout_rad, scenario: CalibrationScenario, n_trials: int,
-                                rng: np.random.Generator, *, return_matrices: bool = False):
+                                rng: np.random.Generator, *, return_matrices: bool = False, methods=METHODS,
+                                errors: bool = True):
     """Calibrated-attitude RMSE of Eq 13, SO(4) and mounting-only fits over Monte Carlo trials.
 
     Per trial (all vectorised over the leading trial axis): draw a mounting
@@ -617,6 +618,12 @@ def simulate_calibration_errors(layout_rad, scenario: CalibrationScenario, n_tri
 
     return_matrices : bool
         Also return the fitted matrices.
+    methods : sequence of str
+        Estimators to fit (a subset of :data:`METHODS`); the others are not computed. The draws do not
+        depend on it, so each estimator's numbers are the same whichever others are fitted beside it.
+    errors : bool
+        Compute the attitude RMSE on the test attitudes. ``False`` (with ``return_matrices``): only the
+        fitted matrices, the test attitudes are neither drawn nor evaluated (the first dict is empty).
 
     Returns
     -------
@@ -629,6 +636,11 @@ def simulate_calibration_errors(layout_rad, scenario: CalibrationScenario, n_tri
     """
     if not isinstance(scenario, CalibrationScenario):
         raise TypeError(f"scenario must be a CalibrationScenario, got {type(scenario).__name__}")
+    methods = tuple(methods)
+    if not methods or any(m not in METHODS for m in methods):
+        raise ValueError(f"methods must be a non-empty subset of {METHODS}, got {methods}")
+    if not errors and not return_matrices:
+        raise ValueError("errors=False needs return_matrices=True (nothing would be returned)")
     n_trials = positive_int(n_trials, "n_trials")
     lay = as_float_array(layout_rad, "layout_rad", last_dim=3)
     if lay.ndim == 2:
@@ -653,18 +665,20 @@ def simulate_calibration_errors(layout_rad, scenario: CalibrationScenario, n_tri
     noise = rotations.quat_from_rotvec(rng.normal(0.0, scenario.noise_sigma_rad, (n_trials, k, 3)))
     q_s = rotations.hamilton(sensor(q_b), noise)
 
-    test = random_layout_rad(rng, n_trials, scenario.n_test, scenario.envelope_deg)
-    qb_test = _euler_quat(test)
-    qs_test = sensor(qb_test)
-
     nan = np.full((n_trials, 4, 4), np.nan)
     pairs = quaternion_lsq._align_pairs(q_s, q_b)          # unit quaternions made here: no second check
-    mats = {
-        "eq13": quaternion_lsq._least_squares(*pairs, "nan") if k >= MIN_POSITIONS["eq13"] else nan,
-        "so4": _so4_matrix(*pairs, "nan")[0] if k >= MIN_POSITIONS["so4"] else nan,   # matrices only: no
-        "mounting": _mounting_matrix(*pairs, "nan")[0],                               # p, r, residuals here
+    fits = {  # matrices only: no p, r, residuals here
+        "eq13": lambda: quaternion_lsq._least_squares(*pairs, "nan") if k >= MIN_POSITIONS["eq13"] else nan,
+        "so4": lambda: _so4_matrix(*pairs, "nan")[0] if k >= MIN_POSITIONS["so4"] else nan,
+        "mounting": lambda: _mounting_matrix(*pairs, "nan")[0],
     }
+    mats = {name: fit() for name, fit in fits.items() if name in methods}
     out = {}
+    if not errors:
+        return out, mats
+    test = random_layout_rad(rng, n_trials, scenario.n_test, scenario.envelope_deg)   # drawn after the fits' draws
+    qb_test = _euler_quat(test)
+    qs_test = sensor(qb_test)
     for name, m in mats.items():
         err = _angle(quaternion_lsq._apply(np.ascontiguousarray(m), qs_test), qb_test)
         out[name] = np.sqrt(np.mean(err**2, axis=-1))

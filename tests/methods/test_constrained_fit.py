@@ -362,3 +362,21 @@ def test_angle_compiled_pass_bit_identical():
     got = constrained_fit._angle(q1, q2)
     assert got.tobytes() == _angle_numpy(q1, q2).tobytes()
     assert np.isnan(got[7]).all() and np.isnan(got[3, 5]) and not np.isnan(got[3, 4])
+
+
+def test_simulate_calibration_errors_methods_subset_and_matrices_only():
+    sc = constrained_fit.CalibrationScenario(n_test=10)
+    lay = np.radians([[8, 0, 0], [-8, 0, 0], [0, -12, 0], [0, 23, 0], [0, 0, 90], [0, 0, -90]])
+    from mtcal.core.rng import stream_rng
+    err, mats = constrained_fit.simulate_calibration_errors(lay, sc, 50, stream_rng(1, 2), return_matrices=True)
+    e1, m1 = constrained_fit.simulate_calibration_errors(lay, sc, 50, stream_rng(1, 2), return_matrices=True,
+                                                         methods=("eq13",))
+    assert list(m1) == ["eq13"] and m1["eq13"].tobytes() == mats["eq13"].tobytes()
+    assert e1["eq13"].tobytes() == err["eq13"].tobytes()
+    e2, m2 = constrained_fit.simulate_calibration_errors(lay, sc, 50, stream_rng(1, 2), return_matrices=True,
+                                                         methods=("eq13",), errors=False)
+    assert e2 == {} and m2["eq13"].tobytes() == mats["eq13"].tobytes()
+    with pytest.raises(ValueError, match="methods must be a non-empty subset"):
+        constrained_fit.simulate_calibration_errors(lay, sc, 5, stream_rng(1, 2), methods=("qmethod",))
+    with pytest.raises(ValueError, match="errors=False needs return_matrices=True"):
+        constrained_fit.simulate_calibration_errors(lay, sc, 5, stream_rng(1, 2), errors=False)
