@@ -15,7 +15,7 @@ from mtcal.core.validate import as_float_array, positive_int, positive_scalar, s
 __all__ = ["angle_difference", "rmse", "max_abs_error", "split_static_moving",
            "allan_deviation", "fit_allan_noise", "percentile_band", "bootstrap_medians",
            "MIN_BAND_DRAWS", "band_or_range", "band_label", "median_trial",
-           "OrientationErrors", "orientation_errors", "rmse_over_phase", "variance_parts"]
+           "OrientationErrors", "orientation_errors", "inclination_error", "rmse_over_phase", "variance_parts"]
 
 
 #: Elements from which :func:`angle_difference` runs a compiled loop (bit-identical to numpy's).
@@ -139,6 +139,44 @@ def orientation_errors(q_est, q_ref) -> OrientationErrors:
     >>> np.degrees([e.total_rad[0], e.heading_rad[0], e.inclination_rad[0]]).round(12) + 0
     array([10.,  0., 10.])
     """
+    w, z = _error_wz(q_est, q_ref)
+    aw, az = np.abs(w), np.abs(z)
+    total = 2.0 * np.arccos(np.clip(aw, 0.0, 1.0))
+    heading = 2.0 * np.arctan2(az, aw)
+    inclination = 2.0 * np.arccos(np.clip(np.sqrt(w * w + z * z), 0.0, 1.0))
+    return OrientationErrors(total, heading, inclination)
+
+
+def inclination_error(q_est, q_ref) -> np.ndarray:
+    """The ``inclination_rad`` field of :func:`orientation_errors` alone: the same numbers, without the total
+    and heading errors' ``arccos``/``arctan2`` over every sample (a 6D filter is judged on it alone).
+
+    Parameters
+    ----------
+    q_est, q_ref : array_like, shape (N, 4) or (4,)
+        As :func:`orientation_errors` (scalar-first, sensor → earth; NaN reference rows give NaN).
+
+    Returns
+    -------
+    ndarray, shape (N,)
+        Inclination error ``2·arccos √(w_e² + z_e²)`` (rad), in [0, π].
+
+    References
+    ----------
+    BROAD (Laidig et al., Data 6(7):72, 2021), Sec. 4, as :func:`orientation_errors`.
+
+    Examples
+    --------
+    >>> half = np.radians(10) / 2
+    >>> float(np.degrees(inclination_error([np.cos(half), np.sin(half), 0, 0], [1.0, 0, 0, 0])[0]).round(12))
+    10.0
+    """
+    w, z = _error_wz(q_est, q_ref)
+    return 2.0 * np.arccos(np.clip(np.sqrt(w * w + z * z), 0.0, 1.0))
+
+
+def _error_wz(q_est, q_ref) -> tuple[np.ndarray, np.ndarray]:
+    """Checked inputs of :func:`orientation_errors`; w and z of ``q_e = q_est ⊗ conj(q_ref)``, each (N,)."""
     est = np.atleast_2d(as_float_array(q_est, "q_est"))
     ref = np.atleast_2d(np.asarray(q_ref, dtype=float))      # NaN rows allowed (reference lost)
     if np.isinf(ref).any():
@@ -154,11 +192,7 @@ def orientation_errors(q_est, q_ref) -> OrientationErrors:
     w2, x2, y2, z2 = ref.T
     w = w1 * w2 + x1 * x2 + y1 * y2 + z1 * z2
     z = -w1 * z2 + z1 * w2 - x1 * y2 + y1 * x2
-    aw, az = np.abs(w), np.abs(z)
-    total = 2.0 * np.arccos(np.clip(aw, 0.0, 1.0))
-    heading = 2.0 * np.arctan2(az, aw)
-    inclination = 2.0 * np.arccos(np.clip(np.sqrt(w * w + z * z), 0.0, 1.0))
-    return OrientationErrors(total, heading, inclination)
+    return w, z
 
 
 def rmse_over_phase(error, phase=None) -> float:

@@ -278,3 +278,13 @@ def test_like_matches_numpy_layout():
     a = np.moveaxis(np.zeros((2, 50, 3)), -1, 1)[..., 4:]
     out = metrics._like(a, np.empty(a.size + 7))
     assert out.shape == a.shape and out.strides == np.empty_like(a).strides
+
+
+def test_inclination_error_is_orientation_errors_field():
+    rng = np.random.default_rng(9)
+    est, ref = rng.normal(size=(500, 4)), rng.normal(size=(500, 4))
+    ref[7] = np.nan
+    got = metrics.inclination_error(est, ref)
+    assert got.tobytes() == metrics.orientation_errors(est, ref).inclination_rad.tobytes()
+    with pytest.raises(ValueError, match="q_est and q_ref must have shape"):
+        metrics.inclination_error(np.ones((3, 3)), np.ones((3, 4)))

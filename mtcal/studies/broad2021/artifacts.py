@@ -109,7 +109,7 @@ def run_study(sc: BroadScenario, seed: int) -> StudyRun:
         for f in sc.filters:
             q = runs.run_6d(f, tr.gyro_rad_s, tr.accel_m_s2, tr.dt_s)
             qs[(tr.name, f)] = q
-            real.append({"trial": tr.name, "filter": f, "inclination_rmse_deg": float(runs.rmse_deg(q, tr)[2])})
+            real.append({"trial": tr.name, "filter": f, "inclination_rmse_deg": float(runs.rmse_deg(q, tr, inclination_only=True)[0])})
         full = sc.max_samples is None
         betas = np.union1d(BETA_GRID, [sc.madgwick_beta]) if full else np.array([sc.madgwick_beta])
         kps = np.union1d(KP_GRID, [sc.mahony_kp]) if full else np.array([sc.mahony_kp])
@@ -190,7 +190,7 @@ def run_study(sc: BroadScenario, seed: int) -> StudyRun:
     med_name = order.index[(len(order) - 1) // 2]
     tr = next(t for t in trials if t.name == med_name)
     series = {"trial": med_name, "time_s": np.arange(tr.n) * tr.dt_s, "movement": tr.movement,
-              **{f: runs.errors_deg(qs[(med_name, f)], tr.opt_quat)[2] for f in sc.filters}}
+              **{f: runs.errors_deg(qs[(med_name, f)], tr.opt_quat, inclination_only=True)[0] for f in sc.filters}}
     return StudyRun(scenario=sc, trials=[(t.name, t.groups) for t in trials], real=real_df, series=series,
                     nined=pd.DataFrame(nined), grids=pd.DataFrame(grids), twin=pd.DataFrame(twin),
                     rest=rest_df, seed=int(seed), extra={"groups": groups, "published": published,

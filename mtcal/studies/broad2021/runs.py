@@ -112,8 +112,9 @@ def errors_deg(q_est, opt_quat, *, inclination_only: bool = False) -> np.ndarray
     """
     q = np.asarray(q_est, dtype=float)
     if q.ndim == 2:
-        e = metrics.orientation_errors(q, opt_quat)
-        return np.degrees(np.stack(e[2:] if inclination_only else e))
+        if inclination_only:
+            return np.degrees(metrics.inclination_error(q, opt_quat)[None])
+        return np.degrees(np.stack(metrics.orientation_errors(q, opt_quat)))
     r = np.asarray(opt_quat, dtype=float)
     r = r / np.linalg.norm(r, axis=-1, keepdims=True)
     if (q.ndim == 3 and q.flags.c_contiguous and r.shape == q.shape[1:]
