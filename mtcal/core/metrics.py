@@ -320,9 +320,9 @@ def _time_middle(a: np.ndarray) -> list[np.ndarray]:
 
 
 def _second_difference_mean(theta: np.ndarray, m: int, scratch: np.ndarray | None) -> float:
-    """``np.mean((θ[..., 2m:] − 2 θ[..., m:−m] + θ[..., :−2m])**2)``, bit-identical: for large inputs the squared
-    differences are made by one compiled pass (the same operations) into ``scratch``, in the memory layout numpy
-    gives its elementwise result, so ``np.mean`` sums the same values in the same order."""
+    """``np.mean((θ[..., 2m:] − 2 θ[..., m:−m] + θ[..., :−2m])**2)``, bit-identical: for large inputs the
+    squared differences are made by one compiled pass (the same operations) into ``scratch``, in the memory
+    layout numpy gives its elementwise result, so ``np.mean`` sums the same values in the same order."""
     view = theta[..., 2 * m:]
     if scratch is None or view.size < _KERNEL_MIN_SIZE:
         d = view - 2 * theta[..., m:-m] + theta[..., :-2 * m]

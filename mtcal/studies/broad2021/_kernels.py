@@ -7,8 +7,8 @@ products as ``(a0 b0 + a2 b2) + (a1 b1 + a3 b3)`` (numpy's two-lane accumulation
 C-ordered, and left to right when ``b`` (N, 4) is Fortran-ordered (a MATLAB file's columns; the
 summation then runs over the component axis outermost) — tests compare both;
 ``np.clip(x, 0, 1)`` of a value ≥ 0 or NaN is ``1`` above 1 and ``x`` otherwise, a division by zero
-gives IEEE's ±inf or the x86-64 default NaN as numpy's does. The transcendental ``arccos``/``arctan`` stay in numpy (the
-caller applies them), so the results do not depend on which libm numba would link.
+gives IEEE's ±inf or the x86-64 default NaN as numpy's does. The transcendental ``arccos``/``arctan``
+stay in numpy (the caller applies them), so the results do not depend on which libm numba would link.
 
 Imported lazily: ``import mtcal`` does not load numba.
 """

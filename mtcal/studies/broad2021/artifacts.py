@@ -109,7 +109,8 @@ def run_study(sc: BroadScenario, seed: int) -> StudyRun:
         for f in sc.filters:
             q = runs.run_6d(f, tr.gyro_rad_s, tr.accel_m_s2, tr.dt_s)
             qs[(tr.name, f)] = q
-            real.append({"trial": tr.name, "filter": f, "inclination_rmse_deg": float(runs.rmse_deg(q, tr, inclination_only=True)[0])})
+            real.append({"trial": tr.name, "filter": f,
+                         "inclination_rmse_deg": float(runs.rmse_deg(q, tr, inclination_only=True)[0])})
         full = sc.max_samples is None
         betas = np.union1d(BETA_GRID, [sc.madgwick_beta]) if full else np.array([sc.madgwick_beta])
         kps = np.union1d(KP_GRID, [sc.mahony_kp]) if full else np.array([sc.mahony_kp])
