@@ -60,7 +60,7 @@ def _numeric(a) -> np.ndarray | None:
     arr = np.asarray(a)
     if arr.dtype.kind not in "biuf":
         return None
-    return arr.astype(float)
+    return arr.astype(float, copy=False)      # a float64 array just read is the caller's already: no second copy
 
 
 def _read_mat_v5(path: Path) -> dict[str, np.ndarray]:

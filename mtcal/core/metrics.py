@@ -15,7 +15,7 @@ from mtcal.core.validate import as_float_array, positive_int, positive_scalar, s
 __all__ = ["angle_difference", "rmse", "max_abs_error", "split_static_moving",
            "allan_deviation", "fit_allan_noise", "percentile_band", "bootstrap_medians",
            "MIN_BAND_DRAWS", "band_or_range", "band_label", "median_trial",
-           "OrientationErrors", "orientation_errors", "rmse_over_phase", "variance_parts"]
+           "OrientationErrors", "orientation_errors", "inclination_error", "rmse_over_phase", "variance_parts"]
 
 
 #: Elements from which :func:`angle_difference` runs a compiled loop (bit-identical to numpy's).
@@ -139,6 +139,44 @@ def orientation_errors(q_est, q_ref) -> OrientationErrors:
     >>> np.degrees([e.total_rad[0], e.heading_rad[0], e.inclination_rad[0]]).round(12) + 0
     array([10.,  0., 10.])
     """
+    w, z = _error_wz(q_est, q_ref)
+    aw, az = np.abs(w), np.abs(z)
+    total = 2.0 * np.arccos(np.clip(aw, 0.0, 1.0))
+    heading = 2.0 * np.arctan2(az, aw)
+    inclination = 2.0 * np.arccos(np.clip(np.sqrt(w * w + z * z), 0.0, 1.0))
+    return OrientationErrors(total, heading, inclination)
+
+
+def inclination_error(q_est, q_ref) -> np.ndarray:
+    """The ``inclination_rad`` field of :func:`orientation_errors` alone: the same numbers, without the total
+    and heading errors' ``arccos``/``arctan2`` over every sample (a 6D filter is judged on it alone).
+
+    Parameters
+    ----------
+    q_est, q_ref : array_like, shape (N, 4) or (4,)
+        As :func:`orientation_errors` (scalar-first, sensor → earth; NaN reference rows give NaN).
+
+    Returns
+    -------
+    ndarray, shape (N,)
+        Inclination error ``2·arccos √(w_e² + z_e²)`` (rad), in [0, π].
+
+    References
+    ----------
+    BROAD (Laidig et al., Data 6(7):72, 2021), Sec. 4, as :func:`orientation_errors`.
+
+    Examples
+    --------
+    >>> half = np.radians(10) / 2
+    >>> float(np.degrees(inclination_error([np.cos(half), np.sin(half), 0, 0], [1.0, 0, 0, 0])[0]).round(12))
+    10.0
+    """
+    w, z = _error_wz(q_est, q_ref)
+    return 2.0 * np.arccos(np.clip(np.sqrt(w * w + z * z), 0.0, 1.0))
+
+
+def _error_wz(q_est, q_ref) -> tuple[np.ndarray, np.ndarray]:
+    """Checked inputs of :func:`orientation_errors`; w and z of ``q_e = q_est ⊗ conj(q_ref)``, each (N,)."""
     est = np.atleast_2d(as_float_array(q_est, "q_est"))
     ref = np.atleast_2d(np.asarray(q_ref, dtype=float))      # NaN rows allowed (reference lost)
     if np.isinf(ref).any():
@@ -154,11 +192,7 @@ def orientation_errors(q_est, q_ref) -> OrientationErrors:
     w2, x2, y2, z2 = ref.T
     w = w1 * w2 + x1 * x2 + y1 * y2 + z1 * z2
     z = -w1 * z2 + z1 * w2 - x1 * y2 + y1 * x2
-    aw, az = np.abs(w), np.abs(z)
-    total = 2.0 * np.arccos(np.clip(aw, 0.0, 1.0))
-    heading = 2.0 * np.arctan2(az, aw)
-    inclination = 2.0 * np.arccos(np.clip(np.sqrt(w * w + z * z), 0.0, 1.0))
-    return OrientationErrors(total, heading, inclination)
+    return w, z
 
 
 def rmse_over_phase(error, phase=None) -> float:
@@ -265,10 +299,48 @@ def allan_deviation(rate, dt_s: float, taus_s=None) -> tuple[np.ndarray, np.ndar
             raise ValueError(f"taus_s must lie in [1/fs, N/(2 fs)) = [{1 / fs:g}, {n / (2 * fs):g}) s")
     theta = np.concatenate([np.zeros(x.shape[:-1] + (1,)), np.cumsum(x, axis=-1)], axis=-1) / fs
     avar = np.empty(m.size)
+    scratch = np.empty(theta[..., 2 * int(m[0]):].size) if theta.ndim <= 3 else None   # m ascending: the largest
     for i, mi in enumerate(m):
-        d = theta[..., 2 * mi:] - 2 * theta[..., mi:-mi] + theta[..., :-2 * mi]
-        avar[i] = np.mean(d**2) / (2.0 * (mi / fs) ** 2)
+        avar[i] = _second_difference_mean(theta, int(mi), scratch) / (2.0 * (mi / fs) ** 2)
     return m / fs, np.sqrt(avar)
+
+
+def _time_middle(a: np.ndarray) -> list[np.ndarray]:
+    """Views (A, T, B) of ``a`` (…, T), time on axis 1, whose innermost axis is the fastest in memory
+    where the layout allows (one view per leading index of a C-ordered 3-D array); [] for ndim > 3."""
+    if a.ndim == 1:
+        return [a[None, :, None]]
+    if a.ndim == 2:
+        return [a[:, :, None]]
+    if a.ndim == 3:
+        if a.strides[1] < a.strides[2]:       # e.g. records (trials, N, 3) with the axis moved: (trials, 3, N)
+            return [a.transpose(0, 2, 1)]
+        return [a[p][:, :, None] for p in range(a.shape[0])]
+    return []
+
+
+def _second_difference_mean(theta: np.ndarray, m: int, scratch: np.ndarray | None) -> float:
+    """``np.mean((θ[..., 2m:] − 2 θ[..., m:−m] + θ[..., :−2m])**2)``, bit-identical: for large inputs the
+    squared differences are made by one compiled pass (the same operations) into ``scratch``, in the memory
+    layout numpy gives its elementwise result, so ``np.mean`` sums the same values in the same order."""
+    view = theta[..., 2 * m:]
+    if scratch is None or view.size < _KERNEL_MIN_SIZE:
+        d = view - 2 * theta[..., m:-m] + theta[..., :-2 * m]
+        return np.mean(d**2)
+    from mtcal.core import _metrics_kernels
+
+    out = _like(view, scratch)            # the layout numpy's elementwise result takes (order "K")
+    for src, dst in zip(_time_middle(theta), _time_middle(out)):
+        _metrics_kernels.allan_second_difference_squared3(src, m, dst)
+    return np.mean(out)
+
+
+def _like(a: np.ndarray, buffer: np.ndarray) -> np.ndarray:
+    """A dense array of ``a``'s shape in the first ``a.size`` elements of the flat ``buffer``, its axes in ``a``'s
+    memory order: the layout ``np.empty_like(a)`` and numpy's elementwise results (order "K") take."""
+    perm = sorted(range(a.ndim), key=lambda ax: -abs(a.strides[ax]))     # stable: ties keep axis order
+    dense = buffer[:a.size].reshape([a.shape[ax] for ax in perm])
+    return dense.transpose(np.argsort(perm))
 
 
 def fit_allan_noise(taus_s, adev, *, flat_term: bool = True) -> dict[str, float]:

@@ -93,6 +93,8 @@ METHODS = ("eq13", "so4", "mounting")
 #: Relative singular-value / eigen-gap threshold below which positions are degenerate
 #: (``1/sqrt(MAX_CONDITION)`` of :mod:`mtcal.methods.quaternion_lsq`, i.e. the same rank test).
 _REL_TOL = 1.0 / np.sqrt(MAX_CONDITION)
+#: Elements from which :func:`_angle` runs a compiled loop (bit-identical to its numpy expressions).
+_KERNEL_MIN_SIZE = 8192
 #: Tolerance for "is in SO(4)" checks (Frobenius norm of ``MᵀM − I``).
 SO4_ATOL = 1e-6
 
@@ -378,6 +380,15 @@ def fit_so4(q_sensor, q_body, *, on_degenerate: str = "raise") -> So4Fit:
 
 def _fit_so4(q_s: np.ndarray, q_b: np.ndarray, on_degenerate: str) -> So4Fit:
     """:func:`fit_so4` of sign-aligned unit-quaternion pairs (..., K, 4), K ≥ 3 (from :func:`_pairs`)."""
+    m, bad = _so4_matrix(q_s, q_b, on_degenerate)
+    p, r, _ = _factor(np.where(np.isnan(m), 0.0, m))
+    p = np.where(bad[..., None], np.nan, p)
+    r = np.where(bad[..., None], np.nan, r)
+    return So4Fit(matrix=m, p=p, r=r, residual_rad=_residual(m, q_s, q_b))
+
+
+def _so4_matrix(q_s: np.ndarray, q_b: np.ndarray, on_degenerate: str) -> tuple[np.ndarray, np.ndarray]:
+    """The matrix of :func:`_fit_so4` (NaN where degenerate) and the degenerate flags, without p, r, residuals."""
     b = np.swapaxes(q_b, -1, -2) @ q_s
     s = np.linalg.svd(b, compute_uv=False)
     bad = s[..., 2] <= _REL_TOL * s[..., 0]
@@ -385,10 +396,7 @@ def _fit_so4(q_s: np.ndarray, q_b: np.ndarray, on_degenerate: str) -> So4Fit:
                     f"q_sensor positions are degenerate for the SO(4) fit: rank(A_b A_s^T) < 3 "
                     f"(sigma3/sigma1 = {np.min(s[..., 2] / s[..., 0]):.3g}); use at least 3 positions "
                     f"whose quaternions are linearly independent")
-    p, r, _ = _factor(np.where(np.isnan(m), 0.0, m))
-    p = np.where(bad[..., None], np.nan, p)
-    r = np.where(bad[..., None], np.nan, r)
-    return So4Fit(matrix=m, p=p, r=r, residual_rad=_residual(m, q_s, q_b))
+    return m, bad
 
 
 def so4_error_matrix(q_sensor, q_body) -> np.ndarray:
@@ -456,6 +464,14 @@ def fit_mounting(q_sensor, q_body, *, on_degenerate: str = "raise") -> MountingF
 
 def _fit_mounting(q_s: np.ndarray, q_b: np.ndarray, on_degenerate: str) -> MountingFit:
     """:func:`fit_mounting` of sign-aligned unit-quaternion pairs (..., K, 4), K ≥ 1 (from :func:`_pairs`)."""
+    m, c, bad = _mounting_matrix(q_s, q_b, on_degenerate)
+    c = np.where(bad[..., None], np.nan, c)
+    return MountingFit(matrix=m, c=c, residual_rad=_residual(m, q_s, q_b))
+
+
+def _mounting_matrix(q_s: np.ndarray, q_b: np.ndarray, on_degenerate: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The matrix of :func:`_fit_mounting` (NaN where degenerate), ``c`` (not yet NaN-masked) and the degenerate
+    flags, without residuals."""
     v = rotations.hamilton(rotations.quat_conjugate(q_b), q_s)          # (..., K, 4) = ±c
     kmat = np.swapaxes(v, -1, -2) @ v
     lam, vec = np.linalg.eigh(kmat)
@@ -465,8 +481,7 @@ def _fit_mounting(q_s: np.ndarray, q_b: np.ndarray, on_degenerate: str) -> Mount
     m = _degenerate(bad, rotations.right_matrix(rotations.quat_conjugate(c)), on_degenerate,
                     "q_sensor/q_body are degenerate for the mounting fit: the two largest eigenvalues "
                     "of K tie (the positions disagree on the mounting by ~180 deg)")
-    c = np.where(bad[..., None], np.nan, c)
-    return MountingFit(matrix=m, c=c, residual_rad=_residual(m, q_s, q_b))
+    return m, c, bad
 
 
 def mounting_error_matrix(q_sensor, q_body) -> np.ndarray:
@@ -479,7 +494,20 @@ def _residual(m: np.ndarray, q_s: np.ndarray, q_b: np.ndarray) -> np.ndarray:
 
 
 def _angle(q1: np.ndarray, q2: np.ndarray) -> np.ndarray:
-    """Rotation angle (rad) between quaternions, NaN-propagating (no validation)."""
+    """Rotation angle (rad) between quaternions, NaN-propagating (no validation).
+
+    Large float64 inputs of one shape: one compiled pass for everything but ``arctan2`` (bit-identical)."""
+    if (q1.shape == q2.shape and q1.dtype == np.float64 and q2.dtype == np.float64
+            and q1.size >= _KERNEL_MIN_SIZE and q1.flags.c_contiguous and q2.flags.c_contiguous):
+        from mtcal.methods._constrained_kernels import angle_arguments   # lazy: numba loads on a large array
+
+        rows = q1.size // 4
+        num, den, nan = np.empty(rows), np.empty(rows), np.empty(rows, dtype=np.bool_)
+        angle_arguments(q1.reshape(rows, 4), q2.reshape(rows, 4), num, den, nan)
+        ang = np.arctan2(num, den, out=num)
+        ang *= 2.0
+        ang[nan] = np.nan
+        return ang.reshape(q1.shape[:-1])
     d = rotations.hamilton(rotations.quat_conjugate(np.nan_to_num(q1)), q2)
     ang = 2.0 * np.arctan2(np.linalg.norm(d[..., 1:], axis=-1), np.abs(d[..., 0]))
     return np.where(np.any(np.isnan(q1), axis=-1), np.nan, ang)
@@ -567,7 +595,8 @@ def _euler_quat(angles: np.ndarray) -> np.ndarray:
 
 
 def simulate_calibration_errors(layout_rad, scenario: CalibrationScenario, n_trials: int,
-                                rng: np.random.Generator, *, return_matrices: bool = False):
+                                rng: np.random.Generator, *, return_matrices: bool = False, methods=METHODS,
+                                errors: bool = True):
     """Calibrated-attitude RMSE of Eq 13, SO(4) and mounting-only fits over Monte Carlo trials.
 
     Per trial (all vectorised over the leading trial axis): draw a mounting
@@ -589,6 +618,12 @@ def simulate_calibration_errors(layout_rad, scenario: CalibrationScenario, n_tri
 
     return_matrices : bool
         Also return the fitted matrices.
+    methods : sequence of str
+        Estimators to fit (a subset of :data:`METHODS`); the others are not computed. The draws do not
+        depend on it, so each estimator's numbers are the same whichever others are fitted beside it.
+    errors : bool
+        Compute the attitude RMSE on the test attitudes. ``False`` (with ``return_matrices``): only the
+        fitted matrices, the test attitudes are neither drawn nor evaluated (the first dict is empty).
 
     Returns
     -------
@@ -601,6 +636,11 @@ def simulate_calibration_errors(layout_rad, scenario: CalibrationScenario, n_tri
     """
     if not isinstance(scenario, CalibrationScenario):
         raise TypeError(f"scenario must be a CalibrationScenario, got {type(scenario).__name__}")
+    methods = tuple(methods)
+    if not methods or any(m not in METHODS for m in methods):
+        raise ValueError(f"methods must be a non-empty subset of {METHODS}, got {methods}")
+    if not errors and not return_matrices:
+        raise ValueError("errors=False needs return_matrices=True (nothing would be returned)")
     n_trials = positive_int(n_trials, "n_trials")
     lay = as_float_array(layout_rad, "layout_rad", last_dim=3)
     if lay.ndim == 2:
@@ -625,18 +665,20 @@ def simulate_calibration_errors(layout_rad, scenario: CalibrationScenario, n_tri
     noise = rotations.quat_from_rotvec(rng.normal(0.0, scenario.noise_sigma_rad, (n_trials, k, 3)))
     q_s = rotations.hamilton(sensor(q_b), noise)
 
-    test = random_layout_rad(rng, n_trials, scenario.n_test, scenario.envelope_deg)
-    qb_test = _euler_quat(test)
-    qs_test = sensor(qb_test)
-
     nan = np.full((n_trials, 4, 4), np.nan)
     pairs = quaternion_lsq._align_pairs(q_s, q_b)          # unit quaternions made here: no second check
-    mats = {
-        "eq13": quaternion_lsq._least_squares(*pairs, "nan") if k >= MIN_POSITIONS["eq13"] else nan,
-        "so4": _fit_so4(*pairs, "nan").matrix if k >= MIN_POSITIONS["so4"] else nan,
-        "mounting": _fit_mounting(*pairs, "nan").matrix,
+    fits = {  # matrices only: no p, r, residuals here
+        "eq13": lambda: quaternion_lsq._least_squares(*pairs, "nan") if k >= MIN_POSITIONS["eq13"] else nan,
+        "so4": lambda: _so4_matrix(*pairs, "nan")[0] if k >= MIN_POSITIONS["so4"] else nan,
+        "mounting": lambda: _mounting_matrix(*pairs, "nan")[0],
     }
+    mats = {name: fit() for name, fit in fits.items() if name in methods}
     out = {}
+    if not errors:
+        return out, mats
+    test = random_layout_rad(rng, n_trials, scenario.n_test, scenario.envelope_deg)   # drawn after the fits' draws
+    qb_test = _euler_quat(test)
+    qs_test = sensor(qb_test)
     for name, m in mats.items():
         err = _angle(quaternion_lsq._apply(np.ascontiguousarray(m), qs_test), qb_test)
         out[name] = np.sqrt(np.mean(err**2, axis=-1))

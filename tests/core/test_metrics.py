@@ -247,3 +247,44 @@ def test_angle_difference_trusted_bit_identical(shape):
     assert "angle_difference_trusted" not in metrics.__all__
     with pytest.raises(ValueError, match="must broadcast"):   # the public call keeps its check
         metrics.angle_difference(e, t[:2])
+
+
+def _allan_numpy(x, dt_s):
+    """The numpy expressions allan_deviation ran before its compiled pass (reference for bit-identity)."""
+    x = np.array(x, dtype=np.float64, copy=True)
+    fs = 1.0 / dt_s
+    n = x.shape[-1]
+    m = np.unique(np.round(np.logspace(0, np.log10(n / 3), 60)).astype(int))
+    theta = np.concatenate([np.zeros(x.shape[:-1] + (1,)), np.cumsum(x, axis=-1)], axis=-1) / fs
+    avar = np.array([np.mean((theta[..., 2 * mi:] - 2 * theta[..., mi:-mi] + theta[..., :-2 * mi]) ** 2)
+                     / (2.0 * (mi / fs) ** 2) for mi in m])
+    return m / fs, np.sqrt(avar)
+
+
+@pytest.mark.parametrize("layout", ["1d", "2d", "2d_fortran", "3d", "moved_axis", "4d"])
+def test_allan_deviation_compiled_pass_bit_identical(layout):
+    rng = np.random.default_rng(3)
+    x = {"1d": lambda: rng.normal(size=30000), "2d": lambda: rng.normal(size=(3, 12000)),
+         "2d_fortran": lambda: np.asfortranarray(rng.normal(size=(3, 12000))),
+         "3d": lambda: rng.normal(size=(2, 3, 9000)),
+         "moved_axis": lambda: np.moveaxis(rng.normal(size=(2, 9000, 3)), -1, 1),   # records (trials, N, 3)
+         "4d": lambda: rng.normal(size=(2, 2, 2, 3000))}[layout]()
+    taus, adev = metrics.allan_deviation(x, 0.1)
+    ref_taus, ref_adev = _allan_numpy(x, 0.1)
+    assert taus.tobytes() == ref_taus.tobytes() and adev.tobytes() == ref_adev.tobytes()
+
+
+def test_like_matches_numpy_layout():
+    a = np.moveaxis(np.zeros((2, 50, 3)), -1, 1)[..., 4:]
+    out = metrics._like(a, np.empty(a.size + 7))
+    assert out.shape == a.shape and out.strides == np.empty_like(a).strides
+
+
+def test_inclination_error_is_orientation_errors_field():
+    rng = np.random.default_rng(9)
+    est, ref = rng.normal(size=(500, 4)), rng.normal(size=(500, 4))
+    ref[7] = np.nan
+    got = metrics.inclination_error(est, ref)
+    assert got.tobytes() == metrics.orientation_errors(est, ref).inclination_rad.tobytes()
+    with pytest.raises(ValueError, match="q_est and q_ref must have shape"):
+        metrics.inclination_error(np.ones((3, 3)), np.ones((3, 4)))

@@ -341,3 +341,42 @@ def test_project_to_so4_trusted_bit_identical():
     assert "project_to_so4_trusted" not in constrained_fit.__all__
     with pytest.raises(ValueError, match="4, 4"):
         constrained_fit.project_to_so4(np.eye(3))
+
+
+def _angle_numpy(q1, q2):
+    """The numpy expressions of constrained_fit._angle (reference for its compiled pass)."""
+    d = rotations.hamilton(rotations.quat_conjugate(np.nan_to_num(q1)), q2)
+    ang = 2.0 * np.arctan2(np.linalg.norm(d[..., 1:], axis=-1), np.abs(d[..., 0]))
+    return np.where(np.any(np.isnan(q1), axis=-1), np.nan, ang)
+
+
+def test_angle_compiled_pass_bit_identical():
+    rng = np.random.default_rng(4)
+    q1 = rng.normal(size=(40, 300, 4))
+    q1 /= np.linalg.norm(q1, axis=-1, keepdims=True)
+    q2 = rotations.hamilton(q1, rotations.quat_from_rotvec(rng.normal(0.0, 0.01, (40, 300, 3))))
+    q1[3, 5, 2] = np.nan                 # NaN rows (degenerate fits) stay NaN
+    q1[7] = np.nan
+    q2[9] = q1[9]                        # zero angle
+    assert q1.size >= constrained_fit._KERNEL_MIN_SIZE
+    got = constrained_fit._angle(q1, q2)
+    assert got.tobytes() == _angle_numpy(q1, q2).tobytes()
+    assert np.isnan(got[7]).all() and np.isnan(got[3, 5]) and not np.isnan(got[3, 4])
+
+
+def test_simulate_calibration_errors_methods_subset_and_matrices_only():
+    sc = constrained_fit.CalibrationScenario(n_test=10)
+    lay = np.radians([[8, 0, 0], [-8, 0, 0], [0, -12, 0], [0, 23, 0], [0, 0, 90], [0, 0, -90]])
+    from mtcal.core.rng import stream_rng
+    err, mats = constrained_fit.simulate_calibration_errors(lay, sc, 50, stream_rng(1, 2), return_matrices=True)
+    e1, m1 = constrained_fit.simulate_calibration_errors(lay, sc, 50, stream_rng(1, 2), return_matrices=True,
+                                                         methods=("eq13",))
+    assert list(m1) == ["eq13"] and m1["eq13"].tobytes() == mats["eq13"].tobytes()
+    assert e1["eq13"].tobytes() == err["eq13"].tobytes()
+    e2, m2 = constrained_fit.simulate_calibration_errors(lay, sc, 50, stream_rng(1, 2), return_matrices=True,
+                                                         methods=("eq13",), errors=False)
+    assert e2 == {} and m2["eq13"].tobytes() == mats["eq13"].tobytes()
+    with pytest.raises(ValueError, match="methods must be a non-empty subset"):
+        constrained_fit.simulate_calibration_errors(lay, sc, 5, stream_rng(1, 2), methods=("qmethod",))
+    with pytest.raises(ValueError, match="errors=False needs return_matrices=True"):
+        constrained_fit.simulate_calibration_errors(lay, sc, 5, stream_rng(1, 2), errors=False)

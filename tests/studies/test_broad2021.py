@@ -202,3 +202,45 @@ def test_hdf5_trials_load_like_the_mat_ones(tmp_path):
     assert h5.groups == mat.groups and h5.fs_hz == mat.fs_hz
     for field in ("gyro_rad_s", "accel_m_s2", "mag_uT", "opt_quat", "opt_pos_m", "movement"):
         np.testing.assert_array_equal(getattr(h5, field), getattr(mat, field))
+
+
+def _errors_deg_numpy(q, r, inclination_only=False):
+    """The numpy expressions of the batch branch of runs.errors_deg (reference for its compiled pass)."""
+    r = r / np.linalg.norm(r, axis=-1, keepdims=True)
+    q = q / np.sqrt(np.einsum("...i,...i->...", q, q))[..., None]
+    w = np.einsum("...i,...i->...", q, r)
+    z = -q[..., 0] * r[:, 3] - q[..., 1] * r[:, 2] + q[..., 2] * r[:, 1] + q[..., 3] * r[:, 0]
+    nrm = np.sqrt(w * w + z * z)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        incl = 2.0 * np.arccos(np.clip(nrm, 0.0, 1.0))
+        if inclination_only:
+            return np.degrees(incl[None])
+        total = 2.0 * np.arccos(np.clip(np.abs(w), 0.0, 1.0))
+        heading = 2.0 * np.arctan(np.abs(z / w))
+    return np.degrees(np.stack([total, heading, incl]))
+
+
+@pytest.mark.parametrize("order", ["C", "F"])       # F: a MATLAB trial's optical quaternions
+@pytest.mark.parametrize("inclination_only", [False, True])
+def test_errors_deg_compiled_pass_bit_identical(order, inclination_only):
+    rng = np.random.default_rng(6)
+    n = 3000
+    ref = np.asarray(rng.normal(size=(n, 4)), order=order)
+    ref[10:20] = np.nan                                          # optical gaps
+    q = rng.normal(size=(3, n, 4)) * np.exp(rng.normal(size=(3, n, 1)))
+    q[0, :3] = 0.0                                               # 0/0: numpy's NaN
+    q[1, 30], ref[30] = [0.0, 0.0, 0.0, 1.0], [1.0, 0.0, 0.0, 0.0]   # w = 0: heading 180 deg
+    with np.errstate(invalid="ignore", divide="ignore"):
+        got = runs.errors_deg(q, ref, inclination_only=inclination_only)
+        want = _errors_deg_numpy(q, ref, inclination_only)
+    assert got.tobytes() == want.tobytes()
+
+
+def test_rmse_deg_rows_equal_rmse_over_phase(trial):
+    rng = np.random.default_rng(8)
+    q = np.ascontiguousarray(trial.opt_quat[None] + 0.02 * rng.normal(size=(2,) + trial.opt_quat.shape))
+    q = np.where(np.isfinite(q), q, 1.0)
+    got = runs.rmse_deg(q, trial)
+    e = runs.errors_deg(q, trial.opt_quat)
+    want = np.array([[metrics.rmse_over_phase(e[m, lane], trial.movement) for lane in range(2)] for m in range(3)])
+    assert got.tobytes() == want.tobytes()

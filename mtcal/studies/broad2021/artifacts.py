@@ -64,7 +64,7 @@ def _amd(accel: np.ndarray, dt: float, g: float, tau_s: float = 0.05) -> np.ndar
     return lfilter([alpha], [1.0, alpha - 1.0], d, zi=[(1.0 - alpha) * d[0]])[0]
 
 
-def _rest_row(trial, sc: BroadScenario, q_paper_gate: float) -> dict:
+def _rest_row(trial, sc: BroadScenario, q_paper_gate: float, gaps: dict) -> dict:
     from mtcal.core import rotations
 
     model = error_model.identify_rest_model(trial, sc.rest_margin_s, sc.local_gravity_m_s2)
@@ -75,7 +75,6 @@ def _rest_row(trial, sc: BroadScenario, q_paper_gate: float) -> dict:
     cosang = np.dot(up_opt / np.linalg.norm(up_opt), model.gravity_dir_s)
     amd = _amd(trial.accel_m_s2, trial.dt_s, 9.80665)
     norm = np.linalg.norm(trial.accel_m_s2[rest].mean(axis=0))
-    gaps = error_model.twin_gaps(trial, sc.smooth_quat_s)
     return {**{"trial": trial.name, "rest_s": model.rest_s, "accel_norm_at_rest_m_s2": norm,
             "norm_offset_pct_of_standard_g": 100.0 * (norm / 9.80665 - 1.0),
             "qncf_paper_gate_open_movement_pct": 100.0 * float(np.mean(amd[trial.movement] < q_paper_gate)),
@@ -105,12 +104,13 @@ def run_study(sc: BroadScenario, seed: int) -> StudyRun:
                 for f in ("madgwick", "mahony")}
     ki_index = int(np.argmin(np.abs(np.round(np.arange(0.0, 0.0040001, 0.0001), 8) - sc.mahony_ki)))
     real, nined, grids, twin, rest = [], [], [], [], []
-    qs = {}
+    qs, truths, mats = {}, {}, {}
     for tr in trials:
         for f in sc.filters:
             q = runs.run_6d(f, tr.gyro_rad_s, tr.accel_m_s2, tr.dt_s)
             qs[(tr.name, f)] = q
-            real.append({"trial": tr.name, "filter": f, "inclination_rmse_deg": float(runs.rmse_deg(q, tr)[2])})
+            real.append({"trial": tr.name, "filter": f,
+                         "inclination_rmse_deg": float(runs.rmse_deg(q, tr, inclination_only=True)[0])})
         full = sc.max_samples is None
         betas = np.union1d(BETA_GRID, [sc.madgwick_beta]) if full else np.array([sc.madgwick_beta])
         kps = np.union1d(KP_GRID, [sc.mahony_kp]) if full else np.array([sc.mahony_kp])
@@ -139,9 +139,12 @@ def run_study(sc: BroadScenario, seed: int) -> StudyRun:
                                   "published_inclination_deg": float(pub[j] if col is None else pub[j, col]),
                                   "ours_total_deg": float(res[f][0, i]),
                                   "published_total_deg": float(pub_tot[j] if col is None else pub_tot[j, col])})
+        # the twin's truth and the measured gaps, once per trial (the blind and the leave-one-out twins share them)
+        truths[tr.name] = error_model.twin_truth(tr, sc.smooth_quat_s, sc.smooth_pos_s)
+        gaps_row, mats[tr.name] = error_model._gaps(tr, truths[tr.name], 10)
         preds = error_model.twin_predictions(tr, sc.twin_filters, sc.n_draws, seed, margin_s=sc.rest_margin_s,
                                              smooth_quat_s=sc.smooth_quat_s, smooth_pos_s=sc.smooth_pos_s,
-                                             local_gravity_m_s2=sc.local_gravity_m_s2)
+                                             local_gravity_m_s2=sc.local_gravity_m_s2, truth=truths[tr.name])
         for f, p in preds.items():
             r = next(x["inclination_rmse_deg"] for x in real if x["trial"] == tr.name and x["filter"] == f)
             b = p.band
@@ -149,7 +152,7 @@ def run_study(sc: BroadScenario, seed: int) -> StudyRun:
                          "twin_median_deg": float(b["median"]), "twin_high_deg": float(b["high"]), "n": b["n"],
                          "kind": b["kind"], "inside": bool(b["low"] <= r <= b["high"]),
                          "real_over_twin_median": r / float(b["median"])})
-        rest.append(_rest_row(tr, sc, 0.3))
+        rest.append(_rest_row(tr, sc, 0.3, gaps_row))
     rest_df = pd.DataFrame(rest)
     # leave-one-trial-out fix of what the twin lacks, measured on the OTHER trials only (never on the trial it
     # predicts): each draw borrows one other trial (keyed stream) and takes its rest tilt (IMU-to-marker, random
@@ -159,7 +162,6 @@ def run_study(sc: BroadScenario, seed: int) -> StudyRun:
     loto_filters = [f for f in LOTO_FILTERS if f in sc.twin_filters]
     if len(trials) > 1 and loto_filters:
         gaps = rest_df.set_index("trial")
-        mats = {tr.name: error_model.twin_gaps(tr, sc.smooth_quat_s, matrix=True) for tr in trials}
         for tr in trials:
             others = [t.name for t in trials if t.name != tr.name]
             pick = [others[i] for i in trial_rng(seed, error_model.STREAM_TWIN_LOTO,
@@ -171,7 +173,7 @@ def run_study(sc: BroadScenario, seed: int) -> StudyRun:
                                                  local_gravity_m_s2=sc.local_gravity_m_s2,
                                                  mount_tilt_rad=np.radians(tilt_deg),
                                                  gyro_matrix=np.median(np.stack([mats[n] for n in others]), axis=0),
-                                                 time_offset_samples=lags)
+                                                 time_offset_samples=lags, truth=truths[tr.name])
             tilt_deg = float(np.median(tilt_deg))
             for f, p in preds.items():
                 r = next(x["inclination_rmse_deg"] for x in real if x["trial"] == tr.name and x["filter"] == f)
@@ -189,7 +191,7 @@ def run_study(sc: BroadScenario, seed: int) -> StudyRun:
     med_name = order.index[(len(order) - 1) // 2]
     tr = next(t for t in trials if t.name == med_name)
     series = {"trial": med_name, "time_s": np.arange(tr.n) * tr.dt_s, "movement": tr.movement,
-              **{f: runs.errors_deg(qs[(med_name, f)], tr.opt_quat)[2] for f in sc.filters}}
+              **{f: runs.errors_deg(qs[(med_name, f)], tr.opt_quat, inclination_only=True)[0] for f in sc.filters}}
     return StudyRun(scenario=sc, trials=[(t.name, t.groups) for t in trials], real=real_df, series=series,
                     nined=pd.DataFrame(nined), grids=pd.DataFrame(grids), twin=pd.DataFrame(twin),
                     rest=rest_df, seed=int(seed), extra={"groups": groups, "published": published,

@@ -160,7 +160,8 @@ def twin_truth(trial: Trial, smooth_quat_s: float = 0.1, smooth_pos_s: float = 0
     return TwinTruth(q_ws=q, accel_w_m_s2=acc)
 
 
-def twin_gaps(trial: Trial, smooth_quat_s: float = 0.1, max_lag_samples: int = 10, *, matrix: bool = False):
+def twin_gaps(trial: Trial, smooth_quat_s: float = 0.1, max_lag_samples: int = 10, *, matrix: bool = False,
+              truth: TwinTruth | None = None):
     """What the twin lacks, measured after the fact on the movement phase (a diagnosis, never a twin input).
 
     Least squares of the real gyro on the twin's true rate (the smoothed optical attitude's interval-mean
@@ -174,10 +175,18 @@ def twin_gaps(trial: Trial, smooth_quat_s: float = 0.1, max_lag_samples: int = 1
         ``gyro_scale_pct`` (mean |A_ii − 1|, %), ``gyro_misalignment_deg`` (RMS off-diagonal of A, deg),
         ``time_offset_ms`` (best lag), ``gyro_fit_residual_deg_s`` (RMS residual), ``opt_rate_rms_deg_s``;
         with ``matrix=True`` the fitted 3×3 ``A`` instead.
+
+    ``truth``: the trial's :func:`twin_truth` at ``smooth_quat_s`` when the caller has it already (only its
+    attitude is read); computed here otherwise.
     """
+    gaps, a = _gaps(trial, twin_truth(trial, smooth_quat_s) if truth is None else truth, max_lag_samples)
+    return a if matrix else gaps
+
+
+def _gaps(trial: Trial, truth: TwinTruth, max_lag_samples: int) -> tuple[dict, np.ndarray]:
+    """:func:`twin_gaps`' dict and fitted matrix ``A`` at once, from the trial's twin truth."""
     from mtcal.core.simulate import body_rates
 
-    truth = twin_truth(trial, smooth_quat_s)
     w_opt = body_rates(Trajectory(np.arange(trial.n) * trial.dt_s, truth.q_ws))
     ok = trial.movement & np.isfinite(trial.opt_quat[:, 0])
     idx = np.flatnonzero(ok)
@@ -191,13 +200,11 @@ def twin_gaps(trial: Trial, smooth_quat_s: float = 0.1, max_lag_samples: int = 1
         if best is None or res < best[0]:
             best = (res, lag, coef[:3].T)
     res, lag, a = best
-    if matrix:
-        return a
     off = a[~np.eye(3, dtype=bool)]
     return {"gyro_scale_pct": float(100.0 * np.mean(np.abs(np.diag(a) - 1.0))),
             "gyro_misalignment_deg": float(np.degrees(np.sqrt(np.mean(off ** 2)))),
             "time_offset_ms": 1000.0 * lag * trial.dt_s, "gyro_fit_residual_deg_s": float(np.degrees(res)),
-            "opt_rate_rms_deg_s": float(np.degrees(np.sqrt(np.mean(w_opt[idx] ** 2))))}
+            "opt_rate_rms_deg_s": float(np.degrees(np.sqrt(np.mean(w_opt[idx] ** 2))))}, a
 
 
 def trial_number(trial: Trial) -> int:
@@ -208,7 +215,7 @@ def trial_number(trial: Trial) -> int:
 
 def simulate_twin(trial: Trial, n_draws: int, seed: int, *, margin_s: float = 0.5, smooth_quat_s: float = 0.1,
                   smooth_pos_s: float = 0.2, local_gravity_m_s2: float = LOCAL_GRAVITY_M_S2,
-                  mount_tilt_rad=0.0, gyro_matrix=None, time_offset_samples=0):
+                  mount_tilt_rad=0.0, gyro_matrix=None, time_offset_samples=0, truth: TwinTruth | None = None):
     """``n_draws`` simulated records of the trial's twin: (ImuRecord with (n_draws, N, 3) arrays, truth, RestModel).
 
     The blind twin has none of the three extra error sources below (their defaults); each may be one value
@@ -219,10 +226,13 @@ def simulate_twin(trial: Trial, n_draws: int, seed: int, *, margin_s: float = 0.
     * ``gyro_matrix`` (3×3 ``I + S + M``, or (n_draws, 3, 3)): gyro scale-factor and misalignment errors;
     * ``time_offset_samples`` (int): record sample k is the simulated sample k + offset (clipped at the ends).
 
-    Each draw keeps its noise numbers (``trial_ids``) whatever the extra sources.
+    Each draw keeps its noise numbers (``trial_ids``) whatever the extra sources. ``truth``: the trial's
+    :func:`twin_truth` at ``smooth_quat_s``, ``smooth_pos_s`` when the caller has it already (computed here
+    otherwise).
     """
     model = identify_rest_model(trial, margin_s, local_gravity_m_s2)
-    truth = twin_truth(trial, smooth_quat_s, smooth_pos_s)
+    if truth is None:
+        truth = twin_truth(trial, smooth_quat_s, smooth_pos_s)
     traj = Trajectory(np.arange(trial.n) * trial.dt_s, truth.q_ws, truth.accel_w_m_s2)
     n_draws = positive_int(n_draws, "n_draws")
     gravity = (0.0, 0.0, -local_gravity_m_s2)

@@ -112,10 +112,14 @@ def errors_deg(q_est, opt_quat, *, inclination_only: bool = False) -> np.ndarray
     """
     q = np.asarray(q_est, dtype=float)
     if q.ndim == 2:
-        e = metrics.orientation_errors(q, opt_quat)
-        return np.degrees(np.stack(e[2:] if inclination_only else e))
+        if inclination_only:
+            return np.degrees(metrics.inclination_error(q, opt_quat)[None])
+        return np.degrees(np.stack(metrics.orientation_errors(q, opt_quat)))
     r = np.asarray(opt_quat, dtype=float)
     r = r / np.linalg.norm(r, axis=-1, keepdims=True)
+    if (q.ndim == 3 and q.flags.c_contiguous and r.shape == q.shape[1:]
+            and r.flags.c_contiguous != r.flags.f_contiguous):     # the two layouts whose einsum order is known
+        return _errors_deg_compiled(q, r, inclination_only)
     q = q / np.sqrt(np.einsum("...i,...i->...", q, q))[..., None]
     w = np.einsum("...i,...i->...", q, r)
     z = -q[..., 0] * r[:, 3] - q[..., 1] * r[:, 2] + q[..., 2] * r[:, 1] + q[..., 3] * r[:, 0]
@@ -129,6 +133,23 @@ def errors_deg(q_est, opt_quat, *, inclination_only: bool = False) -> np.ndarray
     return np.degrees(np.stack([total, heading, incl]))
 
 
+def _errors_deg_compiled(q: np.ndarray, r: np.ndarray, inclination_only: bool) -> np.ndarray:
+    """The batch branch of :func:`errors_deg` for a C-contiguous (L, N, 4) ``q`` and unit (N, 4) ``r``: the arguments
+    of ``arccos``/``arctan`` in one compiled pass (the same operations), the functions in numpy, written in place."""
+    from ._kernels import error_angle_arguments
+
+    out = np.empty((1 if inclination_only else 3,) + q.shape[:2])
+    args = out if inclination_only else np.empty((2,) + q.shape[:2])
+    error_angle_arguments(q, r, r.flags.f_contiguous, out[-1], args[0], args[-1], not inclination_only)
+    with np.errstate(invalid="ignore"):
+        np.arccos(out[-1], out=out[-1])
+        if not inclination_only:
+            np.arccos(args[0], out=out[0])
+            np.arctan(args[1], out=out[1])
+    out *= 2.0
+    return np.degrees(out, out=out)
+
+
 def rmse_deg(q_est, trial: Trial, *, inclination_only: bool = False) -> np.ndarray:
     """RMSE (deg) over the movement phase of total, heading, inclination error, shape (3, …).
 
@@ -137,7 +158,17 @@ def rmse_deg(q_est, trial: Trial, *, inclination_only: bool = False) -> np.ndarr
     """
     e = errors_deg(q_est, trial.opt_quat, inclination_only=inclination_only)
     flat = e.reshape(-1, e.shape[-1])
-    return np.array([metrics.rmse_over_phase(x, trial.movement) for x in flat]).reshape(e.shape[:-1])
+    # metrics.rmse_over_phase of every row, its checks made once for all rows: the same arithmetic per row
+    if np.isinf(flat).any():
+        raise ValueError("error must not contain infinite values")
+    phase = np.asarray(trial.movement)
+    if phase.shape != flat.shape[1:]:
+        raise ValueError(f"phase must have the shape of error {flat.shape[1:]}, got {phase.shape}")
+    keep = np.isfinite(flat)
+    keep &= phase.astype(bool)
+    if not keep.any(axis=1).all():
+        raise ValueError("no finite error sample in the phase")
+    return np.array([float(np.sqrt(np.mean(x[k] ** 2))) for x, k in zip(flat, keep)]).reshape(e.shape[:-1])
 
 
 class NinedResult(dict):
