@@ -46,6 +46,7 @@ Examples
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass, field, replace
 from typing import Callable
@@ -440,22 +441,60 @@ def _attitude(p: dict, rngs: list) -> dict[str, np.ndarray]:
     One pass per layer: the truth (profile, trajectory, holds, sensor model: :mod:`mtcal.core`), the
     trials simulated at once, then each filter on the stacked trials with its gain, then its metrics.
     """
-    from mtcal.filters.anchors import run_attitude_filter
+    from mtcal.filters.anchors import attitude_filter_trusted, levelled_start
 
-    prof = attitude_profile(p["motion"], p["fs_hz"], hold_s=p["hold_s"], speed=p["speed"])
-    traj = trajectory_from_euler_zxy(prof)
-    holds = prof.hold_slices()
+    truth = _attitude_truth(p["motion"], float(p["fs_hz"]), p["hold_s"], float(p["speed"]))
     model = sensor_grade(p["grade"]).error_model(time_since_power_on_s=300.0)
-    gyro, accel = _simulate_block(traj, model, rngs, p["vibration_m_s2"], p["vibration_hz"])
-    after = prof.time_s >= prof.time_s[holds[0].stop - 1]
+    gyro, accel = _simulate_block(truth.traj, model, rngs, p["vibration_m_s2"], p["vibration_hz"])
     init = max(1, int(round(0.5 * p["fs_hz"])))   # level from the first 0.5 s of the settling rest
     gains = {name: filter_gain(p, name) for name in _filter_list(p)}
+    # the simulated records are this evaluator's own (finite, rad/s and m/s²): every filter runs them
+    # unchecked (the checks of run_attitude_filter, once per filter, were 8 % of the bake-off's CPU)
+    q_init = levelled_start(accel, init)          # the common start, once per block
     out = {}
     for name, gain in gains.items():
-        q = run_attitude_filter(name, gyro, accel, traj.dt_s, gain, init_samples=init)
-        m = _row_metrics(_tilt_error_deg(q, traj.q_wb), after, _hold_mask(holds[1:], after.size))   # (T, 3)
+        q = attitude_filter_trusted(name, gyro, accel, truth.traj.dt_s, gain, q_init)
+        m = _row_metrics(_tilt_deg_kernel(np.ascontiguousarray(q, dtype=float), truth.up), truth.after,
+                         truth.hold_mask)   # (T, 3)
         out[f"{name}.tilt_rmse_deg"], out[f"{name}.hold_tilt_rmse_deg"], out[f"{name}.tilt_max_deg"] = m.T
     return out
+
+
+@dataclass(frozen=True)
+class _CellTruth:
+    """What every block of a cell shares (read-only arrays): the trajectory (its truth outputs memoised on
+    the object, :func:`mtcal.core.simulate.simulate_imu`), the metric windows, the true "up" / angle."""
+
+    traj: Trajectory
+    holds: tuple
+    after: np.ndarray
+    hold_mask: np.ndarray
+    up: np.ndarray = None
+    theta: np.ndarray = None
+    is_static: np.ndarray = None
+
+
+def _frozen(*arrays):
+    for a in arrays:
+        if a is not None:
+            a.flags.writeable = False
+
+
+@functools.lru_cache(maxsize=8)
+def _attitude_truth(motion: str, fs_hz: float, hold_s, speed: float) -> _CellTruth:
+    """The attitude evaluator's truth of one cell, built once per process and shared by its blocks."""
+    prof = attitude_profile(motion, fs_hz, hold_s=hold_s, speed=speed)
+    traj = trajectory_from_euler_zxy(prof)
+    holds = tuple(prof.hold_slices())
+    after = prof.time_s >= prof.time_s[holds[0].stop - 1]
+    q = np.asarray(traj.q_wb, float)
+    q0, q1, q2, q3 = q[:, 0], q[:, 1], q[:, 2], q[:, 3]
+    up = np.ascontiguousarray(np.stack([2.0 * (q1 * q3 - q0 * q2), 2.0 * (q2 * q3 + q0 * q1),
+                                        q0 * q0 - q1 * q1 - q2 * q2 + q3 * q3], axis=-1))
+    truth = _CellTruth(traj, holds, np.ascontiguousarray(after, dtype=np.bool_),
+                       np.ascontiguousarray(_hold_mask(holds[1:], after.size), dtype=np.bool_), up=up)
+    _frozen(truth.after, truth.hold_mask, truth.up)
+    return truth
 
 
 # --------------------------------------------------------------------------- surface
@@ -514,35 +553,54 @@ def _surface(p: dict, rngs: list) -> dict[str, np.ndarray]:
     filters' angle is the twist of their attitude about the same axis since the
     settling rest.
     """
-    from mtcal.filters.anchors import run_axis_angle_filter
+    from mtcal.filters.anchors import axis_angle_filter_trusted, levelled_start
     from mtcal.filters.registry import AxisContext
 
-    prof = surface_profile(p["fs_hz"], step_deg=p["step_deg"], span_deg=p["span_deg"],
-                           rate_deg_s=p["rate_deg_s"], hold_s=p["hold_s"])
-    axis = np.asarray(SURFACE_AXIS) / np.linalg.norm(SURFACE_AXIS)
-    chord = np.cross(axis, [0.0, 0.0, 1.0])
-    lever = p["lever_arm_m"] * chord / np.linalg.norm(chord) + np.array([0.0, 0.0, 0.02])
-    traj = fixed_axis_trajectory(prof, axis, lever_arm_b_m=lever)
-    holds = prof.hold_slices()
+    truth = _surface_truth(float(p["fs_hz"]), float(p["step_deg"]), float(p["span_deg"]), float(p["rate_deg_s"]),
+                           float(p["hold_s"]), float(p["lever_arm_m"]))
+    holds = truth.holds
     grade = sensor_grade(p["grade"])
-    gyro, accel = _simulate_block(traj, grade.error_model(time_since_power_on_s=300.0), rngs, p["vibration_m_s2"],
-                                  p["vibration_hz"])
+    gyro, accel = _simulate_block(truth.traj, grade.error_model(time_since_power_on_s=300.0), rngs,
+                                  p["vibration_m_s2"], p["vibration_hz"])
     settle, ref = holds[0], holds[0].stop - 1
-    theta_true = prof.angle_rad[:, 0] - prof.angle_rad[ref, 0]
-    after = np.arange(prof.time_s.size) >= ref
     gains = {name: filter_gain(p, name) for name in _filter_list(p)}
-    ctx = AxisContext(axis, np.broadcast_to(prof.is_static, accel.shape[:2]),
+    ctx = AxisContext(_SURFACE_AXIS_UNIT, np.broadcast_to(truth.is_static, accel.shape[:2]),
                       np.stack([np.mean(row[settle], axis=0) for row in accel]),
                       grade.gyro_noise_density_rad_s_rt_hz, grade.accel_noise_density_m_s2_rt_hz,
                       init=settle, rests=tuple(holds))
     init = max(1, int(round(0.5 * p["fs_hz"])))
+    q_init = levelled_start(accel, init)          # the common start, once per block (records: as _attitude)
     out = {}
     for name, gain in gains.items():
-        theta = run_axis_angle_filter(name, gyro, accel, traj.dt_s, gain, ctx, ref_index=ref, init_samples=init)
-        err = np.degrees(rotations.wrap_angle(theta - theta_true))
-        m = _row_metrics(err, after, _hold_mask(holds[1:], after.size))
+        theta = axis_angle_filter_trusted(name, gyro, accel, truth.traj.dt_s, gain, ctx, ref, q_init)
+        err = np.degrees(rotations.wrap_angle(theta - truth.theta))
+        m = _row_metrics(err, truth.after, truth.hold_mask)
         out[f"{name}.angle_rmse_deg"], out[f"{name}.hold_angle_rmse_deg"], out[f"{name}.angle_max_deg"] = m.T
     return out
+
+
+_SURFACE_AXIS_UNIT = np.asarray(SURFACE_AXIS) / np.linalg.norm(SURFACE_AXIS)
+_SURFACE_AXIS_UNIT.flags.writeable = False
+
+
+@functools.lru_cache(maxsize=8)
+def _surface_truth(fs_hz: float, step_deg: float, span_deg: float, rate_deg_s: float, hold_s: float,
+                   lever_arm_m: float) -> _CellTruth:
+    """The surface evaluator's truth of one cell, built once per process and shared by its blocks."""
+    prof = surface_profile(fs_hz, step_deg=step_deg, span_deg=span_deg, rate_deg_s=rate_deg_s, hold_s=hold_s)
+    axis = _SURFACE_AXIS_UNIT
+    chord = np.cross(axis, [0.0, 0.0, 1.0])
+    lever = lever_arm_m * chord / np.linalg.norm(chord) + np.array([0.0, 0.0, 0.02])
+    traj = fixed_axis_trajectory(prof, axis, lever_arm_b_m=lever)
+    holds = tuple(prof.hold_slices())
+    ref = holds[0].stop - 1
+    after = np.arange(prof.time_s.size) >= ref
+    truth = _CellTruth(traj, holds, np.ascontiguousarray(after, dtype=np.bool_),
+                       np.ascontiguousarray(_hold_mask(holds[1:], after.size), dtype=np.bool_),
+                       theta=prof.angle_rad[:, 0] - prof.angle_rad[ref, 0],
+                       is_static=np.array(prof.is_static))
+    _frozen(truth.after, truth.hold_mask, truth.theta, truth.is_static)
+    return truth
 
 
 # --------------------------------------------------------------------------- six-position
