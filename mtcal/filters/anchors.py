@@ -405,14 +405,17 @@ def _fusion(w: np.ndarray, a: np.ndarray, dt: float, gain: float, q0: np.ndarray
                                              magnetic_rejection=0.0, rejection_timeout=int(round(5.0 / dt))))
     ahrs.skip_startup()
     ahrs.set_quaternion(np.array(q0, dtype=float))
-    gyro_deg_s = np.degrees(w)                 # imufusion: °/s
-    accel_g = a / STANDARD_GRAVITY_M_S2        # imufusion: g
-    out = np.empty((w.shape[0], 4))
-    update, get = ahrs.update_no_magnetometer, ahrs.get_quaternion
-    for k in range(w.shape[0]):
-        out[k] = get()
-        update(gyro_deg_s[k], accel_g[k])
-    out /= np.linalg.norm(out, axis=-1, keepdims=True)   # float32 output, renormalised in float64
+    # imufusion: °/s and g, read as C floats ((float) of each double: round to nearest, as numpy's cast to
+    # float32, so the rows are handed over already in float32: the same inputs, less than half the per-sample cost)
+    gyro_deg_s = np.degrees(w).astype(np.float32)
+    accel_g = (a / STANDARD_GRAVITY_M_S2).astype(np.float32)
+    out = []
+    keep, update, get = out.append, ahrs.update_no_magnetometer, ahrs.get_quaternion
+    for g_k, a_k in zip(list(gyro_deg_s), list(accel_g)):
+        keep(get())
+        update(g_k, a_k)
+    out = np.array(out, dtype=np.float64)                # float32 output (exact in float64) ...
+    out /= np.linalg.norm(out, axis=-1, keepdims=True)   # ... renormalised in float64
     return out
 
 

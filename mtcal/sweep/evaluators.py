@@ -264,8 +264,12 @@ def _simulate_block(truth: "Trajectory", model: ImuErrorModel, rngs: list, vibra
     ids = getattr(rngs, "trial_ids", None)
     n = len(truth)
     if ids is not None:
-        gyro, accel = np.empty((len(ids), n, 3)), np.empty((len(ids), n, 3))
+        # the last block's buffers when its caller has dropped them (every element is written: no page faults)
+        pool = _records_pool()
+        gyro, accel = pool.take("gyro", (len(ids), n, 3)), pool.take("accel", (len(ids), n, 3))
         ImuStream(truth, replace(model, accel=accel_err), rngs.cell_rng(), len(ids), trial_ids=ids).fill(gyro, accel)
+        pool.keep("gyro", gyro)
+        pool.keep("accel", accel)
         return gyro, accel
     ideal = ImuStream(truth, ImuErrorModel(q_mount=model.q_mount))
     gyro = np.empty((len(rngs), n, 3))
@@ -279,6 +283,15 @@ def _simulate_block(truth: "Trajectory", model: ImuErrorModel, rngs: list, vibra
     return gyro, accel
 
 
+@functools.lru_cache(maxsize=1)
+def _records_pool():
+    """Simulated records of the last block (:func:`_simulate_block`), reused once the evaluator has dropped them
+    (created on first use: importing the sweep does not load numba)."""
+    from mtcal.filters._kernels_common import OutputPool
+
+    return OutputPool(min_bytes=1 << 20)
+
+
 def _rms_rows(x: np.ndarray, mask: np.ndarray) -> np.ndarray:
     """RMS of each trial's row over ``mask``, summed row by row.
 
@@ -289,31 +302,54 @@ def _rms_rows(x: np.ndarray, mask: np.ndarray) -> np.ndarray:
 
 
 @jit
+def _add_sample(e, after_k, hold_k, acc):  # pragma: no cover - compiled
+    """One sample of a row's metrics: ``acc`` = (sum² after, count after, sum² holds, count holds, max |e|)."""
+    s_a, n_a, s_h, n_h, m = acc
+    if after_k:
+        s_a += e * e
+        n_a += 1
+        a = abs(e)
+        if a > m or a != a:
+            m = a
+    if hold_k:
+        s_h += e * e
+        n_h += 1
+    return s_a, n_a, s_h, n_h, m
+
+
+@jit
+def _finish_row(acc, out, j):  # pragma: no cover - compiled
+    s_a, n_a, s_h, n_h, m = acc
+    out[j, 0] = np.sqrt(s_a / n_a) if n_a else np.nan
+    out[j, 1] = np.sqrt(s_h / n_h) if n_h else np.nan
+    out[j, 2] = m if n_a else np.nan
+
+
+@jit
 def _row_metrics_kernel(err, after, holds):  # pragma: no cover - compiled
     """Per trial: RMS over ``after``, RMS over ``holds``, max |err| over ``after`` (sequential sums per row)."""
     n_trials, n = err.shape
     out = np.empty((n_trials, 3))
     for j in range(n_trials):
-        s_a = 0.0
-        n_a = 0
-        s_h = 0.0
-        n_h = 0
-        m = -np.inf
+        acc = (0.0, 0, 0.0, 0, -np.inf)
         for k in range(n):
-            e = err[j, k]
-            if after[k]:
-                s_a += e * e
-                n_a += 1
-                a = abs(e)
-                if a > m or a != a:
-                    m = a
-            if holds[k]:
-                s_h += e * e
-                n_h += 1
-        out[j, 0] = np.sqrt(s_a / n_a) if n_a else np.nan
-        out[j, 1] = np.sqrt(s_h / n_h) if n_h else np.nan
-        out[j, 2] = m if n_a else np.nan
+            acc = _add_sample(err[j, k], after[k], holds[k], acc)
+        _finish_row(acc, out, j)
     return out
+
+
+@jit
+def _tilt_deg(q_est, j, k, up_true):  # pragma: no cover - compiled
+    """Tilt error (deg) of ``q_est[j, k]`` against the true "up" ``up_true[k]`` (sensor frame)."""
+    q0, q1, q2, q3 = q_est[j, k, 0], q_est[j, k, 1], q_est[j, k, 2], q_est[j, k, 3]
+    ux = 2.0 * (q1 * q3 - q0 * q2)
+    uy = 2.0 * (q2 * q3 + q0 * q1)
+    uz = q0 * q0 - q1 * q1 - q2 * q2 + q3 * q3
+    vx, vy, vz = up_true[k, 0], up_true[k, 1], up_true[k, 2]
+    cx = uy * vz - uz * vy
+    cy = uz * vx - ux * vz
+    cz = ux * vy - uy * vx
+    return np.degrees(np.arctan2(np.sqrt(cx * cx + cy * cy + cz * cz), ux * vx + uy * vy + uz * vz))
 
 
 @jit
@@ -323,15 +359,22 @@ def _tilt_deg_kernel(q_est, up_true):  # pragma: no cover - compiled
     out = np.empty((n_trials, n))
     for j in range(n_trials):
         for k in range(n):
-            q0, q1, q2, q3 = q_est[j, k, 0], q_est[j, k, 1], q_est[j, k, 2], q_est[j, k, 3]
-            ux = 2.0 * (q1 * q3 - q0 * q2)
-            uy = 2.0 * (q2 * q3 + q0 * q1)
-            uz = q0 * q0 - q1 * q1 - q2 * q2 + q3 * q3
-            vx, vy, vz = up_true[k, 0], up_true[k, 1], up_true[k, 2]
-            cx = uy * vz - uz * vy
-            cy = uz * vx - ux * vz
-            cz = ux * vy - uy * vx
-            out[j, k] = np.degrees(np.arctan2(np.sqrt(cx * cx + cy * cy + cz * cz), ux * vx + uy * vy + uz * vz))
+            out[j, k] = _tilt_deg(q_est, j, k, up_true)
+    return out
+
+
+@jit
+def _tilt_metrics_kernel(q_est, up_true, after, holds):  # pragma: no cover - compiled
+    """``_row_metrics_kernel(_tilt_deg_kernel(q_est, up_true), after, holds)`` in one pass, no (T, N) array:
+    the tilt is computed only where a metric reads it, the sums in the same order."""
+    n_trials, n = q_est.shape[0], q_est.shape[1]
+    out = np.empty((n_trials, 3))
+    for j in range(n_trials):
+        acc = (0.0, 0, 0.0, 0, -np.inf)
+        for k in range(n):
+            if after[k] or holds[k]:
+                acc = _add_sample(_tilt_deg(q_est, j, k, up_true), after[k], holds[k], acc)
+        _finish_row(acc, out, j)
     return out
 
 
@@ -454,8 +497,7 @@ def _attitude(p: dict, rngs: list) -> dict[str, np.ndarray]:
     out = {}
     for name, gain in gains.items():
         q = attitude_filter_trusted(name, gyro, accel, truth.traj.dt_s, gain, q_init)
-        m = _row_metrics(_tilt_deg_kernel(np.ascontiguousarray(q, dtype=float), truth.up), truth.after,
-                         truth.hold_mask)   # (T, 3)
+        m = _tilt_metrics_kernel(np.ascontiguousarray(q, dtype=float), truth.up, truth.after, truth.hold_mask)
         out[f"{name}.tilt_rmse_deg"], out[f"{name}.hold_tilt_rmse_deg"], out[f"{name}.tilt_max_deg"] = m.T
     return out
 
