@@ -340,9 +340,13 @@ def axis_angle_filter_trusted(name: str, gyro_rad_s: np.ndarray, accel_m_s2: np.
 
 def _twist(q: np.ndarray, v: np.ndarray, ref_index: int) -> np.ndarray:
     """Twist (rad) of ``q`` (T, N, 4) about ``v`` (3,) since sample ``ref_index`` (:func:`twist_angle_rad`)."""
-    # in core's rotations: the filter layer is left once
-    rel = rotations.hamilton(rotations.quat_conjugate(np.broadcast_to(q[:, ref_index:ref_index + 1], q.shape)), q)
-    return rotations.wrap_angle(2.0 * np.arctan2(rel[..., 1:] @ (v / np.linalg.norm(v)), rel[..., 0]))
+    from mtcal.filters._kernels_twist import twist_rows
+
+    # one compiled pass: twist_angle_rad's operations in its order, bit for bit, without its temporaries
+    out = np.empty(q.shape[:2])
+    twist_rows(np.ascontiguousarray(q, dtype=np.float64), int(ref_index),
+               np.ascontiguousarray(v / np.linalg.norm(v), dtype=np.float64), out)
+    return out
 
 
 def _qncf(w, a, dt, gain, q0):

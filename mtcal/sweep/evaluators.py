@@ -378,6 +378,23 @@ def _tilt_metrics_kernel(q_est, up_true, after, holds):  # pragma: no cover - co
     return out
 
 
+@jit
+def _angle_metrics_kernel(theta, theta_true, after, holds):  # pragma: no cover - compiled
+    """``_row_metrics_kernel(np.degrees(wrap_angle(theta - theta_true)), after, holds)`` in one pass (the same
+    operations: Python's float ``%`` is numpy's ``remainder``), computed only where a metric reads it."""
+    n_trials, n = theta.shape
+    out = np.empty((n_trials, 3))
+    two_pi = 2.0 * np.pi
+    for j in range(n_trials):
+        acc = (0.0, 0, 0.0, 0, -np.inf)
+        for k in range(n):
+            if after[k] or holds[k]:
+                e = np.degrees((theta[j, k] - theta_true[k] + np.pi) % two_pi - np.pi)
+                acc = _add_sample(e, after[k], holds[k], acc)
+        _finish_row(acc, out, j)
+    return out
+
+
 def _row_metrics(err: np.ndarray, after: np.ndarray, holds: np.ndarray) -> np.ndarray:
     """(T, 3): RMS over ``after``, RMS over ``holds``, max |err| over ``after`` of each trial's row.
 
@@ -615,8 +632,8 @@ def _surface(p: dict, rngs: list) -> dict[str, np.ndarray]:
     out = {}
     for name, gain in gains.items():
         theta = axis_angle_filter_trusted(name, gyro, accel, truth.traj.dt_s, gain, ctx, ref, q_init)
-        err = np.degrees(rotations.wrap_angle(theta - truth.theta))
-        m = _row_metrics(err, truth.after, truth.hold_mask)
+        m = _angle_metrics_kernel(np.ascontiguousarray(theta, dtype=float), truth.theta, truth.after,
+                                  truth.hold_mask)
         out[f"{name}.angle_rmse_deg"], out[f"{name}.hold_angle_rmse_deg"], out[f"{name}.angle_max_deg"] = m.T
     return out
 
