@@ -509,7 +509,7 @@ def _attitude(p: dict, rngs: list) -> dict[str, np.ndarray]:
     init = max(1, int(round(0.5 * p["fs_hz"])))   # level from the first 0.5 s of the settling rest
     gains = {name: filter_gain(p, name) for name in _filter_list(p)}
     # the simulated records are this evaluator's own (finite, rad/s and m/s²): every filter runs them
-    # unchecked (the checks of run_attitude_filter, once per filter, were 8 % of the bake-off's CPU)
+    # unchecked (the checks of run_attitude_filter, once per filter, were ≈ 6 % of the bake-off's CPU)
     q_init = levelled_start(accel, init)          # the common start, once per block
     out = {}
     for name, gain in gains.items():
