@@ -116,3 +116,23 @@ def test_lane_blocks_are_bit_identical_to_the_scalar_kernel():
     for t in range(trials):
         mahony_trial(gyr, acc, q0, 0.005, 2.0, 0.04, q_s, b_s, t)
     assert q_b.tobytes() == q_s.tobytes() and b_b.tobytes() == b_s.tobytes()
+
+
+def test_recycled_history_never_touches_a_held_result(monkeypatch):
+    """The batch's attitude history is recycled only once the caller has dropped it; results equal."""
+    import weakref
+
+    from mtcal.filters import _kernels_common, mahony
+
+    monkeypatch.setattr(mahony, "_POOL", _kernels_common.OutputPool(min_bytes=0))
+    rng = np.random.default_rng(2)
+    gyr = rng.normal(0, 0.01, (3, 200, 3))
+    acc = rng.normal(0, 0.05, (3, 200, 3)) + [0, 0, G]
+    first = mahony_imu(gyr, acc, 0.01).q_ws
+    kept = first.copy()
+    second = mahony_imu(gyr[:, ::-1], acc[:, ::-1], 0.01).q_ws       # other data while the first is held
+    assert np.array_equal(first, kept) and not np.shares_memory(first, second)
+    pooled = weakref.ref(second)
+    del second
+    third = mahony_imu(gyr, acc, 0.01).q_ws
+    assert pooled() is third and third.tobytes() == kept.tobytes()
