@@ -26,9 +26,11 @@ Registered evaluators (:func:`evaluator_names`):
   in closed form).
 
 Each simulation evaluator is one pass per layer: the cell's truth (profile, trajectory, holds,
-sensor model: :mod:`mtcal.core`), every trial simulated at once (:func:`_simulate_block`), the
-gains resolved, the filters (or the installation system) run once on the stacked trials, then
-the metrics.
+sensor model: :mod:`mtcal.core`; for ``attitude`` and ``surface`` built once per process and cell and
+shared by its blocks), every trial simulated at once (:func:`_simulate_block`, into the last block's
+buffers), the gains resolved, the filters (or the installation system) run once on the stacked trials
+(the evaluator's own records unchecked, the common levelled start computed once), then the metrics
+(error and metrics in one compiled pass).
 
 Motion values (sweep angles, rates, holds) are the wang2023cja / wang2022sensors
 scenario values, restated here with their source so that the sweep does not
