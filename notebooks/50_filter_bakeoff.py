@@ -63,6 +63,7 @@ from mtcal.filters.anchors import available_filters
 from mtcal.reporting import compare
 from mtcal.reporting import output
 from mtcal.sweep import bakeoff
+from mtcal.sweep.executors import make_executor
 
 output.setup_matplotlib()
 SIZE = output.run_size(SIZE)
@@ -100,8 +101,9 @@ tuning_params = {**params, "gain_scales": scales}
 # bias estimation, Fusion's 10° acceleration rejection).
 
 # %%
+executor = make_executor(WORKERS)   # one set of worker processes for the tuning and the evaluation runs
 gains, tuning = bakeoff.tune_gains(tuning_params, seed=SEED + 1, trials=N_TUNING_TRIALS,
-                                   filter_trials=ANCHOR_TUNING_TRIALS, hold_s=HOLD_S, workers=WORKERS)
+                                   filter_trials=ANCHOR_TUNING_TRIALS, hold_s=HOLD_S, executor=executor)
 output.save_table(tuning, "wang2023cja_extra_bakeoff_tuning")
 chosen = tuning[tuning.chosen][["family", "filter", "gain_unit", "gain_scale", "gain", "tuning_error_deg",
                                 "tuning_trials", "at_grid_edge"]]
@@ -120,7 +122,8 @@ print(f"{int(chosen.at_grid_edge.sum())} of {len(chosen)} chosen gains sit at an
 
 # %%
 result = bakeoff.run_bakeoff(params, gains, seed=SEED, trials=N_TRIALS, filter_trials=ANCHOR_TRIALS, hold_s=HOLD_S,
-                             workers=WORKERS)
+                             executor=executor)
+executor.close()
 counts = {f: ANCHOR_TRIALS.get(f, N_TRIALS) for f in params["filters"] + ["rams_ekf"]}
 print("trials per scenario: " + ", ".join(f"{f} {n}" for f, n in counts.items()) + " (rams_ekf: surface only); "
       f"band = 95 % band from >= {bakeoff.BAND_MIN_TRIALS} trials, else the range (min-max)")

@@ -64,9 +64,10 @@ class OutputPool:
     calls (freed by the next call that cannot reuse it, or by :meth:`clear`).
     """
 
-    def __init__(self) -> None:
+    def __init__(self, min_bytes: int | None = None) -> None:
         self._slots: dict = {}
         self._lock = threading.Lock()
+        self._min_bytes = min_bytes
 
     def take(self, role: str, shape: tuple) -> np.ndarray:
         """A float64 array of ``shape``: the retained one for ``role`` if free and of that shape, else new."""
@@ -80,8 +81,9 @@ class OutputPool:
         return np.empty(shape)
 
     def keep(self, role: str, arr: np.ndarray) -> None:
-        """Retain ``arr`` (just returned to a caller) for ``role`` when it is large enough to be worth it."""
-        if arr.nbytes >= RECYCLE_MIN_BYTES:
+        """Retain ``arr`` (just returned to a caller) for ``role`` when it is large enough to be worth it
+        (``min_bytes`` of the pool; None: :data:`RECYCLE_MIN_BYTES`)."""
+        if arr.nbytes >= (RECYCLE_MIN_BYTES if self._min_bytes is None else self._min_bytes):
             with self._lock:
                 self._slots[role] = arr
 

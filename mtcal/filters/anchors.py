@@ -181,6 +181,31 @@ def run_attitude_filter(name: str, gyro_rad_s, accel_m_s2, dt_s: float, gain: fl
     return (entry.reference if reference else entry.run)(w, a, dt, g, q_init)
 
 
+def levelled_start(accel_m_s2: np.ndarray, init_samples: int) -> np.ndarray:
+    """The common start of every filter (T, 4): levelled from each record's first ``init_samples`` samples, yaw 0.
+
+    What :func:`run_attitude_filter` uses when ``q0`` is None; a caller that runs several filters on
+    the same records (the sweep evaluators) computes it once for :func:`attitude_filter_trusted`.
+    """
+    return _level_q0(accel_m_s2, init_samples)
+
+
+def attitude_filter_trusted(name: str, gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: float, gain: float,
+                            q_init: np.ndarray) -> np.ndarray:
+    """:func:`run_attitude_filter` on records a caller made or checked itself (e.g. the sweep evaluators'
+    simulated records, several filters on one block); nothing is checked again.
+
+    Preconditions: ``name`` a registered attitude filter; ``gyro_rad_s``, ``accel_m_s2`` finite float64
+    of one shape (T, N, 3) in rad/s and m/s²; ``dt_s`` and ``gain`` > 0; ``q_init`` unit quaternions
+    (T, 4) (e.g. :func:`levelled_start`). Returns the same ``q_ws`` (T, N, 4) as :func:`run_attitude_filter`
+    with ``q0=q_init`` (the registry entry's runner, or its reference inside :func:`reference_runs`).
+    Not part of the public API (not in ``__all__``).
+    """
+    entry = get_filter(name)
+    require_filter(name)
+    return entry.run(gyro_rad_s, accel_m_s2, float(dt_s), float(gain), q_init)
+
+
 def reference_difference(name: str, gyro_rad_s, accel_m_s2, dt_s: float, gain: float | None = None, *,
                          q0=None, init_samples: int = 100) -> float:
     """Largest |Δ| over all quaternion components between a filter's runner and its library reference.
@@ -288,15 +313,40 @@ def run_axis_angle_filter(name: str, gyro_rad_s, accel_m_s2, dt_s: float, gain: 
     require_filter(name)
     if entry.output == "attitude":
         q = run_attitude_filter(name, gyro_rad_s, accel_m_s2, dt_s, gain, init_samples=init_samples)
-        # the twist about the axis (:func:`twist_angle_rad`) in core's rotations: the filter layer is left once
-        v = as_float_array(context.axis_s, "axis_s", ndim=1, last_dim=3)
-        rel = rotations.hamilton(rotations.quat_conjugate(np.broadcast_to(q[:, ref_index:ref_index + 1], q.shape)), q)
-        return rotations.wrap_angle(2.0 * np.arctan2(rel[..., 1:] @ (v / np.linalg.norm(v)), rel[..., 0]))
+        return _twist(q, as_float_array(context.axis_s, "axis_s", ndim=1, last_dim=3), ref_index)
     w = as_float_array(gyro_rad_s, "gyro_rad_s", ndim=3, last_dim=3, copy=False)
     a = as_float_array(accel_m_s2, "accel_m_s2", ndim=3, last_dim=3, copy=False)
     g = positive_scalar(entry.default_gain if gain is None else gain, "gain")
     theta = entry.run(w, a, positive_scalar(dt_s, "dt_s"), g, context)
     return theta - theta[:, ref_index:ref_index + 1]
+
+
+def axis_angle_filter_trusted(name: str, gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: float, gain: float,
+                              context: AxisContext, ref_index: int, q_init: np.ndarray) -> np.ndarray:
+    """:func:`run_axis_angle_filter` on records a caller made or checked itself; nothing is checked again.
+
+    Preconditions as :func:`attitude_filter_trusted` (``gain`` resolved, ``q_init`` (T, 4) the start of an
+    attitude filter, unused by an angle filter) and ``context.axis_s`` a finite float (3,) array. Returns
+    the same angles (T, N) as :func:`run_axis_angle_filter`. Not part of the public API.
+    """
+    entry = get_filter(name)
+    if entry.output == "attitude":
+        return _twist(attitude_filter_trusted(name, gyro_rad_s, accel_m_s2, dt_s, gain, q_init), context.axis_s,
+                      ref_index)
+    require_filter(name)
+    theta = entry.run(gyro_rad_s, accel_m_s2, float(dt_s), float(gain), context)
+    return theta - theta[:, ref_index:ref_index + 1]
+
+
+def _twist(q: np.ndarray, v: np.ndarray, ref_index: int) -> np.ndarray:
+    """Twist (rad) of ``q`` (T, N, 4) about ``v`` (3,) since sample ``ref_index`` (:func:`twist_angle_rad`)."""
+    from mtcal.filters._kernels_twist import twist_rows
+
+    # one compiled pass: twist_angle_rad's operations in its order, bit for bit, without its temporaries
+    out = np.empty(q.shape[:2])
+    twist_rows(np.ascontiguousarray(q, dtype=np.float64), int(ref_index),
+               np.ascontiguousarray(v / np.linalg.norm(v), dtype=np.float64), out)
+    return out
 
 
 def _qncf(w, a, dt, gain, q0):
@@ -359,14 +409,17 @@ def _fusion(w: np.ndarray, a: np.ndarray, dt: float, gain: float, q0: np.ndarray
                                              magnetic_rejection=0.0, rejection_timeout=int(round(5.0 / dt))))
     ahrs.skip_startup()
     ahrs.set_quaternion(np.array(q0, dtype=float))
-    gyro_deg_s = np.degrees(w)                 # imufusion: °/s
-    accel_g = a / STANDARD_GRAVITY_M_S2        # imufusion: g
-    out = np.empty((w.shape[0], 4))
-    update, get = ahrs.update_no_magnetometer, ahrs.get_quaternion
-    for k in range(w.shape[0]):
-        out[k] = get()
-        update(gyro_deg_s[k], accel_g[k])
-    out /= np.linalg.norm(out, axis=-1, keepdims=True)   # float32 output, renormalised in float64
+    # imufusion: °/s and g, read as C floats ((float) of each double: round to nearest, as numpy's cast to
+    # float32, so the rows are handed over already in float32: the same inputs, less than half the per-sample cost)
+    gyro_deg_s = np.degrees(w).astype(np.float32)
+    accel_g = (a / STANDARD_GRAVITY_M_S2).astype(np.float32)
+    out = []
+    keep, update, get = out.append, ahrs.update_no_magnetometer, ahrs.get_quaternion
+    for g_k, a_k in zip(list(gyro_deg_s), list(accel_g)):
+        keep(get())
+        update(g_k, a_k)
+    out = np.array(out, dtype=np.float64)                # float32 output (exact in float64) ...
+    out /= np.linalg.norm(out, axis=-1, keepdims=True)   # ... renormalised in float64
     return out
 
 

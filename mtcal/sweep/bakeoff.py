@@ -152,10 +152,14 @@ def family_specs(params: dict, family: str, *, seed: int, trials: int, block_tri
 
 
 @contextmanager
-def _executor(workers, scheduler):
-    """One executor (process pool / Dask client) shared by all sweeps of a call, closed at the end."""
+def _executor(workers, scheduler, executor=None):
+    """One executor (process pool / Dask client) shared by all sweeps of a call, closed at the end; a caller's
+    ready ``executor`` (shared by several calls: one set of worker processes) is used as is and left open."""
     from mtcal.sweep.executors import make_executor
 
+    if executor is not None:
+        yield executor
+        return
     ex = make_executor(workers, scheduler)
     try:
         yield ex
@@ -247,7 +251,7 @@ _STAT_COLS = ("median", "low", "high", "trials", "band")
 
 def tune_gains(params: dict, *, seed: int, trials: int, filter_trials: dict | None = None,
                hold_s: float | None = None, workers: int | None = 1, scheduler=None,
-               families=tuple(FAMILIES)) -> tuple[dict, pd.DataFrame]:
+               families=tuple(FAMILIES), executor=None) -> tuple[dict, pd.DataFrame]:
     """Tuning sweeps → chosen gain per family and filter, and the tuning table.
 
     Parameters
@@ -260,6 +264,11 @@ def tune_gains(params: dict, *, seed: int, trials: int, filter_trials: dict | No
         Tuning trials per cell of every filter ...
     filter_trials : dict, optional
         ... unless named here: ``{filter: trials}`` (e.g. fewer for a slow library).
+    workers, scheduler
+        Where the sweeps run (:func:`mtcal.sweep.executors.make_executor`) ...
+    executor : optional
+        ... or a ready executor (:mod:`mtcal.sweep.executors`), e.g. one made once for this call and
+        :func:`run_bakeoff` (their worker processes start once); not closed here.
 
     Returns
     -------
@@ -275,7 +284,7 @@ def tune_gains(params: dict, *, seed: int, trials: int, filter_trials: dict | No
 
     p = bakeoff_params(**params)
     gains, rows = {}, []
-    with _executor(workers, scheduler) as ex:
+    with _executor(workers, scheduler, executor) as ex:
         frames = {family: _run_family(ex, p, family, seed=seed, trials=trials, filter_trials=filter_trials,
                                       hold_s=hold_s, tuning=True)[0] for family in families}
     for family in families:
@@ -323,17 +332,18 @@ class BakeoffResult:
 
 def run_bakeoff(params: dict, gains: dict, *, seed: int, trials: int, filter_trials: dict | None = None,
                 hold_s: float | None = None, workers: int | None = 1, scheduler=None,
-                families=tuple(FAMILIES)) -> BakeoffResult:
+                families=tuple(FAMILIES), executor=None) -> BakeoffResult:
     """Evaluation sweeps of every family with the tuned gains (seed different from the tuning one).
 
     ``trials`` per scenario cell for every filter, unless ``filter_trials`` gives a filter its
     own count (``{filter: trials}``: a slow third-party library at fewer trials). Trial j is
     the same simulated record for every filter that runs it, so paired comparisons use the
-    trials both filters have.
+    trials both filters have. The sweeps run on ``workers`` / ``scheduler``, or on a ready
+    ``executor`` (as :func:`tune_gains`; not closed here); the numbers do not depend on which.
     """
     p = bakeoff_params(**params)
     tables, per_trial = {}, {}
-    with _executor(workers, scheduler) as ex:
+    with _executor(workers, scheduler, executor) as ex:
         results = {family: _run_family(ex, p, family, seed=seed, trials=trials, filter_trials=filter_trials,
                                        hold_s=hold_s, tuning=False, gains=gains[family]) for family in families}
     for family, (frame, grid) in results.items():

@@ -197,3 +197,24 @@ def test_units_are_checked_once_at_the_edge_for_every_filter(name):
         run_attitude_filter(name, np.full((1, 50, 3), 100.0), acc, 0.01)       # deg/s passed as rad/s
     with pytest.raises(ValueError, match=r"accel_m_s2 looks like it is in g"):
         run_attitude_filter(name, np.zeros((1, 50, 3)), acc / G, 0.01)
+
+
+@pytest.mark.parametrize("name", ["qncf", "mahony", "madgwick"])
+def test_trusted_runs_equal_the_checked_ones(name):
+    """attitude_filter_trusted / axis_angle_filter_trusted (a caller's own records, the start computed once)
+    give run_attitude_filter's / run_axis_angle_filter's bits."""
+    if name not in available_filters():
+        pytest.skip(f"{name} not installed")
+    from mtcal.filters.anchors import attitude_filter_trusted, axis_angle_filter_trusted, levelled_start
+
+    rng = np.random.default_rng(8)
+    gyr = rng.normal(0, 0.02, (3, 200, 3))
+    acc = rng.normal(0, 0.2, (3, 200, 3)) + [0, 0, G]
+    q_init = levelled_start(acc, 30)
+    checked = run_attitude_filter(name, gyr, acc, 0.01, 0.7, init_samples=30)
+    assert attitude_filter_trusted(name, gyr, acc, 0.01, 0.7, q_init).tobytes() == checked.tobytes()
+    axis = np.array([0.0, 0.6, 0.8])
+    ctx = AxisContext(axis, np.zeros((3, 200), bool), acc[:, 0], 1e-4, 1e-3)
+    got = axis_angle_filter_trusted(name, gyr, acc, 0.01, 0.7, ctx, 20, q_init)
+    assert got.tobytes() == run_axis_angle_filter(name, gyr, acc, 0.01, 0.7, ctx, ref_index=20,
+                                                  init_samples=30).tobytes()

@@ -128,3 +128,12 @@ def test_claim_hands_out_every_block_once(blocks, workers, present):
     first = order[0][order[0] >= 0]
     own = first[: blocks // workers]
     assert np.array_equal(own, np.arange(own.size))          # worker 0 walks its own range in order first
+
+
+def test_a_pool_may_set_its_own_size_threshold():
+    p = OutputPool(min_bytes=64)
+    p.keep("q", np.empty(4))                  # 32 bytes: below the pool's 64
+    assert p._slots == {}
+    big = np.empty(8)
+    p.keep("q", big)
+    assert p._slots["q"] is big

@@ -5,6 +5,7 @@ import matplotlib
 matplotlib.use("Agg")
 
 import numpy as np  # noqa: E402
+import pandas as pd  # noqa: E402
 import pytest  # noqa: E402
 
 from mtcal.sweep.bakeoff import (BAKEOFF_DEFAULTS, BAND_MIN_TRIALS, band_label, band_summary,  # noqa: E402
@@ -176,3 +177,20 @@ def test_reference_check_reruns_the_compiled_anchor_through_its_library_on_the_b
     got = check[(check.family == "windtunnel") & (check.quantity == "tilt_rmse_deg")].compiled_deg.to_numpy()
     assert np.array_equal(own, got)
     assert reference_check({**p, "filters": ["qncf"]}, gains, seed=2, hold_s=0.5).empty
+
+
+def test_a_shared_executor_gives_the_same_numbers_and_stays_open(small_run):
+    """tune_gains and run_bakeoff on one caller's executor (one set of worker processes): same tables."""
+    from mtcal.sweep.executors import SerialExecutor
+
+    gains, tuning, res = small_run
+    ex = SerialExecutor()
+    closed = []
+    ex.close = lambda: closed.append(True)
+    g2, t2 = tune_gains(SMALL, seed=1, trials=2, filter_trials={"vqf": 1}, hold_s=0.5, families=("windtunnel",),
+                        executor=ex)
+    r2 = run_bakeoff(SMALL, gains, seed=2, trials=3, hold_s=0.5, families=("windtunnel",), executor=ex)
+    assert g2["windtunnel"] == gains["windtunnel"]
+    pd.testing.assert_frame_equal(t2, tuning[tuning.family == "windtunnel"].reset_index(drop=True))
+    pd.testing.assert_frame_equal(r2.tables["windtunnel"], res.tables["windtunnel"])
+    assert closed == []

@@ -112,6 +112,27 @@ def test_compiled_metrics_match_the_numpy_reference():
     assert np.array_equal(evaluators._row_metrics(err[2:], after, holds), m[2:])
 
 
+def test_fused_metric_kernels_equal_the_two_pass_ones():
+    """The evaluators' one-pass kernels (tilt / wrapped angle error computed only where a metric reads it)
+    give the two-pass numbers bit for bit."""
+    from mtcal.core import rotations
+
+    rng = np.random.default_rng(4)
+    q = rng.normal(size=(5, 300, 4))
+    q /= np.linalg.norm(q, axis=-1, keepdims=True)
+    qt = rng.normal(size=(300, 4))
+    qt /= np.linalg.norm(qt, axis=-1, keepdims=True)
+    q0, q1, q2, q3 = qt.T
+    up = np.ascontiguousarray(np.stack([2 * (q1 * q3 - q0 * q2), 2 * (q2 * q3 + q0 * q1),
+                                        q0 * q0 - q1 * q1 - q2 * q2 + q3 * q3], axis=-1))
+    after, holds = np.arange(300) >= 40, (np.arange(300) // 30) % 2 == 1
+    two_pass = evaluators._row_metrics(evaluators._tilt_error_deg(q, qt), after, holds)
+    assert evaluators._tilt_metrics_kernel(q, up, after, holds).tobytes() == two_pass.tobytes()
+    theta, theta_true = rng.normal(0, 3.0, (5, 300)), rng.normal(0, 3.0, 300)
+    two_pass = evaluators._row_metrics(np.degrees(rotations.wrap_angle(theta - theta_true)), after, holds)
+    assert evaluators._angle_metrics_kernel(theta, theta_true, after, holds).tobytes() == two_pass.tobytes()
+
+
 def test_six_position_alpha_is_eq1_and_rests_are_matched_in_schedule_order():
     from mtcal.core import rotations
 
