@@ -383,3 +383,60 @@ def test_step_batch_simulation_is_the_schedule_then_simulate_batch():
     assert np.array_equal(prof.angle_rad, ref.angle_rad) and prof.hold_slices() == ref.hold_slices()
     for name in ("gyro_rad_s", "accel_m_s2", "theta_rad"):
         assert np.array_equal(getattr(sim, name), getattr(old, name))
+
+
+def _numpy_sensor_errors(w_true, f, imu, seed, stream, ids, noise, gyro_bias_sigma_rad_s):
+    """The numpy expression the compiled sensor pass of ``simulate_batch`` replaces (operation order)."""
+    from mtcal.core.rng import trial_rng
+
+    n = f.shape[1]
+    z = np.stack([trial_rng(seed, stream, t).standard_normal((2 * n + 4, 3)) for t in ids])
+    sq = np.sqrt(imu.fs_hz)
+    accel = np.multiply((noise * sq)[:, None, None], z[:, :n])
+    accel += f
+    accel += imu.accel_bias_sigma_m_s2 * z[:, 2 * n:2 * n + 1]
+    accel += np.asarray(imu.accel_bias_m_s2)
+    gyro = np.multiply(imu.gyro_noise_rad_s_rt_hz * sq, z[:, n:2 * n])
+    gyro += w_true * (1.0 + imu.gyro_scale_factor)
+    gyro += np.asarray(imu.gyro_bias_rad_s)
+    gyro += gyro_bias_sigma_rad_s * z[:, 2 * n + 1:2 * n + 2]
+    if imu.accel_rw_m_s2_rt_s > 0 or imu.gyro_rw_rad_s_rt_s > 0:
+        walk = np.stack([trial_rng(seed, stream + 1, t).standard_normal((n, 6)) for t in ids])
+        np.cumsum(walk, axis=1, out=walk)
+        walk *= np.sqrt(imu.dt_s)
+        accel += imu.accel_rw_m_s2_rt_s * walk[..., :3]
+        gyro += imu.gyro_rw_rad_s_rt_s * walk[..., 3:]
+    return gyro, accel
+
+
+@pytest.mark.parametrize("kind", ["shared", "per-trial", "ahrs", "no-walk"])
+def test_compiled_sensor_pass_equals_the_numpy_expression_bit_for_bit(kind):
+    """``simulate_batch``'s compiled pass (blocks of trials) = the numpy expression, every bit, with one
+    shared or per-trial truth, per-trial accelerometer noise, a random gyro bias and without walks."""
+    from mtcal.core import profiles
+
+    imu = w.ImuSpec().resolve()
+    if kind == "ahrs":
+        imu = w.AhrsImu().resolve(imu.fs_hz)
+    if kind == "no-walk":
+        imu = dataclasses.replace(imu, accel_rw_m_s2_rt_s=0.0, gyro_rw_rad_s_rt_s=0.0)
+    prof = w.trapezoid_profile(np.radians([0.0, 40.0, -20.0]), np.radians(20.0), np.radians(200.0), [0.3] * 3,
+                               imu.dt_s)
+    t_n = 37  # more than one block
+    rng = np.random.default_rng(7)
+    v = np.tile([0.6, 0.0, 0.8], (t_n, 1)) if kind != "per-trial" else rng.normal(size=(t_n, 3))
+    v /= np.linalg.norm(v, axis=1)[:, None]
+    r = np.tile([0.2, 0.0, 0.02], (t_n, 1))
+    ids = np.arange(t_n) * 5 + 3
+    noise = rng.uniform(1e-4, 1e-3, t_n) if kind == "per-trial" else None
+    bias_sigma = 0.01 if kind == "ahrs" else 0.0
+    hist = (prof.angle_rad[:, 0], prof.rate_rad_s[:, 0], prof.accel_rad_s2[:, 0])
+    sim = w.simulate_batch(*hist, v, r, imu, 11, 4, ids, accel_noise_m_s2_rt_hz=noise,
+                           gyro_bias_sigma_rad_s=bias_sigma)
+    rows = 1 if kind != "per-trial" else t_n
+    w_true, f = profiles.fixed_axis_imu_truth(*(np.tile(x, (rows, 1)) for x in hist), v[:rows], r[:rows],
+                                              w.gravity0(), imu.dt_s)
+    gyro, accel = _numpy_sensor_errors(w_true, f, imu, 11, 4, ids,
+                                       np.full(t_n, imu.accel_noise_m_s2_rt_hz) if noise is None else noise,
+                                       bias_sigma)
+    assert np.array_equal(sim.gyro_rad_s, gyro) and np.array_equal(sim.accel_m_s2, accel)

@@ -44,6 +44,7 @@ from mtcal.filters import baselines
 from mtcal.methods.zero_velocity import ZvdParams
 from mtcal.systems.surface_angle import SurfaceBatchConfig, surface_angle_batch
 
+from . import _sim_kernels
 from .scenario import PAPER_AXIS_FIG11, AhrsImu, ImuSpec, ImuValues, RigValues, gravity0, lever_arm_vector
 
 __all__ = ["trapezoid_profile", "sweep_profile", "simulate_batch", "simulate_step_batch", "SimBatch", "SweepMetrics", "sweep_metrics",
@@ -134,13 +135,13 @@ class SimBatch:
     theta_rad: np.ndarray
 
 
-def _per_trial_normals(seed: int, stream: int, trials, shape) -> np.ndarray:
-    """Standard normals (T, *shape), trial t from ``trial_rng(seed, stream, t)`` (filled in place)."""
-    ids = [int(t) for t in trials]
-    out = np.empty((len(ids),) + tuple(shape))
-    for k, t in enumerate(ids):
-        trial_rng(seed, stream, t).standard_normal(out=out[k])
-    return out
+#: Trials per compiled pass of :func:`_simulate` (normals buffer reused across blocks).
+_SIM_BLOCK = 16
+
+
+def _vec3(x) -> np.ndarray:
+    """A bias as a float64 (3,) vector (a scalar broadcast)."""
+    return np.ascontiguousarray(np.broadcast_to(np.asarray(x, float), (3,)))
 
 
 def simulate_batch(theta_rad, rate_rad_s, accel_rad_s2, axes, lever_arms_m, imu: ImuValues, seed: int,
@@ -189,6 +190,22 @@ def simulate_step_batch(waypoints_rad, rate_rad_s: float, hold_s, axes, lever_ar
                      None, 0.0)
 
 
+#: The last one-geometry truth of :func:`_simulate` and its inputs (:func:`_shared_truth`).
+_LAST_TRUTH: list = []
+
+
+def _shared_truth(th, rate, acc, v, r, dt: float) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`mtcal.core.profiles.fixed_axis_imu_truth` of one history and geometry, (1, N, 3) each, reused
+    while the same inputs come again (a Monte Carlo's chunks and systems share one truth: the call
+    would return the same arrays bit for bit); the result is read only."""
+    key = (th, rate, acc, v, r, dt)
+    if _LAST_TRUTH and _LAST_TRUTH[0][5] == dt and all(np.array_equal(x, y) for x, y in zip(_LAST_TRUTH[0][:5], key[:5])):
+        return _LAST_TRUTH[1]
+    truth = profiles.fixed_axis_imu_truth(th[None], rate[None], acc[None], v[None], r[None], gravity0(), dt)
+    _LAST_TRUTH[:] = [tuple(np.array(x) for x in key[:5]) + (dt,), truth]
+    return truth
+
+
 def _simulate(steps, histories, axes, lever_arms_m, imu: ImuValues, seed: int, stream: int, trial_ids,
               accel_noise_m_s2_rt_hz, gyro_bias_sigma_rad_s: float) -> tuple[profiles.AngleProfile | None, SimBatch]:
     """:func:`simulate_batch` (``histories`` = theta, rate, accel) or :func:`simulate_step_batch` (``steps`` =
@@ -212,30 +229,33 @@ def _simulate(steps, histories, axes, lever_arms_m, imu: ImuValues, seed: int, s
     one_history = np.ndim(theta_rad) == 1 and np.ndim(rate_rad_s) == 1 and np.ndim(accel_rad_s2) == 1
     if one_history and np.all(v == v[0]) and np.all(r == r[0]):
         # one geometry and one angle history: the truth once, broadcast over the trials
-        w_true, f = profiles.fixed_axis_imu_truth(th[:1], rate[:1], acc[:1], v[:1], r[:1], gravity0(), dt)
+        w_true, f = _shared_truth(th[0], rate[0], acc[0], v[0], r[0], dt)
     else:
         w_true, f = profiles.fixed_axis_imu_truth(th, rate, acc, v, r, gravity0(), dt)
     # sensor errors: white noise, turn-on bias, bias random walk, gyro scale factor
     noise = (np.full(t_n, imu.accel_noise_m_s2_rt_hz) if accel_noise_m_s2_rt_hz is None
              else np.broadcast_to(as_float_array(accel_noise_m_s2_rt_hz, "accel_noise_m_s2_rt_hz"), (t_n,)))
-    z = _per_trial_normals(seed, stream, ids, (2 * n + 4, 3))
     sq = np.sqrt(imu.fs_hz)
-    # in place, in the order of f + noise + turn-on bias + fixed bias (same sums, fewer temporaries)
-    accel = np.multiply((noise * sq)[:, None, None], z[:, :n])
-    accel += f
-    accel += imu.accel_bias_sigma_m_s2 * z[:, 2 * n:2 * n + 1]
-    accel += np.asarray(imu.accel_bias_m_s2)
-    gyro = np.multiply(imu.gyro_noise_rad_s_rt_hz * sq, z[:, n:2 * n])
-    gyro += w_true * (1.0 + imu.gyro_scale_factor)
-    gyro += np.asarray(imu.gyro_bias_rad_s)
-    gyro += gyro_bias_sigma_rad_s * z[:, 2 * n + 1:2 * n + 2]
-    del z
-    if imu.accel_rw_m_s2_rt_s > 0 or imu.gyro_rw_rad_s_rt_s > 0:
-        walk = _per_trial_normals(seed, stream + 1, ids, (n, 6))
-        np.cumsum(walk, axis=1, out=walk)
-        walk *= np.sqrt(dt)
-        accel += imu.accel_rw_m_s2_rt_s * walk[..., :3]
-        gyro += imu.gyro_rw_rad_s_rt_s * walk[..., 3:]
+    has_walk = bool(imu.accel_rw_m_s2_rt_s > 0 or imu.gyro_rw_rad_s_rt_s > 0)
+    accel, gyro = np.empty((t_n, n, 3)), np.empty((t_n, n, 3))
+    # per block of trials: the trial's normals (keyed streams), then one compiled pass in the order of
+    # f + noise + turn-on bias + fixed bias (+ walk) — the same operations as the numpy expression
+    block = min(t_n, _SIM_BLOCK)
+    z = np.empty((block, 2 * n + 4, 3))
+    walk = np.empty((block, n, 6) if has_walk else (1, 1, 6))
+    consts = (np.ascontiguousarray(noise * sq, dtype=float), imu.gyro_noise_rad_s_rt_hz * sq,
+              1.0 + imu.gyro_scale_factor, _vec3(imu.accel_bias_m_s2), _vec3(imu.gyro_bias_rad_s),
+              float(imu.accel_bias_sigma_m_s2), float(gyro_bias_sigma_rad_s), float(np.sqrt(dt)),
+              float(imu.accel_rw_m_s2_rt_s), float(imu.gyro_rw_rad_s_rt_s))
+    w_true, f = np.ascontiguousarray(w_true), np.ascontiguousarray(f)
+    for b0 in range(0, t_n, block):
+        nb = min(block, t_n - b0)
+        for k in range(nb):
+            trial_rng(seed, stream, int(ids[b0 + k])).standard_normal(out=z[k])
+            if has_walk:
+                trial_rng(seed, stream + 1, int(ids[b0 + k])).standard_normal(out=walk[k])
+        _sim_kernels.sensor_block(z[:nb], walk[:nb] if has_walk else walk, has_walk, w_true, f, consts[0], b0,
+                                  *consts[1:], accel, gyro)
     return prof, SimBatch(gyro, accel, np.ascontiguousarray(th))
 
 
