@@ -61,7 +61,10 @@ def sensor_block(z, walk, has_walk, w_true, f, noise_sq, t0, gyro_noise_sq, scal
 
 
 def warm_up() -> None:
-    """Compile (or load from the cache) the kernel on a tiny input."""
+    """Compile (or load from the cache) the kernel and the normals fill (:mod:`._pcg64_normals`) on a tiny input."""
+    from . import _pcg64_normals
+
+    _pcg64_normals.warm_up()
     n = 2
     z = np.zeros((1, 2 * n + 4, 3))
     rec = np.zeros((1, n, 3))

@@ -44,7 +44,7 @@ from mtcal.filters import baselines
 from mtcal.methods.zero_velocity import ZvdParams
 from mtcal.systems.surface_angle import SurfaceBatchConfig, surface_angle_batch
 
-from . import _sim_kernels
+from . import _pcg64_normals, _sim_kernels
 from .scenario import PAPER_AXIS_FIG11, AhrsImu, ImuSpec, ImuValues, RigValues, gravity0, lever_arm_vector
 
 __all__ = ["trapezoid_profile", "sweep_profile", "simulate_batch", "simulate_step_batch", "SimBatch", "SweepMetrics", "sweep_metrics",
@@ -248,12 +248,17 @@ def _simulate(steps, histories, axes, lever_arms_m, imu: ImuValues, seed: int, s
               float(imu.accel_bias_sigma_m_s2), float(gyro_bias_sigma_rad_s), float(np.sqrt(dt)),
               float(imu.accel_rw_m_s2_rt_s), float(imu.gyro_rw_rad_s_rt_s))
     w_true, f = np.ascontiguousarray(w_true), np.ascontiguousarray(f)
+    states = np.empty((2, block, 4), np.uint64)
+    used = (2 * n + 2) * 3  # the last two rows of z are drawn after every used normal: never needed
     for b0 in range(0, t_n, block):
         nb = min(block, t_n - b0)
-        for k in range(nb):
-            trial_rng(seed, stream, int(ids[b0 + k])).standard_normal(out=z[k])
+        for k in range(nb):  # trial_rng(seed, stream, id).standard_normal(out=z[k]), and stream + 1 for the walk
+            states[0, k] = _pcg64_normals.generator_state(trial_rng(seed, stream, int(ids[b0 + k])))
             if has_walk:
-                trial_rng(seed, stream + 1, int(ids[b0 + k])).standard_normal(out=walk[k])
+                states[1, k] = _pcg64_normals.generator_state(trial_rng(seed, stream + 1, int(ids[b0 + k])))
+        _pcg64_normals.normals(states[0, :nb], z.reshape(block, -1)[:nb, :used])
+        if has_walk:
+            _pcg64_normals.normals(states[1, :nb], walk.reshape(block, -1)[:nb])
         _sim_kernels.sensor_block(z[:nb], walk[:nb] if has_walk else walk, has_walk, w_true, f, consts[0], b0,
                                   *consts[1:], accel, gyro)
     return prof, SimBatch(gyro, accel, np.ascontiguousarray(th))
