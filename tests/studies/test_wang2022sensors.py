@@ -409,7 +409,7 @@ def _numpy_sensor_errors(w_true, f, imu, seed, stream, ids, noise, gyro_bias_sig
     return gyro, accel
 
 
-@pytest.mark.parametrize("kind", ["shared", "per-trial", "ahrs", "no-walk"])
+@pytest.mark.parametrize("kind", ["shared", "per-trial", "grid", "ahrs", "no-walk"])
 def test_compiled_sensor_pass_equals_the_numpy_expression_bit_for_bit(kind):
     """``simulate_batch``'s compiled pass (blocks of trials) = the numpy expression, every bit, with one
     shared or per-trial truth, per-trial accelerometer noise, a random gyro bias and without walks."""
@@ -425,15 +425,18 @@ def test_compiled_sensor_pass_equals_the_numpy_expression_bit_for_bit(kind):
     t_n = 37  # more than one block
     rng = np.random.default_rng(7)
     v = np.tile([0.6, 0.0, 0.8], (t_n, 1)) if kind != "per-trial" else rng.normal(size=(t_n, 3))
-    v /= np.linalg.norm(v, axis=1)[:, None]
     r = np.tile([0.2, 0.0, 0.02], (t_n, 1))
+    if kind == "grid":  # a grid's trials: few distinct geometries (axes x lever arms), each truth computed once
+        v = rng.normal(size=(3, 3))[np.arange(t_n) % 3]
+        r = r * (1 + np.arange(t_n) // 3 % 4)[:, None]
+    v /= np.linalg.norm(v, axis=1)[:, None]
     ids = np.arange(t_n) * 5 + 3
     noise = rng.uniform(1e-4, 1e-3, t_n) if kind == "per-trial" else None
     bias_sigma = 0.01 if kind == "ahrs" else 0.0
     hist = (prof.angle_rad[:, 0], prof.rate_rad_s[:, 0], prof.accel_rad_s2[:, 0])
     sim = w.simulate_batch(*hist, v, r, imu, 11, 4, ids, accel_noise_m_s2_rt_hz=noise,
                            gyro_bias_sigma_rad_s=bias_sigma)
-    rows = 1 if kind != "per-trial" else t_n
+    rows = t_n if kind in ("per-trial", "grid") else 1
     w_true, f = profiles.fixed_axis_imu_truth(*(np.tile(x, (rows, 1)) for x in hist), v[:rows], r[:rows],
                                               w.gravity0(), imu.dt_s)
     gyro, accel = _numpy_sensor_errors(w_true, f, imu, 11, 4, ids,

@@ -22,18 +22,17 @@ __all__ = ["sensor_block", "warm_up"]
 
 
 @jit
-def sensor_block(z, walk, has_walk, w_true, f, noise_sq, t0, gyro_noise_sq, scale1, accel_bias, gyro_bias,
+def sensor_block(z, walk, has_walk, w_true, f, truth_row, noise_sq, t0, gyro_noise_sq, scale1, accel_bias, gyro_bias,
                  accel_bias_sigma, gyro_bias_sigma, sqrt_dt, accel_rw, gyro_rw, accel, gyro):
     """Rows ``t0 … t0 + B − 1`` of ``accel``/``gyro`` (T, N, 3) from block normals ``z`` (B, 2N + ≥2, 3) and
-    ``walk`` (B, N, 6) (read only when ``has_walk``); ``w_true``/``f`` (1 or T, N, 3); ``noise_sq`` (T,)."""
+    ``walk`` (B, N, 6) (read only when ``has_walk``); ``w_true``/``f`` (R, N, 3), trial t reading row
+    ``truth_row[t]`` (T,); ``noise_sq`` (T,)."""
     n = accel.shape[1]
-    one_w = w_true.shape[0] == 1
-    one_f = f.shape[0] == 1
     c = np.empty(6)
     for b in range(z.shape[0]):
         t = t0 + b
-        tw = 0 if one_w else t
-        tf = 0 if one_f else t
+        tw = truth_row[t]
+        tf = tw
         na = noise_sq[t]
         for j in range(6):
             c[j] = 0.0
@@ -68,5 +67,5 @@ def warm_up() -> None:
     n = 2
     z = np.zeros((1, 2 * n + 4, 3))
     rec = np.zeros((1, n, 3))
-    sensor_block(z, np.zeros((1, n, 6)), True, rec, rec, np.ones(1), 0, 1.0, 1.0, np.zeros(3), np.zeros(3), 0.0, 0.0,
+    sensor_block(z, np.zeros((1, n, 6)), True, rec, rec, np.zeros(1, np.int64), np.ones(1), 0, 1.0, 1.0, np.zeros(3), np.zeros(3), 0.0, 0.0,
                  1.0, 0.0, 0.0, np.empty((1, n, 3)), np.empty((1, n, 3)))

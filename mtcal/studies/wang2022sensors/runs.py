@@ -227,9 +227,17 @@ def _simulate(steps, histories, axes, lever_arms_m, imu: ImuValues, seed: int, s
     n = th.shape[1]
     dt = imu.dt_s
     one_history = np.ndim(theta_rad) == 1 and np.ndim(rate_rad_s) == 1 and np.ndim(accel_rad_s2) == 1
+    truth_row = np.arange(t_n)  # the truth row of each trial
     if one_history and np.all(v == v[0]) and np.all(r == r[0]):
         # one geometry and one angle history: the truth once, broadcast over the trials
         w_true, f = _shared_truth(th[0], rate[0], acc[0], v[0], r[0], dt)
+        truth_row = np.zeros(t_n, np.int64)
+    elif one_history:
+        # one angle history: the truth once per distinct geometry (bit for bit, the truth is row by row)
+        geom = np.ascontiguousarray(np.hstack([v, r])).view(np.dtype((np.void, 48)))[:, 0]
+        _, first, truth_row = np.unique(geom, return_index=True, return_inverse=True)
+        w_true, f = profiles.fixed_axis_imu_truth(th[first], rate[first], acc[first], v[first], r[first], gravity0(),
+                                                  dt)
     else:
         w_true, f = profiles.fixed_axis_imu_truth(th, rate, acc, v, r, gravity0(), dt)
     # sensor errors: white noise, turn-on bias, bias random walk, gyro scale factor
@@ -248,6 +256,7 @@ def _simulate(steps, histories, axes, lever_arms_m, imu: ImuValues, seed: int, s
               float(imu.accel_bias_sigma_m_s2), float(gyro_bias_sigma_rad_s), float(np.sqrt(dt)),
               float(imu.accel_rw_m_s2_rt_s), float(imu.gyro_rw_rad_s_rt_s))
     w_true, f = np.ascontiguousarray(w_true), np.ascontiguousarray(f)
+    truth_row = np.ascontiguousarray(truth_row, dtype=np.int64).reshape(t_n)
     states = np.empty((2, block, 4), np.uint64)
     used = (2 * n + 2) * 3  # the last two rows of z are drawn after every used normal: never needed
     for b0 in range(0, t_n, block):
@@ -259,8 +268,8 @@ def _simulate(steps, histories, axes, lever_arms_m, imu: ImuValues, seed: int, s
         _pcg64_normals.normals(states[0, :nb], z.reshape(block, -1)[:nb, :used])
         if has_walk:
             _pcg64_normals.normals(states[1, :nb], walk.reshape(block, -1)[:nb])
-        _sim_kernels.sensor_block(z[:nb], walk[:nb] if has_walk else walk, has_walk, w_true, f, consts[0], b0,
-                                  *consts[1:], accel, gyro)
+        _sim_kernels.sensor_block(z[:nb], walk[:nb] if has_walk else walk, has_walk, w_true, f, truth_row, consts[0],
+                                  b0, *consts[1:], accel, gyro)
     return prof, SimBatch(gyro, accel, np.ascontiguousarray(th))
 
 
