@@ -127,5 +127,7 @@ def normals(states: np.ndarray, out: np.ndarray) -> None:
 
 
 def warm_up() -> None:
-    """Compile (or load from the cache) the kernel on a tiny input."""
+    """Compile (or load from the cache) the kernel on a tiny input: a C-contiguous output and a strided one (the
+    leading columns of a wider buffer, as :func:`~.runs.simulate_batch` fills)."""
     normals(np.ones((1, 4), np.uint64), np.empty((1, 2)))
+    normals(np.ones((2, 4), np.uint64), np.empty((2, 3))[:, :2])
