@@ -464,3 +464,18 @@ def test_compiled_pcg64_normals_are_numpys_standard_normal_bit_for_bit():
     used.integers(2)  # a 32-bit draw leaves half a word buffered in PCG64's state
     with pytest.raises(ValueError, match="a fresh PCG64 generator is required"):
         _pcg64_normals.generator_state(used)
+
+
+def test_compiled_latency_maximum_equals_numpy():
+    """``sweep_metrics``' dynamic maximum per latency = ``np.max(np.abs(err + d) * mask, axis=1)``, NaN included."""
+    from mtcal.studies.wang2022sensors import _sim_kernels
+
+    rng = np.random.default_rng(3)
+    err, delta = rng.normal(size=(6, 500)) * 0.01, rng.normal(size=(4, 500)) * 0.001
+    mask = rng.random((6, 500)) < 0.3
+    mask[2] = False
+    err[4, 17] = np.nan
+    out = np.empty((6, 4))
+    _sim_kernels.latency_max_abs(err, delta, mask, out)
+    ref = np.stack([np.max(np.abs(err + d) * mask, axis=1) for d in delta], axis=1)
+    np.testing.assert_array_equal(out, ref)

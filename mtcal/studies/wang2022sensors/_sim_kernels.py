@@ -1,4 +1,5 @@
-"""Compiled sensor-error pass of :func:`mtcal.studies.wang2022sensors.runs.simulate_batch` (private).
+"""Compiled sensor-error pass of :func:`mtcal.studies.wang2022sensors.runs.simulate_batch` and the latency
+maximum of :func:`~mtcal.studies.wang2022sensors.runs.sweep_metrics` (private).
 
 One pass over a block of trials writes the gyro and accelerometer records from the truth and the
 trial's standard normals, with the operations of the numpy expression it replaces in the same
@@ -18,7 +19,7 @@ import numpy as np
 
 from mtcal.core.compiled import jit
 
-__all__ = ["sensor_block", "warm_up"]
+__all__ = ["sensor_block", "latency_max_abs", "warm_up"]
 
 
 @jit
@@ -64,8 +65,27 @@ def warm_up() -> None:
     from . import _pcg64_normals
 
     _pcg64_normals.warm_up()
+    latency_max_abs(np.zeros((1, 2)), np.zeros((1, 2)), np.ones((1, 2), np.bool_), np.empty((1, 1)))
     n = 2
     z = np.zeros((1, 2 * n + 4, 3))
     rec = np.zeros((1, n, 3))
     sensor_block(z, np.zeros((1, n, 6)), True, rec, rec, np.zeros(1, np.int64), np.ones(1), 0, 1.0, 1.0, np.zeros(3), np.zeros(3), 0.0, 0.0,
                  1.0, 0.0, 0.0, np.empty((1, n, 3)), np.empty((1, n, 3)))
+
+
+@jit
+def latency_max_abs(err, delta, mask, out):
+    """``out[t, l] = max_k |err[t, k] + delta[l, k]| · mask[t, k]`` for ``err`` (T, N), ``delta`` (L, N), ``mask``
+    (T, N) bool: the numpy expression ``np.max(np.abs(err + d) * mask, axis=1)`` per latency (every term ≥ 0,
+    so the maximum is the same number in any order; a NaN term gives NaN)."""
+    for t in range(err.shape[0]):
+        for ll in range(delta.shape[0]):
+            m = 0.0
+            for k in range(err.shape[1]):
+                x = abs(err[t, k] + delta[ll, k]) * (1.0 if mask[t, k] else 0.0)
+                if x != x:  # NaN propagates, as in numpy's max
+                    m = x
+                    break
+                if k == 0 or x > m:
+                    m = x
+            out[t, ll] = m

@@ -370,7 +370,8 @@ def sweep_metrics(rig: RigValues, imu: ImuValues, axes, lever_arms_m, seed: int,
     hold_max = np.stack([np.max(np.abs(err_rams[:, (sl.start + sl.stop) // 2:sl.stop]), axis=1)
                          for sl in holds], axis=1)
     hold_whole = np.stack([np.max(np.abs(err_rams[:, sl]), axis=1) for sl in holds], axis=1)
-    dyn_max = np.stack([np.max(np.abs(err_rams + d) * dyn, axis=1) for d in delta], axis=1)  # (T, L)
+    dyn_max = np.empty((err_rams.shape[0], delta.shape[0]))  # (T, L): max |error| over the dynamic samples
+    _sim_kernels.latency_max_abs(err_rams, np.ascontiguousarray(delta), np.ascontiguousarray(dyn), dyn_max)
     share = np.sum(flags & sweep & ~prof.is_static, axis=1) / max(np.sum(sweep & ~prof.is_static), 1)
     out = dict(rams_static=rms(err_rams, stat, ns), rams_dynamic=rms(err_rams, dyn, nd),
                ref16_static=rms(err_16, stat, ns), ref16_dynamic=rms(err_16, dyn, nd))
