@@ -37,6 +37,7 @@ import numpy as np
 
 from mtcal.core.montecarlo import progress
 from mtcal.core import metrics, profiles, rotations, simulate
+from mtcal.core.allocator import keep_freed_memory
 from mtcal.core.rng import stream_rng, trial_rng
 from mtcal.core.simulate import ImuErrorModel
 from mtcal.core.validate import STANDARD_GRAVITY_M_S2, as_float_array, positive_scalar
@@ -210,6 +211,7 @@ def _simulate(steps, histories, axes, lever_arms_m, imu: ImuValues, seed: int, s
               accel_noise_m_s2_rt_hz, gyro_bias_sigma_rad_s: float) -> tuple[profiles.AngleProfile | None, SimBatch]:
     """:func:`simulate_batch` (``histories`` = theta, rate, accel) or :func:`simulate_step_batch` (``steps`` =
     waypoints, rate, holds: the profile made here at ``imu.fs_hz``, its histories transposed to (T, N))."""
+    keep_freed_memory()  # the Monte Carlo's per-chunk records reuse freed heap, not fresh zeroed pages
     prof = None
     if steps is not None:
         prof = profiles.step_schedule(*steps, imu.fs_hz)
