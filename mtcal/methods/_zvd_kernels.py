@@ -75,4 +75,5 @@ def warm_up() -> None:
     a = np.zeros((1, 2, 3))
     a[..., 2] = 9.8
     for use_gyro in (False, True):
-        zvd_flags(a, a, use_gyro, use_gyro, np.zeros((1, 3)), 9.80665, 9.76, 9.84, 1e-3, 3, 2, 0.03, np.empty((1, 2), np.bool_))
+        zvd_flags(a, a, use_gyro, use_gyro, np.zeros((1, 3)), 9.80665, 9.76, 9.84, 1e-3, 3, 2, 0.03,
+                  np.empty((1, 2), np.bool_))

@@ -69,8 +69,8 @@ def warm_up() -> None:
     n = 2
     z = np.zeros((1, 2 * n + 4, 3))
     rec = np.zeros((1, n, 3))
-    sensor_block(z, np.zeros((1, n, 6)), True, rec, rec, np.zeros(1, np.int64), np.ones(1), 0, 1.0, 1.0, np.zeros(3), np.zeros(3), 0.0, 0.0,
-                 1.0, 0.0, 0.0, np.empty((1, n, 3)), np.empty((1, n, 3)))
+    sensor_block(z, np.zeros((1, n, 6)), True, rec, rec, np.zeros(1, np.int64), np.ones(1), 0, 1.0, 1.0, np.zeros(3),
+                 np.zeros(3), 0.0, 0.0, 1.0, 0.0, 0.0, np.empty((1, n, 3)), np.empty((1, n, 3)))
 
 
 @jit

@@ -199,11 +199,11 @@ def _shared_truth(th, rate, acc, v, r, dt: float) -> tuple[np.ndarray, np.ndarra
     """:func:`mtcal.core.profiles.fixed_axis_imu_truth` of one history and geometry, (1, N, 3) each, reused
     while the same inputs come again (a Monte Carlo's chunks and systems share one truth: the call
     would return the same arrays bit for bit); the result is read only."""
-    key = (th, rate, acc, v, r, dt)
-    if _LAST_TRUTH and _LAST_TRUTH[0][5] == dt and all(np.array_equal(x, y) for x, y in zip(_LAST_TRUTH[0][:5], key[:5])):
-        return _LAST_TRUTH[1]
+    key = (th, rate, acc, v, r)
+    if _LAST_TRUTH and _LAST_TRUTH[1] == dt and all(np.array_equal(x, y) for x, y in zip(_LAST_TRUTH[0], key)):
+        return _LAST_TRUTH[2]
     truth = profiles.fixed_axis_imu_truth(th[None], rate[None], acc[None], v[None], r[None], gravity0(), dt)
-    _LAST_TRUTH[:] = [tuple(np.array(x) for x in key[:5]) + (dt,), truth]
+    _LAST_TRUTH[:] = [tuple(np.array(x) for x in key), dt, truth]
     return truth
 
 
