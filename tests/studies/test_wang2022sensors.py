@@ -409,10 +409,11 @@ def _numpy_sensor_errors(w_true, f, imu, seed, stream, ids, noise, gyro_bias_sig
     return gyro, accel
 
 
-@pytest.mark.parametrize("kind", ["shared", "per-trial", "grid", "ahrs", "no-walk"])
+@pytest.mark.parametrize("kind", ["shared", "per-trial", "grid", "histories", "ahrs", "no-walk"])
 def test_compiled_sensor_pass_equals_the_numpy_expression_bit_for_bit(kind):
     """``simulate_batch``'s compiled pass (blocks of trials) = the numpy expression, every bit, with one
-    shared or per-trial truth, per-trial accelerometer noise, a random gyro bias and without walks."""
+    shared, per-trial or per-distinct-trial truth, per-trial accelerometer noise, a random gyro bias and without
+    walks."""
     from mtcal.core import profiles
 
     imu = w.ImuSpec().resolve()
@@ -434,11 +435,13 @@ def test_compiled_sensor_pass_equals_the_numpy_expression_bit_for_bit(kind):
     noise = rng.uniform(1e-4, 1e-3, t_n) if kind == "per-trial" else None
     bias_sigma = 0.01 if kind == "ahrs" else 0.0
     hist = (prof.angle_rad[:, 0], prof.rate_rad_s[:, 0], prof.accel_rad_s2[:, 0])
+    if kind == "histories":  # one history per trial, three distinct ones (Fig 11's repeated targets)
+        hist = tuple(x * (1.0 + np.arange(t_n) % 3)[:, None] for x in hist)
     sim = w.simulate_batch(*hist, v, r, imu, 11, 4, ids, accel_noise_m_s2_rt_hz=noise,
                            gyro_bias_sigma_rad_s=bias_sigma)
-    rows = t_n if kind in ("per-trial", "grid") else 1
-    w_true, f = profiles.fixed_axis_imu_truth(*(np.tile(x, (rows, 1)) for x in hist), v[:rows], r[:rows],
-                                              w.gravity0(), imu.dt_s)
+    rows = t_n if kind in ("per-trial", "grid", "histories") else 1
+    w_true, f = profiles.fixed_axis_imu_truth(*(np.broadcast_to(x, (rows, x.shape[-1])) for x in hist), v[:rows],
+                                              r[:rows], w.gravity0(), imu.dt_s)
     gyro, accel = _numpy_sensor_errors(w_true, f, imu, 11, 4, ids,
                                        np.full(t_n, imu.accel_noise_m_s2_rt_hz) if noise is None else noise,
                                        bias_sigma)

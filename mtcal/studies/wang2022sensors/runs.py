@@ -234,14 +234,14 @@ def _simulate(steps, histories, axes, lever_arms_m, imu: ImuValues, seed: int, s
         # one geometry and one angle history: the truth once, broadcast over the trials
         w_true, f = _shared_truth(th[0], rate[0], acc[0], v[0], r[0], dt)
         truth_row = np.zeros(t_n, np.int64)
-    elif one_history:
-        # one angle history: the truth once per distinct geometry (bit for bit, the truth is row by row)
-        geom = np.ascontiguousarray(np.hstack([v, r])).view(np.dtype((np.void, 48)))[:, 0]
-        _, first, truth_row = np.unique(geom, return_index=True, return_inverse=True)
+    else:
+        # the truth once per distinct trial (bit for bit: the truth is computed row by row): per geometry for one
+        # angle history (a grid's axes x lever arms), per history and geometry otherwise (Fig 11's repeated targets)
+        rows = np.hstack([v, r] if one_history else [th, rate, acc, v, r])
+        rows = np.ascontiguousarray(rows).view(np.dtype((np.void, rows.shape[1] * 8)))[:, 0]
+        _, first, truth_row = np.unique(rows, return_index=True, return_inverse=True)
         w_true, f = profiles.fixed_axis_imu_truth(th[first], rate[first], acc[first], v[first], r[first], gravity0(),
                                                   dt)
-    else:
-        w_true, f = profiles.fixed_axis_imu_truth(th, rate, acc, v, r, gravity0(), dt)
     # sensor errors: white noise, turn-on bias, bias random walk, gyro scale factor
     noise = (np.full(t_n, imu.accel_noise_m_s2_rt_hz) if accel_noise_m_s2_rt_hz is None
              else np.broadcast_to(as_float_array(accel_noise_m_s2_rt_hz, "accel_noise_m_s2_rt_hz"), (t_n,)))
