@@ -404,8 +404,10 @@ def ahrs_sweep_metrics(rig: RigValues, dt_s: float, axes, lever_arms_m, ahrs: Ah
 
 
 def _ahrs_errors(th, prof, axes, lever_arms_m, ahrs: AhrsImu, dt_s: float, seed: int, ids, n0: int,
-                 heading_sigma_deg=None) -> np.ndarray:
-    """AHRS stand-in angle error (T, N) in rad: per-trial axis, own sensors, disturbed field."""
+                 heading_sigma_deg=None, keep: slice = slice(None)) -> np.ndarray:
+    """AHRS stand-in angle error (T, N) in rad: per-trial axis, own sensors, disturbed field; only the samples
+    ``keep`` (T, K) when given (the angle is per sample from the orientation and the one at ``n0``, so the kept
+    samples' values are the same)."""
     vals = ahrs.resolve(1.0 / dt_s)
     sim = simulate_batch(th, prof.rate_rad_s[:, 0], prof.accel_rad_s2[:, 0], axes, lever_arms_m, vals, seed, 20,
                          ids, gyro_bias_sigma_rad_s=ahrs.gyro_bias_deg_s * np.pi / 180.0)
@@ -418,7 +420,8 @@ def _ahrs_errors(th, prof, axes, lever_arms_m, ahrs: AhrsImu, dt_s: float, seed:
         for v, t, sg in zip(axes, ids, sig)])  # the magnetometer model takes one axis per call
     q = baselines.mahony_marg(sim.gyro_rad_s, sim.accel_m_s2, mag, vals.dt_s)
     del sim, mag
-    return _WRAP(baselines.angle_from_orientation(q, axes, n0) - th)
+    idx = np.r_[n0, np.arange(th.size)[keep]]  # the reference sample first, then the kept ones
+    return _WRAP(baselines.angle_from_orientation(q[:, idx], axes, 0)[:, 1:] - th[idx[1:]])
 
 
 @dataclass(frozen=True)
@@ -511,7 +514,7 @@ def run_drift(rig: RigValues, imu: ImuValues, axis, ahrs: AhrsImu, trials: int, 
                                     rests=prof.hold_slices(), axis=axes).angle_rad
         err_r.append(np.degrees(_WRAP(theta[:, stand] - th[stand])))
         del sim, theta
-        err_a.append(np.degrees(_ahrs_errors(th, prof, axes, lever, ahrs, imu.dt_s, seed, ids, n0)[:, stand]))
+        err_a.append(np.degrees(_ahrs_errors(th, prof, axes, lever, ahrs, imu.dt_s, seed, ids, n0, keep=stand)))
     return DriftResult(prof.time_s[stand] - prof.time_s[stand.start], np.concatenate(err_r), np.concatenate(err_a))
 
 
