@@ -281,15 +281,19 @@ class _Blocks:
 
 
 def warm_up() -> None:
-    """Compile (or load from numba's cache) the compiled block sums of :func:`detect_rests`.
+    """Compile (or load from numba's cache) the compiled block sums of :func:`detect_rests`, the compiled
+    ZVD it calls (:func:`mtcal.methods.zero_velocity.detect_static_trusted`) and the batched rest means of
+    the axis estimate that follows it (:func:`mtcal.methods.rotation_axis.axes_from_rests_trusted`).
 
     Examples
     --------
     >>> warm_up()
     """
-    from mtcal.methods import _rest_kernels
+    from mtcal.methods import _axis_kernels, _rest_kernels, _zvd_kernels
 
     _rest_kernels.warm_up()
+    _zvd_kernels.warm_up()
+    _axis_kernels.warm_up()
 
 
 def runs(flag: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

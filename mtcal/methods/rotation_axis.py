@@ -679,9 +679,10 @@ def axes_from_rests_trusted(a: np.ndarray, masks: list[np.ndarray], **settings) 
     if settings["fit"] == "eq23" and settings["max_axis_error_deg"] == np.inf and len(masks) >= 3:
         counts = np.stack([m.sum(axis=1) for m in masks]).astype(float)          # (R, T)
         means = np.full((len(masks), t_n, 3), np.nan)
+        from mtcal.methods import _axis_kernels
+
         for k, m in enumerate(masks):  # the rest means exactly as axis_from_rests_trusted takes them
-            for t in np.flatnonzero(counts[k] > 0):
-                means[k, t] = a[t][m[t]].mean(axis=0)
+            _axis_kernels.masked_means(a, np.ascontiguousarray(m), means[k])
         # as distinct_positions weights them (mean * n / n), so Eq 23 sees the same numbers
         with np.errstate(invalid="ignore"):
             means = means * counts[..., None] / counts[..., None]

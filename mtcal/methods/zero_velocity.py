@@ -164,21 +164,46 @@ def zvd_params(params: ZvdParams | None) -> ZvdParams:
 
 
 def detect_static_trusted(accel_m_s2: np.ndarray, dt_s: float, params: ZvdParams,
-                          gyro_rad_s: np.ndarray | None = None) -> np.ndarray:
+                          gyro_rad_s: np.ndarray | None = None, *,
+                          gyro_offset_rad_s: np.ndarray | None = None) -> np.ndarray:
     """:func:`detect_static` on checked inputs, for callers that validated them at their own edge.
 
     Preconditions (not checked again): ``accel_m_s2`` finite float64 (..., N, 3) in m/s² (units
     checked); ``dt_s`` a checked sample interval (s); ``params`` a :class:`ZvdParams`;
     ``gyro_rad_s`` None or finite float64 of the shape of ``accel_m_s2`` (rad/s), required when
-    ``params.gyro_max_rad_s`` is set. Same flags as :func:`detect_static`.
+    ``params.gyro_max_rad_s`` is set; ``gyro_offset_rad_s`` None or finite float64 (..., 3), one
+    offset per record: the gyro condition then reads ``‖ω − offset‖`` (e.g. the initial bias), as
+    when ``gyro_rad_s - offset[..., None, :]`` is passed. Same flags as :func:`detect_static`.
+
+    C-contiguous records run through one compiled pass per record (:mod:`mtcal.methods._zvd_kernels`,
+    the same operations in the same order, so the same flags bit for bit); other layouts through
+    the numpy expression.
     """
+    use_gyro = params.gyro_max_rad_s is not None
+    if use_gyro and gyro_rad_s is None:
+        raise ValueError("gyro_rad_s is required when params.gyro_max_rad_s is set")
+    if accel_m_s2.ndim >= 2 and accel_m_s2.shape[-2] > 0 and accel_m_s2.flags.c_contiguous \
+            and (not use_gyro or (gyro_rad_s.flags.c_contiguous and gyro_rad_s.shape == accel_m_s2.shape)):
+        from mtcal.methods import _zvd_kernels
+
+        lead, n = accel_m_s2.shape[:-2], accel_m_s2.shape[-2]
+        a = accel_m_s2.reshape(-1, n, 3)
+        g = gyro_rad_s.reshape(-1, n, 3) if use_gyro else a
+        off = (np.ascontiguousarray(np.broadcast_to(gyro_offset_rad_s, lead + (3,)), dtype=float).reshape(-1, 3)
+               if use_gyro and gyro_offset_rad_s is not None else None)
+        out = np.empty(a.shape[:2], bool)
+        _zvd_kernels.zvd_flags(a, g, use_gyro, off is not None, np.zeros((1, 3)) if off is None else off,
+                               STANDARD_GRAVITY_M_S2, float(params.accel_min_m_s2), float(params.accel_max_m_s2),
+                               float(params.var_threshold_m2_s4), params.window_samples(dt_s),
+                               params.duration_samples(dt_s), float(params.gyro_max_rad_s or 0.0), out)
+        return out.reshape(lead + (n,))
+    if use_gyro and gyro_offset_rad_s is not None:
+        gyro_rad_s = gyro_rad_s - np.asarray(gyro_offset_rad_s)[..., None, :]
     mag = np.linalg.norm(accel_m_s2, axis=-1)
     band = (mag > params.accel_min_m_s2) & (mag < params.accel_max_m_s2)
     var = _moving_variance(mag - STANDARD_GRAVITY_M_S2, params.window_samples(dt_s))
     cond = band & (var < params.var_threshold_m2_s4)
-    if params.gyro_max_rad_s is not None:
-        if gyro_rad_s is None:
-            raise ValueError("gyro_rad_s is required when params.gyro_max_rad_s is set")
+    if use_gyro:
         cond &= np.linalg.norm(gyro_rad_s, axis=-1) < params.gyro_max_rad_s
     return _min_run(cond, params.duration_samples(dt_s))
 

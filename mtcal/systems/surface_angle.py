@@ -971,8 +971,9 @@ def surface_angle_batch(gyro_rad_s, accel_m_s2, dt_s: float, config: SurfaceBatc
     if config.zvd is None:
         flags = known
     else:
-        zvd_gyro = g - b0[:, None, :] if config.zvd.gyro_max_rad_s is not None else None
-        flags = detect_static_trusted(a, dt, config.zvd, zvd_gyro)
+        with_gyro = config.zvd.gyro_max_rad_s is not None  # the gyro condition on ω − b0
+        flags = detect_static_trusted(a, dt, config.zvd, g if with_gyro else None,
+                                      gyro_offset_rad_s=b0 if with_gyro else None)
     if v is None and settings is not None:
         masks = rest_masks_trusted(flags, rests[:config.axis_rests], MIN_REST_ZVD_SHARE)
         v = rotation_axis.axes_from_rests_trusted(a, masks, **settings)

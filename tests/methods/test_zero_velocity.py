@@ -78,3 +78,34 @@ def test_trusted_detector_equals_the_checked_call_and_params_are_typed(rng):
         zvd_params({"window_s": 0.01})
     with pytest.raises(ValueError, match="gyro_rad_s is required"):
         detect_static_trusted(a, 0.01, p)
+
+
+def _numpy_zvd(a, dt, p, gyro):
+    """The numpy expression the compiled ZVD replaces (the reference order of every operation)."""
+    from mtcal.methods.zero_velocity import STANDARD_GRAVITY_M_S2, _min_run, _moving_variance
+
+    mag = np.linalg.norm(a, axis=-1)
+    band = (mag > p.accel_min_m_s2) & (mag < p.accel_max_m_s2)
+    cond = band & (_moving_variance(mag - STANDARD_GRAVITY_M_S2, p.window_samples(dt)) < p.var_threshold_m2_s4)
+    if p.gyro_max_rad_s is not None:
+        cond &= np.linalg.norm(gyro, axis=-1) < p.gyro_max_rad_s
+    return _min_run(cond, p.duration_samples(dt))
+
+
+@pytest.mark.parametrize("params", [ZvdParams(), ZvdParams(gyro_max_rad_s=0.035),
+                                    ZvdParams(window_s=0.05, min_duration_s=0.03, var_threshold_m2_s4=1e-4)])
+def test_compiled_detector_equals_the_numpy_expression_bit_for_bit(params, rng):
+    """Near-threshold records (noise at the variance and band limits): every flag as numpy's, for the
+    compiled pass (C-contiguous), the numpy path (other layouts) and the gyro offset (ω − b0)."""
+    from mtcal.methods.zero_velocity import detect_static_trusted
+
+    for sigma, n in ((0.001, 1), (0.01, 37), (0.03, 400), (0.1, 250)):
+        a = np.array([0.0, 0.0, 9.80665]) + sigma * rng.normal(size=(4, n, 3))
+        g = 0.02 * rng.normal(size=(4, n, 3))
+        b0 = 0.01 * rng.normal(size=(4, 3))
+        ref = _numpy_zvd(a, 0.005, params, g - b0[:, None, :])
+        assert np.array_equal(detect_static_trusted(a, 0.005, params, g, gyro_offset_rad_s=b0), ref)
+        assert np.array_equal(detect_static_trusted(a, 0.005, params, g - b0[:, None, :]), ref)
+        assert np.array_equal(detect_static_trusted(a[1], 0.005, params, g[1] - b0[1]), ref[1])
+        a_f, g_f = np.asfortranarray(a), np.asfortranarray(g)   # not C-contiguous: the numpy path
+        assert np.array_equal(detect_static_trusted(a_f, 0.005, params, g_f, gyro_offset_rad_s=b0), ref)

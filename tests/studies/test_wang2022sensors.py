@@ -383,3 +383,102 @@ def test_step_batch_simulation_is_the_schedule_then_simulate_batch():
     assert np.array_equal(prof.angle_rad, ref.angle_rad) and prof.hold_slices() == ref.hold_slices()
     for name in ("gyro_rad_s", "accel_m_s2", "theta_rad"):
         assert np.array_equal(getattr(sim, name), getattr(old, name))
+
+
+def _numpy_sensor_errors(w_true, f, imu, seed, stream, ids, noise, gyro_bias_sigma_rad_s):
+    """The numpy expression the compiled sensor pass of ``simulate_batch`` replaces (operation order)."""
+    from mtcal.core.rng import trial_rng
+
+    n = f.shape[1]
+    z = np.stack([trial_rng(seed, stream, t).standard_normal((2 * n + 4, 3)) for t in ids])
+    sq = np.sqrt(imu.fs_hz)
+    accel = np.multiply((noise * sq)[:, None, None], z[:, :n])
+    accel += f
+    accel += imu.accel_bias_sigma_m_s2 * z[:, 2 * n:2 * n + 1]
+    accel += np.asarray(imu.accel_bias_m_s2)
+    gyro = np.multiply(imu.gyro_noise_rad_s_rt_hz * sq, z[:, n:2 * n])
+    gyro += w_true * (1.0 + imu.gyro_scale_factor)
+    gyro += np.asarray(imu.gyro_bias_rad_s)
+    gyro += gyro_bias_sigma_rad_s * z[:, 2 * n + 1:2 * n + 2]
+    if imu.accel_rw_m_s2_rt_s > 0 or imu.gyro_rw_rad_s_rt_s > 0:
+        walk = np.stack([trial_rng(seed, stream + 1, t).standard_normal((n, 6)) for t in ids])
+        np.cumsum(walk, axis=1, out=walk)
+        walk *= np.sqrt(imu.dt_s)
+        accel += imu.accel_rw_m_s2_rt_s * walk[..., :3]
+        gyro += imu.gyro_rw_rad_s_rt_s * walk[..., 3:]
+    return gyro, accel
+
+
+@pytest.mark.parametrize("kind", ["shared", "per-trial", "grid", "histories", "ahrs", "no-walk"])
+def test_compiled_sensor_pass_equals_the_numpy_expression_bit_for_bit(kind):
+    """``simulate_batch``'s compiled pass (blocks of trials) = the numpy expression, every bit, with one
+    shared, per-trial or per-distinct-trial truth, per-trial accelerometer noise, a random gyro bias and without
+    walks."""
+    from mtcal.core import profiles
+
+    imu = w.ImuSpec().resolve()
+    if kind == "ahrs":
+        imu = w.AhrsImu().resolve(imu.fs_hz)
+    if kind == "no-walk":
+        imu = dataclasses.replace(imu, accel_rw_m_s2_rt_s=0.0, gyro_rw_rad_s_rt_s=0.0)
+    prof = w.trapezoid_profile(np.radians([0.0, 40.0, -20.0]), np.radians(20.0), np.radians(200.0), [0.3] * 3,
+                               imu.dt_s)
+    t_n = 37  # more than one block
+    rng = np.random.default_rng(7)
+    v = np.tile([0.6, 0.0, 0.8], (t_n, 1)) if kind != "per-trial" else rng.normal(size=(t_n, 3))
+    r = np.tile([0.2, 0.0, 0.02], (t_n, 1))
+    if kind == "grid":  # a grid's trials: few distinct geometries (axes x lever arms), each truth computed once
+        v = rng.normal(size=(3, 3))[np.arange(t_n) % 3]
+        r = r * (1 + np.arange(t_n) // 3 % 4)[:, None]
+    v /= np.linalg.norm(v, axis=1)[:, None]
+    ids = np.arange(t_n) * 5 + 3
+    noise = rng.uniform(1e-4, 1e-3, t_n) if kind == "per-trial" else None
+    bias_sigma = 0.01 if kind == "ahrs" else 0.0
+    hist = (prof.angle_rad[:, 0], prof.rate_rad_s[:, 0], prof.accel_rad_s2[:, 0])
+    if kind == "histories":  # one history per trial, three distinct ones (Fig 11's repeated targets)
+        hist = tuple(x * (1.0 + np.arange(t_n) % 3)[:, None] for x in hist)
+    sim = w.simulate_batch(*hist, v, r, imu, 11, 4, ids, accel_noise_m_s2_rt_hz=noise,
+                           gyro_bias_sigma_rad_s=bias_sigma)
+    rows = t_n if kind in ("per-trial", "grid", "histories") else 1
+    w_true, f = profiles.fixed_axis_imu_truth(*(np.broadcast_to(x, (rows, x.shape[-1])) for x in hist), v[:rows],
+                                              r[:rows], w.gravity0(), imu.dt_s)
+    gyro, accel = _numpy_sensor_errors(w_true, f, imu, 11, 4, ids,
+                                       np.full(t_n, imu.accel_noise_m_s2_rt_hz) if noise is None else noise,
+                                       bias_sigma)
+    assert np.array_equal(sim.gyro_rad_s, gyro) and np.array_equal(sim.accel_m_s2, accel)
+
+
+def test_compiled_pcg64_normals_are_numpys_standard_normal_bit_for_bit():
+    """The compiled fill from a keyed generator's state = ``trial_rng(...).standard_normal``: 2 million draws
+    (the ziggurat's wedge and tail paths included: ~1 % and ~0.03 % of draws), several rows at once."""
+    from mtcal.core.rng import trial_rng
+    from mtcal.studies.wang2022sensors import _pcg64_normals
+
+    ids = [0, 1, 7, 1000]
+    states = np.array([_pcg64_normals.generator_state(trial_rng(4004, 10, t)) for t in ids], np.uint64)
+    out = np.empty((len(ids), 500_000))
+    _pcg64_normals.normals(states, out)
+    for row, t in zip(out, ids):
+        ref = trial_rng(4004, 10, t).standard_normal(row.size)
+        assert np.array_equal(row, ref)
+    assert np.sum(np.abs(out) > 3.654152885361009) > 50  # the tail path was taken
+    used = trial_rng(1, 2, 3)
+    used.standard_normal()
+    used.integers(2)  # a 32-bit draw leaves half a word buffered in PCG64's state
+    with pytest.raises(ValueError, match="a fresh PCG64 generator is required"):
+        _pcg64_normals.generator_state(used)
+
+
+def test_compiled_latency_maximum_equals_numpy():
+    """``sweep_metrics``' dynamic maximum per latency = ``np.max(np.abs(err + d) * mask, axis=1)``, NaN included."""
+    from mtcal.studies.wang2022sensors import _sim_kernels
+
+    rng = np.random.default_rng(3)
+    err, delta = rng.normal(size=(6, 500)) * 0.01, rng.normal(size=(4, 500)) * 0.001
+    mask = rng.random((6, 500)) < 0.3
+    mask[2] = False
+    err[4, 17] = np.nan
+    out = np.empty((6, 4))
+    _sim_kernels.latency_max_abs(err, delta, mask, out)
+    ref = np.stack([np.max(np.abs(err + d) * mask, axis=1) for d in delta], axis=1)
+    np.testing.assert_array_equal(out, ref)

@@ -37,6 +37,7 @@ import numpy as np
 
 from mtcal.core.montecarlo import progress
 from mtcal.core import metrics, profiles, rotations, simulate
+from mtcal.core.allocator import keep_freed_memory
 from mtcal.core.rng import stream_rng, trial_rng
 from mtcal.core.simulate import ImuErrorModel
 from mtcal.core.validate import STANDARD_GRAVITY_M_S2, as_float_array, positive_scalar
@@ -44,6 +45,7 @@ from mtcal.filters import baselines
 from mtcal.methods.zero_velocity import ZvdParams
 from mtcal.systems.surface_angle import SurfaceBatchConfig, surface_angle_batch
 
+from . import _pcg64_normals, _sim_kernels
 from .scenario import PAPER_AXIS_FIG11, AhrsImu, ImuSpec, ImuValues, RigValues, gravity0, lever_arm_vector
 
 __all__ = ["trapezoid_profile", "sweep_profile", "simulate_batch", "simulate_step_batch", "SimBatch", "SweepMetrics", "sweep_metrics",
@@ -134,13 +136,13 @@ class SimBatch:
     theta_rad: np.ndarray
 
 
-def _per_trial_normals(seed: int, stream: int, trials, shape) -> np.ndarray:
-    """Standard normals (T, *shape), trial t from ``trial_rng(seed, stream, t)`` (filled in place)."""
-    ids = [int(t) for t in trials]
-    out = np.empty((len(ids),) + tuple(shape))
-    for k, t in enumerate(ids):
-        trial_rng(seed, stream, t).standard_normal(out=out[k])
-    return out
+#: Trials per compiled pass of :func:`_simulate` (normals buffer reused across blocks).
+_SIM_BLOCK = 16
+
+
+def _vec3(x) -> np.ndarray:
+    """A bias as a float64 (3,) vector (a scalar broadcast)."""
+    return np.ascontiguousarray(np.broadcast_to(np.asarray(x, float), (3,)))
 
 
 def simulate_batch(theta_rad, rate_rad_s, accel_rad_s2, axes, lever_arms_m, imu: ImuValues, seed: int,
@@ -189,10 +191,27 @@ def simulate_step_batch(waypoints_rad, rate_rad_s: float, hold_s, axes, lever_ar
                      None, 0.0)
 
 
+#: The last one-geometry truth of :func:`_simulate` and its inputs (:func:`_shared_truth`).
+_LAST_TRUTH: list = []
+
+
+def _shared_truth(th, rate, acc, v, r, dt: float) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`mtcal.core.profiles.fixed_axis_imu_truth` of one history and geometry, (1, N, 3) each, reused
+    while the same inputs come again (a Monte Carlo's chunks and systems share one truth: the call
+    would return the same arrays bit for bit); the result is read only."""
+    key = (th, rate, acc, v, r)
+    if _LAST_TRUTH and _LAST_TRUTH[1] == dt and all(np.array_equal(x, y) for x, y in zip(_LAST_TRUTH[0], key)):
+        return _LAST_TRUTH[2]
+    truth = profiles.fixed_axis_imu_truth(th[None], rate[None], acc[None], v[None], r[None], gravity0(), dt)
+    _LAST_TRUTH[:] = [tuple(np.array(x) for x in key), dt, truth]
+    return truth
+
+
 def _simulate(steps, histories, axes, lever_arms_m, imu: ImuValues, seed: int, stream: int, trial_ids,
               accel_noise_m_s2_rt_hz, gyro_bias_sigma_rad_s: float) -> tuple[profiles.AngleProfile | None, SimBatch]:
     """:func:`simulate_batch` (``histories`` = theta, rate, accel) or :func:`simulate_step_batch` (``steps`` =
     waypoints, rate, holds: the profile made here at ``imu.fs_hz``, its histories transposed to (T, N))."""
+    keep_freed_memory()  # the Monte Carlo's per-chunk records reuse freed heap, not fresh zeroed pages
     prof = None
     if steps is not None:
         prof = profiles.step_schedule(*steps, imu.fs_hz)
@@ -210,32 +229,49 @@ def _simulate(steps, histories, axes, lever_arms_m, imu: ImuValues, seed: int, s
     n = th.shape[1]
     dt = imu.dt_s
     one_history = np.ndim(theta_rad) == 1 and np.ndim(rate_rad_s) == 1 and np.ndim(accel_rad_s2) == 1
+    truth_row = np.arange(t_n)  # the truth row of each trial
     if one_history and np.all(v == v[0]) and np.all(r == r[0]):
         # one geometry and one angle history: the truth once, broadcast over the trials
-        w_true, f = profiles.fixed_axis_imu_truth(th[:1], rate[:1], acc[:1], v[:1], r[:1], gravity0(), dt)
+        w_true, f = _shared_truth(th[0], rate[0], acc[0], v[0], r[0], dt)
+        truth_row = np.zeros(t_n, np.int64)
     else:
-        w_true, f = profiles.fixed_axis_imu_truth(th, rate, acc, v, r, gravity0(), dt)
+        # the truth once per distinct trial (bit for bit: the truth is computed row by row): per geometry for one
+        # angle history (a grid's axes x lever arms), per history and geometry otherwise (Fig 11's repeated targets)
+        rows = np.hstack([v, r] if one_history else [th, rate, acc, v, r])
+        rows = np.ascontiguousarray(rows).view(np.dtype((np.void, rows.shape[1] * 8)))[:, 0]
+        _, first, truth_row = np.unique(rows, return_index=True, return_inverse=True)
+        w_true, f = profiles.fixed_axis_imu_truth(th[first], rate[first], acc[first], v[first], r[first], gravity0(),
+                                                  dt)
     # sensor errors: white noise, turn-on bias, bias random walk, gyro scale factor
     noise = (np.full(t_n, imu.accel_noise_m_s2_rt_hz) if accel_noise_m_s2_rt_hz is None
              else np.broadcast_to(as_float_array(accel_noise_m_s2_rt_hz, "accel_noise_m_s2_rt_hz"), (t_n,)))
-    z = _per_trial_normals(seed, stream, ids, (2 * n + 4, 3))
     sq = np.sqrt(imu.fs_hz)
-    # in place, in the order of f + noise + turn-on bias + fixed bias (same sums, fewer temporaries)
-    accel = np.multiply((noise * sq)[:, None, None], z[:, :n])
-    accel += f
-    accel += imu.accel_bias_sigma_m_s2 * z[:, 2 * n:2 * n + 1]
-    accel += np.asarray(imu.accel_bias_m_s2)
-    gyro = np.multiply(imu.gyro_noise_rad_s_rt_hz * sq, z[:, n:2 * n])
-    gyro += w_true * (1.0 + imu.gyro_scale_factor)
-    gyro += np.asarray(imu.gyro_bias_rad_s)
-    gyro += gyro_bias_sigma_rad_s * z[:, 2 * n + 1:2 * n + 2]
-    del z
-    if imu.accel_rw_m_s2_rt_s > 0 or imu.gyro_rw_rad_s_rt_s > 0:
-        walk = _per_trial_normals(seed, stream + 1, ids, (n, 6))
-        np.cumsum(walk, axis=1, out=walk)
-        walk *= np.sqrt(dt)
-        accel += imu.accel_rw_m_s2_rt_s * walk[..., :3]
-        gyro += imu.gyro_rw_rad_s_rt_s * walk[..., 3:]
+    has_walk = bool(imu.accel_rw_m_s2_rt_s > 0 or imu.gyro_rw_rad_s_rt_s > 0)
+    accel, gyro = np.empty((t_n, n, 3)), np.empty((t_n, n, 3))
+    # per block of trials: the trial's normals (keyed streams), then one compiled pass in the order of
+    # f + noise + turn-on bias + fixed bias (+ walk) — the same operations as the numpy expression
+    block = min(t_n, _SIM_BLOCK)
+    z = np.empty((block, 2 * n + 4, 3))
+    walk = np.empty((block, n, 6) if has_walk else (1, 1, 6))
+    consts = (np.ascontiguousarray(noise * sq, dtype=float), imu.gyro_noise_rad_s_rt_hz * sq,
+              1.0 + imu.gyro_scale_factor, _vec3(imu.accel_bias_m_s2), _vec3(imu.gyro_bias_rad_s),
+              float(imu.accel_bias_sigma_m_s2), float(gyro_bias_sigma_rad_s), float(np.sqrt(dt)),
+              float(imu.accel_rw_m_s2_rt_s), float(imu.gyro_rw_rad_s_rt_s))
+    w_true, f = np.ascontiguousarray(w_true), np.ascontiguousarray(f)
+    truth_row = np.ascontiguousarray(truth_row, dtype=np.int64).reshape(t_n)
+    states = np.empty((2, block, 4), np.uint64)
+    used = (2 * n + 2) * 3  # the last two rows of z are drawn after every used normal: never needed
+    for b0 in range(0, t_n, block):
+        nb = min(block, t_n - b0)
+        for k in range(nb):  # trial_rng(seed, stream, id).standard_normal(out=z[k]), and stream + 1 for the walk
+            states[0, k] = _pcg64_normals.generator_state(trial_rng(seed, stream, int(ids[b0 + k])))
+            if has_walk:
+                states[1, k] = _pcg64_normals.generator_state(trial_rng(seed, stream + 1, int(ids[b0 + k])))
+        _pcg64_normals.normals(states[0, :nb], z.reshape(block, -1)[:nb, :used])
+        if has_walk:
+            _pcg64_normals.normals(states[1, :nb], walk.reshape(block, -1)[:nb])
+        _sim_kernels.sensor_block(z[:nb], walk[:nb] if has_walk else walk, has_walk, w_true, f, truth_row, consts[0],
+                                  b0, *consts[1:], accel, gyro)
     return prof, SimBatch(gyro, accel, np.ascontiguousarray(th))
 
 
@@ -336,7 +372,8 @@ def sweep_metrics(rig: RigValues, imu: ImuValues, axes, lever_arms_m, seed: int,
     hold_max = np.stack([np.max(np.abs(err_rams[:, (sl.start + sl.stop) // 2:sl.stop]), axis=1)
                          for sl in holds], axis=1)
     hold_whole = np.stack([np.max(np.abs(err_rams[:, sl]), axis=1) for sl in holds], axis=1)
-    dyn_max = np.stack([np.max(np.abs(err_rams + d) * dyn, axis=1) for d in delta], axis=1)  # (T, L)
+    dyn_max = np.empty((err_rams.shape[0], delta.shape[0]))  # (T, L): max |error| over the dynamic samples
+    _sim_kernels.latency_max_abs(err_rams, np.ascontiguousarray(delta), np.ascontiguousarray(dyn), dyn_max)
     share = np.sum(flags & sweep & ~prof.is_static, axis=1) / max(np.sum(sweep & ~prof.is_static), 1)
     out = dict(rams_static=rms(err_rams, stat, ns), rams_dynamic=rms(err_rams, dyn, nd),
                ref16_static=rms(err_16, stat, ns), ref16_dynamic=rms(err_16, dyn, nd))
@@ -367,8 +404,10 @@ def ahrs_sweep_metrics(rig: RigValues, dt_s: float, axes, lever_arms_m, ahrs: Ah
 
 
 def _ahrs_errors(th, prof, axes, lever_arms_m, ahrs: AhrsImu, dt_s: float, seed: int, ids, n0: int,
-                 heading_sigma_deg=None) -> np.ndarray:
-    """AHRS stand-in angle error (T, N) in rad: per-trial axis, own sensors, disturbed field."""
+                 heading_sigma_deg=None, keep: slice = slice(None)) -> np.ndarray:
+    """AHRS stand-in angle error (T, N) in rad: per-trial axis, own sensors, disturbed field; only the samples
+    ``keep`` (T, K) when given (the angle is per sample from the orientation and the one at ``n0``, so the kept
+    samples' values are the same)."""
     vals = ahrs.resolve(1.0 / dt_s)
     sim = simulate_batch(th, prof.rate_rad_s[:, 0], prof.accel_rad_s2[:, 0], axes, lever_arms_m, vals, seed, 20,
                          ids, gyro_bias_sigma_rad_s=ahrs.gyro_bias_deg_s * np.pi / 180.0)
@@ -381,7 +420,8 @@ def _ahrs_errors(th, prof, axes, lever_arms_m, ahrs: AhrsImu, dt_s: float, seed:
         for v, t, sg in zip(axes, ids, sig)])  # the magnetometer model takes one axis per call
     q = baselines.mahony_marg(sim.gyro_rad_s, sim.accel_m_s2, mag, vals.dt_s)
     del sim, mag
-    return _WRAP(baselines.angle_from_orientation(q, axes, n0) - th)
+    idx = np.r_[n0, np.arange(th.size)[keep]]  # the reference sample first, then the kept ones
+    return _WRAP(baselines.angle_from_orientation(q[:, idx], axes, 0)[:, 1:] - th[idx[1:]])
 
 
 @dataclass(frozen=True)
@@ -474,7 +514,7 @@ def run_drift(rig: RigValues, imu: ImuValues, axis, ahrs: AhrsImu, trials: int, 
                                     rests=prof.hold_slices(), axis=axes).angle_rad
         err_r.append(np.degrees(_WRAP(theta[:, stand] - th[stand])))
         del sim, theta
-        err_a.append(np.degrees(_ahrs_errors(th, prof, axes, lever, ahrs, imu.dt_s, seed, ids, n0)[:, stand]))
+        err_a.append(np.degrees(_ahrs_errors(th, prof, axes, lever, ahrs, imu.dt_s, seed, ids, n0, keep=stand)))
     return DriftResult(prof.time_s[stand] - prof.time_s[stand.start], np.concatenate(err_r), np.concatenate(err_a))
 
 
