@@ -46,7 +46,8 @@ JOBS ?= 2
 $(STAMP): pyproject.toml constraints.txt
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --disable-pip-version-check -c constraints.txt -e '.[dev]'
-	$(BIN)/python -c "from mtcal.filters.kernels import warm_up_all; warm_up_all()"
+	$(BIN)/python -c "from mtcal.filters.kernels import warm_up_all; warm_up_all(); \
+		from mtcal.studies.wang2022sensors import _sim_kernels; _sim_kernels.warm_up()"
 	touch $(STAMP)
 
 venv: $(STAMP)
