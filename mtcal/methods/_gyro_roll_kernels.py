@@ -143,3 +143,64 @@ def projection(w):
             sign = -1.0 if wy < 0.0 else 1.0
             out[i, k] = math.atan2(-w[i, k, 2] * sign, abs(wy))
     return out
+
+
+@jit
+def _wrap_difference(e, t):
+    """``(e − t + π) mod 2π − π``: :func:`mtcal.core.metrics.angle_difference`'s operations for one pair."""
+    x = (e - t) + np.pi
+    m = x if 0.0 <= x < _TWO_PI else np.fmod(x, _TWO_PI)  # fmod(x, b) is x itself there
+    if m != 0.0:
+        if m < 0.0:
+            m += _TWO_PI
+    else:
+        m = 0.0
+    return m - np.pi
+
+
+@jit
+def _nan_max(cur, a):
+    """numpy's ``maximum`` reduction step: NaN once NaN, else the larger."""
+    if cur != cur:
+        return cur
+    if a != a or a > cur:
+        return a
+    return cur
+
+
+@jit
+def roll_error_summary(w, dt, state0, masks, roll0, proj_abs):
+    """Per trial of ``w`` (M, N, 3) against the constant roll ``roll0`` (also φ0 of Eq 12), in one pass.
+
+    Returns ``euler_max`` (K, M): max over the samples of each row of ``masks`` (K, N) of
+    |wrapped Eq 5 roll − roll0| (the Eq 5 recursion of :func:`euler_differential` from ``state0`` (M, 3),
+    ψ not wrapped since it never feeds back), and ``integration_final`` (M,): the last Eq 12 roll
+    ``roll0 + Σ_{k<N−1} ω_x,k dt`` (numpy's ``cumsum`` order) minus ``roll0``; writes |Eq 13 roll − roll0|
+    per sample into ``proj_abs`` (M, N).
+    """
+    m, n = w.shape[0], w.shape[1]
+    nk = masks.shape[0]
+    euler_max = np.zeros((nk, m))
+    final = np.empty(m)
+    for i in range(m):
+        theta, phi = state0[i, 1], state0[i, 2]
+        acc = 0.0
+        for k in range(n):
+            a = abs(_wrap_difference(phi, roll0))
+            for j in range(nk):
+                if masks[j, k]:
+                    euler_max[j, i] = _nan_max(euler_max[j, i], a)
+            wx, wy, wz = w[i, k, 0], w[i, k, 1], w[i, k, 2]
+            sphi, cphi = math.sin(phi), math.cos(phi)
+            dpsi = _div(wy * sphi + wz * cphi, math.cos(theta))
+            dtheta = wy * cphi - wz * sphi
+            dphi = wx + dpsi * math.sin(theta)
+            theta, phi = theta + dtheta * dt, _wrap(phi + dphi * dt)
+            sign = -1.0 if wy < 0.0 else 1.0
+            proj_abs[i, k] = abs(math.atan2(-wz * sign, abs(wy)) - roll0)
+            if k == 0:
+                acc = wx * dt
+            elif k < n - 1:
+                acc = acc + wx * dt
+        final[i] = ((roll0 + acc) if n > 1 else (roll0 + 0.0)) - roll0
+    return euler_max, final

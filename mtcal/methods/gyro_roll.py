@@ -43,7 +43,7 @@ from mtcal.core.validate import angle_rad, as_float_array, positive_scalar, time
 __all__ = ["MAX_RATE_RAD_S", "body_rates_two_dof", "two_dof_trajectory", "simulate_two_dof_imu",
            "euler_differential", "roll_decoupled_integration", "roll_projection",
            "pitch_rate_magnitude", "roll_hybrid", "roll_estimates", "roll_hybrid_rmse_sweep",
-           "projection_hybrid_max_errors",
+           "projection_hybrid_max_errors", "roll_error_summary",
            "projection_roll_error_eq14",
            "projection_roll_error_exact", "loglog_slope"]
 
@@ -437,6 +437,66 @@ def roll_hybrid_rmse_sweep(gyro_rad_s, dt_s: float, thresholds_rad_s, *, roll_tr
         err = _hybrid_from_parts(proj, cum, rate > th, phi0) - truth
         out[..., k] = np.sqrt(np.mean(err**2, axis=-1))
     return out
+
+
+def roll_error_summary(gyro_rad_s, dt_s: float, masks, *, pitch0=0.0, roll0=0.0
+                       ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Per trial, the three gyro roll estimators' errors against the constant true roll ``roll0``, in one pass.
+
+    Bit-identical to the estimators' outputs reduced afterwards (compiled: no (T, N, 3) Euler
+    output, no repeated validation):
+
+    * ``euler_max[j] = max(|angle_difference(euler_differential(w, dt, pitch0=pitch0, roll0=roll0)[..., 2],
+      roll0)|[..., masks[j]])`` (Eq 5; NaN propagates as in ``np.max``);
+    * ``integration_final = roll_decoupled_integration(w, dt, roll0=roll0)[..., -1] − roll0`` (Eq 12);
+    * ``projection_abs = |roll_projection(w) − roll0|`` (Eq 13, per sample).
+
+    Parameters
+    ----------
+    gyro_rad_s : array_like, shape (N, 3) or (T, N, 3)
+        Body rates (rad/s).
+    dt_s : float
+        Sample interval (s).
+    masks : array_like of bool, shape (K, N)
+        Sample sets of the Eq 5 maxima (each non-empty).
+    pitch0 : float
+        Initial Euler pitch (rad, |pitch0| ≤ π/2) of Eq 5.
+    roll0 : float
+        Initial and true roll (rad).
+
+    Returns
+    -------
+    euler_max : ndarray, shape (K, ...) (rad)
+    integration_final : ndarray, shape (...) (rad)
+    projection_abs : ndarray, shape (..., N) (rad)
+
+    Examples
+    --------
+    >>> w = np.tile([1e-3, 0.5, 0.0], (400, 1))  # pitch at 0.5 rad/s with an x-gyro error
+    >>> masks = np.ones((1, 400), dtype=bool)
+    >>> e_max, final, p_abs = roll_error_summary(w, 0.01, masks)
+    >>> from mtcal.core.metrics import angle_difference
+    >>> e = angle_difference(euler_differential(w, 0.01)[..., 2], 0.0)
+    >>> bool(e_max[0] == np.max(np.abs(e)) and final == roll_decoupled_integration(w, 0.01)[-1])
+    True
+    """
+    from mtcal.methods import _gyro_roll_kernels  # here: numba is imported only when called
+
+    w = _gyro(gyro_rad_s)
+    dt = positive_scalar(dt_s, "dt_s")
+    mk = np.asarray(masks)
+    if mk.dtype != bool or mk.ndim != 2 or mk.shape[1] != w.shape[-2] or not np.all(np.any(mk, axis=1)):
+        raise ValueError(f"masks must be a boolean array of shape (K, {w.shape[-2]}) with every row selecting a "
+                         f"sample, got {mk.dtype} {mk.shape}")
+    theta0 = float(_euler_pitch(pitch0))
+    phi0 = float(angle_rad(roll0, "roll0"))
+    lead = w.shape[:-2]
+    flat = np.ascontiguousarray(w.reshape((-1,) + w.shape[-2:]))
+    state = np.zeros((flat.shape[0], 3))
+    state[:, 1], state[:, 2] = theta0, phi0
+    proj_abs = np.empty(flat.shape[:2])
+    e_max, final = _gyro_roll_kernels.roll_error_summary(flat, dt, state, np.ascontiguousarray(mk), phi0, proj_abs)
+    return e_max.reshape((mk.shape[0],) + lead), final.reshape(lead), proj_abs.reshape(w.shape[:-1])
 
 
 # --------------------------------------------------------------------------

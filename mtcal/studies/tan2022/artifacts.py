@@ -458,12 +458,13 @@ def fig09(study: GyroStudy, seed: int, trials: int) -> Artifact:
         below60 = th_deg < 60
         trial = {key: np.empty(n) for key in ("euler_lt60", "euler_near90", "integration_final", "projection_mean")}
         runs = GyroTrials(study, t, theta, rng, n)
-        for sl, w in runs.blocks(_BLOCK):  # per-trial metrics only: bounded memory
-            e_E, e_I, e_P = errors(w, theta)
-            trial["euler_lt60"][sl] = _DEG(np.max(np.abs(e_E[:, below60]), axis=1))
-            trial["euler_near90"][sl] = _DEG(np.max(np.abs(e_E[:, near]), axis=1))
-            trial["integration_final"][sl] = _DEG(e_I[:, -1])
-            trial["projection_mean"][sl] = _DEG(np.mean(np.abs(e_P), axis=1))
+        masks = np.stack([below60, near])
+        for sl, w in runs.blocks(_BLOCK):  # per-trial metrics only (one compiled pass): bounded memory
+            e_max, e_final, p_abs = gyro_roll.roll_error_summary(w, g.dt_s, masks, pitch0=theta[0], roll0=g.roll0_rad)
+            trial["euler_lt60"][sl] = _DEG(e_max[0])
+            trial["euler_near90"][sl] = _DEG(e_max[1])
+            trial["integration_final"][sl] = _DEG(e_final)
+            trial["projection_mean"][sl] = _DEG(np.mean(p_abs, axis=1))
         per_rate.append(trial)
         k = median_trial(np.abs(trial["integration_final"]))  # the median-error trial by final integration error
         e_E, e_I, e_P = (e[0] for e in errors(runs.records([k]), theta))
