@@ -24,7 +24,8 @@ import numpy as np
 
 from mtcal.core.compiled import jit
 
-__all__ = ["euler_differential", "hybrid_rmse_sweep", "oscillation_claims", "projection"]
+__all__ = ["euler_differential", "hybrid_rmse_sweep", "oscillation_claims", "oscillation_claims_noisy", "projection",
+           "roll_error_summary"]
 
 _TWO_PI = 2.0 * np.pi
 
@@ -94,22 +95,25 @@ def hybrid_rmse_sweep(proj, rate, cum, phi0, truth, thresholds):
 
 
 @jit
-def oscillation_claims(w, dt, thr, roll0, slow, accurate_rad):
-    """Per trial of ``w`` (M, N, 3): projection max |error| where ``slow`` / elsewhere and hybrid max |error| (rad).
-
-    Returns ``(spike (M,), hybrid_max (M,), complete (M,) bool)``; a trial stops early (``complete``
-    False, ``spike`` NaN) once its hybrid error exceeds ``accurate_rad`` (pass ``inf`` for full records).
-    """
-    m, n = w.shape[0], w.shape[1]
+def _oscillation_claims(src, base, offset, scale, mode, dt, thr, roll0, slow, accurate_rad):
+    """:func:`oscillation_claims` of the samples built from ``src`` (M, N, 3): ``src`` itself (mode 0),
+    ``base[k] + scale[i] src[i, k]`` (mode 1) or ``(base[k] + offset[i]) + scale[i] src[i, k]`` (mode 2),
+    numpy's operations on the broadcast arrays."""
+    m, n = src.shape[0], src.shape[1]
     spike = np.empty(m)
     hyb = np.empty(m)
     complete = np.ones(m, dtype=np.bool_)
     for i in range(m):
         cum = 0.0
-        base = roll0
+        base_h = roll0
         slow_max, fast_max, h_max = 0.0, 0.0, 0.0
         for k in range(n):
-            wx, wy, wz = w[i, k, 0], w[i, k, 1], w[i, k, 2]
+            wx, wy, wz = src[i, k, 0], src[i, k, 1], src[i, k, 2]
+            if mode != 0:  # inline (a helper taking the arrays costs reference counting per sample)
+                bx, by, bz = base[k, 0], base[k, 1], base[k, 2]
+                if mode == 2:
+                    bx, by, bz = bx + offset[i], by + offset[i], bz + offset[i]
+                wx, wy, wz = bx + scale[i] * wx, by + scale[i] * wy, bz + scale[i] * wz
             sign = -1.0 if wy < 0.0 else 1.0
             p = math.atan2(-wz * sign, abs(wy))
             e_p = abs(p - roll0)
@@ -118,10 +122,10 @@ def oscillation_claims(w, dt, thr, roll0, slow, accurate_rad):
             else:
                 fast_max = max(fast_max, e_p)
             if math.hypot(wy, wz) > thr:
-                base = p - cum
+                base_h = p - cum
                 h = p
             else:
-                h = base + cum
+                h = base_h + cum
             h_max = max(h_max, abs(h - roll0))
             cum += wx * dt
             if h_max > accurate_rad:
@@ -130,6 +134,28 @@ def oscillation_claims(w, dt, thr, roll0, slow, accurate_rad):
         spike[i] = slow_max / max(fast_max, 1e-12) if complete[i] else np.nan
         hyb[i] = h_max
     return spike, hyb, complete
+
+
+@jit
+def oscillation_claims(w, dt, thr, roll0, slow, accurate_rad):
+    """Per trial of ``w`` (M, N, 3): projection max |error| where ``slow`` / elsewhere and hybrid max |error| (rad).
+
+    Returns ``(spike (M,), hybrid_max (M,), complete (M,) bool)``; a trial stops early (``complete``
+    False, ``spike`` NaN) once its hybrid error exceeds ``accurate_rad`` (pass ``inf`` for full records).
+    """
+    none = np.empty(0)
+    return _oscillation_claims(w, np.empty((0, 3)), none, none, 0, dt, thr, roll0, slow, accurate_rad)
+
+
+@jit
+def oscillation_claims_noisy(base, offset, scale, normals, dt, thr, roll0, slow, accurate_rad):
+    """:func:`oscillation_claims` of ``w = (base + offset) + scale · normals`` built sample by sample.
+
+    ``base`` (N, 3), ``offset`` (M,) per trial (empty: no offset, ``w = base + scale · normals``),
+    ``scale`` (M,), ``normals`` (M, N, 3): numpy's broadcast expression without its (M, N, 3) temporaries.
+    """
+    mode = 2 if offset.size > 0 else 1
+    return _oscillation_claims(normals, base, offset, scale, mode, dt, thr, roll0, slow, accurate_rad)
 
 
 @jit

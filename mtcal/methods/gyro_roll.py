@@ -43,7 +43,7 @@ from mtcal.core.validate import angle_rad, as_float_array, positive_scalar, time
 __all__ = ["MAX_RATE_RAD_S", "body_rates_two_dof", "two_dof_trajectory", "simulate_two_dof_imu",
            "euler_differential", "roll_decoupled_integration", "roll_projection",
            "pitch_rate_magnitude", "roll_hybrid", "roll_estimates", "roll_hybrid_rmse_sweep",
-           "projection_hybrid_max_errors", "roll_error_summary",
+           "projection_hybrid_max_errors", "projection_hybrid_max_errors_noisy", "roll_error_summary",
            "projection_roll_error_eq14",
            "projection_roll_error_exact", "loglog_slope"]
 
@@ -607,16 +607,77 @@ def projection_hybrid_max_errors(gyro_rad_s, dt_s: float, threshold_rad_s: float
     from mtcal.methods import _gyro_roll_kernels  # here: numba is imported only when called
 
     w = _gyro(gyro_rad_s)
+    dt, thr, mask, stop, phi0 = _claims_settings(w.shape[-2], dt_s, threshold_rad_s, slow, stop_above_rad, roll0)
+    lead = w.shape[:-2]
+    flat = np.ascontiguousarray(w.reshape((-1,) + w.shape[-2:]))
+    spike, hyb, ok = _gyro_roll_kernels.oscillation_claims(flat, dt, thr, phi0, mask, stop)
+    return spike.reshape(lead), hyb.reshape(lead), ok.reshape(lead)
+
+
+def _claims_settings(n: int, dt_s, threshold_rad_s, slow, stop_above_rad, roll0):
+    """Checked ``dt, threshold, slow mask, stop, roll0`` of :func:`projection_hybrid_max_errors` for N = ``n``."""
     dt = positive_scalar(dt_s, "dt_s")
     thr = positive_scalar(threshold_rad_s, "threshold_rad_s", allow_zero=True)
     mask = np.asarray(slow)
-    if mask.dtype != bool or mask.shape != (w.shape[-2],):
-        raise ValueError(f"slow must be a boolean array of shape ({w.shape[-2]},), got {mask.dtype} {mask.shape}")
+    if mask.dtype != bool or mask.shape != (n,):
+        raise ValueError(f"slow must be a boolean array of shape ({n},), got {mask.dtype} {mask.shape}")
     stop = float(stop_above_rad)
     if not stop > 0:
         raise ValueError(f"stop_above_rad must be > 0, got {stop_above_rad}")
-    phi0 = float(angle_rad(roll0, "roll0"))
-    lead = w.shape[:-2]
-    flat = np.ascontiguousarray(w.reshape((-1,) + w.shape[-2:]))
-    spike, hyb, ok = _gyro_roll_kernels.oscillation_claims(flat, dt, thr, phi0, np.ascontiguousarray(mask), stop)
-    return spike.reshape(lead), hyb.reshape(lead), ok.reshape(lead)
+    return dt, thr, np.ascontiguousarray(mask), stop, float(angle_rad(roll0, "roll0"))
+
+
+def projection_hybrid_max_errors_noisy(base_rad_s, noise_scale_rad_s, normals, dt_s: float, threshold_rad_s: float,
+                                       slow, *, offset_rad_s=None, roll0=0.0, stop_above_rad: float = np.inf
+                                       ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`projection_hybrid_max_errors` of ``w = (base + offset) + scale · normals``, built sample by sample.
+
+    Bit-identical to ``projection_hybrid_max_errors(base + scale[:, None, None] * normals, ...)`` (or
+    ``(base + offset[:, None, None]) + scale[:, None, None] * normals`` with ``offset_rad_s``) without
+    the (T, N, 3) gyro record: a deterministic record plus per-trial white noise (and constant error).
+
+    Parameters
+    ----------
+    base_rad_s : array_like, shape (N, 3)
+        Deterministic body rates (rad/s).
+    noise_scale_rad_s : float or array_like (T,)
+        Per-trial noise standard deviation per sample (rad/s, ≥ 0).
+    normals : ndarray, shape (T, N, 3)
+        Standard normal draws.
+    dt_s, threshold_rad_s, slow, roll0, stop_above_rad
+        As in :func:`projection_hybrid_max_errors`.
+    offset_rad_s : float or array_like (T,), optional
+        Per-trial constant error added to every axis before the noise (rad/s).
+
+    Returns
+    -------
+    spike, hybrid_max_rad, complete : ndarray, shape (T,)
+
+    Examples
+    --------
+    >>> t = np.arange(0.0, 2.0, 0.001)
+    >>> base = np.stack([np.zeros_like(t), np.cos(np.pi * t), np.full_like(t, 1e-3)], -1)
+    >>> z = np.random.default_rng(0).standard_normal((2, t.size, 3))
+    >>> slow = np.abs(np.cos(np.pi * t)) < 0.1
+    >>> got = projection_hybrid_max_errors_noisy(base, 1e-4, z, 0.001, 0.01, slow)
+    >>> ref = projection_hybrid_max_errors(base + 1e-4 * z, 0.001, 0.01, slow)
+    >>> all(np.array_equal(a, b) for a, b in zip(got, ref))
+    True
+    """
+    from mtcal.methods import _gyro_roll_kernels  # here: numba is imported only when called
+
+    base = np.ascontiguousarray(_gyro(base_rad_s, "base_rad_s"))
+    if base.ndim != 2:
+        raise ValueError(f"base_rad_s must have shape (N, 3), got {base.shape}")
+    z = np.asarray(normals)
+    if z.dtype != np.float64 or z.ndim != 3 or z.shape[1:] != base.shape:
+        raise ValueError(f"normals must be a float64 array of shape (T, {base.shape[0]}, 3), got {z.dtype} {z.shape}")
+    scale = np.ascontiguousarray(np.broadcast_to(as_float_array(noise_scale_rad_s, "noise_scale_rad_s"),
+                                                 (z.shape[0],)))
+    if np.any(scale < 0) or np.any(scale > MAX_RATE_RAD_S):
+        raise ValueError(f"noise_scale_rad_s must be in rad/s within [0, {MAX_RATE_RAD_S:.4g}]")
+    offset = np.empty(0) if offset_rad_s is None else np.ascontiguousarray(
+        np.broadcast_to(_rate(offset_rad_s, "offset_rad_s"), (z.shape[0],)))
+    dt, thr, mask, stop, phi0 = _claims_settings(base.shape[0], dt_s, threshold_rad_s, slow, stop_above_rad, roll0)
+    return _gyro_roll_kernels.oscillation_claims_noisy(base, offset, scale, np.ascontiguousarray(z), dt, thr, phi0,
+                                                       mask, stop)

@@ -332,3 +332,28 @@ def test_roll_error_summary_equals_the_estimators_reduced_bit_for_bit(rng):
         gyro_roll.roll_error_summary(w, 0.01, masks[:, :-1])
     with pytest.raises(ValueError, match="masks must be a boolean array"):
         gyro_roll.roll_error_summary(w, 0.01, np.zeros((1, t.size), dtype=bool))
+
+
+def test_projection_hybrid_max_errors_noisy_equals_the_record_bit_for_bit(rng):
+    t = np.arange(0.0, 4.0, 1e-3)
+    base = np.stack([np.zeros_like(t), np.radians(40.0) * np.pi * np.cos(np.pi * t), -0.0 * t], -1)
+    z = rng.standard_normal((4, t.size, 3))
+    z[0, :5] = 0.0
+    slow = np.abs(base[:, 1]) < np.radians(5.0)
+    scale, offset = np.array([0.0, 1e-4, 1e-3, 2e-3]), np.radians([0.2, 0.0, 0.1, 0.3])
+    for kw, w in (({}, base + scale[:, None, None] * z),
+                  ({"offset_rad_s": offset}, (base + offset[:, None, None]) + scale[:, None, None] * z)):
+        for stop in (np.inf, 0.05):
+            got = gyro_roll.projection_hybrid_max_errors_noisy(base, scale, z, 1e-3, np.radians(0.5), slow,
+                                                               roll0=0.01, stop_above_rad=stop, **kw)
+            ref = gyro_roll.projection_hybrid_max_errors(w, 1e-3, np.radians(0.5), slow, roll0=0.01,
+                                                         stop_above_rad=stop)
+            assert all(np.array_equal(a, b, equal_nan=True) for a, b in zip(got, ref))
+    with pytest.raises(ValueError, match="normals must be a float64 array"):
+        gyro_roll.projection_hybrid_max_errors_noisy(base, 1e-3, z[:, :-1], 1e-3, 0.01, slow)
+    with pytest.raises(ValueError, match="base_rad_s must have shape"):
+        gyro_roll.projection_hybrid_max_errors_noisy(base[None], 1e-3, z, 1e-3, 0.01, slow)
+    with pytest.raises(ValueError, match="noise_scale_rad_s must be in rad/s"):
+        gyro_roll.projection_hybrid_max_errors_noisy(base, -1.0, z, 1e-3, 0.01, slow)
+    with pytest.raises(ValueError, match="slow must be a boolean array"):
+        gyro_roll.projection_hybrid_max_errors_noisy(base, 1e-3, z, 1e-3, 0.01, slow[:-1])

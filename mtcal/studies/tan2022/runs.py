@@ -186,6 +186,14 @@ def accel_predictions(sc: AccelScenario, ratios, rng, step_deg):
             "asymmetry": fig02_asymmetry(d0, th, ph, g), "large_pitch": large_pitch_ratio(d0, d1, d2, th, ph, sc),
             "gain": rms_T / np.sqrt(ms_p), **opt}
 
+def _rate_base(rate_rad_s, roll_rad):
+    """Eq 11 rates (T, 3) rad/s at constant roll for pitch rates ``rate_rad_s`` (T,) (ψ̇ = φ̇ = 0)."""
+    base = np.zeros((np.size(rate_rad_s), 3))
+    base[:, 1] = rate_rad_s * np.cos(roll_rad)
+    base[:, 2] = -rate_rad_s * np.sin(roll_rad)
+    return base
+
+
 def gyro_samples(rate_rad_s, roll_rad, bias_rad_s, noise_rad_s_rthz, dt_s, rng, shape):
     """Gyro output of the 2-DOF mechanism (ψ̇ = 0, φ̇ = 0): Eq 11 rates + constant error + white noise.
 
@@ -221,6 +229,7 @@ def gyro_predictions(study: GyroStudy, b_deg, n_deg, rng):
     th = osc.pitch_rad(np.append(t, t[-1] + g.dt_s))
     rate_osc = np.diff(th) / g.dt_s  # interval means (the simulator's convention)
     slow = np.abs(osc.pitch_rate_rad_s(t)) < _RAD(5.0)
+    base = _rate_base(rate_osc, g.roll0_rad)
     for sl in trial_chunks(b_deg.size):
         b, nd = _RAD(b_deg[sl]), _RAD(n_deg[sl])
         sigma = nd * np.sqrt(g.fs_hz)
@@ -228,8 +237,11 @@ def gyro_predictions(study: GyroStudy, b_deg, n_deg, rng):
             n_samp = int(round(study.uniform.sweep_deg / r * g.fs_hz))
             total = n_samp * b + sigma * np.sqrt(n_samp) * rng.standard_normal(b.size)
             out[f"drift_{r:g}"][sl] = _DEG(np.abs(total * g.dt_s))
-        w = gyro_samples(rate_osc, g.roll0_rad, b, nd, g.dt_s, rng, (b.size, t.size))
-        spike, hyb, _ = gyro_roll.projection_hybrid_max_errors(w, g.dt_s, osc.threshold_rad_s, slow, roll0=g.roll0_rad)
+        # gyro_samples(rate_osc, roll0, b, nd, dt, rng, (b.size, t.size)) built inside the compiled pass
+        z = rng.standard_normal((b.size, t.size, 3))
+        spike, hyb, _ = gyro_roll.projection_hybrid_max_errors_noisy(base, nd * np.sqrt(1.0 / g.dt_s), z, g.dt_s,
+                                                                     osc.threshold_rad_s, slow, offset_rad_s=b,
+                                                                     roll0=g.roll0_rad)
         out["hybrid_max"][sl] = _DEG(hyb)
         out["spike"][sl] = spike
     return out
@@ -252,16 +264,13 @@ def oscillation_claims(study: GyroStudy, b_z_deg, n_deg, rng, trials, *, accurat
     rate = np.diff(th) / g.dt_s
     slow = np.abs(osc.pitch_rate_rad_s(t)) < _RAD(5.0)
     stop = np.inf if accurate_deg is None else float(_RAD(accurate_deg))
-    base = np.zeros((t.size, 3))
-    base[:, 1] = rate * np.cos(g.roll0_rad)
-    base[:, 2] = -rate * np.sin(g.roll0_rad)
+    base = _rate_base(rate, g.roll0_rad)
     base += np.array([g.error_rad_s[0], g.error_rad_s[1], _RAD(b_z_deg)])
     sigma = _RAD(n_deg) * np.sqrt(g.fs_hz)
     spike, hyb = np.empty(trials), np.empty(trials)
     for sl in trial_chunks(trials):
         z = rng.standard_normal((sl.stop - sl.start, t.size, 3)) if normals is None else normals[sl]
-        w = base + sigma * z
-        spike[sl], h, _ = gyro_roll.projection_hybrid_max_errors(w, g.dt_s, osc.threshold_rad_s, slow,
-                                                                 roll0=g.roll0_rad, stop_above_rad=stop)
+        spike[sl], h, _ = gyro_roll.projection_hybrid_max_errors_noisy(base, sigma, z, g.dt_s, osc.threshold_rad_s,
+                                                                       slow, roll0=g.roll0_rad, stop_above_rad=stop)
         hyb[sl] = _DEG(h)
     return spike, hyb
