@@ -3,17 +3,24 @@
 * :func:`projection` — Eq 13 over many samples (numpy's expression without its temporaries);
 * :func:`euler_differential` — the Eq 5 recursion (forward Euler over time, one
   trial after the other), operation by operation the numpy loop it replaces;
-* :func:`hybrid_rmse_sweep` — roll RMSE of the Fig 7 hybrid for K thresholds, one
-  sequential pass per trial and threshold (no (T, N) temporaries per threshold);
+* :func:`hybrid_rmse_sweep` — roll RMSE of the Fig 7 hybrid for K thresholds from raw
+  gyro samples, one pass per trial with all thresholds advanced together (no (T, N) temporaries);
 * :func:`oscillation_claims` — per trial, the Fig 11 spike ratio and the Fig 12
   hybrid max error from raw gyro samples in one pass; with ``accurate_rad`` finite
   it only decides whether both statements hold and stops a trial as soon as the
-  hybrid error exceeds it (the statement then fails whatever follows).
+  hybrid error exceeds it (the statement then fails whatever follows);
+  :func:`oscillation_claims_noisy` builds the samples ``(base + offset) + scale · normals``
+  on the fly (no record);
+* :func:`roll_estimates` — Eq 13, Eq 12 and the hybrid in one pass, bit for bit numpy's;
+* :func:`roll_error_summary` — per trial, the Eq 5 / Eq 12 / Eq 13 errors a uniform
+  rotation is judged on, in one pass, bit for bit the estimators' outputs reduced.
 
 Kernels are float64 without ``fastmath`` (:func:`mtcal.core.compiled.jit`); sums run
 in sample order (numpy's ``cumsum`` order); ``sin``/``cos``/``atan2`` come from the
-platform's libm, so results agree with the numpy reference to rounding (tests compare
-them with ``allclose``), not bit for bit.
+platform's libm. Where a kernel replays numpy's element-wise expression (the same libm
+``atan2``/``hypot``, the same order of operations, a sequential ``cumsum``), it is bit for bit
+(tests compare with ``array_equal``); the Eq 5 recursion and the sweeps' sums agree with the
+numpy references to rounding (tests compare them with ``allclose``).
 """
 
 from __future__ import annotations
@@ -24,8 +31,8 @@ import numpy as np
 
 from mtcal.core.compiled import jit
 
-__all__ = ["euler_differential", "hybrid_rmse_sweep", "oscillation_claims", "oscillation_claims_noisy", "projection",
-           "roll_error_summary"]
+__all__ = ["euler_differential", "hybrid_rmse_sweep", "oscillation_claims",
+           "oscillation_claims_noisy", "projection", "roll_error_summary", "roll_estimates"]
 
 _TWO_PI = 2.0 * np.pi
 
@@ -70,27 +77,6 @@ def euler_differential(w, dt, state0):
             dtheta = wy * cphi - wz * sphi
             dphi = wx + dpsi * math.sin(theta)
             psi, theta, phi = _wrap(psi + dpsi * dt), theta + dtheta * dt, _wrap(phi + dphi * dt)
-    return out
-
-
-@jit
-def hybrid_rmse_sweep(proj, rate, cum, phi0, truth, thresholds):
-    """RMSE (M, K) of the hybrid ``where(rate > thr, proj, last(proj − cum) + cum) − truth`` per threshold."""
-    m, n, nk = proj.shape[0], proj.shape[1], thresholds.size
-    out = np.empty((m, nk))
-    for i in range(m):
-        for j in range(nk):
-            thr = thresholds[j]
-            base = phi0[i]
-            acc = 0.0
-            for k in range(n):
-                if rate[i, k] > thr:
-                    base = proj[i, k] - cum[i, k]
-                    e = proj[i, k] - truth[k]
-                else:
-                    e = base + cum[i, k] - truth[k]
-                acc += e * e
-            out[i, j] = math.sqrt(acc / n)
     return out
 
 
@@ -230,3 +216,70 @@ def roll_error_summary(w, dt, state0, masks, roll0, proj_abs):
                 acc = acc + wx * dt
         final[i] = ((roll0 + acc) if n > 1 else (roll0 + 0.0)) - roll0
     return euler_max, final
+
+
+@jit
+def roll_estimates(w, dt, thr, phi0, proj, integ, hyb, use):
+    """Eq 13, Eq 12 and the Fig 7 hybrid of ``w`` (M, N, 3) from φ0 ``phi0`` (M,), written into (M, N) outputs.
+
+    numpy's operations of :func:`mtcal.methods.gyro_roll.roll_estimates` sample by sample: the
+    cumulative x angle in ``cumsum`` order (``Φ_0 = 0``, ``Φ_1 = ω_x,0 dt``, ``Φ_k = Φ_{k−1} + ω_x,k−1 dt``),
+    ``use = hypot(ω_y, ω_z) > thr``, the hybrid ``(proj_j − Φ_j) + Φ_k`` from the last projection
+    sample ``j ≤ k`` (``φ0 + Φ_k`` before the first one).
+    """
+    m, n = w.shape[0], w.shape[1]
+    for i in range(m):
+        p0 = phi0[i]
+        cum = 0.0
+        base = p0
+        for k in range(n):
+            wx, wy, wz = w[i, k, 0], w[i, k, 1], w[i, k, 2]
+            sign = -1.0 if wy < 0.0 else 1.0
+            p = math.atan2(-wz * sign, abs(wy))
+            u = math.hypot(wy, wz) > thr
+            proj[i, k] = p
+            use[i, k] = u
+            integ[i, k] = p0 + cum
+            if u:
+                base = p - cum
+                hyb[i, k] = p
+            else:
+                hyb[i, k] = base + cum
+            cum = wx * dt if k == 0 else cum + wx * dt
+    return proj, integ, hyb, use
+
+
+@jit
+def hybrid_rmse_sweep(w, dt, phi0, truth, thresholds):
+    """RMSE (M, K) of the hybrid ``where(rate > thr, proj, last(proj − cum) + cum) − truth`` per threshold.
+
+    Projection, pitch rate and cumulative x angle per sample of ``w`` (M, N, 3) as :func:`roll_estimates`
+    computes them (no (M, N) arrays); all thresholds advance together, each with its own sequential
+    sum in sample order."""
+    m, n, nk = w.shape[0], w.shape[1], thresholds.size
+    out = np.empty((m, nk))
+    base = np.empty(nk)
+    acc = np.empty(nk)
+    for i in range(m):
+        base[:] = phi0[i]
+        acc[:] = 0.0
+        cum = 0.0
+        for k in range(n):
+            wx, wy, wz = w[i, k, 0], w[i, k, 1], w[i, k, 2]
+            sign = -1.0 if wy < 0.0 else 1.0
+            p = math.atan2(-wz * sign, abs(wy))
+            r = math.hypot(wy, wz)
+            tk = truth[k]
+            e_p = p - tk
+            b_new = p - cum
+            for j in range(nk):
+                if r > thresholds[j]:
+                    base[j] = b_new
+                    e = e_p
+                else:
+                    e = base[j] + cum - tk
+                acc[j] += e * e
+            cum = wx * dt if k == 0 else cum + wx * dt
+        for j in range(nk):
+            out[i, j] = math.sqrt(acc[j] / n)
+    return out

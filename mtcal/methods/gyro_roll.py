@@ -362,6 +362,16 @@ def roll_estimates(gyro_rad_s, dt_s: float, threshold_rad_s: float, *,
         raise ValueError(f"threshold_rad_s must be in rad/s (<= {MAX_RATE_RAD_S:.4g}); got {thr:.6g} "
                          "(degrees passed as radians?)")
     phi0 = np.asarray(angle_rad(roll0, "roll0"))[..., None]
+    if w.size >= _KERNEL_MIN_SIZE:  # long records: one compiled pass, the same operations
+        from mtcal.methods import _gyro_roll_kernels  # here: numba is imported only when called
+
+        lead, n = w.shape[:-2], w.shape[-2]
+        flat = np.ascontiguousarray(w.reshape((-1,) + w.shape[-2:]))
+        m = flat.shape[0]
+        p0 = np.ascontiguousarray(np.broadcast_to(phi0[..., 0], lead).ravel(), dtype=float)
+        out = _gyro_roll_kernels.roll_estimates(flat, dt, thr, p0, np.empty((m, n)), np.empty((m, n)),
+                                                np.empty((m, n)), np.empty((m, n), dtype=bool))
+        return tuple(a.reshape(lead + (n,)) for a in out)
     proj = _projection(w)
     use = _pitch_rate(w) > thr
     cum = _cumulative_angle(w[..., 0], dt)
@@ -395,7 +405,7 @@ def roll_hybrid_rmse_sweep(gyro_rad_s, dt_s: float, thresholds_rad_s, *, roll_tr
     roll0 : float or array_like (T,)
         Initial roll (rad).
     engine : {"numba", "numpy"}
-        Compiled sweep (default: one pass per trial and threshold, no temporaries) or the
+        Compiled sweep (default: one pass per trial, all thresholds together, no temporaries) or the
         numpy reference; equal to rounding (the sums run in another order).
 
     Returns
@@ -420,18 +430,16 @@ def roll_hybrid_rmse_sweep(gyro_rad_s, dt_s: float, thresholds_rad_s, *, roll_tr
         raise ValueError(f"engine must be one of ('numba', 'numpy'), got {engine!r}")
     phi0 = np.asarray(angle_rad(roll0, "roll0"))[..., None]
     truth = np.asarray(angle_rad(roll_true, "roll_true"))
-    proj, rate, cum = _projection(w), _pitch_rate(w), _cumulative_angle(w[..., 0], dt)
-    if engine == "numba":
+    if engine == "numba":  # projection, rate and integrated x angle sample by sample (no (T, N) arrays)
         from mtcal.methods import _gyro_roll_kernels  # here: numba is imported only when called
 
         lead, n = w.shape[:-2], w.shape[-2]
-        m = int(np.prod(lead, dtype=int))
-        flat = lambda a: np.ascontiguousarray(a.reshape(m, n))  # noqa: E731
-        out = _gyro_roll_kernels.hybrid_rmse_sweep(flat(proj), flat(rate), flat(cum),
-                                                   np.ascontiguousarray(np.broadcast_to(phi0[..., 0], lead).ravel()),
-                                                   np.ascontiguousarray(np.broadcast_to(truth, (n,)), dtype=float),
-                                                   np.ascontiguousarray(thr))
+        out = _gyro_roll_kernels.hybrid_rmse_sweep(
+            np.ascontiguousarray(w.reshape((-1,) + w.shape[-2:])), dt,
+            np.ascontiguousarray(np.broadcast_to(phi0[..., 0], lead).ravel(), dtype=float),
+            np.ascontiguousarray(np.broadcast_to(truth, (n,)), dtype=float), np.ascontiguousarray(thr))
         return out.reshape(lead + (thr.size,))
+    proj, rate, cum = _projection(w), _pitch_rate(w), _cumulative_angle(w[..., 0], dt)
     out = np.empty(w.shape[:-2] + (thr.size,))
     for k, th in enumerate(thr):  # loop over thresholds; samples and trials vectorised
         err = _hybrid_from_parts(proj, cum, rate > th, phi0) - truth

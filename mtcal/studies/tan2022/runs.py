@@ -23,6 +23,8 @@ Examples
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
 from mtcal.core import simulate
@@ -99,7 +101,18 @@ class GyroTrials:
                                        noise_density=spec.gyro_noise_rad_s_rt_hz)
         self.model = simulate.ImuErrorModel(gyro=errors)  # as gyro_roll.simulate_two_dof_imu builds it
         self._rng = rng_copy(rng)  # the caller's SeedSequence as at construction, replayed per block
+        self._det = None  # constant_errors_record, once asked for
         spawn_philox_key(rng)  # the caller's generator moves on as after one simulate_gyro call
+
+    def constant_errors_record(self) -> np.ndarray:
+        """The deterministic record (T, 3) rad/s: ``simulate_gyro(study, t, pitch, None, None, noise=False)``
+        on this trajectory (the constant errors only; built once)."""
+        if self._det is None:
+            gyro = simulate.SensorErrors(bias=self.model.gyro.bias, noise_density=0.0)
+            self._det = simulate.simulate_imu(self.trajectory, simulate.ImuErrorModel(gyro=gyro), None,
+                                              None).gyro_rad_s
+            self._det.flags.writeable = False  # shared by every caller
+        return self._det
 
     def records(self, trial_ids) -> np.ndarray:
         """Gyro records (len(trial_ids), T, 3) rad/s of the named trials."""
@@ -113,8 +126,13 @@ class GyroTrials:
             yield slice(start, stop), self.records(np.arange(start, stop))
 
 
+@functools.lru_cache(maxsize=2)
 def oscillation_trials(study: GyroStudy, seed: int, trials: int) -> GyroTrials:
-    """The noisy oscillation records (Eq 16–17) of stream ``STREAM_OSCILLATION`` as :class:`GyroTrials`."""
+    """The noisy oscillation records (Eq 16–17) of stream ``STREAM_OSCILLATION`` as :class:`GyroTrials`.
+
+    A pure function of its arguments, built once per arguments (Figs 11, 12 and the threshold sweep
+    share the trajectory and the constant-error record; every block is regenerated from the key).
+    """
     osc = study.oscillation
     t = osc.time_s()
     return GyroTrials(study, t, osc.pitch_rad(t), stream_rng(seed, STREAM_OSCILLATION), trials)
