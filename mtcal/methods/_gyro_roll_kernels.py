@@ -254,8 +254,8 @@ def hybrid_rmse_sweep(w, dt, phi0, truth, thresholds):
     """RMSE (M, K) of the hybrid ``where(rate > thr, proj, last(proj − cum) + cum) − truth`` per threshold.
 
     Projection, pitch rate and cumulative x angle per sample of ``w`` (M, N, 3) as :func:`roll_estimates`
-    computes them (no (M, N) arrays); all thresholds advance together, each with its own sequential
-    sum in sample order."""
+    computes them (no (M, N) arrays); all ``thresholds`` (ascending) advance together, each with its own
+    sequential sum in sample order."""
     m, n, nk = w.shape[0], w.shape[1], thresholds.size
     out = np.empty((m, nk))
     base = np.empty(nk)
@@ -264,6 +264,7 @@ def hybrid_rmse_sweep(w, dt, phi0, truth, thresholds):
         base[:] = phi0[i]
         acc[:] = 0.0
         cum = 0.0
+        c = 0
         for k in range(n):
             wx, wy, wz = w[i, k, 0], w[i, k, 1], w[i, k, 2]
             sign = -1.0 if wy < 0.0 else 1.0
@@ -272,12 +273,16 @@ def hybrid_rmse_sweep(w, dt, phi0, truth, thresholds):
             tk = truth[k]
             e_p = p - tk
             b_new = p - cum
-            for j in range(nk):
-                if r > thresholds[j]:
-                    base[j] = b_new
-                    e = e_p
-                else:
-                    e = base[j] + cum - tk
+            while c < nk and r > thresholds[c]:  # thresholds ascending: r > thresholds[j] exactly for j < c
+                c += 1
+            while c > 0 and not r > thresholds[c - 1]:
+                c -= 1
+            ep2 = e_p * e_p
+            for j in range(c):  # projection samples
+                base[j] = b_new
+                acc[j] += ep2
+            for j in range(c, nk):  # integration samples
+                e = base[j] + cum - tk
                 acc[j] += e * e
             cum = wx * dt if k == 0 else cum + wx * dt
         for j in range(nk):

@@ -434,10 +434,12 @@ def roll_hybrid_rmse_sweep(gyro_rad_s, dt_s: float, thresholds_rad_s, *, roll_tr
         from mtcal.methods import _gyro_roll_kernels  # here: numba is imported only when called
 
         lead, n = w.shape[:-2], w.shape[-2]
-        out = _gyro_roll_kernels.hybrid_rmse_sweep(
+        order = np.argsort(thr, kind="stable")  # the kernel takes ascending thresholds
+        out = np.empty((int(np.prod(lead, dtype=int)), thr.size))
+        out[:, order] = _gyro_roll_kernels.hybrid_rmse_sweep(
             np.ascontiguousarray(w.reshape((-1,) + w.shape[-2:])), dt,
             np.ascontiguousarray(np.broadcast_to(phi0[..., 0], lead).ravel(), dtype=float),
-            np.ascontiguousarray(np.broadcast_to(truth, (n,)), dtype=float), np.ascontiguousarray(thr))
+            np.ascontiguousarray(np.broadcast_to(truth, (n,)), dtype=float), np.ascontiguousarray(thr[order]))
         return out.reshape(lead + (thr.size,))
     proj, rate, cum = _projection(w), _pitch_rate(w), _cumulative_angle(w[..., 0], dt)
     out = np.empty(w.shape[:-2] + (thr.size,))

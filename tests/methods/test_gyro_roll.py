@@ -266,6 +266,9 @@ def test_compiled_hybrid_sweep_matches_numpy_reference(rng):
     ref = gyro_roll.roll_hybrid_rmse_sweep(w, 1e-3, thr, roll_true=truth, roll0=0.02, engine="numpy")
     assert fast.shape == (2, 3, 4)
     np.testing.assert_allclose(fast, ref, rtol=1e-12)
+    perm = [3, 0, 2, 1, 0]  # any order, repeats: each threshold's RMSE is the same number
+    assert np.array_equal(gyro_roll.roll_hybrid_rmse_sweep(w, 1e-3, thr[perm], roll_true=truth, roll0=0.02),
+                          fast[..., perm])
     with pytest.raises(ValueError, match="engine must be one of"):
         gyro_roll.roll_hybrid_rmse_sweep(w, 1e-3, thr, engine="gpu")
 
