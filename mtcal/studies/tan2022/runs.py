@@ -248,6 +248,7 @@ def gyro_predictions(study: GyroStudy, b_deg, n_deg, rng):
     rate_osc = np.diff(th) / g.dt_s  # interval means (the simulator's convention)
     slow = np.abs(osc.pitch_rate_rad_s(t)) < _RAD(5.0)
     base = _rate_base(rate_osc, g.roll0_rad)
+    z_buf = np.empty((min(_CHUNK, b_deg.size), t.size, 3))
     for sl in trial_chunks(b_deg.size):
         b, nd = _RAD(b_deg[sl]), _RAD(n_deg[sl])
         sigma = nd * np.sqrt(g.fs_hz)
@@ -256,7 +257,7 @@ def gyro_predictions(study: GyroStudy, b_deg, n_deg, rng):
             total = n_samp * b + sigma * np.sqrt(n_samp) * rng.standard_normal(b.size)
             out[f"drift_{r:g}"][sl] = _DEG(np.abs(total * g.dt_s))
         # gyro_samples(rate_osc, roll0, b, nd, dt, rng, (b.size, t.size)) built inside the compiled pass
-        z = rng.standard_normal((b.size, t.size, 3))
+        z = rng.standard_normal(out=z_buf[:b.size])  # the draws of rng.standard_normal((b.size, T, 3)), reused buffer
         spike, hyb, _ = gyro_roll.projection_hybrid_max_errors_noisy(base, nd * np.sqrt(1.0 / g.dt_s), z, g.dt_s,
                                                                      osc.threshold_rad_s, slow, offset_rad_s=b,
                                                                      roll0=g.roll0_rad)
