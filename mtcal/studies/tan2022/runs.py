@@ -174,11 +174,10 @@ def large_pitch_ratio(d0, d1, d2, th, ph, sc: AccelScenario):
     lam = np.where(th <= 0, _RAD(sc.lambda1_deg), _RAD(sc.lambda2_deg))
     large = np.abs(th) >= _RAD(45.0)
     th, ph, lam = th[large], ph[large], lam[large]
-    plain = np.max(np.abs(large_angle.pitch_error_first_order(th, ph, d0[:, None, :], g=g)), axis=1)
+    plain = large_angle.max_abs_pitch_error_first_order(th, ph, d0, g=g)
     neg = th <= 0  # triad λ1 on θ ≤ 0, λ2 on θ > 0: each part with its own biases (no (n, P, 3) selection)
-    preset = np.maximum(
-        *(np.max(np.abs(large_angle.pitch_error_first_order(th[k], ph[k], d[:, None, :], preset_rad=lam[k], g=g)),
-                 axis=1) for k, d in ((neg, d1), (~neg, d2))))
+    preset = np.maximum(*(large_angle.max_abs_pitch_error_first_order(th[k], ph[k], d, preset_rad=lam[k], g=g)
+                          for k, d in ((neg, d1), (~neg, d2))))
     return preset / plain
 
 
