@@ -45,7 +45,7 @@ __all__ = ["MAX_RATE_RAD_S", "body_rates_two_dof", "two_dof_trajectory", "simula
            "pitch_rate_magnitude", "roll_hybrid", "roll_estimates", "roll_hybrid_rmse_sweep",
            "projection_hybrid_max_errors", "projection_hybrid_max_errors_noisy", "roll_error_summary",
            "projection_roll_error_eq14",
-           "projection_roll_error_exact", "loglog_slope"]
+           "projection_roll_error_exact", "loglog_slope", "warm_up"]
 
 #: Largest accepted body rate (rad/s) = ±2000 °/s, the full scale of common MEMS gyros;
 #: larger values are taken as degrees passed as radians.
@@ -368,7 +368,7 @@ def roll_estimates(gyro_rad_s, dt_s: float, threshold_rad_s: float, *,
         lead, n = w.shape[:-2], w.shape[-2]
         flat = np.ascontiguousarray(w.reshape((-1,) + w.shape[-2:]))
         m = flat.shape[0]
-        p0 = np.ascontiguousarray(np.broadcast_to(phi0[..., 0], lead).ravel(), dtype=float)
+        p0 = np.array(np.broadcast_to(phi0[..., 0], lead), dtype=float).ravel()  # writeable: one kernel signature
         out = _gyro_roll_kernels.roll_estimates(flat, dt, thr, p0, np.empty((m, n)), np.empty((m, n)),
                                                 np.empty((m, n)), np.empty((m, n), dtype=bool))
         return tuple(a.reshape(lead + (n,)) for a in out)
@@ -438,8 +438,8 @@ def roll_hybrid_rmse_sweep(gyro_rad_s, dt_s: float, thresholds_rad_s, *, roll_tr
         out = np.empty((int(np.prod(lead, dtype=int)), thr.size))
         out[:, order] = _gyro_roll_kernels.hybrid_rmse_sweep(
             np.ascontiguousarray(w.reshape((-1,) + w.shape[-2:])), dt,
-            np.ascontiguousarray(np.broadcast_to(phi0[..., 0], lead).ravel(), dtype=float),
-            np.ascontiguousarray(np.broadcast_to(truth, (n,)), dtype=float), np.ascontiguousarray(thr[order]))
+            np.array(np.broadcast_to(phi0[..., 0], lead), dtype=float).ravel(),  # writeable: one kernel signature
+            np.array(np.broadcast_to(truth, (n,)), dtype=float), np.ascontiguousarray(thr[order]))
         return out.reshape(lead + (thr.size,))
     proj, rate, cum = _projection(w), _pitch_rate(w), _cumulative_angle(w[..., 0], dt)
     out = np.empty(w.shape[:-2] + (thr.size,))
@@ -682,12 +682,36 @@ def projection_hybrid_max_errors_noisy(base_rad_s, noise_scale_rad_s, normals, d
     z = np.asarray(normals)
     if z.dtype != np.float64 or z.ndim != 3 or z.shape[1:] != base.shape:
         raise ValueError(f"normals must be a float64 array of shape (T, {base.shape[0]}, 3), got {z.dtype} {z.shape}")
-    scale = np.ascontiguousarray(np.broadcast_to(as_float_array(noise_scale_rad_s, "noise_scale_rad_s"),
-                                                 (z.shape[0],)))
+    scale = np.array(np.broadcast_to(as_float_array(noise_scale_rad_s, "noise_scale_rad_s"), (z.shape[0],)))
     if np.any(scale < 0) or np.any(scale > MAX_RATE_RAD_S):
         raise ValueError(f"noise_scale_rad_s must be in rad/s within [0, {MAX_RATE_RAD_S:.4g}]")
-    offset = np.empty(0) if offset_rad_s is None else np.ascontiguousarray(
+    offset = np.empty(0) if offset_rad_s is None else np.array(  # writeable copies: one kernel signature
         np.broadcast_to(_rate(offset_rad_s, "offset_rad_s"), (z.shape[0],)))
     dt, thr, mask, stop, phi0 = _claims_settings(base.shape[0], dt_s, threshold_rad_s, slow, stop_above_rad, roll0)
     return _gyro_roll_kernels.oscillation_claims_noisy(base, offset, scale, np.ascontiguousarray(z), dt, thr, phi0,
                                                        mask, stop)
+
+
+def warm_up() -> None:
+    """Compile (or load from numba's cache) every compiled kernel of this module, on tiny inputs.
+
+    For ``make venv`` (:func:`mtcal.filters.kernels.warm_up_all`), so that notebook 21 does not pay
+    the compile time on a fresh clone.
+
+    Examples
+    --------
+    >>> warm_up()
+    """
+    from mtcal.methods import _gyro_roll_kernels as k
+
+    w = np.zeros((1, 4, 3))
+    w[..., 1] = 0.1
+    first, line, one = np.zeros((1, 3)), np.zeros(4), np.zeros(1)
+    k.euler_differential(w, 0.01, first)
+    k.projection(w)
+    k.oscillation_claims(w, 0.01, 0.0, 0.0, np.zeros(4, dtype=bool), np.inf)
+    k.oscillation_claims_noisy(w[0], one, one, w, 0.01, 0.0, 0.0, np.zeros(4, dtype=bool), np.inf)
+    k.roll_estimates(w, 0.01, 0.0, one, np.empty((1, 4)), np.empty((1, 4)), np.empty((1, 4)),
+                     np.empty((1, 4), dtype=bool))
+    k.hybrid_rmse_sweep(w, 0.01, one, line, np.array([0.0, 1.0]))
+    k.roll_error_summary(w, 0.01, first, np.ones((1, 4), dtype=bool), 0.0, np.empty((1, 4)))

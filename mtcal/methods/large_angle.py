@@ -37,7 +37,7 @@ __all__ = ["LAMBDA1_RAD", "LAMBDA2_RAD", "pitch_roll_eq2", "pitch_error_first_or
            "pitch_error_eq10", "preset_matrix", "preset_specific_force",
            "pitch_roll_from_preset_triad", "select_preset_pitch", "perturbed_errors",
            "perturbed_preset_pitch_error", "monte_carlo_pitch_errors", "bias_moment_matrix",
-           "rms_pitch_error_from_moments"]
+           "rms_pitch_error_from_moments", "warm_up"]
 
 #: Preset angle for −90° ≤ θ ≤ 0° (Eq 9, triad A1–A3).
 LAMBDA1_RAD = float(np.radians(45.0))
@@ -553,3 +553,19 @@ def rms_pitch_error_from_moments(moments, bias_m_s2, preset_rad, *, g: float = S
     w = np.stack(np.broadcast_arrays(d[..., 0] + 0 * c, u, v), axis=-1)
     ms = np.einsum("...i,ij,...j->...", w, m, w)
     return np.sqrt(np.maximum(ms, 0.0)) / _gravity(g)
+
+
+def warm_up() -> None:
+    """Compile (or load from numba's cache) the compiled pass of :func:`max_abs_pitch_error_first_order`.
+
+    For ``make venv`` (:func:`mtcal.filters.kernels.warm_up_all`), so that notebook 20 does not pay
+    the compile time on a fresh clone.
+
+    Examples
+    --------
+    >>> warm_up()
+    """
+    from mtcal.methods._large_angle_kernels import max_abs_first_order
+
+    one = np.ones(1)
+    max_abs_first_order(one, one, one, one, np.zeros((1, 3)), 9.8)

@@ -106,13 +106,12 @@ class GyroTrials:
 
     def constant_errors_record(self) -> np.ndarray:
         """The deterministic record (T, 3) rad/s: ``simulate_gyro(study, t, pitch, None, None, noise=False)``
-        on this trajectory (the constant errors only; built once)."""
+        on this trajectory (the constant errors only; simulated once, a fresh copy per call)."""
         if self._det is None:
             gyro = simulate.SensorErrors(bias=self.model.gyro.bias, noise_density=0.0)
             self._det = simulate.simulate_imu(self.trajectory, simulate.ImuErrorModel(gyro=gyro), None,
                                               None).gyro_rad_s
-            self._det.flags.writeable = False  # shared by every caller
-        return self._det
+        return self._det.copy()
 
     def records(self, trial_ids) -> np.ndarray:
         """Gyro records (len(trial_ids), T, 3) rad/s of the named trials."""
