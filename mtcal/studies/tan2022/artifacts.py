@@ -389,7 +389,7 @@ def fig06(study: GyroStudy, seed: int, trials: int) -> Artifact:
     t = np.arange(0.0, sweep.window_s, g.dt_s)
     sim = np.empty((n, rates.size))
     for j, r in enumerate(rates):  # loop over rates; trials vectorised in blocks
-        for sl, w in GyroTrials(study, t, r * t, rng, n).blocks(max(_BLOCK, _BLOCK_SAMPLES // t.size)):
+        for sl, w in GyroTrials(study, t, r * t, rng, n).blocks(max(_BLOCK, _BLOCK_SAMPLES // t.size), reuse=True):
             sim[sl, j] = np.mean(gyro_roll.roll_projection(w) - g.roll0_rad, axis=-1)
     band = metrics.band_or_range(_DEG(np.abs(sim)))     # 95 % band from >= 1000 trials, else the range
     ey, ez = g.error_rad_s[1], g.error_rad_s[2]
@@ -462,7 +462,7 @@ def fig09(study: GyroStudy, seed: int, trials: int) -> Artifact:
         trial = {key: np.empty(n) for key in ("euler_lt60", "euler_near90", "integration_final", "projection_mean")}
         runs = GyroTrials(study, t, theta, rng, n)
         masks = np.stack([below60, near])
-        for sl, w in runs.blocks(_BLOCK):  # per-trial metrics only (one compiled pass): bounded memory
+        for sl, w in runs.blocks(_BLOCK, reuse=True):  # per-trial metrics only (one compiled pass): bounded memory
             e_max, e_final, p_abs = gyro_roll.roll_error_summary(w, g.dt_s, masks, pitch0=theta[0], roll0=g.roll0_rad)
             trial["euler_lt60"][sl] = _DEG(e_max[0])
             trial["euler_near90"][sl] = _DEG(e_max[1])
@@ -508,7 +508,7 @@ def fig10(study: GyroStudy, seed: int, trials: int = 1000) -> Artifact:
     true_rate = _DEG(osc.pitch_rate_rad_s(t))
     runs = GyroTrials(study, t, osc.pitch_rad(t), stream_rng(seed, STREAM_OSCILLATION), n)
     meas = np.empty((n, t.size))
-    for sl, w in runs.blocks(_BLOCK):
+    for sl, w in runs.blocks(_BLOCK, reuse=True):
         meas[sl] = _DEG(gyro_roll.pitch_rate_magnitude(w))
     band = metrics.band_or_range(meas, what="noise trials")
     frac = float(np.mean(np.abs(_DEG(osc.pitch_rate_rad_s(t_all))) <= osc.threshold_deg_s))
@@ -542,7 +542,7 @@ def _oscillation_pass(study: GyroStudy, seed: int, n: int) -> dict:
     slow = np.abs(study.oscillation.pitch_rate_rad_s(runs.t)) < _RAD(5.0)
     out = {"ratio": np.empty(n), "peak": np.empty(n), "rms": np.empty((3, n)), "max": np.empty((3, n)),
            "integrated": np.empty(n)}
-    for sl, w in runs.blocks(_BLOCK):  # per-trial metrics only: bounded memory
+    for sl, w in runs.blocks(_BLOCK, reuse=True):  # per-trial metrics only: bounded memory
         *errs, use = _oscillation_errors(study, w)
         e_P = np.abs(errs[0])
         out["ratio"][sl] = _ratio(np.max(e_P[:, slow], axis=-1), np.max(e_P[:, ~slow], axis=-1))
@@ -680,7 +680,7 @@ def extra_threshold_sweep(study: GyroStudy, seed: int, trials: int, n_thresholds
     w_det = runs.constant_errors_record()
     kw = {"roll_true": g.roll0_rad, "roll0": g.roll0_rad}
     rmse = np.empty((n, thresholds.size))
-    for sl, w in runs.blocks(_BLOCK):  # per-trial RMSEs only: bounded memory
+    for sl, w in runs.blocks(_BLOCK, reuse=True):  # per-trial RMSEs only: bounded memory
         rmse[sl] = _DEG(gyro_roll.roll_hybrid_rmse_sweep(w, g.dt_s, _RAD(thresholds), **kw))
     rmse_det = _DEG(gyro_roll.roll_hybrid_rmse_sweep(w_det, g.dt_s, _RAD(thresholds), **kw))
     bt = metrics.band_or_range(rmse)                     # 95 % band from >= 1000 trials, else the range

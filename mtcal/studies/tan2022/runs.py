@@ -113,16 +113,32 @@ class GyroTrials:
                                               None).gyro_rad_s
         return self._det.copy()
 
-    def records(self, trial_ids) -> np.ndarray:
-        """Gyro records (len(trial_ids), T, 3) rad/s of the named trials."""
-        ids = np.asarray(trial_ids, dtype=np.int64)
-        return simulate.simulate_imu(self.trajectory, self.model, rng_copy(self._rng), trial_ids=ids).gyro_rad_s
+    def records(self, trial_ids, out=None) -> np.ndarray:
+        """Gyro records (len(trial_ids), T, 3) rad/s of the named trials.
 
-    def blocks(self, size: int = _CHUNK):
-        """Yield ``(slice, records)`` over all trials, ``size`` trials at a time."""
+        ``out``: ``(gyro, accel)`` buffers (≥ len(trial_ids), T, 3) to write into (reused across calls:
+        no fresh pages per block); the returned record is then a view of ``out[0]``.
+        """
+        ids = np.asarray(trial_ids, dtype=np.int64)
+        shape = (ids.size, self.t.size, 3)
+        gyro, accel = (np.empty(shape), np.empty(shape)) if out is None else (out[0][:ids.size], out[1][:ids.size])
+        # simulate_imu's numbers bit for bit (ImuStream.fill), without the record's truth attitude
+        simulate.ImuStream(self.trajectory, self.model, rng_copy(self._rng), trial_ids=ids).fill(gyro, accel)
+        return gyro
+
+    def blocks(self, size: int = _CHUNK, *, reuse: bool = False):
+        """Yield ``(slice, records)`` over all trials, ``size`` trials at a time.
+
+        ``reuse=True`` writes every block into the same buffers: a yielded record is valid until the
+        next step (for Monte Carlos that keep per-trial metrics only).
+        """
+        bufs = None
+        if reuse:
+            shape = (min(size, self.trials), self.t.size, 3)
+            bufs = (np.empty(shape), np.empty(shape))
         for start in range(0, self.trials, size):
             stop = min(start + size, self.trials)
-            yield slice(start, stop), self.records(np.arange(start, stop))
+            yield slice(start, stop), self.records(np.arange(start, stop), bufs)
 
 
 @functools.lru_cache(maxsize=2)
