@@ -43,9 +43,9 @@ from mtcal.core.validate import angle_rad, as_float_array, positive_scalar, time
 __all__ = ["MAX_RATE_RAD_S", "body_rates_two_dof", "two_dof_trajectory", "simulate_two_dof_imu",
            "euler_differential", "roll_decoupled_integration", "roll_projection",
            "pitch_rate_magnitude", "roll_hybrid", "roll_estimates", "roll_hybrid_rmse_sweep",
-           "projection_hybrid_max_errors",
+           "projection_hybrid_max_errors", "projection_hybrid_max_errors_noisy", "roll_error_summary",
            "projection_roll_error_eq14",
-           "projection_roll_error_exact", "loglog_slope"]
+           "projection_roll_error_exact", "loglog_slope", "warm_up"]
 
 #: Largest accepted body rate (rad/s) = ±2000 °/s, the full scale of common MEMS gyros;
 #: larger values are taken as degrees passed as radians.
@@ -362,6 +362,16 @@ def roll_estimates(gyro_rad_s, dt_s: float, threshold_rad_s: float, *,
         raise ValueError(f"threshold_rad_s must be in rad/s (<= {MAX_RATE_RAD_S:.4g}); got {thr:.6g} "
                          "(degrees passed as radians?)")
     phi0 = np.asarray(angle_rad(roll0, "roll0"))[..., None]
+    if w.size >= _KERNEL_MIN_SIZE:  # long records: one compiled pass, the same operations
+        from mtcal.methods import _gyro_roll_kernels  # here: numba is imported only when called
+
+        lead, n = w.shape[:-2], w.shape[-2]
+        flat = np.ascontiguousarray(w.reshape((-1,) + w.shape[-2:]))
+        m = flat.shape[0]
+        p0 = np.array(np.broadcast_to(phi0[..., 0], lead), dtype=float).ravel()  # writeable: one kernel signature
+        out = _gyro_roll_kernels.roll_estimates(flat, dt, thr, p0, np.empty((m, n)), np.empty((m, n)),
+                                                np.empty((m, n)), np.empty((m, n), dtype=bool))
+        return tuple(a.reshape(lead + (n,)) for a in out)
     proj = _projection(w)
     use = _pitch_rate(w) > thr
     cum = _cumulative_angle(w[..., 0], dt)
@@ -395,7 +405,7 @@ def roll_hybrid_rmse_sweep(gyro_rad_s, dt_s: float, thresholds_rad_s, *, roll_tr
     roll0 : float or array_like (T,)
         Initial roll (rad).
     engine : {"numba", "numpy"}
-        Compiled sweep (default: one pass per trial and threshold, no temporaries) or the
+        Compiled sweep (default: one pass per trial, all thresholds together, no temporaries) or the
         numpy reference; equal to rounding (the sums run in another order).
 
     Returns
@@ -420,23 +430,83 @@ def roll_hybrid_rmse_sweep(gyro_rad_s, dt_s: float, thresholds_rad_s, *, roll_tr
         raise ValueError(f"engine must be one of ('numba', 'numpy'), got {engine!r}")
     phi0 = np.asarray(angle_rad(roll0, "roll0"))[..., None]
     truth = np.asarray(angle_rad(roll_true, "roll_true"))
-    proj, rate, cum = _projection(w), _pitch_rate(w), _cumulative_angle(w[..., 0], dt)
-    if engine == "numba":
+    if engine == "numba":  # projection, rate and integrated x angle sample by sample (no (T, N) arrays)
         from mtcal.methods import _gyro_roll_kernels  # here: numba is imported only when called
 
         lead, n = w.shape[:-2], w.shape[-2]
-        m = int(np.prod(lead, dtype=int))
-        flat = lambda a: np.ascontiguousarray(a.reshape(m, n))  # noqa: E731
-        out = _gyro_roll_kernels.hybrid_rmse_sweep(flat(proj), flat(rate), flat(cum),
-                                                   np.ascontiguousarray(np.broadcast_to(phi0[..., 0], lead).ravel()),
-                                                   np.ascontiguousarray(np.broadcast_to(truth, (n,)), dtype=float),
-                                                   np.ascontiguousarray(thr))
+        order = np.argsort(thr, kind="stable")  # the kernel takes ascending thresholds
+        out = np.empty((int(np.prod(lead, dtype=int)), thr.size))
+        out[:, order] = _gyro_roll_kernels.hybrid_rmse_sweep(
+            np.ascontiguousarray(w.reshape((-1,) + w.shape[-2:])), dt,
+            np.array(np.broadcast_to(phi0[..., 0], lead), dtype=float).ravel(),  # writeable: one kernel signature
+            np.array(np.broadcast_to(truth, (n,)), dtype=float), np.ascontiguousarray(thr[order]))
         return out.reshape(lead + (thr.size,))
+    proj, rate, cum = _projection(w), _pitch_rate(w), _cumulative_angle(w[..., 0], dt)
     out = np.empty(w.shape[:-2] + (thr.size,))
     for k, th in enumerate(thr):  # loop over thresholds; samples and trials vectorised
         err = _hybrid_from_parts(proj, cum, rate > th, phi0) - truth
         out[..., k] = np.sqrt(np.mean(err**2, axis=-1))
     return out
+
+
+def roll_error_summary(gyro_rad_s, dt_s: float, masks, *, pitch0=0.0, roll0=0.0
+                       ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Per trial, the three gyro roll estimators' errors against the constant true roll ``roll0``, in one pass.
+
+    Bit-identical to the estimators' outputs reduced afterwards (compiled: no (T, N, 3) Euler
+    output, no repeated validation):
+
+    * ``euler_max[j] = max(|angle_difference(euler_differential(w, dt, pitch0=pitch0, roll0=roll0)[..., 2],
+      roll0)|[..., masks[j]])`` (Eq 5; NaN propagates as in ``np.max``);
+    * ``integration_final = roll_decoupled_integration(w, dt, roll0=roll0)[..., -1] − roll0`` (Eq 12);
+    * ``projection_abs = |roll_projection(w) − roll0|`` (Eq 13, per sample).
+
+    Parameters
+    ----------
+    gyro_rad_s : array_like, shape (N, 3) or (T, N, 3)
+        Body rates (rad/s).
+    dt_s : float
+        Sample interval (s).
+    masks : array_like of bool, shape (K, N)
+        Sample sets of the Eq 5 maxima (each non-empty).
+    pitch0 : float
+        Initial Euler pitch (rad, |pitch0| ≤ π/2) of Eq 5.
+    roll0 : float
+        Initial and true roll (rad).
+
+    Returns
+    -------
+    euler_max : ndarray, shape (K, ...) (rad)
+    integration_final : ndarray, shape (...) (rad)
+    projection_abs : ndarray, shape (..., N) (rad)
+
+    Examples
+    --------
+    >>> w = np.tile([1e-3, 0.5, 0.0], (400, 1))  # pitch at 0.5 rad/s with an x-gyro error
+    >>> masks = np.ones((1, 400), dtype=bool)
+    >>> e_max, final, p_abs = roll_error_summary(w, 0.01, masks)
+    >>> from mtcal.core.metrics import angle_difference
+    >>> e = angle_difference(euler_differential(w, 0.01)[..., 2], 0.0)
+    >>> bool(e_max[0] == np.max(np.abs(e)) and final == roll_decoupled_integration(w, 0.01)[-1])
+    True
+    """
+    from mtcal.methods import _gyro_roll_kernels  # here: numba is imported only when called
+
+    w = _gyro(gyro_rad_s)
+    dt = positive_scalar(dt_s, "dt_s")
+    mk = np.asarray(masks)
+    if mk.dtype != bool or mk.ndim != 2 or mk.shape[1] != w.shape[-2] or not np.all(np.any(mk, axis=1)):
+        raise ValueError(f"masks must be a boolean array of shape (K, {w.shape[-2]}) with every row selecting a "
+                         f"sample, got {mk.dtype} {mk.shape}")
+    theta0 = float(_euler_pitch(pitch0))
+    phi0 = float(angle_rad(roll0, "roll0"))
+    lead = w.shape[:-2]
+    flat = np.ascontiguousarray(w.reshape((-1,) + w.shape[-2:]))
+    state = np.zeros((flat.shape[0], 3))
+    state[:, 1], state[:, 2] = theta0, phi0
+    proj_abs = np.empty(flat.shape[:2])
+    e_max, final = _gyro_roll_kernels.roll_error_summary(flat, dt, state, np.ascontiguousarray(mk), phi0, proj_abs)
+    return e_max.reshape((mk.shape[0],) + lead), final.reshape(lead), proj_abs.reshape(w.shape[:-1])
 
 
 # --------------------------------------------------------------------------
@@ -547,16 +617,101 @@ def projection_hybrid_max_errors(gyro_rad_s, dt_s: float, threshold_rad_s: float
     from mtcal.methods import _gyro_roll_kernels  # here: numba is imported only when called
 
     w = _gyro(gyro_rad_s)
+    dt, thr, mask, stop, phi0 = _claims_settings(w.shape[-2], dt_s, threshold_rad_s, slow, stop_above_rad, roll0)
+    lead = w.shape[:-2]
+    flat = np.ascontiguousarray(w.reshape((-1,) + w.shape[-2:]))
+    spike, hyb, ok = _gyro_roll_kernels.oscillation_claims(flat, dt, thr, phi0, mask, stop)
+    return spike.reshape(lead), hyb.reshape(lead), ok.reshape(lead)
+
+
+def _claims_settings(n: int, dt_s, threshold_rad_s, slow, stop_above_rad, roll0):
+    """Checked ``dt, threshold, slow mask, stop, roll0`` of :func:`projection_hybrid_max_errors` for N = ``n``."""
     dt = positive_scalar(dt_s, "dt_s")
     thr = positive_scalar(threshold_rad_s, "threshold_rad_s", allow_zero=True)
     mask = np.asarray(slow)
-    if mask.dtype != bool or mask.shape != (w.shape[-2],):
-        raise ValueError(f"slow must be a boolean array of shape ({w.shape[-2]},), got {mask.dtype} {mask.shape}")
+    if mask.dtype != bool or mask.shape != (n,):
+        raise ValueError(f"slow must be a boolean array of shape ({n},), got {mask.dtype} {mask.shape}")
     stop = float(stop_above_rad)
     if not stop > 0:
         raise ValueError(f"stop_above_rad must be > 0, got {stop_above_rad}")
-    phi0 = float(angle_rad(roll0, "roll0"))
-    lead = w.shape[:-2]
-    flat = np.ascontiguousarray(w.reshape((-1,) + w.shape[-2:]))
-    spike, hyb, ok = _gyro_roll_kernels.oscillation_claims(flat, dt, thr, phi0, np.ascontiguousarray(mask), stop)
-    return spike.reshape(lead), hyb.reshape(lead), ok.reshape(lead)
+    return dt, thr, np.ascontiguousarray(mask), stop, float(angle_rad(roll0, "roll0"))
+
+
+def projection_hybrid_max_errors_noisy(base_rad_s, noise_scale_rad_s, normals, dt_s: float, threshold_rad_s: float,
+                                       slow, *, offset_rad_s=None, roll0=0.0, stop_above_rad: float = np.inf
+                                       ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`projection_hybrid_max_errors` of ``w = (base + offset) + scale · normals``, built sample by sample.
+
+    Bit-identical to ``projection_hybrid_max_errors(base + scale[:, None, None] * normals, ...)`` (or
+    ``(base + offset[:, None, None]) + scale[:, None, None] * normals`` with ``offset_rad_s``) without
+    the (T, N, 3) gyro record: a deterministic record plus per-trial white noise (and constant error).
+
+    Parameters
+    ----------
+    base_rad_s : array_like, shape (N, 3)
+        Deterministic body rates (rad/s).
+    noise_scale_rad_s : float or array_like (T,)
+        Per-trial noise standard deviation per sample (rad/s, ≥ 0).
+    normals : ndarray, shape (T, N, 3)
+        Standard normal draws.
+    dt_s, threshold_rad_s, slow, roll0, stop_above_rad
+        As in :func:`projection_hybrid_max_errors`.
+    offset_rad_s : float or array_like (T,), optional
+        Per-trial constant error added to every axis before the noise (rad/s).
+
+    Returns
+    -------
+    spike, hybrid_max_rad, complete : ndarray, shape (T,)
+
+    Examples
+    --------
+    >>> t = np.arange(0.0, 2.0, 0.001)
+    >>> base = np.stack([np.zeros_like(t), np.cos(np.pi * t), np.full_like(t, 1e-3)], -1)
+    >>> z = np.random.default_rng(0).standard_normal((2, t.size, 3))
+    >>> slow = np.abs(np.cos(np.pi * t)) < 0.1
+    >>> got = projection_hybrid_max_errors_noisy(base, 1e-4, z, 0.001, 0.01, slow)
+    >>> ref = projection_hybrid_max_errors(base + 1e-4 * z, 0.001, 0.01, slow)
+    >>> all(np.array_equal(a, b) for a, b in zip(got, ref))
+    True
+    """
+    from mtcal.methods import _gyro_roll_kernels  # here: numba is imported only when called
+
+    base = np.ascontiguousarray(_gyro(base_rad_s, "base_rad_s"))
+    if base.ndim != 2:
+        raise ValueError(f"base_rad_s must have shape (N, 3), got {base.shape}")
+    z = np.asarray(normals)
+    if z.dtype != np.float64 or z.ndim != 3 or z.shape[1:] != base.shape:
+        raise ValueError(f"normals must be a float64 array of shape (T, {base.shape[0]}, 3), got {z.dtype} {z.shape}")
+    scale = np.array(np.broadcast_to(as_float_array(noise_scale_rad_s, "noise_scale_rad_s"), (z.shape[0],)))
+    if np.any(scale < 0) or np.any(scale > MAX_RATE_RAD_S):
+        raise ValueError(f"noise_scale_rad_s must be in rad/s within [0, {MAX_RATE_RAD_S:.4g}]")
+    offset = np.empty(0) if offset_rad_s is None else np.array(  # writeable copies: one kernel signature
+        np.broadcast_to(_rate(offset_rad_s, "offset_rad_s"), (z.shape[0],)))
+    dt, thr, mask, stop, phi0 = _claims_settings(base.shape[0], dt_s, threshold_rad_s, slow, stop_above_rad, roll0)
+    return _gyro_roll_kernels.oscillation_claims_noisy(base, offset, scale, np.ascontiguousarray(z), dt, thr, phi0,
+                                                       mask, stop)
+
+
+def warm_up() -> None:
+    """Compile (or load from numba's cache) every compiled kernel of this module, on tiny inputs.
+
+    For ``make venv`` (:func:`mtcal.filters.kernels.warm_up_all`), so that notebook 21 does not pay
+    the compile time on a fresh clone.
+
+    Examples
+    --------
+    >>> warm_up()
+    """
+    from mtcal.methods import _gyro_roll_kernels as k
+
+    w = np.zeros((1, 4, 3))
+    w[..., 1] = 0.1
+    first, line, one = np.zeros((1, 3)), np.zeros(4), np.zeros(1)
+    k.euler_differential(w, 0.01, first)
+    k.projection(w)
+    k.oscillation_claims(w, 0.01, 0.0, 0.0, np.zeros(4, dtype=bool), np.inf)
+    k.oscillation_claims_noisy(w[0], one, one, w, 0.01, 0.0, 0.0, np.zeros(4, dtype=bool), np.inf)
+    k.roll_estimates(w, 0.01, 0.0, one, np.empty((1, 4)), np.empty((1, 4)), np.empty((1, 4)),
+                     np.empty((1, 4), dtype=bool))
+    k.hybrid_rmse_sweep(w, 0.01, one, line, np.array([0.0, 1.0]))
+    k.roll_error_summary(w, 0.01, first, np.ones((1, 4), dtype=bool), 0.0, np.empty((1, 4)))

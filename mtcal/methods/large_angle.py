@@ -32,12 +32,12 @@ import numpy as np
 from mtcal.core import rotations
 from mtcal.core.validate import STANDARD_GRAVITY_M_S2, angle_rad, as_float_array, positive_scalar
 
-__all__ = ["LAMBDA1_RAD", "LAMBDA2_RAD", "pitch_roll_eq2", "pitch_error_first_order",
+__all__ = ["LAMBDA1_RAD", "LAMBDA2_RAD", "pitch_roll_eq2", "pitch_error_first_order", "max_abs_pitch_error_first_order",
            "pitch_error_eq3_printed", "pitch_error_eq8", "roll_error_eq4", "preset_lambda",
            "pitch_error_eq10", "preset_matrix", "preset_specific_force",
            "pitch_roll_from_preset_triad", "select_preset_pitch", "perturbed_errors",
            "perturbed_preset_pitch_error", "monte_carlo_pitch_errors", "bias_moment_matrix",
-           "rms_pitch_error_from_moments"]
+           "rms_pitch_error_from_moments", "warm_up"]
 
 #: Preset angle for −90° ≤ θ ≤ 0° (Eq 9, triad A1–A3).
 LAMBDA1_RAD = float(np.radians(45.0))
@@ -139,6 +139,55 @@ def pitch_error_first_order(pitch, roll, delta_accel_m_s2, *, preset_rad=0.0,
     gg = _gravity(g)
     a = phi + lam
     return -(np.cos(theta) * dx + np.sin(theta) * (np.sin(a) * dy + np.cos(a) * dz)) / gg
+
+
+def max_abs_pitch_error_first_order(pitch, roll, delta_accel_m_s2, *, preset_rad=0.0,
+                                    g: float = STANDARD_GRAVITY_M_S2) -> np.ndarray:
+    """Per error draw, the largest |first-order pitch error| over the attitudes (rad), one compiled pass.
+
+    Bit-identical to ``np.max(np.abs(pitch_error_first_order(pitch, roll, delta[:, None, :],
+    preset_rad=preset_rad, g=g)), axis=1)`` without the (n, P) error array.
+
+    Parameters
+    ----------
+    pitch, roll : array_like (P,)
+        θ (|θ| ≤ π/2) and φ in rad, P ≥ 1 attitudes.
+    delta_accel_m_s2 : array_like (n, 3)
+        Per-axis accelerometer errors (m/s²), one row per draw, in the (preset) triad frame.
+    preset_rad : float or array_like (P,)
+        Preset rotation λ about x in rad (0 = plain triad).
+    g : float
+        Gravity in m/s².
+
+    Returns
+    -------
+    ndarray (n,)
+        max over the P attitudes of |Δθ| (rad).
+
+    Examples
+    --------
+    >>> th, ph = np.radians([-60.0, 0.0, 70.0]), np.radians([10.0, -30.0, 120.0])
+    >>> d = np.array([[1e-3, -2e-3, 5e-4], [0.0, 1e-3, 1e-3]])
+    >>> ref = np.max(np.abs(pitch_error_first_order(th, ph, d[:, None, :], preset_rad=0.3)), axis=1)
+    >>> bool(np.array_equal(max_abs_pitch_error_first_order(th, ph, d, preset_rad=0.3), ref))
+    True
+    """
+    from mtcal.methods import _large_angle_kernels  # here: numba is imported only when called
+
+    theta, phi = _pitch(pitch), _roll(roll)
+    lam = angle_rad(preset_rad, "preset_rad")
+    d = as_float_array(delta_accel_m_s2, "delta_accel_m_s2", ndim=2, last_dim=3)
+    gg = _gravity(g)
+    if theta.ndim != 1:
+        raise ValueError(f"pitch must be 1-D with at least one attitude, got shape {theta.shape}")
+    a = phi + lam
+    theta, a = np.broadcast_arrays(theta, a)
+    if a.ndim != 1:
+        raise ValueError(f"pitch, roll and preset_rad must broadcast to ({theta.size},), got {np.shape(phi)} and "
+                         f"{np.shape(lam)}")
+    trig = (np.cos(theta), np.sin(theta), np.sin(a), np.cos(a))
+    return _large_angle_kernels.max_abs_first_order(*(np.ascontiguousarray(v, dtype=float) for v in trig),
+                                                    np.ascontiguousarray(d), gg)
 
 
 def pitch_error_eq3_printed(pitch, roll, delta_accel_m_s2, *, g: float = STANDARD_GRAVITY_M_S2) -> np.ndarray:
@@ -308,8 +357,11 @@ def select_preset_pitch(accel_lambda1, accel_lambda2) -> tuple[np.ndarray, np.nd
 
 def _select(f1: np.ndarray, f2: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """:func:`select_preset_pitch` of checked outputs (..., 3) of the two triads."""
-    theta1 = _eq2(f1, "accel_lambda1")[..., 0]
-    theta2 = _eq2(f2, "accel_lambda2")[..., 0]
+    return _select_pitch(_eq2(f1, "accel_lambda1")[..., 0], _eq2(f2, "accel_lambda2")[..., 0])
+
+
+def _select_pitch(theta1: np.ndarray, theta2: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Eq 9 selection from the two triads' Eq 2 pitches: θ̂₁ where θ̂₁ ≤ 0, else θ̂₂."""
     use1 = theta1 <= 0.0
     return np.where(use1, theta1, theta2), use1
 
@@ -425,8 +477,9 @@ def monte_carlo_pitch_errors(pitch, roll, sigma_m_s2: float, rng: np.random.Gene
     single = _eq2(rotations.specific_force_zyx(theta, phi, gg) + d0)[..., 0] - theta
     f1 = _preset_force(theta, phi, np.asarray(LAMBDA1_RAD, float), gg) + d1
     f2 = _preset_force(theta, phi, np.asarray(LAMBDA2_RAD, float), gg) + d2
-    preset, _ = _select(f1, f2)
-    mean2 = 0.5 * (_eq2(f1, "accel_lambda1")[..., 0] + _eq2(f2, "accel_lambda2")[..., 0])
+    theta1, theta2 = _eq2(f1, "accel_lambda1")[..., 0], _eq2(f2, "accel_lambda2")[..., 0]  # each triad's Eq 2 once
+    preset = _select_pitch(theta1, theta2)[0]
+    mean2 = 0.5 * (theta1 + theta2)
     return {"single": single, "preset": preset - theta, "mean_of_two": mean2 - theta}
 
 
@@ -500,3 +553,19 @@ def rms_pitch_error_from_moments(moments, bias_m_s2, preset_rad, *, g: float = S
     w = np.stack(np.broadcast_arrays(d[..., 0] + 0 * c, u, v), axis=-1)
     ms = np.einsum("...i,ij,...j->...", w, m, w)
     return np.sqrt(np.maximum(ms, 0.0)) / _gravity(g)
+
+
+def warm_up() -> None:
+    """Compile (or load from numba's cache) the compiled pass of :func:`max_abs_pitch_error_first_order`.
+
+    For ``make venv`` (:func:`mtcal.filters.kernels.warm_up_all`), so that notebook 20 does not pay
+    the compile time on a fresh clone.
+
+    Examples
+    --------
+    >>> warm_up()
+    """
+    from mtcal.methods._large_angle_kernels import max_abs_first_order
+
+    one = np.ones(1)
+    max_abs_first_order(one, one, one, one, np.zeros((1, 3)), 9.8)

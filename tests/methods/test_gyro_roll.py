@@ -266,6 +266,9 @@ def test_compiled_hybrid_sweep_matches_numpy_reference(rng):
     ref = gyro_roll.roll_hybrid_rmse_sweep(w, 1e-3, thr, roll_true=truth, roll0=0.02, engine="numpy")
     assert fast.shape == (2, 3, 4)
     np.testing.assert_allclose(fast, ref, rtol=1e-12)
+    perm = [3, 0, 2, 1, 0]  # any order, repeats: each threshold's RMSE is the same number
+    assert np.array_equal(gyro_roll.roll_hybrid_rmse_sweep(w, 1e-3, thr[perm], roll_true=truth, roll0=0.02),
+                          fast[..., perm])
     with pytest.raises(ValueError, match="engine must be one of"):
         gyro_roll.roll_hybrid_rmse_sweep(w, 1e-3, thr, engine="gpu")
 
@@ -304,3 +307,56 @@ def test_roll_estimates_equal_the_three_functions_bit_for_bit():
     assert use.any() and not use.all()
     with pytest.raises(ValueError, match="threshold_rad_s must be in rad/s"):
         gyro_roll.roll_estimates(w, DT, 1e4)
+
+
+def test_roll_error_summary_equals_the_estimators_reduced_bit_for_bit(rng):
+    from mtcal.core.metrics import angle_difference
+
+    t = np.arange(0.0, 40.0, 0.01)  # one revolution at 10 °/s: Eq 5 jumps at θ = ±90°
+    w = np.broadcast_to(gyro_roll.body_rates_two_dof(D(10.0), 0.1), (3, t.size, 3)) + D(0.5) * rng.standard_normal(
+        (3, t.size, 3))
+    theta = D(10.0) * t
+    masks = np.stack([np.degrees(theta) < 60, np.abs(np.degrees(theta) - 90) < 2])
+    e_max, final, p_abs = gyro_roll.roll_error_summary(w, 0.01, masks, pitch0=0.0, roll0=0.1)
+    e_E = angle_difference(gyro_roll.euler_differential(w, 0.01, pitch0=0.0, roll0=0.1)[..., 2], 0.1)
+    assert e_max.shape == (2, 3) and final.shape == (3,) and p_abs.shape == (3, t.size)
+    for j, mk in enumerate(masks):
+        assert np.array_equal(e_max[j], np.max(np.abs(e_E[:, mk]), axis=1))
+    assert np.array_equal(final, gyro_roll.roll_decoupled_integration(w, 0.01, roll0=0.1)[:, -1] - 0.1)
+    assert np.array_equal(p_abs, np.abs(gyro_roll.roll_projection(w) - 0.1))
+    singular = np.zeros((3, 3))  # NaN after cosθ = 0 exactly propagates as in np.max
+    singular[:, 2] = 0.1
+    e_nan, _, _ = gyro_roll.roll_error_summary(singular, DT, np.ones((1, 3), dtype=bool), pitch0=np.pi / 2)
+    ref = np.max(np.abs(angle_difference(gyro_roll.euler_differential(singular, DT, pitch0=np.pi / 2)[..., 2], 0.0)))
+    assert np.array_equal(e_nan[0], ref, equal_nan=True)
+    one, _, _ = gyro_roll.roll_error_summary(w[0, :1], 0.01, np.ones((1, 1), dtype=bool))
+    assert one.shape == (1,)
+    with pytest.raises(ValueError, match="masks must be a boolean array"):
+        gyro_roll.roll_error_summary(w, 0.01, masks[:, :-1])
+    with pytest.raises(ValueError, match="masks must be a boolean array"):
+        gyro_roll.roll_error_summary(w, 0.01, np.zeros((1, t.size), dtype=bool))
+
+
+def test_projection_hybrid_max_errors_noisy_equals_the_record_bit_for_bit(rng):
+    t = np.arange(0.0, 4.0, 1e-3)
+    base = np.stack([np.zeros_like(t), np.radians(40.0) * np.pi * np.cos(np.pi * t), -0.0 * t], -1)
+    z = rng.standard_normal((4, t.size, 3))
+    z[0, :5] = 0.0
+    slow = np.abs(base[:, 1]) < np.radians(5.0)
+    scale, offset = np.array([0.0, 1e-4, 1e-3, 2e-3]), np.radians([0.2, 0.0, 0.1, 0.3])
+    for kw, w in (({}, base + scale[:, None, None] * z),
+                  ({"offset_rad_s": offset}, (base + offset[:, None, None]) + scale[:, None, None] * z)):
+        for stop in (np.inf, 0.05):
+            got = gyro_roll.projection_hybrid_max_errors_noisy(base, scale, z, 1e-3, np.radians(0.5), slow,
+                                                               roll0=0.01, stop_above_rad=stop, **kw)
+            ref = gyro_roll.projection_hybrid_max_errors(w, 1e-3, np.radians(0.5), slow, roll0=0.01,
+                                                         stop_above_rad=stop)
+            assert all(np.array_equal(a, b, equal_nan=True) for a, b in zip(got, ref))
+    with pytest.raises(ValueError, match="normals must be a float64 array"):
+        gyro_roll.projection_hybrid_max_errors_noisy(base, 1e-3, z[:, :-1], 1e-3, 0.01, slow)
+    with pytest.raises(ValueError, match="base_rad_s must have shape"):
+        gyro_roll.projection_hybrid_max_errors_noisy(base[None], 1e-3, z, 1e-3, 0.01, slow)
+    with pytest.raises(ValueError, match="noise_scale_rad_s must be in rad/s"):
+        gyro_roll.projection_hybrid_max_errors_noisy(base, -1.0, z, 1e-3, 0.01, slow)
+    with pytest.raises(ValueError, match="slow must be a boolean array"):
+        gyro_roll.projection_hybrid_max_errors_noisy(base, 1e-3, z, 1e-3, 0.01, slow[:-1])

@@ -240,3 +240,22 @@ def test_moment_errors():
         large_angle.rms_pitch_error_from_moments(np.eye(3), np.ones(2), 0.0)
     with pytest.raises(ValueError, match="pitch"):
         large_angle.bias_moment_matrix(np.radians(100.0), 0.0)
+
+
+def test_max_abs_pitch_error_first_order_equals_the_error_array_reduced():
+    rng = np.random.default_rng(3)
+    th = np.radians(rng.uniform(-90.0, 90.0, 500))
+    ph = np.radians(rng.uniform(-180.0, 180.0, 500))
+    d = 1e-3 * rng.standard_normal((40, 3))
+    lam = np.where(th <= 0, np.radians(45.0), np.radians(-135.0))
+    for kw in ({}, {"preset_rad": 0.7}, {"preset_rad": lam}, {"preset_rad": lam, "g": 9.7}):
+        ref = np.max(np.abs(large_angle.pitch_error_first_order(th, ph, d[:, None, :], **kw)), axis=1)
+        assert np.array_equal(large_angle.max_abs_pitch_error_first_order(th, ph, d, **kw), ref)
+    with pytest.raises(ValueError, match="pitch must not be empty"):
+        large_angle.max_abs_pitch_error_first_order(th[:0], ph[:0], d)
+    with pytest.raises(ValueError, match="pitch must be 1-D with at least one attitude"):
+        large_angle.max_abs_pitch_error_first_order(th[None, :], ph, d)
+    with pytest.raises(ValueError, match="delta_accel_m_s2 must have"):
+        large_angle.max_abs_pitch_error_first_order(th, ph, d[:, :2])
+    with pytest.raises(ValueError, match="must broadcast to"):
+        large_angle.max_abs_pitch_error_first_order(th, ph[None, :], d)

@@ -252,6 +252,8 @@ def test_gyro_trials_equal_the_one_shot_simulation_in_any_blocks():
     one_shot = simulate_gyro(st, time_s, pitch, a, 5)
     runs = GyroTrials(st, time_s, pitch, b, 5)
     assert np.array_equal(np.concatenate([w for _, w in runs.blocks(2)]), one_shot)
+    for sl, w in runs.blocks(2, reuse=True):  # one pair of buffers for every block: each valid until the next step
+        assert np.array_equal(w, one_shot[sl])
     assert np.array_equal(runs.records([3])[0], one_shot[3])  # any trial regenerated alone
     assert np.array_equal(simulate_gyro(st, time_s, pitch, a, 2), simulate_gyro(st, time_s, pitch, b, 2))  # rng moved on alike
 

@@ -409,12 +409,15 @@ def fit_gyro_error_model(study: GyroStudy, prior: GyroErrorPrior, seed: int, tri
     loglik = np.empty((bgrid.size, ngrid.size))
     n_fit = positive_int(fit_trials, "fit_trials")
     z = rng.standard_normal((n_fit, rates.size, n_win, 3))  # common random numbers over the grid
+    base = np.zeros(z.shape)
+    base[..., 1] = rates[None, :, None] * np.cos(g.roll0_rad)
+    base[..., 2] = -rates[None, :, None] * np.sin(g.roll0_rad)
+    w, noise = np.empty(z.shape), np.empty(z.shape)  # buffers reused over the grid (the same operations)
     for i, b in enumerate(bgrid):
         for j, nd in enumerate(ngrid):
-            w = np.zeros(z.shape)
-            w[..., 1] = rates[None, :, None] * np.cos(g.roll0_rad)
-            w[..., 2] = -rates[None, :, None] * np.sin(g.roll0_rad)
-            w += _RAD(b) + _RAD(nd) * np.sqrt(g.fs_hz) * z
+            np.multiply(_RAD(nd) * np.sqrt(g.fs_hz), z, out=noise)
+            np.add(_RAD(b), noise, out=noise)
+            np.add(base, noise, out=w)  # = zeros with the rate columns, += _RAD(b) + _RAD(nd)·√fs·z
             m = np.abs(np.mean(gyro_roll.roll_projection(w.reshape(-1, n_win, 3)).reshape(n_fit, rates.size, n_win)
                                - g.roll0_rad, axis=-1))
             logm = np.log(np.maximum(_DEG(m), 1e-12))

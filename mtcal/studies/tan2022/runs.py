@@ -23,6 +23,8 @@ Examples
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
 from mtcal.core import simulate
@@ -99,22 +101,53 @@ class GyroTrials:
                                        noise_density=spec.gyro_noise_rad_s_rt_hz)
         self.model = simulate.ImuErrorModel(gyro=errors)  # as gyro_roll.simulate_two_dof_imu builds it
         self._rng = rng_copy(rng)  # the caller's SeedSequence as at construction, replayed per block
+        self._det = None  # constant_errors_record, once asked for
         spawn_philox_key(rng)  # the caller's generator moves on as after one simulate_gyro call
 
-    def records(self, trial_ids) -> np.ndarray:
-        """Gyro records (len(trial_ids), T, 3) rad/s of the named trials."""
-        ids = np.asarray(trial_ids, dtype=np.int64)
-        return simulate.simulate_imu(self.trajectory, self.model, rng_copy(self._rng), trial_ids=ids).gyro_rad_s
+    def constant_errors_record(self) -> np.ndarray:
+        """The deterministic record (T, 3) rad/s: ``simulate_gyro(study, t, pitch, None, None, noise=False)``
+        on this trajectory (the constant errors only; simulated once, a fresh copy per call)."""
+        if self._det is None:
+            gyro = simulate.SensorErrors(bias=self.model.gyro.bias, noise_density=0.0)
+            self._det = simulate.simulate_imu(self.trajectory, simulate.ImuErrorModel(gyro=gyro), None,
+                                              None).gyro_rad_s
+        return self._det.copy()
 
-    def blocks(self, size: int = _CHUNK):
-        """Yield ``(slice, records)`` over all trials, ``size`` trials at a time."""
+    def records(self, trial_ids, out=None) -> np.ndarray:
+        """Gyro records (len(trial_ids), T, 3) rad/s of the named trials.
+
+        ``out``: ``(gyro, accel)`` buffers (≥ len(trial_ids), T, 3) to write into (reused across calls:
+        no fresh pages per block); the returned record is then a view of ``out[0]``.
+        """
+        ids = np.asarray(trial_ids, dtype=np.int64)
+        shape = (ids.size, self.t.size, 3)
+        gyro, accel = (np.empty(shape), np.empty(shape)) if out is None else (out[0][:ids.size], out[1][:ids.size])
+        # simulate_imu's numbers bit for bit (ImuStream.fill), without the record's truth attitude
+        simulate.ImuStream(self.trajectory, self.model, rng_copy(self._rng), trial_ids=ids).fill(gyro, accel)
+        return gyro
+
+    def blocks(self, size: int = _CHUNK, *, reuse: bool = False):
+        """Yield ``(slice, records)`` over all trials, ``size`` trials at a time.
+
+        ``reuse=True`` writes every block into the same buffers: a yielded record is valid until the
+        next step (for Monte Carlos that keep per-trial metrics only).
+        """
+        bufs = None
+        if reuse:
+            shape = (min(size, self.trials), self.t.size, 3)
+            bufs = (np.empty(shape), np.empty(shape))
         for start in range(0, self.trials, size):
             stop = min(start + size, self.trials)
-            yield slice(start, stop), self.records(np.arange(start, stop))
+            yield slice(start, stop), self.records(np.arange(start, stop), bufs)
 
 
+@functools.lru_cache(maxsize=2)
 def oscillation_trials(study: GyroStudy, seed: int, trials: int) -> GyroTrials:
-    """The noisy oscillation records (Eq 16–17) of stream ``STREAM_OSCILLATION`` as :class:`GyroTrials`."""
+    """The noisy oscillation records (Eq 16–17) of stream ``STREAM_OSCILLATION`` as :class:`GyroTrials`.
+
+    A pure function of its arguments, built once per arguments (Figs 11, 12 and the threshold sweep
+    share the trajectory and the constant-error record; every block is regenerated from the key).
+    """
     osc = study.oscillation
     t = osc.time_s()
     return GyroTrials(study, t, osc.pitch_rad(t), stream_rng(seed, STREAM_OSCILLATION), trials)
@@ -156,11 +189,10 @@ def large_pitch_ratio(d0, d1, d2, th, ph, sc: AccelScenario):
     lam = np.where(th <= 0, _RAD(sc.lambda1_deg), _RAD(sc.lambda2_deg))
     large = np.abs(th) >= _RAD(45.0)
     th, ph, lam = th[large], ph[large], lam[large]
-    plain = np.max(np.abs(large_angle.pitch_error_first_order(th, ph, d0[:, None, :], g=g)), axis=1)
+    plain = large_angle.max_abs_pitch_error_first_order(th, ph, d0, g=g)
     neg = th <= 0  # triad λ1 on θ ≤ 0, λ2 on θ > 0: each part with its own biases (no (n, P, 3) selection)
-    preset = np.maximum(
-        *(np.max(np.abs(large_angle.pitch_error_first_order(th[k], ph[k], d[:, None, :], preset_rad=lam[k], g=g)),
-                 axis=1) for k, d in ((neg, d1), (~neg, d2))))
+    preset = np.maximum(*(large_angle.max_abs_pitch_error_first_order(th[k], ph[k], d, preset_rad=lam[k], g=g)
+                          for k, d in ((neg, d1), (~neg, d2))))
     return preset / plain
 
 
@@ -185,6 +217,14 @@ def accel_predictions(sc: AccelScenario, ratios, rng, step_deg):
     return {"spread": np.max([axis_spread(d) for d in (d0, d1, d2)], axis=0),
             "asymmetry": fig02_asymmetry(d0, th, ph, g), "large_pitch": large_pitch_ratio(d0, d1, d2, th, ph, sc),
             "gain": rms_T / np.sqrt(ms_p), **opt}
+
+def _rate_base(rate_rad_s, roll_rad):
+    """Eq 11 rates (T, 3) rad/s at constant roll for pitch rates ``rate_rad_s`` (T,) (ψ̇ = φ̇ = 0)."""
+    base = np.zeros((np.size(rate_rad_s), 3))
+    base[:, 1] = rate_rad_s * np.cos(roll_rad)
+    base[:, 2] = -rate_rad_s * np.sin(roll_rad)
+    return base
+
 
 def gyro_samples(rate_rad_s, roll_rad, bias_rad_s, noise_rad_s_rthz, dt_s, rng, shape):
     """Gyro output of the 2-DOF mechanism (ψ̇ = 0, φ̇ = 0): Eq 11 rates + constant error + white noise.
@@ -221,6 +261,8 @@ def gyro_predictions(study: GyroStudy, b_deg, n_deg, rng):
     th = osc.pitch_rad(np.append(t, t[-1] + g.dt_s))
     rate_osc = np.diff(th) / g.dt_s  # interval means (the simulator's convention)
     slow = np.abs(osc.pitch_rate_rad_s(t)) < _RAD(5.0)
+    base = _rate_base(rate_osc, g.roll0_rad)
+    z_buf = np.empty((min(_CHUNK, b_deg.size), t.size, 3))
     for sl in trial_chunks(b_deg.size):
         b, nd = _RAD(b_deg[sl]), _RAD(n_deg[sl])
         sigma = nd * np.sqrt(g.fs_hz)
@@ -228,8 +270,11 @@ def gyro_predictions(study: GyroStudy, b_deg, n_deg, rng):
             n_samp = int(round(study.uniform.sweep_deg / r * g.fs_hz))
             total = n_samp * b + sigma * np.sqrt(n_samp) * rng.standard_normal(b.size)
             out[f"drift_{r:g}"][sl] = _DEG(np.abs(total * g.dt_s))
-        w = gyro_samples(rate_osc, g.roll0_rad, b, nd, g.dt_s, rng, (b.size, t.size))
-        spike, hyb, _ = gyro_roll.projection_hybrid_max_errors(w, g.dt_s, osc.threshold_rad_s, slow, roll0=g.roll0_rad)
+        # gyro_samples(rate_osc, roll0, b, nd, dt, rng, (b.size, t.size)) built inside the compiled pass
+        z = rng.standard_normal(out=z_buf[:b.size])  # the draws of rng.standard_normal((b.size, T, 3)), reused buffer
+        spike, hyb, _ = gyro_roll.projection_hybrid_max_errors_noisy(base, nd * np.sqrt(1.0 / g.dt_s), z, g.dt_s,
+                                                                     osc.threshold_rad_s, slow, offset_rad_s=b,
+                                                                     roll0=g.roll0_rad)
         out["hybrid_max"][sl] = _DEG(hyb)
         out["spike"][sl] = spike
     return out
@@ -252,16 +297,13 @@ def oscillation_claims(study: GyroStudy, b_z_deg, n_deg, rng, trials, *, accurat
     rate = np.diff(th) / g.dt_s
     slow = np.abs(osc.pitch_rate_rad_s(t)) < _RAD(5.0)
     stop = np.inf if accurate_deg is None else float(_RAD(accurate_deg))
-    base = np.zeros((t.size, 3))
-    base[:, 1] = rate * np.cos(g.roll0_rad)
-    base[:, 2] = -rate * np.sin(g.roll0_rad)
+    base = _rate_base(rate, g.roll0_rad)
     base += np.array([g.error_rad_s[0], g.error_rad_s[1], _RAD(b_z_deg)])
     sigma = _RAD(n_deg) * np.sqrt(g.fs_hz)
     spike, hyb = np.empty(trials), np.empty(trials)
     for sl in trial_chunks(trials):
         z = rng.standard_normal((sl.stop - sl.start, t.size, 3)) if normals is None else normals[sl]
-        w = base + sigma * z
-        spike[sl], h, _ = gyro_roll.projection_hybrid_max_errors(w, g.dt_s, osc.threshold_rad_s, slow,
-                                                                 roll0=g.roll0_rad, stop_above_rad=stop)
+        spike[sl], h, _ = gyro_roll.projection_hybrid_max_errors_noisy(base, sigma, z, g.dt_s, osc.threshold_rad_s,
+                                                                       slow, roll0=g.roll0_rad, stop_above_rad=stop)
         hyb[sl] = _DEG(h)
     return spike, hyb
