@@ -14,7 +14,7 @@ import numpy as np
 
 from mtcal.core import csvtext, metrics, montecarlo, rotations, simulate
 from mtcal.filters import _kernels_ekf, _kernels_mahony, _kernels_marg, _kernels_qncf
-from mtcal.methods import rest_detection, tilt_rate
+from mtcal.methods import gyro_roll, large_angle, rest_detection, tilt_rate
 
 __all__ = ["warm_up_all"]
 
@@ -29,20 +29,25 @@ def warm_up_all() -> dict[str, float]:
     Returns
     -------
     dict of str to float
-        Seconds spent per kernel group: ``qncf``, ``rams_ekf``, ``marg`` (Madgwick and the Mahony lanes), ``tilt_rate`` (the filters' edge
-        check), ``rest_detection`` (its block sums), ``csv_text`` (the CLI's CSV writer), ``simulate``,
+        Seconds spent per kernel group: ``qncf``, ``rams_ekf``, ``marg`` (Madgwick and the Mahony lanes),
+        ``tilt_rate`` (the filters' edge check), ``gyro_roll`` and ``large_angle`` (the roll and pitch error
+        passes), ``rest_detection`` (its block sums), ``csv_text`` (the CLI's CSV writer), ``simulate``,
         ``metrics``, ``rotations`` (the compiled quaternion loops :mod:`mtcal.core.rotations` and
         :func:`mtcal.core.metrics.angle_difference` use on large arrays).
 
     Examples
     --------
-    >>> sorted(warm_up_all())
-    ['csv_text', 'marg', 'metrics', 'qncf', 'rams_ekf', 'rest_detection', 'rotations', 'simulate', 'tilt_rate']
+    >>> groups = sorted(warm_up_all())
+    >>> groups[:6]
+    ['csv_text', 'gyro_roll', 'large_angle', 'marg', 'metrics', 'qncf']
+    >>> groups[6:]
+    ['rams_ekf', 'rest_detection', 'rotations', 'simulate', 'tilt_rate']
     """
     out = {}
     for name, fn in (("qncf", _kernels_qncf.warm_up), ("rams_ekf", _kernels_ekf.warm_up),
                      ("marg", lambda: (_kernels_marg.warm_up(), _kernels_mahony.warm_up())),
-                     ("tilt_rate", tilt_rate.warm_up),
+                     ("tilt_rate", tilt_rate.warm_up), ("gyro_roll", gyro_roll.warm_up),
+                     ("large_angle", large_angle.warm_up),
                      ("rest_detection", rest_detection.warm_up), ("csv_text", csvtext.warm_up)):
         t0 = time.perf_counter()
         fn()

@@ -467,6 +467,6 @@ def test_warm_up_all_compiles_every_kernel_group():
     from mtcal.filters.kernels import warm_up_all
 
     times = warm_up_all()
-    assert set(times) == {"qncf", "rams_ekf", "marg", "tilt_rate", "rest_detection", "csv_text", "simulate", "metrics",
-                          "rotations"}
+    assert set(times) == {"qncf", "rams_ekf", "marg", "tilt_rate", "gyro_roll", "large_angle", "rest_detection",
+                          "csv_text", "simulate", "metrics", "rotations"}
     assert all(v >= 0.0 for v in times.values())
