@@ -124,10 +124,10 @@ def test_peak_memory_of_the_job_is_recorded(tmp_path):
     code = ("import json, sys; from pathlib import Path; from mtcal.runs.executor import NotebookJob, execute_jobs; "
             "d = Path(sys.argv[1]); r = execute_jobs([NotebookJob(d / '01_mem.py', d / f'{n}.ipynb', {'MB': mb}) "
             "for n, mb in (('small', 1), ('large', 300))], n_jobs=2); "
-            "print(json.dumps([[x.status, x.peak_rss_mb] for x in r]))")
+            "print(json.dumps([[x.status, x.peak_rss_mb, x.error] for x in r]))")
     out = subprocess.run([sys.executable, "-c", code, str(tmp_path)], capture_output=True, text=True, check=True)
-    (s_status, small), (l_status, large) = json.loads(out.stdout.splitlines()[-1])
-    assert s_status == l_status == "ok"
+    (s_status, small, s_error), (l_status, large, l_error) = json.loads(out.stdout.splitlines()[-1])
+    assert s_status == l_status == "ok", (s_error, l_error, out.stderr[-2000:])
     # the peak is the largest process of the job's tree: the large job's kernel (300 MiB of data on
     # top of numpy), the small job's runner or kernel (~150 MiB); both measured, neither NaN
     assert 300 < large < 800 and 50 < small < large - 150
