@@ -18,7 +18,7 @@ from mtcal.core.compiled import jit
 
 __all__ = ["hamilton3", "continuous3", "rotvec_prepare", "rotvec_finish", "normalize2", "rotvec_angle",
            "quat_from_rotvec_finish", "euler_zxy_arguments", "euler_zxy_products", "dcm_entries", "matrix_from_quat",
-           "all_unit", "wrap_difference3", "all_finite", "conjugate2",
+           "all_unit", "wrap_difference", "wrap_difference3", "all_finite", "conjugate2",
            "euler_zxy_channel_errors", "pitch_after", "rows_times_matrix3"]
 
 
@@ -194,24 +194,32 @@ def all_unit(q, atol):  # pragma: no cover - compiled
 
 
 @jit
+def wrap_difference(e, t):  # pragma: no cover - compiled
+    """``(e − t + π) mod 2π − π`` of one pair: ``x = (e − t) + π``, ``m = fmod(x, 2π)`` (``x`` itself when in
+    [0, 2π): no division), ``m + 2π`` when ``m < 0``, ``+0`` when ``m == 0`` — numpy's float ``remainder``
+    by ``2π``, so :func:`mtcal.core.metrics.angle_difference`'s numbers."""
+    two_pi = 2.0 * np.pi
+    x = (e - t) + np.pi
+    m = x if 0.0 <= x < two_pi else np.fmod(x, two_pi)   # fmod(x, b) is x itself there
+    if m != 0.0:
+        if m < 0.0:
+            m += two_pi
+    else:
+        m = 0.0
+    return m - np.pi
+
+
+@jit
 def wrap_difference3(e, t, out):  # pragma: no cover - compiled
     """``out = (e − t + π) mod 2π − π`` for (A, B, C) arrays (broadcast views allowed).
 
     numpy's float ``remainder`` by ``b = 2π > 0``: ``m = fmod(x, b)`` (exact in every libm),
     ``m + b`` when ``m < 0``, ``+0`` when ``m == 0`` — the same operations.
     """
-    two_pi = 2.0 * np.pi
     for i in range(out.shape[0]):
         for j in range(out.shape[1]):
             for k in range(out.shape[2]):
-                x = (e[i, j, k] - t[i, j, k]) + np.pi
-                m = x if 0.0 <= x < two_pi else np.fmod(x, two_pi)   # fmod(x, b) is x itself there
-                if m != 0.0:
-                    if m < 0.0:
-                        m += two_pi
-                else:
-                    m = 0.0
-                out[i, j, k] = m - np.pi
+                out[i, j, k] = wrap_difference(e[i, j, k], t[i, j, k])
 
 
 @jit
@@ -259,19 +267,6 @@ def _euler_row(q0, q1, q2, q3, lock_sin):  # pragma: no cover - compiled
 
 
 @jit
-def _wrap_row(x):  # pragma: no cover - compiled
-    """``wrap_difference3``'s remainder of one ``x = (e − t) + π``, minus π (the rare path: ``fmod``)."""
-    two_pi = 2.0 * np.pi
-    r = x if 0.0 <= x < two_pi else np.fmod(x, two_pi)
-    if r != 0.0:
-        if r < 0.0:
-            r += two_pi
-    else:
-        r = 0.0
-    return r - np.pi
-
-
-@jit
 def euler_zxy_channel_errors(q, q_mat, ref, lock_sin, chan, before, after, err_before, err_after,
                              wrapped):  # pragma: no cover - compiled
     """Eq 8 angle ``chan`` of ``q`` (T, N, 4) before and after Eq 10 with ``q_mat`` (T, 4, 4) into
@@ -284,7 +279,7 @@ def euler_zxy_channel_errors(q, q_mat, ref, lock_sin, chan, before, after, err_b
     difference ``x = (e − t) + π`` in ``[0, 2π)`` — every angle error below π — done as ``x − π``
     (what ``(x mod 2π) − π`` is there, ``x = ±0`` included) and no ``fmod`` in the loop; a row with an
     ``x`` outside (an error of π or more) is listed in ``wrapped`` (int64, (K, 2): trial, sample) and
-    finished by :func:`_wrap_row` after the loop. Returns the rows the caller must handle (|sin pitch|
+    finished by :func:`wrap_difference` after the loop. Returns the rows the caller must handle (|sin pitch|
     above ``lock_sin`` or a norm below 1e-12; left unset), or −1 when more than K rows wrapped (the
     caller's reference path then computes everything).
     """
@@ -334,12 +329,12 @@ def euler_zxy_channel_errors(q, q_mat, ref, lock_sin, chan, before, after, err_b
         ok, e0, e1, e2 = _euler_row(q0, q1, q2, q3, lock_sin)
         b0, b1, b2, b3, n = _apply_row(q0, q1, q2, q3, q_mat[t])
         ok, a0, a1, a2 = _euler_row(b0 / n, b1 / n, b2 / n, b3 / n, lock_sin)
-        err_before[t, i, 0] = _wrap_row((e0 - ref[i, 0]) + np.pi)
-        err_before[t, i, 1] = _wrap_row((e1 - ref[i, 1]) + np.pi)
-        err_before[t, i, 2] = _wrap_row((e2 - ref[i, 2]) + np.pi)
-        err_after[t, i, 0] = _wrap_row((a0 - ref[i, 0]) + np.pi)
-        err_after[t, i, 1] = _wrap_row((a1 - ref[i, 1]) + np.pi)
-        err_after[t, i, 2] = _wrap_row((a2 - ref[i, 2]) + np.pi)
+        err_before[t, i, 0] = wrap_difference(e0, ref[i, 0])
+        err_before[t, i, 1] = wrap_difference(e1, ref[i, 1])
+        err_before[t, i, 2] = wrap_difference(e2, ref[i, 2])
+        err_after[t, i, 0] = wrap_difference(a0, ref[i, 0])
+        err_after[t, i, 1] = wrap_difference(a1, ref[i, 1])
+        err_after[t, i, 2] = wrap_difference(a2, ref[i, 2])
     return bad
 
 

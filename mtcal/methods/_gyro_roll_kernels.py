@@ -29,6 +29,7 @@ import math
 
 import numpy as np
 
+from mtcal.core._rotation_kernels import wrap_difference
 from mtcal.core.compiled import jit
 
 __all__ = ["euler_differential", "hybrid_rmse_sweep", "oscillation_claims",
@@ -158,19 +159,6 @@ def projection(w):
 
 
 @jit
-def _wrap_difference(e, t):
-    """``(e − t + π) mod 2π − π``: :func:`mtcal.core.metrics.angle_difference`'s operations for one pair."""
-    x = (e - t) + np.pi
-    m = x if 0.0 <= x < _TWO_PI else np.fmod(x, _TWO_PI)  # fmod(x, b) is x itself there
-    if m != 0.0:
-        if m < 0.0:
-            m += _TWO_PI
-    else:
-        m = 0.0
-    return m - np.pi
-
-
-@jit
 def _nan_max(cur, a):
     """numpy's ``maximum`` reduction step: NaN once NaN, else the larger."""
     if cur != cur:
@@ -198,7 +186,7 @@ def roll_error_summary(w, dt, state0, masks, roll0, proj_abs):
         theta, phi = state0[i, 1], state0[i, 2]
         acc = 0.0
         for k in range(n):
-            a = abs(_wrap_difference(phi, roll0))
+            a = abs(wrap_difference(phi, roll0))
             for j in range(nk):
                 if masks[j, k]:
                     euler_max[j, i] = _nan_max(euler_max[j, i], a)
