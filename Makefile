@@ -66,7 +66,8 @@ sync: $(STAMP)
 CACHE := $(CURDIR)/build/cache
 
 ## Every notebook at full paper size (papermill), JOBS at a time, each in its own process:
-## rewrites notebooks/*.ipynb, figures/, data/ (byte-identical when nothing changed), then the site.
+## rewrites notebooks/*.ipynb, figures/, data/ (byte-identical when nothing changed), then the site
+## (built beside the catalogue's check: both read only committed files; either failing fails the target).
 reproduce: $(STAMP)
 	$(BIN)/python tools/notebooks.py sync $(NOTEBOOK_SRC)
 	$(if $(NOTEBOOK_THREADS),NUMBA_NUM_THREADS=$(NOTEBOOK_THREADS)) \
@@ -75,8 +76,9 @@ reproduce: $(STAMP)
 	$(BIN)/python -m mtcal.reporting.fidelity data
 	$(BIN)/python tools/artifact_catalogue.py
 	$(BIN)/python -m mtcal.reporting.artifact_verdicts data docs/artifacts.md
-	$(BIN)/python tools/artifact_catalogue.py --check
-	$(BIN)/python tools/reviewer_site.py --out build/report
+	$(BIN)/python tools/artifact_catalogue.py --check & check=$$!; \
+	$(BIN)/python tools/reviewer_site.py --out build/report; site=$$?; \
+	wait $$check && test $$site -eq 0
 
 ## The reviewer's site (build/report/index.html; Sphinx + MyST-NB, not committed) from the committed results:
 ## data/verdicts.csv, docs/, notebooks/*.ipynb, figures/, data/. Fails when data/verdicts.csv is missing.

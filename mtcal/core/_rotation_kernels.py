@@ -19,7 +19,7 @@ from mtcal.core.compiled import jit
 __all__ = ["hamilton3", "continuous3", "rotvec_prepare", "rotvec_finish", "normalize2", "rotvec_angle",
            "quat_from_rotvec_finish", "euler_zxy_arguments", "euler_zxy_products", "dcm_entries", "matrix_from_quat",
            "all_unit", "wrap_difference", "wrap_difference3", "all_finite", "conjugate2",
-           "euler_zxy_channel_errors", "pitch_after", "rows_times_matrix3"]
+           "apply_row", "pitch_after", "rows_times_matrix3"]
 
 
 @jit
@@ -242,7 +242,7 @@ def conjugate2(q, out):  # pragma: no cover - compiled
 
 
 @jit
-def _apply_row(q0, q1, q2, q3, m):  # pragma: no cover - compiled
+def apply_row(q0, q1, q2, q3, m):  # pragma: no cover - compiled
     """``_apply``'s operations on one quaternion before ``normalize2``'s division: sign alignment
     (q0 ≥ 0), ``q @ mᵀ`` summed in index order, and the norm. Returns (b0, b1, b2, b3, norm)."""
     if q0 < 0.0:
@@ -252,90 +252,6 @@ def _apply_row(q0, q1, q2, q3, m):  # pragma: no cover - compiled
     b2 = ((q0 * m[2, 0] + q1 * m[2, 1]) + q2 * m[2, 2]) + q3 * m[2, 3]
     b3 = ((q0 * m[3, 0] + q1 * m[3, 1]) + q2 * m[3, 2]) + q3 * m[3, 3]
     return b0, b1, b2, b3, np.sqrt(b0 * b0 + b1 * b1 + b2 * b2 + b3 * b3)
-
-
-@jit
-def _euler_row(q0, q1, q2, q3, lock_sin):  # pragma: no cover - compiled
-    """``euler_zxy_unchecked``'s operations on one quaternion: (True, yaw, pitch, roll), or (False, 0, 0, 0)
-    when |sin pitch| is above ``lock_sin`` (the caller's half-angle form)."""
-    sp = min(max(2.0 * (q2 * q3 + q0 * q1), -1.0), 1.0)
-    if abs(sp) > lock_sin:
-        return False, 0.0, 0.0, 0.0
-    s00, s11, s22, s33 = q0 * q0, q1 * q1, q2 * q2, q3 * q3
-    return (True, np.arctan2(-2.0 * (q1 * q2 - q0 * q3), s00 - s11 + s22 - s33), np.arcsin(sp),
-            np.arctan2(-2.0 * (q1 * q3 - q0 * q2), s00 - s11 - s22 + s33))
-
-
-@jit
-def euler_zxy_channel_errors(q, q_mat, ref, lock_sin, chan, before, after, err_before, err_after,
-                             wrapped):  # pragma: no cover - compiled
-    """Eq 8 angle ``chan`` of ``q`` (T, N, 4) before and after Eq 10 with ``q_mat`` (T, 4, 4) into
-    ``before``/``after`` (T, N), and the wrapped errors of all three angles from ``ref`` (N, 3) into
-    ``err_before``/``err_after`` (T, N, 3): what the sweeps read, nothing more.
-
-    One pass with the operations of ``euler_zxy_unchecked(q)``, ``euler_zxy_unchecked(_apply(q_mat, q))``
-    (sign alignment, ``q @ q_matᵀ`` summed in index order, ``normalize2``) and ``wrap_difference3``
-    against ``ref`` (so the same numbers), with the wrap of a
-    difference ``x = (e − t) + π`` in ``[0, 2π)`` — every angle error below π — done as ``x − π``
-    (what ``(x mod 2π) − π`` is there, ``x = ±0`` included) and no ``fmod`` in the loop; a row with an
-    ``x`` outside (an error of π or more) is listed in ``wrapped`` (int64, (K, 2): trial, sample) and
-    finished by :func:`wrap_difference` after the loop. Returns the rows the caller must handle (|sin pitch|
-    above ``lock_sin`` or a norm below 1e-12; left unset), or −1 when more than K rows wrapped (the
-    caller's reference path then computes everything).
-    """
-    two_pi = 2.0 * np.pi
-    bad = 0
-    n_wrapped = 0
-    for t in range(q.shape[0]):
-        m = q_mat[t]
-        for i in range(q.shape[1]):
-            q0, q1, q2, q3 = q[t, i, 0], q[t, i, 1], q[t, i, 2], q[t, i, 3]
-            ok, e0, e1, e2 = _euler_row(q0, q1, q2, q3, lock_sin)
-            if not ok:
-                bad += 1
-                continue
-            b0, b1, b2, b3, n = _apply_row(q0, q1, q2, q3, m)
-            if n < 1e-12:
-                bad += 1
-                continue
-            ok, a0, a1, a2 = _euler_row(b0 / n, b1 / n, b2 / n, b3 / n, lock_sin)
-            if not ok:
-                bad += 1
-                continue
-            before[t, i] = e0 if chan == 0 else (e1 if chan == 1 else e2)
-            after[t, i] = a0 if chan == 0 else (a1 if chan == 1 else a2)
-            x0 = (e0 - ref[i, 0]) + np.pi
-            x1 = (e1 - ref[i, 1]) + np.pi
-            x2 = (e2 - ref[i, 2]) + np.pi
-            x3 = (a0 - ref[i, 0]) + np.pi
-            x4 = (a1 - ref[i, 1]) + np.pi
-            x5 = (a2 - ref[i, 2]) + np.pi
-            err_before[t, i, 0] = x0 - np.pi
-            err_before[t, i, 1] = x1 - np.pi
-            err_before[t, i, 2] = x2 - np.pi
-            err_after[t, i, 0] = x3 - np.pi
-            err_after[t, i, 1] = x4 - np.pi
-            err_after[t, i, 2] = x5 - np.pi
-            if not (0.0 <= x0 < two_pi and 0.0 <= x1 < two_pi and 0.0 <= x2 < two_pi
-                    and 0.0 <= x3 < two_pi and 0.0 <= x4 < two_pi and 0.0 <= x5 < two_pi):
-                if n_wrapped == wrapped.shape[0]:
-                    return -1
-                wrapped[n_wrapped, 0] = t
-                wrapped[n_wrapped, 1] = i
-                n_wrapped += 1
-    for k in range(n_wrapped):       # rows with an error of π or more: the full remainder
-        t, i = wrapped[k, 0], wrapped[k, 1]
-        q0, q1, q2, q3 = q[t, i, 0], q[t, i, 1], q[t, i, 2], q[t, i, 3]
-        ok, e0, e1, e2 = _euler_row(q0, q1, q2, q3, lock_sin)
-        b0, b1, b2, b3, n = _apply_row(q0, q1, q2, q3, q_mat[t])
-        ok, a0, a1, a2 = _euler_row(b0 / n, b1 / n, b2 / n, b3 / n, lock_sin)
-        err_before[t, i, 0] = wrap_difference(e0, ref[i, 0])
-        err_before[t, i, 1] = wrap_difference(e1, ref[i, 1])
-        err_before[t, i, 2] = wrap_difference(e2, ref[i, 2])
-        err_after[t, i, 0] = wrap_difference(a0, ref[i, 0])
-        err_after[t, i, 1] = wrap_difference(a1, ref[i, 1])
-        err_after[t, i, 2] = wrap_difference(a2, ref[i, 2])
-    return bad
 
 
 @jit
@@ -351,7 +267,7 @@ def pitch_after(q, q_mat, lock_sin, out):  # pragma: no cover - compiled
         m = q_mat[t]
         for i in range(q.shape[1]):
             q0, q1, q2, q3 = q[t, i, 0], q[t, i, 1], q[t, i, 2], q[t, i, 3]
-            b0, b1, b2, b3, n = _apply_row(q0, q1, q2, q3, m)
+            b0, b1, b2, b3, n = apply_row(q0, q1, q2, q3, m)
             if n < 1e-12:
                 bad += 1
                 continue

@@ -30,6 +30,7 @@ import numpy as np
 from numba import prange
 
 from mtcal.core.validate import as_float_array, positive_int
+from mtcal.core._rotation_kernels import apply_row
 from mtcal.core.compiled import jit
 from mtcal.core.simulate import ImuRecord, ImuStream
 
@@ -256,6 +257,45 @@ def truth_table(truth_euler_rad: np.ndarray) -> np.ndarray:
 def table_errors(q0, q1, q2, q3, r):
     """:func:`euler_errors_cs` with the truth row ``r`` of :func:`truth_table`."""
     return euler_errors_cs(q0, q1, q2, q3, r[0], r[1], r[2], r[3], r[4], r[5], r[6], r[7], r[8])
+
+
+@jit
+def channel_errors_cs(q, q_mat, table, lock_sin, chan, before, after, err_before, err_after):  # pragma: no cover
+    """Eq 8 errors of ``q`` (T, N, 4) before and after Eq 10 with ``q_mat`` (T, 4, 4) against one truth
+    table (N, 9) (:func:`truth_table`) by :func:`euler_errors_cs`, into ``err_before``/``err_after``
+    (T, N, 3), and angle ``chan`` before/after into ``before``/``after`` (T, N) as truth + error.
+
+    Eq 10 is ``quaternion_lsq._apply``'s arithmetic (sign alignment, ``q @ q_matᵀ`` summed in index order,
+    the norm, each component divided by it). Each error is within ``ERROR_BOUND_RAD`` of the libm
+    reference ``angle_difference(euler_zxy(q), truth)``; each angle within that plus one rounding of the
+    reference's, modulo 2π (it is not re-wrapped: a channel whose truth sits at ±π may leave (−π, π]).
+    Returns the number of rows left unset — |sin pitch| above ``lock_sin`` (before or after) or a norm
+    below 1e-12 — which the caller then computes by the reference expressions (all rows, when any).
+    """
+    bad = 0
+    for t in range(q.shape[0]):
+        m = q_mat[t]
+        for i in range(q.shape[1]):
+            q0, q1, q2, q3 = q[t, i, 0], q[t, i, 1], q[t, i, 2], q[t, i, 3]
+            r = table[i]
+            if abs(min(max(2.0 * (q2 * q3 + q0 * q1), -1.0), 1.0)) > lock_sin:
+                bad += 1
+                continue
+            b0, b1, b2, b3, n = apply_row(q0, q1, q2, q3, m)      # Eq 10
+            if n < 1e-12:
+                bad += 1
+                continue
+            b0, b1, b2, b3 = b0 / n, b1 / n, b2 / n, b3 / n
+            if abs(min(max(2.0 * (b2 * b3 + b0 * b1), -1.0), 1.0)) > lock_sin:
+                bad += 1
+                continue
+            e0, e1, e2 = table_errors(q0, q1, q2, q3, r)
+            a0, a1, a2 = table_errors(b0, b1, b2, b3, r)
+            err_before[t, i, 0], err_before[t, i, 1], err_before[t, i, 2] = e0, e1, e2
+            err_after[t, i, 0], err_after[t, i, 1], err_after[t, i, 2] = a0, a1, a2
+            before[t, i] = r[chan] + (e0 if chan == 0 else (e1 if chan == 1 else e2))
+            after[t, i] = r[chan] + (a0 if chan == 0 else (a1 if chan == 1 else a2))
+    return bad
 
 
 @jit

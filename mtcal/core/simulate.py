@@ -766,14 +766,16 @@ def _block_noise(tid, k, b0, b1, stop, key0, key1, c2s, flags, rw_scale, gm_sigm
 def _block_apply(out, t, k, b0, hi, start, base, tb, bias, warm, turn_on, vib, flags, white_scale, quant,
                  normals):  # pragma: no cover - compiled
     """Measurements ``out[t]`` of global samples ``k … hi`` from the block's noise (:func:`_block_noise`):
-    every error term added in the reference's order, then the quantisation."""
+    every error term added in the reference's order, then the quantisation. ``bias`` (2, 3): the constant
+    bias and the warm-up bias; ``warm`` (n,): the warm-up decay, whose term ``warm[i] · bias[1, j]`` is the
+    reference's ``(decay[:, None] * warmup_bias)[i, j]`` (one product: the same number, no (n, 3) array)."""
     for kk in range(k, hi):
         q = np.uint64(kk - b0)                        # unsigned: no negative-index wraparound per access
         i = np.uint64(kk - start)
         for j in range(3):                             # three independent recursions side by side
-            x = base[tb, i, j] + bias[j]
+            x = base[tb, i, j] + bias[0, j]
             if flags & 1:
-                x = x + warm[i, j]
+                x = x + warm[i] * bias[1, j]
             if flags & 2:
                 x = x + turn_on[t, j]
             if flags & 4:
@@ -987,9 +989,11 @@ class _SensorStream:
         base = np.ascontiguousarray(base if base.ndim == 3 else base[None])
         none2, none3 = np.zeros((1, 3)), np.zeros((1, 1, 3))
         flags = 0
-        warm = none2
-        if np.any(self.warm):
-            warm, flags = np.ascontiguousarray(_warmup_decay(time_s, self.t_on, e.warmup_tau_s)[:, None] * self.warm), 1
+        warm = np.zeros(1)
+        if np.any(self.warm):       # the decay; the kernel multiplies it by the warm-up bias sample by sample
+            warm, flags = np.ascontiguousarray(_warmup_decay(time_s, self.t_on, e.warmup_tau_s)), 1
+        warm = warm.view()
+        warm.flags.writeable = False  # one array type for every stream's decay (the memo's are read-only)
         turn_on = none2 if self.turn_on is None else np.ascontiguousarray(self.turn_on[:, 0, :])
         flags |= 0 if self.turn_on is None else 2
         flags |= self._noise_flags()
@@ -1027,7 +1031,7 @@ class _SensorStream:
         args = [s._kernel_args(x, time_s, o) for s, x, o in zip(streams, truths, outs)]
         key = first.key if first.key is not None else (0, 0)
         kernel = _sensor_errors_parallel if _use_parallel(first.trials, time_s.size) else _sensor_errors_serial
-        kernel(tuple(a[0] for a in args), start, tuple(a[1] for a in args), tuple(s.bias for s in streams),
+        kernel(tuple(a[0] for a in args), start, tuple(a[1] for a in args), tuple(np.stack([s.bias, s.warm]) for s in streams),
                tuple(a[2] for a in args), tuple(a[3] for a in args), tuple(a[4] for a in args), first.trial_ids,
                key[0], key[1], first.c2s, first._noise_flags(), np.array([a[5] for a in args], np.int64),
                *first._noise_scales(), np.array([float(s.e.quantization) for s in streams]), first._rw, first._gm,

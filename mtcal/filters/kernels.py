@@ -71,6 +71,10 @@ def warm_up_all() -> dict[str, float]:
     t0 = time.perf_counter()
     montecarlo._euler_error_stats(np.tile([1.0, 0.0, 0.0, 0.0], (2, 2, 1)), np.zeros((1, 2, 3)), np.zeros((2, 3)),
                                   np.zeros((2, 3)), np.zeros((2, 3)))
+    q1 = np.tile([1.0, 0.0, 0.0, 0.0], (1, 2, 1))        # the sweeps' Eq 8 pass (wang2023cja notebooks)
+    montecarlo.channel_errors_cs(q1, np.eye(4)[None], montecarlo.truth_table(np.zeros((1, 2, 3)))[0],
+                                 rotations._LOCK_SIN, 1, np.empty((1, 2)), np.empty((1, 2)), np.empty((1, 2, 3)),
+                                 np.empty((1, 2, 3)))
     out["metrics"] = time.perf_counter() - t0
     t0 = time.perf_counter()
     n = rotations._KERNEL_MIN_ROWS  # the size from which the compiled loops are used

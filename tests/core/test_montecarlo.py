@@ -208,3 +208,55 @@ def test_series_paths_are_accurate_to_double_rounding():
     asn = np.array([montecarlo.asin_small(v) for v in x])
     assert np.all(np.abs(at - np.array([math.atan(v) for v in x])) <= np.spacing(np.abs(at)))
     assert np.all(np.abs(asn - np.array([math.asin(v) for v in x])) <= np.spacing(np.abs(asn)))
+
+
+def _before_after_inputs(seed, trials=3, n=1500):
+    rng = np.random.default_rng(seed)
+    q = rotations.quat_normalize(np.array([1.0, 0.1, -0.05, 0.02]) + 0.2 * rng.normal(size=(trials, n, 4)))
+    q[:, ::7] *= -1.0                                                     # both signs of q0
+    q_mat = np.eye(4) + 2e-3 * rng.normal(size=(trials, 4, 4))
+    return q, q_mat
+
+
+def _wrapped_gap(x, y):
+    return np.abs(metrics.angle_difference(x, y))
+
+
+@pytest.mark.parametrize("chan", [0, 1, 2])
+@pytest.mark.parametrize("ref_spread", [1e-3, 0.3, 3.0])      # series path, mixed, libm fallback (errors up to ±π)
+def test_channel_errors_within_the_stated_bound_of_the_libm_expressions(chan, ref_spread):
+    """Angle ``chan`` (truth + error) and the three wrapped errors, before and after Eq 10, within
+    ``ERROR_BOUND_RAD`` (angles: + one rounding of the angle) of the expressions the sweeps used before:
+    ``euler_zxy_unchecked`` of ``q`` and of ``apply_error_matrix(q_mat, q)``, ``angle_difference``."""
+    from mtcal.methods import quaternion_lsq
+
+    q, q_mat = _before_after_inputs(11)
+    truth = rotations.euler_zxy_unchecked(q[0])
+    ref = truth + ref_spread * np.random.default_rng(12).normal(size=truth.shape)
+    ref[:, 1] = np.clip(ref[:, 1], -1.2, 1.2)
+    out = [np.full(q.shape[:-1], np.nan), np.full(q.shape[:-1], np.nan),
+           np.full(q.shape[:-1] + (3,), np.nan), np.full(q.shape[:-1] + (3,), np.nan)]
+    table = montecarlo.truth_table(np.ascontiguousarray(ref)[None])[0]
+    assert montecarlo.channel_errors_cs(q, q_mat, table, rotations._LOCK_SIN, chan, *out) == 0
+    bc, ac, ebc, eac = out
+    b = rotations.euler_zxy_unchecked(q)
+    a = rotations.euler_zxy_unchecked(quaternion_lsq.apply_error_matrix(q_mat, q))
+    eb, ea = metrics.angle_difference(b, ref), metrics.angle_difference(a, ref)
+    bound = montecarlo.ERROR_BOUND_RAD
+    assert _wrapped_gap(ebc, eb).max() <= bound and _wrapped_gap(eac, ea).max() <= bound
+    assert _wrapped_gap(bc, b[..., chan]).max() <= bound + np.spacing(np.pi)
+    assert _wrapped_gap(ac, a[..., chan]).max() <= bound + np.spacing(np.pi)
+    assert (np.abs(ebc) <= np.pi).all() and (np.abs(eac) <= np.pi).all()
+    if ref_spread == 1e-3:                      # a converged filter: the errors agree far below the bound
+        assert _wrapped_gap(ebc, eb).max() <= 1e-15 and _wrapped_gap(eac, ea).max() <= 1e-15
+
+
+def test_channel_errors_leave_gimbal_lock_rows_and_a_zero_matrix_to_the_caller():
+    q, q_mat = _before_after_inputs(3, trials=2, n=40)
+    q[0, 5] = rotations.quat_from_euler_zxy(0.1, np.pi / 2, 0.2)             # |sin pitch| = 1
+    q_mat[1] = 0.0                                                           # norm 0 after Eq 10
+    table = montecarlo.truth_table(np.zeros((1, 40, 3)))[0]
+    out = [np.full((2, 40), np.nan), np.full((2, 40), np.nan), np.full((2, 40, 3), np.nan),
+           np.full((2, 40, 3), np.nan)]
+    bad = montecarlo.channel_errors_cs(q, q_mat, table, rotations._LOCK_SIN, 1, *out)
+    assert bad == 1 + 40 and np.isnan(out[0][0, 5]) and np.isnan(out[2][1]).all() and np.isfinite(out[2][0, 6]).all()

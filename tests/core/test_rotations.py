@@ -340,57 +340,23 @@ def test_relative_to_initial_from_a_start_sample_keeps_the_earlier_ones():
         rotations.relative_to_initial(q, start=3)
 
 
-def _before_after_inputs(seed, trials=3, n=1500):
-    rng = np.random.default_rng(seed)
-    q = rotations.quat_normalize(np.array([1.0, 0.1, -0.05, 0.02]) + 0.2 * rng.normal(size=(trials, n, 4)))
-    q[:, ::7] *= -1.0                                                     # both signs of q0
-    q_mat = np.eye(4) + 2e-3 * rng.normal(size=(trials, 4, 4))
-    return q, q_mat
+def test_wrap_difference_equals_numpy_remainder_at_and_around_pi():
+    """Differences at and around ±π (x = (e − t) + π at 0, just below 0, at and beyond 2π, ±3π) wrap
+    bit for bit as ``np.remainder(e − t + π, 2π) − π`` (the rare ``fmod`` path included)."""
+    from mtcal.core._rotation_kernels import wrap_difference3
 
-
-def _kernel_and_reference(q, q_mat, ref, chan, capacity=4096):
-    """The compiled pass and the numpy expressions it replaces: (bad, its four outputs), (before, after, errors)."""
-    from mtcal.core import metrics
-    from mtcal.core._rotation_kernels import euler_zxy_channel_errors
-    from mtcal.methods import quaternion_lsq
-
-    part = [np.full(q.shape[:-1], np.nan), np.full(q.shape[:-1], np.nan),
-            np.full(q.shape[:-1] + (3,), np.nan), np.full(q.shape[:-1] + (3,), np.nan)]
-    bad = euler_zxy_channel_errors(q, q_mat, ref, rotations._LOCK_SIN, chan, *part, np.empty((capacity, 2), np.int64))
-    before = rotations.euler_zxy_unchecked(q)
-    after = rotations.euler_zxy_unchecked(quaternion_lsq.apply_error_matrix(q_mat, q))
-    return bad, part, (before, after, metrics.angle_difference(before, ref), metrics.angle_difference(after, ref))
-
-
-@pytest.mark.parametrize("chan", [0, 1, 2])
-def test_channel_errors_kernel_equals_the_numpy_expressions(chan):
-    """Angle ``chan`` and the three wrapped errors, bit for bit as the numpy expressions (random inputs)."""
-    q, q_mat = _before_after_inputs(11)
-    ref = 0.3 * np.random.default_rng(12).normal(size=(q.shape[1], 3))
-    bad, (bc, ac, ebc, eac), (b, a, eb, ea) = _kernel_and_reference(q, q_mat, ref, chan)
-    assert bad == 0
-    assert np.array_equal(bc, b[..., chan]) and np.array_equal(ac, a[..., chan])
-    assert np.array_equal(ebc, eb) and np.array_equal(eac, ea)
-
-
-def test_channel_errors_kernel_wraps_at_pi_like_the_remainder():
-    """Errors at and around ±π (x = (e − t) + π at 0, just below 0, at and beyond 2π, ±3π) take the
-    fmod path after the loop and equal metrics.angle_difference bit for bit; more wrapped rows than the
-    list holds: −1 (the caller's reference path)."""
-    q, q_mat = _before_after_inputs(5, trials=1, n=1200)
-    e = rotations.euler_zxy_unchecked(q)[0]                              # the angles of trial 0
+    rng = np.random.default_rng(5)
+    e = rng.uniform(-np.pi, np.pi, (1, 120, 10))
     ulp = np.spacing(np.pi)
     offsets = np.array([np.pi, -np.pi, np.pi + ulp, -np.pi - ulp, np.pi - ulp, -np.pi + ulp, 3 * np.pi, -3 * np.pi,
                         2 * np.pi, 0.0, 1e-3, -1e-3])
-    ref = e - offsets[np.arange(e.size).reshape(e.shape) % offsets.size]   # e − ref = offset (rounded)
-    ref[::5] = e[::5] + np.pi                                            # (e − ref) + π = 0 exactly or ±ulp
-    bad, (bc, ac, ebc, eac), (b, a, eb, ea) = _kernel_and_reference(q, q_mat, ref, 2)
-    assert bad == 0
-    assert np.array_equal(bc, b[..., 2]) and np.array_equal(ac, a[..., 2])
-    assert np.array_equal(ebc, eb) and np.array_equal(eac, ea)
-    assert (np.abs(ebc) <= np.pi).all()                # (x mod 2π) − π can round to +π, as numpy's does
-    assert np.isclose(np.abs(ebc[0][np.isclose(np.abs(e - ref), np.pi)]), np.pi).all()
-    assert _kernel_and_reference(q, q_mat, ref, 2, capacity=3)[0] == -1
+    t = e - offsets[np.arange(e.size).reshape(e.shape) % offsets.size]
+    t[0, ::5] = e[0, ::5] + np.pi                                        # (e − t) + π = 0 exactly or ±ulp
+    out = np.empty_like(e)
+    wrap_difference3(e, t, out)
+    ref = np.remainder(e - t + np.pi, 2.0 * np.pi) - np.pi
+    assert out.tobytes() == ref.tobytes()
+    assert (np.abs(out) <= np.pi).all()
 
 
 @pytest.mark.parametrize("n", [7, 3000])   # numpy path and the compiled path

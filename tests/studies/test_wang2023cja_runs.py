@@ -181,7 +181,7 @@ def test_threaded_pieces_and_draws_give_the_same_numbers_for_any_thread_count(fa
 
 
 
-def test_compiled_pitch_and_sweep_angles_equal_the_expressions():
+def test_compiled_pitch_and_sweep_angles_match_the_expressions():
     from mtcal.methods import quaternion_lsq
     from mtcal.studies.wang2023cja import runs
 
@@ -195,11 +195,17 @@ def test_compiled_pitch_and_sweep_angles_equal_the_expressions():
     before = runs._euler(q)
     from mtcal.core import metrics
 
-    for chan in (0, 1, 2):
+    from mtcal.core.montecarlo import ERROR_BOUND_RAD
+
+    def gap(x, y):
+        return np.abs(metrics.angle_difference(x, y)).max()
+
+    for chan in (0, 1, 2):     # the series pass: within its stated bound of the expressions
         before_k, after_k, errs = runs._before_after(q, q_mat, ref, chan)
-        assert np.array_equal(before_k, before[..., chan]) and np.array_equal(after_k, after[..., chan])
-        assert np.array_equal(errs["before"], metrics.angle_difference(before, ref))
-        assert np.array_equal(errs["after"], metrics.angle_difference(after, ref))
+        assert gap(before_k, before[..., chan]) <= ERROR_BOUND_RAD + np.spacing(np.pi)
+        assert gap(after_k, after[..., chan]) <= ERROR_BOUND_RAD + np.spacing(np.pi)
+        assert gap(errs["before"], metrics.angle_difference(before, ref)) <= ERROR_BOUND_RAD
+        assert gap(errs["after"], metrics.angle_difference(after, ref)) <= ERROR_BOUND_RAD
     for err in (errs["before"], errs["after"]):          # the sweeps' MaxAE / RMSE, without NaN handling
         for c in range(3):
             maxae, rms = runs._maxae_rmse(err[..., c])

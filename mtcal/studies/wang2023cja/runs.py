@@ -616,30 +616,29 @@ def _job_pieces(sc: TurntableScenario, jobs: list, block: int) -> list:
     return pieces
 
 
-#: Rows of a :func:`_before_after` call whose angle errors may reach π (the compiled pass's second loop).
-_WRAPPED_ROWS = 4096
-
-
-def _before_after(q_s, q_mat, ref, chan: int) -> tuple[np.ndarray, np.ndarray, dict]:
+def _before_after(q_s, q_mat, ref, chan: int, table=None) -> tuple[np.ndarray, np.ndarray, dict]:
     """Eq 8 angle ``chan`` of ``q_s`` (T, n, 4) before and after Eq 10 with ``q_mat`` ((T, n) each), and the
     wrapped errors of all three angles from ``ref`` ((T, n, 3) each).
 
     ``_euler(q_s)[..., chan]``, ``_euler(apply_error_matrix(q_mat, q_s))[..., chan]`` and
-    ``metrics.angle_difference`` of the full angles; a large float64 input in one compiled pass that
-    writes only these (the same operations, bit-identical:
-    :func:`mtcal.core._rotation_kernels.euler_zxy_channel_errors`), unless a row is near gimbal lock,
-    the matrix is not finite or many errors reach π (then the expressions themselves).
+    ``metrics.angle_difference`` of the full angles. A large float64 input takes one compiled pass
+    (:func:`mtcal.core.montecarlo.channel_errors_cs`): each error the angle of the estimate's Eq 8 vector
+    rotated back by the reference — for a converged filter a degree-9 series, no atan2/asin — and each angle
+    reference + error, within ``montecarlo.ERROR_BOUND_RAD`` (4e-15 rad) of these expressions (tested);
+    ``table`` is ``montecarlo.truth_table(ref[None])[0]`` when the caller has it. Near gimbal lock or with
+    a non-finite matrix, the expressions themselves.
     """
     q_mat = np.asarray(q_mat, float)
     if (q_s.dtype == np.float64 and q_s.ndim == 3 and q_s.shape[0] * q_s.shape[1] >= rotations._KERNEL_MIN_ROWS
             and q_mat.shape == (q_s.shape[0], 4, 4) and np.isfinite(q_mat).all()):
-        from mtcal.core._rotation_kernels import euler_zxy_channel_errors
+        from mtcal.core import montecarlo
 
         before, after = np.empty(q_s.shape[:-1]), np.empty(q_s.shape[:-1])
         err_b, err_a = np.empty(q_s.shape[:-1] + (3,)), np.empty(q_s.shape[:-1] + (3,))
-        ref = np.ascontiguousarray(ref, dtype=float)
-        if euler_zxy_channel_errors(q_s, np.ascontiguousarray(q_mat), ref, rotations._LOCK_SIN, int(chan), before,
-                                    after, err_b, err_a, np.empty((_WRAPPED_ROWS, 2), np.int64)) == 0:
+        if table is None:
+            table = montecarlo.truth_table(np.ascontiguousarray(ref, dtype=float)[None])[0]
+        if montecarlo.channel_errors_cs(q_s, np.ascontiguousarray(q_mat), table, rotations._LOCK_SIN, int(chan),
+                                        before, after, err_b, err_a) == 0:
             if not (np.isfinite(err_b).all() and np.isfinite(err_a).all()):
                 raise FloatingPointError("Eq 8 angles are not finite: a calibration matrix or attitude of this run "
                                          "is NaN/inf")
@@ -700,7 +699,11 @@ def _evaluate_sweeps(prof, spans, q_s, q_mat, frac, hold_errors, keep_trace, sha
     for name, chan_mean, chans_err in _SWEEPS:
         span = spans[name]
         ref = truth[span]
-        before, after, errs = _before_after(q_s[:, span], q_mat, ref, chan_mean)
+        key = ("sweep truth table", name)
+        if key not in shared:                  # the reference angles' cosines and sines, once per profile
+            from mtcal.core.montecarlo import truth_table
+            shared[key] = truth_table(np.ascontiguousarray(ref)[None])[0]
+        before, after, errs = _before_after(q_s[:, span], q_mat, ref, chan_mean, shared[key])
         holds = _sweep_holds(prof, spans, name, frac, shared)
         e = hold_errors[name]
         sweeps[name] = {
