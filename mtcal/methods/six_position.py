@@ -298,7 +298,35 @@ def rest_means(q_ws: np.ndarray, rests: list[slice], fraction: float = 0.5) -> n
     >>> rest_means(np.tile([1.0, 0.0, 0.0, 0.0], (10, 1)), [slice(0, 4), slice(6, 10)]).shape
     (2, 4)
     """
-    return np.stack([mean_quaternion(q_ws[..., s, :], axis=-2) for s in middle_slices(rests, fraction)], axis=-2)
+    slices = middle_slices(rests, fraction)
+    if q_ws.dtype == np.float64 and q_ws.ndim in (2, 3) and q_ws.flags.c_contiguous and slices:
+        q3 = q_ws if q_ws.ndim == 3 else q_ws[None]
+        sums = np.empty((q3.shape[0], len(slices), 4))
+        _rest_sums_kernel(q3, np.array([s.start for s in slices], np.int64),
+                          np.array([s.stop for s in slices], np.int64), sums)
+        m = sums / np.array([s.stop - s.start for s in slices], np.float64)[:, None]   # np.mean: sum / count
+        means = m / np.linalg.norm(m, axis=-1, keepdims=True)
+        return means if q_ws.ndim == 3 else means[0]
+    return np.stack([mean_quaternion(q_ws[..., s, :], axis=-2) for s in slices], axis=-2)
+
+
+@jit
+def _rest_sums_kernel(q, starts, stops, out):  # pragma: no cover - compiled
+    """Sums (T, K, 4) of :func:`mean_quaternion`'s sign-aligned quaternions over ``q[t, starts[k]:stops[k]]``
+    (T, N, 4): numpy's operations — the dot with the window's first quaternion summed left to right (an
+    axis of 4), ``−q`` where it is negative, the window summed sample by sample from +0 (numpy's
+    outer-axis reduction: an all −0 component sums to +0) — so :func:`rest_means` gives ``mean_quaternion``'s numbers (tested)."""
+    for t in range(q.shape[0]):
+        for k in range(starts.size):
+            a, b = starts[k], stops[k]
+            r0, r1, r2, r3 = q[t, a, 0], q[t, a, 1], q[t, a, 2], q[t, a, 3]
+            s0 = s1 = s2 = s3 = 0.0
+            for i in range(a, b):
+                q0, q1, q2, q3 = q[t, i, 0], q[t, i, 1], q[t, i, 2], q[t, i, 3]
+                if ((q0 * r0 + q1 * r1) + q2 * r2) + q3 * r3 < 0.0:
+                    q0, q1, q2, q3 = -q0, -q1, -q2, -q3
+                s0, s1, s2, s3 = s0 + q0, s1 + q1, s2 + q2, s3 + q3
+            out[t, k, 0], out[t, k, 1], out[t, k, 2], out[t, k, 3] = s0, s1, s2, s3
 
 
 def match_rests(q_rest: np.ndarray, q_ref: np.ndarray, max_angle_rad: float = np.radians(5.0)) -> np.ndarray:

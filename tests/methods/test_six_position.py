@@ -152,3 +152,25 @@ def test_compiled_stillness_matches_numpy_moving_mean(shape):
     six_position._moving_mean_kernel(w3, 100, mean)
     ref_mean = six_position._moving_mean(w3, 100, axis=-2)
     assert np.moveaxis(mean, 1, 2).tobytes() == np.ascontiguousarray(ref_mean).tobytes()
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_rest_means_compiled_pass_equals_mean_quaternion_bit_for_bit(seed):
+    """The compiled sums of rest_means give mean_quaternion's numbers per rest: sign flips, (N, 4) and
+    (T, N, 4), one-sample windows, and exact ±0 components (numpy's reduction sums them from +0)."""
+    rng = np.random.default_rng(seed)
+    t, n = int(rng.integers(1, 4)), int(rng.integers(50, 3000))
+    q = rotations.quat_normalize(np.array([0.9, 0.1, -0.2, 0.3]) + rng.uniform(0.001, 0.8) * rng.standard_normal((t, n, 4)))
+    q[:, rng.random(n) < 0.3] *= -1.0
+    if seed == 0:                                          # exact zeros of both signs
+        q[:] = 0.0
+        q[:, :, 0] = np.where(rng.random((t, n)) < 0.5, -1.0, 1.0)
+        q[:, :, 1:] *= -1.0
+    cuts = np.sort(rng.choice(np.arange(1, n), size=8, replace=False))
+    rests = [slice(int(cuts[2 * j]), int(cuts[2 * j + 1])) for j in range(4)] + [slice(3, 4)]
+    frac = float(rng.uniform(0.05, 1.0))
+    for arr in (q, np.ascontiguousarray(q[0])):
+        got = six_position.rest_means(arr, rests, frac)
+        ref = np.stack([six_position.mean_quaternion(arr[..., s, :], axis=-2)
+                        for s in six_position.middle_slices(rests, frac)], axis=-2)
+        assert got.shape == ref.shape and got.tobytes() == ref.tobytes()
