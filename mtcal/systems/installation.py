@@ -253,8 +253,8 @@ def _record(q_ws, gyro_rad_s, accel_m_s2, q0, need_dt: bool, dt_s):
         return q, gyro, None, None, q
     if gyro_rad_s is None or accel_m_s2 is None:
         raise ValueError("a sensor attitude is needed: give q_ws, or gyro_rad_s and accel_m_s2 for the QNCF")
-    gyro = as_float_array(gyro_rad_s, "gyro_rad_s", ndim=(2, 3), last_dim=3)
-    accel = as_float_array(accel_m_s2, "accel_m_s2", ndim=(2, 3), last_dim=3)
+    gyro = as_float_array(gyro_rad_s, "gyro_rad_s", ndim=(2, 3), last_dim=3, copy=False)      # only read inside
+    accel = as_float_array(accel_m_s2, "accel_m_s2", ndim=(2, 3), last_dim=3, copy=False)
     if gyro.shape != accel.shape:
         raise ValueError(f"gyro_rad_s and accel_m_s2 must have the same shape, got {gyro.shape} and {accel.shape}")
     if need_dt and dt_s is None:
@@ -270,8 +270,11 @@ def _positions_record(config: InstallationConfig, positions_rad, dt_s, q_ws, gyr
         raise TypeError(f"config must be an InstallationConfig, got {type(config).__name__}")
     mat = None if q_hat is None else _q_hat(q_hat)
     q, gyro, accel, q0, stream = _record(q_ws, gyro_rad_s, accel_m_s2, q0, True, dt_s)
-    refs = _references(positions_rad, ndim=(2, 3))
-    pos, k = refs[0], refs[0].shape[-2]
+    pos = as_float_array(positions_rad, "positions_rad", ndim=(2, 3), last_dim=3)
+    k = pos.shape[-2]
+    if k < 4:
+        raise ValueError(f"positions_rad must hold at least 4 positions for Eq 13 (16 unknowns), got {k}")
+    refs = (pos, rotations.quat_from_euler_zxy_trusted(pos[..., 0], pos[..., 1], pos[..., 2]))      # Eq 9
     dt = sample_interval(dt_s)
     n = stream.shape[-2]
     if pos.ndim == 3 and (stream.ndim != 3 or stream.shape[0] != pos.shape[0]):
