@@ -15,7 +15,8 @@
 
 Step 1 is the system's (the QNCF of :mod:`mtcal.filters.qncf`); steps 2–6 are one methods-level
 procedure on that attitude, :func:`mtcal.methods.six_position.calibrate_from_rests`, which the
-system calls once with the config's settings after checking every input here.
+system calls once with the config's settings after checking every input here (the positions made
+their Eq 9 reference attitudes at the same edge).
 
 :func:`apply_installation` is Eq 10 on a stream (``q_body = normalize(Q̂ q_sensor)``): the
 paper's *relative* body attitude, zeroed where the record starts (the turntable's zero).
@@ -793,14 +794,18 @@ def calibrate_record(config: InstallationConfig, positions_rad, dt_s: float, *, 
                   gyro_rad_s=None, filter_gyro_rad_s=None, q_ws=None, gyro_unit_stated=None) -> RecordCalibration:
     """The whole ``mtcal calibrate`` measurement of one log: rests → units check → attitude → Eq 13 → diagnosis.
 
-    A raw log (``gyro_rad_s`` and ``accel_m_s2``): rests by ``config.rest_detector``
-    (:func:`mtcal.systems.rests.find_rests`; with the paper's detector the calibration's rests are the
-    §3.2 stillness of the gyro, :func:`detect_rests`), the gyro units checked against the accelerometer
+    The positions are checked once and made reference attitudes (Eq 9). A raw log (``gyro_rad_s`` and
+    ``accel_m_s2``): rests by ``config.rest_detector`` (:func:`mtcal.systems.rests.find_rests`, which
+    checks the arrays; with the paper's detector the calibration's rests are the §3.2 stillness of the
+    gyro, as :func:`detect_rests` finds it), the gyro units checked against the accelerometer
     (:func:`mtcal.systems.plausibility.check_units`), the QNCF set from the rests
-    (:func:`mtcal.systems.attitude.qncf_log_setup`), then :func:`calibrate_installation`. A q0..q3 log
-    (``q_ws``): rests from the quaternion rate. A refusal meaning "the rests do not match the
-    positions" is looked into: the convention mistake (radians, a sign, pitch/roll swapped, FRD axes,
-    a late start, a quaternion convention) under which every position matches is named.
+    (:func:`mtcal.systems.attitude.qncf_log_setup`) and run without a second tilt-rate scan (the units
+    are checked). A q0..q3 log (``q_ws``, checked once): rests from the quaternion rate. Then one
+    methods-level calibration from those rests (:func:`mtcal.methods.six_position.calibrate_from_rests`
+    with the config's settings, trusted). A refusal meaning "the rests do not match the positions" is
+    looked into: the convention mistake (a quaternion convention, FRD axes, radians, a sign, pitch/roll
+    swapped, a late start) under which every position matches is named, and each position's nearest
+    rest tabled from the rests' mean attitudes the refusal carries.
 
     Parameters
     ----------
