@@ -587,8 +587,8 @@ def calibrate_from_rests(q_ws: np.ndarray, positions_rad: np.ndarray, q_referenc
     Trusts its inputs (:func:`mtcal.systems.installation.calibrate_installation` checks them): ``q_ws``
     float64 unit quaternions (N, 4) or (T, N, 4) sampled every ``dt_s`` (s, 0 < dt_s ≤ 1);
     ``positions_rad`` (K, 3) or (T, K, 3) finite, K ≥ 4, and ``q_reference`` their Eq 9 attitudes
-    (:func:`mtcal.core.rotations.quat_from_euler_zxy` of yaw, pitch, roll: made where the positions
-    are checked, with the other settings of the record); ``q_hat`` finite (4, 4) or (T, 4, 4);
+    (:func:`mtcal.core.rotations.quat_from_euler_zxy` of yaw, pitch, roll: made once, where the
+    positions are checked); ``q_hat`` finite (4, 4) or (T, 4, 4);
     ``gyro_rad_s`` like ``q_ws[..., :3]``; ``rests`` slices within the N samples; settings positive,
     0 < fraction ≤ 1; ``model`` one of :data:`MODELS`; a gate of ``inf`` is off.
 
