@@ -345,6 +345,7 @@ def _run_pieces(sc: TurntableScenario, prof: AngleProfile, spans: dict, pieces: 
         return [(i, part[0]) for i, part in zip(group, parts)]
 
     rngs = dict(pair for done in _map(simulate, fill_groups) for pair in done)
+    # the records simulated above (float64 (T, N, 3), SI units, the scenario's dt_s): the trusted entry
     res = qncf_trusted(gyro, accel, 1.0 / sc.fs_hz, sc.qncf, return_euler=False)
     # the session zeroed once at its start (§4.1), in place from the verification run on: the
     # calibration run stays as logged (zeroed by the procedure itself)
@@ -1036,7 +1037,7 @@ def _wt_nowind(b: _WindTunnelBlock, gyro, accel, sources, keep_trace: bool, trac
     span = spans["aoa"]
     if "accel_run_change" in sources:   # bias change between the calibration and the sweep
         accel[:, span.start:] += (sc.errors.accel_run_bias_mg * MG * b.rng_change.standard_normal((trials, 1, 3)))
-    res = qncf_trusted(gyro, accel, 1.0 / sc.fs_hz, sc.qncf, return_euler=False)
+    res = qncf_trusted(gyro, accel, 1.0 / sc.fs_hz, sc.qncf, return_euler=False)   # records simulated here: trusted
     # the session zeroed at its start, in place after the calibration run (kept as logged: no copy)
     q_s = relative_to_initial(res.q_ws, out=res.q_ws, start=span.start)
     q_cal = q_s[:, spans["calibration"]]
@@ -1176,7 +1177,7 @@ def _wind_on_measure(sc, q_mat, groups, trials, trace, keep_trace, trace_index, 
     profs = [grp.prof for grp in groups]
     ref = np.radians(np.asarray(sc.wind_on_sweep_deg, float))
     elastic_corrected = ref + elastic_deflection_rad(sc.elastic_model_deg, ref)
-    res = qncf_trusted(gyro, accel, 1.0 / sc.fs_hz, sc.qncf, return_euler=False)
+    res = qncf_trusted(gyro, accel, 1.0 / sc.fs_hz, sc.qncf, return_euler=False)   # records simulated here: trusted
     q_s = relative_to_initial(res.q_ws, n0=1, out=res.q_ws)
     q_rep = np.concatenate([q_mat] * 5, axis=0)
     means = np.empty((5, trials, len(sc.wind_on_sweep_deg)))
