@@ -181,12 +181,18 @@ def find_rests(accel_m_s2, dt_s: float, config: RestsConfig, *, gyro_rad_s=None,
     >>> len(find_rests(acc, 0.01, RestsConfig.cli_defaults(), gyro_rad_s=gyr).rests)
     1
     """
-    from mtcal.methods import rest_detection
-    from mtcal.methods.zero_velocity import ZvdParams
-
     if not isinstance(config, RestsConfig):
         raise TypeError(f"config must be a RestsConfig, got {type(config).__name__}")
     a, g, dt, t = _records(accel_m_s2, dt_s, gyro_rad_s, time_s)
+    return _find_rests_trusted(a, g, dt, t, config)
+
+
+def _find_rests_trusted(a: np.ndarray, g: np.ndarray | None, dt: float, t: np.ndarray,
+                        config: RestsConfig) -> rest_detection.RestReport:
+    """:func:`find_rests` on the arrays :func:`_records` checked (a system's edge): same report."""
+    from mtcal.methods import rest_detection
+    from mtcal.methods.zero_velocity import ZvdParams
+
     gyro = g if config.use_gyro else None
     if config.detector == "paper":
         rep = rest_detection.paper_rest_report_trusted(a, dt, gyro, float(config.min_rest_s), ZvdParams())
