@@ -390,14 +390,14 @@ def attitude_record(gyro_rad_s, accel_m_s2, dt_s: float, config: AttitudeConfig,
     if not isinstance(config, AttitudeConfig):
         raise TypeError(f"config must be an AttitudeConfig, got {type(config).__name__}")
     from mtcal.systems import plausibility
-    from mtcal.systems.rests import _find_rests_trusted, _records
+    from mtcal.systems.rests import checked_record, find_rests_trusted
 
     if gyro_rad_s is None:
         raise ValueError("gyro_rad_s must be given: the attitude needs the gyro")
-    a, g, dt, t = _records(accel_m_s2, dt_s, gyro_rad_s, time_s)
+    a, g, dt, t = checked_record(accel_m_s2, dt_s, gyro_rad_s, time_s)
     a, g = np.ascontiguousarray(a), np.ascontiguousarray(g)      # row-major, as estimate_attitude takes them
     weights = None if time_s is None else plausibility.time_base(g.shape[0], time_s=t)[1]
-    rep = _find_rests_trusted(a, g, dt, t, config.rests)
+    rep = find_rests_trusted(a, g, dt, t, config.rests)
     clipped, level = plausibility.clipped_samples(g)
     try:
         res = _attitude_trusted(g, a, dt, weights, time_s, config, rep, clipped, unit_stated)

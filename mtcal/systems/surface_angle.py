@@ -78,11 +78,13 @@ if TYPE_CHECKING:
     from mtcal.methods.rest_detection import RestReport
 
 __all__ = ["AxisConfig", "AxisEstimate", "estimate_surface_axis", "estimate_surface_axes", "axis_uncertainty",
+           "AxisRecordConfig", "SurfaceAxisRecord", "surface_axis_record",
            "angles_about_axis", "rest_ekf_params",
            "SurfaceAngleConfig", "SurfaceAngle", "surface_angle",
            "SurfaceRecordConfig", "SurfaceRecordAngle", "surface_angle_record",
            "SurfaceBatchConfig", "SurfaceAngleBatch", "surface_angle_batch", "rest_masks",
-           "SIGMA_MEAN_FLOOR_M_S2", "CLIPPED_P0_THETA_RAD", "MIN_TURN_FOR_AXIS_CHECK_DEG", "MIN_REST_ZVD_SHARE"]
+           "SIGMA_MEAN_FLOOR_M_S2", "CLIPPED_P0_THETA_RAD", "MIN_TURN_FOR_AXIS_CHECK_DEG", "MIN_REST_ZVD_SHARE",
+           "MAX_REST_ANGLE_MISMATCH_DEG"]
 
 #: Floor on the std of a rest mean (m/s²): ~0.1° of tilt (accelerometer cross-axis/nonlinearity, play).
 SIGMA_MEAN_FLOOR_M_S2 = 0.017
@@ -92,6 +94,8 @@ CLIPPED_P0_THETA_RAD = np.radians(30.0)
 MIN_TURN_FOR_AXIS_CHECK_DEG = 20.0
 #: A known rest where the ZVD flags fewer than this share of samples is used whole for the axis (batched procedure).
 MIN_REST_ZVD_SHARE = 0.1
+#: One record: a rest whose EKF angle differs from the accelerometer's by more than this (deg) is reported.
+MAX_REST_ANGLE_MISMATCH_DEG = 2.0
 
 
 def axis_uncertainty(positions_m_s2, counts, *, accel_noise_m_s2: float, window_samples: float = 1.0,
@@ -318,6 +322,199 @@ def estimate_surface_axes(accel_m_s2, rest_masks, config: AxisConfig) -> np.ndar
         if m.dtype != bool or m.shape != a.shape[:2]:
             raise ValueError(f"each rest mask must be boolean of shape {a.shape[:2]}, got {m.dtype} {m.shape}")
     return rotation_axis.axes_from_rests_trusted(a, masks, **settings)
+
+
+# --------------------------------------------------------------------------- one record (a log): rests → axis
+@dataclass(frozen=True)
+class AxisRecordConfig:
+    """Resolved settings of :func:`surface_axis_record` (``mtcal axis``), checked once when made.
+
+    Attributes
+    ----------
+    rests : RestsConfig
+        How the log's rests are found. ``detector="paper"``: the paper's path, accelerometer only — Table 1
+        ZVD flags (rests ≥ ``min_rest_s``, none dropped by their listed span) and Algorithm A1 (Eq 23 on
+        the first three distinct rests, :func:`mtcal.methods.rotation_axis.estimate_axis`). Otherwise the
+        rests of :func:`mtcal.systems.rests.find_rests` and the plane through every distinct position
+        (:meth:`AxisConfig.cli`), the gyro's units checked when the log has one.
+    min_separation_deg : float
+        Rests closer in tilt are one position (deg).
+    max_axis_error_deg : float or None
+        Refuse an axis less certain than this (deg, 1σ); None: no gate.
+    max_elevation_deg : float
+        Refuse an axis steeper than this above the horizontal (deg).
+
+    Examples
+    --------
+    >>> AxisRecordConfig.cli(RestsConfig.cli_defaults(0.5)).max_axis_error_deg
+    2.0
+    >>> AxisRecordConfig(RestsConfig(), min_separation_deg=0.0)
+    Traceback (most recent call last):
+    ...
+    ValueError: min_separation_deg must be > 0, got 0.0
+    """
+
+    rests: RestsConfig
+    min_separation_deg: float = 3.0
+    max_axis_error_deg: float | None = 2.0
+    max_elevation_deg: float = 85.0
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.rests, RestsConfig):
+            raise TypeError(f"rests must be a RestsConfig, got {type(self.rests).__name__}")
+        positive_scalar(self.min_separation_deg, "min_separation_deg")
+        _limit(self.max_axis_error_deg, "max_axis_error_deg")
+        positive_scalar(self.max_elevation_deg, "max_elevation_deg")
+
+    @classmethod
+    def cli(cls, rests: RestsConfig, *, min_separation_deg: float = 3.0, max_axis_error_deg: float = 2.0,
+            max_elevation_deg: float = 85.0) -> "AxisRecordConfig":
+        """``mtcal axis`` (defaults = the command's): the given rests, gated."""
+        return cls(rests, min_separation_deg, max_axis_error_deg, max_elevation_deg)
+
+
+@dataclass(frozen=True)
+class SurfaceAxisRecord:
+    """Result of :func:`surface_axis_record`.
+
+    Attributes
+    ----------
+    rests : mtcal.methods.rest_detection.RestReport
+        The log's rests.
+    axis : AxisEstimate
+        The hinge axis, its uncertainty and the rests' means and angles about it. With the paper's
+        detector the rest means are those of Algorithm A1's three rests (``used``).
+    used : tuple of slice
+        The rests the axis used (one per distinct position; with the paper's detector A1's three).
+    units_check : dict or None
+        :func:`mtcal.systems.plausibility.check_units`' result (a log with a gyro, not the paper's path).
+    """
+
+    rests: RestReport
+    axis: AxisEstimate
+    used: tuple
+    units_check: dict | None
+
+
+def surface_axis_record(accel_m_s2, config: AxisRecordConfig, *, fs_hz: float, time_s, gyro_rad_s=None,
+                        unit_stated: str | None = None) -> SurfaceAxisRecord:
+    """The hinge axis of one recorded log (``mtcal axis``): rests, units check, gated axis (wang2022sensors Eq 23).
+
+    Adaptive or SHOE rests (:func:`mtcal.systems.rests.find_rests`), the gyro's units and time base checked
+    against the accelerometer when a gyro is given (clipped samples skipped), then the plane through every
+    distinct rest position (:meth:`AxisConfig.cli` with the noise and window the rests measured). The
+    paper's detector (``config.rests.detector == "paper"``): Table 1 ZVD and Algorithm A1 on the
+    accelerometer, then the plane-tilt uncertainty of its three means (:func:`axis_uncertainty`). Inputs
+    are checked here once.
+
+    Parameters
+    ----------
+    accel_m_s2 : array_like (N, 3)
+        Accelerometer (m/s²).
+    config : AxisRecordConfig
+    fs_hz : float
+        Sample rate of the log (Hz): the rests run at the mean step ``1 / fs_hz`` and the noise window is
+        counted in samples of this rate (``window_s · fs_hz``), as ``mtcal axis`` always did (taking
+        ``dt_s`` would move the uncertainty's last bits).
+    time_s : array_like (N,)
+        Sample times (s): the rests' listed spans and the units check's time base.
+    gyro_rad_s : array_like (N, 3), optional
+        Gyro (rad/s): used by the rests (``config.rests.use_gyro``) and checked for its units; ignored
+        by the paper's path.
+    unit_stated : str, optional
+        Where the gyro unit was stated (a units check that cannot decide then warns).
+
+    Returns
+    -------
+    SurfaceAxisRecord
+
+    Raises
+    ------
+    ValueError
+        Bad arrays; no rest; fewer than three distinct tilts; axis too uncertain or nearly vertical; a gyro
+        the units check refuses. A refusal after the rests were found carries them as ``exc.rests`` and the
+        units check (or None) as ``exc.units_check``.
+
+    References
+    ----------
+    wang2022sensors Sec. 2.2 (Eq 15/16), Eq 23, Algorithm A1, Table 1 (ZVD).
+
+    Examples
+    --------
+    >>> from mtcal.core.profiles import fixed_axis_imu_truth, step_schedule
+    >>> prof = step_schedule(np.radians([0.0, 60.0, 120.0, 30.0]), np.radians(60.0), 1.5, 100.0)
+    >>> v = np.array([0.6, 0.0, 0.8])
+    >>> w, f = fixed_axis_imu_truth(prof.angle_rad.T, prof.rate_rad_s.T, prof.accel_rad_s2.T, [v], [[0.0, 0, 0]],
+    ...                             [0.0, 0.0, 9.81], 0.01)
+    >>> rng = np.random.default_rng(0)
+    >>> res = surface_axis_record(f[0] + 1e-2 * rng.standard_normal(f[0].shape),
+    ...                           AxisRecordConfig.cli(RestsConfig.cli_defaults(0.5)), fs_hz=100.0,
+    ...                           time_s=prof.time_s, gyro_rad_s=w[0] + 1e-3 * rng.standard_normal(w[0].shape))
+    >>> len(res.rests.rests), bool(np.degrees(np.arccos(res.axis.axis @ v)) < 0.5)
+    (4, True)
+    """
+    if not isinstance(config, AxisRecordConfig):
+        raise TypeError(f"config must be an AxisRecordConfig, got {type(config).__name__}")
+    from mtcal.systems.rests import checked_record, find_rests_trusted
+
+    fs = positive_scalar(fs_hz, "fs_hz")
+    paper = config.rests.detector == "paper"
+    a, g, dt, t = checked_record(accel_m_s2, 1.0 / fs, None if paper else gyro_rad_s, time_s)
+    if paper:
+        return _axis_record_paper(a, dt, fs, config)
+    rep = find_rests_trusted(a, g, dt, t, config.rests)
+    chk = None
+    try:
+        if g is not None:  # the rests used the gyro: its units and the time base must fit
+            weights = plausibility.time_base(a.shape[0], time_s=t)[1]
+            chk = plausibility.check_units(g if weights is None else g * weights[:, None], a, dt, rep.rests,
+                                           time_s=t, skip=plausibility.clipped_samples(g)[0],
+                                           unit_stated=unit_stated)
+        if len(rep.rests) == 0:
+            raise ValueError(f"found only 0 rests of >= {rep.min_rest_s:g} s ({rep.levels_text()}); "
+                             f"the axis needs rests at three distinct tilts")
+        axis_config = AxisConfig.cli(rep.accel_noise_m_s2, rep.window_s * fs,
+                                     min_separation_deg=config.min_separation_deg,
+                                     max_axis_error_deg=config.max_axis_error_deg,
+                                     max_elevation_deg=config.max_elevation_deg)
+        est = rotation_axis.axis_from_rests_trusted(a, list(rep.rests), **_axis_settings(axis_config))
+    except ValueError as exc:
+        exc.rests, exc.units_check = rep, chk  # the caller's diagnostics show what the refusal saw
+        raise
+    return SurfaceAxisRecord(rep, est, tuple(rep.rests[m[0]] for m in est.members), chk)
+
+
+def _axis_record_paper(a: np.ndarray, dt: float, fs: float, config: AxisRecordConfig) -> SurfaceAxisRecord:
+    """:func:`surface_axis_record` with the paper's detector, on the checked accelerometer: Table 1 ZVD flags
+    (no rest dropped by its listed span: A1 counts rests by its own minimum), Algorithm A1, the
+    uncertainty gate on A1's three means."""
+    from mtcal.methods.rest_detection import paper_rest_report_trusted
+
+    min_rest = float(config.rests.min_rest_s)
+    rep = paper_rest_report_trusted(a, dt, None, min_rest, ZvdParams())
+    try:
+        try:
+            res = rotation_axis.estimate_axis(a, dt, min_rest_s=min_rest, is_static=rep.is_static,
+                                              min_separation_deg=config.min_separation_deg,
+                                              max_elevation_deg=config.max_elevation_deg)
+        except ValueError as exc:
+            raise ValueError(f"{exc} [paper ZVD band {rep.band_m_s2[0]:g}-{rep.band_m_s2[1]:g} m/s^2, measured "
+                             f"|a| at rest {rep.extra['measured_gravity_m_s2']:.4f} m/s^2; --rest-detector "
+                             f"adaptive measures the band from the data]") from None
+        counts = np.array([r.stop - r.start for r in res.rests], float)
+        window = rep.window_s * fs
+        fit = axis_uncertainty(res.means, counts, accel_noise_m_s2=rep.accel_noise_m_s2, window_samples=window,
+                               max_axis_error_deg=np.inf if config.max_axis_error_deg is None
+                               else config.max_axis_error_deg)
+    except ValueError as exc:
+        exc.rests, exc.units_check = rep, None
+        raise
+    v, means = res.v, res.means
+    n_eff = float(np.min(counts)) / max(1.0, float(window))       # as axis_uncertainty's rest-mean noise
+    sig = max(rep.accel_noise_m_s2 / np.sqrt(max(n_eff, 1.0)), SIGMA_MEAN_FLOOR_M_S2)
+    est = AxisEstimate(v, float(fit.sigma_rad), float(np.mean(rotation_axis.axis_elevation_trusted(v, means))),
+                       means, ((0,), (1,), (2,)), means, angles_about_axis(v, means[0], means), float(sig), "eq23")
+    return SurfaceAxisRecord(rep, est, tuple(res.rests), None)
 
 
 def rest_ekf_params(gyro_rad_s, accel_m_s2, init: slice) -> RamsEkfParams:
@@ -686,13 +883,22 @@ class SurfaceRecordAngle:
     late : bool
         The log starts moving: the angle is measured from the first rest, not from sample 0.
     rest_accel_angles_rad : ndarray (R,)
-        The accelerometer's angle of each rest about the axis from ā0 (rad, Eq 16), in (−π, π].
+        The accelerometer's angle of each rest about the axis from ā0 (rad, Eq 16), on the same turn as the
+        EKF's angle there (``+ 2πk``; in (−π, π] where the EKF has no angle).
+    rest_ekf_angles_rad : ndarray (R,)
+        The EKF's median angle over each rest (rad; NaN for a rest before the initial one).
+    rest_mismatch : tuple (int, float) or None
+        The rest whose EKF and accelerometer angles differ most and by how much (rad), when that exceeds
+        :data:`MAX_REST_ANGLE_MISMATCH_DEG` and the axis is not steep (cos elevation > 0.2): axis or
+        accelerometer errors.
     """
 
     rests: RestReport
     angle: SurfaceAngle
     late: bool
     rest_accel_angles_rad: np.ndarray
+    rest_ekf_angles_rad: np.ndarray
+    rest_mismatch: tuple | None
 
 
 def surface_angle_record(gyro_rad_s, accel_m_s2, axis, config: SurfaceRecordConfig, *, fs_hz: float, time_s,
@@ -704,7 +910,8 @@ def surface_angle_record(gyro_rad_s, accel_m_s2, axis, config: SurfaceRecordConf
     gives ā0, the gyro bias and angle 0; the gyro's units and time base and its rotation axis are
     checked (:meth:`SurfaceAngleConfig.cli` with the gyro noise the rests measured), then the
     ZVD-switched RAMS EKF runs (:func:`surface_angle`). Each rest's accelerometer angle about the
-    axis (Eq 16) is returned to compare with the EKF's. Inputs are checked here once.
+    axis (Eq 16) is returned on the EKF's turn beside the EKF's median angle there, and the worst
+    disagreement above :data:`MAX_REST_ANGLE_MISMATCH_DEG`. Inputs are checked here once.
 
     Parameters
     ----------
@@ -787,7 +994,21 @@ def surface_angle_record(gyro_rad_s, accel_m_s2, axis, config: SurfaceRecordConf
     except ValueError as exc:
         exc.rests = rep  # the caller's diagnostics show the rests the refusal saw
         raise
-    return SurfaceRecordAngle(rep, res, bool(late), angles_about_axis(v, res.accel0_m_s2, means))
+    return SurfaceRecordAngle(rep, res, bool(late), *_rest_angles(res, rep.rests,
+                                                                   angles_about_axis(v, res.accel0_m_s2, means)))
+
+
+def _rest_angles(res: SurfaceAngle, rests: list, accel_rad: np.ndarray) -> tuple:
+    """Each rest's accelerometer angle on the EKF's turn, the EKF's median there, and the worst mismatch."""
+    angle = res.angle_rad
+    ekf = np.array([np.nanmedian(angle[r]) if np.isfinite(angle[r]).any() else np.nan for r in rests])
+    accel = accel_rad + 2.0 * np.pi * np.round((ekf - accel_rad) / (2.0 * np.pi))   # same turn as the EKF
+    off = np.abs(ekf - accel)
+    worst = None
+    if np.degrees(np.nanmax(off, initial=0.0)) > MAX_REST_ANGLE_MISMATCH_DEG and np.cos(res.elevation_rad) > 0.2:
+        i = int(np.nanargmax(off))
+        worst = (i, float(off[i]))
+    return accel, ekf, worst
 
 
 # --------------------------------------------------------------------------- batched: ZVD → axis → EKF
