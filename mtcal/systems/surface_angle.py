@@ -404,7 +404,7 @@ def surface_axis_record(accel_m_s2, config: AxisRecordConfig, *, fs_hz: float, t
     against the accelerometer when a gyro is given (clipped samples skipped), then the plane through every
     distinct rest position (:meth:`AxisConfig.cli` with the noise and window the rests measured). The
     paper's detector (``config.rests.detector == "paper"``): Table 1 ZVD and Algorithm A1 on the
-    accelerometer, then the plane-tilt uncertainty of its three means (:func:`axis_uncertainty`). Inputs
+    accelerometer, then the plane-tilt uncertainty of its three means (as :func:`axis_uncertainty`). Inputs
     are checked here once.
 
     Parameters
@@ -473,11 +473,11 @@ def surface_axis_record(accel_m_s2, config: AxisRecordConfig, *, fs_hz: float, t
         if len(rep.rests) == 0:
             raise ValueError(f"found only 0 rests of >= {rep.min_rest_s:g} s ({rep.levels_text()}); "
                              f"the axis needs rests at three distinct tilts")
-        axis_config = AxisConfig.cli(rep.accel_noise_m_s2, rep.window_s * fs,
-                                     min_separation_deg=config.min_separation_deg,
-                                     max_axis_error_deg=config.max_axis_error_deg,
-                                     max_elevation_deg=config.max_elevation_deg)
-        est = rotation_axis.axis_from_rests_trusted(a, list(rep.rests), **_axis_settings(axis_config))
+        settings = _axis_settings(AxisConfig.cli(rep.accel_noise_m_s2, rep.window_s * fs,
+                                                 min_separation_deg=config.min_separation_deg,
+                                                 max_axis_error_deg=config.max_axis_error_deg,
+                                                 max_elevation_deg=config.max_elevation_deg))
+        est = rotation_axis.axis_from_rests_trusted(a, list(rep.rests), **settings)
     except ValueError as exc:
         exc.rests, exc.units_check = rep, chk  # the caller's diagnostics show what the refusal saw
         raise
@@ -503,9 +503,10 @@ def _axis_record_paper(a: np.ndarray, dt: float, fs: float, config: AxisRecordCo
                              f"adaptive measures the band from the data]") from None
         counts = np.array([r.stop - r.start for r in res.rests], float)
         window = rep.window_s * fs
-        fit = axis_uncertainty(res.means, counts, accel_noise_m_s2=rep.accel_noise_m_s2, window_samples=window,
-                               max_axis_error_deg=np.inf if config.max_axis_error_deg is None
-                               else config.max_axis_error_deg)
+        # axis_uncertainty on A1's means (float (3, 3)) and the noise the ZVD report measured on its blocks
+        fit = rotation_axis.gated_plane_fit_trusted(res.means, counts, rep.accel_noise_m_s2, window,
+                                                    np.inf if config.max_axis_error_deg is None
+                                                    else float(config.max_axis_error_deg), SIGMA_MEAN_FLOOR_M_S2)
     except ValueError as exc:
         exc.rests, exc.units_check = rep, None
         raise
@@ -994,21 +995,17 @@ def surface_angle_record(gyro_rad_s, accel_m_s2, axis, config: SurfaceRecordConf
     except ValueError as exc:
         exc.rests = rep  # the caller's diagnostics show the rests the refusal saw
         raise
-    return SurfaceRecordAngle(rep, res, bool(late), *_rest_angles(res, rep.rests,
-                                                                   angles_about_axis(v, res.accel0_m_s2, means)))
-
-
-def _rest_angles(res: SurfaceAngle, rests: list, accel_rad: np.ndarray) -> tuple:
-    """Each rest's accelerometer angle on the EKF's turn, the EKF's median there, and the worst mismatch."""
-    angle = res.angle_rad
-    ekf = np.array([np.nanmedian(angle[r]) if np.isfinite(angle[r]).any() else np.nan for r in rests])
-    accel = accel_rad + 2.0 * np.pi * np.round((ekf - accel_rad) / (2.0 * np.pi))   # same turn as the EKF
-    off = np.abs(ekf - accel)
+    # each rest: the EKF's median angle, the accelerometer's (Eq 16) on the same turn, the worst disagreement
+    ekf = np.array([np.nanmedian(res.angle_rad[r]) if np.isfinite(res.angle_rad[r]).any() else np.nan
+                    for r in rep.rests])
+    accel_rad = angles_about_axis(v, res.accel0_m_s2, means)
+    accel_rad = accel_rad + 2.0 * np.pi * np.round((ekf - accel_rad) / (2.0 * np.pi))
+    off = np.abs(ekf - accel_rad)
     worst = None
     if np.degrees(np.nanmax(off, initial=0.0)) > MAX_REST_ANGLE_MISMATCH_DEG and np.cos(res.elevation_rad) > 0.2:
         i = int(np.nanargmax(off))
         worst = (i, float(off[i]))
-    return accel, ekf, worst
+    return SurfaceRecordAngle(rep, res, bool(late), accel_rad, ekf, worst)
 
 
 # --------------------------------------------------------------------------- batched: ZVD → axis → EKF
