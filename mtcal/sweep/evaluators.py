@@ -16,8 +16,8 @@ Registered evaluators (:func:`evaluator_names`):
 * ``surface`` — movable-surface rotations about a fixed hinge axis (wang2022sensors):
   any registered filter's angle about the axis (attitude filters: swing–twist;
   angle filters: their own output), via :func:`mtcal.filters.anchors.run_axis_angle_filter`;
-  the RAMS EKF entry is the ``mtcal angle`` procedure
-  (:func:`mtcal.systems.surface_angle.surface_angle`, declared in the filter registry's table).
+  the RAMS EKF entry is the study's batched surface-angle procedure with the sweep cell's config
+  (:meth:`mtcal.systems.surface_angle.SurfaceBatchConfig.sweep_cell`, declared in the filter registry's table).
 * ``six_position`` — wang2023cja §3.2 installation-error calibration with K = 4…12
   turntable positions: QNCF attitudes, the calibration procedure of
   :mod:`mtcal.systems.installation` (as ``mtcal calibrate``), error left at 12
@@ -611,8 +611,9 @@ def _surface_metrics(p: dict) -> list[str]:
 def _surface(p: dict, rngs: list) -> dict[str, np.ndarray]:
     """Angle-about-axis errors (deg): RMS after the settling rest, RMS over holds, max.
 
-    The RAMS EKF runs as the ``mtcal angle`` system does
-    (:func:`mtcal.systems.surface_angle.surface_angle`): the true axis, ā0 and the
+    The RAMS EKF runs as the study's batched procedure
+    (:func:`mtcal.systems.surface_angle.surface_angle_batch` with
+    :meth:`~mtcal.systems.surface_angle.SurfaceBatchConfig.sweep_cell`): the true axis, ā0 and the
     initial gyro bias = means of the settling rest, the schedule's rest flags as its
     ZVD input (and its holds as the restart points after gyro clipping), and noise
     from the grade (σθ = gyro noise per sample, σa,static = accelerometer noise per

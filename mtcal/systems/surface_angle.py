@@ -1063,6 +1063,16 @@ class SurfaceBatchConfig:
         first three rests (:meth:`AxisConfig.paper`), ZVD-switched EKF with the simulated IMU's noise."""
         return cls(zvd, AxisConfig.paper(accel_noise_m_s2), SurfaceAngleConfig.paper(params), ekf_switch)
 
+    @classmethod
+    def sweep_cell(cls, *, gyro_noise_rad_s_rt_hz: float, accel_noise_m_s2_rt_hz: float, dt_s: float,
+                   gain_m_s2: float) -> "SurfaceBatchConfig":
+        """A sweep cell (the filter registry's ``rams_ekf`` entry): the schedule's known rest flags as the rest
+        flags and the EKF's switch (no ZVD), the given axis (no estimate), the EKF of
+        :meth:`SurfaceAngleConfig.sweep_cell` (noise from the sensors, σa,moving = ``gain_m_s2``)."""
+        return cls(None, None, SurfaceAngleConfig.sweep_cell(gyro_noise_rad_s_rt_hz=gyro_noise_rad_s_rt_hz,
+                                                              accel_noise_m_s2_rt_hz=accel_noise_m_s2_rt_hz,
+                                                              dt_s=dt_s, gain_m_s2=gain_m_s2))
+
 
 @dataclass(frozen=True)
 class SurfaceAngleBatch:
@@ -1206,11 +1216,20 @@ def surface_angle_batch(gyro_rad_s, accel_m_s2, dt_s: float, config: SurfaceBatc
 
 def _registered_rams_ekf(w, a, dt, gain, ctx: AxisContext):
     """The filter registry's ``rams_ekf`` runner (declared in :data:`mtcal.filters.registry.BUILTIN_FILTERS`, imported
-    on its first call): :func:`surface_angle` (the ``mtcal angle`` system) with the sweep cell's config
-    (:meth:`SurfaceAngleConfig.sweep_cell`: noise from the sensors, σa,moving = ``gain`` m/s²), initialised on
-    ``ctx.init`` (default: the first 0.5 s)."""
-    config = SurfaceAngleConfig.sweep_cell(gyro_noise_rad_s_rt_hz=ctx.gyro_noise_rad_s_rt_hz,
+    on its first call): the batched procedure :func:`surface_angle_batch` (the study's) with the sweep cell's config
+    (:meth:`SurfaceBatchConfig.sweep_cell`: the known rest flags, the given axis, noise from the sensors,
+    σa,moving = ``gain`` m/s²), ā0 and the gyro bias from ``ctx.init`` (default: the first 0.5 s), restarted after
+    clipped gyro samples at the next of ``ctx.rests``.
+
+    Raises
+    ------
+    ValueError
+        ``ctx.init`` does not start at sample 0 (the batched procedure's initial rest).
+    """
+    config = SurfaceBatchConfig.sweep_cell(gyro_noise_rad_s_rt_hz=ctx.gyro_noise_rad_s_rt_hz,
                                            accel_noise_m_s2_rt_hz=ctx.accel_noise_m_s2_rt_hz, dt_s=dt, gain_m_s2=gain)
-    static = np.broadcast_to(ctx.is_static, a.shape[:2])
     init = ctx.init if ctx.init is not None else slice(0, max(1, int(round(0.5 / dt))))
-    return surface_angle(w, a, ctx.axis_s, config, is_static=static, init=init, dt_s=dt, rests=ctx.rests).angle_rad
+    if (init.start or 0) != 0:
+        raise ValueError(f"the rams_ekf entry initialises from a rest at sample 0, got init {init!r}")
+    return surface_angle_batch(w, a, dt, config, init_samples=init.stop, rests=ctx.rests, axis=ctx.axis_s,
+                               known_static=ctx.is_static).angle_rad

@@ -432,6 +432,14 @@ def test_sweep_cell_config_is_the_registry_entry():
     res = surface_angle.surface_angle(w, f, AXIS, cfg, is_static=static, init=slice(0, 90), dt_s=DT_S,
                                       rests=prof.hold_slices())
     assert np.array_equal(got, res.angle_rad)
+    batch = surface_angle.SurfaceBatchConfig.sweep_cell(gyro_noise_rad_s_rt_hz=2e-4, accel_noise_m_s2_rt_hz=3e-3,
+                                                        dt_s=DT_S, gain_m_s2=2.0)
+    assert batch.zvd is None and batch.axis is None and batch.angle == cfg
+    study = surface_angle.surface_angle_batch(w, f, DT_S, batch, init_samples=90, rests=prof.hold_slices(),
+                                              axis=AXIS, known_static=prof.is_static)
+    assert np.array_equal(got, study.angle_rad)            # the entry is the study's batched procedure
+    with pytest.raises(ValueError, match="the rams_ekf entry initialises from a rest at sample 0"):
+        entry.run(w, f, DT_S, 2.0, replace(ctx, init=slice(5, 90)))
 
 
 def test_cli_defaults_are_the_configs_cli_defaults():
