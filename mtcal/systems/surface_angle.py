@@ -24,7 +24,10 @@ commands, the study's Monte Carlo runs and the sweep evaluator:
    the ZVD-flagged rests, the ZVD-switched EKF.
 4. :func:`surface_angle_record` — the procedure on one recorded log (``mtcal angle``): its
    rests (:func:`mtcal.systems.rests.find_rests`), the initial rest, the checked EKF and each
-   rest's accelerometer angle, in one call.
+   rest's EKF and accelerometer angles, in one call.
+5. :func:`surface_axis_record` — the axis of one recorded log (``mtcal axis``), for either rest
+   detector: adaptive/SHOE rests, the units check and the gated plane through every position,
+   or the paper's Table 1 ZVD and Algorithm A1, in one call.
 
 Each procedure checks its inputs, then goes down once: the axis estimate and its gates are
 methods (:func:`mtcal.methods.rotation_axis.axis_from_rests_trusted`,
@@ -33,9 +36,9 @@ methods (:func:`mtcal.methods.rotation_axis.axis_from_rests_trusted`,
 :func:`~mtcal.filters.rams_ekf.run_rams_ekf_batch_restarts_trusted`).
 
 Each procedure takes the data arrays and ONE frozen, resolved config —
-:class:`AxisConfig`, :class:`SurfaceAngleConfig`, :class:`SurfaceBatchConfig`, :class:`SurfaceRecordConfig` — with
-constructors for the paper's settings (``paper``), the CLI defaults (``cli``) and a sweep
-cell (:meth:`SurfaceAngleConfig.sweep_cell`). A config is checked when it is made, the
+:class:`AxisConfig`, :class:`SurfaceAngleConfig`, :class:`SurfaceBatchConfig`, :class:`SurfaceRecordConfig`,
+:class:`AxisRecordConfig` — with constructors for the paper's settings (``paper``), the CLI defaults
+(``cli``) and a sweep cell (:meth:`SurfaceAngleConfig.sweep_cell`, :meth:`SurfaceBatchConfig.sweep_cell`). A config is checked when it is made, the
 arrays once at the procedure's edge; the methods and the filter below run on the checked
 arrays (:func:`mtcal.filters.rams_ekf.run_rams_ekf_trusted`).
 
