@@ -276,6 +276,12 @@ def _registry_filter(name: str, gyro: np.ndarray, acc: np.ndarray, dt_s: float) 
     return q, f"{entry.gain_unit} {entry.default_gain:g} (default)"
 
 
+def _row_major(x: np.ndarray) -> np.ndarray:
+    """A checked record row-major (C-contiguous; a copy only when it is not): the attitude does not depend on
+    the caller's memory layout (a column-major record, e.g. from a MATLAB file, gives the same bits)."""
+    return x if x.flags.c_contiguous else x.copy(order="C")
+
+
 def estimate_attitude(gyro_rad_s, accel_m_s2, dt_s: float, config: AttitudeConfig, *, time_s=None, rests=None,
                       skip=None, unit_stated: str | None = None) -> AttitudeResult:
     """Sensor attitude of one record by the configured filter (wang2023cja §3.1 QNCF by default).
@@ -330,8 +336,8 @@ def estimate_attitude(gyro_rad_s, accel_m_s2, dt_s: float, config: AttitudeConfi
         raise TypeError(f"config must be an AttitudeConfig, got {type(config).__name__}")
     from mtcal.systems import plausibility
 
-    g = np.ascontiguousarray(as_float_array(gyro_rad_s, "gyro_rad_s", ndim=2, last_dim=3, copy=False))
-    a = np.ascontiguousarray(as_float_array(accel_m_s2, "accel_m_s2", ndim=2, last_dim=3, copy=False))
+    g = _row_major(as_float_array(gyro_rad_s, "gyro_rad_s", ndim=2, last_dim=3, copy=False))
+    a = _row_major(as_float_array(accel_m_s2, "accel_m_s2", ndim=2, last_dim=3, copy=False))
     if g.shape != a.shape:
         raise ValueError(f"gyro_rad_s and accel_m_s2 must have the same shape, got {g.shape} and {a.shape}")
     dt = sample_interval(dt_s)
@@ -395,7 +401,7 @@ def attitude_record(gyro_rad_s, accel_m_s2, dt_s: float, config: AttitudeConfig,
     if gyro_rad_s is None:
         raise ValueError("gyro_rad_s must be given: the attitude needs the gyro")
     a, g, dt, t = checked_record(accel_m_s2, dt_s, gyro_rad_s, time_s)
-    a, g = np.ascontiguousarray(a), np.ascontiguousarray(g)      # row-major, as estimate_attitude takes them
+    a, g = _row_major(a), _row_major(g)                           # as estimate_attitude takes them
     weights = None if time_s is None else plausibility.time_base(g.shape[0], time_s=t)[1]
     rep = find_rests_trusted(a, g, dt, t, config.rests)
     clipped, level = plausibility.clipped_samples(g)
