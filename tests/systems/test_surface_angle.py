@@ -443,15 +443,16 @@ def test_sweep_cell_config_is_the_registry_entry():
 
 
 def test_cli_defaults_are_the_configs_cli_defaults():
-    """``mtcal axis`` / ``mtcal angle`` option defaults equal those of :meth:`AxisConfig.cli` and
-    :meth:`SurfaceAngleConfig.cli` (one set of CLI defaults)."""
+    """``mtcal axis`` / ``mtcal angle`` option defaults equal those of :meth:`AxisConfig.cli`,
+    :meth:`AxisRecordConfig.cli` and :meth:`SurfaceAngleConfig.cli` (one set of CLI defaults)."""
     import inspect
 
     from mtcal.cli.main import build_parser
 
     axis_args = build_parser().parse_args(["axis", "log.csv"])
     angle_args = build_parser().parse_args(["angle", "log.csv", "--axis", "1,0,0"])
-    for cfg, args in ((AxisConfig.cli, axis_args), (SurfaceAngleConfig.cli, angle_args)):
+    for cfg, args in ((AxisConfig.cli, axis_args), (surface_angle.AxisRecordConfig.cli, axis_args),
+                      (SurfaceAngleConfig.cli, angle_args)):
         for name, par in inspect.signature(cfg).parameters.items():
             if par.kind is par.KEYWORD_ONLY and hasattr(args, name) and par.default is not None:
                 assert float(getattr(args, name)) == par.default, name
