@@ -71,7 +71,7 @@ def cmd_axis(args: argparse.Namespace) -> int:
                                                       gyro_rad_s=log.gyro_rad_s, unit_stated=log.gyro_unit_stated)
         except ValueError as exc:  # what the refusal saw: its rests and units check, printed, then the error
             if getattr(exc, "rests", None) is not None:
-                fig.report = exc.rests
+                fig.report, fig.used = exc.rests, list(getattr(exc, "used", ()))
                 _print_axis_rests(log, exc.rests, exc.units_check, paper)
             raise
         rep, est = found.rests, found.axis

@@ -436,7 +436,8 @@ def surface_axis_record(accel_m_s2, config: AxisRecordConfig, *, fs_hz: float, t
     ValueError
         Bad arrays; no rest; fewer than three distinct tilts; axis too uncertain or nearly vertical; a gyro
         the units check refuses. A refusal after the rests were found carries them as ``exc.rests`` and the
-        units check (or None) as ``exc.units_check``.
+        units check (or None) as ``exc.units_check``; a refusal of the paper's uncertainty gate also A1's three
+        rests as ``exc.used``.
 
     References
     ----------
@@ -496,22 +497,23 @@ def _axis_record_paper(a: np.ndarray, dt: float, fs: float, config: AxisRecordCo
     min_rest = float(config.rests.min_rest_s)
     rep = paper_rest_report_trusted(a, dt, None, min_rest, ZvdParams())
     try:
-        try:
-            res = rotation_axis.estimate_axis(a, dt, min_rest_s=min_rest, is_static=rep.is_static,
-                                              min_separation_deg=config.min_separation_deg,
-                                              max_elevation_deg=config.max_elevation_deg)
-        except ValueError as exc:
-            raise ValueError(f"{exc} [paper ZVD band {rep.band_m_s2[0]:g}-{rep.band_m_s2[1]:g} m/s^2, measured "
-                             f"|a| at rest {rep.extra['measured_gravity_m_s2']:.4f} m/s^2; --rest-detector "
-                             f"adaptive measures the band from the data]") from None
-        counts = np.array([r.stop - r.start for r in res.rests], float)
-        window = rep.window_s * fs
-        # axis_uncertainty on A1's means (float (3, 3)) and the noise the ZVD report measured on its blocks
+        res = rotation_axis.estimate_axis(a, dt, min_rest_s=min_rest, is_static=rep.is_static,
+                                          min_separation_deg=config.min_separation_deg,
+                                          max_elevation_deg=config.max_elevation_deg)
+    except ValueError as exc:
+        err = ValueError(f"{exc} [paper ZVD band {rep.band_m_s2[0]:g}-{rep.band_m_s2[1]:g} m/s^2, measured "
+                         f"|a| at rest {rep.extra['measured_gravity_m_s2']:.4f} m/s^2; --rest-detector "
+                         f"adaptive measures the band from the data]")
+        err.rests, err.units_check = rep, None
+        raise err from None
+    counts = np.array([r.stop - r.start for r in res.rests], float)
+    window = rep.window_s * fs
+    try:  # axis_uncertainty on A1's means (float (3, 3)) and the noise the ZVD report measured on its blocks
         fit = rotation_axis.gated_plane_fit_trusted(res.means, counts, rep.accel_noise_m_s2, window,
                                                     np.inf if config.max_axis_error_deg is None
                                                     else float(config.max_axis_error_deg), SIGMA_MEAN_FLOOR_M_S2)
     except ValueError as exc:
-        exc.rests, exc.units_check = rep, None
+        exc.rests, exc.units_check, exc.used = rep, None, tuple(res.rests)
         raise
     v, means = res.v, res.means
     n_eff = float(np.min(counts)) / max(1.0, float(window))       # as axis_uncertainty's rest-mean noise

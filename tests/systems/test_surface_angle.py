@@ -552,6 +552,10 @@ def test_cli_axis_is_bit_identical_to_the_study_procedure(tmp_path, capsys):
         found = surface_angle.surface_axis_record(sim.accel_m_s2[0], config, fs_hz=imu.fs_hz, time_s=t)
         np.testing.assert_array_equal(found.axis.axis, study)
         assert [r.start // 10 for r in found.used] == [r.start // 10 for r in rests[:3]]   # the schedule's rests
+        with pytest.raises(ValueError, match="axis too uncertain") as info:       # the gate names A1's rests
+            surface_angle.surface_axis_record(sim.accel_m_s2[0], replace(config, max_axis_error_deg=1e-6),
+                                              fs_hz=imu.fs_hz, time_s=t)
+        assert info.value.used == found.used and info.value.rests.method == "paper"
 
 
 def test_axis_record_adaptive_equals_its_steps():
