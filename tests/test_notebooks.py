@@ -80,6 +80,10 @@ def test_artifact_catalogue_is_complete_and_current():
     spec.loader.exec_module(cat)
     assert cat.paper_artifact("tan2022_fig06") == "tan2022 Fig. 6"
     assert cat.problems() == []
+    # a file's producer is the one named after its ID, not another producer of claims under that ID
+    producers = cat.registered_producers()
+    assert producers["tan2022_fig12"] == "`mtcal.studies.tan2022.fig12`"
+    assert producers["tan2022_fig06"] == "`mtcal.studies.tan2022.fig06`"
 
 
 #: run-dependent values a notebook must never print (outputs are committed and must be byte-identical per run)

@@ -136,7 +136,10 @@ def registered_producers() -> dict[str, str]:
             if name.startswith("_") or not callable(fn) or not isinstance(ident, str):
                 continue
             public = f"{package.__name__}.{name}" if getattr(package, name, None) is fn else f"{module.__name__}.{name}"
-            out.setdefault(ident, f"`{public}`")
+            if ident.endswith("_" + name):     # the producer named after the ID (``fig12``) is the file's, over a
+                out[ident] = f"`{public}`"     # part of its claims declared with the same ID (``threshold_check``)
+            else:
+                out.setdefault(ident, f"`{public}`")
     return out
 
 

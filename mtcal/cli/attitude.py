@@ -17,8 +17,8 @@ Seel 2023; gyro sample k integrated over t_(k-1)..t_k as their convention; headi
 first 100 samples.
 
 The command parses the options into one :class:`mtcal.systems.attitude.AttitudeConfig`
-(:func:`mtcal.cli.common.attitude_config`), reads the log, calls the attitude system
-(:func:`mtcal.systems.rests.find_rests`, then :func:`mtcal.systems.attitude.estimate_attitude`) and writes.
+(:func:`mtcal.cli.common.attitude_config`), reads the log, calls the attitude system once
+(:func:`mtcal.systems.attitude.attitude_record`: rests, clipped gyro, units check, filter), prints and writes.
 """
 
 from __future__ import annotations
@@ -28,7 +28,6 @@ import argparse
 import numpy as np
 
 from mtcal.cli import common, logio
-from mtcal.systems import plausibility
 from mtcal.systems.attitude import FILTERS
 
 EXAMPLE = """output columns: time_s (s), q0, q1, q2, q3 (sensor -> world, scalar-first),
@@ -44,22 +43,22 @@ def run(args: argparse.Namespace) -> int:
     out = logio.check_output_path(args.out, [args.log])
 
     def body() -> int:
-        from mtcal.systems.attitude import estimate_attitude
-        from mtcal.systems.rests import find_rests
+        from mtcal.systems.attitude import attitude_record
 
         log = logio.read_log(args.log, common.input_options(args), need="raw")
         fig.log = log
         config = common.attitude_config(args)
-        rep = find_rests(log.accel_m_s2, log.dt_mean_s, config.rests, gyro_rad_s=log.gyro_rad_s, time_s=log.time_s)
-        fig.report = rep
-        clipped, level = plausibility.clipped_samples(log.gyro_rad_s)
-        if clipped.any():
-            print(f"warning: gyro clipped at {np.degrees(level):.1f} deg/s in {int(clipped.sum())} samples")
         try:
-            res = estimate_attitude(log.gyro_rad_s, log.accel_m_s2, log.dt_mean_s, config, time_s=log.time_s,
-                                    rests=rep, skip=clipped, unit_stated=log.gyro_unit_stated)
-        except ImportError as exc:
-            raise ValueError(_missing_package(args.filter, exc)) from None
+            res = attitude_record(log.gyro_rad_s, log.accel_m_s2, log.dt_mean_s, config, time_s=log.time_s,
+                                  unit_stated=log.gyro_unit_stated)
+        except (ValueError, ImportError) as exc:  # what the refusal saw: the rests (figure), the clipping warning
+            fig.report = getattr(exc, "rests", None)
+            _print_clipping(*getattr(exc, "clipped", (np.zeros(0, bool), 0.0)))
+            if isinstance(exc, ImportError):
+                raise ValueError(_missing_package(args.filter, exc)) from None
+            raise
+        rep = fig.report = res.rests
+        _print_clipping(res.clipped, res.clip_level_rad_s)
         e = common.euler_deg(res.q_ws)
         if fig.path is not None:
             fig.series = {"pitch/roll (deg)": np.maximum(np.abs(e[:, 1]), np.abs(e[:, 2]))}
@@ -80,6 +79,12 @@ def run(args: argparse.Namespace) -> int:
         return 0
 
     return common.run_with_figure(fig, body)
+
+
+def _print_clipping(clipped: np.ndarray, level_rad_s: float) -> None:
+    """The warning line for gyro samples on a full-scale plateau (none: nothing printed)."""
+    if clipped.any():
+        print(f"warning: gyro clipped at {np.degrees(level_rad_s):.1f} deg/s in {int(clipped.sum())} samples")
 
 
 def _missing_package(name: str, exc: ImportError) -> str:

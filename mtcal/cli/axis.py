@@ -14,6 +14,10 @@
   a log that starts moving gets empty angles before that rest. Refused when the axis is nearly parallel to gravity, when the
   gyro turns about another axis than ``--axis``, or when the gyro's units or
   time base disagree with the accelerometer's tilt change between rests.
+
+Each command parses its options into one config, reads the log, calls one system
+(:func:`mtcal.systems.surface_angle.surface_axis_record` for both rest detectors,
+:func:`~mtcal.systems.surface_angle.surface_angle_record`), prints and writes.
 """
 
 from __future__ import annotations
@@ -23,7 +27,6 @@ import argparse
 import numpy as np
 
 from mtcal.cli import common, logio
-from mtcal.systems import plausibility
 
 AXIS_EXAMPLE = """prints: 'axis v = x,y,z' (unit, v_x >= 0), its 1-sigma uncertainty, one line per rest
 example:
@@ -51,71 +54,56 @@ def cmd_axis(args: argparse.Namespace) -> int:
 
     def body() -> int:
         from mtcal.systems import surface_angle  # numba/scipy: loaded when the command runs, not for --help
+        from mtcal.systems.rests import RestsConfig
 
         limits = dict(min_separation_deg=common.finite_float(args.min_separation_deg, "--min-separation-deg"),
                       max_axis_error_deg=common.finite_float(args.max_axis_error_deg, "--max-axis-error-deg"),
                       max_elevation_deg=common.finite_float(args.max_elevation_deg, "--max-elevation-deg"))
         log = logio.read_log(args.log, common.input_options(args), need="accel")
         fig.log = log
-        if args.rest_detector == "paper":
-            return _axis_paper(args, log, fig, limits)
-        rep = common.detect(args, log, use_gyro=log.gyro_rad_s is not None)
-        fig.report = rep
-        common.print_report(log, rep)
-        if log.gyro_rad_s is not None:  # the rests used gyro: its units and the time base must fit
-            chk = plausibility.check_units(log.gyro_for_filter(), log.accel_m_s2, log.dt_mean_s, rep.rests,
-                                           time_s=log.time_s, skip=plausibility.clipped_samples(log.gyro_rad_s)[0],
-                                           unit_stated=log.gyro_unit_stated)
-            common.print_units_check(chk)
-        if len(rep.rests) == 0:
-            raise ValueError(f"found only 0 rests of >= {rep.min_rest_s:g} s ({rep.levels_text()}); "
-                             f"the axis needs rests at three distinct tilts")
-        config = surface_angle.AxisConfig.cli(rep.accel_noise_m_s2, rep.window_s * log.fs_hz, **limits)
-        est = surface_angle.estimate_surface_axis(log.accel_m_s2, rep.rests, config)
-        fig.used = [rep.rests[m[0]] for m in est.members]
-        v, means = est.axis, est.rest_means_m_s2
+        paper = args.rest_detector == "paper"   # the paper's path (Table 1 ZVD, Algorithm A1): accelerometer only
+        rests = (RestsConfig(detector="paper", min_rest_s=common.finite_float(args.min_rest_s, "--min-rest-s"),
+                             use_gyro=False) if paper
+                 else common.rests_config(args, has_gyro=log.gyro_rad_s is not None))
+        config = surface_angle.AxisRecordConfig.cli(rests, **limits)
+        try:
+            found = surface_angle.surface_axis_record(log.accel_m_s2, config, fs_hz=log.fs_hz, time_s=log.time_s,
+                                                      gyro_rad_s=log.gyro_rad_s, unit_stated=log.gyro_unit_stated)
+        except ValueError as exc:  # what the refusal saw: its rests and units check, printed, then the error
+            if getattr(exc, "rests", None) is not None:
+                fig.report, fig.used = exc.rests, list(getattr(exc, "used", ()))
+                _print_axis_rests(log, exc.rests, exc.units_check, paper)
+            raise
+        rep, est = found.rests, found.axis
+        fig.report, fig.used = rep, list(found.used)
+        _print_axis_rests(log, rep, found.units_check, paper)
+        v, means, t = est.axis, est.rest_means_m_s2, log.time_s
         print(f"axis v = {v[0]:.6f},{v[1]:.6f},{v[2]:.6f}")
+        if paper:
+            for i, sl in enumerate(found.used):
+                print(f"rest {i}: {t[sl.start]:.3f}-{t[sl.stop - 1]:.3f} s, mean accel "
+                      f"[{means[i][0]:.5f}, {means[i][1]:.5f}, {means[i][2]:.5f}] m/s^2")
+            return 0
         print(f"axis uncertainty +-{np.degrees(est.sigma_rad):.3f} deg (1 sigma), elevation "
               f"{np.degrees(est.elevation_rad):.2f} deg, from {est.positions_m_s2.shape[0]} distinct positions "
               f"of {len(rep.rests)} rests")
         ang = np.degrees(est.rest_angles_rad)
         for i, r in enumerate(rep.rests):
-            print(f"rest {i}: {log.time_s[r.start]:.3f}-{log.time_s[r.stop - 1]:.3f} s, angle about v "
+            print(f"rest {i}: {t[r.start]:.3f}-{t[r.stop - 1]:.3f} s, angle about v "
                   f"{ang[i]:+.3f} deg, mean accel [{means[i][0]:.5f}, {means[i][1]:.5f}, {means[i][2]:.5f}] m/s^2")
         return 0
 
     return common.run_with_figure(fig, body)
 
 
-def _axis_paper(args, log, fig, limits: dict) -> int:
-    """The paper's path: Table 1 ZVD + Algorithm A1 (first three distinct rests); ``limits``: the parsed
-    ``--min-separation-deg``, ``--max-axis-error-deg``, ``--max-elevation-deg``."""
-    from mtcal.methods.rest_detection import paper_rest_report
-    from mtcal.methods.rotation_axis import estimate_axis
-    from mtcal.systems import surface_angle
-
-    min_rest = common.finite_float(args.min_rest_s, "--min-rest-s")
-    rep = paper_rest_report(log.accel_m_s2, 1.0 / log.fs_hz, min_rest_s=min_rest)
-    fig.report = rep
-    print(rep.levels_text() + f" (measured |a| at rest {rep.extra['measured_gravity_m_s2']:.4f} m/s^2)")
-    try:
-        res = estimate_axis(log.accel_m_s2, 1.0 / log.fs_hz, min_rest_s=min_rest, is_static=rep.is_static,
-                            min_separation_deg=limits["min_separation_deg"],
-                            max_elevation_deg=limits["max_elevation_deg"])
-    except ValueError as exc:
-        raise ValueError(f"{exc} [paper ZVD band {rep.band_m_s2[0]:g}-{rep.band_m_s2[1]:g} m/s^2, measured |a| "
-                         f"at rest {rep.extra['measured_gravity_m_s2']:.4f} m/s^2; --rest-detector adaptive "
-                         f"measures the band from the data]") from None
-    fig.used = list(res.rests)
-    surface_angle.axis_uncertainty(res.means, np.array([r.stop - r.start for r in res.rests], float),
-                                   accel_noise_m_s2=rep.accel_noise_m_s2, window_samples=rep.window_s * log.fs_hz,
-                                   max_axis_error_deg=limits["max_axis_error_deg"])
-    print(f"axis v = {res.v[0]:.6f},{res.v[1]:.6f},{res.v[2]:.6f}")
-    t = log.time_s
-    for i, sl in enumerate(res.rests):
-        print(f"rest {i}: {t[sl.start]:.3f}-{t[sl.stop - 1]:.3f} s, mean accel "
-              f"[{res.means[i][0]:.5f}, {res.means[i][1]:.5f}, {res.means[i][2]:.5f}] m/s^2")
-    return 0
+def _print_axis_rests(log, rep, units_check, paper: bool) -> None:
+    """What ``mtcal axis`` prints of the rests: the paper ZVD's levels line, or the rest report and the units check."""
+    if paper:
+        print(rep.levels_text() + f" (measured |a| at rest {rep.extra['measured_gravity_m_s2']:.4f} m/s^2)")
+        return
+    common.print_report(log, rep)
+    if units_check is not None:
+        common.print_units_check(units_check)
 
 
 def cmd_angle(args: argparse.Namespace) -> int:
@@ -142,28 +130,22 @@ def cmd_angle(args: argparse.Namespace) -> int:
             raise
         rep, res, t = found.rests, found.angle, log.time_s
         fig.report = rep
-        acc_ang = np.degrees(found.rest_accel_angles_rad)  # each rest's tilt angle
         if res.clipped.any():
             print(f"warning: gyro clipped at {np.degrees(res.clip_level_rad_s):.1f} deg/s in "
                   f"{int(res.clipped.sum())} samples; angles through those moves rely on the following rest")
-        check, k0 = res.unit_check, res.start
-        elev = float(np.degrees(res.elevation_rad))
         angle = np.degrees(res.angle_rad)
         if found.late:
             print(f"note: the log starts moving; angles are measured from the first rest at "
-                  f"{t[k0] - t[0]:.2f} s (angle 0 there, empty before)")
+                  f"{t[res.start] - t[0]:.2f} s (angle 0 there, empty before)")
         fig.series = {"angle (deg)": angle}
         logio.write_table(out, {"time_s": t, "angle_deg": angle, "is_static": rep.is_static.astype(np.int8)})
-        ekf_ang = np.array([np.nanmedian(angle[r]) if np.isfinite(angle[r]).any() else np.nan for r in rep.rests])
-        acc_ang = acc_ang + 360.0 * np.round((ekf_ang - acc_ang) / 360.0)  # same turn as the EKF
-        units_line = common.units_check_line(check)
-        print("\n".join(common.report_lines(log, rep, angle_deg=angle, extra={"accel_angle_deg": acc_ang})))
-        off = np.abs(ekf_ang - acc_ang)
-        if np.nanmax(off, initial=0.0) > 2.0 and np.cos(np.radians(elev)) > 0.2:
-            i = int(np.nanargmax(off))
-            print(f"warning: at rest {i} the EKF angle differs from the accelerometer's by {off[i]:.2f} deg "
+        print("\n".join(common.report_lines(log, rep, angle_deg=angle,
+                                            extra={"accel_angle_deg": np.degrees(found.rest_accel_angles_rad)})))
+        if found.rest_mismatch is not None:
+            i, off = found.rest_mismatch
+            print(f"warning: at rest {i} the EKF angle differs from the accelerometer's by {np.degrees(off):.2f} deg "
                   f"(axis or accelerometer errors; check --axis)")
-        print(units_line)
+        print(common.units_check_line(res.unit_check))
         print(f"angle: {t.size} samples written to {out}; final angle {angle[-1]:.3f} deg")
         return 0
 

@@ -207,24 +207,28 @@ def rest_table(log: logio.ImuLog, report: rest_detection.RestReport, angle_deg: 
                angle_name: str = "angle_deg", extra: dict | None = None) -> list[str]:
     """Per-rest summary lines: time span, duration, |a|, tilt from sensor z, mean gyro, angle, extras.
 
+    The per-rest levels are :func:`mtcal.systems.rests.rests_table`'s (``mtcal rests --out``); ``|w|``
+    is the norm of its mean gyro columns. ``angle_deg`` (N,) gives each rest's median angle;
     ``extra`` maps a column name to one value per rest.
     """
-    t, a = log.time_s, log.accel_m_s2
+    from mtcal.systems.rests import rests_table
+
+    cols = rests_table(log.time_s, log.accel_m_s2, report, gyro_rad_s=log.gyro_rad_s)
+    has_gyro = log.gyro_rad_s is not None
     head = f"{'rest':>4} {'start_s':>10} {'stop_s':>10} {'dur_s':>7} {'|a|_m_s2':>9} {'tilt_deg':>9}"
-    if log.gyro_rad_s is not None:
+    if has_gyro:
         head += f" {'|w|_deg_s':>9}"
+        w_deg_s = np.linalg.norm(np.column_stack([cols[f"gyro_{ax}_deg_s"] for ax in "xyz"]), axis=1)
     if angle_deg is not None:
         head += f" {angle_name:>10}"
     for name in extra or {}:
         head += f" {name:>{max(10, len(name))}}"
     lines = [head]
     for i, r in enumerate(report.rests):
-        m = a[r].mean(axis=0)
-        tilt = np.degrees(np.arctan2(np.hypot(m[0], m[1]), m[2]))
-        line = (f"{i:>4} {t[r.start]:>10.3f} {t[r.stop - 1]:>10.3f} {t[r.stop - 1] - t[r.start]:>7.3f} "
-                f"{np.linalg.norm(m):>9.4f} {tilt:>9.2f}")
-        if log.gyro_rad_s is not None:
-            line += f" {np.degrees(np.linalg.norm(log.gyro_rad_s[r].mean(axis=0))):>9.3f}"
+        line = (f"{i:>4} {cols['start_s'][i]:>10.3f} {cols['stop_s'][i]:>10.3f} {cols['duration_s'][i]:>7.3f} "
+                f"{cols['accel_norm_m_s2'][i]:>9.4f} {cols['tilt_deg'][i]:>9.2f}")
+        if has_gyro:
+            line += f" {w_deg_s[i]:>9.3f}"
         if angle_deg is not None:
             line += f" {float(np.median(angle_deg[r])):>10.3f}"
         for name, vals in (extra or {}).items():

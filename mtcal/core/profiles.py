@@ -84,6 +84,12 @@ def step_schedule(waypoints_rad, rate_rad_s: float, hold_s, fs_hz: float,
                   *, min_move_s: float = 0.0) -> AngleProfile:
     """Hold at each waypoint, moving between them with a minimum-jerk blend.
 
+    Takes ``fs_hz``, not ``dt_s`` (the exception of the study template's time-base rule): the samples are
+    made at ``t_k = k / fs_hz`` (the time base :mod:`mtcal.core.simulate` reads from the trajectory; the sensor
+    spec owns the rate), and their count is ``floor(duration · fs_hz)``; ``1 / (1 / fs)`` is not ``fs`` exactly for
+    640 of the integer rates 1–5000 Hz, so a rate rebuilt from ``dt_s`` would move sample times by an ulp and could change a
+    count at a tie.
+
     Parameters
     ----------
     waypoints_rad : array_like, shape (K,) or (K, D)
@@ -135,7 +141,17 @@ def step_schedule(waypoints_rad, rate_rad_s: float, hold_s, fs_hz: float,
 
 def sinusoid(amplitude_rad: float, freq_hz: float, duration_s: float, fs_hz: float,
              *, phase_rad: float = 0.0, offset_rad: float = 0.0) -> AngleProfile:
-    """Single-channel oscillation ``θ(t) = offset + A sin(2π f t + φ)``."""
+    """Single-channel oscillation ``θ(t) = offset + A sin(2π f t + φ)``, sampled on ``[0, duration_s)``.
+
+    Takes ``fs_hz``, not ``dt_s`` (the exception of the study template's time-base rule): the samples are
+    made at ``t_k = k / fs_hz`` (the time base :mod:`mtcal.core.simulate` reads from the trajectory; the sensor
+    spec owns the rate), and their count is ``floor(duration_s · fs_hz)``; ``1 / (1 / fs)`` is not ``fs`` exactly for
+    640 of the integer rates 1–5000 Hz, so a rate rebuilt from ``dt_s`` would move sample times by an ulp and could change a
+    count at a tie.
+
+    >>> sinusoid(0.1, 1.0, 1.0, 100.0).angle_rad.shape
+    (100, 1)
+    """
     amp = positive_scalar(amplitude_rad, "amplitude_rad", allow_zero=True)
     f = positive_scalar(freq_hz, "freq_hz")
     fs = positive_scalar(fs_hz, "fs_hz")
@@ -149,7 +165,18 @@ def sinusoid(amplitude_rad: float, freq_hz: float, duration_s: float, fs_hz: flo
 
 
 def constant_rate(start_rad: float, stop_rad: float, rate_rad_s: float, fs_hz: float) -> AngleProfile:
-    """Single-channel uniform rotation from ``start`` to ``stop`` (inclusive)."""
+    """Single-channel uniform rotation from ``start`` to ``stop`` (inclusive).
+
+    Takes ``fs_hz``, not ``dt_s`` (the exception of the study template's time-base rule): the samples are
+    made at ``t_k = k / fs_hz`` (the time base :mod:`mtcal.core.simulate` reads from the trajectory; the sensor
+    spec owns the rate), and their count is ``floor(|span| / rate · fs_hz) + 1``; ``1 / (1 / fs)`` is not ``fs`` exactly for
+    640 of the integer rates 1–5000 Hz, so a rate rebuilt from ``dt_s`` would move sample times by an ulp and could change a
+    count at a tie.
+
+    >>> import numpy as np
+    >>> float(constant_rate(0.0, np.radians(10.0), np.radians(10.0), 100.0).time_s[-1])
+    1.0
+    """
     rate = positive_scalar(rate_rad_s, "rate_rad_s")
     fs = positive_scalar(fs_hz, "fs_hz")
     span = float(stop_rad) - float(start_rad)

@@ -241,8 +241,22 @@ class QncfFilter:
             raise ValueError(f"trials={trials} does not match q0 with {n} rows")
         if not isinstance(params, QncfParams):
             raise TypeError(f"params must be a QncfParams, got {type(params).__name__}")
+        self._start(q, positive_scalar(dt_s, "dt_s"), params, n)
+
+    @classmethod
+    def _trusted(cls, q0: np.ndarray, dt_s: float, params: QncfParams) -> QncfFilter:
+        """A numba-engine filter from checked values (for :func:`qncf_trusted`): ``q0`` unit quaternions
+        (4,) (one record) or (T, 4), ``dt_s`` > 0, ``params`` a :class:`QncfParams`; nothing re-checked."""
+        filt = cls.__new__(cls)
+        filt.engine = "numba"
+        filt._single = q0.ndim == 1
+        filt._start(q0, float(dt_s), params, 1 if q0.ndim == 1 else q0.shape[0])
+        return filt
+
+    def _start(self, q: np.ndarray, dt_s: float, params: QncfParams, n: int) -> None:
+        """The state at the first sample: attitude ``q`` (4,) or (n, 4), zero integral, AMD not yet started."""
         self.params = params
-        self.dt_s = positive_scalar(dt_s, "dt_s")
+        self.dt_s = dt_s
         self.trials = n
         self._qx = np.empty((6, n))                       # q0 q1 q2 q3 q1 q2
         self._qx[:4] = np.broadcast_to(q, (n, 4)).T
@@ -659,36 +673,78 @@ def qncf(gyro_rad_s, accel_m_s2, dt_s: float, params: QncfParams = QncfParams(),
     single = w.ndim == 2  # unit plausibility is checked once, in QncfFilter.run
     if single:  # a gyro the accelerometer's tilt rate shows off by > 5x (deg/s, time base) is refused
         check_tilt_rate_scale(w, a, dt_s, excess="warn")
-    if q0 is None:
-        n0 = max(1, min(int(init_samples), w.shape[-2]))
-        q0 = initial_attitude_from_accel(np.mean(a[..., :n0, :], axis=-2))
-    q0 = unit_quaternion(q0, "q0")
-    if single and q0.shape != (4,):
-        raise ValueError(f"q0 must have shape (4,) for a single-trial record, got {q0.shape}")
+    if q0 is not None:
+        q0 = unit_quaternion(q0, "q0")
+        if single and q0.shape != (4,):
+            raise ValueError(f"q0 must have shape (4,) for a single-trial record, got {q0.shape}")
+    if fast:  # checked: the trusted entry (the kernel checks finiteness and units before the results are kept)
+        return qncf_trusted(w, a, dt_s, params, q0=q0, init_samples=init_samples, return_euler=return_euler)
+    q0 = _start_attitude(a, q0, init_samples)
     filt = QncfFilter(q0 if single else np.broadcast_to(q0, (w.shape[0], 4)), dt_s, params, engine=engine)
-    if fast:  # the kernel checks finiteness and units before the results are kept
-        return filt._run_numba(w[None] if single else w, a[None] if single else a, return_euler)
     return filt.run(w, a, return_euler=return_euler)
+
+
+def _start_attitude(accel: np.ndarray, q0, init_samples: int) -> np.ndarray:
+    """``q0``, or the levelled attitude of the mean of the first ``init_samples`` samples of each record."""
+    if q0 is not None:
+        return q0
+    n0 = max(1, min(int(init_samples), accel.shape[-2]))
+    return initial_attitude_from_accel(np.mean(accel[..., :n0, :], axis=-2))
 
 
 def qncf_trusted(gyro_rad_s, accel_m_s2, dt_s: float, params: QncfParams = QncfParams(), *,
                  q0=None, init_samples: int = 100, return_euler: bool = True) -> QncfResult:
-    """Internal entry: :func:`qncf` on one record whose units a caller has already checked.
+    """Trusted entry: :func:`qncf` (numba engine) on one record or a stack of records its caller built or checked.
 
-    For systems procedures and the CLI that ran :func:`mtcal.systems.plausibility.check_units`
-    (which includes the tilt-rate check) on this record: the same filter and result as
-    :func:`qncf` (numba engine, one (N, 3) record) without its second tilt-rate scan. Types,
-    shapes, finiteness and units are still checked (the kernel scans the values). Not part
-    of the public API (not in ``__all__``); users call :func:`qncf`.
+    For procedures below a public edge that already holds the checks (:func:`qncf` itself,
+    :mod:`mtcal.systems` procedures after :func:`mtcal.systems.plausibility.check_units`, Monte
+    Carlo runs on the records they simulated): the same filter, the same numbers as :func:`qncf`,
+    without its edge checks (types and shapes, ``q0``, and for one record the tilt-rate scan
+    :func:`mtcal.methods.tilt_rate.check_tilt_rate_scale`). Not part of the public API (not in
+    ``__all__``); users call :func:`qncf`.
+
+    Preconditions (not checked here)
+    --------------------------------
+    * ``gyro_rad_s`` and ``accel_m_s2`` are float arrays of one shape, (N, 3) (one record) or
+      (T, N, 3) (T records of N samples each, filtered as independent trials), N ≥ 1;
+      float64 C-contiguous arrays are used as they are (no copy), anything else is converted;
+    * the gyro is in rad/s and its scale and time base agree with the accelerometer's tilt rate
+      (for a log: :func:`mtcal.systems.plausibility.check_units` ran on it); ``dt_s`` > 0 is the
+      records' sample interval (s);
+    * ``q0`` is None (each record levelled from the mean of its first ``init_samples``
+      accelerometer samples, yaw 0) or a unit quaternion (4,) — for a stack also (T, 4);
+    * ``params`` is a :class:`QncfParams`.
+
+    What stays checked costs no pass of its own: the compiled kernel scans the values while it
+    filters (finite; gyro within ``MAX_GYRO_RAD_S``, accelerometer not in g:
+    :mod:`mtcal.core.validate`) and raises, with :func:`qncf`'s
+    messages, before anything is kept.
+
+    Parameters
+    ----------
+    gyro_rad_s, accel_m_s2 : ndarray, shape (N, 3) or (T, N, 3)
+        Sensor-frame rate (rad/s; sample k the mean over ``[t_k, t_{k+1}]``) and specific force (m/s²).
+    dt_s : float
+        Sample interval (s).
+    params, q0, init_samples, return_euler
+        As for :func:`qncf`.
+
+    Returns
+    -------
+    QncfResult
+        With a leading trial axis T iff the records had one (as :func:`qncf`).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> acc = np.tile([0.0, 0.0, 9.80665], (2, 100, 1))
+    >>> res = qncf_trusted(np.zeros((2, 100, 3)), acc, 1e-3, return_euler=False)
+    >>> res.q_ws.shape, bool(np.array_equal(res.q_ws, qncf(np.zeros((2, 100, 3)), acc, 1e-3).q_ws))
+    ((2, 100, 4), True)
     """
-    w = record(gyro_rad_s, "gyro_rad_s", (2,), scan=False)
-    a = record(accel_m_s2, "accel_m_s2", (2,), scan=False)
-    if w.shape != a.shape:
-        raise ValueError(f"gyro_rad_s and accel_m_s2 must have the same shape, got {w.shape} and {a.shape}")
-    if q0 is None:
-        n0 = max(1, min(int(init_samples), w.shape[0]))
-        q0 = initial_attitude_from_accel(np.mean(a[:n0, :], axis=0))
-    q0 = unit_quaternion(q0, "q0")
-    if q0.shape != (4,):
-        raise ValueError(f"q0 must have shape (4,) for a single-trial record, got {q0.shape}")
-    return QncfFilter(q0, dt_s, params)._run_numba(w[None], a[None], return_euler)
+    w = np.ascontiguousarray(gyro_rad_s, dtype=np.float64)
+    a = np.ascontiguousarray(accel_m_s2, dtype=np.float64)
+    q0 = np.asarray(_start_attitude(a, q0, init_samples), dtype=np.float64)
+    if w.ndim == 2:
+        return QncfFilter._trusted(q0, dt_s, params)._run_numba(w[None], a[None], return_euler)
+    return QncfFilter._trusted(np.broadcast_to(q0, (w.shape[0], 4)), dt_s, params)._run_numba(w, a, return_euler)

@@ -178,8 +178,8 @@ BUILTIN_FILTERS = (
                 "imufusion.Ahrs (x-io Fusion), NWU, °/s and g", requires="imufusion"),
     FilterEntry("rams_ekf", Deferred("mtcal.systems.surface_angle", "_registered_rams_ekf"), "angle",
                 RAMS_EKF_DEFAULT_GAIN, "sigma_a_moving (m/s²)", "ours",
-                "RAMS EKF as mtcal angle runs it: angle about a known axis, ZVD switching, restart "
-                "after clipping (wang2022sensors Sec. 4)"),
+                "RAMS EKF as the wang2022sensors study runs it (batched): angle about a known axis, ZVD "
+                "switching, restart after clipping (wang2022sensors Sec. 4)"),
 )
 _REGISTRY: dict[str, FilterEntry] = {e.name: e for e in BUILTIN_FILTERS}
 

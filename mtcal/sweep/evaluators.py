@@ -16,8 +16,8 @@ Registered evaluators (:func:`evaluator_names`):
 * ``surface`` — movable-surface rotations about a fixed hinge axis (wang2022sensors):
   any registered filter's angle about the axis (attitude filters: swing–twist;
   angle filters: their own output), via :func:`mtcal.filters.anchors.run_axis_angle_filter`;
-  the RAMS EKF entry is the ``mtcal angle`` procedure
-  (:func:`mtcal.systems.surface_angle.surface_angle`, declared in the filter registry's table).
+  the RAMS EKF entry is the study's batched surface-angle procedure with the sweep cell's config
+  (:meth:`mtcal.systems.surface_angle.SurfaceBatchConfig.sweep_cell`, declared in the filter registry's table).
 * ``six_position`` — wang2023cja §3.2 installation-error calibration with K = 4…12
   turntable positions: QNCF attitudes, the calibration procedure of
   :mod:`mtcal.systems.installation` (as ``mtcal calibrate``), error left at 12
@@ -461,6 +461,10 @@ def attitude_profile(motion: str, fs_hz: float, *, hold_s: float | None = None, 
     """[ψ, θ, γ] profile of a :data:`MOTIONS` entry: settle at zero, visit the waypoints, return.
 
     ``speed`` scales the move rates; ``hold_s`` overrides the hold per waypoint.
+
+    ``fs_hz`` (Hz) is the sample rate, not ``dt_s``: the sweep cell states the rate (parameter ``fs_hz``) and
+    :func:`mtcal.core.profiles.step_schedule` samples at a rate; a ``dt_s`` would reach it as ``1 / (1 / fs)``,
+    which is not ``fs`` for 603 of the integer rates 20–4000 Hz (e.g. 49 Hz), and would move the schedule's bits.
     """
     m = MOTIONS[motion]
     wp = np.zeros((len(m["waypoints_deg"]) + 2, 3))
@@ -510,13 +514,14 @@ def _attitude(p: dict, rngs: list) -> dict[str, np.ndarray]:
     gyro, accel = _simulate_block(truth.traj, model, rngs, p["vibration_m_s2"], p["vibration_hz"])
     init = max(1, int(round(0.5 * p["fs_hz"])))   # level from the first 0.5 s of the settling rest
     gains = {name: filter_gain(p, name) for name in _filter_list(p)}
+    hold_mask = _hold_mask(truth.holds[1:], truth.after.size)   # the metric windows: middle half of each hold
     # the simulated records are this evaluator's own (finite, rad/s and m/s²): every filter runs them
     # unchecked (the checks of run_attitude_filter, once per filter, were ≈ 6 % of the bake-off's CPU)
     q_init = levelled_start(accel, init)          # the common start, once per block
     out = {}
     for name, gain in gains.items():
         q = attitude_filter_trusted(name, gyro, accel, truth.traj.dt_s, gain, q_init)
-        m = _tilt_metrics_kernel(np.ascontiguousarray(q, dtype=float), truth.up, truth.after, truth.hold_mask)
+        m = _tilt_metrics_kernel(np.ascontiguousarray(q, dtype=float), truth.up, truth.after, hold_mask)
         out[f"{name}.tilt_rmse_deg"], out[f"{name}.hold_tilt_rmse_deg"], out[f"{name}.tilt_max_deg"] = m.T
     return out
 
@@ -524,12 +529,12 @@ def _attitude(p: dict, rngs: list) -> dict[str, np.ndarray]:
 @dataclass(frozen=True)
 class _CellTruth:
     """What every block of a cell shares (read-only arrays): the trajectory (its truth outputs memoised on
-    the object, :func:`mtcal.core.simulate.simulate_imu`), the metric windows, the true "up" / angle."""
+    the object, :func:`mtcal.core.simulate.simulate_imu`), its holds, the samples after the settling rest, the
+    true "up" / angle."""
 
     traj: Trajectory
     holds: tuple
     after: np.ndarray
-    hold_mask: np.ndarray
     up: np.ndarray = None
     theta: np.ndarray = None
     is_static: np.ndarray = None
@@ -552,9 +557,8 @@ def _attitude_truth(motion: str, fs_hz: float, hold_s, speed: float) -> _CellTru
     q0, q1, q2, q3 = q[:, 0], q[:, 1], q[:, 2], q[:, 3]
     up = np.ascontiguousarray(np.stack([2.0 * (q1 * q3 - q0 * q2), 2.0 * (q2 * q3 + q0 * q1),
                                         q0 * q0 - q1 * q1 - q2 * q2 + q3 * q3], axis=-1))
-    truth = _CellTruth(traj, holds, np.ascontiguousarray(after, dtype=np.bool_),
-                       np.ascontiguousarray(_hold_mask(holds[1:], after.size), dtype=np.bool_), up=up)
-    _frozen(truth.after, truth.hold_mask, truth.up)
+    truth = _CellTruth(traj, holds, np.ascontiguousarray(after, dtype=np.bool_), up=up)
+    _frozen(truth.after, truth.up)
     return truth
 
 
@@ -569,6 +573,8 @@ def surface_profile(fs_hz: float, *, step_deg: float = 30.0, span_deg: float = 6
     """Surface deflection θ(t): settle at 0, then −span…+span in ``step_deg`` steps, back to 0.
 
     wang2022sensors Sec. 7 sweeps in steps with 1 s holds at 20 °/s (mtcal RotationSetup values).
+    ``fs_hz`` (Hz) is the sample rate, not ``dt_s``, for the reason :func:`attitude_profile` states (the cell's
+    rate reaches :func:`mtcal.core.profiles.step_schedule` unchanged).
     """
     n = int(round(2 * span_deg / step_deg))
     sweep = np.linspace(-span_deg, span_deg, n + 1)
@@ -605,8 +611,9 @@ def _surface_metrics(p: dict) -> list[str]:
 def _surface(p: dict, rngs: list) -> dict[str, np.ndarray]:
     """Angle-about-axis errors (deg): RMS after the settling rest, RMS over holds, max.
 
-    The RAMS EKF runs as the ``mtcal angle`` system does
-    (:func:`mtcal.systems.surface_angle.surface_angle`): the true axis, ā0 and the
+    The RAMS EKF runs as the study's batched procedure
+    (:func:`mtcal.systems.surface_angle.surface_angle_batch` with
+    :meth:`~mtcal.systems.surface_angle.SurfaceBatchConfig.sweep_cell`): the true axis, ā0 and the
     initial gyro bias = means of the settling rest, the schedule's rest flags as its
     ZVD input (and its holds as the restart points after gyro clipping), and noise
     from the grade (σθ = gyro noise per sample, σa,static = accelerometer noise per
@@ -625,6 +632,7 @@ def _surface(p: dict, rngs: list) -> dict[str, np.ndarray]:
                                   p["vibration_m_s2"], p["vibration_hz"])
     settle, ref = holds[0], holds[0].stop - 1
     gains = {name: filter_gain(p, name) for name in _filter_list(p)}
+    hold_mask = _hold_mask(holds[1:], truth.after.size)         # the metric windows: middle half of each hold
     ctx = AxisContext(_SURFACE_AXIS_UNIT, np.broadcast_to(truth.is_static, accel.shape[:2]),
                       np.stack([np.mean(row[settle], axis=0) for row in accel]),
                       grade.gyro_noise_density_rad_s_rt_hz, grade.accel_noise_density_m_s2_rt_hz,
@@ -634,8 +642,7 @@ def _surface(p: dict, rngs: list) -> dict[str, np.ndarray]:
     out = {}
     for name, gain in gains.items():
         theta = axis_angle_filter_trusted(name, gyro, accel, truth.traj.dt_s, gain, ctx, ref, q_init)
-        m = _angle_metrics_kernel(np.ascontiguousarray(theta, dtype=float), truth.theta, truth.after,
-                                  truth.hold_mask)
+        m = _angle_metrics_kernel(np.ascontiguousarray(theta, dtype=float), truth.theta, truth.after, hold_mask)
         out[f"{name}.angle_rmse_deg"], out[f"{name}.hold_angle_rmse_deg"], out[f"{name}.angle_max_deg"] = m.T
     return out
 
@@ -657,10 +664,8 @@ def _surface_truth(fs_hz: float, step_deg: float, span_deg: float, rate_deg_s: f
     ref = holds[0].stop - 1
     after = np.arange(prof.time_s.size) >= ref
     truth = _CellTruth(traj, holds, np.ascontiguousarray(after, dtype=np.bool_),
-                       np.ascontiguousarray(_hold_mask(holds[1:], after.size), dtype=np.bool_),
-                       theta=prof.angle_rad[:, 0] - prof.angle_rad[ref, 0],
-                       is_static=np.array(prof.is_static))
-    _frozen(truth.after, truth.hold_mask, truth.theta, truth.is_static)
+                       theta=prof.angle_rad[:, 0] - prof.angle_rad[ref, 0], is_static=np.array(prof.is_static))
+    _frozen(truth.after, truth.theta, truth.is_static)
     return truth
 
 

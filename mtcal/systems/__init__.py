@@ -26,10 +26,11 @@ from mtcal.core.lazy import lazy_attributes
 
 if TYPE_CHECKING:  # the eager imports, for type checkers and tests/test_import_graph.py
     from mtcal.systems import attitude, installation, plausibility, rests, surface_angle
-    from mtcal.systems.attitude import AttitudeConfig, estimate_attitude
+    from mtcal.systems.attitude import AttitudeConfig, attitude_record, estimate_attitude
     from mtcal.systems.rests import RestsConfig, find_rests
-    from mtcal.systems.surface_angle import (AxisConfig, SurfaceAngleBatch, SurfaceAngleConfig, SurfaceBatchConfig,
-                                             estimate_surface_axis, surface_angle_batch)
+    from mtcal.systems.surface_angle import (AxisConfig, AxisRecordConfig, SurfaceAngleBatch, SurfaceAngleConfig,
+                                             SurfaceBatchConfig, SurfaceRecordConfig, estimate_surface_axis,
+                                             surface_angle_batch, surface_angle_record, surface_axis_record)
     from mtcal.systems.installation import (CalibratedAttitude, InstallationCalibration, InstallationConfig,
                                             InstallationRefused, apply_installation, calibrate_installation,
                                             detect_rests, verify_installation, calibrate_record, apply_record,
@@ -40,7 +41,8 @@ __all__ = ["attitude", "installation", "plausibility", "rests", "surface_angle",
            "RecordCalibration", "RecordApplication", "RecordRefused", "RefusalDiagnosis",
            "CalibratedAttitude", "calibrate_installation", "apply_installation", "detect_rests", "AttitudeConfig",
            "estimate_attitude", "RestsConfig", "find_rests", "AxisConfig", "SurfaceAngleConfig", "SurfaceBatchConfig",
-           "SurfaceAngleBatch", "surface_angle_batch", "estimate_surface_axis"]
+           "SurfaceAngleBatch", "surface_angle_batch", "estimate_surface_axis", "attitude_record", "AxisRecordConfig",
+           "surface_axis_record", "SurfaceRecordConfig", "surface_angle_record"]
 
 #: Submodules, loaded on first attribute access (``import mtcal`` stays light for the CLI).
 _SUBMODULES = ('attitude', 'installation', 'plausibility', 'rests', 'surface_angle')
@@ -54,7 +56,9 @@ _EXPORTS = {
     "AttitudeConfig": "attitude", "estimate_attitude": "attitude", "RestsConfig": "rests", "find_rests": "rests",
     "AxisConfig": "surface_angle", "SurfaceAngleConfig": "surface_angle", "SurfaceBatchConfig": "surface_angle",
     "SurfaceAngleBatch": "surface_angle", "surface_angle_batch": "surface_angle",
-    "estimate_surface_axis": "surface_angle",
+    "estimate_surface_axis": "surface_angle", "attitude_record": "attitude", "AxisRecordConfig": "surface_angle",
+    "surface_axis_record": "surface_angle", "SurfaceRecordConfig": "surface_angle",
+    "surface_angle_record": "surface_angle",
 }
 
 __getattr__, __dir__ = lazy_attributes(globals(), _SUBMODULES, _EXPORTS)

@@ -2,7 +2,9 @@
 
 The one procedure behind ``mtcal attitude`` (every ``--filter``), the default QNCF of ``mtcal
 apply``/``calibrate`` (:func:`qncf_log_setup`) and the real-data study's ``qncf_cli`` filter:
-:func:`estimate_attitude` takes one frozen :class:`AttitudeConfig` and the arrays. Rests come from
+:func:`estimate_attitude` takes one frozen :class:`AttitudeConfig` and the arrays;
+:func:`attitude_record` is the whole record in one call (rests, clipped gyro, units check, filter:
+the command's procedure), its arrays checked once at its edge. Rests come from
 :func:`mtcal.systems.rests.find_rests` (adaptive detector, rests shorter than the stated minimum
 dropped); the QNCF's gravity, AMD threshold and gains follow the rest levels and the measured noise
 (:func:`qncf_params_from_rests`), the start is levelled from the first rest and the gyro bias of
@@ -33,7 +35,7 @@ if TYPE_CHECKING:  # numba-compiled modules, imported when a procedure runs (``m
     from mtcal.filters.qncf import QncfParams
     from mtcal.methods import rest_detection
 
-__all__ = ["KP_RANGE_RAD_S", "FILTERS", "AttitudeConfig", "AttitudeResult", "estimate_attitude",
+__all__ = ["KP_RANGE_RAD_S", "FILTERS", "AttitudeConfig", "AttitudeResult", "estimate_attitude", "attitude_record",
            "qncf_params_from_rests", "QncfLogSetup", "qncf_log_setup"]
 
 #: Range of the QNCF proportional gain from :func:`qncf_params_from_rests`' noise rule (1/s).
@@ -243,6 +245,11 @@ class AttitudeResult:
         :func:`mtcal.systems.plausibility.check_units`' result (``config.check_units``).
     gain_text : str
         The filter's gains in words.
+    clipped : ndarray (N,) of bool or None
+        Gyro samples on a full-scale plateau (:func:`mtcal.systems.plausibility.clipped_samples`), skipped by
+        the units check (:func:`attitude_record`); None when not looked for.
+    clip_level_rad_s : float
+        Their clipping level (rad/s; 0 if none).
     """
 
     q_ws: np.ndarray
@@ -250,6 +257,8 @@ class AttitudeResult:
     setup: QncfLogSetup | None
     units_check: dict | None
     gain_text: str
+    clipped: np.ndarray | None = None
+    clip_level_rad_s: float = 0.0
 
 
 def _library_vqf(name: str, gyro: np.ndarray, acc: np.ndarray, dt_s: float) -> tuple[np.ndarray, str]:
@@ -265,6 +274,12 @@ def _registry_filter(name: str, gyro: np.ndarray, acc: np.ndarray, dt_s: float) 
     entry = registry.get_filter(name)
     q = anchors.run_attitude_filter(name, gyro[None], acc[None], dt_s)[0]
     return q, f"{entry.gain_unit} {entry.default_gain:g} (default)"
+
+
+def _row_major(x: np.ndarray) -> np.ndarray:
+    """A checked record row-major (C-contiguous; a copy only when it is not): the attitude does not depend on
+    the caller's memory layout (a column-major record, e.g. from a MATLAB file, gives the same bits)."""
+    return x if x.flags.c_contiguous else x.copy(order="C")
 
 
 def estimate_attitude(gyro_rad_s, accel_m_s2, dt_s: float, config: AttitudeConfig, *, time_s=None, rests=None,
@@ -294,6 +309,12 @@ def estimate_attitude(gyro_rad_s, accel_m_s2, dt_s: float, config: AttitudeConfi
     -------
     AttitudeResult
 
+    Notes
+    -----
+    The arrays are taken row-major (C-contiguous) at this edge: a column-major record (e.g. read from a
+    MATLAB file) gives the same attitude, bit for bit, as the same numbers row-major (the rest means'
+    summation order follows the memory layout).
+
     Raises
     ------
     ValueError
@@ -315,15 +336,90 @@ def estimate_attitude(gyro_rad_s, accel_m_s2, dt_s: float, config: AttitudeConfi
         raise TypeError(f"config must be an AttitudeConfig, got {type(config).__name__}")
     from mtcal.systems import plausibility
 
-    g = as_float_array(gyro_rad_s, "gyro_rad_s", ndim=2, last_dim=3, copy=False)
-    a = as_float_array(accel_m_s2, "accel_m_s2", ndim=2, last_dim=3, copy=False)
+    g = _row_major(as_float_array(gyro_rad_s, "gyro_rad_s", ndim=2, last_dim=3, copy=False))
+    a = _row_major(as_float_array(accel_m_s2, "accel_m_s2", ndim=2, last_dim=3, copy=False))
     if g.shape != a.shape:
         raise ValueError(f"gyro_rad_s and accel_m_s2 must have the same shape, got {g.shape} and {a.shape}")
     dt = sample_interval(dt_s)
     weights = None if time_s is None else plausibility.time_base(g.shape[0], time_s=time_s)[1]
-    filter_gyro = g if weights is None else g * weights[:, None]
     rep = find_rests(a, dt, config.rests, gyro_rad_s=g, time_s=time_s) if rests is None else rests
+    return _attitude_trusted(g, a, dt, weights, time_s, config, rep, skip, unit_stated)
 
+
+def attitude_record(gyro_rad_s, accel_m_s2, dt_s: float, config: AttitudeConfig, *, time_s=None,
+                    unit_stated: str | None = None) -> AttitudeResult:
+    """The attitude of one recorded log (``mtcal attitude``): rests, clipped gyro, units check, filter.
+
+    One call for a record: its rests (:func:`mtcal.systems.rests.find_rests` with ``config.rests``),
+    the gyro samples on a full-scale plateau (:func:`mtcal.systems.plausibility.clipped_samples`, skipped
+    by the units check), then :func:`estimate_attitude` with those rests. The arrays are checked here
+    once (shapes, finite, accelerometer in m/s², ``dt_s``, time column); the steps below trust them.
+
+    Parameters
+    ----------
+    gyro_rad_s : array_like, shape (N, 3)
+        Angular rate (rad/s), sample k the mean over ``[t_k, t_{k+1}]``.
+    accel_m_s2 : array_like, shape (N, 3)
+        Specific force (m/s²).
+    dt_s : float
+        Mean sample interval (s); the rests and the filters run at this step.
+    config : AttitudeConfig
+    time_s : array_like, shape (N,), optional
+        Sample times (s): the rests' listed spans and the gyro's per-sample weights; default ``k · dt_s``.
+    unit_stated : str, optional
+        Where the gyro's unit was stated (a units check that cannot decide then warns instead of refusing).
+
+    Returns
+    -------
+    AttitudeResult
+        With ``clipped`` and ``clip_level_rad_s`` set.
+
+    Raises
+    ------
+    ValueError
+        Bad arrays, ``dt_s`` or time column; a gyro the units check refuses. A refusal after the rests
+        were found carries them as ``exc.rests`` and the clipped samples as ``exc.clipped``
+        (``(mask, level_rad_s)``), so a caller can show what the refusal saw.
+    ImportError
+        The filter's optional library is missing (``exc.rests``, ``exc.clipped`` as above).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> rng = np.random.default_rng(2)
+    >>> acc = np.array([0.0, 0.0, 9.81]) + 0.02 * rng.standard_normal((1500, 3))
+    >>> gyr = 0.002 * rng.standard_normal((1500, 3))
+    >>> res = attitude_record(gyr, acc, 0.01, AttitudeConfig.cli_defaults(), time_s=np.arange(1500) * 0.01)
+    >>> len(res.rests.rests), bool(res.clipped.any()), res.setup.levelled_from.startswith("first rest")
+    (1, False, True)
+    """
+    if not isinstance(config, AttitudeConfig):
+        raise TypeError(f"config must be an AttitudeConfig, got {type(config).__name__}")
+    from mtcal.systems import plausibility
+    from mtcal.systems.rests import checked_record, find_rests_trusted
+
+    if gyro_rad_s is None:
+        raise ValueError("gyro_rad_s must be given: the attitude needs the gyro")
+    a, g, dt, t = checked_record(accel_m_s2, dt_s, gyro_rad_s, time_s)
+    a, g = _row_major(a), _row_major(g)                           # as estimate_attitude takes them
+    weights = None if time_s is None else plausibility.time_base(g.shape[0], time_s=t)[1]
+    rep = find_rests_trusted(a, g, dt, t, config.rests)
+    clipped, level = plausibility.clipped_samples(g)
+    try:
+        res = _attitude_trusted(g, a, dt, weights, time_s, config, rep, clipped, unit_stated)
+    except (ValueError, ImportError) as exc:
+        exc.rests, exc.clipped = rep, (clipped, level)   # what the refusal saw, for the caller's diagnostics
+        raise
+    return dataclasses.replace(res, clipped=clipped, clip_level_rad_s=level)
+
+
+def _attitude_trusted(g: np.ndarray, a: np.ndarray, dt: float, weights: np.ndarray | None, time_s,
+                      config: AttitudeConfig, rep: rest_detection.RestReport, skip,
+                      unit_stated: str | None) -> AttitudeResult:
+    """:func:`estimate_attitude` on checked arrays (float64 (N, 3), ``dt`` checked, ``weights`` the time base's)."""
+    from mtcal.systems import plausibility
+
+    filter_gyro = g if weights is None else g * weights[:, None]
     setup = qncf_log_setup(filter_gyro, a, dt, rep, gyro_rad_s=g) if config.filter == "qncf" else None
     chk = None
     if config.check_units:

@@ -28,7 +28,8 @@ from mtcal.core.validate import as_float_array, check_accel_units, sample_interv
 if TYPE_CHECKING:  # imported when a procedure runs (``mtcal --help`` stays light)
     from mtcal.methods import rest_detection
 
-__all__ = ["DETECTORS", "RestsConfig", "find_rests", "drop_short_rests", "rests_table", "default_rests"]
+__all__ = ["DETECTORS", "RestsConfig", "find_rests", "find_rests_trusted", "checked_record", "drop_short_rests",
+           "rests_table", "default_rests"]
 
 #: Rest detectors: measured levels (default), the paper's fixed band, SHOE quasi-static stance phases.
 DETECTORS = ("adaptive", "paper", "shoe")
@@ -130,8 +131,19 @@ def drop_short_rests(rep: rest_detection.RestReport, time_s) -> rest_detection.R
                                is_static=flags, n_short=rep.n_short + len(short))
 
 
-def _records(accel_m_s2, dt_s, gyro_rad_s, time_s):
-    """The edge check: (N, 3) float arrays of equal shape (accel in m/s²), dt > 0, N strictly increasing times (default k·dt)."""
+def checked_record(accel_m_s2, dt_s, gyro_rad_s=None, time_s=None):
+    """A record checked at a system's edge: ``(accel, gyro or None, dt, time_s)``.
+
+    ``accel_m_s2`` and ``gyro_rad_s`` finite float (N, 3) of equal shape, the accelerometer in m/s²
+    (:func:`mtcal.core.validate.check_accel_units`); ``dt_s`` a sample interval (s); ``time_s`` N times
+    (default ``k · dt_s``). One-line ``ValueError`` naming the array otherwise.
+
+    Examples
+    --------
+    >>> a, g, dt, t = checked_record(np.tile([0.0, 0.0, 9.81], (3, 1)), 0.5)
+    >>> g is None, dt, t.tolist()
+    (True, 0.5, [0.0, 0.5, 1.0])
+    """
     a = as_float_array(accel_m_s2, "accel_m_s2", ndim=2, last_dim=3, copy=False)
     check_accel_units(a)
     g = None if gyro_rad_s is None else as_float_array(gyro_rad_s, "gyro_rad_s", ndim=2, last_dim=3, copy=False)
@@ -181,12 +193,22 @@ def find_rests(accel_m_s2, dt_s: float, config: RestsConfig, *, gyro_rad_s=None,
     >>> len(find_rests(acc, 0.01, RestsConfig.cli_defaults(), gyro_rad_s=gyr).rests)
     1
     """
+    if not isinstance(config, RestsConfig):
+        raise TypeError(f"config must be a RestsConfig, got {type(config).__name__}")
+    a, g, dt, t = checked_record(accel_m_s2, dt_s, gyro_rad_s, time_s)
+    return find_rests_trusted(a, g, dt, t, config)
+
+
+def find_rests_trusted(a: np.ndarray, g: np.ndarray | None, dt: float, t: np.ndarray,
+                       config: RestsConfig) -> rest_detection.RestReport:
+    """:func:`find_rests` on a record a system checked at its edge (:func:`checked_record`): the same report.
+
+    Preconditions (not checked again): ``(a, g, dt, t)`` as :func:`checked_record` returns them; ``config`` a
+    :class:`RestsConfig`.
+    """
     from mtcal.methods import rest_detection
     from mtcal.methods.zero_velocity import ZvdParams
 
-    if not isinstance(config, RestsConfig):
-        raise TypeError(f"config must be a RestsConfig, got {type(config).__name__}")
-    a, g, dt, t = _records(accel_m_s2, dt_s, gyro_rad_s, time_s)
     gyro = g if config.use_gyro else None
     if config.detector == "paper":
         rep = rest_detection.paper_rest_report_trusted(a, dt, gyro, float(config.min_rest_s), ZvdParams())

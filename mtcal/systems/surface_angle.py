@@ -24,7 +24,10 @@ commands, the study's Monte Carlo runs and the sweep evaluator:
    the ZVD-flagged rests, the ZVD-switched EKF.
 4. :func:`surface_angle_record` — the procedure on one recorded log (``mtcal angle``): its
    rests (:func:`mtcal.systems.rests.find_rests`), the initial rest, the checked EKF and each
-   rest's accelerometer angle, in one call.
+   rest's EKF and accelerometer angles, in one call.
+5. :func:`surface_axis_record` — the axis of one recorded log (``mtcal axis``), for either rest
+   detector: adaptive/SHOE rests, the units check and the gated plane through every position,
+   or the paper's Table 1 ZVD and Algorithm A1, in one call.
 
 Each procedure checks its inputs, then goes down once: the axis estimate and its gates are
 methods (:func:`mtcal.methods.rotation_axis.axis_from_rests_trusted`,
@@ -33,9 +36,9 @@ methods (:func:`mtcal.methods.rotation_axis.axis_from_rests_trusted`,
 :func:`~mtcal.filters.rams_ekf.run_rams_ekf_batch_restarts_trusted`).
 
 Each procedure takes the data arrays and ONE frozen, resolved config —
-:class:`AxisConfig`, :class:`SurfaceAngleConfig`, :class:`SurfaceBatchConfig`, :class:`SurfaceRecordConfig` — with
-constructors for the paper's settings (``paper``), the CLI defaults (``cli``) and a sweep
-cell (:meth:`SurfaceAngleConfig.sweep_cell`). A config is checked when it is made, the
+:class:`AxisConfig`, :class:`SurfaceAngleConfig`, :class:`SurfaceBatchConfig`, :class:`SurfaceRecordConfig`,
+:class:`AxisRecordConfig` — with constructors for the paper's settings (``paper``), the CLI defaults
+(``cli``) and a sweep cell (:meth:`SurfaceAngleConfig.sweep_cell`, :meth:`SurfaceBatchConfig.sweep_cell`). A config is checked when it is made, the
 arrays once at the procedure's edge; the methods and the filter below run on the checked
 arrays (:func:`mtcal.filters.rams_ekf.run_rams_ekf_trusted`).
 
@@ -78,11 +81,13 @@ if TYPE_CHECKING:
     from mtcal.methods.rest_detection import RestReport
 
 __all__ = ["AxisConfig", "AxisEstimate", "estimate_surface_axis", "estimate_surface_axes", "axis_uncertainty",
+           "AxisRecordConfig", "SurfaceAxisRecord", "surface_axis_record",
            "angles_about_axis", "rest_ekf_params",
            "SurfaceAngleConfig", "SurfaceAngle", "surface_angle",
            "SurfaceRecordConfig", "SurfaceRecordAngle", "surface_angle_record",
            "SurfaceBatchConfig", "SurfaceAngleBatch", "surface_angle_batch", "rest_masks",
-           "SIGMA_MEAN_FLOOR_M_S2", "CLIPPED_P0_THETA_RAD", "MIN_TURN_FOR_AXIS_CHECK_DEG", "MIN_REST_ZVD_SHARE"]
+           "SIGMA_MEAN_FLOOR_M_S2", "CLIPPED_P0_THETA_RAD", "MIN_TURN_FOR_AXIS_CHECK_DEG", "MIN_REST_ZVD_SHARE",
+           "MAX_REST_ANGLE_MISMATCH_DEG"]
 
 #: Floor on the std of a rest mean (m/s²): ~0.1° of tilt (accelerometer cross-axis/nonlinearity, play).
 SIGMA_MEAN_FLOOR_M_S2 = 0.017
@@ -92,6 +97,8 @@ CLIPPED_P0_THETA_RAD = np.radians(30.0)
 MIN_TURN_FOR_AXIS_CHECK_DEG = 20.0
 #: A known rest where the ZVD flags fewer than this share of samples is used whole for the axis (batched procedure).
 MIN_REST_ZVD_SHARE = 0.1
+#: One record: a rest whose EKF angle differs from the accelerometer's by more than this (deg) is reported.
+MAX_REST_ANGLE_MISMATCH_DEG = 2.0
 
 
 def axis_uncertainty(positions_m_s2, counts, *, accel_noise_m_s2: float, window_samples: float = 1.0,
@@ -318,6 +325,202 @@ def estimate_surface_axes(accel_m_s2, rest_masks, config: AxisConfig) -> np.ndar
         if m.dtype != bool or m.shape != a.shape[:2]:
             raise ValueError(f"each rest mask must be boolean of shape {a.shape[:2]}, got {m.dtype} {m.shape}")
     return rotation_axis.axes_from_rests_trusted(a, masks, **settings)
+
+
+# --------------------------------------------------------------------------- one record (a log): rests → axis
+@dataclass(frozen=True)
+class AxisRecordConfig:
+    """Resolved settings of :func:`surface_axis_record` (``mtcal axis``), checked once when made.
+
+    Attributes
+    ----------
+    rests : RestsConfig
+        How the log's rests are found. ``detector="paper"``: the paper's path, accelerometer only — Table 1
+        ZVD flags (rests ≥ ``min_rest_s``, none dropped by their listed span) and Algorithm A1 (Eq 23 on
+        the first three distinct rests, :func:`mtcal.methods.rotation_axis.estimate_axis`). Otherwise the
+        rests of :func:`mtcal.systems.rests.find_rests` and the plane through every distinct position
+        (:meth:`AxisConfig.cli`), the gyro's units checked when the log has one.
+    min_separation_deg : float
+        Rests closer in tilt are one position (deg).
+    max_axis_error_deg : float or None
+        Refuse an axis less certain than this (deg, 1σ); None: no gate.
+    max_elevation_deg : float
+        Refuse an axis steeper than this above the horizontal (deg).
+
+    Examples
+    --------
+    >>> AxisRecordConfig.cli(RestsConfig.cli_defaults(0.5)).max_axis_error_deg
+    2.0
+    >>> AxisRecordConfig(RestsConfig(), min_separation_deg=0.0)
+    Traceback (most recent call last):
+    ...
+    ValueError: min_separation_deg must be > 0, got 0.0
+    """
+
+    rests: RestsConfig
+    min_separation_deg: float = 3.0
+    max_axis_error_deg: float | None = 2.0
+    max_elevation_deg: float = 85.0
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.rests, RestsConfig):
+            raise TypeError(f"rests must be a RestsConfig, got {type(self.rests).__name__}")
+        positive_scalar(self.min_separation_deg, "min_separation_deg")
+        _limit(self.max_axis_error_deg, "max_axis_error_deg")
+        positive_scalar(self.max_elevation_deg, "max_elevation_deg")
+
+    @classmethod
+    def cli(cls, rests: RestsConfig, *, min_separation_deg: float = 3.0, max_axis_error_deg: float = 2.0,
+            max_elevation_deg: float = 85.0) -> "AxisRecordConfig":
+        """``mtcal axis`` (defaults = the command's): the given rests, gated."""
+        return cls(rests, min_separation_deg, max_axis_error_deg, max_elevation_deg)
+
+
+@dataclass(frozen=True)
+class SurfaceAxisRecord:
+    """Result of :func:`surface_axis_record`.
+
+    Attributes
+    ----------
+    rests : mtcal.methods.rest_detection.RestReport
+        The log's rests.
+    axis : AxisEstimate
+        The hinge axis, its uncertainty and the rests' means and angles about it. With the paper's
+        detector the rest means are those of Algorithm A1's three rests (``used``).
+    used : tuple of slice
+        The rests the axis used (one per distinct position; with the paper's detector A1's three).
+    units_check : dict or None
+        :func:`mtcal.systems.plausibility.check_units`' result (a log with a gyro, not the paper's path).
+    """
+
+    rests: RestReport
+    axis: AxisEstimate
+    used: tuple
+    units_check: dict | None
+
+
+def surface_axis_record(accel_m_s2, config: AxisRecordConfig, *, fs_hz: float, time_s, gyro_rad_s=None,
+                        unit_stated: str | None = None) -> SurfaceAxisRecord:
+    """The hinge axis of one recorded log (``mtcal axis``): rests, units check, gated axis (wang2022sensors Eq 23).
+
+    Adaptive or SHOE rests (:func:`mtcal.systems.rests.find_rests`), the gyro's units and time base checked
+    against the accelerometer when a gyro is given (clipped samples skipped), then the plane through every
+    distinct rest position (:meth:`AxisConfig.cli` with the noise and window the rests measured). The
+    paper's detector (``config.rests.detector == "paper"``): Table 1 ZVD and Algorithm A1 on the
+    accelerometer, then the plane-tilt uncertainty of its three means (as :func:`axis_uncertainty`). Inputs
+    are checked here once.
+
+    Parameters
+    ----------
+    accel_m_s2 : array_like (N, 3)
+        Accelerometer (m/s²).
+    config : AxisRecordConfig
+    fs_hz : float
+        Sample rate of the log (Hz): the rests run at the mean step ``1 / fs_hz`` and the noise window is
+        counted in samples of this rate (``window_s · fs_hz``), as ``mtcal axis`` always did (taking
+        ``dt_s`` would move the uncertainty's last bits).
+    time_s : array_like (N,)
+        Sample times (s): the rests' listed spans and the units check's time base.
+    gyro_rad_s : array_like (N, 3), optional
+        Gyro (rad/s): used by the rests (``config.rests.use_gyro``) and checked for its units; ignored
+        by the paper's path.
+    unit_stated : str, optional
+        Where the gyro unit was stated (a units check that cannot decide then warns).
+
+    Returns
+    -------
+    SurfaceAxisRecord
+
+    Raises
+    ------
+    ValueError
+        Bad arrays; no rest; fewer than three distinct tilts; axis too uncertain or nearly vertical; a gyro
+        the units check refuses. A refusal after the rests were found carries them as ``exc.rests`` and the
+        units check (or None) as ``exc.units_check``; a refusal of the paper's uncertainty gate also A1's three
+        rests as ``exc.used``.
+
+    References
+    ----------
+    wang2022sensors Sec. 2.2 (Eq 15/16), Eq 23, Algorithm A1, Table 1 (ZVD).
+
+    Examples
+    --------
+    >>> from mtcal.core.profiles import fixed_axis_imu_truth, step_schedule
+    >>> prof = step_schedule(np.radians([0.0, 60.0, 120.0, 30.0]), np.radians(60.0), 1.5, 100.0)
+    >>> v = np.array([0.6, 0.0, 0.8])
+    >>> w, f = fixed_axis_imu_truth(prof.angle_rad.T, prof.rate_rad_s.T, prof.accel_rad_s2.T, [v], [[0.0, 0, 0]],
+    ...                             [0.0, 0.0, 9.81], 0.01)
+    >>> rng = np.random.default_rng(0)
+    >>> res = surface_axis_record(f[0] + 1e-2 * rng.standard_normal(f[0].shape),
+    ...                           AxisRecordConfig.cli(RestsConfig.cli_defaults(0.5)), fs_hz=100.0,
+    ...                           time_s=prof.time_s, gyro_rad_s=w[0] + 1e-3 * rng.standard_normal(w[0].shape))
+    >>> len(res.rests.rests), bool(np.degrees(np.arccos(res.axis.axis @ v)) < 0.5)
+    (4, True)
+    """
+    if not isinstance(config, AxisRecordConfig):
+        raise TypeError(f"config must be an AxisRecordConfig, got {type(config).__name__}")
+    from mtcal.systems.rests import checked_record, find_rests_trusted
+
+    fs = positive_scalar(fs_hz, "fs_hz")
+    paper = config.rests.detector == "paper"
+    a, g, dt, t = checked_record(accel_m_s2, 1.0 / fs, None if paper else gyro_rad_s, time_s)
+    if paper:
+        return _axis_record_paper(a, dt, fs, config)
+    rep = find_rests_trusted(a, g, dt, t, config.rests)
+    chk = None
+    try:
+        if g is not None:  # the rests used the gyro: its units and the time base must fit
+            weights = plausibility.time_base(a.shape[0], time_s=t)[1]
+            chk = plausibility.check_units(g if weights is None else g * weights[:, None], a, dt, rep.rests,
+                                           time_s=t, skip=plausibility.clipped_samples(g)[0],
+                                           unit_stated=unit_stated)
+        if len(rep.rests) == 0:
+            raise ValueError(f"found only 0 rests of >= {rep.min_rest_s:g} s ({rep.levels_text()}); "
+                             f"the axis needs rests at three distinct tilts")
+        settings = _axis_settings(AxisConfig.cli(rep.accel_noise_m_s2, rep.window_s * fs,
+                                                 min_separation_deg=config.min_separation_deg,
+                                                 max_axis_error_deg=config.max_axis_error_deg,
+                                                 max_elevation_deg=config.max_elevation_deg))
+        est = rotation_axis.axis_from_rests_trusted(a, list(rep.rests), **settings)
+    except ValueError as exc:
+        exc.rests, exc.units_check = rep, chk  # the caller's diagnostics show what the refusal saw
+        raise
+    return SurfaceAxisRecord(rep, est, tuple(rep.rests[m[0]] for m in est.members), chk)
+
+
+def _axis_record_paper(a: np.ndarray, dt: float, fs: float, config: AxisRecordConfig) -> SurfaceAxisRecord:
+    """:func:`surface_axis_record` with the paper's detector, on the checked accelerometer: Table 1 ZVD flags
+    (no rest dropped by its listed span: A1 counts rests by its own minimum), Algorithm A1, the
+    uncertainty gate on A1's three means."""
+    from mtcal.methods.rest_detection import paper_rest_report_trusted
+
+    min_rest = float(config.rests.min_rest_s)
+    rep = paper_rest_report_trusted(a, dt, None, min_rest, ZvdParams())
+    try:
+        res = rotation_axis.estimate_axis(a, dt, min_rest_s=min_rest, is_static=rep.is_static,
+                                          min_separation_deg=config.min_separation_deg,
+                                          max_elevation_deg=config.max_elevation_deg)
+    except ValueError as exc:
+        err = ValueError(f"{exc} [paper ZVD band {rep.band_m_s2[0]:g}-{rep.band_m_s2[1]:g} m/s^2, measured "
+                         f"|a| at rest {rep.extra['measured_gravity_m_s2']:.4f} m/s^2; --rest-detector "
+                         f"adaptive measures the band from the data]")
+        err.rests, err.units_check = rep, None
+        raise err from None
+    counts = np.array([r.stop - r.start for r in res.rests], float)
+    window = rep.window_s * fs
+    try:  # axis_uncertainty on A1's means (float (3, 3)) and the noise the ZVD report measured on its blocks
+        fit = rotation_axis.gated_plane_fit_trusted(res.means, counts, rep.accel_noise_m_s2, window,
+                                                    np.inf if config.max_axis_error_deg is None
+                                                    else float(config.max_axis_error_deg), SIGMA_MEAN_FLOOR_M_S2)
+    except ValueError as exc:
+        exc.rests, exc.units_check, exc.used = rep, None, tuple(res.rests)
+        raise
+    v, means = res.v, res.means
+    n_eff = float(np.min(counts)) / max(1.0, float(window))       # as axis_uncertainty's rest-mean noise
+    sig = max(rep.accel_noise_m_s2 / np.sqrt(max(n_eff, 1.0)), SIGMA_MEAN_FLOOR_M_S2)
+    est = AxisEstimate(v, float(fit.sigma_rad), float(np.mean(rotation_axis.axis_elevation_trusted(v, means))),
+                       means, ((0,), (1,), (2,)), means, angles_about_axis(v, means[0], means), float(sig), "eq23")
+    return SurfaceAxisRecord(rep, est, tuple(res.rests), None)
 
 
 def rest_ekf_params(gyro_rad_s, accel_m_s2, init: slice) -> RamsEkfParams:
@@ -686,13 +889,22 @@ class SurfaceRecordAngle:
     late : bool
         The log starts moving: the angle is measured from the first rest, not from sample 0.
     rest_accel_angles_rad : ndarray (R,)
-        The accelerometer's angle of each rest about the axis from ā0 (rad, Eq 16), in (−π, π].
+        The accelerometer's angle of each rest about the axis from ā0 (rad, Eq 16), on the same turn as the
+        EKF's angle there (``+ 2πk``; in (−π, π] where the EKF has no angle).
+    rest_ekf_angles_rad : ndarray (R,)
+        The EKF's median angle over each rest (rad; NaN for a rest before the initial one).
+    rest_mismatch : tuple (int, float) or None
+        The rest whose EKF and accelerometer angles differ most and by how much (rad), when that exceeds
+        :data:`MAX_REST_ANGLE_MISMATCH_DEG` and the axis is not steep (cos elevation > 0.2): axis or
+        accelerometer errors.
     """
 
     rests: RestReport
     angle: SurfaceAngle
     late: bool
     rest_accel_angles_rad: np.ndarray
+    rest_ekf_angles_rad: np.ndarray
+    rest_mismatch: tuple | None
 
 
 def surface_angle_record(gyro_rad_s, accel_m_s2, axis, config: SurfaceRecordConfig, *, fs_hz: float, time_s,
@@ -704,7 +916,8 @@ def surface_angle_record(gyro_rad_s, accel_m_s2, axis, config: SurfaceRecordConf
     gives ā0, the gyro bias and angle 0; the gyro's units and time base and its rotation axis are
     checked (:meth:`SurfaceAngleConfig.cli` with the gyro noise the rests measured), then the
     ZVD-switched RAMS EKF runs (:func:`surface_angle`). Each rest's accelerometer angle about the
-    axis (Eq 16) is returned to compare with the EKF's. Inputs are checked here once.
+    axis (Eq 16) is returned on the EKF's turn beside the EKF's median angle there, and the worst
+    disagreement above :data:`MAX_REST_ANGLE_MISMATCH_DEG`. Inputs are checked here once.
 
     Parameters
     ----------
@@ -787,7 +1000,17 @@ def surface_angle_record(gyro_rad_s, accel_m_s2, axis, config: SurfaceRecordConf
     except ValueError as exc:
         exc.rests = rep  # the caller's diagnostics show the rests the refusal saw
         raise
-    return SurfaceRecordAngle(rep, res, bool(late), angles_about_axis(v, res.accel0_m_s2, means))
+    # each rest: the EKF's median angle, the accelerometer's (Eq 16) on the same turn, the worst disagreement
+    ekf = np.array([np.nanmedian(res.angle_rad[r]) if np.isfinite(res.angle_rad[r]).any() else np.nan
+                    for r in rep.rests])
+    accel_rad = angles_about_axis(v, res.accel0_m_s2, means)
+    accel_rad = accel_rad + 2.0 * np.pi * np.round((ekf - accel_rad) / (2.0 * np.pi))
+    off = np.abs(ekf - accel_rad)
+    worst = None
+    if np.degrees(np.nanmax(off, initial=0.0)) > MAX_REST_ANGLE_MISMATCH_DEG and np.cos(res.elevation_rad) > 0.2:
+        i = int(np.nanargmax(off))
+        worst = (i, float(off[i]))
+    return SurfaceRecordAngle(rep, res, bool(late), accel_rad, ekf, worst)
 
 
 # --------------------------------------------------------------------------- batched: ZVD → axis → EKF
@@ -844,6 +1067,16 @@ class SurfaceBatchConfig:
         """The study's Monte Carlo (wang2022sensors Algorithm A1 and Sec. 3): Table 1 ZVD, Eq 23 axis on the
         first three rests (:meth:`AxisConfig.paper`), ZVD-switched EKF with the simulated IMU's noise."""
         return cls(zvd, AxisConfig.paper(accel_noise_m_s2), SurfaceAngleConfig.paper(params), ekf_switch)
+
+    @classmethod
+    def sweep_cell(cls, *, gyro_noise_rad_s_rt_hz: float, accel_noise_m_s2_rt_hz: float, dt_s: float,
+                   gain_m_s2: float) -> "SurfaceBatchConfig":
+        """A sweep cell (the filter registry's ``rams_ekf`` entry): the schedule's known rest flags as the rest
+        flags and the EKF's switch (no ZVD), the given axis (no estimate), the EKF of
+        :meth:`SurfaceAngleConfig.sweep_cell` (noise from the sensors, σa,moving = ``gain_m_s2``)."""
+        return cls(None, None, SurfaceAngleConfig.sweep_cell(gyro_noise_rad_s_rt_hz=gyro_noise_rad_s_rt_hz,
+                                                              accel_noise_m_s2_rt_hz=accel_noise_m_s2_rt_hz,
+                                                              dt_s=dt_s, gain_m_s2=gain_m_s2))
 
 
 @dataclass(frozen=True)
@@ -988,11 +1221,20 @@ def surface_angle_batch(gyro_rad_s, accel_m_s2, dt_s: float, config: SurfaceBatc
 
 def _registered_rams_ekf(w, a, dt, gain, ctx: AxisContext):
     """The filter registry's ``rams_ekf`` runner (declared in :data:`mtcal.filters.registry.BUILTIN_FILTERS`, imported
-    on its first call): :func:`surface_angle` (the ``mtcal angle`` system) with the sweep cell's config
-    (:meth:`SurfaceAngleConfig.sweep_cell`: noise from the sensors, σa,moving = ``gain`` m/s²), initialised on
-    ``ctx.init`` (default: the first 0.5 s)."""
-    config = SurfaceAngleConfig.sweep_cell(gyro_noise_rad_s_rt_hz=ctx.gyro_noise_rad_s_rt_hz,
+    on its first call): the batched procedure :func:`surface_angle_batch` (the study's) with the sweep cell's config
+    (:meth:`SurfaceBatchConfig.sweep_cell`: the known rest flags, the given axis, noise from the sensors,
+    σa,moving = ``gain`` m/s²), ā0 and the gyro bias from ``ctx.init`` (default: the first 0.5 s), restarted after
+    clipped gyro samples at the next of ``ctx.rests``.
+
+    Raises
+    ------
+    ValueError
+        ``ctx.init`` does not start at sample 0 (the batched procedure's initial rest).
+    """
+    config = SurfaceBatchConfig.sweep_cell(gyro_noise_rad_s_rt_hz=ctx.gyro_noise_rad_s_rt_hz,
                                            accel_noise_m_s2_rt_hz=ctx.accel_noise_m_s2_rt_hz, dt_s=dt, gain_m_s2=gain)
-    static = np.broadcast_to(ctx.is_static, a.shape[:2])
     init = ctx.init if ctx.init is not None else slice(0, max(1, int(round(0.5 / dt))))
-    return surface_angle(w, a, ctx.axis_s, config, is_static=static, init=init, dt_s=dt, rests=ctx.rests).angle_rad
+    if (init.start or 0) != 0:
+        raise ValueError(f"the rams_ekf entry initialises from a rest at sample 0, got init {init!r}")
+    return surface_angle_batch(w, a, dt, config, init_samples=init.stop, rests=ctx.rests, axis=ctx.axis_s,
+                               known_static=ctx.is_static).angle_rad

@@ -76,3 +76,19 @@ def test_cli_options_build_the_config(jittered, tmp_path, capsys):
     assert res.setup.params.gravity_m_s2 == 9.8
     np.testing.assert_array_equal(pd.read_parquet(tmp_path / "att.parquet")[["q0", "q1", "q2", "q3"]].to_numpy(),
                                   res.q_ws)
+
+
+@pytest.mark.parametrize("trial", ["01_undisturbed_slow_rotation_A", "04_undisturbed_slow_rotation_with_breaks_A"])
+def test_cli_attitude_equals_the_broad2021_study(trial, tmp_path, capsys):
+    """``mtcal attitude TRIAL.mat`` (the shipped BROAD file as a user gives it) writes exactly the study's
+    ``qncf_cli`` attitude (:func:`mtcal.studies.broad2021.runs.run_6d` on the study's loaded trial), bit for bit."""
+    from mtcal.studies.broad2021 import runs, scenario
+
+    tr = scenario.load_trials([trial])[0]
+    path = next(p for p in TRIALS if p.stem == trial)
+    code, out, err = _run(["attitude", path, "--out", tmp_path / "att.parquet"], capsys)
+    assert code == 0, err
+    df = pd.read_parquet(tmp_path / "att.parquet")
+    study = runs.run_6d("qncf_cli", tr.gyro_rad_s, tr.accel_m_s2, tr.dt_s)
+    np.testing.assert_array_equal(df[["q0", "q1", "q2", "q3"]].to_numpy(), study)
+    assert len(df) == tr.n and "levelled from the first rest" in out

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from mtcal.core import profiles, rotations, simulate
-from mtcal.filters.qncf import QncfFilter, QncfParams, amd_statistic, initial_attitude_from_accel, qncf
+from mtcal.filters.qncf import QncfFilter, QncfParams, amd_statistic, initial_attitude_from_accel, qncf, qncf_trusted
 
 FS = 1000.0
 
@@ -50,6 +50,27 @@ def test_batch_equals_per_step(rng):
     r1 = f2.run(g[:, :150], a[:, :150])
     r2 = f2.run(g[:, 150:], a[:, 150:], chunk=64)
     assert np.array_equal(np.concatenate([r1.q_ws, r2.q_ws], axis=1), batch.q_ws)
+
+
+def test_trusted_entry_is_qncf_bit_for_bit(rng):
+    """The trusted entry (stacked records or one record, default or given q0) returns qncf's numbers."""
+    model = simulate.ImuErrorModel(gyro=simulate.SensorErrors(noise_density=1e-4),
+                                   accel=simulate.SensorErrors(noise_density=1e-3))
+    rec = _record(rng, model, trials=3)
+    p = QncfParams(kp_rad_s=2.0)
+    for g, a in ((rec.gyro_rad_s, rec.accel_m_s2), (rec.gyro_rad_s[1], rec.accel_m_s2[1])):
+        for q0 in (None, rotations.quat_from_euler_zxy(0.1, 0.02, -0.03)):
+            ref = qncf(g, a, 1 / FS, p, q0=q0, init_samples=50)
+            got = qncf_trusted(g, a, 1 / FS, p, q0=q0, init_samples=50)
+            for name in ("q_ws", "euler_rad", "amd_pct", "gate"):
+                assert np.array_equal(getattr(got, name), getattr(ref, name)), name
+    # no tilt-rate scan (deg/s passed as rad/s is not refused by it), but the kernel's value scan stays
+    bad = rec.gyro_rad_s.copy()
+    bad[0, 5, 0] = np.nan
+    with pytest.raises(ValueError, match="gyro_rad_s must be finite"):
+        qncf_trusted(bad, rec.accel_m_s2, 1 / FS)
+    with pytest.raises(ValueError, match="accel_m_s2 looks like it is in g"):
+        qncf_trusted(rec.gyro_rad_s, rec.accel_m_s2 / 9.80665, 1 / FS)
 
 
 def test_does_not_mutate_inputs():

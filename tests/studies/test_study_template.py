@@ -32,3 +32,37 @@ def test_study_draws_only_from_keyed_streams(path):
     found = [f"{path.name}:{i}: {line.strip()}" for i, line in enumerate(path.read_text(encoding="utf-8").splitlines(), 1)
              if FORBIDDEN.search(line)]
     assert not found, "use mtcal.core.rng (stream_rng / trial_rng / child_rngs / rng_copy):\n" + "\n".join(found)
+
+
+def _artifact_functions():
+    """Every public function of a study package whose annotated return is an ``Artifact``."""
+    import importlib
+    import inspect
+
+    found = []
+    for key in sorted(p.name for p in STUDIES.iterdir() if (p / "__init__.py").is_file()):
+        pkg = importlib.import_module(f"mtcal.studies.{key}")
+        for name in pkg.__all__:
+            fn = inspect.unwrap(getattr(pkg, name))
+            if inspect.isfunction(fn) and str(inspect.signature(fn).return_annotation).endswith("Artifact"):
+                found.append((key, name, getattr(pkg, name)))
+    return found
+
+
+def test_every_artifact_of_a_study_comes_from_a_producer():
+    """One Artifact idiom: a study function that returns an Artifact is declared with ``@produces``
+    (its ID on the function, stamped on what it returns), in every study."""
+    found = _artifact_functions()
+    assert {key for key, _, _ in found} >= {"wang2023cja", "tan2022", "wang2022sensors", "broad2021"}
+    bare = [f"{key}.{name}" for key, name, fn in found if not getattr(fn, "artifact_id", "").startswith(key + "_")]
+    assert not bare, "declare with @produces(artifact_id, kind, paper_item): " + ", ".join(bare)
+
+
+def test_the_producer_check_catches_an_undeclared_artifact():
+    from mtcal.core.artifacts import Artifact, produces
+
+    def bare() -> Artifact:
+        return Artifact(None, [], {}, [])
+
+    assert not hasattr(bare, "artifact_id")
+    assert produces("demo_fig01", "figure", "Fig. 1")(bare).artifact_id == "demo_fig01"

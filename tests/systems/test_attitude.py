@@ -64,3 +64,63 @@ def test_study_qncf_is_the_command_qncf():
     study = runs.run_6d("qncf_cli", tr.gyro_rad_s, tr.accel_m_s2, tr.dt_s)
     command = estimate_attitude(tr.gyro_rad_s, tr.accel_m_s2, tr.dt_s, AttitudeConfig.cli_defaults())
     np.testing.assert_array_equal(study, command.q_ws)
+
+
+# --------------------------------------------------------------------------- one record in one call
+def test_attitude_record_is_rests_clipping_and_the_filter_in_one_call():
+    """attitude_record = find_rests → clipped_samples → estimate_attitude (the command's old chain), bit for bit."""
+    from mtcal.systems import plausibility
+    from mtcal.systems.attitude import attitude_record
+    from mtcal.systems.rests import find_rests
+
+    gyr, acc = _record()
+    gyr = gyr + np.radians([0.3, -0.2, 0.1])
+    t = np.arange(800) * DT_S + 1e-4 * DT_S * np.sin(np.arange(800))       # jittered: the gyro weighted
+    for name in ("qncf", "mahony"):
+        config = AttitudeConfig.cli_defaults(name)
+        rep = find_rests(acc, DT_S, config.rests, gyro_rad_s=gyr, time_s=t)
+        clipped, level = plausibility.clipped_samples(gyr)
+        want = estimate_attitude(gyr, acc, DT_S, config, time_s=t, rests=rep, skip=clipped, unit_stated="header")
+        got = attitude_record(gyr, acc, DT_S, config, time_s=t, unit_stated="header")
+        np.testing.assert_array_equal(got.q_ws, want.q_ws)
+        assert got.rests.rests == rep.rests and got.units_check == want.units_check
+        assert not got.clipped.any() and got.clip_level_rad_s == level == 0.0
+
+
+def test_attitude_record_clipped_gyro_reported():
+    from mtcal.systems.attitude import attitude_record
+
+    gyr, acc = _record()
+    peak = np.abs(gyr).max()
+    gyr = np.clip(gyr, -0.5 * peak, 0.5 * peak)                               # a full-scale plateau
+    res = attitude_record(gyr, acc, DT_S, AttitudeConfig.cli_defaults())
+    assert res.clipped.any() and res.clip_level_rad_s == pytest.approx(0.5 * peak)
+
+
+def test_attitude_record_checked_at_its_edge_and_refusals_carry_the_rests():
+    from mtcal.systems.attitude import attitude_record
+
+    gyr, acc = _record()
+    with pytest.raises(TypeError, match="config must be an AttitudeConfig, got RestsConfig"):
+        attitude_record(gyr, acc, DT_S, RestsConfig())
+    with pytest.raises(ValueError, match="gyro_rad_s must be given: the attitude needs the gyro"):
+        attitude_record(None, acc, DT_S, AttitudeConfig())
+    with pytest.raises(ValueError, match="gyro_rad_s and accel_m_s2 must have the same shape"):
+        attitude_record(gyr[:-1], acc, DT_S, AttitudeConfig())
+    with pytest.raises(ValueError, match="time_s must have 800 samples"):
+        attitude_record(gyr, acc, DT_S, AttitudeConfig(), time_s=np.arange(10.0))
+    with pytest.raises(ValueError, match="gyro") as info:
+        attitude_record(np.degrees(gyr), acc, DT_S, AttitudeConfig.cli_defaults())
+    assert len(info.value.rests.rests) == 2 and not info.value.clipped[0].any()
+
+
+def test_column_major_record_same_attitude():
+    """The edge takes the arrays row-major: a column-major copy (as a MATLAB file gives) is the same attitude."""
+    from mtcal.systems.attitude import attitude_record
+
+    gyr, acc = _record()
+    want = estimate_attitude(gyr, acc, DT_S, AttitudeConfig.real_data_study()).q_ws
+    np.testing.assert_array_equal(estimate_attitude(np.asfortranarray(gyr), np.asfortranarray(acc), DT_S,
+                                                    AttitudeConfig.real_data_study()).q_ws, want)
+    np.testing.assert_array_equal(attitude_record(np.asfortranarray(gyr), np.asfortranarray(acc), DT_S,
+                                                  AttitudeConfig.real_data_study()).q_ws, want)

@@ -432,18 +432,27 @@ def test_sweep_cell_config_is_the_registry_entry():
     res = surface_angle.surface_angle(w, f, AXIS, cfg, is_static=static, init=slice(0, 90), dt_s=DT_S,
                                       rests=prof.hold_slices())
     assert np.array_equal(got, res.angle_rad)
+    batch = surface_angle.SurfaceBatchConfig.sweep_cell(gyro_noise_rad_s_rt_hz=2e-4, accel_noise_m_s2_rt_hz=3e-3,
+                                                        dt_s=DT_S, gain_m_s2=2.0)
+    assert batch.zvd is None and batch.axis is None and batch.angle == cfg
+    study = surface_angle.surface_angle_batch(w, f, DT_S, batch, init_samples=90, rests=prof.hold_slices(),
+                                              axis=AXIS, known_static=prof.is_static)
+    assert np.array_equal(got, study.angle_rad)            # the entry is the study's batched procedure
+    with pytest.raises(ValueError, match="the rams_ekf entry initialises from a rest at sample 0"):
+        entry.run(w, f, DT_S, 2.0, replace(ctx, init=slice(5, 90)))
 
 
 def test_cli_defaults_are_the_configs_cli_defaults():
-    """``mtcal axis`` / ``mtcal angle`` option defaults equal those of :meth:`AxisConfig.cli` and
-    :meth:`SurfaceAngleConfig.cli` (one set of CLI defaults)."""
+    """``mtcal axis`` / ``mtcal angle`` option defaults equal those of :meth:`AxisConfig.cli`,
+    :meth:`AxisRecordConfig.cli` and :meth:`SurfaceAngleConfig.cli` (one set of CLI defaults)."""
     import inspect
 
     from mtcal.cli.main import build_parser
 
     axis_args = build_parser().parse_args(["axis", "log.csv"])
     angle_args = build_parser().parse_args(["angle", "log.csv", "--axis", "1,0,0"])
-    for cfg, args in ((AxisConfig.cli, axis_args), (SurfaceAngleConfig.cli, angle_args)):
+    for cfg, args in ((AxisConfig.cli, axis_args), (surface_angle.AxisRecordConfig.cli, axis_args),
+                      (SurfaceAngleConfig.cli, angle_args)):
         for name, par in inspect.signature(cfg).parameters.items():
             if par.kind is par.KEYWORD_ONLY and hasattr(args, name) and par.default is not None:
                 assert float(getattr(args, name)) == par.default, name
@@ -512,3 +521,105 @@ def test_record_procedure_refusals(tmp_path):
         surface_angle.SurfaceRecordConfig("adaptive")
     with pytest.raises(ValueError, match="max_axis_mismatch_deg must be"):
         surface_angle.SurfaceRecordConfig(RestsConfig(), max_axis_mismatch_deg=-1.0)
+
+
+# --------------------------------------------------------------------------- the axis of one record (mtcal axis)
+def test_cli_axis_is_bit_identical_to_the_study_procedure(tmp_path, capsys):
+    """``mtcal axis --rest-detector paper`` with the paper's 1 s rests and the study's separation on a log of the
+    study's simulator prints the axis of the study's batched procedure (:func:`~mtcal.studies.wang2022sensors.runs.
+    paper_procedure` without the EKF: Table 1 ZVD flags masked by the schedule's rests, Eq 23), and the system it
+    calls (:func:`~mtcal.systems.surface_angle.surface_axis_record`: ZVD, Algorithm A1) returns it bit for bit."""
+    from mtcal.methods.rotation_axis import DEFAULT_MAX_ELEVATION_DEG, DEFAULT_MIN_SEPARATION_DEG
+    from mtcal.methods.zero_velocity import ZvdParams
+    from mtcal.studies.wang2022sensors.runs import paper_procedure, trapezoid_profile
+    from mtcal.systems.rests import RestsConfig
+
+    for seed in (11, 13):
+        imu, sim, t, log = _hinge_log(tmp_path, seed)
+        prof = trapezoid_profile(np.radians([0.0, 60.0, 120.0, 30.0, 90.0]), np.radians(40.0), np.radians(200.0),
+                                 2.0, imu.dt_s)
+        rests = prof.hold_slices()
+        proc = replace(paper_procedure(imu, ZvdParams()), angle=None)
+        study = surface_angle.surface_angle_batch(sim.gyro_rad_s, sim.accel_m_s2, imu.dt_s, proc,
+                                                  init_samples=rests[0].stop, rests=rests).axis[0]
+        assert main(["axis", str(log), "--rest-detector", "paper", "--min-rest-s", "1",
+                     "--min-separation-deg", f"{DEFAULT_MIN_SEPARATION_DEG:g}"]) == 0
+        out = capsys.readouterr().out
+        assert re.search(r"^axis v = (.*)$", out, re.M).group(1) == f"{study[0]:.6f},{study[1]:.6f},{study[2]:.6f}"
+        config = surface_angle.AxisRecordConfig.cli(RestsConfig(detector="paper", min_rest_s=1.0, use_gyro=False),
+                                                    min_separation_deg=DEFAULT_MIN_SEPARATION_DEG,
+                                                    max_elevation_deg=DEFAULT_MAX_ELEVATION_DEG)
+        found = surface_angle.surface_axis_record(sim.accel_m_s2[0], config, fs_hz=imu.fs_hz, time_s=t)
+        np.testing.assert_array_equal(found.axis.axis, study)
+        assert [r.start // 10 for r in found.used] == [r.start // 10 for r in rests[:3]]   # the schedule's rests
+        with pytest.raises(ValueError, match="axis too uncertain") as info:       # the gate names A1's rests
+            surface_angle.surface_axis_record(sim.accel_m_s2[0], replace(config, max_axis_error_deg=1e-6),
+                                              fs_hz=imu.fs_hz, time_s=t)
+        assert info.value.used == found.used and info.value.rests.method == "paper"
+
+
+def test_axis_record_adaptive_equals_its_steps():
+    """Adaptive rests → units check → the gated plane (AxisConfig.cli with the measured noise): the system's steps."""
+    from mtcal.systems.rests import RestsConfig, find_rests
+
+    prof, w, f = _hinge((0.0, 60.0, 120.0, 30.0))
+    rng = np.random.default_rng(5)
+    gyro, accel = w[0] + 1e-3 * rng.standard_normal(w[0].shape), f[0] + 1e-2 * rng.standard_normal(f[0].shape)
+    rests = RestsConfig.cli_defaults(0.5)
+    found = surface_angle.surface_axis_record(accel, surface_angle.AxisRecordConfig.cli(rests), fs_hz=FS_HZ,
+                                              time_s=prof.time_s, gyro_rad_s=gyro, unit_stated="header")
+    rep = find_rests(accel, DT_S, rests, gyro_rad_s=gyro, time_s=prof.time_s)
+    est = surface_angle.estimate_surface_axis(accel, rep.rests, AxisConfig.cli(rep.accel_noise_m_s2,
+                                                                               rep.window_s * FS_HZ))
+    assert found.rests.rests == rep.rests and found.units_check["pairs"] >= 2
+    np.testing.assert_array_equal(found.axis.axis, est.axis)
+    assert found.axis.sigma_rad == est.sigma_rad and len(found.used) == est.positions_m_s2.shape[0] == 4
+    accel_only = surface_angle.surface_axis_record(accel, surface_angle.AxisRecordConfig.cli(
+        RestsConfig(min_rest_s=0.5, use_gyro=False)), fs_hz=FS_HZ, time_s=prof.time_s)
+    assert accel_only.units_check is None
+
+
+def test_axis_record_refusals_carry_what_they_saw():
+    from mtcal.systems.rests import RestsConfig
+
+    prof, w, f = _hinge((0.0, 60.0))
+    config = surface_angle.AxisRecordConfig.cli(RestsConfig(min_rest_s=0.5, use_gyro=False))
+    with pytest.raises(TypeError, match="config must be an AxisRecordConfig, got RestsConfig"):
+        surface_angle.surface_axis_record(f[0], RestsConfig(), fs_hz=FS_HZ, time_s=prof.time_s)
+    with pytest.raises(TypeError, match="rests must be a RestsConfig, got dict"):
+        surface_angle.AxisRecordConfig({})
+    with pytest.raises(ValueError, match="max_axis_error_deg must be > 0"):
+        surface_angle.AxisRecordConfig(RestsConfig(), max_axis_error_deg=0.0)
+    with pytest.raises(ValueError, match="fs_hz must be > 0"):
+        surface_angle.surface_axis_record(f[0], config, fs_hz=0.0, time_s=prof.time_s)
+    with pytest.raises(ValueError, match="time_s must have"):
+        surface_angle.surface_axis_record(f[0], config, fs_hz=FS_HZ, time_s=prof.time_s[:-1])
+    with pytest.raises(ValueError, match=r"found only 2 distinct tilt\(s\) among 2 rest\(s\)") as info:
+        surface_angle.surface_axis_record(f[0], config, fs_hz=FS_HZ, time_s=prof.time_s)
+    assert len(info.value.rests.rests) == 2 and info.value.units_check is None
+    with pytest.raises(ValueError, match=r"found only 0 rests of >= 0.5 s") as info:
+        surface_angle.surface_axis_record(f[0][:40], config, fs_hz=FS_HZ, time_s=prof.time_s[:40])
+    assert info.value.rests.rests == []
+    paper = surface_angle.AxisRecordConfig.cli(RestsConfig(detector="paper", min_rest_s=0.5, use_gyro=False))
+    with pytest.raises(ValueError, match=r"found only \d distinct rest\(s\).*\[paper ZVD band 9.76-9.84") as info:
+        surface_angle.surface_axis_record(f[0], paper, fs_hz=FS_HZ, time_s=prof.time_s)
+    assert info.value.rests.method == "paper"
+
+
+def test_angle_record_reports_the_rest_mismatch():
+    """The EKF's median angle per rest beside the accelerometer's on the same turn; a wrong axis shows as a mismatch."""
+    from mtcal.systems.rests import RestsConfig
+
+    prof, w, f = _hinge((0.0, 60.0, 120.0, 30.0), hold_s=1.5)
+    rng = np.random.default_rng(2)
+    gyro, accel = w[0] + 1e-3 * rng.standard_normal(w[0].shape), f[0] + 1e-2 * rng.standard_normal(f[0].shape)
+    config = surface_angle.SurfaceRecordConfig(RestsConfig.cli_defaults(), max_axis_mismatch_deg=None)
+    good = surface_angle.surface_angle_record(gyro, accel, AXIS, config, fs_hz=FS_HZ, time_s=prof.time_s)
+    np.testing.assert_allclose(np.degrees(good.rest_ekf_angles_rad), [0, 60, 120, 30], atol=0.3)
+    np.testing.assert_allclose(good.rest_accel_angles_rad, good.rest_ekf_angles_rad, atol=np.radians(0.3))
+    assert good.rest_mismatch is None
+    tilted = axis_angle_matrix(np.radians(8.0), [0.0, 1.0, 0.0]) @ AXIS
+    bad = surface_angle.surface_angle_record(gyro, accel, tilted, config, fs_hz=FS_HZ, time_s=prof.time_s)
+    i, off = bad.rest_mismatch
+    assert np.degrees(off) > surface_angle.MAX_REST_ANGLE_MISMATCH_DEG
+    assert off == np.nanmax(np.abs(bad.rest_ekf_angles_rad - bad.rest_accel_angles_rad))

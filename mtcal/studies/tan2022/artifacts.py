@@ -410,8 +410,9 @@ def fig06(study: GyroStudy, seed: int, trials: int) -> Artifact:
                      f"{slope['median']:.3f} [{slope['low']:.3f}, {slope['high']:.3f}]")])
 
 
+@produces("tan2022_fig12", "figure", "Fig. 12")
 def threshold_check(study: GyroStudy) -> Artifact:
-    """Projection error just above the threshold θ̇_t (Eq 14 and exact arctan, deg).
+    """tan2022_fig12 (its θ̇_t claim): projection error just above the threshold θ̇_t (Eq 14 and exact arctan, deg).
 
     Paper claim (Sec 3.2): above θ̇_t the projection method has a high SNR.
     Tested: exact worst-case error over roll at θ̇_t below 1°.

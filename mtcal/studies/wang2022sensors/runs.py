@@ -191,27 +191,30 @@ def simulate_step_batch(waypoints_rad, rate_rad_s: float, hold_s, axes, lever_ar
                      None, 0.0)
 
 
-#: The last one-geometry truth of :func:`_simulate` and its inputs (:func:`_shared_truth`).
+#: The last one-geometry truth of :func:`_batch_truth` and its inputs.
 _LAST_TRUTH: list = []
 
 
-def _shared_truth(th, rate, acc, v, r, dt: float) -> tuple[np.ndarray, np.ndarray]:
-    """:func:`mtcal.core.profiles.fixed_axis_imu_truth` of one history and geometry, (1, N, 3) each, reused
-    while the same inputs come again (a Monte Carlo's chunks and systems share one truth: the call
-    would return the same arrays bit for bit); the result is read only."""
-    key = (th, rate, acc, v, r)
-    if _LAST_TRUTH and _LAST_TRUTH[1] == dt and all(np.array_equal(x, y) for x, y in zip(_LAST_TRUTH[0], key)):
-        return _LAST_TRUTH[2]
-    truth = profiles.fixed_axis_imu_truth(th[None], rate[None], acc[None], v[None], r[None], gravity0(), dt)
-    _LAST_TRUTH[:] = [tuple(np.array(x) for x in key), dt, truth]
-    return truth
+@dataclass(frozen=True)
+class _BatchTruth:
+    """The noise-free side of a batch (:func:`_batch_truth`): the step profile (or None), the angle histories
+    ``th`` (T, N), the trial ids, the sensor truth ``w_true``/``f`` (R, N, 3) and each trial's truth row (T,)."""
+
+    prof: profiles.AngleProfile | None
+    th: np.ndarray
+    ids: np.ndarray
+    w_true: np.ndarray
+    f: np.ndarray
+    truth_row: np.ndarray
 
 
-def _simulate(steps, histories, axes, lever_arms_m, imu: ImuValues, seed: int, stream: int, trial_ids,
-              accel_noise_m_s2_rt_hz, gyro_bias_sigma_rad_s: float) -> tuple[profiles.AngleProfile | None, SimBatch]:
-    """:func:`simulate_batch` (``histories`` = theta, rate, accel) or :func:`simulate_step_batch` (``steps`` =
-    waypoints, rate, holds: the profile made here at ``imu.fs_hz``, its histories transposed to (T, N))."""
-    keep_freed_memory()  # the Monte Carlo's per-chunk records reuse freed heap, not fresh zeroed pages
+def _batch_truth(steps, histories, axes, lever_arms_m, imu: ImuValues, trial_ids) -> _BatchTruth:
+    """The truth of :func:`_simulate`: the step profile at ``imu.fs_hz`` (``steps`` = waypoints, rate, holds; its
+    histories transposed to (T, N)) or the given ``histories`` (theta, rate, accel), the trials' geometry
+    checked, then :func:`mtcal.core.profiles.fixed_axis_imu_truth` once per distinct trial. One geometry
+    and one angle history: the truth once, broadcast over the trials, and reused while the same inputs come
+    again (a Monte Carlo's chunks and systems share one truth: the call would return the same arrays bit for
+    bit; the result is read only)."""
     prof = None
     if steps is not None:
         prof = profiles.step_schedule(*steps, imu.fs_hz)
@@ -226,13 +229,17 @@ def _simulate(steps, histories, axes, lever_arms_m, imu: ImuValues, seed: int, s
     ids = np.asarray(trial_ids, int)
     if ids.shape != (t_n,) or r.shape != v.shape:
         raise ValueError(f"axes, lever_arms_m and trial_ids must have T = {t_n} rows")
-    n = th.shape[1]
     dt = imu.dt_s
     one_history = np.ndim(theta_rad) == 1 and np.ndim(rate_rad_s) == 1 and np.ndim(accel_rad_s2) == 1
-    truth_row = np.arange(t_n)  # the truth row of each trial
     if one_history and np.all(v == v[0]) and np.all(r == r[0]):
-        # one geometry and one angle history: the truth once, broadcast over the trials
-        w_true, f = _shared_truth(th[0], rate[0], acc[0], v[0], r[0], dt)
+        # one geometry and one angle history: the truth once, broadcast over the trials (the last one reused)
+        key = (th[0], rate[0], acc[0], v[0], r[0])
+        if not (_LAST_TRUTH and _LAST_TRUTH[1] == dt
+                and all(np.array_equal(x, y) for x, y in zip(_LAST_TRUTH[0], key))):
+            truth = profiles.fixed_axis_imu_truth(th[0][None], rate[0][None], acc[0][None], v[0][None], r[0][None],
+                                                  gravity0(), dt)
+            _LAST_TRUTH[:] = [tuple(np.array(x) for x in key), dt, truth]
+        w_true, f = _LAST_TRUTH[2]
         truth_row = np.zeros(t_n, np.int64)
     else:
         # the truth once per distinct trial (bit for bit: the truth is computed row by row): per geometry for one
@@ -242,6 +249,18 @@ def _simulate(steps, histories, axes, lever_arms_m, imu: ImuValues, seed: int, s
         _, first, truth_row = np.unique(rows, return_index=True, return_inverse=True)
         w_true, f = profiles.fixed_axis_imu_truth(th[first], rate[first], acc[first], v[first], r[first], gravity0(),
                                                   dt)
+    return _BatchTruth(prof, th, ids, w_true, f, truth_row)
+
+
+def _simulate(steps, histories, axes, lever_arms_m, imu: ImuValues, seed: int, stream: int, trial_ids,
+              accel_noise_m_s2_rt_hz, gyro_bias_sigma_rad_s: float) -> tuple[profiles.AngleProfile | None, SimBatch]:
+    """:func:`simulate_batch` (``histories`` = theta, rate, accel) or :func:`simulate_step_batch` (``steps`` =
+    waypoints, rate, holds): the truth (:func:`_batch_truth`), then the sensor errors of every trial."""
+    keep_freed_memory()  # the Monte Carlo's per-chunk records reuse freed heap, not fresh zeroed pages
+    truth = _batch_truth(steps, histories, axes, lever_arms_m, imu, trial_ids)
+    prof, th, ids, w_true, f, truth_row = (truth.prof, truth.th, truth.ids, truth.w_true, truth.f, truth.truth_row)
+    t_n, n = th.shape
+    dt = imu.dt_s
     # sensor errors: white noise, turn-on bias, bias random walk, gyro scale factor
     noise = (np.full(t_n, imu.accel_noise_m_s2_rt_hz) if accel_noise_m_s2_rt_hz is None
              else np.broadcast_to(as_float_array(accel_noise_m_s2_rt_hz, "accel_noise_m_s2_rt_hz"), (t_n,)))

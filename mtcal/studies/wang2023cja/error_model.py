@@ -297,7 +297,30 @@ def paper_positions(yaw_deg=(8.0, -8.0), pitch_deg=(-12.0, 23.0), roll_deg=(90.0
 
 
 def rest_times_s(positions_rad, rate_rad_s: float, rest_s: float, fs_hz: float) -> np.ndarray:
-    """Centre time (s since the start) of each rest of the six-position schedule, (K,)."""
+    """Centre time (s since the start) of each rest of the six-position schedule, (K,).
+
+    Parameters
+    ----------
+    positions_rad : array_like, shape (K, 3)
+        The positions (rad, Eq 8 frame), e.g. :func:`paper_positions`.
+    rate_rad_s : float
+        Mean move rate of the turntable (rad/s).
+    rest_s : float
+        Rest at each position (s).
+    fs_hz : float
+        Sample rate of the schedule's time grid (Hz). A rate, not ``dt_s`` (the exception that
+        ``docs/study_template.md`` "Time base" asks to state): the schedule's sample counts are made
+        from it (:func:`mtcal.methods.six_position.schedule_profile` →
+        :func:`mtcal.core.profiles.step_schedule`: ``floor(duration · fs_hz)`` samples, times
+        ``k / fs_hz``), and the callers state a rate (the rest-level model's 100 Hz grid);
+        ``1 / dt_s`` would not give every stated rate back bit for bit, so the rest centres, and the
+        error model fitted at them, could move.
+
+    Examples
+    --------
+    >>> rest_times_s(paper_positions(), np.radians(20.0), 3.0, 100.0).shape
+    (6,)
+    """
     prof = six_position.schedule_profile(positions_rad, rate_rad_s=rate_rad_s, rest_s=rest_s, fs_hz=fs_hz)
     holds = prof.hold_slices()[1:-1]
     return np.array([prof.time_s[(h.start + h.stop) // 2] for h in holds])

@@ -38,7 +38,7 @@ from mtcal.core.rng import child_rngs, stream_rng
 from mtcal.core.rotations import mount_quaternion, relative_to_initial
 from mtcal.core.simulate import ImuStream, fill_streams, noise_mismatch
 from mtcal.core.units import DEG, MG
-from mtcal.filters.qncf import qncf
+from mtcal.filters.qncf import qncf_trusted
 from mtcal.methods import quaternion_lsq, six_position
 from mtcal.systems import installation
 from .error_model import MOUNT_TYPE, PAPER_SIGN
@@ -345,7 +345,8 @@ def _run_pieces(sc: TurntableScenario, prof: AngleProfile, spans: dict, pieces: 
         return [(i, part[0]) for i, part in zip(group, parts)]
 
     rngs = dict(pair for done in _map(simulate, fill_groups) for pair in done)
-    res = qncf(gyro, accel, 1.0 / sc.fs_hz, sc.qncf, return_euler=False)
+    # the records simulated above (float64 (T, N, 3), SI units, the scenario's dt_s): the trusted entry
+    res = qncf_trusted(gyro, accel, 1.0 / sc.fs_hz, sc.qncf, return_euler=False)
     # the session zeroed once at its start (§4.1), in place from the verification run on: the
     # calibration run stays as logged (zeroed by the procedure itself)
     q_all = relative_to_initial(res.q_ws, out=res.q_ws, start=ver0)
@@ -814,16 +815,59 @@ def run_windtunnel(sc: WindTunnelScenario, rng: np.random.Generator, trials: int
     Block ``i`` of ``block`` trials draws from ``child_rngs(rng, n_blocks)[i]``; peak memory is set by
     ``block`` (≈ 0.6 GB at 10), not by ``trials``. The time series of trial ``trace_trial`` are kept
     for figures (``keep_trace``; off: ``trace`` is empty, a caller that keeps another run's does not
-    hold ~10 MB per run); the trials' numbers do not depend on which one is traced.
+    hold ~10 MB per run); the trials' numbers do not depend on which one is traced. Each block is one
+    session of the scenario (:func:`_windtunnel_block`).
 
     ``shared`` (a dict, empty on the first of several runs from equal generators): the wind-on
     accelerometer vibration of each block and group is kept there and reused by a later run whose
     phases, time base and vibration settings are equal (checked, else computed afresh), so runs of
     two error models on one key compute it once — the same numbers as separate runs.
-    :func:`run_windtunnel_kinds` runs several scenarios on equal generators side by side.
+    :func:`run_windtunnel_kinds` runs several scenarios on equal generators side by side (the same
+    numbers as one call each).
     """
-    return run_windtunnel_kinds([sc], [rng], trials, sources, wind_on=wind_on, block=block, keep_trace=keep_trace,
-                                trace_trial=trace_trial, shared=shared)[0]
+    sources = _check_sources(sources)
+    sizes, b_trace, i_trace = _windtunnel_block_sizes(trials, block, trace_trial)
+    keep_freed_memory()                          # the per-block arrays reuse freed heap, not fresh zeroed pages
+    runs = [_windtunnel_block(sc, r, n, sources, wind_on=wind_on, keep_trace=keep_trace and i == b_trace,
+                              trace_index=i_trace, shared=None if shared is None else shared.setdefault(i, {}))
+            for i, (r, n) in enumerate(progress(list(zip(child_rngs(rng, len(sizes)), sizes)),
+                                                desc="wind-tunnel Monte Carlo"))]
+    return _concat_windtunnel(runs, sizes, b_trace, wind_on)
+
+
+def _windtunnel_block(sc: WindTunnelScenario, rng: np.random.Generator, trials: int, sources, *, wind_on: bool,
+                      keep_trace: bool, trace_index: int = 0, shared: dict | None = None) -> WindTunnelRun:
+    """One block of :func:`run_windtunnel`: the session's settings and truth (:func:`_wt_setup`), its IMU
+    records (:meth:`mtcal.core.simulate.ImuStream.fill`), the wind-off measurement (:func:`_wt_nowind`), then the
+    wind-on groups' records (:func:`_wind_on_fill`) and measurement (:func:`_wind_on_measure`).
+
+    :func:`_run_windtunnel_blocks` is the same block of several scenarios side by side (their records
+    filled together, the same numbers).
+    """
+    b = _wt_setup(sc, rng, trials, sources, wind_on)
+    shape = (trials, len(b.traj), 3)
+    gyro, accel = np.empty(shape), np.empty(shape)
+    ImuStream(b.traj, b.model, rng=b.rng_imu, trials=trials).fill(gyro, accel)
+    b.traj = None                                # (its truth outputs: not kept while the wind is on)
+    run = _wt_nowind(b, gyro, accel, sources, keep_trace, trace_index)
+    del gyro, accel
+    if wind_on:
+        gyro, accel = _wind_on_fill([b], shared)[0]
+        run.wind_on = _wind_on_measure(sc, run.q_matrix, b.groups, trials, run.trace, keep_trace, trace_index,
+                                       gyro, accel)
+    return run
+
+
+def _windtunnel_block_sizes(trials: int, block: int, trace_trial: int) -> tuple[list, int, int]:
+    """Checked ``trials``, ``block`` and ``trace_trial``: the block sizes, and the traced trial's block and row."""
+    trials = int(trials)
+    if trials < 1:
+        raise ValueError(f"trials must be >= 1, got {trials}")
+    if int(block) < 1:
+        raise ValueError(f"block must be >= 1, got {block}")
+    if not 0 <= int(trace_trial) < trials:
+        raise ValueError(f"trace_trial must be in [0, {trials}), got {trace_trial}")
+    return [min(int(block), trials - k) for k in range(0, trials, int(block))], *divmod(int(trace_trial), int(block))
 
 
 def run_windtunnel_kinds(scenarios, rngs, trials: int, sources=SOURCES, *, wind_on: bool = True, block: int = 10,
@@ -854,17 +898,9 @@ def run_windtunnel_kinds(scenarios, rngs, trials: int, sources=SOURCES, *, wind_
     if not scenarios or len(rngs) != len(scenarios):
         raise ValueError(f"scenarios and rngs must be non-empty and of equal length, got {len(scenarios)} and "
                          f"{len(rngs)}")
-    trials = int(trials)
-    if trials < 1:
-        raise ValueError(f"trials must be >= 1, got {trials}")
-    if int(block) < 1:
-        raise ValueError(f"block must be >= 1, got {block}")
-    if not 0 <= int(trace_trial) < trials:
-        raise ValueError(f"trace_trial must be in [0, {trials}), got {trace_trial}")
-    keep_freed_memory()                          # the per-block arrays reuse freed heap, not fresh zeroed pages
     sources = _check_sources(sources)
-    sizes = [min(int(block), trials - k) for k in range(0, trials, int(block))]
-    b_trace, i_trace = divmod(int(trace_trial), int(block))
+    sizes, b_trace, i_trace = _windtunnel_block_sizes(trials, block, trace_trial)
+    keep_freed_memory()                          # the per-block arrays reuse freed heap, not fresh zeroed pages
     block_rngs = list(zip(*(child_rngs(rng, len(sizes)) for rng in rngs)))   # [block][scenario]
     per_block = [_run_windtunnel_blocks(scenarios, list(r), n, sources, wind_on=wind_on,
                                         keep_trace=keep_trace and i == b_trace, trace_index=i_trace,
@@ -1001,7 +1037,7 @@ def _wt_nowind(b: _WindTunnelBlock, gyro, accel, sources, keep_trace: bool, trac
     span = spans["aoa"]
     if "accel_run_change" in sources:   # bias change between the calibration and the sweep
         accel[:, span.start:] += (sc.errors.accel_run_bias_mg * MG * b.rng_change.standard_normal((trials, 1, 3)))
-    res = qncf(gyro, accel, 1.0 / sc.fs_hz, sc.qncf, return_euler=False)
+    res = qncf_trusted(gyro, accel, 1.0 / sc.fs_hz, sc.qncf, return_euler=False)   # records simulated here: trusted
     # the session zeroed at its start, in place after the calibration run (kept as logged: no copy)
     q_s = relative_to_initial(res.q_ws, out=res.q_ws, start=span.start)
     q_cal = q_s[:, spans["calibration"]]
@@ -1141,7 +1177,7 @@ def _wind_on_measure(sc, q_mat, groups, trials, trace, keep_trace, trace_index, 
     profs = [grp.prof for grp in groups]
     ref = np.radians(np.asarray(sc.wind_on_sweep_deg, float))
     elastic_corrected = ref + elastic_deflection_rad(sc.elastic_model_deg, ref)
-    res = qncf(gyro, accel, 1.0 / sc.fs_hz, sc.qncf, return_euler=False)
+    res = qncf_trusted(gyro, accel, 1.0 / sc.fs_hz, sc.qncf, return_euler=False)   # records simulated here: trusted
     q_s = relative_to_initial(res.q_ws, n0=1, out=res.q_ws)
     q_rep = np.concatenate([q_mat] * 5, axis=0)
     means = np.empty((5, trials, len(sc.wind_on_sweep_deg)))
