@@ -81,6 +81,12 @@ def schedule_profile(positions_rad, *, rate_rad_s: float = np.radians(20.0), res
                      fs_hz: float = 1000.0) -> AngleProfile:
     """Mechanism schedule: zero → each position (rest) → zero, minimum-jerk moves.
 
+    Takes ``fs_hz``, not ``dt_s`` (the exception of the study template's time-base rule): it makes the
+    samples of :func:`mtcal.core.profiles.step_schedule`, at ``t_k = k / fs_hz`` (the sensor spec owns the
+    rate), their count ``floor(duration · fs_hz)``; ``1 / (1 / fs)`` is not ``fs`` exactly for 640 of the
+    integer rates 1–5000 Hz, so a rate rebuilt from ``dt_s`` would move sample times by an ulp and could
+    change a count at a tie.
+
     Parameters
     ----------
     positions_rad : array_like, shape (K, 3)
@@ -380,12 +386,23 @@ def match_rests(q_rest: np.ndarray, q_ref: np.ndarray, max_angle_rad: float = np
 
 
 def _angle_between(p: np.ndarray, q: np.ndarray) -> np.ndarray:
-    """Attitude difference (rad) of checked unit quaternions (same arithmetic as ``rotations.quat_angle_between``)."""
-    d = rotations.hamilton(p * _CONJ, q)
-    return 2.0 * np.arctan2(np.linalg.norm(d[..., 1:], axis=-1), np.abs(d[..., 0]))
+    """Attitude difference (rad) of checked unit quaternions, broadcast against each other.
 
+    ``2 atan2(‖d[1:]‖, |d[0]|)`` of ``d = p* ⊗ q``: the arithmetic of ``rotations.quat_angle_between``
+    (the Hamilton product's terms in :func:`mtcal.core.rotations.hamilton`'s order, numpy's norm of 3),
+    in one compiled pass over the pairs (:func:`mtcal.methods._constrained_kernels.angle_arguments`, no
+    (…, 4) temporaries), ``arctan2`` by numpy: the same numbers (tested bit for bit).
+    """
+    from mtcal.methods._constrained_kernels import angle_arguments   # lazy: numba loads on first use
 
-_CONJ = np.array([1.0, -1.0, -1.0, -1.0])
+    shape = np.broadcast_shapes(p.shape, q.shape)
+    pairs = [np.ascontiguousarray(np.broadcast_to(x, shape), dtype=np.float64).reshape(-1, 4) for x in (p, q)]
+    rows = pairs[0].shape[0]
+    vec_norm, scalar_abs, has_nan = np.empty(rows), np.empty(rows), np.empty(rows, dtype=np.bool_)
+    angle_arguments(pairs[0], pairs[1], vec_norm, scalar_abs, has_nan)
+    ang = 2.0 * np.arctan2(vec_norm, scalar_abs)
+    ang[has_nan] = np.nan                                       # a NaN in p propagates, as through the product
+    return ang.reshape(shape[:-1])[()]
 
 
 def rest_attitudes(q_ws: np.ndarray, q_ref: np.ndarray, dt_s: float, *, gyro_rad_s: np.ndarray | None = None,
@@ -429,20 +446,31 @@ def rest_attitudes(q_ws: np.ndarray, q_ref: np.ndarray, dt_s: float, *, gyro_rad
     >>> matched.tolist(), bool(np.allclose(q_s, ref))
     ([1, 0], True)
     """
+    rests, means = _rests_and_means(q_ws, q_ref.shape[-2], dt_s, gyro_rad_s, rests, fraction, min_rest_s,
+                                    threshold_rad_s, window_s, q_detect)
+    matched = _matched(means, q_ref, max_match_rad, in_order)
+    return rests, matched, means[..., matched, :]
+
+
+def _rests_and_means(q_ws, k, dt_s, gyro_rad_s, rests, fraction, min_rest_s, threshold_rad_s, window_s, q_detect):
+    """:func:`rest_attitudes`' first steps: the rests (given, or :func:`still_rests`; at least ``k``) and the
+    middle-section mean attitude of each, ``(rests, means (R, 4) or (T, R, 4))``."""
     if rests is None:
         rests = still_rests(dt_s, min_rest_s, window_s, threshold_rad_s, gyro_rad_s=gyro_rad_s,
                             q=q_ws if q_detect is None else q_detect)
-    if len(rests) < q_ref.shape[-2]:
+    if len(rests) < k:
         raise ValueError(f"too few rests: found {len(rests)} still periods of >= {min_rest_s:g} s, "
-                         f"need one for each of the {q_ref.shape[-2]} reference positions")
-    means = rest_means(q_ws, rests, fraction)
-    if in_order:
-        if len(rests) != q_ref.shape[-2]:
-            raise ValueError(f"rests in schedule order: got {len(rests)} rests for {q_ref.shape[-2]} positions")
-        matched = np.arange(len(rests))
-    else:
-        matched = match_rests(means, q_ref, max_match_rad)
-    return rests, matched, means[..., matched, :]
+                         f"need one for each of the {k} reference positions")
+    return rests, rest_means(q_ws, rests, fraction)
+
+
+def _matched(means, q_ref, max_match_rad: float, in_order: bool) -> np.ndarray:
+    """:func:`rest_attitudes`' last step: the rest of each position, in schedule order or by :func:`match_rests`."""
+    if not in_order:
+        return match_rests(means, q_ref, max_match_rad)
+    if means.shape[-2] != q_ref.shape[-2]:
+        raise ValueError(f"rests in schedule order: got {means.shape[-2]} rests for {q_ref.shape[-2]} positions")
+    return np.arange(means.shape[-2])
 
 
 # --------------------------------------------------------------------------- the calibration from rests
@@ -527,14 +555,19 @@ class PositionsRefused(ValueError):
     q_ws : ndarray (N, 4) or (T, N, 4)
         The sensor attitude the calibration was given, before zeroing: a caller looking for the
         cause (a convention mistake) starts from it instead of making it again.
+    rest_means : ndarray (R, 4) or (T, R, 4), or None
+        The middle-section mean of the (zeroed) attitude at every rest, when the refusal came after
+        they were made (a position without a rest, a gate): what each rest measured, for the same reason.
     """
 
-    def __init__(self, message: str, q_ws: np.ndarray):
+    def __init__(self, message: str, q_ws: np.ndarray, rest_means: np.ndarray | None = None):
         super().__init__(message)
         self.q_ws = q_ws
+        self.rest_means = rest_means
 
 
-def calibrate_from_rests(q_ws: np.ndarray, positions_rad: np.ndarray, dt_s: float, *, model: str = "eq13",
+def calibrate_from_rests(q_ws: np.ndarray, positions_rad: np.ndarray, q_reference: np.ndarray, dt_s: float, *,
+                         model: str = "eq13",
                          q_hat: np.ndarray | None = None, zero: bool = True, gyro_rad_s: np.ndarray | None = None,
                          rests: list | None = None, fraction: float = 0.5, min_rest_s: float = 2.0,
                          threshold_rad_s: float = np.radians(0.2), window_s: float = 0.1,
@@ -544,8 +577,8 @@ def calibrate_from_rests(q_ws: np.ndarray, positions_rad: np.ndarray, dt_s: floa
     """Steps 2–6 of the six-position procedure on a sensor attitude: zeroing → rests → Eq 13 → gates → angles.
 
     The sensor attitude zeroed at its first sample (``zero``; §4.1 "initial angles 0°"), its rests
-    found or given, their middle sections averaged and matched to the Eq 9 references of
-    ``positions_rad`` (:func:`rest_attitudes`); then the error map of ``model`` fitted (Eq 13's 16-parameter
+    found or given, their middle sections averaged and matched to the references ``q_reference``
+    (Eq 9 of ``positions_rad``, :func:`rest_attitudes`); then the error map of ``model`` fitted (Eq 13's 16-parameter
     least squares, the nearest SO(4) map ``L(p) R(r)`` or the mounting alone ``L(c) R(c*)``) — or ``q_hat``
     taken as given (a verification: no gate) — its SO(4) projection, Eq 10 at the rests, the installation
     angles of the mounting ``q_bs = r*`` (inverse of Eq 1), and the gates (conditioning of the positions,
@@ -553,7 +586,9 @@ def calibrate_from_rests(q_ws: np.ndarray, positions_rad: np.ndarray, dt_s: floa
 
     Trusts its inputs (:func:`mtcal.systems.installation.calibrate_installation` checks them): ``q_ws``
     float64 unit quaternions (N, 4) or (T, N, 4) sampled every ``dt_s`` (s, 0 < dt_s ≤ 1);
-    ``positions_rad`` (K, 3) or (T, K, 3) finite, K ≥ 4; ``q_hat`` finite (4, 4) or (T, 4, 4);
+    ``positions_rad`` (K, 3) or (T, K, 3) finite, K ≥ 4, and ``q_reference`` their Eq 9 attitudes
+    (:func:`mtcal.core.rotations.quat_from_euler_zxy` of yaw, pitch, roll: made once, where the
+    positions are checked); ``q_hat`` finite (4, 4) or (T, 4, 4);
     ``gyro_rad_s`` like ``q_ws[..., :3]``; ``rests`` slices within the N samples; settings positive,
     0 < fraction ≤ 1; ``model`` one of :data:`MODELS`; a gate of ``inf`` is off.
 
@@ -572,25 +607,26 @@ def calibrate_from_rests(q_ws: np.ndarray, positions_rad: np.ndarray, dt_s: floa
     --------
     A sensor mounted without error, its attitude logged at six positions (rest k = position k):
 
-    >>> from mtcal.core import profiles
+    >>> from mtcal.core import profiles, rotations
     >>> pos = six_positions_rad()
     >>> prof = schedule_profile(pos, fs_hz=50.0)
     >>> q = profiles.trajectory_from_euler_zxy(prof).q_wb
-    >>> cal = calibrate_from_rests(q, pos, 0.02, rests=prof.hold_slices()[1:-1], in_order=True)
+    >>> q_ref = rotations.quat_from_euler_zxy(pos[:, 0], pos[:, 1], pos[:, 2])            # Eq 9
+    >>> cal = calibrate_from_rests(q, pos, q_ref, 0.02, rests=prof.hold_slices()[1:-1], in_order=True)
     >>> bool(np.allclose(cal.q_hat, np.eye(4))), float(cal.residual_rad.max()) < 1e-12
     (True, True)
     """
     q_zeroed = q_ws
     if zero:
         q_zeroed = rotations.relative_to_initial(q_ws[None])[0] if q_ws.ndim == 2 else rotations.relative_to_initial(q_ws)
-    pos = positions_rad
-    q_ref = rotations.quat_from_euler_zxy_trusted(pos[..., 0], pos[..., 1], pos[..., 2])
-    try:
-        rests, matched, q_s = rest_attitudes(
-            q_zeroed, q_ref, dt_s, gyro_rad_s=gyro_rad_s, rests=rests, fraction=fraction, min_rest_s=min_rest_s,
-            threshold_rad_s=threshold_rad_s, window_s=window_s, max_match_rad=max_match_rad, q_detect=q_ws,
-            in_order=in_order)
+    pos, q_ref = positions_rad, q_reference
+    means = None
+    try:                                           # steps 3–5 (:func:`rest_attitudes`), then Eq 13 and the gates
+        rests, means = _rests_and_means(q_zeroed, q_ref.shape[-2], dt_s, gyro_rad_s, rests, fraction, min_rest_s,
+                                        threshold_rad_s, window_s, q_ws)
         del q_zeroed                               # the record's zeroed copy: only its rest means are kept
+        matched = _matched(means, q_ref, max_match_rad, in_order)
+        q_s = means[..., matched, :]
         q_s_al, q_b_al = quaternion_lsq._align_pairs(q_s, q_ref)
         sv = np.linalg.svd(np.swapaxes(q_s_al, -1, -2) @ q_s_al, compute_uv=False)
         cond = sv[..., 0] / np.maximum(sv[..., 3], 1e-300)
@@ -608,7 +644,7 @@ def calibrate_from_rests(q_ws: np.ndarray, positions_rad: np.ndarray, dt_s: floa
         after = quaternion_lsq._apply(mat, q_s)                                     # Eq 10 at the rests
         residual = _gated_residual(mat, proj.distance, after, q_ref, max_so4_distance, max_residual_rad, gate)
     except ValueError as exc:
-        raise PositionsRefused(str(exc), q_ws) from None
+        raise PositionsRefused(str(exc), q_ws, means) from None
     sig = angles_sigma(q_s, q_ref, mat, model) if sigma else None
     q_bs = rotations.quat_conjugate(proj.r)
     alpha = rotations.installation_angles_from_mount_trusted(q_bs)

@@ -15,7 +15,8 @@
 
 Step 1 is the system's (the QNCF of :mod:`mtcal.filters.qncf`); steps 2–6 are one methods-level
 procedure on that attitude, :func:`mtcal.methods.six_position.calibrate_from_rests`, which the
-system calls once with the config's settings after checking every input here.
+system calls once with the config's settings after checking every input here (the positions made
+their Eq 9 reference attitudes at the same edge).
 
 :func:`apply_installation` is Eq 10 on a stream (``q_body = normalize(Q̂ q_sensor)``): the
 paper's *relative* body attitude, zeroed where the record starts (the turntable's zero).
@@ -253,8 +254,8 @@ def _record(q_ws, gyro_rad_s, accel_m_s2, q0, need_dt: bool, dt_s):
         return q, gyro, None, None, q
     if gyro_rad_s is None or accel_m_s2 is None:
         raise ValueError("a sensor attitude is needed: give q_ws, or gyro_rad_s and accel_m_s2 for the QNCF")
-    gyro = as_float_array(gyro_rad_s, "gyro_rad_s", ndim=(2, 3), last_dim=3)
-    accel = as_float_array(accel_m_s2, "accel_m_s2", ndim=(2, 3), last_dim=3)
+    gyro = as_float_array(gyro_rad_s, "gyro_rad_s", ndim=(2, 3), last_dim=3, copy=False)      # only read inside
+    accel = as_float_array(accel_m_s2, "accel_m_s2", ndim=(2, 3), last_dim=3, copy=False)
     if gyro.shape != accel.shape:
         raise ValueError(f"gyro_rad_s and accel_m_s2 must have the same shape, got {gyro.shape} and {accel.shape}")
     if need_dt and dt_s is None:
@@ -274,6 +275,7 @@ def _positions_record(config: InstallationConfig, positions_rad, dt_s, q_ws, gyr
     k = pos.shape[-2]
     if k < 4:
         raise ValueError(f"positions_rad must hold at least 4 positions for Eq 13 (16 unknowns), got {k}")
+    refs = (pos, rotations.quat_from_euler_zxy_trusted(pos[..., 0], pos[..., 1], pos[..., 2]))      # Eq 9
     dt = sample_interval(dt_s)
     n = stream.shape[-2]
     if pos.ndim == 3 and (stream.ndim != 3 or stream.shape[0] != pos.shape[0]):
@@ -286,8 +288,27 @@ def _positions_record(config: InstallationConfig, positions_rad, dt_s, q_ws, gyr
         if any(not isinstance(r, slice) or r.start is None or r.stop is None or not 0 <= r.start < r.stop <= n
                for r in rests):
             raise ValueError(f"rests must be slices (start < stop) within the {n} samples of the record")
-    checked = (pos, dt, q, gyro, accel, q0, rests)
+    checked = (refs, dt, q, gyro, accel, q0, rests)
     return checked if mat is None else (mat,) + checked
+
+
+def _references(positions_rad, ndim=2) -> tuple:
+    """The reference positions checked once (finite rad, K ≥ 4, shape (K, 3) or with ``ndim=(2, 3)`` also
+    (T, K, 3)) and their attitudes (Eq 9, yaw about z, pitch about x, roll about y): ``(positions, q_ref)``."""
+    pos = as_float_array(positions_rad, "positions_rad", ndim=ndim, last_dim=3)
+    if pos.shape[-2] < 4:
+        raise ValueError(f"positions_rad must hold at least 4 positions for Eq 13 (16 unknowns), got {pos.shape[-2]}")
+    return pos, rotations.quat_from_euler_zxy_trusted(pos[..., 0], pos[..., 1], pos[..., 2])
+
+
+def _fit_settings(config: InstallationConfig) -> dict:
+    """The config's settings of the methods-level calibration
+    (:func:`mtcal.methods.six_position.calibrate_from_rests`)."""
+    return dict(model=config.model, zero=config.zero_at_first_sample, fraction=config.fraction,
+                min_rest_s=config.min_rest_s, threshold_rad_s=config.still_threshold_rad_s,
+                window_s=config.still_window_s, max_match_rad=config.max_match_rad, in_order=config.rests_in_order,
+                max_condition=config.max_condition, max_so4_distance=config.max_so4_distance,
+                max_residual_rad=config.max_residual_rad)
 
 
 def _sensor_attitude(config: InstallationConfig, q, gyro, accel, q0, dt: float | None, zero: bool = True,
@@ -306,7 +327,7 @@ def _sensor_attitude(config: InstallationConfig, q, gyro, accel, q0, dt: float |
     return q, rotations.relative_to_initial(q[None])[0] if q.ndim == 2 else rotations.relative_to_initial(q)
 
 
-def _calibrate(config: InstallationConfig, pos, dt, q, gyro, accel, q0, rests, q_hat=None,
+def _calibrate(config: InstallationConfig, refs, dt, q, gyro, accel, q0, rests, q_hat=None,
                sigma: bool = False) -> InstallationCalibration:
     """Steps 1–6 on checked inputs (see :func:`calibrate_installation`): the sensor attitude (the QNCF of
     raw data, or ``q`` as given), then one methods-level calibration from its rests
@@ -314,12 +335,8 @@ def _calibrate(config: InstallationConfig, pos, dt, q, gyro, accel, q0, rests, q
     given: a verification (Q̂ not fitted, no gate)."""
     if q is None:
         q = qncf(gyro, accel, dt, config.qncf_params, q0=q0, return_euler=False).q_ws
-    return six_position.calibrate_from_rests(
-        q, pos, dt, model=config.model, q_hat=q_hat, zero=config.zero_at_first_sample, gyro_rad_s=gyro, rests=rests,
-        fraction=config.fraction, min_rest_s=config.min_rest_s, threshold_rad_s=config.still_threshold_rad_s,
-        window_s=config.still_window_s, max_match_rad=config.max_match_rad, in_order=config.rests_in_order,
-        max_condition=config.max_condition, max_so4_distance=config.max_so4_distance,
-        max_residual_rad=config.max_residual_rad, sigma=sigma)
+    return six_position.calibrate_from_rests(q, *refs, dt, q_hat=q_hat, gyro_rad_s=gyro, rests=rests, sigma=sigma,
+                                             **_fit_settings(config))
 
 
 # --------------------------------------------------------------------------- public procedure
@@ -482,9 +499,9 @@ def verify_installation(config: InstallationConfig, q_hat, positions_rad, dt_s: 
     >>> float(ver.residual_rad.max()) < 1e-12, ver.matched.tolist()
     (True, [1, 2, 3, 4, 5, 6])
     """
-    mat, pos, dt, q, gyro, accel, q0, rests = _positions_record(config, positions_rad, dt_s, q_ws, gyro_rad_s,
-                                                                accel_m_s2, q0, rests, q_hat)
-    return _calibrate(config, pos, dt, q, gyro, accel, q0, rests, q_hat=mat)
+    mat, refs, dt, q, gyro, accel, q0, rests = _positions_record(config, positions_rad, dt_s, q_ws, gyro_rad_s,
+                                                                 accel_m_s2, q0, rests, q_hat)
+    return _calibrate(config, refs, dt, q, gyro, accel, q0, rests, q_hat=mat)
 
 
 def _q_hat(q_hat) -> np.ndarray:
@@ -777,14 +794,18 @@ def calibrate_record(config: InstallationConfig, positions_rad, dt_s: float, *, 
                   gyro_rad_s=None, filter_gyro_rad_s=None, q_ws=None, gyro_unit_stated=None) -> RecordCalibration:
     """The whole ``mtcal calibrate`` measurement of one log: rests → units check → attitude → Eq 13 → diagnosis.
 
-    A raw log (``gyro_rad_s`` and ``accel_m_s2``): rests by ``config.rest_detector``
-    (:func:`mtcal.systems.rests.find_rests`; with the paper's detector the calibration's rests are the
-    §3.2 stillness of the gyro, :func:`detect_rests`), the gyro units checked against the accelerometer
+    The positions are checked once and made reference attitudes (Eq 9). A raw log (``gyro_rad_s`` and
+    ``accel_m_s2``): rests by ``config.rest_detector`` (:func:`mtcal.systems.rests.find_rests`, which
+    checks the arrays; with the paper's detector the calibration's rests are the §3.2 stillness of the
+    gyro, as :func:`detect_rests` finds it), the gyro units checked against the accelerometer
     (:func:`mtcal.systems.plausibility.check_units`), the QNCF set from the rests
-    (:func:`mtcal.systems.attitude.qncf_log_setup`), then :func:`calibrate_installation`. A q0..q3 log
-    (``q_ws``): rests from the quaternion rate. A refusal meaning "the rests do not match the
-    positions" is looked into: the convention mistake (radians, a sign, pitch/roll swapped, FRD axes,
-    a late start, a quaternion convention) under which every position matches is named.
+    (:func:`mtcal.systems.attitude.qncf_log_setup`) and run without a second tilt-rate scan (the units
+    are checked). A q0..q3 log (``q_ws``, checked once): rests from the quaternion rate. Then one
+    methods-level calibration from those rests (:func:`mtcal.methods.six_position.calibrate_from_rests`
+    with the config's settings, trusted). A refusal meaning "the rests do not match the positions" is
+    looked into: the convention mistake (a quaternion convention, FRD axes, radians, a sign, pitch/roll
+    swapped, a late start) under which every position matches is named, and each position's nearest
+    rest tabled from the rests' mean attitudes the refusal carries.
 
     Parameters
     ----------
@@ -819,17 +840,42 @@ def calibrate_record(config: InstallationConfig, positions_rad, dt_s: float, *, 
     ----------
     wang2023cja §3.2, §4.1, Eq 13; see :func:`calibrate_installation`.
     """
-    pos = np.asarray(positions_rad, dtype=float)
+    if not isinstance(config, InstallationConfig):
+        raise TypeError(f"config must be an InstallationConfig, got {type(config).__name__}")
+    settings = _fit_settings(config)
+    pos, q_ref = _references(positions_rad)
+    dt = sample_interval(dt_s)
     rep = chk = setup = None
-    cfg, source, q_logged = config, {"q_ws": q_ws}, q_ws
     if gyro_rad_s is not None:
-        rep, found, chk, setup = _raw_record(config, dt_s, time_s, accel_m_s2, gyro_rad_s, filter_gyro_rad_s,
+        # a raw log: the log's systems (rests, units check, QNCF set-up) check the arrays they read; the units
+        # checked, the QNCF runs without its own tilt-rate scan (as estimate_attitude runs it)
+        rep, found, chk, setup = _raw_record(config, dt, time_s, accel_m_s2, gyro_rad_s, filter_gyro_rad_s,
                                              gyro_unit_stated, paper_rests=config.rest_detector.detector == "paper")
-        cfg = replace(config, qncf_params=setup.params)
-        source, q_logged = {"gyro_rad_s": setup.gyro_rad_s, "accel_m_s2": accel_m_s2, "q0": setup.q0}, None
+        config = replace(config, qncf_params=setup.params)
+        q = qncf_trusted(setup.gyro_rad_s, accel_m_s2, dt, setup.params, q0=setup.q0, return_euler=False).q_ws
     else:
-        found = detect_rests(config, dt_s, q_ws=q_ws)
-    return _calibrate_record_rests(cfg, pos, dt_s, found, rep, chk, setup, source, accel_m_s2, q_logged, time_s)
+        q = _logged_attitude(q_ws)
+        found = six_position.still_rests(dt, config.min_rest_s, config.still_window_s, config.still_threshold_rad_s,
+                                         q=q)
+    done = dict(config=config, rests=found, report=rep, units_check=chk, qncf=setup)
+    if len(found) < pos.shape[0]:
+        return RecordCalibration(**done)
+    # ---- trusted inside: the one methods-level calibration from the rests
+    try:
+        cal = six_position.calibrate_from_rests(q, pos, q_ref, dt, rests=found, sigma=True, **settings)
+    except InstallationRefused as exc:
+        return RecordCalibration(**done, **_refusal(settings, pos, q_ref, dt, found, q, exc, accel_m_s2, time_s,
+                                                    logged=gyro_rad_s is None))
+    return RecordCalibration(**done, calibration=cal, sigma_rad=cal.angles_sigma_rad,
+                             mounting_euler_rad=rotations.euler_zxy_unchecked(cal.mounting_quaternion_q_bs))
+
+
+def _logged_attitude(q_ws) -> np.ndarray:
+    """A log's sensor attitude (N, 4), checked once."""
+    q = unit_quaternion(q_ws, "q_ws", copy=False)
+    if q.ndim != 2:
+        raise ValueError(f"q_ws must have shape (N, 4), got {q.shape}")
+    return q
 
 
 def _raw_record(config, dt_s, time_s, accel_m_s2, gyro_rad_s, filter_gyro_rad_s, gyro_unit_stated, *,
@@ -855,85 +901,77 @@ def _raw_record(config, dt_s, time_s, accel_m_s2, gyro_rad_s, filter_gyro_rad_s,
     return rep, found, chk, attitude.qncf_log_setup(filter_gyro, accel_m_s2, dt_s, rep, gyro_rad_s=gyro_rad_s)
 
 
-def _calibrate_record_rests(cfg, pos, dt, found, rep, chk, setup, source, accel, q_ws, time_s) -> RecordCalibration:
-    """:func:`calibrate_record` from its rests on: Eq 13 and, on a mismatch refusal, the diagnosis."""
-    done = dict(config=cfg, rests=found, report=rep, units_check=chk, qncf=setup)
-    if len(found) < pos.shape[0]:
-        return RecordCalibration(**done)
-    try:
-        cal = calibrate_installation(cfg, pos, dt, rests=found, sigma=True, **source)
-    except InstallationRefused as exc:
-        tiny = np.max(np.abs(np.degrees(pos))) <= np.pi / 2 + 1e-9        # values that may be radians
-        if not (any(m in str(exc) for m in MISMATCH_MESSAGES) or (tiny and "ill-conditioned" in str(exc))):
-            return RecordCalibration(**done, refusal=str(exc))
-        hint = _quaternion_hint(cfg, pos, dt, q_ws, found) if q_ws is not None else ""
-        diagnosis = None
-        if not hint:
-            diagnosis, hint = _diagnose(cfg, pos, dt, found, exc.q_ws, accel, time_s)
-        return RecordCalibration(**done, refusal=f"{exc}{hint}", diagnosis=diagnosis)
-    return RecordCalibration(**done, calibration=cal, sigma_rad=cal.angles_sigma_rad,
-                             mounting_euler_rad=rotations.euler_zxy_unchecked(cal.mounting_quaternion_q_bs))
-
-
-def _fits(cfg, pos, dt, q, rests) -> bool:
-    """Whether :func:`calibrate_installation` accepts the record."""
-    try:
-        calibrate_installation(cfg, pos, dt, q_ws=q, rests=rests)
-    except ValueError:
-        return False
-    return True
-
-
-def _quaternion_hint(cfg, pos, dt, q_ws, rests) -> str:
-    """A hint naming the quaternion convention under which the log would match the positions ('' if none)."""
-    for name, (fn, fix) in QUATERNION_CONVENTIONS.items():
-        if _fits(cfg, pos, dt, fn(q_ws), rests):
-            return f"; the log's q0..q3 would match every position if they were {name}: {fix}"
-    return ""
-
-
-def _diagnose(cfg, pos, dt, rests, q_abs, accel, time_s) -> tuple:
-    """Why the rests do not match the positions: the nearest rest per position and the likely mistake.
-
-    ``q_abs`` is the sensor attitude the refused calibration made (not zeroed). Returns
-    ``(RefusalDiagnosis, hint)`` with the hint appended to the one-line refusal.
-    """
-    hint = _mistake(cfg, pos, dt, rests, q_abs, accel, time_s)
-    means = six_position.rest_means(rotations.relative_to_initial(q_abs[None])[0], rests, cfg.fraction)
-    q_ref = rotations.quat_from_euler_zxy_trusted(pos[:, 0], pos[:, 1], pos[:, 2])
+def _refusal(settings: dict, pos, q_ref, dt, rests, q, exc: InstallationRefused, accel, time_s, *,
+             logged: bool) -> dict:
+    """A refused calibration of a log, looked into when it means "the rests do not match the positions":
+    ``refusal`` (the one line, with the convention mistake under which every position matches, tried in the
+    order of :func:`_mistakes`) and ``diagnosis`` (per position the nearest rest; not for a quaternion
+    convention). ``q`` is the sensor attitude the refused calibration was given (not zeroed), ``exc`` its refusal
+    (with the rests' mean attitudes)."""
+    message = str(exc)
+    tiny = np.max(np.abs(np.degrees(pos))) <= np.pi / 2 + 1e-9        # values that may be radians
+    if not (any(m in message for m in MISMATCH_MESSAGES) or (tiny and "ill-conditioned" in message)):
+        return {"refusal": message}
+    hint = next((text for text, cand_pos, cand_q, cand_rests in _mistakes(pos, q, rests, accel, time_s, logged=logged)
+                 if cand_pos is None or _fits(settings, cand_pos, dt, cand_q, cand_rests)), None)
+    if hint is not None and hint.startswith(_CONVENTION_HINT):
+        return {"refusal": f"{message}{hint}", "diagnosis": None}
+    if hint is None and np.max(np.abs(pos)) <= np.pi / 2 + 1e-9 and np.max(np.abs(pos)) > 0:
+        hint = ("; the positions are all within +-1.571 deg: if they are radians, write degrees "
+                "(the table above shows what each rest measured)")
+    elif hint is None:
+        hint = ("; no single convention mistake (radians, sign, pitch/roll swap, FRD axes, start) explains it: "
+                "see the table above")
+    means = exc.rest_means                                                         # (R, 4), zeroed attitude
     dist = rotations.quat_angle_between(means[:, None, :], q_ref[None, :, :])      # (R, K)
     near = np.argmin(dist, axis=0)
     diagnosis = RefusalDiagnosis(nearest=[rests[int(r)] for r in near],
                                  measured_rad=rotations.euler_zxy_from_quat(means[near]),
                                  distance_rad=dist[near, np.arange(pos.shape[0])])
-    return diagnosis, hint
+    return {"refusal": f"{message}{hint}", "diagnosis": diagnosis}
 
 
-def _mistake(cfg, pos, dt, rests, q_abs, accel, time_s) -> str:
-    """The convention mistake under which every position matches, as a hint ('; likely mistake: …')."""
+def _fits(settings: dict, positions_rad, dt, q, rests) -> bool:
+    """Whether the calibration with ``settings`` accepts the positions on the sensor attitude ``q`` (checked:
+    unit, ``rests`` within it)."""
+    try:
+        pos, q_ref = _references(positions_rad)
+        six_position.calibrate_from_rests(q, pos, q_ref, dt, rests=rests, **settings)
+    except ValueError:
+        return False
+    return True
+
+
+_CONVENTION_HINT = "; the log's q0..q3 would match every position if they were"
+
+
+def _mistakes(pos, q, rests, accel, time_s, *, logged: bool):
+    """The convention mistakes a refused log is tried under, in order, as ``(hint, positions, attitude, rests)``
+    (the hint is taken when the calibration accepts them; ``positions`` None: the accelerometer shows it, no fit):
+    a q0..q3 log's quaternion conventions, FRD axes, the positions file's mistakes, a log that starts before the
+    mechanism zero (the attitude zeroed at a later rest)."""
+    if logged:
+        for name, (fn, fix) in QUATERNION_CONVENTIONS.items():
+            yield f"{_CONVENTION_HINT} {name}: {fix}", pos, fn(q), rests
     if accel is not None and rests:
         a0 = accel[rests[0]].mean(axis=0)
         if a0[2] < -0.5 * np.linalg.norm(a0):
-            return (f"; likely mistake: the sensor reads -g on z at its first rest (a = [{a0[0]:+.2f}, {a0[1]:+.2f}, "
-                    f"{a0[2]:+.2f}] m/s^2): FRD/NED axes (z down)? mtcal expects x right, y forward, z up (+g on z "
-                    f"when level); map FRD to it with --columns gyro_x=<gyro y>,gyro_y=<gyro x>,accel_x=<accel y>,"
-                    f"accel_y=<accel x> --gyro-scale 1,1,-1 --accel-scale 1,1,-1")
+            yield (f"; likely mistake: the sensor reads -g on z at its first rest (a = [{a0[0]:+.2f}, {a0[1]:+.2f}, "
+                   f"{a0[2]:+.2f}] m/s^2): FRD/NED axes (z down)? mtcal expects x right, y forward, z up (+g on z "
+                   f"when level); map FRD to it with --columns gyro_x=<gyro y>,gyro_y=<gyro x>,accel_x=<accel y>,"
+                   f"accel_y=<accel x> --gyro-scale 1,1,-1 --accel-scale 1,1,-1"), None, None, None
+            return
     for name, (fn, fix) in POSITION_MISTAKES.items():
         cand = fn(pos)
         if name == "radians" and np.max(np.abs(cand)) > 2 * np.pi:
             continue
-        if _fits(cfg, cand, dt, q_abs, rests):
-            return f"; likely mistake: {name} — every position matches after that change: {fix}"
+        yield f"; likely mistake: {name} — every position matches after that change: {fix}", cand, q, rests
     for i, r in enumerate(rests[1:], start=1):
         shifted = [slice(x.start - r.start, x.stop - r.start) for x in rests[i:]]
-        if len(shifted) >= pos.shape[0] and _fits(cfg, pos, dt, q_abs[r.start:], shifted):
-            return ("; likely mistake: the log does not start at the mechanism zero — with the attitude zeroed at the "
-                    f"rest at {time_s[r.start]:.1f} s every position matches: trim the log to start at the zero "
-                    "(the positions are relative to where the log starts)")
-    if np.max(np.abs(pos)) <= np.pi / 2 + 1e-9 and np.max(np.abs(pos)) > 0:
-        return ("; the positions are all within +-1.571 deg: if they are radians, write degrees "
-                "(the table above shows what each rest measured)")
-    return "; no single convention mistake (radians, sign, pitch/roll swap, FRD axes, start) explains it: see the table above"
+        if len(shifted) >= pos.shape[0]:
+            yield ("; likely mistake: the log does not start at the mechanism zero — with the attitude zeroed at the "
+                   f"rest at {time_s[r.start]:.1f} s every position matches: trim the log to start at the zero "
+                   "(the positions are relative to where the log starts)"), pos, q[r.start:], shifted
 
 
 @dataclass(frozen=True)

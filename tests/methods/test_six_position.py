@@ -174,3 +174,40 @@ def test_rest_means_compiled_pass_equals_mean_quaternion_bit_for_bit(seed):
         ref = np.stack([six_position.mean_quaternion(arr[..., s, :], axis=-2)
                         for s in six_position.middle_slices(rests, frac)], axis=-2)
         assert got.shape == ref.shape and got.tobytes() == ref.tobytes()
+
+
+def test_angle_between_is_the_hamilton_expression_bit_for_bit():
+    """The rests' distances run methods' compiled pass: the numbers of 2 atan2(‖d[1:]‖, |d[0]|), d = p* ⊗ q."""
+    rng = np.random.default_rng(3)
+
+    def unit(shape):
+        q = rng.standard_normal(shape)
+        return q / np.linalg.norm(q, axis=-1, keepdims=True)
+
+    for a, b in (((8, 1, 4), (1, 6, 4)), ((2, 8, 1, 4), (2, 1, 6, 4)), ((5000, 4), (5000, 4)), ((6, 4), (6, 4))):
+        p, q = unit(a), unit(b)
+        d = rotations.hamilton(p * [1.0, -1.0, -1.0, -1.0], q)
+        ref = 2.0 * np.arctan2(np.linalg.norm(d[..., 1:], axis=-1), np.abs(d[..., 0]))
+        got = six_position._angle_between(p, q)
+        assert got.shape == ref.shape and np.array_equal(got, ref)
+    p = unit((3, 4))
+    assert np.allclose(six_position._angle_between(p, p), 0.0, atol=1e-15)
+    p[1, 2] = np.nan
+    assert np.isnan(six_position._angle_between(p, unit((3, 4)))).tolist() == [False, True, False]
+
+
+def test_a_refusal_carries_the_rests_mean_attitudes():
+    """PositionsRefused hands the caller what each rest measured (zeroed), once they were made."""
+    pos = six_position.six_positions_rad()
+    prof = six_position.schedule_profile(pos, fs_hz=50.0)
+    q = trajectory_from_euler_zxy(prof).q_wb
+    holds = prof.hold_slices()
+    wrong = pos * [1.0, -1.0, 1.0]                                        # pitch sign flipped
+    with pytest.raises(six_position.PositionsRefused, match="has no rest within") as info:
+        six_position.calibrate_from_rests(q, wrong, rotations.quat_from_euler_zxy(*wrong.T), 0.02, rests=holds)
+    zeroed = rotations.relative_to_initial(q[None])[0]
+    assert np.array_equal(info.value.rest_means, six_position.rest_means(zeroed, holds))
+    assert info.value.q_ws is q
+    with pytest.raises(six_position.PositionsRefused, match="too few rests") as info:
+        six_position.calibrate_from_rests(q, pos, rotations.quat_from_euler_zxy(*pos.T), 0.02, rests=holds[:3])
+    assert info.value.rest_means is None

@@ -424,3 +424,22 @@ def test_apply_record_of_a_raw_log_is_the_checked_procedure_bit_for_bit(mode):
 def test_the_rest_detector_of_a_config_is_a_rests_config():
     with pytest.raises(TypeError, match="rest_detector must be a RestsConfig or None"):
         Config(rest_detector=[slice(0, 10)])
+
+
+def test_calibrate_record_checks_its_inputs_once(stream):
+    """The log procedure's edge: positions (finite, K >= 4) and the logged attitude checked once."""
+    pos, _, q_ws, _ = stream
+    cfg = Config.command_line()
+    with pytest.raises(ValueError, match="at least 4 positions"):
+        installation.calibrate_record(cfg, pos[:3], DT_S, q_ws=q_ws)
+    with pytest.raises(ValueError, match="positions_rad"):
+        installation.calibrate_record(cfg, np.where(pos == 0.0, np.nan, pos), DT_S, q_ws=q_ws)
+    with pytest.raises(ValueError, match=r"q_ws must have shape \(N, 4\)"):
+        installation.calibrate_record(cfg, pos, DT_S, q_ws=np.stack([q_ws, q_ws]))
+    with pytest.raises(ValueError, match="q_ws"):
+        installation.calibrate_record(cfg, pos, DT_S, q_ws=2 * q_ws)
+    with pytest.raises(TypeError, match="config must be an InstallationConfig"):
+        installation.calibrate_record({"model": "eq13"}, pos, DT_S, q_ws=q_ws)
+    res = installation.calibrate_record(cfg, pos, DT_S, q_ws=q_ws)
+    assert np.degrees(np.abs(res.calibration.installation_angles_rad - ALPHA)).max() < 1e-6
+
