@@ -283,7 +283,7 @@ class _Blocks:
 def warm_up() -> None:
     """Compile (or load from numba's cache) the compiled block sums of :func:`detect_rests`, the compiled
     ZVD it calls (:func:`mtcal.methods.zero_velocity.detect_static_trusted`) and the batched rest means of
-    the axis estimate that follows it (:func:`mtcal.methods.rotation_axis.axes_from_rests_trusted`).
+    the axis estimate that follows it (:func:`mtcal.methods.rotation_axis.axes_from_rests`).
 
     Examples
     --------

@@ -30,8 +30,8 @@ commands, the study's Monte Carlo runs and the sweep evaluator:
    or the paper's Table 1 ZVD and Algorithm A1, in one call.
 
 Each procedure checks its inputs, then goes down once: the axis estimate and its gates are
-methods (:func:`mtcal.methods.rotation_axis.axis_from_rests_trusted`,
-:func:`~mtcal.methods.rotation_axis.gated_elevation_trusted`), the EKF a filter call
+methods (:func:`mtcal.methods.rotation_axis.axis_from_rests`,
+:func:`~mtcal.methods.rotation_axis.gated_elevation`), the EKF a filter call
 (:func:`mtcal.filters.rams_ekf.run_rams_ekf_restarts_trusted` /
 :func:`~mtcal.filters.rams_ekf.run_rams_ekf_batch_restarts_trusted`).
 
@@ -140,10 +140,12 @@ def axis_uncertainty(positions_m_s2, counts, *, accel_noise_m_s2: float, window_
     ([1.0, 0.0, 0.0], True)
     """
     positions = as_float_array(positions_m_s2, "positions_m_s2", ndim=2, last_dim=3)
+    if positions.shape[0] < 3:
+        raise ValueError(f"positions_m_s2 must hold at least 3 positions, got {positions.shape[0]}")
     n = as_float_array(counts, "counts", ndim=1)
     noise = positive_scalar(accel_noise_m_s2, "accel_noise_m_s2", allow_zero=True)
-    return rotation_axis.gated_plane_fit_trusted(positions, n, noise, window_samples, max_axis_error_deg,
-                                                 SIGMA_MEAN_FLOOR_M_S2)
+    return rotation_axis.gated_plane_fit(positions, n, noise, window_samples, max_axis_error_deg,
+                                         SIGMA_MEAN_FLOOR_M_S2)
 
 
 def _limit(value, name: str) -> float:
@@ -212,7 +214,7 @@ class AxisConfig:
 
 
 def _axis_settings(config: AxisConfig) -> dict:
-    """The keywords of :func:`mtcal.methods.rotation_axis.axis_from_rests_trusted` a checked config states."""
+    """The keywords of :func:`mtcal.methods.rotation_axis.axis_from_rests` a checked config states."""
     return dict(fit=config.fit, min_separation_deg=float(config.min_separation_deg),
                 max_elevation_deg=float(config.max_elevation_deg),
                 max_axis_error_deg=np.inf if config.max_axis_error_deg is None else float(config.max_axis_error_deg),
@@ -264,10 +266,14 @@ def estimate_surface_axis(accel_m_s2, rests, config: AxisConfig) -> AxisEstimate
         raise TypeError(f"config must be an AxisConfig, got {type(config).__name__}")
     settings = _axis_settings(config)
     a = as_float_array(accel_m_s2, "accel_m_s2", ndim=2, last_dim=3)
-    rests = list(rests)
+    rests = [r if isinstance(r, slice) else np.asarray(r) for r in rests]
     if not rests:
         raise ValueError("found no rest; the axis needs rests at three distinct tilts")
-    return rotation_axis.axis_from_rests_trusted(a, rests, **settings)
+    for m in rests:
+        if not isinstance(m, slice) and (m.dtype != bool or m.shape != a.shape[:1]):
+            raise ValueError(f"each rest must be a slice or a boolean mask of shape {a.shape[:1]}, "
+                             f"got {m.dtype} {m.shape}")
+    return rotation_axis.axis_from_rests(a, rests, **settings)
 
 
 def estimate_surface_axes(accel_m_s2, rest_masks, config: AxisConfig) -> np.ndarray:
@@ -324,7 +330,7 @@ def estimate_surface_axes(accel_m_s2, rest_masks, config: AxisConfig) -> np.ndar
     for m in masks:
         if m.dtype != bool or m.shape != a.shape[:2]:
             raise ValueError(f"each rest mask must be boolean of shape {a.shape[:2]}, got {m.dtype} {m.shape}")
-    return rotation_axis.axes_from_rests_trusted(a, masks, **settings)
+    return rotation_axis.axes_from_rests(a, masks, **settings)
 
 
 # --------------------------------------------------------------------------- one record (a log): rests → axis
@@ -481,7 +487,7 @@ def surface_axis_record(accel_m_s2, config: AxisRecordConfig, *, fs_hz: float, t
                                                  min_separation_deg=config.min_separation_deg,
                                                  max_axis_error_deg=config.max_axis_error_deg,
                                                  max_elevation_deg=config.max_elevation_deg))
-        est = rotation_axis.axis_from_rests_trusted(a, list(rep.rests), **settings)
+        est = rotation_axis.axis_from_rests(a, list(rep.rests), **settings)
     except ValueError as exc:
         exc.rests, exc.units_check = rep, chk  # the caller's diagnostics show what the refusal saw
         raise
@@ -509,16 +515,16 @@ def _axis_record_paper(a: np.ndarray, dt: float, fs: float, config: AxisRecordCo
     counts = np.array([r.stop - r.start for r in res.rests], float)
     window = rep.window_s * fs
     try:  # axis_uncertainty on A1's means (float (3, 3)) and the noise the ZVD report measured on its blocks
-        fit = rotation_axis.gated_plane_fit_trusted(res.means, counts, rep.accel_noise_m_s2, window,
-                                                    np.inf if config.max_axis_error_deg is None
-                                                    else float(config.max_axis_error_deg), SIGMA_MEAN_FLOOR_M_S2)
+        fit = rotation_axis.gated_plane_fit(res.means, counts, rep.accel_noise_m_s2, window,
+                                            np.inf if config.max_axis_error_deg is None
+                                            else float(config.max_axis_error_deg), SIGMA_MEAN_FLOOR_M_S2)
     except ValueError as exc:
         exc.rests, exc.units_check, exc.used = rep, None, tuple(res.rests)
         raise
     v, means = res.v, res.means
     n_eff = float(np.min(counts)) / max(1.0, float(window))       # as axis_uncertainty's rest-mean noise
     sig = max(rep.accel_noise_m_s2 / np.sqrt(max(n_eff, 1.0)), SIGMA_MEAN_FLOOR_M_S2)
-    est = AxisEstimate(v, float(fit.sigma_rad), float(np.mean(rotation_axis.axis_elevation_trusted(v, means))),
+    est = AxisEstimate(v, float(fit.sigma_rad), float(np.mean(rotation_axis.axis_elevation(v, means))),
                        means, ((0,), (1,), (2,)), means, angles_about_axis(v, means[0], means), float(sig), "eq23")
     return SurfaceAxisRecord(rep, est, tuple(res.rests), None)
 
@@ -790,7 +796,7 @@ def _surface_angle_trusted(g, a, v, static, init: slice, dt: float, weights, tim
         level = np.array([c[1] for c in clip])
     else:
         clipped, level = plausibility.clipped_samples(g)
-    elev = rotation_axis.gated_elevation_trusted(v, a0, cfg.max_elevation_deg)
+    elev = rotation_axis.gated_elevation(v, a0, cfg.max_elevation_deg)
     check, u = None, None
     if cfg.check_units:
         check = plausibility.check_units(gyro_f, a, dt, rests, time_s=time_s, skip=clipped,
@@ -1209,10 +1215,10 @@ def surface_angle_batch(gyro_rad_s, accel_m_s2, dt_s: float, config: SurfaceBatc
                                       gyro_offset_rad_s=b0 if with_gyro else None)
     if v is None and settings is not None:
         masks = rest_masks_trusted(flags, rests[:config.axis_rests], MIN_REST_ZVD_SHARE)
-        v = rotation_axis.axes_from_rests_trusted(a, masks, **settings)
+        v = rotation_axis.axes_from_rests(a, masks, **settings)
     angle = None
     if config.angle is not None:
-        rotation_axis.gated_elevation_trusted(v, a0, config.angle.max_elevation_deg)
+        rotation_axis.gated_elevation(v, a0, config.angle.max_elevation_deg)
         switch = np.broadcast_to(flags if config.ekf_switch == "zvd" else known, a.shape[:2])
         angle = run_rams_ekf_batch_restarts_trusted(g, a, switch, cuts, v, a0, b0, dt, config.angle.params,
                                                     CLIPPED_P0_THETA_RAD**2)

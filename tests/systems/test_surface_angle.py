@@ -143,6 +143,14 @@ def test_axis_input_refusals():
         surface_angle.estimate_surface_axis(accel, [], AxisConfig(0.01))
     with pytest.raises(ValueError, match="boolean mask of shape"):
         surface_angle.estimate_surface_axis(accel, [np.ones(5, bool)] * 3, AxisConfig(0.01))
+    with pytest.raises(ValueError, match="boolean mask of shape"):   # the system's edge checks the masks' dtype
+        surface_angle.estimate_surface_axis(accel, [np.ones(accel.shape[0], int)] * 3, AxisConfig(0.01))
+    with pytest.raises(ValueError, match="min_separation_deg must be > 0"):   # checked once, when the config is made
+        AxisConfig(0.01, min_separation_deg=0.0)
+    with pytest.raises(ValueError, match="positions_m_s2 must hold at least 3 positions, got 2"):
+        surface_angle.axis_uncertainty(np.array([[0, 0, 9.8], [0, 9.8, 0]]), [10, 10], accel_noise_m_s2=0.01)
+    with pytest.raises(ValueError, match="finite"):
+        surface_angle.axis_uncertainty(np.full((3, 3), np.nan), [10, 10, 10], accel_noise_m_s2=0.01)
 
 
 def test_axis_uncertainty_scales_with_noise_over_root_n():
