@@ -27,7 +27,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from mtcal.core.validate import as_float_array, check_accel_units, positive_scalar, sample_interval
-from mtcal.methods.zero_velocity import ZvdParams, detect_static_trusted, rest_intervals, zvd_params
+from mtcal.methods.zero_velocity import ZvdParams, detect_static, rest_intervals, zvd_params
 
 __all__ = ["axis_from_means", "apply_sign_convention", "axis_elevation", "angle_between",
            "AxisEstimator", "AxisResult", "estimate_axis", "axis_error_std",
@@ -366,7 +366,7 @@ def estimate_axis(accel_m_s2, dt_s: float, *, zvd: ZvdParams | None = None, is_s
     if is_static is None:
         zp = zvd_params(zvd)
         check_accel_units(a)
-        static = detect_static_trusted(a, dt, zp)
+        static = detect_static(a, dt, zp)
     else:
         static = np.asarray(is_static)
         if static.dtype != bool or static.shape != a.shape[:1]:

@@ -73,7 +73,8 @@ from mtcal.filters.registry import AxisContext
 from mtcal.methods import rotation_axis
 from mtcal.methods.rotation_axis import AxisEstimate, angles_about_axis
 from mtcal.methods.tilt_rate import check_tilt_rate_scale_trusted
-from mtcal.methods.zero_velocity import ZvdParams, detect_static_trusted, rest_masks_trusted
+from mtcal.methods import zero_velocity
+from mtcal.methods.zero_velocity import ZvdParams
 from mtcal.systems import plausibility
 from mtcal.systems.rests import RestsConfig, find_rests
 
@@ -498,10 +499,10 @@ def _axis_record_paper(a: np.ndarray, dt: float, fs: float, config: AxisRecordCo
     """:func:`surface_axis_record` with the paper's detector, on the checked accelerometer: Table 1 ZVD flags
     (no rest dropped by its listed span: A1 counts rests by its own minimum), Algorithm A1, the
     uncertainty gate on A1's three means."""
-    from mtcal.methods.rest_detection import paper_rest_report_trusted
+    from mtcal.methods.rest_detection import paper_rest_report
 
     min_rest = float(config.rests.min_rest_s)
-    rep = paper_rest_report_trusted(a, dt, None, min_rest, ZvdParams())
+    rep = paper_rest_report(a, dt, min_rest_s=min_rest, zvd=ZvdParams())
     try:
         res = rotation_axis.estimate_axis(a, dt, min_rest_s=min_rest, is_static=rep.is_static,
                                           min_separation_deg=config.min_separation_deg,
@@ -1119,7 +1120,7 @@ def rest_masks(is_static, rests) -> list[np.ndarray]:
     ...                                             [slice(0, 2), slice(2, 4)])]
     [[[1, 0, 0, 0]], [[0, 0, 1, 1]]]
     """
-    return rest_masks_trusted(np.asarray(is_static, bool), rests, MIN_REST_ZVD_SHARE)
+    return zero_velocity.rest_masks(np.asarray(is_static, bool), rests, MIN_REST_ZVD_SHARE)
 
 
 def surface_angle_batch(gyro_rad_s, accel_m_s2, dt_s: float, config: SurfaceBatchConfig, *, init_samples: int,
@@ -1211,10 +1212,10 @@ def surface_angle_batch(gyro_rad_s, accel_m_s2, dt_s: float, config: SurfaceBatc
         flags = known
     else:
         with_gyro = config.zvd.gyro_max_rad_s is not None  # the gyro condition on ω − b0
-        flags = detect_static_trusted(a, dt, config.zvd, g if with_gyro else None,
-                                      gyro_offset_rad_s=b0 if with_gyro else None)
+        flags = zero_velocity.detect_static(a, dt, config.zvd, g if with_gyro else None,
+                                            gyro_offset_rad_s=b0 if with_gyro else None)
     if v is None and settings is not None:
-        masks = rest_masks_trusted(flags, rests[:config.axis_rests], MIN_REST_ZVD_SHARE)
+        masks = zero_velocity.rest_masks(flags, rests[:config.axis_rests], MIN_REST_ZVD_SHARE)
         v = rotation_axis.axes_from_rests(a, masks, **settings)
     angle = None
     if config.angle is not None:

@@ -393,6 +393,15 @@ def test_batched_procedure_refusals():
         surface_angle.surface_angle_batch(w, f, DT_S, replace(cfg, axis=None), **kw)
     with pytest.raises(ValueError, match="accel_m_s2 must"):
         surface_angle.surface_angle_batch(w, f[0], DT_S, cfg, **kw)
+    from mtcal.methods.zero_velocity import ZvdParams
+
+    zvd = replace(cfg, zvd=ZvdParams())   # the ZVD's checks (mtcal.methods.zero_velocity.detect_static), here once
+    with pytest.raises(ValueError, match="in g"):
+        surface_angle.surface_angle_batch(w, f / 9.80665, DT_S, zvd, **kw)
+    with pytest.raises(ValueError, match="accel_m_s2 must be finite"):
+        surface_angle.surface_angle_batch(w, np.where(np.arange(f.shape[1])[:, None] == 3, np.nan, f), DT_S, zvd, **kw)
+    with pytest.raises(ValueError, match="dt_s must be the sample interval"):
+        surface_angle.surface_angle_batch(w, f, 100.0, zvd, **kw)
     with pytest.raises(ValueError, match="angle.params must be given for a batch"):
         surface_angle.SurfaceBatchConfig(None, None, SurfaceAngleConfig())
     with pytest.raises(ValueError, match="ekf_switch must be 'zvd' or 'known'"):
