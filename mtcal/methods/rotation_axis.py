@@ -708,14 +708,12 @@ def axes_from_rests(a: np.ndarray, masks: list[np.ndarray], **settings) -> np.nd
     Examples
     --------
     >>> import numpy as np
-    >>> acc = np.repeat([[0, 0, 9.8], [0, -9.8, 0], [0, 0, -9.8]], 40, axis=0).astype(float)
-    >>> masks = [np.zeros((2, 120), bool) for _ in range(3)]
-    >>> for k, m in enumerate(masks):
-    ...     m[:, 40 * k:40 * k + 40] = True
-    >>> axes_from_rests(np.stack([acc, acc]), masks, fit="eq23", min_separation_deg=0.5, max_elevation_deg=85.0,
+    >>> acc = np.repeat([[[0.0, 0, 9.8], [0, -9.8, 0], [0, 0, -9.8]]], 10, axis=1)   # one trial, (1, 30, 3)
+    >>> masks = [np.arange(30)[None] // 10 == k for k in range(3)]
+    >>> axes_from_rests(acc, masks, fit="eq23", min_separation_deg=0.5, max_elevation_deg=85.0,
     ...                 max_axis_error_deg=np.inf, accel_noise_m_s2=0.01, window_samples=1.0,
     ...                 sigma_floor_m_s2=0.017).tolist()
-    [[1.0, 0.0, 0.0], [1.0, 0.0, 0.0]]
+    [[1.0, 0.0, 0.0]]
     """
     sep = float(settings["min_separation_deg"])
     t_n = a.shape[0]

@@ -32,15 +32,15 @@ commands, the study's Monte Carlo runs and the sweep evaluator:
 Each procedure checks its inputs, then goes down once: the axis estimate and its gates are
 methods (:func:`mtcal.methods.rotation_axis.axis_from_rests`,
 :func:`~mtcal.methods.rotation_axis.gated_elevation`), the EKF a filter call
-(:func:`mtcal.filters.rams_ekf.run_rams_ekf_restarts_trusted` /
-:func:`~mtcal.filters.rams_ekf.run_rams_ekf_batch_restarts_trusted`).
+(:func:`mtcal.filters.rams_ekf.run_rams_ekf_restarts` /
+:func:`~mtcal.filters.rams_ekf.run_rams_ekf_batch_restarts`).
 
 Each procedure takes the data arrays and ONE frozen, resolved config —
 :class:`AxisConfig`, :class:`SurfaceAngleConfig`, :class:`SurfaceBatchConfig`, :class:`SurfaceRecordConfig`,
 :class:`AxisRecordConfig` — with constructors for the paper's settings (``paper``), the CLI defaults
 (``cli``) and a sweep cell (:meth:`SurfaceAngleConfig.sweep_cell`, :meth:`SurfaceBatchConfig.sweep_cell`). A config is checked when it is made, the
 arrays once at the procedure's edge; the methods and the filter below run on the checked
-arrays (:func:`mtcal.filters.rams_ekf.run_rams_ekf_trusted`).
+arrays (each states the preconditions its caller guarantees).
 
 References
 ----------
@@ -67,8 +67,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from mtcal.core.validate import as_float_array, check_accel_units, positive_scalar, sample_interval
-from mtcal.filters.rams_ekf import (RamsEkfParams, run_rams_ekf_batch_restarts_trusted,
-                                   run_rams_ekf_restarts_trusted)
+from mtcal.filters.rams_ekf import RamsEkfParams, run_rams_ekf_batch_restarts, run_rams_ekf_restarts
 from mtcal.filters.registry import AxisContext
 from mtcal.methods import rotation_axis
 from mtcal.methods.rotation_axis import AxisEstimate, angles_about_axis
@@ -778,13 +777,16 @@ def surface_angle(gyro_rad_s, accel_m_s2, axis, config: SurfaceAngleConfig | Non
         raise ValueError("check_units and max_axis_mismatch_deg check one record, not a batch")
     if cfg.params is None and batch:
         raise ValueError("params must be given for a batch")
-    return _surface_angle_trusted(g, a, v, static, init, dt, weights, time_s, list(rests), cfg)
+    return _surface_angle_steps(g, a, v, static, init, dt, weights, time_s, list(rests), cfg)
 
 
-def _surface_angle_trusted(g, a, v, static, init: slice, dt: float, weights, time_s, rests: list,
-                           cfg: SurfaceAngleConfig) -> SurfaceAngle:
-    """:func:`surface_angle` on checked arrays ((N, 3) or (T, N, 3) float, bool flags, unit axis, a non-empty
-    ``init``, ``dt`` and gyro ``weights`` from :func:`~mtcal.systems.plausibility.time_base`)."""
+def _surface_angle_steps(g, a, v, static, init: slice, dt: float, weights, time_s, rests: list,
+                         cfg: SurfaceAngleConfig) -> SurfaceAngle:
+    """The steps of :func:`surface_angle` (ā0 and bias, clipping, the axis gate, the units or tilt-rate
+    check, the EKF with its restarts), shared by its two edges (:func:`surface_angle`,
+    :func:`surface_angle_record`), which check the record first: (N, 3) or (T, N, 3) finite float64, bool
+    flags, a unit axis, a non-empty ``init``, ``dt`` and gyro ``weights`` from
+    :func:`~mtcal.systems.plausibility.time_base`."""
     batch = a.ndim == 3
     n = a.shape[-2]
     gyro_f = g if weights is None else g * weights[:, None]
@@ -802,7 +804,7 @@ def _surface_angle_trusted(g, a, v, static, init: slice, dt: float, weights, tim
     if cfg.check_units:
         check = plausibility.check_units(gyro_f, a, dt, rests, time_s=time_s, skip=clipped,
                                          unit_stated=cfg.unit_stated)
-    elif not batch:  # the tilt-rate scale check of run_rams_ekf, once for the record
+    elif not batch:  # the gyro's tilt-rate scale (run_rams_ekf's precondition), once for the record
         check_tilt_rate_scale_trusted(gyro_f[k0:], a[k0:], dt, excess="warn")
     if cfg.max_axis_mismatch_deg is not None:
         u = _gyro_axis_check(g, static, b0, v, dt, cfg)
@@ -811,14 +813,14 @@ def _surface_angle_trusted(g, a, v, static, init: slice, dt: float, weights, tim
     angle = np.full(a.shape[:-1], np.nan)
     if not batch:
         cuts = _restart_cuts(clipped[k0:], local, n - k0)
-        angle[k0:] = run_rams_ekf_restarts_trusted(gyro_f[k0:], a[k0:], static[k0:], cuts, v, a0, b0, dt, params,
-                                                   CLIPPED_P0_THETA_RAD**2)
+        angle[k0:] = run_rams_ekf_restarts(gyro_f[k0:], a[k0:], static[k0:], cuts, v, a0, b0, dt, params,
+                                           CLIPPED_P0_THETA_RAD**2)
         restarts = tuple(c + k0 for c in cuts[1:-1])
     else:
         st = np.broadcast_to(static, a.shape[:-1])
         cuts = [_restart_cuts(c[k0:], local, n - k0) for c in clipped]
-        angle[:, k0:] = run_rams_ekf_batch_restarts_trusted(gyro_f[:, k0:], a[:, k0:], st[:, k0:], cuts, v, a0, b0,
-                                                            dt, params, CLIPPED_P0_THETA_RAD**2)
+        angle[:, k0:] = run_rams_ekf_batch_restarts(gyro_f[:, k0:], a[:, k0:], st[:, k0:], cuts, v, a0, b0,
+                                                    dt, params, CLIPPED_P0_THETA_RAD**2)
         restarts = tuple(tuple(x + k0 for x in c[1:-1]) for c in cuts)
     return SurfaceAngle(angle, k0, a0, b0, elev if batch else float(elev), params, dt, clipped,
                         level if batch else float(level), restarts, check, u)
@@ -1003,7 +1005,7 @@ def surface_angle_record(gyro_rad_s, accel_m_s2, axis, config: SurfaceRecordConf
         cfg = SurfaceAngleConfig.cli(max_elevation_deg=config.max_elevation_deg,
                                      max_axis_mismatch_deg=config.max_axis_mismatch_deg,
                                      gyro_noise_rad_s=rep.gyro_noise_rad_s, unit_stated=unit_stated)
-        res = _surface_angle_trusted(g, a, v, rep.is_static, init, dt, weights, time_s, list(rep.rests), cfg)
+        res = _surface_angle_steps(g, a, v, rep.is_static, init, dt, weights, time_s, list(rep.rests), cfg)
     except ValueError as exc:
         exc.rests = rep  # the caller's diagnostics show the rests the refusal saw
         raise
@@ -1221,8 +1223,8 @@ def surface_angle_batch(gyro_rad_s, accel_m_s2, dt_s: float, config: SurfaceBatc
     if config.angle is not None:
         rotation_axis.gated_elevation(v, a0, config.angle.max_elevation_deg)
         switch = np.broadcast_to(flags if config.ekf_switch == "zvd" else known, a.shape[:2])
-        angle = run_rams_ekf_batch_restarts_trusted(g, a, switch, cuts, v, a0, b0, dt, config.angle.params,
-                                                    CLIPPED_P0_THETA_RAD**2)
+        angle = run_rams_ekf_batch_restarts(g, a, switch, cuts, v, a0, b0, dt, config.angle.params,
+                                            CLIPPED_P0_THETA_RAD**2)
     return SurfaceAngleBatch(a0, b0, flags, v, angle)
 
 
