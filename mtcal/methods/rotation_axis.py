@@ -26,8 +26,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from mtcal.core.validate import as_float_array, check_accel_units, positive_scalar, sample_interval
-from mtcal.methods.zero_velocity import ZvdParams, detect_static, rest_intervals, zvd_params
+from mtcal.core.validate import as_float_array, positive_scalar
+from mtcal.methods.zero_velocity import ZvdParams, detect_static, rest_intervals
 
 __all__ = ["axis_from_means", "apply_sign_convention", "axis_elevation", "angle_between",
            "AxisEstimator", "AxisResult", "estimate_axis", "axis_error_std",
@@ -331,20 +331,20 @@ class AxisResult:
     n_rests_found: int
 
 
-def estimate_axis(accel_m_s2, dt_s: float, *, zvd: ZvdParams | None = None, is_static=None,
-                  min_rest_s: float = 0.5, min_separation_deg: float = DEFAULT_MIN_SEPARATION_DEG,
+def estimate_axis(accel_m_s2: np.ndarray, dt_s: float, *, zvd: ZvdParams | None = None,
+                  is_static: np.ndarray | None = None, min_rest_s: float = 0.5, min_separation_deg: float = DEFAULT_MIN_SEPARATION_DEG,
                   max_elevation_deg: float = DEFAULT_MAX_ELEVATION_DEG) -> AxisResult:
     """Algorithm A1 over a whole record: ZVD, rest means, Eq 23 from the first three rests.
 
     Parameters
     ----------
-    accel_m_s2 : array_like, shape (N, 3)
+    accel_m_s2 : ndarray, shape (N, 3)
         Accelerometer record (m/s²).
     dt_s : float
         Sample interval (s), ≤ 1 s.
     zvd : ZvdParams, optional
         ZVD thresholds (Table 1 by default).
-    is_static : array_like of bool (N,), optional
+    is_static : ndarray of bool (N,), optional
         Precomputed ZVD flags (otherwise computed with ``zvd``).
     min_rest_s : float
         Shortest rest (s) counted; Sec. 3.2 asks for ≥ 1 s of rest.
@@ -359,21 +359,30 @@ def estimate_axis(accel_m_s2, dt_s: float, *, zvd: ZvdParams | None = None, is_s
     ------
     ValueError
         Fewer than three distinct rests, or degenerate geometry.
+
+    Preconditions
+    -------------
+    The caller guarantees (not checked here): ``accel_m_s2`` finite float64 (N, 3) in m/s², not g
+    (:func:`mtcal.core.validate.check_accel_units`); ``dt_s`` a sample interval in (0, 1] s; ``zvd`` None
+    or a :class:`ZvdParams`; ``is_static`` None or a boolean ndarray (N,); ``min_rest_s`` ≥ 0 (s);
+    ``min_separation_deg``, ``max_elevation_deg`` finite > 0 (deg).
+    :func:`mtcal.systems.surface_angle.surface_axis_record` (``mtcal axis --rest-detector paper``) checks a
+    log once at its edge.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> rest = [[0, 0, 9.8], [0, -9.8, 0], [0, 0, -9.8], [0, 0, 9.8]]
+    >>> acc = np.repeat(np.array(rest, float), 60, axis=0)
+    >>> flags = np.ones(240, bool); flags[[59, 119, 179]] = False      # a moving sample closes each rest
+    >>> res = estimate_axis(acc, 0.01, is_static=flags)
+    >>> res.v.tolist(), res.rests
+    ([1.0, 0.0, 0.0], [slice(0, 59, None), slice(60, 119, None), slice(120, 179, None)])
     """
-    a = as_float_array(accel_m_s2, "accel_m_s2", ndim=2, last_dim=3)
-    dt = sample_interval(dt_s)
+    a, dt = accel_m_s2, dt_s
     fs = 1.0 / dt  # the rate: exact for the rates mtcal uses (1 / (1 / fs) == fs)
-    if is_static is None:
-        zp = zvd_params(zvd)
-        check_accel_units(a)
-        static = detect_static(a, dt, zp)
-    else:
-        static = np.asarray(is_static)
-        if static.dtype != bool or static.shape != a.shape[:1]:
-            raise ValueError(f"is_static must be boolean with shape {a.shape[:1]}, "
-                             f"got {static.dtype} {static.shape}")
-    est = AxisEstimator(min_rest_samples=max(int(round(positive_scalar(min_rest_s, "min_rest_s",
-                                                                       allow_zero=True) * fs)), 1),
+    static = detect_static(a, dt, zvd) if is_static is None else is_static
+    est = AxisEstimator(min_rest_samples=max(int(round(min_rest_s * fs)), 1),
                         min_separation_deg=min_separation_deg, max_elevation_deg=max_elevation_deg)
     # A rest only counts once motion follows it (A1): drop a rest running to the end.
     for sl in rest_intervals(static):
@@ -389,8 +398,6 @@ def estimate_axis(accel_m_s2, dt_s: float, *, zvd: ZvdParams | None = None, is_s
     if n_found < 3:
         raise ValueError(f"found only {n_found} distinct rest(s) of >= {min_rest_s:g} s in the record; "
                          f"axis estimation needs three (hold still >= 1 s at three positions)")
-    positive_scalar(min_separation_deg, "min_separation_deg")
-    positive_scalar(max_elevation_deg, "max_elevation_deg")
     v = axis_from_means(*est.means, min_separation_deg=min_separation_deg,   # means of the checked record
                         max_elevation_deg=max_elevation_deg)
     rests = [slice(s, e) for s, e in est.rests]

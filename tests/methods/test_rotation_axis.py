@@ -127,7 +127,8 @@ def test_one_function_per_step_no_trusted_twins():
 
     assert not [n for n, f in vars(ra).items() if n.endswith("_trusted") and getattr(f, "__module__", "") == ra.__name__]
     for name in ("angle_between", "axis_elevation", "axis_from_means", "distinct_positions", "fit_axis_plane",
-                 "gated_plane_fit", "rest_means", "axis_from_rests", "axes_from_rests", "gated_elevation"):
+                 "gated_plane_fit", "rest_means", "axis_from_rests", "axes_from_rests", "gated_elevation",
+                 "estimate_axis"):
         assert "Preconditions" in getattr(ra, name).__doc__, name
 
 
