@@ -54,13 +54,19 @@ def angle_between(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.arctan2(np.linalg.norm(np.cross(a, b), axis=-1), np.sum(a * b, axis=-1))
 
 
-def apply_sign_convention(v) -> np.ndarray:
-    """Flip v (..., 3) so that ``v_x ≥ 0`` (``v_y > 0`` if ``v_x = 0``, then ``v_z > 0``)."""
-    return _sign_convention(as_float_array(v, "v", last_dim=3))
+def apply_sign_convention(v: np.ndarray) -> np.ndarray:
+    """Flip v (..., 3) so that ``v_x ≥ 0`` (``v_y > 0`` if ``v_x = 0``, then ``v_z > 0``).
 
+    Preconditions
+    -------------
+    The caller guarantees (not checked here): ``v`` a finite float64 ndarray (..., 3).
 
-def _sign_convention(v: np.ndarray) -> np.ndarray:
-    """:func:`apply_sign_convention` of a checked (finite float64 (..., 3)) vector."""
+    Examples
+    --------
+    >>> import numpy as np
+    >>> (apply_sign_convention(np.array([[-0.6, 0.0, 0.8], [0.0, -1.0, 0.0]])) + 0.0).tolist()
+    [[0.6, 0.0, -0.8], [0.0, 1.0, 0.0]]
+    """
     key = np.where(v[..., 0] != 0, v[..., 0], np.where(v[..., 1] != 0, v[..., 1], v[..., 2]))
     return np.where((key < 0)[..., None], -v, v)
 
@@ -143,7 +149,7 @@ def axis_from_means(a0: np.ndarray, a1: np.ndarray, a2: np.ndarray, *,
         raise ValueError(f"static means are nearly collinear: angle between a1-a0 and a2-a1 is "
                          f"{np.degrees(float(np.min(chord_angle))):.4f} deg (minimum "
                          f"{min_separation_deg:g} deg)")
-    v = _sign_convention(n / np.linalg.norm(n, axis=-1, keepdims=True))
+    v = apply_sign_convention(n / np.linalg.norm(n, axis=-1, keepdims=True))
     elev = axis_elevation(v, m0)
     if float(np.max(elev)) > max_el:
         raise ValueError(f"rotation axis is nearly vertical: elevation "
@@ -554,7 +560,7 @@ def fit_axis_plane(positions_m_s2: np.ndarray, sigma_mean_m_s2: float) -> AxisPl
     p, sig = positions_m_s2, sigma_mean_m_s2
     c = p - p.mean(axis=0)
     _, sv, vt = np.linalg.svd(c)
-    v = _sign_convention(vt[2])
+    v = apply_sign_convention(vt[2])
     rms = float(sv[2] / np.sqrt(p.shape[0])) if p.shape[0] > 3 else 0.0
     plane = c @ vt[:2].T
     a = np.column_stack([np.ones(p.shape[0]), plane])

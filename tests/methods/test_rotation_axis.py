@@ -27,7 +27,7 @@ def test_minus_v_gives_same_axis_and_sign_convention():
     b = axis_from_means(*_means(-v, [0, 40, 80]))
     np.testing.assert_allclose(a, b, atol=1e-12)
     assert a[0] >= 0
-    np.testing.assert_allclose(apply_sign_convention([0.0, -1.0, 0.0]), [0, 1, 0])
+    np.testing.assert_allclose(apply_sign_convention(np.array([0.0, -1.0, 0.0])), [0, 1, 0])
 
 
 def test_degenerate_geometry_raises():
@@ -126,7 +126,8 @@ def test_one_function_per_step_no_trusted_twins():
     from mtcal.methods import rotation_axis as ra
 
     assert not [n for n, f in vars(ra).items() if n.endswith("_trusted") and getattr(f, "__module__", "") == ra.__name__]
-    for name in ("angle_between", "axis_elevation", "axis_from_means", "distinct_positions", "fit_axis_plane",
+    assert "_sign_convention" not in vars(ra)   # the private twin of apply_sign_convention folded too
+    for name in ("apply_sign_convention", "angle_between", "axis_elevation", "axis_from_means", "distinct_positions", "fit_axis_plane",
                  "gated_plane_fit", "rest_means", "axis_from_rests", "axes_from_rests", "gated_elevation",
                  "estimate_axis"):
         assert "Preconditions" in getattr(ra, name).__doc__, name
