@@ -55,11 +55,10 @@ import numpy as np
 
 from mtcal.core.compiled import component_major
 from mtcal.core.validate import as_float_array, check_accel_units, check_gyro_units, positive_scalar
-from mtcal.methods.tilt_rate import check_tilt_rate_scale
 from mtcal.filters._kernels_common import OutputPool, check_engine, check_kernel_scan, record, use_parallel
 
 __all__ = ["RamsEkfParams", "RamsEkfReference", "RamsEkfResult", "RamsEkfFilter", "run_rams_ekf",
-           "measurement_model", "initial_state"]
+           "run_rams_ekf_restarts", "run_rams_ekf_batch_restarts", "measurement_model", "initial_state"]
 
 
 @dataclass(frozen=True)
@@ -653,26 +652,22 @@ def _unpack(p: np.ndarray) -> np.ndarray:
     return out
 
 
-def run_rams_ekf(gyro_rad_s, accel_m_s2, is_static, axis, accel0_m_s2, dt_s: float,
-                 params: RamsEkfParams, *, theta0_rad=0.0, bias0_rad_s=0.0,
+def run_rams_ekf(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, is_static: np.ndarray, axis: np.ndarray,
+                 accel0_m_s2: np.ndarray, dt_s: float, params: RamsEkfParams, *, theta0_rad=0.0, bias0_rad_s=0.0,
                  use_zvd: bool = True, keep_innovation: bool = True, engine: str = "numba") -> RamsEkfResult:
     """Fast RAMS EKF vectorised over trials (closed-form 4-state algebra, in place).
 
-    Runs :class:`RamsEkfFilter` once over the whole record.
+    Runs :class:`RamsEkfFilter` once over the whole record (wang2022sensors Eq 24–33).
 
     Parameters
     ----------
-    gyro_rad_s, accel_m_s2 : array_like, shape (T, N, 3) or (N, 3)
+    gyro_rad_s, accel_m_s2 : ndarray, shape (T, N, 3) or (N, 3)
         Gyro (rad/s; sample k acts over [t_k, t_{k+1}]) and accelerometer (m/s²).
-        A single record is checked against the accelerometer's tilt rate
-        (:func:`mtcal.methods.tilt_rate.check_tilt_rate_scale`): a gyro scale off
-        by more than 5× (deg/s passed as rad/s, a wrong ``dt_s``) raises
-        ``ValueError``, a gyro tilt above 5× the accelerometer's warns.
-    is_static : array_like of bool, shape (T, N) or (N,)
+    is_static : ndarray of bool, shape (T, N) or (N,)
         ZVD flags (ignored when ``use_zvd`` is False).
-    axis : array_like, shape (3,) or (T, 3)
+    axis : ndarray, shape (3,) or (T, 3)
         Unit rotation axis v per trial.
-    accel0_m_s2 : array_like, shape (3,) or (T, 3)
+    accel0_m_s2 : ndarray, shape (3,) or (T, 3)
         ā0 per trial (m/s²).
     dt_s : float
         Sample interval (s).
@@ -691,28 +686,36 @@ def run_rams_ekf(gyro_rad_s, accel_m_s2, is_static, axis, accel0_m_s2, dt_s: flo
     -------
     RamsEkfResult
         With a leading trial axis (T = 1 for 2-D input).
+
+    Raises
+    ------
+    ValueError
+        ``engine="numba"``: the kernel's scan of the values while it filters (a value not finite, a
+        gyro not in rad/s, an accelerometer in g), with the messages of :class:`RamsEkfFilter`.
+    TypeError
+        ``is_static`` not boolean.
+
+    Preconditions
+    -------------
+    The caller guarantees (not checked here, as :meth:`RamsEkfFilter.trusted`): ``gyro_rad_s``,
+    ``accel_m_s2`` finite float64 ndarrays of one shape (T, N, 3) or (N, 3), the gyro in rad/s and
+    plausible against the accelerometer's tilt rate (:func:`mtcal.methods.tilt_rate.check_tilt_rate_scale`),
+    the accelerometer in m/s²; ``is_static`` bool broadcasting to (T, N); ``axis`` finite float64 unit
+    vector(s) (3,) or (T, 3); ``accel0_m_s2`` finite float64 (3,) or (T, 3); ``dt_s`` finite > 0 (s);
+    ``params`` a :class:`RamsEkfParams`; ``theta0_rad``, ``bias0_rad_s`` finite, broadcasting to (T,) and
+    (T, 3). The surface-angle system checks a record once at its edge, tilt rate included
+    (:func:`mtcal.systems.surface_angle.surface_angle`); :class:`RamsEkfFilter` checks its own inputs.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> acc = np.tile([0.0, 0.0, 9.81], (100, 1))
+    >>> res = run_rams_ekf(np.zeros((100, 3)), acc, np.ones(100, bool), np.array([1.0, 0.0, 0.0]), acc[0], 0.01,
+    ...                    RamsEkfParams())
+    >>> res.theta_rad.shape, float(np.abs(res.theta_rad).max())
+    ((1, 100), 0.0)
     """
     check_engine(engine)
-    g, a = _record(gyro_rad_s, accel_m_s2, fast=engine == "numba")
-    if g.shape[0] == 1:  # a gyro the accelerometer's tilt rate shows off by > 5x (deg/s, time base) is refused
-        check_tilt_rate_scale(g[0], a[0], positive_scalar(dt_s, "dt_s"), excess="warn")
-    filt = RamsEkfFilter(axis, accel0_m_s2, dt_s, params, trials=a.shape[0], theta0_rad=theta0_rad,
-                         bias0_rad_s=bias0_rad_s, use_zvd=use_zvd, engine=engine)
-    return filt._run(g, a, is_static, keep_innovation, 2048)
-
-
-def run_rams_ekf_trusted(gyro_rad_s, accel_m_s2, is_static, axis, accel0_m_s2, dt_s: float,
-                         params: RamsEkfParams, *, theta0_rad=0.0, bias0_rad_s=0.0, use_zvd: bool = True,
-                         keep_innovation: bool = True, engine: str = "numba") -> RamsEkfResult:
-    """Internal entry: :func:`run_rams_ekf` on inputs a caller validated at its own edge.
-
-    For systems procedures that checked the records (finite float64, units) and ran their own
-    tilt-rate check: the same filter and result without a second check of any input.
-    Preconditions (not checked again): ``gyro_rad_s``, ``accel_m_s2`` finite float64 (T, N, 3) or
-    (N, 3) of one shape, gyro in rad/s and accel in m/s²; ``is_static`` bool (T, N) or (N,);
-    the rest as :meth:`RamsEkfFilter.trusted`. Not part of the public API (not in ``__all__``);
-    users call :func:`run_rams_ekf`.
-    """
     g = np.ascontiguousarray(gyro_rad_s)
     a = np.ascontiguousarray(accel_m_s2)
     g, a = (g[None] if g.ndim == 2 else g), (a[None] if a.ndim == 2 else a)
@@ -721,43 +724,68 @@ def run_rams_ekf_trusted(gyro_rad_s, accel_m_s2, is_static, axis, accel0_m_s2, d
     return filt._run(g, a, is_static, keep_innovation, 2048)
 
 
-def run_rams_ekf_restarts_trusted(gyro_rad_s, accel_m_s2, is_static, cuts, axis, accel0_m_s2, bias0_rad_s,
-                                  dt_s: float, params: RamsEkfParams, p0_theta_after_cut_rad2: float) -> np.ndarray:
+def run_rams_ekf_restarts(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, is_static: np.ndarray, cuts,
+                          axis: np.ndarray, accel0_m_s2: np.ndarray, bias0_rad_s: np.ndarray, dt_s: float,
+                          params: RamsEkfParams, p0_theta_after_cut_rad2: float) -> np.ndarray:
     """One record's EKF over the segments ``cuts[k]:cuts[k+1]``: angle and bias carried over each cut, the
     angle prior widened to ``p0_theta_after_cut_rad2`` there (a restart; e.g. after clipped gyro samples).
 
-    Internal entry on inputs a caller validated at its own edge (preconditions of
-    :func:`run_rams_ekf_trusted`, one record (N, 3), ``cuts`` increasing sample indices from 0 to N).
     Returns the angle (N,) (rad).
+
+    Preconditions
+    -------------
+    The caller guarantees (not checked here): those of :func:`run_rams_ekf` for one record (N, 3);
+    ``cuts`` increasing sample indices from 0 to N; ``p0_theta_after_cut_rad2`` > 0 (rad²).
+    :func:`mtcal.systems.surface_angle.surface_angle` checks a record once at its edge.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> acc = np.tile([0.0, 0.0, 9.81], (100, 1))
+    >>> theta = run_rams_ekf_restarts(np.zeros((100, 3)), acc, np.ones(100, bool), [0, 40, 100],
+    ...                               np.array([1.0, 0.0, 0.0]), acc[0], np.zeros(3), 0.01, RamsEkfParams(), 0.1)
+    >>> theta.shape, float(np.abs(theta).max())
+    ((100,), 0.0)
     """
     theta = np.empty(accel_m_s2.shape[0])
     th0, bias0, p = 0.0, bias0_rad_s, params
     for lo, hi in zip(cuts[:-1], cuts[1:]):
-        res = run_rams_ekf_trusted(gyro_rad_s[lo:hi], accel_m_s2[lo:hi], is_static[lo:hi], axis, accel0_m_s2, dt_s, p,
-                                   theta0_rad=th0, bias0_rad_s=bias0, keep_innovation=False)
+        res = run_rams_ekf(gyro_rad_s[lo:hi], accel_m_s2[lo:hi], is_static[lo:hi], axis, accel0_m_s2, dt_s, p,
+                           theta0_rad=th0, bias0_rad_s=bias0, keep_innovation=False)
         theta[lo:hi] = res.theta_rad[0]
         th0, bias0 = float(res.theta_rad[0, -1]), res.bias_rad_s[0, -1]
         p = replace(params, p0_theta_rad2=p0_theta_after_cut_rad2)
     return theta
 
 
-def run_rams_ekf_batch_restarts_trusted(gyro_rad_s, accel_m_s2, is_static, cuts, axis, accel0_m_s2, bias0_rad_s,
-                                        dt_s: float, params: RamsEkfParams,
-                                        p0_theta_after_cut_rad2: float) -> np.ndarray:
+def run_rams_ekf_batch_restarts(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, is_static: np.ndarray, cuts,
+                                axis: np.ndarray, accel0_m_s2: np.ndarray, bias0_rad_s: np.ndarray, dt_s: float,
+                                params: RamsEkfParams, p0_theta_after_cut_rad2: float) -> np.ndarray:
     """T records' EKF in one run; a record with inner cuts (``len(cuts[t]) > 2``) runs again over its
-    segments (:func:`run_rams_ekf_restarts_trusted`).
+    segments (:func:`run_rams_ekf_restarts`). Returns the angle (T, N) (rad).
 
-    Internal entry on inputs a caller validated at its own edge (preconditions of
-    :func:`run_rams_ekf_trusted`, a batch (T, N, 3) with ``is_static`` (T, N), ``axis`` (3,) or (T, 3),
-    ``accel0_m_s2`` and ``bias0_rad_s`` (T, 3); ``cuts`` one increasing index list from 0 to N per record).
-    Returns the angle (T, N) (rad).
+    Preconditions
+    -------------
+    The caller guarantees (not checked here): those of :func:`run_rams_ekf` for a batch (T, N, 3) with
+    ``is_static`` (T, N), ``axis`` (3,) or (T, 3), ``accel0_m_s2`` and ``bias0_rad_s`` (T, 3); ``cuts``
+    one increasing index list from 0 to N per record; ``p0_theta_after_cut_rad2`` > 0 (rad²).
+    :func:`mtcal.systems.surface_angle.surface_angle_batch` checks the records once at its edge.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> acc = np.tile([0.0, 0.0, 9.81], (2, 100, 1))
+    >>> theta = run_rams_ekf_batch_restarts(np.zeros((2, 100, 3)), acc, np.ones((2, 100), bool),
+    ...                                     [[0, 100], [0, 40, 100]], np.array([1.0, 0.0, 0.0]), acc[:, 0],
+    ...                                     np.zeros((2, 3)), 0.01, RamsEkfParams(), 0.1)
+    >>> theta.shape, float(np.abs(theta).max())
+    ((2, 100), 0.0)
     """
-    theta = run_rams_ekf_trusted(gyro_rad_s, accel_m_s2, is_static, axis, accel0_m_s2, dt_s, params,
-                                 bias0_rad_s=bias0_rad_s, keep_innovation=False).theta_rad
+    theta = run_rams_ekf(gyro_rad_s, accel_m_s2, is_static, axis, accel0_m_s2, dt_s, params,
+                         bias0_rad_s=bias0_rad_s, keep_innovation=False).theta_rad
     for t, c in enumerate(cuts):
         if len(c) > 2:
             vt = axis if axis.ndim == 1 else axis[t]
-            theta[t] = run_rams_ekf_restarts_trusted(gyro_rad_s[t], accel_m_s2[t], is_static[t], c, vt,
-                                                     accel0_m_s2[t], bias0_rad_s[t], dt_s, params,
-                                                     p0_theta_after_cut_rad2)
+            theta[t] = run_rams_ekf_restarts(gyro_rad_s[t], accel_m_s2[t], is_static[t], c, vt, accel0_m_s2[t],
+                                             bias0_rad_s[t], dt_s, params, p0_theta_after_cut_rad2)
     return theta

@@ -1,4 +1,4 @@
-"""Compiled masked rest means of :func:`mtcal.methods.rotation_axis.axes_from_rests_trusted`, bit for bit numpy's.
+"""Compiled masked rest means of :func:`mtcal.methods.rotation_axis.axes_from_rests`, bit for bit numpy's.
 
 ``a[t][mask[t]].mean(axis=0)`` copies the masked samples into a C-contiguous (k, 3) array, sums
 it over its outer axis (numpy's order there is a sequential running sum per column,

@@ -1,4 +1,4 @@
-"""Compiled Table 1 ZVD of :func:`mtcal.methods.zero_velocity.detect_static_trusted`, bit for bit numpy's.
+"""Compiled Table 1 ZVD of :func:`mtcal.methods.zero_velocity.detect_static`, bit for bit numpy's.
 
 One pass per record instead of the numpy expression's dozen full-size temporaries; every
 floating-point operation is the one numpy performs, in its order (checked bit for bit against

@@ -282,8 +282,8 @@ class _Blocks:
 
 def warm_up() -> None:
     """Compile (or load from numba's cache) the compiled block sums of :func:`detect_rests`, the compiled
-    ZVD it calls (:func:`mtcal.methods.zero_velocity.detect_static_trusted`) and the batched rest means of
-    the axis estimate that follows it (:func:`mtcal.methods.rotation_axis.axes_from_rests_trusted`).
+    ZVD it calls (:func:`mtcal.methods.zero_velocity.detect_static`) and the batched rest means of
+    the axis estimate that follows it (:func:`mtcal.methods.rotation_axis.axes_from_rests`).
 
     Examples
     --------
@@ -348,17 +348,17 @@ ACCEL_NOISE_FLOOR_M_S2 = 2e-3
 GYRO_NOISE_FLOOR_RAD_S = 2e-4
 
 
-def detect_rests(accel_m_s2, dt_s: float, *, gyro_rad_s=None,
+def detect_rests(accel_m_s2: np.ndarray, dt_s: float, *, gyro_rad_s: np.ndarray | None = None,
                  params: RestDetectorParams | None = None) -> RestReport:
     """Adaptive rest detection (see the module docstring for the statistics).
 
     Parameters
     ----------
-    accel_m_s2 : array_like, shape (N, 3)
+    accel_m_s2 : ndarray, shape (N, 3)
         Specific force (m/s²).
     dt_s : float
         Sample interval (s), ≤ 1 s.
-    gyro_rad_s : array_like, shape (N, 3), optional
+    gyro_rad_s : ndarray, shape (N, 3), optional
         Angular rate (rad/s); without it only the accelerometer decides.
     params : RestDetectorParams, optional
 
@@ -369,31 +369,17 @@ def detect_rests(accel_m_s2, dt_s: float, *, gyro_rad_s=None,
     Raises
     ------
     ValueError
-        Bad shapes, non-finite data, a record shorter than three windows.
+        A record shorter than three windows.
+
+    Preconditions
+    -------------
+    The caller guarantees (not checked here): ``accel_m_s2`` finite float64 (N, 3) in m/s², not g
+    (:func:`mtcal.core.validate.check_accel_units`); ``dt_s`` a sample interval in (0, 1] s;
+    ``gyro_rad_s`` None or finite float64 (N, 3) in rad/s; ``params`` None or a
+    :class:`RestDetectorParams`. :func:`mtcal.systems.rests.find_rests` checks a record once at its edge.
     """
+    a, g = accel_m_s2, gyro_rad_s
     p = RestDetectorParams() if params is None else params
-    if not isinstance(p, RestDetectorParams):
-        raise TypeError(f"params must be a RestDetectorParams, got {type(p).__name__}")
-    a = as_float_array(accel_m_s2, "accel_m_s2", ndim=2, last_dim=3, copy=False)
-    check_accel_units(a)
-    dt = sample_interval(dt_s)
-    g = None
-    if gyro_rad_s is not None:
-        g = as_float_array(gyro_rad_s, "gyro_rad_s", ndim=2, last_dim=3, copy=False)
-        if g.shape != a.shape:
-            raise ValueError(f"gyro_rad_s must have the shape of accel_m_s2 {a.shape}, got {g.shape}")
-    return detect_rests_trusted(a, dt, g, p)
-
-
-def detect_rests_trusted(accel_m_s2: np.ndarray, dt_s: float, gyro_rad_s: np.ndarray | None,
-                         params: RestDetectorParams) -> RestReport:
-    """:func:`detect_rests` on inputs a caller validated at its own edge (same report).
-
-    Preconditions (not checked again): ``accel_m_s2`` finite float64 (N, 3) in m/s² (units
-    checked); ``dt_s`` a checked sample interval (s, ≤ 1); ``gyro_rad_s`` None or finite float64
-    (N, 3) rad/s; ``params`` a :class:`RestDetectorParams`.
-    """
-    a, g, p = accel_m_s2, gyro_rad_s, params
     fs = 1.0 / dt_s  # the rate: exact for the rates mtcal uses (1 / (1 / fs) == fs)
     w = max(3, int(round(p.window_s * fs)))
     norm = np.einsum("ij,ij->i", a, a)
@@ -536,38 +522,35 @@ def format_ordered(low: float, high: float, decimals: int) -> tuple[str, str]:
     return repr(float(low)), repr(float(high))
 
 
-def paper_rest_report(accel_m_s2, dt_s: float, *, gyro_rad_s=None, min_rest_s: float = 0.5,
-                      zvd=None) -> RestReport:
+def paper_rest_report(accel_m_s2: np.ndarray, dt_s: float, *, gyro_rad_s: np.ndarray | None = None,
+                      min_rest_s: float = 0.5, zvd=None) -> RestReport:
     """wang2022sensors Table 1 ZVD (:func:`mtcal.methods.zero_velocity.detect_static`) as a :class:`RestReport`.
 
     The flags are the paper's, unchanged (``is_static``); ``rests`` are its
     runs of at least ``min_rest_s``. The measured levels are reported beside
     the fixed band so a user sees when the band misses the sensor. ``dt_s`` is the sample
-    interval (s), ≤ 1 s.
+    interval (s), ≤ 1 s; ``zvd`` the :class:`~mtcal.methods.zero_velocity.ZvdParams` (Table 1 by default).
+
+    Preconditions
+    -------------
+    The caller guarantees (not checked here): ``accel_m_s2`` finite float64 (N, 3) in m/s², not g; ``dt_s``
+    a sample interval in (0, 1] s; ``gyro_rad_s`` None or finite float64 (N, 3) in rad/s; ``min_rest_s`` ≥ 0
+    (s); ``zvd`` None or a ZvdParams. :func:`mtcal.systems.rests.find_rests` and
+    :func:`mtcal.systems.surface_angle.surface_axis_record` check a record once at their edge.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> a = np.tile([0.0, 0.0, 9.80665], (300, 1)); a[100:150] += 1.0
+    >>> paper_rest_report(a, 0.01, min_rest_s=0.2).rests
+    [slice(0, 100, None), slice(152, 300, None)]
     """
-    from mtcal.methods.zero_velocity import zvd_params
+    from mtcal.methods.zero_velocity import ZvdParams, detect_static
 
-    zp = zvd_params(zvd)
-    a = as_float_array(accel_m_s2, "accel_m_s2", ndim=2, last_dim=3, copy=False)
-    check_accel_units(a)
-    dt = sample_interval(dt_s)
-    g = None if gyro_rad_s is None else as_float_array(gyro_rad_s, "gyro_rad_s", ndim=2, last_dim=3, copy=False)
-    return paper_rest_report_trusted(a, dt, g, float(min_rest_s), zp)
-
-
-def paper_rest_report_trusted(accel_m_s2: np.ndarray, dt_s: float, gyro_rad_s: np.ndarray | None,
-                              min_rest_s: float, zvd) -> RestReport:
-    """:func:`paper_rest_report` on inputs a caller validated at its own edge (same report).
-
-    Preconditions (not checked again): ``accel_m_s2`` finite float64 (N, 3) in m/s² (units
-    checked); ``dt_s`` a checked sample interval (s); ``gyro_rad_s`` None or finite float64 (N, 3)
-    rad/s; ``min_rest_s`` ≥ 0 (s); ``zvd`` a :class:`~mtcal.methods.zero_velocity.ZvdParams`.
-    """
-    from mtcal.methods.zero_velocity import detect_static_trusted
-
-    a, g, zp, dt = accel_m_s2, gyro_rad_s, zvd, dt_s
+    a, g, dt = accel_m_s2, gyro_rad_s, dt_s
+    zp = ZvdParams() if zvd is None else zvd
     fs = 1.0 / dt
-    flags = detect_static_trusted(a, dt, zp)
+    flags = detect_static(a, dt, zp)
     w = max(3, int(round(0.1 * fs)))
     lv = _block_levels(a, np.linalg.norm(a, axis=1), g, w, 0.1)
     starts, stops = runs(flags)
@@ -662,7 +645,8 @@ def shoe_statistic(accel_m_s2: np.ndarray, gyro_rad_s: np.ndarray, window: int, 
     return acc_term / accel_noise_m_s2 ** 2 + mw2 / gyro_noise_rad_s ** 2
 
 
-def detect_rests_shoe(accel_m_s2, dt_s: float, *, gyro_rad_s, params: ShoeParams | None = None) -> RestReport:
+def detect_rests_shoe(accel_m_s2: np.ndarray, dt_s: float, *, gyro_rad_s: np.ndarray,
+                      params: ShoeParams | None = None) -> RestReport:
     """Quasi-static rests (e.g. a foot's stance phases) by the SHOE detector of Skog et al. (2010).
 
     The stance hypothesis test of Skog et al. (GLRT "SHOE", their Eq 11) flags a
@@ -712,27 +696,15 @@ def detect_rests_shoe(accel_m_s2, dt_s: float, *, gyro_rad_s, params: ShoeParams
     >>> rep = detect_rests_shoe(accel, 1 / fs, gyro_rad_s=gyro)
     >>> len(rep.rests), rep.method
     (2, 'shoe')
+
+    Preconditions
+    -------------
+    The caller guarantees (not checked here): ``accel_m_s2`` finite float64 (N, 3) in m/s², not g; ``dt_s``
+    a sample interval in (0, 1] s; ``gyro_rad_s`` finite float64 (N, 3) in rad/s; ``params`` None or a
+    :class:`ShoeParams`. :func:`mtcal.systems.rests.find_rests` checks a record once at its edge.
     """
+    a, g = accel_m_s2, gyro_rad_s
     p = ShoeParams() if params is None else params
-    if not isinstance(p, ShoeParams):
-        raise TypeError(f"params must be a ShoeParams, got {type(p).__name__}")
-    a = as_float_array(accel_m_s2, "accel_m_s2", ndim=2, last_dim=3, copy=False)
-    check_accel_units(a)
-    g = as_float_array(gyro_rad_s, "gyro_rad_s", ndim=2, last_dim=3, copy=False)
-    if g.shape != a.shape:
-        raise ValueError(f"gyro_rad_s must have the shape of accel_m_s2 {a.shape}, got {g.shape}")
-    return detect_rests_shoe_trusted(a, sample_interval(dt_s), g, p)
-
-
-def detect_rests_shoe_trusted(accel_m_s2: np.ndarray, dt_s: float, gyro_rad_s: np.ndarray,
-                              params: ShoeParams) -> RestReport:
-    """:func:`detect_rests_shoe` on inputs a caller validated at its own edge (same report).
-
-    Preconditions (not checked again): ``accel_m_s2`` finite float64 (N, 3) in m/s² (units
-    checked); ``dt_s`` a checked sample interval (s, ≤ 1); ``gyro_rad_s`` finite float64 (N, 3)
-    rad/s; ``params`` a :class:`ShoeParams`.
-    """
-    a, g, p = accel_m_s2, gyro_rad_s, params
     fs = 1.0 / dt_s
     w_lv = max(3, int(round(0.1 * fs)))
     norm = np.einsum("ij,ij->i", a, a)

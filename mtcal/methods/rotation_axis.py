@@ -26,8 +26,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from mtcal.core.validate import as_float_array, check_accel_units, positive_scalar, sample_interval
-from mtcal.methods.zero_velocity import ZvdParams, detect_static_trusted, rest_intervals, zvd_params
+from mtcal.core.validate import as_float_array, positive_scalar
+from mtcal.methods.zero_velocity import ZvdParams, detect_static, rest_intervals
 
 __all__ = ["axis_from_means", "apply_sign_convention", "axis_elevation", "angle_between",
            "AxisEstimator", "AxisResult", "estimate_axis", "axis_error_std",
@@ -38,56 +38,70 @@ DEFAULT_MIN_SEPARATION_DEG = 0.5
 DEFAULT_MAX_ELEVATION_DEG = 85.0
 
 
-def angle_between(a, b) -> np.ndarray:
-    """Angle (rad) between vectors a and b (..., 3), robust near 0 (atan2 form)."""
-    return angle_between_trusted(as_float_array(a, "a", last_dim=3), as_float_array(b, "b", last_dim=3))
+def angle_between(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Angle (rad) between vectors a and b (..., 3), robust near 0 (atan2 form).
 
+    Preconditions
+    -------------
+    The caller guarantees (not checked here): ``a``, ``b`` finite float64 ndarrays (..., 3) that broadcast.
 
-def angle_between_trusted(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """:func:`angle_between` for callers that validated at their own edge.
-
-    Precondition (not checked again): ``a``, ``b`` finite float64 (..., 3) that broadcast.
+    Examples
+    --------
+    >>> import numpy as np
+    >>> round(float(np.degrees(angle_between(np.array([1.0, 0, 0]), np.array([0, 2.0, 0])))), 6)
+    90.0
     """
     return np.arctan2(np.linalg.norm(np.cross(a, b), axis=-1), np.sum(a * b, axis=-1))
 
 
-def apply_sign_convention(v) -> np.ndarray:
-    """Flip v (..., 3) so that ``v_x ≥ 0`` (``v_y > 0`` if ``v_x = 0``, then ``v_z > 0``)."""
-    return _sign_convention(as_float_array(v, "v", last_dim=3))
+def apply_sign_convention(v: np.ndarray) -> np.ndarray:
+    """Flip v (..., 3) so that ``v_x ≥ 0`` (``v_y > 0`` if ``v_x = 0``, then ``v_z > 0``).
 
+    Preconditions
+    -------------
+    The caller guarantees (not checked here): ``v`` a finite float64 ndarray (..., 3).
 
-def _sign_convention(v: np.ndarray) -> np.ndarray:
-    """:func:`apply_sign_convention` of a checked (finite float64 (..., 3)) vector."""
+    Examples
+    --------
+    >>> import numpy as np
+    >>> (apply_sign_convention(np.array([[-0.6, 0.0, 0.8], [0.0, -1.0, 0.0]])) + 0.0).tolist()
+    [[0.6, 0.0, -0.8], [0.0, 1.0, 0.0]]
+    """
     key = np.where(v[..., 0] != 0, v[..., 0], np.where(v[..., 1] != 0, v[..., 1], v[..., 2]))
     return np.where((key < 0)[..., None], -v, v)
 
 
-def axis_elevation(v, gravity_s) -> np.ndarray:
+def axis_elevation(v: np.ndarray, gravity_s: np.ndarray) -> np.ndarray:
     """Angle γ (rad) between the axis v and the horizontal plane, ``asin(|v·ĝ|)``.
 
     ``gravity_s`` is any static accelerometer reading (sensor frame, m/s²): it
     points along the vertical.
+
+    Preconditions
+    -------------
+    The caller guarantees (not checked here): ``v``, ``gravity_s`` finite, non-zero float64 ndarrays
+    (..., 3) that broadcast (neither needs unit length).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> round(float(np.degrees(axis_elevation(np.array([0.6, 0, 0.8]), np.array([0, 0, 9.81])))), 6)
+    53.130102
     """
-    return axis_elevation_trusted(as_float_array(v, "v", last_dim=3), as_float_array(gravity_s, "gravity_s", last_dim=3))
-
-
-def axis_elevation_trusted(v: np.ndarray, g: np.ndarray) -> np.ndarray:
-    """:func:`axis_elevation` for callers that validated at their own edge.
-
-    Precondition (not checked again): ``v``, ``g`` finite float64 (..., 3), non-zero, that broadcast.
-    """
+    g = gravity_s
     gn = g / np.linalg.norm(g, axis=-1, keepdims=True)
     vn = v / np.linalg.norm(v, axis=-1, keepdims=True)
     return np.arcsin(np.clip(np.abs(np.sum(vn * gn, axis=-1)), 0.0, 1.0))
 
 
-def axis_from_means(a0, a1, a2, *, min_separation_deg: float = DEFAULT_MIN_SEPARATION_DEG,
+def axis_from_means(a0: np.ndarray, a1: np.ndarray, a2: np.ndarray, *,
+                    min_separation_deg: float = DEFAULT_MIN_SEPARATION_DEG,
                     max_elevation_deg: float = DEFAULT_MAX_ELEVATION_DEG) -> np.ndarray:
     """Rotation axis from three static means, wang2022sensors Eq 23 (Eq 15 with averages).
 
     Parameters
     ----------
-    a0, a1, a2 : array_like, shape (..., 3)
+    a0, a1, a2 : ndarray, shape (..., 3)
         Mean accelerometer readings (m/s²) at three rest positions; leading
         axes are trials (vectorised).
     min_separation_deg : float
@@ -105,27 +119,23 @@ def axis_from_means(a0, a1, a2, *, min_separation_deg: float = DEFAULT_MIN_SEPAR
     ------
     ValueError
         Identical/collinear means or a nearly vertical axis (message gives the angle).
+
+    Preconditions
+    -------------
+    The caller guarantees (not checked here): ``a0``, ``a1``, ``a2`` finite float64 ndarrays (..., 3) of one
+    shape (m/s²); ``min_separation_deg``, ``max_elevation_deg`` finite > 0 (deg). The systems check them at
+    their edge (:func:`mtcal.systems.surface_angle.estimate_surface_axis`).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> axis_from_means(np.array([0, 0, 9.8]), np.array([0, -9.8, 0]), np.array([0, 0, -9.8])).tolist()
+    [1.0, 0.0, 0.0]
     """
-    means = [as_float_array(a, n, last_dim=3) for a, n in ((a0, "a0"), (a1, "a1"), (a2, "a2"))]
-    try:
-        m0, m1, m2 = np.broadcast_arrays(*means)
-    except ValueError:
-        raise ValueError(f"a0, a1, a2 must broadcast, got {[m.shape for m in means]}") from None
-    positive_scalar(min_separation_deg, "min_separation_deg")
-    positive_scalar(max_elevation_deg, "max_elevation_deg")
-    return axis_from_means_trusted(m0, m1, m2, min_separation_deg, max_elevation_deg)
-
-
-def axis_from_means_trusted(m0: np.ndarray, m1: np.ndarray, m2: np.ndarray, min_separation_deg: float,
-                     max_elevation_deg: float) -> np.ndarray:
-    """:func:`axis_from_means` for callers that validated at their own edge (same axis, same refusals).
-
-    Preconditions (not checked again): ``m0``, ``m1``, ``m2`` finite float64 (..., 3) of one shape
-    (m/s²); ``min_separation_deg``, ``max_elevation_deg`` finite > 0 (deg).
-    """
+    m0, m1, m2 = a0, a1, a2
     min_sep = np.radians(float(min_separation_deg))
     max_el = np.radians(float(max_elevation_deg))
-    seps = np.stack([angle_between_trusted(m0, m1), angle_between_trusted(m1, m2), angle_between_trusted(m0, m2)])
+    seps = np.stack([angle_between(m0, m1), angle_between(m1, m2), angle_between(m0, m2)])
     smallest = float(np.min(seps))
     if smallest < min_sep:
         raise ValueError(f"axis estimation needs three distinct rest positions: two static means "
@@ -139,8 +149,8 @@ def axis_from_means_trusted(m0: np.ndarray, m1: np.ndarray, m2: np.ndarray, min_
         raise ValueError(f"static means are nearly collinear: angle between a1-a0 and a2-a1 is "
                          f"{np.degrees(float(np.min(chord_angle))):.4f} deg (minimum "
                          f"{min_separation_deg:g} deg)")
-    v = _sign_convention(n / np.linalg.norm(n, axis=-1, keepdims=True))
-    elev = axis_elevation_trusted(v, m0)
+    v = apply_sign_convention(n / np.linalg.norm(n, axis=-1, keepdims=True))
+    elev = axis_elevation(v, m0)
     if float(np.max(elev)) > max_el:
         raise ValueError(f"rotation axis is nearly vertical: elevation "
                          f"{np.degrees(float(np.max(elev))):.2f} deg above the horizontal "
@@ -327,20 +337,20 @@ class AxisResult:
     n_rests_found: int
 
 
-def estimate_axis(accel_m_s2, dt_s: float, *, zvd: ZvdParams | None = None, is_static=None,
-                  min_rest_s: float = 0.5, min_separation_deg: float = DEFAULT_MIN_SEPARATION_DEG,
+def estimate_axis(accel_m_s2: np.ndarray, dt_s: float, *, zvd: ZvdParams | None = None,
+                  is_static: np.ndarray | None = None, min_rest_s: float = 0.5, min_separation_deg: float = DEFAULT_MIN_SEPARATION_DEG,
                   max_elevation_deg: float = DEFAULT_MAX_ELEVATION_DEG) -> AxisResult:
     """Algorithm A1 over a whole record: ZVD, rest means, Eq 23 from the first three rests.
 
     Parameters
     ----------
-    accel_m_s2 : array_like, shape (N, 3)
+    accel_m_s2 : ndarray, shape (N, 3)
         Accelerometer record (m/s²).
     dt_s : float
         Sample interval (s), ≤ 1 s.
     zvd : ZvdParams, optional
         ZVD thresholds (Table 1 by default).
-    is_static : array_like of bool (N,), optional
+    is_static : ndarray of bool (N,), optional
         Precomputed ZVD flags (otherwise computed with ``zvd``).
     min_rest_s : float
         Shortest rest (s) counted; Sec. 3.2 asks for ≥ 1 s of rest.
@@ -355,21 +365,30 @@ def estimate_axis(accel_m_s2, dt_s: float, *, zvd: ZvdParams | None = None, is_s
     ------
     ValueError
         Fewer than three distinct rests, or degenerate geometry.
+
+    Preconditions
+    -------------
+    The caller guarantees (not checked here): ``accel_m_s2`` finite float64 (N, 3) in m/s², not g
+    (:func:`mtcal.core.validate.check_accel_units`); ``dt_s`` a sample interval in (0, 1] s; ``zvd`` None
+    or a :class:`ZvdParams`; ``is_static`` None or a boolean ndarray (N,); ``min_rest_s`` ≥ 0 (s);
+    ``min_separation_deg``, ``max_elevation_deg`` finite > 0 (deg).
+    :func:`mtcal.systems.surface_angle.surface_axis_record` (``mtcal axis --rest-detector paper``) checks a
+    log once at its edge.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> rest = [[0, 0, 9.8], [0, -9.8, 0], [0, 0, -9.8], [0, 0, 9.8]]
+    >>> acc = np.repeat(np.array(rest, float), 60, axis=0)
+    >>> flags = np.ones(240, bool); flags[[59, 119, 179]] = False      # a moving sample closes each rest
+    >>> res = estimate_axis(acc, 0.01, is_static=flags)
+    >>> res.v.tolist(), res.rests
+    ([1.0, 0.0, 0.0], [slice(0, 59, None), slice(60, 119, None), slice(120, 179, None)])
     """
-    a = as_float_array(accel_m_s2, "accel_m_s2", ndim=2, last_dim=3)
-    dt = sample_interval(dt_s)
+    a, dt = accel_m_s2, dt_s
     fs = 1.0 / dt  # the rate: exact for the rates mtcal uses (1 / (1 / fs) == fs)
-    if is_static is None:
-        zp = zvd_params(zvd)
-        check_accel_units(a)
-        static = detect_static_trusted(a, dt, zp)
-    else:
-        static = np.asarray(is_static)
-        if static.dtype != bool or static.shape != a.shape[:1]:
-            raise ValueError(f"is_static must be boolean with shape {a.shape[:1]}, "
-                             f"got {static.dtype} {static.shape}")
-    est = AxisEstimator(min_rest_samples=max(int(round(positive_scalar(min_rest_s, "min_rest_s",
-                                                                       allow_zero=True) * fs)), 1),
+    static = detect_static(a, dt, zvd) if is_static is None else is_static
+    est = AxisEstimator(min_rest_samples=max(int(round(min_rest_s * fs)), 1),
                         min_separation_deg=min_separation_deg, max_elevation_deg=max_elevation_deg)
     # A rest only counts once motion follows it (A1): drop a rest running to the end.
     for sl in rest_intervals(static):
@@ -385,21 +404,21 @@ def estimate_axis(accel_m_s2, dt_s: float, *, zvd: ZvdParams | None = None, is_s
     if n_found < 3:
         raise ValueError(f"found only {n_found} distinct rest(s) of >= {min_rest_s:g} s in the record; "
                          f"axis estimation needs three (hold still >= 1 s at three positions)")
-    positive_scalar(min_separation_deg, "min_separation_deg")
-    positive_scalar(max_elevation_deg, "max_elevation_deg")
-    v = axis_from_means_trusted(*est.means, min_separation_deg, max_elevation_deg)   # means of the checked record
+    v = axis_from_means(*est.means, min_separation_deg=min_separation_deg,   # means of the checked record
+                        max_elevation_deg=max_elevation_deg)
     rests = [slice(s, e) for s, e in est.rests]
     return AxisResult(v, np.array(est.means), rests, static, n_found)
 
 
-def distinct_positions(means, counts, *, min_separation_deg: float) -> tuple[np.ndarray, np.ndarray, list]:
+def distinct_positions(means: np.ndarray, counts: np.ndarray, *,
+                       min_separation_deg: float) -> tuple[np.ndarray, np.ndarray, list]:
     """Merge rest means whose directions are within ``min_separation_deg`` (same position seen again).
 
     Parameters
     ----------
-    means : array_like, shape (R, 3)
+    means : ndarray, shape (R, 3)
         Rest mean accelerations (m/s²), time order.
-    counts : array_like, shape (R,)
+    counts : ndarray, shape (R,)
         Samples per rest (weights of the merged mean).
     min_separation_deg : float
         Rests closer than this (deg) are one position.
@@ -412,25 +431,26 @@ def distinct_positions(means, counts, *, min_separation_deg: float) -> tuple[np.
         Samples per position.
     members : list of list of int
         Rest indices merged into each position.
-    """
-    m = as_float_array(means, "means", ndim=2, last_dim=3)
-    n = as_float_array(counts, "counts", ndim=1)
-    return distinct_positions_trusted(m, n, positive_scalar(min_separation_deg, "min_separation_deg"))
 
+    Preconditions
+    -------------
+    The caller guarantees (not checked here): ``means`` finite float64 (R, 3) (m/s²), ``counts`` finite
+    float64 (R,) > 0, ``min_separation_deg`` finite > 0 (deg).
 
-def distinct_positions_trusted(means: np.ndarray, counts: np.ndarray,
-                               min_separation_deg: float) -> tuple[np.ndarray, np.ndarray, list]:
-    """:func:`distinct_positions` for callers that validated at their own edge (same result).
-
-    Preconditions (not checked again): ``means`` finite float64 (R, 3) (m/s²), ``counts`` finite
-    float64 (R,), ``min_separation_deg`` finite > 0 (deg).
+    Examples
+    --------
+    >>> import numpy as np
+    >>> pos, w, members = distinct_positions(np.array([[0, 0, 9.8], [0, 0.01, 9.8], [0, 9.8, 0]]),
+    ...                                      np.array([10.0, 10.0, 5.0]), min_separation_deg=1.0)
+    >>> w.tolist(), members
+    ([20.0, 5.0], [[0, 1], [2]])
     """
     m, n = means, counts
     tol = np.radians(min_separation_deg)
     sums, weights, members = [], [], []
     for i, (mi, ni) in enumerate(zip(m, n)):
         for k in range(len(sums)):
-            if angle_between_trusted(sums[k] / weights[k], mi) < tol:
+            if angle_between(sums[k] / weights[k], mi) < tol:
                 sums[k] = sums[k] + mi * ni
                 weights[k] += ni
                 members[k].append(i)
@@ -465,24 +485,36 @@ class AxisPlaneFit:
     elevation_rad: float
 
 
-def gated_plane_fit_trusted(positions_m_s2: np.ndarray, counts: np.ndarray, accel_noise_m_s2: float,
-                            window_samples: float, max_axis_error_deg: float, sigma_floor_m_s2: float) -> "AxisPlaneFit":
+def gated_plane_fit(positions_m_s2: np.ndarray, counts: np.ndarray, accel_noise_m_s2: float,
+                    window_samples: float, max_axis_error_deg: float, sigma_floor_m_s2: float) -> "AxisPlaneFit":
     """:func:`fit_axis_plane` with the rest-mean noise from the sample counts, refused when too uncertain.
 
     The std of a position's mean is ``max(σ / √n_eff, sigma_floor_m_s2)`` with ``n_eff`` the smallest
     count over ``window_samples`` (~independent windows per rest); a fit whose 1σ exceeds
-    ``max_axis_error_deg`` raises ``ValueError`` naming the tilt spread of the positions.
-    Preconditions (not checked again): ``positions_m_s2`` finite float64 (P, 3), P ≥ 3 (m/s²);
-    ``counts`` (P,) > 0; ``accel_noise_m_s2`` ≥ 0 (m/s², per sample); ``window_samples`` > 0;
-    ``max_axis_error_deg`` > 0 or inf; ``sigma_floor_m_s2`` > 0.
+    ``max_axis_error_deg`` raises ``ValueError`` naming the tilt spread of the positions. The
+    procedure of :func:`mtcal.systems.surface_angle.axis_uncertainty`, which checks its inputs.
+
+    Preconditions
+    -------------
+    The caller guarantees (not checked here): ``positions_m_s2`` finite float64 (P, 3), P ≥ 3 (m/s²);
+    ``counts`` float (P,) > 0; ``accel_noise_m_s2`` ≥ 0 (m/s², per sample); ``window_samples`` > 0;
+    ``max_axis_error_deg`` > 0 or inf; ``sigma_floor_m_s2`` > 0 (m/s²).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> fit = gated_plane_fit(np.array([[0, 0, 9.8], [0, -9.8, 0], [0, 0, -9.8]]), np.array([100.0] * 3),
+    ...                       0.01, 1.0, 2.0, 0.017)
+    >>> fit.v.tolist(), bool(np.degrees(fit.sigma_rad) < 2.0)
+    ([1.0, 0.0, 0.0], True)
     """
     positions, n, noise = positions_m_s2, counts, accel_noise_m_s2
     n_eff = float(np.min(n)) / max(1.0, float(window_samples))  # ~independent windows per rest
     sig = max(noise / np.sqrt(max(n_eff, 1.0)), sigma_floor_m_s2)
-    fit = fit_axis_plane_trusted(positions, float(sig))
+    fit = fit_axis_plane(positions, float(sig))
     err = np.degrees(fit.sigma_rad)
     if not err <= max_axis_error_deg:
-        spread = max(np.degrees(angle_between_trusted(positions[i], positions[j]))
+        spread = max(np.degrees(angle_between(positions[i], positions[j]))
                      for i in range(len(positions)) for j in range(i))
         raise ValueError(f"axis too uncertain: +-{err:.2f} deg (1 sigma) > {max_axis_error_deg:g} deg from "
                          f"{len(positions)} positions at most {spread:.2f} deg apart in tilt (rest-mean noise "
@@ -491,7 +523,7 @@ def gated_plane_fit_trusted(positions_m_s2: np.ndarray, counts: np.ndarray, acce
     return fit
 
 
-def fit_axis_plane(positions_m_s2, sigma_mean_m_s2: float) -> AxisPlaneFit:
+def fit_axis_plane(positions_m_s2: np.ndarray, sigma_mean_m_s2: float) -> AxisPlaneFit:
     """Rotation axis as the normal of the plane through ≥ 3 rest means (Eq 23 generalised).
 
     The static readings ``R(θ, v)ᵀ ā0`` lie on a circle in a plane
@@ -506,36 +538,29 @@ def fit_axis_plane(positions_m_s2, sigma_mean_m_s2: float) -> AxisPlaneFit:
 
     Parameters
     ----------
-    positions_m_s2 : array_like, shape (P, 3), P ≥ 3
+    positions_m_s2 : ndarray, shape (P, 3), P ≥ 3
     sigma_mean_m_s2 : float
         Std of each position's mean (m/s²).
+
+    Preconditions
+    -------------
+    The caller guarantees (not checked here): ``positions_m_s2`` finite float64 (P, 3) with P ≥ 3 (m/s²);
+    ``sigma_mean_m_s2`` finite > 0 (m/s²).
 
     Examples
     --------
     >>> import numpy as np
     >>> from mtcal.core.rotations import axis_angle_matrix
     >>> v = np.array([0.6, 0.0, 0.8]); a0 = np.array([0.0, 0.0, 9.81])
-    >>> pts = [axis_angle_matrix(np.radians(d), v).T @ a0 for d in (0, 90, 180)]
+    >>> pts = np.array([axis_angle_matrix(np.radians(d), v).T @ a0 for d in (0, 90, 180)])
     >>> fit = fit_axis_plane(pts, 0.001)
     >>> bool(np.allclose(fit.v, v)) and fit.sigma_rad < 1e-3
     True
     """
-    p = as_float_array(positions_m_s2, "positions_m_s2", ndim=2, last_dim=3)
-    if p.shape[0] < 3:
-        raise ValueError(f"positions_m_s2 must hold at least 3 positions, got {p.shape[0]}")
-    return fit_axis_plane_trusted(p, positive_scalar(sigma_mean_m_s2, "sigma_mean_m_s2"))
-
-
-def fit_axis_plane_trusted(positions_m_s2: np.ndarray, sigma_mean_m_s2: float) -> AxisPlaneFit:
-    """:func:`fit_axis_plane` for callers that validated at their own edge (same fit).
-
-    Preconditions (not checked again): ``positions_m_s2`` finite float64 (P, 3), P ≥ 3 (m/s²);
-    ``sigma_mean_m_s2`` finite > 0 (m/s²).
-    """
     p, sig = positions_m_s2, sigma_mean_m_s2
     c = p - p.mean(axis=0)
     _, sv, vt = np.linalg.svd(c)
-    v = _sign_convention(vt[2])
+    v = apply_sign_convention(vt[2])
     rms = float(sv[2] / np.sqrt(p.shape[0])) if p.shape[0] > 3 else 0.0
     plane = c @ vt[:2].T
     a = np.column_stack([np.ones(p.shape[0]), plane])
@@ -545,12 +570,12 @@ def fit_axis_plane_trusted(positions_m_s2: np.ndarray, sigma_mean_m_s2: float) -
     else:
         cov = np.linalg.inv(gram)
         sigma = float(max(sig, rms) * np.sqrt(cov[1, 1] + cov[2, 2]))
-    return AxisPlaneFit(v, sigma, rms, float(axis_elevation_trusted(v, p.mean(axis=0))))
+    return AxisPlaneFit(v, sigma, rms, float(axis_elevation(v, p.mean(axis=0))))
 
 
 @dataclass(frozen=True)
 class AxisEstimate:
-    """Result of :func:`axis_from_rests_trusted` (:func:`mtcal.systems.surface_angle.estimate_surface_axis`).
+    """Result of :func:`axis_from_rests` (:func:`mtcal.systems.surface_angle.estimate_surface_axis`).
 
     Attributes
     ----------
@@ -585,10 +610,20 @@ class AxisEstimate:
     fit: str
 
 
-def rest_means_trusted(accel: np.ndarray, rests) -> tuple[np.ndarray, np.ndarray]:
+def rest_means(accel: np.ndarray, rests: list) -> tuple[np.ndarray, np.ndarray]:
     """Means (R, 3) and sample counts (R,) of rests given as slices or boolean masks (N,).
 
-    Precondition: ``accel`` a checked float (N, 3) record; a mask of the wrong dtype or shape is refused.
+    Preconditions
+    -------------
+    The caller guarantees (not checked here): ``accel`` finite float64 (N, 3); each rest a slice or a
+    boolean ndarray (N,) (:func:`mtcal.systems.surface_angle.estimate_surface_axis` checks the masks).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> means, counts = rest_means(np.arange(12.0).reshape(4, 3), [slice(0, 2), np.array([0, 0, 1, 1], bool)])
+    >>> means.tolist(), counts.tolist()
+    ([[1.5, 2.5, 3.5], [7.5, 8.5, 9.5]], [2.0, 2.0])
     """
     means, counts = [], []
     for r in rests:
@@ -596,43 +631,52 @@ def rest_means_trusted(accel: np.ndarray, rests) -> tuple[np.ndarray, np.ndarray
             means.append(accel[r].mean(axis=0))
             counts.append(float(len(range(*r.indices(accel.shape[0])))))
         else:
-            m = np.asarray(r)
-            if m.dtype != bool or m.shape != accel.shape[:1]:
-                raise ValueError(f"each rest must be a slice or a boolean mask of shape {accel.shape[:1]}, "
-                                 f"got {m.dtype} {m.shape}")
-            means.append(accel[m].mean(axis=0))
-            counts.append(float(np.count_nonzero(m)))
+            means.append(accel[r].mean(axis=0))
+            counts.append(float(np.count_nonzero(r)))
     return np.array(means).reshape(-1, 3), np.array(counts)
 
 
-def axis_from_rests_trusted(a: np.ndarray, rests: list, *, fit: str, min_separation_deg: float,
-                            max_elevation_deg: float, max_axis_error_deg: float, accel_noise_m_s2: float,
-                            window_samples: float, sigma_floor_m_s2: float) -> AxisEstimate:
+def axis_from_rests(a: np.ndarray, rests: list, *, fit: str, min_separation_deg: float,
+                    max_elevation_deg: float, max_axis_error_deg: float, accel_noise_m_s2: float,
+                    window_samples: float, sigma_floor_m_s2: float) -> AxisEstimate:
     """Hinge axis from the accelerometer means of ≥ 3 rests (wang2022sensors Eq 23, Sec. 2.2), gated.
 
     Rests closer in tilt than ``min_separation_deg`` are one position (:func:`distinct_positions`);
     ``fit="plane"``: the normal of the least-squares plane through all positions, refused above
     ``max_elevation_deg``; ``fit="eq23"``: Eq 23 on the first three positions
     (:func:`axis_from_means`); both refused above ``max_axis_error_deg`` of 1σ plane-tilt
-    uncertainty (:func:`gated_plane_fit_trusted`, rest-mean noise floor ``sigma_floor_m_s2``).
+    uncertainty (:func:`gated_plane_fit`, rest-mean noise floor ``sigma_floor_m_s2``).
     The procedure of :func:`mtcal.systems.surface_angle.estimate_surface_axis`, which checks its inputs.
-
-    Preconditions (not checked again): ``a`` finite float64 (N, 3) (m/s²); ``rests`` a non-empty list
-    of slices or boolean (N,) masks in time order; ``fit`` "plane" or "eq23"; the limits > 0
-    (``max_axis_error_deg`` may be inf); ``accel_noise_m_s2`` ≥ 0; ``window_samples`` > 0.
 
     Raises
     ------
     ValueError
         A rest without samples; fewer than three distinct tilts; axis too uncertain; axis nearly vertical.
+
+    Preconditions
+    -------------
+    The caller guarantees (not checked here): ``a`` finite float64 (N, 3) (m/s²); ``rests`` a non-empty
+    list of slices or boolean ndarray (N,) masks in time order; ``fit`` "plane" or "eq23"; the limits
+    finite > 0 (``max_axis_error_deg`` may be inf); ``accel_noise_m_s2`` ≥ 0 (m/s²); ``window_samples`` > 0;
+    ``sigma_floor_m_s2`` > 0 (m/s²).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> acc = np.repeat([[0, 0, 9.8], [0, -9.8, 0], [0, 0, -9.8]], 40, axis=0).astype(float)
+    >>> est = axis_from_rests(acc, [slice(0, 40), slice(40, 80), slice(80, 120)], fit="eq23",
+    ...                       min_separation_deg=0.5, max_elevation_deg=85.0, max_axis_error_deg=np.inf,
+    ...                       accel_noise_m_s2=0.01, window_samples=1.0, sigma_floor_m_s2=0.017)
+    >>> est.axis.tolist(), len(est.members)
+    ([1.0, 0.0, 0.0], 3)
     """
     sep, max_el, max_err = float(min_separation_deg), float(max_elevation_deg), float(max_axis_error_deg)
-    means, counts = rest_means_trusted(a, rests)
+    means, counts = rest_means(a, rests)
     if not np.all(counts > 0):
         raise ValueError(f"rest {int(np.argmin(counts > 0))} holds no sample; each rest needs samples")
-    pos, w, members = distinct_positions_trusted(means, counts, sep)
+    pos, w, members = distinct_positions(means, counts, min_separation_deg=sep)
     if pos.shape[0] < 3:
-        spread = max((np.degrees(angle_between_trusted(means[i], means[j]))
+        spread = max((np.degrees(angle_between(means[i], means[j]))
                       for i in range(len(means)) for j in range(i)), default=0.0)
         why = (" — a rotation about the vertical does not change the tilt, so the accelerometer "
                "cannot see its axis" if len(rests) >= 2 and spread < sep else "")
@@ -641,36 +685,48 @@ def axis_from_rests_trusted(a: np.ndarray, rests: list, *, fit: str, min_separat
                          f"apart); the axis needs rests at three distinct tilts{why}")
     if fit == "eq23":
         pos, w, members = pos[:3], w[:3], members[:3]
-        v = axis_from_means_trusted(pos[0], pos[1], pos[2], sep, max_el)
-    plane = gated_plane_fit_trusted(pos, w, float(accel_noise_m_s2), float(window_samples), max_err,
-                                    sigma_floor_m_s2)
+        v = axis_from_means(pos[0], pos[1], pos[2], min_separation_deg=sep, max_elevation_deg=max_el)
+    plane = gated_plane_fit(pos, w, float(accel_noise_m_s2), float(window_samples), max_err, sigma_floor_m_s2)
     if fit == "plane":
         v = plane.v
         # v·a is the same at every rest (rotation about v keeps it), so each rest mean gives the elevation;
         # the centroid of the positions is shorter than g and would overstate it.
-        elev = float(np.degrees(np.mean(axis_elevation_trusted(v, means))))
+        elev = float(np.degrees(np.mean(axis_elevation(v, means))))
         if elev > max_el:
             raise ValueError(f"rotation axis is nearly vertical: elevation {elev:.2f} "
                              f"deg above the horizontal (maximum {max_el:g} deg); rotation about it barely "
                              f"changes gravity")
     n_eff = float(np.min(w)) / max(1.0, float(window_samples))
     sig = max(accel_noise_m_s2 / np.sqrt(max(n_eff, 1.0)), sigma_floor_m_s2)
-    return AxisEstimate(v, float(plane.sigma_rad), float(np.mean(axis_elevation_trusted(v, means))), pos,
+    return AxisEstimate(v, float(plane.sigma_rad), float(np.mean(axis_elevation(v, means))), pos,
                         tuple(tuple(m) for m in members), means, angles_about_axis(v, means[0], means), float(sig),
                         fit)
 
 
-def axes_from_rests_trusted(a: np.ndarray, masks: list[np.ndarray], **settings) -> np.ndarray:
-    """:func:`axis_from_rests_trusted` on a batch of T records: the hinge axis of each, (T, 3).
+def axes_from_rests(a: np.ndarray, masks: list[np.ndarray], **settings) -> np.ndarray:
+    """:func:`axis_from_rests` on a batch of T records: the hinge axis of each, (T, 3).
 
     Vectorised where it can be: with ``fit="eq23"``, no uncertainty gate (``max_axis_error_deg``
     inf, a Monte Carlo) and rests all ≥ ``min_separation_deg`` apart in tilt, the rest means and
-    Eq 23 (:func:`axis_from_means_trusted`) run on all such trials at once; every other trial goes
-    through :func:`axis_from_rests_trusted` itself. Results equal the per-trial call bit for bit.
+    Eq 23 (:func:`axis_from_means`) run on all such trials at once; every other trial goes
+    through :func:`axis_from_rests` itself. Results equal the per-trial call bit for bit.
     The procedure of :func:`mtcal.systems.surface_angle.estimate_surface_axes`, which checks its inputs.
 
-    Preconditions (not checked again): ``a`` finite float64 (T, N, 3); ``masks`` a non-empty list of
-    boolean (T, N) rest masks in time order; ``settings`` the keywords of :func:`axis_from_rests_trusted`.
+    Preconditions
+    -------------
+    The caller guarantees (not checked here): ``a`` finite float64 (T, N, 3) (m/s²); ``masks`` a non-empty
+    list of boolean ndarray (T, N) rest masks in time order; ``settings`` the keywords of
+    :func:`axis_from_rests`, as it requires them.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> acc = np.repeat([[[0.0, 0, 9.8], [0, -9.8, 0], [0, 0, -9.8]]], 10, axis=1)   # one trial, (1, 30, 3)
+    >>> masks = [np.arange(30)[None] // 10 == k for k in range(3)]
+    >>> axes_from_rests(acc, masks, fit="eq23", min_separation_deg=0.5, max_elevation_deg=85.0,
+    ...                 max_axis_error_deg=np.inf, accel_noise_m_s2=0.01, window_samples=1.0,
+    ...                 sigma_floor_m_s2=0.017).tolist()
+    [[1.0, 0.0, 0.0]]
     """
     sep = float(settings["min_separation_deg"])
     t_n = a.shape[0]
@@ -681,37 +737,47 @@ def axes_from_rests_trusted(a: np.ndarray, masks: list[np.ndarray], **settings) 
         means = np.full((len(masks), t_n, 3), np.nan)
         from mtcal.methods import _axis_kernels
 
-        for k, m in enumerate(masks):  # the rest means exactly as axis_from_rests_trusted takes them
+        for k, m in enumerate(masks):  # the rest means exactly as axis_from_rests takes them
             _axis_kernels.masked_means(a, np.ascontiguousarray(m), means[k])
         # as distinct_positions weights them (mean * n / n), so Eq 23 sees the same numbers
         with np.errstate(invalid="ignore"):
             means = means * counts[..., None] / counts[..., None]
             r_n = len(masks)
-            pair = np.stack([angle_between_trusted(means[i], means[j])
+            pair = np.stack([angle_between(means[i], means[j])
                              for i in range(r_n) for j in range(i)])
         # strictly apart (a margin for rounding), so per trial no rests would merge
         fast = np.all(counts > 0, axis=0) & np.all(pair > np.radians(sep) * (1 + 1e-9), axis=0)
         if fast.any():
-            out[fast] = axis_from_means_trusted(*means[:3, fast], sep, float(settings["max_elevation_deg"]))
+            out[fast] = axis_from_means(*means[:3, fast], min_separation_deg=sep,
+                                        max_elevation_deg=float(settings["max_elevation_deg"]))
     for t in np.flatnonzero(~fast):
-        out[t] = axis_from_rests_trusted(a[t], [m[t] for m in masks], **settings).axis
+        out[t] = axis_from_rests(a[t], [m[t] for m in masks], **settings).axis
     return out
 
 
-def gated_elevation_trusted(v: np.ndarray, accel0_m_s2: np.ndarray, max_elevation_deg: float) -> np.ndarray:
+def gated_elevation(v: np.ndarray, accel0_m_s2: np.ndarray, max_elevation_deg: float) -> np.ndarray:
     """Elevation of the axis above the horizontal at ā0 (rad, :func:`axis_elevation`), refused above the limit.
 
     A rotation about the vertical does not change the accelerometer reading, so the RAMS EKF
     (wang2022sensors Eq 24–33) cannot correct the gyro about a nearly vertical axis.
-    Preconditions (not checked again): ``v`` unit float64 (3,) or (T, 3); ``accel0_m_s2`` finite
-    non-zero float64 (3,) or (T, 3); ``max_elevation_deg`` > 0.
 
     Raises
     ------
     ValueError
         ``--axis is … deg from gravity`` for the steepest trial above ``max_elevation_deg``.
+
+    Preconditions
+    -------------
+    The caller guarantees (not checked here): ``v`` unit float64 (3,) or (T, 3); ``accel0_m_s2`` finite
+    non-zero float64 (3,) or (T, 3) (m/s²); ``max_elevation_deg`` finite > 0 (deg).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> round(float(np.degrees(gated_elevation(np.array([0.6, 0, 0.8]), np.array([0, 0, 9.81]), 85.0))), 6)
+    53.130102
     """
-    elev = axis_elevation_trusted(v, accel0_m_s2)
+    elev = axis_elevation(v, accel0_m_s2)
     max_el = float(max_elevation_deg)
     worst = float(np.degrees(np.max(elev)))
     if worst > max_el:

@@ -122,63 +122,55 @@ def _moving_variance(arr: np.ndarray, window: int) -> np.ndarray:
     return np.maximum(s2 / count - mean * mean, 0.0)
 
 
-def detect_static(accel_m_s2, dt_s: float, params: ZvdParams | None = None,
-                  gyro_rad_s=None) -> np.ndarray:
+def detect_static(accel_m_s2: np.ndarray, dt_s: float, params: ZvdParams | None = None,
+                  gyro_rad_s: np.ndarray | None = None, *,
+                  gyro_offset_rad_s: np.ndarray | None = None) -> np.ndarray:
     """wang2022sensors ZVD (Sec. 3.1, Eq 21–22, Table 1): static flag per sample.
 
     Parameters
     ----------
-    accel_m_s2 : array_like, shape (..., N, 3)
+    accel_m_s2 : ndarray, shape (..., N, 3)
         Accelerometer specific force (m/s²); leading axes are trials.
     dt_s : float
         Sample interval (s), ≤ 1 s.
     params : ZvdParams, optional
         Thresholds; Table 1 by default.
-    gyro_rad_s : array_like, shape (..., N, 3), optional
+    gyro_rad_s : ndarray, shape (..., N, 3), optional
         Gyro record (rad/s); required when ``params.gyro_max_rad_s`` is set.
+    gyro_offset_rad_s : ndarray, shape (..., 3), optional
+        One offset per record (e.g. the initial bias): the gyro condition then reads ``‖ω − offset‖``,
+        as when ``gyro_rad_s - offset[..., None, :]`` is passed.
 
     Returns
     -------
     ndarray of bool, shape (..., N)
-    """
-    p = zvd_params(params)
-    a = as_float_array(accel_m_s2, "accel_m_s2", last_dim=3)
-    if a.ndim < 2:
-        raise ValueError(f"accel_m_s2 must have shape (..., N, 3), got {a.shape}")
-    check_accel_units(a)
-    dt = sample_interval(dt_s)
-    w = None
-    if p.gyro_max_rad_s is not None and gyro_rad_s is not None:
-        w = as_float_array(gyro_rad_s, "gyro_rad_s", last_dim=3)
-        if w.shape != a.shape:
-            raise ValueError(f"gyro_rad_s must have the shape of accel_m_s2 {a.shape}, got {w.shape}")
-    return detect_static_trusted(a, dt, p, w)
 
+    Raises
+    ------
+    ValueError
+        ``params.gyro_max_rad_s`` set without ``gyro_rad_s``.
 
-def zvd_params(params: ZvdParams | None) -> ZvdParams:
-    """``params``, or Table 1's :class:`ZvdParams` for None (TypeError for anything else)."""
-    p = ZvdParams() if params is None else params
-    if not isinstance(p, ZvdParams):
-        raise TypeError(f"params must be a ZvdParams, got {type(p).__name__}")
-    return p
-
-
-def detect_static_trusted(accel_m_s2: np.ndarray, dt_s: float, params: ZvdParams,
-                          gyro_rad_s: np.ndarray | None = None, *,
-                          gyro_offset_rad_s: np.ndarray | None = None) -> np.ndarray:
-    """:func:`detect_static` on checked inputs, for callers that validated them at their own edge.
-
-    Preconditions (not checked again): ``accel_m_s2`` finite float64 (..., N, 3) in m/s² (units
-    checked); ``dt_s`` a checked sample interval (s); ``params`` a :class:`ZvdParams`;
-    ``gyro_rad_s`` None or finite float64 of the shape of ``accel_m_s2`` (rad/s), required when
-    ``params.gyro_max_rad_s`` is set; ``gyro_offset_rad_s`` None or finite float64 (..., 3), one
-    offset per record: the gyro condition then reads ``‖ω − offset‖`` (e.g. the initial bias), as
-    when ``gyro_rad_s - offset[..., None, :]`` is passed. Same flags as :func:`detect_static`.
+    Preconditions
+    -------------
+    The caller guarantees (not checked here): ``accel_m_s2`` finite float64 (..., N, 3) in m/s², not g
+    (:func:`mtcal.core.validate.check_accel_units`); ``dt_s`` a sample interval in (0, 1] s
+    (:func:`mtcal.core.validate.sample_interval`); ``params`` None or a :class:`ZvdParams`;
+    ``gyro_rad_s`` None or finite float64 of the shape of ``accel_m_s2`` (rad/s); ``gyro_offset_rad_s``
+    None or finite float64 (..., 3). The systems check a record once at their edge
+    (:func:`mtcal.systems.surface_angle.surface_angle_batch`, :func:`mtcal.systems.rests.find_rests`).
 
     C-contiguous records run through one compiled pass per record (:mod:`mtcal.methods._zvd_kernels`,
     the same operations in the same order, so the same flags bit for bit); other layouts through
     the numpy expression.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> a = np.tile([0.0, 0.0, 9.80665], (20, 1)); a[8:12] += 1.0
+    >>> detect_static(a, 0.01).astype(int).tolist()
+    [1, 1, 1, 1, 1, 1, 1, 1, 0, 0, 0, 0, 0, 0, 1, 1, 1, 1, 1, 1]
     """
+    params = ZvdParams() if params is None else params
     use_gyro = params.gyro_max_rad_s is not None
     if use_gyro and gyro_rad_s is None:
         raise ValueError("gyro_rad_s is required when params.gyro_max_rad_s is set")
@@ -208,6 +200,15 @@ def detect_static_trusted(accel_m_s2: np.ndarray, dt_s: float, params: ZvdParams
     return _min_run(cond, params.duration_samples(dt_s))
 
 
+
+def zvd_params(params: ZvdParams | None) -> ZvdParams:
+    """``params``, or Table 1's :class:`ZvdParams` for None (TypeError for anything else)."""
+    p = ZvdParams() if params is None else params
+    if not isinstance(p, ZvdParams):
+        raise TypeError(f"params must be a ZvdParams, got {type(p).__name__}")
+    return p
+
+
 def _min_run(cond: np.ndarray, n_h: int) -> np.ndarray:
     """True where ``cond`` has held for the last ``n_h`` samples (causal run length)."""
     idx = np.arange(cond.shape[-1])
@@ -226,12 +227,22 @@ def rest_intervals(is_static) -> list[slice]:
     return [slice(int(a), int(b)) for a, b in zip(starts, stops)]
 
 
-def rest_masks_trusted(is_static: np.ndarray, rests, min_share: float) -> list[np.ndarray]:
+def rest_masks(is_static: np.ndarray, rests: list[slice], min_share: float) -> list[np.ndarray]:
     """Static flags restricted to each known rest slice, the whole rest where they flag fewer than
     ``min_share`` of it: one (T, N) boolean mask per rest.
 
-    Preconditions (not checked again): ``is_static`` bool (T, N); ``rests`` slices with explicit
-    ``start`` < ``stop`` within N; ``min_share`` in [0, 1].
+    Preconditions
+    -------------
+    The caller guarantees (not checked here): ``is_static`` bool ndarray (T, N); ``rests`` slices with
+    explicit ``start`` < ``stop`` within N; ``min_share`` in [0, 1]
+    (:func:`mtcal.systems.surface_angle.surface_angle_batch` checks them).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> [m.astype(int).tolist() for m in rest_masks(np.array([[True, False, False, False]]),
+    ...                                             [slice(0, 2), slice(2, 4)], 0.1)]
+    [[[1, 0, 0, 0]], [[0, 0, 1, 1]]]
     """
     out = []
     for sl in rests:

@@ -211,7 +211,8 @@ def find_rests_trusted(a: np.ndarray, g: np.ndarray | None, dt: float, t: np.nda
 
     gyro = g if config.use_gyro else None
     if config.detector == "paper":
-        rep = rest_detection.paper_rest_report_trusted(a, dt, gyro, float(config.min_rest_s), ZvdParams())
+        rep = rest_detection.paper_rest_report(a, dt, gyro_rad_s=gyro, min_rest_s=float(config.min_rest_s),
+                                               zvd=ZvdParams())
     elif config.detector == "shoe":
         if gyro is None:
             raise ValueError("detector 'shoe' needs gyro_rad_s")
@@ -219,13 +220,13 @@ def find_rests_trusted(a: np.ndarray, g: np.ndarray | None, dt: float, t: np.nda
                                            threshold=config.shoe_threshold,
                                            rate_level_rad_s=config.gyro_threshold_rad_s,
                                            gravity_m_s2=config.gravity_m_s2)
-        rep = rest_detection.detect_rests_shoe_trusted(a, dt, gyro, params)
+        rep = rest_detection.detect_rests_shoe(a, dt, gyro_rad_s=gyro, params=params)
     else:
         params = rest_detection.RestDetectorParams(min_rest_s=config.min_rest_s, noise_factor=config.noise_factor,
                                                    gravity_m_s2=config.gravity_m_s2,
                                                    accel_band_m_s2=config.accel_band_m_s2,
                                                    gyro_level_max_rad_s=config.gyro_threshold_rad_s)
-        rep = rest_detection.detect_rests_trusted(a, dt, gyro, params)
+        rep = rest_detection.detect_rests(a, dt, gyro_rad_s=gyro, params=params)
     return drop_short_rests(rep, t)
 
 

@@ -30,17 +30,17 @@ commands, the study's Monte Carlo runs and the sweep evaluator:
    or the paper's Table 1 ZVD and Algorithm A1, in one call.
 
 Each procedure checks its inputs, then goes down once: the axis estimate and its gates are
-methods (:func:`mtcal.methods.rotation_axis.axis_from_rests_trusted`,
-:func:`~mtcal.methods.rotation_axis.gated_elevation_trusted`), the EKF a filter call
-(:func:`mtcal.filters.rams_ekf.run_rams_ekf_restarts_trusted` /
-:func:`~mtcal.filters.rams_ekf.run_rams_ekf_batch_restarts_trusted`).
+methods (:func:`mtcal.methods.rotation_axis.axis_from_rests`,
+:func:`~mtcal.methods.rotation_axis.gated_elevation`), the EKF a filter call
+(:func:`mtcal.filters.rams_ekf.run_rams_ekf_restarts` /
+:func:`~mtcal.filters.rams_ekf.run_rams_ekf_batch_restarts`).
 
 Each procedure takes the data arrays and ONE frozen, resolved config —
 :class:`AxisConfig`, :class:`SurfaceAngleConfig`, :class:`SurfaceBatchConfig`, :class:`SurfaceRecordConfig`,
 :class:`AxisRecordConfig` — with constructors for the paper's settings (``paper``), the CLI defaults
 (``cli``) and a sweep cell (:meth:`SurfaceAngleConfig.sweep_cell`, :meth:`SurfaceBatchConfig.sweep_cell`). A config is checked when it is made, the
 arrays once at the procedure's edge; the methods and the filter below run on the checked
-arrays (:func:`mtcal.filters.rams_ekf.run_rams_ekf_trusted`).
+arrays (each states the preconditions its caller guarantees).
 
 References
 ----------
@@ -67,13 +67,13 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from mtcal.core.validate import as_float_array, check_accel_units, positive_scalar, sample_interval
-from mtcal.filters.rams_ekf import (RamsEkfParams, run_rams_ekf_batch_restarts_trusted,
-                                   run_rams_ekf_restarts_trusted)
+from mtcal.filters.rams_ekf import RamsEkfParams, run_rams_ekf_batch_restarts, run_rams_ekf_restarts
 from mtcal.filters.registry import AxisContext
 from mtcal.methods import rotation_axis
 from mtcal.methods.rotation_axis import AxisEstimate, angles_about_axis
 from mtcal.methods.tilt_rate import check_tilt_rate_scale_trusted
-from mtcal.methods.zero_velocity import ZvdParams, detect_static_trusted, rest_masks_trusted
+from mtcal.methods import zero_velocity
+from mtcal.methods.zero_velocity import ZvdParams
 from mtcal.systems import plausibility
 from mtcal.systems.rests import RestsConfig, find_rests
 
@@ -140,10 +140,12 @@ def axis_uncertainty(positions_m_s2, counts, *, accel_noise_m_s2: float, window_
     ([1.0, 0.0, 0.0], True)
     """
     positions = as_float_array(positions_m_s2, "positions_m_s2", ndim=2, last_dim=3)
+    if positions.shape[0] < 3:
+        raise ValueError(f"positions_m_s2 must hold at least 3 positions, got {positions.shape[0]}")
     n = as_float_array(counts, "counts", ndim=1)
     noise = positive_scalar(accel_noise_m_s2, "accel_noise_m_s2", allow_zero=True)
-    return rotation_axis.gated_plane_fit_trusted(positions, n, noise, window_samples, max_axis_error_deg,
-                                                 SIGMA_MEAN_FLOOR_M_S2)
+    return rotation_axis.gated_plane_fit(positions, n, noise, window_samples, max_axis_error_deg,
+                                         SIGMA_MEAN_FLOOR_M_S2)
 
 
 def _limit(value, name: str) -> float:
@@ -212,7 +214,7 @@ class AxisConfig:
 
 
 def _axis_settings(config: AxisConfig) -> dict:
-    """The keywords of :func:`mtcal.methods.rotation_axis.axis_from_rests_trusted` a checked config states."""
+    """The keywords of :func:`mtcal.methods.rotation_axis.axis_from_rests` a checked config states."""
     return dict(fit=config.fit, min_separation_deg=float(config.min_separation_deg),
                 max_elevation_deg=float(config.max_elevation_deg),
                 max_axis_error_deg=np.inf if config.max_axis_error_deg is None else float(config.max_axis_error_deg),
@@ -264,10 +266,14 @@ def estimate_surface_axis(accel_m_s2, rests, config: AxisConfig) -> AxisEstimate
         raise TypeError(f"config must be an AxisConfig, got {type(config).__name__}")
     settings = _axis_settings(config)
     a = as_float_array(accel_m_s2, "accel_m_s2", ndim=2, last_dim=3)
-    rests = list(rests)
+    rests = [r if isinstance(r, slice) else np.asarray(r) for r in rests]
     if not rests:
         raise ValueError("found no rest; the axis needs rests at three distinct tilts")
-    return rotation_axis.axis_from_rests_trusted(a, rests, **settings)
+    for m in rests:
+        if not isinstance(m, slice) and (m.dtype != bool or m.shape != a.shape[:1]):
+            raise ValueError(f"each rest must be a slice or a boolean mask of shape {a.shape[:1]}, "
+                             f"got {m.dtype} {m.shape}")
+    return rotation_axis.axis_from_rests(a, rests, **settings)
 
 
 def estimate_surface_axes(accel_m_s2, rest_masks, config: AxisConfig) -> np.ndarray:
@@ -324,7 +330,7 @@ def estimate_surface_axes(accel_m_s2, rest_masks, config: AxisConfig) -> np.ndar
     for m in masks:
         if m.dtype != bool or m.shape != a.shape[:2]:
             raise ValueError(f"each rest mask must be boolean of shape {a.shape[:2]}, got {m.dtype} {m.shape}")
-    return rotation_axis.axes_from_rests_trusted(a, masks, **settings)
+    return rotation_axis.axes_from_rests(a, masks, **settings)
 
 
 # --------------------------------------------------------------------------- one record (a log): rests → axis
@@ -481,7 +487,7 @@ def surface_axis_record(accel_m_s2, config: AxisRecordConfig, *, fs_hz: float, t
                                                  min_separation_deg=config.min_separation_deg,
                                                  max_axis_error_deg=config.max_axis_error_deg,
                                                  max_elevation_deg=config.max_elevation_deg))
-        est = rotation_axis.axis_from_rests_trusted(a, list(rep.rests), **settings)
+        est = rotation_axis.axis_from_rests(a, list(rep.rests), **settings)
     except ValueError as exc:
         exc.rests, exc.units_check = rep, chk  # the caller's diagnostics show what the refusal saw
         raise
@@ -492,10 +498,10 @@ def _axis_record_paper(a: np.ndarray, dt: float, fs: float, config: AxisRecordCo
     """:func:`surface_axis_record` with the paper's detector, on the checked accelerometer: Table 1 ZVD flags
     (no rest dropped by its listed span: A1 counts rests by its own minimum), Algorithm A1, the
     uncertainty gate on A1's three means."""
-    from mtcal.methods.rest_detection import paper_rest_report_trusted
+    from mtcal.methods.rest_detection import paper_rest_report
 
     min_rest = float(config.rests.min_rest_s)
-    rep = paper_rest_report_trusted(a, dt, None, min_rest, ZvdParams())
+    rep = paper_rest_report(a, dt, min_rest_s=min_rest, zvd=ZvdParams())
     try:
         res = rotation_axis.estimate_axis(a, dt, min_rest_s=min_rest, is_static=rep.is_static,
                                           min_separation_deg=config.min_separation_deg,
@@ -509,16 +515,16 @@ def _axis_record_paper(a: np.ndarray, dt: float, fs: float, config: AxisRecordCo
     counts = np.array([r.stop - r.start for r in res.rests], float)
     window = rep.window_s * fs
     try:  # axis_uncertainty on A1's means (float (3, 3)) and the noise the ZVD report measured on its blocks
-        fit = rotation_axis.gated_plane_fit_trusted(res.means, counts, rep.accel_noise_m_s2, window,
-                                                    np.inf if config.max_axis_error_deg is None
-                                                    else float(config.max_axis_error_deg), SIGMA_MEAN_FLOOR_M_S2)
+        fit = rotation_axis.gated_plane_fit(res.means, counts, rep.accel_noise_m_s2, window,
+                                            np.inf if config.max_axis_error_deg is None
+                                            else float(config.max_axis_error_deg), SIGMA_MEAN_FLOOR_M_S2)
     except ValueError as exc:
         exc.rests, exc.units_check, exc.used = rep, None, tuple(res.rests)
         raise
     v, means = res.v, res.means
     n_eff = float(np.min(counts)) / max(1.0, float(window))       # as axis_uncertainty's rest-mean noise
     sig = max(rep.accel_noise_m_s2 / np.sqrt(max(n_eff, 1.0)), SIGMA_MEAN_FLOOR_M_S2)
-    est = AxisEstimate(v, float(fit.sigma_rad), float(np.mean(rotation_axis.axis_elevation_trusted(v, means))),
+    est = AxisEstimate(v, float(fit.sigma_rad), float(np.mean(rotation_axis.axis_elevation(v, means))),
                        means, ((0,), (1,), (2,)), means, angles_about_axis(v, means[0], means), float(sig), "eq23")
     return SurfaceAxisRecord(rep, est, tuple(res.rests), None)
 
@@ -771,13 +777,16 @@ def surface_angle(gyro_rad_s, accel_m_s2, axis, config: SurfaceAngleConfig | Non
         raise ValueError("check_units and max_axis_mismatch_deg check one record, not a batch")
     if cfg.params is None and batch:
         raise ValueError("params must be given for a batch")
-    return _surface_angle_trusted(g, a, v, static, init, dt, weights, time_s, list(rests), cfg)
+    return _surface_angle_steps(g, a, v, static, init, dt, weights, time_s, list(rests), cfg)
 
 
-def _surface_angle_trusted(g, a, v, static, init: slice, dt: float, weights, time_s, rests: list,
-                           cfg: SurfaceAngleConfig) -> SurfaceAngle:
-    """:func:`surface_angle` on checked arrays ((N, 3) or (T, N, 3) float, bool flags, unit axis, a non-empty
-    ``init``, ``dt`` and gyro ``weights`` from :func:`~mtcal.systems.plausibility.time_base`)."""
+def _surface_angle_steps(g, a, v, static, init: slice, dt: float, weights, time_s, rests: list,
+                         cfg: SurfaceAngleConfig) -> SurfaceAngle:
+    """The steps of :func:`surface_angle` (ā0 and bias, clipping, the axis gate, the units or tilt-rate
+    check, the EKF with its restarts), shared by its two edges (:func:`surface_angle`,
+    :func:`surface_angle_record`), which check the record first: (N, 3) or (T, N, 3) finite float64, bool
+    flags, a unit axis, a non-empty ``init``, ``dt`` and gyro ``weights`` from
+    :func:`~mtcal.systems.plausibility.time_base`."""
     batch = a.ndim == 3
     n = a.shape[-2]
     gyro_f = g if weights is None else g * weights[:, None]
@@ -790,12 +799,12 @@ def _surface_angle_trusted(g, a, v, static, init: slice, dt: float, weights, tim
         level = np.array([c[1] for c in clip])
     else:
         clipped, level = plausibility.clipped_samples(g)
-    elev = rotation_axis.gated_elevation_trusted(v, a0, cfg.max_elevation_deg)
+    elev = rotation_axis.gated_elevation(v, a0, cfg.max_elevation_deg)
     check, u = None, None
     if cfg.check_units:
         check = plausibility.check_units(gyro_f, a, dt, rests, time_s=time_s, skip=clipped,
                                          unit_stated=cfg.unit_stated)
-    elif not batch:  # the tilt-rate scale check of run_rams_ekf, once for the record
+    elif not batch:  # the gyro's tilt-rate scale (run_rams_ekf's precondition), once for the record
         check_tilt_rate_scale_trusted(gyro_f[k0:], a[k0:], dt, excess="warn")
     if cfg.max_axis_mismatch_deg is not None:
         u = _gyro_axis_check(g, static, b0, v, dt, cfg)
@@ -804,14 +813,14 @@ def _surface_angle_trusted(g, a, v, static, init: slice, dt: float, weights, tim
     angle = np.full(a.shape[:-1], np.nan)
     if not batch:
         cuts = _restart_cuts(clipped[k0:], local, n - k0)
-        angle[k0:] = run_rams_ekf_restarts_trusted(gyro_f[k0:], a[k0:], static[k0:], cuts, v, a0, b0, dt, params,
-                                                   CLIPPED_P0_THETA_RAD**2)
+        angle[k0:] = run_rams_ekf_restarts(gyro_f[k0:], a[k0:], static[k0:], cuts, v, a0, b0, dt, params,
+                                           CLIPPED_P0_THETA_RAD**2)
         restarts = tuple(c + k0 for c in cuts[1:-1])
     else:
         st = np.broadcast_to(static, a.shape[:-1])
         cuts = [_restart_cuts(c[k0:], local, n - k0) for c in clipped]
-        angle[:, k0:] = run_rams_ekf_batch_restarts_trusted(gyro_f[:, k0:], a[:, k0:], st[:, k0:], cuts, v, a0, b0,
-                                                            dt, params, CLIPPED_P0_THETA_RAD**2)
+        angle[:, k0:] = run_rams_ekf_batch_restarts(gyro_f[:, k0:], a[:, k0:], st[:, k0:], cuts, v, a0, b0,
+                                                    dt, params, CLIPPED_P0_THETA_RAD**2)
         restarts = tuple(tuple(x + k0 for x in c[1:-1]) for c in cuts)
     return SurfaceAngle(angle, k0, a0, b0, elev if batch else float(elev), params, dt, clipped,
                         level if batch else float(level), restarts, check, u)
@@ -996,7 +1005,7 @@ def surface_angle_record(gyro_rad_s, accel_m_s2, axis, config: SurfaceRecordConf
         cfg = SurfaceAngleConfig.cli(max_elevation_deg=config.max_elevation_deg,
                                      max_axis_mismatch_deg=config.max_axis_mismatch_deg,
                                      gyro_noise_rad_s=rep.gyro_noise_rad_s, unit_stated=unit_stated)
-        res = _surface_angle_trusted(g, a, v, rep.is_static, init, dt, weights, time_s, list(rep.rests), cfg)
+        res = _surface_angle_steps(g, a, v, rep.is_static, init, dt, weights, time_s, list(rep.rests), cfg)
     except ValueError as exc:
         exc.rests = rep  # the caller's diagnostics show the rests the refusal saw
         raise
@@ -1113,7 +1122,7 @@ def rest_masks(is_static, rests) -> list[np.ndarray]:
     ...                                             [slice(0, 2), slice(2, 4)])]
     [[[1, 0, 0, 0]], [[0, 0, 1, 1]]]
     """
-    return rest_masks_trusted(np.asarray(is_static, bool), rests, MIN_REST_ZVD_SHARE)
+    return zero_velocity.rest_masks(np.asarray(is_static, bool), rests, MIN_REST_ZVD_SHARE)
 
 
 def surface_angle_batch(gyro_rad_s, accel_m_s2, dt_s: float, config: SurfaceBatchConfig, *, init_samples: int,
@@ -1205,17 +1214,17 @@ def surface_angle_batch(gyro_rad_s, accel_m_s2, dt_s: float, config: SurfaceBatc
         flags = known
     else:
         with_gyro = config.zvd.gyro_max_rad_s is not None  # the gyro condition on ω − b0
-        flags = detect_static_trusted(a, dt, config.zvd, g if with_gyro else None,
-                                      gyro_offset_rad_s=b0 if with_gyro else None)
+        flags = zero_velocity.detect_static(a, dt, config.zvd, g if with_gyro else None,
+                                            gyro_offset_rad_s=b0 if with_gyro else None)
     if v is None and settings is not None:
-        masks = rest_masks_trusted(flags, rests[:config.axis_rests], MIN_REST_ZVD_SHARE)
-        v = rotation_axis.axes_from_rests_trusted(a, masks, **settings)
+        masks = zero_velocity.rest_masks(flags, rests[:config.axis_rests], MIN_REST_ZVD_SHARE)
+        v = rotation_axis.axes_from_rests(a, masks, **settings)
     angle = None
     if config.angle is not None:
-        rotation_axis.gated_elevation_trusted(v, a0, config.angle.max_elevation_deg)
+        rotation_axis.gated_elevation(v, a0, config.angle.max_elevation_deg)
         switch = np.broadcast_to(flags if config.ekf_switch == "zvd" else known, a.shape[:2])
-        angle = run_rams_ekf_batch_restarts_trusted(g, a, switch, cuts, v, a0, b0, dt, config.angle.params,
-                                                    CLIPPED_P0_THETA_RAD**2)
+        angle = run_rams_ekf_batch_restarts(g, a, switch, cuts, v, a0, b0, dt, config.angle.params,
+                                            CLIPPED_P0_THETA_RAD**2)
     return SurfaceAngleBatch(a0, b0, flags, v, angle)
 
 

@@ -172,7 +172,7 @@ def test_attitude_units_check_scans_the_record_once(tmp_path, capsys, monkeypatc
 
 
 def test_angle_ekf_does_not_repeat_the_units_check(hinge, tmp_path, capsys, monkeypatch):
-    """Rest pairs decide the units check; the EKF (run_rams_ekf_trusted) adds no tilt-rate scan."""
+    """Rest pairs decide the units check; the EKF (run_rams_ekf, trusting its inputs) adds no tilt-rate scan."""
     from mtcal.methods import tilt_rate
 
     calls = []

@@ -251,8 +251,8 @@ def test_fast_input_checks_keep_the_messages(engine):
     with pytest.raises(TypeError, match="numeric array"):
         qncf("gyro", acc, 1e-3, engine=engine)
     with pytest.raises(ValueError, match="accel_m_s2 must be finite"):
-        run_rams_ekf(np.zeros((20, 3)), np.where(bad == 0, acc, np.inf), np.ones(20, bool), [1.0, 0, 0],
-                     acc[0], 1e-3, SensorsImu().ekf_params(), engine=engine)
+        RamsEkfFilter([1.0, 0, 0], acc[0], 1e-3, SensorsImu().ekf_params(), trials=1, engine=engine).run(
+            np.zeros((20, 3)), np.where(bad == 0, acc, np.inf), np.ones(20, bool))
 
 
 def test_large_record_check_uses_the_parallel_pass():

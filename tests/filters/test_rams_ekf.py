@@ -101,10 +101,11 @@ def test_bad_inputs_raise():
     p = RamsEkfParams()
     g = np.zeros((10, 3))
     a = np.tile([0, 0, 9.8], (10, 1))
+    # run_rams_ekf trusts its inputs (documented preconditions): the checked filter class refuses them
     with pytest.raises(ValueError, match="unit vector"):
-        run_rams_ekf(g, a, np.ones(10, bool), [1.0, 1.0, 0.0], a[0], 0.01, p)
+        RamsEkfFilter([1.0, 1.0, 0.0], a[0], 0.01, p, trials=1)
     with pytest.raises(ValueError, match="same shape"):
-        run_rams_ekf(g[:5], a, np.ones(10, bool), [1.0, 0.0, 0.0], a[0], 0.01, p)
+        RamsEkfFilter([1.0, 0.0, 0.0], a[0], 0.01, p, trials=1).run(g[:5], a, np.ones(10, bool))
     with pytest.raises(TypeError, match="boolean"):
         run_rams_ekf(g, a, np.ones(10), [1.0, 0.0, 0.0], a[0], 0.01, p)
     with pytest.raises(ValueError, match="sigma_a_static"):
@@ -225,10 +226,8 @@ def test_recycled_outputs_never_touch_a_held_result(monkeypatch):
         assert np.array_equal(getattr(first, name), kept[name])
 
 
-def test_trusted_entry_equals_the_checked_call_bit_for_bit():
-    """run_rams_ekf_trusted (RamsEkfFilter.trusted, no re-check) gives run_rams_ekf's result exactly."""
-    from mtcal.filters.rams_ekf import run_rams_ekf, run_rams_ekf_trusted
-
+def test_run_once_equals_the_checked_filter_bit_for_bit():
+    """run_rams_ekf (trusting its inputs, RamsEkfFilter.trusted) gives the checked RamsEkfFilter's result exactly."""
     prof = profiles.step_schedule(np.radians([0.0, 50.0, -20.0]), np.radians(40.0), 1.0, 100.0)
     v = np.array([0.6, 0.0, 0.8])
     two = [np.tile(x.T, (2, 1)) for x in (prof.angle_rad, prof.rate_rad_s, prof.accel_rad_s2)]
@@ -240,18 +239,23 @@ def test_trusted_entry_equals_the_checked_call_bit_for_bit():
     a0 = f[:, :50].mean(axis=1)
     b0 = w[:, :50].mean(axis=1)
     for engine in ("numba", "numpy"):
-        ref = run_rams_ekf(w, f, prof.is_static, v, a0, 0.01, RamsEkfParams(), bias0_rad_s=b0, engine=engine)
-        got = run_rams_ekf_trusted(w, f, prof.is_static, v, a0, 0.01, RamsEkfParams(), bias0_rad_s=b0,
-                                   engine=engine)
+        ref = RamsEkfFilter(v, a0, 0.01, RamsEkfParams(), trials=2, bias0_rad_s=b0, engine=engine).run(
+            w, f, prof.is_static)
+        got = run_rams_ekf(w, f, prof.is_static, v, a0, 0.01, RamsEkfParams(), bias0_rad_s=b0, engine=engine)
         assert np.array_equal(ref.theta_rad, got.theta_rad) and np.array_equal(ref.bias_rad_s, got.bias_rad_s)
         assert np.array_equal(ref.P, got.P)
     with pytest.raises(ValueError, match="unit vector"):
-        RamsEkfFilter(2 * v, a0, 0.01, RamsEkfParams(), trials=2)   # the public constructor still checks
+        RamsEkfFilter(2 * v, a0, 0.01, RamsEkfParams(), trials=2)   # the public constructor checks
+    from mtcal.filters import rams_ekf
+
+    assert not [n for n, fn in vars(rams_ekf).items()
+                if n.endswith("_trusted") and getattr(fn, "__module__", "") == rams_ekf.__name__]
+    for fn in (run_rams_ekf, rams_ekf.run_rams_ekf_restarts, rams_ekf.run_rams_ekf_batch_restarts):
+        assert "Preconditions" in fn.__doc__, fn.__name__
 
 
 def test_batch_restarts_entry_equals_one_run_and_the_per_record_restarts():
-    from mtcal.filters.rams_ekf import (run_rams_ekf_batch_restarts_trusted, run_rams_ekf_restarts_trusted,
-                                        run_rams_ekf_trusted)
+    from mtcal.filters.rams_ekf import run_rams_ekf_batch_restarts, run_rams_ekf_restarts
     from mtcal.core import profiles
 
     prof = profiles.step_schedule(np.radians([0.0, 60.0, 20.0]), np.radians(60.0), 1.0, 100.0)
@@ -266,9 +270,9 @@ def test_batch_restarts_entry_equals_one_run_and_the_per_record_restarts():
     params = RamsEkfParams(sigma_theta_rad_s=1e-3, sigma_a_static_m_s2=0.01)
     n = w.shape[1]
     cut = prof.hold_slices()[1].start
-    got = run_rams_ekf_batch_restarts_trusted(w, f, static, [[0, n], [0, cut, n]], v, a0, b0, 0.01, params, 0.1)
-    one = run_rams_ekf_trusted(w, f, static, v, a0, 0.01, params, bias0_rad_s=b0, keep_innovation=False).theta_rad
+    got = run_rams_ekf_batch_restarts(w, f, static, [[0, n], [0, cut, n]], v, a0, b0, 0.01, params, 0.1)
+    one = run_rams_ekf(w, f, static, v, a0, 0.01, params, bias0_rad_s=b0, keep_innovation=False).theta_rad
     assert np.array_equal(got[0], one[0])
-    assert np.array_equal(got[1], run_rams_ekf_restarts_trusted(w[1], f[1], static[1], [0, cut, n], v, a0[1], b0[1],
+    assert np.array_equal(got[1], run_rams_ekf_restarts(w[1], f[1], static[1], [0, cut, n], v, a0[1], b0[1],
                                                                 0.01, params, 0.1))
     assert not np.array_equal(got[1], one[1])

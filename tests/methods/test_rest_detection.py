@@ -92,21 +92,6 @@ def test_quantised_constant_rest_uses_noise_floor():
     assert rep.accel_noise_m_s2 == rest_detection.ACCEL_NOISE_FLOOR_M_S2 and len(rep.rests) == 2
 
 
-@pytest.mark.parametrize("kwargs,exc,match", [
-    (dict(params=rest_detection.RestDetectorParams), TypeError, "params must be a RestDetectorParams"),
-    (dict(gyro_rad_s=np.zeros((10, 3))), ValueError, "gyro_rad_s must have the shape"),
-    (dict(dt_s=-1.0), ValueError, "dt_s must be > 0"),
-    (dict(dt_s=200.0), ValueError, r"dt_s must be the sample interval in s \(<= 1 s\), got 200 \(a sample rate"),
-])
-def test_bad_input(rng, kwargs, exc, match):
-    t, gyro, accel = _record(rng)
-    args = dict(dt_s=1.0 / FS)
-    args.update(kwargs)
-    dt_s = args.pop("dt_s")
-    with pytest.raises(exc, match=match):
-        rest_detection.detect_rests(accel, dt_s, **args)
-
-
 def test_bad_params_and_short_records():
     with pytest.raises(ValueError, match="quiet_fraction must be in"):
         rest_detection.RestDetectorParams(quiet_fraction=0.8)
@@ -116,8 +101,6 @@ def test_bad_params_and_short_records():
         rest_detection.RestDetectorParams(noise_factor=0.0)
     with pytest.raises(ValueError, match="record too short"):
         rest_detection.detect_rests(np.tile([0, 0, 9.8], (30, 1)), 1.0 / FS)
-    with pytest.raises(ValueError, match="looks like it is in g"):
-        rest_detection.detect_rests(np.tile([0, 0, 1.0], (300, 1)), 1.0 / FS)
 
 
 def test_noisier_rests_after_a_still_stand_are_rests(rng):
@@ -212,15 +195,6 @@ def test_shoe_threshold_override_and_rejections():
 def test_shoe_params_validated(kw, match):
     with pytest.raises(ValueError, match=match):
         rest_detection.ShoeParams(**kw)
-
-
-def test_shoe_input_errors(rng):
-    accel = rng.normal(0, 0.01, (500, 3)) + [0, 0, 9.8]
-    with pytest.raises(ValueError, match="gyro_rad_s must have the shape"):
-        rest_detection.detect_rests_shoe(accel, 0.01, gyro_rad_s=np.zeros((400, 3)))
-    with pytest.raises(TypeError, match="params must be a ShoeParams"):
-        rest_detection.detect_rests_shoe(accel, 0.01, gyro_rad_s=np.zeros((500, 3)),
-                                         params=rest_detection.RestDetectorParams())
 
 
 def test_adaptive_rejection_reasons_hold_for_their_numbers(rng):
@@ -436,23 +410,10 @@ def test_quiet_core_keeps_a_slow_start_of_motion_out_of_the_bias():
     assert qc2.core == slice(0, rest.stop)
 
 
-def test_trusted_twins_equal_the_checked_calls():
-    """detect_rests / paper_rest_report / detect_rests_shoe and their *_trusted twins: the same report."""
+def test_detectors_trust_their_inputs_no_twins():
+    """One function per detector (documented preconditions); mtcal.systems.rests.find_rests checks at its edge."""
     from mtcal.methods import rest_detection as rd
-    from mtcal.methods.zero_velocity import ZvdParams
 
-    rng = np.random.default_rng(8)
-    n, dt = 3000, 0.01
-    accel = np.tile([0.0, 0.0, 9.81], (n, 1)) + 0.02 * rng.standard_normal((n, 3))
-    gyro = 0.002 * rng.standard_normal((n, 3))
-    accel[1000:1400] += 3.0 * np.sin(np.linspace(0, 8 * np.pi, 400))[:, None]
-    gyro[1000:1400] += 1.0
-
-    def same(r1, r2):
-        assert np.array_equal(r1.is_static, r2.is_static) and r1.rests == r2.rests
-        assert repr(r1.levels_text()) == repr(r2.levels_text())
-
-    same(rd.detect_rests(accel, dt, gyro_rad_s=gyro), rd.detect_rests_trusted(accel, dt, gyro, rd.RestDetectorParams()))
-    same(rd.paper_rest_report(accel, dt, gyro_rad_s=gyro, min_rest_s=0.5),
-         rd.paper_rest_report_trusted(accel, dt, gyro, 0.5, ZvdParams()))
-    same(rd.detect_rests_shoe(accel, dt, gyro_rad_s=gyro), rd.detect_rests_shoe_trusted(accel, dt, gyro, rd.ShoeParams()))
+    assert not [n for n, f in vars(rd).items() if n.endswith("_trusted") and getattr(f, "__module__", "") == rd.__name__]
+    for f in (rd.detect_rests, rd.paper_rest_report, rd.detect_rests_shoe):
+        assert "Preconditions" in f.__doc__, f.__name__

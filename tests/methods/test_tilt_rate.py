@@ -67,9 +67,11 @@ def test_skip_drops_windows():
     assert 0 < half < tilt_rate.tilt_rate_scale(gyro, accel, DT)["windows"]
 
 
-def test_filters_refuse_deg_s_gyro_at_their_public_edge():
+def test_deg_s_gyro_refused_at_the_public_edge():
+    """qncf checks at its edge; the RAMS EKF trusts its inputs and the surface-angle system checks for it."""
     from mtcal.filters.qncf import qncf
-    from mtcal.filters.rams_ekf import RamsEkfParams, run_rams_ekf
+    from mtcal.filters.rams_ekf import RamsEkfParams
+    from mtcal.systems.surface_angle import SurfaceAngleConfig, surface_angle
 
     gyro, accel = _tilting()
     with warnings.catch_warnings():
@@ -79,7 +81,8 @@ def test_filters_refuse_deg_s_gyro_at_their_public_edge():
         qncf(np.degrees(gyro), accel, DT)
     static = np.zeros(len(gyro), bool)
     with pytest.raises(ValueError, match="gyro implausible for rad/s"):
-        run_rams_ekf(np.degrees(gyro), accel, static, [1.0, 0.0, 0.0], accel[0], DT, RamsEkfParams())
+        surface_angle(np.degrees(gyro), accel, [1.0, 0.0, 0.0], SurfaceAngleConfig(RamsEkfParams()),
+                      is_static=static, init=slice(0, 100), dt_s=DT)
 
 
 @pytest.mark.parametrize("measured, decided", [
@@ -149,15 +152,10 @@ def test_shapes_and_scalars_are_checked_at_the_edge():
 
 def test_trusted_filter_entries_match_the_public_ones_bit_for_bit():
     from mtcal.filters.qncf import qncf, qncf_trusted
-    from mtcal.filters.rams_ekf import RamsEkfParams, run_rams_ekf, run_rams_ekf_trusted
 
     gyro, accel = _tilting()
     pub, trusted = qncf(gyro, accel, DT), qncf_trusted(gyro, accel, DT)
     assert np.array_equal(pub.q_ws, trusted.q_ws) and np.array_equal(pub.euler_rad, trusted.euler_rad)
-    static = np.zeros(len(gyro), bool)
-    static[:200] = True
-    args = (gyro, accel, static, [1.0, 0.0, 0.0], accel[:200].mean(axis=0), DT, RamsEkfParams())
-    assert np.array_equal(run_rams_ekf(*args).theta_rad, run_rams_ekf_trusted(*args).theta_rad)
     with pytest.raises(ValueError, match="gyro_rad_s must be in rad/s"):  # the kernel's scan still runs
         qncf_trusted(np.full_like(gyro, 90.0), accel, DT)
 

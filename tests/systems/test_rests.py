@@ -46,6 +46,21 @@ def test_arrays_checked_once_at_the_edge():
         find_rests(acc, DT_S, RestsConfig(), time_s=np.arange(799) * DT_S)
     with pytest.raises(ValueError, match="dt_s"):
         find_rests(acc, 100.0, RestsConfig())                 # a rate in Hz passed as the interval
+    # the checks the detectors (mtcal.methods.rest_detection) held: now here, once, for every detector
+    for detector in DETECTORS:
+        cfg = RestsConfig(detector=detector)
+        with pytest.raises(ValueError, match="dt_s must be > 0"):
+            find_rests(acc, -1.0, cfg, gyro_rad_s=gyr)
+        with pytest.raises(ValueError, match=r"dt_s must be the sample interval in s \(<= 1 s\), got 200 \(a sample rate"):
+            find_rests(acc, 200.0, cfg, gyro_rad_s=gyr)
+        with pytest.raises(ValueError, match="looks like it is in g"):
+            find_rests(acc / 9.81, DT_S, cfg, gyro_rad_s=gyr)
+        with pytest.raises(ValueError, match="accel_m_s2 must be finite"):
+            find_rests(np.where(np.arange(acc.shape[0])[:, None] == 5, np.nan, acc), DT_S, cfg, gyro_rad_s=gyr)
+        with pytest.raises(ValueError, match="gyro_rad_s must be finite"):
+            find_rests(acc, DT_S, cfg, gyro_rad_s=np.full_like(gyr, np.inf))
+        with pytest.raises(ValueError, match="accel_m_s2 must"):
+            find_rests(acc[:, :2], DT_S, cfg, gyro_rad_s=gyr)
     with pytest.raises(ValueError, match="detector 'shoe' needs gyro_rad_s"):
         find_rests(acc, DT_S, RestsConfig(detector="shoe"))
     with pytest.raises(ValueError, match="detector 'shoe' needs gyro_rad_s"):

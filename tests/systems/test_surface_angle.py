@@ -143,6 +143,14 @@ def test_axis_input_refusals():
         surface_angle.estimate_surface_axis(accel, [], AxisConfig(0.01))
     with pytest.raises(ValueError, match="boolean mask of shape"):
         surface_angle.estimate_surface_axis(accel, [np.ones(5, bool)] * 3, AxisConfig(0.01))
+    with pytest.raises(ValueError, match="boolean mask of shape"):   # the system's edge checks the masks' dtype
+        surface_angle.estimate_surface_axis(accel, [np.ones(accel.shape[0], int)] * 3, AxisConfig(0.01))
+    with pytest.raises(ValueError, match="min_separation_deg must be > 0"):   # checked once, when the config is made
+        AxisConfig(0.01, min_separation_deg=0.0)
+    with pytest.raises(ValueError, match="positions_m_s2 must hold at least 3 positions, got 2"):
+        surface_angle.axis_uncertainty(np.array([[0, 0, 9.8], [0, 9.8, 0]]), [10, 10], accel_noise_m_s2=0.01)
+    with pytest.raises(ValueError, match="finite"):
+        surface_angle.axis_uncertainty(np.full((3, 3), np.nan), [10, 10, 10], accel_noise_m_s2=0.01)
 
 
 def test_axis_uncertainty_scales_with_noise_over_root_n():
@@ -385,6 +393,15 @@ def test_batched_procedure_refusals():
         surface_angle.surface_angle_batch(w, f, DT_S, replace(cfg, axis=None), **kw)
     with pytest.raises(ValueError, match="accel_m_s2 must"):
         surface_angle.surface_angle_batch(w, f[0], DT_S, cfg, **kw)
+    from mtcal.methods.zero_velocity import ZvdParams
+
+    zvd = replace(cfg, zvd=ZvdParams())   # the ZVD's checks (mtcal.methods.zero_velocity.detect_static), here once
+    with pytest.raises(ValueError, match="in g"):
+        surface_angle.surface_angle_batch(w, f / 9.80665, DT_S, zvd, **kw)
+    with pytest.raises(ValueError, match="accel_m_s2 must be finite"):
+        surface_angle.surface_angle_batch(w, np.where(np.arange(f.shape[1])[:, None] == 3, np.nan, f), DT_S, zvd, **kw)
+    with pytest.raises(ValueError, match="dt_s must be the sample interval"):
+        surface_angle.surface_angle_batch(w, f, 100.0, zvd, **kw)
     with pytest.raises(ValueError, match="angle.params must be given for a batch"):
         surface_angle.SurfaceBatchConfig(None, None, SurfaceAngleConfig())
     with pytest.raises(ValueError, match="ekf_switch must be 'zvd' or 'known'"):
