@@ -331,8 +331,8 @@ def allan_check(arw_rad_s_rt_hz: float, rrw_rad_s_rt_s: float, fs_hz: float, hou
 
     ``σ_A(τ)² = N²/τ + K²τ/3`` (IEEE Std 952). Returns τ (s), ADEV (rad/s), the fit,
     the recovered/configured ratios and comparison rows.
-    ``fs_hz`` is the notebook's ``allan_fs_hz``: the rate at which the records are *made* (no
-    samples are taken in), kept in Hz so the records and τ grid are the ones first computed.
+    ``fs_hz`` is the notebook's ``allan_fs_hz``, a rate, not ``dt_s``: the rate at which the records are
+    *made* (no samples are taken in), kept in Hz so the records and τ grid are the ones first computed.
     """
     n_density = positive_scalar(arw_rad_s_rt_hz, "arw_rad_s_rt_hz")
     k_rrw = positive_scalar(rrw_rad_s_rt_s, "rrw_rad_s_rt_s")

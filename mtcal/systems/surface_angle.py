@@ -422,9 +422,9 @@ def surface_axis_record(accel_m_s2, config: AxisRecordConfig, *, fs_hz: float, t
         Accelerometer (m/s²).
     config : AxisRecordConfig
     fs_hz : float
-        Sample rate of the log (Hz): the rests run at the mean step ``1 / fs_hz`` and the noise window is
-        counted in samples of this rate (``window_s · fs_hz``), as ``mtcal axis`` always did (taking
-        ``dt_s`` would move the uncertainty's last bits).
+        Sample rate of the log (Hz), a rate, not ``dt_s``: the rests run at the mean step ``1 / fs_hz`` and
+        the noise window is counted in samples of this rate (``window_s · fs_hz``), as ``mtcal axis`` always
+        did (taking ``dt_s`` would move the uncertainty's last bits).
     time_s : array_like (N,)
         Sample times (s): the rests' listed spans and the units check's time base.
     gyro_rad_s : array_like (N, 3), optional
@@ -936,7 +936,10 @@ def surface_angle_record(gyro_rad_s, accel_m_s2, axis, config: SurfaceRecordConf
         Unit hinge axis v (sensor frame).
     config : SurfaceRecordConfig
     fs_hz : float
-        Sample rate of the log (Hz); the rests run at the mean step ``1 / fs_hz``.
+        Sample rate of the log (Hz), a rate, not ``dt_s``: the rests run at the mean step ``1 / fs_hz`` and
+        the initial rest and the late-start limit are counted in samples of this rate (``init_s · fs_hz``), as
+        ``mtcal angle`` always did (``1 / (1 / fs)`` is not ``fs`` for 640 of the integer rates 1–5000 Hz, so
+        a count could change at a tie).
     time_s : array_like (N,)
         Sample times (s): the EKF's time base (:func:`~mtcal.systems.plausibility.time_base`).
     unit_stated : str, optional

@@ -66,3 +66,52 @@ def test_the_producer_check_catches_an_undeclared_artifact():
 
     assert not hasattr(bare, "artifact_id")
     assert produces("demo_fig01", "figure", "Fig. 1")(bare).artifact_id == "demo_fig01"
+
+
+#: public callables that take the rate because they hold it: the sensor specs and their builders own ``fs_hz``
+#: (docs/study_template.md, Time base: "the sample rate is owned by the sensor spec")
+_RATE_OWNERS = re.compile(r"\.(ImuSpec|imu_from_grade|AhrsImu\.resolve|sensor_spec|SensorGrade\.sensor_spec)$")
+
+
+def _rate_taking_functions():
+    """``(dotted name, function)`` of every public function or method of mtcal (outside the CLI, whose options
+    are the user's words) with a parameter ``fs_hz``."""
+    import importlib
+    import inspect
+    import pkgutil
+
+    import mtcal
+
+    seen, out = set(), []
+    for info in pkgutil.walk_packages(mtcal.__path__, "mtcal."):
+        if info.name.startswith(("mtcal.cli", "mtcal.runs")) or info.name.rsplit(".", 1)[-1].startswith("_"):
+            continue
+        module = importlib.import_module(info.name)
+        for name in getattr(module, "__all__", ()):
+            obj = getattr(module, name, None)
+            # functions and the public methods of classes; a class's own fields (a spec, a trial record) hold the rate
+            members = [(name, obj)] if inspect.isfunction(obj) else (
+                [(f"{name}.{k}", getattr(v, "__func__", v)) for k, v in vars(obj).items()
+                 if not k.startswith("_") and (inspect.isfunction(v) or isinstance(v, (classmethod, staticmethod)))]
+                if inspect.isclass(obj) else [])
+            for label, fn in members:
+                if id(fn) in seen:
+                    continue
+                seen.add(id(fn))
+                try:
+                    params = inspect.signature(fn).parameters
+                except (TypeError, ValueError):
+                    continue
+                if "fs_hz" in params:
+                    out.append((f"{fn.__module__}.{label}", fn))
+    return out
+
+
+def test_a_function_that_makes_samples_from_a_rate_says_why():
+    """Time base: a public function that takes (or makes) sample arrays takes ``dt_s``; an exception says why in
+    its docstring, saying the rate is taken "not ``dt_s``" and why."""
+    found = _rate_taking_functions()
+    assert len(found) >= 10
+    silent = [name for name, fn in found if not _RATE_OWNERS.search(name)
+              and "not ``dt_s``" not in " ".join((fn.__doc__ or "").split())]
+    assert not silent, "take dt_s, or say why the rate (\"… not ``dt_s``: …\"): " + ", ".join(silent)
