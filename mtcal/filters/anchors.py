@@ -102,7 +102,8 @@ from mtcal.filters.registry import (RAMS_EKF_DEFAULT_GAIN, AxisContext, availabl
                                     require_filter)
 
 __all__ = ["available_filters", "require_filter", "run_attitude_filter", "run_axis_angle_filter",
-           "reference_difference", "reference_runs", "tilt_error_rad", "twist_angle_rad", "RAMS_EKF_DEFAULT_GAIN"]
+           "attitude_filter", "axis_angle_filter", "levelled_start", "reference_difference", "reference_runs",
+           "tilt_error_rad", "twist_angle_rad", "RAMS_EKF_DEFAULT_GAIN"]
 
 _KI_RATIO_S = 50.0
 
@@ -154,8 +155,10 @@ def run_attitude_filter(name: str, gyro_rad_s, accel_m_s2, dt_s: float, gain: fl
 
     Notes
     -----
-    The records, ``dt_s``, the gain and ``q0`` are checked here, once; the registry's runners
-    trust them (finite float64 (T, N, 3), units checked, ``dt_s`` and gain > 0, ``q0`` unit (T, 4)).
+    The records, ``dt_s``, the gain and ``q0`` are checked here, once (the public edge of the filter
+    family) and go to the registry entry's runner, which trusts them (finite float64 (T, N, 3), units
+    checked, ``dt_s`` and gain > 0, ``q0`` unit (T, 4)), as :func:`attitude_filter` does for records a
+    caller made itself.
     """
     entry = get_filter(name)
     if entry.output != "attitude":
@@ -185,21 +188,49 @@ def levelled_start(accel_m_s2: np.ndarray, init_samples: int) -> np.ndarray:
     """The common start of every filter (T, 4): levelled from each record's first ``init_samples`` samples, yaw 0.
 
     What :func:`run_attitude_filter` uses when ``q0`` is None; a caller that runs several filters on
-    the same records (the sweep evaluators) computes it once for :func:`attitude_filter_trusted`.
+    the same records (the sweep evaluators) computes it once for :func:`attitude_filter`.
     """
     return _level_q0(accel_m_s2, init_samples)
 
 
-def attitude_filter_trusted(name: str, gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: float, gain: float,
-                            q_init: np.ndarray) -> np.ndarray:
-    """:func:`run_attitude_filter` on records a caller made or checked itself (e.g. the sweep evaluators'
-    simulated records, several filters on one block); nothing is checked again.
+def attitude_filter(name: str, gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: float, gain: float,
+                    q_init: np.ndarray) -> np.ndarray:
+    """One registered attitude filter (its registry runner) on a batch of records, ``q_ws`` (T, N, 4).
 
-    Preconditions: ``name`` a registered attitude filter; ``gyro_rad_s``, ``accel_m_s2`` finite float64
-    of one shape (T, N, 3) in rad/s and m/s²; ``dt_s`` and ``gain`` > 0; ``q_init`` unit quaternions
-    (T, 4) (e.g. :func:`levelled_start`). Returns the same ``q_ws`` (T, N, 4) as :func:`run_attitude_filter`
-    with ``q0=q_init`` (the registry entry's runner, or its reference inside :func:`reference_runs`).
-    Not part of the public API (not in ``__all__``).
+    The registry runner :func:`run_attitude_filter` reaches after checking raw records once, for a
+    caller with its own records (the sweep evaluators' simulated blocks, several filters on one block)
+    and the start computed once (:func:`levelled_start`). Inside :func:`reference_runs` a named filter
+    runs its library reference.
+
+    Parameters
+    ----------
+    name : str
+        A registered attitude filter.
+    gyro_rad_s, accel_m_s2 : ndarray, shape (T, N, 3)
+        Sensor-frame rate (rad/s) and specific force (m/s²).
+    dt_s : float
+        Sample interval (s).
+    gain : float
+        The filter's tuned gain (its registry ``gain_unit``).
+    q_init : ndarray, shape (T, 4)
+        Start attitude of each record.
+
+    Returns
+    -------
+    ndarray, shape (T, N, 4)
+        ``q_ws`` at each ``t_k``: :func:`run_attitude_filter`'s with ``q0=q_init``.
+
+    Preconditions
+    -------------
+    The caller guarantees (not checked here): ``name`` a registered attitude filter; ``gyro_rad_s`` and
+    ``accel_m_s2`` finite float64 arrays of one shape (T, N, 3) in rad/s (not deg/s) and m/s² (not g);
+    ``dt_s`` and ``gain`` finite > 0; ``q_init`` unit quaternions (T, 4).
+
+    Examples
+    --------
+    >>> acc = np.tile([0.0, 0.0, 9.80665], (2, 50, 1))
+    >>> attitude_filter("mahony", np.zeros((2, 50, 3)), acc, 0.01, 1.0, levelled_start(acc, 10)).shape
+    (2, 50, 4)
     """
     entry = get_filter(name)
     require_filter(name)
@@ -321,17 +352,46 @@ def run_axis_angle_filter(name: str, gyro_rad_s, accel_m_s2, dt_s: float, gain: 
     return theta - theta[:, ref_index:ref_index + 1]
 
 
-def axis_angle_filter_trusted(name: str, gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: float, gain: float,
-                              context: AxisContext, ref_index: int, q_init: np.ndarray) -> np.ndarray:
-    """:func:`run_axis_angle_filter` on records a caller made or checked itself; nothing is checked again.
+def axis_angle_filter(name: str, gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: float, gain: float,
+                      context: AxisContext, ref_index: int, q_init: np.ndarray) -> np.ndarray:
+    """Angle (rad) about ``context.axis_s`` since sample ``ref_index`` for any registered filter, shape (T, N).
 
-    Preconditions as :func:`attitude_filter_trusted` (``gain`` resolved, ``q_init`` (T, 4) the start of an
-    attitude filter, unused by an angle filter) and ``context.axis_s`` a finite float (3,) array. Returns
-    the same angles (T, N) as :func:`run_axis_angle_filter`. Not part of the public API.
+    :func:`run_axis_angle_filter` without its checks, for records a caller made itself: an angle
+    filter's runner on the records and ``context``, or the twist of an attitude filter's
+    :func:`attitude_filter` about the axis (:func:`twist_angle_rad`'s operations, compiled).
+
+    Parameters
+    ----------
+    name, gyro_rad_s, accel_m_s2, dt_s, context
+        As :func:`run_axis_angle_filter` (the records float64 arrays).
+    gain : float
+        Tuned gain, resolved (not None).
+    ref_index : int
+        Reference sample (angle 0).
+    q_init : ndarray, shape (T, 4)
+        Start of an attitude filter (unused by an angle filter).
+
+    Returns
+    -------
+    ndarray, shape (T, N)
+        :func:`run_axis_angle_filter`'s angles.
+
+    Preconditions
+    -------------
+    As :func:`attitude_filter` (not checked here), and ``context.axis_s`` a finite float (3,) array,
+    ``0 <= ref_index < N``.
+
+    Examples
+    --------
+    >>> acc = np.tile([0.0, 0.0, 9.80665], (1, 50, 1))
+    >>> ctx = AxisContext(np.array([0.0, 1.0, 0.0]), np.ones((1, 50), bool), acc[:, 0], 1e-4, 1e-3)
+    >>> th = axis_angle_filter("mahony", np.zeros((1, 50, 3)), acc, 0.01, 1.0, ctx, 0, levelled_start(acc, 10))
+    >>> th.shape, float(np.abs(th).max())
+    ((1, 50), 0.0)
     """
     entry = get_filter(name)
     if entry.output == "attitude":
-        return _twist(attitude_filter_trusted(name, gyro_rad_s, accel_m_s2, dt_s, gain, q_init), context.axis_s,
+        return _twist(attitude_filter(name, gyro_rad_s, accel_m_s2, dt_s, gain, q_init), context.axis_s,
                       ref_index)
     require_filter(name)
     theta = entry.run(gyro_rad_s, accel_m_s2, float(dt_s), float(gain), context)
@@ -356,9 +416,9 @@ def _qncf(w, a, dt, gain, q0):
 
 
 def _mahony(w, a, dt, gain, q0):
-    from mtcal.filters.mahony import MahonyParams, mahony_trusted
+    from mtcal.filters.mahony import MahonyParams, mahony_imu
 
-    return mahony_trusted(w, a, dt, MahonyParams(kp_rad_s=gain, ki_rad_s2=gain / _KI_RATIO_S), q0).q_ws
+    return mahony_imu(w, a, dt, MahonyParams(kp_rad_s=gain, ki_rad_s2=gain / _KI_RATIO_S), q0=q0).q_ws
 
 
 def _per_record(runner):
@@ -383,9 +443,9 @@ def _madgwick(w: np.ndarray, a: np.ndarray, dt: float, beta: float, q0: np.ndarr
 
 def _madgwick_compiled(w: np.ndarray, a: np.ndarray, dt: float, beta: float, q0: np.ndarray) -> np.ndarray:
     """:func:`_madgwick` without the Python loop: ahrs' row t (inputs delayed) is the attitude before sample t."""
-    from mtcal.filters.xio_ahrs import madgwick_trusted
+    from mtcal.filters.xio_ahrs import madgwick
 
-    return madgwick_trusted(w, a, dt, beta, q0 / np.linalg.norm(q0), timing="before", hold_zero_rate=True)
+    return madgwick(w, a, dt, beta, q0=q0 / np.linalg.norm(q0), timing="before", hold_zero_rate=True)[0]
 
 
 def _vqf(w: np.ndarray, a: np.ndarray, dt: float, tau_acc_s: float, q0: np.ndarray) -> np.ndarray:

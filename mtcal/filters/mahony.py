@@ -46,8 +46,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mtcal.core.validate import (as_float_array, check_accel_units, check_gyro_units, positive_scalar,
-                                 unit_quaternion)
+from mtcal.core.validate import positive_scalar
 from mtcal.filters._kernels_common import OutputPool
 
 __all__ = ["MahonyParams", "MahonyResult", "mahony_imu"]
@@ -90,21 +89,21 @@ class MahonyResult:
     bias_rad_s: np.ndarray
 
 
-def mahony_imu(gyro_rad_s, accel_m_s2, dt_s: float, params: MahonyParams = MahonyParams(), *,
-               q0=None, init_samples: int = 100) -> MahonyResult:
+def mahony_imu(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: float, params: MahonyParams = MahonyParams(), *,
+               q0: np.ndarray | None = None, init_samples: int = 100) -> MahonyResult:
     """Run the IMU-only Mahony filter (Mahony 2008 Eq 32, gravity only) over a record.
 
     Parameters
     ----------
-    gyro_rad_s : array_like, shape (N, 3) or (T, N, 3)
+    gyro_rad_s : ndarray, shape (N, 3) or (T, N, 3)
         Sensor-frame angular rate (rad/s); sample k acts over ``[t_k, t_{k+1}]``.
-    accel_m_s2 : array_like, same shape
+    accel_m_s2 : ndarray, same shape
         Sensor-frame specific force (m/s²).
     dt_s : float
         Sample interval (s).
     params : MahonyParams
         Gains.
-    q0 : array_like, shape (4,) or (T, 4), optional
+    q0 : ndarray, shape (4,) or (T, 4), optional
         Initial attitude (scalar-first, sensor → world); default levelled from
         the mean of the first ``init_samples`` accelerometer samples, yaw 0
         (:func:`mtcal.filters.qncf.initial_attitude_from_accel`).
@@ -114,56 +113,40 @@ def mahony_imu(gyro_rad_s, accel_m_s2, dt_s: float, params: MahonyParams = Mahon
     Returns
     -------
     MahonyResult
+        ``q_ws`` (…, N, 4) and ``bias_rad_s`` (…, 3), with a leading trial axis T iff the records had one.
 
-    Raises
-    ------
-    ValueError
-        Wrong shapes, non-finite values, gyro in °/s or accelerometer in g.
-    """
-    from mtcal.filters.qncf import initial_attitude_from_accel
+    Preconditions
+    -------------
+    The caller guarantees (not checked here): ``gyro_rad_s`` and ``accel_m_s2`` finite float64 arrays of
+    one shape, (N, 3) or (T, N, 3), in rad/s (not deg/s) and m/s² (not g); ``dt_s`` > 0 (s); ``params`` a
+    :class:`MahonyParams`; ``q0`` None or unit quaternions (4,) or (T, 4); ``init_samples`` ≥ 1.
+    :func:`mtcal.filters.anchors.run_attitude_filter` (``"mahony"``) checks records once at its edge.
 
-    w = as_float_array(gyro_rad_s, "gyro_rad_s", ndim=(2, 3), last_dim=3)
-    a = as_float_array(accel_m_s2, "accel_m_s2", ndim=(2, 3), last_dim=3)
-    if w.shape != a.shape:
-        raise ValueError(f"gyro_rad_s and accel_m_s2 must have the same shape, got {w.shape} and {a.shape}")
-    if not isinstance(params, MahonyParams):
-        raise TypeError(f"params must be a MahonyParams, got {type(params).__name__}")
-    dt = positive_scalar(dt_s, "dt_s")
-    check_gyro_units(w)
-    if w.shape[-2] > 1:
-        check_accel_units(a)
-    single = w.ndim == 2
-    w3, a3 = (w[None], a[None]) if single else (w, a)
-    trials = w3.shape[0]
-    if q0 is None:
-        n0 = max(1, min(int(init_samples), w3.shape[1]))
-        q0 = initial_attitude_from_accel(np.stack([np.mean(row[:n0], axis=0) for row in a3]))
-    q = unit_quaternion(q0, "q0")
-    if q.shape not in ((4,), (trials, 4)):
-        raise ValueError(f"q0 must have shape (4,) or ({trials}, 4), got {q.shape}")
-    res = mahony_trusted(w3, a3, dt, params, np.broadcast_to(q, (trials, 4)))
-    return MahonyResult(res.q_ws[0], res.bias_rad_s[0]) if single else res
-
-
-def mahony_trusted(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: float, params: MahonyParams,
-                   q0: np.ndarray) -> MahonyResult:
-    """:func:`mahony_imu` on a batch a caller has checked at its own edge (e.g.
-    :func:`mtcal.filters.anchors.run_attitude_filter`); nothing is checked again.
-
-    Preconditions: ``gyro_rad_s``, ``accel_m_s2`` finite float64 of one shape (T, N, 3) in rad/s
-    and m/s² (units checked); ``dt_s`` > 0 (s); ``params`` a :class:`MahonyParams`; ``q0`` unit
-    quaternions (T, 4). Returns the batch result ``q_ws`` (T, N, 4), ``bias_rad_s`` (T, 3).
+    Examples
+    --------
+    >>> import numpy as np
+    >>> acc = np.tile([0.0, 0.0, 9.80665], (2, 100, 1))
+    >>> res = mahony_imu(np.zeros((2, 100, 3)), acc, 0.01, q0=np.array([1.0, 0.0, 0.0, 0.0]))
+    >>> res.q_ws.shape, res.bias_rad_s.shape
+    ((2, 100, 4), (2, 3))
     """
     from mtcal.filters._kernels_mahony import mahony_batch
 
-    trials = gyro_rad_s.shape[0]
-    q = np.ascontiguousarray(q0)
-    q_out = _POOL.take("q", gyro_rad_s.shape[:2] + (4,))   # every element is written by the kernel
+    single = gyro_rad_s.ndim == 2
+    w3, a3 = (gyro_rad_s[None], accel_m_s2[None]) if single else (gyro_rad_s, accel_m_s2)
+    trials = w3.shape[0]
+    if q0 is None:
+        from mtcal.filters.qncf import initial_attitude_from_accel
+
+        n0 = max(1, min(int(init_samples), w3.shape[1]))
+        q0 = initial_attitude_from_accel(np.stack([np.mean(row[:n0], axis=0) for row in a3]))
+    q = np.ascontiguousarray(np.broadcast_to(q0, (trials, 4)), dtype=np.float64)
+    q_out = _POOL.take("q", w3.shape[:2] + (4,))   # every element is written by the kernel
     bias = np.empty((trials, 3))
-    mahony_batch(np.ascontiguousarray(gyro_rad_s), np.ascontiguousarray(accel_m_s2), q, float(dt_s),
-                 float(params.kp_rad_s), float(params.ki_rad_s2), q_out, bias)
+    mahony_batch(np.ascontiguousarray(w3, dtype=np.float64), np.ascontiguousarray(a3, dtype=np.float64), q,
+                 float(dt_s), float(params.kp_rad_s), float(params.ki_rad_s2), q_out, bias)
     _POOL.keep("q", q_out)
-    return MahonyResult(q_out, bias)
+    return MahonyResult(q_out[0], bias[0]) if single else MahonyResult(q_out, bias)
 
 
 #: The attitude history of the last batch call, reused once the caller drops it (no page faults: a sweep

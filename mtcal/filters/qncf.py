@@ -670,6 +670,7 @@ def qncf(gyro_rad_s, accel_m_s2, dt_s: float, params: QncfParams = QncfParams(),
         raise ValueError(f"gyro_rad_s must have shape (N, 3) or (T, N, 3), got {w.shape}")
     if w.shape != a.shape:
         raise ValueError(f"gyro_rad_s and accel_m_s2 must have the same shape, got {w.shape} and {a.shape}")
+    dt_s = positive_scalar(dt_s, "dt_s")
     single = w.ndim == 2  # unit plausibility is checked once, in QncfFilter.run
     if single:  # a gyro the accelerometer's tilt rate shows off by > 5x (deg/s, time base) is refused
         check_tilt_rate_scale(w, a, dt_s, excess="warn")

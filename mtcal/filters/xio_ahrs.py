@@ -54,7 +54,7 @@ import math
 import numpy as np
 from numba import prange
 
-from mtcal.core.validate import as_float_array, positive_scalar, unit_quaternion
+from mtcal.core.validate import as_float_array
 from mtcal.filters._kernels_common import jit
 
 __all__ = ["madgwick", "mahony", "initial_quaternion_acc_mag", "NWU_TO_ENU", "TIMINGS", "FIELD_REFERENCES"]
@@ -234,47 +234,37 @@ def _mahony_lanes(g, a, m, use_mag, q_init, kps, kis, dt, before, out):
         _mahony_lane(g, a, m, use_mag, q_init, kps[lane], kis[lane], dt, before, out, lane)
 
 
-def _inputs(gyro_rad_s, accel_m_s2, dt_s, mag_uT, q0, timing):
-    g = np.ascontiguousarray(as_float_array(gyro_rad_s, "gyro_rad_s", ndim=2, last_dim=3, copy=False))
-    a = np.ascontiguousarray(as_float_array(accel_m_s2, "accel_m_s2", ndim=2, last_dim=3, copy=False))
-    if a.shape != g.shape:
-        raise ValueError(f"gyro_rad_s and accel_m_s2 must have the same shape, got {g.shape} and {a.shape}")
+def _records(gyro_rad_s, accel_m_s2, mag_uT, q0):
+    """C-contiguous float64 views of a checked record (copies only where the layout needs one) and the start."""
+    g = np.ascontiguousarray(gyro_rad_s, dtype=np.float64)
+    a = np.ascontiguousarray(accel_m_s2, dtype=np.float64)
     use_mag = mag_uT is not None
-    m = (np.ascontiguousarray(as_float_array(mag_uT, "mag_uT", ndim=2, last_dim=3, copy=False)) if use_mag
-         else np.zeros((1, 3)))
-    if use_mag and m.shape != g.shape:
-        raise ValueError(f"mag_uT must have the shape of gyro_rad_s {g.shape}, got {m.shape}")
-    if timing not in TIMINGS:
-        raise ValueError(f"timing must be one of {TIMINGS}, got {timing!r}")
-    q_init = np.array([1.0, 0.0, 0.0, 0.0]) if q0 is None else unit_quaternion(q0, "q0")
-    if q_init.shape != (4,):
-        raise ValueError(f"q0 must have shape (4,), got {q_init.shape}")
-    return g, a, m, use_mag, q_init, positive_scalar(dt_s, "dt_s")
+    m = np.ascontiguousarray(mag_uT, dtype=np.float64) if use_mag else np.zeros((1, 3))
+    q_init = np.array([1.0, 0.0, 0.0, 0.0]) if q0 is None else np.array(q0, dtype=np.float64)
+    return g, a, m, use_mag, q_init
 
 
-def _gains(values, name: str, allow_zero: bool = False) -> np.ndarray:
-    v = np.atleast_1d(as_float_array(values, name, copy=True)).ravel()
-    if v.size == 0 or not np.all(np.isfinite(v)) or np.any(v < 0) or (not allow_zero and np.any(v == 0)):
-        raise ValueError(f"{name} must be one or more finite {'non-negative' if allow_zero else 'positive'} "
-                         f"values, got {values!r}")
-    return v
+def _lanes(values) -> np.ndarray:
+    """One gain per lane: a float64 (L,) copy of a scalar or a sequence."""
+    return np.atleast_1d(np.array(values, dtype=np.float64)).ravel()
 
 
-def madgwick(gyro_rad_s, accel_m_s2, dt_s: float, beta_rad_s, *, mag_uT=None, q0=None, timing: str = "after",
+def madgwick(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: float, beta_rad_s, *,
+             mag_uT: np.ndarray | None = None, q0: np.ndarray | None = None, timing: str = "after",
              field_reference: str = "c", hold_zero_rate: bool = False) -> np.ndarray:
     """Madgwick's gradient-descent filter (6D, or 9D with ``mag_uT``) for each β, shape (L, N, 4).
 
     Parameters
     ----------
-    gyro_rad_s, accel_m_s2 : array_like, shape (N, 3)
+    gyro_rad_s, accel_m_s2 : ndarray, shape (N, 3)
         Rate (rad/s) and specific force (m/s², any unit: normalised).
     dt_s : float
         Sample interval (s).
     beta_rad_s : float or array_like, shape (L,)
         Gain β of Eq 33 (rad/s), one lane each.
-    mag_uT : array_like, shape (N, 3), optional
+    mag_uT : ndarray, shape (N, 3), optional
         Magnetometer (any unit: normalised); 9D when given.
-    q0 : array_like, shape (4,), optional
+    q0 : ndarray, shape (4,), optional
         Start (sensor → filter earth frame); identity by default.
     timing : {"after", "before"}
         Row k = estimate after sample k, or before it (attitude at ``t_k``).
@@ -288,51 +278,42 @@ def madgwick(gyro_rad_s, accel_m_s2, dt_s: float, beta_rad_s, *, mag_uT=None, q0
     -------
     ndarray, shape (L, N, 4)
 
+    Preconditions
+    -------------
+    The caller guarantees (not checked here): ``gyro_rad_s`` and ``accel_m_s2`` finite float64 arrays of
+    one shape (N, 3), the gyro in rad/s; ``mag_uT`` None or finite (N, 3); ``dt_s`` > 0 (s); every gain
+    finite (β > 0, K_p and K_i ≥ 0); ``q0`` None or a unit quaternion (4,); ``timing`` in :data:`TIMINGS`;
+    ``field_reference`` in :data:`FIELD_REFERENCES`. The records are checked once at their edge:
+    :func:`mtcal.filters.anchors.run_attitude_filter` (``"madgwick"``, whose runner this is) or the
+    broad2021 trial loader (:func:`mtcal.studies.broad2021.scenario.load_trial`).
+
     References
     ----------
     Madgwick 2010, Eq 25–33, 45–46 (module references).
     """
-    g, a, m, use_mag, q_init, dt = _inputs(gyro_rad_s, accel_m_s2, dt_s, mag_uT, q0, timing)
-    if field_reference not in FIELD_REFERENCES:
-        raise ValueError(f"field_reference must be one of {FIELD_REFERENCES}, got {field_reference!r}")
-    betas = _gains(beta_rad_s, "beta_rad_s")
+    g, a, m, use_mag, q_init = _records(gyro_rad_s, accel_m_s2, mag_uT, q0)
+    betas = _lanes(beta_rad_s)
     out = np.empty((betas.size, g.shape[0], 4))
-    _madgwick_lanes(g, a, m, use_mag, q_init, betas, dt, 1.0 if field_reference == "c" else 2.0,
+    _madgwick_lanes(g, a, m, use_mag, q_init, betas, float(dt_s), 1.0 if field_reference == "c" else 2.0,
                     timing == "before", bool(hold_zero_rate), out)
     return out
 
 
-def madgwick_trusted(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: float, beta_rad_s: float,
-                     q0: np.ndarray, *, timing: str = "after", hold_zero_rate: bool = False) -> np.ndarray:
-    """6D :func:`madgwick` with one gain on a record a caller has checked at its own edge (e.g.
-    :func:`mtcal.filters.anchors.run_attitude_filter`); nothing is checked again. Shape (N, 4).
-
-    Preconditions: ``gyro_rad_s``, ``accel_m_s2`` finite float64 of one shape (N, 3); ``dt_s`` > 0
-    (s); ``beta_rad_s`` > 0 (rad/s); ``q0`` a unit quaternion (4,); ``timing`` in :data:`TIMINGS`.
-    Same numbers as ``madgwick(gyro_rad_s, accel_m_s2, dt_s, beta_rad_s, q0=q0, ...)[0]``.
-    """
-    g, a = np.ascontiguousarray(gyro_rad_s), np.ascontiguousarray(accel_m_s2)
-    out = np.empty((1, g.shape[0], 4))
-    _madgwick_lanes(g, a, np.zeros((1, 3)), False, q0, np.array([float(beta_rad_s)]), dt_s, 1.0,
-                    timing == "before", bool(hold_zero_rate), out)
-    return out[0]
-
-
-def mahony(gyro_rad_s, accel_m_s2, dt_s: float, kp_rad_s, ki_rad_s2, *, mag_uT=None, q0=None,
-           timing: str = "after") -> np.ndarray:
+def mahony(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: float, kp_rad_s, ki_rad_s2, *,
+           mag_uT: np.ndarray | None = None, q0: np.ndarray | None = None, timing: str = "after") -> np.ndarray:
     """Mahony's explicit complementary filter (6D, or 9D with ``mag_uT``) for each (K_p, K_i), shape (L, N, 4).
 
     Parameters
     ----------
-    gyro_rad_s, accel_m_s2 : array_like, shape (N, 3)
+    gyro_rad_s, accel_m_s2 : ndarray, shape (N, 3)
         Rate (rad/s) and specific force (normalised).
     dt_s : float
         Sample interval (s).
     kp_rad_s, ki_rad_s2 : float or array_like, shape (L,)
         Proportional (1/s) and integral (1/s²) gains, one lane per pair (broadcast).
-    mag_uT : array_like, shape (N, 3), optional
+    mag_uT : ndarray, shape (N, 3), optional
         Magnetometer (normalised); 9D when given.
-    q0 : array_like, shape (4,), optional
+    q0 : ndarray, shape (4,), optional
         Start; identity by default.
     timing : {"after", "before"}
         As :func:`madgwick`.
@@ -341,16 +322,23 @@ def mahony(gyro_rad_s, accel_m_s2, dt_s: float, kp_rad_s, ki_rad_s2, *, mag_uT=N
     -------
     ndarray, shape (L, N, 4)
 
+    Preconditions
+    -------------
+    The caller guarantees (not checked here): ``gyro_rad_s`` and ``accel_m_s2`` finite float64 arrays of
+    one shape (N, 3), the gyro in rad/s; ``mag_uT`` None or finite (N, 3); ``dt_s`` > 0 (s); every gain
+    finite (β > 0, K_p and K_i ≥ 0); ``q0`` None or a unit quaternion (4,); ``timing`` in :data:`TIMINGS`.
+    The records are checked once at their edge: the broad2021 trial loader
+    (:func:`mtcal.studies.broad2021.scenario.load_trial`).
+
     References
     ----------
     Mahony, Hamel & Pflimlin 2008, Eq 32 (module references).
     """
-    g, a, m, use_mag, q_init, dt = _inputs(gyro_rad_s, accel_m_s2, dt_s, mag_uT, q0, timing)
-    kp, ki = np.broadcast_arrays(_gains(kp_rad_s, "kp_rad_s", allow_zero=True),
-                                 _gains(ki_rad_s2, "ki_rad_s2", allow_zero=True))
+    g, a, m, use_mag, q_init = _records(gyro_rad_s, accel_m_s2, mag_uT, q0)
+    kp, ki = np.broadcast_arrays(_lanes(kp_rad_s), _lanes(ki_rad_s2))
     kp, ki = np.ascontiguousarray(kp), np.ascontiguousarray(ki)
     out = np.empty((kp.size, g.shape[0], 4))
-    _mahony_lanes(g, a, m, use_mag, q_init, kp, ki, dt, timing == "before", out)
+    _mahony_lanes(g, a, m, use_mag, q_init, kp, ki, float(dt_s), timing == "before", out)
     return out
 
 

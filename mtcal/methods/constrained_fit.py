@@ -235,7 +235,7 @@ def _project(m: np.ndarray) -> np.ndarray:
     return u @ vt
 
 
-def project_to_so4(matrix) -> So4Projection:
+def project_to_so4(matrix: np.ndarray) -> So4Projection:
     """Project any 4×4 matrix onto SO(4) and factor the result.
 
     ``argmin_{M ∈ SO(4)} ‖X − M‖_F = U diag(1, 1, 1, det(U Vᵀ)) Vᵀ`` with
@@ -246,12 +246,18 @@ def project_to_so4(matrix) -> So4Projection:
 
     Parameters
     ----------
-    matrix : array_like, shape (..., 4, 4)
-        Finite real matrix (dimensionless), e.g. an Eq 13 estimate.
+    matrix : ndarray, shape (..., 4, 4)
+        Real matrix (dimensionless), e.g. an Eq 13 estimate.
 
     Returns
     -------
     So4Projection
+
+    Preconditions
+    -------------
+    The caller guarantees (not checked here): ``matrix`` a finite float array of shape (..., 4, 4), e.g. an
+    Eq 13 estimate a procedure made from quaternions it checked at its edge
+    (:func:`mtcal.systems.installation.calibrate_record` through :mod:`mtcal.methods.six_position`).
 
     Examples
     --------
@@ -260,15 +266,7 @@ def project_to_so4(matrix) -> So4Projection:
     >>> print(f"{float(proj.distance):.4f}")
     0.0040
     """
-    return project_to_so4_trusted(_matrix(matrix, "matrix"))
-
-
-def project_to_so4_trusted(m: np.ndarray) -> So4Projection:
-    """:func:`project_to_so4` without input validation (not public API; users call it).
-
-    Precondition: ``m`` is a finite float64 array (..., 4, 4) (e.g. an Eq 13 estimate a procedure made
-    from inputs it checked at its edge). Bit-identical to :func:`project_to_so4` on such input.
-    """
+    m = np.asarray(matrix, dtype=np.float64)
     proj = _project(m)
     p, r, _ = _factor(proj)
     return So4Projection(matrix=proj, distance=np.linalg.norm(m - proj, axis=(-2, -1)), p=p, r=r,

@@ -640,7 +640,7 @@ def calibrate_from_rests(q_ws: np.ndarray, positions_rad: np.ndarray, q_referenc
             mat = constrained_fit._fit_so4(q_s_al, q_b_al, "raise").matrix            # aligned, K >= 4 (trusted)
         else:
             mat = _fit_conjugation(q_s_al, q_b_al)
-        proj = constrained_fit.project_to_so4_trusted(mat)
+        proj = constrained_fit.project_to_so4(mat)
         after = quaternion_lsq._apply(mat, q_s)                                     # Eq 10 at the rests
         residual = _gated_residual(mat, proj.distance, after, q_ref, max_so4_distance, max_residual_rad, gate)
     except ValueError as exc:
@@ -786,7 +786,7 @@ def angles_sigma(q_sensor: np.ndarray, q_reference: np.ndarray, q_hat: np.ndarra
 
 
 def _angles_of(q_hat: np.ndarray) -> np.ndarray:
-    r = constrained_fit.project_to_so4_trusted(q_hat).r
+    r = constrained_fit.project_to_so4(q_hat).r
     return rotations.installation_angles_from_mount_trusted(rotations.quat_conjugate(r))
 
 
@@ -794,7 +794,7 @@ def _model_matrix(model: str, q_hat: np.ndarray):
     """The fitted map as a function of a small parameter perturbation δ, and the number of parameters."""
     if model == "eq13":
         return (lambda d: q_hat + d.reshape(4, 4)), 16
-    proj = constrained_fit.project_to_so4_trusted(q_hat)
+    proj = constrained_fit.project_to_so4(q_hat)
     p, r = proj.p, proj.r
     if model == "so4":
         return (lambda d: rotations.left_matrix_trusted(rotations.quat_multiply(p, rotations.quat_from_rotvec(d[:3])))

@@ -46,8 +46,6 @@ import warnings
 
 import numpy as np
 
-from mtcal.core.validate import float64_array, positive_scalar
-
 __all__ = ["tilt_rate_scale", "check_tilt_rate_scale", "scale_hint", "tilt_seen", "warm_up", "MIN_CORRELATION",
            "MIN_AGREEMENT_CORRELATION", "MIN_LONG_AGREEMENT_CORRELATION",
            "MIN_TILT_RAD", "MIN_WINDOWS", "MIN_STRONG_TILT_RAD", "SCALE_HINTS"]
@@ -75,15 +73,15 @@ SCALE_HINTS = {np.pi / 180: "gyro looks like deg/s read as rad/s: use --gyro-uni
                0.001: "time in ms read as s? use --time-unit ms"}
 
 
-def tilt_rate_scale(gyro_rad_s, accel_m_s2, dt_s: float, *, window_s: float = 0.05,
-                    band_fraction: float = 0.05, skip=None) -> dict:
+def tilt_rate_scale(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: float, *, window_s: float = 0.05,
+                    band_fraction: float = 0.05, skip: np.ndarray | None = None) -> dict:
     """Gyro scale seen by the accelerometer's tilt rate (see the module docstring).
 
     Parameters
     ----------
-    gyro_rad_s : array_like, shape (N, 3)
+    gyro_rad_s : ndarray, shape (N, 3)
         Angular rate (rad/s), sensor frame.
-    accel_m_s2 : array_like, shape (N, 3)
+    accel_m_s2 : ndarray, shape (N, 3)
         Specific force (m/s²), sensor frame.
     dt_s : float
         Sample interval (s).
@@ -92,7 +90,7 @@ def tilt_rate_scale(gyro_rad_s, accel_m_s2, dt_s: float, *, window_s: float = 0.
     band_fraction : float
         Windows with ``|‖ā‖ − g| > band_fraction g``, or an accelerometer standard deviation
         (rms over axes) above ``band_fraction g``, are not used (linear acceleration).
-    skip : array_like (N,) of bool, optional
+    skip : ndarray (N,) of bool, optional
         Samples not to trust (e.g. a clipped gyro); windows holding one are not used.
 
     Returns
@@ -106,32 +104,25 @@ def tilt_rate_scale(gyro_rad_s, accel_m_s2, dt_s: float, *, window_s: float = 0.
 
     Raises
     ------
-    TypeError
-        A record that is not numeric.
     ValueError
-        Records not of shape (N, 3) alike, a value not finite, ``dt_s``/``window_s``/``band_fraction``
-        not positive, ``skip`` not of N samples. The values are checked in the same compiled pass
-        that forms the window means (one pass over the record, no numpy temporaries).
+        A value not finite: checked in the same compiled pass that forms the window means (one
+        pass over the record, no numpy temporaries), so it costs nothing of its own.
+
+    Preconditions
+    -------------
+    The caller guarantees (not checked here): ``gyro_rad_s`` and ``accel_m_s2`` float64 arrays of one
+    shape (N, 3) (rad/s, m/s²; C-contiguous arrays are used as they are, others copied);
+    ``dt_s``, ``window_s`` and ``band_fraction`` finite and > 0; ``skip`` None or a boolean (N,) array.
+    The edges that check a record once: :func:`mtcal.filters.qncf.qncf`,
+    :func:`mtcal.systems.plausibility.check_units` (via :func:`check_tilt_rate_scale`) and
+    :func:`mtcal.systems.surface_angle.surface_angle_record`.
 
     References
     ----------
     wang2022sensors Sec. 2.2 (gravity direction turns with the body).
     """
-    w, a, dt_s, skip = _record(gyro_rad_s, accel_m_s2, dt_s, skip)
-    window_s = positive_scalar(window_s, "window_s")
-    band_fraction = positive_scalar(band_fraction, "band_fraction")
-    return tilt_rate_scale_trusted(w, a, dt_s, window_s=window_s, band_fraction=band_fraction, skip=skip)
-
-
-def tilt_rate_scale_trusted(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: float, *, window_s: float = 0.05,
-                            band_fraction: float = 0.05, skip: np.ndarray | None = None) -> dict:
-    """:func:`tilt_rate_scale` for callers that validated at their own edge (same result).
-
-    Preconditions (not checked again): ``gyro_rad_s``, ``accel_m_s2`` float64 (N, 3) of one shape
-    (rad/s, m/s²; their finiteness is still checked by the compiled pass); ``dt_s``, ``window_s``,
-    ``band_fraction`` finite > 0; ``skip`` None or bool (N,).
-    """
-    w, a = np.ascontiguousarray(gyro_rad_s), np.ascontiguousarray(accel_m_s2)
+    w = np.ascontiguousarray(gyro_rad_s, dtype=np.float64)
+    a = np.ascontiguousarray(accel_m_s2, dtype=np.float64)
     skip = None if skip is None else np.ascontiguousarray(skip, dtype=np.bool_)
     # numba: loaded on first use, not by import
     from mtcal.methods._tilt_rate_kernels import percentile_linear, window_fit, window_stats
@@ -167,27 +158,8 @@ def tilt_rate_scale_trusted(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s
     return out
 
 
-def _record(gyro_rad_s, accel_m_s2, dt_s, skip):
-    """Edge checks of :func:`tilt_rate_scale` that need no pass over the values (the kernel checks finiteness)."""
-    arrays = []
-    for name, value in (("gyro_rad_s", gyro_rad_s), ("accel_m_s2", accel_m_s2)):
-        arr = float64_array(value, name, contiguous=True)
-        if arr.ndim != 2 or arr.shape[1] != 3:
-            raise ValueError(f"{name} must have shape (N, 3), got {arr.shape}")
-        arrays.append(arr)
-    w, a = arrays
-    if w.shape != a.shape:
-        raise ValueError(f"gyro_rad_s and accel_m_s2 must have the same shape, got {w.shape} and {a.shape}")
-    dt = positive_scalar(dt_s, "dt_s")
-    if skip is not None:
-        skip = np.ascontiguousarray(skip, dtype=np.bool_)
-        if skip.shape != (a.shape[0],):
-            raise ValueError(f"skip must be a boolean array of {a.shape[0]} samples, got shape {skip.shape}")
-    return w, a, dt, skip
-
-
-def check_tilt_rate_scale(gyro_rad_s, accel_m_s2, dt_s: float, *, max_ratio: float = 5.0,
-                          excess: str = "raise", skip=None) -> dict:
+def check_tilt_rate_scale(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: float, *, max_ratio: float = 5.0,
+                          excess: str = "raise", skip: np.ndarray | None = None) -> dict:
     """Raise when the accelerometer's tilt rate shows the gyro off by more than ``max_ratio``.
 
     Decides when the record tilts (:func:`tilt_seen` ≥ :data:`MIN_TILT_RAD`) or
@@ -201,13 +173,15 @@ def check_tilt_rate_scale(gyro_rad_s, accel_m_s2, dt_s: float, *, max_ratio: flo
 
     Parameters
     ----------
-    gyro_rad_s, accel_m_s2 : array_like, shape (N, 3)
+    gyro_rad_s, accel_m_s2 : ndarray, shape (N, 3)
+        Angular rate (rad/s) and specific force (m/s²), sensor frame.
     dt_s : float
+        Sample interval (s).
     max_ratio : float
     excess : {"raise", "warn"}
         What a gyro tilt above ``max_ratio`` times the accelerometer's does when
         the correlation does not also show the scale (``warn``: ``UserWarning``).
-    skip : array_like (N,) of bool, optional
+    skip : ndarray (N,) of bool, optional
         Samples not to use (:func:`tilt_rate_scale`).
 
     Returns
@@ -219,7 +193,11 @@ def check_tilt_rate_scale(gyro_rad_s, accel_m_s2, dt_s: float, *, max_ratio: flo
     ------
     ValueError
         The gyro is implausible for rad/s at the sample rate given; the message
-        names the scale found and its likely cause.
+        names the scale found and its likely cause; a value not finite (:func:`tilt_rate_scale`).
+
+    Preconditions
+    -------------
+    As :func:`tilt_rate_scale` (not checked here); ``max_ratio`` > 0; ``excess`` one of the two words.
 
     Examples
     --------
@@ -227,20 +205,7 @@ def check_tilt_rate_scale(gyro_rad_s, accel_m_s2, dt_s: float, *, max_ratio: flo
     >>> check_tilt_rate_scale(np.zeros((300, 3)), np.tile([0, 0, 9.81], (300, 1)), 0.01)["decided"]
     False
     """
-    return _judge(tilt_rate_scale(gyro_rad_s, accel_m_s2, dt_s, skip=skip), dt_s, max_ratio, excess)
-
-
-def check_tilt_rate_scale_trusted(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: float, *,
-                                  max_ratio: float = 5.0, excess: str = "raise", skip=None) -> dict:
-    """:func:`check_tilt_rate_scale` for callers that validated at their own edge (same result and refusals).
-
-    Preconditions (not checked again): as :func:`tilt_rate_scale_trusted`.
-    """
-    return _judge(tilt_rate_scale_trusted(gyro_rad_s, accel_m_s2, dt_s, skip=skip), dt_s, max_ratio, excess)
-
-
-def _judge(res: dict, dt_s: float, max_ratio: float, excess: str) -> dict:
-    """The decision of :func:`check_tilt_rate_scale` on a :func:`tilt_rate_scale` result."""
+    res = tilt_rate_scale(gyro_rad_s, accel_m_s2, dt_s, skip=skip)
     res["decided"] = False
     if res["windows"] == 0:
         return res
@@ -259,7 +224,7 @@ def _judge(res: dict, dt_s: float, max_ratio: float, excess: str) -> dict:
     if excess == "warn" and over and not off:
         warnings.warn(f"gyro implausible for rad/s at dt {dt_s:.4g} s: it predicts "
                       f"{np.degrees(res['gyro_tilt_rad']):.1f} deg of tilt where the accelerometer shows "
-                      f"{np.degrees(res['accel_tilt_rad']):.1f} deg", UserWarning, stacklevel=4)
+                      f"{np.degrees(res['accel_tilt_rad']):.1f} deg", UserWarning, stacklevel=3)
         return res
     if over or off:
         hint = scale_hint(s if off else res["accel_tilt_rad"] / max(res["gyro_tilt_rad"], 1e-300))

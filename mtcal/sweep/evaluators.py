@@ -507,7 +507,7 @@ def _attitude(p: dict, rngs: list) -> dict[str, np.ndarray]:
     One pass per layer: the truth (profile, trajectory, holds, sensor model: :mod:`mtcal.core`), the
     trials simulated at once, then each filter on the stacked trials with its gain, then its metrics.
     """
-    from mtcal.filters.anchors import attitude_filter_trusted, levelled_start
+    from mtcal.filters.anchors import attitude_filter, levelled_start
 
     truth = _attitude_truth(p["motion"], float(p["fs_hz"]), p["hold_s"], float(p["speed"]))
     model = sensor_grade(p["grade"]).error_model(time_since_power_on_s=300.0)
@@ -520,7 +520,7 @@ def _attitude(p: dict, rngs: list) -> dict[str, np.ndarray]:
     q_init = levelled_start(accel, init)          # the common start, once per block
     out = {}
     for name, gain in gains.items():
-        q = attitude_filter_trusted(name, gyro, accel, truth.traj.dt_s, gain, q_init)
+        q = attitude_filter(name, gyro, accel, truth.traj.dt_s, gain, q_init)
         m = _tilt_metrics_kernel(np.ascontiguousarray(q, dtype=float), truth.up, truth.after, hold_mask)
         out[f"{name}.tilt_rmse_deg"], out[f"{name}.hold_tilt_rmse_deg"], out[f"{name}.tilt_max_deg"] = m.T
     return out
@@ -621,7 +621,7 @@ def _surface(p: dict, rngs: list) -> dict[str, np.ndarray]:
     filters' angle is the twist of their attitude about the same axis since the
     settling rest.
     """
-    from mtcal.filters.anchors import axis_angle_filter_trusted, levelled_start
+    from mtcal.filters.anchors import axis_angle_filter, levelled_start
     from mtcal.filters.registry import AxisContext
 
     truth = _surface_truth(float(p["fs_hz"]), float(p["step_deg"]), float(p["span_deg"]), float(p["rate_deg_s"]),
@@ -641,7 +641,7 @@ def _surface(p: dict, rngs: list) -> dict[str, np.ndarray]:
     q_init = levelled_start(accel, init)          # the common start, once per block (records: as _attitude)
     out = {}
     for name, gain in gains.items():
-        theta = axis_angle_filter_trusted(name, gyro, accel, truth.traj.dt_s, gain, ctx, ref, q_init)
+        theta = axis_angle_filter(name, gyro, accel, truth.traj.dt_s, gain, ctx, ref, q_init)
         m = _angle_metrics_kernel(np.ascontiguousarray(theta, dtype=float), truth.theta, truth.after, hold_mask)
         out[f"{name}.angle_rmse_deg"], out[f"{name}.hold_angle_rmse_deg"], out[f"{name}.angle_max_deg"] = m.T
     return out

@@ -258,7 +258,7 @@ def check_units(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: float, res
     2. the same on every rest (rests whose mean rate is off the median kept: a
        deg/s log read as rad/s has rests 57× noisier than the filter expects);
     3. the gravity-referenced tilt rate over all quasi-static stretches
-       (:func:`mtcal.methods.tilt_rate.check_tilt_rate_scale`, slow moves count; its trusted twin);
+       (:func:`mtcal.methods.tilt_rate.check_tilt_rate_scale`, slow moves count);
     4. gravity tracking (:func:`mtcal.methods.gravity_tracking.gravity_tracking`): the gyro
        under the stated unit and under each rival (deg/s, mrad/s, time in ms …) carries the
        accelerometer's direction over 0.5 s windows; the stated unit is confirmed when it wins
@@ -340,7 +340,7 @@ def check_units(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: float, res
     out = {"pairs": 0, "worst_deg": float("nan"), "ratio": float("nan")}
     refused = tr = None
     try:
-        tr = tilt_rate.check_tilt_rate_scale_trusted(gyro_rad_s, accel_m_s2, dt_s, skip=skip)
+        tr = tilt_rate.check_tilt_rate_scale(gyro_rad_s, accel_m_s2, dt_s, skip=skip)
     except ValueError as exc:  # refused: gravity tracking, when it finds the scale, names the option that fits
         refused = exc
     if tr is not None:

@@ -71,7 +71,7 @@ from mtcal.filters.rams_ekf import RamsEkfParams, run_rams_ekf_batch_restarts, r
 from mtcal.filters.registry import AxisContext
 from mtcal.methods import rotation_axis
 from mtcal.methods.rotation_axis import AxisEstimate, angles_about_axis
-from mtcal.methods.tilt_rate import check_tilt_rate_scale_trusted
+from mtcal.methods.tilt_rate import check_tilt_rate_scale
 from mtcal.methods import zero_velocity
 from mtcal.methods.zero_velocity import ZvdParams
 from mtcal.systems import plausibility
@@ -805,7 +805,7 @@ def _surface_angle_steps(g, a, v, static, init: slice, dt: float, weights, time_
         check = plausibility.check_units(gyro_f, a, dt, rests, time_s=time_s, skip=clipped,
                                          unit_stated=cfg.unit_stated)
     elif not batch:  # the gyro's tilt-rate scale (run_rams_ekf's precondition), once for the record
-        check_tilt_rate_scale_trusted(gyro_f[k0:], a[k0:], dt, excess="warn")
+        check_tilt_rate_scale(gyro_f[k0:], a[k0:], dt, excess="warn")
     if cfg.max_axis_mismatch_deg is not None:
         u = _gyro_axis_check(g, static, b0, v, dt, cfg)
     params = rest_ekf_params(g, a, init) if cfg.params is None else cfg.params

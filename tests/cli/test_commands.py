@@ -161,8 +161,8 @@ def test_attitude_units_check_scans_the_record_once(tmp_path, capsys, monkeypatc
     from mtcal.methods import tilt_rate
 
     calls = []
-    scale = tilt_rate.tilt_rate_scale_trusted  # every scan (checked or trusted entry) runs through it
-    monkeypatch.setattr(tilt_rate, "tilt_rate_scale_trusted", lambda *a, **k: calls.append(1) or scale(*a, **k))
+    scale = tilt_rate.tilt_rate_scale  # every scan runs through it
+    monkeypatch.setattr(tilt_rate, "tilt_rate_scale", lambda *a, **k: calls.append(1) or scale(*a, **k))
     path = tmp_path / "walk.csv"
     logs.walking_log(n_steps=4)[0].to_csv(path, index=False)
     code = cli.main(["attitude", str(path), "--rest-detector", "shoe", "--out", str(tmp_path / "att.csv")])
@@ -176,8 +176,8 @@ def test_angle_ekf_does_not_repeat_the_units_check(hinge, tmp_path, capsys, monk
     from mtcal.methods import tilt_rate
 
     calls = []
-    scale = tilt_rate.tilt_rate_scale_trusted  # every scan (checked or trusted entry) runs through it
-    monkeypatch.setattr(tilt_rate, "tilt_rate_scale_trusted", lambda *a, **k: calls.append(1) or scale(*a, **k))
+    scale = tilt_rate.tilt_rate_scale  # every scan runs through it
+    monkeypatch.setattr(tilt_rate, "tilt_rate_scale", lambda *a, **k: calls.append(1) or scale(*a, **k))
     code = cli.main(["angle", str(hinge[1]), "--axis", "0.6,0,0.8", "--out", str(tmp_path / "a.csv")])
     out, err = capsys.readouterr()
     assert code == 0, err

@@ -200,21 +200,25 @@ def test_units_are_checked_once_at_the_edge_for_every_filter(name):
 
 
 @pytest.mark.parametrize("name", ["qncf", "mahony", "madgwick"])
-def test_trusted_runs_equal_the_checked_ones(name):
-    """attitude_filter_trusted / axis_angle_filter_trusted (a caller's own records, the start computed once)
-    give run_attitude_filter's / run_axis_angle_filter's bits."""
+def test_steps_below_the_edge_equal_the_checked_runs(name):
+    """attitude_filter / axis_angle_filter (the trusting steps: a caller's own records, the start computed
+    once) give run_attitude_filter's / run_axis_angle_filter's bits; no *_trusted twin is left."""
     if name not in available_filters():
         pytest.skip(f"{name} not installed")
-    from mtcal.filters.anchors import attitude_filter_trusted, axis_angle_filter_trusted, levelled_start
+    from mtcal.filters import anchors
+    from mtcal.filters.anchors import attitude_filter, axis_angle_filter, levelled_start
+
+    assert not [n for n in vars(anchors) if n.endswith("_trusted")]
+    assert "Preconditions" in attitude_filter.__doc__ and "Preconditions" in axis_angle_filter.__doc__
 
     rng = np.random.default_rng(8)
     gyr = rng.normal(0, 0.02, (3, 200, 3))
     acc = rng.normal(0, 0.2, (3, 200, 3)) + [0, 0, G]
     q_init = levelled_start(acc, 30)
     checked = run_attitude_filter(name, gyr, acc, 0.01, 0.7, init_samples=30)
-    assert attitude_filter_trusted(name, gyr, acc, 0.01, 0.7, q_init).tobytes() == checked.tobytes()
+    assert attitude_filter(name, gyr, acc, 0.01, 0.7, q_init).tobytes() == checked.tobytes()
     axis = np.array([0.0, 0.6, 0.8])
     ctx = AxisContext(axis, np.zeros((3, 200), bool), acc[:, 0], 1e-4, 1e-3)
-    got = axis_angle_filter_trusted(name, gyr, acc, 0.01, 0.7, ctx, 20, q_init)
+    got = axis_angle_filter(name, gyr, acc, 0.01, 0.7, ctx, 20, q_init)
     assert got.tobytes() == run_axis_angle_filter(name, gyr, acc, 0.01, 0.7, ctx, ref_index=20,
                                                   init_samples=30).tobytes()

@@ -66,35 +66,41 @@ def test_batch_rows_do_not_depend_on_the_batch():
     assert single.shape == (300, 4)
 
 
-def test_errors():
-    g = np.zeros((10, 3))
-    a = np.tile([0, 0, G], (10, 1))
-    with pytest.raises(ValueError, match="same shape"):
-        mahony_imu(g, a[:5], 0.01)
-    with pytest.raises(ValueError, match="dt_s"):
-        mahony_imu(g, a, 0.0)
+def test_params_checked_when_made():
     with pytest.raises(ValueError, match="kp_rad_s"):
         MahonyParams(kp_rad_s=-1.0)
-    with pytest.raises(TypeError, match="params must be a MahonyParams"):
-        mahony_imu(g, a, 0.01, params={"kp_rad_s": 1.0})
+
+
+def test_records_checked_at_the_filter_family_edge():
+    """mahony_imu trusts its inputs; run_attitude_filter("mahony") checks them once (moved, same messages)."""
+    from mtcal.filters.anchors import run_attitude_filter
+
+    g = np.zeros((1, 10, 3))
+    a = np.tile([0, 0, G], (1, 10, 1))
+    with pytest.raises(ValueError, match="same shape"):
+        run_attitude_filter("mahony", g, a[:, :5], 0.01)
+    with pytest.raises(ValueError, match="dt_s"):
+        run_attitude_filter("mahony", g, a, 0.0)
     with pytest.raises(ValueError, match="rad/s"):
-        mahony_imu(g + 100.0, a, 0.01)
+        run_attitude_filter("mahony", g + 100.0, a, 0.01)
     with pytest.raises(ValueError, match="q0"):
-        mahony_imu(g, a, 0.01, q0=[1.0, 0, 0])
+        run_attitude_filter("mahony", g, a, 0.01, q0=[1.0, 0, 0])
     with pytest.raises(ValueError, match="gyro_rad_s"):
-        mahony_imu(np.full((10, 3), np.nan), a, 0.01)
+        run_attitude_filter("mahony", np.full((1, 10, 3), np.nan), a, 0.01)
 
 
-def test_trusted_batch_equals_the_checked_call():
-    from mtcal.filters.mahony import MahonyParams, mahony_imu, mahony_trusted
+def test_one_function_the_registry_runner_calls():
+    """No checked twin: the bake-off's mahony runner is mahony_imu itself (same bits), with documented preconditions."""
+    from mtcal.filters import mahony
+    from mtcal.filters.anchors import levelled_start, run_attitude_filter
 
+    assert not [n for n in vars(mahony) if n.endswith("_trusted")] and "Preconditions" in mahony_imu.__doc__
     rng = np.random.default_rng(11)
     w = rng.normal(0, 0.2, (3, 400, 3))
     a = np.tile([0.3, -0.2, 9.8], (3, 400, 1)) + rng.normal(0, 0.05, (3, 400, 3))
-    q0 = np.tile([1.0, 0.0, 0.0, 0.0], (3, 1))
-    p = MahonyParams(1.5, 0.03)
-    checked, trusted = mahony_imu(w, a, 0.01, p, q0=q0), mahony_trusted(w, a, 0.01, p, q0)
-    assert np.array_equal(checked.q_ws, trusted.q_ws) and np.array_equal(checked.bias_rad_s, trusted.bias_rad_s)
+    q0 = levelled_start(a, 100)
+    direct = mahony_imu(w, a, 0.01, MahonyParams(1.5, 1.5 / 50.0), q0=q0).q_ws
+    assert direct.tobytes() == run_attitude_filter("mahony", w, a, 0.01, 1.5).tobytes()
 
 
 def test_lane_blocks_are_bit_identical_to_the_scalar_kernel():

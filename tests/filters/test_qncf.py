@@ -111,6 +111,20 @@ def test_bad_inputs(bad, msg):
         qncf(bad, np.zeros((10, 3)) + 9.8, 1e-3)
 
 
+def test_record_and_dt_checked_at_the_edge_before_the_tilt_rate_scan():
+    """qncf checks a record and dt_s once at its edge (moved from the trusting tilt_rate_scale, same messages)."""
+    gyro, accel = np.zeros((3000, 3)), np.tile([0.0, 0.0, 9.81], (3000, 1))
+    with pytest.raises(ValueError, match=r"gyro_rad_s must have last dimension 3"):
+        qncf(gyro[:, :2], accel, 0.01)
+    with pytest.raises(ValueError, match="must have the same shape"):
+        qncf(gyro[:-1], accel, 0.01)
+    with pytest.raises(TypeError, match="accel_m_s2 must be a numeric array"):
+        qncf(gyro, "accel", 0.01)
+    for dt in (0.0, -0.01):  # before the scan: no ZeroDivisionError, no misleading units refusal
+        with pytest.raises(ValueError, match="dt_s must be > 0"):
+            qncf(gyro, accel, dt)
+
+
 def test_bad_params():
     with pytest.raises(ValueError, match="amd_threshold_pct"):
         QncfParams(amd_threshold_pct=0.0)

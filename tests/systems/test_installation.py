@@ -374,7 +374,7 @@ def test_apply_record_modes_are_the_application_functions(stream):
                                   installation.absolute_body_attitude(cfg, ab.q_bs, q_ws=q_ws).q_body)
     assert ab.start_euler_rad is None
     np.testing.assert_array_equal(ab.q_bs, installation.mounting_from_q_hat(cal.q_hat))
-    proj = installation.constrained_fit.project_to_so4(cal.q_hat)          # the trusted twin: the same bits
+    proj = installation.constrained_fit.project_to_so4(cal.q_hat)          # what the system calls: the same bits
     np.testing.assert_array_equal(ab.q_bs, np.copysign(1.0, proj.r[0]) * rotations.quat_conjugate(proj.r))
     with pytest.raises(ValueError, match="mode must be 'absolute' or 'relative'"):
         installation.apply_record(cfg, cal.q_hat, DT_S, mode="sideways", time_s=t, q_ws=q_ws)

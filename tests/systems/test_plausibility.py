@@ -108,6 +108,13 @@ def test_check_units_tilt_rate_without_rests():
         plausibility.check_units(w, f, 10 * DT_S, [])
 
 
+def test_check_units_checks_the_skip_mask():
+    """The skip mask is checked here, at the units edge (moved from the trusting tilt_rate_scale)."""
+    w, f, _, _ = _hinge(angles_deg=(0.0, 30.0, 10.0, 40.0), rate_deg_s=20.0, hold_s=0.3)
+    with pytest.raises(ValueError, match=f"skip must be a boolean array of {len(w)} samples"):
+        plausibility.check_units(w, f, DT_S, [], skip=np.zeros(10, bool))
+
+
 def test_check_units_no_rotation_and_refusal():
     f = np.tile([0.0, 0.0, 9.81], (1000, 1))
     assert plausibility.check_units(np.zeros((1000, 3)), f, DT_S, [])["method"] == "no rotation"
