@@ -267,12 +267,13 @@ def channel_errors_cs(q, q_mat, table, lock_sin, chan, before, after, err_before
     table (N, 9) (:func:`truth_table`) by :func:`euler_errors_cs`, into ``err_before``/``err_after``
     (T, N, 3), and angle ``chan`` before/after into ``before``/``after`` (T, N) as truth + error.
 
-    Eq 10 is :func:`mtcal.core.rotations.apply_quat_matrix_trusted`'s arithmetic (sign alignment, ``q @ q_matᵀ`` summed in index order,
-    the norm, each component divided by it). Each error is within ``ERROR_BOUND_RAD`` of the libm
-    reference ``angle_difference(euler_zxy(q), truth)``; each angle within that plus one rounding of the
-    reference's, modulo 2π (it is not re-wrapped: a channel whose truth sits at ±π may leave (−π, π]).
-    Returns the number of rows left unset — |sin pitch| above ``lock_sin`` (before or after) or a norm
-    below 1e-12 — which the caller then computes by the reference expressions (all rows, when any).
+    Eq 10 is :func:`mtcal.core.rotations.apply_quat_matrix_trusted`'s arithmetic (sign alignment,
+    ``q @ q_matᵀ`` summed in index order, the norm, each component divided by it). Each error is within
+    ``ERROR_BOUND_RAD`` of the libm reference ``angle_difference(euler_zxy(q), truth)``; each angle within
+    that plus one rounding of the reference's, modulo 2π (it is not re-wrapped: a channel whose truth sits
+    at ±π may leave (−π, π]). Returns the number of rows left unset — |sin pitch| above ``lock_sin``
+    (before or after) or a norm below 1e-12 — which the caller then computes by the reference expressions
+    (all rows, when any).
     """
     bad = 0
     for t in range(q.shape[0]):

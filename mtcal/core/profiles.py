@@ -194,9 +194,9 @@ def constant_rate(start_rad: float, stop_rad: float, rate_rad_s: float, fs_hz: f
 def join_profiles(parts) -> tuple[AngleProfile, list[slice]]:
     """Profiles end to end as one session on one time grid, and each part's sample span in it.
 
-    Each part starts where the previous one ended (parts that start and end at rest, such as
-    :func:`step_schedule`'s, join without a jump); the time base is ``k · dt`` with the first part's
-    sample interval. Segments are renumbered so that they stay distinct and keep their parity
+    Each part's first sample follows the previous part's last by one sample interval (the time base is
+    ``k · dt`` with the first part's interval); the angles are joined as they are, not blended, so parts
+    that end and start at the same angles (schedules from and back to zero) join without a jump. Segments are renumbered so that they stay distinct and keep their parity
     (holds even, moves odd): part ``j``'s segments are shifted by the sum over the earlier parts of
     ``max(segment) + 2``.
 

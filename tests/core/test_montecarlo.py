@@ -269,8 +269,10 @@ def test_channel_errors_before_after_is_the_compiled_pass_or_the_expressions(mon
 
     q, q_mat = _before_after_inputs(11)
     ref = rotations.euler_zxy_unchecked(q[0]) + 0.01
-    out = [np.empty(q.shape[:-1]), np.empty(q.shape[:-1]), np.empty(q.shape[:-1] + (3,)), np.empty(q.shape[:-1] + (3,))]
-    assert montecarlo.channel_errors_cs(q, q_mat, montecarlo.truth_table(ref[None])[0], rotations._LOCK_SIN, 2, *out) == 0
+    out = [np.empty(q.shape[:-1]), np.empty(q.shape[:-1]), np.empty(q.shape[:-1] + (3,)),
+           np.empty(q.shape[:-1] + (3,))]
+    table = montecarlo.truth_table(ref[None])[0]
+    assert montecarlo.channel_errors_cs(q, q_mat, table, rotations._LOCK_SIN, 2, *out) == 0
     before, after, errs = montecarlo.channel_errors_before_after(q, q_mat, ref, 2)
     for x, y in zip((before, after, errs["before"], errs["after"]), out):
         assert np.array_equal(x, y)

@@ -605,9 +605,9 @@ def _job_pieces(sc: TurntableScenario, jobs: list, block: int) -> list:
 def _maxae_rmse(err) -> tuple[np.ndarray, np.ndarray]:
     """``metrics.max_abs_error(err, axis=-1)`` and ``metrics.rmse(err, axis=-1)`` of finite errors (T, n).
 
-    The errors of :func:`mtcal.core.montecarlo.channel_errors_before_after` are finite (checked there), so the NaN handling of the
-    metrics (a validated copy, a NaN mask, a second copy) changes nothing: ``max(|e|)`` and
-    ``sqrt(mean(e²))`` over the same contiguous ``e²`` are the same numbers (tested).
+    The errors of :func:`mtcal.core.montecarlo.channel_errors_before_after` are finite (checked there),
+    so the NaN handling of the metrics (a validated copy, a NaN mask, a second copy) changes nothing:
+    ``max(|e|)`` and ``sqrt(mean(e²))`` over the same contiguous ``e²`` are the same numbers (tested).
     """
     return np.max(np.abs(err), axis=-1), np.sqrt(np.mean(err**2, axis=-1))
 
