@@ -278,15 +278,16 @@ class _SharedTrajectories:
 
 def _run_pieces(sc: TurntableScenario, prof: AngleProfile, spans: dict, pieces: list, sweep_holds: dict | None,
                 traced: set, base: _ComplianceBase, buffers: dict, fill_groups: list) -> list[TurntableRun]:
-    """Simulate every piece ``(test, sources, rng, trials, fraction)``, run ONE stacked QNCF, finish each.
+    """Simulate every piece ``(test, sources, rng, trials, fraction)``, measure the session with ONE stacked
+    QNCF (:func:`_measure_session`), score each piece's sweeps.
 
     The QNCF cost is dominated by its loop over time, so stacking the pieces along the trial
     axis costs about one run; each piece keeps its own generator. The pieces are simulated
     straight into ``buffers`` (reused by every call of a run: no fresh 100 MB arrays per call),
-    which also keeps the profile's hold windows. The pieces of each list in ``fill_groups`` (a
+    which also keeps the sweeps' reference tables. The pieces of each list in ``fill_groups`` (a
     partition of the piece indices: the predictive kinds' pieces on one key) fill their records
     together (:func:`_fill_together`: the noise drawn once when shared). Groups are simulated and
-    pieces finished on :func:`_workers` threads (each its own generator and slice: the same numbers
+    pieces measured on :func:`_workers` threads (each its own generator and slice: the same numbers
     for any count). ``sweep_holds`` (:func:`_sweep_holds`, None without the sweeps): the sweeps' hold
     windows. Pieces in ``traced`` keep the sweeps' time series of their first trial.
     """
@@ -329,39 +330,16 @@ def _run_pieces(sc: TurntableScenario, prof: AngleProfile, spans: dict, pieces: 
         return [(i, part[0]) for i, part in zip(group, parts)]
 
     rngs = dict(pair for done in _map(simulate, fill_groups) for pair in done)
-    # the records simulated above (float64 (T, N, 3), SI units, the scenario's dt_s): the trusted entry
-    res = qncf_trusted(gyro, accel, 1.0 / sc.fs_hz, sc.qncf, return_euler=False)
-    # the session zeroed once at its start (§4.1), in place from the verification run on: the
-    # calibration run stays as logged (zeroed by the procedure itself)
-    q_all = relative_to_initial(res.q_ws, out=res.q_ws, start=ver0)
-    del res
-    q_cal = q_all[:, spans["calibration"]]
     pos = six_position_reference(sc)
-
-    def finish(i):
-        _, sources, _, trials, fraction, sc = pieces[i]
-        rng_ref = rngs[i]
-        sl = slice(starts[i], starts[i + 1])
-        frac = _fraction(pieces[i])
-        on = "reference_angle" in sources
-        e_cal = _draws(rng_ref, trials, 6, sc.reference_angle_sigma_rad, on)
-        e_ver = _draws(rng_ref, trials, 6, sc.reference_angle_sigma_rad, on)
-        # the procedure is fed the commanded reference; the turntable stood at command + e_cal
-        cal = calibration_step(sc, q_cal[sl], gyro[sl, spans["calibration"]], pos - e_cal, frac)
-        # the verification run: the same procedure with Q̂ given (the session is already zeroed at its start)
-        ver = installation.verify_installation(
-            installation.InstallationConfig.monte_carlo(frac, zero_at_first_sample=False), cal.q_hat, pos,
-            sc.imu.dt_s, q_ws=q_all[sl, spans["verification"]], gyro_rad_s=gyro[sl, spans["verification"]])
-        run = TurntableRun(cal.q_hat, cal.euler_before_rad, cal.euler_after_rad, ver.euler_before_rad,
-                           ver.euler_after_rad, pos, -e_cal, -e_ver)
-        if sweep_holds is None:
-            return run, None
-        # the sweeps' turntable angle errors at their holds, drawn next from the piece's generator
-        return run, {name: _draws(rng_ref, trials, len(sweep_holds[name, frac]), sc.reference_angle_sigma_rad,
-                                  on)[..., chan_mean] for name, chan_mean, _ in _SWEEPS}
-
-    runs, hold_errors = zip(*_map(finish, list(range(len(pieces)))))
-    runs = list(runs)
+    draws = [_reference_draws(piece, rngs[i], sweep_holds) for i, piece in enumerate(pieces)]
+    # the procedure is fed the commanded reference; the turntable stood at command + e_cal
+    q_all, measured = _measure_session(sc, gyro, accel, spans, pos, [
+        (slice(starts[i], starts[i + 1]), pos - e_cal, _fraction(piece))
+        for i, (piece, (e_cal, _, _)) in enumerate(zip(pieces, draws))])
+    runs = [TurntableRun(cal.q_hat, cal.euler_before_rad, cal.euler_after_rad, ver.euler_before_rad,
+                         ver.euler_after_rad, pos, -e_cal, -e_ver)
+            for (cal, ver), (e_cal, e_ver, _) in zip(measured, draws)]
+    hold_errors = [errors for _, _, errors in draws]
     if sweep_holds is not None:
         # the sweeps of consecutive pieces that share their settings in one pass each (rows independent:
         # the same numbers as piece by piece), the groups spread over the threads
@@ -379,6 +357,68 @@ def _run_pieces(sc: TurntableScenario, prof: AngleProfile, spans: dict, pieces: 
                                   for name, d in sweeps.items()}
                 runs[i].trace = trace if i in traced else {}
     return runs
+
+
+def _reference_draws(piece, rng_ref: np.random.Generator, sweep_holds: dict | None) -> tuple:
+    """A piece's turntable angle errors (truth − command), drawn in this order from its own generator: at the
+    calibration run's rests (T, 6, 3), at the verification run's (T, 6, 3), then — with the sweeps — at each
+    sweep's holds (T, holds) of the averaged channel (else None)."""
+    _, sources, _, trials, _, sc = piece
+    on = "reference_angle" in sources
+    e_cal = _draws(rng_ref, trials, 6, sc.reference_angle_sigma_rad, on)
+    e_ver = _draws(rng_ref, trials, 6, sc.reference_angle_sigma_rad, on)
+    if sweep_holds is None:
+        return e_cal, e_ver, None
+    frac = _fraction(piece)
+    return e_cal, e_ver, {name: _draws(rng_ref, trials, len(sweep_holds[name, frac]), sc.reference_angle_sigma_rad,
+                                       on)[..., chan_mean] for name, chan_mean, _ in _SWEEPS}
+
+
+def _measure_session(sc: TurntableScenario, gyro_rad_s, accel_m_s2, spans: dict, reference_rad, blocks: list) -> tuple:
+    """The session's measurement of stacked records: the QNCF, the calibration run, the verification run.
+
+    One QNCF over every trial (its cost is the loop over time), the session zeroed once at its start
+    (§4.1) in place from the verification run on (the calibration run stays as logged: the procedure
+    zeroes it itself); then, block by block of trials (on :func:`_workers` threads), the six-position
+    calibration of the calibration run (:func:`calibration_step`) and the verification run with Q̂ given
+    (:func:`mtcal.systems.installation.verify_installation`). The seam of the installation system's
+    session procedure (QNCF, calibration and verification in one call).
+
+    Parameters
+    ----------
+    sc : TurntableScenario
+        The QNCF settings and the sample interval (the pieces' scenarios differ in their error model
+        and installation angles only).
+    gyro_rad_s, accel_m_s2 : ndarray (T, N, 3)
+        The session's records, simulated by the caller (float64, SI units): the QNCF's trusted entry.
+    spans : dict
+        ``"calibration"``, ``"verification"``: the runs' samples (:func:`turntable_profile`).
+    reference_rad : ndarray (6, 3)
+        The positions the verification is measured against (rad, Eq 8 frame).
+    blocks : list of (slice, ndarray (t, 6, 3), float)
+        Each block's trial rows, the reference fed to its calibration and its averaging fraction.
+
+    Returns
+    -------
+    q_all : ndarray (T, N, 4)
+        The session's QNCF attitude (zeroed from the verification run on).
+    measured : list of (InstallationCalibration, InstallationCalibration)
+        Per block: the calibration and the verification.
+    """
+    res = qncf_trusted(gyro_rad_s, accel_m_s2, 1.0 / sc.fs_hz, sc.qncf, return_euler=False)
+    q_all = relative_to_initial(res.q_ws, out=res.q_ws, start=spans["verification"].start)
+    del res
+    cal_run, ver_run = spans["calibration"], spans["verification"]
+
+    def measure(block):
+        rows, fed_rad, fraction = block
+        cal = calibration_step(sc, q_all[rows, cal_run], gyro_rad_s[rows, cal_run], fed_rad, fraction)
+        ver = installation.verify_installation(
+            installation.InstallationConfig.monte_carlo(fraction, zero_at_first_sample=False), cal.q_hat,
+            reference_rad, sc.imu.dt_s, q_ws=q_all[rows, ver_run], gyro_rad_s=gyro_rad_s[rows, ver_run])
+        return cal, ver
+
+    return q_all, _map(measure, blocks)
 
 
 #: The sweeps of a T1 session: (name, channel averaged at the holds, channels whose errors are scored).
