@@ -29,12 +29,14 @@ import numba
 import numpy as np
 from numba import prange
 
+from mtcal.core import metrics, rotations
 from mtcal.core.validate import as_float_array, positive_int
 from mtcal.core._rotation_kernels import apply_row
 from mtcal.core.compiled import jit
 from mtcal.core.simulate import ImuRecord, ImuStream
 
-__all__ = ["progress", "ChunkConsumer", "ErrorAccumulator", "run_streaming", "progress_enabled"]
+__all__ = ["progress", "ChunkConsumer", "ErrorAccumulator", "run_streaming", "progress_enabled",
+           "channel_errors_before_after"]
 
 
 class ChunkConsumer(Protocol):
@@ -265,12 +267,13 @@ def channel_errors_cs(q, q_mat, table, lock_sin, chan, before, after, err_before
     table (N, 9) (:func:`truth_table`) by :func:`euler_errors_cs`, into ``err_before``/``err_after``
     (T, N, 3), and angle ``chan`` before/after into ``before``/``after`` (T, N) as truth + error.
 
-    Eq 10 is ``quaternion_lsq._apply``'s arithmetic (sign alignment, ``q @ q_matᵀ`` summed in index order,
-    the norm, each component divided by it). Each error is within ``ERROR_BOUND_RAD`` of the libm
-    reference ``angle_difference(euler_zxy(q), truth)``; each angle within that plus one rounding of the
-    reference's, modulo 2π (it is not re-wrapped: a channel whose truth sits at ±π may leave (−π, π]).
-    Returns the number of rows left unset — |sin pitch| above ``lock_sin`` (before or after) or a norm
-    below 1e-12 — which the caller then computes by the reference expressions (all rows, when any).
+    Eq 10 is :func:`mtcal.core.rotations.apply_quat_matrix_trusted`'s arithmetic (sign alignment,
+    ``q @ q_matᵀ`` summed in index order, the norm, each component divided by it). Each error is within
+    ``ERROR_BOUND_RAD`` of the libm reference ``angle_difference(euler_zxy(q), truth)``; each angle within
+    that plus one rounding of the reference's, modulo 2π (it is not re-wrapped: a channel whose truth sits
+    at ±π may leave (−π, π]). Returns the number of rows left unset — |sin pitch| above ``lock_sin``
+    (before or after) or a norm below 1e-12 — which the caller then computes by the reference expressions
+    (all rows, when any).
     """
     bad = 0
     for t in range(q.shape[0]):
@@ -296,6 +299,72 @@ def channel_errors_cs(q, q_mat, table, lock_sin, chan, before, after, err_before
             before[t, i] = r[chan] + (e0 if chan == 0 else (e1 if chan == 1 else e2))
             after[t, i] = r[chan] + (a0 if chan == 0 else (a1 if chan == 1 else a2))
     return bad
+
+
+def channel_errors_before_after(q_s: np.ndarray, q_matrix, reference_rad, chan: int,
+                                table: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, dict]:
+    """Eq 8 angle ``chan`` of attitudes before and after Eq 10, and the wrapped errors of all three angles.
+
+    The scoring of a calibrated attitude against its reference: ``euler(q_s)[..., chan]``,
+    ``euler(apply_quat_matrix_trusted(q_matrix, q_s))[..., chan]`` and
+    ``metrics.angle_difference`` of the full angles from ``reference_rad`` (Eq 8 angles: the
+    ZXY convention of :func:`mtcal.core.rotations.euler_zxy_unchecked`). A large float64 input with
+    finite matrices takes one compiled pass (:func:`channel_errors_cs`): each error the angle of the
+    estimate's Eq 8 vector rotated back by the reference — for a converged filter a degree-9 series,
+    no atan2/asin — and each angle reference + error, within :data:`ERROR_BOUND_RAD` of the expressions
+    (tested). Near gimbal lock, with a non-finite matrix or a small input, the expressions themselves.
+
+    Parameters
+    ----------
+    q_s : ndarray, shape (T, N, 4)
+        Unit attitude quaternions (trusted: a filter's output, float64).
+    q_matrix : array_like, shape (T, 4, 4)
+        Each trial's calibration matrix (Eq 10).
+    reference_rad : array_like, shape (N, 3)
+        Reference Eq 8 angles ψ, θ, γ (rad) at each sample, shared by the trials.
+    chan : {0, 1, 2}
+        The angle returned before and after.
+    table : ndarray, shape (N, 9), optional
+        ``truth_table(reference_rad[None])[0]`` when the caller keeps it (one per reference).
+
+    Returns
+    -------
+    before, after : ndarray, shape (T, N)
+        Angle ``chan`` (rad) before and after Eq 10.
+    errors : dict
+        ``"before"``, ``"after"``: wrapped errors (T, N, 3) (rad) of the three angles.
+
+    Raises
+    ------
+    FloatingPointError
+        If an angle is not finite (a NaN calibration matrix or attitude).
+
+    Examples
+    --------
+    >>> q = rotations.quat_from_euler_zxy(np.zeros(3), np.radians([1.0, 2.0, 3.0]), np.zeros(3))[None]
+    >>> m = rotations.left_matrix(rotations.quat_from_euler_zxy(0.0, np.radians(-1.0), 0.0))[None]
+    >>> before, after, errs = channel_errors_before_after(q, m, np.radians([[0, 1, 0], [0, 1, 0], [0, 2, 0]]), 1)
+    >>> np.degrees(after).round(9).tolist(), np.degrees(errs["before"][..., 1]).round(9).tolist()
+    ([[0.0, 1.0, 2.0]], [[0.0, 1.0, 1.0]])
+    """
+    q_matrix = np.asarray(q_matrix, float)
+    if (q_s.dtype == np.float64 and q_s.ndim == 3 and q_s.shape[0] * q_s.shape[1] >= rotations._KERNEL_MIN_ROWS
+            and q_matrix.shape == (q_s.shape[0], 4, 4) and np.isfinite(q_matrix).all()):
+        before, after = np.empty(q_s.shape[:-1]), np.empty(q_s.shape[:-1])
+        err_b, err_a = np.empty(q_s.shape[:-1] + (3,)), np.empty(q_s.shape[:-1] + (3,))
+        if table is None:
+            table = truth_table(np.ascontiguousarray(reference_rad, dtype=float)[None])[0]
+        if channel_errors_cs(q_s, np.ascontiguousarray(q_matrix), table, rotations._LOCK_SIN, int(chan),
+                             before, after, err_b, err_a) == 0:
+            rotations._finite_angles(err_b, err_a)
+            return before, after, {"before": err_b, "after": err_a}
+    q_s = np.asarray(q_s, dtype=float)
+    after = rotations.euler_zxy_unchecked(rotations.apply_quat_matrix_trusted(q_matrix, q_s))
+    before = rotations.euler_zxy_unchecked(q_s)
+    rotations._finite_angles(before, after)
+    ref = np.asarray(reference_rad, dtype=float)
+    return before[..., chan], after[..., chan], {"before": metrics.angle_difference_trusted(before, ref),
+                                                 "after": metrics.angle_difference_trusted(after, ref)}
 
 
 @jit

@@ -12,6 +12,7 @@ Builders:
   (turntable positions, AoA sweeps, the six-position procedure);
 * :func:`sinusoid` — ``θ(t) = offset + A sin(2π f t + φ)``;
 * :func:`constant_rate` — uniform rotation between two angles;
+* :func:`join_profiles` — profiles end to end as one session (a calibration run, then sweeps …);
 * :func:`trajectory_from_euler_zxy` — wang2023cja Euler angles (Eq 9) → :class:`~mtcal.core.simulate.Trajectory`;
 * :func:`fixed_axis_trajectory` — rotation about a fixed axis with a lever arm
   (tangential + centripetal acceleration), wang2022sensors, as an attitude trajectory;
@@ -31,7 +32,7 @@ from mtcal.core import rotations
 from mtcal.core.validate import as_float_array, positive_scalar, unit_quaternion
 from mtcal.core.simulate import Trajectory
 
-__all__ = ["AngleProfile", "step_schedule", "sinusoid", "constant_rate",
+__all__ = ["AngleProfile", "step_schedule", "sinusoid", "constant_rate", "join_profiles",
            "trajectory_from_euler_zxy", "fixed_axis_trajectory", "fixed_axis_imu_truth", "lever_arm_accel_b"]
 
 
@@ -188,6 +189,53 @@ def constant_rate(start_rad: float, stop_rad: float, rate_rad_s: float, fs_hz: f
     angle = start_rad + signed * t
     return AngleProfile(t, angle[:, None], np.full((n, 1), signed), np.zeros((n, 1)),
                         np.zeros(n, bool), np.ones(n, int))
+
+
+def join_profiles(parts) -> tuple[AngleProfile, list[slice]]:
+    """Profiles end to end as one session on one time grid, and each part's sample span in it.
+
+    Each part's first sample follows the previous part's last by one sample interval (the time base is
+    ``k · dt`` with the first part's interval); the angles are joined as they are, not blended, so parts
+    that end and start at the same angles (schedules from and back to zero) join without a jump. Segments are renumbered so that they stay distinct and keep their parity
+    (holds even, moves odd): part ``j``'s segments are shifted by the sum over the earlier parts of
+    ``max(segment) + 2``.
+
+    Parameters
+    ----------
+    parts : sequence of AngleProfile
+        At least one profile, all with the same channels and sample rate.
+
+    Returns
+    -------
+    profile : AngleProfile
+        The joined session.
+    spans : list of slice
+        Part ``j``'s samples in ``profile``.
+
+    Examples
+    --------
+    >>> a = step_schedule([0.0, 0.1], 1.0, 1.0, 10.0)
+    >>> prof, spans = join_profiles([a, a])
+    >>> prof.time_s.size == 2 * a.time_s.size, spans[1].start == a.time_s.size
+    (True, True)
+    >>> sorted(set(prof.segment[spans[1]].tolist()))          # the second part's holds stay even
+    [4, 5, 6]
+    """
+    parts = list(parts)
+    if not parts or not all(isinstance(p, AngleProfile) for p in parts):
+        raise TypeError("parts must be a non-empty sequence of AngleProfile")
+    dt = 1.0 / parts[0].fs_hz
+    fields_ = {k: [] for k in ("angle_rad", "rate_rad_s", "accel_rad_s2", "is_static", "segment")}
+    spans, n, seg0 = [], 0, 0
+    for p in parts:
+        for k in fields_:
+            v = getattr(p, k)
+            fields_[k].append(v + seg0 if k == "segment" else v)
+        spans.append(slice(n, n + p.time_s.size))
+        n += p.time_s.size
+        seg0 += int(p.segment.max()) + 2
+    t = np.arange(n) * dt
+    return AngleProfile(t, *(np.concatenate(fields_[k], axis=0) for k in fields_)), spans
 
 
 def trajectory_from_euler_zxy(profile: AngleProfile) -> Trajectory:

@@ -50,7 +50,7 @@ __all__ = ["mount_quaternion", "relative_to_initial", "installation_angles", "in
     "quat_from_euler_zxy", "level_quat_zxy", "euler_zxy_from_quat", "euler_zxy_unchecked", "quat_to_matrix", "quat_from_matrix",
     "installation_matrix", "installation_matrix_small_angle", "coupling_error_eq4",
     "dcm_zyx", "specific_force_zyx", "pitch_roll_from_specific_force",
-    "axis_angle_matrix", "wrap_angle", "quat_angle_between",
+    "axis_angle_matrix", "wrap_angle", "quat_angle_between", "apply_quat_matrix_trusted", "mapped_pitch_trusted",
 ]
 
 
@@ -813,3 +813,100 @@ def relative_to_initial(q_est: np.ndarray, n0: int = 1, *, out: np.ndarray | Non
     else:
         dst[...] = hamilton(p, src)
     return out
+
+
+# --------------------------------------------------------------------------
+# linear maps of quaternions (the installation-error calibration's Eq 10)
+# --------------------------------------------------------------------------
+def apply_quat_matrix_trusted(q_matrix: np.ndarray, q: np.ndarray, normalize: bool = True) -> np.ndarray:
+    """``Q q`` of every quaternion ``q`` by a 4×4 matrix (stack), normalised (Eq 10 of the calibration).
+
+    The sign of ``q`` does not matter for the map (``Q(−q) = −Q q``); each ``q`` is aligned to
+    ``q0 ≥ 0`` first (the result's sign is then the one the least-squares fit was made with).
+    Trusts its inputs (the checks are :func:`mtcal.methods.quaternion_lsq.apply_error_matrix`'s).
+
+    Parameters
+    ----------
+    q_matrix : ndarray, shape (4, 4) or (..., 4, 4)
+        Float matrices without inf (a NaN matrix gives NaN rows).
+    q : ndarray, shape (..., N, 4)
+        Float64 unit quaternions (scalar-first) whose batch axes broadcast with ``q_matrix``'s.
+    normalize : bool
+        Rescale each result to unit norm (a general 4×4 map does not keep the norm).
+
+    Returns
+    -------
+    ndarray, shape (..., N, 4)
+        A new array: ``q_matrix @ q`` per row, divided by its norm (rows of norm below 1e-12 by
+        numpy's division).
+
+    Examples
+    --------
+    >>> q = quat_from_euler_zxy(np.zeros(2), np.zeros(2), np.radians([10.0, -20.0]))
+    >>> m = left_matrix(quat_from_euler_zxy(0.0, 0.0, np.radians(5.0)))
+    >>> np.degrees(euler_zxy_unchecked(apply_quat_matrix_trusted(m, q))[:, 2]).round(9).tolist()
+    [15.0, -15.0]
+    """
+    # the sign rule dot(q, [1, 0, 0, 0]) >= 0: for finite q, q0 + (±0) + (±0) + (±0) has the sign of q0
+    if q.dtype == np.float64 and q.size >= 4 * _KERNEL_MIN_ROWS:
+        flat = q.reshape(-1, 4)
+        flipped = np.empty(flat.shape)
+        _kernels().rotvec_prepare(flat, flipped, np.empty(flat.shape[0]))   # −q where q0 < 0, in one pass
+        q = flipped.reshape(q.shape)
+    else:
+        q = np.where(q[..., :1] < 0.0, -q, q)
+    mapped = q @ np.swapaxes(q_matrix, -1, -2)
+    if not normalize:
+        return mapped
+    if mapped.dtype == np.float64 and mapped.size >= 4 * _KERNEL_MIN_ROWS and mapped.flags.c_contiguous:
+        flat = mapped.reshape(-1, 4)
+        out, norm = np.empty_like(flat), np.empty(flat.shape[0])
+        _kernels().normalize2(flat, out, norm)     # q / |q| as below, row by row (rows of |q| < 1e-12 skipped)
+        small = ~(norm >= 1e-12)                   # NaN matrices give NaN rows: redone below, as numpy does
+        if np.any(small):
+            with np.errstate(invalid="ignore", divide="ignore"):
+                out[small] = flat[small] / norm[small, None]
+        return out.reshape(mapped.shape)
+    with np.errstate(invalid="ignore"):
+        return mapped / np.linalg.norm(mapped, axis=-1, keepdims=True)
+
+
+def _finite_angles(*angles: np.ndarray) -> None:
+    if not all(np.isfinite(a).all() for a in angles):
+        raise FloatingPointError("Eq 8 angles are not finite: a calibration matrix or attitude is NaN/inf")
+
+
+def mapped_pitch_trusted(q_matrix: np.ndarray, q: np.ndarray) -> np.ndarray:
+    """Eq 8 pitch (rad) of :func:`apply_quat_matrix_trusted` ``(q_matrix, q)``: the attitude after calibration.
+
+    ``euler_zxy_unchecked(apply_quat_matrix_trusted(q_matrix, q))[..., 1]``; a large float64 input
+    (T, N, 4) with finite matrices (T, 4, 4) in one compiled pass computing the pitch only (the
+    same operations, bit-identical); near gimbal lock or with a non-finite matrix, the expression
+    itself. Trusts its inputs (unit quaternions, as for :func:`apply_quat_matrix_trusted`).
+
+    Returns
+    -------
+    ndarray, shape (..., N)
+
+    Raises
+    ------
+    FloatingPointError
+        If a pitch is not finite (a NaN matrix or attitude).
+
+    Examples
+    --------
+    >>> q = quat_from_euler_zxy(np.zeros(2), np.radians([10.0, -20.0]), np.zeros(2))
+    >>> m = left_matrix(quat_from_euler_zxy(0.0, np.radians(5.0), 0.0))
+    >>> np.degrees(mapped_pitch_trusted(m, q)).round(9).tolist()
+    [15.0, -15.0]
+    """
+    q_matrix = np.asarray(q_matrix, float)
+    if (q.dtype == np.float64 and q.ndim == 3 and q.shape[0] * q.shape[1] >= _KERNEL_MIN_ROWS
+            and q_matrix.shape == (q.shape[0], 4, 4) and np.isfinite(q_matrix).all()):
+        out = np.empty(q.shape[:-1])
+        if _kernels().pitch_after(q, np.ascontiguousarray(q_matrix), _LOCK_SIN, out) == 0:
+            _finite_angles(out)
+            return out
+    euler = euler_zxy_unchecked(apply_quat_matrix_trusted(q_matrix, q))
+    _finite_angles(euler)
+    return euler[..., 1]

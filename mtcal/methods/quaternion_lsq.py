@@ -31,6 +31,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from mtcal.core import rotations
 from mtcal.core.validate import unit_quaternion
 
 __all__ = ["least_squares_error_matrix", "apply_error_matrix", "align_pairs"]
@@ -65,8 +66,6 @@ def _flip(q: np.ndarray, ref: np.ndarray) -> np.ndarray:
 
 
 _IDENTITY = np.array([1.0, 0.0, 0.0, 0.0])
-#: Rows from which :func:`_apply` normalises in one compiled pass.
-_KERNEL_MIN_ROWS = 2048
 
 
 def _align_pairs(q_s: np.ndarray, q_b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -152,46 +151,18 @@ def apply_error_matrix(q_matrix, q_sensor, *, normalize: bool = True) -> np.ndar
     q_mat = np.array(q_matrix, dtype=float)
     if q_mat.ndim < 2 or q_mat.shape[-2:] != (4, 4) or np.any(np.isinf(q_mat)):
         raise ValueError(f"q_matrix must be a finite 4x4 array or a stack (..., 4, 4), got shape {q_mat.shape}")
-    q_s = unit_quaternion(q_sensor, "q_sensor", copy=False)   # only read: _apply returns new arrays
+    q_s = unit_quaternion(q_sensor, "q_sensor", copy=False)   # only read: the map returns new arrays
     if q_mat.ndim > 2 and q_s.ndim < 2:
         raise ValueError(f"q_sensor must have shape (..., N, 4) for a stack of matrices, got {q_s.shape}")
     try:
         np.broadcast_shapes(q_s.shape[:-2], q_mat.shape[:-2])
     except ValueError:
         raise ValueError(f"q_matrix {q_mat.shape} and q_sensor {q_s.shape} batch axes do not match") from None
-    return _apply(q_mat, q_s, normalize)
+    return rotations.apply_quat_matrix_trusted(q_mat, q_s, normalize)
 
 
-def _apply(q_mat: np.ndarray, q_s: np.ndarray, normalize: bool = True) -> np.ndarray:
-    """Eq 10 on a checked matrix (stack) and checked (finite) unit quaternions (trusted twin of
-    :func:`apply_error_matrix`, for procedures that checked or made their inputs).
-
-    Preconditions: ``q_mat`` float (4, 4) or (..., 4, 4) without inf (NaN gives NaN rows);
-    ``q_s`` float64 unit quaternions (..., N, 4) whose batch axes broadcast with ``q_mat``'s.
-    """
-    # _flip(q_s, identity): for finite q, dot(q, [1, 0, 0, 0]) = q0 + (±0) + (±0) + (±0) has the sign of q0
-    if q_s.dtype == np.float64 and q_s.size >= 4 * _KERNEL_MIN_ROWS:
-        from mtcal.core._rotation_kernels import rotvec_prepare   # lazy: numba loads on the first large array
-
-        flat = q_s.reshape(-1, 4)
-        flipped = np.empty(flat.shape)
-        rotvec_prepare(flat, flipped, np.empty(flat.shape[0]))   # −q where q0 < 0, in one pass
-        q_s = flipped.reshape(q_s.shape)
-    else:
-        q_s = np.where(q_s[..., :1] < 0.0, -q_s, q_s)
-    q_b = q_s @ np.swapaxes(q_mat, -1, -2)
-    if not normalize:
-        return q_b
-    if q_b.dtype == np.float64 and q_b.size >= 4 * _KERNEL_MIN_ROWS and q_b.flags.c_contiguous:
-        from mtcal.core._rotation_kernels import normalize2   # lazy: numba loads on the first large array
-
-        flat = q_b.reshape(-1, 4)
-        out, norm = np.empty_like(flat), np.empty(flat.shape[0])
-        normalize2(flat, out, norm)                # q / |q| as below, row by row (rows of |q| < 1e-12 skipped)
-        small = ~(norm >= 1e-12)                   # NaN matrices give NaN rows: redone below, as numpy does
-        if np.any(small):
-            with np.errstate(invalid="ignore", divide="ignore"):
-                out[small] = flat[small] / norm[small, None]
-        return out.reshape(q_b.shape)
-    with np.errstate(invalid="ignore"):
-        return q_b / np.linalg.norm(q_b, axis=-1, keepdims=True)
+#: Eq 10 on a checked matrix (stack) and checked unit quaternions: the trusted twin of
+#: :func:`apply_error_matrix`, for procedures that checked or made their inputs. The map itself is core's
+#: (:func:`mtcal.core.rotations.apply_quat_matrix_trusted`, with its preconditions), where the compiled
+#: scoring passes of :mod:`mtcal.core.montecarlo` find it too.
+_apply = rotations.apply_quat_matrix_trusted

@@ -260,3 +260,52 @@ def test_channel_errors_leave_gimbal_lock_rows_and_a_zero_matrix_to_the_caller()
            np.full((2, 40, 3), np.nan)]
     bad = montecarlo.channel_errors_cs(q, q_mat, table, rotations._LOCK_SIN, 1, *out)
     assert bad == 1 + 40 and np.isnan(out[0][0, 5]) and np.isnan(out[2][1]).all() and np.isfinite(out[2][0, 6]).all()
+
+
+def test_channel_errors_before_after_is_the_compiled_pass_or_the_expressions(monkeypatch):
+    """One scoring call: the compiled pass where it applies (its outputs, bit for bit), else — a gimbal-lock
+    row, a small input — the expressions ``euler_zxy_unchecked`` of ``q`` and of Eq 10, ``angle_difference``."""
+    from mtcal.methods import quaternion_lsq
+
+    q, q_mat = _before_after_inputs(11)
+    ref = rotations.euler_zxy_unchecked(q[0]) + 0.01
+    out = [np.empty(q.shape[:-1]), np.empty(q.shape[:-1]), np.empty(q.shape[:-1] + (3,)),
+           np.empty(q.shape[:-1] + (3,))]
+    table = montecarlo.truth_table(ref[None])[0]
+    assert montecarlo.channel_errors_cs(q, q_mat, table, rotations._LOCK_SIN, 2, *out) == 0
+    before, after, errs = montecarlo.channel_errors_before_after(q, q_mat, ref, 2)
+    for x, y in zip((before, after, errs["before"], errs["after"]), out):
+        assert np.array_equal(x, y)
+    b = rotations.euler_zxy_unchecked(q)
+    a = rotations.euler_zxy_unchecked(quaternion_lsq.apply_error_matrix(q_mat, q))
+    q_lock = q.copy()
+    q_lock[1, 7] = rotations.quat_from_euler_zxy(0.1, np.pi / 2, 0.2)          # a row the compiled pass leaves
+    b_lock = rotations.euler_zxy_unchecked(q_lock)
+    a_lock = rotations.euler_zxy_unchecked(quaternion_lsq.apply_error_matrix(q_mat, q_lock))
+
+    def expressions(qq, bb, aa):
+        before, after, errs = montecarlo.channel_errors_before_after(qq, q_mat, ref, 2)
+        return (np.array_equal(before, bb[..., 2]) and np.array_equal(after, aa[..., 2])
+                and np.array_equal(errs["before"], metrics.angle_difference(bb, ref))
+                and np.array_equal(errs["after"], metrics.angle_difference(aa, ref)))
+
+    assert expressions(q_lock, b_lock, a_lock)                                  # the compiled pass left a row
+    monkeypatch.setattr(rotations, "_KERNEL_MIN_ROWS", 10 ** 12)              # a small input
+    assert expressions(q, b, a)
+    bad = q_mat.copy()
+    bad[0, 2, 2] = np.nan
+    with pytest.raises(FloatingPointError, match="Eq 8 angles are not finite"):
+        montecarlo.channel_errors_before_after(q, bad, ref, 2)
+
+
+def test_mapped_pitch_is_the_pitch_of_the_mapped_attitude():
+    from mtcal.methods import quaternion_lsq
+
+    q, q_mat = _before_after_inputs(13)
+    expected = rotations.euler_zxy_unchecked(quaternion_lsq.apply_error_matrix(q_mat, q))[..., 1]
+    assert np.array_equal(rotations.mapped_pitch_trusted(q_mat, q), expected)            # compiled pass
+    assert np.array_equal(rotations.mapped_pitch_trusted(q_mat[:1], q[:1, :100]), expected[:1, :100])  # expressions
+    bad = q_mat.copy()
+    bad[1, 0, 0] = np.inf
+    with pytest.raises(FloatingPointError, match="Eq 8 angles are not finite"):
+        rotations.mapped_pitch_trusted(bad, q)

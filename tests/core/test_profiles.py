@@ -96,3 +96,21 @@ def test_fixed_axis_imu_truth_bad_input(kwargs, match):
                 lever_arms_b_m=[[0.0, 0.0, 0.0]], accel0_m_s2=[0.0, 0.0, 9.8], dt_s=0.01)
     with pytest.raises(ValueError, match=match):
         profiles.fixed_axis_imu_truth(**{**args, **kwargs})
+
+
+def test_join_profiles_puts_parts_end_to_end_with_distinct_segments():
+    a = profiles.step_schedule(np.radians([[0.0, 0.0], [10.0, 0.0]]), np.radians(20.0), 1.0, 100.0)
+    b = profiles.step_schedule(np.radians([[0.0, 0.0], [0.0, -5.0], [0.0, 0.0]]), np.radians(20.0), 0.5, 100.0)
+    prof, spans = profiles.join_profiles([a, b, a])
+    assert [(s.start, s.stop) for s in spans] == [(0, a.time_s.size), (a.time_s.size, a.time_s.size + b.time_s.size),
+                                                  (a.time_s.size + b.time_s.size, prof.time_s.size)]
+    assert np.array_equal(prof.time_s, np.arange(prof.time_s.size) * (1.0 / a.fs_hz))
+    for part, span in zip((a, b, a), spans):
+        for k in ("angle_rad", "rate_rad_s", "accel_rad_s2", "is_static"):
+            assert np.array_equal(getattr(prof, k)[span], getattr(part, k))
+        assert np.array_equal(prof.segment[span] % 2, part.segment % 2)       # holds stay even, moves odd
+    assert len(prof.hold_slices()) == 2 + 3 + 2                                # every hold stays distinct
+    with pytest.raises(TypeError, match="parts must be a non-empty sequence of AngleProfile"):
+        profiles.join_profiles([])
+    with pytest.raises(TypeError, match="parts must be a non-empty sequence of AngleProfile"):
+        profiles.join_profiles([a, np.zeros(3)])

@@ -76,3 +76,16 @@ def test_apply_error_matrix_never_aliases_or_modifies_its_input():
         out = quaternion_lsq.apply_error_matrix(np.eye(4), q, normalize=normalize)
         assert not np.shares_memory(out, q) and np.array_equal(q, before)
         assert np.allclose(out, -before)
+
+
+def test_the_trusted_eq10_is_cores_map_and_equals_the_checked_one():
+    """Eq 10 lives once, in core (:func:`rotations.apply_quat_matrix_trusted`); ``_apply`` (the methods'
+    and systems' trusted entry) is that function, and ``apply_error_matrix`` checks, then calls it."""
+    assert quaternion_lsq._apply is rotations.apply_quat_matrix_trusted
+    rng = np.random.default_rng(8)
+    q = rng.normal(size=(2, 3000, 4))
+    q /= np.linalg.norm(q, axis=-1, keepdims=True)
+    mat = np.eye(4) + 0.01 * rng.normal(size=(2, 4, 4))
+    for normalize in (True, False):
+        assert (rotations.apply_quat_matrix_trusted(mat, q, normalize).tobytes()
+                == quaternion_lsq.apply_error_matrix(mat, q, normalize=normalize).tobytes())

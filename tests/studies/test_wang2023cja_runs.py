@@ -5,7 +5,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from mtcal.core import rotations
+from mtcal.core import montecarlo, rotations
 from mtcal.studies import wang2023cja as w
 
 
@@ -191,7 +191,7 @@ def test_compiled_pitch_and_sweep_angles_match_the_expressions():
     q_mat = np.eye(4) + 2e-3 * rng.normal(size=(3, 4, 4))
     ref = 0.3 * rng.normal(size=(1500, 3))
     after = runs._euler(quaternion_lsq.apply_error_matrix(q_mat, q))
-    assert np.array_equal(runs._pitch_after(q_mat, q), after[..., 1])
+    assert np.array_equal(rotations.mapped_pitch_trusted(q_mat, q), after[..., 1])
     before = runs._euler(q)
     from mtcal.core import metrics
 
@@ -201,7 +201,7 @@ def test_compiled_pitch_and_sweep_angles_match_the_expressions():
         return np.abs(metrics.angle_difference(x, y)).max()
 
     for chan in (0, 1, 2):     # the series pass: within its stated bound of the expressions
-        before_k, after_k, errs = runs._before_after(q, q_mat, ref, chan)
+        before_k, after_k, errs = montecarlo.channel_errors_before_after(q, q_mat, ref, chan)
         assert gap(before_k, before[..., chan]) <= ERROR_BOUND_RAD + np.spacing(np.pi)
         assert gap(after_k, after[..., chan]) <= ERROR_BOUND_RAD + np.spacing(np.pi)
         assert gap(errs["before"], metrics.angle_difference(before, ref)) <= ERROR_BOUND_RAD
@@ -214,7 +214,7 @@ def test_compiled_pitch_and_sweep_angles_match_the_expressions():
     bad = q_mat.copy()
     bad[1, 0, 0] = np.nan
     with pytest.raises(FloatingPointError, match="not finite"):
-        runs._pitch_after(bad, q)
+        rotations.mapped_pitch_trusted(bad, q)
 
 
 def test_windtunnel_trace_is_the_chosen_trial_and_changes_no_number():
@@ -393,15 +393,15 @@ def test_expression_paths_of_the_angles_equal_euler(monkeypatch):
     q = rotations.quat_normalize(np.array([1.0, 0.1, -0.05, 0.02]) + 0.2 * rng.normal(size=(2, 300, 4)))
     q_mat = np.eye(4) + 2e-3 * rng.normal(size=(2, 4, 4))
     after = runs._euler(quaternion_lsq.apply_error_matrix(q_mat, q))
-    before_k, after_k, _ = runs._before_after(q, q_mat, np.zeros((300, 3)), 1)
+    before_k, after_k, _ = montecarlo.channel_errors_before_after(q, q_mat, np.zeros((300, 3)), 1)
     assert np.array_equal(before_k, runs._euler(q)[..., 1]) and np.array_equal(after_k, after[..., 1])
-    assert np.array_equal(runs._pitch_after(q_mat, q), after[..., 1])
+    assert np.array_equal(rotations.mapped_pitch_trusted(q_mat, q), after[..., 1])
     bad = q_mat.copy()
     bad[0, 1, 1] = np.inf                  # refused: the trusted Eq 10 gives non-finite angles, caught after it
     with pytest.raises(FloatingPointError, match="Eq 8 angles are not finite"):
-        runs._pitch_after(bad, q)
+        rotations.mapped_pitch_trusted(bad, q)
     with pytest.raises(FloatingPointError, match="Eq 8 angles are not finite"):
-        runs._before_after(q, bad, np.zeros((300, 3)), 1)
+        montecarlo.channel_errors_before_after(q, bad, np.zeros((300, 3)), 1)
 
 
 def test_compliance_base_computes_its_attitude_on_first_use():

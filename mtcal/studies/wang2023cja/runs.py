@@ -31,15 +31,15 @@ import numpy as np
 
 from mtcal.core.cache import cached
 from mtcal.core.montecarlo import progress
-from mtcal.core import metrics, rotations
+from mtcal.core import metrics, montecarlo, rotations
 from mtcal.core.allocator import keep_freed_memory
-from mtcal.core.profiles import AngleProfile, step_schedule
+from mtcal.core.profiles import AngleProfile, join_profiles, step_schedule
 from mtcal.core.rng import child_rngs, stream_rng
 from mtcal.core.rotations import mount_quaternion, relative_to_initial
 from mtcal.core.simulate import ImuStream, fill_streams, noise_mismatch
 from mtcal.core.units import DEG, MG
 from mtcal.filters.qncf import qncf_trusted
-from mtcal.methods import quaternion_lsq, six_position
+from mtcal.methods import six_position
 from mtcal.systems import installation
 from .error_model import MOUNT_TYPE, PAPER_SIGN
 from .scenario import (SOURCES, TurntableScenario, WindTunnelScenario, _ComplianceBase, _compliant,
@@ -73,23 +73,6 @@ def _euler(q: np.ndarray) -> np.ndarray:
     return euler
 
 
-def _concat_profiles(parts: list[AngleProfile]) -> tuple[AngleProfile, list[slice]]:
-    """Join profiles end to end (each starts where the previous ended); return spans."""
-    dt = 1.0 / parts[0].fs_hz
-    fields_ = {k: [] for k in ("angle_rad", "rate_rad_s", "accel_rad_s2", "is_static", "segment")}
-    spans, n, seg0 = [], 0, 0
-    for p in parts:
-        for k in fields_:
-            v = getattr(p, k)
-            fields_[k].append(v + seg0 if k == "segment" else v)
-        spans.append(slice(n, n + p.time_s.size))
-        n += p.time_s.size
-        seg0 += int(p.segment.max()) + 2
-    t = np.arange(n) * dt
-    prof = AngleProfile(t, *(np.concatenate(fields_[k], axis=0) for k in fields_))
-    return prof, spans
-
-
 def _holds(prof: AngleProfile, span: slice, fraction: float) -> list[slice]:
     """Middle ``fraction`` of each hold inside ``span`` (evaluation windows, schedule known)."""
     seg = prof.segment[span]
@@ -119,7 +102,7 @@ def turntable_profile(sc: TurntableScenario, with_sweeps: bool) -> tuple[AnglePr
         parts.append(step_schedule(roll, sc.roll_rate_rad_s, np.r_[1.0, np.full(len(sc.roll_sweep_deg),
                                    sc.sweep_hold_s), 1.0], sc.fs_hz, min_move_s=0.5))
         names += ["aoa", "roll"]
-    prof, spans = _concat_profiles(parts)
+    prof, spans = join_profiles(parts)
     return prof, dict(zip(names, spans))
 
 
@@ -293,18 +276,20 @@ class _SharedTrajectories:
         return traj
 
 
-def _run_pieces(sc: TurntableScenario, prof: AngleProfile, spans: dict, pieces: list, with_sweeps: bool,
+def _run_pieces(sc: TurntableScenario, prof: AngleProfile, spans: dict, pieces: list, sweep_holds: dict | None,
                 traced: set, base: _ComplianceBase, buffers: dict, fill_groups: list) -> list[TurntableRun]:
-    """Simulate every piece ``(test, sources, rng, trials, fraction)``, run ONE stacked QNCF, finish each.
+    """Simulate every piece ``(test, sources, rng, trials, fraction)``, measure the session with ONE stacked
+    QNCF (:func:`_measure_session`), score each piece's sweeps.
 
     The QNCF cost is dominated by its loop over time, so stacking the pieces along the trial
     axis costs about one run; each piece keeps its own generator. The pieces are simulated
     straight into ``buffers`` (reused by every call of a run: no fresh 100 MB arrays per call),
-    which also keeps the profile's hold windows. The pieces of each list in ``fill_groups`` (a
+    which also keeps the sweeps' reference tables. The pieces of each list in ``fill_groups`` (a
     partition of the piece indices: the predictive kinds' pieces on one key) fill their records
     together (:func:`_fill_together`: the noise drawn once when shared). Groups are simulated and
-    pieces finished on :func:`_workers` threads (each its own generator and slice: the same numbers
-    for any count). Pieces in ``traced`` keep the sweeps' time series of their first trial.
+    pieces measured on :func:`_workers` threads (each its own generator and slice: the same numbers
+    for any count). ``sweep_holds`` (:func:`_sweep_holds`, None without the sweeps): the sweeps' hold
+    windows. Pieces in ``traced`` keep the sweeps' time series of their first trial.
     """
     total = sum(p[3] for p in pieces)
     if buffers.get("gyro") is None or buffers["gyro"].shape[0] < total:
@@ -345,46 +330,24 @@ def _run_pieces(sc: TurntableScenario, prof: AngleProfile, spans: dict, pieces: 
         return [(i, part[0]) for i, part in zip(group, parts)]
 
     rngs = dict(pair for done in _map(simulate, fill_groups) for pair in done)
-    # the records simulated above (float64 (T, N, 3), SI units, the scenario's dt_s): the trusted entry
-    res = qncf_trusted(gyro, accel, 1.0 / sc.fs_hz, sc.qncf, return_euler=False)
-    # the session zeroed once at its start (§4.1), in place from the verification run on: the
-    # calibration run stays as logged (zeroed by the procedure itself)
-    q_all = relative_to_initial(res.q_ws, out=res.q_ws, start=ver0)
-    del res
-    q_cal = q_all[:, spans["calibration"]]
     pos = six_position_reference(sc)
-
-    def finish(i):
-        _, sources, _, trials, fraction, sc = pieces[i]
-        rng_ref = rngs[i]
-        sl = slice(starts[i], starts[i + 1])
-        frac = _fraction(pieces[i])
-        on = "reference_angle" in sources
-        e_cal = _draws(rng_ref, trials, 6, sc.reference_angle_sigma_rad, on)
-        e_ver = _draws(rng_ref, trials, 6, sc.reference_angle_sigma_rad, on)
-        # the procedure is fed the commanded reference; the turntable stood at command + e_cal
-        cal = calibration_step(sc, q_cal[sl], gyro[sl, spans["calibration"]], pos - e_cal, frac)
-        # the verification run: the same procedure with Q̂ given (the session is already zeroed at its start)
-        ver = installation.verify_installation(
-            installation.InstallationConfig.monte_carlo(frac, zero_at_first_sample=False), cal.q_hat, pos,
-            sc.imu.dt_s, q_ws=q_all[sl, spans["verification"]], gyro_rad_s=gyro[sl, spans["verification"]])
-        run = TurntableRun(cal.q_hat, cal.euler_before_rad, cal.euler_after_rad, ver.euler_before_rad,
-                           ver.euler_after_rad, pos, -e_cal, -e_ver)
-        if not with_sweeps:
-            return run, None
-        # the sweeps' turntable angle errors at their holds, drawn next from the piece's generator
-        return run, {name: _draws(rng_ref, trials, len(_sweep_holds(prof, spans, name, frac, buffers)),
-                                  sc.reference_angle_sigma_rad, on)[..., chan_mean] for name, chan_mean, _ in _SWEEPS}
-
-    runs, hold_errors = zip(*_map(finish, list(range(len(pieces)))))
-    runs = list(runs)
-    if with_sweeps:
+    draws = [_reference_draws(piece, rngs[i], sweep_holds) for i, piece in enumerate(pieces)]
+    # the procedure is fed the commanded reference; the turntable stood at command + e_cal
+    q_all, measured = _measure_session(sc, gyro, accel, spans, pos, [
+        (slice(starts[i], starts[i + 1]), pos - e_cal, _fraction(piece))
+        for i, (piece, (e_cal, _, _)) in enumerate(zip(pieces, draws))])
+    runs = [TurntableRun(cal.q_hat, cal.euler_before_rad, cal.euler_after_rad, ver.euler_before_rad,
+                         ver.euler_after_rad, pos, -e_cal, -e_ver)
+            for (cal, ver), (e_cal, e_ver, _) in zip(measured, draws)]
+    hold_errors = [errors for _, _, errors in draws]
+    if sweep_holds is not None:
         # the sweeps of consecutive pieces that share their settings in one pass each (rows independent:
         # the same numbers as piece by piece), the groups spread over the threads
         groups = _sweep_groups(pieces, starts, _workers(), traced)
         done = _map(lambda g: _evaluate_sweeps(
             prof, spans, q_all[starts[g[0]]:starts[g[-1] + 1]],
-            np.concatenate([runs[i].q_matrix for i in g], axis=0), _fraction(pieces[g[0]]),
+            np.concatenate([runs[i].q_matrix for i in g], axis=0),
+            {name: sweep_holds[name, _fraction(pieces[g[0]])] for name, _, _ in _SWEEPS},
             {name: np.concatenate([hold_errors[i][name] for i in g], axis=0) for name, _, _ in _SWEEPS},
             g[0] in traced, buffers), groups)
         for g, (sweeps, trace) in zip(groups, done):
@@ -394,6 +357,68 @@ def _run_pieces(sc: TurntableScenario, prof: AngleProfile, spans: dict, pieces: 
                                   for name, d in sweeps.items()}
                 runs[i].trace = trace if i in traced else {}
     return runs
+
+
+def _reference_draws(piece, rng_ref: np.random.Generator, sweep_holds: dict | None) -> tuple:
+    """A piece's turntable angle errors (truth − command), drawn in this order from its own generator: at the
+    calibration run's rests (T, 6, 3), at the verification run's (T, 6, 3), then — with the sweeps — at each
+    sweep's holds (T, holds) of the averaged channel (else None)."""
+    _, sources, _, trials, _, sc = piece
+    on = "reference_angle" in sources
+    e_cal = _draws(rng_ref, trials, 6, sc.reference_angle_sigma_rad, on)
+    e_ver = _draws(rng_ref, trials, 6, sc.reference_angle_sigma_rad, on)
+    if sweep_holds is None:
+        return e_cal, e_ver, None
+    frac = _fraction(piece)
+    return e_cal, e_ver, {name: _draws(rng_ref, trials, len(sweep_holds[name, frac]), sc.reference_angle_sigma_rad,
+                                       on)[..., chan_mean] for name, chan_mean, _ in _SWEEPS}
+
+
+def _measure_session(sc: TurntableScenario, gyro_rad_s, accel_m_s2, spans: dict, reference_rad, blocks: list) -> tuple:
+    """The session's measurement of stacked records: the QNCF, the calibration run, the verification run.
+
+    One QNCF over every trial (its cost is the loop over time), the session zeroed once at its start
+    (§4.1) in place from the verification run on (the calibration run stays as logged: the procedure
+    zeroes it itself); then, block by block of trials (on :func:`_workers` threads), the six-position
+    calibration of the calibration run (:func:`calibration_step`) and the verification run with Q̂ given
+    (:func:`mtcal.systems.installation.verify_installation`). The seam of the installation system's
+    session procedure (QNCF, calibration and verification in one call).
+
+    Parameters
+    ----------
+    sc : TurntableScenario
+        The QNCF settings and the sample interval (the pieces' scenarios differ in their error model
+        and installation angles only).
+    gyro_rad_s, accel_m_s2 : ndarray (T, N, 3)
+        The session's records, simulated by the caller (float64, SI units): the QNCF's trusted entry.
+    spans : dict
+        ``"calibration"``, ``"verification"``: the runs' samples (:func:`turntable_profile`).
+    reference_rad : ndarray (6, 3)
+        The positions the verification is measured against (rad, Eq 8 frame).
+    blocks : list of (slice, ndarray (t, 6, 3), float)
+        Each block's trial rows, the reference fed to its calibration and its averaging fraction.
+
+    Returns
+    -------
+    q_all : ndarray (T, N, 4)
+        The session's QNCF attitude (zeroed from the verification run on).
+    measured : list of (InstallationCalibration, InstallationCalibration)
+        Per block: the calibration and the verification.
+    """
+    res = qncf_trusted(gyro_rad_s, accel_m_s2, 1.0 / sc.fs_hz, sc.qncf, return_euler=False)
+    q_all = relative_to_initial(res.q_ws, out=res.q_ws, start=spans["verification"].start)
+    del res
+    cal_run, ver_run = spans["calibration"], spans["verification"]
+
+    def measure(block):
+        rows, fed_rad, fraction = block
+        cal = calibration_step(sc, q_all[rows, cal_run], gyro_rad_s[rows, cal_run], fed_rad, fraction)
+        ver = installation.verify_installation(
+            installation.InstallationConfig.monte_carlo(fraction, zero_at_first_sample=False), cal.q_hat,
+            reference_rad, sc.imu.dt_s, q_ws=q_all[rows, ver_run], gyro_rad_s=gyro_rad_s[rows, ver_run])
+        return cal, ver
+
+    return q_all, _map(measure, blocks)
 
 
 #: The sweeps of a T1 session: (name, channel averaged at the holds, channels whose errors are scored).
@@ -419,14 +444,12 @@ def _sweep_groups(pieces, starts, parts: int, traced=()) -> list[list[int]]:
     return groups + [cur]
 
 
-def _sweep_holds(prof, spans, name: str, frac: float, shared: dict) -> list[slice]:
-    """Hold windows of sweep ``name`` relative to its span (first and last hold dropped), found once per
-    ``shared`` (a dict the caller keeps for one profile)."""
-    key = ("sweep holds", name, frac)
-    if key not in shared:
-        span = spans[name]
-        shared[key] = [slice(h.start - span.start, h.stop - span.start) for h in _holds(prof, span, frac)][1:-1]
-    return shared[key]
+def _sweep_holds(prof: AngleProfile, spans: dict, fractions) -> dict:
+    """Hold windows of each sweep relative to its span (first and last hold dropped), per averaging
+    fraction: ``{(name, fraction): [slice, …]}``, found once for a session profile."""
+    return {(name, frac): [slice(h.start - spans[name].start, h.stop - spans[name].start)
+                           for h in _holds(prof, spans[name], frac)][1:-1]
+            for frac in dict.fromkeys(fractions) for name, _, _ in _SWEEPS}
 
 
 def calibration_step(sc: TurntableScenario | WindTunnelScenario, q_ws, gyro_rad_s, reference_rad,
@@ -587,11 +610,13 @@ def run_turntable_jobs_kinds(sc: TurntableScenario, kinds_jobs: list, *, with_sw
         count += n_kinds * piece[3]
     per_job = [[[] for _ in jobs] for jobs in kinds_jobs]
     base = _ComplianceBase(prof.angle_rad)       # shared by every piece (only the compliance differs)
+    sweep_holds = (_sweep_holds(prof, spans, [_fraction(piece) for kind in pieces for _, piece in kind])
+                   if with_sweeps else None)
     buffers = {}
     for c, call in enumerate(progress(calls, desc="turntable Monte Carlo")):
         n = len(call)                            # kind-major: the call's pieces of kind 0, then of kind 1, …
         items = [(m, pieces[m][p]) for m in range(n_kinds) for p in call]
-        runs = _run_pieces(sc, prof, spans, [piece for _, (_, piece) in items], with_sweeps,
+        runs = _run_pieces(sc, prof, spans, [piece for _, (_, piece) in items], sweep_holds,
                            {m * n for m in range(n_kinds)} if keep_trace and c == 0 else set(), base, buffers,
                            [[m * n + k for m in range(n_kinds)] for k in range(n)])
         for (m, (i, _)), run in zip(items, runs):
@@ -617,82 +642,27 @@ def _job_pieces(sc: TurntableScenario, jobs: list, block: int) -> list:
     return pieces
 
 
-def _before_after(q_s, q_mat, ref, chan: int, table=None) -> tuple[np.ndarray, np.ndarray, dict]:
-    """Eq 8 angle ``chan`` of ``q_s`` (T, n, 4) before and after Eq 10 with ``q_mat`` ((T, n) each), and the
-    wrapped errors of all three angles from ``ref`` ((T, n, 3) each).
-
-    ``_euler(q_s)[..., chan]``, ``_euler(apply_error_matrix(q_mat, q_s))[..., chan]`` and
-    ``metrics.angle_difference`` of the full angles. A large float64 input takes one compiled pass
-    (:func:`mtcal.core.montecarlo.channel_errors_cs`): each error the angle of the estimate's Eq 8 vector
-    rotated back by the reference — for a converged filter a degree-9 series, no atan2/asin — and each angle
-    reference + error, within ``montecarlo.ERROR_BOUND_RAD`` (4e-15 rad) of these expressions (tested);
-    ``table`` is ``montecarlo.truth_table(ref[None])[0]`` when the caller has it. Near gimbal lock or with
-    a non-finite matrix, the expressions themselves.
-    """
-    q_mat = np.asarray(q_mat, float)
-    if (q_s.dtype == np.float64 and q_s.ndim == 3 and q_s.shape[0] * q_s.shape[1] >= rotations._KERNEL_MIN_ROWS
-            and q_mat.shape == (q_s.shape[0], 4, 4) and np.isfinite(q_mat).all()):
-        from mtcal.core import montecarlo
-
-        before, after = np.empty(q_s.shape[:-1]), np.empty(q_s.shape[:-1])
-        err_b, err_a = np.empty(q_s.shape[:-1] + (3,)), np.empty(q_s.shape[:-1] + (3,))
-        if table is None:
-            table = montecarlo.truth_table(np.ascontiguousarray(ref, dtype=float)[None])[0]
-        if montecarlo.channel_errors_cs(q_s, np.ascontiguousarray(q_mat), table, rotations._LOCK_SIN, int(chan),
-                                        before, after, err_b, err_a) == 0:
-            if not (np.isfinite(err_b).all() and np.isfinite(err_a).all()):
-                raise FloatingPointError("Eq 8 angles are not finite: a calibration matrix or attitude of this run "
-                                         "is NaN/inf")
-            return before, after, {"before": err_b, "after": err_a}
-    # _euler of both, written out (one finiteness check of the two)
-    q_s = np.asarray(q_s, dtype=float)             # the QNCF's unit quaternions: Eq 10 without re-checking them
-    after = quaternion_lsq._apply(q_mat, q_s)
-    before = rotations.euler_zxy_unchecked(q_s)
-    after = rotations.euler_zxy_unchecked(after)
-    if not (np.isfinite(before).all() and np.isfinite(after).all()):
-        raise FloatingPointError("Eq 8 angles are not finite: a calibration matrix or attitude of this run is NaN/inf")
-    ref = np.asarray(ref, dtype=float)
-    return before[..., chan], after[..., chan], {"before": metrics.angle_difference_trusted(before, ref),
-                                                 "after": metrics.angle_difference_trusted(after, ref)}
-
-
-def _pitch_after(q_mat, q_s) -> np.ndarray:
-    """``_euler(apply_error_matrix(q_mat, q_s))[..., 1]`` (T, n): a large float64 input in one compiled pass
-    computing the pitch only (the same operations, bit-identical); near gimbal lock or with a
-    non-finite matrix, the expression itself."""
-    q_mat = np.asarray(q_mat, float)
-    if (q_s.dtype == np.float64 and q_s.ndim == 3 and q_s.shape[0] * q_s.shape[1] >= rotations._KERNEL_MIN_ROWS
-            and q_mat.shape == (q_s.shape[0], 4, 4) and np.isfinite(q_mat).all()):
-        from mtcal.core._rotation_kernels import pitch_after
-
-        out = np.empty(q_s.shape[:-1])
-        if pitch_after(q_s, np.ascontiguousarray(q_mat), rotations._LOCK_SIN, out) == 0:
-            if not np.isfinite(out).all():
-                raise FloatingPointError("Eq 8 angles are not finite: a calibration matrix or attitude of this run "
-                                         "is NaN/inf")
-            return out
-    q_after = quaternion_lsq._apply(q_mat, q_s)                      # the trusted Eq 10, then _euler written out
-    euler = rotations.euler_zxy_unchecked(q_after)
-    if not np.isfinite(euler).all():
-        raise FloatingPointError("Eq 8 angles are not finite: a calibration matrix or attitude of this run is NaN/inf")
-    return euler[..., 1]
-
-
 def _maxae_rmse(err) -> tuple[np.ndarray, np.ndarray]:
     """``metrics.max_abs_error(err, axis=-1)`` and ``metrics.rmse(err, axis=-1)`` of finite errors (T, n).
 
-    The errors of :func:`_before_after` are finite (checked there), so the NaN handling of the
-    metrics (a validated copy, a NaN mask, a second copy) changes nothing: ``max(|e|)`` and
-    ``sqrt(mean(e²))`` over the same contiguous ``e²`` are the same numbers (tested).
+    The errors of :func:`mtcal.core.montecarlo.channel_errors_before_after` are finite (checked there),
+    so the NaN handling of the metrics (a validated copy, a NaN mask, a second copy) changes nothing:
+    ``max(|e|)`` and ``sqrt(mean(e²))`` over the same contiguous ``e²`` are the same numbers (tested).
     """
     return np.max(np.abs(err), axis=-1), np.sqrt(np.mean(err**2, axis=-1))
 
 
-def _evaluate_sweeps(prof, spans, q_s, q_mat, frac, hold_errors, keep_trace, shared=None):
+def _hold_means(angle_rad: np.ndarray, holds: list) -> np.ndarray:
+    """Each trial's mean angle over each hold window: (T, N) → (T, holds)."""
+    return np.stack([angle_rad[:, h].mean(axis=1) for h in holds], axis=1)
+
+
+def _evaluate_sweeps(prof, spans, q_s, q_mat, holds, hold_errors, keep_trace, shared=None):
     """Hold means (with a turntable angle error per hold) and MaxAE/RMSE of the coupled channels.
 
-    ``hold_errors``: sweep name → (T, holds) turntable angle error of the averaged channel at each
-    hold (rad). ``shared``: a dict kept by the caller for one profile (the hold windows are found once).
+    ``holds``: sweep name → its hold windows (:func:`_sweep_holds`). ``hold_errors``: sweep name →
+    (T, holds) turntable angle error of the averaged channel at each hold (rad). ``shared``: a dict
+    kept by the caller for one profile (the reference angles' cosines and sines are found once).
     """
     shared = {} if shared is None else shared
     truth = prof.angle_rad
@@ -702,15 +672,13 @@ def _evaluate_sweeps(prof, spans, q_s, q_mat, frac, hold_errors, keep_trace, sha
         ref = truth[span]
         key = ("sweep truth table", name)
         if key not in shared:                  # the reference angles' cosines and sines, once per profile
-            from mtcal.core.montecarlo import truth_table
-            shared[key] = truth_table(np.ascontiguousarray(ref)[None])[0]
-        before, after, errs = _before_after(q_s[:, span], q_mat, ref, chan_mean, shared[key])
-        holds = _sweep_holds(prof, spans, name, frac, shared)
+            shared[key] = montecarlo.truth_table(np.ascontiguousarray(ref)[None])[0]
+        before, after, errs = montecarlo.channel_errors_before_after(q_s[:, span], q_mat, ref, chan_mean, shared[key])
         e = hold_errors[name]
         sweeps[name] = {
-            "reference": np.array([ref[h, chan_mean].mean() for h in holds]),
-            "before_mean": np.stack([before[:, h].mean(axis=1) for h in holds], axis=1) - e,
-            "after_mean": np.stack([after[:, h].mean(axis=1) for h in holds], axis=1) - e,
+            "reference": np.array([ref[h, chan_mean].mean() for h in holds[name]]),
+            "before_mean": _hold_means(before, holds[name]) - e,
+            "after_mean": _hold_means(after, holds[name]) - e,
         }
         for state, est in (("before", before), ("after", after)):
             err = errs[state]
@@ -1010,7 +978,7 @@ def _wt_setup(sc: WindTunnelScenario, rng: np.random.Generator, trials: int, sou
         cal_prof = six_position.schedule_profile(pos, rate_rad_s=5 * DEG, rest_s=sc.rest_s, fs_hz=sc.fs_hz)
         aoa_prof = step_schedule(aoa_wp, sc.mechanism_rate_rad_s, aoa_holds_s, sc.fs_hz, min_move_s=0.5)
         by_rate = {r: step_schedule(won_wp, r, won_holds_s, sc.fs_hz, min_move_s=0.5) for r in dict.fromkeys(won_rates)}
-        return (*_concat_profiles([cal_prof, aoa_prof]), tuple(by_rate[r] for r in won_rates))
+        return (*join_profiles([cal_prof, aoa_prof]), tuple(by_rate[r] for r in won_rates))
     prof, spans, won_profs = _shared_profile(
         ("wind tunnel session", _key(pos), float(sc.rest_s), float(sc.fs_hz), _key(sc.aoa_sweep_deg),
          float(sc.mechanism_rate_rad_s), float(sc.hold_s), _key(sc.wind_on_sweep_deg), float(sc.group5_rate_rad_s),
@@ -1044,11 +1012,10 @@ def _wt_nowind(b: _WindTunnelBlock, gyro, accel, sources, keep_trace: bool, trac
     cal = calibration_step(sc, q_cal, gyro[:, spans["calibration"]], b.pos + b.ref_err, frac)
     q_mat = cal.q_hat
     cmd = b.prof.angle_rad[span]
-    before, after, errs = _before_after(q_s[:, span], q_mat, cmd, 1)
+    before, after, errs = montecarlo.channel_errors_before_after(q_s[:, span], q_mat, cmd, 1)
     holds = b.holds
     nowind = {"reference": np.array([cmd[h, 1].mean() for h in holds]),
-              "before_mean": np.stack([before[:, h].mean(axis=1) for h in holds], axis=1),
-              "after_mean": np.stack([after[:, h].mean(axis=1) for h in holds], axis=1)}
+              "before_mean": _hold_means(before, holds), "after_mean": _hold_means(after, holds)}
     for state in ("before", "after"):
         err = errs[state]
         for c in (2, 0):
@@ -1090,7 +1057,7 @@ def _vibration_accel(sc, t, ramp, vib, shared, g) -> np.ndarray:
             and (hit[2] is t or np.array_equal(hit[2], t)) and np.array_equal(hit[3], ramp)):
         return hit[4]
     # with fewer temporaries than the expression (the same operations)
-    shake = np.add(2 * np.pi * sc.vibration_freq_hz * t[None, :, None], vib)
+    shake = 2 * np.pi * sc.vibration_freq_hz * t[None, :, None] + vib
     np.sin(shake, out=shake)
     shake *= ramp[None, :, None] * sc.vibration_accel_m_s2
     if shared is not None:
@@ -1185,7 +1152,7 @@ def _wind_on_measure(sc, q_mat, groups, trials, trace, keep_trace, trace_index, 
         sl = slice(g * trials, (g + 1) * trials)
         q_g = q_s[sl]
         for j, h in enumerate(groups[g].holds):
-            means[g, :, j] = _pitch_after(q_rep[sl], q_g[:, h]).mean(axis=1)
+            means[g, :, j] = rotations.mapped_pitch_trusted(q_rep[sl], q_g[:, h]).mean(axis=1)
         if not keep_trace:
             continue
         if g == 0:
@@ -1193,9 +1160,8 @@ def _wind_on_measure(sc, q_mat, groups, trials, trace, keep_trace, trace_index, 
             trace["gate"] = res.gate[trace_index, :prof.time_s.size]
         trace[f"wind_time_s_{g}"] = prof.time_s.copy()            # the profile is shared (read-only)
         trace[f"wind_reference_{g}"] = prof.angle_rad[:, 1].copy()
-        q_after = quaternion_lsq._apply(q_rep[sl][trace_index:trace_index + 1],    # the QNCF's own quaternions,
-                                        q_g[trace_index:trace_index + 1, :prof.time_s.size])   # finite Q̂ (above)
-        trace[f"wind_pitch_{g}"] = rotations.euler_zxy_unchecked(q_after)[0, :, 1]
+        trace[f"wind_pitch_{g}"] = rotations.mapped_pitch_trusted(      # the QNCF's own quaternions, finite Q̂
+            q_rep[sl][trace_index:trace_index + 1], q_g[trace_index:trace_index + 1, :prof.time_s.size])[0]
     return {"reference": ref, "group_means": means, "elastic_corrected": elastic_corrected,
             "gate_fraction_on": float(res.gate[:, int(lead_s * sc.fs_hz):].mean()),
             "gate_fraction_on_trials": res.gate[:, int(lead_s * sc.fs_hz):].reshape(5, trials, -1).mean(axis=(0, 2))}
