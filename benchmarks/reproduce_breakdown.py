@@ -63,7 +63,7 @@ RULES = (
     ("simulation", "wang2023cja runs: truth, compliance", "mtcal/studies/wang2023cja/runs.py",
      ("simulate", "_simulate_into", "_compliant", "load_tilt_outputs", "_wt_schedule_build")),
     ("metrics", "wang2023cja runs: Eq 8 before/after", "mtcal/studies/wang2023cja/runs.py",
-     ("_before_after", "_pitch_after", "_maxae_rmse", "_evaluate_sweeps", "_euler", "position_errors_deg")),
+     ("_maxae_rmse", "_evaluate_sweeps", "_hold_means", "_euler", "position_errors_deg")),
     ("simulation", "core.simulate", "mtcal/core/simulate.py", None),
     ("simulation", "core.rng / philox", "mtcal/core/rng.py", None),
     ("simulation", "core.rng / philox", "mtcal/core/philox.py", None),
