@@ -189,8 +189,9 @@ class AttitudeConfig:
         How rests are found when :func:`estimate_attitude` is not given them.
     check_units : bool
         Check the gyro's units and time base against the accelerometer once
-        (:func:`mtcal.systems.plausibility.check_units`); False: the QNCF runs its own tilt-rate check
-        (:func:`mtcal.filters.qncf.qncf`, a scale off by > 5× refused).
+        (:func:`mtcal.systems.plausibility.check_units`); False: only the tilt-rate scan the QNCF's public
+        edge runs on a record (:func:`mtcal.methods.tilt_rate.check_tilt_rate_scale`: a scale off by > 5×
+        refused, a gyro tilt above 5× the accelerometer's warns), once, before the trusted filter.
 
     Examples
     --------
@@ -426,10 +427,12 @@ def _attitude_trusted(g: np.ndarray, a: np.ndarray, dt: float, weights: np.ndarr
         chk = plausibility.check_units(filter_gyro, a, dt, rep.rests, time_s=time_s, skip=skip,
                                        unit_stated=unit_stated)
     if setup is not None:
-        from mtcal.filters.qncf import qncf, qncf_trusted
+        from mtcal.filters.qncf import qncf_trusted
+        from mtcal.methods.tilt_rate import check_tilt_rate_scale
 
-        run = qncf_trusted if config.check_units else qncf   # unchecked: the filter's own tilt-rate check
-        q = run(setup.gyro_rad_s, a, dt, setup.params, q0=setup.q0, return_euler=False).q_ws
+        if not config.check_units:   # no units check: the tilt-rate scan the QNCF's public edge runs on a record
+            check_tilt_rate_scale(setup.gyro_rad_s, a, dt, excess="warn")
+        q = qncf_trusted(setup.gyro_rad_s, a, dt, setup.params, q0=setup.q0, return_euler=False).q_ws
         return AttitudeResult(q, rep, setup, chk, "")
     runner = _library_vqf if config.filter in ("vqf", "basicvqf") else _registry_filter
     q, gain_text = runner(config.filter, np.ascontiguousarray(filter_gyro), np.ascontiguousarray(a), dt)
