@@ -3,9 +3,10 @@
 A procedure here strings the methods and filters together the way a paper's
 measurement does (attitude → rests → fit → plausibility gates → result), and is
 called identically by the studies, the sweeps and the CLI, so the notebooks
-validate the very code path the ``mtcal`` command ships. A procedure validates
-its inputs once at its public edge and passes trusted arrays to the methods'
-private internals. It imports from ``core``, ``methods`` and ``filters`` only;
+validate the very code path the ``mtcal`` command ships. A procedure takes one
+frozen config plus the arrays, validates them once at its public edge and calls
+the methods and filters below, which trust their inputs (each states its
+Preconditions). It imports from ``core``, ``methods`` and ``filters`` only;
 ``studies``, ``sweep`` and ``cli`` import it.
 
 * :mod:`~mtcal.systems.installation` — six-position installation-error
