@@ -561,7 +561,9 @@ def _session_record(gyro_rad_s, accel_m_s2, dt_s, calibration_run, verification_
     if verification_run is not None and reference_rad is None:
         raise ValueError("a verification run needs reference_rad: the positions it is measured against")
     # the references and their Eq 9 attitudes (K >= 4): each piece's, then the verification's
-    sources = [(piece.reference_rad, (2, 3)) for piece in pieces] + [(reference_rad, 2)] * (verification_run is not None)
+    sources = [(piece.reference_rad, (2, 3)) for piece in pieces]
+    if verification_run is not None:
+        sources.append((reference_rad, 2))
     refs = [_references(positions, ndim=ndim) for positions, ndim in sources]
     ver_refs = refs.pop() if verification_run is not None else None
     gyro, accel = float64_array(gyro_rad_s, "gyro_rad_s"), float64_array(accel_m_s2, "accel_m_s2")
@@ -571,13 +573,14 @@ def _session_record(gyro_rad_s, accel_m_s2, dt_s, calibration_run, verification_
     dt = sample_interval(dt_s)
     fractions = [positive_scalar(piece.fraction, "a piece's fraction") for piece in pieces]
     trials, n = gyro.shape[:2]
-    runs = [(calibration_run, n, "calibration_run"), (verification_run, n, "verification_run")]
-    for run, size, name in runs[:1 + (verification_run is not None)] + [(p.rows, trials, "a piece's rows")
-                                                                          for p in pieces]:
+    spans = [(calibration_run, "calibration_run", n, "samples")]
+    if verification_run is not None:
+        spans.append((verification_run, "verification_run", n, "samples"))
+    spans += [(piece.rows, "a piece's rows", trials, "trials") for piece in pieces]
+    for run, name, size, unit in spans:
         if (not isinstance(run, slice) or run.step not in (None, 1) or run.start is None or run.stop is None
                 or not 0 <= run.start < run.stop <= size):
-            raise ValueError(f"{name} must be a slice (start < stop, step 1) within the {size} "
-                             f"{'trials' if size == trials and name.endswith('rows') else 'samples'} of the "
+            raise ValueError(f"{name} must be a slice (start < stop, step 1) within the {size} {unit} of the "
                              f"records, got {run!r}")
     checked = []
     for piece, (pos, q_ref), fraction in zip(pieces, refs, fractions):
@@ -598,8 +601,9 @@ def measure_session(config: InstallationConfig, gyro_rad_s, accel_m_s2, dt_s: fl
 
     The session's measurement in a turntable or wind-tunnel Monte Carlo (wang2023cja §3.2, §4.1):
     one QNCF over every trial (its cost is the loop over time, so a stack of T trials costs about one
-    run), the session zeroed once at its first sample (§4.1, in place: no copy); then, piece by piece (a block of
-    trial rows with the reference fed to its calibration and its averaging fraction), the six-position
+    run), the session zeroed once at its first sample (§4.1, ``config.zero_at_first_sample``; in place: no
+    copy); then, piece by piece (a block of trial rows with the reference fed to its calibration and its
+    averaging fraction), the six-position
     calibration of the calibration run (Eq 13, as :func:`calibrate_installation` with rests found from
     the gyro) and, with ``verification_run``, that run measured with Q̂ given
     (:func:`verify_installation`): one methods-level call per piece
