@@ -82,7 +82,8 @@ from mtcal.core.validate import (STANDARD_GRAVITY_M_S2, as_float_array, positive
 
 __all__ = ["Trajectory", "SensorErrors", "ImuErrorModel", "ImuRecord", "ImuStream", "body_rates",
            "specific_force", "simulate_imu", "apply_sensor_errors", "integrate_gyro", "tilted_trajectory",
-           "TiltedTrajectories", "GRAVITY_W_M_S2", "fill_streams", "noise_mismatch"]
+           "TiltedTrajectories", "GRAVITY_W_M_S2", "fill_streams", "fill_streams_grouped", "noise_mismatch",
+           "load_tilt_outputs"]
 
 #: Default world gravity vector, z-up frame (m/s²).
 GRAVITY_W_M_S2 = (0.0, 0.0, -STANDARD_GRAVITY_M_S2)
@@ -1447,6 +1448,97 @@ def simulate_imu(trajectory: Trajectory, model: ImuErrorModel | None = None,
     """
     stream = ImuStream(trajectory, model, rng, trials, gravity_w_m_s2, engine=engine, trial_ids=trial_ids)
     return next(stream.chunks(len(trajectory)))
+
+
+def fill_streams_grouped(streams, outputs) -> None:
+    """:meth:`ImuStream.fill` of every stream, those that share their noise with an earlier one
+    (:func:`noise_mismatch` is None) together (:func:`fill_streams`: the noise drawn once): ``outputs[m]``
+    equals ``streams[m].fill(*outputs[m])`` bit for bit.
+
+    Parameters
+    ----------
+    streams : sequence of ImuStream
+        Fresh streams (not yet filled or chunked).
+    outputs : sequence of (gyro_out, accel_out)
+        Per stream, C-contiguous float64 arrays (T, N, 3) (rad/s, m/s²).
+
+    Examples
+    --------
+    >>> from mtcal.core.rng import stream_rng
+    >>> t = np.arange(0, 1, 0.01)
+    >>> traj = Trajectory(t, np.tile([1.0, 0, 0, 0], (t.size, 1)))
+    >>> noisy = ImuErrorModel(gyro=SensorErrors(noise_density=1e-3), accel=SensorErrors(noise_density=1e-3))
+    >>> outs = [(np.empty((2, t.size, 3)), np.empty((2, t.size, 3))) for _ in range(3)]
+    >>> fill_streams_grouped([ImuStream(traj, noisy, stream_rng(1, k), trials=2) for k in (0, 0, 1)], outs)
+    >>> bool(np.array_equal(outs[0][0], outs[1][0])), bool(np.array_equal(outs[0][0], outs[2][0]))
+    (True, False)
+    """
+    groups = []
+    for stream, out in zip(streams, outputs):
+        for group in groups:
+            if noise_mismatch(group[0][0], stream) is None:
+                group.append((stream, out))
+                break
+        else:
+            groups.append([(stream, out)])
+    for group in groups:
+        fill_streams(*zip(*group))
+
+
+def load_tilt_outputs(gyro_rad_s, accel_m_s2, q_wb, dt_s: float, q_mount, tilt_rad) -> None:
+    """Add, in place, a per-trial mount tilt proportional to the load normal to the mount plate.
+
+    The installation tilts by ``δ(t) = tilt · s(t)`` (body axes, rad) with ``s = −ĝ_z`` the
+    normal load in g (1 when level, 0 at roll ±90°). To first order in δ the sensor then reads
+    ``f' = f − δ_s × f`` and ``ω' = ω − δ_s × ω + δ̇_s`` (``δ_s`` in sensor axes).
+
+    Parameters
+    ----------
+    gyro_rad_s, accel_m_s2 : ndarray (T, N, 3)
+        Sensor outputs, modified in place.
+    q_wb : ndarray (N, 4)
+        Truth body attitude.
+    dt_s : float
+        Sample interval (s); ``ṡ`` is the central difference of ``s`` times ``1 / dt_s``.
+    q_mount : 4-sequence
+        ``q_bs``.
+    tilt_rad : ndarray (T, 3)
+        Tilt per g of normal load (rad), per trial.
+    """
+    s = rotations.quat_to_matrix(q_wb)[:, 2, 2]          # −ĝ_z: 1 when level
+    s_dot = np.gradient(s) * (1.0 / dt_s)
+    tilt_s = np.asarray(tilt_rad, float) @ rotations.quat_to_matrix(np.asarray(q_mount, float))  # C(q_bs)ᵀ δ
+    if (all(isinstance(x, np.ndarray) and x.dtype == np.float64 and x.ndim == 3 for x in (gyro_rad_s, accel_m_s2))
+            and tilt_s.shape == (gyro_rad_s.shape[0], 3)):
+        _load_tilt_kernel(gyro_rad_s, accel_m_s2, s, s_dot, tilt_s)   # the loop below in one pass, bit-identical
+        return
+    for k in range(gyro_rad_s.shape[0]):
+        d = s[:, None] * tilt_s[k]
+        accel_m_s2[k] -= np.cross(d, accel_m_s2[k])
+        gyro_rad_s[k] += s_dot[:, None] * tilt_s[k] - np.cross(d, gyro_rad_s[k])
+
+
+@jit
+def _load_tilt_kernel(gyro, accel, s, s_dot, tilt_s):  # pragma: no cover - compiled
+    """In place, per trial k: ``d = s·tilt_s[k]``, ``accel −= d × accel``, ``gyro += ṡ·tilt_s[k] − d × gyro``.
+
+    The cross products as ``numpy.cross`` forms them (``a1 b2 − a2 b1``, ``a2 b0 − a0 b2``,
+    ``a0 b1 − a1 b0``), from the values before the update, element by element in the same order (no
+    ``fastmath``, no FMA contraction: bit-identical). Shapes: gyro, accel (T, N, 3); s, s_dot (N,); tilt_s (T, 3).
+    """
+    for k in range(gyro.shape[0]):
+        t0, t1, t2 = tilt_s[k, 0], tilt_s[k, 1], tilt_s[k, 2]
+        for n in range(gyro.shape[1]):
+            d0, d1, d2 = s[n] * t0, s[n] * t1, s[n] * t2
+            a0, a1, a2 = accel[k, n, 0], accel[k, n, 1], accel[k, n, 2]
+            accel[k, n, 0] = a0 - (d1 * a2 - d2 * a1)
+            accel[k, n, 1] = a1 - (d2 * a0 - d0 * a2)
+            accel[k, n, 2] = a2 - (d0 * a1 - d1 * a0)
+            w0, w1, w2 = gyro[k, n, 0], gyro[k, n, 1], gyro[k, n, 2]
+            sd = s_dot[n]
+            gyro[k, n, 0] = w0 + (sd * t0 - (d1 * w2 - d2 * w1))
+            gyro[k, n, 1] = w1 + (sd * t1 - (d2 * w0 - d0 * w2))
+            gyro[k, n, 2] = w2 + (sd * t2 - (d0 * w1 - d1 * w0))
 
 
 def _check_engine(engine: str) -> str:

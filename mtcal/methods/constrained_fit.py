@@ -75,7 +75,7 @@ import numpy as np
 
 from mtcal.core import rotations
 from mtcal.core.validate import as_float_array, positive_int, positive_scalar, unit_quaternion
-from mtcal.methods import quaternion_lsq  # its trusted cores (_align_pairs, _least_squares, _apply)
+from mtcal.methods import quaternion_lsq  # its trusted cores (_align_pairs, _least_squares)
 from mtcal.methods.quaternion_lsq import MAX_CONDITION
 
 __all__ = [
@@ -488,7 +488,7 @@ def mounting_error_matrix(q_sensor, q_body) -> np.ndarray:
 
 
 def _residual(m: np.ndarray, q_s: np.ndarray, q_b: np.ndarray) -> np.ndarray:
-    return _angle(quaternion_lsq._apply(np.ascontiguousarray(m), q_s), q_b)
+    return _angle(rotations.apply_quat_matrix_trusted(np.ascontiguousarray(m), q_s), q_b)
 
 
 def _angle(q1: np.ndarray, q2: np.ndarray) -> np.ndarray:
@@ -678,7 +678,7 @@ def simulate_calibration_errors(layout_rad, scenario: CalibrationScenario, n_tri
     qb_test = _euler_quat(test)
     qs_test = sensor(qb_test)
     for name, m in mats.items():
-        err = _angle(quaternion_lsq._apply(np.ascontiguousarray(m), qs_test), qb_test)
+        err = _angle(rotations.apply_quat_matrix_trusted(np.ascontiguousarray(m), qs_test), qb_test)
         out[name] = np.sqrt(np.mean(err**2, axis=-1))
     return (out, mats) if return_matrices else out
 

@@ -51,7 +51,7 @@ from mtcal.methods.constrained_fit import So4Projection
 __all__ = ["six_positions_rad", "schedule_profile", "stillness_from_gyro",
            "stillness_from_quaternions", "find_rests", "still_rests", "middle_slices", "mean_quaternion",
            "rest_means", "match_rests", "rest_attitudes", "MAX_CONDITION", "MODELS", "PositionCalibration",
-           "PositionsRefused", "calibrate_from_rests", "missing_rotation_axis", "angles_sigma"]
+           "PositionsRefused", "calibrate_from_rests", "calibrate_session", "missing_rotation_axis", "angles_sigma"]
 
 #: Paper §3.2: rest at each position (s).
 REST_S = 3.0
@@ -66,13 +66,24 @@ def six_positions_rad(yaw_rad=(np.radians(8.0), np.radians(-8.0)),
 
     Defaults are the turntable ranges of §4.1 (yaw ±8°, pitch −12°/+23°,
     roll ±90°). Order: yaw α1, α1′, pitch, pitch′, roll, roll′.
+
+    Preconditions (trusted, not checked here): each of ``yaw_rad``, ``pitch_rad``, ``roll_rad`` is
+    two finite angles (rad). The public edges that take positions check them where they enter
+    (:func:`schedule_profile`; the procedures of :mod:`mtcal.systems.installation`; a study's
+    scenario checks its position settings when it is made).
+
+    References
+    ----------
+    wang2023cja §3.2 (six positions), §4.1 (turntable ranges), Eq 15.
+
+    Examples
+    --------
+    >>> np.degrees(six_positions_rad()).round(6)[[0, 3, 4]].tolist()
+    [[8.0, 0.0, 0.0], [0.0, 23.0, 0.0], [0.0, 0.0, 90.0]]
     """
     out = np.zeros((6, 3))
     for i, pair in enumerate((yaw_rad, pitch_rad, roll_rad)):
-        vals = as_float_array(pair, ("yaw_rad", "pitch_rad", "roll_rad")[i], ndim=1)
-        if vals.shape != (2,):
-            raise ValueError(f"each range must hold 2 angles, got {vals.shape}")
-        out[2 * i:2 * i + 2, i] = vals
+        out[2 * i:2 * i + 2, i] = pair
     return out
 
 
@@ -550,6 +561,9 @@ class PositionCalibration:
 class PositionsRefused(ValueError):
     """:func:`calibrate_from_rests` refused a record (no rest for a position, a gate); the message says why.
 
+    Made as ``PositionsRefused(message, q_ws, rest_means=None)``; ``args`` holds the three (an exception that
+    keeps its data in ``args`` pickles as it was made, e.g. across processes) and ``str()`` is the message.
+
     Attributes
     ----------
     q_ws : ndarray (N, 4) or (T, N, 4)
@@ -558,12 +572,24 @@ class PositionsRefused(ValueError):
     rest_means : ndarray (R, 4) or (T, R, 4), or None
         The middle-section mean of the (zeroed) attitude at every rest, when the refusal came after
         they were made (a position without a rest, a gate): what each rest measured, for the same reason.
+
+    Examples
+    --------
+    >>> exc = PositionsRefused("too few rests", np.zeros((3, 4)))
+    >>> str(exc), exc.q_ws.shape, exc.rest_means is None
+    ('too few rests', (3, 4), True)
     """
 
-    def __init__(self, message: str, q_ws: np.ndarray, rest_means: np.ndarray | None = None):
-        super().__init__(message)
-        self.q_ws = q_ws
-        self.rest_means = rest_means
+    def __str__(self) -> str:
+        return str(self.args[0]) if self.args else ""
+
+    @property
+    def q_ws(self) -> np.ndarray | None:
+        return self.args[1] if len(self.args) > 1 else None
+
+    @property
+    def rest_means(self) -> np.ndarray | None:
+        return self.args[2] if len(self.args) > 2 else None
 
 
 def calibrate_from_rests(q_ws: np.ndarray, positions_rad: np.ndarray, q_reference: np.ndarray, dt_s: float, *,
@@ -619,12 +645,44 @@ def calibrate_from_rests(q_ws: np.ndarray, positions_rad: np.ndarray, q_referenc
     q_zeroed = q_ws
     if zero:
         q_zeroed = rotations.relative_to_initial(q_ws[None])[0] if q_ws.ndim == 2 else rotations.relative_to_initial(q_ws)
-    pos, q_ref = positions_rad, q_reference
+    fit = _fit_rests(q_zeroed, q_ws, positions_rad, q_reference, dt_s, model=model, q_hat=q_hat,
+                     gyro_rad_s=gyro_rad_s, rests=rests, fraction=fraction, min_rest_s=min_rest_s,
+                     threshold_rad_s=threshold_rad_s, window_s=window_s, max_match_rad=max_match_rad,
+                     in_order=in_order, max_condition=max_condition, max_so4_distance=max_so4_distance, q_detect=q_ws)
+    del q_zeroed                                   # the record's zeroed copy: only its rest means are kept
+    sig = angles_sigma(fit.q_sensor, fit.q_reference, fit.q_hat, model) if sigma else None
+    return _position_calibration(fit, max_residual_rad, sig)
+
+
+@dataclass(frozen=True)
+class _RestFit:
+    """Steps 3–5 and the fit of :func:`calibrate_from_rests` (:func:`_fit_rests`), before Eq 10 at the rests."""
+
+    q_hat: np.ndarray
+    projection: So4Projection
+    condition: np.ndarray
+    positions_rad: np.ndarray
+    q_reference: np.ndarray
+    rests: list
+    matched: np.ndarray
+    q_sensor: np.ndarray
+    means: np.ndarray
+    q_given: np.ndarray
+    gate: bool
+
+
+def _fit_rests(q_zeroed, q_given, positions_rad, q_reference, dt_s, *, model, q_hat, gyro_rad_s, rests, fraction,
+               min_rest_s, threshold_rad_s, window_s, max_match_rad, in_order, max_condition, max_so4_distance,
+               q_detect) -> _RestFit:
+    """The methods-level steps of :func:`calibrate_from_rests` on a zeroed attitude ``q_zeroed``: rests → means →
+    matching (steps 3–5), the fit of ``model`` (or ``q_hat`` given: no gate), its SO(4) projection and the
+    distance gate. ``q_given`` is the attitude the caller was given (a refusal carries it); rests from
+    ``gyro_rad_s``, else from the rotation rate of ``q_detect``."""
+    q_ref = q_reference
     means = None
     try:                                           # steps 3–5 (:func:`rest_attitudes`), then Eq 13 and the gates
         rests, means = _rests_and_means(q_zeroed, q_ref.shape[-2], dt_s, gyro_rad_s, rests, fraction, min_rest_s,
-                                        threshold_rad_s, window_s, q_ws)
-        del q_zeroed                               # the record's zeroed copy: only its rest means are kept
+                                        threshold_rad_s, window_s, q_detect)
         matched = _matched(means, q_ref, max_match_rad, in_order)
         q_s = means[..., matched, :]
         q_s_al, q_b_al = quaternion_lsq._align_pairs(q_s, q_ref)
@@ -641,22 +699,127 @@ def calibrate_from_rests(q_ws: np.ndarray, positions_rad: np.ndarray, q_referenc
         else:
             mat = _fit_conjugation(q_s_al, q_b_al)
         proj = constrained_fit.project_to_so4(mat)
-        after = quaternion_lsq._apply(mat, q_s)                                     # Eq 10 at the rests
-        residual = _gated_residual(mat, proj.distance, after, q_ref, max_so4_distance, max_residual_rad, gate)
+        _gate_distance(mat, proj.distance, max_so4_distance, gate)
     except ValueError as exc:
-        raise PositionsRefused(str(exc), q_ws, means) from None
-    sig = angles_sigma(q_s, q_ref, mat, model) if sigma else None
-    q_bs = rotations.quat_conjugate(proj.r)
+        raise PositionsRefused(str(exc), q_given, means) from None
+    return _RestFit(mat, proj, cond, positions_rad, q_ref, rests, matched, q_s, means, q_given, gate)
+
+
+def _position_calibration(fit: _RestFit, max_residual_rad: float, sigma_rad: np.ndarray | None = None
+                          ) -> PositionCalibration:
+    """The core steps after :func:`_fit_rests`: Eq 10 at the rests and their residual, the mounting ``q_bs = r*``,
+    its installation angles (inverse of Eq 1), the Eq 8 angles before and after and their errors; then the
+    residual gate (with ``fit.gate``). ``sigma_rad``: the angles' 1σ (:func:`angles_sigma`), when asked for."""
+    q_s, q_ref, pos, mat = fit.q_sensor, fit.q_reference, fit.positions_rad, fit.q_hat
+    after = rotations.apply_quat_matrix_trusted(mat, q_s)                         # Eq 10 at the rests
+    residual = rotations.quat_angle_between_trusted(after, q_ref)
+    q_bs = rotations.quat_conjugate(fit.projection.r)
     alpha = rotations.installation_angles_from_mount_trusted(q_bs)
     before_e = rotations.euler_zxy_unchecked(q_s)
     after_e = rotations.euler_zxy_unchecked(after)
+    error_before = metrics.angle_difference_trusted(before_e, pos)
+    error_after = metrics.angle_difference_trusted(after_e, pos)
+    worst = float(np.max(residual))
+    if fit.gate and not worst <= max_residual_rad:
+        kk = int(np.unravel_index(np.argmax(residual), residual.shape)[-1])
+        raise PositionsRefused(f"calibration residual {np.degrees(worst):.3f} deg at position {kk + 1} exceeds "
+                               f"max_residual_rad ({np.degrees(max_residual_rad):g} deg); a rest does not match its "
+                               f"reference position", fit.q_given, fit.means)
     return PositionCalibration(
-        q_hat=mat, projection=proj, mounting_quaternion_q_bs=q_bs, installation_angles_rad=alpha, condition=cond,
-        positions_rad=pos, q_reference=q_ref, rests=rests, matched=matched, q_sensor=q_s,
-        euler_before_rad=before_e, euler_after_rad=after_e,
-        error_before_rad=metrics.angle_difference_trusted(before_e, pos),
-        error_after_rad=metrics.angle_difference_trusted(after_e, pos), residual_rad=residual,
-        angles_sigma_rad=sig)
+        q_hat=mat, projection=fit.projection, mounting_quaternion_q_bs=q_bs, installation_angles_rad=alpha,
+        condition=fit.condition, positions_rad=pos, q_reference=q_ref, rests=fit.rests, matched=fit.matched,
+        q_sensor=q_s, euler_before_rad=before_e, euler_after_rad=after_e, error_before_rad=error_before,
+        error_after_rad=error_after, residual_rad=residual, angles_sigma_rad=sigma_rad)
+
+
+def calibrate_session(q_calibration: np.ndarray, positions_rad: np.ndarray, q_reference: np.ndarray, dt_s: float, *,
+                      gyro_calibration: np.ndarray | None = None, q_verification: np.ndarray | None = None,
+                      gyro_verification: np.ndarray | None = None, verification_positions_rad: np.ndarray | None = None,
+                      verification_q_reference: np.ndarray | None = None, model: str = "eq13", fraction: float = 0.5,
+                      min_rest_s: float = 2.0, threshold_rad_s: float = np.radians(0.2), window_s: float = 0.1,
+                      max_match_rad: float = np.radians(5.0), in_order: bool = False,
+                      max_condition: float = MAX_CONDITION, max_so4_distance: float = np.inf,
+                      max_residual_rad: float = np.inf) -> tuple[PositionCalibration, PositionCalibration | None]:
+    """A session's calibration run and its separate verification run: Q̂ fitted on the one, checked on the other.
+
+    The session's attitude is zeroed once at its first sample (§4.1) by the caller; then
+    :func:`calibrate_from_rests`' steps on the calibration run (rests from ``gyro_calibration``, Eq 13 or the
+    ``model`` fitted, the gates) and — with ``q_verification`` — on the verification run with that Q̂ given
+    (not fitted, no gate), its rests from ``gyro_verification``, measured against
+    ``verification_positions_rad``. The settings are :func:`calibrate_from_rests`' and the same for both runs.
+    The same numbers as ``calibrate_from_rests(q_calibration, …, zero=False)`` and
+    ``calibrate_from_rests(q_verification, …, q_hat=cal.q_hat, zero=False)``.
+
+    Trusts its inputs (:func:`mtcal.systems.installation.measure_session` checks a session once, at its
+    edge), as :func:`calibrate_from_rests` for each run: ``q_calibration`` and ``q_verification`` float64
+    unit quaternions (N, 4) or (T, N, 4) (the same T), the gyros like their ``[..., :3]``;
+    ``positions_rad`` (K, 3) or (T, K, 3) and ``q_reference`` their Eq 9 attitudes;
+    ``verification_positions_rad`` (K, 3) with ``verification_q_reference``; settings as there.
+
+    Parameters
+    ----------
+    q_calibration : ndarray (N, 4) or (T, N, 4)
+        Sensor attitude of the calibration run, zeroed at the session's first sample.
+    positions_rad : ndarray (K, 3) or (T, K, 3)
+        Reference ``[ψ, θ, γ]`` fed to Eq 13 (rad, Eq 8 frame).
+    q_reference : ndarray (K, 4) or (T, K, 4)
+        Eq 9 quaternions of ``positions_rad``.
+    dt_s : float
+        Sample interval (s).
+    gyro_calibration, gyro_verification : ndarray (N, 3) or (T, N, 3), optional
+        Gyro of each run (rad/s), for rest detection (else the attitude's rotation rate).
+    q_verification : ndarray (M, 4) or (T, M, 4), optional
+        Sensor attitude of the verification run, zeroed at the session's first sample.
+    verification_positions_rad, verification_q_reference : ndarray (K, 3), (K, 4), optional
+        The positions the verification is measured against and their Eq 9 quaternions (default: the
+        calibration's).
+    model, fraction, min_rest_s, threshold_rad_s, window_s, max_match_rad, in_order
+        As for :func:`calibrate_from_rests`.
+    max_condition, max_so4_distance, max_residual_rad
+        The calibration's gates, as for :func:`calibrate_from_rests` (``inf`` switches one off).
+
+    Returns
+    -------
+    calibration : PositionCalibration
+    verification : PositionCalibration or None
+        ``q_hat`` the calibration's; ``euler_before_rad`` / ``euler_after_rad`` the Eq 8 angles of the
+        verification rest means before and after Eq 10. None without ``q_verification``.
+
+    Raises
+    ------
+    PositionsRefused
+        As :func:`calibrate_from_rests` (the verification refuses only for too few or unmatched rests).
+
+    References
+    ----------
+    wang2023cja §3.2 (procedure, Eq 13–15), §4.1 (zeroed start, separate verification run), Eq 10.
+
+    Examples
+    --------
+    A sensor mounted without error, calibrated on one run and verified on a second:
+
+    >>> from mtcal.core import profiles, rotations
+    >>> pos = six_positions_rad()
+    >>> q = profiles.trajectory_from_euler_zxy(schedule_profile(pos, fs_hz=50.0)).q_wb
+    >>> q_ref = rotations.quat_from_euler_zxy(pos[:, 0], pos[:, 1], pos[:, 2])            # Eq 9
+    >>> cal, ver = calibrate_session(q, pos, q_ref, 0.02, q_verification=q)
+    >>> bool(np.allclose(cal.q_hat, np.eye(4))), float(ver.residual_rad.max()) < 1e-12
+    (True, True)
+    """
+    settings = dict(model=model, rests=None, fraction=fraction, min_rest_s=min_rest_s, threshold_rad_s=threshold_rad_s,
+                    window_s=window_s, max_match_rad=max_match_rad, in_order=in_order, max_condition=max_condition,
+                    max_so4_distance=max_so4_distance)
+    # the methods-level steps of both runs, then the core steps of both (Eq 10 at the rests, angles)
+    cal = _fit_rests(q_calibration, q_calibration, positions_rad, q_reference, dt_s, q_hat=None,
+                     gyro_rad_s=gyro_calibration, q_detect=q_calibration, **settings)
+    ver = None
+    if q_verification is not None:
+        if verification_positions_rad is None:
+            verification_positions_rad, verification_q_reference = positions_rad, q_reference
+        ver = _fit_rests(q_verification, q_verification, verification_positions_rad, verification_q_reference, dt_s,
+                         q_hat=cal.q_hat, gyro_rad_s=gyro_verification, q_detect=q_verification, **settings)
+    done = [_position_calibration(fit, max_residual_rad) for fit in ([cal] if ver is None else [cal, ver])]
+    return done[0], (done[1] if len(done) > 1 else None)
 
 
 _AXIS_NAMES = {1: "x (pitch)", 2: "y (roll)", 3: "z (yaw)"}
@@ -719,10 +882,9 @@ def _fit_conjugation(q_s: np.ndarray, q_b: np.ndarray) -> np.ndarray:
     return rotations.left_matrix_trusted(c) @ rotations.right_matrix_trusted(rotations.quat_conjugate(c))
 
 
-def _gated_residual(q_hat, dist, after, q_ref, max_dist: float, max_res: float, gate: bool = True) -> np.ndarray:
-    """Residual (rad) of Eq 10 at the rests, ``after`` against the references ``q_ref``; with ``gate``
-    Q̂ is refused when farther than ``max_dist`` from SO(4) (distance ``dist``), then when a residual
-    exceeds ``max_res`` (``inf`` switches a gate off)."""
+def _gate_distance(q_hat, dist, max_dist: float, gate: bool = True) -> None:
+    """With ``gate``, refuse Q̂ when farther than ``max_dist`` from SO(4) (distance ``dist``; ``inf`` switches
+    the gate off)."""
     worst_dist = float(np.max(dist))
     if gate and not worst_dist <= max_dist:
         t = int(np.argmax(dist)) if np.ndim(dist) else None
@@ -730,13 +892,6 @@ def _gated_residual(q_hat, dist, after, q_ref, max_dist: float, max_res: float, 
         raise ValueError(f"Q_hat is not a calibration: distance {worst_dist:.3g} from a rotation of quaternion "
                          f"space (> {max_dist:g}; max |entry| {np.abs(q).max():.3g}, min row norm "
                          f"{np.linalg.norm(q, axis=1).min():.3g}); rests do not match the positions")
-    residual = _angle_between(after, q_ref)
-    worst = float(np.max(residual))
-    if gate and not worst <= max_res:
-        kk = int(np.unravel_index(np.argmax(residual), residual.shape)[-1])
-        raise ValueError(f"calibration residual {np.degrees(worst):.3f} deg at position {kk + 1} exceeds "
-                         f"max_residual_rad ({np.degrees(max_res):g} deg); a rest does not match its reference position")
-    return residual
 
 
 def angles_sigma(q_sensor: np.ndarray, q_reference: np.ndarray, q_hat: np.ndarray, model: str = "eq13") -> np.ndarray:

@@ -717,7 +717,6 @@ def _six_position(p: dict, rngs: list) -> dict[str, np.ndarray]:
     same error without calibration.
     """
     from mtcal.filters.anchors import run_attitude_filter
-    from mtcal.methods import quaternion_lsq
     from mtcal.methods.six_position import schedule_profile
     from mtcal.systems import installation
 
@@ -738,8 +737,8 @@ def _six_position(p: dict, rngs: list) -> dict[str, np.ndarray]:
     q_ws = run_attitude_filter("qncf", gyro, accel, traj.dt_s, init_samples=init)
     cal = installation.calibrate_installation(config, pos, 1.0 / p["fs_hz"], q_ws=q_ws, rests=rests)
     q_mat = cal.q_hat                                                             # (T, 4, 4), trials stacked
-    # Eq 10 on the checked Q̂ (the system's) and the validation attitudes made here: methods' trusted map
-    after = quaternion_lsq._apply(q_mat, np.broadcast_to(q_s_val, (len(rngs),) + q_s_val.shape))
+    # Eq 10 on the checked Q̂ (the system's) and the validation attitudes made here: core's trusted map
+    after = rotations.apply_quat_matrix_trusted(q_mat, np.broadcast_to(q_s_val, (len(rngs),) + q_s_val.shape))
     res = np.degrees(rotations.quat_angle_between(after, q_b_val[None]))
     before = np.broadcast_to(before, res.shape)
     return {"residual_max_deg": res.max(axis=1), "residual_rms_deg": _rms_rows(res, np.ones(res.shape[1], bool)),

@@ -10,7 +10,8 @@ Preconditions). It imports from ``core``, ``methods`` and ``filters`` only;
 ``studies``, ``sweep`` and ``cli`` import it.
 
 * :mod:`~mtcal.systems.installation` — six-position installation-error
-  calibration (wang2023cja §3.2, Eq 1, 10, 13–15) and its application (Eq 10)
+  calibration (wang2023cja §3.2, Eq 1, 10, 13–15), a Monte Carlo session's measurement
+  (:func:`~mtcal.systems.installation.measure_session`) and its application (Eq 10)
 * :mod:`~mtcal.systems.surface_angle` — wang2022sensors movable-surface angle:
   rotation axis from rests (Eq 23), ZVD-switched RAMS EKF with restart after clipping
 * :mod:`~mtcal.systems.attitude` — attitude of a recorded log: the paper's QNCF set up from its
@@ -35,12 +36,13 @@ if TYPE_CHECKING:  # the eager imports, for type checkers and tests/test_import_
     from mtcal.systems.installation import (CalibratedAttitude, InstallationCalibration, InstallationConfig,
                                             InstallationRefused, apply_installation, calibrate_installation,
                                             detect_rests, verify_installation, calibrate_record, apply_record,
-                                            RecordCalibration, RecordApplication, RecordRefused, RefusalDiagnosis)
+                                            RecordCalibration, RecordApplication, RecordRefused, RefusalDiagnosis,
+                                            SessionPiece, SessionMeasurement, measure_session)
 
 __all__ = ["attitude", "installation", "plausibility", "rests", "surface_angle", "InstallationCalibration",
            "InstallationConfig", "InstallationRefused", "verify_installation", "calibrate_record", "apply_record",
-           "RecordCalibration", "RecordApplication", "RecordRefused", "RefusalDiagnosis",
-           "CalibratedAttitude", "calibrate_installation", "apply_installation", "detect_rests", "AttitudeConfig",
+           "RecordCalibration", "RecordApplication", "RecordRefused", "RefusalDiagnosis", "SessionPiece",
+           "SessionMeasurement", "measure_session", "CalibratedAttitude", "calibrate_installation", "apply_installation", "detect_rests", "AttitudeConfig",
            "estimate_attitude", "RestsConfig", "find_rests", "AxisConfig", "SurfaceAngleConfig", "SurfaceBatchConfig",
            "SurfaceAngleBatch", "surface_angle_batch", "estimate_surface_axis", "attitude_record", "AxisRecordConfig",
            "surface_axis_record", "SurfaceRecordConfig", "surface_angle_record"]
@@ -54,6 +56,7 @@ _EXPORTS = {
     "InstallationConfig": "installation", "InstallationRefused": "installation", "verify_installation": "installation",
     "calibrate_record": "installation", "apply_record": "installation", "RecordCalibration": "installation",
     "RecordApplication": "installation", "RecordRefused": "installation", "RefusalDiagnosis": "installation",
+    "SessionPiece": "installation", "SessionMeasurement": "installation", "measure_session": "installation",
     "AttitudeConfig": "attitude", "estimate_attitude": "attitude", "RestsConfig": "rests", "find_rests": "rests",
     "AxisConfig": "surface_angle", "SurfaceAngleConfig": "surface_angle", "SurfaceBatchConfig": "surface_angle",
     "SurfaceAngleBatch": "surface_angle", "surface_angle_batch": "surface_angle",

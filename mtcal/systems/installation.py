@@ -25,7 +25,9 @@ paper's *relative* body attitude, zeroed where the record starts (the turntable'
 Each takes one frozen, checked :class:`InstallationConfig` (constructors for the paper's
 settings, the studies' Monte Carlo, a sweep cell and the CLI options) plus the data arrays;
 :func:`verify_installation` runs the same steps on a separate run with Q̂ given (the study's
-verification). The CLI (``mtcal calibrate`` / ``mtcal apply``), the wang2023cja studies and the
+verification). :func:`measure_session` measures a Monte Carlo session of stacked records in one call (one
+QNCF, the session zeroed once, each block of trials' calibration and verification run:
+:func:`mtcal.methods.six_position.calibrate_session`). The CLI (``mtcal calibrate`` / ``mtcal apply``), the wang2023cja studies and the
 ``six_position`` sweep evaluator all call these functions; the arrays are checked here once,
 at the edge, and the methods below trust them.
 
@@ -49,9 +51,9 @@ from numbers import Real
 import numpy as np
 
 from mtcal.core import rotations
-from mtcal.core.validate import as_float_array, positive_scalar, sample_interval, unit_quaternion
+from mtcal.core.validate import as_float_array, float64_array, positive_scalar, sample_interval, unit_quaternion
 from mtcal.filters.qncf import QncfParams, qncf, qncf_trusted
-from mtcal.methods import constrained_fit, quaternion_lsq, six_position
+from mtcal.methods import constrained_fit, six_position
 from mtcal.systems import attitude, plausibility
 from mtcal.systems import rests as rests_system
 from mtcal.systems.rests import RestsConfig
@@ -61,7 +63,7 @@ __all__ = ["MODELS", "missing_rotation_axis", "MAX_CONDITION", "MAX_SO4_DISTANCE
            "calibrate_installation", "verify_installation", "apply_installation", "absolute_body_attitude",
            "mounting_from_q_hat", "installation_angles_sigma", "calibrate_record", "apply_record", "RecordCalibration",
            "RecordApplication", "RecordRefused", "RefusalDiagnosis", "MISMATCH_MESSAGES", "POSITION_MISTAKES",
-           "QUATERNION_CONVENTIONS"]
+           "QUATERNION_CONVENTIONS", "SessionPiece", "SessionMeasurement", "measure_session"]
 
 #: Gate: condition number of ``A_q^s (A_q^s)ᵀ`` (Eq 13) above which the positions are refused.
 MAX_CONDITION = six_position.MAX_CONDITION
@@ -195,12 +197,15 @@ class InstallationConfig:
         return cls(fraction=fraction)
 
     @classmethod
-    def monte_carlo(cls, fraction: float = 0.5, *, zero_at_first_sample: bool = True) -> "InstallationConfig":
+    def monte_carlo(cls, fraction: float = 0.5, *, zero_at_first_sample: bool = True,
+                    qncf_params: QncfParams | None = None) -> "InstallationConfig":
         """The studies' Monte Carlo: :meth:`paper` with the gates off (``inf``) — a Monte Carlo reports
         the spread of every trial instead of refusing the set because one trial would be refused.
-        ``zero_at_first_sample=False`` for a verification run already zeroed at its session's start."""
+        ``zero_at_first_sample=False`` for a verification run already zeroed at its session's start;
+        ``qncf_params`` the scenario's QNCF (None: the paper's, :func:`measure_session`)."""
         return cls(fraction=fraction, max_condition=np.inf, max_so4_distance=np.inf, max_residual_rad=np.inf,
-                   zero_at_first_sample=zero_at_first_sample)
+                   zero_at_first_sample=zero_at_first_sample,
+                   qncf_params=QncfParams() if qncf_params is None else qncf_params)
 
     @classmethod
     def sweep_cell(cls, fraction: float = 0.5) -> "InstallationConfig":
@@ -504,6 +509,189 @@ def verify_installation(config: InstallationConfig, q_hat, positions_rad, dt_s: 
     return _calibrate(config, refs, dt, q, gyro, accel, q0, rests, q_hat=mat)
 
 
+# --------------------------------------------------------------------------- a session of runs
+@dataclass(frozen=True)
+class SessionPiece:
+    """One block of a session's trials for :func:`measure_session`.
+
+    Attributes
+    ----------
+    rows : slice
+        The block's trial rows of the session's records (step 1).
+    reference_rad : array_like, shape (K, 3) or (t, K, 3)
+        The reference ``[ψ, θ, γ]`` fed to the block's calibration (rad, Eq 8/9 frame), K ≥ 4; per
+        trial (t = the block's trials) when each trial's mechanism stood at its own angles.
+    fraction : float
+        Middle fraction of each rest averaged, (0, 1] (the config's other settings hold for every block).
+    """
+
+    rows: slice
+    reference_rad: np.ndarray
+    fraction: float
+
+
+@dataclass(frozen=True)
+class SessionMeasurement:
+    """Outcome of :func:`measure_session`.
+
+    Attributes
+    ----------
+    q_ws : ndarray (T, N, 4)
+        The session's QNCF attitude (sensor → world), zeroed at the session's first sample (§4.1).
+    calibrations : tuple of InstallationCalibration
+        Per piece, the six-position calibration of the calibration run (trial axis t).
+    verifications : tuple of InstallationCalibration or None
+        Per piece, the verification run measured with that Q̂ (None without a verification run).
+    """
+
+    q_ws: np.ndarray
+    calibrations: tuple
+    verifications: tuple
+
+
+def _session_record(gyro_rad_s, accel_m_s2, dt_s, calibration_run, verification_run, reference_rad,
+                    pieces) -> tuple:
+    """The edge of :func:`measure_session`: every input checked once (the records' type and shape; their
+    values are scanned by the QNCF's kernel as it filters). Returns ``(gyro, accel, dt, calibration run,
+    verification run, verification references or None, [(rows, positions, q_ref, fraction), …])``; the config
+    is checked by the caller."""
+    pieces = list(pieces)
+    if not pieces or not all(isinstance(piece, SessionPiece) for piece in pieces):
+        raise TypeError(f"pieces must be a non-empty sequence of SessionPiece, got {[type(p).__name__ for p in pieces]}")
+    if verification_run is not None and reference_rad is None:
+        raise ValueError("a verification run needs reference_rad: the positions it is measured against")
+    # the references and their Eq 9 attitudes (K >= 4): each piece's, then the verification's
+    sources = [(piece.reference_rad, (2, 3)) for piece in pieces]
+    if verification_run is not None:
+        sources.append((reference_rad, 2))
+    refs = [_references(positions, ndim=ndim) for positions, ndim in sources]
+    ver_refs = refs.pop() if verification_run is not None else None
+    gyro, accel = float64_array(gyro_rad_s, "gyro_rad_s"), float64_array(accel_m_s2, "accel_m_s2")
+    if gyro.ndim != 3 or gyro.shape[-1] != 3 or gyro.shape != accel.shape or 0 in gyro.shape:
+        raise ValueError(f"gyro_rad_s and accel_m_s2 must be stacked records of one shape (T, N, 3), got "
+                         f"{gyro.shape} and {accel.shape}")
+    dt = sample_interval(dt_s)
+    fractions = [positive_scalar(piece.fraction, "a piece's fraction") for piece in pieces]
+    trials, n = gyro.shape[:2]
+    spans = [(calibration_run, "calibration_run", n, "samples")]
+    if verification_run is not None:
+        spans.append((verification_run, "verification_run", n, "samples"))
+    spans += [(piece.rows, "a piece's rows", trials, "trials") for piece in pieces]
+    for run, name, size, unit in spans:
+        if (not isinstance(run, slice) or run.step not in (None, 1) or run.start is None or run.stop is None
+                or not 0 <= run.start < run.stop <= size):
+            raise ValueError(f"{name} must be a slice (start < stop, step 1) within the {size} {unit} of the "
+                             f"records, got {run!r}")
+    checked = []
+    for piece, (pos, q_ref), fraction in zip(pieces, refs, fractions):
+        if pos.ndim == 3 and pos.shape[0] != piece.rows.stop - piece.rows.start:
+            raise ValueError(f"a piece's reference_rad of shape {pos.shape} needs {pos.shape[0]} rows, got "
+                             f"{piece.rows}")
+        if fraction > 1:
+            raise ValueError(f"a piece's fraction must be in (0, 1], got {fraction}")
+        checked.append((slice(piece.rows.start, piece.rows.stop), pos, q_ref, fraction))
+    ver_run = None if verification_run is None else slice(verification_run.start, verification_run.stop)
+    return gyro, accel, dt, slice(calibration_run.start, calibration_run.stop), ver_run, ver_refs, checked
+
+
+def measure_session(config: InstallationConfig, gyro_rad_s, accel_m_s2, dt_s: float, *, calibration_run: slice,
+                    pieces, verification_run: slice | None = None, reference_rad=None,
+                    map_pieces=None) -> SessionMeasurement:
+    """A power-on session of stacked records measured once: the QNCF, the calibration run, the verification run.
+
+    The session's measurement in a turntable or wind-tunnel Monte Carlo (wang2023cja §3.2, §4.1):
+    one QNCF over every trial (its cost is the loop over time, so a stack of T trials costs about one
+    run), the session zeroed once at its first sample (§4.1, ``config.zero_at_first_sample``; in place: no
+    copy); then, piece by piece (a block of trial rows with the reference fed to its calibration and its
+    averaging fraction), the six-position
+    calibration of the calibration run (Eq 13, as :func:`calibrate_installation` with rests found from
+    the gyro) and, with ``verification_run``, that run measured with Q̂ given
+    (:func:`verify_installation`): one methods-level call per piece
+    (:func:`mtcal.methods.six_position.calibrate_session`).
+
+    Checked once here (types, shapes, spans, references, fractions); the QNCF's kernel scans the records'
+    values as it filters; everything below trusts them.
+
+    Parameters
+    ----------
+    config : InstallationConfig
+        The QNCF's parameters (``qncf_params``), the rest detector, the matching window, the gates (a
+        Monte Carlo: :meth:`InstallationConfig.monte_carlo`); ``fraction`` is each piece's.
+    gyro_rad_s, accel_m_s2 : ndarray, shape (T, N, 3)
+        The session's records (rad/s, m/s²), float64; read, not modified (a C-contiguous stack is used as
+        it is: no copy).
+    dt_s : float
+        Sample interval (s), ≤ 1 s.
+    calibration_run : slice
+        The calibration run's samples.
+    pieces : sequence of SessionPiece
+        The blocks of trial rows (each with its own reference and fraction).
+    verification_run : slice, optional
+        The verification run's samples (a separate six-position run after the calibration run).
+    reference_rad : array_like, shape (K, 3), optional
+        The positions the verification run is measured against (rad), needed with ``verification_run``.
+    map_pieces : callable, optional
+        ``map_pieces(fn, items)`` → ``[fn(x) for x in items]`` in item order, e.g. spread over threads (each
+        piece writes nothing shared: the numbers do not depend on it); default one after the other.
+
+    Returns
+    -------
+    SessionMeasurement
+
+    Raises
+    ------
+    TypeError, ValueError
+        A bad input (the message names it); a record with non-finite values or a gyro out of range
+        (the QNCF's kernel).
+
+    References
+    ----------
+    wang2023cja §3.2 (procedure, Eq 13–15), §4.1 (zeroed start, separate verification run), Eq 5–8 (QNCF), Eq 10.
+
+    Examples
+    --------
+    Two trials of a sensor mounted without error, calibrated and verified on two six-position runs:
+
+    >>> import numpy as np
+    >>> from mtcal.core.profiles import join_profiles, trajectory_from_euler_zxy
+    >>> from mtcal.core.simulate import ImuErrorModel, simulate_imu
+    >>> from mtcal.methods.six_position import schedule_profile, six_positions_rad
+    >>> pos = six_positions_rad()
+    >>> run = schedule_profile(pos, rate_rad_s=np.radians(60.0), fs_hz=100.0)
+    >>> prof, (cal_run, ver_run) = join_profiles([run, run])
+    >>> rec = simulate_imu(trajectory_from_euler_zxy(prof), ImuErrorModel())
+    >>> gyro, accel = np.stack([rec.gyro_rad_s] * 2), np.stack([rec.accel_m_s2] * 2)
+    >>> m = measure_session(InstallationConfig.monte_carlo(), gyro, accel, 0.01, calibration_run=cal_run,
+    ...                     verification_run=ver_run, reference_rad=pos, pieces=[SessionPiece(slice(0, 2), pos, 0.5)])
+    >>> m.q_ws.shape, m.calibrations[0].q_hat.shape, bool(m.verifications[0].residual_rad.max() < 1e-3)
+    ((2, 6816, 4), (2, 4, 4), True)
+    """
+    if not isinstance(config, InstallationConfig):
+        raise TypeError(f"config must be an InstallationConfig, got {type(config).__name__}")
+    settings = _fit_settings(config)
+    zero = settings.pop("zero")                    # the session is zeroed once, here
+    gyro, accel, dt, cal_run, ver_run, ver_refs, checked = _session_record(
+        gyro_rad_s, accel_m_s2, dt_s, calibration_run, verification_run, reference_rad, pieces)
+    # ---- trusted inside: one QNCF, the session zeroed once at its first sample (in place), one methods-level
+    #      call per piece
+    q_ws = qncf_trusted(gyro, accel, dt, config.qncf_params, return_euler=False).q_ws
+    if zero:
+        q_ws = rotations.relative_to_initial(q_ws, out=q_ws)
+    ver_pos, ver_q_ref = (None, None) if ver_refs is None else ver_refs
+
+    def measure(piece):
+        rows, pos, q_ref, fraction = piece
+        return six_position.calibrate_session(
+            q_ws[rows, cal_run], pos, q_ref, dt, gyro_calibration=gyro[rows, cal_run],
+            q_verification=None if ver_run is None else q_ws[rows, ver_run],
+            gyro_verification=None if ver_run is None else gyro[rows, ver_run], verification_positions_rad=ver_pos,
+            verification_q_reference=ver_q_ref, **{**settings, "fraction": fraction})
+
+    measured = [measure(p) for p in checked] if map_pieces is None else list(map_pieces(measure, checked))
+    return SessionMeasurement(q_ws, tuple(cal for cal, _ in measured),
+                              None if ver_run is None else tuple(ver for _, ver in measured))
+
+
 def _q_hat(q_hat) -> np.ndarray:
     mat = as_float_array(q_hat, "q_hat")
     if mat.ndim not in (2, 3) or mat.shape[-2:] != (4, 4):
@@ -564,7 +752,7 @@ def _body_attitude(config: InstallationConfig, mode: str, mat, c, q, gyro, accel
     q_made, q_s = _sensor_attitude(config, q, gyro, accel, q0, dt, zero=mode == "relative",
                                    units_checked=units_checked)
     if mode == "relative":
-        q_b = quaternion_lsq._apply(mat, q_s)                                   # Eq 10, then sign-continuous
+        q_b = rotations.apply_quat_matrix_trusted(mat, q_s)                     # Eq 10, then sign-continuous
         return CalibratedAttitude(q_body=rotations.make_continuous(q_b, axis=-2), q_sensor=q_s)
     q_s = rotations.make_continuous(q_made, axis=-2)
     q_b = rotations.hamilton(q_s, rotations.quat_conjugate(c))

@@ -211,3 +211,29 @@ def test_a_refusal_carries_the_rests_mean_attitudes():
     with pytest.raises(six_position.PositionsRefused, match="too few rests") as info:
         six_position.calibrate_from_rests(q, pos, rotations.quat_from_euler_zxy(*pos.T), 0.02, rests=holds[:3])
     assert info.value.rest_means is None
+
+
+def test_calibrate_session_is_calibrate_from_rests_of_both_runs(noise_free):
+    """One methods call per block: the calibration run's calibration, then the verification run with that Q̂."""
+    pos, prof, rec, q_s = noise_free
+    q_ref = rotations.quat_from_euler_zxy(*pos.T)
+    q_run = np.stack([q_s, q_s])
+    gyro = np.stack([rec.gyro_rad_s, rec.gyro_rad_s])
+    fed = pos + np.radians([0.01, -0.02, 0.03])
+    cal, ver = six_position.calibrate_session(q_run, fed, rotations.quat_from_euler_zxy(*fed.T), DT_S,
+                                              gyro_calibration=gyro, q_verification=q_run, gyro_verification=gyro,
+                                              verification_positions_rad=pos, verification_q_reference=q_ref)
+    ref_cal = six_position.calibrate_from_rests(q_run, fed, rotations.quat_from_euler_zxy(*fed.T), DT_S, zero=False,
+                                                gyro_rad_s=gyro)
+    ref_ver = six_position.calibrate_from_rests(q_run, pos, q_ref, DT_S, zero=False, gyro_rad_s=gyro,
+                                                q_hat=ref_cal.q_hat)
+    for got, ref in ((cal, ref_cal), (ver, ref_ver)):
+        for name in ("q_hat", "q_sensor", "euler_before_rad", "euler_after_rad", "residual_rad", "matched",
+                     "installation_angles_rad", "error_after_rad"):
+            assert np.array_equal(getattr(got, name), getattr(ref, name)), name
+    only, none = six_position.calibrate_session(q_s, pos, q_ref, DT_S, gyro_calibration=rec.gyro_rad_s)
+    assert none is None and np.degrees(np.abs(only.installation_angles_rad - ALPHA)).max() < 0.01
+    with pytest.raises(six_position.PositionsRefused, match=r"residual .* exceeds max_residual_rad"):
+        bent = pos + np.radians(np.random.default_rng(1).normal(0.0, 0.5, pos.shape))     # off by 0.5 deg each
+        six_position.calibrate_session(q_s, bent, rotations.quat_from_euler_zxy(*bent.T), DT_S,
+                                       gyro_calibration=rec.gyro_rad_s, max_residual_rad=np.radians(0.01))

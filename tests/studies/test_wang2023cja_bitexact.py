@@ -91,7 +91,8 @@ def outputs():
 
 
 def _is_sweep_error(key: str) -> bool:
-    """Outputs of the sweeps' Eq 8 pass (``runs._before_after``): hold means, MaxAE/RMSE and error traces."""
+    """Outputs of the sweeps' Eq 8 pass (``montecarlo.channel_errors_before_after``): hold means, MaxAE/RMSE and
+    error traces."""
     return ".sweeps." in key or ".nowind." in key or (".trace." in key and key.endswith("_err"))
 
 

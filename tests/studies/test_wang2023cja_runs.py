@@ -266,13 +266,15 @@ def test_windtunnel_kinds_side_by_side_equal_separate_runs_and_share_the_vibrati
         return out
 
     monkeypatch.setattr(runs, "_vibration_accel", spy)
-    filled, fill = [], runs.fill_streams
+    from mtcal.core import simulate
+
+    filled, fill = [], simulate.fill_streams        # (the groups of simulate.fill_streams_grouped)
 
     def fill_spy(streams, outputs):
         filled.append(len(streams))
         return fill(streams, outputs)
 
-    monkeypatch.setattr(runs, "fill_streams", fill_spy)
+    monkeypatch.setattr(simulate, "fill_streams", fill_spy)
     joint = predictive.windtunnel_predictive_kinds(make, fit, predictive.KINDS, 3, 4, per_draw=2)
     assert list(joint) == list(predictive.KINDS)
     # 2 draws × 5 groups: the fitted run computes, the prior run reuses; each kind's trace re-run computes its 5
@@ -458,8 +460,10 @@ def test_turntable_kinds_side_by_side_equal_separate_calls_and_share_the_noise(m
     sc = w.turntable_scenario(errors=fit.model, fs_hz=200.0)
     separate = {kind: _arrays(predictive.turntable_predictive(sc, fit, kind, 3, 5, tests=("T1", "T2")), kind)
                 for kind in predictive.KINDS}
-    filled, fill = [], runs.fill_streams
-    monkeypatch.setattr(runs, "fill_streams", lambda streams, outputs: filled.append(len(streams))
+    from mtcal.core import simulate
+
+    filled, fill = [], simulate.fill_streams        # (the groups of simulate.fill_streams_grouped)
+    monkeypatch.setattr(simulate, "fill_streams", lambda streams, outputs: filled.append(len(streams))
                         or fill(streams, outputs))
     joint = predictive.turntable_predictive_kinds(sc, fit, predictive.KINDS, 3, 5, tests=("T1", "T2"))
     assert filled[:3] == [2, 2, 2]        # T1: 3 pieces of one trial per kind, pairs filled together

@@ -159,22 +159,32 @@ def test_gates_refuse_with_their_messages(stream):
     assert np.degrees(ok.residual_rad.max()) > 0.01
 
 
+def _rest_fit(q_hat, q_s, q_ref, gate=True):
+    """A fit of :func:`six_position._fit_rests`' shape, for the core steps after it."""
+    from mtcal.methods.constrained_fit import project_to_so4
+
+    return six_position._RestFit(q_hat, project_to_so4(q_hat), np.ones(()), np.zeros((q_s.shape[0], 3)), q_ref,
+                                 [slice(0, 1)] * q_s.shape[0], np.arange(q_s.shape[0]), q_s, q_s, q_s, gate)
+
+
 def test_gate_refuses_zero_row_matrix_and_large_residual():
     bad = np.eye(4)
     bad[2] = 0.0
     bad[0, 1] = 10.0
     from mtcal.methods.constrained_fit import project_to_so4
 
-    lim = (installation.MAX_SO4_DISTANCE, installation.MAX_RESIDUAL_RAD)
     q = np.tile([1.0, 0.0, 0.0, 0.0], (6, 1))
     with pytest.raises(ValueError, match="Q_hat is not a calibration: distance .* min row norm 0"):
-        six_position._gated_residual(bad, project_to_so4(bad).distance, q, q, *lim)
-    assert not np.any(six_position._gated_residual(np.eye(4), project_to_so4(np.eye(4)).distance, q, q, *lim))
+        six_position._gate_distance(bad, project_to_so4(bad).distance, installation.MAX_SO4_DISTANCE)
+    six_position._gate_distance(bad, project_to_so4(bad).distance, installation.MAX_SO4_DISTANCE, gate=False)
+    six_position._gate_distance(np.eye(4), project_to_so4(np.eye(4)).distance, installation.MAX_SO4_DISTANCE)
+    ok = six_position._position_calibration(_rest_fit(np.eye(4), q, q), installation.MAX_RESIDUAL_RAD)
+    assert not np.any(ok.residual_rad)
     turned = rotations.quat_from_rotvec(np.tile([0.0, 0.0, np.radians(2.0)], (6, 1)))      # 2 deg off each
-    with pytest.raises(ValueError, match="residual 2.000 deg at position 1"):
-        six_position._gated_residual(np.eye(4), 0.0, turned, q, *lim)
-    ungated = six_position._gated_residual(bad, project_to_so4(bad).distance, turned, q, *lim, gate=False)
-    assert np.allclose(np.degrees(ungated), 2.0)                  # a verification measures, never refuses
+    with pytest.raises(six_position.PositionsRefused, match="residual 2.000 deg at position 1"):
+        six_position._position_calibration(_rest_fit(np.eye(4), q, turned), installation.MAX_RESIDUAL_RAD)
+    ungated = six_position._position_calibration(_rest_fit(bad, q, turned, gate=False), installation.MAX_RESIDUAL_RAD)
+    assert np.allclose(np.degrees(ungated.residual_rad), 2.0)        # a verification measures, never refuses
 
 
 PM_G_DEG = [[0, 0, 0], [0, 0, 180], [0, 90, 0], [0, -90, 0], [0, 0, 90], [0, 0, -90]]   # the classic +-g set
@@ -443,3 +453,94 @@ def test_calibrate_record_checks_its_inputs_once(stream):
     res = installation.calibrate_record(cfg, pos, DT_S, q_ws=q_ws)
     assert np.degrees(np.abs(res.calibration.installation_angles_rad - ALPHA)).max() < 1e-6
 
+
+
+@pytest.fixture(scope="module")
+def session():
+    """Two six-position runs of a mounted sensor, three trials with noise: (records, runs, positions)."""
+    from mtcal.core.profiles import join_profiles
+
+    pos = six_positions_rad()
+    run = schedule_profile(pos, rate_rad_s=np.radians(40.0), fs_hz=200.0)
+    prof, (cal_run, ver_run) = join_profiles([run, run])
+    from mtcal.core.simulate import SensorErrors
+
+    model = ImuErrorModel(gyro=SensorErrors(noise_density=1e-4), accel=SensorErrors(noise_density=1e-3),
+                          q_mount=tuple(rotations.mount_quaternion(ALPHA)))
+    rec = simulate_imu(trajectory_from_euler_zxy(prof), model, rng=np.random.default_rng(7), trials=3)
+    return rec.gyro_rad_s, rec.accel_m_s2, cal_run, ver_run, pos
+
+
+def test_measure_session_is_the_calibration_and_verification_of_each_piece(session):
+    """One stacked QNCF, the session zeroed once; each piece = calibrate_installation on the calibration run
+    (zeroed there) and verify_installation on the zeroed verification run, bit for bit, on any map."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    gyro, accel, cal_run, ver_run, pos = session
+    cfg = Config.monte_carlo(qncf_params=QncfParams())
+    fed = pos[None] + np.radians([[[0.01, 0.0, -0.02]], [[0.0, 0.03, 0.0]]])              # per trial, rows 1-2
+    pieces = [installation.SessionPiece(slice(0, 1), pos, 0.5), installation.SessionPiece(slice(1, 3), fed, 0.4)]
+    with ThreadPoolExecutor(2) as pool:
+        threaded = installation.measure_session(cfg, gyro, accel, 1 / 200.0, calibration_run=cal_run,
+                                                verification_run=ver_run, reference_rad=pos, pieces=pieces,
+                                                map_pieces=pool.map)
+    got = installation.measure_session(cfg, gyro, accel, 1 / 200.0, calibration_run=cal_run, verification_run=ver_run,
+                                       reference_rad=pos, pieces=pieces)
+    q_ws = qncf(gyro, accel, 1 / 200.0, QncfParams(), return_euler=False).q_ws
+    q_zeroed = rotations.relative_to_initial(q_ws)
+    assert np.array_equal(got.q_ws, q_zeroed) and np.array_equal(threaded.q_ws, q_zeroed)
+    for k, piece in enumerate(pieces):
+        rows = piece.rows
+        cal = installation.calibrate_installation(Config.monte_carlo(piece.fraction), piece.reference_rad, 1 / 200.0,
+                                                  q_ws=q_ws[rows, cal_run], gyro_rad_s=gyro[rows, cal_run])
+        ver = installation.verify_installation(Config.monte_carlo(piece.fraction, zero_at_first_sample=False),
+                                               cal.q_hat, pos, 1 / 200.0, q_ws=q_zeroed[rows, ver_run],
+                                               gyro_rad_s=gyro[rows, ver_run])
+        for m in (got, threaded):
+            for name in ("q_hat", "euler_before_rad", "euler_after_rad", "residual_rad", "matched"):
+                assert np.array_equal(getattr(m.calibrations[k], name), getattr(cal, name)), name
+                assert np.array_equal(getattr(m.verifications[k], name), getattr(ver, name)), name
+    assert np.degrees(np.abs(got.calibrations[0].installation_angles_rad - ALPHA)).max() < 0.05
+    alone = installation.measure_session(cfg, gyro, accel, 1 / 200.0, calibration_run=cal_run, pieces=pieces[:1])
+    assert alone.verifications is None and np.array_equal(alone.calibrations[0].q_hat, got.calibrations[0].q_hat)
+
+
+def test_measure_session_checks_its_inputs_once_at_its_edge(session):
+    gyro, accel, cal_run, ver_run, pos = session
+    cfg = Config.monte_carlo()
+    piece = installation.SessionPiece(slice(0, 3), pos, 0.5)
+    ok = dict(calibration_run=cal_run, verification_run=ver_run, reference_rad=pos, pieces=[piece])
+
+    def measure(config=cfg, g=gyro, a=accel, dt=1 / 200.0, **changes):
+        return installation.measure_session(config, g, a, dt, **{**ok, **changes})
+
+    with pytest.raises(TypeError, match="config must be an InstallationConfig"):
+        measure(config={"fraction": 0.5})
+    with pytest.raises(TypeError, match="pieces must be a non-empty sequence of SessionPiece"):
+        measure(pieces=[])
+    with pytest.raises(TypeError, match="pieces must be a non-empty sequence of SessionPiece"):
+        measure(pieces=[(slice(0, 3), pos, 0.5)])
+    with pytest.raises(ValueError, match="a verification run needs reference_rad"):
+        measure(reference_rad=None)
+    with pytest.raises(ValueError, match="at least 4 positions"):
+        measure(pieces=[installation.SessionPiece(slice(0, 3), pos[:3], 0.5)])
+    with pytest.raises(ValueError, match=r"stacked records of one shape \(T, N, 3\)"):
+        measure(g=gyro[0], a=accel[0])
+    with pytest.raises(ValueError, match=r"stacked records of one shape \(T, N, 3\)"):
+        measure(a=accel[:2])
+    with pytest.raises(TypeError, match="gyro_rad_s must be a numeric array"):
+        measure(g="gyro")
+    with pytest.raises(ValueError, match="dt_s must be the sample interval"):
+        measure(dt=200.0)
+    with pytest.raises(ValueError, match="verification_run must be a slice"):
+        measure(verification_run=slice(0, gyro.shape[1] + 1))
+    with pytest.raises(ValueError, match="calibration_run must be a slice"):
+        measure(calibration_run=[0, 10])
+    with pytest.raises(ValueError, match="a piece's rows must be a slice"):
+        measure(pieces=[installation.SessionPiece(slice(2, 5), pos, 0.5)])
+    with pytest.raises(ValueError, match=r"a piece's reference_rad of shape \(2, 6, 3\) needs 2 rows"):
+        measure(pieces=[installation.SessionPiece(slice(0, 3), np.stack([pos, pos]), 0.5)])
+    with pytest.raises(ValueError, match=r"a piece's fraction must be in \(0, 1\]"):
+        measure(pieces=[installation.SessionPiece(slice(0, 3), pos, 1.5)])
+    with pytest.raises(ValueError, match="a piece's fraction must be > 0"):
+        measure(pieces=[installation.SessionPiece(slice(0, 3), pos, 0.0)])

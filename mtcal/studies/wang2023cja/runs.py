@@ -36,7 +36,7 @@ from mtcal.core.allocator import keep_freed_memory
 from mtcal.core.profiles import AngleProfile, join_profiles, step_schedule
 from mtcal.core.rng import child_rngs, stream_rng
 from mtcal.core.rotations import mount_quaternion, relative_to_initial
-from mtcal.core.simulate import ImuStream, fill_streams, noise_mismatch
+from mtcal.core.simulate import ImuStream, fill_streams_grouped, load_tilt_outputs
 from mtcal.core.units import DEG, MG
 from mtcal.filters.qncf import qncf_trusted
 from mtcal.methods import six_position
@@ -110,41 +110,6 @@ def six_position_reference(sc: TurntableScenario) -> np.ndarray:
     """Six reference positions in the Eq 8 frame (paper order, roll sign per PAPER_SIGN), (6, 3) rad."""
     return six_position.six_positions_rad(np.radians(sc.yaw_positions_deg), np.radians(sc.pitch_positions_deg),
                                           np.radians(sc.roll_positions_deg)) * PAPER_SIGN
-
-
-def load_tilt_outputs(gyro_rad_s, accel_m_s2, q_wb, dt_s: float, q_mount, tilt_rad) -> None:
-    """Add, in place, a per-trial mount tilt proportional to the load normal to the mount plate.
-
-    The installation tilts by ``δ(t) = tilt · s(t)`` (body axes, rad) with ``s = −ĝ_z`` the
-    normal load in g (1 when level, 0 at roll ±90°). To first order in δ the sensor then reads
-    ``f' = f − δ_s × f`` and ``ω' = ω − δ_s × ω + δ̇_s`` (``δ_s`` in sensor axes).
-
-    Parameters
-    ----------
-    gyro_rad_s, accel_m_s2 : ndarray (T, N, 3)
-        Sensor outputs, modified in place.
-    q_wb : ndarray (N, 4)
-        Truth body attitude.
-    dt_s : float
-        Sample interval (s); ``ṡ`` is the central difference of ``s`` times ``1 / dt_s``.
-    q_mount : 4-sequence
-        ``q_bs``.
-    tilt_rad : ndarray (T, 3)
-        Tilt per g of normal load (rad), per trial.
-    """
-    s = rotations.quat_to_matrix(q_wb)[:, 2, 2]          # −ĝ_z: 1 when level
-    s_dot = np.gradient(s) * (1.0 / dt_s)
-    tilt_s = np.asarray(tilt_rad, float) @ rotations.quat_to_matrix(np.asarray(q_mount, float))  # C(q_bs)ᵀ δ
-    if (all(isinstance(x, np.ndarray) and x.dtype == np.float64 and x.ndim == 3 for x in (gyro_rad_s, accel_m_s2))
-            and tilt_s.shape == (gyro_rad_s.shape[0], 3)):
-        from ._kernels import load_tilt   # the loop below in one compiled pass, bit-identical
-
-        load_tilt(gyro_rad_s, accel_m_s2, s, s_dot, tilt_s)
-        return
-    for k in range(gyro_rad_s.shape[0]):
-        d = s[:, None] * tilt_s[k]
-        accel_m_s2[k] -= np.cross(d, accel_m_s2[k])
-        gyro_rad_s[k] += s_dot[:, None] * tilt_s[k] - np.cross(d, gyro_rad_s[k])
 
 
 @dataclass
@@ -276,20 +241,22 @@ class _SharedTrajectories:
         return traj
 
 
-def _run_pieces(sc: TurntableScenario, prof: AngleProfile, spans: dict, pieces: list, sweep_holds: dict | None,
-                traced: set, base: _ComplianceBase, buffers: dict, fill_groups: list) -> list[TurntableRun]:
+def _run_pieces(sc: TurntableScenario, prof: AngleProfile, spans: dict, pos: np.ndarray, pieces: list,
+                sweep_holds: dict | None, traced: set, base: _ComplianceBase, buffers: dict,
+                fill_groups: list) -> list[TurntableRun]:
     """Simulate every piece ``(test, sources, rng, trials, fraction)``, measure the session with ONE stacked
-    QNCF (:func:`_measure_session`), score each piece's sweeps.
+    QNCF (:func:`mtcal.systems.installation.measure_session`), score each piece's sweeps.
 
     The QNCF cost is dominated by its loop over time, so stacking the pieces along the trial
     axis costs about one run; each piece keeps its own generator. The pieces are simulated
     straight into ``buffers`` (reused by every call of a run: no fresh 100 MB arrays per call),
     which also keeps the sweeps' reference tables. The pieces of each list in ``fill_groups`` (a
     partition of the piece indices: the predictive kinds' pieces on one key) fill their records
-    together (:func:`_fill_together`: the noise drawn once when shared). Groups are simulated and
+    together (:func:`mtcal.core.simulate.fill_streams_grouped`: the noise drawn once when shared). Groups are simulated and
     pieces measured on :func:`_workers` threads (each its own generator and slice: the same numbers
     for any count). ``sweep_holds`` (:func:`_sweep_holds`, None without the sweeps): the sweeps' hold
-    windows. Pieces in ``traced`` keep the sweeps' time series of their first trial.
+    windows. Pieces in ``traced`` keep the sweeps' time series of their first trial. ``pos``: the six
+    positions (:func:`six_position_reference`).
     """
     total = sum(p[3] for p in pieces)
     if buffers.get("gyro") is None or buffers["gyro"].shape[0] < total:
@@ -307,38 +274,43 @@ def _run_pieces(sc: TurntableScenario, prof: AngleProfile, spans: dict, pieces: 
         return sc.errors.compliance_deg_g(MOUNT_TYPE[test]) * DEG if "mount_compliance" in sources else 0.0
 
     trajectory = _SharedTrajectories(prof.time_s, base, [compliance(i) for i in range(len(pieces))])
+    # each piece's generators (IMU, turntable angle errors, run change), its angle errors drawn up front
+    gens = [child_rngs(piece[2], 3) for piece in pieces]
+    draws = [_reference_draws(piece, rng_ref, sweep_holds) for piece, (_, rng_ref, _) in zip(pieces, gens)]
 
     def simulate(group):
         streams, parts = [], []
         for i in group:
-            test, sources, rng, trials, _, sc = pieces[i]
-            rng_imu, rng_ref, rng_change = child_rngs(rng, 3)
+            test, sources, _, trials, _, sc = pieces[i]
             traj = trajectory(compliance(i))   # = compliance_trajectory(prof.time_s, prof.angle_rad, k)
             model = sc.imu.error_model(mount_quaternion(sc.alpha_rad(test)), sources, sc.errors)
-            streams.append(ImuStream(traj, model, rng=rng_imu, trials=trials))
-            parts.append((rng_ref, rng_change, traj, model))
+            streams.append(ImuStream(traj, model, rng=gens[i][0], trials=trials))
+            parts.append((traj, model))
         rows = [(gyro[starts[i]:starts[i + 1]], accel[starts[i]:starts[i + 1]]) for i in group]
-        _fill_together(streams, rows)           # = simulate_imu(...) of each, into the buffer
+        fill_streams_grouped(streams, rows)           # = simulate_imu(...) of each, into the buffer
         del streams
-        for i, (g, acc), (_, rng_change, traj, model) in zip(group, rows, parts):
+        for i, (g, acc), (traj, model) in zip(group, rows, parts):
             test, sources, _, trials, _, sc = pieces[i]
+            rng_change = gens[i][2]
             if "accel_run_change" in sources:       # warm-up/temperature bias change between the runs
                 acc[:, ver0:] += sc.errors.accel_run_bias_mg * MG * rng_change.standard_normal((trials, 1, 3))
             if "mount_compliance" in sources and MOUNT_TYPE[test] == "gasket":
                 tilt = sc.errors.gasket_load_tilt_deg_g * DEG * rng_change.standard_normal((trials, 3)) * [1.0, 1.0, 0.0]
                 load_tilt_outputs(g, acc, traj.q_wb, sc.imu.dt_s, model.q_mount, tilt)
-        return [(i, part[0]) for i, part in zip(group, parts)]
 
-    rngs = dict(pair for done in _map(simulate, fill_groups) for pair in done)
-    pos = six_position_reference(sc)
-    draws = [_reference_draws(piece, rngs[i], sweep_holds) for i, piece in enumerate(pieces)]
-    # the procedure is fed the commanded reference; the turntable stood at command + e_cal
-    q_all, measured = _measure_session(sc, gyro, accel, spans, pos, [
-        (slice(starts[i], starts[i + 1]), pos - e_cal, _fraction(piece))
-        for i, (piece, (e_cal, _, _)) in enumerate(zip(pieces, draws))])
+    _map(simulate, fill_groups)
+    # the session measured by the installation system: one stacked QNCF, each piece's calibration and
+    # verification; the procedure is fed the commanded reference, the turntable stood at command + e_cal
+    config = installation.InstallationConfig.monte_carlo(qncf_params=sc.qncf)
+    session = installation.measure_session(
+        config, gyro, accel, sc.imu.dt_s,
+        calibration_run=spans["calibration"], verification_run=spans["verification"], reference_rad=pos,
+        pieces=[installation.SessionPiece(slice(starts[i], starts[i + 1]), pos - e_cal, _fraction(piece))
+                for i, (piece, (e_cal, _, _)) in enumerate(zip(pieces, draws))], map_pieces=_map)
+    q_all = session.q_ws
     runs = [TurntableRun(cal.q_hat, cal.euler_before_rad, cal.euler_after_rad, ver.euler_before_rad,
                          ver.euler_after_rad, pos, -e_cal, -e_ver)
-            for (cal, ver), (e_cal, e_ver, _) in zip(measured, draws)]
+            for cal, ver, (e_cal, e_ver, _) in zip(session.calibrations, session.verifications, draws)]
     hold_errors = [errors for _, _, errors in draws]
     if sweep_holds is not None:
         # the sweeps of consecutive pieces that share their settings in one pass each (rows independent:
@@ -372,53 +344,6 @@ def _reference_draws(piece, rng_ref: np.random.Generator, sweep_holds: dict | No
     frac = _fraction(piece)
     return e_cal, e_ver, {name: _draws(rng_ref, trials, len(sweep_holds[name, frac]), sc.reference_angle_sigma_rad,
                                        on)[..., chan_mean] for name, chan_mean, _ in _SWEEPS}
-
-
-def _measure_session(sc: TurntableScenario, gyro_rad_s, accel_m_s2, spans: dict, reference_rad, blocks: list) -> tuple:
-    """The session's measurement of stacked records: the QNCF, the calibration run, the verification run.
-
-    One QNCF over every trial (its cost is the loop over time), the session zeroed once at its start
-    (§4.1) in place from the verification run on (the calibration run stays as logged: the procedure
-    zeroes it itself); then, block by block of trials (on :func:`_workers` threads), the six-position
-    calibration of the calibration run (:func:`calibration_step`) and the verification run with Q̂ given
-    (:func:`mtcal.systems.installation.verify_installation`). The seam of the installation system's
-    session procedure (QNCF, calibration and verification in one call).
-
-    Parameters
-    ----------
-    sc : TurntableScenario
-        The QNCF settings and the sample interval (the pieces' scenarios differ in their error model
-        and installation angles only).
-    gyro_rad_s, accel_m_s2 : ndarray (T, N, 3)
-        The session's records, simulated by the caller (float64, SI units): the QNCF's trusted entry.
-    spans : dict
-        ``"calibration"``, ``"verification"``: the runs' samples (:func:`turntable_profile`).
-    reference_rad : ndarray (6, 3)
-        The positions the verification is measured against (rad, Eq 8 frame).
-    blocks : list of (slice, ndarray (t, 6, 3), float)
-        Each block's trial rows, the reference fed to its calibration and its averaging fraction.
-
-    Returns
-    -------
-    q_all : ndarray (T, N, 4)
-        The session's QNCF attitude (zeroed from the verification run on).
-    measured : list of (InstallationCalibration, InstallationCalibration)
-        Per block: the calibration and the verification.
-    """
-    res = qncf_trusted(gyro_rad_s, accel_m_s2, 1.0 / sc.fs_hz, sc.qncf, return_euler=False)
-    q_all = relative_to_initial(res.q_ws, out=res.q_ws, start=spans["verification"].start)
-    del res
-    cal_run, ver_run = spans["calibration"], spans["verification"]
-
-    def measure(block):
-        rows, fed_rad, fraction = block
-        cal = calibration_step(sc, q_all[rows, cal_run], gyro_rad_s[rows, cal_run], fed_rad, fraction)
-        ver = installation.verify_installation(
-            installation.InstallationConfig.monte_carlo(fraction, zero_at_first_sample=False), cal.q_hat,
-            reference_rad, sc.imu.dt_s, q_ws=q_all[rows, ver_run], gyro_rad_s=gyro_rad_s[rows, ver_run])
-        return cal, ver
-
-    return q_all, _map(measure, blocks)
 
 
 #: The sweeps of a T1 session: (name, channel averaged at the holds, channels whose errors are scored).
@@ -597,6 +522,7 @@ def run_turntable_jobs_kinds(sc: TurntableScenario, kinds_jobs: list, *, with_sw
         raise ValueError(f"block must be >= 1, got {block}")
     keep_freed_memory()                          # the per-call arrays below reuse freed heap, not fresh zeroed pages
     prof, spans = turntable_profile(sc, with_sweeps)
+    pos = six_position_reference(sc)
     n_kinds = len(kinds_jobs)
     per_call = max(int(block), int(max_trial_samples) // prof.time_s.size)
     per_call = -(-per_call // n_kinds) * n_kinds   # each kind an equal share (rounded up: 18 for 17 at 1000 Hz)
@@ -616,7 +542,7 @@ def run_turntable_jobs_kinds(sc: TurntableScenario, kinds_jobs: list, *, with_sw
     for c, call in enumerate(progress(calls, desc="turntable Monte Carlo")):
         n = len(call)                            # kind-major: the call's pieces of kind 0, then of kind 1, …
         items = [(m, pieces[m][p]) for m in range(n_kinds) for p in call]
-        runs = _run_pieces(sc, prof, spans, [piece for _, (_, piece) in items], sweep_holds,
+        runs = _run_pieces(sc, prof, spans, pos, [piece for _, (_, piece) in items], sweep_holds,
                            {m * n for m in range(n_kinds)} if keep_trace and c == 0 else set(), base, buffers,
                            [[m * n + k for m in range(n_kinds)] for k in range(n)])
         for (m, (i, _)), run in zip(items, runs):
@@ -894,21 +820,6 @@ def _concat_windtunnel(runs: list, sizes: list, b_trace: int, wind_on: bool) -> 
                          cat([r.cal_after for r in runs]), nowind, wind, first.trace)
 
 
-def _fill_together(streams: list, outputs: list) -> None:
-    """Fill each :class:`ImuStream` into its ``(gyro, accel)`` output, the streams that share their noise
-    with an earlier one (:func:`mtcal.core.simulate.noise_mismatch`) together (the same numbers)."""
-    groups = []
-    for stream, out in zip(streams, outputs):
-        for group in groups:
-            if noise_mismatch(group[0][0], stream) is None:
-                group.append((stream, out))
-                break
-        else:
-            groups.append([(stream, out)])
-    for group in groups:
-        fill_streams(*zip(*group))
-
-
 @dataclass
 class _WindTunnelBlock:
     """One scenario's block of :func:`_run_windtunnel_blocks` between its phases (:func:`_wt_setup`)."""
@@ -930,7 +841,7 @@ class _WindTunnelBlock:
 def _run_windtunnel_blocks(scenarios, rngs, trials: int, sources, *, wind_on: bool, keep_trace: bool,
                            trace_index: int = 0, shared: dict | None = None) -> list[WindTunnelRun]:
     """Wind-off calibration + AoA sweep (Tables 9, 11) and five wind-on groups (Table 10) of one block per
-    scenario: set up each (:func:`_wt_setup`), fill the wind-off records together (:func:`_fill_together`),
+    scenario: set up each (:func:`_wt_setup`), fill the wind-off records together (:func:`mtcal.core.simulate.fill_streams_grouped`),
     measure each (:func:`_wt_nowind`); then the same for the wind-on groups (:func:`_wind_on_fill`,
     :func:`_wind_on_measure`).
 
@@ -943,7 +854,7 @@ def _run_windtunnel_blocks(scenarios, rngs, trials: int, sources, *, wind_on: bo
     blocks = [_wt_setup(sc, rng, trials, sources, wind_on) for sc, rng in zip(scenarios, rngs)]
     shape = (trials, len(blocks[0].traj), 3)
     records = [(np.empty(shape), np.empty(shape)) for _ in blocks]
-    _fill_together([ImuStream(b.traj, b.model, rng=b.rng_imu, trials=trials) for b in blocks], records)
+    fill_streams_grouped([ImuStream(b.traj, b.model, rng=b.rng_imu, trials=trials) for b in blocks], records)
     out = []
     for m, b in enumerate(blocks):
         b.traj = None                                # (its truth outputs: not kept while the wind is on)
@@ -1005,11 +916,13 @@ def _wt_nowind(b: _WindTunnelBlock, gyro, accel, sources, keep_trace: bool, trac
     span = spans["aoa"]
     if "accel_run_change" in sources:   # bias change between the calibration and the sweep
         accel[:, span.start:] += (sc.errors.accel_run_bias_mg * MG * b.rng_change.standard_normal((trials, 1, 3)))
-    res = qncf_trusted(gyro, accel, 1.0 / sc.fs_hz, sc.qncf, return_euler=False)   # records simulated here: trusted
-    # the session zeroed at its start, in place after the calibration run (kept as logged: no copy)
-    q_s = relative_to_initial(res.q_ws, out=res.q_ws, start=span.start)
-    q_cal = q_s[:, spans["calibration"]]
-    cal = calibration_step(sc, q_cal, gyro[:, spans["calibration"]], b.pos + b.ref_err, frac)
+    # the session measured by the installation system: the QNCF, the session zeroed at its first sample, the
+    # calibration run's calibration fed the commanded positions (the mechanism stood at command + error)
+    config = installation.InstallationConfig.monte_carlo(qncf_params=sc.qncf)
+    session = installation.measure_session(
+        config, gyro, accel, sc.imu.dt_s, calibration_run=spans["calibration"],
+        pieces=[installation.SessionPiece(slice(0, trials), b.pos + b.ref_err, frac)])
+    q_s, cal = session.q_ws, session.calibrations[0]
     q_mat = cal.q_hat
     cmd = b.prof.angle_rad[span]
     before, after, errs = montecarlo.channel_errors_before_after(q_s[:, span], q_mat, cmd, 1)
@@ -1105,7 +1018,7 @@ def _wind_on_truth(sc, rng, trials, profs, rates) -> list[_WindOnGroup]:
 def _wind_on_fill(blocks: list, shared: dict | None) -> list[tuple[np.ndarray, np.ndarray]]:
     """The five wind-on groups' records of each block (:func:`_wind_on_truth`), stacked as trials for the QNCF,
     each group padded with its last sample; a group's records of all blocks filled together
-    (:func:`_fill_together`), then the accelerometer vibration added (``shared``: :func:`run_windtunnel`).
+    (:func:`mtcal.core.simulate.fill_streams_grouped`), then the accelerometer vibration added (``shared``: :func:`run_windtunnel`).
     Peak memory: the stacks + one group."""
     trials = blocks[0].trials
     n = max(grp.prof.time_s.size for grp in blocks[0].groups)
@@ -1122,7 +1035,7 @@ def _wind_on_fill(blocks: list, shared: dict | None) -> list[tuple[np.ndarray, n
             streams.append(ImuStream(grp.traj, model_g, rng=grp.rng_imu, trials=trials))
             grp.traj = None                          # dropped once simulated (the groups still to come keep
             #                                          theirs: about 1 % of the stack at 500 Hz, measured)
-        _fill_together(streams, records)
+        fill_streams_grouped(streams, records)
         del streams
         for b, (gyro, accel), (g_g, a_g) in zip(blocks, stacks, records):
             grp = b.groups[g]
