@@ -710,7 +710,8 @@ def run_windtunnel(sc: WindTunnelScenario, rng: np.random.Generator, trials: int
     ``block`` (≈ 0.6 GB at 10), not by ``trials``. The time series of trial ``trace_trial`` are kept
     for figures (``keep_trace``; off: ``trace`` is empty, a caller that keeps another run's does not
     hold ~10 MB per run); the trials' numbers do not depend on which one is traced. Each block is one
-    session of the scenario (:func:`_windtunnel_block`).
+    session of the scenario (:func:`_windtunnel_block`), written straight into its trial rows of the run's
+    arrays (:func:`_windtunnel_outputs`: no per-block results kept and joined afterwards).
 
     ``shared`` (a dict, empty on the first of several runs from equal generators): the wind-on
     accelerometer vibration of each block and group is kept there and reused by a later run whose
@@ -722,18 +723,25 @@ def run_windtunnel(sc: WindTunnelScenario, rng: np.random.Generator, trials: int
     sources = _check_sources(sources)
     sizes, b_trace, i_trace = _windtunnel_block_sizes(trials, block, trace_trial)
     keep_freed_memory()                          # the per-block arrays reuse freed heap, not fresh zeroed pages
-    runs = [_windtunnel_block(sc, r, n, sources, wind_on=wind_on, keep_trace=keep_trace and i == b_trace,
-                              trace_index=i_trace, shared=None if shared is None else shared.setdefault(i, {}))
-            for i, (r, n) in enumerate(progress(list(zip(child_rngs(rng, len(sizes)), sizes)),
-                                                desc="wind-tunnel Monte Carlo"))]
-    return _concat_windtunnel(runs, sizes, b_trace, wind_on)
+    out = _windtunnel_outputs(sc, sum(sizes), wind_on)
+    gates = [_windtunnel_block(sc, r, n, sources, wind_on=wind_on, keep_trace=keep_trace and i == b_trace,
+                               trace_index=i_trace, shared=None if shared is None else shared.setdefault(i, {}),
+                               out=out, rows=rows)
+             for i, (r, n, rows) in enumerate(progress(list(zip(child_rngs(rng, len(sizes)), sizes, _block_rows(sizes))),
+                                                       desc="wind-tunnel Monte Carlo"))]
+    if wind_on:                                  # the trial-weighted mean of the blocks' gate fractions
+        out.wind_on["gate_fraction_on"] = float(np.average(gates, weights=sizes))
+    return out
 
 
 def _windtunnel_block(sc: WindTunnelScenario, rng: np.random.Generator, trials: int, sources, *, wind_on: bool,
-                      keep_trace: bool, trace_index: int = 0, shared: dict | None = None) -> WindTunnelRun:
+                      keep_trace: bool, trace_index: int = 0, shared: dict | None = None, out: WindTunnelRun,
+                      rows: slice) -> float | None:
     """One block of :func:`run_windtunnel`: the session's settings and truth (:func:`_wt_setup`), its IMU
     records (:meth:`mtcal.core.simulate.ImuStream.fill`), the wind-off measurement (:func:`_wt_nowind`), then the
-    wind-on groups' records (:func:`_wind_on_fill`) and measurement (:func:`_wind_on_measure`).
+    wind-on groups' records (:func:`_wind_on_fill`) and measurement (:func:`_wind_on_measure`), written into
+    the trial ``rows`` of ``out`` (:func:`_windtunnel_outputs`; its trace: the block's with ``keep_trace``).
+    Returns the block's gate fraction with the wind on (None with it off).
 
     :func:`_run_windtunnel_blocks` is the same block of several scenarios side by side (their records
     filled together, the same numbers).
@@ -743,13 +751,13 @@ def _windtunnel_block(sc: WindTunnelScenario, rng: np.random.Generator, trials: 
     gyro, accel = np.empty(shape), np.empty(shape)
     ImuStream(b.traj, b.model, rng=b.rng_imu, trials=trials).fill(gyro, accel)
     b.traj = None                                # (its truth outputs: not kept while the wind is on)
-    run = _wt_nowind(b, gyro, accel, sources, keep_trace, trace_index)
+    trace = _wt_nowind(b, gyro, accel, sources, keep_trace, trace_index, out, rows)
     del gyro, accel
-    if wind_on:
-        gyro, accel = _wind_on_fill([b], shared)[0]
-        run.wind_on = _wind_on_measure(sc, run.q_matrix, b.groups, trials, run.trace, keep_trace, trace_index,
-                                       gyro, accel)
-    return run
+    if not wind_on:
+        return None
+    gyro, accel = _wind_on_fill([b], shared)[0]
+    return _wind_on_measure(sc, out.q_matrix[rows], b.groups, trials, trace, keep_trace, trace_index, gyro, accel,
+                            out.wind_on, rows)
 
 
 def _windtunnel_block_sizes(trials: int, block: int, trace_trial: int) -> tuple[list, int, int]:
@@ -762,6 +770,12 @@ def _windtunnel_block_sizes(trials: int, block: int, trace_trial: int) -> tuple[
     if not 0 <= int(trace_trial) < trials:
         raise ValueError(f"trace_trial must be in [0, {trials}), got {trace_trial}")
     return [min(int(block), trials - k) for k in range(0, trials, int(block))], *divmod(int(trace_trial), int(block))
+
+
+def _block_rows(sizes: list) -> list[slice]:
+    """The trial rows of each block of ``sizes`` trials, in order."""
+    starts = np.cumsum([0] + list(sizes)).tolist()
+    return [slice(a, b) for a, b in zip(starts[:-1], starts[1:])]
 
 
 def run_windtunnel_kinds(scenarios, rngs, trials: int, sources=SOURCES, *, wind_on: bool = True, block: int = 10,
@@ -796,28 +810,36 @@ def run_windtunnel_kinds(scenarios, rngs, trials: int, sources=SOURCES, *, wind_
     sizes, b_trace, i_trace = _windtunnel_block_sizes(trials, block, trace_trial)
     keep_freed_memory()                          # the per-block arrays reuse freed heap, not fresh zeroed pages
     block_rngs = list(zip(*(child_rngs(rng, len(sizes)) for rng in rngs)))   # [block][scenario]
-    per_block = [_run_windtunnel_blocks(scenarios, list(r), n, sources, wind_on=wind_on,
-                                        keep_trace=keep_trace and i == b_trace, trace_index=i_trace,
-                                        shared=None if shared is None else shared.setdefault(i, {}))
-                 for i, (r, n) in enumerate(progress(list(zip(block_rngs, sizes)), desc="wind-tunnel Monte Carlo"))]
-    return [_concat_windtunnel([runs[m] for runs in per_block], sizes, b_trace, wind_on)
-            for m in range(len(scenarios))]
+    outs = [_windtunnel_outputs(sc, sum(sizes), wind_on) for sc in scenarios]
+    gates = [_run_windtunnel_blocks(scenarios, list(r), n, sources, wind_on=wind_on,
+                                    keep_trace=keep_trace and i == b_trace, trace_index=i_trace,
+                                    shared=None if shared is None else shared.setdefault(i, {}), outs=outs, rows=rows)
+             for i, (r, n, rows) in enumerate(progress(list(zip(block_rngs, sizes, _block_rows(sizes))),
+                                                       desc="wind-tunnel Monte Carlo"))]
+    for m, out in enumerate(outs):
+        if wind_on:                              # the trial-weighted mean of the blocks' gate fractions
+            out.wind_on["gate_fraction_on"] = float(np.average([g[m] for g in gates], weights=sizes))
+    return outs
 
 
-def _concat_windtunnel(runs: list, sizes: list, b_trace: int, wind_on: bool) -> WindTunnelRun:
-    """The blocks' runs of one scenario as one WindTunnelRun (trace from block ``b_trace``)."""
-    cat = lambda xs: np.concatenate(xs, axis=0)  # noqa: E731
-    first = runs[0]
-    first.trace = runs[b_trace].trace
-    nowind = {k: (v if k == "reference" else cat([r.nowind[k] for r in runs])) for k, v in first.nowind.items()}
+def _windtunnel_outputs(sc: WindTunnelScenario, trials: int, wind_on: bool) -> WindTunnelRun:
+    """The arrays of a run of ``trials`` trials, empty: each block writes its trial rows (:func:`_wt_nowind`,
+    :func:`_wind_on_measure`); the sweeps' references (equal in every block) come from the first block, the
+    trace from the traced block, ``gate_fraction_on`` from the caller (the blocks' trial-weighted mean)."""
+    _, prof, spans, _, _, holds = _wt_session(sc)
+    span = spans["aoa"]
+    dec = (trials, len(range(span.start, span.stop, TRACE_DECIMATION)), 3)
+    nowind = {"reference": None, "before_mean": np.empty((trials, len(holds))),
+              "after_mean": np.empty((trials, len(holds)))}
+    for state in ("before", "after"):
+        for c in (2, 0):
+            nowind[f"{state}_maxae_{c}"], nowind[f"{state}_rmse_{c}"] = np.empty(trials), np.empty(trials)
+        nowind[f"{state}_err_dec"] = np.empty(dec, dtype=np.float32)
     wind = None
     if wind_on:
-        wind = dict(first.wind_on)
-        wind["group_means"] = np.concatenate([r.wind_on["group_means"] for r in runs], axis=1)
-        wind["gate_fraction_on_trials"] = cat([r.wind_on["gate_fraction_on_trials"] for r in runs])
-        wind["gate_fraction_on"] = float(np.average([r.wind_on["gate_fraction_on"] for r in runs], weights=sizes))
-    return WindTunnelRun(cat([r.q_matrix for r in runs]), cat([r.cal_before for r in runs]),
-                         cat([r.cal_after for r in runs]), nowind, wind, first.trace)
+        wind = {"reference": None, "group_means": np.empty((5, trials, len(sc.wind_on_sweep_deg))),
+                "elastic_corrected": None, "gate_fraction_on": None, "gate_fraction_on_trials": np.empty(trials)}
+    return WindTunnelRun(np.empty((trials, 4, 4)), np.empty((trials, 6, 3)), np.empty((trials, 6, 3)), nowind, wind, {})
 
 
 @dataclass
@@ -839,7 +861,7 @@ class _WindTunnelBlock:
 
 
 def _run_windtunnel_blocks(scenarios, rngs, trials: int, sources, *, wind_on: bool, keep_trace: bool,
-                           trace_index: int = 0, shared: dict | None = None) -> list[WindTunnelRun]:
+                           trace_index: int = 0, shared: dict | None = None, outs: list, rows: slice) -> list:
     """Wind-off calibration + AoA sweep (Tables 9, 11) and five wind-on groups (Table 10) of one block per
     scenario: set up each (:func:`_wt_setup`), fill the wind-off records together (:func:`mtcal.core.simulate.fill_streams_grouped`),
     measure each (:func:`_wt_nowind`); then the same for the wind-on groups (:func:`_wind_on_fill`,
@@ -850,34 +872,35 @@ def _run_windtunnel_blocks(scenarios, rngs, trials: int, sources, *, wind_on: bo
     model vibrates (accelerometer ``vibration_accel_m_s2`` at
     ``vibration_freq_hz`` plus angular pitch vibration), which trips the AMD:
     the QNCF runs on the gyro alone.
+
+    Scenario ``m``'s block is written into the trial ``rows`` of ``outs[m]`` (:func:`_windtunnel_outputs`).
+    Returns per scenario the block's gate fraction with the wind on (None with it off).
     """
     blocks = [_wt_setup(sc, rng, trials, sources, wind_on) for sc, rng in zip(scenarios, rngs)]
     shape = (trials, len(blocks[0].traj), 3)
     records = [(np.empty(shape), np.empty(shape)) for _ in blocks]
     fill_streams_grouped([ImuStream(b.traj, b.model, rng=b.rng_imu, trials=trials) for b in blocks], records)
-    out = []
+    traces = []
     for m, b in enumerate(blocks):
         b.traj = None                                # (its truth outputs: not kept while the wind is on)
-        out.append(_wt_nowind(b, *records[m], sources, keep_trace, trace_index))
+        traces.append(_wt_nowind(b, *records[m], sources, keep_trace, trace_index, outs[m], rows))
         records[m] = None
-    if wind_on:
-        stacks = _wind_on_fill(blocks, shared)
-        for m, b in enumerate(blocks):
-            out[m].wind_on = _wind_on_measure(b.sc, out[m].q_matrix, b.groups, trials, out[m].trace, keep_trace,
-                                              trace_index, *stacks[m])
-            stacks[m] = None
-    return out
+    if not wind_on:
+        return [None] * len(blocks)
+    stacks = _wind_on_fill(blocks, shared)
+    gates = []
+    for m, b in enumerate(blocks):
+        gates.append(_wind_on_measure(b.sc, outs[m].q_matrix[rows], b.groups, trials, traces[m], keep_trace,
+                                      trace_index, *stacks[m], outs[m].wind_on, rows))
+        stacks[m] = None
+    return gates
 
 
-def _wt_setup(sc: WindTunnelScenario, rng: np.random.Generator, trials: int, sources, wind_on: bool):
-    """One scenario's block up to its IMU streams: the settings (waypoints, positions, the profiles of the
-    session and of the wind-on groups, hold windows), the reference draws, the truth (the mechanism's actual
-    angles tilted by the mount's compliance) and the error model."""
-    rng_imu, rng_ref, rng_wind, rng_change = child_rngs(rng, 4)
+def _wt_session(sc: WindTunnelScenario) -> tuple:
+    """A scenario's session schedule (shared by its blocks, :func:`_shared_profile`): ``(positions (6, 3) rad,
+    session profile (calibration then AoA sweep), its spans {"calibration", "aoa"}, the five wind-on groups'
+    profiles, their rates (rad/s), the AoA sweep's hold windows relative to its span (first and last dropped))``."""
     frac = 0.5
-    on = set(sources)
-    k_mount = sc.errors.compliance_deg_g(MOUNT_TYPE["windtunnel"]) * DEG if "mount_compliance" in on else 0.0
-    # --- wind-off session: calibration then AoA sweep
     aoa_wp, aoa_holds_s = _wt_waypoints(sc.aoa_sweep_deg), _wt_holds_s(sc.aoa_sweep_deg, 1.0, sc.hold_s)
     # the wind-on groups' sweeps (group 5 at its own rate)
     won_rates = [sc.group5_rate_rad_s if g == 4 else sc.mechanism_rate_rad_s for g in range(5)]
@@ -897,6 +920,17 @@ def _wt_setup(sc: WindTunnelScenario, rng: np.random.Generator, trials: int, sou
     spans = dict(zip(("calibration", "aoa"), spans))
     span = spans["aoa"]
     holds = [slice(h.start - span.start, h.stop - span.start) for h in _shared_holds(prof, span, frac)][1:-1]
+    return pos, prof, spans, won_profs, won_rates, holds
+
+
+def _wt_setup(sc: WindTunnelScenario, rng: np.random.Generator, trials: int, sources, wind_on: bool):
+    """One scenario's block up to its IMU streams: the settings (:func:`_wt_session`: positions, the profiles
+    of the session and of the wind-on groups, hold windows), the reference draws, the truth (the mechanism's
+    actual angles tilted by the mount's compliance) and the error model."""
+    rng_imu, rng_ref, rng_wind, rng_change = child_rngs(rng, 4)
+    on = set(sources)
+    k_mount = sc.errors.compliance_deg_g(MOUNT_TYPE["windtunnel"]) * DEG if "mount_compliance" in on else 0.0
+    pos, prof, spans, won_profs, won_rates, holds = _wt_session(sc)
     ref_err = _draws(rng_ref, trials, 6, sc.repeatability_rad, "reference_angle" in on)   # its own generator
     # truth: the mechanism's actual angles, tilted by the mount; then the IMU (core)
     actual = mechanism_actual(sc, prof, sc.mechanism_rate_rad_s)
@@ -909,9 +943,12 @@ def _wt_setup(sc: WindTunnelScenario, rng: np.random.Generator, trials: int, sou
     return _WindTunnelBlock(sc, trials, rng_imu, rng_change, prof, spans, holds, ref_err, pos, groups, model, traj)
 
 
-def _wt_nowind(b: _WindTunnelBlock, gyro, accel, sources, keep_trace: bool, trace_index: int) -> WindTunnelRun:
+def _wt_nowind(b: _WindTunnelBlock, gyro, accel, sources, keep_trace: bool, trace_index: int, out: WindTunnelRun,
+               rows: slice) -> dict:
     """The wind-off session of one block from its IMU record (modified in place): the run-to-run accelerometer
-    bias change, the QNCF, the calibration and the AoA sweep's errors."""
+    bias change, the QNCF, the calibration and the AoA sweep's errors, written into the trial ``rows`` of
+    ``out`` (:func:`_windtunnel_outputs`; the sweep's reference by the first block). Returns the block's trace
+    (empty without ``keep_trace``; the traced block's is ``out.trace``)."""
     sc, trials, spans, frac = b.sc, b.trials, b.spans, 0.5
     span = spans["aoa"]
     if "accel_run_change" in sources:   # bias change between the calibration and the sweep
@@ -924,22 +961,24 @@ def _wt_nowind(b: _WindTunnelBlock, gyro, accel, sources, keep_trace: bool, trac
         pieces=[installation.SessionPiece(slice(0, trials), b.pos + b.ref_err, frac)])
     q_s, cal = session.q_ws, session.calibrations[0]
     q_mat = cal.q_hat
+    out.q_matrix[rows], out.cal_before[rows], out.cal_after[rows] = q_mat, cal.euler_before_rad, cal.euler_after_rad
     cmd = b.prof.angle_rad[span]
     before, after, errs = montecarlo.channel_errors_before_after(q_s[:, span], q_mat, cmd, 1)
-    holds = b.holds
-    nowind = {"reference": np.array([cmd[h, 1].mean() for h in holds]),
-              "before_mean": _hold_means(before, holds), "after_mean": _hold_means(after, holds)}
+    holds, nowind = b.holds, out.nowind
+    if rows.start == 0:
+        nowind["reference"] = np.array([cmd[h, 1].mean() for h in holds])
+    nowind["before_mean"][rows], nowind["after_mean"][rows] = _hold_means(before, holds), _hold_means(after, holds)
     for state in ("before", "after"):
         err = errs[state]
         for c in (2, 0):
-            nowind[f"{state}_maxae_{c}"], nowind[f"{state}_rmse_{c}"] = _maxae_rmse(err[..., c])
-        nowind[f"{state}_err_dec"] = err[:, ::TRACE_DECIMATION].astype(np.float32)
+            nowind[f"{state}_maxae_{c}"][rows], nowind[f"{state}_rmse_{c}"][rows] = _maxae_rmse(err[..., c])
+        nowind[f"{state}_err_dec"][rows] = err[:, ::TRACE_DECIMATION]      # (float32: the cast of astype)
     trace = {}
     if keep_trace:
-        trace = {"nowind_time_s": b.prof.time_s[span] - b.prof.time_s[span.start],
-                 "nowind_before_err": errs["before"][trace_index].copy(),
-                 "nowind_after_err": errs["after"][trace_index].copy()}
-    return WindTunnelRun(q_mat, cal.euler_before_rad, cal.euler_after_rad, nowind, None, trace)
+        trace = out.trace = {"nowind_time_s": b.prof.time_s[span] - b.prof.time_s[span.start],
+                             "nowind_before_err": errs["before"][trace_index].copy(),
+                             "nowind_after_err": errs["after"][trace_index].copy()}
+    return trace
 
 
 def windtunnel_median_trial(run: WindTunnelRun) -> int:
@@ -1050,9 +1089,12 @@ def _wind_on_fill(blocks: list, shared: dict | None) -> list[tuple[np.ndarray, n
     return stacks
 
 
-def _wind_on_measure(sc, q_mat, groups, trials, trace, keep_trace, trace_index, gyro, accel):
+def _wind_on_measure(sc, q_mat, groups, trials, trace, keep_trace, trace_index, gyro, accel, out: dict,
+                     rows: slice) -> float:
     """Five wind-on AoA sweeps of one block from their stacked records (:func:`_wind_on_fill`): one QNCF, the
-    pitch after calibration at each group's holds."""
+    pitch after calibration at each group's holds, written into the trial ``rows`` of the run's ``wind_on``
+    arrays ``out`` (:func:`_windtunnel_outputs`; the references by the first block). Returns the block's gate
+    fraction with the wind on."""
     lead_s = _WIND_LEAD_S
     profs = [grp.prof for grp in groups]
     ref = np.radians(np.asarray(sc.wind_on_sweep_deg, float))
@@ -1060,7 +1102,7 @@ def _wind_on_measure(sc, q_mat, groups, trials, trace, keep_trace, trace_index, 
     res = qncf_trusted(gyro, accel, 1.0 / sc.fs_hz, sc.qncf, return_euler=False)   # records simulated here: trusted
     q_s = relative_to_initial(res.q_ws, n0=1, out=res.q_ws)
     q_rep = np.concatenate([q_mat] * 5, axis=0)
-    means = np.empty((5, trials, len(sc.wind_on_sweep_deg)))
+    means = out["group_means"][:, rows]                             # (a view: written in place)
     for g, prof in enumerate(profs):
         sl = slice(g * trials, (g + 1) * trials)
         q_g = q_s[sl]
@@ -1075,9 +1117,10 @@ def _wind_on_measure(sc, q_mat, groups, trials, trace, keep_trace, trace_index, 
         trace[f"wind_reference_{g}"] = prof.angle_rad[:, 1].copy()
         trace[f"wind_pitch_{g}"] = rotations.mapped_pitch_trusted(      # the QNCF's own quaternions, finite Q̂
             q_rep[sl][trace_index:trace_index + 1], q_g[trace_index:trace_index + 1, :prof.time_s.size])[0]
-    return {"reference": ref, "group_means": means, "elastic_corrected": elastic_corrected,
-            "gate_fraction_on": float(res.gate[:, int(lead_s * sc.fs_hz):].mean()),
-            "gate_fraction_on_trials": res.gate[:, int(lead_s * sc.fs_hz):].reshape(5, trials, -1).mean(axis=(0, 2))}
+    if rows.start == 0:
+        out["reference"], out["elastic_corrected"] = ref, elastic_corrected
+    out["gate_fraction_on_trials"][rows] = res.gate[:, int(lead_s * sc.fs_hz):].reshape(5, trials, -1).mean(axis=(0, 2))
+    return float(res.gate[:, int(lead_s * sc.fs_hz):].mean())
 
 
 
