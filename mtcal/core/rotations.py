@@ -50,7 +50,7 @@ __all__ = ["mount_quaternion", "relative_to_initial", "installation_angles", "in
     "quat_from_euler_zxy", "level_quat_zxy", "euler_zxy_from_quat", "euler_zxy_unchecked", "quat_to_matrix", "quat_from_matrix",
     "installation_matrix", "installation_matrix_small_angle", "coupling_error_eq4",
     "dcm_zyx", "specific_force_zyx", "pitch_roll_from_specific_force",
-    "axis_angle_matrix", "wrap_angle", "quat_angle_between", "quat_angle_between_trusted", "apply_quat_matrix_trusted", "mapped_pitch_trusted",
+    "axis_angle_matrix", "wrap_angle", "quat_angle_between", "apply_quat_matrix_trusted", "mapped_pitch_trusted",
 ]
 
 
@@ -287,27 +287,6 @@ def quat_angle_between(p, q) -> np.ndarray:
     p = unit_quaternion(p, "p")
     q = unit_quaternion(q, "q")
     d = hamilton(quat_conjugate(p), q)  # atan2 keeps full precision near zero (arccos does not)
-    return 2.0 * np.arctan2(np.linalg.norm(d[..., 1:], axis=-1), np.abs(d[..., 0]))
-
-
-#: Signs of the conjugate ``[q0, −q1, −q2, −q3]`` (a product by ±1 is exact).
-_CONJUGATE = np.array([1.0, -1.0, -1.0, -1.0])
-
-
-def quat_angle_between_trusted(p: np.ndarray, q: np.ndarray) -> np.ndarray:
-    """:func:`quat_angle_between` without input validation: the same arithmetic, the same numbers.
-
-    Preconditions (not checked): ``p`` and ``q`` float64 arrays (..., 4) of unit quaternions, scalar-first,
-    broadcastable against each other. A NaN propagates to its angle.
-
-    Examples
-    --------
-    >>> p = np.array([[1.0, 0.0, 0.0, 0.0]])
-    >>> q = quat_from_rotvec(np.array([[0.0, 0.0, 0.25]]))
-    >>> float(quat_angle_between_trusted(p, q)[0]) == float(quat_angle_between(p, q)[0])
-    True
-    """
-    d = hamilton(p * _CONJUGATE, q)     # atan2 keeps full precision near zero (arccos does not)
     return 2.0 * np.arctan2(np.linalg.norm(d[..., 1:], axis=-1), np.abs(d[..., 0]))
 
 

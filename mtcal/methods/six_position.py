@@ -648,7 +648,7 @@ def calibrate_from_rests(q_ws: np.ndarray, positions_rad: np.ndarray, q_referenc
     fit = _fit_rests(q_zeroed, q_ws, positions_rad, q_reference, dt_s, model=model, q_hat=q_hat,
                      gyro_rad_s=gyro_rad_s, rests=rests, fraction=fraction, min_rest_s=min_rest_s,
                      threshold_rad_s=threshold_rad_s, window_s=window_s, max_match_rad=max_match_rad,
-                     in_order=in_order, max_condition=max_condition, max_so4_distance=max_so4_distance, q_detect=q_ws)
+                     in_order=in_order, max_condition=max_condition, max_so4_distance=max_so4_distance)
     del q_zeroed                                   # the record's zeroed copy: only its rest means are kept
     sig = angles_sigma(fit.q_sensor, fit.q_reference, fit.q_hat, model) if sigma else None
     return _position_calibration(fit, max_residual_rad, sig)
@@ -672,17 +672,17 @@ class _RestFit:
 
 
 def _fit_rests(q_zeroed, q_given, positions_rad, q_reference, dt_s, *, model, q_hat, gyro_rad_s, rests, fraction,
-               min_rest_s, threshold_rad_s, window_s, max_match_rad, in_order, max_condition, max_so4_distance,
-               q_detect) -> _RestFit:
+               min_rest_s, threshold_rad_s, window_s, max_match_rad, in_order, max_condition,
+               max_so4_distance) -> _RestFit:
     """The methods-level steps of :func:`calibrate_from_rests` on a zeroed attitude ``q_zeroed``: rests → means →
     matching (steps 3–5), the fit of ``model`` (or ``q_hat`` given: no gate), its SO(4) projection and the
     distance gate. ``q_given`` is the attitude the caller was given (a refusal carries it); rests from
-    ``gyro_rad_s``, else from the rotation rate of ``q_detect``."""
+    ``gyro_rad_s``, else from the rotation rate of ``q_given``."""
     q_ref = q_reference
     means = None
     try:                                           # steps 3–5 (:func:`rest_attitudes`), then Eq 13 and the gates
         rests, means = _rests_and_means(q_zeroed, q_ref.shape[-2], dt_s, gyro_rad_s, rests, fraction, min_rest_s,
-                                        threshold_rad_s, window_s, q_detect)
+                                        threshold_rad_s, window_s, q_given)
         matched = _matched(means, q_ref, max_match_rad, in_order)
         q_s = means[..., matched, :]
         q_s_al, q_b_al = quaternion_lsq._align_pairs(q_s, q_ref)
@@ -712,7 +712,7 @@ def _position_calibration(fit: _RestFit, max_residual_rad: float, sigma_rad: np.
     residual gate (with ``fit.gate``). ``sigma_rad``: the angles' 1σ (:func:`angles_sigma`), when asked for."""
     q_s, q_ref, pos, mat = fit.q_sensor, fit.q_reference, fit.positions_rad, fit.q_hat
     after = rotations.apply_quat_matrix_trusted(mat, q_s)                         # Eq 10 at the rests
-    residual = rotations.quat_angle_between_trusted(after, q_ref)
+    residual = _angle_between(after, q_ref)
     q_bs = rotations.quat_conjugate(fit.projection.r)
     alpha = rotations.installation_angles_from_mount_trusted(q_bs)
     before_e = rotations.euler_zxy_unchecked(q_s)
@@ -811,15 +811,15 @@ def calibrate_session(q_calibration: np.ndarray, positions_rad: np.ndarray, q_re
                     max_so4_distance=max_so4_distance)
     # the methods-level steps of both runs, then the core steps of both (Eq 10 at the rests, angles)
     cal = _fit_rests(q_calibration, q_calibration, positions_rad, q_reference, dt_s, q_hat=None,
-                     gyro_rad_s=gyro_calibration, q_detect=q_calibration, **settings)
+                     gyro_rad_s=gyro_calibration, **settings)
     ver = None
     if q_verification is not None:
         if verification_positions_rad is None:
             verification_positions_rad, verification_q_reference = positions_rad, q_reference
         ver = _fit_rests(q_verification, q_verification, verification_positions_rad, verification_q_reference, dt_s,
-                         q_hat=cal.q_hat, gyro_rad_s=gyro_verification, q_detect=q_verification, **settings)
-    done = [_position_calibration(fit, max_residual_rad) for fit in ([cal] if ver is None else [cal, ver])]
-    return done[0], (done[1] if len(done) > 1 else None)
+                         q_hat=cal.q_hat, gyro_rad_s=gyro_verification, **settings)
+    calibration = _position_calibration(cal, max_residual_rad)
+    return calibration, (None if ver is None else _position_calibration(ver, max_residual_rad))
 
 
 _AXIS_NAMES = {1: "x (pitch)", 2: "y (roll)", 3: "z (yaw)"}

@@ -393,12 +393,3 @@ def test_level_quat_zxy_is_the_qncf_levelling_bit_for_bit():
     assert np.array_equal(level_quat_zxy(f[0], 0.3), initial_attitude_from_accel(f[0], 0.3))
     with pytest.raises(ValueError, match="cannot level without gravity"):
         level_quat_zxy([0.0, 0.0, 0.0])
-
-
-def test_quat_angle_between_trusted_is_the_checked_one_bit_for_bit():
-    rng = np.random.default_rng(5)
-    for a, b in (((7, 4), (7, 4)), ((3, 6, 4), (6, 4)), ((6000, 4), (6000, 4))):
-        p, q = rng.standard_normal(a), rng.standard_normal(b)
-        p /= np.linalg.norm(p, axis=-1, keepdims=True)
-        q /= np.linalg.norm(q, axis=-1, keepdims=True)
-        assert np.array_equal(rotations.quat_angle_between_trusted(p, q), rotations.quat_angle_between(p, q))
