@@ -45,12 +45,13 @@ Examples
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
+from functools import cached_property
 from numbers import Real
 
 import numpy as np
 
-from mtcal.core import rotations
+from mtcal.core import montecarlo, rotations
 from mtcal.core.validate import as_float_array, float64_array, positive_scalar, sample_interval, unit_quaternion
 from mtcal.filters.qncf import QncfParams, qncf, qncf_trusted
 from mtcal.methods import constrained_fit, six_position
@@ -63,7 +64,7 @@ __all__ = ["MODELS", "missing_rotation_axis", "MAX_CONDITION", "MAX_SO4_DISTANCE
            "calibrate_installation", "verify_installation", "apply_installation", "absolute_body_attitude",
            "mounting_from_q_hat", "installation_angles_sigma", "calibrate_record", "apply_record", "RecordCalibration",
            "RecordApplication", "RecordRefused", "RefusalDiagnosis", "MISMATCH_MESSAGES", "POSITION_MISTAKES",
-           "QUATERNION_CONVENTIONS", "SessionPiece", "SessionMeasurement", "measure_session"]
+           "QUATERNION_CONVENTIONS", "SessionPiece", "SessionSweep", "SessionMeasurement", "measure_session"]
 
 #: Gate: condition number of ``A_q^s (A_q^s)ᵀ`` (Eq 13) above which the positions are refused.
 MAX_CONDITION = six_position.MAX_CONDITION
@@ -522,12 +523,64 @@ class SessionPiece:
         The reference ``[ψ, θ, γ]`` fed to the block's calibration (rad, Eq 8/9 frame), K ≥ 4; per
         trial (t = the block's trials) when each trial's mechanism stood at its own angles.
     fraction : float
-        Middle fraction of each rest averaged, (0, 1] (the config's other settings hold for every block).
+        Middle fraction of each rest averaged, (0, 1] (the config's other settings hold for every block);
+        also picks the sweeps' hold windows (:attr:`SessionSweep.holds`).
+    hold_errors_rad : mapping, optional
+        Sweep name → (t, holds) angle error of the mechanism at each hold of that sweep (truth − command,
+        rad), subtracted from the block's hold means; default none.
+    trace_row : int, optional
+        A row of the block (0 … t−1) whose full sweep error series are returned
+        (:attr:`SessionMeasurement.traces`).
     """
 
     rows: slice
     reference_rad: np.ndarray
     fraction: float
+    hold_errors_rad: dict | None = None
+    trace_row: int | None = None
+
+
+@dataclass(frozen=True)
+class SessionSweep:
+    """A sweep of the session scored after the calibration by :func:`measure_session`.
+
+    The sweeps of wang2023cja's turntable (AoA and roll, §4.1: Tables 5–8) and wind-off wind tunnel
+    (AoA, §4.2: Tables 9, 11): the attitude over ``span`` before and after Eq 10 compared with its
+    reference (Eq 8 angles, wrapped errors), averaged over each hold of angle ``channel``, and MaxAE /
+    RMSE of the ``scored_channels`` over the whole span.
+
+    Attributes
+    ----------
+    name : str
+        The sweep's name (the key of its scores).
+    span : slice
+        The sweep's samples of the session (step 1).
+    reference_rad : ndarray, shape (n, 3)
+        Reference Eq 8 angles ``[ψ, θ, γ]`` (rad) at each sample of the span, shared by the trials.
+    channel : {0, 1, 2}
+        The angle averaged at the holds.
+    scored_channels : tuple of int
+        The angles whose MaxAE and RMSE over the span are reported.
+    holds : mapping
+        Averaging fraction → sequence of hold windows (slices relative to the span), one entry for each
+        fraction of the session's pieces.
+    decimation : int
+        Every ``decimation``-th sample of every trial's error series is kept (float32, ensemble figures).
+    """
+
+    name: str
+    span: slice
+    reference_rad: np.ndarray
+    channel: int
+    scored_channels: tuple
+    holds: dict = field(hash=False)
+    decimation: int = 20
+
+    @cached_property
+    def table(self) -> np.ndarray:
+        """The reference's angles with their cosines and sines (:func:`mtcal.core.montecarlo.truth_table`),
+        found once per sweep."""
+        return montecarlo.truth_table(np.ascontiguousarray(self.reference_rad, dtype=float)[None])[0]
 
 
 @dataclass(frozen=True)
@@ -542,19 +595,57 @@ class SessionMeasurement:
         Per piece, the six-position calibration of the calibration run (trial axis t).
     verifications : tuple of InstallationCalibration or None
         Per piece, the verification run measured with that Q̂ (None without a verification run).
+    sweeps : tuple of dict or None
+        Per piece, sweep name → its scores (None without sweeps): ``"reference"`` (holds,) the reference's
+        hold means of the averaged angle; for ``state`` in ``before``/``after`` (Eq 10): ``"{state}_mean"``
+        (t, holds) hold means minus the piece's hold errors, ``"{state}_maxae_{c}"`` and ``"{state}_rmse_{c}"``
+        (t,) of each scored angle ``c``, ``"{state}_err_dec"`` (t, ⌈n/decimation⌉, 3) float32 decimated
+        errors (all rad).
+    traces : tuple of dict or None
+        Per piece, ``"{name}_{state}_err"`` (n, 3): the full error series of its ``trace_row`` ({} without one;
+        None without sweeps).
     """
 
     q_ws: np.ndarray
     calibrations: tuple
     verifications: tuple
+    sweeps: tuple | None = None
+    traces: tuple | None = None
+
+
+def _score_sweeps(sweeps, q_ws, q_hat, fraction: float, hold_errors, trace_row) -> tuple[dict, dict]:
+    """Each sweep's scores (:attr:`SessionMeasurement.sweeps`) of one piece's attitudes ``q_ws`` (t, N, 4) with
+    its Q̂ (t, 4, 4), and the full error series of ``trace_row``. The errors of
+    :func:`mtcal.core.montecarlo.channel_errors_before_after` are finite (checked there), so MaxAE and RMSE are
+    ``max(|e|)`` and ``sqrt(mean(e²))`` without the metrics' validation copy and NaN mask (the same numbers)."""
+    scores, trace = {}, {}
+    for sw in sweeps:
+        holds = sw.holds[fraction]
+        before, after, errs = montecarlo.channel_errors_before_after(q_ws[:, sw.span], q_hat, sw.reference_rad,
+                                                                     sw.channel, sw.table)
+        s = {"reference": np.array([sw.reference_rad[h, sw.channel].mean() for h in holds])}
+        for state, angle in (("before", before), ("after", after)):
+            means = np.stack([angle[:, h].mean(axis=1) for h in holds], axis=1)
+            s[f"{state}_mean"] = means if hold_errors is None else means - hold_errors[sw.name]
+        del before, after
+        for state in ("before", "after"):
+            err = errs[state]
+            for c in sw.scored_channels:
+                e = err[..., c]
+                s[f"{state}_maxae_{c}"], s[f"{state}_rmse_{c}"] = np.max(np.abs(e), axis=-1), np.sqrt(np.mean(e**2, axis=-1))
+            s[f"{state}_err_dec"] = err[:, ::sw.decimation].astype(np.float32)
+            if trace_row is not None:
+                trace[f"{sw.name}_{state}_err"] = err[trace_row].copy()
+        scores[sw.name] = s
+    return scores, trace
 
 
 def _session_record(gyro_rad_s, accel_m_s2, dt_s, calibration_run, verification_run, reference_rad,
-                    pieces) -> tuple:
+                    pieces, sweeps) -> tuple:
     """The edge of :func:`measure_session`: every input checked once (the records' type and shape; their
     values are scanned by the QNCF's kernel as it filters). Returns ``(gyro, accel, dt, calibration run,
-    verification run, verification references or None, [(rows, positions, q_ref, fraction), …])``; the config
-    is checked by the caller."""
+    verification run, verification references or None, [(rows, positions, q_ref, fraction, hold errors,
+    trace row), …], sweeps)``; the config is checked by the caller."""
     pieces = list(pieces)
     if not pieces or not all(isinstance(piece, SessionPiece) for piece in pieces):
         raise TypeError(f"pieces must be a non-empty sequence of SessionPiece, got {[type(p).__name__ for p in pieces]}")
@@ -577,25 +668,65 @@ def _session_record(gyro_rad_s, accel_m_s2, dt_s, calibration_run, verification_
     if verification_run is not None:
         spans.append((verification_run, "verification_run", n, "samples"))
     spans += [(piece.rows, "a piece's rows", trials, "trials") for piece in pieces]
+    sweeps = list(sweeps)
+    if not all(isinstance(sw, SessionSweep) for sw in sweeps):
+        raise TypeError(f"sweeps must be a sequence of SessionSweep, got {[type(sw).__name__ for sw in sweeps]}")
+    spans += [(sw.span, f"sweep {sw.name!r}'s span", n, "samples") for sw in sweeps]
     for run, name, size, unit in spans:
         if (not isinstance(run, slice) or run.step not in (None, 1) or run.start is None or run.stop is None
                 or not 0 <= run.start < run.stop <= size):
             raise ValueError(f"{name} must be a slice (start < stop, step 1) within the {size} {unit} of the "
                              f"records, got {run!r}")
+    sweeps = [_sweep(sw, fractions) for sw in sweeps]
     checked = []
     for piece, (pos, q_ref), fraction in zip(pieces, refs, fractions):
-        if pos.ndim == 3 and pos.shape[0] != piece.rows.stop - piece.rows.start:
+        rows = piece.rows.stop - piece.rows.start
+        if pos.ndim == 3 and pos.shape[0] != rows:
             raise ValueError(f"a piece's reference_rad of shape {pos.shape} needs {pos.shape[0]} rows, got "
                              f"{piece.rows}")
         if fraction > 1:
             raise ValueError(f"a piece's fraction must be in (0, 1], got {fraction}")
-        checked.append((slice(piece.rows.start, piece.rows.stop), pos, q_ref, fraction))
+        hold_errors = None
+        if piece.hold_errors_rad is not None:
+            hold_errors = {sw.name: float64_array(piece.hold_errors_rad[sw.name], "a piece's hold_errors_rad")
+                           for sw in sweeps if sw.name in piece.hold_errors_rad}
+            for sw in sweeps:
+                shape = (rows, len(sw.holds[fraction]))
+                if hold_errors.get(sw.name, np.empty(0)).shape != shape:
+                    raise ValueError(f"a piece's hold_errors_rad must hold sweep {sw.name!r} of shape {shape}, got "
+                                     f"{getattr(hold_errors.get(sw.name), 'shape', None)}")
+        trace_row = piece.trace_row
+        if trace_row is not None and (not isinstance(trace_row, (int, np.integer)) or not 0 <= trace_row < rows):
+            raise ValueError(f"a piece's trace_row must be a row of its {rows} trials, got {trace_row!r}")
+        checked.append((slice(piece.rows.start, piece.rows.stop), pos, q_ref, fraction, hold_errors,
+                        None if trace_row is None else int(trace_row)))
     ver_run = None if verification_run is None else slice(verification_run.start, verification_run.stop)
-    return gyro, accel, dt, slice(calibration_run.start, calibration_run.stop), ver_run, ver_refs, checked
+    return gyro, accel, dt, slice(calibration_run.start, calibration_run.stop), ver_run, ver_refs, checked, sweeps
+
+
+def _sweep(sw: SessionSweep, fractions) -> SessionSweep:
+    """A sweep checked at the edge of :func:`measure_session` (its span by the caller): the reference (n, 3)
+    finite, the channels, a hold list within the span for every fraction of the pieces, the decimation."""
+    n = sw.span.stop - sw.span.start
+    ref = float64_array(sw.reference_rad, f"sweep {sw.name!r}'s reference_rad")
+    if ref.shape != (n, 3) or not np.isfinite(ref).all():
+        raise ValueError(f"sweep {sw.name!r}'s reference_rad must be finite, of shape ({n}, 3), got {ref.shape}")
+    channels = (sw.channel, *tuple(sw.scored_channels))
+    if not all(isinstance(c, (int, np.integer)) and 0 <= c < 3 for c in channels):
+        raise ValueError(f"sweep {sw.name!r}'s channel and scored_channels must be 0, 1 or 2, got {channels}")
+    if not isinstance(sw.decimation, (int, np.integer)) or sw.decimation < 1:
+        raise ValueError(f"sweep {sw.name!r}'s decimation must be an integer >= 1, got {sw.decimation!r}")
+    for fraction in dict.fromkeys(fractions):
+        holds = sw.holds.get(fraction) if hasattr(sw.holds, "get") else None
+        if not holds or not all(isinstance(h, slice) and h.step in (None, 1) and h.start is not None
+                                and h.stop is not None and 0 <= h.start < h.stop <= n for h in holds):
+            raise ValueError(f"sweep {sw.name!r}'s holds must give, for fraction {fraction}, hold windows (slices "
+                             f"within its {n} samples), got {holds!r}")
+    return sw if ref is sw.reference_rad else replace(sw, reference_rad=ref)
 
 
 def measure_session(config: InstallationConfig, gyro_rad_s, accel_m_s2, dt_s: float, *, calibration_run: slice,
-                    pieces, verification_run: slice | None = None, reference_rad=None,
+                    pieces, verification_run: slice | None = None, reference_rad=None, sweeps=(),
                     map_pieces=None) -> SessionMeasurement:
     """A power-on session of stacked records measured once: the QNCF, the calibration run, the verification run.
 
@@ -607,7 +738,8 @@ def measure_session(config: InstallationConfig, gyro_rad_s, accel_m_s2, dt_s: fl
     calibration of the calibration run (Eq 13, as :func:`calibrate_installation` with rests found from
     the gyro) and, with ``verification_run``, that run measured with Q̂ given
     (:func:`verify_installation`): one methods-level call per piece
-    (:func:`mtcal.methods.six_position.calibrate_session`).
+    (:func:`mtcal.methods.six_position.calibrate_session`); then each of ``sweeps`` scored with that Q̂
+    (:class:`SessionSweep`: hold means, MaxAE and RMSE before and after Eq 10).
 
     Checked once here (types, shapes, spans, references, fractions); the QNCF's kernel scans the records'
     values as it filters; everything below trusts them.
@@ -630,6 +762,8 @@ def measure_session(config: InstallationConfig, gyro_rad_s, accel_m_s2, dt_s: fl
         The verification run's samples (a separate six-position run after the calibration run).
     reference_rad : array_like, shape (K, 3), optional
         The positions the verification run is measured against (rad), needed with ``verification_run``.
+    sweeps : sequence of SessionSweep, optional
+        The sweeps scored after the calibration (each piece's rows with its own Q̂ and fraction).
     map_pieces : callable, optional
         ``map_pieces(fn, items)`` → ``[fn(x) for x in items]`` in item order, e.g. spread over threads (each
         piece writes nothing shared: the numbers do not depend on it); default one after the other.
@@ -665,13 +799,29 @@ def measure_session(config: InstallationConfig, gyro_rad_s, accel_m_s2, dt_s: fl
     ...                     verification_run=ver_run, reference_rad=pos, pieces=[SessionPiece(slice(0, 2), pos, 0.5)])
     >>> m.q_ws.shape, m.calibrations[0].q_hat.shape, bool(m.verifications[0].residual_rad.max() < 1e-3)
     ((2, 6816, 4), (2, 4, 4), True)
+
+    The verification run scored as a sweep: its pitch averaged over the middle half of each rest (the
+    schedule's rests are its even segments: eight, the start and end rests included), and the full error
+    series of the piece's first trial:
+
+    >>> seg = prof.segment[ver_run]
+    >>> rests = [np.flatnonzero(seg == s) for s in np.unique(seg[seg % 2 == 0])]
+    >>> holds = six_position.middle_slices([slice(int(r[0]), int(r[-1]) + 1) for r in rests], 0.5)
+    >>> sweep = SessionSweep("verification", ver_run, prof.angle_rad[ver_run], 1, (1,), {0.5: holds})
+    >>> m = measure_session(InstallationConfig.monte_carlo(), gyro, accel, 0.01, calibration_run=cal_run,
+    ...                     pieces=[SessionPiece(slice(0, 2), pos, 0.5, trace_row=0)], sweeps=[sweep])
+    >>> s = m.sweeps[0]["verification"]
+    >>> s["after_mean"].shape, bool(np.abs(s["after_mean"] - s["reference"]).max() < 1e-3)
+    ((2, 8), True)
+    >>> m.traces[0]["verification_after_err"].shape, s["after_err_dec"].dtype
+    ((3408, 3), dtype('float32'))
     """
     if not isinstance(config, InstallationConfig):
         raise TypeError(f"config must be an InstallationConfig, got {type(config).__name__}")
     settings = _fit_settings(config)
     zero = settings.pop("zero")                    # the session is zeroed once, here
-    gyro, accel, dt, cal_run, ver_run, ver_refs, checked = _session_record(
-        gyro_rad_s, accel_m_s2, dt_s, calibration_run, verification_run, reference_rad, pieces)
+    gyro, accel, dt, cal_run, ver_run, ver_refs, checked, sweeps = _session_record(
+        gyro_rad_s, accel_m_s2, dt_s, calibration_run, verification_run, reference_rad, pieces, sweeps)
     # ---- trusted inside: one QNCF, the session zeroed once at its first sample (in place), one methods-level
     #      call per piece
     q_ws = qncf_trusted(gyro, accel, dt, config.qncf_params, return_euler=False).q_ws
@@ -680,16 +830,20 @@ def measure_session(config: InstallationConfig, gyro_rad_s, accel_m_s2, dt_s: fl
     ver_pos, ver_q_ref = (None, None) if ver_refs is None else ver_refs
 
     def measure(piece):
-        rows, pos, q_ref, fraction = piece
-        return six_position.calibrate_session(
+        rows, pos, q_ref, fraction, hold_errors, trace_row = piece
+        cal, ver = six_position.calibrate_session(
             q_ws[rows, cal_run], pos, q_ref, dt, gyro_calibration=gyro[rows, cal_run],
             q_verification=None if ver_run is None else q_ws[rows, ver_run],
             gyro_verification=None if ver_run is None else gyro[rows, ver_run], verification_positions_rad=ver_pos,
             verification_q_reference=ver_q_ref, **{**settings, "fraction": fraction})
+        scored = _score_sweeps(sweeps, q_ws[rows], cal.q_hat, fraction, hold_errors, trace_row) if sweeps else None
+        return cal, ver, scored
 
     measured = [measure(p) for p in checked] if map_pieces is None else list(map_pieces(measure, checked))
-    return SessionMeasurement(q_ws, tuple(cal for cal, _ in measured),
-                              None if ver_run is None else tuple(ver for _, ver in measured))
+    return SessionMeasurement(q_ws, tuple(cal for cal, _, _ in measured),
+                              None if ver_run is None else tuple(ver for _, ver, _ in measured),
+                              None if not sweeps else tuple(sc[0] for _, _, sc in measured),
+                              None if not sweeps else tuple(sc[1] for _, _, sc in measured))
 
 
 def _q_hat(q_hat) -> np.ndarray:

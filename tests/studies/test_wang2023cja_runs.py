@@ -206,11 +206,6 @@ def test_compiled_pitch_and_sweep_angles_match_the_expressions():
         assert gap(after_k, after[..., chan]) <= ERROR_BOUND_RAD + np.spacing(np.pi)
         assert gap(errs["before"], metrics.angle_difference(before, ref)) <= ERROR_BOUND_RAD
         assert gap(errs["after"], metrics.angle_difference(after, ref)) <= ERROR_BOUND_RAD
-    for err in (errs["before"], errs["after"]):          # the sweeps' MaxAE / RMSE, without NaN handling
-        for c in range(3):
-            maxae, rms = runs._maxae_rmse(err[..., c])
-            assert np.array_equal(maxae, metrics.max_abs_error(err[..., c], axis=-1))
-            assert np.array_equal(rms, metrics.rmse(err[..., c], axis=-1))
     bad = q_mat.copy()
     bad[1, 0, 0] = np.nan
     with pytest.raises(FloatingPointError, match="not finite"):
@@ -305,32 +300,6 @@ def test_shared_vibration_is_recomputed_when_phases_or_settings_differ():
     expected = ramp[None, :, None] * sc.vibration_accel_m_s2 * np.sin(2 * np.pi * sc.vibration_freq_hz
                                                                       * t[None, :, None] + vib)
     assert np.array_equal(first, expected)
-
-
-def test_sweeps_of_stacked_pieces_equal_the_sweeps_piece_by_piece(fast_sc, monkeypatch):
-    """The T1 sweeps run once per group of pieces (rows independent): the numbers of one pass per piece."""
-    from mtcal.studies.wang2023cja import predictive, runs
-
-    fit = w.fit_error_model(n_mc=200, seed=1)
-    sc = replace(fast_sc, errors=fit.model)
-    grouped = _arrays(predictive.turntable_predictive(sc, fit, "fitted", 5, 3, tests=("T1",)), "tt")
-    assert runs._sweep_groups([("T1", (), None, 1, None, sc)] * 5, [0, 1, 2, 3, 4, 5], 1) == [[0, 1, 2, 3, 4]]
-    monkeypatch.setattr(runs, "_sweep_groups", lambda pieces, starts, parts, traced=(): [[i] for i in range(len(pieces))])
-    single = _arrays(predictive.turntable_predictive(sc, fit, "fitted", 5, 3, tests=("T1",)), "tt")
-    assert sorted(grouped) == sorted(single)
-    assert [k for k in grouped if not np.array_equal(grouped[k], single[k], equal_nan=True)] == []
-
-
-def test_sweep_groups_split_on_settings_and_balance_trials(fast_sc):
-    from mtcal.studies.wang2023cja import runs
-
-    other = replace(fast_sc, averaging_fraction=0.3)
-    pieces = [("T1", (), None, 2, None, fast_sc)] * 4 + [("T1", (), None, 2, None, other)] * 2
-    starts = list(range(0, 14, 2))
-    assert runs._sweep_groups(pieces, starts, 2) == [[0, 1, 2], [3], [4, 5]]
-    assert runs._sweep_groups(pieces, starts, 1) == [[0, 1, 2, 3], [4, 5]]
-    assert runs._sweep_groups(pieces, starts, 1, {0, 2}) == [[0, 1], [2, 3], [4, 5]]   # a traced piece leads
-    assert sum(runs._sweep_groups(pieces, starts, 8), []) == list(range(6))
 
 
 def test_shared_compliance_base_checks_once_and_gives_the_public_numbers():

@@ -544,3 +544,110 @@ def test_measure_session_checks_its_inputs_once_at_its_edge(session):
         measure(pieces=[installation.SessionPiece(slice(0, 3), pos, 1.5)])
     with pytest.raises(ValueError, match="a piece's fraction must be > 0"):
         measure(pieces=[installation.SessionPiece(slice(0, 3), pos, 0.0)])
+
+
+def _verification_sweep(session, fractions=(0.5, 0.4), decimation=7):
+    """The verification run scored as a sweep: its pitch averaged over the middle of each rest."""
+    from mtcal.core.profiles import join_profiles
+    from mtcal.methods.six_position import middle_slices
+
+    gyro, accel, cal_run, ver_run, pos = session
+    run = schedule_profile(pos, rate_rad_s=np.radians(40.0), fs_hz=200.0)
+    prof, _ = join_profiles([run, run])
+    seg = prof.segment[ver_run]
+    rests = [np.flatnonzero(seg == s) for s in np.unique(seg[seg % 2 == 0])]
+    windows = [slice(int(r[0]), int(r[-1]) + 1) for r in rests]
+    return installation.SessionSweep("ver", ver_run, prof.angle_rad[ver_run], 1, (1, 2),
+                                     {f: middle_slices(windows, f) for f in fractions}, decimation)
+
+
+def test_measure_session_scores_each_sweep_with_each_pieces_q_hat(session):
+    """A sweep's scores are the Eq 8 errors of channel_errors_before_after with the piece's own Q̂: hold means
+    minus the piece's hold errors, MaxAE/RMSE equal to the metrics', the decimated float32 series and the
+    trace row; on threads the same numbers."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    from mtcal.core import metrics, montecarlo
+
+    gyro, accel, cal_run, ver_run, pos = session
+    sweep = _verification_sweep(session)
+    n_holds = len(sweep.holds[0.4])
+    hold_err = np.arange(2.0 * n_holds).reshape(2, n_holds) * 1e-4
+    pieces = [installation.SessionPiece(slice(0, 1), pos, 0.5, trace_row=0),
+              installation.SessionPiece(slice(1, 3), pos, 0.4, hold_errors_rad={"ver": hold_err})]
+    cfg = Config.monte_carlo()
+    got = installation.measure_session(cfg, gyro, accel, 1 / 200.0, calibration_run=cal_run, pieces=pieces,
+                                       sweeps=[sweep])
+    with ThreadPoolExecutor(2) as pool:
+        threaded = installation.measure_session(cfg, gyro, accel, 1 / 200.0, calibration_run=cal_run, pieces=pieces,
+                                                sweeps=[sweep], map_pieces=pool.map)
+    assert got.verifications is None and len(got.sweeps) == len(got.traces) == 2
+    for k, piece in enumerate(pieces):
+        q_hat = got.calibrations[k].q_hat
+        before, after, errs = montecarlo.channel_errors_before_after(got.q_ws[piece.rows, ver_run], q_hat,
+                                                                     sweep.reference_rad, 1)
+        holds = sweep.holds[piece.fraction]
+        s = got.sweeps[k]["ver"]
+        e = 0.0 if piece.hold_errors_rad is None else hold_err
+        assert np.array_equal(s["reference"], [sweep.reference_rad[h, 1].mean() for h in holds])
+        assert np.array_equal(s["before_mean"], np.stack([before[:, h].mean(axis=1) for h in holds], axis=1) - e)
+        assert np.array_equal(s["after_mean"], np.stack([after[:, h].mean(axis=1) for h in holds], axis=1) - e)
+        for state in ("before", "after"):
+            for c in (1, 2):
+                assert np.array_equal(s[f"{state}_maxae_{c}"], metrics.max_abs_error(errs[state][..., c], axis=-1))
+                assert np.array_equal(s[f"{state}_rmse_{c}"], metrics.rmse(errs[state][..., c], axis=-1))
+            assert f"{state}_maxae_0" not in s
+            assert s[f"{state}_err_dec"].dtype == np.float32
+            assert np.array_equal(s[f"{state}_err_dec"], errs[state][:, ::7].astype(np.float32))
+        for key, value in s.items():
+            assert np.array_equal(value, threaded.sweeps[k]["ver"][key]), key
+    assert np.array_equal(got.traces[0]["ver_after_err"], errs_first_row(got, pieces[0], sweep, ver_run))
+    assert got.traces[1] == {}
+    # a calibrated, nearly noise-free sensor holds the commanded pitch at every rest
+    s = got.sweeps[0]["ver"]
+    assert np.degrees(np.abs(s["after_mean"] - s["reference"])).max() < 0.05
+    assert np.degrees(np.abs(s["before_mean"] - s["reference"])).max() > 0.1     # the installation error shows
+
+
+def errs_first_row(m, piece, sweep, run):
+    from mtcal.core import montecarlo
+
+    _, _, errs = montecarlo.channel_errors_before_after(m.q_ws[piece.rows, run], m.calibrations[0].q_hat,
+                                                        sweep.reference_rad, 1)
+    return errs["after"][0]
+
+
+def test_measure_session_checks_its_sweeps_at_its_edge(session):
+    from dataclasses import replace
+
+    gyro, accel, cal_run, ver_run, pos = session
+    sweep = _verification_sweep(session, fractions=(0.5,))
+    piece = installation.SessionPiece(slice(0, 3), pos, 0.5)
+
+    def measure(sweeps=(sweep,), pieces=(piece,)):
+        return installation.measure_session(Config.monte_carlo(), gyro, accel, 1 / 200.0, calibration_run=cal_run,
+                                            pieces=pieces, sweeps=sweeps)
+
+    with pytest.raises(TypeError, match="sweeps must be a sequence of SessionSweep"):
+        measure(sweeps=[{"name": "ver"}])
+    with pytest.raises(ValueError, match="sweep 'ver''s span must be a slice"):
+        measure(sweeps=[replace(sweep, span=slice(0, gyro.shape[1] + 1))])
+    with pytest.raises(ValueError, match=r"sweep 'ver''s reference_rad must be finite, of shape \(\d+, 3\)"):
+        measure(sweeps=[replace(sweep, reference_rad=sweep.reference_rad[:-1])])
+    with pytest.raises(ValueError, match="sweep 'ver''s reference_rad must be finite"):
+        measure(sweeps=[replace(sweep, reference_rad=np.full_like(sweep.reference_rad, np.nan))])
+    with pytest.raises(ValueError, match="channel and scored_channels must be 0, 1 or 2"):
+        measure(sweeps=[replace(sweep, scored_channels=(3,))])
+    with pytest.raises(ValueError, match="decimation must be an integer >= 1"):
+        measure(sweeps=[replace(sweep, decimation=0)])
+    with pytest.raises(ValueError, match="holds must give, for fraction 0.3, hold windows"):
+        measure(pieces=[installation.SessionPiece(slice(0, 3), pos, 0.3)])
+    with pytest.raises(ValueError, match="holds must give, for fraction 0.5, hold windows"):
+        measure(sweeps=[replace(sweep, holds={0.5: [slice(0, 10**9)]})])
+    n = len(sweep.holds[0.5])
+    with pytest.raises(ValueError, match=rf"hold_errors_rad must hold sweep 'ver' of shape \(3, {n}\)"):
+        measure(pieces=[installation.SessionPiece(slice(0, 3), pos, 0.5, hold_errors_rad={"ver": np.zeros((3, 5))})])
+    with pytest.raises(ValueError, match=rf"hold_errors_rad must hold sweep 'ver' of shape \(3, {n}\), got None"):
+        measure(pieces=[installation.SessionPiece(slice(0, 3), pos, 0.5, hold_errors_rad={})])
+    with pytest.raises(ValueError, match="trace_row must be a row of its 3 trials"):
+        measure(pieces=[installation.SessionPiece(slice(0, 3), pos, 0.5, trace_row=3)])

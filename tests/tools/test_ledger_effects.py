@@ -24,13 +24,6 @@ def test_position_error_range_is_set_inside_and_restored_after_an_error():
     assert error_model.PRIOR_RANGES["position_error_arcsec"] == before
 
 
-def test_keep_hold_errors_restores_the_library_function():
-    orig = runs._evaluate_sweeps
-    with tool.keep_hold_errors():
-        assert runs._evaluate_sweeps is not orig
-    assert runs._evaluate_sweeps is orig
-
-
 def test_without_hold_errors_adds_the_subtracted_term_back_and_leaves_the_run_alone():
     e = np.array([[0.1, -0.2], [0.3, 0.0]])
     d = {"reference": np.zeros(2), "before_mean": np.ones((2, 2)), "after_mean": np.full((2, 2), 2.0),

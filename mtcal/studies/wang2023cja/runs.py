@@ -31,7 +31,7 @@ import numpy as np
 
 from mtcal.core.cache import cached
 from mtcal.core.montecarlo import progress
-from mtcal.core import metrics, montecarlo, rotations
+from mtcal.core import metrics, rotations
 from mtcal.core.allocator import keep_freed_memory
 from mtcal.core.profiles import AngleProfile, join_profiles, step_schedule
 from mtcal.core.rng import child_rngs, stream_rng
@@ -47,6 +47,9 @@ from .scenario import (SOURCES, TurntableScenario, WindTunnelScenario, _Complian
 
 #: Every trial's sweep error series is kept at every TRACE_DECIMATION-th sample (ensemble figures).
 TRACE_DECIMATION = 20
+#: Key of a T1 run's sweep scores holding the turntable angle error (T, holds) at each hold of the averaged
+#: angle (rad), subtracted from its hold means (deviations ledger D6).
+HOLD_ERROR_KEY = "hold_error_rad"
 
 #: Gates of :func:`mtcal.systems.installation.calibrate_installation` in the Monte Carlo runs: all off
 #: (``inf``, :meth:`~mtcal.systems.installation.InstallationConfig.monte_carlo`). The procedure and its
@@ -242,19 +245,19 @@ class _SharedTrajectories:
 
 
 def _run_pieces(sc: TurntableScenario, prof: AngleProfile, spans: dict, pos: np.ndarray, pieces: list,
-                sweep_holds: dict | None, traced: set, base: _ComplianceBase, buffers: dict,
+                sweeps: list | None, traced: set, base: _ComplianceBase, buffers: dict,
                 fill_groups: list) -> list[TurntableRun]:
     """Simulate every piece ``(test, sources, rng, trials, fraction)``, measure the session with ONE stacked
-    QNCF (:func:`mtcal.systems.installation.measure_session`), score each piece's sweeps.
+    QNCF and score each piece's sweeps (:func:`mtcal.systems.installation.measure_session`).
 
     The QNCF cost is dominated by its loop over time, so stacking the pieces along the trial
     axis costs about one run; each piece keeps its own generator. The pieces are simulated
-    straight into ``buffers`` (reused by every call of a run: no fresh 100 MB arrays per call),
-    which also keeps the sweeps' reference tables. The pieces of each list in ``fill_groups`` (a
+    straight into ``buffers`` (reused by every call of a run: no fresh 100 MB arrays per call).
+    The pieces of each list in ``fill_groups`` (a
     partition of the piece indices: the predictive kinds' pieces on one key) fill their records
     together (:func:`mtcal.core.simulate.fill_streams_grouped`: the noise drawn once when shared). Groups are simulated and
     pieces measured on :func:`_workers` threads (each its own generator and slice: the same numbers
-    for any count). ``sweep_holds`` (:func:`_sweep_holds`, None without the sweeps): the sweeps' hold
+    for any count). ``sweeps`` (:func:`_session_sweeps`, None without the sweeps): the sweeps with their hold
     windows. Pieces in ``traced`` keep the sweeps' time series of their first trial. ``pos``: the six
     positions (:func:`six_position_reference`).
     """
@@ -276,7 +279,7 @@ def _run_pieces(sc: TurntableScenario, prof: AngleProfile, spans: dict, pos: np.
     trajectory = _SharedTrajectories(prof.time_s, base, [compliance(i) for i in range(len(pieces))])
     # each piece's generators (IMU, turntable angle errors, run change), its angle errors drawn up front
     gens = [child_rngs(piece[2], 3) for piece in pieces]
-    draws = [_reference_draws(piece, rng_ref, sweep_holds) for piece, (_, rng_ref, _) in zip(pieces, gens)]
+    draws = [_reference_draws(piece, rng_ref, sweeps) for piece, (_, rng_ref, _) in zip(pieces, gens)]
 
     def simulate(group):
         streams, parts = [], []
@@ -305,33 +308,27 @@ def _run_pieces(sc: TurntableScenario, prof: AngleProfile, spans: dict, pos: np.
     session = installation.measure_session(
         config, gyro, accel, sc.imu.dt_s,
         calibration_run=spans["calibration"], verification_run=spans["verification"], reference_rad=pos,
-        pieces=[installation.SessionPiece(slice(starts[i], starts[i + 1]), pos - e_cal, _fraction(piece))
-                for i, (piece, (e_cal, _, _)) in enumerate(zip(pieces, draws))], map_pieces=_map)
-    q_all = session.q_ws
+        pieces=[installation.SessionPiece(slice(starts[i], starts[i + 1]), pos - e_cal, _fraction(piece),
+                                          hold_errors_rad=e_hold, trace_row=0 if i in traced else None)
+                for i, (piece, (e_cal, _, e_hold)) in enumerate(zip(pieces, draws))],
+        sweeps=sweeps or (), map_pieces=_map)
     runs = [TurntableRun(cal.q_hat, cal.euler_before_rad, cal.euler_after_rad, ver.euler_before_rad,
                          ver.euler_after_rad, pos, -e_cal, -e_ver)
             for cal, ver, (e_cal, e_ver, _) in zip(session.calibrations, session.verifications, draws)]
-    hold_errors = [errors for _, _, errors in draws]
-    if sweep_holds is not None:
-        # the sweeps of consecutive pieces that share their settings in one pass each (rows independent:
-        # the same numbers as piece by piece), the groups spread over the threads
-        groups = _sweep_groups(pieces, starts, _workers(), traced)
-        done = _map(lambda g: _evaluate_sweeps(
-            prof, spans, q_all[starts[g[0]]:starts[g[-1] + 1]],
-            np.concatenate([runs[i].q_matrix for i in g], axis=0),
-            {name: sweep_holds[name, _fraction(pieces[g[0]])] for name, _, _ in _SWEEPS},
-            {name: np.concatenate([hold_errors[i][name] for i in g], axis=0) for name, _, _ in _SWEEPS},
-            g[0] in traced, buffers), groups)
-        for g, (sweeps, trace) in zip(groups, done):
-            for i in g:
-                rows = slice(starts[i] - starts[g[0]], starts[i + 1] - starts[g[0]])
-                runs[i].sweeps = {name: {k: (v if k == "reference" else v[rows]) for k, v in d.items()}
-                                  for name, d in sweeps.items()}
-                runs[i].trace = trace if i in traced else {}
+    for i, run in enumerate(runs):
+        if sweeps:                     # each sweep's scores, with the hold errors its hold means carry
+            run.sweeps = {name: {**d, HOLD_ERROR_KEY: draws[i][2][name]} for name, d in session.sweeps[i].items()}
+            run.trace = {}
+            if i in traced:
+                for sw in sweeps:
+                    run.trace.update({f"{sw.name}_{state}_err": session.traces[i][f"{sw.name}_{state}_err"]
+                                      for state in ("before", "after")})
+                    run.trace[f"{sw.name}_time_s"] = prof.time_s[sw.span] - prof.time_s[sw.span.start]
+                    run.trace[f"{sw.name}_reference"] = sw.reference_rad
     return runs
 
 
-def _reference_draws(piece, rng_ref: np.random.Generator, sweep_holds: dict | None) -> tuple:
+def _reference_draws(piece, rng_ref: np.random.Generator, sweeps: list | None) -> tuple:
     """A piece's turntable angle errors (truth − command), drawn in this order from its own generator: at the
     calibration run's rests (T, 6, 3), at the verification run's (T, 6, 3), then — with the sweeps — at each
     sweep's holds (T, holds) of the averaged channel (else None)."""
@@ -339,11 +336,11 @@ def _reference_draws(piece, rng_ref: np.random.Generator, sweep_holds: dict | No
     on = "reference_angle" in sources
     e_cal = _draws(rng_ref, trials, 6, sc.reference_angle_sigma_rad, on)
     e_ver = _draws(rng_ref, trials, 6, sc.reference_angle_sigma_rad, on)
-    if sweep_holds is None:
+    if sweeps is None:
         return e_cal, e_ver, None
     frac = _fraction(piece)
-    return e_cal, e_ver, {name: _draws(rng_ref, trials, len(sweep_holds[name, frac]), sc.reference_angle_sigma_rad,
-                                       on)[..., chan_mean] for name, chan_mean, _ in _SWEEPS}
+    return e_cal, e_ver, {sw.name: _draws(rng_ref, trials, len(sw.holds[frac]), sc.reference_angle_sigma_rad,
+                                          on)[..., sw.channel] for sw in sweeps}
 
 
 #: The sweeps of a T1 session: (name, channel averaged at the holds, channels whose errors are scored).
@@ -354,27 +351,15 @@ def _fraction(piece) -> float:
     return piece[5].averaging_fraction if piece[4] is None else piece[4]
 
 
-def _sweep_groups(pieces, starts, parts: int, traced=()) -> list[list[int]]:
-    """Consecutive pieces cut into about ``parts`` groups of similar trial counts; a group's pieces share
-    the averaging fraction (the hold windows of one sweep pass); a piece in ``traced`` starts a group
-    (its first trial is the group's first row, whose time series are kept)."""
-    total = starts[-1]
-    groups, cur = [], []
-    for i, p in enumerate(pieces):
-        if cur and (_fraction(pieces[cur[0]]) != _fraction(p) or i in traced
-                    or starts[i] >= (len(groups) + 1) * total / max(parts, 1)):
-            groups.append(cur)
-            cur = []
-        cur.append(i)
-    return groups + [cur]
-
-
-def _sweep_holds(prof: AngleProfile, spans: dict, fractions) -> dict:
-    """Hold windows of each sweep relative to its span (first and last hold dropped), per averaging
-    fraction: ``{(name, fraction): [slice, …]}``, found once for a session profile."""
-    return {(name, frac): [slice(h.start - spans[name].start, h.stop - spans[name].start)
-                           for h in _holds(prof, spans[name], frac)][1:-1]
-            for frac in dict.fromkeys(fractions) for name, _, _ in _SWEEPS}
+def _session_sweeps(prof: AngleProfile, spans: dict, fractions) -> list:
+    """The T1 session's sweeps (:data:`_SWEEPS`) as the installation system scores them, found once for a session
+    profile: each sweep's span and reference, and its hold windows relative to the span (first and last hold
+    dropped) per averaging fraction."""
+    return [installation.SessionSweep(
+        name, spans[name], prof.angle_rad[spans[name]], chan_mean, chans_err,
+        {frac: [slice(h.start - spans[name].start, h.stop - spans[name].start)
+                for h in _holds(prof, spans[name], frac)][1:-1] for frac in dict.fromkeys(fractions)},
+        TRACE_DECIMATION) for name, chan_mean, chans_err in _SWEEPS]
 
 
 def calibration_step(sc: TurntableScenario | WindTunnelScenario, q_ws, gyro_rad_s, reference_rad,
@@ -536,13 +521,13 @@ def run_turntable_jobs_kinds(sc: TurntableScenario, kinds_jobs: list, *, with_sw
         count += n_kinds * piece[3]
     per_job = [[[] for _ in jobs] for jobs in kinds_jobs]
     base = _ComplianceBase(prof.angle_rad)       # shared by every piece (only the compliance differs)
-    sweep_holds = (_sweep_holds(prof, spans, [_fraction(piece) for kind in pieces for _, piece in kind])
-                   if with_sweeps else None)
+    sweeps = (_session_sweeps(prof, spans, [_fraction(piece) for kind in pieces for _, piece in kind])
+              if with_sweeps else None)
     buffers = {}
     for c, call in enumerate(progress(calls, desc="turntable Monte Carlo")):
         n = len(call)                            # kind-major: the call's pieces of kind 0, then of kind 1, …
         items = [(m, pieces[m][p]) for m in range(n_kinds) for p in call]
-        runs = _run_pieces(sc, prof, spans, pos, [piece for _, (_, piece) in items], sweep_holds,
+        runs = _run_pieces(sc, prof, spans, pos, [piece for _, (_, piece) in items], sweeps,
                            {m * n for m in range(n_kinds)} if keep_trace and c == 0 else set(), base, buffers,
                            [[m * n + k for m in range(n_kinds)] for k in range(n)])
         for (m, (i, _)), run in zip(items, runs):
@@ -566,58 +551,6 @@ def _job_pieces(sc: TurntableScenario, jobs: list, block: int) -> list:
                              alpha_deg={**sc.alpha_deg, **({} if job.alpha_deg is None else {job.test: tuple(job.alpha_deg)})})
         pieces += [(i, (job.test, src, r, n, job.fraction, sc_job)) for r, n in zip(child_rngs(job.rng, len(sizes)), sizes)]
     return pieces
-
-
-def _maxae_rmse(err) -> tuple[np.ndarray, np.ndarray]:
-    """``metrics.max_abs_error(err, axis=-1)`` and ``metrics.rmse(err, axis=-1)`` of finite errors (T, n).
-
-    The errors of :func:`mtcal.core.montecarlo.channel_errors_before_after` are finite (checked there),
-    so the NaN handling of the metrics (a validated copy, a NaN mask, a second copy) changes nothing:
-    ``max(|e|)`` and ``sqrt(mean(e²))`` over the same contiguous ``e²`` are the same numbers (tested).
-    """
-    return np.max(np.abs(err), axis=-1), np.sqrt(np.mean(err**2, axis=-1))
-
-
-def _hold_means(angle_rad: np.ndarray, holds: list) -> np.ndarray:
-    """Each trial's mean angle over each hold window: (T, N) → (T, holds)."""
-    return np.stack([angle_rad[:, h].mean(axis=1) for h in holds], axis=1)
-
-
-def _evaluate_sweeps(prof, spans, q_s, q_mat, holds, hold_errors, keep_trace, shared=None):
-    """Hold means (with a turntable angle error per hold) and MaxAE/RMSE of the coupled channels.
-
-    ``holds``: sweep name → its hold windows (:func:`_sweep_holds`). ``hold_errors``: sweep name →
-    (T, holds) turntable angle error of the averaged channel at each hold (rad). ``shared``: a dict
-    kept by the caller for one profile (the reference angles' cosines and sines are found once).
-    """
-    shared = {} if shared is None else shared
-    truth = prof.angle_rad
-    sweeps, trace = {}, {}
-    for name, chan_mean, chans_err in _SWEEPS:
-        span = spans[name]
-        ref = truth[span]
-        key = ("sweep truth table", name)
-        if key not in shared:                  # the reference angles' cosines and sines, once per profile
-            shared[key] = montecarlo.truth_table(np.ascontiguousarray(ref)[None])[0]
-        before, after, errs = montecarlo.channel_errors_before_after(q_s[:, span], q_mat, ref, chan_mean, shared[key])
-        e = hold_errors[name]
-        sweeps[name] = {
-            "reference": np.array([ref[h, chan_mean].mean() for h in holds[name]]),
-            "before_mean": _hold_means(before, holds[name]) - e,
-            "after_mean": _hold_means(after, holds[name]) - e,
-        }
-        for state, est in (("before", before), ("after", after)):
-            err = errs[state]
-            for c in chans_err:
-                sweeps[name][f"{state}_maxae_{c}"], sweeps[name][f"{state}_rmse_{c}"] = _maxae_rmse(err[..., c])
-            sweeps[name][f"{state}_err_dec"] = err[:, ::TRACE_DECIMATION].astype(np.float32)
-            if keep_trace:
-                trace[f"{name}_{state}_err"] = err[0]
-        del before, after
-        if keep_trace:
-            trace[f"{name}_time_s"] = prof.time_s[span] - prof.time_s[span.start]
-            trace[f"{name}_reference"] = ref
-    return sweeps, trace
 
 
 def position_errors_deg(run: TurntableRun, state: str) -> np.ndarray:
@@ -954,30 +887,27 @@ def _wt_nowind(b: _WindTunnelBlock, gyro, accel, sources, keep_trace: bool, trac
     if "accel_run_change" in sources:   # bias change between the calibration and the sweep
         accel[:, span.start:] += (sc.errors.accel_run_bias_mg * MG * b.rng_change.standard_normal((trials, 1, 3)))
     # the session measured by the installation system: the QNCF, the session zeroed at its first sample, the
-    # calibration run's calibration fed the commanded positions (the mechanism stood at command + error)
+    # calibration run's calibration fed the commanded positions (the mechanism stood at command + error), the
+    # AoA sweep scored against its command
     config = installation.InstallationConfig.monte_carlo(qncf_params=sc.qncf)
+    cmd = b.prof.angle_rad[span]
     session = installation.measure_session(
         config, gyro, accel, sc.imu.dt_s, calibration_run=spans["calibration"],
-        pieces=[installation.SessionPiece(slice(0, trials), b.pos + b.ref_err, frac)])
-    q_s, cal = session.q_ws, session.calibrations[0]
-    q_mat = cal.q_hat
-    out.q_matrix[rows], out.cal_before[rows], out.cal_after[rows] = q_mat, cal.euler_before_rad, cal.euler_after_rad
-    cmd = b.prof.angle_rad[span]
-    before, after, errs = montecarlo.channel_errors_before_after(q_s[:, span], q_mat, cmd, 1)
-    holds, nowind = b.holds, out.nowind
+        pieces=[installation.SessionPiece(slice(0, trials), b.pos + b.ref_err, frac,
+                                          trace_row=trace_index if keep_trace else None)],
+        sweeps=[installation.SessionSweep("aoa", span, cmd, 1, (2, 0), {frac: b.holds}, TRACE_DECIMATION)])
+    cal, scores, nowind = session.calibrations[0], session.sweeps[0]["aoa"], out.nowind
+    out.q_matrix[rows], out.cal_before[rows], out.cal_after[rows] = cal.q_hat, cal.euler_before_rad, cal.euler_after_rad
     if rows.start == 0:
-        nowind["reference"] = np.array([cmd[h, 1].mean() for h in holds])
-    nowind["before_mean"][rows], nowind["after_mean"][rows] = _hold_means(before, holds), _hold_means(after, holds)
-    for state in ("before", "after"):
-        err = errs[state]
-        for c in (2, 0):
-            nowind[f"{state}_maxae_{c}"][rows], nowind[f"{state}_rmse_{c}"][rows] = _maxae_rmse(err[..., c])
-        nowind[f"{state}_err_dec"][rows] = err[:, ::TRACE_DECIMATION]      # (float32: the cast of astype)
+        nowind["reference"] = scores["reference"]
+    for key, value in scores.items():
+        if key != "reference":
+            nowind[key][rows] = value
     trace = {}
     if keep_trace:
         trace = out.trace = {"nowind_time_s": b.prof.time_s[span] - b.prof.time_s[span.start],
-                             "nowind_before_err": errs["before"][trace_index].copy(),
-                             "nowind_after_err": errs["after"][trace_index].copy()}
+                             "nowind_before_err": session.traces[0]["aoa_before_err"],
+                             "nowind_after_err": session.traces[0]["aoa_after_err"]}
     return trace
 
 
