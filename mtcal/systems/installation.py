@@ -45,7 +45,7 @@ Examples
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
 from functools import cached_property
 from numbers import Real
 
@@ -573,7 +573,7 @@ class SessionSweep:
     reference_rad: np.ndarray
     channel: int
     scored_channels: tuple
-    holds: dict = field(hash=False)
+    holds: dict
     decimation: int = 20
 
     @cached_property
