@@ -578,10 +578,16 @@ class PositionsRefused(ValueError):
     >>> exc = PositionsRefused("too few rests", np.zeros((3, 4)))
     >>> str(exc), exc.q_ws.shape, exc.rest_means is None
     ('too few rests', (3, 4), True)
+    >>> exc
+    PositionsRefused('too few rests')
     """
 
     def __str__(self) -> str:
         return str(self.args[0]) if self.args else ""
+
+    def __repr__(self) -> str:
+        """The message only (the arrays in ``args`` are data, not part of the exception's name)."""
+        return f"{type(self).__name__}({str(self)!r})"
 
     @property
     def q_ws(self) -> np.ndarray | None:
