@@ -43,7 +43,7 @@ def load_calibration_file(path) -> tuple[np.ndarray, dict]:
     if not p.is_file():
         raise ValueError(f"calibration file not found: {path}")
     try:
-        doc = json.loads(p.read_text(encoding="utf-8"))
+        doc = json.loads(p.read_text(encoding="utf-8-sig"))    # (a byte-order mark, as an editor may save it)
     except (json.JSONDecodeError, UnicodeDecodeError) as exc:
         raise ValueError(f"{path}: not a JSON calibration ({exc.__class__.__name__}: {str(exc)[:80]})") from None
     if not isinstance(doc, dict) or "q_hat" not in doc:
@@ -55,9 +55,22 @@ def load_calibration_file(path) -> tuple[np.ndarray, dict]:
         q = np.array(doc["q_hat"], dtype=float)
     except (TypeError, ValueError):
         raise ValueError(f"{path}: q_hat must be a 4x4 array of numbers") from None
-    if q.shape != (4, 4) or not np.all(np.isfinite(q)):
-        raise ValueError(f"{path}: q_hat must be a finite 4x4 array, got shape {q.shape}")
+    if q.shape != (4, 4):
+        raise ValueError(f"{path}: q_hat must be a 4x4 array, got shape {q.shape}")
+    if not np.all(np.isfinite(q)):
+        raise ValueError(f"{path}: q_hat must be finite (no NaN or inf)")
     return q, doc
+
+
+def max_so4_distance(doc: dict) -> float:
+    """The largest distance of Q̂ from SO(4) that ``mtcal apply`` accepts for a calibration file: the default gate
+    of ``mtcal calibrate`` (:data:`mtcal.systems.installation.MAX_SO4_DISTANCE`), or the distance the file records
+    (a calibration made with a wider ``--max-so4-distance``), whichever is larger."""
+    from mtcal.systems.installation import MAX_SO4_DISTANCE
+
+    recorded = doc.get("so4_distance")
+    ok = isinstance(recorded, (int, float)) and not isinstance(recorded, bool) and np.isfinite(recorded)
+    return max(MAX_SO4_DISTANCE, float(recorded) * (1.0 + 1e-9) if ok else 0.0)
 
 
 def load_calibration(path) -> np.ndarray:
@@ -77,7 +90,7 @@ def _accuracy_deg(doc: dict) -> float:
 def run(args: argparse.Namespace) -> int:
     """Entry point of ``mtcal apply``: read the calibration and the log, one procedure, print and write."""
     fig = common.DiagnosticsFigure(args.figure, f"mtcal apply {args.log}", inputs=[args.log, args.calibration])
-    out = logio.check_output_path(args.out, [args.log, args.calibration])
+    out = common.table_output(args, [args.log, args.calibration])
 
     def body() -> int:
         # numba/scipy: loaded when the command runs, not for --help
@@ -87,7 +100,8 @@ def run(args: argparse.Namespace) -> int:
         log = logio.read_log(args.log, common.input_options(args), need="raw_or_quat")
         fig.log = log if log.accel_m_s2 is not None else None
         raw = log.gyro_rad_s is not None
-        cfg = InstallationConfig.command_line(rest_detector=common.rests_config(args) if raw else None)
+        cfg = InstallationConfig.command_line(rest_detector=common.rests_config(args) if raw else None,
+                                              max_so4_distance=max_so4_distance(doc))
         try:
             res = apply_record(cfg, q_hat, log.dt_mean_s, mode=args.mode, **common.log_arrays(log))
         except RecordRefused as exc:
@@ -154,7 +168,7 @@ def _tilt_warning(log, res, doc: dict) -> list[str]:
             f"start and are off by about that much from gravity-referenced angles (use --mode absolute)"]
 
 
-__all__ = ["register", "run", "load_calibration", "load_calibration_file"]
+__all__ = ["register", "run", "load_calibration", "load_calibration_file", "max_so4_distance"]
 
 
 def register(subparsers) -> None:

@@ -40,7 +40,7 @@ example:
 
 def run(args: argparse.Namespace) -> int:
     fig = common.DiagnosticsFigure(args.figure, f"mtcal attitude {args.log}", inputs=[args.log])
-    out = logio.check_output_path(args.out, [args.log])
+    out = common.table_output(args, [args.log])
 
     def body() -> int:
         from mtcal.systems.attitude import attitude_record

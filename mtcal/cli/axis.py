@@ -58,7 +58,7 @@ def cmd_axis(args: argparse.Namespace) -> int:
 
         limits = dict(min_separation_deg=common.finite_float(args.min_separation_deg, "--min-separation-deg"),
                       max_axis_error_deg=common.finite_float(args.max_axis_error_deg, "--max-axis-error-deg"),
-                      max_elevation_deg=common.finite_float(args.max_elevation_deg, "--max-elevation-deg"))
+                      max_elevation_deg=common.finite_float(args.max_elevation_deg, "--max-elevation-deg", high=90.0))
         log = logio.read_log(args.log, common.input_options(args), need="accel")
         fig.log = log
         paper = args.rest_detector == "paper"   # the paper's path (Table 1 ZVD, Algorithm A1): accelerometer only
@@ -108,7 +108,7 @@ def _print_axis_rests(log, rep, units_check, paper: bool) -> None:
 
 def cmd_angle(args: argparse.Namespace) -> int:
     fig = common.DiagnosticsFigure(args.figure, f"mtcal angle {args.log}", inputs=[args.log])
-    out = logio.check_output_path(args.out, [args.log])
+    out = common.table_output(args, [args.log])
 
     def body() -> int:
         # numba/scipy: loaded when the command runs, not for --help
@@ -116,10 +116,13 @@ def cmd_angle(args: argparse.Namespace) -> int:
 
         v = _parse_axis(args.axis)
         init_s = common.finite_float(args.init_s, "--init-s")
-        max_el = common.finite_float(args.max_elevation_deg, "--max-elevation-deg")
+        max_el = common.finite_float(args.max_elevation_deg, "--max-elevation-deg", high=90.0)
         max_mismatch = common.finite_float(args.max_axis_mismatch_deg, "--max-axis-mismatch-deg")
         log = logio.read_log(args.log, common.input_options(args), need="raw")
         fig.log = log
+        if init_s >= log.time_s[-1] - log.time_s[0]:
+            raise ValueError(f"--init-s {args.init_s} s is not shorter than the log "
+                             f"({log.time_s[-1] - log.time_s[0]:.4g} s): the initial rest is part of the log")
         config = SurfaceRecordConfig(common.rests_config(args), init_s, max_el, max_mismatch)
         # computed first (one system call), printed and written after
         try:

@@ -115,12 +115,13 @@ def _config(args: argparse.Namespace, quaternion_log: bool):
     from mtcal.systems.installation import InstallationConfig
 
     so4 = args.max_so4_distance
-    out = {"model": args.model, "fraction": common.finite_float(args.fraction, "--fraction"),
+    still = np.radians(common.finite_float(args.still_deg_s, "--still-deg-s"))   # checked for any log
+    out = {"model": args.model, "fraction": common.finite_float(args.fraction, "--fraction", high=1.0),
            "min_rest_s": common.finite_float(args.min_rest_s, "--min-rest-s"),
            "max_residual_rad": np.radians(common.finite_float(args.max_residual_deg, "--max-residual-deg")),
            "max_so4_distance": None if so4 is None else common.finite_float(so4, "--max-so4-distance")}
     if quaternion_log:
-        out["still_threshold_rad_s"] = np.radians(common.finite_float(args.still_deg_s, "--still-deg-s"))
+        out["still_threshold_rad_s"] = still
     else:
         out["rest_detector"] = common.rests_config(args)
     return InstallationConfig.command_line(**out)
@@ -129,7 +130,8 @@ def _config(args: argparse.Namespace, quaternion_log: bool):
 def run(args: argparse.Namespace) -> int:
     """Entry point of ``mtcal calibrate``: options → one config, read the log, one procedure, print and write."""
     fig = common.DiagnosticsFigure(args.figure, f"mtcal calibrate {args.log}", inputs=[args.log, args.positions])
-    out = None if args.out is None else logio.check_output_path(args.out, [args.log, args.positions])
+    out = None if args.out is None else logio.check_output_path(args.out, [args.log, args.positions],
+                                                                others=(("--figure", args.figure),))
 
     def body() -> int:
         # numba/scipy: loaded when the command runs, not for --help

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import math
+from pathlib import Path
 
 import numpy as np
 
@@ -12,7 +13,7 @@ from mtcal.methods import rest_detection
 
 __all__ = ["add_input_options", "add_rest_options", "input_options", "rests_config", "attitude_config", "detect", "log_arrays",
            "qncf_info", "rest_table", "print_report", "report_lines", "units_check_line",
-           "finite_float", "DiagnosticsFigure", "run_with_figure", "SCHEMA_HELP", "description_with_schema",
+           "finite_float", "table_output", "DiagnosticsFigure", "run_with_figure", "SCHEMA_HELP", "description_with_schema",
            "QUATERNION_DECIMALS", "write_attitude", "euler_deg", "rest_bias_text",
            "print_units_check"]
 
@@ -72,15 +73,25 @@ def units_check_line(chk: dict) -> str:
     return f"warning: {chk['warning']}" if chk.get("warning") else f"gyro units check ({chk['method']}): {chk['evidence']}"
 
 
-def finite_float(text: str, name: str, *, positive: bool = True) -> float:
-    """Parse a finite (positive) number for option ``name`` (one-line ValueError otherwise)."""
+def finite_float(text: str, name: str, *, positive: bool = True, high: float | None = None) -> float:
+    """Parse a finite (positive) number for option ``name``, at most ``high`` when given (one-line ValueError
+    otherwise)."""
     try:
         val = float(text)
     except (TypeError, ValueError):
         raise ValueError(f"{name} must be a number, got {text!r}") from None
+    if high is not None and not (math.isfinite(val) and (val > 0 or not positive) and val <= high):
+        raise ValueError(f"{name} must be a number in {'(0' if positive else '(-inf'}, {high:g}], got {text!r}")
     if not math.isfinite(val) or (positive and val <= 0):
         raise ValueError(f"{name} must be a finite number{' > 0' if positive else ''}, got {text!r}")
     return val
+
+
+def table_output(args, inputs) -> Path:
+    """``--out`` of a command writing a table (CSV or Parquet by suffix): checked against the inputs and the
+    command's ``--figure``, before any work."""
+    return logio.check_output_path(args.out, inputs, suffixes=logio.TABLE_SUFFIXES,
+                                   others=(("--figure", getattr(args, "figure", None)),))
 
 
 def add_input_options(p: argparse.ArgumentParser) -> None:
@@ -146,9 +157,21 @@ def rests_config(args, *, has_gyro: bool = True):
     noise = finite_float(args.noise_factor, "--noise-factor")
     gravity = opt(args.gravity, "--gravity")
     band = None if args.rest_detector == "shoe" else opt(args.accel_band, "--accel-band")
-    return RestsConfig(detector=args.rest_detector, min_rest_s=min_rest, noise_factor=noise, gravity_m_s2=gravity,
-                       accel_band_m_s2=band, gyro_threshold_rad_s=None if thr is None else np.radians(thr),
-                       shoe_threshold=shoe_thr, use_gyro=has_gyro)
+    try:
+        return RestsConfig(detector=args.rest_detector, min_rest_s=min_rest, noise_factor=noise, gravity_m_s2=gravity,
+                           accel_band_m_s2=band, gyro_threshold_rad_s=None if thr is None else np.radians(thr),
+                           shoe_threshold=shoe_thr, use_gyro=has_gyro)
+    except ValueError as exc:           # the config names its fields: say the options the user typed
+        message = str(exc)
+        for field, option in _REST_OPTIONS:
+            message = message.replace(field, option)
+        raise ValueError(message) from None
+
+
+#: RestsConfig fields → the rest options that set them (for the config's refusals).
+_REST_OPTIONS = (("gravity_m_s2", "--gravity"), ("accel_band_m_s2", "--accel-band"), ("min_rest_s", "--min-rest-s"),
+                 ("noise_factor", "--noise-factor"), ("shoe_threshold", "--shoe-threshold"),
+                 ("gyro_threshold_rad_s", "--gyro-threshold-deg-s (in rad/s)"))
 
 
 def attitude_config(args):

@@ -45,7 +45,7 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["InputOptions", "ImuLog", "read_log", "write_table", "check_output_path",
+__all__ = ["InputOptions", "ImuLog", "read_log", "write_table", "check_output_path", "TABLE_SUFFIXES",
            "CANONICAL", "MIN_FS_HZ", "MAX_FS_HZ", "parse_scale", "parse_columns", "ARRAY_KEYS", "ARRAY_LAYOUT"]
 
 GYRO_COLS = ("gyro_x_rad_s", "gyro_y_rad_s", "gyro_z_rad_s")
@@ -197,7 +197,8 @@ def _read_table(path: Path, select=None):
     """
     import pyarrow as pa
 
-    if path.suffix.lower() in (".parquet", ".pq"):
+    csv_file = path.suffix.lower() not in (".parquet", ".pq")
+    if not csv_file:
         import pyarrow.parquet as pq
 
         try:  # ParquetFile, not read_table: no pyarrow.dataset (which imports pandas, ~0.5 s)
@@ -207,7 +208,7 @@ def _read_table(path: Path, select=None):
             want = None
             if select is not None:
                 stripped = {str(n).strip(): n for n in names}
-                want = [stripped[n] for n in select(list(stripped)) if n in stripped]
+                want = list(dict.fromkeys(stripped[n] for n in select(list(stripped)) if n in stripped))
                 want = want if want and len(stripped) == len(names) else None
             table = pf.read(columns=want)
         except (pa.ArrowException, OSError) as exc:
@@ -226,7 +227,7 @@ def _read_table(path: Path, select=None):
         read = pcsv.ReadOptions(column_names=raw, skip_rows=1)
         table = None
         if select is not None:
-            want = [n for n in select(raw) if n in raw]
+            want = list(dict.fromkeys(n for n in select(raw) if n in raw))   # a column read for two names: once
             if want and len(set(raw)) == len(raw):
                 try:
                     table = pcsv.read_csv(path, read_options=read, parse_options=parse,
@@ -241,6 +242,13 @@ def _read_table(path: Path, select=None):
             except (pa.ArrowException, UnicodeDecodeError) as exc:
                 raise ValueError(f"{path}: not a readable CSV ({str(exc).splitlines()[0][:200]})") from None
         every = [n for n in raw if not n.startswith(_UNNAMED)]
+    header = [str(n).strip() for n in (raw if csv_file else names)]
+    if select is not None:                   # a column read twice under one name: which copy is meant is unknown
+        used = set(select(list(dict.fromkeys(header))))
+        twice = [n for n in dict.fromkeys(header) if n in used and header.count(n) > 1]
+        if twice:
+            raise ValueError(f"{path}: column {twice[0]!r} appears {header.count(twice[0])} times in the header; "
+                             f"rename the copies so that each column has its own name")
     out = {str(name).strip(): col for name, col in zip(table.column_names, table.columns)
            if not str(name).startswith(_UNNAMED)}
     return out, (every if len(out) < len(every) else list(out))  # every header of the file, for messages
@@ -408,6 +416,16 @@ def read_log(path, opts: InputOptions | None = None, *, need: str = "raw", min_s
             raise ValueError(f"{path}: --columns maps {c} to {header!r}, which is not a column "
                              f"(columns: {', '.join(all_names[:20])})")
     found, implied = _resolve(cols, CANONICAL, opts)
+    readers = {}
+    for c, header in found.items():
+        if header in readers:
+            first = readers[header]
+            mapped = next((k for k in (c, first) if k in opts.columns), None)
+            if mapped is None:
+                raise ValueError(f"{path}: column {header!r} would be read as both {first} and {c}")
+            raise ValueError(f"{path}: --columns maps {mapped} to {header!r}, which is also read as "
+                             f"{first if mapped == c else c}; map each quantity to its own column")
+        readers[header] = c
     has_raw = all(c in found for c in GYRO_COLS + ACCEL_COLS)
     has_acc = all(c in found for c in ACCEL_COLS)
     has_q = all(c in found for c in QUAT_COLS)
@@ -422,6 +440,10 @@ def read_log(path, opts: InputOptions | None = None, *, need: str = "raw", min_s
         raise ValueError(f"{path}: missing columns {', '.join(missing)}{extra}; columns present: "
                          f"{', '.join(all_names[:20])}; map yours with --columns NAME=HEADER")
     notes = []
+    partial = [c for c in GYRO_COLS if c in found]
+    if partial and len(partial) < len(GYRO_COLS):       # (need "raw" refused above: here the gyro is optional)
+        notes.append(f"gyro not used: {', '.join(c for c in GYRO_COLS if c not in found)} missing "
+                     f"(only {', '.join(found[c] for c in partial)} in the log)")
     time_unit = opts.time_unit or implied.get("time_s", "s")
     if fs_opt is not None:  # --fs-hz (or an array file's sample rate): uniform time, any time column ignored
         t = np.arange(len(next(iter(cols.values())))) / fs_opt
@@ -442,7 +464,7 @@ def read_log(path, opts: InputOptions | None = None, *, need: str = "raw", min_s
     if dt_min <= 0:
         k = int(np.argmax(dt <= 0))
         raise ValueError(f"{path}: {found['time_s']} is not strictly increasing at data row {k + 2} "
-                         f"({t[k + 1]!r} after {t[k]!r}); sort the log by time and drop duplicates")
+                         f"({float(t[k + 1])!r} after {float(t[k])!r}); sort the log by time and drop duplicates")
     fs = (t.size - 1) / (t[-1] - t[0])
     if not MIN_FS_HZ <= fs <= MAX_FS_HZ:
         hint = ("is time in ms or us? use --time-unit ms or --time-unit us" if fs < MIN_FS_HZ
@@ -479,6 +501,8 @@ def read_log(path, opts: InputOptions | None = None, *, need: str = "raw", min_s
     if has_raw:
         gyro = vec(GYRO_COLS, "gyro", opts.gyro_unit, GYRO_UNITS, opts.gyro_scale, "gyro scale")
         _check_gyro(gyro, p, accel, dt_mean)
+        if dt_max > 5.0 * dt_mean:
+            _check_gaps(gyro, dt_full, dt_mean, t, p, found["time_s"])
         if opts.gyro_unit is not None:
             stated = f"--gyro-unit {opts.gyro_unit}"
         elif array_file:
@@ -600,6 +624,20 @@ def _check_gyro(gyro: np.ndarray, path: Path, accel: np.ndarray | None = None, d
         raise ValueError(f"{path}: peak |gyro| {peak:.4g} rad/s exceeds any MEMS full scale (~35 rad/s): {hint}")
 
 
+def _check_gaps(gyro: np.ndarray, dt: np.ndarray, dt_mean: float, t: np.ndarray, path: Path, time_name: str) -> None:
+    """Refuse a gap in the time column across which the per-sample dt (``ω_k dt_k / dt_mean``, module docstring)
+    asks the filters for a rate no gyro measures: the rotation across the gap is not in the log."""
+    from mtcal.core.validate import MAX_GYRO_RAD_S
+
+    rate = np.abs(gyro).max(axis=1)
+    k = int(np.argmax(rate * (dt / dt_mean)))
+    if rate[k] * dt[k] / dt_mean > MAX_GYRO_RAD_S:
+        raise ValueError(f"{path}: {time_name} jumps by {dt[k]:.4g} s between data rows {k + 1} and {k + 2} "
+                         f"({float(t[k])!r} to {float(t[k + 1])!r}, {dt[k] / dt_mean:.0f}x the mean step) while the gyro reads "
+                         f"{rate[k]:.3g} rad/s: the rotation across the gap is not in the log; split the log at the "
+                         f"gap (or fill it)")
+
+
 def _tracking_hint(gyro: np.ndarray, accel: np.ndarray | None, dt_s: float | None) -> str:
     """Which of deg/s and mrad/s carries the accelerometer's gravity direction (gravity tracking), for a message."""
     if accel is None or dt_s is None:
@@ -614,12 +652,24 @@ def _tracking_hint(gyro: np.ndarray, accel: np.ndarray | None, dt_s: float | Non
             f"against the stated unit; windows with linear acceleration favour the smaller rate)")
 
 
-def check_output_path(out, inputs=(), option: str = "--out") -> Path:
+#: suffixes of the tables :func:`write_table` writes (CSV, or Parquet by suffix)
+TABLE_SUFFIXES = (".csv", ".parquet", ".pq")
+
+
+def check_output_path(out, inputs=(), option: str = "--out", *, suffixes=None, others=()) -> Path:
     """Refuse an output that would destroy an input or cannot be a regular file; return it as a Path.
 
     Messages name ``option`` (``--out``, ``--figure``), the command-line option that gave the path.
+    ``suffixes``: the file types the option writes (e.g. :data:`TABLE_SUFFIXES`); ``others``: ``(option,
+    path)`` of the command's other outputs, which this one must not overwrite.
     """
     o = Path(out)
+    if suffixes is not None and o.suffix.lower() not in suffixes:
+        raise ValueError(f"{option} {out}: the file type must be {' or '.join(dict.fromkeys(suffixes))} "
+                         f"(by its suffix)")
+    for other, path in others:
+        if path is not None and os.path.realpath(o) == os.path.realpath(path):
+            raise ValueError(f"{option} {out} is also the {other} path; give the two outputs different paths")
     for i in inputs:
         if i is None:
             continue

@@ -38,7 +38,7 @@ def register(subparsers) -> None:
 
 def run(args: argparse.Namespace) -> int:
     fig = common.DiagnosticsFigure(args.figure, f"mtcal rests {args.log}", inputs=[args.log])
-    out = None if args.out is None else logio.check_output_path(args.out, [args.log])
+    out = None if args.out is None else common.table_output(args, [args.log])
 
     def body() -> int:
         from mtcal.systems.rests import find_rests, rests_table

@@ -1357,7 +1357,8 @@ def apply_record(config: InstallationConfig, q_hat, dt_s: float, *, mode: str = 
     """The whole ``mtcal apply`` measurement of one log: rests → units check → attitude → body attitude.
 
     ``mode="absolute"``: :func:`absolute_body_attitude` with the mounting of ``q_hat``;
-    ``mode="relative"``: :func:`apply_installation` (Eq 10) and the body's tilt at the start.
+    ``mode="relative"``: :func:`apply_installation` (Eq 10) and the body's tilt at the start. ``q_hat`` is
+    refused when it is farther than ``config.max_so4_distance`` from SO(4) (no calibration is).
     The log's arrays, and the :class:`RecordRefused` of a units check that refuses, as in
     :func:`calibrate_record`.
 
@@ -1367,9 +1368,7 @@ def apply_record(config: InstallationConfig, q_hat, dt_s: float, *, mode: str = 
     """
     if mode not in ("absolute", "relative"):
         raise ValueError(f"mode must be 'absolute' or 'relative', got {mode!r}")
-    mat = np.array(q_hat, dtype=float)
-    if mat.shape != (4, 4) or not np.all(np.isfinite(mat)):
-        raise ValueError(f"q_hat must be a finite 4x4 array, got shape {mat.shape}")
+    mat = _calibration_q_hat(q_hat, config.max_so4_distance)
     rep = chk = setup = None
     cfg, raw = config, (None, q_ws, None, None, None)
     if gyro_rad_s is not None:
@@ -1379,6 +1378,23 @@ def apply_record(config: InstallationConfig, q_hat, dt_s: float, *, mode: str = 
         raw = (dt_s, None, setup.gyro_rad_s, accel_m_s2, setup.q0)
     checked = _application_record(cfg, *raw)
     return _apply_record_attitude(cfg, mat, mode, checked, rep, chk, setup, accel_m_s2)
+
+
+def _calibration_q_hat(q_hat, max_so4_distance: float) -> np.ndarray:
+    """The edge of :func:`apply_record` for Q̂: a finite 4×4 array within ``max_so4_distance`` of SO(4) — the gate
+    :func:`calibrate_record` refuses a fit by, so that a matrix that is no calibration (all zero, a zero row, a
+    multiple of the identity) is refused instead of giving a mounting or an attitude."""
+    mat = np.array(q_hat, dtype=float)
+    if mat.shape != (4, 4):
+        raise ValueError(f"q_hat must be a 4x4 array, got shape {mat.shape}")
+    if not np.all(np.isfinite(mat)):
+        raise ValueError("q_hat must be finite (no NaN or inf)")
+    distance = float(constrained_fit.project_to_so4(mat).distance)
+    if not distance <= max_so4_distance:
+        raise ValueError(f"the calibration's q_hat is {distance:.4g} from the nearest rotation of quaternion space "
+                         f"(SO(4)), more than {max_so4_distance:.4g}: it is not an installation calibration (mtcal "
+                         f"calibrate refuses such a fit)")
+    return mat
 
 
 def _apply_record_attitude(cfg, mat, mode, checked, rep, chk, setup, accel) -> RecordApplication:

@@ -90,6 +90,22 @@ class RestsConfig:
             _optional_positive(getattr(self, name), name)
         if self.shoe_threshold is not None and self.detector != "shoe":
             raise ValueError("shoe_threshold needs detector 'shoe'")
+        self.detector_params()                       # the detector's own checks (e.g. gravity's range), once, here
+
+    def detector_params(self):
+        """The parameters of the adaptive or SHOE detector this config states (None for the paper's fixed band)."""
+        from mtcal.methods import rest_detection
+
+        if self.detector == "shoe":
+            return rest_detection.ShoeParams(min_rest_s=self.min_rest_s, noise_factor=self.noise_factor,
+                                             threshold=self.shoe_threshold, rate_level_rad_s=self.gyro_threshold_rad_s,
+                                             gravity_m_s2=self.gravity_m_s2)
+        if self.detector == "adaptive":
+            return rest_detection.RestDetectorParams(min_rest_s=self.min_rest_s, noise_factor=self.noise_factor,
+                                                     gravity_m_s2=self.gravity_m_s2,
+                                                     accel_band_m_s2=self.accel_band_m_s2,
+                                                     gyro_level_max_rad_s=self.gyro_threshold_rad_s)
+        return None
 
     @classmethod
     def cli_defaults(cls, min_rest_s: float = 0.2) -> "RestsConfig":
@@ -216,17 +232,9 @@ def find_rests_trusted(a: np.ndarray, g: np.ndarray | None, dt: float, t: np.nda
     elif config.detector == "shoe":
         if gyro is None:
             raise ValueError("detector 'shoe' needs gyro_rad_s")
-        params = rest_detection.ShoeParams(min_rest_s=config.min_rest_s, noise_factor=config.noise_factor,
-                                           threshold=config.shoe_threshold,
-                                           rate_level_rad_s=config.gyro_threshold_rad_s,
-                                           gravity_m_s2=config.gravity_m_s2)
-        rep = rest_detection.detect_rests_shoe(a, dt, gyro_rad_s=gyro, params=params)
+        rep = rest_detection.detect_rests_shoe(a, dt, gyro_rad_s=gyro, params=config.detector_params())
     else:
-        params = rest_detection.RestDetectorParams(min_rest_s=config.min_rest_s, noise_factor=config.noise_factor,
-                                                   gravity_m_s2=config.gravity_m_s2,
-                                                   accel_band_m_s2=config.accel_band_m_s2,
-                                                   gyro_level_max_rad_s=config.gyro_threshold_rad_s)
-        rep = rest_detection.detect_rests(a, dt, gyro_rad_s=gyro, params=params)
+        rep = rest_detection.detect_rests(a, dt, gyro_rad_s=gyro, params=config.detector_params())
     return drop_short_rests(rep, t)
 
 

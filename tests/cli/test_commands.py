@@ -50,12 +50,16 @@ def test_argparse_errors_are_one_line(capsys):
     (["--axis", "0,0,0"], "not all zero"),
     (["--axis", "a,b,c"], "--axis must be three numbers"),
     (["--noise-factor", "inf"], "--noise-factor must be a finite"),
-    (["--gravity", "0.98"], "gravity_m_s2 must be in m/s"),
+    (["--gravity", "0.98"], "--gravity must be in m/s"),
+    (["--gravity", "1e308"], "--gravity must be in m/s"),
+    (["--max-elevation-deg", "200"], r"--max-elevation-deg must be a number in \(0, 90\]"),
+    (["--init-s", "1e9"], "--init-s 1e9 s is not shorter than the log"),
+    (["--out", "angle.xlsx"], "the file type must be .csv or .parquet"),
     (["--columns", "foo=bar"], "unknown name 'foo'"),
 ])
 def test_bad_arguments_one_line(hinge, tmp_path, capsys, argv, match):
     _, path = hinge
-    args = ["angle", path, "--out", str(tmp_path / "a.csv")]
+    args = ["angle", path] + ([] if "--out" in argv else ["--out", str(tmp_path / "a.csv")])
     if "--axis" not in argv:
         args += ["--axis", "0.6,0,0.8"]
     assert cli.main(args + argv) == 2
@@ -138,13 +142,36 @@ def test_calibrate_four_positions_note_and_three_refused(tmp_path, capsys):
 @pytest.mark.parametrize("content,match", [
     ("not json", "not a JSON calibration"),
     (json.dumps({"format": "other"}), "not an mtcal calibration"),
-    (json.dumps({"format": "mtcal-calibration/1", "q_hat": [[1, 0], [0, 1]]}), "finite 4x4"),
+    (json.dumps({"format": "mtcal-calibration/1", "q_hat": [[1, 0], [0, 1]]}), "q_hat must be a 4x4 array"),
+    (json.dumps({"format": "mtcal-calibration/1", "q_hat": [[float("nan")] * 4] * 4}), "q_hat must be finite"),
+    (json.dumps({"format": "mtcal-calibration/1", "q_hat": [[0.0] * 4] * 4}), "not an installation calibration"),
+    (json.dumps({"format": "mtcal-calibration/1", "q_hat": (10 * np.eye(4)).tolist()}), "18 from the nearest rotation"),
+    (json.dumps({"format": "mtcal-calibration/1", "q_hat": [[True, False, False, False]] * 4}),
+     "not an installation calibration"),
 ])
 def test_apply_bad_calibration_file(hinge, tmp_path, capsys, content, match):
     _, path = hinge
     (tmp_path / "Q.json").write_text(content)
     assert cli.main(["apply", str(tmp_path / "Q.json"), path, "--out", str(tmp_path / "b.csv")]) == 2
     assert match in capsys.readouterr().err
+
+
+def test_apply_accepts_a_calibration_within_its_own_recorded_gate(hinge, tmp_path, capsys):
+    """A Q̂ 0.1 from SO(4) (calibrated with a wider --max-so4-distance, which the file records) is applied; the
+    same Q̂ in a file that records no such distance is refused by the default gate (0.05)."""
+    _, path = hinge
+    q_hat = np.diag([1.0, 1.1, 1.0, 1.0]).tolist()
+    for doc, code in (({"so4_distance": 0.1}, 0), ({}, 2)):
+        (tmp_path / "Q.json").write_text(json.dumps({"format": "mtcal-calibration/1", "q_hat": q_hat, **doc}))
+        assert cli.main(["apply", str(tmp_path / "Q.json"), path, "--out", str(tmp_path / "b.csv")]) == code
+    assert "0.1 from the nearest rotation of quaternion space (SO(4)), more than 0.05" in capsys.readouterr().err
+
+
+def test_apply_reads_a_calibration_saved_with_a_byte_order_mark(hinge, tmp_path, capsys):
+    _, path = hinge
+    doc = json.dumps({"format": "mtcal-calibration/1", "q_hat": np.eye(4).tolist()})
+    (tmp_path / "Q.json").write_bytes(b"\xef\xbb\xbf" + doc.encode())
+    assert cli.main(["apply", str(tmp_path / "Q.json"), path, "--out", str(tmp_path / "b.csv")]) == 0
 
 
 def test_rests_on_accelerometer_only_log(hinge, tmp_path, capsys):

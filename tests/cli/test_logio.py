@@ -316,3 +316,79 @@ def test_read_log_prewarms_numba_once_and_swallows_its_failures(base, tmp_path, 
     assert calls == ["mtcal-prewarm"] and log.n == len(base.df)
     with pytest.raises(ValueError, match="log file not found"):
         logio.read_log(tmp_path / "missing.csv")
+
+
+@pytest.mark.parametrize("name", ["x.csv", "x.parquet"])
+def test_a_column_read_twice_under_one_name_is_refused(base, tmp_path, name):
+    """Two headers named accel_x_m_s2: which copy is meant is unknown, so the log is refused (not the last copy)."""
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    df = base.df
+    cols = [pa.array(df[c].to_numpy()) for c in df.columns] + [pa.array(np.full(len(df), 5.0))]
+    table = pa.Table.from_arrays(cols, names=list(df.columns) + ["accel_x_m_s2"])
+    p = tmp_path / name
+    pq.write_table(table, p) if name.endswith(".parquet") else pa.csv.write_csv(table, p)
+    with pytest.raises(ValueError, match="column 'accel_x_m_s2' appears 2 times in the header; rename the copies"):
+        logio.read_log(p, need="raw")
+    extra = table.rename_columns(list(df.columns) + ["temperature"]).append_column("temperature",
+                                                                                  pa.array(np.ones(len(df))))
+    q = tmp_path / ("t_" + name)
+    pq.write_table(extra, q) if name.endswith(".parquet") else pa.csv.write_csv(extra, q)
+    assert logio.read_log(q, need="raw").n == len(df)          # a repeated column the reader does not use: read
+
+
+@pytest.mark.parametrize("columns,match", [
+    ({"gyro_x_rad_s": "gyro_y_rad_s"}, "--columns maps gyro_x_rad_s to 'gyro_y_rad_s', which is also read as "
+                                       "gyro_y_rad_s; map each quantity to its own column"),
+    ({"gyro_x_rad_s": "accel_x_m_s2"}, "--columns maps gyro_x_rad_s to 'accel_x_m_s2', which is also read as "
+                                       "accel_x_m_s2"),
+])
+def test_columns_mapping_one_header_to_two_quantities_is_refused(base, tmp_path, columns, match):
+    p = tmp_path / "x.csv"
+    base.df.to_csv(p, index=False)
+    with pytest.raises(ValueError, match=match):
+        logio.read_log(p, logio.InputOptions(columns=columns), need="accel")
+
+
+def test_a_partial_gyro_set_is_named_not_dropped_silently(base, tmp_path):
+    p = tmp_path / "x.csv"
+    base.df.drop(columns=["gyro_z_rad_s"]).to_csv(p, index=False)
+    log = logio.read_log(p, need="accel")
+    assert log.gyro_rad_s is None
+    assert "gyro not used: gyro_z_rad_s missing (only gyro_x_rad_s, gyro_y_rad_s in the log)" in log.notes
+    with pytest.raises(ValueError, match="missing columns gyro_z_rad_s"):
+        logio.read_log(p, need="raw")
+
+
+def test_a_gap_the_gyro_cannot_have_turned_across_is_named(base, tmp_path):
+    """A 0.5 s hole while the gyro reads over 0.4 rad/s: per-sample dt would ask the filter for > 40 rad/s, so the
+    reader names the gap (not the gyro's unit); the same hole during a rest is read (the rotation is known: none)."""
+    df = base.df.copy()
+    w = np.abs(df[["gyro_x_rad_s", "gyro_y_rad_s", "gyro_z_rad_s"]].to_numpy()).max(axis=1)
+    moving, still = int(np.argmax(w)), int(np.argmin(w[: len(w) // 2]))
+    for k, ok in ((moving, False), (still, True)):
+        gap = df.copy()
+        gap.loc[k + 1:, "time_s"] += 0.5
+        p = tmp_path / f"gap{k}.csv"
+        gap.to_csv(p, index=False)
+        if ok:
+            assert any("gap(s) > 5x the median dt" in n for n in logio.read_log(p, need="raw").notes)
+            continue
+        with pytest.raises(ValueError, match=rf"time_s jumps by 0.5\d* s between data rows {k + 1} and {k + 2} "
+                                             r"\(.* the mean step\) while the gyro reads .* rad/s: the rotation "
+                                             r"across the gap is not in the log"):
+            logio.read_log(p, need="raw")
+
+
+def test_out_must_be_a_table_and_not_the_figure(base, tmp_path, capsys):
+    p = tmp_path / "x.csv"
+    base.df.to_csv(p, index=False)
+    for extra, match in ((["--out", str(tmp_path / "a.xlsx")], "--out .*a.xlsx: the file type must be .csv or "
+                                                                 ".parquet or .pq"),
+                         (["--out", str(tmp_path / "a.csv"), "--figure", str(tmp_path / "a.csv")],
+                          "--out .*a.csv is also the --figure path; give the two outputs different paths")):
+        assert cli.main(["attitude", str(p)] + extra) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and pytest.importorskip("re").search(match, err), err
+    assert not (tmp_path / "a.xlsx").exists() and not (tmp_path / "a.csv").exists()

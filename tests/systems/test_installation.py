@@ -388,8 +388,18 @@ def test_apply_record_modes_are_the_application_functions(stream):
     np.testing.assert_array_equal(ab.q_bs, np.copysign(1.0, proj.r[0]) * rotations.quat_conjugate(proj.r))
     with pytest.raises(ValueError, match="mode must be 'absolute' or 'relative'"):
         installation.apply_record(cfg, cal.q_hat, DT_S, mode="sideways", time_s=t, q_ws=q_ws)
-    with pytest.raises(ValueError, match="q_hat must be a finite 4x4 array"):
+    with pytest.raises(ValueError, match=r"q_hat must be a 4x4 array, got shape \(3, 3\)"):
         installation.apply_record(cfg, np.eye(3), DT_S, time_s=t, q_ws=q_ws)
+    with pytest.raises(ValueError, match=r"q_hat must be finite \(no NaN or inf\)"):
+        installation.apply_record(cfg, np.full((4, 4), np.nan), DT_S, time_s=t, q_ws=q_ws)
+    bad = cal.q_hat.copy()
+    bad[2] = 0.0                                                      # a zero row: no calibration gives one
+    for q_hat in (bad, np.zeros((4, 4)), 10 * np.eye(4)):
+        with pytest.raises(ValueError, match=r"from the nearest rotation of quaternion space \(SO\(4\)\), more "
+                                             r"than 0.05: it is not an installation calibration"):
+            installation.apply_record(cfg, q_hat, DT_S, time_s=t, q_ws=q_ws)
+    wide = replace(cfg, max_so4_distance=np.inf)                     # the gate is the config's
+    assert installation.apply_record(wide, 10 * np.eye(4), DT_S, time_s=t, q_ws=q_ws).q_bs.shape == (4,)
 
 
 @pytest.mark.parametrize("model", ["eq13", "so4", "mounting"])
