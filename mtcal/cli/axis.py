@@ -115,12 +115,12 @@ def cmd_angle(args: argparse.Namespace) -> int:
         from mtcal.systems.surface_angle import SurfaceRecordConfig, surface_angle_record
 
         v = _parse_axis(args.axis)
-        init_s = common.finite_float(args.init_s, "--init-s")
+        init_s = 1.0 if args.init_s is None else common.finite_float(args.init_s, "--init-s")
         max_el = common.finite_float(args.max_elevation_deg, "--max-elevation-deg", high=90.0)
         max_mismatch = common.finite_float(args.max_axis_mismatch_deg, "--max-axis-mismatch-deg")
         log = logio.read_log(args.log, common.input_options(args), need="raw")
         fig.log = log
-        if init_s >= log.time_s[-1] - log.time_s[0]:
+        if args.init_s is not None and init_s >= log.time_s[-1] - log.time_s[0]:   # a stated value: not clamped
             raise ValueError(f"--init-s {args.init_s} s is not shorter than the log "
                              f"({log.time_s[-1] - log.time_s[0]:.4g} s): the initial rest is part of the log")
         config = SurfaceRecordConfig(common.rests_config(args), init_s, max_el, max_mismatch)
@@ -182,7 +182,7 @@ def register(subparsers) -> None:
     q.add_argument("log", help="IMU log (CSV, Parquet, .mat or .h5)")
     q.add_argument("--axis", required=True, help="axis vx,vy,vz in the sensor frame (from `mtcal axis`)")
     q.add_argument("--out", default="angle.csv", help="output table (.csv or .parquet)")
-    q.add_argument("--init-s", default="1.0", help="initial rest used for a0 and the bias (s)")
+    q.add_argument("--init-s", default=None, help="initial rest used for a0 and the bias (s, default 1)")
     q.add_argument("--max-elevation-deg", default="85", help="refuse an axis steeper than this (deg)")
     q.add_argument("--max-axis-mismatch-deg", default="10",
                    help="refuse when the gyro turns about an axis this far from --axis (deg)")
