@@ -93,7 +93,7 @@ def _read_positions(path: Path) -> np.ndarray:
     """Reference positions (K, 3) in rad from a CSV with yaw_deg, pitch_deg, roll_deg (K ≥ 4)."""
     if not Path(path).is_file():
         raise ValueError(f"--positions: file not found: {path}")
-    cols, _ = logio._read_table(Path(path))
+    cols, _ = logio._read_table(Path(path), select=lambda names: list(POS_COLS))   # (a repeated one: refused)
     missing = [c for c in POS_COLS if c not in cols]
     if missing:
         raise ValueError(f"--positions {path}: missing columns {missing} (need {', '.join(POS_COLS)})")

@@ -156,6 +156,14 @@ def test_apply_bad_calibration_file(hinge, tmp_path, capsys, content, match):
     assert match in capsys.readouterr().err
 
 
+def test_positions_file_with_a_repeated_column_is_refused(tmp_path, capsys):
+    (tmp_path / "pos.csv").write_text("yaw_deg,pitch_deg,roll_deg,yaw_deg\n" + "0,0,0,1\n" * 6)
+    (tmp_path / "log.csv").write_text("time_s,q0,q1,q2,q3\n" + "".join(f"{k / 100},1,0,0,0\n" for k in range(50)))
+    assert cli.main(["calibrate", str(tmp_path / "log.csv"), "--positions", str(tmp_path / "pos.csv")]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "column 'yaw_deg' appears 2 times in the header" in err
+
+
 def test_apply_accepts_a_calibration_within_its_own_recorded_gate(hinge, tmp_path, capsys):
     """A Q̂ 0.1 from SO(4) (calibrated with a wider --max-so4-distance, which the file records) is applied; the
     same Q̂ in a file that records no such distance is refused by the default gate (0.05)."""
