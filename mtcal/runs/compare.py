@@ -38,7 +38,11 @@ def load_comparisons(run: str | Path) -> pd.DataFrame:
         raise FileNotFoundError(f"run {str(run)!r} has no data/ folder ({folder})")
     frames = []
     for path in sorted(folder.glob("*_comparison.csv")):
-        df = pd.read_csv(path, dtype=str, keep_default_na=False)
+        try:
+            df = pd.read_csv(path, dtype=str, keep_default_na=False)
+        except (UnicodeDecodeError, pd.errors.ParserError, pd.errors.EmptyDataError) as exc:
+            raise ValueError(f"{path} is not a readable comparison table (CSV: {str(exc).splitlines()[0][:120]})") \
+                from None
         missing = {"artifact", "quantity", "mtcal", "holds"} - set(df.columns)
         if missing:
             raise ValueError(f"{path} is not a comparison table (missing columns {sorted(missing)})")
@@ -86,7 +90,12 @@ def run_metadata(run: str | Path) -> dict:
     path = Path(run) / "params.json"
     if not path.is_file():
         return {"size": None, "seeds": {}, "known": False}
-    record = json.loads(path.read_text(encoding="utf-8"))
+    try:
+        record = json.loads(path.read_text(encoding="utf-8"))
+    except (UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise ValueError(f"{path} is not a run's parameter record (JSON: {str(exc)[:120]})") from None
+    if not isinstance(record, dict):
+        raise ValueError(f"{path} is not a run's parameter record (a JSON object), got {type(record).__name__}")
     stem = str(record.get("notebook", ""))
     seed = record.get("parameters", {}).get("SEED", record.get("defaults", {}).get("SEED"))
     # a what-if run executes one notebook: its seed holds for every table of the run
@@ -220,7 +229,10 @@ def compare_runs(runs: list[str | Path], *, names: list[str] | None = None, out_
         first = runs[0] if str(runs[0]) != "committed" else (runs[1] if len(runs) > 1 else "runs/x")
         out_dir = Path(first).parent if str(first) != "committed" else Path("runs")
     out_dir = Path(out_dir)
-    out_dir.mkdir(parents=True, exist_ok=True)
+    try:
+        out_dir.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise ValueError(f"--out {out_dir}: cannot make the folder ({exc.strerror}: {exc.filename})") from None
     slug = re.sub(r"[^A-Za-z0-9_.=+,-]+", "", "_vs_".join(names))[:120]
     csv_path = out_dir / f"compare_{slug}.csv"
     merged.to_csv(csv_path, index=False, lineterminator="\n")

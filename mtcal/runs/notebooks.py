@@ -200,8 +200,24 @@ def check_parameters(parameters: dict, valid: dict[str, dict], notebook: str = "
             if not ok:
                 raise ValueError(f"parameter {name} of {notebook} must be like its default "
                                  f"{valid[name].get('default')} ({type(default).__name__}), got {value!r}")
+        _check_catalogued(name, value, notebook)
         out[name] = list(value) if isinstance(value, tuple) else value
     return out
+
+
+def _check_catalogued(name: str, value, notebook: str) -> None:
+    """Values whose range every notebook shares, checked before a run starts: a count ``N_*`` (None: the size's
+    default) is an integer >= 1, a ``*grade`` one of the sensor grades."""
+    if value is None:
+        return
+    if name.startswith("N_") and (isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1):
+        raise ValueError(f"parameter {name} of {notebook} must be an integer >= 1 (or None), got {value!r}")
+    if name.endswith("grade"):
+        from mtcal.core.sensor_grades import grade_names
+
+        if value not in grade_names():
+            raise ValueError(f"parameter {name} of {notebook} must be one of {', '.join(grade_names())}, "
+                             f"got {value!r}")
 
 
 def _coalesce_streams(outputs: list) -> list:
@@ -392,7 +408,10 @@ def run_notebook(notebook: str | int | Path, *, name: str | None = None, paramet
         if not overwrite:
             raise ValueError(f"run folder {folder} exists; choose another name or overwrite it (--force)")
         shutil.rmtree(folder)
-    folder.mkdir(parents=True)
+    try:
+        folder.mkdir(parents=True)
+    except OSError as exc:
+        raise ValueError(f"runs_dir {runs_dir}: cannot make the run folder ({exc.strerror}: {exc.filename})") from None
     record = {"notebook": source.stem, "size": size, "parameters": params,
               "defaults": {k: v["default"] for k, v in valid.items()}, "numerics_env": numerics_env(),
               "status": "running"}

@@ -219,7 +219,10 @@ def _load_cell(out: Path, spec: SweepSpec, cell: int) -> dict[str, np.ndarray] |
 
 
 def _prepare_folder(out: Path, spec: SweepSpec) -> None:
-    (out / "cells").mkdir(parents=True, exist_ok=True)
+    try:
+        (out / "cells").mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise ValueError(f"--out {out}: cannot make the run folder ({exc.strerror}: {exc.filename})") from None
     head = {"format": _FORMAT, "fingerprint": spec.fingerprint(), "spec": spec.as_dict()}
     path = out / "sweep.json"
     if path.exists():
@@ -278,20 +281,25 @@ def run_sweep(spec, out_dir=None, *, workers: int | None = None, scheduler=None,
     out = None if out_dir is None else Path(out_dir)
     per_trial: dict[int, dict] = {}
     skipped = []
-    if out is not None:
-        _prepare_folder(out, spec)
-        for i in range(spec.n_cells):
-            stored = _load_cell(out, spec, i)
-            if stored is not None:
-                per_trial[i] = stored
-                skipped.append(i)
+    own = executor is None
+    ex = make_executor(workers, scheduler) if own else executor   # an unreachable scheduler: before any folder
+    try:
+        if out is not None:
+            _prepare_folder(out, spec)
+            for i in range(spec.n_cells):
+                stored = _load_cell(out, spec, i)
+                if stored is not None:
+                    per_trial[i] = stored
+                    skipped.append(i)
+    except BaseException:
+        if own:
+            ex.close()
+        raise
     todo = [i for i in range(spec.n_cells) if i not in per_trial]
     blocks = {i: [(s, min(s + spec.block_trials, spec.trials)) for s in range(0, spec.trials, spec.block_trials)]
               for i in todo}
     task_iter = (((i, s), run_block, (spec.evaluator, params[i], spec.seed, i, s, e))
                  for i in todo for s, e in blocks[i])
-    own = executor is None
-    ex = make_executor(workers, scheduler) if own else executor
     bar = None
     if (progress_enabled() if progress is None else progress) and todo:
         from tqdm.auto import tqdm

@@ -18,7 +18,7 @@ A spec is a small TOML file (parsed with :mod:`tomllib`)::
 
 The cells are the Cartesian product of the ``[grid]`` arrays, in the order the
 keys are written (the last key varies fastest). Every error names the key:
-``ValueError: sweep.trials must be a positive integer, got -3``.
+``ValueError: sweep.trials must be an integer in [1, 10000000], got -3``; at most 100 000 cells in one sweep.
 
 Examples
 --------
@@ -45,17 +45,25 @@ import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
-__all__ = ["SweepSpec", "parse_spec", "load_spec"]
+__all__ = ["SweepSpec", "parse_spec", "load_spec", "MAX_TRIALS", "MAX_CELLS"]
 
 _NAME_RE = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.-]*$")
 _SWEEP_KEYS = ("name", "evaluator", "seed", "trials", "block_trials")
 
 
-def _int(value, key: str, minimum: int) -> int:
-    if isinstance(value, bool) or not isinstance(value, int) or value < minimum:
-        what = "a positive integer" if minimum == 1 else f"an integer >= {minimum}"
+def _int(value, key: str, minimum: int, maximum: int | None = None) -> int:
+    if (isinstance(value, bool) or not isinstance(value, int) or value < minimum
+            or (maximum is not None and value > maximum)):
+        what = ("a positive integer" if minimum == 1 else f"an integer >= {minimum}") if maximum is None else \
+            f"an integer in [{minimum}, {maximum}]"
         raise ValueError(f"{key} must be {what}, got {value!r}")
     return int(value)
+
+
+#: Largest trials per cell and cells per sweep: beyond them a spec is a typo, not a plan (a sweep of that size
+#: is several specs, each resumable on its own).
+MAX_TRIALS = 10_000_000
+MAX_CELLS = 100_000
 
 
 def _scalar_ok(value) -> bool:
@@ -104,7 +112,7 @@ class SweepSpec:
             raise ValueError(f"sweep.name must be letters, digits, '_', '.', '-' (no spaces), got {self.name!r}")
         ev = get_evaluator(self.evaluator)  # raises naming the valid ones
         _int(self.seed, "sweep.seed", 0)
-        _int(self.trials, "sweep.trials", 1)
+        _int(self.trials, "sweep.trials", 1, MAX_TRIALS)
         _int(self.block_trials, "sweep.block_trials", 1)
         if not isinstance(self.fixed, dict) or not isinstance(self.grid, dict):
             raise TypeError("fixed and grid must be dicts")
@@ -128,6 +136,9 @@ class SweepSpec:
                     raise ValueError(f"{table}.{key} must hold numbers, strings, booleans or arrays of "
                                      f"them, got {bad[0]!r}")
         object.__setattr__(self, "grid", {k: tuple(v) for k, v in self.grid.items()})
+        if self.n_cells > MAX_CELLS:
+            raise ValueError(f"[grid] makes {self.n_cells} cells ({' x '.join(str(len(v)) for v in self.grid.values())}"
+                             f"), more than {MAX_CELLS} in one sweep; split the grid into several specs")
         for params in self.cells():  # each cell validated by the evaluator (key named in the error)
             try:
                 ev.resolve(params)
@@ -221,4 +232,8 @@ def load_spec(path) -> SweepSpec:
     p = Path(path)
     if not p.is_file():
         raise FileNotFoundError(f"spec file not found: {p}")
-    return parse_spec(p.read_text(encoding="utf-8"), source=str(p))
+    try:
+        text = p.read_text(encoding="utf-8")
+    except UnicodeDecodeError as exc:
+        raise ValueError(f"{p} is not a TOML text file (not UTF-8: {exc.reason} at byte {exc.start})") from None
+    return parse_spec(text, source=str(p))

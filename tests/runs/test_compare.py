@@ -37,6 +37,21 @@ def test_compare_runs_table_flips_and_files(tmp_path):
         compare_runs([tmp_path / "runs" / "paper", tmp_path / "nowhere"])
     with pytest.raises(ValueError, match="distinct labels"):
         compare_runs([tmp_path / "runs" / "paper", tmp_path / "runs" / "industrial"], names=["a", "a"])
+    (tmp_path / "file").write_text("x")
+    with pytest.raises(ValueError, match=r"--out .*file: cannot make the folder"):
+        compare_runs([tmp_path / "runs" / "paper", tmp_path / "runs" / "industrial"], out_dir=tmp_path / "file")
+
+
+def test_compare_runs_names_an_unreadable_table_or_record(tmp_path):
+    _fake_run(tmp_path / "a", [("t06", "roll RMSE (deg)", 0.009, 0.0071, "", "<= 0.01", True)])
+    _fake_run(tmp_path / "b", [("t06", "roll RMSE (deg)", 0.009, 0.0071, "", "<= 0.01", True)])
+    (tmp_path / "b" / "data" / "10_x_comparison.csv").write_bytes(b"\xff\xfe\x00\x01binary")
+    with pytest.raises(ValueError, match=r"10_x_comparison.csv is not a readable comparison table"):
+        compare_runs([tmp_path / "a", tmp_path / "b"])
+    _fake_run(tmp_path / "c", [("t06", "roll RMSE (deg)", 0.009, 0.0071, "", "<= 0.01", True)])
+    (tmp_path / "c" / "params.json").write_text("{bad json")
+    with pytest.raises(ValueError, match=r"params.json is not a run's parameter record \(JSON"):
+        compare_runs([tmp_path / "a", tmp_path / "c"])
 
 
 def test_compare_runs_keeps_tables_common_to_all_runs(tmp_path):

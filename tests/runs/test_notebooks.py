@@ -45,6 +45,20 @@ def test_resolve_and_parameters(tiny_notebooks):
     assert notebooks.check_parameters({"gain": 3, "SIZE": "ci", "SEED": 5}, valid) == {"gain": 3, "SIZE": "ci", "SEED": 5}
 
 
+@pytest.mark.parametrize("name,value,match", [
+    ("N_TRIALS", -5, r"parameter N_TRIALS of nb must be an integer >= 1 \(or None\), got -5"),
+    ("N_TRIALS", 2.5, r"parameter N_TRIALS of nb must be an integer >= 1"),
+    ("gyro_grade", "bogus", r"parameter gyro_grade of nb must be one of consumer, industrial, .*, got 'bogus'"),
+])
+def test_counts_and_sensor_grades_are_checked_before_a_run(name, value, match):
+    """The values every notebook shares a range for: refused before a run folder is made (not at cell 7)."""
+    valid = {"N_TRIALS": {"default": "None"}, "gyro_grade": {"default": "'wang2023cja'"}}
+    with pytest.raises(ValueError, match=match):
+        notebooks.check_parameters({name: value}, valid, "nb")
+    assert notebooks.check_parameters({"N_TRIALS": None, "gyro_grade": "industrial"}, valid, "nb") == {
+        "N_TRIALS": None, "gyro_grade": "industrial"}
+
+
 def test_what_if_run_goes_to_its_folder_and_never_touches_committed_files(tiny_notebooks, tmp_path):
     before = _git_state()
     result = notebooks.run_notebook(99, name="steep", parameters={"gain": 3.0, "label": "what-if"}, size="ci",

@@ -42,7 +42,7 @@ def test_list_evaluators(capsys):
 
 
 @pytest.mark.parametrize("args,content,match", [
-    (["--workers", "1"], SPEC.replace("trials = 8", "trials = 0"), "sweep.trials must be a positive integer"),
+    (["--workers", "1"], SPEC.replace("trials = 8", "trials = 0"), "sweep.trials must be an integer in [1, 10000000]"),
     (["--workers", "1"], SPEC.replace("sigma = [1.0, 2.0]", "sigma = [1.0, -2.0]"), "grid.sigma must be"),
     (["--workers", "1"], "[sweep\n", "is not valid TOML"),
     (["--workers", "2", "--scheduler", "tcp://127.0.0.1:1"], SPEC, "either --workers"),
@@ -54,6 +54,19 @@ def test_errors_are_one_line_exit_2(tmp_path, capsys, args, content, match):
     assert cli.main(["sweep", str(spec), "--out", str(tmp_path / "o"), *args]) == 2
     err = capsys.readouterr().err
     assert err.startswith("mtcal: error: ") and match in err and err.count("\n") == 1
+    assert not (tmp_path / "o").exists()                      # refused before the run folder is made
+
+
+def test_unreadable_spec_and_out_under_a_file_name_the_input(tmp_path, capsys):
+    (tmp_path / "bin.toml").write_bytes(b"\xff\xfe\x00binary")
+    assert cli.main(["sweep", str(tmp_path / "bin.toml"), "--workers", "1"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "bin.toml is not a TOML text file (not UTF-8" in err
+    (tmp_path / "s.toml").write_text(SPEC)
+    (tmp_path / "file").write_text("x")
+    assert cli.main(["sweep", str(tmp_path / "s.toml"), "--workers", "1", "--out", str(tmp_path / "file" / "o")]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--out " in err and "cannot make the run folder" in err
 
 
 def test_missing_spec_and_bad_workers(tmp_path, capsys):

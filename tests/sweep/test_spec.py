@@ -50,8 +50,8 @@ def test_load_spec_reads_a_file(tmp_path):
 
 
 @pytest.mark.parametrize("old,new,match", [
-    ("trials = 10", "trials = -3", r"sweep\.trials must be a positive integer, got -3"),
-    ("trials = 10", "trials = 2.5", r"sweep\.trials must be a positive integer"),
+    ("trials = 10", "trials = -3", r"sweep\.trials must be an integer in \[1, 10000000\], got -3"),
+    ("trials = 10", "trials = 2.5", r"sweep\.trials must be an integer in \[1, 10000000\], got 2.5"),
     ("seed = 3", "seed = -1", r"sweep\.seed must be an integer >= 0"),
     ("block_trials = 4", "block_trials = 0", r"sweep\.block_trials must be a positive integer"),
     ('name = "t"', 'name = "a b"', r"sweep\.name must be"),
@@ -71,6 +71,9 @@ def test_load_spec_reads_a_file(tmp_path):
     ("[grid]", "[other]\nx = 1\n[grid]", r"unknown table \[other\]"),
     ('name = "t"\n', "", r"sweep\.name is missing"),
     ("trials = 10", "trials = [", r"not valid TOML"),
+    ("trials = 10", "trials = 1000000000000", r"sweep\.trials must be an integer in \[1, 10000000\], got 1000000000000"),
+    ("vibration_m_s2 = [0.0, 2.5]", "vibration_m_s2 = [" + ", ".join(str(0.001 * k) for k in range(40000)) + "]",
+     r"\[grid\] makes 120000 cells \(3 x 40000\), more than 100000 in one sweep; split the grid"),
 ])
 def test_errors_name_the_key(old, new, match):
     assert old in BASE
