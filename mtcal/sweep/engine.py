@@ -283,6 +283,8 @@ def run_sweep(spec, out_dir=None, *, workers: int | None = None, scheduler=None,
     skipped = []
     own = executor is None
     ex = make_executor(workers, scheduler) if own else executor   # an unreachable scheduler: before any folder
+    bar = None
+    computed = []
     try:
         if out is not None:
             _prepare_folder(out, spec)
@@ -291,23 +293,16 @@ def run_sweep(spec, out_dir=None, *, workers: int | None = None, scheduler=None,
                 if stored is not None:
                     per_trial[i] = stored
                     skipped.append(i)
-    except BaseException:
-        if own:
-            ex.close()
-        raise
-    todo = [i for i in range(spec.n_cells) if i not in per_trial]
-    blocks = {i: [(s, min(s + spec.block_trials, spec.trials)) for s in range(0, spec.trials, spec.block_trials)]
-              for i in todo}
-    task_iter = (((i, s), run_block, (spec.evaluator, params[i], spec.seed, i, s, e))
-                 for i in todo for s, e in blocks[i])
-    bar = None
-    if (progress_enabled() if progress is None else progress) and todo:
-        from tqdm.auto import tqdm
+        todo = [i for i in range(spec.n_cells) if i not in per_trial]
+        blocks = {i: [(s, min(s + spec.block_trials, spec.trials)) for s in range(0, spec.trials, spec.block_trials)]
+                  for i in todo}
+        task_iter = (((i, s), run_block, (spec.evaluator, params[i], spec.seed, i, s, e))
+                     for i in todo for s, e in blocks[i])
+        if (progress_enabled() if progress is None else progress) and todo:
+            from tqdm.auto import tqdm
 
-        bar = tqdm(total=spec.n_cells, initial=len(skipped), desc=f"sweep {spec.name}", unit="cell")
-    partial: dict[int, dict[int, dict]] = {}
-    computed = []
-    try:
+            bar = tqdm(total=spec.n_cells, initial=len(skipped), desc=f"sweep {spec.name}", unit="cell")
+        partial: dict[int, dict[int, dict]] = {}
         for (i, start), result in ex.run(task_iter):
             partial.setdefault(i, {})[start] = result
             if len(partial[i]) == len(blocks[i]):
