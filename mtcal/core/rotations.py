@@ -779,7 +779,7 @@ def installation_angles_from_mount_trusted(q_bs: np.ndarray) -> np.ndarray:
 
 
 def relative_to_initial(q_est: np.ndarray, n0: int = 1, *, out: np.ndarray | None = None,
-                        start: int = 0) -> np.ndarray:
+                        start: int = 0, windows=None) -> np.ndarray:
     """Zero the attitude at the start: ``q_est(0)⁻¹ ⊗ q_est(t)`` (§4.1 initial angles 0°), (T, N, 4).
 
     ``q_est(0)`` is the normalised mean of the first ``n0`` samples. ``out`` (float64, shape of
@@ -787,6 +787,9 @@ def relative_to_initial(q_est: np.ndarray, n0: int = 1, *, out: np.ndarray | Non
     ``start`` (with ``out``): only samples ``start:`` are written (each sample's product does not
     depend on the others); the earlier samples of ``out`` are left as they are — with
     ``out=q_est`` a session keeps its first part as logged and zeroes the rest, without a copy.
+    ``windows`` (with ``out``, instead of ``start``): a list of disjoint sample slices; only the
+    samples inside them are written (a caller that reads a few windows of a long record zeroes
+    only those; each written sample equals the full computation's bit for bit).
 
     Examples
     --------
@@ -796,10 +799,17 @@ def relative_to_initial(q_est: np.ndarray, n0: int = 1, *, out: np.ndarray | Non
     [[1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, -1.0]]
     >>> relative_to_initial(q.copy(), out=q, start=1)[0].tolist()     # sample 0 kept as logged
     [[0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 0.0, -1.0]]
+    >>> q = np.array([[[0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0], [0.0, 0.0, 1.0, 0.0]]])
+    >>> relative_to_initial(q.copy(), out=q, windows=[slice(2, 3)])[0].tolist()   # only sample 2
+    [[0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0], [0.0, 0.0, 0.0, -1.0]]
     """
     start = int(start)
     if start < 0 or start >= max(q_est.shape[-2], 1) or (start and out is None):
         raise ValueError(f"start must be in [0, {q_est.shape[-2]}) and needs out=, got start={start}")
+    if windows is not None:
+        windows = _disjoint_windows(windows, q_est.shape[-2])
+        if out is None or start:
+            raise ValueError("windows needs out= and no start")
     q0 = q_est[:, :n0].mean(axis=1)
     q0 /= np.linalg.norm(q0, axis=-1, keepdims=True)
     p = quat_conjugate(q0)[:, None, :]
@@ -807,11 +817,27 @@ def relative_to_initial(q_est: np.ndarray, n0: int = 1, *, out: np.ndarray | Non
         return hamilton(p, q_est)
     if out.shape != q_est.shape or out.dtype != np.float64:
         raise ValueError(f"out must be a float64 array of shape {q_est.shape}, got {out.dtype} {out.shape}")
-    src, dst = q_est[:, start:], out[:, start:]
-    if q_est.ndim == 3 and q_est.dtype == np.float64:
-        _kernels().hamilton3(np.broadcast_to(p, src.shape), src, dst)   # element by element: may alias
-    else:
-        dst[...] = hamilton(p, src)
+    for w in [slice(start, None)] if windows is None else windows:
+        src, dst = q_est[:, w], out[:, w]
+        if q_est.ndim == 3 and q_est.dtype == np.float64:
+            _kernels().hamilton3(np.broadcast_to(p, src.shape), src, dst)   # element by element: may alias
+        else:
+            dst[...] = hamilton(p, src)
+    return out
+
+
+def _disjoint_windows(windows, n: int) -> list[slice]:
+    """``windows`` as a list of step-1 slices inside ``[0, n)`` that do not overlap (ValueError otherwise)."""
+    out = []
+    for w in windows:
+        if not isinstance(w, slice) or w.step not in (None, 1):
+            raise ValueError(f"windows must be slices of step 1, got {w!r}")
+        a, b, _ = w.indices(n)
+        out.append(slice(a, max(a, b)))
+    edges = sorted((w.start, w.stop) for w in out if w.stop > w.start)
+    for (_, b0), (a1, _) in zip(edges[:-1], edges[1:]):
+        if a1 < b0:
+            raise ValueError(f"windows must not overlap, got {windows!r}")
     return out
 
 

@@ -340,6 +340,28 @@ def test_relative_to_initial_from_a_start_sample_keeps_the_earlier_ones():
         rotations.relative_to_initial(q, start=3)
 
 
+def test_relative_to_initial_in_windows_writes_only_them_bit_for_bit(rng):
+    q = _unit_quats(rng, 2 * rotations._KERNEL_MIN_ROWS).reshape(2, -1, 4)
+    full = q.copy()
+    rotations.relative_to_initial(full, n0=3, out=full)
+    part = q.copy()
+    windows = [slice(40, 90), slice(5, 12), slice(200, 200), slice(-30, None)]
+    assert rotations.relative_to_initial(part, n0=3, out=part, windows=windows) is part
+    inside = np.zeros(q.shape[1], bool)
+    for w in windows:
+        inside[w] = True
+    assert np.array_equal(part[:, inside], full[:, inside])       # the same kernel, the same bits
+    assert np.array_equal(part[:, ~inside], q[:, ~inside])        # the rest as logged
+    with pytest.raises(ValueError, match="windows must not overlap"):
+        rotations.relative_to_initial(q, out=q.copy(), windows=[slice(0, 10), slice(9, 12)])
+    with pytest.raises(ValueError, match="windows must be slices of step 1"):
+        rotations.relative_to_initial(q, out=q.copy(), windows=[slice(0, 10, 2)])
+    with pytest.raises(ValueError, match="windows needs out= and no start"):
+        rotations.relative_to_initial(q, windows=[slice(0, 10)])
+    with pytest.raises(ValueError, match="windows needs out= and no start"):
+        rotations.relative_to_initial(q, out=q.copy(), start=2, windows=[slice(0, 10)])
+
+
 def test_wrap_difference_equals_numpy_remainder_at_and_around_pi():
     """Differences at and around ±π (x = (e − t) + π at 0, just below 0, at and beyond 2π, ±3π) wrap
     bit for bit as ``np.remainder(e − t + π, 2π) − π`` (the rare ``fmod`` path included)."""

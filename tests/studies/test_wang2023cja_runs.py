@@ -88,6 +88,34 @@ def test_mechanism_backlash_depends_on_direction():
     assert np.isclose(down - up, sc.transmission_gap_rad + 2 * sc.servo_lag_s * np.radians(2))
 
 
+def test_mechanism_stop_directions_shared_give_the_same_bits():
+    """``mechanism_actual(..., stops=stop_directions(prof))`` equals the per-axis formula it replaced
+    (``act[:, axis] -= last · stop · ¬moving``) bit for bit, signed zeros included."""
+    from mtcal.core.profiles import step_schedule
+    from mtcal.studies.wang2023cja.scenario import stop_directions
+    sc = w.WindTunnelScenario(pitch_ratio_error=-0.003, alpha_deg=(0.0, 0.0, 0.0))
+    wp = np.radians([[0, 0, 0], [0, 4, -2], [3, 4, -2], [3, -1, 5], [0, 0, 0]])
+    prof = step_schedule(wp, np.radians(2), 1.5, 100.0, min_move_s=0.5)
+    rate = np.radians(2)
+    ref = prof.angle_rad.copy()
+    ref[:, 1] *= 1.0 + sc.pitch_ratio_error
+    stop = 0.5 * sc.transmission_gap_rad + sc.servo_lag_s * rate
+    for axis in range(3):
+        r = prof.rate_rad_s[:, axis]
+        moving = np.abs(r) > 1e-9
+        idx = np.where(moving, np.arange(r.size), 0)
+        np.maximum.accumulate(idx, out=idx)
+        last = np.where(moving, np.sign(r), 0.0)[idx]
+        last[~moving & (idx == 0) & ~moving[0]] = 0.0
+        ref[:, axis] -= last * stop * ~moving
+    ref[:, 0] += sc.non_orthogonality_rad[0] * prof.angle_rad[:, 1]
+    ref[:, 2] += sc.non_orthogonality_rad[1] * prof.angle_rad[:, 1]
+    stops = stop_directions(prof)
+    for act in (w.mechanism_actual(sc, prof, rate), w.mechanism_actual(sc, prof, rate, stops=stops)):
+        assert act.tobytes() == ref.tobytes()
+    assert set(np.unique(stops)) <= {-1.0, 0.0, 1.0} and not stops[0].any()
+
+
 def test_identified_ratio_reproduces_printed_q22():
     sc = w.windtunnel_scenario(fs_hz=200.0)
     run = w.run_windtunnel(sc, np.random.default_rng(0), 1, sources=(), wind_on=False)

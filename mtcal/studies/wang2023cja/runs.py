@@ -43,7 +43,7 @@ from mtcal.methods import six_position
 from mtcal.systems import installation
 from .error_model import MOUNT_TYPE, PAPER_SIGN
 from .scenario import (SOURCES, TurntableScenario, WindTunnelScenario, _ComplianceBase, _compliant,
-                       compliance_trajectory, mechanism_actual, windtunnel_positions)
+                       compliance_trajectory, mechanism_actual, stop_directions, windtunnel_positions)
 
 #: Every trial's sweep error series is kept at every TRACE_DECIMATION-th sample (ensemble figures).
 TRACE_DECIMATION = 20
@@ -606,6 +606,18 @@ def _shared_holds(prof: AngleProfile, span: slice, fraction: float) -> list[slic
     return list(cache[key])
 
 
+def _shared_stops(prof: AngleProfile) -> np.ndarray | None:
+    """:func:`mtcal.studies.wang2023cja.scenario.stop_directions` of a shared profile (:func:`_shared_profile`),
+    found once for every scenario that runs on it; other profiles: None (:func:`mechanism_actual` finds them)."""
+    cache = _PROFILE_HOLDS.get(id(prof))
+    if cache is None:
+        return None
+    if "stops" not in cache:
+        cache["stops"] = stop_directions(prof)
+        cache["stops"].setflags(write=False)
+    return cache["stops"]
+
+
 def _key(values) -> tuple:
     return tuple(np.asarray(values, float).ravel().tolist())
 
@@ -866,7 +878,7 @@ def _wt_setup(sc: WindTunnelScenario, rng: np.random.Generator, trials: int, sou
     pos, prof, spans, won_profs, won_rates, holds = _wt_session(sc)
     ref_err = _draws(rng_ref, trials, 6, sc.repeatability_rad, "reference_angle" in on)   # its own generator
     # truth: the mechanism's actual angles, tilted by the mount; then the IMU (core)
-    actual = mechanism_actual(sc, prof, sc.mechanism_rate_rad_s)
+    actual = mechanism_actual(sc, prof, sc.mechanism_rate_rad_s, stops=_shared_stops(prof))
     groups = _wind_on_truth(sc, rng_wind, trials, won_profs, won_rates) if wind_on else []
     traj, *group_trajs = [compliance_trajectory(t, a, k_mount) for t, a in
                           [(prof.time_s, actual)] + [(grp.prof.time_s, grp.actual) for grp in groups]]
@@ -972,7 +984,7 @@ def _wind_on_truth(sc, rng, trials, profs, rates) -> list[_WindOnGroup]:
     groups = []
     for g, (prof, rate) in enumerate(zip(profs, rates)):
         r_q, r_imu, r_vib = child_rngs(group_rngs[g], 3)
-        actual = mechanism_actual(sc, prof, rate)
+        actual = mechanism_actual(sc, prof, rate, stops=_shared_stops(prof))
         q_factor = 1.0 + sc.dynamic_pressure_sigma * r_q.standard_normal()
         t = prof.time_s
         ramp = np.clip((t - (_WIND_LEAD_S - 3.0)) / 1.0, 0.0, 1.0)          # flow starts 3 s before the sweep
@@ -1030,12 +1042,16 @@ def _wind_on_measure(sc, q_mat, groups, trials, trace, keep_trace, trace_index, 
     ref = np.radians(np.asarray(sc.wind_on_sweep_deg, float))
     elastic_corrected = ref + elastic_deflection_rad(sc.elastic_model_deg, ref)
     res = qncf_trusted(gyro, accel, 1.0 / sc.fs_hz, sc.qncf, return_euler=False)   # records simulated here: trusted
-    q_s = relative_to_initial(res.q_ws, n0=1, out=res.q_ws)
     q_rep = np.concatenate([q_mat] * 5, axis=0)
     means = out["group_means"][:, rows]                             # (a view: written in place)
     for g, prof in enumerate(profs):
         sl = slice(g * trials, (g + 1) * trials)
-        q_g = q_s[sl]
+        q_g = res.q_ws[sl]
+        if keep_trace:                 # the traced trial zeroed at every sample, before its holds are
+            q_t = q_g[trace_index:trace_index + 1].copy()
+            relative_to_initial(q_t, n0=1, out=q_t)
+        # zeroed at the first sample (§4.1) where read: at the holds (each sample's product is its own)
+        relative_to_initial(q_g, n0=1, out=q_g, windows=groups[g].holds)
         for j, h in enumerate(groups[g].holds):
             means[g, :, j] = rotations.mapped_pitch_trusted(q_rep[sl], q_g[:, h]).mean(axis=1)
         if not keep_trace:
@@ -1046,7 +1062,7 @@ def _wind_on_measure(sc, q_mat, groups, trials, trace, keep_trace, trace_index, 
         trace[f"wind_time_s_{g}"] = prof.time_s.copy()            # the profile is shared (read-only)
         trace[f"wind_reference_{g}"] = prof.angle_rad[:, 1].copy()
         trace[f"wind_pitch_{g}"] = rotations.mapped_pitch_trusted(      # the QNCF's own quaternions, finite Q̂
-            q_rep[sl][trace_index:trace_index + 1], q_g[trace_index:trace_index + 1, :prof.time_s.size])[0]
+            q_rep[sl][trace_index:trace_index + 1], q_t[:, :prof.time_s.size])[0]
     if rows.start == 0:
         out["reference"], out["elastic_corrected"] = ref, elastic_corrected
     out["gate_fraction_on_trials"][rows] = res.gate[:, int(lead_s * sc.fs_hz):].reshape(5, trials, -1).mean(axis=(0, 2))

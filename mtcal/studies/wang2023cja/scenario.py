@@ -47,7 +47,7 @@ from .error_model import MOUNT_TYPE, ErrorModel
 
 __all__ = ["SOURCES", "ImuSpec", "IMU_ASSUMPTIONS", "paper_imu", "TurntableScenario", "WindTunnelScenario", "TURNTABLE_DEFAULTS",
            "WINDTUNNEL_DEFAULTS", "turntable_scenario", "windtunnel_scenario", "windtunnel_geometry",
-           "PRINTED_WINDTUNNEL_Q22", "compliance_trajectory", "mechanism_actual", "windtunnel_positions",
+           "PRINTED_WINDTUNNEL_Q22", "compliance_trajectory", "mechanism_actual", "stop_directions", "windtunnel_positions",
            "identify_pitch_ratio"]
 
 
@@ -344,7 +344,37 @@ def _compliant(time_s, base: _ComplianceBase, compliance_rad_per_g: float) -> Tr
     return base.tilted(time_s, compliance_rad_per_g)
 
 
-def mechanism_actual(sc: WindTunnelScenario, prof: AngleProfile, rate_rad_s: float) -> np.ndarray:
+def stop_directions(prof: AngleProfile) -> np.ndarray:
+    """Direction of each axis's last move at every sample of ``prof`` where it stands, (N, 3) of −1, 0, +1.
+
+    0 while the axis moves and before its first move (the mechanism is zeroed where it stands at the
+    start). It depends on the schedule alone: :func:`mechanism_actual` of many scenarios on one profile
+    takes it from its ``stops`` argument instead of finding it again.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from mtcal.core.profiles import step_schedule
+    >>> prof = step_schedule(np.radians([[0, 0, 0], [0, 10, 0], [0, 0, 0]]), np.radians(10.0), [1.0, 1.0, 1.0], 10.0)
+    >>> d = stop_directions(prof)
+    >>> d[0].tolist(), d[prof.segment == 2][0].tolist(), d[prof.segment == 4][0].tolist()
+    ([0.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, -1.0, 0.0])
+    """
+    out = np.empty(prof.rate_rad_s.shape)
+    for axis in range(out.shape[1]):
+        rate = prof.rate_rad_s[:, axis]
+        moving = np.abs(rate) > 1e-9
+        direction = np.where(moving, np.sign(rate), 0.0)
+        idx = np.where(moving, np.arange(rate.size), 0)
+        np.maximum.accumulate(idx, out=idx)
+        last = direction[idx]
+        last[~moving & (idx == 0) & ~moving[0]] = 0.0
+        out[:, axis] = last * ~moving
+    return out
+
+
+def mechanism_actual(sc: WindTunnelScenario, prof: AngleProfile, rate_rad_s: float, *,
+                     stops: np.ndarray | None = None) -> np.ndarray:
     """Actual mechanism angles (N, 3) from the commanded ones (rad).
 
     * pitch transmission-ratio error: actual pitch = (1 + ε) · commanded;
@@ -353,20 +383,16 @@ def mechanism_actual(sc: WindTunnelScenario, prof: AngleProfile, rate_rad_s: flo
       zeroed where it stands at the start (no offset before an axis first moves), so an axis that
       moved during the calibration comes back to zero with that offset;
     * non-orthogonality: yaw and roll pick up ``non_orthogonality_rad`` per rad of pitch.
+
+    ``stops``: :func:`stop_directions` of ``prof`` when the caller has it (the same numbers).
     """
     cmd = prof.angle_rad
     act = cmd.copy()
     act[:, 1] *= 1.0 + sc.pitch_ratio_error
     stop = 0.5 * sc.transmission_gap_rad + sc.servo_lag_s * rate_rad_s
-    for axis in range(3):
-        rate = prof.rate_rad_s[:, axis]
-        moving = np.abs(rate) > 1e-9
-        direction = np.where(moving, np.sign(rate), 0.0)
-        idx = np.where(moving, np.arange(rate.size), 0)
-        np.maximum.accumulate(idx, out=idx)
-        last = direction[idx]
-        last[~moving & (idx == 0) & ~moving[0]] = 0.0
-        act[:, axis] -= last * stop * ~moving
+    # (last · ¬moving) · stop: the factor ¬moving is 0 or 1, so the product and its sign are those of
+    # last · stop · ¬moving
+    act -= (stop_directions(prof) if stops is None else stops) * stop
     act[:, 0] += sc.non_orthogonality_rad[0] * cmd[:, 1]
     act[:, 2] += sc.non_orthogonality_rad[1] * cmd[:, 1]
     return act
@@ -394,9 +420,10 @@ def identify_pitch_ratio(sc: WindTunnelScenario, q22: float) -> float:
     q_bs = mount_quaternion(np.radians(sc.alpha_deg))
     q_ref = rotations.quat_from_euler_zxy(pos[:, 0], pos[:, 1], pos[:, 2])
     k_mount = sc.errors.compliance_deg_g(MOUNT_TYPE["windtunnel"]) * DEG
+    stops = stop_directions(prof)
 
     def q22_at(eps):
-        act = mechanism_actual(replace(sc, pitch_ratio_error=float(eps)), prof, sc.mechanism_rate_rad_s)
+        act = mechanism_actual(replace(sc, pitch_ratio_error=float(eps)), prof, sc.mechanism_rate_rad_s, stops=stops)
         mean = np.array([act[h].mean(axis=0) for h in holds])
         q_wb = compliance_trajectory(np.arange(len(mean), dtype=float), mean, k_mount).q_wb
         q_s = rotations.quat_multiply(rotations.quat_conjugate(q_bs), rotations.quat_multiply(q_wb, q_bs))
