@@ -10,7 +10,8 @@
 #    new noise, a changed accelerometer bias). In-sample residuals are shown, labelled as such.
 # 2. **The hardware error model is identified** on a declared training split
 #    (`mtcal/reporting/paper_data/wang2023cja_split.csv`: Tables 1–4 and the printed matrices are
-#    `train`) and the held-out Tables 5–8 are **predicted** with 95 % posterior-predictive bands:
+#    `train`) and Tables 5–8 are **predicted** with 95 % posterior-predictive bands (6 and 8 held out;
+#    5 and 7 `tuned` since ledger D10: the per-hold angle error was added after their numbers were seen):
 #    every parameter draw from the fit's joint posterior runs two sessions. Beside it runs the
 #    **prior predictive**: every trial draws the error model from its prior ranges and the
 #    installation angles from their prior (`w.predictive.ALPHA_PRIOR_SIGMA_DEG`) — nothing fitted
@@ -207,9 +208,11 @@ output.show_table(w.table04(run["T4"]).table, "{:.3f}")
 section("wang2023cja_table04")
 
 # %% [markdown]
-# ## wang2023cja_table05 — AoA sweep, mean pitch (Table 5, held out)
+# ## wang2023cja_table05 — AoA sweep, mean pitch (Table 5, tuned)
 # The sweep follows the verification run in the same session, with an angle error per hold. The
-# compared number is printed − reference. Claims, with the paper's thresholds: "The maximum pitch
+# compared number is printed − reference. Tuned since ledger D10: the per-hold angle error (D6) was
+# added to the model after these numbers had been compared, so they are in-sample (its size is fitted
+# on Tables 1–4). The paper's statements, with its thresholds, as in-sample checks: "The maximum pitch
 # angle error before calibration is 0.04°", "The results after calibration are all within 0.03°"
 # and "there is a significant improvement in the pitch angle after calibration".
 
@@ -241,8 +244,9 @@ output.show_table(t6)
 section("wang2023cja_table06")
 
 # %% [markdown]
-# ## wang2023cja_table07 — roll sweep, mean roll (Table 7, held out)
-# Claims: "Except for 0°, the other angle errors are reduced by at least 17 %" (the paper's own
+# ## wang2023cja_table07 — roll sweep, mean roll (Table 7, tuned)
+# Tuned since ledger D10, as Table 5. The paper's statements as in-sample checks: "Except for 0°, the
+# other angle errors are reduced by at least 17 %" (the paper's own
 # Table 7 gives 15.6 % at −90°: split role `erratum`), "over 80%" at 90°, and "within 0.06° before
 # calibration and 0.04° after" (the text says pitch; Table 7 is roll).
 
@@ -337,8 +341,8 @@ print(table08_note)
 #
 # `claim` rows are tested against held-out numbers; the notebook enforces (at the paper's settings)
 # only the claims that hold, and lists every failing one with its computed reason. `in-sample`
-# rows are checked against numbers the model was fitted on; they are reported (a failing one says
-# FAILS), never counted as claims. A verdict is taken on the median trial; where the share of trials for which
+# rows are checked against numbers the model was fitted or tuned on (Tables 1–4; Tables 5 and 7 since
+# ledger D10); they are reported (a failing one says FAILS), never counted as claims. A verdict is taken on the median trial; where the share of trials for which
 # the claim holds is within Monte Carlo error of one half, the reason says "not resolved": our model
 # cannot tell whether the paper's threshold is met, and another seed may flip that verdict.
 
@@ -347,19 +351,19 @@ output.save_table(claims, "wang2023cja_extra_turntable_claims")
 print(verdicts.claim_block(claims))
 print("prior predictive:")
 print(verdicts.claim_block(claims_prior[claims_prior.kind == "claim"]))
-ENFORCED = ("c14", "c16", "t6-reduce")          # hold in the full run; the others fail (listed above)
+ENFORCED = ("c16", "t6-reduce")                # held-out claims that hold in the full run; the others fail (listed above)
 if AT_PAPER and SIZE == "full":                 # 4 CI trials are too few for a verdict
     held_claims = claims.set_index("claim_id").loc[list(ENFORCED)]
     assert held_claims.holds.all(), held_claims[~held_claims.holds]
 
 # %% [markdown]
 # ## Shape predictions that can fail
-# Beyond each number inside its band: does our model get the *shape* of the held-out tables? Table 5's
+# Beyond each number inside its band: does our model get the *shape* of the tables? Table 5's
 # error trend over the 8 holds (Kendall τ between the paper's and our median errors, one-sided p < 0.05),
 # Table 7's slope of the roll error against the reference roll, and Table 8's reduction fraction
-# 1 − after/before, each against our band of per-trial values. Our thresholds (`mtcal finding`), counted as
-# claims of their table in `data/verdicts.csv`, not as scored numbers (they are functions of the same
-# held-out numbers).
+# 1 − after/before, each against our band of per-trial values. Our thresholds (`mtcal finding`): Table 8's
+# are counted as claims of their table in `data/verdicts.csv` (not as scored numbers: they are functions
+# of the same held-out numbers); Tables 5 and 7's are in-sample checks (tuned since ledger D10).
 
 # %%
 shape = verdicts.shape_predictions(verdicts.printed_samples(runs["fitted"]), table08_note)
@@ -369,7 +373,8 @@ print(compare.claims_summary(shape_table))
 
 # %% [markdown]
 # ## wang2023cja_extra_baselines — the fit against a band with no physics
-# The held-out angle errors of Tables 5 and 7 scored three ways on the same rows: our posterior predictive,
+# The angle errors of Tables 5 and 7 (held out until ledger D10 made them tuned: an in-sample comparison
+# since) scored three ways on the same rows: our posterior predictive,
 # the prior predictive, and a band with no physics — 0 ± 1.96 × the RMS of Table 1's 18 "after − reference"
 # residuals (train numbers). A model that does not beat the no-physics band on a table adds nothing there.
 

@@ -22,9 +22,11 @@ The rule (:func:`verdict`, stated once in ``docs/conventions.md``, "One verdict 
 * ``not reproduced``: no held-out number inside and no claim holding;
 * ``partly reproduced``: anything else.
 
-``cause`` is one computed line: the held-out number farthest outside its band (in band widths) and
-the failing claims with their computed reason, or, for an artifact with no evidence, what it has
-instead (in-sample numbers inside, or nothing compared).
+``cause`` is one computed line: the held-out number farthest outside its band (in band widths), the
+failing claims with their computed reason, whether the claims are tested on thresholds of ours (the
+paper states none), and — whatever the verdict, since they are no evidence — the in-sample numbers
+inside and checks holding and every failing check of another kind (in-sample, consistency, erratum,
+finding) with its reason; "nothing compared" only when there is none of these.
 
 References
 ----------
@@ -171,17 +173,27 @@ def _evidence(rows: pd.DataFrame) -> dict:
         else:
             names = ", ".join(cell_text(g.quantity).split(":")[0] for g in group)
             parts.append(f"fails in {len(group)} rows ({names}): {claim}" + (f" (first: {why})" if why else ""))
-    if not len(numbers) and not len(claims):
-        own = rows[rows["role"].isin(("train", "tuned")) & inside.notna() & ~tested]
-        checks = rows[(kind == "in-sample") & tested]
-        if len(own) or len(checks):
-            parts.append("in-sample only (fitted or tuned on)"
-                         + (f": {int(inside[own.index].astype(bool).sum())} of {len(own)} numbers inside"
-                            if len(own) else "")
-                         + (f"; {int(holds[checks.index].astype(bool).sum())} of {len(checks)} in-sample checks hold"
-                            if len(checks) else ""))
-        else:
-            parts.append("no held-out paper number or claim compared (our own findings or figure only)")
+    own_threshold = int((claims["role"] == "finding").sum()) if "role" in claims else 0
+    if own_threshold:
+        parts.append("every claim is tested on an mtcal threshold (the paper states none)" if own_threshold == len(claims)
+                     else f"{own_threshold} of {len(claims)} claims are tested on mtcal thresholds (the paper states none)")
+    # not evidence, shown whatever the verdict: the in-sample numbers and checks, every failing check of any kind
+    own = rows[rows["role"].isin(("train", "tuned")) & inside.notna() & ~tested]
+    checks = rows[(kind == "in-sample") & tested]
+    counts = ([f"{int(inside[own.index].astype(bool).sum())} of {len(own)} numbers inside"] if len(own) else []) + (
+        [f"{int(holds[checks.index].astype(bool).sum())} of {len(checks)} in-sample checks hold"] if len(checks) else [])
+    if counts:
+        parts.append(("in-sample only (fitted or tuned on): " if not len(numbers) and not len(claims)
+                      else "in-sample (fitted or tuned on): ") + "; ".join(counts))
+    other = rows[tested & (kind != "claim") & ~holds.astype(bool)]
+    label = pd.Series([cell_text(k) or cell_text(r) or "check" for k, r in zip(kind[other.index], other["role"])],
+                      index=other.index)
+    for (k, claim), group in other.groupby([label, other["claim"].map(cell_text)], sort=False):
+        why = cell_text(group["note"].iloc[0]) if "note" in group else ""
+        parts.append(f"{k} check fails{f' in {len(group)} rows' if len(group) > 1 else ''}: {claim}"
+                     + (f" ({why})" if why else ""))
+    if not len(numbers) and not len(claims) and not counts and not len(other):
+        parts.append("no held-out paper number or claim compared (our own findings or figure only)")
     return {"numbers_compared": len(numbers), "numbers_inside": n_inside, "claims_holding": c_hold,
             "claims_failing": len(claims) - c_hold, "cause": "; ".join(parts)}
 

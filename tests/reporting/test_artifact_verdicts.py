@@ -7,7 +7,7 @@ import pandas as pd
 import pytest
 
 from mtcal.reporting import artifact_verdicts as av
-from mtcal.reporting.compare import claim, comparison_row, comparison_table, in_sample
+from mtcal.reporting.compare import claim, comparison_row, comparison_table, consistency, in_sample
 
 ROOT = Path(__file__).resolve().parents[2]
 BAND = {"low": 0.9, "high": 1.1, "n": 1000, "kind": "95 % band"}
@@ -63,6 +63,37 @@ def test_only_heldout_numbers_and_claims_are_evidence():
     assert out.loc["p2020_fig02"].verdict == "not comparable" and "in-sample only" in out.loc["p2020_fig02"].cause
     assert out.loc["p2020_fig03"].verdict == "not comparable" and "no comparison row" in out.loc["p2020_fig03"].cause
     assert list(out.reset_index().columns) == av.VERDICT_COLUMNS
+
+
+def test_every_failing_check_and_every_own_threshold_is_in_the_cause_whatever_the_evidence():
+    """A failing check of any kind (in-sample, consistency, a finding) is named in the cause even when held-out
+    evidence decides the verdict; claims on an mtcal threshold say so."""
+    rows = [comparison_row("p2020_table01", "a", 1.0, 1.0, "", None, band=BAND, role="heldout"),
+            comparison_row("p2020_table01", "c", 5.0, 1.0, "", None, band=BAND, role="train"),
+            in_sample("p2020_table01", "f", 0.5, 0.7, "within 0.5 (in-sample)", False, on="tuned on it", role="tuned"),
+            consistency("p2020_table01", "g", 1, 2, "equal by construction", False, by="same formula", enforce=False),
+            claim("p2020_table01", "e", 0.5, 0.4, "below 0.5", lambda v: v < 0.5),
+            claim("p2020_fig02", "h", "-", 0.4, "(mtcal) below 0.5", lambda v: v < 0.5, role="finding")]
+    arts = pd.DataFrame([{"artifact_id": a, "paper": "p2020", "paper_item": i, "notebook_section": "s"}
+                         for a, i in (("p2020_table01", "Table 1"), ("p2020_fig02", "Fig. 2"))])
+    out = av.artifact_rows(_table(rows), arts).set_index("artifact_id")
+    t1 = out.loc["p2020_table01"]
+    assert t1.verdict == "reproduced"                                       # decided by the held-out evidence
+    assert "in-sample (fitted or tuned on): 0 of 1 numbers inside; 0 of 1 in-sample checks hold" in t1.cause
+    assert "in-sample check fails: within 0.5 (in-sample)" in t1.cause
+    assert "consistency check fails: equal by construction" in t1.cause
+    f2 = out.loc["p2020_fig02"]
+    assert f2.verdict == "reproduced" and f2.cause == "every claim is tested on an mtcal threshold (the paper states none)"
+
+
+def test_every_paper_number_compared_belongs_to_a_catalogue_artifact():
+    """Each comparison row that holds a paper number with its role (train, tuned, held out) or a claim lands
+    in the verdict of an artifact the catalogue lists: none is left out of data/verdicts.csv."""
+    arts = set(av.paper_artifacts(ROOT / "docs" / "artifacts.md").artifact_id)
+    rows = av._comparisons(ROOT / "data")
+    paper_rows = rows[rows["role"].isin(("train", "tuned", "heldout")) | (rows["kind"] == "claim")]
+    orphans = sorted(set(paper_rows["artifact"]) - arts)
+    assert not orphans, f"comparison rows of no catalogue artifact: {orphans}"
 
 
 def test_committed_verdicts_cover_every_catalogue_artifact_and_follow_the_rule():

@@ -235,7 +235,7 @@ def test_outside_reasons_names_the_number_and_what_it_needs():
     assert text.startswith("Bv2 AHRS stand-in dynamic: paper 0.2624 below") and "heading_deg" in text
     f14 = w.fig14_max_error_per_angle(fit, 1, n_draws=200)
     assert f14.data["median"] == pytest.approx(np.full(5, 0.03))
-    whole, settled, c02 = f14.rows
+    whole, settled, c02, c03 = f14.rows
     # one statement (c01, c08, c10) once per reading: the whole hold is the claim, the settled half is tuned
     assert whole["kind"] == "claim" and whole["role"] == "heldout" and whole["holds"] is False
     assert whole["mtcal"] == pytest.approx(0.07) and "1.4× the bound" in whole["note"]
@@ -246,6 +246,9 @@ def test_outside_reasons_names_the_number_and_what_it_needs():
     # c02: the largest error while moving, against 1°
     assert c02["kind"] == "claim" and c02["role"] == "heldout" and c02["holds"] is True
     assert c02["mtcal"] == pytest.approx(0.6) and c02["ref"].endswith("text_claims:2:value") and c02["check"](1.2) is False
+    # c03 (erratum of the split) shown on the same statistic: failing, never a claim
+    assert (c03["role"], c03["holds"], c03["enforced"]) == ("erratum", False, False) and c03["mtcal"] == c02["mtcal"]
+    assert c03["ref"].endswith("text_claims:3:value") and "12× 0.05°" in c03["note"]
     text = compare.check_claims(compare.comparison_table(f14.rows), enforce=False)
     assert "1 of 2 claims hold" in text and "in-sample checks" in text
 
@@ -254,11 +257,13 @@ def test_paper_claims_of_the_figures_can_fail():
     sc = w.scenario_from_parameters()
     rows = w.fig09_ekf_switching(sc, 2, 1).rows + w.fig06_zvd(sc, 2, 1).rows
     claims = [r for r in rows if r["kind"] == "claim"]
-    assert len(claims) == 3 and all(r["holds"] for r in claims)
-    ratio, same, found = claims[0], claims[1], claims[2]
+    assert len(claims) == 4 and all(r["holds"] for r in claims[:3])
+    ratio, same, found, table1 = claims
     assert ratio["check"](0.5) is False   # ZVD EKF only half as good in motion
     assert same["check"](0.01) is False   # the two filters differ by 0.01° while still
     assert found["check"](0.5) is False   # half the trials miss a rest
+    # the paper's ZVD (Table 1, accelerometer only) flags most turntable cruise as static: the claim fails
+    assert table1["holds"] is False and table1["check"](0.01) is True and "‖a‖ at g" in table1["note"]
 
 
 def test_error_model_priors_inside_prior_is_consistency():

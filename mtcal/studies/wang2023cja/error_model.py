@@ -8,8 +8,8 @@ the six rest means of a calibration run and of a *separate* verification run
 (:func:`rest_residuals`, the static equilibrium of the QNCF: tilt from the
 accelerometer, yaw from the integrated gyro), and fits all six by maximum
 likelihood to the declared training subset — the "after − reference" columns
-of Tables 1–4 (72 numbers) — in :func:`fit_error_model` (all six fields). The held-out numbers (Tables 5–8; the declared split
-``paper_data/wang2023cja_split.csv``) are predicted by the full QNCF simulation; the fit reads
+of Tables 1–4 (72 numbers) — in :func:`fit_error_model` (all six fields). The other numbers (Tables 5–8: 6 and 8 held out, 5 and 7 tuned
+since ledger D10; the declared split ``paper_data/wang2023cja_split.csv``) are predicted by the full QNCF simulation; the fit reads
 the tables through :func:`mtcal.reporting.paper_numbers.training` only.
 
 Sources and their signature in the paper

@@ -356,7 +356,7 @@ def fit_and_predict(size: str = "ci", seed: int = 0) -> dict:
 
     References
     ----------
-    Issue #21 item 2; wang2023cja Tables 1–4 (train), 5–8 and Table 10 Std (held out).
+    Issue #21 item 2; wang2023cja Tables 1–4 (train), 6 and 8 (held out), 5, 7 and 9–11 (tuned).
 
     Examples
     --------
