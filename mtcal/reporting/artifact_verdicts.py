@@ -23,7 +23,8 @@ The rule (:func:`verdict`, stated once in ``docs/conventions.md``, "One verdict 
 * ``partly reproduced``: anything else.
 
 ``cause`` is one computed line: the held-out number farthest outside its band (in band widths), the
-failing claims with their computed reason, whether the claims are tested on thresholds of ours (the
+failing claims with their computed reason, how many of the held-out numbers the prior predictive
+(nothing fitted) puts inside as well, whether the claims are tested on thresholds of ours (the
 paper states none), and — whatever the verdict, since they are no evidence — the in-sample numbers
 inside and checks holding and every failing check of another kind (in-sample, consistency, erratum,
 finding) with its reason; "nothing compared" only when there is none of these.
@@ -163,6 +164,11 @@ def _evidence(rows: pd.DataFrame) -> dict:
         parts.append(f"{len(outside)} held-out outside; farthest {cell_text(r['quantity'])}: paper {x[r.name]:.4g}, "
                      f"ours {_float(r['mtcal']):.4g} [{lo[r.name]:.4g}, {hi[r.name]:.4g}] "
                      f"({miss[r.name]:.1f} band widths out)")
+    if len(numbers) and "prior_in_band" in rows:    # what the fit adds: the prior predictive on the same numbers
+        prior = rows.loc[numbers.index, "prior_in_band"].map(_bool)
+        if prior.notna().all():
+            parts.append(f"prior predictive (nothing fitted): {int(prior.astype(bool).sum())} of {len(prior)} "
+                         f"held-out inside")
     failing: dict[str, list] = {}                 # one line per claim text (rows of one claim kept together)
     for r in claims[~holds[claims.index].astype(bool)].itertuples():
         failing.setdefault(cell_text(r.claim), []).append(r)

@@ -68,7 +68,7 @@ def test_only_heldout_numbers_and_claims_are_evidence():
 def test_every_failing_check_and_every_own_threshold_is_in_the_cause_whatever_the_evidence():
     """A failing check of any kind (in-sample, consistency, a finding) is named in the cause even when held-out
     evidence decides the verdict; claims on an mtcal threshold say so."""
-    rows = [comparison_row("p2020_table01", "a", 1.0, 1.0, "", None, band=BAND, role="heldout"),
+    rows = [comparison_row("p2020_table01", "a", 1.0, 1.0, "", None, band=BAND, prior_band=BAND, role="heldout"),
             comparison_row("p2020_table01", "c", 5.0, 1.0, "", None, band=BAND, role="train"),
             in_sample("p2020_table01", "f", 0.5, 0.7, "within 0.5 (in-sample)", False, on="tuned on it", role="tuned"),
             consistency("p2020_table01", "g", 1, 2, "equal by construction", False, by="same formula", enforce=False),
@@ -79,6 +79,7 @@ def test_every_failing_check_and_every_own_threshold_is_in_the_cause_whatever_th
     out = av.artifact_rows(_table(rows), arts).set_index("artifact_id")
     t1 = out.loc["p2020_table01"]
     assert t1.verdict == "reproduced"                                       # decided by the held-out evidence
+    assert "prior predictive (nothing fitted): 1 of 1 held-out inside" in t1.cause
     assert "in-sample (fitted or tuned on): 0 of 1 numbers inside; 0 of 1 in-sample checks hold" in t1.cause
     assert "in-sample check fails: within 0.5 (in-sample)" in t1.cause
     assert "consistency check fails: equal by construction" in t1.cause

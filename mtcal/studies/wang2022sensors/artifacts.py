@@ -531,8 +531,12 @@ def table05_rmse(fit: ErrorModelFit, seed: int, n_draws: int = 4000) -> Artifact
                      "paper_in_fitted": bool(b["low"] <= pv[key] <= b["high"]),
                      "paper_in_prior": bool(bp["low"] <= pv[key] <= bp["high"]), "n_draws": n_draws})
         qty, ref = f"{axis} {system} {kind} RMSE (deg)", _t5_ref(axis, system, kind)
+        runs = error_model.simulated_runs(fit.grid, key)
         rows.append(_row("wang2022sensors_table05", qty, pv[key], float(b["median"]), "", None, band=b, prior_band=bp,
-                         role=role, ref=ref))
+                         role=role, ref=ref,
+                         note=f"band: {n_draws} predictive draws resampling {runs} simulated runs (grid points × "
+                              f"repetitions), each × the {error_model.DISCREPANCY_LOG_SD:.0%} log-normal model "
+                              "discrepancy"))
         if _T5_CLAIMS[(system, kind)][1] is not None:
             said.setdefault(_T5_CLAIMS[(system, kind)][0], []).append((key, role, float(b["median"]), ref))
     # each sentence of the text once: its threshold on the worst of the rows it covers (our medians); in-sample

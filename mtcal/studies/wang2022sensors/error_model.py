@@ -47,7 +47,7 @@ from mtcal.reporting import leak, paper_numbers
 from .runs import ahrs_sweep_metrics, sweep_metrics
 from .scenario import AhrsImu, Scenario, lever_arm_vector, scenario_from_parameters, table4_axes
 
-__all__ = ["ERROR_PRIORS", "FIT_GRID", "FIT_GRID_CI", "LATENCY_GRID_S", "TRAINING", "HELD_OUT", "DISCREPANCY_LOG_SD", "SYSTEMS", "GridRun",
+__all__ = ["simulated_runs", "ERROR_PRIORS", "FIT_GRID", "FIT_GRID_CI", "LATENCY_GRID_S", "TRAINING", "HELD_OUT", "DISCREPANCY_LOG_SD", "SYSTEMS", "GridRun",
            "run_grid", "paper_table5", "log_likelihood", "posterior_weights", "prior_weights",
            "parameter_summary", "predictive_samples", "weighted_quantile"]
 
@@ -221,6 +221,13 @@ def _key_array(grid: GridRun, axis: str, system: str, kind: str) -> np.ndarray:
     """log RMSE (C, L, S, R) for one Table 5 entry (broadcast over the axes it does not depend on)."""
     arr = grid.log_rmse[(system, kind)][:, :, :, grid.axes.index(axis)]
     return np.broadcast_to(arr, (arr.shape[0], grid.latency_s.size, grid.heading_deg.size, arr.shape[-1]))
+
+
+def simulated_runs(grid: GridRun, key) -> int:
+    """How many distinct simulated runs (grid points × repetitions) the predictive draws of one Table 5
+    quantity ``key`` = (axis, system, kind) resample (:func:`predictive_samples`): the band rests on these,
+    each spread by the model discrepancy, however many draws are taken."""
+    return int(np.unique(_key_array(grid, *key)).size)
 
 
 def log_likelihood(grid: GridRun, keys=TRAINING, values: dict | None = None,
