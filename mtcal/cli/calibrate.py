@@ -22,8 +22,10 @@ nearest attitude, and Eq 13 is solved. The fit is refused when Q̂ is far from a
 rotation of quaternion space (an all-zero row, entries like 10), when the
 positions are ill-conditioned, or when a residual exceeds ``--max-residual-deg``.
 Prints Q̂, the installation angles (inverse of Eq 1 of the mounting part of Q̂),
-the residual per position and the before/after errors; ``--out Q.json`` saves it
-for ``mtcal apply``.
+the residual per position and the before/after errors (yaw/pitch/roll differences and the
+rotation angle between the reference and the measured attitude; the summary's max |error| is
+that angle, which stays defined at pitch +-90 deg where ZXY yaw and roll are not); ``--out
+Q.json`` saves it for ``mtcal apply``.
 """
 
 from __future__ import annotations
@@ -225,14 +227,18 @@ def _print_and_write(args, res, out, log, info: dict) -> None:
     print(f"Q_hat ({model_name}, q_body = Q_hat q_sensor):")
     for row in cal.q_hat:
         print("  " + "  ".join(f"{v:+.6f}" for v in row))
-    print(f"{'pos':>3} {'ref yaw/pitch/roll (deg)':>27} {'before error (deg)':>27} "
-          f"{'after error (deg)':>27} {'residual':>9}")
     ref_deg = np.degrees(cal.positions_rad)
-    before, after = np.degrees(cal.error_before_rad), np.degrees(cal.error_after_rad)
-    fmt = lambda v: " ".join(f"{x:+8.4f}" for x in v)  # noqa: E731
+    angle_before, angle_after = attitude_errors_deg(cal)
+    locked_before, locked_after = (_near_gimbal_lock(ref_deg, e) for e in (cal.euler_before_rad, cal.euler_after_rad))
+    print(f"{'pos':>3} {'ref yaw/pitch/roll (deg)':>29} {'before error yaw/pitch/roll':>29} {'angle':>8} "
+          f"{'after error yaw/pitch/roll':>29} {'angle':>8}")
     for k in range(ref_deg.shape[0]):
-        print(f"{k + 1:>3} {fmt(ref_deg[k]):>27} {fmt(before[k]):>27} {fmt(after[k]):>27} "
-              f"{np.degrees(cal.residual_rad[k]):9.5f}")
+        print(f"{k + 1:>3} {_fmt(ref_deg[k]):>29} {_fmt(np.degrees(cal.error_before_rad[k]), locked_before[k]):>29} "
+              f"{angle_before[k]:8.4f} {_fmt(np.degrees(cal.error_after_rad[k]), locked_after[k]):>29} "
+              f"{angle_after[k]:8.5f}")
+    print("  angle: rotation angle between the reference and the measured attitude (deg; after = the fit residual)"
+          + (f"; n/a: yaw/roll error undefined within {GIMBAL_LOCK_TOL_DEG:g} deg of pitch +-90 deg "
+             f"(gimbal lock of the ZXY angles)" if np.any(locked_before | locked_after) else ""))
     model = cfg.model
     sigma = np.degrees(sigma_rad)
     mount = np.degrees(res.mounting_euler_rad)
@@ -285,4 +291,36 @@ def _print_and_write(args, res, out, log, info: dict) -> None:
                              "at the first sample; Euler wang2023cja Eq 8 (yaw z, pitch x, roll y)"}
         logio.write_text(out, json.dumps(doc, indent=2, default=float) + "\n")
         print(f"calibration written to {out}")
-    print(f"max |error| before {np.max(np.abs(before)):.4f} deg, after {np.max(np.abs(after)):.4f} deg")
+    print(f"max |error| (rotation angle to the reference) before {np.max(angle_before):.4f} deg, "
+          f"after {np.max(angle_after):.4f} deg")
+
+
+#: Within this many degrees of pitch ±90° (reference or measured) the ZXY yaw and roll errors are printed as n/a:
+#: there an attitude error moves yaw and roll by up to 1/cos(pitch) (≥ 11×) its size, and at ±90° they are undefined.
+GIMBAL_LOCK_TOL_DEG = 5.0
+
+
+def attitude_errors_deg(cal) -> tuple[np.ndarray, np.ndarray]:
+    """Rotation angle (deg) between each reference attitude and the measured one, before and after ``Q_hat``.
+
+    Unlike per-angle Euler differences this is defined at pitch ±90° too (where ZXY yaw and roll are not):
+    :func:`mtcal.core.rotations.quat_angle_between` of the reference quaternion and the zeroed sensor
+    attitude at the rest (before) or ``normalize(Q_hat q_sensor)`` (after; equal to ``residual_rad``).
+    """
+    from mtcal.core import rotations
+
+    after_q = rotations.apply_quat_matrix_trusted(cal.q_hat, cal.q_sensor)
+    before = rotations.quat_angle_between(cal.q_reference, cal.q_sensor)
+    after = rotations.quat_angle_between(cal.q_reference, after_q)
+    return np.degrees(before), np.degrees(after)
+
+
+def _near_gimbal_lock(ref_deg: np.ndarray, euler_rad: np.ndarray) -> np.ndarray:
+    """(K,) bool: the reference or the measured pitch is within :data:`GIMBAL_LOCK_TOL_DEG` of ±90°."""
+    lim = 90.0 - GIMBAL_LOCK_TOL_DEG
+    return (np.abs(ref_deg[:, 1]) >= lim) | (np.abs(np.degrees(euler_rad[:, 1])) >= lim)
+
+
+def _fmt(v: np.ndarray, locked: bool = False) -> str:
+    """Yaw/pitch/roll (deg) for the per-position table; yaw and roll as n/a at gimbal lock."""
+    return " ".join("n/a".rjust(9) if locked and i != 1 else f"{x:+9.4f}" for i, x in enumerate(v))

@@ -156,6 +156,42 @@ def test_pm_g_set_calibrates_with_a_constrained_model(pm_g, capsys, model):
     assert all(np.isfinite(v) for v in doc["installation_angles_1sigma_deg"].values())
 
 
+def _summary_deg(out: str) -> tuple[float, float]:
+    """The before/after numbers of calibrate's last line ``max |error| (rotation angle …) before B deg, after A deg``."""
+    line = out.strip().splitlines()[-1]
+    assert line.startswith("max |error| (rotation angle to the reference) before ")
+    return float(line.split(" before ")[1].split()[0]), float(line.split(", after ")[1].split()[0])
+
+
+def test_pm_g_summary_is_the_rotation_angle_not_euler_differences(pm_g, capsys):
+    """At pitch ±90° ZXY yaw/roll are undefined (gimbal lock): the summary is the rotation angle between reference
+    and measured attitude (after ≈ the residuals, ~0.01°; it printed 109.87° from Euler differences), and the
+    table marks yaw/roll errors n/a there."""
+    capsys.readouterr()
+    assert cli.main(["calibrate", str(pm_g / "pmg.csv"), "--positions", str(pm_g / "pos.csv"), "--model", "so4"]) == 0
+    out = capsys.readouterr().out
+    before, after = _summary_deg(out)
+    assert after < 0.1 and 0.5 < before < 2.0          # the 1° mounting error before, the residuals after
+    rows = [ln.split() for ln in out.splitlines() if ln[:3].strip().isdigit() and len(ln.split()) == 12]
+    pitch_rows = [r for r in rows if r[2] in ("+90.0000", "-90.0000")]      # pos, ref y/p/r, before y/p/r, angle, …
+    assert len(rows) == 6 and all(r[4] != "n/a" for r in rows if r not in pitch_rows)
+    assert len(pitch_rows) == 2 and all(r[4] == "n/a" and r[6] == "n/a" and r[8] == "n/a" and r[10] == "n/a"
+                                        for r in pitch_rows)
+    assert "n/a: yaw/roll error undefined within 5 deg of pitch +-90 deg" in out
+
+
+def test_wrong_calibration_still_shows_a_large_error(pm_g, tmp_path, capsys):
+    """Positions that do not match the log (pitch ±86° for ±90°), let through a loose --max-residual-deg: the
+    summary's 'after' stays large (≈ 4°)."""
+    wrong = [(y, 86.0 * np.sign(p), r) for y, p, r in PM_G_DEG]
+    pd.DataFrame(wrong, columns=["yaw_deg", "pitch_deg", "roll_deg"]).to_csv(tmp_path / "wrong.csv", index=False)
+    capsys.readouterr()
+    assert cli.main(["calibrate", str(pm_g / "pmg.csv"), "--positions", str(tmp_path / "wrong.csv"), "--model", "so4",
+                     "--max-residual-deg", "30"]) == 0
+    before, after = _summary_deg(capsys.readouterr().out)
+    assert after > 3.0 and before > 3.0
+
+
 def _frd(df: pd.DataFrame) -> pd.DataFrame:
     """The same log from a sensor with FRD axes (x forward, y right, z down)."""
     out = df.copy()
