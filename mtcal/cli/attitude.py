@@ -89,11 +89,11 @@ def _print_clipping(clipped: np.ndarray, level_rad_s: float) -> None:
 
 def _missing_package(name: str, exc: ImportError) -> str:
     """The one-line message for a ``--filter`` whose library is not installed."""
-    if name in ("vqf", "basicvqf"):
-        return f"--filter {name} needs the vqf package (pip install vqf)"
     from mtcal.filters import registry
 
-    return f"--filter {name} needs the {registry.get_filter(name).requires} package ({exc})"
+    package = "vqf" if name in ("vqf", "basicvqf") else registry.get_filter(name).requires
+    return (f"--filter {name} needs the optional {package} package: pip install 'mtcal[bench]' "
+            f"(from a source checkout: pip install '.[bench]')")
 
 
 __all__ = ["register", "run", "FILTERS"]
@@ -108,7 +108,8 @@ def register(subparsers) -> None:
     p.add_argument("--out", default="attitude.csv", help="output table (.csv or .parquet)")
     p.add_argument("--filter", choices=FILTERS, default="qncf",
                    help="attitude filter (default qncf, wang2023cja); vqf/basicvqf (vqf), mahony, madgwick (ahrs), "
-                        "fusion (imufusion) at their default gains")
+                        "fusion (imufusion) at their default gains; those four need the optional bench extra "
+                        "(pip install 'mtcal[bench]', from a checkout '.[bench]')")
     common.add_input_options(p)
     common.add_rest_options(p, min_rest_s=0.2)
     p.set_defaults(func=run)

@@ -65,7 +65,10 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     if out.exists() and not out.is_dir():
         raise ValueError(f"--out {out} exists and is not a folder")
     progress = False if args.no_progress else None  # None: a bar over cells on a terminal unless MTCAL_PROGRESS=0
-    res = run_sweep(spec, out, workers=args.workers, scheduler=args.scheduler, progress=progress)
+    try:
+        res = run_sweep(spec, out, workers=args.workers, scheduler=args.scheduler, progress=progress)
+    except ImportError as exc:      # an optional extra missing: one line naming the option and the extra
+        raise ValueError(f"--scheduler {args.scheduler}: {exc}" if args.scheduler is not None else str(exc)) from None
     from mtcal.sweep.plots import sweep_figure
 
     from mtcal.sweep.plots import x_parameter, band_text
@@ -86,7 +89,8 @@ def register(subparsers) -> None:
                               description=__doc__.split("\n\n")[0])
     p.add_argument("spec", nargs="?", help="sweep spec (TOML)")
     p.add_argument("--workers", type=_positive_int, help="local worker processes (default: every core)")
-    p.add_argument("--scheduler", help="Dask scheduler address, e.g. tcp://host:8786")
+    p.add_argument("--scheduler", help="Dask scheduler address, e.g. tcp://host:8786 (needs the optional sweep "
+                   "extra: pip install 'mtcal[sweep]', from a checkout '.[sweep]')")
     p.add_argument("--out", help="run folder (default runs/sweeps/<name>)")
     p.add_argument("--list", action="store_true", help="list the evaluators and their parameters")
     p.add_argument("--no-progress", action="store_true",

@@ -61,7 +61,7 @@ too, as an ``output="angle"`` filter (angle about a known axis), run through
 
 Every filter starts from the same ``q0``: levelled from the mean of the first
 ``init_samples`` accelerometer samples, yaw 0. The three external libraries
-are an optional extra (``pip install 'mtcal[dev]'``); they are imported on first
+are the optional ``bench`` extra (``pip install 'mtcal[bench]'``; ``dev`` includes them); they are imported on first
 use and :func:`available_filters` lists what is installed.
 
 References

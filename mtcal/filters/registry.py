@@ -266,7 +266,7 @@ def require_filter(name: str):
         return importlib.import_module(entry.requires)
     except ImportError as exc:
         raise ImportError(f"filter {name!r} needs the optional package {entry.requires!r} "
-                          f"(pip install 'mtcal[dev]'): {exc}") from None
+                          f"(pip install 'mtcal[bench]'): {exc}") from None
 
 
 def available_filters(*, output: str | None = None) -> list[str]:

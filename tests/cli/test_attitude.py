@@ -92,3 +92,18 @@ def test_cli_attitude_equals_the_broad2021_study(trial, tmp_path, capsys):
     study = runs.run_6d("qncf_cli", tr.gyro_rad_s, tr.accel_m_s2, tr.dt_s)
     np.testing.assert_array_equal(df[["q0", "q1", "q2", "q3"]].to_numpy(), study)
     assert len(df) == tr.n and "levelled from the first rest" in out
+
+
+@pytest.mark.parametrize("name,package", [("vqf", "vqf"), ("basicvqf", "vqf"), ("madgwick", "ahrs"),
+                                          ("fusion", "imufusion")])
+def test_missing_optional_filter_names_the_bench_extra(jittered, tmp_path, monkeypatch, capsys, name, package):
+    """--filter with its library missing: one line naming --filter, the package and the extra that installs it."""
+    import sys
+
+    monkeypatch.setitem(sys.modules, package, None)                # `import package` raises ImportError
+    path = jittered[0]
+    code, out, err = _run(["attitude", path, "--filter", name, "--out", tmp_path / "att.csv"], capsys)
+    assert code == 2 and err.count("\n") == 1
+    assert err.startswith(f"mtcal: error: --filter {name} needs the optional {package} package: "
+                          f"pip install 'mtcal[bench]'")
+    assert not (tmp_path / "att.csv").exists()

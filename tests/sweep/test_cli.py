@@ -130,3 +130,17 @@ def test_sweep_figure_panels_bands_and_errors():
         sweep_figure(table.iloc[0:0], ["grade"])
     with pytest.raises(ValueError, match=r"table lacks columns \['high'\]"):
         sweep_figure(table.drop(columns="high"), ["grade"])
+
+
+def test_scheduler_without_the_sweep_extra_names_it(tmp_path, monkeypatch, capsys):
+    """Without dask.distributed, --scheduler is refused in one line that says which extra installs it."""
+    import sys
+
+    monkeypatch.setitem(sys.modules, "distributed", None)          # `import distributed` raises ImportError
+    spec = tmp_path / "s.toml"
+    spec.write_text(SPEC)
+    assert cli.main(["sweep", str(spec), "--out", str(tmp_path / "o"), "--scheduler", "tcp://127.0.0.1:1"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith("mtcal: error: --scheduler tcp://127.0.0.1:1: ")
+    assert "pip install 'mtcal[sweep]'" in err
+    assert not (tmp_path / "o").exists()
