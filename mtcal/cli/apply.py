@@ -174,13 +174,12 @@ __all__ = ["register", "run", "load_calibration", "load_calibration_file", "max_
 def register(subparsers) -> None:
     """Add the ``apply`` subcommand."""
     p = subparsers.add_parser("apply", help="apply a calibration (Q.json) to a log: calibrated attitude",
-                              description=common.description_with_schema(__doc__, 2), epilog=EXAMPLE,
-                              formatter_class=argparse.RawDescriptionHelpFormatter)
+                              description=common.description_with_schema(__doc__, 2), epilog=EXAMPLE)
     p.add_argument("calibration", help="JSON written by `mtcal calibrate --out`")
     p.add_argument("log", help="IMU log (CSV or Parquet): raw gyro/accel or q0..q3")
     p.add_argument("--out", default="body_attitude.csv", help="output table (.csv or .parquet)")
     p.add_argument("--mode", choices=["absolute", "relative"], default="absolute",
-                   help="absolute (default): pitch/roll referenced to gravity, heading zeroed at the first sample; "
+                   help="absolute: pitch/roll referenced to gravity, heading zeroed at the first sample; "
                         "relative: the paper's Eq 10, angles relative to where the log starts (turntable zero)")
     common.add_input_options(p)
     common.add_rest_options(p, min_rest_s=0.2)

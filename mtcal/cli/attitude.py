@@ -102,12 +102,11 @@ __all__ = ["register", "run", "FILTERS"]
 def register(subparsers) -> None:
     """Add the ``attitude`` subcommand."""
     p = subparsers.add_parser("attitude", help="QNCF attitude of a log (wang2023cja) to CSV/Parquet",
-                              description=common.description_with_schema(__doc__, 2), epilog=EXAMPLE,
-                              formatter_class=argparse.RawDescriptionHelpFormatter)
+                              description=common.description_with_schema(__doc__, 2), epilog=EXAMPLE)
     p.add_argument("log", help="IMU log (CSV, Parquet, .mat or .h5)")
     p.add_argument("--out", default="attitude.csv", help="output table (.csv or .parquet)")
     p.add_argument("--filter", choices=FILTERS, default="qncf",
-                   help="attitude filter (default qncf, wang2023cja); vqf/basicvqf (vqf), mahony, madgwick (ahrs), "
+                   help="attitude filter: qncf (wang2023cja), vqf/basicvqf (vqf), mahony, madgwick (ahrs), "
                         "fusion (imufusion) at their default gains; those four need the optional bench extra "
                         "(pip install 'mtcal[bench]', from a checkout '.[bench]')")
     common.add_input_options(p)

@@ -42,6 +42,9 @@ POS_COLS = ["yaw_deg", "pitch_deg", "roll_deg"]
 FORMAT = "mtcal-calibration/2"
 #: Calibration-file formats ``mtcal apply`` reads (version 1: no units, version, direction or uncertainty).
 KNOWN_FORMATS = ("mtcal-calibration/1", FORMAT)
+#: The default of ``--max-so4-distance`` as its help prints it: ``mtcal.systems.installation.MAX_SO4_DISTANCE``
+#: (not imported for ``--help``, which loads no numba/scipy; equality tested).
+MAX_SO4_DISTANCE_TEXT = "0.05"
 
 #: What the installation angles mean (wang2023cja Eq 1), printed with the numbers and saved in the file.
 ALPHA_MEANING = ("installation angles (wang2023cja Eq 1, C_b^s = Rz(alpha1) Ry(alpha2) Rx(alpha3)): alpha1 about z "
@@ -70,20 +73,23 @@ def register(subparsers) -> None:
     """Add the ``calibrate`` subcommand to the ``mtcal`` dispatcher."""
     p = subparsers.add_parser("calibrate", help="six-position installation-error calibration (wang2023cja)",
                               description=__doc__.split("\n\n")[0] + "\n\n" + "\n\n".join(__doc__.split("\n\n")[1:4]),
-                              epilog=EXAMPLE, formatter_class=argparse.RawDescriptionHelpFormatter)
+                              epilog=EXAMPLE)
     p.add_argument("log", type=Path, help="IMU log (time_s + gyro/accel columns or q0..q3)")
     p.add_argument("--positions", type=Path, required=True, help="reference positions CSV (yaw/pitch/roll deg, >= 4)")
-    p.add_argument("--out", help="write the calibration (JSON) here, for `mtcal apply`")
-    p.add_argument("--comment", default="", help="free text saved in the calibration file (e.g. rig, IMU serial)")
+    p.add_argument("--out", help="write the calibration (JSON) here, for `mtcal apply` (default: none, the "
+                   "result is only printed)")
+    p.add_argument("--comment", default="", help="free text saved in the calibration file (e.g. rig, IMU serial) "
+                                                "(default: empty)")
     p.add_argument("--model", choices=["eq13", "so4", "mounting"], default="eq13",
-                   help="error map fitted: eq13 (wang2023cja's 16-parameter least squares, default; needs "
+                   help="error map fitted: eq13 (wang2023cja's 16-parameter least squares; needs "
                         "rotations about all three axes), so4 (nearest rotation of quaternion space L(p) R(r), "
                         "6 parameters) or mounting (q_body = q_bs q_sensor q_bs*, 3 parameters); so4 and "
                         "mounting also serve sets about two axes such as the classic +-g six positions")
-    p.add_argument("--fraction", default="0.5", help="middle fraction of each rest averaged")
+    p.add_argument("--fraction", default="0.5", help="middle fraction of each rest averaged, in (0, 1]")
     p.add_argument("--max-residual-deg", default="1.0", help="refuse a fit with a larger residual (deg)")
     p.add_argument("--max-so4-distance", default=None,  # None: mtcal.systems.installation.MAX_SO4_DISTANCE
-                   help="refuse a Q_hat farther than this from a rotation of quaternion space")
+                   help="refuse a Q_hat farther than this from a rotation of quaternion space (Frobenius "
+                        f"norm) (default: {MAX_SO4_DISTANCE_TEXT})")
     p.add_argument("--still-deg-s", default="0.2", help="quaternion-rate rest threshold for q0..q3 logs (deg/s)")
     common.add_input_options(p)
     common.add_rest_options(p, min_rest_s=None)

@@ -96,37 +96,45 @@ def table_output(args, inputs) -> Path:
 
 def add_input_options(p: argparse.ArgumentParser) -> None:
     g = p.add_argument_group("input units and columns")
-    g.add_argument("--time-unit", choices=sorted(logio.TIME_UNITS), help="unit of the time column (default s)")
-    g.add_argument("--gyro-unit", choices=list(logio.GYRO_UNITS), help="gyro unit (default rad/s)")
-    g.add_argument("--accel-unit", choices=list(logio.ACCEL_UNITS), help="accelerometer unit (default m/s2)")
-    g.add_argument("--gyro-scale", metavar="S|SX,SY,SZ", help="multiply gyro columns first (counts -> unit)")
-    g.add_argument("--accel-scale", metavar="S|SX,SY,SZ", help="multiply accel columns first (counts -> unit)")
-    g.add_argument("--columns", metavar="NAME=HEADER,...", help="map schema names to your headers")
-    g.add_argument("--fs-hz", metavar="HZ", help="uniform sample rate for a log without a time column (Hz)")
+    g.add_argument("--time-unit", choices=sorted(logio.TIME_UNITS), help="unit of the time column (default: s, or "
+                   "as a time_ms/time_us header says)")
+    g.add_argument("--gyro-unit", choices=list(logio.GYRO_UNITS), help="gyro unit (default: rad/s, or as a "
+                   "gyro_x_deg_s header or BROAD's layout says)")
+    g.add_argument("--accel-unit", choices=list(logio.ACCEL_UNITS), help="accelerometer unit (default: m/s2, "
+                   "or as an accel_x_g header says)")
+    g.add_argument("--gyro-scale", metavar="S|SX,SY,SZ", help="multiply gyro columns first (counts -> unit) "
+                   "(default: 1, no scaling)")
+    g.add_argument("--accel-scale", metavar="S|SX,SY,SZ", help="multiply accel columns first (counts -> unit) "
+                   "(default: 1, no scaling)")
+    g.add_argument("--columns", metavar="NAME=HEADER,...", help="map schema names to your headers (default: "
+                   "the schema's names, or BROAD's imu_gyr/imu_acc arrays)")
+    g.add_argument("--fs-hz", metavar="HZ", help="uniform sample rate for a log without a "
+                   "time column (Hz) (default: from the time column, or a .mat/.h5 file's sampling_rate)")
 
 
 def add_rest_options(p: argparse.ArgumentParser, *, min_rest_s: float | None, figure: bool = True) -> None:
     g = p.add_argument_group("rest detection")
     g.add_argument("--rest-detector", choices=["adaptive", "paper", "shoe"], default="adaptive",
-                   help="adaptive (levels measured from the data; default), paper "
+                   help="adaptive (levels measured from the data), paper "
                         "(wang2022sensors Table 1 band 9.76-9.84 m/s^2) or shoe (SHOE/GLRT quasi-static "
                         "detector, Skog et al. 2010: finds a foot's stance phases; needs the gyro)")
     g.add_argument("--shoe-threshold", metavar="GAMMA", help="shoe: threshold gamma of the SHOE statistic T "
-                   "(dimensionless, ~6 when still); default measured, or from --gyro-threshold-deg-s")
-    g.add_argument("--gravity", metavar="M_S2", help="|a| at rest (m/s^2); default measured")
-    g.add_argument("--accel-band", metavar="M_S2", help="half-width of the |a| band (m/s^2); default "
-                   "max(5 x accel noise, 1.5 %% of g)")
+                   "(dimensionless, ~6 when still) (default: measured, or from --gyro-threshold-deg-s)")
+    g.add_argument("--gravity", metavar="M_S2", help="|a| at rest (m/s^2) (default: measured)")
+    g.add_argument("--accel-band", metavar="M_S2", help="half-width of the |a| band (m/s^2) (default: "
+                   "max(K x accel noise, 1.5 %% of g), K = --noise-factor)")
     g.add_argument("--gyro-threshold-deg-s", metavar="DEG_S", help="max |w - bias| at rest (deg/s); "
-                   "default max(5 x gyro noise, 1.5); with --rest-detector shoe the quasi-static level "
-                   "(e.g. 30 for a foot's stance: gamma = 6 + (level / gyro noise)^2)")
+                   "with --rest-detector shoe the quasi-static level (e.g. 30 for a foot's stance: gamma = 6 + "
+                   "(level / gyro noise)^2) (default: max(K x gyro noise, 1.5), K = --noise-factor)")
     g.add_argument("--noise-factor", metavar="K", default="5",
-                   help="thresholds = K x measured noise (default 5): rest detection and the quiet core of "
+                   help="thresholds = K x measured noise: rest detection and the quiet core of "
                         "the first rest that gives the gyro bias")
     g.add_argument("--min-rest-s", metavar="S", default=None if min_rest_s is None else str(min_rest_s),
-                   help="shortest rest (s), default " + ("1 (adaptive) or 2 (paper / q0..q3 logs)"
-                                                          if min_rest_s is None else f"{min_rest_s:g}"))
+                   help="shortest rest (s)" + (" (default: 1 with the adaptive or shoe detector, 2 with the "
+                                               "paper detector or a q0..q3 log)" if min_rest_s is None else ""))
     if figure:
-        p.add_argument("--figure", metavar="PNG", help="diagnostics figure (written also when the command fails)")
+        p.add_argument("--figure", metavar="PNG", help="diagnostics figure (written also when the command fails) "
+                                                      "(default: none)")
 
 
 def input_options(args) -> logio.InputOptions:

@@ -18,15 +18,35 @@ import warnings
 
 from mtcal.core.allocator import keep_freed_memory
 
-__all__ = ["build_parser", "main"]
+__all__ = ["build_parser", "main", "HelpFormatter"]
 
 #: Options whose value may start with a minus sign (vectors): ``--axis -0.3,0,0.95`` works.
 VECTOR_OPTIONS = ("--axis", "--gyro-scale", "--accel-scale")
 _NUMBER = re.compile(r"^-(\d|\.\d)")
 
 
+class HelpFormatter(argparse.RawDescriptionHelpFormatter):
+    """``--help`` of every ``mtcal`` command: descriptions and epilogs as written, each option's default shown.
+
+    An option whose help does not state its default itself gets `` (default: %(default)s)`` appended, as
+    :class:`argparse.ArgumentDefaultsHelpFormatter` does, except where there is nothing to show (``None``,
+    ``False``, ``""``, ``[]``: such options state their behaviour when omitted in their help text).
+    """
+
+    def _get_help_string(self, action):
+        text = action.help or ""
+        if (text is argparse.SUPPRESS or not action.option_strings or "(default" in text
+                or action.default is argparse.SUPPRESS or action.default in (None, False, "", [])):
+            return text
+        return text + " (default: %(default)s)"
+
+
 class _Parser(argparse.ArgumentParser):
-    """argparse with one-line errors: ``mtcal: error: …`` and exit status 2."""
+    """argparse with one-line errors: ``mtcal: error: …`` and exit status 2; help with defaults (:class:`HelpFormatter`)."""
+
+    def __init__(self, *args, **kwargs):
+        kwargs.setdefault("formatter_class", HelpFormatter)
+        super().__init__(*args, **kwargs)
 
     def error(self, message: str):  # noqa: D401 - argparse API
         self.exit(2, f"mtcal: error: {message} (see '{self.prog} --help')\n")
@@ -34,7 +54,7 @@ class _Parser(argparse.ArgumentParser):
 
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="mtcal", description=__doc__.splitlines()[0],
-                     formatter_class=argparse.RawDescriptionHelpFormatter,
+                     formatter_class=HelpFormatter,
                      epilog="run 'mtcal COMMAND --help' for the log schema, units and an example")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     from mtcal.cli import apply, attitude, axis, calibrate, compare, rests, run, sweep  # one import + one tuple entry per command

@@ -26,9 +26,10 @@ def register(subparsers) -> None:
     """Add the ``rests`` subcommand."""
     p = subparsers.add_parser("rests", help="static intervals and the measured rest levels",
                               description=common.description_with_schema(__doc__, 1),
-                              epilog=EXAMPLE, formatter_class=argparse.RawDescriptionHelpFormatter)
+                              epilog=EXAMPLE)
     p.add_argument("log", help="IMU log (CSV, Parquet, .mat or .h5)")
-    p.add_argument("--out", help="write the rests table here (.csv or .parquet)")
+    p.add_argument("--out", help="write the rests table here (.csv or .parquet) (default: none, the table is "
+                   "only printed)")
     p.add_argument("--accel-only", action="store_true",
                    help="ignore the gyro columns (a log without them is accelerometer-only anyway)")
     common.add_input_options(p)

@@ -90,8 +90,9 @@ def register(subparsers) -> None:
     p.add_argument("spec", nargs="?", help="sweep spec (TOML)")
     p.add_argument("--workers", type=_positive_int, help="local worker processes (default: every core)")
     p.add_argument("--scheduler", help="Dask scheduler address, e.g. tcp://host:8786 (needs the optional sweep "
-                   "extra: pip install 'mtcal[sweep]', from a checkout '.[sweep]')")
-    p.add_argument("--out", help="run folder (default runs/sweeps/<name>)")
+                   "extra: pip install 'mtcal[sweep]', from a checkout '.[sweep]') (default: none, local "
+                   "processes)")
+    p.add_argument("--out", help="run folder (default: runs/sweeps/<name>)")
     p.add_argument("--list", action="store_true", help="list the evaluators and their parameters")
     p.add_argument("--no-progress", action="store_true",
                    help="no progress bar (default: a bar over cells on a terminal, unless MTCAL_PROGRESS=0)")

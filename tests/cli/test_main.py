@@ -58,3 +58,42 @@ def test_main_tells_the_allocator_to_keep_freed_memory(monkeypatch, capsys):
     monkeypatch.setattr(main_mod, "keep_freed_memory", lambda: calls.append(1))
     assert main_mod.main(["rests", "no_such_log.csv"]) == 2
     assert calls == [1] and "mtcal: error:" in capsys.readouterr().err
+
+
+def _subparsers():
+    import argparse
+
+    from mtcal.cli.main import build_parser
+
+    action = next(a for a in build_parser()._actions if isinstance(a, argparse._SubParsersAction))
+    return action.choices
+
+
+@pytest.mark.parametrize("command", sorted(_subparsers()))
+def test_help_states_every_option_default(command, capsys):
+    """Every option of every command says its default in --help: '(default: …)' appended by the formatter for
+    a value, or written in the help text for an option whose omission means something (no file, measured …);
+    flags (store_true), required options and the old hidden spellings excepted."""
+    import argparse
+
+    parser = _subparsers()[command]
+    for action in parser._actions:
+        if (not action.option_strings or action.help == argparse.SUPPRESS or action.required
+                or isinstance(action, (argparse._HelpAction, argparse._StoreTrueAction, argparse._AppendAction))):
+            continue
+        text = parser._get_formatter()._get_help_string(action) % {"default": action.default}
+        assert "(default: " in text, f"mtcal {command} {action.option_strings[0]}: {text!r}"
+    with pytest.raises(SystemExit):
+        cli.main([command, "--help"])
+    out = " ".join(capsys.readouterr().out.split())
+    expected = {"attitude": "(default: attitude.csv)", "angle": "(default: angle.csv)",
+                "apply": "(default: body_attitude.csv)", "rests": "(default: none, the table is only printed)",
+                "calibrate": "(default: none, the result is only printed)"}
+    assert expected.get(command, "(default: ") in out
+
+
+def test_max_so4_distance_help_is_the_procedure_default():
+    from mtcal.cli.calibrate import MAX_SO4_DISTANCE_TEXT
+    from mtcal.systems.installation import MAX_SO4_DISTANCE
+
+    assert float(MAX_SO4_DISTANCE_TEXT) == MAX_SO4_DISTANCE
