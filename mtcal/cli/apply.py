@@ -10,8 +10,9 @@ first sample — right for a log that starts anywhere (a parked aircraft).
 sensor attitude zeroed at the first sample — angles relative to where the log starts,
 right only when it starts at the mechanism zero (a turntable); a log whose first rest is
 tilted more than the calibration's accuracy gets a warning. Output columns: ``time_s,
-q0, q1, q2, q3`` (body → world), ``yaw_deg, pitch_deg, roll_deg`` (Eq 8), and the
-uncalibrated ``sensor_yaw_deg, sensor_pitch_deg, sensor_roll_deg``.
+q0, q1, q2, q3`` (body → world), ``yaw_deg, pitch_deg, roll_deg`` (Eq 8), the
+uncalibrated ``sensor_yaw_deg, sensor_pitch_deg, sensor_roll_deg`` and, for a raw gyro/accel log,
+``is_static`` (0/1: the sample lies in a rest found by the rest detector).
 """
 
 from __future__ import annotations
@@ -26,7 +27,7 @@ from mtcal.cli import common, logio
 
 EXAMPLE = """output columns: time_s, q0..q3 (calibrated body attitude), yaw_deg, pitch_deg, roll_deg,
   sensor_yaw_deg, sensor_pitch_deg, sensor_roll_deg (before calibration); Eq 8 ZXY angles
-  (yaw about z, pitch about x, roll about y)
+  (yaw about z, pitch about x, roll about y); is_static (0/1, in a detected rest; raw gyro/accel logs)
 example:
   mtcal calibrate turntable.csv --positions pos.csv --out Q.json
   mtcal apply Q.json flight.csv --out body.parquet"""
@@ -176,7 +177,7 @@ def register(subparsers) -> None:
     p = subparsers.add_parser("apply", help="apply a calibration (Q.json) to a log: calibrated attitude",
                               description=common.description_with_schema(__doc__, 2), epilog=EXAMPLE)
     p.add_argument("calibration", help="JSON written by `mtcal calibrate --out`")
-    p.add_argument("log", help="IMU log (CSV or Parquet): raw gyro/accel or q0..q3")
+    p.add_argument("log", help=f"IMU log ({common.LOG_FORMATS}): raw gyro/accel, or q0..q3 columns of a table")
     p.add_argument("--out", default="body_attitude.csv", help="output table (.csv or .parquet)")
     p.add_argument("--mode", choices=["absolute", "relative"], default="absolute",
                    help="absolute: pitch/roll referenced to gravity, heading zeroed at the first sample; "

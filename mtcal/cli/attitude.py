@@ -103,7 +103,7 @@ def register(subparsers) -> None:
     """Add the ``attitude`` subcommand."""
     p = subparsers.add_parser("attitude", help="QNCF attitude of a log (wang2023cja) to CSV/Parquet",
                               description=common.description_with_schema(__doc__, 2), epilog=EXAMPLE)
-    p.add_argument("log", help="IMU log (CSV, Parquet, .mat or .h5)")
+    p.add_argument("log", help=f"IMU log ({common.LOG_FORMATS})")
     p.add_argument("--out", default="attitude.csv", help="output table (.csv or .parquet)")
     p.add_argument("--filter", choices=FILTERS, default="qncf",
                    help="attitude filter: qncf (wang2023cja), vqf/basicvqf (vqf), mahony, madgwick (ahrs), "

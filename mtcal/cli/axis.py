@@ -168,7 +168,7 @@ def register(subparsers) -> None:
                               description=_bullet(0) + "\n\n" + common.SCHEMA_HELP
                               + "\n(axis needs only the accelerometer columns)",
                               epilog=AXIS_EXAMPLE)
-    p.add_argument("log", help="IMU log (CSV, Parquet, .mat or .h5)")
+    p.add_argument("log", help=f"IMU log ({common.LOG_FORMATS})")
     p.add_argument("--min-separation-deg", default="3", help="rests closer in tilt are one position (deg)")
     p.add_argument("--max-axis-error-deg", default="2", help="refuse an axis less certain than this (deg, 1 sigma)")
     p.add_argument("--max-elevation-deg", default="85", help="refuse an axis steeper than this (deg)")
@@ -178,7 +178,7 @@ def register(subparsers) -> None:
     q = subparsers.add_parser("angle", help="EKF rotation angle about a known axis (wang2022sensors)",
                               description=_bullet(1) + "\n\n" + common.SCHEMA_HELP,
                               epilog=ANGLE_EXAMPLE)
-    q.add_argument("log", help="IMU log (CSV, Parquet, .mat or .h5)")
+    q.add_argument("log", help=f"IMU log ({common.LOG_FORMATS})")
     q.add_argument("--axis", required=True, help="axis vx,vy,vz in the sensor frame (from `mtcal axis`)")
     q.add_argument("--out", default="angle.csv", help="output table (.csv or .parquet)")
     q.add_argument("--init-s", default=None, help="initial rest used for a0 and the bias (s) (default: 1)")

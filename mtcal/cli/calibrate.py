@@ -1,12 +1,15 @@
 """``mtcal calibrate LOG --positions POS.csv`` — wang2023cja six-position installation-error calibration.
 
-LOG (CSV or Parquet, header row, one row per sample)
-----------------------------------------------------
+LOG (CSV or Parquet table, header row, one row per sample; or arrays of a .mat/.h5/.hdf5 file)
+---------------------------------------------------------------------------------------------
 * ``time_s`` — sample time (s), strictly increasing (jitter allowed: per-sample dt);
 * either raw inertial data ``gyro_x_rad_s, gyro_y_rad_s, gyro_z_rad_s`` (rad/s)
   and ``accel_x_m_s2, accel_y_m_s2, accel_z_m_s2`` (m/s²), run through the QNCF
   (``mtcal attitude``), or the sensor attitude ``q0, q1, q2, q3`` (scalar-first,
-  sensor → world) of the logger; raw data wins when both are present.
+  sensor → world) of the logger; raw data wins when both are present;
+* or a MATLAB .mat (v5, v7.3) / HDF5 .h5/.hdf5 file: N x 3 gyro and accel arrays mapped
+  with ``--columns gyro=NAME,accel=NAME[,time=NAME]``, the rate from its ``sampling_rate``
+  or ``--fs-hz`` (BROAD's imu_gyr/imu_acc/sampling_rate opens as is); raw data only.
 The attitude is zeroed at the first sample ("initial attitude angles 0°", §4.1).
 
 POS.csv (one row per calibration position, any order, at least 4)
@@ -74,7 +77,8 @@ def register(subparsers) -> None:
     p = subparsers.add_parser("calibrate", help="six-position installation-error calibration (wang2023cja)",
                               description=__doc__.split("\n\n")[0] + "\n\n" + "\n\n".join(__doc__.split("\n\n")[1:4]),
                               epilog=EXAMPLE)
-    p.add_argument("log", type=Path, help="IMU log (time_s + gyro/accel columns or q0..q3)")
+    p.add_argument("log", type=Path, help=f"IMU log ({common.LOG_FORMATS}): time_s + gyro/accel, or q0..q3 "
+                                                "columns of a table")
     p.add_argument("--positions", type=Path, required=True, help="reference positions CSV (yaw/pitch/roll deg, >= 4)")
     p.add_argument("--out", help="write the calibration (JSON) here, for `mtcal apply` (default: none, the "
                    "result is only printed)")

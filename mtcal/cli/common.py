@@ -13,13 +13,14 @@ from mtcal.methods import rest_detection
 
 __all__ = ["add_input_options", "add_rest_options", "input_options", "rests_config", "attitude_config", "detect", "log_arrays",
            "qncf_info", "rest_table", "print_report", "report_lines", "units_check_line",
-           "finite_float", "table_output", "DiagnosticsFigure", "run_with_figure", "SCHEMA_HELP", "description_with_schema",
+           "finite_float", "table_output", "LOG_FORMATS", "DiagnosticsFigure", "run_with_figure", "SCHEMA_HELP", "description_with_schema",
            "QUATERNION_DECIMALS", "write_attitude", "euler_deg", "rest_bias_text",
            "print_units_check"]
 
-SCHEMA_HELP = """log schema (CSV or Parquet, header row, one row per sample; extra columns ignored;
-or .mat/.h5 arrays: --columns gyro=NAME,accel=NAME[,time=NAME], rate from 'sampling_rate' or --fs-hz;
-BROAD's imu_gyr/imu_acc/sampling_rate opens as is):
+SCHEMA_HELP = """log schema (CSV, comma/semicolon/tab, or Parquet .parquet/.pq: header row, one row per sample; extra
+columns ignored; or N x 3 arrays of a MATLAB .mat (v5, v7.3) / HDF5 .h5/.hdf5 file: --columns
+gyro=NAME,accel=NAME[,time=NAME], rate from 'sampling_rate' or --fs-hz; BROAD's imu_gyr/imu_acc/sampling_rate
+opens as is):
   time_s                                    time (s), strictly increasing (jitter allowed)
   gyro_x_rad_s, gyro_y_rad_s, gyro_z_rad_s  angular rate (rad/s), sensor frame
   accel_x_m_s2, accel_y_m_s2, accel_z_m_s2  specific force (m/s^2); level at rest ~ +g on z
@@ -30,6 +31,10 @@ gyro_x_deg_s, accel_x_g); no time column: --fs-hz. Jittered timestamps: per-samp
 stance phases (--rest-detector shoe, Skog et al. 2010; level with --gyro-threshold-deg-s or --shoe-threshold).
 Gyro units and time base are checked against the accelerometer (rest pairs, tilt rate, gravity tracking);
 a stated unit (--gyro-unit, a unit header, BROAD's layout) that no check can decide is used with a warning."""
+
+
+#: The files the log reader (:func:`mtcal.cli.logio.read_log`) accepts, for the LOG argument's help.
+LOG_FORMATS = "CSV or Parquet (.parquet/.pq) table, or a MATLAB .mat (v5, v7.3) / HDF5 .h5/.hdf5 file's arrays"
 
 
 def description_with_schema(doc: str, paragraphs: int) -> str:

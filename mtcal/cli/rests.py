@@ -27,7 +27,7 @@ def register(subparsers) -> None:
     p = subparsers.add_parser("rests", help="static intervals and the measured rest levels",
                               description=common.description_with_schema(__doc__, 1),
                               epilog=EXAMPLE)
-    p.add_argument("log", help="IMU log (CSV, Parquet, .mat or .h5)")
+    p.add_argument("log", help=f"IMU log ({common.LOG_FORMATS})")
     p.add_argument("--out", help="write the rests table here (.csv or .parquet) (default: none, the table is "
                    "only printed)")
     p.add_argument("--accel-only", action="store_true",

@@ -259,3 +259,24 @@ def test_residual_refusal_names_the_option(calibrated, capsys):
     assert code == 2 and err.count("\n") == 1
     assert "exceeds --max-residual-deg (0.0001 deg); a rest does not match its reference position" in err
     assert "max_residual_rad" not in err
+
+
+def test_apply_columns_as_documented_is_static_for_raw_logs(calibrated, tmp_path, capsys):
+    """apply writes the documented columns: is_static (0/1, the detected rests) for a raw log, none for q0..q3."""
+    fl = nl.flight_log(duration_s=12.0)
+    fl.write(tmp_path / "f.csv")
+    assert cli.main(["apply", str(calibrated / "Q.json"), str(tmp_path / "f.csv"), "--out", str(tmp_path / "b.csv")]) == 0
+    df = pd.read_csv(tmp_path / "b.csv")
+    angles = ["yaw_deg", "pitch_deg", "roll_deg", "sensor_yaw_deg", "sensor_pitch_deg", "sensor_roll_deg"]
+    assert list(df.columns) == ["time_s", "q0", "q1", "q2", "q3", *angles, "is_static"]
+    assert set(df["is_static"].unique()) <= {0, 1} and df["is_static"].iloc[0] == 1      # parked at the start
+    df[["time_s", "q0", "q1", "q2", "q3"]].to_csv(tmp_path / "q.csv", index=False)
+    assert cli.main(["apply", str(calibrated / "Q.json"), str(tmp_path / "q.csv"), "--out", str(tmp_path / "bq.csv")]) == 0
+    assert list(pd.read_csv(tmp_path / "bq.csv").columns) == ["time_s", "q0", "q1", "q2", "q3", *angles]
+    capsys.readouterr()
+    for command in ("apply", "calibrate"):
+        with pytest.raises(SystemExit):
+            cli.main([command, "--help"])
+        text = " ".join(capsys.readouterr().out.split())
+        assert ".mat (v5, v7.3) / HDF5 .h5/.hdf5" in text and "Parquet" in text
+        assert command == "calibrate" or "is_static (0/1" in text
