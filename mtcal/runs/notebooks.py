@@ -37,7 +37,7 @@ from mtcal.reporting.compare import check_claims
 from mtcal.runs.environment import environment, numerics_env, repo_root
 
 __all__ = ["NotebookRunError", "notebook_sources", "resolve_notebook", "parse_parameter", "notebook_parameters",
-           "check_parameters", "build_notebook", "normalise_notebook", "sync_notebook", "execute_notebook",
+           "check_parameters", "check_scenario", "SCENARIO_CHECKS", "build_notebook", "normalise_notebook", "sync_notebook", "execute_notebook",
            "run_notebook", "RunResult"]
 
 _NOTEBOOK_RE = re.compile(r"^(\d\d)_[A-Za-z0-9_]+$")
@@ -220,6 +220,64 @@ def _check_catalogued(name: str, value, notebook: str) -> None:
                              f"got {value!r}")
 
 
+#: Notebooks whose scenario parameters are validated before a run starts, by the study's own validating
+#: builder (the one the notebook's set-up cell calls): stem → (module, builder, its defaults, the builder's
+#: internal names → the parameters-cell names, for its messages).
+SCENARIO_CHECKS: dict[str, tuple[str, str, str, dict[str, str]]] = {
+    "20_tan2022_accelerometer": ("mtcal.studies.tan2022", "accel_scenario", "ACCEL_PARAMETER_DEFAULTS",
+                                 {"delta_accel_g": "accel_error_g"}),
+    "21_tan2022_gyro_roll": ("mtcal.studies.tan2022", "gyro_study", "GYRO_PARAMETER_DEFAULTS",
+                             {"noise_density_deg_s_rthz": "gyro_noise_density_deg_s_rthz",
+                              "amplitude_deg": "oscillation_amplitude_deg", "freq_hz": "oscillation_freq_hz"}),
+    "40_wang2023cja_constrained_calibration": ("mtcal.studies.wang2023cja.constrained", "check_parameters",
+                                               "PARAMETER_DEFAULTS", {}),
+    "60_broad2021_real_data": ("mtcal.studies.broad2021", "scenario_from_parameters", "PARAMETER_DEFAULTS", {}),
+}
+
+
+def check_scenario(notebook: str, parameters: dict) -> None:
+    """Validate a run's scenario parameters with the study's builder before the notebook runs.
+
+    For a notebook in :data:`SCENARIO_CHECKS` given any of its scenario parameters, the builder is called
+    with the defaults and those values; its refusal becomes one ``ValueError`` naming the parameter as
+    typed, ``-p accel_error_g=-1: must be > 0`` (the builder's internal names mapped back). Other
+    notebooks validate in their set-up cell (a refusal is then a failed run).
+
+    >>> check_scenario("20_tan2022_accelerometer", {"accel_error_g": -1})
+    Traceback (most recent call last):
+    ...
+    ValueError: -p accel_error_g=-1: must be > 0
+    >>> check_scenario("20_tan2022_accelerometer", {"accel_error_g": 1e-3, "SEED": 1})   # valid: nothing
+    """
+    if notebook not in SCENARIO_CHECKS:
+        return
+    module, builder, defaults_name, aliases = SCENARIO_CHECKS[notebook]
+    import importlib
+
+    mod = importlib.import_module(module)
+    defaults = getattr(mod, defaults_name)
+    given = {k: v for k, v in parameters.items() if k in defaults}
+    if not given:
+        return
+    try:
+        getattr(mod, builder)(**{**defaults, **given})
+    except (ValueError, TypeError) as exc:
+        raise ValueError(_scenario_refusal(str(exc), given, aliases)) from None
+
+
+def _scenario_refusal(message: str, given: dict, aliases: dict[str, str]) -> str:
+    """A builder's refusal as ``-p NAME=VALUE: reason`` (internal names → parameter names)."""
+    text = lambda v: v if isinstance(v, str) else repr(v)  # noqa: E731
+    for internal, name in aliases.items():
+        message = re.sub(rf"\b{internal}\b", name, message)
+    m = re.match(r"(\w+) (must .*)$", message)
+    if m and m.group(1) in given:
+        reason = re.sub(r", got .*$", "", m.group(2))
+        return f"-p {m.group(1)}={text(given[m.group(1)])}: {reason}"
+    named = [k for k in given if re.search(rf"\b{k}\b", message)] or list(given)
+    return f"{' '.join(f'-p {k}={text(given[k])}' for k in named)}: {message}"
+
+
 def _coalesce_streams(outputs: list) -> list:
     """Merge consecutive stream outputs of the same stream: how the kernel splits printed text
     into messages depends on timing (machine load), the text itself does not."""
@@ -395,6 +453,7 @@ def run_notebook(notebook: str | int | Path, *, name: str | None = None, paramet
     source = resolve_notebook(notebook, notebooks_dir)
     valid = notebook_parameters(source)
     params = check_parameters(dict(parameters or {}), valid, notebook=source.stem)
+    check_scenario(source.stem, params)
     name = name or _run_name(source.stem, params, size)
     if not isinstance(name, str) or not _NAME_RE.match(name) or name in (".", ".."):
         raise ValueError(f"name must be a plain folder name (letters, digits, _ . = + , -), got {name!r}")

@@ -72,3 +72,21 @@ def test_run_prints_progress_per_cell_when_stderr_is_not_a_terminal(tiny_noteboo
     n_cells = len(json.loads((tmp_path / "runs" / "progress" / "99_tiny.ipynb").read_text())["cells"])
     assert [c.split(" [")[0] for c in cells] == [f"99_tiny: cell {k}/{n_cells}" for k in range(n_cells + 1)]
     assert "running notebook 99 at size ci" in out and "tiny_comparison: 2 of 2 claims hold" in out
+
+
+@pytest.mark.parametrize("notebook,param,expected", [
+    ("20", "accel_error_g=-1", "-p accel_error_g=-1: must be > 0"),                 # internal delta_accel_g
+    ("20", "accel_error_g=0.5", "-p accel_error_g=0.5: accel_error_g and independent_sigma_g are in g and must be"),
+    ("21", "oscillation_amplitude_deg=120.0", "-p oscillation_amplitude_deg=120.0: must be < 90"),   # amplitude_deg
+    ("21", "fs_hz=-1.0", "-p fs_hz=-1.0: must be > 0"),
+    ("40", "k_max=3", "-p k_max=3: must be an int in [6, 12]"),
+    ("60", "smooth_quat_s=-1.0", "-p smooth_quat_s=-1.0: must be > 0"),
+])
+def test_run_refuses_an_out_of_range_scenario_value_before_running(tmp_path, capsys, notebook, param, expected):
+    """docs/study_template.md: a bad value is one line naming the parameter as typed (not the builder's internal
+    name), exit 2, checked by the study's builder before the run folder is made and the notebook starts."""
+    code = cli.main(["run", notebook, "--name", "bad", "-p", param, "--size", "ci", "--runs-dir", str(tmp_path / "runs")])
+    err = capsys.readouterr().err
+    assert code == 2 and err.count("\n") == 1
+    assert err.startswith("mtcal: error: " + expected)
+    assert "delta_accel_g" not in err and not (tmp_path / "runs").exists()
