@@ -226,15 +226,16 @@ def find_rests_trusted(a: np.ndarray, g: np.ndarray | None, dt: float, t: np.nda
     from mtcal.methods.zero_velocity import ZvdParams
 
     gyro = g if config.use_gyro else None
+    params = config.detector_params()          # the config's detector, resolved before the detection runs
     if config.detector == "paper":
         rep = rest_detection.paper_rest_report(a, dt, gyro_rad_s=gyro, min_rest_s=float(config.min_rest_s),
                                                zvd=ZvdParams())
     elif config.detector == "shoe":
         if gyro is None:
             raise ValueError("detector 'shoe' needs gyro_rad_s")
-        rep = rest_detection.detect_rests_shoe(a, dt, gyro_rad_s=gyro, params=config.detector_params())
+        rep = rest_detection.detect_rests_shoe(a, dt, gyro_rad_s=gyro, params=params)
     else:
-        rep = rest_detection.detect_rests(a, dt, gyro_rad_s=gyro, params=config.detector_params())
+        rep = rest_detection.detect_rests(a, dt, gyro_rad_s=gyro, params=params)
     return drop_short_rests(rep, t)
 
 
