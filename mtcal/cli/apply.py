@@ -138,10 +138,12 @@ def _print_result(args, out, log, doc: dict, res) -> None:
         how = ("relative (wang2023cja Eq 10): q_body = normalize(Q_hat q_sensor), sensor attitude zeroed at the "
                "first sample: angles relative to where the log starts")
         lines += _tilt_warning(log, res, doc)
+    bias = (common.rest_bias_text(log, res.qncf.quiet_core)      # printed after the rests, made first
+            if res.qncf is not None and res.qncf.quiet_core is not None else None)
     if rep is not None:
         lines += common.report_lines(log, rep, angle_deg=eb[:, 1], angle_name="pitch_deg")
-    if res.qncf is not None and res.qncf.quiet_core is not None:
-        lines.append(common.rest_bias_text(log, res.qncf.quiet_core))
+    if bias is not None:
+        lines.append(bias)
     mount = np.degrees(res.mounting_euler_rad)
     lines += [f"body attitude {how}",
               f"mounting q_bs = [{', '.join(f'{v:+.6f}' for v in res.q_bs)}] (sensor on the body at yaw {mount[0]:+.4f}, "
