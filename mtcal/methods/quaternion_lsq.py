@@ -12,7 +12,16 @@ which exists only if ``A_q^s`` has full row rank 4.
 Sign rule: q and −q are the same attitude, so before solving every sensor
 quaternion is flipped to ``q0 ≥ 0`` and every body quaternion is flipped so
 that it agrees in sign with its sensor partner (``dot(q_b, q_s) ≥ 0``). This
-makes the equations consistent for installation errors below 90°.
+makes the equations consistent while the map moves every quaternion by less
+than 90° (installation errors). For a larger map (a sensor frame far from the
+reference frame, ``L(p) R(r)`` with large factors) that dot product changes
+sign from one position to the next, so the pairs are then made consistent with
+each other instead: a rotation of quaternion space keeps every inner product,
+``q_bi·q_bj = σ_i σ_j q_si·q_sj``, so the signs ``σ`` are those of the leading
+eigenvector of ``(q_bi·q_bj)(q_si·q_sj)`` (a non-negative matrix when the signs
+agree: its Perron vector is positive), the overall sign the one most pairs
+have under the dot rule. Where the dot rule is already consistent nothing
+changes (the same numbers).
 
 Examples
 --------
@@ -71,7 +80,38 @@ _IDENTITY = np.array([1.0, 0.0, 0.0, 0.0])
 def _align_pairs(q_s: np.ndarray, q_b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """:func:`align_pairs` on checked unit quaternions, ``q_b`` broadcastable to ``q_s`` (trusted)."""
     q_s = _flip(q_s, _IDENTITY)
-    return q_s, _flip(np.broadcast_to(q_b, q_s.shape), q_s)
+    q_b = _flip(np.broadcast_to(q_b, q_s.shape), q_s)
+    sigma = _consistent_signs(q_s, q_b)
+    if sigma is None:                      # the dot rule is consistent: the pairs as they are
+        return q_s, q_b
+    return q_s, q_b * sigma[..., None]
+
+
+#: An inner-product sign contradiction ``(q_bi·q_bj)(q_si·q_sj)`` below −this is evidence against the dot rule (far
+#: beyond what measurement noise gives positions whose quaternions are nearly orthogonal).
+SIGN_CONTRADICTION = 1e-3
+
+
+def _consistent_signs(q_s: np.ndarray, q_b: np.ndarray) -> np.ndarray | None:
+    """Signs σ (..., K) that make dot-rule-aligned pairs consistent with one map (module docstring), or None
+    when no batch member contradicts the dot rule (nothing to flip: the pairs as they are).
+
+    ``M_ij = (q_bi·q_bj)(q_si·q_sj)`` is non-negative for consistent pairs of a rotation of quaternion space.
+    A member with an entry below −:data:`SIGN_CONTRADICTION` gets the sign pattern of ``M``'s leading
+    eigenvector, oriented so that most pairs keep their dot-rule sign — when that pattern removes every
+    contradiction; otherwise (no pattern explains the pairs: not one map) the dot rule stands.
+    """
+    g_b = q_b @ np.swapaxes(q_b, -1, -2)
+    g_s = q_s @ np.swapaxes(q_s, -1, -2)
+    m = g_b * g_s
+    bad = np.any(m < -SIGN_CONTRADICTION, axis=(-2, -1))
+    if not np.any(bad):
+        return None
+    _, vec = np.linalg.eigh(np.where(bad[..., None, None], m, np.abs(m)))
+    sigma = np.where(vec[..., -1] < 0.0, -1.0, 1.0)
+    sigma = np.where(np.sum(sigma, axis=-1, keepdims=True) < 0.0, -sigma, sigma)   # most pairs as the dot rule
+    fixed = np.all(m * sigma[..., :, None] * sigma[..., None, :] >= -SIGN_CONTRADICTION, axis=(-2, -1))
+    return np.where((bad & fixed)[..., None], sigma, 1.0)
 
 
 def least_squares_error_matrix(q_sensor, q_body, *, on_degenerate: str = "raise") -> np.ndarray:

@@ -38,6 +38,38 @@ def test_sign_flips_do_not_change_solution(pairs):
     np.testing.assert_allclose(quaternion_lsq.least_squares_error_matrix(q_s, -q_b), ref, atol=1e-12)
 
 
+@pytest.mark.parametrize("deg", [30.0, 100.0, 150.0, 179.0])
+def test_an_exact_rotation_of_quaternion_space_is_recovered_whatever_its_size(deg):
+    """q_b = L(p) R(r) q_s with both factors ``deg`` about random axes, random signs on both sides: Eq 13 on
+    consistent pairs gives ±L(p)R(r) exactly. The dot rule alone (dot(q_b, q_s) >= 0) fails here beyond ~90°:
+    that product changes sign from one position to the next; the pairs' inner products fix the signs."""
+    rng = np.random.default_rng(int(deg))
+
+    def turn():                                    # ``deg`` about a random axis
+        v = rng.normal(size=3)
+        return rotations.quat_from_rotvec(v / np.linalg.norm(v) * np.radians(deg))
+    for _ in range(20):
+        m = rotations.left_matrix(turn()) @ rotations.right_matrix(turn())
+        q_s = rotations.quat_normalize(rng.normal(size=(6, 4)))
+        q_b = (q_s @ m.T) * rng.choice([-1.0, 1.0], size=(6, 1))
+        q_hat = quaternion_lsq.least_squares_error_matrix(q_s * rng.choice([-1.0, 1.0], size=(6, 1)), q_b)
+        assert min(np.abs(q_hat - m).max(), np.abs(q_hat + m).max()) < 1e-9
+
+
+def test_the_pair_signs_change_nothing_where_the_dot_rule_is_consistent(pairs):
+    """Small installation errors (every pair within 90°) with noise: the pairs come back as the dot rule made
+    them, bit for bit (the calibrations of the studies keep their numbers); positions whose quaternions are
+    nearly orthogonal (roll ±90°) give noise-sized inner products, never a contradiction."""
+    q_s, q_b, _ = pairs
+    rng = np.random.default_rng(3)
+    noisy = rotations.quat_normalize(q_s + rng.normal(scale=1e-4, size=(200, 6, 4)))
+    s_al, b_al = quaternion_lsq.align_pairs(noisy, q_b)
+    dot_s = np.where(noisy[..., :1] < 0.0, -noisy, noisy)
+    dot_b = np.where(np.sum(q_b * dot_s, axis=-1, keepdims=True) < 0.0, -q_b, np.broadcast_to(q_b, dot_s.shape))
+    assert s_al.tobytes() == dot_s.tobytes() and b_al.tobytes() == dot_b.tobytes()
+    assert quaternion_lsq._consistent_signs(dot_s, dot_b) is None
+
+
 def test_rank_deficient_positions_raise():
     q_b = body_quats(np.array([[0, 0, a] for a in (-90, -30, 30, 90)], float))  # roll only
     with pytest.raises(ValueError, match="condition number"):
