@@ -427,7 +427,7 @@ def test_windtunnel_session_holds_the_wind_on_sweeps_read_only():
                             runs._wt_holds_s(sc.wind_on_sweep_deg, runs._WIND_LEAD_S, sc.wind_on_hold_s),
                             sc.fs_hz, min_move_s=0.5)
         assert np.array_equal(prof.angle_rad, ref.angle_rad) and np.array_equal(prof.time_s, ref.time_s)
-        assert not prof.angle_rad.flags.writeable and id(prof) in runs._PROFILE_HOLDS
+        assert not prof.angle_rad.flags.writeable and id(prof) in runs._PROFILE_MEMO
 
 
 def test_windtunnel_kinds_without_shared_noise_fill_apart_with_the_same_numbers():

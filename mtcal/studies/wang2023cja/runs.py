@@ -571,7 +571,7 @@ def position_errors_deg(run: TurntableRun, state: str) -> np.ndarray:
 # wind tunnel
 # --------------------------------------------------------------------------
 _PROFILES: dict = {}
-_PROFILE_HOLDS: dict = {}   # id(shared profile) → {(span, fraction): hold windows}; cleared with _PROFILES
+_PROFILE_MEMO: dict = {}   # id(shared profile) → {(span, fraction): hold windows, "stops": stop directions}; cleared with _PROFILES
 
 
 def _shared_profile(key: tuple, build):
@@ -584,20 +584,20 @@ def _shared_profile(key: tuple, build):
     if hit is None:
         if len(_PROFILES) >= 32:
             _PROFILES.clear()
-            _PROFILE_HOLDS.clear()
+            _PROFILE_MEMO.clear()
         hit = build()                     # an AngleProfile, or (AngleProfile, spans[, tuple of AngleProfile])
         profs = [hit] if not isinstance(hit, tuple) else [hit[0], *(hit[2] if len(hit) > 2 else ())]
         for prof in profs:
             for f in ("time_s", "angle_rad", "rate_rad_s", "accel_rad_s2", "is_static", "segment"):
                 getattr(prof, f).setflags(write=False)
-            _PROFILE_HOLDS[id(prof)] = {}              # the profile stays alive in _PROFILES: its id is its own
+            _PROFILE_MEMO[id(prof)] = {}              # the profile stays alive in _PROFILES: its id is its own
         _PROFILES[key] = hit
     return hit
 
 
 def _shared_holds(prof: AngleProfile, span: slice, fraction: float) -> list[slice]:
     """:func:`_holds` of a shared profile (:func:`_shared_profile`), found once; other profiles: computed."""
-    cache = _PROFILE_HOLDS.get(id(prof))
+    cache = _PROFILE_MEMO.get(id(prof))
     if cache is None:
         return _holds(prof, span, fraction)
     key = (span.start, span.stop, fraction)
@@ -609,7 +609,7 @@ def _shared_holds(prof: AngleProfile, span: slice, fraction: float) -> list[slic
 def _shared_stops(prof: AngleProfile) -> np.ndarray | None:
     """:func:`mtcal.studies.wang2023cja.scenario.stop_directions` of a shared profile (:func:`_shared_profile`),
     found once for every scenario that runs on it; other profiles: None (:func:`mechanism_actual` finds them)."""
-    cache = _PROFILE_HOLDS.get(id(prof))
+    cache = _PROFILE_MEMO.get(id(prof))
     if cache is None:
         return None
     if "stops" not in cache:
