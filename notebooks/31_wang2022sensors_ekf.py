@@ -205,7 +205,8 @@ print(compare.check_claims(compare.comparison_table(a.rows), enforce=AT_PAPER))
 # ## wang2022sensors_fig13 — standing still for 1 min after running
 #
 # After `DRIFT_RUN_S` of random 10–30° steps both systems stand still (60 s at full size), on the
-# identified rig (MAP values). The paper ran 10 min first; our simulated sensors have no
+# identified rig (MAP values). The figure shows what the claim is about: each trial's angle change
+# since its first second standing (the offsets between trials would hide it). The paper ran 10 min first; our simulated sensors have no
 # thermal drift, so the run only sets the filters' state, and 2 min (full size) is
 # already six correlation times of the heading disturbance. `DRIFT_TRIALS` runs (300 at
 # full size: 1000 three-minute runs do not fit the notebook's time budget), so the figure
@@ -224,8 +225,9 @@ print(compare.check_claims(compare.comparison_table(a.rows), enforce=AT_PAPER))
 # %% [markdown]
 # ## wang2022sensors_fig14 — maximum RAMS error per angle
 #
-# Per 10° hold of the Table 5 sweeps, the maximum |error| over the settled second half
-# of the hold, from the same grid Monte Carlo, weighted by the posterior (Fig. 14 was not
+# Per 10° hold of the Table 5 sweeps, the maximum |error| over the whole hold (red: the
+# claim's reading) and over its settled second half (blue: tuned), from the same grid Monte
+# Carlo, weighted by the posterior (Fig. 14 was not
 # in the training set): median and posterior-weighted 2.5–97.5 % of the grid runs per
 # angle (360 runs at full size — fewer than 1000, the legend gives the count; more need
 # more `GRID_REPS`). The paper's bound (c01 abstract "static measurement error of less
