@@ -76,6 +76,27 @@ def test_figures_take_labels_from_values():
     plt.close(fig)
 
 
+def test_a_wind_tunnel_session_figure_refuses_a_trace_without_its_median_session():
+    """No silent trial 0: a wind-on time-series figure titles the median session by its rule, and a run traced
+    without one (run_windtunnel's default trace_trial=0) is refused rather than labelled "session 1"."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from types import SimpleNamespace
+    from mtcal.studies.wang2023cja import plots
+    t = np.linspace(0.0, 10.0, 50)
+    trace = {"wind_time_s_0": t, "amd_pct": np.full(50, 0.1)}
+    run = SimpleNamespace(trace=trace, q_matrix=np.zeros((7, 4, 4)))
+    with pytest.raises(ValueError, match="run.trace has no median_trial"):
+        plots.extra_amd(run, 0.3, 3.0)
+    trace["median_trial"] = 3
+    fig = plots.extra_amd(run, 0.3, 3.0)
+    assert "median session (4 of 7, by Table 10's group Std)" in fig.axes[0].get_title()
+    labels = fig.axes[0].get_legend_handles_labels()[1]
+    assert "wind off (flow starts at 5 s)" in labels and "gate fraction counted from 8 s" in labels
+    plt.close(fig)
+
+
 def test_stepwise_coupling_detects_sine_coupling():
     ref = np.zeros((100, 3))
     ref[:, 1] = np.radians(np.repeat([0.0, 4.0, 8.0, 12.0], 25))

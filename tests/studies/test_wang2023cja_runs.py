@@ -424,7 +424,7 @@ def test_windtunnel_session_holds_the_wind_on_sweeps_read_only():
     assert len(won) == 5 and won[0] is won[3] and won[4] is not won[0]     # groups 1–4 share one sweep
     for prof, rate in ((won[0], sc.mechanism_rate_rad_s), (won[4], sc.group5_rate_rad_s)):
         ref = step_schedule(runs._wt_waypoints(sc.wind_on_sweep_deg), rate,
-                            runs._wt_holds_s(sc.wind_on_sweep_deg, runs._WIND_LEAD_S, sc.wind_on_hold_s),
+                            runs._wt_holds_s(sc.wind_on_sweep_deg, runs.WIND_LEAD_S, sc.wind_on_hold_s),
                             sc.fs_hz, min_move_s=0.5)
         assert np.array_equal(prof.angle_rad, ref.angle_rad) and np.array_equal(prof.time_s, ref.time_s)
         assert not prof.angle_rad.flags.writeable and id(prof) in runs._PROFILE_MEMO

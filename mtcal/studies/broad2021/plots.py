@@ -26,7 +26,9 @@ def bakeoff_groups(art):
             err = np.vstack([med - s.min_deg.to_numpy(), s.max_deg.to_numpy() - med])
             ax.bar(x + (i - (len(filters) - 1) / 2) * width, med, width, yerr=err, capsize=1.5, label=f,
                    error_kw={"lw": 0.6})
-        ax.set_xticks(x, [f"{n}\n({int(sub[sub.group == n].trials.iloc[0])} trials)" for n in names], fontsize=7)
+        count = lambda n: int(sub[sub.group == n].trials.iloc[0])  # noqa: E731
+        ax.set_xticks(x, [f"{n.replace('_', ' ')}\n({count(n)} trial{'s' if count(n) != 1 else ''})" for n in names],
+                      fontsize=7, rotation=20, ha="right")
         ax.set_yscale("log")
         ax.set_title(cat)
         ax.grid(True, axis="y", alpha=0.3)
@@ -41,7 +43,7 @@ def median_trial(art):
     """Inclination error of every filter over time on the median trial (movement phase shaded off)."""
     s = art.data
     filters = [k for k in s if k not in ("trial", "time_s", "movement")]
-    fig, ax = plt.subplots(figsize=(9, 3.8))
+    fig, ax = plt.subplots(figsize=(9, 4.4))
     t = s["time_s"]
     for f in filters:
         ax.plot(t, s[f], lw=0.6, label=f)
@@ -51,8 +53,8 @@ def median_trial(art):
     ax.set_ylim(1e-3, None)
     ax.set_xlabel("time (s)")
     ax.set_ylabel("inclination error (deg)")
-    ax.set_title(f"broad2021 median trial {s['trial']}")
-    ax.legend(fontsize=7, ncol=4)
+    ax.set_title(f"broad2021 median trial {s['trial']} (by the filters' median inclination RMSE)")
+    ax.legend(fontsize=7, ncol=4, loc="upper center", bbox_to_anchor=(0.5, -0.18), frameon=False)   # off the data
     fig.tight_layout()
     return fig
 

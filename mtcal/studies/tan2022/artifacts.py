@@ -573,14 +573,15 @@ def fig11(study: GyroStudy, seed: int, trials: int) -> Artifact:
     spike = metrics.band_or_range(ratio)
     rows = [_ROW("tan2022_fig11", "max|Δφ_P| where |θ̇| < 5 °/s / elsewhere", "error jumps as θ̇ → 0",
                  float(spike["median"]), "> 5", bool(spike["median"] > 5), band=spike)]
-    k = median_trial(peak)  # the median-error trial by max |Δφ_P|
+    k = median_trial(ratio)  # the figure's trial: the median by the spike ratio it illustrates (max |Δφ_P| is ≈ 90°
+    #                          in every trial, so a median by it would pick an arbitrary one)
     w = runs.records([k])[0]
     e_P = gyro_roll.roll_projection(w) - g.roll0_rad
     e_I = gyro_roll.roll_decoupled_integration(w, g.dt_s, roll0=g.roll0_rad) - g.roll0_rad
     table = pd.DataFrame({"time_s": t[::10], "projection_err_deg": _DEG(e_P[::10]),
                           "integration_err_deg": _DEG(e_I[::10])})
     return Artifact(table, rows, {"time_s": t, "projection": _DEG(e_P), "integration": _DEG(e_I),
-                                  "trial": k, "trials": n,
+                                  "trial": k, "trials": n, "by": "the spike ratio",
                                   "label": gyro_label(study)},
                     [f"spike ratio {spike['median']:.1f} [{spike['low']:.1f}, {spike['high']:.1f}] ({n} trials)"])
 
@@ -657,7 +658,7 @@ def fig12(study: GyroStudy, seed: int, trials: int) -> Artifact:
     e_P, _, e_H, _ = (e[0] for e in errors(runs.records([k])))
     return Artifact(pd.DataFrame(recs), rows, {"time_s": t, "hybrid": _DEG(e_H), "hybrid_det": _DEG(e_Hd),
                                                 "projection": _DEG(e_P), "threshold": osc.threshold_deg_s,
-                                                "trial": k, "trials": n,
+                                                "trial": k, "trials": n, "by": "max |Δφ_G|",
                                                 "label": gyro_label(study)},
                     [f"hybrid max |Δφ|: {max_det:.3f}° (constant errors), {band_h['median']:.3f}° "
                      f"[{band_h['low']:.3f}, {band_h['high']:.3f}] with noise; integrated share "

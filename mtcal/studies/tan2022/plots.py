@@ -193,8 +193,8 @@ def fig09(art):
         for ax in (top, bot):
             for crossing in (90.0, 270.0):
                 ax.axvline(crossing / c["rate"], color="k", lw=0.6, ls=":")
-        top.set_title(f"θ̇ = {c['rate']:g} °/s (dotted: θ = ±90°)\nmedian-error trial {c['trial']} of {c['trials']}",
-                      fontsize=10)
+        top.set_title(f"θ̇ = {c['rate']:g} °/s (dotted: θ = ±90°)\nmedian trial {c['trial'] + 1} of {c['trials']} "
+                      "(by final |Δφ_I|)", fontsize=10)
         bot.set_xlabel("time (s)")
         top.set_ylim(-200, 200)
     axes[0, 0].set_ylabel("roll error (deg)")
@@ -229,7 +229,7 @@ def _oscillation_roll_figure(d: dict, number: int, method: str, symbol: str, lin
         ax.plot(d["time_s"], d[key], *args, **kwargs)
     ax.set(xlabel="time (s)", ylabel="roll error (deg)",
            title=f"tan2022 Fig {number} (tan2022_fig{number}): {method} roll error under oscillation\n{d['label']}; "
-                 f"median-error trial {d['trial']} of {d['trials']} (by max |{symbol}|)")
+                 f"median trial {d['trial'] + 1} of {d['trials']} (by {d.get('by', f'max |{symbol}|')})")
     ax.title.set_fontsize(10)
     ax.legend(fontsize=8, loc="lower left")
     return fig

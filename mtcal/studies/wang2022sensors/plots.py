@@ -29,7 +29,7 @@ def plot_fig06(data: dict):
     fig, axs = plt.subplots(3, 1, figsize=(8, 6.5), sharex=True)
     axs[0].plot(d.time_s, d.theta_deg)
     axs[0].set_ylabel("θ (deg)")
-    axs[1].plot(d.time_s, d.accel_norm_m_s2, lw=0.6, label=f"‖a‖, median trial {d.trial} of {d.trials}")
+    axs[1].plot(d.time_s, d.accel_norm_m_s2, lw=0.6, label=f"‖a‖, median trial {d.trial + 1} of {d.trials}")
     axs[1].set_ylabel("‖a‖ (m/s²)")
     if d.share_table1 is None:  # a record without the ensemble: the drawn trial's flags
         axs[2].step(d.time_s, d.true_static + 0.0, "k", lw=2, where="post", label="true rest")
@@ -47,7 +47,7 @@ def plot_fig06(data: dict):
     axs[1].legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False, fontsize=9)
     axs[2].legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False, fontsize=9)
     axs[0].set_title(f"Paper Fig. 6 (wang2022sensors_fig06): ZVD on a rotate/hold record\n{data['labels']['rig']}\n"
-                     f"‖a‖: median trial {d.trial} of {d.trials} (by Table 1 false-static share); flags: all trials",
+                     f"‖a‖: median trial {d.trial + 1} of {d.trials} (by Table 1 false-static share); flags: all trials",
                      fontsize=10)
     fig.tight_layout()
     return fig
@@ -74,7 +74,8 @@ def plot_fig09(data: dict):
     axs[3].set_ylabel("(d) ‖ω‖ (°/s)")
     axs[3].set_xlabel("time (s)")
     axs[0].set_title(f"Paper Fig. 9 (wang2022sensors_fig09): EKF with / without ZVD switching\n"
-                     f"{data['labels']['zvd']}\n(a, c, d): median trial {r.trial} of {r.trials}; (b): all trials",
+                     f"{data['labels']['zvd']}\n(a, c, d): median trial {r.trial + 1} of {r.trials} (by the moving RMSE "
+                     "ratio with/without ZVD); (b): all trials",
                      fontsize=10)
     fig.tight_layout()
     return fig

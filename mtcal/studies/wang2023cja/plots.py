@@ -59,11 +59,16 @@ def wind_on_figure(trace: dict, *, title: str, n_groups: int = 5, smooth_s: floa
     return fig
 
 
-def amd_figure(trace: dict, threshold_pct: float, *, title: str):
+def amd_figure(trace: dict, threshold_pct: float, *, title: str, flow_start_s: float | None = None,
+               counted_from_s: float | None = None):
     """Beyond the paper: the QNCF's AMD statistic (% of g) in wind-on Group 1 against its threshold."""
     fig, ax = plt.subplots(figsize=(7.5, 3.6), constrained_layout=True)
     ax.plot(trace["wind_time_s_0"], trace["amd_pct"], lw=0.5, color="0.3", label="AMD")
     ax.axhline(threshold_pct, color="tab:red", ls="--", label=f"threshold {threshold_pct:g} %")
+    if flow_start_s is not None:
+        ax.axvspan(0.0, flow_start_s, color="0.9", label=f"wind off (flow starts at {flow_start_s:g} s)")
+    if counted_from_s is not None:
+        ax.axvline(counted_from_s, color="k", ls=":", lw=0.8, label=f"gate fraction counted from {counted_from_s:g} s")
     ax.set_yscale("log")
     ax.set_xlabel("time (s), Group 1")
     ax.set_ylabel("AMD (% of g)")
@@ -188,13 +193,14 @@ def ensemble_figure(time_s, err_before_rad, err_after_rad, channels, paper_maxae
             ax.fill_between(t, b["low"], b["high"], color=color, alpha=0.2, lw=0)
             ax.plot(t, b["median"], color=color, lw=0.8, label=f"{state} calibration: median, {b['label']}")
             pv = paper_maxae_deg.get(label)
-            if pv is not None:
-                ax.axhline(pv[k], color=color, ls="--", lw=0.8,
+            if pv is not None:    # dashes offset between before and after: equal values stay visible
+                dash = (4 * k, (4, 4))
+                ax.axhline(pv[k], color=color, ls=dash, lw=0.8,
                            label=f"paper MaxAE {state} ±{pv[k]:g}°")
-                ax.axhline(-pv[k], color=color, ls="--", lw=0.8)
+                ax.axhline(-pv[k], color=color, ls=dash, lw=0.8)
         ax.set_ylabel(f"{label} error (°)")
         ax.grid(alpha=0.3)
-    axes[0].legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7)
+        ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7)   # each panel its own values
     axes[-1].set_xlabel(xlabel)
     fig.suptitle(title, fontsize=10)
     return fig
@@ -238,8 +244,10 @@ def fig08(run, grade_label: str):
 def _session(run) -> str:
     """Which session a time-series figure draws (the predictive runs trace their median session)."""
     k = run.trace.get("median_trial")
-    n = run.q_matrix.shape[0]
-    return f"median session ({k + 1} of {n}, by Table 10's group Std)" if k is not None else f"session 1 of {n}"
+    if k is None:      # no silent trial 0: a figure of one session shows the median one, by a stated rule
+        raise ValueError("run.trace has no median_trial: a wind-tunnel time-series figure draws the median session "
+                         "(run it through predictive.windtunnel_predictive, which traces it)")
+    return f"median session ({k + 1} of {run.q_matrix.shape[0]}, by Table 10's group Std)"
 
 
 def fig10(run, grade_label: str, rates_deg_s: tuple):
@@ -263,6 +271,8 @@ def fig11(run, grade_label: str):
 
 def extra_amd(run, threshold_pct: float, vibration_accel_m_s2: float):
     """wang2023cja_extra_amd (beyond the paper): the AMD statistic in wind-on Group 1 of the median session."""
-    return amd_figure(run.trace, threshold_pct,
+    from .runs import WIND_FLOW_START_S, WIND_LEAD_S
+
+    return amd_figure(run.trace, threshold_pct, flow_start_s=WIND_FLOW_START_S, counted_from_s=WIND_LEAD_S,
                       title=f"wang2023cja_extra_amd: AMD, wind-on Group 1 — vibration {vibration_accel_m_s2:g} m/s²\n"
                             f"{_session(run)}")

@@ -61,7 +61,7 @@ MONTE_CARLO_GATES = {k: getattr(installation.InstallationConfig.monte_carlo(), k
 __all__ = ["turntable_runs", "turntable_profile", "six_position_reference", "TurntableRun", "TurntableJob",
            "calibration_step", "run_turntable", "run_turntable_jobs", "run_turntable_jobs_kinds", "position_errors_deg", "load_tilt_outputs",
            "WindTunnelRun", "run_windtunnel", "run_windtunnel_kinds", "windtunnel_median_trial", "elastic_deflection_rad", "MONTE_CARLO_GATES",
-           "TRACE_DECIMATION"]
+           "TRACE_DECIMATION", "WIND_LEAD_S", "WIND_FLOW_START_S"]
 
 
 def _euler(q: np.ndarray) -> np.ndarray:
@@ -850,7 +850,7 @@ def _wt_session(sc: WindTunnelScenario) -> tuple:
     # the wind-on groups' sweeps (group 5 at its own rate)
     won_rates = [sc.group5_rate_rad_s if g == 4 else sc.mechanism_rate_rad_s for g in range(5)]
     won_wp = _wt_waypoints(sc.wind_on_sweep_deg)
-    won_holds_s = _wt_holds_s(sc.wind_on_sweep_deg, _WIND_LEAD_S, sc.wind_on_hold_s)
+    won_holds_s = _wt_holds_s(sc.wind_on_sweep_deg, WIND_LEAD_S, sc.wind_on_hold_s)
     pos = windtunnel_positions(sc)
 
     def session():
@@ -959,8 +959,10 @@ def _vibration_accel(sc, t, ramp, vib, shared, g) -> np.ndarray:
     return shake
 
 
-#: Wind-on groups: lead before the sweep (s); the flow starts 3 s before the sweep.
-_WIND_LEAD_S = 8.0
+#: Wind-on groups: lead before the sweep (s), from which the AMD gate's open fraction is counted; the flow starts
+#: 3 s before the sweep.
+WIND_LEAD_S = 8.0
+WIND_FLOW_START_S = WIND_LEAD_S - 3.0
 
 
 @dataclass
@@ -987,7 +989,7 @@ def _wind_on_truth(sc, rng, trials, profs, rates) -> list[_WindOnGroup]:
         actual = mechanism_actual(sc, prof, rate, stops=_shared_stops(prof))
         q_factor = 1.0 + sc.dynamic_pressure_sigma * r_q.standard_normal()
         t = prof.time_s
-        ramp = np.clip((t - (_WIND_LEAD_S - 3.0)) / 1.0, 0.0, 1.0)          # flow starts 3 s before the sweep
+        ramp = np.clip((t - WIND_FLOW_START_S) / 1.0, 0.0, 1.0)          # flow starts 3 s before the sweep
         phase = r_vib.uniform(0, 2 * np.pi)
         actual[:, 1] += ramp * (q_factor * elastic_deflection_rad(sc.elastic_true_deg, prof.angle_rad[:, 1])
                                 + sc.vibration_angle_rad * np.sin(2 * np.pi * sc.vibration_freq_hz * t + phase))
@@ -1037,7 +1039,7 @@ def _wind_on_measure(sc, q_mat, groups, trials, trace, keep_trace, trace_index, 
     pitch after calibration at each group's holds, written into the trial ``rows`` of the run's ``wind_on``
     arrays ``out`` (:func:`_windtunnel_outputs`; the references by the first block). Returns the block's gate
     fraction with the wind on."""
-    lead_s = _WIND_LEAD_S
+    lead_s = WIND_LEAD_S
     profs = [grp.prof for grp in groups]
     ref = np.radians(np.asarray(sc.wind_on_sweep_deg, float))
     elastic_corrected = ref + elastic_deflection_rad(sc.elastic_model_deg, ref)
