@@ -30,7 +30,7 @@
 # simulation contradicts (Fig 12 "accurate") is reported failing with the
 # computed reason. A statement a fit reads is checked `in-sample` (role
 # `train`: shown, FAILS if it fails, never a claim); each paper sentence
-# counts once. Time-series figures draw the median-error trial (named in
+# counts once. Time-series figures draw the median trial by a stated statistic (named in
 # each title), not trial 0. Every printed band (median and 2.5–97.5 % band) rests
 # on 1000 Monte Carlo trials or predictive draws at full size (`N_TRIALS`,
 # `N_UNIFORM`, `N_PREDICT`); the ci size runs 5–20 trials, so its "bands" are
