@@ -144,7 +144,8 @@ display(output.save_figure(plots.fig08(art), "tan2022_fig08"))
 # The paper assumes the same error on every axis. With *independent* errors of
 # 1σ = ΔA per axis and per triad, the first-order pitch-error variance is
 # `σ²[cos²θ + sin²θ] / g² = σ²/g²` for any λ: the cancellation disappears.
-# Monte Carlo over the grid (per-trial RMS ratio, median and 95 % band);
+# Monte Carlo over the grid (per-trial RMS ratio, median and 95 % band; the figure: each
+# trial's RMS over φ per pitch, median and 95 % band over the trials);
 # averaging the two triads instead gives √2.
 
 # %%

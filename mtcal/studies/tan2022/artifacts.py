@@ -355,8 +355,10 @@ def extra_independent_errors(sc: AccelScenario, seed: int, trials: int, step_deg
     rms_row = {k: _DEG(np.sqrt(np.mean(v**2, axis=(0, 2)))) for k, v in mc.items()}
     table = pd.DataFrame({"theta_deg": _DEG(th_mc[:, 0]), "rms_plain_deg": rms_row["single"],
                           "rms_preset_deg": rms_row["preset"], "rms_mean_of_two_deg": rms_row["mean_of_two"]})
-    return Artifact(table, rows, {"theta_deg": _DEG(th_mc[:, 0]), "rms": rms_row, "label": accel_label(sc),
-                                  "sigma_g": sc.delta_accel_g, "trials": n},
+    # the figure: each trial's RMS over φ per pitch, median and band (or range) over the trials
+    per_trial = {k: metrics.band_or_range(_DEG(np.sqrt(np.mean(v ** 2, axis=2))), axis=0) for k, v in mc.items()}
+    return Artifact(table, rows, {"theta_deg": _DEG(th_mc[:, 0]), "rms": rms_row, "per_trial": per_trial,
+                                  "label": accel_label(sc), "sigma_g": sc.delta_accel_g, "trials": n},
                     [f"independent errors ({n} trials): preset gain {gain_p['median']:.3f} "
                      f"[{gain_p['low']:.3f}, {gain_p['high']:.3f}], averaging gain {gain_m['median']:.3f} "
                      f"[{gain_m['low']:.3f}, {gain_m['high']:.3f}]"])

@@ -111,19 +111,22 @@ def fig08(art):
 
 
 def extra_independent_errors(art):
-    """tan2022_extra_independent_errors: RMS over roll per pitch, independent axis errors (deg)."""
+    """tan2022_extra_independent_errors: each trial's RMS over roll per pitch, independent axis errors (deg):
+    median and 95 % band over the trials (the range with its count from fewer than 1000)."""
     d = art.data
     fig, ax = plt.subplots(figsize=(8.0, 4.6), constrained_layout=True)
     for key, lab, c in (("single", "plain triad", "C0"), ("preset", "preset rotation (Eq 9 selection)", "C1"),
                         ("mean_of_two", "mean of the two preset triads", "C2")):
-        ax.plot(d["theta_deg"], d["rms"][key], c + "-o", ms=3, label=lab)
+        b = d["per_trial"][key]
+        ax.fill_between(d["theta_deg"], b["low"], b["high"], color=c, alpha=0.2, lw=0)
+        ax.plot(d["theta_deg"], b["median"], c + "-o", ms=3, label=f"{lab}: median, {b['label']}")
     ax.set(xlabel="pitch θ (deg)", ylabel="RMS |Δθ| over φ (deg)", xlim=(-90, 90), xticks=np.arange(-90, 91, 30),
            title=f"tan2022_extra_independent_errors: independent axis errors σ = {d['sigma_g']:.0e} g, "
                  f"{d['trials']} trials")
     ax.title.set_fontsize(10)
     ax.yaxis.set_major_formatter("{x:.4f}")
     ax.set_ylim(0, None)
-    ax.legend(fontsize=8, loc="lower center")
+    ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.14), frameon=False)   # off the data
     return fig
 
 
