@@ -136,8 +136,12 @@ def test_run_study_ci_slice_and_producers():
                                            n_draws=2, max_samples=16000)
     run = artifacts.run_study(sc, 1)
     rep = b.table_published_vs_ours(run)
-    assert rep.artifact_id == "broad2021_extra_published_vs_ours" and len(rep.rows) == 12
+    assert rep.artifact_id == "broad2021_extra_published_vs_ours" and len(rep.rows) == 12 + 1
     assert all(r["role"] == "heldout" for r in rep.rows)
+    # one claim for the case study, the 12 numbers as checks (a failing one is shown, never counted as a claim)
+    claims = [r for r in rep.rows if r["kind"] == "claim"]
+    assert len(claims) == 1 and claims[0]["check"](12) and not claims[0]["check"](11)
+    assert all(r["kind"] == "" and r["holds"] is not None for r in rep.rows[:-1])
     rk = b.extra_rankings(run)
     assert {"verdict", "holds_in", "wilson_low"} <= set(rk.table.columns)
     tw = b.extra_twin(run)

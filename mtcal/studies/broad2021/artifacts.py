@@ -200,7 +200,8 @@ def run_study(sc: BroadScenario, seed: int) -> StudyRun:
 
 @produces("broad2021_extra_published_vs_ours", "table", "BROAD case study (results_*.mat)")
 def table_published_vs_ours(run: StudyRun) -> Artifact:
-    """BROAD's published per-trial 9D RMSE beside ours; one held-out comparison row per number."""
+    """BROAD's published per-trial 9D RMSE beside ours: one held-out check per number and one claim for the case
+    study (every number within :data:`TOLERANCE_DEG`; each published result counts once)."""
     pub = run.extra["published"]
     ours = run.nined[run.nined.variant == "broad"]
     rows, table = [], []
@@ -212,15 +213,25 @@ def table_published_vs_ours(run: StudyRun) -> Artifact:
             col = f"{m}_rmse_deg"
             mine, theirs = getattr(r, col), float(p[col])
             rec[f"{m}_published_deg"], rec[f"{m}_ours_deg"] = theirs, mine
-            rows.append(compare.claim("broad2021_extra_published_vs_ours", f"{r.filter} {r.trial} {m} RMSE (deg)",
-                                      theirs, mine, f"|ours - published| <= {TOLERANCE_DEG} deg (tolerance stated "
-                                      "before comparing)", lambda v, t=theirs: abs(v - t) <= TOLERANCE_DEG,
-                                      ref=f"broad2021_published_rmse:{ref_rows[(r.filter, r.trial)]}:{col}"))
+            # one check per published number (shown failing if it fails); the case study is one claim, below
+            rows.append(compare.comparison_row(
+                "broad2021_extra_published_vs_ours", f"{r.filter} {r.trial} {m} RMSE (deg)", theirs, mine,
+                f"|ours - published| <= {TOLERANCE_DEG} deg (tolerance stated before comparing)",
+                bool(abs(mine - theirs) <= TOLERANCE_DEG), source="mtcal finding",
+                ref=f"broad2021_published_rmse:{ref_rows[(r.filter, r.trial)]}:{col}"))
         rec["max_abs_diff_deg"] = max(abs(rec[f"{m}_published_deg"] - rec[f"{m}_ours_deg"]) for m in _METRICS)
         table.append(rec)
     df = pd.DataFrame(table)
-    held = sum(r["holds"] for r in rows)
-    lines = [f"BROAD 9D case study reproduced from the raw data: {held} of {len(rows)} published numbers within "
+    held, n_numbers = sum(r["holds"] for r in rows), len(rows)
+    # the published case study is one result: one claim, holding when every number is within the tolerance
+    rows.append(compare.claim("broad2021_extra_published_vs_ours", "published 9D RMSEs reproduced within the "
+                              f"tolerance (of {n_numbers})", n_numbers, held,
+                              f"BROAD's case study (its per-trial 9D RMSE at its chosen parameters) reproduces from "
+                              f"the raw data: every published number within {TOLERANCE_DEG} deg (tolerance stated "
+                              "before comparing)", lambda v, n=n_numbers: v == n,
+                              note="" if held == n_numbers else f"{n_numbers - held} of {n_numbers} outside",
+                              ref=";".join(r["ref"] for r in rows)))
+    lines = [f"BROAD 9D case study reproduced from the raw data: {held} of {n_numbers} published numbers within "
              f"{TOLERANCE_DEG} deg; largest difference {df.max_abs_diff_deg.max():.4f} deg "
              "(BROAD's C code runs in float32, ours in float64)"]
     var = run.nined.pivot_table(index=["trial", "filter"], columns="variant", values="total_rmse_deg")
