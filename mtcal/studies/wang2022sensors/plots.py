@@ -167,20 +167,16 @@ def plot_fig14(data: dict):
     posterior-weighted 2.5–97.5 % of the grid runs (deg): the whole hold (the claim's reading, held out) and the
     settled second half (a window chosen after the whole-hold reading failed: tuned), each with its verdict."""
     ang = data["angle_deg"]
-    v = data.get("verdicts", {})
     fig, ax = plt.subplots(figsize=(8, 4.2))
-    for key, color, name in (("whole_", "tab:red", "whole hold (the claim's reading)"),
-                             ("", "tab:blue", "settled 2nd half (window chosen after: tuned)")):
-        if f"{key}median" not in data:
-            continue
-        verdict = v.get("whole hold" if key else "settled half")
+    for key, window, color, name in (("whole_", "whole hold", "tab:red", "whole hold (the claim's reading)"),
+                                     ("", "settled half", "tab:blue", "settled 2nd half (window chosen after: tuned)")):
         ax.fill_between(ang, data[f"{key}low"], data[f"{key}high"], color=color, alpha=0.25,
                         label=f"{name}: 2.5–97.5 % of {data['n_runs']} grid runs")
         ax.plot(ang, data[f"{key}median"], "o-", color=color, ms=3,
-                label=f"{name}: median" + (f" — claim {verdict}" if verdict else ""))
+                label=f"{name}: median — claim {data['verdicts'][window]}")
     ax.axhline(0.05, color="k", ls=":", label="0.05° (paper's bound)")
     ax.set_xticks(np.arange(-180, 181, 45))
-    ax.set_ylim(0, max(0.06, float(np.max([data[k] for k in ("high", "whole_high") if k in data])) * 1.1))
+    ax.set_ylim(0, max(0.06, float(np.max([data["high"], data["whole_high"]])) * 1.1))
     ax.set_xlabel("rotation angle (deg)")
     ax.set_ylabel("max |error| in the hold (deg)")
     ax.set_title("Paper Fig. 14 (wang2022sensors_fig14): RAMS maximum error per angle", fontsize=10)
