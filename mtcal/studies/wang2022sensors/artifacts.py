@@ -650,7 +650,7 @@ def fig14_max_error_per_angle(fit: ErrorModelFit, seed: int, n_draws: int = 4000
     quote = ("the maximum measurement error of RAMS for various angles did not exceed 0.05° (c08; also c01 "
              "\"static measurement error of less than 0.05°\", c10 \"the maximum static measurement error is less "
              "than 0.05°\")")
-    rows, bands = [], {}
+    rows, bands, verdicts = [], {}, {}
     for window, stream_fit, stream_prior in (("whole hold", STREAM_FIG14_WHOLE_FITTED, STREAM_FIG14_WHOLE_PRIOR),
                                              ("settled half", STREAM_FIG14_FITTED, STREAM_FIG14_PRIOR)):
         exp = error_model.fig14_samples(g, fit.posterior, stream_rng(seed, stream_fit), n_draws, window=window)
@@ -659,6 +659,7 @@ def fig14_max_error_per_angle(fit: ErrorModelFit, seed: int, n_draws: int = 4000
         bands[window] = b
         med = float(b["median"])
         holds = med < 0.05
+        verdicts[window] = "holds" if holds else "fails"
         qty = f"one experiment's largest per-angle max error, {window} reading (deg)"
         note = "" if holds else f"posterior-predictive median {med:.3f}° (median experiment), {med / 0.05:.1f}× the bound"
         if window == "whole hold":
@@ -687,7 +688,6 @@ def fig14_max_error_per_angle(fit: ErrorModelFit, seed: int, n_draws: int = 4000
         note="" if med2 < 0.05 else f"erratum: over-general; our median experiment's largest error while moving is "
         f"{med2:.3f}° ({med2 / 0.05:.0f}× 0.05°), and the paper's own Table 5 gives a RAMS dynamic RMSE of 0.41–0.46°"))
     b = bands["settled half"]
-    verdicts = {window: ("holds" if float(bands[window]["median"]) < 0.05 else "fails") for window in bands}
     return Artifact(None, rows, {"angle_deg": g.hold_angle_deg, "low": q[:, 0], "median": q[:, 1],
                                  "high": q[:, 2], "whole_low": q_whole[:, 0], "whole_median": q_whole[:, 1],
                                  "whole_high": q_whole[:, 2], "verdicts": verdicts, "experiment": b,
