@@ -120,13 +120,32 @@ def test_accel_fit_prefers_common_mode_and_predicts_eq9_angles():
                                  and r["source"] == "mtcal finding" and "not by construction" in r["note"] for r in lam)
     # the statements the likelihood is fitted to: in-sample, role train; the label comes from the role, no suffix
     fitted = [r for r in fit.rows if r["kind"] == "in-sample"]
-    assert len(fitted) == 3 and all(r["role"] == "train" and not r["enforced"] for r in fitted)
+    assert len(fitted) == 4 and all(r["role"] == "train" and not r["enforced"] for r in fitted)
     assert not any("[training]" in r["quantity"] for r in fit.rows)
     assert list(fit.predictions["role"]) == [r["role"] for r in fit.rows]
+    # Fig 8's "clear improvement" is implied by the statements the likelihood is fitted to (in the prior predictive
+    # it holds in every draw where they hold): checked in-sample with the computed reason, never a claim
     gain = [r for r in fit.rows if r["artifact"] == "tan2022_fig08"][0]
-    assert gain["kind"] == "claim" and gain["holds"] is True and gain["prior_band"]
+    assert gain["kind"] == "in-sample" and gain["holds"] is True and gain["prior_band"]
+    assert "implied by the statements the likelihood is fitted to" in gain["note"] and "no independent test" in gain["note"]
+
+
+def test_accel_claim_stays_a_claim_when_the_training_does_not_imply_it():
+    # training statements that hold in every draw condition on nothing: Fig 8 is then a test of its own
+    loose = t.AccelErrorPrior(n_grid=9, asymmetry_max=1e3, large_pitch_max=1e3, comparable_max=1e300)
+    fit = t.fit_accel_error_model(t.AccelScenario(), loose, seed=3, trials=100, step_deg=10.0)
+    gain = [r for r in fit.rows if r["artifact"] == "tan2022_fig08"][0]
+    assert gain["kind"] == "claim" and gain["role"] == "finding" and "of the 100 draws" in gain["note"]
     # the claim can fail: no gain from the preset rotation (gain 1.0) violates "clear improvement"
     assert gain["check"](1.0) is False
+
+
+def test_implied_by_training():
+    r = t.implied_by_training([True, False, True, True], [True, True, False, False])
+    assert (r["p_given"], r["n_given"], r["p_else"], r["n_else"], r["implied"]) == (0.5, 2, 1.0, 2, False)
+    r = t.implied_by_training([True] * 19 + [False], [True] * 20)
+    assert r["p_given"] == 0.95 and r["implied"] is True and np.isnan(r["p_else"])
+    assert t.implied_by_training([True], [False])["implied"] is False   # nothing to condition on
 
 
 def test_rms_optimal_preset_angle_is_not_inside_by_construction():

@@ -18,7 +18,7 @@ from .artifacts import (Artifact, accel_label, eq3_erratum, fig02, extra_roll_er
                         extra_threshold_sweep)
 from .error_model import (AccelErrorPrior, GyroErrorPrior, ErrorModelFit, grid_posterior, fit_accel_error_model,
                           fit_gyro_error_model, fit_gyro_error_pattern, paper_gyro_error_deg_s,
-                          PATTERN_BIAS_GRID_DEG_S, PATTERN_NOISE_GRID_DEG_S_RTHZ)
+                          PATTERN_BIAS_GRID_DEG_S, PATTERN_NOISE_GRID_DEG_S_RTHZ, IMPLIED_MIN, implied_by_training)
 from .runs import (STREAM_FIG06, STREAM_FIG09, STREAM_OSCILLATION, STREAM_INDEPENDENT_ERRORS, STREAM_ACCEL_FIT,
                    STREAM_GYRO_FIT, STREAM_GYRO_PATTERN, simulate_gyro, oscillation_gyro, accel_grid, fig02_asymmetry,
                    axis_spread, large_pitch_ratio, accel_predictions, gyro_samples, trial_chunks, gyro_predictions,
@@ -33,7 +33,7 @@ __all__ = ["scenario", "error_model", "runs", "artifacts", "plots",
            "fig12", "extra_threshold_sweep", "AccelErrorPrior", "GyroErrorPrior", "ErrorModelFit",
            "grid_posterior", "fit_accel_error_model", "fit_gyro_error_model", "fit_gyro_error_pattern",
            "paper_gyro_error_deg_s", "PATTERN_BIAS_GRID_DEG_S", "PATTERN_NOISE_GRID_DEG_S_RTHZ",
-           "STREAM_FIG06", "STREAM_FIG09", "STREAM_OSCILLATION", "STREAM_INDEPENDENT_ERRORS",
+           "IMPLIED_MIN", "implied_by_training", "STREAM_FIG06", "STREAM_FIG09", "STREAM_OSCILLATION", "STREAM_INDEPENDENT_ERRORS",
            "STREAM_ACCEL_FIT", "STREAM_GYRO_FIT", "STREAM_GYRO_PATTERN", "simulate_gyro",
            "oscillation_gyro", "accel_grid", "fig02_asymmetry", "axis_spread", "large_pitch_ratio",
            "accel_predictions", "gyro_samples", "trial_chunks", "gyro_predictions", "oscillation_claims",
