@@ -235,7 +235,8 @@ display(output.save_figure(plots.fig07(run["T1"], sc.imu.label), "wang2023cja_fi
 # %% [markdown]
 # ## wang2023cja_table06 — MaxAE / RMSE of roll and yaw in the AoA sweep (Table 6, held out)
 # Claims: "Roll and yaw errors are within 0.03°", "The RMSE of roll and yaw are within 0.01°" and
-# "the calibration method significantly reduces the roll and yaw errors".
+# "the calibration method significantly reduces the roll and yaw errors" (our reading of "significantly", the
+# paper gives no threshold: all four smaller after in at least 95 % of the runs, judged on the 5 % point).
 
 # %%
 t6 = w.table06(run["T1"]).table
@@ -351,7 +352,7 @@ output.save_table(claims, "wang2023cja_extra_turntable_claims")
 print(verdicts.claim_block(claims))
 print("prior predictive:")
 print(verdicts.claim_block(claims_prior[claims_prior.kind == "claim"]))
-ENFORCED = ("c16", "t6-reduce")                # held-out claims that hold in the full run; the others fail (listed above)
+ENFORCED = ("c16",)                # held-out claims that hold in the full run; the others fail (listed above)
 if AT_PAPER and SIZE == "full":                 # 4 CI trials are too few for a verdict
     held_claims = claims.set_index("claim_id").loc[list(ENFORCED)]
     assert held_claims.holds.all(), held_claims[~held_claims.holds]
@@ -362,8 +363,8 @@ if AT_PAPER and SIZE == "full":                 # 4 CI trials are too few for a 
 # error trend over the 8 holds (Kendall τ between the paper's and our median errors, one-sided p < 0.05),
 # Table 7's slope of the roll error against the reference roll, and Table 8's reduction fraction
 # 1 − after/before, each against our band of per-trial values. Our thresholds (`mtcal finding`): Table 8's
-# are counted as claims of their table in `data/verdicts.csv` (not as scored numbers: they are functions
-# of the same held-out numbers); Tables 5 and 7's are in-sample checks (tuned since ledger D10).
+# are shown, not counted (functions of the same held-out numbers, each compared once one to one; a failing
+# one is still named in the verdict's cause); Tables 5 and 7's are in-sample checks (tuned since ledger D10).
 
 # %%
 shape = verdicts.shape_predictions(verdicts.printed_samples(runs["fitted"]), table08_note)

@@ -83,10 +83,10 @@ rows += a.rows
 # static per sample. Numbers: median and 95 % band over `ZVD_TRIALS` trials (1000 at full
 # size; with fewer, as at CI size, a row gives the range with its count instead).
 #
-# **Claims (Fig. 6, our thresholds: the paper states none):** every rest is detected, and the
-# paper's ZVD (Table 1) tells motion from rest — fewer than 5 % of the moving samples flagged
-# static. **Findings (ours):** how many moving samples the ZVD with the gyro condition flags
-# static, and how many rest samples Table 1 misses. With
+# **Claim (Fig. 6, our threshold: the paper states none):** the paper's ZVD (Table 1) tells
+# motion from rest — fewer than 5 % of the moving samples flagged static. **Findings (ours):**
+# whether the ZVD with the gyro condition (not among the paper's stated ZVD conditions) detects
+# every rest, how many moving samples it flags static, and how many rest samples Table 1 misses. With
 # turntable moves (constant cruise rate between short ramps), Table 1 alone flags most
 # of every cruise as static: the centripetal r·ω² (0.02 m/s² at 0.2 m and 20 °/s) keeps
 # ‖a‖ inside the ±0.04 m/s² band with a small variance; only the ramps (r·α ≈ 3.5 m/s²

@@ -179,7 +179,9 @@ def _evidence(rows: pd.DataFrame) -> dict:
         else:
             names = ", ".join(cell_text(g.quantity).split(":")[0] for g in group)
             parts.append(f"fails in {len(group)} rows ({names}): {claim}" + (f" (first: {why})" if why else ""))
-    own_threshold = int((claims["role"] == "finding").sum())
+    # ours: a claim of role finding, or one whose statement names its threshold or tolerance as mtcal's
+    own_threshold = int(((claims["role"] == "finding")
+                         | claims["claim"].map(cell_text).str.contains("mtcal threshold|mtcal tolerance")).sum())
     if own_threshold:
         parts.append("every claim is tested on an mtcal threshold (the paper states none)" if own_threshold == len(claims)
                      else f"{own_threshold} of {len(claims)} claims are tested on mtcal thresholds (the paper states none)")

@@ -52,7 +52,14 @@ __all__ = ["COMPARISON_COLUMNS", "DISPLAY_COLUMNS", "comparison_row", "compariso
            "band_record", "band_row", "band_text", "describe", "claim", "consistency", "in_sample",
            "ROLES", "KINDS", "SOURCES", "at_paper_settings", "check_claims", "role_summary", "prediction_summary",
            "BAND_KINDS", "BAND_COUNT_COLUMNS", "check_bands", "credible_interval", "spread_text", "band_description",
-           "is_missing", "draw_count", "cell_text"]
+           "is_missing", "draw_count", "cell_text", "IMPLIED_MIN", "implied_by_training"]
+
+#: A statement tested on a fitted model is no independent test when something else implies it: in the prior
+#: predictive (parameters from the prior, one sensor set per draw), if it holds in at least this fraction of the
+#: draws where every training statement holds, it is checked ``in-sample`` (the fit keeps those draws, so holding
+#: confirms nothing); if it holds in at least this fraction of all draws, the model family implies it whatever
+#: is fitted (kind ``consistency``). The 95 % of the bands.
+IMPLIED_MIN = 0.95
 
 COMPARISON_COLUMNS = ["artifact", "quantity", "paper", "mtcal", "mc_band", "paper_in_band", "prior_band",
                       "prior_in_band", "claim", "holds", "kind", "role", "source", "note", "enforced", "ref",
@@ -683,3 +690,34 @@ def role_summary(table: pd.DataFrame) -> str:
 
 #: Former name of :func:`role_summary` (kept for the notebooks that call it).
 prediction_summary = role_summary
+
+
+def implied_by_training(statement, training) -> dict:
+    """How far the training statements imply a tested one, per prior-predictive draw (:data:`IMPLIED_MIN`).
+
+    Parameters
+    ----------
+    statement : array_like of bool, shape (n,)
+        The tested statement in each draw.
+    training : array_like of bool, shape (n,)
+        Every training statement holds in the draw.
+
+    Returns
+    -------
+    dict
+        ``p_given`` P(statement | training holds) and ``n_given`` its draws, ``p_else`` / ``n_else`` the same
+        where a training statement fails (NaN without draws), ``implied`` ``p_given >= IMPLIED_MIN`` (False
+        without a draw where the training holds: nothing to condition on).
+
+    Examples
+    --------
+    >>> r = implied_by_training([True, True, False, True], [True, True, False, False])
+    >>> r["p_given"], r["n_given"], r["p_else"], r["implied"]
+    (1.0, 2, 0.5, True)
+    """
+    statement, training = np.asarray(statement, bool), np.asarray(training, bool)
+    n_given, n_else = int(training.sum()), int((~training).sum())
+    p_given = float(statement[training].mean()) if n_given else float("nan")
+    p_else = float(statement[~training].mean()) if n_else else float("nan")
+    return {"p_given": p_given, "n_given": n_given, "p_else": p_else, "n_else": n_else,
+            "implied": bool(n_given and p_given >= IMPLIED_MIN)}

@@ -85,6 +85,11 @@ def test_every_failing_check_and_every_own_threshold_is_in_the_cause_whatever_th
     assert "consistency check fails: equal by construction" in t1.cause
     f2 = out.loc["p2020_fig02"]
     assert f2.verdict == "reproduced" and f2.cause == "every claim is tested on an mtcal threshold (the paper states none)"
+    # a held-out number judged with a tolerance of ours says so too (the statement names it)
+    own = [claim("p2020_fig03", "n", 3, 3, "all 3 within 0.01 (mtcal tolerance)", lambda v: v == 3)]
+    arts3 = pd.DataFrame([{"artifact_id": "p2020_fig03", "paper": "p2020", "paper_item": "Fig. 3", "notebook_section": "s"}])
+    f3 = av.artifact_rows(_table(own), arts3).set_index("artifact_id").loc["p2020_fig03"]
+    assert f3.verdict == "reproduced" and "every claim is tested on an mtcal threshold" in f3.cause
 
 
 def test_every_paper_number_compared_belongs_to_a_catalogue_artifact():

@@ -144,6 +144,15 @@ def test_run_study_ci_slice_and_producers():
     assert all(r["kind"] == "" and r["holds"] is not None for r in rep.rows[:-1])
     rk = b.extra_rankings(run)
     assert {"verdict", "holds_in", "wilson_low"} <= set(rk.table.columns)
+    # the QNCF/VQF pair is one claim (the order flips with vibration); its two directions are shown, not counted
+    members = {m for _, ms, _ in artifacts.RANKING_PAIRS for m in ms}
+    assert all(r["kind"] == "" for r in rk.rows if r["quantity"].split(":")[0] in members)
+    for pid, ms, _ in artifacts.RANKING_PAIRS:
+        pair = [r for r in rk.rows if r["quantity"].startswith(f"{pid}:")]
+        verdict = dict(zip(rk.table.ranking, rk.table.verdict))
+        if all(m in verdict for m in ms):
+            assert len(pair) == 1 and pair[0]["kind"] == "claim"
+            assert pair[0]["holds"] == all(verdict[m] == "holds" for m in ms)
     tw = b.extra_twin(run)
     assert set(tw.table["filter"]) == {"mahony", "vqf", "qncf_paper"}
     assert isinstance(b.extra_bakeoff_6d(run).table, pd.DataFrame)

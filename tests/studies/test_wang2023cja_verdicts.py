@@ -125,7 +125,7 @@ def _claims(sc, **job):
 
 def test_asserted_turntable_claims_hold_at_the_fitted_angles(fast):
     c = _claims(fast)
-    assert c.loc[["c14", "c16", "t6-reduce"], "holds"].all()
+    assert c.loc[["c14", "c16"], "holds"].all()
     assert (c.kind.loc[["c08"]] == "in-sample").all() and c.role.loc["c08"] == "train"
 
 
@@ -133,6 +133,15 @@ def test_c14_fails_with_a_coarse_turntable(fast):
     # perturbation: per-hold angle error 300″ (a 5′ turntable) instead of 5″
     c = _claims(fast, errors=w.ErrorModel(position_error_arcsec=300.0))
     assert not c.loc["c14", "holds"] and "c15" not in c.index   # one sentence, one claim
+
+
+def test_t6_reduce_holds_only_when_resolved_in_95_percent_of_runs(fast):
+    # 'significantly' read as resolved: judged on the 5 % point of the runs' smallest reduction, not the median run
+    c = _claims(fast, alpha_deg=(1.0, 1.0, 1.0))      # perturbation: 1° installation angles, a large coupling
+    assert c.loc["t6-reduce", "holds"] and c.loc["t6-reduce", "fraction_of_trials"] == 1.0
+    row = verdicts._claim("x", "a", "q", "t", "claim", "s", np.r_[np.full(90, 1.0), np.full(10, -1.0)],
+                          lambda v: v > 0, "5 % point {v:+.1f}", at=0.05)
+    assert row["holds"] is False and row["value"] == -1.0 and "5 % point -1.0" in row["reason"]   # 90 % < 95 %
 
 
 def test_c16_and_t6_fail_without_installation_error(fast):
@@ -223,11 +232,12 @@ def _sweep_samples(scale_after8=1.0, shuffle5=False, n=1000):
 def test_shape_predictions_hold_on_the_paper_shape_and_fail_otherwise():
     rows = verdicts.shape_predictions(_sweep_samples())
     assert len(rows) == 2 + 2 + 4
-    # Table 8 (held out): claims on our threshold; Tables 5 and 7 (tuned since ledger D10): in-sample checks
+    # Table 8 (held out): shown, not counted (functions of numbers compared once already); Tables 5 and 7 (tuned
+    # since ledger D10): in-sample checks
     for r in rows:
         held = r["artifact"] == "wang2023cja_table08"
-        assert (r["kind"], r["role"]) == ("claim" if held else "in-sample", "finding"), r["quantity"]
-        assert held or verdicts.SWEEP_TUNED in r["note"]
+        assert (r["kind"], r["role"]) == ("" if held else "in-sample", "finding"), r["quantity"]
+        assert verdicts.SWEEP_TUNED in r["note"] if not held else r["note"].startswith("shown, not counted")
     assert all(r["holds"] for r in rows), [r["quantity"] for r in rows if not r["holds"]]
     # our after-calibration errors 5x smaller than the paper's: the Table 8 reduction fractions fail
     bad = verdicts.shape_predictions(_sweep_samples(scale_after8=0.2))
@@ -238,7 +248,7 @@ def test_shape_predictions_hold_on_the_paper_shape_and_fail_otherwise():
     t5 = [r for r in rev if r["artifact"] == "wang2023cja_table05"]
     assert not any(r["holds"] for r in t5) and all(r["mtcal"] < 0 for r in t5)
     assert verdicts.shape_predictions({}) == []
-    # counted as claims of their artifact, not as scored numbers
+    # never scored as numbers
     from mtcal.reporting import fidelity
     assert fidelity.score(compare.comparison_table(rows))["n"] == 0
 

@@ -258,10 +258,12 @@ def unresolved_note(holding: int, n: int) -> str:
     return "" if flip.resolved else flip.verdict
 
 
-def _claim(cid, artifact, quote, threshold, kind, statistic, x, test, why_fail, why_kind="", role=None):
+def _claim(cid, artifact, quote, threshold, kind, statistic, x, test, why_fail, why_kind="", role=None, at=0.5):
+    """One claim row, judged on the ``at`` quantile of the per-trial statistic ``x`` (the median trial by default;
+    a lower quantile where the claim needs the effect resolved against the trials' scatter)."""
     x = np.asarray(x, float)
     ok = test(x)
-    med = float(np.median(x))
+    med = float(np.median(x)) if at == 0.5 else float(np.quantile(x, at))
     holds = bool(test(np.array([med]))[0])
     reason = ("" if holds else why_fail.format(v=med)) + (f" [{why_kind}]" if why_kind else "")
     unresolved = unresolved_note(int(np.sum(ok)), x.size)
@@ -315,19 +317,25 @@ def claims(turntable: dict | None = None, windtunnel=None) -> pd.DataFrame:
                            "claim", "max(roll, yaw MaxAE after) in the AoA sweep (deg)",
                            np.maximum(r6["after_maxae_2"], r6["after_maxae_0"]), lt(0.03),
                            "our median run gives {v:.4f}°"))
+        roll_rmse, yaw_rmse = float(np.median(r6["after_rmse_2"])), float(np.median(r6["after_rmse_0"]))
         rows.append(_claim("c01", "wang2023cja_table06", "The RMSE of roll and yaw are within 0.01°", "<= 0.01 deg",
                            "claim", "max(roll, yaw RMSE after) in the AoA sweep (deg)",
                            np.maximum(r6["after_rmse_2"], r6["after_rmse_0"]), lt(0.01),
-                           "our median run gives {v:.4f}°: yaw is gyro-only and the per-hold error adds"))
+                           "our median run gives {v:.4f}° (medians: roll " + f"{roll_rmse:.4f}°, yaw {yaw_rmse:.4f}°"
+                           + ("; yaw is gyro-only: no accelerometer reference" if yaw_rmse > roll_rmse else "")
+                           + ")"))
+        reduce6 = np.min([r6[f"before_{m}_{j}"] - r6[f"after_{m}_{j}"] for m in ("maxae", "rmse") for j in (2, 0)],
+                         axis=0)
         rows.append(_claim("t6-reduce", "wang2023cja_table06",
                            "the calibration method significantly reduces the roll and yaw errors",
-                           "all four (MaxAE, RMSE × roll, yaw) smaller after (mtcal threshold: the paper gives none "
-                           "for 'significantly')", "claim",
-                           "smallest before − after of the four (deg)",
-                           np.min([r6[f"before_{m}_{j}"] - r6[f"after_{m}_{j}"] for m in ("maxae", "rmse")
-                                   for j in (2, 0)], axis=0), lambda x: x > 0,
-                           "our median run: smallest reduction {v:+.4f}° (yaw: no installation coupling left to remove)",
-                           role="finding"))
+                           "all four (MaxAE, RMSE × roll, yaw) smaller after in at least 95 % of the runs (mtcal "
+                           "reading of 'significantly': resolved against the runs' scatter; the paper gives no "
+                           "threshold)", "claim",
+                           "smallest before − after of the four, its 5 % point over runs (deg)", reduce6,
+                           lambda x: x > 0,
+                           "smallest reduction positive in " + f"{np.mean(reduce6 > 0):.0%}" + " of our runs, its 5 % "
+                           "point {v:+.4f}° (median " + f"{np.median(reduce6):+.4f}°" + "; yaw: no installation "
+                           "coupling left to remove)", role="finding", at=0.05))
         e7b = np.abs(np.degrees(sw["roll"]["before_mean"] - sw["roll"]["reference"]))
         e7a = np.abs(np.degrees(sw["roll"]["after_mean"] - sw["roll"]["reference"]))
         ref7 = np.degrees(sw["roll"]["reference"])
@@ -472,8 +480,8 @@ def shape_predictions(samples: dict, table08_note: str = "") -> list[dict]:
 
     They are functions of the paper's sweep numbers (never of train ones), so they test the same paper
     numbers as the one-to-one rows; they are not scored as numbers (role ``finding``). Table 8's (held out)
-    are counted as claims of their artifact; Tables 5 and 7's are in-sample checks (kind ``in-sample``,
-    ledger D10: :data:`SWEEP_TUNED`).
+    are shown, not counted (each of its numbers is compared once, one to one); Tables 5 and 7's are in-sample
+    checks (kind ``in-sample``, ledger D10: :data:`SWEEP_TUNED`).
     """
     from scipy.stats import kendalltau
 
@@ -518,10 +526,11 @@ def shape_predictions(samples: dict, table08_note: str = "") -> list[dict]:
             rows.append(compare.comparison_row(
                 "wang2023cja_table08", f"{ax} {m} reduction fraction 1 − after/before", frac_paper, float(b["median"]),
                 "(mtcal) the paper's reduction fraction lies inside our band", holds, band=b, role="finding",
-                source="mtcal finding", kind="claim", enforce=False,
-                note="" if holds else f"paper {frac_paper:.0%}, ours {b['median']:.0%} [{b['low']:.0%}, {b['high']:.0%}]: "
-                f"our calibration removes {'more' if b['median'] > frac_paper else 'less'} of the error than the paper's"
-                + (f"; {table08_note}" if table08_note else "")))
+                source="mtcal finding", enforce=False,
+                note="shown, not counted: a function of Table 8's held-out numbers, each compared once already"
+                + ("" if holds else f"; paper {frac_paper:.0%}, ours {b['median']:.0%} [{b['low']:.0%}, "
+                   f"{b['high']:.0%}]: our calibration removes {'more' if b['median'] > frac_paper else 'less'} of "
+                   "the error than the paper's" + (f"; {table08_note}" if table08_note else ""))))
     return rows
 
 
