@@ -200,8 +200,10 @@ display(output.save_figure(plots.extra_threshold_sweep(art), "tan2022_extra_thre
 # * **Predicted** under the identified model: the Fig 9 integration error after
 #   one revolution at each rate (our finding: the paper prints no number, and
 #   Δω × T would be derived from the training number), the Fig 11 spikes
-#   (claim) and the Fig 12 hybrid's max error (shown with its bands: the Fig 12
-#   sentence is judged once, in the tan2022_fig12 section).
+#   (`consistency`, not a claim: they hold in nearly every prior-predictive draw —
+#   the row prints the fraction, rule `compare.IMPLIED_MIN` — because Eq 14 grows as
+#   1/θ̇ for any constant error) and the Fig 12 hybrid's max error (shown with its
+#   bands: the Fig 12 sentence is judged once, in the tan2022_fig12 section).
 #
 # Each row carries the posterior-predictive band (`mc_band`: (b, N) drawn from
 # the posterior per trial) and the prior-predictive band (`prior_band`: drawn
@@ -274,7 +276,8 @@ print(compare.check_claims(table, enforce=AT_PAPER))
 # hybrid is bounded but not accurate (≈ 14° with constant errors only), so
 # the Fig 12 sentence is not reproduced; a threshold near the peak pitch rate
 # makes the hybrid beat both projection and integration. The error model
-# fitted to Fig 6 reproduces the Fig 11 spikes and shows that Fig 12 needs a
+# fitted to Fig 6 shows the Fig 11 spikes (as any constant error would: no test
+# of the paper) and shows that Fig 12 needs a
 # y/z error more than 20× below the paper's. Nothing of tan2022 is held out
 # (it prints no result number), so there is no coverage score.
 #
