@@ -707,17 +707,23 @@ def implied_by_training(statement, training) -> dict:
     dict
         ``p_given`` P(statement | training holds) and ``n_given`` its draws, ``p_else`` / ``n_else`` the same
         where a training statement fails (NaN without draws), ``implied`` ``p_given >= IMPLIED_MIN`` (False
-        without a draw where the training holds: nothing to condition on).
+        without a draw where the training holds: nothing to condition on), ``text`` the fraction with its
+        Wilson 95 % interval (near :data:`IMPLIED_MIN` another seed may flip the label: the interval says how near).
 
     Examples
     --------
     >>> r = implied_by_training([True, True, False, True], [True, True, False, False])
-    >>> r["p_given"], r["n_given"], r["p_else"], r["implied"]
-    (1.0, 2, 0.5, True)
+    >>> r["p_given"], r["n_given"], r["p_else"], r["implied"], r["text"]
+    (1.0, 2, 0.5, True, '100.0 % (Wilson 95 % 34.2–100.0 %)')
     """
+    from mtcal.reporting.binomial import wilson_interval
+
     statement, training = np.asarray(statement, bool), np.asarray(training, bool)
     n_given, n_else = int(training.sum()), int((~training).sum())
-    p_given = float(statement[training].mean()) if n_given else float("nan")
+    k = int(statement[training].sum())
+    p_given = k / n_given if n_given else float("nan")
     p_else = float(statement[~training].mean()) if n_else else float("nan")
+    lo, hi = wilson_interval(k, n_given) if n_given else (float("nan"), float("nan"))
     return {"p_given": p_given, "n_given": n_given, "p_else": p_else, "n_else": n_else,
-            "implied": bool(n_given and p_given >= IMPLIED_MIN)}
+            "implied": bool(n_given and p_given >= IMPLIED_MIN),
+            "text": f"{100 * p_given:.1f} % (Wilson 95 % {100 * lo:.1f}–{100 * hi:.1f} %)"}

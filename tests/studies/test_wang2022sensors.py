@@ -247,7 +247,7 @@ def test_outside_reasons_names_the_number_and_what_it_needs():
     # training implies it (compare.IMPLIED_MIN): an in-sample check with the computed fractions, not a claim
     assert c02["kind"] == "in-sample" and c02["role"] == "train" and c02["holds"] is True
     assert c02["mtcal"] == pytest.approx(0.6) and c02["ref"].endswith("text_claims:2:value")
-    assert "holds in 100.0% of the 24 that reproduce the RAMS dynamic Table 5 RMSEs" in c02["note"]
+    assert "holds in 100.0 % (Wilson 95 % 86.2–100.0 %) of the 24 that reproduce the RAMS dynamic" in c02["note"]
     # c03 (erratum of the split) shown on the same statistic: failing, never a claim
     assert (c03["role"], c03["holds"], c03["enforced"]) == ("erratum", False, False) and c03["mtcal"] == c02["mtcal"]
     assert c03["ref"].endswith("text_claims:3:value") and "12× 0.05°" in c03["note"]
@@ -262,7 +262,7 @@ def test_c02_is_a_claim_while_the_training_does_not_imply_it():
     assert (imp["p_given"], imp["n_given"], imp["implied"]) == (0.5, 24, False)
     c02 = w.fig14_max_error_per_angle(fit, 1, n_draws=200).rows[2]
     assert c02["kind"] == "claim" and c02["role"] == "heldout" and c02["check"](1.2) is False
-    assert "not implied by the training: in the prior runs it holds in 50.0% of the 24" in c02["note"]
+    assert "not implied by the training: in the prior runs it holds in 50.0 % (Wilson 95 % 31.4–68.6 %) of the 24" in c02["note"]
 
 
 def test_paper_claims_of_the_figures_can_fail():

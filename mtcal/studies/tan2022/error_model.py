@@ -343,7 +343,7 @@ def fit_accel_error_model(sc: AccelScenario, prior: AccelErrorPrior, seed: int, 
         holds = bool(b["low"] <= paper <= b["high"]) if test is None else bool(test(b))
         if kind == "claim":   # no independent test if the training statements imply it (IMPLIED_MIN)
             imp = implied_by_training(test({"median": pred["prior"][key]}), training)
-            given = (f"in the prior predictive it holds in {imp['p_given']:.1%} of the {imp['n_given']} draws where "
+            given = (f"in the prior predictive it holds in {imp['text']} of the {imp['n_given']} draws where "
                      f"the three training statements hold and in {imp['p_else']:.1%} of the {imp['n_else']} where one "
                      "fails")
             if imp["implied"]:

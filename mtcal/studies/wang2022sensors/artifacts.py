@@ -678,7 +678,7 @@ def fig14_max_error_per_angle(fit: ErrorModelFit, seed: int, n_draws: int = 4000
     # c02 shares its error source (latency × rate) with the RAMS dynamic Table 5 RMSEs the fit is trained on: a
     # claim only while they do not imply it (compare.IMPLIED_MIN), with the computed fractions either way
     imp = error_model.dynamic_max_given_training(g, 1.0)
-    given = (f"in the prior runs it holds in {imp['p_given']:.1%} of the {imp['n_given']} that reproduce the RAMS "
+    given = (f"in the prior runs it holds in {imp['text']} of the {imp['n_given']} that reproduce the RAMS "
              f"dynamic Table 5 RMSEs (training, within 1.96 σ) and in {imp['p_else']:.1%} of the {imp['n_else']} others")
     dyn_args = ("wang2022sensors_fig14", "one experiment's largest RAMS error while moving over the ±180° sweep (deg)",
                 "< 1", med2, "a dynamic measurement error of less than 1° in the range of ±180°")
