@@ -3,6 +3,9 @@
 Reads the calibration written by ``mtcal calibrate --out Q.json`` and builds the
 sensor attitude of LOG as ``calibrate`` did (QNCF of the raw columns, levelled from
 the first rest with the gyro bias of its quiet core removed, or the log's own q0..q3).
+As ``mtcal attitude``, a log in which the rest options find no rest is not refused: one
+``warning:`` line gives the evidence and the QNCF starts from the first 100 samples
+without a gyro bias removed (the output says so).
 ``--mode absolute`` (default): pitch and roll referenced to gravity, ``q_body =
 q_sensor ⊗ conj(q_bs)`` with the calibration's mounting, heading (yaw) zeroed at the
 first sample — right for a log that starts anywhere (a parked aircraft).
@@ -131,7 +134,8 @@ def _print_result(args, out, log, doc: dict, res) -> None:
     lines = [] if res.units_check is None else [common.units_check_line(res.units_check)]
     if args.mode == "absolute":
         how = ("absolute: pitch and roll referenced to gravity (" +
-               ("QNCF levelled from the first rest" if rep is not None else "the log's q0..q3, z-up world") +
+               (f"QNCF levelled from the {res.qncf.levelled_from}" if res.qncf is not None
+                else "the log's q0..q3, z-up world") +
                "), q_body = q_sensor (x) conj(q_bs) with the calibration's mounting; heading (yaw) zeroed at "
                "the first sample (gravity gives no heading)")
     else:

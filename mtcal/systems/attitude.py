@@ -122,6 +122,8 @@ def qncf_log_setup(filter_gyro_rad_s, accel_m_s2, dt_s: float, rep: rest_detecti
     and, when the first rest starts within 0.25 s, the start is levelled from that rest's quiet core
     (:func:`mtcal.methods.rest_detection.quiet_core`, its threshold the rest detector's noise factor
     ``rep.noise_factor`` times the measured noise) and the core's mean gyro removed as the bias.
+    ``levelled_from`` says which, and why the first 100 samples when they are used (the paper's QNCF,
+    no rest found, or a first rest that starts late).
 
     Parameters
     ----------
@@ -165,8 +167,14 @@ def qncf_log_setup(filter_gyro_rad_s, accel_m_s2, dt_s: float, rep: rest_detecti
         bias = core.bias_rad_s
         return QncfLogSetup(filter_gyro_rad_s - bias, params, q0, bias, core,
                             "first rest (gyro bias of its quiet core removed)")
+    if paper:
+        why = "the paper's QNCF: default gains"
+    elif not rep.rests:
+        why = "no rest found"
+    else:
+        why = f"the log does not start at rest: its first rest starts at sample {first.start}"
     return QncfLogSetup(filter_gyro_rad_s, params, None, np.zeros(3), None,
-                        "first 100 samples (log does not start at rest)")
+                        f"first 100 samples ({why}; no initial gyro bias removed)")
 
 
 #: Filters of :func:`estimate_attitude`; ``qncf`` (the paper's filter, set up from the rests) is the default.

@@ -29,7 +29,7 @@ if TYPE_CHECKING:  # imported when a procedure runs (``mtcal --help`` stays ligh
     from mtcal.methods import rest_detection
 
 __all__ = ["DETECTORS", "RestsConfig", "find_rests", "find_rests_trusted", "checked_record", "drop_short_rests",
-           "rests_table", "default_rests"]
+           "rests_table", "default_rests", "no_rests_evidence"]
 
 #: Rest detectors: measured levels (default), the paper's fixed band, SHOE quasi-static stance phases.
 DETECTORS = ("adaptive", "paper", "shoe")
@@ -274,3 +274,52 @@ def rests_table(time_s, accel_m_s2, report: rest_detection.RestReport, *, gyro_r
         for i, ax in enumerate("xyz"):
             cols[f"gyro_{ax}_deg_s"] = gm[:, i]
     return cols
+
+
+def no_rests_evidence(report: rest_detection.RestReport, time_s=None) -> str:
+    """Why a detector found no rest, in one line with the evidence and the rest options that would find one.
+
+    Checked in order: the ``‖a‖`` band misses the level measured over the stillest windows of the record
+    (``report.extra["measured_gravity_m_s2"]``: the paper's fixed band, or a stated ``--gravity``); still
+    stretches shorter than ``--min-rest-s``; otherwise the first rejected stretch's reason, or no still
+    stretch at all. A report with rests gives ``""``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> acc = np.tile([0.0, 0.0, 9.89], (500, 1))
+    >>> rep = find_rests(acc, 0.01, RestsConfig.paper())
+    >>> no_rests_evidence(rep)[:73]
+    "the paper's fixed |a| band 9.760-9.840 m/s^2, misses the |a| 9.8900 m/s^2"
+    """
+    if report.rests:
+        return ""
+    measured = report.extra.get("measured_gravity_m_s2")
+    lo, hi = report.band_m_s2
+    if measured is not None and report.method != "shoe" and not lo < measured < hi:
+        if report.method == "paper":
+            what, fix = "the paper's fixed |a| band", ("--rest-detector adaptive (the default) measures the level; "
+                                                     "the paper's band fits only a sensor reading 9.76-9.84 m/s^2")
+        elif abs(report.gravity_m_s2 - measured) > 1e-9 * measured:
+            what = f"the |a| band about --gravity {report.gravity_m_s2:.5g} m/s^2,"
+            fix = "drop --gravity (default: measured) or state the |a| this sensor reads at rest"
+        else:
+            what, fix = "the |a| band", "widen --accel-band"
+        return (f"{what} {lo:.3f}-{hi:.3f} m/s^2, misses the |a| {measured:.4f} m/s^2 measured in the stillest "
+                f"stretch of the log; {fix}")
+    short = [r for r in report.rejected if r.reason.startswith("too short")]
+    if short or (report.n_short and not report.rejected):
+        if short and time_s is not None:
+            t = np.asarray(time_s)
+            longest = max(float(t[r.span.stop - 1] - t[r.span.start]) for r in short)
+            seen = f"{len(short)} still stretch(es) up to {longest:.3g} s"
+        else:
+            seen = f"{max(len(short), report.n_short)} still stretch(es)"
+        return f"{seen} shorter than --min-rest-s {report.min_rest_s:g} s; lower --min-rest-s"
+    if report.rejected:
+        return (f"{len(report.rejected)} quiet stretch(es) rejected, the first because {report.rejected[0].reason}")
+    if report.method == "shoe":
+        return (f"the SHOE statistic never stays below gamma {report.extra.get('threshold', float('nan')):.4g} for "
+                f"--min-rest-s {report.min_rest_s:g} s; raise --shoe-threshold or --gyro-threshold-deg-s")
+    return (f"no still stretch of >= --min-rest-s {report.min_rest_s:g} s (|a| at rest {report.gravity_m_s2:.4f} "
+            f"m/s^2, band {lo:.3f}-{hi:.3f} m/s^2); the log never rests")
