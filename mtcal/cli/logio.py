@@ -82,7 +82,15 @@ def parse_scale(text: str | None, name: str) -> np.ndarray | None:
         vals = np.repeat(vals, 3)
     if vals.size != 3 or not np.all(np.isfinite(vals)) or np.any(vals == 0):
         raise ValueError(f"{name} must be one or three finite non-zero numbers, got {text!r}")
+    if np.any(np.abs(vals) < SCALE_RANGE[0]) or np.any(np.abs(vals) > SCALE_RANGE[1]):
+        raise ValueError(f"{name} must be a factor counts -> unit of magnitude {SCALE_RANGE[0]:g} to "
+                         f"{SCALE_RANGE[1]:g} (one or three numbers), got {text!r}")
     return vals
+
+
+#: Magnitudes ``--gyro-scale``/``--accel-scale`` accept: a count of any 8- to 32-bit sensor in any unit the
+#: options name (a 32-bit gyro count of 0.1 mdeg/s is ~2e-6 rad/s; a raw mg count 1e-3 g) lies well inside.
+SCALE_RANGE = (1e-9, 1e9)
 
 
 def parse_columns(text: str | None) -> dict:

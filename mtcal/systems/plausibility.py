@@ -413,6 +413,26 @@ def check_units(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: float, res
                      f"or record rests at different tilts; {detail}")
 
 
+def check_record_units(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: float, time_s: np.ndarray, rests: list,
+                       *, unit_stated: str | None = None) -> dict:
+    """:func:`check_units` of one checked record as the systems run it: the gyro weighted by its time column
+    (:func:`time_base`), the samples on a full-scale plateau skipped (:func:`clipped_samples`).
+
+    The arrays are a system's checked record (:func:`mtcal.systems.rests.checked_record`); ``time_s`` its N
+    sample times. Used by :func:`mtcal.systems.rests.rests_record` and
+    :func:`mtcal.systems.surface_angle.surface_axis_record`.
+
+    Examples
+    --------
+    >>> acc = np.tile([0.0, 0.0, 9.81], (500, 1))
+    >>> check_record_units(np.zeros((500, 3)), acc, 0.01, np.arange(500) * 0.01, [])["method"]
+    'no rotation'
+    """
+    weights = time_base(accel_m_s2.shape[0], time_s=time_s)[1]
+    return check_units(gyro_rad_s if weights is None else gyro_rad_s * weights[:, None], accel_m_s2, dt_s, rests,
+                       time_s=time_s, skip=clipped_samples(gyro_rad_s)[0], unit_stated=unit_stated)
+
+
 def rotation_axis_from_gyro(gyro_rad_s: np.ndarray, bias_rad_s: np.ndarray, moving: np.ndarray):
     """Principal rotation axis of the bias-corrected gyro over ``moving`` samples.
 

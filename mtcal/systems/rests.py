@@ -29,7 +29,7 @@ if TYPE_CHECKING:  # imported when a procedure runs (``mtcal --help`` stays ligh
     from mtcal.methods import rest_detection
 
 __all__ = ["DETECTORS", "RestsConfig", "find_rests", "find_rests_trusted", "checked_record", "drop_short_rests",
-           "rests_table", "default_rests", "no_rests_evidence"]
+           "rests_table", "default_rests", "no_rests_evidence", "rests_record"]
 
 #: Rest detectors: measured levels (default), the paper's fixed band, SHOE quasi-static stance phases.
 DETECTORS = ("adaptive", "paper", "shoe")
@@ -213,6 +213,43 @@ def find_rests(accel_m_s2, dt_s: float, config: RestsConfig, *, gyro_rad_s=None,
         raise TypeError(f"config must be a RestsConfig, got {type(config).__name__}")
     a, g, dt, t = checked_record(accel_m_s2, dt_s, gyro_rad_s, time_s)
     return find_rests_trusted(a, g, dt, t, config)
+
+
+def rests_record(accel_m_s2, dt_s: float, config: RestsConfig, *, gyro_rad_s=None, time_s=None,
+                 unit_stated: str | None = None) -> tuple[rest_detection.RestReport, dict | None]:
+    """The rests of one recorded log (``mtcal rests``) and, when they used the gyro, its units check.
+
+    :func:`find_rests`, then the gyro's units and time base checked against the accelerometer as
+    ``mtcal attitude``/``axis`` check them (:func:`mtcal.systems.plausibility.check_record_units`: rest pairs,
+    tilt rate, gravity tracking; a stated unit that no check decides is used with a warning). Returns
+    ``(report, units check or None)``; the check is None without a gyro or with ``config.use_gyro`` False.
+
+    Raises
+    ------
+    ValueError
+        Bad arrays; a gyro the units check refuses (with the rests found as ``exc.rests``).
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(0)
+    >>> acc = np.array([0.0, 0.0, 9.81]) + 0.02 * rng.standard_normal((1000, 3))
+    >>> rep, chk = rests_record(acc, 0.01, RestsConfig(), gyro_rad_s=0.002 * rng.standard_normal((1000, 3)))
+    >>> len(rep.rests), chk["method"]
+    (1, 'no rotation')
+    """
+    from mtcal.systems import plausibility
+
+    if not isinstance(config, RestsConfig):
+        raise TypeError(f"config must be a RestsConfig, got {type(config).__name__}")
+    a, g, dt, t = checked_record(accel_m_s2, dt_s, gyro_rad_s if config.use_gyro else None, time_s)
+    rep = find_rests_trusted(a, g, dt, t, config)
+    if g is None:
+        return rep, None
+    try:
+        return rep, plausibility.check_record_units(g, a, dt, t, rep.rests, unit_stated=unit_stated)
+    except ValueError as exc:
+        exc.rests = rep
+        raise
 
 
 def find_rests_trusted(a: np.ndarray, g: np.ndarray | None, dt: float, t: np.ndarray,
