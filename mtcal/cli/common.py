@@ -184,6 +184,7 @@ def rests_config(args, *, has_gyro: bool = True):
 #: RestsConfig fields → the rest options that set them (for the config's refusals).
 _REST_OPTIONS = (("gravity_m_s2", "--gravity"), ("accel_band_m_s2", "--accel-band"), ("min_rest_s", "--min-rest-s"),
                  ("noise_factor", "--noise-factor"), ("shoe_threshold", "--shoe-threshold"),
+                 ("gyro_threshold_rad_s must be at most", "--gyro-threshold-deg-s must be at most"),
                  ("gyro_threshold_rad_s", "--gyro-threshold-deg-s (in rad/s)"))
 
 

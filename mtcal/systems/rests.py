@@ -29,10 +29,17 @@ if TYPE_CHECKING:  # imported when a procedure runs (``mtcal --help`` stays ligh
     from mtcal.methods import rest_detection
 
 __all__ = ["DETECTORS", "RestsConfig", "find_rests", "find_rests_trusted", "checked_record", "drop_short_rests",
-           "rests_table", "default_rests", "no_rests_evidence", "rests_record"]
+           "rests_table", "default_rests", "no_rests_evidence", "rests_record",
+           "MAX_ACCEL_BAND_M_S2", "MAX_GYRO_THRESHOLD_RAD_S"]
 
 #: Rest detectors: measured levels (default), the paper's fixed band, SHOE quasi-static stance phases.
 DETECTORS = ("adaptive", "paper", "shoe")
+
+
+#: Largest half-width of the |a| rest band (m/s^2; half of g: wider, any motion passes the gate).
+MAX_ACCEL_BAND_M_S2 = 5.0
+#: Largest gyro rest threshold / SHOE quasi-static level (rad/s; 180 deg/s: a faster rate is no rest).
+MAX_GYRO_THRESHOLD_RAD_S = float(np.pi)
 
 
 def _optional_positive(value, name: str) -> None:
@@ -56,9 +63,10 @@ class RestsConfig:
         Thresholds = ``noise_factor`` × measured noise (adaptive, shoe; also the quiet core of the
         first rest, :func:`mtcal.systems.attitude.qncf_log_setup`).
     gravity_m_s2, accel_band_m_s2 : float or None
-        ``|a|`` at rest and the half-width of its band (m/s²); None: measured.
+        ``|a|`` at rest and the half-width of its band (m/s², at most :data:`MAX_ACCEL_BAND_M_S2`); None: measured.
     gyro_threshold_rad_s : float or None
-        Max ``|ω − bias|`` at rest (rad/s; adaptive), or the quasi-static rate level (shoe); None: measured.
+        Max ``|ω − bias|`` at rest (rad/s; adaptive), or the quasi-static rate level (shoe), at most
+        :data:`MAX_GYRO_THRESHOLD_RAD_S`; None: measured.
     shoe_threshold : float or None
         SHOE threshold γ (dimensionless); None: measured or from ``gyro_threshold_rad_s``.
     use_gyro : bool
@@ -88,6 +96,12 @@ class RestsConfig:
             _optional_positive(getattr(self, name), name)
         for name in ("gravity_m_s2", "accel_band_m_s2", "gyro_threshold_rad_s", "shoe_threshold"):
             _optional_positive(getattr(self, name), name)
+        if self.accel_band_m_s2 is not None and self.accel_band_m_s2 > MAX_ACCEL_BAND_M_S2:
+            raise ValueError(f"accel_band_m_s2 must be at most {MAX_ACCEL_BAND_M_S2:g} m/s^2 (a wider |a| band "
+                             f"accepts any motion as rest), got {self.accel_band_m_s2:g}")
+        if self.gyro_threshold_rad_s is not None and self.gyro_threshold_rad_s > MAX_GYRO_THRESHOLD_RAD_S:
+            raise ValueError(f"gyro_threshold_rad_s must be at most {np.degrees(MAX_GYRO_THRESHOLD_RAD_S):g} deg/s "
+                             f"(a faster rate is no rest), got {np.degrees(self.gyro_threshold_rad_s):.4g} deg/s")
         if self.shoe_threshold is not None and self.detector != "shoe":
             raise ValueError("shoe_threshold needs detector 'shoe'")
         self.detector_params()                       # the detector's own checks (e.g. gravity's range), once, here
