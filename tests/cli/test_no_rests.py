@@ -87,3 +87,23 @@ def test_rests_without_rests_warns(heavy, capsys):
     assert code == 0 and len(_warnings(out)) == 1
 
 
+
+
+# -- the QNCF's AMD gate shut at rest: said, with the evidence ---------------------------------------------------
+
+@pytest.mark.parametrize("opts,fix", [
+    (["--rest-detector", "paper"], "--rest-detector adaptive sets g and the gate from the data"),
+    (["--gravity", "9.80665"], "drop --gravity"),
+])
+def test_attitude_warns_when_the_amd_gate_shuts_out_the_rest_level(heavy, tmp_path, capsys, opts, fix):
+    code, out, err = _run(["attitude", heavy, "--out", tmp_path / "a.csv", *opts], capsys)
+    assert code == 0 and err == "", err
+    gate = [line for line in out.splitlines() if line.startswith("warning: the QNCF's AMD gate")]
+    assert len(gate) == 1 and "measured in the stillest stretch" in gate[0] and fix in gate[0], out
+    code, out, err = _run(["apply", _calibration(tmp_path), heavy, "--out", tmp_path / "b.csv", *opts], capsys)
+    assert code == 0 and out.count("warning: the QNCF's AMD gate") == 1, out
+
+
+def test_no_amd_gate_warning_at_the_defaults(heavy, tmp_path, capsys):
+    code, out, err = _run(["attitude", heavy, "--out", tmp_path / "a.csv"], capsys)
+    assert code == 0 and "AMD gate" not in out
