@@ -239,6 +239,11 @@ MIN_LEAN_CORRELATION = 0.3
 MAX_LEAN_RATIO = 5.0
 
 
+#: Below this sample rate (Hz, from the time column) a 1000x tracking rival is named first as "time in ms read as
+#: s" when gravity tracking cannot tell it from the other rivals (an 8 kHz log with ms stamps reads as 8 Hz).
+LOW_RATE_HZ = 50.0
+
+
 #: Largest gyro rotation (deg, bias removed, integrated |ω|) accepted without any units check.
 MAX_UNCHECKED_ROTATION_DEG = 10.0
 #: Smallest gyro full scale (rad/s; 30 °/s): a clipping plateau between this and 40 rad/s is a rad/s full scale.
@@ -355,9 +360,15 @@ def check_units(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: float, res
         seen, lean_hint = tilt_rate.tilt_seen(tr), tilt_rate.scale_hint(tr["scale"])
     gt = gravity_tracking.gravity_tracking(gyro_rad_s, accel_m_s2, dt_s)
     if gt["decision"] == "rival":
-        others = [k for k, r in gt["rivals"].items() if k != gt["winner"]
-                  and r["windows"] >= gravity_tracking.MIN_WINDOWS
+        contra = [k for k, r in gt["rivals"].items() if r["windows"] >= gravity_tracking.MIN_WINDOWS
                   and 1.0 - r["win_fraction"] >= gravity_tracking.CONTRADICT_FRACTION]
+        ms = "mrad/s read as rad/s (or time in ms read as s)"
+        if (ms in contra and ms != gt["winner"] and 1.0 / dt_s < LOW_RATE_HZ and 1.0 - gt["rivals"][ms]["win_fraction"]
+                >= 1.0 - gt["rivals"][gt["winner"]]["win_fraction"] - 0.01):
+            # tracking cannot part them, the rate can: an IMU below LOW_RATE_HZ whose gyro integrates ~1000x too
+            # far is, far more often, a time column in ms read as s (8 kHz read as 8 Hz) than a mrad/s gyro
+            gt = {**gt, "winner": ms, "margin": 1.0 - gt["rivals"][ms]["win_fraction"]}
+        others = [k for k in contra if k != gt["winner"]]
         also = "".join(f"; or {k} ({1.0 - gt['rivals'][k]['win_fraction']:.2f}): {TRACKING_HINTS.get(k, '')}"
                        for k in others)
         raise ValueError(f"gyro units: {gt['winner']}? {TRACKING_HINTS.get(gt['winner'], '')} (gravity tracking: "

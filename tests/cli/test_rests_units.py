@@ -51,7 +51,8 @@ def test_rests_refuses_a_time_column_in_ms_under_a_seconds_header(tmp_path, caps
     path = logs.hinge_log(fs_hz=8000.0, time_unit="ms").write(tmp_path / "fast.csv")
     code, _, err_rests = _run(["rests", path, "--out", tmp_path / "r.csv"], capsys)
     _refused(code, err_rests)
-    assert "--time-unit" in err_rests, err_rests
+    # the likeliest cause first: at 8 "Hz" a ~1000x rotation is a ms time column, not a deg/s or mrad/s gyro
+    assert err_rests.index("time in ms? use --time-unit ms") < err_rests.find("--gyro-unit deg/s"), err_rests
     code, _, err_att = _run(["attitude", path, "--out", tmp_path / "a.csv"], capsys)
     assert code == 2 and err_att == err_rests
     assert not (tmp_path / "r.csv").exists()
