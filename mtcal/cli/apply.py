@@ -66,7 +66,23 @@ def load_calibration_file(path) -> tuple[np.ndarray, dict]:
     if any(isinstance(x, bool) for row in doc["q_hat"] for x in row):
         raise ValueError(f"{path}: q_hat must be a 4x4 array of numbers, not true/false")
     check_calibration_fields(doc, path)
+    _check_recorded_so4_distance(q, doc, path)
     return q, doc
+
+
+def _check_recorded_so4_distance(q: np.ndarray, doc: dict, path) -> None:
+    """A recorded ``so4_distance`` above the default gate widens the gate :func:`max_so4_distance` applies, so it must
+    be the distance of the file's own ``q_hat`` (as ``mtcal calibrate`` writes it): an edited value is refused."""
+    from mtcal.methods.constrained_fit import project_to_so4
+    from mtcal.systems.installation import MAX_SO4_DISTANCE
+
+    recorded = doc.get("so4_distance")
+    if recorded is None or recorded <= MAX_SO4_DISTANCE:
+        return
+    actual = float(project_to_so4(q).distance)
+    if abs(actual - recorded) > 1e-6 * max(1.0, recorded):
+        raise ValueError(f"{path}: field 'so4_distance' ({recorded:.6g}) is not the distance of the file's q_hat from "
+                         f"SO(4) ({actual:.6g}); the file was edited (recalibrate, or restore the value)")
 
 
 def _is_number(v) -> bool:

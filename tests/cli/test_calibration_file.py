@@ -77,3 +77,13 @@ def test_calibrate_out_must_be_json(tmp_path, capsys):
                          "--out", tmp_path / "Q.csv"], capsys)
     _refused(code, err, "--out", "Q.csv", "the file type must be .json")
     assert not (tmp_path / "Q.csv").exists()
+
+
+def test_apply_refuses_a_recorded_so4_distance_that_is_not_q_hats(heavy, tmp_path, capsys):
+    """A file recording so4_distance 1e9 would widen apply's SO(4) gate to anything (q_hat = 3 I accepted)."""
+    q = _calibration(tmp_path, q_hat=(3 * np.eye(4)).tolist(), so4_distance=1e9)
+    out = tmp_path / "b.csv"
+    out.write_text("SENTINEL\n")
+    code, _, err = _run(["apply", q, heavy, "--out", out], capsys)
+    _refused(code, err, "field 'so4_distance' (1e+09) is not the distance of the file's q_hat from SO(4) (4)")
+    assert out.read_text() == "SENTINEL\n"
