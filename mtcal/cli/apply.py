@@ -3,6 +3,9 @@
 Reads the calibration written by ``mtcal calibrate --out Q.json`` and builds the
 sensor attitude of LOG as ``calibrate`` did (QNCF of the raw columns, levelled from
 the first rest with the gyro bias of its quiet core removed, or the log's own q0..q3).
+As ``mtcal attitude``, a log in which the rest options find no rest is not refused: one
+``warning:`` line gives the evidence and the QNCF starts from the first 100 samples
+without a gyro bias removed (the output says so).
 ``--mode absolute`` (default): pitch and roll referenced to gravity, ``q_body =
 q_sensor ⊗ conj(q_bs)`` with the calibration's mounting, heading (yaw) zeroed at the
 first sample — right for a log that starts anywhere (a parked aircraft).
@@ -60,7 +63,120 @@ def load_calibration_file(path) -> tuple[np.ndarray, dict]:
         raise ValueError(f"{path}: q_hat must be a 4x4 array, got shape {q.shape}")
     if not np.all(np.isfinite(q)):
         raise ValueError(f"{path}: q_hat must be finite (no NaN or inf)")
+    if any(isinstance(x, bool) for row in doc["q_hat"] for x in row):
+        raise ValueError(f"{path}: q_hat must be a 4x4 array of numbers, not true/false")
+    check_calibration_fields(doc, path)
+    _check_recorded_so4_distance(q, doc, path)
     return q, doc
+
+
+def _check_recorded_so4_distance(q: np.ndarray, doc: dict, path) -> None:
+    """A recorded ``so4_distance`` above the default gate widens the gate :func:`max_so4_distance` applies, so it must
+    be the distance of the file's own ``q_hat`` (as ``mtcal calibrate`` writes it): an edited value is refused."""
+    from mtcal.methods.constrained_fit import project_to_so4
+    from mtcal.systems.installation import MAX_SO4_DISTANCE
+
+    recorded = doc.get("so4_distance")
+    if recorded is None or recorded <= MAX_SO4_DISTANCE:
+        return
+    actual = float(project_to_so4(q).distance)
+    if abs(actual - recorded) > 1e-6 * max(1.0, recorded):
+        raise ValueError(f"{path}: field 'so4_distance' ({recorded:.6g}) is not the distance of the file's q_hat from "
+                         f"SO(4) ({actual:.6g}); the file was edited (recalibrate, or restore the value)")
+
+
+def _is_number(v) -> bool:
+    return isinstance(v, (int, float)) and not isinstance(v, bool) and bool(np.isfinite(v))
+
+
+def _numbers(v, shape: tuple) -> bool:
+    """``v`` a nested list of finite numbers (not booleans) of ``shape`` (``None`` in it: any length)."""
+    if not shape:
+        return _is_number(v)
+    return (isinstance(v, list) and (shape[0] is None or len(v) == shape[0])
+            and all(_numbers(x, shape[1:]) for x in v))
+
+
+#: The fields of a calibration file (``mtcal calibrate --out``; all but ``format`` and ``q_hat`` optional, a
+#: version-1 file has fewer) → (what they must be, the check). ``input`` and ``attitude`` are checked per key below.
+_STR = ("a string", lambda v: isinstance(v, str))
+_ANGLES = lambda keys: (f"an object of finite numbers {', '.join(keys)}",  # noqa: E731
+                        lambda v: isinstance(v, dict) and sorted(v) == sorted(keys) and all(map(_is_number, v.values())))
+_ALPHAS = ("alpha1_z", "alpha2_y", "alpha3_x")
+CALIBRATION_FIELDS = {
+    "format_version": ("an integer", lambda v: isinstance(v, int) and not isinstance(v, bool)),
+    "mtcal_version": _STR, "comment": _STR, "log": _STR, "positions_file": _STR,
+    "model": ("one of eq13, so4, mounting", lambda v: v in ("eq13", "so4", "mounting")),
+    "so4_distance": ("a finite number >= 0", lambda v: _is_number(v) and v >= 0),
+    "installation_angles_deg": _ANGLES(_ALPHAS),
+    "installation_angles_1sigma_deg": ("null or an object of finite numbers >= 0 alpha1_z, alpha2_y, alpha3_x",
+                                       lambda v: v is None or (_ANGLES(_ALPHAS)[1](v) and min(v.values()) >= 0)),
+    "installation_angles_uncertainty": _STR, "installation_angles_meaning": _STR,
+    "mounting_quaternion_q_bs": ("a unit quaternion of 4 finite numbers",
+                                 lambda v: _numbers(v, (4,)) and abs(float(np.linalg.norm(v)) - 1.0) < 1e-6),
+    "mounting_meaning": _STR,
+    "mounting_ypr_deg": _ANGLES(("yaw_z", "pitch_x", "roll_y")),
+    "reference_offset_quaternion": ("a unit quaternion of 4 finite numbers",
+                                    lambda v: _numbers(v, (4,)) and abs(float(np.linalg.norm(v)) - 1.0) < 1e-6),
+    "positions_deg": ("a list of [yaw, pitch, roll] finite numbers", lambda v: _numbers(v, (None, 3))),
+    "positions_convention": _STR,
+    "residual_deg": ("a list of finite numbers >= 0", lambda v: _numbers(v, (None,)) and all(x >= 0 for x in v)),
+    "residual_max_deg": ("a finite number >= 0", lambda v: _is_number(v) and v >= 0),
+    "rests_s": ("a list of [start, stop] finite numbers", lambda v: _numbers(v, (None, 2))),
+    "convention": _STR,
+}
+_OPTIONAL_NUMBER = ("null or a finite number", lambda v: v is None or _is_number(v))
+_SCALE = ("null or a list of 1 or 3 finite numbers",
+          lambda v: v is None or (_numbers(v, (None,)) and len(v) in (1, 3)))
+#: The keys of the ``input`` and ``attitude`` objects that ``mtcal calibrate`` writes.
+CALIBRATION_SUBFIELDS = {
+    "input": {"time_unit": _STR, "gyro_unit": _STR, "accel_unit": _STR, "gyro_scale": _SCALE, "accel_scale": _SCALE,
+              "columns": ("an object of strings", lambda v: isinstance(v, dict)
+                          and all(isinstance(x, str) for x in v.values())),
+              "fs_hz_option": _OPTIONAL_NUMBER,
+              "sample_rate_hz": ("a finite number > 0", lambda v: _is_number(v) and v > 0),
+              "interpretation": ("a list of strings", lambda v: isinstance(v, list)
+                                 and all(isinstance(x, str) for x in v)),
+              "attitude_source": _STR},
+    "attitude": {"filter": _STR, "gravity_m_s2": ("a finite number > 0", lambda v: _is_number(v) and v > 0),
+                 "amd_threshold_pct": _OPTIONAL_NUMBER, "kp_rad_s": _OPTIONAL_NUMBER, "ki_rad_s2": _OPTIONAL_NUMBER,
+                 "levelled_from": _STR, "gyro_bias_text": _STR,
+                 "initial_gyro_bias_rad_s": ("a list of 3 finite numbers", lambda v: _numbers(v, (3,))),
+                 "zeroed_at_first_sample": ("true or false", lambda v: isinstance(v, bool))},
+}
+
+
+def check_calibration_fields(doc: dict, path) -> None:
+    """Every known field of a calibration document (:data:`CALIBRATION_FIELDS`), checked when the file is read,
+    before anything is computed or written: one-line ValueError naming the file and the field. Unknown fields
+    (a newer writer's) are ignored; missing optional ones are fine (a version-1 file has fewer).
+
+    Examples
+    --------
+    >>> check_calibration_fields({"residual_deg": [0.01, 0.02], "installation_angles_1sigma_deg": None}, "Q.json")
+    >>> check_calibration_fields({"residual_deg": "x"}, "Q.json")
+    Traceback (most recent call last):
+    ...
+    ValueError: Q.json: field 'residual_deg' must be a list of finite numbers >= 0, got "x"
+    """
+    def bad(name, what, value):
+        text = json.dumps(value, default=str)
+        return ValueError(f"{path}: field {name!r} must be {what}, got {text if len(text) <= 60 else text[:57] + '...'}")
+
+    for name, (what, ok) in CALIBRATION_FIELDS.items():
+        if name in doc and not ok(doc[name]):
+            raise bad(name, what, doc[name])
+    for name, fields in CALIBRATION_SUBFIELDS.items():
+        if name not in doc:
+            continue
+        if not isinstance(doc[name], dict):
+            raise bad(name, "an object", doc[name])
+        for key, (what, ok) in fields.items():
+            if key in doc[name] and not ok(doc[name][key]):
+                raise bad(f"{name}.{key}", what, doc[name][key])
+    if "residual_deg" in doc and "positions_deg" in doc and len(doc["residual_deg"]) != len(doc["positions_deg"]):
+        raise ValueError(f"{path}: field 'residual_deg' has {len(doc['residual_deg'])} values for "
+                         f"{len(doc['positions_deg'])} positions_deg")
 
 
 def max_so4_distance(doc: dict) -> float:
@@ -131,7 +247,8 @@ def _print_result(args, out, log, doc: dict, res) -> None:
     lines = [] if res.units_check is None else [common.units_check_line(res.units_check)]
     if args.mode == "absolute":
         how = ("absolute: pitch and roll referenced to gravity (" +
-               ("QNCF levelled from the first rest" if rep is not None else "the log's q0..q3, z-up world") +
+               (f"QNCF levelled from the {res.qncf.levelled_from}" if res.qncf is not None
+                else "the log's q0..q3, z-up world") +
                "), q_body = q_sensor (x) conj(q_bs) with the calibration's mounting; heading (yaw) zeroed at "
                "the first sample (gravity gives no heading)")
     else:
@@ -144,6 +261,12 @@ def _print_result(args, out, log, doc: dict, res) -> None:
         lines += common.report_lines(log, rep, angle_deg=eb[:, 1], angle_name="pitch_deg")
     if bias is not None:
         lines.append(bias)
+    if res.qncf is not None and rep is not None:
+        from mtcal.systems.attitude import amd_gate_evidence
+
+        gate = amd_gate_evidence(res.qncf.params, rep)
+        if gate:
+            lines.append(f"warning: {gate}")
     mount = np.degrees(res.mounting_euler_rad)
     lines += [f"body attitude {how}",
               f"mounting q_bs = [{', '.join(f'{v:+.6f}' for v in res.q_bs)}] (sensor on the body at yaw {mount[0]:+.4f}, "
@@ -171,7 +294,8 @@ def _tilt_warning(log, res, doc: dict) -> list[str]:
             f"start and are off by about that much from gravity-referenced angles (use --mode absolute)"]
 
 
-__all__ = ["register", "run", "load_calibration", "load_calibration_file", "max_so4_distance"]
+__all__ = ["register", "run", "load_calibration", "load_calibration_file", "max_so4_distance",
+           "check_calibration_fields", "CALIBRATION_FIELDS"]
 
 
 def register(subparsers) -> None:

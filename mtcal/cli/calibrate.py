@@ -80,8 +80,8 @@ def register(subparsers) -> None:
     p.add_argument("log", type=Path, help=f"IMU log ({common.LOG_FORMATS}): time_s + gyro/accel, or q0..q3 "
                                                 "columns of a table")
     p.add_argument("--positions", type=Path, required=True, help="reference positions CSV (yaw/pitch/roll deg, >= 4)")
-    p.add_argument("--out", help="write the calibration (JSON) here, for `mtcal apply` (default: none, the "
-                   "result is only printed)")
+    p.add_argument("--out", help="write the calibration (JSON, a .json file) here, for `mtcal apply` (default: "
+                   "none, the result is only printed)")
     p.add_argument("--comment", default="", help="free text saved in the calibration file (e.g. rig, IMU serial) "
                                                 "(default: empty)")
     p.add_argument("--model", choices=["eq13", "so4", "mounting"], default="eq13",
@@ -143,6 +143,7 @@ def run(args: argparse.Namespace) -> int:
     """Entry point of ``mtcal calibrate``: options → one config, read the log, one procedure, print and write."""
     fig = common.DiagnosticsFigure(args.figure, f"mtcal calibrate {args.log}", inputs=[args.log, args.positions])
     out = None if args.out is None else logio.check_output_path(args.out, [args.log, args.positions],
+                                                                suffixes=(".json",),
                                                                 others=(("--figure", args.figure),))
 
     def body() -> int:

@@ -82,7 +82,15 @@ def parse_scale(text: str | None, name: str) -> np.ndarray | None:
         vals = np.repeat(vals, 3)
     if vals.size != 3 or not np.all(np.isfinite(vals)) or np.any(vals == 0):
         raise ValueError(f"{name} must be one or three finite non-zero numbers, got {text!r}")
+    if np.any(np.abs(vals) < SCALE_RANGE[0]) or np.any(np.abs(vals) > SCALE_RANGE[1]):
+        raise ValueError(f"{name} must be a factor counts -> unit of magnitude {SCALE_RANGE[0]:g} to "
+                         f"{SCALE_RANGE[1]:g} (one or three numbers), got {text!r}")
     return vals
+
+
+#: Magnitudes ``--gyro-scale``/``--accel-scale`` accept: a count of any 8- to 32-bit sensor in any unit the
+#: options name (a 32-bit gyro count of 0.1 mdeg/s is ~2e-6 rad/s; a raw mg count 1e-3 g) lies well inside.
+SCALE_RANGE = (1e-9, 1e9)
 
 
 def parse_columns(text: str | None) -> dict:
@@ -187,8 +195,12 @@ class ImuLog:
         return cached[2]
 
 
-def _read_table(path: Path, select=None):
+def _read_table(path: Path, select=None, dropped: list | None = None):
     """Column name (stripped) → Arrow column, from CSV or Parquet.
+
+    A CSV whose **last** row has fewer fields than the header (a logger stopped mid-row) is read without
+    that row, a note appended to ``dropped`` (when given; otherwise it is refused as before); a short
+    row anywhere else is refused as not a readable CSV, with its text.
 
     ``select(names) -> names`` picks the columns read: a CSV read parses them as
     float64 (no type inference, no unused columns; a value that is not a number makes
@@ -236,11 +248,19 @@ def _read_table(path: Path, select=None):
                 except (pa.ArrowException, UnicodeDecodeError):
                     table = None  # e.g. a non-numeric value: the full read below names its row
         if table is None:
-            try:
-                table = pcsv.read_csv(path, read_options=read, parse_options=parse,
-                                      convert_options=pcsv.ConvertOptions(strings_can_be_null=True))
-            except (pa.ArrowException, UnicodeDecodeError) as exc:
-                raise ValueError(f"{path}: not a readable CSV ({str(exc).splitlines()[0][:200]})") from None
+            source = path
+            for attempt in range(2):
+                try:
+                    table = pcsv.read_csv(source, read_options=read, parse_options=parse,
+                                          convert_options=pcsv.ConvertOptions(strings_can_be_null=True))
+                    break
+                except (pa.ArrowException, UnicodeDecodeError) as exc:
+                    cut = None if attempt or dropped is None else _truncated_last_row(path, str(exc))
+                    if cut is None:
+                        raise ValueError(f"{path}: not a readable CSV ({str(exc).splitlines()[0][:200]})") from None
+                    source, note = cut
+            if source is not path:
+                dropped.append(note + f", {table.num_rows} rows read")
         every = [n for n in raw if not n.startswith(_UNNAMED)]
     header = [str(n).strip() for n in (raw if csv_file else names)]
     if select is not None:                   # a column read twice under one name: which copy is meant is unknown
@@ -255,6 +275,30 @@ def _read_table(path: Path, select=None):
 
 
 _UNNAMED = "_unnamed_"
+
+
+def _truncated_last_row(path: Path, error: str):
+    """A CSV parse error caused only by a last row with too few fields (a logger stopped mid-row): ``(the file
+    without that row as an Arrow buffer reader, a note)``; None for any other error."""
+    import re
+
+    import pyarrow as pa
+
+    m = re.match(r"CSV parse error: Expected (\d+) columns, got (\d+): (.*)", error, re.S)
+    if m is None or int(m.group(2)) >= int(m.group(1)):
+        return None
+    size = path.stat().st_size
+    with open(path, "rb") as fh:
+        fh.seek(max(0, size - 65536))
+        tail = fh.read()
+    body = tail.rstrip(b"\r\n \t")
+    start = body.rfind(b"\n") + 1                 # the last non-empty line starts here (in tail)
+    last = body[start:].decode("utf-8", "replace").strip()
+    if not last or last != m.group(3).strip() or size - len(tail) + start <= 0:
+        return None
+    buf = pa.memory_map(str(path)).read_buffer(size - len(tail) + start)
+    return pa.BufferReader(buf), (f"last row dropped: it has {m.group(2)} of {m.group(1)} fields (logger stopped "
+                                  f"mid-row?)")
 
 
 def _header_names(head: str, second: str, delim: str) -> list[str]:
@@ -352,7 +396,15 @@ def _numeric(col, header: str, path: Path, out: np.ndarray | None = None) -> np.
         bad = ~np.isfinite(arr)
         if bad.any():
             row = int(np.argmax(bad))
-            raise ValueError(f"{path}: non-numeric or NaN value in column {header!r} at data row {row + 1}")
+            hint = ""
+            if not (pa.types.is_integer(col.type) or pa.types.is_floating(col.type)):
+                import re
+
+                value = str(col[row].as_py()).strip()
+                if re.fullmatch(r"[+-]?\d+,\d+([eE][+-]?\d+)?", value):
+                    hint = (f" ({value!r}: a decimal comma? write the log with a decimal point, e.g. "
+                            f"{value.replace(',', '.')!r})")
+            raise ValueError(f"{path}: non-numeric or NaN value in column {header!r} at data row {row + 1}{hint}")
     return arr
 
 
@@ -400,6 +452,7 @@ def read_log(path, opts: InputOptions | None = None, *, need: str = "raw", min_s
     from mtcal.core.arrayfile import is_array_file
 
     fs_opt, stated, array_file = opts.fs_hz, None, is_array_file(p)
+    dropped: list = []     # a truncated last CSV row (_read_table), noted on the log line
     if array_file:  # read first: scipy.io/h5py imported before the prewarm thread imports scipy (import race)
         cols, all_names, fs_opt, stated = _array_columns(p, opts)
         opts = InputOptions(**{**opts.__dict__, "columns": {}})
@@ -410,7 +463,8 @@ def read_log(path, opts: InputOptions | None = None, *, need: str = "raw", min_s
         if array_keys:
             raise ValueError(f"--columns {array_keys[0]}=… names an N x 3 array of a .mat/.h5 file; map the "
                              f"columns of {path} with {array_keys[0]}_x=HEADER,{array_keys[0]}_y=…")
-        cols, all_names = _read_table(p, select=lambda names: list(_resolve(set(names), CANONICAL, opts)[0].values()))
+        cols, all_names = _read_table(p, select=lambda names: list(_resolve(set(names), CANONICAL, opts)[0].values()),
+                                      dropped=dropped)
     for c, header in opts.columns.items():
         if header not in cols:
             raise ValueError(f"{path}: --columns maps {c} to {header!r}, which is not a column "
@@ -439,7 +493,7 @@ def read_log(path, opts: InputOptions | None = None, *, need: str = "raw", min_s
         extra = f" (or the raw set {', '.join(GYRO_COLS + ACCEL_COLS)})" if need == "raw_or_quat" else ""
         raise ValueError(f"{path}: missing columns {', '.join(missing)}{extra}; columns present: "
                          f"{', '.join(all_names[:20])}; map yours with --columns NAME=HEADER")
-    notes = []
+    notes = list(dropped)
     partial = [c for c in GYRO_COLS if c in found]
     if partial and len(partial) < len(GYRO_COLS):       # (need "raw" refused above: here the gyro is optional)
         notes.append(f"gyro not used: {', '.join(c for c in GYRO_COLS if c not in found)} missing "

@@ -6,8 +6,9 @@ bias), the band and thresholds used, one line per rest (time span, duration,
 rejected with the reason. ``--out`` writes the rests as a table.
 
 The command parses the options into one :class:`mtcal.systems.rests.RestsConfig`
-(:func:`mtcal.cli.common.rests_config`), reads the log, calls :func:`mtcal.systems.rests.find_rests`
-and writes :func:`mtcal.systems.rests.rests_table`.
+(:func:`mtcal.cli.common.rests_config`), reads the log, calls :func:`mtcal.systems.rests.rests_record`
+(the rests, and the gyro's units and time base checked as ``attitude`` and ``axis`` check them, unless
+``--accel-only``) and writes :func:`mtcal.systems.rests.rests_table`.
 """
 
 from __future__ import annotations
@@ -42,15 +43,22 @@ def run(args: argparse.Namespace) -> int:
     out = None if args.out is None else common.table_output(args, [args.log])
 
     def body() -> int:
-        from mtcal.systems.rests import find_rests, rests_table
+        from mtcal.systems.rests import rests_record, rests_table
 
         log = logio.read_log(args.log, common.input_options(args), need="accel")  # gyro used when present
         gyro = None if args.accel_only else log.gyro_rad_s
         fig.log = log
         config = common.rests_config(args, has_gyro=gyro is not None)
-        rep = find_rests(log.accel_m_s2, log.dt_mean_s, config, gyro_rad_s=gyro, time_s=log.time_s)
+        try:   # the gyro the rests use: its units and time base checked as attitude/axis check them
+            rep, chk = rests_record(log.accel_m_s2, log.dt_mean_s, config, gyro_rad_s=gyro, time_s=log.time_s,
+                                    unit_stated=log.gyro_unit_stated)
+        except ValueError as exc:
+            fig.report = getattr(exc, "rests", None)
+            raise
         fig.report = rep
         common.print_report(log, rep)
+        if chk is not None:
+            common.print_units_check(chk)
         if out is not None:
             logio.write_table(out, rests_table(log.time_s, log.accel_m_s2, rep, gyro_rad_s=gyro))
             print(f"rests table: {out}")

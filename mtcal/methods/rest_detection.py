@@ -173,7 +173,8 @@ class RestReport:
     extra : dict
         Detector specifics; ``decision_statistic`` (N,) is the statistic that decides
         (static below 1: the largest statistic/threshold ratio, or SHOE ``T/γ``) and
-        ``decision_label`` names it.
+        ``decision_label`` names it; ``measured_gravity_m_s2`` is ``‖a‖`` measured over the
+        stillest windows of the record, whatever band the detector used (every detector).
     noise_factor : float
         The detector's factor K of its noise-derived thresholds (``--noise-factor``; 5 for the
         paper's fixed-band detector); the quiet core of a rest (:func:`quiet_core`) uses the same K.
@@ -432,7 +433,8 @@ def detect_rests(accel_m_s2: np.ndarray, dt_s: float, *, gyro_rad_s: np.ndarray 
                       min_rest_s=float(p.min_rest_s), window_s=float(w / fs), n_short=n_short,
                       noise_factor=float(p.noise_factor),
                       extra={"decision_statistic": np.repeat(ratio, blk.count.astype(int)),
-                             "decision_label": "max(statistic / threshold)"})
+                             "decision_label": "max(statistic / threshold)",
+                             "measured_gravity_m_s2": lv["gravity"]})
 
 
 def _classify(blk, static, quiet, in_band, still, norm_mean, level, band, g_lvl_max, n_min, w, fs, noise):
@@ -757,7 +759,7 @@ def detect_rests_shoe(accel_m_s2: np.ndarray, dt_s: float, *, gyro_rad_s: np.nda
                       noise_factor=float(p.noise_factor),
                       extra={"statistic": stat, "threshold": float(gamma), "threshold_source": how,
                              "rate_equivalent_deg_s": rate_eq, "decision_statistic": stat / gamma,
-                             "decision_label": "SHOE T / gamma"})
+                             "decision_label": "SHOE T / gamma", "measured_gravity_m_s2": lv["gravity"]})
 
 
 @dataclass(frozen=True)

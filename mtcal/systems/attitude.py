@@ -36,7 +36,7 @@ if TYPE_CHECKING:  # numba-compiled modules, imported when a procedure runs (``m
     from mtcal.methods import rest_detection
 
 __all__ = ["KP_RANGE_RAD_S", "FILTERS", "AttitudeConfig", "AttitudeResult", "estimate_attitude", "attitude_record",
-           "qncf_params_from_rests", "QncfLogSetup", "qncf_log_setup"]
+           "qncf_params_from_rests", "QncfLogSetup", "qncf_log_setup", "amd_gate_evidence"]
 
 #: Range of the QNCF proportional gain from :func:`qncf_params_from_rests`' noise rule (1/s).
 KP_RANGE_RAD_S = (0.05, 5.0)
@@ -122,6 +122,8 @@ def qncf_log_setup(filter_gyro_rad_s, accel_m_s2, dt_s: float, rep: rest_detecti
     and, when the first rest starts within 0.25 s, the start is levelled from that rest's quiet core
     (:func:`mtcal.methods.rest_detection.quiet_core`, its threshold the rest detector's noise factor
     ``rep.noise_factor`` times the measured noise) and the core's mean gyro removed as the bias.
+    ``levelled_from`` says which, and why the first 100 samples when they are used (the paper's QNCF,
+    no rest found, or a first rest that starts late).
 
     Parameters
     ----------
@@ -165,8 +167,46 @@ def qncf_log_setup(filter_gyro_rad_s, accel_m_s2, dt_s: float, rep: rest_detecti
         bias = core.bias_rad_s
         return QncfLogSetup(filter_gyro_rad_s - bias, params, q0, bias, core,
                             "first rest (gyro bias of its quiet core removed)")
+    if paper:
+        why = "the paper's QNCF: default gains"
+    elif not rep.rests:
+        why = "no rest found"
+    else:
+        why = f"the log does not start at rest: its first rest starts at sample {first.start}"
     return QncfLogSetup(filter_gyro_rad_s, params, None, np.zeros(3), None,
-                        "first 100 samples (log does not start at rest)")
+                        f"first 100 samples ({why}; no initial gyro bias removed)")
+
+
+def amd_gate_evidence(params: QncfParams, rep: rest_detection.RestReport) -> str:
+    """Why the QNCF's AMD gate shuts the accelerometer out even at rest, in one line; ``""`` when it does not.
+
+    The gate passes a sample when ``100 |‖a‖ / g − 1|`` (smoothed) is below ``params.amd_threshold_pct``
+    (wang2023cja §3.1). When the ``‖a‖`` measured over the stillest windows of the record
+    (``rep.extra["measured_gravity_m_s2"]``) is outside that gate — the paper's default ``g`` 9.80665 ±
+    0.3 % on a sensor reading 9.85, or a stated ``--gravity`` — the filter integrates the gyro alone.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from mtcal.filters.qncf import QncfParams
+    >>> from mtcal.methods.rest_detection import paper_rest_report
+    >>> rep = paper_rest_report(np.tile([0.0, 0.0, 9.89], (500, 1)), 0.01)
+    >>> amd_gate_evidence(QncfParams(), rep)[:60]
+    "the QNCF's AMD gate (g 9.80665 m/s^2 +- 0.30 %) excludes the"
+    >>> amd_gate_evidence(QncfParams(gravity_m_s2=9.89), rep)
+    ''
+    """
+    measured = rep.extra.get("measured_gravity_m_s2")
+    if measured is None:
+        return ""
+    off = 100.0 * abs(measured / params.gravity_m_s2 - 1.0)
+    if off < params.amd_threshold_pct:
+        return ""
+    fix = ("--rest-detector adaptive sets g and the gate from the data" if rep.method == "paper"
+           else "drop --gravity (default: measured) or widen --accel-band")
+    return (f"the QNCF's AMD gate (g {params.gravity_m_s2:.6g} m/s^2 +- {params.amd_threshold_pct:.2f} %) excludes the "
+            f"|a| {measured:.4f} m/s^2 measured in the stillest stretch of the log ({off:.2f} % off): the "
+            f"accelerometer does not correct the attitude even at rest (gyro only); {fix}")
 
 
 #: Filters of :func:`estimate_attitude`; ``qncf`` (the paper's filter, set up from the rests) is the default.

@@ -22,10 +22,10 @@ The messages name the ``mtcal`` options that fix a log (``--gyro-unit``,
   (:mod:`mtcal.methods.tilt_rate`), then gravity tracking on short windows
   (:mod:`mtcal.methods.gravity_tracking`: which unit/time-base hypothesis
   carries the accelerometer's direction), then a rate bound for rotations about
-  gravity; a record whose rotation none of them can check is refused with a
-  one-line error naming ``--gyro-unit`` and the evidence — unless the unit was
-  stated (option or unit-carrying header), which no check then contradicts: it
-  is accepted with a warning naming the evidence.
+  gravity; a record whose rotation none of them can check is accepted in the
+  stated unit (option or unit-carrying header) or, none stated, the documented
+  default rad/s, with a warning naming the evidence — unless the tilt rate leans
+  against that unit, which is refused with the likeliest cause first.
 
 References
 ----------
@@ -220,9 +220,10 @@ def _pair_misfits(cand: list, gyro_rad_s, dt_s: float, t) -> dict:
 TRACKING_HINTS = {
     "deg/s read as rad/s": "use --gyro-unit deg/s",
     "rad/s read as deg/s": "drop --gyro-unit deg/s (the gyro is in rad/s)",
-    "mrad/s read as rad/s (or time in ms read as s)": "gyro in mrad/s? use --gyro-scale 0.001; time in ms? "
-                                                        "use --time-unit ms",
-    "rad/s read as mrad/s (or time in s read as ms)": "check --gyro-scale and --time-unit (time in s read as ms?)",
+    "mrad/s read as rad/s (or time in ms read as s)": "time in ms? use --time-unit ms; gyro in mrad/s? use "
+                                                        "--gyro-scale 0.001",
+    "rad/s read as mrad/s (or time in s read as ms)": "time in s read as ms? check --time-unit; or check "
+                                                        "--gyro-scale",
     "time column 10x too fast": "check --time-unit / time_s (integrated gyro 10x too small)",
     "time column 10x too slow": "check --time-unit / time_s (integrated gyro 10x too large)",
 }
@@ -236,6 +237,11 @@ TRACKING_HINTS = {
 #: tests/cli/test_round_two.py) and unit mistakes by 57x (deg/s) or 1000x (mrad/s, time in ms).
 MIN_LEAN_CORRELATION = 0.3
 MAX_LEAN_RATIO = 5.0
+
+
+#: Below this sample rate (Hz, from the time column) a 1000x tracking rival is named first as "time in ms read as
+#: s" when gravity tracking cannot tell it from the other rivals (an 8 kHz log with ms stamps reads as 8 Hz).
+LOW_RATE_HZ = 50.0
 
 
 #: Largest gyro rotation (deg, bias removed, integrated |ω|) accepted without any units check.
@@ -272,11 +278,12 @@ def check_units(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: float, res
        (no centripetal acceleration: a deg/s rate read as rad/s); a gyro clipped
        (``skip``) at a plateau of :data:`MIN_FULL_SCALE_RAD_S` … 40 rad/s has a
        full scale that only rad/s explains (read as deg/s it would be > 40
-       rad/s and refused on reading); anything else is refused — unless
-       ``unit_stated``: a stated unit that no check contradicts is accepted, the
-       result's ``warning`` naming the evidence (not when the tilt rate leans
+       rad/s and refused on reading); anything else is accepted in the stated
+       unit (``unit_stated``) or, none stated, the documented default rad/s, the
+       result's ``warning`` naming the evidence (method ``"stated unit (unchecked)"``
+       or ``"default unit (unchecked)"``) — refused when the tilt rate leans
        against it: correlation ≥ :data:`MIN_LEAN_CORRELATION` with a scale off by
-       more than :data:`MAX_LEAN_RATIO`).
+       more than :data:`MAX_LEAN_RATIO` (the hint names the scale's likeliest cause).
 
     The records are the checked arrays of the caller's edge (a system's, or the log reader's): finite
     float64 (N, 3) of one shape, ``dt_s`` finite > 0; they are not checked again here.
@@ -304,13 +311,13 @@ def check_units(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: float, res
     dict
         ``method`` (which check decided), ``pairs``, ``worst_deg``, ``ratio``
         (rest-pair checks; 0/NaN otherwise), ``evidence`` (one line) and, when no
-        check could decide a stated unit, ``warning`` (one line).
+        check could decide the unit (stated, or the default rad/s), ``warning`` (one line).
 
     Raises
     ------
     ValueError
         A check finds the gyro off (the message names the scale that fits and
-        ``--gyro-unit``/``--time-unit``), or nothing can check a rotating gyro.
+        ``--gyro-unit``/``--time-unit``), or no check decides and the tilt rate leans against the unit.
 
     References
     ----------
@@ -353,9 +360,15 @@ def check_units(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: float, res
         seen, lean_hint = tilt_rate.tilt_seen(tr), tilt_rate.scale_hint(tr["scale"])
     gt = gravity_tracking.gravity_tracking(gyro_rad_s, accel_m_s2, dt_s)
     if gt["decision"] == "rival":
-        others = [k for k, r in gt["rivals"].items() if k != gt["winner"]
-                  and r["windows"] >= gravity_tracking.MIN_WINDOWS
+        contra = [k for k, r in gt["rivals"].items() if r["windows"] >= gravity_tracking.MIN_WINDOWS
                   and 1.0 - r["win_fraction"] >= gravity_tracking.CONTRADICT_FRACTION]
+        ms = "mrad/s read as rad/s (or time in ms read as s)"
+        if (ms in contra and ms != gt["winner"] and 1.0 / dt_s < LOW_RATE_HZ and 1.0 - gt["rivals"][ms]["win_fraction"]
+                >= 1.0 - gt["rivals"][gt["winner"]]["win_fraction"] - 0.01):
+            # tracking cannot part them, the rate can: an IMU below LOW_RATE_HZ whose gyro integrates ~1000x too
+            # far is, far more often, a time column in ms read as s (8 kHz read as 8 Hz) than a mrad/s gyro
+            gt = {**gt, "winner": ms, "margin": 1.0 - gt["rivals"][ms]["win_fraction"]}
+        others = [k for k in contra if k != gt["winner"]]
         also = "".join(f"; or {k} ({1.0 - gt['rivals'][k]['win_fraction']:.2f}): {TRACKING_HINTS.get(k, '')}"
                        for k in others)
         raise ValueError(f"gyro units: {gt['winner']}? {TRACKING_HINTS.get(gt['winner'], '')} (gravity tracking: "
@@ -402,15 +415,40 @@ def check_units(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: float, res
     lean = (np.isfinite(tr["scale"]) and np.isfinite(tr["correlation"])
             and tr["correlation"] >= MIN_LEAN_CORRELATION
             and not 1.0 / MAX_LEAN_RATIO <= tr["scale"] <= MAX_LEAN_RATIO)
-    if unit_stated and lean:
+    if lean:
         raise ValueError(f"gyro units doubtful: {lean_hint}; no check decides but the tilt "
                          f"rate leans to a scale of {tr['scale']:.3g} (correlation {tr['correlation']:.2f} >= "
                          f"{MIN_LEAN_CORRELATION:g}, outside 1/{MAX_LEAN_RATIO:g}..{MAX_LEAN_RATIO:g}); {detail}")
+    weak = ""   # a scale off by more than MAX_LEAN_RATIO on a weak correlation: said, not decided
+    if np.isfinite(tr["scale"]) and not 1.0 / MAX_LEAN_RATIO <= tr["scale"] <= MAX_LEAN_RATIO:
+        weak = (f"; the tilt rate leans weakly (correlation {tr['correlation']:.2f} < {MIN_LEAN_CORRELATION:g}) to "
+                f"a scale of {tr['scale']:.3g}: {lean_hint}?")
     if unit_stated:
         return {**out, "method": "stated unit (unchecked)", "evidence": detail,
-                "warning": f"gyro unit as stated ({unit_stated}) not checked: no check decides ({detail})"}
-    raise ValueError(f"cannot check the gyro units: state the unit with --gyro-unit (deg/s?) and check --time-unit, "
-                     f"or record rests at different tilts; {detail}")
+                "warning": f"gyro unit as stated ({unit_stated}) not checked: no check decides ({detail}){weak}"}
+    return {**out, "method": "default unit (unchecked)", "evidence": detail,
+            "warning": f"gyro unit rad/s (the documented default; no unit stated) not checked: no check decides "
+                       f"({detail}){weak or '; if the log is not in rad/s state --gyro-unit'}"}
+
+
+def check_record_units(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: float, time_s: np.ndarray, rests: list,
+                       *, unit_stated: str | None = None) -> dict:
+    """:func:`check_units` of one checked record as the systems run it: the gyro weighted by its time column
+    (:func:`time_base`), the samples on a full-scale plateau skipped (:func:`clipped_samples`).
+
+    The arrays are a system's checked record (:func:`mtcal.systems.rests.checked_record`); ``time_s`` its N
+    sample times. Used by :func:`mtcal.systems.rests.rests_record` and
+    :func:`mtcal.systems.surface_angle.surface_axis_record`.
+
+    Examples
+    --------
+    >>> acc = np.tile([0.0, 0.0, 9.81], (500, 1))
+    >>> check_record_units(np.zeros((500, 3)), acc, 0.01, np.arange(500) * 0.01, [])["method"]
+    'no rotation'
+    """
+    weights = time_base(accel_m_s2.shape[0], time_s=time_s)[1]
+    return check_units(gyro_rad_s if weights is None else gyro_rad_s * weights[:, None], accel_m_s2, dt_s, rests,
+                       time_s=time_s, skip=clipped_samples(gyro_rad_s)[0], unit_stated=unit_stated)
 
 
 def rotation_axis_from_gyro(gyro_rad_s: np.ndarray, bias_rad_s: np.ndarray, moving: np.ndarray):

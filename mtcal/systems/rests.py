@@ -29,10 +29,17 @@ if TYPE_CHECKING:  # imported when a procedure runs (``mtcal --help`` stays ligh
     from mtcal.methods import rest_detection
 
 __all__ = ["DETECTORS", "RestsConfig", "find_rests", "find_rests_trusted", "checked_record", "drop_short_rests",
-           "rests_table", "default_rests"]
+           "rests_table", "default_rests", "no_rests_evidence", "rests_record",
+           "MAX_ACCEL_BAND_M_S2", "MAX_GYRO_THRESHOLD_RAD_S"]
 
 #: Rest detectors: measured levels (default), the paper's fixed band, SHOE quasi-static stance phases.
 DETECTORS = ("adaptive", "paper", "shoe")
+
+
+#: Largest half-width of the |a| rest band (m/s^2; half of g: wider, any motion passes the gate).
+MAX_ACCEL_BAND_M_S2 = 5.0
+#: Largest gyro rest threshold / SHOE quasi-static level (rad/s; 180 deg/s: a faster rate is no rest).
+MAX_GYRO_THRESHOLD_RAD_S = float(np.pi)
 
 
 def _optional_positive(value, name: str) -> None:
@@ -56,9 +63,10 @@ class RestsConfig:
         Thresholds = ``noise_factor`` × measured noise (adaptive, shoe; also the quiet core of the
         first rest, :func:`mtcal.systems.attitude.qncf_log_setup`).
     gravity_m_s2, accel_band_m_s2 : float or None
-        ``|a|`` at rest and the half-width of its band (m/s²); None: measured.
+        ``|a|`` at rest and the half-width of its band (m/s², at most :data:`MAX_ACCEL_BAND_M_S2`); None: measured.
     gyro_threshold_rad_s : float or None
-        Max ``|ω − bias|`` at rest (rad/s; adaptive), or the quasi-static rate level (shoe); None: measured.
+        Max ``|ω − bias|`` at rest (rad/s; adaptive), or the quasi-static rate level (shoe), at most
+        :data:`MAX_GYRO_THRESHOLD_RAD_S`; None: measured.
     shoe_threshold : float or None
         SHOE threshold γ (dimensionless); None: measured or from ``gyro_threshold_rad_s``.
     use_gyro : bool
@@ -88,6 +96,12 @@ class RestsConfig:
             _optional_positive(getattr(self, name), name)
         for name in ("gravity_m_s2", "accel_band_m_s2", "gyro_threshold_rad_s", "shoe_threshold"):
             _optional_positive(getattr(self, name), name)
+        if self.accel_band_m_s2 is not None and self.accel_band_m_s2 > MAX_ACCEL_BAND_M_S2:
+            raise ValueError(f"accel_band_m_s2 must be at most {MAX_ACCEL_BAND_M_S2:g} m/s^2 (a wider |a| band "
+                             f"accepts any motion as rest), got {self.accel_band_m_s2:g}")
+        if self.gyro_threshold_rad_s is not None and self.gyro_threshold_rad_s > MAX_GYRO_THRESHOLD_RAD_S:
+            raise ValueError(f"gyro_threshold_rad_s must be at most {np.degrees(MAX_GYRO_THRESHOLD_RAD_S):g} deg/s "
+                             f"(a faster rate is no rest), got {np.degrees(self.gyro_threshold_rad_s):.4g} deg/s")
         if self.shoe_threshold is not None and self.detector != "shoe":
             raise ValueError("shoe_threshold needs detector 'shoe'")
         self.detector_params()                       # the detector's own checks (e.g. gravity's range), once, here
@@ -215,6 +229,43 @@ def find_rests(accel_m_s2, dt_s: float, config: RestsConfig, *, gyro_rad_s=None,
     return find_rests_trusted(a, g, dt, t, config)
 
 
+def rests_record(accel_m_s2, dt_s: float, config: RestsConfig, *, gyro_rad_s=None, time_s=None,
+                 unit_stated: str | None = None) -> tuple[rest_detection.RestReport, dict | None]:
+    """The rests of one recorded log (``mtcal rests``) and, when they used the gyro, its units check.
+
+    :func:`find_rests`, then the gyro's units and time base checked against the accelerometer as
+    ``mtcal attitude``/``axis`` check them (:func:`mtcal.systems.plausibility.check_record_units`: rest pairs,
+    tilt rate, gravity tracking; a stated unit that no check decides is used with a warning). Returns
+    ``(report, units check or None)``; the check is None without a gyro or with ``config.use_gyro`` False.
+
+    Raises
+    ------
+    ValueError
+        Bad arrays; a gyro the units check refuses (with the rests found as ``exc.rests``).
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(0)
+    >>> acc = np.array([0.0, 0.0, 9.81]) + 0.02 * rng.standard_normal((1000, 3))
+    >>> rep, chk = rests_record(acc, 0.01, RestsConfig(), gyro_rad_s=0.002 * rng.standard_normal((1000, 3)))
+    >>> len(rep.rests), chk["method"]
+    (1, 'no rotation')
+    """
+    from mtcal.systems import plausibility
+
+    if not isinstance(config, RestsConfig):
+        raise TypeError(f"config must be a RestsConfig, got {type(config).__name__}")
+    a, g, dt, t = checked_record(accel_m_s2, dt_s, gyro_rad_s if config.use_gyro else None, time_s)
+    rep = find_rests_trusted(a, g, dt, t, config)
+    if g is None:
+        return rep, None
+    try:
+        return rep, plausibility.check_record_units(g, a, dt, t, rep.rests, unit_stated=unit_stated)
+    except ValueError as exc:
+        exc.rests = rep
+        raise
+
+
 def find_rests_trusted(a: np.ndarray, g: np.ndarray | None, dt: float, t: np.ndarray,
                        config: RestsConfig) -> rest_detection.RestReport:
     """:func:`find_rests` on a record a system checked at its edge (:func:`checked_record`): the same report.
@@ -274,3 +325,52 @@ def rests_table(time_s, accel_m_s2, report: rest_detection.RestReport, *, gyro_r
         for i, ax in enumerate("xyz"):
             cols[f"gyro_{ax}_deg_s"] = gm[:, i]
     return cols
+
+
+def no_rests_evidence(report: rest_detection.RestReport, time_s=None) -> str:
+    """Why a detector found no rest, in one line with the evidence and the rest options that would find one.
+
+    Checked in order: the ``‖a‖`` band misses the level measured over the stillest windows of the record
+    (``report.extra["measured_gravity_m_s2"]``: the paper's fixed band, or a stated ``--gravity``); still
+    stretches shorter than ``--min-rest-s``; otherwise the first rejected stretch's reason, or no still
+    stretch at all. A report with rests gives ``""``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> acc = np.tile([0.0, 0.0, 9.89], (500, 1))
+    >>> rep = find_rests(acc, 0.01, RestsConfig.paper())
+    >>> no_rests_evidence(rep)[:73]
+    "the paper's fixed |a| band 9.760-9.840 m/s^2, misses the |a| 9.8900 m/s^2"
+    """
+    if report.rests:
+        return ""
+    measured = report.extra.get("measured_gravity_m_s2")
+    lo, hi = report.band_m_s2
+    if measured is not None and report.method != "shoe" and not lo < measured < hi:
+        if report.method == "paper":
+            what, fix = "the paper's fixed |a| band", ("--rest-detector adaptive (the default) measures the level; "
+                                                     "the paper's band fits only a sensor reading 9.76-9.84 m/s^2")
+        elif abs(report.gravity_m_s2 - measured) > 1e-9 * measured:
+            what = f"the |a| band about --gravity {report.gravity_m_s2:.5g} m/s^2,"
+            fix = "drop --gravity (default: measured) or state the |a| this sensor reads at rest"
+        else:
+            what, fix = "the |a| band", "widen --accel-band"
+        return (f"{what} {lo:.3f}-{hi:.3f} m/s^2, misses the |a| {measured:.4f} m/s^2 measured in the stillest "
+                f"stretch of the log; {fix}")
+    short = [r for r in report.rejected if r.reason.startswith("too short")]
+    if short or (report.n_short and not report.rejected):
+        if short and time_s is not None:
+            t = np.asarray(time_s)
+            longest = max(float(t[r.span.stop - 1] - t[r.span.start]) for r in short)
+            seen = f"{len(short)} still stretch(es) up to {longest:.3g} s"
+        else:
+            seen = f"{max(len(short), report.n_short)} still stretch(es)"
+        return f"{seen} shorter than --min-rest-s {report.min_rest_s:g} s; lower --min-rest-s"
+    if report.rejected:
+        return (f"{len(report.rejected)} quiet stretch(es) rejected, the first because {report.rejected[0].reason}")
+    if report.method == "shoe":
+        return (f"the SHOE statistic never stays below gamma {report.extra.get('threshold', float('nan')):.4g} for "
+                f"--min-rest-s {report.min_rest_s:g} s; raise --shoe-threshold or --gyro-threshold-deg-s")
+    return (f"no still stretch of >= --min-rest-s {report.min_rest_s:g} s (|a| at rest {report.gravity_m_s2:.4f} "
+            f"m/s^2, band {lo:.3f}-{hi:.3f} m/s^2); the log never rests")

@@ -476,10 +476,7 @@ def surface_axis_record(accel_m_s2, config: AxisRecordConfig, *, fs_hz: float, t
     chk = None
     try:
         if g is not None:  # the rests used the gyro: its units and the time base must fit
-            weights = plausibility.time_base(a.shape[0], time_s=t)[1]
-            chk = plausibility.check_units(g if weights is None else g * weights[:, None], a, dt, rep.rests,
-                                           time_s=t, skip=plausibility.clipped_samples(g)[0],
-                                           unit_stated=unit_stated)
+            chk = plausibility.check_record_units(g, a, dt, t, rep.rests, unit_stated=unit_stated)
         if len(rep.rests) == 0:
             raise ValueError(f"found only 0 rests of >= {rep.min_rest_s:g} s ({rep.levels_text()}); "
                              f"the axis needs rests at three distinct tilts")

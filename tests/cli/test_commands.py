@@ -147,7 +147,7 @@ def test_calibrate_four_positions_note_and_three_refused(tmp_path, capsys):
     (json.dumps({"format": "mtcal-calibration/1", "q_hat": [[0.0] * 4] * 4}), "not an installation calibration"),
     (json.dumps({"format": "mtcal-calibration/1", "q_hat": (10 * np.eye(4)).tolist()}), "18 from the nearest rotation"),
     (json.dumps({"format": "mtcal-calibration/1", "q_hat": [[True, False, False, False]] * 4}),
-     "not an installation calibration"),
+     "q_hat must be a 4x4 array of numbers, not true/false"),
 ])
 def test_apply_bad_calibration_file(hinge, tmp_path, capsys, content, match):
     _, path = hinge
