@@ -261,12 +261,8 @@ def _print_result(args, out, log, doc: dict, res) -> None:
         lines += common.report_lines(log, rep, angle_deg=eb[:, 1], angle_name="pitch_deg")
     if bias is not None:
         lines.append(bias)
-    if res.qncf is not None and rep is not None:
-        from mtcal.systems.attitude import amd_gate_evidence
-
-        gate = amd_gate_evidence(res.qncf.params, rep)
-        if gate:
-            lines.append(f"warning: {gate}")
+    if res.qncf is not None and res.qncf.gate_warning:
+        lines.append(f"warning: {res.qncf.gate_warning}")
     mount = np.degrees(res.mounting_euler_rad)
     lines += [f"body attitude {how}",
               f"mounting q_bs = [{', '.join(f'{v:+.6f}' for v in res.q_bs)}] (sensor on the body at yaw {mount[0]:+.4f}, "

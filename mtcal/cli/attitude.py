@@ -43,7 +43,7 @@ def run(args: argparse.Namespace) -> int:
     out = common.table_output(args, [args.log])
 
     def body() -> int:
-        from mtcal.systems.attitude import amd_gate_evidence, attitude_record
+        from mtcal.systems.attitude import attitude_record
 
         log = logio.read_log(args.log, common.input_options(args), need="raw")
         fig.log = log
@@ -72,9 +72,8 @@ def run(args: argparse.Namespace) -> int:
                   f"{info['levelled_from']}")
             if "gyro_bias_text" in info:
                 print(info["gyro_bias_text"])
-            gate = amd_gate_evidence(res.setup.params, rep)
-            if gate:
-                print(f"warning: {gate}")
+            if res.setup.gate_warning:
+                print(f"warning: {res.setup.gate_warning}")
         else:
             print(f"{args.filter}: {res.gain_text}")
         print(f"attitude: {log.n} samples written to {out}; final yaw/pitch/roll "

@@ -15,7 +15,7 @@ __all__ = ["add_input_options", "add_rest_options", "input_options", "rests_conf
            "qncf_info", "rest_table", "print_report", "report_lines", "units_check_line",
            "finite_float", "table_output", "LOG_FORMATS", "DiagnosticsFigure", "run_with_figure", "SCHEMA_HELP", "description_with_schema",
            "QUATERNION_DECIMALS", "write_attitude", "euler_deg", "rest_bias_text",
-           "print_units_check", "no_rests_lines"]
+           "print_units_check"]
 
 SCHEMA_HELP = """log schema (CSV, comma/semicolon/tab, or Parquet .parquet/.pq: header row, one row per sample; extra
 columns ignored; or N x 3 arrays of a MATLAB .mat (v5, v7.3) / HDF5 .h5/.hdf5 file: --columns
@@ -286,7 +286,13 @@ def report_lines(log: logio.ImuLog, report: rest_detection.RestReport, angle_deg
 
     Built from the finished report, the table first, so a command computes its summary and prints it after.
     """
+    from mtcal.systems.rests import no_rests_evidence
+
     table = ["  " + line for line in rest_table(log, report, angle_deg, angle_name, extra)]
+    # without rests: one warning line with the evidence (not a refusal: the user configured the detector; the
+    # commands say what they did instead, e.g. the QNCF levelled from the first 100 samples, no gyro bias removed)
+    warn = ([] if report.rests else
+            [f"warning: no rest found by the {report.method} detector: {no_rests_evidence(report, log.time_s)}"])
     rejected = [f"  rejected {log.time_s[rej.span.start]:.3f}-{log.time_s[rej.span.stop - 1]:.3f} s: {rej.reason}"
                 for rej in report.rejected[:10]]
     if len(report.rejected) > 10:
@@ -296,20 +302,7 @@ def report_lines(log: logio.ImuLog, report: rest_detection.RestReport, angle_deg
             + (f"; {'; '.join(log.notes)}" if log.notes else ""),
             report.levels_text(),
             f"rests: {len(report.rests)} of >= {report.min_rest_s:g} s (duration stop_s - start_s){n_rej}"]
-    return head + table + rejected + no_rests_lines(log, report)
-
-
-def no_rests_lines(log: logio.ImuLog, report: rest_detection.RestReport) -> list[str]:
-    """The one ``warning:`` line of a report without rests (:func:`mtcal.systems.rests.no_rests_evidence`), or none.
-
-    Not a refusal: the user configured the detector; the commands say what they did instead (e.g. the QNCF
-    levelled from the first 100 samples with no gyro bias removed).
-    """
-    from mtcal.systems.rests import no_rests_evidence
-
-    if report.rests:
-        return []
-    return [f"warning: no rest found by the {report.method} detector: {no_rests_evidence(report, log.time_s)}"]
+    return head + table + rejected + warn
 
 
 def _envelope(t: np.ndarray, y: np.ndarray, buckets: int = 3000):

@@ -102,6 +102,9 @@ class QncfLogSetup:
         The rest part the bias came from.
     levelled_from : str
         Where the start attitude came from, in words.
+    gate_warning : str
+        :func:`amd_gate_evidence` of ``params`` and the rests: why the AMD gate shuts the accelerometer out
+        even at rest, or ``""``.
     """
 
     gyro_rad_s: np.ndarray
@@ -110,6 +113,7 @@ class QncfLogSetup:
     bias_rad_s: np.ndarray
     quiet_core: rest_detection.QuietCore | None
     levelled_from: str
+    gate_warning: str = ""
 
 
 def qncf_log_setup(filter_gyro_rad_s, accel_m_s2, dt_s: float, rep: rest_detection.RestReport, *,
@@ -166,7 +170,7 @@ def qncf_log_setup(filter_gyro_rad_s, accel_m_s2, dt_s: float, rep: rest_detecti
         q0 = level_quat_zxy(accel_m_s2[core.core].mean(axis=0))  # the QNCF's levelling (Eq 9)
         bias = core.bias_rad_s
         return QncfLogSetup(filter_gyro_rad_s - bias, params, q0, bias, core,
-                            "first rest (gyro bias of its quiet core removed)")
+                            "first rest (gyro bias of its quiet core removed)", amd_gate_evidence(params, rep))
     if paper:
         why = "the paper's QNCF: default gains"
     elif not rep.rests:
@@ -174,7 +178,7 @@ def qncf_log_setup(filter_gyro_rad_s, accel_m_s2, dt_s: float, rep: rest_detecti
     else:
         why = f"the log does not start at rest: its first rest starts at sample {first.start}"
     return QncfLogSetup(filter_gyro_rad_s, params, None, np.zeros(3), None,
-                        f"first 100 samples ({why}; no initial gyro bias removed)")
+                        f"first 100 samples ({why}; no initial gyro bias removed)", amd_gate_evidence(params, rep))
 
 
 def amd_gate_evidence(params: QncfParams, rep: rest_detection.RestReport) -> str:
