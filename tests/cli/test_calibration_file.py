@@ -1,44 +1,11 @@
 """A reviewer's CLI failures (s18): every field of a calibration file is checked when it is read (one line naming
 the file and the field, the existing output untouched); ``calibrate --out`` writes only a .json file."""
 
-import json
-
 import numpy as np
 import pytest
 
-from mtcal import cli
 from mtcal.cli.apply import check_calibration_fields
-from tests.cli import logs
-
-
-def _run(args, capsys):
-    code = cli.main([str(a) for a in args])
-    out, err = capsys.readouterr()
-    return code, out, err
-
-
-def _refused(code, err, *needles):
-    assert code == 2, err
-    assert err.startswith("mtcal: error: ") and err.count("\n") == 1 and "Traceback" not in err, err
-    for n in needles:
-        assert n in err, err
-
-
-@pytest.fixture(scope="module")
-def heavy(tmp_path_factory):
-    """A hinge log whose sensor reads |a| ~ 9.97 m/s^2 (1.7 % scale error): outside the paper's band."""
-    d = tmp_path_factory.mktemp("heavy")
-    return logs.hinge_log(g_error=0.017).write(d / "hinge.csv")
-
-
-def _calibration(tmp_path, **fields):
-    doc = {"format": "mtcal-calibration/2", "format_version": 2, "q_hat": np.eye(4).tolist(),
-           "residual_deg": [0.01] * 6, "positions_deg": [[0.0, 0.0, 0.0]] * 6,
-           "installation_angles_1sigma_deg": {"alpha1_z": 0.1, "alpha2_y": 0.1, "alpha3_x": 0.1},
-           "mounting_quaternion_q_bs": [1.0, 0.0, 0.0, 0.0], **fields}
-    path = tmp_path / "Q.json"
-    path.write_text(json.dumps(doc))
-    return path
+from tests.cli.runner import calibration_file as _calibration, refused as _refused, run as _run
 
 
 # -- 2. calibration files: every field checked when read, the output untouched ---------------------------------

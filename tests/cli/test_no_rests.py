@@ -1,33 +1,9 @@
 """A reviewer's CLI failures (s18): a log in which the rest options find no rest is not answered silently:
 one ``warning:`` line with the evidence, and the commands say what they did instead (attitude, apply, rests)."""
 
-import json
-
-import numpy as np
 import pytest
 
-from mtcal import cli
-from tests.cli import logs
-
-
-def _run(args, capsys):
-    code = cli.main([str(a) for a in args])
-    out, err = capsys.readouterr()
-    return code, out, err
-
-
-def _refused(code, err, *needles):
-    assert code == 2, err
-    assert err.startswith("mtcal: error: ") and err.count("\n") == 1 and "Traceback" not in err, err
-    for n in needles:
-        assert n in err, err
-
-
-@pytest.fixture(scope="module")
-def heavy(tmp_path_factory):
-    """A hinge log whose sensor reads |a| ~ 9.97 m/s^2 (1.7 % scale error): outside the paper's band."""
-    d = tmp_path_factory.mktemp("heavy")
-    return logs.hinge_log(g_error=0.017).write(d / "hinge.csv")
+from tests.cli.runner import calibration_file as _calibration, run as _run
 
 
 def _warnings(out):
@@ -60,16 +36,6 @@ def test_attitude_with_rests_prints_no_rest_warning(heavy, tmp_path, capsys):
     assert code == 0 and not _warnings(out) and "levelled from the first rest" in out
 
 
-def _calibration(tmp_path, **fields):
-    doc = {"format": "mtcal-calibration/2", "format_version": 2, "q_hat": np.eye(4).tolist(),
-           "residual_deg": [0.01] * 6, "positions_deg": [[0.0, 0.0, 0.0]] * 6,
-           "installation_angles_1sigma_deg": {"alpha1_z": 0.1, "alpha2_y": 0.1, "alpha3_x": 0.1},
-           "mounting_quaternion_q_bs": [1.0, 0.0, 0.0, 0.0], **fields}
-    path = tmp_path / "Q.json"
-    path.write_text(json.dumps(doc))
-    return path
-
-
 def test_apply_without_rests_says_what_it_did(heavy, tmp_path, capsys):
     """apply behaves as attitude: the warning, and the QNCF's real start (not 'levelled from the first rest')."""
     q = _calibration(tmp_path)
@@ -85,8 +51,6 @@ def test_apply_without_rests_says_what_it_did(heavy, tmp_path, capsys):
 def test_rests_without_rests_warns(heavy, capsys):
     code, out, err = _run(["rests", heavy, "--gravity", "9.80665"], capsys)
     assert code == 0 and len(_warnings(out)) == 1
-
-
 
 
 # -- the QNCF's AMD gate shut at rest: said, with the evidence ---------------------------------------------------

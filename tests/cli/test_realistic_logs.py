@@ -11,25 +11,12 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from mtcal import cli
 from mtcal.core import rotations
 
 from . import logs
+from tests.cli.runner import refused as _refused, run as _run
 
 TOL_DEG = 1.5
-
-
-def _run(args, capsys):
-    code = cli.main([str(a) for a in args])
-    cap = capsys.readouterr()
-    return code, cap.out, cap.err
-
-
-def _refused(code, err, *needles):
-    assert code == 2, err
-    assert err.startswith("mtcal: error: ") and err.count("\n") == 1, err
-    for n in needles:
-        assert n in err, err
 
 
 def _axis(out):

@@ -4,21 +4,8 @@ one line, the --out table not written; a correct log prints its units check line
 
 import pytest
 
-from mtcal import cli
 from tests.cli import logs
-
-
-def _run(args, capsys):
-    code = cli.main([str(a) for a in args])
-    out, err = capsys.readouterr()
-    return code, out, err
-
-
-def _refused(code, err, *needles):
-    assert code == 2, err
-    assert err.startswith("mtcal: error: ") and err.count("\n") == 1 and "Traceback" not in err, err
-    for n in needles:
-        assert n in err, err
+from tests.cli.runner import refused as _refused, run as _run
 
 
 @pytest.fixture(scope="module")

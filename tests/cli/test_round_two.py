@@ -7,24 +7,11 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from mtcal import cli
 from mtcal.systems import plausibility
 from tests.cli import logs
+from tests.cli.runner import refused as _refused, run as _run
 
 ISSUE_AXIS = "0.17339349,0.98346307,0.05229804"
-
-
-def _run(args, capsys):
-    code = cli.main([str(a) for a in args])
-    out, err = capsys.readouterr()
-    return code, out, err
-
-
-def _refused(code, err, *needles):
-    assert code == 2, err
-    assert err.startswith("mtcal: error: ") and err.count("\n") == 1 and "Traceback" not in err, err
-    for n in needles:
-        assert n in err, err
 
 
 # -- 1. no answer without a units check ------------------------------------------------------------------
