@@ -22,10 +22,10 @@ The messages name the ``mtcal`` options that fix a log (``--gyro-unit``,
   (:mod:`mtcal.methods.tilt_rate`), then gravity tracking on short windows
   (:mod:`mtcal.methods.gravity_tracking`: which unit/time-base hypothesis
   carries the accelerometer's direction), then a rate bound for rotations about
-  gravity; a record whose rotation none of them can check is accepted in the
-  stated unit (option or unit-carrying header) or, none stated, the documented
-  default rad/s, with a warning naming the evidence — unless the tilt rate leans
-  against that unit, which is refused with the likeliest cause first.
+  gravity; a record whose rotation none of them can check is refused with a
+  one-line error naming ``--gyro-unit`` and the evidence — unless the unit was
+  stated (option or unit-carrying header), which is accepted with a warning naming
+  the evidence, or refused when the tilt rate leans against it (likeliest cause first).
 
 References
 ----------
@@ -278,12 +278,12 @@ def check_units(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: float, res
        (no centripetal acceleration: a deg/s rate read as rad/s); a gyro clipped
        (``skip``) at a plateau of :data:`MIN_FULL_SCALE_RAD_S` … 40 rad/s has a
        full scale that only rad/s explains (read as deg/s it would be > 40
-       rad/s and refused on reading); anything else is accepted in the stated
-       unit (``unit_stated``) or, none stated, the documented default rad/s, the
-       result's ``warning`` naming the evidence (method ``"stated unit (unchecked)"``
-       or ``"default unit (unchecked)"``) — refused when the tilt rate leans
-       against it: correlation ≥ :data:`MIN_LEAN_CORRELATION` with a scale off by
-       more than :data:`MAX_LEAN_RATIO` (the hint names the scale's likeliest cause).
+       rad/s and refused on reading); anything else is refused (the hint guesses
+       no unit) — unless ``unit_stated``: a stated unit is accepted, the result's
+       ``warning`` naming the evidence (method ``"stated unit (unchecked)"``), not
+       when the tilt rate leans against it: correlation ≥ :data:`MIN_LEAN_CORRELATION`
+       with a scale off by more than :data:`MAX_LEAN_RATIO` (the hint names the
+       scale's likeliest cause).
 
     The records are the checked arrays of the caller's edge (a system's, or the log reader's): finite
     float64 (N, 3) of one shape, ``dt_s`` finite > 0; they are not checked again here.
@@ -311,13 +311,14 @@ def check_units(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: float, res
     dict
         ``method`` (which check decided), ``pairs``, ``worst_deg``, ``ratio``
         (rest-pair checks; 0/NaN otherwise), ``evidence`` (one line) and, when no
-        check could decide the unit (stated, or the default rad/s), ``warning`` (one line).
+        check could decide a stated unit, ``warning`` (one line).
 
     Raises
     ------
     ValueError
         A check finds the gyro off (the message names the scale that fits and
-        ``--gyro-unit``/``--time-unit``), or no check decides and the tilt rate leans against the unit.
+        ``--gyro-unit``/``--time-unit``), nothing can check a rotating gyro whose unit was not stated, or no
+        check decides a stated unit and the tilt rate leans against it.
 
     References
     ----------
@@ -426,9 +427,10 @@ def check_units(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: float, res
     if unit_stated:
         return {**out, "method": "stated unit (unchecked)", "evidence": detail,
                 "warning": f"gyro unit as stated ({unit_stated}) not checked: no check decides ({detail}){weak}"}
-    return {**out, "method": "default unit (unchecked)", "evidence": detail,
-            "warning": f"gyro unit rad/s (the documented default; no unit stated) not checked: no check decides "
-                       f"({detail}){weak or '; if the log is not in rad/s state --gyro-unit'}"}
+    # no unit stated and nothing decides: refused (a deg/s log read as rad/s would be 57x off); the hint guesses no
+    # unit the evidence does not support
+    raise ValueError(f"cannot check the gyro units: state the unit with --gyro-unit (rad/s, the default, or deg/s) "
+                     f"and check --time-unit, or record rests at different tilts; {detail}{weak}")
 
 
 def check_record_units(gyro_rad_s: np.ndarray, accel_m_s2: np.ndarray, dt_s: float, time_s: np.ndarray, rests: list,

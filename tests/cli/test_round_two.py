@@ -57,17 +57,15 @@ def test_very_slow_moves_no_rest_pair_checked_by_tilt_rate(tmp_path, capsys):
     assert code == 0, err
 
 
-def test_check_units_warns_on_what_it_cannot_check():
-    """No check decides: the documented default rad/s is used with a warning giving the evidence (s18: this was
-    refused with a '(deg/s?)' hint the evidence did not support, blocking correct rad/s logs with custom headers)."""
+def test_check_units_refuses_what_it_cannot_check():
     rng = np.random.default_rng(0)
     n, dt = 4000, 0.01
     accel = np.tile([0.0, 0.0, 9.81], (n, 1)) + rng.normal(0, 0.3, (n, 3))  # noisy, no tilt information
     gyro = np.zeros((n, 3))
     gyro[1000:3000, 0] = 0.5 * np.sin(np.linspace(0, 6 * np.pi, 2000))     # tilting per the gyro only
     accel[1000:3000] += rng.normal(0, 3.0, (2000, 3))                       # ... while the accel is shaken
-    res = plausibility.check_units(gyro, accel, dt, [])
-    assert res["method"] == "default unit (unchecked)" and "no check decides" in res["warning"], res
+    with pytest.raises(ValueError, match="gyro"):
+        plausibility.check_units(gyro, accel, dt, [])
 
 
 def test_check_units_fast_turn_about_gravity_without_centripetal_refused():

@@ -115,19 +115,18 @@ def test_check_units_checks_the_skip_mask():
         plausibility.check_units(w, f, DT_S, [], skip=np.zeros(10, bool))
 
 
-def test_check_units_no_rotation_and_undecided():
-    """A rotation no check can decide is used in the stated unit or the documented default rad/s, with a warning
-    giving the evidence and suggesting no unit the evidence does not support (it was refused with '(deg/s?)')."""
+def test_check_units_no_rotation_and_refusal():
     f = np.tile([0.0, 0.0, 9.81], (1000, 1))
     assert plausibility.check_units(np.zeros((1000, 3)), f, DT_S, [])["method"] == "no rotation"
     rng = np.random.default_rng(3)
     shaken = f + rng.normal(0, 4.0, f.shape)          # no gravity reading to compare with
     w = np.zeros((1000, 3))
     w[200:800, 0] = 0.4                                # a tilt the accelerometer cannot confirm
-    res = plausibility.check_units(w, shaken, DT_S, [])
-    assert res["method"] == "default unit (unchecked)", res
-    assert res["warning"].startswith("gyro unit rad/s (the documented default; no unit stated) not checked")
-    assert "deg/s" not in res["warning"].split("; gravity tracking")[0]
+    with pytest.raises(ValueError, match="(cannot check the gyro units|gyro implausible).*"):
+        plausibility.check_units(w, shaken, DT_S, [])
+    # the refusal guesses no unit the evidence does not support; a stated unit is used, with the evidence
+    with pytest.raises(ValueError, match=r"state the unit with --gyro-unit \(rad/s, the default, or deg/s\)"):
+        plausibility.check_units(w, shaken, DT_S, [])
     stated = plausibility.check_units(w, shaken, DT_S, [], unit_stated="--gyro-unit rad/s")
     assert stated["method"] == "stated unit (unchecked)" and "(--gyro-unit rad/s)" in stated["warning"]
 
