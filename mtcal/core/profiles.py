@@ -32,7 +32,7 @@ from mtcal.core import rotations
 from mtcal.core.validate import as_float_array, positive_scalar, unit_quaternion
 from mtcal.core.simulate import Trajectory
 
-__all__ = ["AngleProfile", "step_schedule", "sinusoid", "constant_rate", "join_profiles",
+__all__ = ["AngleProfile", "middle_slices", "step_schedule", "sinusoid", "constant_rate", "join_profiles",
            "trajectory_from_euler_zxy", "fixed_axis_trajectory", "fixed_axis_imu_truth", "lever_arm_accel_b"]
 
 
@@ -64,13 +64,41 @@ class AngleProfile:
         """Sample rate (Hz)."""
         return 1.0 / float(self.time_s[1] - self.time_s[0])
 
-    def hold_slices(self) -> list[slice]:
-        """Sample slices of each hold, in waypoint order."""
+    def hold_slices(self, span: slice | None = None, fraction: float = 1.0) -> list[slice]:
+        """Sample slices of each hold, in waypoint order: those inside ``span`` (default all), each cut to its
+        central ``fraction`` (0 < fraction ≤ 1, :func:`middle_slices`).
+
+        Examples
+        --------
+        >>> prof = step_schedule(np.radians([[0, 0, 0], [0, 10, 0], [0, 0, 0]]), np.radians(10.0), [1.0, 2.0, 1.0], 10.0)
+        >>> prof.hold_slices(), prof.hold_slices(slice(5, 40), 0.5)
+        ([slice(0, 10, None), slice(20, 40, None), slice(50, 60, None)], [slice(6, 8, None), slice(25, 35, None)])
+        """
+        seg_all = self.segment if span is None else self.segment[span]
+        start = 0 if span is None else span.start
         out = []
-        for seg in np.unique(self.segment[self.segment % 2 == 0]):
-            idx = np.flatnonzero(self.segment == seg)
+        for seg in np.unique(seg_all[seg_all % 2 == 0]):
+            idx = np.flatnonzero(seg_all == seg) + start
             out.append(slice(int(idx[0]), int(idx[-1]) + 1))
-        return out
+        return out if fraction == 1.0 else middle_slices(out, fraction)
+
+
+def middle_slices(windows: list[slice], fraction: float = 0.5) -> list[slice]:
+    """The central ``fraction`` (0 < fraction ≤ 1, trusted) of each window: ``max(1, round(n · fraction))``
+    samples, centred (the "middle section" of a rest or hold).
+
+    Examples
+    --------
+    >>> middle_slices([slice(1000, 4000)], 0.5)
+    [slice(1750, 3250, None)]
+    """
+    out = []
+    for r in windows:
+        n = r.stop - r.start
+        m = max(1, int(round(n * fraction)))
+        a = r.start + (n - m) // 2
+        out.append(slice(a, a + m))
+    return out
 
 
 def _quintic(tau: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -68,6 +68,7 @@ from __future__ import annotations
 
 import math
 import sys
+import threading
 from dataclasses import dataclass, field
 
 import numba
@@ -83,7 +84,7 @@ from mtcal.core.validate import (STANDARD_GRAVITY_M_S2, as_float_array, positive
 __all__ = ["Trajectory", "SensorErrors", "ImuErrorModel", "ImuRecord", "ImuStream", "body_rates",
            "specific_force", "simulate_imu", "apply_sensor_errors", "integrate_gyro", "tilted_trajectory",
            "TiltedTrajectories", "GRAVITY_W_M_S2", "fill_streams", "fill_streams_grouped", "noise_mismatch",
-           "load_tilt_outputs"]
+           "load_tilt_outputs", "gravity_lateral_axis", "RecordPiece", "RecordSource"]
 
 #: Default world gravity vector, z-up frame (m/s²).
 GRAVITY_W_M_S2 = (0.0, 0.0, -STANDARD_GRAVITY_M_S2)
@@ -1516,6 +1517,171 @@ def load_tilt_outputs(gyro_rad_s, accel_m_s2, q_wb, dt_s: float, q_mount, tilt_r
         d = s[:, None] * tilt_s[k]
         accel_m_s2[k] -= np.cross(d, accel_m_s2[k])
         gyro_rad_s[k] += s_dot[:, None] * tilt_s[k] - np.cross(d, gyro_rad_s[k])
+
+
+def gravity_lateral_axis(q_wb) -> np.ndarray:
+    """The lateral load axis ``ẑ_b × ĝ_b`` (N, 3) of a body attitude ``q_wb`` (N, 4), ĝ_b unit gravity in body axes.
+
+    Zero when level, unit about the lateral axis at 90° of roll or pitch: the axis a compliant mount
+    tilts about in proportion to the lateral load (:func:`tilted_trajectory` with it).
+
+    Examples
+    --------
+    >>> q = np.array([[1.0, 0.0, 0.0, 0.0], [np.cos(np.pi / 4), np.sin(np.pi / 4), 0.0, 0.0]])
+    >>> (gravity_lateral_axis(q).round(12) + 0.0).tolist()
+    [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]]
+    """
+    g_b = -rotations.quat_to_matrix(q_wb)[:, 2, :]
+    return np.stack([-g_b[:, 1], g_b[:, 0], np.zeros(len(g_b))], axis=-1)
+
+
+@dataclass(frozen=True)
+class RecordPiece:
+    """One block of trials of a :class:`RecordSource`: its sensor, its generator and its own changes.
+
+    Attributes
+    ----------
+    trials : int
+        Trials of the block (≥ 1).
+    model : ImuErrorModel
+        The block's sensor (mounting, error values).
+    rng : numpy.random.Generator
+        The block's IMU noise generator (:class:`ImuStream`).
+    tilt_gain : float
+        Gain of the source's tilt axis for this block's truth (rad per unit; 0: the base attitude).
+    accel_step_m_s2 : ndarray, shape (trials, 1, 3), optional
+        An accelerometer bias change per trial (m/s²), added from the source's ``step_start`` sample on
+        (a run-to-run change between two runs of one session).
+    load_tilt_rad : ndarray, shape (trials, 3), optional
+        A per-trial mount tilt per g of normal load (rad, body axes; :func:`load_tilt_outputs`).
+    """
+
+    trials: int
+    model: ImuErrorModel
+    rng: np.random.Generator
+    tilt_gain: float = 0.0
+    accel_step_m_s2: np.ndarray | None = None
+    load_tilt_rad: np.ndarray | None = None
+
+
+class RecordSource:
+    """Stacked IMU records of Monte Carlo blocks on one truth base, simulated when a consumer asks for them.
+
+    Each :class:`RecordPiece` is a block of trials with its own sensor and generator, its truth the base
+    attitude tilted by its ``tilt_gain`` about ``tilt_axis`` (:class:`TiltedTrajectories`). A consumer (a
+    measurement procedure) asks for some blocks at a time (:meth:`fill`): they are simulated into one
+    reused buffer (:meth:`ImuStream.fill`; blocks of a group that draw the same noise together,
+    :func:`fill_streams_grouped`), then each block's bias step and load tilt are added. Blocks of equal
+    gain share one truth trajectory (its outputs computed once), dropped after its last block took it.
+    The numbers of a block depend on its own settings alone: the same bits whichever blocks are filled
+    with it, in whatever groups, on whatever threads.
+
+    Parameters
+    ----------
+    time_s : ndarray, shape (N,)
+        Uniform time grid (s) of the truth.
+    q_base : ndarray, shape (N, 4)
+        Base body attitude (body → world, unit).
+    pieces : sequence of RecordPiece
+    dt_s : float
+        Sample interval (s) of the load tilt's rate (:func:`load_tilt_outputs`).
+    tilt_axis : ndarray, shape (N, 3), optional
+        Tilt axis per unit gain (e.g. :func:`gravity_lateral_axis`), needed when a gain is not 0.
+    step_start : int, optional
+        First sample of the blocks' accelerometer bias steps, needed when a block has one.
+
+    Examples
+    --------
+    >>> from mtcal.core.rng import stream_rng
+    >>> t = np.arange(0, 1, 0.01)
+    >>> q = np.tile([1.0, 0.0, 0.0, 0.0], (t.size, 1))
+    >>> noisy = ImuErrorModel(accel=SensorErrors(noise_density=1e-3))
+    >>> step = np.full((2, 1, 3), 0.5)
+    >>> src = RecordSource(t, q, [RecordPiece(2, noisy, stream_rng(1, 0)), RecordPiece(2, noisy, stream_rng(1, 0),
+    ...                    accel_step_m_s2=step)], 0.01, step_start=50)
+    >>> gyro, accel = src.fill([0, 1], [[0, 1]])
+    >>> gyro.shape, bool(np.allclose(accel[2:, 50:] - accel[:2, 50:], 0.5)), bool(np.array_equal(accel[2:, :50], accel[:2, :50]))
+    ((4, 100, 3), True, True)
+    """
+
+    def __init__(self, time_s, q_base, pieces, dt_s: float, *, tilt_axis=None, step_start: int | None = None):
+        self.pieces = tuple(pieces)
+        if not self.pieces or not all(isinstance(p, RecordPiece) for p in self.pieces):
+            raise TypeError(f"pieces must be a non-empty sequence of RecordPiece, got {[type(p).__name__ for p in self.pieces]}")
+        self.time_s, self.q_base, self.dt_s, self.step_start = time_s, q_base, float(dt_s), step_start
+        gains = [float(p.tilt_gain) for p in self.pieces]
+        if any(g != 0.0 for g in gains) and tilt_axis is None:
+            raise ValueError("tilt_axis is needed when a piece's tilt_gain is not 0")
+        if any(p.accel_step_m_s2 is not None for p in self.pieces) and step_start is None:
+            raise ValueError("step_start is needed when a piece has an accel_step_m_s2")
+        self._family = None if tilt_axis is None else TiltedTrajectories(time_s, q_base, tilt_axis)
+        self._uses = {}
+        for g in gains:
+            self._uses[g] = self._uses.get(g, 0) + 1
+        self._memo, self._lock = {}, threading.Lock()
+        self._gyro = self._accel = None
+
+    @property
+    def samples(self) -> int:
+        """Samples N of every record."""
+        return len(self.time_s)
+
+    def trials(self, indices) -> int:
+        """Trials of the blocks ``indices`` stacked."""
+        return sum(self.pieces[i].trials for i in indices)
+
+    def _trajectory(self, gain: float) -> Trajectory:
+        """The truth of ``gain``, computed by its first block (the others wait), dropped after its last."""
+        with self._lock:
+            entry = self._memo.get(gain)
+            if entry is None:
+                entry = self._memo[gain] = [threading.Lock(), None]
+        with entry[0]:
+            if entry[1] is None:
+                entry[1] = (Trajectory(self.time_s, self.q_base) if gain == 0.0 else self._family(gain))
+            traj = entry[1]
+        with self._lock:
+            self._uses[gain] -= 1
+            if self._uses[gain] == 0:
+                del self._memo[gain]
+        return traj
+
+    def fill(self, indices, groups, map_groups=None) -> tuple[np.ndarray, np.ndarray]:
+        """The records of blocks ``indices``, stacked in that order: ``(gyro_rad_s, accel_m_s2)``, each (T, N, 3).
+
+        ``groups`` partitions the positions ``0 … len(indices) − 1``: the blocks of a group are filled
+        together (their noise drawn once where shared); ``map_groups(fn, groups)`` (default: one after
+        the other) may spread the groups over threads. The arrays are views of a buffer this source
+        reuses at its next call (no fresh arrays per call): read them before asking again.
+        """
+        indices = list(indices)
+        total = self.trials(indices)
+        if self._gyro is None or self._gyro.shape[0] < total:
+            self._gyro, self._accel = np.empty((total, self.samples, 3)), np.empty((total, self.samples, 3))
+        gyro, accel = self._gyro[:total], self._accel[:total]
+        starts = np.cumsum([0] + [self.pieces[i].trials for i in indices]).tolist()
+        rows = [(gyro[a:b], accel[a:b]) for a, b in zip(starts[:-1], starts[1:])]
+
+        def simulate(group):
+            pieces = [self.pieces[indices[p]] for p in group]
+            trajs = [self._trajectory(float(piece.tilt_gain)) for piece in pieces]
+            streams = [ImuStream(traj, piece.model, rng=piece.rng, trials=piece.trials)
+                       for piece, traj in zip(pieces, trajs)]
+            fill_streams_grouped(streams, [rows[p] for p in group])
+            del streams
+            for p, piece, traj in zip(group, pieces, trajs):
+                g, acc = rows[p]
+                if piece.accel_step_m_s2 is not None:
+                    acc[:, self.step_start:] += piece.accel_step_m_s2
+                if piece.load_tilt_rad is not None:
+                    load_tilt_outputs(g, acc, traj.q_wb, self.dt_s, piece.model.q_mount, piece.load_tilt_rad)
+
+        if map_groups is None:
+            for group in groups:
+                simulate(group)
+        else:
+            list(map_groups(simulate, list(groups)))
+        return gyro, accel
 
 
 @jit

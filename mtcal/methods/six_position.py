@@ -44,7 +44,7 @@ from scipy.optimize import linear_sum_assignment
 from mtcal.core import metrics, rotations
 from mtcal.core.compiled import jit
 from mtcal.core.validate import as_float_array
-from mtcal.core.profiles import AngleProfile, step_schedule
+from mtcal.core.profiles import AngleProfile, middle_slices, step_schedule
 from mtcal.methods import constrained_fit, quaternion_lsq
 from mtcal.methods.constrained_fit import So4Projection
 
@@ -267,21 +267,6 @@ def still_rests(dt_s: float, min_rest_s: float = 2.0, window_s: float = 0.1,
     return find_rests(still, dt_s, min_rest_s)
 
 
-def middle_slices(rests: list[slice], fraction: float = 0.5) -> list[slice]:
-    """The central ``fraction`` (0 < fraction ≤ 1, trusted) of each rest ("middle section", §3.2).
-
-    Examples
-    --------
-    >>> middle_slices([slice(1000, 4000)], 0.5)
-    [slice(1750, 3250, None)]
-    """
-    out = []
-    for r in rests:
-        n = r.stop - r.start
-        m = max(1, int(round(n * fraction)))
-        a = r.start + (n - m) // 2
-        out.append(slice(a, a + m))
-    return out
 
 
 def mean_quaternion(q: np.ndarray, axis: int = -2) -> np.ndarray:

@@ -52,6 +52,8 @@ from numbers import Real
 import numpy as np
 
 from mtcal.core import montecarlo, rotations
+from mtcal.core.profiles import AngleProfile
+from mtcal.core.simulate import RecordSource
 from mtcal.core.validate import as_float_array, float64_array, positive_scalar, sample_interval, unit_quaternion
 from mtcal.filters.qncf import QncfParams, qncf, qncf_trusted
 from mtcal.methods import constrained_fit, six_position
@@ -64,7 +66,8 @@ __all__ = ["MODELS", "missing_rotation_axis", "MAX_CONDITION", "MAX_SO4_DISTANCE
            "calibrate_installation", "verify_installation", "apply_installation", "absolute_body_attitude",
            "mounting_from_q_hat", "installation_angles_sigma", "calibrate_record", "apply_record", "RecordCalibration",
            "RecordApplication", "RecordRefused", "RefusalDiagnosis", "MISMATCH_MESSAGES", "POSITION_MISTAKES",
-           "QUATERNION_CONVENTIONS", "SessionPiece", "SessionSweep", "SessionMeasurement", "measure_session"]
+           "QUATERNION_CONVENTIONS", "SessionPiece", "SessionSweep", "SessionMeasurement", "measure_session",
+           "measure_simulated_session"]
 
 #: Gate: condition number of ``A_q^s (A_q^s)ᵀ`` (Eq 13) above which the positions are refused.
 MAX_CONDITION = six_position.MAX_CONDITION
@@ -576,6 +579,27 @@ class SessionSweep:
     holds: dict
     decimation: int = 20
 
+    @classmethod
+    def from_schedule(cls, name: str, profile: AngleProfile, span: slice, channel: int, scored_channels: tuple,
+                      fractions, decimation: int = 20) -> "SessionSweep":
+        """The sweep over ``span`` of a step schedule: its reference the commanded angles, its holds the
+        schedule's holds inside the span between the first and the last (the sweep's points; the rests
+        before and after it dropped), each cut to the middle ``fraction`` for every fraction in ``fractions``
+        (:meth:`mtcal.core.profiles.AngleProfile.hold_slices`).
+
+        Examples
+        --------
+        >>> from mtcal.core.profiles import step_schedule
+        >>> prof = step_schedule(np.radians([[0, 0, 0], [0, 5, 0], [0, 10, 0], [0, 0, 0]]), np.radians(10.0),
+        ...                      [1.0, 2.0, 2.0, 1.0], 10.0)
+        >>> sw = SessionSweep.from_schedule("aoa", prof, slice(0, prof.time_s.size), 1, (2, 0), [0.5])
+        >>> sw.holds, sw.reference_rad.shape
+        ({0.5: [slice(20, 30, None), slice(45, 55, None)]}, (80, 3))
+        """
+        holds = {frac: [slice(h.start - span.start, h.stop - span.start)
+                        for h in profile.hold_slices(span, frac)][1:-1] for frac in dict.fromkeys(fractions)}
+        return cls(name, span, profile.angle_rad[span], channel, tuple(scored_channels), holds, decimation)
+
     @cached_property
     def table(self) -> np.ndarray:
         """The reference's angles with their cosines and sines (:func:`mtcal.core.montecarlo.truth_table`),
@@ -640,12 +664,12 @@ def _score_sweeps(sweeps, q_ws, q_hat, fraction: float, hold_errors, trace_row) 
     return scores, trace
 
 
-def _session_record(gyro_rad_s, accel_m_s2, dt_s, calibration_run, verification_run, reference_rad,
-                    pieces, sweeps) -> tuple:
-    """The edge of :func:`measure_session`: every input checked once (the records' type and shape; their
-    values are scanned by the QNCF's kernel as it filters). Returns ``(gyro, accel, dt, calibration run,
-    verification run, verification references or None, [(rows, positions, q_ref, fraction, hold errors,
-    trace row), …], sweeps)``; the config is checked by the caller."""
+def _session_record(shapes, dt_s, calibration_run, verification_run, reference_rad, pieces, sweeps) -> tuple:
+    """The edge of :func:`measure_session` and :func:`measure_simulated_session`: every input checked once, the
+    records by their ``shapes`` (gyro's, accel's) before they are read (their type by the caller; their values
+    are scanned by the QNCF's kernel as it filters). Returns ``(dt, calibration run, verification run,
+    verification references or None, [(rows, positions, q_ref, fraction, hold errors, trace row), …],
+    sweeps)``; the config is checked by the caller."""
     pieces = list(pieces)
     if not pieces or not all(isinstance(piece, SessionPiece) for piece in pieces):
         raise TypeError(f"pieces must be a non-empty sequence of SessionPiece, got {[type(p).__name__ for p in pieces]}")
@@ -657,13 +681,13 @@ def _session_record(gyro_rad_s, accel_m_s2, dt_s, calibration_run, verification_
         sources.append((reference_rad, 2))
     refs = [_references(positions, ndim=ndim) for positions, ndim in sources]
     ver_refs = refs.pop() if verification_run is not None else None
-    gyro, accel = float64_array(gyro_rad_s, "gyro_rad_s"), float64_array(accel_m_s2, "accel_m_s2")
-    if gyro.ndim != 3 or gyro.shape[-1] != 3 or gyro.shape != accel.shape or 0 in gyro.shape:
+    shape, accel_shape = (tuple(x) for x in shapes)
+    if len(shape) != 3 or shape[-1] != 3 or shape != accel_shape or 0 in shape:
         raise ValueError(f"gyro_rad_s and accel_m_s2 must be stacked records of one shape (T, N, 3), got "
-                         f"{gyro.shape} and {accel.shape}")
+                         f"{shape} and {accel_shape}")
     dt = sample_interval(dt_s)
     fractions = [positive_scalar(piece.fraction, "a piece's fraction") for piece in pieces]
-    trials, n = gyro.shape[:2]
+    trials, n = shape[:2]
     spans = [(calibration_run, "calibration_run", n, "samples")]
     if verification_run is not None:
         spans.append((verification_run, "verification_run", n, "samples"))
@@ -701,7 +725,7 @@ def _session_record(gyro_rad_s, accel_m_s2, dt_s, calibration_run, verification_
         checked.append((slice(piece.rows.start, piece.rows.stop), pos, q_ref, fraction, hold_errors,
                         None if trace_row is None else int(trace_row)))
     ver_run = None if verification_run is None else slice(verification_run.start, verification_run.stop)
-    return gyro, accel, dt, slice(calibration_run.start, calibration_run.stop), ver_run, ver_refs, checked, sweeps
+    return dt, slice(calibration_run.start, calibration_run.stop), ver_run, ver_refs, checked, sweeps
 
 
 def _sweep(sw: SessionSweep, fractions) -> SessionSweep:
@@ -816,12 +840,87 @@ def measure_session(config: InstallationConfig, gyro_rad_s, accel_m_s2, dt_s: fl
     >>> m.traces[0]["verification_after_err"].shape, s["after_err_dec"].dtype
     ((3408, 3), dtype('float32'))
     """
+    gyro, accel = float64_array(gyro_rad_s, "gyro_rad_s"), float64_array(accel_m_s2, "accel_m_s2")
+    return _measure(config, (gyro.shape, accel.shape), lambda: (gyro, accel), dt_s, calibration_run, pieces,
+                    verification_run, reference_rad, sweeps, map_pieces)
+
+
+def measure_simulated_session(config: InstallationConfig, source: RecordSource, blocks, groups, *,
+                              calibration_run: slice, pieces, verification_run: slice | None = None,
+                              reference_rad=None, sweeps=(), map_pieces=None) -> SessionMeasurement:
+    """:func:`measure_session` of simulated records the procedure pulls from ``source`` once its inputs are checked.
+
+    The Monte Carlo form of the session's measurement: the study describes its blocks of trials
+    (:class:`mtcal.core.simulate.RecordPiece`: sensor, generator, truth tilt, bias step, load tilt) in
+    a :class:`mtcal.core.simulate.RecordSource`; this procedure checks the config and the session's
+    runs, pieces and sweeps, asks the source for the records of ``blocks`` (stacked in that order, filled
+    group by group of ``groups`` on ``map_pieces``: :meth:`~mtcal.core.simulate.RecordSource.fill`), then
+    measures them as :func:`measure_session` does (the records are simulated: trusted). The numbers are
+    those of :func:`measure_session` on the same records, bit for bit.
+
+    Parameters
+    ----------
+    config : InstallationConfig
+        As for :func:`measure_session`.
+    source : mtcal.core.simulate.RecordSource
+        The session's simulated blocks; its ``dt_s`` is the sample interval.
+    blocks : sequence of int
+        The source's blocks measured, stacked in this order (the trial rows of ``pieces`` refer to the stack).
+    groups : sequence of sequence of int
+        A partition of the positions ``0 … len(blocks) − 1``: blocks filled together (noise drawn once where
+        shared).
+    calibration_run, pieces, verification_run, reference_rad, sweeps, map_pieces
+        As for :func:`measure_session` (``map_pieces`` also spreads the groups' filling).
+
+    Returns
+    -------
+    SessionMeasurement
+
+    References
+    ----------
+    wang2023cja §3.2, §4.1 (as :func:`measure_session`).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from mtcal.core.profiles import join_profiles, trajectory_from_euler_zxy
+    >>> from mtcal.core.simulate import ImuErrorModel, RecordPiece, RecordSource
+    >>> from mtcal.methods.six_position import schedule_profile, six_positions_rad
+    >>> pos = six_positions_rad()
+    >>> run = schedule_profile(pos, rate_rad_s=np.radians(60.0), fs_hz=100.0)
+    >>> prof, (cal_run, ver_run) = join_profiles([run, run])
+    >>> q_wb = trajectory_from_euler_zxy(prof).q_wb
+    >>> source = RecordSource(prof.time_s, q_wb, [RecordPiece(2, ImuErrorModel(), None)], 0.01)
+    >>> m = measure_simulated_session(InstallationConfig.monte_carlo(), source, [0], [[0]], calibration_run=cal_run,
+    ...                               verification_run=ver_run, reference_rad=pos,
+    ...                               pieces=[SessionPiece(slice(0, 2), pos, 0.5)])
+    >>> m.calibrations[0].q_hat.shape, bool(m.verifications[0].residual_rad.max() < 1e-3)
+    ((2, 4, 4), True)
+    """
+    if not isinstance(source, RecordSource):
+        raise TypeError(f"source must be a RecordSource, got {type(source).__name__}")
+    blocks = [int(b) for b in blocks]
+    if not blocks or not all(0 <= b < len(source.pieces) for b in blocks):
+        raise ValueError(f"blocks must be a non-empty sequence of the source's {len(source.pieces)} blocks, got {blocks}")
+    groups = [[int(p) for p in group] for group in groups]
+    if sorted(p for group in groups for p in group) != list(range(len(blocks))):
+        raise ValueError(f"groups must partition the positions 0 … {len(blocks) - 1} of blocks, got {groups}")
+    shape = (source.trials(blocks), source.samples, 3)
+    return _measure(config, (shape, shape), lambda: source.fill(blocks, groups, map_pieces), source.dt_s,
+                    calibration_run, pieces, verification_run, reference_rad, sweeps, map_pieces)
+
+
+def _measure(config, shapes, records, dt_s, calibration_run, pieces, verification_run, reference_rad, sweeps,
+             map_pieces) -> SessionMeasurement:
+    """:func:`measure_session` once the records' type is known: the inputs checked (their ``shapes``), then the
+    records taken (``records()`` → gyro, accel) and measured."""
     if not isinstance(config, InstallationConfig):
         raise TypeError(f"config must be an InstallationConfig, got {type(config).__name__}")
     settings = _fit_settings(config)
     zero = settings.pop("zero")                    # the session is zeroed once, here
-    gyro, accel, dt, cal_run, ver_run, ver_refs, checked, sweeps = _session_record(
-        gyro_rad_s, accel_m_s2, dt_s, calibration_run, verification_run, reference_rad, pieces, sweeps)
+    dt, cal_run, ver_run, ver_refs, checked, sweeps = _session_record(
+        shapes, dt_s, calibration_run, verification_run, reference_rad, pieces, sweeps)
+    gyro, accel = records()
     # ---- trusted inside: one QNCF, the session zeroed once at its first sample (in place), one methods-level
     #      call per piece
     q_ws = qncf_trusted(gyro, accel, dt, config.qncf_params, return_euler=False).q_ws

@@ -608,3 +608,61 @@ def test_rows_at_equals_matmul_bit_for_bit(shape):
     small = a.reshape(-1, 3)[:10]
     assert _rows_at(small, m).tobytes() == (small @ m).tobytes()
     assert _rows_at(a.astype(np.float32), m).dtype == np.float64
+
+
+def _tilting_base(n: int = 2000):
+    t = np.arange(n) * 1e-3
+    roll = np.linspace(0.0, np.pi / 2, n)
+    q = rotations.quat_from_euler_zxy(np.zeros(n), np.zeros(n), roll)
+    return t, q, simulate.gravity_lateral_axis(q)
+
+
+def test_record_source_fills_each_block_as_its_own_stream_with_its_changes():
+    """A block's records are those of its own ImuStream on its tilted truth, then its bias step and load tilt,
+    whichever blocks are filled with it and in whatever groups."""
+    t, q, axis = _tilting_base()
+    noisy = ImuErrorModel(gyro=SensorErrors(noise_density=1e-3), accel=SensorErrors(noise_density=1e-3),
+                          q_mount=rotations.quat_from_euler_zxy(0.01, 0.02, -0.01))
+    step, tilt = np.full((2, 1, 3), 0.25), np.array([[1e-3, -2e-3, 0.0], [3e-4, 0.0, 0.0]])
+    pieces = [simulate.RecordPiece(2, noisy, np.random.default_rng(1), 2e-3, step, tilt),
+              simulate.RecordPiece(3, noisy, np.random.default_rng(2)),
+              simulate.RecordPiece(2, noisy, np.random.default_rng(1), 2e-3)]
+    fresh = lambda: simulate.RecordSource(t, q, [simulate.RecordPiece(p.trials, p.model, np.random.default_rng(s),  # noqa: E731
+                                                                      p.tilt_gain, p.accel_step_m_s2, p.load_tilt_rad)
+                                                 for p, s in zip(pieces, (1, 2, 1))], 1e-3, tilt_axis=axis, step_start=700)
+    gyro, accel = fresh().fill([0, 1, 2], [[0, 2], [1]])
+    assert gyro.shape == (7, t.size, 3)
+    for i, (a, b), seed in ((0, (0, 2), 1), (1, (2, 5), 2), (2, (5, 7), 1)):
+        traj = simulate.tilted_trajectory(t, q, axis, pieces[i].tilt_gain) if pieces[i].tilt_gain else Trajectory(t, q)
+        g, acc = np.empty((b - a, t.size, 3)), np.empty((b - a, t.size, 3))
+        simulate.ImuStream(traj, noisy, np.random.default_rng(seed), trials=b - a).fill(g, acc)
+        if pieces[i].accel_step_m_s2 is not None:
+            acc[:, 700:] += step
+            simulate.load_tilt_outputs(g, acc, traj.q_wb, 1e-3, noisy.q_mount, tilt)
+        assert np.array_equal(gyro[a:b], g) and np.array_equal(accel[a:b], acc)
+    alone = fresh()
+    g2, a2 = alone.fill([2], [[0]])
+    assert np.array_equal(g2, gyro[5:7]) and np.array_equal(a2, accel[5:7])
+
+
+def test_record_source_shares_a_gains_truth_and_drops_it_after_its_last_block(monkeypatch):
+    t, q, axis = _tilting_base()
+    made = []
+    tilted = simulate.TiltedTrajectories.__call__
+    monkeypatch.setattr(simulate.TiltedTrajectories, "__call__", lambda self, k: made.append(k) or tilted(self, k))
+    src = simulate.RecordSource(t, q, [simulate.RecordPiece(1, ImuErrorModel(), None, k) for k in (1e-3, 1e-3, 2e-3)],
+                                1e-3, tilt_axis=axis)
+    first = src._trajectory(1e-3)
+    assert src._trajectory(1e-3) is first and 1e-3 not in src._memo
+    src.fill([2], [[0]])
+    assert made == [1e-3, 2e-3] and src._memo == {}
+
+
+def test_record_source_bad_input():
+    t, q, _ = _tilting_base(100)
+    with pytest.raises(TypeError, match="pieces must be a non-empty sequence of RecordPiece"):
+        simulate.RecordSource(t, q, [], 1e-3)
+    with pytest.raises(ValueError, match="tilt_axis is needed"):
+        simulate.RecordSource(t, q, [simulate.RecordPiece(1, ImuErrorModel(), None, 1e-3)], 1e-3)
+    with pytest.raises(ValueError, match="step_start is needed"):
+        simulate.RecordSource(t, q, [simulate.RecordPiece(1, ImuErrorModel(), None, 0.0, np.zeros((1, 1, 3)))], 1e-3)

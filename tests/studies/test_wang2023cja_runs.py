@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from mtcal.core import montecarlo, rotations
+from mtcal.core.simulate import TiltedTrajectories
 from mtcal.studies import wang2023cja as w
 
 
@@ -330,22 +331,20 @@ def test_shared_vibration_is_recomputed_when_phases_or_settings_differ():
     assert np.array_equal(first, expected)
 
 
-def test_shared_compliance_base_checks_once_and_gives_the_public_numbers():
-    from mtcal.core.simulate import tilted_trajectory
-    from mtcal.studies.wang2023cja.scenario import _ComplianceBase
+def test_compliance_trajectory_is_the_base_tilted_about_the_lateral_load_axis():
+    from mtcal.core.simulate import gravity_lateral_axis, tilted_trajectory
 
     t = np.arange(3000) * 1e-3
     angle = np.zeros((t.size, 3))
     angle[:, 2] = np.linspace(0.0, np.pi / 2, t.size)
-    base = _ComplianceBase(angle)
-    for k in (1e-3, -2e-3, 1e-3):          # the first call checks, the later ones take the checked inputs
-        got, ref = base.tilted(t, k), tilted_trajectory(t, base.q_wb, base.lateral, k)
-        assert np.array_equal(got.q_wb, ref.q_wb)
-        assert np.array_equal(got._truth["rates"], ref._truth["rates"])
-        assert np.array_equal(got._truth["force"], ref._truth["force"])
-    assert base._family is not None and base._family[0] is t
-    with pytest.raises(ValueError, match="gain must be finite"):
-        base.tilted(t, np.nan)
+    q_wb = rotations.quat_from_euler_zxy(angle[:, 0], angle[:, 1], angle[:, 2])
+    for k in (1e-3, -2e-3):
+        got, ref = w.compliance_trajectory(t, angle, k), tilted_trajectory(t, q_wb, gravity_lateral_axis(q_wb), k)
+        assert np.array_equal(got.q_wb, ref.q_wb) and np.array_equal(got._truth["rates"], ref._truth["rates"])
+    assert np.array_equal(w.compliance_trajectory(t, angle, 0.0).q_wb, q_wb)
+    # level: no tilt; rolled 90°: the mount tilts by k about a horizontal body axis
+    assert np.array_equal(gravity_lateral_axis(q_wb[:1]) + 0.0, [[0.0, 0.0, 0.0]])
+    assert np.allclose(gravity_lateral_axis(q_wb[-1:]), [[0.0, 1.0, 0.0]], atol=1e-12)
 
 
 def test_interleaved_t2_to_t4_equal_one_call_per_test_and_share_their_truth(fast_sc, monkeypatch):
@@ -356,8 +355,8 @@ def test_interleaved_t2_to_t4_equal_one_call_per_test_and_share_their_truth(fast
     fit = w.fit_error_model(n_mc=200, seed=1)
     sc = replace(fast_sc, errors=fit.model)
     calls = []
-    compliant = runs._compliant
-    monkeypatch.setattr(runs, "_compliant", lambda *a: calls.append(a[2]) or compliant(*a))
+    tilted = TiltedTrajectories.__call__
+    monkeypatch.setattr(TiltedTrajectories, "__call__", lambda self, k: calls.append(k) or tilted(self, k))
     got = predictive.turntable_predictive(sc, fit, "fitted", 3, 7, tests=("T2", "T3", "T4"), per_draw=1)
     assert list(got) == ["T2", "T3", "T4"]
     assert len(calls) == len(set(calls)) == 3                    # one trajectory per draw (gasket: equal k)
@@ -368,19 +367,6 @@ def test_interleaved_t2_to_t4_equal_one_call_per_test_and_share_their_truth(fast
         alone = runs._concat_runs(runs.run_turntable_jobs(sc, jobs, block=1))
         a, b = _arrays(alone), _arrays(got[test])
         assert sorted(a) == sorted(b) and all(np.array_equal(a[k], b[k]) for k in a)
-
-
-def test_shared_trajectories_give_one_object_per_compliance_and_drop_it_after_its_last_use(fast_sc):
-    from mtcal.studies.wang2023cja import runs, scenario
-
-    prof, _ = runs.turntable_profile(fast_sc, False)
-    base = scenario._ComplianceBase(prof.angle_rad)
-    shared = runs._SharedTrajectories(prof.time_s, base, [1e-3, 1e-3, 2e-3])
-    first, second = shared(1e-3), shared(1e-3)
-    assert first is second and 1e-3 not in shared.memo
-    other = shared(2e-3)
-    assert shared.memo == {}
-    assert np.array_equal(other.q_wb, scenario._compliant(prof.time_s, base, 2e-3).q_wb)
 
 
 def test_expression_paths_of_the_angles_equal_euler(monkeypatch):
@@ -401,16 +387,6 @@ def test_expression_paths_of_the_angles_equal_euler(monkeypatch):
         rotations.mapped_pitch_trusted(bad, q)
     with pytest.raises(FloatingPointError, match="Eq 8 angles are not finite"):
         montecarlo.channel_errors_before_after(q, bad, np.zeros((300, 3)), 1)
-
-
-def test_compliance_base_computes_its_attitude_on_first_use():
-    from mtcal.studies.wang2023cja.scenario import _ComplianceBase
-
-    angle = np.column_stack([np.linspace(0, 0.1, 50), np.linspace(0, 0.2, 50), np.linspace(0, -0.3, 50)])
-    base = _ComplianceBase(angle)
-    assert base._q_wb is None
-    q = base.q_wb
-    assert q is base.q_wb and np.array_equal(q, rotations.quat_from_euler_zxy(angle[:, 0], angle[:, 1], angle[:, 2]))
 
 
 def test_windtunnel_session_holds_the_wind_on_sweeps_read_only():

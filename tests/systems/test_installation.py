@@ -556,6 +556,47 @@ def test_measure_session_checks_its_inputs_once_at_its_edge(session):
         measure(pieces=[installation.SessionPiece(slice(0, 3), pos, 0.0)])
 
 
+def test_measure_simulated_session_pulls_its_records_and_equals_measure_session():
+    """The source's blocks measured by the procedure that pulls them: measure_session of the same records, bit for
+    bit; its blocks and groups checked before any record is simulated."""
+    from mtcal.core.profiles import join_profiles
+    from mtcal.core.simulate import RecordPiece, RecordSource, SensorErrors
+
+    pos = six_positions_rad()
+    run = schedule_profile(pos, rate_rad_s=np.radians(40.0), fs_hz=200.0)
+    prof, (cal_run, ver_run) = join_profiles([run, run])
+    q_wb = trajectory_from_euler_zxy(prof).q_wb
+    model = ImuErrorModel(gyro=SensorErrors(noise_density=1e-4), accel=SensorErrors(noise_density=1e-3),
+                          q_mount=tuple(rotations.mount_quaternion(ALPHA)))
+    source = lambda: RecordSource(prof.time_s, q_wb, [RecordPiece(2, model, np.random.default_rng(s))  # noqa: E731
+                                                      for s in (3, 4)], 1 / 200.0)
+    pieces = [installation.SessionPiece(slice(0, 2), pos, 0.5), installation.SessionPiece(slice(2, 4), pos, 0.4)]
+    cfg = Config.monte_carlo()
+    got = installation.measure_simulated_session(cfg, source(), [1, 0], [[0], [1]], calibration_run=cal_run,
+                                                 verification_run=ver_run, reference_rad=pos, pieces=pieces)
+    gyro, accel = (x.copy() for x in source().fill([1, 0], [[0, 1]]))
+    ref = installation.measure_session(cfg, gyro, accel, 1 / 200.0, calibration_run=cal_run, verification_run=ver_run,
+                                       reference_rad=pos, pieces=pieces)
+    assert np.array_equal(got.q_ws, ref.q_ws)
+    for a, b in zip(got.calibrations + got.verifications, ref.calibrations + ref.verifications):
+        assert np.array_equal(a.q_hat, b.q_hat) and np.array_equal(a.euler_after_rad, b.euler_after_rad)
+    assert np.degrees(np.abs(got.calibrations[0].installation_angles_rad - ALPHA)).max() < 0.05
+    src = source()
+    measure = lambda blocks, groups, **kw: installation.measure_simulated_session(  # noqa: E731
+        kw.pop("config", cfg), kw.pop("source", src), blocks, groups, calibration_run=cal_run, pieces=pieces[:1], **kw)
+    with pytest.raises(TypeError, match="source must be a RecordSource"):
+        measure([0], [[0]], source=(np.zeros((2, 10, 3)), np.zeros((2, 10, 3))))
+    with pytest.raises(ValueError, match="blocks must be a non-empty sequence of the source's 2 blocks"):
+        measure([2], [[0]])
+    with pytest.raises(ValueError, match=r"groups must partition the positions 0 … 1 of blocks"):
+        measure([0, 1], [[0]])
+    with pytest.raises(TypeError, match="config must be an InstallationConfig"):
+        measure([0], [[0]], config={"fraction": 0.5})
+    with pytest.raises(ValueError, match="a piece's rows must be a slice"):
+        installation.measure_simulated_session(cfg, src, [0], [[0]], calibration_run=cal_run, pieces=pieces[1:])
+    assert src._gyro is None                                     # refused before a record was simulated
+
+
 def _verification_sweep(session, fractions=(0.5, 0.4), decimation=7):
     """The verification run scored as a sweep: its pitch averaged over the middle of each rest."""
     from mtcal.core.profiles import join_profiles

@@ -21,7 +21,6 @@ wang2023cja §3.2 (procedure), §4.1 (turntable T1–T4), §4.2 (wind tunnel), E
 
 from __future__ import annotations
 
-import threading
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, replace
 
@@ -36,14 +35,14 @@ from mtcal.core.allocator import keep_freed_memory
 from mtcal.core.profiles import AngleProfile, join_profiles, step_schedule
 from mtcal.core.rng import child_rngs, stream_rng
 from mtcal.core.rotations import mount_quaternion, relative_to_initial
-from mtcal.core.simulate import ImuStream, fill_streams_grouped, load_tilt_outputs
+from mtcal.core.simulate import (ImuStream, RecordPiece, RecordSource, fill_streams_grouped, gravity_lateral_axis,
+                                 load_tilt_outputs)
 from mtcal.core.units import DEG, MG
 from mtcal.filters.qncf import qncf_trusted
 from mtcal.methods import six_position
 from mtcal.systems import installation
 from .error_model import MOUNT_TYPE, PAPER_SIGN
-from .scenario import (SOURCES, TurntableScenario, WindTunnelScenario, _ComplianceBase, _compliant,
-                       compliance_trajectory, mechanism_actual, stop_directions, windtunnel_positions)
+from .scenario import (SOURCES, TurntableScenario, WindTunnelScenario, compliance_trajectory, mechanism_actual, stop_directions, windtunnel_positions)
 
 #: Every trial's sweep error series is kept at every TRACE_DECIMATION-th sample (ensemble figures).
 TRACE_DECIMATION = 20
@@ -76,22 +75,16 @@ def _euler(q: np.ndarray) -> np.ndarray:
     return euler
 
 
-def _holds(prof: AngleProfile, span: slice, fraction: float) -> list[slice]:
-    """Middle ``fraction`` of each hold inside ``span`` (evaluation windows, schedule known)."""
-    seg = prof.segment[span]
-    out = []
-    for s in np.unique(seg[seg % 2 == 0]):
-        idx = np.flatnonzero(seg == s) + span.start
-        out.append(slice(int(idx[0]), int(idx[-1]) + 1))
-    return six_position.middle_slices(out, fraction)
-
-
-
 # --------------------------------------------------------------------------
 # turntable session
 # --------------------------------------------------------------------------
 def turntable_profile(sc: TurntableScenario, with_sweeps: bool) -> tuple[AngleProfile, dict]:
     """Session schedule: calibration run, verification run (+ AoA sweep + roll sweep), Eq 8 frame."""
+    return _session_schedule(sc, with_sweeps)[:2]
+
+
+def _session_schedule(sc: TurntableScenario, with_sweeps: bool) -> tuple[AngleProfile, dict, np.ndarray]:
+    """:func:`turntable_profile` and the six positions it visits (:func:`six_position_reference`)."""
     pos = six_position_reference(sc)
     cal = six_position.schedule_profile(pos, rate_rad_s=sc.turntable_rate_rad_s, rest_s=sc.rest_s, fs_hz=sc.fs_hz)
     parts, names = [cal, cal], ["calibration", "verification"]
@@ -106,7 +99,7 @@ def turntable_profile(sc: TurntableScenario, with_sweeps: bool) -> tuple[AnglePr
                                    sc.sweep_hold_s), 1.0], sc.fs_hz, min_move_s=0.5))
         names += ["aoa", "roll"]
     prof, spans = join_profiles(parts)
-    return prof, dict(zip(names, spans))
+    return prof, dict(zip(names, spans)), pos
 
 
 def six_position_reference(sc: TurntableScenario) -> np.ndarray:
@@ -212,106 +205,71 @@ def _map(fn, items: list) -> list:
         return list(pool.map(fn, items))
 
 
-class _SharedTrajectories:
-    """``_compliant(time_s, base, k)`` of the pieces of one call, each distinct ``k`` computed once.
+@dataclass(frozen=True)
+class _PieceSettings:
+    """What a piece of a turntable run takes from its scenario (:func:`_piece_settings`), before its draws."""
 
-    Pieces with equal compliance (a parameter draw's T2–T4 gasket sessions) get the same
-    :class:`Trajectory` object, whose truth outputs are computed once too
-    (:func:`mtcal.core.simulate._truth_outputs`); a trajectory is dropped after its last piece took
-    it (memory: about one per thread). Thread-safe: pieces are simulated on :func:`_workers` threads.
-    """
-
-    def __init__(self, time_s, base: _ComplianceBase, ks: list):
-        self.time_s, self.base = time_s, base
-        self.uses = {}
-        for k in ks:
-            self.uses[k] = self.uses.get(k, 0) + 1
-        self.memo, self.lock = {}, threading.Lock()
-
-    def __call__(self, k: float):
-        with self.lock:
-            entry = self.memo.get(k)
-            if entry is None:
-                entry = self.memo[k] = [threading.Lock(), None]
-        with entry[0]:                               # the first piece of this k computes it, the others wait
-            if entry[1] is None:
-                entry[1] = _compliant(self.time_s, self.base, k)
-            traj = entry[1]
-        with self.lock:
-            self.uses[k] -= 1
-            if self.uses[k] == 0:
-                del self.memo[k]
-        return traj
+    test: str
+    sources: tuple
+    rng: np.random.Generator
+    trials: int
+    fraction: float
+    alpha_rad: np.ndarray          # installation angles (rad)
+    compliance_rad_g: float        # mount compliance (rad per g of lateral load; 0 without the source)
+    imu: object                    # ImuSpec of the scenario (its error_model)
+    errors: object                 # ErrorModel of the piece
+    reference_sigma_rad: float     # turntable angle error (1σ, rad)
+    accel_step_sigma_m_s2: float   # run-to-run accelerometer bias change (1σ, m/s²)
+    load_tilt_sigma_rad: float     # gasket load tilt (1σ per g, rad)
+    switched: tuple                # (turntable angle error, run change, load tilt) on; off: zeros, not drawn
+    sweep_holds: tuple             # holds of each sweep of :data:`_SWEEPS` (with the sweeps), else ()
 
 
-def _run_pieces(sc: TurntableScenario, prof: AngleProfile, spans: dict, pos: np.ndarray, pieces: list,
-                sweeps: list | None, traced: set, base: _ComplianceBase, buffers: dict,
-                fill_groups: list) -> list[TurntableRun]:
-    """Simulate every piece ``(test, sources, rng, trials, fraction)``, measure the session with ONE stacked
-    QNCF and score each piece's sweeps (:func:`mtcal.systems.installation.measure_session`).
+def _piece_settings(piece, with_sweeps: bool) -> _PieceSettings:
+    """A piece ``(test, sources, rng, trials, fraction, scenario)`` of :func:`_job_pieces` resolved to the numbers
+    its simulation takes (the mount compliance 0 when switched off)."""
+    test, sources, rng, trials, fraction, sc = piece
+    on = set(sources)
+    gasket = MOUNT_TYPE[test] == "gasket"
+    return _PieceSettings(
+        test, sources, rng, trials, _fraction(piece), sc.alpha_rad(test),
+        sc.errors.compliance_deg_g(MOUNT_TYPE[test]) * DEG if "mount_compliance" in on else 0.0, sc.imu, sc.errors,
+        sc.reference_angle_sigma_rad, sc.errors.accel_run_bias_mg * MG, sc.errors.gasket_load_tilt_deg_g * DEG,
+        ("reference_angle" in on, "accel_run_change" in on, "mount_compliance" in on and gasket),
+        tuple(len(getattr(sc, f"{name}_sweep_deg")) for name, _, _ in _SWEEPS) if with_sweeps else ())
 
-    The QNCF cost is dominated by its loop over time, so stacking the pieces along the trial
-    axis costs about one run; each piece keeps its own generator. The pieces are simulated
-    straight into ``buffers`` (reused by every call of a run: no fresh 100 MB arrays per call).
-    The pieces of each list in ``fill_groups`` (a
-    partition of the piece indices: the predictive kinds' pieces on one key) fill their records
-    together (:func:`mtcal.core.simulate.fill_streams_grouped`: the noise drawn once when shared). Groups are simulated and
-    pieces measured on :func:`_workers` threads (each its own generator and slice: the same numbers
-    for any count). ``sweeps`` (:func:`_session_sweeps`, None without the sweeps): the sweeps with their hold
-    windows. Pieces in ``traced`` keep the sweeps' time series of their first trial. ``pos``: the six
-    positions (:func:`six_position_reference`).
-    """
-    total = sum(p[3] for p in pieces)
-    if buffers.get("gyro") is None or buffers["gyro"].shape[0] < total:
-        buffers["gyro"] = np.empty((total, prof.time_s.size, 3))
-        buffers["accel"] = np.empty((total, prof.time_s.size, 3))
-    gyro, accel = buffers["gyro"][:total], buffers["accel"][:total]
-    ver0 = spans["verification"].start
-    starts = np.cumsum([0] + [p[3] for p in pieces]).tolist()
-    base.q_wb                                      # the truth of the pieces: computed once, before the threads
-    if any("mount_compliance" in p[1] for p in pieces):
-        base.lateral                               # share it
 
-    def compliance(i):
-        test, sources, _, _, _, sc = pieces[i]
-        return sc.errors.compliance_deg_g(MOUNT_TYPE[test]) * DEG if "mount_compliance" in sources else 0.0
+def _piece_block(s: _PieceSettings) -> tuple:
+    """A piece's random numbers and sensor, drawn in this order from ``child_rngs(s.rng, 3)`` = (IMU, turntable,
+    run change): its :class:`~mtcal.core.simulate.RecordPiece` (the run change's accelerometer bias step, then
+    the gasket load tilt) and its turntable angle errors (truth − command) at the calibration run's rests
+    (T, 6, 3), at the verification run's (T, 6, 3) and — with the sweeps — at each sweep's holds (T, holds) of
+    the averaged channel (else None)."""
+    rng_imu, rng_ref, rng_change = child_rngs(s.rng, 3)
+    t, (ref_on, step_on, tilt_on) = s.trials, s.switched
+    e_cal, e_ver, *e_holds = [rng_ref.standard_normal((t, k, 3)) * s.reference_sigma_rad for k in (6, 6, *s.sweep_holds)]
+    if not ref_on:
+        e_cal, e_ver, *e_holds = [np.zeros_like(e) for e in (e_cal, e_ver, *e_holds)]
+    e_hold = {name: e[..., chan] for (name, chan, _), e in zip(_SWEEPS, e_holds)} if s.sweep_holds else None
+    step = s.accel_step_sigma_m_s2 * rng_change.standard_normal((t, 1, 3)) if step_on else None
+    tilt = s.load_tilt_sigma_rad * rng_change.standard_normal((t, 3)) * [1.0, 1.0, 0.0] if tilt_on else None
+    model = s.imu.error_model(mount_quaternion(s.alpha_rad), s.sources, s.errors)
+    return RecordPiece(t, model, rng_imu, s.compliance_rad_g, step, tilt), (e_cal, e_ver, e_hold)
 
-    trajectory = _SharedTrajectories(prof.time_s, base, [compliance(i) for i in range(len(pieces))])
-    # each piece's generators (IMU, turntable angle errors, run change), its angle errors drawn up front
-    gens = [child_rngs(piece[2], 3) for piece in pieces]
-    draws = [_reference_draws(piece, rng_ref, sweeps) for piece, (_, rng_ref, _) in zip(pieces, gens)]
 
-    def simulate(group):
-        streams, parts = [], []
-        for i in group:
-            test, sources, _, trials, _, sc = pieces[i]
-            traj = trajectory(compliance(i))   # = compliance_trajectory(prof.time_s, prof.angle_rad, k)
-            model = sc.imu.error_model(mount_quaternion(sc.alpha_rad(test)), sources, sc.errors)
-            streams.append(ImuStream(traj, model, rng=gens[i][0], trials=trials))
-            parts.append((traj, model))
-        rows = [(gyro[starts[i]:starts[i + 1]], accel[starts[i]:starts[i + 1]]) for i in group]
-        fill_streams_grouped(streams, rows)           # = simulate_imu(...) of each, into the buffer
-        del streams
-        for i, (g, acc), (traj, model) in zip(group, rows, parts):
-            test, sources, _, trials, _, sc = pieces[i]
-            rng_change = gens[i][2]
-            if "accel_run_change" in sources:       # warm-up/temperature bias change between the runs
-                acc[:, ver0:] += sc.errors.accel_run_bias_mg * MG * rng_change.standard_normal((trials, 1, 3))
-            if "mount_compliance" in sources and MOUNT_TYPE[test] == "gasket":
-                tilt = sc.errors.gasket_load_tilt_deg_g * DEG * rng_change.standard_normal((trials, 3)) * [1.0, 1.0, 0.0]
-                load_tilt_outputs(g, acc, traj.q_wb, sc.imu.dt_s, model.q_mount, tilt)
+#: The sweeps of a T1 session: (name, channel averaged at the holds, channels whose errors are scored).
+_SWEEPS = (("aoa", 1, (2, 0)), ("roll", 2, (1, 0)))
 
-    _map(simulate, fill_groups)
-    # the session measured by the installation system: one stacked QNCF, each piece's calibration and
-    # verification; the procedure is fed the commanded reference, the turntable stood at command + e_cal
-    config = installation.InstallationConfig.monte_carlo(qncf_params=sc.qncf)
-    session = installation.measure_session(
-        config, gyro, accel, sc.imu.dt_s,
-        calibration_run=spans["calibration"], verification_run=spans["verification"], reference_rad=pos,
-        pieces=[installation.SessionPiece(slice(starts[i], starts[i + 1]), pos - e_cal, _fraction(piece),
-                                          hold_errors_rad=e_hold, trace_row=0 if i in traced else None)
-                for i, (piece, (e_cal, _, e_hold)) in enumerate(zip(pieces, draws))],
-        sweeps=sweeps or (), map_pieces=_map)
+
+def _fraction(piece) -> float:
+    return piece[5].averaging_fraction if piece[4] is None else piece[4]
+
+
+def _session_runs(session, draws: list, pos: np.ndarray, sweeps: list | None, traced: set, prof: AngleProfile) -> list:
+    """The :class:`TurntableRun` of each piece of a measured session (:func:`mtcal.systems.installation.measure_simulated_session`):
+    its calibration and verification, its turntable angle errors (``draws``: :func:`_piece_block`) and — with
+    ``sweeps`` — each sweep's scores with the hold errors its hold means carry; pieces in ``traced`` keep the
+    sweeps' time series of their first trial."""
     runs = [TurntableRun(cal.q_hat, cal.euler_before_rad, cal.euler_after_rad, ver.euler_before_rad,
                          ver.euler_after_rad, pos, -e_cal, -e_ver)
             for cal, ver, (e_cal, e_ver, _) in zip(session.calibrations, session.verifications, draws)]
@@ -326,40 +284,6 @@ def _run_pieces(sc: TurntableScenario, prof: AngleProfile, spans: dict, pos: np.
                     run.trace[f"{sw.name}_time_s"] = prof.time_s[sw.span] - prof.time_s[sw.span.start]
                     run.trace[f"{sw.name}_reference"] = sw.reference_rad
     return runs
-
-
-def _reference_draws(piece, rng_ref: np.random.Generator, sweeps: list | None) -> tuple:
-    """A piece's turntable angle errors (truth − command), drawn in this order from its own generator: at the
-    calibration run's rests (T, 6, 3), at the verification run's (T, 6, 3), then — with the sweeps — at each
-    sweep's holds (T, holds) of the averaged channel (else None)."""
-    _, sources, _, trials, _, sc = piece
-    on = "reference_angle" in sources
-    e_cal = _draws(rng_ref, trials, 6, sc.reference_angle_sigma_rad, on)
-    e_ver = _draws(rng_ref, trials, 6, sc.reference_angle_sigma_rad, on)
-    if sweeps is None:
-        return e_cal, e_ver, None
-    frac = _fraction(piece)
-    return e_cal, e_ver, {sw.name: _draws(rng_ref, trials, len(sw.holds[frac]), sc.reference_angle_sigma_rad,
-                                          on)[..., sw.channel] for sw in sweeps}
-
-
-#: The sweeps of a T1 session: (name, channel averaged at the holds, channels whose errors are scored).
-_SWEEPS = (("aoa", 1, (2, 0)), ("roll", 2, (1, 0)))
-
-
-def _fraction(piece) -> float:
-    return piece[5].averaging_fraction if piece[4] is None else piece[4]
-
-
-def _session_sweeps(prof: AngleProfile, spans: dict, fractions) -> list:
-    """The T1 session's sweeps (:data:`_SWEEPS`) as the installation system scores them, found once for a session
-    profile: each sweep's span and reference, and its hold windows relative to the span (first and last hold
-    dropped) per averaging fraction."""
-    return [installation.SessionSweep(
-        name, spans[name], prof.angle_rad[spans[name]], chan_mean, chans_err,
-        {frac: [slice(h.start - spans[name].start, h.stop - spans[name].start)
-                for h in _holds(prof, spans[name], frac)][1:-1] for frac in dict.fromkeys(fractions)},
-        TRACE_DECIMATION) for name, chan_mean, chans_err in _SWEEPS]
 
 
 def calibration_step(sc: TurntableScenario | WindTunnelScenario, q_ws, gyro_rad_s, reference_rad,
@@ -506,32 +430,51 @@ def run_turntable_jobs_kinds(sc: TurntableScenario, kinds_jobs: list, *, with_sw
     if int(block) < 1:
         raise ValueError(f"block must be >= 1, got {block}")
     keep_freed_memory()                          # the per-call arrays below reuse freed heap, not fresh zeroed pages
-    prof, spans = turntable_profile(sc, with_sweeps)
-    pos = six_position_reference(sc)
-    n_kinds = len(kinds_jobs)
+    # the study's part: each piece's settings from its scenario (kind-major: block m·P + p is piece p of kind m),
+    # then the session's schedule; below it, the session is the source's and the installation system's
+    pieces = [_job_pieces(sc, jobs, int(block)) for jobs in kinds_jobs]   # per kind: (job index, piece)
+    settings = [_piece_settings(piece, with_sweeps) for kind in pieces for _, piece in kind]
+    prof, spans, pos = _session_schedule(sc, with_sweeps)
+    # the pieces' draws and sensors, simulated on demand over the compliant truth of the schedule
+    blocks, draws = zip(*[_piece_block(s) for s in settings])
+    q_wb = rotations.quat_from_euler_zxy(prof.angle_rad[:, 0], prof.angle_rad[:, 1], prof.angle_rad[:, 2])
+    source = RecordSource(prof.time_s, q_wb, blocks, sc.imu.dt_s,
+                          tilt_axis=gravity_lateral_axis(q_wb) if any(b.tilt_gain != 0.0 for b in blocks) else None,
+                          step_start=spans["verification"].start)
+    n_kinds, n_pieces = len(kinds_jobs), len(pieces[0])
     per_call = max(int(block), int(max_trial_samples) // prof.time_s.size)
     per_call = -(-per_call // n_kinds) * n_kinds   # each kind an equal share (rounded up: 18 for 17 at 1000 Hz)
-    pieces = [_job_pieces(sc, jobs, int(block)) for jobs in kinds_jobs]   # per kind: (job index, piece)
     calls, count = [[]], 0                       # piece positions p (the same in every kind) per call
-    for p, (_, piece) in enumerate(pieces[0]):
-        if calls[-1] and count + n_kinds * piece[3] > per_call:
+    for p in range(n_pieces):
+        if calls[-1] and count + n_kinds * settings[p].trials > per_call:
             calls.append([])
             count = 0
         calls[-1].append(p)
-        count += n_kinds * piece[3]
+        count += n_kinds * settings[p].trials
+    # the session measured by the installation system: one stacked QNCF per call, each piece's calibration and
+    # verification (fed the commanded reference; the turntable stood at command + e_cal) and sweeps' scores
+    config = installation.InstallationConfig.monte_carlo(qncf_params=sc.qncf)
+    sweeps = ([installation.SessionSweep.from_schedule(name, prof, spans[name], chan, chans,
+                                                       [st.fraction for st in settings], TRACE_DECIMATION)
+               for name, chan, chans in _SWEEPS] if with_sweeps else None)
     per_job = [[[] for _ in jobs] for jobs in kinds_jobs]
-    base = _ComplianceBase(prof.angle_rad)       # shared by every piece (only the compliance differs)
-    sweeps = (_session_sweeps(prof, spans, [_fraction(piece) for kind in pieces for _, piece in kind])
-              if with_sweeps else None)
-    buffers = {}
     for c, call in enumerate(progress(calls, desc="turntable Monte Carlo")):
         n = len(call)                            # kind-major: the call's pieces of kind 0, then of kind 1, …
-        items = [(m, pieces[m][p]) for m in range(n_kinds) for p in call]
-        runs = _run_pieces(sc, prof, spans, pos, [piece for _, (_, piece) in items], sweeps,
-                           {m * n for m in range(n_kinds)} if keep_trace and c == 0 else set(), base, buffers,
-                           [[m * n + k for m in range(n_kinds)] for k in range(n)])
-        for (m, (i, _)), run in zip(items, runs):
-            per_job[m][i].append(run)
+        stack = [m * n_pieces + p for m in range(n_kinds) for p in call]
+        starts = np.cumsum([0] + [settings[b].trials for b in stack]).tolist()
+        traced = {m * n for m in range(n_kinds)} if keep_trace and c == 0 else set()
+        session = installation.measure_simulated_session(
+            config, source, stack, [[m * n + k for m in range(n_kinds)] for k in range(n)],
+            calibration_run=spans["calibration"], verification_run=spans["verification"], reference_rad=pos,
+            pieces=[installation.SessionPiece(slice(starts[i], starts[i + 1]), pos - draws[b][0], settings[b].fraction,
+                                              hold_errors_rad=draws[b][2], trace_row=0 if i in traced else None)
+                    for i, b in enumerate(stack)],
+            sweeps=sweeps or (), map_pieces=_map)
+        runs = _session_runs(session, [draws[b] for b in stack], pos, sweeps, traced, prof)
+        for b, run in zip(stack, runs):
+            m, p = divmod(b, n_pieces)
+            per_job[m][pieces[m][p][0]].append(run)
+        del session
     for jobs in per_job:                         # each job's pieces dropped as soon as joined (peak: one copy)
         for i, pieces_run in enumerate(jobs):
             jobs[i] = _concat_runs(pieces_run)
@@ -599,10 +542,10 @@ def _shared_holds(prof: AngleProfile, span: slice, fraction: float) -> list[slic
     """:func:`_holds` of a shared profile (:func:`_shared_profile`), found once; other profiles: computed."""
     cache = _PROFILE_MEMO.get(id(prof))
     if cache is None:
-        return _holds(prof, span, fraction)
+        return prof.hold_slices(span, fraction)
     key = (span.start, span.stop, fraction)
     if key not in cache:
-        cache[key] = _holds(prof, span, fraction)
+        cache[key] = prof.hold_slices(span, fraction)
     return list(cache[key])
 
 

@@ -36,7 +36,7 @@ import numpy as np
 from mtcal.core import rotations
 from mtcal.core.profiles import AngleProfile
 from mtcal.core.rotations import mount_quaternion
-from mtcal.core.simulate import TiltedTrajectories, Trajectory
+from mtcal.core.simulate import Trajectory, gravity_lateral_axis, tilted_trajectory
 from mtcal.core.sensor_grades import GRADES, sensor_spec
 from mtcal.core.sensors import SensorSpec
 from mtcal.core.units import ARCSEC, DEG, DEG_H, UG
@@ -290,58 +290,15 @@ def windtunnel_scenario(errors: ErrorModel | None = None, **params) -> WindTunne
 def compliance_trajectory(time_s, angle_rad, compliance_rad_per_g: float) -> Trajectory:
     """Truth trajectory of the IMU base: body attitude (Eq 9 of ``angle_rad``) tilted by the mount compliance.
 
-    The mount rotates by ``k · (ẑ_b × ĝ_b)`` (rad, ĝ_b unit gravity in body axes): zero when
-    level, ``k`` about the lateral axis at 90° of roll or pitch (wang2023cja §4.1 gasket mounts).
+    The mount rotates by ``k · (ẑ_b × ĝ_b)`` (rad, ĝ_b unit gravity in body axes,
+    :func:`mtcal.core.simulate.gravity_lateral_axis`): zero when level, ``k`` about the lateral axis at 90° of
+    roll or pitch (wang2023cja §4.1 gasket mounts). A Monte Carlo of many compliances on one schedule
+    shares the untilted parts (:class:`mtcal.core.simulate.RecordSource`; the same numbers).
     """
-    base = _ComplianceBase(angle_rad)
-    return _compliant(time_s, base, compliance_rad_per_g)
-
-
-class _ComplianceBase:
-    """The compliance-free parts of :func:`compliance_trajectory` of one angle history, computed once.
-
-    ``q_wb`` (Eq 9 of the angles) and the lateral axis ``ẑ_b × ĝ_b`` do not depend on the
-    compliance ``k``: a Monte Carlo whose trials differ only in ``k`` shares them
-    (:func:`_compliant`). Both are computed on first use: a run resolves its bases with its
-    settings and computes them with the rest of the truth.
-    """
-
-    def __init__(self, angle_rad):
-        self.angle_rad = angle_rad
-        self._q_wb = None
-        self._lateral = None
-        self._family = None           # (time_s, TiltedTrajectories of this base over it)
-
-    def tilted(self, time_s, k: float) -> Trajectory:
-        """``tilted_trajectory(time_s, q_wb, lateral, k)``, the shared inputs checked once per ``time_s``
-        object (:class:`mtcal.core.simulate.TiltedTrajectories`; the same numbers)."""
-        hit = self._family
-        if hit is None or hit[0] is not time_s:
-            hit = self._family = (time_s, TiltedTrajectories(time_s, self.q_wb, self.lateral))
-        return hit[1](k)
-
-    @property
-    def q_wb(self) -> np.ndarray:
-        """Eq 9 body attitude of the angles (N, 4)."""
-        if self._q_wb is None:
-            a = self.angle_rad
-            self._q_wb = rotations.quat_from_euler_zxy(a[:, 0], a[:, 1], a[:, 2])
-        return self._q_wb
-
-    @property
-    def lateral(self) -> np.ndarray:
-        if self._lateral is None:
-            g_b = -rotations.quat_to_matrix(self.q_wb)[:, 2, :]
-            self._lateral = np.stack([-g_b[:, 1], g_b[:, 0], np.zeros(len(g_b))], axis=-1)
-        return self._lateral
-
-
-def _compliant(time_s, base: _ComplianceBase, compliance_rad_per_g: float) -> Trajectory:
-    """:func:`compliance_trajectory` from a shared :class:`_ComplianceBase` (the same operations)."""
+    q_wb = rotations.quat_from_euler_zxy(angle_rad[:, 0], angle_rad[:, 1], angle_rad[:, 2])
     if compliance_rad_per_g == 0.0:
-        return Trajectory(time_s, base.q_wb)
-    # Trajectory(time_s, hamilton(q_wb, quat_from_rotvec(k · lateral))) with its truth outputs, one compiled pass
-    return base.tilted(time_s, compliance_rad_per_g)
+        return Trajectory(time_s, q_wb)
+    return tilted_trajectory(time_s, q_wb, gravity_lateral_axis(q_wb), compliance_rad_per_g)
 
 
 def stop_directions(prof: AngleProfile) -> np.ndarray:
