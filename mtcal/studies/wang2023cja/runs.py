@@ -598,8 +598,9 @@ def run_windtunnel(sc: WindTunnelScenario, rng: np.random.Generator, trials: int
     ``block`` (≈ 0.6 GB at 10), not by ``trials``. The time series of trial ``trace_trial`` are kept
     for figures (``keep_trace``; off: ``trace`` is empty, a caller that keeps another run's does not
     hold ~10 MB per run); the trials' numbers do not depend on which one is traced. Each block is one
-    session of the scenario (:func:`_windtunnel_block`), written straight into its trial rows of the run's
-    arrays (:func:`_windtunnel_outputs`: no per-block results kept and joined afterwards).
+    session of the scenario (:func:`_run_windtunnel_blocks`), written straight into its trial rows of the run's
+    arrays (:func:`_windtunnel_outputs`: no per-block results kept and joined afterwards). It is
+    :func:`run_windtunnel_kinds` of the one scenario.
 
     ``shared`` (a dict, empty on the first of several runs from equal generators): the wind-on
     accelerometer vibration of each block and group is kept there and reused by a later run whose
@@ -608,44 +609,8 @@ def run_windtunnel(sc: WindTunnelScenario, rng: np.random.Generator, trials: int
     :func:`run_windtunnel_kinds` runs several scenarios on equal generators side by side (the same
     numbers as one call each).
     """
-    sources = _check_sources(sources)
-    sizes, b_trace, i_trace = _windtunnel_block_sizes(trials, block, trace_trial)
-    keep_freed_memory()                          # the per-block arrays reuse freed heap, not fresh zeroed pages
-    out = _windtunnel_outputs(sc, sum(sizes), wind_on)
-    gates = [_windtunnel_block(sc, r, n, sources, wind_on=wind_on, keep_trace=keep_trace and i == b_trace,
-                               trace_index=i_trace, shared=None if shared is None else shared.setdefault(i, {}),
-                               out=out, rows=rows)
-             for i, (r, n, rows) in enumerate(progress(list(zip(child_rngs(rng, len(sizes)), sizes, _block_rows(sizes))),
-                                                       desc="wind-tunnel Monte Carlo"))]
-    if wind_on:                                  # the trial-weighted mean of the blocks' gate fractions
-        out.wind_on["gate_fraction_on"] = float(np.average(gates, weights=sizes))
-    return out
-
-
-def _windtunnel_block(sc: WindTunnelScenario, rng: np.random.Generator, trials: int, sources, *, wind_on: bool,
-                      keep_trace: bool, trace_index: int = 0, shared: dict | None = None, out: WindTunnelRun,
-                      rows: slice) -> float | None:
-    """One block of :func:`run_windtunnel`: the session's settings and truth (:func:`_wt_setup`), its IMU
-    records (:meth:`mtcal.core.simulate.ImuStream.fill`), the wind-off measurement (:func:`_wt_nowind`), then the
-    wind-on groups' records (:func:`_wind_on_fill`) and measurement (:func:`_wind_on_measure`), written into
-    the trial ``rows`` of ``out`` (:func:`_windtunnel_outputs`; its trace: the block's with ``keep_trace``).
-    Returns the block's gate fraction with the wind on (None with it off).
-
-    :func:`_run_windtunnel_blocks` is the same block of several scenarios side by side (their records
-    filled together, the same numbers).
-    """
-    b = _wt_setup(sc, rng, trials, sources, wind_on)
-    shape = (trials, len(b.traj), 3)
-    gyro, accel = np.empty(shape), np.empty(shape)
-    ImuStream(b.traj, b.model, rng=b.rng_imu, trials=trials).fill(gyro, accel)
-    b.traj = None                                # (its truth outputs: not kept while the wind is on)
-    trace = _wt_nowind(b, gyro, accel, sources, keep_trace, trace_index, out, rows)
-    del gyro, accel
-    if not wind_on:
-        return None
-    gyro, accel = _wind_on_fill([b], shared)[0]
-    return _wind_on_measure(sc, out.q_matrix[rows], b.groups, trials, trace, keep_trace, trace_index, gyro, accel,
-                            out.wind_on, rows)
+    return run_windtunnel_kinds([sc], [rng], trials, sources, wind_on=wind_on, block=block, keep_trace=keep_trace,
+                                trace_trial=trace_trial, shared=shared)[0]
 
 
 def _windtunnel_block_sizes(trials: int, block: int, trace_trial: int) -> tuple[list, int, int]:
