@@ -1537,7 +1537,7 @@ def gravity_lateral_axis(q_wb) -> np.ndarray:
 
 @dataclass(frozen=True)
 class RecordPiece:
-    """One block of trials of a :class:`RecordSource`: its sensor, its generator and its own changes.
+    """One block of trials of a :class:`RecordSource`: its sensor, its generator, its truth and its own changes.
 
     Attributes
     ----------
@@ -1546,7 +1546,7 @@ class RecordPiece:
     model : ImuErrorModel
         The block's sensor (mounting, error values).
     rng : numpy.random.Generator
-        The block's IMU noise generator (:class:`ImuStream`).
+        The block's IMU noise generator (:class:`ImuStream`; None for a sensor without random errors).
     tilt_gain : float
         Gain of the source's tilt axis for this block's truth (rad per unit; 0: the base attitude).
     accel_step_m_s2 : ndarray, shape (trials, 1, 3), optional
@@ -1554,33 +1554,41 @@ class RecordPiece:
         (a run-to-run change between two runs of one session).
     load_tilt_rad : ndarray, shape (trials, 3), optional
         A per-trial mount tilt per g of normal load (rad, body axes; :func:`load_tilt_outputs`).
+    trajectory : Trajectory, optional
+        The block's own truth instead of the source's base (its time base may be shorter than the stack:
+        the records are then held at their last sample to the stack's length).
+    accel_offset_m_s2 : ndarray, shape (trials or 1, N, 3), optional
+        An additive accelerometer disturbance (m/s², e.g. a vibration) over the block's own N samples.
     """
 
     trials: int
     model: ImuErrorModel
-    rng: np.random.Generator
+    rng: np.random.Generator | None
     tilt_gain: float = 0.0
     accel_step_m_s2: np.ndarray | None = None
     load_tilt_rad: np.ndarray | None = None
+    trajectory: Trajectory | None = None
+    accel_offset_m_s2: np.ndarray | None = None
 
 
 class RecordSource:
-    """Stacked IMU records of Monte Carlo blocks on one truth base, simulated when a consumer asks for them.
+    """Stacked IMU records of Monte Carlo blocks, simulated when a consumer asks for them.
 
-    Each :class:`RecordPiece` is a block of trials with its own sensor and generator, its truth the base
-    attitude tilted by its ``tilt_gain`` about ``tilt_axis`` (:class:`TiltedTrajectories`). A consumer (a
-    measurement procedure) asks for some blocks at a time (:meth:`fill`): they are simulated into one
-    reused buffer (:meth:`ImuStream.fill`; blocks of a group that draw the same noise together,
-    :func:`fill_streams_grouped`), then each block's bias step and load tilt are added. Blocks of equal
-    gain share one truth trajectory (its outputs computed once), dropped after its last block took it.
-    The numbers of a block depend on its own settings alone: the same bits whichever blocks are filled
-    with it, in whatever groups, on whatever threads.
+    Each :class:`RecordPiece` is a block of trials with its own sensor and generator, its truth its own
+    trajectory or the source's base attitude tilted by its ``tilt_gain`` about ``tilt_axis``
+    (:class:`TiltedTrajectories`). A consumer (a measurement procedure) asks for some blocks at a time
+    (:meth:`fill`): they are simulated into one reused buffer (:meth:`ImuStream.fill`; blocks of a group
+    that draw the same noise together, :func:`fill_streams_grouped`), then each block's bias step,
+    additive disturbance and load tilt are added, in that order; a block shorter than the stack is held at
+    its last sample. Blocks of equal gain share one truth trajectory (its outputs computed once), dropped
+    after its last block took it. The numbers of a block depend on its own settings alone: the same bits
+    whichever blocks are filled with it, in whatever groups, on whatever threads.
 
     Parameters
     ----------
-    time_s : ndarray, shape (N,)
-        Uniform time grid (s) of the truth.
-    q_base : ndarray, shape (N, 4)
+    time_s : ndarray, shape (N,) or None
+        Uniform time grid (s) of the base truth (None when every block has its own trajectory).
+    q_base : ndarray, shape (N, 4) or None
         Base body attitude (body → world, unit).
     pieces : sequence of RecordPiece
     dt_s : float
@@ -1609,7 +1617,10 @@ class RecordSource:
         if not self.pieces or not all(isinstance(p, RecordPiece) for p in self.pieces):
             raise TypeError(f"pieces must be a non-empty sequence of RecordPiece, got {[type(p).__name__ for p in self.pieces]}")
         self.time_s, self.q_base, self.dt_s, self.step_start = time_s, q_base, float(dt_s), step_start
-        gains = [float(p.tilt_gain) for p in self.pieces]
+        based = [p for p in self.pieces if p.trajectory is None]
+        if based and (time_s is None or q_base is None):
+            raise ValueError("time_s and q_base are needed when a piece has no trajectory of its own")
+        gains = [float(p.tilt_gain) for p in based]
         if any(g != 0.0 for g in gains) and tilt_axis is None:
             raise ValueError("tilt_axis is needed when a piece's tilt_gain is not 0")
         if any(p.accel_step_m_s2 is not None for p in self.pieces) and step_start is None:
@@ -1621,17 +1632,21 @@ class RecordSource:
         self._memo, self._lock = {}, threading.Lock()
         self._gyro = self._accel = None
 
-    @property
-    def samples(self) -> int:
-        """Samples N of every record."""
-        return len(self.time_s)
+    def samples(self, indices) -> int:
+        """Samples of the blocks ``indices`` stacked: the longest block's."""
+        return max(len(self.time_s) if self.pieces[i].trajectory is None else len(self.pieces[i].trajectory)
+                   for i in indices)
 
     def trials(self, indices) -> int:
         """Trials of the blocks ``indices`` stacked."""
         return sum(self.pieces[i].trials for i in indices)
 
-    def _trajectory(self, gain: float) -> Trajectory:
-        """The truth of ``gain``, computed by its first block (the others wait), dropped after its last."""
+    def _trajectory(self, piece: RecordPiece) -> Trajectory:
+        """The block's truth: its own, or the base's of its gain, computed by its first block (the others wait)
+        and dropped after its last."""
+        if piece.trajectory is not None:
+            return piece.trajectory
+        gain = float(piece.tilt_gain)
         with self._lock:
             entry = self._memo.get(gain)
             if entry is None:
@@ -1655,26 +1670,36 @@ class RecordSource:
         reuses at its next call (no fresh arrays per call): read them before asking again.
         """
         indices = list(indices)
-        total = self.trials(indices)
-        if self._gyro is None or self._gyro.shape[0] < total:
-            self._gyro, self._accel = np.empty((total, self.samples, 3)), np.empty((total, self.samples, 3))
+        total, n = self.trials(indices), self.samples(indices)
+        if self._gyro is None or self._gyro.shape[0] < total or self._gyro.shape[1] != n:
+            self._gyro, self._accel = np.empty((total, n, 3)), np.empty((total, n, 3))
         gyro, accel = self._gyro[:total], self._accel[:total]
         starts = np.cumsum([0] + [self.pieces[i].trials for i in indices]).tolist()
         rows = [(gyro[a:b], accel[a:b]) for a, b in zip(starts[:-1], starts[1:])]
 
         def simulate(group):
             pieces = [self.pieces[indices[p]] for p in group]
-            trajs = [self._trajectory(float(piece.tilt_gain)) for piece in pieces]
+            trajs = [self._trajectory(piece) for piece in pieces]
+            # a block as long as the stack is simulated straight into its rows, a shorter one into its own arrays
+            outs = [rows[p] if len(traj) == n else (np.empty((piece.trials, len(traj), 3)),
+                                                    np.empty((piece.trials, len(traj), 3)))
+                    for p, piece, traj in zip(group, pieces, trajs)]
             streams = [ImuStream(traj, piece.model, rng=piece.rng, trials=piece.trials)
                        for piece, traj in zip(pieces, trajs)]
-            fill_streams_grouped(streams, [rows[p] for p in group])
+            fill_streams_grouped(streams, outs)
             del streams
-            for p, piece, traj in zip(group, pieces, trajs):
-                g, acc = rows[p]
+            for p, piece, traj, (g, acc) in zip(group, pieces, trajs, outs):
                 if piece.accel_step_m_s2 is not None:
                     acc[:, self.step_start:] += piece.accel_step_m_s2
+                if piece.accel_offset_m_s2 is not None:
+                    acc += piece.accel_offset_m_s2
                 if piece.load_tilt_rad is not None:
                     load_tilt_outputs(g, acc, traj.q_wb, self.dt_s, piece.model.q_mount, piece.load_tilt_rad)
+                m = len(traj)
+                if m < n:                        # held at its last sample to the stack's length
+                    for x, out in ((g, rows[p][0]), (acc, rows[p][1])):
+                        out[:, :m] = x
+                        out[:, m:] = x[:, -1:]
 
         if map_groups is None:
             for group in groups:

@@ -67,7 +67,7 @@ __all__ = ["MODELS", "missing_rotation_axis", "MAX_CONDITION", "MAX_SO4_DISTANCE
            "mounting_from_q_hat", "installation_angles_sigma", "calibrate_record", "apply_record", "RecordCalibration",
            "RecordApplication", "RecordRefused", "RefusalDiagnosis", "MISMATCH_MESSAGES", "POSITION_MISTAKES",
            "QUATERNION_CONVENTIONS", "SessionPiece", "SessionSweep", "SessionMeasurement", "measure_session",
-           "measure_simulated_session"]
+           "measure_simulated_session", "AppliedRun", "AppliedMeasurement", "measure_applied_runs"]
 
 #: Gate: condition number of ``A_q^s (A_q^s)ᵀ`` (Eq 13) above which the positions are refused.
 MAX_CONDITION = six_position.MAX_CONDITION
@@ -897,15 +897,8 @@ def measure_simulated_session(config: InstallationConfig, source: RecordSource, 
     >>> m.calibrations[0].q_hat.shape, bool(m.verifications[0].residual_rad.max() < 1e-3)
     ((2, 4, 4), True)
     """
-    if not isinstance(source, RecordSource):
-        raise TypeError(f"source must be a RecordSource, got {type(source).__name__}")
-    blocks = [int(b) for b in blocks]
-    if not blocks or not all(0 <= b < len(source.pieces) for b in blocks):
-        raise ValueError(f"blocks must be a non-empty sequence of the source's {len(source.pieces)} blocks, got {blocks}")
-    groups = [[int(p) for p in group] for group in groups]
-    if sorted(p for group in groups for p in group) != list(range(len(blocks))):
-        raise ValueError(f"groups must partition the positions 0 … {len(blocks) - 1} of blocks, got {groups}")
-    shape = (source.trials(blocks), source.samples, 3)
+    blocks, groups = _source_blocks(source, blocks, groups)
+    shape = (source.trials(blocks), source.samples(blocks), 3)
     return _measure(config, (shape, shape), lambda: source.fill(blocks, groups, map_pieces), source.dt_s,
                     calibration_run, pieces, verification_run, reference_rad, sweeps, map_pieces)
 
@@ -943,6 +936,155 @@ def _measure(config, shapes, records, dt_s, calibration_run, pieces, verificatio
                               None if ver_run is None else tuple(ver for _, ver, _ in measured),
                               None if not sweeps else tuple(sc[0] for _, _, sc in measured),
                               None if not sweeps else tuple(sc[1] for _, _, sc in measured))
+
+
+# --------------------------------------------------------------------------- later runs with a calibration
+@dataclass(frozen=True)
+class AppliedRun:
+    """A later run of a session, on records of its own, measured with a calibration by :func:`measure_applied_runs`.
+
+    Attributes
+    ----------
+    rows : slice
+        The run's trial rows of the stacked records (step 1).
+    q_hat : array_like, shape (t, 4, 4)
+        Q̂ (Eq 10) of each row (t = the run's trials): the calibration of the session it belongs to.
+    holds : sequence of slice
+        Hold windows (samples of the run) where its calibrated pitch is averaged.
+    samples : int
+        The run's own length N_run ≤ the stack's (beyond it the records are held at their last sample).
+    trace_row : int, optional
+        A row of the run (0 … t−1) whose calibrated pitch series (zeroed at every sample), AMD percentage and
+        gate are returned (:attr:`AppliedMeasurement.traces`).
+    """
+
+    rows: slice
+    q_hat: np.ndarray
+    holds: tuple
+    samples: int
+    trace_row: int | None = None
+
+
+@dataclass(frozen=True)
+class AppliedMeasurement:
+    """Outcome of :func:`measure_applied_runs`.
+
+    Attributes
+    ----------
+    hold_pitch_rad : tuple of ndarray
+        Per run, (t, holds): the Eq 8 pitch after Eq 10 with the run's Q̂, the run zeroed at its first sample
+        (§4.1), averaged over each hold (rad).
+    gate : ndarray, shape (T, N) of bool
+        The QNCF's AMD gate (accelerometer used) at every sample of every stacked row.
+    traces : tuple of dict
+        Per run, ``"pitch_rad"``, ``"amd_pct"``, ``"gate"`` (N_run,) of its ``trace_row`` ({} without one).
+    """
+
+    hold_pitch_rad: tuple
+    gate: np.ndarray
+    traces: tuple
+
+
+def measure_applied_runs(config: InstallationConfig, source: RecordSource, blocks, groups, *, runs,
+                         map_pieces=None) -> AppliedMeasurement:
+    """Later runs of a session measured with its calibration: Eq 10 on the QNCF attitude of records of their own.
+
+    wang2023cja §4.2 (wind on, Table 10): after the wind-off calibration, each group's AoA sweep is measured
+    with that session's Q̂. The runs' records are pulled from ``source`` (:meth:`mtcal.core.simulate.RecordSource.fill`
+    of ``blocks`` in ``groups``, after every input is checked) and stacked as trials of one QNCF (its cost is
+    the loop over time); each run is zeroed at its first sample (§4.1) where it is read (its holds, in place),
+    and its pitch after Eq 10 averaged over each hold.
+
+    Parameters
+    ----------
+    config : InstallationConfig
+        The QNCF's parameters (``qncf_params``).
+    source : mtcal.core.simulate.RecordSource
+        The runs' simulated records; its ``dt_s`` is the sample interval.
+    blocks, groups
+        As for :func:`measure_simulated_session`.
+    runs : sequence of AppliedRun
+    map_pieces : callable, optional
+        ``map_pieces(fn, items)`` spreading the groups' filling (the numbers do not depend on it).
+
+    Returns
+    -------
+    AppliedMeasurement
+
+    References
+    ----------
+    wang2023cja §4.2 (wind-on groups, Table 10), Eq 5–8 (QNCF), Eq 10, §4.1 (zeroed start).
+
+    Examples
+    --------
+    A level, noise-free sensor without installation error holds pitch 0 at every hold:
+
+    >>> from mtcal.core.simulate import ImuErrorModel, RecordPiece, RecordSource, Trajectory
+    >>> t = np.arange(0.0, 4.0, 0.01)
+    >>> level = Trajectory(t, np.tile([1.0, 0.0, 0.0, 0.0], (t.size, 1)))
+    >>> source = RecordSource(None, None, [RecordPiece(2, ImuErrorModel(), None, trajectory=level)], 0.01)
+    >>> m = measure_applied_runs(InstallationConfig.monte_carlo(), source, [0], [[0]],
+    ...                          runs=[AppliedRun(slice(0, 2), np.stack([np.eye(4)] * 2), [slice(100, 200)], t.size, 0)])
+    >>> m.hold_pitch_rad[0].shape, float(np.abs(m.hold_pitch_rad[0]).max()) < 1e-12, m.traces[0]["pitch_rad"].shape
+    ((2, 1), True, (400,))
+    """
+    if not isinstance(config, InstallationConfig):
+        raise TypeError(f"config must be an InstallationConfig, got {type(config).__name__}")
+    blocks, groups = _source_blocks(source, blocks, groups)
+    trials, n = source.trials(blocks), source.samples(blocks)
+    runs = list(runs)
+    if not runs or not all(isinstance(run, AppliedRun) for run in runs):
+        raise TypeError(f"runs must be a non-empty sequence of AppliedRun, got {[type(r).__name__ for r in runs]}")
+    checked = []
+    for run in runs:
+        r = run.rows
+        if (not isinstance(r, slice) or r.step not in (None, 1) or r.start is None or r.stop is None
+                or not 0 <= r.start < r.stop <= trials):
+            raise ValueError(f"a run's rows must be a slice (start < stop, step 1) within the {trials} trials of the "
+                             f"records, got {r!r}")
+        t = r.stop - r.start
+        q_hat = float64_array(run.q_hat, "a run's q_hat")
+        if q_hat.shape != (t, 4, 4) or not np.isfinite(q_hat).all():
+            raise ValueError(f"a run's q_hat must be finite, of shape ({t}, 4, 4), got {q_hat.shape}")
+        if not isinstance(run.samples, (int, np.integer)) or not 0 < run.samples <= n:
+            raise ValueError(f"a run's samples must be an integer in [1, {n}], got {run.samples!r}")
+        holds = list(run.holds)
+        if not holds or not all(isinstance(h, slice) and h.step in (None, 1) and h.start is not None
+                                and h.stop is not None and 0 <= h.start < h.stop <= run.samples for h in holds):
+            raise ValueError(f"a run's holds must be slices within its {run.samples} samples, got {holds!r}")
+        if run.trace_row is not None and (not isinstance(run.trace_row, (int, np.integer)) or not 0 <= run.trace_row < t):
+            raise ValueError(f"a run's trace_row must be a row of its {t} trials, got {run.trace_row!r}")
+        checked.append((slice(r.start, r.stop), q_hat, holds, int(run.samples), run.trace_row))
+    gyro, accel = source.fill(blocks, groups, map_pieces)
+    # ---- trusted inside: one QNCF over the stack, each run zeroed at its first sample where read
+    res = qncf_trusted(gyro, accel, source.dt_s, config.qncf_params, return_euler=False)
+    means, traces = [], []
+    for rows, q_hat, holds, m, trace_row in checked:
+        q_r = res.q_ws[rows]
+        trace = {}
+        if trace_row is not None:           # the traced row zeroed at every sample, before its holds are
+            q_t = q_r[trace_row:trace_row + 1].copy()
+            rotations.relative_to_initial(q_t, n0=1, out=q_t)
+            trace = {"pitch_rad": rotations.mapped_pitch_trusted(q_hat[trace_row:trace_row + 1], q_t[:, :m])[0],
+                     "amd_pct": res.amd_pct[rows.start + trace_row, :m], "gate": res.gate[rows.start + trace_row, :m]}
+        # zeroed at the first sample (§4.1) where read: at the holds (each sample's product is its own)
+        rotations.relative_to_initial(q_r, n0=1, out=q_r, windows=holds)
+        means.append(np.stack([rotations.mapped_pitch_trusted(q_hat, q_r[:, h]).mean(axis=1) for h in holds], axis=1))
+        traces.append(trace)
+    return AppliedMeasurement(tuple(means), res.gate, tuple(traces))
+
+
+def _source_blocks(source, blocks, groups) -> tuple[list, list]:
+    """``blocks`` of ``source`` and their fill ``groups``, checked (:func:`measure_simulated_session`)."""
+    if not isinstance(source, RecordSource):
+        raise TypeError(f"source must be a RecordSource, got {type(source).__name__}")
+    blocks = [int(b) for b in blocks]
+    if not blocks or not all(0 <= b < len(source.pieces) for b in blocks):
+        raise ValueError(f"blocks must be a non-empty sequence of the source's {len(source.pieces)} blocks, got {blocks}")
+    groups = [[int(p) for p in group] for group in groups]
+    if sorted(p for group in groups for p in group) != list(range(len(blocks))):
+        raise ValueError(f"groups must partition the positions 0 … {len(blocks) - 1} of blocks, got {groups}")
+    return blocks, groups
 
 
 def _q_hat(q_hat) -> np.ndarray:

@@ -652,8 +652,8 @@ def test_record_source_shares_a_gains_truth_and_drops_it_after_its_last_block(mo
     monkeypatch.setattr(simulate.TiltedTrajectories, "__call__", lambda self, k: made.append(k) or tilted(self, k))
     src = simulate.RecordSource(t, q, [simulate.RecordPiece(1, ImuErrorModel(), None, k) for k in (1e-3, 1e-3, 2e-3)],
                                 1e-3, tilt_axis=axis)
-    first = src._trajectory(1e-3)
-    assert src._trajectory(1e-3) is first and 1e-3 not in src._memo
+    first = src._trajectory(src.pieces[0])
+    assert src._trajectory(src.pieces[1]) is first and 1e-3 not in src._memo
     src.fill([2], [[0]])
     assert made == [1e-3, 2e-3] and src._memo == {}
 
@@ -666,3 +666,22 @@ def test_record_source_bad_input():
         simulate.RecordSource(t, q, [simulate.RecordPiece(1, ImuErrorModel(), None, 1e-3)], 1e-3)
     with pytest.raises(ValueError, match="step_start is needed"):
         simulate.RecordSource(t, q, [simulate.RecordPiece(1, ImuErrorModel(), None, 0.0, np.zeros((1, 1, 3)))], 1e-3)
+    with pytest.raises(ValueError, match="time_s and q_base are needed"):
+        simulate.RecordSource(None, None, [simulate.RecordPiece(1, ImuErrorModel(), None)], 1e-3)
+
+
+def test_record_source_holds_a_shorter_block_at_its_last_sample_and_adds_its_disturbance():
+    t, q, _ = _tilting_base(300)
+    short = Trajectory(t[:200], q[:200])
+    noisy = ImuErrorModel(accel=SensorErrors(noise_density=1e-3))
+    shake = np.sin(np.arange(200.0))[None, :, None] * np.ones((2, 1, 3))
+    src = simulate.RecordSource(None, None, [simulate.RecordPiece(2, noisy, np.random.default_rng(3), trajectory=short,
+                                                                  accel_offset_m_s2=shake),
+                                             simulate.RecordPiece(1, noisy, np.random.default_rng(4),
+                                                                  trajectory=Trajectory(t, q))], 1e-3)
+    gyro, accel = src.fill([0, 1], [[0], [1]])
+    g, a = np.empty((2, 200, 3)), np.empty((2, 200, 3))
+    simulate.ImuStream(short, noisy, np.random.default_rng(3), trials=2).fill(g, a)
+    a += shake
+    assert gyro.shape == (3, 300, 3) and np.array_equal(accel[:2, :200], a) and np.array_equal(gyro[:2, :200], g)
+    assert np.array_equal(accel[:2, 200:], np.repeat(a[:, -1:], 100, axis=1))

@@ -597,6 +597,53 @@ def test_measure_simulated_session_pulls_its_records_and_equals_measure_session(
     assert src._gyro is None                                     # refused before a record was simulated
 
 
+def test_measure_applied_runs_is_eq10_on_the_zeroed_qncf_attitude_at_each_hold():
+    """Runs of unequal length stacked in one QNCF: each run's hold means are those of its own QNCF attitude, zeroed
+    at its first sample, through Eq 10 with its rows' Q̂; the traced row's series and gate; inputs checked first."""
+    from mtcal.core.simulate import RecordPiece, RecordSource, SensorErrors, Trajectory
+
+    t = np.arange(0.0, 6.0, 0.01)
+    q_long = rotations.quat_from_euler_zxy(np.zeros(t.size), np.radians(5.0) * np.minimum(t, 3.0) / 3.0, np.zeros(t.size))
+    model = ImuErrorModel(gyro=SensorErrors(noise_density=1e-4), accel=SensorErrors(noise_density=1e-3),
+                          q_mount=tuple(rotations.mount_quaternion(ALPHA)))
+    trajs = [Trajectory(t, q_long), Trajectory(t[:400], q_long[:400])]
+    source = lambda: RecordSource(None, None, [RecordPiece(2, model, np.random.default_rng(s), trajectory=tr)  # noqa: E731
+                                               for s, tr in zip((5, 6), trajs)], 0.01)
+    q_hat = np.stack([rotations.right_matrix(rotations.quat_conjugate(rotations.mount_quaternion(ALPHA)))] * 2)
+    holds = ([slice(400, 500), slice(500, 590)], [slice(350, 390)])
+    runs = [installation.AppliedRun(slice(0, 2), q_hat, holds[0], t.size, 1),
+            installation.AppliedRun(slice(2, 4), q_hat, holds[1], 400)]
+    cfg = Config.monte_carlo()
+    got = installation.measure_applied_runs(cfg, source(), [0, 1], [[0], [1]], runs=runs)
+    gyro, accel = (x.copy() for x in source().fill([0, 1], [[0, 1]]))
+    res = qncf(gyro, accel, 0.01, cfg.qncf_params, return_euler=False)
+    for k, (run, hs) in enumerate(zip(runs, holds)):
+        q = rotations.relative_to_initial(res.q_ws[run.rows])
+        ref = np.stack([rotations.mapped_pitch_trusted(q_hat, q[:, h]).mean(axis=1) for h in hs], axis=1)
+        assert np.array_equal(got.hold_pitch_rad[k], ref)
+    q1 = rotations.relative_to_initial(res.q_ws[1:2])
+    assert np.array_equal(got.traces[0]["pitch_rad"], rotations.mapped_pitch_trusted(q_hat[1:2], q1)[0])
+    assert np.array_equal(got.traces[0]["gate"], res.gate[1]) and got.traces[1] == {}
+    assert np.abs(np.degrees(got.hold_pitch_rad[0][:, 1]) - 5.0).max() < 1.0       # the calibrated pitch near 5°
+    src = source()
+    bad = lambda **kw: installation.measure_applied_runs(cfg, src, [0, 1], [[0, 1]], runs=[replace(runs[0], **kw)])  # noqa: E731
+    with pytest.raises(TypeError, match="runs must be a non-empty sequence of AppliedRun"):
+        installation.measure_applied_runs(cfg, src, [0, 1], [[0, 1]], runs=[])
+    with pytest.raises(ValueError, match="a run's rows must be a slice"):
+        bad(rows=slice(3, 5))
+    with pytest.raises(ValueError, match=r"a run's q_hat must be finite, of shape \(2, 4, 4\)"):
+        bad(q_hat=q_hat[:1])
+    with pytest.raises(ValueError, match=r"a run's samples must be an integer in \[1, 600\]"):
+        bad(samples=601)
+    with pytest.raises(ValueError, match="a run's holds must be slices within its 400 samples"):
+        bad(samples=400)
+    with pytest.raises(ValueError, match="a run's trace_row must be a row of its 2 trials"):
+        bad(trace_row=2)
+    with pytest.raises(TypeError, match="config must be an InstallationConfig"):
+        installation.measure_applied_runs({"qncf": None}, src, [0], [[0]], runs=runs[:1])
+    assert src._gyro is None                                     # refused before a record was simulated
+
+
 def _verification_sweep(session, fractions=(0.5, 0.4), decimation=7):
     """The verification run scored as a sweep: its pitch averaged over the middle of each rest."""
     from mtcal.core.profiles import join_profiles

@@ -34,11 +34,9 @@ from mtcal.core import metrics, rotations
 from mtcal.core.allocator import keep_freed_memory
 from mtcal.core.profiles import AngleProfile, join_profiles, step_schedule
 from mtcal.core.rng import child_rngs, stream_rng
-from mtcal.core.rotations import mount_quaternion, relative_to_initial
-from mtcal.core.simulate import (ImuStream, RecordPiece, RecordSource, fill_streams_grouped, gravity_lateral_axis,
-                                 load_tilt_outputs)
+from mtcal.core.rotations import mount_quaternion
+from mtcal.core.simulate import RecordPiece, RecordSource, gravity_lateral_axis, load_tilt_outputs
 from mtcal.core.units import DEG, MG
-from mtcal.filters.qncf import qncf_trusted
 from mtcal.methods import six_position
 from mtcal.systems import installation
 from .error_model import MOUNT_TYPE, PAPER_SIGN
@@ -697,12 +695,10 @@ def _windtunnel_outputs(sc: WindTunnelScenario, trials: int, wind_on: bool) -> W
 
 @dataclass
 class _WindTunnelBlock:
-    """One scenario's block of :func:`_run_windtunnel_blocks` between its phases (:func:`_wt_setup`)."""
+    """One scenario's block of :func:`_run_windtunnel_blocks`: its settings, draws and truth (:func:`_wt_setup`)."""
 
     sc: WindTunnelScenario
     trials: int
-    rng_imu: np.random.Generator
-    rng_change: np.random.Generator
     prof: AngleProfile
     spans: dict
     holds: list               # hold windows of the wind-off AoA sweep (first and last dropped)
@@ -710,15 +706,18 @@ class _WindTunnelBlock:
     pos: np.ndarray
     groups: list              # the wind-on groups (:func:`_wind_on_truth`); [] with the wind off
     model: object             # ImuErrorModel
-    traj: object              # Trajectory of the wind-off session (dropped once simulated)
+    piece: RecordPiece        # the wind-off session's records (its truth, sensor, run-to-run bias change)
 
 
 def _run_windtunnel_blocks(scenarios, rngs, trials: int, sources, *, wind_on: bool, keep_trace: bool,
                            trace_index: int = 0, shared: dict | None = None, outs: list, rows: slice) -> list:
     """Wind-off calibration + AoA sweep (Tables 9, 11) and five wind-on groups (Table 10) of one block per
-    scenario: set up each (:func:`_wt_setup`), fill the wind-off records together (:func:`mtcal.core.simulate.fill_streams_grouped`),
-    measure each (:func:`_wt_nowind`); then the same for the wind-on groups (:func:`_wind_on_fill`,
-    :func:`_wind_on_measure`).
+    scenario, the scenarios side by side: set up each (:func:`_wt_setup`: settings, draws, truth), then the
+    installation system measures the wind-off sessions (one stacked QNCF, each scenario's calibration and
+    AoA sweep: :func:`mtcal.systems.installation.measure_simulated_session`) and the wind-on groups with each
+    scenario's Q̂ (one stacked QNCF: :func:`mtcal.systems.installation.measure_applied_runs`), pulling their
+    records from core sources (:class:`mtcal.core.simulate.RecordSource`: the scenarios' records filled
+    together, the noise drawn once where shared).
 
     Truth = actual mechanism angles (:func:`mechanism_actual`) + elastic
     deflection with wind on; reference = commanded angles. With wind on the
@@ -730,23 +729,39 @@ def _run_windtunnel_blocks(scenarios, rngs, trials: int, sources, *, wind_on: bo
     Returns per scenario the block's gate fraction with the wind on (None with it off).
     """
     blocks = [_wt_setup(sc, rng, trials, sources, wind_on) for sc, rng in zip(scenarios, rngs)]
-    shape = (trials, len(blocks[0].traj), 3)
-    records = [(np.empty(shape), np.empty(shape)) for _ in blocks]
-    fill_streams_grouped([ImuStream(b.traj, b.model, rng=b.rng_imu, trials=trials) for b in blocks], records)
-    traces = []
-    for m, b in enumerate(blocks):
-        b.traj = None                                # (its truth outputs: not kept while the wind is on)
-        traces.append(_wt_nowind(b, *records[m], sources, keep_trace, trace_index, outs[m], rows))
-        records[m] = None
+    b0, k = blocks[0], len(blocks)
+    for b in blocks[1:]:
+        if b.prof is not b0.prof or b.sc.qncf != b0.sc.qncf or not np.array_equal(b.pos, b0.pos):
+            raise ValueError("scenarios side by side must share their session (schedule, positions, sample rate) and "
+                             "QNCF parameters: their records are measured in one stack")
+    config = installation.InstallationConfig.monte_carlo(qncf_params=b0.sc.qncf)
+    span, frac = b0.spans["aoa"], 0.5
+    # the wind-off sessions: each zeroed at its first sample, its calibration run's calibration fed the commanded
+    # positions (the mechanism stood at command + error), its AoA sweep scored against its command
+    session = installation.measure_simulated_session(
+        config, RecordSource(None, None, [b.piece for b in blocks], b0.sc.imu.dt_s, step_start=span.start),
+        range(k), [list(range(k))], calibration_run=b0.spans["calibration"],
+        pieces=[installation.SessionPiece(slice(m * trials, (m + 1) * trials), b.pos + b.ref_err, frac,
+                                          trace_row=trace_index if keep_trace else None) for m, b in enumerate(blocks)],
+        sweeps=[installation.SessionSweep("aoa", span, b0.prof.angle_rad[span], 1, (2, 0), {frac: b0.holds},
+                                          TRACE_DECIMATION)])
+    traces = [_wt_nowind(b, session, m, keep_trace, outs[m], rows) for m, b in enumerate(blocks)]
+    del session
     if not wind_on:
-        return [None] * len(blocks)
-    stacks = _wind_on_fill(blocks, shared)
-    gates = []
-    for m, b in enumerate(blocks):
-        gates.append(_wind_on_measure(b.sc, outs[m].q_matrix[rows], b.groups, trials, traces[m], keep_trace,
-                                      trace_index, *stacks[m], outs[m].wind_on, rows))
-        stacks[m] = None
-    return gates
+        return [None] * k
+    # the wind-on groups (kind-major: block m·5 + g), measured with each scenario's Q̂
+    pieces = [RecordPiece(trials, replace(b.model, time_since_power_on_s=b.model.time_since_power_on_s
+                                          + b.sc.group_interval_s * (g + 1)), grp.rng_imu, trajectory=grp.traj,
+                          accel_offset_m_s2=_vibration_accel(b.sc, grp.prof.time_s, grp.ramp, grp.vib, shared, g))
+              for b in blocks for g, grp in enumerate(b.groups)]
+    wind = installation.measure_applied_runs(
+        config, RecordSource(None, None, pieces, b0.sc.imu.dt_s), range(5 * k),
+        [[m * 5 + g for m in range(k)] for g in range(5)],
+        runs=[installation.AppliedRun(slice((m * 5 + g) * trials, (m * 5 + g + 1) * trials), outs[m].q_matrix[rows],
+                                      grp.holds, grp.prof.time_s.size, trace_index if keep_trace else None)
+              for m, b in enumerate(blocks) for g, grp in enumerate(b.groups)])
+    del pieces
+    return [_wind_on_scores(b, wind, m, traces[m], keep_trace, outs[m].wind_on, rows) for m, b in enumerate(blocks)]
 
 
 def _wt_session(sc: WindTunnelScenario) -> tuple:
@@ -793,30 +808,19 @@ def _wt_setup(sc: WindTunnelScenario, rng: np.random.Generator, trials: int, sou
     for grp, group_traj in zip(groups, group_trajs):
         grp.traj, grp.actual = group_traj, None      # the angles are in the trajectory now
     model = sc.imu.error_model(mount_quaternion(np.radians(sc.alpha_deg)), sources, sc.errors)
-    return _WindTunnelBlock(sc, trials, rng_imu, rng_change, prof, spans, holds, ref_err, pos, groups, model, traj)
+    step = None                          # the run-to-run bias change between the calibration and the sweep
+    if "accel_run_change" in on:
+        step = sc.errors.accel_run_bias_mg * MG * rng_change.standard_normal((trials, 1, 3))
+    return _WindTunnelBlock(sc, trials, prof, spans, holds, ref_err, pos, groups, model,
+                            RecordPiece(trials, model, rng_imu, trajectory=traj, accel_step_m_s2=step))
 
 
-def _wt_nowind(b: _WindTunnelBlock, gyro, accel, sources, keep_trace: bool, trace_index: int, out: WindTunnelRun,
-               rows: slice) -> dict:
-    """The wind-off session of one block from its IMU record (modified in place): the run-to-run accelerometer
-    bias change, the QNCF, the calibration and the AoA sweep's errors, written into the trial ``rows`` of
-    ``out`` (:func:`_windtunnel_outputs`; the sweep's reference by the first block). Returns the block's trace
-    (empty without ``keep_trace``; the traced block's is ``out.trace``)."""
-    sc, trials, spans, frac = b.sc, b.trials, b.spans, 0.5
-    span = spans["aoa"]
-    if "accel_run_change" in sources:   # bias change between the calibration and the sweep
-        accel[:, span.start:] += (sc.errors.accel_run_bias_mg * MG * b.rng_change.standard_normal((trials, 1, 3)))
-    # the session measured by the installation system: the QNCF, the session zeroed at its first sample, the
-    # calibration run's calibration fed the commanded positions (the mechanism stood at command + error), the
-    # AoA sweep scored against its command
-    config = installation.InstallationConfig.monte_carlo(qncf_params=sc.qncf)
-    cmd = b.prof.angle_rad[span]
-    session = installation.measure_session(
-        config, gyro, accel, sc.imu.dt_s, calibration_run=spans["calibration"],
-        pieces=[installation.SessionPiece(slice(0, trials), b.pos + b.ref_err, frac,
-                                          trace_row=trace_index if keep_trace else None)],
-        sweeps=[installation.SessionSweep("aoa", span, cmd, 1, (2, 0), {frac: b.holds}, TRACE_DECIMATION)])
-    cal, scores, nowind = session.calibrations[0], session.sweeps[0]["aoa"], out.nowind
+def _wt_nowind(b: _WindTunnelBlock, session, m: int, keep_trace: bool, out: WindTunnelRun, rows: slice) -> dict:
+    """Scenario ``m``'s wind-off session of the measured ``session``: its calibration and the AoA sweep's errors,
+    written into the trial ``rows`` of ``out`` (:func:`_windtunnel_outputs`; the sweep's reference by the first
+    block). Returns the block's trace (empty without ``keep_trace``; the traced block's is ``out.trace``)."""
+    span = b.spans["aoa"]
+    cal, scores, nowind = session.calibrations[m], session.sweeps[m]["aoa"], out.nowind
     out.q_matrix[rows], out.cal_before[rows], out.cal_after[rows] = cal.q_hat, cal.euler_before_rad, cal.euler_after_rad
     if rows.start == 0:
         nowind["reference"] = scores["reference"]
@@ -826,8 +830,8 @@ def _wt_nowind(b: _WindTunnelBlock, gyro, accel, sources, keep_trace: bool, trac
     trace = {}
     if keep_trace:
         trace = out.trace = {"nowind_time_s": b.prof.time_s[span] - b.prof.time_s[span.start],
-                             "nowind_before_err": session.traces[0]["aoa_before_err"],
-                             "nowind_after_err": session.traces[0]["aoa_after_err"]}
+                             "nowind_before_err": session.traces[m]["aoa_before_err"],
+                             "nowind_after_err": session.traces[m]["aoa_after_err"]}
     return trace
 
 
@@ -906,77 +910,31 @@ def _wind_on_truth(sc, rng, trials, profs, rates) -> list[_WindOnGroup]:
     return groups
 
 
-def _wind_on_fill(blocks: list, shared: dict | None) -> list[tuple[np.ndarray, np.ndarray]]:
-    """The five wind-on groups' records of each block (:func:`_wind_on_truth`), stacked as trials for the QNCF,
-    each group padded with its last sample; a group's records of all blocks filled together
-    (:func:`mtcal.core.simulate.fill_streams_grouped`), then the accelerometer vibration added (``shared``: :func:`run_windtunnel`).
-    Peak memory: the stacks + one group."""
-    trials = blocks[0].trials
-    n = max(grp.prof.time_s.size for grp in blocks[0].groups)
-    stacks = [(np.empty((5 * trials, n, 3)), np.empty((5 * trials, n, 3))) for _ in blocks]
-    for g in range(5):
-        streams, records = [], []
-        for b, (gyro, accel) in zip(blocks, stacks):
-            grp = b.groups[g]
-            model_g = replace(b.model, time_since_power_on_s=b.model.time_since_power_on_s
-                              + b.sc.group_interval_s * (g + 1))
-            m, rows = grp.prof.time_s.size, slice(g * trials, (g + 1) * trials)
-            # a group as long as the stack is simulated straight into its rows, a shorter one into its own arrays
-            records.append((gyro[rows], accel[rows]) if m == n else (np.empty((trials, m, 3)), np.empty((trials, m, 3))))
-            streams.append(ImuStream(grp.traj, model_g, rng=grp.rng_imu, trials=trials))
-            grp.traj = None                          # dropped once simulated (the groups still to come keep
-            #                                          theirs: about 1 % of the stack at 500 Hz, measured)
-        fill_streams_grouped(streams, records)
-        del streams
-        for b, (gyro, accel), (g_g, a_g) in zip(blocks, stacks, records):
-            grp = b.groups[g]
-            # accel + ramp · a · sin(2π f t + vib) (the same operations; a + b == b + a)
-            a_g += _vibration_accel(b.sc, grp.prof.time_s, grp.ramp, grp.vib, shared, g)
-            m, rows = grp.prof.time_s.size, slice(g * trials, (g + 1) * trials)
-            if m < n:
-                for x, out in ((g_g, gyro), (a_g, accel)):
-                    out[rows, :m] = x
-                    out[rows, m:] = x[:, -1:]
-        del records, g_g, a_g
-    return stacks
-
-
-def _wind_on_measure(sc, q_mat, groups, trials, trace, keep_trace, trace_index, gyro, accel, out: dict,
-                     rows: slice) -> float:
-    """Five wind-on AoA sweeps of one block from their stacked records (:func:`_wind_on_fill`): one QNCF, the
-    pitch after calibration at each group's holds, written into the trial ``rows`` of the run's ``wind_on``
-    arrays ``out`` (:func:`_windtunnel_outputs`; the references by the first block). Returns the block's gate
-    fraction with the wind on."""
-    lead_s = WIND_LEAD_S
-    profs = [grp.prof for grp in groups]
+def _wind_on_scores(b: _WindTunnelBlock, wind, m: int, trace: dict, keep_trace: bool, out: dict, rows: slice) -> float:
+    """Scenario ``m``'s five wind-on AoA sweeps of the measured ``wind`` (:func:`mtcal.systems.installation.measure_applied_runs`,
+    kind-major runs): the pitch after calibration at each group's holds, written into the trial ``rows`` of the
+    run's ``wind_on`` arrays ``out`` (:func:`_windtunnel_outputs`; the references by the first block), the
+    groups' series into ``trace`` with ``keep_trace``. Returns the block's gate fraction with the wind on
+    (from :data:`WIND_LEAD_S` on)."""
+    sc, trials, lead = b.sc, b.trials, int(WIND_LEAD_S * b.sc.fs_hz)
     ref = np.radians(np.asarray(sc.wind_on_sweep_deg, float))
     elastic_corrected = ref + elastic_deflection_rad(sc.elastic_model_deg, ref)
-    res = qncf_trusted(gyro, accel, 1.0 / sc.fs_hz, sc.qncf, return_euler=False)   # records simulated here: trusted
-    q_rep = np.concatenate([q_mat] * 5, axis=0)
     means = out["group_means"][:, rows]                             # (a view: written in place)
-    for g, prof in enumerate(profs):
-        sl = slice(g * trials, (g + 1) * trials)
-        q_g = res.q_ws[sl]
-        if keep_trace:                 # the traced trial zeroed at every sample, before its holds are
-            q_t = q_g[trace_index:trace_index + 1].copy()
-            relative_to_initial(q_t, n0=1, out=q_t)
-        # zeroed at the first sample (§4.1) where read: at the holds (each sample's product is its own)
-        relative_to_initial(q_g, n0=1, out=q_g, windows=groups[g].holds)
-        for j, h in enumerate(groups[g].holds):
-            means[g, :, j] = rotations.mapped_pitch_trusted(q_rep[sl], q_g[:, h]).mean(axis=1)
+    for g, grp in enumerate(b.groups):
+        means[g] = wind.hold_pitch_rad[m * 5 + g]
         if not keep_trace:
             continue
+        tr = wind.traces[m * 5 + g]
         if g == 0:
-            trace["amd_pct"] = res.amd_pct[trace_index, :prof.time_s.size]
-            trace["gate"] = res.gate[trace_index, :prof.time_s.size]
-        trace[f"wind_time_s_{g}"] = prof.time_s.copy()            # the profile is shared (read-only)
-        trace[f"wind_reference_{g}"] = prof.angle_rad[:, 1].copy()
-        trace[f"wind_pitch_{g}"] = rotations.mapped_pitch_trusted(      # the QNCF's own quaternions, finite Q̂
-            q_rep[sl][trace_index:trace_index + 1], q_t[:, :prof.time_s.size])[0]
+            trace["amd_pct"], trace["gate"] = tr["amd_pct"], tr["gate"]
+        trace[f"wind_time_s_{g}"] = grp.prof.time_s.copy()        # the profile is shared (read-only)
+        trace[f"wind_reference_{g}"] = grp.prof.angle_rad[:, 1].copy()
+        trace[f"wind_pitch_{g}"] = tr["pitch_rad"]
     if rows.start == 0:
         out["reference"], out["elastic_corrected"] = ref, elastic_corrected
-    out["gate_fraction_on_trials"][rows] = res.gate[:, int(lead_s * sc.fs_hz):].reshape(5, trials, -1).mean(axis=(0, 2))
-    return float(res.gate[:, int(lead_s * sc.fs_hz):].mean())
+    gate = wind.gate[m * 5 * trials:(m + 1) * 5 * trials, lead:]
+    out["gate_fraction_on_trials"][rows] = gate.reshape(5, trials, -1).mean(axis=(0, 2))
+    return float(gate.mean())
 
 
 
