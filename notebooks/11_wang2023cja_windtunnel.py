@@ -74,13 +74,15 @@ output.show_table(compare.describe(sc))
 # are built here, each section shows its rows.
 
 # %%
-runs = predictive.windtunnel_predictive_kinds(lambda m: w.windtunnel_scenario(errors=m, **params), fit,
-                                             predictive.KINDS, N_TRIALS, SEED, per_draw=PER_DRAW)
+make_scenario = lambda m: w.windtunnel_scenario(errors=m, **params)  # noqa: E731 - one parameter draw's scenario
+runs = predictive.windtunnel_predictive_kinds(make_scenario, fit, predictive.KINDS, N_TRIALS, SEED, per_draw=PER_DRAW)
 print(f"{N_TRIALS} trials per model ({PER_DRAW} per draw)")
 one = {name: verdicts.one_to_one(verdicts.printed_samples(windtunnel=r), seed=SEED, per_draw=PER_DRAW)
        for name, r in runs.items()}
 claims = verdicts.claims(windtunnel=runs["fitted"])
 run = runs["fitted"]
+# the figures' time series: the median session, re-run with its trace
+run.trace = predictive.windtunnel_median_trace(make_scenario, fit, "fitted", run, SEED, per_draw=PER_DRAW)
 
 
 def section(prefix):

@@ -52,7 +52,6 @@ from numbers import Real
 import numpy as np
 
 from mtcal.core import montecarlo, rotations
-from mtcal.core.profiles import AngleProfile
 from mtcal.core.simulate import RecordSource
 from mtcal.core.validate import as_float_array, float64_array, positive_scalar, sample_interval, unit_quaternion
 from mtcal.filters.qncf import QncfParams, qncf, qncf_trusted
@@ -67,7 +66,7 @@ __all__ = ["MODELS", "missing_rotation_axis", "MAX_CONDITION", "MAX_SO4_DISTANCE
            "mounting_from_q_hat", "installation_angles_sigma", "calibrate_record", "apply_record", "RecordCalibration",
            "RecordApplication", "RecordRefused", "RefusalDiagnosis", "MISMATCH_MESSAGES", "POSITION_MISTAKES",
            "QUATERNION_CONVENTIONS", "SessionPiece", "SessionSweep", "SessionMeasurement", "measure_session",
-           "measure_simulated_session", "AppliedRun", "AppliedMeasurement", "measure_applied_runs"]
+           "measure_simulated_session", "AppliedRun", "AppliedRuns", "AppliedMeasurement", "measure_applied_runs"]
 
 #: Gate: condition number of ``A_q^s (A_q^s)ᵀ`` (Eq 13) above which the positions are refused.
 MAX_CONDITION = six_position.MAX_CONDITION
@@ -579,27 +578,6 @@ class SessionSweep:
     holds: dict
     decimation: int = 20
 
-    @classmethod
-    def from_schedule(cls, name: str, profile: AngleProfile, span: slice, channel: int, scored_channels: tuple,
-                      fractions, decimation: int = 20) -> "SessionSweep":
-        """The sweep over ``span`` of a step schedule: its reference the commanded angles, its holds the
-        schedule's holds inside the span between the first and the last (the sweep's points; the rests
-        before and after it dropped), each cut to the middle ``fraction`` for every fraction in ``fractions``
-        (:meth:`mtcal.core.profiles.AngleProfile.hold_slices`).
-
-        Examples
-        --------
-        >>> from mtcal.core.profiles import step_schedule
-        >>> prof = step_schedule(np.radians([[0, 0, 0], [0, 5, 0], [0, 10, 0], [0, 0, 0]]), np.radians(10.0),
-        ...                      [1.0, 2.0, 2.0, 1.0], 10.0)
-        >>> sw = SessionSweep.from_schedule("aoa", prof, slice(0, prof.time_s.size), 1, (2, 0), [0.5])
-        >>> sw.holds, sw.reference_rad.shape
-        ({0.5: [slice(20, 30, None), slice(45, 55, None)]}, (80, 3))
-        """
-        holds = {frac: [slice(h.start - span.start, h.stop - span.start)
-                        for h in profile.hold_slices(span, frac)][1:-1] for frac in dict.fromkeys(fractions)}
-        return cls(name, span, profile.angle_rad[span], channel, tuple(scored_channels), holds, decimation)
-
     @cached_property
     def table(self) -> np.ndarray:
         """The reference's angles with their cosines and sines (:func:`mtcal.core.montecarlo.truth_table`),
@@ -628,6 +606,8 @@ class SessionMeasurement:
     traces : tuple of dict or None
         Per piece, ``"{name}_{state}_err"`` (n, 3): the full error series of its ``trace_row`` ({} without one;
         None without sweeps).
+    applied : AppliedMeasurement or None
+        The later runs measured with the pieces' Q̂ (:func:`measure_simulated_session`'s ``applied``).
     """
 
     q_ws: np.ndarray
@@ -635,6 +615,7 @@ class SessionMeasurement:
     verifications: tuple
     sweeps: tuple | None = None
     traces: tuple | None = None
+    applied: AppliedMeasurement | None = None
 
 
 def _score_sweeps(sweeps, q_ws, q_hat, fraction: float, hold_errors, trace_row) -> tuple[dict, dict]:
@@ -847,7 +828,8 @@ def measure_session(config: InstallationConfig, gyro_rad_s, accel_m_s2, dt_s: fl
 
 def measure_simulated_session(config: InstallationConfig, source: RecordSource, blocks, groups, *,
                               calibration_run: slice, pieces, verification_run: slice | None = None,
-                              reference_rad=None, sweeps=(), map_pieces=None) -> SessionMeasurement:
+                              reference_rad=None, sweeps=(), applied: AppliedRuns | None = None,
+                              map_pieces=None) -> SessionMeasurement:
     """:func:`measure_session` of simulated records the procedure pulls from ``source`` once its inputs are checked.
 
     The Monte Carlo form of the session's measurement: the study describes its blocks of trials
@@ -871,6 +853,10 @@ def measure_simulated_session(config: InstallationConfig, source: RecordSource, 
         shared).
     calibration_run, pieces, verification_run, reference_rad, sweeps, map_pieces
         As for :func:`measure_session` (``map_pieces`` also spreads the groups' filling).
+    applied : AppliedRuns, optional
+        Later runs of the session on records of their own, each measured with its piece's Q̂ after the
+        calibration, as :func:`measure_applied_runs` does (:attr:`SessionMeasurement.applied`; wang2023cja §4.2:
+        the wind-on groups after the wind-off calibration).
 
     Returns
     -------
@@ -900,11 +886,11 @@ def measure_simulated_session(config: InstallationConfig, source: RecordSource, 
     blocks, groups = _source_blocks(source, blocks, groups)
     shape = (source.trials(blocks), source.samples(blocks), 3)
     return _measure(config, (shape, shape), lambda: source.fill(blocks, groups, map_pieces), source.dt_s,
-                    calibration_run, pieces, verification_run, reference_rad, sweeps, map_pieces)
+                    calibration_run, pieces, verification_run, reference_rad, sweeps, map_pieces, applied)
 
 
 def _measure(config, shapes, records, dt_s, calibration_run, pieces, verification_run, reference_rad, sweeps,
-             map_pieces) -> SessionMeasurement:
+             map_pieces, applied=None) -> SessionMeasurement:
     """:func:`measure_session` once the records' type is known: the inputs checked (their ``shapes``), then the
     records taken (``records()`` → gyro, accel) and measured."""
     if not isinstance(config, InstallationConfig):
@@ -913,29 +899,42 @@ def _measure(config, shapes, records, dt_s, calibration_run, pieces, verificatio
     zero = settings.pop("zero")                    # the session is zeroed once, here
     dt, cal_run, ver_run, ver_refs, checked, sweeps = _session_record(
         shapes, dt_s, calibration_run, verification_run, reference_rad, pieces, sweeps)
+    if applied is not None:
+        applied = _applied_runs(applied, [rows.stop - rows.start for rows, *_ in checked])
     gyro, accel = records()
-    # ---- trusted inside: one QNCF, the session zeroed once at its first sample (in place), one methods-level
-    #      call per piece
+    # ---- trusted inside: one QNCF (the later runs' records: one more, in the same pass), the session zeroed once at
+    #      its first sample (in place), one methods-level call per piece, then its sweeps and later runs with its Q̂
     q_ws = qncf_trusted(gyro, accel, dt, config.qncf_params, return_euler=False).q_ws
+    later, later_runs = None, ()
+    if applied is not None:
+        source, blocks, groups, later_runs = applied
+        later = qncf_trusted(*source.fill(blocks, groups, map_pieces), source.dt_s, config.qncf_params,
+                             return_euler=False)
     if zero:
         q_ws = rotations.relative_to_initial(q_ws, out=q_ws)
     ver_pos, ver_q_ref = (None, None) if ver_refs is None else ver_refs
 
-    def measure(piece):
-        rows, pos, q_ref, fraction, hold_errors, trace_row = piece
+    def measure(item):
+        i, (rows, pos, q_ref, fraction, hold_errors, trace_row) = item
         cal, ver = six_position.calibrate_session(
             q_ws[rows, cal_run], pos, q_ref, dt, gyro_calibration=gyro[rows, cal_run],
             q_verification=None if ver_run is None else q_ws[rows, ver_run],
             gyro_verification=None if ver_run is None else gyro[rows, ver_run], verification_positions_rad=ver_pos,
             verification_q_reference=ver_q_ref, **{**settings, "fraction": fraction})
         scored = _score_sweeps(sweeps, q_ws[rows], cal.q_hat, fraction, hold_errors, trace_row) if sweeps else None
-        return cal, ver, scored
+        read = _read_runs(later, [(k, run) for k, run in enumerate(later_runs) if run[1] == i], cal.q_hat)
+        return cal, ver, scored, read
 
-    measured = [measure(p) for p in checked] if map_pieces is None else list(map_pieces(measure, checked))
-    return SessionMeasurement(q_ws, tuple(cal for cal, _, _ in measured),
-                              None if ver_run is None else tuple(ver for _, ver, _ in measured),
-                              None if not sweeps else tuple(sc[0] for _, _, sc in measured),
-                              None if not sweeps else tuple(sc[1] for _, _, sc in measured))
+    items = list(enumerate(checked))
+    measured = [measure(p) for p in items] if map_pieces is None else list(map_pieces(measure, items))
+    if applied is not None:
+        read = {k: r for *_, piece_read in measured for k, r in piece_read.items()}
+        applied = AppliedMeasurement(tuple(read[k][0] for k in range(len(later_runs))), later.gate,
+                                     tuple(read[k][1] for k in range(len(later_runs))))
+    return SessionMeasurement(q_ws, tuple(m[0] for m in measured),
+                              None if ver_run is None else tuple(m[1] for m in measured),
+                              None if not sweeps else tuple(m[2][0] for m in measured),
+                              None if not sweeps else tuple(m[2][1] for m in measured), applied)
 
 
 # --------------------------------------------------------------------------- later runs with a calibration
@@ -947,8 +946,9 @@ class AppliedRun:
     ----------
     rows : slice
         The run's trial rows of the stacked records (step 1).
-    q_hat : array_like, shape (t, 4, 4)
-        Q̂ (Eq 10) of each row (t = the run's trials): the calibration of the session it belongs to.
+    q_hat : array_like, shape (t, 4, 4) or None
+        Q̂ (Eq 10) of each row (t = the run's trials): the calibration of the session it belongs to (None
+        within :func:`measure_simulated_session`: the Q̂ of its ``piece``).
     holds : sequence of slice
         Hold windows (samples of the run) where its calibrated pitch is averaged.
     samples : int
@@ -956,13 +956,29 @@ class AppliedRun:
     trace_row : int, optional
         A row of the run (0 … t−1) whose calibrated pitch series (zeroed at every sample), AMD percentage and
         gate are returned (:attr:`AppliedMeasurement.traces`).
+    piece : int, optional
+        Within :func:`measure_simulated_session` (:class:`AppliedRuns`): the session piece whose Q̂ measures it
+        (its trials, in row order).
     """
 
     rows: slice
-    q_hat: np.ndarray
+    q_hat: np.ndarray | None
     holds: tuple
     samples: int
     trace_row: int | None = None
+    piece: int | None = None
+
+
+@dataclass(frozen=True)
+class AppliedRuns:
+    """Later runs of a session on records of their own (``source``'s ``blocks`` filled in ``groups``), measured by
+    :func:`measure_simulated_session` after its calibration: each run's ``piece`` names the session piece whose Q̂
+    (one per trial, in row order) it is measured with (its ``q_hat`` None)."""
+
+    source: RecordSource
+    blocks: tuple
+    groups: tuple
+    runs: tuple
 
 
 @dataclass(frozen=True)
@@ -1030,9 +1046,24 @@ def measure_applied_runs(config: InstallationConfig, source: RecordSource, block
     """
     if not isinstance(config, InstallationConfig):
         raise TypeError(f"config must be an InstallationConfig, got {type(config).__name__}")
-    blocks, groups = _source_blocks(source, blocks, groups)
+    source, blocks, groups, checked = _applied_runs(AppliedRuns(source, blocks, groups, runs), None)
+    # ---- trusted inside: one QNCF over the stack, each run read with its Q̂
+    res = qncf_trusted(*source.fill(blocks, groups, map_pieces), source.dt_s, config.qncf_params, return_euler=False)
+    read = _read_runs(res, list(enumerate(checked)))
+    return AppliedMeasurement(tuple(read[k][0] for k in range(len(checked))), res.gate,
+                              tuple(read[k][1] for k in range(len(checked))))
+
+
+def _applied_runs(applied: AppliedRuns, piece_rows) -> tuple:
+    """:class:`AppliedRuns` checked before any record is read: ``(source, blocks, groups, [(rows, q_hat or piece,
+    holds, samples, trace row), …])``; ``piece_rows`` (the session's pieces' trial counts, or None outside a session)
+    says which the runs name."""
+    if not isinstance(applied, AppliedRuns):
+        raise TypeError(f"applied must be an AppliedRuns, got {type(applied).__name__}")
+    source = applied.source
+    blocks, groups = _source_blocks(source, applied.blocks, applied.groups)
     trials, n = source.trials(blocks), source.samples(blocks)
-    runs = list(runs)
+    runs = list(applied.runs)
     if not runs or not all(isinstance(run, AppliedRun) for run in runs):
         raise TypeError(f"runs must be a non-empty sequence of AppliedRun, got {[type(r).__name__ for r in runs]}")
     checked = []
@@ -1043,9 +1074,16 @@ def measure_applied_runs(config: InstallationConfig, source: RecordSource, block
             raise ValueError(f"a run's rows must be a slice (start < stop, step 1) within the {trials} trials of the "
                              f"records, got {r!r}")
         t = r.stop - r.start
-        q_hat = float64_array(run.q_hat, "a run's q_hat")
-        if q_hat.shape != (t, 4, 4) or not np.isfinite(q_hat).all():
-            raise ValueError(f"a run's q_hat must be finite, of shape ({t}, 4, 4), got {q_hat.shape}")
+        if piece_rows is None:
+            q_hat = float64_array(run.q_hat, "a run's q_hat")
+            if q_hat.shape != (t, 4, 4) or not np.isfinite(q_hat).all():
+                raise ValueError(f"a run's q_hat must be finite, of shape ({t}, 4, 4), got {q_hat.shape}")
+        else:
+            q_hat = run.piece
+            if (run.q_hat is not None or not isinstance(q_hat, (int, np.integer)) or not 0 <= q_hat < len(piece_rows)
+                    or piece_rows[q_hat] != t):
+                raise ValueError(f"a run of a session must name a piece (0 … {len(piece_rows) - 1}, q_hat None) with "
+                                 f"its {t} trials, got piece {run.piece!r}")
         if not isinstance(run.samples, (int, np.integer)) or not 0 < run.samples <= n:
             raise ValueError(f"a run's samples must be an integer in [1, {n}], got {run.samples!r}")
         holds = list(run.holds)
@@ -1055,23 +1093,27 @@ def measure_applied_runs(config: InstallationConfig, source: RecordSource, block
         if run.trace_row is not None and (not isinstance(run.trace_row, (int, np.integer)) or not 0 <= run.trace_row < t):
             raise ValueError(f"a run's trace_row must be a row of its {t} trials, got {run.trace_row!r}")
         checked.append((slice(r.start, r.stop), q_hat, holds, int(run.samples), run.trace_row))
-    gyro, accel = source.fill(blocks, groups, map_pieces)
-    # ---- trusted inside: one QNCF over the stack, each run zeroed at its first sample where read
-    res = qncf_trusted(gyro, accel, source.dt_s, config.qncf_params, return_euler=False)
-    means, traces = [], []
-    for rows, q_hat, holds, m, trace_row in checked:
+    return source, blocks, groups, checked
+
+
+def _read_runs(res, runs, q_hat=None) -> dict:
+    """Later runs ``[(k, (rows, q_hat or piece, holds, samples, trace row)), …]`` of the QNCF result ``res`` read
+    with their Q̂ (``q_hat`` when given, the same for every row of the piece, else the run's own): each zeroed at its
+    first sample (§4.1) where read (its holds, in place: each sample's product is its own), its pitch after Eq 10
+    averaged over each hold. Returns ``{k: (hold means (t, holds), trace)}``."""
+    out = {}
+    for k, (rows, own, holds, m, trace_row) in runs:
+        mat = own if q_hat is None else q_hat
         q_r = res.q_ws[rows]
         trace = {}
         if trace_row is not None:           # the traced row zeroed at every sample, before its holds are
             q_t = q_r[trace_row:trace_row + 1].copy()
             rotations.relative_to_initial(q_t, n0=1, out=q_t)
-            trace = {"pitch_rad": rotations.mapped_pitch_trusted(q_hat[trace_row:trace_row + 1], q_t[:, :m])[0],
+            trace = {"pitch_rad": rotations.mapped_pitch_trusted(mat[trace_row:trace_row + 1], q_t[:, :m])[0],
                      "amd_pct": res.amd_pct[rows.start + trace_row, :m], "gate": res.gate[rows.start + trace_row, :m]}
-        # zeroed at the first sample (§4.1) where read: at the holds (each sample's product is its own)
         rotations.relative_to_initial(q_r, n0=1, out=q_r, windows=holds)
-        means.append(np.stack([rotations.mapped_pitch_trusted(q_hat, q_r[:, h]).mean(axis=1) for h in holds], axis=1))
-        traces.append(trace)
-    return AppliedMeasurement(tuple(means), res.gate, tuple(traces))
+        out[k] = (np.stack([rotations.mapped_pitch_trusted(mat, q_r[:, h]).mean(axis=1) for h in holds], axis=1), trace)
+    return out
 
 
 def _source_blocks(source, blocks, groups) -> tuple[list, list]:

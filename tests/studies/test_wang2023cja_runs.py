@@ -301,11 +301,14 @@ def test_windtunnel_kinds_side_by_side_equal_separate_runs_and_share_the_vibrati
     monkeypatch.setattr(simulate, "fill_streams", fill_spy)
     joint = predictive.windtunnel_predictive_kinds(make, fit, predictive.KINDS, 3, 4, per_draw=2)
     assert list(joint) == list(predictive.KINDS)
-    # 2 draws × 5 groups: the fitted run computes, the prior run reuses; each kind's trace re-run computes its 5
-    assert reused.count(True) == 10 and reused.count(False) == 20
-    # 2 draws × (wind off + 5 groups): both kinds' records from one noise draw; the traces' re-runs (one
-    # scenario each: run_windtunnel) fill their wind-off record and their 5 groups alone
-    assert filled == [2] * 12 + [1] * 12
+    assert all(set(r.trace) == {"median_trial"} for r in joint.values())    # the bands' runs: no series kept
+    # 2 draws × 5 groups: the fitted run computes, the prior run reuses
+    assert reused.count(True) == 10 and reused.count(False) == 10
+    # 2 draws × (wind off + 5 groups): both kinds' records from one noise draw
+    assert filled == [2] * 12
+    for kind in predictive.KINDS:               # each kind's median session re-run for its series (one scenario)
+        joint[kind].trace = predictive.windtunnel_median_trace(make, fit, kind, joint[kind], 4, per_draw=2)
+    assert reused.count(False) == 20 and filled == [2] * 12 + [1] * 12
     for kind in predictive.KINDS:
         arrays = _arrays(joint[kind], kind)
         assert sorted(arrays) == sorted(separate[kind])
@@ -394,16 +397,17 @@ def test_windtunnel_session_holds_the_wind_on_sweeps_read_only():
     from mtcal.studies.wang2023cja import runs
 
     sc = w.windtunnel_scenario(fs_hz=200.0)
-    w.run_windtunnel(sc, np.random.default_rng(1), 1, keep_trace=False)
-    entry = [v for k, v in runs._PROFILES.items() if k[0] == "wind tunnel session" and k[3] == 200.0][-1]
-    won = entry[2]
+    ses = runs._wt_session(sc)
+    assert runs._wt_session(replace(sc, errors=w.ErrorModel(compliance_gasket_deg_g=0.1))) is ses   # one per settings
+    won = [group[0] for group in ses.groups]
     assert len(won) == 5 and won[0] is won[3] and won[4] is not won[0]     # groups 1–4 share one sweep
+    assert np.array_equal(ses.pos, w.windtunnel_positions(sc))
     for prof, rate in ((won[0], sc.mechanism_rate_rad_s), (won[4], sc.group5_rate_rad_s)):
         ref = step_schedule(runs._wt_waypoints(sc.wind_on_sweep_deg), rate,
                             runs._wt_holds_s(sc.wind_on_sweep_deg, runs.WIND_LEAD_S, sc.wind_on_hold_s),
                             sc.fs_hz, min_move_s=0.5)
         assert np.array_equal(prof.angle_rad, ref.angle_rad) and np.array_equal(prof.time_s, ref.time_s)
-        assert not prof.angle_rad.flags.writeable and id(prof) in runs._PROFILE_MEMO
+        assert not prof.angle_rad.flags.writeable
 
 
 def test_windtunnel_kinds_without_shared_noise_fill_apart_with_the_same_numbers():

@@ -44,7 +44,8 @@ from .runs import (TurntableJob, _map, run_turntable_jobs, run_turntable_jobs_ki
                    run_windtunnel_kinds, windtunnel_median_trial)
 
 __all__ = ["ALPHA_PRIOR_SIGMA_DEG", "KINDS", "TURNTABLE_PER_DRAW", "variance_parts", "posterior_draws", "prior_draws",
-           "turntable_predictive", "turntable_predictive_kinds", "windtunnel_predictive", "windtunnel_predictive_kinds", "quantile_se", "LEAK_SIZES",
+           "turntable_predictive", "turntable_predictive_kinds", "windtunnel_predictive", "windtunnel_predictive_kinds",
+           "windtunnel_median_trace", "quantile_se", "LEAK_SIZES",
            "fit_and_predict"]
 
 # random streams of this module (mtcal.core.rng rule)
@@ -245,15 +246,18 @@ def _stack_jobs(runs):
 
 def windtunnel_predictive(make_scenario, fit: ErrorModelFit, kind: str, trials: int, seed: int, *,
                           per_draw: int = 5):
-    """Wind-tunnel runs with one parameter draw per ``per_draw`` trials.
+    """Wind-tunnel runs with one parameter draw per ``per_draw`` trials, the median session traced.
 
     ``make_scenario(errors)`` builds the :class:`WindTunnelScenario` of one draw (its installation
     angles and pitch-ratio error come from the printed wind-tunnel matrix: train; the turntable
     installation-angle draws do not enter). Returns one :class:`WindTunnelRun` with ``trials`` trials,
-    draw-major (:func:`variance_parts` with ``per_draw``). :func:`windtunnel_predictive_kinds` runs
-    several kinds at once (the same numbers).
+    draw-major (:func:`variance_parts` with ``per_draw``), its ``trace`` the median session's time series
+    (:func:`windtunnel_median_trace`). :func:`windtunnel_predictive_kinds` runs several kinds at once (the
+    same numbers).
     """
-    return windtunnel_predictive_kinds(make_scenario, fit, (kind,), trials, seed, per_draw=per_draw)[kind]
+    run = windtunnel_predictive_kinds(make_scenario, fit, (kind,), trials, seed, per_draw=per_draw)[kind]
+    run.trace = windtunnel_median_trace(make_scenario, fit, kind, run, seed, per_draw=per_draw)
+    return run
 
 
 def windtunnel_predictive_kinds(make_scenario, fit: ErrorModelFit, kinds, trials: int, seed: int, *,
@@ -269,7 +273,8 @@ def windtunnel_predictive_kinds(make_scenario, fit: ErrorModelFit, kinds, trials
 
     Returns
     -------
-    dict kind → WindTunnelRun.
+    dict kind → WindTunnelRun, each ``trace`` holding its median session's index only (``"median_trial"``:
+    :func:`windtunnel_median_trace` re-runs that session for the figures' time series).
     """
     per_draw = int(per_draw)
     if per_draw < 1:
@@ -287,12 +292,30 @@ def windtunnel_predictive_kinds(make_scenario, fit: ErrorModelFit, kinds, trials
                                     min(per_draw, int(trials) - k * per_draw), block=per_draw, keep_trace=False, shared={})
 
     runs = _map(one, list(range(n_draws)))
-    return {kind: _windtunnel_draws([r[i] for r in runs], make_scenario, draws[kind], trials, per_draw, children())
-            for i, kind in enumerate(kinds)}
+    return {kind: _windtunnel_draws([r[i] for r in runs]) for i, kind in enumerate(kinds)}
 
 
-def _windtunnel_draws(runs, make_scenario, draws, trials, per_draw, fresh):
-    """The draws' runs as one WindTunnelRun, traced at the median session (``fresh``: unused generators)."""
+def windtunnel_median_trace(make_scenario, fit: ErrorModelFit, kind: str, run, seed: int, *, per_draw: int = 5) -> dict:
+    """The time series of ``run``'s median session (never trial 0) for the figures: that session's parameter draw
+    re-run from a fresh copy of its generator, its trace kept (the same numbers as in ``run``).
+
+    ``run`` is the :class:`WindTunnelRun` of :func:`windtunnel_predictive_kinds` for ``kind`` with these
+    arguments (``make_scenario``, ``fit``, ``seed``, ``per_draw``); returns its ``trace`` with ``"median_trial"``.
+    """
+    per_draw = int(per_draw)
+    trials = int(run.q_matrix.shape[0])
+    n_draws = -(-trials // per_draw)
+    k, i = divmod(int(run.trace["median_trial"]), per_draw)
+    draw = _draws(kind, fit, n_draws, seed)[k]
+    rng = child_rngs(stream_rng(int(seed), STREAM_WINDTUNNEL), n_draws)[k]
+    trace = run_windtunnel(make_scenario(draw[0]), rng, min(per_draw, trials - k * per_draw), block=per_draw,
+                           keep_trace=True, trace_trial=i).trace
+    trace["median_trial"] = k * per_draw + i
+    return trace
+
+
+def _windtunnel_draws(runs):
+    """The draws' runs as one WindTunnelRun, its median session named (``trace["median_trial"]``)."""
     cat = lambda xs: np.concatenate(xs, axis=0)  # noqa: E731
     first = runs[0]
     first.q_matrix = cat([r.q_matrix for r in runs])
@@ -305,12 +328,7 @@ def _windtunnel_draws(runs, make_scenario, draws, trials, per_draw, fresh):
         w["gate_fraction_on_trials"] = cat([r.wind_on["gate_fraction_on_trials"] for r in runs])
         w["gate_fraction_on"] = float(np.mean(w["gate_fraction_on_trials"]))
         first.wind_on = w
-    # the figures' time series: the median session (never trial 0), its draw re-run from a fresh copy of
-    # that draw's generator (the same numbers) with its trace kept
-    k, i = divmod(windtunnel_median_trial(first), per_draw)
-    first.trace = run_windtunnel(make_scenario(draws[k][0]), fresh[k], min(per_draw, int(trials) - k * per_draw),
-                                 block=per_draw, keep_trace=True, trace_trial=i).trace
-    first.trace["median_trial"] = k * per_draw + i
+    first.trace = {"median_trial": windtunnel_median_trial(first)}
     return first
 
 

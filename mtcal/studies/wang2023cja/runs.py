@@ -21,6 +21,8 @@ wang2023cja §3.2 (procedure), §4.1 (turntable T1–T4), §4.2 (wind tunnel), E
 
 from __future__ import annotations
 
+import functools
+import threading
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, replace
 
@@ -40,7 +42,8 @@ from mtcal.core.units import DEG, MG
 from mtcal.methods import six_position
 from mtcal.systems import installation
 from .error_model import MOUNT_TYPE, PAPER_SIGN
-from .scenario import (SOURCES, TurntableScenario, WindTunnelScenario, compliance_trajectory, mechanism_actual, stop_directions, windtunnel_positions)
+from .scenario import (SOURCES, TurntableScenario, WindTunnelScenario, compliance_trajectory, mechanism_actual,
+                       stop_directions)
 
 #: Every trial's sweep error series is kept at every TRACE_DECIMATION-th sample (ensemble figures).
 TRACE_DECIMATION = 20
@@ -237,24 +240,6 @@ def _piece_settings(piece, with_sweeps: bool) -> _PieceSettings:
         tuple(len(getattr(sc, f"{name}_sweep_deg")) for name, _, _ in _SWEEPS) if with_sweeps else ())
 
 
-def _piece_block(s: _PieceSettings) -> tuple:
-    """A piece's random numbers and sensor, drawn in this order from ``child_rngs(s.rng, 3)`` = (IMU, turntable,
-    run change): its :class:`~mtcal.core.simulate.RecordPiece` (the run change's accelerometer bias step, then
-    the gasket load tilt) and its turntable angle errors (truth − command) at the calibration run's rests
-    (T, 6, 3), at the verification run's (T, 6, 3) and — with the sweeps — at each sweep's holds (T, holds) of
-    the averaged channel (else None)."""
-    rng_imu, rng_ref, rng_change = child_rngs(s.rng, 3)
-    t, (ref_on, step_on, tilt_on) = s.trials, s.switched
-    e_cal, e_ver, *e_holds = [rng_ref.standard_normal((t, k, 3)) * s.reference_sigma_rad for k in (6, 6, *s.sweep_holds)]
-    if not ref_on:
-        e_cal, e_ver, *e_holds = [np.zeros_like(e) for e in (e_cal, e_ver, *e_holds)]
-    e_hold = {name: e[..., chan] for (name, chan, _), e in zip(_SWEEPS, e_holds)} if s.sweep_holds else None
-    step = s.accel_step_sigma_m_s2 * rng_change.standard_normal((t, 1, 3)) if step_on else None
-    tilt = s.load_tilt_sigma_rad * rng_change.standard_normal((t, 3)) * [1.0, 1.0, 0.0] if tilt_on else None
-    model = s.imu.error_model(mount_quaternion(s.alpha_rad), s.sources, s.errors)
-    return RecordPiece(t, model, rng_imu, s.compliance_rad_g, step, tilt), (e_cal, e_ver, e_hold)
-
-
 #: The sweeps of a T1 session: (name, channel averaged at the holds, channels whose errors are scored).
 _SWEEPS = (("aoa", 1, (2, 0)), ("roll", 2, (1, 0)))
 
@@ -265,7 +250,7 @@ def _fraction(piece) -> float:
 
 def _session_runs(session, draws: list, pos: np.ndarray, sweeps: list | None, traced: set, prof: AngleProfile) -> list:
     """The :class:`TurntableRun` of each piece of a measured session (:func:`mtcal.systems.installation.measure_simulated_session`):
-    its calibration and verification, its turntable angle errors (``draws``: :func:`_piece_block`) and — with
+    its calibration and verification, its turntable angle errors (``draws``: :func:`run_turntable_jobs_kinds`) and — with
     ``sweeps`` — each sweep's scores with the hold errors its hold means carry; pieces in ``traced`` keep the
     sweeps' time series of their first trial."""
     runs = [TurntableRun(cal.q_hat, cal.euler_before_rad, cal.euler_after_rad, ver.euler_before_rad,
@@ -433,8 +418,23 @@ def run_turntable_jobs_kinds(sc: TurntableScenario, kinds_jobs: list, *, with_sw
     pieces = [_job_pieces(sc, jobs, int(block)) for jobs in kinds_jobs]   # per kind: (job index, piece)
     settings = [_piece_settings(piece, with_sweeps) for kind in pieces for _, piece in kind]
     prof, spans, pos = _session_schedule(sc, with_sweeps)
-    # the pieces' draws and sensors, simulated on demand over the compliant truth of the schedule
-    blocks, draws = zip(*[_piece_block(s) for s in settings])
+    # each piece's draws, in this order from child_rngs(its generator, 3) = (IMU, turntable, run change): its
+    # turntable angle errors (truth − command) at the calibration run's rests (T, 6, 3), at the verification run's
+    # and — with the sweeps — at each sweep's holds of the averaged channel; the run change's accelerometer bias
+    # step, then the gasket load tilt; its sensor. Its records are simulated on demand over the compliant truth.
+    blocks, draws = [], []
+    for st in settings:
+        rng_imu, rng_ref, rng_change = child_rngs(st.rng, 3)
+        (ref_on, step_on, tilt_on), t = st.switched, st.trials
+        errs = [rng_ref.standard_normal((t, k, 3)) * st.reference_sigma_rad for k in (6, 6, *st.sweep_holds)]
+        e_cal, e_ver, *e_holds = errs if ref_on else [np.zeros_like(e) for e in errs]
+        draws.append((e_cal, e_ver, {name: e[..., chan] for (name, chan, _), e in zip(_SWEEPS, e_holds)}
+                      if st.sweep_holds else None))
+        blocks.append(RecordPiece(t, st.imu.error_model(mount_quaternion(st.alpha_rad), st.sources, st.errors), rng_imu,
+                                  st.compliance_rad_g,
+                                  st.accel_step_sigma_m_s2 * rng_change.standard_normal((t, 1, 3)) if step_on else None,
+                                  st.load_tilt_sigma_rad * rng_change.standard_normal((t, 3)) * [1.0, 1.0, 0.0]
+                                  if tilt_on else None))
     q_wb = rotations.quat_from_euler_zxy(prof.angle_rad[:, 0], prof.angle_rad[:, 1], prof.angle_rad[:, 2])
     source = RecordSource(prof.time_s, q_wb, blocks, sc.imu.dt_s,
                           tilt_axis=gravity_lateral_axis(q_wb) if any(b.tilt_gain != 0.0 for b in blocks) else None,
@@ -451,10 +451,13 @@ def run_turntable_jobs_kinds(sc: TurntableScenario, kinds_jobs: list, *, with_sw
         count += n_kinds * settings[p].trials
     # the session measured by the installation system: one stacked QNCF per call, each piece's calibration and
     # verification (fed the commanded reference; the turntable stood at command + e_cal) and sweeps' scores
+    # each sweep's hold windows relative to its span, per averaging fraction (the rests before and after it dropped)
+    holds = {name: {f: [slice(h.start - spans[name].start, h.stop - spans[name].start)
+                        for h in prof.hold_slices(spans[name], f)][1:-1] for f in dict.fromkeys(st.fraction for st in settings)}
+             for name, _, _ in (_SWEEPS if with_sweeps else ())}
     config = installation.InstallationConfig.monte_carlo(qncf_params=sc.qncf)
-    sweeps = ([installation.SessionSweep.from_schedule(name, prof, spans[name], chan, chans,
-                                                       [st.fraction for st in settings], TRACE_DECIMATION)
-               for name, chan, chans in _SWEEPS] if with_sweeps else None)
+    sweeps = ([installation.SessionSweep(name, spans[name], prof.angle_rad[spans[name]], chan, chans, holds[name],
+                                         TRACE_DECIMATION) for name, chan, chans in _SWEEPS] if with_sweeps else None)
     per_job = [[[] for _ in jobs] for jobs in kinds_jobs]
     for c, call in enumerate(progress(calls, desc="turntable Monte Carlo")):
         n = len(call)                            # kind-major: the call's pieces of kind 0, then of kind 1, …
@@ -511,54 +514,6 @@ def position_errors_deg(run: TurntableRun, state: str) -> np.ndarray:
 # --------------------------------------------------------------------------
 # wind tunnel
 # --------------------------------------------------------------------------
-_PROFILES: dict = {}
-_PROFILE_MEMO: dict = {}   # id(shared profile) → {(span, fraction): hold windows, "stops": stop directions}; cleared with _PROFILES
-
-
-def _shared_profile(key: tuple, build):
-    """A schedule that depends only on a few scenario numbers (``key``), built once per process.
-
-    Every Monte Carlo block (each parameter draw has its own scenario) reuses it; its arrays are
-    made read-only so that no user can change a shared one.
-    """
-    hit = _PROFILES.get(key)
-    if hit is None:
-        if len(_PROFILES) >= 32:
-            _PROFILES.clear()
-            _PROFILE_MEMO.clear()
-        hit = build()                     # an AngleProfile, or (AngleProfile, spans[, tuple of AngleProfile])
-        profs = [hit] if not isinstance(hit, tuple) else [hit[0], *(hit[2] if len(hit) > 2 else ())]
-        for prof in profs:
-            for f in ("time_s", "angle_rad", "rate_rad_s", "accel_rad_s2", "is_static", "segment"):
-                getattr(prof, f).setflags(write=False)
-            _PROFILE_MEMO[id(prof)] = {}              # the profile stays alive in _PROFILES: its id is its own
-        _PROFILES[key] = hit
-    return hit
-
-
-def _shared_holds(prof: AngleProfile, span: slice, fraction: float) -> list[slice]:
-    """:func:`_holds` of a shared profile (:func:`_shared_profile`), found once; other profiles: computed."""
-    cache = _PROFILE_MEMO.get(id(prof))
-    if cache is None:
-        return prof.hold_slices(span, fraction)
-    key = (span.start, span.stop, fraction)
-    if key not in cache:
-        cache[key] = prof.hold_slices(span, fraction)
-    return list(cache[key])
-
-
-def _shared_stops(prof: AngleProfile) -> np.ndarray | None:
-    """:func:`mtcal.studies.wang2023cja.scenario.stop_directions` of a shared profile (:func:`_shared_profile`),
-    found once for every scenario that runs on it; other profiles: None (:func:`mechanism_actual` finds them)."""
-    cache = _PROFILE_MEMO.get(id(prof))
-    if cache is None:
-        return None
-    if "stops" not in cache:
-        cache["stops"] = stop_directions(prof)
-        cache["stops"].setflags(write=False)
-    return cache["stops"]
-
-
 def _key(values) -> tuple:
     return tuple(np.asarray(values, float).ravel().tolist())
 
@@ -677,7 +632,8 @@ def _windtunnel_outputs(sc: WindTunnelScenario, trials: int, wind_on: bool) -> W
     """The arrays of a run of ``trials`` trials, empty: each block writes its trial rows (:func:`_wt_nowind`,
     :func:`_wind_on_measure`); the sweeps' references (equal in every block) come from the first block, the
     trace from the traced block, ``gate_fraction_on`` from the caller (the blocks' trial-weighted mean)."""
-    _, prof, spans, _, _, holds = _wt_session(sc)
+    ses = _wt_session(sc)
+    prof, spans, holds = ses.prof, ses.spans, ses.holds
     span = spans["aoa"]
     dec = (trials, len(range(span.start, span.stop, TRACE_DECIMATION)), 3)
     nowind = {"reference": None, "before_mean": np.empty((trials, len(holds))),
@@ -693,30 +649,83 @@ def _windtunnel_outputs(sc: WindTunnelScenario, trials: int, wind_on: bool) -> W
     return WindTunnelRun(np.empty((trials, 4, 4)), np.empty((trials, 6, 3)), np.empty((trials, 6, 3)), nowind, wind, {})
 
 
+@dataclass(frozen=True)
+class _WtSession:
+    """A wind-tunnel session's schedule (:func:`_wt_session`), shared read-only by every block on its settings."""
+
+    pos: np.ndarray           # the six calibration positions (6, 3) rad
+    prof: AngleProfile        # calibration run, then the wind-off AoA sweep
+    spans: dict               # {"calibration", "aoa"}: their samples of ``prof``
+    holds: list               # hold windows of the AoA sweep, relative to its span (first and last dropped)
+    groups: tuple             # per wind-on group: (profile, rate rad/s, hold windows (first and last dropped))
+    stops: dict               # id(profile) → its stop directions (:func:`_stops`, found on first use)
+
+
+def _wt_session(sc: WindTunnelScenario) -> _WtSession:
+    """A scenario's session schedule, built once per process for its settings (every Monte Carlo block, each
+    parameter draw with its own scenario, reuses it): the positions, the session profile (calibration then AoA
+    sweep), the five wind-on groups' sweeps (group 5 at its own rate), their hold windows and stop directions."""
+    with _SCHEDULE_LOCK:                     # one object per settings, whichever thread builds it first
+        return _wt_schedule(_key(sc.cal_yaw_deg), _key(sc.cal_pitch_deg), _key(sc.cal_roll_deg), float(sc.rest_s),
+                            float(sc.fs_hz), _key(sc.aoa_sweep_deg), float(sc.mechanism_rate_rad_s), float(sc.hold_s),
+                            _key(sc.wind_on_sweep_deg), float(sc.group5_rate_rad_s), float(sc.wind_on_hold_s))
+
+
+_SCHEDULE_LOCK = threading.Lock()
+
+
+@functools.lru_cache(maxsize=32)
+def _wt_schedule(cal_yaw_deg, cal_pitch_deg, cal_roll_deg, rest_s, fs_hz, aoa_sweep_deg, rate_rad_s, hold_s,
+                 wind_on_sweep_deg, group5_rate_rad_s, wind_on_hold_s) -> _WtSession:
+    """:func:`_wt_session` of these settings (their arrays made read-only: no user can change a shared one)."""
+    aoa_wp, aoa_holds_s = _wt_waypoints(aoa_sweep_deg), _wt_holds_s(aoa_sweep_deg, 1.0, hold_s)
+    won_rates = [group5_rate_rad_s if g == 4 else rate_rad_s for g in range(5)]
+    won_wp, won_holds_s = _wt_waypoints(wind_on_sweep_deg), _wt_holds_s(wind_on_sweep_deg, WIND_LEAD_S, wind_on_hold_s)
+    pos = six_position.six_positions_rad(np.radians(cal_yaw_deg), np.radians(cal_pitch_deg), np.radians(cal_roll_deg))
+    cal_prof = six_position.schedule_profile(pos, rate_rad_s=5 * DEG, rest_s=rest_s, fs_hz=fs_hz)
+    aoa_prof = step_schedule(aoa_wp, rate_rad_s, aoa_holds_s, fs_hz, min_move_s=0.5)
+    by_rate = {r: step_schedule(won_wp, r, won_holds_s, fs_hz, min_move_s=0.5) for r in dict.fromkeys(won_rates)}
+    prof, (cal_span, span) = join_profiles([cal_prof, aoa_prof])
+    holds = {id(p): p.hold_slices(slice(0, p.time_s.size), 0.5)[1:-1] for p in by_rate.values()}
+    for p in (prof, *by_rate.values()):
+        for f in ("time_s", "angle_rad", "rate_rad_s", "accel_rad_s2", "is_static", "segment"):
+            getattr(p, f).setflags(write=False)
+    return _WtSession(pos, prof, {"calibration": cal_span, "aoa": span},
+                      [slice(h.start - span.start, h.stop - span.start) for h in prof.hold_slices(span, 0.5)][1:-1],
+                      tuple((by_rate[r], r, holds[id(by_rate[r])]) for r in won_rates), {})
+
+
+def _stops(ses: _WtSession, prof: AngleProfile) -> np.ndarray:
+    """:func:`mtcal.studies.wang2023cja.scenario.stop_directions` of one of the session's profiles, found once for
+    every scenario on it (read-only)."""
+    hit = ses.stops.get(id(prof))
+    if hit is None:
+        hit = stop_directions(prof)
+        hit.setflags(write=False)
+        ses.stops[id(prof)] = hit            # (a race writes the same numbers)
+    return hit
+
+
 @dataclass
 class _WindTunnelBlock:
-    """One scenario's block of :func:`_run_windtunnel_blocks`: its settings, draws and truth (:func:`_wt_setup`)."""
+    """One scenario's block of :func:`_run_windtunnel_blocks`: its session, draws, truth and records (:func:`_wt_setup`)."""
 
     sc: WindTunnelScenario
     trials: int
-    prof: AngleProfile
-    spans: dict
-    holds: list               # hold windows of the wind-off AoA sweep (first and last dropped)
+    session: _WtSession
     ref_err: np.ndarray       # (trials, 6, 3) mechanism reference errors at the calibration positions
-    pos: np.ndarray
-    groups: list              # the wind-on groups (:func:`_wind_on_truth`); [] with the wind off
-    model: object             # ImuErrorModel
     piece: RecordPiece        # the wind-off session's records (its truth, sensor, run-to-run bias change)
+    groups: list              # the wind-on groups' RecordPiece (their truth, sensor, vibration); [] with the wind off
 
 
 def _run_windtunnel_blocks(scenarios, rngs, trials: int, sources, *, wind_on: bool, keep_trace: bool,
                            trace_index: int = 0, shared: dict | None = None, outs: list, rows: slice) -> list:
     """Wind-off calibration + AoA sweep (Tables 9, 11) and five wind-on groups (Table 10) of one block per
-    scenario, the scenarios side by side: set up each (:func:`_wt_setup`: settings, draws, truth), then the
-    installation system measures the wind-off sessions (one stacked QNCF, each scenario's calibration and
-    AoA sweep: :func:`mtcal.systems.installation.measure_simulated_session`) and the wind-on groups with each
-    scenario's Q̂ (one stacked QNCF: :func:`mtcal.systems.installation.measure_applied_runs`), pulling their
-    records from core sources (:class:`mtcal.core.simulate.RecordSource`: the scenarios' records filled
+    scenario, the scenarios side by side: each set up (:func:`_wt_setup`: settings, draws, schedule, truth, its
+    blocks of records), then the installation system measures them in one call
+    (:func:`mtcal.systems.installation.measure_simulated_session`): the wind-off sessions (one stacked QNCF, each
+    scenario's calibration and AoA sweep), then the wind-on groups with each scenario's Q̂ (one stacked QNCF), their
+    records pulled from core sources (:class:`mtcal.core.simulate.RecordSource`: the scenarios' records filled
     together, the noise drawn once where shared).
 
     Truth = actual mechanism angles (:func:`mechanism_actual`) + elastic
@@ -728,98 +737,72 @@ def _run_windtunnel_blocks(scenarios, rngs, trials: int, sources, *, wind_on: bo
     Scenario ``m``'s block is written into the trial ``rows`` of ``outs[m]`` (:func:`_windtunnel_outputs`).
     Returns per scenario the block's gate fraction with the wind on (None with it off).
     """
-    blocks = [_wt_setup(sc, rng, trials, sources, wind_on) for sc, rng in zip(scenarios, rngs)]
+    blocks = [_wt_setup(sc, rng, trials, sources, wind_on, shared) for sc, rng in zip(scenarios, rngs)]
     b0, k = blocks[0], len(blocks)
-    for b in blocks[1:]:
-        if b.prof is not b0.prof or b.sc.qncf != b0.sc.qncf or not np.array_equal(b.pos, b0.pos):
-            raise ValueError("scenarios side by side must share their session (schedule, positions, sample rate) and "
-                             "QNCF parameters: their records are measured in one stack")
-    config = installation.InstallationConfig.monte_carlo(qncf_params=b0.sc.qncf)
-    span, frac = b0.spans["aoa"], 0.5
-    # the wind-off sessions: each zeroed at its first sample, its calibration run's calibration fed the commanded
-    # positions (the mechanism stood at command + error), its AoA sweep scored against its command
+    if any(b.session is not b0.session or b.sc.qncf != b0.sc.qncf for b in blocks[1:]):
+        raise ValueError("scenarios side by side must share their session (schedule, positions, sample rate) and "
+                         "QNCF parameters: their records are measured in one stack")
+    ses, frac, dt_s = b0.session, 0.5, b0.sc.imu.dt_s
+    span = ses.spans["aoa"]
+    # the wind-off sessions, each zeroed at its first sample, its calibration run's calibration fed the commanded
+    # positions (the mechanism stood at command + error), its AoA sweep scored against its command; then the
+    # wind-on groups (kind-major: block m·5 + g) measured with each scenario's Q̂
     session = installation.measure_simulated_session(
-        config, RecordSource(None, None, [b.piece for b in blocks], b0.sc.imu.dt_s, step_start=span.start),
-        range(k), [list(range(k))], calibration_run=b0.spans["calibration"],
-        pieces=[installation.SessionPiece(slice(m * trials, (m + 1) * trials), b.pos + b.ref_err, frac,
+        installation.InstallationConfig.monte_carlo(qncf_params=b0.sc.qncf),
+        RecordSource(None, None, [b.piece for b in blocks], dt_s, step_start=span.start), range(k), [list(range(k))],
+        calibration_run=ses.spans["calibration"],
+        pieces=[installation.SessionPiece(slice(m * trials, (m + 1) * trials), ses.pos + b.ref_err, frac,
                                           trace_row=trace_index if keep_trace else None) for m, b in enumerate(blocks)],
-        sweeps=[installation.SessionSweep("aoa", span, b0.prof.angle_rad[span], 1, (2, 0), {frac: b0.holds},
-                                          TRACE_DECIMATION)])
+        sweeps=[installation.SessionSweep("aoa", span, ses.prof.angle_rad[span], 1, (2, 0), {frac: ses.holds},
+                                          TRACE_DECIMATION)],
+        applied=None if not wind_on else installation.AppliedRuns(
+            RecordSource(None, None, [p for b in blocks for p in b.groups], dt_s), tuple(range(5 * k)),
+            tuple([m * 5 + g for m in range(k)] for g in range(5)),
+            tuple(installation.AppliedRun(slice((m * 5 + g) * trials, (m * 5 + g + 1) * trials), None, holds,
+                                          prof.time_s.size, trace_index if keep_trace else None, piece=m)
+                  for m in range(k) for g, (prof, _, holds) in enumerate(ses.groups))))
     traces = [_wt_nowind(b, session, m, keep_trace, outs[m], rows) for m, b in enumerate(blocks)]
-    del session
     if not wind_on:
         return [None] * k
-    # the wind-on groups (kind-major: block m·5 + g), measured with each scenario's Q̂
-    pieces = [RecordPiece(trials, replace(b.model, time_since_power_on_s=b.model.time_since_power_on_s
-                                          + b.sc.group_interval_s * (g + 1)), grp.rng_imu, trajectory=grp.traj,
-                          accel_offset_m_s2=_vibration_accel(b.sc, grp.prof.time_s, grp.ramp, grp.vib, shared, g))
-              for b in blocks for g, grp in enumerate(b.groups)]
-    wind = installation.measure_applied_runs(
-        config, RecordSource(None, None, pieces, b0.sc.imu.dt_s), range(5 * k),
-        [[m * 5 + g for m in range(k)] for g in range(5)],
-        runs=[installation.AppliedRun(slice((m * 5 + g) * trials, (m * 5 + g + 1) * trials), outs[m].q_matrix[rows],
-                                      grp.holds, grp.prof.time_s.size, trace_index if keep_trace else None)
-              for m, b in enumerate(blocks) for g, grp in enumerate(b.groups)])
-    del pieces
-    return [_wind_on_scores(b, wind, m, traces[m], keep_trace, outs[m].wind_on, rows) for m, b in enumerate(blocks)]
+    return [_wind_on_scores(b, session.applied, m, traces[m], keep_trace, outs[m].wind_on, rows)
+            for m, b in enumerate(blocks)]
 
 
-def _wt_session(sc: WindTunnelScenario) -> tuple:
-    """A scenario's session schedule (shared by its blocks, :func:`_shared_profile`): ``(positions (6, 3) rad,
-    session profile (calibration then AoA sweep), its spans {"calibration", "aoa"}, the five wind-on groups'
-    profiles, their rates (rad/s), the AoA sweep's hold windows relative to its span (first and last dropped))``."""
-    frac = 0.5
-    aoa_wp, aoa_holds_s = _wt_waypoints(sc.aoa_sweep_deg), _wt_holds_s(sc.aoa_sweep_deg, 1.0, sc.hold_s)
-    # the wind-on groups' sweeps (group 5 at its own rate)
-    won_rates = [sc.group5_rate_rad_s if g == 4 else sc.mechanism_rate_rad_s for g in range(5)]
-    won_wp = _wt_waypoints(sc.wind_on_sweep_deg)
-    won_holds_s = _wt_holds_s(sc.wind_on_sweep_deg, WIND_LEAD_S, sc.wind_on_hold_s)
-    pos = windtunnel_positions(sc)
-
-    def session():
-        cal_prof = six_position.schedule_profile(pos, rate_rad_s=5 * DEG, rest_s=sc.rest_s, fs_hz=sc.fs_hz)
-        aoa_prof = step_schedule(aoa_wp, sc.mechanism_rate_rad_s, aoa_holds_s, sc.fs_hz, min_move_s=0.5)
-        by_rate = {r: step_schedule(won_wp, r, won_holds_s, sc.fs_hz, min_move_s=0.5) for r in dict.fromkeys(won_rates)}
-        return (*join_profiles([cal_prof, aoa_prof]), tuple(by_rate[r] for r in won_rates))
-    prof, spans, won_profs = _shared_profile(
-        ("wind tunnel session", _key(pos), float(sc.rest_s), float(sc.fs_hz), _key(sc.aoa_sweep_deg),
-         float(sc.mechanism_rate_rad_s), float(sc.hold_s), _key(sc.wind_on_sweep_deg), float(sc.group5_rate_rad_s),
-         float(sc.wind_on_hold_s)), session)
-    spans = dict(zip(("calibration", "aoa"), spans))
-    span = spans["aoa"]
-    holds = [slice(h.start - span.start, h.stop - span.start) for h in _shared_holds(prof, span, frac)][1:-1]
-    return pos, prof, spans, won_profs, won_rates, holds
-
-
-def _wt_setup(sc: WindTunnelScenario, rng: np.random.Generator, trials: int, sources, wind_on: bool):
-    """One scenario's block up to its IMU streams: the settings (:func:`_wt_session`: positions, the profiles
-    of the session and of the wind-on groups, hold windows), the reference draws, the truth (the mechanism's
-    actual angles tilted by the mount's compliance) and the error model."""
+def _wt_setup(sc: WindTunnelScenario, rng: np.random.Generator, trials: int, sources, wind_on: bool,
+              shared: dict | None) -> _WindTunnelBlock:
+    """One scenario's block up to its records: the draws (each from its own generator), the session's schedule
+    (:func:`_wt_session`), the truth (the mechanism's actual angles, with the wind on plus elastic deflection and
+    angular vibration, tilted by the mount's compliance) and the blocks of records (sensor, run-to-run bias change,
+    wind-on accelerometer vibration: ``shared`` as for :func:`run_windtunnel`)."""
     rng_imu, rng_ref, rng_wind, rng_change = child_rngs(rng, 4)
     on = set(sources)
     k_mount = sc.errors.compliance_deg_g(MOUNT_TYPE["windtunnel"]) * DEG if "mount_compliance" in on else 0.0
-    pos, prof, spans, won_profs, won_rates, holds = _wt_session(sc)
     ref_err = _draws(rng_ref, trials, 6, sc.repeatability_rad, "reference_angle" in on)   # its own generator
-    # truth: the mechanism's actual angles, tilted by the mount; then the IMU (core)
-    actual = mechanism_actual(sc, prof, sc.mechanism_rate_rad_s, stops=_shared_stops(prof))
-    groups = _wind_on_truth(sc, rng_wind, trials, won_profs, won_rates) if wind_on else []
-    traj, *group_trajs = [compliance_trajectory(t, a, k_mount) for t, a in
-                          [(prof.time_s, actual)] + [(grp.prof.time_s, grp.actual) for grp in groups]]
-    for grp, group_traj in zip(groups, group_trajs):
-        grp.traj, grp.actual = group_traj, None      # the angles are in the trajectory now
-    model = sc.imu.error_model(mount_quaternion(np.radians(sc.alpha_deg)), sources, sc.errors)
     step = None                          # the run-to-run bias change between the calibration and the sweep
     if "accel_run_change" in on:
         step = sc.errors.accel_run_bias_mg * MG * rng_change.standard_normal((trials, 1, 3))
-    return _WindTunnelBlock(sc, trials, prof, spans, holds, ref_err, pos, groups, model,
-                            RecordPiece(trials, model, rng_imu, trajectory=traj, accel_step_m_s2=step))
+    draws = _wind_on_draws(sc, rng_wind, trials) if wind_on else []
+    ses = _wt_session(sc)
+    # truth: the mechanism's actual angles (wind on: + elastic deflection and angular vibration, the accelerometer
+    # vibrating), tilted by the mount; then the sensor (core)
+    actual = mechanism_actual(sc, ses.prof, sc.mechanism_rate_rad_s, stops=_stops(ses, ses.prof))
+    groups = [_wind_on_truth(sc, ses, group, draw, shared, g) for g, (group, draw) in enumerate(zip(ses.groups, draws))]
+    traj, *group_trajs = [compliance_trajectory(t, a, k_mount) for t, a in
+                          [(ses.prof.time_s, actual)] + [(prof.time_s, a) for (prof, *_), (a, _) in zip(ses.groups, groups)]]
+    model = sc.imu.error_model(mount_quaternion(np.radians(sc.alpha_deg)), sources, sc.errors)
+    return _WindTunnelBlock(sc, trials, ses, ref_err, RecordPiece(trials, model, rng_imu, trajectory=traj,
+                                                                  accel_step_m_s2=step),
+                            [RecordPiece(trials, replace(model, time_since_power_on_s=model.time_since_power_on_s
+                                                         + sc.group_interval_s * (g + 1)), draw[0],
+                                         trajectory=group_traj, accel_offset_m_s2=shake)
+                             for g, (draw, group_traj, (_, shake)) in enumerate(zip(draws, group_trajs, groups))])
 
 
 def _wt_nowind(b: _WindTunnelBlock, session, m: int, keep_trace: bool, out: WindTunnelRun, rows: slice) -> dict:
     """Scenario ``m``'s wind-off session of the measured ``session``: its calibration and the AoA sweep's errors,
     written into the trial ``rows`` of ``out`` (:func:`_windtunnel_outputs`; the sweep's reference by the first
     block). Returns the block's trace (empty without ``keep_trace``; the traced block's is ``out.trace``)."""
-    span = b.spans["aoa"]
+    prof, span = b.session.prof, b.session.spans["aoa"]
     cal, scores, nowind = session.calibrations[m], session.sweeps[m]["aoa"], out.nowind
     out.q_matrix[rows], out.cal_before[rows], out.cal_after[rows] = cal.q_hat, cal.euler_before_rad, cal.euler_after_rad
     if rows.start == 0:
@@ -829,7 +812,7 @@ def _wt_nowind(b: _WindTunnelBlock, session, m: int, keep_trace: bool, out: Wind
             nowind[key][rows] = value
     trace = {}
     if keep_trace:
-        trace = out.trace = {"nowind_time_s": b.prof.time_s[span] - b.prof.time_s[span.start],
+        trace = out.trace = {"nowind_time_s": prof.time_s[span] - prof.time_s[span.start],
                              "nowind_before_err": session.traces[m]["aoa_before_err"],
                              "nowind_after_err": session.traces[m]["aoa_after_err"]}
     return trace
@@ -877,37 +860,33 @@ WIND_LEAD_S = 8.0
 WIND_FLOW_START_S = WIND_LEAD_S - 3.0
 
 
-@dataclass
-class _WindOnGroup:
-    """One wind-on group's settings and truth (:func:`_wind_on_truth`)."""
-
-    prof: AngleProfile
-    holds: list               # hold windows of the sweep (first and last dropped)
-    actual: np.ndarray        # truth angles (N, 3) rad: mechanism + elastic deflection + angular vibration
-    ramp: np.ndarray          # flow ramp 0…1 (N,)
-    vib: np.ndarray           # accelerometer vibration phases (trials, 1, 3) rad
-    rng_imu: np.random.Generator
-    traj: object = None       # Trajectory of the IMU base (compliance_trajectory of ``actual``)
-
-
-def _wind_on_truth(sc, rng, trials, profs, rates) -> list[_WindOnGroup]:
-    """The five wind-on groups' profiles, hold windows, draws and truth angles (mechanism angles + elastic
-    deflection + angular vibration; the caller tilts them by the mount), each group from its own generators
-    ``child_rngs(child_rngs(rng, 5)[g], 3)`` (dynamic pressure, IMU, vibration)."""
-    group_rngs = child_rngs(rng, 5)
-    groups = []
-    for g, (prof, rate) in enumerate(zip(profs, rates)):
-        r_q, r_imu, r_vib = child_rngs(group_rngs[g], 3)
-        actual = mechanism_actual(sc, prof, rate, stops=_shared_stops(prof))
+def _wind_on_draws(sc: WindTunnelScenario, rng: np.random.Generator, trials: int) -> list[tuple]:
+    """The five wind-on groups' draws, each group from its own generators ``child_rngs(child_rngs(rng, 5)[g], 3)``
+    (dynamic pressure, IMU, vibration): ``(IMU generator, dynamic-pressure factor, angular vibration phase (rad),
+    accelerometer vibration phases (trials, 1, 3) rad)``."""
+    out = []
+    for group_rng in child_rngs(rng, 5):
+        r_q, r_imu, r_vib = child_rngs(group_rng, 3)
         q_factor = 1.0 + sc.dynamic_pressure_sigma * r_q.standard_normal()
-        t = prof.time_s
-        ramp = np.clip((t - WIND_FLOW_START_S) / 1.0, 0.0, 1.0)          # flow starts 3 s before the sweep
         phase = r_vib.uniform(0, 2 * np.pi)
-        actual[:, 1] += ramp * (q_factor * elastic_deflection_rad(sc.elastic_true_deg, prof.angle_rad[:, 1])
-                                + sc.vibration_angle_rad * np.sin(2 * np.pi * sc.vibration_freq_hz * t + phase))
-        vib = r_vib.uniform(0, 2 * np.pi, (trials, 1, 3))
-        groups.append(_WindOnGroup(prof, _shared_holds(prof, slice(0, t.size), 0.5)[1:-1], actual, ramp, vib, r_imu))
-    return groups
+        out.append((r_imu, q_factor, phase, r_vib.uniform(0, 2 * np.pi, (trials, 1, 3))))
+    return out
+
+
+def _wind_on_truth(sc: WindTunnelScenario, ses: _WtSession, group: tuple, draw: tuple, shared: dict | None,
+                   g: int) -> tuple:
+    """Wind-on group ``g``'s truth angles (N, 3) rad — the mechanism's actual angles + the elastic deflection times
+    the dynamic-pressure factor + the angular vibration, ramped in with the flow (3 s before the sweep); the caller
+    tilts them by the mount — and its accelerometer vibration (trials, N, 3) m/s² (:func:`_vibration_accel`).
+    ``group``: its session entry (:class:`_WtSession`), ``draw``: its draws (:func:`_wind_on_draws`)."""
+    prof, rate, _ = group
+    _, q_factor, phase, vib = draw
+    actual = mechanism_actual(sc, prof, rate, stops=_stops(ses, prof))
+    t = prof.time_s
+    ramp = np.clip((t - WIND_FLOW_START_S) / 1.0, 0.0, 1.0)          # flow starts 3 s before the sweep
+    actual[:, 1] += ramp * (q_factor * elastic_deflection_rad(sc.elastic_true_deg, prof.angle_rad[:, 1])
+                            + sc.vibration_angle_rad * np.sin(2 * np.pi * sc.vibration_freq_hz * t + phase))
+    return actual, _vibration_accel(sc, t, ramp, vib, shared, g)
 
 
 def _wind_on_scores(b: _WindTunnelBlock, wind, m: int, trace: dict, keep_trace: bool, out: dict, rows: slice) -> float:
@@ -920,15 +899,15 @@ def _wind_on_scores(b: _WindTunnelBlock, wind, m: int, trace: dict, keep_trace: 
     ref = np.radians(np.asarray(sc.wind_on_sweep_deg, float))
     elastic_corrected = ref + elastic_deflection_rad(sc.elastic_model_deg, ref)
     means = out["group_means"][:, rows]                             # (a view: written in place)
-    for g, grp in enumerate(b.groups):
+    for g, (prof, *_) in enumerate(b.session.groups):
         means[g] = wind.hold_pitch_rad[m * 5 + g]
         if not keep_trace:
             continue
         tr = wind.traces[m * 5 + g]
         if g == 0:
             trace["amd_pct"], trace["gate"] = tr["amd_pct"], tr["gate"]
-        trace[f"wind_time_s_{g}"] = grp.prof.time_s.copy()        # the profile is shared (read-only)
-        trace[f"wind_reference_{g}"] = grp.prof.angle_rad[:, 1].copy()
+        trace[f"wind_time_s_{g}"] = prof.time_s.copy()            # the profile is shared (read-only)
+        trace[f"wind_reference_{g}"] = prof.angle_rad[:, 1].copy()
         trace[f"wind_pitch_{g}"] = tr["pitch_rad"]
     if rows.start == 0:
         out["reference"], out["elastic_corrected"] = ref, elastic_corrected
