@@ -1626,6 +1626,9 @@ class RecordSource:
         if any(p.accel_step_m_s2 is not None for p in self.pieces) and step_start is None:
             raise ValueError("step_start is needed when a piece has an accel_step_m_s2")
         self._family = None if tilt_axis is None else TiltedTrajectories(time_s, q_base, tilt_axis)
+        #: Per block, its trials and its samples (a consumer sizes a stack from them before asking).
+        self.trial_counts = tuple(int(p.trials) for p in self.pieces)
+        self.sample_counts = tuple(len(time_s) if p.trajectory is None else len(p.trajectory) for p in self.pieces)
         self._uses = {}
         for g in gains:
             self._uses[g] = self._uses.get(g, 0) + 1
@@ -1634,12 +1637,11 @@ class RecordSource:
 
     def samples(self, indices) -> int:
         """Samples of the blocks ``indices`` stacked: the longest block's."""
-        return max(len(self.time_s) if self.pieces[i].trajectory is None else len(self.pieces[i].trajectory)
-                   for i in indices)
+        return max(self.sample_counts[i] for i in indices)
 
     def trials(self, indices) -> int:
         """Trials of the blocks ``indices`` stacked."""
-        return sum(self.pieces[i].trials for i in indices)
+        return sum(self.trial_counts[i] for i in indices)
 
     def _trajectory(self, piece: RecordPiece) -> Trajectory:
         """The block's truth: its own, or the base's of its gain, computed by its first block (the others wait)

@@ -27,7 +27,9 @@ settings, the studies' Monte Carlo, a sweep cell and the CLI options) plus the d
 :func:`verify_installation` runs the same steps on a separate run with Q̂ given (the study's
 verification). :func:`measure_session` measures a Monte Carlo session of stacked records in one call (one
 QNCF, the session zeroed once, each block of trials' calibration and verification run:
-:func:`mtcal.methods.six_position.calibrate_session`). The CLI (``mtcal calibrate`` / ``mtcal apply``), the wang2023cja studies and the
+:func:`mtcal.methods.six_position.calibrate_session`); :func:`measure_simulated_session` is the same for a Monte Carlo
+whose records the procedure pulls from a :class:`mtcal.core.simulate.RecordSource` once its inputs are checked (with
+later runs read with each block's Q̂: the wind-on groups). The CLI (``mtcal calibrate`` / ``mtcal apply``), the wang2023cja studies and the
 ``six_position`` sweep evaluator all call these functions; the arrays are checked here once,
 at the edge, and the methods below trust them.
 
@@ -587,7 +589,7 @@ class SessionSweep:
 
 @dataclass(frozen=True)
 class SessionMeasurement:
-    """Outcome of :func:`measure_session`.
+    """Outcome of :func:`measure_session` and :func:`measure_simulated_session`.
 
     Attributes
     ----------
@@ -884,7 +886,7 @@ def measure_simulated_session(config: InstallationConfig, source: RecordSource, 
     ((2, 4, 4), True)
     """
     blocks, groups = _source_blocks(source, blocks, groups)
-    shape = (source.trials(blocks), source.samples(blocks), 3)
+    shape = (sum(source.trial_counts[b] for b in blocks), max(source.sample_counts[b] for b in blocks), 3)
     return _measure(config, (shape, shape), lambda: source.fill(blocks, groups, map_pieces), source.dt_s,
                     calibration_run, pieces, verification_run, reference_rad, sweeps, map_pieces, applied)
 
@@ -1062,7 +1064,7 @@ def _applied_runs(applied: AppliedRuns, piece_rows) -> tuple:
         raise TypeError(f"applied must be an AppliedRuns, got {type(applied).__name__}")
     source = applied.source
     blocks, groups = _source_blocks(source, applied.blocks, applied.groups)
-    trials, n = source.trials(blocks), source.samples(blocks)
+    trials, n = sum(source.trial_counts[b] for b in blocks), max(source.sample_counts[b] for b in blocks)
     runs = list(applied.runs)
     if not runs or not all(isinstance(run, AppliedRun) for run in runs):
         raise TypeError(f"runs must be a non-empty sequence of AppliedRun, got {[type(r).__name__ for r in runs]}")

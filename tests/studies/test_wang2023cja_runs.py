@@ -426,6 +426,10 @@ def test_windtunnel_kinds_without_shared_noise_fill_apart_with_the_same_numbers(
         assert [k for k in arrays if not np.array_equal(arrays[k], alone[k], equal_nan=True)] == []
     with pytest.raises(ValueError, match="scenarios and rngs must be non-empty and of equal length"):
         runs.run_windtunnel_kinds(scs, [np.random.default_rng(1)], 2)
+    # measured in one stack: scenarios side by side share their session and QNCF settings
+    for other in (w.windtunnel_scenario(fs_hz=100.0, rest_s=12.0), replace(scs[0], qncf=replace(scs[0].qncf, kp_rad_s=0.5))):
+        with pytest.raises(ValueError, match="must share their session .* and QNCF parameters"):
+            runs.run_windtunnel_kinds([scs[0], other], [np.random.default_rng(1)] * 2, 1)
 
 
 def test_turntable_kinds_side_by_side_equal_separate_calls_and_share_the_noise(monkeypatch):

@@ -316,7 +316,7 @@ def test_cli_calibrate_is_bit_identical_to_the_study_path(tmp_path, monkeypatch)
     n = 1 + int(sc.fs_hz) * ((cal_span.stop - 1) // int(sc.fs_hz))   # whole seconds: the log's mean rate is exact
     gyro, accel = rec.gyro_rad_s[:, :n], rec.accel_m_s2[:, :n]
     pos = w.six_position_reference(sc)
-    # the study path: session QNCF as in runs._run_pieces, then its calibration step
+    # the study path: session QNCF as in installation.measure_session, then its calibration step
     q_ws = qncf(gyro, accel, 1.0 / sc.fs_hz, sc.qncf, return_euler=False).q_ws
     study = w.calibration_step(sc, q_ws, gyro, pos, sc.averaging_fraction)
     # the CLI path

@@ -231,7 +231,7 @@ def turntable_predictive_kinds(sc, fit: ErrorModelFit, kinds, trials: int, seed:
     rest = [t for t in tests if t != "T1"]
     for kind in kinds if rest else ():
         # the sessions of one draw side by side (T2, T3, T4 of draw 0, then of draw 1, …): a draw's gasket
-        # sessions share their compliance and so one truth trajectory (runs._run_pieces); every job keeps
+        # sessions share their compliance and so one truth trajectory (core.simulate.RecordSource); every job keeps
         # its own generator, so the numbers are those of one call per test
         runs = run_turntable_jobs(sc, [jobs[kind][t][j] for j in range(n_draws) for t in rest], block=1)
         out[kind].update((t, _stack_jobs(runs[k::len(rest)])) for k, t in enumerate(rest))

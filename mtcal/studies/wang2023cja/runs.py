@@ -210,7 +210,6 @@ def _map(fn, items: list) -> list:
 class _PieceSettings:
     """What a piece of a turntable run takes from its scenario (:func:`_piece_settings`), before its draws."""
 
-    test: str
     sources: tuple
     rng: np.random.Generator
     trials: int
@@ -229,11 +228,11 @@ class _PieceSettings:
 def _piece_settings(piece, with_sweeps: bool) -> _PieceSettings:
     """A piece ``(test, sources, rng, trials, fraction, scenario)`` of :func:`_job_pieces` resolved to the numbers
     its simulation takes (the mount compliance 0 when switched off)."""
-    test, sources, rng, trials, fraction, sc = piece
+    test, sources, rng, trials, _, sc = piece
     on = set(sources)
     gasket = MOUNT_TYPE[test] == "gasket"
     return _PieceSettings(
-        test, sources, rng, trials, _fraction(piece), sc.alpha_rad(test),
+        sources, rng, trials, _fraction(piece), sc.alpha_rad(test),
         sc.errors.compliance_deg_g(MOUNT_TYPE[test]) * DEG if "mount_compliance" in on else 0.0, sc.imu, sc.errors,
         sc.reference_angle_sigma_rad, sc.errors.accel_run_bias_mg * MG, sc.errors.gasket_load_tilt_deg_g * DEG,
         ("reference_angle" in on, "accel_run_change" in on, "mount_compliance" in on and gasket),
@@ -616,10 +615,11 @@ def run_windtunnel_kinds(scenarios, rngs, trials: int, sources=SOURCES, *, wind_
     sizes, b_trace, i_trace = _windtunnel_block_sizes(trials, block, trace_trial)
     keep_freed_memory()                          # the per-block arrays reuse freed heap, not fresh zeroed pages
     block_rngs = list(zip(*(child_rngs(rng, len(sizes)) for rng in rngs)))   # [block][scenario]
-    outs = [_windtunnel_outputs(sc, sum(sizes), wind_on) for sc in scenarios]
+    outs = [None] * len(scenarios)               # each run's arrays, made by its first block (_windtunnel_outputs)
     gates = [_run_windtunnel_blocks(scenarios, list(r), n, sources, wind_on=wind_on,
                                     keep_trace=keep_trace and i == b_trace, trace_index=i_trace,
-                                    shared=None if shared is None else shared.setdefault(i, {}), outs=outs, rows=rows)
+                                    shared=None if shared is None else shared.setdefault(i, {}), outs=outs, rows=rows,
+                                    total=sum(sizes))
              for i, (r, n, rows) in enumerate(progress(list(zip(block_rngs, sizes, _block_rows(sizes))),
                                                        desc="wind-tunnel Monte Carlo"))]
     for m, out in enumerate(outs):
@@ -628,11 +628,11 @@ def run_windtunnel_kinds(scenarios, rngs, trials: int, sources=SOURCES, *, wind_
     return outs
 
 
-def _windtunnel_outputs(sc: WindTunnelScenario, trials: int, wind_on: bool) -> WindTunnelRun:
-    """The arrays of a run of ``trials`` trials, empty: each block writes its trial rows (:func:`_wt_nowind`,
-    :func:`_wind_on_measure`); the sweeps' references (equal in every block) come from the first block, the
-    trace from the traced block, ``gate_fraction_on`` from the caller (the blocks' trial-weighted mean)."""
-    ses = _wt_session(sc)
+def _windtunnel_outputs(b: "_WindTunnelBlock", trials: int, wind_on: bool) -> WindTunnelRun:
+    """The arrays of a run of ``trials`` trials of block ``b``'s scenario, empty: each block writes its trial rows
+    (:func:`_wt_nowind`, :func:`_wind_on_scores`); the sweeps' references (equal in every block) come from the first
+    block, the trace from the traced block, ``gate_fraction_on`` from the caller (the blocks' trial-weighted mean)."""
+    sc, ses = b.sc, b.session
     prof, spans, holds = ses.prof, ses.spans, ses.holds
     span = spans["aoa"]
     dec = (trials, len(range(span.start, span.stop, TRACE_DECIMATION)), 3)
@@ -719,7 +719,8 @@ class _WindTunnelBlock:
 
 
 def _run_windtunnel_blocks(scenarios, rngs, trials: int, sources, *, wind_on: bool, keep_trace: bool,
-                           trace_index: int = 0, shared: dict | None = None, outs: list, rows: slice) -> list:
+                           trace_index: int = 0, shared: dict | None = None, outs: list, rows: slice,
+                           total: int) -> list:
     """Wind-off calibration + AoA sweep (Tables 9, 11) and five wind-on groups (Table 10) of one block per
     scenario, the scenarios side by side: each set up (:func:`_wt_setup`: settings, draws, schedule, truth, its
     blocks of records), then the installation system measures them in one call
@@ -734,8 +735,9 @@ def _run_windtunnel_blocks(scenarios, rngs, trials: int, sources, *, wind_on: bo
     ``vibration_freq_hz`` plus angular pitch vibration), which trips the AMD:
     the QNCF runs on the gyro alone.
 
-    Scenario ``m``'s block is written into the trial ``rows`` of ``outs[m]`` (:func:`_windtunnel_outputs`).
-    Returns per scenario the block's gate fraction with the wind on (None with it off).
+    Scenario ``m``'s block is written into the trial ``rows`` of ``outs[m]`` (:func:`_windtunnel_outputs` of ``total``
+    trials, made by the first block when None). Returns per scenario the block's gate fraction with the wind on
+    (None with it off).
     """
     blocks = [_wt_setup(sc, rng, trials, sources, wind_on, shared) for sc, rng in zip(scenarios, rngs)]
     b0, k = blocks[0], len(blocks)
@@ -744,23 +746,29 @@ def _run_windtunnel_blocks(scenarios, rngs, trials: int, sources, *, wind_on: bo
                          "QNCF parameters: their records are measured in one stack")
     ses, frac, dt_s = b0.session, 0.5, b0.sc.imu.dt_s
     span = ses.spans["aoa"]
+    # the records: the wind-off sessions (the run change from the AoA sweep on), the wind-on groups (kind-major:
+    # block m·5 + g; each scenario's groups filled with the other scenarios' same group)
+    records = RecordSource(None, None, [b.piece for b in blocks], dt_s, step_start=span.start)
+    later = RecordSource(None, None, [p for b in blocks for p in b.groups], dt_s) if wind_on else None
     # the wind-off sessions, each zeroed at its first sample, its calibration run's calibration fed the commanded
     # positions (the mechanism stood at command + error), its AoA sweep scored against its command; then the
-    # wind-on groups (kind-major: block m·5 + g) measured with each scenario's Q̂
+    # wind-on groups measured with each scenario's Q̂
     session = installation.measure_simulated_session(
-        installation.InstallationConfig.monte_carlo(qncf_params=b0.sc.qncf),
-        RecordSource(None, None, [b.piece for b in blocks], dt_s, step_start=span.start), range(k), [list(range(k))],
+        installation.InstallationConfig.monte_carlo(qncf_params=b0.sc.qncf), records, range(k), [list(range(k))],
         calibration_run=ses.spans["calibration"],
         pieces=[installation.SessionPiece(slice(m * trials, (m + 1) * trials), ses.pos + b.ref_err, frac,
                                           trace_row=trace_index if keep_trace else None) for m, b in enumerate(blocks)],
         sweeps=[installation.SessionSweep("aoa", span, ses.prof.angle_rad[span], 1, (2, 0), {frac: ses.holds},
                                           TRACE_DECIMATION)],
-        applied=None if not wind_on else installation.AppliedRuns(
-            RecordSource(None, None, [p for b in blocks for p in b.groups], dt_s), tuple(range(5 * k)),
+        applied=None if later is None else installation.AppliedRuns(
+            later, tuple(range(5 * k)),
             tuple([m * 5 + g for m in range(k)] for g in range(5)),
             tuple(installation.AppliedRun(slice((m * 5 + g) * trials, (m * 5 + g + 1) * trials), None, holds,
                                           prof.time_s.size, trace_index if keep_trace else None, piece=m)
                   for m in range(k) for g, (prof, _, holds) in enumerate(ses.groups))))
+    for m, b in enumerate(blocks):
+        if outs[m] is None:
+            outs[m] = _windtunnel_outputs(b, total, wind_on)
     traces = [_wt_nowind(b, session, m, keep_trace, outs[m], rows) for m, b in enumerate(blocks)]
     if not wind_on:
         return [None] * k
