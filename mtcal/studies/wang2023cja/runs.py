@@ -448,9 +448,9 @@ def run_turntable_jobs_kinds(sc: TurntableScenario, kinds_jobs: list, *, with_sw
             count = 0
         calls[-1].append(p)
         count += n_kinds * settings[p].trials
+    # each sweep's hold windows relative to its span, per averaging fraction (the rests before and after it dropped);
     # the session measured by the installation system: one stacked QNCF per call, each piece's calibration and
     # verification (fed the commanded reference; the turntable stood at command + e_cal) and sweeps' scores
-    # each sweep's hold windows relative to its span, per averaging fraction (the rests before and after it dropped)
     holds = {name: {f: [slice(h.start - spans[name].start, h.stop - spans[name].start)
                         for h in prof.hold_slices(spans[name], f)][1:-1] for f in dict.fromkeys(st.fraction for st in settings)}
              for name, _, _ in (_SWEEPS if with_sweeps else ())}
