@@ -1616,7 +1616,13 @@ class RecordSource:
         self.pieces = tuple(pieces)
         if not self.pieces or not all(isinstance(p, RecordPiece) for p in self.pieces):
             raise TypeError(f"pieces must be a non-empty sequence of RecordPiece, got {[type(p).__name__ for p in self.pieces]}")
-        self.time_s, self.q_base, self.dt_s, self.step_start = time_s, q_base, float(dt_s), step_start
+        for p in self.pieces:
+            if not isinstance(p.trials, (int, np.integer)) or p.trials < 1:
+                raise ValueError(f"a piece's trials must be an integer >= 1, got {p.trials!r}")
+            if p.trajectory is not None and not isinstance(p.trajectory, Trajectory):
+                raise TypeError(f"a piece's trajectory must be a Trajectory, got {type(p.trajectory).__name__}")
+        self.time_s, self.q_base, self.step_start = time_s, q_base, step_start
+        self.dt_s = positive_scalar(dt_s, "dt_s")
         based = [p for p in self.pieces if p.trajectory is None]
         if based and (time_s is None or q_base is None):
             raise ValueError("time_s and q_base are needed when a piece has no trajectory of its own")

@@ -668,6 +668,12 @@ def test_record_source_bad_input():
         simulate.RecordSource(t, q, [simulate.RecordPiece(1, ImuErrorModel(), None, 0.0, np.zeros((1, 1, 3)))], 1e-3)
     with pytest.raises(ValueError, match="time_s and q_base are needed"):
         simulate.RecordSource(None, None, [simulate.RecordPiece(1, ImuErrorModel(), None)], 1e-3)
+    with pytest.raises(ValueError, match="a piece's trials must be an integer >= 1"):
+        simulate.RecordSource(t, q, [simulate.RecordPiece(0, ImuErrorModel(), None)], 1e-3)
+    with pytest.raises(TypeError, match="a piece's trajectory must be a Trajectory"):
+        simulate.RecordSource(None, None, [simulate.RecordPiece(1, ImuErrorModel(), None, trajectory=q)], 1e-3)
+    with pytest.raises(ValueError, match="dt_s"):
+        simulate.RecordSource(t, q, [simulate.RecordPiece(1, ImuErrorModel(), None)], -1e-3)
 
 
 def test_record_source_holds_a_shorter_block_at_its_last_sample_and_adds_its_disturbance():
