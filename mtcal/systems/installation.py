@@ -680,8 +680,7 @@ def _session_record(shapes, dt_s, calibration_run, verification_run, reference_r
         raise TypeError(f"sweeps must be a sequence of SessionSweep, got {[type(sw).__name__ for sw in sweeps]}")
     spans += [(sw.span, f"sweep {sw.name!r}'s span", n, "samples") for sw in sweeps]
     for run, name, size, unit in spans:
-        if (not isinstance(run, slice) or run.step not in (None, 1) or run.start is None or run.stop is None
-                or not 0 <= run.start < run.stop <= size):
+        if not _is_window(run, size):
             raise ValueError(f"{name} must be a slice (start < stop, step 1) within the {size} {unit} of the "
                              f"records, got {run!r}")
     sweeps = [_sweep(sw, fractions) for sw in sweeps]
@@ -725,8 +724,7 @@ def _sweep(sw: SessionSweep, fractions) -> SessionSweep:
         raise ValueError(f"sweep {sw.name!r}'s decimation must be an integer >= 1, got {sw.decimation!r}")
     for fraction in dict.fromkeys(fractions):
         holds = sw.holds.get(fraction) if hasattr(sw.holds, "get") else None
-        if not holds or not all(isinstance(h, slice) and h.step in (None, 1) and h.start is not None
-                                and h.stop is not None and 0 <= h.start < h.stop <= n for h in holds):
+        if not holds or not all(_is_window(h, n) for h in holds):
             raise ValueError(f"sweep {sw.name!r}'s holds must give, for fraction {fraction}, hold windows (slices "
                              f"within its {n} samples), got {holds!r}")
     return sw if ref is sw.reference_rad else replace(sw, reference_rad=ref)
@@ -885,8 +883,7 @@ def measure_simulated_session(config: InstallationConfig, source: RecordSource, 
     >>> m.calibrations[0].q_hat.shape, bool(m.verifications[0].residual_rad.max() < 1e-3)
     ((2, 4, 4), True)
     """
-    blocks, groups = _source_blocks(source, blocks, groups)
-    shape = (sum(source.trial_counts[b] for b in blocks), max(source.sample_counts[b] for b in blocks), 3)
+    blocks, groups, shape = _source_blocks(source, blocks, groups)
     return _measure(config, (shape, shape), lambda: source.fill(blocks, groups, map_pieces), source.dt_s,
                     calibration_run, pieces, verification_run, reference_rad, sweeps, map_pieces, applied)
 
@@ -1063,16 +1060,14 @@ def _applied_runs(applied: AppliedRuns, piece_rows) -> tuple:
     if not isinstance(applied, AppliedRuns):
         raise TypeError(f"applied must be an AppliedRuns, got {type(applied).__name__}")
     source = applied.source
-    blocks, groups = _source_blocks(source, applied.blocks, applied.groups)
-    trials, n = sum(source.trial_counts[b] for b in blocks), max(source.sample_counts[b] for b in blocks)
+    blocks, groups, (trials, n, _) = _source_blocks(source, applied.blocks, applied.groups)
     runs = list(applied.runs)
     if not runs or not all(isinstance(run, AppliedRun) for run in runs):
         raise TypeError(f"runs must be a non-empty sequence of AppliedRun, got {[type(r).__name__ for r in runs]}")
     checked = []
     for run in runs:
         r = run.rows
-        if (not isinstance(r, slice) or r.step not in (None, 1) or r.start is None or r.stop is None
-                or not 0 <= r.start < r.stop <= trials):
+        if not _is_window(r, trials):
             raise ValueError(f"a run's rows must be a slice (start < stop, step 1) within the {trials} trials of the "
                              f"records, got {r!r}")
         t = r.stop - r.start
@@ -1089,8 +1084,7 @@ def _applied_runs(applied: AppliedRuns, piece_rows) -> tuple:
         if not isinstance(run.samples, (int, np.integer)) or not 0 < run.samples <= n:
             raise ValueError(f"a run's samples must be an integer in [1, {n}], got {run.samples!r}")
         holds = list(run.holds)
-        if not holds or not all(isinstance(h, slice) and h.step in (None, 1) and h.start is not None
-                                and h.stop is not None and 0 <= h.start < h.stop <= run.samples for h in holds):
+        if not holds or not all(_is_window(h, run.samples) for h in holds):
             raise ValueError(f"a run's holds must be slices within its {run.samples} samples, got {holds!r}")
         if run.trace_row is not None and (not isinstance(run.trace_row, (int, np.integer)) or not 0 <= run.trace_row < t):
             raise ValueError(f"a run's trace_row must be a row of its {t} trials, got {run.trace_row!r}")
@@ -1118,8 +1112,15 @@ def _read_runs(res, runs, q_hat=None) -> dict:
     return out
 
 
-def _source_blocks(source, blocks, groups) -> tuple[list, list]:
-    """``blocks`` of ``source`` and their fill ``groups``, checked (:func:`measure_simulated_session`)."""
+def _is_window(w, size: int) -> bool:
+    """``w`` is a slice ``start < stop``, step 1, within ``0 … size`` (a run, a block of rows, a hold)."""
+    return (isinstance(w, slice) and w.step in (None, 1) and w.start is not None and w.stop is not None
+            and 0 <= w.start < w.stop <= size)
+
+
+def _source_blocks(source, blocks, groups) -> tuple[list, list, tuple]:
+    """``blocks`` of ``source`` and their fill ``groups``, checked (:func:`measure_simulated_session`), and the shape
+    (T, N, 3) of their stack (from the source's counts: nothing simulated)."""
     if not isinstance(source, RecordSource):
         raise TypeError(f"source must be a RecordSource, got {type(source).__name__}")
     blocks = [int(b) for b in blocks]
@@ -1128,7 +1129,7 @@ def _source_blocks(source, blocks, groups) -> tuple[list, list]:
     groups = [[int(p) for p in group] for group in groups]
     if sorted(p for group in groups for p in group) != list(range(len(blocks))):
         raise ValueError(f"groups must partition the positions 0 … {len(blocks) - 1} of blocks, got {groups}")
-    return blocks, groups
+    return blocks, groups, (sum(source.trial_counts[b] for b in blocks), max(source.sample_counts[b] for b in blocks), 3)
 
 
 def _q_hat(q_hat) -> np.ndarray:

@@ -42,8 +42,8 @@ from mtcal.core.units import DEG, MG
 from mtcal.methods import six_position
 from mtcal.systems import installation
 from .error_model import MOUNT_TYPE, PAPER_SIGN
-from .scenario import (SOURCES, TurntableScenario, WindTunnelScenario, compliance_trajectory, mechanism_actual,
-                       stop_directions)
+from .scenario import (SOURCES, TurntableScenario, WindTunnelScenario, _positions_rad, compliance_trajectory,
+                       mechanism_actual, stop_directions)
 
 #: Every trial's sweep error series is kept at every TRACE_DECIMATION-th sample (ensemble figures).
 TRACE_DECIMATION = 20
@@ -681,7 +681,7 @@ def _wt_schedule(cal_yaw_deg, cal_pitch_deg, cal_roll_deg, rest_s, fs_hz, aoa_sw
     aoa_wp, aoa_holds_s = _wt_waypoints(aoa_sweep_deg), _wt_holds_s(aoa_sweep_deg, 1.0, hold_s)
     won_rates = [group5_rate_rad_s if g == 4 else rate_rad_s for g in range(5)]
     won_wp, won_holds_s = _wt_waypoints(wind_on_sweep_deg), _wt_holds_s(wind_on_sweep_deg, WIND_LEAD_S, wind_on_hold_s)
-    pos = six_position.six_positions_rad(np.radians(cal_yaw_deg), np.radians(cal_pitch_deg), np.radians(cal_roll_deg))
+    pos = _positions_rad(cal_yaw_deg, cal_pitch_deg, cal_roll_deg)
     cal_prof = six_position.schedule_profile(pos, rate_rad_s=5 * DEG, rest_s=rest_s, fs_hz=fs_hz)
     aoa_prof = step_schedule(aoa_wp, rate_rad_s, aoa_holds_s, fs_hz, min_move_s=0.5)
     by_rate = {r: step_schedule(won_wp, r, won_holds_s, fs_hz, min_move_s=0.5) for r in dict.fromkeys(won_rates)}

@@ -358,8 +358,12 @@ def mechanism_actual(sc: WindTunnelScenario, prof: AngleProfile, rate_rad_s: flo
 
 def windtunnel_positions(sc: WindTunnelScenario) -> np.ndarray:
     """The wind-tunnel six calibration positions (Eq 8 frame), (6, 3) rad."""
-    return six_position.six_positions_rad(np.radians(sc.cal_yaw_deg), np.radians(sc.cal_pitch_deg),
-                                    np.radians(sc.cal_roll_deg))
+    return _positions_rad(sc.cal_yaw_deg, sc.cal_pitch_deg, sc.cal_roll_deg)
+
+
+def _positions_rad(yaw_deg, pitch_deg, roll_deg) -> np.ndarray:
+    """:func:`windtunnel_positions` from the scenario's three angle lists (deg), for a schedule built from settings."""
+    return six_position.six_positions_rad(np.radians(yaw_deg), np.radians(pitch_deg), np.radians(roll_deg))
 
 
 def identify_pitch_ratio(sc: WindTunnelScenario, q22: float) -> float:
